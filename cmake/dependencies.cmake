@@ -1,0 +1,18 @@
+# Host dependencies, all from Debian packages installed by scripts/setup.
+find_package(Eigen3 3.4 REQUIRED NO_MODULE)
+find_package(nlohmann_json 3.11 REQUIRED)
+find_package(CLI11 2.1 REQUIRED)
+find_package(GTest REQUIRED)
+find_package(PkgConfig REQUIRED)
+pkg_check_modules(HIDAPI REQUIRED IMPORTED_TARGET hidapi-hidraw)
+pkg_check_modules(LIBUSB REQUIRED IMPORTED_TARGET libusb-1.0)
+
+option(VIBID_BENCHMARKS "Build the Google Benchmark programs in bench/" ON)
+if(VIBID_BENCHMARKS)
+  find_package(benchmark REQUIRED)
+endif()
+
+# kissfft's C++ header (kissfft.hh) is a header-only template, used in double precision.
+find_path(KISSFFT_INCLUDE_DIR kissfft.hh PATH_SUFFIXES kissfft REQUIRED)
+add_library(vibid_kissfft INTERFACE)
+target_include_directories(vibid_kissfft SYSTEM INTERFACE ${KISSFFT_INCLUDE_DIR})

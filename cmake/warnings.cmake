@@ -1,0 +1,22 @@
+# Project-wide warning set. Applied per target through vibid_warnings() so third-party code found
+# through find_package keeps its own flags.
+option(VIBID_WERROR "Treat warnings as errors" ON)
+option(VIBID_SANITIZE "Build with AddressSanitizer and UndefinedBehaviorSanitizer" OFF)
+
+add_library(vibid_warnings INTERFACE)
+target_compile_options(vibid_warnings INTERFACE
+  # Options structs are filled with designated initializers; omitted fields keep their defaults.
+  -Wall -Wextra -Wpedantic -Wconversion -Wsign-conversion -Wshadow -Wdouble-promotion
+  -Wno-missing-field-initializers -Wnon-virtual-dtor -Wold-style-cast -Wcast-align -Wimplicit-fallthrough
+  $<$<BOOL:${VIBID_WERROR}>:-Werror>)
+
+if(VIBID_SANITIZE)
+  add_compile_options(-fsanitize=address,undefined -fno-sanitize-recover=all -fno-omit-frame-pointer)
+  add_link_options(-fsanitize=address,undefined)
+endif()
+
+# Firmware-core and shared code: the embedded rules hold on the host build too, so a heap call,
+# a throw or a typeid fails to compile on the host before it reaches the board.
+add_library(vibid_embedded_rules INTERFACE)
+target_compile_options(vibid_embedded_rules INTERFACE
+  $<$<COMPILE_LANGUAGE:CXX>:-fno-exceptions -fno-rtti>)

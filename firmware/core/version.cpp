@@ -1,0 +1,9 @@
+#include "vibid/fw/version.hpp"
+
+namespace vibid::fw {
+
+FirmwareVersion CurrentFirmwareVersion() {
+  return FirmwareVersion{VIBID_FW_VERSION_MAJOR, VIBID_FW_VERSION_MINOR, VIBID_FW_VERSION_PATCH};
+}
+
+}  // namespace vibid::fw

@@ -1,0 +1,50 @@
+#include "cli_support.hpp"
+
+#include <cmath>
+#include <iostream>
+
+#include "vibid/common/atomic_file.hpp"
+
+namespace vibid::cli {
+
+void EmitOutput(const std::string& content, const std::string& path) {
+  if (path.empty() || path == "-") {
+    std::cout << content;
+    std::cout.flush();
+  } else {
+    WriteFileAtomic(path, content);
+  }
+}
+
+namespace {
+
+CLI::Validator NumberValidator(bool allow_zero) {
+  return CLI::Validator(
+      [allow_zero](std::string& s) -> std::string {
+        double v = 0.0;
+        std::size_t used = 0;
+        try {
+          v = std::stod(s, &used);
+        } catch (...) {
+          return "'" + s + "' is not a number";
+        }
+        if (used != s.size() || !std::isfinite(v)) return "'" + s + "' is not a finite number";
+        if (allow_zero ? v < 0.0 : v <= 0.0) return "'" + s + (allow_zero ? "' must be >= 0" : "' must be > 0");
+        return {};
+      },
+      allow_zero ? "NUMBER>=0" : "NUMBER>0");
+}
+
+}  // namespace
+
+const CLI::Validator& PositiveNumber() {
+  static const CLI::Validator v = NumberValidator(false);
+  return v;
+}
+
+const CLI::Validator& NonNegativeNumber() {
+  static const CLI::Validator v = NumberValidator(true);
+  return v;
+}
+
+}  // namespace vibid::cli

@@ -1,0 +1,48 @@
+// `vibid`: one binary, one subcommand per job. Every failure prints one line naming the problem on
+// stderr and exits with a code from exit_codes.hpp.
+#include <exception>
+#include <iostream>
+
+#include <CLI/CLI.hpp>
+
+#include "cli_support.hpp"
+#include "commands.hpp"
+#include "vibid/common/error.hpp"
+
+int main(int argc, char** argv) {
+  using namespace vibid::cli;
+  CLI::App app{"vibid: identify mass-spring vibration rigs and run a disturbance observer on the DAQ board.\n"
+               "SI units throughout: kg, N/m, N*s/m, s, rad/s; frequencies in Hz are named *_hz.",
+               "vibid"};
+  app.require_subcommand(1);
+  app.set_version_flag("--version", std::string("vibid ") + VIBID_VERSION);
+  GlobalOptions globals;
+  app.add_option("--device", globals.device,
+                 "Board to talk to: hid[:SERIAL] | usbip://HOST:PORT | serial:/dev/ttyX | qemu (default: the only one found)");
+
+  RegisterModelCommands(app);
+  RegisterIdentCommands(app);
+  RegisterSysidCommands(app);
+  RegisterDobCommands(app);
+  RegisterDeviceCommands(app, globals);
+
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::ParseError& e) {
+    const int code = app.exit(e);
+    return code == 0 ? kExitOk : kExitUsage;
+  } catch (const vibid::InputError& e) {
+    std::cerr << "vibid: error: " << e.what() << "\n";
+    return kExitInputError;
+  } catch (const NumericalError& e) {
+    std::cerr << "vibid: error: " << e.what() << "\n";
+    return kExitNumerical;
+  } catch (const DeviceError& e) {
+    std::cerr << "vibid: error: " << e.what() << "\n";
+    return kExitDevice;
+  } catch (const std::exception& e) {
+    std::cerr << "vibid: internal error: " << e.what() << "\n";
+    return kExitInternal;
+  }
+  return kExitOk;
+}

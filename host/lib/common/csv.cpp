@@ -1,0 +1,252 @@
+#include "vibid/common/csv.hpp"
+
+#include <charconv>
+#include <cmath>
+#include <sstream>
+
+#include "vibid/common/atomic_file.hpp"
+#include "vibid/common/error.hpp"
+
+namespace vibid {
+namespace {
+
+std::string_view Trim(std::string_view s) {
+  while (!s.empty() && (s.front() == ' ' || s.front() == '\t' || s.front() == '\r')) s.remove_prefix(1);
+  while (!s.empty() && (s.back() == ' ' || s.back() == '\t' || s.back() == '\r')) s.remove_suffix(1);
+  return s;
+}
+
+std::vector<std::string_view> SplitCells(std::string_view line) {
+  std::vector<std::string_view> cells;
+  std::size_t start = 0;
+  while (true) {
+    const auto comma = line.find(',', start);
+    if (comma == std::string_view::npos) {
+      cells.push_back(Trim(line.substr(start)));
+      return cells;
+    }
+    cells.push_back(Trim(line.substr(start, comma - start)));
+    start = comma + 1;
+  }
+}
+
+std::optional<double> ParseNumber(std::string_view cell) {
+  if (!cell.empty() && cell.front() == '+') cell.remove_prefix(1);
+  double value = 0.0;
+  const auto* end = cell.data() + cell.size();
+  const auto [ptr, ec] = std::from_chars(cell.data(), end, value);
+  if (ec != std::errc() || ptr != end || cell.empty()) return std::nullopt;
+  return value;
+}
+
+std::string JoinNames(const std::vector<std::string>& names) {
+  std::string out;
+  for (const auto& n : names) out += (out.empty() ? "" : ", ") + n;
+  return out;
+}
+
+}  // namespace
+
+bool CsvTable::Has(std::string_view name) const {
+  for (const auto& n : names) {
+    if (n == name) return true;
+  }
+  return false;
+}
+
+std::size_t CsvTable::Index(std::string_view name) const {
+  for (std::size_t i = 0; i < names.size(); ++i) {
+    if (names[i] == name) return i;
+  }
+  throw InputError(source + ": no column '" + std::string(name) + "' (columns: " + JoinNames(names) + ")");
+}
+
+CsvTable ParseCsv(std::string_view text, const std::string& source) {
+  CsvTable table;
+  table.source = source;
+  std::vector<std::vector<double>> cols;
+  std::size_t line_no = 0;
+  bool have_header = false;
+  std::size_t pos = 0;
+  while (pos <= text.size()) {
+    auto nl = text.find('\n', pos);
+    if (nl == std::string_view::npos) nl = text.size();
+    const std::string_view line = Trim(text.substr(pos, nl - pos));
+    pos = nl + 1;
+    ++line_no;
+    if (line.empty() || line.front() == '#') {
+      if (nl == text.size()) break;
+      continue;
+    }
+    const auto cells = SplitCells(line);
+    const std::string where = source + ":" + std::to_string(line_no) + ": ";
+    if (!have_header) {
+      for (const auto c : cells) {
+        if (c.empty()) throw InputError(where + "empty column name in the header");
+        if (ParseNumber(c)) {
+          throw InputError(where + "the first row must be a header of column names, found the number '" +
+                           std::string(c) + "'");
+        }
+        table.names.emplace_back(c);
+      }
+      for (std::size_t i = 0; i < table.names.size(); ++i) {
+        for (std::size_t j = i + 1; j < table.names.size(); ++j) {
+          if (table.names[i] == table.names[j]) throw InputError(where + "duplicate column '" + table.names[i] + "'");
+        }
+      }
+      cols.resize(table.names.size());
+      have_header = true;
+    } else {
+      if (cells.size() != table.names.size()) {
+        throw InputError(where + "expected " + std::to_string(table.names.size()) + " cells, found " +
+                         std::to_string(cells.size()));
+      }
+      for (std::size_t c = 0; c < cells.size(); ++c) {
+        const auto v = ParseNumber(cells[c]);
+        if (!v) {
+          throw InputError(where + "column '" + table.names[c] + "': '" + std::string(cells[c]) +
+                           "' is not a number");
+        }
+        if (!std::isfinite(*v)) {
+          throw InputError(where + "column '" + table.names[c] + "': non-finite value '" +
+                           std::string(cells[c]) + "'");
+        }
+        cols[c].push_back(*v);
+      }
+    }
+    if (nl == text.size()) break;
+  }
+  if (!have_header) throw InputError(source + ": empty file (no header row)");
+  for (auto& c : cols) {
+    table.columns.emplace_back(Eigen::Map<const Eigen::VectorXd>(c.data(), static_cast<Eigen::Index>(c.size())));
+  }
+  return table;
+}
+
+CsvTable ReadCsv(const std::string& path) { return ParseCsv(ReadFileText(path), path); }
+
+std::string FormatCsv(const std::vector<std::string>& names, const std::vector<Eigen::VectorXd>& columns) {
+  Require(names.size() == columns.size(), "FormatCsv: names and columns differ in count");
+  std::string out;
+  for (std::size_t i = 0; i < names.size(); ++i) out += (i ? "," : "") + names[i];
+  out += '\n';
+  const Eigen::Index rows = columns.empty() ? 0 : columns[0].size();
+  for (const auto& c : columns) Require(c.size() == rows, "FormatCsv: columns differ in length");
+  char buf[64];
+  for (Eigen::Index r = 0; r < rows; ++r) {
+    for (std::size_t c = 0; c < columns.size(); ++c) {
+      if (c) out += ',';
+      const auto res = std::to_chars(buf, buf + sizeof buf, columns[c][r]);
+      out.append(buf, res.ptr);
+    }
+    out += '\n';
+  }
+  return out;
+}
+
+double UnitToSi(std::string_view unit) {
+  struct Entry {
+    std::string_view name;
+    double factor;
+  };
+  // Standard gravity per ISO 80000-3 / CGPM 1901: 9.80665 m/s^2.
+  static constexpr Entry kUnits[] = {
+      {"m", 1.0},    {"cm", 1e-2},  {"mm", 1e-3}, {"um", 1e-6}, {"g", 9.80665}, {"m/s2", 1.0},
+      {"m/s", 1.0},  {"mm/s", 1e-3}, {"N", 1.0},  {"kN", 1e3},  {"s", 1.0},     {"ms", 1e-3},
+      {"V", 1.0},    {"mV", 1e-3},  {"A", 1.0},  {"mA", 1e-3},
+  };
+  for (const auto& e : kUnits) {
+    if (e.name == unit) return e.factor;
+  }
+  std::string known;
+  for (const auto& e : kUnits) known += (known.empty() ? "" : ", ") + std::string(e.name);
+  throw InputError("unknown unit '" + std::string(unit) + "' (known: " + known + ")");
+}
+
+ColumnSpec ParseColumnSpec(std::string_view spec) {
+  spec = Trim(spec);
+  Require(!spec.empty(), "empty column name");
+  ColumnSpec out;
+  if (const auto star = spec.rfind('*'); star != std::string_view::npos) {
+    const auto factor = ParseNumber(Trim(spec.substr(star + 1)));
+    if (!factor || !std::isfinite(*factor) || *factor == 0.0) {
+      throw InputError("column '" + std::string(spec) + "': the factor after '*' must be a nonzero number");
+    }
+    out.name = std::string(Trim(spec.substr(0, star)));
+    out.scale = *factor;
+  } else if (const auto colon = spec.rfind(':'); colon != std::string_view::npos) {
+    out.name = std::string(Trim(spec.substr(0, colon)));
+    out.unit = std::string(Trim(spec.substr(colon + 1)));
+    out.scale = UnitToSi(out.unit);
+  } else {
+    out.name = std::string(spec);
+  }
+  Require(!out.name.empty(), "column '" + std::string(spec) + "' has no name");
+  return out;
+}
+
+std::vector<ColumnSpec> ParseColumnList(std::string_view list) {
+  std::vector<ColumnSpec> out;
+  std::size_t start = 0;
+  while (true) {
+    const auto comma = list.find(',', start);
+    out.push_back(ParseColumnSpec(list.substr(start, comma == std::string_view::npos ? list.npos : comma - start)));
+    if (comma == std::string_view::npos) return out;
+    start = comma + 1;
+  }
+}
+
+Eigen::VectorXd Recording::Signal(const ColumnSpec& spec) const { return table.Column(spec.name) * spec.scale; }
+
+Eigen::VectorXd Recording::Time() const {
+  const auto n = static_cast<Eigen::Index>(samples());
+  return Eigen::VectorXd::LinSpaced(n, 0.0, static_cast<double>(n - 1)) / fs_hz +
+         Eigen::VectorXd::Constant(n, t0_s);
+}
+
+Recording MakeRecording(CsvTable table, const RecordingOptions& options) {
+  Recording rec;
+  const std::size_t n = table.rows();
+  if (n < options.min_samples) {
+    throw InputError(table.source + ": too short: " + std::to_string(n) + " samples, at least " +
+                     std::to_string(options.min_samples) + " needed");
+  }
+  if (options.fs_hz) {
+    Require(std::isfinite(*options.fs_hz) && *options.fs_hz > 0.0, "sample rate must be a positive number of Hz");
+    rec.fs_hz = *options.fs_hz;
+    rec.t0_s = table.Has(options.time_column) ? table.Column(options.time_column)[0] : 0.0;
+  } else {
+    if (!table.Has(options.time_column)) {
+      throw InputError(table.source + ": no time column '" + options.time_column +
+                       "'; name it or give the sample rate (--fs-hz)");
+    }
+    const Eigen::VectorXd& t = table.Column(options.time_column);
+    const double mean_dt = (t[t.size() - 1] - t[0]) / static_cast<double>(n - 1);
+    // The header is line 1, so sample i sits on line i + 2 (comment lines aside).
+    for (Eigen::Index i = 1; i < t.size(); ++i) {
+      const double dt = t[i] - t[i - 1];
+      if (!(dt > 0.0)) {
+        throw InputError(table.source + ":" + std::to_string(i + 2) + ": time does not increase (" +
+                         std::to_string(t[i - 1]) + " then " + std::to_string(t[i]) + ")");
+      }
+    }
+    // Uniformity is checked only once time is known to increase: a repeated stamp is the clearer report.
+    for (Eigen::Index i = 1; i < t.size(); ++i) {
+      const double dt = t[i] - t[i - 1];
+      if (std::abs(dt - mean_dt) > options.uniform_tolerance * mean_dt) {
+        throw InputError(table.source + ":" + std::to_string(i + 2) + ": non-uniform sampling (step " +
+                         std::to_string(dt) + " s, mean step " + std::to_string(mean_dt) + " s)");
+      }
+    }
+    rec.fs_hz = 1.0 / mean_dt;
+    rec.t0_s = t[0];
+  }
+  rec.table = std::move(table);
+  return rec;
+}
+
+Recording LoadRecording(const std::string& path, const RecordingOptions& options) {
+  return MakeRecording(ReadCsv(path), options);
+}
+
+}  // namespace vibid

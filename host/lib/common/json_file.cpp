@@ -1,0 +1,24 @@
+#include "vibid/common/json_file.hpp"
+
+#include "vibid/common/atomic_file.hpp"
+#include "vibid/common/error.hpp"
+
+namespace vibid {
+
+nlohmann::json ReadJsonFile(const std::string& path) {
+  const std::string text = ReadFileText(path);
+  try {
+    return nlohmann::json::parse(text);
+  } catch (const nlohmann::json::parse_error& e) {
+    // Turn the byte offset into a line number: that is what an editor shows.
+    std::size_t line = 1;
+    for (std::size_t i = 0; i < e.byte && i < text.size(); ++i) line += text[i] == '\n';
+    throw InputError(path + ":" + std::to_string(line) + ": malformed JSON");
+  }
+}
+
+void WriteJsonFile(const std::string& path, const nlohmann::json& value) {
+  WriteFileAtomic(path, value.dump(2) + "\n");
+}
+
+}  // namespace vibid
