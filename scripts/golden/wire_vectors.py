@@ -35,7 +35,7 @@ def f32(v):
 
 
 def calibration_record():
-    body = b"VCAL" + struct.pack("<HHBBH", CAL_RECORD_VERSION, 836, 2, 0, 0)
+    body = b"VCAL" + struct.pack("<HHBBH", CAL_RECORD_VERSION, 840, 2, 0, 0)
     body += struct.pack("<q", 1700000000)                   # created_unix_s
     body += struct.pack("<BBH", 0, 1, 7)                    # host 0.1.7
     body += b"rig-A two mass".ljust(24, b"\0")
@@ -53,8 +53,9 @@ def calibration_record():
     ]
     for offset, gain, shift, unit, dof, full_scale in channels:
         body += struct.pack("<iiBBBB", offset, gain, shift, unit, dof, 0) + f32(full_scale)
+    body += bytes([0xFF, 0xFF, 0xFF, 0])                  # no DOB inputs, reserved
     body += bytes(640)
-    assert len(body) == 832
+    assert len(body) == 836
     return body + struct.pack("<I", zlib.crc32(body))
 
 

@@ -101,6 +101,10 @@ void EncodeCalibrationRecord(const CalibrationRecord& record,
     StoreU8(out, base + 11, 0);
     StoreF32(out, base + 12, s.full_scale);
   }
+  for (std::size_t i = 0; i < kMaxDobInputs; ++i) {
+    StoreU8(out, kCalOffDobInputs + i, record.dob_input_channel[i]);
+  }
+  StoreU8(out, kCalOffDobReserved, 0);
   for (std::size_t i = 0; i < kDobDescriptionBytes; ++i) out[kCalOffDob + i] = record.dob[i];
   StoreU32(out, kCalOffCrc, ComputeCrc32(std::span<const std::uint8_t>(out).first(kCalOffCrc)));
 }
@@ -144,6 +148,14 @@ Status DecodeCalibrationRecord(std::span<const std::uint8_t> bytes, CalibrationR
     s.full_scale = LoadF32(bytes, base + 12);
     channels_ok = channels_ok && LoadU8(bytes, base + 11) == 0;
   }
+  bool inputs_ok = LoadU8(bytes, kCalOffDobReserved) == 0;
+  bool inputs_unused = true;
+  for (std::size_t i = 0; i < kMaxDobInputs; ++i) {
+    const std::uint8_t c = LoadU8(bytes, kCalOffDobInputs + i);
+    r.dob_input_channel[i] = c;
+    inputs_ok = inputs_ok && (c == kNoChannel || c < kChannelCount);
+    inputs_unused = inputs_unused && c == kNoChannel;
+  }
   bool dob_zero = true;
   for (std::size_t i = 0; i < kDobDescriptionBytes; ++i) {
     r.dob[i] = bytes[kCalOffDob + i];
@@ -162,7 +174,10 @@ Status DecodeCalibrationRecord(std::span<const std::uint8_t> bytes, CalibrationR
   }
   for (const ChannelScaling& s : r.channels) channels_ok = channels_ok && ChannelOk(s, r.dof_count);
   if (!channels_ok) return Status::kInvalidArgument;
-  if ((r.flags & kCalFlagHasDob) == 0 && !dob_zero) return Status::kInvalidArgument;
+  if (!inputs_ok) return Status::kInvalidArgument;
+  if ((r.flags & kCalFlagHasDob) == 0 && (!dob_zero || !inputs_unused)) {
+    return Status::kInvalidArgument;
+  }
   record = r;
   return Status::kOk;
 }

@@ -59,10 +59,10 @@ TEST(CalibrationRecord, EncodesLikeGolden) {
 
 TEST(CalibrationRecord, DecodesGoldenByHand) {
   const Bytes b = GoldenBytes();
-  // Hand-decoded header: "VCAL", version 1, length 836 = 0x0344, dof 2.
+  // Hand-decoded header: "VCAL", version 1, length 840 = 0x0348, dof 2.
   EXPECT_EQ(b[0], 'V');
   EXPECT_EQ(b[3], 'L');
-  EXPECT_EQ(b[6], 0x44);
+  EXPECT_EQ(b[6], 0x48);
   EXPECT_EQ(b[7], 0x03);
   CalibrationRecord r;
   ASSERT_EQ(DecodeCalibrationRecord(b, r), Status::kOk);
@@ -79,6 +79,7 @@ TEST(CalibrationRecord, DecodesGoldenByHand) {
   EXPECT_EQ(r.channels[5].offset_counts, -5);
   EXPECT_EQ(r.channels[5].unit, Unit::kMeter);
   EXPECT_EQ(r.channels[3].full_scale, 490.3325f);
+  EXPECT_EQ(r.dob_input_channel[0], kNoChannel);
   EXPECT_EQ(StoredRecordCrc(b), ComputeCrc32(std::span<const std::uint8_t>(b).first(kCalOffCrc)));
 }
 
@@ -126,6 +127,8 @@ TEST(CalibrationRecord, RefusesOutOfRangeFields) {
       {kCalOffChannels + 48 + 11, 1},             // reserved channel byte
       {kCalOffChannels + 64 + 15, 0xBF},          // negative full scale
       {kCalOffDob + 100, 1},                      // DOB bytes without the flag
+      {kCalOffDobInputs + 1, 2},                  // DOB input channel without the flag
+      {kCalOffDobReserved, 1},                    // reserved byte after the inputs
       {kCalOffCreated + 7, 0x80},                 // negative creation time
   };
   CalibrationRecord r;

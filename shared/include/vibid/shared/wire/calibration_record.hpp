@@ -2,7 +2,7 @@
 // physical model (for the host to read back and for range checks), the per-channel scaling the
 // board applies to every sample, and the quantized disturbance-observer filter the board runs.
 //
-// Byte layout (little-endian, offsets in bytes, total kCalRecordBytes = 836):
+// Byte layout (little-endian, offsets in bytes, total kCalRecordBytes = 840):
 //
 //   0    u32  magic              kCalMagic: bytes 'V','C','A','L'
 //   4    u16  version            kCalRecordVersion
@@ -17,9 +17,13 @@
 //   64   f32  damping_ns_per_m[2][2]
 //   80   f32  stiffness_n_per_m[2][2]
 //   96   ChannelScaling[6]       16 bytes each, in wire::Channel order, layout below
-//   192  u8   dob[640]           the quantized DOB (vibid::fixed description encoding), all
+//   192  u8   dob_input_channel[3]  the wire::Channel feeding each DOB input (its scaling's unit
+//                                must match the input's kind and its full scale the input's);
+//                                kNoChannel for unused inputs and when there is no filter
+//   195  u8   reserved           0
+//   196  u8   dob[640]           the quantized DOB (vibid::fixed description encoding), all
 //                                zero when kCalFlagHasDob is clear
-//   832  u32  crc32              CRC-32 of bytes [0, 832)
+//   836  u32  crc32              CRC-32 of bytes [0, 836)
 //
 //   ChannelScaling (16 bytes):
 //   0   i32  offset_counts       raw value that reads as zero
@@ -70,13 +74,17 @@ inline constexpr std::size_t kCalOffDamping = kCalOffMass + 4 * kMaxDof * kMaxDo
 inline constexpr std::size_t kCalOffStiffness = kCalOffDamping + 4 * kMaxDof * kMaxDof;
 inline constexpr std::size_t kCalOffChannels = kCalOffStiffness + 4 * kMaxDof * kMaxDof;
 inline constexpr std::size_t kChannelScalingBytes = 16;
-inline constexpr std::size_t kCalOffDob = kCalOffChannels + kChannelCount * kChannelScalingBytes;
+inline constexpr std::size_t kMaxDobInputs = 3;
+inline constexpr std::uint8_t kNoChannel = 0xFF;
+inline constexpr std::size_t kCalOffDobInputs = kCalOffChannels + kChannelCount * kChannelScalingBytes;
+inline constexpr std::size_t kCalOffDobReserved = kCalOffDobInputs + kMaxDobInputs;
+inline constexpr std::size_t kCalOffDob = kCalOffDobReserved + 1;
 inline constexpr std::size_t kCalOffCrc = kCalOffDob + kDobDescriptionBytes;
 inline constexpr std::size_t kCalRecordBytes = kCalOffCrc + 4;
 
 static_assert(kCalOffMass == 48 && kCalOffDamping == 64 && kCalOffStiffness == 80);
-static_assert(kCalOffChannels == 96 && kCalOffDob == 192 && kCalOffCrc == 832);
-static_assert(kCalRecordBytes == 836);
+static_assert(kCalOffChannels == 96 && kCalOffDobInputs == 192 && kCalOffDob == 196);
+static_assert(kCalOffCrc == 836 && kCalRecordBytes == 840);
 static_assert(kCalRecordBytes <= 0xFFFF, "length travels in a u16");
 
 /// What a channel's full scale is measured in.
@@ -109,6 +117,7 @@ struct CalibrationRecord {
   std::array<float, kMaxDof * kMaxDof> damping_ns_per_m{};  ///< Row-major.
   std::array<float, kMaxDof * kMaxDof> stiffness_n_per_m{}; ///< Row-major.
   std::array<ChannelScaling, kChannelCount> channels{};
+  std::array<std::uint8_t, kMaxDobInputs> dob_input_channel{kNoChannel, kNoChannel, kNoChannel};
   std::array<std::uint8_t, kDobDescriptionBytes> dob{};
 };
 
@@ -126,7 +135,8 @@ void EncodeCalibrationRecord(const CalibrationRecord& record,
 ///            a non-finite or asymmetric matrix, a mass matrix that is not positive definite,
 ///            nonzero entries beyond dof_count, a gain shift > kMaxGainShift, an unknown unit,
 ///            a dof index beyond dof_count, a full scale that is not finite and positive, a
-///            negative creation time, DOB bytes present without the flag.
+///            negative creation time, DOB bytes or input channels present without the flag, an
+///            input channel beyond the six channels.
 Status DecodeCalibrationRecord(std::span<const std::uint8_t> bytes, CalibrationRecord& record);
 
 /// The record's CRC-32 field as stored in encoded bytes (no check).
