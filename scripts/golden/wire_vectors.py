@@ -12,7 +12,9 @@ import pathlib
 import struct
 import zlib
 
-OUT = pathlib.Path(__file__).resolve().parents[2] / "shared/wire/testdata/wire_vectors.txt"
+ROOT = pathlib.Path(__file__).resolve().parents[2]
+OUT = ROOT / "shared/wire/testdata/wire_vectors.txt"
+SEEDS = ROOT / "firmware/core/fuzz/seeds"
 
 PROTOCOL_MAJOR = 1
 PROTOCOL_MINOR = 0
@@ -147,6 +149,16 @@ def main():
     lines += [f"{name} {data.hex()}" for name, data in vectors]
     OUT.parent.mkdir(parents=True, exist_ok=True)
     OUT.write_text("\n".join(lines) + "\n")
+
+    # Seed corpus for the fuzz targets: valid inputs the fuzzer mutates from.
+    v = dict(vectors)
+    SEEDS.mkdir(parents=True, exist_ok=True)
+    (SEEDS / "calibration_record").write_bytes(v["calibration_record"])
+    (SEEDS / "requests").write_bytes(v["ping_request"] + v["acq_configure_request"] +
+                                     v["log_read_request"] + v["dob_control_request"])
+    (SEEDS / "cal_put").write_bytes(v["cal_put_begin"] + v["cal_put_data_0"])
+    (SEEDS / "log_stream").write_bytes(bytes([0x24, 0x77, 0x77]) +
+                                       b"".join(v[f"log_stream_{i}"] for i in range(4)))
 
 
 if __name__ == "__main__":
