@@ -45,10 +45,9 @@ bool MatrixShapeOk(const std::array<float, kN * kN>& m, std::size_t dof_count) {
 bool MassPositiveDefinite(const std::array<float, kN * kN>& m, std::size_t dof_count) {
   if (!(m[0] > 0.0f)) return false;
   if (dof_count == 1) return true;
-  // 2x2 Sylvester criterion; the product is formed in double so it cannot overflow float.
-  const double det = static_cast<double>(m[0]) * static_cast<double>(m[3]) -
-                     static_cast<double>(m[1]) * static_cast<double>(m[2]);
-  return det > 0.0;
+  // 2x2 Sylvester criterion in single precision (the board has a single-precision FPU only).
+  // An overflow to infinity on both sides compares false and refuses the record, as it should.
+  return m[0] * m[3] > m[1] * m[2];
 }
 
 bool LabelOk(const std::array<char, kCalLabelBytes>& label) {
