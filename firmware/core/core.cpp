@@ -162,115 +162,89 @@ void Core::Handle(const wire::Report& request) {
     Respond(h, Status::kInvalidArgument);
     return;
   }
-  const std::span<const std::uint8_t> payload = wire::PayloadOf(request);
-  const bool empty = payload.empty();
+  const Status s = Dispatch(h, wire::PayloadOf(request));
+  if (s != Status::kOk) Respond(h, s);
+}
 
-  if (wire::IsPortCommand(h.command)) {
-    HandlePortCommand(h, payload);
-    return;
-  }
+Status Core::Dispatch(const Header& h, std::span<const std::uint8_t> payload) {
+  if (wire::IsPortCommand(h.command)) return HandlePortCommand(h, payload);
+  // Commands without a request payload refuse one.
+  const Status empty = payload.empty() ? Status::kOk : Status::kInvalidArgument;
   switch (static_cast<Command>(h.command)) {
     case Command::kPing:
       Respond(h, Status::kOk, payload);
-      return;
+      return Status::kOk;
     case Command::kGetInfo:
-      if (!empty) break;
+      if (empty != Status::kOk) return empty;
       RespondWith(h, Info());
-      return;
+      return Status::kOk;
     case Command::kGetStatus:
-      if (!empty) break;
+      if (empty != Status::kOk) return empty;
       RespondWith(h, CurrentStatus());
-      return;
+      return Status::kOk;
     case Command::kReset:
-      if (!empty) break;
+      if (empty != Status::kOk) return empty;
       Respond(h, Status::kOk);
       deferred_ = Deferred::kReset;
-      return;
+      return Status::kOk;
     case Command::kEnterDfu:
-      if (!empty) break;
-      if ((port_.system.PortCapabilities() & wire::kCapDfu) == 0) {
-        Respond(h, Status::kUnimplemented);
-      } else if (Sampling()) {
-        Respond(h, Status::kFailedPrecondition);
-      } else {
-        Respond(h, Status::kOk);
-        deferred_ = Deferred::kEnterDfu;
-      }
-      return;
-    case Command::kCalPutBegin: {
-      wire::CalPutBeginRequest begin;
-      if (wire::Decode(payload, begin) != Status::kOk) break;
-      Respond(h, upload_.Begin(begin));
-      return;
-    }
-    case Command::kCalPutData: {
-      const Status s = HandleCalPutData(h, payload);
-      if (s != Status::kOk) Respond(h, s);
-      return;
-    }
-    case Command::kCalCommit: {
-      if (!empty) break;
-      const Status s = HandleCalCommit(h);
-      if (s != Status::kOk) Respond(h, s);
-      return;
-    }
-    case Command::kCalGet: {
-      if (!empty) break;
-      const Status s = HandleCalGet(h);
-      if (s != Status::kOk) Respond(h, s);
-      return;
-    }
-    case Command::kAcqConfigure: {
-      const Status s = HandleAcqConfigure(h, payload);
-      if (s != Status::kOk) Respond(h, s);
-      return;
-    }
+      if (empty != Status::kOk) return empty;
+      if ((port_.system.PortCapabilities() & wire::kCapDfu) == 0) return Status::kUnimplemented;
+      if (Sampling()) return Status::kFailedPrecondition;
+      Respond(h, Status::kOk);
+      deferred_ = Deferred::kEnterDfu;
+      return Status::kOk;
+    case Command::kCalPutBegin:
+      return HandleCalPutBegin(h, payload);
+    case Command::kCalPutData:
+      return HandleCalPutData(h, payload);
+    case Command::kCalCommit:
+      return empty != Status::kOk ? empty : HandleCalCommit(h);
+    case Command::kCalGet:
+      return empty != Status::kOk ? empty : HandleCalGet(h);
+    case Command::kAcqConfigure:
+      return HandleAcqConfigure(h, payload);
     case Command::kAcqStart:
-      if (!empty) break;
-      Respond(h, HandleAcqStart());
-      return;
+      return empty != Status::kOk ? empty : HandleAcqStart(h);
     case Command::kAcqStop:
-      if (!empty) break;
+      if (empty != Status::kOk) return empty;
       StopSampling();
       RespondWith(h, wire::AcqStopResponse{.records_written = ring_.written()});
-      return;
+      return Status::kOk;
     case Command::kReadLatest: {
-      if (!empty) break;
+      if (empty != Status::kOk) return empty;
       wire::LatestResponse latest;
-      if (!sampler_.Latest(latest)) {
-        latest.acq_state = sampler_.state();
-      }
+      if (!sampler_.Latest(latest)) latest.acq_state = sampler_.state();
       RespondWith(h, latest);
-      return;
+      return Status::kOk;
     }
-    case Command::kLogRead: {
-      const Status s = HandleLogRead(h, payload);
-      if (s != Status::kOk) Respond(h, s);
-      return;
-    }
+    case Command::kLogRead:
+      return HandleLogRead(h, payload);
     case Command::kDobControl:
-      Respond(h, HandleDobControl(payload));
-      return;
+      return HandleDobControl(h, payload);
     case Command::kSelectScenario:
     case Command::kInjectFrames:
-      break;  // port commands, handled above
-    default:
-      Respond(h, Status::kUnimplemented);
-      return;
+      break;  // port commands, dispatched above
   }
-  // Every `break` above is a payload of the wrong length or content.
-  Respond(h, Status::kInvalidArgument);
+  return Status::kUnimplemented;
 }
 
-void Core::HandlePortCommand(const Header& h, std::span<const std::uint8_t> payload) {
-  if (port_commands_ == nullptr) {
-    Respond(h, Status::kUnimplemented);
-    return;
-  }
+Status Core::HandlePortCommand(const Header& h, std::span<const std::uint8_t> payload) {
+  if (port_commands_ == nullptr) return Status::kUnimplemented;
   std::array<std::uint8_t, wire::kMaxPayload> response{};
   std::size_t length = 0;
   const Status s = port_commands_->HandlePortCommand(h.command, payload, response, length);
+  if (s != Status::kOk) return s;
   Respond(h, s, std::span<const std::uint8_t>(response).first(std::min(length, response.size())));
+  return Status::kOk;
+}
+
+Status Core::HandleCalPutBegin(const Header& h, std::span<const std::uint8_t> payload) {
+  wire::CalPutBeginRequest begin;
+  if (wire::Decode(payload, begin) != Status::kOk) return Status::kInvalidArgument;
+  const Status s = upload_.Begin(begin);
+  if (s == Status::kOk) Respond(h, Status::kOk);
+  return s;
 }
 
 Status Core::HandleCalPutData(const Header& h, std::span<const std::uint8_t> payload) {
@@ -337,7 +311,7 @@ Status Core::HandleAcqConfigure(const Header& h, std::span<const std::uint8_t> p
   return Status::kOk;
 }
 
-Status Core::HandleAcqStart() {
+Status Core::HandleAcqStart(const Header& h) {
   if (!configured_ || Sampling()) return Status::kFailedPrecondition;
   if (sampling_) StopSampling();  // a finished acquisition whose stop Poll has not seen yet
   Status s = sampler_.Arm(config_);
@@ -348,6 +322,7 @@ Status Core::HandleAcqStart() {
     return s;
   }
   sampling_ = true;
+  Respond(h, Status::kOk);
   return Status::kOk;
 }
 
@@ -370,9 +345,10 @@ Status Core::HandleLogRead(const Header& h, std::span<const std::uint8_t> payloa
   return Status::kOk;
 }
 
-Status Core::HandleDobControl(std::span<const std::uint8_t> payload) {
+Status Core::HandleDobControl(const Header& h, std::span<const std::uint8_t> payload) {
   wire::DobControlRequest r;
   if (wire::Decode(payload, r) != Status::kOk) return Status::kInvalidArgument;
+  (void)h;
   return Status::kFailedPrecondition;  // no filter loaded
 }
 

@@ -66,19 +66,23 @@ class Core {
   enum class Deferred : std::uint8_t { kNone, kReset, kEnterDfu };
 
   void Handle(const wire::Report& request);
+  // Each handler answers a request it accepts and returns kOk, or returns the refusal status
+  // (Handle sends the refusal).
+  Status Dispatch(const wire::Header& h, std::span<const std::uint8_t> payload);
   void Respond(const wire::Header& request, Status status,
                std::span<const std::uint8_t> payload = {});
   template <typename Payload>
   void RespondWith(const wire::Header& request, const Payload& payload);
 
+  Status HandleCalPutBegin(const wire::Header& h, std::span<const std::uint8_t> payload);
   Status HandleCalPutData(const wire::Header& h, std::span<const std::uint8_t> payload);
   Status HandleCalCommit(const wire::Header& h);
   Status HandleCalGet(const wire::Header& h);
   Status HandleAcqConfigure(const wire::Header& h, std::span<const std::uint8_t> payload);
-  Status HandleAcqStart();
+  Status HandleAcqStart(const wire::Header& h);
   Status HandleLogRead(const wire::Header& h, std::span<const std::uint8_t> payload);
-  Status HandleDobControl(std::span<const std::uint8_t> payload);
-  void HandlePortCommand(const wire::Header& h, std::span<const std::uint8_t> payload);
+  Status HandleDobControl(const wire::Header& h, std::span<const std::uint8_t> payload);
+  Status HandlePortCommand(const wire::Header& h, std::span<const std::uint8_t> payload);
   Status ValidateConfig(const wire::AcqConfigureRequest& c) const;
   bool Sampling() const;
   void StopSampling();
