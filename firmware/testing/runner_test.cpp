@@ -39,3 +39,19 @@ TEST(TargetRunner, FloatingPointWorks) {
 }
 
 }  // namespace
+
+namespace {
+
+int g_calls = 0;
+int Next() { return ++g_calls; }
+
+// GoogleTest evaluates each operand once; a check with a side effect must not run it twice.
+TEST(TargetRunner, OperandsAreEvaluatedOnce) {
+  g_calls = 0;
+  EXPECT_EQ(Next(), 1);
+  ASSERT_GE(Next(), 2);
+  EXPECT_TRUE(Next() == 3);
+  EXPECT_EQ(g_calls, 3);
+}
+
+}  // namespace

@@ -34,25 +34,31 @@ std::int32_t DobFilter::StepPath(std::size_t path, std::int32_t input) {
   for (std::size_t k = 0; k < p.section_count; ++k) {
     const Section& s = p.sections[k];
     auto& st = state_[path][k];
-    // Exact: ValidateDescription bounds the raw coefficient sum below 2^32 (see the header).
+    // Exact: ValidateDescription bounds the raw coefficient sum (see the header).
     std::int64_t acc = std::int64_t{s.b0} * x + std::int64_t{s.b1} * st[0] +
                        std::int64_t{s.b2} * st[1] - std::int64_t{s.a1} * st[2] -
                        std::int64_t{s.a2} * st[3];
+    if (s.feedback == ErrorFeedback::kSecondOrder) acc += 2 * std::int64_t{st[4]} - st[5];
     const int q = 31 - s.shift;
-    acc = (acc + (std::int64_t{1} << (q - 1))) >> q;
-    if (acc > kInt32Max) {
-      acc = kInt32Max;
+    std::int64_t y = (acc + (std::int64_t{1} << (q - 1))) >> q;
+    std::int32_t remainder = 0;
+    if (y > kInt32Max) {
+      y = kInt32Max;
       ++saturation_count_;
-    } else if (acc < kInt32Min) {
-      acc = kInt32Min;
+    } else if (y < kInt32Min) {
+      y = kInt32Min;
       ++saturation_count_;
+    } else {
+      // In [-2^(q-1), 2^(q-1)): fits an int32 for q <= 31.
+      remainder = static_cast<std::int32_t>(acc - y * (std::int64_t{1} << q));
     }
-    const auto y = static_cast<std::int32_t>(acc);
     st[1] = st[0];
     st[0] = x;
     st[3] = st[2];
-    st[2] = y;
-    x = y;
+    st[2] = static_cast<std::int32_t>(y);
+    st[5] = st[4];
+    st[4] = remainder;
+    x = static_cast<std::int32_t>(y);
   }
   return x;
 }

@@ -50,7 +50,7 @@ std::int64_t Abs64(std::int32_t v) { return v < 0 ? -static_cast<std::int64_t>(v
 
 bool SectionIsZero(const Section& s) {
   return s.b0 == 0 && s.b1 == 0 && s.b2 == 0 && s.a1 == 0 && s.a2 == 0 && s.shift == 0 &&
-         s.reserved[0] == 0 && s.reserved[1] == 0 && s.reserved[2] == 0;
+         s.feedback == ErrorFeedback::kNone && s.reserved[0] == 0 && s.reserved[1] == 0;
 }
 
 bool PathIsZero(const Path& p) {
@@ -72,11 +72,12 @@ bool FullScaleIsValid(std::uint32_t bits) {
 
 Status ValidateSection(const Section& s) {
   if (s.shift > kMaxSectionShift) return Status::kInvalidArgument;
-  if (s.reserved[0] != 0 || s.reserved[1] != 0 || s.reserved[2] != 0) {
+  if (s.reserved[0] != 0 || s.reserved[1] != 0) return Status::kInvalidArgument;
+  if (s.feedback != ErrorFeedback::kNone && s.feedback != ErrorFeedback::kSecondOrder) {
     return Status::kInvalidArgument;
   }
   const std::int64_t abs_sum = Abs64(s.b0) + Abs64(s.b1) + Abs64(s.b2) + Abs64(s.a1) + Abs64(s.a2);
-  if (abs_sum >= (std::int64_t{1} << 32)) return Status::kInvalidArgument;
+  if (abs_sum > kMaxCoefficientSum) return Status::kInvalidArgument;
   if (!SectionIsStable(s)) return Status::kUnstable;
   return Status::kOk;
 }
@@ -133,6 +134,7 @@ void EncodeDescription(const FilterDescription& d, std::span<std::uint8_t, kDesc
       w.I32(s.a1);
       w.I32(s.a2);
       w.U8(s.shift);
+      w.U8(static_cast<std::uint8_t>(s.feedback));
       for (const std::uint8_t r : s.reserved) w.U8(r);
     }
   }
@@ -165,6 +167,7 @@ Status DecodeDescription(std::span<const std::uint8_t, kDescriptionBytes> in, Fi
       s.a1 = r.I32();
       s.a2 = r.I32();
       s.shift = r.U8();
+      s.feedback = static_cast<ErrorFeedback>(r.U8());
       for (std::uint8_t& res : s.reserved) res = r.U8();
     }
   }

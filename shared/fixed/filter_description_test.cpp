@@ -27,7 +27,7 @@ FilterDescription ValidDescription() {
     p.output_gain = 1 << 30;
     p.output_shift = 1;
     p.sections[0] = Section{.b0 = kOneQ30 / 4, .b1 = 0, .b2 = 0, .a1 = -3 * (kOneQ30 / 4),
-                            .a2 = kOneQ30 / 8, .shift = 1};
+                            .a2 = kOneQ30 / 8, .shift = 1, .feedback = ErrorFeedback::kSecondOrder};
   }
   Seal(d);
   return d;
@@ -53,6 +53,7 @@ TEST(FilterDescription, EncodeDecodeRoundTripsEveryByte) {
   EXPECT_EQ(bytes[12], static_cast<std::uint8_t>(InputKind::kDisplacement));
   EXPECT_EQ(bytes[36], 1);                       // paths[0].section_count
   EXPECT_EQ(bytes[36 + 8 + 20], 1);              // paths[0].sections[0].shift
+  EXPECT_EQ(bytes[36 + 8 + 21], 1);              // paths[0].sections[0].feedback
   EXPECT_EQ(bytes[636], d.checksum & 0xFFu);
   FilterDescription back{};
   ASSERT_EQ(DecodeDescription(bytes, back), Status::kOk);
@@ -97,7 +98,9 @@ TEST(FilterDescription, RefusesEachBrokenRule) {
                     Status::kInvalidArgument));
   EXPECT_TRUE(check([](FilterDescription& d) { d.paths[0].output_shift = 31; },
                     Status::kInvalidArgument));
-  EXPECT_TRUE(check([](FilterDescription& d) { d.paths[1].sections[0].reserved[2] = 1; },
+  EXPECT_TRUE(check([](FilterDescription& d) { d.paths[1].sections[0].reserved[1] = 1; },
+                    Status::kInvalidArgument));
+  EXPECT_TRUE(check([](FilterDescription& d) { d.paths[1].sections[0].feedback = static_cast<ErrorFeedback>(2); },
                     Status::kInvalidArgument));
   EXPECT_TRUE(check([](FilterDescription& d) { d.input_kind[1] = InputKind::kUnused; },
                     Status::kInvalidArgument));
@@ -115,13 +118,13 @@ TEST(FilterDescription, RefusesEachBrokenRule) {
                     Status::kInvalidArgument));
   EXPECT_TRUE(check([](FilterDescription& d) { d.output_full_scale_bits = 0x7FC00000u; },  // NaN
                     Status::kInvalidArgument));
-  // Coefficient sum 2^32 or more: the accumulator bound.
+  // Coefficient sum above kMaxCoefficientSum: the accumulator bound.
   EXPECT_TRUE(check(
       [](FilterDescription& d) {
         Section& s = d.paths[0].sections[0];
         s.b0 = INT32_MAX;
         s.b1 = INT32_MAX;
-        s.b2 = 2;
+        s.b2 = -3;  // sum 2^32 - 1 > kMaxCoefficientSum
         s.a1 = 0;
         s.a2 = 0;
       },

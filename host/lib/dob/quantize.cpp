@@ -47,7 +47,7 @@ int SectionShift(const SosSection& s) {
   // Keep one LSB of room below each bound so rounding cannot reach it.
   while (shift <= fixed::kMaxSectionShift &&
          (max_abs * std::ldexp(1.0, 31 - shift) >= kTwo31 - 1.0 ||
-          sum * std::ldexp(1.0, 31 - shift) >= 4294967296.0 - 8.0)) {
+          sum * std::ldexp(1.0, 31 - shift) >= static_cast<double>(fixed::kMaxCoefficientSum) - 8.0)) {
     ++shift;
   }
   return shift;
@@ -151,12 +151,19 @@ QuantizeResult QuantizeObserver(const std::vector<ObserverPath>& paths, const Qu
     p.output_shift = static_cast<std::uint8_t>(out_shift);
     p.output_gain = RoundToInt32(output_gain * std::ldexp(1.0, 31 - out_shift));
 
-    // Rounding noise: 1/12 LSB^2 at each section output, through the rest of the path and the
-    // output gain; plus the output term's own rounding.
+    // Rounding noise: 1/12 LSB^2 at each section output, through the section's own poles (shaped
+    // by (1 - z^-1)^2 when the error feedback is on), the rest of the path and the output gain;
+    // plus the output term's own rounding. The feedback is enabled where it lowers that noise.
     for (std::size_t k = 0; k < scaled.size(); ++k) {
-      const std::vector<SosSection> rest(scaled.begin() + static_cast<std::ptrdiff_t>(k) + 1, scaled.end());
-      const Eigen::VectorXd g = rest.empty() ? Impulse(1) : FilterSos(rest, Impulse(len));
-      noise_var_q31 += g.squaredNorm() * output_gain * output_gain / 12.0;
+      std::vector<SosSection> chain(scaled.begin() + static_cast<std::ptrdiff_t>(k), scaled.end());
+      const SosSection own = chain.front();
+      chain.front() = SosSection{.b0 = 1.0, .b1 = 0.0, .b2 = 0.0, .a1 = own.a1, .a2 = own.a2};
+      const double plain = FilterSos(chain, Impulse(len)).squaredNorm();
+      chain.front().b1 = -2.0;
+      chain.front().b2 = 1.0;
+      const double shaped = FilterSos(chain, Impulse(len)).squaredNorm();
+      if (shaped < plain) p.sections[k].feedback = fixed::ErrorFeedback::kSecondOrder;
+      noise_var_q31 += std::min(plain, shaped) * output_gain * output_gain / 12.0;
     }
     noise_var_q31 += 1.0 / 12.0;
   }

@@ -111,10 +111,28 @@ inline AssertionResult AssertionSuccess() { return AssertionResult(true); }
 
 namespace internal {
 
-template <class A, class B>
-AssertionResult Compare(bool ok, const char* ea, const char* op, const char* eb, const A& a,
+// Each operand is evaluated exactly once (as in GoogleTest): the comparison runs here, on the
+// values, inside this system header so mixed-sign comparisons warn no more than with GoogleTest.
+#define VIBID_GTEST_OPERATOR_(Name, op)                   \
+  struct Name {                                          \
+    template <class A, class B>                          \
+    bool operator()(const A& a, const B& b) const {      \
+      return a op b;                                     \
+    }                                                    \
+  };
+VIBID_GTEST_OPERATOR_(Eq, ==)
+VIBID_GTEST_OPERATOR_(Ne, !=)
+VIBID_GTEST_OPERATOR_(Lt, <)
+VIBID_GTEST_OPERATOR_(Le, <=)
+VIBID_GTEST_OPERATOR_(Gt, >)
+VIBID_GTEST_OPERATOR_(Ge, >=)
+#undef VIBID_GTEST_OPERATOR_
+
+template <class Op, class A, class B>
+AssertionResult Compare(Op op_fn, const char* ea, const char* op, const char* eb, const A& a,
                         const B& b) {
-  AssertionResult r(ok);
+  AssertionResult r(op_fn(a, b));
+  const bool ok = static_cast<bool>(r);
   if (!ok) {
     Text& t = r.text();
     t.Append("expected ");
@@ -174,13 +192,15 @@ AssertionResult UlpEq(const char* ea, const char* eb, F a, F b) {
   const Bits x = biased(a);
   const Bits y = biased(b);
   const Bits dist = x > y ? x - y : y - x;
-  return Compare(!nan && dist <= 4, ea, "~=", eb, a, b);
+  const bool ok = !nan && dist <= 4;
+  return Compare([ok](const F&, const F&) { return ok; }, ea, "~=", eb, a, b);
 }
 
 inline AssertionResult StrEq(bool want_equal, const char* ea, const char* eb, const char* a,
                              const char* b) {
   const bool equal = (a == nullptr || b == nullptr) ? a == b : std::strcmp(a, b) == 0;
-  return Compare(equal == want_equal, ea, want_equal ? "==" : "!=", eb, a, b);
+  const bool ok = equal == want_equal;
+  return Compare([ok](const char*, const char*) { return ok; }, ea, want_equal ? "==" : "!=", eb, a, b);
 }
 
 /// Records a failure; `=` so a streamed Message can follow the macro.
@@ -214,21 +234,22 @@ class AssertHelper {
 #define VIBID_GTEST_FATAL_(text) \
   return ::testing::internal::AssertHelper(__FILE__, __LINE__, text, true) = ::testing::Message()
 
-#define VIBID_GTEST_CMP_(a, op, b, on_failure)                                                  \
-  VIBID_GTEST_CHECK_(::testing::internal::Compare(((a)op(b)), #a, #op, #b, (a), (b)), on_failure)
+#define VIBID_GTEST_CMP_(a, Op, op, b, on_failure)                                               \
+  VIBID_GTEST_CHECK_(::testing::internal::Compare(::testing::internal::Op{}, #a, #op, #b, (a), (b)), \
+                     on_failure)
 
-#define EXPECT_EQ(a, b) VIBID_GTEST_CMP_(a, ==, b, VIBID_GTEST_NONFATAL_)
-#define EXPECT_NE(a, b) VIBID_GTEST_CMP_(a, !=, b, VIBID_GTEST_NONFATAL_)
-#define EXPECT_LT(a, b) VIBID_GTEST_CMP_(a, <, b, VIBID_GTEST_NONFATAL_)
-#define EXPECT_LE(a, b) VIBID_GTEST_CMP_(a, <=, b, VIBID_GTEST_NONFATAL_)
-#define EXPECT_GT(a, b) VIBID_GTEST_CMP_(a, >, b, VIBID_GTEST_NONFATAL_)
-#define EXPECT_GE(a, b) VIBID_GTEST_CMP_(a, >=, b, VIBID_GTEST_NONFATAL_)
-#define ASSERT_EQ(a, b) VIBID_GTEST_CMP_(a, ==, b, VIBID_GTEST_FATAL_)
-#define ASSERT_NE(a, b) VIBID_GTEST_CMP_(a, !=, b, VIBID_GTEST_FATAL_)
-#define ASSERT_LT(a, b) VIBID_GTEST_CMP_(a, <, b, VIBID_GTEST_FATAL_)
-#define ASSERT_LE(a, b) VIBID_GTEST_CMP_(a, <=, b, VIBID_GTEST_FATAL_)
-#define ASSERT_GT(a, b) VIBID_GTEST_CMP_(a, >, b, VIBID_GTEST_FATAL_)
-#define ASSERT_GE(a, b) VIBID_GTEST_CMP_(a, >=, b, VIBID_GTEST_FATAL_)
+#define EXPECT_EQ(a, b) VIBID_GTEST_CMP_(a, Eq, ==, b, VIBID_GTEST_NONFATAL_)
+#define EXPECT_NE(a, b) VIBID_GTEST_CMP_(a, Ne, !=, b, VIBID_GTEST_NONFATAL_)
+#define EXPECT_LT(a, b) VIBID_GTEST_CMP_(a, Lt, <, b, VIBID_GTEST_NONFATAL_)
+#define EXPECT_LE(a, b) VIBID_GTEST_CMP_(a, Le, <=, b, VIBID_GTEST_NONFATAL_)
+#define EXPECT_GT(a, b) VIBID_GTEST_CMP_(a, Gt, >, b, VIBID_GTEST_NONFATAL_)
+#define EXPECT_GE(a, b) VIBID_GTEST_CMP_(a, Ge, >=, b, VIBID_GTEST_NONFATAL_)
+#define ASSERT_EQ(a, b) VIBID_GTEST_CMP_(a, Eq, ==, b, VIBID_GTEST_FATAL_)
+#define ASSERT_NE(a, b) VIBID_GTEST_CMP_(a, Ne, !=, b, VIBID_GTEST_FATAL_)
+#define ASSERT_LT(a, b) VIBID_GTEST_CMP_(a, Lt, <, b, VIBID_GTEST_FATAL_)
+#define ASSERT_LE(a, b) VIBID_GTEST_CMP_(a, Le, <=, b, VIBID_GTEST_FATAL_)
+#define ASSERT_GT(a, b) VIBID_GTEST_CMP_(a, Gt, >, b, VIBID_GTEST_FATAL_)
+#define ASSERT_GE(a, b) VIBID_GTEST_CMP_(a, Ge, >=, b, VIBID_GTEST_FATAL_)
 
 #define EXPECT_TRUE(c) \
   VIBID_GTEST_CHECK_(::testing::internal::Boolean(static_cast<bool>(c), #c, "true"), VIBID_GTEST_NONFATAL_)

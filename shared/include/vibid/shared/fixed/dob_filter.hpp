@@ -4,28 +4,33 @@
 // Structure (per path i < input_count, per section k < section_count, Direct Form I):
 //
 //   acc = b0 x[n] + b1 x[n-1] + b2 x[n-2] - a1 y[n-1] - a2 y[n-2]          (int64, exact)
+//   acc += 2 r[n-1] - r[n-2]                  only with ErrorFeedback::kSecondOrder
 //   y[n] = sat32((acc + 2^(q-1)) >> q),   q = 31 - shift                     (round half up)
+//   r[n] = acc - (y[n] << q)                  the rounding remainder, |r| <= 2^(q-1)
 //   x of section k+1 = y of section k;  x of section 0 = input i
 //   term_i = (y_last * output_gain + 2^(p-1)) >> p,   p = 31 - output_shift   (int64)
 //   d_hat = sat32(sum_i term_i)
 //
-// State layout: for each path, for each section, four int32 words {x[n-1], x[n-2], y[n-1], y[n-2]}
-// (the CMSIS arm_biquad_cas_df1_32x64 order). Unused sections keep zero state.
+// State layout: for each path, for each section, six int32 words
+// {x[n-1], x[n-2], y[n-1], y[n-2], r[n-1], r[n-2]} (the first four in CMSIS arm_biquad_cas_df1
+// order). Unused sections keep zero state. The remainders stay zero without error feedback; after
+// a saturation they are cleared so the feedback does not push a railed section further.
 //
 // Scaling and overflow:
 //   Inputs are Q31 fractions of each input's full scale; d_hat is a Q31 fraction of the output full
 //   scale. Coefficients are Q(31 - shift). Every product is of two int32 values (|p| <= 2^62) and
-//   ValidateDescription requires sum(|b0|,|b1|,|b2|,|a1|,|a2|) < 2^32 on the raw integers, so the
-//   64-bit accumulator holds the exact sum (|acc| < 2^63 - 2^31) and never wraps; the rounding
-//   constant fits in the remaining headroom. Section outputs and d_hat are saturated to int32 (each
+//   ValidateDescription requires sum(|b0|,|b1|,|b2|,|a1|,|a2|) <= 2^32 - 4 on the raw integers, so
+//   the product sum stays below 2^63 - 2^33; the error feedback adds at most 3 * 2^30 and the
+//   rounding constant 2^30, so the 64-bit accumulator holds the exact value and never wraps. Section outputs and d_hat are saturated to int32 (each
 //   saturation is counted), never wrapped. Output terms are at most 2^61 each (output_shift <= 30),
 //   so the sum of three cannot overflow before the final saturation; the paths are summed before
 //   saturating because the sensor and force paths cancel to a small d_hat by design.
 //   The host's design scales each section's numerator from the l1 norm of the impulse response from
 //   the path input to that section's output, so no section saturates for any input within full
 //   scale; a saturation therefore means the input left the designed range.
-//   Rounding error: each section adds at most 1/2 LSB at its output, shaped by the following
-//   sections' noise gain; the host reports the predicted noise floor.
+//   Rounding error: each section adds at most 1/2 LSB at its output, shaped by its own poles (or,
+//   with error feedback, by (1 - z^-1)^2 over its poles) and by the following sections; the host
+//   reports the predicted noise floor and enables the feedback where it lowers it.
 #pragma once
 
 #include <array>
@@ -70,7 +75,7 @@ class DobFilter {
   const FilterDescription& description() const { return description_; }
 
  private:
-  static constexpr std::size_t kStateWords = 4;
+  static constexpr std::size_t kStateWords = 6;
 
   std::int32_t StepPath(std::size_t path, std::int32_t input);
 

@@ -40,7 +40,8 @@
 //   0   i32  b0, b1, b2, a1, a2       y[n] = b0 x[n] + b1 x[n-1] + b2 x[n-2] - a1 y[n-1] - a2 y[n-2]
 //                                     (scipy.signal sos convention, a0 = 1 implied)
 //   20  u8   shift                    0..kMaxSectionShift
-//   21  u8   reserved[3]              0
+//   21  u8   feedback                 ErrorFeedback: 0 none, 1 second-order (1 - z^-1)^2
+//   22  u8   reserved[2]              0
 #pragma once
 
 #include <array>
@@ -57,6 +58,9 @@ inline constexpr std::size_t kMaxInputs = 3;
 inline constexpr std::size_t kMaxSections = 8;
 inline constexpr std::uint8_t kMaxSectionShift = 15;
 inline constexpr std::uint8_t kMaxOutputShift = 30;
+/// Bound on |b0| + |b1| + |b2| + |a1| + |a2| of a section's raw integers: with int32 states every
+/// product sum stays below 2^63 - 2^33, leaving room for the error feedback and the rounding.
+inline constexpr std::int64_t kMaxCoefficientSum = (std::int64_t{1} << 32) - 4;
 inline constexpr std::uint32_t kDescriptionMagic = 0x424F4456u;  // bytes 'V','D','O','B'
 inline constexpr std::uint16_t kDescriptionVersion = 1;
 inline constexpr std::size_t kDescriptionBytes = 640;
@@ -71,6 +75,15 @@ enum class InputKind : std::uint8_t {
   kAcceleration = 4,  ///< m/s^2.
 };
 
+/// Rounding-error feedback of a section (see dob_filter.hpp). Poles near z = 1 amplify the
+/// output rounding by up to 1 / ((1 - r)^2 ...); feeding the two previous rounding remainders back
+/// with weights (2, -1) shapes that noise by (1 - z^-1)^2, which cancels the amplification at low
+/// frequencies for the price of at most 4x (12 dB) near Nyquist.
+enum class ErrorFeedback : std::uint8_t {
+  kNone = 0,
+  kSecondOrder = 1,
+};
+
 /// One second-order section, coefficients in Q(31 - shift).
 struct Section {
   std::int32_t b0 = 0;
@@ -79,7 +92,8 @@ struct Section {
   std::int32_t a1 = 0;
   std::int32_t a2 = 0;
   std::uint8_t shift = 0;
-  std::uint8_t reserved[3] = {0, 0, 0};
+  ErrorFeedback feedback = ErrorFeedback::kNone;
+  std::uint8_t reserved[2] = {0, 0};
 };
 
 /// The cascade applied to one input, and the gain its output enters d_hat with.
@@ -110,6 +124,7 @@ struct FilterDescription {
 
 static_assert(sizeof(Section) == 24);
 static_assert(offsetof(Section, shift) == 20);
+static_assert(offsetof(Section, feedback) == 21);
 static_assert(sizeof(Path) == 200);
 static_assert(offsetof(Path, output_gain) == 4);
 static_assert(offsetof(Path, sections) == 8);
@@ -149,10 +164,10 @@ void Seal(FilterDescription& description);
 ///          kVersionMismatch for a wrong magic or version (checked first);
 ///          kDataLoss if the checksum does not match (checked next: corrupted bytes say nothing);
 ///          kOutOfRange for input_count outside 1..kMaxInputs or section_count > kMaxSections;
-///          kInvalidArgument for a shift out of range, a nonzero reserved byte, a used input of
+///          kInvalidArgument for a shift or feedback mode out of range, a nonzero reserved byte, a used input of
 ///            kind kUnused or an unused slot carrying data, a zero sample rate, a non-finite or
-///            non-positive full scale, or a section whose absolute coefficient sum is 2^32 or more
-///            (the bound that keeps the 64-bit accumulator from overflowing);
+///            non-positive full scale, or a section whose absolute coefficient sum exceeds
+///            kMaxCoefficientSum (the bound that keeps the 64-bit accumulator from overflowing);
 ///          kUnstable if a section's integer denominator 1 + a1 z^-1 + a2 z^-2 has a root on or
 ///            outside the unit circle (Jury: |a2| < 1 and |a1| < 1 + a2, evaluated exactly on the
 ///            integers).
