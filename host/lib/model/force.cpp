@@ -31,6 +31,8 @@ const std::vector<KindInfo>& Kinds() {
   return kinds;
 }
 
+double EdgeTolerance(double t_s) { return 1e-12 * std::max(1.0, std::abs(t_s)); }
+
 std::string Trim(std::string_view s) {
   const auto first = s.find_first_not_of(" \t");
   if (first == std::string_view::npos) return {};
@@ -104,23 +106,26 @@ ForceShape ParseForceShape(std::string_view spec) {
   return shape;
 }
 
-double EvaluateShape(const ForceShape& shape, double t_s) {
+double EvaluateShape(const ForceShape& shape, double t_s, Side side) {
   const double tau = t_s - shape.t0_s;
-  if (tau < 0.0) return 0.0;
+  // Edges are tested at a time nudged to the requested side; smooth values use the true time.
+  const double tol = EdgeTolerance(t_s);
+  const double edge_tau = side == Side::kFrom ? tau + tol : tau - tol;
+  if (edge_tau < 0.0) return 0.0;
   constexpr double kTwoPi = 2.0 * std::numbers::pi;
   switch (shape.kind) {
     case ShapeKind::kStep:
       return shape.amp_n;
     case ShapeKind::kPulse:
-      return tau < shape.width_s ? shape.amp_n : 0.0;
+      return edge_tau < shape.width_s ? shape.amp_n : 0.0;
     case ShapeKind::kHalfSine:
-      return tau <= shape.width_s ? shape.amp_n * std::sin(std::numbers::pi * tau / shape.width_s) : 0.0;
+      return edge_tau < shape.width_s ? shape.amp_n * std::sin(std::numbers::pi * std::max(tau, 0.0) / shape.width_s) : 0.0;
     case ShapeKind::kSine:
-      return shape.amp_n * std::sin(kTwoPi * shape.freq_hz * tau);
+      return shape.amp_n * std::sin(kTwoPi * shape.freq_hz * std::max(tau, 0.0));
     case ShapeKind::kChirp:
-      if (tau > shape.t1_s) return 0.0;
-      return shape.amp_n *
-             std::sin(kTwoPi * (shape.f0_hz * tau + (shape.f1_hz - shape.f0_hz) * tau * tau / (2.0 * shape.t1_s)));
+      if (edge_tau >= shape.t1_s) return 0.0;
+      return shape.amp_n * std::sin(kTwoPi * (shape.f0_hz * std::max(tau, 0.0) +
+                                              (shape.f1_hz - shape.f0_hz) * tau * tau / (2.0 * shape.t1_s)));
   }
   return 0.0;
 }
@@ -165,16 +170,18 @@ void ValidateForceInput(const ForceInput& input, int dofs, const std::string& wh
   }
 }
 
-void EvaluateForce(const ForceInput& input, double t_s, Eigen::Ref<Eigen::VectorXd> out) {
+void EvaluateForce(const ForceInput& input, double t_s, Eigen::Ref<Eigen::VectorXd> out, Side side) {
   out.setZero();
-  for (const ForceShape& shape : input.shapes) out[shape.dof] += EvaluateShape(shape, t_s);
+  for (const ForceShape& shape : input.shapes) out[shape.dof] += EvaluateShape(shape, t_s, side);
   const ForceTable& table = input.table;
   const Eigen::Index rows = table.t_s.size();
-  if (rows == 0 || t_s + 1e-12 * std::max(1.0, std::abs(t_s)) < table.t_s[0]) return;
-  // Last sample at or before t: binary search, no allocation. The tolerance keeps a sample time
-  // written in decimal (0.003) and the same instant computed as k·dt on the same side.
+  // The tolerance keeps a sample time written in decimal (0.003) and the same instant computed as
+  // k·dt on the same side of each other.
+  const double t_edge = side == Side::kFrom ? t_s + EdgeTolerance(t_s) : t_s - EdgeTolerance(t_s);
+  if (rows == 0 || t_edge < table.t_s[0]) return;
+  // Last sample at or before t: binary search, no allocation.
   const double* begin = table.t_s.data();
-  const double* it = std::upper_bound(begin, begin + rows, t_s + 1e-12 * std::max(1.0, std::abs(t_s)));
+  const double* it = std::upper_bound(begin, begin + rows, t_edge);
   out += table.force_n.row((it - begin) - 1).transpose();
 }
 

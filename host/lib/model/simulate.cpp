@@ -153,7 +153,7 @@ class SimulationEngine {
   template <typename ForceFn>
   void UpdateStick(ForceFn& force_at) {
     if (!has_friction) return;
-    force_at(t, f);
+    force_at(t, f, Side::kFrom);
     NetForce(x, v);
     for (Eigen::Index i = 0; i < n; ++i) {
       if (!HasFriction(i)) continue;
@@ -173,17 +173,18 @@ class SimulationEngine {
   template <typename ForceFn>
   void Integrate(ForceFn& force_at, double h) {
     if (method == Method::kEuler) {
-      force_at(t, f);
+      force_at(t, f, Side::kFrom);
       Acceleration(x, v, k1v);
       x.noalias() += h * v;
       v.noalias() += h * k1v;
       return;
     }
-    // Classical RK4 on (x, v), forces at the stage times.
-    force_at(t, f);
+    // Classical RK4 on (x, v), forces at the stage times; the last stage takes the value just
+    // before t + h, the end of the interval this step integrates over.
+    force_at(t, f, Side::kFrom);
     Acceleration(x, v, k1v);
     k1x = v;
-    force_at(t + 0.5 * h, f);
+    force_at(t + 0.5 * h, f, Side::kFrom);
     xs = x + 0.5 * h * k1x;
     vs = v + 0.5 * h * k1v;
     Acceleration(xs, vs, k2v);
@@ -192,7 +193,7 @@ class SimulationEngine {
     vs = v + 0.5 * h * k2v;
     Acceleration(xs, vs, k3v);
     k3x = vs;
-    force_at(t + h, f);
+    force_at(t + h, f, Side::kBefore);
     xs = x + h * k3x;
     vs = v + h * k3v;
     Acceleration(xs, vs, k4v);
@@ -206,7 +207,7 @@ class SimulationEngine {
   void Advance(ForceFn& force_at) {
     const double t_start = t;
     if (method == Method::kExact) {
-      force_at(t, f);
+      force_at(t, f, Side::kFrom);
       z.head(n) = x;
       z.tail(n) = v;
       z_next.noalias() = ad * z;
@@ -263,7 +264,7 @@ class SimulationEngine {
   template <typename ForceFn>
   void UpdateAcceleration(ForceFn& force_at) {
     UpdateStick(force_at);
-    force_at(t, f);
+    force_at(t, f, Side::kFrom);
     f_last = f;
     Acceleration(x, v, a);
   }
@@ -281,7 +282,7 @@ Simulator& Simulator::operator=(Simulator&&) noexcept = default;
 void Simulator::Step(Eigen::Ref<const Eigen::VectorXd> force_n) {
   Require(force_n.size() == impl_->n, "force vector has " + std::to_string(force_n.size()) + " entries, the model has " +
                                           std::to_string(impl_->n) + " DOFs");
-  auto held = [&force_n](double, Eigen::VectorXd& out) { out = force_n; };
+  auto held = [&force_n](double, Eigen::VectorXd& out, Side) { out = force_n; };
   impl_->Advance(held);
   impl_->UpdateAcceleration(held);
 }
@@ -310,10 +311,10 @@ SimulationResult Simulate(const Model& model, const ForceInput& force, const For
   Eigen::VectorXd force_now = Eigen::VectorXd::Zero(n);
   Eigen::VectorXd disturbance_now = Eigen::VectorXd::Zero(n);
   const bool has_disturbance = !disturbance.empty();
-  auto total = [&](double t_s, Eigen::VectorXd& out) {
-    EvaluateForce(force, t_s, out);
+  auto total = [&](double t_s, Eigen::VectorXd& out, Side side) {
+    EvaluateForce(force, t_s, out, side);
     if (has_disturbance) {
-      EvaluateForce(disturbance, t_s, disturbance_now);
+      EvaluateForce(disturbance, t_s, disturbance_now, side);
       out += disturbance_now;
     }
   };

@@ -36,8 +36,14 @@ struct ForceShape {
 /// Parses a SPEC (see above). InputError naming the spec and the bad or missing key.
 ForceShape ParseForceShape(std::string_view spec);
 
+/// Which side of a discontinuity (a pulse edge, a table sample) an instant refers to. Shapes and
+/// tables are right-continuous: a sample at t sees kFrom. An integration step ending at t needs the
+/// value just before (kBefore), so that a pulse ending on a step boundary is not cut short.
+/// Instants within 1e-12 (relative, at least 1e-12 s) of an edge count as on it.
+enum class Side { kFrom, kBefore };
+
 /// Value of the shape at time t_s, N.
-double EvaluateShape(const ForceShape& shape, double t_s);
+double EvaluateShape(const ForceShape& shape, double t_s, Side side = Side::kFrom);
 
 /// Sampled forces, zero-order held: the row with the latest t_s ≤ t applies; zero before the first.
 struct ForceTable {
@@ -60,6 +66,6 @@ struct ForceInput {
 void ValidateForceInput(const ForceInput& input, int dofs, const std::string& what = "force");
 
 /// Writes the force on each DOF at t_s into `out` (size dofs). No allocation.
-void EvaluateForce(const ForceInput& input, double t_s, Eigen::Ref<Eigen::VectorXd> out);
+void EvaluateForce(const ForceInput& input, double t_s, Eigen::Ref<Eigen::VectorXd> out, Side side = Side::kFrom);
 
 }  // namespace vibid::model
