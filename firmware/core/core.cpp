@@ -18,7 +18,7 @@ Core::Core(const Port& port, ReportLink& link, std::span<std::uint8_t> log_stora
       link_(link),
       port_commands_(port_commands),
       ring_(log_storage),
-      sampler_(ring_),
+      sampler_(ring_, dob_),
       store_(port.flash) {}
 
 Status Core::Boot() {
@@ -27,7 +27,12 @@ Status Core::Boot() {
   return s;
 }
 
-void Core::ApplyCalibration() { sampler_.SetScaling(store_.record().channels); }
+void Core::ApplyCalibration() {
+  sampler_.SetScaling(store_.record().channels);
+  // The record passed the same validation as the kernel's Init, so this cannot fail; if it
+  // did, the filter stays unloaded and every DOB request is refused, which get-status shows.
+  (void)dob_.Load(store_.record());
+}
 
 bool Core::Sampling() const {
   const wire::AcqState s = sampler_.state();
@@ -108,7 +113,7 @@ wire::InfoResponse Core::Info() const {
   info.fw_patch = v.patch;
   info.board_id = port_.system.Board();
   info.build_id = BuildId();
-  info.capabilities = port_.system.PortCapabilities() | wire::kCapForceTrigger;
+  info.capabilities = port_.system.PortCapabilities() | wire::kCapForceTrigger | wire::kCapDob;
   info.sample_period_us = configured_ ? config_.sample_period_us : kDefaultSamplePeriodUs;
   info.min_sample_period_us = wire::kMinSamplePeriodUs;
   info.log_capacity_bytes = static_cast<std::uint32_t>(ring_.storage_bytes());
@@ -137,7 +142,7 @@ wire::StatusResponse Core::CurrentStatus() const {
   s.overrun_count = sampler_.overruns();
   s.dropped_records = sampler_.dropped();
   s.rejected_requests = rejected_requests_;
-  s.saturation_count = sampler_.clips();
+  s.saturation_count = sampler_.saturations();
   s.trigger_record = ring_.triggered() ? ring_.trigger_index() : wire::kNoRecord;
   s.cal_sequence = store_.sequence();
   s.flash_errors = store_.flash_errors();
@@ -292,7 +297,13 @@ Status Core::ValidateConfig(const wire::AcqConfigureRequest& c) const {
     return Status::kInvalidArgument;
   }
   if (c.pretrigger_records >= ring_.CapacityFor(layout.RecordBytes())) return Status::kOutOfRange;
-  if (layout.HasDob()) return Status::kFailedPrecondition;  // no filter loaded
+  if (layout.HasDob()) {
+    if (!dob_.loaded()) return Status::kFailedPrecondition;
+    // The filter is only right at the rate it was discretized for.
+    if (static_cast<std::uint64_t>(c.sample_period_us) * dob_.sample_rate_hz() != 1000000u) {
+      return Status::kInvalidArgument;
+    }
+  }
   return Status::kOk;
 }
 
@@ -348,8 +359,10 @@ Status Core::HandleLogRead(const Header& h, std::span<const std::uint8_t> payloa
 Status Core::HandleDobControl(const Header& h, std::span<const std::uint8_t> payload) {
   wire::DobControlRequest r;
   if (wire::Decode(payload, r) != Status::kOk) return Status::kInvalidArgument;
-  (void)h;
-  return Status::kFailedPrecondition;  // no filter loaded
+  if (r.run == 1 && !dob_.loaded()) return Status::kFailedPrecondition;
+  sampler_.SetDobRunning(r.run == 1);
+  Respond(h, Status::kOk);
+  return Status::kOk;
 }
 
 void Core::NextStreamReport() {

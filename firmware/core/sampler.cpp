@@ -9,7 +9,11 @@ Status Sampler::Arm(const wire::AcqConfigureRequest& config) {
   config_ = config;
   expected_tick_ = 0;
   post_trigger_records_ = 0;
-  dob_in_acquisition_ = layout_.HasDob();
+  dob_rate_ok_ = dob_.loaded() &&
+                 static_cast<std::uint64_t>(config.sample_period_us) * dob_.sample_rate_hz() == 1000000u;
+  dob_in_acquisition_ = dob_rate_ok_ && layout_.HasDob();
+  dob_was_running_ = false;
+  dob_.Reset();
   ticks_.store(0, std::memory_order_relaxed);
   overruns_.store(0, std::memory_order_relaxed);
   dropped_.store(0, std::memory_order_relaxed);
@@ -31,7 +35,11 @@ void Sampler::Disarm() {
   dob_in_acquisition_ = false;
 }
 
-bool Sampler::dob_running() const { return false; }
+bool Sampler::dob_running() const {
+  const wire::AcqState s = state();
+  return (s == wire::AcqState::kArmed || s == wire::AcqState::kAcquiring) &&
+         (dob_in_acquisition_ || (dob_rate_ok_ && dob_requested_.load(std::memory_order_acquire)));
+}
 
 bool Sampler::TriggerFires(const std::array<std::int32_t, wire::kChannelCount>& calibrated) const {
   const std::int32_t v = calibrated[config_.trigger_channel];
@@ -49,11 +57,17 @@ void Sampler::OnFrame(const SampleFrame& frame) {
   for (std::size_t c = 0; c < wire::kChannelCount; ++c) {
     calibrated[c] = wire::ScaleChannel(frame.raw[c], scaling_[c], clips);
   }
-  const std::int32_t d_hat = 0;
-  PublishLatest(frame, calibrated, d_hat);
-
   const wire::AcqState state = state_.load(std::memory_order_relaxed);
-  if (state != wire::AcqState::kArmed && state != wire::AcqState::kAcquiring) return;
+  const bool sampling = state == wire::AcqState::kArmed || state == wire::AcqState::kAcquiring;
+  // The DOB steps on every frame (decimation only thins the log), so the host can replay it
+  // from an undecimated log. A run switched on mid-acquisition starts from rest.
+  const bool run_dob = sampling && (dob_in_acquisition_ ||
+                                    (dob_rate_ok_ && dob_requested_.load(std::memory_order_relaxed)));
+  if (run_dob && !dob_was_running_) dob_.Reset();
+  dob_was_running_ = run_dob;
+  const std::int32_t d_hat = run_dob ? dob_.Step(calibrated) : 0;
+  PublishLatest(frame, calibrated, d_hat);
+  if (!sampling) return;
 
   ticks_.store(ticks_.load(std::memory_order_relaxed) + 1, std::memory_order_relaxed);
   if (clips != 0) clips_.store(clips_.load(std::memory_order_relaxed) + clips, std::memory_order_relaxed);

@@ -36,8 +36,26 @@ def f32(v):
     return struct.pack("<f", v)
 
 
-def calibration_record():
-    body = b"VCAL" + struct.pack("<HHBBH", CAL_RECORD_VERSION, 840, 2, 0, 0)
+def dob_description():
+    """The two-input test filter of shared/wire/test/test_filter.hpp, packed from the layout in
+    shared/include/vibid/shared/fixed/filter_description.hpp."""
+    desc = b"VDOB" + struct.pack("<HBBI", 1, 2, 1, 5000)
+    desc += bytes([1, 4, 0, 0])                  # input kinds: force, acceleration, unused
+    desc += bytes([1, 1, 0, 0])                  # input masses
+    desc += f32(100.0) + f32(490.0) + bytes(4)   # input full scales (N, m/s^2)
+    desc += f32(200.0)                           # output full scale (N)
+    one_q30 = 1 << 30
+    for gain in (-(1 << 30), 1 << 30):
+        section = struct.pack("<iiiiiBBH", one_q30 // 4, one_q30 // 8, 0, -3 * (one_q30 // 4),
+                               one_q30 // 8, 1, 0, 0)
+        desc += struct.pack("<BBHi", 1, 1, 0, gain) + section + bytes(7 * 24)
+    desc += bytes(200)
+    assert len(desc) == 636
+    return desc + struct.pack("<I", zlib.crc32(desc))
+
+
+def calibration_record(with_dob=False):
+    body = b"VCAL" + struct.pack("<HHBBH", CAL_RECORD_VERSION, 840, 2, 1 if with_dob else 0, 0)
     body += struct.pack("<q", 1700000000)                   # created_unix_s
     body += struct.pack("<BBH", 0, 1, 7)                    # host 0.1.7
     body += b"rig-A two mass".ljust(24, b"\0")
@@ -47,16 +65,20 @@ def calibration_record():
     channels = [
         # offset, gain, shift, unit, dof, full_scale
         (2048, 1 << 20, 0, 1, 0, 100.0),      # force1: N
-        (2047, 1 << 20, 0, 1, 1, 50.0),       # force2: N
+        (2047, 1 << 20, 0, 1, 1, 100.0 if with_dob else 50.0),  # force2: N
         (2050, 3 << 19, 1, 2, 0, 490.3325),   # accel1: m/s^2
-        (2046, 3 << 19, 1, 2, 1, 490.3325),   # accel2
+        (2046, 3 << 19, 1, 2, 1, 490.0 if with_dob else 490.3325),  # accel2
         (0, 1 << 17, 0, 3, 0, 0.5),           # encoder1: m
         (-5, -(1 << 17), 0, 3, 1, 0.5),       # encoder2: m, counting the other way
     ]
     for offset, gain, shift, unit, dof, full_scale in channels:
         body += struct.pack("<iiBBBB", offset, gain, shift, unit, dof, 0) + f32(full_scale)
-    body += bytes([0xFF, 0xFF, 0xFF, 0])                  # no DOB inputs, reserved
-    body += bytes(640)
+    if with_dob:
+        body += bytes([1, 3, 0xFF, 0])                    # DOB inputs: force2, accel2
+        body += dob_description()
+    else:
+        body += bytes([0xFF, 0xFF, 0xFF, 0])              # no DOB inputs, reserved
+        body += bytes(640)
     assert len(body) == 836
     return body + struct.pack("<I", zlib.crc32(body))
 
@@ -120,6 +142,7 @@ def main():
 
     record = calibration_record()
     add("calibration_record", record)
+    add("calibration_record_dob", calibration_record(with_dob=True))
     add("cal_put_begin", report(0x10, token=0x0C0C,
                                 payload=struct.pack("<II", len(record), zlib.crc32(record))))
     chunks = (len(record) + 51) // 52
@@ -154,9 +177,11 @@ def main():
     v = dict(vectors)
     SEEDS.mkdir(parents=True, exist_ok=True)
     (SEEDS / "calibration_record").write_bytes(v["calibration_record"])
-    (SEEDS / "requests").write_bytes(v["ping_request"] + v["acq_configure_request"] +
+    (SEEDS / "calibration_record_dob").write_bytes(v["calibration_record_dob"])
+    # Request seeds start with the fuzzer's calibration switch byte (1: the filter is installed).
+    (SEEDS / "requests").write_bytes(b"\x01" + v["ping_request"] + v["acq_configure_request"] +
                                      v["log_read_request"] + v["dob_control_request"])
-    (SEEDS / "cal_put").write_bytes(v["cal_put_begin"] + v["cal_put_data_0"])
+    (SEEDS / "cal_put").write_bytes(b"\x00" + v["cal_put_begin"] + v["cal_put_data_0"])
     (SEEDS / "log_stream").write_bytes(bytes([0x24, 0x77, 0x77]) +
                                        b"".join(v[f"log_stream_{i}"] for i in range(4)))
 

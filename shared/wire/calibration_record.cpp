@@ -2,10 +2,15 @@
 
 #include <bit>
 
+#include "vibid/shared/fixed/filter_description.hpp"
 #include "vibid/shared/wire/byte_order.hpp"
 #include "vibid/shared/wire/crc32.hpp"
 
 namespace vibid::wire {
+
+static_assert(kDobDescriptionBytes == fixed::kDescriptionBytes, "the record embeds the filter");
+static_assert(kMaxDobInputs == fixed::kMaxInputs);
+
 namespace {
 
 constexpr std::size_t kN = kMaxDof;
@@ -67,6 +72,42 @@ bool ChannelOk(const ChannelScaling& s, std::size_t dof_count) {
   return s.gain_shift <= kMaxGainShift &&
          static_cast<std::uint8_t>(s.unit) <= static_cast<std::uint8_t>(Unit::kMeterPerSecond) &&
          (s.dof == kNoDof || s.dof < dof_count) && IsFinite(s.full_scale) && s.full_scale > 0.0f;
+}
+
+Unit UnitOf(fixed::InputKind kind) {
+  switch (kind) {
+    case fixed::InputKind::kForce: return Unit::kNewton;
+    case fixed::InputKind::kDisplacement: return Unit::kMeter;
+    case fixed::InputKind::kVelocity: return Unit::kMeterPerSecond;
+    case fixed::InputKind::kAcceleration: return Unit::kMeterPerSecond2;
+    case fixed::InputKind::kUnused: break;
+  }
+  return Unit::kCounts;
+}
+
+// The filter must be valid on its own, and each input must be fed by a channel that measures
+// what the filter expects, on the same mass, with the same Q31 full scale (otherwise the
+// integers would mean something else than the host designed for).
+Status CheckDob(const CalibrationRecord& r) {
+  fixed::FilterDescription d;
+  (void)fixed::DecodeDescription(r.dob, d);
+  const Status valid = fixed::ValidateDescription(d);
+  if (valid != Status::kOk) return valid;
+  if (d.output_dof >= r.dof_count) return Status::kInvalidArgument;
+  for (std::size_t i = 0; i < kMaxDobInputs; ++i) {
+    const std::uint8_t c = r.dob_input_channel[i];
+    if (i >= d.input_count) {
+      if (c != kNoChannel) return Status::kInvalidArgument;
+      continue;
+    }
+    if (c >= kChannelCount) return Status::kInvalidArgument;
+    const ChannelScaling& ch = r.channels[c];
+    if (ch.unit != UnitOf(d.input_kind[i]) || ch.dof != d.input_dof[i] ||
+        std::bit_cast<std::uint32_t>(ch.full_scale) != d.input_full_scale_bits[i]) {
+      return Status::kInvalidArgument;
+    }
+  }
+  return Status::kOk;
 }
 
 }  // namespace
@@ -174,8 +215,10 @@ Status DecodeCalibrationRecord(std::span<const std::uint8_t> bytes, CalibrationR
   for (const ChannelScaling& s : r.channels) channels_ok = channels_ok && ChannelOk(s, r.dof_count);
   if (!channels_ok) return Status::kInvalidArgument;
   if (!inputs_ok) return Status::kInvalidArgument;
-  if ((r.flags & kCalFlagHasDob) == 0 && (!dob_zero || !inputs_unused)) {
-    return Status::kInvalidArgument;
+  if ((r.flags & kCalFlagHasDob) == 0) {
+    if (!dob_zero || !inputs_unused) return Status::kInvalidArgument;
+  } else if (const Status dob = CheckDob(r); dob != Status::kOk) {
+    return dob;
   }
   record = r;
   return Status::kOk;

@@ -166,17 +166,5 @@ TEST(CalibrationStore, RefusesSlotsTooSmall) {
   EXPECT_EQ(CommitTag(store, 1), Status::kOutOfRange);
 }
 
-TEST(CalibrationStore, RecordCheckRejectsSlot) {
-  FakeFlash flash;
-  {
-    CalibrationStore store(flash);
-    (void)store.Load();
-    ASSERT_EQ(CommitTag(store, 1), Status::kOk);
-  }
-  CalibrationStore strict(flash, [](const wire::CalibrationRecord&) { return Status::kUnstable; });
-  EXPECT_EQ(strict.Load(), Status::kDataLoss);
-  EXPECT_FALSE(strict.calibrated());
-}
-
 }  // namespace
 }  // namespace vibid::fw

@@ -47,7 +47,7 @@ TEST(CoreCommands, GetInfoDescribesTheBoard) {
   EXPECT_EQ(info.fw_minor, CurrentFirmwareVersion().minor);
   EXPECT_EQ(info.build_id, BuildId());
   EXPECT_EQ(info.board_id, wire::BoardId::kHostTest);
-  EXPECT_EQ(info.capabilities, wire::kCapDfu | wire::kCapForceTrigger);
+  EXPECT_EQ(info.capabilities, wire::kCapDfu | wire::kCapForceTrigger | wire::kCapDob);
   EXPECT_EQ(info.sample_period_us, Core::kDefaultSamplePeriodUs);
   EXPECT_EQ(info.log_capacity_bytes, CoreHarness::kLogBytes);
   EXPECT_EQ(info.channel_kind[0], wire::ChannelKind::kLoadCell);

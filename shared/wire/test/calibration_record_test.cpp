@@ -6,6 +6,7 @@
 #include <cstring>
 
 #include "golden_vectors.hpp"
+#include "test_filter.hpp"
 #include "vibid/shared/wire/crc32.hpp"
 
 namespace vibid::wire {
@@ -177,6 +178,94 @@ TEST(ScaleChannel, ClosedForm) {
   EXPECT_EQ(clips, 2u);
   // The default scaling is the identity on counts.
   EXPECT_EQ(ScaleChannel(-123456, DefaultScaling(), clips), -123456);
+}
+
+}  // namespace
+}  // namespace vibid::wire
+
+namespace vibid::wire {
+namespace {
+
+// GoldenValues() with the test filter fed by force 2 (channel 1) and accelerometer 2
+// (channel 3), both on mass 1, with the filter's full scales.
+CalibrationRecord WithFilter() {
+  CalibrationRecord r = GoldenValues();
+  r.channels[1].full_scale = testing::kForceFullScaleN;
+  r.channels[3].full_scale = testing::kAccelFullScaleMs2;
+  testing::AttachFilter(r, testing::TestFilter(), 1, 3);
+  return r;
+}
+
+Status EncodeDecode(const CalibrationRecord& r) {
+  Bytes b{};
+  EncodeCalibrationRecord(r, b);
+  CalibrationRecord back;
+  return DecodeCalibrationRecord(b, back);
+}
+
+TEST(CalibrationRecordDob, ValidFilterAndRouting) {
+  const CalibrationRecord r = WithFilter();
+  Bytes b{};
+  EncodeCalibrationRecord(r, b);
+  CalibrationRecord back;
+  ASSERT_EQ(DecodeCalibrationRecord(b, back), Status::kOk);
+  EXPECT_EQ(back.flags, kCalFlagHasDob);
+  EXPECT_EQ(back.dob_input_channel[1], 3);
+  EXPECT_TRUE(back.dob == r.dob);
+  // The filter's magic sits at the documented record offset 196.
+  EXPECT_EQ(b[kCalOffDob], 'V');
+  EXPECT_EQ(b[kCalOffDob + 3], 'B');
+}
+
+// The same record packed by scripts/golden/wire_vectors.py, filter description included.
+TEST(CalibrationRecordDob, EncodesLikeGolden) {
+  Bytes golden{};
+  ASSERT_EQ(testing::GoldenVector("calibration_record_dob", golden), kCalRecordBytes);
+  Bytes out{};
+  EncodeCalibrationRecord(WithFilter(), out);
+  EXPECT_TRUE(out == golden);
+  CalibrationRecord back;
+  EXPECT_EQ(DecodeCalibrationRecord(golden, back), Status::kOk);
+  EXPECT_EQ(golden[kCalOffDobInputs], 1);
+  EXPECT_EQ(golden[kCalOffDobInputs + 1], 3);
+}
+
+TEST(CalibrationRecordDob, RefusesRoutingThatDisagreesWithTheFilter) {
+  CalibrationRecord r = WithFilter();
+  r.dob_input_channel[0] = 2;  // an accelerometer feeding the force input
+  EXPECT_EQ(EncodeDecode(r), Status::kInvalidArgument);
+  r = WithFilter();
+  r.channels[1].full_scale = 50.0f;  // the filter expects 100 N full scale
+  EXPECT_EQ(EncodeDecode(r), Status::kInvalidArgument);
+  r = WithFilter();
+  r.channels[3].dof = 0;  // accelerometer on the other mass
+  EXPECT_EQ(EncodeDecode(r), Status::kInvalidArgument);
+  r = WithFilter();
+  r.dob_input_channel[2] = 4;  // the filter has two inputs
+  EXPECT_EQ(EncodeDecode(r), Status::kInvalidArgument);
+  r = WithFilter();
+  r.dob_input_channel[1] = 6;
+  EXPECT_EQ(EncodeDecode(r), Status::kInvalidArgument);
+  r = WithFilter();
+  r.dof_count = 1;  // output on mass 1 of a one-mass rig (and channels on mass 1)
+  EXPECT_EQ(EncodeDecode(r), Status::kInvalidArgument);
+}
+
+TEST(CalibrationRecordDob, FilterVerdictsPassThrough) {
+  CalibrationRecord r = WithFilter();
+  fixed::FilterDescription unstable = testing::TestFilter();
+  unstable.paths[0].sections[0].a2 = 1 << 30;  // a2 = 1: poles on the unit circle
+  fixed::Seal(unstable);
+  testing::AttachFilter(r, unstable, 1, 3);
+  EXPECT_EQ(EncodeDecode(r), Status::kUnstable);
+
+  r = WithFilter();
+  r.dob[100] ^= 1;  // filter bytes changed after sealing: its own checksum fails
+  EXPECT_EQ(EncodeDecode(r), Status::kDataLoss);
+
+  r = WithFilter();
+  r.flags = 0;  // filter bytes present without the flag
+  EXPECT_EQ(EncodeDecode(r), Status::kInvalidArgument);
 }
 
 }  // namespace

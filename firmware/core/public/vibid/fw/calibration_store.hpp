@@ -37,18 +37,14 @@ class CalibrationStore {
   static constexpr std::size_t kSlotRecordOffset = 32;
   static constexpr std::size_t kSlotBytesNeeded = kSlotRecordOffset + wire::kCalRecordBytes;
 
-  /// Checks a record's filter beyond the wire rules (the DOB runtime's validation); kOk to accept.
-  using RecordCheck = Status (*)(const wire::CalibrationRecord& record);
-
-  explicit CalibrationStore(CalibrationFlash& flash, RecordCheck check = nullptr)
-      : flash_(flash), check_(check) {}
+  explicit CalibrationStore(CalibrationFlash& flash) : flash_(flash) {}
 
   /// Reads both slots and activates the newest valid record, or the uncalibrated defaults.
   /// @returns kOk if a record was loaded; kDataLoss if neither slot holds a valid one;
   ///          kOutOfRange if the port's slots are smaller than kSlotBytesNeeded.
   Status Load();
 
-  /// Writes a record that already passed DecodeCalibrationRecord (and the record check) to the
+  /// Writes a record that already passed DecodeCalibrationRecord to the
   /// slot not holding the active record, then activates it.
   /// @returns kOk; kOutOfRange if the slots are too small; kInternal if the flash reported an
   ///          error or the read-back differs (counted in flash_errors(); the active record and
@@ -80,7 +76,6 @@ class CalibrationStore {
                    std::span<const std::uint8_t, wire::kCalRecordBytes> record_bytes);
 
   CalibrationFlash& flash_;
-  RecordCheck check_;
   bool calibrated_ = false;
   CalibrationFlash::Slot slot_ = CalibrationFlash::Slot::kA;
   std::uint32_t sequence_ = 0;

@@ -17,11 +17,6 @@ namespace vibid::fw {
 
 class CalibrationUpload {
  public:
-  /// Extra validation of a complete record (the DOB filter check); kOk to accept.
-  using RecordCheck = Status (*)(const wire::CalibrationRecord& record);
-
-  explicit CalibrationUpload(RecordCheck check = nullptr) : check_(check) {}
-
   /// Starts a transfer; drops any staged record.
   /// @returns kOk; kVersionMismatch if record_bytes is not wire::kCalRecordBytes (a record of
   ///          another version).
@@ -32,7 +27,7 @@ class CalibrationUpload {
   /// @returns kOk; kFailedPrecondition without a transfer in progress; kOutOfRange for a
   ///          sequence other than the next; kInvalidArgument for a wrong chunk length;
   ///          kDataLoss if the assembled bytes do not match the announced CRC-32; otherwise the
-  ///          record's own verdict (DecodeCalibrationRecord, then the record check).
+  ///          record's own verdict (DecodeCalibrationRecord, the filter included).
   Status Data(std::uint16_t sequence, std::span<const std::uint8_t> chunk, bool& complete);
 
   bool staged() const { return staged_; }
@@ -41,7 +36,6 @@ class CalibrationUpload {
   void Clear();
 
  private:
-  RecordCheck check_;
   bool active_ = false;
   bool staged_ = false;
   std::uint32_t expected_crc_ = 0;

@@ -14,6 +14,7 @@
 
 #include "vibid/fw/calibration_store.hpp"
 #include "vibid/fw/calibration_upload.hpp"
+#include "vibid/fw/dob_stage.hpp"
 #include "vibid/fw/log_ring.hpp"
 #include "vibid/fw/port.hpp"
 #include "vibid/fw/port_commands.hpp"
@@ -95,6 +96,7 @@ class Core {
   ReportLink& link_;
   PortCommandHandler* port_commands_;
   LogRing ring_;
+  DobStage dob_;
   Sampler sampler_;
   CalibrationStore store_;
   CalibrationUpload upload_;

@@ -13,6 +13,7 @@
 #include <atomic>
 #include <cstdint>
 
+#include "vibid/fw/dob_stage.hpp"
 #include "vibid/fw/log_ring.hpp"
 #include "vibid/fw/port.hpp"
 #include "vibid/shared/status.hpp"
@@ -24,7 +25,7 @@ namespace vibid::fw {
 
 class Sampler final : public FrameSink {
  public:
-  explicit Sampler(LogRing& ring) : ring_(ring) {}
+  Sampler(LogRing& ring, DobStage& dob) : ring_(ring), dob_(dob) {}
 
   /// Calibration applied from the next frame on. Main loop, sampling stopped.
   void SetScaling(const std::array<wire::ChannelScaling, wire::kChannelCount>& scaling) {
@@ -32,14 +33,16 @@ class Sampler final : public FrameSink {
   }
 
   /// Prepares an acquisition with an already validated configuration: resets the log, the
-  /// counters and the DOB state; an immediate trigger fires at once. Main loop, sampling stopped.
+  /// counters and the DOB state; an immediate trigger fires at once. The DOB runs in this
+  /// acquisition if it is loaded, discretized for this sample rate, and either logged
+  /// (kAcqFlagLogDob) or switched on by SetDobRunning. Main loop, sampling stopped.
   /// @returns the log's Reset status (kOutOfRange if the pre-trigger does not fit).
   Status Arm(const wire::AcqConfigureRequest& config);
 
   /// Ends the acquisition (after the port stopped delivering frames); the log is kept.
   void Disarm();
 
-  /// Whether the DOB runs outside an acquisition that logs it (dob-control).
+  /// Runs the DOB in acquisitions that do not log it too (dob-control; live d_hat).
   void SetDobRunning(bool running) { dob_requested_.store(running, std::memory_order_release); }
 
   void OnFrame(const SampleFrame& frame) override;
@@ -49,7 +52,10 @@ class Sampler final : public FrameSink {
   std::uint32_t ticks() const { return ticks_.load(std::memory_order_relaxed); }
   std::uint32_t overruns() const { return overruns_.load(std::memory_order_relaxed); }
   std::uint32_t dropped() const { return dropped_.load(std::memory_order_relaxed); }
-  std::uint32_t clips() const { return clips_.load(std::memory_order_relaxed); }
+  /// Calibration clips plus DOB saturations since acq-start.
+  std::uint32_t saturations() const {
+    return clips_.load(std::memory_order_relaxed) + dob_.saturations();
+  }
   const wire::AcqConfigureRequest& config() const { return config_; }
   wire::LogLayout layout() const { return layout_; }
 
@@ -64,12 +70,15 @@ class Sampler final : public FrameSink {
                      std::int32_t d_hat);
 
   LogRing& ring_;
+  DobStage& dob_;
   std::array<wire::ChannelScaling, wire::kChannelCount> scaling_{};
   wire::AcqConfigureRequest config_{};
   wire::LogLayout layout_{};
   std::uint32_t expected_tick_ = 0;
   std::uint32_t post_trigger_records_ = 0;
-  bool dob_in_acquisition_ = false;
+  bool dob_in_acquisition_ = false;  // logged, or requested, at a matching rate
+  bool dob_rate_ok_ = false;
+  bool dob_was_running_ = false;
 
   std::atomic<wire::AcqState> state_{wire::AcqState::kIdle};
   std::atomic<bool> dob_requested_{false};

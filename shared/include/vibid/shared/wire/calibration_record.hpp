@@ -125,8 +125,7 @@ struct CalibrationRecord {
 void EncodeCalibrationRecord(const CalibrationRecord& record,
                              std::span<std::uint8_t, kCalRecordBytes> out);
 
-/// Reads and checks a record (the DOB bytes are checked for being zero when the record has no
-/// filter; a present filter is validated by the filter runtime when it is loaded).
+/// Reads and checks a record, the filter included.
 /// @returns kOk;
 ///          kInvalidArgument if bytes.size() != kCalRecordBytes;
 ///          kVersionMismatch for a wrong magic, version or length field (checked first);
@@ -136,7 +135,11 @@ void EncodeCalibrationRecord(const CalibrationRecord& record,
 ///            nonzero entries beyond dof_count, a gain shift > kMaxGainShift, an unknown unit,
 ///            a dof index beyond dof_count, a full scale that is not finite and positive, a
 ///            negative creation time, DOB bytes or input channels present without the flag, an
-///            input channel beyond the six channels.
+///            input channel beyond the six channels;
+///          with a filter (kCalFlagHasDob): fixed::ValidateDescription's verdict (kVersionMismatch,
+///            kDataLoss, kOutOfRange, kInvalidArgument, kUnstable), then kInvalidArgument for an
+///            output mass beyond dof_count or an input whose channel differs from the filter's
+///            expectation in unit, mass or full scale, or an unused input given a channel.
 Status DecodeCalibrationRecord(std::span<const std::uint8_t> bytes, CalibrationRecord& record);
 
 /// The record's CRC-32 field as stored in encoded bytes (no check).
