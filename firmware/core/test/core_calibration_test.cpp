@@ -42,11 +42,11 @@ TEST(CoreCalibration, UploadCommitReadBackAndReboot) {
   EXPECT_EQ(committed.slot, 0);
   EXPECT_EQ(committed.sequence, 1u);
 
-  wire::InfoResponse info;
-  ASSERT_EQ(wire::Decode(h.Request(Command::kGetInfo).payload(), info), Status::kOk);
-  EXPECT_EQ(info.cal_state, wire::CalState::kCalibrated);
-  EXPECT_EQ(info.cal_slot, 0);
-  EXPECT_EQ(info.cal_crc, wire::StoredRecordCrc(record));
+  wire::InfoResponse board_info;
+  ASSERT_EQ(wire::Decode(h.Request(Command::kGetInfo).payload(), board_info), Status::kOk);
+  EXPECT_EQ(board_info.cal_state, wire::CalState::kCalibrated);
+  EXPECT_EQ(board_info.cal_slot, 0);
+  EXPECT_EQ(board_info.cal_crc, wire::StoredRecordCrc(record));
 
   // cal-get streams the record back: 17 data reports + trailer, checked by the host decoder.
   h.link.ClearOut();
@@ -78,9 +78,9 @@ TEST(CoreCalibration, UploadCommitReadBackAndReboot) {
   CoreHarness rebooted;
   rebooted.fake.flash = h.fake.flash;
   EXPECT_EQ(rebooted.core.Boot(), Status::kOk);
-  ASSERT_EQ(wire::Decode(rebooted.Request(Command::kGetInfo).payload(), info), Status::kOk);
-  EXPECT_EQ(info.cal_state, wire::CalState::kCalibrated);
-  EXPECT_EQ(info.cal_crc, wire::StoredRecordCrc(record));
+  ASSERT_EQ(wire::Decode(rebooted.Request(Command::kGetInfo).payload(), board_info), Status::kOk);
+  EXPECT_EQ(board_info.cal_state, wire::CalState::kCalibrated);
+  EXPECT_EQ(board_info.cal_crc, wire::StoredRecordCrc(record));
 }
 
 TEST(CoreCalibration, CorruptedReportIsRejectedAndNothingStaged) {

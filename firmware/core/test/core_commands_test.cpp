@@ -40,23 +40,23 @@ TEST(CoreCommands, GetInfoDescribesTheBoard) {
   EXPECT_EQ(h.core.Boot(), Status::kDataLoss);  // blank flash
   const Response r = h.Request(Command::kGetInfo);
   ASSERT_EQ(r.status(), Status::kOk);
-  wire::InfoResponse info;
-  ASSERT_EQ(wire::Decode(r.payload(), info), Status::kOk);
-  EXPECT_EQ(info.protocol_major, wire::kProtocolMajor);
-  EXPECT_EQ(info.fw_major, CurrentFirmwareVersion().major);
-  EXPECT_EQ(info.fw_minor, CurrentFirmwareVersion().minor);
-  EXPECT_EQ(info.build_id, BuildId());
-  EXPECT_EQ(info.board_id, wire::BoardId::kHostTest);
-  EXPECT_EQ(info.capabilities, wire::kCapDfu | wire::kCapForceTrigger | wire::kCapDob);
-  EXPECT_EQ(info.sample_period_us, Core::kDefaultSamplePeriodUs);
-  EXPECT_EQ(info.log_capacity_bytes, CoreHarness::kLogBytes);
-  EXPECT_EQ(info.channel_kind[0], wire::ChannelKind::kLoadCell);
-  EXPECT_EQ(info.channel_kind[3], wire::ChannelKind::kAccelerometer);
-  EXPECT_EQ(info.channel_kind[4], wire::ChannelKind::kEncoder);
-  EXPECT_EQ(info.reset_cause, wire::ResetCause::kPowerOn);
-  EXPECT_EQ(info.cal_state, wire::CalState::kUncalibrated);
-  EXPECT_EQ(info.cal_slot, wire::kNoSlot);
-  EXPECT_EQ(info.cal_crc, 0u);
+  wire::InfoResponse board_info;
+  ASSERT_EQ(wire::Decode(r.payload(), board_info), Status::kOk);
+  EXPECT_EQ(board_info.protocol_major, wire::kProtocolMajor);
+  EXPECT_EQ(board_info.fw_major, CurrentFirmwareVersion().major);
+  EXPECT_EQ(board_info.fw_minor, CurrentFirmwareVersion().minor);
+  EXPECT_EQ(board_info.build_id, BuildId());
+  EXPECT_EQ(board_info.board_id, wire::BoardId::kHostTest);
+  EXPECT_EQ(board_info.capabilities, wire::kCapDfu | wire::kCapForceTrigger | wire::kCapDob);
+  EXPECT_EQ(board_info.sample_period_us, Core::kDefaultSamplePeriodUs);
+  EXPECT_EQ(board_info.log_capacity_bytes, CoreHarness::kLogBytes);
+  EXPECT_EQ(board_info.channel_kind[0], wire::ChannelKind::kLoadCell);
+  EXPECT_EQ(board_info.channel_kind[3], wire::ChannelKind::kAccelerometer);
+  EXPECT_EQ(board_info.channel_kind[4], wire::ChannelKind::kEncoder);
+  EXPECT_EQ(board_info.reset_cause, wire::ResetCause::kPowerOn);
+  EXPECT_EQ(board_info.cal_state, wire::CalState::kUncalibrated);
+  EXPECT_EQ(board_info.cal_slot, wire::kNoSlot);
+  EXPECT_EQ(board_info.cal_crc, 0u);
 }
 
 TEST(CoreCommands, GetStatusReportsClockAndCounters) {

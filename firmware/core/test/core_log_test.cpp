@@ -178,9 +178,9 @@ TEST(CoreLog, FullLogDropsAndCountsNeverOverwrites) {
   ASSERT_EQ(wire::Decode(h.Request(Command::kGetStatus).payload(), s), Status::kOk);
   EXPECT_EQ(s.records_written, 73u);
   EXPECT_EQ(s.dropped_records, 27u);
-  wire::InfoResponse info;
-  ASSERT_EQ(wire::Decode(h.Request(Command::kGetInfo).payload(), info), Status::kOk);
-  EXPECT_EQ(info.dropped_records, 27u);
+  wire::InfoResponse board_info;
+  ASSERT_EQ(wire::Decode(h.Request(Command::kGetInfo).payload(), board_info), Status::kOk);
+  EXPECT_EQ(board_info.dropped_records, 27u);
 
   // Pulling from 50 releases 0..49; new frames fit again and carry on where they are.
   PulledLog log = PullLog(h, 50, 0);
