@@ -115,6 +115,15 @@ TEST_F(ModelCli, SimulateWithFrictionHoldsTheBlock) {
   EXPECT_TRUE(t.Column("x1_m").isZero(0.0));  // μs m g = 5.88 N > 5 N
 }
 
+TEST_F(ModelCli, RepeatedForcesAddUpAndNeverSwallowTheModelPath) {
+  const CliResult r = RunVibid({"simulate", "--force", "step:dof=1,amp=5", "--force", "pulse:dof=2,amp=1,width=0.02", rig_,
+                                "--method", "exact", "--dt-s", "0.01", "--t-end-s", "0.03"});
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const CsvTable t = ParseCsv(r.out, "stdout");
+  EXPECT_EQ(t.Column("f1_n"), Eigen::Vector4d(5.0, 5.0, 5.0, 5.0));
+  EXPECT_EQ(t.Column("f2_n"), Eigen::Vector4d(1.0, 1.0, 0.0, 0.0));
+}
+
 TEST_F(ModelCli, HelpListsUnits) {
   for (const char* cmd : {"modal", "frf", "simulate"}) {
     const CliResult r = RunVibid({cmd, "--help"});

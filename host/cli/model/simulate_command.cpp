@@ -87,11 +87,14 @@ void RegisterSimulateCommand(CLI::App& app) {
       ->capture_default_str();
   cmd->add_option("--dt-s", args->dt_s, "Time step, s (> 0)")->required();
   cmd->add_option("--t-end-s", args->t_end_s, "Duration, s (> dt)")->required();
-  cmd->add_option("--force", args->forces, "Force shape SPEC (repeatable; forces add up)");
+  // One value per occurrence, so a SPEC never swallows the model path that follows it.
+  cmd->add_option("--force", args->forces, "Force shape SPEC (repeatable; forces add up)")
+      ->allow_extra_args(false);
   cmd->add_option("--force-table", args->force_table,
                   "CSV with t_s and f<i>_n columns (N), held from each sample to the next");
   cmd->add_option("--friction", args->frictions,
-                  "Coulomb friction mu_static,mu_dynamic (normal force m g): once for every mass, or once per DOF");
+                  "Coulomb friction mu_static,mu_dynamic (normal force m g): once for every mass, or once per DOF")
+      ->allow_extra_args(false);
   cmd->add_option("--x0-m", args->x0, "Initial positions, m, comma separated (default 0)");
   cmd->add_option("--v0-m-s", args->v0, "Initial velocities, m/s, comma separated (default 0)");
   cmd->add_option("-o,--output-file", args->output_path, "CSV file to write (default: stdout)");
