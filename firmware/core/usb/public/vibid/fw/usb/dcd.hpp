@@ -11,6 +11,7 @@
 #include <cstdint>
 #include <span>
 
+#include "vibid/fw/usb/usb_types.hpp"
 #include "vibid/shared/status.hpp"
 
 namespace vibid::fw::usb {
