@@ -38,9 +38,8 @@ void HidClass::Close() {
   idle_rate_ = 0;
 }
 
-Status HidClass::Send(std::span<const std::uint8_t, kHidReportSize> report) {
-  if (!open_) return Status::kFailedPrecondition;
-  if (tx_busy_) return Status::kUnavailable;
+Status HidClass::Send(const wire::Report& report) {
+  if (!open_ || tx_busy_) return Status::kUnavailable;
   std::copy(report.begin(), report.end(), tx_buffer_.begin());
   const Status s = dcd_->Transfer(kHidInEndpoint, tx_buffer_);
   if (s != Status::kOk) return s;
@@ -49,13 +48,13 @@ Status HidClass::Send(std::span<const std::uint8_t, kHidReportSize> report) {
   return Status::kOk;
 }
 
-bool HidClass::Receive(std::span<std::uint8_t, kHidReportSize> report) {
-  if (rx_count_ == 0) return false;
-  std::copy(rx_[rx_head_].begin(), rx_[rx_head_].end(), report.begin());
+Status HidClass::Receive(wire::Report& out) {
+  if (rx_count_ == 0) return Status::kUnavailable;
+  out = rx_[rx_head_];
   rx_head_ = (rx_head_ + 1) % kRxSlots;
   --rx_count_;
   ArmOut();
-  return true;
+  return Status::kOk;
 }
 
 void HidClass::PushRx(std::span<const std::uint8_t> report) {

@@ -1,7 +1,6 @@
 #include "calibration_flash.hpp"
 
-#include <array>
-#include <cstring>
+#include <algorithm>
 
 #include "regs/core_m4.hpp"
 #include "regs/rcc.hpp"
@@ -9,20 +8,17 @@
 namespace vibid::fw::stm32 {
 namespace {
 
-constexpr std::array<unsigned, CalibrationFlash::kSlots> kSectors = {2, 3};
-constexpr std::array<Address, CalibrationFlash::kSlots> kSlotAddress = {0x08008000, 0x0800C000};
-// Sector erase is at most 500 ms (datasheet, 16 KiB, x32); a status poll takes a few cycles at
-// 168 MHz, so this bound is several seconds.
+// Sector erase is at most 500 ms (datasheet, 16 KiB); a status poll takes a few cycles at
+// 168 MHz, so this bound is several seconds. Byte programming takes at most 100 us.
 constexpr std::uint32_t kErasePolls = 200000000;
-constexpr std::uint32_t kWordPolls = 100000;
+constexpr std::uint32_t kBytePolls = 100000;
 
-Status WaitIdle(std::uint32_t polls) {
-  if (!WaitFor(flash::kSr, flash::kSrBsy, 0, polls)) return Status::kUnavailable;
-  if ((Reg(flash::kSr) & flash::kSrErrors) != 0) return Status::kInternal;
-  return Status::kOk;
+bool WaitIdle(std::uint32_t polls) {
+  if (!WaitFor(flash::kSr, flash::kSrBsy, 0, polls)) return false;
+  return (Reg(flash::kSr) & flash::kSrErrors) == 0;
 }
 
-/// Unlocked for the scope; clears stale error flags first.
+/// Unlocked for the scope, with stale error flags cleared first; locked again on exit.
 class Unlocked {
  public:
   Unlocked() {
@@ -32,51 +28,59 @@ class Unlocked {
     }
     Reg(flash::kSr) = flash::kSrErrors | flash::kSrEop;
   }
-  ~Unlocked() {
-    Reg(flash::kCr) = flash::kCrLock;
-  }
+  ~Unlocked() { Reg(flash::kCr) = flash::kCrLock; }
   Unlocked(const Unlocked&) = delete;
   Unlocked& operator=(const Unlocked&) = delete;
 };
 
+const volatile std::uint8_t* SlotBytesAt(CalibrationFlash::Slot slot, std::size_t offset) {
+  return reinterpret_cast<const volatile std::uint8_t*>(
+      InternalCalibrationFlash::kSlotAddress[static_cast<std::size_t>(slot)] + offset);
+}
+
 }  // namespace
 
-std::span<const std::uint8_t> CalibrationFlash::Read(std::size_t slot) const {
-  if (slot >= kSlots) return {};
-  return {reinterpret_cast<const std::uint8_t*>(kSlotAddress[slot]), kSlotSize};
+Status InternalCalibrationFlash::Erase(Slot slot) {
+  Unlocked unlocked;
+  bool ok = WaitIdle(kBytePolls);
+  if (ok) {
+    Reg(flash::kCr) = flash::kCrSer | Field(kSector[static_cast<std::size_t>(slot)], flash::kCrSnbPos);
+    Reg(flash::kCr) |= flash::kCrStrt;
+    ok = WaitIdle(kErasePolls);
+    Reg(flash::kCr) = 0;
+  }
+  if (!ok) {
+    ++errors_;
+    return Status::kInternal;
+  }
+  return Status::kOk;
 }
 
-Status CalibrationFlash::Erase(std::size_t slot) {
-  if (slot >= kSlots) return Status::kOutOfRange;
+Status InternalCalibrationFlash::Program(Slot slot, std::size_t offset, std::span<const std::uint8_t> data) {
+  if (offset > kSlotBytes || data.size() > kSlotBytes - offset) return Status::kOutOfRange;
   Unlocked unlocked;
-  if (Status s = WaitIdle(kWordPolls); s != Status::kOk) return s;
-  Reg(flash::kCr) = flash::kCrSer | Field(kSectors[slot], flash::kCrSnbPos) | flash::kCrPsizeX32;
-  Reg(flash::kCr) |= flash::kCrStrt;
-  const Status s = WaitIdle(kErasePolls);
-  Reg(flash::kCr) = 0;
-  return s;
-}
-
-Status CalibrationFlash::Program(std::size_t slot, std::size_t offset, std::span<const std::uint8_t> data) {
-  if (slot >= kSlots) return Status::kOutOfRange;
-  if (offset % kProgramUnit != 0 || data.size() % kProgramUnit != 0) return Status::kInvalidArgument;
-  if (offset > kSlotSize || data.size() > kSlotSize - offset) return Status::kOutOfRange;
-  Unlocked unlocked;
-  if (Status s = WaitIdle(kWordPolls); s != Status::kOk) return s;
-  Reg(flash::kCr) = flash::kCrPg | flash::kCrPsizeX32;
-  Status result = Status::kOk;
-  for (std::size_t i = 0; i < data.size(); i += kProgramUnit) {
-    std::uint32_t word = 0;
-    std::memcpy(&word, data.data() + i, sizeof word);
-    Reg(kSlotAddress[slot] + offset + i) = word;
+  bool ok = WaitIdle(kBytePolls);
+  Reg(flash::kCr) = flash::kCrPg;  // PSIZE 00: x8.
+  for (std::size_t i = 0; ok && i < data.size(); ++i) {
+    auto* cell = const_cast<volatile std::uint8_t*>(SlotBytesAt(slot, offset + i));
+    const std::uint8_t expected = static_cast<std::uint8_t>(*cell & data[i]);
+    *cell = data[i];
     DataSyncBarrier();
-    result = WaitIdle(kWordPolls);
-    if (result != Status::kOk) break;
+    ok = WaitIdle(kBytePolls) && *cell == expected;
   }
   Reg(flash::kCr) = 0;
-  if (result != Status::kOk) return result;
-  const auto written = Read(slot).subspan(offset, data.size());
-  return std::memcmp(written.data(), data.data(), data.size()) == 0 ? Status::kOk : Status::kDataLoss;
+  if (!ok) {
+    ++errors_;
+    return Status::kInternal;
+  }
+  return Status::kOk;
+}
+
+Status InternalCalibrationFlash::Read(Slot slot, std::size_t offset, std::span<std::uint8_t> out) const {
+  if (offset > kSlotBytes || out.size() > kSlotBytes - offset) return Status::kOutOfRange;
+  const volatile std::uint8_t* src = SlotBytesAt(slot, offset);
+  for (std::size_t i = 0; i < out.size(); ++i) out[i] = src[i];
+  return Status::kOk;
 }
 
 }  // namespace vibid::fw::stm32

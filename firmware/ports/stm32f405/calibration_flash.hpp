@@ -1,34 +1,37 @@
 // The two calibration slots in internal flash: sector 2 (0x08008000) and sector 3 (0x0800C000),
 // 16 KiB each, reserved by the linker script so no code lands there. Erase is per sector;
-// programming is in 32-bit words (PSIZE x32 for a 2.7-3.6 V supply).
+// programming is byte-wide (PSIZE x8), so any offset and length work and the supply voltage
+// range is the widest (1.8-3.6 V).
 #pragma once
 
+#include <array>
 #include <cstddef>
 #include <cstdint>
 #include <span>
 
-#include "vibid/shared/status.hpp"
+#include "vibid/fw/port.hpp"
 
 namespace vibid::fw::stm32 {
 
-class CalibrationFlash {
+class InternalCalibrationFlash final : public CalibrationFlash {
  public:
-  static constexpr std::size_t kSlots = 2;
-  static constexpr std::size_t kSlotSize = 16 * 1024;
-  static constexpr std::size_t kProgramUnit = 4;
+  static constexpr std::size_t kSlotBytes = 16 * 1024;
+  static constexpr std::array<std::uintptr_t, 2> kSlotAddress = {0x08008000, 0x0800C000};
+  static constexpr std::array<unsigned, 2> kSector = {2, 3};
 
-  /// Memory-mapped contents of a slot (erased bytes read 0xFF).
-  /// @returns an empty span for a slot index out of range.
-  std::span<const std::uint8_t> Read(std::size_t slot) const;
-  /// Erases the slot's sector (typically 250 ms, up to 500 ms).
-  /// @returns kOk, kOutOfRange for a bad slot, kUnavailable on timeout, kInternal when the
-  ///          flash interface reports an error (write protection, sequence).
-  Status Erase(std::size_t slot);
-  /// Programs `data` at `offset` within the slot; offset and size must be multiples of 4.
-  /// @returns kOk, kInvalidArgument for misaligned input, kOutOfRange past the slot end,
-  ///          kUnavailable on timeout, kInternal on a flash error, kDataLoss when the read-back
-  ///          differs (programming over bits that were not erased).
-  Status Program(std::size_t slot, std::size_t offset, std::span<const std::uint8_t> data);
+  std::size_t SlotBytes() const override { return kSlotBytes; }
+  /// Sector erase, typically 250 ms, at most 500 ms.
+  /// @returns kOk; kInternal on a flash error or a timeout.
+  Status Erase(Slot slot) override;
+  /// @returns kOk; kOutOfRange past the slot end; kInternal on a flash error, a timeout, or a
+  ///          read-back that is not (old AND new), the only result NOR programming can give.
+  Status Program(Slot slot, std::size_t offset, std::span<const std::uint8_t> data) override;
+  Status Read(Slot slot, std::size_t offset, std::span<std::uint8_t> out) const override;
+
+  std::uint32_t Errors() const { return errors_; }
+
+ private:
+  std::uint32_t errors_ = 0;
 };
 
 }  // namespace vibid::fw::stm32

@@ -3,14 +3,17 @@
 #include "regs/core_m4.hpp"
 #include "regs/peripherals.hpp"
 #include "regs/rcc.hpp"
+#include "system.hpp"
 
 namespace vibid::fw::stm32 {
 
-volatile std::uint16_t g_adc_dma_buffer[4] = {};
-
 namespace {
 
-constexpr std::uint32_t kMaxRateHz = 100000;
+// DMA target; in SRAM (the CCM is not reachable by DMA).
+volatile std::uint16_t g_adc_dma_buffer[4] = {};
+
+// A four-channel scan takes about 13 us; 20 us leaves the DMA and the interrupt room.
+constexpr std::uint32_t kMinPeriodUs = 20;
 constexpr unsigned kAnalogChannels = 4;
 
 void ConfigureEncoder(Address timer) {
@@ -25,12 +28,8 @@ void ConfigureEncoder(Address timer) {
 
 }  // namespace
 
-Status Sampler::Configure(std::uint32_t timer_clock_hz, std::uint32_t rate_hz, FrameHandler handler,
-                          void* context) {
-  if (rate_hz == 0 || rate_hz > kMaxRateHz || handler == nullptr) return Status::kInvalidArgument;
-  handler_ = handler;
-  context_ = context;
-
+void Sampler::Init(std::uint32_t timer_clock_hz) {
+  timer_clock_hz_ = timer_clock_hz;
   Reg(rcc::kAhb1enr) |= rcc::kAhb1GpioA | rcc::kAhb1GpioB | rcc::kAhb1Dma2;
   Reg(rcc::kApb1enr) |= rcc::kApb1Tim2 | rcc::kApb1Tim3 | rcc::kApb1Tim4;
   Reg(rcc::kApb2enr) |= rcc::kApb2Adc1;
@@ -46,15 +45,11 @@ Status Sampler::Configure(std::uint32_t timer_clock_hz, std::uint32_t rate_hz, F
   }
   ConfigureEncoder(tim::kTim3);
   ConfigureEncoder(tim::kTim4);
-  last_encoder_raw_ = {0, 0};
-  encoder_ = {0, 0};
 
-  // TIM2 (32 bit) update = sample clock, routed to TRGO.
+  // TIM2 (32 bit) update = sample clock, routed to TRGO; stopped until Start.
   Reg(tim::kTim2 + tim::kCr1) = 0;
   Reg(tim::kTim2 + tim::kPsc) = 0;
-  Reg(tim::kTim2 + tim::kArr) = timer_clock_hz / rate_hz - 1;
   Reg(tim::kTim2 + tim::kCr2) = tim::kCr2MmsUpdate;
-  Reg(tim::kTim2 + tim::kEgr) = tim::kEgrUg;
 
   // ADC1: scan IN0..IN3, 56-cycle sampling (4 x (56 + 12) / 21 MHz = 13 us per frame), one scan
   // per rising TRGO, DMA requests kept on for circular transfers.
@@ -82,16 +77,32 @@ Status Sampler::Configure(std::uint32_t timer_clock_hz, std::uint32_t rate_hz, F
                                 adc::kCr2ExtselTim2Trgo | adc::kCr2ExtenRising;
   nvic::SetPriority(irq::kDma2Stream0, 2);
   nvic::Enable(irq::kDma2Stream0);
+}
+
+Status Sampler::Start(std::uint32_t sample_period_us, FrameSink& sink) {
+  if (running_) return Status::kFailedPrecondition;
+  const std::uint64_t ticks = std::uint64_t{timer_clock_hz_} * sample_period_us;
+  if (sample_period_us < kMinPeriodUs || ticks % 1000000 != 0 || ticks / 1000000 > 0xFFFFFFFFULL) {
+    return Status::kInvalidArgument;
+  }
+  sink_ = &sink;
+  tick_ = 0;
+  sink_cycles_ = 0;
+  last_encoder_raw_ = {static_cast<std::uint16_t>(Reg(tim::kTim3 + tim::kCnt)),
+                       static_cast<std::uint16_t>(Reg(tim::kTim4 + tim::kCnt))};
+  encoder_ = {0, 0};
+  running_ = true;
+  Reg(tim::kTim2 + tim::kArr) = static_cast<std::uint32_t>(ticks / 1000000 - 1);
+  Reg(tim::kTim2 + tim::kEgr) = tim::kEgrUg;
+  Reg(tim::kTim2 + tim::kCnt) = 0;
+  Reg(tim::kTim2 + tim::kCr1) = tim::kCr1Cen;
   return Status::kOk;
 }
 
-void Sampler::Start() {
-  sequence_ = 0;
-  Reg(tim::kTim2 + tim::kCnt) = 0;
-  Reg(tim::kTim2 + tim::kCr1) = tim::kCr1Cen;
+void Sampler::Stop() {
+  Reg(tim::kTim2 + tim::kCr1) = 0;
+  running_ = false;
 }
-
-void Sampler::Stop() { Reg(tim::kTim2 + tim::kCr1) = 0; }
 
 void Sampler::HandleDmaInterrupt() {
   const std::uint32_t flags = Reg(dma::kDma2 + dma::kLisr);
@@ -101,11 +112,11 @@ void Sampler::HandleDmaInterrupt() {
     Reg(adc::kAdc1 + adc::kSr) = 0;
     ++counters_.adc_overruns;
   }
-  if ((flags & dma::kStream0Tcif) == 0) return;
+  if ((flags & dma::kStream0Tcif) == 0 || !running_) return;
 
-  RawFrame frame{};
-  frame.sequence = sequence_++;
-  for (unsigned i = 0; i < kAnalogChannels; ++i) frame.analog[i] = g_adc_dma_buffer[i];
+  SampleFrame frame;
+  frame.tick = tick_++;
+  for (unsigned i = 0; i < kAnalogChannels; ++i) frame.raw[i] = g_adc_dma_buffer[i];
   const std::array<std::uint16_t, 2> raw = {static_cast<std::uint16_t>(Reg(tim::kTim3 + tim::kCnt)),
                                             static_cast<std::uint16_t>(Reg(tim::kTim4 + tim::kCnt))};
   for (unsigned i = 0; i < 2; ++i) {
@@ -114,9 +125,11 @@ void Sampler::HandleDmaInterrupt() {
     encoder_[i] += static_cast<std::int16_t>(static_cast<std::uint16_t>(raw[i] - last_encoder_raw_[i]));
     last_encoder_raw_[i] = raw[i];
   }
-  frame.encoder = encoder_;
-  ++counters_.frames;
-  handler_(frame, context_);
+  frame.raw[4] = encoder_[0];
+  frame.raw[5] = encoder_[1];
+  const std::uint32_t before = CycleCount();
+  sink_->OnFrame(frame);
+  sink_cycles_ += CycleCount() - before;
 }
 
 }  // namespace vibid::fw::stm32

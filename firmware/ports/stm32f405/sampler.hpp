@@ -1,56 +1,50 @@
-// Timer-triggered sampling: TIM2 update events trigger an ADC1 scan of the four analog channels
-// (two load cells, two accelerometers on PA0..PA3); DMA2 stream 0 moves the four results to RAM
-// and its transfer-complete interrupt latches both quadrature encoders (TIM3 on PA6/PA7, TIM4 on
-// PB6/PB7) into one frame. The sample instant is the timer edge, so jitter is the ADC's, not the
-// interrupt latency's.
+// Timer-triggered sampling, the board's FrameSource: TIM2 update events trigger an ADC1 scan of
+// the four analog channels (two load cells, two accelerometers on PA0..PA3); DMA2 stream 0 moves
+// the four results to RAM and its transfer-complete interrupt latches both quadrature encoders
+// (TIM3 on PA6/PA7, TIM4 on PB6/PB7) into one frame for the core. The sample instant is the
+// timer edge, so the sampling jitter is the ADC's, not the interrupt latency's.
 #pragma once
 
 #include <array>
 #include <cstdint>
 
-#include "vibid/shared/status.hpp"
+#include "vibid/fw/port.hpp"
 
 namespace vibid::fw::stm32 {
 
-struct RawFrame {
-  std::uint32_t sequence;                ///< Frame counter since Start, wraps at 2^32.
-  std::array<std::uint16_t, 4> analog;   ///< 12-bit ADC codes: load cell 1, 2, accelerometer 1, 2.
-  std::array<std::int32_t, 2> encoder;   ///< Quadrature counts (x4), extended from 16 to 32 bits.
-};
-
-/// Called in the DMA interrupt for every frame; must return well within one sample period.
-using FrameHandler = void (*)(const RawFrame& frame, void* context);
-
 struct SamplerCounters {
-  std::uint32_t frames = 0;
-  std::uint32_t adc_overruns = 0;   ///< ADC OVR: a conversion was lost (DMA too late).
+  std::uint32_t adc_overruns = 0;  ///< ADC OVR: a conversion was lost (DMA too late).
   std::uint32_t dma_errors = 0;
 };
 
-class Sampler {
+class Sampler final : public FrameSource {
  public:
-  /// Configures the pins, the encoders, the ADC scan and the DMA; the timer stays stopped.
+  /// Configures pins, encoders, ADC scan and DMA once at boot; sampling starts with Start().
   /// `timer_clock_hz` is the TIM2 kernel clock (84 MHz at full speed).
-  /// @returns kInvalidArgument when `rate_hz` cannot be divided from the timer clock
-  ///          (zero, above 100 kHz, or a period longer than 2^32 ticks).
-  Status Configure(std::uint32_t timer_clock_hz, std::uint32_t rate_hz, FrameHandler handler, void* context);
-  void Start();
-  void Stop();
+  void Init(std::uint32_t timer_clock_hz);
+
+  /// @returns kOk; kInvalidArgument when the period is not a whole number of timer clocks or is
+  ///          shorter than the 13 us a four-channel scan takes; kFailedPrecondition if running.
+  Status Start(std::uint32_t sample_period_us, FrameSink& sink) override;
+  void Stop() override;
+
   const SamplerCounters& Counters() const { return counters_; }
+  /// Core cycles spent in the frame sink, summed over all frames (DWT cycle counter).
+  std::uint64_t SinkCycles() const { return sink_cycles_; }
+  std::uint32_t Frames() const { return tick_; }
 
   /// The DMA2 stream 0 interrupt handler body.
   void HandleDmaInterrupt();
 
  private:
-  FrameHandler handler_ = nullptr;
-  void* context_ = nullptr;
-  std::uint32_t sequence_ = 0;
+  std::uint32_t timer_clock_hz_ = 0;
+  FrameSink* sink_ = nullptr;
+  volatile bool running_ = false;
+  std::uint32_t tick_ = 0;
   std::array<std::uint16_t, 2> last_encoder_raw_{};
   std::array<std::int32_t, 2> encoder_{};
   SamplerCounters counters_{};
+  std::uint64_t sink_cycles_ = 0;
 };
-
-/// DMA target; in SRAM (the CCM is not reachable by DMA).
-extern volatile std::uint16_t g_adc_dma_buffer[4];
 
 }  // namespace vibid::fw::stm32

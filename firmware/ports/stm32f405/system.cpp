@@ -10,18 +10,19 @@ namespace {
 constexpr std::uint32_t kBootloaderMagic = 0xB007DF00;
 // Survives a system reset: placed in a section the startup code neither copies nor zeroes.
 [[gnu::section(".noinit")]] volatile std::uint32_t g_bootloader_request;
-volatile std::uint32_t g_milliseconds = 0;
+std::uint64_t g_milliseconds = 0;  // Written by SysTick only; read with SysTick masked.
+std::uint32_t g_ticks_per_us = 16;
 
 constexpr Address kSyscfgMemrmp = 0x40013800;
 constexpr std::uint32_t kMemrmpSystemFlash = 0x1;
 
 }  // namespace
 
-ResetCause ReadAndClearResetCause() {
+wire::ResetCause ReadAndClearResetCause() {
+  using wire::ResetCause;
   const std::uint32_t csr = Reg(rcc::kCsr);
   Reg(rcc::kCsr) |= rcc::kCsrRmvf;
-  if ((csr & rcc::kCsrIwdgRstf) != 0) return ResetCause::kIndependentWatchdog;
-  if ((csr & rcc::kCsrWwdgRstf) != 0) return ResetCause::kWindowWatchdog;
+  if ((csr & (rcc::kCsrIwdgRstf | rcc::kCsrWwdgRstf)) != 0) return ResetCause::kWatchdog;
   if ((csr & rcc::kCsrLpwrRstf) != 0) return ResetCause::kLowPower;
   if ((csr & rcc::kCsrSftRstf) != 0) return ResetCause::kSoftware;
   // A power-on also sets PINRSTF and BORRSTF, so POR is checked before them.
@@ -87,6 +88,7 @@ std::array<char, 25> BoardIdHex() {
 }
 
 void StartMillisecondTick(std::uint32_t sysclk_hz) {
+  g_ticks_per_us = sysclk_hz / 1000000;
   Reg(scb::kDemcr) |= scb::kDemcrTrcena;
   Reg(dwt::kCyccnt) = 0;
   Reg(dwt::kCtrl) |= dwt::kCtrlCyccntEna;
@@ -95,8 +97,21 @@ void StartMillisecondTick(std::uint32_t sysclk_hz) {
   Reg(systick::kCtrl) = systick::kCtrlEnable | systick::kCtrlTickInt | systick::kCtrlClkSourceCpu;
 }
 
-std::uint32_t MillisecondsSinceBoot() { return g_milliseconds; }
-void OnSysTick() { g_milliseconds = g_milliseconds + 1; }
+std::uint64_t MicrosecondsSinceBoot() {
+  CriticalSection lock;
+  std::uint64_t ms = g_milliseconds;
+  const std::uint32_t load = Reg(systick::kLoad);
+  std::uint32_t val = Reg(systick::kVal);
+  // A wrap since the interrupt was masked is pending but not yet counted: count it, and re-read
+  // the counter so it belongs to the new millisecond.
+  if ((Reg(scb::kIcsr) & scb::kIcsrPendstset) != 0) {
+    ++ms;
+    val = Reg(systick::kVal);
+  }
+  return ms * 1000 + (load - val) / g_ticks_per_us;
+}
+
+void OnSysTick() { ++g_milliseconds; }
 std::uint32_t CycleCount() { return Reg(dwt::kCyccnt); }
 
 }  // namespace vibid::fw::stm32

@@ -5,23 +5,15 @@
 #include <array>
 #include <cstdint>
 
+#include "vibid/shared/wire/device.hpp"
+
 namespace vibid::fw::stm32 {
 
-/// Why the chip last reset (RCC_CSR flags, RM0090 §7.3.21). When several flags are set the most
-/// specific wins: watchdogs and software resets over pin, pin over brown-out, over power-on.
-enum class ResetCause : std::uint8_t {
-  kUnknown = 0,
-  kPowerOn = 1,
-  kPin = 2,
-  kBrownOut = 3,
-  kSoftware = 4,
-  kIndependentWatchdog = 5,
-  kWindowWatchdog = 6,
-  kLowPower = 7,
-};
-
-/// Reads and clears the reset flags. Call once, early at boot; later calls return kUnknown.
-ResetCause ReadAndClearResetCause();
+/// Reads and clears the reset flags (RCC_CSR, RM0090 §7.3.21). When several are set the most
+/// specific wins: watchdogs, low-power and software resets first; then power-on (which also sets
+/// the pin and brown-out flags); then brown-out; then the reset pin.
+/// Call once, early at boot; a second call returns kUnknown.
+wire::ResetCause ReadAndClearResetCause();
 /// Requests a system reset (AIRCR.SYSRESETREQ); does not return.
 [[noreturn]] void SystemReset();
 /// Arranges for the next boot to jump to the ROM bootloader (USB DFU on PA11/PA12) and resets:
@@ -38,9 +30,12 @@ void KickWatchdog();
 /// The 96-bit unique device id as 24 uppercase hex digits plus a terminating zero.
 std::array<char, 25> BoardIdHex();
 
-/// SysTick at 1 kHz from the core clock; MillisecondsSinceBoot counts its interrupts.
+/// SysTick at 1 kHz from the core clock, plus the DWT cycle counter.
 void StartMillisecondTick(std::uint32_t sysclk_hz);
-std::uint32_t MillisecondsSinceBoot();
+/// Microseconds since StartMillisecondTick: the interrupt-counted milliseconds plus the SysTick
+/// position within the current one. Callable from any context.
+std::uint64_t MicrosecondsSinceBoot();
+/// The SysTick interrupt handler body.
 void OnSysTick();
 /// DWT cycle counter (enabled by StartMillisecondTick).
 std::uint32_t CycleCount();

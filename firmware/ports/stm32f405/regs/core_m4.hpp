@@ -19,6 +19,8 @@ inline constexpr std::uint32_t kAircrSysResetReq = Bit(2);
 /// CPACR: full access to CP10 and CP11 (the FPU), bits 23:20.
 inline constexpr std::uint32_t kCpacrFpuFull = 0xFU << 20;
 inline constexpr std::uint32_t kDemcrTrcena = Bit(24);
+/// ICSR PENDSTSET: a SysTick exception is pending.
+inline constexpr std::uint32_t kIcsrPendstset = Bit(26);
 }  // namespace scb
 
 namespace nvic {

@@ -2,6 +2,9 @@
 // interrupt IN endpoint, 64-byte output reports from the interrupt OUT endpoint or SET_REPORT.
 // No boot protocol (GET/SET_PROTOCOL stall), no report ids, no feature reports.
 //
+// It is the board's ReportLink: the command server reads output reports with Receive and answers
+// with Send.
+//
 // Flow control: received reports wait in a two-slot queue; the OUT endpoint is armed only while a
 // slot is free, so a slow reader makes the host see NAKs, never a lost report.
 #pragma once
@@ -12,7 +15,9 @@
 #include <span>
 
 #include "vibid/fw/usb/class_driver.hpp"
+#include "vibid/fw/report_link.hpp"
 #include "vibid/fw/usb/descriptors.hpp"
+#include "vibid/shared/wire/report.hpp"
 
 namespace vibid::fw::usb {
 
@@ -34,19 +39,20 @@ struct HidCounters {
   std::uint32_t short_reports = 0;     ///< OUT packets shorter than a report, discarded.
 };
 
-class HidClass final : public ClassDriver {
+class HidClass final : public ClassDriver, public ReportLink {
  public:
-  using Report = std::array<std::uint8_t, kHidReportSize>;
+  using Report = wire::Report;
+  static_assert(wire::kReportBytes == kHidReportSize, "one wire report per HID report");
 
   /// True when configured and the IN endpoint can take a report now.
   bool CanSend() const { return open_ && !tx_busy_; }
   /// Queues one input report for the next IN poll.
-  /// @returns kOk, kFailedPrecondition when the host has not configured the device,
-  ///          kUnavailable while the previous report is still in flight.
-  Status Send(std::span<const std::uint8_t, kHidReportSize> report);
+  /// @returns kOk; kUnavailable while the previous report is still in flight or the host has
+  ///          not configured the device (nothing taken: offer it again later).
+  Status Send(const wire::Report& report) override;
   /// Takes the oldest received output report.
-  /// @returns true and fills `report` when one was waiting.
-  bool Receive(std::span<std::uint8_t, kHidReportSize> report);
+  /// @returns kOk with `out` filled; kUnavailable when none is waiting.
+  Status Receive(wire::Report& out) override;
   bool IsOpen() const { return open_; }
   std::uint8_t IdleRate() const { return idle_rate_; }
   const HidCounters& Counters() const { return counters_; }

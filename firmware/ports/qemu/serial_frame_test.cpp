@@ -1,0 +1,111 @@
+// The USART frame codec: layout against bytes computed independently (Python's zlib.crc32),
+// and the decoder's recovery from noise, truncation and corruption.
+#include "serial_frame.hpp"
+
+#include <gtest/gtest.h>
+
+#include <array>
+#include <cstdint>
+#include <span>
+
+namespace vibid::fw::qemu {
+namespace {
+
+ReportBytes Counting() {
+  ReportBytes r{};
+  for (std::size_t i = 0; i < r.size(); ++i) r[i] = static_cast<std::uint8_t>(i);
+  return r;
+}
+
+// Feeds bytes; returns how many frames completed, the last one in `last`.
+int Feed(FrameDecoder& d, std::span<const std::uint8_t> bytes, ReportBytes& last) {
+  int frames = 0;
+  ReportBytes r{};
+  for (std::uint8_t b : bytes) {
+    if (d.Push(b, r)) {
+      ++frames;
+      last = r;
+    }
+  }
+  return frames;
+}
+
+TEST(SerialFrame, LayoutMatchesIndependentCrc) {
+  const FrameBytes f = EncodeFrame(Counting());
+  EXPECT_EQ(f[0], 0x56);
+  EXPECT_EQ(f[1], 0x46);
+  EXPECT_EQ(f[2], 64);
+  EXPECT_EQ(f[3], 0);
+  EXPECT_EQ(f[66], 63);
+  // Reference: python3 -c "import zlib; print(hex(zlib.crc32(bytes([64]) + bytes(range(64)))))"
+  // -> 0x2d5f5038, stored little-endian.
+  EXPECT_EQ(f[67], 0x38);
+  EXPECT_EQ(f[68], 0x50);
+  EXPECT_EQ(f[69], 0x5f);
+  EXPECT_EQ(f[70], 0x2d);
+}
+
+TEST(SerialFrame, RoundTripBackToBack) {
+  FrameDecoder d;
+  ReportBytes a = Counting();
+  ReportBytes b{};
+  b.fill(0x56);  // Payload full of sync bytes must not confuse the decoder.
+  const FrameBytes fa = EncodeFrame(a);
+  const FrameBytes fb = EncodeFrame(b);
+  ReportBytes got{};
+  EXPECT_EQ(Feed(d, fa, got), 1);
+  EXPECT_EQ(got, a);
+  EXPECT_EQ(Feed(d, fb, got), 1);
+  EXPECT_EQ(got, b);
+  EXPECT_EQ(d.Counters().frames, 2U);
+  EXPECT_EQ(d.Counters().skipped_bytes, 0U);
+}
+
+TEST(SerialFrame, NoiseBeforeFrameIsSkipped) {
+  FrameDecoder d;
+  const std::array<std::uint8_t, 5> noise = {0x00, 0x56, 0x13, 0x56, 0x56};
+  ReportBytes got{};
+  EXPECT_EQ(Feed(d, noise, got), 0);
+  EXPECT_EQ(Feed(d, EncodeFrame(Counting()), got), 1);
+  EXPECT_EQ(got, Counting());
+  EXPECT_EQ(d.Counters().skipped_bytes, 5U);
+}
+
+TEST(SerialFrame, CorruptFrameIsRejectedAndNextOneDecodes) {
+  FrameDecoder d;
+  FrameBytes bad = EncodeFrame(Counting());
+  bad[40] ^= 0x01;
+  ReportBytes got{};
+  EXPECT_EQ(Feed(d, bad, got), 0);
+  EXPECT_EQ(d.Counters().crc_errors, 1U);
+  ReportBytes other{};
+  other.fill(0xA5);
+  EXPECT_EQ(Feed(d, EncodeFrame(other), got), 1);
+  EXPECT_EQ(got, other);
+}
+
+TEST(SerialFrame, TruncatedFrameThenGoodFrame) {
+  // A frame cut short (sender restarted) followed by a whole frame: the good frame is found
+  // inside the bytes the decoder already buffered.
+  FrameDecoder d;
+  const FrameBytes first = EncodeFrame(Counting());
+  ReportBytes other{};
+  other.fill(0x11);
+  const FrameBytes second = EncodeFrame(other);
+  ReportBytes got{};
+  EXPECT_EQ(Feed(d, std::span<const std::uint8_t>(first).first(30), got), 0);
+  EXPECT_EQ(Feed(d, second, got), 1);
+  EXPECT_EQ(got, other);
+}
+
+TEST(SerialFrame, WrongLengthByteIsNotAFrame) {
+  FrameDecoder d;
+  FrameBytes f = EncodeFrame(Counting());
+  f[2] = 63;
+  ReportBytes got{};
+  EXPECT_EQ(Feed(d, f, got), 0);
+  EXPECT_EQ(d.Counters().frames, 0U);
+}
+
+}  // namespace
+}  // namespace vibid::fw::qemu
