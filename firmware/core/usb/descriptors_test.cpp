@@ -200,7 +200,8 @@ TEST(UsbDescriptors, StringOfExactlyOnePacketEndsWithZeroLengthPacket) {
   DfuRuntime dfu{detach};
   std::array<ClassDriver*, 2> drivers{&hid, &dfu};
   UsbDevice device{dcd, drivers, "ABCDEFGHIJKLMNOPQRSTUVWXYZ01234"};
-  ASSERT_EQ(device.Start(), Status::kOk);
+  const Status s1 = device.Start();
+  ASSERT_EQ(s1, Status::kOk);
   testing::Host host{device, dcd};
   host.BusReset();
   const auto with_zlp = host.Control({0x80, 0x06, 0x03, 0x03, 0x09, 0x04, 0xFF, 0x00});

@@ -39,7 +39,8 @@ TEST(UsbEnumeration, FailedControllerInitStaysDetached) {
   DfuRuntime dfu{detach};
   std::array<ClassDriver*, 2> drivers{&hid, &dfu};
   UsbDevice device{dcd, drivers, "X"};
-  EXPECT_EQ(device.Start(), Status::kUnavailable);
+  const Status s1 = device.Start();
+  EXPECT_EQ(s1, Status::kUnavailable);
   EXPECT_FALSE(dcd.connected);
   EXPECT_EQ(device.State(), DeviceState::kDetached);
 }
@@ -261,7 +262,8 @@ TEST(UsbControlPipe, MultiPacketDataStages) {
   for (std::size_t i = 0; i < bulky.payload.size(); ++i) bulky.payload[i] = static_cast<std::uint8_t>(i);
   std::array<ClassDriver*, 1> drivers{&bulky};
   UsbDevice device{dcd, drivers, "S"};
-  ASSERT_EQ(device.Start(), Status::kOk);
+  const Status s2 = device.Start();
+  ASSERT_EQ(s2, Status::kOk);
   testing::Host host{device, dcd};
   host.Enumerate(2);
   ASSERT_TRUE(device.Configured());

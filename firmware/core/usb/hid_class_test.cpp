@@ -34,12 +34,15 @@ TEST(HidClass, OutReportReachesReader) {
   Rig rig;
   rig.host.Enumerate(4);
   Report got{};
-  EXPECT_EQ(rig.hid.Receive(got), Status::kUnavailable);
+  const Status s1 = rig.hid.Receive(got);
+  EXPECT_EQ(s1, Status::kUnavailable);
   const Report sent = Pattern(11);
   HostWritesOut(rig, sent);
-  ASSERT_EQ(rig.hid.Receive(got), Status::kOk);
+  const Status s2 = rig.hid.Receive(got);
+  ASSERT_EQ(s2, Status::kOk);
   EXPECT_EQ(got, sent);
-  EXPECT_EQ(rig.hid.Receive(got), Status::kUnavailable);
+  const Status s3 = rig.hid.Receive(got);
+  EXPECT_EQ(s3, Status::kUnavailable);
   EXPECT_EQ(rig.hid.Counters().reports_out, 1U);
 }
 
@@ -47,13 +50,16 @@ TEST(HidClass, InReportGoesOut) {
   Rig rig;
   const Report report = Pattern(5);
   // Not configured yet: nothing can be sent.
-  EXPECT_EQ(rig.hid.Send(report), Status::kUnavailable);
+  const Status s4 = rig.hid.Send(report);
+  EXPECT_EQ(s4, Status::kUnavailable);
   rig.host.Enumerate(4);
   ASSERT_TRUE(rig.hid.CanSend());
-  ASSERT_EQ(rig.hid.Send(report), Status::kOk);
+  const Status s5 = rig.hid.Send(report);
+  ASSERT_EQ(s5, Status::kOk);
   // One report in flight at a time.
   EXPECT_FALSE(rig.hid.CanSend());
-  EXPECT_EQ(rig.hid.Send(report), Status::kUnavailable);
+  const Status s6 = rig.hid.Send(report);
+  EXPECT_EQ(s6, Status::kUnavailable);
   auto& in = rig.dcd.PendingOn(0x81);
   ASSERT_TRUE(in.active);
   ASSERT_EQ(in.buffer.size(), 64U);
@@ -81,13 +87,16 @@ TEST(HidClass, SlowReaderMakesHostWaitNotLose) {
   const Report third = Pattern(3);
   EXPECT_TRUE(rig.host.Control({0x21, 0x09, 0x00, 0x02, 0x00, 0x00, 0x40, 0x00}, third).stalled);
   Report got{};
-  ASSERT_EQ(rig.hid.Receive(got), Status::kOk);
+  const Status s7 = rig.hid.Receive(got);
+  ASSERT_EQ(s7, Status::kOk);
   EXPECT_EQ(got, Pattern(1));
   EXPECT_TRUE(rig.dcd.PendingOn(0x01).active);
   HostWritesOut(rig, third);
-  ASSERT_EQ(rig.hid.Receive(got), Status::kOk);
+  const Status s8 = rig.hid.Receive(got);
+  ASSERT_EQ(s8, Status::kOk);
   EXPECT_EQ(got, Pattern(2));
-  ASSERT_EQ(rig.hid.Receive(got), Status::kOk);
+  const Status s9 = rig.hid.Receive(got);
+  ASSERT_EQ(s9, Status::kOk);
   EXPECT_EQ(got, third);
 }
 
@@ -96,7 +105,8 @@ TEST(HidClass, ShortOutPacketIsDiscardedAndCounted) {
   rig.host.Enumerate(4);
   HostWritesOut(rig, Pattern(9), 10);
   Report got{};
-  EXPECT_EQ(rig.hid.Receive(got), Status::kUnavailable);
+  const Status s10 = rig.hid.Receive(got);
+  EXPECT_EQ(s10, Status::kUnavailable);
   EXPECT_EQ(rig.hid.Counters().short_reports, 1U);
   EXPECT_TRUE(rig.dcd.PendingOn(0x01).active);
 }
@@ -111,7 +121,8 @@ TEST(HidClass, SetReportOutputDeliversToReader) {
   ASSERT_FALSE(r.stalled);
   ASSERT_FALSE(r.protocol_error);
   Report got{};
-  ASSERT_EQ(rig.hid.Receive(got), Status::kOk);
+  const Status s11 = rig.hid.Receive(got);
+  ASSERT_EQ(s11, Status::kOk);
   EXPECT_EQ(got, report);
   // Feature reports and report ids do not exist; a wrong length is refused.
   EXPECT_TRUE(rig.host.Control({0x21, 0x09, 0x00, 0x03, 0x00, 0x00, 0x40, 0x00}, report).stalled);

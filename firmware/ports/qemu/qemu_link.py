@@ -93,7 +93,7 @@ class QemuBoard:
         path = os.path.join(self.tmp.name, "usart1.sock")
         self.diag_path = os.path.join(self.tmp.name, "usart2.log")
         cmd = [self.qemu, "-M", "netduinoplus2", "-display", "none", "-monitor", "none",
-               "-no-reboot", "-icount", f"shift={self.icount_shift},align=off",
+               "-no-reboot", "-icount", f"shift={self.icount_shift},align=off,sleep=off",
                "-chardev", f"socket,id=link,path={path},server=on,wait=on",
                "-serial", "chardev:link", "-serial", f"file:{self.diag_path}",
                "-kernel", self.elf]

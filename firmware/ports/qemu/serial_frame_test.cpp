@@ -53,9 +53,11 @@ TEST(SerialFrame, RoundTripBackToBack) {
   const FrameBytes fa = EncodeFrame(a);
   const FrameBytes fb = EncodeFrame(b);
   ReportBytes got{};
-  EXPECT_EQ(Feed(d, fa, got), 1);
+  const int n1 = Feed(d, fa, got);
+  EXPECT_EQ(n1, 1);
   EXPECT_EQ(got, a);
-  EXPECT_EQ(Feed(d, fb, got), 1);
+  const int n2 = Feed(d, fb, got);
+  EXPECT_EQ(n2, 1);
   EXPECT_EQ(got, b);
   EXPECT_EQ(d.Counters().frames, 2U);
   EXPECT_EQ(d.Counters().skipped_bytes, 0U);
@@ -65,8 +67,10 @@ TEST(SerialFrame, NoiseBeforeFrameIsSkipped) {
   FrameDecoder d;
   const std::array<std::uint8_t, 5> noise = {0x00, 0x56, 0x13, 0x56, 0x56};
   ReportBytes got{};
-  EXPECT_EQ(Feed(d, noise, got), 0);
-  EXPECT_EQ(Feed(d, EncodeFrame(Counting()), got), 1);
+  const int n3 = Feed(d, noise, got);
+  EXPECT_EQ(n3, 0);
+  const int n4 = Feed(d, EncodeFrame(Counting()), got);
+  EXPECT_EQ(n4, 1);
   EXPECT_EQ(got, Counting());
   EXPECT_EQ(d.Counters().skipped_bytes, 5U);
 }
@@ -76,11 +80,13 @@ TEST(SerialFrame, CorruptFrameIsRejectedAndNextOneDecodes) {
   FrameBytes bad = EncodeFrame(Counting());
   bad[40] ^= 0x01;
   ReportBytes got{};
-  EXPECT_EQ(Feed(d, bad, got), 0);
+  const int n5 = Feed(d, bad, got);
+  EXPECT_EQ(n5, 0);
   EXPECT_EQ(d.Counters().crc_errors, 1U);
   ReportBytes other{};
   other.fill(0xA5);
-  EXPECT_EQ(Feed(d, EncodeFrame(other), got), 1);
+  const int n6 = Feed(d, EncodeFrame(other), got);
+  EXPECT_EQ(n6, 1);
   EXPECT_EQ(got, other);
 }
 
@@ -93,8 +99,10 @@ TEST(SerialFrame, TruncatedFrameThenGoodFrame) {
   other.fill(0x11);
   const FrameBytes second = EncodeFrame(other);
   ReportBytes got{};
-  EXPECT_EQ(Feed(d, std::span<const std::uint8_t>(first).first(30), got), 0);
-  EXPECT_EQ(Feed(d, second, got), 1);
+  const int n7 = Feed(d, std::span<const std::uint8_t>(first).first(30), got);
+  EXPECT_EQ(n7, 0);
+  const int n8 = Feed(d, second, got);
+  EXPECT_EQ(n8, 1);
   EXPECT_EQ(got, other);
 }
 
@@ -103,7 +111,8 @@ TEST(SerialFrame, WrongLengthByteIsNotAFrame) {
   FrameBytes f = EncodeFrame(Counting());
   f[2] = 63;
   ReportBytes got{};
-  EXPECT_EQ(Feed(d, f, got), 0);
+  const int n9 = Feed(d, f, got);
+  EXPECT_EQ(n9, 0);
   EXPECT_EQ(d.Counters().frames, 0U);
 }
 
