@@ -17,6 +17,8 @@ constexpr std::uint32_t kTimerClockHz = 48000000;
 constexpr std::uint32_t kPrescaler = kTimerClockHz / 1000000;
 }  // namespace
 
+std::array<InjectedFrameSource::Raw, InjectedFrameSource::kQueueFrames> InjectedFrameSource::queue_{};
+
 Status InjectedFrameSource::Start(std::uint32_t sample_period_us, FrameSink& sink) {
   if (running_) return Status::kFailedPrecondition;
   if (sample_period_us == 0) return Status::kInvalidArgument;

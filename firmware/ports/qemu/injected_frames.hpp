@@ -41,7 +41,9 @@ class InjectedFrameSource final : public FrameSource {
   void HandleTimerInterrupt();
 
  private:
-  std::array<Raw, kQueueFrames> queue_{};
+  // Static so it lands in .bss: a polymorphic object is initialized from .data as a whole, and
+  // 12 KiB of zeros would cost as much flash.
+  static std::array<Raw, kQueueFrames> queue_;
   std::atomic<std::uint32_t> head_{0};  ///< Written by Inject.
   std::atomic<std::uint32_t> tail_{0};  ///< Written by the interrupt.
   FrameSink* sink_ = nullptr;
