@@ -5,14 +5,6 @@
 namespace vibid::fw::usb {
 namespace {
 
-// The HID descriptor returned alone must be the bytes embedded in the configuration descriptor.
-constexpr bool HidDescriptorEmbedded() {
-  for (std::size_t i = 0; i < kHidDescriptor.size(); ++i) {
-    if (kConfigurationDescriptor[kHidDescriptorOffset + i] != kHidDescriptor[i]) return false;
-  }
-  return true;
-}
-static_assert(HidDescriptorEmbedded());
 static_assert(kDeviceDescriptor[0] == kDeviceDescriptor.size());
 static_assert(kConfigurationDescriptor[0] == kConfigurationHeaderSize);
 static_assert(kHidReportDescriptor.size() == 25, "HID report descriptor length is in the HID descriptor");

@@ -3,6 +3,7 @@
 // HID 1.11 §6.2 and DFU 1.1 §4.1; every size is static_assert'ed against its specification.
 #pragma once
 
+#include <algorithm>
 #include <array>
 #include <cstddef>
 #include <cstdint>
@@ -99,7 +100,8 @@ inline constexpr std::uint8_t kDfuAttributes = 0x0B;
 inline constexpr std::uint16_t kDfuDetachTimeoutMs = 1000;
 inline constexpr std::uint16_t kDfuTransferSize = 2048;
 
-// The two class descriptors that GET_DESCRIPTOR (interface recipient) returns on their own too.
+// The HID class descriptor: part of the configuration set, and returned alone by GET_DESCRIPTOR
+// to the interface (HID 1.11 §7.1.1).
 inline constexpr std::array<std::uint8_t, kHidDescriptorSize> kHidDescriptor = {
     9,                                  // bLength
     static_cast<std::uint8_t>(DescriptorType::kHid),
@@ -110,8 +112,16 @@ inline constexpr std::array<std::uint8_t, kHidDescriptorSize> kHidDescriptor = {
     Lo(kHidReportDescriptor.size()), Hi(kHidReportDescriptor.size()),  // wDescriptorLength
 };
 
-inline constexpr std::array<std::uint8_t, kConfigurationTotalSize> kConfigurationDescriptor = {
-    // Configuration
+/// Joins descriptors into one configuration descriptor set at compile time.
+template <std::size_t... N>
+constexpr std::array<std::uint8_t, (N + ...)> Concat(const std::array<std::uint8_t, N>&... parts) {
+  std::array<std::uint8_t, (N + ...)> out{};
+  std::size_t at = 0;
+  ((std::copy(parts.begin(), parts.end(), out.begin() + static_cast<std::ptrdiff_t>(at)), at += N), ...);
+  return out;
+}
+
+inline constexpr std::array<std::uint8_t, kConfigurationHeaderSize> kConfigurationHeader = {
     9, static_cast<std::uint8_t>(DescriptorType::kConfiguration),
     Lo(kConfigurationTotalSize), Hi(kConfigurationTotalSize),  // wTotalLength
     kInterfaceCount,                    // bNumInterfaces
@@ -119,28 +129,31 @@ inline constexpr std::array<std::uint8_t, kConfigurationTotalSize> kConfiguratio
     0,                                  // iConfiguration
     0x80,                               // bmAttributes: bus powered, no remote wakeup
     125,                                // bMaxPower: 250 mA in 2 mA units (sensors are bus powered)
-    // Interface 0: HID, no boot subclass
+};
+
+// Interface 0: HID, no boot subclass.
+inline constexpr std::array<std::uint8_t, kInterfaceDescriptorSize> kHidInterfaceDescriptor = {
     9, static_cast<std::uint8_t>(DescriptorType::kInterface),
     kHidInterface, 0,                   // bInterfaceNumber, bAlternateSetting
     2,                                  // bNumEndpoints
     0x03, 0x00, 0x00,                   // bInterfaceClass HID, no subclass, no protocol
     0,                                  // iInterface
-    // HID class descriptor
-    9, static_cast<std::uint8_t>(DescriptorType::kHid), 0x11, 0x01, 0x00, 1,
-    static_cast<std::uint8_t>(DescriptorType::kHidReport),
-    Lo(kHidReportDescriptor.size()), Hi(kHidReportDescriptor.size()),
-    // Endpoint 1 IN, interrupt
-    7, static_cast<std::uint8_t>(DescriptorType::kEndpoint), kHidInEndpoint, 0x03,
-    Lo(kHidReportSize), Hi(kHidReportSize), kHidPollIntervalFrames,
-    // Endpoint 1 OUT, interrupt
-    7, static_cast<std::uint8_t>(DescriptorType::kEndpoint), kHidOutEndpoint, 0x03,
-    Lo(kHidReportSize), Hi(kHidReportSize), kHidPollIntervalFrames,
-    // Interface 1: DFU run-time (application specific class, DFU subclass, run-time protocol)
+};
+
+constexpr std::array<std::uint8_t, kEndpointDescriptorSize> InterruptEndpoint(std::uint8_t address) {
+  return {7, static_cast<std::uint8_t>(DescriptorType::kEndpoint), address, 0x03,
+          Lo(kHidReportSize), Hi(kHidReportSize), kHidPollIntervalFrames};
+}
+
+// Interface 1: DFU run-time (application specific class, DFU subclass, run-time protocol).
+inline constexpr std::array<std::uint8_t, kInterfaceDescriptorSize> kDfuInterfaceDescriptor = {
     9, static_cast<std::uint8_t>(DescriptorType::kInterface),
     kDfuInterface, 0, 0,                // bInterfaceNumber, bAlternateSetting, bNumEndpoints
     0xFE, 0x01, 0x01,                   // bInterfaceClass, bInterfaceSubClass, bInterfaceProtocol
     kStringDfu,                         // iInterface
-    // DFU functional descriptor
+};
+
+inline constexpr std::array<std::uint8_t, kDfuFunctionalDescriptorSize> kDfuFunctionalDescriptor = {
     9, static_cast<std::uint8_t>(DescriptorType::kDfuFunctional),
     kDfuAttributes,
     Lo(kDfuDetachTimeoutMs), Hi(kDfuDetachTimeoutMs),
@@ -148,8 +161,11 @@ inline constexpr std::array<std::uint8_t, kConfigurationTotalSize> kConfiguratio
     0x10, 0x01,                         // bcdDFUVersion 1.1
 };
 
-/// Offset of the HID descriptor inside the configuration descriptor (for cross-checks).
-inline constexpr std::size_t kHidDescriptorOffset = kConfigurationHeaderSize + kInterfaceDescriptorSize;
+inline constexpr auto kConfigurationDescriptor =
+    Concat(kConfigurationHeader, kHidInterfaceDescriptor, kHidDescriptor,
+           InterruptEndpoint(kHidInEndpoint), InterruptEndpoint(kHidOutEndpoint),
+           kDfuInterfaceDescriptor, kDfuFunctionalDescriptor);
+static_assert(kConfigurationDescriptor.size() == kConfigurationTotalSize);
 
 /// Longest string descriptor the stack builds: 2 header bytes + 31 UTF-16 code units.
 inline constexpr std::size_t kMaxStringDescriptorSize = 64;
