@@ -25,7 +25,7 @@ Status InjectedFrameSource::Start(std::uint32_t sample_period_us, FrameSink& sin
   sink_ = &sink;
   tick_ = 0;
   starved_ = 0;
-  sink_cycles_ = 0;
+  handler_cycles_ = 0;
   running_ = true;
   Reg(rcc::kApb1enr) |= rcc::kApb1Tim2;
   Reg(tim::kTim2 + tim::kCr1) = 0;
@@ -60,6 +60,8 @@ Status InjectedFrameSource::Inject(std::span<const Raw> frames) {
 }
 
 void InjectedFrameSource::HandleTimerInterrupt() {
+  // SysTick counts down at the core clock; the difference over the handler is its cost.
+  const std::uint32_t before = Reg(systick::kVal);
   Reg(tim::kTim2 + tim::kSr) = 0;
   if (!running_) return;
   const std::uint32_t tail = tail_.load(std::memory_order_relaxed);
@@ -71,12 +73,10 @@ void InjectedFrameSource::HandleTimerInterrupt() {
   frame.tick = tick_++;
   frame.raw = queue_[tail % kQueueFrames];
   tail_.store(tail + 1, std::memory_order_release);
-  // SysTick counts down; the difference over the call is its cost in core cycles.
-  const std::uint32_t before = Reg(systick::kVal);
   sink_->OnFrame(frame);
   const std::uint32_t after = Reg(systick::kVal);
   const std::uint32_t reload = Reg(systick::kLoad) + 1;
-  sink_cycles_ += before >= after ? before - after : before + reload - after;
+  handler_cycles_ += before >= after ? before - after : before + reload - after;
 }
 
 }  // namespace vibid::fw::qemu

@@ -33,9 +33,9 @@ class InjectedFrameSource final : public FrameSource {
 
   std::uint32_t StarvedTicks() const { return starved_; }
   std::uint32_t DeliveredFrames() const { return tick_; }
-  /// SysTick counts spent in the sink over all delivered frames (core clock, 168 MHz in QEMU),
-  /// for the per-sample cost figure.
-  std::uint64_t SinkCycles() const { return sink_cycles_; }
+  /// SysTick counts (core clock, 168 MHz in QEMU) spent in the timer handler over all delivered
+  /// frames, from its first instruction to its last: the per-sample interrupt cost.
+  std::uint64_t HandlerCycles() const { return handler_cycles_; }
 
   /// The TIM2 interrupt handler body.
   void HandleTimerInterrupt();
@@ -50,7 +50,7 @@ class InjectedFrameSource final : public FrameSource {
   volatile bool running_ = false;
   std::uint32_t tick_ = 0;
   std::uint32_t starved_ = 0;
-  std::uint64_t sink_cycles_ = 0;
+  std::uint64_t handler_cycles_ = 0;
 };
 
 }  // namespace vibid::fw::qemu

@@ -60,8 +60,8 @@ void ReportSamplingCost() {
     return;
   }
   reported = frames;
-  static constexpr const char* kLabels[] = {"frames", "starved_ticks", "sink_cycles", "link_crc_errors"};
-  const std::uint64_t values[] = {frames, g_source.StarvedTicks(), g_source.SinkCycles(),
+  static constexpr const char* kLabels[] = {"frames", "starved_ticks", "isr_cycles", "link_crc_errors"};
+  const std::uint64_t values[] = {frames, g_source.StarvedTicks(), g_source.HandlerCycles(),
                                   g_link.DecoderCounters().crc_errors};
   DiagnosticsValues(kLabels, values, 4);
 }
