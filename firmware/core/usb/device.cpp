@@ -392,8 +392,11 @@ ControlReply UsbDevice::EndpointRequest(const SetupPacket& setup) {
       return ControlReply::Data(std::span<const std::uint8_t>(buf).first(2));
     case StandardRequest::kClearFeature:
       if (setup.DeviceToHost() || setup.w_value != kFeatureEndpointHalt || setup.w_length != 0) break;
-      if (EpNumber(ep) != 0) dcd_.EndpointClearStall(ep);
       halted_[HaltIndex(ep)] = false;
+      if (EpNumber(ep) != 0) {
+        dcd_.EndpointClearStall(ep);
+        DriverForEndpoint(ep)->OnEndpointHalt(ep, false);
+      }
       return ControlReply::Accept();
     case StandardRequest::kSetFeature:
       // Halting the default control pipe is neither required nor recommended (USB 2.0 §9.4.5).
@@ -403,6 +406,7 @@ ControlReply UsbDevice::EndpointRequest(const SetupPacket& setup) {
       }
       dcd_.EndpointStall(ep);
       halted_[HaltIndex(ep)] = true;
+      DriverForEndpoint(ep)->OnEndpointHalt(ep, true);
       return ControlReply::Accept();
     default:
       break;  // SYNCH_FRAME is for isochronous endpoints only.

@@ -248,6 +248,7 @@ class BulkyClass final : public ClassDriver {
   }
   void OnControlComplete(const SetupPacket&) override { ++completions; }
   void OnTransferComplete(std::uint8_t, std::uint16_t) override {}
+  void OnEndpointHalt(std::uint8_t, bool) override {}
 
   std::array<std::uint8_t, 200> payload{};
   std::size_t reply_length = 150;

@@ -25,6 +25,7 @@ Status HidClass::Open(Dcd& dcd) {
   open_ = true;
   tx_busy_ = false;
   out_armed_ = false;
+  out_halted_ = false;
   rx_count_ = 0;
   ArmOut();
   return Status::kOk;
@@ -65,7 +66,7 @@ void HidClass::PushRx(std::span<const std::uint8_t> report) {
 }
 
 void HidClass::ArmOut() {
-  if (!open_ || out_armed_ || !RxSlotFree()) return;
+  if (!open_ || out_armed_ || out_halted_ || !RxSlotFree()) return;
   if (dcd_->Transfer(kHidOutEndpoint, out_buffer_) == Status::kOk) out_armed_ = true;
 }
 
@@ -81,6 +82,19 @@ void HidClass::OnTransferComplete(std::uint8_t ep_addr, std::uint16_t length) {
   } else {
     ++counters_.short_reports;
   }
+  ArmOut();
+}
+
+void HidClass::OnEndpointHalt(std::uint8_t ep_addr, bool halted) {
+  // A halt abandons the transfer in flight: an input report being sent is lost to the host (the
+  // command server's request will time out and be repeated), and the OUT endpoint is re-armed
+  // only once the halt is cleared.
+  if (ep_addr == kHidInEndpoint) {
+    tx_busy_ = false;
+    return;
+  }
+  out_halted_ = halted;
+  out_armed_ = false;
   ArmOut();
 }
 

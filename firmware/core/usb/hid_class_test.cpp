@@ -130,6 +130,33 @@ TEST(HidClass, SetReportOutputDeliversToReader) {
   EXPECT_TRUE(rig.host.Control({0x21, 0x09, 0x00, 0x02, 0x00, 0x00, 0x20, 0x00}, report).stalled);
 }
 
+TEST(HidClass, HaltAndClearKeepTheLinkUsable) {
+  Rig rig;
+  rig.host.Enumerate(4);
+  const Report report = Pattern(21);
+  const Status sent = rig.hid.Send(report);
+  ASSERT_EQ(sent, Status::kOk);
+  // SET_FEATURE(ENDPOINT_HALT) on 0x81 while the report waits for its IN token: it is
+  // abandoned, and after CLEAR_FEATURE the next report goes out.
+  ASSERT_FALSE(rig.host.Control({0x02, 0x03, 0x00, 0x00, 0x81, 0x00, 0x00, 0x00}).stalled);
+  EXPECT_FALSE(rig.dcd.PendingOn(0x81).active);
+  ASSERT_FALSE(rig.host.Control({0x02, 0x01, 0x00, 0x00, 0x81, 0x00, 0x00, 0x00}).stalled);
+  const Status again = rig.hid.Send(report);
+  EXPECT_EQ(again, Status::kOk);
+  EXPECT_TRUE(rig.dcd.PendingOn(0x81).active);
+
+  // The OUT endpoint is not armed while halted, and is armed again once the halt is cleared.
+  ASSERT_FALSE(rig.host.Control({0x02, 0x03, 0x00, 0x00, 0x01, 0x00, 0x00, 0x00}).stalled);
+  EXPECT_FALSE(rig.dcd.PendingOn(0x01).active);
+  ASSERT_FALSE(rig.host.Control({0x02, 0x01, 0x00, 0x00, 0x01, 0x00, 0x00, 0x00}).stalled);
+  EXPECT_TRUE(rig.dcd.PendingOn(0x01).active);
+  HostWritesOut(rig, Pattern(8));
+  Report got{};
+  const Status received = rig.hid.Receive(got);
+  ASSERT_EQ(received, Status::kOk);
+  EXPECT_EQ(got, Pattern(8));
+}
+
 TEST(HidClass, IdleRateAndProtocol) {
   Rig rig;
   rig.host.Enumerate(4);

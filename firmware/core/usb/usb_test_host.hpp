@@ -44,7 +44,10 @@ class FakeDcd final : public Dcd {
       }
     }
   }
-  void EndpointStall(std::uint8_t ep) override { stalled[Index(ep)] = true; }
+  void EndpointStall(std::uint8_t ep) override {
+    stalled[Index(ep)] = true;
+    if (EpNumber(ep) != 0) pending[Index(ep)] = {};
+  }
   void EndpointClearStall(std::uint8_t ep) override {
     stalled[Index(ep)] = false;
     ++clear_stall_calls;

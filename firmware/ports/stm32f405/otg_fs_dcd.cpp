@@ -130,6 +130,7 @@ void OtgFsDcd::EndpointStall(std::uint8_t ep_addr) {
     in_[n].busy = false;
   } else {
     Reg(otg::Doepctl(n)) |= otg::kEpctlStall;
+    out_[n].busy = false;
     if (n == 0) ArmSetup();
   }
 }

@@ -46,6 +46,9 @@ class ClassDriver {
   virtual void OnControlComplete(const SetupPacket& setup) = 0;
   /// A transfer on one of its endpoints completed.
   virtual void OnTransferComplete(std::uint8_t ep_addr, std::uint16_t length) = 0;
+  /// The host halted one of its endpoints (SET_FEATURE, the pending transfer is abandoned) or
+  /// cleared the halt (CLEAR_FEATURE, the endpoint is usable again from DATA0).
+  virtual void OnEndpointHalt(std::uint8_t ep_addr, bool halted) = 0;
 
  protected:
   ~ClassDriver() = default;

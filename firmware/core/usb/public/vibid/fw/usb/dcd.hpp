@@ -53,7 +53,8 @@ class Dcd {
   virtual Status EndpointOpen(std::uint8_t ep_addr, EndpointType type, std::uint16_t max_packet) = 0;
   /// Closes every non-control endpoint (bus reset, SET_CONFIGURATION 0).
   virtual void EndpointCloseAll() = 0;
-  /// Halts an endpoint (STALL handshake). Endpoint 0's stall clears itself on the next SETUP.
+  /// Halts an endpoint (STALL handshake) and abandons its pending transfer, which then never
+  /// completes. Endpoint 0's stall clears itself on the next SETUP.
   virtual void EndpointStall(std::uint8_t ep_addr) = 0;
   /// Clears a halt and resets the data toggle to DATA0 (USB 2.0 §9.4.5).
   virtual void EndpointClearStall(std::uint8_t ep_addr) = 0;

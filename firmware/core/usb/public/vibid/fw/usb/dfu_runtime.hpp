@@ -47,6 +47,7 @@ class DfuRuntime final : public ClassDriver {
   bool OnControlData(const SetupPacket&, std::span<const std::uint8_t>) override { return false; }
   void OnControlComplete(const SetupPacket& setup) override;
   void OnTransferComplete(std::uint8_t, std::uint16_t) override {}
+  void OnEndpointHalt(std::uint8_t, bool) override {}
 
  private:
   DfuDetachHandler& handler_;

@@ -66,6 +66,7 @@ class HidClass final : public ClassDriver, public ReportLink {
   bool OnControlData(const SetupPacket& setup, std::span<const std::uint8_t> data) override;
   void OnControlComplete(const SetupPacket& setup) override;
   void OnTransferComplete(std::uint8_t ep_addr, std::uint16_t length) override;
+  void OnEndpointHalt(std::uint8_t ep_addr, bool halted) override;
 
  private:
   static constexpr std::size_t kRxSlots = 2;
@@ -77,6 +78,7 @@ class HidClass final : public ClassDriver, public ReportLink {
   bool open_ = false;
   bool tx_busy_ = false;
   bool out_armed_ = false;
+  bool out_halted_ = false;
   std::uint8_t idle_rate_ = 0;
   alignas(4) Report tx_buffer_{};
   alignas(4) Report last_input_{};   ///< What GET_REPORT(Input) answers: the latest report sent.
