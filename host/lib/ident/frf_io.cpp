@@ -246,7 +246,7 @@ Frf ParseUff58(std::string_view text, const std::string& source) {
     const std::size_t h = i + 2;  // record 1
     d.id1 = Trim(lines[h]);
     d.func_type = static_cast<int>(ToLong(field(h + 5, 0, 5), where(h + 5) + ": function type"));
-    d.rsp_node = static_cast<int>(ToLong(field(h + 5, 31, 10), where(h + 5) + ": response node"));
+    d.rsp_node = static_cast<int>(ToLong(field(h + 5, 41, 10), where(h + 5) + ": response node"));
     const long ord_type = ToLong(field(h + 6, 0, 10), where(h + 6) + ": ordinate data type");
     d.points = static_cast<std::size_t>(ToLong(field(h + 6, 10, 10), where(h + 6) + ": number of points"));
     const long even = ToLong(field(h + 6, 20, 10), where(h + 6) + ": abscissa spacing");
