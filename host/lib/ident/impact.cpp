@@ -77,14 +77,34 @@ std::vector<Pulse> FindPulses(const Eigen::VectorXd& f, double threshold) {
   return pulses;
 }
 
-// Longest run of consecutive samples within a hair of the channel's extreme value.
-bool Clipped(const double* x, std::size_t n, double lo, double hi, std::size_t min_run) {
-  const double tol = 1e-9 * std::max(hi - lo, 1e-300);
+// A channel's rails: its extreme values, each counted only when it lies far from the channel's
+// resting level (a signal that rests at its minimum, like a hammer force, is not clipped there).
+struct Rails {
+  double lo = 0.0;
+  double hi = 0.0;
+  bool use_lo = false;
+  bool use_hi = false;
+};
+
+Rails FindRails(const Eigen::VectorXd& x) {
+  Rails r;
+  r.lo = x.minCoeff();
+  r.hi = x.maxCoeff();
+  const double rest = Median(x);
+  const double swing = std::max(r.hi - rest, rest - r.lo);
+  r.use_lo = rest - r.lo >= 0.5 * swing && swing > 0.0;
+  r.use_hi = r.hi - rest >= 0.5 * swing && swing > 0.0;
+  return r;
+}
+
+// A run of consecutive samples within a hair of a rail.
+bool Clipped(const double* x, std::size_t n, const Rails& rails, std::size_t min_run) {
+  const double tol = 1e-9 * std::max(rails.hi - rails.lo, 1e-300);
   std::size_t run_hi = 0;
   std::size_t run_lo = 0;
   for (std::size_t i = 0; i < n; ++i) {
-    run_hi = (x[i] >= hi - tol) ? run_hi + 1 : 0;
-    run_lo = (x[i] <= lo + tol) ? run_lo + 1 : 0;
+    run_hi = (rails.use_hi && x[i] >= rails.hi - tol) ? run_hi + 1 : 0;
+    run_lo = (rails.use_lo && x[i] <= rails.lo + tol) ? run_lo + 1 : 0;
     if (run_hi >= min_run || run_lo >= min_run) return true;
   }
   return false;
@@ -169,15 +189,9 @@ ImpactResult EstimateImpactFrf(const Eigen::Ref<const Eigen::VectorXd>& force,
     }
   }
 
-  std::vector<double> lo(static_cast<std::size_t>(nresp) + 1);
-  std::vector<double> hi(lo.size());
-  lo[0] = force.minCoeff();
-  hi[0] = force.maxCoeff();
-  for (Eigen::Index j = 0; j < nresp; ++j) {
-    lo[static_cast<std::size_t>(j) + 1] = responses.col(j).minCoeff();
-    hi[static_cast<std::size_t>(j) + 1] = responses.col(j).maxCoeff();
-  }
   const Eigen::MatrixXd resp = responses;
+  std::vector<Rails> rails{FindRails(force)};
+  for (Eigen::Index j = 0; j < nresp; ++j) rails.push_back(FindRails(resp.col(j)));
 
   RealFft fft(record);
   Eigen::VectorXd fbuf(static_cast<Eigen::Index>(record));
@@ -209,13 +223,12 @@ ImpactResult EstimateImpactFrf(const Eigen::Ref<const Eigen::VectorXd>& force,
       }
     }
     if (hit.double_hit) notes.push_back("double hit");
-    if (Clipped(force.data() + s0, s1 - s0, lo[0], hi[0], options.clip_run_samples)) {
+    if (Clipped(force.data() + s0, s1 - s0, rails[0], options.clip_run_samples)) {
       hit.clipped = true;
       notes.push_back("force channel clipped");
     }
     for (Eigen::Index j = 0; j < nresp; ++j) {
-      const auto js = static_cast<std::size_t>(j) + 1;
-      if (Clipped(resp.col(j).data() + s0, s1 - s0, lo[js], hi[js], options.clip_run_samples)) {
+      if (Clipped(resp.col(j).data() + s0, s1 - s0, rails[static_cast<std::size_t>(j) + 1], options.clip_run_samples)) {
         hit.clipped = true;
         notes.push_back("response " + std::to_string(j + 1) + " clipped");
       }
