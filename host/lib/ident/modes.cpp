@@ -260,4 +260,34 @@ Eigen::VectorXcd ModalReceptance(const CurveFitResult& fit, double omega_rad_s) 
   return h;
 }
 
+ModeMethod ParseModeMethod(std::string_view name) {
+  if (name == "peaks" || name == "peak-picking") return ModeMethod::kPeakPicking;
+  if (name == "fit" || name == "curve-fit") return ModeMethod::kCurveFit;
+  throw InputError("unknown mode method '" + std::string(name) + "' (known: peaks, fit)");
+}
+
+ModeIdentification IdentifyModes(const Frf& receptance, std::size_t driving_point,
+                                 const ModeIdentificationOptions& options) {
+  Require(receptance.quantity == Quantity::kDisplacement, "mode identification needs a receptance FRF");
+  Require(driving_point < receptance.responses(), "driving-point response out of range");
+  ModeIdentification out;
+  const Eigen::VectorXd mag = PickingMagnitude(receptance, options.picking_column);
+  const PeakResult picked = PickPeaks(receptance.freq_hz, mag, options.peaks, receptance.exp_window_tau_s);
+  Require(!picked.peaks.empty(), "no resonance found in the FRF (check the band and the threshold)");
+  out.peaks = picked.peaks;
+  out.warnings = picked.warnings;
+  out.modes = ShapesFromPeaks(receptance, driving_point, picked.peaks);
+  if (options.method == ModeMethod::kCurveFit) {
+    out.fit = FitModes(receptance, picked.peaks, options.fit);
+    out.fitted = true;
+    if (out.fit.summary.Converged()) {
+      out.modes = ShapesFromResidues(out.fit, driving_point);
+    } else {
+      out.warnings.push_back("curve fit did not converge (" + out.fit.summary.message +
+                             "); modes are the peak-picking estimates");
+    }
+  }
+  return out;
+}
+
 }  // namespace vibid::ident

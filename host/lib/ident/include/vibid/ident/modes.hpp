@@ -4,6 +4,8 @@
 
 #include <complex>
 #include <cstddef>
+#include <string>
+#include <string_view>
 #include <vector>
 
 #include <Eigen/Core>
@@ -73,6 +75,32 @@ CurveFitResult FitModes(const Frf& receptance, const std::vector<Peak>& start, c
 /// Mass-normalised shapes from fitted residues (A_jp = phi_j phi_p), hammer at `driving_point`;
 /// the sign of phi_j from the real part of A_jp relative to A_pp.
 std::vector<ModeEstimate> ShapesFromResidues(const CurveFitResult& fit, std::size_t driving_point);
+
+enum class ModeMethod { kPeakPicking, kCurveFit };
+/// "peaks" | "fit"; InputError otherwise.
+ModeMethod ParseModeMethod(std::string_view name);
+
+struct ModeIdentificationOptions {
+  ModeMethod method = ModeMethod::kCurveFit;
+  PeakOptions peaks;
+  /// Column whose magnitude is peak-picked; -1: the sum of all responses' magnitudes.
+  int picking_column = -1;
+  CurveFitOptions fit;
+};
+
+struct ModeIdentification {
+  std::vector<ModeEstimate> modes;
+  std::vector<Peak> peaks;
+  std::vector<std::string> warnings;
+  bool fitted = false;
+  CurveFitResult fit;  ///< Valid when `fitted`.
+};
+
+/// Peak picks (and, by default, the curve fit started from them) on a receptance, shapes with the
+/// hammer at `driving_point`. InputError when no resonance is found. A curve fit that does not
+/// converge is reported in `fit.summary`, and the peak-pick modes are returned with a warning.
+ModeIdentification IdentifyModes(const Frf& receptance, std::size_t driving_point,
+                                 const ModeIdentificationOptions& options);
 
 /// Receptance of a modal model at `omega_rad_s` (for overlays and tests).
 Eigen::VectorXcd ModalReceptance(const CurveFitResult& fit, double omega_rad_s);
