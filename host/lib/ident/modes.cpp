@@ -277,7 +277,12 @@ ModeIdentification IdentifyModes(const Frf& receptance, std::size_t driving_poin
   out.peaks = picked.peaks;
   out.warnings = picked.warnings;
   out.modes = ShapesFromPeaks(receptance, driving_point, picked.peaks);
-  if (options.method == ModeMethod::kCurveFit) {
+  constexpr std::size_t kMaxFittedModes = 12;
+  if (options.method == ModeMethod::kCurveFit && picked.peaks.size() > kMaxFittedModes) {
+    out.warnings.push_back(std::to_string(picked.peaks.size()) +
+                           " peaks are too many for one curve fit; modes are the peak-picking estimates (narrow the band, "
+                           "raise the threshold or limit the number of modes)");
+  } else if (options.method == ModeMethod::kCurveFit) {
     out.fit = FitModes(receptance, picked.peaks, options.fit);
     out.fitted = true;
     if (out.fit.summary.Converged()) {

@@ -193,12 +193,17 @@ PeakResult PickPeaks(const Eigen::Ref<const Eigen::VectorXd>& freq_hz,
 }
 
 Eigen::VectorXd PickingMagnitude(const Frf& frf, int column) {
-  if (column >= 0) {
-    Require(static_cast<std::size_t>(column) < frf.responses(), "response column out of range");
-    return frf.h.col(column).cwiseAbs();
-  }
+  Require(column < 0 || static_cast<std::size_t>(column) < frf.responses(), "response column out of range");
+  const int power = frf.quantity == Quantity::kDisplacement ? 1 : frf.quantity == Quantity::kVelocity ? 0 : -1;
   Eigen::VectorXd sum = Eigen::VectorXd::Zero(frf.h.rows());
-  for (Eigen::Index j = 0; j < frf.h.cols(); ++j) sum += frf.h.col(j).cwiseAbs();
+  for (Eigen::Index j = 0; j < frf.h.cols(); ++j) {
+    if (column >= 0 && j != column) continue;
+    for (Eigen::Index i = 0; i < frf.h.rows(); ++i) {
+      const double w = 2.0 * std::numbers::pi * frf.freq_hz[i];
+      const double scale = power == 1 ? w : power == -1 ? (w > 0.0 ? 1.0 / w : 0.0) : 1.0;
+      sum[i] += std::abs(frf.h(i, j)) * scale * std::clamp(frf.coherence(i, j), 0.0, 1.0);
+    }
+  }
   return sum;
 }
 

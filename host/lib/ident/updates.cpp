@@ -25,7 +25,8 @@ MassUpdateResult UpdateMass(const Frf& receptance, std::size_t response, const M
   Require(response < receptance.responses(), "mass update: response column out of range");
   const auto col = static_cast<Eigen::Index>(response);
   const Eigen::VectorXd mag = receptance.h.col(col).cwiseAbs();
-  const PeakResult picked = PickPeaks(receptance.freq_hz, mag, options.peaks, receptance.exp_window_tau_s);
+  const PeakResult picked =
+      PickPeaks(receptance.freq_hz, PickingMagnitude(receptance, static_cast<int>(col)), options.peaks, receptance.exp_window_tau_s);
   Require(!picked.peaks.empty(), "mass update: no resonance found in the FRF");
   const Peak peak = *std::max_element(picked.peaks.begin(), picked.peaks.end(),
                                       [](const Peak& a, const Peak& b) { return a.magnitude < b.magnitude; });
@@ -57,7 +58,9 @@ MassUpdateResult UpdateMass(const Frf& receptance, std::size_t response, const M
   }
   // Start: k given (or from the peak height 1/(2 zeta k)), m = k / omega^2.
   res.stiffness_fitted = options.k_n_per_m == 0.0;
-  const double k0 = res.stiffness_fitted ? 1.0 / (2.0 * peak.zeta * peak.magnitude) : options.k_n_per_m;
+  // Receptance peak height 1/(2 zeta k) gives the starting stiffness when it is not known.
+  const double peak_receptance = std::abs(InterpolateAt(receptance.freq_hz, receptance.h.col(col), peak.freq_hz));
+  const double k0 = res.stiffness_fitted ? 1.0 / (2.0 * peak.zeta * peak_receptance) : options.k_n_per_m;
   const double m0 = k0 / (peak.omega_rad_s * peak.omega_rad_s);
   const double zeta = peak.zeta;
   const auto model = [&](double m, double k, Eigen::VectorXd& r) {

@@ -55,8 +55,12 @@ PeakResult PickPeaks(const Eigen::Ref<const Eigen::VectorXd>& freq_hz,
                      const Eigen::Ref<const Eigen::VectorXd>& magnitude, const PeakOptions& options,
                      double exp_window_tau_s = 0.0);
 
-/// Magnitude used for picking on several responses: the chosen column, or (column < 0) the sum of
-/// the magnitudes of all columns, which shows every mode that any response sees.
+/// Magnitude used for picking resonances in an FRF of any kind: the mobility magnitude (|H| times
+/// or divided by omega as needed; for a viscously damped mode its peak sits at omega_n and its
+/// half-power band is 2 zeta omega_n exactly) weighted by the coherence, so that lines dominated
+/// by noise (low coherence, or amplified by the conversion from accelerance) do not pose as
+/// resonances. `column` >= 0 picks one response; -1 sums all responses, so every mode any
+/// response sees shows.
 Eigen::VectorXd PickingMagnitude(const Frf& frf, int column);
 
 /// Value of a uniformly sampled complex function at `freq_hz` by a cubic through the four nearest
