@@ -65,6 +65,8 @@ nlohmann::json ResidualJson(const sysid::ResidualTests& t) {
                          {"lags_outside", t.autocorrelation_outside},
                          {"autocorrelation", vec(t.autocorrelation)}}},
           {"input_independence", {{"passed", t.independent},
+                                  {"statistic", t.cross_correlation_statistic},
+                                  {"threshold", t.cross_correlation_threshold},
                                   {"bound", t.cross_correlation_bound},
                                   {"lags_outside", t.cross_correlation_outside},
                                   {"cross_correlation", vec(t.cross_correlation)}}}};

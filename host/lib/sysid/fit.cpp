@@ -90,8 +90,10 @@ ResidualTests TestResiduals(Eigen::Ref<const Eigen::VectorXd> residual, Eigen::R
   t.cross_correlation_bound = z * std::sqrt(p / nd);
   t.cross_correlation_outside =
       static_cast<int>((t.cross_correlation.array().abs() > t.cross_correlation_bound).count());
-  const double allowed = std::max(1.0, 2.0 * (1.0 - confidence) * (2.0 * max_lag + 1.0));
-  t.independent = t.cross_correlation_outside <= allowed;
+  const double sigma = std::sqrt(p / nd);
+  t.cross_correlation_statistic = (t.cross_correlation / sigma).squaredNorm();
+  t.cross_correlation_threshold = ChiSquareQuantile(confidence, 2 * max_lag + 1);
+  t.independent = t.cross_correlation_statistic < t.cross_correlation_threshold;
   return t;
 }
 

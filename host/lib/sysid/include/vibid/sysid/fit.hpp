@@ -33,8 +33,10 @@ struct ResidualTests {
   Eigen::VectorXd cross_correlation;  ///< ρ_eu(τ), τ = −max_lag..max_lag (e lagging u for τ > 0).
   double cross_correlation_bound = 0.0;  ///< z √(Σ_k ρ_e(k) ρ_u(k) / N).
   int cross_correlation_outside = 0;
-  /// No more lags outside the bound than chance allows: ≤ max(1, 2 (1 − confidence)(2 max_lag + 1)).
-  bool independent = false;
+  /// S = Σ_τ (ρ_eu(τ)/σ)², σ = bound/z: χ²(2 max_lag + 1) distributed when e is independent of u.
+  double cross_correlation_statistic = 0.0;
+  double cross_correlation_threshold = 0.0;  ///< χ²(2 max_lag + 1) quantile at `confidence`.
+  bool independent = false;                  ///< S below its threshold.
 };
 
 ResidualTests TestResiduals(Eigen::Ref<const Eigen::VectorXd> residual, Eigen::Ref<const Eigen::VectorXd> input,
