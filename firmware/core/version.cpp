@@ -6,4 +6,6 @@ FirmwareVersion CurrentFirmwareVersion() {
   return FirmwareVersion{VIBID_FW_VERSION_MAJOR, VIBID_FW_VERSION_MINOR, VIBID_FW_VERSION_PATCH};
 }
 
+std::uint32_t BuildId() { return VIBID_FW_BUILD_ID; }
+
 }  // namespace vibid::fw
