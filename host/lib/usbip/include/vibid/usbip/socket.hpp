@@ -72,6 +72,8 @@ class Listener {
 
   /// The bound port (the chosen one when 0 was asked for).
   std::uint16_t port() const { return port_; }
+  /// The listening descriptor, for a caller that polls it together with its connections.
+  int fd() const { return fd_; }
 
   /// Waits up to `timeout` for a connection. @returns the connection, or an invalid Socket on
   /// timeout. @throws IoError on a socket error.
