@@ -10,6 +10,8 @@
 #include <string>
 #include <vector>
 
+#include "vibid/shared/wire/commands.hpp"
+#include "vibid/shared/wire/crc32.hpp"
 #include "vibid/usbip/socket.hpp"
 
 namespace vibid::emu::testing {
@@ -129,6 +131,104 @@ inline std::array<std::uint8_t, 8> Req(std::uint8_t type, std::uint8_t request, 
   return {type, request, static_cast<std::uint8_t>(value & 0xFF), static_cast<std::uint8_t>(value >> 8),
           static_cast<std::uint8_t>(index & 0xFF), static_cast<std::uint8_t>(index >> 8),
           static_cast<std::uint8_t>(length & 0xFF), static_cast<std::uint8_t>(length >> 8)};
+}
+
+/// The board's command protocol over the HID interrupt endpoints of an imported emulator:
+/// one request at a time, one IN URB outstanding while an answer is expected.
+class DeviceSession {
+ public:
+  struct Answer {
+    wire::Header header;
+    std::vector<std::uint8_t> payload;
+  };
+
+  explicit DeviceSession(std::uint16_t port) : client_(port) {
+    if (client_.Control(Req(0x00, 9, 1, 0, 0), 0).status != 0) throw std::runtime_error("SET_CONFIGURATION refused");
+  }
+
+  TestClient& client() { return client_; }
+
+  Answer Request(wire::Command command, std::span<const std::uint8_t> payload = {}, std::uint16_t sequence = 0) {
+    wire::Report r{};
+    if (wire::BuildReport(command, ++token_, sequence, 0, Status::kOk, payload, r) != Status::kOk) {
+      throw std::runtime_error("request does not fit a report");
+    }
+    Send(r);
+    return Receive();
+  }
+
+  template <typename Payload>
+    requires requires { Payload::kBytes; }
+  Answer Request(wire::Command command, const Payload& payload) {
+    std::array<std::uint8_t, Payload::kBytes> bytes{};
+    wire::Encode(payload, bytes);
+    return Request(command, std::span<const std::uint8_t>(bytes));
+  }
+
+  /// Uploads and commits a calibration record. @returns the commit's status.
+  Status Calibrate(std::span<const std::uint8_t> record) {
+    wire::CalPutBeginRequest begin;
+    begin.record_bytes = static_cast<std::uint32_t>(record.size());
+    begin.crc32 = wire::ComputeCrc32(record);
+    Answer a = Request(wire::Command::kCalPutBegin, begin);
+    if (a.header.status != Status::kOk) return a.header.status;
+    std::uint16_t seq = 0;
+    for (std::size_t at = 0; at < record.size(); at += wire::kMaxPayload, ++seq) {
+      const std::size_t n = std::min<std::size_t>(wire::kMaxPayload, record.size() - at);
+      a = Request(wire::Command::kCalPutData, record.subspan(at, n), seq);
+      if (a.header.status != Status::kOk) return a.header.status;
+    }
+    return Request(wire::Command::kCalCommit).header.status;
+  }
+
+  /// Pulls the log from `first`: the data payload bytes of the stream, in order.
+  std::vector<std::uint8_t> PullLog(std::uint32_t first = 0) {
+    wire::LogReadRequest req;
+    req.first_record = first;
+    Answer a = Request(wire::Command::kLogRead, req);
+    std::vector<std::uint8_t> bytes;
+    while ((a.header.flags & wire::kFlagStreamEnd) == 0) {
+      if (a.header.status != Status::kOk) throw std::runtime_error("log-read refused");
+      bytes.insert(bytes.end(), a.payload.begin(), a.payload.end());
+      a = Receive();
+    }
+    return bytes;
+  }
+
+  wire::StatusResponse GetStatus() {
+    const Answer a = Request(wire::Command::kGetStatus);
+    wire::StatusResponse s;
+    if (wire::Decode(a.payload, s) != Status::kOk) throw std::runtime_error("bad get-status answer");
+    return s;
+  }
+
+ private:
+  void Send(const wire::Report& r) {
+    const auto out = client_.Wait(client_.Submit(1, usbip::Direction::kOut, 64, {}, {r.begin(), r.end()}));
+    if (out.status != 0) throw std::runtime_error("interrupt OUT failed");
+  }
+  Answer Receive() {
+    const auto in = client_.Wait(client_.Submit(1, usbip::Direction::kIn, 64));
+    if (in.status != 0 || in.data.size() != wire::kReportBytes) throw std::runtime_error("interrupt IN failed");
+    wire::Report r{};
+    std::copy(in.data.begin(), in.data.end(), r.begin());
+    Answer a;
+    if (wire::DecodeHeader(r, a.header) != Status::kOk) throw std::runtime_error("malformed report");
+    const auto p = wire::PayloadOf(r);
+    a.payload.assign(p.begin(), p.end());
+    return a;
+  }
+
+  TestClient client_;
+  std::uint16_t token_ = 0;
+};
+
+/// A 16-byte scenario name and parameters, as select-scenario carries them.
+inline wire::ScenarioRequest ScenarioOf(const char* name, std::array<float, 4> params) {
+  wire::ScenarioRequest s;
+  for (std::size_t i = 0; name[i] != '\0' && i < s.name.size(); ++i) s.name[i] = name[i];
+  s.params = params;
+  return s;
 }
 
 }  // namespace vibid::emu::testing
