@@ -181,18 +181,23 @@ class DeviceSession {
     return Request(wire::Command::kCalCommit).header.status;
   }
 
-  /// Pulls the log from `first`: the data payload bytes of the stream, in order.
-  std::vector<std::uint8_t> PullLog(std::uint32_t first = 0) {
-    wire::LogReadRequest req;
-    req.first_record = first;
-    Answer a = Request(wire::Command::kLogRead, req);
+  /// Pulls the whole log: the data payload bytes of the streams, in order. One stream carries at
+  /// most 65535 reports (16-bit sequence numbers), so a long log takes several, each asking from
+  /// the first record not yet received.
+  std::vector<std::uint8_t> PullLog(std::size_t record_bytes) {
     std::vector<std::uint8_t> bytes;
-    while ((a.header.flags & wire::kFlagStreamEnd) == 0) {
-      if (a.header.status != Status::kOk) throw std::runtime_error("log-read refused");
-      bytes.insert(bytes.end(), a.payload.begin(), a.payload.end());
-      a = Receive();
+    for (;;) {
+      wire::LogReadRequest req;
+      req.first_record = static_cast<std::uint32_t>(bytes.size() / record_bytes);
+      Answer a = Request(wire::Command::kLogRead, req);
+      const std::size_t before = bytes.size();
+      while ((a.header.flags & wire::kFlagStreamEnd) == 0) {
+        if (a.header.status != Status::kOk) throw std::runtime_error("log-read refused");
+        bytes.insert(bytes.end(), a.payload.begin(), a.payload.end());
+        a = Receive();
+      }
+      if (bytes.size() == before) return bytes;
     }
-    return bytes;
   }
 
   wire::StatusResponse GetStatus() {

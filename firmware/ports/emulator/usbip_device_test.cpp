@@ -353,7 +353,7 @@ std::vector<std::uint8_t> HammerRun(std::uint64_t seed, std::uint64_t* ticks) {
     wire::StatusResponse st = s.GetStatus();
     while (st.acq_state != wire::AcqState::kDone) st = s.GetStatus();
     *ticks = st.ticks;
-    log = s.PullLog();
+    log = s.PullLog(28);
   }
   stop = true;
   loop.join();
