@@ -14,6 +14,7 @@
 #include "emulator.hpp"
 #include "test_client.hpp"
 #include "vibid/fw/usb/descriptors.hpp"
+#include "vibid/shared/wire/calibration_record.hpp"
 #include "vibid/shared/wire/commands.hpp"
 
 namespace vibid::emu {
@@ -232,6 +233,61 @@ TEST_F(EmulatorOverUsbIp, SecondImportIsRefusedWhileTheFirstHoldsTheDevice) {
   EXPECT_THROW(usbip::RequestImport(s, "1-1"), usbip::ProtocolError);
   auto other = usbip::ConnectTcp("127.0.0.1", port_, 2000ms);
   EXPECT_THROW(usbip::RequestImport(other, "2-1"), usbip::ProtocolError);
+}
+
+TEST_F(EmulatorOverUsbIp, DfuDetachReachesTheBootloader) {
+  {
+    TestClient app(port_);
+    Configure(app);
+    // DFU 1.1 DFU_DETACH to the run-time interface (1), wTimeout 1000 ms; bitWillDetach is set,
+    // so the device leaves by itself after the status stage.
+    EXPECT_EQ(app.Control(Req(0x21, 0, 1000, 1, 0), 0).status, 0);
+    EXPECT_TRUE(app.Closed(2000ms));
+  }
+  TestClient boot(port_);
+  EXPECT_EQ(boot.device().id_product, 0xDF11);
+  const auto layout = boot.Control(Req(0x80, 6, 0x0304, 0x0409, 255), 255);  // iInterface string
+  ASSERT_EQ(layout.status, 0);
+  std::string text;
+  for (std::size_t i = 2; i + 1 < layout.data.size(); i += 2) text.push_back(static_cast<char>(layout.data[i]));
+  EXPECT_EQ(text, "@Internal Flash  /0x08000000/04*016Kg,01*064Kg,07*128Kg");
+}
+
+TEST_F(EmulatorOverUsbIp, CalibrationSurvivesARestartAndResetIsSoftware) {
+  wire::CalibrationRecord r;
+  r.dof_count = 2;
+  r.created_unix_s = 1700000000;
+  r.mass_kg = {1.82f, 0.0f, 0.0f, 1.53f};
+  r.stiffness_n_per_m = {6280.0f, -2760.0f, -2760.0f, 2760.0f};
+  r.channels[0] = {2048, 1 << 20, 0, wire::Unit::kNewton, 1, 500.0f};
+  std::array<std::uint8_t, wire::kCalRecordBytes> bytes{};
+  wire::EncodeCalibrationRecord(r, bytes);
+  auto info_of = [](testing::DeviceSession& s) {
+    wire::InfoResponse info;
+    EXPECT_EQ(wire::Decode(s.Request(wire::Command::kGetInfo).payload, info), Status::kOk);
+    return info;
+  };
+  {
+    testing::DeviceSession s(port_);
+    EXPECT_EQ(info_of(s).cal_state, wire::CalState::kUncalibrated);
+    ASSERT_EQ(s.Calibrate(bytes), Status::kOk);
+    EXPECT_EQ(s.Request(wire::Command::kReset).header.status, Status::kOk);
+    EXPECT_TRUE(s.client().Closed(2000ms));
+  }
+  {
+    testing::DeviceSession s(port_);
+    const wire::InfoResponse info = info_of(s);
+    EXPECT_EQ(info.reset_cause, wire::ResetCause::kSoftware);
+    EXPECT_EQ(info.cal_state, wire::CalState::kCalibrated);
+  }
+  // A new emulator process on the same flash file boots calibrated, from power-on.
+  Stop();
+  Start();
+  testing::DeviceSession s(port_);
+  const wire::InfoResponse info = info_of(s);
+  EXPECT_EQ(info.reset_cause, wire::ResetCause::kPowerOn);
+  EXPECT_EQ(info.cal_state, wire::CalState::kCalibrated);
+  EXPECT_EQ(info.cal_crc, wire::ComputeCrc32(std::span<const std::uint8_t>(bytes).first(wire::kCalOffCrc)));
 }
 
 // DfuSe: GETSTATUS after a download runs it (dfuDNBUSY), the next one reports dfuDNLOAD-IDLE.
