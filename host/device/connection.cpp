@@ -151,8 +151,8 @@ Reply Connection::Call(Command command, std::span<const std::uint8_t> payload, s
     throw DeviceError(CommandText(static_cast<std::uint8_t>(command)) + ": payload too long");
   }
   const auto id = static_cast<std::uint8_t>(command);
+  // Not cancellable: a single exchange is short, and the stop that follows an interrupt must go out.
   for (int attempt = 0; attempt <= options_.retries; ++attempt) {
-    CheckCancel();
     if (attempt > 0) {
       std::lock_guard lock(mutex_);
       ++counters_.retries;
