@@ -1,0 +1,179 @@
+#include "vibid/sysid/continuous.hpp"
+
+#include <cmath>
+#include <string>
+
+#include <Eigen/Eigenvalues>
+#include <unsupported/Eigen/MatrixFunctions>
+
+#include "vibid/common/error.hpp"
+#include "vibid/sysid/polynomial.hpp"
+
+namespace vibid::sysid {
+
+void ValidateTf(const TransferFunction& tf) {
+  Require(tf.den.size() >= 1 && tf.den[0] != 0.0, "transfer function: leading denominator coefficient must be nonzero");
+  Require(tf.num.size() >= 1, "transfer function: empty numerator");
+  Require(tf.num.allFinite() && tf.den.allFinite(), "transfer function: coefficients must be finite");
+  Eigen::Index first = 0;
+  while (first < tf.num.size() - 1 && tf.num[first] == 0.0) ++first;
+  Require(tf.num.size() - first <= tf.den.size(),
+          "transfer function is improper (numerator degree above denominator degree)");
+}
+
+TransferFunction Normalized(const TransferFunction& tf) {
+  ValidateTf(tf);
+  Eigen::Index first = 0;
+  while (first < tf.num.size() - 1 && tf.num[first] == 0.0) ++first;
+  return TransferFunction{tf.num.tail(tf.num.size() - first) / tf.den[0], tf.den / tf.den[0]};
+}
+
+StateSpaceSiso ControllableCanonical(const TransferFunction& tf) {
+  const TransferFunction t = Normalized(tf);
+  const Eigen::Index n = t.Order();
+  StateSpaceSiso ss;
+  ss.a = Eigen::MatrixXd::Zero(n, n);
+  ss.b = Eigen::VectorXd::Zero(n);
+  ss.c = Eigen::RowVectorXd::Zero(n);
+  Eigen::VectorXd num = Eigen::VectorXd::Zero(n + 1);
+  num.tail(t.num.size()) = t.num;
+  ss.d = num[0];
+  if (n == 0) return ss;
+  ss.a.row(0) = -t.den.tail(n).transpose();
+  for (Eigen::Index i = 1; i < n; ++i) ss.a(i, i - 1) = 1.0;
+  ss.b[0] = 1.0;
+  ss.c = (num.tail(n) - ss.d * t.den.tail(n)).transpose();
+  return ss;
+}
+
+Eigen::MatrixXd SimulateStates(Eigen::Ref<const Eigen::MatrixXd> a, Eigen::Ref<const Eigen::VectorXd> b,
+                               Eigen::Ref<const Eigen::VectorXd> u, double dt_s, Hold hold,
+                               Eigen::Ref<const Eigen::VectorXd> x0) {
+  const Eigen::Index n = a.rows();
+  const Eigen::Index samples = u.size();
+  Eigen::MatrixXd states(samples, n);
+  if (samples == 0) return states;
+  // exp of the block matrix [[A, B, 0], [0, 0, 1], [0, 0, 0]] dt gives Φ and the two input
+  // integrals of a piecewise-linear input (Franklin, Powell & Workman, Digital Control, §6.3.2);
+  // the zero-order hold uses the first of them only.
+  Eigen::MatrixXd m = Eigen::MatrixXd::Zero(n + 2, n + 2);
+  m.topLeftCorner(n, n) = a * dt_s;
+  m.block(0, n, n, 1) = b * dt_s;
+  m(n, n + 1) = 1.0;
+  const Eigen::MatrixXd e = m.exp();
+  const Eigen::MatrixXd phi = e.topLeftCorner(n, n);
+  const Eigen::VectorXd g0 = e.block(0, n, n, 1);
+  const Eigen::VectorXd g1 = e.block(0, n + 1, n, 1);
+  Eigen::VectorXd x = x0;
+  for (Eigen::Index k = 0; k < samples; ++k) {
+    states.row(k) = x.transpose();
+    if (k + 1 == samples) break;
+    Eigen::VectorXd next = phi * x + g0 * u[k];
+    if (hold == Hold::kFirst) next += g1 * (u[k + 1] - u[k]);
+    x = next;
+  }
+  return states;
+}
+
+Eigen::VectorXd Simulate(const TransferFunction& tf, Eigen::Ref<const Eigen::VectorXd> u, double dt_s, Hold hold) {
+  const StateSpaceSiso ss = ControllableCanonical(tf);
+  if (ss.a.rows() == 0) return ss.d * u;
+  const Eigen::MatrixXd x = SimulateStates(ss.a, ss.b, u, dt_s, hold, Eigen::VectorXd::Zero(ss.a.rows()));
+  return x * ss.c.transpose() + ss.d * u;
+}
+
+namespace {
+
+template <typename Step>
+Eigen::VectorXd Integrate(const TransferFunction& tf, Eigen::Ref<const Eigen::VectorXd> u, double dt_s,
+                          int substeps, Step step) {
+  Require(substeps >= 1, "substeps must be at least 1");
+  Require(dt_s > 0.0, "sample period must be > 0");
+  const StateSpaceSiso ss = ControllableCanonical(tf);
+  const Eigen::Index n = ss.a.rows();
+  Eigen::VectorXd x = Eigen::VectorXd::Zero(n);
+  Eigen::VectorXd y(u.size());
+  const double h = dt_s / substeps;
+  for (Eigen::Index k = 0; k < u.size(); ++k) {
+    y[k] = (n > 0 ? (ss.c * x)(0) : 0.0) + ss.d * u[k];
+    for (int s = 0; s < substeps && n > 0; ++s) x = step(ss, x, u[k], h);
+  }
+  return y;
+}
+
+}  // namespace
+
+Eigen::VectorXd SimulateEuler(const TransferFunction& tf, Eigen::Ref<const Eigen::VectorXd> u, double dt_s,
+                              int substeps) {
+  return Integrate(tf, u, dt_s, substeps,
+                   [](const StateSpaceSiso& ss, const Eigen::VectorXd& x, double uk, double h) -> Eigen::VectorXd {
+                     return x + h * (ss.a * x + ss.b * uk);
+                   });
+}
+
+Eigen::VectorXd SimulateRk4(const TransferFunction& tf, Eigen::Ref<const Eigen::VectorXd> u, double dt_s,
+                            int substeps) {
+  return Integrate(tf, u, dt_s, substeps,
+                   [](const StateSpaceSiso& ss, const Eigen::VectorXd& x, double uk, double h) -> Eigen::VectorXd {
+                     auto f = [&](const Eigen::VectorXd& s) -> Eigen::VectorXd { return ss.a * s + ss.b * uk; };
+                     const Eigen::VectorXd k1 = f(x);
+                     const Eigen::VectorXd k2 = f(x + 0.5 * h * k1);
+                     const Eigen::VectorXd k3 = f(x + 0.5 * h * k2);
+                     const Eigen::VectorXd k4 = f(x + h * k3);
+                     return x + h / 6.0 * (k1 + 2.0 * k2 + 2.0 * k3 + k4);
+                   });
+}
+
+namespace {
+
+/// Transfer function C (sI − A)⁻¹ B + D of a SISO state space, from characteristic polynomials:
+/// det(sI − A + BC) = det(sI − A)(1 + C (sI − A)⁻¹ B).
+TransferFunction TfFromStateSpace(const Eigen::MatrixXd& a, const Eigen::VectorXd& b, const Eigen::RowVectorXd& c,
+                                  double d) {
+  const Eigen::VectorXd den = PolyFromRoots(Eigen::EigenSolver<Eigen::MatrixXd>(a, false).eigenvalues());
+  const Eigen::MatrixXd closed = a - b * c;
+  const Eigen::VectorXd both = PolyFromRoots(Eigen::EigenSolver<Eigen::MatrixXd>(closed, false).eigenvalues());
+  Eigen::VectorXd num = both - den + d * den;
+  return TransferFunction{num, den};
+}
+
+}  // namespace
+
+DiscreteTf C2dZoh(const TransferFunction& tf, double dt_s) {
+  Require(dt_s > 0.0, "sample period must be > 0");
+  const StateSpaceSiso ss = ControllableCanonical(tf);
+  const Eigen::Index n = ss.a.rows();
+  if (n == 0) return DiscreteTf{Eigen::VectorXd::Constant(1, ss.d), Eigen::VectorXd::Ones(1)};
+  Eigen::MatrixXd m = Eigen::MatrixXd::Zero(n + 1, n + 1);
+  m.topLeftCorner(n, n) = ss.a * dt_s;
+  m.topRightCorner(n, 1) = ss.b * dt_s;
+  const Eigen::MatrixXd e = m.exp();
+  // A z-domain TF read with descending powers of z is the same vector in ascending powers of q⁻¹.
+  const TransferFunction z = TfFromStateSpace(e.topLeftCorner(n, n), e.topRightCorner(n, 1), ss.c, ss.d);
+  return DiscreteTf{z.num, z.den};
+}
+
+TransferFunction D2cZoh(Eigen::Ref<const Eigen::VectorXd> num, Eigen::Ref<const Eigen::VectorXd> den, double dt_s) {
+  Require(dt_s > 0.0, "sample period must be > 0");
+  Require(den.size() >= 1 && den[0] != 0.0, "d2c: leading denominator coefficient must be nonzero");
+  Require(num.size() <= den.size(), "d2c: numerator longer than denominator (more than one sample of delay "
+                                    "or a non-causal model): no continuous equivalent");
+  const Eigen::Index n = den.size() - 1;
+  Eigen::VectorXd padded = Eigen::VectorXd::Zero(n + 1);
+  padded.head(num.size()) = num;
+  const Eigen::VectorXcd poles = Roots(den);
+  for (Eigen::Index i = 0; i < poles.size(); ++i) {
+    Require(!(std::abs(poles[i].imag()) <= 1e-12 * std::max(1.0, std::abs(poles[i])) && poles[i].real() <= 1e-12),
+            "d2c: discrete pole at z = " + std::to_string(poles[i].real()) +
+                " on the negative real axis (or at 0, a pure delay) has no continuous-time equivalent");
+  }
+  // Discrete state space in the same canonical form, then the matrix logarithm of the ZOH block.
+  const StateSpaceSiso zs = ControllableCanonical(TransferFunction{padded, den});
+  Eigen::MatrixXd m = Eigen::MatrixXd::Identity(n + 1, n + 1);
+  m.topLeftCorner(n, n) = zs.a;
+  m.topRightCorner(n, 1) = zs.b;
+  const Eigen::MatrixXd l = m.log() / dt_s;
+  return TfFromStateSpace(l.topLeftCorner(n, n), l.topRightCorner(n, 1), zs.c, zs.d);
+}
+
+}  // namespace vibid::sysid

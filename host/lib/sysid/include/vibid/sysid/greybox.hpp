@@ -1,0 +1,68 @@
+// Grey-box identification of the cart-track rig (methods §10): the physical parameters estimated
+// directly by output error on the physical parameterisation.
+//
+// One cart (cart 2 pinned), springs k on both sides, viscous friction B:
+//   force input     X1/F  = (1/M) / (s² + (B/M) s + 2k/M)
+//   position input  X1/Xi = ((Bi/M) s + 2k/M) / (s² + (B/M) s + 2k/M)
+// Two carts, output X1, det(s) = (M1 s² + B1 s + 2k)(M2 s² + B2 s + 2k) − k²:
+//   force input     X1/F  = (M2 s² + B2 s + 2k) / det(s)
+//   position input  X1/Xi = (Bi s + 2k)(M2 s² + B2 s + 2k) / det(s)
+// (the position input acts through the first spring as F = (Bi s + 2k) Xi).
+// With a position input the TF is homogeneous in (M, B, k, Bi) scale: one of them must be fixed.
+#pragma once
+
+#include <map>
+#include <string>
+#include <vector>
+
+#include <Eigen/Core>
+
+#include "vibid/sysid/continuous.hpp"
+#include "vibid/sysid/io_data.hpp"
+#include "vibid/sysid/least_squares.hpp"
+#include "vibid/sysid/tfest.hpp"
+
+namespace vibid::sysid {
+
+enum class CartInput { kForce, kPosition };
+
+struct CartConfig {
+  int carts = 1;                      ///< 1 or 2.
+  CartInput input = CartInput::kForce;
+};
+
+/// Parameter names in the order used by CartTf: 1 cart "M","B","k" (+ "Bi" for position input);
+/// 2 carts "M1","M2","B1","B2","k" (+ "Bi").
+std::vector<std::string> CartParameterNames(const CartConfig& config);
+
+/// The cart TF (not normalised) for parameter values in CartParameterNames order. SI units:
+/// M in kg, B and Bi in N·s/m, k in N/m.
+TransferFunction CartTf(const CartConfig& config, Eigen::Ref<const Eigen::VectorXd> values);
+
+struct GreyboxOptions {
+  CartConfig config;
+  std::map<std::string, double> fixed;  ///< Parameters held at a value (by name).
+  InitialCondition ic = InitialCondition::kZero;
+  SolverOptions solver;
+  /// Throws InputError: unknown or non-positive fixed parameters, a position input without one fixed.
+  void Validate() const;
+};
+
+struct GreyboxParameter {
+  std::string name;
+  double value = 0.0;
+  double std = 0.0;    ///< 0 when fixed.
+  bool fixed = false;
+};
+
+struct GreyboxResult {
+  std::vector<GreyboxParameter> parameters;
+  TransferFunction tf;                 ///< Monic, from the estimated parameters.
+  double fit_percent = 0.0;
+  std::string initialization;
+  SolverSummary summary;
+};
+
+GreyboxResult EstimateCart(const IoData& data, const GreyboxOptions& options);
+
+}  // namespace vibid::sysid

@@ -1,0 +1,222 @@
+#include "vibid/sysid/pem.hpp"
+
+#include <algorithm>
+
+#include <Eigen/QR>
+
+#include "vibid/common/error.hpp"
+#include "vibid/sysid/polynomial.hpp"
+
+namespace vibid::sysid {
+
+namespace {
+
+/// v delayed by k samples, zeros shifted in.
+Eigen::VectorXd Delay(const Eigen::VectorXd& v, Eigen::Index k) {
+  Eigen::VectorXd out = Eigen::VectorXd::Zero(v.size());
+  if (k < v.size()) out.tail(v.size() - k) = v.head(v.size() - k);
+  return out;
+}
+
+bool StableFilter(const Eigen::VectorXd& p) { return p.size() <= 1 || SpectralRadius(p) < 1.0; }
+
+/// Residual and Jacobian of e = D/C (A y − B/F u) for the parameter layout of PolyModel.
+bool PredictionErrorJacobian(const PolyModel& base, const IoData& data, const Eigen::VectorXd& theta,
+                             Eigen::VectorXd& e, Eigen::MatrixXd* jac) {
+  PolyModel m = base;
+  m.SetParameters(theta);
+  if (!StableFilter(m.c) || !StableFilter(m.f)) return false;
+  const PolyOrders& o = m.orders;
+  const Eigen::VectorXd one = Eigen::VectorXd::Ones(1);
+  const Eigen::VectorXd x = Filter(m.b, m.f, data.u);
+  const Eigen::VectorXd v = Filter(m.a, one, data.y) - x;
+  e = Filter(m.d, m.c, v);
+  if (jac == nullptr) return true;
+  const Eigen::Index n = data.samples();
+  jac->resize(n, o.Parameters());
+  Eigen::Index col = 0;
+  if (o.na > 0) {
+    const Eigen::VectorXd yf = Filter(m.d, m.c, data.y);
+    for (int k = 1; k <= o.na; ++k) jac->col(col++) = Delay(yf, k);
+  }
+  const Eigen::VectorXd cf = PolyMul(m.c, m.f);
+  const Eigen::VectorXd uf = Filter(m.d, cf, data.u);
+  for (int k = 0; k < o.nb; ++k) jac->col(col++) = -Delay(uf, o.nk + k);
+  if (o.nc > 0) {
+    const Eigen::VectorXd ef = Filter(one, m.c, e);
+    for (int k = 1; k <= o.nc; ++k) jac->col(col++) = -Delay(ef, k);
+  }
+  if (o.nd > 0) {
+    const Eigen::VectorXd vf = Filter(one, m.c, v);
+    for (int k = 1; k <= o.nd; ++k) jac->col(col++) = Delay(vf, k);
+  }
+  if (o.nf > 0) {
+    const Eigen::VectorXd xf = Filter(m.d, cf, x);
+    for (int k = 1; k <= o.nf; ++k) jac->col(col++) = Delay(xf, k);
+  }
+  return true;
+}
+
+/// Hannan–Rissanen: innovations from a long AR fit of `signal` (or an ARX fit when `input` is
+/// given), then least squares of signal on its own lags, the input lags and the innovation lags.
+/// Returns [a1..ana, b.., c1..cnc] in that order.
+Eigen::VectorXd HannanRissanen(const Eigen::VectorXd& signal, const Eigen::VectorXd* input, int na, int nb, int nk,
+                               int nc) {
+  const Eigen::Index n = signal.size();
+  const int long_order = static_cast<int>(std::min<Eigen::Index>(std::max(20, 3 * (na + nc)), n / 10));
+  Eigen::VectorXd innovations = signal;
+  if (long_order >= 1) {
+    const Eigen::Index t0 = long_order + (input != nullptr ? nk + long_order : 0);
+    const Eigen::Index rows = n - t0;
+    const int cols = long_order + (input != nullptr ? long_order : 0);
+    if (rows > 2 * cols) {
+      Eigen::MatrixXd phi(rows, cols);
+      for (Eigen::Index r = 0; r < rows; ++r) {
+        const Eigen::Index t = t0 + r;
+        for (int i = 0; i < long_order; ++i) phi(r, i) = -signal[t - 1 - i];
+        if (input != nullptr) {
+          for (int j = 0; j < long_order; ++j) phi(r, long_order + j) = (*input)[t - nk - j];
+        }
+      }
+      const Eigen::VectorXd th = phi.colPivHouseholderQr().solve(signal.tail(rows));
+      innovations = Eigen::VectorXd::Zero(n);
+      innovations.tail(rows) = signal.tail(rows) - phi * th;
+    }
+  }
+  const int nbu = input != nullptr ? nb : 0;
+  const Eigen::Index t0 = std::max<Eigen::Index>({na, nc, input != nullptr ? nk + nb - 1 : 0}) + long_order;
+  const Eigen::Index rows = n - t0;
+  const int p = na + nbu + nc;
+  Eigen::MatrixXd phi(rows, p);
+  for (Eigen::Index r = 0; r < rows; ++r) {
+    const Eigen::Index t = t0 + r;
+    for (int i = 0; i < na; ++i) phi(r, i) = -signal[t - 1 - i];
+    for (int j = 0; j < nbu; ++j) phi(r, na + j) = (*input)[t - nk - j];
+    for (int i = 0; i < nc; ++i) phi(r, na + nbu + i) = innovations[t - 1 - i];
+  }
+  return phi.colPivHouseholderQr().solve(signal.tail(rows));
+}
+
+Eigen::VectorXd Monic(const Eigen::VectorXd& tail) {
+  Eigen::VectorXd p(tail.size() + 1);
+  p[0] = 1.0;
+  p.tail(tail.size()) = tail;
+  return p;
+}
+
+}  // namespace
+
+PolyModel EstimateOeIv(const IoData& data, const PolyOrders& orders) {
+  const PolyOrders arx_orders{orders.nf, orders.nb, 0, 0, 0, orders.nk};
+  const ArxResult arx = EstimateArx(data, arx_orders);
+  Eigen::VectorXd f = StabilizeDiscrete(arx.model.a);
+  Eigen::VectorXd b = arx.model.b;
+  const int nf = orders.nf;
+  const int nb = orders.nb;
+  const int nk = orders.nk;
+  const Eigen::Index n = data.samples();
+  const Eigen::Index t0 = std::max<Eigen::Index>(nf, nk + nb - 1);
+  const Eigen::Index rows = n - t0;
+  for (int pass = 0; pass < 2 && nf > 0; ++pass) {
+    const Eigen::VectorXd x = Filter(b, f, data.u);
+    Eigen::MatrixXd phi(rows, nf + nb);
+    Eigen::MatrixXd zeta(rows, nf + nb);
+    for (Eigen::Index r = 0; r < rows; ++r) {
+      const Eigen::Index t = t0 + r;
+      for (int i = 0; i < nf; ++i) {
+        phi(r, i) = -data.y[t - 1 - i];
+        zeta(r, i) = -x[t - 1 - i];
+      }
+      for (int j = 0; j < nb; ++j) phi(r, nf + j) = zeta(r, nf + j) = data.u[t - nk - j];
+    }
+    const Eigen::MatrixXd zp = zeta.transpose() * phi;
+    const Eigen::VectorXd zy = zeta.transpose() * data.y.tail(rows);
+    const Eigen::ColPivHouseholderQR<Eigen::MatrixXd> qr(zp);
+    if (qr.rank() < nf + nb) break;
+    const Eigen::VectorXd th = qr.solve(zy);
+    if (!th.allFinite()) break;
+    f = StabilizeDiscrete(Monic(th.head(nf)));
+    b = Eigen::VectorXd::Zero(nk + nb);
+    b.tail(nb) = th.tail(nb);
+  }
+  PolyModel m;
+  m.structure = Structure::kOe;
+  m.orders = PolyOrders{0, nb, 0, 0, nf, nk};
+  m.dt_s = data.dt_s;
+  m.b = b;
+  m.f = f;
+  return m;
+}
+
+PemResult EstimatePem(const IoData& data, Structure structure, const PolyOrders& orders,
+                      const SolverOptions& options) {
+  options.Validate();
+  ValidateOrders(structure, orders, data.samples());
+  PemResult res;
+  if (structure == Structure::kArx) {
+    const ArxResult arx = EstimateArx(data, orders);
+    res.model = arx.model;
+    res.initialization = "least-squares";
+    res.summary.termination = Termination::kConvergedCost;
+    res.summary.initial_cost = res.summary.final_cost = arx.loss;
+    res.summary.message = "linear least squares (closed form)";
+    return res;
+  }
+
+  PolyModel start;
+  start.structure = structure;
+  start.orders = orders;
+  start.dt_s = data.dt_s;
+  switch (structure) {
+    case Structure::kArmax: {
+      // A stable start for ARMAX: regress y on its lags, the input and the innovations.
+      const Eigen::VectorXd th = HannanRissanen(data.y, &data.u, orders.na, orders.nb, orders.nk, orders.nc);
+      Eigen::VectorXd theta(orders.Parameters());
+      theta << th;
+      start.SetParameters(theta);
+      start.c = StabilizeDiscrete(start.c);
+      res.initialization = "hannan-rissanen";
+      break;
+    }
+    case Structure::kOe: {
+      const PolyModel iv = EstimateOeIv(data, orders);
+      start.b = iv.b;
+      start.f = iv.f;
+      res.initialization = "instrumental-variable";
+      break;
+    }
+    case Structure::kBj: {
+      const PolyModel iv = EstimateOeIv(data, PolyOrders{0, orders.nb, 0, 0, orders.nf, orders.nk});
+      start.b = iv.b;
+      start.f = iv.f;
+      const Eigen::VectorXd w = data.y - Filter(iv.b, iv.f, data.u);
+      // Noise model C/D: an ARMA fit of the output error, D from its AR part, C from the MA part.
+      const Eigen::VectorXd th = HannanRissanen(w, nullptr, orders.nd, 0, 0, orders.nc);
+      start.d = StabilizeDiscrete(Monic(th.head(orders.nd)));
+      start.c = StabilizeDiscrete(Monic(th.tail(orders.nc)));
+      res.initialization = "instrumental-variable + hannan-rissanen";
+      break;
+    }
+    case Structure::kArx:
+      break;
+  }
+
+  Eigen::VectorXd theta = start.Parameters();
+  const ResidualFunction fn = [&](const Eigen::VectorXd& th, Eigen::VectorXd& r, Eigen::MatrixXd* j) {
+    return PredictionErrorJacobian(start, data, th, r, j);
+  };
+  Eigen::MatrixXd jac;
+  res.summary = MinimizeLeastSquares(fn, theta, options, &jac);
+  res.model = start;
+  res.model.SetParameters(theta);
+  Eigen::VectorXd e;
+  PredictionErrorJacobian(start, data, theta, e, nullptr);
+  if (jac.rows() == e.size()) {
+    res.model.covariance = CovarianceFromJacobian(jac, e);
+  }
+  res.model.noise_variance =
+      e.squaredNorm() / static_cast<double>(std::max<Eigen::Index>(e.size() - orders.Parameters(), 1));
+  return res;
+}
+
+}  // namespace vibid::sysid
