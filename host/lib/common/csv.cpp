@@ -1,5 +1,6 @@
 #include "vibid/common/csv.hpp"
 
+#include <algorithm>
 #include <charconv>
 #include <cmath>
 #include <sstream>
@@ -16,14 +17,15 @@ std::string_view Trim(std::string_view s) {
   return s;
 }
 
-std::vector<std::string_view> SplitCells(std::string_view line) {
-  std::vector<std::string_view> cells;
+// Fills `cells` (reused across lines: a record of millions of rows must not allocate per row).
+void SplitCells(std::string_view line, std::vector<std::string_view>& cells) {
+  cells.clear();
   std::size_t start = 0;
   while (true) {
     const auto comma = line.find(',', start);
     if (comma == std::string_view::npos) {
       cells.push_back(Trim(line.substr(start)));
-      return cells;
+      return;
     }
     cells.push_back(Trim(line.substr(start, comma - start)));
     start = comma + 1;
@@ -65,6 +67,9 @@ CsvTable ParseCsv(std::string_view text, const std::string& source) {
   CsvTable table;
   table.source = source;
   std::vector<std::vector<double>> cols;
+  std::vector<std::string_view> cells;
+  // Rows are about as many as newlines; reserving once avoids regrowth copies on large records.
+  const auto approx_rows = static_cast<std::size_t>(std::count(text.begin(), text.end(), '\n'));
   std::size_t line_no = 0;
   bool have_header = false;
   std::size_t pos = 0;
@@ -78,37 +83,39 @@ CsvTable ParseCsv(std::string_view text, const std::string& source) {
       if (nl == text.size()) break;
       continue;
     }
-    const auto cells = SplitCells(line);
-    const std::string where = source + ":" + std::to_string(line_no) + ": ";
+    SplitCells(line, cells);
+    // Built only on an error: formatting it on every row would dominate the parse of a large record.
+    const auto where = [&] { return source + ":" + std::to_string(line_no) + ": "; };
     if (!have_header) {
       for (const auto c : cells) {
-        if (c.empty()) throw InputError(where + "empty column name in the header");
+        if (c.empty()) throw InputError(where() + "empty column name in the header");
         if (ParseNumber(c)) {
-          throw InputError(where + "the first row must be a header of column names, found the number '" +
+          throw InputError(where() + "the first row must be a header of column names, found the number '" +
                            std::string(c) + "'");
         }
         table.names.emplace_back(c);
       }
       for (std::size_t i = 0; i < table.names.size(); ++i) {
         for (std::size_t j = i + 1; j < table.names.size(); ++j) {
-          if (table.names[i] == table.names[j]) throw InputError(where + "duplicate column '" + table.names[i] + "'");
+          if (table.names[i] == table.names[j]) throw InputError(where() + "duplicate column '" + table.names[i] + "'");
         }
       }
       cols.resize(table.names.size());
+      for (auto& c : cols) c.reserve(approx_rows);
       have_header = true;
     } else {
       if (cells.size() != table.names.size()) {
-        throw InputError(where + "expected " + std::to_string(table.names.size()) + " cells, found " +
+        throw InputError(where() + "expected " + std::to_string(table.names.size()) + " cells, found " +
                          std::to_string(cells.size()));
       }
       for (std::size_t c = 0; c < cells.size(); ++c) {
         const auto v = ParseNumber(cells[c]);
         if (!v) {
-          throw InputError(where + "column '" + table.names[c] + "': '" + std::string(cells[c]) +
+          throw InputError(where() + "column '" + table.names[c] + "': '" + std::string(cells[c]) +
                            "' is not a number");
         }
         if (!std::isfinite(*v)) {
-          throw InputError(where + "column '" + table.names[c] + "': non-finite value '" +
+          throw InputError(where() + "column '" + table.names[c] + "': non-finite value '" +
                            std::string(cells[c]) + "'");
         }
         cols[c].push_back(*v);
