@@ -153,7 +153,7 @@ TEST_F(ModelCli, BadOptionsAreOneLineInputErrors) {
     args.insert(args.end(), extra.begin(), extra.end());
     return args;
   };
-  ExpectInputError(with({"--dt-s", "-0.001"}), "dt_s must be finite and > 0");
+  ExpectInputError(with({"--dt-s", "-0.001"}), "dt_s must be finite and > 0, got -0.001");
   ExpectInputError(with({"--dt-s", "0.001", "--method", "verlet"}), "unknown simulation method 'verlet'");
   ExpectInputError({"simulate", rig_, "--dt-s", "0.1", "--t-end-s", "0.05", "--force", "step:dof=1,amp=1"},
                    "t_end_s must be finite and greater than dt_s");

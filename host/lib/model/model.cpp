@@ -6,6 +6,7 @@
 #include <Eigen/Cholesky>
 #include <Eigen/Eigenvalues>
 
+#include "number_text.hpp"
 #include "vibid/common/error.hpp"
 
 namespace vibid::model {
@@ -26,7 +27,7 @@ void RequireVector(Eigen::Ref<const Eigen::VectorXd> v, const std::string& name,
   for (Eigen::Index i = 0; i < v.size(); ++i) {
     const double x = v[i];
     Require(std::isfinite(x) && (allow_zero ? x >= 0.0 : x > 0.0),
-            name + "[" + std::to_string(i + 1) + "] = " + std::to_string(x) + " must be " +
+            name + "[" + std::to_string(i + 1) + "] = " + detail::NumberText(x) + " must be " +
                 (allow_zero ? "finite and >= 0" : "finite and > 0"));
   }
 }

@@ -6,6 +6,7 @@
 
 #include <Eigen/LU>
 
+#include "number_text.hpp"
 #include "vibid/common/error.hpp"
 #include "vibid/model/state_space.hpp"
 
@@ -45,10 +46,10 @@ void ValidateOptions(const Model& model, const SimulationOptions& options) {
   const Eigen::Index n = model.m_kg.rows();
   Require(options.method == Method::kEuler || options.method == Method::kRk4 || options.method == Method::kExact,
           "unknown simulation method");
-  Require(std::isfinite(options.dt_s) && options.dt_s > 0.0, "dt_s must be finite and > 0, got " + std::to_string(options.dt_s));
+  Require(std::isfinite(options.dt_s) && options.dt_s > 0.0, "dt_s must be finite and > 0, got " + detail::NumberText(options.dt_s));
   Require(std::isfinite(options.t_end_s) && options.t_end_s > options.dt_s,
-          "t_end_s must be finite and greater than dt_s (" + std::to_string(options.dt_s) + " s), got " +
-              std::to_string(options.t_end_s));
+          "t_end_s must be finite and greater than dt_s (" + detail::NumberText(options.dt_s) + " s), got " +
+              detail::NumberText(options.t_end_s));
   Require(options.x0_m.size() == 0 || options.x0_m.size() == n,
           "x0 has " + std::to_string(options.x0_m.size()) + " entries, the model has " + std::to_string(n) + " DOFs");
   Require(options.v0_m_s.size() == 0 || options.v0_m_s.size() == n,
