@@ -21,8 +21,8 @@
 //   scale. Coefficients are Q(31 - shift). Every product is of two int32 values (|p| <= 2^62) and
 //   ValidateDescription requires sum(|b0|,|b1|,|b2|,|a1|,|a2|) <= 2^32 - 4 on the raw integers, so
 //   the product sum stays below 2^63 - 2^33; the error feedback adds at most 3 * 2^30 and the
-//   rounding constant 2^30, so the 64-bit accumulator holds the exact value and never wraps. Section outputs and d_hat are saturated to int32 (each
-//   saturation is counted), never wrapped. Output terms are at most 2^61 each (output_shift <= 30),
+//   rounding constant 2^30, so the 64-bit accumulator holds the exact value and never wraps.
+//   Section outputs and d_hat are saturated to int32 (each saturation is counted), never wrapped. Output terms are at most 2^61 each (output_shift <= 30),
 //   so the sum of three cannot overflow before the final saturation; the paths are summed before
 //   saturating because the sensor and force paths cancel to a small d_hat by design.
 //   The host's design scales each section's numerator from the l1 norm of the impulse response from
