@@ -1,8 +1,15 @@
-// Command family registration (filled in as the family's commands land).
+// The identification family: frf-estimate, modes, update mass|stiffness, decay, identify.
 #include "commands.hpp"
+#include "ident_commands.hpp"
 
 namespace vibid::cli {
 
-void RegisterIdentCommands(CLI::App& /*app*/) {}
+void RegisterIdentCommands(CLI::App& app) {
+  RegisterFrfEstimate(app);
+  RegisterModes(app);
+  RegisterUpdate(app);
+  RegisterDecay(app);
+  RegisterIdentify(app);
+}
 
 }  // namespace vibid::cli

@@ -1,8 +1,43 @@
-// Command family registration (filled in as the family's commands land).
+#include <charconv>
+#include <cmath>
+
 #include "commands.hpp"
+#include "model/model_commands.hpp"
+#include "vibid/common/error.hpp"
 
 namespace vibid::cli {
 
-void RegisterModelCommands(CLI::App& /*app*/) {}
+void RegisterModelCommands(CLI::App& app) {
+  RegisterModalCommand(app);
+  RegisterFrfCommand(app);
+  RegisterSimulateCommand(app);
+}
+
+std::vector<double> ParseNumberList(const std::string& text, const std::string& option) {
+  std::vector<double> out;
+  std::size_t start = 0;
+  while (true) {
+    const std::size_t comma = text.find(',', start);
+    const std::string item = text.substr(start, comma == std::string::npos ? std::string::npos : comma - start);
+    double value = 0.0;
+    const auto [end, ec] = std::from_chars(item.data(), item.data() + item.size(), value);
+    Require(!item.empty() && ec == std::errc() && end == item.data() + item.size() && std::isfinite(value),
+            option + ": '" + item + "' is not a finite number");
+    out.push_back(value);
+    if (comma == std::string::npos) break;
+    start = comma + 1;
+  }
+  return out;
+}
+
+std::vector<int> ParseDofList(const std::string& text, const std::string& option) {
+  std::vector<int> out;
+  for (const double value : ParseNumberList(text, option)) {
+    Require(value >= 1.0 && value == std::floor(value) && value < 1e6,
+            option + ": DOF " + std::to_string(value) + " must be an integer >= 1 (DOFs count from 1)");
+    out.push_back(static_cast<int>(value) - 1);
+  }
+  return out;
+}
 
 }  // namespace vibid::cli

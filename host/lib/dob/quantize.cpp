@@ -14,11 +14,12 @@ constexpr double kTwo31 = 2147483648.0;
 // Headroom kept below full scale at every section output, for the rounding of earlier sections.
 constexpr double kScaleMargin = 0.999;
 
-// Impulse-response length until the slowest pole has decayed to 1e-14 of its start.
+// Impulse-response length until the slowest pole has decayed to 1e-10 of its start (the l1 and
+// l2 norms are then within about 1e-9 relative).
 Eigen::Index ImpulseLength(const std::vector<SosSection>& sos) {
   const double r = MaxPoleRadius(sos);
   if (r <= 0.0) return 64;
-  const double n = std::log(1e-14) / std::log(std::min(r, 1.0 - 1e-9));
+  const double n = std::log(1e-10) / std::log(std::min(r, 1.0 - 1e-9));
   return static_cast<Eigen::Index>(std::clamp(n + 64.0, 64.0, 4.0e6));
 }
 
@@ -51,6 +52,26 @@ int SectionShift(const SosSection& s) {
     ++shift;
   }
   return shift;
+}
+
+// Largest factor the numerator of `s` can be multiplied by within the Q31 words and the
+// accumulator bound. The shift is the denominator's smallest (the poles keep their resolution)
+// unless one more at least doubles the numerator's resolution: a denominator that nearly fills
+// its words would otherwise starve the numerator.
+double MaxNumeratorScale(const SosSection& s) {
+  const double a_sum = 1.0 + std::abs(s.a1) + std::abs(s.a2);
+  const double a_max = std::max(std::abs(s.a1), std::abs(s.a2));
+  const double b_sum = std::abs(s.b0) + std::abs(s.b1) + std::abs(s.b2);
+  const double b_max = std::max({std::abs(s.b0), std::abs(s.b1), std::abs(s.b2)});
+  if (b_sum == 0.0) return 1.0;
+  int shift = 0;
+  while (a_max >= std::ldexp(1.0, shift) * 0.999 || a_sum >= std::ldexp(1.0, 1 + shift) * 0.999) ++shift;
+  const auto scale = [&](int sh) {
+    return 0.99 * std::min((std::ldexp(1.0, 1 + sh) - a_sum) / b_sum, std::ldexp(1.0, sh) / b_max);
+  };
+  const double tight = scale(shift);
+  const double loose = scale(shift + 1);
+  return loose / 2.0 > 2.0 * tight ? loose : tight;
 }
 
 }  // namespace
@@ -105,24 +126,36 @@ QuantizeResult QuantizeObserver(const std::vector<ObserverPath>& paths, const Qu
     sos.front().b1 *= unit;
     sos.front().b2 *= unit;
 
-    // l1 scaling, section by section.
+    // l1 scaling. g_k, the gain from the path input to section k's output, must keep that output
+    // within full scale for any input: g_k <= margin / l1_k. The last section fills its range;
+    // going backwards, each earlier section gives up some range where that lets the next section's
+    // numerator fill its Q31 words (same shift as its denominator needs): numerators with zeros
+    // near z = 1 are differences of nearly equal coefficients, so their size is their precision.
     const Eigen::Index len = ImpulseLength(sos);
     Eigen::VectorXd h = Impulse(len);
-    double previous_gain = 1.0;
-    std::vector<SosSection> scaled = sos;
+    std::vector<double> l1(sos.size());
     for (std::size_t k = 0; k < sos.size(); ++k) {
       h = FilterSos({sos[k]}, h);
-      const double l1 = h.cwiseAbs().sum();
-      Require(std::isfinite(l1) && l1 > 0.0, "path " + std::to_string(i) + " has a zero or unbounded section");
-      const double gain = kScaleMargin / l1;
-      const double step = gain / previous_gain;
+      l1[k] = h.cwiseAbs().sum();
+      Require(std::isfinite(l1[k]) && l1[k] > 0.0, "path " + std::to_string(i) + " has a zero or unbounded section");
+    }
+    std::vector<double> g(sos.size());
+    g.back() = kScaleMargin / l1.back();
+    for (std::size_t k = sos.size() - 1; k > 0; --k) {
+      // At most 3 bits of range given up, so the earlier section's rounding stays negligible.
+      const double full = kScaleMargin / l1[k - 1];
+      g[k - 1] = std::clamp(g[k] / MaxNumeratorScale(sos[k]), full / 8.0, full);
+    }
+    std::vector<SosSection> scaled = sos;
+    for (std::size_t k = 0; k < sos.size(); ++k) {
+      const double step = g[k] / (k == 0 ? 1.0 : g[k - 1]);
       scaled[k].b0 *= step;
       scaled[k].b1 *= step;
       scaled[k].b2 *= step;
-      previous_gain = gain;
     }
+    const double previous_gain = g.back();
     result.path_l1_gain.push_back(h.cwiseAbs().sum());
-    const double output_gain = 1.0 / previous_gain;
+    double output_gain = 1.0 / previous_gain;
 
     fixed::Path& p = d.paths[i];
     p.section_count = static_cast<std::uint8_t>(scaled.size());
@@ -134,11 +167,15 @@ QuantizeResult QuantizeObserver(const std::vector<ObserverPath>& paths, const Qu
                   " has coefficients too large for Q31 with the largest shift");
       const double one = std::ldexp(1.0, 31 - shift);
       fixed::Section& q = p.sections[k];
+      // Sections with poles and zeros near z = 1 (the rig's resonances at kHz rates) have
+      // coefficient sums of order (omega T)^2, and their DC gains are those sums' ratio. Rounding
+      // b1 and a1 so that the sums are rounded once (not three times) keeps the section's DC gain,
+      // which slow disturbances see, within half an LSB of each sum.
       q.b0 = RoundToInt32(s.b0 * one);
-      q.b1 = RoundToInt32(s.b1 * one);
       q.b2 = RoundToInt32(s.b2 * one);
-      q.a1 = RoundToInt32(s.a1 * one);
+      q.b1 = RoundToInt32(std::nearbyint((s.b0 + s.b1 + s.b2) * one) - q.b0 - q.b2);
       q.a2 = RoundToInt32(s.a2 * one);
+      q.a1 = RoundToInt32(std::nearbyint((1.0 + s.a1 + s.a2) * one) - one - q.a2);
       q.shift = static_cast<std::uint8_t>(shift);
     }
     int out_shift = 0;

@@ -14,4 +14,8 @@ struct FirmwareVersion {
 /// The version this core was built as (from the project version in CMake).
 FirmwareVersion CurrentFirmwareVersion();
 
+/// Identifies the exact source the image was built from: the first 8 hex digits of the git
+/// commit at build time (0 when the tree is not a git checkout).
+std::uint32_t BuildId();
+
 }  // namespace vibid::fw

@@ -1,0 +1,431 @@
+#include "vibid/fw/core.hpp"
+
+#include <algorithm>
+#include <array>
+
+#include "vibid/fw/version.hpp"
+#include "vibid/shared/wire/byte_order.hpp"
+#include "vibid/shared/wire/log_record.hpp"
+
+namespace vibid::fw {
+
+using wire::Command;
+using wire::Header;
+
+Core::Core(const Port& port, ReportLink& link, std::span<std::uint8_t> log_storage,
+           PortCommandHandler* port_commands)
+    : port_(port),
+      link_(link),
+      port_commands_(port_commands),
+      ring_(log_storage),
+      sampler_(ring_, dob_),
+      store_(port.flash) {}
+
+Status Core::Boot() {
+  const Status s = store_.Load();
+  ApplyCalibration();
+  return s;
+}
+
+void Core::ApplyCalibration() {
+  sampler_.SetScaling(store_.record().channels);
+  // The record passed the same validation as the kernel's Init, so this cannot fail; if it
+  // did, the filter stays unloaded and every DOB request is refused, which get-status shows.
+  (void)dob_.Load(store_.record());
+}
+
+bool Core::Sampling() const {
+  const wire::AcqState s = sampler_.state();
+  return sampling_ && (s == wire::AcqState::kArmed || s == wire::AcqState::kAcquiring);
+}
+
+void Core::StopSampling() {
+  if (sampling_) {
+    port_.frames.Stop();
+    sampling_ = false;
+  }
+  sampler_.Disarm();
+}
+
+void Core::OnLinkReset() {
+  stream_ = StreamKind::kNone;
+  has_pending_ = false;
+}
+
+void Core::Poll() {
+  if (sampling_ && sampler_.state() == wire::AcqState::kDone) StopSampling();
+  for (int i = 0; i < kMaxReportsPerPoll; ++i) {
+    if (has_pending_) {
+      if (link_.Send(pending_) != Status::kOk) return;
+      has_pending_ = false;
+      if (deferred_ != Deferred::kNone) {
+        const Deferred action = deferred_;
+        deferred_ = Deferred::kNone;
+        StopSampling();
+        if (action == Deferred::kReset) {
+          port_.system.Reset();
+        } else {
+          port_.system.EnterDfu();
+        }
+        return;
+      }
+      continue;
+    }
+    wire::Report request{};
+    if (link_.Receive(request) == Status::kOk) {
+      // A new request means the host gave up on any stream still running.
+      stream_ = StreamKind::kNone;
+      Handle(request);
+      continue;
+    }
+    if (stream_ == StreamKind::kNone) return;
+    NextStreamReport();
+  }
+}
+
+void Core::Respond(const Header& request, Status status, std::span<const std::uint8_t> payload) {
+  if (status != Status::kOk) {
+    ++rejected_requests_;
+    payload = {};
+  }
+  wire::Header h;
+  h.command = request.command;
+  h.status = status;
+  h.flags = wire::kFlagResponse;
+  h.token = request.token;
+  h.sequence = request.sequence;
+  (void)wire::EncodeReport(h, payload, pending_);
+  has_pending_ = true;
+}
+
+template <typename Payload>
+void Core::RespondWith(const Header& request, const Payload& payload) {
+  std::array<std::uint8_t, Payload::kBytes> bytes{};
+  wire::Encode(payload, bytes);
+  Respond(request, Status::kOk, bytes);
+}
+
+wire::InfoResponse Core::Info() const {
+  const FirmwareVersion v = CurrentFirmwareVersion();
+  wire::InfoResponse info;
+  info.fw_major = v.major;
+  info.fw_minor = v.minor;
+  info.fw_patch = v.patch;
+  info.board_id = port_.system.Board();
+  info.build_id = BuildId();
+  info.capabilities = port_.system.PortCapabilities() | wire::kCapForceTrigger | wire::kCapDob;
+  info.sample_period_us = configured_ ? config_.sample_period_us : kDefaultSamplePeriodUs;
+  info.min_sample_period_us = wire::kMinSamplePeriodUs;
+  info.log_capacity_bytes = static_cast<std::uint32_t>(ring_.storage_bytes());
+  for (std::size_t c = 0; c < wire::kChannelCount; ++c) {
+    info.channel_kind[c] = wire::KindOf(static_cast<wire::Channel>(c));
+  }
+  info.reset_cause = port_.system.LastResetCause();
+  info.cal_state = store_.calibrated() ? wire::CalState::kCalibrated : wire::CalState::kUncalibrated;
+  info.cal_slot = store_.slot();
+  info.cal_crc = store_.record_crc();
+  info.overrun_count = sampler_.overruns();
+  info.dropped_records = sampler_.dropped();
+  return info;
+}
+
+wire::StatusResponse Core::CurrentStatus() const {
+  wire::StatusResponse s;
+  s.acq_state = sampler_.state();
+  s.dob_running = sampler_.dob_running() ? 1 : 0;
+  s.cal_state = store_.calibrated() ? wire::CalState::kCalibrated : wire::CalState::kUncalibrated;
+  s.cal_staged = upload_.staged() ? 1 : 0;
+  s.uptime_us = port_.clock.NowUs();
+  s.ticks = sampler_.ticks();
+  s.records_written = ring_.written();
+  s.records_released = ring_.released();
+  s.overrun_count = sampler_.overruns();
+  s.dropped_records = sampler_.dropped();
+  s.rejected_requests = rejected_requests_;
+  s.saturation_count = sampler_.saturations();
+  s.trigger_record = ring_.triggered() ? ring_.trigger_index() : wire::kNoRecord;
+  s.cal_sequence = store_.sequence();
+  s.flash_errors = store_.flash_errors();
+  return s;
+}
+
+void Core::Handle(const wire::Report& request) {
+  Header h;
+  const Status header_status = wire::DecodeHeader(request, h);
+  if (header_status == Status::kDataLoss) {
+    // Not a vibid report: answer with what the bytes claim, so a confused host learns why.
+    h.command = request[wire::kOffCommand];
+    h.token = wire::LoadU16(request, wire::kOffToken);
+    h.sequence = 0;
+  }
+  if (header_status != Status::kOk) {
+    Respond(h, header_status);
+    return;
+  }
+  if ((h.flags & wire::kFlagResponse) != 0 ||
+      (h.sequence != 0 && h.command != static_cast<std::uint8_t>(Command::kCalPutData))) {
+    Respond(h, Status::kInvalidArgument);
+    return;
+  }
+  const Status s = Dispatch(h, wire::PayloadOf(request));
+  if (s != Status::kOk) Respond(h, s);
+}
+
+Status Core::Dispatch(const Header& h, std::span<const std::uint8_t> payload) {
+  if (wire::IsPortCommand(h.command)) return HandlePortCommand(h, payload);
+  // Commands without a request payload refuse one.
+  const Status empty = payload.empty() ? Status::kOk : Status::kInvalidArgument;
+  switch (static_cast<Command>(h.command)) {
+    case Command::kPing:
+      Respond(h, Status::kOk, payload);
+      return Status::kOk;
+    case Command::kGetInfo:
+      if (empty != Status::kOk) return empty;
+      RespondWith(h, Info());
+      return Status::kOk;
+    case Command::kGetStatus:
+      if (empty != Status::kOk) return empty;
+      RespondWith(h, CurrentStatus());
+      return Status::kOk;
+    case Command::kReset:
+      if (empty != Status::kOk) return empty;
+      Respond(h, Status::kOk);
+      deferred_ = Deferred::kReset;
+      return Status::kOk;
+    case Command::kEnterDfu:
+      if (empty != Status::kOk) return empty;
+      if ((port_.system.PortCapabilities() & wire::kCapDfu) == 0) return Status::kUnimplemented;
+      if (Sampling()) return Status::kFailedPrecondition;
+      Respond(h, Status::kOk);
+      deferred_ = Deferred::kEnterDfu;
+      return Status::kOk;
+    case Command::kCalPutBegin:
+      return HandleCalPutBegin(h, payload);
+    case Command::kCalPutData:
+      return HandleCalPutData(h, payload);
+    case Command::kCalCommit:
+      return empty != Status::kOk ? empty : HandleCalCommit(h);
+    case Command::kCalGet:
+      return empty != Status::kOk ? empty : HandleCalGet(h);
+    case Command::kAcqConfigure:
+      return HandleAcqConfigure(h, payload);
+    case Command::kAcqStart:
+      return empty != Status::kOk ? empty : HandleAcqStart(h);
+    case Command::kAcqStop:
+      if (empty != Status::kOk) return empty;
+      StopSampling();
+      RespondWith(h, wire::AcqStopResponse{.records_written = ring_.written()});
+      return Status::kOk;
+    case Command::kReadLatest: {
+      if (empty != Status::kOk) return empty;
+      wire::LatestResponse latest;
+      if (!sampler_.Latest(latest)) latest.acq_state = sampler_.state();
+      RespondWith(h, latest);
+      return Status::kOk;
+    }
+    case Command::kLogRead:
+      return HandleLogRead(h, payload);
+    case Command::kDobControl:
+      return HandleDobControl(h, payload);
+    case Command::kSelectScenario:
+    case Command::kInjectFrames:
+      break;  // port commands, dispatched above
+  }
+  return Status::kUnimplemented;
+}
+
+Status Core::HandlePortCommand(const Header& h, std::span<const std::uint8_t> payload) {
+  if (port_commands_ == nullptr) return Status::kUnimplemented;
+  std::array<std::uint8_t, wire::kMaxPayload> response{};
+  std::size_t length = 0;
+  const Status s = port_commands_->HandlePortCommand(h.command, payload, response, length);
+  if (s != Status::kOk) return s;
+  Respond(h, s, std::span<const std::uint8_t>(response).first(std::min(length, response.size())));
+  return Status::kOk;
+}
+
+Status Core::HandleCalPutBegin(const Header& h, std::span<const std::uint8_t> payload) {
+  wire::CalPutBeginRequest begin;
+  if (wire::Decode(payload, begin) != Status::kOk) return Status::kInvalidArgument;
+  const Status s = upload_.Begin(begin);
+  if (s == Status::kOk) Respond(h, Status::kOk);
+  return s;
+}
+
+Status Core::HandleCalPutData(const Header& h, std::span<const std::uint8_t> payload) {
+  bool complete = false;
+  const Status s = upload_.Data(h.sequence, payload, complete);
+  if (s == Status::kOk) Respond(h, Status::kOk);
+  return s;
+}
+
+Status Core::HandleCalCommit(const Header& h) {
+  if (Sampling()) return Status::kFailedPrecondition;
+  if (!upload_.staged()) return Status::kFailedPrecondition;
+  const Status s = store_.Commit(upload_.bytes(), upload_.record());
+  if (s != Status::kOk) return s;
+  upload_.Clear();
+  ApplyCalibration();
+  RespondWith(h, wire::CalCommitResponse{.slot = store_.slot(), .sequence = store_.sequence()});
+  return Status::kOk;
+}
+
+Status Core::HandleCalGet(const Header& h) {
+  if (!store_.calibrated()) return Status::kFailedPrecondition;
+  encoder_.Begin(Command::kCalGet, h.token);
+  stream_ = StreamKind::kCalibration;
+  stream_next_ = 0;
+  stream_end_ = static_cast<std::uint32_t>(wire::kCalRecordBytes);
+  NextStreamReport();
+  return Status::kOk;
+}
+
+Status Core::ValidateConfig(const wire::AcqConfigureRequest& c) const {
+  if (c.sample_period_us < wire::kMinSamplePeriodUs ||
+      c.sample_period_us > wire::kMaxSamplePeriodUs) {
+    return Status::kInvalidArgument;
+  }
+  const wire::LogLayout layout{c.channel_mask, c.flags};
+  if (!layout.Valid() || c.decimation == 0 || c.decimation > wire::kMaxDecimation) {
+    return Status::kInvalidArgument;
+  }
+  if (c.trigger_mode == wire::TriggerMode::kImmediate) {
+    if (c.trigger_channel != 0 || c.trigger_threshold != 0 || c.pretrigger_records != 0) {
+      return Status::kInvalidArgument;
+    }
+  } else if (!wire::IsLoadCell(c.trigger_channel)) {
+    return Status::kInvalidArgument;
+  }
+  if (c.pretrigger_records >= ring_.CapacityFor(layout.RecordBytes())) return Status::kOutOfRange;
+  if (layout.HasDob()) {
+    if (!dob_.loaded()) return Status::kFailedPrecondition;
+    // The filter is only right at the rate it was discretized for.
+    if (static_cast<std::uint64_t>(c.sample_period_us) * dob_.sample_rate_hz() != 1000000u) {
+      return Status::kInvalidArgument;
+    }
+  }
+  return Status::kOk;
+}
+
+Status Core::HandleAcqConfigure(const Header& h, std::span<const std::uint8_t> payload) {
+  wire::AcqConfigureRequest c;
+  if (wire::Decode(payload, c) != Status::kOk) return Status::kInvalidArgument;
+  if (Sampling()) return Status::kFailedPrecondition;
+  const Status s = ValidateConfig(c);
+  if (s != Status::kOk) return s;
+  config_ = c;
+  configured_ = true;
+  const wire::LogLayout layout{c.channel_mask, c.flags};
+  RespondWith(h, wire::AcqConfigureResponse{
+                     .record_bytes = static_cast<std::uint16_t>(layout.RecordBytes()),
+                     .capacity_records = ring_.CapacityFor(layout.RecordBytes())});
+  return Status::kOk;
+}
+
+Status Core::HandleAcqStart(const Header& h) {
+  if (!configured_ || Sampling()) return Status::kFailedPrecondition;
+  if (sampling_) StopSampling();  // a finished acquisition whose stop Poll has not seen yet
+  Status s = sampler_.Arm(config_);
+  if (s != Status::kOk) return s;
+  s = port_.frames.Start(config_.sample_period_us, sampler_);
+  if (s != Status::kOk) {
+    sampler_.Disarm();
+    return s;
+  }
+  sampling_ = true;
+  Respond(h, Status::kOk);
+  return Status::kOk;
+}
+
+Status Core::HandleLogRead(const Header& h, std::span<const std::uint8_t> payload) {
+  wire::LogReadRequest r;
+  if (wire::Decode(payload, r) != Status::kOk) return Status::kInvalidArgument;
+  if (ring_.record_bytes() == 0) return Status::kFailedPrecondition;  // nothing acquired yet
+  if (ring_.Release(r.first_record) != Status::kOk) return Status::kOutOfRange;
+  const wire::LogLayout layout = sampler_.layout();
+  const std::uint32_t per_report = static_cast<std::uint32_t>(layout.RecordsPerReport());
+  std::uint32_t count = ring_.written() - r.first_record;
+  if (r.max_records != 0) count = std::min(count, r.max_records);
+  count = std::min(count, per_report * 0xFFFFu);  // sequence numbers are 16 bits
+  encoder_.Begin(Command::kLogRead, h.token);
+  stream_ = StreamKind::kLog;
+  stream_first_ = r.first_record;
+  stream_next_ = r.first_record;
+  stream_end_ = r.first_record + count;
+  NextStreamReport();
+  return Status::kOk;
+}
+
+Status Core::HandleDobControl(const Header& h, std::span<const std::uint8_t> payload) {
+  wire::DobControlRequest r;
+  if (wire::Decode(payload, r) != Status::kOk) return Status::kInvalidArgument;
+  if (r.run == 1 && !dob_.loaded()) return Status::kFailedPrecondition;
+  sampler_.SetDobRunning(r.run == 1);
+  Respond(h, Status::kOk);
+  return Status::kOk;
+}
+
+void Core::NextStreamReport() {
+  std::array<std::uint8_t, wire::kMaxPayload> payload{};
+  std::size_t length = 0;
+  Status s = Status::kOk;
+  if (stream_next_ < stream_end_) {
+    if (stream_ == StreamKind::kCalibration) {
+      length = std::min<std::size_t>(wire::kMaxPayload, stream_end_ - stream_next_);
+      const auto bytes = store_.record_bytes().subspan(stream_next_, length);
+      std::copy(bytes.begin(), bytes.end(), payload.begin());
+      stream_next_ += static_cast<std::uint32_t>(length);
+    } else {
+      const std::size_t record_bytes = ring_.record_bytes();
+      const std::uint32_t per_report = static_cast<std::uint32_t>(wire::kMaxPayload / record_bytes);
+      const std::uint32_t n = std::min(per_report, stream_end_ - stream_next_);
+      for (std::uint32_t i = 0; i < n && s == Status::kOk; ++i) {
+        std::span<const std::uint8_t> record;
+        s = ring_.Read(stream_next_ + i, record);
+        if (s == Status::kOk) std::copy(record.begin(), record.end(), payload.begin() + i * record_bytes);
+      }
+      length = n * record_bytes;
+      stream_next_ += n;
+    }
+    if (s == Status::kOk) s = encoder_.Data(std::span<const std::uint8_t>(payload).first(length), pending_);
+    if (s == Status::kOk) {
+      has_pending_ = true;
+      return;
+    }
+    // The log lost records the stream promised: an invariant broke. End with a refusal.
+    Header h;
+    h.command = static_cast<std::uint8_t>(stream_ == StreamKind::kLog ? Command::kLogRead : Command::kCalGet);
+    stream_ = StreamKind::kNone;
+    Respond(h, Status::kInternal);
+    return;
+  }
+  payload.fill(0);
+  if (stream_ == StreamKind::kCalibration) {
+    wire::CalGetTrailer t;
+    t.slot = store_.slot();
+    t.sequence = store_.sequence();
+    wire::Encode(t, payload);
+    (void)encoder_.End(std::span<std::uint8_t>(payload).first(wire::CalGetTrailer::kBytes), pending_);
+  } else {
+    const wire::LogLayout layout = sampler_.layout();
+    wire::LogTrailer t;
+    t.first_record = stream_first_;
+    t.record_count = stream_end_ - stream_first_;
+    t.record_bytes = static_cast<std::uint16_t>(layout.RecordBytes());
+    t.channel_mask = layout.channel_mask;
+    t.acq_flags = layout.flags;
+    t.sample_period_us = sampler_.config().sample_period_us;
+    t.decimation = sampler_.config().decimation;
+    t.acq_state = sampler_.state();
+    t.trigger_record = ring_.triggered() ? ring_.trigger_index() : wire::kNoRecord;
+    t.dropped_records = sampler_.dropped();
+    t.overrun_count = sampler_.overruns();
+    t.records_written = ring_.written();
+    wire::Encode(t, payload);
+    (void)encoder_.End(std::span<std::uint8_t>(payload).first(wire::LogTrailer::kBytes), pending_);
+  }
+  has_pending_ = true;
+  stream_ = StreamKind::kNone;
+}
+
+}  // namespace vibid::fw

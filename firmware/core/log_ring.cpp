@@ -1,0 +1,74 @@
+#include "vibid/fw/log_ring.hpp"
+
+#include <algorithm>
+
+namespace vibid::fw {
+
+std::uint32_t LogRing::CapacityFor(std::size_t record_bytes) const {
+  if (record_bytes == 0) return 0;
+  return static_cast<std::uint32_t>(storage_.size() / record_bytes);
+}
+
+Status LogRing::Reset(std::size_t record_bytes, std::uint32_t pretrigger_records) {
+  if (record_bytes == 0) return Status::kInvalidArgument;
+  const std::uint32_t capacity = CapacityFor(record_bytes);
+  if (pretrigger_records >= capacity) return Status::kOutOfRange;
+  record_bytes_ = record_bytes;
+  capacity_ = capacity;
+  pretrigger_ = pretrigger_records;
+  write_slot_ = 0;
+  pre_kept_ = 0;
+  start_slot_ = 0;
+  trigger_index_ = 0;
+  written_.store(0, std::memory_order_relaxed);
+  released_.store(0, std::memory_order_relaxed);
+  triggered_.store(false, std::memory_order_release);
+  return Status::kOk;
+}
+
+bool LogRing::Push(std::span<const std::uint8_t> record) {
+  if (capacity_ == 0) return false;
+  const bool after_trigger = triggered_.load(std::memory_order_relaxed);
+  std::uint32_t written = 0;
+  if (after_trigger) {
+    written = written_.load(std::memory_order_relaxed);
+    if (written - released_.load(std::memory_order_acquire) >= capacity_) return false;
+  }
+  std::copy_n(record.begin(), std::min(record.size(), record_bytes_),
+              storage_.begin() + static_cast<std::ptrdiff_t>(write_slot_ * record_bytes_));
+  write_slot_ = write_slot_ + 1 == capacity_ ? 0 : write_slot_ + 1;
+  if (after_trigger) {
+    written_.store(written + 1, std::memory_order_release);
+  } else if (pre_kept_ < pretrigger_) {
+    ++pre_kept_;
+  }
+  return true;
+}
+
+void LogRing::MarkTrigger() {
+  if (capacity_ == 0 || triggered_.load(std::memory_order_relaxed)) return;
+  start_slot_ = (write_slot_ + capacity_ - pre_kept_) % capacity_;
+  trigger_index_ = pre_kept_;
+  written_.store(pre_kept_, std::memory_order_relaxed);
+  triggered_.store(true, std::memory_order_release);
+}
+
+std::uint32_t LogRing::written() const {
+  if (!triggered_.load(std::memory_order_acquire)) return 0;
+  return written_.load(std::memory_order_acquire);
+}
+
+Status LogRing::Release(std::uint32_t first_kept) {
+  if (first_kept < released() || first_kept > written()) return Status::kOutOfRange;
+  released_.store(first_kept, std::memory_order_release);
+  return Status::kOk;
+}
+
+Status LogRing::Read(std::uint32_t index, std::span<const std::uint8_t>& record) const {
+  if (index < released() || index >= written()) return Status::kOutOfRange;
+  const std::uint32_t slot = (start_slot_ + index % capacity_) % capacity_;
+  record = std::span<const std::uint8_t>(storage_).subspan(slot * record_bytes_, record_bytes_);
+  return Status::kOk;
+}
+
+}  // namespace vibid::fw

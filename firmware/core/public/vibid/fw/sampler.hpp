@@ -1,0 +1,97 @@
+// The sampling pipeline, run once per frame in the sampling context:
+//
+//   raw frame -> per-channel calibration (wire::ScaleChannel) -> DOB (when running)
+//             -> trigger (immediate, or a load cell crossing a threshold)
+//             -> every `decimation`-th frame: a log record (raw channels of the mask, d_hat)
+//
+// Nothing is lost silently: a frame tick that skips ahead counts the missing ticks as overruns,
+// a record that finds the log full after the trigger counts as dropped, a calibration that
+// saturates counts as a clip.
+#pragma once
+
+#include <array>
+#include <atomic>
+#include <cstdint>
+
+#include "vibid/fw/dob_stage.hpp"
+#include "vibid/fw/log_ring.hpp"
+#include "vibid/fw/port.hpp"
+#include "vibid/shared/status.hpp"
+#include "vibid/shared/wire/calibration_record.hpp"
+#include "vibid/shared/wire/commands.hpp"
+#include "vibid/shared/wire/log_record.hpp"
+
+namespace vibid::fw {
+
+class Sampler final : public FrameSink {
+ public:
+  Sampler(LogRing& ring, DobStage& dob) : ring_(ring), dob_(dob) {}
+
+  /// Calibration applied from the next frame on. Main loop, sampling stopped.
+  void SetScaling(const std::array<wire::ChannelScaling, wire::kChannelCount>& scaling) {
+    scaling_ = scaling;
+  }
+
+  /// Prepares an acquisition with an already validated configuration: resets the log, the
+  /// counters and the DOB state; an immediate trigger fires at once. The DOB runs in this
+  /// acquisition if it is loaded, discretized for this sample rate, and either logged
+  /// (kAcqFlagLogDob) or switched on by SetDobRunning. Main loop, sampling stopped.
+  /// @returns the log's Reset status (kOutOfRange if the pre-trigger does not fit).
+  Status Arm(const wire::AcqConfigureRequest& config);
+
+  /// Ends the acquisition (after the port stopped delivering frames); the log is kept.
+  void Disarm();
+
+  /// Runs the DOB in acquisitions that do not log it too (dob-control; live d_hat).
+  void SetDobRunning(bool running) { dob_requested_.store(running, std::memory_order_release); }
+
+  void OnFrame(const SampleFrame& frame) override;
+
+  wire::AcqState state() const { return state_.load(std::memory_order_acquire); }
+  bool dob_running() const;
+  std::uint32_t ticks() const { return ticks_.load(std::memory_order_relaxed); }
+  std::uint32_t overruns() const { return overruns_.load(std::memory_order_relaxed); }
+  std::uint32_t dropped() const { return dropped_.load(std::memory_order_relaxed); }
+  /// Calibration clips plus DOB saturations since acq-start.
+  std::uint32_t saturations() const {
+    return clips_.load(std::memory_order_relaxed) + dob_.saturations();
+  }
+  const wire::AcqConfigureRequest& config() const { return config_; }
+  wire::LogLayout layout() const { return layout_; }
+
+  /// The newest frame after calibration and its d_hat, consistent even while frames arrive.
+  /// @returns false if no frame has been seen since boot.
+  bool Latest(wire::LatestResponse& out) const;
+
+ private:
+  bool TriggerFires(const std::array<std::int32_t, wire::kChannelCount>& calibrated) const;
+  void PublishLatest(const SampleFrame& frame,
+                     const std::array<std::int32_t, wire::kChannelCount>& calibrated,
+                     std::int32_t d_hat);
+
+  LogRing& ring_;
+  DobStage& dob_;
+  std::array<wire::ChannelScaling, wire::kChannelCount> scaling_{};
+  wire::AcqConfigureRequest config_{};
+  wire::LogLayout layout_{};
+  std::uint32_t expected_tick_ = 0;
+  std::uint32_t post_trigger_records_ = 0;
+  bool dob_in_acquisition_ = false;  // logged, or requested, at a matching rate
+  bool dob_rate_ok_ = false;
+  bool dob_was_running_ = false;
+
+  std::atomic<wire::AcqState> state_{wire::AcqState::kIdle};
+  std::atomic<bool> dob_requested_{false};
+  std::atomic<std::uint32_t> ticks_{0};
+  std::atomic<std::uint32_t> overruns_{0};
+  std::atomic<std::uint32_t> dropped_{0};
+  std::atomic<std::uint32_t> clips_{0};
+
+  // Latest frame, published with a sequence counter (odd while being written).
+  std::atomic<std::uint32_t> latest_version_{0};
+  std::uint32_t latest_tick_ = 0;
+  std::array<std::int32_t, wire::kChannelCount> latest_calibrated_{};
+  std::int32_t latest_d_hat_ = 0;
+};
+
+}  // namespace vibid::fw

@@ -1,0 +1,138 @@
+#include "vibid/fw/sampler.hpp"
+
+namespace vibid::fw {
+
+Status Sampler::Arm(const wire::AcqConfigureRequest& config) {
+  layout_ = wire::LogLayout{config.channel_mask, config.flags};
+  const Status s = ring_.Reset(layout_.RecordBytes(), config.pretrigger_records);
+  if (s != Status::kOk) return s;
+  config_ = config;
+  expected_tick_ = 0;
+  post_trigger_records_ = 0;
+  dob_rate_ok_ = dob_.loaded() &&
+                 static_cast<std::uint64_t>(config.sample_period_us) * dob_.sample_rate_hz() == 1000000u;
+  dob_in_acquisition_ = dob_rate_ok_ && layout_.HasDob();
+  dob_was_running_ = false;
+  dob_.Reset();
+  ticks_.store(0, std::memory_order_relaxed);
+  overruns_.store(0, std::memory_order_relaxed);
+  dropped_.store(0, std::memory_order_relaxed);
+  clips_.store(0, std::memory_order_relaxed);
+  if (config.trigger_mode == wire::TriggerMode::kImmediate) {
+    ring_.MarkTrigger();
+    state_.store(wire::AcqState::kAcquiring, std::memory_order_release);
+  } else {
+    state_.store(wire::AcqState::kArmed, std::memory_order_release);
+  }
+  return Status::kOk;
+}
+
+void Sampler::Disarm() {
+  const wire::AcqState s = state_.load(std::memory_order_acquire);
+  if (s == wire::AcqState::kArmed || s == wire::AcqState::kAcquiring) {
+    state_.store(wire::AcqState::kIdle, std::memory_order_release);
+  }
+  dob_in_acquisition_ = false;
+}
+
+bool Sampler::dob_running() const {
+  const wire::AcqState s = state();
+  return (s == wire::AcqState::kArmed || s == wire::AcqState::kAcquiring) &&
+         (dob_in_acquisition_ || (dob_rate_ok_ && dob_requested_.load(std::memory_order_acquire)));
+}
+
+bool Sampler::TriggerFires(const std::array<std::int32_t, wire::kChannelCount>& calibrated) const {
+  const std::int32_t v = calibrated[config_.trigger_channel];
+  switch (config_.trigger_mode) {
+    case wire::TriggerMode::kImmediate: return true;
+    case wire::TriggerMode::kRising: return v >= config_.trigger_threshold;
+    case wire::TriggerMode::kFalling: return v <= config_.trigger_threshold;
+  }
+  return false;
+}
+
+void Sampler::OnFrame(const SampleFrame& frame) {
+  std::uint32_t clips = 0;
+  std::array<std::int32_t, wire::kChannelCount> calibrated{};
+  for (std::size_t c = 0; c < wire::kChannelCount; ++c) {
+    calibrated[c] = wire::ScaleChannel(frame.raw[c], scaling_[c], clips);
+  }
+  const wire::AcqState state = state_.load(std::memory_order_relaxed);
+  const bool sampling = state == wire::AcqState::kArmed || state == wire::AcqState::kAcquiring;
+  // The DOB steps on every frame (decimation only thins the log), so the host can replay it
+  // from an undecimated log. A run switched on mid-acquisition starts from rest.
+  const bool run_dob = sampling && (dob_in_acquisition_ ||
+                                    (dob_rate_ok_ && dob_requested_.load(std::memory_order_relaxed)));
+  if (run_dob && !dob_was_running_) dob_.Reset();
+  dob_was_running_ = run_dob;
+  const std::int32_t d_hat = run_dob ? dob_.Step(calibrated) : 0;
+  PublishLatest(frame, calibrated, d_hat);
+  if (!sampling) return;
+
+  ticks_.store(ticks_.load(std::memory_order_relaxed) + 1, std::memory_order_relaxed);
+  if (clips != 0) clips_.store(clips_.load(std::memory_order_relaxed) + clips, std::memory_order_relaxed);
+  // Ticks count from 0 at Start; a jump means the port lost frames before they reached us.
+  if (frame.tick != expected_tick_) {
+    const std::uint32_t missed = frame.tick - expected_tick_;
+    if (missed < 0x80000000u) {
+      overruns_.store(overruns_.load(std::memory_order_relaxed) + missed,
+                      std::memory_order_relaxed);
+    }
+  }
+  expected_tick_ = frame.tick + 1;
+
+  wire::AcqState next = state;
+  if (state == wire::AcqState::kArmed && TriggerFires(calibrated)) {
+    ring_.MarkTrigger();
+    next = wire::AcqState::kAcquiring;
+  }
+
+  if (frame.tick % config_.decimation == 0) {
+    wire::LogRecord record;
+    record.sample_index = frame.tick;
+    record.raw = frame.raw;
+    record.d_hat = d_hat;
+    std::array<std::uint8_t, wire::kMaxLogRecordBytes> bytes{};
+    wire::EncodeLogRecord(layout_, record, bytes);
+    const bool kept = ring_.Push(std::span<const std::uint8_t>(bytes).first(layout_.RecordBytes()));
+    if (next == wire::AcqState::kAcquiring) {
+      if (!kept) dropped_.store(dropped_.load(std::memory_order_relaxed) + 1, std::memory_order_relaxed);
+      ++post_trigger_records_;
+      if (config_.record_limit != 0 && post_trigger_records_ >= config_.record_limit) {
+        next = wire::AcqState::kDone;
+      }
+    }
+  }
+  if (next != state) state_.store(next, std::memory_order_release);
+}
+
+void Sampler::PublishLatest(const SampleFrame& frame,
+                            const std::array<std::int32_t, wire::kChannelCount>& calibrated,
+                            std::int32_t d_hat) {
+  const std::uint32_t v = latest_version_.load(std::memory_order_relaxed);
+  latest_version_.store(v + 1, std::memory_order_relaxed);
+  std::atomic_thread_fence(std::memory_order_release);
+  latest_tick_ = frame.tick;
+  latest_calibrated_ = calibrated;
+  latest_d_hat_ = d_hat;
+  latest_version_.store(v + 2, std::memory_order_release);
+}
+
+bool Sampler::Latest(wire::LatestResponse& out) const {
+  // The sampling context may overwrite the snapshot while we copy it; retry until the version
+  // is even and unchanged (it only ever runs between our reads, never concurrently on one core).
+  for (int attempt = 0; attempt < 4; ++attempt) {
+    const std::uint32_t before = latest_version_.load(std::memory_order_acquire);
+    if (before == 0) return false;
+    out.tick = latest_tick_;
+    out.calibrated = latest_calibrated_;
+    out.d_hat = latest_d_hat_;
+    std::atomic_thread_fence(std::memory_order_acquire);
+    if ((before & 1u) == 0 && latest_version_.load(std::memory_order_relaxed) == before) break;
+  }
+  out.acq_state = state();
+  out.dob_running = dob_running() ? 1 : 0;
+  return true;
+}
+
+}  // namespace vibid::fw

@@ -1,0 +1,235 @@
+// Acquisition and log streaming: decimation, triggers with pre-trigger records, record limits,
+// overruns and drops counted, a lost report detected by the host decoder and the pull resumed
+// with nothing lost or duplicated.
+#include <gtest/gtest.h>
+
+#include <array>
+
+#include "core_harness.hpp"
+
+namespace vibid::fw {
+namespace {
+
+using testing::CoreHarness;
+using testing::PulledLog;
+using testing::PullLog;
+using wire::Command;
+
+// Frame k reads channel c = 100 * c + k (uncalibrated board: calibrated = raw).
+constexpr std::array<std::int32_t, wire::kChannelCount> kBase{0, 100, 200, 300, 400, 500};
+
+wire::AcqConfigureRequest Config(std::uint8_t mask, std::uint16_t decimation) {
+  wire::AcqConfigureRequest c;
+  c.sample_period_us = 200;
+  c.channel_mask = mask;
+  c.decimation = decimation;
+  return c;
+}
+
+TEST(CoreLog, ImmediateAcquisitionStreamsEveryRecord) {
+  CoreHarness h;
+  ASSERT_EQ(h.StartAcquisition(Config(wire::kAllChannelsMask, 1)), Status::kOk);
+  h.EmitRamp(10, kBase, 1);
+  const PulledLog log = PullLog(h, 0, 0);
+  ASSERT_EQ(log.last_event, wire::StreamDecoder::Event::kEnd);
+  ASSERT_EQ(log.status, Status::kOk);
+  ASSERT_EQ(log.count, 10u);
+  for (std::uint32_t k = 0; k < 10; ++k) {
+    EXPECT_EQ(log.records[k].sample_index, k);
+    for (std::size_t c = 0; c < wire::kChannelCount; ++c) {
+      EXPECT_EQ(log.records[k].raw[c], kBase[c] + static_cast<std::int32_t>(k));
+    }
+  }
+  EXPECT_EQ(log.trailer.first_record, 0u);
+  EXPECT_EQ(log.trailer.record_count, 10u);
+  EXPECT_EQ(log.trailer.record_bytes, 28);
+  EXPECT_EQ(log.trailer.sample_period_us, 200u);
+  EXPECT_EQ(log.trailer.decimation, 1);
+  EXPECT_EQ(log.trailer.trigger_record, 0u);
+  EXPECT_EQ(log.trailer.records_written, 10u);
+  EXPECT_EQ(log.trailer.acq_state, wire::AcqState::kAcquiring);
+  EXPECT_EQ(log.trailer.dropped_records, 0u);
+}
+
+TEST(CoreLog, DecimationAndChannelSelection) {
+  CoreHarness h;
+  // Force 2 and encoder 1 only (mask 0b010010), every 3rd tick: 12-byte records, 4 per report.
+  ASSERT_EQ(h.StartAcquisition(Config(0b010010, 3)), Status::kOk);
+  h.EmitRamp(10, kBase, 1);
+  const PulledLog log = PullLog(h, 0, 0);
+  ASSERT_EQ(log.status, Status::kOk);
+  ASSERT_EQ(log.count, 4u);  // ticks 0, 3, 6, 9
+  for (std::uint32_t i = 0; i < 4; ++i) {
+    EXPECT_EQ(log.records[i].sample_index, 3 * i);
+    EXPECT_EQ(log.records[i].raw[1], 100 + static_cast<std::int32_t>(3 * i));
+    EXPECT_EQ(log.records[i].raw[4], 400 + static_cast<std::int32_t>(3 * i));
+    EXPECT_EQ(log.records[i].raw[0], 0);  // not logged
+  }
+  EXPECT_EQ(log.trailer.record_bytes, 12);
+  EXPECT_EQ(log.trailer.channel_mask, 0b010010);
+}
+
+TEST(CoreLog, LostReportIsDetectedAndThePullResumes) {
+  CoreHarness h;
+  ASSERT_EQ(h.StartAcquisition(Config(wire::kAllChannelsMask, 1)), Status::kOk);
+  h.EmitRamp(40, kBase, 1);
+  // 28-byte records: one per report. Report 7 (record 7) is lost on the way.
+  const PulledLog broken = PullLog(h, 0, 0, 7);
+  EXPECT_EQ(broken.last_event, wire::StreamDecoder::Event::kError);
+  EXPECT_EQ(broken.status, Status::kDataLoss);
+
+  // The host kept records 0..6 intact and asks again from 7.
+  const PulledLog resumed = PullLog(h, 7, 0);
+  ASSERT_EQ(resumed.status, Status::kOk);
+  ASSERT_EQ(resumed.count, 33u);
+  for (std::uint32_t i = 0; i < resumed.count; ++i) {
+    EXPECT_EQ(resumed.records[i].sample_index, 7 + i);  // nothing lost, nothing repeated
+  }
+  EXPECT_EQ(resumed.trailer.first_record, 7u);
+}
+
+TEST(CoreLog, NewRequestAbandonsTheRunningStream) {
+  CoreHarness h;
+  ASSERT_EQ(h.StartAcquisition(Config(wire::kAllChannelsMask, 1)), Status::kOk);
+  h.EmitRamp(40, kBase, 1);
+  h.link.in_busy = true;  // the host stops reading mid-stream
+  wire::Report request{};
+  std::array<std::uint8_t, wire::LogReadRequest::kBytes> p{};
+  wire::Encode(wire::LogReadRequest{}, p);
+  ASSERT_EQ(wire::BuildReport(Command::kLogRead, 1, 0, 0, Status::kOk, p, request), Status::kOk);
+  h.link.Push(request);
+  h.core.Poll();
+  h.link.in_busy = false;
+  // A ping arrives: the stream is dropped after the report already offered.
+  EXPECT_EQ(h.Request(Command::kPing).status(), Status::kOk);
+  wire::Report in{};
+  std::size_t extra = 0;
+  while (h.link.Pop(in)) ++extra;
+  h.Drain();
+  EXPECT_EQ(h.link.pending_out(), 0u);
+  EXPECT_LE(extra, 1u);
+}
+
+TEST(CoreLog, MaxRecordsLimitsTheStream) {
+  CoreHarness h;
+  ASSERT_EQ(h.StartAcquisition(Config(0b000001, 1)), Status::kOk);  // 8-byte records, 6/report
+  h.EmitRamp(20, kBase, 1);
+  const PulledLog log = PullLog(h, 2, 13);
+  ASSERT_EQ(log.status, Status::kOk);
+  ASSERT_EQ(log.count, 13u);
+  EXPECT_EQ(log.records[0].sample_index, 2u);
+  EXPECT_EQ(log.records[12].sample_index, 14u);
+  EXPECT_EQ(log.trailer.records_written, 20u);
+}
+
+TEST(CoreLog, ForceTriggerKeepsPreTriggerRecords) {
+  CoreHarness h;
+  wire::AcqConfigureRequest c = Config(0b000001, 1);
+  c.trigger_mode = wire::TriggerMode::kRising;
+  c.trigger_channel = 0;
+  c.trigger_threshold = 30;
+  c.pretrigger_records = 5;
+  c.record_limit = 8;
+  ASSERT_EQ(h.StartAcquisition(c), Status::kOk);
+  // Force 1 reads k at frame k: it reaches 30 at frame 30.
+  h.EmitRamp(29, kBase, 1);
+  wire::StatusResponse s;
+  ASSERT_EQ(wire::Decode(h.Request(Command::kGetStatus).payload(), s), Status::kOk);
+  EXPECT_EQ(s.acq_state, wire::AcqState::kArmed);
+  EXPECT_EQ(s.trigger_record, wire::kNoRecord);
+  EXPECT_EQ(s.records_written, 0u);
+  EXPECT_EQ(h.Request(Command::kLogRead, wire::LogReadRequest{.first_record = 1}).status(),
+            Status::kOutOfRange);  // nothing in the log before the trigger
+
+  h.EmitRamp(20, kBase, 1);  // frames 29..48; trigger at 30, 8 records from there, then done
+  h.core.Poll();
+  EXPECT_FALSE(h.fake.frames.running());  // the core stopped the port at the record limit
+  const PulledLog log = PullLog(h, 0, 0);
+  ASSERT_EQ(log.status, Status::kOk);
+  ASSERT_EQ(log.count, 13u);  // 5 before + 8 from the trigger
+  for (std::uint32_t i = 0; i < 13; ++i) EXPECT_EQ(log.records[i].sample_index, 25 + i);
+  EXPECT_EQ(log.records[5].raw[0], 30);  // the trigger record crossed the threshold
+  EXPECT_EQ(log.trailer.trigger_record, 5u);
+  EXPECT_EQ(log.trailer.acq_state, wire::AcqState::kDone);
+}
+
+TEST(CoreLog, FallingTriggerWithFewerFramesThanPreTrigger) {
+  CoreHarness h;
+  wire::AcqConfigureRequest c = Config(0b000010, 1);
+  c.trigger_mode = wire::TriggerMode::kFalling;
+  c.trigger_channel = 1;
+  c.trigger_threshold = 98;
+  c.pretrigger_records = 10;
+  ASSERT_EQ(h.StartAcquisition(c), Status::kOk);
+  h.EmitRamp(6, kBase, -1);  // force 2 = 100 - k: reaches 98 at frame 2
+  const PulledLog log = PullLog(h, 0, 0);
+  ASSERT_EQ(log.status, Status::kOk);
+  ASSERT_EQ(log.count, 6u);
+  EXPECT_EQ(log.trailer.trigger_record, 2u);  // only 2 frames came before the trigger
+  EXPECT_EQ(log.records[2].raw[1], 98);
+}
+
+TEST(CoreLog, FullLogDropsAndCountsNeverOverwrites) {
+  CoreHarness h;
+  ASSERT_EQ(h.StartAcquisition(Config(wire::kAllChannelsMask, 1)), Status::kOk);
+  // 2048 / 28 = 73 records fit. 100 frames: 27 dropped.
+  h.EmitRamp(100, kBase, 1);
+  wire::StatusResponse s;
+  ASSERT_EQ(wire::Decode(h.Request(Command::kGetStatus).payload(), s), Status::kOk);
+  EXPECT_EQ(s.records_written, 73u);
+  EXPECT_EQ(s.dropped_records, 27u);
+  wire::InfoResponse board_info;
+  ASSERT_EQ(wire::Decode(h.Request(Command::kGetInfo).payload(), board_info), Status::kOk);
+  EXPECT_EQ(board_info.dropped_records, 27u);
+
+  // Pulling from 50 releases 0..49; new frames fit again and carry on where they are.
+  PulledLog log = PullLog(h, 50, 0);
+  ASSERT_EQ(log.status, Status::kOk);
+  EXPECT_EQ(log.trailer.dropped_records, 27u);
+  EXPECT_EQ(log.records[22].sample_index, 72u);  // the first 73 frames were kept
+  h.EmitRamp(5, kBase, 1);
+  log = PullLog(h, 73, 0);
+  ASSERT_EQ(log.status, Status::kOk);
+  ASSERT_EQ(log.count, 5u);
+  EXPECT_EQ(log.records[0].sample_index, 100u);
+}
+
+TEST(CoreLog, LostTicksAreCountedAsOverruns) {
+  CoreHarness h;
+  ASSERT_EQ(h.StartAcquisition(Config(0b000001, 1)), Status::kOk);
+  h.EmitRamp(3, kBase, 1);
+  h.fake.frames.Skip(4);
+  h.EmitRamp(3, kBase, 1);
+  wire::StatusResponse s;
+  ASSERT_EQ(wire::Decode(h.Request(Command::kGetStatus).payload(), s), Status::kOk);
+  EXPECT_EQ(s.overrun_count, 4u);
+  EXPECT_EQ(s.ticks, 6u);
+  const PulledLog log = PullLog(h, 0, 0);
+  ASSERT_EQ(log.count, 6u);
+  EXPECT_EQ(log.records[3].sample_index, 7u);  // the gap is visible in the sample index too
+}
+
+TEST(CoreLog, BusyLinkLosesNothing) {
+  CoreHarness h;
+  ASSERT_EQ(h.StartAcquisition(Config(wire::kAllChannelsMask, 1)), Status::kOk);
+  h.EmitRamp(30, kBase, 1);
+  h.link.in_busy = true;
+  wire::Report request{};
+  std::array<std::uint8_t, wire::LogReadRequest::kBytes> p{};
+  wire::Encode(wire::LogReadRequest{}, p);
+  ASSERT_EQ(wire::BuildReport(Command::kLogRead, 9, 0, 0, Status::kOk, p, request), Status::kOk);
+  h.link.Push(request);
+  for (int i = 0; i < 5; ++i) h.core.Poll();
+  EXPECT_EQ(h.link.pending_out(), 0u);
+  h.link.in_busy = false;
+  h.Drain();
+  wire::StreamDecoder decoder(Command::kLogRead, 9);
+  wire::Report in{};
+  wire::StreamDecoder::Event last = wire::StreamDecoder::Event::kError;
+  while (h.link.Pop(in)) last = decoder.Feed(in).event;
+  EXPECT_EQ(last, wire::StreamDecoder::Event::kEnd);
+  EXPECT_EQ(decoder.data_reports(), 30u);
+}
+
+}  // namespace
+}  // namespace vibid::fw

@@ -1,0 +1,66 @@
+#include "serial_frame.hpp"
+
+#include <algorithm>
+
+#include "vibid/shared/wire/crc32.hpp"
+
+namespace vibid::fw::qemu {
+namespace {
+
+constexpr std::size_t kOffLength = 2;
+constexpr std::size_t kOffReport = 3;
+constexpr std::size_t kOffCrc = kOffReport + kReportBytes;
+
+std::uint32_t FrameCrc(std::span<const std::uint8_t> frame) {
+  return wire::ComputeCrc32(frame.subspan(kOffLength, 1 + kReportBytes));
+}
+
+}  // namespace
+
+FrameBytes EncodeFrame(std::span<const std::uint8_t, kReportBytes> report) {
+  FrameBytes f{};
+  f[0] = kSync0;
+  f[1] = kSync1;
+  f[kOffLength] = static_cast<std::uint8_t>(kReportBytes);
+  std::copy(report.begin(), report.end(), f.begin() + kOffReport);
+  const std::uint32_t crc = FrameCrc(f);
+  for (std::size_t i = 0; i < 4; ++i) f[kOffCrc + i] = static_cast<std::uint8_t>(crc >> (8 * i));
+  return f;
+}
+
+void FrameDecoder::Resync(std::size_t drop) {
+  // Keep the longest tail that could still be the start of a frame.
+  std::size_t start = drop;
+  while (start < fill_) {
+    if (buffer_[start] == kSync0 && (start + 1 == fill_ || buffer_[start + 1] == kSync1)) break;
+    ++start;
+  }
+  counters_.skipped_bytes += static_cast<std::uint32_t>(start);
+  std::copy(buffer_.begin() + static_cast<std::ptrdiff_t>(start),
+            buffer_.begin() + static_cast<std::ptrdiff_t>(fill_), buffer_.begin());
+  fill_ -= start;
+}
+
+bool FrameDecoder::Push(std::uint8_t byte, ReportBytes& report) {
+  buffer_[fill_++] = byte;
+  // Header checks as soon as the bytes are there, so garbage is dropped early.
+  if (buffer_[0] != kSync0 || (fill_ > 1 && buffer_[1] != kSync1) ||
+      (fill_ > kOffLength && buffer_[kOffLength] != kReportBytes)) {
+    Resync(1);
+    return false;
+  }
+  if (fill_ < kFrameBytes) return false;
+  std::uint32_t crc = 0;
+  for (std::size_t i = 0; i < 4; ++i) crc |= static_cast<std::uint32_t>(buffer_[kOffCrc + i]) << (8 * i);
+  if (crc != FrameCrc(buffer_)) {
+    ++counters_.crc_errors;
+    Resync(1);
+    return false;
+  }
+  std::copy_n(buffer_.begin() + kOffReport, kReportBytes, report.begin());
+  fill_ = 0;
+  ++counters_.frames;
+  return true;
+}
+
+}  // namespace vibid::fw::qemu

@@ -1,0 +1,25 @@
+// System clock bring-up: HSE 8 MHz crystal -> PLL -> 168 MHz SYSCLK, 48 MHz for USB.
+#pragma once
+
+#include <cstdint>
+
+namespace vibid::fw::stm32 {
+
+enum class ClockSource : std::uint8_t {
+  kPllFromHse = 0,  ///< Normal: 168 MHz from the crystal; USB usable.
+  kHsiFallback = 1, ///< HSE or PLL did not start in time: 16 MHz HSI, USB not clocked.
+};
+
+struct ClockConfig {
+  ClockSource source;
+  std::uint32_t sysclk_hz;
+  std::uint32_t apb1_timer_hz;  ///< TIM2..TIM5 kernel clock.
+  std::uint32_t apb2_hz;
+};
+
+/// Switches to 168 MHz (AHB 168, APB1 42, APB2 84, PLL48CK 48 MHz) with 5 flash wait states.
+/// Every wait on the hardware is bounded; a crystal or PLL that does not come up leaves the
+/// chip on HSI and says so in the result, so get-info can report it.
+ClockConfig ConfigureClocks();
+
+}  // namespace vibid::fw::stm32

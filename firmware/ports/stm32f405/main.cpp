@@ -1,0 +1,85 @@
+// The DAQ board image: clocks, watchdog, timer-triggered sampling, the firmware core, and the
+// USB device (HID report link + DFU run-time) on OTG_FS.
+#include <array>
+#include <cstdint>
+
+#include "board_port.hpp"
+#include "calibration_flash.hpp"
+#include "clock.hpp"
+#include "otg_fs_dcd.hpp"
+#include "regs/core_m4.hpp"
+#include "sampler.hpp"
+#include "system.hpp"
+#include "vibid/fw/core.hpp"
+#include "vibid/fw/usb/device.hpp"
+#include "vibid/fw/usb/dfu_runtime.hpp"
+#include "vibid/fw/usb/hid_class.hpp"
+
+namespace vibid::fw::stm32 {
+namespace {
+
+// The main loop kicks at least once per SysTick (1 ms); 1 s also covers a worst-case 500 ms
+// sector erase during calibration commit.
+constexpr std::uint32_t kWatchdogTimeoutMs = 1000;
+/// The acquisition log: the largest block the RAM budget leaves (SRAM; CCM holds the stack).
+constexpr std::size_t kLogBytes = 96 * 1024;
+
+class DfuOnDetach final : public usb::DfuDetachHandler {
+ public:
+  explicit DfuOnDetach(SystemControl& system) : system_(system) {}
+  void OnDetach(std::uint16_t) override { system_.EnterDfu(); }
+
+ private:
+  SystemControl& system_;
+};
+
+OtgFsDcd g_dcd;
+Sampler g_sampler;
+std::array<std::uint8_t, kLogBytes> g_log;
+
+}  // namespace
+}  // namespace vibid::fw::stm32
+
+extern "C" void OTG_FS_IRQHandler() { vibid::fw::stm32::g_dcd.HandleInterrupt(); }
+extern "C" void DMA2_Stream0_IRQHandler() { vibid::fw::stm32::g_sampler.HandleDmaInterrupt(); }
+extern "C" void SysTick_Handler() { vibid::fw::stm32::OnSysTick(); }
+
+int main() {
+  using namespace vibid::fw;
+  using namespace vibid::fw::stm32;
+
+  static BoardSystemControl system;
+  system.Init();
+  const ClockConfig clocks = ConfigureClocks();
+  StartMillisecondTick(clocks.sysclk_hz);
+  StartWatchdog(kWatchdogTimeoutMs);
+  g_sampler.Init(clocks.apb1_timer_hz);
+
+  static SysTickClock clock;
+  static InternalCalibrationFlash flash;
+  static usb::HidClass hid;
+  static Core core(Port{clock, g_sampler, flash, system}, hid, g_log);
+  (void)core.Boot();
+
+  static const std::array<char, 25> serial = BoardIdHex();
+  static DfuOnDetach detach{system};
+  static usb::DfuRuntime dfu{detach};
+  static const std::array<usb::ClassDriver*, 2> drivers = {&hid, &dfu};
+  static const usb::DaqStrings strings = usb::MakeDaqStrings(serial.data());
+  static usb::UsbDevice device{g_dcd, drivers, usb::DaqDescriptors(strings)};
+  // Without the PLL's 48 MHz the OTG core cannot run: the board stays off the bus (get-info over
+  // USB is then impossible, so the fallback is visible as a board that does not enumerate).
+  if (clocks.source == ClockSource::kPllFromHse) (void)device.Start();
+
+  std::uint32_t bus_resets = 0;
+  for (;;) {
+    device.Task();
+    if (device.Counters().bus_resets != bus_resets) {
+      bus_resets = device.Counters().bus_resets;
+      core.OnLinkReset();
+    }
+    core.Poll();
+    KickWatchdog();
+    WaitForInterrupt();
+  }
+}

@@ -1,0 +1,54 @@
+// USB device controller driver for the STM32F405 OTG_FS core in device mode, slave (FIFO) mode:
+// the port side of the stack's Dcd contract. Endpoint 0 plus IN/OUT endpoints 1..3.
+//
+// FIFO RAM plan (320 words): RX 128 words (SETUP + OUT packets for all endpoints), endpoint 0
+// TX 16 words (one 64-byte packet), endpoint 1..3 TX 32 words each (two packets).
+#pragma once
+
+#include <array>
+#include <cstdint>
+#include <span>
+
+#include "vibid/fw/usb/dcd.hpp"
+
+namespace vibid::fw::stm32 {
+
+class OtgFsDcd final : public usb::Dcd {
+ public:
+  static constexpr unsigned kEndpoints = 4;
+
+  Status Init(usb::DcdEvents& events) override;
+  void Connect() override;
+  void Disconnect() override;
+  void SetAddress(std::uint8_t address) override;
+  Status EndpointOpen(std::uint8_t ep_addr, usb::EndpointType type, std::uint16_t max_packet) override;
+  void EndpointCloseAll() override;
+  void EndpointStall(std::uint8_t ep_addr) override;
+  void EndpointClearStall(std::uint8_t ep_addr) override;
+  Status Transfer(std::uint8_t ep_addr, std::span<std::uint8_t> buffer) override;
+
+  /// The OTG_FS interrupt handler body.
+  void HandleInterrupt();
+
+ private:
+  struct Endpoint {
+    std::span<std::uint8_t> buffer{};
+    std::uint16_t done = 0;        ///< Bytes written to the FIFO (IN) or read from it (OUT).
+    std::uint16_t max_packet = 64;
+    bool busy = false;
+  };
+
+  void HandleBusReset();
+  void HandleRxFifo();
+  void HandleOutEndpoints();
+  void HandleInEndpoints();
+  void FillTxFifo(unsigned n);
+  void ArmSetup();
+
+  usb::DcdEvents* events_ = nullptr;
+  std::array<Endpoint, kEndpoints> in_{};
+  std::array<Endpoint, kEndpoints> out_{};
+  std::array<std::uint8_t, 8> setup_{};
+};
+
+}  // namespace vibid::fw::stm32

@@ -1,0 +1,123 @@
+// Reset and clock control (RM0090 §7.3), power control (§5.4), flash interface (§3.9).
+#pragma once
+
+#include "mmio.hpp"
+
+namespace vibid::fw::stm32 {
+
+namespace rcc {
+inline constexpr Address kBase = 0x40023800;
+inline constexpr Address kCr = kBase + 0x00;
+inline constexpr Address kPllcfgr = kBase + 0x04;
+inline constexpr Address kCfgr = kBase + 0x08;
+inline constexpr Address kCir = kBase + 0x0C;
+inline constexpr Address kAhb1enr = kBase + 0x30;
+inline constexpr Address kAhb2enr = kBase + 0x34;
+inline constexpr Address kApb1enr = kBase + 0x40;
+inline constexpr Address kApb2enr = kBase + 0x44;
+inline constexpr Address kCsr = kBase + 0x74;
+
+// RCC_CR
+inline constexpr std::uint32_t kCrHsiOn = Bit(0);
+inline constexpr std::uint32_t kCrHsiRdy = Bit(1);
+inline constexpr std::uint32_t kCrHseOn = Bit(16);
+inline constexpr std::uint32_t kCrHseRdy = Bit(17);
+inline constexpr std::uint32_t kCrCssOn = Bit(19);
+inline constexpr std::uint32_t kCrPllOn = Bit(24);
+inline constexpr std::uint32_t kCrPllRdy = Bit(25);
+
+// RCC_PLLCFGR: PLLM 5:0, PLLN 14:6, PLLP 17:16 (0 = /2), PLLSRC 22 (1 = HSE), PLLQ 27:24.
+inline constexpr unsigned kPllcfgrPllmPos = 0;
+inline constexpr unsigned kPllcfgrPllnPos = 6;
+inline constexpr unsigned kPllcfgrPllpPos = 16;
+inline constexpr std::uint32_t kPllcfgrSrcHse = Bit(22);
+inline constexpr unsigned kPllcfgrPllqPos = 24;
+
+// RCC_CFGR: SW 1:0, SWS 3:2, HPRE 7:4, PPRE1 12:10, PPRE2 15:13.
+inline constexpr std::uint32_t kCfgrSwMask = 0x3;
+inline constexpr std::uint32_t kCfgrSwHsi = 0x0;
+inline constexpr std::uint32_t kCfgrSwPll = 0x2;
+inline constexpr std::uint32_t kCfgrSwsMask = 0x3U << 2;
+inline constexpr std::uint32_t kCfgrSwsPll = 0x2U << 2;
+inline constexpr std::uint32_t kCfgrSwsHsi = 0x0U << 2;
+inline constexpr std::uint32_t kCfgrPpre1Div4 = 0x5U << 10;
+inline constexpr std::uint32_t kCfgrPpre2Div2 = 0x4U << 13;
+inline constexpr std::uint32_t kCfgrPrescalerMask = (0xFU << 4) | (0x7U << 10) | (0x7U << 13);
+
+// Clock enables.
+inline constexpr std::uint32_t kAhb1GpioA = Bit(0);
+inline constexpr std::uint32_t kAhb1GpioB = Bit(1);
+inline constexpr std::uint32_t kAhb1GpioC = Bit(2);
+inline constexpr std::uint32_t kAhb1Dma2 = Bit(22);
+inline constexpr std::uint32_t kAhb2OtgFs = Bit(7);
+inline constexpr std::uint32_t kApb1Tim2 = Bit(0);
+inline constexpr std::uint32_t kApb1Tim3 = Bit(1);
+inline constexpr std::uint32_t kApb1Tim4 = Bit(2);
+inline constexpr std::uint32_t kApb1Pwr = Bit(28);
+inline constexpr std::uint32_t kApb2Usart1 = Bit(4);
+inline constexpr std::uint32_t kApb2Adc1 = Bit(8);
+inline constexpr std::uint32_t kApb2Syscfg = Bit(14);
+
+// RCC_CSR: reset flags (set by hardware, cleared by RMVF).
+inline constexpr std::uint32_t kCsrLsiOn = Bit(0);
+inline constexpr std::uint32_t kCsrLsiRdy = Bit(1);
+inline constexpr std::uint32_t kCsrRmvf = Bit(24);
+inline constexpr std::uint32_t kCsrBorRstf = Bit(25);
+inline constexpr std::uint32_t kCsrPinRstf = Bit(26);
+inline constexpr std::uint32_t kCsrPorRstf = Bit(27);
+inline constexpr std::uint32_t kCsrSftRstf = Bit(28);
+inline constexpr std::uint32_t kCsrIwdgRstf = Bit(29);
+inline constexpr std::uint32_t kCsrWwdgRstf = Bit(30);
+inline constexpr std::uint32_t kCsrLpwrRstf = Bit(31);
+}  // namespace rcc
+
+namespace pwr {
+inline constexpr Address kCr = 0x40007000;
+/// VOS (bit 14): regulator scale 1, needed above 144 MHz.
+inline constexpr std::uint32_t kCrVos = Bit(14);
+}  // namespace pwr
+
+namespace flash {
+inline constexpr Address kBase = 0x40023C00;
+inline constexpr Address kAcr = kBase + 0x00;
+inline constexpr Address kKeyr = kBase + 0x04;
+inline constexpr Address kSr = kBase + 0x0C;
+inline constexpr Address kCr = kBase + 0x10;
+inline constexpr std::uint32_t kKey1 = 0x45670123;
+inline constexpr std::uint32_t kKey2 = 0xCDEF89AB;
+
+// FLASH_ACR: LATENCY 2:0 (wait states), PRFTEN 8, ICEN 9, DCEN 10.
+inline constexpr std::uint32_t kAcrLatencyMask = 0x7;
+inline constexpr std::uint32_t kAcrPrften = Bit(8);
+inline constexpr std::uint32_t kAcrIcen = Bit(9);
+inline constexpr std::uint32_t kAcrDcen = Bit(10);
+
+// FLASH_SR
+inline constexpr std::uint32_t kSrEop = Bit(0);
+inline constexpr std::uint32_t kSrOperr = Bit(1);
+inline constexpr std::uint32_t kSrWrperr = Bit(4);
+inline constexpr std::uint32_t kSrPgaerr = Bit(5);
+inline constexpr std::uint32_t kSrPgperr = Bit(6);
+inline constexpr std::uint32_t kSrPgserr = Bit(7);
+inline constexpr std::uint32_t kSrBsy = Bit(16);
+inline constexpr std::uint32_t kSrErrors = kSrOperr | kSrWrperr | kSrPgaerr | kSrPgperr | kSrPgserr;
+
+// FLASH_CR: PG 0, SER 1, SNB 6:3, PSIZE 9:8 (2 = x32, needs 2.7-3.6 V), STRT 16, LOCK 31.
+inline constexpr std::uint32_t kCrPg = Bit(0);
+inline constexpr std::uint32_t kCrSer = Bit(1);
+inline constexpr unsigned kCrSnbPos = 3;
+inline constexpr std::uint32_t kCrSnbMask = 0xFU << 3;
+inline constexpr std::uint32_t kCrPsizeX32 = 0x2U << 8;
+inline constexpr std::uint32_t kCrPsizeMask = 0x3U << 8;
+inline constexpr std::uint32_t kCrStrt = Bit(16);
+inline constexpr std::uint32_t kCrLock = Bit(31);
+}  // namespace flash
+
+/// Device electronic signature (RM0090 §39.1): the 96-bit unique id.
+namespace uid {
+inline constexpr Address kBase = 0x1FFF7A10;
+}
+/// System memory holding the ROM bootloader (RM0090 §2.4, AN2606).
+inline constexpr Address kSystemMemory = 0x1FFF0000;
+
+}  // namespace vibid::fw::stm32

@@ -1,0 +1,232 @@
+// `vibid dob design | run | compare`: observer design from a model file, replay of the board's
+// fixed-point observer (or the double design) on a recording, and agreement with a measured force.
+#include <cmath>
+#include <cstdio>
+#include <iostream>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include "cli_support.hpp"
+#include "commands.hpp"
+#include "vibid/common/csv.hpp"
+#include "vibid/common/error.hpp"
+#include "vibid/common/json_file.hpp"
+#include "vibid/dob/compare.hpp"
+#include "vibid/dob/design.hpp"
+#include "vibid/dob/design_json.hpp"
+#include "vibid/dob/lowpass.hpp"
+#include "vibid/dob/model_plant.hpp"
+#include "vibid/model/model_json.hpp"
+
+namespace vibid::cli {
+namespace {
+
+struct DesignArgs {
+  std::string model_path;
+  std::string out;
+  bool json = false;
+  int order = 5;
+  int relative_degree = 4;
+  double tau_s = 0.002;
+  double fs_hz = 5000.0;
+  int input_dof = 2;
+  int output_dof = 2;
+  std::string sensor = "disp";
+  std::string form = "siso";
+  std::string discretize = "tustin";
+  std::string prototype = "butterworth";
+  double leak_hz = 0.05;
+  double force_fs_n = 100.0;
+  double sensor_fs = 0.0;
+  double output_fs_n = 0.0;
+};
+
+std::string Summary(const dob::DobDesign& d) {
+  std::ostringstream os;
+  os.precision(6);
+  os << "Q: N = " << d.options.order << ", r = " << d.options.relative_degree << ", cut-off 1/tau = "
+     << 1.0 / d.options.tau_s << " rad/s (" << 1.0 / d.options.tau_s / (2.0 * 3.141592653589793) << " Hz)\n";
+  os << "plant relative degree " << d.plant_relative_degree << "; " << d.paths.size() << " inputs:";
+  for (const auto& p : d.paths) os << " " << dob::InputKindName(p.kind) << "@m" << p.dof + 1 << " (" << p.sos.size() << " sections)";
+  os << "\nstable: max discrete pole radius " << d.max_pole_radius << "\n";
+  os << "valid band: " << d.valid_band_lo_hz << " .. " << d.valid_band_hi_hz << " Hz\n";
+  os << "fixed point: predicted noise " << d.fixed.predicted_noise_rms_n << " N rms, SNR "
+     << d.fixed.predicted_snr_db << " dB (full-scale sine), checksum 0x" << std::hex
+     << d.fixed.description.checksum << std::dec << "\n";
+  return os.str();
+}
+
+void RunDesign(const DesignArgs& a) {
+  const model::Model m = model::LoadModel(a.model_path);
+  Require(a.input_dof >= 1 && a.input_dof <= m.dofs(),
+          "--input-dof " + std::to_string(a.input_dof) + " is out of range 1.." + std::to_string(m.dofs()));
+  Require(a.output_dof >= 1 && a.output_dof <= m.dofs(),
+          "--output-dof " + std::to_string(a.output_dof) + " is out of range 1.." + std::to_string(m.dofs()));
+  dob::DobOptions o;
+  o.order = a.order;
+  o.relative_degree = a.relative_degree;
+  o.tau_s = a.tau_s;
+  o.fs_hz = a.fs_hz;
+  o.prototype = a.prototype == "binomial" ? dob::QPrototype::kBinomial : dob::QPrototype::kButterworth;
+  o.sensor = a.sensor == "acc"   ? dob::SensorKind::kAcceleration
+             : a.sensor == "vel" ? dob::SensorKind::kVelocity
+                                 : dob::SensorKind::kDisplacement;
+  o.form = a.form == "mimo" ? dob::ObserverForm::kMimo : dob::ObserverForm::kSiso;
+  o.discretization = a.discretize == "zoh" ? dob::Discretization::kZeroOrderHold : dob::Discretization::kTustin;
+  o.input_dof = a.input_dof - 1;
+  o.output_dof = a.output_dof - 1;
+  o.leak_hz = a.leak_hz;
+  o.force_full_scale_n = a.force_fs_n;
+  o.sensor_full_scale = a.sensor_fs;
+  o.output_full_scale_n = a.output_fs_n;
+  const dob::DobDesign design = dob::DesignObserver(dob::PlantFromModel(m, o.input_dof, o.output_dof), o);
+  if (!design.stable) throw NumericalError("observer refused: " + design.message);
+  const std::string text = dob::DesignToJson(design).dump(2) + "\n";
+  EmitOutput(text, a.out);
+  if (!a.out.empty() && a.out != "-") std::cout << (a.json ? text : Summary(design));
+}
+
+struct RunArgs {
+  std::string recording;
+  std::string design;
+  std::string force;
+  std::string response;
+  bool fixed = false;
+  bool use_float = false;
+  double lowpass_hz = 0.0;
+  int lowpass_order = 4;
+  std::string out;
+};
+
+void RunRun(const RunArgs& a) {
+  const Recording rec = LoadRecording(a.recording);
+  const dob::ObserverFile f = dob::ObserverFromJson(ReadJsonFile(a.design), a.design);
+  Require(std::abs(rec.fs_hz - f.fs_hz) <= 1e-6 * f.fs_hz,
+          a.recording + " is sampled at " + std::to_string(rec.fs_hz) + " Hz but the observer was designed for " +
+              std::to_string(f.fs_hz) + " Hz");
+  const std::vector<ColumnSpec> responses = ParseColumnList(a.response);
+  const std::size_t sensors = f.paths.size() - 1;
+  if (responses.size() != sensors) {
+    std::string want;
+    for (std::size_t i = 0; i < sensors; ++i) {
+      want += (i ? ", " : "") + std::string(dob::InputKindName(f.paths[i].kind)) + " of m" + std::to_string(f.paths[i].dof + 1);
+    }
+    throw InputError("the observer takes " + std::to_string(sensors) + " response column(s) (" + want + "), got " +
+                     std::to_string(responses.size()));
+  }
+  for (const char* name : {"d_hat_n", "d_hat_lp_n"}) {
+    Require(!rec.table.Has(name), a.recording + " already has a column '" + std::string(name) + "'");
+  }
+  std::vector<Eigen::VectorXd> inputs;
+  for (const ColumnSpec& c : responses) inputs.push_back(rec.Signal(c));
+  inputs.push_back(rec.Signal(ParseColumnSpec(a.force)));
+  for (const Eigen::VectorXd& x : inputs) Require(x.allFinite(), a.recording + ": an input column has non-finite values");
+  if (a.lowpass_hz != 0.0) {
+    Require(a.lowpass_hz < rec.fs_hz / 2.0, "--lowpass-hz must lie below fs/2 = " + std::to_string(rec.fs_hz / 2.0) + " Hz");
+  }
+  Eigen::VectorXd d_hat;
+  if (a.use_float) {
+    d_hat = dob::RunFloat(f.paths, inputs);
+  } else {
+    const dob::FixedRun run = dob::RunFixed(f.description, inputs);
+    d_hat = run.d_hat_n;
+    if (run.saturations > 0) {
+      std::cerr << "vibid: warning: the fixed-point observer saturated " << run.saturations
+                << " times (inputs beyond the design's full scale)\n";
+    }
+  }
+  std::vector<std::string> names = rec.table.names;
+  std::vector<Eigen::VectorXd> columns = rec.table.columns;
+  names.push_back("d_hat_n");
+  columns.push_back(d_hat);
+  if (a.lowpass_hz != 0.0) {
+    names.push_back("d_hat_lp_n");
+    columns.push_back(dob::FiltFilt(dob::ButterworthLowpass(a.lowpass_order, a.lowpass_hz, rec.fs_hz), d_hat));
+  }
+  EmitOutput(FormatCsv(names, columns), a.out);
+}
+
+struct CompareArgs {
+  std::string recording;
+  std::string estimate;
+  std::string measured;
+  double skip_s = 0.0;
+  double max_delay_s = 0.0;
+  bool json = false;
+  std::string out;
+};
+
+void RunCompare(const CompareArgs& a) {
+  const Recording rec = LoadRecording(a.recording);
+  const Eigen::VectorXd e = rec.Signal(ParseColumnSpec(a.estimate));
+  const Eigen::VectorXd m = rec.Signal(ParseColumnSpec(a.measured));
+  const auto skip = static_cast<Eigen::Index>(std::llround(a.skip_s * rec.fs_hz));
+  Require(2 * skip + 2 <= e.size(), "--skip-s " + std::to_string(a.skip_s) + " s at both ends leaves fewer than 2 samples");
+  const Eigen::Index n = e.size() - 2 * skip;
+  const dob::Agreement g = dob::CompareSignals(e.segment(skip, n), m.segment(skip, n), rec.fs_hz, a.max_delay_s);
+  nlohmann::json j = {{"fit_percent", g.fit_percent}, {"correlation", g.correlation}, {"delay_s", g.delay_s},
+                      {"rmse_n", g.rmse_n}};
+  if (a.json) {
+    EmitOutput(j.dump(2) + "\n", a.out);
+  } else {
+    char text[256];
+    std::snprintf(text, sizeof(text), "fit %.3f %%\ncorrelation %.6f\ndelay %.6g s\nrmse %.6g N\n", g.fit_percent,
+                  g.correlation, g.delay_s, g.rmse_n);
+    EmitOutput(text, a.out);
+  }
+}
+
+}  // namespace
+
+void RegisterDobCommands(CLI::App& app) {
+  CLI::App* dob = app.add_subcommand("dob", "Disturbance observer: design, replay, compare");
+  dob->require_subcommand(1);
+
+  auto design_args = std::make_shared<DesignArgs>();
+  CLI::App* design = dob->add_subcommand("design", "Design the observer for a model and quantize it for the board");
+  design->add_option("model", design_args->model_path, "Model file (JSON)")->required();
+  design->add_option("--N", design_args->order, "Order of Q (>= 1)")->capture_default_str();
+  design->add_option("--r", design_args->relative_degree, "Relative degree of Q (0 <= N - r, r >= that of G_A)")->capture_default_str();
+  design->add_option("--tau-s", design_args->tau_s, "Time constant of Q, s (cut-off 1/tau rad/s)")->check(PositiveNumber())->capture_default_str();
+  design->add_option("--fs-hz", design_args->fs_hz, "Board sample rate, Hz")->check(PositiveNumber())->capture_default_str();
+  design->add_option("--input-dof", design_args->input_dof, "Mass the force (and the disturbance) acts on, from 1")->capture_default_str();
+  design->add_option("--output-dof", design_args->output_dof, "Mass whose sensor feeds the SISO form, from 1")->capture_default_str();
+  design->add_option("--sensor", design_args->sensor, "Sensor: disp, vel or acc")->check(CLI::IsMember({"disp", "vel", "acc"}))->capture_default_str();
+  design->add_option("--form", design_args->form, "siso: Q G_A^-1 y - Q u; mimo: Q[M x'' + C x' + K x - F]")->check(CLI::IsMember({"siso", "mimo"}))->capture_default_str();
+  design->add_option("--discretize", design_args->discretize, "tustin (pre-warped at 1/tau) or zoh")->check(CLI::IsMember({"tustin", "zoh"}))->capture_default_str();
+  design->add_option("--prototype", design_args->prototype, "Q polynomial: butterworth or binomial")->check(CLI::IsMember({"butterworth", "binomial"}))->capture_default_str();
+  design->add_option("--leak-hz", design_args->leak_hz, "Corner of the leaky integrators for vel/acc sensors, Hz")->check(PositiveNumber())->capture_default_str();
+  design->add_option("--force-fs-n", design_args->force_fs_n, "Force full scale, N")->check(PositiveNumber())->capture_default_str();
+  design->add_option("--sensor-fs", design_args->sensor_fs, "Sensor full scale, SI (0: 0.05 m, 1 m/s or 50 m/s^2)")->check(NonNegativeNumber())->capture_default_str();
+  design->add_option("--output-fs-n", design_args->output_fs_n, "Full scale of d_hat, N (0: twice the force full scale)")->check(NonNegativeNumber())->capture_default_str();
+  design->add_option("-o,--output", design_args->out, "Design file to write (default: stdout)");
+  design->add_flag("--json", design_args->json, "Print the design JSON on stdout even when writing a file");
+  design->callback([design_args] { RunDesign(*design_args); });
+
+  auto run_args = std::make_shared<RunArgs>();
+  CLI::App* run = dob->add_subcommand("run", "Replay the observer on a recording; adds d_hat_n (and d_hat_lp_n)");
+  run->add_option("recording", run_args->recording, "Recording (CSV, t_s column)")->required();
+  run->add_option("--design", run_args->design, "Design file from `vibid dob design`")->required();
+  run->add_option("--force", run_args->force, "Measured force column (NAME, NAME:UNIT or NAME*FACTOR)")->required();
+  run->add_option("--response", run_args->response, "Sensor column(s), comma separated, in the design's input order")->required();
+  auto* fixed_flag = run->add_flag("--fixed", run_args->fixed, "Bit-exact replay of the board's fixed-point filter (default)");
+  run->add_flag("--float", run_args->use_float, "The double-precision design instead")->excludes(fixed_flag);
+  run->add_option("--lowpass-hz", run_args->lowpass_hz, "Also write d_hat_lp_n: zero-phase Butterworth low-pass at this cut-off, Hz")->check(PositiveNumber());
+  run->add_option("--lowpass-order", run_args->lowpass_order, "Order of that low-pass")->check(CLI::Range(1, 16))->capture_default_str();
+  run->add_option("-o,--output", run_args->out, "CSV to write (default: stdout)");
+  run->callback([run_args] { RunRun(*run_args); });
+
+  auto cmp_args = std::make_shared<CompareArgs>();
+  CLI::App* cmp = dob->add_subcommand("compare", "Agreement of an estimated and a measured disturbance");
+  cmp->add_option("recording", cmp_args->recording, "CSV with both columns (e.g. the output of `dob run`)")->required();
+  cmp->add_option("--estimate", cmp_args->estimate, "Estimated force column")->required();
+  cmp->add_option("--measured", cmp_args->measured, "Measured force column")->required();
+  cmp->add_option("--skip-s", cmp_args->skip_s, "Seconds left out at each end (start-up, filter edges)")->check(NonNegativeNumber())->capture_default_str();
+  cmp->add_option("--max-delay-s", cmp_args->max_delay_s, "Largest lag searched (0: a tenth of the record)")->check(NonNegativeNumber())->capture_default_str();
+  cmp->add_flag("--json", cmp_args->json, "JSON: fit_percent, correlation, delay_s, rmse_n");
+  cmp->add_option("-o,--output", cmp_args->out, "File to write (default: stdout)");
+  cmp->callback([cmp_args] { RunCompare(*cmp_args); });
+}
+
+}  // namespace vibid::cli

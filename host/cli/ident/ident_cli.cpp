@@ -1,0 +1,225 @@
+#include "ident_cli.hpp"
+
+#include <cmath>
+#include <cstdio>
+#include <limits>
+#include <numbers>
+#include <sstream>
+
+#include "cli_support.hpp"
+#include "vibid/common/atomic_file.hpp"
+#include "vibid/common/csv.hpp"
+#include "vibid/common/error.hpp"
+#include "vibid/ident/frf_io.hpp"
+
+namespace vibid::cli {
+
+void AddEstimationOptions(CLI::App* cmd, EstimationArgs& a, bool require_columns, const std::string& kind_default) {
+  a.kind = kind_default;
+  auto* force = cmd->add_option("--force", a.force, "Force column of the recording, NAME[:UNIT|*FACTOR] (N)");
+  auto* resp = cmd->add_option("--response", a.responses, "Response column(s), comma separated, NAME[:UNIT|*FACTOR]");
+  if (require_columns) {
+    force->required();
+    resp->required();
+  }
+  cmd->add_option("--estimator", a.estimator, "FRF estimator: h1 (noise on the output), h2 (noise on the input), hv")
+      ->capture_default_str();
+  cmd->add_flag("--impact", a.impact, "Hammer test: one record per detected hit, force and exponential windows");
+  cmd->add_option("--window", a.window, "Welch window: rect, hann, hamming, blackmanharris, flattop")->capture_default_str();
+  cmd->add_option("--segment", a.segment, "Welch segment length in samples (default: a power of two, at most 4096 and a quarter of the record)");
+  cmd->add_option("--overlap", a.overlap, "Welch overlap in samples (default: half a segment)");
+  cmd->add_option("--detrend", a.detrend, "Welch per-segment detrend: none, constant")->capture_default_str();
+  cmd->add_option("--sensor", a.sensor, "What the response channels measure: acc, vel, disp")->capture_default_str();
+  cmd->add_option("--kind", a.kind, "FRF to produce: receptance, mobility, accelerance")->capture_default_str();
+  cmd->add_option("--fs-hz", a.fs_hz, "Sample rate (Hz) when the recording has no t_s column")->check(PositiveNumber());
+  cmd->add_option("--trigger", a.impact_options.trigger_fraction, "Impact: hit threshold as a fraction of the largest force")
+      ->capture_default_str();
+  cmd->add_option("--pretrigger-s", a.impact_options.pretrigger_s,
+                  "Impact: seconds kept before each hit (default: 1/64 of the hit record)");
+  cmd->add_option("--record-s", a.impact_options.record_s, "Impact: length of each hit's record, s (default: the shortest hit spacing)")
+      ->check(NonNegativeNumber());
+  cmd->add_option("--force-window-s", a.impact_options.force_window_s,
+                  "Impact: force kept up to this time after the trigger, s (default: twice the pulse width)")
+      ->check(NonNegativeNumber());
+  cmd->add_option("--exp-window", a.impact_options.exp_window_end,
+                  "Impact: exponential window on force and responses, its value at the record end (0: none); damping is corrected for it")
+      ->check(NonNegativeNumber());
+  cmd->add_option("--double-hit-window-s", a.impact_options.double_hit_window_s,
+                  "Impact: pulses closer than this to the previous one are rebounds of the same hit, s")
+      ->capture_default_str()
+      ->check(NonNegativeNumber());
+  cmd->add_flag("--keep-bad-hits", a.keep_bad_hits, "Impact: use double hits and clipped hits (only flag them)");
+}
+
+namespace {
+
+std::size_t DefaultSegment(std::size_t samples) {
+  std::size_t seg = 4096;
+  while (seg > 16 && seg > samples / 4) seg /= 2;
+  return seg;
+}
+
+}  // namespace
+
+Estimated EstimateFromRecording(const std::string& path, const EstimationArgs& a) {
+  Require(!a.force.empty(), "--force is required to estimate an FRF from the recording " + path);
+  Require(!a.responses.empty(), "--response is required to estimate an FRF from the recording " + path);
+  RecordingOptions ro;
+  if (a.fs_hz > 0.0) ro.fs_hz = a.fs_hz;
+  const Recording rec = LoadRecording(path, ro);
+  const ColumnSpec fspec = ParseColumnSpec(a.force);
+  const std::vector<ColumnSpec> rspecs = ParseColumnList(a.responses);
+  const Eigen::VectorXd force = rec.Signal(fspec);
+  Eigen::MatrixXd resp(force.size(), static_cast<Eigen::Index>(rspecs.size()));
+  std::vector<std::string> names;
+  for (std::size_t j = 0; j < rspecs.size(); ++j) {
+    resp.col(static_cast<Eigen::Index>(j)) = rec.Signal(rspecs[j]);
+    names.push_back(rspecs[j].name);
+  }
+  const ident::Estimator est = ident::ParseEstimator(a.estimator);
+  const ident::Quantity sensor = ident::ParseQuantity(a.sensor);
+  const ident::Quantity kind = ident::ParseQuantity(a.kind);
+  Estimated out;
+  if (a.impact) {
+    ident::ImpactOptions io = a.impact_options;
+    io.reject_bad_hits = !a.keep_bad_hits;
+    ident::ImpactResult r = ident::EstimateImpactFrf(force, resp, rec.fs_hz, io, est, sensor);
+    out.frf = std::move(r.frf);
+    out.hits = std::move(r.hits);
+    out.record_samples = r.record_samples;
+  } else {
+    ident::WelchOptions wo;
+    wo.window = ident::ParseWindow(a.window);
+    Require(a.detrend == "none" || a.detrend == "constant", "--detrend must be none or constant, not '" + a.detrend + "'");
+    wo.detrend = a.detrend == "constant" ? ident::Detrend::kConstant : ident::Detrend::kNone;
+    wo.segment_samples = a.segment > 0 ? a.segment : DefaultSegment(rec.samples());
+    Require(a.overlap < 0 || static_cast<std::size_t>(a.overlap) < wo.segment_samples,
+            "--overlap must be smaller than the segment");
+    wo.overlap_samples = a.overlap >= 0 ? static_cast<std::size_t>(a.overlap) : wo.segment_samples / 2;
+    const ident::CrossSpectra s = ident::WelchSpectra(force, resp, rec.fs_hz, wo);
+    out.frf = ident::FrfFromSpectra(s, est, sensor);
+    out.record_samples = wo.segment_samples;
+  }
+  out.frf.response_names = names;
+  out.frf.force_name = fspec.name;
+  out.frf = ident::ConvertFrf(out.frf, kind);
+  return out;
+}
+
+ident::Frf LoadOrEstimate(const std::string& path, const EstimationArgs& a, std::vector<std::string>& notes) {
+  const ident::Quantity kind = ident::ParseQuantity(a.kind);
+  const bool uff = path.size() > 4 && (path.substr(path.size() - 4) == ".uff" || path.substr(path.size() - 4) == ".unv");
+  if (uff) return ident::ConvertFrf(ident::LoadFrf(path), kind);
+  const std::string text = ReadFileText(path);
+  if (ident::LooksLikeFrfCsv(text)) return ident::ConvertFrf(ident::ParseFrfCsv(text, path), kind);
+  Estimated e = EstimateFromRecording(path, a);
+  if (!e.hits.empty()) {
+    std::istringstream in(DescribeHits(e.hits));
+    std::string line;
+    while (std::getline(in, line)) notes.push_back(path + ": " + line);
+  }
+  return std::move(e.frf);
+}
+
+ident::Frf JoinColumns(const std::vector<ident::Frf>& frfs, const std::vector<std::string>& sources) {
+  Require(!frfs.empty(), "no FRF given");
+  ident::Frf out = frfs.front();
+  for (std::size_t i = 1; i < frfs.size(); ++i) {
+    const ident::Frf& f = frfs[i];
+    Require(f.freq_hz.size() == out.freq_hz.size() && (f.freq_hz - out.freq_hz).cwiseAbs().maxCoeff() <=
+                                                          1e-6 * out.freq_hz.cwiseAbs().maxCoeff(),
+            sources[i] + ": frequency lines differ from " + sources[0] + "'s; estimate both the same way");
+    Require(f.quantity == out.quantity, sources[i] + ": FRF kind differs from " + sources[0] + "'s");
+    const Eigen::Index c = out.h.cols();
+    out.h.conservativeResize(Eigen::NoChange, c + f.h.cols());
+    out.coherence.conservativeResize(Eigen::NoChange, c + f.h.cols());
+    out.h.rightCols(f.h.cols()) = f.h;
+    out.coherence.rightCols(f.h.cols()) = f.coherence;
+    out.response_names.insert(out.response_names.end(), f.response_names.begin(), f.response_names.end());
+    out.exp_window_tau_s = std::max(out.exp_window_tau_s, f.exp_window_tau_s);
+  }
+  return out;
+}
+
+std::string DescribeHits(const std::vector<ident::Hit>& hits) {
+  std::ostringstream out;
+  for (std::size_t i = 0; i < hits.size(); ++i) {
+    const ident::Hit& h = hits[i];
+    char line[256];
+    std::snprintf(line, sizeof line, "hit %zu at %.4f s, peak %.4g, %s%s%s\n", i + 1, h.t_s, h.peak_n,
+                  h.used ? "used" : "rejected", h.note.empty() ? "" : ": ", h.note.c_str());
+    out << line;
+  }
+  return out.str();
+}
+
+nlohmann::json ModesToJson(const std::vector<ident::ModeEstimate>& modes) {
+  nlohmann::json arr = nlohmann::json::array();
+  for (const auto& m : modes) {
+    nlohmann::json j;
+    j["omega_rad_s"] = m.omega_rad_s;
+    j["freq_hz"] = m.freq_hz;
+    j["zeta"] = m.zeta;
+    j["ratio"] = std::isfinite(m.ratio) ? nlohmann::json(m.ratio) : nlohmann::json(nullptr);
+    j["shape"] = std::vector<double>(m.shape.data(), m.shape.data() + m.shape.size());
+    arr.push_back(j);
+  }
+  return nlohmann::json{{"modes", arr}};
+}
+
+std::vector<ident::ModeEstimate> ModesFromJson(const nlohmann::json& json, const std::string& source) {
+  Require(json.is_object() && json.contains("modes") && json["modes"].is_array(),
+          source + ": expected an object with a \"modes\" array");
+  std::vector<ident::ModeEstimate> modes;
+  std::size_t i = 0;
+  for (const auto& m : json["modes"]) {
+    ++i;
+    const std::string where = source + ": mode " + std::to_string(i);
+    Require(m.is_object() && m.contains("omega_rad_s") && m["omega_rad_s"].is_number(), where + ": omega_rad_s missing or not a number");
+    ident::ModeEstimate e;
+    e.omega_rad_s = m["omega_rad_s"].get<double>();
+    Require(std::isfinite(e.omega_rad_s) && e.omega_rad_s > 0.0, where + ": omega_rad_s must be > 0");
+    e.freq_hz = e.omega_rad_s / (2.0 * std::numbers::pi);
+    e.zeta = m.contains("zeta") && m["zeta"].is_number() ? m["zeta"].get<double>() : 0.0;
+    e.ratio = m.contains("ratio") && m["ratio"].is_number() ? m["ratio"].get<double>() : std::numeric_limits<double>::quiet_NaN();
+    if (m.contains("shape")) {
+      Require(m["shape"].is_array(), where + ": shape must be an array");
+      std::vector<double> s;
+      for (const auto& v : m["shape"]) {
+        Require(v.is_number(), where + ": shape entries must be numbers");
+        s.push_back(v.get<double>());
+      }
+      e.shape = Eigen::Map<const Eigen::VectorXd>(s.data(), static_cast<Eigen::Index>(s.size()));
+    }
+    modes.push_back(e);
+  }
+  Require(!modes.empty(), source + ": the \"modes\" array is empty");
+  return modes;
+}
+
+nlohmann::json SummaryToJson(const ident::SolverSummary& s) {
+  return {{"termination", ident::TerminationName(s.termination)},
+          {"iterations", s.iterations},
+          {"initial_cost", s.initial_cost},
+          {"final_cost", s.final_cost},
+          {"message", s.message}};
+}
+
+std::string ModesTable(const std::vector<ident::ModeEstimate>& modes) {
+  std::ostringstream out;
+  out << "mode   freq_hz      omega_rad_s  zeta       ratio a1/a2  shape\n";
+  for (std::size_t i = 0; i < modes.size(); ++i) {
+    const auto& m = modes[i];
+    char line[256];
+    std::snprintf(line, sizeof line, "%-6zu %-12.5g %-12.5g %-10.4g %-12.5g", i + 1, m.freq_hz, m.omega_rad_s, m.zeta, m.ratio);
+    out << line;
+    for (Eigen::Index j = 0; j < m.shape.size(); ++j) {
+      std::snprintf(line, sizeof line, " %.5g", m.shape[j]);
+      out << line;
+    }
+    out << "\n";
+  }
+  return out.str();
+}
+
+}  // namespace vibid::cli

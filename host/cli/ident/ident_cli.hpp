@@ -1,0 +1,65 @@
+// Pieces shared by the identification commands: FRF estimation options on a recording, loading an
+// FRF file or estimating one from a recording, and JSON for modes and solver summaries.
+#pragma once
+
+#include <cstddef>
+#include <string>
+#include <vector>
+
+#include <CLI/CLI.hpp>
+#include <nlohmann/json.hpp>
+
+#include "vibid/ident/impact.hpp"
+#include "vibid/ident/modes.hpp"
+#include "vibid/ident/solver.hpp"
+#include "vibid/ident/spectral.hpp"
+
+namespace vibid::cli {
+
+struct EstimationArgs {
+  std::string force;
+  std::string responses;
+  std::string estimator = "h1";
+  bool impact = false;
+  std::string window = "hann";
+  std::string detrend = "none";
+  std::string sensor = "acc";
+  std::string kind = "receptance";
+  std::size_t segment = 0;
+  long overlap = -1;
+  double fs_hz = 0.0;
+  ident::ImpactOptions impact_options;
+  bool keep_bad_hits = false;
+};
+
+/// Adds --force/--response (required when `require_columns`) and every estimation option.
+void AddEstimationOptions(CLI::App* cmd, EstimationArgs& args, bool require_columns, const std::string& kind_default);
+
+struct Estimated {
+  ident::Frf frf;
+  std::vector<ident::Hit> hits;  ///< Impact mode only.
+  std::size_t record_samples = 0;
+};
+
+/// Reads a recording and estimates the FRF of every response to the force (Welch or impact),
+/// converted to the requested kind.
+Estimated EstimateFromRecording(const std::string& path, const EstimationArgs& args);
+
+/// An FRF file (.uff/.unv, or a CSV with freq_hz) as it is; any other CSV is a recording and is
+/// estimated first. The result is converted to `args.kind`.
+ident::Frf LoadOrEstimate(const std::string& path, const EstimationArgs& args, std::vector<std::string>& notes);
+
+/// Joins FRFs of the same frequency lines column-wise (responses of one test in several files).
+ident::Frf JoinColumns(const std::vector<ident::Frf>& frfs, const std::vector<std::string>& sources);
+
+/// One line per hit: time, peak, used or why not.
+std::string DescribeHits(const std::vector<ident::Hit>& hits);
+
+nlohmann::json ModesToJson(const std::vector<ident::ModeEstimate>& modes);
+std::vector<ident::ModeEstimate> ModesFromJson(const nlohmann::json& json, const std::string& source);
+nlohmann::json SummaryToJson(const ident::SolverSummary& summary);
+
+/// Text table of modes (freq, omega, zeta, ratio, shape).
+std::string ModesTable(const std::vector<ident::ModeEstimate>& modes);
+
+}  // namespace vibid::cli

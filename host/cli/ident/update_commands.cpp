@@ -1,0 +1,188 @@
+// `vibid update mass` and `vibid update stiffness`.
+#include <iostream>
+#include <memory>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include "cli_support.hpp"
+#include "ident_cli.hpp"
+#include "ident_commands.hpp"
+#include "vibid/common/error.hpp"
+#include "vibid/common/json_file.hpp"
+#include "vibid/ident/updates.hpp"
+
+namespace vibid::cli {
+
+namespace {
+
+std::vector<double> ToStd(const Eigen::VectorXd& v) { return {v.data(), v.data() + v.size()}; }
+
+nlohmann::json MatrixJson(const Eigen::MatrixXd& m) {
+  nlohmann::json rows = nlohmann::json::array();
+  for (Eigen::Index i = 0; i < m.rows(); ++i) rows.push_back(ToStd(m.row(i).transpose()));
+  return rows;
+}
+
+std::vector<double> ParseNumberList(const std::string& text, const std::string& what) {
+  std::vector<double> out;
+  std::stringstream in(text);
+  std::string item;
+  while (std::getline(in, item, ',')) {
+    std::size_t used = 0;
+    double v = 0.0;
+    try {
+      v = std::stod(item, &used);
+    } catch (...) {
+      used = 0;
+    }
+    Require(used == item.size() && !item.empty() && std::isfinite(v) && v > 0.0,
+            what + ": '" + item + "' is not a positive number");
+    out.push_back(v);
+  }
+  Require(!out.empty(), what + " is empty");
+  return out;
+}
+
+}  // namespace
+
+nlohmann::json MassUpdateJson(const ident::MassUpdateResult& r) {
+  return {{"mass_kg", r.mass_kg},
+          {"nominal_kg", r.nominal_kg},
+          {"change_percent", r.change_percent},
+          {"zeta", r.zeta},
+          {"k_n_per_m", r.k_n_per_m},
+          {"stiffness_fitted", r.stiffness_fitted},
+          {"c_ns_per_m", r.c_ns_per_m},
+          {"omega_rad_s", r.omega_rad_s},
+          {"lines_fitted", r.lines_fitted},
+          {"warnings", r.warnings},
+          {"summary", SummaryToJson(r.summary)}};
+}
+
+nlohmann::json StiffnessJson(const ident::StiffnessAverage& avg) {
+  nlohmann::json tests = nlohmann::json::array();
+  for (const auto& t : avg.tests) {
+    tests.push_back({{"springs", ToStd(t.springs)},
+                     {"K", MatrixJson(t.k_matrix)},
+                     {"springs_lsq", ToStd(t.springs_lsq)},
+                     {"dampers", ToStd(t.dampers)},
+                     {"offdiag_mismatch_percent", t.offdiag_mismatch_percent}});
+  }
+  return {{"springs", ToStd(avg.springs)},
+          {"K", MatrixJson(avg.k_matrix)},
+          {"springs_lsq", ToStd(avg.springs_lsq)},
+          {"offdiag_mismatch_percent", avg.offdiag_mismatch_percent},
+          {"spread", ToStd(avg.spread)},
+          {"dampers", ToStd(avg.dampers)},
+          {"tests", tests}};
+}
+
+ident::StiffnessUpdateResult StiffnessFromModes(const Eigen::VectorXd& masses, const std::vector<ident::ModeEstimate>& modes,
+                                                const std::string& source) {
+  const Eigen::Index n = masses.size();
+  Require(static_cast<Eigen::Index>(modes.size()) == n,
+          source + ": " + std::to_string(modes.size()) + " modes for " + std::to_string(n) + " masses");
+  Eigen::VectorXd omega(n), zeta(n);
+  Eigen::MatrixXd shapes(n, n);
+  for (Eigen::Index i = 0; i < n; ++i) {
+    const auto& m = modes[static_cast<std::size_t>(i)];
+    omega[i] = m.omega_rad_s;
+    zeta[i] = m.zeta;
+    if (n == 2 && std::isfinite(m.ratio)) {
+      shapes.col(i) << m.ratio, 1.0;
+    } else {
+      Require(m.shape.size() == n, source + ": mode " + std::to_string(i + 1) + " needs a shape of " + std::to_string(n) +
+                                       " entries (or a ratio for 2 masses)");
+      shapes.col(i) = m.shape;
+    }
+  }
+  return ident::UpdateStiffness(masses, omega, zeta, shapes);
+}
+
+void RegisterUpdate(CLI::App& app) {
+  CLI::App* update = app.add_subcommand("update", "Update a model's masses or springs from test data");
+  update->require_subcommand(1);
+
+  struct MassArgs {
+    std::string input;
+    bool json = false;
+    std::string output;
+    EstimationArgs est;
+    ident::MassUpdateOptions options;
+  };
+  auto ma = std::make_shared<MassArgs>();
+  CLI::App* mass = update->add_subcommand(
+      "mass",
+      "Effective mass of one mass alone on its spring (1-DOF hammer test): fit |H| = 1/sqrt((k - m w^2)^2 + (c w)^2)\n"
+      "to the coherence-weighted log receptance around the resonance (Levenberg-Marquardt), c from the half-power damping.");
+  mass->add_option("input", ma->input, "Recording (REC.csv) or FRF file")->required();
+  AddEstimationOptions(mass, ma->est, false, "receptance");
+  mass->add_option("--stiffness-n-per-m", ma->options.k_n_per_m, "Known spring stiffness (N/m); omitted: fitted too")
+      ->check(PositiveNumber());
+  mass->add_option("--nominal-kg", ma->options.nominal_kg, "Nominal mass (kg) for the % change")->check(PositiveNumber());
+  mass->add_option("--band", ma->options.band_fraction, "Fitted band: omega within (1 +- band) omega_peak")->capture_default_str();
+  mass->add_flag("--json", ma->json, "JSON output");
+  mass->add_option("-o,--output", ma->output, "Write the result here instead of stdout");
+  mass->callback([ma] {
+    Require(ma->est.kind == "receptance", "the mass update fits a receptance; leave --kind at its default");
+    std::vector<std::string> notes;
+    const ident::Frf frf = LoadOrEstimate(ma->input, ma->est, notes);
+    Require(frf.responses() == 1, "update mass: give exactly one response (got " + std::to_string(frf.responses()) + ")");
+    const ident::MassUpdateResult r = ident::UpdateMass(frf, 0, ma->options);
+    if (!r.summary.Converged()) throw NumericalError("mass update did not converge: " + r.summary.message);
+    if (ma->json) {
+      nlohmann::json j = MassUpdateJson(r);
+      j["notes"] = notes;
+      EmitOutput(j.dump(2) + "\n", ma->output);
+    } else {
+      std::ostringstream out;
+      out << "effective mass " << r.mass_kg << " kg";
+      if (r.nominal_kg > 0.0) out << " (nominal " << r.nominal_kg << " kg, " << r.change_percent << " %)";
+      out << "\nk " << r.k_n_per_m << " N/m" << (r.stiffness_fitted ? " (fitted)" : " (given)") << ", zeta " << r.zeta
+          << ", c " << r.c_ns_per_m << " N*s/m, omega " << r.omega_rad_s << " rad/s\n"
+          << "fit: " << ident::TerminationName(r.summary.termination) << ", " << r.summary.iterations << " iterations, "
+          << r.lines_fitted << " lines\n";
+      EmitOutput(out.str(), ma->output);
+    }
+    for (const auto& w : r.warnings) std::cerr << "vibid: warning: " << w << "\n";
+  });
+
+  struct StiffArgs {
+    std::string masses;
+    std::vector<std::string> modes;
+    bool json = false;
+    std::string output;
+  };
+  auto sa = std::make_shared<StiffArgs>();
+  CLI::App* stiff = update->add_subcommand(
+      "stiffness",
+      "Stiffness from modal tests (Eq. 7): K = M Phi Omega^2 Phi^T M with mass-normalised shapes; chain springs\n"
+      "k2 = K22, k1 = K11 - K22, a least-squares chain fit and the off-diagonal mismatch; tests averaged with their spread.");
+  stiff->add_option("--masses", sa->masses, "Masses m1,m2,... (kg), e.g. from `update mass`")->required();
+  stiff->add_option("--modes", sa->modes, "MODES.json from `vibid modes --json`, one per test")->required();
+  stiff->add_flag("--json", sa->json, "JSON output");
+  stiff->add_option("-o,--output", sa->output, "Write the result here instead of stdout");
+  stiff->callback([sa] {
+    const std::vector<double> mv = ParseNumberList(sa->masses, "--masses");
+    const Eigen::VectorXd masses = Eigen::Map<const Eigen::VectorXd>(mv.data(), static_cast<Eigen::Index>(mv.size()));
+    std::vector<ident::StiffnessUpdateResult> tests;
+    for (const std::string& path : sa->modes) {
+      tests.push_back(StiffnessFromModes(masses, ModesFromJson(ReadJsonFile(path), path), path));
+    }
+    const ident::StiffnessAverage avg = ident::AverageStiffness(tests);
+    if (sa->json) {
+      EmitOutput(StiffnessJson(avg).dump(2) + "\n", sa->output);
+    } else {
+      std::ostringstream out;
+      out << "springs (k_n = K_nn, k_i = K_ii - k_i+1):";
+      for (Eigen::Index i = 0; i < avg.springs.size(); ++i) out << " k" << i + 1 << " = " << avg.springs[i] << " +- " << avg.spread[i];
+      out << " N/m\nleast-squares chain:";
+      for (Eigen::Index i = 0; i < avg.springs_lsq.size(); ++i) out << " k" << i + 1 << " = " << avg.springs_lsq[i];
+      out << " N/m\noff-diagonal mismatch " << avg.offdiag_mismatch_percent << " % over " << tests.size() << " test(s)\n";
+      EmitOutput(out.str(), sa->output);
+    }
+  });
+}
+
+}  // namespace vibid::cli

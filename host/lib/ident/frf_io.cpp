@@ -1,0 +1,331 @@
+#include "vibid/ident/frf_io.hpp"
+
+#include <charconv>
+#include <cmath>
+#include <cstdio>
+#include <map>
+#include <sstream>
+#include <vector>
+
+#include "vibid/common/atomic_file.hpp"
+#include "vibid/common/csv.hpp"
+#include "vibid/common/error.hpp"
+
+namespace vibid::ident {
+
+namespace {
+
+constexpr std::string_view kMetaTag = "# vibid-frf";
+
+std::string Trim(std::string_view s) {
+  std::size_t a = 0;
+  std::size_t b = s.size();
+  while (a < b && (s[a] == ' ' || s[a] == '\t' || s[a] == '\r')) ++a;
+  while (b > a && (s[b - 1] == ' ' || s[b - 1] == '\t' || s[b - 1] == '\r' || s[b - 1] == '\n')) --b;
+  return std::string(s.substr(a, b - a));
+}
+
+bool EndsWith(std::string_view s, std::string_view tail) {
+  return s.size() >= tail.size() && s.substr(s.size() - tail.size()) == tail;
+}
+
+double ToDouble(const std::string& s, const std::string& what) {
+  double v = 0.0;
+  const char* b = s.data();
+  const char* e = s.data() + s.size();
+  const auto r = std::from_chars(b, e, v);
+  Require(r.ec == std::errc() && r.ptr == e && std::isfinite(v), what + ": '" + s + "' is not a finite number");
+  return v;
+}
+
+long ToLong(const std::string& s, const std::string& what) {
+  long v = 0;
+  const auto r = std::from_chars(s.data(), s.data() + s.size(), v);
+  Require(r.ec == std::errc() && r.ptr == s.data() + s.size(), what + ": '" + s + "' is not an integer");
+  return v;
+}
+
+std::string Fmt(const char* f, double v) {
+  char buf[64];
+  std::snprintf(buf, sizeof buf, f, v);
+  return buf;
+}
+
+}  // namespace
+
+std::string FormatFrfCsv(const Frf& frf) {
+  std::vector<std::string> names{"freq_hz"};
+  std::vector<Eigen::VectorXd> cols{frf.freq_hz};
+  for (Eigen::Index j = 0; j < frf.h.cols(); ++j) {
+    const auto ju = static_cast<std::size_t>(j);
+    const std::string base = ju < frf.response_names.size() ? frf.response_names[ju] : "h" + std::to_string(j + 1);
+    names.push_back(base + "_re");
+    cols.push_back(frf.h.col(j).real());
+    names.push_back(base + "_im");
+    cols.push_back(frf.h.col(j).imag());
+    names.push_back(base + "_coh");
+    cols.push_back(frf.coherence.col(j));
+  }
+  std::ostringstream meta;
+  meta.precision(17);
+  meta << kMetaTag << " kind=" << FrfKindName(frf.quantity) << " estimator=" << EstimatorName(frf.estimator)
+       << " averages=" << frf.averages << " exp_window_tau_s=" << frf.exp_window_tau_s
+       << " force=" << (frf.force_name.empty() ? "force" : frf.force_name) << "\n";
+  return meta.str() + FormatCsv(names, cols);
+}
+
+bool LooksLikeFrfCsv(std::string_view text) {
+  if (text.substr(0, kMetaTag.size()) == kMetaTag) return true;
+  return text.substr(0, 8) == "freq_hz,";
+}
+
+Frf ParseFrfCsv(std::string_view text, const std::string& source) {
+  Frf frf;
+  if (text.substr(0, kMetaTag.size()) == kMetaTag) {
+    const std::string line(text.substr(0, text.find('\n')));
+    std::istringstream in(line.substr(kMetaTag.size()));
+    std::string kv;
+    while (in >> kv) {
+      const auto eq = kv.find('=');
+      Require(eq != std::string::npos, source + ": line 1: metadata item '" + kv + "' is not key=value");
+      const std::string key = kv.substr(0, eq);
+      const std::string value = kv.substr(eq + 1);
+      if (key == "kind") frf.quantity = ParseQuantity(value);
+      else if (key == "estimator") frf.estimator = ParseEstimator(value);
+      else if (key == "averages") frf.averages = static_cast<std::size_t>(ToLong(value, source + ": line 1: averages"));
+      else if (key == "exp_window_tau_s") frf.exp_window_tau_s = ToDouble(value, source + ": line 1: exp_window_tau_s");
+      else if (key == "force") frf.force_name = value;
+    }
+  }
+  const CsvTable table = ParseCsv(text, source);
+  Require(table.Has("freq_hz"), source + ": an FRF file needs a freq_hz column");
+  frf.freq_hz = table.Column("freq_hz");
+  Require(frf.freq_hz.size() >= 4, source + ": an FRF needs at least 4 frequency lines");
+  for (Eigen::Index i = 1; i < frf.freq_hz.size(); ++i) {
+    Require(frf.freq_hz[i] > frf.freq_hz[i - 1], source + ": freq_hz must increase (row " + std::to_string(i + 1) + ")");
+  }
+  std::vector<std::string> bases;
+  for (const std::string& n : table.names) {
+    if (EndsWith(n, "_re")) bases.push_back(n.substr(0, n.size() - 3));
+  }
+  Require(!bases.empty(), source + ": no NAME_re/NAME_im column pair");
+  frf.h.resize(frf.freq_hz.size(), static_cast<Eigen::Index>(bases.size()));
+  frf.coherence = Eigen::MatrixXd::Ones(frf.freq_hz.size(), static_cast<Eigen::Index>(bases.size()));
+  for (std::size_t j = 0; j < bases.size(); ++j) {
+    const auto jj = static_cast<Eigen::Index>(j);
+    Require(table.Has(bases[j] + "_im"), source + ": column " + bases[j] + "_re has no " + bases[j] + "_im");
+    frf.h.col(jj).real() = table.Column(bases[j] + "_re");
+    frf.h.col(jj).imag() = table.Column(bases[j] + "_im");
+    if (table.Has(bases[j] + "_coh")) frf.coherence.col(jj) = table.Column(bases[j] + "_coh");
+    frf.response_names.push_back(bases[j]);
+  }
+  return frf;
+}
+
+namespace {
+
+int OrdinateType(Quantity q) {
+  switch (q) {
+    case Quantity::kDisplacement: return 8;
+    case Quantity::kVelocity: return 11;
+    case Quantity::kAcceleration: return 12;
+  }
+  return 0;
+}
+
+void WriteHeader(std::ostringstream& out, const std::string& id1, int func_type, int rsp_node, int ref_node,
+                 int ord_data_type, std::size_t points, double x0, double dx, int ord_spec, int ord_len_exp) {
+  char line[256];
+  out << "    -1\n    58" << std::string(74, ' ') << "\n";
+  std::snprintf(line, sizeof line, "%-80.80s\n", id1.c_str());
+  out << line;
+  out << "vibid" << std::string(75, ' ') << "\n";
+  for (int k = 0; k < 3; ++k) out << "NONE" << std::string(76, ' ') << "\n";
+  std::snprintf(line, sizeof line, "%5d%10d%5d%10d %-10s%10d%4d %-10s%10d%4d\n", func_type, 0, 0, 0, "NONE", rsp_node,
+                1, "NONE", ref_node, 1);
+  out << line;
+  std::snprintf(line, sizeof line, "%10d%10zu%10d%13.5E%13.5E%13.5E\n", ord_data_type, points, 1, x0, dx, 0.0);
+  out << line;
+  std::snprintf(line, sizeof line, "%10d%5d%5d%5d %-20s %-20s\n", 18, 0, 0, 0, "Frequency", "Hz");
+  out << line;
+  std::snprintf(line, sizeof line, "%10d%5d%5d%5d %-20s %-20s\n", ord_spec, ord_len_exp, 0, 0, "Response", "m");
+  out << line;
+  std::snprintf(line, sizeof line, "%10d%5d%5d%5d %-20s %-20s\n", func_type == 4 ? 13 : 0, 0, func_type == 4 ? 1 : 0,
+                0, func_type == 4 ? "Force" : "NONE", func_type == 4 ? "N" : "NONE");
+  out << line;
+  std::snprintf(line, sizeof line, "%10d%5d%5d%5d %-20s %-20s\n", 0, 0, 0, 0, "NONE", "NONE");
+  out << line;
+}
+
+void WriteValues(std::ostringstream& out, const std::vector<double>& values) {
+  for (std::size_t i = 0; i < values.size(); ++i) {
+    out << Fmt("%20.12E", values[i]);
+    if (i % 4 == 3 || i + 1 == values.size()) out << "\n";
+  }
+}
+
+}  // namespace
+
+std::string FormatUff58(const Frf& frf, int reference_node) {
+  Require(frf.freq_hz.size() >= 2, "UFF58: an FRF needs at least 2 lines");
+  const auto points = static_cast<std::size_t>(frf.freq_hz.size());
+  const double x0 = frf.freq_hz[0];
+  const double dx = (frf.freq_hz[frf.freq_hz.size() - 1] - x0) / static_cast<double>(points - 1);
+  std::ostringstream out;
+  for (Eigen::Index j = 0; j < frf.h.cols(); ++j) {
+    const auto ju = static_cast<std::size_t>(j);
+    const std::string name = ju < frf.response_names.size() ? frf.response_names[ju] : "h" + std::to_string(j + 1);
+    WriteHeader(out, std::string(FrfKindName(frf.quantity)) + " " + name, 4, static_cast<int>(j) + 1, reference_node, 6,
+                points, x0, dx, OrdinateType(frf.quantity), 1);
+    std::vector<double> values;
+    values.reserve(2 * points);
+    for (std::size_t i = 0; i < points; ++i) {
+      values.push_back(frf.h(static_cast<Eigen::Index>(i), j).real());
+      values.push_back(frf.h(static_cast<Eigen::Index>(i), j).imag());
+    }
+    WriteValues(out, values);
+    out << "    -1\n";
+    WriteHeader(out, "coherence " + name, 6, static_cast<int>(j) + 1, reference_node, 4, points, x0, dx, 0, 0);
+    values.clear();
+    for (std::size_t i = 0; i < points; ++i) values.push_back(frf.coherence(static_cast<Eigen::Index>(i), j));
+    WriteValues(out, values);
+    out << "    -1\n";
+  }
+  return out.str();
+}
+
+Frf ParseUff58(std::string_view text, const std::string& source) {
+  std::vector<std::string> lines;
+  {
+    std::size_t pos = 0;
+    while (pos < text.size()) {
+      const std::size_t nl = text.find('\n', pos);
+      const std::size_t end = nl == std::string_view::npos ? text.size() : nl;
+      std::string l(text.substr(pos, end - pos));
+      if (!l.empty() && l.back() == '\r') l.pop_back();
+      lines.push_back(l);
+      pos = end + 1;
+    }
+  }
+  struct Dataset {
+    int func_type = 0;
+    int rsp_node = 0;
+    int ord_spec = 0;
+    std::string id1;
+    double x0 = 0.0;
+    double dx = 0.0;
+    std::vector<double> values;
+    std::size_t points = 0;
+    bool complex = false;
+  };
+  std::vector<Dataset> sets;
+  const auto field = [&](std::size_t ln, std::size_t at, std::size_t width) {
+    const std::string& l = lines[ln];
+    return at >= l.size() ? std::string() : Trim(std::string_view(l).substr(at, width));
+  };
+  const auto where = [&](std::size_t ln) { return source + ": line " + std::to_string(ln + 1); };
+  std::size_t i = 0;
+  while (i < lines.size()) {
+    if (Trim(lines[i]) != "-1") {
+      Require(Trim(lines[i]).empty(), where(i) + ": expected a dataset delimiter '-1'");
+      ++i;
+      continue;
+    }
+    Require(i + 1 < lines.size(), where(i) + ": file ends after a delimiter");
+    const std::string type = field(i + 1, 0, 6);
+    std::size_t end = i + 2;
+    while (end < lines.size() && Trim(lines[end]) != "-1") ++end;
+    Require(end < lines.size(), where(i) + ": dataset " + type + " has no closing '-1'");
+    if (type != "58") {
+      i = end + 1;
+      continue;
+    }
+    Require(lines[i + 1].size() < 7 || lines[i + 1][6] != 'b', where(i + 1) + ": binary UFF58 (58b) is not supported");
+    Require(end >= i + 14, where(i) + ": dataset 58 header is incomplete");
+    Dataset d;
+    const std::size_t h = i + 2;  // record 1
+    d.id1 = Trim(lines[h]);
+    d.func_type = static_cast<int>(ToLong(field(h + 5, 0, 5), where(h + 5) + ": function type"));
+    d.rsp_node = static_cast<int>(ToLong(field(h + 5, 41, 10), where(h + 5) + ": response node"));
+    const long ord_type = ToLong(field(h + 6, 0, 10), where(h + 6) + ": ordinate data type");
+    d.points = static_cast<std::size_t>(ToLong(field(h + 6, 10, 10), where(h + 6) + ": number of points"));
+    const long even = ToLong(field(h + 6, 20, 10), where(h + 6) + ": abscissa spacing");
+    Require(even == 1, where(h + 6) + ": only evenly spaced abscissas are supported");
+    d.x0 = ToDouble(field(h + 6, 30, 13), where(h + 6) + ": abscissa start");
+    d.dx = ToDouble(field(h + 6, 43, 13), where(h + 6) + ": abscissa step");
+    d.ord_spec = static_cast<int>(ToLong(field(h + 8, 0, 10), where(h + 8) + ": ordinate type"));
+    Require(ord_type == 2 || ord_type == 4 || ord_type == 5 || ord_type == 6,
+            where(h + 6) + ": ordinate data type " + std::to_string(ord_type) + " is not 2, 4, 5 or 6");
+    d.complex = ord_type == 5 || ord_type == 6;
+    const std::size_t width = (ord_type == 4 || ord_type == 6) ? 20 : 13;
+    for (std::size_t ln = h + 11; ln < end; ++ln) {
+      const std::string& l = lines[ln];
+      for (std::size_t at = 0; at + 1 < l.size() + 1 && at < l.size(); at += width) {
+        const std::string cell = Trim(std::string_view(l).substr(at, width));
+        if (cell.empty()) continue;
+        std::string c = cell;
+        for (char& ch : c) if (ch == 'D' || ch == 'd') ch = 'E';
+        d.values.push_back(ToDouble(c, where(ln)));
+      }
+    }
+    Require(d.values.size() == d.points * (d.complex ? 2u : 1u),
+            where(h) + ": dataset holds " + std::to_string(d.values.size()) + " values, header says " +
+                std::to_string(d.points) + (d.complex ? " complex points" : " points"));
+    sets.push_back(std::move(d));
+    i = end + 1;
+  }
+  Frf frf;
+  std::map<int, Eigen::Index> column_of_node;
+  std::vector<const Dataset*> frfs;
+  for (const Dataset& d : sets) {
+    if (d.func_type == 4 && d.complex) frfs.push_back(&d);
+  }
+  Require(!frfs.empty(), source + ": no FRF dataset (58, function type 4, complex)");
+  const Dataset& first = *frfs.front();
+  frf.freq_hz = Eigen::VectorXd::LinSpaced(static_cast<Eigen::Index>(first.points), first.x0,
+                                           first.x0 + first.dx * static_cast<double>(first.points - 1));
+  switch (first.ord_spec) {
+    case 11: frf.quantity = Quantity::kVelocity; break;
+    case 12: frf.quantity = Quantity::kAcceleration; break;
+    default: frf.quantity = Quantity::kDisplacement; break;
+  }
+  frf.h.resize(static_cast<Eigen::Index>(first.points), static_cast<Eigen::Index>(frfs.size()));
+  frf.coherence = Eigen::MatrixXd::Ones(frf.h.rows(), frf.h.cols());
+  for (std::size_t j = 0; j < frfs.size(); ++j) {
+    const Dataset& d = *frfs[j];
+    Require(d.points == first.points && d.x0 == first.x0 && d.dx == first.dx && d.ord_spec == first.ord_spec,
+            source + ": FRF datasets differ in abscissa or ordinate type");
+    for (std::size_t k = 0; k < d.points; ++k) {
+      frf.h(static_cast<Eigen::Index>(k), static_cast<Eigen::Index>(j)) = {d.values[2 * k], d.values[2 * k + 1]};
+    }
+    column_of_node[d.rsp_node] = static_cast<Eigen::Index>(j);
+    frf.response_names.push_back("node" + std::to_string(d.rsp_node));
+  }
+  for (const Dataset& d : sets) {
+    if (d.func_type != 6 || d.complex || d.points != first.points) continue;
+    const auto it = column_of_node.find(d.rsp_node);
+    if (it == column_of_node.end()) continue;
+    for (std::size_t k = 0; k < d.points; ++k) frf.coherence(static_cast<Eigen::Index>(k), it->second) = d.values[k];
+  }
+  frf.averages = 0;
+  return frf;
+}
+
+namespace {
+
+bool IsUffPath(const std::string& path) { return EndsWith(path, ".uff") || EndsWith(path, ".unv"); }
+
+}  // namespace
+
+Frf LoadFrf(const std::string& path) {
+  const std::string text = ReadFileText(path);
+  if (IsUffPath(path)) return ParseUff58(text, path);
+  return ParseFrfCsv(text, path);
+}
+
+std::string FormatFrfForPath(const Frf& frf, const std::string& path, int reference_node) {
+  if (IsUffPath(path)) return FormatUff58(frf, reference_node);
+  return FormatFrfCsv(frf);
+}
+
+}  // namespace vibid::ident

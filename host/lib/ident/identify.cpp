@@ -1,0 +1,190 @@
+#include "vibid/ident/identify.hpp"
+
+#include <cmath>
+#include <cstdio>
+#include <limits>
+#include <numbers>
+#include <sstream>
+
+#include "vibid/common/error.hpp"
+#include "vibid/model/modal.hpp"
+
+namespace vibid::ident {
+
+ChainParameters ChainOf(const model::Model& m) {
+  const Eigen::Index n = m.m_kg.rows();
+  ChainParameters c;
+  c.masses_kg = m.m_kg.diagonal();
+  c.springs_n_per_m.resize(n);
+  c.dampers_ns_per_m.resize(n);
+  c.springs_n_per_m[n - 1] = m.k_n_per_m(n - 1, n - 1);
+  c.dampers_ns_per_m[n - 1] = m.c_ns_per_m(n - 1, n - 1);
+  for (Eigen::Index i = n - 2; i >= 0; --i) {
+    c.springs_n_per_m[i] = m.k_n_per_m(i, i) - c.springs_n_per_m[i + 1];
+    c.dampers_ns_per_m[i] = m.c_ns_per_m(i, i) - c.dampers_ns_per_m[i + 1];
+  }
+  return c;
+}
+
+double PercentDeviation(double value, double reference) {
+  if (reference == 0.0 || !std::isfinite(reference) || !std::isfinite(value)) return std::numeric_limits<double>::quiet_NaN();
+  return 100.0 * (value - reference) / reference;
+}
+
+ValidationTable BuildValidationTable(const model::Model& nominal, const model::Model& updated,
+                                     const std::vector<ModeEstimate>& test_modes) {
+  const model::ModalResult mn = model::Modal(nominal);
+  const model::ModalResult mu = model::Modal(updated);
+  const model::ComplexModes cn = model::ComplexModalDamping(nominal);
+  const model::ComplexModes cu = model::ComplexModalDamping(updated);
+  ValidationTable t;
+  const auto count = std::min<std::size_t>(test_modes.size(), static_cast<std::size_t>(mn.size()));
+  for (std::size_t i = 0; i < count; ++i) {
+    const auto ii = static_cast<Eigen::Index>(i);
+    ModeComparison r;
+    r.omega_nominal = mn.omega_rad_s[ii];
+    r.omega_updated = mu.omega_rad_s[ii];
+    r.omega_test = test_modes[i].omega_rad_s;
+    // General damping: take zeta from the state matrix's eigenvalues (equal to the modal value for
+    // proportional damping).
+    r.zeta_nominal = ii < cn.zeta.size() ? cn.zeta[ii] : mn.zeta[ii];
+    r.zeta_updated = ii < cu.zeta.size() ? cu.zeta[ii] : mu.zeta[ii];
+    r.zeta_test = test_modes[i].zeta;
+    r.ratio_nominal = mn.ratio.size() > ii ? mn.ratio[ii] : std::numeric_limits<double>::quiet_NaN();
+    r.ratio_updated = mu.ratio.size() > ii ? mu.ratio[ii] : std::numeric_limits<double>::quiet_NaN();
+    r.ratio_test = test_modes[i].ratio;
+    t.modes.push_back(r);
+  }
+  const ChainParameters a = ChainOf(nominal);
+  const ChainParameters b = ChainOf(updated);
+  for (Eigen::Index i = 0; i < a.masses_kg.size(); ++i) {
+    t.positions.push_back({a.masses_kg[i], b.masses_kg[i], a.springs_n_per_m[i], b.springs_n_per_m[i], b.dampers_ns_per_m[i]});
+  }
+  return t;
+}
+
+std::string FormatValidationTable(const ValidationTable& t) {
+  std::ostringstream out;
+  char line[512];
+  out << "Modes (deviation of each model from the test)\n";
+  std::snprintf(line, sizeof line, "%-5s %-9s %12s %12s %12s %9s %9s\n", "mode", "quantity", "nominal", "updated", "test",
+                "nom dev%", "upd dev%");
+  out << line;
+  for (std::size_t i = 0; i < t.modes.size(); ++i) {
+    const ModeComparison& r = t.modes[i];
+    const struct {
+      const char* name;
+      double n, u, x;
+    } rows[] = {{"omega", r.omega_nominal, r.omega_updated, r.omega_test},
+                {"zeta", r.zeta_nominal, r.zeta_updated, r.zeta_test},
+                {"a1/a2", r.ratio_nominal, r.ratio_updated, r.ratio_test}};
+    for (const auto& row : rows) {
+      std::snprintf(line, sizeof line, "%-5zu %-9s %12.6g %12.6g %12.6g %9.2f %9.2f\n", i + 1, row.name, row.n, row.u,
+                    row.x, PercentDeviation(row.n, row.x), PercentDeviation(row.u, row.x));
+      out << line;
+    }
+  }
+  out << "Positions (change from nominal)\n";
+  std::snprintf(line, sizeof line, "%-5s %-12s %12s %12s %9s\n", "pos", "quantity", "nominal", "updated", "change%");
+  out << line;
+  for (std::size_t i = 0; i < t.positions.size(); ++i) {
+    const PositionComparison& p = t.positions[i];
+    std::snprintf(line, sizeof line, "%-5zu %-12s %12.6g %12.6g %9.2f\n", i + 1, "m_kg", p.m_nominal, p.m_updated,
+                  PercentDeviation(p.m_updated, p.m_nominal));
+    out << line;
+    std::snprintf(line, sizeof line, "%-5zu %-12s %12.6g %12.6g %9.2f\n", i + 1, "k_n_per_m", p.k_nominal, p.k_updated,
+                  PercentDeviation(p.k_updated, p.k_nominal));
+    out << line;
+    std::snprintf(line, sizeof line, "%-5zu %-12s %12s %12.6g\n", i + 1, "c_ns_per_m", "", p.c_updated);
+    out << line;
+  }
+  return out.str();
+}
+
+IdentifyResult Identify(const model::Model& nominal, const std::vector<MassTestInput>& mass_tests,
+                        const std::vector<Frf>& modal_tests, const IdentifyOptions& options) {
+  model::Validate(nominal);
+  const Eigen::Index n = nominal.m_kg.rows();
+  Require(n >= 2, "identify: the nominal model must have at least 2 masses");
+  Require(nominal.m_kg.isDiagonal(), "identify: the nominal model needs a diagonal mass matrix (a chain)");
+  Require(!modal_tests.empty(), "identify: at least one modal test is needed");
+  const ChainParameters nominal_chain = ChainOf(nominal);
+  IdentifyResult res;
+  res.chain = nominal_chain;
+  std::vector<bool> seen(static_cast<std::size_t>(n), false);
+  for (const MassTestInput& mt : mass_tests) {
+    Require(mt.position < static_cast<std::size_t>(n),
+            "identify: mass test for position " + std::to_string(mt.position + 1) + ", the model has " + std::to_string(n));
+    Require(!seen[mt.position], "identify: two mass tests for position " + std::to_string(mt.position + 1));
+    seen[mt.position] = true;
+    MassUpdateOptions mo = options.mass;
+    const auto pos = static_cast<Eigen::Index>(mt.position);
+    mo.k_n_per_m = mt.k_n_per_m > 0.0 ? mt.k_n_per_m : nominal_chain.springs_n_per_m[pos];
+    mo.nominal_kg = nominal_chain.masses_kg[pos];
+    MassTestResult r{mt.position, UpdateMass(mt.receptance, 0, mo)};
+    if (!r.update.summary.Converged()) {
+      throw InputError("identify: mass test " + std::to_string(mt.position + 1) + ": fit did not converge (" +
+                       r.update.summary.message + ")");
+    }
+    for (const auto& w : r.update.warnings) res.warnings.push_back("mass test " + std::to_string(mt.position + 1) + ": " + w);
+    res.chain.masses_kg[pos] = r.update.mass_kg;
+    res.mass_tests.push_back(r);
+  }
+  std::vector<StiffnessUpdateResult> updates;
+  for (std::size_t t = 0; t < modal_tests.size(); ++t) {
+    const std::string name = "modal test " + std::to_string(t + 1);
+    // A chain of n masses has n modes: keep the n clearest resonances unless told otherwise.
+    ModeIdentificationOptions mo = options.modes;
+    if (mo.peaks.max_peaks == 0) mo.peaks.max_peaks = static_cast<std::size_t>(n);
+    ModeIdentification mi = IdentifyModes(modal_tests[t], options.driving_point, mo);
+    for (const auto& w : mi.warnings) res.warnings.push_back(name + ": " + w);
+    Require(static_cast<Eigen::Index>(mi.modes.size()) == n,
+            "identify: " + name + " shows " + std::to_string(mi.modes.size()) + " modes, the model has " +
+                std::to_string(n) + " (set the band or --max-modes)");
+    Require(static_cast<Eigen::Index>(modal_tests[t].responses()) == n,
+            "identify: " + name + " needs one response per mass (" + std::to_string(n) + ")");
+    Eigen::VectorXd omega(n), zeta(n);
+    Eigen::MatrixXd shapes(n, n);
+    for (Eigen::Index i = 0; i < n; ++i) {
+      const ModeEstimate& m = mi.modes[static_cast<std::size_t>(i)];
+      omega[i] = m.omega_rad_s;
+      zeta[i] = m.zeta;
+      shapes.col(i) = m.shape;
+    }
+    updates.push_back(UpdateStiffness(res.chain.masses_kg, omega, zeta, shapes));
+    res.modal_tests.push_back(std::move(mi));
+  }
+  res.stiffness = AverageStiffness(updates);
+  res.chain.springs_n_per_m = res.stiffness.springs;
+  res.chain.dampers_ns_per_m = res.stiffness.dampers;
+  // Test modes averaged over the tests (mode i of every test is the same physical mode).
+  res.test_modes = res.modal_tests.front().modes;
+  for (std::size_t i = 0; i < res.test_modes.size(); ++i) {
+    ModeEstimate& avg = res.test_modes[i];
+    avg.omega_rad_s = avg.zeta = 0.0;
+    avg.shape.setZero();
+    for (const auto& mt : res.modal_tests) {
+      avg.omega_rad_s += mt.modes[i].omega_rad_s;
+      avg.zeta += mt.modes[i].zeta;
+      avg.shape += mt.modes[i].shape;
+    }
+    const auto count = static_cast<double>(res.modal_tests.size());
+    avg.omega_rad_s /= count;
+    avg.zeta /= count;
+    avg.shape /= count;
+    avg.freq_hz = avg.omega_rad_s / (2.0 * std::numbers::pi);
+    avg.ratio = avg.shape.size() == 2 && avg.shape[1] != 0.0 ? avg.shape[0] / avg.shape[1] : std::numeric_limits<double>::quiet_NaN();
+  }
+  Require((res.chain.springs_n_per_m.array() > 0.0).all(),
+          "identify: the test data give a non-positive chain spring; the chain topology does not explain the tests");
+  Eigen::VectorXd dampers = res.chain.dampers_ns_per_m.cwiseMax(0.0);
+  if ((res.chain.dampers_ns_per_m.array() < 0.0).any()) {
+    res.warnings.push_back("a negative chain damper from the test damping was set to zero");
+  }
+  res.chain.dampers_ns_per_m = dampers;
+  res.updated = model::MakeChain(res.chain.masses_kg, res.chain.springs_n_per_m, res.chain.dampers_ns_per_m);
+  res.table = BuildValidationTable(nominal, res.updated, res.test_modes);
+  return res;
+}
+
+}  // namespace vibid::ident

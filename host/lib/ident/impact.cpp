@@ -1,0 +1,286 @@
+#include "vibid/ident/impact.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <numbers>
+#include <sstream>
+
+#include "vibid/common/error.hpp"
+
+namespace vibid::ident {
+
+void ImpactOptions::Validate() const {
+  Require(trigger_fraction > 0.0 && trigger_fraction < 1.0, "impact: trigger fraction must be in (0, 1)");
+  Require(std::isfinite(pretrigger_s), "impact: pretrigger must be finite");
+  Require(record_s >= 0.0 && std::isfinite(record_s), "impact: record length must be >= 0");
+  Require(force_window_s >= 0.0 && std::isfinite(force_window_s), "impact: force window must be >= 0");
+  Require(exp_window_end >= 0.0 && exp_window_end < 1.0, "impact: exponential window end value must be in [0, 1)");
+  Require(double_hit_window_s >= 0.0 && std::isfinite(double_hit_window_s), "impact: double-hit window must be >= 0");
+  Require(double_hit_fraction > 0.0 && double_hit_fraction < 1.0, "impact: double-hit fraction must be in (0, 1)");
+  Require(clip_run_samples >= 2, "impact: clipping run must be at least 2 samples");
+}
+
+std::size_t FastFftLength(std::size_t n) {
+  for (std::size_t m = n; m > 1; --m) {
+    std::size_t r = m;
+    for (std::size_t p : {2u, 3u, 5u}) {
+      while (r % p == 0) r /= p;
+    }
+    if (r == 1) return m;
+  }
+  return n;
+}
+
+namespace {
+
+struct Pulse {
+  std::size_t start = 0;
+  std::size_t end = 0;  // one past the last sample above the trigger
+  std::size_t peak = 0;
+  double peak_value = 0.0;
+};
+
+double Median(Eigen::VectorXd v) {
+  const auto mid = static_cast<std::ptrdiff_t>(v.size() / 2);
+  std::nth_element(v.data(), v.data() + mid, v.data() + v.size());
+  return v[mid];
+}
+
+std::vector<Pulse> FindPulses(const Eigen::VectorXd& f, double threshold) {
+  std::vector<Pulse> pulses;
+  const auto n = static_cast<std::size_t>(f.size());
+  std::size_t i = 0;
+  while (i < n) {
+    if (std::abs(f[static_cast<Eigen::Index>(i)]) < threshold) {
+      ++i;
+      continue;
+    }
+    Pulse p;
+    p.start = i;
+    // Noise near the threshold on the flanks must not split one pulse: allow two-sample dips.
+    std::size_t last_above = i;
+    while (i < n && i <= last_above + 2) {
+      const double v = std::abs(f[static_cast<Eigen::Index>(i)]);
+      if (v >= threshold) {
+        last_above = i;
+        if (v > p.peak_value) {
+          p.peak_value = v;
+          p.peak = i;
+        }
+      }
+      ++i;
+    }
+    p.end = last_above + 1;
+    pulses.push_back(p);
+    i = p.end;
+  }
+  return pulses;
+}
+
+// A channel's rails: its extreme values, each counted only when it lies far from the channel's
+// resting level (a signal that rests at its minimum, like a hammer force, is not clipped there).
+struct Rails {
+  double lo = 0.0;
+  double hi = 0.0;
+  bool use_lo = false;
+  bool use_hi = false;
+};
+
+Rails FindRails(const Eigen::VectorXd& x) {
+  Rails r;
+  r.lo = x.minCoeff();
+  r.hi = x.maxCoeff();
+  const double rest = Median(x);
+  const double swing = std::max(r.hi - rest, rest - r.lo);
+  r.use_lo = rest - r.lo >= 0.5 * swing && swing > 0.0;
+  r.use_hi = r.hi - rest >= 0.5 * swing && swing > 0.0;
+  return r;
+}
+
+// A run of consecutive samples within a hair of a rail.
+bool Clipped(const double* x, std::size_t n, const Rails& rails, std::size_t min_run) {
+  const double tol = 1e-9 * std::max(rails.hi - rails.lo, 1e-300);
+  std::size_t run_hi = 0;
+  std::size_t run_lo = 0;
+  for (std::size_t i = 0; i < n; ++i) {
+    run_hi = (rails.use_hi && x[i] >= rails.hi - tol) ? run_hi + 1 : 0;
+    run_lo = (rails.use_lo && x[i] <= rails.lo + tol) ? run_lo + 1 : 0;
+    if (run_hi >= min_run || run_lo >= min_run) return true;
+  }
+  return false;
+}
+
+}  // namespace
+
+ImpactResult EstimateImpactFrf(const Eigen::Ref<const Eigen::VectorXd>& force,
+                               const Eigen::Ref<const Eigen::MatrixXd>& responses, double fs_hz,
+                               const ImpactOptions& options, Estimator estimator, Quantity response_quantity) {
+  options.Validate();
+  Require(fs_hz > 0.0 && std::isfinite(fs_hz), "sample rate must be > 0");
+  Require(responses.rows() == force.size(), "force and responses differ in length");
+  Require(responses.cols() >= 1, "at least one response channel is needed");
+  const auto n = static_cast<std::size_t>(force.size());
+  Require(n >= 16, "impact record is too short (" + std::to_string(n) + " samples)");
+
+  const double baseline = Median(force);
+  const Eigen::VectorXd centred = force.array() - baseline;
+  const double peak_all = centred.cwiseAbs().maxCoeff();
+  Require(peak_all > 0.0, "force channel is constant: no hit to detect");
+  const std::vector<Pulse> pulses = FindPulses(centred, options.trigger_fraction * peak_all);
+
+  // Group rebounds with their hit.
+  struct Group {
+    std::vector<Pulse> pulses;
+  };
+  std::vector<Group> groups;
+  const auto rebound = static_cast<std::size_t>(std::llround(options.double_hit_window_s * fs_hz));
+  for (const Pulse& p : pulses) {
+    if (!groups.empty() && p.start <= groups.back().pulses.back().end + rebound) {
+      groups.back().pulses.push_back(p);
+    } else {
+      groups.push_back({{p}});
+    }
+  }
+  Require(!groups.empty(), "no hit found in the force channel");
+
+  ImpactResult result;
+  std::size_t record = 0;
+  if (options.record_s > 0.0) {
+    record = static_cast<std::size_t>(std::llround(options.record_s * fs_hz));
+  } else {
+    record = n - groups.front().pulses.front().start;
+    for (std::size_t g = 1; g < groups.size(); ++g) {
+      record = std::min(record, groups[g].pulses.front().start - groups[g - 1].pulses.front().start);
+    }
+    if (groups.size() > 1) {
+      // The last hit's tail is often cut short by the end of the file; do not let it set the length.
+      record = std::max<std::size_t>(record, 16);
+    }
+  }
+  std::size_t pre = 0;
+  if (options.pretrigger_s >= 0.0) {
+    pre = static_cast<std::size_t>(std::llround(options.pretrigger_s * fs_hz));
+  } else {
+    pre = std::min(record / 64, groups.front().pulses.front().start);
+  }
+  if (options.record_s <= 0.0) record = FastFftLength(record + (groups.size() > 1 ? 0 : pre));
+  Require(record >= 16, "impact: hit records would be shorter than 16 samples");
+  Require(pre < record / 2, "impact: pretrigger must be shorter than half the hit record");
+  result.record_samples = record;
+  result.pretrigger_samples = pre;
+
+  const auto lines = static_cast<Eigen::Index>(record / 2 + 1);
+  const Eigen::Index nresp = responses.cols();
+  CrossSpectra spectra;
+  spectra.freq_hz = Eigen::VectorXd::LinSpaced(lines, 0.0, static_cast<double>(lines - 1) * fs_hz / static_cast<double>(record));
+  spectra.gff = Eigen::VectorXd::Zero(lines);
+  spectra.gxx = Eigen::MatrixXd::Zero(lines, nresp);
+  spectra.gfx = Eigen::MatrixXcd::Zero(lines, nresp);
+
+  // Exponential window from the trigger: value exp_window_end at the record end.
+  double tau_s = 0.0;
+  if (options.exp_window_end > 0.0) {
+    tau_s = static_cast<double>(record - pre) / fs_hz / std::log(1.0 / options.exp_window_end);
+  }
+  Eigen::VectorXd exp_window = Eigen::VectorXd::Ones(static_cast<Eigen::Index>(record));
+  if (tau_s > 0.0) {
+    for (std::size_t i = pre; i < record; ++i) {
+      exp_window[static_cast<Eigen::Index>(i)] = std::exp(-static_cast<double>(i - pre) / fs_hz / tau_s);
+    }
+  }
+
+  const Eigen::MatrixXd resp = responses;
+  std::vector<Rails> rails{FindRails(force)};
+  for (Eigen::Index j = 0; j < nresp; ++j) rails.push_back(FindRails(resp.col(j)));
+
+  RealFft fft(record);
+  Eigen::VectorXd fbuf(static_cast<Eigen::Index>(record));
+  Eigen::VectorXd xbuf(static_cast<Eigen::Index>(record));
+  Eigen::VectorXcd fspec;
+  Eigen::VectorXcd xspec;
+  std::size_t used = 0;
+  std::ostringstream reasons;
+  for (std::size_t g = 0; g < groups.size(); ++g) {
+    const Pulse& first = groups[g].pulses.front();
+    Hit hit;
+    hit.trigger_index = first.start;
+    hit.peak_index = first.peak;
+    hit.peak_n = centred[static_cast<Eigen::Index>(first.peak)];
+    hit.t_s = static_cast<double>(first.start) / fs_hz;
+    hit.pulse_width_s = static_cast<double>(first.end - first.start) / fs_hz;
+    std::vector<std::string> notes;
+    if (first.start < pre || first.start - pre + record > n) {
+      hit.truncated = true;
+      notes.push_back(first.start < pre ? "too little data before the hit for the pretrigger"
+                                        : "record ends before the hit's window");
+    }
+    const std::size_t s0 = first.start >= pre ? first.start - pre : 0;
+    const std::size_t s1 = std::min(n, s0 + record);
+    // Any other pulse inside this hit's record is a second impact on the structure.
+    for (const Pulse& p : pulses) {
+      if (p.start > first.end && p.start < s1 && p.peak_value >= options.double_hit_fraction * first.peak_value) {
+        hit.double_hit = true;
+      }
+    }
+    if (hit.double_hit) notes.push_back("double hit");
+    if (Clipped(force.data() + s0, s1 - s0, rails[0], options.clip_run_samples)) {
+      hit.clipped = true;
+      notes.push_back("force channel clipped");
+    }
+    for (Eigen::Index j = 0; j < nresp; ++j) {
+      if (Clipped(resp.col(j).data() + s0, s1 - s0, rails[static_cast<std::size_t>(j) + 1], options.clip_run_samples)) {
+        hit.clipped = true;
+        notes.push_back("response " + std::to_string(j + 1) + " clipped");
+      }
+    }
+    hit.used = !hit.truncated && (!options.reject_bad_hits || (!hit.double_hit && !hit.clipped));
+    for (std::size_t k = 0; k < notes.size(); ++k) hit.note += (k ? "; " : "") + notes[k];
+    if (!hit.used) {
+      reasons << " hit at " << hit.t_s << " s: " << hit.note << ";";
+      result.hits.push_back(hit);
+      continue;
+    }
+
+    // Offsets from the pretrigger (the part of the record before the hit), else the force baseline.
+    const auto seg = [&](const Eigen::VectorXd& x) { return x.segment(static_cast<Eigen::Index>(s0), static_cast<Eigen::Index>(record)); };
+    const double f_offset = pre >= 4 ? seg(force).head(static_cast<Eigen::Index>(pre)).mean() : baseline;
+    // Force window: keep through the pulse plus margin, then a half-cosine taper to zero.
+    const std::size_t width = std::max<std::size_t>(first.end - first.start, 1);
+    std::size_t keep = pre + 2 * width;
+    if (options.force_window_s > 0.0) keep = pre + static_cast<std::size_t>(std::llround(options.force_window_s * fs_hz));
+    keep = std::min(keep, record);
+    const std::size_t taper = std::min(width, record - keep);
+    for (std::size_t i = 0; i < record; ++i) {
+      double w = 0.0;
+      if (i < keep) {
+        w = 1.0;
+      } else if (i < keep + taper) {
+        w = 0.5 * (1.0 + std::cos(std::numbers::pi * static_cast<double>(i - keep + 1) / static_cast<double>(taper + 1)));
+      }
+      fbuf[static_cast<Eigen::Index>(i)] = (force[static_cast<Eigen::Index>(s0 + i)] - f_offset) * w * exp_window[static_cast<Eigen::Index>(i)];
+    }
+    fft.Transform(fbuf.data(), fspec);
+    spectra.gff += fspec.cwiseAbs2();
+    for (Eigen::Index j = 0; j < nresp; ++j) {
+      const Eigen::VectorXd x = resp.col(j);
+      const double x_offset = pre >= 4 ? seg(x).head(static_cast<Eigen::Index>(pre)).mean() : 0.0;
+      xbuf = (seg(x).array() - x_offset) * exp_window.array();
+      fft.Transform(xbuf.data(), xspec);
+      spectra.gxx.col(j) += xspec.cwiseAbs2();
+      spectra.gfx.col(j).array() += fspec.array().conjugate() * xspec.array();
+    }
+    ++used;
+    result.hits.push_back(hit);
+  }
+  if (used == 0) throw InputError("no usable hit in the record:" + reasons.str());
+  spectra.averages = used;
+  const double scale = 2.0 / (fs_hz * static_cast<double>(record) * static_cast<double>(used));
+  spectra.gff *= scale;
+  spectra.gxx *= scale;
+  spectra.gfx *= scale;
+  result.frf = FrfFromSpectra(spectra, estimator, response_quantity);
+  result.frf.exp_window_tau_s = tau_s;
+  return result;
+}
+
+}  // namespace vibid::ident

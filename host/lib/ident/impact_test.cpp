@@ -1,0 +1,175 @@
+// Impact records: hits of a sampled half-sine force on a digital resonator (its FRF in closed
+// form), double hits, clipping, the exponential window's damping correction, and the LADISK
+// hammer record (data/ladisk_impact_hammer/).
+#include "vibid/ident/impact.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <complex>
+#include <numbers>
+#include <string>
+
+#include <gtest/gtest.h>
+
+#include "vibid/common/csv.hpp"
+#include "vibid/common/error.hpp"
+#include "vibid/ident/peaks.hpp"
+
+namespace vibid::ident {
+namespace {
+
+using cd = std::complex<double>;
+
+struct Resonator {
+  double radius, angle;
+  Eigen::VectorXd Filter(const Eigen::VectorXd& x) const {
+    const double a1 = -2 * radius * std::cos(angle), a2 = radius * radius;
+    Eigen::VectorXd y(x.size());
+    for (Eigen::Index n = 0; n < x.size(); ++n) {
+      y[n] = x[n] - (n >= 1 ? a1 * y[n - 1] : 0.0) - (n >= 2 ? a2 * y[n - 2] : 0.0);
+    }
+    return y;
+  }
+  cd Response(double omega) const {
+    const cd z1 = std::exp(cd(0.0, -omega));
+    return 1.0 / (1.0 - 2 * radius * std::cos(angle) * z1 + radius * radius * z1 * z1);
+  }
+  // Continuous-time equivalent of the pole r e^{j theta} at fs = 1: s = ln r + j theta.
+  double Zeta() const { return -std::log(radius) / std::hypot(std::log(radius), angle); }
+};
+
+void AddHit(Eigen::VectorXd& f, Eigen::Index at, double amp, int width) {
+  for (int i = 0; i < width; ++i) f[at + i] += amp * std::sin(std::numbers::pi * (i + 0.5) / width);
+}
+
+TEST(Impact, HitsAverageToTheAnalyticFrf) {
+  const Resonator sys{0.98, 0.3};
+  Eigen::VectorXd f = Eigen::VectorXd::Zero(7000);
+  AddHit(f, 500, 100, 5);
+  AddHit(f, 2700, 80, 5);
+  AddHit(f, 4800, 120, 5);
+  const Eigen::MatrixXd y = sys.Filter(f);
+  const ImpactResult r = EstimateImpactFrf(f, y, 1.0, {}, Estimator::kH1, Quantity::kDisplacement);
+  ASSERT_EQ(r.hits.size(), 3u);
+  for (const Hit& h : r.hits) EXPECT_TRUE(h.used) << h.note;
+  EXPECT_EQ(r.hits[1].trigger_index, 2700u);
+  EXPECT_EQ(r.frf.averages, 3u);
+  // Shortest spacing 2100 samples, rounded down to a 2-3-5 length: 2048 (2^11) < 2025? no: 2100.
+  EXPECT_EQ(r.record_samples, FastFftLength(2100));
+  const Eigen::VectorXd fmag = r.frf.h.col(0).cwiseAbs();
+  double worst = 0.0;
+  for (Eigen::Index i = 1; i < r.frf.freq_hz.size(); ++i) {
+    if (r.frf.freq_hz[i] > 0.25) break;  // well below the half-sine's first spectral zero
+    const cd ref = sys.Response(2 * std::numbers::pi * r.frf.freq_hz[i]);
+    worst = std::max(worst, std::abs(r.frf.h(i, 0) - ref) / std::abs(ref));
+  }
+  EXPECT_LT(worst, 1e-9);
+  (void)fmag;
+}
+
+TEST(Impact, DoubleHitIsRejectedAndClippingFlagged) {
+  const Resonator sys{0.98, 0.3};
+  Eigen::VectorXd f = Eigen::VectorXd::Zero(7000);
+  AddHit(f, 500, 100, 5);
+  AddHit(f, 2700, 80, 5);
+  AddHit(f, 2720, 40, 5);  // rebound 20 samples later
+  AddHit(f, 4800, 300, 5);
+  Eigen::MatrixXd y = sys.Filter(f);
+  // The third hit overloads the response channel: clip at the level the first two never reach.
+  const double rail = 1.2 * y.col(0).head(4700).cwiseAbs().maxCoeff();
+  y = y.cwiseMin(rail).cwiseMax(-rail);
+  // fs = 1 Hz here: rebounds within 50 samples belong to their hit.
+  const ImpactOptions opt{.double_hit_window_s = 50};
+  const ImpactResult r = EstimateImpactFrf(f, y, 1.0, opt, Estimator::kH1, Quantity::kDisplacement);
+  ASSERT_EQ(r.hits.size(), 3u);
+  EXPECT_TRUE(r.hits[0].used);
+  EXPECT_TRUE(r.hits[1].double_hit);
+  EXPECT_FALSE(r.hits[1].used);
+  EXPECT_TRUE(r.hits[2].clipped);
+  EXPECT_FALSE(r.hits[2].used);
+  EXPECT_NE(r.hits[2].note.find("response 1 clipped"), std::string::npos);
+  EXPECT_EQ(r.frf.averages, 1u);
+  // Flag only: every hit is used.
+  const ImpactResult flagged =
+      EstimateImpactFrf(f, y, 1.0, {.double_hit_window_s = 50, .reject_bad_hits = false}, Estimator::kH1, Quantity::kDisplacement);
+  EXPECT_EQ(flagged.frf.averages, 3u);
+  // All hits bad: an input error listing why.
+  Eigen::VectorXd g = Eigen::VectorXd::Zero(3000);
+  AddHit(g, 500, 100, 5);
+  AddHit(g, 520, 90, 5);
+  try {
+    EstimateImpactFrf(g, sys.Filter(g), 1.0, opt, Estimator::kH1, Quantity::kDisplacement);
+    FAIL();
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("double hit"), std::string::npos) << e.what();
+  }
+}
+
+TEST(Impact, ExponentialWindowDampingIsCorrected) {
+  // Lightly damped: the response has not died out by the end of each hit record, so the
+  // exponential window is needed; the corrected half-power damping must match the pole's.
+  const Resonator sys{0.9985, 0.2};
+  Eigen::VectorXd f = Eigen::VectorXd::Zero(26000);
+  AddHit(f, 100, 100, 4);
+  AddHit(f, 8300, 100, 4);
+  AddHit(f, 16700, 100, 4);
+  const Eigen::MatrixXd y = sys.Filter(f);
+  const ImpactResult r =
+      EstimateImpactFrf(f, y, 1.0, {.exp_window_end = 0.02}, Estimator::kH1, Quantity::kDisplacement);
+  EXPECT_GT(r.frf.exp_window_tau_s, 0.0);
+  const PeakResult p = PickPeaks(r.frf.freq_hz, r.frf.h.col(0).cwiseAbs(), {}, r.frf.exp_window_tau_s);
+  ASSERT_EQ(p.peaks.size(), 1u);
+  EXPECT_NEAR(p.peaks[0].zeta, sys.Zeta(), 0.05 * sys.Zeta());
+  EXPECT_GT(p.peaks[0].zeta_measured, 1.25 * sys.Zeta());
+  EXPECT_NEAR(p.peaks[0].omega_rad_s, 0.2, 0.002);
+}
+
+TEST(Impact, BadOptionsAndSignals) {
+  const Eigen::VectorXd f = Eigen::VectorXd::Zero(100);
+  const Eigen::MatrixXd y = Eigen::MatrixXd::Zero(100, 1);
+  EXPECT_THROW(EstimateImpactFrf(f, y, 1.0, {}, Estimator::kH1, Quantity::kDisplacement), InputError);
+  EXPECT_THROW(EstimateImpactFrf(f, y, 1.0, {.trigger_fraction = 2}, Estimator::kH1, Quantity::kDisplacement),
+               InputError);
+  EXPECT_THROW(EstimateImpactFrf(f, Eigen::MatrixXd::Zero(99, 1), 1.0, {}, Estimator::kH1, Quantity::kDisplacement),
+               InputError);
+}
+
+// The LADISK beam record: one hit near 0.7 ms, 50 kHz, accelerometer in g. Default options only.
+// Expected peaks: the README's rough look at a single-hit H1 (about 36, 696, 1898, 3672 Hz).
+TEST(ImpactLadisk, DefaultsFindTheBeamResonances) {
+  const Recording rec = LoadRecording(std::string(VIBID_DATA_DIR) + "/ladisk_impact_hammer/impact_acceleration_force.csv");
+  const Eigen::VectorXd force = rec.Signal(ParseColumnSpec("force_N"));
+  const Eigen::MatrixXd acc = rec.Signal(ParseColumnSpec("acceleration_g:g"));
+  const ImpactResult r = EstimateImpactFrf(force, acc, rec.fs_hz, {}, Estimator::kH1, Quantity::kAcceleration);
+  ASSERT_EQ(r.hits.size(), 1u);
+  EXPECT_TRUE(r.hits[0].used) << r.hits[0].note;
+  EXPECT_NEAR(r.hits[0].t_s, 0.0006, 0.0002);
+  EXPECT_NEAR(r.hits[0].peak_n, 195.6 - 0.25, 1.0);  // peak 195.606 N above a ~0.25 N baseline
+  const PeakResult p = PickPeaks(r.frf.freq_hz, r.frf.h.col(0).cwiseAbs(), {.freq_max_hz = 5000});
+  std::vector<double> found;
+  for (const Peak& pk : p.peaks) found.push_back(pk.freq_hz);
+  for (double expected : {36.0, 696.0, 1898.0, 3672.0}) {
+    const auto near = std::find_if(found.begin(), found.end(),
+                                   [&](double fh) { return std::abs(fh - expected) < 0.03 * expected + 3.0; });
+    EXPECT_NE(near, found.end()) << "no peak near " << expected << " Hz";
+  }
+  // The same with an exponential window: the peaks stay, the damping is corrected back.
+  const ImpactResult rw =
+      EstimateImpactFrf(force, acc, rec.fs_hz, {.exp_window_end = 0.05}, Estimator::kH1, Quantity::kAcceleration);
+  const PeakResult pw = PickPeaks(rw.frf.freq_hz, rw.frf.h.col(0).cwiseAbs(), {.freq_max_hz = 5000}, rw.frf.exp_window_tau_s);
+  for (double expected : {696.0, 1898.0, 3672.0}) {
+    const auto near = std::find_if(pw.peaks.begin(), pw.peaks.end(),
+                                   [&](const Peak& pk) { return std::abs(pk.freq_hz - expected) < 0.03 * expected; });
+    ASSERT_NE(near, pw.peaks.end()) << "exp window: no peak near " << expected << " Hz";
+    const auto plain = std::find_if(p.peaks.begin(), p.peaks.end(),
+                                    [&](const Peak& pk) { return std::abs(pk.freq_hz - expected) < 0.03 * expected; });
+    EXPECT_GT(near->zeta_measured, plain->zeta_measured);
+    EXPECT_NEAR(near->zeta, plain->zeta, 0.5 * plain->zeta) << expected;
+  }
+  for (const Peak& pk : p.peaks) {
+    std::printf("LADISK peak %.1f Hz zeta %.4f lines %.1f\n", pk.freq_hz, pk.zeta, pk.lines_in_band);
+  }
+}
+
+}  // namespace
+}  // namespace vibid::ident

@@ -1,0 +1,73 @@
+// Impact (hammer) testing: hit detection, per-hit records with force and exponential windows,
+// double-hit and clipping checks, and the FRF averaged over the good hits (methods §4).
+#pragma once
+
+#include <cstddef>
+#include <string>
+#include <vector>
+
+#include <Eigen/Core>
+
+#include "vibid/ident/spectral.hpp"
+
+namespace vibid::ident {
+
+struct ImpactOptions {
+  /// A pulse is where |force - baseline| exceeds this fraction of the largest such value.
+  double trigger_fraction = 0.1;
+  /// Samples kept before each trigger (s). Negative: automatic, 1/64 of the hit record, limited
+  /// to what precedes the first hit.
+  double pretrigger_s = -1.0;
+  /// Length of each hit's record (s). 0: automatic, the shortest spacing between hits (or what is
+  /// left after a single hit), rounded down to a fast FFT length.
+  double record_s = 0.0;
+  /// Force window: force kept from the record start to this time after the trigger (s), then a
+  /// half-cosine taper of the same length as the pulse. 0: automatic, twice the pulse width.
+  double force_window_s = 0.0;
+  /// Exponential window on force and responses, starting at the trigger: its value at the record
+  /// end. 0: no exponential window. (tau = T / ln(1 / end_value).)
+  double exp_window_end = 0.0;
+  /// Pulses closer than this to the previous pulse (s) belong to the same hit (a rebound).
+  double double_hit_window_s = 0.05;
+  /// A later pulse in a hit's record counts as a double hit when its peak exceeds this fraction of
+  /// the hit's peak.
+  double double_hit_fraction = 0.05;
+  /// A channel is clipped when at least this many consecutive samples sit on its extreme value.
+  std::size_t clip_run_samples = 4;
+  /// Reject double hits and clipped hits (true) or only flag them (false).
+  bool reject_bad_hits = true;
+
+  void Validate() const;
+};
+
+struct Hit {
+  std::size_t trigger_index = 0;  ///< First sample above the trigger level.
+  std::size_t peak_index = 0;
+  double t_s = 0.0;               ///< Trigger time from the record start.
+  double peak_n = 0.0;            ///< Peak force above the baseline (force units).
+  double pulse_width_s = 0.0;
+  bool double_hit = false;
+  bool clipped = false;
+  bool truncated = false;         ///< The record ends before the hit's window does.
+  bool used = false;
+  std::string note;               ///< Why a hit was rejected or flagged; empty when clean.
+};
+
+struct ImpactResult {
+  Frf frf;
+  std::vector<Hit> hits;
+  std::size_t record_samples = 0;
+  std::size_t pretrigger_samples = 0;
+};
+
+/// Detects the hits and returns the FRF averaged over the accepted ones (rectangular windowing
+/// apart from the force/exponential windows; one segment per hit). InputError when no hit is
+/// usable, with the reasons.
+ImpactResult EstimateImpactFrf(const Eigen::Ref<const Eigen::VectorXd>& force,
+                               const Eigen::Ref<const Eigen::MatrixXd>& responses, double fs_hz,
+                               const ImpactOptions& options, Estimator estimator, Quantity response_quantity);
+
+/// Largest n' <= n whose prime factors are 2, 3 and 5 (kissfft is fastest on those).
+std::size_t FastFftLength(std::size_t n);
+
+}  // namespace vibid::ident

@@ -1,0 +1,108 @@
+// Modal parameters from measured FRFs: mode shapes from peak amplitudes (methods §5, Eq. 10) and a
+// multi-mode least-squares curve fit of the modal FRF model started from the peak picks.
+#pragma once
+
+#include <complex>
+#include <cstddef>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include <Eigen/Core>
+
+#include "vibid/ident/peaks.hpp"
+#include "vibid/ident/solver.hpp"
+#include "vibid/ident/spectral.hpp"
+
+namespace vibid::ident {
+
+/// One identified mode, in the same terms as a model's modal result.
+struct ModeEstimate {
+  double omega_rad_s = 0.0;
+  double freq_hz = 0.0;
+  double zeta = 0.0;
+  /// Mass-normalised shape, one entry per response (phi^T M phi = 1 when the responses are the
+  /// model's coordinates and the force is a unit force).
+  Eigen::VectorXd shape;
+  /// shape[0] / shape[1] for two responses (sign kept); NaN otherwise.
+  double ratio = 0.0;
+};
+
+/// Eq. 10 with the hammer at response `driving_point`: phi_p^2 = 2 zeta omega^2 |H_pp(omega)|,
+/// phi_j phi_p = 2 zeta omega^2 |H_jp(omega)|, the sign of each product from whether H_jp is in
+/// phase or in anti-phase with H_pp at the resonance. `receptance` must be a receptance.
+std::vector<ModeEstimate> ShapesFromPeaks(const Frf& receptance, std::size_t driving_point,
+                                          const std::vector<Peak>& peaks);
+
+struct CurveFitOptions {
+  /// Fitted band (Hz); 0 = automatic: from 0.6x the lowest to 1.4x the highest start frequency,
+  /// within the data.
+  double freq_min_hz = 0.0;
+  double freq_max_hz = 0.0;
+  /// Lower (mass-like, -1/(m omega^2)) and upper (constant flexibility) residual terms for the
+  /// modes outside the band.
+  bool residual_terms = true;
+  /// Weight each line by its coherence (lines where the force had no energy count little).
+  bool coherence_weighting = true;
+  LmOptions solver{.max_iterations = 100, .function_tolerance = 1e-12, .parameter_tolerance = 1e-12};
+
+  void Validate() const;
+};
+
+struct FittedMode {
+  double omega_rad_s = 0.0;
+  double freq_hz = 0.0;
+  double zeta = 0.0;
+  Eigen::VectorXcd residues;  ///< One per response: H_j = sum_i A_ji / (omega_i^2 - omega^2 + 2j zeta_i omega_i omega).
+};
+
+struct CurveFitResult {
+  std::vector<FittedMode> modes;
+  Eigen::VectorXd lower_residual;  ///< Per response, coefficient of -1/omega^2.
+  Eigen::VectorXd upper_residual;  ///< Per response, constant term.
+  double freq_min_hz = 0.0;
+  double freq_max_hz = 0.0;
+  /// RMS of the weighted relative misfit |H_model - H| / |H| over the band.
+  double rms_relative_error = 0.0;
+  SolverSummary summary;
+};
+
+/// Fits all modes at once to a receptance (variable projection: the residues and residual terms
+/// are solved linearly for each pole set, Levenberg–Marquardt moves the poles). InputError for a
+/// non-receptance FRF or an empty start.
+CurveFitResult FitModes(const Frf& receptance, const std::vector<Peak>& start, const CurveFitOptions& options);
+
+/// Mass-normalised shapes from fitted residues (A_jp = phi_j phi_p), hammer at `driving_point`;
+/// the sign of phi_j from the real part of A_jp relative to A_pp.
+std::vector<ModeEstimate> ShapesFromResidues(const CurveFitResult& fit, std::size_t driving_point);
+
+enum class ModeMethod { kPeakPicking, kCurveFit };
+/// "peaks" | "fit"; InputError otherwise.
+ModeMethod ParseModeMethod(std::string_view name);
+
+struct ModeIdentificationOptions {
+  ModeMethod method = ModeMethod::kCurveFit;
+  PeakOptions peaks;
+  /// Column whose magnitude is peak-picked; -1: the sum of all responses' magnitudes.
+  int picking_column = -1;
+  CurveFitOptions fit;
+};
+
+struct ModeIdentification {
+  std::vector<ModeEstimate> modes;
+  std::vector<Peak> peaks;
+  std::vector<std::string> warnings;
+  bool fitted = false;
+  CurveFitResult fit;  ///< Valid when `fitted`.
+};
+
+/// Peak picks (and, by default, the curve fit started from them) on a receptance, shapes with the
+/// hammer at `driving_point`. InputError when no resonance is found. A curve fit that does not
+/// converge is reported in `fit.summary`, and the peak-pick modes are returned with a warning.
+ModeIdentification IdentifyModes(const Frf& receptance, std::size_t driving_point,
+                                 const ModeIdentificationOptions& options);
+
+/// Receptance of a modal model at `omega_rad_s` (for overlays and tests).
+Eigen::VectorXcd ModalReceptance(const CurveFitResult& fit, double omega_rad_s);
+
+}  // namespace vibid::ident

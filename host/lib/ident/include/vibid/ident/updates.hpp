@@ -1,0 +1,86 @@
+// Model updating from test results: effective mass from a 1-DOF hammer test (methods §6) and
+// stiffness from modal test data (methods §7, Eq. 7).
+#pragma once
+
+#include <cstddef>
+#include <string>
+#include <vector>
+
+#include <Eigen/Core>
+
+#include "vibid/ident/modes.hpp"
+#include "vibid/ident/peaks.hpp"
+#include "vibid/ident/solver.hpp"
+#include "vibid/ident/spectral.hpp"
+
+namespace vibid::ident {
+
+struct MassUpdateOptions {
+  /// Known spring stiffness; 0 fits it together with the mass.
+  double k_n_per_m = 0.0;
+  /// Nominal (datasheet) mass for the % change; 0 when unknown.
+  double nominal_kg = 0.0;
+  /// Fitted band: omega within (1 +- band_fraction) omega_peak.
+  double band_fraction = 0.3;
+  bool coherence_weighting = true;
+  PeakOptions peaks;
+  LmOptions solver{.max_iterations = 100, .function_tolerance = 1e-14, .parameter_tolerance = 1e-12};
+
+  void Validate() const;
+};
+
+struct MassUpdateResult {
+  double mass_kg = 0.0;        ///< Effective mass.
+  double k_n_per_m = 0.0;      ///< As given, or fitted.
+  bool stiffness_fitted = false;
+  double zeta = 0.0;           ///< Half-power damping (exponential-window correction applied).
+  double c_ns_per_m = 0.0;     ///< 2 zeta sqrt(k m).
+  double omega_rad_s = 0.0;    ///< Peak-picked resonance.
+  double nominal_kg = 0.0;
+  double change_percent = 0.0; ///< 100 (m - nominal) / nominal; 0 without a nominal.
+  std::size_t lines_fitted = 0;
+  SolverSummary summary;
+  std::vector<std::string> warnings;
+};
+
+/// Fits |H| = 1 / sqrt((k - m omega^2)^2 + (c omega)^2) (Eq. 6) to the receptance magnitude of
+/// `response` over a band around the largest resonance: coherence-weighted log magnitude,
+/// Levenberg–Marquardt, c = 2 zeta sqrt(k m) from the half-power damping.
+MassUpdateResult UpdateMass(const Frf& receptance, std::size_t response, const MassUpdateOptions& options);
+
+/// Stiffness (and damping) matrices from one modal test, chain springs by the source's
+/// convention and by least squares.
+struct StiffnessUpdateResult {
+  Eigen::MatrixXd k_matrix;        ///< K = M Phi Omega^2 Phi^T M.
+  Eigen::MatrixXd c_matrix;        ///< C = M Phi diag(2 zeta omega) Phi^T M.
+  Eigen::VectorXd springs;         ///< k_n = K_nn, k_i = K_ii - k_{i+1} (k2 = K22, k1 = K11 - K22).
+  Eigen::VectorXd springs_lsq;     ///< Chain springs closest to K in the Frobenius norm.
+  Eigen::VectorXd dampers;         ///< Same convention as `springs`, from C.
+  /// 100 (-K_{i-1,i} - k_i) / k_i, largest in magnitude over the chain links (2-DOF: -K12 vs k2).
+  double offdiag_mismatch_percent = 0.0;
+};
+
+/// `shapes` n x n (one column per mode, any scaling; mass-normalised here with `masses_kg`),
+/// `omega_rad_s` and `zeta` one per mode. InputError on size mismatch or a zero shape.
+StiffnessUpdateResult UpdateStiffness(const Eigen::Ref<const Eigen::VectorXd>& masses_kg,
+                                      const Eigen::Ref<const Eigen::VectorXd>& omega_rad_s,
+                                      const Eigen::Ref<const Eigen::VectorXd>& zeta,
+                                      const Eigen::Ref<const Eigen::MatrixXd>& shapes);
+
+/// 2-DOF form: shape i = [ratio_i, 1].
+StiffnessUpdateResult UpdateStiffness2(double m1_kg, double m2_kg, const std::vector<ModeEstimate>& modes);
+
+/// Several tests updated separately, then averaged.
+struct StiffnessAverage {
+  std::vector<StiffnessUpdateResult> tests;
+  Eigen::MatrixXd k_matrix;      ///< Mean.
+  Eigen::VectorXd springs;       ///< Mean.
+  Eigen::VectorXd springs_lsq;   ///< Mean.
+  Eigen::VectorXd dampers;       ///< Mean.
+  Eigen::VectorXd spread;        ///< Sample standard deviation of `springs` (0 for one test).
+  double offdiag_mismatch_percent = 0.0;  ///< Mean.
+};
+
+StiffnessAverage AverageStiffness(const std::vector<StiffnessUpdateResult>& tests);
+
+}  // namespace vibid::ident

@@ -1,0 +1,301 @@
+#include "vibid/ident/modes.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <numbers>
+
+#include <Eigen/QR>
+
+#include "vibid/common/error.hpp"
+
+namespace vibid::ident {
+
+namespace {
+
+double Ratio(const Eigen::VectorXd& shape) {
+  if (shape.size() != 2 || shape[1] == 0.0) return std::numeric_limits<double>::quiet_NaN();
+  return shape[0] / shape[1];
+}
+
+}  // namespace
+
+std::vector<ModeEstimate> ShapesFromPeaks(const Frf& receptance, std::size_t driving_point,
+                                          const std::vector<Peak>& peaks) {
+  Require(receptance.quantity == Quantity::kDisplacement, "mode shapes need a receptance FRF");
+  Require(driving_point < receptance.responses(), "driving-point response out of range");
+  std::vector<ModeEstimate> modes;
+  const auto p = static_cast<Eigen::Index>(driving_point);
+  for (const Peak& peak : peaks) {
+    ModeEstimate m;
+    m.omega_rad_s = peak.omega_rad_s;
+    m.freq_hz = peak.freq_hz;
+    m.zeta = peak.zeta;
+    const double scale = 2.0 * peak.zeta * peak.omega_rad_s * peak.omega_rad_s;
+    const std::complex<double> hpp = InterpolateAt(receptance.freq_hz, receptance.h.col(p), peak.freq_hz);
+    const double phi_p = std::sqrt(scale * std::abs(hpp));
+    m.shape.resize(receptance.h.cols());
+    for (Eigen::Index j = 0; j < receptance.h.cols(); ++j) {
+      if (j == p) {
+        m.shape[j] = phi_p;
+        continue;
+      }
+      const std::complex<double> hjp = InterpolateAt(receptance.freq_hz, receptance.h.col(j), peak.freq_hz);
+      const double sign = std::real(hjp * std::conj(hpp)) >= 0.0 ? 1.0 : -1.0;
+      m.shape[j] = phi_p > 0.0 ? sign * scale * std::abs(hjp) / phi_p : 0.0;
+    }
+    m.ratio = Ratio(m.shape);
+    modes.push_back(m);
+  }
+  return modes;
+}
+
+void CurveFitOptions::Validate() const {
+  Require(freq_min_hz >= 0.0 && freq_max_hz >= 0.0, "curve fit: band limits must be >= 0");
+  Require(freq_max_hz == 0.0 || freq_max_hz > freq_min_hz, "curve fit: band maximum must exceed the minimum");
+  solver.Validate();
+}
+
+namespace {
+
+struct FitProblem {
+  Eigen::VectorXd omega;   // lines in the band, rad/s
+  Eigen::MatrixXcd h;      // lines x responses
+  Eigen::MatrixXd weight;  // lines x responses
+  Eigen::VectorXd omega0;  // start pole frequencies (parameter scale)
+  bool residual_terms = true;
+
+  Eigen::Index modes() const { return omega0.size(); }
+  Eigen::Index columns() const { return 2 * modes() + (residual_terms ? 2 : 0); }
+
+  // p = [ln(omega_i / omega0_i), ln(zeta_i)] per mode.
+  void Poles(const Eigen::VectorXd& p, Eigen::VectorXd& om, Eigen::VectorXd& ze) const {
+    om.resize(modes());
+    ze.resize(modes());
+    for (Eigen::Index i = 0; i < modes(); ++i) {
+      om[i] = omega0[i] * std::exp(p[2 * i]);
+      ze[i] = std::exp(p[2 * i + 1]);
+    }
+  }
+
+  // Real design matrix (rows: real and imaginary parts of every line) for real unknowns
+  // [Re A_1..n, Im A_1..n, L, U].
+  Eigen::MatrixXd Design(const Eigen::VectorXd& om, const Eigen::VectorXd& ze) const {
+    const Eigen::Index lines = omega.size();
+    Eigen::MatrixXd a = Eigen::MatrixXd::Zero(2 * lines, columns());
+    for (Eigen::Index k = 0; k < lines; ++k) {
+      const double w = omega[k];
+      for (Eigen::Index i = 0; i < modes(); ++i) {
+        const std::complex<double> b = 1.0 / std::complex<double>(om[i] * om[i] - w * w, 2.0 * ze[i] * om[i] * w);
+        // A b with A = a + j c: real part a Re b - c Im b, imaginary part a Im b + c Re b.
+        a(2 * k, i) = b.real();
+        a(2 * k + 1, i) = b.imag();
+        a(2 * k, modes() + i) = -b.imag();
+        a(2 * k + 1, modes() + i) = b.real();
+      }
+      if (residual_terms) {
+        a(2 * k, 2 * modes()) = -1.0 / (w * w);
+        a(2 * k, 2 * modes() + 1) = 1.0;
+      }
+    }
+    return a;
+  }
+
+  // Weighted linear solve per response; returns the stacked weighted residuals.
+  bool Solve(const Eigen::VectorXd& p, Eigen::VectorXd& r, Eigen::MatrixXd* coefficients) const {
+    Eigen::VectorXd om;
+    Eigen::VectorXd ze;
+    Poles(p, om, ze);
+    for (Eigen::Index i = 0; i < modes(); ++i) {
+      if (!(ze[i] < 1.0) || !std::isfinite(om[i])) return false;
+    }
+    const Eigen::MatrixXd design = Design(om, ze);
+    const Eigen::Index lines = omega.size();
+    r.resize(2 * lines * h.cols());
+    if (coefficients) coefficients->resize(columns(), h.cols());
+    for (Eigen::Index j = 0; j < h.cols(); ++j) {
+      Eigen::VectorXd rw(2 * lines);
+      for (Eigen::Index k = 0; k < lines; ++k) {
+        rw[2 * k] = weight(k, j);
+        rw[2 * k + 1] = weight(k, j);
+      }
+      Eigen::VectorXd y(2 * lines);
+      for (Eigen::Index k = 0; k < lines; ++k) {
+        y[2 * k] = h(k, j).real();
+        y[2 * k + 1] = h(k, j).imag();
+      }
+      const Eigen::MatrixXd aw = rw.asDiagonal() * design;
+      const Eigen::VectorXd yw = rw.cwiseProduct(y);
+      const Eigen::VectorXd x = aw.colPivHouseholderQr().solve(yw);
+      r.segment(2 * lines * j, 2 * lines) = aw * x - yw;
+      if (coefficients) coefficients->col(j) = x;
+    }
+    return true;
+  }
+};
+
+}  // namespace
+
+CurveFitResult FitModes(const Frf& receptance, const std::vector<Peak>& start, const CurveFitOptions& options) {
+  options.Validate();
+  Require(receptance.quantity == Quantity::kDisplacement, "curve fit needs a receptance FRF");
+  Require(!start.empty(), "curve fit needs at least one starting mode (no peaks were found)");
+  double lo = options.freq_min_hz;
+  double hi = options.freq_max_hz;
+  double fmin = start.front().freq_hz;
+  double fmax = start.front().freq_hz;
+  for (const Peak& p : start) {
+    fmin = std::min(fmin, p.freq_hz);
+    fmax = std::max(fmax, p.freq_hz);
+  }
+  if (lo == 0.0) lo = 0.6 * fmin;
+  if (hi == 0.0) hi = 1.4 * fmax;
+  FitProblem prob;
+  prob.residual_terms = options.residual_terms;
+  std::vector<Eigen::Index> rows;
+  for (Eigen::Index k = 0; k < receptance.freq_hz.size(); ++k) {
+    const double f = receptance.freq_hz[k];
+    if (f > 0.0 && f >= lo && f <= hi) rows.push_back(k);
+  }
+  const auto lines = static_cast<Eigen::Index>(rows.size());
+  const Eigen::Index nresp = receptance.h.cols();
+  const auto nmodes = static_cast<Eigen::Index>(start.size());
+  Require(lines * 2 > 2 * nmodes + 2 + 2 * nmodes, "curve fit: too few frequency lines in the band");
+  prob.omega.resize(lines);
+  prob.h.resize(lines, nresp);
+  prob.weight.resize(lines, nresp);
+  for (Eigen::Index k = 0; k < lines; ++k) {
+    const Eigen::Index src = rows[static_cast<std::size_t>(k)];
+    prob.omega[k] = 2.0 * std::numbers::pi * receptance.freq_hz[src];
+    for (Eigen::Index j = 0; j < nresp; ++j) {
+      const std::complex<double> v = receptance.h(src, j);
+      prob.h(k, j) = v;
+      const double coh = options.coherence_weighting ? receptance.coherence(src, j) : 1.0;
+      // Relative misfit: resonance and the lines between modes count alike.
+      prob.weight(k, j) = std::abs(v) > 0.0 ? std::sqrt(std::max(coh, 0.0)) / std::abs(v) : 0.0;
+    }
+  }
+  prob.omega0.resize(nmodes);
+  Eigen::VectorXd params(2 * nmodes);
+  for (Eigen::Index i = 0; i < nmodes; ++i) {
+    const Peak& p = start[static_cast<std::size_t>(i)];
+    prob.omega0[i] = p.omega_rad_s;
+    params[2 * i] = 0.0;
+    params[2 * i + 1] = std::log(std::clamp(p.zeta, 1e-5, 0.5));
+  }
+  const ResidualFunction f = [&prob](const Eigen::VectorXd& p, Eigen::VectorXd& r) { return prob.Solve(p, r, nullptr); };
+  CurveFitResult result;
+  result.freq_min_hz = lo;
+  result.freq_max_hz = hi;
+  result.summary = LevenbergMarquardt(f, params, options.solver);
+
+  Eigen::VectorXd r;
+  Eigen::MatrixXd coef;
+  Eigen::VectorXd om;
+  Eigen::VectorXd ze;
+  prob.Poles(params, om, ze);
+  if (!prob.Solve(params, r, &coef)) {
+    result.summary.termination = Termination::kNumericalFailure;
+    result.summary.message = "fitted poles left the physical domain";
+    return result;
+  }
+  double weight_sum = 0.0;
+  for (Eigen::Index k = 0; k < prob.weight.size(); ++k) weight_sum += 2.0 * prob.weight(k) * prob.weight(k) * std::norm(prob.h(k));
+  result.rms_relative_error = weight_sum > 0.0 ? std::sqrt(r.squaredNorm() / weight_sum) : 0.0;
+  for (Eigen::Index i = 0; i < nmodes; ++i) {
+    FittedMode m;
+    m.omega_rad_s = om[i];
+    m.freq_hz = om[i] / (2.0 * std::numbers::pi);
+    m.zeta = CorrectExponentialWindowDamping(ze[i], om[i], receptance.exp_window_tau_s);
+    m.residues.resize(nresp);
+    for (Eigen::Index j = 0; j < nresp; ++j) m.residues[j] = std::complex<double>(coef(i, j), coef(nmodes + i, j));
+    result.modes.push_back(m);
+  }
+  std::sort(result.modes.begin(), result.modes.end(),
+            [](const FittedMode& a, const FittedMode& b) { return a.omega_rad_s < b.omega_rad_s; });
+  result.lower_residual = Eigen::VectorXd::Zero(nresp);
+  result.upper_residual = Eigen::VectorXd::Zero(nresp);
+  if (options.residual_terms) {
+    result.lower_residual = coef.row(2 * nmodes).transpose();
+    result.upper_residual = coef.row(2 * nmodes + 1).transpose();
+  }
+  return result;
+}
+
+std::vector<ModeEstimate> ShapesFromResidues(const CurveFitResult& fit, std::size_t driving_point) {
+  std::vector<ModeEstimate> modes;
+  for (const FittedMode& f : fit.modes) {
+    Require(driving_point < static_cast<std::size_t>(f.residues.size()), "driving-point response out of range");
+    const auto p = static_cast<Eigen::Index>(driving_point);
+    const std::complex<double> app = f.residues[p];
+    ModeEstimate m;
+    m.omega_rad_s = f.omega_rad_s;
+    m.freq_hz = f.freq_hz;
+    m.zeta = f.zeta;
+    const double phi_p = std::sqrt(std::abs(app));
+    m.shape.resize(f.residues.size());
+    for (Eigen::Index j = 0; j < f.residues.size(); ++j) {
+      // Projection of A_jp on the direction of A_pp: real for real modes, robust for slightly
+      // complex ones.
+      const double proj = std::abs(app) > 0.0 ? std::real(f.residues[j] * std::conj(app)) / std::abs(app) : 0.0;
+      m.shape[j] = phi_p > 0.0 ? proj / phi_p : 0.0;
+    }
+    m.ratio = Ratio(m.shape);
+    modes.push_back(m);
+  }
+  return modes;
+}
+
+Eigen::VectorXcd ModalReceptance(const CurveFitResult& fit, double omega_rad_s) {
+  const Eigen::Index nresp = fit.lower_residual.size();
+  Eigen::VectorXcd h = Eigen::VectorXcd::Zero(nresp);
+  for (const FittedMode& m : fit.modes) {
+    const std::complex<double> den(m.omega_rad_s * m.omega_rad_s - omega_rad_s * omega_rad_s,
+                                   2.0 * m.zeta * m.omega_rad_s * omega_rad_s);
+    h += m.residues / den;
+  }
+  for (Eigen::Index j = 0; j < nresp; ++j) {
+    h[j] += -fit.lower_residual[j] / (omega_rad_s * omega_rad_s) + fit.upper_residual[j];
+  }
+  return h;
+}
+
+ModeMethod ParseModeMethod(std::string_view name) {
+  if (name == "peaks" || name == "peak-picking") return ModeMethod::kPeakPicking;
+  if (name == "fit" || name == "curve-fit") return ModeMethod::kCurveFit;
+  throw InputError("unknown mode method '" + std::string(name) + "' (known: peaks, fit)");
+}
+
+ModeIdentification IdentifyModes(const Frf& receptance, std::size_t driving_point,
+                                 const ModeIdentificationOptions& options) {
+  Require(receptance.quantity == Quantity::kDisplacement, "mode identification needs a receptance FRF");
+  Require(driving_point < receptance.responses(), "driving-point response out of range");
+  ModeIdentification out;
+  const Eigen::VectorXd mag = PickingMagnitude(receptance, options.picking_column);
+  const PeakResult picked = PickPeaks(receptance.freq_hz, mag, options.peaks, receptance.exp_window_tau_s);
+  Require(!picked.peaks.empty(), "no resonance found in the FRF (check the band and the threshold)");
+  out.peaks = picked.peaks;
+  out.warnings = picked.warnings;
+  out.modes = ShapesFromPeaks(receptance, driving_point, picked.peaks);
+  constexpr std::size_t kMaxFittedModes = 12;
+  if (options.method == ModeMethod::kCurveFit && picked.peaks.size() > kMaxFittedModes) {
+    out.warnings.push_back(std::to_string(picked.peaks.size()) +
+                           " peaks are too many for one curve fit; modes are the peak-picking estimates (narrow the band, "
+                           "raise the threshold or limit the number of modes)");
+  } else if (options.method == ModeMethod::kCurveFit) {
+    out.fit = FitModes(receptance, picked.peaks, options.fit);
+    out.fitted = true;
+    if (out.fit.summary.Converged()) {
+      out.modes = ShapesFromResidues(out.fit, driving_point);
+      // The fit uses every line of the band, not the half-power points: resolution warnings of
+      // the peak picks no longer apply.
+      out.warnings.clear();
+    } else {
+      out.warnings.push_back("curve fit did not converge (" + out.fit.summary.message +
+                             "); modes are the peak-picking estimates");
+    }
+  }
+  return out;
+}
+
+}  // namespace vibid::ident

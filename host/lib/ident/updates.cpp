@@ -1,0 +1,204 @@
+#include "vibid/ident/updates.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <numbers>
+#include <sstream>
+
+#include <Eigen/QR>
+
+#include "vibid/common/error.hpp"
+
+namespace vibid::ident {
+
+void MassUpdateOptions::Validate() const {
+  Require(k_n_per_m >= 0.0 && std::isfinite(k_n_per_m), "mass update: stiffness must be >= 0 (0: fit it)");
+  Require(nominal_kg >= 0.0 && std::isfinite(nominal_kg), "mass update: nominal mass must be >= 0");
+  Require(band_fraction > 0.0 && band_fraction < 1.0, "mass update: band fraction must be in (0, 1)");
+  peaks.Validate();
+  solver.Validate();
+}
+
+MassUpdateResult UpdateMass(const Frf& receptance, std::size_t response, const MassUpdateOptions& options) {
+  options.Validate();
+  Require(receptance.quantity == Quantity::kDisplacement, "mass update needs a receptance FRF");
+  Require(response < receptance.responses(), "mass update: response column out of range");
+  const auto col = static_cast<Eigen::Index>(response);
+  const Eigen::VectorXd mag = receptance.h.col(col).cwiseAbs();
+  const PeakResult picked =
+      PickPeaks(receptance.freq_hz, PickingMagnitude(receptance, static_cast<int>(col)), options.peaks, receptance.exp_window_tau_s);
+  Require(!picked.peaks.empty(), "mass update: no resonance found in the FRF");
+  const Peak peak = *std::max_element(picked.peaks.begin(), picked.peaks.end(),
+                                      [](const Peak& a, const Peak& b) { return a.magnitude < b.magnitude; });
+  MassUpdateResult res;
+  // Only the resonance used matters; other peaks (noise at low frequency) are not reported.
+  for (const std::string& w : picked.warnings) {
+    std::ostringstream at;
+    at << "peak at " << peak.freq_hz << " Hz";
+    if (w.rfind(at.str(), 0) == 0) res.warnings.push_back(w);
+  }
+  res.omega_rad_s = peak.omega_rad_s;
+  res.zeta = peak.zeta;
+  res.nominal_kg = options.nominal_kg;
+  Require(peak.zeta > 0.0, "mass update: the half-power damping is not positive");
+
+  std::vector<Eigen::Index> rows;
+  for (Eigen::Index i = 0; i < receptance.freq_hz.size(); ++i) {
+    const double w = 2.0 * std::numbers::pi * receptance.freq_hz[i];
+    if (w > 0.0 && std::abs(w - peak.omega_rad_s) <= options.band_fraction * peak.omega_rad_s && mag[i] > 0.0) {
+      rows.push_back(i);
+    }
+  }
+  Require(rows.size() >= 5, "mass update: fewer than 5 frequency lines in the band around the resonance");
+  res.lines_fitted = rows.size();
+  const auto nrows = static_cast<Eigen::Index>(rows.size());
+  Eigen::VectorXd omega(nrows);
+  Eigen::VectorXd log_mag(nrows);
+  Eigen::VectorXd weight(nrows);
+  for (Eigen::Index r = 0; r < nrows; ++r) {
+    const Eigen::Index i = rows[static_cast<std::size_t>(r)];
+    omega[r] = 2.0 * std::numbers::pi * receptance.freq_hz[i];
+    log_mag[r] = std::log(mag[i]);
+    weight[r] = options.coherence_weighting ? std::sqrt(std::max(receptance.coherence(i, col), 0.0)) : 1.0;
+  }
+  // Start: k given (or from the peak height 1/(2 zeta k)), m = k / omega^2.
+  res.stiffness_fitted = options.k_n_per_m == 0.0;
+  // Receptance peak height 1/(2 zeta k) gives the starting stiffness when it is not known.
+  const double peak_receptance = std::abs(InterpolateAt(receptance.freq_hz, receptance.h.col(col), peak.freq_hz));
+  const double k0 = res.stiffness_fitted ? 1.0 / (2.0 * peak.zeta * peak_receptance) : options.k_n_per_m;
+  const double m0 = k0 / (peak.omega_rad_s * peak.omega_rad_s);
+  const double zeta = peak.zeta;
+  const auto model = [&](double m, double k, Eigen::VectorXd& r) {
+    const double c = 2.0 * zeta * std::sqrt(k * m);
+    r.resize(nrows);
+    for (Eigen::Index i = 0; i < nrows; ++i) {
+      const double re = k - m * omega[i] * omega[i];
+      const double im = c * omega[i];
+      r[i] = weight[i] * (-0.5 * std::log(re * re + im * im) - log_mag[i]);
+    }
+  };
+  Eigen::VectorXd p = Eigen::VectorXd::Zero(res.stiffness_fitted ? 2 : 1);
+  const ResidualFunction f = [&](const Eigen::VectorXd& q, Eigen::VectorXd& r) {
+    const double m = m0 * std::exp(q[0]);
+    const double k = res.stiffness_fitted ? k0 * std::exp(q[1]) : k0;
+    model(m, k, r);
+    return true;
+  };
+  res.summary = LevenbergMarquardt(f, p, options.solver);
+  res.mass_kg = m0 * std::exp(p[0]);
+  res.k_n_per_m = res.stiffness_fitted ? k0 * std::exp(p[1]) : k0;
+  res.c_ns_per_m = 2.0 * zeta * std::sqrt(res.k_n_per_m * res.mass_kg);
+  if (options.nominal_kg > 0.0) res.change_percent = 100.0 * (res.mass_kg - options.nominal_kg) / options.nominal_kg;
+  return res;
+}
+
+namespace {
+
+// Chain contributions: spring 0 ties DOF 0 to ground, spring i ties DOF i-1 to DOF i.
+Eigen::MatrixXd ChainBasis(Eigen::Index n) {
+  Eigen::MatrixXd basis = Eigen::MatrixXd::Zero(n * n, n);
+  for (Eigen::Index i = 0; i < n; ++i) {
+    Eigen::MatrixXd e = Eigen::MatrixXd::Zero(n, n);
+    e(i, i) = 1.0;
+    if (i > 0) {
+      e(i - 1, i - 1) = 1.0;
+      e(i - 1, i) = -1.0;
+      e(i, i - 1) = -1.0;
+    }
+    basis.col(i) = Eigen::Map<const Eigen::VectorXd>(e.data(), n * n);
+  }
+  return basis;
+}
+
+Eigen::VectorXd DiagonalChain(const Eigen::MatrixXd& k) {
+  const Eigen::Index n = k.rows();
+  Eigen::VectorXd s(n);
+  s[n - 1] = k(n - 1, n - 1);
+  for (Eigen::Index i = n - 2; i >= 0; --i) s[i] = k(i, i) - s[i + 1];
+  return s;
+}
+
+}  // namespace
+
+StiffnessUpdateResult UpdateStiffness(const Eigen::Ref<const Eigen::VectorXd>& masses_kg,
+                                      const Eigen::Ref<const Eigen::VectorXd>& omega_rad_s,
+                                      const Eigen::Ref<const Eigen::VectorXd>& zeta,
+                                      const Eigen::Ref<const Eigen::MatrixXd>& shapes) {
+  const Eigen::Index n = masses_kg.size();
+  Require(n >= 1, "stiffness update: no masses");
+  Require((masses_kg.array() > 0.0).all() && masses_kg.allFinite(), "stiffness update: masses must be > 0");
+  Require(shapes.rows() == n && shapes.cols() == n && omega_rad_s.size() == n && zeta.size() == n,
+          "stiffness update: need as many modes (" + std::to_string(omega_rad_s.size()) + ") as masses (" +
+              std::to_string(n) + ")");
+  Require((omega_rad_s.array() > 0.0).all() && omega_rad_s.allFinite(), "stiffness update: frequencies must be > 0");
+  const Eigen::MatrixXd m = masses_kg.asDiagonal();
+  Eigen::MatrixXd phi = shapes;
+  for (Eigen::Index i = 0; i < n; ++i) {
+    const double norm2 = phi.col(i).dot(m * phi.col(i));
+    Require(norm2 > 0.0 && std::isfinite(norm2), "stiffness update: mode " + std::to_string(i + 1) + " has a zero shape");
+    phi.col(i) /= std::sqrt(norm2);
+  }
+  StiffnessUpdateResult res;
+  const Eigen::MatrixXd mphi = m * phi;
+  res.k_matrix = mphi * omega_rad_s.array().square().matrix().asDiagonal() * mphi.transpose();
+  res.c_matrix = mphi * (2.0 * zeta.array() * omega_rad_s.array()).matrix().asDiagonal() * mphi.transpose();
+  res.springs = DiagonalChain(res.k_matrix);
+  res.dampers = DiagonalChain(res.c_matrix);
+  const Eigen::MatrixXd basis = ChainBasis(n);
+  res.springs_lsq = basis.colPivHouseholderQr().solve(Eigen::Map<const Eigen::VectorXd>(res.k_matrix.data(), n * n));
+  double worst = 0.0;
+  for (Eigen::Index i = 1; i < n; ++i) {
+    const double mismatch = 100.0 * (-res.k_matrix(i - 1, i) - res.springs[i]) / res.springs[i];
+    if (std::abs(mismatch) > std::abs(worst)) worst = mismatch;
+  }
+  res.offdiag_mismatch_percent = worst;
+  return res;
+}
+
+StiffnessUpdateResult UpdateStiffness2(double m1_kg, double m2_kg, const std::vector<ModeEstimate>& modes) {
+  Require(modes.size() == 2, "stiffness update of a 2-DOF chain needs exactly 2 modes, got " + std::to_string(modes.size()));
+  Eigen::Vector2d masses(m1_kg, m2_kg);
+  Eigen::Vector2d omega(modes[0].omega_rad_s, modes[1].omega_rad_s);
+  Eigen::Vector2d zeta(modes[0].zeta, modes[1].zeta);
+  Eigen::Matrix2d shapes;
+  for (int i = 0; i < 2; ++i) {
+    const ModeEstimate& m = modes[static_cast<std::size_t>(i)];
+    Require(std::isfinite(m.ratio), "stiffness update: mode " + std::to_string(i + 1) + " has no shape ratio a1/a2");
+    shapes(0, i) = m.ratio;
+    shapes(1, i) = 1.0;
+  }
+  return UpdateStiffness(masses, omega, zeta, shapes);
+}
+
+StiffnessAverage AverageStiffness(const std::vector<StiffnessUpdateResult>& tests) {
+  Require(!tests.empty(), "stiffness update: no tests to average");
+  StiffnessAverage avg;
+  avg.tests = tests;
+  const Eigen::Index n = tests.front().springs.size();
+  avg.k_matrix = Eigen::MatrixXd::Zero(n, n);
+  avg.springs = Eigen::VectorXd::Zero(n);
+  avg.springs_lsq = Eigen::VectorXd::Zero(n);
+  avg.dampers = Eigen::VectorXd::Zero(n);
+  for (const auto& t : tests) {
+    Require(t.springs.size() == n, "stiffness update: tests differ in size");
+    avg.k_matrix += t.k_matrix;
+    avg.springs += t.springs;
+    avg.springs_lsq += t.springs_lsq;
+    avg.dampers += t.dampers;
+    avg.offdiag_mismatch_percent += t.offdiag_mismatch_percent;
+  }
+  const auto count = static_cast<double>(tests.size());
+  avg.k_matrix /= count;
+  avg.springs /= count;
+  avg.springs_lsq /= count;
+  avg.dampers /= count;
+  avg.offdiag_mismatch_percent /= count;
+  avg.spread = Eigen::VectorXd::Zero(n);
+  if (tests.size() > 1) {
+    for (const auto& t : tests) avg.spread.array() += (t.springs - avg.springs).array().square();
+    avg.spread = (avg.spread / (count - 1.0)).cwiseSqrt();
+  }
+  return avg;
+}
+
+}  // namespace vibid::ident

@@ -1,0 +1,120 @@
+// Mass update (Eq. 6) and stiffness update (Eq. 7) on closed-form FRFs and modes.
+#include "vibid/ident/updates.hpp"
+
+#include <cmath>
+#include <complex>
+#include <numbers>
+
+#include <gtest/gtest.h>
+
+#include "test_support.hpp"
+#include "vibid/common/error.hpp"
+
+namespace vibid::ident {
+namespace {
+
+Frf SdofReceptance(double m, double k, double c, double df_hz, Eigen::Index lines) {
+  Frf frf;
+  frf.quantity = Quantity::kDisplacement;
+  frf.freq_hz = Eigen::VectorXd::LinSpaced(lines, df_hz, df_hz * static_cast<double>(lines));
+  frf.h.resize(lines, 1);
+  frf.coherence = Eigen::MatrixXd::Ones(lines, 1);
+  for (Eigen::Index i = 0; i < lines; ++i) {
+    const double w = 2 * std::numbers::pi * frf.freq_hz[i];
+    frf.h(i, 0) = 1.0 / std::complex<double>(k - m * w * w, c * w);
+  }
+  return frf;
+}
+
+TEST(MassUpdate, RecoversTheMassWithKnownStiffness) {
+  // m = 1.37 kg on k = 2500 N/m, zeta 0.02.
+  const double m = 1.37, k = 2500.0, c = 2 * 0.02 * std::sqrt(k * m);
+  const MassUpdateResult r = UpdateMass(SdofReceptance(m, k, c, 0.01, 3000), 0, {.k_n_per_m = k, .nominal_kg = 1.5});
+  ASSERT_TRUE(r.summary.Converged()) << r.summary.message;
+  EXPECT_NEAR(r.mass_kg, m, 1e-4 * m);
+  EXPECT_NEAR(r.zeta, 0.02, 0.005 * 0.02);
+  EXPECT_NEAR(r.c_ns_per_m, c, 0.01 * c);
+  EXPECT_NEAR(r.change_percent, 100 * (r.mass_kg - 1.5) / 1.5, 1e-12);
+  EXPECT_FALSE(r.stiffness_fitted);
+}
+
+TEST(MassUpdate, FitsStiffnessWhenNotGiven) {
+  const double m = 0.8, k = 1200.0, c = 2 * 0.01 * std::sqrt(k * m);
+  const MassUpdateResult r = UpdateMass(SdofReceptance(m, k, c, 0.005, 4000), 0, {});
+  ASSERT_TRUE(r.summary.Converged()) << r.summary.message;
+  EXPECT_TRUE(r.stiffness_fitted);
+  EXPECT_NEAR(r.mass_kg, m, 0.005 * m);
+  EXPECT_NEAR(r.k_n_per_m, k, 0.005 * k);
+}
+
+TEST(MassUpdate, BadInputs) {
+  const Frf frf = SdofReceptance(1, 1000, 1, 0.01, 2000);
+  EXPECT_THROW(UpdateMass(frf, 1, {}), InputError);
+  EXPECT_THROW(UpdateMass(frf, 0, {.band_fraction = 1.5}), InputError);
+  Frf acc = frf;
+  acc.quantity = Quantity::kAcceleration;
+  EXPECT_THROW(UpdateMass(acc, 0, {}), InputError);
+}
+
+ModeEstimate Mode(double omega, double zeta, double ratio) {
+  ModeEstimate m;
+  m.omega_rad_s = omega;
+  m.zeta = zeta;
+  m.ratio = ratio;
+  return m;
+}
+
+TEST(StiffnessUpdate, ExactModesGiveTheChainBack) {
+  const double m1 = 1.1, m2 = 0.7, k1 = 2600, k2 = 1400, beta = 1e-3;
+  const auto t = testing::ChainModesOf(m1, m2, k1, k2);
+  const StiffnessUpdateResult r = UpdateStiffness2(
+      m1, m2, {Mode(t.omega[0], beta * t.omega[0] / 2, t.ratio[0]), Mode(t.omega[1], beta * t.omega[1] / 2, t.ratio[1])});
+  EXPECT_NEAR(r.springs[0], k1, 1e-9 * k1);
+  EXPECT_NEAR(r.springs[1], k2, 1e-9 * k2);
+  EXPECT_NEAR(r.springs_lsq[0], k1, 1e-9 * k1);
+  EXPECT_NEAR(r.springs_lsq[1], k2, 1e-9 * k2);
+  EXPECT_NEAR(r.k_matrix(0, 1), -k2, 1e-9 * k2);
+  EXPECT_NEAR(r.offdiag_mismatch_percent, 0.0, 1e-9);
+  // C = beta K for these modes.
+  EXPECT_NEAR(r.dampers[0], beta * k1, 1e-9 * k1);
+  EXPECT_NEAR(r.dampers[1], beta * k2, 1e-9 * k2);
+}
+
+TEST(StiffnessUpdate, WrongRatioShowsAsOffDiagonalMismatch) {
+  const double m1 = 1.0, m2 = 1.0, k1 = 2000, k2 = 1000;
+  const auto t = testing::ChainModesOf(m1, m2, k1, k2);
+  const StiffnessUpdateResult r =
+      UpdateStiffness2(m1, m2, {Mode(t.omega[0], 0.01, 1.2 * t.ratio[0]), Mode(t.omega[1], 0.01, t.ratio[1])});
+  // Reference: numpy, K = M P diag(w^2) P^T M with the first ratio scaled by 1.2 -> 0.4013 %.
+  EXPECT_NEAR(r.offdiag_mismatch_percent, 0.40128486, 1e-6);
+  // Closed form of the off-diagonal mismatch definition.
+  EXPECT_NEAR(r.offdiag_mismatch_percent, 100 * (-r.k_matrix(0, 1) - r.k_matrix(1, 1)) / r.k_matrix(1, 1), 1e-9);
+}
+
+TEST(StiffnessUpdate, AverageAndSpread) {
+  StiffnessUpdateResult a, b;
+  a.k_matrix = Eigen::Matrix2d::Identity();
+  b.k_matrix = 3 * Eigen::Matrix2d::Identity();
+  a.springs = Eigen::Vector2d(100, 50);
+  b.springs = Eigen::Vector2d(110, 54);
+  a.springs_lsq = a.springs;
+  b.springs_lsq = b.springs;
+  a.dampers = b.dampers = Eigen::Vector2d(1, 1);
+  const StiffnessAverage avg = AverageStiffness({a, b});
+  EXPECT_DOUBLE_EQ(avg.springs[0], 105);
+  EXPECT_DOUBLE_EQ(avg.springs[1], 52);
+  // Sample standard deviation of two values: |a - b| / sqrt(2).
+  EXPECT_NEAR(avg.spread[0], 10 / std::sqrt(2.0), 1e-12);
+  EXPECT_NEAR(avg.spread[1], 4 / std::sqrt(2.0), 1e-12);
+  EXPECT_DOUBLE_EQ(avg.k_matrix(0, 0), 2);
+  EXPECT_THROW(AverageStiffness({}), InputError);
+}
+
+TEST(StiffnessUpdate, BadInputs) {
+  EXPECT_THROW(UpdateStiffness2(1, 1, {Mode(10, 0.01, 1)}), InputError);
+  EXPECT_THROW(UpdateStiffness2(-1, 1, {Mode(10, 0.01, 1), Mode(20, 0.01, -1)}), InputError);
+  EXPECT_THROW(UpdateStiffness2(1, 1, {Mode(10, 0.01, std::nan("")), Mode(20, 0.01, -1)}), InputError);
+}
+
+}  // namespace
+}  // namespace vibid::ident

@@ -1,0 +1,190 @@
+#!/usr/bin/env python3
+"""Golden byte vectors for the wire protocol (shared/wire/testdata/wire_vectors.txt).
+
+An independent encoder: every report and record is packed here with struct.pack from the
+layouts documented in shared/include/vibid/shared/wire/*.hpp, and every CRC comes from
+zlib.crc32, not from the C++ code under test. The C++ tests encode the same values and compare
+bytes, and decode these bytes and compare fields with values written out in the test.
+
+Run: /usr/bin/python3 scripts/golden/wire_vectors.py  (rewrites the vector file)
+"""
+import pathlib
+import struct
+import zlib
+
+ROOT = pathlib.Path(__file__).resolve().parents[2]
+OUT = ROOT / "shared/wire/testdata/wire_vectors.txt"
+SEEDS = ROOT / "firmware/core/fuzz/seeds"
+
+PROTOCOL_MAJOR = 1
+PROTOCOL_MINOR = 0
+CAL_RECORD_VERSION = 1
+MAGIC = b"VB"
+FLAG_RESPONSE = 0x01
+FLAG_STREAM_END = 0x02
+
+
+def report(command, status=0, flags=0, token=0, sequence=0, payload=b""):
+    assert len(payload) <= 52
+    header = MAGIC + struct.pack("<BBBBHHBB", PROTOCOL_MAJOR, command, status, flags, token,
+                                 sequence, len(payload), 0)
+    assert len(header) == 12
+    return (header + payload).ljust(64, b"\0")
+
+
+def f32(v):
+    return struct.pack("<f", v)
+
+
+def dob_description():
+    """The two-input test filter of shared/wire/test/test_filter.hpp, packed from the layout in
+    shared/include/vibid/shared/fixed/filter_description.hpp."""
+    desc = b"VDOB" + struct.pack("<HBBI", 1, 2, 1, 5000)
+    desc += bytes([1, 4, 0, 0])                  # input kinds: force, acceleration, unused
+    desc += bytes([1, 1, 0, 0])                  # input masses
+    desc += f32(100.0) + f32(490.0) + bytes(4)   # input full scales (N, m/s^2)
+    desc += f32(200.0)                           # output full scale (N)
+    one_q30 = 1 << 30
+    for gain in (-(1 << 30), 1 << 30):
+        section = struct.pack("<iiiiiBBH", one_q30 // 4, one_q30 // 8, 0, -3 * (one_q30 // 4),
+                               one_q30 // 8, 1, 0, 0)
+        desc += struct.pack("<BBHi", 1, 1, 0, gain) + section + bytes(7 * 24)
+    desc += bytes(200)
+    assert len(desc) == 636
+    return desc + struct.pack("<I", zlib.crc32(desc))
+
+
+def calibration_record(with_dob=False):
+    body = b"VCAL" + struct.pack("<HHBBH", CAL_RECORD_VERSION, 840, 2, 1 if with_dob else 0, 0)
+    body += struct.pack("<q", 1700000000)                   # created_unix_s
+    body += struct.pack("<BBH", 0, 1, 7)                    # host 0.1.7
+    body += b"rig-A two mass".ljust(24, b"\0")
+    body += b"".join(f32(v) for v in (0.57, 0.0, 0.0, 0.56))        # mass_kg
+    body += b"".join(f32(v) for v in (1.25, -0.5, -0.5, 0.75))      # damping_ns_per_m
+    body += b"".join(f32(v) for v in (30.0, -15.0, -15.0, 15.0))    # stiffness_n_per_m
+    channels = [
+        # offset, gain, shift, unit, dof, full_scale
+        (2048, 1 << 20, 0, 1, 0, 100.0),      # force1: N
+        (2047, 1 << 20, 0, 1, 1, 100.0 if with_dob else 50.0),  # force2: N
+        (2050, 3 << 19, 1, 2, 0, 490.3325),   # accel1: m/s^2
+        (2046, 3 << 19, 1, 2, 1, 490.0 if with_dob else 490.3325),  # accel2
+        (0, 1 << 17, 0, 3, 0, 0.5),           # encoder1: m
+        (-5, -(1 << 17), 0, 3, 1, 0.5),       # encoder2: m, counting the other way
+    ]
+    for offset, gain, shift, unit, dof, full_scale in channels:
+        body += struct.pack("<iiBBBB", offset, gain, shift, unit, dof, 0) + f32(full_scale)
+    if with_dob:
+        body += bytes([1, 3, 0xFF, 0])                    # DOB inputs: force2, accel2
+        body += dob_description()
+    else:
+        body += bytes([0xFF, 0xFF, 0xFF, 0])              # no DOB inputs, reserved
+        body += bytes(640)
+    assert len(body) == 836
+    return body + struct.pack("<I", zlib.crc32(body))
+
+
+def main():
+    vectors = []
+
+    def add(name, data):
+        vectors.append((name, data))
+
+    add("crc_check_input", b"123456789")
+    add("crc_check_value", struct.pack("<I", zlib.crc32(b"123456789")))
+
+    add("ping_request", report(0x01, token=0x1234, payload=b"hello"))
+    add("ping_response", report(0x01, flags=FLAG_RESPONSE, token=0x1234, payload=b"hello"))
+
+    info = struct.pack("<BBBBHHIII", PROTOCOL_MAJOR, PROTOCOL_MINOR, 0, 1, 2, 1, 0xDEADBEEF,
+                       0x0000000F, 200)
+    info += struct.pack("<II", 100, 98304)
+    info += struct.pack("<B6B", 6, 1, 1, 2, 2, 3, 3)
+    info += struct.pack("<BBBH", 4, 1, 1, 0)                # watchdog, calibrated, slot B
+    info += struct.pack("<III", 0xCAFEF00D, 3, 17)
+    assert len(info) == 52
+    add("info_response", report(0x02, flags=FLAG_RESPONSE, token=0x0102, payload=info))
+
+    status = struct.pack("<BBBBQ", 2, 1, 1, 0, 123456789012)
+    status += struct.pack("<IIIIIIIIII", 5000, 400, 100, 2, 7, 1, 3, 40, 9, 0)
+    assert len(status) == 52
+    add("status_response", report(0x03, flags=FLAG_RESPONSE, token=0xFFFF, payload=status))
+
+    acq = struct.pack("<IBBHBBHiII", 200, 0b100011, 0x01, 5, 1, 1, 0, 429496730, 250, 10000)
+    assert len(acq) == 24
+    add("acq_configure_request", report(0x20, token=0x0A0B, payload=acq))
+    add("acq_configure_response",
+        report(0x20, flags=FLAG_RESPONSE, token=0x0A0B, payload=struct.pack("<HHI", 20, 0, 4915)))
+
+    # A refusal: acq-configure with status failed-precondition (3), no payload.
+    add("refusal_response", report(0x20, status=3, flags=FLAG_RESPONSE, token=0x0A0C))
+
+    add("log_read_request", report(0x24, token=0x7777, payload=struct.pack("<II", 10, 5)))
+
+    # Log stream: channels force1, force2, encoder2 (mask 0b100011) plus d_hat -> 20-byte records,
+    # two per report. Records 10..14.
+    records = [
+        struct.pack("<Iiiii", 1000 + 5 * i, 2048 + i, 2047 - i, -3 * i, -(1 << 20) + i)
+        for i in range(5)
+    ]
+    data_payloads = [records[0] + records[1], records[2] + records[3], records[4]]
+    stream_bytes = b"".join(data_payloads)
+    for seq, payload in enumerate(data_payloads):
+        add(f"log_stream_{seq}", report(0x24, flags=FLAG_RESPONSE, token=0x7777, sequence=seq,
+                                        payload=payload))
+    trailer = struct.pack("<IIIIHBBIHBBIIII", len(stream_bytes), zlib.crc32(stream_bytes), 10, 5,
+                          20, 0b100011, 0x01, 200, 5, 3, 0, 0, 2, 0, 15)
+    assert len(trailer) == 44
+    add("log_stream_3", report(0x24, flags=FLAG_RESPONSE | FLAG_STREAM_END, token=0x7777,
+                               sequence=3, payload=trailer))
+
+    latest = struct.pack("<I6iiBB", 42, 1, -2, 3, -4, 5, -6, 99, 2, 1)
+    add("latest_response", report(0x23, flags=FLAG_RESPONSE, token=3, payload=latest))
+
+    record = calibration_record()
+    add("calibration_record", record)
+    add("calibration_record_dob", calibration_record(with_dob=True))
+    add("cal_put_begin", report(0x10, token=0x0C0C,
+                                payload=struct.pack("<II", len(record), zlib.crc32(record))))
+    chunks = (len(record) + 51) // 52
+    assert chunks == 17
+    add("cal_put_data_0", report(0x11, token=0x0C0C, sequence=0, payload=record[0:52]))
+    add("cal_put_data_16", report(0x11, token=0x0C0C, sequence=16, payload=record[16 * 52:]))
+    add("cal_commit_response",
+        report(0x12, flags=FLAG_RESPONSE, token=0x0C0D, payload=struct.pack("<BBHI", 1, 0, 0, 8)))
+    add("cal_get_trailer",
+        report(0x13, flags=FLAG_RESPONSE | FLAG_STREAM_END, token=0x0C0E, sequence=17,
+               payload=struct.pack("<IIBBHI", len(record), zlib.crc32(record), 1, 0, 0, 8)))
+
+    add("dob_control_request", report(0x30, token=9, payload=b"\x01"))
+    scenario = b"shaker".ljust(16, b"\0") + b"".join(f32(v) for v in (16.0, 2.5, 0.0, -1.0))
+    add("scenario_request", report(0x70, token=0x70, payload=scenario))
+    inject = struct.pack("<BBH", 2, 0, 0) + struct.pack("<6i", 1, 2, 3, 4, -5, -6) + \
+        struct.pack("<6i", 2047, 2048, 4095, 0, 2147483647, -2147483648)
+    add("inject_frames_request", report(0x71, token=0x71, payload=inject))
+
+    lines = [
+        "# Golden byte vectors of the vibid wire protocol.",
+        "# Generated by scripts/golden/wire_vectors.py (struct.pack + zlib.crc32); do not edit.",
+        f"protocol_major {PROTOCOL_MAJOR}",
+        f"protocol_minor {PROTOCOL_MINOR}",
+        f"cal_record_version {CAL_RECORD_VERSION}",
+    ]
+    lines += [f"{name} {data.hex()}" for name, data in vectors]
+    OUT.parent.mkdir(parents=True, exist_ok=True)
+    OUT.write_text("\n".join(lines) + "\n")
+
+    # Seed corpus for the fuzz targets: valid inputs the fuzzer mutates from.
+    v = dict(vectors)
+    SEEDS.mkdir(parents=True, exist_ok=True)
+    (SEEDS / "calibration_record").write_bytes(v["calibration_record"])
+    (SEEDS / "calibration_record_dob").write_bytes(v["calibration_record_dob"])
+    # Request seeds start with the fuzzer's calibration switch byte (1: the filter is installed).
+    (SEEDS / "requests").write_bytes(b"\x01" + v["ping_request"] + v["acq_configure_request"] +
+                                     v["log_read_request"] + v["dob_control_request"])
+    (SEEDS / "cal_put").write_bytes(b"\x00" + v["cal_put_begin"] + v["cal_put_data_0"])
+    (SEEDS / "log_stream").write_bytes(bytes([0x24, 0x77, 0x77]) +
+                                       b"".join(v[f"log_stream_{i}"] for i in range(4)))
+
+
+if __name__ == "__main__":
+    main()

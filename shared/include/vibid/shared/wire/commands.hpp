@@ -1,0 +1,341 @@
+// Command ids and the payload of every request and response, defined once for the board and the
+// host. Each payload has a fixed size kBytes (a few, marked, take a variable tail), an Encode
+// that writes exactly kBytes, and a Decode that refuses any other length.
+//
+// Conversation: the host sends one request report; the device answers with one response report
+// carrying the same command and token, kFlagResponse, and a Status. Two commands answer with a
+// stream (log-read, cal-get): data reports with sequence 0, 1, 2, ... and then one trailer report
+// flagged kFlagStreamEnd whose sequence is the number of data reports and whose payload starts
+// with StreamTrailer (byte count and CRC-32 of all data payload bytes). Streams are not
+// acknowledged per report; a lost report shows as a sequence gap or a CRC mismatch, and the host
+// asks again (log-read resumes from a record index). A refused request gets a single response
+// report with the refusal status and no payload.
+//
+// Calibration upload (cal-put): cal-put-begin announces the record length and CRC-32, then one
+// cal-put-data report per 52-byte chunk with sequence 0, 1, ...; each is answered. The answer to
+// the last chunk carries the verdict on the whole record (CRC, version, ranges, filter
+// stability). cal-commit then writes the staged record to flash.
+#pragma once
+
+#include <array>
+#include <cstddef>
+#include <cstdint>
+#include <span>
+
+#include "vibid/shared/status.hpp"
+#include "vibid/shared/wire/device.hpp"
+#include "vibid/shared/wire/report.hpp"
+
+namespace vibid::wire {
+
+enum class Command : std::uint8_t {
+  kPing = 0x01,          ///< Echoes its payload.
+  kGetInfo = 0x02,       ///< -> InfoResponse.
+  kGetStatus = 0x03,     ///< -> StatusResponse.
+  kReset = 0x04,         ///< Answers, then resets the board.
+  kEnterDfu = 0x05,      ///< Answers, then enters the DFU bootloader (refused while acquiring).
+  kCalPutBegin = 0x10,   ///< CalPutBeginRequest.
+  kCalPutData = 0x11,    ///< Chunk of the record; header.sequence = chunk index.
+  kCalCommit = 0x12,     ///< -> CalCommitResponse (refused while acquiring).
+  kCalGet = 0x13,        ///< -> stream of the active record, trailer CalGetTrailer.
+  kAcqConfigure = 0x20,  ///< AcqConfigureRequest -> AcqConfigureResponse.
+  kAcqStart = 0x21,      ///< Clears the log and arms the trigger.
+  kAcqStop = 0x22,       ///< -> AcqStopResponse; keeps the log. Idempotent.
+  kReadLatest = 0x23,    ///< -> LatestResponse (live values for a monitor).
+  kLogRead = 0x24,       ///< LogReadRequest -> stream of log records, trailer LogTrailer.
+  kDobControl = 0x30,    ///< DobControlRequest: run or stop the observer.
+  kSelectScenario = 0x70,  ///< Emulator only (kCapScenarioSelect): ScenarioRequest.
+  kInjectFrames = 0x71,    ///< QEMU image only (kCapSampleInjection): InjectFramesRequest.
+};
+
+/// Ids 0x70..0x7F belong to a port; the core hands them to the port's handler.
+constexpr bool IsPortCommand(std::uint8_t id) { return id >= 0x70 && id <= 0x7F; }
+
+/// Acquisition state (status, log trailer, latest).
+enum class AcqState : std::uint8_t {
+  kIdle = 0,       ///< Not sampling (never started, or stopped). The log is kept.
+  kArmed = 1,      ///< Sampling; waiting for the trigger, keeping pre-trigger records.
+  kAcquiring = 2,  ///< Triggered; appending to the log.
+  kDone = 3,       ///< The record limit was reached; sampling stopped. The log is kept.
+};
+
+enum class CalState : std::uint8_t {
+  kUncalibrated = 0,  ///< Neither flash slot holds a valid record: defaults (raw counts, no DOB).
+  kCalibrated = 1,
+};
+
+inline constexpr std::uint8_t kNoSlot = 0xFF;
+inline constexpr std::uint32_t kNoRecord = 0xFFFFFFFFu;
+
+enum class TriggerMode : std::uint8_t {
+  kImmediate = 0,  ///< The first record is the trigger; no pre-trigger records.
+  kRising = 1,     ///< Fires when the calibrated force reaches threshold or more.
+  kFalling = 2,    ///< Fires when the calibrated force reaches threshold or less.
+};
+
+/// Acquisition limits the device enforces (AcqConfigure refusals).
+inline constexpr std::uint32_t kMinSamplePeriodUs = 100;       ///< 10 kHz.
+inline constexpr std::uint32_t kMaxSamplePeriodUs = 1000000;   ///< 1 Hz.
+inline constexpr std::uint16_t kMaxDecimation = 10000;
+
+inline constexpr std::uint8_t kAcqFlagLogDob = 1u << 0;  ///< Each log record carries d_hat.
+inline constexpr std::uint8_t kAcqKnownFlags = kAcqFlagLogDob;
+
+// ---------------------------------------------------------------------------------------------
+// get-info response
+//   0  u8  protocol_major          1  u8  protocol_minor
+//   2  u8  fw_major                3  u8  fw_minor           4  u16 fw_patch
+//   6  u16 board_id (BoardId)      8  u32 build_id           12 u32 capabilities
+//   16 u32 sample_period_us (the configured period)          20 u32 min_sample_period_us
+//   24 u32 log_capacity_bytes      28 u8  channel_count      29 u8  channel_kind[6]
+//   35 u8  reset_cause             36 u8  cal_state          37 u8  cal_slot (kNoSlot if none)
+//   38 u16 reserved                40 u32 cal_crc (record CRC-32, 0 if uncalibrated)
+//   44 u32 overrun_count           48 u32 dropped_records
+struct InfoResponse {
+  static constexpr std::size_t kBytes = 52;
+  std::uint8_t protocol_major = kProtocolMajor;
+  std::uint8_t protocol_minor = kProtocolMinor;
+  std::uint8_t fw_major = 0;
+  std::uint8_t fw_minor = 0;
+  std::uint16_t fw_patch = 0;
+  BoardId board_id = BoardId::kHostTest;
+  std::uint32_t build_id = 0;
+  std::uint32_t capabilities = 0;
+  std::uint32_t sample_period_us = 0;
+  std::uint32_t min_sample_period_us = kMinSamplePeriodUs;
+  std::uint32_t log_capacity_bytes = 0;
+  std::uint8_t channel_count = kChannelCount;
+  std::array<ChannelKind, kChannelCount> channel_kind{};
+  ResetCause reset_cause = ResetCause::kUnknown;
+  CalState cal_state = CalState::kUncalibrated;
+  std::uint8_t cal_slot = kNoSlot;
+  std::uint32_t cal_crc = 0;
+  std::uint32_t overrun_count = 0;
+  std::uint32_t dropped_records = 0;
+};
+static_assert(InfoResponse::kBytes <= kMaxPayload);
+
+// ---------------------------------------------------------------------------------------------
+// get-status response
+//   0  u8  acq_state    1  u8  dob_running (0/1)   2  u8  cal_state   3  u8  cal_staged (0/1)
+//   4  u64 uptime_us
+//   12 u32 ticks (frames seen since acq-start)     16 u32 records_written (log records, total)
+//   20 u32 records_released (first record still held)
+//   24 u32 overrun_count   28 u32 dropped_records  32 u32 rejected_requests
+//   36 u32 saturation_count (calibration clips + DOB saturations)
+//   40 u32 trigger_record (kNoRecord until triggered)
+//   44 u32 cal_sequence    48 u32 flash_errors
+struct StatusResponse {
+  static constexpr std::size_t kBytes = 52;
+  AcqState acq_state = AcqState::kIdle;
+  std::uint8_t dob_running = 0;
+  CalState cal_state = CalState::kUncalibrated;
+  std::uint8_t cal_staged = 0;
+  std::uint64_t uptime_us = 0;
+  std::uint32_t ticks = 0;
+  std::uint32_t records_written = 0;
+  std::uint32_t records_released = 0;
+  std::uint32_t overrun_count = 0;
+  std::uint32_t dropped_records = 0;
+  std::uint32_t rejected_requests = 0;
+  std::uint32_t saturation_count = 0;
+  std::uint32_t trigger_record = kNoRecord;
+  std::uint32_t cal_sequence = 0;
+  std::uint32_t flash_errors = 0;
+};
+static_assert(StatusResponse::kBytes <= kMaxPayload);
+
+// ---------------------------------------------------------------------------------------------
+// acq-configure request
+//   0  u32 sample_period_us        kMinSamplePeriodUs..kMaxSamplePeriodUs
+//   4  u8  channel_mask            bit i = Channel(i); nonzero, within kAllChannelsMask
+//   5  u8  flags                   kAcqFlagLogDob
+//   6  u16 decimation              1..kMaxDecimation: one log record every `decimation` ticks
+//   8  u8  trigger_mode            TriggerMode
+//   9  u8  trigger_channel         a load-cell channel (ignored for kImmediate, must be 0)
+//   10 u16 reserved                0
+//   12 i32 trigger_threshold       calibrated units of the trigger channel (Q31 of full scale)
+//   16 u32 pretrigger_records      0 for kImmediate; < log capacity in records
+//   20 u32 record_limit            records after the trigger, then stop; 0 = until acq-stop
+struct AcqConfigureRequest {
+  static constexpr std::size_t kBytes = 24;
+  std::uint32_t sample_period_us = 0;
+  std::uint8_t channel_mask = 0;
+  std::uint8_t flags = 0;
+  std::uint16_t decimation = 1;
+  TriggerMode trigger_mode = TriggerMode::kImmediate;
+  std::uint8_t trigger_channel = 0;
+  std::int32_t trigger_threshold = 0;
+  std::uint32_t pretrigger_records = 0;
+  std::uint32_t record_limit = 0;
+};
+
+// acq-configure response: 0 u16 record_bytes  2 u16 reserved  4 u32 capacity_records
+struct AcqConfigureResponse {
+  static constexpr std::size_t kBytes = 8;
+  std::uint16_t record_bytes = 0;
+  std::uint32_t capacity_records = 0;
+};
+
+// acq-stop response: 0 u32 records_written
+struct AcqStopResponse {
+  static constexpr std::size_t kBytes = 4;
+  std::uint32_t records_written = 0;
+};
+
+// ---------------------------------------------------------------------------------------------
+// read-latest response (the newest frame after calibration; for a live monitor)
+//   0  u32 tick    4  i32 calibrated[6] (Q31 of each channel's full scale)   28 i32 d_hat (Q31)
+//   32 u8  acq_state   33 u8 dob_running
+struct LatestResponse {
+  static constexpr std::size_t kBytes = 34;
+  std::uint32_t tick = 0;
+  std::array<std::int32_t, kChannelCount> calibrated{};
+  std::int32_t d_hat = 0;
+  AcqState acq_state = AcqState::kIdle;
+  std::uint8_t dob_running = 0;
+};
+
+// ---------------------------------------------------------------------------------------------
+// log-read request: 0 u32 first_record  4 u32 max_records (0 = all available)
+// Records below first_record are released: the device may reuse their space. A pull that broke
+// off resumes by asking again from the first record it did not receive intact.
+struct LogReadRequest {
+  static constexpr std::size_t kBytes = 8;
+  std::uint32_t first_record = 0;
+  std::uint32_t max_records = 0;
+};
+
+// Every stream trailer starts with these 8 bytes: 0 u32 total_bytes  4 u32 crc32 (of all data
+// payload bytes of the stream, in sequence order).
+struct StreamTrailer {
+  static constexpr std::size_t kBytes = 8;
+  std::uint32_t total_bytes = 0;
+  std::uint32_t crc32 = 0;
+};
+
+// log-read trailer
+//   0  u32 total_bytes   4  u32 crc32        8  u32 first_record   12 u32 record_count
+//   16 u16 record_bytes  18 u8  channel_mask 19 u8  acq_flags      20 u32 sample_period_us
+//   24 u16 decimation    26 u8  acq_state    27 u8  reserved       28 u32 trigger_record
+//   32 u32 dropped_records   36 u32 overrun_count   40 u32 records_written
+struct LogTrailer {
+  static constexpr std::size_t kBytes = 44;
+  StreamTrailer stream;
+  std::uint32_t first_record = 0;
+  std::uint32_t record_count = 0;
+  std::uint16_t record_bytes = 0;
+  std::uint8_t channel_mask = 0;
+  std::uint8_t acq_flags = 0;
+  std::uint32_t sample_period_us = 0;
+  std::uint16_t decimation = 0;
+  AcqState acq_state = AcqState::kIdle;
+  std::uint32_t trigger_record = kNoRecord;
+  std::uint32_t dropped_records = 0;
+  std::uint32_t overrun_count = 0;
+  std::uint32_t records_written = 0;
+};
+
+// cal-get trailer: 0 u32 total_bytes  4 u32 crc32  8 u8 slot  9 u8[3] reserved  12 u32 sequence
+struct CalGetTrailer {
+  static constexpr std::size_t kBytes = 16;
+  StreamTrailer stream;
+  std::uint8_t slot = kNoSlot;
+  std::uint32_t sequence = 0;
+};
+
+// cal-put-begin request: 0 u32 record_bytes  4 u32 crc32 (of the whole record as sent)
+struct CalPutBeginRequest {
+  static constexpr std::size_t kBytes = 8;
+  std::uint32_t record_bytes = 0;
+  std::uint32_t crc32 = 0;
+};
+
+// cal-commit response: 0 u8 slot  1 u8[3] reserved  4 u32 sequence
+struct CalCommitResponse {
+  static constexpr std::size_t kBytes = 8;
+  std::uint8_t slot = kNoSlot;
+  std::uint32_t sequence = 0;
+};
+
+// dob-control request: 0 u8 run (0 stop, 1 run; a run restarts the filter from zero state)
+struct DobControlRequest {
+  static constexpr std::size_t kBytes = 1;
+  std::uint8_t run = 0;
+};
+
+// select-scenario request (emulator): 0 char name[16] (ASCII, NUL-padded)  16 f32 params[4]
+// (IEEE-754 binary32; meaning per scenario, SI units)
+struct ScenarioRequest {
+  static constexpr std::size_t kBytes = 32;
+  static constexpr std::size_t kNameBytes = 16;
+  std::array<char, kNameBytes> name{};
+  std::array<float, 4> params{};
+};
+
+// inject-frames request (QEMU image): 0 u8 frame_count (1..2)  1 u8[3] reserved
+//   4 + 24 k: i32 raw[6] of frame k
+struct InjectFramesRequest {
+  static constexpr std::size_t kMaxFrames = 2;
+  static constexpr std::size_t kBytes = 4 + kMaxFrames * 4 * kChannelCount;
+  std::uint8_t frame_count = 0;
+  std::array<std::array<std::int32_t, kChannelCount>, kMaxFrames> raw{};
+};
+static_assert(InjectFramesRequest::kBytes == 52);
+
+// Codecs. Encode writes exactly kBytes into `out` (which must hold at least that many).
+// Decode: kOk; kInvalidArgument if in.size() != kBytes (or an enum byte is out of range,
+// or a reserved byte is nonzero).
+void Encode(const InfoResponse& v, std::span<std::uint8_t> out);
+Status Decode(std::span<const std::uint8_t> in, InfoResponse& v);
+void Encode(const StatusResponse& v, std::span<std::uint8_t> out);
+Status Decode(std::span<const std::uint8_t> in, StatusResponse& v);
+void Encode(const AcqConfigureRequest& v, std::span<std::uint8_t> out);
+Status Decode(std::span<const std::uint8_t> in, AcqConfigureRequest& v);
+void Encode(const AcqConfigureResponse& v, std::span<std::uint8_t> out);
+Status Decode(std::span<const std::uint8_t> in, AcqConfigureResponse& v);
+void Encode(const AcqStopResponse& v, std::span<std::uint8_t> out);
+Status Decode(std::span<const std::uint8_t> in, AcqStopResponse& v);
+void Encode(const LatestResponse& v, std::span<std::uint8_t> out);
+Status Decode(std::span<const std::uint8_t> in, LatestResponse& v);
+void Encode(const LogReadRequest& v, std::span<std::uint8_t> out);
+Status Decode(std::span<const std::uint8_t> in, LogReadRequest& v);
+void Encode(const StreamTrailer& v, std::span<std::uint8_t> out);
+/// Reads the first kBytes of any stream trailer (a longer payload is allowed).
+Status Decode(std::span<const std::uint8_t> in, StreamTrailer& v);
+void Encode(const LogTrailer& v, std::span<std::uint8_t> out);
+Status Decode(std::span<const std::uint8_t> in, LogTrailer& v);
+void Encode(const CalGetTrailer& v, std::span<std::uint8_t> out);
+Status Decode(std::span<const std::uint8_t> in, CalGetTrailer& v);
+void Encode(const CalPutBeginRequest& v, std::span<std::uint8_t> out);
+Status Decode(std::span<const std::uint8_t> in, CalPutBeginRequest& v);
+void Encode(const CalCommitResponse& v, std::span<std::uint8_t> out);
+Status Decode(std::span<const std::uint8_t> in, CalCommitResponse& v);
+void Encode(const DobControlRequest& v, std::span<std::uint8_t> out);
+Status Decode(std::span<const std::uint8_t> in, DobControlRequest& v);
+void Encode(const ScenarioRequest& v, std::span<std::uint8_t> out);
+Status Decode(std::span<const std::uint8_t> in, ScenarioRequest& v);
+/// Variable length: 4 + 24 * frame_count bytes.
+void Encode(const InjectFramesRequest& v, std::span<std::uint8_t> out);
+std::size_t EncodedSize(const InjectFramesRequest& v);
+Status Decode(std::span<const std::uint8_t> in, InjectFramesRequest& v);
+
+/// Builds a complete report (a request when flags has no kFlagResponse) around a payload.
+/// @returns kOk; kOutOfRange if payload is longer than kMaxPayload.
+Status BuildReport(Command command, std::uint16_t token, std::uint16_t sequence, std::uint8_t flags,
+                   Status status, std::span<const std::uint8_t> payload, Report& out);
+
+/// Encodes a fixed-size payload struct straight into a report.
+template <typename Payload>
+  requires requires { Payload::kBytes; }
+Status BuildReport(Command command, std::uint16_t token, std::uint16_t sequence, std::uint8_t flags,
+                   Status status, const Payload& payload, Report& out) {
+  std::array<std::uint8_t, Payload::kBytes> bytes{};
+  Encode(payload, bytes);
+  return BuildReport(command, token, sequence, flags, status, bytes, out);
+}
+
+/// Short stable name of a command id ("log-read"), "unknown" otherwise.
+const char* CommandName(std::uint8_t id);
+
+}  // namespace vibid::wire

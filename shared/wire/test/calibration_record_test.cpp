@@ -1,0 +1,280 @@
+#include "vibid/shared/wire/calibration_record.hpp"
+
+#include <gtest/gtest.h>
+
+#include <array>
+#include <cstring>
+
+#include "golden_vectors.hpp"
+#include "test_filter.hpp"
+#include "vibid/shared/wire/crc32.hpp"
+
+namespace vibid::wire {
+namespace {
+
+using Bytes = std::array<std::uint8_t, kCalRecordBytes>;
+
+// The values scripts/golden/wire_vectors.py packs into the golden record.
+CalibrationRecord GoldenValues() {
+  CalibrationRecord r;
+  r.dof_count = 2;
+  r.created_unix_s = 1700000000;
+  r.host_major = 0;
+  r.host_minor = 1;
+  r.host_patch = 7;
+  const char label[] = "rig-A two mass";
+  std::memcpy(r.label.data(), label, sizeof(label) - 1);
+  r.mass_kg = {0.57f, 0.0f, 0.0f, 0.56f};
+  r.damping_ns_per_m = {1.25f, -0.5f, -0.5f, 0.75f};
+  r.stiffness_n_per_m = {30.0f, -15.0f, -15.0f, 15.0f};
+  r.channels[0] = {2048, 1 << 20, 0, Unit::kNewton, 0, 100.0f};
+  r.channels[1] = {2047, 1 << 20, 0, Unit::kNewton, 1, 50.0f};
+  r.channels[2] = {2050, 3 << 19, 1, Unit::kMeterPerSecond2, 0, 490.3325f};
+  r.channels[3] = {2046, 3 << 19, 1, Unit::kMeterPerSecond2, 1, 490.3325f};
+  r.channels[4] = {0, 1 << 17, 0, Unit::kMeter, 0, 0.5f};
+  r.channels[5] = {-5, -(1 << 17), 0, Unit::kMeter, 1, 0.5f};
+  return r;
+}
+
+Bytes GoldenBytes() {
+  Bytes b{};
+  EXPECT_EQ(testing::GoldenVector("calibration_record", b), kCalRecordBytes);
+  return b;
+}
+
+// Re-seals bytes after a deliberate edit so the range checks, not the CRC, must catch it.
+void Reseal(Bytes& b) {
+  const std::uint32_t crc = ComputeCrc32(std::span<const std::uint8_t>(b).first(kCalOffCrc));
+  for (std::size_t i = 0; i < 4; ++i) b[kCalOffCrc + i] = static_cast<std::uint8_t>(crc >> (8 * i));
+}
+
+TEST(CalibrationRecord, VersionMatchesGoldenFile) {
+  EXPECT_EQ(testing::GoldenConstant("cal_record_version"), kCalRecordVersion);
+}
+
+TEST(CalibrationRecord, EncodesLikeGolden) {
+  Bytes out{};
+  EncodeCalibrationRecord(GoldenValues(), out);
+  EXPECT_TRUE(out == GoldenBytes());
+}
+
+TEST(CalibrationRecord, DecodesGoldenByHand) {
+  const Bytes b = GoldenBytes();
+  // Hand-decoded header: "VCAL", version 1, length 840 = 0x0348, dof 2.
+  EXPECT_EQ(b[0], 'V');
+  EXPECT_EQ(b[3], 'L');
+  EXPECT_EQ(b[6], 0x48);
+  EXPECT_EQ(b[7], 0x03);
+  CalibrationRecord r;
+  ASSERT_EQ(DecodeCalibrationRecord(b, r), Status::kOk);
+  EXPECT_EQ(r.dof_count, 2);
+  EXPECT_EQ(r.created_unix_s, 1700000000);
+  EXPECT_EQ(r.host_patch, 7);
+  EXPECT_EQ(r.label[0], 'r');
+  EXPECT_EQ(r.label[14], '\0');
+  EXPECT_EQ(r.mass_kg[0], 0.57f);
+  EXPECT_EQ(r.mass_kg[3], 0.56f);
+  EXPECT_EQ(r.stiffness_n_per_m[1], -15.0f);
+  EXPECT_EQ(r.channels[2].gain, 3 << 19);
+  EXPECT_EQ(r.channels[2].gain_shift, 1);
+  EXPECT_EQ(r.channels[5].offset_counts, -5);
+  EXPECT_EQ(r.channels[5].unit, Unit::kMeter);
+  EXPECT_EQ(r.channels[3].full_scale, 490.3325f);
+  EXPECT_EQ(r.dob_input_channel[0], kNoChannel);
+  EXPECT_EQ(StoredRecordCrc(b), ComputeCrc32(std::span<const std::uint8_t>(b).first(kCalOffCrc)));
+}
+
+TEST(CalibrationRecord, EveryFlippedBitIsDataLossOrVersion) {
+  const Bytes good = GoldenBytes();
+  CalibrationRecord r;
+  for (std::size_t i = 0; i < kCalRecordBytes; i += 7) {
+    Bytes b = good;
+    b[i] ^= 0x10;
+    const Status s = DecodeCalibrationRecord(b, r);
+    EXPECT_TRUE(s == Status::kDataLoss || s == Status::kVersionMismatch) << "byte " << i;
+  }
+}
+
+TEST(CalibrationRecord, RefusesWrongVersionAndLength) {
+  CalibrationRecord r;
+  Bytes b = GoldenBytes();
+  b[kCalOffVersion] = 2;
+  Reseal(b);
+  EXPECT_EQ(DecodeCalibrationRecord(b, r), Status::kVersionMismatch);
+  b = GoldenBytes();
+  EXPECT_EQ(DecodeCalibrationRecord(std::span<const std::uint8_t>(b).first(100), r),
+            Status::kInvalidArgument);
+}
+
+TEST(CalibrationRecord, RefusesOutOfRangeFields) {
+  struct Edit {
+    std::size_t offset;
+    std::uint8_t value;
+  };
+  // Each edit breaks one rule; the record is re-sealed so only the range checks can catch it.
+  const Edit edits[] = {
+      {kCalOffDofCount, 0},                       // no masses
+      {kCalOffDofCount, 3},                       // more than kMaxDof
+      {kCalOffFlags, 0x80},                       // unknown flag
+      {kCalOffReserved, 1},                       // reserved byte
+      {kCalOffLabel + 20, 'x'},                   // text after the label's NUL
+      {kCalOffLabel + 1, 0x07},                   // control character
+      {kCalOffMass + 3, 0x80},                    // m11 = -0.57: not positive definite
+      {kCalOffStiffness + 4 + 3, 0x41},           // k12 != k21: asymmetric
+      {kCalOffDamping + 3, 0x7F},                 // c11 exponent all ones: not finite
+      {kCalOffChannels + 8, 32},                  // gain shift beyond 31
+      {kCalOffChannels + 16 + 9, 9},              // unknown unit
+      {kCalOffChannels + 32 + 10, 2},             // dof 2 of a 2-mass rig
+      {kCalOffChannels + 48 + 11, 1},             // reserved channel byte
+      {kCalOffChannels + 64 + 15, 0xBF},          // negative full scale
+      {kCalOffDob + 100, 1},                      // DOB bytes without the flag
+      {kCalOffDobInputs + 1, 2},                  // DOB input channel without the flag
+      {kCalOffDobReserved, 1},                    // reserved byte after the inputs
+      {kCalOffCreated + 7, 0x80},                 // negative creation time
+  };
+  CalibrationRecord r;
+  for (const Edit& e : edits) {
+    Bytes b = GoldenBytes();
+    b[e.offset] = e.value;
+    Reseal(b);
+    EXPECT_EQ(DecodeCalibrationRecord(b, r), Status::kInvalidArgument) << "offset " << e.offset;
+  }
+}
+
+TEST(CalibrationRecord, OneDofRecordRefusesSecondMassEntries) {
+  CalibrationRecord v = GoldenValues();
+  v.dof_count = 1;
+  for (ChannelScaling& c : v.channels) c.dof = c.dof == 1 ? kNoDof : c.dof;
+  v.mass_kg = {0.57f, 0.0f, 0.0f, 0.0f};
+  v.damping_ns_per_m = {1.25f, 0.0f, 0.0f, 0.0f};
+  v.stiffness_n_per_m = {15.0f, 0.0f, 0.0f, 0.0f};
+  Bytes b{};
+  EncodeCalibrationRecord(v, b);
+  CalibrationRecord r;
+  EXPECT_EQ(DecodeCalibrationRecord(b, r), Status::kOk);
+  v.stiffness_n_per_m[3] = 15.0f;
+  EncodeCalibrationRecord(v, b);
+  EXPECT_EQ(DecodeCalibrationRecord(b, r), Status::kInvalidArgument);
+}
+
+// ScaleChannel against values worked out by hand from its formula.
+TEST(ScaleChannel, ClosedForm) {
+  std::uint32_t clips = 0;
+  // 12-bit ADC centred at 2048, gain 2^20: one count is 2^20 of Q31 (full scale = 2048 counts).
+  const ChannelScaling adc{2048, 1 << 20, 0, Unit::kNewton, 0, 100.0f};
+  EXPECT_EQ(ScaleChannel(2048, adc, clips), 0);
+  EXPECT_EQ(ScaleChannel(2049, adc, clips), 1 << 20);
+  EXPECT_EQ(ScaleChannel(0, adc, clips), INT32_MIN);  // -2048 * 2^20 = -2^31 exactly
+  EXPECT_EQ(clips, 0u);
+  EXPECT_EQ(ScaleChannel(4096, adc, clips), INT32_MAX);  // +2^31 saturates
+  EXPECT_EQ(clips, 1u);
+  // Rounding half up: (3 * 3) / 2 = 4.5 -> 5; (-3 * 3) / 2 = -4.5 -> -4.
+  const ChannelScaling half{0, 3, 1, Unit::kMeter, 0, 1.0f};
+  EXPECT_EQ(ScaleChannel(3, half, clips), 5);
+  EXPECT_EQ(ScaleChannel(-3, half, clips), -4);
+  // Extremes: the widest difference times the most negative gain does not overflow int64.
+  const ChannelScaling extreme{INT32_MIN, INT32_MIN, 31, Unit::kMeter, 0, 1.0f};
+  EXPECT_EQ(ScaleChannel(INT32_MAX, extreme, clips), INT32_MIN);  // -(2^32 - 1) -> saturates
+  EXPECT_EQ(clips, 2u);
+  // The default scaling is the identity on counts.
+  EXPECT_EQ(ScaleChannel(-123456, DefaultScaling(), clips), -123456);
+}
+
+// Half of Q31 full scale is half the full scale; the default scaling reads back counts.
+TEST(ScaleChannel, CalibratedToSi) {
+  const ChannelScaling force{2048, 1 << 20, 0, Unit::kNewton, 0, 100.0f};
+  EXPECT_EQ(CalibratedToSi(1 << 30, force), 50.0);
+  EXPECT_EQ(CalibratedToSi(INT32_MIN, force), -100.0);
+  EXPECT_EQ(CalibratedToSi(-123456, DefaultScaling()), -123456.0);
+}
+
+}  // namespace
+}  // namespace vibid::wire
+
+namespace vibid::wire {
+namespace {
+
+// GoldenValues() with the test filter fed by force 2 (channel 1) and accelerometer 2
+// (channel 3), both on mass 1, with the filter's full scales.
+CalibrationRecord WithFilter() {
+  CalibrationRecord r = GoldenValues();
+  r.channels[1].full_scale = testing::kForceFullScaleN;
+  r.channels[3].full_scale = testing::kAccelFullScaleMs2;
+  testing::AttachFilter(r, testing::TestFilter(), 1, 3);
+  return r;
+}
+
+Status EncodeDecode(const CalibrationRecord& r) {
+  Bytes b{};
+  EncodeCalibrationRecord(r, b);
+  CalibrationRecord back;
+  return DecodeCalibrationRecord(b, back);
+}
+
+TEST(CalibrationRecordDob, ValidFilterAndRouting) {
+  const CalibrationRecord r = WithFilter();
+  Bytes b{};
+  EncodeCalibrationRecord(r, b);
+  CalibrationRecord back;
+  ASSERT_EQ(DecodeCalibrationRecord(b, back), Status::kOk);
+  EXPECT_EQ(back.flags, kCalFlagHasDob);
+  EXPECT_EQ(back.dob_input_channel[1], 3);
+  EXPECT_TRUE(back.dob == r.dob);
+  // The filter's magic sits at the documented record offset 196.
+  EXPECT_EQ(b[kCalOffDob], 'V');
+  EXPECT_EQ(b[kCalOffDob + 3], 'B');
+}
+
+// The same record packed by scripts/golden/wire_vectors.py, filter description included.
+TEST(CalibrationRecordDob, EncodesLikeGolden) {
+  Bytes golden{};
+  ASSERT_EQ(testing::GoldenVector("calibration_record_dob", golden), kCalRecordBytes);
+  Bytes out{};
+  EncodeCalibrationRecord(WithFilter(), out);
+  EXPECT_TRUE(out == golden);
+  CalibrationRecord back;
+  EXPECT_EQ(DecodeCalibrationRecord(golden, back), Status::kOk);
+  EXPECT_EQ(golden[kCalOffDobInputs], 1);
+  EXPECT_EQ(golden[kCalOffDobInputs + 1], 3);
+}
+
+TEST(CalibrationRecordDob, RefusesRoutingThatDisagreesWithTheFilter) {
+  CalibrationRecord r = WithFilter();
+  r.dob_input_channel[0] = 2;  // an accelerometer feeding the force input
+  EXPECT_EQ(EncodeDecode(r), Status::kInvalidArgument);
+  r = WithFilter();
+  r.channels[1].full_scale = 50.0f;  // the filter expects 100 N full scale
+  EXPECT_EQ(EncodeDecode(r), Status::kInvalidArgument);
+  r = WithFilter();
+  r.channels[3].dof = 0;  // accelerometer on the other mass
+  EXPECT_EQ(EncodeDecode(r), Status::kInvalidArgument);
+  r = WithFilter();
+  r.dob_input_channel[2] = 4;  // the filter has two inputs
+  EXPECT_EQ(EncodeDecode(r), Status::kInvalidArgument);
+  r = WithFilter();
+  r.dob_input_channel[1] = 6;
+  EXPECT_EQ(EncodeDecode(r), Status::kInvalidArgument);
+  r = WithFilter();
+  r.dof_count = 1;  // output on mass 1 of a one-mass rig (and channels on mass 1)
+  EXPECT_EQ(EncodeDecode(r), Status::kInvalidArgument);
+}
+
+TEST(CalibrationRecordDob, FilterVerdictsPassThrough) {
+  CalibrationRecord r = WithFilter();
+  fixed::FilterDescription unstable = testing::TestFilter();
+  unstable.paths[0].sections[0].a2 = 1 << 30;  // a2 = 1: poles on the unit circle
+  fixed::Seal(unstable);
+  testing::AttachFilter(r, unstable, 1, 3);
+  EXPECT_EQ(EncodeDecode(r), Status::kUnstable);
+
+  r = WithFilter();
+  r.dob[100] ^= 1;  // filter bytes changed after sealing: its own checksum fails
+  EXPECT_EQ(EncodeDecode(r), Status::kDataLoss);
+
+  r = WithFilter();
+  r.flags = 0;  // filter bytes present without the flag
+  EXPECT_EQ(EncodeDecode(r), Status::kInvalidArgument);
+}
+
+}  // namespace
+}  // namespace vibid::wire

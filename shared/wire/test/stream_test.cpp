@@ -1,0 +1,134 @@
+#include "vibid/shared/wire/stream.hpp"
+
+#include <gtest/gtest.h>
+
+#include <array>
+
+#include "golden_vectors.hpp"
+#include "vibid/shared/wire/calibration_record.hpp"
+#include "vibid/shared/wire/log_record.hpp"
+
+namespace vibid::wire {
+namespace {
+
+using Event = StreamDecoder::Event;
+
+std::array<Report, 4> GoldenLogStream() {
+  return {testing::GoldenReport("log_stream_0"), testing::GoldenReport("log_stream_1"),
+          testing::GoldenReport("log_stream_2"), testing::GoldenReport("log_stream_3")};
+}
+
+TEST(StreamDecoder, AcceptsGoldenLogStream) {
+  StreamDecoder d(Command::kLogRead, 0x7777);
+  const auto reports = GoldenLogStream();
+  for (std::size_t i = 0; i < 3; ++i) EXPECT_EQ(d.Feed(reports[i]).event, Event::kData);
+  const auto end = d.Feed(reports[3]);
+  ASSERT_EQ(end.event, Event::kEnd);
+  LogTrailer t;
+  ASSERT_EQ(Decode(end.payload, t), Status::kOk);
+  EXPECT_EQ(t.stream.total_bytes, 100u);  // 5 records of 20 bytes
+  EXPECT_EQ(t.first_record, 10u);
+  EXPECT_EQ(t.record_count, 5u);
+  EXPECT_EQ(t.record_bytes, 20);
+  EXPECT_EQ(t.acq_state, AcqState::kDone);
+  EXPECT_EQ(t.dropped_records, 2u);
+  EXPECT_EQ(t.records_written, 15u);
+  EXPECT_EQ(d.total_bytes(), 100u);
+  EXPECT_TRUE(d.finished());
+  EXPECT_EQ(d.Feed(reports[0]).status, Status::kFailedPrecondition);
+}
+
+TEST(StreamEncoder, ReproducesGoldenLogStream) {
+  const auto golden = GoldenLogStream();
+  StreamEncoder e;
+  e.Begin(Command::kLogRead, 0x7777);
+  for (std::size_t i = 0; i < 3; ++i) {
+    Report out{};
+    ASSERT_EQ(e.Data(PayloadOf(golden[i]), out), Status::kOk);
+    EXPECT_TRUE(out == golden[i]) << "report " << i;
+  }
+  LogTrailer t;
+  t.first_record = 10;
+  t.record_count = 5;
+  t.record_bytes = 20;
+  t.channel_mask = 0b100011;
+  t.acq_flags = kAcqFlagLogDob;
+  t.sample_period_us = 200;
+  t.decimation = 5;
+  t.acq_state = AcqState::kDone;
+  t.trigger_record = 0;
+  t.dropped_records = 2;
+  t.overrun_count = 0;
+  t.records_written = 15;
+  std::array<std::uint8_t, LogTrailer::kBytes> trailer{};
+  Encode(t, trailer);
+  Report out{};
+  ASSERT_EQ(e.End(trailer, out), Status::kOk);
+  EXPECT_TRUE(out == golden[3]);
+}
+
+TEST(StreamDecoder, DetectsSequenceGap) {
+  StreamDecoder d(Command::kLogRead, 0x7777);
+  const auto reports = GoldenLogStream();
+  EXPECT_EQ(d.Feed(reports[0]).event, Event::kData);
+  const auto step = d.Feed(reports[2]);  // report 1 lost
+  EXPECT_EQ(step.event, Event::kError);
+  EXPECT_EQ(step.status, Status::kDataLoss);
+}
+
+TEST(StreamDecoder, DetectsMissingLastDataReport) {
+  StreamDecoder d(Command::kLogRead, 0x7777);
+  const auto reports = GoldenLogStream();
+  d.Feed(reports[0]);
+  d.Feed(reports[1]);
+  EXPECT_EQ(d.Feed(reports[3]).status, Status::kDataLoss);  // trailer says 3 data reports
+}
+
+TEST(StreamDecoder, DetectsCorruptedPayloadByCrc) {
+  StreamDecoder d(Command::kLogRead, 0x7777);
+  auto reports = GoldenLogStream();
+  reports[1][kOffPayload + 3] ^= 0x01;
+  for (std::size_t i = 0; i < 3; ++i) EXPECT_EQ(d.Feed(reports[i]).event, Event::kData);
+  const auto step = d.Feed(reports[3]);
+  EXPECT_EQ(step.event, Event::kError);
+  EXPECT_EQ(step.status, Status::kDataLoss);
+}
+
+TEST(StreamDecoder, IgnoresStaleAndReportsRefusal) {
+  StreamDecoder d(Command::kLogRead, 0x7778);
+  const auto reports = GoldenLogStream();
+  EXPECT_EQ(d.Feed(reports[0]).event, Event::kStale);  // token of an earlier request
+  Report refusal{};
+  ASSERT_EQ(BuildReport(Command::kLogRead, 0x7778, 0, kFlagResponse, Status::kOutOfRange, {},
+                        refusal),
+            Status::kOk);
+  const auto step = d.Feed(refusal);
+  EXPECT_EQ(step.event, Event::kRefused);
+  EXPECT_EQ(step.status, Status::kOutOfRange);
+}
+
+TEST(StreamDecoder, RejectsBrokenHeader) {
+  StreamDecoder d(Command::kLogRead, 0x7777);
+  auto reports = GoldenLogStream();
+  reports[0][0] = 0;
+  EXPECT_EQ(d.Feed(reports[0]).status, Status::kDataLoss);
+}
+
+// cal-put reports cut from the golden record equal the script's.
+TEST(CalPut, BuildsGoldenReports) {
+  std::array<std::uint8_t, kCalRecordBytes> record{};
+  ASSERT_EQ(testing::GoldenVector("calibration_record", record), kCalRecordBytes);
+  EXPECT_EQ(CalPutChunkCount(record.size()), 17u);
+  Report out{};
+  ASSERT_EQ(BuildCalPutBegin(record, 0x0C0C, out), Status::kOk);
+  EXPECT_TRUE(out == testing::GoldenReport("cal_put_begin"));
+  ASSERT_EQ(BuildCalPutData(record, 0, 0x0C0C, out), Status::kOk);
+  EXPECT_TRUE(out == testing::GoldenReport("cal_put_data_0"));
+  ASSERT_EQ(BuildCalPutData(record, 16, 0x0C0C, out), Status::kOk);
+  EXPECT_TRUE(out == testing::GoldenReport("cal_put_data_16"));
+  EXPECT_EQ(PayloadOf(out).size(), 840u - 16u * 52u);
+  EXPECT_EQ(BuildCalPutData(record, 17, 0x0C0C, out), Status::kOutOfRange);
+}
+
+}  // namespace
+}  // namespace vibid::wire
