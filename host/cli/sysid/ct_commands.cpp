@@ -19,18 +19,6 @@ namespace vibid::cli {
 
 namespace {
 
-std::vector<double> ToVector(const Eigen::VectorXd& v) { return std::vector<double>(v.data(), v.data() + v.size()); }
-
-Eigen::VectorXd JsonVector(const nlohmann::json& j, const std::string& key, const std::string& source) {
-  Require(j.contains(key) && j[key].is_array() && !j[key].empty(), source + ": missing array '" + key + "'");
-  std::vector<double> v;
-  for (const auto& x : j[key]) {
-    Require(x.is_number() && std::isfinite(x.get<double>()), source + ": '" + key + "' must hold finite numbers");
-    v.push_back(x.get<double>());
-  }
-  return Eigen::Map<const Eigen::VectorXd>(v.data(), static_cast<Eigen::Index>(v.size()));
-}
-
 void CheckSolver(const sysid::SolverSummary& s, const std::string& what) {
   if (s.termination == sysid::Termination::kNumericalFailure) {
     throw NumericalError(what + " did not produce a model: " + s.message);
@@ -76,13 +64,13 @@ void RegisterTfestCommand(CLI::App& app) {
     const sysid::IoData est = ApplyRange(all, a->estimate_range, "--estimate-range");
     const sysid::TfestResult r = sysid::EstimateTf(est, o);
     CheckSolver(r.summary, "tfest");
-    nlohmann::json j{{"num", ToVector(r.tf.num)},
-                     {"den", ToVector(r.tf.den)},
-                     {"std", {{"num", ToVector(r.num_std)}, {"den", ToVector(r.den_std)}}},
+    nlohmann::json j{{"num", ToStdVector(r.tf.num)},
+                     {"den", ToStdVector(r.tf.den)},
+                     {"std", {{"num", ToStdVector(r.num_std)}, {"den", ToStdVector(r.den_std)}}},
                      {"fit_percent", r.fit_percent},
                      {"fit_kind", "simulation on the estimation samples, with the initial conditions below"},
                      {"ic", sysid::InitialConditionName(o.ic)},
-                     {"ic_num", ToVector(r.ic_num)},
+                     {"ic_num", ToStdVector(r.ic_num)},
                      {"noise_variance", r.noise_variance},
                      {"samples", est.samples()},
                      {"fs_hz", 1.0 / est.dt_s},
@@ -281,8 +269,8 @@ void RegisterGreyboxCommand(CLI::App& app) {
                      {"input_kind", a->input_kind},
                      {"units", "M kg, B and Bi N*s/m, k N/m (each of the springs to either side)"},
                      {"parameters", params},
-                     {"num", ToVector(r.tf.num)},
-                     {"den", ToVector(r.tf.den)},
+                     {"num", ToStdVector(r.tf.num)},
+                     {"den", ToStdVector(r.tf.den)},
                      {"fit_percent", r.fit_percent},
                      {"ic", a->ic},
                      {"initialization", r.initialization},

@@ -88,8 +88,7 @@ nlohmann::json ModelReport(const sysid::PolyModel& m, const sysid::IoData& est, 
     Eigen::VectorXd num = m.b;
     Require(num.size() <= den.size(), "--d2c: B longer than A·F: the model is not causal in continuous time");
     const sysid::TransferFunction tf = sysid::Normalized(sysid::D2cZoh(num, den, m.dt_s));
-    j["continuous"] = {{"num", std::vector<double>(tf.num.data(), tf.num.data() + tf.num.size())},
-                       {"den", std::vector<double>(tf.den.data(), tf.den.data() + tf.den.size())}};
+    j["continuous"] = {{"num", ToStdVector(tf.num)}, {"den", ToStdVector(tf.den)}};
     text << "continuous (d2c, ZOH): num = " << FormatVector(tf.num) << ", den = " << FormatVector(tf.den) << "\n";
   }
   return j;

@@ -55,7 +55,6 @@ nlohmann::json SummaryJson(const sysid::SolverSummary& s) {
 }
 
 nlohmann::json ResidualJson(const sysid::ResidualTests& t) {
-  auto vec = [](const Eigen::VectorXd& v) { return std::vector<double>(v.data(), v.data() + v.size()); };
   return {{"max_lag", t.max_lag},
           {"confidence", t.confidence},
           {"whiteness", {{"passed", t.white},
@@ -63,13 +62,13 @@ nlohmann::json ResidualJson(const sysid::ResidualTests& t) {
                          {"threshold", t.ljung_box_threshold},
                          {"bound", t.autocorrelation_bound},
                          {"lags_outside", t.autocorrelation_outside},
-                         {"autocorrelation", vec(t.autocorrelation)}}},
+                         {"autocorrelation", ToStdVector(t.autocorrelation)}}},
           {"input_independence", {{"passed", t.independent},
                                   {"statistic", t.cross_correlation_statistic},
                                   {"threshold", t.cross_correlation_threshold},
                                   {"bound", t.cross_correlation_bound},
                                   {"lags_outside", t.cross_correlation_outside},
-                                  {"cross_correlation", vec(t.cross_correlation)}}}};
+                                  {"cross_correlation", ToStdVector(t.cross_correlation)}}}};
 }
 
 std::optional<sysid::ResidualTests> TryResidualTests(const Eigen::VectorXd& residual, const Eigen::VectorXd& input) {
@@ -77,11 +76,9 @@ std::optional<sysid::ResidualTests> TryResidualTests(const Eigen::VectorXd& resi
   return sysid::TestResiduals(residual, input, 25, 0.99);
 }
 
-namespace {
+std::vector<double> ToStdVector(const Eigen::VectorXd& v) { return std::vector<double>(v.data(), v.data() + v.size()); }
 
-std::vector<double> ToVector(const Eigen::VectorXd& v) { return std::vector<double>(v.data(), v.data() + v.size()); }
-
-Eigen::VectorXd FromJson(const nlohmann::json& j, const std::string& key, const std::string& source) {
+Eigen::VectorXd JsonVector(const nlohmann::json& j, const std::string& key, const std::string& source) {
   Require(j.contains(key) && j[key].is_array(), source + ": missing array '" + key + "'");
   std::vector<double> v;
   for (const auto& x : j[key]) {
@@ -92,20 +89,18 @@ Eigen::VectorXd FromJson(const nlohmann::json& j, const std::string& key, const 
   return Eigen::Map<const Eigen::VectorXd>(v.data(), static_cast<Eigen::Index>(v.size()));
 }
 
-}  // namespace
-
 nlohmann::json PolyModelJson(const sysid::PolyModel& m) {
   return {{"structure", sysid::StructureName(m.structure)},
-          {"A", ToVector(m.a)}, {"B", ToVector(m.b)}, {"C", ToVector(m.c)}, {"D", ToVector(m.d)},
-          {"F", ToVector(m.f)}, {"nk", m.orders.nk}, {"dt_s", m.dt_s}};
+          {"A", ToStdVector(m.a)}, {"B", ToStdVector(m.b)}, {"C", ToStdVector(m.c)}, {"D", ToStdVector(m.d)},
+          {"F", ToStdVector(m.f)}, {"nk", m.orders.nk}, {"dt_s", m.dt_s}};
 }
 
 sysid::PolyModel PolyModelFromJson(const nlohmann::json& j, const std::string& source) {
   sysid::PolyModel m;
-  m.a = FromJson(j, "A", source);
-  m.b = FromJson(j, "B", source);
+  m.a = JsonVector(j, "A", source);
+  m.b = JsonVector(j, "B", source);
   auto optional_poly = [&](const char* key) {
-    return j.contains(key) ? FromJson(j, key, source) : Eigen::VectorXd(Eigen::VectorXd::Ones(1));
+    return j.contains(key) ? JsonVector(j, key, source) : Eigen::VectorXd(Eigen::VectorXd::Ones(1));
   };
   m.c = optional_poly("C");
   m.d = optional_poly("D");

@@ -4,6 +4,7 @@
 
 #include <optional>
 #include <string>
+#include <vector>
 
 #include <CLI/CLI.hpp>
 #include <nlohmann/json.hpp>
@@ -42,6 +43,11 @@ std::optional<sysid::ResidualTests> TryResidualTests(const Eigen::VectorXd& resi
 /// its nk leading zeros), nk, dt_s.
 nlohmann::json PolyModelJson(const sysid::PolyModel& m);
 sysid::PolyModel PolyModelFromJson(const nlohmann::json& j, const std::string& source);
+
+/// JSON array of a vector, and a vector from a JSON array of finite numbers (InputError naming
+/// `source` and `key` otherwise).
+std::vector<double> ToStdVector(const Eigen::VectorXd& v);
+Eigen::VectorXd JsonVector(const nlohmann::json& j, const std::string& key, const std::string& source);
 
 /// Number formatting for the text (non-JSON) output.
 std::string FormatNumber(double v);

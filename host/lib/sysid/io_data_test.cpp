@@ -5,6 +5,7 @@
 #include <limits>
 #include <numbers>
 
+#include <gmock/gmock.h>
 #include <gtest/gtest.h>
 
 #include "testing_systems.hpp"
@@ -15,26 +16,20 @@
 namespace vibid::sysid {
 namespace {
 
-std::string ErrorOf(const std::function<void()>& f) {
-  try {
-    f();
-  } catch (const InputError& e) {
-    return e.what();
-  }
-  return "";
-}
+using ::testing::HasSubstr;
+using ::testing::ThrowsMessage;
 
 TEST(IoData, RejectsBadRecordsWithClearMessages) {
   const Eigen::VectorXd ten = Eigen::VectorXd::LinSpaced(10, 0.0, 1.0);
-  EXPECT_NE(ErrorOf([&] { MakeIoData(ten, Eigen::VectorXd::Ones(9), 0.1, "V", "X"); }).find("lengths must match"),
-            std::string::npos);
   Eigen::VectorXd nan = ten;
   nan[4] = std::numeric_limits<double>::quiet_NaN();
-  EXPECT_NE(ErrorOf([&] { MakeIoData(ten, nan, 0.1, "V", "X"); }).find("output 'X' is not finite"), std::string::npos);
-  EXPECT_NE(ErrorOf([&] { MakeIoData(Eigen::VectorXd::Constant(10, 3.0), ten, 0.1, "V", "X"); })
-                .find("not persistently exciting"),
-            std::string::npos);
-  EXPECT_NE(ErrorOf([&] { MakeIoData(ten.head(4), ten.head(4), 0.1); }).find("too short"), std::string::npos);
+  EXPECT_THAT([&] { MakeIoData(ten, Eigen::VectorXd::Ones(9), 0.1, "V", "X"); },
+              ThrowsMessage<InputError>(HasSubstr("lengths must match")));
+  EXPECT_THAT([&] { MakeIoData(ten, nan, 0.1, "V", "X"); },
+              ThrowsMessage<InputError>(HasSubstr("output 'X' is not finite (NaN or Inf) at sample 4")));
+  EXPECT_THAT([&] { MakeIoData(Eigen::VectorXd::Constant(10, 3.0), ten, 0.1, "V", "X"); },
+              ThrowsMessage<InputError>(HasSubstr("not persistently exciting")));
+  EXPECT_THAT([&] { MakeIoData(ten.head(4), ten.head(4), 0.1); }, ThrowsMessage<InputError>(HasSubstr("too short")));
   EXPECT_THROW(MakeIoData(ten, ten, 0.0), InputError);
 }
 
