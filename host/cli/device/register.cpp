@@ -1,8 +1,14 @@
-// Command family registration (filled in as the family's commands land).
+// The device command family: everything that talks to a board (or the emulator).
 #include "commands.hpp"
+#include "device_commands.hpp"
 
 namespace vibid::cli {
 
-void RegisterDeviceCommands(CLI::App& /*app*/, const GlobalOptions& /*globals*/) {}
+void RegisterDeviceCommands(CLI::App& app, const GlobalOptions& globals) {
+  RegisterInfoCommands(app, globals);
+  RegisterCalCommands(app, globals);
+  RegisterAcquireCommands(app, globals);
+  RegisterDobControlCommands(app, globals);
+}
 
 }  // namespace vibid::cli

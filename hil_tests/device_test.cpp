@@ -1,0 +1,266 @@
+// Hardware-in-the-loop suite: the host device layer against a running firmware (VIBID_TARGET).
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <thread>
+
+#include "target.hpp"
+#include "test_records.hpp"
+#include "vibid/device/error.hpp"
+#include "vibid/shared/wire/calibration_record.hpp"
+
+namespace vibid::hil {
+namespace {
+
+using device::Connection;
+using device::DeviceError;
+using wire::Command;
+
+std::vector<std::uint8_t> RecordBytes(std::uint32_t tag) {
+  const auto a = fw::testing::Encoded(fw::testing::TestRecord(tag));
+  return {a.begin(), a.end()};
+}
+
+wire::AcqConfigureRequest AllChannels(std::uint32_t record_limit) {
+  wire::AcqConfigureRequest c;
+  c.sample_period_us = 200;
+  c.channel_mask = wire::kAllChannelsMask;
+  c.decimation = 1;
+  c.record_limit = record_limit;
+  return c;
+}
+
+/// Waits until the acquisition ended on its record limit.
+void AwaitDone(Connection& c) {
+  for (int i = 0; i < 2000; ++i) {
+    if (c.GetStatus().acq_state == wire::AcqState::kDone) return;
+    std::this_thread::sleep_for(std::chrono::milliseconds(5));
+  }
+  FAIL() << "acquisition did not reach its record limit";
+}
+
+class DeviceTest : public ::testing::Test {
+ protected:
+  void SetUp() override { target = MakeTarget(); }
+  std::unique_ptr<Target> target;
+};
+
+TEST_F(DeviceTest, InfoNamesProtocolChannelsAndCapabilities) {
+  auto c = target->Connect();
+  const wire::InfoResponse& info = c->info();
+  EXPECT_EQ(info.protocol_major, wire::kProtocolMajor);
+  EXPECT_EQ(info.channel_count, wire::kChannelCount);
+  for (std::size_t i = 0; i < wire::kChannelCount; ++i) {
+    EXPECT_EQ(info.channel_kind[i], wire::KindOf(static_cast<wire::Channel>(i))) << "channel " << i;
+  }
+  EXPECT_NE(info.capabilities & wire::kCapDob, 0u);
+  EXPECT_NE(info.capabilities & wire::kCapForceTrigger, 0u);
+  EXPECT_GT(info.log_capacity_bytes, 0u);
+  EXPECT_NO_THROW(c->Ping());
+}
+
+TEST_F(DeviceTest, CalibrationRoundTripAndPersistenceAcrossRestart) {
+  const std::vector<std::uint8_t> record = RecordBytes(41);
+  {
+    auto c = target->Connect();
+    std::size_t last_chunk = 0;
+    c->CalPut(record, [&](std::uint64_t done, std::uint64_t total) {
+      last_chunk = done;
+      EXPECT_EQ(total, wire::CalPutChunkCount(record.size()));
+    });
+    EXPECT_EQ(last_chunk, wire::CalPutChunkCount(record.size()));
+    const wire::CalCommitResponse commit = c->CalCommit();
+    EXPECT_NE(commit.slot, wire::kNoSlot);
+    wire::CalGetTrailer trailer;
+    EXPECT_EQ(c->CalGet(&trailer), record);
+    EXPECT_EQ(trailer.sequence, commit.sequence);
+    EXPECT_EQ(c->GetInfo().cal_crc, wire::StoredRecordCrc(std::span<const std::uint8_t, wire::kCalRecordBytes>(record.data(), record.size())));
+  }
+  if (!target->Restart()) GTEST_SKIP() << "target cannot be power cycled by the test";
+  auto c = target->Connect();
+  EXPECT_EQ(c->info().cal_state, wire::CalState::kCalibrated);
+  EXPECT_EQ(c->CalGet(), record);
+}
+
+TEST_F(DeviceTest, CorruptedCalibrationUploadIsRefusedWithTheDevicesVerdict) {
+  auto c = target->Connect();
+  std::vector<std::uint8_t> record = RecordBytes(5);
+  record[100] ^= 0x01;  // inside the channel scaling: the record CRC no longer matches
+  try {
+    c->CalPut(record);
+    FAIL() << "a record with a wrong CRC was accepted";
+  } catch (const DeviceError& e) {
+    EXPECT_NE(std::string(e.what()).find("data-loss"), std::string::npos) << e.what();
+  }
+}
+
+TEST_F(DeviceTest, CommitIsRefusedWhileAcquiring) {
+  auto c = target->Connect();
+  c->CalPut(RecordBytes(7));
+  c->Configure(AllChannels(0));
+  c->StartAcquisition();
+  const device::Reply r = c->Call(Command::kCalCommit);
+  EXPECT_EQ(r.header.status, Status::kFailedPrecondition);
+  try {
+    c->CalCommit();
+    FAIL() << "commit accepted while acquiring";
+  } catch (const DeviceError& e) {
+    EXPECT_NE(std::string(e.what()).find("refused cal-commit"), std::string::npos) << e.what();
+  }
+  c->StopAcquisition();
+  EXPECT_NO_THROW(c->CalCommit());
+}
+
+TEST_F(DeviceTest, ForceTriggerKeepsThePretriggerRecords) {
+  auto c = target->Connect();
+  c->CalPut(RecordBytes(9));
+  c->CalCommit();
+  // Load cell 1: full scale 100 N over 2048 counts (TestRecord). 20 N rising.
+  wire::AcqConfigureRequest cfg = AllChannels(400);
+  cfg.trigger_mode = wire::TriggerMode::kRising;
+  cfg.trigger_channel = 0;
+  cfg.trigger_threshold = static_cast<std::int32_t>(std::lround(20.0 / 100.0 * 2147483648.0));
+  cfg.pretrigger_records = 50;
+  c->Configure(cfg);
+  c->StartAcquisition();
+  AwaitDone(*c);
+  const device::LogPull pull = c->PullLog();
+  ASSERT_EQ(pull.records.size(), 450u);
+  EXPECT_EQ(pull.trailer.trigger_record, 50u);
+  // Calibrated force of a record in N, as the board computes it.
+  const auto force_n = [](const wire::LogRecord& r) {
+    std::uint32_t clips = 0;
+    const auto scaling = fw::testing::TestRecord(9).channels[0];
+    return wire::ScaleChannel(r.raw[0], scaling, clips) / 2147483648.0 * 100.0;
+  };
+  // The pulse starts at tick 200; 1500 sin(2 pi / 20) counts = 22.6 N is its first sample above.
+  EXPECT_EQ(pull.records[50].sample_index, 202u);
+  EXPECT_GE(force_n(pull.records[50]), 20.0);
+  EXPECT_LT(force_n(pull.records[49]), 20.0);
+  for (std::size_t i = 1; i < pull.records.size(); ++i) {
+    ASSERT_EQ(pull.records[i].sample_index, pull.records[i - 1].sample_index + 1) << "record " << i;
+  }
+}
+
+TEST_F(DeviceTest, InterruptedLogPullResumesWithNothingLostOrDuplicated) {
+  CoreLoopback* loop = target->loopback();
+  if (loop == nullptr) GTEST_SKIP() << "needs fault injection";
+  auto c = target->Connect(device::ConnectionOptions{.timeout = std::chrono::milliseconds(200)});
+  c->Configure(AllChannels(1800));
+  c->StartAcquisition();
+  AwaitDone(*c);
+  loop->DropStreamReport(7);  // a lost data report in the first stream
+  const device::LogPull pull = c->PullLog();
+  ASSERT_EQ(pull.records.size(), 1800u);
+  for (std::size_t i = 0; i < pull.records.size(); ++i) {
+    ASSERT_EQ(pull.records[i].sample_index, i);
+    ASSERT_EQ(pull.records[i].raw, CoreLoopback::FrameAt(static_cast<std::uint32_t>(i))) << "record " << i;
+  }
+  EXPECT_GE(c->counters().stream_resumes, 1u);
+}
+
+TEST_F(DeviceTest, PullWhileAcquiringFollowsTheLog) {
+  CoreLoopback* loop = target->loopback();
+  if (loop != nullptr) loop->SetFramesPerStep(2);
+  auto c = target->Connect();
+  c->Configure(AllChannels(3000));
+  c->StartAcquisition();
+  const device::LogPull pull = c->PullLog();
+  ASSERT_EQ(pull.records.size(), 3000u);
+  EXPECT_EQ(pull.records.back().sample_index, 2999u);
+  EXPECT_EQ(pull.trailer.acq_state, wire::AcqState::kDone);
+}
+
+TEST_F(DeviceTest, CorruptedAndTruncatedReportsAreDroppedAndTheRequestRetried) {
+  CoreLoopback* loop = target->loopback();
+  if (loop == nullptr) GTEST_SKIP() << "needs fault injection";
+  auto c = target->Connect(device::ConnectionOptions{.timeout = std::chrono::milliseconds(200)});
+  loop->CorruptNext(1);
+  EXPECT_NO_THROW(c->GetStatus());
+  loop->TruncateNext(1);
+  EXPECT_NO_THROW(c->GetStatus());
+  const device::LinkCounters n = c->counters();
+  EXPECT_EQ(n.corrupted, 1u);
+  EXPECT_EQ(n.truncated, 1u);
+  EXPECT_EQ(n.retries, 2u);
+}
+
+TEST_F(DeviceTest, LostAnswersFailWithAOneLineMessageAfterTheRetries) {
+  CoreLoopback* loop = target->loopback();
+  if (loop == nullptr) GTEST_SKIP() << "needs fault injection";
+  auto c = target->Connect(device::ConnectionOptions{.timeout = std::chrono::milliseconds(50), .retries = 2});
+  loop->DropNext(3);
+  try {
+    c->GetStatus();
+    FAIL() << "no error although every answer was lost";
+  } catch (const DeviceError& e) {
+    EXPECT_EQ(std::string(e.what()).find('\n'), std::string::npos);
+    EXPECT_NE(std::string(e.what()).find("no answer to get-status"), std::string::npos) << e.what();
+  }
+}
+
+TEST_F(DeviceTest, WrongProtocolMajorIsRefusedNamingBothVersions) {
+  CoreLoopback* loop = target->loopback();
+  if (loop == nullptr) GTEST_SKIP() << "needs fault injection";
+  loop->SetProtocolMajor(wire::kProtocolMajor + 1);
+  try {
+    target->Connect(device::ConnectionOptions{.timeout = std::chrono::milliseconds(200)});
+    FAIL() << "connected to a device of another protocol major";
+  } catch (const DeviceError& e) {
+    const std::string m = e.what();
+    EXPECT_NE(m.find("protocol 2.x"), std::string::npos) << m;
+    EXPECT_NE(m.find("this host speaks 1."), std::string::npos) << m;
+  }
+}
+
+TEST_F(DeviceTest, UnknownCommandIsRefusedAsUnimplemented) {
+  auto c = target->Connect();
+  const device::Reply r = c->Call(static_cast<Command>(0x5A));
+  EXPECT_EQ(r.header.status, Status::kUnimplemented);
+  try {
+    c->Expect(static_cast<Command>(0x5A));
+    FAIL();
+  } catch (const DeviceError& e) {
+    EXPECT_NE(std::string(e.what()).find("does not know this command"), std::string::npos) << e.what();
+  }
+}
+
+TEST_F(DeviceTest, DeviceVanishingMidPullIsReported) {
+  CoreLoopback* loop = target->loopback();
+  if (loop == nullptr) GTEST_SKIP() << "needs fault injection";
+  loop->SetFramesPerStep(1);
+  auto c = target->Connect();
+  c->Configure(AllChannels(0));
+  c->StartAcquisition();
+  std::thread killer([&] {
+    std::this_thread::sleep_for(std::chrono::milliseconds(100));
+    loop->Kill();
+  });
+  try {
+    c->PullLog();
+    killer.join();
+    FAIL() << "the pull ended although the device vanished";
+  } catch (const DeviceError& e) {
+    killer.join();
+    EXPECT_NE(std::string(e.what()).find("lost the device"), std::string::npos) << e.what();
+  }
+}
+
+TEST_F(DeviceTest, CancelledPullThrowsInterrupted) {
+  std::atomic<bool> cancel{false};
+  auto c = target->Connect(device::ConnectionOptions{.cancel = &cancel});
+  c->Configure(AllChannels(0));
+  c->StartAcquisition();
+  std::thread stopper([&] {
+    std::this_thread::sleep_for(std::chrono::milliseconds(50));
+    cancel = true;
+  });
+  EXPECT_THROW(c->PullLog(), device::Interrupted);
+  stopper.join();
+  cancel = false;
+  c->StopAcquisition();
+  EXPECT_EQ(c->GetStatus().acq_state, wire::AcqState::kIdle);
+}
+
+}  // namespace
+}  // namespace vibid::hil

@@ -1,0 +1,28 @@
+// The device a hil test talks to, chosen by VIBID_TARGET:
+//   core  the firmware core in-process over a loopback transport (core_loopback.hpp); default
+//   hid   the one real board attached over USB HID
+#pragma once
+
+#include <memory>
+#include <string>
+
+#include "core_loopback.hpp"
+#include "vibid/device/connection.hpp"
+
+namespace vibid::hil {
+
+class Target {
+ public:
+  virtual ~Target() = default;
+  virtual std::string Name() const = 0;
+  virtual std::unique_ptr<device::Connection> Connect(device::ConnectionOptions options = {}) = 0;
+  /// Power cycle (calibration must survive). False if the target cannot be restarted by the test.
+  virtual bool Restart() = 0;
+  /// The loopback for fault injection; null on targets where faults cannot be injected.
+  virtual CoreLoopback* loopback() { return nullptr; }
+};
+
+/// The target VIBID_TARGET names (a fresh one per call: a test owns its device).
+std::unique_ptr<Target> MakeTarget();
+
+}  // namespace vibid::hil

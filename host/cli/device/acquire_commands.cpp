@@ -1,0 +1,168 @@
+// vibid acquire | log pull
+#include <cmath>
+#include <iostream>
+
+#include "cli_support.hpp"
+#include "device_commands.hpp"
+#include "session.hpp"
+#include "vibid/common/error.hpp"
+#include "vibid/device/error.hpp"
+#include "vibid/device/log_table.hpp"
+
+namespace vibid::cli {
+namespace {
+
+struct AcquireOptions {
+  double seconds = 0.0;
+  double rate_hz = 5000.0;
+  int decimation = 1;
+  std::vector<std::string> channels;
+  std::string trigger;
+  double pretrigger_s = 0.0;
+  std::string scenario;
+  std::vector<float> scenario_params;
+  bool no_dob = false;
+  std::string output;
+};
+
+struct Trigger {
+  wire::TriggerMode mode = wire::TriggerMode::kImmediate;
+  wire::Channel channel = wire::Channel::kForce1;
+  double threshold = 0.0;
+};
+
+/// "force>F", "force2<F" ("force" is force1): the load cell, the direction and F in newtons.
+Trigger ParseTrigger(const std::string& text) {
+  Trigger t;
+  if (text.empty()) return t;
+  const std::size_t op = text.find_first_of("<>");
+  const auto bad = [&] { throw InputError("--trigger '" + text + "': expected force>F, force1>F or force2<F (F in N)"); };
+  if (op == std::string::npos) bad();
+  std::string stem = text.substr(0, op);
+  if (stem == "force") stem = "force1";
+  if (!device::ChannelFromStem(stem, t.channel) || !wire::IsLoadCell(static_cast<std::uint8_t>(t.channel))) bad();
+  t.mode = text[op] == '>' ? wire::TriggerMode::kRising : wire::TriggerMode::kFalling;
+  try {
+    std::size_t used = 0;
+    const std::string v = text.substr(op + 1);
+    t.threshold = std::stod(v, &used);
+    if (used != v.size() || !std::isfinite(t.threshold)) bad();
+  } catch (const std::logic_error&) {
+    bad();
+  }
+  return t;
+}
+
+void WriteLog(device::Connection& c, const device::LogPull& pull, const std::string& path) {
+  bool has_record = false;
+  const wire::CalibrationRecord rec = ActiveRecord(c, has_record);
+  EmitOutput(device::FormatLogCsv(pull, rec, has_record), path);
+  std::cerr << "vibid: " << pull.records.size() << " records";
+  if (pull.trailer.dropped_records != 0 || pull.trailer.overrun_count != 0) {
+    std::cerr << " (the board dropped " << pull.trailer.dropped_records << " records and missed "
+              << pull.trailer.overrun_count << " ticks)";
+  }
+  std::cerr << (path.empty() || path == "-" ? "" : " written to " + path) << "\n";
+}
+
+}  // namespace
+
+void RegisterAcquireCommands(CLI::App& app, const GlobalOptions& globals) {
+  CLI::App* acq = app.add_subcommand("acquire", "Record from the board: configure, start, pull the log into a CSV");
+  auto o = std::make_shared<AcquireOptions>();
+  acq->add_option("--seconds", o->seconds, "Seconds to record after the trigger")->required()->check(PositiveNumber());
+  acq->add_option("--rate-hz", o->rate_hz, "Sample rate (Hz)")->check(PositiveNumber());
+  acq->add_option("--decimation", o->decimation, "Keep one sample in N in the log")->check(CLI::Range(1, 10000));
+  acq->add_option("--channels", o->channels, "Channels to log: force1,force2,acc1,acc2,x1,x2 (default all)")->delimiter(',');
+  acq->add_option("--trigger", o->trigger, "Start on a load cell threshold: force>F (N), force2<F");
+  acq->add_option("--pretrigger-s", o->pretrigger_s, "Seconds kept before the trigger")->check(NonNegativeNumber());
+  acq->add_option("--scenario", o->scenario, "Emulator only: the rig excitation to run (hammer, shaker, push, ...)");
+  acq->add_option("--scenario-param", o->scenario_params, "Emulator only: up to 4 scenario parameters (SI)")->delimiter(',');
+  acq->add_flag("--no-dob", o->no_dob, "Do not log the observer output");
+  acq->add_option("-o,--output", o->output, "Output CSV")->required();
+  acq->callback([&globals, o] {
+    wire::AcqConfigureRequest cfg;
+    const double period_us = 1e6 / o->rate_hz;
+    Require(std::abs(period_us - std::round(period_us)) < 1e-6 && period_us >= wire::kMinSamplePeriodUs &&
+                period_us <= wire::kMaxSamplePeriodUs,
+            "--rate-hz " + std::to_string(o->rate_hz) + ": the period must be a whole number of microseconds from 100 to 1000000");
+    cfg.sample_period_us = static_cast<std::uint32_t>(std::lround(period_us));
+    cfg.decimation = static_cast<std::uint16_t>(o->decimation);
+    cfg.channel_mask = 0;
+    for (const std::string& name : o->channels) {
+      wire::Channel ch{};
+      Require(device::ChannelFromStem(name, ch), "--channels: unknown channel '" + name + "' (force1, force2, acc1, acc2, x1, x2)");
+      cfg.channel_mask = static_cast<std::uint8_t>(cfg.channel_mask | (1u << static_cast<unsigned>(ch)));
+    }
+    if (cfg.channel_mask == 0) cfg.channel_mask = wire::kAllChannelsMask;
+    const Trigger trig = ParseTrigger(o->trigger);
+    Require(o->pretrigger_s == 0.0 || trig.mode != wire::TriggerMode::kImmediate, "--pretrigger-s needs a --trigger");
+    const double log_rate_hz = o->rate_hz / o->decimation;
+    cfg.record_limit = static_cast<std::uint32_t>(std::lround(o->seconds * log_rate_hz));
+    cfg.pretrigger_records = static_cast<std::uint32_t>(std::lround(o->pretrigger_s * log_rate_hz));
+    Require(cfg.record_limit > 0, "--seconds is shorter than one logged sample");
+    Require(o->scenario_params.size() <= 4, "--scenario-param takes at most 4 values");
+    WithDevice(globals, [&](device::Connection& c) {
+      bool has_record = false;
+      const wire::CalibrationRecord rec = ActiveRecord(c, has_record);
+      if (!o->no_dob && has_record && (rec.flags & wire::kCalFlagHasDob) != 0) cfg.flags = wire::kAcqFlagLogDob;
+      if (trig.mode != wire::TriggerMode::kImmediate) {
+        const wire::ChannelScaling& s = rec.channels[static_cast<std::size_t>(trig.channel)];
+        if (!has_record || s.unit != wire::Unit::kNewton) {
+          throw DeviceError("a force trigger needs a calibrated load cell: upload a calibration first (vibid cal upload)");
+        }
+        const double q = trig.threshold / static_cast<double>(s.full_scale) * 2147483648.0;
+        Require(std::abs(q) < 2147483647.0, "--trigger threshold is beyond the load cell's full scale");
+        cfg.trigger_mode = trig.mode;
+        cfg.trigger_channel = static_cast<std::uint8_t>(trig.channel);
+        cfg.trigger_threshold = static_cast<std::int32_t>(std::lround(q));
+      }
+      if (!o->scenario.empty()) c.SelectScenario(o->scenario, o->scenario_params);
+      c.Configure(cfg);
+      c.StartAcquisition();
+      device::LogPull pull;
+      try {
+        ProgressBar bar("acquire");
+        pull = c.PullLog(0, [&](std::uint64_t done, std::uint64_t) {
+          bar.Update(done, std::uint64_t{cfg.record_limit} + cfg.pretrigger_records);
+        });
+      } catch (const device::Interrupted&) {
+        c.StopAcquisition();
+        throw DeviceError("interrupted: acquisition stopped, nothing written");
+      } catch (...) {
+        // The board is left idle whenever it can still be reached.
+        try {
+          c.StopAcquisition();
+        } catch (const device::DeviceError&) {
+        }
+        throw;
+      }
+      WriteLog(c, pull, o->output);
+    });
+  });
+
+  CLI::App* log = app.add_subcommand("log", "The board's acquisition log");
+  log->require_subcommand(1);
+  CLI::App* pull_cmd = log->add_subcommand("pull", "Pull the log of the last acquisition into a CSV");
+  struct PullOptions {
+    std::string output;
+    std::uint32_t first = 0;
+  };
+  auto po = std::make_shared<PullOptions>();
+  pull_cmd->add_option("-o,--output", po->output, "Output CSV")->required();
+  pull_cmd->add_option("--from", po->first, "First log record to pull (0: all the board still holds)");
+  pull_cmd->callback([&globals, po] {
+    WithDevice(globals, [&](device::Connection& c) {
+      device::LogPull pull;
+      try {
+        ProgressBar bar("log pull");
+        pull = c.PullLog(po->first, bar.Callback());
+      } catch (const device::Interrupted&) {
+        throw DeviceError("interrupted: nothing written");
+      }
+      WriteLog(c, pull, po->output);
+    });
+  });
+}
+
+}  // namespace vibid::cli

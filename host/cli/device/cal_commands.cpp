@@ -1,0 +1,205 @@
+// vibid cal upload | show | commit
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <iostream>
+#include <sstream>
+
+#include <nlohmann/json.hpp>
+
+#include "cli_support.hpp"
+#include "device_commands.hpp"
+#include "observer_file.hpp"
+#include "session.hpp"
+#include "vibid/common/error.hpp"
+#include "vibid/common/json_file.hpp"
+#include "vibid/device/calibration_builder.hpp"
+#include "vibid/device/log_table.hpp"
+#include "vibid/model/model_json.hpp"
+
+namespace vibid::cli {
+namespace {
+
+const char* UnitName(wire::Unit u) {
+  switch (u) {
+    case wire::Unit::kNewton: return "N";
+    case wire::Unit::kMeterPerSecond2: return "m/s2";
+    case wire::Unit::kMeter: return "m";
+    case wire::Unit::kMeterPerSecond: return "m/s";
+    case wire::Unit::kCounts: return "counts";
+  }
+  return "counts";
+}
+
+nlohmann::json Matrix(const std::array<float, wire::kMaxDof * wire::kMaxDof>& m, std::size_t n) {
+  nlohmann::json rows = nlohmann::json::array();
+  for (std::size_t i = 0; i < n; ++i) {
+    nlohmann::json row = nlohmann::json::array();
+    for (std::size_t k = 0; k < n; ++k) row.push_back(static_cast<double>(m[i * wire::kMaxDof + k]));
+    rows.push_back(row);
+  }
+  return rows;
+}
+
+nlohmann::json RecordJson(const wire::CalibrationRecord& r, const wire::CalGetTrailer& t, std::uint32_t crc) {
+  const std::size_t n = r.dof_count;
+  nlohmann::json channels = nlohmann::json::object();
+  for (std::size_t c = 0; c < wire::kChannelCount; ++c) {
+    const wire::ChannelScaling& s = r.channels[c];
+    if (s.unit == wire::Unit::kCounts) continue;
+    const device::SensorScaling p = device::FromChannelScaling(s);
+    nlohmann::json ch = {{"unit", UnitName(s.unit)},
+                         {"counts_per_unit", p.counts_per_unit},
+                         {"offset_counts", s.offset_counts},
+                         {"full_scale", static_cast<double>(s.full_scale)},
+                         {"gain", s.gain},
+                         {"gain_shift", s.gain_shift}};
+    if (s.dof != wire::kNoDof) ch["dof"] = s.dof + 1;
+    channels[device::ChannelStem(static_cast<wire::Channel>(c))] = ch;
+  }
+  char crc_text[11];
+  std::snprintf(crc_text, sizeof(crc_text), "0x%08x", crc);
+  nlohmann::json j = {{"label", std::string(r.label.data(), strnlen(r.label.data(), r.label.size()))},
+                      {"created_unix_s", r.created_unix_s},
+                      {"host_version", std::to_string(r.host_major) + "." + std::to_string(r.host_minor) + "." + std::to_string(r.host_patch)},
+                      {"slot", t.slot},
+                      {"sequence", t.sequence},
+                      {"crc32", crc_text},
+                      {"M", Matrix(r.mass_kg, n)},
+                      {"C", Matrix(r.damping_ns_per_m, n)},
+                      {"K", Matrix(r.stiffness_n_per_m, n)},
+                      {"channels", channels}};
+  if ((r.flags & wire::kCalFlagHasDob) != 0) {
+    fixed::FilterDescription d;
+    static_cast<void>(fixed::DecodeDescription(r.dob, d));
+    nlohmann::json inputs = nlohmann::json::array();
+    for (std::size_t i = 0; i < d.input_count; ++i) {
+      inputs.push_back({{"channel", device::ChannelStem(static_cast<wire::Channel>(r.dob_input_channel[i]))},
+                        {"sections", d.paths[i].section_count}});
+    }
+    j["observer"] = {{"sample_rate_hz", d.sample_rate_hz},
+                     {"output_dof", d.output_dof + 1},
+                     {"output_full_scale_n", static_cast<double>(fixed::FullScaleValue(d.output_full_scale_bits))},
+                     {"inputs", inputs}};
+  } else {
+    j["observer"] = nullptr;
+  }
+  return j;
+}
+
+std::string FormatRecord(const nlohmann::json& j) {
+  std::ostringstream o;
+  o << "record    '" << j["label"].get<std::string>() << "', slot " << j["slot"].get<int>() << ", sequence "
+    << j["sequence"].get<std::uint32_t>() << ", crc " << j["crc32"].get<std::string>() << ", built by host "
+    << j["host_version"].get<std::string>() << "\n";
+  for (const char* m : {"M", "C", "K"}) o << m << "         " << j[m].dump() << "\n";
+  for (const auto& [name, c] : j["channels"].items()) {
+    o << "sensor    " << name << ": " << c["counts_per_unit"].get<double>() << " counts/" << c["unit"].get<std::string>()
+      << ", offset " << c["offset_counts"].get<std::int64_t>() << ", full scale " << c["full_scale"].get<double>() << " "
+      << c["unit"].get<std::string>();
+    if (c.contains("dof")) o << ", mass " << c["dof"].get<int>();
+    o << "\n";
+  }
+  if (j["observer"].is_null()) {
+    o << "observer  none\n";
+  } else {
+    const auto& d = j["observer"];
+    o << "observer  " << d["sample_rate_hz"].get<std::uint32_t>() << " Hz, d_hat on mass " << d["output_dof"].get<int>()
+      << " (full scale " << d["output_full_scale_n"].get<double>() << " N), inputs";
+    for (const auto& in : d["inputs"]) o << " " << in["channel"].get<std::string>() << "(" << in["sections"].get<int>() << " sections)";
+    o << "\n";
+  }
+  return o.str();
+}
+
+struct UploadOptions {
+  std::string model;
+  std::string design;
+  std::string sensors;
+  std::string label;
+};
+
+}  // namespace
+
+void RegisterCalCommands(CLI::App& app, const GlobalOptions& globals) {
+  CLI::App* cal = app.add_subcommand("cal", "The board's calibration record: model, sensor scaling, observer");
+  cal->require_subcommand(1);
+
+  CLI::App* upload = cal->add_subcommand("upload", "Build a calibration record and stage it on the board (commit makes it permanent)");
+  auto uo = std::make_shared<UploadOptions>();
+  upload->add_option("model", uo->model, "Model file (M, C, K) of the rig")->required();
+  upload->add_option("--design", uo->design, "Observer design file from `vibid dob design`")->required();
+  upload->add_option("--sensors", uo->sensors, "Sensors file (default: the scaling the board already holds)");
+  upload->add_option("--label", uo->label, "Rig name stored in the record (default: the model file's name)");
+  upload->callback([&globals, uo] {
+    device::RecordInputs in;
+    in.model = model::LoadModel(uo->model);
+    in.observer = LoadObserverDescription(uo->design);
+    std::string label = uo->label;
+    if (label.empty()) {
+      label = uo->model.substr(uo->model.find_last_of('/') + 1);
+      if (label.size() > 5 && label.ends_with(".json")) label.resize(label.size() - 5);
+      if (label.size() >= wire::kCalLabelBytes) label.resize(wire::kCalLabelBytes - 1);
+    }
+    in.label = label;
+    in.created_unix_s = std::chrono::duration_cast<std::chrono::seconds>(
+                            std::chrono::system_clock::now().time_since_epoch()).count();
+    unsigned major = 0, minor = 0, patch = 0;
+    static_cast<void>(std::sscanf(VIBID_VERSION, "%u.%u.%u", &major, &minor, &patch));
+    in.host_major = static_cast<std::uint8_t>(major);
+    in.host_minor = static_cast<std::uint8_t>(minor);
+    in.host_patch = static_cast<std::uint16_t>(patch);
+    if (!uo->sensors.empty()) in.sensors = device::SensorsFromJson(ReadJsonFile(uo->sensors), uo->sensors);
+    WithDevice(globals, [&](device::Connection& c) {
+      if (uo->sensors.empty()) {
+        bool has_record = false;
+        const wire::CalibrationRecord old = ActiveRecord(c, has_record);
+        if (!has_record) throw InputError("the board is uncalibrated: give its sensors with --sensors SENSORS.json");
+        for (std::size_t k = 0; k < wire::kChannelCount; ++k) {
+          if (old.channels[k].unit != wire::Unit::kCounts) in.sensors[k] = device::FromChannelScaling(old.channels[k]);
+        }
+      }
+      const wire::CalibrationRecord rec = device::BuildCalibrationRecord(in);
+      std::array<std::uint8_t, wire::kCalRecordBytes> bytes{};
+      wire::EncodeCalibrationRecord(rec, bytes);
+      {
+        ProgressBar bar("cal upload");
+        c.CalPut(bytes, bar.Callback());
+      }
+      char crc[11];
+      std::snprintf(crc, sizeof(crc), "0x%08x", wire::StoredRecordCrc(bytes));
+      std::cout << "staged calibration '" << label << "' (" << bytes.size() << " bytes, crc " << crc
+                << "); `vibid cal commit` writes it to flash\n";
+    });
+  });
+
+  CLI::App* show = cal->add_subcommand("show", "Print the board's active calibration record");
+  auto show_json = std::make_shared<bool>(false);
+  show->add_flag("--json", *show_json, "Print JSON");
+  show->callback([&globals, show_json] {
+    WithDevice(globals, [&](device::Connection& c) {
+      if (c.info().cal_state != wire::CalState::kCalibrated) {
+        if (*show_json) std::cout << "null\n";
+        else std::cout << "uncalibrated: raw counts, no observer\n";
+        return;
+      }
+      wire::CalGetTrailer t;
+      const std::vector<std::uint8_t> bytes = c.CalGet(&t);
+      wire::CalibrationRecord r;
+      const Status st = wire::DecodeCalibrationRecord(bytes, r);
+      if (st != Status::kOk) throw DeviceError(std::string("the board's calibration record does not decode: ") + StatusName(st));
+      const nlohmann::json j = RecordJson(r, t, wire::StoredRecordCrc(std::span<const std::uint8_t, wire::kCalRecordBytes>(bytes.data(), bytes.size())));
+      std::cout << (*show_json ? j.dump(2) + "\n" : FormatRecord(j));
+    });
+  });
+
+  CLI::App* commit = cal->add_subcommand("commit", "Write the staged record to flash (refused while acquiring)");
+  commit->callback([&globals] {
+    WithDevice(globals, [](device::Connection& c) {
+      const wire::CalCommitResponse r = c.CalCommit();
+      std::cout << "committed to slot " << static_cast<int>(r.slot) << ", sequence " << r.sequence << "\n";
+    });
+  });
+}
+
+}  // namespace vibid::cli

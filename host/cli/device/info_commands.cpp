@@ -1,0 +1,172 @@
+// vibid devices | info | monitor
+#include <chrono>
+#include <cstdio>
+#include <iostream>
+#include <sstream>
+#include <thread>
+
+#include <nlohmann/json.hpp>
+
+#include "cli_support.hpp"
+#include "device_commands.hpp"
+#include "session.hpp"
+#include "vibid/device/error.hpp"
+#include "vibid/device/log_table.hpp"
+#include "vibid/device/select.hpp"
+
+namespace vibid::cli {
+namespace {
+
+const char* BoardName(wire::BoardId id) {
+  switch (id) {
+    case wire::BoardId::kStm32f405: return "stm32f405";
+    case wire::BoardId::kQemuNetduinoPlus2: return "qemu-netduinoplus2";
+    case wire::BoardId::kEmulator: return "emulator";
+    case wire::BoardId::kHostTest: return "host-test";
+  }
+  return "unknown";
+}
+
+const char* ResetName(wire::ResetCause c) {
+  switch (c) {
+    case wire::ResetCause::kUnknown: return "unknown";
+    case wire::ResetCause::kPowerOn: return "power-on";
+    case wire::ResetCause::kPin: return "reset-pin";
+    case wire::ResetCause::kSoftware: return "software";
+    case wire::ResetCause::kWatchdog: return "watchdog";
+    case wire::ResetCause::kBrownOut: return "brown-out";
+    case wire::ResetCause::kLowPower: return "low-power";
+  }
+  return "unknown";
+}
+
+std::vector<std::string> CapabilityNames(std::uint32_t caps) {
+  std::vector<std::string> out;
+  const std::pair<std::uint32_t, const char*> names[] = {
+      {wire::kCapDob, "dob"}, {wire::kCapForceTrigger, "force-trigger"}, {wire::kCapDfu, "dfu"},
+      {wire::kCapScenarioSelect, "scenario-select"}, {wire::kCapSampleInjection, "sample-injection"}};
+  for (const auto& [bit, name] : names) {
+    if ((caps & bit) != 0) out.emplace_back(name);
+  }
+  return out;
+}
+
+std::string Hex32(std::uint32_t v) {
+  char b[11];
+  std::snprintf(b, sizeof(b), "0x%08x", v);
+  return b;
+}
+
+nlohmann::json InfoJson(const device::Connection& c, const wire::InfoResponse& i) {
+  nlohmann::json channels = nlohmann::json::array();
+  for (std::size_t k = 0; k < i.channel_count && k < wire::kChannelCount; ++k) {
+    channels.push_back(device::ChannelStem(static_cast<wire::Channel>(k)));
+  }
+  return {{"device", c.Describe()},
+          {"protocol", std::to_string(i.protocol_major) + "." + std::to_string(i.protocol_minor)},
+          {"firmware", std::to_string(i.fw_major) + "." + std::to_string(i.fw_minor) + "." + std::to_string(i.fw_patch)},
+          {"build_id", Hex32(i.build_id)},
+          {"board", BoardName(i.board_id)},
+          {"capabilities", CapabilityNames(i.capabilities)},
+          {"sample_period_us", i.sample_period_us},
+          {"min_sample_period_us", i.min_sample_period_us},
+          {"log_capacity_bytes", i.log_capacity_bytes},
+          {"channels", channels},
+          {"reset_cause", ResetName(i.reset_cause)},
+          {"calibrated", i.cal_state == wire::CalState::kCalibrated},
+          {"cal_slot", i.cal_slot == wire::kNoSlot ? nlohmann::json(nullptr) : nlohmann::json(i.cal_slot)},
+          {"cal_crc", Hex32(i.cal_crc)},
+          {"overrun_count", i.overrun_count},
+          {"dropped_records", i.dropped_records}};
+}
+
+}  // namespace
+
+void RegisterInfoCommands(CLI::App& app, const GlobalOptions& globals) {
+  CLI::App* devices = app.add_subcommand("devices", "List the vibid boards and emulators this host can reach");
+  devices->callback([] {
+    try {
+      const auto all = device::ListDevices();
+      if (all.empty()) {
+        std::cout << "no vibid device found (no board on USB HID, no vibid-emu on 127.0.0.1:3240)\n";
+        return;
+      }
+      for (const device::Listing& l : all) std::cout << l.spec << "\t" << l.description << "\n";
+    } catch (const device::DeviceError& e) {
+      throw DeviceError(e.what());
+    }
+  });
+
+  CLI::App* info = app.add_subcommand("info", "Identity, versions, capabilities and calibration state of the board");
+  auto info_json = std::make_shared<bool>(false);
+  info->add_flag("--json", *info_json, "Print JSON");
+  info->callback([&globals, info_json] {
+    WithDevice(globals, [&](device::Connection& c) {
+      const nlohmann::json j = InfoJson(c, c.info());
+      if (*info_json) {
+        std::cout << j.dump(2) << "\n";
+        return;
+      }
+      std::ostringstream o;
+      o << "device        " << c.Describe() << "\n"
+        << "board         " << j["board"].get<std::string>() << ", firmware " << j["firmware"].get<std::string>()
+        << " (build " << j["build_id"].get<std::string>() << "), protocol " << j["protocol"].get<std::string>() << "\n"
+        << "capabilities  ";
+      for (const auto& cap : j["capabilities"]) o << cap.get<std::string>() << " ";
+      const wire::InfoResponse& i = c.info();
+      o << "\nsampling      " << 1e6 / i.sample_period_us << " Hz (fastest " << 1e6 / i.min_sample_period_us
+        << " Hz), log " << i.log_capacity_bytes << " bytes\n"
+        << "channels      ";
+      for (const auto& ch : j["channels"]) o << ch.get<std::string>() << " ";
+      o << "\ncalibration   ";
+      if (i.cal_state == wire::CalState::kCalibrated) {
+        o << "slot " << static_cast<int>(i.cal_slot) << ", crc " << j["cal_crc"].get<std::string>();
+      } else {
+        o << "none (raw counts, no observer)";
+      }
+      o << "\nreset cause   " << j["reset_cause"].get<std::string>() << "\n"
+        << "errors        " << i.overrun_count << " overruns, " << i.dropped_records << " dropped records\n";
+      std::cout << o.str();
+    });
+  });
+
+  CLI::App* monitor = app.add_subcommand("monitor", "Print the board's live calibrated values until Ctrl-C");
+  struct MonitorOptions {
+    double interval_s = 0.2;
+    int count = 0;
+  };
+  auto mo = std::make_shared<MonitorOptions>();
+  monitor->add_option("--interval-s", mo->interval_s, "Seconds between lines")->check(PositiveNumber());
+  monitor->add_option("--count", mo->count, "Stop after this many lines (default: until Ctrl-C)")->check(CLI::NonNegativeNumber);
+  monitor->callback([&globals, mo] {
+    const double interval_s = mo->interval_s;
+    const int count = mo->count;
+    WithDevice(globals, [&](device::Connection& c) {
+      bool has_record = false;
+      const wire::CalibrationRecord rec = ActiveRecord(c, has_record);
+      std::cout << "tick";
+      for (std::size_t k = 0; k < wire::kChannelCount; ++k) {
+        const wire::Unit u = has_record ? rec.channels[k].unit : wire::Unit::kCounts;
+        std::cout << "\t" << device::ChannelStem(static_cast<wire::Channel>(k)) << "_" << device::UnitSuffix(u);
+      }
+      std::cout << "\td_hat_q31\tstate" << std::endl;
+      for (int n = 0; count == 0 || n < count; ++n) {
+        if (InterruptFlag().load()) break;
+        const wire::LatestResponse l = c.ReadLatest();
+        std::cout << l.tick;
+        for (std::size_t k = 0; k < wire::kChannelCount; ++k) {
+          const wire::ChannelScaling s = has_record ? rec.channels[k] : wire::DefaultScaling();
+          const double v = s.unit == wire::Unit::kCounts ? l.calibrated[k]
+                                                         : l.calibrated[k] * (static_cast<double>(s.full_scale) / 2147483648.0);
+          std::cout << "\t" << v;
+        }
+        std::cout << "\t" << l.d_hat << "\t"
+                  << (l.acq_state == wire::AcqState::kIdle ? "idle" : l.acq_state == wire::AcqState::kDone ? "done" : "sampling")
+                  << (l.dob_running != 0 ? "+dob" : "") << std::endl;
+        std::this_thread::sleep_for(std::chrono::duration<double>(interval_s));
+      }
+    });
+  });
+}
+
+}  // namespace vibid::cli

@@ -1,0 +1,153 @@
+// The protocol client: one RAII connection to one board over any Transport.
+//
+// A reader thread drains the transport continuously (a HID input queue holds a few reports only;
+// a log stream must never stall on it) and checks every report it takes: wrong magic, a truncated
+// report or a malformed header is counted and dropped, a report from another protocol major
+// fails the exchange with a message naming both versions. Requests carry a token the device
+// echoes; an answer with another token is stale and ignored. A request that times out is sent
+// again with the same token (retries), so a late answer to the first copy still matches.
+//
+// Streams (log-read, cal-get) are checked with the shared StreamDecoder (sequence numbers, byte
+// count, CRC-32). A log pull that breaks off (lost report, CRC mismatch, timeout) resumes from
+// the first record it did not receive intact, so nothing is lost or duplicated.
+//
+// Construction performs get-info and refuses a device whose protocol major differs. The
+// destructor stops the reader thread; it does not change the device's state.
+#pragma once
+
+#include <atomic>
+#include <chrono>
+#include <condition_variable>
+#include <cstdint>
+#include <deque>
+#include <functional>
+#include <memory>
+#include <mutex>
+#include <span>
+#include <string>
+#include <thread>
+#include <vector>
+
+#include "vibid/device/transport.hpp"
+#include "vibid/shared/wire/commands.hpp"
+#include "vibid/shared/wire/log_record.hpp"
+#include "vibid/shared/wire/report.hpp"
+
+namespace vibid::device {
+
+struct ConnectionOptions {
+  std::chrono::milliseconds timeout{1000};  ///< Per answer (per report inside a stream).
+  int retries = 2;                          ///< Extra sends of a request that got no answer.
+  /// Checked between reports of long transfers; when it becomes true they throw Interrupted.
+  const std::atomic<bool>* cancel = nullptr;
+};
+
+/// Counters of what the reader thread discarded.
+struct LinkCounters {
+  std::uint64_t reports = 0;        ///< Whole reports taken from the transport.
+  std::uint64_t truncated = 0;      ///< Shorter than 64 bytes.
+  std::uint64_t corrupted = 0;      ///< Wrong magic or malformed header.
+  std::uint64_t stale = 0;          ///< Answers nobody waited for (old token, late duplicate).
+  std::uint64_t retries = 0;        ///< Requests sent again after a timeout.
+  std::uint64_t stream_resumes = 0; ///< Log pulls restarted after a broken stream.
+};
+
+/// One answer report.
+struct Reply {
+  wire::Header header;
+  wire::Report report{};
+  std::span<const std::uint8_t> payload() const { return wire::PayloadOf(report); }
+};
+
+/// Records of a log pull, in log order, and the last trailer seen.
+struct LogPull {
+  std::vector<wire::LogRecord> records;
+  std::uint32_t first_record = 0;  ///< Log index of records[0].
+  wire::LogTrailer trailer;        ///< From the last stream (acq_state, counters, layout).
+  wire::LogLayout layout;
+};
+
+/// Progress of a long transfer: done and total in the transfer's own unit (records, bytes).
+using Progress = std::function<void(std::uint64_t done, std::uint64_t total)>;
+
+class Connection {
+ public:
+  /// Starts the reader and performs get-info. Throws DeviceError if the device does not answer or
+  /// speaks another protocol major.
+  explicit Connection(std::unique_ptr<Transport> transport, ConnectionOptions options = {});
+  ~Connection();
+  Connection(const Connection&) = delete;
+  Connection& operator=(const Connection&) = delete;
+
+  const wire::InfoResponse& info() const { return info_; }
+  std::string Describe() const { return transport_->Describe(); }
+  LinkCounters counters() const;
+
+  /// One request, one answer (retried with the same token on timeout). The answer may be a
+  /// refusal: its header.status says so. Throws DeviceError on timeout or a lost link.
+  Reply Call(wire::Command command, std::span<const std::uint8_t> payload = {},
+             std::uint16_t sequence = 0);
+  /// Call that throws DeviceError naming the command and status unless the answer is kOk.
+  Reply Expect(wire::Command command, std::span<const std::uint8_t> payload = {},
+               std::uint16_t sequence = 0);
+  template <typename Payload>
+    requires requires { Payload::kBytes; }
+  Reply Expect(wire::Command command, const Payload& payload) {
+    std::array<std::uint8_t, Payload::kBytes> bytes{};
+    wire::Encode(payload, bytes);
+    return Expect(command, bytes);
+  }
+
+  wire::InfoResponse GetInfo();
+  wire::StatusResponse GetStatus();
+  void Ping();
+
+  /// The active calibration record (kCalRecordBytes), checked against its stream CRC.
+  std::vector<std::uint8_t> CalGet(wire::CalGetTrailer* trailer = nullptr);
+  /// Uploads and stages a record; throws DeviceError with the device's verdict if refused.
+  void CalPut(std::span<const std::uint8_t> record, const Progress& progress = {});
+  wire::CalCommitResponse CalCommit();
+
+  wire::AcqConfigureResponse Configure(const wire::AcqConfigureRequest& request);
+  void StartAcquisition();
+  wire::AcqStopResponse StopAcquisition();
+  wire::LatestResponse ReadLatest();
+  void DobControl(bool run);
+  /// Emulator only (kCapScenarioSelect).
+  void SelectScenario(const std::string& name, std::span<const float> params);
+
+  /// One log-read attempt from `first` (at most `max` records, 0 = all available). Appends the
+  /// stream's records to `pull` only if its trailer checked out (count and CRC-32); returns false
+  /// if the stream broke off or timed out (nothing appended; ask again from the same record).
+  bool ReadLogOnce(std::uint32_t first, std::uint32_t max, LogPull& pull);
+
+  /// Pulls every record from `first` until the log holds no more and sampling has ended
+  /// (while sampling, it keeps pulling as records arrive). Broken streams resume from the first
+  /// missing record, up to `max_resumes` times in a row without progress.
+  LogPull PullLog(std::uint32_t first = 0, const Progress& progress = {}, int max_resumes = 8);
+
+ private:
+  void ReaderLoop();
+  std::uint16_t NextToken();
+  void Send(const wire::Report& report);
+  /// Waits for an answer with `token` to `command`. False on timeout.
+  bool Await(std::uint8_t command, std::uint16_t token, std::chrono::milliseconds timeout, Reply& out);
+  void ThrowIfLinkFailed();
+  void CheckCancel() const;
+
+  std::unique_ptr<Transport> transport_;
+  ConnectionOptions options_;
+  wire::InfoResponse info_{};
+
+  mutable std::mutex mutex_;
+  std::condition_variable arrived_;
+  std::deque<Reply> inbox_;
+  std::string link_error_;          // set once by the reader when the transport fails
+  std::string version_error_;       // set when a report of another protocol major arrived
+  LinkCounters counters_{};
+  std::atomic<bool> stop_{false};
+  std::uint16_t token_ = 0;
+  std::thread reader_;
+};
+
+}  // namespace vibid::device

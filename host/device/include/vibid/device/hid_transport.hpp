@@ -1,0 +1,32 @@
+// A real board through the operating system's HID driver (hidapi, hidraw backend on Linux).
+#pragma once
+
+#include <cstdint>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "vibid/device/transport.hpp"
+
+namespace vibid::device {
+
+/// USB identity of the board (firmware/core/usb descriptors): pid.codes VID, test PID, the vendor
+/// usage page of the HID interface.
+inline constexpr std::uint16_t kUsbVendorId = 0x1209;
+inline constexpr std::uint16_t kUsbProductId = 0x0001;
+
+struct HidListing {
+  std::string path;           ///< OS path (/dev/hidrawN).
+  std::string serial;         ///< iSerialNumber.
+  std::string product;
+  std::uint16_t release = 0;  ///< bcdDevice.
+};
+
+/// Every attached vibid board (VID, PID and usage page 0xFF00 match).
+std::vector<HidListing> ListHidDevices();
+
+/// Opens the board with that serial number, or the only one when `serial` is empty.
+/// Throws DeviceError when none (or, without a serial, more than one) is attached.
+std::unique_ptr<Transport> OpenHid(const std::string& serial);
+
+}  // namespace vibid::device

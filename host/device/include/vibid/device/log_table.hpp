@@ -1,0 +1,37 @@
+// A pulled log as a recording (CSV, format in README section device): time, each logged channel
+// in SI units through the board's own calibration arithmetic, and the observer output.
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include <Eigen/Core>
+
+#include "vibid/device/connection.hpp"
+#include "vibid/shared/wire/calibration_record.hpp"
+
+namespace vibid::device {
+
+/// Column stem of a channel: force1, force2, acc1, acc2, x1, x2.
+const char* ChannelStem(wire::Channel channel);
+/// Column unit suffix of a unit: n, m_s2, m, m_s, counts.
+const char* UnitSuffix(wire::Unit unit);
+/// Channel by stem; false if none.
+bool ChannelFromStem(const std::string& stem, wire::Channel& channel);
+
+struct LogTable {
+  std::vector<std::string> names;
+  std::vector<Eigen::VectorXd> columns;
+};
+
+/// Columns: t_s (sample_index x sample period), one `<stem>_<unit>` column per logged channel
+/// (calibrated exactly as the board does: ScaleChannel, then x full_scale / 2^31, which is exact
+/// in double so a reader recovers the board's Q31 value), and with the observer logged
+/// `d_hat_q31` (the board's integer output) and `d_hat_n`.
+/// `calibration` is the active record (has_record false: uncalibrated, columns in counts).
+LogTable MakeLogTable(const LogPull& pull, const wire::CalibrationRecord& calibration, bool has_record);
+
+/// MakeLogTable formatted with vibid::FormatCsv.
+std::string FormatLogCsv(const LogPull& pull, const wire::CalibrationRecord& calibration, bool has_record);
+
+}  // namespace vibid::device
