@@ -71,7 +71,7 @@ Emulator::Emulator(EmulatorOptions options)
     : options_(std::move(options)),
       flash_(options_.flash_path),
       rig_(options_.rig, options_.seed),
-      server_(options_.bind_address, options_.port),
+      server_(options_.bind_address, options_.port, options_.verbose),
       log_(options_.log_bytes) {
   char serial[24];
   std::snprintf(serial, sizeof serial, "EMU%016llX", static_cast<unsigned long long>(options_.seed));

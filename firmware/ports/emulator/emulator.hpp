@@ -35,7 +35,7 @@ struct EmulatorOptions {
   std::uint16_t port = 3240;  ///< 0: any free port (tests)
   double speed = 0.0;         ///< simulated s per wall s while sampling; 0 = as fast as possible
   std::size_t log_bytes = 4 * 1024 * 1024;
-  bool verbose = false;       ///< one line per personality change on stderr
+  bool verbose = false;       ///< one line per personality change and USB/IP import on stderr
 };
 
 class Emulator {

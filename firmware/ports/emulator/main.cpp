@@ -42,7 +42,7 @@ int main(int argc, char** argv) {
       ->check(CLI::NonNegativeNumber);
   app.add_option("--log-kib", log_kib, "acquisition log size in KiB")->check(CLI::Range(64, 262144))->capture_default_str();
   app.add_flag("--print-truth", print_truth, "print the rig's true model (model-file JSON) and exit");
-  app.add_flag("-v,--verbose", verbose, "report personality changes on stderr");
+  app.add_flag("-v,--verbose", verbose, "report personality changes and USB/IP clients on stderr");
   CLI11_PARSE(app, argc, argv);
 
   try {

@@ -290,6 +290,25 @@ TEST_F(EmulatorOverUsbIp, CalibrationSurvivesARestartAndResetIsSoftware) {
   EXPECT_EQ(info.cal_crc, wire::ComputeCrc32(std::span<const std::uint8_t>(bytes).first(wire::kCalOffCrc)));
 }
 
+TEST_F(EmulatorOverUsbIp, GarbageDropsOnlyThatClient) {
+  {
+    auto s = usbip::ConnectTcp("127.0.0.1", port_, 2000ms);
+    const std::array<std::uint8_t, 8> wrong_version = {0x01, 0x06, 0x80, 0x05, 0, 0, 0, 0};
+    s.SendAll(wrong_version);
+    std::array<std::uint8_t, 1> byte{};
+    EXPECT_THROW(s.ReceiveExact(byte), usbip::IoError);  // closed without an answer
+  }
+  {
+    TestClient c(port_);
+    const std::array<std::uint8_t, usbip::kUrbHeaderBytes> junk{0, 0, 0, 9};
+    c.socket().SendAll(junk);  // URB command 9 does not exist
+    EXPECT_TRUE(c.Closed(2000ms));
+  }
+  // The device was released with the dropped client: the next import works.
+  TestClient again(port_);
+  EXPECT_EQ(again.Control(Req(0x80, 6, 0x0100, 0, 18), 18).status, 0);
+}
+
 // DfuSe: GETSTATUS after a download runs it (dfuDNBUSY), the next one reports dfuDNLOAD-IDLE.
 void DfuSeBlock(TestClient& c, std::uint16_t block, const std::vector<std::uint8_t>& data) {
   ASSERT_EQ(c.Control(Req(0x21, 1, block, 0, static_cast<std::uint16_t>(data.size())),

@@ -8,7 +8,8 @@
 
 namespace vibid::emu {
 
-UsbIpServer::UsbIpServer(const std::string& bind_address, std::uint16_t port) : listener_(bind_address, port) {}
+UsbIpServer::UsbIpServer(const std::string& bind_address, std::uint16_t port, bool verbose)
+    : listener_(bind_address, port), verbose_(verbose) {}
 
 void UsbIpServer::SetDevice(ExportedDevice* device) {
   DropImporter();
@@ -23,6 +24,7 @@ void UsbIpServer::DropImporter() {
 
 void UsbIpServer::Close(Connection& c) {
   if (&c == importer_) {
+    if (verbose_) std::fprintf(stderr, "vibid-emu: USB/IP client detached\n");
     importer_ = nullptr;
     if (device_ != nullptr) device_->Detach();
   }
@@ -99,6 +101,7 @@ void UsbIpServer::HandleOperation(Connection& c) {
   c.socket.SendAll(usbip::EncodeRepImport(&record));
   c.importing = true;
   importer_ = &c;
+  if (verbose_) std::fprintf(stderr, "vibid-emu: USB/IP client imported %s\n", busid.c_str());
   device_->Attach(*this);
 }
 

@@ -24,7 +24,8 @@ class UsbIpServer final : public UrbSink {
   static constexpr const char* kBusId = "1-1";
 
   /// @throws usbip::IoError when the address cannot be bound.
-  UsbIpServer(const std::string& bind_address, std::uint16_t port);
+  /// `verbose`: one line on stderr per import and per disconnect.
+  UsbIpServer(const std::string& bind_address, std::uint16_t port, bool verbose = false);
 
   std::uint16_t port() const { return listener_.port(); }
 
@@ -59,6 +60,7 @@ class UsbIpServer final : public UrbSink {
   void Sweep();
 
   usbip::Listener listener_;
+  bool verbose_;
   ExportedDevice* device_ = nullptr;
   std::vector<std::unique_ptr<Connection>> connections_;
   Connection* importer_ = nullptr;
