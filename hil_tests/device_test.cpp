@@ -123,6 +123,7 @@ TEST_F(DeviceTest, ForceTriggerKeepsThePretriggerRecords) {
   cfg.pretrigger_records = 50;
   c->Configure(cfg);
   c->StartAcquisition();
+  target->Feed(*c, 0, 1000);
   AwaitDone(*c);
   const device::LogPull pull = c->PullLog();
   ASSERT_EQ(pull.records.size(), 450u);
@@ -165,6 +166,7 @@ TEST_F(DeviceTest, PullWhileAcquiringFollowsTheLog) {
   auto c = target->Connect();
   c->Configure(AllChannels(3000));
   c->StartAcquisition();
+  target->Feed(*c, 0, 3000);
   const device::LogPull pull = c->PullLog();
   ASSERT_EQ(pull.records.size(), 3000u);
   EXPECT_EQ(pull.records.back().sample_index, 2999u);
