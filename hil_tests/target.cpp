@@ -3,8 +3,10 @@
 #include <algorithm>
 #include <cstdlib>
 #include <stdexcept>
+#include <thread>
 
 #include "qemu_board.hpp"
+#include "vibid/device/error.hpp"
 #include "vibid/device/hid_transport.hpp"
 
 namespace vibid::hil {
@@ -51,7 +53,15 @@ class QemuTarget final : public Target {
       for (std::uint8_t i = 0; i < r.frame_count; ++i) r.raw[i] = CoreLoopback::FrameAt(first + k + i);
       std::array<std::uint8_t, wire::InjectFramesRequest::kBytes> bytes{};
       wire::Encode(r, bytes);
-      static_cast<void>(c.Expect(wire::Command::kInjectFrames, std::span(bytes).first(wire::EncodedSize(r))));
+      // A full sample queue answers unavailable: the same frames go again once it drained.
+      for (;;) {
+        const device::Reply reply = c.Call(wire::Command::kInjectFrames, std::span(bytes).first(wire::EncodedSize(r)));
+        if (reply.header.status == Status::kOk) break;
+        if (reply.header.status != Status::kUnavailable) {
+          throw device::DeviceError(std::string("inject-frames refused: ") + StatusName(reply.header.status));
+        }
+        std::this_thread::sleep_for(std::chrono::milliseconds(1));
+      }
     }
     return true;
   }
