@@ -1,5 +1,7 @@
 #include "vibid/fw/version.hpp"
 
+#include "vibid_build_id.hpp"
+
 namespace vibid::fw {
 
 FirmwareVersion CurrentFirmwareVersion() {

@@ -8,7 +8,7 @@ Writes host/lib/dob/testdata/dob_golden.json:
                       and its Tustin (pre-warped at 1/tau) response at fs = 5 kHz
                       (scipy.signal.bilinear_zpk with fs chosen so 2 fs = w / tan(w / 2 fs_board))
   zoh                 a 2-pole/1-zero system discretized by scipy.signal.cont2discrete(method='zoh'),
-                      frequency response at test points
+                      frequency response at test points (and q_n5_r4.zoh_response for Q)
   siso_path           Q G_A^-1 for the 2-DOF chain (force on m2 to displacement of m2), Tustin
                       pre-warped, response at test points
   lowpass             scipy.signal.butter(4, 2 Hz, fs=5000, output='sos') and sosfilt/sosfiltfilt of a
@@ -65,6 +65,10 @@ def main():
     _, h = signal.freqz(bd.ravel(), ad, worN=np.asarray(FREQS_HZ), fs=FS)
     out["zoh"] = {"num": num_z, "den": den_z, "fs_hz": FS, "freqs_hz": FREQS_HZ,
                   "response": [[float(v.real), float(v.imag)] for v in h]}
+    # ... and of Q itself (5 poles spread over 500 rad/s, gain 1e11 in the polynomial form).
+    bq, aq, _ = signal.cont2discrete((num, den), 1.0 / FS, method="zoh")
+    _, h = signal.freqz(bq.ravel(), aq, worN=np.asarray(FREQS_HZ), fs=FS)
+    out["q_n5_r4"]["zoh_response"] = [[float(v.real), float(v.imag)] for v in h]
 
     # SISO path Q G_A^-1 for the chain, force on m2 -> displacement of m2.
     # det(M s^2 + C s + K) and the (2,2) cofactor m1 s^2 + (c1+c2) s + (k1+k2).

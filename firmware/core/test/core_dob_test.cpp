@@ -40,6 +40,28 @@ std::array<std::int32_t, wire::kChannelCount> Frame(std::int32_t k) {
   return {force, 2048, 2048, accel, k, -k};
 }
 
+// What the host does with a log: scale the raw values, route them, step the same kernel.
+class HostReplay {
+ public:
+  HostReplay() : record_(RecordWithDob()) {
+    fixed::FilterDescription description;
+    (void)fixed::DecodeDescription(record_.dob, description);
+    initialised_ = filter_.Init(description) == Status::kOk;
+  }
+  bool initialised() const { return initialised_; }
+  std::uint32_t clips() const { return clips_; }
+  std::int32_t Step(const std::array<std::int32_t, wire::kChannelCount>& raw) {
+    return filter_.Step({wire::ScaleChannel(raw[0], record_.channels[0], clips_),
+                         wire::ScaleChannel(raw[3], record_.channels[3], clips_), 0});
+  }
+
+ private:
+  wire::CalibrationRecord record_;
+  fixed::DobFilter filter_;
+  bool initialised_ = false;
+  std::uint32_t clips_ = 0;
+};
+
 TEST(CoreDob, LoggedDhatEqualsHostReplayBitForBit) {
   CoreHarness h;
   InstallDob(h);
@@ -57,23 +79,16 @@ TEST(CoreDob, LoggedDhatEqualsHostReplayBitForBit) {
   EXPECT_EQ(log.trailer.record_bytes, 16);
 
   // Host replay from the logged raw values only.
-  const wire::CalibrationRecord record = RecordWithDob();
-  fixed::FilterDescription description;
-  ASSERT_EQ(fixed::DecodeDescription(record.dob, description), Status::kOk);
-  fixed::DobFilter replay;
-  ASSERT_EQ(replay.Init(description), Status::kOk);
-  std::uint32_t clips = 0;
+  HostReplay replay;
+  ASSERT_TRUE(replay.initialised());
   std::size_t nonzero = 0;
   for (std::size_t n = 0; n < log.count; ++n) {
     const wire::LogRecord& rec = log.records[n];
-    const fixed::InputFrame inputs{wire::ScaleChannel(rec.raw[0], record.channels[0], clips),
-                                   wire::ScaleChannel(rec.raw[3], record.channels[3], clips), 0};
-    const std::int32_t expected = replay.Step(inputs);
-    EXPECT_EQ(rec.d_hat, expected) << "frame " << n;
+    EXPECT_EQ(rec.d_hat, replay.Step(rec.raw)) << "frame " << n;
     if (rec.d_hat != 0) ++nonzero;
   }
   EXPECT_GT(nonzero, log.count / 2);  // the comparison is not between zeros
-  EXPECT_EQ(clips, 0u);
+  EXPECT_EQ(replay.clips(), 0u);
 }
 
 TEST(CoreDob, RateMustMatchTheFilter) {
@@ -97,18 +112,10 @@ TEST(CoreDob, DobControlRunsItWithoutLogging) {
   ASSERT_EQ(h.StartAcquisition(c), Status::kOk);
   for (std::int32_t k = 0; k < 20; ++k) h.fake.frames.Emit(Frame(k));
 
-  const wire::CalibrationRecord record = RecordWithDob();
-  fixed::FilterDescription description;
-  ASSERT_EQ(fixed::DecodeDescription(record.dob, description), Status::kOk);
-  fixed::DobFilter replay;
-  ASSERT_EQ(replay.Init(description), Status::kOk);
+  HostReplay replay;
+  ASSERT_TRUE(replay.initialised());
   std::int32_t expected = 0;
-  std::uint32_t clips = 0;
-  for (std::int32_t k = 0; k < 20; ++k) {
-    const auto raw = Frame(k);
-    expected = replay.Step({wire::ScaleChannel(raw[0], record.channels[0], clips),
-                            wire::ScaleChannel(raw[3], record.channels[3], clips), 0});
-  }
+  for (std::int32_t k = 0; k < 20; ++k) expected = replay.Step(Frame(k));
   wire::LatestResponse latest;
   ASSERT_EQ(wire::Decode(h.Request(Command::kReadLatest).payload(), latest), Status::kOk);
   EXPECT_EQ(latest.dob_running, 1);

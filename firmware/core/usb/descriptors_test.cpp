@@ -199,7 +199,8 @@ TEST(UsbDescriptors, StringOfExactlyOnePacketEndsWithZeroLengthPacket) {
   testing::RecordingDetach detach;
   DfuRuntime dfu{detach};
   std::array<ClassDriver*, 2> drivers{&hid, &dfu};
-  UsbDevice device{dcd, drivers, "ABCDEFGHIJKLMNOPQRSTUVWXYZ01234"};
+  const DaqStrings strings = MakeDaqStrings("ABCDEFGHIJKLMNOPQRSTUVWXYZ01234");
+  UsbDevice device{dcd, drivers, DaqDescriptors(strings)};
   const Status s1 = device.Start();
   ASSERT_EQ(s1, Status::kOk);
   testing::Host host{device, dcd};

@@ -10,8 +10,8 @@ constexpr std::uint8_t kEp0In = 0x80;
 
 }  // namespace
 
-UsbDevice::UsbDevice(Dcd& dcd, std::span<ClassDriver* const> drivers, const char* serial)
-    : dcd_(dcd), serial_(serial) {
+UsbDevice::UsbDevice(Dcd& dcd, std::span<ClassDriver* const> drivers, const DescriptorSet& descriptors)
+    : dcd_(dcd), descriptors_(descriptors) {
   driver_count_ = std::min(drivers.size(), kMaxDrivers);
   std::copy_n(drivers.begin(), driver_count_, drivers_.begin());
 }
@@ -288,7 +288,9 @@ ControlReply UsbDevice::DeviceRequest(const SetupPacket& setup) {
 }
 
 ControlReply UsbDevice::SetConfiguration(std::uint8_t value) {
-  if (value != 0 && value != kConfigurationValue) return ControlReply::Stall();
+  // bConfigurationValue is byte 5 of the configuration descriptor (USB 2.0 table 9-10).
+  const std::uint8_t configuration_value = descriptors_.configuration.size() > 5 ? descriptors_.configuration[5] : 0;
+  if (value != 0 && value != configuration_value) return ControlReply::Stall();
   for (std::size_t i = 0; i < driver_count_; ++i) drivers_[i]->Close();
   dcd_.EndpointCloseAll();
   halted_.fill(false);
@@ -315,27 +317,24 @@ ControlReply UsbDevice::GetDescriptor(const SetupPacket& setup) {
   switch (static_cast<DescriptorType>(setup.ValueHigh())) {
     case DescriptorType::kDevice:
       if (index != 0) break;
-      return ControlReply::Data(kDeviceDescriptor);
+      return ControlReply::Data(descriptors_.device);
     case DescriptorType::kConfiguration:
       if (index != 0) break;
-      return ControlReply::Data(kConfigurationDescriptor);
+      return ControlReply::Data(descriptors_.configuration);
     case DescriptorType::kString: {
       auto out = std::span<std::uint8_t, kMaxStringDescriptorSize>(control_buffer_.data(),
                                                                     kMaxStringDescriptorSize);
       std::size_t n = 0;
-      switch (index) {
-        case kStringLanguages:
-          out[0] = 4;
-          out[1] = static_cast<std::uint8_t>(DescriptorType::kString);
-          out[2] = 0x09;  // wLANGID[0] = 0x0409, English (United States)
-          out[3] = 0x04;
-          n = 4;
-          break;
-        case kStringManufacturer: n = BuildStringDescriptor(kManufacturerName, 255, out); break;
-        case kStringProduct: n = BuildStringDescriptor(kProductName, 255, out); break;
-        case kStringSerial: n = BuildStringDescriptor(serial_, kMaxSerialLength, out); break;
-        case kStringDfu: n = BuildStringDescriptor(kDfuInterfaceName, 255, out); break;
-        default: return ControlReply::Stall();
+      if (index == kStringLanguages) {
+        out[0] = 4;
+        out[1] = static_cast<std::uint8_t>(DescriptorType::kString);
+        out[2] = 0x09;  // wLANGID[0] = 0x0409, English (United States)
+        out[3] = 0x04;
+        n = 4;
+      } else if (index <= descriptors_.strings.size() && descriptors_.strings[index - 1U] != nullptr) {
+        n = BuildStringDescriptor(descriptors_.strings[index - 1U], kMaxSerialLength, out);
+      } else {
+        return ControlReply::Stall();
       }
       return ControlReply::Data(std::span<const std::uint8_t>(out).first(n));
     }

@@ -38,7 +38,8 @@ TEST(UsbEnumeration, FailedControllerInitStaysDetached) {
   testing::RecordingDetach detach;
   DfuRuntime dfu{detach};
   std::array<ClassDriver*, 2> drivers{&hid, &dfu};
-  UsbDevice device{dcd, drivers, "X"};
+  const DaqStrings strings = MakeDaqStrings("X");
+  UsbDevice device{dcd, drivers, DaqDescriptors(strings)};
   const Status s1 = device.Start();
   EXPECT_EQ(s1, Status::kUnavailable);
   EXPECT_FALSE(dcd.connected);
@@ -262,7 +263,8 @@ TEST(UsbControlPipe, MultiPacketDataStages) {
   BulkyClass bulky;
   for (std::size_t i = 0; i < bulky.payload.size(); ++i) bulky.payload[i] = static_cast<std::uint8_t>(i);
   std::array<ClassDriver*, 1> drivers{&bulky};
-  UsbDevice device{dcd, drivers, "S"};
+  const DaqStrings strings = MakeDaqStrings("S");
+  UsbDevice device{dcd, drivers, DaqDescriptors(strings)};
   const Status s2 = device.Start();
   ASSERT_EQ(s2, Status::kOk);
   testing::Host host{device, dcd};
@@ -298,6 +300,33 @@ TEST(UsbControlPipe, MultiPacketDataStages) {
   // More than the control buffer holds is refused at the SETUP stage.
   EXPECT_TRUE(host.Control({0x21, 0x09, 0x00, 0x00, 0x05, 0x00, 0x00, 0x01}).stalled);
   EXPECT_EQ(bulky.completions, 3);
+}
+
+TEST(UsbControlPipe, AnotherPersonalityBringsItsOwnDescriptors) {
+  // A minimal second personality (as the emulator's DFU bootloader would be): its own device
+  // descriptor, a configuration numbered 2 with no interfaces, one string.
+  constexpr std::array<std::uint8_t, 18> device_descriptor = {
+      18, 1, 0x00, 0x02, 0, 0, 0, 64, 0x83, 0x04, 0x11, 0xDF, 0x00, 0x02, 1, 0, 0, 1};
+  constexpr std::array<std::uint8_t, 9> configuration = {9, 2, 9, 0, 0, 2, 0, 0x80, 50};
+  const std::array<const char*, 1> strings = {"boot"};
+  testing::FakeDcd dcd;
+  UsbDevice device{dcd, {}, DescriptorSet{device_descriptor, configuration, strings}};
+  ASSERT_EQ(device.Start(), Status::kOk);
+  testing::Host host{device, dcd};
+  host.BusReset();
+  const auto d = host.Control({0x80, 0x06, 0x00, 0x01, 0x00, 0x00, 0x12, 0x00});
+  ASSERT_EQ(d.length, 18U);
+  EXPECT_EQ(d.data[8], 0x83);  // idVendor 0x0483 low byte, as given
+  EXPECT_EQ(d.data[11], 0xDF);  // idProduct 0xDF11 high byte
+  const auto s1 = host.Control({0x80, 0x06, 0x01, 0x03, 0x09, 0x04, 0xFF, 0x00});
+  ASSERT_EQ(s1.length, 10U);  // "boot": 2 + 2 x 4
+  EXPECT_EQ(s1.data[2], 'b');
+  EXPECT_TRUE(host.Control({0x80, 0x06, 0x02, 0x03, 0x09, 0x04, 0xFF, 0x00}).stalled);
+  ASSERT_FALSE(host.Control({0x00, 0x05, 0x03, 0x00, 0x00, 0x00, 0x00, 0x00}).stalled);
+  // Its bConfigurationValue is 2: 1 is refused, 2 configures.
+  EXPECT_TRUE(host.Control({0x00, 0x09, 0x01, 0x00, 0x00, 0x00, 0x00, 0x00}).stalled);
+  EXPECT_FALSE(host.Control({0x00, 0x09, 0x02, 0x00, 0x00, 0x00, 0x00, 0x00}).stalled);
+  EXPECT_TRUE(device.Configured());
 }
 
 }  // namespace

@@ -200,7 +200,8 @@ struct Rig {
   RecordingDetach detach;
   DfuRuntime dfu{detach};
   std::array<ClassDriver*, 2> drivers{&hid, &dfu};
-  UsbDevice device{dcd, drivers, kSerial};
+  DaqStrings strings = MakeDaqStrings(kSerial);
+  UsbDevice device{dcd, drivers, DaqDescriptors(strings)};
   Host host{device, dcd};
 
   Rig() { (void)device.Start(); }

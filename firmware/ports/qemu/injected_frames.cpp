@@ -3,48 +3,43 @@
 #include <algorithm>
 
 #include "regs/core_m4.hpp"
-#include "regs/peripherals.hpp"
-#include "regs/rcc.hpp"
 
 namespace vibid::fw::qemu {
 
 using namespace vibid::fw::stm32;
 
-namespace {
-// QEMU's netduinoplus2 clocks TIM2..TIM5 at 48 MHz; prescaling by 48 gives 1 us per count, so
-// every whole-microsecond period is exact.
-constexpr std::uint32_t kTimerClockHz = 48000000;
-constexpr std::uint32_t kPrescaler = kTimerClockHz / 1000000;
-}  // namespace
-
 std::array<InjectedFrameSource::Raw, InjectedFrameSource::kQueueFrames> InjectedFrameSource::queue_{};
+
+void InjectedFrameSource::Init(std::uint32_t core_clock_hz, std::uint32_t idle_tick_hz) {
+  core_clock_hz_ = core_clock_hz;
+  idle_tick_hz_ = idle_tick_hz;
+  ProgramTick(core_clock_hz_ / idle_tick_hz_);
+}
+
+void InjectedFrameSource::ProgramTick(std::uint32_t cycles) {
+  Reg(systick::kCtrl) = 0;
+  Reg(systick::kLoad) = cycles - 1;
+  Reg(systick::kVal) = 0;
+  Reg(systick::kCtrl) = systick::kCtrlEnable | systick::kCtrlTickInt | systick::kCtrlClkSourceCpu;
+}
 
 Status InjectedFrameSource::Start(std::uint32_t sample_period_us, FrameSink& sink) {
   if (running_) return Status::kFailedPrecondition;
-  if (sample_period_us == 0) return Status::kInvalidArgument;
+  const std::uint64_t cycles = std::uint64_t{core_clock_hz_} / 1000000 * sample_period_us;
+  // SysTick's reload register holds 24 bits.
+  if (sample_period_us == 0 || cycles > (1U << 24)) return Status::kInvalidArgument;
   sink_ = &sink;
   tick_ = 0;
   starved_ = 0;
   handler_cycles_ = 0;
   running_ = true;
-  Reg(rcc::kApb1enr) |= rcc::kApb1Tim2;
-  Reg(tim::kTim2 + tim::kCr1) = 0;
-  Reg(tim::kTim2 + tim::kPsc) = kPrescaler - 1;
-  Reg(tim::kTim2 + tim::kArr) = sample_period_us - 1;
-  Reg(tim::kTim2 + tim::kCnt) = 0;
-  Reg(tim::kTim2 + tim::kSr) = 0;
-  Reg(tim::kTim2 + tim::kDier) = tim::kDierUie;
-  nvic::SetPriority(irq::kTim2, 2);
-  nvic::ClearPending(irq::kTim2);
-  nvic::Enable(irq::kTim2);
-  Reg(tim::kTim2 + tim::kCr1) = tim::kCr1Cen;
+  ProgramTick(static_cast<std::uint32_t>(cycles));
   return Status::kOk;
 }
 
 void InjectedFrameSource::Stop() {
-  Reg(tim::kTim2 + tim::kCr1) = 0;
-  nvic::Disable(irq::kTim2);
   running_ = false;
+  ProgramTick(core_clock_hz_ / idle_tick_hz_);
 }
 
 std::size_t InjectedFrameSource::Free() const {
@@ -59,15 +54,14 @@ Status InjectedFrameSource::Inject(std::span<const Raw> frames) {
   return Status::kOk;
 }
 
-void InjectedFrameSource::HandleTimerInterrupt() {
+bool InjectedFrameSource::HandleTick() {
   // SysTick counts down at the core clock; the difference over the handler is its cost.
   const std::uint32_t before = Reg(systick::kVal);
-  Reg(tim::kTim2 + tim::kSr) = 0;
-  if (!running_) return;
+  if (!running_) return false;
   const std::uint32_t tail = tail_.load(std::memory_order_relaxed);
   if (tail == head_.load(std::memory_order_acquire)) {
     ++starved_;
-    return;
+    return true;
   }
   SampleFrame frame;
   frame.tick = tick_++;
@@ -77,6 +71,7 @@ void InjectedFrameSource::HandleTimerInterrupt() {
   const std::uint32_t after = Reg(systick::kVal);
   const std::uint32_t reload = Reg(systick::kLoad) + 1;
   handler_cycles_ += before >= after ? before - after : before + reload - after;
+  return true;
 }
 
 }  // namespace vibid::fw::qemu

@@ -1,8 +1,11 @@
 // The QEMU image's sample source: frames the host injects over the link (inject-frames command)
-// wait in a queue; a TIM2 update interrupt at the sample period hands one to the core per tick.
-// QEMU models TIM2 (48 MHz kernel clock) but no ADC conversions worth sampling, so the analog
-// front end is replaced by the queue while the timing path (timer interrupt -> sampler -> DOB ->
-// log) is the board's.
+// wait in a queue; a timer interrupt at the sample period hands one to the core per tick. QEMU
+// models no ADC conversions worth sampling, so the analog front end is replaced by the queue
+// while the timing path (timer interrupt -> sampler -> DOB -> log) is the board's.
+//
+// The timer is the core's SysTick. QEMU 7.2's model of TIM2..TIM5 fires its update interrupt
+// irregularly once a period has passed (its alarm is computed from a count offset that is never
+// advanced), while SysTick is modelled exactly and, under -icount, deterministically.
 //
 // A tick that finds the queue empty delivers nothing and is counted as starved; the frame tick
 // advances only with real frames, so the sequence the core sees (and its DOB output) depends on
@@ -33,12 +36,14 @@ class InjectedFrameSource final : public FrameSource {
 
   std::uint32_t StarvedTicks() const { return starved_; }
   std::uint32_t DeliveredFrames() const { return tick_; }
-  /// SysTick counts (core clock, 168 MHz in QEMU) spent in the timer handler over all delivered
+  /// Core cycles (SysTick counts, 168 MHz in QEMU) spent in the tick handler over all delivered
   /// frames, from its first instruction to its last: the per-sample interrupt cost.
   std::uint64_t HandlerCycles() const { return handler_cycles_; }
 
-  /// The TIM2 interrupt handler body.
-  void HandleTimerInterrupt();
+  /// `core_clock_hz` clocks SysTick; `idle_tick_hz` is its rate while no acquisition runs.
+  void Init(std::uint32_t core_clock_hz, std::uint32_t idle_tick_hz);
+  /// The SysTick handler body; returns true when the tick belonged to a running acquisition.
+  bool HandleTick();
 
  private:
   // Static so it lands in .bss: a polymorphic object is initialized from .data as a whole, and
@@ -46,6 +51,10 @@ class InjectedFrameSource final : public FrameSource {
   static std::array<Raw, kQueueFrames> queue_;
   std::atomic<std::uint32_t> head_{0};  ///< Written by Inject.
   std::atomic<std::uint32_t> tail_{0};  ///< Written by the interrupt.
+  void ProgramTick(std::uint32_t cycles);
+
+  std::uint32_t core_clock_hz_ = 0;
+  std::uint32_t idle_tick_hz_ = 1000;
   FrameSink* sink_ = nullptr;
   volatile bool running_ = false;
   std::uint32_t tick_ = 0;

@@ -70,8 +70,7 @@ void ReportSamplingCost() {
 }  // namespace vibid::fw::qemu
 
 extern "C" void USART1_IRQHandler() { vibid::fw::qemu::g_link.HandleInterrupt(); }
-extern "C" void TIM2_IRQHandler() { vibid::fw::qemu::g_source.HandleTimerInterrupt(); }
-extern "C" void SysTick_Handler() { vibid::fw::stm32::OnSysTick(); }
+extern "C" void SysTick_Handler() { (void)vibid::fw::qemu::g_source.HandleTick(); }
 
 int main() {
   using namespace vibid::fw;
@@ -79,7 +78,8 @@ int main() {
 
   static QemuSystemControl system;
   system.Init();
-  stm32::StartMillisecondTick(kCoreClockHz);
+  // SysTick: 1 kHz while idle (wakes the main loop), the sample rate while acquiring.
+  g_source.Init(kCoreClockHz, 1000);
   DiagnosticsInit();
 
   static TimerClock clock;

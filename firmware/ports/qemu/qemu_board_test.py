@@ -8,13 +8,22 @@ acquisition on injected samples returns exactly the injected frames through log-
 stream CRC-32 matching and no overrun or starved frame lost. Prints the sampling cost the image
 reports on its diagnostics USART.
 
-usage: qemu_board_test.py IMAGE.elf --fw-version X.Y.Z
+With --dob-reference TOOL it runs the DOB check instead: uploads and commits the calibration
+record TOOL designs (host DOB library), acquires force, acceleration and d_hat on injected
+samples, and compares every logged d_hat with TOOL's replay of the shared fixed-point kernel on
+the same raw samples: they must be equal bit for bit.
+
+usage: qemu_board_test.py IMAGE.elf --fw-version X.Y.Z [--dob-reference TOOL]
 """
 
 import argparse
+import math
+import os
 import random
 import struct
+import subprocess
 import sys
+import tempfile
 import time
 import zlib
 
@@ -23,6 +32,7 @@ from qemu_link import FLAG_RESPONSE, FLAG_STREAM_END, QemuBoard
 
 # Command ids and statuses (shared/include/vibid/shared/wire/commands.hpp, status.hpp).
 PING, GET_INFO, GET_STATUS = 0x01, 0x02, 0x03
+CAL_PUT_BEGIN, CAL_PUT_DATA, CAL_COMMIT = 0x10, 0x11, 0x12
 ACQ_CONFIGURE, ACQ_START, ACQ_STOP, LOG_READ = 0x20, 0x21, 0x22, 0x24
 INJECT_FRAMES = 0x71
 OK, UNAVAILABLE, UNIMPLEMENTED = 0, 5, 6
@@ -34,6 +44,7 @@ CHANNEL_KINDS = [1, 1, 2, 2, 3, 3]  # load cell x2, accelerometer x2, encoder x2
 INFO = struct.Struct("<BBBBHHIIIIIB6sBBBHIII")
 
 failures = []
+SKIPPED = 77  # ctest SKIP_RETURN_CODE
 
 
 def check(cond, what):
@@ -90,16 +101,17 @@ def inject(board, frames):
             time.sleep(0.01)
 
 
-def test_acquisition(board, count=600):
-    rng = random.Random(20261121)
-    frames = [[rng.randrange(0, 4096) for _ in range(4)] + [rng.randrange(-2**31, 2**31) for _ in range(2)]
-              for _ in range(count)]
-    # 200 us period, all six channels, no d_hat, decimation 1, immediate trigger, stop after count.
-    config = struct.pack("<IBBHBBHiII", 200, 0x3F, 0, 1, 0, 0, 0, 0, 0, count)
+def acquire(board, frames, channel_mask, flags, record_bytes):
+    """Configures (200 us, immediate trigger, stop after len(frames) records), injects the frames,
+    waits for the end and pulls the log. Returns (data reports, trailer)."""
+    count = len(frames)
+    config = struct.pack("<IBBHBBHiII", 200, channel_mask, flags, 1, 0, 0, 0, 0, 0, count)
     r = board.request(ACQ_CONFIGURE, config)
     check(r.status == OK, "acquisition: configure accepted")
-    record_bytes, _, capacity = struct.unpack("<HHI", r.payload)
-    check(record_bytes == 28, "acquisition: 28-byte records (index + six channels)")
+    if r.status != OK:
+        return [], r
+    got_record_bytes, _, _capacity = struct.unpack("<HHI", r.payload)
+    check(got_record_bytes == record_bytes, f"acquisition: {record_bytes}-byte records")
     check(board.request(ACQ_START).status == OK, "acquisition: started")
     inject(board, frames)
     deadline = time.monotonic() + 60
@@ -110,7 +122,15 @@ def test_acquisition(board, count=600):
             break
         time.sleep(0.05)
     board.request(ACQ_STOP)
-    data, trailer = board.stream(LOG_READ, struct.pack("<II", 0, 0))
+    return board.stream(LOG_READ, struct.pack("<II", 0, 0))
+
+
+def test_acquisition(board, count=600):
+    rng = random.Random(20261121)
+    frames = [[rng.randrange(0, 4096) for _ in range(4)] + [rng.randrange(-2**31, 2**31) for _ in range(2)]
+              for _ in range(count)]
+    # All six channels, no d_hat: records of index + six channels.
+    data, trailer = acquire(board, frames, 0x3F, 0, 28)
     check(trailer.status == OK and trailer.flags & FLAG_STREAM_END != 0, "log-read: stream trailer")
     (total, crc, first, n, rec_bytes, _mask, _flags, _period, _dec, _state, _res, _trig, dropped,
      overruns, written) = struct.unpack_from("<IIIIHBBIHBBIIII", trailer.payload)
@@ -125,6 +145,76 @@ def test_acquisition(board, count=600):
             records.append(struct.unpack_from("<I6i", d.payload, 28 * k))
     check([r[0] for r in records] == list(range(count)), "log-read: sample indices 0..count-1")
     check([list(r[1:]) for r in records] == frames, "log-read: every record equals the injected frame")
+
+
+def upload_calibration(board, record):
+    """cal-put-begin (length, CRC-32), 52-byte cal-put-data chunks with sequence numbers, commit."""
+    r = board.request(CAL_PUT_BEGIN, struct.pack("<II", len(record), zlib.crc32(record)))
+    check(r.status == OK, "calibration: put-begin accepted")
+    chunks = [record[i:i + qemu_link.MAX_PAYLOAD] for i in range(0, len(record), qemu_link.MAX_PAYLOAD)]
+    for seq, chunk in enumerate(chunks):
+        r = board.request(CAL_PUT_DATA, chunk, sequence=seq)
+        if r.status != OK:
+            break
+    check(r.status == OK, f"calibration: {len(chunks)} chunks accepted, record verified")
+    check(board.request(CAL_COMMIT).status == OK, "calibration: committed")
+    info = INFO.unpack(board.request(GET_INFO).payload)
+    check(info[14] == 1, "calibration: get-info reports calibrated")
+
+
+def rig_frames(count, fs_hz=5000.0):
+    """The reference rig of vibid_qemu_dob_reference (m = 2 kg, c = 6 N s/m, k = 8 kN/m) struck
+    by a hammer (50 N half-sine pulses, 8 ms, every 0.1 s) on load cell 1 while an unmeasured
+    hand pushes with 20 N at 2 Hz: the observer should see the push. Accelerometer 1 measures the
+    mass. Converted as the board's 12-bit ADC would (mid-scale 2048 = 0, 2048 counts = full
+    scale: 100 N, 50 m/s^2)."""
+    m, c, k, dt = 2.0, 6.0, 8000.0, 1.0 / fs_hz
+    x = v = 0.0
+    frames = []
+    for n in range(count):
+        phase = n % 500
+        hammer = 50.0 * math.sin(math.pi * phase / 40) if phase < 40 else 0.0
+        push = 20.0 * math.sin(2 * math.pi * 2.0 * n * dt)
+        a = (hammer + push - c * v - k * x) / m
+        v += a * dt
+        x += v * dt
+        force = min(4095, max(0, 2048 + round(hammer / 100.0 * 2048)))
+        accel = min(4095, max(0, 2048 + round(a / 50.0 * 2048)))
+        frames.append([force, 2048, accel, 2048, n, -n])
+    return frames
+
+
+def test_dob(board, tool):
+    with tempfile.TemporaryDirectory() as tmp:
+        record_path = os.path.join(tmp, "record.bin")
+        subprocess.run([tool, "record", record_path], check=True)
+        with open(record_path, "rb") as f:
+            record = f.read()
+        upload_calibration(board, record)
+
+        count = 1500
+        frames = rig_frames(count)
+        # Force 1 and accelerometer 1 with d_hat: index + two channels + d_hat = 16 bytes.
+        data, trailer = acquire(board, frames, 0b000101, 0x01, 16)
+        logged = [struct.unpack_from("<Iiii", d.payload, 16 * k)
+                  for d in data for k in range(len(d.payload) // 16)]
+        check(len(logged) == count, f"dob: {count} records logged")
+
+        frames_path = os.path.join(tmp, "frames.txt")
+        with open(frames_path, "w") as f:
+            f.writelines(" ".join(str(v) for v in fr) + "\n" for fr in frames)
+        replay = subprocess.run([tool, "replay", record_path, frames_path], check=True,
+                                capture_output=True, text=True).stdout.split()
+        expected = [int(v) for v in replay]
+        d_hat = [rec[3] for rec in logged]
+        mismatches = sum(1 for a, b in zip(d_hat, expected) if a != b)
+        check(len(expected) == count and mismatches == 0,
+              f"dob: logged d_hat equals the host replay bit for bit ({mismatches} mismatches)")
+        nonzero = sum(1 for v in d_hat if v != 0)
+        check(nonzero > count // 2, f"dob: d_hat nonzero in {nonzero} of {count} samples")
+        saturated = sum(1 for v in d_hat if v in (2**31 - 1, -2**31))
+        check(saturated == 0, "dob: d_hat never saturates")
+        print(f"dob: d_hat range {min(d_hat)} .. {max(d_hat)} (Q31)")
 
 
 def report_isr_cost(diag):
@@ -145,13 +235,20 @@ def main():
     parser = argparse.ArgumentParser()
     parser.add_argument("image")
     parser.add_argument("--fw-version", required=True)
+    parser.add_argument("--dob-reference", help="host tool vibid_qemu_dob_reference")
     args = parser.parse_args()
     fw_version = tuple(int(x) for x in args.fw_version.split("."))
+    if args.dob_reference and not os.path.exists(args.dob_reference):
+        print(f"skipped: {args.dob_reference} is not built (build the host preset first; scripts/test does)")
+        return SKIPPED
     with QemuBoard(args.image) as board:
-        test_ping(board)
-        test_info(board, fw_version)
-        test_unknown_command(board)
-        test_acquisition(board)
+        if args.dob_reference:
+            test_dob(board, args.dob_reference)
+        else:
+            test_ping(board)
+            test_info(board, fw_version)
+            test_unknown_command(board)
+            test_acquisition(board)
         diag = board.diagnostics()
     print("diagnostics:\n" + diag.strip())
     report_isr_cost(diag)

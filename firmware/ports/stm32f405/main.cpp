@@ -65,7 +65,8 @@ int main() {
   static DfuOnDetach detach{system};
   static usb::DfuRuntime dfu{detach};
   static const std::array<usb::ClassDriver*, 2> drivers = {&hid, &dfu};
-  static usb::UsbDevice device{g_dcd, drivers, serial.data()};
+  static const usb::DaqStrings strings = usb::MakeDaqStrings(serial.data());
+  static usb::UsbDevice device{g_dcd, drivers, usb::DaqDescriptors(strings)};
   // Without the PLL's 48 MHz the OTG core cannot run: the board stays off the bus (get-info over
   // USB is then impossible, so the fallback is visible as a board that does not enumerate).
   if (clocks.source == ClockSource::kPllFromHse) (void)device.Start();

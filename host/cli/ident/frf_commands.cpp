@@ -129,7 +129,6 @@ void RegisterModes(CLI::App& app) {
             << " iterations, cost " << r.fit.summary.initial_cost << " -> " << r.fit.summary.final_cost
             << ", rms relative misfit " << r.fit.rms_relative_error << "\n";
       }
-      for (const auto& w : warnings) out << "warning: " << w << "\n";
       EmitOutput(out.str(), args->output);
     }
     for (const auto& w : warnings) std::cerr << "vibid: warning: " << w << "\n";

@@ -4,8 +4,10 @@
 #include <string>
 
 #include <CLI/CLI.hpp>
+#include <nlohmann/json.hpp>
 
 #include "vibid/ident/modes.hpp"
+#include "vibid/ident/updates.hpp"
 
 namespace vibid::cli {
 
@@ -18,6 +20,9 @@ struct ModeArgs {
 void AddModeOptions(CLI::App* cmd, ModeArgs& args);
 std::size_t ResolveDrivingPoint(const ident::Frf& frf, const std::string& spec);
 ident::ModeIdentification RunModes(const ident::Frf& receptance, const ModeArgs& args);
+
+nlohmann::json MassUpdateJson(const ident::MassUpdateResult& result);
+nlohmann::json StiffnessJson(const ident::StiffnessAverage& average);
 
 void RegisterFrfEstimate(CLI::App& app);
 void RegisterModes(CLI::App& app);

@@ -9,6 +9,7 @@ void RegisterIdentCommands(CLI::App& app) {
   RegisterModes(app);
   RegisterUpdate(app);
   RegisterDecay(app);
+  RegisterIdentify(app);
 }
 
 }  // namespace vibid::cli

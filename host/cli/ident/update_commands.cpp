@@ -143,9 +143,9 @@ void RegisterUpdate(CLI::App& app) {
           << ", c " << r.c_ns_per_m << " N*s/m, omega " << r.omega_rad_s << " rad/s\n"
           << "fit: " << ident::TerminationName(r.summary.termination) << ", " << r.summary.iterations << " iterations, "
           << r.lines_fitted << " lines\n";
-      for (const auto& w : r.warnings) out << "warning: " << w << "\n";
       EmitOutput(out.str(), ma->output);
     }
+    for (const auto& w : r.warnings) std::cerr << "vibid: warning: " << w << "\n";
   });
 
   struct StiffArgs {

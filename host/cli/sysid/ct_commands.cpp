@@ -9,6 +9,8 @@
 #include "vibid/common/csv.hpp"
 #include "vibid/common/error.hpp"
 #include "vibid/common/json_file.hpp"
+#include "vibid/model/model_json.hpp"
+#include "vibid/model/transfer_function.hpp"
 #include "vibid/sysid/continuous.hpp"
 #include "vibid/sysid/greybox.hpp"
 #include "vibid/sysid/tfest.hpp"
@@ -116,14 +118,21 @@ void RegisterCompareCommand(CLI::App& app) {
     std::string ic = "zero";
     std::string range;
     std::string write_sim;
+    int input_dof = 1;
+    int output_dof = 1;
     bool json = false;
   };
   auto a = std::make_shared<Args>();
   auto* cmd = app.add_subcommand(
       "compare", "Fit of a model's simulated (or k-step predicted) output to a recording: 100(1-|y-yhat|/|y-mean(y)|) %");
   AddRecordOptions(*cmd, a->record);
-  cmd->add_option("--model", a->model, "TF.json (num/den, as tfest writes) or a polynomial model (arx/pem -o)")
+  cmd->add_option("--model", a->model,
+                  "TF.json (num/den, as tfest and greybox write), a polynomial model (arx/pem -o), or a model file "
+                  "(M/C/K or topology; the input column is then a force in N, the output a displacement in m)")
       ->required();
+  cmd->add_option("--input-dof", a->input_dof, "Model file: DOF the input force acts on (from 1)")->check(CLI::Range(1, 1000));
+  cmd->add_option("--output-dof", a->output_dof, "Model file: DOF whose displacement is the output (from 1)")
+      ->check(CLI::Range(1, 1000));
   cmd->add_option("--horizon", a->horizon, "inf (simulation) or K >= 1 (K-step-ahead prediction)");
   cmd->add_option("--method", a->method, "Simulation of a continuous TF: exact (ZOH) | euler | rk4")
       ->check(CLI::IsMember({"exact", "euler", "rk4"}));
@@ -149,9 +158,23 @@ void RegisterCompareCommand(CLI::App& app) {
     Eigen::VectorXd y_hat;
     nlohmann::json j;
     std::string note;
-    if (model.contains("num") && model.contains("den")) {
-      const sysid::TransferFunction tf =
-          sysid::Normalized(sysid::TransferFunction{JsonVector(model, "num", a->model), JsonVector(model, "den", a->model)});
+    const bool polynomial = model.contains("A") && model.contains("B");
+    if (!polynomial) {
+      sysid::TransferFunction tf;
+      if (model.contains("num") && model.contains("den")) {
+        tf = sysid::Normalized(
+            sysid::TransferFunction{JsonVector(model, "num", a->model), JsonVector(model, "den", a->model)});
+        j["model_kind"] = "continuous";
+      } else {
+        const model::Model m = model::ModelFromJson(model, a->model);
+        Require(a->input_dof <= m.dofs() && a->output_dof <= m.dofs(),
+                "--input-dof/--output-dof: the model has " + std::to_string(m.dofs()) + " DOFs");
+        const model::TransferFunction mtf =
+            model::ModelTransferFunction(m, a->input_dof - 1, a->output_dof - 1, model::FrfKind::kReceptance);
+        tf = sysid::Normalized(sysid::TransferFunction{mtf.num, mtf.den});
+        j["model_kind"] = "model file (receptance DOF " + std::to_string(a->input_dof) + " -> " +
+                          std::to_string(a->output_dof) + ")";
+      }
       Eigen::VectorXd ic_num = Eigen::VectorXd::Zero(tf.Order());
       if (a->ic == "estimate") {
         Require(a->method == "exact", "--ic estimate works with --method exact");
@@ -165,8 +188,7 @@ void RegisterCompareCommand(CLI::App& app) {
         y_hat = sysid::SimulateRk4(tf, data.u, data.dt_s, a->substeps);
       }
       if (horizon > 0) note = "output-error model (noise model 1): every prediction horizon equals simulation";
-      j["model_kind"] = "continuous";
-    } else if (model.contains("A") && model.contains("B")) {
+    } else {
       const sysid::PolyModel m = PolyModelFromJson(model, a->model);
       Require(a->method == "exact", "--method euler|rk4 applies to continuous-time TFs only");
       Require(a->ic == "zero", "--ic estimate applies to continuous-time TFs only");
@@ -175,8 +197,6 @@ void RegisterCompareCommand(CLI::App& app) {
                   FormatNumber(data.dt_s) + " s");
       y_hat = horizon > 0 ? sysid::PredictKStep(m, data, horizon) : sysid::SimulatePoly(m, data.u);
       j["model_kind"] = "polynomial";
-    } else {
-      throw InputError(a->model + ": not a transfer function (num, den) nor a polynomial model (A, B)");
     }
     Require(y_hat.allFinite(), "the model's output diverges on this record (unstable model or method)");
     const double fit = sysid::FitPercent(data.y, y_hat);

@@ -80,22 +80,46 @@ struct RealBlock {
   Eigen::MatrixXd a, b, c, d;
 };
 
-// Controllable canonical block of n(s)/d(s), deg n <= deg d <= 2, both given by roots.
+// Block of n(s)/d(s), deg n <= deg d <= 2, both given by roots, in a modal form whose entries
+// stay of the order of the poles (a companion form would carry omega^2 and lose accuracy in the
+// matrix exponential): a complex pair sigma +- j omega as [[sigma, omega], [-omega, sigma]], two
+// real poles as a chain [[p1, 0], [1, p2]].
 RealBlock Block(const Group& poles, const Group& zeros, double gain) {
   const Eigen::VectorXd den = PolynomialFromRoots(poles);
-  Eigen::VectorXd num = PolynomialFromRoots(zeros) * gain;
+  const Eigen::VectorXd num = PolynomialFromRoots(zeros) * gain;
   const Eigen::Index n = den.size() - 1;
   Eigen::VectorXd padded = Eigen::VectorXd::Zero(n + 1);
   padded.tail(num.size()) = num;
   RealBlock blk;
+  blk.d = Eigen::MatrixXd::Constant(1, 1, padded[0]);
   blk.a = Eigen::MatrixXd::Zero(n, n);
   blk.b = Eigen::MatrixXd::Zero(n, 1);
   blk.c = Eigen::MatrixXd::Zero(1, n);
-  blk.d = Eigen::MatrixXd::Constant(1, 1, padded[0]);
-  for (Eigen::Index i = 0; i + 1 < n; ++i) blk.a(i, i + 1) = 1.0;
-  for (Eigen::Index j = 0; j < n; ++j) blk.a(n - 1, j) = -den[n - j];
-  blk.b(n - 1, 0) = 1.0;
-  for (Eigen::Index j = 0; j < n; ++j) blk.c(0, j) = padded[n - j] - padded[0] * den[n - j];
+  // Strictly proper remainder r(s) = n(s) - n_n d(s), degree < n.
+  const Eigen::VectorXd rem = padded - padded[0] * den;
+  if (n == 1) {
+    blk.a(0, 0) = poles[0].real();
+    blk.b(0, 0) = 1.0;
+    blk.c(0, 0) = rem[1];
+    return blk;
+  }
+  const double r1 = rem[1];
+  const double r0 = rem[2];
+  if (!IsReal(poles[0])) {
+    const double sigma = poles[0].real();
+    const double omega = std::abs(poles[0].imag());
+    blk.a << sigma, omega, -omega, sigma;
+    blk.b << 0.0, 1.0;
+    // C (sI - A)^-1 B = (c1 omega + c2 (s - sigma)) / ((s - sigma)^2 + omega^2)
+    blk.c << (r0 + r1 * sigma) / omega, r1;
+  } else {
+    const double p1 = poles[0].real();
+    const double p2 = poles[1].real();
+    blk.a << p1, 0.0, 1.0, p2;
+    blk.b << 1.0, 0.0;
+    // C (sI - A)^-1 B = (c1 (s - p2) + c2) / ((s - p1)(s - p2))
+    blk.c << r1, r0 + r1 * p2;
+  }
   return blk;
 }
 
@@ -155,8 +179,12 @@ Zpk ZeroOrderHoldZpk(const Zpk& analog, double fs_hz) {
   auto zero_groups = GroupRoots(analog.zeros);
   // Build a real state space as a cascade of first/second-order blocks (well conditioned even when
   // the poles span decades), each block taking zeros from the remaining groups.
+  // Each block is normalised to unit gain at its own pole frequency; the overall gain is applied
+  // to the output only. A large gain inside the chain would enter A through the couplings between
+  // blocks and ruin the matrix exponential.
   RealBlock sys;
   bool first = true;
+  double output_gain = analog.gain;
   std::size_t zi = 0;
   for (const Group& pg : pole_groups) {
     Group zeros;
@@ -165,10 +193,16 @@ Zpk ZeroOrderHoldZpk(const Zpk& analog, double fs_hz) {
       ++zi;
       if (zeros.size() == pg.size()) break;
     }
-    const RealBlock blk = Block(pg, zeros, first ? analog.gain : 1.0);
+    const Complex probe(0.0, std::max(1e-9, Radius(pg)));
+    const double scale = std::abs(EvaluatePolynomial(PolynomialFromRoots(pg), probe) /
+                                  EvaluatePolynomial(PolynomialFromRoots(zeros), probe));
+    output_gain /= scale;
+    const RealBlock blk = Block(pg, zeros, scale);
     sys = first ? blk : Series(sys, blk);
     first = false;
   }
+  sys.c *= output_gain;
+  sys.d *= output_gain;
   Require(zi == zero_groups.size(), "zero-order hold: could not place every zero");
   const Eigen::Index n = sys.a.rows();
   Eigen::MatrixXd aug = Eigen::MatrixXd::Zero(n + 1, n + 1);
@@ -180,16 +214,26 @@ Zpk ZeroOrderHoldZpk(const Zpk& analog, double fs_hz) {
 
   Zpk d;
   for (const Complex& p : analog.poles) d.poles.push_back(std::exp(p * t_s));
-  // Transmission zeros: finite generalized eigenvalues of ([Ad Bd; C D], diag(I, 0)).
-  Eigen::MatrixXd sa(n + 1, n + 1);
-  sa << ad, bd, sys.c, sys.d;
-  Eigen::MatrixXd sb = Eigen::MatrixXd::Zero(n + 1, n + 1);
-  sb.topLeftCorner(n, n).setIdentity();
-  const Eigen::GeneralizedEigenSolver<Eigen::MatrixXd> ges(sa, sb, false);
-  for (Eigen::Index i = 0; i < n + 1; ++i) {
-    const Complex alpha = ges.alphas()[i];
-    const double beta = ges.betas()[i];
-    if (std::abs(beta) > 1e-9 * std::max(1.0, std::abs(alpha))) d.zeros.push_back(alpha / beta);
+  // Zeros of the discrete SISO system. With a feedthrough they are eig(Ad - Bd C / D). Without
+  // one, the zero dynamics: inputs that keep y = 0 must keep x in ker C, which takes
+  // u = -(C Bd)^-1 C Ad x, so the zeros are the eigenvalues of P Ad (P = I - Bd (C Bd)^-1 C) on
+  // ker C. (A ZOH-sampled strictly proper system has C Bd != 0.)
+  const double dd = sys.d(0, 0);
+  const double cb = (sys.c * bd)(0, 0);
+  Eigen::MatrixXd zero_dynamics;
+  if (std::abs(dd) > 1e-12 * std::max(1.0, std::abs(cb))) {
+    zero_dynamics = ad - bd * sys.c / dd;
+  } else {
+    Require(std::abs(cb) > 0.0, "zero-order hold: the sampled system has relative degree above 1");
+    const Eigen::MatrixXd proj = Eigen::MatrixXd::Identity(n, n) - bd * sys.c / cb;
+    const Eigen::HouseholderQR<Eigen::MatrixXd> qr(sys.c.transpose());
+    const Eigen::MatrixXd q = qr.householderQ();
+    const Eigen::MatrixXd kernel = q.rightCols(n - 1);
+    zero_dynamics = kernel.transpose() * proj * ad * kernel;
+  }
+  if (zero_dynamics.size() > 0) {
+    const Eigen::EigenSolver<Eigen::MatrixXd> zs(zero_dynamics, false);
+    for (Eigen::Index i = 0; i < zs.eigenvalues().size(); ++i) d.zeros.push_back(zs.eigenvalues()[i]);
   }
   // Clean conjugate symmetry: tiny imaginary parts of real zeros are rounding.
   for (Complex& z : d.zeros) {

@@ -58,6 +58,13 @@ TEST(Discretize, ZeroOrderHoldMatchesScipy) {
   ExpectResponse(sos, ref["freqs_hz"], ref["response"], 5000.0, 1e-8);
 }
 
+TEST(Discretize, ZeroOrderHoldOfQMatchesScipy) {
+  const auto& ref = test::Golden()["q_n5_r4"];
+  const QFilter q = MakeQFilter(5, 4, 0.002);
+  const auto sos = ZpkToSos(ZeroOrderHoldZpk(FromPolys(q.num, q.den), 5000.0));
+  ExpectResponse(sos, ref["freqs_hz"], ref["zoh_response"], 5000.0, 1e-7);
+}
+
 TEST(Discretize, ZeroOrderHoldOfAnIntegratorChainIsStepInvariant) {
   // 1/(s+a): step response 1/a (1 - e^{-a t}) sampled exactly by ZOH.
   Zpk analog;

@@ -14,11 +14,12 @@ constexpr double kTwo31 = 2147483648.0;
 // Headroom kept below full scale at every section output, for the rounding of earlier sections.
 constexpr double kScaleMargin = 0.999;
 
-// Impulse-response length until the slowest pole has decayed to 1e-14 of its start.
+// Impulse-response length until the slowest pole has decayed to 1e-10 of its start (the l1 and
+// l2 norms are then within about 1e-9 relative).
 Eigen::Index ImpulseLength(const std::vector<SosSection>& sos) {
   const double r = MaxPoleRadius(sos);
   if (r <= 0.0) return 64;
-  const double n = std::log(1e-14) / std::log(std::min(r, 1.0 - 1e-9));
+  const double n = std::log(1e-10) / std::log(std::min(r, 1.0 - 1e-9));
   return static_cast<Eigen::Index>(std::clamp(n + 64.0, 64.0, 4.0e6));
 }
 

@@ -153,6 +153,19 @@ TEST(ImpactLadisk, DefaultsFindTheBeamResonances) {
                                    [&](double fh) { return std::abs(fh - expected) < 0.03 * expected + 3.0; });
     EXPECT_NE(near, found.end()) << "no peak near " << expected << " Hz";
   }
+  // The same with an exponential window: the peaks stay, the damping is corrected back.
+  const ImpactResult rw =
+      EstimateImpactFrf(force, acc, rec.fs_hz, {.exp_window_end = 0.05}, Estimator::kH1, Quantity::kAcceleration);
+  const PeakResult pw = PickPeaks(rw.frf.freq_hz, rw.frf.h.col(0).cwiseAbs(), {.freq_max_hz = 5000}, rw.frf.exp_window_tau_s);
+  for (double expected : {696.0, 1898.0, 3672.0}) {
+    const auto near = std::find_if(pw.peaks.begin(), pw.peaks.end(),
+                                   [&](const Peak& pk) { return std::abs(pk.freq_hz - expected) < 0.03 * expected; });
+    ASSERT_NE(near, pw.peaks.end()) << "exp window: no peak near " << expected << " Hz";
+    const auto plain = std::find_if(p.peaks.begin(), p.peaks.end(),
+                                    [&](const Peak& pk) { return std::abs(pk.freq_hz - expected) < 0.03 * expected; });
+    EXPECT_GT(near->zeta_measured, plain->zeta_measured);
+    EXPECT_NEAR(near->zeta, plain->zeta, 0.5 * plain->zeta) << expected;
+  }
   for (const Peak& pk : p.peaks) {
     std::printf("LADISK peak %.1f Hz zeta %.4f lines %.1f\n", pk.freq_hz, pk.zeta, pk.lines_in_band);
   }

@@ -287,6 +287,9 @@ ModeIdentification IdentifyModes(const Frf& receptance, std::size_t driving_poin
     out.fitted = true;
     if (out.fit.summary.Converged()) {
       out.modes = ShapesFromResidues(out.fit, driving_point);
+      // The fit uses every line of the band, not the half-power points: resolution warnings of
+      // the peak picks no longer apply.
+      out.warnings.clear();
     } else {
       out.warnings.push_back("curve fit did not converge (" + out.fit.summary.message +
                              "); modes are the peak-picking estimates");

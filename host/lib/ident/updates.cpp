@@ -31,7 +31,12 @@ MassUpdateResult UpdateMass(const Frf& receptance, std::size_t response, const M
   const Peak peak = *std::max_element(picked.peaks.begin(), picked.peaks.end(),
                                       [](const Peak& a, const Peak& b) { return a.magnitude < b.magnitude; });
   MassUpdateResult res;
-  res.warnings = picked.warnings;
+  // Only the resonance used matters; other peaks (noise at low frequency) are not reported.
+  for (const std::string& w : picked.warnings) {
+    std::ostringstream at;
+    at << "peak at " << peak.freq_hz << " Hz";
+    if (w.rfind(at.str(), 0) == 0) res.warnings.push_back(w);
+  }
   res.omega_rad_s = peak.omega_rad_s;
   res.zeta = peak.zeta;
   res.nominal_kg = options.nominal_kg;

@@ -15,10 +15,7 @@ namespace {
 
 using testing::Golden;
 using testing::JsonVector;
-
-double MaxRelativeError(const Eigen::VectorXcd& a, const Eigen::VectorXcd& b) {
-  return ((a - b).cwiseAbs().array() / b.cwiseAbs().array()).maxCoeff();
-}
+using testing::MaxRelativeError;
 
 TEST(Frf, OneDofPeakReceptanceClosedForm) {
   // m = 2, k = 5000, c = 4 → ωn = 50, ζ = 0.02. |H| peaks at ωn√(1−2ζ²) with 1/(2kζ√(1−ζ²));

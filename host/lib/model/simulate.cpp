@@ -258,6 +258,18 @@ class SimulationEngine {
       t += h;
       remaining -= h;
     }
+    if (remaining > 1e-12 * dt) {
+      // Out of splits (a mass chattering at the static limit): finish the step and stop any mass
+      // whose velocity turned against its friction.
+      UpdateStick(force_at);
+      Integrate(force_at, remaining);
+      for (Eigen::Index i = 0; i < n; ++i) {
+        if (HasFriction(i) && !stuck[static_cast<std::size_t>(i)] && direction[i] * v[i] < 0.0) {
+          v[i] = 0.0;
+          stuck[static_cast<std::size_t>(i)] = true;
+        }
+      }
+    }
     t = t_start + dt;
   }
 

@@ -6,6 +6,8 @@
 
 #include <cmath>
 #include <numbers>
+#include <random>
+#include <string>
 
 #include "test_support.hpp"
 #include "vibid/common/error.hpp"
@@ -137,6 +139,23 @@ TEST(Simulate, ExactMatchesScipyLsimWithAForceTable) {
   const Eigen::MatrixXd expected = JsonMatrix(g.at("x_m"));
   ASSERT_EQ(r.x_m.rows(), expected.rows());
   EXPECT_LT((r.x_m - expected).cwiseAbs().maxCoeff(), 1e-9 * expected.cwiseAbs().maxCoeff());
+}
+
+TEST(Simulate, ExactAndRk4AgreeOverRandomSystems) {
+  // Pulses on the time grid are constant over every step, so ZOH is exact and RK4 converges to it.
+  std::mt19937 rng(3);
+  for (int trial = 0; trial < 12; ++trial) {
+    const Eigen::Index n = 1 + trial % 4;
+    const Model m = testing::RandomModel(rng, n, trial % 2 == 0);
+    ForceInput force;
+    force.shapes.push_back(ParseForceShape("pulse:dof=1,amp=3,t0=0.01,width=0.05"));
+    force.shapes.push_back(ParseForceShape("step:dof=" + std::to_string(n) + ",amp=-1,t0=0.1"));
+    const SimulationResult exact = Simulate(m, force, Options(Method::kExact, 2e-4, 0.5));
+    const SimulationResult rk4 = Simulate(m, force, Options(Method::kRk4, 2e-4, 0.5));
+    const double scale = exact.x_m.cwiseAbs().maxCoeff();
+    EXPECT_LT((rk4.x_m - exact.x_m).cwiseAbs().maxCoeff(), 1e-6 * scale) << "trial " << trial;
+    EXPECT_TRUE(exact.a_m_s2.row(50).isApprox(rk4.a_m_s2.row(50), 1e-5)) << "trial " << trial;
+  }
 }
 
 TEST(Simulate, DisturbanceAddsToTheForceAndIsRecorded) {

@@ -41,6 +41,11 @@ inline Model JsonModel(const nlohmann::json& j) {
   return m;
 }
 
+/// Largest |a − b| / |b| over the entries (b the reference).
+inline double MaxRelativeError(const Eigen::VectorXcd& a, const Eigen::VectorXcd& b) {
+  return ((a - b).cwiseAbs().array() / b.cwiseAbs().array()).maxCoeff();
+}
+
 /// A random symmetric positive definite matrix with eigenvalues in [lo, hi] (Eigen-test style).
 inline Eigen::MatrixXd RandomSpd(std::mt19937& rng, Eigen::Index n, double lo, double hi) {
   std::uniform_real_distribution<double> u(0.0, 1.0);

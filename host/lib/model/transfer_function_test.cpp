@@ -14,10 +14,7 @@ namespace {
 
 using testing::Golden;
 using testing::JsonVector;
-
-double MaxRelativeError(const Eigen::VectorXcd& a, const Eigen::VectorXcd& b) {
-  return ((a - b).cwiseAbs().array() / b.cwiseAbs().array()).maxCoeff();
-}
+using testing::MaxRelativeError;
 
 void ExpectCoefficientsNear(const Eigen::VectorXd& actual, const Eigen::VectorXd& expected, double rel) {
   ASSERT_EQ(actual.size(), expected.size()) << "actual " << actual.transpose() << " expected " << expected.transpose();

@@ -7,6 +7,7 @@
 #include <unsupported/Eigen/MatrixFunctions>
 
 #include "vibid/common/error.hpp"
+#include "vibid/model/state_space.hpp"
 #include "vibid/sysid/polynomial.hpp"
 
 namespace vibid::sysid {
@@ -53,17 +54,19 @@ Eigen::MatrixXd SimulateStates(Eigen::Ref<const Eigen::MatrixXd> a, Eigen::Ref<c
   const Eigen::Index samples = u.size();
   Eigen::MatrixXd states(samples, n);
   if (samples == 0) return states;
-  // exp of the block matrix [[A, B, 0], [0, 0, 1], [0, 0, 0]] dt gives Φ and the two input
-  // integrals of a piecewise-linear input (Franklin, Powell & Workman, Digital Control, §6.3.2);
-  // the zero-order hold uses the first of them only.
-  Eigen::MatrixXd m = Eigen::MatrixXd::Zero(n + 2, n + 2);
-  m.topLeftCorner(n, n) = a * dt_s;
-  m.block(0, n, n, 1) = b * dt_s;
-  m(n, n + 1) = 1.0;
-  const Eigen::MatrixXd e = m.exp();
-  const Eigen::MatrixXd phi = e.topLeftCorner(n, n);
-  const Eigen::VectorXd g0 = e.block(0, n, n, 1);
-  const Eigen::VectorXd g1 = e.block(0, n + 1, n, 1);
+  // The input as an extra state u' = w/dt (w = u_{k+1} − u_k, the slope of a first-order hold):
+  // the ZOH discretization of [[A, B], [0, 0]] driven by w gives Φ, the ZOH input integral Γ0 (next
+  // to Φ) and the first-order-hold one Γ1 (Franklin, Powell & Workman, Digital Control, §6.3.2).
+  model::StateSpace ct;
+  ct.A = Eigen::MatrixXd::Zero(n + 1, n + 1);
+  ct.A.topLeftCorner(n, n) = a;
+  ct.A.topRightCorner(n, 1) = b;
+  ct.B = Eigen::MatrixXd::Zero(n + 1, 1);
+  ct.B(n, 0) = 1.0 / dt_s;
+  const model::StateSpace d = model::Discretize(ct, dt_s);
+  const Eigen::MatrixXd phi = d.A.topLeftCorner(n, n);
+  const Eigen::VectorXd g0 = d.A.topRightCorner(n, 1);
+  const Eigen::VectorXd g1 = d.B.topRows(n);
   Eigen::VectorXd x = x0;
   for (Eigen::Index k = 0; k < samples; ++k) {
     states.row(k) = x.transpose();
@@ -144,12 +147,12 @@ DiscreteTf C2dZoh(const TransferFunction& tf, double dt_s) {
   const StateSpaceSiso ss = ControllableCanonical(tf);
   const Eigen::Index n = ss.a.rows();
   if (n == 0) return DiscreteTf{Eigen::VectorXd::Constant(1, ss.d), Eigen::VectorXd::Ones(1)};
-  Eigen::MatrixXd m = Eigen::MatrixXd::Zero(n + 1, n + 1);
-  m.topLeftCorner(n, n) = ss.a * dt_s;
-  m.topRightCorner(n, 1) = ss.b * dt_s;
-  const Eigen::MatrixXd e = m.exp();
+  model::StateSpace ct;
+  ct.A = ss.a;
+  ct.B = ss.b;
+  const model::StateSpace d = model::Discretize(ct, dt_s);
   // A z-domain TF read with descending powers of z is the same vector in ascending powers of q⁻¹.
-  const TransferFunction z = TfFromStateSpace(e.topLeftCorner(n, n), e.topRightCorner(n, 1), ss.c, ss.d);
+  const TransferFunction z = TfFromStateSpace(d.A, d.B.col(0), ss.c, ss.d);
   return DiscreteTf{z.num, z.den};
 }
 

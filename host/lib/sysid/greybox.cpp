@@ -4,7 +4,6 @@
 
 #include "vibid/common/error.hpp"
 #include "vibid/sysid/fit.hpp"
-#include "vibid/sysid/polynomial.hpp"
 
 namespace vibid::sysid {
 
@@ -19,20 +18,13 @@ TransferFunction CartTf(const CartConfig& config, Eigen::Ref<const Eigen::Vector
   Require(config.carts == 1 || config.carts == 2, "cart model: 1 or 2 carts");
   Require(static_cast<std::size_t>(v.size()) == CartParameterNames(config).size(), "cart model: wrong parameter count");
   const bool position = config.input == CartInput::kPosition;
-  if (config.carts == 1) {
-    const double m = v[0], b = v[1], k = v[2];
-    const Eigen::Vector3d den(m, b, 2.0 * k);
-    const Eigen::VectorXd num = position ? Eigen::VectorXd(Eigen::Vector2d(v[3], 2.0 * k)) : Eigen::VectorXd::Ones(1);
-    return TransferFunction{num, den};
-  }
-  const double m1 = v[0], m2 = v[1], b1 = v[2], b2 = v[3], k = v[4];
-  const Eigen::Vector3d cart1(m1, b1, 2.0 * k);
-  const Eigen::Vector3d cart2(m2, b2, 2.0 * k);
-  Eigen::VectorXd den = PolyMul(cart1, cart2);
-  den[4] -= k * k;
-  Eigen::VectorXd num = cart2;
-  if (position) num = PolyMul(Eigen::Vector2d(v[5], 2.0 * k), cart2);
-  return TransferFunction{num, den};
+  const Eigen::Index n = config.carts;
+  const Eigen::VectorXd masses = n == 1 ? Eigen::VectorXd(v.head(1)) : Eigen::VectorXd(v.head(2));
+  const Eigen::VectorXd frictions = n == 1 ? Eigen::VectorXd(v.segment(1, 1)) : Eigen::VectorXd(v.segment(2, 2));
+  const double k = v[2 * n];
+  const model::TransferFunction tf =
+      model::CartTrackTf(masses, k, frictions, config.input, position ? v[2 * n + 1] : 0.0);
+  return TransferFunction{tf.num, tf.den};
 }
 
 void GreyboxOptions::Validate() const {

@@ -1,11 +1,14 @@
 #include "vibid/sysid/pem.hpp"
 
 #include <algorithm>
+#include <cmath>
 
 #include <Eigen/QR>
 
 #include "vibid/common/error.hpp"
+#include "vibid/sysid/continuous.hpp"
 #include "vibid/sysid/polynomial.hpp"
+#include "vibid/sysid/tfest.hpp"
 
 namespace vibid::sysid {
 
@@ -117,27 +120,67 @@ PolyModel EstimateOeIv(const IoData& data, const PolyOrders& orders) {
   const Eigen::Index n = data.samples();
   const Eigen::Index t0 = std::max<Eigen::Index>(nf, nk + nb - 1);
   const Eigen::Index rows = n - t0;
-  for (int pass = 0; pass < 2 && nf > 0; ++pass) {
+  const Eigen::VectorXd one = Eigen::VectorXd::Ones(1);
+  // ARX is biased when the noise is not equation error (badly so at high sample rates, where A(q)
+  // weights the error like a high-pass). The basic IV estimate with delayed inputs as instruments
+  // is consistent for any noise independent of u: use it instead when it simulates better.
+  {
+    const Eigen::Index lag0 = nk + nb + nf - 1;
+    const Eigen::Index s0 = std::max<Eigen::Index>(t0, lag0);
+    const Eigen::Index m = n - s0;
+    if (nf > 0 && m > 2 * (nf + nb)) {
+      Eigen::MatrixXd phi(m, nf + nb);
+      Eigen::MatrixXd zeta(m, nf + nb);
+      for (Eigen::Index r = 0; r < m; ++r) {
+        const Eigen::Index t = s0 + r;
+        for (int i = 0; i < nf; ++i) {
+          phi(r, i) = -data.y[t - 1 - i];
+          zeta(r, i) = data.u[t - nk - nb - i];
+        }
+        for (int j = 0; j < nb; ++j) phi(r, nf + j) = zeta(r, nf + j) = data.u[t - nk - j];
+      }
+      Eigen::VectorXd th;
+      if (SolveInstrumental(zeta, phi, data.y.tail(m), th)) {
+        const Eigen::VectorXd f_iv = StabilizeDiscrete(Monic(th.head(nf)));
+        Eigen::VectorXd b_iv = Eigen::VectorXd::Zero(nk + nb);
+        b_iv.tail(nb) = th.tail(nb);
+        const double err_iv = (data.y - Filter(b_iv, f_iv, data.u)).squaredNorm();
+        const double err_arx = (data.y - Filter(b, f, data.u)).squaredNorm();
+        if (std::isfinite(err_iv) && err_iv < err_arx) {
+          f = f_iv;
+          b = b_iv;
+        }
+      }
+    }
+  }
+  Eigen::VectorXd previous;
+  // Simplified refined IV (Young): prefilter y, u and the instruments by 1/F̂ and use the noise-free
+  // output of the current model as instruments; a fixed point of the iteration is consistent and
+  // close to the OE optimum, so the search that follows only polishes.
+  for (int pass = 0; pass < 20 && nf > 0; ++pass) {
     const Eigen::VectorXd x = Filter(b, f, data.u);
+    const Eigen::VectorXd yf = Filter(one, f, data.y);
+    const Eigen::VectorXd uf = Filter(one, f, data.u);
+    const Eigen::VectorXd xf = Filter(one, f, x);
     Eigen::MatrixXd phi(rows, nf + nb);
     Eigen::MatrixXd zeta(rows, nf + nb);
     for (Eigen::Index r = 0; r < rows; ++r) {
       const Eigen::Index t = t0 + r;
       for (int i = 0; i < nf; ++i) {
-        phi(r, i) = -data.y[t - 1 - i];
-        zeta(r, i) = -x[t - 1 - i];
+        phi(r, i) = -yf[t - 1 - i];
+        zeta(r, i) = -xf[t - 1 - i];
       }
-      for (int j = 0; j < nb; ++j) phi(r, nf + j) = zeta(r, nf + j) = data.u[t - nk - j];
+      for (int j = 0; j < nb; ++j) phi(r, nf + j) = zeta(r, nf + j) = uf[t - nk - j];
     }
-    const Eigen::MatrixXd zp = zeta.transpose() * phi;
-    const Eigen::VectorXd zy = zeta.transpose() * data.y.tail(rows);
-    const Eigen::ColPivHouseholderQR<Eigen::MatrixXd> qr(zp);
-    if (qr.rank() < nf + nb) break;
-    const Eigen::VectorXd th = qr.solve(zy);
-    if (!th.allFinite()) break;
+    Eigen::VectorXd th;
+    if (!SolveInstrumental(zeta, phi, yf.tail(rows), th)) break;
     f = StabilizeDiscrete(Monic(th.head(nf)));
     b = Eigen::VectorXd::Zero(nk + nb);
     b.tail(nb) = th.tail(nb);
+    Eigen::VectorXd current(nf + nb);
+    current << f.tail(nf), th.tail(nb);
+    if (previous.size() == current.size() && (current - previous).norm() <= 1e-9 * current.norm()) break;
+    previous = current;
   }
   PolyModel m;
   m.structure = Structure::kOe;
@@ -147,6 +190,39 @@ PolyModel EstimateOeIv(const IoData& data, const PolyOrders& orders) {
   m.f = f;
   return m;
 }
+
+namespace {
+
+/// The better (by simulation error) of the refined-IV start and, when the orders are those of a
+/// sampled continuous system (nk = 1, nb = nf), the ZOH image of an SRIVC continuous-time estimate.
+/// At high sample rates the poles crowd near z = 1 and the q⁻¹ regressors become nearly collinear
+/// (ZᵀΦ then has a condition number near 1/eps); the continuous-time route does not suffer from it.
+PolyModel OeStart(const IoData& data, const PolyOrders& orders, std::string& name) {
+  PolyModel best = EstimateOeIv(data, orders);
+  name = "instrumental-variable";
+  if (orders.nk != 1 || orders.nb != orders.nf || orders.nf < 1 || orders.nf > 20) return best;
+  TfestOptions ct;
+  ct.np = orders.nf;
+  ct.nz = orders.nf - 1;
+  ct.refine = false;
+  if (data.samples() < 10 * (ct.np + ct.nz + 1)) return best;
+  const TfestResult r = EstimateTf(data, ct);
+  if (r.tf.den.size() != orders.nf + 1) return best;
+  const DiscreteTf d = C2dZoh(r.tf, data.dt_s);
+  PolyModel candidate = best;
+  candidate.f = StabilizeDiscrete(d.den);
+  candidate.b = Eigen::VectorXd::Zero(orders.nk + orders.nb);
+  candidate.b.tail(orders.nb) = d.num.tail(orders.nb);
+  const double err_best = (data.y - SimulatePoly(best, data.u)).squaredNorm();
+  const double err_ct = (data.y - SimulatePoly(candidate, data.u)).squaredNorm();
+  if (std::isfinite(err_ct) && !(err_ct >= err_best)) {
+    name = "continuous-time srivc (zoh)";
+    return candidate;
+  }
+  return best;
+}
+
+}  // namespace
 
 PemResult EstimatePem(const IoData& data, Structure structure, const PolyOrders& orders,
                       const SolverOptions& options) {
@@ -179,14 +255,13 @@ PemResult EstimatePem(const IoData& data, Structure structure, const PolyOrders&
       break;
     }
     case Structure::kOe: {
-      const PolyModel iv = EstimateOeIv(data, orders);
+      const PolyModel iv = OeStart(data, orders, res.initialization);
       start.b = iv.b;
       start.f = iv.f;
-      res.initialization = "instrumental-variable";
       break;
     }
     case Structure::kBj: {
-      const PolyModel iv = EstimateOeIv(data, PolyOrders{0, orders.nb, 0, 0, orders.nf, orders.nk});
+      const PolyModel iv = OeStart(data, PolyOrders{0, orders.nb, 0, 0, orders.nf, orders.nk}, res.initialization);
       start.b = iv.b;
       start.f = iv.f;
       const Eigen::VectorXd w = data.y - Filter(iv.b, iv.f, data.u);
@@ -194,7 +269,7 @@ PemResult EstimatePem(const IoData& data, Structure structure, const PolyOrders&
       const Eigen::VectorXd th = HannanRissanen(w, nullptr, orders.nd, 0, 0, orders.nc);
       start.d = StabilizeDiscrete(Monic(th.head(orders.nd)));
       start.c = StabilizeDiscrete(Monic(th.tail(orders.nc)));
-      res.initialization = "instrumental-variable + hannan-rissanen";
+      res.initialization += " + hannan-rissanen";
       break;
     }
     case Structure::kArx:

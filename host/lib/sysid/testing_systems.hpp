@@ -4,9 +4,12 @@
 
 #include <cstdint>
 #include <random>
+#include <string>
 
 #include <Eigen/Core>
 
+#include "vibid/model/model.hpp"
+#include "vibid/model/simulate.hpp"
 #include "vibid/sysid/continuous.hpp"
 #include "vibid/sysid/greybox.hpp"
 #include "vibid/sysid/io_data.hpp"
@@ -28,6 +31,32 @@ inline TransferFunction OneCartTf() {
 }
 inline TransferFunction TwoCartTf() {
   return Normalized(CartTf(CartConfig{2, CartInput::kPosition}, TwoCartValues()));
+}
+
+/// Force-driven cart track of the model core (ground –k– M1 [–k– M2] –k– ground), one or two
+/// carts, simulated exactly (ZOH) by the model core with the force `shape` (a model::ForceShape
+/// spec, e.g. "pulse:dof=1,amp=5,width=0.1,t0=0.1"). Returns the force on cart 1 and its position.
+struct ModelCoreRecord {
+  Eigen::VectorXd force_n;
+  Eigen::VectorXd x1_m;
+  TransferFunction truth;  ///< X1/F from the model core's first-principle TF.
+};
+inline ModelCoreRecord SimulateCartTrack(int carts, const std::string& shape, double dt_s, double t_end_s) {
+  const Eigen::VectorXd v = carts == 1 ? OneCartValues() : TwoCartValues();
+  const Eigen::VectorXd masses = carts == 1 ? Eigen::VectorXd(v.head(1)) : Eigen::VectorXd(v.head(2));
+  const Eigen::VectorXd frictions = carts == 1 ? Eigen::VectorXd(v.segment(1, 1)) : Eigen::VectorXd(v.segment(2, 2));
+  const double k = v[2 * carts];
+  const model::Model m = model::MakeCartTrack(masses, k, frictions);
+  model::ForceInput force;
+  force.shapes.push_back(model::ParseForceShape(shape));
+  model::SimulationOptions o;
+  o.method = model::Method::kExact;
+  o.dt_s = dt_s;
+  o.t_end_s = t_end_s;
+  const model::SimulationResult r = model::Simulate(m, force, o);
+  const TransferFunction tf = CartTf(CartConfig{carts, CartInput::kForce},
+                                     carts == 1 ? Eigen::VectorXd(v.head(3)) : Eigen::VectorXd(v.head(5)));
+  return {r.force_n.col(0), r.x_m.col(0), tf};
 }
 
 /// A step of `amplitude` at sample `start`.

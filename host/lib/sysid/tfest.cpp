@@ -144,11 +144,8 @@ SrivcOutcome Srivc(const IoData& data, int np, int nz, double lambda_rad_s, cons
       const Eigen::MatrixXd w = FilteredDerivatives(PolyMul(den, den), data.u, data.dt_s, Hold::kZero, false);
       for (Eigen::Index j = 0; j < n; ++j) zeta.col(j) = -Combine(num, w, n - 1 - j);
     }
-    const Eigen::MatrixXd zp = zeta.transpose() * phi;
-    const Eigen::ColPivHouseholderQR<Eigen::MatrixXd> qr(zp);
-    if (qr.rank() < p) break;
-    const Eigen::VectorXd theta = qr.solve(zeta.transpose() * target);
-    if (!theta.allFinite()) break;
+    Eigen::VectorXd theta;
+    if (!SolveInstrumental(zeta, phi, target, theta)) break;
     den = StabilizeContinuous(MonicFromTail(theta.head(n)));
     num = theta.tail(m + 1);
     out.iterations = iter;
@@ -272,9 +269,17 @@ TfestResult EstimateTf(const IoData& data, const TfestOptions& options) {
   };
   Eigen::VectorXd theta0(np + nz + 1);
   theta0 << best.tf.den.tail(np), best.tf.num;
-  SolverOptions solver = options.solver;
-  if (!options.refine) solver.max_iterations = 1;
-  const CtOeResult oe = FitContinuousOe(data, identity, theta0, options.ic, solver);
+  if (!options.refine) {
+    res.tf = best.tf;
+    res.ic_num = Eigen::VectorXd::Zero(np);
+    res.den_std = Eigen::VectorXd::Zero(np + 1);
+    res.num_std = Eigen::VectorXd::Zero(nz + 1);
+    res.fit_percent = best_fit;
+    res.summary.termination = Termination::kConvergedStep;
+    res.summary.message = "SRIVC estimate without output-error refinement";
+    return res;
+  }
+  const CtOeResult oe = FitContinuousOe(data, identity, theta0, options.ic, options.solver);
   res.summary = oe.summary;
   res.tf = TransferFunction{oe.theta.tail(nz + 1), MonicFromTail(oe.theta.head(np))};
   res.ic_num = oe.ic_num;

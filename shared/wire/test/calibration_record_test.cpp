@@ -180,6 +180,14 @@ TEST(ScaleChannel, ClosedForm) {
   EXPECT_EQ(ScaleChannel(-123456, DefaultScaling(), clips), -123456);
 }
 
+// Half of Q31 full scale is half the full scale; the default scaling reads back counts.
+TEST(ScaleChannel, CalibratedToSi) {
+  const ChannelScaling force{2048, 1 << 20, 0, Unit::kNewton, 0, 100.0f};
+  EXPECT_EQ(CalibratedToSi(1 << 30, force), 50.0);
+  EXPECT_EQ(CalibratedToSi(INT32_MIN, force), -100.0);
+  EXPECT_EQ(CalibratedToSi(-123456, DefaultScaling()), -123456.0);
+}
+
 }  // namespace
 }  // namespace vibid::wire
 

@@ -15,7 +15,7 @@ struct FirmwareVersion {
 FirmwareVersion CurrentFirmwareVersion();
 
 /// Identifies the exact source the image was built from: the first 8 hex digits of the git
-/// commit at configure time (0 when the tree is not a git checkout).
+/// commit at build time (0 when the tree is not a git checkout).
 std::uint32_t BuildId();
 
 }  // namespace vibid::fw

@@ -174,4 +174,10 @@ constexpr std::int32_t ScaleChannel(std::int32_t raw, const ChannelScaling& s,
   return static_cast<std::int32_t>(acc);
 }
 
+/// The SI value (in s.unit) a calibrated integer stands for: calibrated / 2^31 * full_scale.
+/// For the host (recordings, live values); the board stays in integers.
+constexpr double CalibratedToSi(std::int32_t calibrated, const ChannelScaling& s) {
+  return static_cast<double>(calibrated) / 2147483648.0 * static_cast<double>(s.full_scale);
+}
+
 }  // namespace vibid::wire

@@ -17,6 +17,7 @@
 
 #include <Eigen/Core>
 
+#include "vibid/model/transfer_function.hpp"
 #include "vibid/sysid/continuous.hpp"
 #include "vibid/sysid/io_data.hpp"
 #include "vibid/sysid/least_squares.hpp"
@@ -24,7 +25,7 @@
 
 namespace vibid::sysid {
 
-enum class CartInput { kForce, kPosition };
+using model::CartInput;
 
 struct CartConfig {
   int carts = 1;                      ///< 1 or 2.
@@ -35,8 +36,8 @@ struct CartConfig {
 /// 2 carts "M1","M2","B1","B2","k" (+ "Bi").
 std::vector<std::string> CartParameterNames(const CartConfig& config);
 
-/// The cart TF (not normalised) for parameter values in CartParameterNames order. SI units:
-/// M in kg, B and Bi in N·s/m, k in N/m.
+/// The cart TF (monic, the model core's CartTrackTf) for parameter values in CartParameterNames
+/// order. SI units: M in kg, B and Bi in N·s/m, k in N/m.
 TransferFunction CartTf(const CartConfig& config, Eigen::Ref<const Eigen::VectorXd> values);
 
 struct GreyboxOptions {

@@ -4,7 +4,7 @@
 // The mean squared one-step prediction error V = (1/N) Σ e(t)², e = D/C (A y − B/F u), zero initial
 // conditions, is minimised by Levenberg–Marquardt with the analytic gradient: every column of
 // ∂e/∂θ is a filtered, delayed copy of y, u, e, A y − B/F u or B/F u (Ljung, System Identification,
-// 2nd ed., §10.2). Starting points: ARX for ARMAX (Hannan–Rissanen for C), an instrumental-variable
+// 2nd ed., §10.2). Starting points: ARX for ARMAX (Hannan–Rissanen for C), a refined instrumental-variable
 // estimate for OE, and OE + Hannan–Rissanen on the output error for Box–Jenkins.
 #pragma once
 
@@ -28,8 +28,9 @@ struct PemResult {
 PemResult EstimatePem(const IoData& data, Structure structure, const PolyOrders& orders,
                       const SolverOptions& options = {});
 
-/// Instrumental-variable estimate of an OE model B/F (orders nb, nf, nk): ARX start, then two
-/// passes with noise-free simulated outputs as instruments. F is stabilised.
+/// Instrumental-variable estimate of an OE model B/F (orders nb, nf, nk): ARX start, then up to 20
+/// passes of the simplified refined IV method (data prefiltered by 1/F̂, the current model's
+/// noise-free output as instruments). F is stabilised.
 PolyModel EstimateOeIv(const IoData& data, const PolyOrders& orders);
 
 }  // namespace vibid::sysid

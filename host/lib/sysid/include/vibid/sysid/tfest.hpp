@@ -32,7 +32,7 @@ struct TfestOptions {
   InitialCondition ic = InitialCondition::kZero;
   int srivc_iterations = 30;                   ///< Per starting filter.
   double srivc_tolerance = 1e-10;              ///< Relative parameter change that ends SRIVC.
-  bool refine = true;                          ///< Output-error refinement after SRIVC.
+  bool refine = true;                          ///< Output-error refinement after SRIVC (false: SRIVC only, no covariance).
   SolverOptions solver;
   /// Throws InputError naming the first bad option.
   void Validate() const;

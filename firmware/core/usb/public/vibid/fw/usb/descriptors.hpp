@@ -172,6 +172,29 @@ inline constexpr std::size_t kMaxStringDescriptorSize = 64;
 /// Longest serial number (board id) accepted; longer ids are truncated.
 inline constexpr std::size_t kMaxSerialLength = (kMaxStringDescriptorSize - 2) / 2;
 
+/// What a device personality shows the host: its device and configuration descriptors and its
+/// strings (index i >= 1 answers strings[i - 1]; index 0, the language table, is the stack's).
+/// The board image runs DaqDescriptors; another personality (a DFU bootloader in the emulator)
+/// brings its own set and class drivers to the same stack.
+struct DescriptorSet {
+  std::span<const std::uint8_t> device;
+  std::span<const std::uint8_t> configuration;
+  std::span<const char* const> strings;
+};
+
+/// The DAQ board's strings, in StringIndex order from kStringManufacturer; `serial` (the board
+/// id, ASCII) must outlive the set.
+struct DaqStrings {
+  std::array<const char*, kStringCount - 1> text;
+};
+constexpr DaqStrings MakeDaqStrings(const char* serial) {
+  return DaqStrings{{kManufacturerName, kProductName, serial, kDfuInterfaceName}};
+}
+/// The DAQ board's descriptor set over `strings` (which must outlive it).
+constexpr DescriptorSet DaqDescriptors(const DaqStrings& strings) {
+  return DescriptorSet{kDeviceDescriptor, kConfigurationDescriptor, strings.text};
+}
+
 /// Builds string descriptor `text` (ASCII) as UTF-16LE into `out`.
 /// @returns the descriptor length written (bLength), at most kMaxStringDescriptorSize.
 std::size_t BuildStringDescriptor(const char* text, std::size_t text_length,

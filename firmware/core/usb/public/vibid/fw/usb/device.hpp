@@ -39,9 +39,10 @@ class UsbDevice final : public DcdEvents {
   static constexpr std::size_t kControlBufferSize = 128;
   static constexpr std::size_t kEventQueueSize = 16;
 
-  /// `serial` (ASCII, e.g. the board id in hex) becomes the iSerialNumber string; it must outlive
-  /// the device. Drivers are consulted in order for interface and endpoint ownership.
-  UsbDevice(Dcd& dcd, std::span<ClassDriver* const> drivers, const char* serial);
+  /// `descriptors` (and what it points to) must outlive the device. Drivers are consulted in
+  /// order for interface and endpoint ownership. SET_CONFIGURATION accepts 0 and the
+  /// bConfigurationValue of the configuration descriptor.
+  UsbDevice(Dcd& dcd, std::span<ClassDriver* const> drivers, const DescriptorSet& descriptors);
 
   /// Initializes the driver and attaches to the bus.
   /// @returns the driver's Init status; on failure the device stays detached.
@@ -99,7 +100,7 @@ class UsbDevice final : public DcdEvents {
   Dcd& dcd_;
   std::array<ClassDriver*, kMaxDrivers> drivers_{};
   std::size_t driver_count_ = 0;
-  const char* serial_;
+  DescriptorSet descriptors_;
 
   DeviceState state_ = DeviceState::kDetached;
   bool suspended_ = false;

@@ -1,0 +1,75 @@
+#!/usr/bin/python3
+"""Cortex-M4 instructions per sample of the DOB kernel, counted in QEMU (no plugins).
+
+Builds the firmware preset's dob_kernel_m4_bench image (default design: 2 inputs, 4 + 3 sections),
+runs it in qemu-system-arm -M mps2-an386 with one instruction per translation block
+(-singlestep) and the execution log (-d exec,nochain), and counts the logged program counters that
+fall inside DobFilter::Step, StepPath and StepBlock (ranges from arm-none-eabi-nm). The image runs
+StepBlock once over FRAMES frames.
+
+Usage: /usr/bin/python3 bench/dob/m4_instructions.py [--no-build]
+"""
+import os
+import re
+import subprocess
+import sys
+import tempfile
+
+FRAMES = 1000  # kFrames in m4_kernel_image.cpp
+ROOT = os.path.abspath(os.path.join(os.path.dirname(__file__), "..", ".."))
+IMAGE = os.path.join(ROOT, "build", "firmware", "firmware", "testing", "dob_kernel_m4_bench")
+KERNEL = ("vibid::fixed::DobFilter::Step(", "vibid::fixed::DobFilter::StepPath(",
+          "vibid::fixed::DobFilter::StepBlock(")
+
+
+def kernel_ranges():
+    out = subprocess.run(["arm-none-eabi-nm", "-C", "-S", IMAGE], check=True, capture_output=True, text=True).stdout
+    ranges = []
+    for line in out.splitlines():
+        parts = line.split(maxsplit=3)
+        if len(parts) == 4 and parts[2] in "tT" and parts[3].startswith(KERNEL):
+            start = int(parts[0], 16) & ~1
+            ranges.append((start, start + int(parts[1], 16), parts[3].split("(")[0]))
+    if len(ranges) != len(KERNEL):
+        sys.exit("kernel symbols not found in " + IMAGE + " (inlined?): " + repr(ranges))
+    return ranges
+
+
+def main():
+    if "--no-build" not in sys.argv:
+        subprocess.run(["cmake", "--preset", "firmware"], cwd=ROOT, check=True, stdout=subprocess.DEVNULL)
+        subprocess.run(["cmake", "--build", "--preset", "firmware", "--target", "dob_kernel_m4_bench"], cwd=ROOT,
+                       check=True, stdout=subprocess.DEVNULL)
+    ranges = kernel_ranges()
+    with tempfile.TemporaryDirectory() as tmp:
+        log = os.path.join(tmp, "exec.log")
+        run = subprocess.run(["qemu-system-arm", "-M", "mps2-an386", "-cpu", "cortex-m4", "-nographic", "-monitor",
+                              "none", "-serial", "none", "-semihosting-config", "enable=on,target=native",
+                              "-singlestep", "-d", "exec,nochain", "-D", log, "-kernel", IMAGE],
+                             capture_output=True, text=True, timeout=600)
+        if run.returncode != 0:
+            sys.exit("the image failed under QEMU:\n" + run.stdout + run.stderr)
+        pc_re = re.compile(r"\[[0-9a-f]+/([0-9a-f]+)/")
+        total = 0
+        per = {name: 0 for _, _, name in ranges}
+        with open(log) as f:
+            for line in f:
+                m = pc_re.search(line)
+                if not m:
+                    continue
+                pc = int(m.group(1), 16)
+                total += 1
+                for lo, hi, name in ranges:
+                    if lo <= pc < hi:
+                        per[name] += 1
+                        break
+    kernel = sum(per.values())
+    print("image: %s" % os.path.relpath(IMAGE, ROOT))
+    for name, n in per.items():
+        print("  %-40s %9d instructions" % (name, n))
+    print("kernel: %d instructions over %d frames = %.1f instructions/sample (whole run %d)"
+          % (kernel, FRAMES, kernel / FRAMES, total))
+
+
+if __name__ == "__main__":
+    main()

@@ -1,0 +1,88 @@
+// The emulator's USB device controller: implements the core's controller-driver contract
+// (vibid/fw/usb/dcd.hpp) on top of URBs from USB/IP, so the core's stack runs exactly as on the
+// board. The device controller's packet view is reproduced from the host's transfer view:
+// a control URB becomes SETUP, data packets of at most 64 bytes until wLength or a short packet,
+// and the status stage; an interrupt IN URB waits until the HID class queued a report (the host
+// polls, the device NAKs until then); an interrupt OUT URB waits until the class armed its
+// endpoint (flow control: a full receive queue NAKs).
+#pragma once
+
+#include <array>
+#include <cstdint>
+#include <deque>
+#include <span>
+
+#include "exported_device.hpp"
+#include "vibid/fw/usb/dcd.hpp"
+#include "vibid/fw/usb/device.hpp"
+
+namespace vibid::emu {
+
+class EmuDcd final : public fw::usb::Dcd {
+ public:
+  struct Pending {
+    bool active = false;
+    std::span<std::uint8_t> buffer{};
+  };
+
+  Status Init(fw::usb::DcdEvents& events) override;
+  void Connect() override { connected_ = true; }
+  void Disconnect() override { connected_ = false; }
+  void SetAddress(std::uint8_t address) override { address_ = address; }
+  Status EndpointOpen(std::uint8_t ep_addr, fw::usb::EndpointType type, std::uint16_t max_packet) override;
+  void EndpointCloseAll() override;
+  void EndpointStall(std::uint8_t ep_addr) override;
+  void EndpointClearStall(std::uint8_t ep_addr) override;
+  Status Transfer(std::uint8_t ep_addr, std::span<std::uint8_t> buffer) override;
+
+  bool connected() const { return connected_; }
+  std::uint8_t address() const { return address_; }
+  bool IsOpen(std::uint8_t ep_addr) const { return open_[Index(ep_addr)]; }
+  bool Stalled(std::uint8_t ep_addr) const { return stalled_[Index(ep_addr)]; }
+  Pending& PendingOn(std::uint8_t ep_addr) { return pending_[Index(ep_addr)]; }
+  /// The controller clears endpoint 0's halt and drops its transfers when a SETUP arrives.
+  void OnSetupArrived();
+
+ private:
+  static std::size_t Index(std::uint8_t ep_addr) { return (ep_addr & 0x0F) + ((ep_addr & 0x80) != 0 ? 16U : 0U); }
+
+  fw::usb::DcdEvents* events_ = nullptr;
+  bool connected_ = false;
+  std::uint8_t address_ = 0;
+  std::array<bool, 32> open_{};
+  std::array<bool, 32> stalled_{};
+  std::array<Pending, 32> pending_{};
+};
+
+/// The application personality as USB/IP exports it: the core's USB stack behind EmuDcd.
+class UsbAppDevice final : public ExportedDevice {
+ public:
+  /// `stack` and `dcd` outlive this object; `record` is what the device list shows.
+  UsbAppDevice(fw::usb::UsbDevice& stack, EmuDcd& dcd, usbip::UsbDevice record)
+      : stack_(stack), dcd_(dcd), record_(std::move(record)) {}
+
+  usbip::UsbDevice Describe() const override { return record_; }
+  void Attach(UrbSink& sink) override;
+  void Detach() override;
+  void Submit(Urb urb) override;
+  bool Unlink(std::uint32_t seqnum) override;
+  void Service() override;
+
+  /// Runs one control transfer through the stack: SETUP, data stage, status stage.
+  UrbResult Control(const std::array<std::uint8_t, 8>& setup, std::span<const std::uint8_t> out_data,
+                    std::uint32_t length);
+
+ private:
+  bool ServiceIn(std::uint8_t ep_addr);
+  bool ServiceOut(std::uint8_t ep_addr);
+  void FailStalled();
+
+  fw::usb::UsbDevice& stack_;
+  EmuDcd& dcd_;
+  usbip::UsbDevice record_;
+  UrbSink* sink_ = nullptr;
+  std::deque<Urb> in_urbs_;   // interrupt IN, oldest first
+  std::deque<Urb> out_urbs_;  // interrupt OUT, oldest first
+};
+
+}  // namespace vibid::emu

@@ -1,0 +1,61 @@
+#include "emu_port.hpp"
+
+#include <algorithm>
+
+#include "scenario.hpp"
+#include "vibid/shared/wire/commands.hpp"
+
+namespace vibid::emu {
+
+Status RigFrameSource::Start(std::uint32_t sample_period_us, fw::FrameSink& sink) {
+  if (sink_ != nullptr) return Status::kFailedPrecondition;
+  if (sample_period_us == 0 ||
+      1e6 / static_cast<double>(sample_period_us) > rig_.spec().max_sample_rate_hz) {
+    return Status::kInvalidArgument;
+  }
+  period_us_ = sample_period_us;
+  rig_.Start(static_cast<double>(sample_period_us) * 1e-6);
+  frame_ = {};
+  sink_ = &sink;
+  return Status::kOk;
+}
+
+void RigFrameSource::Tick() {
+  rig_.Step(frame_.raw);
+  sink_->OnFrame(frame_);
+  ++frame_.tick;
+}
+
+std::uint32_t FlashCalibrationSlots::Address(Slot slot, std::size_t offset) const {
+  return FlashImage::SectorStart(kSlotSector[static_cast<int>(slot)]) + static_cast<std::uint32_t>(offset);
+}
+
+Status FlashCalibrationSlots::Erase(Slot slot) {
+  return flash_.EraseSector(kSlotSector[static_cast<int>(slot)]) ? Status::kOk : Status::kInternal;
+}
+
+Status FlashCalibrationSlots::Program(Slot slot, std::size_t offset, std::span<const std::uint8_t> data) {
+  if (offset > SlotBytes() || data.size() > SlotBytes() - offset) return Status::kOutOfRange;
+  return flash_.Program(Address(slot, offset), data) ? Status::kOk : Status::kInternal;
+}
+
+Status FlashCalibrationSlots::Read(Slot slot, std::size_t offset, std::span<std::uint8_t> out) const {
+  if (offset > SlotBytes() || out.size() > SlotBytes() - offset) return Status::kOutOfRange;
+  return flash_.Read(Address(slot, offset), out) ? Status::kOk : Status::kInternal;
+}
+
+Status ScenarioCommands::HandlePortCommand(std::uint8_t command, std::span<const std::uint8_t> request,
+                                           std::span<std::uint8_t, wire::kMaxPayload>,
+                                           std::size_t& response_length) {
+  response_length = 0;
+  if (command != static_cast<std::uint8_t>(wire::Command::kSelectScenario)) return Status::kUnimplemented;
+  if (frames_.Running()) return Status::kFailedPrecondition;
+  wire::ScenarioRequest r;
+  if (wire::Decode(request, r) != Status::kOk) return Status::kInvalidArgument;
+  Scenario s;
+  if (const Status st = ParseScenario(r, rig_.spec().dofs(), s); st != Status::kOk) return st;
+  rig_.Select(s);
+  return Status::kOk;
+}
+
+}  // namespace vibid::emu

@@ -1,0 +1,205 @@
+#include "emulator.hpp"
+
+#include <cstdio>
+#include <thread>
+
+#include "emu_dcd.hpp"
+#include "emu_port.hpp"
+#include "vibid/fw/core.hpp"
+#include "vibid/fw/usb/descriptors.hpp"
+#include "vibid/fw/usb/device.hpp"
+#include "vibid/fw/usb/dfu_runtime.hpp"
+#include "vibid/fw/usb/hid_class.hpp"
+
+namespace vibid::emu {
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+/// Sample ticks between two looks at the sockets while sampling flat out (10 ms at 5 kHz): short
+/// enough for a host polling status, long enough that I/O costs little per tick.
+constexpr int kChunkTicks = 50;
+/// How long a reset or DFU entry waits for the host to collect its answer.
+constexpr auto kRequestGrace = std::chrono::milliseconds(250);
+
+class DetachToDfu final : public fw::usb::DfuDetachHandler {
+ public:
+  explicit DetachToDfu(fw::SystemControl& system) : system_(system) {}
+  void OnDetach(std::uint16_t) override { system_.EnterDfu(); }
+
+ private:
+  fw::SystemControl& system_;
+};
+
+}  // namespace
+
+// The application as the board runs it (compare firmware/ports/stm32f405/main.cpp).
+struct Emulator::Application {
+  Application(Emulator& emu, wire::ResetCause cause)
+      : system(cause),
+        frames(emu.rig_),
+        slots(emu.flash_),
+        scenario(emu.rig_, frames),
+        detach(system),
+        dfu(detach),
+        drivers{&hid, &dfu},
+        usb(dcd, drivers, emu.serial_.c_str()),
+        core(fw::Port{clock, frames, slots, system}, hid, emu.log_, &scenario),
+        exported(usb, dcd, emu.Record()) {
+    (void)core.Boot();
+    (void)usb.Start();
+  }
+
+  SimClock clock;
+  EmuSystemControl system;
+  RigFrameSource frames;
+  FlashCalibrationSlots slots;
+  ScenarioCommands scenario;
+  fw::usb::HidClass hid;
+  DetachToDfu detach;
+  fw::usb::DfuRuntime dfu;
+  std::array<fw::usb::ClassDriver*, 2> drivers;
+  EmuDcd dcd;
+  fw::usb::UsbDevice usb;
+  fw::Core core;
+  UsbAppDevice exported;
+  std::uint32_t bus_resets = 0;
+  Request request = Request::kNone;
+};
+
+Emulator::Emulator(EmulatorOptions options)
+    : options_(std::move(options)),
+      flash_(options_.flash_path),
+      rig_(options_.rig, options_.seed),
+      server_(options_.bind_address, options_.port),
+      log_(options_.log_bytes) {
+  char serial[24];
+  std::snprintf(serial, sizeof serial, "EMU%016llX", static_cast<unsigned long long>(options_.seed));
+  serial_ = serial;
+  last_wall_ = Clock::now();
+  BootApplication(wire::ResetCause::kPowerOn);
+}
+
+Emulator::~Emulator() { server_.SetDevice(nullptr); }
+
+usbip::UsbDevice Emulator::Record() const {
+  usbip::UsbDevice d;
+  d.path = "/sys/devices/platform/vibid-emu/usb1/1-1";
+  d.busid = UsbIpServer::kBusId;
+  d.busnum = 1;
+  d.devnum = 2;
+  d.speed = usbip::Speed::kFull;
+  d.id_vendor = fw::usb::kVendorId;
+  d.id_product = fw::usb::kProductId;
+  d.bcd_device = fw::usb::kDeviceRelease;
+  d.num_configurations = 1;
+  d.num_interfaces = fw::usb::kInterfaceCount;
+  d.interfaces = {usbip::UsbInterface{0x03, 0x00, 0x00}, usbip::UsbInterface{0xFE, 0x01, 0x01}};
+  return d;
+}
+
+void Emulator::BootApplication(wire::ResetCause cause) {
+  server_.SetDevice(nullptr);
+  bootloader_.reset();
+  app_.reset();
+  app_ = std::make_unique<Application>(*this, cause);
+  server_.SetDevice(&app_->exported);
+  if (options_.verbose) std::fprintf(stderr, "vibid-emu: application running\n");
+}
+
+void Emulator::EnterBootloader() {
+  server_.SetDevice(nullptr);
+  app_.reset();
+  bootloader_ = std::make_unique<DfuSeBootloader>(flash_, Record(), serial_);
+  server_.SetDevice(bootloader_.get());
+  if (options_.verbose) std::fprintf(stderr, "vibid-emu: DfuSe bootloader running\n");
+}
+
+void Emulator::RunFirmware() {
+  if (!app_) return;
+  Application& a = *app_;
+  // A few main-loop passes per step: a request answered here frees the IN endpoint for the
+  // next report of a stream without waiting for another socket poll.
+  for (int pass = 0; pass < 4; ++pass) {
+    a.usb.Task();
+    if (a.usb.Counters().bus_resets != a.bus_resets) {
+      a.bus_resets = a.usb.Counters().bus_resets;
+      a.core.OnLinkReset();
+    }
+    a.core.Poll();
+    a.exported.Service();
+  }
+}
+
+void Emulator::AdvanceTime() {
+  const Clock::time_point now = Clock::now();
+  const auto wall_us = static_cast<std::uint64_t>(
+      std::chrono::duration_cast<std::chrono::microseconds>(now - last_wall_).count());
+  last_wall_ = now;
+  if (!app_ || !app_->frames.Running()) {
+    pacing_ = false;
+    sim_us_ += wall_us;
+    if (app_) app_->clock.Advance(wall_us);
+    return;
+  }
+  Application& a = *app_;
+  const std::uint32_t period = a.frames.PeriodUs();
+  int ticks = kChunkTicks;
+  if (options_.speed > 0.0) {
+    if (!pacing_) {
+      pacing_ = true;
+      pace_wall_ = now;
+      pace_sim_us_ = sim_us_;
+    }
+    const double elapsed_us = static_cast<double>(
+        std::chrono::duration_cast<std::chrono::microseconds>(now - pace_wall_).count());
+    const double target = static_cast<double>(pace_sim_us_) + elapsed_us * options_.speed;
+    const double behind = target - static_cast<double>(sim_us_);
+    ticks = behind <= 0.0 ? 0 : static_cast<int>(std::min<double>(kChunkTicks, behind / period + 1.0));
+  }
+  for (int i = 0; i < ticks && a.frames.Running(); ++i) {
+    a.clock.Advance(period);
+    sim_us_ += period;
+    a.frames.Tick();
+  }
+}
+
+void Emulator::HandleRequests() {
+  if (bootloader_) {
+    if (bootloader_->LeaveRequested()) BootApplication(wire::ResetCause::kSoftware);
+    return;
+  }
+  Application& a = *app_;
+  if (a.request == Request::kNone) {
+    a.request = a.system.TakeRequest();
+    if (a.request == Request::kNone) return;
+    request_deadline_ = Clock::now() + kRequestGrace;
+  }
+  // Let the host collect the answer to the command first, as the board's USB FIFO would drain.
+  if (!a.hid.CanSend() && a.hid.IsOpen() && Clock::now() < request_deadline_) return;
+  if (a.request == Request::kReset) {
+    BootApplication(wire::ResetCause::kSoftware);
+  } else {
+    EnterBootloader();
+  }
+}
+
+void Emulator::Step(std::chrono::milliseconds max_wait) {
+  const bool flat_out = app_ && app_->frames.Running() && options_.speed <= 0.0;
+  const bool pending = app_ && app_->request != Request::kNone;
+  const auto wait = flat_out || pending ? std::chrono::milliseconds(0)
+                    : app_ && app_->frames.Running() ? std::chrono::milliseconds(1)
+                                                     : max_wait;
+  // Drain every message that is already there before the firmware runs.
+  bool handled = server_.Poll(wait);
+  for (int more = 0; handled && more < 64; ++more) handled = server_.Poll(std::chrono::milliseconds(0));
+  RunFirmware();
+  AdvanceTime();
+  HandleRequests();
+}
+
+void Emulator::Run(const std::atomic<bool>& stop) {
+  while (!stop.load(std::memory_order_relaxed)) Step();
+}
+
+}  // namespace vibid::emu

@@ -1,0 +1,306 @@
+#include "rig.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <numbers>
+
+#include "vibid/common/error.hpp"
+#include "vibid/common/json_file.hpp"
+
+namespace vibid::emu {
+namespace {
+
+constexpr double kPi = std::numbers::pi;
+/// Hammer tip contact time: a 2 ms half-sine excites evenly up to a few hundred hertz.
+constexpr double kHammerPulseS = 0.002;
+/// Quiet time before the first hit or pull, so a pre-trigger sees the rig at rest.
+constexpr double kFirstEventS = 0.5;
+/// Below this speed the friction force is proportional to it: a Coulomb law held over a sample
+/// would otherwise chatter around zero velocity.
+constexpr double kStictionSpeedMPerS = 1e-4;
+
+std::vector<double> NumberArray(const nlohmann::json& json, const char* key, const std::string& source,
+                                std::size_t count, bool positive) {
+  Require(json.contains(key), source + ": missing \"" + key + "\"");
+  const auto& a = json.at(key);
+  Require(a.is_array() && a.size() == count,
+          source + ": \"" + key + "\" must be an array of " + std::to_string(count) + " numbers");
+  std::vector<double> out;
+  for (const auto& v : a) {
+    Require(v.is_number(), source + ": \"" + key + "\" holds a non-number");
+    const double x = v.get<double>();
+    Require(std::isfinite(x) && (positive ? x > 0.0 : x >= 0.0),
+            source + ": \"" + key + "\" values must be " + (positive ? "> 0" : ">= 0"));
+    out.push_back(x);
+  }
+  return out;
+}
+
+double Number(const nlohmann::json& json, const char* key, const std::string& source) {
+  Require(json.contains(key) && json.at(key).is_number(), source + ": missing number \"" + key + "\"");
+  const double x = json.at(key).get<double>();
+  Require(std::isfinite(x) && x > 0.0, source + ": \"" + key + "\" must be > 0");
+  return x;
+}
+
+AnalogSensor SensorFromJson(const nlohmann::json& json, const char* range_key, const char* noise_key,
+                            const std::string& source) {
+  Require(json.is_object(), source + " must be an object");
+  AnalogSensor s;
+  s.range = Number(json, range_key, source);
+  Require(json.contains(noise_key) && json.at(noise_key).is_number() && json.at(noise_key).get<double>() >= 0.0,
+          source + ": \"" + noise_key + "\" must be a number >= 0");
+  s.noise_rms = json.at(noise_key).get<double>();
+  Require(json.contains("adc_bits") && json.at("adc_bits").is_number_integer(),
+          source + ": missing integer \"adc_bits\"");
+  s.adc_bits = json.at("adc_bits").get<int>();
+  Require(s.adc_bits >= 8 && s.adc_bits <= 24, source + ": \"adc_bits\" must be 8..24");
+  return s;
+}
+
+std::array<AnalogSensor, 2> SensorPair(const nlohmann::json& json, const char* key, const char* range_key,
+                                       const char* noise_key, const std::string& source) {
+  Require(json.contains(key) && json.at(key).is_array() && json.at(key).size() == 2,
+          source + ": \"" + key + "\" must be an array of 2 sensors");
+  return {SensorFromJson(json.at(key)[0], range_key, noise_key, source + " " + key + "[0]"),
+          SensorFromJson(json.at(key)[1], range_key, noise_key, source + " " + key + "[1]")};
+}
+
+nlohmann::json SensorToJson(const AnalogSensor& s, const char* range_key, const char* noise_key) {
+  return {{range_key, s.range}, {noise_key, s.noise_rms}, {"adc_bits", s.adc_bits}};
+}
+
+}  // namespace
+
+std::int32_t AnalogSensor::Code(double value) const {
+  const double half = std::ldexp(1.0, adc_bits - 1);
+  const double code = std::round(value / range * half) + half;
+  return static_cast<std::int32_t>(std::clamp(code, 0.0, 2.0 * half - 1.0));
+}
+
+double AnalogSensor::Value(std::int32_t code) const {
+  const double half = std::ldexp(1.0, adc_bits - 1);
+  return (static_cast<double>(code) - half) * range / half;
+}
+
+model::Model RigSpec::Truth() const {
+  Eigen::VectorXd m(dofs()), k(dofs()), c(dofs());
+  for (int i = 0; i < dofs(); ++i) {
+    const auto u = static_cast<std::size_t>(i);
+    m(i) = masses_kg[u] * (1.0 - effective_mass_loss[u]);
+    k(i) = springs_n_per_m[u];
+    c(i) = dampers_ns_per_m[u];
+  }
+  return model::MakeChain(m, k, c);
+}
+
+RigSpec DefaultRig() {
+  RigSpec r;
+  r.masses_kg = {2.0, 1.53};            // plate stacks: m1 as specified, m2 +2 %
+  r.effective_mass_loss = {0.09, 0.0};  // m1 behaves 9 % lighter: 1.82 kg
+  r.springs_n_per_m = {3520.0, 2760.0}; // 4000 −12 %, 3000 −8 %
+  r.dampers_ns_per_m = {5.0, 3.5};
+  r.coulomb_n = {0.02, 0.02};
+  r.load_cells = {AnalogSensor{500.0, 0.1, 12}, AnalogSensor{50.0, 0.01, 12}};
+  r.accelerometers = {AnalogSensor{200.0, 0.05, 12}, AnalogSensor{200.0, 0.05, 12}};
+  r.encoder_counts_per_m = 100000.0;  // 10 µm per count
+  r.max_sample_rate_hz = 10000.0;
+  return r;
+}
+
+RigSpec RigFromJson(const nlohmann::json& json, const std::string& source) {
+  Require(json.is_object(), source + ": expected a JSON object");
+  Require(json.value("topology", std::string()) == "chain",
+          source + ": \"topology\" must be \"chain\" (masses in series from ground)");
+  RigSpec r;
+  Require(json.contains("masses_kg") && json.at("masses_kg").is_array(), source + ": missing \"masses_kg\"");
+  const std::size_t n = json.at("masses_kg").size();
+  Require(n == 1 || n == 2, source + ": the rig has 1 or 2 masses (the board has two accelerometers)");
+  r.masses_kg = NumberArray(json, "masses_kg", source, n, true);
+  r.springs_n_per_m = NumberArray(json, "springs_n_per_m", source, n, true);
+  r.dampers_ns_per_m = NumberArray(json, "dampers_ns_per_m", source, n, false);
+  r.coulomb_n = NumberArray(json, "coulomb_n", source, n, false);
+  r.effective_mass_loss = NumberArray(json, "effective_mass_loss", source, n, false);
+  for (double loss : r.effective_mass_loss) {
+    Require(loss < 0.5, source + ": \"effective_mass_loss\" must be below 0.5 (a fraction of the mass)");
+  }
+  r.load_cells = SensorPair(json, "load_cells", "range_n", "noise_n", source);
+  r.accelerometers = SensorPair(json, "accelerometers", "range_m_s2", "noise_m_s2", source);
+  r.encoder_counts_per_m = Number(json, "encoder_counts_per_m", source);
+  r.max_sample_rate_hz = Number(json, "max_sample_rate_hz", source);
+  return r;
+}
+
+RigSpec LoadRig(const std::string& path) { return RigFromJson(ReadJsonFile(path), path); }
+
+nlohmann::json RigToJson(const RigSpec& r) {
+  return {{"topology", "chain"},
+          {"masses_kg", r.masses_kg},
+          {"effective_mass_loss", r.effective_mass_loss},
+          {"springs_n_per_m", r.springs_n_per_m},
+          {"dampers_ns_per_m", r.dampers_ns_per_m},
+          {"coulomb_n", r.coulomb_n},
+          {"load_cells",
+           {SensorToJson(r.load_cells[0], "range_n", "noise_n"), SensorToJson(r.load_cells[1], "range_n", "noise_n")}},
+          {"accelerometers",
+           {SensorToJson(r.accelerometers[0], "range_m_s2", "noise_m_s2"),
+            SensorToJson(r.accelerometers[1], "range_m_s2", "noise_m_s2")}},
+          {"encoder_counts_per_m", r.encoder_counts_per_m},
+          {"max_sample_rate_hz", r.max_sample_rate_hz}};
+}
+
+nlohmann::json TruthToJson(const RigSpec& r) {
+  std::vector<double> m;
+  for (std::size_t i = 0; i < r.masses_kg.size(); ++i) m.push_back(r.masses_kg[i] * (1.0 - r.effective_mass_loss[i]));
+  return {{"topology", "chain"}, {"masses", m}, {"springs", r.springs_n_per_m}, {"dampers", r.dampers_ns_per_m}};
+}
+
+RigSimulator::RigSimulator(RigSpec spec, std::uint64_t seed) : spec_(std::move(spec)), seed_(seed) {
+  (void)spec_.Truth();  // validates
+}
+
+void RigSimulator::Select(const Scenario& scenario) { scenario_ = scenario; }
+
+model::Model RigSimulator::ActiveModel() const {
+  const model::Model truth = spec_.Truth();
+  if (scenario_.configuration == Configuration::kChain) return truth;
+  // One mass alone on its own spring and dashpot to ground.
+  const int i = scenario_.configuration == Configuration::kMass1Alone ? 0 : 1;
+  const auto u = static_cast<std::size_t>(i);
+  Eigen::VectorXd m(1), k(1), c(1);
+  m(0) = truth.m_kg(i, i);
+  k(0) = spec_.springs_n_per_m[u];
+  c(0) = spec_.dampers_ns_per_m[u];
+  return model::MakeChain(m, k, c);
+}
+
+void RigSimulator::Start(double dt_s) {
+  dt_s_ = dt_s;
+  tick_ = 0;
+  ++starts_;
+  // splitmix-style mixing so neighbouring seeds and acquisition counts give unrelated streams
+  std::uint64_t z = seed_ + 0x9E3779B97F4A7C15ull * starts_;
+  z = (z ^ (z >> 30)) * 0xBF58476D1CE4E5B9ull;
+  z = (z ^ (z >> 27)) * 0x94D049BB133111EBull;
+  rng_.seed(z ^ (z >> 31));
+  normal_.reset();
+
+  moving_.clear();
+  switch (scenario_.configuration) {
+    case Configuration::kChain:
+      for (int i = 0; i < spec_.dofs(); ++i) moving_.push_back(i);
+      break;
+    case Configuration::kMass1Alone: moving_.push_back(0); break;
+    case Configuration::kMass2Alone: moving_.push_back(1); break;
+  }
+  discrete_ = model::Discretize(model::ModelStateSpace(ActiveModel()), dt_s);
+  const auto n = static_cast<Eigen::Index>(moving_.size());
+  state_ = Eigen::VectorXd::Zero(2 * n);
+  input_ = Eigen::VectorXd::Zero(n);
+  output_ = Eigen::VectorXd::Zero(3 * n);
+
+  pulses_.clear();
+  next_hit_s_ = kFirstEventS;
+  std::uniform_real_distribution<double> freq(0.2, 2.0), phase(0.0, 2.0 * kPi);
+  for (std::size_t i = 0; i < push_freq_hz_.size(); ++i) {
+    push_freq_hz_[i] = freq(rng_);
+    push_phase_[i] = phase(rng_);
+  }
+  last_ = {};
+}
+
+double RigSimulator::Noise(double rms) { return rms > 0.0 ? rms * normal_(rng_) : 0.0; }
+
+void RigSimulator::Excitation(double t, double& force_n, double& push_n) {
+  force_n = 0.0;
+  push_n = 0.0;
+  const Scenario& s = scenario_;
+  auto hand_push = [&](double amplitude) {
+    // One-sided (a hand only pushes), faded in over the first second from zero.
+    double sum = 0.0;
+    for (std::size_t i = 0; i < push_freq_hz_.size(); ++i) {
+      sum += std::sin(2.0 * kPi * push_freq_hz_[i] * t + push_phase_[i]);
+    }
+    const double fade = t < 1.0 ? 0.5 - 0.5 * std::cos(kPi * t) : 1.0;
+    return amplitude * fade * (0.5 + 0.5 * sum / static_cast<double>(push_freq_hz_.size()));
+  };
+  switch (s.kind) {
+    case ScenarioKind::kIdle: break;
+    case ScenarioKind::kHammer: {
+      if (t >= next_hit_s_) {
+        std::uniform_real_distribution<double> height(0.6, 1.4), spacing(0.7, 1.3), chance(0.0, 1.0);
+        pulses_.push_back({next_hit_s_, kHammerPulseS, s.force_n * height(rng_)});
+        if (chance(rng_) < 0.1) {  // the hammer bounces: a smaller second hit a few ms later
+          std::uniform_real_distribution<double> gap(0.003, 0.008), rebound(0.2, 0.4);
+          const Pulse first = pulses_.back();
+          pulses_.push_back({first.start_s + first.width_s + gap(rng_), kHammerPulseS, first.height_n * rebound(rng_)});
+        }
+        next_hit_s_ += s.spacing_s * spacing(rng_);
+      }
+      for (const Pulse& p : pulses_) {
+        // Value at the middle of the sample: the held force then has the pulse's impulse.
+        const double tau = t + 0.5 * dt_s_ - p.start_s;
+        if (tau >= 0.0 && tau < p.width_s) force_n += p.height_n * std::sin(kPi * tau / p.width_s);
+      }
+      std::erase_if(pulses_, [&](const Pulse& p) { return t > p.start_s + p.width_s; });
+      break;
+    }
+    case ScenarioKind::kShaker:
+      force_n = s.force_n * std::sin(2.0 * kPi * s.frequency_hz * t);
+      if (s.push_n > 0.0) push_n = hand_push(s.push_n);
+      break;
+    case ScenarioKind::kPush: push_n = hand_push(s.force_n); break;
+    case ScenarioKind::kStep: {
+      // Pull by hand through a load cell: ramp up over 0.3 s, hold, let go at once.
+      const double ramp_s = 0.3;
+      const double u = t - kFirstEventS;
+      if (u >= 0.0 && u < ramp_s) force_n = s.force_n * u / ramp_s;
+      if (u >= ramp_s && u < ramp_s + s.hold_s) force_n = s.force_n;
+      break;
+    }
+  }
+}
+
+void RigSimulator::Step(std::array<std::int32_t, wire::kChannelCount>& raw) {
+  const double t = static_cast<double>(tick_) * dt_s_;
+  double force = 0.0, push = 0.0;
+  Excitation(t, force, push);
+
+  const auto n = static_cast<Eigen::Index>(moving_.size());
+  // Forces held over this sample: excitation on its mass, the push on the last mass, friction.
+  // The shaker drives m2 in the chain; a mass alone takes every force.
+  const int excited = scenario_.kind == ScenarioKind::kShaker ? spec_.dofs() - 1 : scenario_.mass;
+  for (Eigen::Index j = 0; j < n; ++j) {
+    const int mass = moving_[static_cast<std::size_t>(j)];
+    double f = 0.0;
+    if (mass == excited || n == 1) f += force;
+    if (mass == spec_.dofs() - 1 || n == 1) f += push;
+    const double v = state_(n + j);
+    const double fc = spec_.coulomb_n[static_cast<std::size_t>(mass)];
+    f -= fc * std::clamp(v / kStictionSpeedMPerS, -1.0, 1.0);
+    input_(j) = f;
+  }
+  output_.noalias() = discrete_.C * state_;
+  output_.noalias() += discrete_.D * input_;
+
+  std::array<double, 2> x{}, a{};
+  for (Eigen::Index j = 0; j < n; ++j) {
+    const auto mass = static_cast<std::size_t>(moving_[static_cast<std::size_t>(j)]);
+    x[mass] = output_(j);
+    a[mass] = output_(2 * n + j);
+  }
+  last_ = Truths{force, push, x, a};
+
+  raw[0] = spec_.load_cells[0].Code(force + Noise(spec_.load_cells[0].noise_rms));
+  raw[1] = spec_.load_cells[1].Code(push + Noise(spec_.load_cells[1].noise_rms));
+  raw[2] = spec_.accelerometers[0].Code(a[0] + Noise(spec_.accelerometers[0].noise_rms));
+  raw[3] = spec_.accelerometers[1].Code(a[1] + Noise(spec_.accelerometers[1].noise_rms));
+  for (std::size_t i = 0; i < 2; ++i) {
+    raw[4 + i] = static_cast<std::int32_t>(std::floor(x[i] * spec_.encoder_counts_per_m));
+  }
+
+  state_ = discrete_.A * state_ + discrete_.B * input_;
+  ++tick_;
+}
+
+}  // namespace vibid::emu

@@ -1,0 +1,151 @@
+// The simulated rig: a series chain of one or two masses on springs (methods §1, rig A), its true
+// parameters, Coulomb friction, the sensors the board samples, and the excitations of the
+// scenarios. Everything the host is meant to discover lives here and only here.
+//
+// Stepping is exact for the linear part: the state advances by the zero-order-hold
+// discretization of (M, C, K) at the sample period (vibid::model::Discretize), with the applied
+// forces, the friction force included, held over each sample. Sensor values at tick k are taken
+// before the step (accelerations include the forces held from tick k), then quantized like the
+// board's converters. The excitation and the noise come from one generator seeded from the rig
+// seed and the acquisition count, so the same seed and the same commands give the same samples.
+#pragma once
+
+#include <array>
+#include <cstdint>
+#include <random>
+#include <string>
+#include <vector>
+
+#include <Eigen/Core>
+#include <nlohmann/json.hpp>
+
+#include "vibid/model/model.hpp"
+#include "vibid/model/state_space.hpp"
+#include "vibid/shared/wire/device.hpp"
+
+namespace vibid::emu {
+
+/// One analog channel: bipolar range ±range around the converter's mid code, white noise of the
+/// given RMS added before quantization, `adc_bits` of resolution (raw codes 0 .. 2^bits − 1).
+struct AnalogSensor {
+  double range = 0.0;      ///< full scale, SI units (N or m/s²)
+  double noise_rms = 0.0;  ///< SI units
+  int adc_bits = 12;
+
+  /// Raw ADC code for a physical value (clipped at the converter's ends).
+  std::int32_t Code(double value) const;
+  /// The physical value a code stands for (inverse of Code without noise and clipping).
+  double Value(std::int32_t code) const;
+};
+
+struct RigSpec {
+  /// Plate masses as built; the dynamics use masses_kg · (1 − effective_mass_loss) (methods §6).
+  std::vector<double> masses_kg;
+  std::vector<double> effective_mass_loss;
+  std::vector<double> springs_n_per_m;
+  std::vector<double> dampers_ns_per_m;
+  std::vector<double> coulomb_n;  ///< Coulomb friction force per mass (guide), N
+  std::array<AnalogSensor, 2> load_cells{};      ///< hammer/shaker/pull, hand push
+  std::array<AnalogSensor, 2> accelerometers{};  ///< on mass 1, mass 2
+  double encoder_counts_per_m = 0.0;
+  double max_sample_rate_hz = 0.0;
+
+  int dofs() const { return static_cast<int>(masses_kg.size()); }
+  /// The rig's truth: the chain with the effective masses.
+  model::Model Truth() const;
+};
+
+/// The built-in rig: the shipped nominal model (examples/rig_nominal.json: m = 2.0, 1.5 kg,
+/// k = 4000, 3000 N/m) as the real rig turned out: m1 effectively 9 % lighter (it rocks on its
+/// carriage), m2 2 % heavier, springs 12 % and 8 % softer, light damping and guide friction.
+RigSpec DefaultRig();
+
+/// Reads a rig file. @throws InputError naming `source` and the offending field.
+RigSpec RigFromJson(const nlohmann::json& json, const std::string& source = "rig");
+RigSpec LoadRig(const std::string& path);
+nlohmann::json RigToJson(const RigSpec& rig);
+/// The truth as a model file (chain form with the effective masses), for comparisons.
+nlohmann::json TruthToJson(const RigSpec& rig);
+
+/// Which masses move: the 2-DOF chain, or one mass alone on its own spring to ground.
+enum class Configuration : std::uint8_t { kChain = 0, kMass1Alone = 1, kMass2Alone = 2 };
+
+enum class ScenarioKind : std::uint8_t { kIdle, kHammer, kShaker, kPush, kStep };
+
+/// A selected excitation; see ParseScenario for the wire parameters.
+struct Scenario {
+  ScenarioKind kind = ScenarioKind::kIdle;
+  Configuration configuration = Configuration::kChain;
+  int mass = 1;               ///< 0-based mass the hammer hits / the pull acts on
+  double force_n = 0.0;       ///< hammer peak, shaker amplitude, push amplitude, pull force
+  double spacing_s = 0.0;     ///< hammer: mean time between hits
+  double frequency_hz = 0.0;  ///< shaker
+  double push_n = 0.0;        ///< shaker: amplitude of the simultaneous hand push (0: none)
+  double hold_s = 0.0;        ///< step: how long the pull holds before the release
+};
+
+class RigSimulator {
+ public:
+  RigSimulator(RigSpec spec, std::uint64_t seed);
+
+  const RigSpec& spec() const { return spec_; }
+  const Scenario& scenario() const { return scenario_; }
+
+  /// Selects the excitation (and the moving masses) for the next Start.
+  void Select(const Scenario& scenario);
+
+  /// Puts the rig at rest and restarts the excitation for a new acquisition at dt_s.
+  void Start(double dt_s);
+
+  /// One sample: the six raw channel values at the current tick, then the state advances.
+  void Step(std::array<std::int32_t, wire::kChannelCount>& raw);
+
+  /// Physical values at the last Step (for tests): applied excitation force, push force,
+  /// true positions and accelerations of both masses.
+  struct Truths {
+    double force_n = 0.0;
+    double push_n = 0.0;
+    std::array<double, 2> x_m{};
+    std::array<double, 2> a_m_s2{};
+  };
+  const Truths& last() const { return last_; }
+
+  /// The model the current configuration simulates (1×1 for a mass alone).
+  model::Model ActiveModel() const;
+
+ private:
+  void Excitation(double t_s, double& force_n, double& push_n);
+  double Noise(double rms);
+
+  RigSpec spec_;
+  std::uint64_t seed_;
+  std::uint64_t starts_ = 0;
+  Scenario scenario_{};
+  double dt_s_ = 0.0;
+  std::uint64_t tick_ = 0;
+  std::mt19937_64 rng_;
+  std::normal_distribution<double> normal_{0.0, 1.0};
+
+  // Active configuration: indices of the moving masses and its discrete system.
+  std::vector<int> moving_;
+  model::StateSpace discrete_;
+  Eigen::VectorXd state_;
+  Eigen::VectorXd input_;
+  Eigen::VectorXd output_;
+
+  // Hammer: pulses in flight and the next hit.
+  struct Pulse {
+    double start_s;
+    double width_s;
+    double height_n;
+  };
+  std::vector<Pulse> pulses_;
+  double next_hit_s_ = 0.0;
+  // Hand push: a few slow sinusoids (0.2–2 Hz) making a one-sided push.
+  std::array<double, 4> push_freq_hz_{};
+  std::array<double, 4> push_phase_{};
+
+  Truths last_{};
+};
+
+}  // namespace vibid::emu

@@ -1,0 +1,239 @@
+// A small USB/IP client for the emulator's tests: imports the device and runs control and
+// interrupt URBs, keeping completions that arrive for other URBs until they are asked for.
+#pragma once
+
+#include <array>
+#include <chrono>
+#include <cstdint>
+#include <map>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+#include "vibid/shared/wire/commands.hpp"
+#include "vibid/shared/wire/crc32.hpp"
+#include "vibid/usbip/socket.hpp"
+
+namespace vibid::emu::testing {
+
+struct Completion {
+  std::int32_t status = 0;
+  std::vector<std::uint8_t> data;  // IN data
+  std::uint32_t actual_length = 0;
+};
+
+class TestClient {
+ public:
+  explicit TestClient(std::uint16_t port)
+      : socket_(usbip::ConnectTcp("127.0.0.1", port, std::chrono::milliseconds(2000))) {
+    device_ = usbip::RequestImport(socket_, "1-1");
+  }
+
+  const usbip::UsbDevice& device() const { return device_; }
+
+  std::uint32_t Submit(std::uint8_t ep, usbip::Direction dir, std::uint32_t length,
+                       std::array<std::uint8_t, 8> setup = {}, const std::vector<std::uint8_t>& out = {}) {
+    usbip::CmdSubmit s;
+    s.basic.seqnum = ++seqnum_;
+    s.basic.devid = device_.devid();
+    s.basic.direction = dir;
+    s.basic.ep = ep;
+    s.transfer_buffer_length = length;
+    s.setup = setup;
+    std::vector<std::uint8_t> bytes(usbip::kUrbHeaderBytes);
+    usbip::Encode(s, std::span<std::uint8_t, usbip::kUrbHeaderBytes>(bytes.data(), usbip::kUrbHeaderBytes));
+    bytes.insert(bytes.end(), out.begin(), out.end());
+    directions_[s.basic.seqnum] = dir;
+    socket_.SendAll(bytes);
+    return s.basic.seqnum;
+  }
+
+  /// Sends CMD_UNLINK for `target`; returns the RET_UNLINK status.
+  std::int32_t Unlink(std::uint32_t target) {
+    usbip::CmdUnlink u;
+    u.basic.seqnum = ++seqnum_;
+    u.basic.devid = device_.devid();
+    u.unlink_seqnum = target;
+    std::array<std::uint8_t, usbip::kUrbHeaderBytes> bytes{};
+    usbip::Encode(u, bytes);
+    socket_.SendAll(bytes);
+    const std::uint32_t mine = u.basic.seqnum;
+    while (unlinks_.count(mine) == 0) ReadOne();
+    return unlinks_.at(mine);
+  }
+
+  /// Waits for the completion of `seqnum`.
+  Completion Wait(std::uint32_t seqnum) {
+    while (done_.count(seqnum) == 0) ReadOne();
+    Completion c = done_.at(seqnum);
+    done_.erase(seqnum);
+    return c;
+  }
+
+  bool Completed(std::uint32_t seqnum) const { return done_.count(seqnum) != 0; }
+
+  /// Reads what is already on the wire (up to `timeout` for the first message).
+  void Drain(std::chrono::milliseconds timeout) {
+    while (socket_.WaitReadable(timeout)) {
+      ReadOne();
+      timeout = std::chrono::milliseconds(20);
+    }
+  }
+
+  Completion Control(std::array<std::uint8_t, 8> setup, std::uint32_t length, const std::vector<std::uint8_t>& out = {}) {
+    const bool in = (setup[0] & 0x80) != 0;
+    return Wait(Submit(0, in ? usbip::Direction::kIn : usbip::Direction::kOut, length, setup, out));
+  }
+
+  /// True if the server closed the connection (the device re-enumerated).
+  bool Closed(std::chrono::milliseconds timeout) {
+    if (!socket_.WaitReadable(timeout)) return false;
+    usbip::UrbHeader h;
+    try {
+      if (!usbip::ReceiveUrbHeader(socket_, h)) return true;
+    } catch (const usbip::IoError&) {
+      return true;
+    }
+    throw std::runtime_error("unexpected URB message before the disconnect");
+  }
+
+  usbip::Socket& socket() { return socket_; }
+
+ private:
+  void ReadOne() {
+    usbip::UrbHeader h;
+    if (!usbip::ReceiveUrbHeader(socket_, h)) throw usbip::IoError("server closed the connection");
+    if (h.basic.command == usbip::UrbCommand::kRetUnlink) {
+      unlinks_[h.basic.seqnum] = h.ret_unlink.status;
+      return;
+    }
+    if (h.basic.command != usbip::UrbCommand::kRetSubmit) throw usbip::ProtocolError("unexpected command");
+    Completion c;
+    c.status = h.ret_submit.status;
+    c.actual_length = h.ret_submit.actual_length;
+    if (directions_.at(h.basic.seqnum) == usbip::Direction::kIn) {
+      c.data.resize(h.ret_submit.actual_length);
+      socket_.ReceiveExact(c.data);
+    }
+    done_[h.basic.seqnum] = c;
+  }
+
+  usbip::Socket socket_;
+  usbip::UsbDevice device_;
+  std::uint32_t seqnum_ = 0;
+  std::map<std::uint32_t, usbip::Direction> directions_;
+  std::map<std::uint32_t, Completion> done_;
+  std::map<std::uint32_t, std::int32_t> unlinks_;
+};
+
+inline std::array<std::uint8_t, 8> Req(std::uint8_t type, std::uint8_t request, std::uint16_t value,
+                                         std::uint16_t index, std::uint16_t length) {
+  return {type, request, static_cast<std::uint8_t>(value & 0xFF), static_cast<std::uint8_t>(value >> 8),
+          static_cast<std::uint8_t>(index & 0xFF), static_cast<std::uint8_t>(index >> 8),
+          static_cast<std::uint8_t>(length & 0xFF), static_cast<std::uint8_t>(length >> 8)};
+}
+
+/// The board's command protocol over the HID interrupt endpoints of an imported emulator:
+/// one request at a time, one IN URB outstanding while an answer is expected.
+class DeviceSession {
+ public:
+  struct Answer {
+    wire::Header header;
+    std::vector<std::uint8_t> payload;
+  };
+
+  explicit DeviceSession(std::uint16_t port) : client_(port) {
+    if (client_.Control(Req(0x00, 9, 1, 0, 0), 0).status != 0) throw std::runtime_error("SET_CONFIGURATION refused");
+  }
+
+  TestClient& client() { return client_; }
+
+  Answer Request(wire::Command command, std::span<const std::uint8_t> payload = {}, std::uint16_t sequence = 0) {
+    wire::Report r{};
+    if (wire::BuildReport(command, ++token_, sequence, 0, Status::kOk, payload, r) != Status::kOk) {
+      throw std::runtime_error("request does not fit a report");
+    }
+    Send(r);
+    return Receive();
+  }
+
+  template <typename Payload>
+    requires requires { Payload::kBytes; }
+  Answer Request(wire::Command command, const Payload& payload) {
+    std::array<std::uint8_t, Payload::kBytes> bytes{};
+    wire::Encode(payload, bytes);
+    return Request(command, std::span<const std::uint8_t>(bytes));
+  }
+
+  /// Uploads and commits a calibration record. @returns the commit's status.
+  Status Calibrate(std::span<const std::uint8_t> record) {
+    wire::CalPutBeginRequest begin;
+    begin.record_bytes = static_cast<std::uint32_t>(record.size());
+    begin.crc32 = wire::ComputeCrc32(record);
+    Answer a = Request(wire::Command::kCalPutBegin, begin);
+    if (a.header.status != Status::kOk) return a.header.status;
+    std::uint16_t seq = 0;
+    for (std::size_t at = 0; at < record.size(); at += wire::kMaxPayload, ++seq) {
+      const std::size_t n = std::min<std::size_t>(wire::kMaxPayload, record.size() - at);
+      a = Request(wire::Command::kCalPutData, record.subspan(at, n), seq);
+      if (a.header.status != Status::kOk) return a.header.status;
+    }
+    return Request(wire::Command::kCalCommit).header.status;
+  }
+
+  /// Pulls the whole log: the data payload bytes of the streams, in order. One stream carries at
+  /// most 65535 reports (16-bit sequence numbers), so a long log takes several, each asking from
+  /// the first record not yet received.
+  std::vector<std::uint8_t> PullLog(std::size_t record_bytes) {
+    std::vector<std::uint8_t> bytes;
+    for (;;) {
+      wire::LogReadRequest req;
+      req.first_record = static_cast<std::uint32_t>(bytes.size() / record_bytes);
+      Answer a = Request(wire::Command::kLogRead, req);
+      const std::size_t before = bytes.size();
+      while ((a.header.flags & wire::kFlagStreamEnd) == 0) {
+        if (a.header.status != Status::kOk) throw std::runtime_error("log-read refused");
+        bytes.insert(bytes.end(), a.payload.begin(), a.payload.end());
+        a = Receive();
+      }
+      if (bytes.size() == before) return bytes;
+    }
+  }
+
+  wire::StatusResponse GetStatus() {
+    const Answer a = Request(wire::Command::kGetStatus);
+    wire::StatusResponse s;
+    if (wire::Decode(a.payload, s) != Status::kOk) throw std::runtime_error("bad get-status answer");
+    return s;
+  }
+
+ private:
+  void Send(const wire::Report& r) {
+    const auto out = client_.Wait(client_.Submit(1, usbip::Direction::kOut, 64, {}, {r.begin(), r.end()}));
+    if (out.status != 0) throw std::runtime_error("interrupt OUT failed");
+  }
+  Answer Receive() {
+    const auto in = client_.Wait(client_.Submit(1, usbip::Direction::kIn, 64));
+    if (in.status != 0 || in.data.size() != wire::kReportBytes) throw std::runtime_error("interrupt IN failed");
+    wire::Report r{};
+    std::copy(in.data.begin(), in.data.end(), r.begin());
+    Answer a;
+    if (wire::DecodeHeader(r, a.header) != Status::kOk) throw std::runtime_error("malformed report");
+    const auto p = wire::PayloadOf(r);
+    a.payload.assign(p.begin(), p.end());
+    return a;
+  }
+
+  TestClient client_;
+  std::uint16_t token_ = 0;
+};
+
+/// A 16-byte scenario name and parameters, as select-scenario carries them.
+inline wire::ScenarioRequest ScenarioOf(const char* name, std::array<float, 4> params) {
+  wire::ScenarioRequest s;
+  for (std::size_t i = 0; name[i] != '\0' && i < s.name.size(); ++i) s.name[i] = name[i];
+  s.params = params;
+  return s;
+}
+
+}  // namespace vibid::emu::testing

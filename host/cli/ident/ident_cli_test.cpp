@@ -1,0 +1,238 @@
+// The identification commands run as the real binary: results on synthetic hammer tests (truth
+// known) and the ECP records, and a clear one-line error with a nonzero exit for bad input.
+#include <algorithm>
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <string>
+#include <vector>
+
+#include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
+
+#include "run_cli.hpp"
+#include "vibid/common/atomic_file.hpp"
+#include "vibid/ident/hammer_test.hpp"
+#include "vibid/model/model.hpp"
+
+namespace vibid::testing {
+namespace {
+
+using nlohmann::json;
+
+std::string Write(const std::string& dir, const std::string& name, const std::string& text) {
+  const std::string path = dir + "/" + name;
+  WriteFileAtomic(path, text);
+  return path;
+}
+
+// Truth: chain m = (1.2, 0.8) kg, k = (3000, 2000) N/m, c = (0.9, 0.8) N*s/m.
+struct Rig {
+  std::string dir, modal1, modal2, mass1, mass2, nominal;
+};
+
+const Rig& SyntheticRig() {
+  static const Rig rig = [] {
+    Rig r;
+    r.dir = MakeTempDir("ident_cli");
+    const model::Model truth = model::MakeChain(Eigen::Vector2d(1.2, 0.8), Eigen::Vector2d(3000, 2000), Eigen::Vector2d(0.9, 0.8));
+    const auto modal = [&](std::uint64_t seed) {
+      ident::HammerTestSpec spec{.hammer_dof = 1, .fs_hz = 500, .hits = 10, .pulse_width_s = 0.004, .spacing_min_s = 16,
+                                 .spacing_max_s = 20, .seed = seed};
+      return ident::FormatHammerTestCsv(ident::SimulateHammerTest(truth, spec), {"acc1_m_s2", "acc2_m_s2"});
+    };
+    r.modal1 = Write(r.dir, "modal1.csv", modal(7));
+    r.modal2 = Write(r.dir, "modal2.csv", modal(8));
+    const double ms[2] = {1.2, 0.8}, ks[2] = {3300, 2200};
+    for (int i = 0; i < 2; ++i) {
+      const model::Model one = model::MakeChain(Eigen::VectorXd::Constant(1, ms[i]), Eigen::VectorXd::Constant(1, ks[i]),
+                                                Eigen::VectorXd::Constant(1, 2 * 0.02 * std::sqrt(ks[i] * ms[i])));
+      ident::HammerTestSpec spec{.fs_hz = 500, .pulse_width_s = 0.004, .spacing_min_s = 10, .spacing_max_s = 13,
+                                 .seed = 100u + static_cast<unsigned>(i)};
+      const std::string text = ident::FormatHammerTestCsv(ident::SimulateHammerTest(one, spec), {"acc_m_s2"});
+      (i == 0 ? r.mass1 : r.mass2) = Write(r.dir, "mass" + std::to_string(i + 1) + ".csv", text);
+    }
+    // Nominal: masses +8 %, springs +10 % (the mass tests' springs are these nominal ones).
+    r.nominal = Write(r.dir, "nominal.json", R"({"topology": "chain", "masses": [1.296, 0.864], "springs": [3300, 2200]})");
+    return r;
+  }();
+  return rig;
+}
+
+void ExpectInputError(const CliResult& r, const std::string& fragment) {
+  EXPECT_EQ(r.exit_code, 1) << r.err;
+  EXPECT_NE(r.err.find(fragment), std::string::npos) << r.err;
+  EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << r.err;
+}
+
+TEST(FrfEstimateCli, ImpactCsvAndUff) {
+  const Rig& rig = SyntheticRig();
+  const auto r = RunVibid({"frf-estimate", rig.modal1, "--force", "force_n", "--response", "acc1_m_s2,acc2_m_s2", "--impact",
+                           "-o", rig.dir + "/frf.csv"});
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_NE(r.out.find("10 average(s)"), std::string::npos) << r.out;
+  const std::string csv = ReadFileText(rig.dir + "/frf.csv");
+  EXPECT_EQ(csv.rfind("# vibid-frf kind=receptance estimator=h1 averages=10", 0), 0u) << csv.substr(0, 80);
+  const auto u = RunVibid({"frf-estimate", rig.modal1, "--force", "force_n", "--response", "acc2_m_s2", "--impact", "--kind",
+                           "accelerance", "-o", rig.dir + "/frf.uff"});
+  ASSERT_EQ(u.exit_code, 0) << u.err;
+  EXPECT_EQ(ReadFileText(rig.dir + "/frf.uff").substr(0, 13), "    -1\n    58");
+  // Welch on the same record to stdout.
+  const auto w = RunVibid({"frf-estimate", rig.modal1, "--force", "force_n", "--response", "acc2_m_s2", "--segment", "2048",
+                           "--window", "hann", "--estimator", "h2"});
+  ASSERT_EQ(w.exit_code, 0) << w.err;
+  EXPECT_NE(w.out.find("estimator=h2"), std::string::npos);
+}
+
+TEST(FrfEstimateCli, BadInput) {
+  const Rig& rig = SyntheticRig();
+  ExpectInputError(RunVibid({"frf-estimate", rig.dir + "/missing.csv", "--force", "f", "--response", "x"}), "missing.csv");
+  ExpectInputError(RunVibid({"frf-estimate", rig.modal1, "--force", "force_n", "--response", "nope"}), "nope");
+  ExpectInputError(RunVibid({"frf-estimate", rig.modal1, "--force", "force_n", "--response", "acc1_m_s2", "--estimator", "h3"}),
+                   "h3");
+  ExpectInputError(RunVibid({"frf-estimate", rig.modal1, "--force", "force_n", "--response", "acc1_m_s2", "--segment", "64",
+                             "--overlap", "64"}),
+                   "overlap");
+  ExpectInputError(RunVibid({"frf-estimate", rig.modal1, "--force", "force_n", "--response", "acc1_m_s2", "--window", "kaiser"}),
+                   "kaiser");
+  const std::string nan = Write(rig.dir, "nan.csv", "t_s,f,x\n0,1,2\n0.1,nan,2\n0.2,1,2\n");
+  ExpectInputError(RunVibid({"frf-estimate", nan, "--force", "f", "--response", "x"}), "nan.csv:3");
+  const std::string jumpy = Write(rig.dir, "jumpy.csv", "t_s,f,x\n0,1,2\n0.1,1,2\n0.5,1,2\n0.6,1,2\n0.7,1,2\n0.8,1,2\n0.9,1,2\n1.0,1,2\n1.1,1,2\n");
+  const auto j = RunVibid({"frf-estimate", jumpy, "--force", "f", "--response", "x"});
+  EXPECT_EQ(j.exit_code, 1) << j.err;
+  // A recording without any hit in impact mode.
+  const std::string flat = Write(rig.dir, "flat.csv", "t_s,f,x\n0,0,0\n0.1,0,0\n0.2,0,0\n0.3,0,0\n0.4,0,0\n0.5,0,0\n0.6,0,0\n0.7,0,0\n0.8,0,0\n0.9,0,0\n1.0,0,0\n1.1,0,0\n1.2,0,0\n1.3,0,0\n1.4,0,0\n1.5,0,0\n1.6,0,0\n");
+  ExpectInputError(RunVibid({"frf-estimate", flat, "--force", "f", "--response", "x", "--impact"}), "no hit");
+  EXPECT_EQ(RunVibid({"frf-estimate", rig.modal1, "--response", "acc1_m_s2"}).exit_code, 2);  // --force missing
+  // Nothing is written on failure.
+  RunVibid({"frf-estimate", rig.modal1, "--force", "force_n", "--response", "nope", "-o", rig.dir + "/never.csv"});
+  EXPECT_FALSE(std::filesystem::exists(rig.dir + "/never.csv"));
+}
+
+TEST(ModesCli, JsonSchemaAndTruth) {
+  const Rig& rig = SyntheticRig();
+  const auto r = RunVibid({"modes", rig.modal1, "--force", "force_n", "--response", "acc1_m_s2,acc2_m_s2", "--impact",
+                           "--exp-window", "0.01", "--max-modes", "2", "--json", "-o", rig.dir + "/modes1.json"});
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const json j = json::parse(ReadFileText(rig.dir + "/modes1.json"));
+  ASSERT_EQ(j["modes"].size(), 2u);
+  for (const char* key : {"omega_rad_s", "freq_hz", "zeta", "ratio", "shape"}) EXPECT_TRUE(j["modes"][0].contains(key)) << key;
+  // Truth (model core's modal analysis of the chain): omega 33.594 and 74.418 rad/s, a1/a2 0.5486 and -1.2153.
+  EXPECT_NEAR(j["modes"][0]["omega_rad_s"].get<double>(), 33.594, 0.002 * 33.594);
+  EXPECT_NEAR(j["modes"][1]["omega_rad_s"].get<double>(), 74.418, 0.002 * 74.418);
+  EXPECT_NEAR(j["modes"][0]["ratio"].get<double>(), 0.5486, 0.03 * 0.5486);
+  EXPECT_EQ(j["summary"]["termination"].get<std::string>().find("tolerance") != std::string::npos, true);
+  // From an FRF file, peak picking.
+  const auto p = RunVibid({"modes", rig.dir + "/frf.csv", "--method", "peaks", "--max-modes", "2", "--json"});
+  ASSERT_EQ(p.exit_code, 0) << p.err;
+  EXPECT_EQ(json::parse(p.out)["modes"].size(), 2u);
+}
+
+TEST(ModesCli, BadInput) {
+  const Rig& rig = SyntheticRig();
+  ExpectInputError(RunVibid({"modes", rig.dir + "/none.csv", "--json"}), "none.csv");
+  ExpectInputError(RunVibid({"modes", rig.modal1, "--json"}), "--force");
+  const std::string half = Write(rig.dir, "half.csv", "freq_hz,h_re\n1,2\n2,2\n3,2\n4,2\n");
+  ExpectInputError(RunVibid({"modes", half, "--json"}), "h_im");
+  ExpectInputError(RunVibid({"modes", rig.dir + "/frf.csv", "--method", "guess"}), "guess");
+  ExpectInputError(RunVibid({"modes", rig.dir + "/frf.csv", "--driving-point", "7"}), "--driving-point");
+}
+
+TEST(UpdateCli, MassAndStiffness) {
+  const Rig& rig = SyntheticRig();
+  const auto m = RunVibid({"update", "mass", rig.mass1, "--force", "force_n", "--response", "acc_m_s2", "--impact",
+                           "--stiffness-n-per-m", "3300", "--nominal-kg", "1.296", "--json"});
+  ASSERT_EQ(m.exit_code, 0) << m.err;
+  const json mj = json::parse(m.out);
+  for (const char* key : {"mass_kg", "nominal_kg", "change_percent", "zeta", "summary"}) EXPECT_TRUE(mj.contains(key)) << key;
+  EXPECT_NEAR(mj["mass_kg"].get<double>(), 1.2, 0.01 * 1.2);
+  EXPECT_NEAR(mj["change_percent"].get<double>(), 100 * (mj["mass_kg"].get<double>() - 1.296) / 1.296, 1e-9);
+  EXPECT_NEAR(mj["zeta"].get<double>(), 0.02, 0.002);
+
+  const auto m2 = RunVibid({"modes", rig.modal2, "--force", "force_n", "--response", "acc1_m_s2,acc2_m_s2", "--impact",
+                            "--exp-window", "0.01", "--max-modes", "2", "--json", "-o", rig.dir + "/modes2.json"});
+  ASSERT_EQ(m2.exit_code, 0) << m2.err;
+  const auto s = RunVibid({"update", "stiffness", "--masses", "1.2,0.8", "--modes", rig.dir + "/modes1.json",
+                           rig.dir + "/modes2.json", "--json"});
+  ASSERT_EQ(s.exit_code, 0) << s.err;
+  const json sj = json::parse(s.out);
+  for (const char* key : {"springs", "K", "springs_lsq", "offdiag_mismatch_percent", "spread"}) EXPECT_TRUE(sj.contains(key)) << key;
+  EXPECT_NEAR(sj["springs"][0].get<double>(), 3000, 30);
+  EXPECT_NEAR(sj["springs"][1].get<double>(), 2000, 20);
+  EXPECT_EQ(sj["K"].size(), 2u);
+}
+
+TEST(UpdateCli, BadInput) {
+  const Rig& rig = SyntheticRig();
+  ExpectInputError(RunVibid({"update", "mass", rig.modal1, "--force", "force_n", "--response", "acc1_m_s2,acc2_m_s2", "--impact"}),
+                   "exactly one response");
+  EXPECT_EQ(RunVibid({"update", "mass", rig.mass1, "--force", "force_n", "--response", "acc_m_s2", "--nominal-kg", "-1"}).exit_code, 2);
+  ExpectInputError(RunVibid({"update", "stiffness", "--masses", "1,abc", "--modes", rig.dir + "/modes1.json"}), "abc");
+  ExpectInputError(RunVibid({"update", "stiffness", "--masses", "1,1,1", "--modes", rig.dir + "/modes1.json"}), "2 modes for 3 masses");
+  const std::string broken = Write(rig.dir, "broken.json", "{\"modes\": [");
+  ExpectInputError(RunVibid({"update", "stiffness", "--masses", "1,1", "--modes", broken}), "broken.json");
+  const std::string empty = Write(rig.dir, "empty.json", "{\"modes\": []}");
+  ExpectInputError(RunVibid({"update", "stiffness", "--masses", "1,1", "--modes", empty}), "empty");
+  EXPECT_EQ(RunVibid({"update"}).exit_code, 2);
+}
+
+TEST(DecayCli, EcpPairAndBadInput) {
+  const std::string d = std::string(VIBID_DATA_DIR) + "/ecp_cart_free_decay/";
+  const auto r = RunVibid({"decay", d + "Khigh_load-none_Khigh_hand_Nomass.csv", d + "Khigh_load-none_Khigh_hand_Nomass2.csv",
+                           d + "Khigh_load-none_Khigh_hand_Nomass3.csv", "--position", "X_cm:cm", "--loaded",
+                           d + "Khigh_load-0.986kg_Khigh_hand_2mass.csv", d + "Khigh_load-0.986kg_Khigh_hand_2mass2.csv",
+                           d + "Khigh_load-0.986kg_Khigh_hand_2mass3.csv", "--added-kg", "0.986", "--json"});
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const json j = json::parse(r.out);
+  for (const char* key : {"omega_d_rad_s", "zeta", "omega_n_rad_s", "k_n_per_m", "base_mass_kg"}) EXPECT_TRUE(j.contains(key)) << key;
+  // The lab's values (data README): omega_d 34.9066 rad/s (one 200 Hz sample = 2.8 %), k 712.60 N/m, m_c 0.5848 kg.
+  EXPECT_NEAR(j["omega_d_rad_s"].get<double>(), 34.9066, 0.028 * 34.9066);
+  EXPECT_NEAR(j["k_n_per_m"].get<double>(), 712.60, 0.02 * 712.60);
+  EXPECT_NEAR(j["base_mass_kg"].get<double>(), 0.5848, 0.03 * 0.5848);
+
+  ExpectInputError(RunVibid({"decay", d + "Khigh_load-none_Khigh_hand_Nomass.csv", "--position", "Y"}), "Y");
+  ExpectInputError(RunVibid({"decay", d + "Khigh_load-none_Khigh_hand_Nomass.csv", "--position", "X_cm:cm", "--loaded",
+                             d + "Khigh_load-none_Khigh_hand_Nomass2.csv"}),
+                   "--added-kg");
+  const Rig& rig = SyntheticRig();
+  const std::string flat = Write(rig.dir, "still.csv", "t_s,X\n0,1\n0.1,1\n0.2,1\n0.3,1\n0.4,1\n0.5,1\n0.6,1\n0.7,1\n0.8,1\n0.9,1\n1.0,1\n1.1,1\n1.2,1\n1.3,1\n1.4,1\n1.5,1\n1.6,1\n1.7,1\n1.8,1\n1.9,1\n2.0,1\n2.1,1\n2.2,1\n2.3,1\n2.4,1\n2.5,1\n2.6,1\n2.7,1\n2.8,1\n2.9,1\n3.0,1\n3.1,1\n");
+  ExpectInputError(RunVibid({"decay", flat, "--position", "X"}), "no motion");
+  EXPECT_EQ(RunVibid({"decay", flat}).exit_code, 2);  // --position missing
+}
+
+TEST(IdentifyCli, WholeChainOnSyntheticTruth) {
+  const Rig& rig = SyntheticRig();
+  const std::string out = rig.dir + "/updated.json";
+  const auto r = RunVibid({"identify", "--nominal", rig.nominal, "--mass-test", "1=" + rig.mass1, "--mass-test", "2=" + rig.mass2,
+                           "--modal-test", rig.modal1, "--modal-test", rig.modal2, "--exp-window", "0.01", "-o", out,
+                           "--report", rig.dir + "/report"});
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_NE(r.out.find("Modes (deviation of each model from the test)"), std::string::npos) << r.out;
+  const json m = json::parse(ReadFileText(out));
+  EXPECT_EQ(m["topology"], "chain");
+  EXPECT_NEAR(m["masses"][0].get<double>(), 1.2, 0.012);
+  EXPECT_NEAR(m["masses"][1].get<double>(), 0.8, 0.008);
+  EXPECT_NEAR(m["springs"][0].get<double>(), 3000, 30);
+  EXPECT_NEAR(m["springs"][1].get<double>(), 2000, 20);
+  for (const char* f : {"validation.txt", "report.json", "frf_overlay.csv"}) {
+    EXPECT_TRUE(std::filesystem::exists(rig.dir + "/report/" + f)) << f;
+  }
+}
+
+TEST(IdentifyCli, BadInput) {
+  const Rig& rig = SyntheticRig();
+  const std::string out = rig.dir + "/not_written.json";
+  ExpectInputError(RunVibid({"identify", "--nominal", rig.nominal, "--mass-test", "one=" + rig.mass1, "--modal-test",
+                             rig.modal1, "-o", out}),
+                   "--mass-test");
+  ExpectInputError(RunVibid({"identify", "--nominal", rig.nominal, "--mass-test", "3=" + rig.mass1, "--modal-test",
+                             rig.modal1, "-o", out}),
+                   "beyond");
+  ExpectInputError(RunVibid({"identify", "--nominal", rig.dir + "/nope.json", "--modal-test", rig.modal1, "-o", out}), "nope.json");
+  ExpectInputError(RunVibid({"identify", "--nominal", rig.nominal, "--modal-test", rig.mass1, "-o", out}), "acc1_m_s2");
+  EXPECT_EQ(RunVibid({"identify", "--nominal", rig.nominal, "-o", out}).exit_code, 2);  // no --modal-test
+  EXPECT_FALSE(std::filesystem::exists(out));
+}
+
+}  // namespace
+}  // namespace vibid::testing

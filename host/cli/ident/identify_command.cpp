@@ -1,0 +1,227 @@
+// `vibid identify`: the whole chain from hammer recordings to an updated model file.
+#include <cmath>
+#include <filesystem>
+#include <iostream>
+#include <memory>
+#include <numbers>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include "cli_support.hpp"
+#include "ident_cli.hpp"
+#include "ident_commands.hpp"
+#include "vibid/common/atomic_file.hpp"
+#include "vibid/common/csv.hpp"
+#include "vibid/common/error.hpp"
+#include "vibid/common/json_file.hpp"
+#include "vibid/ident/identify.hpp"
+#include "vibid/model/frf.hpp"
+#include "vibid/model/model_json.hpp"
+
+namespace vibid::cli {
+
+namespace {
+
+std::pair<std::size_t, std::string> ParsePositionAssignment(const std::string& text, const std::string& option) {
+  const auto eq = text.find('=');
+  Require(eq != std::string::npos && eq > 0 && eq + 1 < text.size(),
+          option + " '" + text + "' must be POSITION=VALUE (position counted from 1)");
+  const std::string pos = text.substr(0, eq);
+  std::size_t used = 0;
+  long p = 0;
+  try {
+    p = std::stol(pos, &used);
+  } catch (...) {
+    used = 0;
+  }
+  Require(used == pos.size() && p >= 1, option + " '" + text + "': position '" + pos + "' is not a number >= 1");
+  return {static_cast<std::size_t>(p - 1), text.substr(eq + 1)};
+}
+
+nlohmann::json Triple(double nominal, double updated, double test) {
+  return {{"nominal", nominal},
+          {"updated", updated},
+          {"test", test},
+          {"nominal_dev_percent", ident::PercentDeviation(nominal, test)},
+          {"updated_dev_percent", ident::PercentDeviation(updated, test)}};
+}
+
+nlohmann::json ValidationJson(const ident::ValidationTable& t) {
+  nlohmann::json modes = nlohmann::json::array();
+  for (const auto& m : t.modes) {
+    modes.push_back({{"omega_rad_s", Triple(m.omega_nominal, m.omega_updated, m.omega_test)},
+                     {"zeta", Triple(m.zeta_nominal, m.zeta_updated, m.zeta_test)},
+                     {"ratio", Triple(m.ratio_nominal, m.ratio_updated, m.ratio_test)}});
+  }
+  nlohmann::json positions = nlohmann::json::array();
+  for (const auto& p : t.positions) {
+    positions.push_back({{"m_kg", {{"nominal", p.m_nominal}, {"updated", p.m_updated},
+                                   {"change_percent", ident::PercentDeviation(p.m_updated, p.m_nominal)}}},
+                         {"k_n_per_m", {{"nominal", p.k_nominal}, {"updated", p.k_updated},
+                                        {"change_percent", ident::PercentDeviation(p.k_updated, p.k_nominal)}}},
+                         {"c_ns_per_m", {{"updated", p.c_updated}}}});
+  }
+  return {{"modes", modes}, {"positions", positions}};
+}
+
+// Measured receptance of the first modal test beside the nominal and updated models' receptances
+// (hammer at the driving point), magnitudes per response.
+std::string OverlayCsv(const ident::Frf& measured, std::size_t driving_point, const model::Model& nominal,
+                       const model::Model& updated) {
+  const Eigen::VectorXd omega = 2.0 * std::numbers::pi * measured.freq_hz;
+  std::vector<std::string> names{"freq_hz"};
+  std::vector<Eigen::VectorXd> cols{measured.freq_hz};
+  for (Eigen::Index j = 0; j < measured.h.cols(); ++j) {
+    const std::string base = "h" + std::to_string(j + 1) + std::to_string(driving_point + 1);
+    names.push_back(base + "_test");
+    cols.push_back(measured.h.col(j).cwiseAbs());
+    names.push_back(base + "_nominal");
+    cols.push_back(model::Frf(nominal, static_cast<int>(driving_point), static_cast<int>(j), model::FrfKind::kReceptance, omega)
+                       .cwiseAbs());
+    names.push_back(base + "_updated");
+    cols.push_back(model::Frf(updated, static_cast<int>(driving_point), static_cast<int>(j), model::FrfKind::kReceptance, omega)
+                       .cwiseAbs());
+  }
+  return FormatCsv(names, cols);
+}
+
+}  // namespace
+
+void RegisterIdentify(CLI::App& app) {
+  struct Args {
+    std::string nominal;
+    std::vector<std::string> mass_tests;
+    std::vector<std::string> mass_springs;
+    std::vector<std::string> modal_tests;
+    std::string mass_response = "acc_m_s2";
+    std::string modal_responses = "acc1_m_s2,acc2_m_s2";
+    std::string output;
+    std::string report;
+    bool welch = false;
+    EstimationArgs est;
+    ModeArgs modes;
+  };
+  auto a = std::make_shared<Args>();
+  a->est.force = "force_n";
+  CLI::App* cmd = app.add_subcommand(
+      "identify",
+      "The whole identification: effective masses from 1-DOF hammer tests (--mass-test POS=REC), modes from\n"
+      "hammer tests of the chain (--modal-test REC, hammer at the driving point), stiffness and damping from the\n"
+      "modes with the updated masses averaged over the tests; writes the updated chain model and prints the\n"
+      "validation table (nominal, updated, test).");
+  cmd->add_option("--nominal", a->nominal, "Nominal model file (JSON; a chain)")->required();
+  cmd->add_option("--mass-test", a->mass_tests, "POS=REC.csv: mass POS (from 1) alone on its spring, hammer test");
+  cmd->add_option("--mass-spring", a->mass_springs,
+                  "POS=K: spring (N/m) of that mass test, when it is not the nominal chain spring of POS");
+  cmd->add_option("--modal-test", a->modal_tests, "REC.csv: hammer test of the chain; repeat for several tests")->required();
+  cmd->add_option("--force", a->est.force, "Force column in every recording")->capture_default_str();
+  cmd->add_option("--mass-response", a->mass_response, "Response column of the mass tests")->capture_default_str();
+  cmd->add_option("--modal-responses", a->modal_responses, "Response columns of the modal tests, one per mass in order")
+      ->capture_default_str();
+  cmd->add_option("--sensor", a->est.sensor, "What the response channels measure: acc, vel, disp")->capture_default_str();
+  cmd->add_option("--estimator", a->est.estimator, "FRF estimator: h1, h2, hv")->capture_default_str();
+  cmd->add_flag("--welch", a->welch, "Welch averaging instead of per-hit impact records (e.g. shaker tests)");
+  cmd->add_option("--exp-window", a->est.impact_options.exp_window_end,
+                  "Exponential window value at the end of each hit record (0: none); damping is corrected for it")
+      ->check(NonNegativeNumber());
+  cmd->add_option("--record-s", a->est.impact_options.record_s, "Length of each hit's record, s (default: the shortest hit spacing)")
+      ->check(NonNegativeNumber());
+  cmd->add_option("--trigger", a->est.impact_options.trigger_fraction, "Hit threshold as a fraction of the largest force")
+      ->capture_default_str();
+  cmd->add_flag("--keep-bad-hits", a->est.keep_bad_hits, "Use double and clipped hits (only flag them)");
+  cmd->add_option("--fs-hz", a->est.fs_hz, "Sample rate (Hz) when recordings have no t_s column")->check(PositiveNumber());
+  AddModeOptions(cmd, a->modes);
+  cmd->add_option("-o,--output", a->output, "Updated model file (JSON, chain form)")->required();
+  cmd->add_option("--report", a->report,
+                  "Directory for the report: validation.txt, report.json (all results), frf_overlay.csv (test vs models)");
+  cmd->callback([a] {
+    const model::Model nominal = model::LoadModel(a->nominal);
+    const auto n = static_cast<std::size_t>(nominal.dofs());
+    EstimationArgs est = a->est;
+    est.impact = !a->welch;
+    est.kind = "receptance";
+
+    std::vector<double> springs(n, 0.0);
+    for (const std::string& s : a->mass_springs) {
+      const auto [pos, value] = ParsePositionAssignment(s, "--mass-spring");
+      Require(pos < n, "--mass-spring position " + std::to_string(pos + 1) + " is beyond the model's " + std::to_string(n) + " masses");
+      double k = 0.0;
+      std::size_t used = 0;
+      try {
+        k = std::stod(value, &used);
+      } catch (...) {
+        used = 0;
+      }
+      Require(used == value.size() && std::isfinite(k) && k > 0.0, "--mass-spring '" + s + "': stiffness must be a number > 0");
+      springs[pos] = k;
+    }
+    std::vector<ident::MassTestInput> mass_inputs;
+    std::vector<std::string> notes;
+    for (const std::string& s : a->mass_tests) {
+      const auto [pos, path] = ParsePositionAssignment(s, "--mass-test");
+      Require(pos < n, "--mass-test position " + std::to_string(pos + 1) + " is beyond the model's " + std::to_string(n) + " masses");
+      EstimationArgs me = est;
+      me.responses = a->mass_response;
+      Estimated e = EstimateFromRecording(path, me);
+      std::istringstream hits(DescribeHits(e.hits));
+      for (std::string line; std::getline(hits, line);) notes.push_back(path + ": " + line);
+      mass_inputs.push_back({pos, std::move(e.frf), springs[pos]});
+    }
+    std::vector<ident::Frf> modal;
+    for (const std::string& path : a->modal_tests) {
+      EstimationArgs me = est;
+      me.responses = a->modal_responses;
+      Estimated e = EstimateFromRecording(path, me);
+      std::istringstream hits(DescribeHits(e.hits));
+      for (std::string line; std::getline(hits, line);) notes.push_back(path + ": " + line);
+      modal.push_back(std::move(e.frf));
+    }
+    ident::IdentifyOptions options;
+    options.modes = a->modes.options;
+    options.modes.method = ident::ParseModeMethod(a->modes.method);
+    options.driving_point = ResolveDrivingPoint(modal.front(), a->modes.driving_point);
+    const ident::IdentifyResult r = ident::Identify(nominal, mass_inputs, modal, options);
+
+    const nlohmann::json model_json = {{"topology", "chain"},
+                                       {"masses", std::vector<double>(r.chain.masses_kg.data(), r.chain.masses_kg.data() + n)},
+                                       {"springs", std::vector<double>(r.chain.springs_n_per_m.data(), r.chain.springs_n_per_m.data() + n)},
+                                       {"dampers", std::vector<double>(r.chain.dampers_ns_per_m.data(), r.chain.dampers_ns_per_m.data() + n)}};
+    const std::string table = ident::FormatValidationTable(r.table);
+    if (!a->report.empty()) {
+      std::error_code ec;
+      std::filesystem::create_directories(a->report, ec);
+      Require(!ec && std::filesystem::is_directory(a->report), "--report: cannot create directory '" + a->report + "'");
+      nlohmann::json report;
+      report["updated_model"] = model_json;
+      report["validation"] = ValidationJson(r.table);
+      report["test_modes"] = ModesToJson(r.test_modes)["modes"];
+      nlohmann::json masses = nlohmann::json::array();
+      for (const auto& m : r.mass_tests) {
+        nlohmann::json j = MassUpdateJson(m.update);
+        j["position"] = m.position + 1;
+        masses.push_back(j);
+      }
+      report["mass_tests"] = masses;
+      nlohmann::json modal_json = nlohmann::json::array();
+      for (const auto& mt : r.modal_tests) {
+        nlohmann::json j = ModesToJson(mt.modes);
+        if (mt.fitted) j["summary"] = SummaryToJson(mt.fit.summary);
+        modal_json.push_back(j);
+      }
+      report["modal_tests"] = modal_json;
+      report["stiffness"] = StiffnessJson(r.stiffness);
+      report["warnings"] = r.warnings;
+      report["notes"] = notes;
+      const std::filesystem::path dir(a->report);
+      WriteFileAtomic((dir / "validation.txt").string(), table);
+      WriteJsonFile((dir / "report.json").string(), report);
+      WriteFileAtomic((dir / "frf_overlay.csv").string(), OverlayCsv(modal.front(), options.driving_point, nominal, r.updated));
+    }
+    WriteJsonFile(a->output, model_json);
+    std::cout << table;
+    for (const auto& w : r.warnings) std::cerr << "vibid: warning: " << w << "\n";
+  });
+}
+
+}  // namespace vibid::cli
