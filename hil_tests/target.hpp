@@ -1,5 +1,6 @@
 // The device a hil test talks to, chosen by VIBID_TARGET:
 //   core  the firmware core in-process over a loopback transport (core_loopback.hpp); default
+//   qemu  the netduinoplus2 board image in QEMU (VIBID_QEMU_IMAGE), over its framed USART
 //   hid   the one real board attached over USB HID
 #pragma once
 
@@ -20,6 +21,14 @@ class Target {
   virtual bool Restart() = 0;
   /// The loopback for fault injection; null on targets where faults cannot be injected.
   virtual CoreLoopback* loopback() { return nullptr; }
+  /// Makes the board sample `frames` ticks of CoreLoopback::FrameAt (from tick `first`) while an
+  /// acquisition runs. Targets with their own sampling (core, hid) return false and sample anyway.
+  virtual bool Feed(device::Connection& c, std::uint32_t first, std::uint32_t frames) {
+    static_cast<void>(c), static_cast<void>(first), static_cast<void>(frames);
+    return false;
+  }
+  /// True if samples only arrive through Feed.
+  virtual bool NeedsFeed() const { return false; }
 };
 
 /// The target VIBID_TARGET names (a fresh one per call: a test owns its device).

@@ -2,13 +2,16 @@
 
 #include "vibid/common/error.hpp"
 #include "vibid/device/error.hpp"
+#include <cstdlib>
+
 #include "vibid/device/hid_transport.hpp"
+#include "vibid/device/serial_transport.hpp"
 #include "vibid/device/usbip_transport.hpp"
 
 namespace vibid::device {
 namespace {
 
-constexpr const char* kUsage = "expected hid[:SERIAL] or usbip://HOST[:PORT]";
+constexpr const char* kUsage = "expected hid[:SERIAL], usbip://HOST[:PORT], serial:PATH or qemu";
 constexpr const char* kDefaultUsbipHost = "127.0.0.1";
 constexpr int kDefaultUsbipPort = 3240;
 
@@ -44,6 +47,21 @@ DeviceSpec ParseDeviceSpec(const std::string& text) {
     if (spec.host.empty()) bad("missing host");
     return spec;
   }
+  if (StartsWith(text, "serial:")) {
+    spec.kind = DeviceSpec::Kind::kSerial;
+    spec.path = text.substr(7);
+    if (spec.path.empty()) bad("missing path after 'serial:'");
+    return spec;
+  }
+  if (text == "qemu") {
+    spec.kind = DeviceSpec::Kind::kSerial;
+    const char* sock = std::getenv("VIBID_QEMU_SOCKET");
+    if (sock == nullptr || *sock == '\0') {
+      bad("set VIBID_QEMU_SOCKET to the Unix socket the QEMU board image's USART1 is on");
+    }
+    spec.path = sock;
+    return spec;
+  }
   bad(kUsage);
   return spec;
 }
@@ -69,6 +87,7 @@ std::unique_ptr<Transport> OpenTransport(const DeviceSpec& spec) {
   switch (spec.kind) {
     case DeviceSpec::Kind::kHid: return OpenHid(spec.serial);
     case DeviceSpec::Kind::kUsbip: return UsbipDevice::Open(spec.host, spec.port);
+    case DeviceSpec::Kind::kSerial: return OpenSerial(spec.path);
     case DeviceSpec::Kind::kAny: break;
   }
   const std::vector<Listing> all = ListDevices();

@@ -20,10 +20,13 @@ TEST(ParseDeviceSpec, ReadsEveryForm) {
   const DeviceSpec d = ParseDeviceSpec("usbip://emu.local");
   EXPECT_EQ(d.host, "emu.local");
   EXPECT_EQ(d.port, 3240);  // the USB/IP default port
+  const DeviceSpec s = ParseDeviceSpec("serial:/dev/ttyUSB0");
+  EXPECT_EQ(s.kind, DeviceSpec::Kind::kSerial);
+  EXPECT_EQ(s.path, "/dev/ttyUSB0");
 }
 
 TEST(ParseDeviceSpec, RefusesMalformedValuesNamingThem) {
-  for (const char* bad : {"hid:", "usbip://", "usbip://h:0", "usbip://h:70000", "usbip://h:x", "tcp://h", "HID"}) {
+  for (const char* bad : {"hid:", "usbip://", "usbip://h:0", "usbip://h:70000", "usbip://h:x", "tcp://h", "HID", "serial:"}) {
     try {
       ParseDeviceSpec(bad);
       ADD_FAILURE() << bad << " accepted";

@@ -282,12 +282,13 @@ class UsbipDevice::Impl {
 UsbipDevice::UsbipDevice(std::unique_ptr<Impl> impl) : impl_(std::move(impl)) {}
 UsbipDevice::~UsbipDevice() = default;
 
-std::unique_ptr<UsbipDevice> UsbipDevice::Open(const std::string& host, int port, const std::string& busid_in) {
+std::unique_ptr<UsbipDevice> UsbipDevice::Open(const std::string& host, int port, const std::string& busid_in,
+                                               std::uint16_t vendor_id, std::uint16_t product_id) {
   std::string busid = busid_in;
   if (busid.empty()) {
     std::vector<std::string> ours;
     for (const UsbipExport& e : ListUsbipExports(host, port)) {
-      if (e.vendor_id == kUsbVendorId && e.product_id == kUsbProductId) ours.push_back(e.busid);
+      if (e.vendor_id == vendor_id && e.product_id == product_id) ours.push_back(e.busid);
     }
     const std::string where = host + ":" + std::to_string(port);
     if (ours.empty()) throw DeviceError("the USB/IP server at " + where + " exports no vibid device");
@@ -319,19 +320,24 @@ std::unique_ptr<UsbipDevice> UsbipDevice::Open(const std::string& host, int port
   m.configuration = GetDescriptor(*dev, kDescriptorConfiguration, 0, total);
   // The HID interface's interrupt endpoints (class 3).
   bool hid = false;
+  bool has_hid_in = false;
   for (std::size_t i = 0; i + 1 < m.configuration.size() && m.configuration[i] >= 2; i += m.configuration[i]) {
     const std::uint8_t* p = &m.configuration[i];
     if (p[1] == 4 && i + 5 < m.configuration.size()) hid = p[5] == 3;
     if (p[1] == 5 && hid && i + 3 < m.configuration.size() && (p[3] & 3) == 3) {
-      if ((p[2] & 0x80) != 0) m.in_endpoint = p[2];
-      else m.out_endpoint = p[2];
+      if ((p[2] & 0x80) != 0) {
+        m.in_endpoint = p[2];
+        has_hid_in = true;
+      } else {
+        m.out_endpoint = p[2];
+      }
     }
   }
   Setup set;
   set.request = kSetConfiguration;
   set.value = head[5];  // bConfigurationValue
   static_cast<void>(dev->Control(set, {}, std::chrono::milliseconds(1000)));
-  for (int i = 0; i < kInUrbs; ++i) {
+  for (int i = 0; has_hid_in && i < kInUrbs; ++i) {
     static_cast<void>(m.Submit(Impl::Kind::kInterruptIn, true, m.in_endpoint, {}, wire::kReportBytes, {}));
   }
   return dev;

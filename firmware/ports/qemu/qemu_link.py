@@ -1,7 +1,7 @@
 """Host side of the QEMU board image's USART link.
 
 Starts `qemu-system-arm -M netduinoplus2` with USART1 on a Unix socket, frames 64-byte reports
-as the image does (serial_frame.hpp: sync 'V','F', length 64, report, CRC-32 little-endian over
+as the image does (shared/include/vibid/shared/wire/serial_frame.hpp: sync 'V','F', length 64, report, CRC-32 little-endian over
 length + report) and runs request/response exchanges with the wire header of
 shared/include/vibid/shared/wire/report.hpp. Written from those layouts, independently of the
 C++ codecs, so a test through it checks both sides.

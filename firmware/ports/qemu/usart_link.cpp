@@ -36,7 +36,7 @@ void UsartReportLink::HandleInterrupt() {
 Status UsartReportLink::Receive(wire::Report& out) {
   std::uint32_t tail = tail_.load(std::memory_order_relaxed);
   Status result = Status::kUnavailable;
-  ReportBytes report{};
+  wire::Report report{};
   while (tail != head_.load(std::memory_order_acquire)) {
     const std::uint8_t byte = ring_[tail % kRingBytes];
     ++tail;
@@ -52,7 +52,7 @@ Status UsartReportLink::Receive(wire::Report& out) {
 }
 
 Status UsartReportLink::Send(const wire::Report& report) {
-  const FrameBytes frame = EncodeFrame(report);
+  const wire::SerialFrameBytes frame = wire::EncodeSerialFrame(report);
   for (std::uint8_t b : frame) {
     while ((Reg(usart::kUsart1 + usart::kSr) & usart::kSrTxe) == 0) {
     }

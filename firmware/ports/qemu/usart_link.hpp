@@ -11,7 +11,7 @@
 #include <atomic>
 #include <cstdint>
 
-#include "serial_frame.hpp"
+#include "vibid/shared/wire/serial_frame.hpp"
 #include "vibid/fw/report_link.hpp"
 
 namespace vibid::fw::qemu {
@@ -25,7 +25,7 @@ class UsartReportLink final : public ReportLink {
   Status Receive(wire::Report& out) override;
   Status Send(const wire::Report& report) override;
 
-  const FrameDecoderCounters& DecoderCounters() const { return decoder_.Counters(); }
+  const wire::SerialFrameCounters& DecoderCounters() const { return decoder_.Counters(); }
 
   /// The USART1 interrupt handler body.
   void HandleInterrupt();
@@ -36,7 +36,7 @@ class UsartReportLink final : public ReportLink {
   std::array<std::uint8_t, kRingBytes> ring_{};
   std::atomic<std::uint32_t> head_{0};  ///< Written by the interrupt.
   std::atomic<std::uint32_t> tail_{0};  ///< Written by the main loop.
-  FrameDecoder decoder_;
+  wire::SerialFrameDecoder decoder_;
 };
 
 }  // namespace vibid::fw::qemu

@@ -9,12 +9,12 @@
 
 #include "cli_support.hpp"
 #include "device_commands.hpp"
-#include "observer_file.hpp"
 #include "session.hpp"
 #include "vibid/common/error.hpp"
 #include "vibid/common/json_file.hpp"
 #include "vibid/device/calibration_builder.hpp"
 #include "vibid/device/log_table.hpp"
+#include "vibid/dob/design_json.hpp"
 #include "vibid/model/model_json.hpp"
 
 namespace vibid::cli {
@@ -134,7 +134,7 @@ void RegisterCalCommands(CLI::App& app, const GlobalOptions& globals) {
   upload->callback([&globals, uo] {
     device::RecordInputs in;
     in.model = model::LoadModel(uo->model);
-    in.observer = LoadObserverDescription(uo->design);
+    in.observer = dob::ObserverFromJson(ReadJsonFile(uo->design), uo->design).description;
     std::string label = uo->label;
     if (label.empty()) {
       label = uo->model.substr(uo->model.find_last_of('/') + 1);

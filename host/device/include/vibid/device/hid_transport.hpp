@@ -7,13 +7,9 @@
 #include <vector>
 
 #include "vibid/device/transport.hpp"
+#include "vibid/device/usb_control.hpp"
 
 namespace vibid::device {
-
-/// USB identity of the board (firmware/core/usb descriptors): pid.codes VID, test PID, the vendor
-/// usage page of the HID interface.
-inline constexpr std::uint16_t kUsbVendorId = 0x1209;
-inline constexpr std::uint16_t kUsbProductId = 0x0001;
 
 struct HidListing {
   std::string path;           ///< OS path (/dev/hidrawN).

@@ -13,12 +13,15 @@ namespace vibid::device {
 /// A parsed `--device` value.
 ///   hid            the only board on USB HID        hid:SERIAL   that board
 ///   usbip://HOST:PORT   a USB/IP server (vibid-emu; port 3240 when omitted)
+///   serial:PATH    a framed serial link (a tty, or the Unix socket QEMU's USART1 is on)
+///   qemu           the QEMU board image's USART1 socket named by $VIBID_QEMU_SOCKET
 struct DeviceSpec {
-  enum class Kind { kAny, kHid, kUsbip };
+  enum class Kind { kAny, kHid, kUsbip, kSerial };
   Kind kind = Kind::kAny;
   std::string serial;  ///< kHid: iSerialNumber, empty for any.
   std::string host;    ///< kUsbip.
   int port = 3240;     ///< kUsbip.
+  std::string path;    ///< kSerial.
 };
 
 /// Parses a `--device` value ("" is kAny). InputError naming the value when malformed.

@@ -6,9 +6,15 @@
 #include <chrono>
 #include <cstdint>
 #include <span>
+#include <string>
 #include <vector>
 
 namespace vibid::device {
+
+/// USB identity of the board's application (firmware/core/usb/descriptors.hpp: pid.codes VID,
+/// test PID); its HID interface uses the vendor usage page wire::kHidUsagePage.
+inline constexpr std::uint16_t kUsbVendorId = 0x1209;
+inline constexpr std::uint16_t kUsbProductId = 0x0001;
 
 /// The 8-byte SETUP packet (USB 2.0 §9.3), fields in host order.
 struct Setup {

@@ -33,9 +33,12 @@ std::vector<UsbipExport> ListUsbipExports(const std::string& host, int port,
 /// An imported device: control transfers, and the HID report pipe as a Transport.
 class UsbipDevice final : public Transport, public UsbControl {
  public:
-  /// Connects, imports `busid` (the only vibid export when empty), enumerates and configures.
-  /// Throws DeviceError naming the server on any failure.
-  static std::unique_ptr<UsbipDevice> Open(const std::string& host, int port, const std::string& busid = {});
+  /// Connects, imports `busid` (when empty: the only export with that VID/PID, by default the
+  /// vibid application), enumerates and configures. HID reports flow when the device has a HID
+  /// interface (the DFU bootloader has none: control transfers only). Throws DeviceError naming
+  /// the server on any failure.
+  static std::unique_ptr<UsbipDevice> Open(const std::string& host, int port, const std::string& busid = {},
+                                           std::uint16_t vendor_id = kUsbVendorId, std::uint16_t product_id = kUsbProductId);
   ~UsbipDevice() override;
 
   void Send(const wire::Report& report) override;

@@ -1,5 +1,6 @@
-// Framing of 64-byte reports on the QEMU image's USART link (a byte stream with no packet
-// boundaries of its own). One frame:
+// Framing of 64-byte reports on a serial link (the QEMU board image's USART: a byte stream with no
+// packet boundaries of its own). The board's USART link and the host's serial transport share
+// this one codec. One frame:
 //
 //   offset  size  field
 //   0       2     sync       0x56 0x46 ('V','F')
@@ -17,40 +18,40 @@
 #include <cstdint>
 #include <span>
 
-namespace vibid::fw::qemu {
+#include "vibid/shared/wire/report.hpp"
 
-inline constexpr std::uint8_t kSync0 = 0x56;
-inline constexpr std::uint8_t kSync1 = 0x46;
-inline constexpr std::size_t kReportBytes = 64;
-inline constexpr std::size_t kFrameBytes = 2 + 1 + kReportBytes + 4;
-static_assert(kFrameBytes == 71);
+namespace vibid::wire {
 
-using FrameBytes = std::array<std::uint8_t, kFrameBytes>;
-using ReportBytes = std::array<std::uint8_t, kReportBytes>;
+inline constexpr std::uint8_t kSerialSync0 = 0x56;
+inline constexpr std::uint8_t kSerialSync1 = 0x46;
+inline constexpr std::size_t kSerialFrameBytes = 2 + 1 + kReportBytes + 4;
+static_assert(kSerialFrameBytes == 71);
+
+using SerialFrameBytes = std::array<std::uint8_t, kSerialFrameBytes>;
 
 /// Builds the frame carrying `report`.
-FrameBytes EncodeFrame(std::span<const std::uint8_t, kReportBytes> report);
+SerialFrameBytes EncodeSerialFrame(std::span<const std::uint8_t, kReportBytes> report);
 
-struct FrameDecoderCounters {
+struct SerialFrameCounters {
   std::uint32_t frames = 0;         ///< Good frames delivered.
   std::uint32_t crc_errors = 0;     ///< Sync and length right, CRC wrong.
   std::uint32_t skipped_bytes = 0;  ///< Bytes discarded while hunting for sync.
 };
 
-class FrameDecoder {
+class SerialFrameDecoder {
  public:
   /// Feeds one received byte.
   /// @returns true when this byte completed a good frame; its report is then in `report`.
-  bool Push(std::uint8_t byte, ReportBytes& report);
-  const FrameDecoderCounters& Counters() const { return counters_; }
+  bool Push(std::uint8_t byte, Report& report);
+  const SerialFrameCounters& Counters() const { return counters_; }
 
  private:
   /// Drops bytes from the front until the buffer starts with a possible frame start.
   void Resync(std::size_t drop);
 
-  FrameBytes buffer_{};
+  SerialFrameBytes buffer_{};
   std::size_t fill_ = 0;
-  FrameDecoderCounters counters_{};
+  SerialFrameCounters counters_{};
 };
 
-}  // namespace vibid::fw::qemu
+}  // namespace vibid::wire

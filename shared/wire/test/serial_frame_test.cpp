@@ -1,6 +1,6 @@
 // The USART frame codec: layout against bytes computed independently (Python's zlib.crc32),
 // and the decoder's recovery from noise, truncation and corruption.
-#include "serial_frame.hpp"
+#include "vibid/shared/wire/serial_frame.hpp"
 
 #include <gtest/gtest.h>
 
@@ -8,19 +8,19 @@
 #include <cstdint>
 #include <span>
 
-namespace vibid::fw::qemu {
+namespace vibid::wire {
 namespace {
 
-ReportBytes Counting() {
-  ReportBytes r{};
+Report Counting() {
+  Report r{};
   for (std::size_t i = 0; i < r.size(); ++i) r[i] = static_cast<std::uint8_t>(i);
   return r;
 }
 
 // Feeds bytes; returns how many frames completed, the last one in `last`.
-int Feed(FrameDecoder& d, std::span<const std::uint8_t> bytes, ReportBytes& last) {
+int Feed(SerialFrameDecoder& d, std::span<const std::uint8_t> bytes, Report& last) {
   int frames = 0;
-  ReportBytes r{};
+  Report r{};
   for (std::uint8_t b : bytes) {
     if (d.Push(b, r)) {
       ++frames;
@@ -31,7 +31,7 @@ int Feed(FrameDecoder& d, std::span<const std::uint8_t> bytes, ReportBytes& last
 }
 
 TEST(SerialFrame, LayoutMatchesIndependentCrc) {
-  const FrameBytes f = EncodeFrame(Counting());
+  const SerialFrameBytes f = EncodeSerialFrame(Counting());
   EXPECT_EQ(f[0], 0x56);
   EXPECT_EQ(f[1], 0x46);
   EXPECT_EQ(f[2], 64);
@@ -46,13 +46,13 @@ TEST(SerialFrame, LayoutMatchesIndependentCrc) {
 }
 
 TEST(SerialFrame, RoundTripBackToBack) {
-  FrameDecoder d;
-  ReportBytes a = Counting();
-  ReportBytes b{};
+  SerialFrameDecoder d;
+  Report a = Counting();
+  Report b{};
   b.fill(0x56);  // Payload full of sync bytes must not confuse the decoder.
-  const FrameBytes fa = EncodeFrame(a);
-  const FrameBytes fb = EncodeFrame(b);
-  ReportBytes got{};
+  const SerialFrameBytes fa = EncodeSerialFrame(a);
+  const SerialFrameBytes fb = EncodeSerialFrame(b);
+  Report got{};
   const int n1 = Feed(d, fa, got);
   EXPECT_EQ(n1, 1);
   EXPECT_EQ(got, a);
@@ -64,28 +64,28 @@ TEST(SerialFrame, RoundTripBackToBack) {
 }
 
 TEST(SerialFrame, NoiseBeforeFrameIsSkipped) {
-  FrameDecoder d;
+  SerialFrameDecoder d;
   const std::array<std::uint8_t, 5> noise = {0x00, 0x56, 0x13, 0x56, 0x56};
-  ReportBytes got{};
+  Report got{};
   const int n3 = Feed(d, noise, got);
   EXPECT_EQ(n3, 0);
-  const int n4 = Feed(d, EncodeFrame(Counting()), got);
+  const int n4 = Feed(d, EncodeSerialFrame(Counting()), got);
   EXPECT_EQ(n4, 1);
   EXPECT_EQ(got, Counting());
   EXPECT_EQ(d.Counters().skipped_bytes, 5U);
 }
 
 TEST(SerialFrame, CorruptFrameIsRejectedAndNextOneDecodes) {
-  FrameDecoder d;
-  FrameBytes bad = EncodeFrame(Counting());
+  SerialFrameDecoder d;
+  SerialFrameBytes bad = EncodeSerialFrame(Counting());
   bad[40] ^= 0x01;
-  ReportBytes got{};
+  Report got{};
   const int n5 = Feed(d, bad, got);
   EXPECT_EQ(n5, 0);
   EXPECT_EQ(d.Counters().crc_errors, 1U);
-  ReportBytes other{};
+  Report other{};
   other.fill(0xA5);
-  const int n6 = Feed(d, EncodeFrame(other), got);
+  const int n6 = Feed(d, EncodeSerialFrame(other), got);
   EXPECT_EQ(n6, 1);
   EXPECT_EQ(got, other);
 }
@@ -93,12 +93,12 @@ TEST(SerialFrame, CorruptFrameIsRejectedAndNextOneDecodes) {
 TEST(SerialFrame, TruncatedFrameThenGoodFrame) {
   // A frame cut short (sender restarted) followed by a whole frame: the good frame is found
   // inside the bytes the decoder already buffered.
-  FrameDecoder d;
-  const FrameBytes first = EncodeFrame(Counting());
-  ReportBytes other{};
+  SerialFrameDecoder d;
+  const SerialFrameBytes first = EncodeSerialFrame(Counting());
+  Report other{};
   other.fill(0x11);
-  const FrameBytes second = EncodeFrame(other);
-  ReportBytes got{};
+  const SerialFrameBytes second = EncodeSerialFrame(other);
+  Report got{};
   const int n7 = Feed(d, std::span<const std::uint8_t>(first).first(30), got);
   EXPECT_EQ(n7, 0);
   const int n8 = Feed(d, second, got);
@@ -107,10 +107,10 @@ TEST(SerialFrame, TruncatedFrameThenGoodFrame) {
 }
 
 TEST(SerialFrame, WrongLengthByteIsNotAFrame) {
-  FrameDecoder d;
-  FrameBytes f = EncodeFrame(Counting());
+  SerialFrameDecoder d;
+  SerialFrameBytes f = EncodeSerialFrame(Counting());
   f[2] = 63;
-  ReportBytes got{};
+  Report got{};
   const int n9 = Feed(d, f, got);
   EXPECT_EQ(n9, 0);
   EXPECT_EQ(d.Counters().frames, 0U);
@@ -125,22 +125,22 @@ TEST(SerialFrame, EveryFrameSurvivesNoiseBetweenFrames) {
     lcg = lcg * 1664525U + 1013904223U;  // Numerical Recipes LCG
     return lcg >> 24;
   };
-  FrameDecoder d;
-  ReportBytes got{};
+  SerialFrameDecoder d;
+  Report got{};
   int delivered = 0;
   bool in_order = true;
   for (int k = 0; k < 200; ++k) {
     const std::uint32_t noise = next() % 41;
     for (std::uint32_t i = 0; i < noise; ++i) {
       const std::uint32_t pick = next() % 4;
-      const std::uint8_t b = pick == 0 ? kSync0 : pick == 1 ? kSync1 : pick == 2 ? 64 : static_cast<std::uint8_t>(next());
+      const std::uint8_t b = pick == 0 ? kSerialSync0 : pick == 1 ? kSerialSync1 : pick == 2 ? 64 : static_cast<std::uint8_t>(next());
       if (d.Push(b, got)) in_order = false;  // Noise never forms a frame with a valid CRC here.
     }
-    ReportBytes report{};
+    Report report{};
     for (std::size_t i = 0; i < report.size(); ++i) report[i] = static_cast<std::uint8_t>(next());
     report[0] = static_cast<std::uint8_t>(k);
     int frames = 0;
-    for (std::uint8_t b : EncodeFrame(report)) {
+    for (std::uint8_t b : EncodeSerialFrame(report)) {
       if (d.Push(b, got)) {
         ++frames;
         if (got != report) in_order = false;
@@ -153,4 +153,4 @@ TEST(SerialFrame, EveryFrameSurvivesNoiseBetweenFrames) {
 }
 
 }  // namespace
-}  // namespace vibid::fw::qemu
+}  // namespace vibid::wire

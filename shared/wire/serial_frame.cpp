@@ -1,10 +1,10 @@
-#include "serial_frame.hpp"
+#include "vibid/shared/wire/serial_frame.hpp"
 
 #include <algorithm>
 
 #include "vibid/shared/wire/crc32.hpp"
 
-namespace vibid::fw::qemu {
+namespace vibid::wire {
 namespace {
 
 constexpr std::size_t kOffLength = 2;
@@ -17,10 +17,10 @@ std::uint32_t FrameCrc(std::span<const std::uint8_t> frame) {
 
 }  // namespace
 
-FrameBytes EncodeFrame(std::span<const std::uint8_t, kReportBytes> report) {
-  FrameBytes f{};
-  f[0] = kSync0;
-  f[1] = kSync1;
+SerialFrameBytes EncodeSerialFrame(std::span<const std::uint8_t, kReportBytes> report) {
+  SerialFrameBytes f{};
+  f[0] = kSerialSync0;
+  f[1] = kSerialSync1;
   f[kOffLength] = static_cast<std::uint8_t>(kReportBytes);
   std::copy(report.begin(), report.end(), f.begin() + kOffReport);
   const std::uint32_t crc = FrameCrc(f);
@@ -28,11 +28,11 @@ FrameBytes EncodeFrame(std::span<const std::uint8_t, kReportBytes> report) {
   return f;
 }
 
-void FrameDecoder::Resync(std::size_t drop) {
+void SerialFrameDecoder::Resync(std::size_t drop) {
   // Keep the longest tail that could still be the start of a frame.
   std::size_t start = drop;
   while (start < fill_) {
-    if (buffer_[start] == kSync0 && (start + 1 == fill_ || buffer_[start + 1] == kSync1)) break;
+    if (buffer_[start] == kSerialSync0 && (start + 1 == fill_ || buffer_[start + 1] == kSerialSync1)) break;
     ++start;
   }
   counters_.skipped_bytes += static_cast<std::uint32_t>(start);
@@ -41,15 +41,15 @@ void FrameDecoder::Resync(std::size_t drop) {
   fill_ -= start;
 }
 
-bool FrameDecoder::Push(std::uint8_t byte, ReportBytes& report) {
+bool SerialFrameDecoder::Push(std::uint8_t byte, Report& report) {
   buffer_[fill_++] = byte;
   // Header checks as soon as the bytes are there, so garbage is dropped early.
-  if (buffer_[0] != kSync0 || (fill_ > 1 && buffer_[1] != kSync1) ||
+  if (buffer_[0] != kSerialSync0 || (fill_ > 1 && buffer_[1] != kSerialSync1) ||
       (fill_ > kOffLength && buffer_[kOffLength] != kReportBytes)) {
     Resync(1);
     return false;
   }
-  if (fill_ < kFrameBytes) return false;
+  if (fill_ < kSerialFrameBytes) return false;
   std::uint32_t crc = 0;
   for (std::size_t i = 0; i < 4; ++i) crc |= static_cast<std::uint32_t>(buffer_[kOffCrc + i]) << (8 * i);
   if (crc != FrameCrc(buffer_)) {
@@ -63,4 +63,4 @@ bool FrameDecoder::Push(std::uint8_t byte, ReportBytes& report) {
   return true;
 }
 
-}  // namespace vibid::fw::qemu
+}  // namespace vibid::wire

@@ -1,0 +1,214 @@
+#include "vibid/device/dfuse.hpp"
+
+#include <algorithm>
+#include <chrono>
+#include <cstdio>
+#include <cstdlib>
+#include <thread>
+
+#include "vibid/device/error.hpp"
+
+namespace vibid::device {
+namespace {
+
+// DFU class requests (DFU 1.1 table 3.2) and DfuSe download commands (UM0424 §6).
+constexpr std::uint8_t kDfuDnload = 1;
+constexpr std::uint8_t kDfuUpload = 2;
+constexpr std::uint8_t kDfuGetStatus = 3;
+constexpr std::uint8_t kDfuClrStatus = 4;
+constexpr std::uint8_t kDfuAbort = 6;
+constexpr std::uint8_t kDfuSeSetAddress = 0x21;
+constexpr std::uint8_t kDfuSeErase = 0x41;
+constexpr std::uint8_t kRequestOut = 0x21;  // class, interface, host-to-device
+constexpr std::uint8_t kRequestIn = 0xA1;
+constexpr std::chrono::milliseconds kTimeout{5000};
+
+std::string Hex(std::uint32_t v) {
+  char b[11];
+  std::snprintf(b, sizeof(b), "0x%08x", v);
+  return b;
+}
+
+std::array<std::uint8_t, 5> Command(std::uint8_t command, std::uint32_t address) {
+  return {command, static_cast<std::uint8_t>(address), static_cast<std::uint8_t>(address >> 8),
+          static_cast<std::uint8_t>(address >> 16), static_cast<std::uint8_t>(address >> 24)};
+}
+
+}  // namespace
+
+std::vector<DfuSeSector> ParseDfuSeLayout(const std::string& layout) {
+  const auto bad = [&] { throw DeviceError("malformed DfuSe memory layout '" + layout + "'"); };
+  const std::size_t a = layout.find('/');
+  const std::size_t b = a == std::string::npos ? a : layout.find('/', a + 1);
+  if (layout.empty() || layout[0] != '@' || b == std::string::npos) bad();
+  char* end = nullptr;
+  std::uint64_t address = std::strtoull(layout.c_str() + a + 1, &end, 16);
+  if (end != layout.c_str() + b) bad();
+  std::vector<DfuSeSector> out;
+  std::size_t at = b + 1;
+  while (at < layout.size()) {
+    const unsigned long count = std::strtoul(layout.c_str() + at, &end, 10);
+    if (*end != '*' || count == 0) bad();
+    const unsigned long size = std::strtoul(end + 1, &end, 10);
+    std::uint64_t unit = 1;
+    if (*end == 'K') unit = 1024;
+    else if (*end == 'M') unit = 1024 * 1024;
+    else if (*end != 'B') bad();
+    ++end;
+    if (*end == '\0' || size == 0) bad();
+    ++end;  // the attribute letter (a..g)
+    for (unsigned long i = 0; i < count; ++i) {
+      if (address + size * unit > 0x100000000ull) bad();
+      out.push_back(DfuSeSector{static_cast<std::uint32_t>(address), static_cast<std::uint32_t>(size * unit)});
+      address += size * unit;
+    }
+    at = static_cast<std::size_t>(end - layout.c_str());
+    if (at < layout.size()) {
+      if (layout[at] == '/') break;  // a further memory segment: the first one is the flash
+      if (layout[at] != ',') bad();
+      ++at;
+    }
+  }
+  if (out.empty()) bad();
+  return out;
+}
+
+DfuSe::DfuSe(UsbControl& usb, std::uint8_t interface, std::uint16_t transfer_size)
+    : usb_(&usb), interface_(interface), transfer_size_(transfer_size) {}
+
+DfuSe DfuSe::Open(UsbControl& usb, std::vector<DfuSeSector>& layout) {
+  const std::vector<std::uint8_t> head = GetDescriptor(usb, kDescriptorConfiguration, 0, 9);
+  if (head.size() != 9) throw DeviceError("malformed configuration descriptor from the bootloader");
+  const std::vector<std::uint8_t> cfg = GetDescriptor(usb, kDescriptorConfiguration, 0,
+                                                      static_cast<std::uint16_t>(head[2] | (head[3] << 8)));
+  int interface = -1;
+  std::uint8_t name_index = 0;
+  std::uint16_t transfer = 0;
+  bool in_dfu = false;
+  for (std::size_t i = 0; i + 1 < cfg.size() && cfg[i] >= 2; i += cfg[i]) {
+    const std::uint8_t* p = &cfg[i];
+    if (p[1] == 4 && i + 8 < cfg.size()) {
+      in_dfu = p[5] == 0xFE && p[6] == 0x01;
+      if (in_dfu && interface < 0 && p[3] == 0) {
+        interface = p[2];
+        name_index = p[8];
+      }
+    } else if (p[1] == 0x21 && in_dfu && i + 6 < cfg.size()) {
+      transfer = static_cast<std::uint16_t>(p[5] | (p[6] << 8));
+    }
+  }
+  if (interface < 0 || transfer == 0) throw DeviceError("the device has no DfuSe interface");
+  if (name_index == 0) throw DeviceError("the DfuSe interface does not describe its memory");
+  layout = ParseDfuSeLayout(GetStringDescriptor(usb, name_index));
+  Setup set;
+  set.request = kSetConfiguration;
+  set.value = head[5];
+  static_cast<void>(usb.Control(set, {}, kTimeout));
+  return DfuSe(usb, static_cast<std::uint8_t>(interface), transfer);
+}
+
+DfuStatusReply DfuSe::GetStatus() {
+  Setup s{kRequestIn, kDfuGetStatus, 0, interface_, 6};
+  const std::vector<std::uint8_t> r = usb_->Control(s, {}, kTimeout);
+  if (r.size() != 6) throw DeviceError("malformed DFU_GETSTATUS answer");
+  return DfuStatusReply{r[0], static_cast<std::uint32_t>(r[1] | (r[2] << 8) | (r[3] << 16)), static_cast<DfuState>(r[4])};
+}
+
+void DfuSe::ClearStatus() { static_cast<void>(usb_->Control(Setup{kRequestOut, kDfuClrStatus, 0, interface_, 0}, {}, kTimeout)); }
+void DfuSe::Abort() { static_cast<void>(usb_->Control(Setup{kRequestOut, kDfuAbort, 0, interface_, 0}, {}, kTimeout)); }
+
+DfuStatusReply DfuSe::Settle(const std::string& what) {
+  for (int i = 0; i < 10000; ++i) {
+    const DfuStatusReply st = GetStatus();
+    if (st.state == DfuState::kError || st.status != 0) {
+      ClearStatus();
+      throw DeviceError(what + " failed in the bootloader (DFU status " + std::to_string(st.status) + ")");
+    }
+    if (st.state != DfuState::kDnBusy) return st;
+    std::this_thread::sleep_for(std::chrono::milliseconds(st.poll_timeout_ms));
+  }
+  throw DeviceError(what + ": the bootloader stayed busy");
+}
+
+void DfuSe::Dnload(std::uint16_t block, std::span<const std::uint8_t> data, const std::string& what) {
+  Setup s{kRequestOut, kDfuDnload, block, interface_, static_cast<std::uint16_t>(data.size())};
+  static_cast<void>(usb_->Control(s, data, kTimeout));
+  const DfuStatusReply st = Settle(what);
+  if (!data.empty() && st.state != DfuState::kDnloadIdle) {
+    throw DeviceError(what + ": the bootloader is in DFU state " + std::to_string(static_cast<int>(st.state)));
+  }
+}
+
+void DfuSe::SetAddress(std::uint32_t address) {
+  Dnload(0, Command(kDfuSeSetAddress, address), "set address " + Hex(address));
+}
+
+void DfuSe::EraseSector(std::uint32_t address) { Dnload(0, Command(kDfuSeErase, address), "erase at " + Hex(address)); }
+
+void DfuSe::Download(std::uint16_t block, std::span<const std::uint8_t> data) {
+  Dnload(block, data, "download of block " + std::to_string(block));
+}
+
+std::vector<std::uint8_t> DfuSe::Upload(std::uint16_t block, std::uint16_t length) {
+  return usb_->Control(Setup{kRequestIn, kDfuUpload, block, interface_, length}, {}, kTimeout);
+}
+
+void DfuSe::Leave(std::uint32_t address) {
+  SetAddress(address);
+  Setup s{kRequestOut, kDfuDnload, 0, interface_, 0};
+  static_cast<void>(usb_->Control(s, {}, kTimeout));
+  // The bootloader answers this GETSTATUS with dfuMANIFEST and starts the application; a link
+  // that drops right after is the expected end.
+  try {
+    static_cast<void>(GetStatus());
+  } catch (const DeviceError&) {
+  }
+}
+
+void FlashImage(DfuSe& dfu, const std::vector<DfuSeSector>& layout, std::span<const std::uint8_t> image,
+                std::uint32_t address, const FlashProgress& progress) {
+  if (image.empty()) throw DeviceError("the image is empty");
+  const std::uint64_t end = std::uint64_t{address} + image.size();
+  std::vector<std::uint32_t> erase;
+  for (const DfuSeSector& s : layout) {
+    if (s.address < end && std::uint64_t{s.address} + s.bytes > address) erase.push_back(s.address);
+  }
+  const std::uint64_t covered = layout.empty() ? 0 : std::uint64_t{layout.back().address} + layout.back().bytes;
+  if (layout.empty() || address < layout.front().address || end > covered) {
+    throw DeviceError("the image (" + std::to_string(image.size()) + " bytes at " + Hex(address) + ") does not fit the flash");
+  }
+  const DfuStatusReply start = dfu.GetStatus();
+  if (start.state == DfuState::kError) dfu.ClearStatus();
+  if (start.state != DfuState::kIdle) dfu.Abort();
+  for (std::size_t i = 0; i < erase.size(); ++i) {
+    dfu.EraseSector(erase[i]);
+    if (progress) progress("erase", i + 1, erase.size());
+  }
+  const std::size_t ts = dfu.transfer_size();
+  const std::size_t blocks = (image.size() + ts - 1) / ts;
+  dfu.SetAddress(address);
+  for (std::size_t b = 0; b < blocks; ++b) {
+    const auto chunk = image.subspan(b * ts, std::min(ts, image.size() - b * ts));
+    dfu.Download(static_cast<std::uint16_t>(b + 2), chunk);
+    if (progress) progress("download", b + 1, blocks);
+  }
+  // Read back: set the pointer, return to dfuIDLE, then UPLOAD blocks from 2.
+  dfu.SetAddress(address);
+  dfu.Abort();
+  for (std::size_t b = 0; b < blocks; ++b) {
+    const std::size_t n = std::min(ts, image.size() - b * ts);
+    const std::vector<std::uint8_t> got = dfu.Upload(static_cast<std::uint16_t>(b + 2), static_cast<std::uint16_t>(n));
+    const auto want = image.subspan(b * ts, n);
+    if (got.size() != n) throw DeviceError("verify: block " + std::to_string(b + 2) + " read back short");
+    const auto diff = std::mismatch(want.begin(), want.end(), got.begin());
+    if (diff.first != want.end()) {
+      const auto at = static_cast<std::uint32_t>(address + b * ts + static_cast<std::size_t>(diff.first - want.begin()));
+      throw DeviceError("verify failed at " + Hex(at) + ": the flash does not hold the image");
+    }
+    if (progress) progress("verify", b + 1, blocks);
+  }
+  dfu.Abort();
+  dfu.Leave(address);
+}
+
+}  // namespace vibid::device

@@ -1,0 +1,86 @@
+// Firmware download through a DfuSe bootloader (DFU 1.1 with ST's extensions, ST AN3156 and
+// UM0424): the STM32F405's ROM bootloader on a real board, the emulator's DFU personality over
+// USB/IP. Control transfers only, so it runs over any UsbControl.
+#pragma once
+
+#include <cstdint>
+#include <functional>
+#include <span>
+#include <string>
+#include <vector>
+
+#include "vibid/device/usb_control.hpp"
+
+namespace vibid::device {
+
+/// The ST bootloader's USB identity.
+inline constexpr std::uint16_t kDfuSeVendorId = 0x0483;
+inline constexpr std::uint16_t kDfuSeProductId = 0xDF11;
+
+/// One erasable sector of the memory a DfuSe interface string describes.
+struct DfuSeSector {
+  std::uint32_t address = 0;
+  std::uint32_t bytes = 0;
+};
+
+/// Parses a DfuSe memory layout string, e.g. "@Internal Flash  /0x08000000/04*016Kg,01*064Kg,07*128Kg"
+/// (name, start address, then COUNT*SIZE[B|K|M]ATTR groups). InputError-free: throws DeviceError
+/// naming the string when malformed.
+std::vector<DfuSeSector> ParseDfuSeLayout(const std::string& layout);
+
+/// DFU 1.1 device states (table A.2.12).
+enum class DfuState : std::uint8_t {
+  kAppIdle = 0, kAppDetach = 1, kIdle = 2, kDnloadSync = 3, kDnBusy = 4, kDnloadIdle = 5,
+  kManifestSync = 6, kManifest = 7, kManifestWaitReset = 8, kUploadIdle = 9, kError = 10,
+};
+
+struct DfuStatusReply {
+  std::uint8_t status = 0;  ///< bStatus: 0 OK, else the DFU error code.
+  std::uint32_t poll_timeout_ms = 0;
+  DfuState state = DfuState::kIdle;
+};
+
+class DfuSe {
+ public:
+  /// `interface`: the DFU interface number; `transfer_size`: wTransferSize of its functional
+  /// descriptor.
+  DfuSe(UsbControl& usb, std::uint8_t interface, std::uint16_t transfer_size);
+
+  /// Finds the DFU interface in the configuration descriptor, its transfer size and the memory
+  /// layout of alternate setting 0. Throws DeviceError if the device has no DfuSe interface.
+  static DfuSe Open(UsbControl& usb, std::vector<DfuSeSector>& layout);
+
+  DfuStatusReply GetStatus();
+  void ClearStatus();
+  void Abort();
+  void SetAddress(std::uint32_t address);
+  void EraseSector(std::uint32_t address);
+  /// Writes `data` (at most transfer_size bytes) at pointer + (block - 2) * transfer_size.
+  void Download(std::uint16_t block, std::span<const std::uint8_t> data);
+  /// Reads `length` bytes at pointer + (block - 2) * transfer_size.
+  std::vector<std::uint8_t> Upload(std::uint16_t block, std::uint16_t length);
+  /// Zero-length download from the address pointer: the bootloader manifests and starts the
+  /// application.
+  void Leave(std::uint32_t address);
+
+  std::uint16_t transfer_size() const { return transfer_size_; }
+
+ private:
+  /// Polls GETSTATUS through dfuDNBUSY until the state settles; throws on dfuERROR.
+  DfuStatusReply Settle(const std::string& what);
+  void Dnload(std::uint16_t block, std::span<const std::uint8_t> data, const std::string& what);
+
+  UsbControl* usb_;
+  std::uint8_t interface_;
+  std::uint16_t transfer_size_;
+};
+
+using FlashProgress = std::function<void(const std::string& phase, std::uint64_t done, std::uint64_t total)>;
+
+/// Erases the sectors `image` covers from `address`, downloads it, reads it back and compares
+/// byte for byte, then leaves DFU. Throws DeviceError naming the first differing address on a
+/// verify failure.
+void FlashImage(DfuSe& dfu, const std::vector<DfuSeSector>& layout, std::span<const std::uint8_t> image,
+                std::uint32_t address, const FlashProgress& progress = {});
+
+}  // namespace vibid::device
