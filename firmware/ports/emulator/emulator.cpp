@@ -43,7 +43,8 @@ struct Emulator::Application {
         detach(system),
         dfu(detach),
         drivers{&hid, &dfu},
-        usb(dcd, drivers, emu.serial_.c_str()),
+        strings(fw::usb::MakeDaqStrings(emu.serial_.c_str())),
+        usb(dcd, drivers, fw::usb::DaqDescriptors(strings)),
         core(fw::Port{clock, frames, slots, system}, hid, emu.log_, &scenario),
         exported(usb, dcd, emu.Record()) {
     (void)core.Boot();
@@ -59,6 +60,7 @@ struct Emulator::Application {
   DetachToDfu detach;
   fw::usb::DfuRuntime dfu;
   std::array<fw::usb::ClassDriver*, 2> drivers;
+  fw::usb::DaqStrings strings;
   EmuDcd dcd;
   fw::usb::UsbDevice usb;
   fw::Core core;
