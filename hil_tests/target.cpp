@@ -5,9 +5,11 @@
 #include <stdexcept>
 #include <thread>
 
+#include "emulator_process.hpp"
 #include "qemu_board.hpp"
 #include "vibid/device/error.hpp"
 #include "vibid/device/hid_transport.hpp"
+#include "vibid/device/usbip_transport.hpp"
 
 namespace vibid::hil {
 namespace {
@@ -23,9 +25,33 @@ class CoreTarget final : public Target {
     return true;
   }
   CoreLoopback* loopback() override { return &loopback_; }
+  bool Kill() override {
+    loopback_.Kill();
+    return true;
+  }
 
  private:
   CoreLoopback loopback_;
+};
+
+class EmuTarget final : public Target {
+ public:
+  explicit EmuTarget(const std::string& binary) : emu_(binary) {}
+  std::string Name() const override { return "emu"; }
+  std::unique_ptr<device::Connection> Connect(device::ConnectionOptions options) override {
+    return std::make_unique<device::Connection>(device::UsbipDevice::Open("127.0.0.1", emu_.port()), options);
+  }
+  bool Restart() override {
+    emu_.Restart();
+    return true;
+  }
+  bool Kill() override {
+    emu_.Kill();
+    return true;
+  }
+
+ private:
+  EmulatorProcess emu_;
 };
 
 class HidTarget final : public Target {
@@ -75,6 +101,13 @@ class QemuTarget final : public Target {
 std::unique_ptr<Target> MakeTarget() {
   const char* env = std::getenv("VIBID_TARGET");
   const std::string name = env == nullptr ? "" : env;
+  // VIBID_EMU overrides the emulator binary the build knows.
+  const char* emu = std::getenv("VIBID_EMU");
+#ifdef VIBID_EMU_PATH
+  if (emu == nullptr || *emu == '\0') emu = VIBID_EMU_PATH;
+#endif
+  if ((name.empty() || name == "emu") && emu != nullptr && *emu != '\0') return std::make_unique<EmuTarget>(emu);
+  if (name == "emu") throw std::invalid_argument("VIBID_TARGET=emu needs VIBID_EMU (the vibid-emu binary)");
   if (name.empty() || name == "core") return std::make_unique<CoreTarget>();
   if (name == "hid") return std::make_unique<HidTarget>();
   if (name == "qemu") {
@@ -84,7 +117,7 @@ std::unique_ptr<Target> MakeTarget() {
     }
     return std::make_unique<QemuTarget>(image);
   }
-  throw std::invalid_argument("VIBID_TARGET=" + name + ": expected core, qemu or hid");
+  throw std::invalid_argument("VIBID_TARGET=" + name + ": expected emu, core, qemu or hid");
 }
 
 }  // namespace vibid::hil

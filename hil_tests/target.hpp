@@ -1,5 +1,6 @@
 // The device a hil test talks to, chosen by VIBID_TARGET:
-//   core  the firmware core in-process over a loopback transport (core_loopback.hpp); default
+//   emu   a vibid-emu process over USB/IP (the default when the emulator is built)
+//   core  the firmware core in-process over a loopback transport (core_loopback.hpp)
 //   qemu  the netduinoplus2 board image in QEMU (VIBID_QEMU_IMAGE), over its framed USART
 //   hid   the one real board attached over USB HID
 #pragma once
@@ -27,6 +28,8 @@ class Target {
     static_cast<void>(c), static_cast<void>(first), static_cast<void>(frames);
     return false;
   }
+  /// The device disappears for good (process killed, loopback dead). False if not possible.
+  virtual bool Kill() { return false; }
   /// True if samples only arrive through Feed.
   virtual bool NeedsFeed() const { return false; }
 };

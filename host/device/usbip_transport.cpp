@@ -1,10 +1,5 @@
 #include "vibid/device/usbip_transport.hpp"
 
-#include <netdb.h>
-#include <poll.h>
-#include <sys/socket.h>
-#include <unistd.h>
-
 #include <algorithm>
 #include <atomic>
 #include <condition_variable>
@@ -15,139 +10,40 @@
 #include <thread>
 
 #include "vibid/device/error.hpp"
-#include "vibid/device/hid_transport.hpp"
+#include "vibid/usbip/protocol.hpp"
+#include "vibid/usbip/socket.hpp"
 
 namespace vibid::device {
 namespace {
 
-// USB/IP constants (usbip_protocol.rst). Every field is big-endian on the wire.
-constexpr std::uint16_t kUsbipVersion = 0x0111;
-constexpr std::uint16_t kOpReqDevlist = 0x8005;
-constexpr std::uint16_t kOpRepDevlist = 0x0005;
-constexpr std::uint16_t kOpReqImport = 0x8003;
-constexpr std::uint16_t kOpRepImport = 0x0003;
-constexpr std::uint32_t kCmdSubmit = 1;
-constexpr std::uint32_t kRetSubmit = 3;
-constexpr std::uint32_t kRetUnlink = 4;
-constexpr std::uint32_t kDirOut = 0;
-constexpr std::uint32_t kDirIn = 1;
-constexpr std::size_t kBusidBytes = 32;
-constexpr std::size_t kDeviceRecordBytes = 256 + 32 + 12 + 12;  // path, busid, bus/dev/speed, ids..
-constexpr std::size_t kUrbHeaderBytes = 48;
 /// Interrupt IN URBs kept queued, so the device always has somewhere to put its next report.
 constexpr int kInUrbs = 4;
+constexpr std::chrono::milliseconds kConnectTimeout{2000};
 
-void PutBe16(std::vector<std::uint8_t>& b, std::uint16_t v) {
-  b.push_back(static_cast<std::uint8_t>(v >> 8));
-  b.push_back(static_cast<std::uint8_t>(v));
-}
-void PutBe32(std::vector<std::uint8_t>& b, std::uint32_t v) {
-  for (int s = 24; s >= 0; s -= 8) b.push_back(static_cast<std::uint8_t>(v >> s));
-}
-std::uint16_t Be16(const std::uint8_t* p) { return static_cast<std::uint16_t>((p[0] << 8) | p[1]); }
-std::uint32_t Be32(const std::uint8_t* p) {
-  return (std::uint32_t{p[0]} << 24) | (std::uint32_t{p[1]} << 16) | (std::uint32_t{p[2]} << 8) | p[3];
-}
+std::string Where(const std::string& host, int port) { return host + ":" + std::to_string(port); }
 
-class Socket {
- public:
-  Socket(const std::string& host, int port, std::chrono::milliseconds timeout) : where_(host + ":" + std::to_string(port)) {
-    addrinfo hints{};
-    hints.ai_family = AF_UNSPEC;
-    hints.ai_socktype = SOCK_STREAM;
-    addrinfo* res = nullptr;
-    if (getaddrinfo(host.c_str(), std::to_string(port).c_str(), &hints, &res) != 0 || res == nullptr) {
-      throw DeviceError("cannot resolve USB/IP server " + where_);
-    }
-    for (addrinfo* a = res; a != nullptr && fd_ < 0; a = a->ai_next) {
-      fd_ = ::socket(a->ai_family, a->ai_socktype, a->ai_protocol);
-      if (fd_ < 0) continue;
-      if (::connect(fd_, a->ai_addr, a->ai_addrlen) != 0) {
-        ::close(fd_);
-        fd_ = -1;
-      }
-    }
-    freeaddrinfo(res);
-    if (fd_ < 0) throw DeviceError("no USB/IP server at " + where_ + " (is vibid-emu running?)");
-    timeout_ = timeout;
+usbip::Socket Connect(const std::string& host, int port, std::chrono::milliseconds timeout) {
+  try {
+    return usbip::ConnectTcp(host, static_cast<std::uint16_t>(port), timeout);
+  } catch (const usbip::IoError&) {
+    throw DeviceError("no USB/IP server at " + Where(host, port) + " (is vibid-emu running?)");
   }
-  ~Socket() { if (fd_ >= 0) ::close(fd_); }
-  Socket(const Socket&) = delete;
-  Socket& operator=(const Socket&) = delete;
-
-  void WriteAll(std::span<const std::uint8_t> b) {
-    std::size_t done = 0;
-    while (done < b.size()) {
-      const ssize_t n = ::send(fd_, b.data() + done, b.size() - done, MSG_NOSIGNAL);
-      if (n <= 0) throw DeviceError("connection to " + where_ + " closed");
-      done += static_cast<std::size_t>(n);
-    }
-  }
-  /// Reads exactly b.size() bytes; `wait` false blocks without a timeout (the URB pump).
-  void ReadAll(std::span<std::uint8_t> b, bool wait = true) {
-    std::size_t done = 0;
-    while (done < b.size()) {
-      if (wait) {
-        pollfd p{fd_, POLLIN, 0};
-        if (::poll(&p, 1, static_cast<int>(timeout_.count())) <= 0) {
-          throw DeviceError("USB/IP server " + where_ + " did not answer");
-        }
-      }
-      const ssize_t n = ::recv(fd_, b.data() + done, b.size() - done, 0);
-      if (n <= 0) throw DeviceError("connection to " + where_ + " closed");
-      done += static_cast<std::size_t>(n);
-    }
-  }
-  void Shutdown() { ::shutdown(fd_, SHUT_RDWR); }
-  const std::string& where() const { return where_; }
-
- private:
-  int fd_ = -1;
-  std::string where_;
-  std::chrono::milliseconds timeout_{1000};
-};
-
-std::vector<std::uint8_t> OpHeader(std::uint16_t code) {
-  std::vector<std::uint8_t> b;
-  PutBe16(b, kUsbipVersion);
-  PutBe16(b, code);
-  PutBe32(b, 0);
-  return b;
 }
 
-void CheckOpReply(Socket& s, std::uint16_t expected) {
-  std::array<std::uint8_t, 8> h{};
-  s.ReadAll(h);
-  if (Be16(&h[2]) != expected) throw DeviceError("USB/IP server " + s.where() + " answered with an unexpected reply");
-  if (Be32(&h[4]) != 0) throw DeviceError("USB/IP server " + s.where() + " refused the request (status " + std::to_string(Be32(&h[4])) + ")");
-}
-
-UsbipExport ParseDeviceRecord(const std::uint8_t* d) {
-  UsbipExport e;
-  const char* busid = reinterpret_cast<const char*>(d + 256);
-  e.busid.assign(busid, strnlen(busid, kBusidBytes));
-  e.vendor_id = Be16(d + 300);
-  e.product_id = Be16(d + 302);
-  e.release = Be16(d + 304);
-  e.interfaces = d[311];
-  return e;
+UsbipExport ToExport(const usbip::UsbDevice& d) {
+  return UsbipExport{.busid = d.busid, .vendor_id = d.id_vendor, .product_id = d.id_product,
+                     .release = d.bcd_device, .interfaces = d.num_interfaces};
 }
 
 }  // namespace
 
 std::vector<UsbipExport> ListUsbipExports(const std::string& host, int port, std::chrono::milliseconds timeout) {
-  Socket s(host, port, timeout);
-  s.WriteAll(OpHeader(kOpReqDevlist));
-  CheckOpReply(s, kOpRepDevlist);
-  std::array<std::uint8_t, 4> n{};
-  s.ReadAll(n);
+  usbip::Socket s = Connect(host, port, timeout);
   std::vector<UsbipExport> out;
-  for (std::uint32_t i = 0; i < Be32(n.data()); ++i) {
-    std::array<std::uint8_t, kDeviceRecordBytes> d{};
-    s.ReadAll(d);
-    out.push_back(ParseDeviceRecord(d.data()));
-    std::vector<std::uint8_t> ifaces(4u * out.back().interfaces);
-    s.ReadAll(ifaces);
+  try {
+    for (const usbip::UsbDevice& d : usbip::RequestDeviceList(s)) out.push_back(ToExport(d));
+  } catch (const std::runtime_error& e) {
+    throw DeviceError("USB/IP server " + Where(host, port) + ": " + e.what());
   }
   return out;
 }
@@ -163,7 +59,7 @@ class UsbipDevice::Impl {
     std::vector<std::uint8_t> data;
   };
 
-  Impl(const std::string& host, int port) : socket(host, port, std::chrono::milliseconds(2000)) {}
+  Impl(const std::string& host, int port) : socket(Connect(host, port, kConnectTimeout)), where(Where(host, port)) {}
 
   void Start() { pump = std::thread([this] { Pump(); }); }
 
@@ -175,34 +71,31 @@ class UsbipDevice::Impl {
 
   std::uint32_t Submit(Kind kind, bool in, std::uint8_t endpoint, std::span<const std::uint8_t> out,
                        std::uint32_t in_length, const std::array<std::uint8_t, 8>& setup) {
-    std::vector<std::uint8_t> b;
-    std::uint32_t seq = 0;
+    usbip::CmdSubmit cmd;
     {
       std::lock_guard lock(mutex);
       if (!error.empty()) throw DeviceError(error);
-      seq = ++seqnum;
-      pending[seq] = Pending{.kind = kind, .in = in, .done = false, .status = 0, .data = {}};
+      cmd.basic.seqnum = ++seqnum;
+      pending[cmd.basic.seqnum] = Pending{.kind = kind, .in = in, .done = false, .status = 0, .data = {}};
     }
-    PutBe32(b, kCmdSubmit);
-    PutBe32(b, seq);
-    PutBe32(b, devid);
-    PutBe32(b, in ? kDirIn : kDirOut);
-    PutBe32(b, endpoint & 0x0Fu);
-    PutBe32(b, 0);  // transfer_flags
-    PutBe32(b, in ? in_length : static_cast<std::uint32_t>(out.size()));
-    PutBe32(b, 0);  // start_frame
-    PutBe32(b, 0xFFFFFFFFu);  // number_of_packets: not isochronous
-    PutBe32(b, kind == Kind::kControl ? 0 : 1);  // interval (bInterval 1)
-    b.insert(b.end(), setup.begin(), setup.end());
+    cmd.basic.command = usbip::UrbCommand::kCmdSubmit;
+    cmd.basic.devid = devid;
+    cmd.basic.direction = in ? usbip::Direction::kIn : usbip::Direction::kOut;
+    cmd.basic.ep = endpoint & 0x0Fu;
+    cmd.transfer_buffer_length = in ? in_length : static_cast<std::uint32_t>(out.size());
+    cmd.interval = kind == Kind::kControl ? 0 : 1;  // bInterval 1 on the HID endpoints
+    cmd.setup = setup;
+    std::vector<std::uint8_t> b(usbip::kUrbHeaderBytes);
+    usbip::Encode(cmd, std::span<std::uint8_t, usbip::kUrbHeaderBytes>(b.data(), b.size()));
     if (!in) b.insert(b.end(), out.begin(), out.end());
     std::lock_guard wlock(write_mutex);
     try {
-      socket.WriteAll(b);
-    } catch (const DeviceError& e) {
-      Fail(e.what());
-      throw;
+      socket.SendAll(b);
+    } catch (const usbip::IoError& e) {
+      Fail(std::string("connection to ") + where + " closed");
+      throw DeviceError(std::string("connection to ") + where + " closed");
     }
-    return seq;
+    return cmd.basic.seqnum;
   }
 
   void Fail(const std::string& what) {
@@ -214,38 +107,43 @@ class UsbipDevice::Impl {
   void Pump() {
     try {
       for (;;) {
-        std::array<std::uint8_t, kUrbHeaderBytes> h{};
-        socket.ReadAll(h, false);
-        const std::uint32_t command = Be32(&h[0]);
-        const std::uint32_t seq = Be32(&h[4]);
-        if (command == kRetUnlink) continue;
-        if (command != kRetSubmit) throw DeviceError("USB/IP server " + socket.where() + " sent an unknown reply");
-        const auto status = static_cast<std::int32_t>(Be32(&h[20]));
-        const std::uint32_t actual = Be32(&h[24]);
+        usbip::UrbHeader h;
+        if (!usbip::ReceiveUrbHeader(socket, h)) throw DeviceError("connection to " + where + " closed");
+        if (h.basic.command == usbip::UrbCommand::kRetUnlink) continue;
+        if (h.basic.command != usbip::UrbCommand::kRetSubmit) {
+          throw DeviceError("USB/IP server " + where + " sent a request instead of a reply");
+        }
+        const std::uint32_t seq = h.basic.seqnum;
+        const std::int32_t status = h.ret_submit.status;
+        const std::uint32_t actual = h.ret_submit.actual_length;
         bool in = false;
         Kind kind = Kind::kControl;
         {
           std::lock_guard lock(mutex);
           auto it = pending.find(seq);
-          if (it == pending.end()) throw DeviceError("USB/IP server " + socket.where() + " completed an unknown URB");
+          if (it == pending.end()) throw DeviceError("USB/IP server " + where + " completed an unknown URB");
           in = it->second.in;
           kind = it->second.kind;
         }
+        if (actual > 0x10000) throw DeviceError("USB/IP server " + where + " sent an oversize URB");
         std::vector<std::uint8_t> data(in ? actual : 0);
-        if (actual > 0x10000) throw DeviceError("USB/IP server " + socket.where() + " sent an oversize URB");
-        socket.ReadAll(data, false);
+        socket.ReceiveExact(data);
         std::unique_lock lock(mutex);
         if (kind == Kind::kInterruptIn) {
           pending.erase(seq);
-          if (status == 0) reports.push_back(std::move(data));
+          if (status == usbip::kStatusOk) reports.push_back(std::move(data));
           lock.unlock();
           changed.notify_all();
-          if (!stopping && status == 0) Submit(Kind::kInterruptIn, true, in_endpoint, {}, wire::kReportBytes, {});
+          if (!stopping && status == usbip::kStatusOk) {
+            Submit(Kind::kInterruptIn, true, in_endpoint, {}, wire::kReportBytes, {});
+          }
           continue;
         }
         if (kind == Kind::kInterruptOut) {
           pending.erase(seq);
-          if (status != 0 && error.empty()) error = "the device refused a HID report (URB status " + std::to_string(status) + ")";
+          if (status != usbip::kStatusOk && error.empty()) {
+            error = "the device refused a HID report (URB status " + std::to_string(status) + ")";
+          }
           changed.notify_all();
           continue;
         }
@@ -260,7 +158,8 @@ class UsbipDevice::Impl {
     }
   }
 
-  Socket socket;
+  usbip::Socket socket;
+  std::string where;
   std::uint32_t devid = 0;
   std::string busid;
   std::uint8_t in_endpoint = 0x81;
@@ -296,16 +195,12 @@ std::unique_ptr<UsbipDevice> UsbipDevice::Open(const std::string& host, int port
     busid = ours[0];
   }
   auto impl = std::make_unique<Impl>(host, port);
-  Socket& s = impl->socket;
-  std::vector<std::uint8_t> req = OpHeader(kOpReqImport);
-  std::array<std::uint8_t, kBusidBytes> id{};
-  std::copy_n(busid.begin(), std::min(busid.size(), kBusidBytes - 1), id.begin());
-  req.insert(req.end(), id.begin(), id.end());
-  s.WriteAll(req);
-  CheckOpReply(s, kOpRepImport);
-  std::array<std::uint8_t, kDeviceRecordBytes> d{};
-  s.ReadAll(d);
-  impl->devid = (Be32(&d[288]) << 16) | (Be32(&d[292]) & 0xFFFFu);
+  try {
+    const usbip::UsbDevice d = usbip::RequestImport(impl->socket, busid);
+    impl->devid = d.devid();
+  } catch (const std::runtime_error& e) {
+    throw DeviceError("USB/IP server " + impl->where + " refused to export " + busid + ": " + e.what());
+  }
   impl->busid = busid;
   impl->Start();
   std::unique_ptr<UsbipDevice> dev(new UsbipDevice(std::move(impl)));
@@ -362,7 +257,7 @@ std::size_t UsbipDevice::Receive(std::span<std::uint8_t, wire::kReportBytes> out
 }
 
 std::string UsbipDevice::Describe() const {
-  return "usbip://" + impl_->socket.where() + " bus " + impl_->busid;
+  return "usbip://" + impl_->where + " bus " + impl_->busid;
 }
 
 std::vector<std::uint8_t> UsbipDevice::Control(const Setup& setup, std::span<const std::uint8_t> out,

@@ -147,16 +147,20 @@ void RegisterAcquireCommands(CLI::App& app, const GlobalOptions& globals) {
   struct PullOptions {
     std::string output;
     std::uint32_t first = 0;
+    bool first_given = false;
   };
   auto po = std::make_shared<PullOptions>();
   pull_cmd->add_option("-o,--output", po->output, "Output CSV")->required();
-  pull_cmd->add_option("--from", po->first, "First log record to pull (0: all the board still holds)");
+  pull_cmd->add_option("--from", po->first, "First log record to pull (default: the oldest the board still holds)")
+      ->each([po](const std::string&) { po->first_given = true; });
   pull_cmd->callback([&globals, po] {
     WithDevice(globals, [&](device::Connection& c) {
       device::LogPull pull;
       try {
         ProgressBar bar("log pull");
-        pull = c.PullLog(po->first, bar.Callback());
+        // By default: everything the board still holds (a pull releases what it received).
+        const std::uint32_t first = po->first_given ? po->first : c.GetStatus().records_released;
+        pull = c.PullLog(first, bar.Callback());
       } catch (const device::Interrupted&) {
         throw DeviceError("interrupted: nothing written");
       }
