@@ -1,5 +1,7 @@
 #include "vibid/shared/fixed/filter_description.hpp"
 
+#include "vibid/shared/crc32.hpp"
+
 #include <cstdint>
 
 namespace vibid::fixed {
@@ -99,14 +101,7 @@ Status ValidatePath(const Path& p) {
 
 }  // namespace
 
-std::uint32_t Crc32IsoHdlc(std::span<const std::uint8_t> bytes) {
-  std::uint32_t crc = 0xFFFFFFFFu;
-  for (const std::uint8_t byte : bytes) {
-    crc ^= byte;
-    for (int bit = 0; bit < 8; ++bit) crc = (crc >> 1) ^ (0xEDB88320u & (0u - (crc & 1u)));
-  }
-  return crc ^ 0xFFFFFFFFu;
-}
+std::uint32_t Crc32IsoHdlc(std::span<const std::uint8_t> bytes) { return ComputeCrc32(bytes); }
 
 void EncodeDescription(const FilterDescription& d, std::span<std::uint8_t, kDescriptionBytes> out) {
   Writer w(out);
