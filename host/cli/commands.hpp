@@ -14,6 +14,7 @@ void RegisterModelCommands(CLI::App& app);   // modal, frf, simulate
 void RegisterIdentCommands(CLI::App& app);   // frf-estimate, modes, update, decay, identify
 void RegisterSysidCommands(CLI::App& app);   // arx, pem, tfest, compare, greybox
 void RegisterDobCommands(CLI::App& app);     // dob design|run|compare
+void RegisterReportCommands(CLI::App& app);  // report
 void RegisterDeviceCommands(CLI::App& app, const GlobalOptions& globals);  // devices, info, cal, acquire, ...
 
 }  // namespace vibid::cli

@@ -24,6 +24,7 @@ int main(int argc, char** argv) {
   RegisterIdentCommands(app);
   RegisterSysidCommands(app);
   RegisterDobCommands(app);
+  RegisterReportCommands(app);
   RegisterDeviceCommands(app, globals);
 
   try {

@@ -1,0 +1,225 @@
+// `vibid report`: one HTML page with inline SVG from the files the other commands write — the
+// identification (`vibid identify --report DIR`) and observer recordings (`vibid dob run`).
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <iostream>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "cli_support.hpp"
+#include "commands.hpp"
+#include "vibid/common/csv.hpp"
+#include "vibid/common/atomic_file.hpp"
+#include "vibid/common/error.hpp"
+#include "vibid/common/json_file.hpp"
+#include "vibid/dob/compare.hpp"
+#include "vibid/model/model.hpp"
+#include "vibid/model/model_json.hpp"
+#include "vibid/report/html.hpp"
+#include "vibid/report/svg_plot.hpp"
+
+namespace vibid::cli {
+namespace {
+
+constexpr const char* kTestColor = "#222222";
+constexpr const char* kNominalColor = "#d62728";
+constexpr const char* kUpdatedColor = "#1f77b4";
+constexpr const char* kPalette[] = {"#1f77b4", "#d62728", "#2ca02c", "#9467bd", "#ff7f0e"};
+
+struct Args {
+  std::string title = "vibid rig report";
+  std::string identify_dir;
+  std::string truth;
+  std::string dob_recording;
+  std::string measured;
+  std::vector<std::string> estimates;
+  double skip_s = 0.0;
+  std::vector<std::string> notes;
+  std::string out;
+};
+
+std::string Fixed(double v, int digits) {
+  char text[64];
+  std::snprintf(text, sizeof text, "%.*f", digits, v);
+  return text;
+}
+
+std::string Sig(double v) {
+  char text[64];
+  std::snprintf(text, sizeof text, "%.6g", v);
+  return text;
+}
+
+double Get(const nlohmann::json& j, const char* key, const std::string& where) {
+  Require(j.contains(key) && j.at(key).is_number(), where + ": missing number \"" + key + "\"");
+  return j.at(key).get<double>();
+}
+
+void ValidationTables(const nlohmann::json& report, const std::string& where, const model::Model* truth,
+                      report::HtmlPage& page) {
+  Require(report.contains("validation") && report["validation"].is_object(), where + ": no \"validation\" object");
+  const nlohmann::json& v = report["validation"];
+  std::vector<std::vector<std::string>> rows;
+  const char* quantities[][2] = {{"omega_rad_s", "omega (rad/s)"}, {"zeta", "zeta"}, {"ratio", "a1/a2"}};
+  for (std::size_t i = 0; i < v.at("modes").size(); ++i) {
+    const nlohmann::json& mode = v["modes"][i];
+    for (const auto& q : quantities) {
+      if (!mode.contains(q[0])) continue;
+      const nlohmann::json& x = mode[q[0]];
+      rows.push_back({std::to_string(i + 1), q[1], Sig(Get(x, "nominal", where)), Sig(Get(x, "updated", where)),
+                      Sig(Get(x, "test", where)), Fixed(Get(x, "nominal_dev_percent", where), 2),
+                      Fixed(Get(x, "updated_dev_percent", where), 2)});
+    }
+  }
+  page.Table({"mode", "quantity", "nominal", "updated", "test", "nominal dev %", "updated dev %"}, rows,
+             "Deviation of each model from the test (methods §8).");
+
+  std::vector<std::string> header{"position", "quantity", "nominal", "updated", "change %"};
+  if (truth != nullptr) {
+    header.push_back("truth");
+    header.push_back("updated vs truth %");
+  }
+  rows.clear();
+  for (std::size_t p = 0; p < v.at("positions").size(); ++p) {
+    const nlohmann::json& pos = v["positions"][p];
+    const auto i = static_cast<Eigen::Index>(p);
+    struct Q {
+      const char* key;
+      const char* name;
+      double truth;
+    };
+    const bool have_truth = truth != nullptr && i < truth->dofs();
+    const double m_true = have_truth ? truth->m_kg(i, i) : 0.0;
+    // Chain springs of the truth: k_last = K_nn, k_i = K_ii - k_{i+1} (the source's convention).
+    double k_true = 0.0;
+    if (have_truth) {
+      k_true = truth->k_n_per_m(i, i) - (i + 1 < truth->dofs() ? -truth->k_n_per_m(i, i + 1) : 0.0);
+    }
+    for (const Q& q : {Q{"m_kg", "m (kg)", m_true}, Q{"k_n_per_m", "k (N/m)", k_true}}) {
+      const nlohmann::json& x = pos.at(q.key);
+      const double updated = Get(x, "updated", where);
+      std::vector<std::string> row{std::to_string(p + 1), q.name, Sig(Get(x, "nominal", where)), Sig(updated),
+                                   Fixed(Get(x, "change_percent", where), 2)};
+      if (truth != nullptr) {
+        row.push_back(have_truth ? Sig(q.truth) : "");
+        row.push_back(have_truth ? Fixed(100.0 * (updated - q.truth) / q.truth, 2) : "");
+      }
+      rows.push_back(row);
+    }
+  }
+  page.Table(header, rows,
+             truth != nullptr ? "Physical parameters: change from nominal, and error of the update against the rig's truth."
+                              : "Physical parameters: change from nominal.");
+}
+
+void FrfFigures(const std::string& overlay_path, report::HtmlPage& page) {
+  const CsvTable t = ReadCsv(overlay_path);
+  const Eigen::VectorXd f = t.Column("freq_hz");
+  for (const std::string& name : t.names) {
+    const std::string suffix = "_test";
+    if (name.size() <= suffix.size() || name.compare(name.size() - suffix.size(), suffix.size(), suffix) != 0) continue;
+    const std::string base = name.substr(0, name.size() - suffix.size());
+    std::vector<report::Series> series{{.label = "measured", .x = f, .y = t.Column(name), .color = kTestColor}};
+    if (t.Has(base + "_nominal")) {
+      series.push_back({.label = "nominal model", .x = f, .y = t.Column(base + "_nominal"), .color = kNominalColor, .dashed = true});
+    }
+    if (t.Has(base + "_updated")) {
+      series.push_back({.label = "updated model", .x = f, .y = t.Column(base + "_updated"), .color = kUpdatedColor});
+    }
+    const std::string io = base.size() >= 3 ? base.substr(1) : base;
+    const std::string title = "Receptance |H" + io + "| (response " + io.substr(0, io.size() / 2) + ", hammer " +
+                              io.substr(io.size() / 2) + ")";
+    page.Figure(report::SvgPlot(series, {.title = title,
+                                         .x = {"frequency (Hz)", report::Scale::kLog},
+                                         .y = {"|H| (m/N)", report::Scale::kLog}}),
+                "Measured receptance (first modal test) against the nominal and the updated model.");
+  }
+}
+
+void ObserverSection(const Args& a, report::HtmlPage& page) {
+  const Recording rec = LoadRecording(a.dob_recording);
+  const Eigen::VectorXd t = rec.table.Column(rec.table.Has("t_s") ? "t_s" : rec.table.names.front());
+  const Eigen::VectorXd measured = rec.Signal(ParseColumnSpec(a.measured));
+  const auto skip = static_cast<Eigen::Index>(std::llround(a.skip_s * rec.fs_hz));
+  Require(2 * skip + 2 <= measured.size(), "--skip-s " + std::to_string(a.skip_s) + " s at both ends leaves fewer than 2 samples");
+  const Eigen::Index n = measured.size() - 2 * skip;
+
+  std::vector<std::vector<std::string>> rows;
+  std::vector<report::Series> series{{.label = "measured (" + a.measured + ")", .x = t.segment(skip, n),
+                                      .y = measured.segment(skip, n), .color = kTestColor}};
+  for (std::size_t i = 0; i < a.estimates.size(); ++i) {
+    const std::string& spec = a.estimates[i];
+    const std::size_t eq = spec.find('=');
+    const std::string column = spec.substr(0, eq);
+    const std::string label = eq == std::string::npos ? column : spec.substr(eq + 1);
+    Require(!column.empty() && !label.empty(), "--estimate '" + spec + "': expected COLUMN or COLUMN=LABEL");
+    const Eigen::VectorXd e = rec.Signal(ParseColumnSpec(column));
+    const dob::Agreement g = dob::CompareSignals(e.segment(skip, n), measured.segment(skip, n), rec.fs_hz, 0.0);
+    rows.push_back({label, column, Fixed(g.fit_percent, 2), Fixed(g.correlation, 5), Sig(g.delay_s), Sig(g.rmse_n)});
+    series.push_back({.label = label, .x = t.segment(skip, n), .y = e.segment(skip, n),
+                      .color = kPalette[(i + 1) % (sizeof kPalette / sizeof kPalette[0])], .dashed = i > 0});
+  }
+  page.Table({"estimate", "column", "fit %", "correlation", "delay (s)", "rmse (N)"}, rows,
+             "Agreement with the measured force: fit = 100 (1 - |m - e| / |m - mean(m)|), " + Fixed(a.skip_s, 2) +
+                 " s left out at each end.");
+  page.Figure(report::SvgPlot(series, {.title = "Disturbance estimate against the measured push",
+                                       .x = {"time (s)", report::Scale::kLinear},
+                                       .y = {"force (N)", report::Scale::kLinear},
+                                       .height_px = 380}),
+              a.dob_recording);
+}
+
+void Run(const Args& a) {
+  Require(!a.identify_dir.empty() || !a.dob_recording.empty(), "give --identify DIR, --dob REC.csv, or both");
+  Require(a.dob_recording.empty() || (!a.measured.empty() && !a.estimates.empty()),
+          "--dob needs --measured COLUMN and at least one --estimate COLUMN[=LABEL]");
+  report::HtmlPage page(a.title);
+  if (!a.notes.empty()) page.List(a.notes);
+  if (!a.identify_dir.empty()) {
+    const std::filesystem::path dir(a.identify_dir);
+    const std::string json_path = (dir / "report.json").string();
+    const nlohmann::json report = ReadJsonFile(json_path);
+    std::unique_ptr<model::Model> truth;
+    if (!a.truth.empty()) truth = std::make_unique<model::Model>(model::LoadModel(a.truth));
+    page.Heading("Identification");
+    ValidationTables(report, json_path, truth.get(), page);
+    if (report.contains("warnings") && report["warnings"].is_array() && !report["warnings"].empty()) {
+      page.Paragraph("Warnings:");
+      page.List(report["warnings"].get<std::vector<std::string>>());
+    }
+    page.Heading("Frequency response functions");
+    FrfFigures((dir / "frf_overlay.csv").string(), page);
+  }
+  if (!a.dob_recording.empty()) {
+    page.Heading("Disturbance observer");
+    ObserverSection(a, page);
+  }
+  WriteFileAtomic(a.out, page.Render());
+  std::cout << "wrote " << a.out << "\n";
+}
+
+}  // namespace
+
+void RegisterReportCommands(CLI::App& app) {
+  auto a = std::make_shared<Args>();
+  CLI::App* cmd = app.add_subcommand(
+      "report",
+      "One HTML page (inline SVG, no scripts) from an identification (`vibid identify --report DIR`): validation\n"
+      "table and FRFs measured/nominal/updated; and from an observer recording (`vibid dob run`): fit of each\n"
+      "estimate to the measured force and the traces over time.");
+  cmd->add_option("--identify", a->identify_dir, "Directory written by `vibid identify --report`");
+  cmd->add_option("--truth", a->truth, "Model file of the rig's true values (e.g. `vibid-emu --print-truth`): adds the error of the update");
+  cmd->add_option("--dob", a->dob_recording, "Recording with the measured force and the estimates (CSV)");
+  cmd->add_option("--measured", a->measured, "Measured force column of --dob");
+  cmd->add_option("--estimate", a->estimates, "COLUMN[=LABEL]: an estimate to score and plot; repeat for several");
+  cmd->add_option("--skip-s", a->skip_s, "Seconds left out at each end of --dob (start-up, filter edges)")
+      ->check(NonNegativeNumber())->capture_default_str();
+  cmd->add_option("--note", a->notes, "A line for the top of the report (rig, firmware, checks); repeat for several");
+  cmd->add_option("--title", a->title, "Page title")->capture_default_str();
+  cmd->add_option("-o,--output", a->out, "HTML file to write")->required();
+  cmd->callback([a] { Run(*a); });
+}
+
+}  // namespace vibid::cli
