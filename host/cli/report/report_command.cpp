@@ -1,9 +1,11 @@
 // `vibid report`: one HTML page with inline SVG from the files the other commands write — the
 // identification (`vibid identify --report DIR`) and observer recordings (`vibid dob run`).
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
 #include <iostream>
+#include <limits>
 #include <memory>
 #include <string>
 #include <vector>
@@ -114,8 +116,34 @@ void ValidationTables(const nlohmann::json& report, const std::string& where, co
                               : "Physical parameters: change from nominal.");
 }
 
-void FrfFigures(const std::string& overlay_path, report::HtmlPage& page) {
-  const CsvTable t = ReadCsv(overlay_path);
+// The band worth looking at: from a fifth of the lowest test mode to three times the highest
+// (the rest of the record's band up to Nyquist is noise and the anti-alias roll-off).
+void FrfBand(const nlohmann::json& report, double& lo_hz, double& hi_hz) {
+  lo_hz = 0.0;
+  hi_hz = std::numeric_limits<double>::infinity();
+  if (!report.contains("test_modes") || !report["test_modes"].is_array() || report["test_modes"].empty()) return;
+  double f_min = std::numeric_limits<double>::infinity(), f_max = 0.0;
+  for (const auto& m : report["test_modes"]) {
+    if (!m.contains("freq_hz") || !m["freq_hz"].is_number()) return;
+    f_min = std::min(f_min, m["freq_hz"].get<double>());
+    f_max = std::max(f_max, m["freq_hz"].get<double>());
+  }
+  lo_hz = f_min / 5.0;
+  hi_hz = f_max * 3.0;
+}
+
+void FrfFigures(const std::string& overlay_path, double lo_hz, double hi_hz, report::HtmlPage& page) {
+  const CsvTable all = ReadCsv(overlay_path);
+  Require(all.Has("freq_hz"), overlay_path + ": no column 'freq_hz'");
+  std::vector<Eigen::Index> keep;
+  const Eigen::VectorXd f_all = all.Column("freq_hz");
+  for (Eigen::Index i = 0; i < f_all.size(); ++i) {
+    if (f_all[i] >= lo_hz && f_all[i] <= hi_hz) keep.push_back(i);
+  }
+  Require(keep.size() >= 2, overlay_path + ": fewer than 2 frequency lines between " + Sig(lo_hz) + " and " + Sig(hi_hz) + " Hz");
+  CsvTable t;
+  t.names = all.names;
+  for (const Eigen::VectorXd& c : all.columns) t.columns.push_back(c(keep));
   const Eigen::VectorXd f = t.Column("freq_hz");
   for (const std::string& name : t.names) {
     const std::string suffix = "_test";
@@ -190,7 +218,9 @@ void Run(const Args& a) {
       page.List(report["warnings"].get<std::vector<std::string>>());
     }
     page.Heading("Frequency response functions");
-    FrfFigures((dir / "frf_overlay.csv").string(), page);
+    double lo_hz = 0.0, hi_hz = 0.0;
+    FrfBand(report, lo_hz, hi_hz);
+    FrfFigures((dir / "frf_overlay.csv").string(), lo_hz, hi_hz, page);
   }
   if (!a.dob_recording.empty()) {
     page.Heading("Disturbance observer");
