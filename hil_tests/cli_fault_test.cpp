@@ -1,6 +1,8 @@
 // Faults as a user meets them at the command line: the `vibid` binary against a vibid-emu process
-// that dies mid-pull, and Ctrl-C during an acquisition. The emulator runs in real time here, so a
-// 60 s acquisition is certainly still being pulled when the fault comes.
+// that dies mid-pull, and Ctrl-C during an acquisition (the emulator runs in real time here, so a
+// 60 s acquisition is certainly still being pulled when the fault comes); and against the core
+// target's in-process firmware, reached over a serial socket, with faults injected on its
+// answers: another protocol major, corrupted, truncated and lost reports, an unknown command.
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -11,6 +13,7 @@
 #include <thread>
 
 #include "run_cli.hpp"
+#include "serial_bridge.hpp"
 #include "target.hpp"
 
 namespace vibid::hil {
@@ -92,6 +95,71 @@ TEST_F(CliFaultTest, CtrlCStopsTheAcquisitionAndWritesNothing) {
   ASSERT_EQ(monitor.exit_code, 0) << monitor.err;
   const std::string last_line = monitor.out.substr(monitor.out.rfind('\n', monitor.out.size() - 2) + 1);
   EXPECT_EQ(last_line.substr(last_line.rfind('\t') + 1), "idle\n") << monitor.out;
+}
+
+class CliCoreFaultTest : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    target = MakeTarget();
+    loop = target->loopback();
+    if (loop == nullptr) GTEST_SKIP() << "needs fault injection (the core target)";
+    dir = vibid::testing::MakeTempDir("cli-core");
+    bridge = std::make_unique<SerialBridge>([this] { return loop->Connect(); }, dir + "/core.sock");
+  }
+  void TearDown() override {
+    bridge.reset();
+    std::error_code ec;
+    if (!dir.empty()) std::filesystem::remove_all(dir, ec);
+  }
+  vibid::testing::CliResult Vibid(std::vector<std::string> args) {
+    args.insert(args.begin(), {"--device", bridge->device_spec()});
+    return RunVibid(args);
+  }
+
+  std::unique_ptr<Target> target;
+  CoreLoopback* loop = nullptr;
+  std::string dir;
+  std::unique_ptr<SerialBridge> bridge;
+};
+
+TEST_F(CliCoreFaultTest, AnotherProtocolMajorIsRefusedNamingBothVersions) {
+  loop->SetProtocolMajor(wire::kProtocolMajor + 1);
+  const auto r = Vibid({"info"});
+  EXPECT_EQ(r.exit_code, 4);
+  EXPECT_EQ(r.err, "vibid: error: the device speaks protocol 2.x, this host speaks 1." + std::to_string(wire::kProtocolMinor) +
+                       ": flash firmware that matches this host (vibid flash) or use a matching host\n");
+  EXPECT_TRUE(r.out.empty()) << r.out;
+}
+
+TEST_F(CliCoreFaultTest, CorruptedAndTruncatedAnswersAreRetriedUnseen) {
+  const auto clean = Vibid({"info"});
+  ASSERT_EQ(clean.exit_code, 0) << clean.err;
+  loop->CorruptNext(1);
+  loop->TruncateNext(1);
+  const auto r = Vibid({"info"});
+  EXPECT_FALSE(loop->FaultsPending()) << "both faults reached the link";
+  EXPECT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_EQ(r.out, clean.out) << "the same answer in the end";
+  EXPECT_TRUE(r.err.empty()) << r.err;
+}
+
+TEST_F(CliCoreFaultTest, AnswersThatNeverComeFailWithOneLine) {
+  loop->DropNext(100);
+  const auto r = Vibid({"info"});
+  EXPECT_EQ(r.exit_code, 4);
+  EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << r.err;
+  EXPECT_NE(r.err.find("no answer to get-info"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find(bridge->device_spec()), std::string::npos) << "names the device: " << r.err;
+}
+
+TEST_F(CliCoreFaultTest, UnknownCommandNamesItAndWritesNothing) {
+  // The scenario command exists on the emulator only; this board answers unimplemented.
+  const auto r = Vibid({"acquire", "--seconds", "0.1", "--scenario", "hammer", "-o", dir + "/rec.csv"});
+  EXPECT_EQ(r.exit_code, 4);
+  EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << r.err;
+  EXPECT_NE(r.err.find("select-scenario"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("does not know this command"), std::string::npos) << r.err;
+  EXPECT_FALSE(std::filesystem::exists(dir + "/rec.csv"));
 }
 
 }  // namespace
