@@ -44,6 +44,8 @@ class CoreLoopback {
   void DropStreamReport(int sequence) { drop_sequence_.store(sequence); }
   /// Rewrites the protocol major of every report (a device of another protocol generation).
   void SetProtocolMajor(std::uint8_t major) { major_.store(major); }
+  /// True while injected corruptions, truncations or drops have not all been applied yet.
+  bool FaultsPending() const { return corrupt_ > 0 || truncate_ > 0 || drop_ > 0; }
   /// Frames the simulated sensors produce per device-loop step while sampling.
   void SetFramesPerStep(int frames) { frames_per_step_.store(frames); }
 

@@ -49,6 +49,7 @@ class EmuTarget final : public Target {
     emu_.Kill();
     return true;
   }
+  EmulatorProcess* emulator() override { return &emu_; }
 
  private:
   EmulatorProcess emu_;
@@ -98,15 +99,20 @@ class QemuTarget final : public Target {
 
 }  // namespace
 
-std::unique_ptr<Target> MakeTarget() {
-  const char* env = std::getenv("VIBID_TARGET");
-  const std::string name = env == nullptr ? "" : env;
+std::string EmulatorBinary() {
   // VIBID_EMU overrides the emulator binary the build knows.
   const char* emu = std::getenv("VIBID_EMU");
 #ifdef VIBID_EMU_PATH
   if (emu == nullptr || *emu == '\0') emu = VIBID_EMU_PATH;
 #endif
-  if ((name.empty() || name == "emu") && emu != nullptr && *emu != '\0') return std::make_unique<EmuTarget>(emu);
+  return emu == nullptr ? "" : emu;
+}
+
+std::unique_ptr<Target> MakeTarget() {
+  const char* env = std::getenv("VIBID_TARGET");
+  const std::string name = env == nullptr ? "" : env;
+  const std::string emu = EmulatorBinary();
+  if ((name.empty() || name == "emu") && !emu.empty()) return std::make_unique<EmuTarget>(emu);
   if (name == "emu") throw std::invalid_argument("VIBID_TARGET=emu needs VIBID_EMU (the vibid-emu binary)");
   if (name.empty() || name == "core") return std::make_unique<CoreTarget>();
   if (name == "hid") return std::make_unique<HidTarget>();

@@ -9,6 +9,7 @@
 #include <string>
 
 #include "core_loopback.hpp"
+#include "emulator_process.hpp"
 #include "vibid/device/connection.hpp"
 
 namespace vibid::hil {
@@ -32,7 +33,12 @@ class Target {
   virtual bool Kill() { return false; }
   /// True if samples only arrive through Feed.
   virtual bool NeedsFeed() const { return false; }
+  /// The vibid-emu process behind the target (USB/IP, flash file); null on other targets.
+  virtual EmulatorProcess* emulator() { return nullptr; }
 };
+
+/// The vibid-emu binary (VIBID_EMU, else the one built with the suite); empty when there is none.
+std::string EmulatorBinary();
 
 /// The target VIBID_TARGET names (a fresh one per call: a test owns its device).
 std::unique_ptr<Target> MakeTarget();

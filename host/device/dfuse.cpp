@@ -6,6 +6,7 @@
 #include <cstdlib>
 #include <thread>
 
+#include "vibid/common/error.hpp"
 #include "vibid/device/error.hpp"
 
 namespace vibid::device {
@@ -165,47 +166,94 @@ void DfuSe::Leave(std::uint32_t address) {
   }
 }
 
-void FlashImage(DfuSe& dfu, const std::vector<DfuSeSector>& layout, std::span<const std::uint8_t> image,
-                std::uint32_t address, const FlashProgress& progress) {
-  if (image.empty()) throw DeviceError("the image is empty");
+FlashPlan PlanFlash(const std::vector<DfuSeSector>& layout, std::span<const std::uint8_t> image,
+                    std::uint32_t address, std::span<const FlashRange> keep) {
+  if (image.empty()) throw InputError("the image is empty");
   const std::uint64_t end = std::uint64_t{address} + image.size();
-  std::vector<std::uint32_t> erase;
-  for (const DfuSeSector& s : layout) {
-    if (s.address < end && std::uint64_t{s.address} + s.bytes > address) erase.push_back(s.address);
+  const std::uint64_t flash_end = layout.empty() ? 0 : std::uint64_t{layout.back().address} + layout.back().bytes;
+  if (layout.empty() || address < layout.front().address || end > flash_end) {
+    throw InputError("the image (" + std::to_string(image.size()) + " bytes at " + Hex(address) +
+                     ") does not fit the flash (" + std::to_string(flash_end - (layout.empty() ? 0 : layout.front().address)) +
+                     " bytes at " + Hex(layout.empty() ? 0 : layout.front().address) + ")");
   }
-  const std::uint64_t covered = layout.empty() ? 0 : std::uint64_t{layout.back().address} + layout.back().bytes;
-  if (layout.empty() || address < layout.front().address || end > covered) {
-    throw DeviceError("the image (" + std::to_string(image.size()) + " bytes at " + Hex(address) + ") does not fit the flash");
+  FlashPlan plan;
+  for (const DfuSeSector& s : layout) {
+    const std::uint64_t s_end = std::uint64_t{s.address} + s.bytes;
+    if (s_end <= address || s.address >= end) continue;
+    const std::uint64_t from = std::max<std::uint64_t>(s.address, address);
+    const std::uint64_t to = std::min(s_end, end);
+    const bool kept = std::any_of(keep.begin(), keep.end(), [&](const FlashRange& k) {
+      return k.address < s_end && std::uint64_t{k.address} + k.bytes > s.address;
+    });
+    if (kept) {
+      const auto part = image.subspan(static_cast<std::size_t>(from - address), static_cast<std::size_t>(to - from));
+      const auto data = std::find_if(part.begin(), part.end(), [](std::uint8_t b) { return b != 0xFF; });
+      if (data != part.end()) {
+        const auto at = static_cast<std::uint32_t>(from + static_cast<std::uint64_t>(data - part.begin()));
+        throw InputError("the image has data at " + Hex(at) + ", in the sector at " + Hex(s.address) +
+                         " that holds the calibration and is never flashed; leave it 0xff (objcopy --gap-fill 0xff)");
+      }
+      continue;
+    }
+    plan.erase.push_back(s.address);
+    if (!plan.write.empty() && std::uint64_t{plan.write.back().address} + plan.write.back().bytes == from) {
+      plan.write.back().bytes += static_cast<std::uint32_t>(to - from);
+    } else {
+      plan.write.push_back(FlashRange{static_cast<std::uint32_t>(from), static_cast<std::uint32_t>(to - from)});
+    }
+  }
+  return plan;
+}
+
+void FlashImage(DfuSe& dfu, const std::vector<DfuSeSector>& layout, std::span<const std::uint8_t> image,
+                std::uint32_t address, std::span<const FlashRange> keep, const FlashProgress& progress) {
+  FlashPlan plan;
+  try {
+    plan = PlanFlash(layout, image, address, keep);
+  } catch (const InputError& e) {
+    throw DeviceError(std::string("the bootloader's flash layout refuses this image: ") + e.what());
   }
   const DfuStatusReply start = dfu.GetStatus();
   if (start.state == DfuState::kError) dfu.ClearStatus();
   if (start.state != DfuState::kIdle) dfu.Abort();
-  for (std::size_t i = 0; i < erase.size(); ++i) {
-    dfu.EraseSector(erase[i]);
-    if (progress) progress("erase", i + 1, erase.size());
+  for (std::size_t i = 0; i < plan.erase.size(); ++i) {
+    dfu.EraseSector(plan.erase[i]);
+    if (progress) progress("erase", i + 1, plan.erase.size());
   }
+  // Each part is written from its own address pointer, block 2 onwards (UM0424 §6.2).
   const std::size_t ts = dfu.transfer_size();
-  const std::size_t blocks = (image.size() + ts - 1) / ts;
-  dfu.SetAddress(address);
-  for (std::size_t b = 0; b < blocks; ++b) {
-    const auto chunk = image.subspan(b * ts, std::min(ts, image.size() - b * ts));
-    dfu.Download(static_cast<std::uint16_t>(b + 2), chunk);
-    if (progress) progress("download", b + 1, blocks);
-  }
-  // Read back: set the pointer, return to dfuIDLE, then UPLOAD blocks from 2.
-  dfu.SetAddress(address);
-  dfu.Abort();
-  for (std::size_t b = 0; b < blocks; ++b) {
-    const std::size_t n = std::min(ts, image.size() - b * ts);
-    const std::vector<std::uint8_t> got = dfu.Upload(static_cast<std::uint16_t>(b + 2), static_cast<std::uint16_t>(n));
-    const auto want = image.subspan(b * ts, n);
-    if (got.size() != n) throw DeviceError("verify: block " + std::to_string(b + 2) + " read back short");
-    const auto diff = std::mismatch(want.begin(), want.end(), got.begin());
-    if (diff.first != want.end()) {
-      const auto at = static_cast<std::uint32_t>(address + b * ts + static_cast<std::size_t>(diff.first - want.begin()));
-      throw DeviceError("verify failed at " + Hex(at) + ": the flash does not hold the image");
+  std::size_t blocks = 0;
+  for (const FlashRange& r : plan.write) blocks += (r.bytes + ts - 1) / ts;
+  const auto part_of = [&](const FlashRange& r) { return image.subspan(r.address - address, r.bytes); };
+  std::size_t done = 0;
+  for (const FlashRange& r : plan.write) {
+    const auto part = part_of(r);
+    dfu.SetAddress(r.address);
+    for (std::size_t b = 0; b * ts < part.size(); ++b) {
+      dfu.Download(static_cast<std::uint16_t>(b + 2), part.subspan(b * ts, std::min(ts, part.size() - b * ts)));
+      if (progress) progress("download", ++done, blocks);
     }
-    if (progress) progress("verify", b + 1, blocks);
+  }
+  // Read back: back to dfuIDLE (DNLOAD is not allowed in dfuUPLOAD-IDLE), set the pointer,
+  // dfuIDLE again, then UPLOAD blocks from 2.
+  done = 0;
+  for (const FlashRange& r : plan.write) {
+    const auto part = part_of(r);
+    dfu.Abort();
+    dfu.SetAddress(r.address);
+    dfu.Abort();
+    for (std::size_t b = 0; b * ts < part.size(); ++b) {
+      const std::size_t n = std::min(ts, part.size() - b * ts);
+      const std::vector<std::uint8_t> got = dfu.Upload(static_cast<std::uint16_t>(b + 2), static_cast<std::uint16_t>(n));
+      const auto want = part.subspan(b * ts, n);
+      if (got.size() != n) throw DeviceError("verify: the block at " + Hex(static_cast<std::uint32_t>(r.address + b * ts)) + " read back short");
+      const auto diff = std::mismatch(want.begin(), want.end(), got.begin());
+      if (diff.first != want.end()) {
+        const auto at = static_cast<std::uint32_t>(r.address + b * ts + static_cast<std::size_t>(diff.first - want.begin()));
+        throw DeviceError("verify failed at " + Hex(at) + ": the flash does not hold the image");
+      }
+      if (progress) progress("verify", ++done, blocks);
+    }
   }
   dfu.Abort();
   dfu.Leave(address);

@@ -2,40 +2,22 @@
 // host erases the sectors the image covers, downloads it, reads it back byte for byte and leaves
 // the bootloader, which starts the new firmware.
 #include <chrono>
+#include <cstdio>
 #include <cstdlib>
 #include <iostream>
-#include <thread>
 
 #include "cli_support.hpp"
 #include "device_commands.hpp"
 #include "session.hpp"
 #include "vibid/common/atomic_file.hpp"
 #include "vibid/common/error.hpp"
-#include "vibid/device/dfuse.hpp"
 #include "vibid/device/error.hpp"
-#include "vibid/device/libusb_control.hpp"
-#include "vibid/device/select.hpp"
-#include "vibid/device/usbip_transport.hpp"
+#include "vibid/device/flash_board.hpp"
 
 namespace vibid::cli {
 namespace {
 
 constexpr std::uint32_t kFlashBase = 0x08000000u;
-constexpr auto kReenumerationTimeout = std::chrono::seconds(10);
-
-/// Retries `open` until the bootloader has enumerated (the board needs a moment to re-attach).
-template <typename Open>
-auto AwaitBootloader(Open open) {
-  const auto deadline = std::chrono::steady_clock::now() + kReenumerationTimeout;
-  for (;;) {
-    try {
-      return open();
-    } catch (const device::DeviceError&) {
-      if (std::chrono::steady_clock::now() > deadline) throw;
-      std::this_thread::sleep_for(std::chrono::milliseconds(100));
-    }
-  }
-}
 
 struct FlashOptions {
   std::string image;
@@ -52,49 +34,33 @@ void RegisterFlashCommand(CLI::App& app, const GlobalOptions& globals) {
   flash->callback([&globals, o] {
     const std::string text = ReadFileText(o->image);
     const std::vector<std::uint8_t> image(text.begin(), text.end());
-    Require(!image.empty(), o->image + ": the image is empty");
     char* end = nullptr;
     const unsigned long long address = std::strtoull(o->address.c_str(), &end, 0);
     Require(!o->address.empty() && *end == '\0' && address >= kFlashBase && address <= 0xFFFFFFFFull,
             "--address '" + o->address + "' must be a flash address from 0x08000000");
-    device::DeviceSpec spec = device::ParseDeviceSpec(globals.device);
+    const device::DeviceSpec spec = device::ParseDeviceSpec(globals.device);
+    ProgressBar erase("erase"), download("download"), verify("verify");
+    const device::FlashProgress progress = [&](const std::string& phase, std::uint64_t done, std::uint64_t total) {
+      (phase == "erase" ? erase : phase == "download" ? download : verify).Update(done, total);
+    };
+    const auto started = std::chrono::steady_clock::now();
+    device::FlashBoardResult result;
     try {
-      if (spec.kind == device::DeviceSpec::Kind::kAny) {
-        const auto all = device::ListDevices();
-        if (all.size() == 1) spec = device::ParseDeviceSpec(all[0].spec);
-      }
-      Require(spec.kind != device::DeviceSpec::Kind::kSerial, "the QEMU image has no bootloader: flash needs hid or usbip");
-      // The application, if it runs, enters the bootloader; a board already in DFU goes straight on.
-      try {
-        device::Connection c(device::OpenTransport(spec));
-        if ((c.info().capabilities & wire::kCapDfu) == 0) throw DeviceError("this board cannot enter DFU");
-        static_cast<void>(c.Expect(wire::Command::kEnterDfu));
-        std::cerr << "vibid: board entered its bootloader\n";
-      } catch (const device::DeviceError& e) {
-        std::cerr << "vibid: no running application (" << e.what() << "); looking for a bootloader\n";
-      }
-      ProgressBar erase("erase"), download("download"), verify("verify");
-      const device::FlashProgress progress = [&](const std::string& phase, std::uint64_t done, std::uint64_t total) {
-        (phase == "erase" ? erase : phase == "download" ? download : verify).Update(done, total);
-      };
-      std::vector<device::DfuSeSector> layout;
-      if (spec.kind == device::DeviceSpec::Kind::kUsbip) {
-        auto usb = AwaitBootloader([&] {
-          return device::UsbipDevice::Open(spec.host, spec.port, {}, device::kDfuSeVendorId, device::kDfuSeProductId);
-        });
-        device::DfuSe dfu = device::DfuSe::Open(*usb, layout);
-        device::FlashImage(dfu, layout, image, static_cast<std::uint32_t>(address), progress);
-      } else {
-        auto usb = AwaitBootloader([&] {
-          return device::OpenLibusbControl(device::kDfuSeVendorId, device::kDfuSeProductId, 0);
-        });
-        device::DfuSe dfu = device::DfuSe::Open(*usb, layout);
-        device::FlashImage(dfu, layout, image, static_cast<std::uint32_t>(address), progress);
-      }
+      result = device::FlashBoard(spec, image, static_cast<std::uint32_t>(address), progress,
+                                  [](const std::string& note) { std::cerr << "vibid: " << note << "\n"; });
+    } catch (const InputError& e) {
+      throw InputError(o->image + ": " + e.what());
     } catch (const device::DeviceError& e) {
       throw DeviceError(e.what());
     }
-    std::cout << "flashed " << image.size() << " bytes at " << o->address << ", verified; the board restarts\n";
+    const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();
+    std::uint64_t written = 0;
+    for (const device::FlashRange& r : result.plan.write) written += r.bytes;
+    char line[200];
+    std::snprintf(line, sizeof(line),
+                  "flashed %zu bytes at %s in %.2f s (%llu written, %zu sectors erased, calibration kept), verified; the board restarts\n",
+                  image.size(), o->address.c_str(), seconds, static_cast<unsigned long long>(written), result.plan.erase.size());
+    std::cout << line;
   });
 }
 

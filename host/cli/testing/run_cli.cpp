@@ -1,6 +1,7 @@
 #include "run_cli.hpp"
 
 #include <array>
+#include <csignal>
 #include <cstdlib>
 #include <stdexcept>
 
@@ -11,13 +12,13 @@
 
 namespace vibid::testing {
 
-CliResult RunVibid(const std::vector<std::string>& args) {
+VibidProcess::VibidProcess(const std::vector<std::string>& args) {
   int out_pipe[2];
   int err_pipe[2];
   if (::pipe(out_pipe) != 0 || ::pipe(err_pipe) != 0) throw std::runtime_error("pipe failed");
-  const pid_t pid = ::fork();
-  if (pid < 0) throw std::runtime_error("fork failed");
-  if (pid == 0) {
+  pid_ = ::fork();
+  if (pid_ < 0) throw std::runtime_error("fork failed");
+  if (pid_ == 0) {
     ::dup2(out_pipe[1], 1);
     ::dup2(err_pipe[1], 2);
     ::close(out_pipe[0]);
@@ -35,9 +36,27 @@ CliResult RunVibid(const std::vector<std::string>& args) {
   }
   ::close(out_pipe[1]);
   ::close(err_pipe[1]);
+  out_ = out_pipe[0];
+  err_ = err_pipe[0];
+}
+
+VibidProcess::~VibidProcess() {
+  if (pid_ > 0) {
+    ::kill(pid_, SIGKILL);
+    ::waitpid(pid_, nullptr, 0);
+  }
+  if (out_ >= 0) ::close(out_);
+  if (err_ >= 0) ::close(err_);
+}
+
+void VibidProcess::Signal(int signal) {
+  if (pid_ > 0) ::kill(pid_, signal);
+}
+
+CliResult VibidProcess::Wait() {
   CliResult result;
   // Drain both pipes together so a chatty child never blocks on a full pipe.
-  std::array<pollfd, 2> fds{{{out_pipe[0], POLLIN, 0}, {err_pipe[0], POLLIN, 0}}};
+  std::array<pollfd, 2> fds{{{out_, POLLIN, 0}, {err_, POLLIN, 0}}};
   int open_fds = 2;
   char buf[4096];
   while (open_fds > 0) {
@@ -54,11 +73,15 @@ CliResult RunVibid(const std::vector<std::string>& args) {
       }
     }
   }
+  out_ = err_ = -1;
   int status = 0;
-  ::waitpid(pid, &status, 0);
+  ::waitpid(pid_, &status, 0);
+  pid_ = -1;
   result.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status);
   return result;
 }
+
+CliResult RunVibid(const std::vector<std::string>& args) { return VibidProcess(args).Wait(); }
 
 std::string MakeTempDir(const std::string& tag) {
   std::string tmpl = "/tmp/vibid-" + tag + "-XXXXXX";

@@ -1,6 +1,8 @@
 // Runs the `vibid` binary in a child process for CLI tests (exit code, stdout, stderr).
 #pragma once
 
+#include <sys/types.h>
+
 #include <string>
 #include <vector>
 
@@ -10,6 +12,28 @@ struct CliResult {
   int exit_code = -1;
   std::string out;
   std::string err;
+};
+
+/// `vibid ARGS...` running in the background, for tests that act on it while it runs (signals,
+/// pulling the device away). The destructor kills and reaps a child that was not waited for.
+class VibidProcess {
+ public:
+  explicit VibidProcess(const std::vector<std::string>& args);
+  ~VibidProcess();
+  VibidProcess(const VibidProcess&) = delete;
+  VibidProcess& operator=(const VibidProcess&) = delete;
+
+  pid_t pid() const { return pid_; }
+  /// Sends `signal` to the child.
+  void Signal(int signal);
+  /// Collects stdout and stderr until the child closes them, then its exit code (128 + signal
+  /// number when a signal ended it).
+  CliResult Wait();
+
+ private:
+  pid_t pid_ = -1;
+  int out_ = -1;
+  int err_ = -1;
 };
 
 /// Runs `vibid ARGS...` (the binary built alongside the test) and waits for it.

@@ -23,6 +23,19 @@ struct DfuSeSector {
   std::uint32_t bytes = 0;
 };
 
+/// A byte range of the flash.
+struct FlashRange {
+  std::uint32_t address = 0;
+  std::uint32_t bytes = 0;
+};
+
+/// The board's flash as its bootloader describes it (STM32F405, RM0090 §3.3), for checks made
+/// before the board is asked into DFU.
+inline constexpr const char* kBoardFlashLayout = "@Internal Flash  /0x08000000/04*016Kg,01*064Kg,07*128Kg";
+/// The board's calibration slots: sectors 2 and 3 (CAL_SLOTS in the board's linker script).
+/// A firmware image never erases or writes them, so the calibration survives a flash.
+inline constexpr FlashRange kCalibrationSectors{0x08008000u, 0x8000u};
+
 /// Parses a DfuSe memory layout string, e.g. "@Internal Flash  /0x08000000/04*016Kg,01*064Kg,07*128Kg"
 /// (name, start address, then COUNT*SIZE[B|K|M]ATTR groups). InputError-free: throws DeviceError
 /// naming the string when malformed.
@@ -77,10 +90,23 @@ class DfuSe {
 
 using FlashProgress = std::function<void(const std::string& phase, std::uint64_t done, std::uint64_t total)>;
 
-/// Erases the sectors `image` covers from `address`, downloads it, reads it back and compares
-/// byte for byte, then leaves DFU. Throws DeviceError naming the first differing address on a
-/// verify failure.
+/// What flashing an image does: the sectors it erases and the parts of the image it writes.
+struct FlashPlan {
+  std::vector<std::uint32_t> erase;  ///< sector start addresses, ascending
+  std::vector<FlashRange> write;     ///< image parts to download and verify, ascending
+};
+
+/// Plans writing `image` at `address` into the flash `layout` describes, leaving every sector
+/// that holds a `keep` range alone (neither erased nor written). The image's bytes in such a
+/// sector must be 0xFF, the erased value a linker's gap fill gives (`objcopy --gap-fill 0xff`).
+/// Throws InputError naming the problem: an empty image, an image outside the flash, or image
+/// data in a kept sector (with its first address).
+FlashPlan PlanFlash(const std::vector<DfuSeSector>& layout, std::span<const std::uint8_t> image,
+                    std::uint32_t address, std::span<const FlashRange> keep);
+
+/// Runs PlanFlash's plan: erases, downloads, reads back and compares byte for byte, then leaves
+/// DFU. Throws DeviceError naming the first differing address on a verify failure.
 void FlashImage(DfuSe& dfu, const std::vector<DfuSeSector>& layout, std::span<const std::uint8_t> image,
-                std::uint32_t address, const FlashProgress& progress = {});
+                std::uint32_t address, std::span<const FlashRange> keep, const FlashProgress& progress = {});
 
 }  // namespace vibid::device

@@ -17,6 +17,13 @@
 
 namespace vibid::device {
 
+/// bInterfaceClass, bInterfaceSubClass, bInterfaceProtocol of one exported interface.
+struct UsbipInterfaceClass {
+  std::uint8_t interface_class = 0;
+  std::uint8_t subclass = 0;
+  std::uint8_t protocol = 0;
+};
+
 /// One device a USB/IP server exports (OP_REP_DEVLIST).
 struct UsbipExport {
   std::string busid;
@@ -24,6 +31,7 @@ struct UsbipExport {
   std::uint16_t product_id = 0;
   std::uint16_t release = 0;
   std::uint8_t interfaces = 0;
+  std::vector<UsbipInterfaceClass> interface_classes;  ///< one per interface, in order
 };
 
 /// Lists what the server at host:port exports. Throws DeviceError if it cannot be reached.

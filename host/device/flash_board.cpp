@@ -1,0 +1,66 @@
+#include "vibid/device/flash_board.hpp"
+
+#include <chrono>
+#include <thread>
+
+#include "vibid/common/error.hpp"
+#include "vibid/device/connection.hpp"
+#include "vibid/device/error.hpp"
+#include "vibid/device/libusb_control.hpp"
+#include "vibid/device/usbip_transport.hpp"
+
+namespace vibid::device {
+namespace {
+
+constexpr auto kReenumerationTimeout = std::chrono::seconds(10);
+
+/// Retries `open` until the bootloader has enumerated (the board needs a moment to re-attach).
+template <typename Open>
+auto AwaitBootloader(Open open) {
+  const auto deadline = std::chrono::steady_clock::now() + kReenumerationTimeout;
+  for (;;) {
+    try {
+      return open();
+    } catch (const DeviceError&) {
+      if (std::chrono::steady_clock::now() > deadline) throw;
+      std::this_thread::sleep_for(std::chrono::milliseconds(100));
+    }
+  }
+}
+
+}  // namespace
+
+FlashBoardResult FlashBoard(DeviceSpec spec, std::span<const std::uint8_t> image, std::uint32_t address,
+                            const FlashProgress& progress, const std::function<void(const std::string&)>& note) {
+  const std::span<const FlashRange> keep(&kCalibrationSectors, 1);
+  FlashBoardResult result;
+  result.plan = PlanFlash(ParseDfuSeLayout(kBoardFlashLayout), image, address, keep);
+  if (spec.kind == DeviceSpec::Kind::kAny) {
+    const auto all = ListDevices();
+    if (all.size() == 1) spec = ParseDeviceSpec(all[0].spec);
+  }
+  if (spec.kind == DeviceSpec::Kind::kSerial) throw InputError("a serial link has no bootloader: flash needs hid or usbip");
+  // The application, if it runs, enters the bootloader; a board already in DFU goes straight on.
+  try {
+    Connection c(OpenTransport(spec));
+    if ((c.info().capabilities & wire::kCapDfu) == 0) throw DeviceError("this board cannot enter DFU");
+    static_cast<void>(c.Expect(wire::Command::kEnterDfu));
+    result.from_application = true;
+    if (note) note("board entered its bootloader");
+  } catch (const DeviceError& e) {
+    if (note) note(std::string("no running application (") + e.what() + "); looking for a bootloader");
+  }
+  std::vector<DfuSeSector> layout;
+  if (spec.kind == DeviceSpec::Kind::kUsbip) {
+    auto usb = AwaitBootloader([&] { return UsbipDevice::Open(spec.host, spec.port, {}, kDfuSeVendorId, kDfuSeProductId); });
+    DfuSe dfu = DfuSe::Open(*usb, layout);
+    FlashImage(dfu, layout, image, address, keep, progress);
+  } else {
+    auto usb = AwaitBootloader([&] { return OpenLibusbControl(kDfuSeVendorId, kDfuSeProductId, 0); });
+    DfuSe dfu = DfuSe::Open(*usb, layout);
+    FlashImage(dfu, layout, image, address, keep, progress);
+  }
+  return result;
+}
+
+}  // namespace vibid::device
