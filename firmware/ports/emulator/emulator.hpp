@@ -7,8 +7,8 @@
 // the clock follows the wall clock. Samples depend only on the seed and the commands, never on
 // how fast the loop ran.
 //
-// Back-pressure (`speed` 0 only): flat out, the rig samples about a hundred times faster than a
-// host can pull the log over USB/IP, and a board's full log drops records. Since the clock is
+// Back-pressure (`speed` 0 only): flat out, the rig produces log data about ten times faster than
+// a host pulls it over USB/IP (bench/emu), and a board's full log drops records. Since the clock is
 // virtual anyway, simulated time waits instead while a host is pulling and the next record would
 // find the log full. "Pulling" means a log-read stream is being sent, or the log's release point
 // advanced less than kPullWindow of wall time ago; the host that starts an acquisition gets the
