@@ -1,6 +1,7 @@
 // `vibid dob ...` run as a user would: the real binary, real files.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <filesystem>
 #include <fstream>
 
@@ -119,6 +120,38 @@ TEST_F(DobCli, RunRecoversThePushAndCompareScoresIt) {
   ASSERT_EQ(f.exit_code, 0) << f.err;
   const Eigen::VectorXd diff = ReadCsv(dir_ + "/float.csv").Column("d_hat_n") - t.Column("d_hat_n");
   EXPECT_LT(diff.cwiseAbs().maxCoeff(), 1e-3);
+}
+
+// --verify: a second replay of the first replay's Q31 column under another --name equals it bit
+// for bit; one sample changed by one LSB is found and named, exit 3, nothing written.
+TEST_F(DobCli, VerifyFindsAOneLsbDifference) {
+  const std::string first = dir_ + "/first.csv";
+  ASSERT_EQ(RunVibid({"dob", "run", dir_ + "/rec.csv", "--design", dir_ + "/design.json", "--force", "shaker_n", "--response",
+                      "x2_m_mm:mm", "-o", first})
+                .exit_code,
+            0);
+  CsvTable t = ReadCsv(first);
+  ASSERT_TRUE(t.Has("d_hat_q31"));
+  auto r = RunVibid({"dob", "run", first, "--design", dir_ + "/design.json", "--force", "shaker_n", "--response", "x2_m_mm:mm",
+                     "--name", "host", "--verify", "d_hat_q31", "-o", dir_ + "/second.csv"});
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_NE(r.err.find("bit-exact: " + std::to_string(t.Column("t_s").size()) + " samples"), std::string::npos) << r.err;
+  EXPECT_TRUE(ReadCsv(dir_ + "/second.csv").Has("host_q31"));
+
+  const std::size_t q = static_cast<std::size_t>(std::find(t.names.begin(), t.names.end(), "d_hat_q31") - t.names.begin());
+  t.columns[q][1234] += 1.0;
+  WriteFileAtomic(dir_ + "/tampered.csv", FormatCsv(t.names, t.columns));
+  const std::string out = dir_ + "/third.csv";
+  r = RunVibid({"dob", "run", dir_ + "/tampered.csv", "--design", dir_ + "/design.json", "--force", "shaker_n", "--response",
+                "x2_m_mm:mm", "--name", "host", "--verify", "d_hat_q31", "-o", out});
+  EXPECT_EQ(r.exit_code, 3);
+  EXPECT_NE(r.err.find("differs from the replay in 1 of"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("row 1235"), std::string::npos) << r.err;
+  EXPECT_FALSE(std::filesystem::exists(out));
+  // The default stem is taken already.
+  r = RunVibid({"dob", "run", first, "--design", dir_ + "/design.json", "--force", "shaker_n", "--response", "x2_m_mm:mm", "-o", out});
+  EXPECT_EQ(r.exit_code, 1);
+  EXPECT_NE(r.err.find("--name"), std::string::npos) << r.err;
 }
 
 TEST_F(DobCli, RunRefusesBadInput) {

@@ -96,8 +96,30 @@ struct RunArgs {
   bool use_float = false;
   double lowpass_hz = 0.0;
   int lowpass_order = 4;
+  std::string name = "d_hat";
+  std::string verify;
   std::string out;
 };
+
+// Compares the replay with the board's own output, sample for sample: the fixed-point kernel is
+// the same code on both sides, so any difference is a fault (wrong calibration, lost samples).
+void VerifyAgainstBoard(const Recording& rec, const std::string& column, const std::vector<std::int32_t>& replay_q31) {
+  const Eigen::VectorXd board = rec.Signal(ParseColumnSpec(column));
+  std::size_t mismatches = 0;
+  Eigen::Index first = -1;
+  for (Eigen::Index i = 0; i < board.size(); ++i) {
+    if (board[i] != static_cast<double>(replay_q31[static_cast<std::size_t>(i)])) {
+      if (mismatches++ == 0) first = i;
+    }
+  }
+  if (mismatches > 0) {
+    throw NumericalError("the board's " + column + " differs from the replay in " + std::to_string(mismatches) + " of " +
+                         std::to_string(board.size()) + " samples (first at row " + std::to_string(first + 1) +
+                         ": board " + std::to_string(static_cast<long long>(board[first])) + ", replay " +
+                         std::to_string(replay_q31[static_cast<std::size_t>(first)]) + ")");
+  }
+  std::cerr << "vibid: bit-exact: " << board.size() << " samples of " << column << " equal the replay\n";
+}
 
 void RunRun(const RunArgs& a) {
   const Recording rec = LoadRecording(a.recording);
@@ -115,9 +137,12 @@ void RunRun(const RunArgs& a) {
     throw InputError("the observer takes " + std::to_string(sensors) + " response column(s) (" + want + "), got " +
                      std::to_string(responses.size()));
   }
-  for (const char* name : {"d_hat_n", "d_hat_lp_n"}) {
-    Require(!rec.table.Has(name), a.recording + " already has a column '" + std::string(name) + "'");
+  Require(!a.name.empty() && a.name.find(',') == std::string::npos, "--name must be a non-empty column stem");
+  const std::string out_n = a.name + "_n", out_lp = a.name + "_lp_n", out_q31 = a.name + "_q31";
+  for (const std::string& name : {out_n, out_lp, out_q31}) {
+    Require(!rec.table.Has(name), a.recording + " already has a column '" + name + "' (choose another --name)");
   }
+  Require(a.verify.empty() || !a.use_float, "--verify compares the fixed-point replay; it does not go with --float");
   std::vector<Eigen::VectorXd> inputs;
   for (const ColumnSpec& c : responses) inputs.push_back(rec.Signal(c));
   inputs.push_back(rec.Signal(ParseColumnSpec(a.force)));
@@ -126,11 +151,15 @@ void RunRun(const RunArgs& a) {
     Require(a.lowpass_hz < rec.fs_hz / 2.0, "--lowpass-hz must lie below fs/2 = " + std::to_string(rec.fs_hz / 2.0) + " Hz");
   }
   Eigen::VectorXd d_hat;
+  Eigen::VectorXd d_hat_q31;
   if (a.use_float) {
     d_hat = dob::RunFloat(f.paths, inputs);
   } else {
     const dob::FixedRun run = dob::RunFixed(f.description, inputs);
     d_hat = run.d_hat_n;
+    d_hat_q31.resize(d_hat.size());
+    for (Eigen::Index i = 0; i < d_hat.size(); ++i) d_hat_q31[i] = run.d_hat_q31[static_cast<std::size_t>(i)];
+    if (!a.verify.empty()) VerifyAgainstBoard(rec, a.verify, run.d_hat_q31);
     if (run.saturations > 0) {
       std::cerr << "vibid: warning: the fixed-point observer saturated " << run.saturations
                 << " times (inputs beyond the design's full scale)\n";
@@ -138,10 +167,14 @@ void RunRun(const RunArgs& a) {
   }
   std::vector<std::string> names = rec.table.names;
   std::vector<Eigen::VectorXd> columns = rec.table.columns;
-  names.push_back("d_hat_n");
+  names.push_back(out_n);
   columns.push_back(d_hat);
+  if (d_hat_q31.size() > 0) {
+    names.push_back(out_q31);
+    columns.push_back(d_hat_q31);
+  }
   if (a.lowpass_hz != 0.0) {
-    names.push_back("d_hat_lp_n");
+    names.push_back(out_lp);
     columns.push_back(dob::FiltFilt(dob::ButterworthLowpass(a.lowpass_order, a.lowpass_hz, rec.fs_hz), d_hat));
   }
   EmitOutput(FormatCsv(names, columns), a.out);
@@ -205,15 +238,18 @@ void RegisterDobCommands(CLI::App& app) {
   design->callback([design_args] { RunDesign(*design_args); });
 
   auto run_args = std::make_shared<RunArgs>();
-  CLI::App* run = dob->add_subcommand("run", "Replay the observer on a recording; adds d_hat_n (and d_hat_lp_n)");
+  CLI::App* run = dob->add_subcommand("run", "Replay the observer on a recording; adds d_hat_n, d_hat_q31 (fixed point) and d_hat_lp_n");
   run->add_option("recording", run_args->recording, "Recording (CSV, t_s column)")->required();
   run->add_option("--design", run_args->design, "Design file from `vibid dob design`")->required();
   run->add_option("--force", run_args->force, "Measured force column (NAME, NAME:UNIT or NAME*FACTOR)")->required();
   run->add_option("--response", run_args->response, "Sensor column(s), comma separated, in the design's input order")->required();
   auto* fixed_flag = run->add_flag("--fixed", run_args->fixed, "Bit-exact replay of the board's fixed-point filter (default)");
   run->add_flag("--float", run_args->use_float, "The double-precision design instead")->excludes(fixed_flag);
-  run->add_option("--lowpass-hz", run_args->lowpass_hz, "Also write d_hat_lp_n: zero-phase Butterworth low-pass at this cut-off, Hz")->check(PositiveNumber());
+  run->add_option("--lowpass-hz", run_args->lowpass_hz, "Also write NAME_lp_n: zero-phase Butterworth low-pass at this cut-off, Hz")->check(PositiveNumber());
   run->add_option("--lowpass-order", run_args->lowpass_order, "Order of that low-pass")->check(CLI::Range(1, 16))->capture_default_str();
+  run->add_option("--name", run_args->name, "Stem of the added columns: NAME_n, NAME_q31, NAME_lp_n")->capture_default_str();
+  run->add_option("--verify", run_args->verify,
+                  "Board output column (e.g. d_hat_q31 of `vibid acquire`): fail unless the replay equals it bit for bit");
   run->add_option("-o,--output", run_args->out, "CSV to write (default: stdout)");
   run->callback([run_args] { RunRun(*run_args); });
 

@@ -113,10 +113,13 @@ void RegisterIdentify(CLI::App& app) {
   cmd->add_option("--nominal", a->nominal, "Nominal model file (JSON; a chain)")->required();
   cmd->add_option("--mass-test", a->mass_tests, "POS=REC.csv: mass POS (from 1) alone on its spring, hammer test");
   cmd->add_option("--mass-spring", a->mass_springs,
-                  "POS=K: spring (N/m) of that mass test, when it is not the nominal chain spring of POS");
+                  "POS=K: spring (N/m) of that mass test, when it is not the nominal chain spring of POS;\n"
+                  "POS=fit: not known, fitted with the mass");
   cmd->add_option("--modal-test", a->modal_tests, "REC.csv: hammer test of the chain; repeat for several tests")->required();
   cmd->add_option("--force", a->est.force, "Force column in every recording")->capture_default_str();
-  cmd->add_option("--mass-response", a->mass_response, "Response column of the mass tests")->capture_default_str();
+  cmd->add_option("--mass-response", a->mass_response,
+                  "Response column of the mass tests: one for all, or one per --mass-test in order (comma separated)")
+      ->capture_default_str();
   cmd->add_option("--modal-responses", a->modal_responses, "Response columns of the modal tests, one per mass in order")
       ->capture_default_str();
   cmd->add_option("--sensor", a->est.sensor, "What the response channels measure: acc, vel, disp")->capture_default_str();
@@ -143,9 +146,14 @@ void RegisterIdentify(CLI::App& app) {
     est.kind = "receptance";
 
     std::vector<double> springs(n, 0.0);
+    std::vector<bool> fit_springs(n, false);
     for (const std::string& s : a->mass_springs) {
       const auto [pos, value] = ParsePositionAssignment(s, "--mass-spring");
       Require(pos < n, "--mass-spring position " + std::to_string(pos + 1) + " is beyond the model's " + std::to_string(n) + " masses");
+      if (value == "fit") {
+        fit_springs[pos] = true;
+        continue;
+      }
       double k = 0.0;
       std::size_t used = 0;
       try {
@@ -156,17 +164,28 @@ void RegisterIdentify(CLI::App& app) {
       Require(used == value.size() && std::isfinite(k) && k > 0.0, "--mass-spring '" + s + "': stiffness must be a number > 0");
       springs[pos] = k;
     }
+    std::vector<std::string> mass_responses;
+    for (std::size_t from = 0;;) {
+      const std::size_t comma = a->mass_response.find(',', from);
+      mass_responses.push_back(a->mass_response.substr(from, comma == std::string::npos ? std::string::npos : comma - from));
+      if (comma == std::string::npos) break;
+      from = comma + 1;
+    }
+    Require(mass_responses.size() == 1 || mass_responses.size() == a->mass_tests.size(),
+            "--mass-response names " + std::to_string(mass_responses.size()) + " columns for " +
+                std::to_string(a->mass_tests.size()) + " mass tests (give one for all, or one per test)");
     std::vector<ident::MassTestInput> mass_inputs;
     std::vector<std::string> notes;
-    for (const std::string& s : a->mass_tests) {
+    for (std::size_t t = 0; t < a->mass_tests.size(); ++t) {
+      const std::string& s = a->mass_tests[t];
       const auto [pos, path] = ParsePositionAssignment(s, "--mass-test");
       Require(pos < n, "--mass-test position " + std::to_string(pos + 1) + " is beyond the model's " + std::to_string(n) + " masses");
       EstimationArgs me = est;
-      me.responses = a->mass_response;
+      me.responses = mass_responses.size() == 1 ? a->mass_response : mass_responses[t];
       Estimated e = EstimateFromRecording(path, me);
       std::istringstream hits(DescribeHits(e.hits));
       for (std::string line; std::getline(hits, line);) notes.push_back(path + ": " + line);
-      mass_inputs.push_back({pos, std::move(e.frf), springs[pos]});
+      mass_inputs.push_back({pos, std::move(e.frf), springs[pos], fit_springs[pos]});
     }
     std::vector<ident::Frf> modal;
     for (const std::string& path : a->modal_tests) {

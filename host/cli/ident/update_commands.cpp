@@ -51,6 +51,8 @@ nlohmann::json MassUpdateJson(const ident::MassUpdateResult& r) {
           {"nominal_kg", r.nominal_kg},
           {"change_percent", r.change_percent},
           {"zeta", r.zeta},
+          {"zeta_half_power", r.zeta_half_power},
+          {"damping_fitted", r.damping_fitted},
           {"k_n_per_m", r.k_n_per_m},
           {"stiffness_fitted", r.stiffness_fitted},
           {"c_ns_per_m", r.c_ns_per_m},
@@ -115,13 +117,16 @@ void RegisterUpdate(CLI::App& app) {
   CLI::App* mass = update->add_subcommand(
       "mass",
       "Effective mass of one mass alone on its spring (1-DOF hammer test): fit |H| = 1/sqrt((k - m w^2)^2 + (c w)^2)\n"
-      "to the coherence-weighted log receptance around the resonance (Levenberg-Marquardt), c from the half-power damping.");
+      "to the coherence-weighted log receptance around the resonance (Levenberg-Marquardt), c started from the\n"
+      "half-power damping and refined (--fixed-damping keeps it).");
   mass->add_option("input", ma->input, "Recording (REC.csv) or FRF file")->required();
   AddEstimationOptions(mass, ma->est, false, "receptance");
   mass->add_option("--stiffness-n-per-m", ma->options.k_n_per_m, "Known spring stiffness (N/m); omitted: fitted too")
       ->check(PositiveNumber());
   mass->add_option("--nominal-kg", ma->options.nominal_kg, "Nominal mass (kg) for the % change")->check(PositiveNumber());
   mass->add_option("--band", ma->options.band_fraction, "Fitted band: omega within (1 +- band) omega_peak")->capture_default_str();
+  mass->add_flag("--fixed-damping{false}", ma->options.fit_damping,
+                 "Hold c at the half-power value instead of refining it in the fit");
   mass->add_flag("--json", ma->json, "JSON output");
   mass->add_option("-o,--output", ma->output, "Write the result here instead of stdout");
   mass->callback([ma] {
@@ -140,6 +145,7 @@ void RegisterUpdate(CLI::App& app) {
       out << "effective mass " << r.mass_kg << " kg";
       if (r.nominal_kg > 0.0) out << " (nominal " << r.nominal_kg << " kg, " << r.change_percent << " %)";
       out << "\nk " << r.k_n_per_m << " N/m" << (r.stiffness_fitted ? " (fitted)" : " (given)") << ", zeta " << r.zeta
+          << (r.damping_fitted ? " (fitted; half-power " + std::to_string(r.zeta_half_power) + ")" : " (half-power)")
           << ", c " << r.c_ns_per_m << " N*s/m, omega " << r.omega_rad_s << " rad/s\n"
           << "fit: " << ident::TerminationName(r.summary.termination) << ", " << r.summary.iterations << " iterations, "
           << r.lines_fitted << " lines\n";

@@ -119,7 +119,7 @@ IdentifyResult Identify(const model::Model& nominal, const std::vector<MassTestI
     seen[mt.position] = true;
     MassUpdateOptions mo = options.mass;
     const auto pos = static_cast<Eigen::Index>(mt.position);
-    mo.k_n_per_m = mt.k_n_per_m > 0.0 ? mt.k_n_per_m : nominal_chain.springs_n_per_m[pos];
+    mo.k_n_per_m = mt.fit_spring ? 0.0 : mt.k_n_per_m > 0.0 ? mt.k_n_per_m : nominal_chain.springs_n_per_m[pos];
     mo.nominal_kg = nominal_chain.masses_kg[pos];
     MassTestResult r{mt.position, UpdateMass(mt.receptance, 0, mo)};
     if (!r.update.summary.Converged()) {

@@ -38,7 +38,6 @@ MassUpdateResult UpdateMass(const Frf& receptance, std::size_t response, const M
     if (w.rfind(at.str(), 0) == 0) res.warnings.push_back(w);
   }
   res.omega_rad_s = peak.omega_rad_s;
-  res.zeta = peak.zeta;
   res.nominal_kg = options.nominal_kg;
   Require(peak.zeta > 0.0, "mass update: the half-power damping is not positive");
 
@@ -63,31 +62,44 @@ MassUpdateResult UpdateMass(const Frf& receptance, std::size_t response, const M
   }
   // Start: k given (or from the peak height 1/(2 zeta k)), m = k / omega^2.
   res.stiffness_fitted = options.k_n_per_m == 0.0;
+  res.damping_fitted = options.fit_damping;
   // Receptance peak height 1/(2 zeta k) gives the starting stiffness when it is not known.
   const double peak_receptance = std::abs(InterpolateAt(receptance.freq_hz, receptance.h.col(col), peak.freq_hz));
   const double k0 = res.stiffness_fitted ? 1.0 / (2.0 * peak.zeta * peak_receptance) : options.k_n_per_m;
   const double m0 = k0 / (peak.omega_rad_s * peak.omega_rad_s);
-  const double zeta = peak.zeta;
-  const auto model = [&](double m, double k, Eigen::VectorXd& r) {
-    const double c = 2.0 * zeta * std::sqrt(k * m);
+  res.zeta_half_power = peak.zeta;
+  // The window multiplies the impulse response by exp(-a t), a = 1/tau, which moves s to s + a:
+  // the windowed FRF is that of m s^2 + (c + 2 m a) s + (k + c a + m a^2).
+  const double a_w = receptance.exp_window_tau_s > 0.0 ? 1.0 / receptance.exp_window_tau_s : 0.0;
+  const double zeta0 = peak.zeta;
+  const auto model = [&](double m, double k, double c, Eigen::VectorXd& r) {
+    const double c_seen = c + 2.0 * m * a_w;
+    const double k_seen = k + c * a_w + m * a_w * a_w;
     r.resize(nrows);
     for (Eigen::Index i = 0; i < nrows; ++i) {
-      const double re = k - m * omega[i] * omega[i];
-      const double im = c * omega[i];
+      const double re = k_seen - m * omega[i] * omega[i];
+      const double im = c_seen * omega[i];
       r[i] = weight[i] * (-0.5 * std::log(re * re + im * im) - log_mag[i]);
     }
   };
-  Eigen::VectorXd p = Eigen::VectorXd::Zero(res.stiffness_fitted ? 2 : 1);
+  // Parameters are log-scale factors on the start: q = [m, k (if fitted), zeta (if fitted)].
+  const Eigen::Index k_index = res.stiffness_fitted ? 1 : -1;
+  const Eigen::Index zeta_index = options.fit_damping ? (res.stiffness_fitted ? 2 : 1) : -1;
+  Eigen::VectorXd p = Eigen::VectorXd::Zero(1 + (k_index >= 0 ? 1 : 0) + (zeta_index >= 0 ? 1 : 0));
+  const auto unpack = [&](const Eigen::VectorXd& q, double& m, double& k, double& zeta) {
+    m = m0 * std::exp(q[0]);
+    k = k_index >= 0 ? k0 * std::exp(q[k_index]) : k0;
+    zeta = zeta_index >= 0 ? zeta0 * std::exp(q[zeta_index]) : zeta0;
+  };
   const ResidualFunction f = [&](const Eigen::VectorXd& q, Eigen::VectorXd& r) {
-    const double m = m0 * std::exp(q[0]);
-    const double k = res.stiffness_fitted ? k0 * std::exp(q[1]) : k0;
-    model(m, k, r);
+    double m = 0.0, k = 0.0, zeta = 0.0;
+    unpack(q, m, k, zeta);
+    model(m, k, 2.0 * zeta * std::sqrt(k * m), r);
     return true;
   };
   res.summary = LevenbergMarquardt(f, p, options.solver);
-  res.mass_kg = m0 * std::exp(p[0]);
-  res.k_n_per_m = res.stiffness_fitted ? k0 * std::exp(p[1]) : k0;
-  res.c_ns_per_m = 2.0 * zeta * std::sqrt(res.k_n_per_m * res.mass_kg);
+  unpack(p, res.mass_kg, res.k_n_per_m, res.zeta);
+  res.c_ns_per_m = 2.0 * res.zeta * std::sqrt(res.k_n_per_m * res.mass_kg);
   if (options.nominal_kg > 0.0) res.change_percent = 100.0 * (res.mass_kg - options.nominal_kg) / options.nominal_kg;
   return res;
 }

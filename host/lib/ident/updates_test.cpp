@@ -47,6 +47,36 @@ TEST(MassUpdate, FitsStiffnessWhenNotGiven) {
   EXPECT_NEAR(r.k_n_per_m, k, 0.005 * k);
 }
 
+// Half-power damping on a coarse grid: the band spans about 1.5 lines, so zeta comes out high.
+// Held at that value, c drags m and k down together; refined in the fit, both come back.
+TEST(MassUpdate, RefinedDampingRemovesTheCoarseGridBias) {
+  const double m = 1.82, k = 3520.0, c = 2 * 0.02 * std::sqrt(k * m);  // 7.0 Hz, half-power band 0.28 Hz
+  const Frf coarse = SdofReceptance(m, k, c, 0.19, 200);
+  const MassUpdateResult held = UpdateMass(coarse, 0, {.fit_damping = false});
+  const MassUpdateResult fitted = UpdateMass(coarse, 0, {});
+  ASSERT_TRUE(held.summary.Converged() && fitted.summary.Converged());
+  EXPECT_FALSE(held.damping_fitted);
+  EXPECT_EQ(held.zeta, held.zeta_half_power);
+  EXPECT_GT(std::abs(held.mass_kg - m), 0.003 * m) << "the grid is meant to bias the half-power value";
+  EXPECT_TRUE(fitted.damping_fitted);
+  EXPECT_NEAR(fitted.mass_kg, m, 1e-6 * m);
+  EXPECT_NEAR(fitted.k_n_per_m, k, 1e-6 * k);
+  EXPECT_NEAR(fitted.c_ns_per_m, c, 1e-6 * c);
+}
+
+// Exponential window exp(-t/tau): the windowed receptance is H(s + 1/tau) in closed form. The fit
+// models the window and returns the rig's own m, k and c.
+TEST(MassUpdate, ExponentialWindowIsModelled) {
+  const double m = 1.53, k = 2760.0, c = 3.5, tau = 0.8, a = 1.0 / tau;
+  Frf windowed = SdofReceptance(m, k + c * a + m * a * a, c + 2 * m * a, 0.1, 400);
+  windowed.exp_window_tau_s = tau;
+  const MassUpdateResult r = UpdateMass(windowed, 0, {});
+  ASSERT_TRUE(r.summary.Converged()) << r.summary.message;
+  EXPECT_NEAR(r.mass_kg, m, 1e-6 * m);
+  EXPECT_NEAR(r.k_n_per_m, k, 1e-6 * k);
+  EXPECT_NEAR(r.c_ns_per_m, c, 1e-5 * c);
+}
+
 TEST(MassUpdate, BadInputs) {
   const Frf frf = SdofReceptance(1, 1000, 1, 0.01, 2000);
   EXPECT_THROW(UpdateMass(frf, 1, {}), InputError);

@@ -58,6 +58,7 @@ struct MassTestInput {
   std::size_t position = 0;  ///< 0-based mass index.
   Frf receptance;            ///< One response: the mass alone on its spring.
   double k_n_per_m = 0.0;    ///< Spring of the 1-DOF test; 0: the nominal chain spring of `position`.
+  bool fit_spring = false;   ///< The spring is not known: fit it with the mass (k_n_per_m ignored).
 };
 
 struct IdentifyOptions {

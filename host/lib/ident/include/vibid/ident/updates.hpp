@@ -23,6 +23,10 @@ struct MassUpdateOptions {
   /// Fitted band: omega within (1 +- band_fraction) omega_peak.
   double band_fraction = 0.3;
   bool coherence_weighting = true;
+  /// Refine the damping in the fit too, started from the half-power value. Guide friction and a
+  /// short record widen the half-power band; a c held at that value then drags m and k (both
+  /// low by the same factor). false keeps c at the half-power value (methods §6 as written).
+  bool fit_damping = true;
   PeakOptions peaks;
   LmOptions solver{.max_iterations = 100, .function_tolerance = 1e-14, .parameter_tolerance = 1e-12};
 
@@ -33,8 +37,10 @@ struct MassUpdateResult {
   double mass_kg = 0.0;        ///< Effective mass.
   double k_n_per_m = 0.0;      ///< As given, or fitted.
   bool stiffness_fitted = false;
-  double zeta = 0.0;           ///< Half-power damping (exponential-window correction applied).
-  double c_ns_per_m = 0.0;     ///< 2 zeta sqrt(k m).
+  bool damping_fitted = false;
+  double zeta = 0.0;           ///< c / (2 sqrt(k m)): fitted, or the half-power value.
+  double zeta_half_power = 0.0;  ///< Half-power damping (exponential-window correction applied).
+  double c_ns_per_m = 0.0;     ///< Viscous damping of the mass alone (window damping removed).
   double omega_rad_s = 0.0;    ///< Peak-picked resonance.
   double nominal_kg = 0.0;
   double change_percent = 0.0; ///< 100 (m - nominal) / nominal; 0 without a nominal.
@@ -45,7 +51,9 @@ struct MassUpdateResult {
 
 /// Fits |H| = 1 / sqrt((k - m omega^2)^2 + (c omega)^2) (Eq. 6) to the receptance magnitude of
 /// `response` over a band around the largest resonance: coherence-weighted log magnitude,
-/// Levenberg–Marquardt, c = 2 zeta sqrt(k m) from the half-power damping.
+/// Levenberg–Marquardt, c started from the half-power damping (2 zeta sqrt(k m)) and refined
+/// unless options.fit_damping is false. An exponential window on the records adds 2 m / tau to
+/// the damping the windowed FRF shows; the fit models it and reports c without it.
 MassUpdateResult UpdateMass(const Frf& receptance, std::size_t response, const MassUpdateOptions& options);
 
 /// Stiffness (and damping) matrices from one modal test, chain springs by the source's

@@ -1,0 +1,212 @@
+#include "vibid/report/svg_plot.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <limits>
+#include <sstream>
+
+#include "vibid/common/error.hpp"
+#include "vibid/report/html.hpp"
+
+namespace vibid::report {
+namespace {
+
+constexpr double kMarginLeft = 72.0, kMarginRight = 16.0, kMarginTop = 30.0, kMarginBottom = 46.0;
+constexpr double kLegendRow = 16.0;
+
+bool Drawable(double v, Scale scale) { return std::isfinite(v) && (scale == Scale::kLinear || v > 0.0); }
+
+// Axis coordinate: log axes map log10 of the value.
+double AxisValue(double v, Scale scale) { return scale == Scale::kLog ? std::log10(v) : v; }
+
+struct Range {
+  double lo = std::numeric_limits<double>::infinity();
+  double hi = -std::numeric_limits<double>::infinity();
+  bool empty() const { return !(lo <= hi); }
+};
+
+// Widens a range to something a reader can label: flat data gets a band around it, log ranges
+// whole decades, linear ranges the nearest ticks outside.
+Range Padded(Range r, Scale scale) {
+  if (scale == Scale::kLog) {
+    r.lo = std::pow(10.0, std::floor(std::log10(r.lo)));
+    r.hi = std::pow(10.0, std::ceil(std::log10(r.hi)));
+    if (r.hi <= r.lo) r.hi = r.lo * 10.0;
+    return r;
+  }
+  if (r.hi == r.lo) {
+    const double half = r.lo == 0.0 ? 1.0 : 0.5 * std::abs(r.lo);
+    return {r.lo - half, r.hi + half};
+  }
+  const std::vector<double> ticks = LinearTicks(r.lo, r.hi, 6);
+  const double step = ticks.size() >= 2 ? ticks[1] - ticks[0] : (r.hi - r.lo);
+  return {std::floor(r.lo / step) * step, std::ceil(r.hi / step) * step};
+}
+
+std::string Number(double v) {
+  char text[32];
+  std::snprintf(text, sizeof text, "%.1f", v);
+  return text;
+}
+
+std::string TickLabel(double v) {
+  char text[32];
+  if (v == 0.0) return "0";
+  const double a = std::abs(v);
+  std::snprintf(text, sizeof text, a >= 1e5 || a < 1e-3 ? "%.0e" : "%g", v);
+  return text;
+}
+
+// Minimum and maximum per pixel column, in x order, for one run of points in pixel coordinates.
+void AppendReduced(const std::vector<std::pair<double, double>>& run, std::string& points) {
+  const auto emit = [&points](double x, double y) { points += Number(x) + "," + Number(y) + " "; };
+  if (run.size() <= 4) {
+    for (const auto& [x, y] : run) emit(x, y);
+    return;
+  }
+  std::size_t i = 0;
+  while (i < run.size()) {
+    const double column = std::floor(run[i].first);
+    std::size_t j = i, lo = i, hi = i;
+    for (; j < run.size() && std::floor(run[j].first) == column; ++j) {
+      if (run[j].second < run[lo].second) lo = j;
+      if (run[j].second > run[hi].second) hi = j;
+    }
+    if (j - i <= 2) {
+      for (std::size_t k = i; k < j; ++k) emit(run[k].first, run[k].second);
+    } else {
+      const std::size_t first = std::min(lo, hi), second = std::max(lo, hi);
+      emit(run[first].first, run[first].second);
+      if (second != first) emit(run[second].first, run[second].second);
+    }
+    i = j;
+  }
+}
+
+}  // namespace
+
+PlotArea AreaOf(const PlotOptions& o) {
+  return {kMarginLeft, kMarginTop, static_cast<double>(o.width_px) - kMarginRight,
+          static_cast<double>(o.height_px) - kMarginBottom};
+}
+
+std::vector<double> LinearTicks(double lo, double hi, int target) {
+  std::vector<double> ticks;
+  if (!(hi > lo) || !std::isfinite(lo) || !std::isfinite(hi) || target < 2) return ticks;
+  const double raw = (hi - lo) / target;
+  const double decade = std::pow(10.0, std::floor(std::log10(raw)));
+  double step = decade;
+  for (double m : {1.0, 2.0, 5.0, 10.0}) {
+    step = m * decade;
+    if (step >= raw) break;
+  }
+  // Integer multiples of the step, so 0.1 * 3 prints as 0.3 and zero is exactly zero.
+  const auto first = static_cast<long long>(std::ceil(lo / step - 1e-9));
+  const auto last = static_cast<long long>(std::floor(hi / step + 1e-9));
+  for (long long k = first; k <= last; ++k) ticks.push_back(static_cast<double>(k) * step);
+  return ticks;
+}
+
+std::vector<double> LogTicks(double lo, double hi) {
+  std::vector<double> ticks;
+  if (!(lo > 0.0) || !(hi > lo) || !std::isfinite(hi)) return ticks;
+  for (int e = static_cast<int>(std::ceil(std::log10(lo) - 1e-9)); e <= static_cast<int>(std::floor(std::log10(hi) + 1e-9)); ++e) {
+    ticks.push_back(std::pow(10.0, e));
+  }
+  if (ticks.size() >= 2) return ticks;
+  ticks.clear();
+  for (int e = static_cast<int>(std::floor(std::log10(lo))); e <= static_cast<int>(std::ceil(std::log10(hi))); ++e) {
+    for (double m : {1.0, 2.0, 5.0}) {
+      const double v = m * std::pow(10.0, e);
+      if (v >= lo * (1 - 1e-9) && v <= hi * (1 + 1e-9)) ticks.push_back(v);
+    }
+  }
+  return ticks;
+}
+
+std::string SvgPlot(const std::vector<Series>& series, const PlotOptions& o) {
+  Require(!series.empty(), "plot '" + o.title + "': no series");
+  Require(o.width_px >= 200 && o.height_px >= 120, "plot '" + o.title + "': smaller than 200 x 120 px");
+  Range xr, yr;
+  for (const Series& s : series) {
+    Require(s.x.size() == s.y.size(), "plot '" + o.title + "': series '" + s.label + "' has x and y of different lengths");
+    for (Eigen::Index i = 0; i < s.x.size(); ++i) {
+      if (!Drawable(s.x[i], o.x.scale) || !Drawable(s.y[i], o.y.scale)) continue;
+      xr.lo = std::min(xr.lo, s.x[i]);
+      xr.hi = std::max(xr.hi, s.x[i]);
+      yr.lo = std::min(yr.lo, s.y[i]);
+      yr.hi = std::max(yr.hi, s.y[i]);
+    }
+  }
+  Require(!xr.empty() && !yr.empty(), "plot '" + o.title + "': no point can be drawn");
+  if (o.x.scale == Scale::kLinear && xr.hi == xr.lo) xr = Padded(xr, Scale::kLinear);
+  if (o.x.scale == Scale::kLog) xr = Padded(xr, Scale::kLog);
+  yr = Padded(yr, o.y.scale);
+
+  const PlotArea a = AreaOf(o);
+  const double x0 = AxisValue(xr.lo, o.x.scale), x1 = AxisValue(xr.hi, o.x.scale);
+  const double y0 = AxisValue(yr.lo, o.y.scale), y1 = AxisValue(yr.hi, o.y.scale);
+  const auto px = [&](double v) { return a.left + (AxisValue(v, o.x.scale) - x0) / (x1 - x0) * (a.right - a.left); };
+  const auto py = [&](double v) { return a.bottom - (AxisValue(v, o.y.scale) - y0) / (y1 - y0) * (a.bottom - a.top); };
+
+  std::ostringstream svg;
+  svg << "<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"" << o.width_px << "\" height=\"" << o.height_px
+      << "\" viewBox=\"0 0 " << o.width_px << " " << o.height_px << "\" font-family=\"sans-serif\" font-size=\"11\">\n";
+  svg << "<title>" << HtmlEscape(o.title) << "</title>\n";
+  svg << "<text x=\"" << Number(0.5 * (a.left + a.right)) << "\" y=\"18\" text-anchor=\"middle\" font-size=\"13\">"
+      << HtmlEscape(o.title) << "</text>\n";
+  svg << "<rect x=\"" << Number(a.left) << "\" y=\"" << Number(a.top) << "\" width=\"" << Number(a.right - a.left)
+      << "\" height=\"" << Number(a.bottom - a.top) << "\" fill=\"none\" stroke=\"#444\"/>\n";
+  const std::vector<double> xt = o.x.scale == Scale::kLog ? LogTicks(xr.lo, xr.hi) : LinearTicks(xr.lo, xr.hi, 8);
+  const std::vector<double> yt = o.y.scale == Scale::kLog ? LogTicks(yr.lo, yr.hi) : LinearTicks(yr.lo, yr.hi, 6);
+  for (double t : xt) {
+    const double x = px(t);
+    svg << "<line class=\"grid\" x1=\"" << Number(x) << "\" y1=\"" << Number(a.top) << "\" x2=\"" << Number(x) << "\" y2=\""
+        << Number(a.bottom) << "\" stroke=\"#ddd\"/>"
+        << "<text x=\"" << Number(x) << "\" y=\"" << Number(a.bottom + 14) << "\" text-anchor=\"middle\">" << TickLabel(t)
+        << "</text>\n";
+  }
+  for (double t : yt) {
+    const double y = py(t);
+    svg << "<line class=\"grid\" x1=\"" << Number(a.left) << "\" y1=\"" << Number(y) << "\" x2=\"" << Number(a.right)
+        << "\" y2=\"" << Number(y) << "\" stroke=\"#ddd\"/>"
+        << "<text x=\"" << Number(a.left - 4) << "\" y=\"" << Number(y + 4) << "\" text-anchor=\"end\">" << TickLabel(t)
+        << "</text>\n";
+  }
+  svg << "<text x=\"" << Number(0.5 * (a.left + a.right)) << "\" y=\"" << Number(o.height_px - 8.0)
+      << "\" text-anchor=\"middle\">" << HtmlEscape(o.x.label) << "</text>\n";
+  svg << "<text transform=\"translate(14," << Number(0.5 * (a.top + a.bottom)) << ") rotate(-90)\" text-anchor=\"middle\">"
+      << HtmlEscape(o.y.label) << "</text>\n";
+
+  for (std::size_t k = 0; k < series.size(); ++k) {
+    const Series& s = series[k];
+    std::vector<std::pair<double, double>> run;
+    const auto flush = [&] {
+      if (run.empty()) return;
+      std::string points;
+      AppendReduced(run, points);
+      if (!points.empty()) points.pop_back();
+      svg << "<polyline class=\"series\" data-series=\"" << k << "\" fill=\"none\" stroke=\"" << HtmlEscape(s.color)
+          << "\" stroke-width=\"1.3\"" << (s.dashed ? " stroke-dasharray=\"5,3\"" : "") << " points=\"" << points << "\"/>\n";
+      run.clear();
+    };
+    for (Eigen::Index i = 0; i < s.x.size(); ++i) {
+      if (!Drawable(s.x[i], o.x.scale) || !Drawable(s.y[i], o.y.scale)) {
+        flush();
+        continue;
+      }
+      run.emplace_back(px(s.x[i]), py(s.y[i]));
+    }
+    flush();
+    const double ly = a.top + 12.0 + kLegendRow * static_cast<double>(k);
+    svg << "<line x1=\"" << Number(a.right - 150) << "\" y1=\"" << Number(ly - 4) << "\" x2=\"" << Number(a.right - 126)
+        << "\" y2=\"" << Number(ly - 4) << "\" stroke=\"" << HtmlEscape(s.color) << "\" stroke-width=\"2\""
+        << (s.dashed ? " stroke-dasharray=\"5,3\"" : "") << "/><text x=\"" << Number(a.right - 120) << "\" y=\"" << Number(ly)
+        << "\">" << HtmlEscape(s.label) << "</text>\n";
+  }
+  svg << "</svg>\n";
+  return svg.str();
+}
+
+}  // namespace vibid::report
