@@ -1,5 +1,8 @@
 // The acquisition log: fixed-size records in caller-provided storage, written by the sampling
-// context and read by the main loop (single producer, single consumer, no lock, no heap).
+// context and read by the main loop (single producer, single consumer, no lock, no heap). The
+// producer is the sampling interrupt on a board, which must never wait for the main loop, so the
+// two sides only exchange two counters (written, released) with acquire/release ordering; the
+// storage is a static buffer the port hands in.
 //
 // Records are addressed by log index: 0 is the oldest pre-trigger record kept, the trigger
 // record is index pretrigger_kept. Before the trigger the ring keeps only the newest
