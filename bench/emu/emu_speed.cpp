@@ -1,16 +1,27 @@
-// Emulator speed: simulated seconds per wall second at 5 kHz with the built-in 2-DOF rig and the
-// DOB running, measured end to end. The emulator runs in its own thread exactly as vibid-emu
-// does (USB/IP server, core, rig); a client over loopback uploads a calibration carrying an
-// observer designed for the rig, starts a logged acquisition with d_hat (shaker at 16 Hz plus a
-// hand push) and polls get-status until the record limit is reached. Then the log is pulled to
-// report the USB/IP throughput.
+// Emulator speed and log-pull throughput, measured end to end through the host's own device
+// layer (vibid::device::Connection over the USB/IP transport) against an emulator running in a
+// thread exactly as vibid-emu does (USB/IP server, core, rig, default 4 MiB log, full speed).
+//
+// 1. Speed: a calibration carrying an observer designed for the built-in 2-DOF rig is uploaded
+//    and committed, the observer is started (dob-control) and a 40 s acquisition at 5 kHz logs
+//    load cell 1, accelerometer 2 and d_hat (16-byte records; shaker at 16 Hz plus a hand push).
+//    Nobody pulls meanwhile, so the log (262144 slots) never fills and simulated time never waits
+//    for a host: simulated seconds per wall second of the sampling itself. Target >= 20x.
+// 2. Throughput: the finished log pulled from record 0 (MB/s, records/s), next to the data rate
+//    the emulator produced it at (records/s x record bytes at the measured speed) and the rate a
+//    board produces it at (5 kHz x 16 B, real time).
+// 3. Acquire while pulling, as `vibid acquire` does: the back-pressure lets the pull set the pace;
+//    the effective speed and the drop count (0) are reported.
+#include <algorithm>
 #include <atomic>
 #include <chrono>
 #include <cstdio>
+#include <cstdlib>
 #include <thread>
 
 #include "emulator.hpp"
-#include "test_client.hpp"
+#include "vibid/device/connection.hpp"
+#include "vibid/device/usbip_transport.hpp"
 #include "vibid/dob/chain_plant.hpp"
 #include "vibid/dob/design.hpp"
 #include "vibid/shared/wire/calibration_record.hpp"
@@ -63,6 +74,23 @@ std::array<std::uint8_t, wire::kCalRecordBytes> RecordWithObserver(const emu::Ri
   return bytes;
 }
 
+constexpr std::uint32_t kRecords = 200000;  // 40 s at 5 kHz
+constexpr double kPeriodS = 200e-6;
+
+wire::AcqConfigureRequest Acquisition() {
+  wire::AcqConfigureRequest c;
+  c.sample_period_us = 200;
+  c.channel_mask = 0b001001;  // load cell 1, accelerometer 2 (the observer's inputs)
+  c.flags = wire::kAcqFlagLogDob;
+  c.record_limit = kRecords;
+  return c;
+}
+
+[[noreturn]] void Fail(const char* what) {
+  std::fprintf(stderr, "emu_speed: %s\n", what);
+  std::exit(1);
+}
+
 }  // namespace
 
 int main() {
@@ -72,46 +100,62 @@ int main() {
   emu::Emulator emulator(options);
   std::atomic<bool> stop{false};
   std::thread loop([&] { emulator.Run(stop); });
-
-  constexpr std::uint32_t kRecords = 200000;  // 40 s at 5 kHz, 16-byte records: 3.2 MB of log
   int rc = 0;
-  {
-    emu::testing::DeviceSession s(emulator.port());
-    const Status cal = s.Calibrate(RecordWithObserver(options.rig));
-    if (cal != Status::kOk) {
-      std::fprintf(stderr, "calibration refused: status %d\n", static_cast<int>(cal));
-      rc = 1;
-    }
-    s.Request(wire::Command::kSelectScenario, emu::testing::ScenarioOf("shaker", {16, 10, 10, 0}));
-    wire::AcqConfigureRequest c;
-    c.sample_period_us = 200;
-    c.channel_mask = 0b001001;  // load cell 1, accelerometer 2
-    c.flags = wire::kAcqFlagLogDob;
-    c.record_limit = kRecords;
-    const auto configured = s.Request(wire::Command::kAcqConfigure, c);
-    const auto started_answer = s.Request(wire::Command::kAcqStart);
-    if (rc == 0 && (configured.header.status != Status::kOk || started_answer.header.status != Status::kOk)) {
-      std::fprintf(stderr, "acquisition refused\n");
-      rc = 1;
-    }
+  try {
+    device::Connection c(device::UsbipDevice::Open("127.0.0.1", emulator.port()));
+    const auto record = RecordWithObserver(options.rig);
+    c.CalPut(record);
+    c.CalCommit();
+    const std::array<float, 4> shaker{16, 10, 10, 0};
+    c.SelectScenario("shaker", shaker);
+    const wire::AcqConfigureResponse layout = c.Configure(Acquisition());
+    const double record_bytes = layout.record_bytes;
+    c.DobControl(true);
+
+    // 1. Sampling speed, nobody pulling.
+    c.StartAcquisition();
     const auto started = Clock::now();
-    wire::StatusResponse st = s.GetStatus();
-    while (rc == 0 && st.acq_state != wire::AcqState::kDone) {
-      std::this_thread::sleep_for(std::chrono::milliseconds(20));
-      st = s.GetStatus();
+    wire::StatusResponse st = c.GetStatus();
+    if (st.dob_running != 1) Fail("the observer is not running");
+    while (st.acq_state != wire::AcqState::kDone) {
+      std::this_thread::sleep_for(std::chrono::milliseconds(1));
+      st = c.GetStatus();
     }
     const double wall_s = std::chrono::duration<double>(Clock::now() - started).count();
-    const double sim_s = static_cast<double>(st.ticks) * 200e-6;
+    const double sim_s = static_cast<double>(st.ticks) * kPeriodS;
+    const double speed = sim_s / wall_s;
     std::printf("emulator speed: %.1f simulated s in %.3f wall s = %.1fx real time "
-                "(5 kHz, 2-DOF rig, DOB running, %u records logged, %u saturations)\n",
-                sim_s, wall_s, sim_s / wall_s, st.records_written, st.saturation_count);
+                "(5 kHz, 2-DOF rig, DOB running, %u records logged, %u dropped, %u saturations)\n",
+                sim_s, wall_s, speed, st.records_written, st.dropped_records, st.saturation_count);
 
+    // 2. Pull throughput of the finished log.
     const auto pull_start = Clock::now();
-    const auto log = s.PullLog(16);
+    const device::LogPull pull = c.PullLog(0);
     const double pull_s = std::chrono::duration<double>(Clock::now() - pull_start).count();
-    std::printf("log pull over USB/IP: %zu bytes in %.3f s = %.0f KiB/s (%.0f records/s)\n", log.size(), pull_s,
-                static_cast<double>(log.size()) / 1024.0 / pull_s,
-                static_cast<double>(log.size()) / 16.0 / pull_s);
+    if (pull.records.size() != kRecords) Fail("the pull did not return the whole log");
+    const bool observed = std::any_of(pull.records.begin(), pull.records.end(),
+                                      [](const wire::LogRecord& r) { return r.d_hat != 0; });
+    if (!observed) Fail("d_hat stayed 0: the observer did not run");
+    const double bytes = static_cast<double>(pull.records.size()) * record_bytes;
+    std::printf("log pull over USB/IP (vibid_device): %zu records of %.0f B in %.3f s = %.2f MB/s, %.0f records/s\n",
+                pull.records.size(), record_bytes, pull_s, bytes / pull_s / 1e6,
+                static_cast<double>(pull.records.size()) / pull_s);
+    std::printf("  the emulator sampled it at %.2f MB/s (%.0f records/s); a board at 5 kHz produces %.3f MB/s\n",
+                5000.0 * speed * record_bytes / 1e6, 5000.0 * speed, 5000.0 * record_bytes / 1e6);
+
+    // 3. Acquire while pulling: the pull sets the pace.
+    c.StartAcquisition();
+    const auto follow_start = Clock::now();
+    const device::LogPull followed = c.PullLog(0);
+    const double follow_s = std::chrono::duration<double>(Clock::now() - follow_start).count();
+    std::printf("acquire while pulling: %.1f simulated s in %.3f wall s = %.1fx real time, %zu records, %u dropped\n",
+                static_cast<double>(kRecords) * kPeriodS, follow_s, static_cast<double>(kRecords) * kPeriodS / follow_s,
+                followed.records.size(), followed.trailer.dropped_records);
+    if (followed.trailer.dropped_records != 0) rc = 1;
+    if (speed < 20.0) rc = 1;
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "emu_speed: %s\n", e.what());
+    rc = 1;
   }
   stop = true;
   loop.join();

@@ -138,7 +138,7 @@ wire::StatusResponse Core::CurrentStatus() const {
   s.uptime_us = port_.clock.NowUs();
   s.ticks = sampler_.ticks();
   s.records_written = ring_.written();
-  s.records_released = ring_.released();
+  s.oldest_record = ring_.oldest();
   s.overrun_count = sampler_.overruns();
   s.dropped_records = sampler_.dropped();
   s.rejected_requests = rejected_requests_;
@@ -273,6 +273,7 @@ Status Core::HandleCalCommit(const Header& h) {
 Status Core::HandleCalGet(const Header& h) {
   if (!store_.calibrated()) return Status::kFailedPrecondition;
   encoder_.Begin(Command::kCalGet, h.token);
+  stream_token_ = h.token;
   stream_ = StreamKind::kCalibration;
   stream_next_ = 0;
   stream_end_ = static_cast<std::uint32_t>(wire::kCalRecordBytes);
@@ -341,13 +342,19 @@ Status Core::HandleLogRead(const Header& h, std::span<const std::uint8_t> payloa
   wire::LogReadRequest r;
   if (wire::Decode(payload, r) != Status::kOk) return Status::kInvalidArgument;
   if (ring_.record_bytes() == 0) return Status::kFailedPrecondition;  // nothing acquired yet
+  // Any record still intact can be read again, released or not (a second pull of a log pulled
+  // while sampling); from first_record == written() the stream is empty (a host waiting for
+  // more). The release only lets the sampler reuse space below first_record; it never moves back.
+  const std::uint32_t written = ring_.written();
+  if (r.first_record != written && !ring_.Intact(r.first_record)) return Status::kOutOfRange;
   if (ring_.Release(r.first_record) != Status::kOk) return Status::kOutOfRange;
   const wire::LogLayout layout = sampler_.layout();
   const std::uint32_t per_report = static_cast<std::uint32_t>(layout.RecordsPerReport());
-  std::uint32_t count = ring_.written() - r.first_record;
+  std::uint32_t count = written - r.first_record;
   if (r.max_records != 0) count = std::min(count, r.max_records);
   count = std::min(count, per_report * 0xFFFFu);  // sequence numbers are 16 bits
   encoder_.Begin(Command::kLogRead, h.token);
+  stream_token_ = h.token;
   stream_ = StreamKind::kLog;
   stream_first_ = r.first_record;
   stream_next_ = r.first_record;
@@ -384,6 +391,9 @@ void Core::NextStreamReport() {
         s = ring_.Read(stream_next_ + i, record);
         if (s == Status::kOk) std::copy(record.begin(), record.end(), payload.begin() + i * record_bytes);
       }
+      // A released record can be overwritten while it is copied: if the oldest one of the
+      // report is still intact now, so are the others, and the copies are whole.
+      if (s == Status::kOk && !ring_.Intact(stream_next_)) s = Status::kOutOfRange;
       length = n * record_bytes;
       stream_next_ += n;
     }
@@ -392,11 +402,14 @@ void Core::NextStreamReport() {
       has_pending_ = true;
       return;
     }
-    // The log lost records the stream promised: an invariant broke. End with a refusal.
+    // The stream cannot deliver what it promised. Out-of-range: the sampler overwrote released
+    // records before they went out (ask again from a newer record); anything else is a broken
+    // invariant. End with a refusal either way.
     Header h;
     h.command = static_cast<std::uint8_t>(stream_ == StreamKind::kLog ? Command::kLogRead : Command::kCalGet);
+    h.token = stream_token_;  // the host's stream decoder takes only its own token
     stream_ = StreamKind::kNone;
-    Respond(h, Status::kInternal);
+    Respond(h, s == Status::kOutOfRange ? Status::kOutOfRange : Status::kInternal);
     return;
   }
   payload.fill(0);

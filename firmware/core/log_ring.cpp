@@ -34,6 +34,10 @@ bool LogRing::Push(std::span<const std::uint8_t> record) {
     written = written_.load(std::memory_order_relaxed);
     if (written - released_.load(std::memory_order_acquire) >= capacity_) return false;
   }
+  // Keeps the store that published index `written` (end of the previous Push) ahead of the
+  // bytes below: a reader that sees any of them then sees `written` in Intact and knows the
+  // slot's old record is gone.
+  std::atomic_thread_fence(std::memory_order_release);
   std::copy_n(record.begin(), std::min(record.size(), record_bytes_),
               storage_.begin() + static_cast<std::ptrdiff_t>(write_slot_ * record_bytes_));
   write_slot_ = write_slot_ + 1 == capacity_ ? 0 : write_slot_ + 1;
@@ -58,14 +62,29 @@ std::uint32_t LogRing::written() const {
   return written_.load(std::memory_order_acquire);
 }
 
+std::uint32_t LogRing::oldest() const {
+  const std::uint32_t w = written();
+  if (capacity_ == 0 || w < capacity_) return 0;
+  // Below w - capacity + 1 a slot has been (or is being) reused once the producer was let in.
+  return std::min(released(), w - capacity_ + 1);
+}
+
 Status LogRing::Release(std::uint32_t first_kept) {
-  if (first_kept < released() || first_kept > written()) return Status::kOutOfRange;
-  released_.store(first_kept, std::memory_order_release);
+  if (first_kept > written()) return Status::kOutOfRange;
+  if (first_kept > released()) released_.store(first_kept, std::memory_order_release);
   return Status::kOk;
 }
 
+bool LogRing::Intact(std::uint32_t index) const {
+  // Orders the caller's copy of the record before the load of written_ below.
+  std::atomic_thread_fence(std::memory_order_acquire);
+  const std::uint32_t w = written();
+  if (index >= w) return false;
+  return index >= released() || w - index < capacity_;
+}
+
 Status LogRing::Read(std::uint32_t index, std::span<const std::uint8_t>& record) const {
-  if (index < released() || index >= written()) return Status::kOutOfRange;
+  if (!Intact(index)) return Status::kOutOfRange;
   const std::uint32_t slot = (start_slot_ + index % capacity_) % capacity_;
   record = std::span<const std::uint8_t>(storage_).subspan(slot * record_bytes_, record_bytes_);
   return Status::kOk;

@@ -73,7 +73,7 @@ void Encode(const StatusResponse& v, std::span<std::uint8_t> out) {
   StoreU64(out, 4, v.uptime_us);
   StoreU32(out, 12, v.ticks);
   StoreU32(out, 16, v.records_written);
-  StoreU32(out, 20, v.records_released);
+  StoreU32(out, 20, v.oldest_record);
   StoreU32(out, 24, v.overrun_count);
   StoreU32(out, 28, v.dropped_records);
   StoreU32(out, 32, v.rejected_requests);
@@ -94,7 +94,7 @@ Status Decode(std::span<const std::uint8_t> in, StatusResponse& v) {
   v.uptime_us = LoadU64(in, 4);
   v.ticks = LoadU32(in, 12);
   v.records_written = LoadU32(in, 16);
-  v.records_released = LoadU32(in, 20);
+  v.oldest_record = LoadU32(in, 20);
   v.overrun_count = LoadU32(in, 24);
   v.dropped_records = LoadU32(in, 28);
   v.rejected_requests = LoadU32(in, 32);

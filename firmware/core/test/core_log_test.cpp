@@ -194,6 +194,94 @@ TEST(CoreLog, FullLogDropsAndCountsNeverOverwrites) {
   EXPECT_EQ(log.records[0].sample_index, 100u);
 }
 
+wire::StatusResponse BoardStatus(CoreHarness& h) {
+  wire::StatusResponse s;
+  EXPECT_EQ(wire::Decode(h.Request(Command::kGetStatus).payload(), s), Status::kOk);
+  return s;
+}
+
+// The way `vibid acquire` then `vibid log pull` use the board: pulls while sampling release
+// what they received, yet after the stop the whole log (it fits) comes back from record 0,
+// record for record what the first pulls got.
+TEST(CoreLog, PulledRecordsCanBePulledAgainAfterTheStop) {
+  CoreHarness h;
+  ASSERT_EQ(h.StartAcquisition(Config(wire::kAllChannelsMask, 1)), Status::kOk);
+  std::array<wire::LogRecord, 60> first_pass{};
+  std::uint32_t next = 0;
+  for (int round = 0; round < 3; ++round) {
+    h.EmitRamp(20, kBase, 1);
+    const PulledLog part = PullLog(h, next, 0);
+    ASSERT_EQ(part.status, Status::kOk);
+    ASSERT_EQ(part.count, 20u);
+    for (std::size_t i = 0; i < part.count; ++i) first_pass[next + i] = part.records[i];
+    next += 20;
+  }
+  EXPECT_EQ(BoardStatus(h).oldest_record, 0u);
+  ASSERT_EQ(h.Request(Command::kAcqStop).status(), Status::kOk);
+
+  const PulledLog again = PullLog(h, 0, 0);
+  ASSERT_EQ(again.status, Status::kOk);
+  ASSERT_EQ(again.count, 60u);
+  for (std::size_t i = 0; i < 60; ++i) {
+    EXPECT_EQ(again.records[i].sample_index, i);
+    EXPECT_EQ(again.records[i].sample_index, first_pass[i].sample_index);
+    EXPECT_EQ(again.records[i].raw, first_pass[i].raw);
+  }
+  EXPECT_EQ(again.trailer.acq_state, wire::AcqState::kIdle);
+  // The last pull while sampling asked from 40; a second look at older records takes no space
+  // back from the sampler.
+  EXPECT_EQ(h.core.log().released(), 40u);
+}
+
+// Once the sampler reused a released record's slot, asking for that record is refused; the
+// oldest record get-status names is the first one a pull gets.
+TEST(CoreLog, OverwrittenRecordsAreRefused) {
+  CoreHarness h;
+  ASSERT_EQ(h.StartAcquisition(Config(wire::kAllChannelsMask, 1)), Status::kOk);
+  h.EmitRamp(60, kBase, 1);
+  ASSERT_EQ(PullLog(h, 60, 0).status, Status::kOk);  // releases 0..59
+  // 73 slots of 28 bytes; 100 written: index 100 may take record 27's slot next.
+  h.EmitRamp(40, kBase, 1);
+  const wire::StatusResponse s = BoardStatus(h);
+  EXPECT_EQ(s.records_written, 100u);
+  EXPECT_EQ(s.oldest_record, 28u);
+  EXPECT_EQ(s.dropped_records, 0u);
+  EXPECT_EQ(PullLog(h, 27, 0).status, Status::kOutOfRange);
+  EXPECT_EQ(PullLog(h, 0, 0).status, Status::kOutOfRange);
+  const PulledLog log = PullLog(h, 28, 0);
+  ASSERT_EQ(log.status, Status::kOk);
+  ASSERT_EQ(log.count, 72u);
+  for (std::uint32_t i = 0; i < log.count; ++i) EXPECT_EQ(log.records[i].sample_index, 28 + i);
+}
+
+// The sampler overwrites records a running stream has not sent yet: the stream ends with an
+// out-of-range refusal under the request's own token, never with the newer records.
+TEST(CoreLog, StreamOverrunBySamplerEndsOutOfRange) {
+  CoreHarness h;
+  ASSERT_EQ(h.StartAcquisition(Config(wire::kAllChannelsMask, 1)), Status::kOk);
+  h.EmitRamp(60, kBase, 1);
+  ASSERT_EQ(PullLog(h, 60, 0).status, Status::kOk);
+  wire::Report request{};
+  std::array<std::uint8_t, wire::LogReadRequest::kBytes> p{};
+  wire::Encode(wire::LogReadRequest{.first_record = 0}, p);
+  ASSERT_EQ(wire::BuildReport(Command::kLogRead, 77, 0, 0, Status::kOk, p, request), Status::kOk);
+  h.link.ClearOut();
+  h.link.Push(request);
+  h.core.Poll();  // the first records go out, one per report
+  const std::uint32_t sent = static_cast<std::uint32_t>(h.link.pending_out());
+  ASSERT_GT(sent, 0u);
+  ASSERT_LT(sent, 60u);
+  h.EmitRamp(sent + 73 - 60, kBase, 1);  // written = sent + 73: record `sent`'s slot may be reused
+  h.Drain();
+  wire::StreamDecoder decoder(Command::kLogRead, 77);
+  wire::Report in{};
+  wire::StreamDecoder::Step last;
+  while (h.link.Pop(in)) last = decoder.Feed(in);
+  EXPECT_EQ(decoder.data_reports(), sent);
+  EXPECT_EQ(last.event, wire::StreamDecoder::Event::kRefused);
+  EXPECT_EQ(last.status, Status::kOutOfRange);
+}
+
 TEST(CoreLog, LostTicksAreCountedAsOverruns) {
   CoreHarness h;
   ASSERT_EQ(h.StartAcquisition(Config(0b000001, 1)), Status::kOk);

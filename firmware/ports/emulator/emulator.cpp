@@ -106,6 +106,8 @@ void Emulator::BootApplication(wire::ResetCause cause) {
   app_.reset();
   app_ = std::make_unique<Application>(*this, cause);
   server_.SetDevice(&app_->exported);
+  was_sampling_ = false;
+  seen_released_ = 0;
   if (options_.verbose) std::fprintf(stderr, "vibid-emu: application running\n");
 }
 
@@ -133,12 +135,25 @@ void Emulator::RunFirmware() {
   }
 }
 
+bool Emulator::WaitForPull(Clock::time_point now) {
+  const fw::LogRing& log = app_->core.log();
+  const std::uint32_t released = log.released();
+  if (released > seen_released_) last_pull_ = now;
+  seen_released_ = released;  // also follows the drop to 0 when an acquisition starts
+  const bool full = log.triggered() && log.written() - released >= log.capacity_records();
+  return full && (app_->core.log_streaming() || now - last_pull_ < kPullWindow);
+}
+
 void Emulator::AdvanceTime() {
   const Clock::time_point now = Clock::now();
   const auto wall_us = static_cast<std::uint64_t>(
       std::chrono::duration_cast<std::chrono::microseconds>(now - last_wall_).count());
   last_wall_ = now;
-  if (!app_ || !app_->frames.Running()) {
+  waiting_for_pull_ = false;
+  const bool sampling = app_ && app_->frames.Running();
+  if (sampling && !was_sampling_) last_pull_ = now;  // the starting host's window to begin pulling
+  was_sampling_ = sampling;
+  if (!sampling) {
     pacing_ = false;
     sim_us_ += wall_us;
     if (app_) app_->clock.Advance(wall_us);
@@ -160,6 +175,10 @@ void Emulator::AdvanceTime() {
     ticks = behind <= 0.0 ? 0 : static_cast<int>(std::min<double>(kChunkTicks, behind / period + 1.0));
   }
   for (int i = 0; i < ticks && a.frames.Running(); ++i) {
+    if (options_.speed <= 0.0 && WaitForPull(now)) {
+      waiting_for_pull_ = true;
+      break;
+    }
     a.clock.Advance(period);
     sim_us_ += period;
     a.frames.Tick();
@@ -187,7 +206,9 @@ void Emulator::HandleRequests() {
 }
 
 void Emulator::Step(std::chrono::milliseconds max_wait) {
-  const bool flat_out = app_ && app_->frames.Running() && options_.speed <= 0.0;
+  // Waiting for a pulling host, the loop sleeps on the sockets instead of spinning: its next
+  // request is what lets time go on.
+  const bool flat_out = app_ && app_->frames.Running() && options_.speed <= 0.0 && !waiting_for_pull_;
   const bool pending = app_ && app_->request != Request::kNone;
   const auto wait = flat_out || pending ? std::chrono::milliseconds(0)
                     : app_ && app_->frames.Running() ? std::chrono::milliseconds(1)

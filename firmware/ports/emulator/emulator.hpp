@@ -7,6 +7,14 @@
 // the clock follows the wall clock. Samples depend only on the seed and the commands, never on
 // how fast the loop ran.
 //
+// Back-pressure (`speed` 0 only): flat out, the rig produces log data about ten times faster than
+// a host pulls it over USB/IP (bench/emu), and a board's full log drops records. Since the clock is
+// virtual anyway, simulated time waits instead while a host is pulling and the next record would
+// find the log full. "Pulling" means a log-read stream is being sent, or the log's release point
+// advanced less than kPullWindow of wall time ago; the host that starts an acquisition gets the
+// same window to begin. With nobody pulling, the log fills and drops records (counted) as on a
+// board. At a set speed (`--realtime`, `--speed N`) time never waits: that is the board's case.
+//
 // Personalities: the application (core + HID + DFU run-time), or the DfuSe bootloader after
 // enter-DFU / DFU_DETACH. Each switch, and a reset, drops the importing USB/IP connection:
 // the device re-enumerates, and the client imports it again.
@@ -40,6 +48,9 @@ struct EmulatorOptions {
 
 class Emulator {
  public:
+  /// How long after its last log-read (or the acquisition start) a host still counts as pulling.
+  static constexpr std::chrono::milliseconds kPullWindow{500};
+
   /// @throws InputError for a bad rig or flash file; usbip::IoError when the port is taken.
   explicit Emulator(EmulatorOptions options);
   ~Emulator();
@@ -67,6 +78,8 @@ class Emulator {
   void EnterBootloader();
   void RunFirmware();
   void AdvanceTime();
+  /// Back-pressure: true while a pulling host would lose the next record to a full log.
+  bool WaitForPull(std::chrono::steady_clock::time_point now);
   void HandleRequests();
   usbip::UsbDevice Record() const;
 
@@ -85,6 +98,12 @@ class Emulator {
   bool pacing_ = false;
   std::chrono::steady_clock::time_point pace_wall_;
   std::uint64_t pace_sim_us_ = 0;
+  // Back-pressure state: the log's release point last seen and when it last advanced (or the
+  // acquisition started); whether time waited in the last step.
+  bool was_sampling_ = false;
+  std::uint32_t seen_released_ = 0;
+  std::chrono::steady_clock::time_point last_pull_{};
+  bool waiting_for_pull_ = false;
   // A reset or DFU entry waits for its answer to leave the IN endpoint (or a short deadline).
   std::chrono::steady_clock::time_point request_deadline_{};
 };

@@ -38,7 +38,10 @@ int main(int argc, char** argv) {
                  "default: flash in memory only");
   app.add_option("--seed", seed, "seed of the rig's excitation and sensor noise")->capture_default_str();
   app.add_flag("--realtime", realtime, "run simulated time at wall-clock speed (same as --speed 1)");
-  app.add_option("--speed", speed, "simulated seconds per wall second while sampling (0: as fast as possible)")
+  app.add_option("--speed", speed,
+                 "simulated seconds per wall second while sampling (0: as fast as possible, and while a "
+                 "host is pulling the log, simulated time waits for it rather than drop records; a set "
+                 "speed never waits: records that find the log full are dropped, as on a board)")
       ->check(CLI::NonNegativeNumber);
   app.add_option("--log-kib", log_kib, "acquisition log size in KiB")->check(CLI::Range(64, 262144))->capture_default_str();
   app.add_flag("--print-truth", print_truth, "print the rig's true model (model-file JSON) and exit");

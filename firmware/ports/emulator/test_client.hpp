@@ -200,6 +200,27 @@ class DeviceSession {
     }
   }
 
+  /// Follows a running acquisition: asks for the records after the last one received until the
+  /// acquisition ended and every record written arrived. @returns the data payload bytes.
+  std::vector<std::uint8_t> FollowLog(std::size_t record_bytes) {
+    std::vector<std::uint8_t> bytes;
+    for (;;) {
+      wire::LogReadRequest req;
+      req.first_record = static_cast<std::uint32_t>(bytes.size() / record_bytes);
+      Answer a = Request(wire::Command::kLogRead, req);
+      const std::size_t before = bytes.size();
+      while ((a.header.flags & wire::kFlagStreamEnd) == 0) {
+        if (a.header.status != Status::kOk) throw std::runtime_error("log-read refused");
+        bytes.insert(bytes.end(), a.payload.begin(), a.payload.end());
+        a = Receive();
+      }
+      if (bytes.size() != before) continue;
+      const wire::StatusResponse s = GetStatus();
+      const bool sampling = s.acq_state == wire::AcqState::kArmed || s.acq_state == wire::AcqState::kAcquiring;
+      if (!sampling && bytes.size() / record_bytes >= s.records_written) return bytes;
+    }
+  }
+
   wire::StatusResponse GetStatus() {
     const Answer a = Request(wire::Command::kGetStatus);
     wire::StatusResponse s;

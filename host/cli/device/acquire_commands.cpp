@@ -158,8 +158,18 @@ void RegisterAcquireCommands(CLI::App& app, const GlobalOptions& globals) {
       device::LogPull pull;
       try {
         ProgressBar bar("log pull");
-        // By default: everything the board still holds (a pull releases what it received).
-        const std::uint32_t first = po->first_given ? po->first : c.GetStatus().records_released;
+        // By default everything the board still holds: records pulled before (by acquire, while
+        // sampling) stay readable until the log wraps over them.
+        const wire::StatusResponse st = c.GetStatus();
+        const std::uint32_t first = po->first_given ? po->first : st.oldest_record;
+        if (first < st.oldest_record) {
+          throw DeviceError("--from " + std::to_string(first) + ": the board's log has been overwritten up to record " +
+                            std::to_string(st.oldest_record) + ", the oldest it still holds");
+        }
+        if (first > st.records_written) {
+          throw DeviceError("--from " + std::to_string(first) + ": the log holds only " +
+                            std::to_string(st.records_written) + " records");
+        }
         pull = c.PullLog(first, bar.Callback());
       } catch (const device::Interrupted&) {
         throw DeviceError("interrupted: nothing written");

@@ -73,7 +73,7 @@ TEST(Commands, StatusResponse) {
   s.uptime_us = 123456789012u;
   s.ticks = 5000;
   s.records_written = 400;
-  s.records_released = 100;
+  s.oldest_record = 100;
   s.overrun_count = 2;
   s.dropped_records = 7;
   s.rejected_requests = 1;
@@ -89,7 +89,7 @@ TEST(Commands, StatusResponse) {
   ASSERT_EQ(Decode(PayloadOf(GoldenReport("status_response")), v), Status::kOk);
   EXPECT_EQ(v.acq_state, AcqState::kAcquiring);
   EXPECT_EQ(v.uptime_us, 123456789012u);
-  EXPECT_EQ(v.records_released, 100u);
+  EXPECT_EQ(v.oldest_record, 100u);
   EXPECT_EQ(v.trigger_record, 40u);
   EXPECT_EQ(v.flash_errors, 0u);
 }

@@ -59,6 +59,8 @@ class Core {
   // Observers for ports and tests.
   const Sampler& sampler() const { return sampler_; }
   const LogRing& log() const { return ring_; }
+  /// A log-read stream is being sent (the host is pulling).
+  bool log_streaming() const { return stream_ == StreamKind::kLog; }
   const CalibrationStore& calibration() const { return store_; }
   std::uint32_t rejected_requests() const { return rejected_requests_; }
 
@@ -115,6 +117,7 @@ class Core {
   std::uint32_t stream_next_ = 0;   // next record (log) or byte offset (calibration)
   std::uint32_t stream_end_ = 0;    // one past the last record / byte
   std::uint32_t stream_first_ = 0;  // first record of a log stream
+  std::uint16_t stream_token_ = 0;  // token of the request the stream answers
 };
 
 }  // namespace vibid::fw

@@ -1,12 +1,27 @@
 // The acquisition log: fixed-size records in caller-provided storage, written by the sampling
-// context and read by the main loop (single producer, single consumer, no lock).
+// context and read by the main loop (single producer, single consumer, no lock, no heap). The
+// producer is the sampling interrupt on a board, which must never wait for the main loop, so the
+// two sides only exchange two counters (written, released) with acquire/release ordering; the
+// storage is a static buffer the port hands in.
 //
 // Records are addressed by log index: 0 is the oldest pre-trigger record kept, the trigger
 // record is index pretrigger_kept. Before the trigger the ring keeps only the newest
 // `pretrigger` records, overwriting older ones (that is what a pre-trigger buffer is). After the
-// trigger nothing is overwritten: a record that finds the ring full is refused and the caller
-// counts it as dropped. The consumer frees space with Release(first_kept), which a log-read
-// request does implicitly, so a pull that broke off can ask again for what it missed.
+// trigger a record that finds no free slot is refused and the caller counts it as dropped.
+//
+// Release and overwrite are two different moments. Release(first_kept), which a log-read
+// request does implicitly, only tells the producer it may reuse the slots below first_kept; the
+// records stay in them, readable, until the producer actually writes there. So a host that
+// pulled while sampling (releasing as it went) can still pull the whole log again afterwards
+// when it fitted in the ring, and an interrupted pull can ask again for what it missed.
+// Index i lives in the slot index i + capacity will take, so it is intact while
+//   i >= released()                   (the producer may not reuse its slot yet), or
+//   written() < i + capacity          (index i + capacity has not been started).
+// written() == i + capacity means the producer may be writing that slot right now: a reader of
+// a released record copies it, then calls Intact(i) again (seqlock style: the producer's
+// release fence before it writes a slot pairs with the acquire fence in Intact) and throws the
+// copy away if the record was overwritten meanwhile. Release only ever moves forward, so a
+// re-read of old records never takes space back from the producer.
 //
 // Indices are 32-bit: at 10 kHz without decimation they last 4.9 days of one acquisition.
 #pragma once
@@ -51,18 +66,25 @@ class LogRing {
   std::uint32_t trigger_index() const { return trigger_index_; }
   /// Records in the log (indices [0, written())); 0 before the trigger.
   std::uint32_t written() const;
-  /// Records below this index were released and may be overwritten.
+  /// Records below this index were released: the producer may reuse their slots.
   std::uint32_t released() const { return released_.load(std::memory_order_relaxed); }
+  /// The oldest index Read can still return (written() when the log is empty).
+  std::uint32_t oldest() const;
   std::size_t record_bytes() const { return record_bytes_; }
   std::uint32_t capacity_records() const { return capacity_; }
   std::size_t storage_bytes() const { return storage_.size(); }
 
-  /// Frees every record below first_kept.
-  /// @returns kOk; kOutOfRange if first_kept < released() or first_kept > written().
+  /// Lets the producer reuse the slots of every record below first_kept. Never moves back: a
+  /// first_kept below released() changes nothing.
+  /// @returns kOk; kOutOfRange if first_kept > written().
   Status Release(std::uint32_t first_kept);
 
-  /// The record at `index` (a view into the storage; valid until it is released).
-  /// @returns kOk; kOutOfRange if the index is released or not written yet.
+  /// True if the record at `index` is written and not overwritten (see the header comment).
+  /// After copying a released record, call it again: false means the copy may be torn.
+  bool Intact(std::uint32_t index) const;
+
+  /// The record at `index`: a view into the storage, valid while Intact(index).
+  /// @returns kOk; kOutOfRange if the index is not written yet or was overwritten.
   Status Read(std::uint32_t index, std::span<const std::uint8_t>& record) const;
 
  private:

@@ -120,7 +120,8 @@ static_assert(InfoResponse::kBytes <= kMaxPayload);
 //   0  u8  acq_state    1  u8  dob_running (0/1)   2  u8  cal_state   3  u8  cal_staged (0/1)
 //   4  u64 uptime_us
 //   12 u32 ticks (frames seen since acq-start)     16 u32 records_written (log records, total)
-//   20 u32 records_released (first record still held)
+//   20 u32 oldest_record (the oldest record a log-read can still return; = records_written
+//          when the log is empty. Pulled records stay readable until the log overwrites them.)
 //   24 u32 overrun_count   28 u32 dropped_records  32 u32 rejected_requests
 //   36 u32 saturation_count (calibration clips + DOB saturations)
 //   40 u32 trigger_record (kNoRecord until triggered)
@@ -134,7 +135,7 @@ struct StatusResponse {
   std::uint64_t uptime_us = 0;
   std::uint32_t ticks = 0;
   std::uint32_t records_written = 0;
-  std::uint32_t records_released = 0;
+  std::uint32_t oldest_record = 0;
   std::uint32_t overrun_count = 0;
   std::uint32_t dropped_records = 0;
   std::uint32_t rejected_requests = 0;
@@ -198,8 +199,10 @@ struct LatestResponse {
 
 // ---------------------------------------------------------------------------------------------
 // log-read request: 0 u32 first_record  4 u32 max_records (0 = all available)
-// Records below first_record are released: the device may reuse their space. A pull that broke
-// off resumes by asking again from the first record it did not receive intact.
+// Records below first_record are released: the device may reuse their space, but they stay
+// readable until it does (get-status oldest_record), so a log pulled while sampling can be pulled
+// again. A pull that broke off resumes by asking again from the first record it did not receive
+// intact. A record overwritten before or while it is streamed refuses the request (out-of-range).
 struct LogReadRequest {
   static constexpr std::size_t kBytes = 8;
   std::uint32_t first_record = 0;
