@@ -100,7 +100,7 @@ RigSpec DefaultRig() {
   r.effective_mass_loss = {0.09, 0.0};  // m1 behaves 9 % lighter: 1.82 kg
   r.springs_n_per_m = {3520.0, 2760.0}; // 4000 −12 %, 3000 −8 %
   r.dampers_ns_per_m = {5.0, 3.5};
-  r.coulomb_n = {0.02, 0.02};
+  r.coulomb_n = {0.005, 0.005};        // guide friction of a low-friction carriage, 5 mN
   r.load_cells = {AnalogSensor{500.0, 0.1, 12}, AnalogSensor{50.0, 0.01, 12}};
   r.accelerometers = {AnalogSensor{200.0, 0.05, 12}, AnalogSensor{200.0, 0.05, 12}};
   r.encoder_counts_per_m = 100000.0;  // 10 µm per count
