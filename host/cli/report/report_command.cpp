@@ -187,7 +187,7 @@ void ObserverSection(const Args& a, report::HtmlPage& page) {
     const dob::Agreement g = dob::CompareSignals(e.segment(skip, n), measured.segment(skip, n), rec.fs_hz, 0.0);
     rows.push_back({label, column, Fixed(g.fit_percent, 2), Fixed(g.correlation, 5), Sig(g.delay_s), Sig(g.rmse_n)});
     series.push_back({.label = label, .x = t.segment(skip, n), .y = e.segment(skip, n),
-                      .color = kPalette[(i + 1) % (sizeof kPalette / sizeof kPalette[0])], .dashed = i > 0});
+                      .color = kPalette[i % (sizeof kPalette / sizeof kPalette[0])], .dashed = i > 0});
   }
   page.Table({"estimate", "column", "fit %", "correlation", "delay (s)", "rmse (N)"}, rows,
              "Agreement with the measured force: fit = 100 (1 - |m - e| / |m - mean(m)|), " + Fixed(a.skip_s, 2) +

@@ -12,8 +12,9 @@
 namespace vibid::report {
 namespace {
 
-constexpr double kMarginLeft = 72.0, kMarginRight = 16.0, kMarginTop = 30.0, kMarginBottom = 46.0;
-constexpr double kLegendRow = 16.0;
+constexpr double kMarginLeft = 72.0, kMarginRight = 16.0, kMarginTop = 44.0, kMarginBottom = 46.0;
+/// Legend: one row between the title and the plot area, so it never hides a trace.
+constexpr double kLegendY = 34.0, kLegendSwatch = 22.0, kLegendCharPx = 6.2, kLegendGap = 18.0;
 
 bool Drawable(double v, Scale scale) { return std::isfinite(v) && (scale == Scale::kLinear || v > 0.0); }
 
@@ -30,8 +31,23 @@ struct Range {
 // whole decades, linear ranges the nearest ticks outside.
 Range Padded(Range r, Scale scale) {
   if (scale == Scale::kLog) {
-    r.lo = std::pow(10.0, std::floor(std::log10(r.lo)));
-    r.hi = std::pow(10.0, std::ceil(std::log10(r.hi)));
+    // Out to the nearest 1, 2 or 5 times a power of ten on each side.
+    const auto down = [](double v) {
+      const double d = std::pow(10.0, std::floor(std::log10(v)));
+      for (double m : {5.0, 2.0, 1.0}) {
+        if (m * d <= v * (1 + 1e-12)) return m * d;
+      }
+      return d;
+    };
+    const auto up = [](double v) {
+      const double d = std::pow(10.0, std::floor(std::log10(v)));
+      for (double m : {1.0, 2.0, 5.0, 10.0}) {
+        if (m * d >= v * (1 - 1e-12)) return m * d;
+      }
+      return 10.0 * d;
+    };
+    r.lo = down(r.lo);
+    r.hi = up(r.hi);
     if (r.hi <= r.lo) r.hi = r.lo * 10.0;
     return r;
   }
@@ -114,7 +130,7 @@ std::vector<double> LogTicks(double lo, double hi) {
   for (int e = static_cast<int>(std::ceil(std::log10(lo) - 1e-9)); e <= static_cast<int>(std::floor(std::log10(hi) + 1e-9)); ++e) {
     ticks.push_back(std::pow(10.0, e));
   }
-  if (ticks.size() >= 2) return ticks;
+  if (ticks.size() >= 3) return ticks;
   ticks.clear();
   for (int e = static_cast<int>(std::floor(std::log10(lo))); e <= static_cast<int>(std::ceil(std::log10(hi))); ++e) {
     for (double m : {1.0, 2.0, 5.0}) {
@@ -179,6 +195,7 @@ std::string SvgPlot(const std::vector<Series>& series, const PlotOptions& o) {
   svg << "<text transform=\"translate(14," << Number(0.5 * (a.top + a.bottom)) << ") rotate(-90)\" text-anchor=\"middle\">"
       << HtmlEscape(o.y.label) << "</text>\n";
 
+  double legend_x = a.left;
   for (std::size_t k = 0; k < series.size(); ++k) {
     const Series& s = series[k];
     std::vector<std::pair<double, double>> run;
@@ -199,11 +216,11 @@ std::string SvgPlot(const std::vector<Series>& series, const PlotOptions& o) {
       run.emplace_back(px(s.x[i]), py(s.y[i]));
     }
     flush();
-    const double ly = a.top + 12.0 + kLegendRow * static_cast<double>(k);
-    svg << "<line x1=\"" << Number(a.right - 150) << "\" y1=\"" << Number(ly - 4) << "\" x2=\"" << Number(a.right - 126)
-        << "\" y2=\"" << Number(ly - 4) << "\" stroke=\"" << HtmlEscape(s.color) << "\" stroke-width=\"2\""
-        << (s.dashed ? " stroke-dasharray=\"5,3\"" : "") << "/><text x=\"" << Number(a.right - 120) << "\" y=\"" << Number(ly)
-        << "\">" << HtmlEscape(s.label) << "</text>\n";
+    svg << "<line x1=\"" << Number(legend_x) << "\" y1=\"" << Number(kLegendY - 4) << "\" x2=\"" << Number(legend_x + kLegendSwatch)
+        << "\" y2=\"" << Number(kLegendY - 4) << "\" stroke=\"" << HtmlEscape(s.color) << "\" stroke-width=\"2\""
+        << (s.dashed ? " stroke-dasharray=\"5,3\"" : "") << "/><text x=\"" << Number(legend_x + kLegendSwatch + 4) << "\" y=\""
+        << Number(kLegendY) << "\">" << HtmlEscape(s.label) << "</text>\n";
+    legend_x += kLegendSwatch + 4 + kLegendCharPx * static_cast<double>(s.label.size()) + kLegendGap;
   }
   svg << "</svg>\n";
   return svg.str();

@@ -44,6 +44,7 @@ TEST(Ticks, LinearStepsAreOneTwoFiveTimesAPowerOfTen) {
 
 TEST(Ticks, LogTicksAreDecadesOrOneTwoFive) {
   EXPECT_EQ(LogTicks(0.3, 250), (std::vector<double>{1, 10, 100}));
+  EXPECT_EQ(LogTicks(0.5, 50), (std::vector<double>{0.5, 1, 2, 5, 10, 20, 50}));
   EXPECT_EQ(LogTicks(1e-6, 1e-3), (std::vector<double>{1e-6, 1e-5, 1e-4, 1e-3}));
   EXPECT_EQ(LogTicks(1.5, 30), (std::vector<double>{2, 5, 10, 20}));
   EXPECT_TRUE(LogTicks(0, 10).empty());
@@ -70,7 +71,8 @@ TEST(SvgPlot, PointsLandWhereTheAxesSayTheyShould) {
 
 TEST(SvgPlot, LogAxesMapDecadesEvenlyAndBreakAtNonPositiveValues) {
   PlotOptions o{.title = "frf", .x = {"f", Scale::kLog}, .y = {"|H|", Scale::kLog}, .width_px = 400, .height_px = 300};
-  // x 1, 10, 100 and y 1e-4, 1e-3, (0: not drawable), 1e-2 at x = 100.
+  // x 1, 10, 100 and y 1e-4, 1e-3, (0: not drawable), 1e-2 at x = 100: the axes end on those
+  // values (1-2-5 padding leaves 1-2-5 values as they are).
   Series s{.label = "h", .x = Eigen::Vector4d(1, 10, 50, 100), .y = Eigen::Vector4d(1e-4, 1e-3, 0.0, 1e-2)};
   const auto lines = Polylines(SvgPlot({s}, o));
   ASSERT_EQ(lines.size(), 2u);
