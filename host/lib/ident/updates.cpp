@@ -31,11 +31,14 @@ MassUpdateResult UpdateMass(const Frf& receptance, std::size_t response, const M
   const Peak peak = *std::max_element(picked.peaks.begin(), picked.peaks.end(),
                                       [](const Peak& a, const Peak& b) { return a.magnitude < b.magnitude; });
   MassUpdateResult res;
-  // Only the resonance used matters; other peaks (noise at low frequency) are not reported.
+  // Only the resonance used matters; other peaks (noise at low frequency) are not reported. A
+  // half-power band too narrow for the grid only matters when c is held at the half-power value.
   for (const std::string& w : picked.warnings) {
     std::ostringstream at;
     at << "peak at " << peak.freq_hz << " Hz";
-    if (w.rfind(at.str(), 0) == 0) res.warnings.push_back(w);
+    if (w.rfind(at.str(), 0) != 0) continue;
+    if (options.fit_damping && w.find("half-power band") != std::string::npos) continue;
+    res.warnings.push_back(w);
   }
   res.omega_rad_s = peak.omega_rad_s;
   res.nominal_kg = options.nominal_kg;
