@@ -97,6 +97,49 @@ TEST_F(CliFaultTest, CtrlCStopsTheAcquisitionAndWritesNothing) {
   EXPECT_EQ(last_line.substr(last_line.rfind('\t') + 1), "idle\n") << monitor.out;
 }
 
+std::vector<std::string> Lines(const std::string& text) {
+  std::vector<std::string> lines;
+  std::istringstream in(text);
+  for (std::string line; std::getline(in, line);) lines.push_back(line);
+  return lines;
+}
+
+// A pull broken off by the host (the `vibid` process killed outright) loses nothing on the board:
+// the next `log pull` returns the acquisition's log again, and `--from N` resumes at record N.
+TEST(CliPullTest, PullKilledMidwayIsRepeatedAndResumedWithNothingLostOrDuplicated) {
+  if (MakeTarget()->Name() != "emu") GTEST_SKIP() << "needs the emu target (a vibid-emu process)";
+  EmulatorProcess emu(EmulatorBinary());
+  const std::string dir = vibid::testing::MakeTempDir("cli-pull");
+  const std::string acquired = dir + "/acquired.csv", pulled = dir + "/pulled.csv", tail = dir + "/tail.csv";
+  const auto a = RunVibid({"--device", emu.device_spec(), "acquire", "--seconds", "20", "-o", acquired});
+  ASSERT_EQ(a.exit_code, 0) << a.err;
+  const std::vector<std::string> rows = Lines(ReadText(acquired));
+  ASSERT_EQ(rows.size(), 100001u) << "header and 20 s at 5 kHz";
+
+  const int imports = 2;  // the acquire above, then the pull about to be killed
+  {
+    VibidProcess pull({"--device", emu.device_spec(), "log", "pull", "-o", pulled});
+    ASSERT_TRUE(emu.AwaitLog("USB/IP client imported", imports, 5s)) << emu.Log();
+    std::this_thread::sleep_for(100ms);
+    pull.Signal(SIGKILL);
+    EXPECT_EQ(pull.Wait().exit_code, 128 + SIGKILL);
+  }
+  EXPECT_FALSE(std::filesystem::exists(pulled)) << "a killed pull leaves no output";
+
+  const auto again = RunVibid({"--device", emu.device_spec(), "log", "pull", "-o", pulled});
+  ASSERT_EQ(again.exit_code, 0) << again.err;
+  EXPECT_EQ(ReadText(pulled), ReadText(acquired)) << "the whole log again, record for record";
+
+  const auto resumed = RunVibid({"--device", emu.device_spec(), "log", "pull", "--from", "60000", "-o", tail});
+  ASSERT_EQ(resumed.exit_code, 0) << resumed.err;
+  const std::vector<std::string> tail_rows = Lines(ReadText(tail));
+  ASSERT_EQ(tail_rows.size(), 40001u);
+  EXPECT_EQ(tail_rows.front(), rows.front());
+  EXPECT_TRUE(std::equal(tail_rows.begin() + 1, tail_rows.end(), rows.begin() + 60001)) << "records 60000.. as acquired";
+  std::error_code ec;
+  std::filesystem::remove_all(dir, ec);
+}
+
 class CliCoreFaultTest : public ::testing::Test {
  protected:
   void SetUp() override {
