@@ -305,8 +305,8 @@ TEST_F(UsbEnumerationTest, DeviceListNamesBusIdIdsAndInterfaceClasses) {
   ASSERT_EQ(listed[0].interface_classes.size(), 2u);
   for (std::size_t i = 0; i < 2; ++i) {
     EXPECT_EQ(listed[0].interface_classes[i].interface_class, raw[0].interfaces[i][0]);
-    EXPECT_EQ(listed[0].interface_classes[i].subclass, raw[0].interfaces[i][1]);
-    EXPECT_EQ(listed[0].interface_classes[i].protocol, raw[0].interfaces[i][2]);
+    EXPECT_EQ(listed[0].interface_classes[i].interface_subclass, raw[0].interfaces[i][1]);
+    EXPECT_EQ(listed[0].interface_classes[i].interface_protocol, raw[0].interfaces[i][2]);
   }
   EXPECT_NO_THROW(usb = UsbipDevice::Open("127.0.0.1", emu->port()));
 }

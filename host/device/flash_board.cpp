@@ -1,6 +1,7 @@
 #include "vibid/device/flash_board.hpp"
 
 #include <chrono>
+#include <memory>
 #include <thread>
 
 #include "vibid/common/error.hpp"
@@ -50,16 +51,15 @@ FlashBoardResult FlashBoard(DeviceSpec spec, std::span<const std::uint8_t> image
   } catch (const DeviceError& e) {
     if (note) note(std::string("no running application (") + e.what() + "); looking for a bootloader");
   }
+  const std::unique_ptr<UsbControl> usb = AwaitBootloader([&]() -> std::unique_ptr<UsbControl> {
+    if (spec.kind == DeviceSpec::Kind::kUsbip) {
+      return UsbipDevice::Open(spec.host, spec.port, {}, kDfuSeVendorId, kDfuSeProductId);
+    }
+    return OpenLibusbControl(kDfuSeVendorId, kDfuSeProductId, 0);
+  });
   std::vector<DfuSeSector> layout;
-  if (spec.kind == DeviceSpec::Kind::kUsbip) {
-    auto usb = AwaitBootloader([&] { return UsbipDevice::Open(spec.host, spec.port, {}, kDfuSeVendorId, kDfuSeProductId); });
-    DfuSe dfu = DfuSe::Open(*usb, layout);
-    FlashImage(dfu, layout, image, address, keep, progress);
-  } else {
-    auto usb = AwaitBootloader([&] { return OpenLibusbControl(kDfuSeVendorId, kDfuSeProductId, 0); });
-    DfuSe dfu = DfuSe::Open(*usb, layout);
-    FlashImage(dfu, layout, image, address, keep, progress);
-  }
+  DfuSe dfu = DfuSe::Open(*usb, layout);
+  FlashImage(dfu, layout, image, address, keep, progress);
   return result;
 }
 

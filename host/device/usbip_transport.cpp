@@ -31,12 +31,8 @@ usbip::Socket Connect(const std::string& host, int port, std::chrono::millisecon
 }
 
 UsbipExport ToExport(const usbip::UsbDevice& d) {
-  UsbipExport e{.busid = d.busid, .vendor_id = d.id_vendor, .product_id = d.id_product,
-                .release = d.bcd_device, .interfaces = d.num_interfaces, .interface_classes = {}};
-  for (const usbip::UsbInterface& i : d.interfaces) {
-    e.interface_classes.push_back({i.interface_class, i.interface_subclass, i.interface_protocol});
-  }
-  return e;
+  return UsbipExport{.busid = d.busid, .vendor_id = d.id_vendor, .product_id = d.id_product,
+                     .release = d.bcd_device, .interfaces = d.num_interfaces, .interface_classes = d.interfaces};
 }
 
 }  // namespace

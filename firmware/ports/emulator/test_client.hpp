@@ -186,18 +186,9 @@ class DeviceSession {
   /// the first record not yet received.
   std::vector<std::uint8_t> PullLog(std::size_t record_bytes) {
     std::vector<std::uint8_t> bytes;
-    for (;;) {
-      wire::LogReadRequest req;
-      req.first_record = static_cast<std::uint32_t>(bytes.size() / record_bytes);
-      Answer a = Request(wire::Command::kLogRead, req);
-      const std::size_t before = bytes.size();
-      while ((a.header.flags & wire::kFlagStreamEnd) == 0) {
-        if (a.header.status != Status::kOk) throw std::runtime_error("log-read refused");
-        bytes.insert(bytes.end(), a.payload.begin(), a.payload.end());
-        a = Receive();
-      }
-      if (bytes.size() == before) return bytes;
+    while (ReadMore(bytes, record_bytes)) {
     }
+    return bytes;
   }
 
   /// Follows a running acquisition: asks for the records after the last one received until the
@@ -205,20 +196,26 @@ class DeviceSession {
   std::vector<std::uint8_t> FollowLog(std::size_t record_bytes) {
     std::vector<std::uint8_t> bytes;
     for (;;) {
-      wire::LogReadRequest req;
-      req.first_record = static_cast<std::uint32_t>(bytes.size() / record_bytes);
-      Answer a = Request(wire::Command::kLogRead, req);
-      const std::size_t before = bytes.size();
-      while ((a.header.flags & wire::kFlagStreamEnd) == 0) {
-        if (a.header.status != Status::kOk) throw std::runtime_error("log-read refused");
-        bytes.insert(bytes.end(), a.payload.begin(), a.payload.end());
-        a = Receive();
-      }
-      if (bytes.size() != before) continue;
+      if (ReadMore(bytes, record_bytes)) continue;
       const wire::StatusResponse s = GetStatus();
       const bool sampling = s.acq_state == wire::AcqState::kArmed || s.acq_state == wire::AcqState::kAcquiring;
       if (!sampling && bytes.size() / record_bytes >= s.records_written) return bytes;
     }
+  }
+
+  /// One log-read stream from the first record not yet in `bytes`, appended to it.
+  /// @returns true if it brought any record.
+  bool ReadMore(std::vector<std::uint8_t>& bytes, std::size_t record_bytes) {
+    wire::LogReadRequest req;
+    req.first_record = static_cast<std::uint32_t>(bytes.size() / record_bytes);
+    Answer a = Request(wire::Command::kLogRead, req);
+    const std::size_t before = bytes.size();
+    while ((a.header.flags & wire::kFlagStreamEnd) == 0) {
+      if (a.header.status != Status::kOk) throw std::runtime_error("log-read refused");
+      bytes.insert(bytes.end(), a.payload.begin(), a.payload.end());
+      a = Receive();
+    }
+    return bytes.size() != before;
   }
 
   wire::StatusResponse GetStatus() {

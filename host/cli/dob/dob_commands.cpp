@@ -157,8 +157,7 @@ void RunRun(const RunArgs& a) {
   } else {
     const dob::FixedRun run = dob::RunFixed(f.description, inputs);
     d_hat = run.d_hat_n;
-    d_hat_q31.resize(d_hat.size());
-    for (Eigen::Index i = 0; i < d_hat.size(); ++i) d_hat_q31[i] = run.d_hat_q31[static_cast<std::size_t>(i)];
+    d_hat_q31 = Eigen::Map<const Eigen::Matrix<std::int32_t, Eigen::Dynamic, 1>>(run.d_hat_q31.data(), d_hat.size()).cast<double>();
     if (!a.verify.empty()) VerifyAgainstBoard(rec, a.verify, run.d_hat_q31);
     if (run.saturations > 0) {
       std::cerr << "vibid: warning: the fixed-point observer saturated " << run.saturations

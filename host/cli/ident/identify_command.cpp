@@ -164,13 +164,7 @@ void RegisterIdentify(CLI::App& app) {
       Require(used == value.size() && std::isfinite(k) && k > 0.0, "--mass-spring '" + s + "': stiffness must be a number > 0");
       springs[pos] = k;
     }
-    std::vector<std::string> mass_responses;
-    for (std::size_t from = 0;;) {
-      const std::size_t comma = a->mass_response.find(',', from);
-      mass_responses.push_back(a->mass_response.substr(from, comma == std::string::npos ? std::string::npos : comma - from));
-      if (comma == std::string::npos) break;
-      from = comma + 1;
-    }
+    const std::vector<std::string> mass_responses = SplitList(a->mass_response);
     Require(mass_responses.size() == 1 || mass_responses.size() == a->mass_tests.size(),
             "--mass-response names " + std::to_string(mass_responses.size()) + " columns for " +
                 std::to_string(a->mass_tests.size()) + " mass tests (give one for all, or one per test)");
@@ -181,7 +175,7 @@ void RegisterIdentify(CLI::App& app) {
       const auto [pos, path] = ParsePositionAssignment(s, "--mass-test");
       Require(pos < n, "--mass-test position " + std::to_string(pos + 1) + " is beyond the model's " + std::to_string(n) + " masses");
       EstimationArgs me = est;
-      me.responses = mass_responses.size() == 1 ? a->mass_response : mass_responses[t];
+      me.responses = mass_responses[mass_responses.size() == 1 ? 0 : t];
       Estimated e = EstimateFromRecording(path, me);
       std::istringstream hits(DescribeHits(e.hits));
       for (std::string line; std::getline(hits, line);) notes.push_back(path + ": " + line);

@@ -3,6 +3,7 @@
 
 #include "commands.hpp"
 #include "model/model_commands.hpp"
+#include "vibid/common/csv.hpp"
 #include "vibid/common/error.hpp"
 
 namespace vibid::cli {
@@ -15,17 +16,12 @@ void RegisterModelCommands(CLI::App& app) {
 
 std::vector<double> ParseNumberList(const std::string& text, const std::string& option) {
   std::vector<double> out;
-  std::size_t start = 0;
-  while (true) {
-    const std::size_t comma = text.find(',', start);
-    const std::string item = text.substr(start, comma == std::string::npos ? std::string::npos : comma - start);
+  for (const std::string& item : SplitList(text)) {
     double value = 0.0;
     const auto [end, ec] = std::from_chars(item.data(), item.data() + item.size(), value);
     Require(!item.empty() && ec == std::errc() && end == item.data() + item.size() && std::isfinite(value),
             option + ": '" + item + "' is not a finite number");
     out.push_back(value);
-    if (comma == std::string::npos) break;
-    start = comma + 1;
   }
   return out;
 }

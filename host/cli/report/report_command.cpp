@@ -17,6 +17,7 @@
 #include "vibid/common/error.hpp"
 #include "vibid/common/json_file.hpp"
 #include "vibid/dob/compare.hpp"
+#include "vibid/ident/identify.hpp"
 #include "vibid/model/model.hpp"
 #include "vibid/model/model_json.hpp"
 #include "vibid/report/html.hpp"
@@ -79,6 +80,7 @@ void ValidationTables(const nlohmann::json& report, const std::string& where, co
              "Deviation of each model from the test (methods §8).");
 
   std::vector<std::string> header{"position", "quantity", "nominal", "updated", "change %"};
+  const ident::ChainParameters chain = truth != nullptr ? ident::ChainOf(*truth) : ident::ChainParameters{};
   if (truth != nullptr) {
     header.push_back("truth");
     header.push_back("updated vs truth %");
@@ -92,13 +94,9 @@ void ValidationTables(const nlohmann::json& report, const std::string& where, co
       const char* name;
       double truth;
     };
-    const bool have_truth = truth != nullptr && i < truth->dofs();
-    const double m_true = have_truth ? truth->m_kg(i, i) : 0.0;
-    // Chain springs of the truth: k_last = K_nn, k_i = K_ii - k_{i+1} (the source's convention).
-    double k_true = 0.0;
-    if (have_truth) {
-      k_true = truth->k_n_per_m(i, i) - (i + 1 < truth->dofs() ? -truth->k_n_per_m(i, i + 1) : 0.0);
-    }
+    const bool have_truth = i < chain.masses_kg.size();
+    const double m_true = have_truth ? chain.masses_kg[i] : 0.0;
+    const double k_true = have_truth ? chain.springs_n_per_m[i] : 0.0;
     for (const Q& q : {Q{"m_kg", "m (kg)", m_true}, Q{"k_n_per_m", "k (N/m)", k_true}}) {
       const nlohmann::json& x = pos.at(q.key);
       const double updated = Get(x, "updated", where);

@@ -192,15 +192,21 @@ ColumnSpec ParseColumnSpec(std::string_view spec) {
   return out;
 }
 
-std::vector<ColumnSpec> ParseColumnList(std::string_view list) {
-  std::vector<ColumnSpec> out;
+std::vector<std::string> SplitList(std::string_view list) {
+  std::vector<std::string> out;
   std::size_t start = 0;
   while (true) {
     const auto comma = list.find(',', start);
-    out.push_back(ParseColumnSpec(list.substr(start, comma == std::string_view::npos ? list.npos : comma - start)));
+    out.emplace_back(list.substr(start, comma == std::string_view::npos ? list.npos : comma - start));
     if (comma == std::string_view::npos) return out;
     start = comma + 1;
   }
+}
+
+std::vector<ColumnSpec> ParseColumnList(std::string_view list) {
+  std::vector<ColumnSpec> out;
+  for (const std::string& item : SplitList(list)) out.push_back(ParseColumnSpec(item));
+  return out;
 }
 
 Eigen::VectorXd Recording::Signal(const ColumnSpec& spec) const { return table.Column(spec.name) * spec.scale; }

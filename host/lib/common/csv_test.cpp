@@ -47,6 +47,13 @@ TEST(Csv, FormatRoundTripsBitExact) {
   EXPECT_EQ(t.Column("b"), b);
 }
 
+TEST(SplitList, KeepsEmptyItems) {
+  EXPECT_EQ(SplitList("a,b,c"), (std::vector<std::string>{"a", "b", "c"}));
+  EXPECT_EQ(SplitList("a,,b"), (std::vector<std::string>{"a", "", "b"}));
+  EXPECT_EQ(SplitList(""), (std::vector<std::string>{""}));
+  EXPECT_EQ(SplitList("x,"), (std::vector<std::string>{"x", ""}));
+}
+
 TEST(ColumnSpec, UnitsAndFactors) {
   EXPECT_DOUBLE_EQ(ParseColumnSpec("X_cm:cm").scale, 0.01);
   EXPECT_DOUBLE_EQ(ParseColumnSpec("acc:g").scale, 9.80665);  // standard gravity, CGPM 1901

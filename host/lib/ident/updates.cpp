@@ -25,20 +25,21 @@ MassUpdateResult UpdateMass(const Frf& receptance, std::size_t response, const M
   Require(response < receptance.responses(), "mass update: response column out of range");
   const auto col = static_cast<Eigen::Index>(response);
   const Eigen::VectorXd mag = receptance.h.col(col).cwiseAbs();
+  // The grid's resolution of the half-power band only matters when c is held at its value; the
+  // fit refines c otherwise, so the picker need not warn about it.
+  PeakOptions peak_options = options.peaks;
+  if (options.fit_damping) peak_options.min_lines_in_band = 0.0;
   const PeakResult picked =
-      PickPeaks(receptance.freq_hz, PickingMagnitude(receptance, static_cast<int>(col)), options.peaks, receptance.exp_window_tau_s);
+      PickPeaks(receptance.freq_hz, PickingMagnitude(receptance, static_cast<int>(col)), peak_options, receptance.exp_window_tau_s);
   Require(!picked.peaks.empty(), "mass update: no resonance found in the FRF");
   const Peak peak = *std::max_element(picked.peaks.begin(), picked.peaks.end(),
                                       [](const Peak& a, const Peak& b) { return a.magnitude < b.magnitude; });
   MassUpdateResult res;
-  // Only the resonance used matters; other peaks (noise at low frequency) are not reported. A
-  // half-power band too narrow for the grid only matters when c is held at the half-power value.
+  // Only the resonance used matters; other peaks (noise at low frequency) are not reported.
   for (const std::string& w : picked.warnings) {
     std::ostringstream at;
     at << "peak at " << peak.freq_hz << " Hz";
-    if (w.rfind(at.str(), 0) != 0) continue;
-    if (options.fit_damping && w.find("half-power band") != std::string::npos) continue;
-    res.warnings.push_back(w);
+    if (w.rfind(at.str(), 0) == 0) res.warnings.push_back(w);
   }
   res.omega_rad_s = peak.omega_rad_s;
   res.nominal_kg = options.nominal_kg;
@@ -74,7 +75,6 @@ MassUpdateResult UpdateMass(const Frf& receptance, std::size_t response, const M
   // The window multiplies the impulse response by exp(-a t), a = 1/tau, which moves s to s + a:
   // the windowed FRF is that of m s^2 + (c + 2 m a) s + (k + c a + m a^2).
   const double a_w = receptance.exp_window_tau_s > 0.0 ? 1.0 / receptance.exp_window_tau_s : 0.0;
-  const double zeta0 = peak.zeta;
   const auto model = [&](double m, double k, double c, Eigen::VectorXd& r) {
     const double c_seen = c + 2.0 * m * a_w;
     const double k_seen = k + c * a_w + m * a_w * a_w;
@@ -92,7 +92,7 @@ MassUpdateResult UpdateMass(const Frf& receptance, std::size_t response, const M
   const auto unpack = [&](const Eigen::VectorXd& q, double& m, double& k, double& zeta) {
     m = m0 * std::exp(q[0]);
     k = k_index >= 0 ? k0 * std::exp(q[k_index]) : k0;
-    zeta = zeta_index >= 0 ? zeta0 * std::exp(q[zeta_index]) : zeta0;
+    zeta = zeta_index >= 0 ? peak.zeta * std::exp(q[zeta_index]) : peak.zeta;
   };
   const ResidualFunction f = [&](const Eigen::VectorXd& q, Eigen::VectorXd& r) {
     double m = 0.0, k = 0.0, zeta = 0.0;

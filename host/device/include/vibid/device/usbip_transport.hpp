@@ -14,15 +14,9 @@
 
 #include "vibid/device/transport.hpp"
 #include "vibid/device/usb_control.hpp"
+#include "vibid/usbip/protocol.hpp"
 
 namespace vibid::device {
-
-/// bInterfaceClass, bInterfaceSubClass, bInterfaceProtocol of one exported interface.
-struct UsbipInterfaceClass {
-  std::uint8_t interface_class = 0;
-  std::uint8_t subclass = 0;
-  std::uint8_t protocol = 0;
-};
 
 /// One device a USB/IP server exports (OP_REP_DEVLIST).
 struct UsbipExport {
@@ -31,7 +25,7 @@ struct UsbipExport {
   std::uint16_t product_id = 0;
   std::uint16_t release = 0;
   std::uint8_t interfaces = 0;
-  std::vector<UsbipInterfaceClass> interface_classes;  ///< one per interface, in order
+  std::vector<usbip::UsbInterface> interface_classes;  ///< class, subclass, protocol per interface, in order
 };
 
 /// Lists what the server at host:port exports. Throws DeviceError if it cannot be reached.

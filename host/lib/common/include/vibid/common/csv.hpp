@@ -49,6 +49,8 @@ struct ColumnSpec {
 };
 
 ColumnSpec ParseColumnSpec(std::string_view spec);
+/// "a,b,c" -> {"a", "b", "c"}; empty items are kept ("a,,b" has three), "" gives one empty item.
+std::vector<std::string> SplitList(std::string_view list);
 /// Splits "a,b,c" into specs.
 std::vector<ColumnSpec> ParseColumnList(std::string_view list);
 
