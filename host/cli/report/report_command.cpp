@@ -166,7 +166,7 @@ void FrfFigures(const std::string& overlay_path, double lo_hz, double hi_hz, rep
 
 void ObserverSection(const Args& a, report::HtmlPage& page) {
   const Recording rec = LoadRecording(a.dob_recording);
-  const Eigen::VectorXd t = rec.table.Column(rec.table.Has("t_s") ? "t_s" : rec.table.names.front());
+  const Eigen::VectorXd t = rec.Time();
   const Eigen::VectorXd measured = rec.Signal(ParseColumnSpec(a.measured));
   const auto skip = static_cast<Eigen::Index>(std::llround(a.skip_s * rec.fs_hz));
   Require(2 * skip + 2 <= measured.size(), "--skip-s " + std::to_string(a.skip_s) + " s at both ends leaves fewer than 2 samples");
