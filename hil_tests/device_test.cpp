@@ -7,7 +7,9 @@
 #include "target.hpp"
 #include "test_records.hpp"
 #include "vibid/device/error.hpp"
+#include "vibid/shared/board_profile.hpp"
 #include "vibid/shared/wire/calibration_record.hpp"
+#include "vibid/shared/wire/log_record.hpp"
 
 namespace vibid::hil {
 namespace {
@@ -30,6 +32,15 @@ wire::AcqConfigureRequest AllChannels(std::uint32_t record_limit) {
   return c;
 }
 
+/// The test signal's frame at `tick` as the log holds it: converter codes in 12.4, counts.
+std::array<std::int32_t, wire::kChannelCount> LoggedAt(std::uint32_t tick) {
+  auto v = CoreLoopback::FrameAt(tick);
+  for (std::size_t c = 0; c < wire::kChannelCount; ++c) {
+    if (wire::LogValueBytes(static_cast<wire::Channel>(c)) == 2) v[c] *= 1 << wire::kLogAdcFractionBits;
+  }
+  return v;
+}
+
 /// Waits until the acquisition ended on its record limit.
 void AwaitDone(Connection& c) {
   for (int i = 0; i < 2000; ++i) {
@@ -49,7 +60,8 @@ TEST_F(DeviceTest, InfoNamesProtocolChannelsAndCapabilities) {
   auto c = target->Connect();
   const wire::InfoResponse& info = c->info();
   EXPECT_EQ(info.protocol_major, wire::kProtocolMajor);
-  EXPECT_EQ(info.channel_count, wire::kChannelCount);
+  EXPECT_EQ(info.link_reports_per_s, kBoardProfile.link_reports_per_s);
+  EXPECT_EQ(info.adc_bits, kBoardProfile.adc_bits);
   for (std::size_t i = 0; i < wire::kChannelCount; ++i) {
     EXPECT_EQ(info.channel_kind[i], wire::KindOf(static_cast<wire::Channel>(i))) << "channel " << i;
   }
@@ -134,7 +146,7 @@ TEST_F(DeviceTest, ForceTriggerKeepsThePretriggerRecords) {
   const auto force_n = [](const wire::LogRecord& r) {
     std::uint32_t clips = 0;
     const auto scaling = fw::testing::TestRecord(9).channels[0];
-    return wire::ScaleChannel(r.raw[0], scaling, clips) / 2147483648.0 * 100.0;
+    return wire::ScaleChannel(r.raw[0] >> wire::kLogAdcFractionBits, scaling, clips) / 2147483648.0 * 100.0;
   };
   // The test signal's pulse starts at tick 200; 1500 sin(2 pi / 20) counts = 22.6 N is its first
   // sample above (a simulated rig's hammer hits at its own times).
@@ -160,7 +172,7 @@ TEST_F(DeviceTest, InterruptedLogPullResumesWithNothingLostOrDuplicated) {
   ASSERT_EQ(pull.records.size(), 1800u);
   for (std::size_t i = 0; i < pull.records.size(); ++i) {
     ASSERT_EQ(pull.records[i].sample_index, i);
-    ASSERT_EQ(pull.records[i].raw, CoreLoopback::FrameAt(static_cast<std::uint32_t>(i))) << "record " << i;
+    ASSERT_EQ(pull.records[i].raw, LoggedAt(static_cast<std::uint32_t>(i))) << "record " << i;
   }
   EXPECT_GE(c->counters().stream_resumes, 1u);
 }
@@ -170,7 +182,8 @@ TEST_F(DeviceTest, PullWhileAcquiringFollowsTheLog) {
   if (loop != nullptr) loop->SetFramesPerStep(2);
   auto c = target->Connect();
   // A target fed by the test can only be fed ahead of the pull, so it gets what fits.
-  const std::uint32_t fits = c->info().log_capacity_bytes / static_cast<std::uint32_t>(wire::kMaxLogRecordBytes);
+  const std::uint32_t fits = c->info().log_capacity_bytes / static_cast<std::uint32_t>(
+      wire::LogLayout{wire::kAllChannelsMask, 0}.StoredRecordBytes());
   // The loopback's sampling waits for nobody, so twice its log must pass through a pull that
   // keeps up; a rig running at its own pace gets a fixed length.
   const std::uint32_t n = target->NeedsFeed() ? fits
@@ -193,7 +206,8 @@ TEST_F(DeviceTest, LogPulledWhileAcquiringCanBePulledAgain) {
   CoreLoopback* loop = target->loopback();
   if (loop != nullptr) loop->SetFramesPerStep(2);
   auto c = target->Connect();
-  const std::uint32_t fits = c->info().log_capacity_bytes / static_cast<std::uint32_t>(wire::kMaxLogRecordBytes);
+  const std::uint32_t fits = c->info().log_capacity_bytes / static_cast<std::uint32_t>(
+      wire::LogLayout{wire::kAllChannelsMask, 0}.StoredRecordBytes());
   // The loopback's log is small: make it wrap, so the refusal below is exercised there.
   const std::uint32_t n = target->NeedsFeed() ? fits
                           : loop != nullptr  ? std::max<std::uint32_t>(3000, 2 * fits)

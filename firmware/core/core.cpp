@@ -4,6 +4,8 @@
 #include <array>
 
 #include "vibid/fw/version.hpp"
+#include "vibid/shared/board_profile.hpp"
+#include "vibid/shared/fixed/decimator.hpp"
 #include "vibid/shared/wire/byte_order.hpp"
 #include "vibid/shared/wire/log_record.hpp"
 
@@ -78,8 +80,7 @@ void Core::Poll() {
       Handle(request);
       continue;
     }
-    if (stream_ == StreamKind::kNone) return;
-    NextStreamReport();
+    if (stream_ == StreamKind::kNone || !NextStreamReport()) return;
   }
 }
 
@@ -117,6 +118,8 @@ wire::InfoResponse Core::Info() const {
   info.sample_period_us = configured_ ? config_.sample_period_us : kDefaultSamplePeriodUs;
   info.min_sample_period_us = wire::kMinSamplePeriodUs;
   info.log_capacity_bytes = static_cast<std::uint32_t>(ring_.storage_bytes());
+  info.link_reports_per_s = static_cast<std::uint16_t>(kBoardProfile.link_reports_per_s);
+  info.adc_bits = kBoardProfile.adc_bits;
   for (std::size_t c = 0; c < wire::kChannelCount; ++c) {
     info.channel_kind[c] = wire::KindOf(static_cast<wire::Channel>(c));
   }
@@ -275,9 +278,10 @@ Status Core::HandleCalGet(const Header& h) {
   encoder_.Begin(Command::kCalGet, h.token);
   stream_token_ = h.token;
   stream_ = StreamKind::kCalibration;
+  stream_follows_ = false;
   stream_next_ = 0;
   stream_end_ = static_cast<std::uint32_t>(wire::kCalRecordBytes);
-  NextStreamReport();
+  (void)NextStreamReport();
   return Status::kOk;
 }
 
@@ -286,8 +290,9 @@ Status Core::ValidateConfig(const wire::AcqConfigureRequest& c) const {
       c.sample_period_us > wire::kMaxSamplePeriodUs) {
     return Status::kInvalidArgument;
   }
-  const wire::LogLayout layout{c.channel_mask, c.flags};
-  if (!layout.Valid() || c.decimation == 0 || c.decimation > wire::kMaxDecimation) {
+  const wire::LogLayout layout{c.channel_mask, static_cast<std::uint8_t>(c.flags & wire::kAcqFlagLogDob)};
+  if ((c.flags & ~wire::kAcqKnownFlags) != 0 || !layout.Valid() ||
+      !fixed::IsSupportedDecimation(c.decimation)) {
     return Status::kInvalidArgument;
   }
   if (c.trigger_mode == wire::TriggerMode::kImmediate) {
@@ -297,7 +302,7 @@ Status Core::ValidateConfig(const wire::AcqConfigureRequest& c) const {
   } else if (!wire::IsLoadCell(c.trigger_channel)) {
     return Status::kInvalidArgument;
   }
-  if (c.pretrigger_records >= ring_.CapacityFor(layout.RecordBytes())) return Status::kOutOfRange;
+  if (c.pretrigger_records >= ring_.CapacityFor(layout.StoredRecordBytes())) return Status::kOutOfRange;
   if (layout.HasDob()) {
     if (!dob_.loaded()) return Status::kFailedPrecondition;
     // The filter is only right at the rate it was discretized for.
@@ -316,10 +321,10 @@ Status Core::HandleAcqConfigure(const Header& h, std::span<const std::uint8_t> p
   if (s != Status::kOk) return s;
   config_ = c;
   configured_ = true;
-  const wire::LogLayout layout{c.channel_mask, c.flags};
+  const wire::LogLayout layout{c.channel_mask, static_cast<std::uint8_t>(c.flags & wire::kAcqFlagLogDob)};
   RespondWith(h, wire::AcqConfigureResponse{
                      .record_bytes = static_cast<std::uint16_t>(layout.RecordBytes()),
-                     .capacity_records = ring_.CapacityFor(layout.RecordBytes())});
+                     .capacity_records = ring_.CapacityFor(layout.StoredRecordBytes())});
   return Status::kOk;
 }
 
@@ -335,7 +340,19 @@ Status Core::HandleAcqStart(const Header& h) {
   }
   sampling_ = true;
   Respond(h, Status::kOk);
+  // The stream's first report goes out after the answer (Poll sends pending_ first).
+  if ((config_.flags & wire::kAcqFlagStream) != 0) StartLogStream(h.token, 0, 0, true);
   return Status::kOk;
+}
+
+void Core::StartLogStream(std::uint16_t token, std::uint32_t first, std::uint32_t end, bool follow) {
+  encoder_.Begin(Command::kLogRead, token);
+  stream_token_ = token;
+  stream_ = StreamKind::kLog;
+  stream_follows_ = follow;
+  stream_first_ = first;
+  stream_next_ = first;
+  stream_end_ = end;
 }
 
 Status Core::HandleLogRead(const Header& h, std::span<const std::uint8_t> payload) {
@@ -348,18 +365,10 @@ Status Core::HandleLogRead(const Header& h, std::span<const std::uint8_t> payloa
   const std::uint32_t written = ring_.written();
   if (r.first_record != written && !ring_.Intact(r.first_record)) return Status::kOutOfRange;
   if (ring_.Release(r.first_record) != Status::kOk) return Status::kOutOfRange;
-  const wire::LogLayout layout = sampler_.layout();
-  const std::uint32_t per_report = static_cast<std::uint32_t>(layout.RecordsPerReport());
   std::uint32_t count = written - r.first_record;
   if (r.max_records != 0) count = std::min(count, r.max_records);
-  count = std::min(count, per_report * 0xFFFFu);  // sequence numbers are 16 bits
-  encoder_.Begin(Command::kLogRead, h.token);
-  stream_token_ = h.token;
-  stream_ = StreamKind::kLog;
-  stream_first_ = r.first_record;
-  stream_next_ = r.first_record;
-  stream_end_ = r.first_record + count;
-  NextStreamReport();
+  StartLogStream(h.token, r.first_record, r.first_record + count, false);
+  (void)NextStreamReport();
   return Status::kOk;
 }
 
@@ -372,7 +381,49 @@ Status Core::HandleDobControl(const Header& h, std::span<const std::uint8_t> pay
   return Status::kOk;
 }
 
-void Core::NextStreamReport() {
+Status Core::PackLogRecords(std::span<std::uint8_t, wire::kMaxPayload> payload, std::size_t& length) {
+  // One report: the first record's tick, then records whose ticks follow by the decimation (a
+  // gap, where the sampler dropped records, ends the report).
+  const wire::LogLayout layout = sampler_.layout();
+  const std::size_t rb = layout.RecordBytes();
+  const std::uint32_t step = sampler_.config().decimation;
+  const std::uint32_t n_max = std::min(static_cast<std::uint32_t>(layout.RecordsPerReport()),
+                                       stream_end_ - stream_next_);
+  std::uint32_t first_tick = 0;
+  std::uint32_t n = 0;
+  for (; n < n_max; ++n) {
+    std::span<const std::uint8_t> stored;
+    const Status s = ring_.Read(stream_next_ + n, stored);
+    if (s != Status::kOk) return s;
+    const std::uint32_t tick = wire::LoadU32(stored, 0);
+    if (n == 0) {
+      first_tick = tick;
+    } else if (tick != first_tick + n * step) {
+      break;
+    }
+    const auto body = stored.subspan(wire::kLogIndexBytes, rb);
+    std::copy(body.begin(), body.end(), payload.begin() + static_cast<std::ptrdiff_t>(wire::kLogIndexBytes + n * rb));
+  }
+  // A released record can be overwritten while it is copied: if the oldest one of the report
+  // is still intact now, so are the others, and the copies (ticks included) are whole.
+  if (!ring_.Intact(stream_next_)) return Status::kOutOfRange;
+  wire::StoreU32(payload, 0, first_tick);
+  length = wire::kLogIndexBytes + n * rb;
+  stream_next_ += n;
+  return Status::kOk;
+}
+
+bool Core::NextStreamReport() {
+  if (stream_ == StreamKind::kLog && stream_follows_) {
+    // Following the acquisition: everything written so far is due; the stream ends once
+    // sampling stopped and every record went out. Sent records are released at once, so the
+    // link drains the log as fast as it can; they stay readable until overwritten (a host that
+    // lost a report asks for them again with log-read).
+    // Sampling is read before written(): a record pushed in between is still sent.
+    const bool sampling = Sampling();
+    stream_end_ = ring_.written();
+    if (stream_next_ == stream_end_ && sampling) return false;
+  }
   std::array<std::uint8_t, wire::kMaxPayload> payload{};
   std::size_t length = 0;
   Status s = Status::kOk;
@@ -383,24 +434,13 @@ void Core::NextStreamReport() {
       std::copy(bytes.begin(), bytes.end(), payload.begin());
       stream_next_ += static_cast<std::uint32_t>(length);
     } else {
-      const std::size_t record_bytes = ring_.record_bytes();
-      const std::uint32_t per_report = static_cast<std::uint32_t>(wire::kMaxPayload / record_bytes);
-      const std::uint32_t n = std::min(per_report, stream_end_ - stream_next_);
-      for (std::uint32_t i = 0; i < n && s == Status::kOk; ++i) {
-        std::span<const std::uint8_t> record;
-        s = ring_.Read(stream_next_ + i, record);
-        if (s == Status::kOk) std::copy(record.begin(), record.end(), payload.begin() + i * record_bytes);
-      }
-      // A released record can be overwritten while it is copied: if the oldest one of the
-      // report is still intact now, so are the others, and the copies are whole.
-      if (s == Status::kOk && !ring_.Intact(stream_next_)) s = Status::kOutOfRange;
-      length = n * record_bytes;
-      stream_next_ += n;
+      s = PackLogRecords(payload, length);
     }
     if (s == Status::kOk) s = encoder_.Data(std::span<const std::uint8_t>(payload).first(length), pending_);
     if (s == Status::kOk) {
+      if (stream_ == StreamKind::kLog && stream_follows_) (void)ring_.Release(stream_next_);
       has_pending_ = true;
-      return;
+      return true;
     }
     // The stream cannot deliver what it promised. Out-of-range: the sampler overwrote released
     // records before they went out (ask again from a newer record); anything else is a broken
@@ -410,7 +450,7 @@ void Core::NextStreamReport() {
     h.token = stream_token_;  // the host's stream decoder takes only its own token
     stream_ = StreamKind::kNone;
     Respond(h, s == Status::kOutOfRange ? Status::kOutOfRange : Status::kInternal);
-    return;
+    return true;
   }
   payload.fill(0);
   if (stream_ == StreamKind::kCalibration) {
@@ -426,7 +466,7 @@ void Core::NextStreamReport() {
     t.record_count = stream_end_ - stream_first_;
     t.record_bytes = static_cast<std::uint16_t>(layout.RecordBytes());
     t.channel_mask = layout.channel_mask;
-    t.acq_flags = layout.flags;
+    t.acq_flags = sampler_.config().flags;
     t.sample_period_us = sampler_.config().sample_period_us;
     t.decimation = sampler_.config().decimation;
     t.acq_state = sampler_.state();
@@ -439,6 +479,7 @@ void Core::NextStreamReport() {
   }
   has_pending_ = true;
   stream_ = StreamKind::kNone;
+  return true;
 }
 
 }  // namespace vibid::fw

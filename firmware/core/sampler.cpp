@@ -1,10 +1,14 @@
 #include "vibid/fw/sampler.hpp"
 
+#include "vibid/shared/wire/byte_order.hpp"
+
 namespace vibid::fw {
 
 Status Sampler::Arm(const wire::AcqConfigureRequest& config) {
-  layout_ = wire::LogLayout{config.channel_mask, config.flags};
-  const Status s = ring_.Reset(layout_.RecordBytes(), config.pretrigger_records);
+  layout_ = wire::LogLayout{config.channel_mask, static_cast<std::uint8_t>(config.flags & wire::kAcqFlagLogDob)};
+  Status s = decimator_.Init(config.decimation, layout_.ChannelCount() + (layout_.HasDob() ? 1 : 0));
+  if (s != Status::kOk) return s;
+  s = ring_.Reset(layout_.StoredRecordBytes(), config.pretrigger_records);
   if (s != Status::kOk) return s;
   config_ = config;
   expected_tick_ = 0;
@@ -59,8 +63,9 @@ void Sampler::OnFrame(const SampleFrame& frame) {
   }
   const wire::AcqState state = state_.load(std::memory_order_relaxed);
   const bool sampling = state == wire::AcqState::kArmed || state == wire::AcqState::kAcquiring;
-  // The DOB steps on every frame (decimation only thins the log), so the host can replay it
-  // from an undecimated log. A run switched on mid-acquisition starts from rest.
+  // The DOB steps on every frame at the sampling rate whatever the log rate, so the host can
+  // replay it from a log kept at the sampling rate. A run switched on mid-acquisition starts
+  // from rest.
   const bool run_dob = sampling && (dob_in_acquisition_ ||
                                     (dob_rate_ok_ && dob_requested_.load(std::memory_order_relaxed)));
   if (run_dob && !dob_was_running_) dob_.Reset();
@@ -87,23 +92,47 @@ void Sampler::OnFrame(const SampleFrame& frame) {
     next = wire::AcqState::kAcquiring;
   }
 
-  if (frame.tick % config_.decimation == 0) {
-    wire::LogRecord record;
-    record.sample_index = frame.tick;
-    record.raw = frame.raw;
-    record.d_hat = d_hat;
-    std::array<std::uint8_t, wire::kMaxLogRecordBytes> bytes{};
-    wire::EncodeLogRecord(layout_, record, bytes);
-    const bool kept = ring_.Push(std::span<const std::uint8_t>(bytes).first(layout_.RecordBytes()));
-    if (next == wire::AcqState::kAcquiring) {
-      if (!kept) dropped_.store(dropped_.load(std::memory_order_relaxed) + 1, std::memory_order_relaxed);
-      ++post_trigger_records_;
-      if (config_.record_limit != 0 && post_trigger_records_ >= config_.record_limit) {
-        next = wire::AcqState::kDone;
-      }
+  const Logged logged = LogFrame(frame, d_hat);
+  if (logged != Logged::kNoRecord && next == wire::AcqState::kAcquiring) {
+    if (logged == Logged::kRefused) {
+      dropped_.store(dropped_.load(std::memory_order_relaxed) + 1, std::memory_order_relaxed);
+    }
+    ++post_trigger_records_;
+    if (config_.record_limit != 0 && post_trigger_records_ >= config_.record_limit) {
+      next = wire::AcqState::kDone;
     }
   }
   if (next != state) state_.store(next, std::memory_order_release);
+}
+
+Sampler::Logged Sampler::LogFrame(const SampleFrame& frame, std::int32_t d_hat) {
+  // The logged values in their log format, in record order: converter codes as 12.4, encoder
+  // counts, d_hat. All of them pass the same decimator, so a ratio of two channels (an FRF)
+  // keeps its value in the passband.
+  std::array<std::int32_t, fixed::kDecimatorMaxChannels> in{};
+  std::size_t n = 0;
+  for (std::size_t c = 0; c < wire::kChannelCount; ++c) {
+    if ((layout_.channel_mask & (1u << c)) == 0) continue;
+    const bool converter = wire::LogValueBytes(static_cast<wire::Channel>(c)) == 2;
+    in[n++] = converter ? static_cast<std::int32_t>(static_cast<std::uint32_t>(frame.raw[c])
+                                                    << wire::kLogAdcFractionBits)
+                        : frame.raw[c];
+  }
+  if (layout_.HasDob()) in[n++] = d_hat;
+  std::array<std::int32_t, fixed::kDecimatorMaxChannels> out{};
+  if (!decimator_.Push(in.data(), out.data())) return Logged::kNoRecord;
+
+  wire::LogRecord record;
+  n = 0;
+  for (std::size_t c = 0; c < wire::kChannelCount; ++c) {
+    if ((layout_.channel_mask & (1u << c)) != 0) record.raw[c] = out[n++];
+  }
+  if (layout_.HasDob()) record.d_hat = out[n];
+  std::array<std::uint8_t, wire::kLogIndexBytes + wire::kMaxLogRecordBytes> bytes{};
+  wire::StoreU32(bytes, 0, frame.tick);
+  wire::EncodeLogRecord(layout_, record, std::span<std::uint8_t>(bytes).subspan(wire::kLogIndexBytes));
+  const bool kept = ring_.Push(std::span<const std::uint8_t>(bytes).first(layout_.StoredRecordBytes()));
+  return kept ? Logged::kKept : Logged::kRefused;
 }
 
 void Sampler::PublishLatest(const SampleFrame& frame,

@@ -310,12 +310,17 @@ bool Connection::ReadLogOnce(std::uint32_t first, std::uint32_t max, LogPull& pu
   wire::Report request{};
   static_cast<void>(wire::BuildReport(Command::kLogRead, token, 0, 0, Status::kOk, payload, request));
   Send(request);
+  return ReceiveLogStream(token, first, pull, {});
+}
 
+bool Connection::ReceiveLogStream(std::uint16_t token, std::uint32_t first, LogPull& pull,
+                                  const Progress& progress) {
   // Records are kept only from a stream whose trailer checked out (byte count and CRC-32 over
   // every data payload): a report corrupted in a way its header does not show is caught there.
-  // A broken stream costs one request of at most kLogChunkRecords records.
+  // The layout comes with the trailer, so payloads are kept whole until then.
   wire::StreamDecoder decoder(Command::kLogRead, token);
-  std::vector<std::uint8_t> data;
+  std::vector<std::vector<std::uint8_t>> payloads;
+  std::uint64_t bytes = 0;
   const auto id = static_cast<std::uint8_t>(Command::kLogRead);
   wire::LogTrailer trailer;
   for (;;) {
@@ -324,7 +329,9 @@ bool Connection::ReadLogOnce(std::uint32_t first, std::uint32_t max, LogPull& pu
     if (!Await(id, token, options_.timeout, r)) return false;
     const auto step = decoder.Feed(r.report);
     if (step.event == wire::StreamDecoder::Event::kData) {
-      data.insert(data.end(), step.payload.begin(), step.payload.end());
+      payloads.emplace_back(step.payload.begin(), step.payload.end());
+      bytes += step.payload.size();
+      if (progress) progress(bytes, 0);
     } else if (step.event == wire::StreamDecoder::Event::kEnd) {
       if (wire::Decode(step.payload, trailer) != Status::kOk) return false;
       break;
@@ -337,23 +344,50 @@ bool Connection::ReadLogOnce(std::uint32_t first, std::uint32_t max, LogPull& pu
   }
   wire::LogLayout layout;
   layout.channel_mask = trailer.channel_mask;
-  layout.flags = trailer.acq_flags;
+  layout.flags = static_cast<std::uint8_t>(trailer.acq_flags & wire::kAcqFlagLogDob);
   if (!layout.Valid() || trailer.first_record != first || trailer.record_bytes != layout.RecordBytes() ||
-      data.size() != std::size_t{trailer.record_count} * layout.RecordBytes()) {
+      trailer.decimation == 0) {
     throw DeviceError("malformed log-read trailer from the device");
   }
+  std::vector<wire::LogRecord> records;
+  records.reserve(trailer.record_count);
+  std::array<wire::LogRecord, wire::kMaxRecordsPerReport> batch{};
+  for (const auto& p : payloads) {
+    std::size_t n = 0;
+    if (wire::DecodeLogPayload(layout, trailer.decimation, p, batch, n) != Status::kOk) {
+      throw DeviceError("malformed log data report from the device");
+    }
+    records.insert(records.end(), batch.begin(), batch.begin() + static_cast<std::ptrdiff_t>(n));
+  }
+  if (records.size() != trailer.record_count) throw DeviceError("malformed log-read trailer from the device");
   if (pull.records.empty()) pull.first_record = first;
   pull.layout = layout;
   pull.trailer = trailer;
-  const std::size_t rb = layout.RecordBytes();
-  for (std::size_t off = 0; off < data.size(); off += rb) {
-    wire::LogRecord rec;
-    if (wire::DecodeLogRecord(layout, std::span(data).subspan(off, rb), rec) != Status::kOk) {
-      throw DeviceError("malformed log record from the device");
-    }
-    pull.records.push_back(rec);
-  }
+  pull.records.insert(pull.records.end(), records.begin(), records.end());
   return true;
+}
+
+LogPull Connection::AcquireStreamed(const Progress& progress) {
+  const std::uint16_t token = NextToken();
+  wire::Report request{};
+  static_cast<void>(wire::BuildReport(Command::kAcqStart, token, 0, 0, Status::kOk, {}, request));
+  Send(request);
+  Reply answer;
+  if (!Await(static_cast<std::uint8_t>(Command::kAcqStart), token, options_.timeout, answer)) {
+    throw DeviceError("no answer to acq-start from " + Describe());
+  }
+  if (answer.header.status != Status::kOk) {
+    throw DeviceError(std::string("the device refused acq-start: ") + StatusName(answer.header.status));
+  }
+  LogPull pull;
+  if (ReceiveLogStream(token, 0, pull, progress)) return pull;
+  // The stream broke off (a lost or corrupted report, or a long wait for the trigger): the
+  // records are still in the board's log; pull them, and the rest, with log-read.
+  {
+    std::lock_guard lock(mutex_);
+    ++counters_.stream_resumes;
+  }
+  return PullLog(0, progress);
 }
 
 LogPull Connection::PullLog(std::uint32_t first, const Progress& progress, int max_resumes) {

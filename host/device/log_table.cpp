@@ -1,8 +1,11 @@
 #include "vibid/device/log_table.hpp"
 
+#include <algorithm>
+#include <cmath>
 #include <cstring>
 
 #include "vibid/common/csv.hpp"
+#include "vibid/shared/fixed/decimator.hpp"
 #include "vibid/shared/fixed/filter_description.hpp"
 
 namespace vibid::device {
@@ -45,12 +48,41 @@ bool ChannelFromStem(const std::string& stem, wire::Channel& channel) {
   return false;
 }
 
+namespace {
+
+/// The calibrated value (Q31 of full scale, as a double) of one logged value. A raw sample
+/// (a whole converter code) goes through the board's own integer arithmetic, so the host
+/// recovers the Q31 value the board's observer saw; a decimated value carries fraction bits and
+/// goes through the same formula in double.
+double Calibrated(std::int32_t logged, wire::Channel channel, const wire::ChannelScaling& s) {
+  std::int32_t raw = logged;
+  if (wire::LogValueBytes(channel) == 2) {
+    constexpr std::int32_t kOne = 1 << wire::kLogAdcFractionBits;
+    if (logged % kOne != 0) {
+      const double code = static_cast<double>(logged) / kOne;
+      const double v = (code - static_cast<double>(s.offset_counts)) * static_cast<double>(s.gain) /
+                       std::ldexp(1.0, s.gain_shift);
+      return std::clamp(v, -kQ31, kQ31 - 1.0);
+    }
+    raw = logged / kOne;
+  }
+  std::uint32_t clips = 0;
+  return wire::ScaleChannel(raw, s, clips);
+}
+
+}  // namespace
+
 LogTable MakeLogTable(const LogPull& pull, const wire::CalibrationRecord& calibration, bool has_record) {
   LogTable t;
   const auto n = static_cast<Eigen::Index>(pull.records.size());
   const double period_s = pull.trailer.sample_period_us * 1e-6;
+  // A decimated record stands for the signal its linear-phase filter delays by a fixed number
+  // of ticks: its time is moved back by that delay, so events keep their time at any log rate.
+  const double delay_s = fixed::DecimatorDelayTicks(pull.trailer.decimation) * period_s;
   Eigen::VectorXd time(n);
-  for (Eigen::Index i = 0; i < n; ++i) time(i) = pull.records[static_cast<std::size_t>(i)].sample_index * period_s;
+  for (Eigen::Index i = 0; i < n; ++i) {
+    time(i) = pull.records[static_cast<std::size_t>(i)].sample_index * period_s - delay_s;
+  }
   t.names.push_back("t_s");
   t.columns.push_back(time);
   for (std::size_t c = 0; c < wire::kChannelCount; ++c) {
@@ -59,8 +91,7 @@ LogTable MakeLogTable(const LogPull& pull, const wire::CalibrationRecord& calibr
     const double scale = s.unit == wire::Unit::kCounts ? 1.0 : static_cast<double>(s.full_scale) / kQ31;
     Eigen::VectorXd v(n);
     for (Eigen::Index i = 0; i < n; ++i) {
-      std::uint32_t clips = 0;
-      v(i) = wire::ScaleChannel(pull.records[static_cast<std::size_t>(i)].raw[c], s, clips) * scale;
+      v(i) = Calibrated(pull.records[static_cast<std::size_t>(i)].raw[c], static_cast<wire::Channel>(c), s) * scale;
     }
     t.names.push_back(std::string(ChannelStem(static_cast<wire::Channel>(c))) + "_" + UnitSuffix(s.unit));
     t.columns.push_back(v);

@@ -16,7 +16,7 @@ ROOT = pathlib.Path(__file__).resolve().parents[2]
 OUT = ROOT / "shared/wire/testdata/wire_vectors.txt"
 SEEDS = ROOT / "firmware/core/fuzz/seeds"
 
-PROTOCOL_MAJOR = 1
+PROTOCOL_MAJOR = 2
 PROTOCOL_MINOR = 0
 CAL_RECORD_VERSION = 1
 MAGIC = b"VB"
@@ -98,8 +98,9 @@ def main():
     info = struct.pack("<BBBBHHIII", PROTOCOL_MAJOR, PROTOCOL_MINOR, 0, 1, 2, 1, 0xDEADBEEF,
                        0x0000000F, 200)
     info += struct.pack("<II", 100, 98304)
-    info += struct.pack("<B6B", 6, 1, 1, 2, 2, 3, 3)
-    info += struct.pack("<BBBH", 4, 1, 1, 0)                # watchdog, calibrated, slot B
+    info += struct.pack("<HBB", 1000, 12, 4)                # 1000 reports/s, 12-bit ADC, watchdog
+    info += struct.pack("<6B", 1, 1, 2, 2, 3, 3)
+    info += struct.pack("<BB", 1, 1)                        # calibrated, slot B
     info += struct.pack("<III", 0xCAFEF00D, 3, 17)
     assert len(info) == 52
     add("info_response", report(0x02, flags=FLAG_RESPONSE, token=0x0102, payload=info))
@@ -109,33 +110,37 @@ def main():
     assert len(status) == 52
     add("status_response", report(0x03, flags=FLAG_RESPONSE, token=0xFFFF, payload=status))
 
-    acq = struct.pack("<IBBHBBHiII", 200, 0b100011, 0x01, 5, 1, 1, 0, 429496730, 250, 10000)
+    acq = struct.pack("<IBBHBBHiII", 200, 0b100011, 0x03, 5, 1, 1, 0, 429496730, 250, 10000)
     assert len(acq) == 24
     add("acq_configure_request", report(0x20, token=0x0A0B, payload=acq))
     add("acq_configure_response",
-        report(0x20, flags=FLAG_RESPONSE, token=0x0A0B, payload=struct.pack("<HHI", 20, 0, 4915)))
+        report(0x20, flags=FLAG_RESPONSE, token=0x0A0B, payload=struct.pack("<HHI", 12, 0, 6144)))
 
     # A refusal: acq-configure with status failed-precondition (3), no payload.
     add("refusal_response", report(0x20, status=3, flags=FLAG_RESPONSE, token=0x0A0C))
 
     add("log_read_request", report(0x24, token=0x7777, payload=struct.pack("<II", 10, 5)))
 
-    # Log stream: channels force1, force2, encoder2 (mask 0b100011) plus d_hat -> 20-byte records,
-    # two per report. Records 10..14.
+    # Log stream: channels force1, force2 (u16 12.4 codes), encoder2 (i32) plus d_hat (i32) ->
+    # 12-byte records, four per report after the 4-byte tick of the report's first record.
+    # Records 10..14 at decimation 5; the board dropped the record of tick 1015, so the report
+    # of records 10..12 ends at the gap and the next one starts at tick 1020.
+    ticks = [1000, 1005, 1010, 1020, 1025]
     records = [
-        struct.pack("<Iiiii", 1000 + 5 * i, 2048 + i, 2047 - i, -3 * i, -(1 << 20) + i)
+        struct.pack("<HHii", (2048 + i) << 4, (2047 - i) << 4, -3 * i, -(1 << 20) + i)
         for i in range(5)
     ]
-    data_payloads = [records[0] + records[1], records[2] + records[3], records[4]]
+    data_payloads = [struct.pack("<I", ticks[0]) + b"".join(records[0:3]),
+                     struct.pack("<I", ticks[3]) + b"".join(records[3:5])]
     stream_bytes = b"".join(data_payloads)
     for seq, payload in enumerate(data_payloads):
         add(f"log_stream_{seq}", report(0x24, flags=FLAG_RESPONSE, token=0x7777, sequence=seq,
                                         payload=payload))
     trailer = struct.pack("<IIIIHBBIHBBIIII", len(stream_bytes), zlib.crc32(stream_bytes), 10, 5,
-                          20, 0b100011, 0x01, 200, 5, 3, 0, 0, 2, 0, 15)
+                          12, 0b100011, 0x03, 200, 5, 3, 0, 0, 1, 0, 15)
     assert len(trailer) == 44
-    add("log_stream_3", report(0x24, flags=FLAG_RESPONSE | FLAG_STREAM_END, token=0x7777,
-                               sequence=3, payload=trailer))
+    add("log_stream_2", report(0x24, flags=FLAG_RESPONSE | FLAG_STREAM_END, token=0x7777,
+                               sequence=2, payload=trailer))
 
     latest = struct.pack("<I6iiBB", 42, 1, -2, 3, -4, 5, -6, 99, 2, 1)
     add("latest_response", report(0x23, flags=FLAG_RESPONSE, token=3, payload=latest))
@@ -183,7 +188,7 @@ def main():
                                      v["log_read_request"] + v["dob_control_request"])
     (SEEDS / "cal_put").write_bytes(b"\x00" + v["cal_put_begin"] + v["cal_put_data_0"])
     (SEEDS / "log_stream").write_bytes(bytes([0x24, 0x77, 0x77]) +
-                                       b"".join(v[f"log_stream_{i}"] for i in range(4)))
+                                       b"".join(v[f"log_stream_{i}"] for i in range(3)))
 
 
 if __name__ == "__main__":

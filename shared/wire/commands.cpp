@@ -24,14 +24,14 @@ void Encode(const InfoResponse& v, std::span<std::uint8_t> out) {
   StoreU32(out, 16, v.sample_period_us);
   StoreU32(out, 20, v.min_sample_period_us);
   StoreU32(out, 24, v.log_capacity_bytes);
-  StoreU8(out, 28, v.channel_count);
+  StoreU16(out, 28, v.link_reports_per_s);
+  StoreU8(out, 30, v.adc_bits);
+  StoreU8(out, 31, static_cast<std::uint8_t>(v.reset_cause));
   for (std::size_t i = 0; i < kChannelCount; ++i) {
-    StoreU8(out, 29 + i, static_cast<std::uint8_t>(v.channel_kind[i]));
+    StoreU8(out, 32 + i, static_cast<std::uint8_t>(v.channel_kind[i]));
   }
-  StoreU8(out, 35, static_cast<std::uint8_t>(v.reset_cause));
-  StoreU8(out, 36, static_cast<std::uint8_t>(v.cal_state));
-  StoreU8(out, 37, v.cal_slot);
-  StoreU16(out, 38, 0);
+  StoreU8(out, 38, static_cast<std::uint8_t>(v.cal_state));
+  StoreU8(out, 39, v.cal_slot);
   StoreU32(out, 40, v.cal_crc);
   StoreU32(out, 44, v.overrun_count);
   StoreU32(out, 48, v.dropped_records);
@@ -50,18 +50,19 @@ Status Decode(std::span<const std::uint8_t> in, InfoResponse& v) {
   v.sample_period_us = LoadU32(in, 16);
   v.min_sample_period_us = LoadU32(in, 20);
   v.log_capacity_bytes = LoadU32(in, 24);
-  v.channel_count = LoadU8(in, 28);
+  v.link_reports_per_s = LoadU16(in, 28);
+  v.adc_bits = LoadU8(in, 30);
+  v.reset_cause = static_cast<ResetCause>(LoadU8(in, 31));
   for (std::size_t i = 0; i < kChannelCount; ++i) {
-    v.channel_kind[i] = static_cast<ChannelKind>(LoadU8(in, 29 + i));
+    v.channel_kind[i] = static_cast<ChannelKind>(LoadU8(in, 32 + i));
   }
-  v.reset_cause = static_cast<ResetCause>(LoadU8(in, 35));
-  const std::uint8_t cal_state = LoadU8(in, 36);
+  const std::uint8_t cal_state = LoadU8(in, 38);
   v.cal_state = static_cast<CalState>(cal_state);
-  v.cal_slot = LoadU8(in, 37);
+  v.cal_slot = LoadU8(in, 39);
   v.cal_crc = LoadU32(in, 40);
   v.overrun_count = LoadU32(in, 44);
   v.dropped_records = LoadU32(in, 48);
-  if (!KnownCalState(cal_state) || LoadU16(in, 38) != 0) return Status::kInvalidArgument;
+  if (!KnownCalState(cal_state)) return Status::kInvalidArgument;
   return Status::kOk;
 }
 

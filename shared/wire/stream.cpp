@@ -13,7 +13,7 @@ void StreamEncoder::Begin(Command command, std::uint16_t token) {
 }
 
 Status StreamEncoder::Data(std::span<const std::uint8_t> payload, Report& out) {
-  if (payload.empty() || payload.size() > kMaxPayload || data_reports_ >= 0xFFFFu) {
+  if (payload.empty() || payload.size() > kMaxPayload) {
     return Status::kOutOfRange;
   }
   const Status s = BuildReport(command_, token_, static_cast<std::uint16_t>(data_reports_),

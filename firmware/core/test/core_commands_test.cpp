@@ -213,19 +213,20 @@ TEST(CoreCommands, AcqConfigureValidatesEveryField) {
       {"seventh channel", with([](auto& c) { c.channel_mask = 0x41; }), Status::kInvalidArgument},
       {"unknown flag", with([](auto& c) { c.flags = 0x80; }), Status::kInvalidArgument},
       {"decimation 0", with([](auto& c) { c.decimation = 0; }), Status::kInvalidArgument},
-      {"decimation too big", with([](auto& c) { c.decimation = 10001; }), Status::kInvalidArgument},
+      {"decimation too big", with([](auto& c) { c.decimation = 2000; }), Status::kInvalidArgument},
+      {"decimation the decimator lacks", with([](auto& c) { c.decimation = 3; }), Status::kInvalidArgument},
       {"immediate with pre-trigger", with([](auto& c) { c.pretrigger_records = 1; }), Status::kInvalidArgument},
       {"immediate with threshold", with([](auto& c) { c.trigger_threshold = 5; }), Status::kInvalidArgument},
       {"trigger on an accelerometer", with([](auto& c) {
          c.trigger_mode = wire::TriggerMode::kRising;
          c.trigger_channel = 2;
        }), Status::kInvalidArgument},
-      // Six channels, no d_hat: 28-byte records, 2048 / 28 = 73 fit; 73 pre-trigger records
-      // would leave no room for the trigger record.
+      // Six channels, no d_hat: 16-byte records, 20 with the tick in the log: 2048 / 20 = 102
+      // fit; 102 pre-trigger records would leave no room for the trigger record.
       {"pre-trigger fills the log", with([](auto& c) {
          c.trigger_mode = wire::TriggerMode::kFalling;
          c.trigger_channel = 1;
-         c.pretrigger_records = 73;
+         c.pretrigger_records = 102;
        }), Status::kOutOfRange},
       {"d_hat without a filter", with([](auto& c) { c.flags = wire::kAcqFlagLogDob; }), Status::kFailedPrecondition},
   };
@@ -237,13 +238,13 @@ TEST(CoreCommands, AcqConfigureValidatesEveryField) {
   wire::AcqConfigureRequest ok = Immediate();
   ok.trigger_mode = wire::TriggerMode::kFalling;
   ok.trigger_channel = 1;
-  ok.pretrigger_records = 72;
+  ok.pretrigger_records = 101;
   const Response r = h.Request(Command::kAcqConfigure, ok);
   ASSERT_EQ(r.status(), Status::kOk);
   wire::AcqConfigureResponse answer;
   ASSERT_EQ(wire::Decode(r.payload(), answer), Status::kOk);
-  EXPECT_EQ(answer.record_bytes, 28);
-  EXPECT_EQ(answer.capacity_records, 73u);
+  EXPECT_EQ(answer.record_bytes, 16);
+  EXPECT_EQ(answer.capacity_records, 102u);
 }
 
 TEST(CoreCommands, AcquisitionStateRules) {

@@ -75,9 +75,11 @@ PulledLog PullLog(CoreHarness& h, std::uint32_t first, std::uint32_t max, int lo
   h.link.ClearOut();
   h.link.Push(report);
 
+  // Data payloads are kept whole until the trailer brings the layout.
   wire::StreamDecoder decoder(wire::Command::kLogRead, h.last_token);
-  std::array<std::uint8_t, 160 * wire::kMaxLogRecordBytes> bytes{};
-  std::size_t byte_count = 0;
+  std::array<std::array<std::uint8_t, wire::kMaxPayload>, 160> payloads{};
+  std::array<std::size_t, 160> lengths{};
+  std::size_t payload_count = 0;
   for (int polls = 0; polls < 10000 && !decoder.finished(); ++polls) {
     h.core.Poll();
     wire::Report in{};
@@ -90,26 +92,27 @@ PulledLog PullLog(CoreHarness& h, std::uint32_t first, std::uint32_t max, int lo
       const wire::StreamDecoder::Step step = decoder.Feed(in);
       out.last_event = step.event;
       out.status = step.status;
-      if (step.event == wire::StreamDecoder::Event::kData) {
-        for (const std::uint8_t b : step.payload) {
-          if (byte_count < bytes.size()) bytes[byte_count++] = b;
-        }
+      if (step.event == wire::StreamDecoder::Event::kData && payload_count < payloads.size()) {
+        std::copy(step.payload.begin(), step.payload.end(), payloads[payload_count].begin());
+        lengths[payload_count++] = step.payload.size();
       } else if (step.event == wire::StreamDecoder::Event::kEnd) {
         out.status = wire::Decode(step.payload, out.trailer);
       }
     }
   }
   if (out.last_event != wire::StreamDecoder::Event::kEnd || out.status != Status::kOk) return out;
-  const wire::LogLayout layout{out.trailer.channel_mask, out.trailer.acq_flags};
-  const std::size_t record_bytes = layout.RecordBytes();
-  for (std::size_t offset = 0; offset + record_bytes <= byte_count && out.count < out.records.size();
-       offset += record_bytes) {
-    const auto record = std::span<const std::uint8_t>(bytes).subspan(offset, record_bytes);
-    if (wire::DecodeLogRecord(layout, record, out.records[out.count]) != Status::kOk) {
+  const wire::LogLayout layout{out.trailer.channel_mask,
+                               static_cast<std::uint8_t>(out.trailer.acq_flags & wire::kAcqFlagLogDob)};
+  for (std::size_t p = 0; p < payload_count; ++p) {
+    std::array<wire::LogRecord, wire::kMaxRecordsPerReport> batch{};
+    std::size_t n = 0;
+    if (wire::DecodeLogPayload(layout, out.trailer.decimation,
+                               std::span<const std::uint8_t>(payloads[p]).first(lengths[p]), batch, n) !=
+        Status::kOk) {
       out.status = Status::kInvalidArgument;
       return out;
     }
-    ++out.count;
+    for (std::size_t k = 0; k < n && out.count < out.records.size(); ++k) out.records[out.count++] = batch[k];
   }
   return out;
 }

@@ -6,6 +6,7 @@
 #include <array>
 
 #include "core_harness.hpp"
+#include "vibid/shared/fixed/decimator.hpp"
 
 namespace vibid::fw {
 namespace {
@@ -17,6 +18,9 @@ using wire::Command;
 
 // Frame k reads channel c = 100 * c + k (uncalibrated board: calibrated = raw).
 constexpr std::array<std::int32_t, wire::kChannelCount> kBase{0, 100, 200, 300, 400, 500};
+
+/// What the log holds for a raw value of channel c: converter codes in 12.4, encoder counts.
+std::int32_t Logged(std::size_t c, std::int32_t raw) { return c < 4 ? raw * 16 : raw; }
 
 wire::AcqConfigureRequest Config(std::uint8_t mask, std::uint16_t decimation) {
   wire::AcqConfigureRequest c;
@@ -37,12 +41,12 @@ TEST(CoreLog, ImmediateAcquisitionStreamsEveryRecord) {
   for (std::uint32_t k = 0; k < 10; ++k) {
     EXPECT_EQ(log.records[k].sample_index, k);
     for (std::size_t c = 0; c < wire::kChannelCount; ++c) {
-      EXPECT_EQ(log.records[k].raw[c], kBase[c] + static_cast<std::int32_t>(k));
+      EXPECT_EQ(log.records[k].raw[c], Logged(c, kBase[c] + static_cast<std::int32_t>(k)));
     }
   }
   EXPECT_EQ(log.trailer.first_record, 0u);
   EXPECT_EQ(log.trailer.record_count, 10u);
-  EXPECT_EQ(log.trailer.record_bytes, 28);
+  EXPECT_EQ(log.trailer.record_bytes, 16);
   EXPECT_EQ(log.trailer.sample_period_us, 200u);
   EXPECT_EQ(log.trailer.decimation, 1);
   EXPECT_EQ(log.trailer.trigger_record, 0u);
@@ -51,21 +55,32 @@ TEST(CoreLog, ImmediateAcquisitionStreamsEveryRecord) {
   EXPECT_EQ(log.trailer.dropped_records, 0u);
 }
 
-TEST(CoreLog, DecimationAndChannelSelection) {
+// A linear-phase low-pass with unit DC gain maps a ramp onto the same ramp delayed by its group
+// delay, exactly in integers (sum of h = 1, sum of k h = delay): once the filter is full, every
+// decimated record equals the input at tick - delay.
+TEST(CoreLog, DecimationFiltersEveryChannelAlike) {
   CoreHarness h;
-  // Force 2 and encoder 1 only (mask 0b010010), every 3rd tick: 12-byte records, 4 per report.
-  ASSERT_EQ(h.StartAcquisition(Config(0b010010, 3)), Status::kOk);
-  h.EmitRamp(10, kBase, 1);
+  // Force 2 and encoder 1 only (mask 0b010010), decimated by 5: 6-byte records, 8 per report.
+  ASSERT_EQ(h.StartAcquisition(Config(0b010010, 5)), Status::kOk);
+  constexpr std::uint32_t kFrames = 600;
+  h.EmitRamp(kFrames, kBase, 1);
   const PulledLog log = PullLog(h, 0, 0);
   ASSERT_EQ(log.status, Status::kOk);
-  ASSERT_EQ(log.count, 4u);  // ticks 0, 3, 6, 9
-  for (std::uint32_t i = 0; i < 4; ++i) {
-    EXPECT_EQ(log.records[i].sample_index, 3 * i);
-    EXPECT_EQ(log.records[i].raw[1], 100 + static_cast<std::int32_t>(3 * i));
-    EXPECT_EQ(log.records[i].raw[4], 400 + static_cast<std::int32_t>(3 * i));
+  ASSERT_EQ(log.count, kFrames / 5);  // ticks 0, 5, 10, ...
+  const auto delay = static_cast<std::int32_t>(fixed::DecimatorDelayTicks(5));
+  std::size_t checked = 0;
+  for (std::uint32_t i = 0; i < log.count; ++i) {
+    const auto tick = static_cast<std::int32_t>(log.records[i].sample_index);
+    EXPECT_EQ(tick, static_cast<std::int32_t>(5 * i));
     EXPECT_EQ(log.records[i].raw[0], 0);  // not logged
+    if (tick < 2 * delay) continue;  // the filter is still filling
+    EXPECT_EQ(log.records[i].raw[1], Logged(1, 100 + tick - delay)) << "tick " << tick;
+    EXPECT_EQ(log.records[i].raw[4], Logged(4, 400 + tick - delay)) << "tick " << tick;
+    ++checked;
   }
-  EXPECT_EQ(log.trailer.record_bytes, 12);
+  EXPECT_GT(checked, log.count / 2);
+  EXPECT_EQ(log.trailer.record_bytes, 6);
+  EXPECT_EQ(log.trailer.decimation, 5);
   EXPECT_EQ(log.trailer.channel_mask, 0b010010);
 }
 
@@ -73,19 +88,19 @@ TEST(CoreLog, LostReportIsDetectedAndThePullResumes) {
   CoreHarness h;
   ASSERT_EQ(h.StartAcquisition(Config(wire::kAllChannelsMask, 1)), Status::kOk);
   h.EmitRamp(40, kBase, 1);
-  // 28-byte records: one per report. Report 7 (record 7) is lost on the way.
-  const PulledLog broken = PullLog(h, 0, 0, 7);
+  // 16-byte records: three per report. Report 2 (records 6..8) is lost on the way.
+  const PulledLog broken = PullLog(h, 0, 0, 2);
   EXPECT_EQ(broken.last_event, wire::StreamDecoder::Event::kError);
   EXPECT_EQ(broken.status, Status::kDataLoss);
 
-  // The host kept records 0..6 intact and asks again from 7.
-  const PulledLog resumed = PullLog(h, 7, 0);
+  // The host kept records 0..5 intact and asks again from 6.
+  const PulledLog resumed = PullLog(h, 6, 0);
   ASSERT_EQ(resumed.status, Status::kOk);
-  ASSERT_EQ(resumed.count, 33u);
+  ASSERT_EQ(resumed.count, 34u);
   for (std::uint32_t i = 0; i < resumed.count; ++i) {
-    EXPECT_EQ(resumed.records[i].sample_index, 7 + i);  // nothing lost, nothing repeated
+    EXPECT_EQ(resumed.records[i].sample_index, 6 + i);  // nothing lost, nothing repeated
   }
-  EXPECT_EQ(resumed.trailer.first_record, 7u);
+  EXPECT_EQ(resumed.trailer.first_record, 6u);
 }
 
 TEST(CoreLog, NewRequestAbandonsTheRunningStream) {
@@ -112,7 +127,7 @@ TEST(CoreLog, NewRequestAbandonsTheRunningStream) {
 
 TEST(CoreLog, MaxRecordsLimitsTheStream) {
   CoreHarness h;
-  ASSERT_EQ(h.StartAcquisition(Config(0b000001, 1)), Status::kOk);  // 8-byte records, 6/report
+  ASSERT_EQ(h.StartAcquisition(Config(0b000001, 1)), Status::kOk);  // 2-byte records, 24/report
   h.EmitRamp(20, kBase, 1);
   const PulledLog log = PullLog(h, 2, 13);
   ASSERT_EQ(log.status, Status::kOk);
@@ -148,7 +163,7 @@ TEST(CoreLog, ForceTriggerKeepsPreTriggerRecords) {
   ASSERT_EQ(log.status, Status::kOk);
   ASSERT_EQ(log.count, 13u);  // 5 before + 8 from the trigger
   for (std::uint32_t i = 0; i < 13; ++i) EXPECT_EQ(log.records[i].sample_index, 25 + i);
-  EXPECT_EQ(log.records[5].raw[0], 30);  // the trigger record crossed the threshold
+  EXPECT_EQ(log.records[5].raw[0], Logged(0, 30));  // the trigger record crossed the threshold
   EXPECT_EQ(log.trailer.trigger_record, 5u);
   EXPECT_EQ(log.trailer.acq_state, wire::AcqState::kDone);
 }
@@ -166,32 +181,33 @@ TEST(CoreLog, FallingTriggerWithFewerFramesThanPreTrigger) {
   ASSERT_EQ(log.status, Status::kOk);
   ASSERT_EQ(log.count, 6u);
   EXPECT_EQ(log.trailer.trigger_record, 2u);  // only 2 frames came before the trigger
-  EXPECT_EQ(log.records[2].raw[1], 98);
+  EXPECT_EQ(log.records[2].raw[1], Logged(1, 98));
 }
 
 TEST(CoreLog, FullLogDropsAndCountsNeverOverwrites) {
   CoreHarness h;
   ASSERT_EQ(h.StartAcquisition(Config(wire::kAllChannelsMask, 1)), Status::kOk);
-  // 2048 / 28 = 73 records fit. 100 frames: 27 dropped.
-  h.EmitRamp(100, kBase, 1);
+  // 2048 / 20 (16-byte record and its 4-byte tick) = 102 records fit. 130 frames: 28 dropped.
+  h.EmitRamp(130, kBase, 1);
   wire::StatusResponse s;
   ASSERT_EQ(wire::Decode(h.Request(Command::kGetStatus).payload(), s), Status::kOk);
-  EXPECT_EQ(s.records_written, 73u);
-  EXPECT_EQ(s.dropped_records, 27u);
+  EXPECT_EQ(s.records_written, 102u);
+  EXPECT_EQ(s.dropped_records, 28u);
   wire::InfoResponse board_info;
   ASSERT_EQ(wire::Decode(h.Request(Command::kGetInfo).payload(), board_info), Status::kOk);
-  EXPECT_EQ(board_info.dropped_records, 27u);
+  EXPECT_EQ(board_info.dropped_records, 28u);
 
   // Pulling from 50 releases 0..49; new frames fit again and carry on where they are.
   PulledLog log = PullLog(h, 50, 0);
   ASSERT_EQ(log.status, Status::kOk);
-  EXPECT_EQ(log.trailer.dropped_records, 27u);
-  EXPECT_EQ(log.records[22].sample_index, 72u);  // the first 73 frames were kept
+  EXPECT_EQ(log.trailer.dropped_records, 28u);
+  ASSERT_EQ(log.count, 52u);
+  EXPECT_EQ(log.records[51].sample_index, 101u);  // the first 102 frames were kept
   h.EmitRamp(5, kBase, 1);
-  log = PullLog(h, 73, 0);
+  log = PullLog(h, 102, 0);
   ASSERT_EQ(log.status, Status::kOk);
   ASSERT_EQ(log.count, 5u);
-  EXPECT_EQ(log.records[0].sample_index, 100u);
+  EXPECT_EQ(log.records[0].sample_index, 130u);  // a gap: the report starts at the new tick
 }
 
 wire::StatusResponse BoardStatus(CoreHarness& h) {
@@ -240,17 +256,17 @@ TEST(CoreLog, OverwrittenRecordsAreRefused) {
   ASSERT_EQ(h.StartAcquisition(Config(wire::kAllChannelsMask, 1)), Status::kOk);
   h.EmitRamp(60, kBase, 1);
   ASSERT_EQ(PullLog(h, 60, 0).status, Status::kOk);  // releases 0..59
-  // 73 slots of 28 bytes; 100 written: index 100 may take record 27's slot next.
-  h.EmitRamp(40, kBase, 1);
+  // 102 slots of 20 bytes; 129 written: index 129 may take record 27's slot next.
+  h.EmitRamp(69, kBase, 1);
   const wire::StatusResponse s = BoardStatus(h);
-  EXPECT_EQ(s.records_written, 100u);
+  EXPECT_EQ(s.records_written, 129u);
   EXPECT_EQ(s.oldest_record, 28u);
   EXPECT_EQ(s.dropped_records, 0u);
   EXPECT_EQ(PullLog(h, 27, 0).status, Status::kOutOfRange);
   EXPECT_EQ(PullLog(h, 0, 0).status, Status::kOutOfRange);
   const PulledLog log = PullLog(h, 28, 0);
   ASSERT_EQ(log.status, Status::kOk);
-  ASSERT_EQ(log.count, 72u);
+  ASSERT_EQ(log.count, 101u);
   for (std::uint32_t i = 0; i < log.count; ++i) EXPECT_EQ(log.records[i].sample_index, 28 + i);
 }
 
@@ -267,11 +283,12 @@ TEST(CoreLog, StreamOverrunBySamplerEndsOutOfRange) {
   ASSERT_EQ(wire::BuildReport(Command::kLogRead, 77, 0, 0, Status::kOk, p, request), Status::kOk);
   h.link.ClearOut();
   h.link.Push(request);
-  h.core.Poll();  // the first records go out, one per report
+  h.core.Poll();  // the first records go out, three per report
   const std::uint32_t sent = static_cast<std::uint32_t>(h.link.pending_out());
   ASSERT_GT(sent, 0u);
-  ASSERT_LT(sent, 60u);
-  h.EmitRamp(sent + 73 - 60, kBase, 1);  // written = sent + 73: record `sent`'s slot may be reused
+  ASSERT_LT(3 * sent, 60u);
+  // written = 3 sent + 102: the slot of record 3 sent, the next one due, may be reused.
+  h.EmitRamp(3 * sent + 102 - 60, kBase, 1);
   h.Drain();
   wire::StreamDecoder decoder(Command::kLogRead, 77);
   wire::Report in{};
@@ -297,6 +314,57 @@ TEST(CoreLog, LostTicksAreCountedAsOverruns) {
   EXPECT_EQ(log.records[3].sample_index, 7u);  // the gap is visible in the sample index too
 }
 
+// acq-start with kAcqFlagStream: the log follows the acquisition as a log-read stream under
+// acq-start's token, sending what is there and waiting (sending nothing) while the sampler is
+// ahead of nothing, releasing what it sent, and ending with the trailer once the record limit
+// stopped sampling and every record went out.
+TEST(CoreLog, StreamedAcquisitionFollowsTheLogToItsEnd) {
+  CoreHarness h;
+  wire::AcqConfigureRequest c = Config(0b000101, 1);  // force 1, acc 1: 4-byte records, 12/report
+  c.flags = wire::kAcqFlagStream;
+  c.record_limit = 100;
+  ASSERT_EQ(h.Request(Command::kAcqConfigure, c).status(), Status::kOk);
+  ASSERT_EQ(h.Request(Command::kAcqStart).status(), Status::kOk);
+  const std::uint16_t token = h.last_token;
+  wire::StreamDecoder decoder(Command::kLogRead, token);
+  std::uint32_t records = 0;
+  std::uint32_t next_tick = 0;
+  wire::Report in{};
+  auto take = [&] {
+    h.Drain();
+    while (h.link.Pop(in)) {
+      const auto step = decoder.Feed(in);
+      if (step.event == wire::StreamDecoder::Event::kData) {
+        std::array<wire::LogRecord, wire::kMaxRecordsPerReport> batch{};
+        std::size_t n = 0;
+        ASSERT_EQ(wire::DecodeLogPayload(wire::LogLayout{0b000101, 0}, 1, step.payload, batch, n), Status::kOk);
+        for (std::size_t k = 0; k < n; ++k) EXPECT_EQ(batch[k].sample_index, next_tick++);
+        records += static_cast<std::uint32_t>(n);
+      } else {
+        ASSERT_EQ(step.event, wire::StreamDecoder::Event::kEnd);
+      }
+    }
+  };
+  take();
+  EXPECT_EQ(records, 0u);  // nothing sampled yet: the stream waits
+  EXPECT_FALSE(decoder.finished());
+  h.EmitRamp(30, kBase, 1);
+  take();
+  EXPECT_EQ(records, 30u);  // what was there went out (reports of 12, 12 and 6)
+  EXPECT_EQ(h.core.log().released(), 30u);
+  EXPECT_FALSE(decoder.finished());
+  h.EmitRamp(80, kBase, 1);  // the limit stops sampling after 100 records
+  take();
+  ASSERT_TRUE(decoder.finished());
+  EXPECT_EQ(records, 100u);
+  wire::LogTrailer t;
+  ASSERT_EQ(wire::Decode(wire::PayloadOf(in), t), Status::kOk);
+  EXPECT_EQ(t.first_record, 0u);
+  EXPECT_EQ(t.record_count, 100u);
+  EXPECT_EQ(t.acq_state, wire::AcqState::kDone);
+  EXPECT_EQ(t.dropped_records, 0u);
+}
+
 TEST(CoreLog, BusyLinkLosesNothing) {
   CoreHarness h;
   ASSERT_EQ(h.StartAcquisition(Config(wire::kAllChannelsMask, 1)), Status::kOk);
@@ -316,7 +384,7 @@ TEST(CoreLog, BusyLinkLosesNothing) {
   wire::StreamDecoder::Event last = wire::StreamDecoder::Event::kError;
   while (h.link.Pop(in)) last = decoder.Feed(in).event;
   EXPECT_EQ(last, wire::StreamDecoder::Event::kEnd);
-  EXPECT_EQ(decoder.data_reports(), 30u);
+  EXPECT_EQ(decoder.data_reports(), 10u);  // 30 records, three per report
 }
 
 }  // namespace

@@ -190,11 +190,43 @@ void UsbAppDevice::FailStalled() {
   }
 }
 
+void UsbAppDevice::StartFrame(bool limit) {
+  frame_limit_ = limit;
+  in_left_ = 1;
+  out_left_ = 1;
+}
+
+bool UsbAppDevice::WaitingForInUrb() const {
+  if (sink_ == nullptr) return false;
+  for (std::uint8_t ep = 1; ep < 16; ++ep) {
+    const auto ep_addr = static_cast<std::uint8_t>(ep | 0x80);
+    if (!dcd_.IsOpen(ep_addr) || !dcd_.PendingOnConst(ep_addr).active) continue;
+    const bool queued = std::any_of(in_urbs_.begin(), in_urbs_.end(),
+                                    [&](const Urb& u) { return (u.endpoint | 0x80) == ep_addr; });
+    if (!queued) return true;
+  }
+  return false;
+}
+
+bool UsbAppDevice::NeedsFrame() const {
+  for (std::uint8_t ep = 1; ep < 16; ++ep) {
+    const auto in = static_cast<std::uint8_t>(ep | 0x80);
+    if (dcd_.IsOpen(in) && dcd_.PendingOnConst(in).active) return true;
+    if (dcd_.IsOpen(ep) && dcd_.PendingOnConst(ep).active &&
+        std::any_of(out_urbs_.begin(), out_urbs_.end(), [&](const Urb& u) { return u.endpoint == ep; })) {
+      return true;
+    }
+  }
+  return false;
+}
+
 bool UsbAppDevice::ServiceIn(std::uint8_t ep_addr) {
   EmuDcd::Pending& p = dcd_.PendingOn(ep_addr);
   const auto it = std::find_if(in_urbs_.begin(), in_urbs_.end(),
                                [&](const Urb& u) { return (u.endpoint | 0x80) == ep_addr; });
   if (!p.active || it == in_urbs_.end()) return false;
+  if (frame_limit_ && in_left_ == 0) return false;
+  --in_left_;
   const Urb urb = std::move(*it);
   in_urbs_.erase(it);
   UrbResult r;
@@ -214,6 +246,8 @@ bool UsbAppDevice::ServiceOut(std::uint8_t ep_addr) {
   const auto it = std::find_if(out_urbs_.begin(), out_urbs_.end(),
                                [&](const Urb& u) { return u.endpoint == ep_addr; });
   if (!p.active || it == out_urbs_.end()) return false;
+  if (frame_limit_ && out_left_ == 0) return false;
+  --out_left_;
   const Urb urb = std::move(*it);
   out_urbs_.erase(it);
   UrbResult r;

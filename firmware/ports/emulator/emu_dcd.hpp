@@ -40,6 +40,7 @@ class EmuDcd final : public fw::usb::Dcd {
   bool IsOpen(std::uint8_t ep_addr) const { return open_[Index(ep_addr)]; }
   bool Stalled(std::uint8_t ep_addr) const { return stalled_[Index(ep_addr)]; }
   Pending& PendingOn(std::uint8_t ep_addr) { return pending_[Index(ep_addr)]; }
+  const Pending& PendingOnConst(std::uint8_t ep_addr) const { return pending_[Index(ep_addr)]; }
   /// The controller clears endpoint 0's halt and drops its transfers when a SETUP arrives.
   void OnSetupArrived();
 
@@ -68,6 +69,18 @@ class UsbAppDevice final : public ExportedDevice {
   bool Unlink(std::uint32_t seqnum) override;
   void Service() override;
 
+  /// A new 1 ms USB frame: each interrupt endpoint may move one more transaction (one 64-byte
+  /// report), as on a full-speed bus with bInterval 1. With `limit` false (experiments beyond
+  /// the board) transfers are not limited per frame.
+  void StartFrame(bool limit);
+  /// The HID IN endpoint holds a report and no IN URB of the host waits for it: a host that polls
+  /// every frame (the kernel's HID driver) would have one queued.
+  bool WaitingForInUrb() const;
+  bool Attached() const { return sink_ != nullptr; }
+  /// A transaction is due in the next frame: an armed IN report, or a host's OUT report the
+  /// armed OUT endpoint has not taken yet.
+  bool NeedsFrame() const;
+
   /// Runs one control transfer through the stack: SETUP, data stage, status stage.
   UrbResult Control(const std::array<std::uint8_t, 8>& setup, std::span<const std::uint8_t> out_data,
                     std::uint32_t length);
@@ -83,6 +96,10 @@ class UsbAppDevice final : public ExportedDevice {
   UrbSink* sink_ = nullptr;
   std::deque<Urb> in_urbs_;   // interrupt IN, oldest first
   std::deque<Urb> out_urbs_;  // interrupt OUT, oldest first
+  // Transactions left in the current frame, per interrupt direction.
+  bool frame_limit_ = true;
+  int in_left_ = 1;
+  int out_left_ = 1;
 };
 
 }  // namespace vibid::emu

@@ -18,6 +18,8 @@ class SimClock final : public fw::Clock {
  public:
   std::uint64_t NowUs() const override { return now_us_; }
   void Advance(std::uint64_t us) { now_us_ += us; }
+  /// Moves the clock to `us` (never back).
+  void Set(std::uint64_t us) { now_us_ = us > now_us_ ? us : now_us_; }
 
  private:
   std::uint64_t now_us_ = 0;

@@ -16,9 +16,10 @@ namespace {
 
 using Clock = std::chrono::steady_clock;
 
-/// Sample ticks between two looks at the sockets while sampling flat out (10 ms at 5 kHz): short
-/// enough for a host polling status, long enough that I/O costs little per tick.
-constexpr int kChunkTicks = 50;
+/// Frames between two looks at the sockets while running flat out: short enough for a host
+/// polling status, long enough that I/O costs little per frame.
+constexpr int kChunkFrames = 10;
+constexpr std::uint64_t kFrameUs = kBoardProfile.frame_us();
 /// How long a reset or DFU entry waits for the host to collect its answer.
 constexpr auto kRequestGrace = std::chrono::milliseconds(250);
 
@@ -107,7 +108,7 @@ void Emulator::BootApplication(wire::ResetCause cause) {
   app_ = std::make_unique<Application>(*this, cause);
   server_.SetDevice(&app_->exported);
   was_sampling_ = false;
-  seen_released_ = 0;
+  boot_us_ = sim_us_;
   if (options_.verbose) std::fprintf(stderr, "vibid-emu: application running\n");
 }
 
@@ -135,13 +136,43 @@ void Emulator::RunFirmware() {
   }
 }
 
-bool Emulator::WaitForPull(Clock::time_point now) {
-  const fw::LogRing& log = app_->core.log();
-  const std::uint32_t released = log.released();
-  if (released > seen_released_) last_pull_ = now;
-  seen_released_ = released;  // also follows the drop to 0 when an acquisition starts
-  const bool full = log.triggered() && log.written() - released >= log.capacity_records();
-  return full && (app_->core.log_streaming() || now - last_pull_ < kPullWindow);
+bool Emulator::Busy() const {
+  return app_ && (app_->frames.Running() || app_->exported.NeedsFrame());
+}
+
+bool Emulator::WaitForHost(Clock::time_point now) {
+  if (!app_ || !app_->exported.WaitingForInUrb()) {
+    waiting_ = false;
+    return false;
+  }
+  if (!waiting_) {
+    waiting_ = true;
+    waiting_since_ = now;
+  }
+  return now - waiting_since_ < kHostGone;
+}
+
+void Emulator::RunFrame() {
+  const std::uint64_t frame_end = sim_us_ + kFrameUs;
+  if (app_) {
+    Application& a = *app_;
+    // The sampling interrupt: every tick of this frame, the first one at the frame's start.
+    if (a.frames.Running() && !was_sampling_) next_tick_us_ = sim_us_;
+    while (a.frames.Running() && next_tick_us_ < frame_end) {
+      a.clock.Set(next_tick_us_ - boot_us_);
+      a.frames.Tick();
+      next_tick_us_ += a.frames.PeriodUs();
+    }
+    was_sampling_ = a.frames.Running();
+  }
+  sim_us_ = frame_end;
+  if (!app_) return;
+  app_->clock.Set(sim_us_ - boot_us_);
+  RunFirmware();
+  // The frame's transactions, then the main loop reacts (answers a request, arms the next report).
+  app_->exported.StartFrame(!options_.beyond_board);
+  app_->exported.Service();
+  RunFirmware();
 }
 
 void Emulator::AdvanceTime() {
@@ -149,20 +180,18 @@ void Emulator::AdvanceTime() {
   const auto wall_us = static_cast<std::uint64_t>(
       std::chrono::duration_cast<std::chrono::microseconds>(now - last_wall_).count());
   last_wall_ = now;
-  waiting_for_pull_ = false;
   const bool sampling = app_ && app_->frames.Running();
-  if (sampling && !was_sampling_) last_pull_ = now;  // the starting host's window to begin pulling
-  was_sampling_ = sampling;
-  if (!sampling) {
+  if (!Busy()) {
+    // Idle: the clock follows the wall clock, frame by frame (a request still takes a frame).
     pacing_ = false;
-    sim_us_ += wall_us;
-    if (app_) app_->clock.Advance(wall_us);
+    idle_us_ = std::min<std::uint64_t>(idle_us_ + wall_us, 100 * kFrameUs);
+    for (; idle_us_ >= kFrameUs && !Busy(); idle_us_ -= kFrameUs) RunFrame();
+    if (Busy()) idle_us_ = 0;
     return;
   }
-  Application& a = *app_;
-  const std::uint32_t period = a.frames.PeriodUs();
-  int ticks = kChunkTicks;
-  if (options_.speed > 0.0) {
+  idle_us_ = 0;
+  int frames = kChunkFrames;
+  if (options_.speed > 0.0 && sampling) {
     if (!pacing_) {
       pacing_ = true;
       pace_wall_ = now;
@@ -170,18 +199,15 @@ void Emulator::AdvanceTime() {
     }
     const double elapsed_us = static_cast<double>(
         std::chrono::duration_cast<std::chrono::microseconds>(now - pace_wall_).count());
-    const double target = static_cast<double>(pace_sim_us_) + elapsed_us * options_.speed;
-    const double behind = target - static_cast<double>(sim_us_);
-    ticks = behind <= 0.0 ? 0 : static_cast<int>(std::min<double>(kChunkTicks, behind / period + 1.0));
+    const double behind = static_cast<double>(pace_sim_us_) + elapsed_us * options_.speed -
+                          static_cast<double>(sim_us_);
+    frames = behind <= 0.0 ? 0 : static_cast<int>(std::min<double>(kChunkFrames, behind / kFrameUs + 1.0));
+  } else if (!sampling) {
+    pacing_ = false;
   }
-  for (int i = 0; i < ticks && a.frames.Running(); ++i) {
-    if (options_.speed <= 0.0 && WaitForPull(now)) {
-      waiting_for_pull_ = true;
-      break;
-    }
-    a.clock.Advance(period);
-    sim_us_ += period;
-    a.frames.Tick();
+  for (int i = 0; i < frames && Busy(); ++i) {
+    if (WaitForHost(now)) return;
+    RunFrame();
   }
 }
 
@@ -206,13 +232,13 @@ void Emulator::HandleRequests() {
 }
 
 void Emulator::Step(std::chrono::milliseconds max_wait) {
-  // Waiting for a pulling host, the loop sleeps on the sockets instead of spinning: its next
-  // request is what lets time go on.
-  const bool flat_out = app_ && app_->frames.Running() && options_.speed <= 0.0 && !waiting_for_pull_;
+  // Flat out, the loop only sleeps on the sockets while a frame waits for the host's URB: its
+  // arrival is what lets time go on.
   const bool pending = app_ && app_->request != Request::kNone;
+  const bool flat_out = Busy() && options_.speed <= 0.0 && !waiting_;
   const auto wait = flat_out || pending ? std::chrono::milliseconds(0)
-                    : app_ && app_->frames.Running() ? std::chrono::milliseconds(1)
-                                                     : max_wait;
+                    : Busy()            ? std::chrono::milliseconds(1)
+                                        : std::min(max_wait, std::chrono::milliseconds(1));
   // Drain every message that is already there before the firmware runs.
   bool handled = server_.Poll(wait);
   for (int more = 0; handled && more < 64; ++more) handled = server_.Poll(std::chrono::milliseconds(0));

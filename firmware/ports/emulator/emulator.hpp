@@ -2,18 +2,22 @@
 // device over USB/IP. One thread runs everything: socket I/O, the firmware's main loop
 // (USB stack task, core poll) and simulated time (one rig step per sample tick).
 //
-// Time: the simulated clock only moves in the loop. While the core samples, ticks run in chunks
-// as fast as the host CPU allows (`speed` 0), or paced at `speed` × real time; while it does not,
-// the clock follows the wall clock. Samples depend only on the seed and the commands, never on
-// how fast the loop ran.
+// Time: simulated time advances in 1 ms USB frames. In each frame the sampling interrupt runs
+// for the ticks that fall in it (the rig steps once per tick), the firmware's main loop runs, and
+// the HID link moves at most one IN and one OUT report (full speed, bInterval 1: 64 000 B/s each
+// way), exactly the board's limits (vibid/shared/board_profile.hpp), with the board's log size.
+// Flat out (`speed` 0) frames follow each other as fast as the CPU allows while the board samples
+// or has a report to send; at a set speed they are paced to `speed` x real time; otherwise the
+// clock follows the wall clock.
 //
-// Back-pressure (`speed` 0 only): flat out, the rig produces log data about ten times faster than
-// a host pulls it over USB/IP (bench/emu), and a board's full log drops records. Since the clock is
-// virtual anyway, simulated time waits instead while a host is pulling and the next record would
-// find the log full. "Pulling" means a log-read stream is being sent, or the log's release point
-// advanced less than kPullWindow of wall time ago; the host that starts an acquisition gets the
-// same window to begin. With nobody pulling, the log fills and drops records (counted) as on a
-// board. At a set speed (`--realtime`, `--speed N`) time never waits: that is the board's case.
+// What the host sees must not depend on how fast it or the emulator runs. The one wait allowed
+// is the one a real host makes impossible: when the device has a report ready and no IN URB of
+// the host is queued, the next frame waits for one, because a real host (the kernel's HID
+// driver) polls the endpoint every frame and would have taken the report in this one. The board
+// never waits for anything else: a host that does not ask for the log sees it fill and drop
+// records, counted, as on a board. So the same seed and commands give the same bytes and the same
+// drop counts on an idle or a loaded machine and at any speed. `beyond_board` lifts the link
+// limit and allows another log size, for experiments only.
 //
 // Personalities: the application (core + HID + DFU run-time), or the DfuSe bootloader after
 // enter-DFU / DFU_DETACH. Each switch, and a reset, drops the importing USB/IP connection:
@@ -31,6 +35,7 @@
 #include "flash_image.hpp"
 #include "rig.hpp"
 #include "usbip_server.hpp"
+#include "vibid/shared/board_profile.hpp"
 #include "vibid/shared/wire/device.hpp"
 
 namespace vibid::emu {
@@ -42,14 +47,17 @@ struct EmulatorOptions {
   std::string bind_address = "127.0.0.1";
   std::uint16_t port = 3240;  ///< 0: any free port (tests)
   double speed = 0.0;         ///< simulated s per wall s while sampling; 0 = as fast as possible
-  std::size_t log_bytes = 4 * 1024 * 1024;
+  std::size_t log_bytes = kBoardProfile.log_bytes;
+  /// Experiments only: no per-frame report limit, any log size. Never used by tests or the demo.
+  bool beyond_board = false;
   bool verbose = false;       ///< one line per personality change and USB/IP import on stderr
 };
 
 class Emulator {
  public:
-  /// How long after its last log-read (or the acquisition start) a host still counts as pulling.
-  static constexpr std::chrono::milliseconds kPullWindow{500};
+  /// How long a frame waits for a host's IN URB before it counts the host as gone (a host that
+  /// stopped polling: the board then keeps its report and goes on sampling).
+  static constexpr std::chrono::seconds kHostGone{5};
 
   /// @throws InputError for a bad rig or flash file; usbip::IoError when the port is taken.
   explicit Emulator(EmulatorOptions options);
@@ -78,8 +86,12 @@ class Emulator {
   void EnterBootloader();
   void RunFirmware();
   void AdvanceTime();
-  /// Back-pressure: true while a pulling host would lose the next record to a full log.
-  bool WaitForPull(std::chrono::steady_clock::time_point now);
+  /// One USB frame of simulated time: its sample ticks, the main loop, its link transactions.
+  void RunFrame();
+  /// The board is sampling or has a report to send: flat out, frames need not wait for the clock.
+  bool Busy() const;
+  /// The next frame must wait for the host's IN URB (see the header comment).
+  bool WaitForHost(std::chrono::steady_clock::time_point now);
   void HandleRequests();
   usbip::UsbDevice Record() const;
 
@@ -93,17 +105,20 @@ class Emulator {
   std::unique_ptr<DfuSeBootloader> bootloader_;
 
   std::uint64_t sim_us_ = 0;
+  std::uint64_t boot_us_ = 0;  // sim_us_ when the application last booted (its clock's zero)
   std::chrono::steady_clock::time_point last_wall_;
   // Pacing anchor for a sampling run at a set speed.
   bool pacing_ = false;
   std::chrono::steady_clock::time_point pace_wall_;
   std::uint64_t pace_sim_us_ = 0;
-  // Back-pressure state: the log's release point last seen and when it last advanced (or the
-  // acquisition started); whether time waited in the last step.
+  // Sampling: the simulated time of the next tick; whether the last frame sampled.
   bool was_sampling_ = false;
-  std::uint32_t seen_released_ = 0;
-  std::chrono::steady_clock::time_point last_pull_{};
-  bool waiting_for_pull_ = false;
+  std::uint64_t next_tick_us_ = 0;
+  // Wall time the simulated clock follows while idle (whole frames; the rest carries over).
+  std::uint64_t idle_us_ = 0;
+  // Since when the next frame waits for a host's IN URB.
+  bool waiting_ = false;
+  std::chrono::steady_clock::time_point waiting_since_{};
   // A reset or DFU entry waits for its answer to leave the IN endpoint (or a short deadline).
   std::chrono::steady_clock::time_point request_deadline_{};
 };

@@ -27,7 +27,8 @@ int main(int argc, char** argv) {
   std::uint64_t seed = 1;
   bool realtime = false;
   double speed = 0.0;
-  std::size_t log_kib = 4096;
+  std::size_t log_kib = vibid::kBoardProfile.log_bytes / 1024;
+  bool beyond_board = false;
   bool print_truth = false;
   bool verbose = false;
   app.add_option("--rig", rig_path, "rig file (JSON); default: the built-in 2-DOF chain");
@@ -39,11 +40,14 @@ int main(int argc, char** argv) {
   app.add_option("--seed", seed, "seed of the rig's excitation and sensor noise")->capture_default_str();
   app.add_flag("--realtime", realtime, "run simulated time at wall-clock speed (same as --speed 1)");
   app.add_option("--speed", speed,
-                 "simulated seconds per wall second while sampling (0: as fast as possible, and while a "
-                 "host is pulling the log, simulated time waits for it rather than drop records; a set "
-                 "speed never waits: records that find the log full are dropped, as on a board)")
+                 "simulated seconds per wall second while sampling (0: as fast as possible); what is "
+                 "sampled, logged, dropped and delivered is the same at any speed")
       ->check(CLI::NonNegativeNumber);
-  app.add_option("--log-kib", log_kib, "acquisition log size in KiB")->check(CLI::Range(64, 262144))->capture_default_str();
+  app.add_flag("--beyond-board", beyond_board,
+               "experiments only: lift the board's limits (no one-report-per-frame link limit; --log-kib "
+               "takes any size). Without it the emulator is the board.");
+  app.add_option("--log-kib", log_kib, "acquisition log size in KiB (needs --beyond-board; default: the board's)")
+      ->check(CLI::Range(1, 262144))->capture_default_str();
   app.add_flag("--print-truth", print_truth, "print the rig's true model (model-file JSON) and exit");
   app.add_flag("-v,--verbose", verbose, "report personality changes and USB/IP clients on stderr");
   CLI11_PARSE(app, argc, argv);
@@ -61,7 +65,11 @@ int main(int argc, char** argv) {
     options.bind_address = bind;
     options.port = static_cast<std::uint16_t>(port);
     options.speed = realtime ? 1.0 : speed;
+    vibid::Require(beyond_board || log_kib * 1024 == vibid::kBoardProfile.log_bytes,
+                   "--log-kib: the board's log is " + std::to_string(vibid::kBoardProfile.log_bytes / 1024) +
+                       " KiB; another size needs --beyond-board");
     options.log_bytes = log_kib * 1024;
+    options.beyond_board = beyond_board;
     options.verbose = verbose;
     vibid::emu::Emulator emulator(options);
 

@@ -8,6 +8,7 @@
 #include <map>
 #include <stdexcept>
 #include <string>
+#include <thread>
 #include <vector>
 
 #include "vibid/shared/wire/commands.hpp"
@@ -181,9 +182,14 @@ class DeviceSession {
     return Request(wire::Command::kCalCommit).header.status;
   }
 
-  /// Pulls the whole log: the data payload bytes of the streams, in order. One stream carries at
-  /// most 65535 reports (16-bit sequence numbers), so a long log takes several, each asking from
-  /// the first record not yet received.
+  /// The ticks of the records PullLog, FollowLog and StreamAcquisition brought, in order (from the
+  /// tick each data report names for its first record and `decimation`).
+  std::vector<std::uint32_t> ticks;
+  std::uint32_t decimation = 1;
+  /// A slow host: sleeps this long before submitting each IN URB.
+  int receive_delay_us = 0;
+
+  /// Pulls the whole log: the records of the streams, in order, without the ticks (see `ticks`).
   std::vector<std::uint8_t> PullLog(std::size_t record_bytes) {
     std::vector<std::uint8_t> bytes;
     while (ReadMore(bytes, record_bytes)) {
@@ -192,7 +198,7 @@ class DeviceSession {
   }
 
   /// Follows a running acquisition: asks for the records after the last one received until the
-  /// acquisition ended and every record written arrived. @returns the data payload bytes.
+  /// acquisition ended and every record written arrived. @returns the records' bytes.
   std::vector<std::uint8_t> FollowLog(std::size_t record_bytes) {
     std::vector<std::uint8_t> bytes;
     for (;;) {
@@ -212,11 +218,35 @@ class DeviceSession {
     const std::size_t before = bytes.size();
     while ((a.header.flags & wire::kFlagStreamEnd) == 0) {
       if (a.header.status != Status::kOk) throw std::runtime_error("log-read refused");
-      bytes.insert(bytes.end(), a.payload.begin(), a.payload.end());
+      Append(a.payload, bytes, record_bytes);
       a = Receive();
     }
+    last_trailer = a.payload;
     return bytes.size() != before;
   }
+
+  /// acq-start of an acquisition configured with kAcqFlagStream, then the log stream that follows
+  /// it to its trailer. @returns the records' bytes; `last_trailer` holds the trailer payload.
+  std::vector<std::uint8_t> StreamAcquisition(std::size_t record_bytes) {
+    const Answer started = Request(wire::Command::kAcqStart);
+    if (started.header.status != Status::kOk) throw std::runtime_error("acq-start refused");
+    std::vector<std::uint8_t> bytes;
+    std::uint16_t expected = 0;
+    for (;;) {
+      const Answer a = Receive();
+      if (a.header.command != static_cast<std::uint8_t>(wire::Command::kLogRead) || a.header.token != token_ ||
+          a.header.status != Status::kOk || a.header.sequence != expected++) {
+        throw std::runtime_error("log stream broken");
+      }
+      if ((a.header.flags & wire::kFlagStreamEnd) != 0) {
+        last_trailer = a.payload;
+        return bytes;
+      }
+      Append(a.payload, bytes, record_bytes);
+    }
+  }
+
+  std::vector<std::uint8_t> last_trailer;
 
   wire::StatusResponse GetStatus() {
     const Answer a = Request(wire::Command::kGetStatus);
@@ -226,11 +256,22 @@ class DeviceSession {
   }
 
  private:
+  void Append(const std::vector<std::uint8_t>& payload, std::vector<std::uint8_t>& bytes, std::size_t record_bytes) {
+    if (payload.size() < 4 || (payload.size() - 4) % record_bytes != 0) throw std::runtime_error("bad log payload");
+    const std::uint32_t first = static_cast<std::uint32_t>(payload[0] | payload[1] << 8 | payload[2] << 16) |
+                                static_cast<std::uint32_t>(payload[3]) << 24;
+    for (std::size_t k = 0; k < (payload.size() - 4) / record_bytes; ++k) {
+      ticks.push_back(first + static_cast<std::uint32_t>(k) * decimation);
+    }
+    bytes.insert(bytes.end(), payload.begin() + 4, payload.end());
+  }
+
   void Send(const wire::Report& r) {
     const auto out = client_.Wait(client_.Submit(1, usbip::Direction::kOut, 64, {}, {r.begin(), r.end()}));
     if (out.status != 0) throw std::runtime_error("interrupt OUT failed");
   }
   Answer Receive() {
+    if (receive_delay_us > 0) std::this_thread::sleep_for(std::chrono::microseconds(receive_delay_us));
     const auto in = client_.Wait(client_.Submit(1, usbip::Direction::kIn, 64));
     if (in.status != 0 || in.data.size() != wire::kReportBytes) throw std::runtime_error("interrupt IN failed");
     wire::Report r{};

@@ -41,7 +41,7 @@ CAP_SAMPLE_INJECTION = 1 << 4
 CHANNEL_KINDS = [1, 1, 2, 2, 3, 3]  # load cell x2, accelerometer x2, encoder x2
 
 # get-info payload layout (InfoResponse, 52 bytes).
-INFO = struct.Struct("<BBBBHHIIIIIB6sBBBHIII")
+INFO = struct.Struct("<BBBBHHIIIIIHBB6sBBIII")
 
 failures = []
 SKIPPED = 77  # ctest SKIP_RETURN_CODE
@@ -69,15 +69,16 @@ def test_info(board, fw_version):
     if len(r.payload) != INFO.size:
         return
     (proto_major, _proto_minor, fw_major, fw_minor, fw_patch, board_id, _build, caps, period_us,
-     min_period_us, log_bytes, channel_count, kinds, _reset, cal_state, _slot, _res, _crc,
+     min_period_us, log_bytes, reports_per_s, adc_bits, _reset, kinds, cal_state, _slot, _crc,
      overruns, dropped) = INFO.unpack(r.payload)
-    check(proto_major == 1, "get-info: protocol major 1")
+    check(proto_major == 2, "get-info: protocol major 2")
+    check(reports_per_s == 1000 and adc_bits == 12, "get-info: board profile (1000 reports/s, 12-bit ADC)")
     check((fw_major, fw_minor, fw_patch) == fw_version, f"get-info: firmware {fw_version}")
     check(board_id == BOARD_QEMU, "get-info: board id is the QEMU netduinoplus2 image")
     check(caps & CAP_SAMPLE_INJECTION != 0, "get-info: sample injection advertised")
     check(period_us == 200 and min_period_us == 100, "get-info: 200 us default period, 100 us minimum")
     check(log_bytes >= 32 * 1024, f"get-info: log capacity {log_bytes} bytes")
-    check(channel_count == 6 and list(kinds) == CHANNEL_KINDS, "get-info: six channels, kinds in order")
+    check(list(kinds) == CHANNEL_KINDS, "get-info: six channels, kinds in order")
     check(cal_state == 0, "get-info: RAM calibration slots start uncalibrated")
     check(overruns == 0 and dropped == 0, "get-info: no overruns or drops at boot")
 
@@ -129,22 +130,42 @@ def test_acquisition(board, count=600):
     rng = random.Random(20261121)
     frames = [[rng.randrange(0, 4096) for _ in range(4)] + [rng.randrange(-2**31, 2**31) for _ in range(2)]
               for _ in range(count)]
-    # All six channels, no d_hat: records of index + six channels.
-    data, trailer = acquire(board, frames, 0x3F, 0, 28)
+    # All six channels, no d_hat: four u16 12.4 codes and two i32 counts per record.
+    data, trailer = acquire(board, frames, 0x3F, 0, 16)
     check(trailer.status == OK and trailer.flags & FLAG_STREAM_END != 0, "log-read: stream trailer")
     (total, crc, first, n, rec_bytes, _mask, _flags, _period, _dec, _state, _res, _trig, dropped,
      overruns, written) = struct.unpack_from("<IIIIHBBIHBBIIII", trailer.payload)
     body = b"".join(d.payload for d in data)
     check([d.sequence for d in data] == list(range(len(data))), "log-read: sequences 0..n-1")
     check(total == len(body) and crc == zlib.crc32(body), "log-read: byte count and CRC-32 of the stream")
-    check(first == 0 and n == count and rec_bytes == 28, f"log-read: {count} records from 0")
+    check(first == 0 and n == count and rec_bytes == 16, f"log-read: {count} records from 0")
     check(dropped == 0 and overruns == 0, "log-read: no dropped records, no overruns")
-    records = []
-    for d in data:
-        for k in range(len(d.payload) // 28):
-            records.append(struct.unpack_from("<I6i", d.payload, 28 * k))
+    records = log_records(data, 0x3F, False)
     check([r[0] for r in records] == list(range(count)), "log-read: sample indices 0..count-1")
-    check([list(r[1:]) for r in records] == frames, "log-read: every record equals the injected frame")
+    check([r[1] for r in records] == frames, "log-read: every record equals the injected frame")
+
+
+def log_records(data, channel_mask, with_dob):
+    """Decodes log data reports: each starts with its first record's tick (u32), then records of
+    the selected channels (converters u16 in 12.4, encoders i32) and d_hat (i32). Returns
+    (tick, values) with converter values back in whole codes (they must be exact multiples of 16
+    without decimation)."""
+    channels = [c for c in range(6) if channel_mask >> c & 1]
+    fmt = "<" + "".join("H" if c < 4 else "i" for c in channels) + ("i" if with_dob else "")
+    size = struct.calcsize(fmt)
+    out = []
+    fractions = 0
+    for d in data:
+        (tick,) = struct.unpack_from("<I", d.payload, 0)
+        for k in range((len(d.payload) - 4) // size):
+            values = list(struct.unpack_from(fmt, d.payload, 4 + size * k))
+            for i, c in enumerate(channels):
+                if c < 4:
+                    fractions += values[i] % 16 != 0
+                    values[i] //= 16
+            out.append((tick + k, values))
+    check(fractions == 0, "log-read: undecimated converter codes are whole (12.4 with a zero fraction)")
+    return out
 
 
 def upload_calibration(board, record):
@@ -159,7 +180,7 @@ def upload_calibration(board, record):
     check(r.status == OK, f"calibration: {len(chunks)} chunks accepted, record verified")
     check(board.request(CAL_COMMIT).status == OK, "calibration: committed")
     info = INFO.unpack(board.request(GET_INFO).payload)
-    check(info[14] == 1, "calibration: get-info reports calibrated")
+    check(info[15] == 1, "calibration: get-info reports calibrated")
 
 
 def rig_frames(count, fs_hz=5000.0):
@@ -194,10 +215,9 @@ def test_dob(board, tool):
 
         count = 1500
         frames = rig_frames(count)
-        # Force 1 and accelerometer 1 with d_hat: index + two channels + d_hat = 16 bytes.
-        data, trailer = acquire(board, frames, 0b000101, 0x01, 16)
-        logged = [struct.unpack_from("<Iiii", d.payload, 16 * k)
-                  for d in data for k in range(len(d.payload) // 16)]
+        # Force 1 and accelerometer 1 (u16 each) with d_hat (i32): 8-byte records.
+        data, trailer = acquire(board, frames, 0b000101, 0x01, 8)
+        logged = [values for _tick, values in log_records(data, 0b000101, True)]
         check(len(logged) == count, f"dob: {count} records logged")
 
         frames_path = os.path.join(tmp, "frames.txt")
@@ -206,7 +226,7 @@ def test_dob(board, tool):
         replay = subprocess.run([tool, "replay", record_path, frames_path], check=True,
                                 capture_output=True, text=True).stdout.split()
         expected = [int(v) for v in replay]
-        d_hat = [rec[3] for rec in logged]
+        d_hat = [rec[2] for rec in logged]
         mismatches = sum(1 for a, b in zip(d_hat, expected) if a != b)
         check(len(expected) == count and mismatches == 0,
               f"dob: logged d_hat equals the host replay bit for bit ({mismatches} mismatches)")

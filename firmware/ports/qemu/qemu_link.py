@@ -20,7 +20,7 @@ REPORT_BYTES = 64
 FRAME_BYTES = 2 + 1 + REPORT_BYTES + 4
 
 MAGIC = 0x4256  # bytes 'V','B'
-PROTOCOL_MAJOR = 1
+PROTOCOL_MAJOR = 2
 FLAG_RESPONSE = 1 << 0
 FLAG_STREAM_END = 1 << 1
 HEADER = struct.Struct("<HBBBBHHBB")  # magic, major, command, status, flags, token, sequence, len, reserved

@@ -10,6 +10,7 @@
 #include "regs/core_m4.hpp"
 #include "sampler.hpp"
 #include "system.hpp"
+#include "vibid/shared/board_profile.hpp"
 #include "vibid/fw/core.hpp"
 #include "vibid/fw/usb/device.hpp"
 #include "vibid/fw/usb/dfu_runtime.hpp"
@@ -21,8 +22,9 @@ namespace {
 // The main loop kicks at least once per SysTick (1 ms); 1 s also covers a worst-case 500 ms
 // sector erase during calibration commit.
 constexpr std::uint32_t kWatchdogTimeoutMs = 1000;
-/// The acquisition log: the largest block the RAM budget leaves (SRAM; CCM holds the stack).
-constexpr std::size_t kLogBytes = 96 * 1024;
+/// The acquisition log: the largest block the RAM budget leaves (SRAM; CCM holds the stack). Its
+/// size is part of the board profile the emulator and the host's preflight use.
+constexpr std::size_t kLogBytes = vibid::kBoardProfile.log_bytes;
 
 class DfuOnDetach final : public usb::DfuDetachHandler {
  public:

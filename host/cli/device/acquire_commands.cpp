@@ -1,5 +1,6 @@
 // vibid acquire | log pull
 #include <cmath>
+#include <cstdio>
 #include <iostream>
 
 #include "cli_support.hpp"
@@ -7,7 +8,9 @@
 #include "session.hpp"
 #include "vibid/common/error.hpp"
 #include "vibid/device/error.hpp"
+#include "vibid/device/link_budget.hpp"
 #include "vibid/device/log_table.hpp"
+#include "vibid/shared/fixed/decimator.hpp"
 
 namespace vibid::cli {
 namespace {
@@ -15,7 +18,9 @@ namespace {
 struct AcquireOptions {
   double seconds = 0.0;
   double rate_hz = 5000.0;
-  int decimation = 1;
+  double log_rate_hz = 0.0;  // 0: the sampling rate
+  int decimation = 0;        // 0: from log_rate_hz
+  bool allow_drops = false;
   std::vector<std::string> channels;
   std::string trigger;
   double pretrigger_s = 0.0;
@@ -53,6 +58,37 @@ Trigger ParseTrigger(const std::string& text) {
   return t;
 }
 
+std::string FormatNumber(double v) {
+  char b[32];
+  std::snprintf(b, sizeof b, "%g", v);
+  return b;
+}
+
+/// The decimation for a log rate (or the one given), checked against what the board's
+/// decimator supports.
+int DecimationFor(double rate_hz, double log_rate_hz, int decimation) {
+  if (decimation == 0) {
+    if (log_rate_hz == 0.0) return 1;
+    const double d = rate_hz / log_rate_hz;
+    decimation = static_cast<int>(std::lround(d));
+    Require(std::abs(d - decimation) < 1e-9 * d && decimation >= 1,
+            "--log-rate-hz " + FormatNumber(log_rate_hz) + ": the sample rate " + FormatNumber(rate_hz) +
+                " Hz must be a whole multiple of it");
+  }
+  if (!fixed::IsSupportedDecimation(static_cast<std::uint32_t>(decimation))) {
+    std::string near;
+    for (std::uint32_t d = 1; d <= fixed::kDecimatorMaxFactor; ++d) {
+      if (fixed::IsSupportedDecimation(d) && std::abs(static_cast<int>(d) - decimation) <= decimation / 2) {
+        near += (near.empty() ? "" : ", ") + FormatNumber(rate_hz / d);
+      }
+    }
+    throw InputError("log rate " + FormatNumber(rate_hz / decimation) + " Hz: the board decimates by 2^a 5^b up to " +
+                     std::to_string(fixed::kDecimatorMaxFactor) + " only (decimation " + std::to_string(decimation) +
+                     "); log rates near it: " + near + " Hz");
+  }
+  return decimation;
+}
+
 void WriteLog(device::Connection& c, const device::LogPull& pull, const std::string& path) {
   bool has_record = false;
   const wire::CalibrationRecord rec = ActiveRecord(c, has_record);
@@ -72,7 +108,13 @@ void RegisterAcquireCommands(CLI::App& app, const GlobalOptions& globals) {
   auto o = std::make_shared<AcquireOptions>();
   acq->add_option("--seconds", o->seconds, "Seconds to record after the trigger")->required()->check(PositiveNumber());
   acq->add_option("--rate-hz", o->rate_hz, "Sample rate (Hz)")->check(PositiveNumber());
-  acq->add_option("--decimation", o->decimation, "Keep one sample in N in the log")->check(CLI::Range(1, 10000));
+  auto* log_rate = acq->add_option("--log-rate-hz", o->log_rate_hz,
+                                   "Log rate (Hz): the board low-pass filters and decimates every logged channel "
+                                   "(default: the sample rate)")->check(PositiveNumber());
+  acq->add_option("--decimation", o->decimation, "Log one filtered sample in N (2^a 5^b, up to 1000)")
+      ->check(CLI::Range(1, 1000))->excludes(log_rate);
+  acq->add_flag("--allow-drops", o->allow_drops,
+                "Start even if the log rate exceeds what the link carries and the log would overflow");
   acq->add_option("--channels", o->channels, "Channels to log: force1,force2,acc1,acc2,x1,x2 (default all)")->delimiter(',');
   acq->add_option("--trigger", o->trigger, "Start on a load cell threshold: force>F (N), force2<F");
   acq->add_option("--pretrigger-s", o->pretrigger_s, "Seconds kept before the trigger")->check(NonNegativeNumber());
@@ -87,7 +129,7 @@ void RegisterAcquireCommands(CLI::App& app, const GlobalOptions& globals) {
                 period_us <= wire::kMaxSamplePeriodUs,
             "--rate-hz " + std::to_string(o->rate_hz) + ": the period must be a whole number of microseconds from 100 to 1000000");
     cfg.sample_period_us = static_cast<std::uint32_t>(std::lround(period_us));
-    cfg.decimation = static_cast<std::uint16_t>(o->decimation);
+    cfg.decimation = static_cast<std::uint16_t>(DecimationFor(o->rate_hz, o->log_rate_hz, o->decimation));
     cfg.channel_mask = 0;
     for (const std::string& name : o->channels) {
       wire::Channel ch{};
@@ -97,7 +139,7 @@ void RegisterAcquireCommands(CLI::App& app, const GlobalOptions& globals) {
     if (cfg.channel_mask == 0) cfg.channel_mask = wire::kAllChannelsMask;
     const Trigger trig = ParseTrigger(o->trigger);
     Require(o->pretrigger_s == 0.0 || trig.mode != wire::TriggerMode::kImmediate, "--pretrigger-s needs a --trigger");
-    const double log_rate_hz = o->rate_hz / o->decimation;
+    const double log_rate_hz = o->rate_hz / cfg.decimation;
     cfg.record_limit = static_cast<std::uint32_t>(std::lround(o->seconds * log_rate_hz));
     cfg.pretrigger_records = static_cast<std::uint32_t>(std::lround(o->pretrigger_s * log_rate_hz));
     Require(cfg.record_limit > 0, "--seconds is shorter than one logged sample");
@@ -117,14 +159,24 @@ void RegisterAcquireCommands(CLI::App& app, const GlobalOptions& globals) {
         cfg.trigger_channel = static_cast<std::uint8_t>(trig.channel);
         cfg.trigger_threshold = static_cast<std::int32_t>(std::lround(q));
       }
+      // Preflight: records the link cannot carry pile up in the log; refuse before the board
+      // starts if it would overflow.
+      const device::LinkBudget budget = device::ComputeLinkBudget(c.info(), cfg);
+      if (budget.overflow_after_s < o->seconds + o->pretrigger_s && !o->allow_drops) {
+        throw InputError(device::DescribeOverflow(budget, o->seconds));
+      }
+      cfg.flags = static_cast<std::uint8_t>(cfg.flags | wire::kAcqFlagStream);
       if (!o->scenario.empty()) c.SelectScenario(o->scenario, o->scenario_params);
       c.Configure(cfg);
-      c.StartAcquisition();
       device::LogPull pull;
       try {
         ProgressBar bar("acquire");
-        pull = c.PullLog(0, [&](std::uint64_t done, std::uint64_t) {
-          bar.Update(done, std::uint64_t{cfg.record_limit} + cfg.pretrigger_records);
+        const double total_bytes =
+            static_cast<double>(std::uint64_t{cfg.record_limit} + cfg.pretrigger_records) * budget.record_bytes;
+        pull = c.AcquireStreamed([&](std::uint64_t done, std::uint64_t) {
+          const auto records = static_cast<std::uint64_t>(static_cast<double>(done) / (total_bytes + 1.0) *
+                                                          (std::uint64_t{cfg.record_limit} + cfg.pretrigger_records));
+          bar.Update(records, std::uint64_t{cfg.record_limit} + cfg.pretrigger_records);
         });
       } catch (const device::Interrupted&) {
         c.StopAcquisition();

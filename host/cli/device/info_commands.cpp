@@ -13,6 +13,7 @@
 #include "vibid/device/error.hpp"
 #include "vibid/device/log_table.hpp"
 #include "vibid/device/select.hpp"
+#include "vibid/shared/wire/log_record.hpp"
 
 namespace vibid::cli {
 namespace {
@@ -59,8 +60,13 @@ std::string Hex32(std::uint32_t v) {
 
 nlohmann::json InfoJson(const device::Connection& c, const wire::InfoResponse& i) {
   nlohmann::json channels = nlohmann::json::array();
-  for (std::size_t k = 0; k < i.channel_count && k < wire::kChannelCount; ++k) {
-    channels.push_back(device::ChannelStem(static_cast<wire::Channel>(k)));
+  nlohmann::json formats = nlohmann::json::object();
+  for (std::size_t k = 0; k < wire::kChannelCount; ++k) {
+    const auto ch = static_cast<wire::Channel>(k);
+    channels.push_back(device::ChannelStem(ch));
+    formats[device::ChannelStem(ch)] = wire::LogValueBytes(ch) == 2
+        ? "u16 " + std::to_string(i.adc_bits) + "." + std::to_string(wire::kLogAdcFractionBits) + " ADC code"
+        : std::string("i32 counts");
   }
   return {{"device", c.Describe()},
           {"protocol", std::to_string(i.protocol_major) + "." + std::to_string(i.protocol_minor)},
@@ -71,7 +77,15 @@ nlohmann::json InfoJson(const device::Connection& c, const wire::InfoResponse& i
           {"sample_period_us", i.sample_period_us},
           {"min_sample_period_us", i.min_sample_period_us},
           {"log_capacity_bytes", i.log_capacity_bytes},
+          {"log_bytes", i.log_capacity_bytes},
+          {"link_reports_per_s", i.link_reports_per_s},
+          {"report_bytes", wire::kReportBytes},
+          {"link_bytes_per_s", std::uint32_t{i.link_reports_per_s} * wire::kReportBytes},
+          {"link_record_bytes_per_s", std::uint32_t{i.link_reports_per_s} * wire::kLogRecordPayload},
+          {"max_sample_rate_hz", 1e6 / i.min_sample_period_us},
+          {"adc_bits", i.adc_bits},
           {"channels", channels},
+          {"channel_formats", formats},
           {"reset_cause", ResetName(i.reset_cause)},
           {"calibrated", i.cal_state == wire::CalState::kCalibrated},
           {"cal_slot", i.cal_slot == wire::kNoSlot ? nlohmann::json(nullptr) : nlohmann::json(i.cal_slot)},
@@ -116,6 +130,9 @@ void RegisterInfoCommands(CLI::App& app, const GlobalOptions& globals) {
       const wire::InfoResponse& i = c.info();
       o << "\nsampling      " << 1e6 / i.sample_period_us << " Hz (fastest " << 1e6 / i.min_sample_period_us
         << " Hz), log " << i.log_capacity_bytes << " bytes\n"
+        << "link          " << std::uint32_t{i.link_reports_per_s} * wire::kReportBytes << " B/s ("
+        << i.link_reports_per_s << " reports/s of " << wire::kReportBytes << " B; "
+        << std::uint32_t{i.link_reports_per_s} * wire::kLogRecordPayload << " B/s of log records)\n"
         << "channels      ";
       for (const auto& ch : j["channels"]) o << ch.get<std::string>() << " ";
       o << "\ncalibration   ";

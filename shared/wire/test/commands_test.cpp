@@ -25,6 +25,8 @@ InfoResponse ExpectedInfo() {
   v.sample_period_us = 200;
   v.min_sample_period_us = 100;
   v.log_capacity_bytes = 98304;
+  v.link_reports_per_s = 1000;
+  v.adc_bits = 12;
   v.channel_kind = {ChannelKind::kLoadCell,      ChannelKind::kLoadCell, ChannelKind::kAccelerometer,
                     ChannelKind::kAccelerometer, ChannelKind::kEncoder,  ChannelKind::kEncoder};
   v.reset_cause = ResetCause::kWatchdog;
@@ -46,14 +48,15 @@ TEST(Commands, InfoResponse) {
   InfoResponse v;
   const Report golden = GoldenReport("info_response");
   ASSERT_EQ(Decode(PayloadOf(golden), v), Status::kOk);
-  EXPECT_EQ(v.protocol_major, 1);
+  EXPECT_EQ(v.protocol_major, 2);
   EXPECT_EQ(v.protocol_minor, 0);
   EXPECT_EQ(v.fw_patch, 2);
   EXPECT_EQ(v.board_id, BoardId::kStm32f405);
   EXPECT_EQ(v.build_id, 0xDEADBEEFu);
   EXPECT_EQ(v.sample_period_us, 200u);
   EXPECT_EQ(v.log_capacity_bytes, 98304u);
-  EXPECT_EQ(v.channel_count, 6);
+  EXPECT_EQ(v.link_reports_per_s, 1000);
+  EXPECT_EQ(v.adc_bits, 12);
   EXPECT_EQ(v.channel_kind[2], ChannelKind::kAccelerometer);
   EXPECT_EQ(v.channel_kind[5], ChannelKind::kEncoder);
   EXPECT_EQ(v.reset_cause, ResetCause::kWatchdog);
@@ -98,7 +101,7 @@ TEST(Commands, AcqConfigure) {
   AcqConfigureRequest a;
   a.sample_period_us = 200;
   a.channel_mask = 0b100011;
-  a.flags = kAcqFlagLogDob;
+  a.flags = kAcqFlagLogDob | kAcqFlagStream;
   a.decimation = 5;
   a.trigger_mode = TriggerMode::kRising;
   a.trigger_channel = 1;
@@ -123,7 +126,7 @@ TEST(Commands, AcqConfigure) {
   EXPECT_EQ(Decode(PayloadOf(golden), v), Status::kInvalidArgument);
 
   ASSERT_EQ(BuildReport(Command::kAcqConfigure, 0x0A0B, 0, kFlagResponse, Status::kOk,
-                        AcqConfigureResponse{.record_bytes = 20, .capacity_records = 4915}, out),
+                        AcqConfigureResponse{.record_bytes = 12, .capacity_records = 6144}, out),
             Status::kOk);
   EXPECT_TRUE(out == GoldenReport("acq_configure_response"));
 }

@@ -26,14 +26,14 @@ TEST(Report, EncodesPingRequestLikeGolden) {
   EXPECT_TRUE(out == Golden("ping_request"));
 }
 
-// Hand-decoded: 56 42 | 01 | 01 | 00 | 00 | 34 12 | 00 00 | 05 | 00 | "hello" | zeros.
+// Hand-decoded: 56 42 | 02 | 01 | 00 | 00 | 34 12 | 00 00 | 05 | 00 | "hello" | zeros.
 TEST(Report, DecodesPingRequestByHand) {
   const Report r = Golden("ping_request");
   EXPECT_EQ(r[0], 0x56);
   EXPECT_EQ(r[1], 0x42);
   Header h;
   ASSERT_EQ(DecodeHeader(r, h), Status::kOk);
-  EXPECT_EQ(h.protocol_major, 1);
+  EXPECT_EQ(h.protocol_major, 2);
   EXPECT_EQ(h.command, 0x01);
   EXPECT_EQ(h.status, Status::kOk);
   EXPECT_EQ(h.flags, 0);

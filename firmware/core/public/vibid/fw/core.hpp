@@ -90,7 +90,12 @@ class Core {
   bool Sampling() const;
   void StopSampling();
   void ApplyCalibration();
-  void NextStreamReport();
+  /// Builds the next report of the stream into pending_. @returns false if a following log
+  /// stream has nothing to send yet.
+  bool NextStreamReport();
+  /// Packs the records from stream_next_ into one log data report payload.
+  Status PackLogRecords(std::span<std::uint8_t, wire::kMaxPayload> payload, std::size_t& length);
+  void StartLogStream(std::uint16_t token, std::uint32_t first, std::uint32_t end, bool follow);
   wire::InfoResponse Info() const;
   wire::StatusResponse CurrentStatus() const;
 
@@ -118,6 +123,7 @@ class Core {
   std::uint32_t stream_end_ = 0;    // one past the last record / byte
   std::uint32_t stream_first_ = 0;  // first record of a log stream
   std::uint16_t stream_token_ = 0;  // token of the request the stream answers
+  bool stream_follows_ = false;     // a log stream started by acq-start: follows the acquisition
 };
 
 }  // namespace vibid::fw

@@ -2,7 +2,10 @@
 //
 //   raw frame -> per-channel calibration (wire::ScaleChannel) -> DOB (when running)
 //             -> trigger (immediate, or a load cell crossing a threshold)
-//             -> every `decimation`-th frame: a log record (raw channels of the mask, d_hat)
+//             -> the logged channels and d_hat through the anti-aliasing decimator
+//             -> every `decimation`-th frame: a log record (its tick, the channels in their log
+//                format, d_hat), the same filter on every value so ratios between channels keep
+//                their passband values
 //
 // Nothing is lost silently: a frame tick that skips ahead counts the missing ticks as overruns,
 // a record that finds the log full after the trigger counts as dropped, a calibration that
@@ -16,6 +19,7 @@
 #include "vibid/fw/dob_stage.hpp"
 #include "vibid/fw/log_ring.hpp"
 #include "vibid/fw/port.hpp"
+#include "vibid/shared/fixed/decimator.hpp"
 #include "vibid/shared/status.hpp"
 #include "vibid/shared/wire/calibration_record.hpp"
 #include "vibid/shared/wire/commands.hpp"
@@ -36,7 +40,8 @@ class Sampler final : public FrameSink {
   /// counters and the DOB state; an immediate trigger fires at once. The DOB runs in this
   /// acquisition if it is loaded, discretized for this sample rate, and either logged
   /// (kAcqFlagLogDob) or switched on by SetDobRunning. Main loop, sampling stopped.
-  /// @returns the log's Reset status (kOutOfRange if the pre-trigger does not fit).
+  /// @returns the log's Reset status (kOutOfRange if the pre-trigger does not fit);
+  ///          kInvalidArgument for a decimation the decimator does not support.
   Status Arm(const wire::AcqConfigureRequest& config);
 
   /// Ends the acquisition (after the port stopped delivering frames); the log is kept.
@@ -65,6 +70,10 @@ class Sampler final : public FrameSink {
 
  private:
   bool TriggerFires(const std::array<std::int32_t, wire::kChannelCount>& calibrated) const;
+  enum class Logged : std::uint8_t { kNoRecord, kKept, kRefused };
+  /// Feeds the logged values of one frame to the decimator; on an output tick pushes a record.
+  /// kRefused: the log was full (after the trigger: a dropped record).
+  Logged LogFrame(const SampleFrame& frame, std::int32_t d_hat);
   void PublishLatest(const SampleFrame& frame,
                      const std::array<std::int32_t, wire::kChannelCount>& calibrated,
                      std::int32_t d_hat);
@@ -74,6 +83,7 @@ class Sampler final : public FrameSink {
   std::array<wire::ChannelScaling, wire::kChannelCount> scaling_{};
   wire::AcqConfigureRequest config_{};
   wire::LogLayout layout_{};
+  fixed::Decimator decimator_;
   std::uint32_t expected_tick_ = 0;
   std::uint32_t post_trigger_records_ = 0;
   bool dob_in_acquisition_ = false;  // logged, or requested, at a matching rate

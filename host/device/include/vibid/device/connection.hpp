@@ -121,6 +121,12 @@ class Connection {
   /// if the stream broke off or timed out (nothing appended; ask again from the same record).
   bool ReadLogOnce(std::uint32_t first, std::uint32_t max, LogPull& pull);
 
+  /// Starts the configured acquisition (configured with kAcqFlagStream) and receives the log
+  /// the board streams while it samples, to its end. If the stream breaks off, the rest comes
+  /// by PullLog. `progress` gets payload bytes received. Throws DeviceError if acq-start is
+  /// refused.
+  LogPull AcquireStreamed(const Progress& progress = {});
+
   /// Pulls every record from `first` until the log holds no more and sampling has ended
   /// (while sampling, it keeps pulling as records arrive). Broken streams resume from the first
   /// missing record, up to `max_resumes` times in a row without progress.
@@ -128,6 +134,9 @@ class Connection {
 
  private:
   void ReaderLoop();
+  /// Receives one log stream answering `token` (records from `first`) to its trailer; appends
+  /// its records to `pull` if the trailer checked out. False if it broke off or timed out.
+  bool ReceiveLogStream(std::uint16_t token, std::uint32_t first, LogPull& pull, const Progress& progress);
   std::uint16_t NextToken();
   void Send(const wire::Report& report);
   /// Waits for an answer with `token` to `command`. False on timeout.

@@ -4,8 +4,9 @@
 //
 // Conversation: the host sends one request report; the device answers with one response report
 // carrying the same command and token, kFlagResponse, and a Status. Two commands answer with a
-// stream (log-read, cal-get): data reports with sequence 0, 1, 2, ... and then one trailer report
-// flagged kFlagStreamEnd whose sequence is the number of data reports and whose payload starts
+// stream (log-read, cal-get): data reports with sequence 0, 1, 2, ... (modulo 2^16: a stream
+// that follows a long acquisition wraps) and then one trailer report flagged kFlagStreamEnd whose
+// sequence is the number of data reports (modulo 2^16) and whose payload starts
 // with StreamTrailer (byte count and CRC-32 of all data payload bytes). Streams are not
 // acknowledged per report; a lost report shows as a sequence gap or a CRC mismatch, and the host
 // asks again (log-read resumes from a record index). A refused request gets a single response
@@ -76,10 +77,17 @@ enum class TriggerMode : std::uint8_t {
 /// Acquisition limits the device enforces (AcqConfigure refusals).
 inline constexpr std::uint32_t kMinSamplePeriodUs = 100;       ///< 10 kHz.
 inline constexpr std::uint32_t kMaxSamplePeriodUs = 1000000;   ///< 1 Hz.
-inline constexpr std::uint16_t kMaxDecimation = 10000;
+/// Decimation factors 2^a 5^b up to this one; each runs the anti-aliasing decimator
+/// (vibid/shared/fixed/decimator.hpp) on every logged channel and d_hat.
+inline constexpr std::uint16_t kMaxDecimation = 1000;
 
 inline constexpr std::uint8_t kAcqFlagLogDob = 1u << 0;  ///< Each log record carries d_hat.
-inline constexpr std::uint8_t kAcqKnownFlags = kAcqFlagLogDob;
+/// acq-start streams the log: after its answer the device sends a log-read stream from record 0
+/// with acq-start's token, following the acquisition as records arrive (one data report per
+/// frame at most) until it ends and every record went out, then the trailer. Nothing waits for
+/// a host request between reports, so what reaches the host depends only on the link.
+inline constexpr std::uint8_t kAcqFlagStream = 1u << 1;
+inline constexpr std::uint8_t kAcqKnownFlags = kAcqFlagLogDob | kAcqFlagStream;
 
 // ---------------------------------------------------------------------------------------------
 // get-info response
@@ -87,10 +95,12 @@ inline constexpr std::uint8_t kAcqKnownFlags = kAcqFlagLogDob;
 //   2  u8  fw_major                3  u8  fw_minor           4  u16 fw_patch
 //   6  u16 board_id (BoardId)      8  u32 build_id           12 u32 capabilities
 //   16 u32 sample_period_us (the configured period)          20 u32 min_sample_period_us
-//   24 u32 log_capacity_bytes      28 u8  channel_count      29 u8  channel_kind[6]
-//   35 u8  reset_cause             36 u8  cal_state          37 u8  cal_slot (kNoSlot if none)
-//   38 u16 reserved                40 u32 cal_crc (record CRC-32, 0 if uncalibrated)
+//   24 u32 log_capacity_bytes      28 u16 link_reports_per_s 30 u8  adc_bits
+//   31 u8  reset_cause             32 u8  channel_kind[6]    38 u8  cal_state
+//   39 u8  cal_slot (kNoSlot if none)                        40 u32 cal_crc (0 if uncalibrated)
 //   44 u32 overrun_count           48 u32 dropped_records
+// Bytes 20..35 are the board profile (board_profile.hpp): the host computes its link budget
+// from them (link bytes/s = link_reports_per_s x 64).
 struct InfoResponse {
   static constexpr std::size_t kBytes = 52;
   std::uint8_t protocol_major = kProtocolMajor;
@@ -104,9 +114,10 @@ struct InfoResponse {
   std::uint32_t sample_period_us = 0;
   std::uint32_t min_sample_period_us = kMinSamplePeriodUs;
   std::uint32_t log_capacity_bytes = 0;
-  std::uint8_t channel_count = kChannelCount;
-  std::array<ChannelKind, kChannelCount> channel_kind{};
+  std::uint16_t link_reports_per_s = 0;
+  std::uint8_t adc_bits = 0;
   ResetCause reset_cause = ResetCause::kUnknown;
+  std::array<ChannelKind, kChannelCount> channel_kind{};
   CalState cal_state = CalState::kUncalibrated;
   std::uint8_t cal_slot = kNoSlot;
   std::uint32_t cal_crc = 0;
@@ -150,8 +161,9 @@ static_assert(StatusResponse::kBytes <= kMaxPayload);
 // acq-configure request
 //   0  u32 sample_period_us        kMinSamplePeriodUs..kMaxSamplePeriodUs
 //   4  u8  channel_mask            bit i = Channel(i); nonzero, within kAllChannelsMask
-//   5  u8  flags                   kAcqFlagLogDob
-//   6  u16 decimation              1..kMaxDecimation: one log record every `decimation` ticks
+//   5  u8  flags                   kAcqFlagLogDob, kAcqFlagStream
+//   6  u16 decimation              2^a 5^b up to kMaxDecimation: one log record every
+//                                  `decimation` ticks, through the anti-aliasing decimator
 //   8  u8  trigger_mode            TriggerMode
 //   9  u8  trigger_channel         a load-cell channel (ignored for kImmediate, must be 0)
 //   10 u16 reserved                0

@@ -39,6 +39,17 @@ constexpr ChannelKind KindOf(Channel c) {
   return ChannelKind::kLoadCell;
 }
 
+/// Log format of the converter channels (load cells, accelerometers): unsigned 16 bits holding
+/// the 12-bit code with 4 fraction bits ("12.4", code << 4). Raw samples fill the integer part; a
+/// decimated record keeps the resolution the anti-aliasing filter's averaging gained.
+inline constexpr unsigned kLogAdcFractionBits = 4;
+inline constexpr std::int32_t kLogAdcMax = 0xFFFF;
+
+/// Bytes a channel takes in a log record: 2 for converter channels, 4 for encoder counts.
+constexpr std::size_t LogValueBytes(Channel c) {
+  return KindOf(c) == ChannelKind::kEncoder ? 4 : 2;
+}
+
 constexpr bool IsLoadCell(std::uint8_t channel_index) {
   return channel_index == static_cast<std::uint8_t>(Channel::kForce1) ||
          channel_index == static_cast<std::uint8_t>(Channel::kForce2);

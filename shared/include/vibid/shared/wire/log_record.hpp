@@ -1,13 +1,17 @@
-// One log record: a sample the board kept, in the layout chosen at acq-configure.
+// Log records: what the board keeps of a sample, and how a log-read data report carries them.
 //
-// Byte layout (little-endian):
-//   0        u32  sample_index   the frame's tick since acq-start (time = index * sample period)
-//   4 + 4 j  i32  raw            the j-th selected channel's raw value, channels in ascending
-//                                wire::Channel order (only those set in channel_mask)
-//   4 + 4 n  i32  d_hat          the DOB output (Q31 of its full scale), if kAcqFlagLogDob
+// A record holds the selected channels in ascending wire::Channel order, each in its log format
+// (LogValueBytes: converter channels u16 "12.4" codes, encoders i32 counts), then d_hat (i32, Q31
+// of the observer's full scale) if kAcqFlagLogDob. All little-endian. A record carries no time:
 //
-// Records never straddle reports: a log-read data report carries
-// RecordsPerReport() whole records.
+// Log-read data report payload:
+//   0       u32  sample_index   tick (since acq-start) of the report's first record
+//   4 + k r      record k       r = RecordBytes(); record k was sampled at tick
+//                               sample_index + k * decimation
+// A report holds only records whose ticks follow each other by the decimation; a gap (records
+// the board dropped) starts a new report. So the time stamp costs 4 bytes per report, not per
+// record. In its RAM the board keeps each record with its full tick (StoredRecordBytes()), which
+// is what lets it cut reports at gaps.
 #pragma once
 
 #include <array>
@@ -23,12 +27,18 @@
 
 namespace vibid::wire {
 
-inline constexpr std::size_t kMaxLogRecordBytes = 4 + 4 * kChannelCount + 4;
-static_assert(kMaxLogRecordBytes == 32 && kMaxLogRecordBytes <= kMaxPayload);
+inline constexpr std::size_t kLogIndexBytes = 4;
+/// Payload bytes of a log data report that carry records.
+inline constexpr std::size_t kLogRecordPayload = kMaxPayload - kLogIndexBytes;
+inline constexpr std::size_t kMaxLogRecordBytes = 4 * 2 + 2 * 4 + 4;  // all channels and d_hat
+static_assert(kMaxLogRecordBytes == 20 && kMaxLogRecordBytes <= kLogRecordPayload);
+inline constexpr std::size_t kMinLogRecordBytes = 2;
+inline constexpr std::size_t kMaxRecordsPerReport = kLogRecordPayload / kMinLogRecordBytes;
+static_assert(kMaxRecordsPerReport == 24);
 
 struct LogLayout {
   std::uint8_t channel_mask = kAllChannelsMask;
-  std::uint8_t flags = 0;  ///< kAcqFlagLogDob
+  std::uint8_t flags = 0;  ///< kAcqFlagLogDob (other acquisition flags do not change the layout)
 
   /// Nonzero mask within the six channels, known flags.
   constexpr bool Valid() const {
@@ -39,21 +49,42 @@ struct LogLayout {
     return static_cast<std::size_t>(std::popcount(static_cast<unsigned>(channel_mask)));
   }
   constexpr bool HasDob() const { return (flags & kAcqFlagLogDob) != 0; }
-  constexpr std::size_t RecordBytes() const { return 4 + 4 * ChannelCount() + (HasDob() ? 4 : 0); }
-  constexpr std::size_t RecordsPerReport() const { return kMaxPayload / RecordBytes(); }
+  /// Bytes of one record on the wire.
+  constexpr std::size_t RecordBytes() const {
+    std::size_t n = HasDob() ? 4 : 0;
+    for (std::size_t c = 0; c < kChannelCount; ++c) {
+      if ((channel_mask & (1u << c)) != 0) n += LogValueBytes(static_cast<Channel>(c));
+    }
+    return n;
+  }
+  /// Bytes of one record in the board's log RAM: its tick, then the wire bytes.
+  constexpr std::size_t StoredRecordBytes() const { return kLogIndexBytes + RecordBytes(); }
+  /// Records one full log data report carries.
+  constexpr std::size_t RecordsPerReport() const { return kLogRecordPayload / RecordBytes(); }
 };
 
 struct LogRecord {
   std::uint32_t sample_index = 0;
-  /// Indexed by channel; entries of channels outside the layout's mask are 0 after decoding.
+  /// Indexed by channel, in the log format; entries of channels outside the mask are 0 after
+  /// decoding.
   std::array<std::int32_t, kChannelCount> raw{};
   std::int32_t d_hat = 0;  ///< 0 after decoding a layout without d_hat.
 };
 
-/// Writes layout.RecordBytes() bytes. `out` must hold at least that many.
+/// Writes layout.RecordBytes() bytes (the record without its tick). `out` must hold that many.
+/// Converter values are clamped to 0..kLogAdcMax.
 void EncodeLogRecord(const LogLayout& layout, const LogRecord& record, std::span<std::uint8_t> out);
 
+/// Reads one record's channels and d_hat (sample_index is left as it is).
 /// @returns kOk; kInvalidArgument if the layout is not Valid() or in.size() != RecordBytes().
 Status DecodeLogRecord(const LogLayout& layout, std::span<const std::uint8_t> in, LogRecord& record);
+
+/// Decodes a log data report payload: the first record's tick, then whole records.
+/// @returns kOk with `count` records in out[0..count); kInvalidArgument for an invalid layout,
+///          a zero decimation, a payload that is not 4 bytes plus whole records, or more records
+///          than `out` holds.
+Status DecodeLogPayload(const LogLayout& layout, std::uint32_t decimation,
+                        std::span<const std::uint8_t> payload, std::span<LogRecord> out,
+                        std::size_t& count);
 
 }  // namespace vibid::wire

@@ -26,7 +26,8 @@ class StreamEncoder {
   void Begin(Command command, std::uint16_t token);
 
   /// The next data report carrying `payload` (1..kMaxPayload bytes).
-  /// @returns kOk; kOutOfRange for an empty or oversize payload or after 65535 data reports.
+  /// Sequence numbers wrap after 65535 (the decoder counts modulo 2^16 too).
+  /// @returns kOk; kOutOfRange for an empty or oversize payload.
   Status Data(std::span<const std::uint8_t> payload, Report& out);
 
   /// The trailer: `trailer_payload` (at least StreamTrailer::kBytes) gets the byte count and
