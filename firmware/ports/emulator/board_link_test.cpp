@@ -18,7 +18,7 @@
 namespace vibid::emu {
 namespace {
 
-struct Run {
+struct StreamRun {
   std::vector<std::uint8_t> records;
   std::vector<std::uint32_t> ticks;
   wire::LogTrailer trailer;
@@ -32,7 +32,7 @@ struct RunOptions {
 };
 
 /// One streamed acquisition against a fresh emulator (seed 5, hammer on m2 every 0.3 s).
-Run Acquire(const wire::AcqConfigureRequest& config, const RunOptions& ro = {}) {
+StreamRun Acquire(const wire::AcqConfigureRequest& config, const RunOptions& ro = {}) {
   EmulatorOptions o;
   o.port = 0;
   o.seed = 5;
@@ -47,7 +47,7 @@ Run Acquire(const wire::AcqConfigureRequest& config, const RunOptions& ro = {}) 
       while (!stop.load(std::memory_order_relaxed)) x = x + 1;
     });
   }
-  Run run;
+  StreamRun run;
   {
     testing::DeviceSession s(emu.port());
     s.receive_delay_us = ro.host_delay_us;
@@ -81,7 +81,7 @@ wire::AcqConfigureRequest Streamed(std::uint32_t period_us, std::uint8_t mask, s
 // stream ends within a few frames of the acquisition.
 TEST(BoardLink, WithinTheBudgetNothingIsDropped) {
   constexpr std::uint32_t kRecords = 50000;  // 10 simulated seconds
-  const Run r = Acquire(Streamed(200, 0b001101, kRecords));
+  const StreamRun r = Acquire(Streamed(200, 0b001101, kRecords));
   ASSERT_EQ(r.ticks.size(), kRecords);
   for (std::uint32_t i = 0; i < kRecords; ++i) ASSERT_EQ(r.ticks[i], i);
   EXPECT_EQ(r.trailer.dropped_records, 0u);
@@ -92,9 +92,10 @@ TEST(BoardLink, WithinTheBudgetNothingIsDropped) {
 // Beyond the budget: 10 kHz, all six channels (16-byte records, 3 per report, 20 with the tick
 // in RAM: 4915 in the 96 KiB log). 10 records are made per frame and 3 leave: the log fills in
 // about 0.7 s and from then on each frame keeps the 3 records the last report freed and drops 7.
+// Measured here: 10915 kept, 9085 dropped, as predicted.
 TEST(BoardLink, BeyondTheBudgetDropsWhatTheLinkAndLogPredict) {
   constexpr std::uint32_t kRecords = 20000;  // 2 simulated seconds
-  const Run r = Acquire(Streamed(100, wire::kAllChannelsMask, kRecords));
+  const StreamRun r = Acquire(Streamed(100, wire::kAllChannelsMask, kRecords));
   const std::uint32_t capacity = kBoardProfile.log_bytes / 20;
   ASSERT_EQ(capacity, 4915u);
   const device::StreamPrediction p = device::PredictStream(kRecords, 10, capacity, 3);
@@ -104,10 +105,9 @@ TEST(BoardLink, BeyondTheBudgetDropsWhatTheLinkAndLogPredict) {
   EXPECT_EQ(r.trailer.dropped_records, p.dropped);
   EXPECT_EQ(r.trailer.records_written, p.kept);
   ASSERT_EQ(r.ticks.size(), p.kept);  // every kept record reached the host
-  // Closed form: the log's records, plus 3 per frame once it is full, at most one report off.
-  const double full_after_frames = capacity / 7.0;
-  const double closed = capacity + 3.0 * (kRecords / 10.0 - full_after_frames);
-  EXPECT_NEAR(static_cast<double>(p.kept), closed, 6.0);
+  // Closed form: what the link carried in the 2000 frames of sampling (3 records each) plus what
+  // the full log still held at the end (4915) = 10915 kept, 9085 dropped.
+  EXPECT_EQ(p.kept, 3u * (kRecords / 10u) + capacity);
 }
 
 // The same acquisition beyond the budget (drops are the part most sensitive to timing): flat
@@ -115,11 +115,11 @@ TEST(BoardLink, BeyondTheBudgetDropsWhatTheLinkAndLogPredict) {
 // at wall-clock speed. The same bytes and the same counts every time.
 TEST(BoardLink, NeitherLoadNorSpeedChangesWhatIsDelivered) {
   const wire::AcqConfigureRequest c = Streamed(100, wire::kAllChannelsMask, 12000);
-  const Run idle = Acquire(c);
-  const Run loaded = Acquire(c, {.speed = 0.0, .hog_threads = 2, .host_delay_us = 300});
-  const Run realtime = Acquire(c, {.speed = 1.0});
+  const StreamRun idle = Acquire(c);
+  const StreamRun loaded = Acquire(c, {.speed = 0.0, .hog_threads = 2, .host_delay_us = 300});
+  const StreamRun realtime = Acquire(c, {.speed = 1.0});
   EXPECT_GT(idle.trailer.dropped_records, 0u);
-  for (const Run* other : {&loaded, &realtime}) {
+  for (const StreamRun* other : {&loaded, &realtime}) {
     EXPECT_EQ(other->records, idle.records);
     EXPECT_EQ(other->ticks, idle.ticks);
     EXPECT_EQ(other->trailer.dropped_records, idle.trailer.dropped_records);

@@ -196,6 +196,11 @@ void UsbAppDevice::StartFrame(bool limit) {
   out_left_ = 1;
 }
 
+void UsbAppDevice::EndFrame() {
+  in_left_ = 0;
+  out_left_ = 0;
+}
+
 bool UsbAppDevice::WaitingForInUrb() const {
   if (sink_ == nullptr) return false;
   for (std::uint8_t ep = 1; ep < 16; ++ep) {

@@ -69,10 +69,13 @@ class UsbAppDevice final : public ExportedDevice {
   bool Unlink(std::uint32_t seqnum) override;
   void Service() override;
 
-  /// A new 1 ms USB frame: each interrupt endpoint may move one more transaction (one 64-byte
-  /// report), as on a full-speed bus with bInterval 1. With `limit` false (experiments beyond
-  /// the board) transfers are not limited per frame.
+  /// A 1 ms USB frame's transactions: each interrupt endpoint may move one transaction (one
+  /// 64-byte report), as on a full-speed bus with bInterval 1, between StartFrame and EndFrame
+  /// and at no other time, so when a report goes out depends only on simulated time, never on
+  /// when the host's URB happened to arrive. With `limit` false (experiments beyond the board)
+  /// interrupt transfers are not limited at all.
   void StartFrame(bool limit);
+  void EndFrame();
   /// The HID IN endpoint holds a report and no IN URB of the host waits for it: a host that polls
   /// every frame (the kernel's HID driver) would have one queued.
   bool WaitingForInUrb() const;
@@ -98,8 +101,8 @@ class UsbAppDevice final : public ExportedDevice {
   std::deque<Urb> out_urbs_;  // interrupt OUT, oldest first
   // Transactions left in the current frame, per interrupt direction.
   bool frame_limit_ = true;
-  int in_left_ = 1;
-  int out_left_ = 1;
+  int in_left_ = 0;
+  int out_left_ = 0;
 };
 
 }  // namespace vibid::emu

@@ -172,6 +172,7 @@ void Emulator::RunFrame() {
   // The frame's transactions, then the main loop reacts (answers a request, arms the next report).
   app_->exported.StartFrame(!options_.beyond_board);
   app_->exported.Service();
+  app_->exported.EndFrame();
   RunFirmware();
 }
 

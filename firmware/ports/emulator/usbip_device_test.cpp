@@ -14,6 +14,7 @@
 #include "emulator.hpp"
 #include "test_client.hpp"
 #include "vibid/fw/usb/descriptors.hpp"
+#include "vibid/shared/board_profile.hpp"
 #include "vibid/shared/wire/calibration_record.hpp"
 #include "vibid/shared/wire/commands.hpp"
 
@@ -180,7 +181,8 @@ TEST_F(EmulatorOverUsbIp, PingAndInfoOverInterruptEndpoints) {
   EXPECT_NE(info.capabilities & wire::kCapScenarioSelect, 0u);
   EXPECT_NE(info.capabilities & wire::kCapDfu, 0u);
   EXPECT_EQ(info.reset_cause, wire::ResetCause::kPowerOn);
-  EXPECT_EQ(info.log_capacity_bytes, 4u * 1024 * 1024);
+  EXPECT_EQ(info.log_capacity_bytes, kBoardProfile.log_bytes);  // the board's, not more
+  EXPECT_EQ(info.link_reports_per_s, kBoardProfile.link_reports_per_s);
 }
 
 TEST_F(EmulatorOverUsbIp, ScenarioCommand) {

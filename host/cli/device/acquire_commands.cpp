@@ -171,12 +171,10 @@ void RegisterAcquireCommands(CLI::App& app, const GlobalOptions& globals) {
       device::LogPull pull;
       try {
         ProgressBar bar("acquire");
-        const double total_bytes =
-            static_cast<double>(std::uint64_t{cfg.record_limit} + cfg.pretrigger_records) * budget.record_bytes;
-        pull = c.AcquireStreamed([&](std::uint64_t done, std::uint64_t) {
-          const auto records = static_cast<std::uint64_t>(static_cast<double>(done) / (total_bytes + 1.0) *
-                                                          (std::uint64_t{cfg.record_limit} + cfg.pretrigger_records));
-          bar.Update(records, std::uint64_t{cfg.record_limit} + cfg.pretrigger_records);
+        const std::uint64_t total = std::uint64_t{cfg.record_limit} + cfg.pretrigger_records;
+        // Progress in records from the bytes received (the 4-byte ticks make it slightly ahead).
+        pull = c.AcquireStreamed([&](std::uint64_t bytes, std::uint64_t) {
+          bar.Update(std::min<std::uint64_t>(total, bytes / budget.record_bytes), total);
         });
       } catch (const device::Interrupted&) {
         c.StopAcquisition();
