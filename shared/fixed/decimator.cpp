@@ -61,7 +61,8 @@ constexpr const DecimatorPlan* FindPlan(std::uint32_t factor) {
 }
 
 constexpr bool PlansAreSound() {
-  if (kPlanMaxStages > kDecimatorMaxStages || kPlanMaxStateWords > kDecimatorStateWordsPerChannel) return false;
+  // The header's sizes are exact, so a regenerated table that needs less shrinks them too.
+  if (kPlanMaxStages != kDecimatorMaxStages || kPlanMaxStateWords != kDecimatorStateWordsPerChannel) return false;
   for (std::uint32_t f = 1; f <= kDecimatorMaxFactor; ++f) {
     const DecimatorPlan* p = FindPlan(f);
     if ((p != nullptr) != IsSupportedDecimation(f)) return false;

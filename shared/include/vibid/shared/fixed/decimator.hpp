@@ -54,9 +54,9 @@ inline constexpr std::size_t kDecimatorMaxChannels = 7;  // six channels + d_hat
 inline constexpr std::uint32_t kDecimatorMaxFactor = 1000;
 /// Stages of the longest cascade: 512 = 2^9 needs nine /2 stages.
 inline constexpr std::size_t kDecimatorMaxStages = 9;
-/// State words per channel for the worst factor (625: 31 + 31 + 31 + 95 taps, twice each);
+/// State words per channel for the worst factor (625: 11 + 11 + 21 + 95 taps, twice each);
 /// decimator.cpp checks it against the generated tables.
-inline constexpr std::size_t kDecimatorStateWordsPerChannel = 376;
+inline constexpr std::size_t kDecimatorStateWordsPerChannel = 276;
 
 /// True for factor = 2^a * 5^b with 1 <= factor <= kDecimatorMaxFactor.
 constexpr bool IsSupportedDecimation(std::uint32_t factor) {
