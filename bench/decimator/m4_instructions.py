@@ -20,8 +20,8 @@ import subprocess
 import sys
 import tempfile
 
-FACTORS = (2, 5, 10, 50)  # kFactors in m4_kernel_image.cpp
-PERIODS = 3               # kPeriods
+FACTORS = (2, 5, 10, 50, 625, 1000)  # kFactors in m4_kernel_image.cpp; 625 has the worst tick
+PERIODS = 2  # kPeriods
 CHANNELS = 7
 CORE_HZ = 168e6
 INPUT_HZ = 10e3

@@ -13,8 +13,8 @@ namespace vibid::fixed {
 namespace {
 
 // Must match FACTORS and PERIODS in m4_instructions.py.
-constexpr std::uint32_t kFactors[] = {2, 5, 10, 50};
-constexpr std::uint32_t kPeriods = 3;
+constexpr std::uint32_t kFactors[] = {2, 5, 10, 50, 625, 1000};
+constexpr std::uint32_t kPeriods = 2;
 constexpr std::size_t kChannels = kDecimatorMaxChannels;
 
 // Not inlined: the script counts from each entry into Decimator::Push until control is back in
