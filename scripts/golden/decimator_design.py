@@ -242,6 +242,20 @@ def state_words(plan, des):
     return sum(2 * len(des[s]["taps"]) for s in plan)  # the kernel's double-written windows
 
 
+def worst_case_gain(plan, des):
+    """Largest l1 norm of the impulse response from the input to any stage output: no stage
+    output can exceed this multiple of the largest input magnitude."""
+    h, rate, worst = np.array([1.0]), 1, 1.0
+    for s in plan:
+        taps = des[s]["taps"] / float(1 << Q)
+        up = np.zeros((len(taps) - 1) * rate + 1)
+        up[::rate] = taps
+        h = np.convolve(h, up)
+        rate *= des[s]["factor"]
+        worst = max(worst, float(np.abs(h).sum()))
+    return worst
+
+
 def verify(d, plan, des):
     """Chain passband deviation and worst alias gain, in dB, for factor d (frequencies in fs_out)."""
     if not plan:
@@ -499,6 +513,11 @@ def main():
             "" if good else "  FAILS"))
     if not ok:
         raise SystemExit("specification not met")
+    gain, at = max((worst_case_gain(p, des), d) for d, p in plans.items())
+    print("worst-case gain from the input to any stage output: %.4f (D = %d); inputs below 2^31 / %.4f"
+          " = %.0f never clip" % (gain, at, gain, 2.0 ** 31 / gain))
+    # The header promises that encoder counts and 12.4 ADC values (|x| < 2^30) never saturate.
+    assert gain < 2.0
     write_coefficients(des, plans)
 
     vec = {}
