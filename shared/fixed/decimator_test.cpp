@@ -182,7 +182,7 @@ TEST(Decimator, MatchesTheDoubleReference) {
     ASSERT_EQ(dec.Init(v.factor, kVectorChannels), Status::kOk);
     ASSERT_EQ(RunInTwoBlocks(v, dec), v.outputs);
     std::size_t stages = 0;
-    for (std::uint32_t d = v.factor; d > 1; d /= (d % 5 == 0 ? 5 : 2)) ++stages;
+    for (std::uint32_t d = v.factor; d > 1; d /= (d % 5 == 0 ? 5u : 2u)) ++stages;
     const double max_lsb = 0.5 * static_cast<double>(stages) + 0.05;
     for (std::size_t ch = 0; ch < 3; ++ch) {
       double signal = 0.0;
