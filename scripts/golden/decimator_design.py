@@ -7,30 +7,30 @@ Specification (output rate fs_out = fs_in / D, D = 2^a 5^b <= 1000):
   aliasing  every input component that folds into [0, 0.4 fs_out) at the output is attenuated by
             >= 80 dB (whole chain, quantized coefficients, every intermediate fold included).
 
-Design: a cascade of decimate-by-2 and decimate-by-5 stages, each a linear-phase FIR of odd length.
-Four designs (frequencies below in units of the stage's own input rate):
-  sharp2   the final /2 stage: passband 0 .. 0.2, stopband 0.3 .. 0.5. The bands are symmetric about
-           0.25, so it is a half-band filter: every second tap is zero and the centre is exactly 1/2,
-           about half the multiplies of a general design of the same selectivity.
-  coarse2  a /2 stage with at least M = 2 more decimation after it: only the band 0.5 - 0.1 .. 0.5
-           folds onto the final passband (0 .. 0.4 / (2 M) <= 0.1), so a short half-band filter.
-  sharp5   the final /5 stage: passband 0 .. 0.08, stopband 0.12 .. 0.5 (from 0.6 of its output
-           rate), equiripple (remez).
-  coarse5  a /5 stage with M >= 2 after it: passband 0 .. 0.04 and stopbands 0.2 k +- 0.04 only
-           (k = 1, 2), the rest folds where the later stages remove it; equiripple (remez) with
-           don't-care bands.
-A coarse design is made for the worst case M = 2 and reused at every position; the extra
-selectivity it then has at large M costs little because the first stage runs at the input rate
-for every factor and the dearest factors (D = 2, 5: one sharp stage at high rate) do not use it.
-Why remez: it meets an equiripple stopband bound with the fewest taps, and a half-band remez design
-(the Vaidyanathan/Nguyen trick: a one-band type II filter of half length, zeros interleaved) keeps
-the zero taps exactly zero. Kaiser windows need about 30 % more taps for the same 80 dB; firls
-does not bound the worst stopband lobe.
+Design: a cascade of decimate-by-2 and decimate-by-5 stages, each a linear-phase FIR of odd length
+(frequencies below in units of the stage's own input rate; M is the decimation still to come after
+a stage):
+  sharp2      the final /2 stage: passband 0 .. 0.2, stopband 0.3 .. 0.5. The bands are symmetric
+              about 0.25, so it is a half-band filter: every second tap is zero and the centre is
+              exactly 1/2, about half the multiplies of a general design of the same selectivity.
+  sharp5      the final /5 stage: passband 0 .. 0.08, stopband 0.12 .. 0.5 (from 0.6 of its output
+              rate), equiripple.
+  coarse2_mK  a /2 stage with M >= K: only 0.5 - p .. 0.5 folds onto the protected band
+              0 .. p = 0.4 / (2 K), so again a half-band filter, short (15 taps for K = 2, 7 for 8).
+  coarse5_mK  a /5 stage with M >= K: passband 0 .. p = 0.4 / (5 K), stopbands 0.2 k +- p only
+              (k = 1, 2); the rest folds where the later stages remove it (don't-care bands).
+The coarse designs are graded by the M they serve (COARSE_MIN_M) because the first stage runs at
+the input rate: at D = 50 the first /5 stage needs 17 taps instead of the 31 the M = 2 case needs.
+Why remez: it meets an equiripple stopband bound with the fewest taps (for sharp5 a Kaiser-window
+firwin needs 117 taps against 95, the best beta in 7..9 and cutoff near 0.1), and a half-band remez design (the Vaidyanathan/Nguyen
+trick: a one-band type II filter of half length, zeros interleaved) keeps the zero taps exactly
+zero; firls minimises the stopband energy, not its worst lobe, which is what aliasing needs bounded.
 Quantization: Q30 integers (int32), the double design scaled to unit DC gain first and the
 rounding residual put on the largest pairs so every stage's integer taps sum to exactly 2^30: a
 constant input then passes every stage exactly (the kernel's DC gain is exactly one).
 The stage order of each factor is the one with the fewest multiplies per input sample over all
-orders of its stages (final stage sharp), ties broken by the worst single output tick.
+orders of its stages (final stage sharp2 or sharp5), ties broken by the worst single output tick
+and then by the state size.
 
 Writes:
   shared/fixed/decimator_coefficients.inc   the integer taps, stage designs and per-factor plans
@@ -142,13 +142,31 @@ def shortest(name, factor, pb, stopbands, ripple_budget_db, halfband_form):
     raise SystemExit("no design for " + name)
 
 
+# A coarse stage followed by M more decimation only has to protect 0 .. 0.4 / (r M) of its input
+# rate, so the larger M, the shorter the filter. Each coarse design is made for a minimum M (the
+# worst case it serves) and the plan uses the shortest one whose minimum the position meets.
+COARSE_MIN_M = {2: (2, 4, 8), 5: (2, 4, 10, 25)}
+
+
+def coarse(factor, m):
+    p = PASS / (factor * m)
+    if factor == 2:
+        # Only 0.5 - p .. 0.5 folds onto the protected band: a half-band filter.
+        return shortest("coarse2_m%d" % m, 2, p, [(0.5 - p, 0.5)], 0.01, True)
+    return shortest("coarse5_m%d" % m, 5, p, [(0.2 - p, 0.2 + p), (0.4 - p, 0.4 + p)], 0.01, False)
+
+
 def designs():
     out = [
         shortest("sharp2", 2, 0.2, [(0.3, 0.5)], 0.01, True),
-        shortest("coarse2", 2, 0.1, [(0.4, 0.5)], 0.01, True),
         shortest("sharp5", 5, 0.08, [(0.12, 0.5)], 0.05, False),
-        shortest("coarse5", 5, 0.04, [(0.16, 0.24), (0.36, 0.44)], 0.01, False),
     ]
+    for d in out:
+        d["min_m"] = 1
+    for factor, levels in COARSE_MIN_M.items():
+        for m in levels:
+            out.append(coarse(factor, m))
+            out[-1]["min_m"] = m
     for d in out:
         q = d["taps"]
         c = len(q) // 2
@@ -189,6 +207,8 @@ def plan_cost(plan, des):
 
 
 def best_plan(d, des):
+    """The cheapest cascade for factor d: every order of its coarse stages (final stage sharp2 or
+    sharp5), each position given the shortest coarse design valid for the decimation after it."""
     idx = {x["name"]: i for i, x in enumerate(des)}
     a, b = _v(d, 2), _v(d, 5)
     if d == 1:
@@ -197,13 +217,17 @@ def best_plan(d, des):
     for final, fa, fb in (("sharp2", 1, 0), ("sharp5", 0, 1)):
         if a < fa or b < fb:
             continue
-        coarse = ["coarse2"] * (a - fa) + ["coarse5"] * (b - fb)
-        for order in set(itertools.permutations(coarse)):
-            plan = [idx[n] for n in order] + [idx[final]]
+        for order in set(itertools.permutations([2] * (a - fa) + [5] * (b - fb))):
+            plan = []
+            for i, r in enumerate(order):
+                after = int(np.prod(order[i + 1:], dtype=np.int64)) * des[idx[final]]["factor"]
+                valid = [j for j, x in enumerate(des) if x["factor"] == r and 1 < x["min_m"] <= after]
+                plan.append(min(valid, key=lambda j: (des[j]["mults"], len(des[j]["taps"]))))
+            plan.append(idx[final])
             cost = plan_cost(plan, des)
-            options.append((cost[0], cost[1], plan))
+            options.append((cost[0], cost[1], state_words(plan, des), plan))
     options.sort()
-    return options[0][2]
+    return options[0][3]
 
 
 def delay_ticks(plan, des):
@@ -216,6 +240,20 @@ def delay_ticks(plan, des):
 
 def state_words(plan, des):
     return sum(2 * len(des[s]["taps"]) for s in plan)  # the kernel's double-written windows
+
+
+def worst_case_gain(plan, des):
+    """Largest l1 norm of the impulse response from the input to any stage output: no stage
+    output can exceed this multiple of the largest input magnitude."""
+    h, rate, worst = np.array([1.0]), 1, 1.0
+    for s in plan:
+        taps = des[s]["taps"] / float(1 << Q)
+        up = np.zeros((len(taps) - 1) * rate + 1)
+        up[::rate] = taps
+        h = np.convolve(h, up)
+        rate *= des[s]["factor"]
+        worst = max(worst, float(np.abs(h).sum()))
+    return worst
 
 
 def verify(d, plan, des):
@@ -265,7 +303,7 @@ class Oscillator:
 
 
 OSC_K = (7421156, 1093158116)  # 2 sin(pi f) in Q30 for f = 0.0011 and 0.17 (fractions of fs_in)
-CHANNELS = 4                 # ADC-like, encoder-like, Q31 noise + tones, full-scale square
+CHANNELS = 4                 # ADC-like, encoder-like, near-full-scale Q31 tones + noise, full-scale square
 
 
 def clamp32(v):
@@ -284,18 +322,21 @@ def test_input(frames):
         code = 2048 + ((a * 1500) >> 30) + ((b * 300) >> 30) + (r >> 24) - 128
         x[n, 0] = max(0, min(4095, code)) * 16
         x[n, 1] = ((a * (1 << 23)) >> 30) + ((b * (1 << 16)) >> 30) + ((r >> 12) & 0xFFF) - 2048
-        v = ((a * 1181116006) >> 30) + ((b * 429496729) >> 30) + ((r & 0x1FFFFFFF) - (1 << 28))
+        v = ((a * 1352914698) >> 30) + ((b * 429496729) >> 30) + ((r & 0x1FFFFFFF) - (1 << 28))
         clamps += v != clamp32(v)
         x[n, 2] = clamp32(v)
         x[n, 3] = INT32_MAX if (n // 700) % 2 == 0 else INT32_MIN
     assert clamps == 0
+    # Channel 2 is full-scale Q31 within 2 %: the oscillators peak at 1.0 and 1.16 x 2^30 (the fast
+    # one's orbit is an ellipse), so 0.63 + 0.2 x 1.16 + 0.125 of 2^31.
+    assert np.max(np.abs(x[:, 2])) > 0.95 * 2 ** 31 or frames < 20000
     return x
 
 
 def integer_model(x, plan, des):
     """The kernel's arithmetic in exact integers: per stage, the full convolution kept at every
     factor-th index, rounded half up ((acc + 2^29) >> 30) and saturated to int32."""
-    sats = 0
+    sats = np.zeros(x.shape[1], dtype=np.int64)
     y = x.astype(np.int64)
     for s in plan:
         q = des[s]["taps"].astype(np.int64)
@@ -304,7 +345,7 @@ def integer_model(x, plan, des):
         for ch in range(y.shape[1]):
             acc = _exact_convolve(y[:, ch], q)[0::r]
             v = (acc + (1 << (Q - 1))) >> Q
-            sats += int(np.sum((v > INT32_MAX) | (v < INT32_MIN)))
+            sats[ch] += int(np.sum((v > INT32_MAX) | (v < INT32_MIN)))
             out[:, ch] = np.clip(v, INT32_MIN, INT32_MAX)
         y = out
     return y, sats
@@ -330,7 +371,7 @@ def double_reference(x, plan, des):
 # --------------------------------------------------------------------------- output
 
 def write_coefficients(des, plans):
-    names = {"sharp2": "kSharp2", "coarse2": "kCoarse2", "sharp5": "kSharp5", "coarse5": "kCoarse5"}
+    names = {d["name"]: "k" + "".join(w.capitalize() for w in d["name"].split("_")) for d in des}
     lines = [
         "// Generated by scripts/golden/decimator_design.py (scipy %s). Do not edit." % scipy.__version__,
         "// Included by decimator.cpp inside namespace vibid::fixed. Taps are Q30 (2^30 = 1.0); each",
@@ -376,9 +417,9 @@ def write_vectors(des, plans, vec):
     lines = [
         "// Generated by scripts/golden/decimator_design.py (scipy %s, numpy %s). Do not edit."
         % (scipy.__version__, np.__version__),
-        "// Input: MakeTestFrame(n) in decimator_test.cpp (integer oscillators + xorshift32, mirrored",
-        "// exactly by the script), 4 channels: ADC-like 12.4, encoder-like counts, Q31 tones + noise,",
-        "// full-scale square wave (period 1400 frames). Per factor:",
+        "// Input: GoldenInput in decimator_test.cpp (integer oscillators + xorshift32, mirrored exactly",
+        "// by test_input() in the script), 4 channels: ADC-like 12.4, encoder-like counts, Q31 tones +",
+        "// noise peaking at 98 % of full scale, full-scale square wave (period 1400 frames). Per factor:",
         "//   expected  the integer model of the kernel (exact integers, round half up, saturate) -",
         "//             the bit-exact target on the host and on the Cortex-M4;",
         "//   reference scipy.signal.upfirdn(h, x, 1, r) per stage with the same quantized taps in",
@@ -449,37 +490,47 @@ VECTOR_OUTPUTS = 400
 def main():
     des = designs()
     print("stage designs (Q30, quantized taps; frequencies in units of the stage input rate)")
-    print("  %-8s %6s %5s %6s %12s %10s  %s" % ("stage", "factor", "taps", "mults", "ripple dB", "atten dB", "bands"))
+    print("  %-12s %6s %5s %6s %12s %10s  %s" % ("stage", "factor", "taps", "mults", "ripple dB", "atten dB", "bands"))
     for d in des:
-        print("  %-8s %6d %5d %6d %12.5f %10.2f  pass 0..%.2f, stop %s" % (
+        print("  %-12s %6d %5d %6d %12.5f %10.2f  pass 0..%.4g, stop %s" % (
             d["name"], d["factor"], len(d["taps"]), d["mults"], d["ripple_db"], d["atten_db"], d["pb"],
-            ", ".join("%.2f..%.2f" % (lo, min(hi, 0.5)) for lo, hi in d["stopbands"])))
+            ", ".join("%.4g..%.4g" % (lo, min(hi, 0.5)) for lo, hi in d["stopbands"])))
     for d in des:
         step = np.cumsum(d["taps"]) / float(1 << Q)
-        print("  %-8s step response peak %.4f (the most a full-scale input can overshoot)" % (d["name"], step.max()))
+        print("  %-12s step response peak %.4f (the most a full-scale input can overshoot)" % (d["name"], step.max()))
     plans = {d: best_plan(d, des) for d in supported()}
     print()
-    print("per factor (whole chain, quantized): passband 0..0.4 fs_out deviation, worst alias into [0, 0.4 fs_out)")
-    print("  %5s  %-48s %6s %9s %10s %8s %9s %6s" % ("D", "stages", "taps", "delay", "ripple dB", "alias dB",
-                                                      "mult/in", "worst"))
+    print("per factor (whole chain, quantized): delay in input samples, passband 0..0.4 fs_out deviation, worst")
+    print("alias into [0, 0.4 fs_out), multiplies per input sample and at the worst tick, state words per channel")
+    print("  %5s %6s %10s %8s %8s %6s %6s  %s" % ("D", "delay", "ripple dB", "alias dB", "mult/in", "worst",
+                                                 "state", "stages (taps)"))
     ok = True
     for d, p in plans.items():
         ripple, alias = verify(d, p, des)
         per_in, worst = plan_cost(p, des)
         good = ripple <= RIPPLE_DB and alias >= ATTEN_DB
         ok &= good
-        print("  %5d  %-48s %6s %9d %10.4f %8.1f %9.2f %6d%s" % (
-            d, " ".join(des[s]["name"] for s in p) or "copy", "+".join(str(len(des[s]["taps"])) for s in p) or "-",
-            delay_ticks(p, des), ripple, alias, per_in, worst, "" if good else "  FAILS"))
+        print("  %5d %6d %10.4f %8.1f %8.2f %6d %6d  %s%s" % (
+            d, delay_ticks(p, des), ripple, alias, per_in, worst, state_words(p, des),
+            " ".join("%s(%d)" % (des[s]["name"], len(des[s]["taps"])) for s in p) or "copy",
+            "" if good else "  FAILS"))
     if not ok:
         raise SystemExit("specification not met")
+    gain, at = max((worst_case_gain(p, des), d) for d, p in plans.items())
+    print("worst-case gain from the input to any stage output: %.4f (D = %d); inputs below 2^31 / %.4f"
+          " = %.0f never clip" % (gain, at, gain, 2.0 ** 31 / gain))
+    # The header promises that encoder counts and 12.4 ADC values (|x| < 2^30) never saturate.
+    assert gain < 2.0
     write_coefficients(des, plans)
 
     vec = {}
     for d in VECTOR_FACTORS:
         frames = d * VECTOR_OUTPUTS - d // 2  # not a multiple of D: the last frame is not an output tick
         x = test_input(frames)
-        expected, sats = integer_model(x, plans[d], des)
+        expected, per_channel = integer_model(x, plans[d], des)
+        # Only the square wave may clip: the double reference of channels 0..2 has no saturation.
+        assert per_channel[:3].sum() == 0, per_channel
+        sats = int(per_channel.sum())
         reference = double_reference(x[:, :3], plans[d], des)
         vec[d] = (frames, expected, reference, sats)
         err = expected[:, :3] - reference

@@ -61,7 +61,8 @@ constexpr const DecimatorPlan* FindPlan(std::uint32_t factor) {
 }
 
 constexpr bool PlansAreSound() {
-  if (kPlanMaxStages > kDecimatorMaxStages || kPlanMaxStateWords > kDecimatorStateWordsPerChannel) return false;
+  // The header's sizes are exact, so a regenerated table that needs less shrinks them too.
+  if (kPlanMaxStages != kDecimatorMaxStages || kPlanMaxStateWords != kDecimatorStateWordsPerChannel) return false;
   for (std::uint32_t f = 1; f <= kDecimatorMaxFactor; ++f) {
     const DecimatorPlan* p = FindPlan(f);
     if ((p != nullptr) != IsSupportedDecimation(f)) return false;
@@ -162,16 +163,17 @@ bool Decimator::Push(const std::int32_t* in, std::int32_t* out) {
   const std::size_t channels = channel_count_;
   if (channels == 0) return false;
   tick_ = tick_ + 1 == factor_ ? 0 : tick_ + 1;
-  std::array<std::int32_t, kDecimatorMaxChannels> x{};
-  for (std::size_t ch = 0; ch < channels; ++ch) x[ch] = in[ch];
+  // Stage s reads src (the frame, then the previous stage's outputs) and writes x.
+  const std::int32_t* src = in;
+  std::array<std::int32_t, kDecimatorMaxChannels> x;
   for (std::size_t s = 0; s < stage_count_; ++s) {
     Stage& st = stages_[s];
     const DecimatorStageDesign& d = kStageDesigns[st.design];
     const std::uint32_t w = st.write;
     for (std::size_t ch = 0; ch < channels; ++ch) {
       std::int32_t* buf = state_[ch].data() + st.offset;
-      buf[w] = x[ch];
-      buf[w + d.length] = x[ch];
+      buf[w] = src[ch];
+      buf[w + d.length] = src[ch];
     }
     st.write = static_cast<std::uint16_t>(w + 1 == d.length ? 0 : w + 1);
     const bool emit = st.phase == 0;
@@ -187,8 +189,9 @@ bool Decimator::Push(const std::int32_t* in, std::int32_t* out) {
         x[ch] = Convolve<1>(state_[ch].data() + st.offset + w + 1, d, saturation_count_);
       }
     }
+    src = x.data();
   }
-  for (std::size_t ch = 0; ch < channels; ++ch) out[ch] = x[ch];
+  for (std::size_t ch = 0; ch < channels; ++ch) out[ch] = src[ch];  // factor 1: the frame itself
   return true;
 }
 

@@ -17,8 +17,9 @@
 // input, and a 64 x 32-bit product costs more on the Cortex-M4 than the second SMLAL; the symmetry
 // still halves the coefficient loads and the table.
 //
-// Stage order per factor (the coarse stages at high rate first, the sharp one last at the lowest
-// rate, the order with the fewest multiplies per input) is a table from the design script.
+// The stages of each factor come from a table the design script writes: coarse stages first (each
+// the shortest design valid for the decimation still to come after it), the sharp one last at the
+// lowest rate, in the order with the fewest multiplies per input sample.
 //
 // State layout: per channel ch, kDecimatorStateWordsPerChannel int32 words; stage s owns 2 L_s of
 // them from offset o_s (stages in plan order, packed). Each input is written twice, at w and w + L,
@@ -30,15 +31,24 @@
 //   values (|p| <= 2^61 since |h| < 2^30) and the script asserts sum|h| <= 2^32 - 1 for every design,
 //   so |acc| <= (2^32 - 1) 2^31 + 2^29 < 2^63: the 64-bit accumulator holds the exact sum and never
 //   wraps. Each stage output is rounded once (half up) and saturated to int32; every clipped stage
-//   output is counted. A stage's worst-case gain is sum|h| / 2^30 (at most 1.76, the sharp /5
-//   design) and its step-response overshoot at most 8.7 %, so only Q31 input beyond about 57 % of
-//   full scale can clip (a full-scale step does, briefly); 12.4 ADC values and encoder counts
-//   below 2^30 never do.
+//   output is counted. The worst-case gain from the input to any stage output (the l1 norm of the
+//   cascade's impulse response up to that stage) is at most 1.82 (the script computes and asserts
+//   it), so only Q31 input beyond 55 % of full scale can clip, and a full-scale step does, briefly
+//   (step-response overshoot up to 8.7 %); 12.4 ADC values and encoder counts below 2^30 never do.
 //   DC: a constant input passes every stage exactly (sum h = 2^30, no rounding error), so after
 //   the delay the output equals the input; likewise a ramp comes out as the ramp delayed by
 //   DecimatorDelayTicks, exactly.
 //   Rounding error: at most 1/2 LSB per stage output (uniform, 0.29 LSB rms), filtered by the
 //   following stages (gain <= 1 + ripple in their passband).
+//
+// Cost (bench/decimator/m4_instructions.py: 7 channels, Cortex-M4 under QEMU, cycles estimated
+// from the TRM timings): on average 375 (D = 625) .. 960 (D = 5) cycles per input frame, 2.2 ..
+// 5.7 % of a 168 MHz core at 10 kHz; the output tick, where every stage computes, up to 1.6k
+// (D = 2), 4.1k (D = 5, 50), 5.4k (D = 1000) and 6.7k (D = 625) cycles; the other ticks about
+// 120 instructions (storing the frame). Spreading the last stage's sum over its r arrivals was
+// measured (D = 5: output tick 4.1k -> 1.4k cycles, but 30 % more on average from the per-arrival
+// set-up; hardly any gain for the /2 final stages) and left out for plain compute-on-output.
+// sizeof(Decimator) is about 7.8 KB: give it static storage.
 #pragma once
 
 #include <array>
@@ -54,9 +64,9 @@ inline constexpr std::size_t kDecimatorMaxChannels = 7;  // six channels + d_hat
 inline constexpr std::uint32_t kDecimatorMaxFactor = 1000;
 /// Stages of the longest cascade: 512 = 2^9 needs nine /2 stages.
 inline constexpr std::size_t kDecimatorMaxStages = 9;
-/// State words per channel for the worst factor (625: 31 + 31 + 31 + 95 taps, twice each);
+/// State words per channel for the worst factor (625: 11 + 11 + 21 + 95 taps, twice each);
 /// decimator.cpp checks it against the generated tables.
-inline constexpr std::size_t kDecimatorStateWordsPerChannel = 376;
+inline constexpr std::size_t kDecimatorStateWordsPerChannel = 276;
 
 /// True for factor = 2^a * 5^b with 1 <= factor <= kDecimatorMaxFactor.
 constexpr bool IsSupportedDecimation(std::uint32_t factor) {
