@@ -60,14 +60,17 @@ Address SlotAddress(CalibrationFlash::Slot slot, std::size_t offset) {
 
 }  // namespace
 
+std::uint32_t InternalCalibrationFlash::Psize() const {
+  return parallelism_ == Parallelism::kX32 ? flash::kCrPsizeX32 : flash::kCrPsizeX8;
+}
+
 Status InternalCalibrationFlash::Erase(Slot slot) {
   bool ok = false;
   {
     Unlocked unlocked;
     ok = WaitIdle(kWordPolls);
     if (ok) {
-      Reg(flash::kCr) = flash::kCrSer | flash::kCrPsizeX32 |
-                        Field(kSector[static_cast<std::size_t>(slot)], flash::kCrSnbPos);
+      Reg(flash::kCr) = flash::kCrSer | Psize() | Field(kSector[static_cast<std::size_t>(slot)], flash::kCrSnbPos);
       // A full watchdog period for the erase, whatever the main loop last did.
       KickWatchdog();
       Reg(flash::kCr) |= flash::kCrStrt;
@@ -88,13 +91,20 @@ Status InternalCalibrationFlash::Erase(Slot slot) {
 Status InternalCalibrationFlash::Program(Slot slot, std::size_t offset, std::span<const std::uint8_t> data) {
   if (offset > kSlotBytes || data.size() > kSlotBytes - offset) return Status::kOutOfRange;
   if (data.empty()) return Status::kOk;
+  const Status s = parallelism_ == Parallelism::kX32 ? ProgramWords(slot, offset, data) : ProgramBytes(slot, offset, data);
+  if (s != Status::kOk) ++errors_;
+  return s;
+}
+
+Status InternalCalibrationFlash::ProgramWords(Slot slot, std::size_t offset, std::span<const std::uint8_t> data) {
   Unlocked unlocked;
   bool ok = WaitIdle(kWordPolls);
+  // The access size must match PSIZE, or the flash refuses with PGPERR (RM0090 §3.6.2).
   Reg(flash::kCr) = flash::kCrPg | flash::kCrPsizeX32;
   const std::size_t first_word = offset / 4;
   const std::size_t end_word = (offset + data.size() + 3) / 4;
   for (std::size_t w = first_word; ok && w < end_word; ++w) {
-    if ((w - first_word) % kWordsPerFeed == 0) KickWatchdog();
+    if ((w - first_word) % kWritesPerFeed == 0) KickWatchdog();
     // Bytes outside [offset, offset + size) stay 0xFF: programming them changes nothing.
     std::uint32_t word = 0xFFFFFFFF;
     for (std::size_t b = 0; b < 4; ++b) {
@@ -111,11 +121,23 @@ Status InternalCalibrationFlash::Program(Slot slot, std::size_t offset, std::spa
     ok = WaitIdle(kWordPolls) && Reg(cell) == expected;
   }
   Reg(flash::kCr) = 0;
-  if (!ok) {
-    ++errors_;
-    return Status::kInternal;
+  return ok ? Status::kOk : Status::kInternal;
+}
+
+Status InternalCalibrationFlash::ProgramBytes(Slot slot, std::size_t offset, std::span<const std::uint8_t> data) {
+  Unlocked unlocked;
+  bool ok = WaitIdle(kWordPolls);
+  Reg(flash::kCr) = flash::kCrPg | flash::kCrPsizeX8;
+  for (std::size_t i = 0; ok && i < data.size(); ++i) {
+    if (i % kWritesPerFeed == 0) KickWatchdog();
+    const Address cell = SlotAddress(slot, offset + i);
+    const std::uint32_t expected = Reg8(cell) & data[i];
+    Reg8(cell) = data[i];
+    DataSyncBarrier();
+    ok = WaitIdle(kWordPolls) && Reg8(cell) == expected;
   }
-  return Status::kOk;
+  Reg(flash::kCr) = 0;
+  return ok ? Status::kOk : Status::kInternal;
 }
 
 Status InternalCalibrationFlash::Read(Slot slot, std::size_t offset, std::span<std::uint8_t> out) const {

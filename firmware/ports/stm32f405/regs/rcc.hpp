@@ -112,6 +112,7 @@ inline constexpr std::uint32_t kCrPg = Bit(0);
 inline constexpr std::uint32_t kCrSer = Bit(1);
 inline constexpr unsigned kCrSnbPos = 3;
 inline constexpr std::uint32_t kCrSnbMask = 0xFU << 3;
+inline constexpr std::uint32_t kCrPsizeX8 = 0x0U << 8;
 inline constexpr std::uint32_t kCrPsizeX32 = 0x2U << 8;
 inline constexpr std::uint32_t kCrPsizeMask = 0x3U << 8;
 inline constexpr std::uint32_t kCrStrt = Bit(16);

@@ -114,13 +114,33 @@ TEST_F(CalibrationFlashTest, ProgramsWordsWithUnalignedEdgesPadded) {
   EXPECT_EQ(regs().Peek(flash::kCr), flash::kCrLock);
 }
 
-TEST_F(CalibrationFlashTest, WholeSlotProgramFeedsTheWatchdogEvery256Words) {
+TEST_F(CalibrationFlashTest, WholeSlotProgramFeedsTheWatchdogEvery256Writes) {
   regs().LogReads(false);
   std::vector<std::uint8_t> data(InternalCalibrationFlash::kSlotBytes, 0x5A);
   ASSERT_EQ(flash_.Program(CalibrationFlash::Slot{0}, 0, data), Status::kOk);
   // 4096 words / 256 = 16 feeds.
   EXPECT_EQ(regs().WritesTo(iwdg::kKr).size(), 16U);
   EXPECT_EQ(regs().Peek(kSlot0 + 0x3FFC), 0x5A5A5A5AU);
+}
+
+TEST_F(CalibrationFlashTest, LowVoltageBoardsUseByteParallelism) {
+  InternalCalibrationFlash x8(InternalCalibrationFlash::Parallelism::kX8);
+  ASSERT_EQ(x8.Erase(CalibrationFlash::Slot{0}), Status::kOk);
+  // SER | PSIZE x8 (00) | SNB 2 = 0x12.
+  EXPECT_NE(regs().FindWrite(flash::kCr, 0x12 | flash::kCrStrt), kNone);
+  const std::size_t before = regs().Log().size();
+  const std::array<std::uint8_t, 3> data = {0xA1, 0xB2, 0xC3};
+  ASSERT_EQ(x8.Program(CalibrationFlash::Slot{0}, 5, data), Status::kOk);
+  EXPECT_NE(regs().FindWrite(flash::kCr, flash::kCrPg, before), kNone);  // PG, PSIZE 00
+  std::vector<Address> written;
+  for (std::size_t i = before; i < regs().Log().size(); ++i) {
+    const Access& a = regs().Log()[i];
+    if (a.kind != Access::Kind::kWrite || a.address < kSlot0 || a.address >= kSlot0 + 0x4000) continue;
+    EXPECT_EQ(a.width, 1U);
+    written.push_back(a.address);
+  }
+  EXPECT_EQ(written, (std::vector<Address>{kSlot0 + 5, kSlot0 + 6, kSlot0 + 7}));
+  EXPECT_EQ(regs().Peek(kSlot0 + 4), 0xC3B2A1FFU);
 }
 
 TEST_F(CalibrationFlashTest, ReadBackMismatchIsAnError) {
