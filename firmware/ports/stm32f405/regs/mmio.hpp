@@ -35,6 +35,9 @@ class RegRef {
     fake::Write(address_, v, width_);
     return *this;
   }
+  // `Reg(a) = Reg(b)` copies the value, as with references, not the proxy.
+  const RegRef& operator=(const RegRef& other) const { return *this = static_cast<std::uint32_t>(other); }
+  RegRef(const RegRef&) = default;
   const RegRef& operator|=(std::uint32_t v) const { return *this = (fake::Read(address_, width_) | v); }
   const RegRef& operator&=(std::uint32_t v) const { return *this = (fake::Read(address_, width_) & v); }
 
