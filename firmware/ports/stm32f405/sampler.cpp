@@ -27,8 +27,7 @@ constexpr std::uint32_t kEncoder0Channel = 3;
 constexpr unsigned kEncoder1Stream = 3;
 constexpr std::uint32_t kEncoder1Channel = 6;
 constexpr std::uint32_t kStreamDisablePolls = 10000;
-// Room after the scan for the last DMA transfer and the interrupt entry.
-constexpr std::uint32_t kScanMarginUs = 2;
+// Room after the scan for the DMA, the interrupt and the frame sink before the next edge.
 constexpr std::uint32_t kPeriodMarginUs = 7;
 
 std::uint32_t Addr32(const volatile void* p) {
@@ -86,10 +85,12 @@ constexpr std::uint32_t kAdcCr2Running = adc::kCr2Adon | adc::kCr2Dma | adc::kCr
 
 void Sampler::Init(const ClockConfig& clocks) {
   timer_clock_hz_ = clocks.apb1_timer_hz;
-  const std::uint64_t scan_ns =
-      std::uint64_t{kScanAdcClocks} * kAdcPrescaler * 1000000000ULL / clocks.apb2_hz + kScanMarginUs * 1000ULL;
-  scan_timer_ticks_ = static_cast<std::uint32_t>(scan_ns * timer_clock_hz_ / 1000000000ULL);
-  min_period_us_ = static_cast<std::uint32_t>((scan_ns + 999) / 1000) - kScanMarginUs + kPeriodMarginUs;
+  // The shortest time from the edge to the scan's last result: the conversions alone (the
+  // trigger synchronisation only adds to it). 272 x 4 = 1088 timer clocks at full speed.
+  scan_timer_ticks_ = static_cast<std::uint32_t>(std::uint64_t{kScanAdcClocks} * kAdcPrescaler *
+                                                 timer_clock_hz_ / clocks.apb2_hz);
+  const std::uint64_t scan_ns = std::uint64_t{kScanAdcClocks} * kAdcPrescaler * 1000000000ULL / clocks.apb2_hz;
+  min_period_us_ = static_cast<std::uint32_t>((scan_ns + 999) / 1000) + kPeriodMarginUs;
 
   EnableClock(rcc::kAhb1enr, rcc::kAhb1GpioA | rcc::kAhb1GpioB | rcc::kAhb1Dma1 | rcc::kAhb1Dma2);
   EnableClock(rcc::kApb1enr, rcc::kApb1Tim2 | rcc::kApb1Tim3 | rcc::kApb1Tim4 | rcc::kApb1Tim5);
@@ -220,12 +221,16 @@ void Sampler::HandleDmaInterrupt() {
   }
   if ((flags & dma::kStream0Tcif) == 0 || !running_) return;
 
-  // Edges so far (TIM5) and timer clocks since the latest (TIM2): when that edge's scan is
-  // still running, the buffer mixes two scans and the latches belong to the newer edge. The
-  // frame is dropped; the newer scan's own interrupt follows, and the gap counts an overrun.
+  // Edges so far (TIM5), the stream's position and timer clocks since the latest edge (TIM2).
+  // The buffer holds that edge's whole scan once the conversions' time has passed and the
+  // stream is back at its start. Otherwise this interrupt ran late, the newer scan is under way
+  // and the buffer mixes two scans (and the latches belong to the newer edge): the frame is
+  // dropped, the newer scan's own interrupt follows, and the gap counts an overrun.
   const std::uint32_t edges = Reg(tim::kTim5 + tim::kCnt);
+  const std::uint32_t remaining = Reg(dma::Stream(dma::kDma2, kAdcStream) + dma::kSxNdtr);
   const std::uint32_t since_edge = Reg(tim::kTim2 + tim::kCnt);
-  if (Reg(tim::kTim5 + tim::kCnt) != edges || since_edge < scan_timer_ticks_ || edges == 0) {
+  const bool whole_scan = since_edge >= scan_timer_ticks_ && remaining == kAnalogChannels;
+  if (Reg(tim::kTim5 + tim::kCnt) != edges || !whole_scan || edges == 0) {
     ++counters_.torn_frames;
     return;
   }

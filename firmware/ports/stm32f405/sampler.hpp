@@ -72,7 +72,7 @@ class Sampler final : public FrameSource {
   void CheckEncoderStreams();
 
   std::uint32_t timer_clock_hz_ = 0;
-  std::uint32_t scan_timer_ticks_ = 0;  ///< Timer clocks from the edge until the scan is in RAM.
+  std::uint32_t scan_timer_ticks_ = 0;  ///< Timer clocks the scan's conversions take at least.
   std::uint32_t min_period_us_ = 20;
   FrameSink* sink_ = nullptr;
   volatile bool running_ = false;

@@ -31,8 +31,10 @@ class SamplerTest : public PortTest {
   }
   /// One DMA transfer-complete interrupt with `edges` counted by TIM5 and the TIM2 counter at
   /// `since_edge` timer clocks after the latest edge.
-  void Interrupt(std::uint32_t edges, std::uint32_t since_edge = 2000, std::uint32_t lisr = dma::kStream0Tcif) {
+  void Interrupt(std::uint32_t edges, std::uint32_t since_edge = 2000, std::uint32_t lisr = dma::kStream0Tcif,
+                 std::uint32_t ndtr = 4) {
     regs().Poke(tim::kTim5 + tim::kCnt, edges);
+    regs().Poke(kAdcStream + dma::kSxNdtr, ndtr);
     regs().Poke(tim::kTim2 + tim::kCnt, since_edge);
     regs().Poke(dma::kDma2 + dma::kLisr, lisr);
     sampler_.HandleDmaInterrupt();
@@ -121,11 +123,15 @@ TEST_F(SamplerTest, MergedInterruptsLeaveAGapInTheTick) {
 
 TEST_F(SamplerTest, AFrameWhoseNextScanHasBegunIsDropped) {
   Interrupt(1);
-  // 84 MHz x (12.95 + 2) us = 1255 clocks: at 1000 the next scan is still converting.
-  Interrupt(3, 1000);
-  Interrupt(3, 1300);
+  // 4 x (56 + 12) ADC clocks x (84 MHz / 21 MHz) = 1088 timer clocks per scan: at 1087 the
+  // newer scan is still converting.
+  Interrupt(3, 1087);
+  // Past the conversion time but the last result not yet moved (NDTR 1 of 4).
+  Interrupt(3, 1100, dma::kStream0Tcif, 1);
+  // An interrupt right after its own scan, as in normal running: delivered.
+  Interrupt(3, 1088);
   EXPECT_EQ(Ticks(), (std::vector<std::uint32_t>{0, 2}));
-  EXPECT_EQ(sampler_.Counters().torn_frames, 1U);
+  EXPECT_EQ(sampler_.Counters().torn_frames, 2U);
 }
 
 TEST_F(SamplerTest, AdcOverrunIsCountedAndRecoveredFromTheFirstChannel) {
