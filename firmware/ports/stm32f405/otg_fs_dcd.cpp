@@ -191,16 +191,19 @@ void OtgFsDcd::FlushTxFifo(unsigned n) {
 }
 
 void OtgFsDcd::DisableInEndpoint(unsigned n, bool stall) {
-  // TinyUSB dwc2 order: NAK (and STALL) the endpoint; when it is enabled, disable it and wait
-  // for EPDISD; then flush its TX FIFO so no stale packet goes out after the next SETUP.
-  const std::uint32_t extra = otg::kEpctlSnak | (stall ? otg::kEpctlStall : 0);
-  const std::uint32_t ctl = Reg(otg::Diepctl(n));
-  if ((ctl & otg::kEpctlEpena) != 0) {
-    Reg(otg::Diepctl(n)) = ctl | extra | otg::kEpctlEpdis;
-    (void)WaitFor(otg::Diepint(n), otg::kEpIntEpdisd, otg::kEpIntEpdisd, kPollLimit);
-    Reg(otg::Diepint(n)) = otg::kEpIntEpdisd;
+  // TinyUSB dwc2 order (RM0090 §34.17.7 "Disabling an IN endpoint"): an endpoint that is not
+  // enabled is only NAKed (and stalled); an enabled one is NAKed, and once the NAK is effective
+  // disabled, waiting for EPDISD. Then its TX FIFO is flushed so no stale packet goes out after
+  // the next SETUP. Every wait is bounded.
+  const std::uint32_t stall_bit = stall ? otg::kEpctlStall : 0;
+  if ((Reg(otg::Diepctl(n)) & otg::kEpctlEpena) == 0) {
+    Reg(otg::Diepctl(n)) |= otg::kEpctlSnak | stall_bit;
   } else {
-    Reg(otg::Diepctl(n)) = ctl | extra;
+    Reg(otg::Diepctl(n)) |= otg::kEpctlSnak;
+    (void)WaitFor(otg::Diepint(n), otg::kEpIntInepne, otg::kEpIntInepne, kPollLimit);
+    Reg(otg::Diepctl(n)) |= otg::kEpctlEpdis | otg::kEpctlSnak | stall_bit;
+    (void)WaitFor(otg::Diepint(n), otg::kEpIntEpdisd, otg::kEpIntEpdisd, kPollLimit);
+    Reg(otg::Diepint(n)) = otg::kEpIntEpdisd | otg::kEpIntInepne;
   }
   FlushTxFifo(n);
   Reg(otg::kDiepempmsk) &= ~Bit(n);

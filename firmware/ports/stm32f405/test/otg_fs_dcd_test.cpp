@@ -48,7 +48,11 @@ class OtgTest : public PortTest {
       for (const bool in : {true, false}) {
         const Address ctl = in ? otg::Diepctl(n) : otg::Doepctl(n);
         const Address intr = in ? otg::Diepint(n) : otg::Doepint(n);
-        regs().OnWrite(ctl, [intr](std::uint32_t, std::uint32_t w) {
+        regs().OnWrite(ctl, [intr, in](std::uint32_t, std::uint32_t w) {
+          if (in && (w & otg::kEpctlSnak) != 0) {
+            FakeRegisters::Get().Poke(intr, FakeRegisters::Get().Peek(intr) | otg::kEpIntInepne);
+            w &= ~otg::kEpctlSnak;
+          }
           if ((w & otg::kEpctlEpdis) != 0) {
             FakeRegisters::Get().Poke(intr, FakeRegisters::Get().Peek(intr) | otg::kEpIntEpdisd);
             w &= ~(otg::kEpctlEpdis | otg::kEpctlEpena);
@@ -121,8 +125,13 @@ TEST_F(OtgTest, NewSetupDisablesEp0InAndFlushesItsFifoFirst) {
   regs().Poke(otg::Doepint(0), otg::kEpIntStup);
   dcd_.HandleInterrupt();
   ASSERT_EQ(events_.calls, std::vector<const char*>{"setup"});
+  // NAK first, EPDIS only once the NAK is effective (INEPNE), then EPDISD acknowledged.
+  const std::size_t nak = regs().FindWriteWithBits(otg::Diepctl(0), otg::kEpctlSnak, before);
   const std::size_t disable = regs().FindWriteWithBits(otg::Diepctl(0), otg::kEpctlEpdis | otg::kEpctlSnak, before);
-  const std::size_t ack = regs().FindWrite(otg::Diepint(0), otg::kEpIntEpdisd, disable);
+  ASSERT_NE(nak, kNone);
+  EXPECT_LT(nak, disable);
+  EXPECT_EQ(regs().Log()[nak].value & otg::kEpctlEpdis, 0U);
+  const std::size_t ack = regs().FindWriteWithBits(otg::Diepint(0), otg::kEpIntEpdisd, disable);
   // GRSTCTL TXFFLSH (bit 5) with TXFNUM 0 (10:6).
   const std::size_t flush = regs().FindWrite(otg::kGrstctl, otg::kGrstctlTxfflsh, ack);
   ASSERT_NE(disable, kNone);
