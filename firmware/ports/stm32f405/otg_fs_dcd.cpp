@@ -218,7 +218,14 @@ void OtgFsDcd::DisableOutEndpoint(unsigned n) {
     return;
   }
   Reg(otg::kDctl) |= otg::kDctlSgonak;
-  (void)WaitFor(otg::kGintsts, otg::kIntGonakeff, otg::kIntGonakeff, kPollLimit);
+  // The core queues a "global OUT NAK" entry behind what the RX FIFO holds and sets GONAKEFF
+  // only once it has been popped (RM0090 "Setting the global OUT NAK"): the FIFO is drained
+  // here, since the interrupt that normally does it may be masked.
+  for (std::uint32_t i = 0; i < kPollLimit; ++i) {
+    const std::uint32_t status = Reg(otg::kGintsts);
+    if ((status & otg::kIntGonakeff) != 0) break;
+    if ((status & otg::kIntRxflvl) != 0) HandleRxFifo();
+  }
   Reg(otg::Doepctl(n)) |= otg::kEpctlEpdis | otg::kEpctlSnak;
   (void)WaitFor(otg::Doepint(n), otg::kEpIntEpdisd, otg::kEpIntEpdisd, kPollLimit);
   Reg(otg::Doepint(n)) = otg::kEpIntEpdisd;

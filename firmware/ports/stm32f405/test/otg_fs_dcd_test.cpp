@@ -63,14 +63,29 @@ class OtgTest : public PortTest {
         regs().OnWrite(intr, [](std::uint32_t held, std::uint32_t w) { return held & ~w; });
       }
     }
-    regs().OnRead(otg::kGintsts, [](std::uint32_t held) {
-      const bool gonak = (FakeRegisters::Get().Peek(otg::kDctl) & otg::kDctlSgonak) != 0;
-      return gonak ? held | otg::kIntGonakeff : held;
-    });
+    // GINTSTS flags are write-1-to-clear.
+    regs().OnWrite(otg::kGintsts, [](std::uint32_t held, std::uint32_t w) { return held & ~w; });
+    // SGONAK queues the "global OUT NAK effective" entry (PKTSTS 0001) in the RX FIFO;
+    // GONAKEFF is set once it has been popped; CGONAK ends the mode.
     regs().OnWrite(otg::kDctl, [](std::uint32_t held, std::uint32_t w) {
-      if ((w & otg::kDctlCgonak) != 0) w &= ~(otg::kDctlSgonak | otg::kDctlCgonak);
-      (void)held;
+      FakeRegisters& r = FakeRegisters::Get();
+      if ((w & otg::kDctlSgonak) != 0 && (held & otg::kDctlSgonak) == 0) {
+        r.Poke(otg::kGintsts, r.Peek(otg::kGintsts) | otg::kIntRxflvl);
+        r.Poke(otg::kGrxstsp, 1U << 17);
+      }
+      if ((w & otg::kDctlCgonak) != 0) {
+        w &= ~(otg::kDctlSgonak | otg::kDctlCgonak);
+        r.Poke(otg::kGintsts, r.Peek(otg::kGintsts) & ~otg::kIntGonakeff);
+      }
       return w;
+    });
+    regs().OnRead(otg::kGrxstsp, [](std::uint32_t held) {
+      FakeRegisters& r = FakeRegisters::Get();
+      if (held == (1U << 17)) {
+        r.Poke(otg::kGintsts, (r.Peek(otg::kGintsts) & ~otg::kIntRxflvl) | otg::kIntGonakeff);
+        r.Poke(otg::kGrxstsp, 0);
+      }
+      return held;
     });
   }
   OtgFsDcd dcd_;
@@ -156,9 +171,16 @@ TEST_F(OtgTest, ReconfigurationDisablesOutEndpointsInTheRm0090Order) {
   regs().Poke(otg::Doepctl(1), otg::kEpctlEpena | otg::kEpctlUsbaep);
   const std::size_t before = regs().Log().size();
   dcd_.EndpointCloseAll();
-  // SGONAK -> (GONAKEFF) -> EPDIS | SNAK -> (EPDISD) acknowledged -> CGONAK.
+  // SGONAK -> RX FIFO popped up to the NAK entry (GONAKEFF) -> EPDIS | SNAK -> (EPDISD)
+  // acknowledged -> CGONAK.
   const std::size_t sgonak = regs().FindWriteWithBits(otg::kDctl, otg::kDctlSgonak, before);
-  const std::size_t epdis = regs().FindWriteWithBits(otg::Doepctl(1), otg::kEpctlEpdis | otg::kEpctlSnak, sgonak);
+  std::size_t popped = kNone;
+  for (std::size_t i = sgonak; i < regs().Log().size() && popped == kNone; ++i) {
+    const Access& a = regs().Log()[i];
+    if (a.kind == Access::Kind::kRead && a.address == otg::kGrxstsp) popped = i;
+  }
+  ASSERT_NE(popped, kNone);
+  const std::size_t epdis = regs().FindWriteWithBits(otg::Doepctl(1), otg::kEpctlEpdis | otg::kEpctlSnak, popped);
   const std::size_t ack = regs().FindWrite(otg::Doepint(1), otg::kEpIntEpdisd, epdis);
   const std::size_t cgonak = regs().FindWriteWithBits(otg::kDctl, otg::kDctlCgonak, ack);
   ASSERT_NE(sgonak, kNone);
