@@ -53,7 +53,7 @@ void EnterBootloaderIfRequested() {
   g_bootloader_request = 0;
   // Map system memory at 0 as a boot from BOOT0 = 1 would, then start the ROM with its own
   // stack pointer and reset vector.
-  Reg(rcc::kApb2enr) |= rcc::kApb2Syscfg;
+  EnableClock(rcc::kApb2enr, rcc::kApb2Syscfg);
   Reg(kSyscfgMemrmp) = kMemrmpSystemFlash;
   const std::uint32_t stack = Reg(kSystemMemory);
   const std::uint32_t entry = Reg(kSystemMemory + 4);
