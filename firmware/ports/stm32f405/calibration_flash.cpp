@@ -10,10 +10,11 @@ namespace vibid::fw::stm32 {
 namespace {
 
 // Status polls are a few cycles each at 168 MHz (the loop runs from the flash cache while the
-// array is busy). The erase wait feeds the watchdog every chunk and gives up after about 2 s,
-// four times the 500 ms worst case; a word program takes at most 100 us.
-constexpr std::uint32_t kPollsPerChunk = 1000000;
-constexpr std::uint32_t kEraseChunks = 64;
+// array is busy): 10 000 polls are well under a millisecond. The erase wait feeds the watchdog
+// after each such chunk and gives up after 2 s by the SysTick clock, 2.5 times the worst erase
+// (800 ms at x8). A single program takes at most 100 us.
+constexpr std::uint32_t kPollsPerChunk = 10000;
+constexpr std::uint64_t kEraseTimeoutUs = 2000000;
 constexpr std::uint32_t kWordPolls = 100000;
 
 bool WaitIdle(std::uint32_t polls) {
@@ -22,11 +23,12 @@ bool WaitIdle(std::uint32_t polls) {
 }
 
 bool WaitIdleFeedingWatchdog() {
-  for (std::uint32_t chunk = 0; chunk < kEraseChunks; ++chunk) {
+  const std::uint64_t start_us = MicrosecondsSinceBoot();
+  for (;;) {
     if (WaitFor(flash::kSr, flash::kSrBsy, 0, kPollsPerChunk)) return (Reg(flash::kSr) & flash::kSrErrors) == 0;
     KickWatchdog();
+    if (MicrosecondsSinceBoot() - start_us > kEraseTimeoutUs) return false;
   }
-  return false;
 }
 
 /// Resets a cache that is enabled: disable, pulse the reset bit, enable (RM0090 §3.5.2: the

@@ -7,6 +7,7 @@
 #include "port_test_fixture.hpp"
 #include "regs/peripherals.hpp"
 #include "regs/rcc.hpp"
+#include "system.hpp"
 
 namespace vibid::fw::stm32::test {
 namespace {
@@ -63,14 +64,23 @@ TEST_F(CalibrationFlashTest, EraseSequence) {
                                              kAcrRunning & ~dc, kAcrRunning}));
 }
 
+/// Each SysTick read is `ms` milliseconds later.
+void AdvanceClockPerRead(std::uint32_t ms) {
+  FakeRegisters::Get().OnRead(systick::kVal, [ms](std::uint32_t held) {
+    for (std::uint32_t i = 0; i < ms; ++i) OnSysTick();
+    return held;
+  });
+}
+
 TEST_F(CalibrationFlashTest, LongEraseFeedsTheWatchdogAndTimesOut) {
   regs().LogReads(false);
-  // BSY for 2.5 million status reads, then done: the wait feeds the watchdog every million.
+  AdvanceClockPerRead(1);
+  // BSY for 25 000 status reads, then done: the wait feeds the watchdog every 10 000.
   std::uint32_t polls = 0;
   regs().OnRead(flash::kSr, [&polls](std::uint32_t held) {
     const bool started = (FakeRegisters::Get().Peek(flash::kCr) & flash::kCrStrt) != 0;
     if (!started) return held;
-    return ++polls <= 2500000 ? held | flash::kSrBsy : held;
+    return ++polls <= 25000 ? held | flash::kSrBsy : held;
   });
   ASSERT_EQ(flash_.Erase(CalibrationFlash::Slot{1}), Status::kOk);
   const std::size_t start = regs().FindWriteWithBits(flash::kCr, flash::kCrStrt);
@@ -87,6 +97,7 @@ TEST_F(CalibrationFlashTest, LongEraseFeedsTheWatchdogAndTimesOut) {
   regs().Clear();
   regs().LogReads(false);
   ModelStatusRegister();
+  AdvanceClockPerRead(100);  // 100 ms per chunk: the 2 s bound is reached after about 20
   regs().OnRead(flash::kSr, [](std::uint32_t held) {
     const bool started = (FakeRegisters::Get().Peek(flash::kCr) & flash::kCrStrt) != 0;
     return started ? held | flash::kSrBsy : held;
@@ -94,6 +105,10 @@ TEST_F(CalibrationFlashTest, LongEraseFeedsTheWatchdogAndTimesOut) {
   EXPECT_EQ(flash_.Erase(CalibrationFlash::Slot{0}), Status::kInternal);
   EXPECT_EQ(flash_.Errors(), 1U);
   EXPECT_EQ(regs().Peek(flash::kCr), flash::kCrLock);
+  // Fed all along: 20 or 21 chunks of 100 ms, plus the feeds before and after.
+  const std::size_t feeds = regs().WritesTo(iwdg::kKr).size();
+  EXPECT_GE(feeds, 22U);
+  EXPECT_LE(feeds, 24U);
 }
 
 TEST_F(CalibrationFlashTest, ProgramsWordsWithUnalignedEdgesPadded) {
