@@ -1,5 +1,6 @@
 #include "board_port.hpp"
 
+#include "otg_fs_dcd.hpp"
 #include "system.hpp"
 
 namespace vibid::fw::stm32 {
@@ -7,7 +8,25 @@ namespace vibid::fw::stm32 {
 std::uint64_t SysTickClock::NowUs() const { return MicrosecondsSinceBoot(); }
 
 void BoardSystemControl::Init() { reset_cause_ = ReadAndClearResetCause(); }
-void BoardSystemControl::Reset() { SystemReset(); }
-void BoardSystemControl::EnterDfu() { RebootToBootloader(); }
+
+void BoardSystemControl::DrainReplies() const {
+  if (dcd_ == nullptr) return;
+  // The core calls Reset/EnterDfu from the main loop right after queueing the reply; the OTG
+  // interrupt keeps running and the core clears EPENA once the host has taken the packet.
+  const std::uint64_t start = MicrosecondsSinceBoot();
+  while (dcd_->InTransfersPending() && MicrosecondsSinceBoot() - start < kReplyDrainUs) {
+    KickWatchdog();
+  }
+}
+
+void BoardSystemControl::Reset() {
+  DrainReplies();
+  SystemReset();
+}
+
+void BoardSystemControl::EnterDfu() {
+  DrainReplies();
+  RebootToBootloader();
+}
 
 }  // namespace vibid::fw::stm32

@@ -4,18 +4,41 @@
 
 #include "regs/core_m4.hpp"
 #include "regs/rcc.hpp"
+#include "system.hpp"
 
 namespace vibid::fw::stm32 {
 namespace {
 
-// Sector erase is at most 500 ms (datasheet, 16 KiB); a status poll takes a few cycles at
-// 168 MHz, so this bound is several seconds. Byte programming takes at most 100 us.
-constexpr std::uint32_t kErasePolls = 200000000;
-constexpr std::uint32_t kBytePolls = 100000;
+// Status polls are a few cycles each at 168 MHz (the loop runs from the flash cache while the
+// array is busy): 10 000 polls are well under a millisecond. The erase wait feeds the watchdog
+// after each such chunk and gives up after 2 s by the SysTick clock, 2.5 times the worst erase
+// (800 ms at x8). A single program takes at most 100 us.
+constexpr std::uint32_t kPollsPerChunk = 10000;
+constexpr std::uint64_t kEraseTimeoutUs = 2000000;
+constexpr std::uint32_t kWordPolls = 100000;
 
 bool WaitIdle(std::uint32_t polls) {
   if (!WaitFor(flash::kSr, flash::kSrBsy, 0, polls)) return false;
   return (Reg(flash::kSr) & flash::kSrErrors) == 0;
+}
+
+bool WaitIdleFeedingWatchdog() {
+  const std::uint64_t start_us = MicrosecondsSinceBoot();
+  for (;;) {
+    if (WaitFor(flash::kSr, flash::kSrBsy, 0, kPollsPerChunk)) return (Reg(flash::kSr) & flash::kSrErrors) == 0;
+    KickWatchdog();
+    if (MicrosecondsSinceBoot() - start_us > kEraseTimeoutUs) return false;
+  }
+}
+
+/// Resets a cache that is enabled: disable, pulse the reset bit, enable (RM0090 §3.5.2: the
+/// reset works only on a disabled cache; ST's HAL FLASH_FlushCaches does the same).
+void ResetCache(std::uint32_t enable_bit, std::uint32_t reset_bit) {
+  if ((Reg(flash::kAcr) & enable_bit) == 0) return;
+  Reg(flash::kAcr) &= ~enable_bit;
+  Reg(flash::kAcr) |= reset_bit;
+  Reg(flash::kAcr) &= ~reset_bit;
+  Reg(flash::kAcr) |= enable_bit;
 }
 
 /// Unlocked for the scope, with stale error flags cleared first; locked again on exit.
@@ -33,22 +56,33 @@ class Unlocked {
   Unlocked& operator=(const Unlocked&) = delete;
 };
 
-const volatile std::uint8_t* SlotBytesAt(CalibrationFlash::Slot slot, std::size_t offset) {
-  return reinterpret_cast<const volatile std::uint8_t*>(
-      InternalCalibrationFlash::kSlotAddress[static_cast<std::size_t>(slot)] + offset);
+Address SlotAddress(CalibrationFlash::Slot slot, std::size_t offset) {
+  return InternalCalibrationFlash::kSlotAddress[static_cast<std::size_t>(slot)] + offset;
 }
 
 }  // namespace
 
+std::uint32_t InternalCalibrationFlash::Psize() const {
+  return parallelism_ == Parallelism::kX32 ? flash::kCrPsizeX32 : flash::kCrPsizeX8;
+}
+
 Status InternalCalibrationFlash::Erase(Slot slot) {
-  Unlocked unlocked;
-  bool ok = WaitIdle(kBytePolls);
-  if (ok) {
-    Reg(flash::kCr) = flash::kCrSer | Field(kSector[static_cast<std::size_t>(slot)], flash::kCrSnbPos);
-    Reg(flash::kCr) |= flash::kCrStrt;
-    ok = WaitIdle(kErasePolls);
-    Reg(flash::kCr) = 0;
+  bool ok = false;
+  {
+    Unlocked unlocked;
+    ok = WaitIdle(kWordPolls);
+    if (ok) {
+      Reg(flash::kCr) = flash::kCrSer | Psize() | Field(kSector[static_cast<std::size_t>(slot)], flash::kCrSnbPos);
+      // A full watchdog period for the erase, whatever the main loop last did.
+      KickWatchdog();
+      Reg(flash::kCr) |= flash::kCrStrt;
+      ok = WaitIdleFeedingWatchdog();
+      KickWatchdog();
+      Reg(flash::kCr) = 0;
+    }
   }
+  ResetCache(flash::kAcrIcen, flash::kAcrIcrst);
+  ResetCache(flash::kAcrDcen, flash::kAcrDcrst);
   if (!ok) {
     ++errors_;
     return Status::kInternal;
@@ -58,28 +92,59 @@ Status InternalCalibrationFlash::Erase(Slot slot) {
 
 Status InternalCalibrationFlash::Program(Slot slot, std::size_t offset, std::span<const std::uint8_t> data) {
   if (offset > kSlotBytes || data.size() > kSlotBytes - offset) return Status::kOutOfRange;
+  if (data.empty()) return Status::kOk;
+  const Status s = parallelism_ == Parallelism::kX32 ? ProgramWords(slot, offset, data) : ProgramBytes(slot, offset, data);
+  if (s != Status::kOk) ++errors_;
+  return s;
+}
+
+Status InternalCalibrationFlash::ProgramWords(Slot slot, std::size_t offset, std::span<const std::uint8_t> data) {
   Unlocked unlocked;
-  bool ok = WaitIdle(kBytePolls);
-  Reg(flash::kCr) = flash::kCrPg;  // PSIZE 00: x8.
-  for (std::size_t i = 0; ok && i < data.size(); ++i) {
-    auto* cell = const_cast<volatile std::uint8_t*>(SlotBytesAt(slot, offset + i));
-    const std::uint8_t expected = static_cast<std::uint8_t>(*cell & data[i]);
-    *cell = data[i];
+  bool ok = WaitIdle(kWordPolls);
+  // The access size must match PSIZE, or the flash refuses with PGPERR (RM0090 §3.6.2).
+  Reg(flash::kCr) = flash::kCrPg | flash::kCrPsizeX32;
+  const std::size_t first_word = offset / 4;
+  const std::size_t end_word = (offset + data.size() + 3) / 4;
+  for (std::size_t w = first_word; ok && w < end_word; ++w) {
+    if ((w - first_word) % kWritesPerFeed == 0) KickWatchdog();
+    // Bytes outside [offset, offset + size) stay 0xFF: programming them changes nothing.
+    std::uint32_t word = 0xFFFFFFFF;
+    for (std::size_t b = 0; b < 4; ++b) {
+      const std::size_t at = 4 * w + b;
+      if (at < offset || at >= offset + data.size()) continue;
+      word &= ~(0xFFU << (8 * b));
+      word |= std::uint32_t{data[at - offset]} << (8 * b);
+    }
+    if (word == 0xFFFFFFFF) continue;
+    const Address cell = SlotAddress(slot, 4 * w);
+    const std::uint32_t expected = Reg(cell) & word;
+    Reg(cell) = word;
     DataSyncBarrier();
-    ok = WaitIdle(kBytePolls) && *cell == expected;
+    ok = WaitIdle(kWordPolls) && Reg(cell) == expected;
   }
   Reg(flash::kCr) = 0;
-  if (!ok) {
-    ++errors_;
-    return Status::kInternal;
+  return ok ? Status::kOk : Status::kInternal;
+}
+
+Status InternalCalibrationFlash::ProgramBytes(Slot slot, std::size_t offset, std::span<const std::uint8_t> data) {
+  Unlocked unlocked;
+  bool ok = WaitIdle(kWordPolls);
+  Reg(flash::kCr) = flash::kCrPg | flash::kCrPsizeX8;
+  for (std::size_t i = 0; ok && i < data.size(); ++i) {
+    if (i % kWritesPerFeed == 0) KickWatchdog();
+    const Address cell = SlotAddress(slot, offset + i);
+    const std::uint32_t expected = Reg8(cell) & data[i];
+    Reg8(cell) = data[i];
+    DataSyncBarrier();
+    ok = WaitIdle(kWordPolls) && Reg8(cell) == expected;
   }
-  return Status::kOk;
+  Reg(flash::kCr) = 0;
+  return ok ? Status::kOk : Status::kInternal;
 }
 
 Status InternalCalibrationFlash::Read(Slot slot, std::size_t offset, std::span<std::uint8_t> out) const {
   if (offset > kSlotBytes || out.size() > kSlotBytes - offset) return Status::kOutOfRange;
-  const volatile std::uint8_t* src = SlotBytesAt(slot, offset);
-  for (std::size_t i = 0; i < out.size(); ++i) out[i] = src[i];
+  for (std::size_t i = 0; i < out.size(); ++i) out[i] = static_cast<std::uint8_t>(Reg8(SlotAddress(slot, offset + i)));
   return Status::kOk;
 }
 

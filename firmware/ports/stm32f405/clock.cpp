@@ -1,5 +1,7 @@
 #include "clock.hpp"
 
+#include "clock_plan.hpp"
+#include "regs/core_m4.hpp"
 #include "regs/rcc.hpp"
 
 namespace vibid::fw::stm32 {
@@ -11,15 +13,21 @@ constexpr std::uint32_t kHseTimeoutPolls = 100000;
 constexpr std::uint32_t kPllTimeoutPolls = 100000;
 constexpr std::uint32_t kSwitchTimeoutPolls = 100000;
 
-constexpr std::uint32_t kHseHz = 8000000;
-// VCO in = HSE / M = 1 MHz (1..2 MHz allowed), VCO = 336 MHz (100..432), SYSCLK = VCO / P = 168,
-// PLL48CK = VCO / Q = 48 MHz exactly, as the OTG_FS core needs.
-constexpr std::uint32_t kPllM = 8;
-constexpr std::uint32_t kPllN = 336;
-constexpr std::uint32_t kPllP = 2;
-constexpr std::uint32_t kPllQ = 7;
-static_assert(kHseHz / kPllM * kPllN / kPllP == 168000000);
-static_assert(kHseHz / kPllM * kPllN / kPllQ == 48000000);
+// The crystal is a build option (-DVIBID_HSE_HZ=..., see README "First board").
+#ifndef VIBID_HSE_HZ
+#error "VIBID_HSE_HZ (the HSE crystal frequency in Hz) is set by the build"
+#endif
+constexpr std::uint32_t kHseHz = VIBID_HSE_HZ;
+static_assert(kHseHz >= kHseMinHz && kHseHz <= kHseMaxHz,
+              "VIBID_HSE_HZ: the HSE crystal must be within 4..26 MHz (STM32F405 datasheet)");
+constexpr PllPlan kPlan = PlanPll(kHseHz);
+static_assert(kPlan.ok,
+              "VIBID_HSE_HZ: no PLL setting gives 168 MHz SYSCLK and exactly 48 MHz USB within "
+              "VCO input 1..2 MHz (PLLM 2..63), VCO output 100..432 MHz (PLLN 50..432), "
+              "PLLP 2/4/6/8, PLLQ 2..15 (RM0090 7.3.2)");
+// Both outputs exact, checked in whole hertz: HSE * N = target * M * divider.
+static_assert(std::uint64_t{kHseHz} * kPlan.n == std::uint64_t{kSysclkTargetHz} * kPlan.m * kPlan.p);
+static_assert(std::uint64_t{kHseHz} * kPlan.n == std::uint64_t{kUsbTargetHz} * kPlan.m * kPlan.q);
 
 ClockConfig HsiFallback() {
   Reg(rcc::kCr) |= rcc::kCrHsiOn;
@@ -31,18 +39,20 @@ ClockConfig HsiFallback() {
 
 }  // namespace
 
+std::uint32_t HseHz() { return kHseHz; }
+
 ClockConfig ConfigureClocks() {
   Reg(rcc::kCr) |= rcc::kCrHseOn;
   if (!WaitFor(rcc::kCr, rcc::kCrHseRdy, rcc::kCrHseRdy, kHseTimeoutPolls)) return HsiFallback();
 
   // Regulator scale 1 for 168 MHz.
-  Reg(rcc::kApb1enr) |= rcc::kApb1Pwr;
+  EnableClock(rcc::kApb1enr, rcc::kApb1Pwr);
   Reg(pwr::kCr) |= pwr::kCrVos;
 
   Reg(rcc::kCr) &= ~rcc::kCrPllOn;
-  Reg(rcc::kPllcfgr) = Field(kPllM, rcc::kPllcfgrPllmPos) | Field(kPllN, rcc::kPllcfgrPllnPos) |
-                       Field(kPllP / 2 - 1, rcc::kPllcfgrPllpPos) | rcc::kPllcfgrSrcHse |
-                       Field(kPllQ, rcc::kPllcfgrPllqPos);
+  Reg(rcc::kPllcfgr) = Field(kPlan.m, rcc::kPllcfgrPllmPos) | Field(kPlan.n, rcc::kPllcfgrPllnPos) |
+                       Field(kPlan.p / 2 - 1, rcc::kPllcfgrPllpPos) | rcc::kPllcfgrSrcHse |
+                       Field(kPlan.q, rcc::kPllcfgrPllqPos);
   Reg(rcc::kCr) |= rcc::kCrPllOn;
   if (!WaitFor(rcc::kCr, rcc::kCrPllRdy, rcc::kCrPllRdy, kPllTimeoutPolls)) return HsiFallback();
 

@@ -1,4 +1,5 @@
-// System clock bring-up: HSE 8 MHz crystal -> PLL -> 168 MHz SYSCLK, 48 MHz for USB.
+// System clock bring-up: HSE crystal (VIBID_HSE_HZ, 8 MHz by default) -> PLL -> 168 MHz SYSCLK,
+// exactly 48 MHz for USB. The PLL factors come from clock_plan.hpp at compile time.
 #pragma once
 
 #include <cstdint>
@@ -21,5 +22,8 @@ struct ClockConfig {
 /// Every wait on the hardware is bounded; a crystal or PLL that does not come up leaves the
 /// chip on HSI and says so in the result, so get-info can report it.
 ClockConfig ConfigureClocks();
+
+/// The crystal frequency this image was built for.
+std::uint32_t HseHz();
 
 }  // namespace vibid::fw::stm32

@@ -19,8 +19,9 @@
 namespace vibid::fw::stm32 {
 namespace {
 
-// The main loop kicks at least once per SysTick (1 ms); 1 s also covers a worst-case 500 ms
-// sector erase during calibration commit.
+// At least 1 s at the fastest LSI (StartWatchdog computes at 47 kHz). The main loop kicks at
+// least once per SysTick (1 ms); a calibration commit feeds it right before each sector erase
+// (500 ms worst case at x32) and during programming.
 constexpr std::uint32_t kWatchdogTimeoutMs = 1000;
 /// The acquisition log: the largest block the RAM budget leaves (SRAM; CCM holds the stack). Its
 /// size is part of the board profile the emulator and the host's preflight use.
@@ -44,18 +45,24 @@ std::array<std::uint8_t, kLogBytes> g_log;
 
 extern "C" void OTG_FS_IRQHandler() { vibid::fw::stm32::g_dcd.HandleInterrupt(); }
 extern "C" void DMA2_Stream0_IRQHandler() { vibid::fw::stm32::g_sampler.HandleDmaInterrupt(); }
+extern "C" void ADC_IRQHandler() { vibid::fw::stm32::g_sampler.HandleAdcInterrupt(); }
 extern "C" void SysTick_Handler() { vibid::fw::stm32::OnSysTick(); }
 
 int main() {
   using namespace vibid::fw;
   using namespace vibid::fw::stm32;
 
+  // Interrupts stay masked until every handler's driver is set up (the reset handler made sure
+  // this is a clean start: nothing from a bootloader is pending or configured). The watchdog
+  // goes first: every step after it is bounded by it.
+  DisableInterrupts();
+  StartWatchdog(kWatchdogTimeoutMs);
   static BoardSystemControl system;
   system.Init();
   const ClockConfig clocks = ConfigureClocks();
   StartMillisecondTick(clocks.sysclk_hz);
-  StartWatchdog(kWatchdogTimeoutMs);
-  g_sampler.Init(clocks.apb1_timer_hz);
+  g_sampler.Init(clocks);
+  EnableInterrupts();
 
   static SysTickClock clock;
   static InternalCalibrationFlash flash;
@@ -69,6 +76,7 @@ int main() {
   static const std::array<usb::ClassDriver*, 2> drivers = {&hid, &dfu};
   static const usb::DaqStrings strings = usb::MakeDaqStrings(serial.data());
   static usb::UsbDevice device{g_dcd, drivers, usb::DaqDescriptors(strings)};
+  system.AttachUsb(g_dcd);
   // Without the PLL's 48 MHz the OTG core cannot run: the board stays off the bus (get-info over
   // USB is then impossible, so the fallback is visible as a board that does not enumerate).
   if (clocks.source == ClockSource::kPllFromHse) (void)device.Start();

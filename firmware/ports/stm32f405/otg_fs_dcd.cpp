@@ -28,12 +28,15 @@ std::uint16_t PacketCount(std::size_t length, std::uint16_t max_packet) {
 }  // namespace
 
 Status OtgFsDcd::Init(usb::DcdEvents& events) {
-  events_ = &events;
+  // No OTG interrupt until the core is set up; one left pending from before is dropped.
+  nvic::Disable(irq::kOtgFs);
+  nvic::ClearPending(irq::kOtgFs);
   // PA11 = DM, PA12 = DP, alternate function 10 (RM0090 table 9 / datasheet AF map).
-  Reg(rcc::kAhb1enr) |= rcc::kAhb1GpioA;
+  EnableClock(rcc::kAhb1enr, rcc::kAhb1GpioA);
   gpio::SetAlternate(gpio::kPortA, 11, 10);
   gpio::SetAlternate(gpio::kPortA, 12, 10);
-  Reg(rcc::kAhb2enr) |= rcc::kAhb2OtgFs;
+  EnableClock(rcc::kAhb2enr, rcc::kAhb2OtgFs);
+  Reg(otg::kGahbcfg) = 0;
 
   // Core soft reset once the AHB master is idle (RM0090 §34.17.1).
   Reg(otg::kGusbcfg) |= otg::kGusbcfgPhysel;
@@ -48,6 +51,8 @@ Status OtgFsDcd::Init(usb::DcdEvents& events) {
   Modify(otg::kGusbcfg, otg::kGusbcfgFdmod | otg::kGusbcfgTrdtMask,
          otg::kGusbcfgFdmod | Field(6, otg::kGusbcfgTrdtPos));
   Delay(168000U * 25U);
+  // The mode switch is confirmed, not assumed: CMOD reads 0 in device mode.
+  if ((Reg(otg::kGintsts) & otg::kIntCmod) != 0) return Status::kUnavailable;
   Reg(otg::kPcgcctl) = 0;
   Reg(otg::kDcfg) = otg::kDcfgDspdFull;
   Reg(otg::kDctl) |= otg::kDctlSdis;
@@ -69,7 +74,9 @@ Status OtgFsDcd::Init(usb::DcdEvents& events) {
   Reg(otg::kGintsts) = 0xFFFFFFFF;
   Reg(otg::kGintmsk) = otg::kIntRxflvl | otg::kIntUsbsusp | otg::kIntUsbrst | otg::kIntEnumdne |
                        otg::kIntIepint | otg::kIntOepint | otg::kIntWkupint;
+  events_ = &events;
   Reg(otg::kGahbcfg) = otg::kGahbcfgGint;
+  nvic::ClearPending(irq::kOtgFs);
   nvic::SetPriority(irq::kOtgFs, 6);
   nvic::Enable(irq::kOtgFs);
   return Status::kOk;
@@ -104,12 +111,8 @@ Status OtgFsDcd::EndpointOpen(std::uint8_t ep_addr, usb::EndpointType type, std:
 void OtgFsDcd::EndpointCloseAll() {
   CriticalSection lock;
   for (unsigned n = 1; n < kEndpoints; ++n) {
-    if ((Reg(otg::Diepctl(n)) & otg::kEpctlEpena) != 0) {
-      Reg(otg::Diepctl(n)) |= otg::kEpctlEpdis | otg::kEpctlSnak;
-    }
-    if ((Reg(otg::Doepctl(n)) & otg::kEpctlEpena) != 0) {
-      Reg(otg::Doepctl(n)) |= otg::kEpctlEpdis | otg::kEpctlSnak;
-    }
+    DisableInEndpoint(n, false);
+    DisableOutEndpoint(n);
     Reg(otg::Diepctl(n)) &= ~otg::kEpctlUsbaep;
     Reg(otg::Doepctl(n)) &= ~otg::kEpctlUsbaep;
     in_[n] = Endpoint{};
@@ -124,14 +127,15 @@ void OtgFsDcd::EndpointStall(std::uint8_t ep_addr) {
   if (n >= kEndpoints) return;
   CriticalSection lock;
   if (usb::IsIn(ep_addr)) {
-    std::uint32_t ctl = Reg(otg::Diepctl(n)) | otg::kEpctlStall;
-    if ((ctl & otg::kEpctlEpena) != 0) ctl |= otg::kEpctlEpdis;
-    Reg(otg::Diepctl(n)) = ctl;
-    in_[n].busy = false;
+    DisableInEndpoint(n, true);
   } else {
     Reg(otg::Doepctl(n)) |= otg::kEpctlStall;
     out_[n].busy = false;
-    if (n == 0) ArmSetup();
+    if (n == 0) {
+      // A control stall ends the data stage: whatever EP0 IN still holds goes too.
+      DisableInEndpoint(0, true);
+      ArmSetup();
+    }
   }
 }
 
@@ -174,7 +178,67 @@ void OtgFsDcd::ArmSetup() {
   Reg(otg::Doeptsiz(0)) = otg::kDoeptsiz0Stupcnt3 | Field(1, otg::kTsizPktcntPos) | (3 * 8);
 }
 
+bool OtgFsDcd::InTransfersPending() const {
+  for (unsigned n = 0; n < kEndpoints; ++n) {
+    if ((Reg(otg::Diepctl(n)) & otg::kEpctlEpena) != 0) return true;
+  }
+  return false;
+}
+
+void OtgFsDcd::FlushTxFifo(unsigned n) {
+  Reg(otg::kGrstctl) = otg::kGrstctlTxfflsh | Field(n, otg::kGrstctlTxfnumPos);
+  (void)WaitFor(otg::kGrstctl, otg::kGrstctlTxfflsh, 0, kPollLimit);
+}
+
+void OtgFsDcd::DisableInEndpoint(unsigned n, bool stall) {
+  // TinyUSB dwc2 order (RM0090 §34.17.7 "Disabling an IN endpoint"): an endpoint that is not
+  // enabled is only NAKed (and stalled); an enabled one is NAKed, and once the NAK is effective
+  // disabled, waiting for EPDISD. Then its TX FIFO is flushed so no stale packet goes out after
+  // the next SETUP. Every wait is bounded.
+  const std::uint32_t stall_bit = stall ? otg::kEpctlStall : 0;
+  if ((Reg(otg::Diepctl(n)) & otg::kEpctlEpena) == 0) {
+    Reg(otg::Diepctl(n)) |= otg::kEpctlSnak | stall_bit;
+  } else {
+    Reg(otg::Diepctl(n)) |= otg::kEpctlSnak;
+    (void)WaitFor(otg::Diepint(n), otg::kEpIntInepne, otg::kEpIntInepne, kPollLimit);
+    Reg(otg::Diepctl(n)) |= otg::kEpctlEpdis | otg::kEpctlSnak | stall_bit;
+    (void)WaitFor(otg::Diepint(n), otg::kEpIntEpdisd, otg::kEpIntEpdisd, kPollLimit);
+    Reg(otg::Diepint(n)) = otg::kEpIntEpdisd | otg::kEpIntInepne;
+  }
+  FlushTxFifo(n);
+  Reg(otg::kDiepempmsk) &= ~Bit(n);
+  in_[n].busy = false;
+}
+
+void OtgFsDcd::DisableOutEndpoint(unsigned n) {
+  // RM0090 §34.17.6 "Disabling an OUT endpoint": global OUT NAK first, then EPDIS with SNAK,
+  // wait for EPDISD, then clear the global OUT NAK. Every wait is bounded.
+  if ((Reg(otg::Doepctl(n)) & otg::kEpctlEpena) == 0) {
+    out_[n].busy = false;
+    return;
+  }
+  Reg(otg::kDctl) |= otg::kDctlSgonak;
+  // The core queues a "global OUT NAK" entry behind what the RX FIFO holds and sets GONAKEFF
+  // only once it has been popped (RM0090 "Setting the global OUT NAK"): the FIFO is drained
+  // here, since the interrupt that normally does it may be masked.
+  for (std::uint32_t i = 0; i < kPollLimit; ++i) {
+    const std::uint32_t status = Reg(otg::kGintsts);
+    if ((status & otg::kIntGonakeff) != 0) break;
+    if ((status & otg::kIntRxflvl) != 0) HandleRxFifo();
+  }
+  Reg(otg::Doepctl(n)) |= otg::kEpctlEpdis | otg::kEpctlSnak;
+  (void)WaitFor(otg::Doepint(n), otg::kEpIntEpdisd, otg::kEpIntEpdisd, kPollLimit);
+  Reg(otg::Doepint(n)) = otg::kEpIntEpdisd;
+  Reg(otg::kDctl) |= otg::kDctlCgonak;
+  out_[n].busy = false;
+}
+
 void OtgFsDcd::HandleInterrupt() {
+  if (events_ == nullptr) {
+    // Not initialised: nothing may run; the interrupt stays off until Init enables it.
+    nvic::Disable(irq::kOtgFs);
+    return;
+  }
   const std::uint32_t status = Reg(otg::kGintsts) & Reg(otg::kGintmsk);
   if ((status & otg::kIntUsbrst) != 0) {
     Reg(otg::kGintsts) = otg::kIntUsbrst;
@@ -251,7 +315,8 @@ void OtgFsDcd::HandleOutEndpoints() {
     Reg(otg::Doepint(n)) = flags;
     if ((flags & otg::kEpIntStup) != 0 && n == 0) {
       out_[0] = Endpoint{};
-      in_[0].busy = false;
+      // A new SETUP aborts the previous control transfer: its IN data must not follow.
+      DisableInEndpoint(0, false);
       ArmSetup();
       events_->OnSetupReceived(setup_);
     }

@@ -27,8 +27,10 @@ class OtgFsDcd final : public usb::Dcd {
   void EndpointClearStall(std::uint8_t ep_addr) override;
   Status Transfer(std::uint8_t ep_addr, std::span<std::uint8_t> buffer) override;
 
-  /// The OTG_FS interrupt handler body.
+  /// The OTG_FS interrupt handler body. Does nothing (and masks the interrupt) before Init.
   void HandleInterrupt();
+  /// True while an IN transfer is enabled in the core, i.e. not yet taken by the host.
+  bool InTransfersPending() const;
 
  private:
   struct Endpoint {
@@ -44,6 +46,9 @@ class OtgFsDcd final : public usb::Dcd {
   void HandleInEndpoints();
   void FillTxFifo(unsigned n);
   void ArmSetup();
+  void FlushTxFifo(unsigned n);
+  void DisableInEndpoint(unsigned n, bool stall);
+  void DisableOutEndpoint(unsigned n);
 
   usb::DcdEvents* events_ = nullptr;
   std::array<Endpoint, kEndpoints> in_{};

@@ -7,14 +7,32 @@
 
 namespace vibid::fw::stm32 {
 
+namespace sampler_dma {
+volatile std::uint16_t adc[4] = {};
+volatile std::uint16_t encoders[2] = {};
+}  // namespace sampler_dma
+
 namespace {
 
-// DMA target; in SRAM (the CCM is not reachable by DMA).
-volatile std::uint16_t g_adc_dma_buffer[4] = {};
+volatile std::uint16_t* const g_adc_dma_buffer = sampler_dma::adc;
+volatile std::uint16_t* const g_encoder_latch = sampler_dma::encoders;
+static_assert(sizeof(sampler_dma::adc) / sizeof(sampler_dma::adc[0]) == Sampler::kAnalogChannels);
 
-// A four-channel scan takes about 13 us; 20 us leaves the DMA and the interrupt room.
-constexpr std::uint32_t kMinPeriodUs = 20;
-constexpr unsigned kAnalogChannels = 4;
+// ADC1 on DMA2 stream 0 channel 0 (RM0090 table 43). The encoder latches on DMA1 (table 42):
+// TIM2_UP on stream 1 channel 3, TIM5_TRIG on stream 3 channel 6. DMA1 reaches TIM3/TIM4 on
+// APB1 and SRAM; DMA2 would not reach APB1.
+constexpr unsigned kAdcStream = 0;
+constexpr unsigned kEncoder0Stream = 1;
+constexpr std::uint32_t kEncoder0Channel = 3;
+constexpr unsigned kEncoder1Stream = 3;
+constexpr std::uint32_t kEncoder1Channel = 6;
+constexpr std::uint32_t kStreamDisablePolls = 10000;
+// Room after the scan for the DMA, the interrupt and the frame sink before the next edge.
+constexpr std::uint32_t kPeriodMarginUs = 7;
+
+std::uint32_t Addr32(const volatile void* p) {
+  return static_cast<std::uint32_t>(reinterpret_cast<std::uintptr_t>(p));
+}
 
 void ConfigureEncoder(Address timer) {
   Reg(timer + tim::kCr1) = 0;
@@ -26,13 +44,57 @@ void ConfigureEncoder(Address timer) {
   Reg(timer + tim::kCr1) = tim::kCr1Cen;
 }
 
+/// Disables a stream and waits until the hardware has let go of it (EN reads 0), then clears its
+/// flags: the order RM0090 §10.3.17 asks before a stream is reprogrammed.
+void DisableStream(Address dma_base, unsigned stream) {
+  const Address cr = dma::Stream(dma_base, stream) + dma::kSxCr;
+  Reg(cr) &= ~dma::kCrEn;
+  (void)WaitFor(cr, dma::kCrEn, 0, kStreamDisablePolls);
+  Reg(dma_base + dma::FlagClear(stream)) = dma::kStream0Flags << dma::FlagShift(stream);
+}
+
+/// ADC1 results to the frame buffer, circular, 16 bit, from the first channel.
+void ArmAdcStream() {
+  const Address stream = dma::Stream(dma::kDma2, kAdcStream);
+  DisableStream(dma::kDma2, kAdcStream);
+  Reg(stream + dma::kSxPar) = static_cast<std::uint32_t>(adc::kAdc1 + adc::kDr);
+  Reg(stream + dma::kSxM0ar) = Addr32(g_adc_dma_buffer);
+  Reg(stream + dma::kSxNdtr) = Sampler::kAnalogChannels;
+  Reg(stream + dma::kSxFcr) = 0;  // Direct mode.
+  Reg(stream + dma::kSxCr) = Field(0, dma::kCrChselPos) | dma::kCrPlHigh | dma::kCrMsize16 |
+                             dma::kCrPsize16 | dma::kCrMinc | dma::kCrCirc | dma::kCrTcie |
+                             dma::kCrTeie | dma::kCrEn;
+}
+
+/// One encoder count register to one latch word at every request, circular, no increment.
+void ArmEncoderStream(unsigned stream_number, std::uint32_t channel, Address counter, const volatile std::uint16_t* latch) {
+  const Address stream = dma::Stream(dma::kDma1, stream_number);
+  DisableStream(dma::kDma1, stream_number);
+  Reg(stream + dma::kSxPar) = static_cast<std::uint32_t>(counter);
+  Reg(stream + dma::kSxM0ar) = Addr32(latch);
+  Reg(stream + dma::kSxNdtr) = 1;
+  Reg(stream + dma::kSxFcr) = 0;
+  Reg(stream + dma::kSxCr) = Field(channel, dma::kCrChselPos) | dma::kCrPlHigh | dma::kCrMsize16 |
+                             dma::kCrPsize16 | dma::kCrCirc | dma::kCrEn;
+}
+
+constexpr std::uint32_t kAdcCr2Running = adc::kCr2Adon | adc::kCr2Dma | adc::kCr2Dds |
+                                         adc::kCr2ExtselTim2Trgo | adc::kCr2ExtenRising;
+
 }  // namespace
 
-void Sampler::Init(std::uint32_t timer_clock_hz) {
-  timer_clock_hz_ = timer_clock_hz;
-  Reg(rcc::kAhb1enr) |= rcc::kAhb1GpioA | rcc::kAhb1GpioB | rcc::kAhb1Dma2;
-  Reg(rcc::kApb1enr) |= rcc::kApb1Tim2 | rcc::kApb1Tim3 | rcc::kApb1Tim4;
-  Reg(rcc::kApb2enr) |= rcc::kApb2Adc1;
+void Sampler::Init(const ClockConfig& clocks) {
+  timer_clock_hz_ = clocks.apb1_timer_hz;
+  // The shortest time from the edge to the scan's last result: the conversions alone (the
+  // trigger synchronisation only adds to it). 272 x 4 = 1088 timer clocks at full speed.
+  scan_timer_ticks_ = static_cast<std::uint32_t>(std::uint64_t{kScanAdcClocks} * kAdcPrescaler *
+                                                 timer_clock_hz_ / clocks.apb2_hz);
+  const std::uint64_t scan_ns = std::uint64_t{kScanAdcClocks} * kAdcPrescaler * 1000000000ULL / clocks.apb2_hz;
+  min_period_us_ = static_cast<std::uint32_t>((scan_ns + 999) / 1000) + kPeriodMarginUs;
+
+  EnableClock(rcc::kAhb1enr, rcc::kAhb1GpioA | rcc::kAhb1GpioB | rcc::kAhb1Dma1 | rcc::kAhb1Dma2);
+  EnableClock(rcc::kApb1enr, rcc::kApb1Tim2 | rcc::kApb1Tim3 | rcc::kApb1Tim4 | rcc::kApb1Tim5);
+  EnableClock(rcc::kApb2enr, rcc::kApb2Adc1);
 
   for (unsigned pin = 0; pin < kAnalogChannels; ++pin) gpio::SetMode(gpio::kPortA, pin, gpio::Mode::kAnalog);
   // Encoder inputs: TIM3 CH1/CH2 on PA6/PA7, TIM4 CH1/CH2 on PB6/PB7, alternate function 2,
@@ -46,53 +108,61 @@ void Sampler::Init(std::uint32_t timer_clock_hz) {
   ConfigureEncoder(tim::kTim3);
   ConfigureEncoder(tim::kTim4);
 
-  // TIM2 (32 bit) update = sample clock, routed to TRGO; stopped until Start.
+  // TIM2 (32 bit) update = sample clock, routed to TRGO and to a DMA request; stopped until Start.
   Reg(tim::kTim2 + tim::kCr1) = 0;
   Reg(tim::kTim2 + tim::kPsc) = 0;
   Reg(tim::kTim2 + tim::kCr2) = tim::kCr2MmsUpdate;
+  Reg(tim::kTim2 + tim::kDier) = tim::kDierUde;
+  // TIM5 (32 bit) counts TIM2's TRGO edges: the frame counter. Its trigger DMA request latches
+  // the second encoder.
+  Reg(tim::kTim5 + tim::kCr1) = 0;
+  Reg(tim::kTim5 + tim::kPsc) = 0;
+  Reg(tim::kTim5 + tim::kArr) = 0xFFFFFFFF;
+  Reg(tim::kTim5 + tim::kSmcr) = tim::kSmcrTsItr0 | tim::kSmcrExternalClock1;
+  Reg(tim::kTim5 + tim::kDier) = tim::kDierTde;
 
   // ADC1: scan IN0..IN3, 56-cycle sampling (4 x (56 + 12) / 21 MHz = 13 us per frame), one scan
-  // per rising TRGO, DMA requests kept on for circular transfers.
+  // per rising TRGO, DMA requests kept on for circular transfers, overrun interrupt.
   Reg(adc::kCommonCcr) = adc::kCcrAdcpreDiv4;
   Reg(adc::kAdc1 + adc::kCr2) = 0;
-  Reg(adc::kAdc1 + adc::kCr1) = adc::kCr1Scan;
+  Reg(adc::kAdc1 + adc::kCr1) = adc::kCr1Scan | adc::kCr1Ovrie;
   Reg(adc::kAdc1 + adc::kSmpr2) = adc::kSample56Cycles | (adc::kSample56Cycles << 3) |
                                   (adc::kSample56Cycles << 6) | (adc::kSample56Cycles << 9);
   Reg(adc::kAdc1 + adc::kSqr1) = Field(kAnalogChannels - 1, adc::kSqr1LPos);
   Reg(adc::kAdc1 + adc::kSqr3) = 0U | (1U << 5) | (2U << 10) | (3U << 15);
 
-  // DMA2 stream 0 channel 0 = ADC1 (RM0090 table 43): 16-bit peripheral to memory, circular.
-  const Address stream = dma::Stream(dma::kDma2, 0);
-  Reg(stream + dma::kSxCr) = 0;
-  (void)WaitFor(stream + dma::kSxCr, dma::kCrEn, 0, 10000);
-  Reg(dma::kDma2 + dma::kLifcr) = dma::kStream0Flags;
-  Reg(stream + dma::kSxPar) = static_cast<std::uint32_t>(adc::kAdc1 + adc::kDr);
-  Reg(stream + dma::kSxM0ar) = static_cast<std::uint32_t>(reinterpret_cast<std::uintptr_t>(g_adc_dma_buffer));
-  Reg(stream + dma::kSxNdtr) = kAnalogChannels;
-  Reg(stream + dma::kSxFcr) = 0;  // Direct mode.
-  Reg(stream + dma::kSxCr) = Field(0, dma::kCrChselPos) | dma::kCrPlHigh | dma::kCrMsize16 |
-                             dma::kCrPsize16 | dma::kCrMinc | dma::kCrCirc | dma::kCrTcie |
-                             dma::kCrTeie | dma::kCrEn;
-  Reg(adc::kAdc1 + adc::kCr2) = adc::kCr2Adon | adc::kCr2Dma | adc::kCr2Dds |
-                                adc::kCr2ExtselTim2Trgo | adc::kCr2ExtenRising;
-  nvic::SetPriority(irq::kDma2Stream0, 2);
-  nvic::Enable(irq::kDma2Stream0);
+  ArmEncoderStream(kEncoder0Stream, kEncoder0Channel, tim::kTim3 + tim::kCnt, &g_encoder_latch[0]);
+  ArmEncoderStream(kEncoder1Stream, kEncoder1Channel, tim::kTim4 + tim::kCnt, &g_encoder_latch[1]);
+  ArmAdcStream();
+  Reg(adc::kAdc1 + adc::kSr) = 0;
+  Reg(adc::kAdc1 + adc::kCr2) = kAdcCr2Running;
+
+  for (unsigned irq_number : {irq::kDma2Stream0, irq::kAdc}) {
+    nvic::Disable(irq_number);
+    nvic::ClearPending(irq_number);
+    nvic::SetPriority(irq_number, 2);
+    nvic::Enable(irq_number);
+  }
 }
 
 Status Sampler::Start(std::uint32_t sample_period_us, FrameSink& sink) {
   if (running_) return Status::kFailedPrecondition;
   const std::uint64_t ticks = std::uint64_t{timer_clock_hz_} * sample_period_us;
-  if (sample_period_us < kMinPeriodUs || ticks % 1000000 != 0 || ticks / 1000000 > 0xFFFFFFFFULL) {
+  if (sample_period_us < min_period_us_ || ticks % 1000000 != 0 || ticks / 1000000 > 0xFFFFFFFFULL) {
     return Status::kInvalidArgument;
   }
   sink_ = &sink;
-  tick_ = 0;
+  next_tick_ = 0;
+  delivered_ = 0;
   sink_cycles_ = 0;
   last_encoder_raw_ = {static_cast<std::uint16_t>(Reg(tim::kTim3 + tim::kCnt)),
                        static_cast<std::uint16_t>(Reg(tim::kTim4 + tim::kCnt))};
   encoder_ = {0, 0};
+  Reg(tim::kTim5 + tim::kCnt) = 0;
+  Reg(tim::kTim5 + tim::kCr1) = tim::kCr1Cen;
   running_ = true;
   Reg(tim::kTim2 + tim::kArr) = static_cast<std::uint32_t>(ticks / 1000000 - 1);
+  // UG is the first edge: frame 0 (a scan, both latches, TIM5 = 1) at the start instant.
   Reg(tim::kTim2 + tim::kEgr) = tim::kEgrUg;
   Reg(tim::kTim2 + tim::kCnt) = 0;
   Reg(tim::kTim2 + tim::kCr1) = tim::kCr1Cen;
@@ -101,32 +171,87 @@ Status Sampler::Start(std::uint32_t sample_period_us, FrameSink& sink) {
 
 void Sampler::Stop() {
   Reg(tim::kTim2 + tim::kCr1) = 0;
+  Reg(tim::kTim5 + tim::kCr1) = 0;
   running_ = false;
 }
 
+void Sampler::Recover() {
+  ++counters_.recoveries;
+  // ADC off resets its sequencer to the first channel and drops its DMA request logic; the
+  // stream restarts at the buffer's first element; OVR cleared last, before the ADC is back
+  // (RM0090 §13.8.1: re-initialise the DMA, clear OVR, trigger again). The next TRGO edge
+  // starts a whole scan.
+  Reg(adc::kAdc1 + adc::kCr2) = 0;
+  ArmAdcStream();
+  Reg(adc::kAdc1 + adc::kSr) = 0;
+  Reg(adc::kAdc1 + adc::kCr2) = kAdcCr2Running;
+}
+
+void Sampler::CheckEncoderStreams() {
+  const std::uint32_t flags = Reg(dma::kDma1 + dma::kLisr);
+  const std::uint32_t teif = dma::kStream0Teif;
+  if ((flags & (teif << dma::FlagShift(kEncoder0Stream))) != 0) {
+    ++counters_.dma_errors;
+    ArmEncoderStream(kEncoder0Stream, kEncoder0Channel, tim::kTim3 + tim::kCnt, &g_encoder_latch[0]);
+  }
+  if ((flags & (teif << dma::FlagShift(kEncoder1Stream))) != 0) {
+    ++counters_.dma_errors;
+    ArmEncoderStream(kEncoder1Stream, kEncoder1Channel, tim::kTim4 + tim::kCnt, &g_encoder_latch[1]);
+  }
+}
+
+void Sampler::HandleAdcInterrupt() {
+  if ((Reg(adc::kAdc1 + adc::kSr) & adc::kSrOvr) == 0) return;
+  ++counters_.adc_overruns;
+  Recover();
+}
+
 void Sampler::HandleDmaInterrupt() {
-  const std::uint32_t flags = Reg(dma::kDma2 + dma::kLisr);
-  Reg(dma::kDma2 + dma::kLifcr) = flags & dma::kStream0Flags;
-  if ((flags & dma::kStream0Teif) != 0) ++counters_.dma_errors;
-  if ((Reg(adc::kAdc1 + adc::kSr) & adc::kSrOvr) != 0) {
-    Reg(adc::kAdc1 + adc::kSr) = 0;
-    ++counters_.adc_overruns;
+  const std::uint32_t flags = Reg(dma::kDma2 + dma::kLisr) & dma::kStream0Flags;
+  Reg(dma::kDma2 + dma::kLifcr) = flags;
+  CheckEncoderStreams();
+  // A transfer error disables the stream; an overrun stops the ADC's requests. Either way no
+  // further scan would arrive, and the frames missed meanwhile show as a gap in the tick.
+  const bool overrun = (Reg(adc::kAdc1 + adc::kSr) & adc::kSrOvr) != 0;
+  if ((flags & dma::kStream0Teif) != 0 || overrun) {
+    if ((flags & dma::kStream0Teif) != 0) ++counters_.dma_errors;
+    if (overrun) ++counters_.adc_overruns;
+    Recover();
+    return;
   }
   if ((flags & dma::kStream0Tcif) == 0 || !running_) return;
 
+  // Edges so far (TIM5), the stream's position and timer clocks since the latest edge (TIM2).
+  // The buffer holds that edge's whole scan once the conversions' time has passed and the
+  // stream is back at its start. Otherwise this interrupt ran late, the newer scan is under way
+  // and the buffer mixes two scans (and the latches belong to the newer edge): the frame is
+  // dropped, the newer scan's own interrupt follows, and the gap counts an overrun.
+  const std::uint32_t edges = Reg(tim::kTim5 + tim::kCnt);
+  const std::uint32_t remaining = Reg(dma::Stream(dma::kDma2, kAdcStream) + dma::kSxNdtr);
+  const std::uint32_t since_edge = Reg(tim::kTim2 + tim::kCnt);
+  const bool whole_scan = since_edge >= scan_timer_ticks_ && remaining == kAnalogChannels;
+  if (Reg(tim::kTim5 + tim::kCnt) != edges || !whole_scan || edges == 0) {
+    ++counters_.torn_frames;
+    return;
+  }
+  const std::uint32_t tick = edges - 1;
+  // Already delivered (an interrupt that was pending across a recovery).
+  if (static_cast<std::int32_t>(tick - next_tick_) < 0) return;
+  next_tick_ = tick + 1;
+
   SampleFrame frame;
-  frame.tick = tick_++;
+  frame.tick = tick;
   for (unsigned i = 0; i < kAnalogChannels; ++i) frame.raw[i] = g_adc_dma_buffer[i];
-  const std::array<std::uint16_t, 2> raw = {static_cast<std::uint16_t>(Reg(tim::kTim3 + tim::kCnt)),
-                                            static_cast<std::uint16_t>(Reg(tim::kTim4 + tim::kCnt))};
   for (unsigned i = 0; i < 2; ++i) {
+    const std::uint16_t raw = g_encoder_latch[i];
     // The 16-bit counter moves by far less than 2^15 counts per sample, so the signed
     // difference is the true motion and the 32-bit sum never misses a wrap.
-    encoder_[i] += static_cast<std::int16_t>(static_cast<std::uint16_t>(raw[i] - last_encoder_raw_[i]));
-    last_encoder_raw_[i] = raw[i];
+    encoder_[i] += static_cast<std::int16_t>(static_cast<std::uint16_t>(raw - last_encoder_raw_[i]));
+    last_encoder_raw_[i] = raw;
   }
   frame.raw[4] = encoder_[0];
   frame.raw[5] = encoder_[1];
+  ++delivered_;
   const std::uint32_t before = CycleCount();
   sink_->OnFrame(frame);
   sink_cycles_ += CycleCount() - before;

@@ -1,46 +1,83 @@
-// Timer-triggered sampling, the board's FrameSource: TIM2 update events trigger an ADC1 scan of
-// the four analog channels (two load cells, two accelerometers on PA0..PA3); DMA2 stream 0 moves
-// the four results to RAM and its transfer-complete interrupt latches both quadrature encoders
-// (TIM3 on PA6/PA7, TIM4 on PB6/PB7) into one frame for the core. The sample instant is the
-// timer edge, so the sampling jitter is the ADC's, not the interrupt latency's.
+// Timer-triggered sampling, the board's FrameSource.
+//
+// Every TIM2 update edge (the sample instant) does three things in hardware at once:
+//   - TRGO starts an ADC1 scan of the four analog channels (two load cells, two accelerometers on
+//     PA0..PA3); DMA2 stream 0 moves the four results to RAM.
+//   - the TIM2 update DMA request (DMA1 stream 1, channel 3) copies the TIM3 encoder count
+//     (PA6/PA7) to RAM, and TIM5, counting TIM2's TRGO edges, raises its trigger DMA request
+//     (DMA1 stream 3, channel 6), which copies the TIM4 encoder count (PB6/PB7): both encoders are
+//     latched at the edge, within a few bus cycles, not when the interrupt runs.
+//   - TIM5 counts the edge: the frame tick comes from the timer, not from counting interrupts,
+//     so scans merged into one interrupt or lost to an ADC overrun leave a gap the core counts.
+// The DMA2 stream 0 transfer-complete interrupt assembles the frame for the core.
+//
+// ADC overrun (OVR stops the ADC's DMA requests for good) and DMA transfer errors are caught by
+// interrupt and by a check every frame; recovery re-arms DMA and ADC from the first channel, so
+// the channels cannot rotate in the buffer.
 #pragma once
 
 #include <array>
 #include <cstdint>
 
+#include "clock.hpp"
 #include "vibid/fw/port.hpp"
 
 namespace vibid::fw::stm32 {
 
 struct SamplerCounters {
   std::uint32_t adc_overruns = 0;  ///< ADC OVR: a conversion was lost (DMA too late).
-  std::uint32_t dma_errors = 0;
+  std::uint32_t dma_errors = 0;    ///< Transfer errors on the ADC or an encoder latch stream.
+  std::uint32_t recoveries = 0;    ///< ADC + DMA re-arms after either.
+  std::uint32_t torn_frames = 0;   ///< Interrupts dropped because the next scan had begun.
 };
+
+/// The DMA targets, in SRAM (the CCM is not reachable by DMA); named here for the host tests.
+namespace sampler_dma {
+extern volatile std::uint16_t adc[4];
+extern volatile std::uint16_t encoders[2];
+}  // namespace sampler_dma
 
 class Sampler final : public FrameSource {
  public:
-  /// Configures pins, encoders, ADC scan and DMA once at boot; sampling starts with Start().
-  /// `timer_clock_hz` is the TIM2 kernel clock (84 MHz at full speed).
-  void Init(std::uint32_t timer_clock_hz);
+  /// ADC conversions per frame and their cost: 4 x (56 sampling + 12 conversion) ADC clocks.
+  static constexpr unsigned kAnalogChannels = 4;
+  static constexpr std::uint32_t kScanAdcClocks = kAnalogChannels * (56 + 12);
+  /// ADCCLK = PCLK2 / 4 (ADC common prescaler).
+  static constexpr std::uint32_t kAdcPrescaler = 4;
+
+  /// Configures pins, encoders, frame counter, ADC scan and the DMA streams once at boot;
+  /// sampling starts with Start().
+  void Init(const ClockConfig& clocks);
 
   /// @returns kOk; kInvalidArgument when the period is not a whole number of timer clocks or is
-  ///          shorter than the 13 us a four-channel scan takes; kFailedPrecondition if running.
+  ///          shorter than MinPeriodUs(); kFailedPrecondition if running.
   Status Start(std::uint32_t sample_period_us, FrameSink& sink) override;
   void Stop() override;
 
+  /// The shortest period: one scan plus room for the DMA and the interrupt (20 us at 168 MHz).
+  std::uint32_t MinPeriodUs() const { return min_period_us_; }
   const SamplerCounters& Counters() const { return counters_; }
   /// Core cycles spent in the frame sink, summed over all frames (DWT cycle counter).
   std::uint64_t SinkCycles() const { return sink_cycles_; }
-  std::uint32_t Frames() const { return tick_; }
+  /// Frames handed to the core since Start.
+  std::uint32_t Frames() const { return delivered_; }
 
   /// The DMA2 stream 0 interrupt handler body.
   void HandleDmaInterrupt();
+  /// The ADC interrupt handler body (overrun).
+  void HandleAdcInterrupt();
 
  private:
+  void Recover();
+  void CheckEncoderStreams();
+
   std::uint32_t timer_clock_hz_ = 0;
+  std::uint32_t scan_timer_ticks_ = 0;  ///< Timer clocks the scan's conversions take at least.
+  std::uint32_t min_period_us_ = 20;
   FrameSink* sink_ = nullptr;
   volatile bool running_ = false;
-  std::uint32_t tick_ = 0;
+  std::uint32_t next_tick_ = 0;
+  std::uint32_t delivered_ = 0;
   std::array<std::uint16_t, 2> last_encoder_raw_{};
   std::array<std::int32_t, 2> encoder_{};
   SamplerCounters counters_{};

@@ -88,6 +88,9 @@ extern const VectorTable g_vector_table;
 [[gnu::section(".isr_vector"), gnu::used]] const VectorTable g_vector_table = {&_estack, MakeVectors()};
 
 extern "C" [[noreturn]] void ResetHandler() {
+  // A jump from the ROM bootloader is not a reset: restart from a real one before touching
+  // anything (the PLL, the OTG core and its pending interrupts are still live).
+  vibid::fw::stm32::ResetIfStartedWithoutReset();
   vibid::fw::stm32::EnterBootloaderIfRequested();
   // The FPU must be on before any code that may use it (the compiler is free to).
   using vibid::fw::stm32::Reg;

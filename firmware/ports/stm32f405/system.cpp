@@ -36,6 +36,9 @@ void SystemReset() {
   DataSyncBarrier();
   Reg(scb::kAircr) = scb::kAircrVectKey | scb::kAircrSysResetReq;
   DataSyncBarrier();
+#if defined(VIBID_STM32_FAKE_REGISTERS)
+  fake::Halt();
+#endif
   for (;;) {
   }
 }
@@ -50,24 +53,50 @@ void EnterBootloaderIfRequested() {
   g_bootloader_request = 0;
   // Map system memory at 0 as a boot from BOOT0 = 1 would, then start the ROM with its own
   // stack pointer and reset vector.
-  Reg(rcc::kApb2enr) |= rcc::kApb2Syscfg;
+  EnableClock(rcc::kApb2enr, rcc::kApb2Syscfg);
   Reg(kSyscfgMemrmp) = kMemrmpSystemFlash;
   const std::uint32_t stack = Reg(kSystemMemory);
   const std::uint32_t entry = Reg(kSystemMemory + 4);
+#if defined(__arm__)
   asm volatile(
       "msr msp, %0\n"
       "bx %1\n" ::"r"(stack),
       "r"(entry));
+#else
+  (void)stack;
+  (void)entry;
+#endif
+}
+
+bool StartedWithoutReset() {
+  // After any reset the chip runs from HSI with HSE, PLL and the OTG clock off (RM0090 §7.3.1,
+  // §7.3.3 and §7.3.11 reset values). The ROM bootloader's DFU "leave" jumps here with its own
+  // USB clocking still up (AN3156), and a debugger "go" without reset does the same.
+  const bool pll_system_clock = (Reg(rcc::kCfgr) & rcc::kCfgrSwsMask) != rcc::kCfgrSwsHsi;
+  const bool oscillators_on = (Reg(rcc::kCr) & (rcc::kCrPllOn | rcc::kCrHseOn)) != 0;
+  const bool otg_clock_on = (Reg(rcc::kAhb2enr) & rcc::kAhb2OtgFs) != 0;
+  return pll_system_clock || oscillators_on || otg_clock_on;
+}
+
+void ResetIfStartedWithoutReset() {
+  if (StartedWithoutReset()) SystemReset();
+}
+
+std::uint32_t WatchdogReload(std::uint32_t timeout_ms) {
+  if (timeout_ms < 1) timeout_ms = 1;
+  if (timeout_ms > kWatchdogMaxTimeoutMs) timeout_ms = kWatchdogMaxTimeoutMs;
+  // Counts at the fastest LSI, rounded up: the timeout is never shorter than asked.
+  const std::uint64_t counts =
+      (std::uint64_t{timeout_ms} * kLsiMaxHz + std::uint64_t{kWatchdogPrescaler} * 1000 - 1) /
+      (std::uint64_t{kWatchdogPrescaler} * 1000);
+  return static_cast<std::uint32_t>(counts);
 }
 
 void StartWatchdog(std::uint32_t timeout_ms) {
-  if (timeout_ms == 0) timeout_ms = 1;
-  if (timeout_ms > 4000) timeout_ms = 4000;
   Reg(iwdg::kKr) = iwdg::kKeyStart;
   Reg(iwdg::kKr) = iwdg::kKeyUnlock;
-  // Prescaler /32 (PR = 3): 1 ms per count at 32 kHz; RLR holds 12 bits.
-  Reg(iwdg::kPr) = 3;
-  Reg(iwdg::kRlr) = timeout_ms - 1;
+  Reg(iwdg::kPr) = iwdg::kPrDiv32;
+  Reg(iwdg::kRlr) = WatchdogReload(timeout_ms) - 1;
   (void)WaitFor(iwdg::kSr, iwdg::kSrBusy, 0, 1000000);
   Reg(iwdg::kKr) = iwdg::kKeyReload;
 }

@@ -22,8 +22,24 @@ wire::ResetCause ReadAndClearResetCause();
 /// Called first thing from the reset handler: jumps to the ROM when RebootToBootloader asked.
 void EnterBootloaderIfRequested();
 
-/// Starts the independent watchdog (LSI ~32 kHz) with a timeout of about `timeout_ms`
-/// (1..4000); once started it cannot be stopped.
+/// True when the chip runs from anything but its reset clock state (HSI, PLL/HSE off, OTG clock
+/// off): the ROM bootloader jumped here after a DFU "leave" without a reset (AN3156).
+bool StartedWithoutReset();
+/// Called first thing from the reset handler: a start without a reset becomes a system reset, so
+/// the image always starts from the reset state (PLL off, OTG core idle, nothing pending).
+void ResetIfStartedWithoutReset();
+
+/// The LSI clocking the independent watchdog is 17..47 kHz (STM32F405 datasheet, LSI
+/// characteristics): the timeout is computed at 47 kHz, the shortest it can be, and is up to
+/// 2.8 times longer on a slow LSI.
+inline constexpr std::uint32_t kLsiMaxHz = 47000;
+inline constexpr std::uint32_t kWatchdogPrescaler = 32;
+/// 4095 counts (the 12-bit reload) at 47 kHz / 32.
+inline constexpr std::uint32_t kWatchdogMaxTimeoutMs = 4095ULL * kWatchdogPrescaler * 1000 / kLsiMaxHz;
+/// Reload count for a timeout of at least `timeout_ms` (clamped to 1..kWatchdogMaxTimeoutMs).
+std::uint32_t WatchdogReload(std::uint32_t timeout_ms);
+/// Starts the independent watchdog with a timeout of at least `timeout_ms` at any LSI frequency;
+/// once started it cannot be stopped.
 void StartWatchdog(std::uint32_t timeout_ms);
 void KickWatchdog();
 

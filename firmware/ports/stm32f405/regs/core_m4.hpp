@@ -63,6 +63,34 @@ inline constexpr unsigned kOtgFs = 67;
 inline constexpr unsigned kCount = 82;  ///< Vector entries after the 16 system exceptions.
 }  // namespace irq
 
+#if defined(VIBID_STM32_FAKE_REGISTERS)
+
+// Host build of the port's tests: barriers and interrupt masking are events the fake register
+// file records, so a test can check that a barrier follows a clock enable.
+namespace fake {
+enum class CpuOp : std::uint8_t { kDisableIrq, kEnableIrq, kWfi, kDsb, kIsb };
+void Cpu(CpuOp op);
+/// Where the target would never return (after a reset request): the test's register file throws.
+[[noreturn]] void Halt();
+}  // namespace fake
+inline void DisableInterrupts() { fake::Cpu(fake::CpuOp::kDisableIrq); }
+inline void EnableInterrupts() { fake::Cpu(fake::CpuOp::kEnableIrq); }
+inline void WaitForInterrupt() { fake::Cpu(fake::CpuOp::kWfi); }
+inline void DataSyncBarrier() { fake::Cpu(fake::CpuOp::kDsb); }
+inline void InstructionSyncBarrier() { fake::Cpu(fake::CpuOp::kIsb); }
+
+/// Single-threaded tests: nothing to mask. User-provided members keep `CriticalSection lock;`
+/// from warning as unused.
+class CriticalSection {
+ public:
+  CriticalSection() {}                // NOLINT(modernize-use-equals-default)
+  ~CriticalSection() {}               // NOLINT(modernize-use-equals-default)
+  CriticalSection(const CriticalSection&) = delete;
+  CriticalSection& operator=(const CriticalSection&) = delete;
+};
+
+#else
+
 inline void DisableInterrupts() { asm volatile("cpsid i" ::: "memory"); }
 inline void EnableInterrupts() { asm volatile("cpsie i" ::: "memory"); }
 inline void WaitForInterrupt() { asm volatile("wfi"); }
@@ -83,5 +111,14 @@ class CriticalSection {
  private:
   std::uint32_t primask_ = 0;
 };
+
+#endif
+
+/// Enables a peripheral clock and waits for it to take effect: ES0182 §2.1.13 (a delay after an
+/// RCC peripheral clock enable) asks for a DSB before the peripheral's registers are touched.
+inline void EnableClock(Address rcc_enable_register, std::uint32_t bits) {
+  Reg(rcc_enable_register) |= bits;
+  DataSyncBarrier();
+}
 
 }  // namespace vibid::fw::stm32

@@ -29,13 +29,16 @@ inline constexpr std::uint32_t kGusbcfgFdmod = Bit(30);
 inline constexpr std::uint32_t kGrstctlCsrst = Bit(0);
 inline constexpr std::uint32_t kGrstctlRxfflsh = Bit(4);
 inline constexpr std::uint32_t kGrstctlTxfflsh = Bit(5);
+inline constexpr unsigned kGrstctlTxfnumPos = 6;
 inline constexpr std::uint32_t kGrstctlTxfnumAll = 0x10U << 6;
 inline constexpr std::uint32_t kGrstctlAhbidl = Bit(31);
 inline constexpr std::uint32_t kGccfgPwrdwn = Bit(16);
 inline constexpr std::uint32_t kGccfgNovbussens = Bit(21);
 
 // GINTSTS / GINTMSK
+inline constexpr std::uint32_t kIntCmod = Bit(0);  ///< GINTSTS: 0 = device mode, 1 = host mode.
 inline constexpr std::uint32_t kIntRxflvl = Bit(4);
+inline constexpr std::uint32_t kIntGonakeff = Bit(7);  ///< Global OUT NAK effective.
 inline constexpr std::uint32_t kIntUsbsusp = Bit(11);
 inline constexpr std::uint32_t kIntUsbrst = Bit(12);
 inline constexpr std::uint32_t kIntEnumdne = Bit(13);
@@ -65,9 +68,12 @@ inline constexpr unsigned kDcfgDadPos = 4;
 inline constexpr std::uint32_t kDcfgDadMask = 0x7FU << 4;
 inline constexpr std::uint32_t kDctlSdis = Bit(1);
 inline constexpr std::uint32_t kDctlCginak = Bit(8);
+inline constexpr std::uint32_t kDctlSgonak = Bit(9);
 inline constexpr std::uint32_t kDctlCgonak = Bit(10);
 inline constexpr std::uint32_t kEpIntXfrc = Bit(0);
+inline constexpr std::uint32_t kEpIntEpdisd = Bit(1);  ///< Endpoint disabled.
 inline constexpr std::uint32_t kEpIntStup = Bit(3);  ///< DOEPINT: SETUP phase done.
+inline constexpr std::uint32_t kEpIntInepne = Bit(6);  ///< DIEPINT: IN endpoint NAK effective.
 inline constexpr std::uint32_t kEpIntTxfe = Bit(7);  ///< DIEPINT: TX FIFO empty.
 
 constexpr Address Diepctl(unsigned n) { return kBase + 0x900 + 0x20 * n; }

@@ -41,6 +41,7 @@ namespace tim {
 inline constexpr Address kTim2 = 0x40000000;
 inline constexpr Address kTim3 = 0x40000400;
 inline constexpr Address kTim4 = 0x40000800;
+inline constexpr Address kTim5 = 0x40000C00;
 inline constexpr Address kCr1 = 0x00;
 inline constexpr Address kCr2 = 0x04;
 inline constexpr Address kSmcr = 0x08;
@@ -62,7 +63,13 @@ inline constexpr std::uint32_t kSmcrEncoderMode3 = 0x3;
 /// CCMR1 CC1S (1:0) = 01 and CC2S (9:8) = 01: IC1 on TI1, IC2 on TI2; IC1F/IC2F (7:4, 15:12)
 /// = 0011: fCK_INT, N = 8 glitch filter for the encoder lines.
 inline constexpr std::uint32_t kCcmr1EncoderInputs = 0x1U | (0x3U << 4) | (0x1U << 8) | (0x3U << 12);
+/// SMCR TS (6:4) = 000: ITR0, which is TIM2's TRGO for TIM5 (RM0090 table 99, TIMx internal
+/// trigger connection); SMS (2:0) = 111: external clock mode 1, one count per trigger edge.
+inline constexpr std::uint32_t kSmcrTsItr0 = 0x0U << 4;
+inline constexpr std::uint32_t kSmcrExternalClock1 = 0x7;
 inline constexpr std::uint32_t kDierUie = Bit(0);
+inline constexpr std::uint32_t kDierUde = Bit(8);  ///< DMA request on update.
+inline constexpr std::uint32_t kDierTde = Bit(14); ///< DMA request on trigger.
 inline constexpr std::uint32_t kSrUif = Bit(0);
 inline constexpr std::uint32_t kEgrUg = Bit(0);
 }  // namespace tim
@@ -80,6 +87,7 @@ inline constexpr Address kDr = 0x4C;
 
 inline constexpr std::uint32_t kSrOvr = Bit(5);
 inline constexpr std::uint32_t kCr1Scan = Bit(8);
+inline constexpr std::uint32_t kCr1Ovrie = Bit(26);
 inline constexpr std::uint32_t kCr2Adon = Bit(0);
 inline constexpr std::uint32_t kCr2Dma = Bit(8);
 inline constexpr std::uint32_t kCr2Dds = Bit(9);
@@ -95,9 +103,12 @@ inline constexpr std::uint32_t kSample56Cycles = 0x3;
 }  // namespace adc
 
 namespace dma {
+inline constexpr Address kDma1 = 0x40026000;
 inline constexpr Address kDma2 = 0x40026400;
 inline constexpr Address kLisr = 0x00;
+inline constexpr Address kHisr = 0x04;
 inline constexpr Address kLifcr = 0x08;
+inline constexpr Address kHifcr = 0x0C;
 /// Stream n registers start at 0x10 + 0x18 * n.
 constexpr Address Stream(Address dma_base, unsigned n) { return dma_base + 0x10 + 0x18 * n; }
 inline constexpr Address kSxCr = 0x00;
@@ -119,6 +130,13 @@ inline constexpr unsigned kCrChselPos = 25;
 inline constexpr std::uint32_t kStream0Flags = Bit(0) | Bit(2) | Bit(3) | Bit(4) | Bit(5);
 inline constexpr std::uint32_t kStream0Tcif = Bit(5);
 inline constexpr std::uint32_t kStream0Teif = Bit(3);
+/// The same six-bit group sits at bit 0, 6, 16 and 22 for streams 0..3 (LISR) and 4..7 (HISR).
+constexpr unsigned FlagShift(unsigned stream) {
+  constexpr unsigned kShift[4] = {0, 6, 16, 22};
+  return kShift[stream % 4];
+}
+constexpr Address FlagStatus(unsigned stream) { return stream < 4 ? kLisr : kHisr; }
+constexpr Address FlagClear(unsigned stream) { return stream < 4 ? kLifcr : kHifcr; }
 }  // namespace dma
 
 namespace usart {
@@ -145,6 +163,8 @@ inline constexpr Address kSr = kBase + 0x0C;
 inline constexpr std::uint32_t kKeyStart = 0xCCCC;
 inline constexpr std::uint32_t kKeyReload = 0xAAAA;
 inline constexpr std::uint32_t kKeyUnlock = 0x5555;
+/// PR = 3: LSI / 32.
+inline constexpr std::uint32_t kPrDiv32 = 3;
 /// SR: PVU (0) and RVU (1) are set while a prescaler/reload update is in progress.
 inline constexpr std::uint32_t kSrBusy = 0x3;
 }  // namespace iwdg

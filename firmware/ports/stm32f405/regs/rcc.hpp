@@ -48,11 +48,13 @@ inline constexpr std::uint32_t kCfgrPrescalerMask = (0xFU << 4) | (0x7U << 10) |
 inline constexpr std::uint32_t kAhb1GpioA = Bit(0);
 inline constexpr std::uint32_t kAhb1GpioB = Bit(1);
 inline constexpr std::uint32_t kAhb1GpioC = Bit(2);
+inline constexpr std::uint32_t kAhb1Dma1 = Bit(21);
 inline constexpr std::uint32_t kAhb1Dma2 = Bit(22);
 inline constexpr std::uint32_t kAhb2OtgFs = Bit(7);
 inline constexpr std::uint32_t kApb1Tim2 = Bit(0);
 inline constexpr std::uint32_t kApb1Tim3 = Bit(1);
 inline constexpr std::uint32_t kApb1Tim4 = Bit(2);
+inline constexpr std::uint32_t kApb1Tim5 = Bit(3);
 inline constexpr std::uint32_t kApb1Pwr = Bit(28);
 inline constexpr std::uint32_t kApb2Usart1 = Bit(4);
 inline constexpr std::uint32_t kApb2Adc1 = Bit(8);
@@ -86,11 +88,14 @@ inline constexpr Address kCr = kBase + 0x10;
 inline constexpr std::uint32_t kKey1 = 0x45670123;
 inline constexpr std::uint32_t kKey2 = 0xCDEF89AB;
 
-// FLASH_ACR: LATENCY 2:0 (wait states), PRFTEN 8, ICEN 9, DCEN 10.
+// FLASH_ACR: LATENCY 2:0 (wait states), PRFTEN 8, ICEN 9, DCEN 10, ICRST 11, DCRST 12 (the
+// cache resets work only while the cache is disabled).
 inline constexpr std::uint32_t kAcrLatencyMask = 0x7;
 inline constexpr std::uint32_t kAcrPrften = Bit(8);
 inline constexpr std::uint32_t kAcrIcen = Bit(9);
 inline constexpr std::uint32_t kAcrDcen = Bit(10);
+inline constexpr std::uint32_t kAcrIcrst = Bit(11);
+inline constexpr std::uint32_t kAcrDcrst = Bit(12);
 
 // FLASH_SR
 inline constexpr std::uint32_t kSrEop = Bit(0);
@@ -107,6 +112,7 @@ inline constexpr std::uint32_t kCrPg = Bit(0);
 inline constexpr std::uint32_t kCrSer = Bit(1);
 inline constexpr unsigned kCrSnbPos = 3;
 inline constexpr std::uint32_t kCrSnbMask = 0xFU << 3;
+inline constexpr std::uint32_t kCrPsizeX8 = 0x0U << 8;
 inline constexpr std::uint32_t kCrPsizeX32 = 0x2U << 8;
 inline constexpr std::uint32_t kCrPsizeMask = 0x3U << 8;
 inline constexpr std::uint32_t kCrStrt = Bit(16);

@@ -1,0 +1,59 @@
+// ConfigureClocks on the fake register file: the PLL register takes the planned factors for
+// the build's crystal (8 MHz in this test build), the flash wait states go up before the switch,
+// and a PWR clock enable is followed by a DSB (ES0182 §2.1.13).
+#include "clock.hpp"
+#include "port_test_fixture.hpp"
+#include "regs/rcc.hpp"
+
+namespace vibid::fw::stm32::test {
+namespace {
+
+class ClockTest : public PortTest {
+ protected:
+  void ModelRcc(bool hse_starts) {
+    regs().OnWrite(rcc::kCr, [hse_starts](std::uint32_t, std::uint32_t w) {
+      if (hse_starts && (w & rcc::kCrHseOn) != 0) w |= rcc::kCrHseRdy;
+      if ((w & rcc::kCrPllOn) != 0) w |= rcc::kCrPllRdy;
+      if ((w & rcc::kCrHsiOn) != 0) w |= rcc::kCrHsiRdy;
+      return w;
+    });
+    // SWS follows SW.
+    regs().OnWrite(rcc::kCfgr, [](std::uint32_t, std::uint32_t w) {
+      return (w & ~rcc::kCfgrSwsMask) | ((w & rcc::kCfgrSwMask) << 2);
+    });
+  }
+};
+
+TEST_F(ClockTest, ProgramsThePlannedPllFor8MHz) {
+  ModelRcc(true);
+  const ClockConfig c = ConfigureClocks();
+  EXPECT_EQ(c.source, ClockSource::kPllFromHse);
+  EXPECT_EQ(c.sysclk_hz, 168000000U);
+  EXPECT_EQ(HseHz(), 8000000U);
+  // PLLM 4 (bits 5:0), PLLN 168 (14:6), PLLP /2 = 00 (17:16), PLLSRC HSE (22), PLLQ 7 (27:24):
+  // 4 | 168 << 6 | 1 << 22 | 7 << 24, by hand from RM0090 §7.3.2.
+  EXPECT_EQ(regs().Peek(rcc::kPllcfgr), 0x07402A04U);
+  const std::size_t latency = regs().FindWriteWithBits(flash::kAcr, 5);
+  const std::size_t to_pll = regs().FindWriteWithBits(rcc::kCfgr, rcc::kCfgrSwPll);
+  ASSERT_NE(latency, kNone);
+  ASSERT_NE(to_pll, kNone);
+  EXPECT_LT(latency, to_pll);
+  const std::size_t pwr_clock = regs().FindWriteWithBits(rcc::kApb1enr, rcc::kApb1Pwr);
+  const std::size_t dsb = regs().FindCpu(fake::CpuOp::kDsb, pwr_clock);
+  const std::size_t vos = regs().FindWriteWithBits(pwr::kCr, pwr::kCrVos);
+  ASSERT_NE(pwr_clock, kNone);
+  ASSERT_NE(dsb, kNone);
+  EXPECT_LT(dsb, vos);
+}
+
+TEST_F(ClockTest, FallsBackToHsiWhenTheCrystalDoesNotStart) {
+  ModelRcc(false);
+  const ClockConfig c = ConfigureClocks();
+  EXPECT_EQ(c.source, ClockSource::kHsiFallback);
+  EXPECT_EQ(c.sysclk_hz, 16000000U);
+  EXPECT_EQ(regs().Peek(rcc::kCfgr) & rcc::kCfgrSwMask, rcc::kCfgrSwHsi);
+  EXPECT_EQ(regs().FindWriteWithBits(rcc::kCr, rcc::kCrPllOn), kNone);
+}
+
+}  // namespace
+}  // namespace vibid::fw::stm32::test

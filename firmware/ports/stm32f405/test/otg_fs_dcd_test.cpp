@@ -1,0 +1,202 @@
+// OTG_FS driver on the fake register file: interrupt hygiene at Init, device mode confirmed,
+// EP0 IN disabled and its FIFO flushed on SETUP and on stall (TinyUSB dwc2), the RM0090 OUT
+// endpoint disable sequence, and a DSB after the clock enable (ES0182 §2.1.13).
+#include <vector>
+
+#include "otg_fs_dcd.hpp"
+#include "port_test_fixture.hpp"
+#include "regs/otg_fs.hpp"
+#include "regs/rcc.hpp"
+
+namespace vibid::fw::stm32::test {
+namespace {
+
+// OTG_FS is IRQ 67: NVIC word 2, bit 3.
+constexpr Address kIser2 = 0xE000E108;
+constexpr Address kIcer2 = 0xE000E188;
+constexpr Address kIcpr2 = 0xE000E288;
+constexpr std::uint32_t kOtgBit = Bit(3);
+
+class Events final : public usb::DcdEvents {
+ public:
+  void OnBusReset() override { calls.push_back("reset"); }
+  void OnSetupReceived(std::span<const std::uint8_t, 8>) override {
+    calls.push_back("setup");
+    log_at_setup = FakeRegisters::Get().Log().size();
+  }
+  void OnTransferComplete(std::uint8_t, std::uint16_t) override { calls.push_back("xfer"); }
+  void OnSuspend() override { calls.push_back("suspend"); }
+  void OnResume() override { calls.push_back("resume"); }
+  std::vector<const char*> calls;
+  std::size_t log_at_setup = 0;
+};
+
+class OtgTest : public PortTest {
+ protected:
+  void SetUp() override {
+    PortTest::SetUp();
+    ModelCore();
+  }
+  /// The core's self-clearing reset and flush bits, EPDIS completing into EPDISD, and the
+  /// global OUT NAK taking effect.
+  static void ModelCore() {
+    regs().OnRead(otg::kGrstctl, [](std::uint32_t held) { return held | otg::kGrstctlAhbidl; });
+    regs().OnWrite(otg::kGrstctl, [](std::uint32_t, std::uint32_t w) {
+      return w & ~(otg::kGrstctlCsrst | otg::kGrstctlTxfflsh | otg::kGrstctlRxfflsh);
+    });
+    for (unsigned n = 0; n < OtgFsDcd::kEndpoints; ++n) {
+      for (const bool in : {true, false}) {
+        const Address ctl = in ? otg::Diepctl(n) : otg::Doepctl(n);
+        const Address intr = in ? otg::Diepint(n) : otg::Doepint(n);
+        regs().OnWrite(ctl, [intr, in](std::uint32_t, std::uint32_t w) {
+          if (in && (w & otg::kEpctlSnak) != 0) {
+            FakeRegisters::Get().Poke(intr, FakeRegisters::Get().Peek(intr) | otg::kEpIntInepne);
+            w &= ~otg::kEpctlSnak;
+          }
+          if ((w & otg::kEpctlEpdis) != 0) {
+            FakeRegisters::Get().Poke(intr, FakeRegisters::Get().Peek(intr) | otg::kEpIntEpdisd);
+            w &= ~(otg::kEpctlEpdis | otg::kEpctlEpena);
+          }
+          return w;
+        });
+        // Write-1-to-clear interrupt flags.
+        regs().OnWrite(intr, [](std::uint32_t held, std::uint32_t w) { return held & ~w; });
+      }
+    }
+    // GINTSTS flags are write-1-to-clear.
+    regs().OnWrite(otg::kGintsts, [](std::uint32_t held, std::uint32_t w) { return held & ~w; });
+    // SGONAK queues the "global OUT NAK effective" entry (PKTSTS 0001) in the RX FIFO;
+    // GONAKEFF is set once it has been popped; CGONAK ends the mode.
+    regs().OnWrite(otg::kDctl, [](std::uint32_t held, std::uint32_t w) {
+      FakeRegisters& r = FakeRegisters::Get();
+      if ((w & otg::kDctlSgonak) != 0 && (held & otg::kDctlSgonak) == 0) {
+        r.Poke(otg::kGintsts, r.Peek(otg::kGintsts) | otg::kIntRxflvl);
+        r.Poke(otg::kGrxstsp, 1U << 17);
+      }
+      if ((w & otg::kDctlCgonak) != 0) {
+        w &= ~(otg::kDctlSgonak | otg::kDctlCgonak);
+        r.Poke(otg::kGintsts, r.Peek(otg::kGintsts) & ~otg::kIntGonakeff);
+      }
+      return w;
+    });
+    regs().OnRead(otg::kGrxstsp, [](std::uint32_t held) {
+      FakeRegisters& r = FakeRegisters::Get();
+      if (held == (1U << 17)) {
+        r.Poke(otg::kGintsts, (r.Peek(otg::kGintsts) & ~otg::kIntRxflvl) | otg::kIntGonakeff);
+        r.Poke(otg::kGrxstsp, 0);
+      }
+      return held;
+    });
+  }
+  OtgFsDcd dcd_;
+  Events events_;
+};
+
+TEST_F(OtgTest, InitMasksAndClearsTheInterruptUntilTheCoreIsReady) {
+  ASSERT_EQ(dcd_.Init(events_), Status::kOk);
+  const auto& log = regs().Log();
+  const std::size_t masked = regs().FindWrite(kIcer2, kOtgBit);
+  const std::size_t cleared = regs().FindWrite(kIcpr2, kOtgBit);
+  ASSERT_EQ(masked, 0U);  // the very first access
+  ASSERT_EQ(cleared, 1U);
+  // A DSB right after the OTG clock enable write.
+  const std::size_t clock = regs().FindWriteWithBits(rcc::kAhb2enr, rcc::kAhb2OtgFs);
+  ASSERT_NE(clock, kNone);
+  EXPECT_EQ(log[clock + 1].kind, Access::Kind::kCpu);
+  EXPECT_EQ(log[clock + 1].op, fake::CpuOp::kDsb);
+  // Core interrupts cleared, global enable, pending cleared again, then the NVIC enable last.
+  const std::size_t sts = regs().FindWrite(otg::kGintsts, 0xFFFFFFFF);
+  const std::size_t gint = regs().FindWrite(otg::kGahbcfg, otg::kGahbcfgGint, sts);
+  const std::size_t cleared_again = regs().FindWrite(kIcpr2, kOtgBit, gint);
+  const std::size_t enabled = regs().FindWrite(kIser2, kOtgBit, cleared_again);
+  ASSERT_NE(enabled, kNone);
+  EXPECT_EQ(regs().FindWrite(kIser2, kOtgBit), enabled);  // never enabled earlier
+}
+
+TEST_F(OtgTest, InitRefusesACoreThatStaysInHostMode) {
+  regs().Poke(otg::kGintsts, otg::kIntCmod);
+  EXPECT_EQ(dcd_.Init(events_), Status::kUnavailable);
+  EXPECT_EQ(regs().FindWrite(kIser2, kOtgBit), kNone);
+}
+
+TEST_F(OtgTest, InterruptBeforeInitTouchesNothing) {
+  regs().Poke(otg::kGintsts, otg::kIntUsbrst | otg::kIntEnumdne);
+  regs().Poke(otg::kGintmsk, 0xFFFFFFFF);
+  dcd_.HandleInterrupt();
+  ASSERT_EQ(regs().WritesTo(kIcer2), std::vector<std::uint32_t>{kOtgBit});
+  for (const Access& a : regs().Log()) {
+    EXPECT_FALSE(a.kind == Access::Kind::kWrite && a.address >= otg::kBase && a.address < otg::kBase + 0x40000);
+  }
+  EXPECT_TRUE(events_.calls.empty());
+}
+
+TEST_F(OtgTest, NewSetupDisablesEp0InAndFlushesItsFifoFirst) {
+  ASSERT_EQ(dcd_.Init(events_), Status::kOk);
+  // A control read still in flight on EP0 IN when the host sends a new SETUP.
+  regs().Poke(otg::Diepctl(0), otg::kEpctlEpena);
+  const std::size_t before = regs().Log().size();
+  regs().Poke(otg::kGintsts, otg::kIntOepint);
+  regs().Poke(otg::kDaint, Bit(16));
+  regs().Poke(otg::Doepint(0), otg::kEpIntStup);
+  dcd_.HandleInterrupt();
+  ASSERT_EQ(events_.calls, std::vector<const char*>{"setup"});
+  // NAK first, EPDIS only once the NAK is effective (INEPNE), then EPDISD acknowledged.
+  const std::size_t nak = regs().FindWriteWithBits(otg::Diepctl(0), otg::kEpctlSnak, before);
+  const std::size_t disable = regs().FindWriteWithBits(otg::Diepctl(0), otg::kEpctlEpdis | otg::kEpctlSnak, before);
+  ASSERT_NE(nak, kNone);
+  EXPECT_LT(nak, disable);
+  EXPECT_EQ(regs().Log()[nak].value & otg::kEpctlEpdis, 0U);
+  const std::size_t ack = regs().FindWriteWithBits(otg::Diepint(0), otg::kEpIntEpdisd, disable);
+  // GRSTCTL TXFFLSH (bit 5) with TXFNUM 0 (10:6).
+  const std::size_t flush = regs().FindWrite(otg::kGrstctl, otg::kGrstctlTxfflsh, ack);
+  ASSERT_NE(disable, kNone);
+  ASSERT_NE(ack, kNone);
+  ASSERT_NE(flush, kNone);
+  EXPECT_LT(flush, events_.log_at_setup);
+}
+
+TEST_F(OtgTest, StallOnEp0AlsoFlushesEp0In) {
+  ASSERT_EQ(dcd_.Init(events_), Status::kOk);
+  const std::size_t before = regs().Log().size();
+  dcd_.EndpointStall(0x80);
+  EXPECT_NE(regs().FindWriteWithBits(otg::Diepctl(0), otg::kEpctlStall | otg::kEpctlSnak, before), kNone);
+  EXPECT_NE(regs().FindWrite(otg::kGrstctl, otg::kGrstctlTxfflsh, before), kNone);
+  // EP1 IN: TXFNUM 1 -> 1 << 6.
+  dcd_.EndpointStall(0x81);
+  EXPECT_NE(regs().FindWrite(otg::kGrstctl, otg::kGrstctlTxfflsh | (1U << 6), before), kNone);
+}
+
+TEST_F(OtgTest, ReconfigurationDisablesOutEndpointsInTheRm0090Order) {
+  ASSERT_EQ(dcd_.Init(events_), Status::kOk);
+  regs().Poke(otg::Doepctl(1), otg::kEpctlEpena | otg::kEpctlUsbaep);
+  const std::size_t before = regs().Log().size();
+  dcd_.EndpointCloseAll();
+  // SGONAK -> RX FIFO popped up to the NAK entry (GONAKEFF) -> EPDIS | SNAK -> (EPDISD)
+  // acknowledged -> CGONAK.
+  const std::size_t sgonak = regs().FindWriteWithBits(otg::kDctl, otg::kDctlSgonak, before);
+  std::size_t popped = kNone;
+  for (std::size_t i = sgonak; i < regs().Log().size() && popped == kNone; ++i) {
+    const Access& a = regs().Log()[i];
+    if (a.kind == Access::Kind::kRead && a.address == otg::kGrxstsp) popped = i;
+  }
+  ASSERT_NE(popped, kNone);
+  const std::size_t epdis = regs().FindWriteWithBits(otg::Doepctl(1), otg::kEpctlEpdis | otg::kEpctlSnak, popped);
+  const std::size_t ack = regs().FindWrite(otg::Doepint(1), otg::kEpIntEpdisd, epdis);
+  const std::size_t cgonak = regs().FindWriteWithBits(otg::kDctl, otg::kDctlCgonak, ack);
+  ASSERT_NE(sgonak, kNone);
+  ASSERT_NE(epdis, kNone);
+  ASSERT_NE(ack, kNone);
+  ASSERT_NE(cgonak, kNone);
+  // Endpoints not enabled are left alone: no global OUT NAK for EP2/EP3.
+  EXPECT_EQ(regs().FindWriteWithBits(otg::kDctl, otg::kDctlSgonak, cgonak + 1), kNone);
+  EXPECT_EQ(regs().Peek(otg::Doepctl(1)) & otg::kEpctlUsbaep, 0U);
+}
+
+TEST_F(OtgTest, InTransfersPendingFollowsEpena) {
+  EXPECT_FALSE(dcd_.InTransfersPending());
+  regs().Poke(otg::Diepctl(1), otg::kEpctlEpena);
+  EXPECT_TRUE(dcd_.InTransfersPending());
+}
+
+}  // namespace
+}  // namespace vibid::fw::stm32::test
