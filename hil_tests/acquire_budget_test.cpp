@@ -95,7 +95,7 @@ TEST_F(AcquireBudgetTest, TheDecimatedLogFitsAndDropsNothing) {
   const std::string out = dir + "/decimated.csv";
   const auto r = Vibid({"acquire", "--rate-hz", "10000", "--log-rate-hz", "2000", "--seconds", "3", "-o", out});
   ASSERT_EQ(r.exit_code, 0) << r.err;
-  EXPECT_EQ(r.err.find("dropped"), std::string::npos) << r.err;
+  EXPECT_EQ(r.err.find("the board dropped"), std::string::npos) << r.err;
   EXPECT_EQ(DataRows(out), 6000u);
   std::ifstream in(out);
   std::string header;
@@ -114,7 +114,7 @@ TEST_F(AcquireBudgetTest, ThreeChannelsStreamTenMinutesAtFiveKilohertz) {
   const auto r = Vibid({"acquire", "--rate-hz", "5000", "--channels", "force1,acc1,acc2", "--seconds", "600",
                         "--scenario", "hammer", "--scenario-param", "2,200,2,0", "-o", out});
   ASSERT_EQ(r.exit_code, 0) << r.err;
-  EXPECT_EQ(r.err.find("dropped"), std::string::npos) << r.err;
+  EXPECT_EQ(r.err.find("the board dropped"), std::string::npos) << r.err;
   EXPECT_EQ(DataRows(out), 3'000'000u);
 }
 

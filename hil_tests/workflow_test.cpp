@@ -50,7 +50,7 @@ TEST(Workflow, CalibratesTheEmulatedRigAndTheObserverFindsThePush) {
   ASSERT_EQ(rc, 0) << ReadText(log);
   // Every acquisition fit the link: the CLI names any record the board dropped.
   const std::string transcript = ReadText(log);
-  EXPECT_EQ(transcript.find("dropped"), std::string::npos) << transcript;
+  EXPECT_EQ(transcript.find("the board dropped"), std::string::npos) << transcript;
   EXPECT_NE(transcript.find("link          64000 B/s"), std::string::npos) << "vibid info shows the board's link";
 
   // Truth: the emulator's built-in rig (m1 2.0 kg with 9 % effective-mass loss, m2 1.53 kg,

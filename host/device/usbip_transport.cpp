@@ -16,8 +16,10 @@
 namespace vibid::device {
 namespace {
 
-/// Interrupt IN URBs kept queued, so the device always has somewhere to put its next report.
-constexpr int kInUrbs = 4;
+/// Interrupt IN URBs kept queued, so the device always has somewhere to put its next report, as
+/// the kernel's HID driver polls every frame. The emulator's next frame waits while a report is
+/// ready and none is queued; more of them means fewer such waits per TCP round trip.
+constexpr int kInUrbs = 16;
 constexpr std::chrono::milliseconds kConnectTimeout{2000};
 
 std::string Where(const std::string& host, int port) { return host + ":" + std::to_string(port); }

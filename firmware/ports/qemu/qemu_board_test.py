@@ -102,11 +102,11 @@ def inject(board, frames):
             time.sleep(0.01)
 
 
-def acquire(board, frames, channel_mask, flags, record_bytes):
-    """Configures (200 us, immediate trigger, stop after len(frames) records), injects the frames,
-    waits for the end and pulls the log. Returns (data reports, trailer)."""
-    count = len(frames)
-    config = struct.pack("<IBBHBBHiII", 200, channel_mask, flags, 1, 0, 0, 0, 0, 0, count)
+def acquire(board, frames, channel_mask, flags, record_bytes, decimation=1):
+    """Configures (200 us, immediate trigger, stop after the records of len(frames) frames),
+    injects the frames, waits for the end and pulls the log. Returns (data reports, trailer)."""
+    count = (len(frames) + decimation - 1) // decimation
+    config = struct.pack("<IBBHBBHiII", 200, channel_mask, flags, decimation, 0, 0, 0, 0, 0, count)
     r = board.request(ACQ_CONFIGURE, config)
     check(r.status == OK, "acquisition: configure accepted")
     if r.status != OK:
@@ -237,6 +237,22 @@ def test_dob(board, tool):
         print(f"dob: d_hat range {min(d_hat)} .. {max(d_hat)} (Q31)")
 
 
+def test_decimated_dob(board, tool, decimation):
+    """The sampling interrupt's heaviest case: every channel and d_hat, the observer running,
+    through the anti-aliasing decimator. Checks the record count; the cost is printed below."""
+    with tempfile.TemporaryDirectory() as tmp:
+        record_path = os.path.join(tmp, "record.bin")
+        subprocess.run([tool, "record", record_path], check=True)
+        with open(record_path, "rb") as f:
+            upload_calibration(board, f.read())
+    count = 2000
+    data, trailer = acquire(board, rig_frames(count), 0x3F, 0x01, 20, decimation)
+    records = log_records(data, 0x3F, True) if data else []
+    check(len(records) == count // decimation,
+          f"decimated dob: {count // decimation} records of {count} frames (decimation {decimation})")
+    check([t for t, _ in records] == list(range(0, count, decimation)), "decimated dob: ticks 0, D, 2D, ...")
+
+
 def report_isr_cost(diag):
     """The image counts SysTick cycles (168 MHz core clock) spent in the sampling interrupt; under
     -icount shift=0 one instruction takes 1 ns of virtual time, so cycles * 1e9 / 168e6 is the
@@ -256,13 +272,17 @@ def main():
     parser.add_argument("image")
     parser.add_argument("--fw-version", required=True)
     parser.add_argument("--dob-reference", help="host tool vibid_qemu_dob_reference")
+    parser.add_argument("--decimation", type=int, default=0,
+                        help="with --dob-reference: every channel and d_hat through the decimator instead")
     args = parser.parse_args()
     fw_version = tuple(int(x) for x in args.fw_version.split("."))
     if args.dob_reference and not os.path.exists(args.dob_reference):
         print(f"skipped: {args.dob_reference} is not built (build the host preset first; scripts/test does)")
         return SKIPPED
     with QemuBoard(args.image) as board:
-        if args.dob_reference:
+        if args.dob_reference and args.decimation:
+            test_decimated_dob(board, args.dob_reference, args.decimation)
+        elif args.dob_reference:
             test_dob(board, args.dob_reference)
         else:
             test_ping(board)
