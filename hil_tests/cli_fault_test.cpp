@@ -109,7 +109,8 @@ std::vector<std::string> Lines(const std::string& text) {
 // the next `log pull` returns the acquisition's log again, and `--from N` resumes at record N.
 TEST(CliPullTest, PullKilledMidwayIsRepeatedAndResumedWithNothingLostOrDuplicated) {
   if (MakeTarget()->Name() != "emu") GTEST_SKIP() << "needs the emu target (a vibid-emu process)";
-  EmulatorProcess emu(EmulatorBinary());
+  // In real time, so the pull (1000 reports, one per 1 ms frame) is still going when it is killed.
+  EmulatorProcess emu(EmulatorBinary(), {"--realtime"});
   const std::string dir = vibid::testing::MakeTempDir("cli-pull");
   const std::string acquired = dir + "/acquired.csv", pulled = dir + "/pulled.csv", tail = dir + "/tail.csv";
   // 1.6 s at 5 kHz of three channels (10 bytes a record in the board's RAM): 8000 records, all
@@ -173,7 +174,7 @@ TEST_F(CliCoreFaultTest, AnotherProtocolMajorIsRefusedNamingBothVersions) {
   loop->SetProtocolMajor(wire::kProtocolMajor + 1);
   const auto r = Vibid({"info"});
   EXPECT_EQ(r.exit_code, 4);
-  EXPECT_EQ(r.err, "vibid: error: the device speaks protocol 2.x, this host speaks 1." + std::to_string(wire::kProtocolMinor) +
+  EXPECT_EQ(r.err, "vibid: error: the device speaks protocol 3.x, this host speaks 2." + std::to_string(wire::kProtocolMinor) +
                        ": flash firmware that matches this host (vibid flash) or use a matching host\n");
   EXPECT_TRUE(r.out.empty()) << r.out;
 }

@@ -274,8 +274,8 @@ TEST_F(DeviceTest, WrongProtocolMajorIsRefusedNamingBothVersions) {
     FAIL() << "connected to a device of another protocol major";
   } catch (const DeviceError& e) {
     const std::string m = e.what();
-    EXPECT_NE(m.find("protocol 2.x"), std::string::npos) << m;
-    EXPECT_NE(m.find("this host speaks 1."), std::string::npos) << m;
+    EXPECT_NE(m.find("protocol 3.x"), std::string::npos) << m;
+    EXPECT_NE(m.find("this host speaks 2."), std::string::npos) << m;
   }
 }
 

@@ -59,6 +59,7 @@ LinkBudget ComputeLinkBudget(const wire::InfoResponse& info, const wire::AcqConf
   b.data_bytes_per_s = b.log_rate_hz * static_cast<double>(b.record_bytes);
   b.link_bytes_per_s = static_cast<double>(info.link_reports_per_s) * wire::kReportBytes;
   b.link_records_per_s = static_cast<double>(info.link_reports_per_s) * static_cast<double>(b.records_per_report);
+  b.log_bytes = info.log_capacity_bytes;
   b.capacity_records = static_cast<std::uint32_t>(info.log_capacity_bytes / b.stored_record_bytes);
   const double free_records = static_cast<double>(b.capacity_records) - config.pretrigger_records;
   b.overflow_after_s = b.KeepsUp() ? std::numeric_limits<double>::infinity()
@@ -73,7 +74,7 @@ std::string DescribeOverflow(const LinkBudget& b, double seconds) {
   o << b.data_bytes_per_s << " B/s of log records (" << b.log_rate_hz << " records/s of " << b.record_bytes
     << " B) exceed the link's " << b.link_records_per_s * static_cast<double>(b.record_bytes) << " B/s ("
     << b.records_per_report << " records per 64-byte report, " << b.link_bytes_per_s / wire::kReportBytes
-    << " reports/s); the " << b.capacity_records * b.stored_record_bytes / 1024 << " KiB log overflows after ";
+    << " reports/s); the " << b.log_bytes / 1024 << " KiB log overflows after ";
   o.precision(1);
   o << b.overflow_after_s << " s of the " << seconds << " s";
   const double fitting = b.FittingLogRateHz();

@@ -182,17 +182,26 @@ void Emulator::AdvanceTime() {
       std::chrono::duration_cast<std::chrono::microseconds>(now - last_wall_).count());
   last_wall_ = now;
   const bool sampling = app_ && app_->frames.Running();
-  if (!Busy()) {
-    // Idle: the clock follows the wall clock, frame by frame (a request still takes a frame).
+  if (!Busy() || (options_.speed > 0.0 && !sampling)) {
+    // Idle, or a paced emulator that is not sampling: the clock follows the wall clock, frame by
+    // frame (a request still takes a frame, a paced log pull runs at the board's real pace).
     pacing_ = false;
     idle_us_ = std::min<std::uint64_t>(idle_us_ + wall_us, 100 * kFrameUs);
-    for (; idle_us_ >= kFrameUs && !Busy(); idle_us_ -= kFrameUs) RunFrame();
-    if (Busy()) idle_us_ = 0;
+    for (; idle_us_ >= kFrameUs; idle_us_ -= kFrameUs) {
+      if (!Busy()) {
+        RunFrame();
+      } else if (options_.speed > 0.0 && !WaitForHost(now)) {
+        RunFrame();
+      } else {
+        break;
+      }
+    }
+    if (Busy() && options_.speed <= 0.0) idle_us_ = 0;
     return;
   }
   idle_us_ = 0;
   int frames = kChunkFrames;
-  if (options_.speed > 0.0 && sampling) {
+  if (options_.speed > 0.0) {
     if (!pacing_) {
       pacing_ = true;
       pace_wall_ = now;
@@ -203,8 +212,6 @@ void Emulator::AdvanceTime() {
     const double behind = static_cast<double>(pace_sim_us_) + elapsed_us * options_.speed -
                           static_cast<double>(sim_us_);
     frames = behind <= 0.0 ? 0 : static_cast<int>(std::min<double>(kChunkFrames, behind / kFrameUs + 1.0));
-  } else if (!sampling) {
-    pacing_ = false;
   }
   for (int i = 0; i < frames && Busy(); ++i) {
     if (WaitForHost(now)) return;

@@ -25,6 +25,7 @@ struct LinkBudget {
   double data_bytes_per_s = 0.0;         ///< log_rate_hz x record_bytes.
   double link_bytes_per_s = 0.0;         ///< Reports per second x 64.
   double link_records_per_s = 0.0;       ///< Reports per second x records_per_report.
+  std::uint32_t log_bytes = 0;           ///< The board's log RAM.
   std::uint32_t capacity_records = 0;    ///< Records the log holds.
   /// Seconds after the trigger until the log is full and records are dropped; infinity when
   /// the link keeps up. Pre-trigger records already occupy part of the log.
