@@ -145,11 +145,11 @@ def test_acquisition(board, count=600):
     check([r[1] for r in records] == frames, "log-read: every record equals the injected frame")
 
 
-def log_records(data, channel_mask, with_dob):
+def log_records(data, channel_mask, with_dob, decimation=1):
     """Decodes log data reports: each starts with its first record's tick (u32), then records of
-    the selected channels (converters u16 in 12.4, encoders i32) and d_hat (i32). Returns
-    (tick, values) with converter values back in whole codes (they must be exact multiples of 16
-    without decimation)."""
+    the selected channels (converters u16 in 12.4, encoders i32) and d_hat (i32), ticks `decimation`
+    apart. Returns (tick, values) with converter values in codes (whole codes without decimation:
+    exact multiples of 16)."""
     channels = [c for c in range(6) if channel_mask >> c & 1]
     fmt = "<" + "".join("H" if c < 4 else "i" for c in channels) + ("i" if with_dob else "")
     size = struct.calcsize(fmt)
@@ -162,9 +162,10 @@ def log_records(data, channel_mask, with_dob):
             for i, c in enumerate(channels):
                 if c < 4:
                     fractions += values[i] % 16 != 0
-                    values[i] //= 16
-            out.append((tick + k, values))
-    check(fractions == 0, "log-read: undecimated converter codes are whole (12.4 with a zero fraction)")
+                    values[i] = values[i] // 16 if decimation == 1 else values[i] / 16
+            out.append((tick + k * decimation, values))
+    if decimation == 1:
+        check(fractions == 0, "log-read: undecimated converter codes are whole (12.4 with a zero fraction)")
     return out
 
 
@@ -247,7 +248,7 @@ def test_decimated_dob(board, tool, decimation):
             upload_calibration(board, f.read())
     count = 2000
     data, trailer = acquire(board, rig_frames(count), 0x3F, 0x01, 20, decimation)
-    records = log_records(data, 0x3F, True) if data else []
+    records = log_records(data, 0x3F, True, decimation) if data else []
     check(len(records) == count // decimation,
           f"decimated dob: {count // decimation} records of {count} frames (decimation {decimation})")
     check([t for t, _ in records] == list(range(0, count, decimation)), "decimated dob: ticks 0, D, 2D, ...")
