@@ -8,6 +8,10 @@ Status Sampler::Arm(const wire::AcqConfigureRequest& config) {
   layout_ = wire::LogLayout{config.channel_mask, static_cast<std::uint8_t>(config.flags & wire::kAcqFlagLogDob)};
   Status s = decimator_.Init(config.decimation, layout_.ChannelCount() + (layout_.HasDob() ? 1 : 0));
   if (s != Status::kOk) return s;
+  // Twice the delay, rounded up to an output tick: records before it would hold the filter's
+  // start from rest (zeros before the acquisition) rather than the signal.
+  const std::uint32_t d = config.decimation;
+  settle_ticks_ = d == 1 ? 0 : (2 * fixed::DecimatorDelayTicks(d) + d - 1) / d * d;
   s = ring_.Reset(layout_.StoredRecordBytes(), config.pretrigger_records);
   if (s != Status::kOk) return s;
   config_ = config;
@@ -120,7 +124,7 @@ Sampler::Logged Sampler::LogFrame(const SampleFrame& frame, std::int32_t d_hat) 
   }
   if (layout_.HasDob()) in[n++] = d_hat;
   std::array<std::int32_t, fixed::kDecimatorMaxChannels> out{};
-  if (!decimator_.Push(in.data(), out.data())) return Logged::kNoRecord;
+  if (!decimator_.Push(in.data(), out.data()) || frame.tick < settle_ticks_) return Logged::kNoRecord;
 
   wire::LogRecord record;
   n = 0;

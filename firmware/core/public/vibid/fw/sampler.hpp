@@ -5,7 +5,7 @@
 //             -> the logged channels and d_hat through the anti-aliasing decimator
 //             -> every `decimation`-th frame: a log record (its tick, the channels in their log
 //                format, d_hat), the same filter on every value so ratios between channels keep
-//                their passband values
+//                their passband values; a decimated log starts once the filter has settled
 //
 // Nothing is lost silently: a frame tick that skips ahead counts the missing ticks as overruns,
 // a record that finds the log full after the trigger counts as dropped, a calibration that
@@ -84,6 +84,9 @@ class Sampler final : public FrameSink {
   wire::AcqConfigureRequest config_{};
   wire::LogLayout layout_{};
   fixed::Decimator decimator_;
+  // A decimated log starts once the decimator has settled: its first record is the first output
+  // whose filter span lies wholly inside the acquisition (tick >= twice the group delay).
+  std::uint32_t settle_ticks_ = 0;
   std::uint32_t expected_tick_ = 0;
   std::uint32_t post_trigger_records_ = 0;
   bool dob_in_acquisition_ = false;  // logged, or requested, at a matching rate
