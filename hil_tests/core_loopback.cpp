@@ -111,11 +111,8 @@ void CoreLoopback::Deliver(const wire::Report& r) {
     return;
   }
   const int seq = drop_sequence_.load();
-  const bool data = (r[wire::kOffFlags] & wire::kFlagStreamEnd) == 0 &&
-                    (r[wire::kOffCommand] == static_cast<std::uint8_t>(wire::Command::kLogRead) ||
-                     r[wire::kOffCommand] == static_cast<std::uint8_t>(wire::Command::kCalGet));
-  const int sequence = r[wire::kOffSequence] | (r[wire::kOffSequence + 1] << 8);
-  if (seq >= 0 && data && sequence == seq) {
+  wire::StreamDataHeader data;
+  if (seq >= 0 && wire::DecodeStreamData(r, data) == Status::kOk && data.sequence == seq) {
     drop_sequence_ = -1;
     return;
   }
@@ -126,7 +123,7 @@ void CoreLoopback::Deliver(const wire::Report& r) {
     --truncate_;
     length = 40;
   }
-  out[wire::kOffProtocolMajor] = major_;
+  if (!wire::IsStreamData(out)) out[wire::kOffProtocolMajor] = major_;  // stream data has no major
   for (Link* l : links_) l->Push(out, length);
 }
 

@@ -381,7 +381,7 @@ Status Core::HandleDobControl(const Header& h, std::span<const std::uint8_t> pay
   return Status::kOk;
 }
 
-Status Core::PackLogRecords(std::span<std::uint8_t, wire::kMaxPayload> payload, std::size_t& length) {
+Status Core::PackLogRecords(std::span<std::uint8_t, wire::kMaxStreamPayload> payload, std::size_t& length) {
   // One report: the first record's tick, then records whose ticks follow by the decimation (a
   // gap, where the sampler dropped records, ends the report).
   const wire::LogLayout layout = sampler_.layout();
@@ -424,12 +424,13 @@ bool Core::NextStreamReport() {
     stream_end_ = ring_.written();
     if (stream_next_ == stream_end_ && sampling) return false;
   }
-  std::array<std::uint8_t, wire::kMaxPayload> payload{};
+  // Data goes out in stream data reports (58-byte payload); the trailer in a full report.
+  std::array<std::uint8_t, wire::kMaxStreamPayload> payload{};
   std::size_t length = 0;
   Status s = Status::kOk;
   if (stream_next_ < stream_end_) {
     if (stream_ == StreamKind::kCalibration) {
-      length = std::min<std::size_t>(wire::kMaxPayload, stream_end_ - stream_next_);
+      length = std::min<std::size_t>(wire::kMaxStreamPayload, stream_end_ - stream_next_);
       const auto bytes = store_.record_bytes().subspan(stream_next_, length);
       std::copy(bytes.begin(), bytes.end(), payload.begin());
       stream_next_ += static_cast<std::uint32_t>(length);

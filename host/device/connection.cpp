@@ -77,6 +77,22 @@ void Connection::ReaderLoop() {
     ++counters_.reports;
     Reply reply;
     reply.report = report;
+    if (wire::IsStreamData(report)) {
+      // A stream's data: it names its request by token only (see wire/report.hpp).
+      wire::StreamDataHeader d;
+      if (wire::DecodeStreamData(report, d) != Status::kOk) {
+        ++counters_.corrupted;
+        continue;
+      }
+      reply.stream_data = true;
+      reply.header.token = d.token;
+      reply.header.sequence = d.sequence;
+      reply.header.payload_length = d.payload_length;
+      reply.header.flags = wire::kFlagResponse;
+      inbox_.push_back(reply);
+      arrived_.notify_all();
+      continue;
+    }
     const Status st = wire::DecodeHeader(report, reply.header);
     if (st == Status::kVersionMismatch) {
       version_error_ = VersionMessage(reply.header.protocol_major);
@@ -124,7 +140,7 @@ bool Connection::Await(std::uint8_t command, std::uint16_t token, std::chrono::m
     while (!inbox_.empty()) {
       Reply r = inbox_.front();
       inbox_.pop_front();
-      if (r.header.token == token && r.header.command == command) {
+      if (r.header.token == token && (r.header.command == command || r.stream_data)) {
         out = r;
         return true;
       }

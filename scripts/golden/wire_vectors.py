@@ -24,6 +24,15 @@ FLAG_RESPONSE = 0x01
 FLAG_STREAM_END = 0x02
 
 
+STREAM_DATA_TAG = 0xD5
+
+
+def stream_data(token, sequence, payload):
+    """A stream data report: tag, payload length, token, sequence (6 bytes), payload, zeros."""
+    assert 0 < len(payload) <= 58
+    return (struct.pack("<BBHH", STREAM_DATA_TAG, len(payload), token, sequence) + payload).ljust(64, b"\0")
+
+
 def report(command, status=0, flags=0, token=0, sequence=0, payload=b""):
     assert len(payload) <= 52
     header = MAGIC + struct.pack("<BBBBHHBB", PROTOCOL_MAJOR, command, status, flags, token,
@@ -122,7 +131,7 @@ def main():
     add("log_read_request", report(0x24, token=0x7777, payload=struct.pack("<II", 10, 5)))
 
     # Log stream: channels force1, force2 (u16 12.4 codes), encoder2 (i32) plus d_hat (i32) ->
-    # 12-byte records, four per report after the 4-byte tick of the report's first record.
+    # 12-byte records, four per stream data report after the 4-byte tick of its first record.
     # Records 10..14 at decimation 5; the board dropped the record of tick 1015, so the report
     # of records 10..12 ends at the gap and the next one starts at tick 1020.
     ticks = [1000, 1005, 1010, 1020, 1025]
@@ -134,8 +143,7 @@ def main():
                      struct.pack("<I", ticks[3]) + b"".join(records[3:5])]
     stream_bytes = b"".join(data_payloads)
     for seq, payload in enumerate(data_payloads):
-        add(f"log_stream_{seq}", report(0x24, flags=FLAG_RESPONSE, token=0x7777, sequence=seq,
-                                        payload=payload))
+        add(f"log_stream_{seq}", stream_data(0x7777, seq, payload))
     trailer = struct.pack("<IIIIHBBIHBBIIII", len(stream_bytes), zlib.crc32(stream_bytes), 10, 5,
                           12, 0b100011, 0x03, 200, 5, 3, 0, 0, 1, 0, 15)
     assert len(trailer) == 44
@@ -156,8 +164,9 @@ def main():
     add("cal_put_data_16", report(0x11, token=0x0C0C, sequence=16, payload=record[16 * 52:]))
     add("cal_commit_response",
         report(0x12, flags=FLAG_RESPONSE, token=0x0C0D, payload=struct.pack("<BBHI", 1, 0, 0, 8)))
+    # cal-get sends the 840-byte record in 15 stream data reports of up to 58 bytes.
     add("cal_get_trailer",
-        report(0x13, flags=FLAG_RESPONSE | FLAG_STREAM_END, token=0x0C0E, sequence=17,
+        report(0x13, flags=FLAG_RESPONSE | FLAG_STREAM_END, token=0x0C0E, sequence=15,
                payload=struct.pack("<IIBBHI", len(record), zlib.crc32(record), 1, 0, 0, 8)))
 
     add("dob_control_request", report(0x30, token=9, payload=b"\x01"))

@@ -44,8 +44,33 @@ Status DecodeHeader(const Report& report, Header& header) {
 }
 
 std::span<const std::uint8_t> PayloadOf(const Report& report) {
+  if (IsStreamData(report)) {
+    const std::size_t length = std::min<std::size_t>(report[1], kMaxStreamPayload);
+    return std::span<const std::uint8_t>(report).subspan(kStreamHeaderBytes, length);
+  }
   const std::size_t length = std::min<std::size_t>(report[kOffPayloadLength], kMaxPayload);
   return std::span<const std::uint8_t>(report).subspan(kOffPayload, length);
+}
+
+Status EncodeStreamData(std::uint16_t token, std::uint16_t sequence, std::span<const std::uint8_t> payload,
+                        Report& out) {
+  out.fill(0);
+  if (payload.empty() || payload.size() > kMaxStreamPayload) return Status::kOutOfRange;
+  StoreU8(out, 0, kStreamDataTag);
+  StoreU8(out, 1, static_cast<std::uint8_t>(payload.size()));
+  StoreU16(out, 2, token);
+  StoreU16(out, 4, sequence);
+  std::copy(payload.begin(), payload.end(), out.begin() + kStreamHeaderBytes);
+  return Status::kOk;
+}
+
+Status DecodeStreamData(const Report& report, StreamDataHeader& header) {
+  if (!IsStreamData(report)) return Status::kDataLoss;
+  header.payload_length = LoadU8(report, 1);
+  header.token = LoadU16(report, 2);
+  header.sequence = LoadU16(report, 4);
+  if (header.payload_length == 0 || header.payload_length > kMaxStreamPayload) return Status::kInvalidArgument;
+  return Status::kOk;
 }
 
 }  // namespace vibid::wire

@@ -13,11 +13,7 @@ void StreamEncoder::Begin(Command command, std::uint16_t token) {
 }
 
 Status StreamEncoder::Data(std::span<const std::uint8_t> payload, Report& out) {
-  if (payload.empty() || payload.size() > kMaxPayload) {
-    return Status::kOutOfRange;
-  }
-  const Status s = BuildReport(command_, token_, static_cast<std::uint16_t>(data_reports_),
-                               kFlagResponse, Status::kOk, payload, out);
+  const Status s = EncodeStreamData(token_, static_cast<std::uint16_t>(data_reports_), payload, out);
   if (s != Status::kOk) return s;
   crc_.Update(payload);
   total_bytes_ += static_cast<std::uint32_t>(payload.size());
@@ -38,6 +34,25 @@ StreamDecoder::Step StreamDecoder::Feed(const Report& report) {
   Step step;
   if (finished_) {
     step.status = Status::kFailedPrecondition;
+    return step;
+  }
+  if (IsStreamData(report)) {
+    StreamDataHeader h;
+    const Status decoded = DecodeStreamData(report, h);
+    if (decoded == Status::kOk && h.token != token_) {
+      step.event = Event::kStale;
+      return step;
+    }
+    if (decoded != Status::kOk || h.sequence != static_cast<std::uint16_t>(data_reports_)) {
+      finished_ = true;
+      step.status = decoded != Status::kOk ? decoded : Status::kDataLoss;
+      return step;
+    }
+    step.event = Event::kData;
+    step.payload = PayloadOf(report);
+    crc_.Update(step.payload);
+    total_bytes_ += static_cast<std::uint32_t>(step.payload.size());
+    ++data_reports_;
     return step;
   }
   Header h;
@@ -62,29 +77,18 @@ StreamDecoder::Step StreamDecoder::Feed(const Report& report) {
     step.status = Status::kDataLoss;
     return step;
   }
+  // A full report answering the stream is its trailer (data comes in stream data reports).
   step.payload = PayloadOf(report);
-  if ((h.flags & kFlagStreamEnd) != 0) {
-    StreamTrailer trailer;
-    if (Decode(step.payload, trailer) != Status::kOk) {
-      step.status = Status::kInvalidArgument;
-      return step;
-    }
-    if (trailer.total_bytes != total_bytes_ || trailer.crc32 != crc_.value()) {
-      step.status = Status::kDataLoss;
-      return step;
-    }
-    step.event = Event::kEnd;
-    return step;
-  }
-  if (step.payload.empty()) {
+  StreamTrailer trailer;
+  if ((h.flags & kFlagStreamEnd) == 0 || Decode(step.payload, trailer) != Status::kOk) {
     step.status = Status::kInvalidArgument;
     return step;
   }
-  finished_ = false;
-  crc_.Update(step.payload);
-  total_bytes_ += static_cast<std::uint32_t>(step.payload.size());
-  ++data_reports_;
-  step.event = Event::kData;
+  if (trailer.total_bytes != total_bytes_ || trailer.crc32 != crc_.value()) {
+    step.status = Status::kDataLoss;
+    return step;
+  }
+  step.event = Event::kEnd;
   return step;
 }
 

@@ -77,18 +77,15 @@ PulledLog PullLog(CoreHarness& h, std::uint32_t first, std::uint32_t max, int lo
 
   // Data payloads are kept whole until the trailer brings the layout.
   wire::StreamDecoder decoder(wire::Command::kLogRead, h.last_token);
-  std::array<std::array<std::uint8_t, wire::kMaxPayload>, 160> payloads{};
+  std::array<std::array<std::uint8_t, wire::kMaxStreamPayload>, 160> payloads{};
   std::array<std::size_t, 160> lengths{};
   std::size_t payload_count = 0;
   for (int polls = 0; polls < 10000 && !decoder.finished(); ++polls) {
     h.core.Poll();
     wire::Report in{};
     while (!decoder.finished() && h.link.Pop(in)) {
-      wire::Header header;
-      if (wire::DecodeHeader(in, header) == Status::kOk &&
-          (header.flags & wire::kFlagStreamEnd) == 0 && header.sequence == lose_report) {
-        continue;
-      }
+      wire::StreamDataHeader data;
+      if (wire::DecodeStreamData(in, data) == Status::kOk && data.sequence == lose_report) continue;
       const wire::StreamDecoder::Step step = decoder.Feed(in);
       out.last_event = step.event;
       out.status = step.status;

@@ -61,7 +61,7 @@ TEST(CoreLog, ImmediateAcquisitionStreamsEveryRecord) {
 // equals the input at tick - delay.
 TEST(CoreLog, DecimationFiltersEveryChannelAlike) {
   CoreHarness h;
-  // Force 2 and encoder 1 only (mask 0b010010), decimated by 5: 6-byte records, 8 per report.
+  // Force 2 and encoder 1 only (mask 0b010010), decimated by 5: 6-byte records, 9 per report.
   ASSERT_EQ(h.StartAcquisition(Config(0b010010, 5)), Status::kOk);
   constexpr std::uint32_t kFrames = 600;
   h.EmitRamp(kFrames, kBase, 1);
@@ -127,7 +127,7 @@ TEST(CoreLog, NewRequestAbandonsTheRunningStream) {
 
 TEST(CoreLog, MaxRecordsLimitsTheStream) {
   CoreHarness h;
-  ASSERT_EQ(h.StartAcquisition(Config(0b000001, 1)), Status::kOk);  // 2-byte records, 24/report
+  ASSERT_EQ(h.StartAcquisition(Config(0b000001, 1)), Status::kOk);  // 2-byte records, 27/report
   h.EmitRamp(20, kBase, 1);
   const PulledLog log = PullLog(h, 2, 13);
   ASSERT_EQ(log.status, Status::kOk);
@@ -320,7 +320,7 @@ TEST(CoreLog, LostTicksAreCountedAsOverruns) {
 // stopped sampling and every record went out.
 TEST(CoreLog, StreamedAcquisitionFollowsTheLogToItsEnd) {
   CoreHarness h;
-  wire::AcqConfigureRequest c = Config(0b000101, 1);  // force 1, acc 1: 4-byte records, 12/report
+  wire::AcqConfigureRequest c = Config(0b000101, 1);  // force 1, acc 1: 4-byte records, 13/report
   c.flags = wire::kAcqFlagStream;
   c.record_limit = 100;
   ASSERT_EQ(h.Request(Command::kAcqConfigure, c).status(), Status::kOk);
@@ -350,7 +350,7 @@ TEST(CoreLog, StreamedAcquisitionFollowsTheLogToItsEnd) {
   EXPECT_FALSE(decoder.finished());
   h.EmitRamp(30, kBase, 1);
   take();
-  EXPECT_EQ(records, 30u);  // what was there went out (reports of 12, 12 and 6)
+  EXPECT_EQ(records, 30u);  // what was there went out (reports of 13, 13 and 4)
   EXPECT_EQ(h.core.log().released(), 30u);
   EXPECT_FALSE(decoder.finished());
   h.EmitRamp(80, kBase, 1);  // the limit stops sampling after 100 records

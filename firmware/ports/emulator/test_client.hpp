@@ -139,8 +139,9 @@ inline std::array<std::uint8_t, 8> Req(std::uint8_t type, std::uint8_t request, 
 class DeviceSession {
  public:
   struct Answer {
-    wire::Header header;
+    wire::Header header;  ///< For stream data: token and sequence only.
     std::vector<std::uint8_t> payload;
+    bool stream_data = false;
   };
 
   explicit DeviceSession(std::uint16_t port) : client_(port) {
@@ -234,14 +235,14 @@ class DeviceSession {
     std::uint16_t expected = 0;
     for (;;) {
       const Answer a = Receive();
-      if (a.header.command != static_cast<std::uint8_t>(wire::Command::kLogRead) || a.header.token != token_ ||
-          a.header.status != Status::kOk || a.header.sequence != expected++) {
+      if (a.header.token != token_ || a.header.status != Status::kOk || a.header.sequence != expected++) {
         throw std::runtime_error("log stream broken");
       }
       if ((a.header.flags & wire::kFlagStreamEnd) != 0) {
         last_trailer = a.payload;
         return bytes;
       }
+      if (!a.stream_data) throw std::runtime_error("log data not in a stream data report");
       Append(a.payload, bytes, record_bytes);
     }
   }
@@ -277,7 +278,16 @@ class DeviceSession {
     wire::Report r{};
     std::copy(in.data.begin(), in.data.end(), r.begin());
     Answer a;
-    if (wire::DecodeHeader(r, a.header) != Status::kOk) throw std::runtime_error("malformed report");
+    if (wire::IsStreamData(r)) {
+      wire::StreamDataHeader d;
+      if (wire::DecodeStreamData(r, d) != Status::kOk) throw std::runtime_error("malformed stream data report");
+      a.stream_data = true;
+      a.header.token = d.token;
+      a.header.sequence = d.sequence;
+      a.header.flags = wire::kFlagResponse;
+    } else if (wire::DecodeHeader(r, a.header) != Status::kOk) {
+      throw std::runtime_error("malformed report");
+    }
     const auto p = wire::PayloadOf(r);
     a.payload.assign(p.begin(), p.end());
     return a;

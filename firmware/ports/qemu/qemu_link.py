@@ -67,12 +67,24 @@ def encode_report(command: int, payload: bytes = b"", token: int = 0, sequence: 
     return (header + payload).ljust(REPORT_BYTES, b"\0")
 
 
+STREAM_DATA_TAG = 0xD5
+STREAM_HEADER = struct.Struct("<BBHH")  # tag, payload length, token, sequence
+
+
 class Response:
+    """A full report, or a stream data report (6-byte header: no command, status or flags)."""
+
     def __init__(self, report: bytes):
+        self.raw = report
+        self.stream_data = report[0] == STREAM_DATA_TAG
+        if self.stream_data:
+            _tag, length, self.token, self.sequence = STREAM_HEADER.unpack_from(report)
+            self.magic = self.major = self.command = self.status = self.flags = self.reserved = 0
+            self.payload = report[STREAM_HEADER.size:STREAM_HEADER.size + length]
+            return
         (self.magic, self.major, self.command, self.status, self.flags, self.token, self.sequence,
          length, self.reserved) = HEADER.unpack_from(report)
         self.payload = report[HEADER.size:HEADER.size + length]
-        self.raw = report
 
 
 class QemuBoard:

@@ -10,17 +10,19 @@ namespace vibid::wire {
 namespace {
 
 // Record sizes from the layout documented in log_record.hpp: converter channels 2 bytes,
-// encoders 4, d_hat 4; a report spends 4 bytes on its first record's tick.
+// encoders 4, d_hat 4; a stream data report's 58-byte payload spends 4 bytes on its first
+// record's tick, leaving 54 for records.
 TEST(LogLayout, SizesByHand) {
   EXPECT_EQ((LogLayout{kAllChannelsMask, kAcqFlagLogDob}.RecordBytes()), 20u);
   EXPECT_EQ((LogLayout{kAllChannelsMask, kAcqFlagLogDob}.RecordsPerReport()), 2u);
+  EXPECT_EQ((LogLayout{kAllChannelsMask, 0}.RecordsPerReport()), 3u);
   EXPECT_EQ((LogLayout{0b100011, kAcqFlagLogDob}.RecordBytes()), 12u);
   EXPECT_EQ((LogLayout{0b100011, kAcqFlagLogDob}.StoredRecordBytes()), 16u);
   EXPECT_EQ((LogLayout{0b100011, kAcqFlagLogDob}.RecordsPerReport()), 4u);
   EXPECT_EQ((LogLayout{0b001101, 0}.RecordBytes()), 6u);  // force1, acc1, acc2: the modal test
-  EXPECT_EQ((LogLayout{0b001101, 0}.RecordsPerReport()), 8u);
+  EXPECT_EQ((LogLayout{0b001101, 0}.RecordsPerReport()), 9u);
   EXPECT_EQ((LogLayout{0b000001, 0}.RecordBytes()), 2u);
-  EXPECT_EQ((LogLayout{0b000001, 0}.RecordsPerReport()), 24u);
+  EXPECT_EQ((LogLayout{0b000001, 0}.RecordsPerReport()), 27u);
   EXPECT_FALSE((LogLayout{0, 0}.Valid()));
   EXPECT_FALSE((LogLayout{0x40, 0}.Valid()));
   EXPECT_FALSE((LogLayout{1, 0x04}.Valid()));

@@ -110,8 +110,33 @@ TEST(StreamDecoder, IgnoresStaleAndReportsRefusal) {
 TEST(StreamDecoder, RejectsBrokenHeader) {
   StreamDecoder d(Command::kLogRead, 0x7777);
   auto reports = GoldenLogStream();
-  reports[0][0] = 0;
+  reports[0][0] = 0;  // neither a stream data tag nor a magic
   EXPECT_EQ(d.Feed(reports[0]).status, Status::kDataLoss);
+}
+
+// Hand-decoded stream data report 0 (scripts/golden/wire_vectors.py): d5 | 28 | 77 77 | 00 00 |
+// payload (40 bytes: the tick 1000 and three 12-byte records) | zeros.
+TEST(StreamData, GoldenReportByHand) {
+  const Report r = testing::GoldenReport("log_stream_0");
+  EXPECT_TRUE(IsStreamData(r));
+  StreamDataHeader h;
+  ASSERT_EQ(DecodeStreamData(r, h), Status::kOk);
+  EXPECT_EQ(h.token, 0x7777);
+  EXPECT_EQ(h.sequence, 0);
+  EXPECT_EQ(h.payload_length, 40);
+  EXPECT_EQ(PayloadOf(r).size(), 40u);
+  EXPECT_EQ(PayloadOf(r)[0], 0xE8);  // 1000 = 0x03E8
+  Report again{};
+  ASSERT_EQ(EncodeStreamData(0x7777, 0, PayloadOf(r), again), Status::kOk);
+  EXPECT_TRUE(again == r);
+  Header full;
+  EXPECT_EQ(DecodeHeader(r, full), Status::kDataLoss);  // not a full report
+  std::array<std::uint8_t, kMaxStreamPayload + 1> big{};
+  EXPECT_EQ(EncodeStreamData(1, 0, big, again), Status::kOutOfRange);
+  EXPECT_EQ(EncodeStreamData(1, 0, {}, again), Status::kOutOfRange);
+  Report bad = r;
+  bad[1] = 59;  // longer than a stream data report holds
+  EXPECT_EQ(DecodeStreamData(bad, h), Status::kInvalidArgument);
 }
 
 // A stream that follows a long acquisition wraps its 16-bit sequence: report 65536 is
@@ -126,8 +151,8 @@ TEST(Stream, SequenceWrapsAfter65535Reports) {
     ASSERT_EQ(e.Data(payload, out), Status::kOk);
     ASSERT_EQ(d.Feed(out).event, Event::kData) << "report " << i;
   }
-  Header h;
-  ASSERT_EQ(DecodeHeader(out, h), Status::kOk);
+  StreamDataHeader h;
+  ASSERT_EQ(DecodeStreamData(out, h), Status::kOk);
   EXPECT_EQ(h.sequence, 0u);  // report 65536
   std::array<std::uint8_t, StreamTrailer::kBytes> trailer{};
   ASSERT_EQ(e.End(trailer, out), Status::kOk);

@@ -5,8 +5,8 @@
 //
 // The link: USB 2.0 full speed, HID interrupt endpoints with 64-byte reports and bInterval 1. An
 // interrupt endpoint moves at most one transaction per 1 ms frame, so one IN report per frame:
-//   64 000 B/s of reports, of which 52 B per report are payload and 48 B carry log records
-//   (a log data report spends 4 B on the sample index of its first record).
+//   64 000 B/s of reports; a log data report (a stream data report, 6-byte header) carries 58 B
+//   of payload, 54 B of them log records after the 4-byte tick of its first record.
 #pragma once
 
 #include <cstddef>

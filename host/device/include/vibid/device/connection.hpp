@@ -54,8 +54,9 @@ struct LinkCounters {
 
 /// One answer report.
 struct Reply {
-  wire::Header header;
+  wire::Header header;  ///< For stream data: token, sequence and length (no command).
   wire::Report report{};
+  bool stream_data = false;  ///< A stream data report (wire::IsStreamData).
   std::span<const std::uint8_t> payload() const { return wire::PayloadOf(report); }
 };
 

@@ -28,13 +28,13 @@
 namespace vibid::wire {
 
 inline constexpr std::size_t kLogIndexBytes = 4;
-/// Payload bytes of a log data report that carry records.
-inline constexpr std::size_t kLogRecordPayload = kMaxPayload - kLogIndexBytes;
+/// Payload bytes of a log data report (a stream data report) that carry records.
+inline constexpr std::size_t kLogRecordPayload = kMaxStreamPayload - kLogIndexBytes;
 inline constexpr std::size_t kMaxLogRecordBytes = 4 * 2 + 2 * 4 + 4;  // all channels and d_hat
 static_assert(kMaxLogRecordBytes == 20 && kMaxLogRecordBytes <= kLogRecordPayload);
 inline constexpr std::size_t kMinLogRecordBytes = 2;
 inline constexpr std::size_t kMaxRecordsPerReport = kLogRecordPayload / kMinLogRecordBytes;
-static_assert(kMaxRecordsPerReport == 24);
+static_assert(kMaxRecordsPerReport == 27);
 
 struct LogLayout {
   std::uint8_t channel_mask = kAllChannelsMask;

@@ -25,7 +25,7 @@ class StreamEncoder {
   /// Starts a new stream answering `command` with `token`.
   void Begin(Command command, std::uint16_t token);
 
-  /// The next data report carrying `payload` (1..kMaxPayload bytes).
+  /// The next data report (a stream data report) carrying `payload` (1..kMaxStreamPayload bytes).
   /// Sequence numbers wrap after 65535 (the decoder counts modulo 2^16 too).
   /// @returns kOk; kOutOfRange for an empty or oversize payload.
   Status Data(std::span<const std::uint8_t> payload, Report& out);
