@@ -107,7 +107,7 @@ TEST_F(AcquireBudgetTest, TheDecimatedLogFitsAndDropsNothing) {
             std::string::npos) << bad.err;
 }
 
-// Load cell 1 and both accelerometers at 5 kHz: 6-byte records, 8 per report (8000 records/s on
+// Load cell 1 and both accelerometers at 5 kHz: 6-byte records, 9 per report (9000 records/s on
 // the link for 5000 made), for 10 simulated minutes.
 TEST_F(AcquireBudgetTest, ThreeChannelsStreamTenMinutesAtFiveKilohertz) {
   const std::string out = dir + "/ten_minutes.csv";
