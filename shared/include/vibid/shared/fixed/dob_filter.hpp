@@ -23,10 +23,11 @@
 //     seven products), start = 2^(q-1) + a1 + a2 - (feedback ? 2^(q-1) : 0);
 //   - y = acc' >> q, read from the two 32-bit halves (lo >> q | hi << (32 - q), q in [16, 31]); it
 //     fits an int32 exactly when hi lies in [-2^(q-1), 2^(q-1)), which is the saturation test;
-//     r' = lo - (y << q) in 32-bit arithmetic (exact: 0 <= r' < 2^q).
-//   Per path and section the coefficients {b0, b1, b2, a1, a2, f1, f2, start, q, 2^(q-1)} and the
-//   state {x[n-1], x[n-2], ~y[n-1], ~y[n-2], r'[n-1], r'[n-2]} lie in the order the kernel reads
-//   them. At rest x = y = r = 0, i.e. ~y = -1 and r' = 2^(q-1); a saturated section stores the
+//     r' = lo & (2^q - 1), the low q bits (exact: 0 <= r' < 2^q).
+//   Per path and section one record holds the state {x[n-1], x[n-2], ~y[n-1], ~y[n-2], r'[n-1],
+//   r'[n-2]} and then {b0, start, b1, b2, a1, a2, f1, f2, q, 32 - q, 2^q - 1, 2^(q-1)}, in the
+//   order the kernel reads them (on the Cortex-M4: four LDM, seven SMLAL, one STM per section).
+//   At rest x = y = r = 0, i.e. ~y = -1 and r' = 2^(q-1); a saturated section stores the
 //   railed y and r = 0 (r' = 2^(q-1)), so the feedback does not push a railed section further.
 //
 // Scaling and overflow:
@@ -91,34 +92,34 @@ class DobFilter {
   const FilterDescription& description() const { return description_; }
 
  private:
-  // The run-time form of one section, derived from the description by Init (see "Kernel layout"
-  // above): words in the order the kernel reads them.
-  struct KernelSection {
-    std::int32_t b0, b1, b2;  ///< Numerator, as in the description.
-    std::int32_t a1, a2;      ///< Denominator, as in the description (they multiply ~y).
-    std::int32_t f1, f2;      ///< Error-feedback weights: (2, -1) with feedback, (0, 0) without.
-    std::int64_t start;       ///< Accumulator start value: rounding, ~y and remainder-bias corrections.
-    std::int32_t q;           ///< 31 - shift: the right shift from the accumulator to y.
-    std::int32_t half;        ///< 2^(q-1): the biased remainder a saturation leaves.
-  };
-  // Per section {x[n-1], x[n-2], ~y[n-1], ~y[n-2], r'[n-1], r'[n-2]}.
-  struct SectionState {
-    std::int32_t x1, x2, ny1, ny2, r1, r2;
+  // One section's state and run-time coefficients (derived from the description by Init, see
+  // "Kernel layout" above), in the order the kernel reads them: 19 words, loaded by four LDM and
+  // stored back by one STM on the Cortex-M4.
+  struct SectionRecord {
+    std::int32_t x1, x2, ny1, ny2, r1, r2;  ///< x[n-1], x[n-2], ~y[n-1], ~y[n-2], r'[n-1], r'[n-2].
+    std::int32_t b0;
+    std::uint32_t start_lo;  ///< Accumulator start value, low and high words.
+    std::int32_t start_hi;
+    std::int32_t b1, b2, a1, a2;
+    std::int32_t f1, f2;     ///< Error-feedback weights: (2, -1) with feedback, (0, 0) without.
+    std::int32_t q;          ///< 31 - shift: the right shift from the accumulator to y, 16..31.
+    std::int32_t left;       ///< 32 - q.
+    std::uint32_t mask;      ///< 2^q - 1: r' is the accumulator's low q bits.
+    std::int32_t half;       ///< 2^(q-1): r' at rest and after a saturation.
   };
   struct KernelPath {
-    std::int32_t sections;    ///< Section count.
-    std::int32_t gain;        ///< output_gain.
-    std::int32_t p;           ///< 31 - output_shift.
+    std::int32_t sections;   ///< Section count.
+    std::int32_t gain;       ///< output_gain.
+    std::int32_t p;          ///< 31 - output_shift.
     std::int32_t unused = 0;
-    std::int64_t half;        ///< 2^(p-1).
+    std::int64_t half;       ///< 2^(p-1).
   };
 
   std::int32_t StepPath(std::size_t path, std::int32_t input);
 
   FilterDescription description_{.input_count = 0};
   std::array<KernelPath, kMaxInputs> paths_{};
-  std::array<std::array<KernelSection, kMaxSections>, kMaxInputs> sections_{};
-  std::array<std::array<SectionState, kMaxSections>, kMaxInputs> state_{};
+  std::array<std::array<SectionRecord, kMaxSections>, kMaxInputs> records_{};
   std::uint32_t saturation_count_ = 0;
 };
 
