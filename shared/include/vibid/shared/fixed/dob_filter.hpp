@@ -110,12 +110,14 @@ class DobFilter {
   struct KernelPath {
     std::int32_t sections;   ///< Section count.
     std::int32_t gain;       ///< output_gain.
-    std::int32_t p;          ///< 31 - output_shift.
-    std::int32_t unused = 0;
+    std::int32_t p;          ///< 31 - output_shift, 1..31.
+    std::int32_t left;       ///< 32 - p.
     std::int64_t half;       ///< 2^(p-1).
   };
 
   std::int32_t StepPath(std::size_t path, std::int32_t input);
+  /// Step on `inputs[0 .. input_count)`; shared by Step and StepBlock (inlined into both).
+  std::int32_t StepFrame(const std::int32_t* inputs);
 
   FilterDescription description_{.input_count = 0};
   std::array<KernelPath, kMaxInputs> paths_{};
