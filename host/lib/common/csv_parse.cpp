@@ -15,6 +15,7 @@
 #include <unistd.h>
 
 #include <algorithm>
+#include <cstdint>
 #include <cerrno>
 #include <charconv>
 #include <cmath>
@@ -51,14 +52,27 @@ std::string_view LineText(const char* line, const char* next) {
   return csv_detail::Trim(std::string_view(line, static_cast<std::size_t>(next - line)));
 }
 
-// Upper bound of the data rows in [p, end): its line count.
-std::size_t CountLines(const char* p, const char* end) {
-  std::size_t lines = 0;
-  while (p != end) {
-    p = NextLine(p, end);
-    ++lines;
+// Upper bound of the data rows in [p, end): its line count. Eight bytes at a time: a byte of
+// w ^ 0x0a..0a is zero exactly where w holds a newline, and the classic carry-free test below sets
+// the top bit of exactly those bytes (no false positives, unlike the (x - 0x01..) variant).
+std::size_t CountLines(const char* const begin, const char* const end) {
+  constexpr std::uint64_t kNewlines = 0x0a0a0a0a0a0a0a0aull;
+  constexpr std::uint64_t kLow7 = 0x7f7f7f7f7f7f7f7full;
+  std::size_t newlines = 0;
+  const char* p = begin;
+  const char* const p_end = p + (end - p) / 8 * 8;
+  for (; p != p_end; p += 8) {
+    std::uint64_t w = 0;
+    std::memcpy(&w, p, 8);
+    const std::uint64_t t = w ^ kNewlines;
+    const std::uint64_t zero_bytes = ~(((t & kLow7) + kLow7) | t | kLow7);
+    // One bit per byte at bit 7: summed into the top byte by one multiplication.
+    newlines += static_cast<std::size_t>(((zero_bytes >> 7) * 0x0101010101010101ull) >> 56);
   }
-  return lines;
+  for (; p != end; ++p) newlines += *p == '\n' ? 1u : 0u;
+  // A last line without a newline is a line too.
+  const bool open_last = end != begin && end[-1] != '\n';
+  return newlines + (open_last ? 1u : 0u);
 }
 
 struct Chunk {
@@ -76,6 +90,8 @@ void ParseChunk(Chunk& chunk, const std::vector<double*>& columns) {
   const char* p = chunk.begin;
   const char* const end = chunk.end;
   std::size_t row = chunk.first_row;
+  // chunk.rows holds the chunk's line count here: never more rows than that (a guard on the buffer).
+  const std::size_t row_limit = chunk.first_row + chunk.rows;
   while (p != end) {
     const char* const line = p;
     p = SkipBlanks(p, end);
@@ -83,6 +99,10 @@ void ParseChunk(Chunk& chunk, const std::vector<double*>& columns) {
     if (*p == '\n' || *p == '#') {  // empty or comment line
       p = NextLine(p, end);
       continue;
+    }
+    if (row == row_limit) {
+      chunk.bad_line = line;
+      break;
     }
     for (std::size_t c = 0; c < ncols; ++c) {
       if (c) p = SkipBlanks(p, end);
