@@ -79,61 +79,52 @@ void DobFilter::Reset() {
 #if defined(__ARM_ARCH_7EM__) && defined(__thumb2__)
 
 // Cortex-M4: the sections of one path in one loop of 28 instructions per section, no branch but
-// the loop's own. r0 carries x (then y) from section to section, r1 walks the records, r2 holds
-// (sections left - 1) << 16 in its high half and the saturations in its low half. Register use per
-// section: r6..r11 the state, r4:r5 the accumulator, r3, r12, lr the coefficients as loaded.
-std::int32_t DobFilter::StepPath(std::size_t path, std::int32_t input) {
-  const std::int32_t sections = paths_[path].sections;
-  if (sections == 0) return input;
-  register std::int32_t x asm("r0") = input;
-  register SectionRecord* rec asm("r1") = records_[path].data();
-  register std::uint32_t count asm("r2") = static_cast<std::uint32_t>(sections - 1) << 16;
+// the loop's own. Arguments as the AAPCS passes them: r0 carries x (then y) from section to
+// section, r1 walks the records, r2 holds (sections left - 1) << 16 in its high half and the
+// saturations in its low half. Per section r6..r11 hold the state, r4:r5 the accumulator, r3, r12
+// and lr the coefficients as loaded.
+__attribute__((naked, noinline)) std::uint64_t DobFilter::StepPath(std::int32_t, SectionRecord*, std::uint32_t) {
   static_assert(sizeof(SectionRecord) == 76 && offsetof(SectionRecord, b0) == 24 &&
                 offsetof(SectionRecord, a1) == 44 && offsetof(SectionRecord, f2) == 56);
   asm volatile(
+      "push {r4-r11, lr}\n\t"
       "1:\n\t"
-      "ldmia %[rec]!, {r6-r11}\n\t"              // x1 x2 ~y1 ~y2 r1' r2'
-      "ldmia %[rec]!, {r3, r4, r5, r12, lr}\n\t" // b0, start (r4:r5), b1, b2
-      "smlal r4, r5, r3, %[x]\n\t"
+      "ldmia r1!, {r6-r11}\n\t"              // x1 x2 ~y1 ~y2 r1' r2'
+      "ldmia r1!, {r3, r4, r5, r12, lr}\n\t" // b0, start (r4:r5), b1, b2
+      "smlal r4, r5, r3, r0\n\t"
       "smlal r4, r5, r12, r6\n\t"
       "smlal r4, r5, lr, r7\n\t"
-      "ldmia %[rec]!, {r3, r12, lr}\n\t"         // a1 a2 f1
+      "ldmia r1!, {r3, r12, lr}\n\t"         // a1 a2 f1
       "smlal r4, r5, r3, r8\n\t"
       "smlal r4, r5, r12, r9\n\t"
       "smlal r4, r5, lr, r10\n\t"
-      "ldmia %[rec]!, {r3, r7, r9, r12, lr}\n\t" // f2, q, 32 - q, mask, half
+      "ldmia r1!, {r3, r7, r9, r12, lr}\n\t" // f2, q, 32 - q, mask, half
       "smlal r4, r5, r3, r11\n\t"
-      "lsr r11, r4, r7\n\t"                      // y = lo >> q | hi << (32 - q)
+      "lsr r11, r4, r7\n\t"                  // y = lo >> q | hi << (32 - q)
       "lsl r9, r5, r9\n\t"
       "orr r11, r11, r9\n\t"
-      "and r9, r4, r12\n\t"                      // r' = lo & mask
-      "add r12, r5, lr\n\t"                      // saturated: (hi + half) >> q != 0
+      "and r9, r4, r12\n\t"                  // r' = lo & mask
+      "add r12, r5, lr\n\t"                  // saturated: (hi + half) >> q != 0
       "lsrs r12, r12, r7\n\t"
       "itttt ne\n\t"
-      "mvnne r11, #0x80000000\n\t"               // y = hi < 0 ? INT32_MIN : INT32_MAX
+      "mvnne r11, #0x80000000\n\t"           // y = hi < 0 ? INT32_MIN : INT32_MAX
       "eorne r11, r11, r5, asr #31\n\t"
-      "movne r9, lr\n\t"                         // r' = half
-      "addne %[count], %[count], #1\n\t"
-      "mvn r7, r11\n\t"                          // ~y
-      "sub r3, %[rec], #76\n\t"
-      "stm r3, {r0, r6, r7, r8, r9, r10}\n\t"    // x, x1, ~y, ~y1, r', r1'
-      "mov %[x], r11\n\t"
-      "subs %[count], %[count], #0x10000\n\t"
+      "movne r9, lr\n\t"                     // r' = half
+      "addne r2, r2, #1\n\t"
+      "mvn r7, r11\n\t"                      // ~y
+      "sub r3, r1, #76\n\t"
+      "stm r3, {r0, r6, r7, r8, r9, r10}\n\t"  // x, x1, ~y, ~y1, r', r1'
+      "mov r0, r11\n\t"
+      "subs r2, r2, #0x10000\n\t"
       "bcs 1b\n\t"
-      : [x] "+r"(x), [rec] "+r"(rec), [count] "+r"(count)
-      :
-      : "r3", "r4", "r5", "r6", "r7", "r8", "r9", "r10", "r11", "r12", "lr", "cc", "memory");
-  saturation_count_ += count & 0xFFFFu;
-  return x;
+      "mov r1, r2\n\t"                       // result: y in r0, the count in r1
+      "pop {r4-r11, pc}\n\t");
 }
 
 #else
 
-std::int32_t DobFilter::StepPath(std::size_t path, std::int32_t input) {
-  SectionRecord* r = records_[path].data();
-  SectionRecord* const end = r + paths_[path].sections;
-  std::int32_t x = input;
-  std::uint32_t saturations = 0;
+std::uint64_t DobFilter::StepPath(std::int32_t x, SectionRecord* r, std::uint32_t count) {
+  SectionRecord* const end = r + (count >> 16) + 1;
   for (; r != end; ++r) {
     // Exact: ValidateDescription bounds the raw coefficient sum (see the header).
     std::int64_t acc = static_cast<std::int64_t>((std::uint64_t{static_cast<std::uint32_t>(r->start_hi)} << 32) | r->start_lo);
@@ -152,7 +143,7 @@ std::int32_t DobFilter::StepPath(std::size_t path, std::int32_t input) {
     if (((static_cast<std::uint32_t>(hi) + static_cast<std::uint32_t>(r->half)) >> r->q) != 0) {
       y = (hi >> 31) ^ kInt32Max;
       rem = r->half;
-      ++saturations;
+      ++count;
     }
     r->x2 = r->x1;
     r->x1 = x;
@@ -162,8 +153,7 @@ std::int32_t DobFilter::StepPath(std::size_t path, std::int32_t input) {
     r->r1 = rem;
     x = y;
   }
-  saturation_count_ += saturations;
-  return x;
+  return (std::uint64_t{count} << 32) | static_cast<std::uint32_t>(x);
 }
 
 #endif
@@ -174,7 +164,12 @@ __attribute__((always_inline)) inline std::int32_t DobFilter::StepFrame(const st
   const std::size_t n_in = description_.input_count;
   for (std::size_t i = 0; i < n_in; ++i) {
     const KernelPath& p = paths_[i];
-    const std::int32_t y = StepPath(i, inputs[i]);
+    std::int32_t y = inputs[i];
+    if (p.sections > 0) {
+      const std::uint64_t r = StepPath(y, records_[i].data(), static_cast<std::uint32_t>(p.sections - 1) << 16);
+      y = static_cast<std::int32_t>(static_cast<std::uint32_t>(r));
+      saturation_count_ += static_cast<std::uint32_t>(r >> 32) & 0xFFFFu;
+    }
     sum += ShiftRight(p.half + std::int64_t{y} * p.gain, p.p, p.left);
   }
   if (sum > kInt32Max) {

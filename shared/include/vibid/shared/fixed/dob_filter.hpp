@@ -115,7 +115,9 @@ class DobFilter {
     std::int64_t half;       ///< 2^(p-1).
   };
 
-  std::int32_t StepPath(std::size_t path, std::int32_t input);
+  /// Runs the sections rec[0 .. (count >> 16)] on x; count's low half must be 0. Returns y in the
+  /// low word and, in the high word, count with the saturations added to its low half.
+  static std::uint64_t StepPath(std::int32_t x, SectionRecord* rec, std::uint32_t count);
   /// Step on `inputs[0 .. input_count)`; shared by Step and StepBlock (inlined into both).
   std::int32_t StepFrame(const std::int32_t* inputs);
 
