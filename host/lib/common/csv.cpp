@@ -179,7 +179,13 @@ std::vector<ColumnSpec> ParseColumnList(std::string_view list) {
   return out;
 }
 
-Eigen::VectorXd Recording::Signal(const ColumnSpec& spec) const { return table.Column(spec.name) * spec.scale; }
+Eigen::VectorXd Recording::Signal(const ColumnSpec& spec) const {
+  const Eigen::VectorXd& column = table.Column(spec.name);
+  Eigen::VectorXd out(column.size());
+  csv_detail::AdviseHugePages(out.data(), static_cast<std::size_t>(out.size()) * sizeof(double));
+  out = column * spec.scale;
+  return out;
+}
 
 Eigen::VectorXd Recording::Time() const {
   const auto n = static_cast<Eigen::Index>(samples());

@@ -61,6 +61,24 @@ TEST(Csv, AcceptsBlanksSignsCommentsAndCrLf) {
   EXPECT_EQ(t.Column("b")[1], 0.25);
 }
 
+// The fast decimal path and std::from_chars against strtod (the C library), cell by cell: signs,
+// "1.", -0, exponents at and past the exact-power limit, 2^53 + 1, more than 19 digits, subnormals.
+TEST(Csv, NumbersMatchStrtod) {
+  const char* cells[] = {"0", "-0", "1.", "+2.5", "-3.25e-2", "1e22", "1e23", "1E-22", "1e-23", "9007199254740992",
+                         "9007199254740993", "12345678901234567890123", "0.1", "0.30000000000000004",
+                         "4.9406564584124654e-324", "1.7976931348623157e308", "123.456e+7", "000012.5000",
+                         "-1234567891e-14", "2.2250738585072014e-308"};
+  std::string text = "v\n";
+  for (const char* c : cells) text += std::string(c) + "\n";
+  const CsvTable t = ParseCsv(text, "mem");
+  ASSERT_EQ(t.rows(), std::size(cells));
+  for (std::size_t i = 0; i < std::size(cells); ++i) {
+    const double want = std::strtod(cells[i][0] == '+' ? cells[i] + 1 : cells[i], nullptr);
+    const double got = t.columns[0][static_cast<Eigen::Index>(i)];
+    EXPECT_EQ(std::memcmp(&want, &got, sizeof got), 0) << cells[i];
+  }
+}
+
 // A text big enough to be cut into chunks, with comment and blank lines scattered through it.
 std::string LargeText(std::size_t rows) {
   std::string text = "# generated\nt_s,x,y\n";
