@@ -110,7 +110,7 @@ Eigen::VectorXd Monic(const Eigen::VectorXd& tail) {
 
 }  // namespace
 
-PolyModel EstimateOeIv(const IoData& data, const PolyOrders& orders) {
+PolyModel EstimateOeIv(const IoData& data, const PolyOrders& orders, double tolerance) {
   const PolyOrders arx_orders{orders.nf, orders.nb, 0, 0, 0, orders.nk};
   const ArxResult arx = EstimateArx(data, arx_orders);
   Eigen::VectorXd f = StabilizeDiscrete(arx.model.a);
@@ -181,7 +181,7 @@ PolyModel EstimateOeIv(const IoData& data, const PolyOrders& orders) {
     b.tail(nb) = th.tail(nb);
     Eigen::VectorXd current(nf + nb);
     current << f.tail(nf), th.tail(nb);
-    if (previous.size() == current.size() && (current - previous).norm() <= 1e-9 * current.norm()) break;
+    if (previous.size() == current.size() && (current - previous).norm() <= tolerance * current.norm()) break;
     previous = current;
   }
   PolyModel m;
@@ -200,7 +200,8 @@ namespace {
 /// At high sample rates the poles crowd near z = 1 and the q⁻¹ regressors become nearly collinear
 /// (ZᵀΦ then has a condition number near 1/eps); the continuous-time route does not suffer from it.
 PolyModel OeStart(const IoData& data, const PolyOrders& orders, std::string& name) {
-  PolyModel best = EstimateOeIv(data, orders);
+  // Only a start: the search polishes it, so the IV passes stop at a 1e-6 relative change.
+  PolyModel best = EstimateOeIv(data, orders, 1e-6);
   name = "instrumental-variable";
   if (orders.nk != 1 || orders.nb != orders.nf || orders.nf < 1 || orders.nf > 20) return best;
   TfestOptions ct;

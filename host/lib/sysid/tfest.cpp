@@ -273,9 +273,9 @@ TfestResult EstimateTf(const IoData& data, const TfestOptions& options) {
   TfestResult res;
   // Starting filters across the band: λ from 1 % to 30 % of the Nyquist frequency. SRIVC converges
   // to the same fixed point from any start in its basin, so the starts are screened after the
-  // state-variable-filter pass and one SRIVC pass, and only the best by simulation fit is iterated
-  // on (rather than every start to convergence, which cost four times the passes).
-  constexpr int kScreeningPasses = 1;
+  // state-variable-filter pass, and only the best by simulation fit is iterated on (rather than
+  // every start to convergence, which cost four times the passes).
+  constexpr int kScreeningPasses = 0;
   const double nyquist_rad_s = std::acos(-1.0) / data.dt_s;
   double best_fit = -std::numeric_limits<double>::infinity();
   SrivcOutcome best;

@@ -4,10 +4,10 @@
 //   B = b_nz s^nz + ... + b_0,  P = initial-condition polynomial (degree np − 1, or zero)
 //
 // Steps: (1) state-variable-filter least squares with the prefilter 1/(s + λ)^np for a few λ across
-// the band, each followed by one pass of SRIVC (Young's simplified refined instrumental variable
-// method for continuous-time models); the best by simulation fit is iterated by SRIVC to
-// convergence; (2) that start is refined by output-error
-// Levenberg–Marquardt on the exact ZOH simulation, so noise-free stepped data are fitted exactly.
+// the band; the best by simulation fit is iterated to convergence by SRIVC (Young's simplified
+// refined instrumental variable method for continuous-time models); (2) that start is refined by
+// output-error Levenberg–Marquardt on the exact ZOH simulation, so noise-free stepped data are
+// fitted exactly.
 // The Jacobian is exact too: ∂ŷ/∂b_k = ZOH(s^k/A) u, ∂ŷ/∂a_k = −ZOH(s^k B/A²) u − imp(s^k P/A²),
 // ∂ŷ/∂p_k = imp(s^k/A), every one of them read from the states of 1/A and 1/A².
 #pragma once
