@@ -8,7 +8,6 @@ namespace vibid::fixed {
 namespace {
 
 constexpr std::int32_t kInt32Max = std::numeric_limits<std::int32_t>::max();
-constexpr std::int32_t kInt32Min = std::numeric_limits<std::int32_t>::min();
 
 // Arithmetic right shift of a 64-bit value by n in [1, 31] (left = 32 - n), written on the two
 // 32-bit halves so a 32-bit core needs no case for shifts of 32 or more.
@@ -35,6 +34,7 @@ Status DobFilter::Init(const FilterDescription& description) {
     const Path& p = description.paths[i];
     KernelPath& kp = paths_[i];
     kp.sections = p.section_count;
+    kp.count = p.section_count > 0 ? static_cast<std::uint32_t>(p.section_count - 1) << 16 : 0u;
     kp.gain = p.output_gain;
     kp.p = 31 - p.output_shift;
     kp.left = 32 - kp.p;
@@ -161,26 +161,28 @@ std::uint64_t DobFilter::StepPath(std::int32_t x, SectionRecord* r, std::uint32_
 // Inlined into Step and StepBlock: the per-frame work is counted in the functions the board calls.
 __attribute__((always_inline)) inline std::int32_t DobFilter::StepFrame(const std::int32_t* inputs) {
   std::int64_t sum = 0;
+  std::uint32_t saturations = 0;
   const std::size_t n_in = description_.input_count;
   for (std::size_t i = 0; i < n_in; ++i) {
     const KernelPath& p = paths_[i];
     std::int32_t y = inputs[i];
     if (p.sections > 0) {
-      const std::uint64_t r = StepPath(y, records_[i].data(), static_cast<std::uint32_t>(p.sections - 1) << 16);
+      const std::uint64_t r = StepPath(y, records_[i].data(), p.count);
       y = static_cast<std::int32_t>(static_cast<std::uint32_t>(r));
-      saturation_count_ += static_cast<std::uint32_t>(r >> 32) & 0xFFFFu;
+      saturations += static_cast<std::uint32_t>(r >> 32) & 0xFFFFu;
     }
     sum += ShiftRight(p.half + std::int64_t{y} * p.gain, p.p, p.left);
   }
-  if (sum > kInt32Max) {
-    ++saturation_count_;
-    return kInt32Max;
+  // The sum fits an int32 exactly when its high word is the sign extension of its low word.
+  const auto lo = static_cast<std::int32_t>(static_cast<std::uint32_t>(sum));
+  const auto hi = static_cast<std::int32_t>(sum >> 32);
+  std::int32_t out = lo;
+  if (hi != (lo >> 31)) {
+    out = (hi >> 31) ^ kInt32Max;
+    ++saturations;
   }
-  if (sum < kInt32Min) {
-    ++saturation_count_;
-    return kInt32Min;
-  }
-  return static_cast<std::int32_t>(sum);
+  saturation_count_ += saturations;
+  return out;
 }
 
 std::int32_t DobFilter::Step(const InputFrame& inputs) { return StepFrame(inputs.data()); }

@@ -109,6 +109,7 @@ class DobFilter {
   };
   struct KernelPath {
     std::int32_t sections;   ///< Section count.
+    std::uint32_t count;     ///< (sections - 1) << 16: StepPath's loop count.
     std::int32_t gain;       ///< output_gain.
     std::int32_t p;          ///< 31 - output_shift, 1..31.
     std::int32_t left;       ///< 32 - p.
