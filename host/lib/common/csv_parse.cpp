@@ -93,6 +93,7 @@ bool ParseSimpleNumber(const char*& p, const char* end, double& value) {
   int digits = 0;
   int exp10 = 0;
   const char* const int_start = q;
+  // Past 19 digits m may wrap; it is not used then (digits > 19 returns false below).
   for (; q != end && static_cast<unsigned>(*q - '0') <= 9u; ++q, ++digits) m = m * 10u + static_cast<unsigned>(*q - '0');
   if (q == int_start) return false;
   if (q != end && *q == '.') {
@@ -211,7 +212,6 @@ CsvTable ParseCsv(std::string_view text, const std::string& source, std::size_t 
 
   // Header: the first line that is neither empty nor a comment.
   const char* body = begin;
-  std::vector<std::string_view> cells;
   while (body != end || body == begin) {
     const char* const line = body;
     body = NextLine(body, end);
@@ -254,7 +254,8 @@ CsvTable ParseCsv(std::string_view text, const std::string& source, std::size_t 
 
   for (const Chunk& c : chunks) {
     if (!c.bad_line) continue;
-    csv_detail::ExplainBadRow(LineText(c.bad_line, NextLine(c.bad_line, end)), source + ":" + std::to_string(line_of(c.bad_line)) + ": ", table.names);
+    const std::string where = source + ":" + std::to_string(line_of(c.bad_line)) + ": ";
+    csv_detail::ExplainBadRow(LineText(c.bad_line, NextLine(c.bad_line, end)), where, table.names);
   }
   // Blank and comment lines left gaps at the end of a chunk's share: close them up.
   std::size_t rows = 0;
