@@ -3,14 +3,17 @@
 
 Generates the record once (force + two accelerations, 2^22 samples, CSV), then times on the same
 file, in one run:
-  - vibid: `vibid frf-estimate` end to end (CSV read, estimation, FRF file written), and the
-    estimation alone (bench_frf, best of 3);
+  - vibid: `vibid frf-estimate` end to end (CSV read, estimation, FRF file written), the CSV read
+    alone and the estimation alone (bench_frf; estimation best of 3);
   - scipy: reading the CSV with numpy, and the estimation alone (scipy.signal.csd for both
     responses, scipy.signal.welch for the auto-spectra, H1 and coherence; best of 3).
-Prints the times and the ratios. Usage (from the project root, after building the host preset):
+Prints a Markdown table of the wall times (process CPU time beside them: vibid's includes both
+threads), the ratios of the wall times (peer / vibid) and the targets, and the load average.
+Usage (from the project root, after building the host preset):
   /usr/bin/python3 bench/frf/run_bench.py [BUILD_DIR]
 """
 import os
+import resource
 import subprocess
 import sys
 import tempfile
@@ -58,33 +61,46 @@ def main():
         print(f"record: {N} samples x 3 channels, {os.path.getsize(rec) / 1e6:.0f} MB CSV ({time.perf_counter() - t0:.1f} s to write)")
 
         t0 = time.perf_counter()
+        c0 = resource.getrusage(resource.RUSAGE_CHILDREN)
         subprocess.run([vibid, "frf-estimate", rec, "--force", "force_n", "--response", "acc1_m_s2,acc2_m_s2",
                         "--segment", str(SEG), "--window", "hann", "--kind", "accelerance", "-o",
                         os.path.join(tmp, "frf.csv")], check=True, stdout=subprocess.DEVNULL)
         vibid_total = time.perf_counter() - t0
+        c1 = resource.getrusage(resource.RUSAGE_CHILDREN)
+        vibid_total_cpu = (c1.ru_utime + c1.ru_stime) - (c0.ru_utime + c0.ru_stime)
         out = subprocess.run([bench, rec, str(SEG), "3"], check=True, capture_output=True, text=True).stdout.split()
         vibid_load = float(out[out.index("load_s") + 1])
         vibid_compute = float(out[out.index("compute_s") + 1])
+        vibid_load_cpu = float(out[out.index("load_cpu_s") + 1])
+        vibid_compute_cpu = float(out[out.index("compute_cpu_s") + 1])
 
-        t0 = time.perf_counter()
+        t0, p0 = time.perf_counter(), time.process_time()
         data = np.loadtxt(rec, delimiter=",", skiprows=1)
-        scipy_load = time.perf_counter() - t0
+        scipy_load, scipy_load_cpu = time.perf_counter() - t0, time.process_time() - p0
         f, x = data[:, 1].copy(), data[:, 2:4].T.copy()
-        best = 1e300
+        best = best_cpu = 1e300
         for _ in range(3):
-            t0 = time.perf_counter()
+            t0, p0 = time.perf_counter(), time.process_time()
             h1, coh = scipy_h1(f, x)
             best = min(best, time.perf_counter() - t0)
-        scipy_compute = best
+            best_cpu = min(best_cpu, time.process_time() - p0)
+        scipy_compute, scipy_compute_cpu = best, best_cpu
 
-    print(f"vibid frf-estimate end to end : {vibid_total:8.3f} s")
-    print(f"vibid CSV read                : {vibid_load:8.3f} s")
-    print(f"vibid H1 + coherence          : {vibid_compute:8.3f} s   (best of 3)")
-    print(f"numpy.loadtxt CSV read        : {scipy_load:8.3f} s")
-    print(f"scipy csd/welch H1 + coherence: {scipy_compute:8.3f} s   (best of 3)")
-    print(f"ratio H1 + coherence, scipy / vibid : {scipy_compute / vibid_compute:6.2f}")
-    print(f"ratio read + estimate, scipy / vibid: {(scipy_load + scipy_compute) / vibid_total:6.2f}")
-
+    rows = [
+        ("CSV read (2^22 x 4 columns)", vibid_load, vibid_load_cpu, "numpy.loadtxt", scipy_load, scipy_load_cpu, 3.0),
+        ("H1 + coherence, 4096 Hann, 50 %", vibid_compute, vibid_compute_cpu, "scipy.signal csd/welch", scipy_compute,
+         scipy_compute_cpu, 3.0),
+        ("frf-estimate end to end", vibid_total, vibid_total_cpu, "numpy read + scipy", scipy_load + scipy_compute,
+         scipy_load_cpu + scipy_compute_cpu, 2.0),
+    ]
+    print(f"load average at the end: {os.getloadavg()[0]:.1f} on {os.cpu_count()} cores")
+    print("| path | vibid wall (CPU) | peer | peer wall (CPU) | peer / vibid, wall | target |")
+    print("|---|---|---|---|---|---|")
+    for name, ours, ours_cpu, peer, theirs, theirs_cpu, target in rows:
+        ratio = theirs / ours
+        mark = "met" if ratio >= target else "NOT met"
+        print(f"| {name} | {ours:.3f} s ({ours_cpu:.3f} s) | {peer} | {theirs:.3f} s ({theirs_cpu:.3f} s) | "
+              f"{ratio:.2f}x | >= {target:g}x ({mark}) |")
 
 if __name__ == "__main__":
     main()

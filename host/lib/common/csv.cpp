@@ -3,33 +3,17 @@
 #include <algorithm>
 #include <charconv>
 #include <cmath>
-#include <sstream>
 
-#include "vibid/common/atomic_file.hpp"
+#include "csv_detail.hpp"
 #include "vibid/common/error.hpp"
 
 namespace vibid {
-namespace {
+namespace csv_detail {
 
 std::string_view Trim(std::string_view s) {
   while (!s.empty() && (s.front() == ' ' || s.front() == '\t' || s.front() == '\r')) s.remove_prefix(1);
   while (!s.empty() && (s.back() == ' ' || s.back() == '\t' || s.back() == '\r')) s.remove_suffix(1);
   return s;
-}
-
-// Fills `cells` (reused across lines: a record of millions of rows must not allocate per row).
-void SplitCells(std::string_view line, std::vector<std::string_view>& cells) {
-  cells.clear();
-  std::size_t start = 0;
-  while (true) {
-    const auto comma = line.find(',', start);
-    if (comma == std::string_view::npos) {
-      cells.push_back(Trim(line.substr(start)));
-      return;
-    }
-    cells.push_back(Trim(line.substr(start, comma - start)));
-    start = comma + 1;
-  }
 }
 
 std::optional<double> ParseNumber(std::string_view cell) {
@@ -40,6 +24,61 @@ std::optional<double> ParseNumber(std::string_view cell) {
   if (ec != std::errc() || ptr != end || cell.empty()) return std::nullopt;
   return value;
 }
+
+namespace {
+
+std::vector<std::string_view> SplitCells(std::string_view line) {
+  std::vector<std::string_view> cells;
+  std::size_t start = 0;
+  while (true) {
+    const auto comma = line.find(',', start);
+    if (comma == std::string_view::npos) {
+      cells.push_back(Trim(line.substr(start)));
+      return cells;
+    }
+    cells.push_back(Trim(line.substr(start, comma - start)));
+    start = comma + 1;
+  }
+}
+
+}  // namespace
+
+void CheckHeader(std::string_view line, const std::string& where, std::vector<std::string>& names) {
+  for (const auto c : SplitCells(line)) {
+    if (c.empty()) throw InputError(where + "empty column name in the header");
+    if (ParseNumber(c)) {
+      throw InputError(where + "the first row must be a header of column names, found the number '" + std::string(c) + "'");
+    }
+    names.emplace_back(c);
+  }
+  for (std::size_t i = 0; i < names.size(); ++i) {
+    for (std::size_t j = i + 1; j < names.size(); ++j) {
+      if (names[i] == names[j]) throw InputError(where + "duplicate column '" + names[i] + "'");
+    }
+  }
+}
+
+void ExplainBadRow(std::string_view line, const std::string& where, const std::vector<std::string>& names) {
+  const std::vector<std::string_view> cells = SplitCells(line);
+  if (cells.size() != names.size()) {
+    throw InputError(where + "expected " + std::to_string(names.size()) + " cells, found " + std::to_string(cells.size()));
+  }
+  for (std::size_t c = 0; c < cells.size(); ++c) {
+    const std::string column = "column " + std::to_string(c + 1) + " '" + names[c] + "': ";
+    const auto v = ParseNumber(cells[c]);
+    if (!v) throw InputError(where + column + "'" + std::string(cells[c]) + "' is not a number");
+    if (!std::isfinite(*v)) throw InputError(where + column + "non-finite value '" + std::string(cells[c]) + "'");
+  }
+  // The fast parser refused a line this checker accepts: a defect, reported rather than hidden.
+  throw InputError(where + "cannot read the row '" + std::string(line) + "'");
+}
+
+}  // namespace csv_detail
+
+namespace {
+
+using csv_detail::ParseNumber;
+using csv_detail::Trim;
 
 std::string JoinNames(const std::vector<std::string>& names) {
   std::string out;
@@ -62,75 +101,6 @@ std::size_t CsvTable::Index(std::string_view name) const {
   }
   throw InputError(source + ": no column '" + std::string(name) + "' (columns: " + JoinNames(names) + ")");
 }
-
-CsvTable ParseCsv(std::string_view text, const std::string& source) {
-  CsvTable table;
-  table.source = source;
-  std::vector<std::vector<double>> cols;
-  std::vector<std::string_view> cells;
-  // Rows are about as many as newlines; reserving once avoids regrowth copies on large records.
-  const auto approx_rows = static_cast<std::size_t>(std::count(text.begin(), text.end(), '\n'));
-  std::size_t line_no = 0;
-  bool have_header = false;
-  std::size_t pos = 0;
-  while (pos <= text.size()) {
-    auto nl = text.find('\n', pos);
-    if (nl == std::string_view::npos) nl = text.size();
-    const std::string_view line = Trim(text.substr(pos, nl - pos));
-    pos = nl + 1;
-    ++line_no;
-    if (line.empty() || line.front() == '#') {
-      if (nl == text.size()) break;
-      continue;
-    }
-    SplitCells(line, cells);
-    // Built only on an error: formatting it on every row would dominate the parse of a large record.
-    const auto where = [&] { return source + ":" + std::to_string(line_no) + ": "; };
-    if (!have_header) {
-      for (const auto c : cells) {
-        if (c.empty()) throw InputError(where() + "empty column name in the header");
-        if (ParseNumber(c)) {
-          throw InputError(where() + "the first row must be a header of column names, found the number '" +
-                           std::string(c) + "'");
-        }
-        table.names.emplace_back(c);
-      }
-      for (std::size_t i = 0; i < table.names.size(); ++i) {
-        for (std::size_t j = i + 1; j < table.names.size(); ++j) {
-          if (table.names[i] == table.names[j]) throw InputError(where() + "duplicate column '" + table.names[i] + "'");
-        }
-      }
-      cols.resize(table.names.size());
-      for (auto& c : cols) c.reserve(approx_rows);
-      have_header = true;
-    } else {
-      if (cells.size() != table.names.size()) {
-        throw InputError(where() + "expected " + std::to_string(table.names.size()) + " cells, found " +
-                         std::to_string(cells.size()));
-      }
-      for (std::size_t c = 0; c < cells.size(); ++c) {
-        const auto v = ParseNumber(cells[c]);
-        if (!v) {
-          throw InputError(where() + "column '" + table.names[c] + "': '" + std::string(cells[c]) +
-                           "' is not a number");
-        }
-        if (!std::isfinite(*v)) {
-          throw InputError(where() + "column '" + table.names[c] + "': non-finite value '" +
-                           std::string(cells[c]) + "'");
-        }
-        cols[c].push_back(*v);
-      }
-    }
-    if (nl == text.size()) break;
-  }
-  if (!have_header) throw InputError(source + ": empty file (no header row)");
-  for (auto& c : cols) {
-    table.columns.emplace_back(Eigen::Map<const Eigen::VectorXd>(c.data(), static_cast<Eigen::Index>(c.size())));
-  }
-  return table;
-}
-
-CsvTable ReadCsv(const std::string& path) { return ParseCsv(ReadFileText(path), path); }
 
 std::string FormatCsv(const std::vector<std::string>& names, const std::vector<Eigen::VectorXd>& columns) {
   Require(names.size() == columns.size(), "FormatCsv: names and columns differ in count");
@@ -209,7 +179,13 @@ std::vector<ColumnSpec> ParseColumnList(std::string_view list) {
   return out;
 }
 
-Eigen::VectorXd Recording::Signal(const ColumnSpec& spec) const { return table.Column(spec.name) * spec.scale; }
+Eigen::VectorXd Recording::Signal(const ColumnSpec& spec) const {
+  const Eigen::VectorXd& column = table.Column(spec.name);
+  Eigen::VectorXd out(column.size());
+  csv_detail::AdviseHugePages(out.data(), static_cast<std::size_t>(out.size()) * sizeof(double));
+  out = column * spec.scale;
+  return out;
+}
 
 Eigen::VectorXd Recording::Time() const {
   const auto n = static_cast<Eigen::Index>(samples());

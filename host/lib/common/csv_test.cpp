@@ -2,6 +2,12 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <cstring>
+
 #include "vibid/common/error.hpp"
 
 namespace vibid {
@@ -31,6 +37,102 @@ TEST(Csv, ErrorsNameTheLine) {
   EXPECT_NE(ErrorOf([] { ParseCsv("a,b\n1,nan\n", "f.csv"); }).find("f.csv:2:"), std::string::npos);
   EXPECT_NE(ErrorOf([] { ParseCsv("", "f.csv"); }).find("empty"), std::string::npos);
   EXPECT_NE(ErrorOf([] { ParseCsv("a,a\n1,2\n", "f.csv"); }).find("duplicate"), std::string::npos);
+}
+
+TEST(Csv, ErrorsNameTheColumn) {
+  EXPECT_NE(ErrorOf([] { ParseCsv("a,b\n1,2\n3,x\n", "f.csv"); }).find("f.csv:3: column 2 'b': 'x' is not a number"),
+            std::string::npos);
+  EXPECT_NE(ErrorOf([] { ParseCsv("a,b\n1,2\ninf,4\n", "f.csv"); }).find("f.csv:3: column 1 'a': non-finite value 'inf'"),
+            std::string::npos);
+  // Comment and blank lines count as lines.
+  EXPECT_NE(ErrorOf([] { ParseCsv("# c\na,b\n\n1,2\n3,4,5\n", "f.csv"); }).find("f.csv:5: expected 2 cells, found 3"),
+            std::string::npos);
+  EXPECT_NE(ErrorOf([] { ParseCsv("a,b\n1,2\n1,\n", "f.csv"); }).find("f.csv:3: column 2 'b': '' is not a number"),
+            std::string::npos);
+}
+
+TEST(Csv, AcceptsBlanksSignsCommentsAndCrLf) {
+  const auto t = ParseCsv("a , b\r\n +1.5 ,\t-2\r\n\r\n  # note\n3e2,+.25", "mem");
+  ASSERT_EQ(t.rows(), 2u);
+  EXPECT_EQ(t.names[0], "a");
+  EXPECT_EQ(t.Column("a")[0], 1.5);
+  EXPECT_EQ(t.Column("b")[0], -2.0);
+  EXPECT_EQ(t.Column("a")[1], 300.0);
+  EXPECT_EQ(t.Column("b")[1], 0.25);
+}
+
+// The fast decimal path and std::from_chars against strtod (the C library), cell by cell: signs,
+// "1.", -0, exponents at and past the exact-power limit, 2^53 + 1, more than 19 digits, subnormals.
+TEST(Csv, NumbersMatchStrtod) {
+  const char* cells[] = {"0", "-0", "1.", "+2.5", "-3.25e-2", "1e22", "1e23", "1E-22", "1e-23", "9007199254740992",
+                         "9007199254740993", "12345678901234567890123", "0.1", "0.30000000000000004",
+                         "4.9406564584124654e-324", "1.7976931348623157e308", "123.456e+7", "000012.5000",
+                         "-1234567891e-14", "2.2250738585072014e-308"};
+  std::string text = "v\n";
+  for (const char* c : cells) text += std::string(c) + "\n";
+  const CsvTable t = ParseCsv(text, "mem");
+  ASSERT_EQ(t.rows(), std::size(cells));
+  for (std::size_t i = 0; i < std::size(cells); ++i) {
+    const double want = std::strtod(cells[i][0] == '+' ? cells[i] + 1 : cells[i], nullptr);
+    const double got = t.columns[0][static_cast<Eigen::Index>(i)];
+    EXPECT_EQ(std::memcmp(&want, &got, sizeof got), 0) << cells[i];
+  }
+}
+
+// A text big enough to be cut into chunks, with comment and blank lines scattered through it.
+std::string LargeText(std::size_t rows) {
+  std::string text = "# generated\nt_s,x,y\n";
+  char buf[96];
+  for (std::size_t i = 0; i < rows; ++i) {
+    const double t = static_cast<double>(i) / 1000.0;
+    const int n = std::snprintf(buf, sizeof buf, "%.17g,%.17g,%.6e\n", t, std::sin(t) * 1e-3, std::cos(3.0 * t));
+    text.append(buf, static_cast<std::size_t>(n));
+    if (i % 9973 == 0) text += "# marker\n";
+    if (i % 7919 == 0) text += "\n";
+  }
+  return text;
+}
+
+TEST(Csv, ThreadCountDoesNotChangeTheResult) {
+  const std::string text = LargeText(100000);  // about 4.5 MB: several chunks of the 1 MB minimum
+  const CsvTable one = ParseCsv(text, "mem", 1);
+  ASSERT_EQ(one.rows(), 100000u);
+  // Independent reference: every data line read with strtod (the C library's parser).
+  std::size_t row = 0;
+  std::size_t mismatches = 0;
+  for (const char* p = text.c_str(); *p; p = std::strchr(p, '\n') + 1) {
+    if (*p == '#' || *p == '\n' || *p == 't') continue;
+    char* q = nullptr;
+    for (std::size_t c = 0; c < 3; ++c, p = q + 1) {
+      if (std::strtod(p, &q) != one.columns[c][static_cast<Eigen::Index>(row)]) ++mismatches;
+    }
+    ++row;
+    p = q - 1;
+  }
+  EXPECT_EQ(row, 100000u);
+  EXPECT_EQ(mismatches, 0u);
+  for (const std::size_t threads : {2u, 3u, 8u}) {
+    const CsvTable many = ParseCsv(text, "mem", threads);
+    ASSERT_EQ(many.rows(), one.rows()) << threads;
+    for (std::size_t c = 0; c < one.columns.size(); ++c) {
+      EXPECT_EQ(0, std::memcmp(one.columns[c].data(), many.columns[c].data(), one.rows() * sizeof(double))) << threads;
+    }
+  }
+}
+
+TEST(Csv, FirstBadLineIsReportedWhateverTheThreads) {
+  std::string text = LargeText(100000);
+  // Two bad rows, one in each half: the earlier one must be named.
+  const auto late = text.find('\n', text.size() * 3 / 4) + 1;
+  text.replace(late, 1, "x");
+  const auto early = text.find('\n', text.size() / 3) + 1;
+  text.replace(early, 1, "?");
+  const auto line = 1 + std::count(text.begin(), text.begin() + static_cast<std::ptrdiff_t>(early), '\n');
+  const std::string want = "mem:" + std::to_string(line) + ": column 1 't_s': '?";
+  for (const std::size_t threads : {1u, 2u, 4u}) {
+    const std::string msg = ErrorOf([&] { ParseCsv(text, "mem", threads); });
+    EXPECT_EQ(msg.substr(0, want.size()), want) << threads << ": " << msg;
+  }
 }
 
 TEST(Csv, MissingColumnListsAvailable) {

@@ -4,6 +4,8 @@
 #include <cmath>
 #include <complex>
 #include <numbers>
+#include <thread>
+#include <vector>
 
 #include <kissfft.hh>
 
@@ -130,11 +132,67 @@ void RealFft::Transform(const double* in, Eigen::VectorXcd& out) {
 
 namespace {
 
-void PrepareSegment(const double* x, const Eigen::VectorXd& window, Detrend detrend, Eigen::VectorXd& buf) {
-  const Eigen::Index n = window.size();
-  const Eigen::Map<const Eigen::VectorXd> seg(x, n);
-  const double mean = detrend == Detrend::kConstant ? seg.mean() : 0.0;
-  buf = (seg.array() - mean) * window.array();
+// Segments are summed in kPartials contiguous runs, each in segment order, and the runs are added in
+// run order. The runs do not depend on the thread count, so neither does any bit of the result.
+constexpr std::size_t kPartials = 8;
+
+// Running sums of one run of segments (unscaled |F|^2, |X_j|^2, F^* X_j).
+struct PartialSums {
+  Eigen::VectorXd gff;
+  Eigen::MatrixXd gxx;
+  Eigen::MatrixXcd gfx;
+};
+
+// One thread's plan and buffers, allocated once, reused for every segment it transforms.
+class SegmentWorker {
+ public:
+  SegmentWorker(const Eigen::VectorXd& window, Detrend detrend)
+      : window_(window), detrend_(detrend), fft_(static_cast<std::size_t>(window.size())), buf_(window.size()) {}
+
+  void Sum(const double* force, const Eigen::Ref<const Eigen::MatrixXd>& responses, std::size_t first_seg,
+           std::size_t end_seg, std::size_t hop, PartialSums& out) {
+    const Eigen::Index lines = out.gff.size();
+    double* const gff = out.gff.data();
+    for (std::size_t s = first_seg; s < end_seg; ++s) {
+      const std::size_t start = s * hop;
+      Transform(force + start, fspec_);
+      const std::complex<double>* const f = fspec_.data();
+      for (Eigen::Index i = 0; i < lines; ++i) gff[i] += f[i].real() * f[i].real() + f[i].imag() * f[i].imag();
+      for (Eigen::Index j = 0; j < responses.cols(); ++j) {
+        Transform(responses.col(j).data() + start, xspec_);
+        const std::complex<double>* const x = xspec_.data();
+        double* const gxx = out.gxx.col(j).data();
+        std::complex<double>* const gfx = out.gfx.col(j).data();
+        // Written out rather than f^* x with std::complex: no call into the C99 NaN-recovery multiply.
+        for (Eigen::Index i = 0; i < lines; ++i) {
+          const double fr = f[i].real(), fi = f[i].imag(), xr = x[i].real(), xi = x[i].imag();
+          gxx[i] += xr * xr + xi * xi;
+          gfx[i] += std::complex<double>(fr * xr + fi * xi, fr * xi - fi * xr);
+        }
+      }
+    }
+  }
+
+ private:
+  void Transform(const double* x, Eigen::VectorXcd& spectrum) {
+    const Eigen::Index n = window_.size();
+    const Eigen::Map<const Eigen::VectorXd> seg(x, n);
+    const double mean = detrend_ == Detrend::kConstant ? seg.mean() : 0.0;
+    buf_.array() = (seg.array() - mean) * window_.array();
+    fft_.Transform(buf_.data(), spectrum);
+  }
+
+  const Eigen::VectorXd& window_;
+  Detrend detrend_;
+  RealFft fft_;
+  Eigen::VectorXd buf_;
+  Eigen::VectorXcd fspec_;
+  Eigen::VectorXcd xspec_;
+};
+
+std::size_t ThreadsToUse(std::size_t requested, std::size_t runs) {
+  const std::size_t wanted = requested ? requested : std::max(1u, std::thread::hardware_concurrency());
+  return std::min(wanted, runs);
 }
 
 }  // namespace
@@ -154,31 +212,38 @@ CrossSpectra WelchSpectra(const Eigen::Ref<const Eigen::VectorXd>& force,
   const auto lines = static_cast<Eigen::Index>(seg / 2 + 1);
   const Eigen::Index nresp = responses.cols();
 
+  const std::size_t nparts = std::min(kPartials, nseg);
+  std::vector<PartialSums> parts(nparts);
+  for (PartialSums& p : parts) {
+    p.gff = Eigen::VectorXd::Zero(lines);
+    p.gxx = Eigen::MatrixXd::Zero(lines, nresp);
+    p.gfx = Eigen::MatrixXcd::Zero(lines, nresp);
+  }
+  // Thread t sums runs t, t + T, t + 2T, ...; run k covers segments [k nseg / P, (k + 1) nseg / P).
+  const std::size_t nthreads = ThreadsToUse(options.threads, nparts);
+  const auto work = [&](std::size_t t) {
+    SegmentWorker worker(window, options.detrend);
+    for (std::size_t k = t; k < nparts; k += nthreads) {
+      worker.Sum(force.data(), responses, k * nseg / nparts, (k + 1) * nseg / nparts, hop, parts[k]);
+    }
+  };
+  {
+    std::vector<std::jthread> threads;
+    for (std::size_t t = 1; t < nthreads; ++t) threads.emplace_back(work, t);
+    work(0);
+  }
+
   CrossSpectra out;
   out.freq_hz = Eigen::VectorXd::LinSpaced(lines, 0.0, static_cast<double>(lines - 1) * fs_hz / static_cast<double>(seg));
-  out.gff = Eigen::VectorXd::Zero(lines);
-  out.gxx = Eigen::MatrixXd::Zero(lines, nresp);
-  out.gfx = Eigen::MatrixXcd::Zero(lines, nresp);
-  out.averages = nseg;
-
-  RealFft fft(seg);
-  Eigen::VectorXd buf;
-  Eigen::VectorXcd fspec;
-  Eigen::VectorXcd xspec;
-  // Column-major responses: copy each channel once so segments are contiguous.
-  const Eigen::MatrixXd resp = responses;
-  for (std::size_t s = 0; s < nseg; ++s) {
-    const std::size_t start = s * hop;
-    PrepareSegment(force.data() + start, window, options.detrend, buf);
-    fft.Transform(buf.data(), fspec);
-    out.gff += fspec.cwiseAbs2();
-    for (Eigen::Index j = 0; j < nresp; ++j) {
-      PrepareSegment(resp.col(j).data() + start, window, options.detrend, buf);
-      fft.Transform(buf.data(), xspec);
-      out.gxx.col(j) += xspec.cwiseAbs2();
-      out.gfx.col(j).array() += fspec.array().conjugate() * xspec.array();
-    }
+  out.gff = std::move(parts[0].gff);
+  out.gxx = std::move(parts[0].gxx);
+  out.gfx = std::move(parts[0].gfx);
+  for (std::size_t k = 1; k < nparts; ++k) {
+    out.gff += parts[k].gff;
+    out.gxx += parts[k].gxx;
+    out.gfx += parts[k].gfx;
   }
+  out.averages = nseg;
   // Density scaling, one-sided: lines other than DC and Nyquist carry both halves of the spectrum.
   const double scale = 1.0 / (fs_hz * window.squaredNorm() * static_cast<double>(nseg));
   Eigen::VectorXd line_scale = Eigen::VectorXd::Constant(lines, 2.0 * scale);

@@ -6,6 +6,7 @@
 #include <cmath>
 #include <complex>
 #include <cstdint>
+#include <cstring>
 #include <numbers>
 #include <random>
 #include <string>
@@ -214,6 +215,47 @@ TEST(Windows, PeriodicClosedForms) {
   // Flat-top peak is 1 within its coefficients' rounding (scipy's definition).
   EXPECT_NEAR(MakeWindow(Window::kFlatTop, 8)[4], 1.0, 1e-8);
   EXPECT_THROW(ParseWindow("kaiser"), InputError);
+}
+
+// The spectra must not depend on the thread count by a single bit: segments are summed in fixed
+// runs whatever the threads. 61 segments (not a multiple of the runs) of 3 responses, Hann, detrended.
+TEST(Welch, ThreadCountDoesNotChangeABit) {
+  const Eigen::Index n = 64 * 62;
+  const Eigen::VectorXd force = LcgNoise(n, 4242);
+  Eigen::MatrixXd resp(n, 3);
+  resp.col(0) = Resonator(0.98, 0.3, 0.2, 0.1, 0.0).Filter(force);
+  resp.col(1) = Resonator(0.95, 0.9, 0.0, 0.5, -0.25).Filter(force) + 0.05 * LcgNoise(n, 31);
+  resp.col(2) = LcgNoise(n, 99);
+  WelchOptions o{.segment_samples = 128, .overlap_samples = 64, .window = Window::kHann, .detrend = Detrend::kConstant};
+  o.threads = 1;
+  const CrossSpectra one = WelchSpectra(force, resp, 500.0, o);
+  ASSERT_EQ(one.averages, 61u);
+  const auto same = [](const auto& a, const auto& b) {
+    return a.size() == b.size() &&
+           std::memcmp(a.data(), b.data(), static_cast<std::size_t>(a.size()) * sizeof(*a.data())) == 0;
+  };
+  for (const std::size_t threads : {2u, 3u, 8u, 64u}) {
+    o.threads = threads;
+    const CrossSpectra many = WelchSpectra(force, resp, 500.0, o);
+    EXPECT_TRUE(same(one.gff, many.gff)) << threads;
+    EXPECT_TRUE(same(one.gxx, many.gxx)) << threads;
+    EXPECT_TRUE(same(one.gfx, many.gfx)) << threads;
+  }
+  // And the runs add up to the plain one-pass average (closed form of Welch, summed directly here).
+  const Eigen::VectorXd w = MakeWindow(Window::kHann, 128);
+  RealFft fft(128);
+  Eigen::VectorXd gff = Eigen::VectorXd::Zero(65);
+  Eigen::VectorXcd spec;
+  for (Eigen::Index s = 0; s < 61; ++s) {
+    const Eigen::VectorXd seg = force.segment(s * 64, 128);
+    const Eigen::VectorXd x = (seg.array() - seg.mean()) * w.array();
+    fft.Transform(x.data(), spec);
+    gff += spec.cwiseAbs2();
+  }
+  gff *= 2.0 / (500.0 * w.squaredNorm() * 61.0);
+  gff[0] /= 2.0;
+  gff[64] /= 2.0;
+  EXPECT_LT((gff - one.gff).cwiseAbs().maxCoeff(), 1e-12 * gff.maxCoeff());
 }
 
 TEST(Welch, BadOptionsAreInputErrors) {

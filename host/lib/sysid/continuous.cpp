@@ -50,10 +50,18 @@ StateSpaceSiso ControllableCanonical(const TransferFunction& tf) {
 Eigen::MatrixXd SimulateStates(Eigen::Ref<const Eigen::MatrixXd> a, Eigen::Ref<const Eigen::VectorXd> b,
                                Eigen::Ref<const Eigen::VectorXd> u, double dt_s, Hold hold,
                                Eigen::Ref<const Eigen::VectorXd> x0) {
+  Eigen::MatrixXd states;
+  SimulateStatesInto(a, b, u, dt_s, hold, x0, false, states);
+  return states;
+}
+
+void SimulateStatesInto(Eigen::Ref<const Eigen::MatrixXd> a, Eigen::Ref<const Eigen::VectorXd> b,
+                        Eigen::Ref<const Eigen::VectorXd> u, double dt_s, Hold hold,
+                        Eigen::Ref<const Eigen::VectorXd> x0, bool reversed, Eigen::MatrixXd& states) {
   const Eigen::Index n = a.rows();
   const Eigen::Index samples = u.size();
-  Eigen::MatrixXd states(samples, n);
-  if (samples == 0) return states;
+  states.resize(samples, n);
+  if (samples == 0) return;
   // The input as an extra state u' = w/dt (w = u_{k+1} − u_k, the slope of a first-order hold):
   // the ZOH discretization of [[A, B], [0, 0]] driven by w gives Φ, the ZOH input integral Γ0 (next
   // to Φ) and the first-order-hold one Γ1 (Franklin, Powell & Workman, Digital Control, §6.3.2).
@@ -67,15 +75,25 @@ Eigen::MatrixXd SimulateStates(Eigen::Ref<const Eigen::MatrixXd> a, Eigen::Ref<c
   const Eigen::MatrixXd phi = d.A.topLeftCorner(n, n);
   const Eigen::VectorXd g0 = d.A.topRightCorner(n, 1);
   const Eigen::VectorXd g1 = d.B.topRows(n);
+  // Plain loops over two state buffers: this runs for every sample of every filtered regressor in
+  // SRIVC and tfest, so no temporaries (and no allocation) per sample. Sums in the order phi * x,
+  // then + g0 u, then + g1 du, as the matrix expression they replace.
   Eigen::VectorXd x = x0;
+  Eigen::VectorXd next(n);
+  const bool first_order = hold == Hold::kFirst;
   for (Eigen::Index k = 0; k < samples; ++k) {
-    states.row(k) = x.transpose();
+    for (Eigen::Index i = 0; i < n; ++i) states(k, reversed ? n - 1 - i : i) = x[i];
     if (k + 1 == samples) break;
-    Eigen::VectorXd next = phi * x + g0 * u[k];
-    if (hold == Hold::kFirst) next += g1 * (u[k + 1] - u[k]);
-    x = next;
+    const double du = first_order ? u[k + 1] - u[k] : 0.0;
+    for (Eigen::Index i = 0; i < n; ++i) {
+      double acc = 0.0;
+      for (Eigen::Index j = 0; j < n; ++j) acc += phi(i, j) * x[j];
+      acc += g0[i] * u[k];
+      if (first_order) acc += g1[i] * du;
+      next[i] = acc;
+    }
+    x.swap(next);
   }
-  return states;
 }
 
 Eigen::VectorXd Simulate(const TransferFunction& tf, Eigen::Ref<const Eigen::VectorXd> u, double dt_s, Hold hold) {

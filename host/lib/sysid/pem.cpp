@@ -14,11 +14,12 @@ namespace vibid::sysid {
 
 namespace {
 
-/// v delayed by k samples, zeros shifted in.
-Eigen::VectorXd Delay(const Eigen::VectorXd& v, Eigen::Index k) {
-  Eigen::VectorXd out = Eigen::VectorXd::Zero(v.size());
-  if (k < v.size()) out.tail(v.size() - k) = v.head(v.size() - k);
-  return out;
+/// out = sign * (v delayed by k samples, zeros shifted in), written in place (a Jacobian column).
+void DelayInto(const Eigen::VectorXd& v, Eigen::Index k, double sign, Eigen::Ref<Eigen::VectorXd> out) {
+  const Eigen::Index n = v.size();
+  const Eigen::Index zeros = std::min(k, n);
+  out.head(zeros).setZero();
+  out.tail(n - zeros) = sign * v.head(n - zeros);
 }
 
 bool StableFilter(const Eigen::VectorXd& p) { return p.size() <= 1 || SpectralRadius(p) < 1.0; }
@@ -40,22 +41,22 @@ bool PredictionErrorJacobian(const PolyModel& base, const IoData& data, const Ei
   Eigen::Index col = 0;
   if (o.na > 0) {
     const Eigen::VectorXd yf = Filter(m.d, m.c, data.y);
-    for (int k = 1; k <= o.na; ++k) jac->col(col++) = Delay(yf, k);
+    for (int k = 1; k <= o.na; ++k) DelayInto(yf, k, 1.0, jac->col(col++));
   }
   const Eigen::VectorXd cf = PolyMul(m.c, m.f);
   const Eigen::VectorXd uf = Filter(m.d, cf, data.u);
-  for (int k = 0; k < o.nb; ++k) jac->col(col++) = -Delay(uf, o.nk + k);
+  for (int k = 0; k < o.nb; ++k) DelayInto(uf, o.nk + k, -1.0, jac->col(col++));
   if (o.nc > 0) {
     const Eigen::VectorXd ef = Filter(one, m.c, e);
-    for (int k = 1; k <= o.nc; ++k) jac->col(col++) = -Delay(ef, k);
+    for (int k = 1; k <= o.nc; ++k) DelayInto(ef, k, -1.0, jac->col(col++));
   }
   if (o.nd > 0) {
     const Eigen::VectorXd vf = Filter(one, m.c, v);
-    for (int k = 1; k <= o.nd; ++k) jac->col(col++) = Delay(vf, k);
+    for (int k = 1; k <= o.nd; ++k) DelayInto(vf, k, 1.0, jac->col(col++));
   }
   if (o.nf > 0) {
     const Eigen::VectorXd xf = Filter(m.d, cf, x);
-    for (int k = 1; k <= o.nf; ++k) jac->col(col++) = Delay(xf, k);
+    for (int k = 1; k <= o.nf; ++k) DelayInto(xf, k, 1.0, jac->col(col++));
   }
   return true;
 }
@@ -109,7 +110,7 @@ Eigen::VectorXd Monic(const Eigen::VectorXd& tail) {
 
 }  // namespace
 
-PolyModel EstimateOeIv(const IoData& data, const PolyOrders& orders) {
+PolyModel EstimateOeIv(const IoData& data, const PolyOrders& orders, double tolerance) {
   const PolyOrders arx_orders{orders.nf, orders.nb, 0, 0, 0, orders.nk};
   const ArxResult arx = EstimateArx(data, arx_orders);
   Eigen::VectorXd f = StabilizeDiscrete(arx.model.a);
@@ -157,13 +158,14 @@ PolyModel EstimateOeIv(const IoData& data, const PolyOrders& orders) {
   // Simplified refined IV (Young): prefilter y, u and the instruments by 1/F̂ and use the noise-free
   // output of the current model as instruments; a fixed point of the iteration is consistent and
   // close to the OE optimum, so the search that follows only polishes.
+  // The regressor matrices are allocated once: fresh megabyte-sized ones per pass cost page faults.
+  Eigen::MatrixXd phi(rows, nf + nb);
+  Eigen::MatrixXd zeta(rows, nf + nb);
   for (int pass = 0; pass < 20 && nf > 0; ++pass) {
     const Eigen::VectorXd x = Filter(b, f, data.u);
     const Eigen::VectorXd yf = Filter(one, f, data.y);
     const Eigen::VectorXd uf = Filter(one, f, data.u);
     const Eigen::VectorXd xf = Filter(one, f, x);
-    Eigen::MatrixXd phi(rows, nf + nb);
-    Eigen::MatrixXd zeta(rows, nf + nb);
     for (Eigen::Index r = 0; r < rows; ++r) {
       const Eigen::Index t = t0 + r;
       for (int i = 0; i < nf; ++i) {
@@ -179,7 +181,7 @@ PolyModel EstimateOeIv(const IoData& data, const PolyOrders& orders) {
     b.tail(nb) = th.tail(nb);
     Eigen::VectorXd current(nf + nb);
     current << f.tail(nf), th.tail(nb);
-    if (previous.size() == current.size() && (current - previous).norm() <= 1e-9 * current.norm()) break;
+    if (previous.size() == current.size() && (current - previous).norm() <= tolerance * current.norm()) break;
     previous = current;
   }
   PolyModel m;
@@ -198,7 +200,8 @@ namespace {
 /// At high sample rates the poles crowd near z = 1 and the q⁻¹ regressors become nearly collinear
 /// (ZᵀΦ then has a condition number near 1/eps); the continuous-time route does not suffer from it.
 PolyModel OeStart(const IoData& data, const PolyOrders& orders, std::string& name) {
-  PolyModel best = EstimateOeIv(data, orders);
+  // Only a start: the search polishes it, so the IV passes stop at a 1e-6 relative change.
+  PolyModel best = EstimateOeIv(data, orders, 1e-6);
   name = "instrumental-variable";
   if (orders.nk != 1 || orders.nb != orders.nf || orders.nf < 1 || orders.nf > 20) return best;
   TfestOptions ct;

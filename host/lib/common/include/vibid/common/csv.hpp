@@ -28,10 +28,13 @@ struct CsvTable {
   const Eigen::VectorXd& Column(std::string_view name) const { return columns[Index(name)]; }
 };
 
-/// Parses CSV text (comma separated, header first, '#' lines ignored). `source` names it in errors.
-CsvTable ParseCsv(std::string_view text, const std::string& source);
+/// Parses CSV text (comma separated, header first, '#' and empty lines ignored). `source` names it
+/// in errors, which give the line (1-based, comment lines counted) and, for a bad cell, the column
+/// (1-based index and name). Rows are parsed on `threads` threads (0: one per core; small texts use
+/// one); the result and every message are the same for any thread count.
+CsvTable ParseCsv(std::string_view text, const std::string& source, std::size_t threads = 0);
 
-/// Reads and parses a CSV file.
+/// Reads (memory-mapped where the file allows it) and parses a CSV file.
 CsvTable ReadCsv(const std::string& path);
 
 /// Formats columns as CSV with a header; numbers in shortest round-trip form, so a written file

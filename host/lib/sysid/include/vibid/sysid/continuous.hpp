@@ -44,6 +44,11 @@ enum class Hold {
 Eigen::MatrixXd SimulateStates(Eigen::Ref<const Eigen::MatrixXd> a, Eigen::Ref<const Eigen::VectorXd> b,
                                Eigen::Ref<const Eigen::VectorXd> u, double dt_s, Hold hold,
                                Eigen::Ref<const Eigen::VectorXd> x0);
+/// The same into `states` (resized to N x n; its storage is reused when the size matches, so an
+/// iterative caller allocates nothing per pass). With `reversed`, column j holds state n − 1 − j.
+void SimulateStatesInto(Eigen::Ref<const Eigen::MatrixXd> a, Eigen::Ref<const Eigen::VectorXd> b,
+                        Eigen::Ref<const Eigen::VectorXd> u, double dt_s, Hold hold,
+                        Eigen::Ref<const Eigen::VectorXd> x0, bool reversed, Eigen::MatrixXd& states);
 
 /// y(t_k) of the TF driven by u from rest, exact for the given hold.
 Eigen::VectorXd Simulate(const TransferFunction& tf, Eigen::Ref<const Eigen::VectorXd> u, double dt_s,

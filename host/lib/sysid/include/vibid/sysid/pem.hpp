@@ -30,7 +30,8 @@ PemResult EstimatePem(const IoData& data, Structure structure, const PolyOrders&
 
 /// Instrumental-variable estimate of an OE model B/F (orders nb, nf, nk): ARX start, then up to 20
 /// passes of the simplified refined IV method (data prefiltered by 1/F̂, the current model's
-/// noise-free output as instruments). F is stabilised.
-PolyModel EstimateOeIv(const IoData& data, const PolyOrders& orders);
+/// noise-free output as instruments), ended when the relative parameter change falls below
+/// `tolerance`. F is stabilised.
+PolyModel EstimateOeIv(const IoData& data, const PolyOrders& orders, double tolerance = 1e-9);
 
 }  // namespace vibid::sysid

@@ -4,9 +4,10 @@
 //   B = b_nz s^nz + ... + b_0,  P = initial-condition polynomial (degree np − 1, or zero)
 //
 // Steps: (1) state-variable-filter least squares with the prefilter 1/(s + λ)^np for a few λ across
-// the band, each refined by SRIVC (Young's simplified refined instrumental variable method for
-// continuous-time models); (2) the best start by simulation fit is refined by output-error
-// Levenberg–Marquardt on the exact ZOH simulation, so noise-free stepped data are fitted exactly.
+// the band; the best by simulation fit is iterated to convergence by SRIVC (Young's simplified
+// refined instrumental variable method for continuous-time models); (2) that start is refined by
+// output-error Levenberg–Marquardt on the exact ZOH simulation, so noise-free stepped data are
+// fitted exactly.
 // The Jacobian is exact too: ∂ŷ/∂b_k = ZOH(s^k/A) u, ∂ŷ/∂a_k = −ZOH(s^k B/A²) u − imp(s^k P/A²),
 // ∂ŷ/∂p_k = imp(s^k/A), every one of them read from the states of 1/A and 1/A².
 #pragma once
@@ -30,7 +31,7 @@ struct TfestOptions {
   int np = 2;                                  ///< Number of poles.
   int nz = 0;                                  ///< Number of zeros, < np.
   InitialCondition ic = InitialCondition::kZero;
-  int srivc_iterations = 30;                   ///< Per starting filter.
+  int srivc_iterations = 30;                   ///< SRIVC passes of the chosen start.
   double srivc_tolerance = 1e-10;              ///< Relative parameter change that ends SRIVC.
   bool refine = true;                          ///< Output-error refinement after SRIVC (false: SRIVC only, no covariance).
   SolverOptions solver;
