@@ -24,7 +24,9 @@ import os
 import re
 import subprocess
 import sys
-import tempfile
+
+sys.path.insert(0, os.path.join(os.path.dirname(__file__), ".."))
+import m4_trace  # noqa: E402
 
 FACTORS = (2, 5, 10, 50, 625, 1000)  # kFactors in m4_kernel_image.cpp; 625 has the worst tick
 PERIODS = 2  # kPeriods
@@ -88,9 +90,8 @@ def cycles(insn, taken, after_ls):
     return 3 if taken else 1  # anything else that writes pc, or 1
 
 
-def per_call_counts(log, push, driver, insns):
+def per_call_counts(executed, push, driver, insns):
     """(instructions, estimated cycles) of each Push call, in call order."""
-    pc_re = re.compile(r"\[[0-9a-f]+/([0-9a-f]+)/")
     calls, pcs, inside = [], [], False
 
     def close():
@@ -102,38 +103,23 @@ def per_call_counts(log, push, driver, insns):
             after_ls = bool(SINGLE_LS.match(insn[1]))
         calls.append((len(pcs), total))
 
-    with open(log) as f:
-        for line in f:
-            m = pc_re.search(line)
-            if not m:
-                continue
-            pc = int(m.group(1), 16)
-            if pc == push[0]:
-                inside, pcs = True, []
-            elif inside and driver[0] <= pc < driver[1]:
-                close()
-                inside = False
-            if inside:
-                pcs.append(pc)
+    for pc in executed:
+        if pc == push[0]:
+            inside, pcs = True, []
+        elif inside and driver[0] <= pc < driver[1]:
+            close()
+            inside = False
+        if inside:
+            pcs.append(pc)
     return calls
 
 
 def main():
-    if "--no-build" not in sys.argv:
-        subprocess.run(["cmake", "--preset", "firmware"], cwd=ROOT, check=True, stdout=subprocess.DEVNULL)
-        subprocess.run(["cmake", "--build", "--preset", "firmware", "--target", "decimator_m4_bench"], cwd=ROOT,
-                       check=True, stdout=subprocess.DEVNULL)
+    m4_trace.build("decimator_m4_bench")
     push, driver = symbols()
     insns = disassembly()
-    with tempfile.TemporaryDirectory() as tmp:
-        log = os.path.join(tmp, "exec.log")
-        run = subprocess.run(["qemu-system-arm", "-M", "mps2-an386", "-cpu", "cortex-m4", "-nographic", "-monitor",
-                              "none", "-serial", "none", "-semihosting-config", "enable=on,target=native",
-                              "-singlestep", "-d", "exec,nochain", "-D", log, "-kernel", IMAGE],
-                             capture_output=True, text=True, timeout=600)
-        if run.returncode != 0:
-            sys.exit("the image failed under QEMU:\n" + run.stdout + run.stderr)
-        calls = per_call_counts(log, push, driver, insns)
+    with m4_trace.executed_pcs(IMAGE) as executed:
+        calls = per_call_counts(executed, push, driver, insns)
     expected = sum(PERIODS * d for d in FACTORS)
     if len(calls) != expected:
         sys.exit("counted %d Push calls, expected %d" % (len(calls), expected))

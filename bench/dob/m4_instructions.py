@@ -11,10 +11,11 @@ the count per sample and per section beside CMSIS-DSP's q31 DF1 biquad (about 17
 Usage: /usr/bin/python3 bench/dob/m4_instructions.py [--no-build]
 """
 import os
-import re
 import subprocess
 import sys
-import tempfile
+
+sys.path.insert(0, os.path.join(os.path.dirname(__file__), ".."))
+import m4_trace  # noqa: E402
 
 FRAMES = 1000  # kFrames in m4_kernel_image.cpp
 SECTIONS = 7  # the vector's design: 4 + 3 sections
@@ -45,33 +46,17 @@ def kernel_ranges():
 
 
 def main():
-    if "--no-build" not in sys.argv:
-        subprocess.run(["cmake", "--preset", "firmware"], cwd=ROOT, check=True, stdout=subprocess.DEVNULL)
-        subprocess.run(["cmake", "--build", "--preset", "firmware", "--target", "dob_kernel_m4_bench"], cwd=ROOT,
-                       check=True, stdout=subprocess.DEVNULL)
+    m4_trace.build("dob_kernel_m4_bench")
     ranges = kernel_ranges()
-    with tempfile.TemporaryDirectory() as tmp:
-        log = os.path.join(tmp, "exec.log")
-        run = subprocess.run(["qemu-system-arm", "-M", "mps2-an386", "-cpu", "cortex-m4", "-nographic", "-monitor",
-                              "none", "-serial", "none", "-semihosting-config", "enable=on,target=native",
-                              "-singlestep", "-d", "exec,nochain", "-D", log, "-kernel", IMAGE],
-                             capture_output=True, text=True, timeout=600)
-        if run.returncode != 0:
-            sys.exit("the image failed under QEMU:\n" + run.stdout + run.stderr)
-        pc_re = re.compile(r"\[[0-9a-f]+/([0-9a-f]+)/")
-        total = 0
-        per = {name: 0 for _, _, name in ranges}
-        with open(log) as f:
-            for line in f:
-                m = pc_re.search(line)
-                if not m:
-                    continue
-                pc = int(m.group(1), 16)
-                total += 1
-                for lo, hi, name in ranges:
-                    if lo <= pc < hi:
-                        per[name] += 1
-                        break
+    total = 0
+    per = {name: 0 for _, _, name in ranges}
+    with m4_trace.executed_pcs(IMAGE) as executed:
+        for pc in executed:
+            total += 1
+            for lo, hi, name in ranges:
+                if lo <= pc < hi:
+                    per[name] += 1
+                    break
     kernel = sum(per.values())
     print("image: %s" % os.path.relpath(IMAGE, ROOT))
     for name, n in per.items():
