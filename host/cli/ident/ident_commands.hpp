@@ -13,6 +13,7 @@ namespace vibid::cli {
 
 struct ModeArgs {
   std::string method = "fit";
+  std::string orders;  ///< "MIN:MAX[:STEP]" for lscf/lsce; empty: the defaults.
   std::string driving_point;
   ident::ModeIdentificationOptions options;
 };

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <limits>
 #include <numbers>
 
@@ -136,7 +137,10 @@ struct FitProblem {
 
 }  // namespace
 
-CurveFitResult FitModes(const Frf& receptance, const std::vector<Peak>& start, const CurveFitOptions& options) {
+namespace {
+
+CurveFitResult FitModesImpl(const Frf& receptance, const std::vector<Peak>& start, const CurveFitOptions& options,
+                            bool hold_poles) {
   options.Validate();
   Require(receptance.quantity == Quantity::kDisplacement, "curve fit needs a receptance FRF");
   Require(!start.empty(), "curve fit needs at least one starting mode (no peaks were found)");
@@ -187,7 +191,12 @@ CurveFitResult FitModes(const Frf& receptance, const std::vector<Peak>& start, c
   CurveFitResult result;
   result.freq_min_hz = lo;
   result.freq_max_hz = hi;
-  result.summary = LevenbergMarquardt(f, params, options.solver);
+  if (hold_poles) {
+    result.summary.termination = Termination::kFunctionTolerance;
+    result.summary.message = "linear least squares with the poles held";
+  } else {
+    result.summary = LevenbergMarquardt(f, params, options.solver);
+  }
 
   Eigen::VectorXd r;
   Eigen::MatrixXd coef;
@@ -220,6 +229,28 @@ CurveFitResult FitModes(const Frf& receptance, const std::vector<Peak>& start, c
     result.upper_residual = coef.row(2 * nmodes + 1).transpose();
   }
   return result;
+}
+
+}  // namespace
+
+CurveFitResult FitModes(const Frf& receptance, const std::vector<Peak>& start, const CurveFitOptions& options) {
+  return FitModesImpl(receptance, start, options, false);
+}
+
+CurveFitResult FitResidues(const Frf& receptance, const std::vector<double>& omega_rad_s,
+                           const std::vector<double>& zeta, const CurveFitOptions& options) {
+  options.Validate();
+  Require(receptance.quantity == Quantity::kDisplacement, "residue fit needs a receptance FRF");
+  Require(!omega_rad_s.empty() && omega_rad_s.size() == zeta.size(), "residue fit needs one damping per pole");
+  std::vector<Peak> start;
+  for (std::size_t i = 0; i < omega_rad_s.size(); ++i) {
+    Peak p;
+    p.omega_rad_s = omega_rad_s[i];
+    p.freq_hz = omega_rad_s[i] / (2.0 * std::numbers::pi);
+    p.zeta = zeta[i];
+    start.push_back(p);
+  }
+  return FitModesImpl(receptance, start, options, true);
 }
 
 std::vector<ModeEstimate> ShapesFromResidues(const CurveFitResult& fit, std::size_t driving_point) {
@@ -263,7 +294,9 @@ Eigen::VectorXcd ModalReceptance(const CurveFitResult& fit, double omega_rad_s) 
 ModeMethod ParseModeMethod(std::string_view name) {
   if (name == "peaks" || name == "peak-picking") return ModeMethod::kPeakPicking;
   if (name == "fit" || name == "curve-fit") return ModeMethod::kCurveFit;
-  throw InputError("unknown mode method '" + std::string(name) + "' (known: peaks, fit)");
+  if (name == "lscf" || name == "polymax") return ModeMethod::kLscf;
+  if (name == "lsce") return ModeMethod::kLsce;
+  throw InputError("unknown mode method '" + std::string(name) + "' (known: lscf, lsce, fit, peaks)");
 }
 
 ModeIdentification IdentifyModes(const Frf& receptance, std::size_t driving_point,
@@ -271,6 +304,39 @@ ModeIdentification IdentifyModes(const Frf& receptance, std::size_t driving_poin
   Require(receptance.quantity == Quantity::kDisplacement, "mode identification needs a receptance FRF");
   Require(driving_point < receptance.responses(), "driving-point response out of range");
   ModeIdentification out;
+  if (options.method == ModeMethod::kLscf || options.method == ModeMethod::kLsce) {
+    StabilizationOptions so = options.stabilization;
+    so.method = options.method == ModeMethod::kLscf ? PoleMethod::kLscf : PoleMethod::kLsce;
+    so.freq_min_hz = options.peaks.freq_min_hz;
+    so.freq_max_hz = options.peaks.freq_max_hz;
+    out.diagram = BuildStabilizationDiagram(receptance, so);
+    out.has_diagram = true;
+    std::vector<SelectedPole> chosen = out.diagram.selected;
+    if (options.peaks.max_peaks > 0 && chosen.size() > options.peaks.max_peaks) {
+      // The largest N: the poles seen at the most orders.
+      std::stable_sort(chosen.begin(), chosen.end(), [](const SelectedPole& a, const SelectedPole& b) { return a.orders > b.orders; });
+      chosen.resize(options.peaks.max_peaks);
+      std::sort(chosen.begin(), chosen.end(), [](const SelectedPole& a, const SelectedPole& b) { return a.freq_hz < b.freq_hz; });
+    }
+    Require(!chosen.empty(), std::string("no stable pole in the stabilization diagram (") + PoleMethodName(so.method) +
+                                 ", orders " + std::to_string(so.min_order) + ".." + std::to_string(so.max_order) +
+                                 "): raise the orders (--orders), narrow the band, or use --method fit");
+    std::vector<double> om;
+    std::vector<double> ze;
+    for (const SelectedPole& p : chosen) {
+      om.push_back(p.omega_rad_s);
+      // FitResidues models the damping the FRF shows: undo the exponential-window correction.
+      ze.push_back(receptance.exp_window_tau_s > 0.0 ? p.zeta + 1.0 / (receptance.exp_window_tau_s * p.omega_rad_s) : p.zeta);
+    }
+    CurveFitOptions fo = options.fit;
+    fo.freq_min_hz = out.diagram.freq_min_hz;
+    fo.freq_max_hz = out.diagram.freq_max_hz;
+    out.fit = FitResidues(receptance, om, ze, fo);
+    out.fitted = true;
+    out.modes = ShapesFromResidues(out.fit, driving_point);
+    for (std::size_t i = 0; i < out.modes.size() && i < chosen.size(); ++i) out.modes[i].zeta = chosen[i].zeta;
+    return out;
+  }
   const Eigen::VectorXd mag = PickingMagnitude(receptance, options.picking_column);
   const PeakResult picked = PickPeaks(receptance.freq_hz, mag, options.peaks, receptance.exp_window_tau_s);
   Require(!picked.peaks.empty(), "no resonance found in the FRF (check the band and the threshold)");
@@ -295,6 +361,22 @@ ModeIdentification IdentifyModes(const Frf& receptance, std::size_t driving_poin
                              "); modes are the peak-picking estimates");
     }
   }
+  // A pole with no resolved damping is a numerical artefact (a zero-width peak, or a fit that
+  // drove the damping to zero), not a mode.
+  constexpr double kMinResolvedZeta = 1e-6;
+  std::vector<ModeEstimate> kept;
+  for (const ModeEstimate& m : out.modes) {
+    if (m.zeta > kMinResolvedZeta && std::isfinite(m.zeta)) {
+      kept.push_back(m);
+      continue;
+    }
+    char line[200];
+    std::snprintf(line, sizeof line, "pole at %.5g Hz dropped: its damping is not resolved (zeta = %.3g)", m.freq_hz, m.zeta);
+    out.warnings.emplace_back(line);
+    out.dropped.push_back(m);
+  }
+  out.modes = std::move(kept);
+  Require(!out.modes.empty(), "no mode with a resolved damping in the FRF: " + out.warnings.back());
   return out;
 }
 
