@@ -176,8 +176,14 @@ struct LsceNormals {
   double dt_s = 0.0;
   Eigen::MatrixXd normal;  // (max + 1) x (max + 1)
 
-  LsceNormals(const Frf& frf, int max_order) {
-    const Frf acc = ConvertFrf(frf, Quantity::kAcceleration);
+  LsceNormals(const Frf& frf, int max_order, double freq_max_hz) {
+    Frf acc = ConvertFrf(frf, Quantity::kAcceleration);
+    if (freq_max_hz > 0.0) {
+      Eigen::Index keep = 0;
+      while (keep < acc.freq_hz.size() && acc.freq_hz[keep] <= freq_max_hz * (1.0 + 1e-12)) ++keep;
+      acc.freq_hz.conservativeResize(keep);
+      acc.h.conservativeResize(keep, Eigen::NoChange);
+    }
     const Eigen::Index lines = acc.freq_hz.size();
     Require(lines >= 4, "lsce: too few frequency lines");
     const double df = acc.freq_hz[lines - 1] - acc.freq_hz[lines - 2];
@@ -272,9 +278,9 @@ PoleSet LscfPoles(const Frf& frf, double freq_min_hz, double freq_max_hz, int or
   return LscfNormals(frf, band, order).Solve(order);
 }
 
-PoleSet LscePoles(const Frf& frf, int order) {
+PoleSet LscePoles(const Frf& frf, int order, double freq_max_hz) {
   Require(order >= 1, "lsce: order must be >= 1");
-  return LsceNormals(frf, order).Solve(order);
+  return LsceNormals(frf, order, freq_max_hz).Solve(order);
 }
 
 StabilizationDiagram BuildStabilizationDiagram(const Frf& frf, const StabilizationOptions& options) {
@@ -296,7 +302,7 @@ StabilizationDiagram BuildStabilizationDiagram(const Frf& frf, const Stabilizati
     // rational in W (see the header), and resonances over decades of frequency weigh alike.
     lscf = std::make_unique<LscfNormals>(ConvertFrf(frf, Quantity::kAcceleration), band, options.max_order);
   } else {
-    lsce = std::make_unique<LsceNormals>(frf, options.max_order);
+    lsce = std::make_unique<LsceNormals>(frf, options.max_order, band.hi);
   }
   std::vector<Eigen::VectorXcd> prev_shapes;
   std::vector<DiagramPole> prev;
@@ -314,6 +320,7 @@ StabilizationDiagram BuildStabilizationDiagram(const Frf& frf, const Stabilizati
       p.freq_hz = omega / (2.0 * std::numbers::pi);
       p.zeta = CorrectExponentialWindowDamping(-l.real() / omega, omega, frf.exp_window_tau_s);
       if (p.freq_hz < band.lo || p.freq_hz > band.hi || !(p.zeta > 0.0) || p.zeta >= options.max_zeta) continue;
+      if (lscf) p.shape = set.shapes.col(i);
       now.push_back(p);
       now_shapes.push_back(set.shapes.col(i));
     }
@@ -378,6 +385,87 @@ StabilizationDiagram BuildStabilizationDiagram(const Frf& frf, const Stabilizati
     begin = end;
   }
   return d;
+}
+
+}  // namespace vibid::ident
+
+namespace vibid::ident {
+
+std::vector<std::pair<double, double>> AutomaticBands(std::vector<double> resonances_hz, double last_line_hz, double max_span) {
+  std::sort(resonances_hz.begin(), resonances_hz.end());
+  std::vector<std::pair<double, double>> bands;
+  std::size_t i = 0;
+  while (i < resonances_hz.size()) {
+    std::size_t j = i + 1;
+    while (j < resonances_hz.size() && resonances_hz[j] <= max_span * resonances_hz[i]) ++j;
+    const double lo = bands.empty() ? 0.0 : 0.6 * resonances_hz[i];
+    const double hi = std::min(last_line_hz, 1.6 * resonances_hz[j - 1]);
+    if (hi > lo) bands.emplace_back(lo, hi);
+    i = j;
+  }
+  if (bands.empty()) bands.emplace_back(0.0, last_line_hz);
+  return bands;
+}
+
+StabilizationDiagram BuildStabilizationDiagram(const Frf& frf, const StabilizationOptions& options,
+                                               const std::vector<std::pair<double, double>>& bands) {
+  Require(!bands.empty(), "stabilization: no band");
+  if (bands.size() == 1 && bands.front().second <= 0.0) return BuildStabilizationDiagram(frf, options);
+  StabilizationDiagram all;
+  struct Candidate {
+    SelectedPole pole;
+    std::size_t band = 0;
+    int index = 0;
+  };
+  std::vector<Candidate> candidates;
+  std::vector<StabilizationDiagram> parts;
+  for (std::size_t b = 0; b < bands.size(); ++b) {
+    StabilizationOptions o = options;
+    o.freq_min_hz = bands[b].first;
+    o.freq_max_hz = bands[b].second;
+    // A narrow band cannot carry the highest orders: at most a quarter of its lines (and of the
+    // lines up to its top for LSCE's impulse responses).
+    int lines = 0;
+    for (Eigen::Index k = 0; k < frf.freq_hz.size(); ++k) {
+      const double f = frf.freq_hz[k];
+      if (f > 0.0 && f <= o.freq_max_hz && (o.method == PoleMethod::kLsce || f >= o.freq_min_hz)) ++lines;
+    }
+    const int cap = o.min_order + (lines / 4 - o.min_order) / o.order_step * o.order_step;
+    if (lines / 4 < o.min_order + 2 * o.order_step) continue;
+    o.max_order = std::min(o.max_order, cap);
+    parts.push_back(BuildStabilizationDiagram(frf, o));
+    for (std::size_t k = 0; k < parts.back().selected.size(); ++k) candidates.push_back({parts.back().selected[k], parts.size() - 1, static_cast<int>(k)});
+  }
+  Require(!parts.empty(), "stabilization: every band is too narrow for the lowest orders (give --fmax-hz or --orders)");
+  std::sort(candidates.begin(), candidates.end(), [](const Candidate& a, const Candidate& c) { return a.pole.freq_hz < c.pole.freq_hz; });
+  std::vector<Candidate> kept;
+  for (const Candidate& c : candidates) {
+    if (!kept.empty() && c.pole.freq_hz - kept.back().pole.freq_hz <= options.freq_tolerance * c.pole.freq_hz) {
+      if (c.pole.orders > kept.back().pole.orders) kept.back() = c;
+      continue;
+    }
+    kept.push_back(c);
+  }
+  all.method = options.method;
+  all.freq_min_hz = parts.front().freq_min_hz;
+  all.freq_max_hz = parts.front().freq_max_hz;
+  for (const StabilizationDiagram& part : parts) {
+    if (part.orders.size() > all.orders.size()) all.orders = part.orders;
+  }
+  for (std::size_t b = 0; b < parts.size(); ++b) {
+    all.freq_min_hz = std::min(all.freq_min_hz, parts[b].freq_min_hz);
+    all.freq_max_hz = std::max(all.freq_max_hz, parts[b].freq_max_hz);
+    for (DiagramPole p : parts[b].poles) {
+      const int old = p.cluster;
+      p.cluster = -1;
+      for (std::size_t k = 0; k < kept.size(); ++k) {
+        if (old >= 0 && kept[k].band == b && kept[k].index == old) p.cluster = static_cast<int>(k);
+      }
+      all.poles.push_back(p);
+    }
+  }
+  for (const Candidate& c : kept) all.selected.push_back(c.pole);
+  return all;
 }
 
 }  // namespace vibid::ident

@@ -89,7 +89,7 @@ enum class ModeMethod { kPeakPicking, kCurveFit, kLscf, kLsce };
 ModeMethod ParseModeMethod(std::string_view name);
 
 struct ModeIdentificationOptions {
-  ModeMethod method = ModeMethod::kCurveFit;
+  ModeMethod method = ModeMethod::kLscf;
   PeakOptions peaks;
   /// Column whose magnitude is peak-picked; -1: the sum of all responses' magnitudes.
   int picking_column = -1;

@@ -73,6 +73,9 @@ struct DiagramPole {
   bool stable_damping = false;
   bool stable_shape = false;
   int cluster = -1;  ///< Index into StabilizationDiagram::selected when the pole is part of one.
+  /// pLSCF: the numerators B_o at the pole, one per response (proportional to the residues, so
+  /// their ratios are the mode shape). LSCE: empty.
+  Eigen::VectorXcd shape;
   bool Stable() const { return stable_freq && stable_damping && stable_shape; }
 };
 
@@ -105,14 +108,28 @@ struct PoleSet {
 };
 PoleSet LscfPoles(const Frf& frf, double freq_min_hz, double freq_max_hz, int order);
 
-/// LSCE poles of `order` from the impulse responses of the accelerance (the FRF converted; every
-/// line from the first to the Nyquist line is needed, the DC line is taken as 0).
-PoleSet LscePoles(const Frf& frf, int order);
+/// LSCE poles of `order` from the impulse responses of the accelerance (the FRF converted) over the
+/// lines up to `freq_max_hz` (0: the last line), which become the Nyquist line of the impulse
+/// responses (dt = 1 / (2 f_max)); every line from the first up to it is needed, a missing DC
+/// line is taken as 0.
+PoleSet LscePoles(const Frf& frf, int order, double freq_max_hz = 0.0);
 
 /// Poles over the orders, stability flags and the automatic choice of the physical poles. pLSCF
 /// fits the FRF converted to accelerance (what accelerometers measure: a truncated record's DFT
 /// ratio is then rational in W, and resonances decades apart weigh alike). Damping is corrected
 /// for the FRF's exponential window.
 StabilizationDiagram BuildStabilizationDiagram(const Frf& frf, const StabilizationOptions& options);
+
+/// Bands for resonances spread over decades: a pole near DC of a band that reaches far above it
+/// sits where z = exp(lambda dt) crowds 1 and is lost to the polynomial's conditioning. The
+/// resonances (sorted, Hz) are grouped so that each group spans at most a factor `max_span`; each
+/// group gets the band [0.6 f_first (0 for the first group), min(last_line, 1.6 f_last)].
+std::vector<std::pair<double, double>> AutomaticBands(std::vector<double> resonances_hz, double last_line_hz,
+                                                      double max_span = 8.0);
+
+/// One diagram per band (options' band ignored), merged: chosen poles of overlapping bands within
+/// the frequency tolerance of each other count once (the one seen at more orders).
+StabilizationDiagram BuildStabilizationDiagram(const Frf& frf, const StabilizationOptions& options,
+                                               const std::vector<std::pair<double, double>>& bands);
 
 }  // namespace vibid::ident
