@@ -83,6 +83,12 @@ Estimated EstimateFromRecording(const std::string& path, const EstimationArgs& a
   const ident::Estimator est = ident::ParseEstimator(a.estimator);
   const ident::Quantity sensor = ident::ParseQuantity(a.sensor);
   const ident::Quantity kind = ident::ParseQuantity(a.kind);
+  // Welch options are checked whichever path runs: a typo must not pass silently because the
+  // record turned out to be a hammer test.
+  const ident::Window window = ident::ParseWindow(a.window);
+  Require(a.detrend == "none" || a.detrend == "constant", "--detrend must be none or constant, not '" + a.detrend + "'");
+  Require(a.overlap < 0 || a.segment == 0 || static_cast<std::size_t>(a.overlap) < a.segment,
+          "--overlap must be smaller than the segment");
   Estimated out;
   bool impact = a.impact;
   if (!a.impact && !a.welch) {
@@ -102,8 +108,7 @@ Estimated EstimateFromRecording(const std::string& path, const EstimationArgs& a
     out.record_samples = r.record_samples;
   } else {
     ident::WelchOptions wo;
-    wo.window = ident::ParseWindow(a.window);
-    Require(a.detrend == "none" || a.detrend == "constant", "--detrend must be none or constant, not '" + a.detrend + "'");
+    wo.window = window;
     wo.detrend = a.detrend == "constant" ? ident::Detrend::kConstant : ident::Detrend::kNone;
     wo.segment_samples = a.segment > 0 ? a.segment : DefaultSegment(rec.samples());
     Require(a.overlap < 0 || static_cast<std::size_t>(a.overlap) < wo.segment_samples,

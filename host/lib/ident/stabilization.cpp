@@ -48,6 +48,8 @@ void ParseOrders(std::string_view text, StabilizationOptions& options) {
     start = colon + 1;
   }
   Require(parts.size() == 2 || parts.size() == 3, "--orders '" + s + "' must be MIN:MAX or MIN:MAX:STEP");
+  Require(parts[0] >= 2 && parts[1] >= parts[0] && (parts.size() == 2 || parts[2] >= 1),
+          "--orders '" + s + "': need 2 <= MIN <= MAX and STEP >= 1");
   options.min_order = parts[0];
   options.max_order = parts[1];
   if (parts.size() == 3) options.order_step = parts[2];
