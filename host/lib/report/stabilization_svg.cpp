@@ -95,11 +95,19 @@ std::string StabilizationSvg(const StabilizationFigure& f) {
     }
     svg << "\"/>\n";
   }
-  for (double c : f.chosen_hz) {
+  // Labels of neighbouring chosen poles are staggered over three rows so they do not overprint.
+  std::vector<double> chosen = f.chosen_hz;
+  std::sort(chosen.begin(), chosen.end());
+  double last_label_x[3] = {-1e9, -1e9, -1e9};
+  for (double c : chosen) {
     if (!(c >= lo && c <= hi)) continue;
+    const std::string text = Label(std::round(c * 10.0) / 10.0);
+    int row = 0;
+    while (row < 2 && px(c) < last_label_x[row]) ++row;
+    last_label_x[row] = px(c) + 6.0 * static_cast<double>(text.size()) + 6.0;
     svg << "<line class=\"chosen\" x1=\"" << Num(px(c)) << "\" y1=\"" << Num(a.top) << "\" x2=\"" << Num(px(c)) << "\" y2=\""
         << Num(a.bottom) << "\" stroke=\"#d62728\" stroke-dasharray=\"4,3\"/><text x=\"" << Num(px(c) + 2) << "\" y=\""
-        << Num(a.top + 10) << "\" fill=\"#d62728\" font-size=\"10\">" << Label(std::round(c * 10.0) / 10.0) << "</text>\n";
+        << Num(a.top + 10 + 11 * row) << "\" fill=\"#d62728\" font-size=\"10\">" << text << "</text>\n";
   }
   for (const DiagramMarker& p : f.poles) {
     if (!(p.freq_hz >= lo && p.freq_hz <= hi)) continue;
