@@ -329,6 +329,25 @@ ModeIdentification IdentifyModes(const Frf& receptance, std::size_t driving_poin
       chosen.resize(options.peaks.max_peaks);
       std::sort(chosen.begin(), chosen.end(), [](const SelectedPole& a, const SelectedPole& b) { return a.freq_hz < b.freq_hz; });
     }
+    if (chosen.empty() && options.method == ModeMethod::kLscf && !options.stabilization_fallback_off) {
+      // The default must not leave a user with nothing: LSCE next (it holds up on short Welch
+      // FRFs where pLSCF finds no stable pole, e.g. the DaISy robot arm), then the curve fit.
+      ModeIdentificationOptions next = options;
+      next.stabilization_fallback_off = true;
+      next.method = ModeMethod::kLsce;
+      const std::string why = std::string("no stable pole in the pLSCF diagram (orders ") + std::to_string(so.min_order) +
+                              ".." + std::to_string(so.max_order) + ")";
+      ModeIdentification alt;
+      try {
+        alt = IdentifyModes(receptance, driving_point, next);
+        alt.warnings.insert(alt.warnings.begin(), why + ": modes from LSCE");
+      } catch (const InputError&) {
+        next.method = ModeMethod::kCurveFit;
+        alt = IdentifyModes(receptance, driving_point, next);
+        alt.warnings.insert(alt.warnings.begin(), why + " nor in LSCE's: modes from the curve fit");
+      }
+      return alt;
+    }
     Require(!chosen.empty(), std::string("no stable pole in the stabilization diagram (") + PoleMethodName(so.method) +
                                  ", orders " + std::to_string(so.min_order) + ".." + std::to_string(so.max_order) +
                                  "): raise the orders (--orders), narrow the band, or use --method fit");

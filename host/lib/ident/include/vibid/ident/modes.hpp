@@ -96,6 +96,9 @@ struct ModeIdentificationOptions {
   CurveFitOptions fit;
   /// lscf/lsce: orders and stability criteria (the band is the peak options' band).
   StabilizationOptions stabilization;
+  /// lscf with no stable pole falls back to lsce, then to the curve fit, with a warning; true
+  /// turns that off (an InputError instead).
+  bool stabilization_fallback_off = false;
 };
 
 struct ModeIdentification {
