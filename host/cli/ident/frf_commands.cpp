@@ -24,8 +24,9 @@ void RegisterFrfEstimate(CLI::App& app) {
   auto args = std::make_shared<Args>();
   CLI::App* cmd = app.add_subcommand(
       "frf-estimate",
-      "Estimate FRFs (H1/H2/Hv with coherence) of responses to a force from a recording: Welch averaging, or one\n"
-      "record per hammer hit (--impact) with force and exponential windows and double-hit/clipping checks.");
+      "Estimate FRFs (H1/H2/Hv with coherence) of responses to a force from a recording: one record per hammer\n"
+      "hit with force and exponential windows and double-hit/clipping checks when the force is a train of short\n"
+      "pulses (or --impact), Welch averaging otherwise (or --welch).");
   cmd->add_option("recording", args->input, "Recording CSV (t_s column first)")->required();
   AddEstimationOptions(cmd, args->est, true, "receptance");
   cmd->add_option("-o,--output", args->output, "Output FRF.csv or FRF.uff (UFF58); default: CSV on stdout");
@@ -33,6 +34,8 @@ void RegisterFrfEstimate(CLI::App& app) {
                   "UFF58 node number of the force (default: responses are nodes 1..n, the force the last of them)");
   cmd->callback([args] {
     const Estimated e = EstimateFromRecording(args->input, args->est);
+    if (!e.note.empty()) std::cerr << "vibid: note: " << e.note << "\n";
+    for (const std::string& w : e.warnings) std::cerr << "vibid: warning: " << w << "\n";
     const int ref = args->reference_node > 0 ? args->reference_node : static_cast<int>(e.frf.responses());
     EmitOutput(ident::FormatFrfForPath(e.frf, args->output, ref), args->output);
     if (!args->output.empty() && args->output != "-") {
@@ -48,8 +51,12 @@ void RegisterFrfEstimate(CLI::App& app) {
 }
 
 void AddModeOptions(CLI::App* cmd, ModeArgs& m) {
-  cmd->add_option("--method", m.method, "peaks (Eq. 10 from peak amplitudes) or fit (multi-mode least squares started from the peaks)")
+  cmd->add_option("--method", m.method,
+                  "lscf (pLSCF poles over model orders, stabilization diagram, automatic pole choice, residues by\n"
+                  "least squares), lsce (the same with time-domain complex exponentials), fit (multi-mode least\n"
+                  "squares started from the peaks), peaks (Eq. 10 from peak amplitudes)")
       ->capture_default_str();
+  cmd->add_option("--orders", m.orders, "lscf/lsce model orders MIN:MAX[:STEP] (default 4:48:2)");
   cmd->add_option("--driving-point", m.driving_point,
                   "Response measured at the hammer point: its column name or 1-based index (default: the last response)");
   cmd->add_option("--fmin-hz", m.options.peaks.freq_min_hz, "Lowest frequency searched for peaks (Hz)")->check(NonNegativeNumber());
@@ -80,6 +87,7 @@ std::size_t ResolveDrivingPoint(const ident::Frf& frf, const std::string& spec) 
 ident::ModeIdentification RunModes(const ident::Frf& receptance, const ModeArgs& m) {
   ident::ModeIdentificationOptions o = m.options;
   o.method = ident::ParseModeMethod(m.method);
+  if (!m.orders.empty()) ident::ParseOrders(m.orders, o.stabilization);
   return ident::IdentifyModes(receptance, ResolveDrivingPoint(receptance, m.driving_point), o);
 }
 
@@ -115,6 +123,7 @@ void RegisterModes(CLI::App& app) {
       j["responses"] = frf.response_names;
       j["warnings"] = warnings;
       j["notes"] = notes;
+      if (r.has_diagram) j["stabilization"] = DiagramToJson(r.diagram);
       if (r.fitted) {
         j["summary"] = SummaryToJson(r.fit.summary);
         j["fit_band_hz"] = {r.fit.freq_min_hz, r.fit.freq_max_hz};
@@ -124,7 +133,12 @@ void RegisterModes(CLI::App& app) {
     } else {
       std::ostringstream out;
       out << ModesTable(r.modes);
-      if (r.fitted) {
+      if (r.has_diagram) {
+        out << "stabilization diagram: " << ident::PoleMethodName(r.diagram.method) << ", orders " << r.diagram.orders.front()
+            << ".." << r.diagram.orders.back() << ", band " << r.diagram.freq_min_hz << ".." << r.diagram.freq_max_hz << " Hz, "
+            << r.diagram.poles.size() << " poles, " << r.diagram.selected.size() << " chosen; residue fit rms relative misfit "
+            << r.fit.rms_relative_error << "\n";
+      } else if (r.fitted) {
         out << "curve fit: " << ident::TerminationName(r.fit.summary.termination) << ", " << r.fit.summary.iterations
             << " iterations, cost " << r.fit.summary.initial_cost << " -> " << r.fit.summary.final_cost
             << ", rms relative misfit " << r.fit.rms_relative_error << "\n";

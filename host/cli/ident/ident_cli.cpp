@@ -2,6 +2,7 @@
 
 #include <cmath>
 #include <cstdio>
+#include <iostream>
 #include <limits>
 #include <numbers>
 #include <sstream>
@@ -24,7 +25,10 @@ void AddEstimationOptions(CLI::App* cmd, EstimationArgs& a, bool require_columns
   }
   cmd->add_option("--estimator", a.estimator, "FRF estimator: h1 (noise on the output), h2 (noise on the input), hv")
       ->capture_default_str();
-  cmd->add_flag("--impact", a.impact, "Hammer test: one record per detected hit, force and exponential windows");
+  auto* impact = cmd->add_flag("--impact", a.impact,
+                               "Hammer test: one record per detected hit, force and exponential windows (the default when\n"
+                               "the force is a train of short pulses)");
+  cmd->add_flag("--welch", a.welch, "Welch averaging even when the force looks like hammer hits")->excludes(impact);
   cmd->add_option("--window", a.window, "Welch window: rect, hann, hamming, blackmanharris, flattop")->capture_default_str();
   cmd->add_option("--segment", a.segment, "Welch segment length in samples (default: a power of two, at most 4096 and a quarter of the record)");
   cmd->add_option("--overlap", a.overlap, "Welch overlap in samples (default: half a segment)");
@@ -79,18 +83,32 @@ Estimated EstimateFromRecording(const std::string& path, const EstimationArgs& a
   const ident::Estimator est = ident::ParseEstimator(a.estimator);
   const ident::Quantity sensor = ident::ParseQuantity(a.sensor);
   const ident::Quantity kind = ident::ParseQuantity(a.kind);
+  // Welch options are checked whichever path runs: a typo must not pass silently because the
+  // record turned out to be a hammer test.
+  const ident::Window window = ident::ParseWindow(a.window);
+  Require(a.detrend == "none" || a.detrend == "constant", "--detrend must be none or constant, not '" + a.detrend + "'");
+  Require(a.overlap < 0 || a.segment == 0 || static_cast<std::size_t>(a.overlap) < a.segment,
+          "--overlap must be smaller than the segment");
   Estimated out;
-  if (a.impact) {
+  bool impact = a.impact;
+  if (!a.impact && !a.welch) {
+    const ident::ExcitationCheck check = ident::ClassifyExcitation(force, rec.fs_hz);
+    impact = check.impact;
+    out.note = path + ": " + check.description + ": " +
+               (impact ? "processed as an impact test, one record per hit (--welch forces Welch averaging)"
+                       : "Welch averaging (--impact forces per-hit records)");
+  }
+  if (impact) {
     ident::ImpactOptions io = a.impact_options;
     io.reject_bad_hits = !a.keep_bad_hits;
     ident::ImpactResult r = ident::EstimateImpactFrf(force, resp, rec.fs_hz, io, est, sensor);
     out.frf = std::move(r.frf);
     out.hits = std::move(r.hits);
+    for (const std::string& w : r.warnings) out.warnings.push_back(path + ": " + w);
     out.record_samples = r.record_samples;
   } else {
     ident::WelchOptions wo;
-    wo.window = ident::ParseWindow(a.window);
-    Require(a.detrend == "none" || a.detrend == "constant", "--detrend must be none or constant, not '" + a.detrend + "'");
+    wo.window = window;
     wo.detrend = a.detrend == "constant" ? ident::Detrend::kConstant : ident::Detrend::kNone;
     wo.segment_samples = a.segment > 0 ? a.segment : DefaultSegment(rec.samples());
     Require(a.overlap < 0 || static_cast<std::size_t>(a.overlap) < wo.segment_samples,
@@ -113,6 +131,15 @@ ident::Frf LoadOrEstimate(const std::string& path, const EstimationArgs& a, std:
   const std::string text = ReadFileText(path);
   if (ident::LooksLikeFrfCsv(text)) return ident::ConvertFrf(ident::ParseFrfCsv(text, path), kind);
   Estimated e = EstimateFromRecording(path, a);
+  if (!e.note.empty()) {
+    // Said on stderr too: a user who did not ask for a processing mode should see which one ran.
+    std::cerr << "vibid: note: " << e.note << "\n";
+    notes.push_back(e.note);
+  }
+  for (const std::string& w : e.warnings) {
+    std::cerr << "vibid: warning: " << w << "\n";
+    notes.push_back(w);
+  }
   if (!e.hits.empty()) {
     std::istringstream in(DescribeHits(e.hits));
     std::string line;
@@ -203,6 +230,33 @@ nlohmann::json SummaryToJson(const ident::SolverSummary& s) {
           {"initial_cost", s.initial_cost},
           {"final_cost", s.final_cost},
           {"message", s.message}};
+}
+
+nlohmann::json DiagramToJson(const ident::StabilizationDiagram& d) {
+  nlohmann::json poles = nlohmann::json::array();
+  for (const auto& p : d.poles) {
+    poles.push_back({{"order", p.order},
+                     {"freq_hz", p.freq_hz},
+                     {"zeta", p.zeta},
+                     {"stable_freq", p.stable_freq},
+                     {"stable_damping", p.stable_damping},
+                     {"stable_shape", p.stable_shape},
+                     {"cluster", p.cluster}});
+  }
+  nlohmann::json selected = nlohmann::json::array();
+  for (const auto& s : d.selected) {
+    selected.push_back({{"freq_hz", s.freq_hz},
+                        {"omega_rad_s", s.omega_rad_s},
+                        {"zeta", s.zeta},
+                        {"orders", s.orders},
+                        {"freq_spread", s.freq_spread},
+                        {"zeta_spread", s.zeta_spread}});
+  }
+  return {{"method", ident::PoleMethodName(d.method)},
+          {"band_hz", {d.freq_min_hz, d.freq_max_hz}},
+          {"orders", d.orders},
+          {"poles", poles},
+          {"selected", selected}};
 }
 
 std::string ModesTable(const std::vector<ident::ModeEstimate>& modes) {

@@ -21,6 +21,7 @@ struct EstimationArgs {
   std::string responses;
   std::string estimator = "h1";
   bool impact = false;
+  bool welch = false;
   std::string window = "hann";
   std::string detrend = "none";
   std::string sensor = "acc";
@@ -39,10 +40,14 @@ struct Estimated {
   ident::Frf frf;
   std::vector<ident::Hit> hits;  ///< Impact mode only.
   std::size_t record_samples = 0;
+  /// One line saying how the recording was processed when that was chosen automatically.
+  std::string note;
+  std::vector<std::string> warnings;  ///< From the impact processing (double hits, usable band).
 };
 
-/// Reads a recording and estimates the FRF of every response to the force (Welch or impact),
-/// converted to the requested kind.
+/// Reads a recording and estimates the FRF of every response to the force, converted to the
+/// requested kind. Per-hit impact records when --impact is given or, unless --welch is, when the
+/// force is a train of short pulses (ident::ClassifyExcitation); Welch averaging otherwise.
 Estimated EstimateFromRecording(const std::string& path, const EstimationArgs& args);
 
 /// An FRF file (.uff/.unv, or a CSV with freq_hz) as it is; any other CSV is a recording and is
@@ -58,6 +63,9 @@ std::string DescribeHits(const std::vector<ident::Hit>& hits);
 nlohmann::json ModesToJson(const std::vector<ident::ModeEstimate>& modes);
 std::vector<ident::ModeEstimate> ModesFromJson(const nlohmann::json& json, const std::string& source);
 nlohmann::json SummaryToJson(const ident::SolverSummary& summary);
+/// {"method", "band_hz": [lo, hi], "orders": [...], "poles": [{order, freq_hz, zeta, stable_freq,
+/// stable_damping, stable_shape, cluster}], "selected": [{freq_hz, omega_rad_s, zeta, orders, ...}]}
+nlohmann::json DiagramToJson(const ident::StabilizationDiagram& diagram);
 
 /// Text table of modes (freq, omega, zeta, ratio, shape).
 std::string ModesTable(const std::vector<ident::ModeEstimate>& modes);

@@ -2,6 +2,7 @@
 // known) and the ECP records, and a clear one-line error with a nonzero exit for bad input.
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <filesystem>
 #include <fstream>
 #include <string>
@@ -13,6 +14,7 @@
 #include "run_cli.hpp"
 #include "vibid/common/atomic_file.hpp"
 #include "vibid/ident/hammer_test.hpp"
+#include "vibid/model/modal.hpp"
 #include "vibid/model/model.hpp"
 
 namespace vibid::testing {
@@ -126,6 +128,53 @@ TEST(ModesCli, JsonSchemaAndTruth) {
   const auto p = RunVibid({"modes", rig.dir + "/frf.csv", "--method", "peaks", "--max-modes", "2", "--json"});
   ASSERT_EQ(p.exit_code, 0) << p.err;
   EXPECT_EQ(json::parse(p.out)["modes"].size(), 2u);
+}
+
+// Acceptance: the default path recognises a hammer record (no --impact), says so in one line,
+// and gets the modes right; --welch forces Welch averaging. Truth: the rig's state-matrix modes
+// (model core) and the closed-form a1/a2 of the chain.
+TEST(ModesCli, DefaultPathRecognisesAnImpactTest) {
+  const Rig& rig = SyntheticRig();
+  const auto r = RunVibid({"modes", rig.modal1, "--force", "force_n", "--response", "acc1_m_s2,acc2_m_s2", "--json"});
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_NE(r.err.find("processed as an impact test"), std::string::npos) << r.err;
+  const json j = json::parse(r.out);
+  EXPECT_EQ(j["method"], "lscf");
+  ASSERT_TRUE(j.contains("stabilization"));
+  EXPECT_FALSE(j["stabilization"]["poles"].empty());
+  ASSERT_EQ(j["modes"].size(), 2u);
+  const model::Model truth = model::MakeChain(Eigen::Vector2d(1.2, 0.8), Eigen::Vector2d(3000, 2000), Eigen::Vector2d(0.9, 0.8));
+  const model::ComplexModes cm = model::ComplexModalDamping(truth);
+  for (Eigen::Index i = 0; i < 2; ++i) {
+    const json& mode = j["modes"][static_cast<std::size_t>(i)];
+    const double omega = mode["omega_rad_s"].get<double>();
+    const double zeta = mode["zeta"].get<double>();
+    std::printf("modes default path mode %ld: omega %+.4f %%, zeta %+.2f %%\n", static_cast<long>(i) + 1, 100 * (omega / cm.omega_rad_s[i] - 1),
+                100 * (zeta / cm.zeta[i] - 1));
+    EXPECT_NEAR(omega, cm.omega_rad_s[i], 0.0005 * cm.omega_rad_s[i]);
+    EXPECT_NEAR(zeta, cm.zeta[i], 0.03 * cm.zeta[i]);
+  }
+  const auto w = RunVibid({"modes", rig.modal1, "--force", "force_n", "--response", "acc1_m_s2,acc2_m_s2", "--welch",
+                           "--method", "fit"});
+  EXPECT_EQ(w.err.find("processed as an impact test"), std::string::npos) << w.err;
+  EXPECT_EQ(RunVibid({"modes", rig.modal1, "--force", "force_n", "--response", "acc1_m_s2", "--welch", "--impact"}).exit_code, 2);
+  const auto bad = RunVibid({"modes", rig.modal1, "--force", "force_n", "--response", "acc1_m_s2", "--orders", "9:3"});
+  EXPECT_EQ(bad.exit_code, 1);
+  EXPECT_NE(bad.err.find("--orders '9:3'"), std::string::npos) << bad.err;
+}
+
+// The DaISy robot arm (a periodic sweep, 1024 samples, Welch): pLSCF finds no stable pole on so
+// few lines and the default falls back to LSCE, saying so. Reference: the data set's own statement
+// that a 4th-order model is good enough, i.e. two modes.
+TEST(ModesCli, DefaultFallsBackWhenLscfFindsNoStablePole) {
+  const auto r = RunVibid({"modes", std::string(VIBID_DATA_DIR) + "/daisy_robot_arm/robot_arm.csv", "--force", "u_reaction_torque",
+                           "--response", "y_arm_acceleration", "--fs-hz", "1", "--json"});
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_NE(r.err.find("Welch averaging"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("modes from LSCE"), std::string::npos) << r.err;
+  const json j = json::parse(r.out);
+  EXPECT_EQ(j["modes"].size(), 2u);
+  EXPECT_EQ(j["stabilization"]["method"], "lsce");
 }
 
 TEST(ModesCli, BadInput) {

@@ -12,7 +12,8 @@
 namespace vibid::cli {
 
 struct ModeArgs {
-  std::string method = "fit";
+  std::string method = "lscf";
+  std::string orders;  ///< "MIN:MAX[:STEP]" for lscf/lsce; empty: the defaults.
   std::string driving_point;
   ident::ModeIdentificationOptions options;
 };

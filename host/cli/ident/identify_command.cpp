@@ -124,7 +124,8 @@ void RegisterIdentify(CLI::App& app) {
       ->capture_default_str();
   cmd->add_option("--sensor", a->est.sensor, "What the response channels measure: acc, vel, disp")->capture_default_str();
   cmd->add_option("--estimator", a->est.estimator, "FRF estimator: h1, h2, hv")->capture_default_str();
-  cmd->add_flag("--welch", a->welch, "Welch averaging instead of per-hit impact records (e.g. shaker tests)");
+  cmd->add_flag("--welch", a->welch, "Welch averaging even for recordings whose force looks like hammer hits (default: per-hit\n"
+                "records for hammer tests, Welch for random/periodic excitation, decided per recording)");
   cmd->add_option("--exp-window", a->est.impact_options.exp_window_end,
                   "Exponential window value at the end of each hit record (0: none); damping is corrected for it")
       ->check(NonNegativeNumber());
@@ -142,7 +143,8 @@ void RegisterIdentify(CLI::App& app) {
     const model::Model nominal = model::LoadModel(a->nominal);
     const auto n = static_cast<std::size_t>(nominal.dofs());
     EstimationArgs est = a->est;
-    est.impact = !a->welch;
+    est.impact = false;
+    est.welch = a->welch;  // otherwise each recording is classified by its force channel
     est.kind = "receptance";
 
     std::vector<double> springs(n, 0.0);
@@ -177,6 +179,13 @@ void RegisterIdentify(CLI::App& app) {
       EstimationArgs me = est;
       me.responses = mass_responses[mass_responses.size() == 1 ? 0 : t];
       Estimated e = EstimateFromRecording(path, me);
+      // identify is made for hammer tests: say so only when a recording did not look like one.
+      if (!e.note.empty() && e.hits.empty()) std::cerr << "vibid: note: " << e.note << "\n";
+      if (!e.note.empty()) notes.push_back(e.note);
+      for (const std::string& w : e.warnings) {
+        std::cerr << "vibid: warning: " << w << "\n";
+        notes.push_back(w);
+      }
       std::istringstream hits(DescribeHits(e.hits));
       for (std::string line; std::getline(hits, line);) notes.push_back(path + ": " + line);
       mass_inputs.push_back({pos, std::move(e.frf), springs[pos], fit_springs[pos]});
@@ -186,6 +195,13 @@ void RegisterIdentify(CLI::App& app) {
       EstimationArgs me = est;
       me.responses = a->modal_responses;
       Estimated e = EstimateFromRecording(path, me);
+      // identify is made for hammer tests: say so only when a recording did not look like one.
+      if (!e.note.empty() && e.hits.empty()) std::cerr << "vibid: note: " << e.note << "\n";
+      if (!e.note.empty()) notes.push_back(e.note);
+      for (const std::string& w : e.warnings) {
+        std::cerr << "vibid: warning: " << w << "\n";
+        notes.push_back(w);
+      }
       std::istringstream hits(DescribeHits(e.hits));
       for (std::string line; std::getline(hits, line);) notes.push_back(path + ": " + line);
       modal.push_back(std::move(e.frf));
@@ -193,6 +209,7 @@ void RegisterIdentify(CLI::App& app) {
     ident::IdentifyOptions options;
     options.modes = a->modes.options;
     options.modes.method = ident::ParseModeMethod(a->modes.method);
+    if (!a->modes.orders.empty()) ident::ParseOrders(a->modes.orders, options.modes.stabilization);
     options.driving_point = ResolveDrivingPoint(modal.front(), a->modes.driving_point);
     const ident::IdentifyResult r = ident::Identify(nominal, mass_inputs, modal, options);
 
@@ -220,6 +237,7 @@ void RegisterIdentify(CLI::App& app) {
       for (const auto& mt : r.modal_tests) {
         nlohmann::json j = ModesToJson(mt.modes);
         if (mt.fitted) j["summary"] = SummaryToJson(mt.fit.summary);
+        if (mt.has_diagram) j["stabilization"] = DiagramToJson(mt.diagram);
         modal_json.push_back(j);
       }
       report["modal_tests"] = modal_json;

@@ -24,12 +24,17 @@ class ReportCli : public ::testing::Test {
     // Validation as `vibid identify --report` writes it: one mode, one position.
     const nlohmann::json triple = {{"nominal", 29.37}, {"updated", 27.99}, {"test", 27.92},
                                    {"nominal_dev_percent", 5.18}, {"updated_dev_percent", 0.24}};
-    const nlohmann::json report = {
+    nlohmann::json report = {
         {"validation",
          {{"modes", {{{"omega_rad_s", triple}}}},
           {"positions", {{{"m_kg", {{"nominal", 2.0}, {"updated", 1.8155}, {"change_percent", -9.225}}},
                           {"k_n_per_m", {{"nominal", 4000.0}, {"updated", 3517.9}, {"change_percent", -12.0525}}}}}}}},
         {"warnings", {"mass test 1: a <warning>"}}};
+    // The first modal test's stabilization diagram: two orders, one chosen pole near 3 Hz.
+    report["modal_tests"] = nlohmann::json::parse(R"([{"stabilization": {"method": "lscf", "band_hz": [1, 4], "orders": [4, 6],
+      "poles": [{"order": 4, "freq_hz": 3.0, "zeta": 0.01, "stable_freq": false, "stable_damping": false, "stable_shape": false, "cluster": -1},
+                {"order": 6, "freq_hz": 3.01, "zeta": 0.01, "stable_freq": true, "stable_damping": true, "stable_shape": true, "cluster": 0}],
+      "selected": [{"freq_hz": 3.01, "zeta": 0.01, "orders": 1}]}}])");
     WriteFileAtomic(dir_ + "/ident/report.json", report.dump());
     WriteFileAtomic(dir_ + "/ident/frf_overlay.csv",
                     "freq_hz,h12_test,h12_nominal,h12_updated,h22_test,h22_nominal,h22_updated\n"
@@ -59,9 +64,11 @@ TEST_F(ReportCli, TablesFiguresAndFitsAreThere) {
                            "board d_hat bit-exact", "-o", out});
   ASSERT_EQ(r.exit_code, 0) << r.err;
   const std::string html = ReadFileText(out);
-  // Two FRF figures (h12, h22) and the observer figure.
+  // Two FRF figures (h12, h22), the stabilization diagram and the observer figure.
   const std::regex svg("<svg ");
-  EXPECT_EQ(std::distance(std::sregex_iterator(html.begin(), html.end(), svg), std::sregex_iterator()), 3);
+  EXPECT_EQ(std::distance(std::sregex_iterator(html.begin(), html.end(), svg), std::sregex_iterator()), 4);
+  EXPECT_NE(html.find("Stabilization diagram (lscf)"), std::string::npos);
+  EXPECT_NE(html.find("class=\"chosen\""), std::string::npos);
   EXPECT_NE(html.find("<td>offset</td><td>est_n</td><td class=\"num\">92.93</td>"), std::string::npos);
   EXPECT_NE(html.find("<td>same_n</td><td>same_n</td><td class=\"num\">100.00</td>"), std::string::npos);
   // m: (1.8155 - 1.82) / 1.82 = -0.247 %; k: (3517.9 - 3520) / 3520 = -0.060 %.

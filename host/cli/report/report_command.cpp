@@ -21,6 +21,7 @@
 #include "vibid/model/model.hpp"
 #include "vibid/model/model_json.hpp"
 #include "vibid/report/html.hpp"
+#include "vibid/report/stabilization_svg.hpp"
 #include "vibid/report/svg_plot.hpp"
 
 namespace vibid::cli {
@@ -164,6 +165,42 @@ void FrfFigures(const std::string& overlay_path, double lo_hz, double hi_hz, rep
   }
 }
 
+// The stabilization diagram of the first modal test (`vibid identify` with --method lscf/lsce,
+// the default), over the measured driving-point receptance of frf_overlay.csv.
+void StabilizationFigure(const nlohmann::json& report, const std::string& overlay_path, report::HtmlPage& page) {
+  if (!report.contains("modal_tests") || !report["modal_tests"].is_array() || report["modal_tests"].empty()) return;
+  const nlohmann::json& test = report["modal_tests"][0];
+  if (!test.contains("stabilization") || !test["stabilization"].is_object()) return;
+  const nlohmann::json& d = test["stabilization"];
+  report::StabilizationFigure f;
+  f.title = "Stabilization diagram (" + d.value("method", std::string("lscf")) + "), first modal test";
+  const std::vector<double> band = d.at("band_hz").get<std::vector<double>>();
+  Require(band.size() == 2, "report.json: stabilization band_hz must hold two numbers");
+  f.freq_min_hz = band[0];
+  f.freq_max_hz = band[1];
+  for (const auto& p : d.at("poles")) {
+    const bool all = p.value("stable_freq", false) && p.value("stable_damping", false) && p.value("stable_shape", false);
+    f.poles.push_back({p.at("freq_hz").get<double>(), p.at("order").get<int>(),
+                       all                              ? report::PoleMark::kStable
+                       : p.value("stable_freq", false) ? report::PoleMark::kFrequency
+                                                        : report::PoleMark::kUnstable});
+  }
+  for (const auto& c : d.at("selected")) f.chosen_hz.push_back(c.at("freq_hz").get<double>());
+  if (f.poles.empty()) return;
+  if (std::filesystem::exists(overlay_path)) {
+    const CsvTable t = ReadCsv(overlay_path);
+    for (const std::string& name : t.names) {
+      if (name.size() > 5 && name.compare(name.size() - 5, 5, "_test") == 0) {
+        f.frf_freq_hz = t.Column("freq_hz");
+        f.frf_magnitude = t.Column(name);
+      }
+    }
+  }
+  page.Figure(report::StabilizationSvg(f),
+              "Poles of every model order; filled: stable in frequency, damping and shape against the previous order; "
+              "red lines: the poles chosen as modes (clusters of stable poles).");
+}
+
 void ObserverSection(const Args& a, report::HtmlPage& page) {
   const Recording rec = LoadRecording(a.dob_recording);
   const Eigen::VectorXd t = rec.Time();
@@ -219,6 +256,7 @@ void Run(const Args& a) {
     double lo_hz = 0.0, hi_hz = 0.0;
     FrfBand(report, lo_hz, hi_hz);
     FrfFigures((dir / "frf_overlay.csv").string(), lo_hz, hi_hz, page);
+    StabilizationFigure(report, (dir / "frf_overlay.csv").string(), page);
   }
   if (!a.dob_recording.empty()) {
     page.Heading("Disturbance observer");

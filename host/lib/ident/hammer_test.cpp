@@ -17,6 +17,9 @@ void HammerTestSpec::Validate(int dofs) const {
   Require(hit_peak_spread >= 0.0 && hit_peak_spread < 1.0, "hammer test: peak spread must be in [0, 1)");
   Require(pulse_width_s > 0.0 && spacing_min_s > pulse_width_s && spacing_max_s >= spacing_min_s && lead_s >= 0.0,
           "hammer test: need pulse width < spacing_min <= spacing_max");
+  Require(rebound_delay_s >= 0.0 && rebound_fraction >= 0.0 && rebound_fraction < 1.0 &&
+              (rebound_fraction == 0.0 || (rebound_delay_s > pulse_width_s && rebound_delay_s < spacing_min_s)),
+          "hammer test: a rebound needs pulse width < delay < spacing_min and a fraction in [0, 1)");
   Require(force_noise >= 0.0 && response_noise >= 0.0, "hammer test: noise levels must be >= 0");
 }
 
@@ -36,6 +39,12 @@ HammerTestRecord SimulateHammerTest(const model::Model& rig, const HammerTestSpe
     s.t0_s = std::round(t * spec.fs_hz) / spec.fs_hz;
     s.width_s = spec.pulse_width_s;
     input.shapes.push_back(s);
+    if (spec.rebound_fraction > 0.0) {
+      model::ForceShape b = s;
+      b.amp_n = s.amp_n * spec.rebound_fraction;
+      b.t0_s = s.t0_s + std::round(spec.rebound_delay_s * spec.fs_hz) / spec.fs_hz;
+      input.shapes.push_back(b);
+    }
     rec.hit_times_s.push_back(s.t0_s);
     t += spec.spacing_min_s + (spec.spacing_max_s - spec.spacing_min_s) * unit(rng);
   }

@@ -18,6 +18,8 @@ void ImpactOptions::Validate() const {
   Require(double_hit_window_s >= 0.0 && std::isfinite(double_hit_window_s), "impact: double-hit window must be >= 0");
   Require(double_hit_fraction > 0.0 && double_hit_fraction < 1.0, "impact: double-hit fraction must be in (0, 1)");
   Require(clip_run_samples >= 2, "impact: clipping run must be at least 2 samples");
+  Require(force_dynamic_range_db > 0.0 && std::isfinite(force_dynamic_range_db),
+          "impact: force dynamic range must be > 0 dB");
 }
 
 std::size_t FastFftLength(std::size_t n) {
@@ -112,6 +114,35 @@ bool Clipped(const double* x, std::size_t n, const Rails& rails, std::size_t min
 
 }  // namespace
 
+ExcitationCheck ClassifyExcitation(const Eigen::Ref<const Eigen::VectorXd>& force, double fs_hz) {
+  Require(fs_hz > 0.0 && std::isfinite(fs_hz), "sample rate must be > 0");
+  ExcitationCheck out;
+  if (force.size() < 16) {
+    out.description = "force record too short to classify";
+    return out;
+  }
+  const Eigen::VectorXd centred = force.array() - Median(force);
+  const double peak = centred.cwiseAbs().maxCoeff();
+  const double rms = std::sqrt(centred.squaredNorm() / static_cast<double>(centred.size()));
+  if (!(peak > 0.0) || !(rms > 0.0)) {
+    out.description = "force channel is constant";
+    return out;
+  }
+  out.crest_factor = peak / rms;
+  const std::vector<Pulse> pulses = FindPulses(centred, 0.1 * peak);
+  std::size_t above = 0;
+  for (const Pulse& p : pulses) above += p.end - p.start;
+  out.pulses = pulses.size();
+  out.pulse_duty = static_cast<double>(above) / static_cast<double>(centred.size());
+  out.impact = out.crest_factor >= kImpactCrestFactor && out.pulse_duty <= kImpactMaxDuty;
+  std::ostringstream d;
+  d.precision(3);
+  d << "force has " << out.pulses << " pulse(s) over " << 100.0 * out.pulse_duty << " % of the record, crest factor "
+    << out.crest_factor;
+  out.description = d.str();
+  return out;
+}
+
 ImpactResult EstimateImpactFrf(const Eigen::Ref<const Eigen::VectorXd>& force,
                                const Eigen::Ref<const Eigen::MatrixXd>& responses, double fs_hz,
                                const ImpactOptions& options, Estimator estimator, Quantity response_quantity) {
@@ -198,16 +229,18 @@ ImpactResult EstimateImpactFrf(const Eigen::Ref<const Eigen::VectorXd>& force,
   Eigen::VectorXd xbuf(static_cast<Eigen::Index>(record));
   Eigen::VectorXcd fspec;
   Eigen::VectorXcd xspec;
-  std::size_t used = 0;
-  std::ostringstream reasons;
+  // First pass: classify every hit; the second pass averages the ones used.
+  std::vector<std::pair<std::size_t, std::size_t>> spans;  // record start, force window keep
   for (std::size_t g = 0; g < groups.size(); ++g) {
     const Pulse& first = groups[g].pulses.front();
+    const Pulse& last = groups[g].pulses.back();
     Hit hit;
     hit.trigger_index = first.start;
     hit.peak_index = first.peak;
     hit.peak_n = centred[static_cast<Eigen::Index>(first.peak)];
     hit.t_s = static_cast<double>(first.start) / fs_hz;
     hit.pulse_width_s = static_cast<double>(first.end - first.start) / fs_hz;
+    hit.pulses = groups[g].pulses.size();
     std::vector<std::string> notes;
     if (first.start < pre || first.start - pre + record > n) {
       hit.truncated = true;
@@ -233,22 +266,48 @@ ImpactResult EstimateImpactFrf(const Eigen::Ref<const Eigen::VectorXd>& force,
         notes.push_back("response " + std::to_string(j + 1) + " clipped");
       }
     }
-    hit.used = !hit.truncated && (!options.reject_bad_hits || (!hit.double_hit && !hit.clipped));
     for (std::size_t k = 0; k < notes.size(); ++k) hit.note += (k ? "; " : "") + notes[k];
+    // Force window: keep through the hit's last pulse plus the first pulse's width as margin.
+    const std::size_t width = std::max<std::size_t>(first.end - first.start, 1);
+    std::size_t keep = pre + (last.end - first.start) + width;
+    if (options.force_window_s > 0.0) keep = pre + static_cast<std::size_t>(std::llround(options.force_window_s * fs_hz));
+    spans.emplace_back(s0, std::min(keep, record));
+    result.hits.push_back(hit);
+  }
+  bool all_double = true;
+  bool any_candidate = false;
+  for (const Hit& h : result.hits) {
+    if (h.truncated) continue;
+    any_candidate = true;
+    all_double = all_double && h.double_hit && !h.clipped;
+  }
+  const bool keep_doubles = !options.reject_bad_hits || (any_candidate && all_double);
+  if (options.reject_bad_hits && any_candidate && all_double) {
+    result.warnings.push_back("every hit is a double hit: used all the same, each force window spanning the hit's pulses");
+  }
+
+  std::size_t used = 0;
+  bool doubles_used = false;
+  std::ostringstream reasons;
+  bool overridable = false;
+  for (std::size_t g = 0; g < groups.size(); ++g) {
+    Hit& hit = result.hits[g];
+    hit.used = !hit.truncated && (!options.reject_bad_hits || !hit.clipped) && (keep_doubles || !hit.double_hit);
     if (!hit.used) {
       reasons << " hit at " << hit.t_s << " s: " << hit.note << ";";
-      result.hits.push_back(hit);
+      overridable = overridable || !hit.truncated;
       continue;
     }
+    doubles_used = doubles_used || hit.double_hit;
+    const std::size_t s0 = spans[g].first;
+    const std::size_t keep = spans[g].second;
+    const Pulse& first = groups[g].pulses.front();
+    const std::size_t width = std::max<std::size_t>(first.end - first.start, 1);
 
     // Offsets from the pretrigger (the part of the record before the hit), else the force baseline.
     const auto seg = [&](const Eigen::VectorXd& x) { return x.segment(static_cast<Eigen::Index>(s0), static_cast<Eigen::Index>(record)); };
     const double f_offset = pre >= 4 ? seg(force).head(static_cast<Eigen::Index>(pre)).mean() : baseline;
-    // Force window: keep through the pulse plus margin, then a half-cosine taper to zero.
-    const std::size_t width = std::max<std::size_t>(first.end - first.start, 1);
-    std::size_t keep = pre + 2 * width;
-    if (options.force_window_s > 0.0) keep = pre + static_cast<std::size_t>(std::llround(options.force_window_s * fs_hz));
-    keep = std::min(keep, record);
+    // Force window: kept up to `keep`, then a half-cosine taper to zero.
     const std::size_t taper = std::min(width, record - keep);
     for (std::size_t i = 0; i < record; ++i) {
       double w = 0.0;
@@ -270,9 +329,11 @@ ImpactResult EstimateImpactFrf(const Eigen::Ref<const Eigen::VectorXd>& force,
       spectra.gfx.col(j).array() += fspec.array().conjugate() * xspec.array();
     }
     ++used;
-    result.hits.push_back(hit);
   }
-  if (used == 0) throw InputError("no usable hit in the record:" + reasons.str());
+  if (used == 0) {
+    throw InputError("no usable hit in the record:" + reasons.str() +
+                     (overridable ? " (--keep-bad-hits uses double and clipped hits anyway)" : ""));
+  }
   spectra.averages = used;
   const double scale = 2.0 / (fs_hz * static_cast<double>(record) * static_cast<double>(used));
   spectra.gff *= scale;
@@ -280,6 +341,22 @@ ImpactResult EstimateImpactFrf(const Eigen::Ref<const Eigen::VectorXd>& force,
   spectra.gfx *= scale;
   result.frf = FrfFromSpectra(spectra, estimator, response_quantity);
   result.frf.exp_window_tau_s = tau_s;
+  result.usable_min_hz = spectra.freq_hz[std::min<Eigen::Index>(1, lines - 1)];
+  result.usable_max_hz = spectra.freq_hz[lines - 1];
+  if (doubles_used && lines > 2) {
+    const double top = spectra.gff.tail(lines - 1).maxCoeff();
+    const double floor = top * std::pow(10.0, -options.force_dynamic_range_db / 10.0);
+    Eigen::Index k = 1;
+    while (k < lines && spectra.gff[k] >= floor) ++k;
+    result.usable_max_hz = spectra.freq_hz[k - 1];
+    result.frf.coherence.bottomRows(lines - k).setZero();
+    std::ostringstream w;
+    w.precision(4);
+    w << "double hits in the average: the force spectrum stays within " << options.force_dynamic_range_db
+      << " dB of its peak from " << result.usable_min_hz << " to " << result.usable_max_hz
+      << " Hz; lines above carry no FRF (coherence set to 0)";
+    result.warnings.push_back(w.str());
+  }
   return result;
 }
 

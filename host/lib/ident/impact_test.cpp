@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <cmath>
 #include <complex>
+#include <cstdint>
 #include <numbers>
 #include <string>
 
@@ -93,16 +94,95 @@ TEST(Impact, DoubleHitIsRejectedAndClippingFlagged) {
   const ImpactResult flagged =
       EstimateImpactFrf(f, y, 1.0, {.double_hit_window_s = 50, .reject_bad_hits = false}, Estimator::kH1, Quantity::kDisplacement);
   EXPECT_EQ(flagged.frf.averages, 3u);
-  // All hits bad: an input error listing why.
+  // The only hit is clipped: an input error listing why and naming the override.
   Eigen::VectorXd g = Eigen::VectorXd::Zero(3000);
   AddHit(g, 500, 100, 5);
-  AddHit(g, 520, 90, 5);
+  Eigen::MatrixXd yg = sys.Filter(g);
+  const double rail_g = 0.5 * yg.cwiseAbs().maxCoeff();
+  yg = yg.cwiseMin(rail_g).cwiseMax(-rail_g);
   try {
-    EstimateImpactFrf(g, sys.Filter(g), 1.0, opt, Estimator::kH1, Quantity::kDisplacement);
-    FAIL();
+    const ImpactResult bad = EstimateImpactFrf(g, yg, 1.0, opt, Estimator::kH1, Quantity::kDisplacement);
+    FAIL() << bad.hits.size() << " " << bad.hits[0].note << " used " << bad.hits[0].used;
   } catch (const InputError& e) {
-    EXPECT_NE(std::string(e.what()).find("double hit"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("clipped"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("--keep-bad-hits"), std::string::npos) << e.what();
   }
+}
+
+// Every hit of the record is a double hit (a rebound 20 samples after each pulse, 40 % of its
+// height): the hits are used, each force window spanning both pulses, and the FRF equals the
+// resonator's (closed form) wherever the force spectrum is within the dynamic range.
+TEST(Impact, AllDoubleHitsAreUsedWithTheWholeGroupInTheForceWindow) {
+  const Resonator sys{0.98, 0.3};
+  Eigen::VectorXd f = Eigen::VectorXd::Zero(7000);
+  for (Eigen::Index at : {500, 2700, 4800}) {
+    AddHit(f, at, 100, 5);
+    AddHit(f, at + 20, 40, 5);
+  }
+  const Eigen::MatrixXd y = sys.Filter(f);
+  const ImpactResult r = EstimateImpactFrf(f, y, 1.0, {.double_hit_window_s = 50}, Estimator::kH1, Quantity::kDisplacement);
+  ASSERT_EQ(r.hits.size(), 3u);
+  for (const Hit& h : r.hits) {
+    EXPECT_TRUE(h.used);
+    EXPECT_TRUE(h.double_hit);
+    EXPECT_EQ(h.pulses, 2u);
+  }
+  ASSERT_EQ(r.warnings.size(), 2u);
+  EXPECT_NE(r.warnings[0].find("every hit is a double hit"), std::string::npos) << r.warnings[0];
+  EXPECT_NE(r.warnings[1].find("Hz"), std::string::npos) << r.warnings[1];
+  // |1 + 0.4 exp(-j 20 w)| >= 0.6 (-4.4 dB): no notch is deeper than the range; the half-sine of
+  // 5 samples has its first zero at 0.3 cycles/sample, so the usable band ends below it.
+  EXPECT_GT(r.usable_max_hz, 0.15);
+  EXPECT_LT(r.usable_max_hz, 0.3);
+  double worst = 0.0;
+  int checked = 0;
+  for (Eigen::Index i = 1; i < r.frf.freq_hz.size(); ++i) {
+    if (r.frf.freq_hz[i] > r.usable_max_hz) {
+      EXPECT_EQ(r.frf.coherence(i, 0), 0.0);
+      continue;
+    }
+    const cd ref = sys.Response(2 * std::numbers::pi * r.frf.freq_hz[i]);
+    worst = std::max(worst, std::abs(r.frf.h(i, 0) - ref) / std::abs(ref));
+    ++checked;
+  }
+  EXPECT_GT(checked, 100);
+  EXPECT_LT(worst, 1e-9);
+  // The old force window (only the first pulse) is what made double hits unusable: force window
+  // forced to 10 samples after the trigger cuts the rebound and the FRF is far off.
+  const ImpactResult cut =
+      EstimateImpactFrf(f, y, 1.0, {.force_window_s = 10, .double_hit_window_s = 50}, Estimator::kH1, Quantity::kDisplacement);
+  const Eigen::Index probe = 100;
+  const cd ref = sys.Response(2 * std::numbers::pi * cut.frf.freq_hz[probe]);
+  EXPECT_GT(std::abs(cut.frf.h(probe, 0) - ref) / std::abs(ref), 0.1);
+}
+
+TEST(Impact, ClassifiesHammerRandomAndPeriodicForces) {
+  const double fs = 1000.0;
+  Eigen::VectorXd hammer = Eigen::VectorXd::Zero(20000);
+  for (Eigen::Index at : {1000, 6000, 12000}) AddHit(hammer, at, 100, 3);
+  std::uint64_t x = 12345;
+  Eigen::VectorXd noise(20000), sine(20000);
+  for (Eigen::Index i = 0; i < noise.size(); ++i) {
+    // Sum of 12 uniforms: near-Gaussian (LCG as in scripts/golden/ident_welch.py).
+    double s = 0.0;
+    for (int k = 0; k < 12; ++k) {
+      x = (1664525u * x + 1013904223u) % 4294967296u;
+      s += static_cast<double>(x) / 4294967296.0 - 0.5;
+    }
+    noise[i] = s + 0.001 * hammer[i];
+    sine[i] = std::sin(2 * std::numbers::pi * 13.0 * static_cast<double>(i) / fs);
+    hammer[i] += 0.002 * (static_cast<double>(x % 1000) / 1000.0 - 0.5);
+  }
+  const ExcitationCheck h = ClassifyExcitation(hammer, fs);
+  EXPECT_TRUE(h.impact) << h.description;
+  EXPECT_EQ(h.pulses, 3u);
+  EXPECT_GT(h.crest_factor, 30.0);
+  const ExcitationCheck n = ClassifyExcitation(noise, fs);
+  EXPECT_FALSE(n.impact) << n.description;
+  EXPECT_LT(n.crest_factor, kImpactCrestFactor);
+  const ExcitationCheck p = ClassifyExcitation(sine, fs);
+  EXPECT_FALSE(p.impact) << p.description;
+  EXPECT_NEAR(p.crest_factor, std::sqrt(2.0), 0.01);  // closed form for a sine over whole periods
 }
 
 TEST(Impact, ExponentialWindowDampingIsCorrected) {
@@ -139,6 +219,7 @@ TEST(Impact, BadOptionsAndSignals) {
 TEST(ImpactLadisk, DefaultsFindTheBeamResonances) {
   const Recording rec = LoadRecording(std::string(VIBID_DATA_DIR) + "/ladisk_impact_hammer/impact_acceleration_force.csv");
   const Eigen::VectorXd force = rec.Signal(ParseColumnSpec("force_N"));
+  EXPECT_TRUE(ClassifyExcitation(force, rec.fs_hz).impact) << ClassifyExcitation(force, rec.fs_hz).description;
   const Eigen::MatrixXd acc = rec.Signal(ParseColumnSpec("acceleration_g:g"));
   const ImpactResult r = EstimateImpactFrf(force, acc, rec.fs_hz, {}, Estimator::kH1, Quantity::kAcceleration);
   ASSERT_EQ(r.hits.size(), 1u);

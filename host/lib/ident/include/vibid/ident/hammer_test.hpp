@@ -31,6 +31,10 @@ struct HammerTestSpec {
   double spacing_min_s = 8.0;    ///< Hit spacing uniform in [min, max].
   double spacing_max_s = 11.0;
   double lead_s = 0.5;           ///< Quiet time before the first hit.
+  /// Every hit followed by a rebound (a second half-sine of the same width) this long after the
+  /// hit's start, of this fraction of the hit's peak; 0: none.
+  double rebound_delay_s = 0.0;
+  double rebound_fraction = 0.0;
   /// Noise standard deviations as fractions of each channel's peak value.
   double force_noise = 0.002;
   double response_noise = 0.002;

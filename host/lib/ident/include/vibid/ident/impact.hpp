@@ -34,8 +34,15 @@ struct ImpactOptions {
   double double_hit_fraction = 0.05;
   /// A channel is clipped when at least this many consecutive samples sit on its extreme value.
   std::size_t clip_run_samples = 4;
-  /// Reject double hits and clipped hits (true) or only flag them (false).
+  /// Reject double hits and clipped hits (true) or only flag them (false). When every hit that
+  /// is not truncated is a double hit (and none is clipped), they are used all the same, with a
+  /// warning: a record of double hits still holds an FRF where the force has energy.
   bool reject_bad_hits = true;
+  /// With double hits in the average, lines where the force auto-spectrum is more than this far
+  /// below its largest value (dB) carry no FRF: the rebound cancels the first pulse near
+  /// multiples of 1/delay, and H1 there is noise over a vanishing force. The usable band runs
+  /// from the first line to the first line that falls short; above it the coherence is set to 0.
+  double force_dynamic_range_db = 20.0;
 
   void Validate() const;
 };
@@ -49,6 +56,7 @@ struct Hit {
   bool double_hit = false;
   bool clipped = false;
   bool truncated = false;         ///< The record ends before the hit's window does.
+  std::size_t pulses = 1;         ///< Pulses of this hit (a rebound within the double-hit window adds one).
   bool used = false;
   std::string note;               ///< Why a hit was rejected or flagged; empty when clean.
 };
@@ -58,14 +66,39 @@ struct ImpactResult {
   std::vector<Hit> hits;
   std::size_t record_samples = 0;
   std::size_t pretrigger_samples = 0;
+  /// Band where the FRF is usable (Hz): all lines without double hits, else see
+  /// ImpactOptions::force_dynamic_range_db.
+  double usable_min_hz = 0.0;
+  double usable_max_hz = 0.0;
+  std::vector<std::string> warnings;
 };
 
 /// Detects the hits and returns the FRF averaged over the accepted ones (rectangular windowing
-/// apart from the force/exponential windows; one segment per hit). InputError when no hit is
-/// usable, with the reasons.
+/// apart from the force/exponential windows; one segment per hit). The force window of a hit
+/// spans all its pulses (a rebound is force on the structure too; cutting it off while the
+/// response holds its effect biases the FRF). InputError when no hit is usable, with the reasons.
 ImpactResult EstimateImpactFrf(const Eigen::Ref<const Eigen::VectorXd>& force,
                                const Eigen::Ref<const Eigen::MatrixXd>& responses, double fs_hz,
                                const ImpactOptions& options, Estimator estimator, Quantity response_quantity);
+
+/// How a force channel looks: a train of short pulses (an impact test) or a continuous excitation
+/// (random, periodic, sweep), for the choice between per-hit records and Welch averaging.
+struct ExcitationCheck {
+  bool impact = false;
+  double crest_factor = 0.0;  ///< Peak over RMS of the force about its median.
+  double pulse_duty = 0.0;    ///< Fraction of the samples above 10 % of the peak.
+  std::size_t pulses = 0;     ///< Pulses above 10 % of the peak (rebounds counted separately).
+  std::string description;    ///< One line saying what was found and why.
+};
+
+/// An impact test when the force's crest factor is at least `kImpactCrestFactor` and the pulses
+/// cover at most `kImpactMaxDuty` of the record. A random force has a crest factor of about 4-5
+/// (Gaussian peaks), a sine or sweep 1.4, and both cross 10 % of their peak almost everywhere;
+/// a hammer record of a few millisecond pulses in seconds of quiet has crest factors of 20 and
+/// more and a duty far below 1 %.
+inline constexpr double kImpactCrestFactor = 8.0;
+inline constexpr double kImpactMaxDuty = 0.02;
+ExcitationCheck ClassifyExcitation(const Eigen::Ref<const Eigen::VectorXd>& force, double fs_hz);
 
 /// Largest n' <= n whose prime factors are 2, 3 and 5 (kissfft is fastest on those).
 std::size_t FastFftLength(std::size_t n);

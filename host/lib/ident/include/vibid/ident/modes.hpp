@@ -13,6 +13,7 @@
 #include "vibid/ident/peaks.hpp"
 #include "vibid/ident/solver.hpp"
 #include "vibid/ident/spectral.hpp"
+#include "vibid/ident/stabilization.hpp"
 
 namespace vibid::ident {
 
@@ -72,20 +73,32 @@ struct CurveFitResult {
 /// non-receptance FRF or an empty start.
 CurveFitResult FitModes(const Frf& receptance, const std::vector<Peak>& start, const CurveFitOptions& options);
 
+/// Residues (and residual terms) for given poles, by linear least squares over the band
+/// (least-squares frequency domain, "LSFD"): the same model and weights as FitModes with the
+/// poles held. `zeta` is the damping the FRF shows (before any exponential-window correction).
+/// The summary reports a converged linear solve.
+CurveFitResult FitResidues(const Frf& receptance, const std::vector<double>& omega_rad_s,
+                           const std::vector<double>& zeta, const CurveFitOptions& options);
+
 /// Mass-normalised shapes from fitted residues (A_jp = phi_j phi_p), hammer at `driving_point`;
 /// the sign of phi_j from the real part of A_jp relative to A_pp.
 std::vector<ModeEstimate> ShapesFromResidues(const CurveFitResult& fit, std::size_t driving_point);
 
-enum class ModeMethod { kPeakPicking, kCurveFit };
-/// "peaks" | "fit"; InputError otherwise.
+enum class ModeMethod { kPeakPicking, kCurveFit, kLscf, kLsce };
+/// "peaks" | "fit" | "lscf" | "lsce"; InputError otherwise.
 ModeMethod ParseModeMethod(std::string_view name);
 
 struct ModeIdentificationOptions {
-  ModeMethod method = ModeMethod::kCurveFit;
+  ModeMethod method = ModeMethod::kLscf;
   PeakOptions peaks;
   /// Column whose magnitude is peak-picked; -1: the sum of all responses' magnitudes.
   int picking_column = -1;
   CurveFitOptions fit;
+  /// lscf/lsce: orders and stability criteria (the band is the peak options' band).
+  StabilizationOptions stabilization;
+  /// lscf with no stable pole falls back to lsce, then to the curve fit, with a warning; true
+  /// turns that off (an InputError instead).
+  bool stabilization_fallback_off = false;
 };
 
 struct ModeIdentification {
@@ -93,11 +106,18 @@ struct ModeIdentification {
   std::vector<Peak> peaks;
   std::vector<std::string> warnings;
   bool fitted = false;
-  CurveFitResult fit;  ///< Valid when `fitted`.
+  CurveFitResult fit;  ///< Valid when `fitted` (for lscf/lsce: the residue fit with the chosen poles).
+  bool has_diagram = false;
+  StabilizationDiagram diagram;  ///< lscf/lsce.
+  /// Modes that were estimated but are not reported: damping not resolved (zeta <= 1e-6).
+  std::vector<ModeEstimate> dropped;
 };
 
-/// Peak picks (and, by default, the curve fit started from them) on a receptance, shapes with the
-/// hammer at `driving_point`. InputError when no resonance is found. A curve fit that does not
+/// Peak picks (and, by default, the curve fit started from them) on a receptance, or the poles a
+/// stabilization diagram chooses (lscf/lsce) with residues fitted for them; shapes with the
+/// hammer at `driving_point`. A mode whose damping is not resolved (zeta <= 1e-6) is never
+/// reported as a mode: it is moved to `dropped` with a warning. InputError when no resonance is
+/// found. A curve fit that does not
 /// converge is reported in `fit.summary`, and the peak-pick modes are returned with a warning.
 ModeIdentification IdentifyModes(const Frf& receptance, std::size_t driving_point,
                                  const ModeIdentificationOptions& options);
