@@ -78,7 +78,7 @@ TEST(Workflow, CalibratesTheEmulatedRigAndTheObserverFindsThePush) {
   const std::string html = ReadText(out + "/report.html");
   std::size_t figures = 0;
   for (std::size_t at = html.find("<svg "); at != std::string::npos; at = html.find("<svg ", at + 1)) ++figures;
-  EXPECT_EQ(figures, 3u) << "FRFs of both masses and the push";
+  EXPECT_EQ(figures, 4u) << "FRFs of both masses, the stabilization diagram and the push";
   char fits[64];
   std::snprintf(fits, sizeof fits, "%.2f", fit_updated);
   EXPECT_NE(html.find(fits), std::string::npos) << "the report states the updated fit " << fits;
