@@ -7,15 +7,12 @@
 
 #include "vibid/common/error.hpp"
 #include "vibid/report/html.hpp"
+#include "vibid/report/svg_plot.hpp"
 
 namespace vibid::report {
 namespace {
 
-std::string Num(double v) {
-  char text[32];
-  std::snprintf(text, sizeof text, "%.1f", v);
-  return text;
-}
+std::string Num(double v) { return SvgNumber(v); }
 
 std::string Label(double v) {
   char text[32];

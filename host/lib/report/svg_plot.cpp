@@ -60,11 +60,7 @@ Range Padded(Range r, Scale scale) {
   return {std::floor(r.lo / step) * step, std::ceil(r.hi / step) * step};
 }
 
-std::string Number(double v) {
-  char text[32];
-  std::snprintf(text, sizeof text, "%.1f", v);
-  return text;
-}
+std::string Number(double v) { return SvgNumber(v); }
 
 std::string TickLabel(double v) {
   char text[32];
@@ -139,6 +135,12 @@ std::vector<double> LogTicks(double lo, double hi) {
     }
   }
   return ticks;
+}
+
+std::string SvgNumber(double v) {
+  char text[32];
+  std::snprintf(text, sizeof text, "%.1f", v);
+  return text;
 }
 
 std::string SvgPlot(const std::vector<Series>& series, const PlotOptions& o) {

@@ -51,4 +51,7 @@ std::vector<double> LogTicks(double lo, double hi);
 /// or no point that can be drawn.
 std::string SvgPlot(const std::vector<Series>& series, const PlotOptions& options);
 
+/// An SVG coordinate: one decimal (a tenth of a pixel is finer than any screen shows).
+std::string SvgNumber(double v);
+
 }  // namespace vibid::report
