@@ -290,9 +290,8 @@ Status Core::ValidateConfig(const wire::AcqConfigureRequest& c) const {
       c.sample_period_us > wire::kMaxSamplePeriodUs) {
     return Status::kInvalidArgument;
   }
-  const wire::LogLayout layout{c.channel_mask, static_cast<std::uint8_t>(c.flags & wire::kAcqFlagLogDob)};
-  if ((c.flags & ~wire::kAcqKnownFlags) != 0 || !layout.Valid() ||
-      !fixed::IsSupportedDecimation(c.decimation)) {
+  const wire::LogLayout layout{c.channel_mask, c.flags};
+  if (!layout.Valid() || !fixed::IsSupportedDecimation(c.decimation)) {
     return Status::kInvalidArgument;
   }
   if (c.trigger_mode == wire::TriggerMode::kImmediate) {
@@ -321,7 +320,7 @@ Status Core::HandleAcqConfigure(const Header& h, std::span<const std::uint8_t> p
   if (s != Status::kOk) return s;
   config_ = c;
   configured_ = true;
-  const wire::LogLayout layout{c.channel_mask, static_cast<std::uint8_t>(c.flags & wire::kAcqFlagLogDob)};
+  const wire::LogLayout layout{c.channel_mask, c.flags};
   RespondWith(h, wire::AcqConfigureResponse{
                      .record_bytes = static_cast<std::uint16_t>(layout.RecordBytes()),
                      .capacity_records = ring_.CapacityFor(layout.StoredRecordBytes())});

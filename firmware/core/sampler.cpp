@@ -5,7 +5,7 @@
 namespace vibid::fw {
 
 Status Sampler::Arm(const wire::AcqConfigureRequest& config) {
-  layout_ = wire::LogLayout{config.channel_mask, static_cast<std::uint8_t>(config.flags & wire::kAcqFlagLogDob)};
+  layout_ = wire::LogLayout{config.channel_mask, config.flags};
   Status s = decimator_.Init(config.decimation, layout_.ChannelCount() + (layout_.HasDob() ? 1 : 0));
   if (s != Status::kOk) return s;
   // Twice the delay, rounded up to an output tick: records before it would hold the filter's

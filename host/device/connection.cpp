@@ -360,7 +360,7 @@ bool Connection::ReceiveLogStream(std::uint16_t token, std::uint32_t first, LogP
   }
   wire::LogLayout layout;
   layout.channel_mask = trailer.channel_mask;
-  layout.flags = static_cast<std::uint8_t>(trailer.acq_flags & wire::kAcqFlagLogDob);
+  layout.flags = trailer.acq_flags;
   if (!layout.Valid() || trailer.first_record != first || trailer.record_bytes != layout.RecordBytes() ||
       trailer.decimation == 0) {
     throw DeviceError("malformed log-read trailer from the device");

@@ -50,7 +50,7 @@ StreamPrediction PredictStream(std::uint64_t records, std::uint32_t ticks_per_fr
 
 LinkBudget ComputeLinkBudget(const wire::InfoResponse& info, const wire::AcqConfigureRequest& config) {
   LinkBudget b;
-  const wire::LogLayout layout{config.channel_mask, static_cast<std::uint8_t>(config.flags & wire::kAcqFlagLogDob)};
+  const wire::LogLayout layout{config.channel_mask, config.flags};
   b.record_bytes = layout.RecordBytes();
   b.stored_record_bytes = layout.StoredRecordBytes();
   b.records_per_report = layout.RecordsPerReport();

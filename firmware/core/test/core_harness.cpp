@@ -99,7 +99,7 @@ PulledLog PullLog(CoreHarness& h, std::uint32_t first, std::uint32_t max, int lo
   }
   if (out.last_event != wire::StreamDecoder::Event::kEnd || out.status != Status::kOk) return out;
   const wire::LogLayout layout{out.trailer.channel_mask,
-                               static_cast<std::uint8_t>(out.trailer.acq_flags & wire::kAcqFlagLogDob)};
+                               out.trailer.acq_flags};
   for (std::size_t p = 0; p < payload_count; ++p) {
     std::array<wire::LogRecord, wire::kMaxRecordsPerReport> batch{};
     std::size_t n = 0;

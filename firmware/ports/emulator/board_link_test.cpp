@@ -55,7 +55,7 @@ StreamRun Acquire(const wire::AcqConfigureRequest& config, const RunOptions& ro 
               Status::kOk);
     EXPECT_EQ(s.Request(wire::Command::kAcqConfigure, config).header.status, Status::kOk);
     const std::uint64_t start_us = emu.SimulatedUs();
-    const wire::LogLayout layout{config.channel_mask, static_cast<std::uint8_t>(config.flags & wire::kAcqFlagLogDob)};
+    const wire::LogLayout layout{config.channel_mask, config.flags};
     run.records = s.StreamAcquisition(layout.RecordBytes());
     run.sim_us = emu.SimulatedUs() - start_us;
     run.ticks = s.ticks;

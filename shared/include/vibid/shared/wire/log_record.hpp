@@ -38,7 +38,7 @@ static_assert(kMaxRecordsPerReport == 27);
 
 struct LogLayout {
   std::uint8_t channel_mask = kAllChannelsMask;
-  std::uint8_t flags = 0;  ///< kAcqFlagLogDob (other acquisition flags do not change the layout)
+  std::uint8_t flags = 0;  ///< acquisition flags; only kAcqFlagLogDob changes the layout
 
   /// Nonzero mask within the six channels, known flags.
   constexpr bool Valid() const {
