@@ -21,7 +21,7 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
     wire::Report report{};
     std::memcpy(report.data(), data + offset, std::min(wire::kReportBytes, size - offset));
     const wire::StreamDecoder::Step step = decoder.Feed(report);
-    if (step.payload.size() > wire::kMaxPayload) __builtin_trap();
+    if (step.payload.size() > wire::kMaxStreamPayload) __builtin_trap();
     if (step.event == wire::StreamDecoder::Event::kData) {
       crc.Update(step.payload);
       bytes += static_cast<std::uint32_t>(step.payload.size());
