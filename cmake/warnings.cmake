@@ -2,6 +2,7 @@
 # through find_package keeps its own flags.
 option(VIBID_WERROR "Treat warnings as errors" ON)
 option(VIBID_SANITIZE "Build with AddressSanitizer and UndefinedBehaviorSanitizer" OFF)
+option(VIBID_FUZZ "Also build the libFuzzer targets (clang, with VIBID_SANITIZE; the `asan` preset)" OFF)
 
 add_library(vibid_warnings INTERFACE)
 target_compile_options(vibid_warnings INTERFACE
@@ -14,6 +15,13 @@ if(VIBID_SANITIZE)
   # vptr checks need RTTI, which the firmware core and shared code are built without on purpose.
   add_compile_options(-fsanitize=address,undefined -fno-sanitize=vptr -fno-sanitize-recover=all -fno-omit-frame-pointer)
   add_link_options(-fsanitize=address,undefined -fno-sanitize=vptr)
+endif()
+if(VIBID_FUZZ)
+  if(NOT CMAKE_CXX_COMPILER_ID MATCHES "Clang" OR NOT VIBID_SANITIZE)
+    message(FATAL_ERROR "VIBID_FUZZ needs clang and VIBID_SANITIZE=ON (use the `asan` preset)")
+  endif()
+  # Coverage counters in every library, so one sanitizer build serves the tests and the fuzzers.
+  add_compile_options(-fsanitize=fuzzer-no-link)
 endif()
 
 # Firmware-core and shared code: the embedded rules hold on the host build too, so a heap call,
