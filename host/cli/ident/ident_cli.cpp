@@ -164,6 +164,7 @@ ident::Frf JoinColumns(const std::vector<ident::Frf>& frfs, const std::vector<st
     out.coherence.rightCols(f.h.cols()) = f.coherence;
     out.response_names.insert(out.response_names.end(), f.response_names.begin(), f.response_names.end());
     out.exp_window_tau_s = std::max(out.exp_window_tau_s, f.exp_window_tau_s);
+    Require(f.pretrigger_s == out.pretrigger_s, sources[i] + ": pretrigger differs from " + sources[0] + "'s; estimate both the same way");
   }
   return out;
 }
