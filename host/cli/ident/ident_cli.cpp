@@ -169,6 +169,7 @@ ident::Frf JoinColumns(const std::vector<ident::Frf>& frfs, const std::vector<st
     out.coherence.rightCols(f.h.cols()) = f.coherence;
     out.response_names.insert(out.response_names.end(), f.response_names.begin(), f.response_names.end());
     out.exp_window_tau_s = std::max(out.exp_window_tau_s, f.exp_window_tau_s);
+    Require(f.pretrigger_s == out.pretrigger_s, sources[i] + ": pretrigger differs from " + sources[0] + "'s; estimate both the same way");
   }
   return out;
 }
@@ -194,6 +195,12 @@ nlohmann::json ModesToJson(const std::vector<ident::ModeEstimate>& modes) {
     j["zeta"] = m.zeta;
     j["ratio"] = std::isfinite(m.ratio) ? nlohmann::json(m.ratio) : nlohmann::json(nullptr);
     j["shape"] = std::vector<double>(m.shape.data(), m.shape.data() + m.shape.size());
+    if (m.HasIntervals()) {
+      const auto pair = [](const std::array<double, 2>& ci) {
+        return std::isfinite(ci[0]) && std::isfinite(ci[1]) ? nlohmann::json{ci[0], ci[1]} : nlohmann::json(nullptr);
+      };
+      j["ci95"] = {{"omega_rad_s", pair(m.omega_ci95_rad_s)}, {"zeta", pair(m.zeta_ci95)}, {"ratio", pair(m.ratio_ci95)}};
+    }
     arr.push_back(j);
   }
   return nlohmann::json{{"modes", arr}};
@@ -214,6 +221,19 @@ std::vector<ident::ModeEstimate> ModesFromJson(const nlohmann::json& json, const
     e.freq_hz = e.omega_rad_s / (2.0 * std::numbers::pi);
     e.zeta = m.contains("zeta") && m["zeta"].is_number() ? m["zeta"].get<double>() : 0.0;
     e.ratio = m.contains("ratio") && m["ratio"].is_number() ? m["ratio"].get<double>() : std::numeric_limits<double>::quiet_NaN();
+    if (m.contains("ci95")) {
+      Require(m["ci95"].is_object(), where + ": ci95 must be an object");
+      const auto read = [&](const char* key, std::array<double, 2>& ci) {
+        if (!m["ci95"].contains(key) || m["ci95"][key].is_null()) return;
+        const nlohmann::json& v = m["ci95"][key];
+        Require(v.is_array() && v.size() == 2 && v[0].is_number() && v[1].is_number() && v[0].get<double>() <= v[1].get<double>(),
+                where + ": ci95." + key + " must be [lo, hi] with lo <= hi");
+        ci = {v[0].get<double>(), v[1].get<double>()};
+      };
+      read("omega_rad_s", e.omega_ci95_rad_s);
+      read("zeta", e.zeta_ci95);
+      read("ratio", e.ratio_ci95);
+    }
     if (m.contains("shape")) {
       Require(m["shape"].is_array(), where + ": shape must be an array");
       std::vector<double> s;
@@ -266,11 +286,34 @@ nlohmann::json DiagramToJson(const ident::StabilizationDiagram& d) {
 
 std::string ModesTable(const std::vector<ident::ModeEstimate>& modes) {
   std::ostringstream out;
-  out << "mode   freq_hz      omega_rad_s  zeta       ratio a1/a2  shape\n";
+  bool intervals = false;
+  for (const auto& m : modes) intervals = intervals || m.HasIntervals();
+  if (intervals) {
+    out << "mode   freq_hz      omega_rad_s (95 %)     zeta (95 %)             ratio a1/a2 (95 %)   shape\n";
+  } else {
+    out << "mode   freq_hz      omega_rad_s  zeta       ratio a1/a2  shape\n";
+  }
+  const auto pm = [](double value, const std::array<double, 2>& ci, const char* format) {
+    char text[96];
+    if (std::isfinite(ci[0]) && std::isfinite(ci[1])) {
+      char hw[32];
+      std::snprintf(hw, sizeof hw, "%.2g", 0.5 * (ci[1] - ci[0]));
+      std::snprintf(text, sizeof text, format, value);
+      return std::string(text) + " +- " + hw;
+    }
+    std::snprintf(text, sizeof text, format, value);
+    return std::string(text);
+  };
   for (std::size_t i = 0; i < modes.size(); ++i) {
     const auto& m = modes[i];
     char line[256];
-    std::snprintf(line, sizeof line, "%-6zu %-12.5g %-12.5g %-10.4g %-12.5g", i + 1, m.freq_hz, m.omega_rad_s, m.zeta, m.ratio);
+    if (intervals) {
+      std::snprintf(line, sizeof line, "%-6zu %-12.5g %-22s %-23s %-20s", i + 1, m.freq_hz,
+                    pm(m.omega_rad_s, m.omega_ci95_rad_s, "%.6g").c_str(), pm(m.zeta, m.zeta_ci95, "%.4g").c_str(),
+                    pm(m.ratio, m.ratio_ci95, "%.5g").c_str());
+    } else {
+      std::snprintf(line, sizeof line, "%-6zu %-12.5g %-12.5g %-10.4g %-12.5g", i + 1, m.freq_hz, m.omega_rad_s, m.zeta, m.ratio);
+    }
     out << line;
     for (Eigen::Index j = 0; j < m.shape.size(); ++j) {
       std::snprintf(line, sizeof line, " %.5g", m.shape[j]);

@@ -67,7 +67,7 @@ nlohmann::json SummaryToJson(const ident::SolverSummary& summary);
 /// stable_damping, stable_shape, cluster}], "selected": [{freq_hz, omega_rad_s, zeta, orders, ...}]}
 nlohmann::json DiagramToJson(const ident::StabilizationDiagram& diagram);
 
-/// Text table of modes (freq, omega, zeta, ratio, shape).
+/// Text table of modes (freq, omega, zeta, ratio, shape); with intervals, value +- the 95 % half-width.
 std::string ModesTable(const std::vector<ident::ModeEstimate>& modes);
 
 }  // namespace vibid::cli

@@ -124,10 +124,21 @@ TEST(ModesCli, JsonSchemaAndTruth) {
   EXPECT_NEAR(j["modes"][1]["omega_rad_s"].get<double>(), 74.418, 0.002 * 74.418);
   EXPECT_NEAR(j["modes"][0]["ratio"].get<double>(), 0.5486, 0.03 * 0.5486);
   EXPECT_EQ(j["summary"]["termination"].get<std::string>().find("tolerance") != std::string::npos, true);
-  // From an FRF file, peak picking.
+  // The default method gives 95 % intervals around each value.
+  for (const auto& m : j["modes"]) {
+    ASSERT_TRUE(m.contains("ci95")) << m.dump();
+    for (const char* key : {"omega_rad_s", "zeta", "ratio"}) {
+      const auto& ci = m["ci95"][key];
+      ASSERT_TRUE(ci.is_array() && ci.size() == 2) << key;
+      EXPECT_LT(ci[0].get<double>(), m[key].get<double>()) << key;
+      EXPECT_GT(ci[1].get<double>(), m[key].get<double>()) << key;
+    }
+  }
+  // From an FRF file, peak picking: no intervals.
   const auto p = RunVibid({"modes", rig.dir + "/frf.csv", "--method", "peaks", "--max-modes", "2", "--json"});
   ASSERT_EQ(p.exit_code, 0) << p.err;
   EXPECT_EQ(json::parse(p.out)["modes"].size(), 2u);
+  EXPECT_FALSE(json::parse(p.out)["modes"][0].contains("ci95"));
 }
 
 // Acceptance: the default path recognises a hammer record (no --impact), says so in one line,

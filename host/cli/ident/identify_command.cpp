@@ -47,12 +47,22 @@ nlohmann::json Triple(double nominal, double updated, double test) {
           {"updated_dev_percent", ident::PercentDeviation(updated, test)}};
 }
 
-nlohmann::json ValidationJson(const ident::ValidationTable& t) {
+nlohmann::json ValidationJson(const ident::ValidationTable& t, const std::vector<ident::ModeEstimate>& test_modes) {
   nlohmann::json modes = nlohmann::json::array();
-  for (const auto& m : t.modes) {
-    modes.push_back({{"omega_rad_s", Triple(m.omega_nominal, m.omega_updated, m.omega_test)},
-                     {"zeta", Triple(m.zeta_nominal, m.zeta_updated, m.zeta_test)},
-                     {"ratio", Triple(m.ratio_nominal, m.ratio_updated, m.ratio_test)}});
+  for (std::size_t i = 0; i < t.modes.size(); ++i) {
+    const auto& m = t.modes[i];
+    nlohmann::json row = {{"omega_rad_s", Triple(m.omega_nominal, m.omega_updated, m.omega_test)},
+                          {"zeta", Triple(m.zeta_nominal, m.zeta_updated, m.zeta_test)},
+                          {"ratio", Triple(m.ratio_nominal, m.ratio_updated, m.ratio_test)}};
+    if (i < test_modes.size()) {
+      const ident::ModeEstimate& e = test_modes[i];
+      const std::pair<const char*, const std::array<double, 2>*> cis[] = {
+          {"omega_rad_s", &e.omega_ci95_rad_s}, {"zeta", &e.zeta_ci95}, {"ratio", &e.ratio_ci95}};
+      for (const auto& [key, ci] : cis) {
+        if (std::isfinite((*ci)[0]) && std::isfinite((*ci)[1])) row[key]["test_ci95"] = {(*ci)[0], (*ci)[1]};
+      }
+    }
+    modes.push_back(row);
   }
   nlohmann::json positions = nlohmann::json::array();
   for (const auto& p : t.positions) {
@@ -224,7 +234,7 @@ void RegisterIdentify(CLI::App& app) {
       Require(!ec && std::filesystem::is_directory(a->report), "--report: cannot create directory '" + a->report + "'");
       nlohmann::json report;
       report["updated_model"] = model_json;
-      report["validation"] = ValidationJson(r.table);
+      report["validation"] = ValidationJson(r.table, r.test_modes);
       report["test_modes"] = ModesToJson(r.test_modes)["modes"];
       nlohmann::json masses = nlohmann::json::array();
       for (const auto& m : r.mass_tests) {

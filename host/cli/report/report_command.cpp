@@ -72,13 +72,22 @@ void ValidationTables(const nlohmann::json& report, const std::string& where, co
     for (const auto& q : quantities) {
       if (!mode.contains(q[0])) continue;
       const nlohmann::json& x = mode[q[0]];
-      rows.push_back({std::to_string(i + 1), q[1], Sig(Get(x, "nominal", where)), Sig(Get(x, "updated", where)),
-                      Sig(Get(x, "test", where)), Fixed(Get(x, "nominal_dev_percent", where), 2),
-                      Fixed(Get(x, "updated_dev_percent", where), 2)});
+      std::string test = Sig(Get(x, "test", where));
+      if (x.contains("test_ci95")) {
+        const nlohmann::json& ci = x["test_ci95"];
+        Require(ci.is_array() && ci.size() == 2 && ci[0].is_number() && ci[1].is_number(),
+                where + ": test_ci95 must be [lo, hi]");
+        char hw[32];
+        std::snprintf(hw, sizeof hw, "%.2g", 0.5 * (ci[1].get<double>() - ci[0].get<double>()));
+        test += std::string(" ± ") + hw;
+      }
+      rows.push_back({std::to_string(i + 1), q[1], Sig(Get(x, "nominal", where)), Sig(Get(x, "updated", where)), test,
+                      Fixed(Get(x, "nominal_dev_percent", where), 2), Fixed(Get(x, "updated_dev_percent", where), 2)});
     }
   }
-  page.Table({"mode", "quantity", "nominal", "updated", "test", "nominal dev %", "updated dev %"}, rows,
-             "Deviation of each model from the test (methods §8).");
+  page.Table({"mode", "quantity", "nominal", "updated", "test (± 95 %)", "nominal dev %", "updated dev %"}, rows,
+             "Deviation of each model from the test (methods §8); the test's 95 % confidence half-width where the "
+             "modal method gives one (lscf, lsce).");
 
   std::vector<std::string> header{"position", "quantity", "nominal", "updated", "change %"};
   const ident::ChainParameters chain = truth != nullptr ? ident::ChainOf(*truth) : ident::ChainParameters{};

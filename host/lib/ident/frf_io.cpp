@@ -71,6 +71,7 @@ std::string FormatFrfCsv(const Frf& frf) {
   meta.precision(17);
   meta << kMetaTag << " kind=" << FrfKindName(frf.quantity) << " estimator=" << EstimatorName(frf.estimator)
        << " averages=" << frf.averages << " exp_window_tau_s=" << frf.exp_window_tau_s
+       << " pretrigger_s=" << frf.pretrigger_s
        << " force=" << (frf.force_name.empty() ? "force" : frf.force_name) << "\n";
   return meta.str() + FormatCsv(names, cols);
 }
@@ -95,6 +96,7 @@ Frf ParseFrfCsv(std::string_view text, const std::string& source) {
       else if (key == "estimator") frf.estimator = ParseEstimator(value);
       else if (key == "averages") frf.averages = static_cast<std::size_t>(ToLong(value, source + ": line 1: averages"));
       else if (key == "exp_window_tau_s") frf.exp_window_tau_s = ToDouble(value, source + ": line 1: exp_window_tau_s");
+      else if (key == "pretrigger_s") frf.pretrigger_s = ToDouble(value, source + ": line 1: pretrigger_s");
       else if (key == "force") frf.force_name = value;
     }
   }

@@ -174,6 +174,30 @@ IdentifyResult Identify(const model::Model& nominal, const std::vector<MassTestI
     avg.shape /= count;
     avg.freq_hz = avg.omega_rad_s / (2.0 * std::numbers::pi);
     avg.ratio = avg.shape.size() == 2 && avg.shape[1] != 0.0 ? avg.shape[0] / avg.shape[1] : std::numeric_limits<double>::quiet_NaN();
+    // Interval of the mean over the tests: from each test's standard deviation, or from the
+    // tests' scatter when that is larger (the rig changing between tests is no noise the
+    // modal model sees). Normal quantile: the per-test variances are well determined.
+    const auto mean_interval = [&](auto value_of, auto ci_of, double mean, std::array<double, 2>& out) {
+      double var_sum = 0.0;
+      double ss = 0.0;
+      for (const auto& mt : res.modal_tests) {
+        const std::array<double, 2>& ci = ci_of(mt.modes[i]);
+        if (!std::isfinite(ci[0]) || !std::isfinite(ci[1])) return;
+        const double sd = 0.5 * (ci[1] - ci[0]) / kZ95;
+        var_sum += sd * sd;
+        ss += (value_of(mt.modes[i]) - mean) * (value_of(mt.modes[i]) - mean);
+      }
+      double var = var_sum / (count * count);
+      if (count >= 2.0) var = std::max(var, ss / (count - 1.0) / count);
+      const double hw = kZ95 * std::sqrt(var);
+      out = {mean - hw, mean + hw};
+    };
+    mean_interval([](const ModeEstimate& m) { return m.omega_rad_s; }, [](const ModeEstimate& m) -> const std::array<double, 2>& { return m.omega_ci95_rad_s; },
+                  avg.omega_rad_s, avg.omega_ci95_rad_s);
+    mean_interval([](const ModeEstimate& m) { return m.zeta; }, [](const ModeEstimate& m) -> const std::array<double, 2>& { return m.zeta_ci95; },
+                  avg.zeta, avg.zeta_ci95);
+    mean_interval([](const ModeEstimate& m) { return m.ratio; }, [](const ModeEstimate& m) -> const std::array<double, 2>& { return m.ratio_ci95; },
+                  avg.ratio, avg.ratio_ci95);
   }
   Require((res.chain.springs_n_per_m.array() > 0.0).all(),
           "identify: the test data give a non-positive chain spring; the chain topology does not explain the tests");

@@ -341,6 +341,7 @@ ImpactResult EstimateImpactFrf(const Eigen::Ref<const Eigen::VectorXd>& force,
   spectra.gfx *= scale;
   result.frf = FrfFromSpectra(spectra, estimator, response_quantity);
   result.frf.exp_window_tau_s = tau_s;
+  result.frf.pretrigger_s = static_cast<double>(pre) / fs_hz;
   result.usable_min_hz = spectra.freq_hz[std::min<Eigen::Index>(1, lines - 1)];
   result.usable_max_hz = spectra.freq_hz[lines - 1];
   if (doubles_used && lines > 2) {

@@ -44,9 +44,9 @@ const ModeEstimate* Near(const std::vector<ModeEstimate>& modes, double omega) {
 double Pct(double v, double ref) { return 100.0 * (v - ref) / ref; }
 
 // Acceptance: several hits, noise on both channels, default path, no --impact: omega within
-// 0.05 %, zeta within 3 %, ratio within 0.5 % asked. Measured for lscf: omega 0.002 %, zeta 0.1 %,
-// ratio 0.7 % (the curve fit reaches 0.13 % in the ratio but 2.7 % in zeta): the ratio is held
-// to 1 % here.
+// 0.05 %, zeta within 3 %, ratio within 0.5 %. Measured for lscf (diagram poles refined by the
+// modal model): omega 0.002 %, zeta 0.07 %, ratio 0.08 % / 0.16 %; over seeds 1-60 the ratio
+// error has mean -0.01 % and standard deviation 0.15 % (mode 1), +0.06 % and 0.38 % (mode 2).
 TEST(ModalMethods, DefaultPathOnAMultiHitHammerRecord) {
   // Stiffness-proportional dampers (c = beta k): real modes, so the undamped a1/a2 (closed form)
   // is the exact reference for the shape ratio.
@@ -69,7 +69,7 @@ TEST(ModalMethods, DefaultPathOnAMultiHitHammerRecord) {
       if (method != ModeMethod::kLscf) continue;  // the default
       EXPECT_NEAR(m->omega_rad_s, cm.omega_rad_s[i], 0.0005 * cm.omega_rad_s[i]);
       EXPECT_NEAR(m->zeta, cm.zeta[i], 0.03 * cm.zeta[i]);
-      EXPECT_NEAR(m->ratio, tm.ratio[i], 0.01 * std::abs(tm.ratio[i]));
+      EXPECT_NEAR(m->ratio, tm.ratio[i], 0.005 * std::abs(tm.ratio[i]));
     }
   }
 }
@@ -166,3 +166,4 @@ TEST(ModalMethods, LadiskDiagramAgreesWithTheCurveFit) {
 
 }  // namespace
 }  // namespace vibid::ident
+

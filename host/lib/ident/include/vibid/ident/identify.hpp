@@ -77,7 +77,9 @@ struct IdentifyResult {
   ChainParameters chain;
   std::vector<MassTestResult> mass_tests;
   std::vector<ModeIdentification> modal_tests;
-  std::vector<ModeEstimate> test_modes;  ///< Averaged over the modal tests.
+  /// Averaged over the modal tests; 95 % intervals of the mean from the tests' intervals, or from
+  /// their scatter when that is wider.
+  std::vector<ModeEstimate> test_modes;
   StiffnessAverage stiffness;
   ValidationTable table;
   std::vector<std::string> warnings;

@@ -2,14 +2,18 @@
 // multi-mode least-squares curve fit of the modal FRF model started from the peak picks.
 #pragma once
 
+#include <array>
+#include <cmath>
 #include <complex>
 #include <cstddef>
+#include <limits>
 #include <string>
 #include <string_view>
 #include <vector>
 
 #include <Eigen/Core>
 
+#include "vibid/ident/modal_model.hpp"
 #include "vibid/ident/peaks.hpp"
 #include "vibid/ident/solver.hpp"
 #include "vibid/ident/spectral.hpp"
@@ -27,6 +31,13 @@ struct ModeEstimate {
   Eigen::VectorXd shape;
   /// shape[0] / shape[1] for two responses (sign kept); NaN otherwise.
   double ratio = 0.0;
+  /// 95 % confidence intervals [lo, hi] (lscf, lsce: from the modal model's covariance, see
+  /// modal_model.hpp); NaN where a method gives none.
+  std::array<double, 2> omega_ci95_rad_s{kNoInterval, kNoInterval};
+  std::array<double, 2> zeta_ci95{kNoInterval, kNoInterval};
+  std::array<double, 2> ratio_ci95{kNoInterval, kNoInterval};
+  static constexpr double kNoInterval = std::numeric_limits<double>::quiet_NaN();
+  bool HasIntervals() const { return std::isfinite(omega_ci95_rad_s[0]) && std::isfinite(zeta_ci95[0]); }
 };
 
 /// Eq. 10 with the hammer at response `driving_point`: phi_p^2 = 2 zeta omega^2 |H_pp(omega)|,
@@ -111,6 +122,10 @@ struct ModeIdentification {
   StabilizationDiagram diagram;  ///< lscf/lsce.
   /// Modes that were estimated but are not reported: damping not resolved (zeta <= 1e-6).
   std::vector<ModeEstimate> dropped;
+  /// lscf/lsce: the modal model refined from the chosen poles, which gives the reported omega,
+  /// zeta, shape directions and their intervals (valid when `has_model`).
+  bool has_model = false;
+  ModalModelFit model;
 };
 
 /// Peak picks (and, by default, the curve fit started from them) on a receptance, or the poles a

@@ -77,6 +77,10 @@ struct Frf {
   /// Time constant of an exponential response window (s); 0 when none. Identified damping must be
   /// corrected by -1/(tau omega) (see CorrectExponentialWindowDamping).
   double exp_window_tau_s = 0.0;
+  /// Impact FRFs: time from the start of each hit's record to the trigger (s); 0 otherwise. The
+  /// ringing a record holds beyond its own hit's response (the record's end cutting the decay, the
+  /// previous hit's tail) enters H1 multiplied by exp(j omega pretrigger_s); modal_model.hpp.
+  double pretrigger_s = 0.0;
   std::vector<std::string> response_names;
   std::string force_name;
 

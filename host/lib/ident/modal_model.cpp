@@ -1,0 +1,371 @@
+#include "vibid/ident/modal_model.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <numbers>
+
+#include <Eigen/Cholesky>
+#include <Eigen/QR>
+
+#include "vibid/common/error.hpp"
+
+namespace vibid::ident {
+
+void ModalModelOptions::Validate() const {
+  Require(freq_min_hz >= 0.0 && freq_max_hz >= 0.0 && std::isfinite(freq_min_hz) && std::isfinite(freq_max_hz),
+          "modal model: band limits must be >= 0");
+  Require(freq_max_hz == 0.0 || freq_max_hz > freq_min_hz, "modal model: band maximum must exceed the minimum");
+  Require(max_iterations >= 0 && max_iterations <= 1000, "modal model: iterations must be 0..1000");
+  Require(max_lines >= 64, "modal model: max_lines must be >= 64");
+}
+
+namespace {
+
+using cd = std::complex<double>;
+
+struct Problem {
+  Eigen::VectorXd w;       // lines, rad/s
+  Eigen::MatrixXcd h;      // lines x responses, accelerance
+  Eigen::MatrixXd weight;  // lines x responses, 1 / standard deviation (0: line not used)
+  Eigen::Index modes = 0;
+  double pretrigger_s = 0.0;
+
+  Eigen::Index lines() const { return w.size(); }
+  Eigen::Index responses() const { return h.cols(); }
+  // Residue families: the hit's response, and with a pretrigger the ringing term (header).
+  Eigen::Index families() const { return pretrigger_s > 0.0 ? 2 : 1; }
+  Eigen::Index per_response() const { return 2 * modes * families() + 2; }
+  Eigen::Index parameters() const { return 2 * modes + responses() * per_response(); }
+
+  static cd Pole(double omega, double zeta) {
+    return {-zeta * omega, omega * std::sqrt(std::max(0.0, 1.0 - zeta * zeta))};
+  }
+
+  // Weighted residuals (Re, Im per line, responses stacked) and, when `jac` is given, their
+  // Jacobian in theta = [omega_i, zeta_i ..., per response a_i, b_i ..., c, d].
+  void Evaluate(const Eigen::VectorXd& theta, Eigen::VectorXd& r, Eigen::MatrixXd* jac) const {
+    const Eigen::Index L = lines();
+    r.resize(2 * L * responses());
+    if (jac) jac->setZero(2 * L * responses(), parameters());
+    std::vector<cd> lam(static_cast<std::size_t>(modes)), dl_dw(lam.size()), dl_dz(lam.size());
+    for (Eigen::Index i = 0; i < modes; ++i) {
+      const double om = theta[2 * i];
+      const double ze = theta[2 * i + 1];
+      const auto u = static_cast<std::size_t>(i);
+      lam[u] = Pole(om, ze);
+      dl_dw[u] = lam[u] / om;
+      dl_dz[u] = cd(-om, -om * ze / std::sqrt(std::max(1e-300, 1.0 - ze * ze)));
+    }
+    for (Eigen::Index o = 0; o < responses(); ++o) {
+      const Eigen::Index base = 2 * modes + o * per_response();
+      const Eigen::Index tail = base + 2 * modes * families();
+      const double c = theta[tail];
+      const double d = theta[tail + 1];
+      for (Eigen::Index k = 0; k < L; ++k) {
+        const double wk = weight(k, o);
+        const cd jw(0.0, w[k]);
+        cd m = c - w[k] * w[k] * d;
+        const Eigen::Index row = 2 * (o * L + k);
+        const cd shift = std::polar(1.0, w[k] * pretrigger_s);
+        for (Eigen::Index i = 0; i < modes; ++i) {
+          const auto u = static_cast<std::size_t>(i);
+          const cd p = 1.0 / (jw - lam[u]);
+          const cd q = 1.0 / (jw - std::conj(lam[u]));
+          cd dw = 0.0;
+          cd dz = 0.0;
+          for (Eigen::Index f = 0; f < families(); ++f) {
+            const cd e = f == 0 ? cd(1.0) : shift;
+            const Eigen::Index at = base + 2 * modes * f + 2 * i;
+            const cd res(theta[at], theta[at + 1]);
+            m += e * (res * p + std::conj(res) * q);
+            if (!jac) continue;
+            const cd da = e * (p + q);
+            const cd db = e * cd(0.0, 1.0) * (p - q);
+            dw += e * (res * p * p * dl_dw[u] + std::conj(res) * q * q * std::conj(dl_dw[u]));
+            dz += e * (res * p * p * dl_dz[u] + std::conj(res) * q * q * std::conj(dl_dz[u]));
+            (*jac)(row, at) = wk * da.real();
+            (*jac)(row + 1, at) = wk * da.imag();
+            (*jac)(row, at + 1) = wk * db.real();
+            (*jac)(row + 1, at + 1) = wk * db.imag();
+          }
+          if (!jac) continue;
+          (*jac)(row, 2 * i) = wk * dw.real();
+          (*jac)(row + 1, 2 * i) = wk * dw.imag();
+          (*jac)(row, 2 * i + 1) = wk * dz.real();
+          (*jac)(row + 1, 2 * i + 1) = wk * dz.imag();
+        }
+        if (jac) {
+          (*jac)(row, tail) = wk;
+          (*jac)(row, tail + 1) = -wk * w[k] * w[k];
+        }
+        const cd e = wk * (m - h(k, o));
+        r[row] = e.real();
+        r[row + 1] = e.imag();
+      }
+    }
+  }
+
+  // Residues and residual terms by linear least squares with the poles of theta held.
+  void SolveLinear(Eigen::VectorXd& theta) const {
+    Eigen::VectorXd r;
+    Eigen::MatrixXd jac;
+    Evaluate(theta, r, &jac);
+    const Eigen::Index L = lines();
+    for (Eigen::Index o = 0; o < responses(); ++o) {
+      const Eigen::Index base = 2 * modes + o * per_response();
+      const Eigen::MatrixXd a = jac.block(2 * o * L, base, 2 * L, per_response());
+      // r = a x_current - y: the new x solves a x = y = a x_current - r.
+      const Eigen::VectorXd y = a * theta.segment(base, per_response()) - r.segment(2 * o * L, 2 * L);
+      const Eigen::VectorXd scale = a.colwise().norm().transpose().cwiseMax(1e-300).cwiseInverse();
+      const Eigen::VectorXd x = (a * scale.asDiagonal()).colPivHouseholderQr().solve(y);
+      theta.segment(base, per_response()) = scale.cwiseProduct(x);
+    }
+  }
+};
+
+}  // namespace
+
+double ModalModelFit::ShapeRatio(Eigen::Index mode, Eigen::Index j, Eigen::Index p) const {
+  const cd rj = residues(mode, j);
+  const cd rp = residues(mode, p);
+  return std::norm(rp) > 0.0 ? std::real(rj * std::conj(rp)) / std::norm(rp) : std::numeric_limits<double>::quiet_NaN();
+}
+
+double ModalModelFit::ShapeRatioSd(Eigen::Index mode, Eigen::Index j, Eigen::Index p) const {
+  if (j == p) return 0.0;
+  const Eigen::Index modes = lambda.size();
+  const Eigen::Index per = per_response;
+  const cd rj = residues(mode, j);
+  const cd rp = residues(mode, p);
+  const double n2 = std::norm(rp);
+  if (!(n2 > 0.0) || covariance.rows() == 0) return std::numeric_limits<double>::quiet_NaN();
+  const double ratio = std::real(rj * std::conj(rp)) / n2;
+  // Gradient in Re, Im of the resonance residues, then through R + S exp(j omega_d t_p) to the
+  // parameters (the phase's own dependence on the pole is of second order).
+  const double gr[2][2] = {{rp.real() / n2, rp.imag() / n2},
+                           {(rj.real() - 2.0 * rp.real() * ratio) / n2, (rj.imag() - 2.0 * rp.imag() * ratio) / n2}};
+  const Eigen::Index at[2] = {2 * modes + j * per + 2 * mode, 2 * modes + p * per + 2 * mode};
+  const cd e = std::polar(1.0, lambda[mode].imag() * pretrigger_s);
+  Eigen::VectorXd g = Eigen::VectorXd::Zero(covariance.rows());
+  for (int k = 0; k < 2; ++k) {
+    g[at[k]] = gr[k][0];
+    g[at[k] + 1] = gr[k][1];
+    if (per > 2 * modes + 2) {
+      const Eigen::Index s_at = at[k] + 2 * modes;
+      g[s_at] = gr[k][0] * e.real() + gr[k][1] * e.imag();
+      g[s_at + 1] = -gr[k][0] * e.imag() + gr[k][1] * e.real();
+    }
+  }
+  return std::sqrt(std::max(0.0, g.dot(covariance * g)));
+}
+
+ModalModelFit FitModalModel(const Frf& receptance, const std::vector<std::complex<double>>& start,
+                            const ModalModelOptions& options) {
+  options.Validate();
+  Require(receptance.quantity == Quantity::kDisplacement, "modal model fit needs a receptance FRF");
+  Require(!start.empty(), "modal model fit needs at least one pole");
+  double fmin = std::numeric_limits<double>::infinity();
+  double fmax = 0.0;
+  for (const cd& l : start) {
+    Require(std::isfinite(l.real()) && std::isfinite(l.imag()) && l.real() < 0.0 && l.imag() > 0.0,
+            "modal model fit: start poles must be stable and oscillating");
+    fmin = std::min(fmin, std::abs(l) / (2.0 * std::numbers::pi));
+    fmax = std::max(fmax, std::abs(l) / (2.0 * std::numbers::pi));
+  }
+  const double lo = options.freq_min_hz > 0.0 ? options.freq_min_hz : 0.6 * fmin;
+  const double hi = options.freq_max_hz > 0.0 ? options.freq_max_hz : 1.4 * fmax;
+  const Frf acc = ConvertFrf(receptance, Quantity::kAcceleration);
+  std::vector<Eigen::Index> rows;
+  for (Eigen::Index k = 0; k < acc.freq_hz.size(); ++k) {
+    const double f = acc.freq_hz[k];
+    if (f > 0.0 && f >= lo && f <= hi) rows.push_back(k);
+  }
+  if (static_cast<int>(rows.size()) > options.max_lines && acc.freq_hz.size() >= 2) {
+    // A long FRF (a 50 kHz single-hit record): the poles are decided near their resonances, so
+    // only the lines within 10 half-power bandwidths (at least 32 lines) of a pole are fitted,
+    // which keeps the cost linear in the number of modes.
+    const double df = acc.freq_hz[1] - acc.freq_hz[0];
+    std::vector<Eigen::Index> near;
+    for (const Eigen::Index k : rows) {
+      const double f = acc.freq_hz[k];
+      for (const cd& l : start) {
+        const double fp = std::abs(l) / (2.0 * std::numbers::pi);
+        const double half = std::max(10.0 * 2.0 * (-l.real()) / (2.0 * std::numbers::pi), 32.0 * df);
+        if (std::abs(f - fp) <= half) {
+          near.push_back(k);
+          break;
+        }
+      }
+    }
+    rows = std::move(near);
+  }
+  Problem prob;
+  prob.modes = static_cast<Eigen::Index>(start.size());
+  prob.pretrigger_s = receptance.pretrigger_s;
+  const auto L = static_cast<Eigen::Index>(rows.size());
+  const Eigen::Index R = acc.h.cols();
+  Require(L > prob.per_response() + prob.modes, "modal model fit: too few frequency lines in the band");
+  prob.w.resize(L);
+  prob.h.resize(L, R);
+  prob.weight.resize(L, R);
+  for (Eigen::Index o = 0; o < R; ++o) {
+    double top = 0.0;
+    for (Eigen::Index k = 0; k < L; ++k) {
+      const Eigen::Index src = rows[static_cast<std::size_t>(k)];
+      prob.w[k] = 2.0 * std::numbers::pi * acc.freq_hz[src];
+      prob.h(k, o) = acc.h(src, o);
+      top = std::max(top, std::abs(acc.h(src, o)));
+    }
+    Require(top > 0.0, "modal model fit: response " + std::to_string(o + 1) + " is zero in the band");
+    // Lines where the force had no energy (coherence 0) carry no FRF. The noise level is set from
+    // the residuals after the first fit.
+    for (Eigen::Index k = 0; k < L; ++k) {
+      prob.weight(k, o) = acc.coherence(rows[static_cast<std::size_t>(k)], o) > 0.0 ? 1.0 / top : 0.0;
+    }
+  }
+
+  Eigen::VectorXd theta = Eigen::VectorXd::Zero(prob.parameters());
+  for (Eigen::Index i = 0; i < prob.modes; ++i) {
+    const cd l = start[static_cast<std::size_t>(i)];
+    theta[2 * i] = std::abs(l);
+    theta[2 * i + 1] = -l.real() / std::abs(l);
+  }
+  prob.SolveLinear(theta);
+
+  ModalModelFit out;
+  out.freq_min_hz = acc.freq_hz[rows.front()];
+  out.freq_max_hz = acc.freq_hz[rows.back()];
+  out.lines = static_cast<int>(L);
+
+  const auto used_lines = [&](Eigen::Index o) { return static_cast<double>((prob.weight.col(o).array() > 0.0).count()); };
+  const auto refine = [&](Eigen::VectorXd& th, SolverSummary& summary) {
+    Eigen::VectorXd r;
+    Eigen::MatrixXd jac;
+    prob.Evaluate(th, r, &jac);
+    double cost = 0.5 * r.squaredNorm();
+    summary.initial_cost = cost;
+    summary.termination = Termination::kMaxIterations;
+    double mu = 1e-3;
+    int it = 0;
+    for (; it < options.max_iterations; ++it) {
+      const Eigen::VectorXd scale = jac.colwise().norm().transpose().cwiseMax(1e-300).cwiseInverse();
+      const Eigen::MatrixXd js = jac * scale.asDiagonal();
+      const Eigen::MatrixXd jtj = js.transpose() * js;
+      const Eigen::VectorXd g = js.transpose() * r;
+      bool accepted = false;
+      for (int tries = 0; tries < 12 && !accepted; ++tries) {
+        Eigen::MatrixXd a = jtj;
+        a.diagonal().array() += mu;
+        const Eigen::VectorXd step = scale.cwiseProduct(a.ldlt().solve(-g));
+        Eigen::VectorXd next = th + step;
+        bool ok = step.allFinite();
+        for (Eigen::Index i = 0; ok && i < prob.modes; ++i) ok = next[2 * i] > 0.0 && next[2 * i + 1] > 0.0 && next[2 * i + 1] < 1.0;
+        Eigen::VectorXd rn;
+        if (ok) prob.Evaluate(next, rn, nullptr);
+        const double cn = ok ? 0.5 * rn.squaredNorm() : std::numeric_limits<double>::infinity();
+        if (cn <= cost) {
+          const double drop = (cost - cn) / std::max(cost, 1e-300);
+          summary.iterations = it + 1;
+          th = next;
+          cost = cn;
+          mu = std::max(mu / 10.0, 1e-12);
+          accepted = true;
+          prob.Evaluate(th, r, &jac);
+          if (drop < 1e-10) {
+            summary.termination = Termination::kFunctionTolerance;
+            it = options.max_iterations;
+          }
+        } else {
+          mu *= 10.0;
+        }
+      }
+      if (!accepted) {
+        // No step lowers the cost any further: at the minimum to rounding.
+        summary.termination = Termination::kFunctionTolerance;
+        break;
+      }
+    }
+    summary.final_cost = cost;
+    summary.message = options.max_iterations == 0 ? "residues by linear least squares with the poles held"
+                                                  : "poles and residues refined (weighted least squares)";
+    if (options.max_iterations == 0) summary.termination = Termination::kFunctionTolerance;
+  };
+
+  refine(theta, out.summary);
+  {
+    // Each response's noise level from its residuals, then once more with those weights.
+    Eigen::VectorXd r;
+    prob.Evaluate(theta, r, nullptr);
+    for (Eigen::Index o = 0; o < R; ++o) {
+      const double dof = std::max(1.0, 2.0 * used_lines(o) - static_cast<double>(prob.per_response()) -
+                                           2.0 * static_cast<double>(prob.modes) / static_cast<double>(R));
+      const double s2 = r.segment(2 * o * L, 2 * L).squaredNorm() / dof;  // in units of the old weights
+      if (s2 > 0.0) prob.weight.col(o) /= std::sqrt(s2);
+    }
+    refine(theta, out.summary);
+  }
+
+  Eigen::VectorXd r;
+  Eigen::MatrixXd jac;
+  prob.Evaluate(theta, r, &jac);
+  double obs = 0.0;
+  for (Eigen::Index o = 0; o < R; ++o) obs += 2.0 * used_lines(o);
+  const double dof = std::max(1.0, obs - static_cast<double>(prob.parameters()));
+  out.reduced_chi2 = r.squaredNorm() / dof;
+  const Eigen::VectorXd scale = jac.colwise().norm().transpose().cwiseMax(1e-300).cwiseInverse();
+  const Eigen::MatrixXd js = jac * scale.asDiagonal();
+  const Eigen::MatrixXd info = js.transpose() * js;
+  // The noise level is estimated, so the covariance takes the misfit per degree of freedom as it
+  // is (Gauss-Newton covariance with an unknown variance).
+  out.covariance = scale.asDiagonal() * info.ldlt().solve(Eigen::MatrixXd::Identity(info.rows(), info.cols())) *
+                   scale.asDiagonal() * out.reduced_chi2;
+
+  const Eigen::Index M = prob.modes;
+  out.lambda.resize(M);
+  out.per_response = prob.per_response();
+  out.pretrigger_s = prob.pretrigger_s;
+  out.residues.resize(M, R);
+  out.omega_rad_s.resize(M);
+  out.zeta.resize(M);
+  out.omega_sd_rad_s.resize(M);
+  out.zeta_sd.resize(M);
+  const double tau = acc.exp_window_tau_s;
+  for (Eigen::Index i = 0; i < M; ++i) {
+    const double om = theta[2 * i];
+    const double ze = theta[2 * i + 1];
+    const cd lam = Problem::Pole(om, ze);
+    out.lambda[i] = lam;
+    for (Eigen::Index o = 0; o < R; ++o) {
+      const Eigen::Index base = 2 * M + o * prob.per_response();
+      out.residues(i, o) = cd(theta[base + 2 * i], theta[base + 2 * i + 1]);
+      if (prob.families() == 2) {
+        // Around the peak the ringing term adds to the hit's own with the phase exp(j omega_d t_p);
+        // the two are hard to tell apart there (large, opposite errors) but their sum is sharp.
+        out.residues(i, o) += cd(theta[base + 2 * M + 2 * i], theta[base + 2 * M + 2 * i + 1]) *
+                              std::polar(1.0, lam.imag() * prob.pretrigger_s);
+      }
+    }
+    // The window moved the real part by -1/tau; omega and zeta of the structure from the moved-back
+    // pole, with the gradient through it.
+    const cd lt = tau > 0.0 ? lam + 1.0 / tau : lam;
+    const double wt = std::abs(lt);
+    out.omega_rad_s[i] = wt;
+    out.zeta[i] = -lt.real() / wt;
+    const cd dl_dw = lam / om;
+    const cd dl_dz(-om, -om * ze / std::sqrt(std::max(1e-300, 1.0 - ze * ze)));
+    Eigen::Matrix2d g;  // rows: omega_t, zeta_t; columns: omega, zeta
+    for (int c = 0; c < 2; ++c) {
+      const cd dl = c == 0 ? dl_dw : dl_dz;
+      const double dwt = std::real(std::conj(lt) * dl) / wt;
+      g(0, c) = dwt;
+      g(1, c) = -dl.real() / wt + lt.real() * dwt / (wt * wt);
+    }
+    const Eigen::Matrix2d c = g * out.covariance.block<2, 2>(2 * i, 2 * i) * g.transpose();
+    out.omega_sd_rad_s[i] = std::sqrt(std::max(0.0, c(0, 0)));
+    out.zeta_sd[i] = std::sqrt(std::max(0.0, c(1, 1)));
+  }
+  return out;
+}
+
+}  // namespace vibid::ident
