@@ -29,8 +29,8 @@ int main(int argc, char** argv) {
     const vibid::Recording rec = vibid::LoadRecording(path);
     const Eigen::VectorXd force = rec.Signal(vibid::ParseColumnSpec("force_n"));
     Eigen::MatrixXd resp(force.size(), 2);
-    resp.col(0) = rec.Signal(vibid::ParseColumnSpec("acc1_m_s2"));
-    resp.col(1) = rec.Signal(vibid::ParseColumnSpec("acc2_m_s2"));
+    rec.SignalInto(vibid::ParseColumnSpec("acc1_m_s2"), resp.col(0));
+    rec.SignalInto(vibid::ParseColumnSpec("acc2_m_s2"), resp.col(1));
     const double load_s = std::chrono::duration<double>(clock::now() - t0).count();
     const double load_cpu_s = static_cast<double>(std::clock() - c0) / CLOCKS_PER_SEC;
     double best = 1e300;

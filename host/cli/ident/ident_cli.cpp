@@ -77,7 +77,7 @@ Estimated EstimateFromRecording(const std::string& path, const EstimationArgs& a
   Eigen::MatrixXd resp(force.size(), static_cast<Eigen::Index>(rspecs.size()));
   std::vector<std::string> names;
   for (std::size_t j = 0; j < rspecs.size(); ++j) {
-    resp.col(static_cast<Eigen::Index>(j)) = rec.Signal(rspecs[j]);
+    rec.SignalInto(rspecs[j], resp.col(static_cast<Eigen::Index>(j)));
     names.push_back(rspecs[j].name);
   }
   const ident::Estimator est = ident::ParseEstimator(a.estimator);
