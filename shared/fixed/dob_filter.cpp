@@ -112,7 +112,10 @@ asm(R"(
 vibid_fixed_dob_run:
   push {r4-r11, lr}
   sub sp, sp, #40
-  ldm r0, {r1, r2, r6, r7, r8, r12}
+  mov r7, r1
+  mov r8, r2
+  mov r6, r3
+  ldm r0, {r1, r2, r12}
   mov lr, #0
   bx r12
 .Lvibid_dob_done:
@@ -166,8 +169,10 @@ vibid_fixed_dob_code:
 )");
 
 extern "C" {
-// run: program, state, output end, input, output, frame loop entry. Returns the saturations.
-std::uint32_t vibid_fixed_dob_run(const std::uintptr_t* run);
+// kernel: {program, state, frame loop entry}; frames of input_count inputs from `input` until
+// `output` reaches `output_end`. Returns the saturations.
+std::uint32_t vibid_fixed_dob_run(const std::uintptr_t* kernel, const std::int32_t* input, std::int32_t* output,
+                                  std::int32_t* output_end);
 extern const std::uint32_t vibid_fixed_dob_code[];
 }
 
@@ -245,13 +250,9 @@ void DobFilter::Reset() {
 }
 
 std::uint32_t DobFilter::Run(const std::int32_t* inputs, std::int32_t* output, std::size_t frames) {
-  const std::uintptr_t run[6] = {reinterpret_cast<std::uintptr_t>(program_.data()),
-                                 reinterpret_cast<std::uintptr_t>(state_.data()),
-                                 reinterpret_cast<std::uintptr_t>(output + frames),
-                                 reinterpret_cast<std::uintptr_t>(inputs),
-                                 reinterpret_cast<std::uintptr_t>(output),
-                                 frame_start_};
-  return vibid_fixed_dob_run(run);
+  const std::uintptr_t kernel[3] = {reinterpret_cast<std::uintptr_t>(program_.data()),
+                                    reinterpret_cast<std::uintptr_t>(state_.data()), frame_start_};
+  return vibid_fixed_dob_run(kernel, inputs, output, output + frames);
 }
 
 std::int32_t DobFilter::Step(const InputFrame& inputs) {

@@ -125,7 +125,6 @@ class DobFilter {
 
   std::array<std::uint32_t, kProgramWords> program_{};
   std::array<std::int32_t, kStateWords> state_{};
-  std::size_t state_words_ = 0;
   std::uintptr_t frame_start_ = 0;  ///< Code address of the frame loop for input_count inputs.
 #else
   // One section's state and run-time coefficients (derived from the description by Init, see
