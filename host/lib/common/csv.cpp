@@ -187,12 +187,6 @@ Eigen::VectorXd Recording::Signal(const ColumnSpec& spec) const {
   return out;
 }
 
-void Recording::SignalInto(const ColumnSpec& spec, Eigen::Ref<Eigen::VectorXd> out) const {
-  const Eigen::VectorXd& column = table.Column(spec.name);
-  Require(out.size() == column.size(), "SignalInto: the destination must hold one value per sample");
-  out = column * spec.scale;
-}
-
 Eigen::VectorXd Recording::Time() const {
   const auto n = static_cast<Eigen::Index>(samples());
   return Eigen::VectorXd::LinSpaced(n, 0.0, static_cast<double>(n - 1)) / fs_hz +

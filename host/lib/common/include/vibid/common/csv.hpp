@@ -80,9 +80,6 @@ struct Recording {
   double dt_s() const { return 1.0 / fs_hz; }
   /// A channel converted to SI by its spec.
   Eigen::VectorXd Signal(const ColumnSpec& spec) const;
-  /// Signal(spec) written into `out` (size samples()), e.g. a column of a response matrix: no
-  /// record-length temporary between the table and its destination.
-  void SignalInto(const ColumnSpec& spec, Eigen::Ref<Eigen::VectorXd> out) const;
   /// Time of each sample, t0_s + i / fs_hz.
   Eigen::VectorXd Time() const;
 };
