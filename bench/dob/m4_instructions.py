@@ -4,8 +4,8 @@
 Builds the firmware preset's dob_kernel_m4_bench image (default design: 2 inputs, 4 + 3 sections),
 runs it in qemu-system-arm -M mps2-an386 with one instruction per translation block
 (-singlestep) and the execution log (-d exec,nochain), and counts the logged program counters that
-fall inside DobFilter::Step, StepPath and StepBlock (ranges from arm-none-eabi-nm; the per-frame
-code is inlined into Step and StepBlock). The image runs StepBlock once over FRAMES frames. Prints
+fall inside DobFilter::Step, StepBlock, Run and the program they run, vibid_fixed_dob_run (ranges
+from arm-none-eabi-nm). The image runs StepBlock once over FRAMES frames. Prints
 the count per sample and per section beside CMSIS-DSP's q31 DF1 biquad (about 17 per section).
 
 Usage: /usr/bin/python3 bench/dob/m4_instructions.py [--no-build]
@@ -25,8 +25,8 @@ CMSIS_PER_SECTION = 17
 TARGET_PER_SECTION = 30
 ROOT = os.path.abspath(os.path.join(os.path.dirname(__file__), "..", ".."))
 IMAGE = os.path.join(ROOT, "build", "firmware", "firmware", "testing", "dob_kernel_m4_bench")
-KERNEL = ("vibid::fixed::DobFilter::Step(", "vibid::fixed::DobFilter::StepPath(",
-          "vibid::fixed::DobFilter::StepBlock(")
+KERNEL = ("vibid::fixed::DobFilter::Step(", "vibid::fixed::DobFilter::StepBlock(",
+          "vibid::fixed::DobFilter::Run(", "vibid_fixed_dob_run")
 
 
 def kernel_ranges():
@@ -37,10 +37,10 @@ def kernel_ranges():
         if len(parts) == 4 and parts[2] in "tT" and parts[3].startswith(KERNEL):
             start = int(parts[0], 16) & ~1
             ranges.append((start, start + int(parts[1], 16), parts[3].split("(")[0]))
-    # The image calls StepBlock only, so Step may be dropped by the linker; the other two must be there
-    # (an inlined StepPath would hide its instructions from the count).
+    # The image calls StepBlock only, so Step may be dropped by the linker, and Run may be inlined into
+    # StepBlock; the program and StepBlock must be there.
     found = {name for _, _, name in ranges}
-    if not {"vibid::fixed::DobFilter::StepPath", "vibid::fixed::DobFilter::StepBlock"} <= found:
+    if not {"vibid_fixed_dob_run", "vibid::fixed::DobFilter::StepBlock"} <= found:
         sys.exit("kernel symbols not found in " + IMAGE + " (inlined?): " + repr(ranges))
     return ranges
 

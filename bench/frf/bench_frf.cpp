@@ -9,6 +9,7 @@
 #include <cstdio>
 #include <cstdlib>
 #include <string>
+#include <vector>
 
 #include "vibid/common/csv.hpp"
 #include "vibid/common/error.hpp"
@@ -27,10 +28,9 @@ int main(int argc, char** argv) {
     const auto t0 = clock::now();
     const std::clock_t c0 = std::clock();  // process CPU time, all threads
     const vibid::Recording rec = vibid::LoadRecording(path);
-    const Eigen::VectorXd force = rec.Signal(vibid::ParseColumnSpec("force_n"));
-    Eigen::MatrixXd resp(force.size(), 2);
-    resp.col(0) = rec.Signal(vibid::ParseColumnSpec("acc1_m_s2"));
-    resp.col(1) = rec.Signal(vibid::ParseColumnSpec("acc2_m_s2"));
+    // As frf-estimate reads them: unscaled channels are the recording's own columns.
+    const Eigen::VectorXd& force = rec.table.Column("force_n");
+    const std::vector<const Eigen::VectorXd*> resp = {&rec.table.Column("acc1_m_s2"), &rec.table.Column("acc2_m_s2")};
     const double load_s = std::chrono::duration<double>(clock::now() - t0).count();
     const double load_cpu_s = static_cast<double>(std::clock() - c0) / CLOCKS_PER_SEC;
     double best = 1e300;

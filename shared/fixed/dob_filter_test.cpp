@@ -164,6 +164,109 @@ TEST(DobFilter, SectionOutputSaturatesAtTheRails) {
   EXPECT_EQ(filter.saturation_count(), 2u);
 }
 
+// The documented arithmetic (header), one int64 expression per step, for the test below.
+class IntegerReference {
+ public:
+  explicit IntegerReference(const FilterDescription& d) : d_(d) {}
+
+  std::int32_t Step(const std::int32_t* frame) {
+    std::int64_t sum = 0;
+    for (std::size_t i = 0; i < d_.input_count; ++i) {
+      const Path& p = d_.paths[i];
+      std::int64_t x = frame[i];
+      for (std::size_t k = 0; k < p.section_count; ++k) {
+        const Section& s = p.sections[k];
+        auto& st = state_[i][k];  // x1 x2 y1 y2 r1 r2
+        const int q = 31 - s.shift;
+        std::int64_t acc = s.b0 * x + s.b1 * st[0] + s.b2 * st[1] - s.a1 * st[2] - s.a2 * st[3];
+        if (s.feedback == ErrorFeedback::kSecondOrder) acc += 2 * st[4] - st[5];
+        std::int64_t y = (acc + (std::int64_t{1} << (q - 1))) >> q;
+        std::int64_t r = acc - (y << q);
+        if (y > std::numeric_limits<std::int32_t>::max() || y < std::numeric_limits<std::int32_t>::min()) {
+          y = y > 0 ? std::numeric_limits<std::int32_t>::max() : std::numeric_limits<std::int32_t>::min();
+          r = 0;
+          ++saturations_;
+        }
+        st = {x, st[0], y, st[2], r, st[4]};
+        x = y;
+      }
+      const int shift = 31 - p.output_shift;
+      sum += (x * p.output_gain + (std::int64_t{1} << (shift - 1))) >> shift;
+    }
+    if (sum > std::numeric_limits<std::int32_t>::max() || sum < std::numeric_limits<std::int32_t>::min()) {
+      ++saturations_;
+      return sum > 0 ? std::numeric_limits<std::int32_t>::max() : std::numeric_limits<std::int32_t>::min();
+    }
+    return static_cast<std::int32_t>(sum);
+  }
+  std::uint32_t saturations() const { return saturations_; }
+
+ private:
+  FilterDescription d_;
+  std::array<std::array<std::array<std::int64_t, 6>, kMaxSections>, kMaxInputs> state_{};
+  std::uint32_t saturations_ = 0;
+};
+
+// Every section shift with and without error feedback, three inputs (one a pure gain), output
+// shifts from 0 to 30, inputs up to full scale so sections and d_hat saturate: the kernel (on the
+// Cortex-M4, one program block per shift and feedback mode) against the int64 reference.
+TEST(DobFilter, EveryShiftAndInputCountMatchesTheIntegerReference) {
+  for (std::uint8_t inputs = 1; inputs <= kMaxInputs; ++inputs) {
+    FilterDescription d{};
+    d.input_count = inputs;
+    d.sample_rate_hz = 1000;
+    d.output_full_scale_bits = FullScaleBits(1.0f);
+    int shift = inputs;  // each input count starts the shifts elsewhere
+    for (std::size_t i = 0; i < inputs; ++i) {
+      d.input_kind[i] = InputKind::kForce;
+      d.input_full_scale_bits[i] = FullScaleBits(1.0f);
+      Path& p = d.paths[i];
+      p.output_shift = static_cast<std::uint8_t>(i == 0 ? 30 : 15 * i - 15);
+      p.output_gain = i == 0 ? 3 : 1500000000 - static_cast<std::int32_t>(i) * 800000000;
+      p.section_count = static_cast<std::uint8_t>(i == 1 ? 0 : kMaxSections);
+      for (std::size_t k = 0; k < p.section_count; ++k) {
+        const int s = shift++ % 16;
+        const double one = std::ldexp(1.0, 31 - s);
+        // Poles at radius rho, angle 0.3 rad; |a1| < 1 needs rho = 0.5 at shift 0.
+        const double rho = s == 0 ? 0.5 : 0.95;
+        const double gain = (k % 3 == 0) ? 1.6 : 0.4;  // some sections gain more than one: rails
+        p.sections[k] = Section{.b0 = static_cast<std::int32_t>(0.3 * gain * one),
+                                .b1 = static_cast<std::int32_t>(0.2 * gain * one),
+                                .b2 = static_cast<std::int32_t>(-0.1 * gain * one),
+                                .a1 = static_cast<std::int32_t>(-2.0 * rho * std::cos(0.3) * one),
+                                .a2 = static_cast<std::int32_t>(rho * rho * one),
+                                .shift = static_cast<std::uint8_t>(s),
+                                .feedback = (k + i) % 2 == 0 ? ErrorFeedback::kSecondOrder : ErrorFeedback::kNone};
+      }
+    }
+    Seal(d);
+    DobFilter filter;
+    ASSERT_EQ(filter.Init(d), Status::kOk) << int{inputs} << " inputs";
+    IntegerReference ref(d);
+    constexpr std::size_t kFrames = 600;
+    static std::int32_t in[kFrames * kMaxInputs];
+    static std::int32_t out[kFrames];
+    std::uint32_t lcg = 12345u;
+    for (std::size_t n = 0; n < kFrames * inputs; ++n) {
+      lcg = lcg * 1664525u + 1013904223u;
+      // Quiet first half, full scale second half.
+      in[n] = static_cast<std::int32_t>(lcg) >> (n < kFrames * inputs / 2 ? 6 : 0);
+    }
+    ASSERT_EQ(filter.StepBlock(std::span<const std::int32_t>(in, 100 * inputs), std::span<std::int32_t>(out, 100)),
+              Status::kOk);
+    for (std::size_t n = 100; n < kFrames; ++n) {
+      InputFrame frame{};
+      for (std::size_t i = 0; i < inputs; ++i) frame[i] = in[n * inputs + i];
+      out[n] = filter.Step(frame);
+    }
+    std::size_t mismatches = 0;
+    for (std::size_t n = 0; n < kFrames; ++n) mismatches += out[n] != ref.Step(in + n * inputs);
+    EXPECT_EQ(mismatches, 0u) << int{inputs} << " inputs";
+    EXPECT_EQ(filter.saturation_count(), ref.saturations()) << int{inputs} << " inputs";
+    EXPECT_GT(ref.saturations(), 0u);
+  }
+}
+
 TEST(DobFilter, ResetRestartsFromRest) {
   DobFilter filter;
   ASSERT_EQ(filter.Init(VectorDescription()), Status::kOk);

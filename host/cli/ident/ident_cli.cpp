@@ -1,7 +1,11 @@
 #include "ident_cli.hpp"
 
+#include <cerrno>
 #include <cmath>
 #include <cstdio>
+#include <cstring>
+#include <deque>
+#include <fstream>
 #include <iostream>
 #include <limits>
 #include <numbers>
@@ -11,6 +15,7 @@
 #include "vibid/common/atomic_file.hpp"
 #include "vibid/common/csv.hpp"
 #include "vibid/common/error.hpp"
+#include "vibid/common/text_input.hpp"
 #include "vibid/ident/frf_io.hpp"
 
 namespace vibid::cli {
@@ -73,12 +78,19 @@ Estimated EstimateFromRecording(const std::string& path, const EstimationArgs& a
   const Recording rec = LoadRecording(path, ro);
   const ColumnSpec fspec = ParseColumnSpec(a.force);
   const std::vector<ColumnSpec> rspecs = ParseColumnList(a.responses);
-  const Eigen::VectorXd force = rec.Signal(fspec);
-  Eigen::MatrixXd resp(force.size(), static_cast<Eigen::Index>(rspecs.size()));
+  // Channels as the estimation reads them: the recording's own column where the spec does not
+  // scale it (x * 1 is x), else a scaled copy; no record-length copy of the rest.
+  std::deque<Eigen::VectorXd> scaled;
+  const auto channel = [&](const ColumnSpec& spec) -> const Eigen::VectorXd& {
+    if (spec.scale == 1.0) return rec.table.Column(spec.name);
+    return scaled.emplace_back(rec.Signal(spec));
+  };
+  const Eigen::VectorXd& force = channel(fspec);
+  std::vector<const Eigen::VectorXd*> responses;
   std::vector<std::string> names;
-  for (std::size_t j = 0; j < rspecs.size(); ++j) {
-    resp.col(static_cast<Eigen::Index>(j)) = rec.Signal(rspecs[j]);
-    names.push_back(rspecs[j].name);
+  for (const ColumnSpec& spec : rspecs) {
+    responses.push_back(&channel(spec));
+    names.push_back(spec.name);
   }
   const ident::Estimator est = ident::ParseEstimator(a.estimator);
   const ident::Quantity sensor = ident::ParseQuantity(a.sensor);
@@ -101,6 +113,8 @@ Estimated EstimateFromRecording(const std::string& path, const EstimationArgs& a
   if (impact) {
     ident::ImpactOptions io = a.impact_options;
     io.reject_bad_hits = !a.keep_bad_hits;
+    Eigen::MatrixXd resp(force.size(), static_cast<Eigen::Index>(responses.size()));
+    for (std::size_t j = 0; j < responses.size(); ++j) resp.col(static_cast<Eigen::Index>(j)) = *responses[j];
     ident::ImpactResult r = ident::EstimateImpactFrf(force, resp, rec.fs_hz, io, est, sensor);
     out.frf = std::move(r.frf);
     out.hits = std::move(r.hits);
@@ -117,7 +131,7 @@ Estimated EstimateFromRecording(const std::string& path, const EstimationArgs& a
     Require(a.overlap < 0 || static_cast<std::size_t>(a.overlap) < wo.segment_samples,
             "--overlap must be smaller than the segment");
     wo.overlap_samples = a.overlap >= 0 ? static_cast<std::size_t>(a.overlap) : wo.segment_samples / 2;
-    const ident::CrossSpectra s = ident::WelchSpectra(force, resp, rec.fs_hz, wo);
+    const ident::CrossSpectra s = ident::WelchSpectra(force, responses, rec.fs_hz, wo);
     out.frf = ident::FrfFromSpectra(s, est, sensor);
     out.record_samples = wo.segment_samples;
   }
@@ -131,10 +145,19 @@ ident::Frf LoadOrEstimate(const std::string& path, const EstimationArgs& a, std:
   const ident::Quantity kind = ident::ParseQuantity(a.kind);
   const bool uff = path.size() > 4 && (path.substr(path.size() - 4) == ".uff" || path.substr(path.size() - 4) == ".unv");
   if (uff) return ident::ConvertFrf(ident::LoadFrf(path), kind);
-  const std::string text = ReadFileText(path);
+  // The first bytes tell an FRF file from a recording: a recording is not read whole twice.
+  RequireReadableSize(path, kMaxCsvFileBytes);
+  std::ifstream file(path, std::ios::binary);
+  if (!file) throw InputError("cannot open '" + path + "': " + std::strerror(errno));
+  std::string head(256, '\0');
+  file.read(head.data(), static_cast<std::streamsize>(head.size()));
+  head.resize(static_cast<std::size_t>(file.gcount()));
   // Said before anything else: an empty file is neither an FRF nor a recording missing its --force.
-  Require(text.find_first_not_of(" \t\r\n") != std::string::npos, path + ": empty file");
-  if (ident::LooksLikeFrfCsv(text)) return ident::ConvertFrf(ident::ParseFrfCsv(text, path), kind);
+  Require(head.size() == 256 || head.find_first_not_of(" \t\r\n") != std::string::npos, path + ": empty file");
+  if (ident::LooksLikeFrfCsv(head)) {
+    const std::string text = ReadFileText(path);
+    return ident::ConvertFrf(ident::ParseFrfCsv(text, path), kind);
+  }
   Estimated e = EstimateFromRecording(path, a);
   if (!e.note.empty()) {
     // Said on stderr too: a user who did not ask for a processing mode should see which one ran.

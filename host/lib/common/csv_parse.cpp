@@ -15,7 +15,12 @@
 #include <sys/stat.h>
 #include <unistd.h>
 
+#if defined(__SSE2__)
+#include <emmintrin.h>
+#endif
+
 #include <algorithm>
+#include <bit>
 #include <cstdint>
 #include <cerrno>
 #include <charconv>
@@ -54,14 +59,29 @@ std::string_view LineText(const char* line, const char* next) {
   return csv_detail::Trim(std::string_view(line, static_cast<std::size_t>(next - line)));
 }
 
-// Upper bound of the data rows in [p, end): its line count. Eight bytes at a time: a byte of
-// w ^ 0x0a..0a is zero exactly where w holds a newline, and the classic carry-free test below sets
-// the top bit of exactly those bytes (no false positives, unlike the (x - 0x01..) variant).
+// Upper bound of the data rows in [p, end): its line count. This pass reads the whole file, so it
+// runs at memory speed: sixteen bytes per step where SSE2 is there (each newline byte subtracts -1
+// from its byte counter, the counters summed before they can wrap), then eight bytes at a time: a
+// byte of w ^ 0x0a..0a is zero exactly where w holds a newline, and the classic carry-free test
+// below sets the top bit of exactly those bytes (no false positives, unlike the (x - 0x01..) variant).
 std::size_t CountLines(const char* const begin, const char* const end) {
-  constexpr std::uint64_t kNewlines = 0x0a0a0a0a0a0a0a0aull;
-  constexpr std::uint64_t kLow7 = 0x7f7f7f7f7f7f7f7full;
   std::size_t newlines = 0;
   const char* p = begin;
+#if defined(__SSE2__)
+  const __m128i newline = _mm_set1_epi8('\n');
+  while (end - p >= 16) {
+    const auto blocks = std::min<std::ptrdiff_t>(255, (end - p) / 16);
+    __m128i counts = _mm_setzero_si128();
+    for (std::ptrdiff_t i = 0; i < blocks; ++i, p += 16) {
+      const __m128i v = _mm_loadu_si128(reinterpret_cast<const __m128i*>(p));
+      counts = _mm_sub_epi8(counts, _mm_cmpeq_epi8(v, newline));
+    }
+    const __m128i sums = _mm_sad_epu8(counts, _mm_setzero_si128());
+    newlines += static_cast<std::size_t>(_mm_cvtsi128_si64(sums) + _mm_cvtsi128_si64(_mm_unpackhi_epi64(sums, sums)));
+  }
+#endif
+  constexpr std::uint64_t kNewlines = 0x0a0a0a0a0a0a0a0aull;
+  constexpr std::uint64_t kLow7 = 0x7f7f7f7f7f7f7f7full;
   const char* const p_end = p + (end - p) / 8 * 8;
   for (; p != p_end; p += 8) {
     std::uint64_t w = 0;
@@ -86,6 +106,50 @@ constexpr double kPow10[] = {1e0,  1e1,  1e2,  1e3,  1e4,  1e5,  1e6,  1e7,  1e8
 // Then m and 10^|e| are exact doubles and one IEEE multiplication or division rounds m 10^e
 // correctly (Clinger's fast path), the same double std::from_chars returns. Anything else (more
 // digits, a larger exponent, inf/nan, hex, a leading '.') returns false and goes to std::from_chars.
+// The value of eight ASCII digits loaded little-endian (the first digit the most significant):
+// pairs, then quads, then the eight by three multiplications instead of eight dependent steps.
+inline std::uint64_t EightDigitsValue(std::uint64_t w) {
+  static_assert(std::endian::native == std::endian::little);
+  w -= 0x3030303030303030ull;
+  w = w * 10 + (w >> 8);
+  return (((w & 0x000000FF000000FFull) * (100 + (1000000ull << 32))) +
+          (((w >> 16) & 0x000000FF000000FFull) * (1 + (10000ull << 32)))) >>
+         32;
+}
+
+constexpr std::uint64_t kPow10Int[] = {1, 10, 100, 1000, 10000, 100000, 1000000, 10000000, 100000000};
+
+// Appends the decimal digits at q to m and counts them: the same m (mod 2^64) as one digit at a
+// time, up to eight per step. A byte is a digit when its high nibble is 3 and adding 6 carries out
+// of its low nibble into nothing; a carry from a lower byte only comes from a byte that is not a
+// digit, so the first byte that fails the test is the first non-digit. Its position k tells how
+// many digits lead the word; shifted up by 8 - k bytes over '0's, they are an eight-digit number.
+const char* ReadDigits(const char* q, const char* end, std::uint64_t& m, int& count) {
+  while (end - q >= 8) {
+    std::uint64_t w = 0;
+    std::memcpy(&w, q, 8);
+    const std::uint64_t other =
+        ((w & 0xF0F0F0F0F0F0F0F0ull) | (((w + 0x0606060606060606ull) & 0xF0F0F0F0F0F0F0F0ull) >> 4)) ^
+        0x3333333333333333ull;
+    if (other == 0) {
+      m = m * 100000000u + EightDigitsValue(w);
+      q += 8;
+      count += 8;
+      continue;
+    }
+    const auto k = static_cast<unsigned>(std::countr_zero(other)) / 8;
+    if (k != 0) {
+      const std::uint64_t aligned = (w << (64 - 8 * k)) | (0x3030303030303030ull >> (8 * k));
+      m = m * kPow10Int[k] + EightDigitsValue(aligned);
+      q += k;
+      count += static_cast<int>(k);
+    }
+    return q;
+  }
+  for (; q != end && static_cast<unsigned>(*q - '0') <= 9u; ++q, ++count) m = m * 10u + static_cast<unsigned>(*q - '0');
+  return q;
+}
+
 bool ParseSimpleNumber(const char*& p, const char* end, double& value) {
   const char* q = p;
   const bool negative = q != end && *q == '-';
@@ -95,13 +159,13 @@ bool ParseSimpleNumber(const char*& p, const char* end, double& value) {
   int exp10 = 0;
   const char* const int_start = q;
   // Past 19 digits m may wrap; it is not used then (digits > 19 returns false below).
-  for (; q != end && static_cast<unsigned>(*q - '0') <= 9u; ++q, ++digits) m = m * 10u + static_cast<unsigned>(*q - '0');
+  q = ReadDigits(q, end, m, digits);
   if (q == int_start) return false;
   if (q != end && *q == '.') {
-    ++q;
-    for (; q != end && static_cast<unsigned>(*q - '0') <= 9u; ++q, ++digits, --exp10) {
-      m = m * 10u + static_cast<unsigned>(*q - '0');
-    }
+    int fraction = 0;
+    q = ReadDigits(q + 1, end, m, fraction);
+    digits += fraction;
+    exp10 -= fraction;
   }
   if (digits > 19) return false;
   if (q != end && (*q == 'e' || *q == 'E')) {

@@ -48,6 +48,17 @@ double Median(Eigen::VectorXd v) {
   return v[mid];
 }
 
+// The force minus its median, in the buffer the median was selected in: a record-length signal
+// costs as much in first touches of fresh pages as in arithmetic, so one buffer serves both.
+Eigen::VectorXd CentredOnMedian(const Eigen::Ref<const Eigen::VectorXd>& force, double& median) {
+  Eigen::VectorXd v = force;
+  const auto mid = static_cast<std::ptrdiff_t>(v.size() / 2);
+  std::nth_element(v.data(), v.data() + mid, v.data() + v.size());
+  median = v[mid];
+  v = force.array() - median;
+  return v;
+}
+
 std::vector<Pulse> FindPulses(const Eigen::VectorXd& f, double threshold) {
   std::vector<Pulse> pulses;
   const auto n = static_cast<std::size_t>(f.size());
@@ -121,7 +132,8 @@ ExcitationCheck ClassifyExcitation(const Eigen::Ref<const Eigen::VectorXd>& forc
     out.description = "force record too short to classify";
     return out;
   }
-  const Eigen::VectorXd centred = force.array() - Median(force);
+  double median = 0.0;
+  const Eigen::VectorXd centred = CentredOnMedian(force, median);
   const double peak = centred.cwiseAbs().maxCoeff();
   const double rms = std::sqrt(centred.squaredNorm() / static_cast<double>(centred.size()));
   if (!(peak > 0.0) || !(rms > 0.0)) {
@@ -153,8 +165,8 @@ ImpactResult EstimateImpactFrf(const Eigen::Ref<const Eigen::VectorXd>& force,
   const auto n = static_cast<std::size_t>(force.size());
   Require(n >= 16, "impact record is too short (" + std::to_string(n) + " samples)");
 
-  const double baseline = Median(force);
-  const Eigen::VectorXd centred = force.array() - baseline;
+  double baseline = 0.0;
+  const Eigen::VectorXd centred = CentredOnMedian(force, baseline);
   const double peak_all = centred.cwiseAbs().maxCoeff();
   Require(peak_all > 0.0, "force channel is constant: no hit to detect");
   const std::vector<Pulse> pulses = FindPulses(centred, options.trigger_fraction * peak_all);

@@ -4,6 +4,7 @@
 #include <cmath>
 #include <complex>
 #include <numbers>
+#include <span>
 #include <thread>
 #include <vector>
 
@@ -149,7 +150,7 @@ class SegmentWorker {
   SegmentWorker(const Eigen::VectorXd& window, Detrend detrend)
       : window_(window), detrend_(detrend), fft_(static_cast<std::size_t>(window.size())), buf_(window.size()) {}
 
-  void Sum(const double* force, const Eigen::Ref<const Eigen::MatrixXd>& responses, std::size_t first_seg,
+  void Sum(const double* force, std::span<const double* const> responses, std::size_t first_seg,
            std::size_t end_seg, std::size_t hop, PartialSums& out) {
     const Eigen::Index lines = out.gff.size();
     double* const gff = out.gff.data();
@@ -158,8 +159,9 @@ class SegmentWorker {
       Transform(force + start, fspec_);
       const std::complex<double>* const f = fspec_.data();
       for (Eigen::Index i = 0; i < lines; ++i) gff[i] += f[i].real() * f[i].real() + f[i].imag() * f[i].imag();
-      for (Eigen::Index j = 0; j < responses.cols(); ++j) {
-        Transform(responses.col(j).data() + start, xspec_);
+      for (std::size_t jj = 0; jj < responses.size(); ++jj) {
+        const auto j = static_cast<Eigen::Index>(jj);
+        Transform(responses[jj] + start, xspec_);
         const std::complex<double>* const x = xspec_.data();
         double* const gxx = out.gxx.col(j).data();
         std::complex<double>* const gfx = out.gfx.col(j).data();
@@ -197,12 +199,12 @@ std::size_t ThreadsToUse(std::size_t requested, std::size_t runs) {
 
 }  // namespace
 
-CrossSpectra WelchSpectra(const Eigen::Ref<const Eigen::VectorXd>& force,
-                          const Eigen::Ref<const Eigen::MatrixXd>& responses, double fs_hz,
-                          const WelchOptions& options) {
+namespace {
+
+CrossSpectra Welch(const Eigen::Ref<const Eigen::VectorXd>& force, std::span<const double* const> responses,
+                   double fs_hz, const WelchOptions& options) {
   Require(fs_hz > 0.0 && std::isfinite(fs_hz), "sample rate must be > 0");
-  Require(responses.rows() == force.size(), "force and responses differ in length");
-  Require(responses.cols() >= 1, "at least one response channel is needed");
+  Require(!responses.empty(), "at least one response channel is needed");
   const auto total = static_cast<std::size_t>(force.size());
   options.Validate(total);
   const std::size_t seg = options.segment_samples;
@@ -210,7 +212,7 @@ CrossSpectra WelchSpectra(const Eigen::Ref<const Eigen::VectorXd>& force,
   const std::size_t nseg = (total - seg) / hop + 1;
   const Eigen::VectorXd window = MakeWindow(options.window, seg);
   const auto lines = static_cast<Eigen::Index>(seg / 2 + 1);
-  const Eigen::Index nresp = responses.cols();
+  const auto nresp = static_cast<Eigen::Index>(responses.size());
 
   const std::size_t nparts = std::min(kPartials, nseg);
   std::vector<PartialSums> parts(nparts);
@@ -255,6 +257,30 @@ CrossSpectra WelchSpectra(const Eigen::Ref<const Eigen::VectorXd>& force,
     out.gfx.col(j).array() *= line_scale.array().cast<std::complex<double>>();
   }
   return out;
+}
+
+}  // namespace
+
+CrossSpectra WelchSpectra(const Eigen::Ref<const Eigen::VectorXd>& force,
+                          const Eigen::Ref<const Eigen::MatrixXd>& responses, double fs_hz,
+                          const WelchOptions& options) {
+  Require(fs_hz > 0.0 && std::isfinite(fs_hz), "sample rate must be > 0");
+  Require(responses.rows() == force.size(), "force and responses differ in length");
+  std::vector<const double*> columns;
+  for (Eigen::Index j = 0; j < responses.cols(); ++j) columns.push_back(responses.col(j).data());
+  return Welch(force, columns, fs_hz, options);
+}
+
+CrossSpectra WelchSpectra(const Eigen::Ref<const Eigen::VectorXd>& force,
+                          std::span<const Eigen::VectorXd* const> responses, double fs_hz,
+                          const WelchOptions& options) {
+  Require(fs_hz > 0.0 && std::isfinite(fs_hz), "sample rate must be > 0");
+  std::vector<const double*> columns;
+  for (const Eigen::VectorXd* r : responses) {
+    Require(r->size() == force.size(), "force and responses differ in length");
+    columns.push_back(r->data());
+  }
+  return Welch(force, columns, fs_hz, options);
 }
 
 Frf FrfFromSpectra(const CrossSpectra& spectra, Estimator estimator, Quantity response_quantity) {

@@ -2,6 +2,7 @@
 
 #include <cmath>
 #include <string>
+#include <type_traits>
 
 #include <Eigen/Eigenvalues>
 #include <unsupported/Eigen/MatrixFunctions>
@@ -75,12 +76,52 @@ void SimulateStatesInto(Eigen::Ref<const Eigen::MatrixXd> a, Eigen::Ref<const Ei
   const Eigen::MatrixXd phi = d.A.topLeftCorner(n, n);
   const Eigen::VectorXd g0 = d.A.topRightCorner(n, 1);
   const Eigen::VectorXd g1 = d.B.topRows(n);
-  // Plain loops over two state buffers: this runs for every sample of every filtered regressor in
-  // SRIVC and tfest, so no temporaries (and no allocation) per sample. Sums in the order phi * x,
-  // then + g0 u, then + g1 du, as the matrix expression they replace.
+  // This runs for every sample of every filtered regressor in SRIVC and tfest: the state update is
+  // compiled for each order up to 8 (the loops unrolled, the state in registers), larger orders
+  // take the general loop. Both sum in the order phi * x, then + g0 u, then + g1 du, as the matrix
+  // expression they replace, so every order gives the same bits either way.
+  const bool first_order = hold == Hold::kFirst;
+  const double* const in = u.data();
+  double* const out = states.data();
+  const auto run = [&]<std::size_t N>(std::integral_constant<std::size_t, N>) {
+    double ph[N][N];
+    double b0[N];
+    double b1[N];
+    double x[N];
+    for (std::size_t i = 0; i < N; ++i) {
+      for (std::size_t j = 0; j < N; ++j) ph[i][j] = phi(static_cast<Eigen::Index>(i), static_cast<Eigen::Index>(j));
+      b0[i] = g0[static_cast<Eigen::Index>(i)];
+      b1[i] = g1[static_cast<Eigen::Index>(i)];
+      x[i] = x0[static_cast<Eigen::Index>(i)];
+    }
+    for (Eigen::Index k = 0; k < samples; ++k) {
+      for (std::size_t i = 0; i < N; ++i) out[static_cast<Eigen::Index>(reversed ? N - 1 - i : i) * samples + k] = x[i];
+      if (k + 1 == samples) break;
+      const double du = first_order ? in[k + 1] - in[k] : 0.0;
+      double next[N];
+      for (std::size_t i = 0; i < N; ++i) {
+        double acc = 0.0;
+        for (std::size_t j = 0; j < N; ++j) acc += ph[i][j] * x[j];
+        acc += b0[i] * in[k];
+        if (first_order) acc += b1[i] * du;
+        next[i] = acc;
+      }
+      for (std::size_t i = 0; i < N; ++i) x[i] = next[i];
+    }
+  };
+  switch (n) {
+    case 1: return run(std::integral_constant<std::size_t, 1>{});
+    case 2: return run(std::integral_constant<std::size_t, 2>{});
+    case 3: return run(std::integral_constant<std::size_t, 3>{});
+    case 4: return run(std::integral_constant<std::size_t, 4>{});
+    case 5: return run(std::integral_constant<std::size_t, 5>{});
+    case 6: return run(std::integral_constant<std::size_t, 6>{});
+    case 7: return run(std::integral_constant<std::size_t, 7>{});
+    case 8: return run(std::integral_constant<std::size_t, 8>{});
+    default: break;
+  }
   Eigen::VectorXd x = x0;
   Eigen::VectorXd next(n);
-  const bool first_order = hold == Hold::kFirst;
   for (Eigen::Index k = 0; k < samples; ++k) {
     for (Eigen::Index i = 0; i < n; ++i) states(k, reversed ? n - 1 - i : i) = x[i];
     if (k + 1 == samples) break;

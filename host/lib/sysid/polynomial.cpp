@@ -18,13 +18,34 @@ Eigen::VectorXd Filter(Eigen::Ref<const Eigen::VectorXd> num, Eigen::Ref<const E
   const double a0 = den[0];
   Eigen::VectorXd y(n);
   // Direct form: y(t) = (sum b_k x(t-k) - sum_{k>=1} a_k y(t-k)) / a0.
-  for (Eigen::Index t = 0; t < n; ++t) {
+  const Eigen::Index warm = std::min(n, std::max(nb, na) - 1);
+  for (Eigen::Index t = 0; t < warm; ++t) {
     double acc = 0.0;
     const Eigen::Index kb = std::min(nb - 1, t);
     for (Eigen::Index k = 0; k <= kb; ++k) acc += num[k] * x[t - k];
     const Eigen::Index ka = std::min(na - 1, t);
     for (Eigen::Index k = 1; k <= ka; ++k) acc -= den[k] * y[t - k];
     y[t] = acc / a0;
+  }
+  // Past the first max(nb, na) - 1 samples every tap is there: the same sums in the same order
+  // without the bounds, and no division when a0 = 1 (x / 1 is x exactly). The recursion makes
+  // the division's latency part of every sample's, and the filters here are mostly monic.
+  const double* const b = num.data();
+  const double* const a = den.data();
+  const double* const in = x.data();
+  double* const out = y.data();
+  const auto steady = [&](auto divide) {
+    for (Eigen::Index t = warm; t < n; ++t) {
+      double acc = 0.0;
+      for (Eigen::Index k = 0; k < nb; ++k) acc += b[k] * in[t - k];
+      for (Eigen::Index k = 1; k < na; ++k) acc -= a[k] * out[t - k];
+      out[t] = divide(acc);
+    }
+  };
+  if (a0 == 1.0) {
+    steady([](double acc) { return acc; });
+  } else {
+    steady([a0](double acc) { return acc / a0; });
   }
   return y;
 }

@@ -19,16 +19,29 @@
 //   - the state holds r' = r + 2^(q-1), the low q bits of the accumulator (rounding constant
 //     included): 2 r1 - r2 = 2 r1' - r2' - 2^(q-1), the constant again joining the start value;
 //   - so acc' = start + b0 x + b1 x1 + b2 x2 + a1 ~y1 + a2 ~y2 + f1 r1' + f2 r2' = acc + 2^(q-1)
-//     with (f1, f2) = (2, -1) under error feedback and (0, 0) without (every section runs the same
-//     seven products), start = 2^(q-1) + a1 + a2 - (feedback ? 2^(q-1) : 0);
+//     with (f1, f2) = (2, -1) under error feedback and (0, 0) without (the host runs the same
+//     seven products for every section), start = 2^(q-1) + a1 + a2 - (feedback ? 2^(q-1) : 0);
 //   - y = acc' >> q, read from the two 32-bit halves (lo >> q | hi << (32 - q), q in [16, 31]); it
 //     fits an int32 exactly when hi lies in [-2^(q-1), 2^(q-1)), which is the saturation test;
 //     r' = lo & (2^q - 1), the low q bits (exact: 0 <= r' < 2^q).
-//   Per path and section one record holds the state {x[n-1], x[n-2], ~y[n-1], ~y[n-2], r'[n-1],
-//   r'[n-2]} and then {b0, start, b1, b2, a1, a2, f1, f2, q, 32 - q, 2^q - 1, 2^(q-1)}, in the
-//   order the kernel reads them (on the Cortex-M4: four LDM, seven SMLAL, one STM per section).
+//   On the host, per path and section one record holds the state {x[n-1], x[n-2], ~y[n-1],
+//   ~y[n-2], r'[n-1], r'[n-2]} and the run-time coefficients, walked by a plain loop.
 //   At rest x = y = r = 0, i.e. ~y = -1 and r' = 2^(q-1); a saturated section stores the
 //   railed y and r = 0 (r' = 2^(q-1)), so the feedback does not push a railed section further.
+//
+// Cortex-M4 program (dob_filter.cpp): Init compiles the description into a word stream that one
+// assembly routine runs as threaded code, so the shifts, masks and rounding constants are
+// immediates and there is no loop counter and no branch but the frame loop's:
+//   - one copy of the section code per (q, feedback) pair, 32 in all; per section the stream holds
+//     {b2, start (2 words), a2, code address} (loaded, with the jump, by the previous block's last
+//     LDM) and {b0, b1, a1} plus the feedback weight word (1 for q <= 30, -1 for q = 31);
+//   - the state stream holds {x[n-1], x[n-2], ~y[n-1], ~y[n-2], r'[n-1], r'[n-2]} per section:
+//     one LDM, seven SMLAL (six when 2 r1' - r2' fits one int32, i.e. q <= 30, five without
+//     feedback), the rounding and saturation test on immediates, one IT block, one STM;
+//   - after a path's sections, an output stage {gain, 2^(p-1), 0, p, code address, 2^(32 - p)}
+//     forms the term, adds it to the frame's sum and loads the next path's input; the last one
+//     saturates d_hat, stores it and starts the next frame.
+//   For the default design (2 inputs, 4 + 3 feedback sections) that is 184 instructions per sample.
 //
 // Scaling and overflow:
 //   Inputs are Q31 fractions of each input's full scale; d_hat is a Q31 fraction of the output full
@@ -38,6 +51,10 @@
 //   a ~y + a = -a y absorbs) stay below 2^31 (2^32 - 4) = 2^63 - 2^33 in magnitude at every partial
 //   sum; the feedback products add less than 2^32 (2 r1' < 2^32, -r2' > -2^31) and the start value
 //   at most 2^30 more, so every partial sum of the 64-bit accumulator is exact and never wraps.
+//   The Cortex-M4 program adds the feedback as one int32 2 r1' - r2' when q <= 30 (0 <= r' < 2^30,
+//   so the value lies in (-2^30, 2^31)) and as -r2' and 2 r1' (< 2^32, unsigned) when q = 31: the
+//   same exact sum. Its output term takes lo >> p + hi * 2^(32 - p) for the low word (the two do
+//   not overlap, so the 32-bit sum is the OR the host forms) and hi >> p (arithmetic) for the high.
 //   Section outputs and d_hat are saturated to int32 (each saturation is counted), never wrapped.
 //   Output terms are at most 2^61 each (output_shift <= 30), so the sum of three cannot overflow
 //   before the final saturation; the paths are summed before saturating because the sensor and
@@ -57,6 +74,12 @@
 
 #include "vibid/shared/fixed/filter_description.hpp"
 #include "vibid/shared/status.hpp"
+
+#if defined(__ARM_ARCH_7EM__) && defined(__thumb2__)
+#define VIBID_DOB_THREADED_KERNEL 1
+#else
+#define VIBID_DOB_THREADED_KERNEL 0
+#endif
 
 namespace vibid::fixed {
 
@@ -92,9 +115,20 @@ class DobFilter {
   const FilterDescription& description() const { return description_; }
 
  private:
+#if VIBID_DOB_THREADED_KERNEL
+  // The Cortex-M4 kernel (see "Cortex-M4 program" above). Largest program: every path with
+  // kMaxSections feedback sections (5 + 4 words each) and its output stage (5 + 1 words).
+  static constexpr std::size_t kProgramWords = kMaxInputs * (kMaxSections * 9 + 6);
+  static constexpr std::size_t kStateWords = kMaxInputs * kMaxSections * 6;
+  /// Runs the program over `frames` frames of `inputs` into `output`; returns the saturations.
+  std::uint32_t Run(const std::int32_t* inputs, std::int32_t* output, std::size_t frames);
+
+  std::array<std::uint32_t, kProgramWords> program_{};
+  std::array<std::int32_t, kStateWords> state_{};
+  std::uintptr_t frame_start_ = 0;  ///< Code address of the frame loop for input_count inputs.
+#else
   // One section's state and run-time coefficients (derived from the description by Init, see
-  // "Kernel layout" above), in the order the kernel reads them: 19 words, loaded by four LDM and
-  // stored back by one STM on the Cortex-M4.
+  // "Kernel layout" above).
   struct SectionRecord {
     std::int32_t x1, x2, ny1, ny2, r1, r2;  ///< x[n-1], x[n-2], ~y[n-1], ~y[n-2], r'[n-1], r'[n-2].
     std::int32_t b0;
@@ -122,9 +156,11 @@ class DobFilter {
   /// Step on `inputs[0 .. input_count)`; shared by Step and StepBlock (inlined into both).
   std::int32_t StepFrame(const std::int32_t* inputs);
 
-  FilterDescription description_{.input_count = 0};
   std::array<KernelPath, kMaxInputs> paths_{};
   std::array<std::array<SectionRecord, kMaxSections>, kMaxInputs> records_{};
+#endif
+
+  FilterDescription description_{.input_count = 0};
   std::uint32_t saturation_count_ = 0;
 };
 

@@ -11,6 +11,7 @@
 #include <memory>
 #include <string>
 #include <string_view>
+#include <span>
 #include <vector>
 
 #include <Eigen/Core>
@@ -64,6 +65,10 @@ struct CrossSpectra {
 /// transformed on `options.threads` threads, each with its own FFT plan and buffers.
 CrossSpectra WelchSpectra(const Eigen::Ref<const Eigen::VectorXd>& force,
                           const Eigen::Ref<const Eigen::MatrixXd>& responses, double fs_hz,
+                          const WelchOptions& options);
+/// The same from separate response channels (e.g. a recording's own columns, read in place).
+CrossSpectra WelchSpectra(const Eigen::Ref<const Eigen::VectorXd>& force,
+                          std::span<const Eigen::VectorXd* const> responses, double fs_hz,
                           const WelchOptions& options);
 
 /// Estimated FRFs of several responses to one force, with coherence.
