@@ -1,7 +1,7 @@
 // Fuzzes the readers of the toolkit's JSON files: model files (chain, cart and matrix forms; the
 // rig files in examples/ are model files), DOB design files, sensors files, and the emulator's
-// rig files. The first byte picks the reader; the rest is the file's text, parsed the way
-// ReadJsonFile does (a syntax error is a message naming the line).
+// rig files. The first byte picks the reader; the rest is the file's text, parsed as ReadJsonFile
+// parses it (ParseJsonText).
 // What is accepted must survive a write: a model through ModelToJson and a rig through RigToJson
 // read back equal bit for bit; a sensors set written back as a sensors file reads back equal; a
 // design's fixed-point description encodes back to bytes that decode and validate the same.
@@ -10,10 +10,12 @@
 #include <cstdint>
 #include <optional>
 #include <string>
+#include <string_view>
 
 #include <nlohmann/json.hpp>
 
 #include "fuzz_support.hpp"
+#include "vibid/common/json_file.hpp"
 #include "rig.hpp"
 #include "vibid/device/calibration_builder.hpp"
 #include "vibid/device/log_table.hpp"
@@ -120,11 +122,8 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   if (size == 0) return 0;
   const std::uint8_t reader = data[0] % 4;
   nlohmann::json j;
-  try {
-    j = nlohmann::json::parse(data + 1, data + size);
-  } catch (const nlohmann::json::parse_error&) {
-    return 0;  // ReadJsonFile's message naming the line
-  }
+  const std::string_view text(reinterpret_cast<const char*>(data + 1), size - 1);
+  if (!Accepts([&] { j = ParseJsonText(text, "fuzz.json"); })) return 0;
   switch (reader) {
     case 0: Model(j); break;
     case 1: Design(j); break;

@@ -42,7 +42,7 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
     default: options.fs_hz = in.ConsumeFloatingPointInRange<double>(0.1, 1e6); break;
   }
   const std::string specs = in.ConsumeRandomLengthString(64);
-  const std::string text = in.ConsumeRemainingAsString();
+  const std::string text = in.ConsumeBytesAsString(in.remaining_bytes());
 
   std::optional<CsvTable> table;
   if (!Accepts([&] { table = ParseCsv(text, "fuzz.csv", 1); })) return 0;

@@ -391,21 +391,23 @@ class Script {
         wire::StoreU16(r, wire::kOffSequence, in_.ConsumeIntegralInRange<std::uint16_t>(1, 0xFFFF));
         break;
     }
-    // A stream data report is not a request; it is answered like any other non-vibid report.
-    const bool stream_tag = r[0] == wire::kStreamDataTag;
     const std::vector<wire::Report> out = Send(r);
+    // Two fields a request should leave alone are not checked by the board: a known status
+    // byte and the stream-end flag (both only mean something device to host). Such a request is
+    // dispatched like a well-formed one.
+    const bool vibid = r[0] == 'V' && r[1] == 'B';
+    if (vibid && ((r[wire::kOffStatus] != 0 && wire::IsKnownStatus(r[wire::kOffStatus])) ||
+                  r[wire::kOffFlags] == wire::kFlagStreamEnd)) {
+      Check(id, token, payload, out);
+      return;
+    }
+    // Anything else broken is refused with one report. A stream data report is not a request;
+    // it is answered like any other non-vibid report, with the token its bytes hold.
     Require(out.size() == 1 && !wire::IsStreamData(out[0]));
     wire::Header a;
     Require(wire::DecodeHeader(out[0], a) == Status::kOk);
-    Require((a.flags & wire::kFlagResponse) != 0);
-    Require(stream_tag || a.token == token);
-    // Two fields a request should leave alone are not checked by the board: a known status
-    // byte and the stream-end flag (both only mean something device to host). Anything else
-    // broken must be a refusal.
-    const bool vibid = r[0] == 'V' && r[1] == 'B';
-    if (vibid && r[wire::kOffStatus] != 0 && wire::IsKnownStatus(r[wire::kOffStatus])) return;
-    if (vibid && r[wire::kOffFlags] == wire::kFlagStreamEnd) return;
-    Require(a.status != Status::kOk);
+    Require((a.flags & wire::kFlagResponse) != 0 && a.status != Status::kOk);
+    Require(r[0] == wire::kStreamDataTag || a.token == token);
   }
 
   // cal-put-begin and its chunks: the golden record (filter or not), now and then with a bad CRC,

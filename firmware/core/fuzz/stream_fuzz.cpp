@@ -148,7 +148,8 @@ bool Damage(FuzzedDataProvider& in, std::vector<wire::Report>& reports, std::uin
         const auto other = static_cast<std::uint16_t>(token ^ in.ConsumeIntegralInRange<std::uint16_t>(1, 0xFFFF));
         if (in.ConsumeBool()) {
           const auto bytes = in.ConsumeBytes<std::uint8_t>(in.ConsumeIntegralInRange<std::size_t>(1, wire::kMaxStreamPayload));
-          if (!bytes.empty()) Require(wire::EncodeStreamData(other, in.ConsumeIntegral<std::uint16_t>(), bytes, stale) == Status::kOk);
+          if (bytes.empty()) break;  // the input ran out: no report to slip in
+          Require(wire::EncodeStreamData(other, in.ConsumeIntegral<std::uint16_t>(), bytes, stale) == Status::kOk);
         } else {
           const auto id = in.ConsumeBool() ? command : static_cast<Command>(in.ConsumeIntegral<std::uint8_t>());
           const std::uint16_t to = in.ConsumeBool() ? other : token;

@@ -115,6 +115,10 @@ void RunRawEvent(FuzzedDataProvider& in, Fixture& f) {
 // HID reports: the host sends one on the OUT endpoint, the device queues one for IN.
 void RunReports(FuzzedDataProvider& in, Fixture& f) {
   HidClass& hid = f.rig.hid;
+  // Reports already queued (SET_REPORT, earlier completions) come out first.
+  vibid::wire::Report queued{};
+  while (hid.Receive(queued) == Status::kOk) {
+  }
   auto& out_ep = f.rig.dcd.PendingOn(kHidOutEndpoint);
   if (out_ep.active && !out_ep.buffer.empty()) {
     const std::size_t n = in.ConsumeIntegralInRange<std::size_t>(0, out_ep.buffer.size());

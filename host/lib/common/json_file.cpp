@@ -5,15 +5,19 @@
 
 namespace vibid {
 
-nlohmann::json ReadJsonFile(const std::string& path) {
-  const std::string text = ReadFileText(path);
+nlohmann::json ReadJsonFile(const std::string& path) { return ParseJsonText(ReadFileText(path), path); }
+
+nlohmann::json ParseJsonText(std::string_view text, const std::string& source) {
   try {
     return nlohmann::json::parse(text);
   } catch (const nlohmann::json::parse_error& e) {
     // Turn the byte offset into a line number: that is what an editor shows.
     std::size_t line = 1;
     for (std::size_t i = 0; i < e.byte && i < text.size(); ++i) line += text[i] == '\n';
-    throw InputError(path + ":" + std::to_string(line) + ": malformed JSON");
+    throw InputError(source + ":" + std::to_string(line) + ": malformed JSON");
+  } catch (const nlohmann::json::out_of_range&) {
+    // The parser throws this (not a parse_error) for a number beyond double's range, e.g. 1e999.
+    throw InputError(source + ": malformed JSON: a number is out of range");
   }
 }
 
