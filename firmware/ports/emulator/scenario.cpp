@@ -49,7 +49,7 @@ Status ParseScenario(const wire::ScenarioRequest& request, int dofs, Scenario& o
     s.mass = dofs - 1;
     s.frequency_hz = OrDefault(p[0], 16.0);
     s.force_n = OrDefault(p[1], 10.0);
-    s.push_n = p[2];
+    s.push_n = static_cast<double>(p[2]);
     if (p[3] != 0.0f) return Status::kInvalidArgument;
   } else if (name == "push") {
     s.kind = ScenarioKind::kPush;

@@ -111,6 +111,9 @@ Estimated EstimateFromRecording(const std::string& path, const EstimationArgs& a
     wo.window = window;
     wo.detrend = a.detrend == "constant" ? ident::Detrend::kConstant : ident::Detrend::kNone;
     wo.segment_samples = a.segment > 0 ? a.segment : DefaultSegment(rec.samples());
+    Require(wo.segment_samples <= rec.samples(), path + ": " + std::to_string(rec.samples()) +
+                                                     " samples, fewer than one --segment of " +
+                                                     std::to_string(wo.segment_samples));
     Require(a.overlap < 0 || static_cast<std::size_t>(a.overlap) < wo.segment_samples,
             "--overlap must be smaller than the segment");
     wo.overlap_samples = a.overlap >= 0 ? static_cast<std::size_t>(a.overlap) : wo.segment_samples / 2;
@@ -129,6 +132,8 @@ ident::Frf LoadOrEstimate(const std::string& path, const EstimationArgs& a, std:
   const bool uff = path.size() > 4 && (path.substr(path.size() - 4) == ".uff" || path.substr(path.size() - 4) == ".unv");
   if (uff) return ident::ConvertFrf(ident::LoadFrf(path), kind);
   const std::string text = ReadFileText(path);
+  // Said before anything else: an empty file is neither an FRF nor a recording missing its --force.
+  Require(text.find_first_not_of(" \t\r\n") != std::string::npos, path + ": empty file");
   if (ident::LooksLikeFrfCsv(text)) return ident::ConvertFrf(ident::ParseFrfCsv(text, path), kind);
   Estimated e = EstimateFromRecording(path, a);
   if (!e.note.empty()) {

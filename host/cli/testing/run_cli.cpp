@@ -12,7 +12,7 @@
 
 namespace vibid::testing {
 
-VibidProcess::VibidProcess(const std::vector<std::string>& args) {
+VibidProcess::VibidProcess(const std::vector<std::string>& args, const std::string& program) {
   int out_pipe[2];
   int err_pipe[2];
   if (::pipe(out_pipe) != 0 || ::pipe(err_pipe) != 0) throw std::runtime_error("pipe failed");
@@ -26,7 +26,7 @@ VibidProcess::VibidProcess(const std::vector<std::string>& args) {
     const int devnull = ::open("/dev/null", O_RDONLY);
     ::dup2(devnull, 0);
     std::vector<char*> argv;
-    std::string exe = VIBID_CLI_PATH;
+    std::string exe = program.empty() ? std::string(VIBID_CLI_PATH) : program;
     argv.push_back(exe.data());
     std::vector<std::string> copy = args;
     for (auto& a : copy) argv.push_back(a.data());
@@ -82,6 +82,10 @@ CliResult VibidProcess::Wait() {
 }
 
 CliResult RunVibid(const std::vector<std::string>& args) { return VibidProcess(args).Wait(); }
+
+CliResult RunProgram(const std::string& program, const std::vector<std::string>& args) {
+  return VibidProcess(args, program).Wait();
+}
 
 std::string MakeTempDir(const std::string& tag) {
   std::string tmpl = "/tmp/vibid-" + tag + "-XXXXXX";

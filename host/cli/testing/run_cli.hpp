@@ -18,7 +18,8 @@ struct CliResult {
 /// pulling the device away). The destructor kills and reaps a child that was not waited for.
 class VibidProcess {
  public:
-  explicit VibidProcess(const std::vector<std::string>& args);
+  /// `program` empty: the `vibid` built alongside the test.
+  explicit VibidProcess(const std::vector<std::string>& args, const std::string& program = "");
   ~VibidProcess();
   VibidProcess(const VibidProcess&) = delete;
   VibidProcess& operator=(const VibidProcess&) = delete;
@@ -38,6 +39,9 @@ class VibidProcess {
 
 /// Runs `vibid ARGS...` (the binary built alongside the test) and waits for it.
 CliResult RunVibid(const std::vector<std::string>& args);
+
+/// Runs another program of the build (e.g. vibid-emu) the same way.
+CliResult RunProgram(const std::string& program, const std::vector<std::string>& args);
 
 /// A fresh empty directory under the system temp dir, unique per call.
 std::string MakeTempDir(const std::string& tag);

@@ -11,6 +11,7 @@
 #include <unistd.h>
 
 #include "vibid/common/error.hpp"
+#include "vibid/common/text_input.hpp"
 
 namespace vibid {
 namespace {
@@ -60,12 +61,21 @@ void WriteFileAtomic(const std::string& path, std::string_view content) {
   }
 }
 
-std::string ReadFileText(const std::string& path) {
+std::string ReadFileText(const std::string& path, std::uint64_t max_bytes) {
+  RequireReadableSize(path, max_bytes);
   std::ifstream in(path, std::ios::binary);
   if (!in) throw InputError("cannot open '" + path + "': " + std::strerror(errno));
-  std::ostringstream ss;
-  ss << in.rdbuf();
-  return ss.str();
+  // Read in blocks so a pipe that never ends is refused at the limit instead of filling memory.
+  std::string text;
+  char block[1 << 16];
+  while (in.read(block, sizeof(block)) || in.gcount() > 0) {
+    text.append(block, static_cast<std::size_t>(in.gcount()));
+    if (text.size() > max_bytes) {
+      throw InputError(path + ": too large (more than the " + FormatBytes(max_bytes) + " this reader takes)");
+    }
+  }
+  if (in.bad()) throw InputError("cannot read '" + path + "': " + std::strerror(errno));
+  return text;
 }
 
 }  // namespace vibid

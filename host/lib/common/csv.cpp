@@ -6,6 +6,7 @@
 
 #include "csv_detail.hpp"
 #include "vibid/common/error.hpp"
+#include "vibid/common/text_input.hpp"
 
 namespace vibid {
 namespace csv_detail {
@@ -66,11 +67,11 @@ void ExplainBadRow(std::string_view line, const std::string& where, const std::v
   for (std::size_t c = 0; c < cells.size(); ++c) {
     const std::string column = "column " + std::to_string(c + 1) + " '" + names[c] + "': ";
     const auto v = ParseNumber(cells[c]);
-    if (!v) throw InputError(where + column + "'" + std::string(cells[c]) + "' is not a number");
-    if (!std::isfinite(*v)) throw InputError(where + column + "non-finite value '" + std::string(cells[c]) + "'");
+    if (!v) throw InputError(where + column + "'" + Printable(cells[c]) + "' is not a number");
+    if (!std::isfinite(*v)) throw InputError(where + column + "non-finite value '" + Printable(cells[c]) + "'");
   }
   // The fast parser refused a line this checker accepts: a defect, reported rather than hidden.
-  throw InputError(where + "cannot read the row '" + std::string(line) + "'");
+  throw InputError(where + "cannot read the row '" + Printable(line) + "'");
 }
 
 }  // namespace csv_detail
@@ -158,7 +159,11 @@ ColumnSpec ParseColumnSpec(std::string_view spec) {
   } else if (const auto colon = spec.rfind(':'); colon != std::string_view::npos) {
     out.name = std::string(Trim(spec.substr(0, colon)));
     out.unit = std::string(Trim(spec.substr(colon + 1)));
-    out.scale = UnitToSi(out.unit);
+    try {
+      out.scale = UnitToSi(out.unit);
+    } catch (const InputError& e) {
+      throw InputError("column '" + Printable(spec) + "': " + e.what());
+    }
   } else {
     out.name = std::string(spec);
   }

@@ -27,6 +27,7 @@
 #include "vibid/common/atomic_file.hpp"
 #include "vibid/common/csv.hpp"
 #include "vibid/common/error.hpp"
+#include "vibid/common/text_input.hpp"
 
 namespace vibid {
 namespace {
@@ -206,6 +207,8 @@ void AdviseHugePages(void* data, std::size_t bytes) {
 CsvTable ParseCsv(std::string_view text, const std::string& source, std::size_t threads) {
   CsvTable table;
   table.source = source;
+  // Spreadsheets save "CSV UTF-8" with a byte-order mark; it is not part of the first name.
+  if (text.starts_with("\xEF\xBB\xBF")) text.remove_prefix(3);
   const char* const begin = text.data();
   const char* const end = begin + text.size();
   const auto line_of = [&](const char* at) { return 1 + static_cast<std::size_t>(std::count(begin, at, '\n')); };
@@ -220,6 +223,8 @@ CsvTable ParseCsv(std::string_view text, const std::string& source, std::size_t 
       if (body == end) break;
       continue;
     }
+    // Names are quoted in messages and written to other files: the lines up to here must be text.
+    RequireUtf8(std::string_view(begin, static_cast<std::size_t>(body - begin)), source);
     csv_detail::CheckHeader(s, source + ":" + std::to_string(line_of(line)) + ": ", table.names);
     break;
   }
@@ -272,18 +277,19 @@ CsvTable ParseCsv(std::string_view text, const std::string& source, std::size_t 
 }
 
 CsvTable ReadCsv(const std::string& path) {
+  RequireReadableSize(path, kMaxCsvFileBytes);
   const int fd = ::open(path.c_str(), O_RDONLY | O_CLOEXEC);
   if (fd < 0) throw InputError("cannot open '" + path + "': " + std::strerror(errno));
   struct stat st {};
   if (::fstat(fd, &st) != 0 || !S_ISREG(st.st_mode) || st.st_size == 0) {
     // Not a plain file (a pipe, /dev/stdin) or empty: read it the ordinary way.
     ::close(fd);
-    return ParseCsv(ReadFileText(path), path);
+    return ParseCsv(ReadFileText(path, kMaxCsvFileBytes), path);
   }
   const auto size = static_cast<std::size_t>(st.st_size);
   void* map = ::mmap(nullptr, size, PROT_READ, MAP_PRIVATE | MAP_POPULATE, fd, 0);
   ::close(fd);
-  if (map == MAP_FAILED) return ParseCsv(ReadFileText(path), path);
+  if (map == MAP_FAILED) return ParseCsv(ReadFileText(path, kMaxCsvFileBytes), path);
   ::madvise(map, size, MADV_SEQUENTIAL);
   struct Unmap {
     void* p;

@@ -10,6 +10,7 @@
 #include "vibid/common/atomic_file.hpp"
 #include "vibid/common/csv.hpp"
 #include "vibid/common/error.hpp"
+#include "vibid/common/text_input.hpp"
 
 namespace vibid::ident {
 
@@ -34,14 +35,14 @@ double ToDouble(const std::string& s, const std::string& what) {
   const char* b = s.data();
   const char* e = s.data() + s.size();
   const auto r = std::from_chars(b, e, v);
-  Require(r.ec == std::errc() && r.ptr == e && std::isfinite(v), what + ": '" + s + "' is not a finite number");
+  Require(r.ec == std::errc() && r.ptr == e && std::isfinite(v), what + ": '" + Printable(s) + "' is not a finite number");
   return v;
 }
 
 long ToLong(const std::string& s, const std::string& what) {
   long v = 0;
   const auto r = std::from_chars(s.data(), s.data() + s.size(), v);
-  Require(r.ec == std::errc() && r.ptr == s.data() + s.size(), what + ": '" + s + "' is not an integer");
+  Require(r.ec == std::errc() && r.ptr == s.data() + s.size(), what + ": '" + Printable(s) + "' is not an integer");
   return v;
 }
 
@@ -89,7 +90,7 @@ Frf ParseFrfCsv(std::string_view text, const std::string& source) {
     std::string kv;
     while (in >> kv) {
       const auto eq = kv.find('=');
-      Require(eq != std::string::npos, source + ": line 1: metadata item '" + kv + "' is not key=value");
+      Require(eq != std::string::npos, source + ": line 1: metadata item '" + Printable(kv) + "' is not key=value");
       const std::string key = kv.substr(0, eq);
       const std::string value = kv.substr(eq + 1);
       if (key == "kind") frf.quantity = ParseQuantity(value);
