@@ -3,6 +3,7 @@
 option(VIBID_WERROR "Treat warnings as errors" ON)
 option(VIBID_SANITIZE "Build with AddressSanitizer and UndefinedBehaviorSanitizer" OFF)
 option(VIBID_FUZZ "Also build the libFuzzer targets (clang, with VIBID_SANITIZE; the `asan` preset)" OFF)
+option(VIBID_COVERAGE "Source-based coverage (clang; the `fuzz-coverage` preset, scripts/fuzz-coverage)" OFF)
 
 add_library(vibid_warnings INTERFACE)
 target_compile_options(vibid_warnings INTERFACE
@@ -17,11 +18,17 @@ if(VIBID_SANITIZE)
   add_link_options(-fsanitize=address,undefined -fno-sanitize=vptr)
 endif()
 if(VIBID_FUZZ)
-  if(NOT CMAKE_CXX_COMPILER_ID MATCHES "Clang" OR NOT VIBID_SANITIZE)
+  # The coverage build runs the fuzz targets over their corpora only; the sanitizers there would
+  # only slow it down.
+  if(NOT CMAKE_CXX_COMPILER_ID MATCHES "Clang" OR NOT (VIBID_SANITIZE OR VIBID_COVERAGE))
     message(FATAL_ERROR "VIBID_FUZZ needs clang and VIBID_SANITIZE=ON (use the `asan` preset)")
   endif()
   # Coverage counters in every library, so one sanitizer build serves the tests and the fuzzers.
   add_compile_options(-fsanitize=fuzzer-no-link)
+endif()
+if(VIBID_COVERAGE)
+  add_compile_options(-fprofile-instr-generate -fcoverage-mapping)
+  add_link_options(-fprofile-instr-generate)
 endif()
 
 # Firmware-core and shared code: the embedded rules hold on the host build too, so a heap call,

@@ -1,6 +1,7 @@
 #include "vibid/device/calibration_builder.hpp"
 
 #include <cmath>
+#include <cstdint>
 
 #include "vibid/common/error.hpp"
 #include "vibid/device/log_table.hpp"
@@ -33,8 +34,9 @@ wire::Unit UnitOfInput(fixed::InputKind kind) {
 
 SensorSet SensorsFromJson(const nlohmann::json& j, const std::string& source) {
   const auto fail = [&](const std::string& what) { throw InputError(source + ": " + what); };
-  if (!j.is_object() || j.value("format", "") != "vibid-sensors") fail("not a vibid sensors file");
-  if (j.value("version", 0) != 1) fail("unsupported sensors file version");
+  // Compared as JSON values: a field of another type is a wrong value, not a type error.
+  if (!j.is_object() || j.value("format", nlohmann::json()) != "vibid-sensors") fail("not a vibid sensors file");
+  if (j.value("version", nlohmann::json()) != 1) fail("unsupported sensors file version");
   if (!j.contains("channels") || !j["channels"].is_object()) fail("missing object 'channels'");
   SensorSet set;
   for (const auto& [name, c] : j["channels"].items()) {
@@ -49,7 +51,14 @@ SensorSet SensorsFromJson(const nlohmann::json& j, const std::string& source) {
       if (offset != std::round(offset) || std::abs(offset) > 2147483647.0) fail(name + ".offset_counts must be a 32-bit integer");
       s.offset_counts = static_cast<std::int32_t>(offset);
       s.full_scale = c.at("full_scale").get<double>();
-      s.dof = c.contains("dof") ? c["dof"].get<int>() - 1 : -1;
+      if (c.contains("dof")) {
+        // Checked before the conversion: get<int> of 1e300 or of -2^31 minus one is undefined.
+        const nlohmann::json& dof = c.at("dof");
+        if (!dof.is_number_integer() || dof.get<std::int64_t>() < 1 || dof.get<std::int64_t>() > static_cast<std::int64_t>(wire::kMaxDof)) {
+          fail("channels." + name + ".dof must be 1 or 2");
+        }
+        s.dof = dof.get<int>() - 1;
+      }
     } catch (const nlohmann::json::exception& e) {
       fail("channels." + name + ": " + e.what());
     }

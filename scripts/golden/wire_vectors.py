@@ -187,18 +187,20 @@ def main():
     OUT.parent.mkdir(parents=True, exist_ok=True)
     OUT.write_text("\n".join(lines) + "\n")
 
-    # Seed corpus for the fuzz targets: valid inputs the fuzzer mutates from.
+    # Seed corpus for the fuzz targets (one directory each): valid inputs the fuzzer mutates from.
     v = dict(vectors)
-    SEEDS.mkdir(parents=True, exist_ok=True)
-    (SEEDS / "calibration_record").write_bytes(v["calibration_record"])
-    (SEEDS / "calibration_record_dob").write_bytes(v["calibration_record_dob"])
-    # Request seeds start with the fuzzer's calibration switch byte (1: the filter is installed).
-    (SEEDS / "requests").write_bytes(b"\x01" + v["ping_request"] + v["acq_configure_request"] +
-                                     v["log_read_request"] + v["dob_control_request"])
-    (SEEDS / "cal_put").write_bytes(b"\x00" + v["cal_put_begin"] + v["cal_put_data_0"])
-    (SEEDS / "log_stream").write_bytes(bytes([0x24, 0x77, 0x77]) +
-                                       b"".join(v[f"log_stream_{i}"] for i in range(3)))
-
+    for target in ("wire_calibration_fuzz", "fw_request_fuzz", "wire_stream_fuzz"):
+        (SEEDS / target).mkdir(parents=True, exist_ok=True)
+    (SEEDS / "wire_calibration_fuzz/calibration_record").write_bytes(v["calibration_record"])
+    (SEEDS / "wire_calibration_fuzz/calibration_record_dob").write_bytes(v["calibration_record_dob"])
+    # Request seeds are in the harness's raw format (top bit of the first byte set); bit 0 is its
+    # calibration switch (1: the filter is installed).
+    (SEEDS / "fw_request_fuzz/requests").write_bytes(b"\x81" + v["ping_request"] + v["acq_configure_request"] +
+                                                     v["log_read_request"] + v["dob_control_request"])
+    (SEEDS / "fw_request_fuzz/cal_put").write_bytes(b"\x80" + v["cal_put_begin"] + v["cal_put_data_0"])
+    # Stream seeds in the raw format: a command id below 0x80, the token, the reports.
+    (SEEDS / "wire_stream_fuzz/log_stream").write_bytes(bytes([0x24, 0x77, 0x77]) +
+                                                        b"".join(v[f"log_stream_{i}"] for i in range(3)))
 
 if __name__ == "__main__":
     main()

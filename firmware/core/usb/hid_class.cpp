@@ -88,9 +88,10 @@ void HidClass::OnTransferComplete(std::uint8_t ep_addr, std::uint16_t length) {
 void HidClass::OnEndpointHalt(std::uint8_t ep_addr, bool halted) {
   // A halt abandons the transfer in flight: an input report being sent is lost to the host (the
   // command server's request will time out and be repeated), and the OUT endpoint is re-armed
-  // only once the halt is cleared.
+  // only once the halt is cleared. Clearing a halt that was never set (CLEAR_FEATURE is allowed
+  // on a running endpoint) abandons nothing: a report still in flight keeps the IN side busy.
   if (ep_addr == kHidInEndpoint) {
-    tx_busy_ = false;
+    if (halted) tx_busy_ = false;
     return;
   }
   out_halted_ = halted;

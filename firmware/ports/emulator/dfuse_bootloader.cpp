@@ -71,7 +71,13 @@ void DfuSeBootloader::Attach(UrbSink& sink) {
 }
 
 void DfuSeBootloader::Submit(Urb urb) {
-  UrbResult r = urb.endpoint == 0 ? Control(urb.setup, urb.out_data, urb.length) : Stall();
+  // The data stage goes the way bmRequestType says (USB 2.0 §9.3.1): a URB that disagrees, or a
+  // request that answers with data although the host said it sends, is a request error, as is
+  // anything for an endpoint but 0.
+  const bool to_host = (urb.setup[0] & 0x80) != 0;
+  const bool valid = urb.endpoint == 0 && to_host == (urb.direction == usbip::Direction::kIn);
+  UrbResult r = valid ? Control(urb.setup, urb.out_data, urb.length) : Stall();
+  if (!to_host && !r.in_data.empty()) r = Stall();
   if (sink_ != nullptr) sink_->Complete(urb, r);
 }
 
@@ -182,7 +188,13 @@ UrbResult DfuSeBootloader::Dfu(std::uint8_t request, std::uint16_t value, const 
       state_ = n < length ? State::kIdle : State::kUploadIdle;
       return Data(std::move(bytes), length);
     }
-    case 3: return GetStatus();
+    case 3: {
+      // Six bytes, or fewer if the host asked for fewer (a device never sends more than wLength).
+      UrbResult r = GetStatus();
+      if (r.in_data.size() > length) r.in_data.resize(length);
+      r.actual_length = static_cast<std::uint32_t>(r.in_data.size());
+      return r;
+    }
     case 4:  // CLRSTATUS
       if (state_ != State::kError) return StallAndError();
       status_ = DfuStatus::kOk;

@@ -53,8 +53,9 @@ AnalogSensor SensorFromJson(const nlohmann::json& json, const char* range_key, c
   s.noise_rms = json.at(noise_key).get<double>();
   Require(json.contains("adc_bits") && json.at("adc_bits").is_number_integer(),
           source + ": missing integer \"adc_bits\"");
-  s.adc_bits = json.at("adc_bits").get<int>();
-  Require(s.adc_bits >= 8 && s.adc_bits <= 24, source + ": \"adc_bits\" must be 8..24");
+  const std::int64_t bits = json.at("adc_bits").get<std::int64_t>();
+  Require(bits >= 8 && bits <= 24, source + ": \"adc_bits\" must be 8..24");
+  s.adc_bits = static_cast<int>(bits);
   return s;
 }
 
@@ -110,7 +111,8 @@ RigSpec DefaultRig() {
 
 RigSpec RigFromJson(const nlohmann::json& json, const std::string& source) {
   Require(json.is_object(), source + ": expected a JSON object");
-  Require(json.value("topology", std::string()) == "chain",
+  // Compared as a JSON value: a topology of another type is a wrong value, not a type error.
+  Require(json.value("topology", nlohmann::json()) == "chain",
           source + ": \"topology\" must be \"chain\" (masses in series from ground)");
   RigSpec r;
   Require(json.contains("masses_kg") && json.at("masses_kg").is_array(), source + ": missing \"masses_kg\"");

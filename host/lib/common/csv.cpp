@@ -144,6 +144,10 @@ double UnitToSi(std::string_view unit) {
 ColumnSpec ParseColumnSpec(std::string_view spec) {
   spec = Trim(spec);
   Require(!spec.empty(), "empty column name");
+  // No header cell holds one (a CSV line ends at a line break), and echoed in a message it would
+  // break the message's one line.
+  Require(std::none_of(spec.begin(), spec.end(), [](char c) { return static_cast<unsigned char>(c) < 0x20 || c == 0x7F; }),
+          "a column spec holds a control character (a line break?)");
   ColumnSpec out;
   if (const auto star = spec.rfind('*'); star != std::string_view::npos) {
     const auto factor = ParseNumber(Trim(spec.substr(star + 1)));

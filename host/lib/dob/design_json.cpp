@@ -1,6 +1,8 @@
 #include "vibid/dob/design_json.hpp"
 
+#include <cstdint>
 #include <cstdio>
+#include <limits>
 
 #include "vibid/common/error.hpp"
 
@@ -109,8 +111,9 @@ nlohmann::json DesignToJson(const DobDesign& design) {
 
 ObserverFile ObserverFromJson(const nlohmann::json& j, const std::string& source) {
   const auto fail = [&](const std::string& what) { throw InputError(source + ": " + what); };
-  if (!j.is_object() || j.value("format", "") != "vibid-dob-design") fail("not a vibid DOB design file");
-  if (j.value("version", 0) != 1) fail("unsupported design file version");
+  // Compared as JSON values: a field of another type is a wrong value, not a type error.
+  if (!j.is_object() || j.value("format", nlohmann::json()) != "vibid-dob-design") fail("not a vibid DOB design file");
+  if (j.value("version", nlohmann::json()) != 1) fail("unsupported design file version");
   ObserverFile f;
   try {
     f.fs_hz = j.at("discrete").at("fs_hz").get<double>();
@@ -122,7 +125,13 @@ ObserverFile ObserverFromJson(const nlohmann::json& j, const std::string& source
       else if (kind == "vel") p.kind = fixed::InputKind::kVelocity;
       else if (kind == "acc") p.kind = fixed::InputKind::kAcceleration;
       else fail("discrete.inputs: unknown kind '" + kind + "'");
-      p.dof = in.at("dof").get<int>() - 1;
+      // Checked before the conversion: get<int> of 1e300 or of -2^31 minus one is undefined.
+      const nlohmann::json& dof = in.at("dof");
+      if (!dof.is_number_integer() || dof.get<std::int64_t>() < 1 ||
+          dof.get<std::int64_t>() > std::numeric_limits<int>::max()) {
+        fail("discrete.inputs: dof must be a mass number (1, 2, ...)");
+      }
+      p.dof = dof.get<int>() - 1;
       p.full_scale = in.at("full_scale").get<double>();
       for (const auto& row : in.at("sos")) {
         const auto v = row.get<std::vector<double>>();

@@ -71,8 +71,10 @@ std::string FormatFrfCsv(const Frf& frf) {
   meta.precision(17);
   meta << kMetaTag << " kind=" << FrfKindName(frf.quantity) << " estimator=" << EstimatorName(frf.estimator)
        << " averages=" << frf.averages << " exp_window_tau_s=" << frf.exp_window_tau_s
-       << " pretrigger_s=" << frf.pretrigger_s
-       << " force=" << (frf.force_name.empty() ? "force" : frf.force_name) << "\n";
+       << " pretrigger_s=" << frf.pretrigger_s;
+  // An FRF read without a force name is written without one, so it reads back as it was.
+  if (!frf.force_name.empty()) meta << " force=" << frf.force_name;
+  meta << "\n";
   return meta.str() + FormatCsv(names, cols);
 }
 
@@ -94,9 +96,16 @@ Frf ParseFrfCsv(std::string_view text, const std::string& source) {
       const std::string value = kv.substr(eq + 1);
       if (key == "kind") frf.quantity = ParseQuantity(value);
       else if (key == "estimator") frf.estimator = ParseEstimator(value);
-      else if (key == "averages") frf.averages = static_cast<std::size_t>(ToLong(value, source + ": line 1: averages"));
+      else if (key == "averages") {
+        const long averages = ToLong(value, source + ": line 1: averages");
+        Require(averages >= 0, source + ": line 1: averages must not be negative");
+        frf.averages = static_cast<std::size_t>(averages);
+      }
       else if (key == "exp_window_tau_s") frf.exp_window_tau_s = ToDouble(value, source + ": line 1: exp_window_tau_s");
-      else if (key == "pretrigger_s") frf.pretrigger_s = ToDouble(value, source + ": line 1: pretrigger_s");
+      else if (key == "pretrigger_s") {
+        frf.pretrigger_s = ToDouble(value, source + ": line 1: pretrigger_s");
+        Require(frf.pretrigger_s >= 0.0, source + ": line 1: pretrigger_s must not be negative");
+      }
       else if (key == "force") frf.force_name = value;
     }
   }
@@ -119,7 +128,14 @@ Frf ParseFrfCsv(std::string_view text, const std::string& source) {
     Require(table.Has(bases[j] + "_im"), source + ": column " + bases[j] + "_re has no " + bases[j] + "_im");
     frf.h.col(jj).real() = table.Column(bases[j] + "_re");
     frf.h.col(jj).imag() = table.Column(bases[j] + "_im");
-    if (table.Has(bases[j] + "_coh")) frf.coherence.col(jj) = table.Column(bases[j] + "_coh");
+    if (table.Has(bases[j] + "_coh")) {
+      frf.coherence.col(jj) = table.Column(bases[j] + "_coh");
+      for (Eigen::Index i = 0; i < frf.coherence.rows(); ++i) {
+        const double c = frf.coherence(i, jj);
+        Require(c >= 0.0 && c <= 1.0, source + ": row " + std::to_string(i + 1) + ": " + bases[j] +
+                                          "_coh is not a coherence in [0, 1]");
+      }
+    }
     frf.response_names.push_back(bases[j]);
   }
   return frf;
@@ -251,11 +267,18 @@ Frf ParseUff58(std::string_view text, const std::string& source) {
     d.func_type = static_cast<int>(ToLong(field(h + 5, 0, 5), where(h + 5) + ": function type"));
     d.rsp_node = static_cast<int>(ToLong(field(h + 5, 41, 10), where(h + 5) + ": response node"));
     const long ord_type = ToLong(field(h + 6, 0, 10), where(h + 6) + ": ordinate data type");
-    d.points = static_cast<std::size_t>(ToLong(field(h + 6, 10, 10), where(h + 6) + ": number of points"));
+    const long points = ToLong(field(h + 6, 10, 10), where(h + 6) + ": number of points");
+    // Bounded by what the text can hold (one value per character at most), so a header cannot
+    // make the reader allocate more than the file's size.
+    Require(points >= 2 && static_cast<std::size_t>(points) <= text.size(),
+            where(h + 6) + ": number of points must be 2 or more and fit the file");
+    d.points = static_cast<std::size_t>(points);
     const long even = ToLong(field(h + 6, 20, 10), where(h + 6) + ": abscissa spacing");
     Require(even == 1, where(h + 6) + ": only evenly spaced abscissas are supported");
     d.x0 = ToDouble(field(h + 6, 30, 13), where(h + 6) + ": abscissa start");
     d.dx = ToDouble(field(h + 6, 43, 13), where(h + 6) + ": abscissa step");
+    Require(d.dx > 0.0 && std::isfinite(d.x0 + d.dx * static_cast<double>(d.points - 1)),
+            where(h + 6) + ": the abscissa step must be positive and the frequencies finite");
     d.ord_spec = static_cast<int>(ToLong(field(h + 8, 0, 10), where(h + 8) + ": ordinate type"));
     Require(ord_type == 2 || ord_type == 4 || ord_type == 5 || ord_type == 6,
             where(h + 6) + ": ordinate data type " + std::to_string(ord_type) + " is not 2, 4, 5 or 6");
@@ -308,7 +331,11 @@ Frf ParseUff58(std::string_view text, const std::string& source) {
     if (d.func_type != 6 || d.complex || d.points != first.points) continue;
     const auto it = column_of_node.find(d.rsp_node);
     if (it == column_of_node.end()) continue;
-    for (std::size_t k = 0; k < d.points; ++k) frf.coherence(static_cast<Eigen::Index>(k), it->second) = d.values[k];
+    for (std::size_t k = 0; k < d.points; ++k) {
+      Require(d.values[k] >= 0.0 && d.values[k] <= 1.0,
+              source + ": coherence of node " + std::to_string(d.rsp_node) + " is not in [0, 1]");
+      frf.coherence(static_cast<Eigen::Index>(k), it->second) = d.values[k];
+    }
   }
   frf.averages = 0;
   return frf;
