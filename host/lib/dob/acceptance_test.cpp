@@ -141,16 +141,18 @@ TEST(DobAcceptance, FixedPointTracksTheDoubleDesign) {
   ASSERT_EQ(filter.Init(design.fixed.description), Status::kOk);
   const fixed::FilterDescription& d = design.fixed.description;
   std::vector<std::int32_t> in(static_cast<std::size_t>(2 * ref.size()));
+  const auto x_fs = static_cast<double>(fixed::FullScaleValue(d.input_full_scale_bits[0]));
+  const auto f_fs = static_cast<double>(fixed::FullScaleValue(d.input_full_scale_bits[1]));
   for (Eigen::Index k = 0; k < ref.size(); ++k) {
-    in[static_cast<std::size_t>(2 * k)] = ToQ31(e.x2_m[k], fixed::FullScaleValue(d.input_full_scale_bits[0]));
-    in[static_cast<std::size_t>(2 * k + 1)] = ToQ31(e.force_n[k], fixed::FullScaleValue(d.input_full_scale_bits[1]));
+    in[static_cast<std::size_t>(2 * k)] = ToQ31(e.x2_m[k], x_fs);
+    in[static_cast<std::size_t>(2 * k + 1)] = ToQ31(e.force_n[k], f_fs);
   }
   std::vector<std::int32_t> out(static_cast<std::size_t>(ref.size()));
   const std::span<const std::int32_t> all(in);
   const std::span<std::int32_t> outs(out);
   ASSERT_EQ(filter.StepBlock(all.first(static_cast<std::size_t>(2 * split)), outs.first(static_cast<std::size_t>(split))), Status::kOk);
   ASSERT_EQ(filter.StepBlock(all.subspan(static_cast<std::size_t>(2 * split)), outs.subspan(static_cast<std::size_t>(split))), Status::kOk);
-  const double out_fs = fixed::FullScaleValue(d.output_full_scale_bits);
+  const auto out_fs = static_cast<double>(fixed::FullScaleValue(d.output_full_scale_bits));
   double signal = 0.0, noise = 0.0, max_lsb = 0.0;
   for (Eigen::Index k = 0; k < ref.size(); ++k) {
     const auto i = static_cast<std::size_t>(k);

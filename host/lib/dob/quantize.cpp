@@ -227,14 +227,15 @@ FixedRun RunFixed(const fixed::FilterDescription& description,
               " inputs, got " + std::to_string(inputs_si.size()));
   const Eigen::Index n = inputs_si.front().size();
   for (const auto& x : inputs_si) Require(x.size() == n, "inputs differ in length");
-  const double out_fs = fixed::FullScaleValue(description.output_full_scale_bits);
+  const auto out_fs = static_cast<double>(fixed::FullScaleValue(description.output_full_scale_bits));
   FixedRun run;
   run.d_hat_n.resize(n);
   run.d_hat_q31.resize(static_cast<std::size_t>(n));
   fixed::InputFrame frame{};
   for (Eigen::Index k = 0; k < n; ++k) {
     for (std::size_t i = 0; i < inputs_si.size(); ++i) {
-      frame[i] = ToQ31(inputs_si[i][k], fixed::FullScaleValue(description.input_full_scale_bits[i]));
+      const auto full_scale = static_cast<double>(fixed::FullScaleValue(description.input_full_scale_bits[i]));
+      frame[i] = ToQ31(inputs_si[i][k], full_scale);
     }
     const std::int32_t y = filter.Step(frame);
     run.d_hat_q31[static_cast<std::size_t>(k)] = y;
