@@ -4,6 +4,7 @@
 #include <cstdint>
 
 #include "vibid/common/error.hpp"
+#include "vibid/common/text_input.hpp"
 #include "vibid/device/log_table.hpp"
 
 namespace vibid::device {
@@ -16,7 +17,7 @@ wire::Unit UnitFromName(const std::string& name, const std::string& where) {
   if (name == "m/s2" || name == "m/s^2") return wire::Unit::kMeterPerSecond2;
   if (name == "m") return wire::Unit::kMeter;
   if (name == "m/s") return wire::Unit::kMeterPerSecond;
-  throw InputError(where + ": unit '" + name + "' is not one of N, m/s2, m, m/s");
+  throw InputError(where + ": unit '" + Printable(name) + "' is not one of N, m/s2, m, m/s");
 }
 
 wire::Unit UnitOfInput(fixed::InputKind kind) {
@@ -41,7 +42,7 @@ SensorSet SensorsFromJson(const nlohmann::json& j, const std::string& source) {
   SensorSet set;
   for (const auto& [name, c] : j["channels"].items()) {
     wire::Channel ch{};
-    if (!ChannelFromStem(name, ch)) fail("channels: unknown channel '" + name + "' (force1, force2, acc1, acc2, x1, x2)");
+    if (!ChannelFromStem(name, ch)) fail("channels: unknown channel '" + Printable(name) + "' (force1, force2, acc1, acc2, x1, x2)");
     const std::string where = source + ": channels." + name;
     SensorScaling s;
     try {

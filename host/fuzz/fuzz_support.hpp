@@ -17,7 +17,8 @@ namespace vibid::fuzz {
 
 [[noreturn]] inline void Fail() { __builtin_trap(); }
 
-inline void Require(bool condition) {
+// Not inlined, so a crash's stack names the line of the check that failed.
+[[gnu::noinline]] inline void Require(bool condition) {
   if (!condition) Fail();
 }
 

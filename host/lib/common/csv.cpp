@@ -47,6 +47,9 @@ std::vector<std::string_view> SplitCells(std::string_view line) {
 void CheckHeader(std::string_view line, const std::string& where, std::vector<std::string>& names) {
   for (const auto c : SplitCells(line)) {
     if (c.empty()) throw InputError(where + "empty column name in the header");
+    // Only the file's first bytes may be a byte-order mark (ParseCsv skips it there); one before a
+    // later header line would become part of the name, invisibly, and not survive a rewrite.
+    if (c.starts_with("\xEF\xBB\xBF")) throw InputError(where + "a column name starts with a byte-order mark (U+FEFF)");
     if (ParseNumber(c)) {
       throw InputError(where + "the first row must be a header of column names, found the number '" + std::string(c) + "'");
     }

@@ -5,6 +5,7 @@
 #include <limits>
 
 #include "vibid/common/error.hpp"
+#include "vibid/common/text_input.hpp"
 
 namespace vibid::dob {
 namespace {
@@ -124,7 +125,7 @@ ObserverFile ObserverFromJson(const nlohmann::json& j, const std::string& source
       else if (kind == "disp") p.kind = fixed::InputKind::kDisplacement;
       else if (kind == "vel") p.kind = fixed::InputKind::kVelocity;
       else if (kind == "acc") p.kind = fixed::InputKind::kAcceleration;
-      else fail("discrete.inputs: unknown kind '" + kind + "'");
+      else fail("discrete.inputs: unknown kind '" + Printable(kind) + "'");
       // Checked before the conversion: get<int> of 1e300 or of -2^31 minus one is undefined.
       const nlohmann::json& dof = in.at("dof");
       if (!dof.is_number_integer() || dof.get<std::int64_t>() < 1 ||

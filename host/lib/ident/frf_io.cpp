@@ -1,9 +1,11 @@
 #include "vibid/ident/frf_io.hpp"
 
+#include <algorithm>
 #include <charconv>
 #include <cmath>
 #include <cstdio>
 #include <map>
+#include <set>
 #include <sstream>
 #include <vector>
 
@@ -190,11 +192,29 @@ std::string FormatUff58(const Frf& frf, int reference_node) {
   const auto points = static_cast<std::size_t>(frf.freq_hz.size());
   const double x0 = frf.freq_hz[0];
   const double dx = (frf.freq_hz[frf.freq_hz.size() - 1] - x0) / static_cast<double>(points - 1);
+  // Response j is node j + 1, unless every response is named "nodeN" with distinct N (as the
+  // reader names them): then those nodes are kept, so a UFF58 file reads and writes back the same.
+  std::vector<int> nodes;
+  std::set<int> seen;
+  for (const std::string& n : frf.response_names) {
+    int node = 0;
+    const char* digits = n.data() + std::min<std::size_t>(4, n.size());
+    const auto r = std::from_chars(digits, n.data() + n.size(), node);
+    if (!n.starts_with("node") || r.ec != std::errc() || r.ptr != n.data() + n.size() || node < 1 || node > 999999999 ||
+        !seen.insert(node).second) {
+      break;
+    }
+    nodes.push_back(node);
+  }
+  if (nodes.size() != static_cast<std::size_t>(frf.h.cols())) {
+    nodes.clear();
+    for (Eigen::Index j = 0; j < frf.h.cols(); ++j) nodes.push_back(static_cast<int>(j) + 1);
+  }
   std::ostringstream out;
   for (Eigen::Index j = 0; j < frf.h.cols(); ++j) {
     const auto ju = static_cast<std::size_t>(j);
     const std::string name = ju < frf.response_names.size() ? frf.response_names[ju] : "h" + std::to_string(j + 1);
-    WriteHeader(out, std::string(FrfKindName(frf.quantity)) + " " + name, 4, static_cast<int>(j) + 1, reference_node, 6,
+    WriteHeader(out, std::string(FrfKindName(frf.quantity)) + " " + name, 4, nodes[ju], reference_node, 6,
                 points, x0, dx, OrdinateType(frf.quantity), 1);
     std::vector<double> values;
     values.reserve(2 * points);
@@ -204,7 +224,7 @@ std::string FormatUff58(const Frf& frf, int reference_node) {
     }
     WriteValues(out, values);
     out << "    -1\n";
-    WriteHeader(out, "coherence " + name, 6, static_cast<int>(j) + 1, reference_node, 4, points, x0, dx, 0, 0);
+    WriteHeader(out, "coherence " + name, 6, nodes[ju], reference_node, 4, points, x0, dx, 0, 0);
     values.clear();
     for (std::size_t i = 0; i < points; ++i) values.push_back(frf.coherence(static_cast<Eigen::Index>(i), j));
     WriteValues(out, values);
@@ -324,7 +344,8 @@ Frf ParseUff58(std::string_view text, const std::string& source) {
     for (std::size_t k = 0; k < d.points; ++k) {
       frf.h(static_cast<Eigen::Index>(k), static_cast<Eigen::Index>(j)) = {d.values[2 * k], d.values[2 * k + 1]};
     }
-    column_of_node[d.rsp_node] = static_cast<Eigen::Index>(j);
+    Require(column_of_node.emplace(d.rsp_node, static_cast<Eigen::Index>(j)).second,
+            source + ": two FRF datasets for response node " + std::to_string(d.rsp_node));
     frf.response_names.push_back("node" + std::to_string(d.rsp_node));
   }
   for (const Dataset& d : sets) {

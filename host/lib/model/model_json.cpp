@@ -5,6 +5,7 @@
 
 #include "vibid/common/error.hpp"
 #include "vibid/common/json_file.hpp"
+#include "vibid/common/text_input.hpp"
 
 namespace vibid::model {
 namespace {
@@ -94,7 +95,7 @@ Model ModelFromJson(const json& value, const std::string& source) {
       const Eigen::VectorXd frictions = Vector(value, "frictions", source, false);
       return WithSource(source, [&] { return MakeCartTrack(masses, k, frictions); });
     }
-    throw InputError(source + ": field \"topology\" is \"" + topology + "\"; expected \"chain\" or \"cart\"");
+    throw InputError(source + ": field \"topology\" is \"" + Printable(topology) + "\"; expected \"chain\" or \"cart\"");
   }
   Require(value.contains("M") && value.contains("K"),
           source + ": a model needs \"topology\" (chain or cart) or the matrices \"M\" and \"K\"");

@@ -140,7 +140,8 @@ class Script {
     std::vector<std::uint8_t> data = in_.ConsumeBytes<std::uint8_t>(in_.ConsumeIntegralInRange<std::size_t>(0, 64));
     data.resize(length, 0x5A);
     const emu::UrbResult r = Dfu(1, block, length, data);
-    if (r.status != usbip::kStatusOk || length == 0) return;
+    // Blocks 0 and 1 are commands, not data: nothing to read back.
+    if (r.status != usbip::kStatusOk || length == 0 || block < 2) return;
     // A URB buffer shorter than wLength carries that much of the block.
     data.resize(r.actual_length);
     (void)Dfu(3, 0, 6);
