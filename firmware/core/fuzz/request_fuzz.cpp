@@ -194,7 +194,8 @@ std::vector<std::uint8_t> Payload(FuzzedDataProvider& in, std::uint8_t id) {
       c.flags = static_cast<std::uint8_t>(in.ConsumeIntegralInRange<unsigned>(0, 4));
       c.decimation = in.PickValueInArray(kDecimations);
       c.trigger_mode = static_cast<wire::TriggerMode>(in.ConsumeIntegralInRange<unsigned>(0, 3));
-      if (c.trigger_mode != wire::TriggerMode::kImmediate) {
+      // Trigger fields are set for an immediate start too, now and then: the board must refuse them.
+      if (c.trigger_mode != wire::TriggerMode::kImmediate || in.ConsumeIntegralInRange<int>(0, 7) == 7) {
         c.trigger_channel = static_cast<std::uint8_t>(in.ConsumeIntegralInRange<unsigned>(0, 6));
         c.trigger_threshold = in.ConsumeIntegralInRange<std::int32_t>(-(1 << 30), 1 << 30);
         c.pretrigger_records = in.ConsumeIntegralInRange<std::uint32_t>(0, 200);
@@ -500,14 +501,17 @@ class Script {
             a.status != Status::kOk && a.token == token);
   }
 
-  // A commit that loses power part-way; the board reboots with what the flash holds.
+  // A commit that loses power part-way (or meets a flash controller that reports errors); the
+  // board reboots with what the flash holds.
   void PowerCutCommit() {
     board_.fake.flash.steps_before_cut = in_.ConsumeIntegralInRange<std::uint32_t>(0, 600);
+    board_.fake.flash.fail_program = in_.ConsumeIntegralInRange<int>(0, 7) == 7;
     const std::uint16_t token = ++token_;
     wire::Report r{};
     Require(wire::BuildReport(Command::kCalCommit, token, 0, 0, Status::kOk, {}, r) == Status::kOk);
     (void)Send(r);
     board_.fake.flash.steps_before_cut = FakeFlashNoCut();
+    board_.fake.flash.fail_program = false;
     board_.fake.flash.PowerOn();
     board_.Reboot();
     dob_loaded_ = false;  // unknown after a cut: the configure refusals cover either case

@@ -19,6 +19,7 @@
 #include <cstddef>
 #include <cstdint>
 #include <cstring>
+#include <span>
 #include <vector>
 
 #include "vibid/shared/wire/byte_order.hpp"
@@ -301,7 +302,31 @@ void RunCalibration(FuzzedDataProvider& in) {
   }
 }
 
-// The raw format: command id, token, then 64-byte reports fed as they are.
+// What a host decodes from an answer must be what the device encoded: a payload that decodes
+// as a response encodes back to the same bytes.
+template <typename Response>
+void CheckResponse(std::span<const std::uint8_t> payload) {
+  Response v;
+  if (wire::Decode(payload, v) != Status::kOk) return;
+  std::array<std::uint8_t, Response::kBytes> again{};
+  wire::Encode(v, again);
+  Require(payload.size() >= again.size() && std::equal(again.begin(), again.end(), payload.begin()));
+}
+
+void CheckResponses(const wire::Report& report) {
+  const auto payload = wire::PayloadOf(report);
+  CheckResponse<wire::InfoResponse>(payload);
+  CheckResponse<wire::StatusResponse>(payload);
+  CheckResponse<wire::AcqConfigureResponse>(payload);
+  CheckResponse<wire::AcqStopResponse>(payload);
+  CheckResponse<wire::LatestResponse>(payload);
+  CheckResponse<wire::CalCommitResponse>(payload);
+  CheckResponse<wire::LogTrailer>(payload);
+  CheckResponse<wire::CalGetTrailer>(payload);
+}
+
+// The raw format: command id, token, then 64-byte reports fed as they are; each report's payload
+// is also read as every response the host decodes.
 void RunRaw(const std::uint8_t* data, std::size_t size) {
   if (size < 3) return;
   const auto command = static_cast<Command>(data[0]);
@@ -312,6 +337,7 @@ void RunRaw(const std::uint8_t* data, std::size_t size) {
   for (std::size_t offset = 3; offset < size; offset += wire::kReportBytes) {
     wire::Report report{};
     std::memcpy(report.data(), data + offset, std::min(wire::kReportBytes, size - offset));
+    CheckResponses(report);
     const wire::StreamDecoder::Step step = decoder.Feed(report);
     Require(step.payload.size() <= wire::kMaxStreamPayload);
     if (step.event == Event::kData) {

@@ -103,7 +103,7 @@ std::size_t CsvTable::Index(std::string_view name) const {
   for (std::size_t i = 0; i < names.size(); ++i) {
     if (names[i] == name) return i;
   }
-  throw InputError(source + ": no column '" + std::string(name) + "' (columns: " + JoinNames(names) + ")");
+  throw InputError(source + ": no column '" + Printable(name) + "' (columns: " + JoinNames(names) + ")");
 }
 
 std::string FormatCsv(const std::vector<std::string>& names, const std::vector<Eigen::VectorXd>& columns) {
@@ -218,7 +218,7 @@ Recording MakeRecording(CsvTable table, const RecordingOptions& options) {
     rec.t0_s = table.Has(options.time_column) ? table.Column(options.time_column)[0] : 0.0;
   } else {
     if (!table.Has(options.time_column)) {
-      throw InputError(table.source + ": no time column '" + options.time_column +
+      throw InputError(table.source + ": no time column '" + Printable(options.time_column) +
                        "'; name it or give the sample rate (--fs-hz)");
     }
     const Eigen::VectorXd& t = table.Column(options.time_column);

@@ -285,7 +285,9 @@ Frf ParseUff58(std::string_view text, const std::string& source) {
     const std::size_t h = i + 2;  // record 1
     d.id1 = Trim(lines[h]);
     d.func_type = static_cast<int>(ToLong(field(h + 5, 0, 5), where(h + 5) + ": function type"));
-    d.rsp_node = static_cast<int>(ToLong(field(h + 5, 41, 10), where(h + 5) + ": response node"));
+    const long rsp_node = ToLong(field(h + 5, 41, 10), where(h + 5) + ": response node");
+    Require(rsp_node >= 1 && rsp_node <= 999999999, where(h + 5) + ": the response node must be 1 to 999999999");
+    d.rsp_node = static_cast<int>(rsp_node);
     const long ord_type = ToLong(field(h + 6, 0, 10), where(h + 6) + ": ordinate data type");
     const long points = ToLong(field(h + 6, 10, 10), where(h + 6) + ": number of points");
     // Bounded by what the text can hold (one value per character at most), so a header cannot
