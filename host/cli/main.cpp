@@ -29,15 +29,13 @@ int main(int argc, char** argv) {
 
   try {
     app.parse(argc, argv);
-  } catch (const CLI::ValidationError& e) {
+  } catch (const CLI::ParseError& e) {
     // A value out of its range or not of its kind is bad input, like a bad file: one line, exit 1.
     // Usage errors (unknown or missing options) keep CLI11's message and exit 2.
-    std::cerr << "vibid: error: " << e.what() << "\n";
-    return kExitInputError;
-  } catch (const CLI::ConversionError& e) {
-    std::cerr << "vibid: error: " << e.what() << "\n";
-    return kExitInputError;
-  } catch (const CLI::ParseError& e) {
+    if (dynamic_cast<const CLI::ValidationError*>(&e) || dynamic_cast<const CLI::ConversionError*>(&e)) {
+      std::cerr << "vibid: error: " << e.what() << "\n";
+      return kExitInputError;
+    }
     const int code = app.exit(e);
     return code == 0 ? kExitOk : kExitUsage;
   } catch (const vibid::InputError& e) {
