@@ -22,7 +22,7 @@ struct StreamRun {
   std::vector<std::uint8_t> records;
   std::vector<std::uint32_t> ticks;
   wire::LogTrailer trailer;
-  std::uint64_t sim_us = 0;  // simulated time the acquisition took, start to trailer
+  std::uint64_t sim_us = 0;  // simulated time from the first sample to the frame the trailer left in
 };
 
 struct RunOptions {
@@ -54,10 +54,9 @@ StreamRun Acquire(const wire::AcqConfigureRequest& config, const RunOptions& ro 
     EXPECT_EQ(s.Request(wire::Command::kSelectScenario, testing::ScenarioOf("hammer", {2, 200, 0.3f, 0})).header.status,
               Status::kOk);
     EXPECT_EQ(s.Request(wire::Command::kAcqConfigure, config).header.status, Status::kOk);
-    const std::uint64_t start_us = emu.SimulatedUs();
     const wire::LogLayout layout{config.channel_mask, config.flags};
     run.records = s.StreamAcquisition(layout.RecordBytes());
-    run.sim_us = emu.SimulatedUs() - start_us;
+    run.sim_us = emu.LastInReportUs() - emu.SamplingStartUs();
     run.ticks = s.ticks;
     EXPECT_EQ(wire::Decode(s.last_trailer, run.trailer), Status::kOk);
   }

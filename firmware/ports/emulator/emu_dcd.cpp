@@ -190,8 +190,9 @@ void UsbAppDevice::FailStalled() {
   }
 }
 
-void UsbAppDevice::StartFrame(bool limit) {
+void UsbAppDevice::StartFrame(bool limit, std::uint64_t frame_start_us) {
   frame_limit_ = limit;
+  frame_start_us_ = frame_start_us;
   in_left_ = 1;
   out_left_ = 1;
 }
@@ -240,6 +241,7 @@ bool UsbAppDevice::ServiceIn(std::uint8_t ep_addr) {
   r.actual_length = static_cast<std::uint32_t>(n);
   const std::size_t sent = p.buffer.size();
   p = {};
+  if (in_stamp_ != nullptr) in_stamp_->store(frame_start_us_, std::memory_order_release);
   if (sink_ != nullptr) sink_->Complete(urb, r);
   stack_.OnTransferComplete(ep_addr, static_cast<std::uint16_t>(sent));
   stack_.Task();

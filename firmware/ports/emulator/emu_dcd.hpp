@@ -8,6 +8,7 @@
 #pragma once
 
 #include <array>
+#include <atomic>
 #include <cstdint>
 #include <deque>
 #include <span>
@@ -74,12 +75,15 @@ class UsbAppDevice final : public ExportedDevice {
   /// and at no other time, so when a report goes out depends only on simulated time, never on
   /// when the host's URB happened to arrive. With `limit` false (experiments beyond the board)
   /// interrupt transfers are not limited at all.
-  void StartFrame(bool limit);
+  void StartFrame(bool limit, std::uint64_t frame_start_us);
   void EndFrame();
   /// The HID IN endpoint holds a report and no IN URB of the host waits for it: a host that polls
   /// every frame (the kernel's HID driver) would have one queued.
   bool WaitingForInUrb() const;
   bool Attached() const { return sink_ != nullptr; }
+  /// Each interrupt IN transaction stores its frame's start time here before the host can see
+  /// the report, so another thread that has the report also sees when it left.
+  void StampInTransactions(std::atomic<std::uint64_t>& frame_start_us) { in_stamp_ = &frame_start_us; }
   /// A transaction is due in the next frame: an armed IN report, or a host's OUT report the
   /// armed OUT endpoint has not taken yet.
   bool NeedsFrame() const;
@@ -103,6 +107,8 @@ class UsbAppDevice final : public ExportedDevice {
   bool frame_limit_ = true;
   int in_left_ = 0;
   int out_left_ = 0;
+  std::uint64_t frame_start_us_ = 0;
+  std::atomic<std::uint64_t>* in_stamp_ = nullptr;
 };
 
 }  // namespace vibid::emu

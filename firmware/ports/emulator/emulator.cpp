@@ -106,6 +106,7 @@ void Emulator::BootApplication(wire::ResetCause cause) {
   bootloader_.reset();
   app_.reset();
   app_ = std::make_unique<Application>(*this, cause);
+  app_->exported.StampInTransactions(last_in_report_us_);
   server_.SetDevice(&app_->exported);
   was_sampling_ = false;
   boot_us_ = sim_us_;
@@ -157,7 +158,10 @@ void Emulator::RunFrame() {
   if (app_) {
     Application& a = *app_;
     // The sampling interrupt: every tick of this frame, the first one at the frame's start.
-    if (a.frames.Running() && !was_sampling_) next_tick_us_ = sim_us_;
+    if (a.frames.Running() && !was_sampling_) {
+      next_tick_us_ = sim_us_;
+      sampling_start_us_.store(next_tick_us_, std::memory_order_release);
+    }
     while (a.frames.Running() && next_tick_us_ < frame_end) {
       a.clock.Set(next_tick_us_ - boot_us_);
       a.frames.Tick();
@@ -170,7 +174,7 @@ void Emulator::RunFrame() {
   app_->clock.Set(sim_us_ - boot_us_);
   RunFirmware();
   // The frame's transactions, then the main loop reacts (answers a request, arms the next report).
-  app_->exported.StartFrame(!options_.beyond_board);
+  app_->exported.StartFrame(!options_.beyond_board, frame_end - kFrameUs);
   app_->exported.Service();
   app_->exported.EndFrame();
   RunFirmware();

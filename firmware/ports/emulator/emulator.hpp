@@ -77,7 +77,12 @@ class Emulator {
 
   bool InBootloader() const { return bootloader_ != nullptr; }
   /// Simulated microseconds since the emulator started.
-  std::uint64_t SimulatedUs() const { return sim_us_; }
+  std::uint64_t SimulatedUs() const { return sim_us_.load(std::memory_order_acquire); }
+  /// When, in simulated time, sampling last started and an IN report last left: the timing of
+  /// an acquisition as the board produced it, which another thread cannot read off SimulatedUs()
+  /// without racing the idle clock.
+  std::uint64_t SamplingStartUs() const { return sampling_start_us_.load(std::memory_order_acquire); }
+  std::uint64_t LastInReportUs() const { return last_in_report_us_.load(std::memory_order_acquire); }
 
  private:
   struct Application;
@@ -104,7 +109,10 @@ class Emulator {
   std::unique_ptr<Application> app_;
   std::unique_ptr<DfuSeBootloader> bootloader_;
 
-  std::uint64_t sim_us_ = 0;
+  // Written by the emulator's thread only; atomic so that tests may read them from theirs.
+  std::atomic<std::uint64_t> sim_us_{0};
+  std::atomic<std::uint64_t> sampling_start_us_{0};
+  std::atomic<std::uint64_t> last_in_report_us_{0};
   std::uint64_t boot_us_ = 0;  // sim_us_ when the application last booted (its clock's zero)
   std::chrono::steady_clock::time_point last_wall_;
   // Pacing anchor for a sampling run at a set speed.
