@@ -1,16 +1,12 @@
 #include "emu_port.hpp"
 
-#include <algorithm>
-
-#include "scenario.hpp"
-#include "vibid/shared/wire/commands.hpp"
 
 namespace vibid::emu {
 
 Status RigFrameSource::Start(std::uint32_t sample_period_us, fw::FrameSink& sink) {
   if (sink_ != nullptr) return Status::kFailedPrecondition;
   if (sample_period_us == 0 ||
-      1e6 / static_cast<double>(sample_period_us) > rig_.spec().max_sample_rate_hz) {
+      1e6 / static_cast<double>(sample_period_us) > rig_.MaxSampleRateHz()) {
     return Status::kInvalidArgument;
   }
   period_us_ = sample_period_us;
@@ -26,8 +22,8 @@ void RigFrameSource::Tick() {
   ++frame_.tick;
 }
 
-std::uint32_t FlashCalibrationSlots::Address(Slot slot, std::size_t offset) const {
-  return FlashImage::SectorStart(kSlotSector[static_cast<int>(slot)]) + static_cast<std::uint32_t>(offset);
+std::uint32_t FlashCalibrationSlots::Address(Slot slot, std::size_t offset) {
+  return kSlotAddress[static_cast<int>(slot)] + static_cast<std::uint32_t>(offset);
 }
 
 Status FlashCalibrationSlots::Erase(Slot slot) {
@@ -52,10 +48,7 @@ Status ScenarioCommands::HandlePortCommand(std::uint8_t command, std::span<const
   if (frames_.Running()) return Status::kFailedPrecondition;
   wire::ScenarioRequest r;
   if (wire::Decode(request, r) != Status::kOk) return Status::kInvalidArgument;
-  Scenario s;
-  if (const Status st = ParseScenario(r, rig_.spec().dofs(), s); st != Status::kOk) return st;
-  rig_.Select(s);
-  return Status::kOk;
+  return rig_.SelectScenario(r);
 }
 
 }  // namespace vibid::emu

@@ -1,17 +1,46 @@
 // The emulator's implementation of the core's port interface: a simulated clock, the simulated
 // rig as the frame source, calibration slots in the emulated flash, and the system control that
 // asks the emulator loop to reset or to switch to the DFU bootloader.
+//
+// The port holds only what a board port holds. The rig simulation and the flash file are host
+// code (host/emulator) and reach the port through the two interfaces below, as a board's
+// converters and flash controller reach its port through registers.
 #pragma once
 
+#include <array>
 #include <cstdint>
 #include <span>
 
-#include "flash_image.hpp"
-#include "rig.hpp"
 #include "vibid/fw/port.hpp"
 #include "vibid/fw/port_commands.hpp"
+#include "vibid/shared/wire/commands.hpp"
 
 namespace vibid::emu {
+
+/// The rig behind the converters: started at a sampling period, stepped once per sample tick.
+class SimulatedRig {
+ public:
+  virtual double MaxSampleRateHz() const = 0;
+  virtual void Start(double sample_period_s) = 0;
+  /// Advances one sample period and writes the converters' codes.
+  virtual void Step(std::array<std::int32_t, wire::kChannelCount>& raw) = 0;
+  /// select-scenario: kInvalidArgument for a scenario this rig cannot run.
+  virtual Status SelectScenario(const wire::ScenarioRequest& request) = 0;
+
+ protected:
+  ~SimulatedRig() = default;
+};
+
+/// The emulated flash array: the board's sector map, NOR programming (bits only clear).
+class FlashArray {
+ public:
+  virtual bool EraseSector(int sector) = 0;
+  virtual bool Program(std::uint32_t address, std::span<const std::uint8_t> data) = 0;
+  virtual bool Read(std::uint32_t address, std::span<std::uint8_t> out) const = 0;
+
+ protected:
+  ~FlashArray() = default;
+};
 
 /// Simulated time in microseconds; only the emulator loop moves it.
 class SimClock final : public fw::Clock {
@@ -28,7 +57,7 @@ class SimClock final : public fw::Clock {
 /// The rig behind the board's converters: Start/Stop come from the core, Tick from the loop.
 class RigFrameSource final : public fw::FrameSource {
  public:
-  explicit RigFrameSource(RigSimulator& rig) : rig_(rig) {}
+  explicit RigFrameSource(SimulatedRig& rig) : rig_(rig) {}
 
   /// @returns kInvalidArgument for a period faster than the rig's max_sample_rate_hz.
   Status Start(std::uint32_t sample_period_us, fw::FrameSink& sink) override;
@@ -40,7 +69,7 @@ class RigFrameSource final : public fw::FrameSource {
   void Tick();
 
  private:
-  RigSimulator& rig_;
+  SimulatedRig& rig_;
   fw::FrameSink* sink_ = nullptr;
   std::uint32_t period_us_ = 0;
   fw::SampleFrame frame_{};
@@ -49,8 +78,10 @@ class RigFrameSource final : public fw::FrameSource {
 /// Calibration slots A and B: sectors 2 and 3 of the emulated flash, as on the board.
 class FlashCalibrationSlots final : public fw::CalibrationFlash {
  public:
-  explicit FlashCalibrationSlots(FlashImage& flash) : flash_(flash) {}
+  explicit FlashCalibrationSlots(FlashArray& flash) : flash_(flash) {}
   static constexpr int kSlotSector[2] = {2, 3};
+  /// The STM32F405's sectors 2 and 3 (16 KiB each after sectors 0 and 1).
+  static constexpr std::uint32_t kSlotAddress[2] = {0x0800'8000, 0x0800'C000};
 
   std::size_t SlotBytes() const override { return 16 * 1024; }
   Status Erase(Slot slot) override;
@@ -58,8 +89,8 @@ class FlashCalibrationSlots final : public fw::CalibrationFlash {
   Status Read(Slot slot, std::size_t offset, std::span<std::uint8_t> out) const override;
 
  private:
-  std::uint32_t Address(Slot slot, std::size_t offset) const;
-  FlashImage& flash_;
+  static std::uint32_t Address(Slot slot, std::size_t offset);
+  FlashArray& flash_;
 };
 
 /// What the firmware asked the emulator to do once the current main-loop step is over.
@@ -89,13 +120,13 @@ class EmuSystemControl final : public fw::SystemControl {
 /// while sampling: the next acquisition starts the new scenario from rest.
 class ScenarioCommands final : public fw::PortCommandHandler {
  public:
-  ScenarioCommands(RigSimulator& rig, const RigFrameSource& frames) : rig_(rig), frames_(frames) {}
+  ScenarioCommands(SimulatedRig& rig, const RigFrameSource& frames) : rig_(rig), frames_(frames) {}
   Status HandlePortCommand(std::uint8_t command, std::span<const std::uint8_t> request,
                            std::span<std::uint8_t, wire::kMaxPayload> response,
                            std::size_t& response_length) override;
 
  private:
-  RigSimulator& rig_;
+  SimulatedRig& rig_;
   const RigFrameSource& frames_;
 };
 

@@ -5,6 +5,7 @@
 
 #include "emu_dcd.hpp"
 #include "emu_port.hpp"
+#include "usb_app_device.hpp"
 #include "vibid/fw/core.hpp"
 #include "vibid/fw/usb/descriptors.hpp"
 #include "vibid/fw/usb/device.hpp"

@@ -234,11 +234,11 @@ TEST(Scenario, ParametersAndRefusals) {
 
 TEST(RigFile, ShippedFiles) {
   // rigs/default.json is the built-in rig written out: the README documents the schema with it.
-  const RigSpec file = LoadRig(std::string(VIBID_SOURCE_DIR) + "/firmware/ports/emulator/rigs/default.json");
+  const RigSpec file = LoadRig(std::string(VIBID_SOURCE_DIR) + "/host/emulator/rigs/default.json");
   EXPECT_EQ(RigToJson(file), RigToJson(DefaultRig()));
   // rigs/cart_1dof.json: the ECP cart with spring Khigh as its lab published it
   // (../shared/data/README.md: k = 712.60 N/m, m_c = 0.5848 kg, ζ = 0.0179 unloaded).
-  const RigSpec cart = LoadRig(std::string(VIBID_SOURCE_DIR) + "/firmware/ports/emulator/rigs/cart_1dof.json");
+  const RigSpec cart = LoadRig(std::string(VIBID_SOURCE_DIR) + "/host/emulator/rigs/cart_1dof.json");
   ASSERT_EQ(cart.dofs(), 1);
   const double zeta = cart.dampers_ns_per_m[0] / (2.0 * std::sqrt(cart.springs_n_per_m[0] * cart.masses_kg[0]));
   EXPECT_NEAR(zeta, 0.0179, 0.0005);

@@ -4,6 +4,7 @@
 #include <cmath>
 #include <numbers>
 
+#include "scenario.hpp"
 #include "vibid/common/error.hpp"
 #include "vibid/common/json_file.hpp"
 
@@ -162,6 +163,13 @@ RigSimulator::RigSimulator(RigSpec spec, std::uint64_t seed) : spec_(std::move(s
 }
 
 void RigSimulator::Select(const Scenario& scenario) { scenario_ = scenario; }
+
+Status RigSimulator::SelectScenario(const wire::ScenarioRequest& request) {
+  Scenario s;
+  if (const Status st = ParseScenario(request, spec_.dofs(), s); st != Status::kOk) return st;
+  Select(s);
+  return Status::kOk;
+}
 
 model::Model RigSimulator::ActiveModel() const {
   const model::Model truth = spec_.Truth();

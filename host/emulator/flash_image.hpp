@@ -16,9 +16,11 @@
 #include <string>
 #include <vector>
 
+#include "emu_port.hpp"
+
 namespace vibid::emu {
 
-class FlashImage {
+class FlashImage final : public FlashArray {
  public:
   static constexpr std::uint32_t kBase = 0x08000000u;
   static constexpr std::size_t kBytes = 1024 * 1024;
@@ -40,13 +42,13 @@ class FlashImage {
   static bool Contains(std::uint32_t address, std::size_t bytes);
 
   /// Erases one sector (0..11); false for an invalid sector.
-  bool EraseSector(int sector);
+  bool EraseSector(int sector) override;
   /// Programs bytes (new = old AND data). @returns false when the range is outside the flash or
   /// the read-back differs from `data` (the target was not erased), as the controller's verify
   /// would report.
-  bool Program(std::uint32_t address, std::span<const std::uint8_t> data);
+  bool Program(std::uint32_t address, std::span<const std::uint8_t> data) override;
   /// Reads bytes; false when the range is outside the flash.
-  bool Read(std::uint32_t address, std::span<std::uint8_t> out) const;
+  bool Read(std::uint32_t address, std::span<std::uint8_t> out) const override;
 
   const std::string& path() const { return path_; }
   std::span<const std::uint8_t> bytes() const { return bytes_; }

@@ -29,6 +29,12 @@ TEST(FlashImage, SectorMapOfTheStm32f405) {
   EXPECT_FALSE(FlashImage::SectorOf(0x08100000).has_value());
   EXPECT_FALSE(FlashImage::Contains(0x080FFFFF, 2));
   EXPECT_TRUE(FlashImage::Contains(0x080FFFFF, 1));
+  // The port's calibration slots sit at the starts of their sectors in this map.
+  for (int slot = 0; slot < 2; ++slot) {
+    EXPECT_EQ(FlashCalibrationSlots::kSlotAddress[slot],
+              FlashImage::SectorStart(FlashCalibrationSlots::kSlotSector[slot]));
+    EXPECT_EQ(FlashImage::SectorBytes(FlashCalibrationSlots::kSlotSector[slot]), 16u * 1024u);
+  }
 }
 
 TEST(FlashImage, NorProgrammingOnlyClearsBits) {

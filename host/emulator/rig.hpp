@@ -19,6 +19,7 @@
 #include <Eigen/Core>
 #include <nlohmann/json.hpp>
 
+#include "emu_port.hpp"
 #include "vibid/model/model.hpp"
 #include "vibid/model/state_space.hpp"
 #include "vibid/shared/wire/device.hpp"
@@ -84,7 +85,8 @@ struct Scenario {
   double hold_s = 0.0;        ///< step: how long the pull holds before the release
 };
 
-class RigSimulator {
+/// The rig behind the emulated board's converters (the port's SimulatedRig).
+class RigSimulator final : public SimulatedRig {
  public:
   RigSimulator(RigSpec spec, std::uint64_t seed);
 
@@ -94,11 +96,15 @@ class RigSimulator {
   /// Selects the excitation (and the moving masses) for the next Start.
   void Select(const Scenario& scenario);
 
+  /// select-scenario from the wire: parsed against this rig's masses, then selected.
+  Status SelectScenario(const wire::ScenarioRequest& request) override;
+  double MaxSampleRateHz() const override { return spec_.max_sample_rate_hz; }
+
   /// Puts the rig at rest and restarts the excitation for a new acquisition at dt_s.
-  void Start(double dt_s);
+  void Start(double dt_s) override;
 
   /// One sample: the six raw channel values at the current tick, then the state advances.
-  void Step(std::array<std::int32_t, wire::kChannelCount>& raw);
+  void Step(std::array<std::int32_t, wire::kChannelCount>& raw) override;
 
   /// Physical values at the last Step (for tests): applied excitation force, push force,
   /// true positions and accelerations of both masses.
