@@ -61,6 +61,33 @@ const Rig& SyntheticRig() {
   return rig;
 }
 
+// Files that one command makes and later cases read, made on first use so that every case also
+// runs alone (ctest runs each in its own process).
+std::string MadeOnce(const std::string& path, const std::vector<std::string>& args) {
+  if (!std::filesystem::exists(path)) {
+    std::vector<std::string> with_output = args;
+    with_output.insert(with_output.end(), {"-o", path});
+    const CliResult r = RunVibid(with_output);
+    EXPECT_EQ(r.exit_code, 0) << r.err;
+  }
+  return path;
+}
+
+/// The H1 estimate of the first modal test (as FrfEstimateCli.ImpactCsvAndUff makes it).
+std::string ImpactFrfCsv() {
+  const Rig& rig = SyntheticRig();
+  return MadeOnce(rig.dir + "/impact_frf.csv", {"frf-estimate", rig.modal1, "--force", "force_n", "--response",
+                                                "acc1_m_s2,acc2_m_s2", "--impact"});
+}
+
+/// The modes of the first modal test (as ModesCli.JsonSchemaAndTruth makes them).
+std::string Modes1Json() {
+  const Rig& rig = SyntheticRig();
+  return MadeOnce(rig.dir + "/modes_of_test1.json",
+                  {"modes", rig.modal1, "--force", "force_n", "--response", "acc1_m_s2,acc2_m_s2", "--impact",
+                   "--exp-window", "0.01", "--max-modes", "2", "--json"});
+}
+
 void ExpectInputError(const CliResult& r, const std::string& fragment) {
   EXPECT_EQ(r.exit_code, 1) << r.err;
   EXPECT_NE(r.err.find(fragment), std::string::npos) << r.err;
@@ -135,7 +162,7 @@ TEST(ModesCli, JsonSchemaAndTruth) {
     }
   }
   // From an FRF file, peak picking: no intervals.
-  const auto p = RunVibid({"modes", rig.dir + "/frf.csv", "--method", "peaks", "--max-modes", "2", "--json"});
+  const auto p = RunVibid({"modes", ImpactFrfCsv(), "--method", "peaks", "--max-modes", "2", "--json"});
   ASSERT_EQ(p.exit_code, 0) << p.err;
   EXPECT_EQ(json::parse(p.out)["modes"].size(), 2u);
   EXPECT_FALSE(json::parse(p.out)["modes"][0].contains("ci95"));
@@ -194,8 +221,8 @@ TEST(ModesCli, BadInput) {
   ExpectInputError(RunVibid({"modes", rig.modal1, "--json"}), "--force");
   const std::string half = Write(rig.dir, "half.csv", "freq_hz,h_re\n1,2\n2,2\n3,2\n4,2\n");
   ExpectInputError(RunVibid({"modes", half, "--json"}), "h_im");
-  ExpectInputError(RunVibid({"modes", rig.dir + "/frf.csv", "--method", "guess"}), "guess");
-  ExpectInputError(RunVibid({"modes", rig.dir + "/frf.csv", "--driving-point", "7"}), "--driving-point");
+  ExpectInputError(RunVibid({"modes", ImpactFrfCsv(), "--method", "guess"}), "guess");
+  ExpectInputError(RunVibid({"modes", ImpactFrfCsv(), "--driving-point", "7"}), "--driving-point");
 }
 
 TEST(UpdateCli, MassAndStiffness) {
@@ -212,7 +239,7 @@ TEST(UpdateCli, MassAndStiffness) {
   const auto m2 = RunVibid({"modes", rig.modal2, "--force", "force_n", "--response", "acc1_m_s2,acc2_m_s2", "--impact",
                             "--exp-window", "0.01", "--max-modes", "2", "--json", "-o", rig.dir + "/modes2.json"});
   ASSERT_EQ(m2.exit_code, 0) << m2.err;
-  const auto s = RunVibid({"update", "stiffness", "--masses", "1.2,0.8", "--modes", rig.dir + "/modes1.json",
+  const auto s = RunVibid({"update", "stiffness", "--masses", "1.2,0.8", "--modes", Modes1Json(),
                            rig.dir + "/modes2.json", "--json"});
   ASSERT_EQ(s.exit_code, 0) << s.err;
   const json sj = json::parse(s.out);
@@ -228,8 +255,8 @@ TEST(UpdateCli, BadInput) {
                    "exactly one response");
   ExpectInputError(RunVibid({"update", "mass", rig.mass1, "--force", "force_n", "--response", "acc_m_s2", "--nominal-kg", "-1"}),
                    "--nominal-kg");
-  ExpectInputError(RunVibid({"update", "stiffness", "--masses", "1,abc", "--modes", rig.dir + "/modes1.json"}), "abc");
-  ExpectInputError(RunVibid({"update", "stiffness", "--masses", "1,1,1", "--modes", rig.dir + "/modes1.json"}), "2 modes for 3 masses");
+  ExpectInputError(RunVibid({"update", "stiffness", "--masses", "1,abc", "--modes", Modes1Json()}), "abc");
+  ExpectInputError(RunVibid({"update", "stiffness", "--masses", "1,1,1", "--modes", Modes1Json()}), "2 modes for 3 masses");
   const std::string broken = Write(rig.dir, "broken.json", "{\"modes\": [");
   ExpectInputError(RunVibid({"update", "stiffness", "--masses", "1,1", "--modes", broken}), "broken.json");
   const std::string empty = Write(rig.dir, "empty.json", "{\"modes\": []}");

@@ -4,7 +4,7 @@
 //
 // On the target Reg() is a volatile reference to the address. A host build of the port's tests
 // defines VIBID_STM32_FAKE_REGISTERS: Reg() then returns a small proxy that forwards every read
-// and write to a fake register file (test/fake_registers.hpp), which logs the sequence and models
+// and write to a fake register file (testing/fake_registers.hpp), which logs the sequence and models
 // the few hardware reactions a test needs. The driver code is the same in both builds.
 #pragma once
 
