@@ -28,36 +28,52 @@ std::string Write(const std::string& dir, const std::string& name, const std::st
   return path;
 }
 
-// Truth: chain m = (1.2, 0.8) kg, k = (3000, 2000) N/m, c = (0.9, 0.8) N*s/m.
-struct Rig {
-  std::string dir, modal1, modal2, mass1, mass2, nominal;
+// Truth: chain m = (1.2, 0.8) kg, k = (3000, 2000) N/m, c = (0.9, 0.8) N*s/m. Each record is
+// simulated the first time a case asks for it (ctest runs every case in its own process).
+class Rig {
+ public:
+  const std::string dir = MakeTempDir("ident_cli");
+
+  /// Modal tests: hammer on mass 2, both accelerations (seeds 7 and 8).
+  const std::string& modal1() const { return Made(modal1_, [&] { return Modal("modal1.csv", 7); }); }
+  const std::string& modal2() const { return Made(modal2_, [&] { return Modal("modal2.csv", 8); }); }
+  /// Mass tests: each mass alone on its nominal spring (+10 %), ζ = 2 %.
+  const std::string& mass1() const { return Made(mass1_, [&] { return Mass(0); }); }
+  const std::string& mass2() const { return Made(mass2_, [&] { return Mass(1); }); }
+  /// Nominal: masses +8 %, springs +10 % (the mass tests' springs are these nominal ones).
+  const std::string& nominal() const {
+    return Made(nominal_, [&] {
+      return Write(dir, "nominal.json", R"({"topology": "chain", "masses": [1.296, 0.864], "springs": [3300, 2200]})");
+    });
+  }
+
+ private:
+  template <typename Make>
+  static const std::string& Made(std::string& path, Make make) {
+    if (path.empty()) path = make();
+    return path;
+  }
+  std::string Modal(const std::string& name, std::uint64_t seed) const {
+    const model::Model truth = model::MakeChain(Eigen::Vector2d(1.2, 0.8), Eigen::Vector2d(3000, 2000), Eigen::Vector2d(0.9, 0.8));
+    ident::HammerTestSpec spec{.hammer_dof = 1, .fs_hz = 500, .hits = 10, .pulse_width_s = 0.004, .spacing_min_s = 16,
+                               .spacing_max_s = 20, .seed = seed};
+    return Write(dir, name, ident::FormatHammerTestCsv(ident::SimulateHammerTest(truth, spec), {"acc1_m_s2", "acc2_m_s2"}));
+  }
+  std::string Mass(int i) const {
+    const double ms[2] = {1.2, 0.8}, ks[2] = {3300, 2200};
+    const model::Model one = model::MakeChain(Eigen::VectorXd::Constant(1, ms[i]), Eigen::VectorXd::Constant(1, ks[i]),
+                                              Eigen::VectorXd::Constant(1, 2 * 0.02 * std::sqrt(ks[i] * ms[i])));
+    ident::HammerTestSpec spec{.fs_hz = 500, .pulse_width_s = 0.004, .spacing_min_s = 10, .spacing_max_s = 13,
+                               .seed = 100u + static_cast<unsigned>(i)};
+    return Write(dir, "mass" + std::to_string(i + 1) + ".csv",
+                 ident::FormatHammerTestCsv(ident::SimulateHammerTest(one, spec), {"acc_m_s2"}));
+  }
+
+  mutable std::string modal1_, modal2_, mass1_, mass2_, nominal_;
 };
 
 const Rig& SyntheticRig() {
-  static const Rig rig = [] {
-    Rig r;
-    r.dir = MakeTempDir("ident_cli");
-    const model::Model truth = model::MakeChain(Eigen::Vector2d(1.2, 0.8), Eigen::Vector2d(3000, 2000), Eigen::Vector2d(0.9, 0.8));
-    const auto modal = [&](std::uint64_t seed) {
-      ident::HammerTestSpec spec{.hammer_dof = 1, .fs_hz = 500, .hits = 10, .pulse_width_s = 0.004, .spacing_min_s = 16,
-                                 .spacing_max_s = 20, .seed = seed};
-      return ident::FormatHammerTestCsv(ident::SimulateHammerTest(truth, spec), {"acc1_m_s2", "acc2_m_s2"});
-    };
-    r.modal1 = Write(r.dir, "modal1.csv", modal(7));
-    r.modal2 = Write(r.dir, "modal2.csv", modal(8));
-    const double ms[2] = {1.2, 0.8}, ks[2] = {3300, 2200};
-    for (int i = 0; i < 2; ++i) {
-      const model::Model one = model::MakeChain(Eigen::VectorXd::Constant(1, ms[i]), Eigen::VectorXd::Constant(1, ks[i]),
-                                                Eigen::VectorXd::Constant(1, 2 * 0.02 * std::sqrt(ks[i] * ms[i])));
-      ident::HammerTestSpec spec{.fs_hz = 500, .pulse_width_s = 0.004, .spacing_min_s = 10, .spacing_max_s = 13,
-                                 .seed = 100u + static_cast<unsigned>(i)};
-      const std::string text = ident::FormatHammerTestCsv(ident::SimulateHammerTest(one, spec), {"acc_m_s2"});
-      (i == 0 ? r.mass1 : r.mass2) = Write(r.dir, "mass" + std::to_string(i + 1) + ".csv", text);
-    }
-    // Nominal: masses +8 %, springs +10 % (the mass tests' springs are these nominal ones).
-    r.nominal = Write(r.dir, "nominal.json", R"({"topology": "chain", "masses": [1.296, 0.864], "springs": [3300, 2200]})");
-    return r;
-  }();
+  static const Rig rig;
   return rig;
 }
 
@@ -76,7 +92,7 @@ std::string MadeOnce(const std::string& path, const std::vector<std::string>& ar
 /// The H1 estimate of the first modal test (as FrfEstimateCli.ImpactCsvAndUff makes it).
 std::string ImpactFrfCsv() {
   const Rig& rig = SyntheticRig();
-  return MadeOnce(rig.dir + "/impact_frf.csv", {"frf-estimate", rig.modal1, "--force", "force_n", "--response",
+  return MadeOnce(rig.dir + "/impact_frf.csv", {"frf-estimate", rig.modal1(), "--force", "force_n", "--response",
                                                 "acc1_m_s2,acc2_m_s2", "--impact"});
 }
 
@@ -84,7 +100,7 @@ std::string ImpactFrfCsv() {
 std::string Modes1Json() {
   const Rig& rig = SyntheticRig();
   return MadeOnce(rig.dir + "/modes_of_test1.json",
-                  {"modes", rig.modal1, "--force", "force_n", "--response", "acc1_m_s2,acc2_m_s2", "--impact",
+                  {"modes", rig.modal1(), "--force", "force_n", "--response", "acc1_m_s2,acc2_m_s2", "--impact",
                    "--exp-window", "0.01", "--max-modes", "2", "--json"});
 }
 
@@ -96,18 +112,18 @@ void ExpectInputError(const CliResult& r, const std::string& fragment) {
 
 TEST(FrfEstimateCli, ImpactCsvAndUff) {
   const Rig& rig = SyntheticRig();
-  const auto r = RunVibid({"frf-estimate", rig.modal1, "--force", "force_n", "--response", "acc1_m_s2,acc2_m_s2", "--impact",
+  const auto r = RunVibid({"frf-estimate", rig.modal1(), "--force", "force_n", "--response", "acc1_m_s2,acc2_m_s2", "--impact",
                            "-o", rig.dir + "/frf.csv"});
   ASSERT_EQ(r.exit_code, 0) << r.err;
   EXPECT_NE(r.out.find("10 average(s)"), std::string::npos) << r.out;
   const std::string csv = ReadFileText(rig.dir + "/frf.csv");
   EXPECT_EQ(csv.rfind("# vibid-frf kind=receptance estimator=h1 averages=10", 0), 0u) << csv.substr(0, 80);
-  const auto u = RunVibid({"frf-estimate", rig.modal1, "--force", "force_n", "--response", "acc2_m_s2", "--impact", "--kind",
+  const auto u = RunVibid({"frf-estimate", rig.modal1(), "--force", "force_n", "--response", "acc2_m_s2", "--impact", "--kind",
                            "accelerance", "-o", rig.dir + "/frf.uff"});
   ASSERT_EQ(u.exit_code, 0) << u.err;
   EXPECT_EQ(ReadFileText(rig.dir + "/frf.uff").substr(0, 13), "    -1\n    58");
   // Welch on the same record to stdout.
-  const auto w = RunVibid({"frf-estimate", rig.modal1, "--force", "force_n", "--response", "acc2_m_s2", "--segment", "2048",
+  const auto w = RunVibid({"frf-estimate", rig.modal1(), "--force", "force_n", "--response", "acc2_m_s2", "--segment", "2048",
                            "--window", "hann", "--estimator", "h2"});
   ASSERT_EQ(w.exit_code, 0) << w.err;
   EXPECT_NE(w.out.find("estimator=h2"), std::string::npos);
@@ -116,13 +132,13 @@ TEST(FrfEstimateCli, ImpactCsvAndUff) {
 TEST(FrfEstimateCli, BadInput) {
   const Rig& rig = SyntheticRig();
   ExpectInputError(RunVibid({"frf-estimate", rig.dir + "/missing.csv", "--force", "f", "--response", "x"}), "missing.csv");
-  ExpectInputError(RunVibid({"frf-estimate", rig.modal1, "--force", "force_n", "--response", "nope"}), "nope");
-  ExpectInputError(RunVibid({"frf-estimate", rig.modal1, "--force", "force_n", "--response", "acc1_m_s2", "--estimator", "h3"}),
+  ExpectInputError(RunVibid({"frf-estimate", rig.modal1(), "--force", "force_n", "--response", "nope"}), "nope");
+  ExpectInputError(RunVibid({"frf-estimate", rig.modal1(), "--force", "force_n", "--response", "acc1_m_s2", "--estimator", "h3"}),
                    "h3");
-  ExpectInputError(RunVibid({"frf-estimate", rig.modal1, "--force", "force_n", "--response", "acc1_m_s2", "--segment", "64",
+  ExpectInputError(RunVibid({"frf-estimate", rig.modal1(), "--force", "force_n", "--response", "acc1_m_s2", "--segment", "64",
                              "--overlap", "64"}),
                    "overlap");
-  ExpectInputError(RunVibid({"frf-estimate", rig.modal1, "--force", "force_n", "--response", "acc1_m_s2", "--window", "kaiser"}),
+  ExpectInputError(RunVibid({"frf-estimate", rig.modal1(), "--force", "force_n", "--response", "acc1_m_s2", "--window", "kaiser"}),
                    "kaiser");
   const std::string nan = Write(rig.dir, "nan.csv", "t_s,f,x\n0,1,2\n0.1,nan,2\n0.2,1,2\n");
   ExpectInputError(RunVibid({"frf-estimate", nan, "--force", "f", "--response", "x"}), "nan.csv:3");
@@ -132,15 +148,15 @@ TEST(FrfEstimateCli, BadInput) {
   // A recording without any hit in impact mode.
   const std::string flat = Write(rig.dir, "flat.csv", "t_s,f,x\n0,0,0\n0.1,0,0\n0.2,0,0\n0.3,0,0\n0.4,0,0\n0.5,0,0\n0.6,0,0\n0.7,0,0\n0.8,0,0\n0.9,0,0\n1.0,0,0\n1.1,0,0\n1.2,0,0\n1.3,0,0\n1.4,0,0\n1.5,0,0\n1.6,0,0\n");
   ExpectInputError(RunVibid({"frf-estimate", flat, "--force", "f", "--response", "x", "--impact"}), "no hit");
-  EXPECT_EQ(RunVibid({"frf-estimate", rig.modal1, "--response", "acc1_m_s2"}).exit_code, 2);  // --force missing
+  EXPECT_EQ(RunVibid({"frf-estimate", rig.modal1(), "--response", "acc1_m_s2"}).exit_code, 2);  // --force missing
   // Nothing is written on failure.
-  RunVibid({"frf-estimate", rig.modal1, "--force", "force_n", "--response", "nope", "-o", rig.dir + "/never.csv"});
+  RunVibid({"frf-estimate", rig.modal1(), "--force", "force_n", "--response", "nope", "-o", rig.dir + "/never.csv"});
   EXPECT_FALSE(std::filesystem::exists(rig.dir + "/never.csv"));
 }
 
 TEST(ModesCli, JsonSchemaAndTruth) {
   const Rig& rig = SyntheticRig();
-  const auto r = RunVibid({"modes", rig.modal1, "--force", "force_n", "--response", "acc1_m_s2,acc2_m_s2", "--impact",
+  const auto r = RunVibid({"modes", rig.modal1(), "--force", "force_n", "--response", "acc1_m_s2,acc2_m_s2", "--impact",
                            "--exp-window", "0.01", "--max-modes", "2", "--json", "-o", rig.dir + "/modes1.json"});
   ASSERT_EQ(r.exit_code, 0) << r.err;
   const json j = json::parse(ReadFileText(rig.dir + "/modes1.json"));
@@ -173,7 +189,7 @@ TEST(ModesCli, JsonSchemaAndTruth) {
 // (model core) and the closed-form a1/a2 of the chain.
 TEST(ModesCli, DefaultPathRecognisesAnImpactTest) {
   const Rig& rig = SyntheticRig();
-  const auto r = RunVibid({"modes", rig.modal1, "--force", "force_n", "--response", "acc1_m_s2,acc2_m_s2", "--json"});
+  const auto r = RunVibid({"modes", rig.modal1(), "--force", "force_n", "--response", "acc1_m_s2,acc2_m_s2", "--json"});
   ASSERT_EQ(r.exit_code, 0) << r.err;
   EXPECT_NE(r.err.find("processed as an impact test"), std::string::npos) << r.err;
   const json j = json::parse(r.out);
@@ -192,11 +208,11 @@ TEST(ModesCli, DefaultPathRecognisesAnImpactTest) {
     EXPECT_NEAR(omega, cm.omega_rad_s[i], 0.0005 * cm.omega_rad_s[i]);
     EXPECT_NEAR(zeta, cm.zeta[i], 0.03 * cm.zeta[i]);
   }
-  const auto w = RunVibid({"modes", rig.modal1, "--force", "force_n", "--response", "acc1_m_s2,acc2_m_s2", "--welch",
+  const auto w = RunVibid({"modes", rig.modal1(), "--force", "force_n", "--response", "acc1_m_s2,acc2_m_s2", "--welch",
                            "--method", "fit"});
   EXPECT_EQ(w.err.find("processed as an impact test"), std::string::npos) << w.err;
-  EXPECT_EQ(RunVibid({"modes", rig.modal1, "--force", "force_n", "--response", "acc1_m_s2", "--welch", "--impact"}).exit_code, 2);
-  const auto bad = RunVibid({"modes", rig.modal1, "--force", "force_n", "--response", "acc1_m_s2", "--orders", "9:3"});
+  EXPECT_EQ(RunVibid({"modes", rig.modal1(), "--force", "force_n", "--response", "acc1_m_s2", "--welch", "--impact"}).exit_code, 2);
+  const auto bad = RunVibid({"modes", rig.modal1(), "--force", "force_n", "--response", "acc1_m_s2", "--orders", "9:3"});
   EXPECT_EQ(bad.exit_code, 1);
   EXPECT_NE(bad.err.find("--orders '9:3'"), std::string::npos) << bad.err;
 }
@@ -218,7 +234,7 @@ TEST(ModesCli, DefaultFallsBackWhenLscfFindsNoStablePole) {
 TEST(ModesCli, BadInput) {
   const Rig& rig = SyntheticRig();
   ExpectInputError(RunVibid({"modes", rig.dir + "/none.csv", "--json"}), "none.csv");
-  ExpectInputError(RunVibid({"modes", rig.modal1, "--json"}), "--force");
+  ExpectInputError(RunVibid({"modes", rig.modal1(), "--json"}), "--force");
   const std::string half = Write(rig.dir, "half.csv", "freq_hz,h_re\n1,2\n2,2\n3,2\n4,2\n");
   ExpectInputError(RunVibid({"modes", half, "--json"}), "h_im");
   ExpectInputError(RunVibid({"modes", ImpactFrfCsv(), "--method", "guess"}), "guess");
@@ -227,7 +243,7 @@ TEST(ModesCli, BadInput) {
 
 TEST(UpdateCli, MassAndStiffness) {
   const Rig& rig = SyntheticRig();
-  const auto m = RunVibid({"update", "mass", rig.mass1, "--force", "force_n", "--response", "acc_m_s2", "--impact",
+  const auto m = RunVibid({"update", "mass", rig.mass1(), "--force", "force_n", "--response", "acc_m_s2", "--impact",
                            "--stiffness-n-per-m", "3300", "--nominal-kg", "1.296", "--json"});
   ASSERT_EQ(m.exit_code, 0) << m.err;
   const json mj = json::parse(m.out);
@@ -236,7 +252,7 @@ TEST(UpdateCli, MassAndStiffness) {
   EXPECT_NEAR(mj["change_percent"].get<double>(), 100 * (mj["mass_kg"].get<double>() - 1.296) / 1.296, 1e-9);
   EXPECT_NEAR(mj["zeta"].get<double>(), 0.02, 0.002);
 
-  const auto m2 = RunVibid({"modes", rig.modal2, "--force", "force_n", "--response", "acc1_m_s2,acc2_m_s2", "--impact",
+  const auto m2 = RunVibid({"modes", rig.modal2(), "--force", "force_n", "--response", "acc1_m_s2,acc2_m_s2", "--impact",
                             "--exp-window", "0.01", "--max-modes", "2", "--json", "-o", rig.dir + "/modes2.json"});
   ASSERT_EQ(m2.exit_code, 0) << m2.err;
   const auto s = RunVibid({"update", "stiffness", "--masses", "1.2,0.8", "--modes", Modes1Json(),
@@ -251,9 +267,9 @@ TEST(UpdateCli, MassAndStiffness) {
 
 TEST(UpdateCli, BadInput) {
   const Rig& rig = SyntheticRig();
-  ExpectInputError(RunVibid({"update", "mass", rig.modal1, "--force", "force_n", "--response", "acc1_m_s2,acc2_m_s2", "--impact"}),
+  ExpectInputError(RunVibid({"update", "mass", rig.modal1(), "--force", "force_n", "--response", "acc1_m_s2,acc2_m_s2", "--impact"}),
                    "exactly one response");
-  ExpectInputError(RunVibid({"update", "mass", rig.mass1, "--force", "force_n", "--response", "acc_m_s2", "--nominal-kg", "-1"}),
+  ExpectInputError(RunVibid({"update", "mass", rig.mass1(), "--force", "force_n", "--response", "acc_m_s2", "--nominal-kg", "-1"}),
                    "--nominal-kg");
   ExpectInputError(RunVibid({"update", "stiffness", "--masses", "1,abc", "--modes", Modes1Json()}), "abc");
   ExpectInputError(RunVibid({"update", "stiffness", "--masses", "1,1,1", "--modes", Modes1Json()}), "2 modes for 3 masses");
@@ -291,8 +307,8 @@ TEST(DecayCli, EcpPairAndBadInput) {
 TEST(IdentifyCli, WholeChainOnSyntheticTruth) {
   const Rig& rig = SyntheticRig();
   const std::string out = rig.dir + "/updated.json";
-  const auto r = RunVibid({"identify", "--nominal", rig.nominal, "--mass-test", "1=" + rig.mass1, "--mass-test", "2=" + rig.mass2,
-                           "--modal-test", rig.modal1, "--modal-test", rig.modal2, "--exp-window", "0.01", "-o", out,
+  const auto r = RunVibid({"identify", "--nominal", rig.nominal(), "--mass-test", "1=" + rig.mass1(), "--mass-test", "2=" + rig.mass2(),
+                           "--modal-test", rig.modal1(), "--modal-test", rig.modal2(), "--exp-window", "0.01", "-o", out,
                            "--report", rig.dir + "/report"});
   ASSERT_EQ(r.exit_code, 0) << r.err;
   EXPECT_NE(r.out.find("Modes (deviation of each model from the test)"), std::string::npos) << r.out;
@@ -310,15 +326,15 @@ TEST(IdentifyCli, WholeChainOnSyntheticTruth) {
 TEST(IdentifyCli, BadInput) {
   const Rig& rig = SyntheticRig();
   const std::string out = rig.dir + "/not_written.json";
-  ExpectInputError(RunVibid({"identify", "--nominal", rig.nominal, "--mass-test", "one=" + rig.mass1, "--modal-test",
-                             rig.modal1, "-o", out}),
+  ExpectInputError(RunVibid({"identify", "--nominal", rig.nominal(), "--mass-test", "one=" + rig.mass1(), "--modal-test",
+                             rig.modal1(), "-o", out}),
                    "--mass-test");
-  ExpectInputError(RunVibid({"identify", "--nominal", rig.nominal, "--mass-test", "3=" + rig.mass1, "--modal-test",
-                             rig.modal1, "-o", out}),
+  ExpectInputError(RunVibid({"identify", "--nominal", rig.nominal(), "--mass-test", "3=" + rig.mass1(), "--modal-test",
+                             rig.modal1(), "-o", out}),
                    "beyond");
-  ExpectInputError(RunVibid({"identify", "--nominal", rig.dir + "/nope.json", "--modal-test", rig.modal1, "-o", out}), "nope.json");
-  ExpectInputError(RunVibid({"identify", "--nominal", rig.nominal, "--modal-test", rig.mass1, "-o", out}), "acc1_m_s2");
-  EXPECT_EQ(RunVibid({"identify", "--nominal", rig.nominal, "-o", out}).exit_code, 2);  // no --modal-test
+  ExpectInputError(RunVibid({"identify", "--nominal", rig.dir + "/nope.json", "--modal-test", rig.modal1(), "-o", out}), "nope.json");
+  ExpectInputError(RunVibid({"identify", "--nominal", rig.nominal(), "--modal-test", rig.mass1(), "-o", out}), "acc1_m_s2");
+  EXPECT_EQ(RunVibid({"identify", "--nominal", rig.nominal(), "-o", out}).exit_code, 2);  // no --modal-test
   EXPECT_FALSE(std::filesystem::exists(out));
 }
 
