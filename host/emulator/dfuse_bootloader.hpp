@@ -53,7 +53,7 @@ class DfuSeBootloader final : public ExportedDevice {
   void Service() override {}
 
   /// True once a manifestation completed: the emulator restarts the application.
-  bool LeaveRequested() const { return leave_; }
+  bool leave_requested() const { return leave_; }
   State state() const { return state_; }
 
  private:

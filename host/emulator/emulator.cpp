@@ -129,8 +129,8 @@ void Emulator::RunFirmware() {
   // next report of a stream without waiting for another socket poll.
   for (int pass = 0; pass < 4; ++pass) {
     a.usb.Task();
-    if (a.usb.Counters().bus_resets != a.bus_resets) {
-      a.bus_resets = a.usb.Counters().bus_resets;
+    if (a.usb.counters().bus_resets != a.bus_resets) {
+      a.bus_resets = a.usb.counters().bus_resets;
       a.core.OnLinkReset();
     }
     a.core.Poll();
@@ -166,7 +166,7 @@ void Emulator::RunFrame() {
     while (a.frames.Running() && next_tick_us_ < frame_end) {
       a.clock.Set(next_tick_us_ - boot_us_);
       a.frames.Tick();
-      next_tick_us_ += a.frames.PeriodUs();
+      next_tick_us_ += a.frames.period_us();
     }
     was_sampling_ = a.frames.Running();
   }
@@ -226,7 +226,7 @@ void Emulator::AdvanceTime() {
 
 void Emulator::HandleRequests() {
   if (bootloader_) {
-    if (bootloader_->LeaveRequested()) BootApplication(wire::ResetCause::kSoftware);
+    if (bootloader_->leave_requested()) BootApplication(wire::ResetCause::kSoftware);
     return;
   }
   Application& a = *app_;
@@ -236,7 +236,7 @@ void Emulator::HandleRequests() {
     request_deadline_ = Clock::now() + kRequestGrace;
   }
   // Let the host collect the answer to the command first, as the board's USB FIFO would drain.
-  if (!a.hid.CanSend() && a.hid.IsOpen() && Clock::now() < request_deadline_) return;
+  if (!a.hid.CanSend() && a.hid.is_open() && Clock::now() < request_deadline_) return;
   if (a.request == Request::kReset) {
     BootApplication(wire::ResetCause::kSoftware);
   } else {

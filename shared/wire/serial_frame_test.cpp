@@ -59,8 +59,8 @@ TEST(SerialFrame, RoundTripBackToBack) {
   const int n2 = Feed(d, fb, got);
   EXPECT_EQ(n2, 1);
   EXPECT_EQ(got, b);
-  EXPECT_EQ(d.Counters().frames, 2U);
-  EXPECT_EQ(d.Counters().skipped_bytes, 0U);
+  EXPECT_EQ(d.counters().frames, 2U);
+  EXPECT_EQ(d.counters().skipped_bytes, 0U);
 }
 
 TEST(SerialFrame, NoiseBeforeFrameIsSkipped) {
@@ -72,7 +72,7 @@ TEST(SerialFrame, NoiseBeforeFrameIsSkipped) {
   const int n4 = Feed(d, EncodeSerialFrame(Counting()), got);
   EXPECT_EQ(n4, 1);
   EXPECT_EQ(got, Counting());
-  EXPECT_EQ(d.Counters().skipped_bytes, 5U);
+  EXPECT_EQ(d.counters().skipped_bytes, 5U);
 }
 
 TEST(SerialFrame, CorruptFrameIsRejectedAndNextOneDecodes) {
@@ -82,7 +82,7 @@ TEST(SerialFrame, CorruptFrameIsRejectedAndNextOneDecodes) {
   Report got{};
   const int n5 = Feed(d, bad, got);
   EXPECT_EQ(n5, 0);
-  EXPECT_EQ(d.Counters().crc_errors, 1U);
+  EXPECT_EQ(d.counters().crc_errors, 1U);
   Report other{};
   other.fill(0xA5);
   const int n6 = Feed(d, EncodeSerialFrame(other), got);
@@ -113,7 +113,7 @@ TEST(SerialFrame, WrongLengthByteIsNotAFrame) {
   Report got{};
   const int n9 = Feed(d, f, got);
   EXPECT_EQ(n9, 0);
-  EXPECT_EQ(d.Counters().frames, 0U);
+  EXPECT_EQ(d.counters().frames, 0U);
 }
 
 TEST(SerialFrame, EveryFrameSurvivesNoiseBetweenFrames) {

@@ -61,11 +61,11 @@ void RunControl(FuzzedDataProvider& in, Fixture& f) {
     out = in.ConsumeBytes<std::uint8_t>(in.ConsumeIntegralInRange<std::size_t>(0, std::min<std::size_t>(length, 300)));
     out.resize(std::min<std::size_t>(length, 300));
   }
-  const std::uint32_t overflows = f.rig.device.Counters().event_overflows;
+  const std::uint32_t overflows = f.rig.device.counters().event_overflows;
   const testing::ControlResult r = f.rig.host.Control(setup, out);
   // A SETUP that found the event queue full is lost (and counted), as on the board when Task()
   // runs too late; the host's transfer then times out. Nothing else may leave it hanging.
-  if (f.rig.device.Counters().event_overflows != overflows) return;
+  if (f.rig.device.counters().event_overflows != overflows) return;
   Require(!r.protocol_error);
   if (r.stalled) return;
   Require(r.length <= length);

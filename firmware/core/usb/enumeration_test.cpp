@@ -26,9 +26,9 @@ constexpr std::array<std::uint8_t, 8> kClearHaltEp81 = {0x02, 0x01, 0x00, 0x00, 
 TEST(UsbEnumeration, StartInitializesAndConnects) {
   Rig rig;
   EXPECT_TRUE(rig.dcd.connected);
-  EXPECT_EQ(rig.device.State(), DeviceState::kPowered);
+  EXPECT_EQ(rig.device.state(), DeviceState::kPowered);
   rig.host.BusReset();
-  EXPECT_EQ(rig.device.State(), DeviceState::kDefault);
+  EXPECT_EQ(rig.device.state(), DeviceState::kDefault);
 }
 
 TEST(UsbEnumeration, FailedControllerInitStaysDetached) {
@@ -43,7 +43,7 @@ TEST(UsbEnumeration, FailedControllerInitStaysDetached) {
   const Status s1 = device.Start();
   EXPECT_EQ(s1, Status::kUnavailable);
   EXPECT_FALSE(dcd.connected);
-  EXPECT_EQ(device.State(), DeviceState::kDetached);
+  EXPECT_EQ(device.state(), DeviceState::kDetached);
 }
 
 TEST(UsbEnumeration, LinuxSequenceReachesConfigured) {
@@ -61,8 +61,8 @@ TEST(UsbEnumeration, LinuxSequenceReachesConfigured) {
   ASSERT_FALSE(addr.stalled);
   ASSERT_FALSE(addr.protocol_error);
   EXPECT_EQ(rig.dcd.address, 5);
-  EXPECT_EQ(rig.device.Address(), 5);
-  EXPECT_EQ(rig.device.State(), DeviceState::kAddress);
+  EXPECT_EQ(rig.device.address(), 5);
+  EXPECT_EQ(rig.device.state(), DeviceState::kAddress);
 
   // In the address state GET_CONFIGURATION answers 0 (§9.4.2).
   const auto cfg0 = rig.host.Control(kGetConfiguration);
@@ -71,7 +71,7 @@ TEST(UsbEnumeration, LinuxSequenceReachesConfigured) {
 
   const auto set = rig.host.Control(kSetConfiguration1);
   ASSERT_FALSE(set.stalled);
-  EXPECT_EQ(rig.device.State(), DeviceState::kConfigured);
+  EXPECT_EQ(rig.device.state(), DeviceState::kConfigured);
   const auto cfg1 = rig.host.Control(kGetConfiguration);
   EXPECT_EQ(cfg1.data[0], 1);
 
@@ -81,12 +81,12 @@ TEST(UsbEnumeration, LinuxSequenceReachesConfigured) {
   EXPECT_EQ(rig.dcd.open_type[testing::FakeDcd::Index(0x81)], EndpointType::kInterrupt);
   EXPECT_EQ(rig.dcd.open_size[testing::FakeDcd::Index(0x01)], 64);
   EXPECT_TRUE(rig.dcd.PendingOn(0x01).active);
-  EXPECT_TRUE(rig.hid.IsOpen());
+  EXPECT_TRUE(rig.hid.is_open());
 
   // SET_CONFIGURATION 0 returns to the address state and closes the class.
   ASSERT_FALSE(rig.host.Control(kSetConfiguration0).stalled);
-  EXPECT_EQ(rig.device.State(), DeviceState::kAddress);
-  EXPECT_FALSE(rig.hid.IsOpen());
+  EXPECT_EQ(rig.device.state(), DeviceState::kAddress);
+  EXPECT_FALSE(rig.hid.is_open());
   EXPECT_FALSE(rig.dcd.opened[testing::FakeDcd::Index(0x81)]);
 }
 
@@ -95,10 +95,10 @@ TEST(UsbEnumeration, BusResetReturnsToDefault) {
   rig.host.Enumerate(9);
   ASSERT_TRUE(rig.device.Configured());
   rig.host.BusReset();
-  EXPECT_EQ(rig.device.State(), DeviceState::kDefault);
-  EXPECT_EQ(rig.device.Address(), 0);
-  EXPECT_FALSE(rig.hid.IsOpen());
-  EXPECT_EQ(rig.device.Counters().bus_resets, 2U);
+  EXPECT_EQ(rig.device.state(), DeviceState::kDefault);
+  EXPECT_EQ(rig.device.address(), 0);
+  EXPECT_FALSE(rig.hid.is_open());
+  EXPECT_EQ(rig.device.counters().bus_resets, 2U);
 }
 
 TEST(UsbEnumeration, SetConfigurationRequiresAnAddress) {
@@ -109,14 +109,14 @@ TEST(UsbEnumeration, SetConfigurationRequiresAnAddress) {
   ASSERT_FALSE(rig.host.Control(kSetAddress5).stalled);
   // Configuration 2 does not exist.
   EXPECT_TRUE(rig.host.Control({0x00, 0x09, 0x02, 0x00, 0x00, 0x00, 0x00, 0x00}).stalled);
-  EXPECT_EQ(rig.device.State(), DeviceState::kAddress);
+  EXPECT_EQ(rig.device.state(), DeviceState::kAddress);
 }
 
 TEST(UsbEnumeration, SetAddressOutOfRangeStalls) {
   Rig rig;
   rig.host.BusReset();
   EXPECT_TRUE(rig.host.Control({0x00, 0x05, 0x80, 0x00, 0x00, 0x00, 0x00, 0x00}).stalled);
-  EXPECT_EQ(rig.device.State(), DeviceState::kDefault);
+  EXPECT_EQ(rig.device.state(), DeviceState::kDefault);
 }
 
 TEST(UsbEnumeration, DeviceStatusIsBusPoweredNoWakeup) {
@@ -183,12 +183,12 @@ TEST(UsbEnumeration, UnsupportedRequestsStall) {
       {0xC0, 0x01, 0x00, 0x00, 0x00, 0x00, 0x04, 0x00},  // vendor request
       {0x82, 0x0C, 0x00, 0x00, 0x81, 0x00, 0x02, 0x00},  // SYNCH_FRAME on an interrupt endpoint
   }};
-  const std::uint32_t before = rig.device.Counters().stalled_requests;
+  const std::uint32_t before = rig.device.counters().stalled_requests;
   for (const auto& setup : requests) {
     const auto r = rig.host.Control(setup);
     EXPECT_TRUE(r.stalled);
   }
-  EXPECT_EQ(rig.device.Counters().stalled_requests, before + requests.size());
+  EXPECT_EQ(rig.device.counters().stalled_requests, before + requests.size());
   // A stall does not break the pipe: the next request works (§8.5.3.4).
   EXPECT_EQ(rig.host.Control(kGetConfiguration).data[0], 1);
 }
@@ -214,19 +214,19 @@ TEST(UsbEnumeration, NewSetupAbandonsTransferInProgress) {
   const auto r = rig.host.Control(kSetAddress5);
   EXPECT_FALSE(r.stalled);
   EXPECT_FALSE(r.protocol_error);
-  EXPECT_EQ(rig.device.Address(), 5);
+  EXPECT_EQ(rig.device.address(), 5);
 }
 
 TEST(UsbEnumeration, EventQueueOverflowIsCounted) {
   Rig rig;
   for (std::size_t i = 0; i < UsbDevice::kEventQueueSize + 3; ++i) rig.device.OnSuspend();
   // One slot is kept empty to tell full from empty.
-  EXPECT_EQ(rig.device.Counters().event_overflows, 4U);
+  EXPECT_EQ(rig.device.counters().event_overflows, 4U);
   rig.device.Task();
-  EXPECT_TRUE(rig.device.Suspended());
+  EXPECT_TRUE(rig.device.suspended());
   rig.device.OnResume();
   rig.device.Task();
-  EXPECT_FALSE(rig.device.Suspended());
+  EXPECT_FALSE(rig.device.suspended());
 }
 
 // A class driver answering a vendor-sized class request with more than one packet, to exercise

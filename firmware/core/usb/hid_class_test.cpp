@@ -43,7 +43,7 @@ TEST(HidClass, OutReportReachesReader) {
   EXPECT_EQ(got, sent);
   const Status s3 = rig.hid.Receive(got);
   EXPECT_EQ(s3, Status::kUnavailable);
-  EXPECT_EQ(rig.hid.Counters().reports_out, 1U);
+  EXPECT_EQ(rig.hid.counters().reports_out, 1U);
 }
 
 TEST(HidClass, InReportGoesOut) {
@@ -68,7 +68,7 @@ TEST(HidClass, InReportGoesOut) {
   rig.device.OnTransferComplete(0x81, 64);
   rig.device.Task();
   EXPECT_TRUE(rig.hid.CanSend());
-  EXPECT_EQ(rig.hid.Counters().reports_in, 1U);
+  EXPECT_EQ(rig.hid.counters().reports_in, 1U);
 
   // GET_REPORT(Input, id 0) answers the latest input report (HID 1.11 §7.2.1).
   const auto r = rig.host.Control({0xA1, 0x01, 0x00, 0x01, 0x00, 0x00, 0x40, 0x00});
@@ -107,7 +107,7 @@ TEST(HidClass, ShortOutPacketIsDiscardedAndCounted) {
   Report got{};
   const Status s10 = rig.hid.Receive(got);
   EXPECT_EQ(s10, Status::kUnavailable);
-  EXPECT_EQ(rig.hid.Counters().short_reports, 1U);
+  EXPECT_EQ(rig.hid.counters().short_reports, 1U);
   EXPECT_TRUE(rig.dcd.PendingOn(0x01).active);
 }
 
@@ -167,7 +167,7 @@ TEST(HidClass, IdleRateAndProtocol) {
   const auto idle = rig.host.Control({0xA1, 0x02, 0x00, 0x00, 0x00, 0x00, 0x01, 0x00});
   ASSERT_EQ(idle.length, 1U);
   EXPECT_EQ(idle.data[0], 125);
-  EXPECT_EQ(rig.hid.IdleRate(), 125);
+  EXPECT_EQ(rig.hid.idle_rate(), 125);
   // GET_PROTOCOL / SET_PROTOCOL are for boot devices only (§7.2.5, §7.2.6): stall.
   EXPECT_TRUE(rig.host.Control({0xA1, 0x03, 0x00, 0x00, 0x00, 0x00, 0x01, 0x00}).stalled);
   EXPECT_TRUE(rig.host.Control({0x21, 0x0B, 0x00, 0x00, 0x00, 0x00, 0x00, 0x00}).stalled);
@@ -213,7 +213,7 @@ TEST(DfuRuntime, StatusStateAndDetach) {
   rig.device.Task();
   EXPECT_EQ(rig.detach.calls, 1);
   EXPECT_EQ(rig.detach.last_timeout_ms, 1000);
-  EXPECT_EQ(rig.dfu.State(), DfuState::kAppDetach);
+  EXPECT_EQ(rig.dfu.state(), DfuState::kAppDetach);
 }
 
 }  // namespace

@@ -64,7 +64,7 @@ class RigFrameSource final : public fw::FrameSource {
   void Stop() override { sink_ = nullptr; }
 
   bool Running() const { return sink_ != nullptr; }
-  std::uint32_t PeriodUs() const { return period_us_; }
+  std::uint32_t period_us() const { return period_us_; }
   /// Delivers one frame (Running() only).
   void Tick();
 

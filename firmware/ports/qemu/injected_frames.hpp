@@ -34,11 +34,11 @@ class InjectedFrameSource final : public FrameSource {
   Status Inject(std::span<const Raw> frames);
   std::size_t Free() const;
 
-  std::uint32_t StarvedTicks() const { return starved_; }
-  std::uint32_t DeliveredFrames() const { return tick_; }
+  std::uint32_t starved_ticks() const { return starved_; }
+  std::uint32_t delivered_frames() const { return tick_; }
   /// Core cycles (SysTick counts, 168 MHz in QEMU) spent in the tick handler over all delivered
   /// frames, from its first instruction to its last: the per-sample interrupt cost.
-  std::uint64_t HandlerCycles() const { return handler_cycles_; }
+  std::uint64_t handler_cycles() const { return handler_cycles_; }
 
   /// `core_clock_hz` clocks SysTick; `idle_tick_hz` is its rate while no acquisition runs.
   void Init(std::uint32_t core_clock_hz, std::uint32_t idle_tick_hz);

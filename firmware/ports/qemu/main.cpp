@@ -55,14 +55,14 @@ RamCalibrationFlash g_flash;
 
 void ReportSamplingCost() {
   static std::uint32_t reported = 0;
-  const std::uint32_t frames = g_source.DeliveredFrames();
+  const std::uint32_t frames = g_source.delivered_frames();
   if (frames < reported + kDiagnosticsEveryFrames) {
     if (frames < reported) reported = 0;  // A new acquisition restarted the count.
     return;
   }
   reported = frames;
   static constexpr const char* kLabels[] = {"frames", "starved_ticks", "isr_cycles", "link_crc_errors"};
-  const std::uint64_t values[] = {frames, g_source.StarvedTicks(), g_source.HandlerCycles(),
+  const std::uint64_t values[] = {frames, g_source.starved_ticks(), g_source.handler_cycles(),
                                   g_link.DecoderCounters().crc_errors};
   DiagnosticsValues(kLabels, values, 4);
 }

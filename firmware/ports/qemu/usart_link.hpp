@@ -25,7 +25,7 @@ class UsartReportLink final : public ReportLink {
   Status Receive(wire::Report& out) override;
   Status Send(const wire::Report& report) override;
 
-  const wire::SerialFrameCounters& DecoderCounters() const { return decoder_.Counters(); }
+  const wire::SerialFrameCounters& DecoderCounters() const { return decoder_.counters(); }
 
   /// The USART1 interrupt handler body.
   void HandleInterrupt();

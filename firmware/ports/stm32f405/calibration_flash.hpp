@@ -46,7 +46,7 @@ class InternalCalibrationFlash final : public CalibrationFlash {
   Status Program(Slot slot, std::size_t offset, std::span<const std::uint8_t> data) override;
   Status Read(Slot slot, std::size_t offset, std::span<std::uint8_t> out) const override;
 
-  std::uint32_t Errors() const { return errors_; }
+  std::uint32_t errors() const { return errors_; }
 
  private:
   std::uint32_t Psize() const;

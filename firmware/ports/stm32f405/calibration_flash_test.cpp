@@ -37,7 +37,7 @@ class CalibrationFlashTest : public PortTest {
 
 TEST_F(CalibrationFlashTest, EraseSequence) {
   ASSERT_EQ(flash_.Erase(CalibrationFlash::Slot{0}), Status::kOk);
-  const auto& log = regs().Log();
+  const auto& log = regs().log();
   // Unlock keys (RM0090 §3.5.1).
   const std::size_t key1 = regs().FindWrite(flash::kKeyr, 0x45670123);
   const std::size_t key2 = regs().FindWrite(flash::kKeyr, 0xCDEF89AB, key1);
@@ -85,8 +85,8 @@ TEST_F(CalibrationFlashTest, LongEraseFeedsTheWatchdogAndTimesOut) {
   ASSERT_EQ(flash_.Erase(CalibrationFlash::Slot{1}), Status::kOk);
   const std::size_t start = regs().FindWriteWithBits(flash::kCr, flash::kCrStrt);
   std::size_t feeds_after_start = 0;
-  for (std::size_t i = start; i < regs().Log().size(); ++i) {
-    const Access& a = regs().Log()[i];
+  for (std::size_t i = start; i < regs().log().size(); ++i) {
+    const Access& a = regs().log()[i];
     feeds_after_start += a.kind == Access::Kind::kWrite && a.address == iwdg::kKr && a.value == 0xAAAA;
   }
   EXPECT_EQ(feeds_after_start, 3U);  // two during the wait, one after
@@ -103,7 +103,7 @@ TEST_F(CalibrationFlashTest, LongEraseFeedsTheWatchdogAndTimesOut) {
     return started ? held | flash::kSrBsy : held;
   });
   EXPECT_EQ(flash_.Erase(CalibrationFlash::Slot{0}), Status::kInternal);
-  EXPECT_EQ(flash_.Errors(), 1U);
+  EXPECT_EQ(flash_.errors(), 1U);
   EXPECT_EQ(regs().Peek(flash::kCr), flash::kCrLock);
   // Fed all along: 20 or 21 chunks of 100 ms, plus the feeds before and after.
   const std::size_t feeds = regs().WritesTo(iwdg::kKr).size();
@@ -118,7 +118,7 @@ TEST_F(CalibrationFlashTest, ProgramsWordsWithUnalignedEdgesPadded) {
   EXPECT_NE(regs().FindWrite(flash::kCr, 0x201), kNone);
   EXPECT_EQ(regs().WritesTo(kSlot0), std::vector<std::uint32_t>{0x563412FF});
   EXPECT_EQ(regs().WritesTo(kSlot0 + 4), std::vector<std::uint32_t>{0xFFFF9A78});
-  for (const Access& a : regs().Log()) {
+  for (const Access& a : regs().log()) {
     if (a.kind == Access::Kind::kWrite && a.address >= kSlot0 && a.address < kSlot0 + 0x4000) {
       EXPECT_EQ(a.width, 4U) << "x32 parallelism takes word writes only (PGPERR otherwise)";
     }
@@ -143,13 +143,13 @@ TEST_F(CalibrationFlashTest, LowVoltageBoardsUseByteParallelism) {
   ASSERT_EQ(x8.Erase(CalibrationFlash::Slot{0}), Status::kOk);
   // SER | PSIZE x8 (00) | SNB 2 = 0x12.
   EXPECT_NE(regs().FindWrite(flash::kCr, 0x12 | flash::kCrStrt), kNone);
-  const std::size_t before = regs().Log().size();
+  const std::size_t before = regs().log().size();
   const std::array<std::uint8_t, 3> data = {0xA1, 0xB2, 0xC3};
   ASSERT_EQ(x8.Program(CalibrationFlash::Slot{0}, 5, data), Status::kOk);
   EXPECT_NE(regs().FindWrite(flash::kCr, flash::kCrPg, before), kNone);  // PG, PSIZE 00
   std::vector<Address> written;
-  for (std::size_t i = before; i < regs().Log().size(); ++i) {
-    const Access& a = regs().Log()[i];
+  for (std::size_t i = before; i < regs().log().size(); ++i) {
+    const Access& a = regs().log()[i];
     if (a.kind != Access::Kind::kWrite || a.address < kSlot0 || a.address >= kSlot0 + 0x4000) continue;
     EXPECT_EQ(a.width, 1U);
     written.push_back(a.address);
@@ -163,7 +163,7 @@ TEST_F(CalibrationFlashTest, ReadBackMismatchIsAnError) {
   regs().OnWrite(kSlot0, [](std::uint32_t held, std::uint32_t) { return held; });
   const std::array<std::uint8_t, 4> data = {1, 2, 3, 4};
   EXPECT_EQ(flash_.Program(CalibrationFlash::Slot{0}, 0, data), Status::kInternal);
-  EXPECT_EQ(flash_.Errors(), 1U);
+  EXPECT_EQ(flash_.errors(), 1U);
   EXPECT_EQ(flash_.Program(CalibrationFlash::Slot{0}, 16 * 1024 - 2, data), Status::kOutOfRange);
 }
 

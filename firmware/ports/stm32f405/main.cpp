@@ -84,8 +84,8 @@ int main() {
   std::uint32_t bus_resets = 0;
   for (;;) {
     device.Task();
-    if (device.Counters().bus_resets != bus_resets) {
-      bus_resets = device.Counters().bus_resets;
+    if (device.counters().bus_resets != bus_resets) {
+      bus_resets = device.counters().bus_resets;
       core.OnLinkReset();
     }
     core.Poll();

@@ -22,7 +22,7 @@ class Events final : public usb::DcdEvents {
   void OnBusReset() override { calls.push_back("reset"); }
   void OnSetupReceived(std::span<const std::uint8_t, 8>) override {
     calls.push_back("setup");
-    log_at_setup = FakeRegisters::Get().Log().size();
+    log_at_setup = FakeRegisters::Get().log().size();
   }
   void OnTransferComplete(std::uint8_t, std::uint16_t) override { calls.push_back("xfer"); }
   void OnSuspend() override { calls.push_back("suspend"); }
@@ -94,7 +94,7 @@ class OtgTest : public PortTest {
 
 TEST_F(OtgTest, InitMasksAndClearsTheInterruptUntilTheCoreIsReady) {
   ASSERT_EQ(dcd_.Init(events_), Status::kOk);
-  const auto& log = regs().Log();
+  const auto& log = regs().log();
   const std::size_t masked = regs().FindWrite(kIcer2, kOtgBit);
   const std::size_t cleared = regs().FindWrite(kIcpr2, kOtgBit);
   ASSERT_EQ(masked, 0U);  // the very first access
@@ -124,7 +124,7 @@ TEST_F(OtgTest, InterruptBeforeInitTouchesNothing) {
   regs().Poke(otg::kGintmsk, 0xFFFFFFFF);
   dcd_.HandleInterrupt();
   ASSERT_EQ(regs().WritesTo(kIcer2), std::vector<std::uint32_t>{kOtgBit});
-  for (const Access& a : regs().Log()) {
+  for (const Access& a : regs().log()) {
     EXPECT_FALSE(a.kind == Access::Kind::kWrite && a.address >= otg::kBase && a.address < otg::kBase + 0x40000);
   }
   EXPECT_TRUE(events_.calls.empty());
@@ -134,7 +134,7 @@ TEST_F(OtgTest, NewSetupDisablesEp0InAndFlushesItsFifoFirst) {
   ASSERT_EQ(dcd_.Init(events_), Status::kOk);
   // A control read still in flight on EP0 IN when the host sends a new SETUP.
   regs().Poke(otg::Diepctl(0), otg::kEpctlEpena);
-  const std::size_t before = regs().Log().size();
+  const std::size_t before = regs().log().size();
   regs().Poke(otg::kGintsts, otg::kIntOepint);
   regs().Poke(otg::kDaint, Bit(16));
   regs().Poke(otg::Doepint(0), otg::kEpIntStup);
@@ -145,7 +145,7 @@ TEST_F(OtgTest, NewSetupDisablesEp0InAndFlushesItsFifoFirst) {
   const std::size_t disable = regs().FindWriteWithBits(otg::Diepctl(0), otg::kEpctlEpdis | otg::kEpctlSnak, before);
   ASSERT_NE(nak, kNone);
   EXPECT_LT(nak, disable);
-  EXPECT_EQ(regs().Log()[nak].value & otg::kEpctlEpdis, 0U);
+  EXPECT_EQ(regs().log()[nak].value & otg::kEpctlEpdis, 0U);
   const std::size_t ack = regs().FindWriteWithBits(otg::Diepint(0), otg::kEpIntEpdisd, disable);
   // GRSTCTL TXFFLSH (bit 5) with TXFNUM 0 (10:6).
   const std::size_t flush = regs().FindWrite(otg::kGrstctl, otg::kGrstctlTxfflsh, ack);
@@ -157,7 +157,7 @@ TEST_F(OtgTest, NewSetupDisablesEp0InAndFlushesItsFifoFirst) {
 
 TEST_F(OtgTest, StallOnEp0AlsoFlushesEp0In) {
   ASSERT_EQ(dcd_.Init(events_), Status::kOk);
-  const std::size_t before = regs().Log().size();
+  const std::size_t before = regs().log().size();
   dcd_.EndpointStall(0x80);
   EXPECT_NE(regs().FindWriteWithBits(otg::Diepctl(0), otg::kEpctlStall | otg::kEpctlSnak, before), kNone);
   EXPECT_NE(regs().FindWrite(otg::kGrstctl, otg::kGrstctlTxfflsh, before), kNone);
@@ -169,14 +169,14 @@ TEST_F(OtgTest, StallOnEp0AlsoFlushesEp0In) {
 TEST_F(OtgTest, ReconfigurationDisablesOutEndpointsInTheRm0090Order) {
   ASSERT_EQ(dcd_.Init(events_), Status::kOk);
   regs().Poke(otg::Doepctl(1), otg::kEpctlEpena | otg::kEpctlUsbaep);
-  const std::size_t before = regs().Log().size();
+  const std::size_t before = regs().log().size();
   dcd_.EndpointCloseAll();
   // SGONAK -> RX FIFO popped up to the NAK entry (GONAKEFF) -> EPDIS | SNAK -> (EPDISD)
   // acknowledged -> CGONAK.
   const std::size_t sgonak = regs().FindWriteWithBits(otg::kDctl, otg::kDctlSgonak, before);
   std::size_t popped = kNone;
-  for (std::size_t i = sgonak; i < regs().Log().size() && popped == kNone; ++i) {
-    const Access& a = regs().Log()[i];
+  for (std::size_t i = sgonak; i < regs().log().size() && popped == kNone; ++i) {
+    const Access& a = regs().log()[i];
     if (a.kind == Access::Kind::kRead && a.address == otg::kGrxstsp) popped = i;
   }
   ASSERT_NE(popped, kNone);

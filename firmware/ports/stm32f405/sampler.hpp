@@ -55,12 +55,12 @@ class Sampler final : public FrameSource {
   void Stop() override;
 
   /// The shortest period: one scan plus room for the DMA and the interrupt (20 us at 168 MHz).
-  std::uint32_t MinPeriodUs() const { return min_period_us_; }
-  const SamplerCounters& Counters() const { return counters_; }
+  std::uint32_t min_period_us() const { return min_period_us_; }
+  const SamplerCounters& counters() const { return counters_; }
   /// Core cycles spent in the frame sink, summed over all frames (DWT cycle counter).
-  std::uint64_t SinkCycles() const { return sink_cycles_; }
+  std::uint64_t sink_cycles() const { return sink_cycles_; }
   /// Frames handed to the core since Start.
-  std::uint32_t Frames() const { return delivered_; }
+  std::uint32_t frames() const { return delivered_; }
 
   /// The DMA2 stream 0 interrupt handler body.
   void HandleDmaInterrupt();

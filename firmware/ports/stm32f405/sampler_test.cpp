@@ -73,11 +73,11 @@ TEST_F(SamplerTest, InitRoutesTheEdgeToAdcEncodersAndFrameCounter) {
   const std::size_t dsb = regs().FindCpu(fake::CpuOp::kDsb, clocks);
   EXPECT_EQ(dsb, clocks + 1);  // right after the enable write
   // 4 x 68 ADC clocks at 21 MHz = 12.95 us, plus 7 us: 20 us (ceil).
-  EXPECT_EQ(sampler_.MinPeriodUs(), 20U);
+  EXPECT_EQ(sampler_.min_period_us(), 20U);
 }
 
 TEST_F(SamplerTest, StartArmsTheCounterBeforeTheFirstEdge) {
-  const auto& log = regs().Log();
+  const auto& log = regs().log();
   const std::size_t counter_on = regs().FindWrite(tim::kTim5 + tim::kCr1, tim::kCr1Cen);
   const std::size_t first_edge = regs().FindWrite(tim::kTim2 + tim::kEgr, tim::kEgrUg);
   const std::size_t timer_on = regs().FindWrite(tim::kTim2 + tim::kCr1, tim::kCr1Cen);
@@ -110,7 +110,7 @@ TEST_F(SamplerTest, FramesCarryTheTimerTickAndTheEdgeLatchedEncoders) {
   EXPECT_EQ(sink_.frames[0].raw[5], -2);
   EXPECT_EQ(sink_.frames[1].raw[4], 8);
   EXPECT_EQ(sink_.frames[1].raw[5], 1);
-  EXPECT_EQ(sampler_.Frames(), 2U);
+  EXPECT_EQ(sampler_.frames(), 2U);
 }
 
 TEST_F(SamplerTest, MergedInterruptsLeaveAGapInTheTick) {
@@ -131,15 +131,15 @@ TEST_F(SamplerTest, AFrameWhoseNextScanHasBegunIsDropped) {
   // An interrupt right after its own scan, as in normal running: delivered.
   Interrupt(3, 1088);
   EXPECT_EQ(Ticks(), (std::vector<std::uint32_t>{0, 2}));
-  EXPECT_EQ(sampler_.Counters().torn_frames, 2U);
+  EXPECT_EQ(sampler_.counters().torn_frames, 2U);
 }
 
 TEST_F(SamplerTest, AdcOverrunIsCountedAndRecoveredFromTheFirstChannel) {
   Interrupt(1);
-  const std::size_t before = regs().Log().size();
+  const std::size_t before = regs().log().size();
   regs().Poke(adc::kAdc1 + adc::kSr, adc::kSrOvr);
   sampler_.HandleAdcInterrupt();
-  EXPECT_EQ(sampler_.Counters().adc_overruns, 1U);
+  EXPECT_EQ(sampler_.counters().adc_overruns, 1U);
   // ADC off (sequencer back to IN0) -> stream disabled -> flags cleared -> NDTR 4 and the buffer
   // start -> stream on -> OVR cleared -> ADC on with DMA and the trigger (RM0090 §13.8.1).
   const std::size_t adc_off = regs().FindWrite(adc::kAdc1 + adc::kCr2, 0, before);
@@ -157,14 +157,14 @@ TEST_F(SamplerTest, AdcOverrunIsCountedAndRecoveredFromTheFirstChannel) {
 
 TEST_F(SamplerTest, DmaTransferErrorsAreCountedAndRecovered) {
   Interrupt(1, 2000, dma::kStream0Teif);
-  EXPECT_EQ(sampler_.Counters().dma_errors, 1U);
-  EXPECT_EQ(sampler_.Counters().recoveries, 1U);
+  EXPECT_EQ(sampler_.counters().dma_errors, 1U);
+  EXPECT_EQ(sampler_.counters().recoveries, 1U);
   EXPECT_TRUE(sink_.frames.empty());
   // An encoder latch stream error (TEIF1 is LISR bit 9) is re-armed on the next frame.
   regs().Poke(dma::kDma1 + dma::kLisr, Bit(9));
-  const std::size_t before = regs().Log().size();
+  const std::size_t before = regs().log().size();
   Interrupt(2);
-  EXPECT_EQ(sampler_.Counters().dma_errors, 2U);
+  EXPECT_EQ(sampler_.counters().dma_errors, 2U);
   EXPECT_NE(regs().FindWriteWithBits(kEnc0Stream + dma::kSxCr, dma::kCrEn | dma::kCrCirc, before), kNone);
   EXPECT_NE(regs().FindWrite(dma::kDma1 + dma::kLifcr, dma::kStream0Flags << 6, before), kNone);
   EXPECT_EQ(Ticks(), (std::vector<std::uint32_t>{1}));

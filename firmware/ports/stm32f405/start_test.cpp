@@ -83,7 +83,7 @@ TEST_F(ResetDrainTest, ResetGivesUpOnAHostThatNeverReads) {
   EXPECT_EQ(regs().WritesTo(scb::kAircr), std::vector<std::uint32_t>{0x05FA0004U});
   // About 100 one-millisecond SysTick reads, not an endless loop.
   std::size_t waited = 0;
-  for (const Access& a : regs().Log()) waited += (a.kind == Access::Kind::kRead && a.address == systick::kVal);
+  for (const Access& a : regs().log()) waited += (a.kind == Access::Kind::kRead && a.address == systick::kVal);
   EXPECT_GE(waited, 100U);
   EXPECT_LE(waited, 210U);
 }

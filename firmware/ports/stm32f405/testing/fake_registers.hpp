@@ -44,7 +44,7 @@ class FakeRegisters {
 
   /// Long polls would fill the log with reads: a test can keep only writes and CPU operations.
   void LogReads(bool on) { log_reads_ = on; }
-  const std::vector<Access>& Log() const { return log_; }
+  const std::vector<Access>& log() const { return log_; }
   /// Values written to `address`, in order.
   std::vector<std::uint32_t> WritesTo(Address address) const;
   /// Index in Log() of the first write of exactly `value` to `address` at or after `from`.

@@ -7,8 +7,10 @@
 namespace vibid {
 
 /// Outcome of a firmware-side or shared operation. Values are part of the wire protocol: append
-/// only, never renumber (the golden vectors in shared/test pin them).
-enum class Status : std::uint8_t {
+/// only, never renumber (the golden vectors in shared/wire/testdata pin them). [[nodiscard]]: a
+/// function that returns one cannot be called as if it could not fail; code that may drop one
+/// says so with (void).
+enum class [[nodiscard]] Status : std::uint8_t {
   kOk = 0,
   kInvalidArgument = 1,    ///< A field is out of range or inconsistent with another.
   kOutOfRange = 2,         ///< An index or length exceeds a fixed capacity.

@@ -43,7 +43,7 @@ class SerialFrameDecoder {
   /// Feeds one received byte.
   /// @returns true when this byte completed a good frame; its report is then in `report`.
   bool Push(std::uint8_t byte, Report& report);
-  const SerialFrameCounters& Counters() const { return counters_; }
+  const SerialFrameCounters& counters() const { return counters_; }
 
  private:
   /// Drops bytes from the front until the buffer starts with a possible frame start.

@@ -52,11 +52,11 @@ class UsbDevice final : public DcdEvents {
   /// fewer than kEventQueueSize events pile up between calls.
   void Task();
 
-  DeviceState State() const { return state_; }
+  DeviceState state() const { return state_; }
   bool Configured() const { return state_ == DeviceState::kConfigured; }
-  bool Suspended() const { return suspended_; }
-  std::uint8_t Address() const { return address_; }
-  const UsbCounters& Counters() const { return counters_; }
+  bool suspended() const { return suspended_; }
+  std::uint8_t address() const { return address_; }
+  const UsbCounters& counters() const { return counters_; }
 
   // DcdEvents (interrupt context: queue only).
   void OnBusReset() override;

@@ -37,7 +37,7 @@ class DfuRuntime final : public ClassDriver {
  public:
   explicit DfuRuntime(DfuDetachHandler& handler) : handler_(handler) {}
 
-  DfuState State() const { return state_; }
+  DfuState state() const { return state_; }
 
   bool OwnsInterface(std::uint8_t interface_number) const override;
   bool OwnsEndpoint(std::uint8_t) const override { return false; }

@@ -53,9 +53,9 @@ class HidClass final : public ClassDriver, public ReportLink {
   /// Takes the oldest received output report.
   /// @returns kOk with `out` filled; kUnavailable when none is waiting.
   Status Receive(wire::Report& out) override;
-  bool IsOpen() const { return open_; }
-  std::uint8_t IdleRate() const { return idle_rate_; }
-  const HidCounters& Counters() const { return counters_; }
+  bool is_open() const { return open_; }
+  std::uint8_t idle_rate() const { return idle_rate_; }
+  const HidCounters& counters() const { return counters_; }
 
   // ClassDriver
   bool OwnsInterface(std::uint8_t interface_number) const override;
