@@ -1,34 +1,34 @@
-// vibid dob start | stop: run or halt the observer on the board. The `dob` command itself belongs
-// to the observer design family (dob design|run|compare); these join it as two more subcommands.
+// `vibid dob start | stop`: run or halt the observer on the board. They sit beside the observer's
+// design commands under `vibid dob`, which registers them (dob/dob_commands.cpp).
 #include <iostream>
 
+#include "common/command.hpp"
 #include "device_commands.hpp"
 #include "session.hpp"
 
 namespace vibid::cli {
+namespace {
 
-void RegisterDobControlCommands(CLI::App& app, const GlobalOptions& globals) {
-  CLI::App* dob = nullptr;
-  try {
-    dob = app.get_subcommand("dob");
-  } catch (const CLI::OptionNotFound&) {
-    dob = app.add_subcommand("dob", "Disturbance observer: design on the host, run on the board");
-    dob->require_subcommand(1);
-  }
-  CLI::App* start = dob->add_subcommand("start", "Run the observer on the board (from zero state)");
-  start->callback([&globals] {
-    WithDevice(globals, [](device::Connection& c) {
-      c.DobControl(true);
-      std::cout << "observer running\n";
-    });
+struct DobControlArgs {
+  const GlobalOptions* globals = nullptr;
+  bool running = false;  ///< The state the board is asked into.
+};
+
+void Run(const DobControlArgs& a) {
+  WithDevice(*a.globals, [&](device::Connection& c) {
+    c.DobControl(a.running);
+    std::cout << (a.running ? "observer running\n" : "observer stopped\n");
   });
-  CLI::App* stop = dob->add_subcommand("stop", "Stop the observer on the board");
-  stop->callback([&globals] {
-    WithDevice(globals, [](device::Connection& c) {
-      c.DobControl(false);
-      std::cout << "observer stopped\n";
-    });
-  });
+}
+
+}  // namespace
+
+void RegisterDobDeviceCommands(CLI::App& dob, const GlobalOptions& globals) {
+  const auto [start, start_args] =
+      AddCommand<DobControlArgs>(dob, "start", "Run the observer on the board (from zero state)", Run);
+  *start_args = {.globals = &globals, .running = true};
+  const auto [stop, stop_args] = AddCommand<DobControlArgs>(dob, "stop", "Stop the observer on the board", Run);
+  *stop_args = {.globals = &globals, .running = false};
 }
 
 }  // namespace vibid::cli
