@@ -17,6 +17,9 @@
 namespace vibid::cli {
 namespace {
 
+constexpr const char* kAcquireHelp =
+    "Record from the board: configure, start, pull the log into a CSV";
+
 struct AcquireArgs {
   const GlobalOptions* globals = nullptr;
   double seconds = 0.0;
@@ -182,6 +185,8 @@ void Run(const AcquireArgs& a) {
   });
 }
 
+constexpr const char* kPullHelp = "Pull the log of the last acquisition into a CSV";
+
 struct PullArgs {
   const GlobalOptions* globals = nullptr;
   std::string output;
@@ -215,8 +220,7 @@ void Run(const PullArgs& a) {
 }
 
 void RegisterAcquire(CLI::App& app, const GlobalOptions& globals) {
-  const auto [acq, o] =
-      AddCommand<AcquireArgs>(app, "acquire", "Record from the board: configure, start, pull the log into a CSV", Run);
+  const auto [acq, o] = AddCommand<AcquireArgs>(app, "acquire", kAcquireHelp, Run);
   o->globals = &globals;
   acq->add_option("--seconds", o->seconds, "Seconds to record after the trigger")->required()->check(PositiveNumber());
   acq->add_option("--rate-hz", o->rate_hz, "Sample rate (Hz)")->check(PositiveNumber());
@@ -239,7 +243,7 @@ void RegisterAcquire(CLI::App& app, const GlobalOptions& globals) {
 void RegisterLogPull(CLI::App& app, const GlobalOptions& globals) {
   CLI::App* log = app.add_subcommand("log", "The board's acquisition log");
   log->require_subcommand(1);
-  const auto added = AddCommand<PullArgs>(*log, "pull", "Pull the log of the last acquisition into a CSV", Run);
+  const auto added = AddCommand<PullArgs>(*log, "pull", kPullHelp, Run);
   CLI::App* pull_cmd = added.first;
   PullArgs* po = added.second;
   po->globals = &globals;

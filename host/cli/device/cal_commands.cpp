@@ -114,6 +114,9 @@ std::string FormatRecord(const nlohmann::json& j) {
   return o.str();
 }
 
+constexpr const char* kUploadHelp =
+    "Build a calibration record and stage it on the board (commit makes it permanent)";
+
 struct UploadArgs {
   const GlobalOptions* globals = nullptr;
   std::string model;
@@ -175,6 +178,8 @@ void Run(const UploadArgs& a) {
   });
 }
 
+constexpr const char* kShowHelp = "Print the board's active calibration record";
+
 struct ShowArgs {
   const GlobalOptions* globals = nullptr;
   bool json = false;
@@ -196,6 +201,8 @@ void Run(const ShowArgs& a) {
   });
 }
 
+constexpr const char* kCommitHelp = "Write the staged record to flash (refused while acquiring)";
+
 struct CommitArgs {
   const GlobalOptions* globals = nullptr;
 };
@@ -213,20 +220,18 @@ void RegisterCalCommands(CLI::App& app, const GlobalOptions& globals) {
   CLI::App* cal = app.add_subcommand("cal", "The board's calibration record: model, sensor scaling, observer");
   cal->require_subcommand(1);
 
-  const auto [upload, uo] = AddCommand<UploadArgs>(
-      *cal, "upload", "Build a calibration record and stage it on the board (commit makes it permanent)", Run);
+  const auto [upload, uo] = AddCommand<UploadArgs>(*cal, "upload", kUploadHelp, Run);
   uo->globals = &globals;
   upload->add_option("model", uo->model, "Model file (M, C, K) of the rig")->required();
   upload->add_option("--design", uo->design, "Observer design file from `vibid dob design`")->required();
   upload->add_option("--sensors", uo->sensors, "Sensors file (default: the scaling the board already holds)");
   upload->add_option("--label", uo->label, "Rig name stored in the record (default: the model file's name)");
 
-  const auto [show, show_args] = AddCommand<ShowArgs>(*cal, "show", "Print the board's active calibration record", Run);
+  const auto [show, show_args] = AddCommand<ShowArgs>(*cal, "show", kShowHelp, Run);
   show_args->globals = &globals;
   show->add_flag("--json", show_args->json, "Print JSON");
 
-  const auto [commit, commit_args] =
-      AddCommand<CommitArgs>(*cal, "commit", "Write the staged record to flash (refused while acquiring)", Run);
+  const auto [commit, commit_args] = AddCommand<CommitArgs>(*cal, "commit", kCommitHelp, Run);
   commit_args->globals = &globals;
 }
 

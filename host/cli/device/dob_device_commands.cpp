@@ -9,6 +9,9 @@
 namespace vibid::cli {
 namespace {
 
+constexpr const char* kDobStartHelp = "Run the observer on the board (from zero state)";
+constexpr const char* kDobStopHelp = "Stop the observer on the board";
+
 struct DobControlArgs {
   const GlobalOptions* globals = nullptr;
   bool running = false;  ///< The state the board is asked into.
@@ -24,10 +27,9 @@ void Run(const DobControlArgs& a) {
 }  // namespace
 
 void RegisterDobDeviceCommands(CLI::App& dob, const GlobalOptions& globals) {
-  const auto [start, start_args] =
-      AddCommand<DobControlArgs>(dob, "start", "Run the observer on the board (from zero state)", Run);
+  const auto [start, start_args] = AddCommand<DobControlArgs>(dob, "start", kDobStartHelp, Run);
   *start_args = {.globals = &globals, .running = true};
-  const auto [stop, stop_args] = AddCommand<DobControlArgs>(dob, "stop", "Stop the observer on the board", Run);
+  const auto [stop, stop_args] = AddCommand<DobControlArgs>(dob, "stop", kDobStopHelp, Run);
   *stop_args = {.globals = &globals, .running = false};
 }
 

@@ -20,6 +20,9 @@ namespace {
 
 constexpr std::uint32_t kFlashBase = 0x08000000u;
 
+constexpr const char* kFlashHelp =
+    "Write a firmware image through the DfuSe bootloader and verify it";
+
 struct FlashArgs {
   const GlobalOptions* globals = nullptr;
   std::string image;
@@ -58,8 +61,7 @@ void Run(const FlashArgs& a) {
 }  // namespace
 
 void RegisterFlashCommand(CLI::App& app, const GlobalOptions& globals) {
-  const auto [flash, o] =
-      AddCommand<FlashArgs>(app, "flash", "Write a firmware image through the DfuSe bootloader and verify it", Run);
+  const auto [flash, o] = AddCommand<FlashArgs>(app, "flash", kFlashHelp, Run);
   o->globals = &globals;
   flash->add_option("image", o->image, "Raw image (.bin)")->required();
   flash->add_option("--address", o->address, "Flash address of the image's first byte")->capture_default_str();

@@ -94,6 +94,8 @@ nlohmann::json InfoJson(const device::Connection& c, const wire::InfoResponse& i
           {"dropped_records", i.dropped_records}};
 }
 
+constexpr const char* kDevicesHelp = "List the vibid boards and emulators this host can reach";
+
 struct DevicesArgs {};
 
 void Run(const DevicesArgs&) {
@@ -104,6 +106,9 @@ void Run(const DevicesArgs&) {
   }
   for (const device::Listing& l : all) std::cout << l.spec << "\t" << l.description << "\n";
 }
+
+constexpr const char* kInfoHelp =
+    "Identity, versions, capabilities and calibration state of the board";
 
 struct InfoArgs {
   const GlobalOptions* globals = nullptr;
@@ -142,6 +147,8 @@ void Run(const InfoArgs& a) {
     std::cout << (a.json ? j.dump(2) + "\n" : InfoText(c, j));
   });
 }
+
+constexpr const char* kMonitorHelp = "Print the board's live calibrated values until Ctrl-C";
 
 struct MonitorArgs {
   const GlobalOptions* globals = nullptr;
@@ -187,15 +194,13 @@ void Run(const MonitorArgs& a) {
 }  // namespace
 
 void RegisterInfoCommands(CLI::App& app, const GlobalOptions& globals) {
-  AddCommand<DevicesArgs>(app, "devices", "List the vibid boards and emulators this host can reach", Run);
+  AddCommand<DevicesArgs>(app, "devices", kDevicesHelp, Run);
 
-  const auto [info, info_args] =
-      AddCommand<InfoArgs>(app, "info", "Identity, versions, capabilities and calibration state of the board", Run);
+  const auto [info, info_args] = AddCommand<InfoArgs>(app, "info", kInfoHelp, Run);
   info_args->globals = &globals;
   info->add_flag("--json", info_args->json, "Print JSON");
 
-  const auto [monitor, mo] =
-      AddCommand<MonitorArgs>(app, "monitor", "Print the board's live calibrated values until Ctrl-C", Run);
+  const auto [monitor, mo] = AddCommand<MonitorArgs>(app, "monitor", kMonitorHelp, Run);
   mo->globals = &globals;
   monitor->add_option("--interval-s", mo->interval_s, "Seconds between lines")->check(PositiveNumber());
   monitor->add_option("--count", mo->count, "Stop after this many lines (default: until Ctrl-C)")->check(CLI::NonNegativeNumber);

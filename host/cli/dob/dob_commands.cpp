@@ -25,6 +25,8 @@
 namespace vibid::cli {
 namespace {
 
+constexpr const char* kDesignHelp = "Design the observer for a model and quantize it for the board";
+
 struct DesignArgs {
   std::string model_path;
   std::string out;
@@ -89,6 +91,9 @@ void Run(const DesignArgs& a) {
   EmitOutput(text, a.out);
   if (!a.out.empty() && a.out != "-") std::cout << (a.json ? text : Summary(design));
 }
+
+constexpr const char* kRunHelp =
+    "Replay the observer on a recording; adds d_hat_n, d_hat_q31 (fixed point) and d_hat_lp_n";
 
 struct RunArgs {
   std::string recording;
@@ -182,6 +187,8 @@ void Run(const RunArgs& a) {
   EmitOutput(FormatCsv(names, columns), a.out);
 }
 
+constexpr const char* kDobCompareHelp = "Agreement of an estimated and a measured disturbance";
+
 struct CompareArgs {
   std::string recording;
   std::string estimate;
@@ -213,7 +220,7 @@ void Run(const CompareArgs& a) {
 }
 
 void RegisterDobDesignCommand(CLI::App& dob) {
-  const auto [cmd, a] = AddCommand<DesignArgs>(dob, "design", "Design the observer for a model and quantize it for the board", Run);
+  const auto [cmd, a] = AddCommand<DesignArgs>(dob, "design", kDesignHelp, Run);
   cmd->add_option("model", a->model_path, "Model file (JSON)")->required();
   cmd->add_option("--N", a->order, "Order of Q (>= 1)")->capture_default_str();
   cmd->add_option("--r", a->relative_degree, "Relative degree of Q (0 <= N - r, r >= that of G_A)")->capture_default_str();
@@ -234,8 +241,7 @@ void RegisterDobDesignCommand(CLI::App& dob) {
 }
 
 void RegisterDobRunCommand(CLI::App& dob) {
-  const auto [cmd, a] = AddCommand<RunArgs>(
-      dob, "run", "Replay the observer on a recording; adds d_hat_n, d_hat_q31 (fixed point) and d_hat_lp_n", Run);
+  const auto [cmd, a] = AddCommand<RunArgs>(dob, "run", kRunHelp, Run);
   cmd->add_option("recording", a->recording, "Recording (CSV, t_s column)")->required();
   cmd->add_option("--design", a->design, "Design file from `vibid dob design`")->required();
   cmd->add_option("--force", a->force, "Measured force column (NAME, NAME:UNIT or NAME*FACTOR)")->required();
@@ -251,7 +257,7 @@ void RegisterDobRunCommand(CLI::App& dob) {
 }
 
 void RegisterDobCompareCommand(CLI::App& dob) {
-  const auto [cmd, a] = AddCommand<CompareArgs>(dob, "compare", "Agreement of an estimated and a measured disturbance", Run);
+  const auto [cmd, a] = AddCommand<CompareArgs>(dob, "compare", kDobCompareHelp, Run);
   cmd->add_option("recording", a->recording, "CSV with both columns (e.g. the output of `dob run`)")->required();
   cmd->add_option("--estimate", a->estimate, "Estimated force column")->required();
   cmd->add_option("--measured", a->measured, "Measured force column")->required();

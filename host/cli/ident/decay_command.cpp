@@ -75,6 +75,11 @@ nlohmann::json SetJson(const DecaySet& s, const std::vector<std::string>& paths)
           {"omega_d_std", s.omega_d_std}, {"zeta_std", s.zeta_std}, {"records", recs}};
 }
 
+constexpr const char* kDecayHelp =
+    "Free decay after a pull and release (no force channel): finds the release, fits x = x0 + A exp(-sigma t)\n"
+    "cos(omega_d t + phi) over the first cycles, gives omega_d, zeta, omega_n (repeats averaged). With --loaded\n"
+    "records of the same spring carrying --added-kg more, solves k and the base mass.";
+
 struct DecayArgs {
   std::vector<std::string> inputs;
   std::vector<std::string> loaded;
@@ -112,12 +117,7 @@ void Run(const DecayArgs& a) {
 }  // namespace
 
 void RegisterDecay(CLI::App& app) {
-  const auto [cmd, a] = AddCommand<DecayArgs>(
-      app, "decay",
-      "Free decay after a pull and release (no force channel): finds the release, fits x = x0 + A exp(-sigma t)\n"
-      "cos(omega_d t + phi) over the first cycles, gives omega_d, zeta, omega_n (repeats averaged). With --loaded\n"
-      "records of the same spring carrying --added-kg more, solves k and the base mass.",
-      Run);
+  const auto [cmd, a] = AddCommand<DecayArgs>(app, "decay", kDecayHelp, Run);
   cmd->add_option("recordings", a->inputs, "Record(s) of the base configuration, REC.csv ...")->required();
   cmd->add_option("--position", a->position, "Position column, NAME[:UNIT|*FACTOR] (e.g. X_cm:cm)")->required();
   cmd->add_option("--scale", a->scale, "Extra factor applied to the position (e.g. counts to metres)")->check(PositiveNumber());

@@ -19,6 +19,11 @@ namespace vibid::cli {
 
 namespace {
 
+constexpr const char* kFrfEstimateHelp =
+    "Estimate FRFs (H1/H2/Hv with coherence) of responses to a force from a recording: one record per hammer\n"
+    "hit with force and exponential windows and double-hit/clipping checks when the force is a train of short\n"
+    "pulses (or --impact), Welch averaging otherwise (or --welch).";
+
 struct FrfEstimateArgs {
   std::string input;
   std::string output;
@@ -42,6 +47,10 @@ void Run(const FrfEstimateArgs& a) {
     std::cerr << DescribeHits(e.hits);
   }
 }
+
+constexpr const char* kModesHelp =
+    "Modal parameters (omega, zeta, mass-normalised shapes, a1/a2) from FRFs of one hammer test. Inputs are FRF files\n"
+    "(CSV from frf-estimate, or UFF58) or recordings, which are estimated first; several inputs are joined as responses.";
 
 struct ModesArgs {
   std::vector<std::string> inputs;
@@ -97,12 +106,7 @@ void Run(const ModesArgs& a) {
 }  // namespace
 
 void RegisterFrfEstimate(CLI::App& app) {
-  const auto [cmd, args] = AddCommand<FrfEstimateArgs>(
-      app, "frf-estimate",
-      "Estimate FRFs (H1/H2/Hv with coherence) of responses to a force from a recording: one record per hammer\n"
-      "hit with force and exponential windows and double-hit/clipping checks when the force is a train of short\n"
-      "pulses (or --impact), Welch averaging otherwise (or --welch).",
-      Run);
+  const auto [cmd, args] = AddCommand<FrfEstimateArgs>(app, "frf-estimate", kFrfEstimateHelp, Run);
   cmd->add_option("recording", args->input, "Recording CSV (t_s column first)")->required();
   AddEstimationOptions(cmd, args->est, true, "receptance");
   cmd->add_option("-o,--output", args->output, "Output FRF.csv or FRF.uff (UFF58); default: CSV on stdout");
@@ -146,11 +150,7 @@ ident::ModeIdentification RunModes(const ident::Frf& receptance, const ModeArgs&
 }
 
 void RegisterModes(CLI::App& app) {
-  const auto [cmd, args] = AddCommand<ModesArgs>(
-      app, "modes",
-      "Modal parameters (omega, zeta, mass-normalised shapes, a1/a2) from FRFs of one hammer test. Inputs are FRF files\n"
-      "(CSV from frf-estimate, or UFF58) or recordings, which are estimated first; several inputs are joined as responses.",
-      Run);
+  const auto [cmd, args] = AddCommand<ModesArgs>(app, "modes", kModesHelp, Run);
   cmd->add_option("inputs", args->inputs, "FRF.csv | FRF.uff | REC.csv ...")->required();
   AddEstimationOptions(cmd, args->est, false, "receptance");
   AddModeOptions(cmd, args->modes);

@@ -93,6 +93,12 @@ std::string OverlayCsv(const ident::Frf& measured, std::size_t driving_point, co
   return FormatCsv(names, cols);
 }
 
+constexpr const char* kIdentifyHelp =
+    "The whole identification: effective masses from 1-DOF hammer tests (--mass-test POS=REC), modes from\n"
+    "hammer tests of the chain (--modal-test REC, hammer at the driving point), stiffness and damping from the\n"
+    "modes with the updated masses averaged over the tests; writes the updated chain model and prints the\n"
+    "validation table (nominal, updated, test).";
+
 struct IdentifyArgs {
   std::string nominal;
   std::vector<std::string> mass_tests;
@@ -231,13 +237,7 @@ void Run(const IdentifyArgs& a) {
 }  // namespace
 
 void RegisterIdentify(CLI::App& app) {
-  const auto [cmd, a] = AddCommand<IdentifyArgs>(
-      app, "identify",
-      "The whole identification: effective masses from 1-DOF hammer tests (--mass-test POS=REC), modes from\n"
-      "hammer tests of the chain (--modal-test REC, hammer at the driving point), stiffness and damping from the\n"
-      "modes with the updated masses averaged over the tests; writes the updated chain model and prints the\n"
-      "validation table (nominal, updated, test).",
-      Run);
+  const auto [cmd, a] = AddCommand<IdentifyArgs>(app, "identify", kIdentifyHelp, Run);
   a->est.force = "force_n";
   cmd->add_option("--nominal", a->nominal, "Nominal model file (JSON; a chain)")->required();
   cmd->add_option("--mass-test", a->mass_tests, "POS=REC.csv: mass POS (from 1) alone on its spring, hammer test");

@@ -98,6 +98,11 @@ ident::StiffnessUpdateResult StiffnessFromModes(const Eigen::VectorXd& masses, c
 
 namespace {
 
+constexpr const char* kMassHelp =
+    "Effective mass of one mass alone on its spring (1-DOF hammer test): fit |H| = 1/sqrt((k - m w^2)^2 + (c w)^2)\n"
+    "to the coherence-weighted log receptance around the resonance (Levenberg-Marquardt), c started from the\n"
+    "half-power damping and refined (--fixed-damping keeps it).";
+
 struct MassArgs {
   std::string input;
   bool json = false;
@@ -135,6 +140,10 @@ void Run(const MassArgs& a) {
   for (const auto& w : r.warnings) std::cerr << "vibid: warning: " << w << "\n";
 }
 
+constexpr const char* kStiffnessHelp =
+    "Stiffness from modal tests (Eq. 7): K = M Phi Omega^2 Phi^T M with mass-normalised shapes; chain springs\n"
+    "k2 = K22, k1 = K11 - K22, a least-squares chain fit and the off-diagonal mismatch; tests averaged with their spread.";
+
 struct StiffnessArgs {
   std::string masses;
   std::vector<std::string> modes;
@@ -164,12 +173,7 @@ void Run(const StiffnessArgs& a) {
 }
 
 void RegisterMassUpdate(CLI::App& update) {
-  const auto [cmd, a] = AddCommand<MassArgs>(
-      update, "mass",
-      "Effective mass of one mass alone on its spring (1-DOF hammer test): fit |H| = 1/sqrt((k - m w^2)^2 + (c w)^2)\n"
-      "to the coherence-weighted log receptance around the resonance (Levenberg-Marquardt), c started from the\n"
-      "half-power damping and refined (--fixed-damping keeps it).",
-      Run);
+  const auto [cmd, a] = AddCommand<MassArgs>(update, "mass", kMassHelp, Run);
   cmd->add_option("input", a->input, "Recording (REC.csv) or FRF file")->required();
   AddEstimationOptions(cmd, a->est, false, "receptance");
   cmd->add_option("--stiffness-n-per-m", a->options.k_n_per_m, "Known spring stiffness (N/m); omitted: fitted too")
@@ -183,11 +187,7 @@ void RegisterMassUpdate(CLI::App& update) {
 }
 
 void RegisterStiffnessUpdate(CLI::App& update) {
-  const auto [cmd, a] = AddCommand<StiffnessArgs>(
-      update, "stiffness",
-      "Stiffness from modal tests (Eq. 7): K = M Phi Omega^2 Phi^T M with mass-normalised shapes; chain springs\n"
-      "k2 = K22, k1 = K11 - K22, a least-squares chain fit and the off-diagonal mismatch; tests averaged with their spread.",
-      Run);
+  const auto [cmd, a] = AddCommand<StiffnessArgs>(update, "stiffness", kStiffnessHelp, Run);
   cmd->add_option("--masses", a->masses, "Masses m1,m2,... (kg), e.g. from `update mass`")->required();
   cmd->add_option("--modes", a->modes, "MODES.json from `vibid modes --json`, one per test")->required();
   cmd->add_flag("--json", a->json, "JSON output");

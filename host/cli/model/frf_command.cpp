@@ -17,6 +17,11 @@
 namespace vibid::cli {
 namespace {
 
+constexpr const char* kFrfHelp =
+    "Frequency response of a model, (K - w^2 M + j w C)^-1 for receptance (m/N), times j w for mobility\n"
+    "(m/(N*s)), times -w^2 for accelerance (m/(N*s^2)). CSV: freq_hz, then re_/im_<kind>_<in>_<out>\n"
+    "per output (or mag_ and phase_deg_ with --polar).";
+
 struct FrfArgs {
   std::string model_path;
   int input = 1;
@@ -79,12 +84,7 @@ void Run(const FrfArgs& a) {
 }  // namespace
 
 void RegisterFrfCommand(CLI::App& app) {
-  const auto [cmd, args] = AddCommand<FrfArgs>(
-      app, "frf",
-      "Frequency response of a model, (K - w^2 M + j w C)^-1 for receptance (m/N), times j w for mobility\n"
-      "(m/(N*s)), times -w^2 for accelerance (m/(N*s^2)). CSV: freq_hz, then re_/im_<kind>_<in>_<out>\n"
-      "per output (or mag_ and phase_deg_ with --polar).",
-      Run);
+  const auto [cmd, args] = AddCommand<FrfArgs>(app, "frf", kFrfHelp, Run);
   cmd->add_option("model", args->model_path, "Model file (JSON)")->required();
   cmd->add_option("--input", args->input, "DOF the force acts on (from 1)")->required();
   cmd->add_option("--output", args->outputs, "Response DOF(s), comma separated (from 1)")->required();

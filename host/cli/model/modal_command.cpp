@@ -14,6 +14,10 @@
 namespace vibid::cli {
 namespace {
 
+constexpr const char* kModalHelp =
+    "Modal analysis of a model: natural frequencies (Hz, rad/s), damping ratios and mass-normalised mode\n"
+    "shapes (1/sqrt(kg)), sorted by frequency; for 2 or more DOFs the shape ratio a1/a2.";
+
 struct ModalArgs {
   std::string model_path;
   bool json = false;
@@ -78,11 +82,7 @@ void Run(const ModalArgs& a) {
 }  // namespace
 
 void RegisterModalCommand(CLI::App& app) {
-  const auto [cmd, args] = AddCommand<ModalArgs>(
-      app, "modal",
-      "Modal analysis of a model: natural frequencies (Hz, rad/s), damping ratios and mass-normalised mode\n"
-      "shapes (1/sqrt(kg)), sorted by frequency; for 2 or more DOFs the shape ratio a1/a2.",
-      Run);
+  const auto [cmd, args] = AddCommand<ModalArgs>(app, "modal", kModalHelp, Run);
   cmd->add_option("model", args->model_path, "Model file (JSON: chain, cart or M/K/C matrices in kg, N/m, N*s/m)")->required();
   cmd->add_flag("--json", args->json,
                 "Print {\"modes\": [{\"omega_rad_s\", \"freq_hz\", \"zeta\", \"shape\", \"ratio\"}, ...]} instead of a table");

@@ -33,6 +33,11 @@ constexpr const char* kNominalColor = "#d62728";
 constexpr const char* kUpdatedColor = "#1f77b4";
 constexpr const char* kPalette[] = {"#1f77b4", "#d62728", "#2ca02c", "#9467bd", "#ff7f0e"};
 
+constexpr const char* kReportHelp =
+    "One HTML page (inline SVG, no scripts) from an identification (`vibid identify --report DIR`): validation\n"
+    "table and FRFs measured/nominal/updated; and from an observer recording (`vibid dob run`): fit of each\n"
+    "estimate to the measured force and the traces over time.";
+
 struct ReportArgs {
   std::string title = "vibid rig report";
   std::string identify_dir;
@@ -279,12 +284,7 @@ void Run(const ReportArgs& a) {
 }  // namespace
 
 void RegisterReportCommands(CLI::App& app) {
-  const auto [cmd, a] = AddCommand<ReportArgs>(
-      app, "report",
-      "One HTML page (inline SVG, no scripts) from an identification (`vibid identify --report DIR`): validation\n"
-      "table and FRFs measured/nominal/updated; and from an observer recording (`vibid dob run`): fit of each\n"
-      "estimate to the measured force and the traces over time.",
-      Run);
+  const auto [cmd, a] = AddCommand<ReportArgs>(app, "report", kReportHelp, Run);
   cmd->add_option("--identify", a->identify_dir, "Directory written by `vibid identify --report`");
   cmd->add_option("--truth", a->truth, "Model file of the rig's true values (e.g. `vibid-emu --print-truth`): adds the error of the update");
   cmd->add_option("--dob", a->dob_recording, "Recording with the measured force and the estimates (CSV)");

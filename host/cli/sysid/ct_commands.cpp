@@ -29,6 +29,9 @@ void CheckSolver(const sysid::SolverSummary& s, const std::string& what) {
   }
 }
 
+constexpr const char* kTfestHelp =
+    "Continuous-time transfer function num(s)/den(s) (SRIVC start, output-error refinement)";
+
 struct TfestArgs {
   RecordArgs record;
   int np = 2;
@@ -82,6 +85,9 @@ void Run(const TfestArgs& a) {
   }
   Emit(j, text.str(), a.json, a.out);
 }
+
+constexpr const char* kCompareHelp =
+    "Fit of a model's simulated (or k-step predicted) output to a recording: 100(1-|y-yhat|/|y-mean(y)|) %";
 
 struct CompareArgs {
   RecordArgs record;
@@ -177,6 +183,9 @@ void Run(const CompareArgs& a) {
   Emit(j, text.str(), a.json, "");
 }
 
+constexpr const char* kGreyboxHelp =
+    "Cart track (methods §10): M, B, k (and Bi) of one cart or M1, M2, B1, B2, k (and Bi) of two";
+
 struct GreyboxArgs {
   RecordArgs record;
   int carts = 1;
@@ -235,8 +244,7 @@ void Run(const GreyboxArgs& a) {
 }  // namespace
 
 void RegisterTfestCommand(CLI::App& app) {
-  const auto [cmd, a] = AddCommand<TfestArgs>(
-      app, "tfest", "Continuous-time transfer function num(s)/den(s) (SRIVC start, output-error refinement)", Run);
+  const auto [cmd, a] = AddCommand<TfestArgs>(app, "tfest", kTfestHelp, Run);
   AddRecordOptions(*cmd, a->record);
   cmd->add_option("--np", a->np, "Number of poles")->required()->check(CLI::Range(1, 20));
   cmd->add_option("--nz", a->nz, "Number of zeros (< np)")->check(CLI::Range(0, 19));
@@ -251,9 +259,7 @@ void RegisterTfestCommand(CLI::App& app) {
 }
 
 void RegisterCompareCommand(CLI::App& app) {
-  const auto [cmd, a] = AddCommand<CompareArgs>(
-      app, "compare",
-      "Fit of a model's simulated (or k-step predicted) output to a recording: 100(1-|y-yhat|/|y-mean(y)|) %", Run);
+  const auto [cmd, a] = AddCommand<CompareArgs>(app, "compare", kCompareHelp, Run);
   AddRecordOptions(*cmd, a->record);
   cmd->add_option("--model", a->model,
                   "TF.json (num/den, as tfest and greybox write), a polynomial model (arx/pem -o), or a model file "
@@ -276,8 +282,7 @@ void RegisterCompareCommand(CLI::App& app) {
 void RegisterGreyboxCommand(CLI::App& app) {
   auto* group = app.add_subcommand("greybox", "Physical parameters by output error on a first-principle model");
   group->require_subcommand(1);
-  const auto [cmd, a] = AddCommand<GreyboxArgs>(
-      *group, "cart", "Cart track (methods §10): M, B, k (and Bi) of one cart or M1, M2, B1, B2, k (and Bi) of two", Run);
+  const auto [cmd, a] = AddCommand<GreyboxArgs>(*group, "cart", kGreyboxHelp, Run);
   AddRecordOptions(*cmd, a->record);
   cmd->add_option("--carts", a->carts, "1 (cart 2 pinned) or 2")->check(CLI::IsMember({1, 2}));
   cmd->add_option("--input-kind", a->input_kind, "force (N on cart 1) | position (Xi through the first spring, m)")

@@ -146,6 +146,9 @@ sysid::PolyOrders ParseOrders(const std::string& text, sysid::Structure s) {
   return o;
 }
 
+constexpr const char* kArxHelp =
+    "ARX model A(q)y = B(q)u + e by least squares (QR); coefficients in q^-1";
+
 struct ArxArgs {
   PolyArgs poly;
   int na = -1;
@@ -182,6 +185,9 @@ void Run(const ArxArgs& a) {
   Emit(j, text.str(), a.poly.json, a.poly.out);
 }
 
+constexpr const char* kPemHelp =
+    "Prediction-error model (arx, armax, oe, bj) by Levenberg-Marquardt";
+
 struct PemArgs {
   PolyArgs poly;
   std::string structure;
@@ -213,8 +219,7 @@ void Run(const PemArgs& a) {
 }  // namespace
 
 void RegisterArxCommand(CLI::App& app) {
-  const auto [cmd, a] =
-      AddCommand<ArxArgs>(app, "arx", "ARX model A(q)y = B(q)u + e by least squares (QR); coefficients in q^-1", Run);
+  const auto [cmd, a] = AddCommand<ArxArgs>(app, "arx", kArxHelp, Run);
   AddPolyOptions(*cmd, a->poly);
   cmd->add_option("--na", a->na, "Order of A")->check(CLI::NonNegativeNumber);
   cmd->add_option("--nb", a->nb, "Number of B coefficients")->check(CLI::PositiveNumber);
@@ -225,8 +230,7 @@ void RegisterArxCommand(CLI::App& app) {
 }
 
 void RegisterPemCommand(CLI::App& app) {
-  const auto [cmd, a] =
-      AddCommand<PemArgs>(app, "pem", "Prediction-error model (arx, armax, oe, bj) by Levenberg-Marquardt", Run);
+  const auto [cmd, a] = AddCommand<PemArgs>(app, "pem", kPemHelp, Run);
   AddPolyOptions(*cmd, a->poly);
   cmd->add_option("--structure", a->structure, "arx | armax | oe | bj")->required()
       ->check(CLI::IsMember({"arx", "armax", "oe", "bj"}));
