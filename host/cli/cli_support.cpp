@@ -1,8 +1,8 @@
 #include "cli_support.hpp"
 
-#include <cmath>
 #include <iostream>
 
+#include "common/option_text.hpp"
 #include "vibid/common/atomic_file.hpp"
 
 namespace vibid::cli {
@@ -22,13 +22,14 @@ CLI::Validator NumberValidator(bool allow_zero) {
   return CLI::Validator(
       [allow_zero](std::string& s) -> std::string {
         double v = 0.0;
-        std::size_t used = 0;
-        try {
-          v = std::stod(s, &used);
-        } catch (...) {
-          return "'" + s + "' is not a number";
+        switch (ParseNumber(s, v)) {
+          case NumberText::kNotANumber:
+            return "'" + s + "' is not a number";
+          case NumberText::kNotFinite:
+            return "'" + s + "' is not a finite number";
+          case NumberText::kOk:
+            break;
         }
-        if (used != s.size() || !std::isfinite(v)) return "'" + s + "' is not a finite number";
         if (allow_zero ? v < 0.0 : v <= 0.0) return "'" + s + (allow_zero ? "' must be >= 0" : "' must be > 0");
         return {};
       },

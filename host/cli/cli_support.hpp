@@ -1,4 +1,5 @@
-// Helpers shared by the CLI commands: output routing and error kinds beyond InputError.
+// Helpers shared by the CLI commands: output routing, number validators and the numerical error
+// kind (input errors are vibid::InputError, device errors vibid::device::DeviceError).
 #pragma once
 
 #include <optional>
@@ -16,12 +17,6 @@ namespace vibid::cli {
 class NumericalError : public std::runtime_error {
  public:
   explicit NumericalError(const std::string& message) : std::runtime_error(message) {}
-};
-
-/// A device that is absent, refuses, or breaks off a transfer. Exit code kExitDevice.
-class DeviceError : public std::runtime_error {
- public:
-  explicit DeviceError(const std::string& message) : std::runtime_error(message) {}
 };
 
 /// Writes `content` to `path` atomically, or to stdout when `path` is empty or "-".

@@ -13,7 +13,7 @@ struct GlobalOptions {
 void RegisterModelCommands(CLI::App& app);   // modal, frf, simulate
 void RegisterIdentCommands(CLI::App& app);   // frf-estimate, modes, update, decay, identify
 void RegisterSysidCommands(CLI::App& app);   // arx, pem, tfest, compare, greybox
-void RegisterDobCommands(CLI::App& app);     // dob design|run|compare
+void RegisterDobCommands(CLI::App& app, const GlobalOptions& globals);  // dob design|run|compare|start|stop
 void RegisterReportCommands(CLI::App& app);  // report
 void RegisterDeviceCommands(CLI::App& app, const GlobalOptions& globals);  // devices, info, cal, acquire, ...
 

@@ -8,6 +8,7 @@
 #include "cli_support.hpp"
 #include "commands.hpp"
 #include "vibid/common/error.hpp"
+#include "vibid/device/error.hpp"
 
 int main(int argc, char** argv) {
   using namespace vibid::cli;
@@ -23,7 +24,7 @@ int main(int argc, char** argv) {
   RegisterModelCommands(app);
   RegisterIdentCommands(app);
   RegisterSysidCommands(app);
-  RegisterDobCommands(app);
+  RegisterDobCommands(app, globals);
   RegisterReportCommands(app);
   RegisterDeviceCommands(app, globals);
 
@@ -44,7 +45,7 @@ int main(int argc, char** argv) {
   } catch (const NumericalError& e) {
     std::cerr << "vibid: error: " << e.what() << "\n";
     return kExitNumerical;
-  } catch (const DeviceError& e) {
+  } catch (const vibid::device::DeviceError& e) {
     std::cerr << "vibid: error: " << e.what() << "\n";
     return kExitDevice;
   } catch (const std::exception& e) {

@@ -4,6 +4,8 @@
 #include <iostream>
 
 #include "cli_support.hpp"
+#include "common/command.hpp"
+#include "common/option_text.hpp"
 #include "device_commands.hpp"
 #include "session.hpp"
 #include "vibid/common/error.hpp"
@@ -15,7 +17,11 @@
 namespace vibid::cli {
 namespace {
 
-struct AcquireOptions {
+constexpr const char* kAcquireHelp =
+    "Record from the board: configure, start, pull the log into a CSV";
+
+struct AcquireArgs {
+  const GlobalOptions* globals = nullptr;
   double seconds = 0.0;
   double rate_hz = 5000.0;
   double log_rate_hz = 0.0;  // 0: the sampling rate
@@ -47,14 +53,7 @@ Trigger ParseTrigger(const std::string& text) {
   if (stem == "force") stem = "force1";
   if (!device::ChannelFromStem(stem, t.channel) || !wire::IsLoadCell(static_cast<std::uint8_t>(t.channel))) bad();
   t.mode = text[op] == '>' ? wire::TriggerMode::kRising : wire::TriggerMode::kFalling;
-  try {
-    std::size_t used = 0;
-    const std::string v = text.substr(op + 1);
-    t.threshold = std::stod(v, &used);
-    if (used != v.size() || !std::isfinite(t.threshold)) bad();
-  } catch (const std::logic_error&) {
-    bad();
-  }
+  if (ParseNumber(text.substr(op + 1), t.threshold) != NumberText::kOk) bad();
   return t;
 }
 
@@ -101,11 +100,128 @@ void WriteLog(device::Connection& c, const device::LogPull& pull, const std::str
   std::cerr << (path.empty() || path == "-" ? "" : " written to " + path) << "\n";
 }
 
-}  // namespace
+/// The acquisition the options ask for, checked as far as it can be without the board; `trig` gets
+/// the parsed --trigger (read in the order the options are checked, so the first bad one is named).
+wire::AcqConfigureRequest AcquireConfig(const AcquireArgs& a, Trigger& trig) {
+  wire::AcqConfigureRequest cfg;
+  const double period_us = 1e6 / a.rate_hz;
+  Require(std::abs(period_us - std::round(period_us)) < 1e-6 && period_us >= wire::kMinSamplePeriodUs &&
+              period_us <= wire::kMaxSamplePeriodUs,
+          "--rate-hz " + std::to_string(a.rate_hz) + ": the period must be a whole number of microseconds from 100 to 1000000");
+  cfg.sample_period_us = static_cast<std::uint32_t>(std::lround(period_us));
+  cfg.decimation = static_cast<std::uint16_t>(DecimationFor(a.rate_hz, a.log_rate_hz, a.decimation));
+  cfg.channel_mask = 0;
+  for (const std::string& name : a.channels) {
+    wire::Channel ch{};
+    Require(device::ChannelFromStem(name, ch), "--channels: unknown channel '" + name + "' (force1, force2, acc1, acc2, x1, x2)");
+    cfg.channel_mask = static_cast<std::uint8_t>(cfg.channel_mask | (1u << static_cast<unsigned>(ch)));
+  }
+  if (cfg.channel_mask == 0) cfg.channel_mask = wire::kAllChannelsMask;
+  trig = ParseTrigger(a.trigger);
+  Require(a.pretrigger_s == 0.0 || trig.mode != wire::TriggerMode::kImmediate, "--pretrigger-s needs a --trigger");
+  const double log_rate_hz = a.rate_hz / cfg.decimation;
+  cfg.record_limit = static_cast<std::uint32_t>(std::lround(a.seconds * log_rate_hz));
+  cfg.pretrigger_records = static_cast<std::uint32_t>(std::lround(a.pretrigger_s * log_rate_hz));
+  Require(cfg.record_limit > 0, "--seconds is shorter than one logged sample");
+  Require(a.scenario_params.size() <= 4, "--scenario-param takes at most 4 values");
+  return cfg;
+}
 
-void RegisterAcquireCommands(CLI::App& app, const GlobalOptions& globals) {
-  CLI::App* acq = app.add_subcommand("acquire", "Record from the board: configure, start, pull the log into a CSV");
-  auto o = std::make_shared<AcquireOptions>();
+/// What the board's calibration adds: the observer output, and the trigger threshold in ADC units.
+void ApplyCalibration(device::Connection& c, const AcquireArgs& a, const Trigger& trig, wire::AcqConfigureRequest& cfg) {
+  bool has_record = false;
+  const wire::CalibrationRecord rec = ActiveRecord(c, has_record);
+  if (!a.no_dob && has_record && (rec.flags & wire::kCalFlagHasDob) != 0) cfg.flags = wire::kAcqFlagLogDob;
+  if (trig.mode == wire::TriggerMode::kImmediate) return;
+  const wire::ChannelScaling& s = rec.channels[static_cast<std::size_t>(trig.channel)];
+  if (!has_record || s.unit != wire::Unit::kNewton) {
+    throw device::DeviceError("a force trigger needs a calibrated load cell: upload a calibration first (vibid cal upload)");
+  }
+  const double q = trig.threshold / static_cast<double>(s.full_scale) * 2147483648.0;
+  Require(std::abs(q) < 2147483647.0, "--trigger threshold is beyond the load cell's full scale");
+  cfg.trigger_mode = trig.mode;
+  cfg.trigger_channel = static_cast<std::uint8_t>(trig.channel);
+  cfg.trigger_threshold = static_cast<std::int32_t>(std::lround(q));
+}
+
+/// Runs the configured acquisition, streaming the log as it fills; the board is left idle on any failure.
+device::LogPull Acquire(device::Connection& c, const wire::AcqConfigureRequest& cfg, const device::LinkBudget& budget) {
+  try {
+    ProgressBar bar("acquire");
+    const std::uint64_t total = std::uint64_t{cfg.record_limit} + cfg.pretrigger_records;
+    // Progress in records from the bytes received (the 4-byte ticks make it slightly ahead).
+    return c.AcquireStreamed([&](std::uint64_t bytes, std::uint64_t) {
+      bar.Update(std::min<std::uint64_t>(total, bytes / budget.record_bytes), total);
+    });
+  } catch (const device::Interrupted&) {
+    c.StopAcquisition();
+    throw device::DeviceError("interrupted: acquisition stopped, nothing written");
+  } catch (...) {
+    // The board is left idle whenever it can still be reached.
+    try {
+      c.StopAcquisition();
+    } catch (const device::DeviceError&) {
+    }
+    throw;
+  }
+}
+
+void Run(const AcquireArgs& a) {
+  Trigger trig;
+  wire::AcqConfigureRequest cfg = AcquireConfig(a, trig);
+  WithDevice(*a.globals, [&](device::Connection& c) {
+    ApplyCalibration(c, a, trig, cfg);
+    // Preflight: records the link cannot carry pile up in the log; refuse before the board
+    // starts if it would overflow.
+    const device::LinkBudget budget = device::ComputeLinkBudget(c.info(), cfg);
+    if (budget.overflow_after_s < a.seconds + a.pretrigger_s && !a.allow_drops) {
+      throw InputError(device::DescribeOverflow(budget, a.seconds));
+    }
+    cfg.flags = static_cast<std::uint8_t>(cfg.flags | wire::kAcqFlagStream);
+    if (!a.scenario.empty()) c.SelectScenario(a.scenario, a.scenario_params);
+    c.Configure(cfg);
+    const device::LogPull pull = Acquire(c, cfg, budget);
+    WriteLog(c, pull, a.output);
+  });
+}
+
+constexpr const char* kPullHelp = "Pull the log of the last acquisition into a CSV";
+
+struct PullArgs {
+  const GlobalOptions* globals = nullptr;
+  std::string output;
+  std::uint32_t first = 0;
+  bool first_given = false;
+};
+
+void Run(const PullArgs& a) {
+  WithDevice(*a.globals, [&](device::Connection& c) {
+    device::LogPull pull;
+    try {
+      ProgressBar bar("log pull");
+      // By default everything the board still holds: records pulled before (by acquire, while
+      // sampling) stay readable until the log wraps over them.
+      const wire::StatusResponse st = c.GetStatus();
+      const std::uint32_t first = a.first_given ? a.first : st.oldest_record;
+      if (first < st.oldest_record) {
+        throw device::DeviceError("--from " + std::to_string(first) + ": the board's log has been overwritten up to record " +
+                                  std::to_string(st.oldest_record) + ", the oldest it still holds");
+      }
+      if (first > st.records_written) {
+        throw device::DeviceError("--from " + std::to_string(first) + ": the log holds only " +
+                                  std::to_string(st.records_written) + " records");
+      }
+      pull = c.PullLog(first, bar.Callback());
+    } catch (const device::Interrupted&) {
+      throw device::DeviceError("interrupted: nothing written");
+    }
+    WriteLog(c, pull, a.output);
+  });
+}
+
+void RegisterAcquire(CLI::App& app, const GlobalOptions& globals) {
+  const auto [acq, o] = AddCommand<AcquireArgs>(app, "acquire", kAcquireHelp, Run);
+  o->globals = &globals;
   acq->add_option("--seconds", o->seconds, "Seconds to record after the trigger")->required()->check(PositiveNumber());
   acq->add_option("--rate-hz", o->rate_hz, "Sample rate (Hz)")->check(PositiveNumber());
   auto* log_rate = acq->add_option("--log-rate-hz", o->log_rate_hz,
@@ -122,111 +238,25 @@ void RegisterAcquireCommands(CLI::App& app, const GlobalOptions& globals) {
   acq->add_option("--scenario-param", o->scenario_params, "Emulator only: up to 4 scenario parameters (SI)")->delimiter(',');
   acq->add_flag("--no-dob", o->no_dob, "Do not log the observer output");
   acq->add_option("-o,--output", o->output, "Output CSV")->required();
-  acq->callback([&globals, o] {
-    wire::AcqConfigureRequest cfg;
-    const double period_us = 1e6 / o->rate_hz;
-    Require(std::abs(period_us - std::round(period_us)) < 1e-6 && period_us >= wire::kMinSamplePeriodUs &&
-                period_us <= wire::kMaxSamplePeriodUs,
-            "--rate-hz " + std::to_string(o->rate_hz) + ": the period must be a whole number of microseconds from 100 to 1000000");
-    cfg.sample_period_us = static_cast<std::uint32_t>(std::lround(period_us));
-    cfg.decimation = static_cast<std::uint16_t>(DecimationFor(o->rate_hz, o->log_rate_hz, o->decimation));
-    cfg.channel_mask = 0;
-    for (const std::string& name : o->channels) {
-      wire::Channel ch{};
-      Require(device::ChannelFromStem(name, ch), "--channels: unknown channel '" + name + "' (force1, force2, acc1, acc2, x1, x2)");
-      cfg.channel_mask = static_cast<std::uint8_t>(cfg.channel_mask | (1u << static_cast<unsigned>(ch)));
-    }
-    if (cfg.channel_mask == 0) cfg.channel_mask = wire::kAllChannelsMask;
-    const Trigger trig = ParseTrigger(o->trigger);
-    Require(o->pretrigger_s == 0.0 || trig.mode != wire::TriggerMode::kImmediate, "--pretrigger-s needs a --trigger");
-    const double log_rate_hz = o->rate_hz / cfg.decimation;
-    cfg.record_limit = static_cast<std::uint32_t>(std::lround(o->seconds * log_rate_hz));
-    cfg.pretrigger_records = static_cast<std::uint32_t>(std::lround(o->pretrigger_s * log_rate_hz));
-    Require(cfg.record_limit > 0, "--seconds is shorter than one logged sample");
-    Require(o->scenario_params.size() <= 4, "--scenario-param takes at most 4 values");
-    WithDevice(globals, [&](device::Connection& c) {
-      bool has_record = false;
-      const wire::CalibrationRecord rec = ActiveRecord(c, has_record);
-      if (!o->no_dob && has_record && (rec.flags & wire::kCalFlagHasDob) != 0) cfg.flags = wire::kAcqFlagLogDob;
-      if (trig.mode != wire::TriggerMode::kImmediate) {
-        const wire::ChannelScaling& s = rec.channels[static_cast<std::size_t>(trig.channel)];
-        if (!has_record || s.unit != wire::Unit::kNewton) {
-          throw DeviceError("a force trigger needs a calibrated load cell: upload a calibration first (vibid cal upload)");
-        }
-        const double q = trig.threshold / static_cast<double>(s.full_scale) * 2147483648.0;
-        Require(std::abs(q) < 2147483647.0, "--trigger threshold is beyond the load cell's full scale");
-        cfg.trigger_mode = trig.mode;
-        cfg.trigger_channel = static_cast<std::uint8_t>(trig.channel);
-        cfg.trigger_threshold = static_cast<std::int32_t>(std::lround(q));
-      }
-      // Preflight: records the link cannot carry pile up in the log; refuse before the board
-      // starts if it would overflow.
-      const device::LinkBudget budget = device::ComputeLinkBudget(c.info(), cfg);
-      if (budget.overflow_after_s < o->seconds + o->pretrigger_s && !o->allow_drops) {
-        throw InputError(device::DescribeOverflow(budget, o->seconds));
-      }
-      cfg.flags = static_cast<std::uint8_t>(cfg.flags | wire::kAcqFlagStream);
-      if (!o->scenario.empty()) c.SelectScenario(o->scenario, o->scenario_params);
-      c.Configure(cfg);
-      device::LogPull pull;
-      try {
-        ProgressBar bar("acquire");
-        const std::uint64_t total = std::uint64_t{cfg.record_limit} + cfg.pretrigger_records;
-        // Progress in records from the bytes received (the 4-byte ticks make it slightly ahead).
-        pull = c.AcquireStreamed([&](std::uint64_t bytes, std::uint64_t) {
-          bar.Update(std::min<std::uint64_t>(total, bytes / budget.record_bytes), total);
-        });
-      } catch (const device::Interrupted&) {
-        c.StopAcquisition();
-        throw DeviceError("interrupted: acquisition stopped, nothing written");
-      } catch (...) {
-        // The board is left idle whenever it can still be reached.
-        try {
-          c.StopAcquisition();
-        } catch (const device::DeviceError&) {
-        }
-        throw;
-      }
-      WriteLog(c, pull, o->output);
-    });
-  });
+}
 
+void RegisterLogPull(CLI::App& app, const GlobalOptions& globals) {
   CLI::App* log = app.add_subcommand("log", "The board's acquisition log");
   log->require_subcommand(1);
-  CLI::App* pull_cmd = log->add_subcommand("pull", "Pull the log of the last acquisition into a CSV");
-  struct PullOptions {
-    std::string output;
-    std::uint32_t first = 0;
-    bool first_given = false;
-  };
-  auto po = std::make_shared<PullOptions>();
+  const auto added = AddCommand<PullArgs>(*log, "pull", kPullHelp, Run);
+  CLI::App* pull_cmd = added.first;
+  PullArgs* po = added.second;
+  po->globals = &globals;
   pull_cmd->add_option("-o,--output", po->output, "Output CSV")->required();
   pull_cmd->add_option("--from", po->first, "First log record to pull (default: the oldest the board still holds)")
       ->each([po](const std::string&) { po->first_given = true; });
-  pull_cmd->callback([&globals, po] {
-    WithDevice(globals, [&](device::Connection& c) {
-      device::LogPull pull;
-      try {
-        ProgressBar bar("log pull");
-        // By default everything the board still holds: records pulled before (by acquire, while
-        // sampling) stay readable until the log wraps over them.
-        const wire::StatusResponse st = c.GetStatus();
-        const std::uint32_t first = po->first_given ? po->first : st.oldest_record;
-        if (first < st.oldest_record) {
-          throw DeviceError("--from " + std::to_string(first) + ": the board's log has been overwritten up to record " +
-                            std::to_string(st.oldest_record) + ", the oldest it still holds");
-        }
-        if (first > st.records_written) {
-          throw DeviceError("--from " + std::to_string(first) + ": the log holds only " +
-                            std::to_string(st.records_written) + " records");
-        }
-        pull = c.PullLog(first, bar.Callback());
-      } catch (const device::Interrupted&) {
-        throw DeviceError("interrupted: nothing written");
-      }
-      WriteLog(c, pull, po->output);
-    });
-  });
+}
+
+}  // namespace
+
+void RegisterAcquireCommands(CLI::App& app, const GlobalOptions& globals) {
+  RegisterAcquire(app, globals);
+  RegisterLogPull(app, globals);
 }
 
 }  // namespace vibid::cli

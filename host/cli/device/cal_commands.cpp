@@ -8,6 +8,8 @@
 #include <nlohmann/json.hpp>
 
 #include "cli_support.hpp"
+#include "common/command.hpp"
+#include "vibid/device/error.hpp"
 #include "device_commands.hpp"
 #include "session.hpp"
 #include "vibid/common/error.hpp"
@@ -112,12 +114,105 @@ std::string FormatRecord(const nlohmann::json& j) {
   return o.str();
 }
 
-struct UploadOptions {
+constexpr const char* kUploadHelp =
+    "Build a calibration record and stage it on the board (commit makes it permanent)";
+
+struct UploadArgs {
+  const GlobalOptions* globals = nullptr;
   std::string model;
   std::string design;
   std::string sensors;
   std::string label;
 };
+
+/// The rig name: --label, else the model file's name without its folder and .json, cut to fit.
+std::string RecordLabel(const UploadArgs& a) {
+  std::string label = a.label;
+  if (label.empty()) {
+    label = a.model.substr(a.model.find_last_of('/') + 1);
+    if (label.size() > 5 && label.ends_with(".json")) label.resize(label.size() - 5);
+    if (label.size() >= wire::kCalLabelBytes) label.resize(wire::kCalLabelBytes - 1);
+  }
+  return label;
+}
+
+/// Everything of the record that comes from files and this host (the sensors may come from the board).
+device::RecordInputs UploadInputs(const UploadArgs& a) {
+  device::RecordInputs in;
+  in.model = model::LoadModel(a.model);
+  in.observer = dob::ObserverFromJson(ReadJsonFile(a.design), a.design).description;
+  in.label = RecordLabel(a);
+  in.created_unix_s = std::chrono::duration_cast<std::chrono::seconds>(
+                          std::chrono::system_clock::now().time_since_epoch()).count();
+  unsigned major = 0, minor = 0, patch = 0;
+  static_cast<void>(std::sscanf(VIBID_VERSION, "%u.%u.%u", &major, &minor, &patch));
+  in.host_major = static_cast<std::uint8_t>(major);
+  in.host_minor = static_cast<std::uint8_t>(minor);
+  in.host_patch = static_cast<std::uint16_t>(patch);
+  if (!a.sensors.empty()) in.sensors = device::SensorsFromJson(ReadJsonFile(a.sensors), a.sensors);
+  return in;
+}
+
+void Run(const UploadArgs& a) {
+  device::RecordInputs in = UploadInputs(a);
+  WithDevice(*a.globals, [&](device::Connection& c) {
+    if (a.sensors.empty()) {
+      bool has_record = false;
+      const wire::CalibrationRecord old = ActiveRecord(c, has_record);
+      if (!has_record) throw InputError("the board is uncalibrated: give its sensors with --sensors SENSORS.json");
+      for (std::size_t k = 0; k < wire::kChannelCount; ++k) {
+        if (old.channels[k].unit != wire::Unit::kCounts) in.sensors[k] = device::FromChannelScaling(old.channels[k]);
+      }
+    }
+    const wire::CalibrationRecord rec = device::BuildCalibrationRecord(in);
+    std::array<std::uint8_t, wire::kCalRecordBytes> bytes{};
+    wire::EncodeCalibrationRecord(rec, bytes);
+    {
+      ProgressBar bar("cal upload");
+      c.CalPut(bytes, bar.Callback());
+    }
+    char crc[11];
+    std::snprintf(crc, sizeof(crc), "0x%08x", wire::StoredRecordCrc(bytes));
+    std::cout << "staged calibration '" << in.label << "' (" << bytes.size() << " bytes, crc " << crc
+              << "); `vibid cal commit` writes it to flash\n";
+  });
+}
+
+constexpr const char* kShowHelp = "Print the board's active calibration record";
+
+struct ShowArgs {
+  const GlobalOptions* globals = nullptr;
+  bool json = false;
+};
+
+void Run(const ShowArgs& a) {
+  WithDevice(*a.globals, [&](device::Connection& c) {
+    if (c.info().cal_state != wire::CalState::kCalibrated) {
+      std::cout << (a.json ? "null\n" : "uncalibrated: raw counts, no observer\n");
+      return;
+    }
+    wire::CalGetTrailer t;
+    const std::vector<std::uint8_t> bytes = c.CalGet(&t);
+    wire::CalibrationRecord r;
+    const Status st = wire::DecodeCalibrationRecord(bytes, r);
+    if (st != Status::kOk) throw device::DeviceError(std::string("the board's calibration record does not decode: ") + StatusName(st));
+    const nlohmann::json j = RecordJson(r, t, wire::StoredRecordCrc(std::span<const std::uint8_t, wire::kCalRecordBytes>(bytes.data(), bytes.size())));
+    std::cout << (a.json ? j.dump(2) + "\n" : FormatRecord(j));
+  });
+}
+
+constexpr const char* kCommitHelp = "Write the staged record to flash (refused while acquiring)";
+
+struct CommitArgs {
+  const GlobalOptions* globals = nullptr;
+};
+
+void Run(const CommitArgs& a) {
+  WithDevice(*a.globals, [](device::Connection& c) {
+    const wire::CalCommitResponse r = c.CalCommit();
+    std::cout << "committed to slot " << static_cast<int>(r.slot) << ", sequence " << r.sequence << "\n";
+  });
+}
 
 }  // namespace
 
@@ -125,81 +220,19 @@ void RegisterCalCommands(CLI::App& app, const GlobalOptions& globals) {
   CLI::App* cal = app.add_subcommand("cal", "The board's calibration record: model, sensor scaling, observer");
   cal->require_subcommand(1);
 
-  CLI::App* upload = cal->add_subcommand("upload", "Build a calibration record and stage it on the board (commit makes it permanent)");
-  auto uo = std::make_shared<UploadOptions>();
+  const auto [upload, uo] = AddCommand<UploadArgs>(*cal, "upload", kUploadHelp, Run);
+  uo->globals = &globals;
   upload->add_option("model", uo->model, "Model file (M, C, K) of the rig")->required();
   upload->add_option("--design", uo->design, "Observer design file from `vibid dob design`")->required();
   upload->add_option("--sensors", uo->sensors, "Sensors file (default: the scaling the board already holds)");
   upload->add_option("--label", uo->label, "Rig name stored in the record (default: the model file's name)");
-  upload->callback([&globals, uo] {
-    device::RecordInputs in;
-    in.model = model::LoadModel(uo->model);
-    in.observer = dob::ObserverFromJson(ReadJsonFile(uo->design), uo->design).description;
-    std::string label = uo->label;
-    if (label.empty()) {
-      label = uo->model.substr(uo->model.find_last_of('/') + 1);
-      if (label.size() > 5 && label.ends_with(".json")) label.resize(label.size() - 5);
-      if (label.size() >= wire::kCalLabelBytes) label.resize(wire::kCalLabelBytes - 1);
-    }
-    in.label = label;
-    in.created_unix_s = std::chrono::duration_cast<std::chrono::seconds>(
-                            std::chrono::system_clock::now().time_since_epoch()).count();
-    unsigned major = 0, minor = 0, patch = 0;
-    static_cast<void>(std::sscanf(VIBID_VERSION, "%u.%u.%u", &major, &minor, &patch));
-    in.host_major = static_cast<std::uint8_t>(major);
-    in.host_minor = static_cast<std::uint8_t>(minor);
-    in.host_patch = static_cast<std::uint16_t>(patch);
-    if (!uo->sensors.empty()) in.sensors = device::SensorsFromJson(ReadJsonFile(uo->sensors), uo->sensors);
-    WithDevice(globals, [&](device::Connection& c) {
-      if (uo->sensors.empty()) {
-        bool has_record = false;
-        const wire::CalibrationRecord old = ActiveRecord(c, has_record);
-        if (!has_record) throw InputError("the board is uncalibrated: give its sensors with --sensors SENSORS.json");
-        for (std::size_t k = 0; k < wire::kChannelCount; ++k) {
-          if (old.channels[k].unit != wire::Unit::kCounts) in.sensors[k] = device::FromChannelScaling(old.channels[k]);
-        }
-      }
-      const wire::CalibrationRecord rec = device::BuildCalibrationRecord(in);
-      std::array<std::uint8_t, wire::kCalRecordBytes> bytes{};
-      wire::EncodeCalibrationRecord(rec, bytes);
-      {
-        ProgressBar bar("cal upload");
-        c.CalPut(bytes, bar.Callback());
-      }
-      char crc[11];
-      std::snprintf(crc, sizeof(crc), "0x%08x", wire::StoredRecordCrc(bytes));
-      std::cout << "staged calibration '" << label << "' (" << bytes.size() << " bytes, crc " << crc
-                << "); `vibid cal commit` writes it to flash\n";
-    });
-  });
 
-  CLI::App* show = cal->add_subcommand("show", "Print the board's active calibration record");
-  auto show_json = std::make_shared<bool>(false);
-  show->add_flag("--json", *show_json, "Print JSON");
-  show->callback([&globals, show_json] {
-    WithDevice(globals, [&](device::Connection& c) {
-      if (c.info().cal_state != wire::CalState::kCalibrated) {
-        if (*show_json) std::cout << "null\n";
-        else std::cout << "uncalibrated: raw counts, no observer\n";
-        return;
-      }
-      wire::CalGetTrailer t;
-      const std::vector<std::uint8_t> bytes = c.CalGet(&t);
-      wire::CalibrationRecord r;
-      const Status st = wire::DecodeCalibrationRecord(bytes, r);
-      if (st != Status::kOk) throw DeviceError(std::string("the board's calibration record does not decode: ") + StatusName(st));
-      const nlohmann::json j = RecordJson(r, t, wire::StoredRecordCrc(std::span<const std::uint8_t, wire::kCalRecordBytes>(bytes.data(), bytes.size())));
-      std::cout << (*show_json ? j.dump(2) + "\n" : FormatRecord(j));
-    });
-  });
+  const auto [show, show_args] = AddCommand<ShowArgs>(*cal, "show", kShowHelp, Run);
+  show_args->globals = &globals;
+  show->add_flag("--json", show_args->json, "Print JSON");
 
-  CLI::App* commit = cal->add_subcommand("commit", "Write the staged record to flash (refused while acquiring)");
-  commit->callback([&globals] {
-    WithDevice(globals, [](device::Connection& c) {
-      const wire::CalCommitResponse r = c.CalCommit();
-      std::cout << "committed to slot " << static_cast<int>(r.slot) << ", sequence " << r.sequence << "\n";
-    });
-  });
+  const auto [commit, commit_args] = AddCommand<CommitArgs>(*cal, "commit", kCommitHelp, Run);
+  commit_args->globals = &globals;
 }
 
 }  // namespace vibid::cli

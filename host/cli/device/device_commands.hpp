@@ -10,7 +10,8 @@ namespace vibid::cli {
 void RegisterInfoCommands(CLI::App& app, const GlobalOptions& globals);     // devices, info, monitor
 void RegisterCalCommands(CLI::App& app, const GlobalOptions& globals);      // cal upload|show|commit
 void RegisterAcquireCommands(CLI::App& app, const GlobalOptions& globals);  // acquire, log pull
-void RegisterDobControlCommands(CLI::App& app, const GlobalOptions& globals);  // dob start|stop
+/// Adds `start` and `stop` to the `dob` command (registered by RegisterDobCommands).
+void RegisterDobDeviceCommands(CLI::App& dob, const GlobalOptions& globals);
 void RegisterFlashCommand(CLI::App& app, const GlobalOptions& globals);     // flash
 
 }  // namespace vibid::cli

@@ -3,15 +3,16 @@
 // the bootloader, which starts the new firmware.
 #include <chrono>
 #include <cstdio>
-#include <cstdlib>
+#include <optional>
 #include <iostream>
 
 #include "cli_support.hpp"
+#include "common/command.hpp"
+#include "common/option_text.hpp"
 #include "device_commands.hpp"
 #include "session.hpp"
 #include "vibid/common/atomic_file.hpp"
 #include "vibid/common/error.hpp"
-#include "vibid/device/error.hpp"
 #include "vibid/device/flash_board.hpp"
 
 namespace vibid::cli {
@@ -19,49 +20,51 @@ namespace {
 
 constexpr std::uint32_t kFlashBase = 0x08000000u;
 
-struct FlashOptions {
+constexpr const char* kFlashHelp =
+    "Write a firmware image through the DfuSe bootloader and verify it";
+
+struct FlashArgs {
+  const GlobalOptions* globals = nullptr;
   std::string image;
   std::string address = "0x08000000";
 };
 
+void Run(const FlashArgs& a) {
+  const std::string text = ReadFileText(a.image);
+  const std::vector<std::uint8_t> image(text.begin(), text.end());
+  const std::optional<long long> address = ParseInteger(a.address, 0);
+  Require(address && *address >= kFlashBase && *address <= 0xFFFFFFFFll,
+          "--address '" + a.address + "' must be a flash address from 0x08000000");
+  const device::DeviceSpec spec = device::ParseDeviceSpec(a.globals->device);
+  ProgressBar erase("erase"), download("download"), verify("verify");
+  const device::FlashProgress progress = [&](const std::string& phase, std::uint64_t done, std::uint64_t total) {
+    (phase == "erase" ? erase : phase == "download" ? download : verify).Update(done, total);
+  };
+  const auto started = std::chrono::steady_clock::now();
+  device::FlashBoardResult result;
+  try {
+    result = device::FlashBoard(spec, image, static_cast<std::uint32_t>(*address), progress,
+                                [](const std::string& note) { std::cerr << "vibid: " << note << "\n"; });
+  } catch (const InputError& e) {
+    throw InputError(a.image + ": " + e.what());
+  }
+  const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();
+  std::uint64_t written = 0;
+  for (const device::FlashRange& r : result.plan.write) written += r.bytes;
+  char line[200];
+  std::snprintf(line, sizeof(line),
+                "flashed %zu bytes at %s in %.2f s (%llu written, %zu sectors erased, calibration kept), verified; the board restarts\n",
+                image.size(), a.address.c_str(), seconds, static_cast<unsigned long long>(written), result.plan.erase.size());
+  std::cout << line;
+}
+
 }  // namespace
 
 void RegisterFlashCommand(CLI::App& app, const GlobalOptions& globals) {
-  CLI::App* flash = app.add_subcommand("flash", "Write a firmware image through the DfuSe bootloader and verify it");
-  auto o = std::make_shared<FlashOptions>();
+  const auto [flash, o] = AddCommand<FlashArgs>(app, "flash", kFlashHelp, Run);
+  o->globals = &globals;
   flash->add_option("image", o->image, "Raw image (.bin)")->required();
   flash->add_option("--address", o->address, "Flash address of the image's first byte")->capture_default_str();
-  flash->callback([&globals, o] {
-    const std::string text = ReadFileText(o->image);
-    const std::vector<std::uint8_t> image(text.begin(), text.end());
-    char* end = nullptr;
-    const unsigned long long address = std::strtoull(o->address.c_str(), &end, 0);
-    Require(!o->address.empty() && *end == '\0' && address >= kFlashBase && address <= 0xFFFFFFFFull,
-            "--address '" + o->address + "' must be a flash address from 0x08000000");
-    const device::DeviceSpec spec = device::ParseDeviceSpec(globals.device);
-    ProgressBar erase("erase"), download("download"), verify("verify");
-    const device::FlashProgress progress = [&](const std::string& phase, std::uint64_t done, std::uint64_t total) {
-      (phase == "erase" ? erase : phase == "download" ? download : verify).Update(done, total);
-    };
-    const auto started = std::chrono::steady_clock::now();
-    device::FlashBoardResult result;
-    try {
-      result = device::FlashBoard(spec, image, static_cast<std::uint32_t>(address), progress,
-                                  [](const std::string& note) { std::cerr << "vibid: " << note << "\n"; });
-    } catch (const InputError& e) {
-      throw InputError(o->image + ": " + e.what());
-    } catch (const device::DeviceError& e) {
-      throw DeviceError(e.what());
-    }
-    const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();
-    std::uint64_t written = 0;
-    for (const device::FlashRange& r : result.plan.write) written += r.bytes;
-    char line[200];
-    std::snprintf(line, sizeof(line),
-                  "flashed %zu bytes at %s in %.2f s (%llu written, %zu sectors erased, calibration kept), verified; the board restarts\n",
-                  image.size(), o->address.c_str(), seconds, static_cast<unsigned long long>(written), result.plan.erase.size());
-    std::cout << line;
-  });
 }
 
 }  // namespace vibid::cli

@@ -8,9 +8,9 @@
 #include <nlohmann/json.hpp>
 
 #include "cli_support.hpp"
+#include "common/command.hpp"
 #include "device_commands.hpp"
 #include "session.hpp"
-#include "vibid/device/error.hpp"
 #include "vibid/device/log_table.hpp"
 #include "vibid/device/select.hpp"
 #include "vibid/shared/wire/log_record.hpp"
@@ -94,96 +94,116 @@ nlohmann::json InfoJson(const device::Connection& c, const wire::InfoResponse& i
           {"dropped_records", i.dropped_records}};
 }
 
+constexpr const char* kDevicesHelp = "List the vibid boards and emulators this host can reach";
+
+struct DevicesArgs {};
+
+void Run(const DevicesArgs&) {
+  const auto all = device::ListDevices();
+  if (all.empty()) {
+    std::cout << "no vibid device found (no board on USB HID, no vibid-emu on 127.0.0.1:3240)\n";
+    return;
+  }
+  for (const device::Listing& l : all) std::cout << l.spec << "\t" << l.description << "\n";
+}
+
+constexpr const char* kInfoHelp =
+    "Identity, versions, capabilities and calibration state of the board";
+
+struct InfoArgs {
+  const GlobalOptions* globals = nullptr;
+  bool json = false;
+};
+
+std::string InfoText(const device::Connection& c, const nlohmann::json& j) {
+  std::ostringstream o;
+  o << "device        " << c.Describe() << "\n"
+    << "board         " << j["board"].get<std::string>() << ", firmware " << j["firmware"].get<std::string>()
+    << " (build " << j["build_id"].get<std::string>() << "), protocol " << j["protocol"].get<std::string>() << "\n"
+    << "capabilities  ";
+  for (const auto& cap : j["capabilities"]) o << cap.get<std::string>() << " ";
+  const wire::InfoResponse& i = c.info();
+  o << "\nsampling      " << 1e6 / i.sample_period_us << " Hz (fastest " << 1e6 / i.min_sample_period_us
+    << " Hz), log " << i.log_capacity_bytes << " bytes\n"
+    << "link          " << std::uint32_t{i.link_reports_per_s} * wire::kReportBytes << " B/s ("
+    << i.link_reports_per_s << " reports/s of " << wire::kReportBytes << " B; "
+    << std::uint32_t{i.link_reports_per_s} * wire::kLogRecordPayload << " B/s of log records)\n"
+    << "channels      ";
+  for (const auto& ch : j["channels"]) o << ch.get<std::string>() << " ";
+  o << "\ncalibration   ";
+  if (i.cal_state == wire::CalState::kCalibrated) {
+    o << "slot " << static_cast<int>(i.cal_slot) << ", crc " << j["cal_crc"].get<std::string>();
+  } else {
+    o << "none (raw counts, no observer)";
+  }
+  o << "\nreset cause   " << j["reset_cause"].get<std::string>() << "\n"
+    << "errors        " << i.overrun_count << " overruns, " << i.dropped_records << " dropped records\n";
+  return o.str();
+}
+
+void Run(const InfoArgs& a) {
+  WithDevice(*a.globals, [&](device::Connection& c) {
+    const nlohmann::json j = InfoJson(c, c.info());
+    std::cout << (a.json ? j.dump(2) + "\n" : InfoText(c, j));
+  });
+}
+
+constexpr const char* kMonitorHelp = "Print the board's live calibrated values until Ctrl-C";
+
+struct MonitorArgs {
+  const GlobalOptions* globals = nullptr;
+  double interval_s = 0.2;
+  int count = 0;
+};
+
+void PrintMonitorHeader(const wire::CalibrationRecord& rec, bool has_record) {
+  std::cout << "tick";
+  for (std::size_t k = 0; k < wire::kChannelCount; ++k) {
+    const wire::Unit u = has_record ? rec.channels[k].unit : wire::Unit::kCounts;
+    std::cout << "\t" << device::ChannelStem(static_cast<wire::Channel>(k)) << "_" << device::UnitSuffix(u);
+  }
+  std::cout << "\td_hat_q31\tstate" << std::endl;
+}
+
+void PrintMonitorLine(const wire::LatestResponse& l, const wire::CalibrationRecord& rec, bool has_record) {
+  std::cout << l.tick;
+  for (std::size_t k = 0; k < wire::kChannelCount; ++k) {
+    const wire::ChannelScaling s = has_record ? rec.channels[k] : wire::DefaultScaling();
+    const double v = s.unit == wire::Unit::kCounts ? l.calibrated[k]
+                                                   : l.calibrated[k] * (static_cast<double>(s.full_scale) / 2147483648.0);
+    std::cout << "\t" << v;
+  }
+  std::cout << "\t" << l.d_hat << "\t"
+            << (l.acq_state == wire::AcqState::kIdle ? "idle" : l.acq_state == wire::AcqState::kDone ? "done" : "sampling")
+            << (l.dob_running != 0 ? "+dob" : "") << std::endl;
+}
+
+void Run(const MonitorArgs& a) {
+  WithDevice(*a.globals, [&](device::Connection& c) {
+    bool has_record = false;
+    const wire::CalibrationRecord rec = ActiveRecord(c, has_record);
+    PrintMonitorHeader(rec, has_record);
+    for (int n = 0; a.count == 0 || n < a.count; ++n) {
+      if (InterruptFlag().load()) break;
+      PrintMonitorLine(c.ReadLatest(), rec, has_record);
+      std::this_thread::sleep_for(std::chrono::duration<double>(a.interval_s));
+    }
+  });
+}
+
 }  // namespace
 
 void RegisterInfoCommands(CLI::App& app, const GlobalOptions& globals) {
-  CLI::App* devices = app.add_subcommand("devices", "List the vibid boards and emulators this host can reach");
-  devices->callback([] {
-    try {
-      const auto all = device::ListDevices();
-      if (all.empty()) {
-        std::cout << "no vibid device found (no board on USB HID, no vibid-emu on 127.0.0.1:3240)\n";
-        return;
-      }
-      for (const device::Listing& l : all) std::cout << l.spec << "\t" << l.description << "\n";
-    } catch (const device::DeviceError& e) {
-      throw DeviceError(e.what());
-    }
-  });
+  AddCommand<DevicesArgs>(app, "devices", kDevicesHelp, Run);
 
-  CLI::App* info = app.add_subcommand("info", "Identity, versions, capabilities and calibration state of the board");
-  auto info_json = std::make_shared<bool>(false);
-  info->add_flag("--json", *info_json, "Print JSON");
-  info->callback([&globals, info_json] {
-    WithDevice(globals, [&](device::Connection& c) {
-      const nlohmann::json j = InfoJson(c, c.info());
-      if (*info_json) {
-        std::cout << j.dump(2) << "\n";
-        return;
-      }
-      std::ostringstream o;
-      o << "device        " << c.Describe() << "\n"
-        << "board         " << j["board"].get<std::string>() << ", firmware " << j["firmware"].get<std::string>()
-        << " (build " << j["build_id"].get<std::string>() << "), protocol " << j["protocol"].get<std::string>() << "\n"
-        << "capabilities  ";
-      for (const auto& cap : j["capabilities"]) o << cap.get<std::string>() << " ";
-      const wire::InfoResponse& i = c.info();
-      o << "\nsampling      " << 1e6 / i.sample_period_us << " Hz (fastest " << 1e6 / i.min_sample_period_us
-        << " Hz), log " << i.log_capacity_bytes << " bytes\n"
-        << "link          " << std::uint32_t{i.link_reports_per_s} * wire::kReportBytes << " B/s ("
-        << i.link_reports_per_s << " reports/s of " << wire::kReportBytes << " B; "
-        << std::uint32_t{i.link_reports_per_s} * wire::kLogRecordPayload << " B/s of log records)\n"
-        << "channels      ";
-      for (const auto& ch : j["channels"]) o << ch.get<std::string>() << " ";
-      o << "\ncalibration   ";
-      if (i.cal_state == wire::CalState::kCalibrated) {
-        o << "slot " << static_cast<int>(i.cal_slot) << ", crc " << j["cal_crc"].get<std::string>();
-      } else {
-        o << "none (raw counts, no observer)";
-      }
-      o << "\nreset cause   " << j["reset_cause"].get<std::string>() << "\n"
-        << "errors        " << i.overrun_count << " overruns, " << i.dropped_records << " dropped records\n";
-      std::cout << o.str();
-    });
-  });
+  const auto [info, info_args] = AddCommand<InfoArgs>(app, "info", kInfoHelp, Run);
+  info_args->globals = &globals;
+  info->add_flag("--json", info_args->json, "Print JSON");
 
-  CLI::App* monitor = app.add_subcommand("monitor", "Print the board's live calibrated values until Ctrl-C");
-  struct MonitorOptions {
-    double interval_s = 0.2;
-    int count = 0;
-  };
-  auto mo = std::make_shared<MonitorOptions>();
+  const auto [monitor, mo] = AddCommand<MonitorArgs>(app, "monitor", kMonitorHelp, Run);
+  mo->globals = &globals;
   monitor->add_option("--interval-s", mo->interval_s, "Seconds between lines")->check(PositiveNumber());
   monitor->add_option("--count", mo->count, "Stop after this many lines (default: until Ctrl-C)")->check(CLI::NonNegativeNumber);
-  monitor->callback([&globals, mo] {
-    const double interval_s = mo->interval_s;
-    const int count = mo->count;
-    WithDevice(globals, [&](device::Connection& c) {
-      bool has_record = false;
-      const wire::CalibrationRecord rec = ActiveRecord(c, has_record);
-      std::cout << "tick";
-      for (std::size_t k = 0; k < wire::kChannelCount; ++k) {
-        const wire::Unit u = has_record ? rec.channels[k].unit : wire::Unit::kCounts;
-        std::cout << "\t" << device::ChannelStem(static_cast<wire::Channel>(k)) << "_" << device::UnitSuffix(u);
-      }
-      std::cout << "\td_hat_q31\tstate" << std::endl;
-      for (int n = 0; count == 0 || n < count; ++n) {
-        if (InterruptFlag().load()) break;
-        const wire::LatestResponse l = c.ReadLatest();
-        std::cout << l.tick;
-        for (std::size_t k = 0; k < wire::kChannelCount; ++k) {
-          const wire::ChannelScaling s = has_record ? rec.channels[k] : wire::DefaultScaling();
-          const double v = s.unit == wire::Unit::kCounts ? l.calibrated[k]
-                                                         : l.calibrated[k] * (static_cast<double>(s.full_scale) / 2147483648.0);
-          std::cout << "\t" << v;
-        }
-        std::cout << "\t" << l.d_hat << "\t"
-                  << (l.acq_state == wire::AcqState::kIdle ? "idle" : l.acq_state == wire::AcqState::kDone ? "done" : "sampling")
-                  << (l.dob_running != 0 ? "+dob" : "") << std::endl;
-        std::this_thread::sleep_for(std::chrono::duration<double>(interval_s));
-      }
-    });
-  });
 }
 
 }  // namespace vibid::cli

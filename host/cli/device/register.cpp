@@ -8,7 +8,6 @@ void RegisterDeviceCommands(CLI::App& app, const GlobalOptions& globals) {
   RegisterInfoCommands(app, globals);
   RegisterCalCommands(app, globals);
   RegisterAcquireCommands(app, globals);
-  RegisterDobControlCommands(app, globals);
   RegisterFlashCommand(app, globals);
 }
 

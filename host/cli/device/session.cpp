@@ -5,7 +5,6 @@
 #include <csignal>
 #include <cstdio>
 
-#include "cli_support.hpp"
 #include "vibid/device/error.hpp"
 #include "vibid/device/select.hpp"
 
@@ -40,14 +39,10 @@ const std::atomic<bool>& InterruptFlag() { return g_interrupted; }
 void WithDevice(const GlobalOptions& globals, const std::function<void(device::Connection&)>& body) {
   const device::DeviceSpec spec = device::ParseDeviceSpec(globals.device);
   SigintGuard guard;
-  try {
-    device::ConnectionOptions options;
-    options.cancel = &g_interrupted;
-    device::Connection connection(device::OpenTransport(spec), options);
-    body(connection);
-  } catch (const device::DeviceError& e) {
-    throw DeviceError(e.what());
-  }
+  device::ConnectionOptions options;
+  options.cancel = &g_interrupted;
+  device::Connection connection(device::OpenTransport(spec), options);
+  body(connection);
 }
 
 wire::CalibrationRecord ActiveRecord(device::Connection& c, bool& has_record) {
@@ -56,7 +51,7 @@ wire::CalibrationRecord ActiveRecord(device::Connection& c, bool& has_record) {
   if (c.info().cal_state != wire::CalState::kCalibrated) return r;
   const std::vector<std::uint8_t> bytes = c.CalGet();
   if (wire::DecodeCalibrationRecord(bytes, r) != Status::kOk) {
-    throw DeviceError("the board's active calibration record does not decode");
+    throw device::DeviceError("the board's active calibration record does not decode");
   }
   has_record = true;
   return r;

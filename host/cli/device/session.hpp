@@ -1,6 +1,5 @@
 // What every device command does around its work: open the board the global --device names,
-// turn device-layer failures into the CLI's device exit code, let Ctrl-C stop a transfer cleanly,
-// and draw progress bars on a terminal.
+// let Ctrl-C stop a transfer cleanly, and draw progress bars on a terminal.
 #pragma once
 
 #include <atomic>
@@ -18,8 +17,8 @@ namespace vibid::cli {
 const std::atomic<bool>& InterruptFlag();
 
 /// Runs `body` with the connection `globals.device` selects. SIGINT is caught for the duration
-/// (the body sees device::Interrupted from long transfers). device::DeviceError becomes
-/// cli::DeviceError (exit code 4, one line).
+/// (the body sees device::Interrupted from long transfers). A device::DeviceError goes on to main,
+/// which prints it on one line with exit code kExitDevice.
 void WithDevice(const GlobalOptions& globals, const std::function<void(device::Connection&)>& body);
 
 /// The board's active calibration record; `has_record` false when it is uncalibrated.

@@ -1,5 +1,6 @@
-// `vibid dob design | run | compare`: observer design from a model file, replay of the board's
-// fixed-point observer (or the double design) on a recording, and agreement with a measured force.
+// `vibid dob design | run | compare | start | stop`: observer design from a model file, replay of the
+// board's fixed-point observer (or the double design) on a recording, agreement with a measured
+// force; start and stop act on the board and live with the device commands.
 #include <cmath>
 #include <cstdio>
 #include <iostream>
@@ -9,6 +10,8 @@
 
 #include "cli_support.hpp"
 #include "commands.hpp"
+#include "common/command.hpp"
+#include "device/device_commands.hpp"
 #include "vibid/common/csv.hpp"
 #include "vibid/common/error.hpp"
 #include "vibid/common/json_file.hpp"
@@ -21,6 +24,8 @@
 
 namespace vibid::cli {
 namespace {
+
+constexpr const char* kDesignHelp = "Design the observer for a model and quantize it for the board";
 
 struct DesignArgs {
   std::string model_path;
@@ -57,7 +62,7 @@ std::string Summary(const dob::DobDesign& d) {
   return os.str();
 }
 
-void RunDesign(const DesignArgs& a) {
+void Run(const DesignArgs& a) {
   const model::Model m = model::LoadModel(a.model_path);
   Require(a.input_dof >= 1 && a.input_dof <= m.dofs(),
           "--input-dof " + std::to_string(a.input_dof) + " is out of range 1.." + std::to_string(m.dofs()));
@@ -86,6 +91,9 @@ void RunDesign(const DesignArgs& a) {
   EmitOutput(text, a.out);
   if (!a.out.empty() && a.out != "-") std::cout << (a.json ? text : Summary(design));
 }
+
+constexpr const char* kRunHelp =
+    "Replay the observer on a recording; adds d_hat_n, d_hat_q31 (fixed point) and d_hat_lp_n";
 
 struct RunArgs {
   std::string recording;
@@ -121,7 +129,7 @@ void VerifyAgainstBoard(const Recording& rec, const std::string& column, const s
   std::cerr << "vibid: bit-exact: " << board.size() << " samples of " << column << " equal the replay\n";
 }
 
-void RunRun(const RunArgs& a) {
+void Run(const RunArgs& a) {
   const Recording rec = LoadRecording(a.recording);
   const dob::ObserverFile f = dob::ObserverFromJson(ReadJsonFile(a.design), a.design);
   Require(std::abs(rec.fs_hz - f.fs_hz) <= 1e-6 * f.fs_hz,
@@ -179,6 +187,8 @@ void RunRun(const RunArgs& a) {
   EmitOutput(FormatCsv(names, columns), a.out);
 }
 
+constexpr const char* kDobCompareHelp = "Agreement of an estimated and a measured disturbance";
+
 struct CompareArgs {
   std::string recording;
   std::string estimate;
@@ -189,7 +199,7 @@ struct CompareArgs {
   std::string out;
 };
 
-void RunCompare(const CompareArgs& a) {
+void Run(const CompareArgs& a) {
   const Recording rec = LoadRecording(a.recording);
   const Eigen::VectorXd e = rec.Signal(ParseColumnSpec(a.estimate));
   const Eigen::VectorXd m = rec.Signal(ParseColumnSpec(a.measured));
@@ -209,59 +219,63 @@ void RunCompare(const CompareArgs& a) {
   }
 }
 
+void RegisterDobDesignCommand(CLI::App& dob) {
+  const auto [cmd, a] = AddCommand<DesignArgs>(dob, "design", kDesignHelp, Run);
+  cmd->add_option("model", a->model_path, "Model file (JSON)")->required();
+  cmd->add_option("--N", a->order, "Order of Q (>= 1)")->capture_default_str();
+  cmd->add_option("--r", a->relative_degree, "Relative degree of Q (0 <= N - r, r >= that of G_A)")->capture_default_str();
+  cmd->add_option("--tau-s", a->tau_s, "Time constant of Q, s (cut-off 1/tau rad/s)")->check(PositiveNumber())->capture_default_str();
+  cmd->add_option("--fs-hz", a->fs_hz, "Board sample rate, Hz")->check(PositiveNumber())->capture_default_str();
+  cmd->add_option("--input-dof", a->input_dof, "Mass the force (and the disturbance) acts on, from 1")->capture_default_str();
+  cmd->add_option("--output-dof", a->output_dof, "Mass whose sensor feeds the SISO form, from 1")->capture_default_str();
+  cmd->add_option("--sensor", a->sensor, "Sensor: disp, vel or acc")->check(CLI::IsMember({"disp", "vel", "acc"}))->capture_default_str();
+  cmd->add_option("--form", a->form, "siso: Q G_A^-1 y - Q u; mimo: Q[M x'' + C x' + K x - F]")->check(CLI::IsMember({"siso", "mimo"}))->capture_default_str();
+  cmd->add_option("--discretize", a->discretize, "tustin (pre-warped at 1/tau) or zoh")->check(CLI::IsMember({"tustin", "zoh"}))->capture_default_str();
+  cmd->add_option("--prototype", a->prototype, "Q polynomial: butterworth or binomial")->check(CLI::IsMember({"butterworth", "binomial"}))->capture_default_str();
+  cmd->add_option("--leak-hz", a->leak_hz, "Corner of the leaky integrators for vel/acc sensors, Hz")->check(PositiveNumber())->capture_default_str();
+  cmd->add_option("--force-fs-n", a->force_fs_n, "Force full scale, N")->check(PositiveNumber())->capture_default_str();
+  cmd->add_option("--sensor-fs", a->sensor_fs, "Sensor full scale, SI (0: 0.05 m, 1 m/s or 50 m/s^2)")->check(NonNegativeNumber())->capture_default_str();
+  cmd->add_option("--output-fs-n", a->output_fs_n, "Full scale of d_hat, N (0: twice the force full scale)")->check(NonNegativeNumber())->capture_default_str();
+  cmd->add_option("-o,--output", a->out, "Design file to write (default: stdout)");
+  cmd->add_flag("--json", a->json, "Print the design JSON on stdout even when writing a file");
+}
+
+void RegisterDobRunCommand(CLI::App& dob) {
+  const auto [cmd, a] = AddCommand<RunArgs>(dob, "run", kRunHelp, Run);
+  cmd->add_option("recording", a->recording, "Recording (CSV, t_s column)")->required();
+  cmd->add_option("--design", a->design, "Design file from `vibid dob design`")->required();
+  cmd->add_option("--force", a->force, "Measured force column (NAME, NAME:UNIT or NAME*FACTOR)")->required();
+  cmd->add_option("--response", a->response, "Sensor column(s), comma separated, in the design's input order")->required();
+  auto* fixed_flag = cmd->add_flag("--fixed", a->fixed, "Bit-exact replay of the board's fixed-point filter (default)");
+  cmd->add_flag("--float", a->use_float, "The double-precision design instead")->excludes(fixed_flag);
+  cmd->add_option("--lowpass-hz", a->lowpass_hz, "Also write NAME_lp_n: zero-phase Butterworth low-pass at this cut-off, Hz")->check(PositiveNumber());
+  cmd->add_option("--lowpass-order", a->lowpass_order, "Order of that low-pass")->check(CLI::Range(1, 16))->capture_default_str();
+  cmd->add_option("--name", a->name, "Stem of the added columns: NAME_n, NAME_q31, NAME_lp_n")->capture_default_str();
+  cmd->add_option("--verify", a->verify,
+                  "Board output column (e.g. d_hat_q31 of `vibid acquire`): fail unless the replay equals it bit for bit");
+  cmd->add_option("-o,--output", a->out, "CSV to write (default: stdout)");
+}
+
+void RegisterDobCompareCommand(CLI::App& dob) {
+  const auto [cmd, a] = AddCommand<CompareArgs>(dob, "compare", kDobCompareHelp, Run);
+  cmd->add_option("recording", a->recording, "CSV with both columns (e.g. the output of `dob run`)")->required();
+  cmd->add_option("--estimate", a->estimate, "Estimated force column")->required();
+  cmd->add_option("--measured", a->measured, "Measured force column")->required();
+  cmd->add_option("--skip-s", a->skip_s, "Seconds left out at each end (start-up, filter edges)")->check(NonNegativeNumber())->capture_default_str();
+  cmd->add_option("--max-delay-s", a->max_delay_s, "Largest lag searched (0: a tenth of the record)")->check(NonNegativeNumber())->capture_default_str();
+  cmd->add_flag("--json", a->json, "JSON: fit_percent, correlation, delay_s, rmse_n");
+  cmd->add_option("-o,--output", a->out, "File to write (default: stdout)");
+}
+
 }  // namespace
 
-void RegisterDobCommands(CLI::App& app) {
+void RegisterDobCommands(CLI::App& app, const GlobalOptions& globals) {
   CLI::App* dob = app.add_subcommand("dob", "Disturbance observer: design, replay, compare");
   dob->require_subcommand(1);
-
-  auto design_args = std::make_shared<DesignArgs>();
-  CLI::App* design = dob->add_subcommand("design", "Design the observer for a model and quantize it for the board");
-  design->add_option("model", design_args->model_path, "Model file (JSON)")->required();
-  design->add_option("--N", design_args->order, "Order of Q (>= 1)")->capture_default_str();
-  design->add_option("--r", design_args->relative_degree, "Relative degree of Q (0 <= N - r, r >= that of G_A)")->capture_default_str();
-  design->add_option("--tau-s", design_args->tau_s, "Time constant of Q, s (cut-off 1/tau rad/s)")->check(PositiveNumber())->capture_default_str();
-  design->add_option("--fs-hz", design_args->fs_hz, "Board sample rate, Hz")->check(PositiveNumber())->capture_default_str();
-  design->add_option("--input-dof", design_args->input_dof, "Mass the force (and the disturbance) acts on, from 1")->capture_default_str();
-  design->add_option("--output-dof", design_args->output_dof, "Mass whose sensor feeds the SISO form, from 1")->capture_default_str();
-  design->add_option("--sensor", design_args->sensor, "Sensor: disp, vel or acc")->check(CLI::IsMember({"disp", "vel", "acc"}))->capture_default_str();
-  design->add_option("--form", design_args->form, "siso: Q G_A^-1 y - Q u; mimo: Q[M x'' + C x' + K x - F]")->check(CLI::IsMember({"siso", "mimo"}))->capture_default_str();
-  design->add_option("--discretize", design_args->discretize, "tustin (pre-warped at 1/tau) or zoh")->check(CLI::IsMember({"tustin", "zoh"}))->capture_default_str();
-  design->add_option("--prototype", design_args->prototype, "Q polynomial: butterworth or binomial")->check(CLI::IsMember({"butterworth", "binomial"}))->capture_default_str();
-  design->add_option("--leak-hz", design_args->leak_hz, "Corner of the leaky integrators for vel/acc sensors, Hz")->check(PositiveNumber())->capture_default_str();
-  design->add_option("--force-fs-n", design_args->force_fs_n, "Force full scale, N")->check(PositiveNumber())->capture_default_str();
-  design->add_option("--sensor-fs", design_args->sensor_fs, "Sensor full scale, SI (0: 0.05 m, 1 m/s or 50 m/s^2)")->check(NonNegativeNumber())->capture_default_str();
-  design->add_option("--output-fs-n", design_args->output_fs_n, "Full scale of d_hat, N (0: twice the force full scale)")->check(NonNegativeNumber())->capture_default_str();
-  design->add_option("-o,--output", design_args->out, "Design file to write (default: stdout)");
-  design->add_flag("--json", design_args->json, "Print the design JSON on stdout even when writing a file");
-  design->callback([design_args] { RunDesign(*design_args); });
-
-  auto run_args = std::make_shared<RunArgs>();
-  CLI::App* run = dob->add_subcommand("run", "Replay the observer on a recording; adds d_hat_n, d_hat_q31 (fixed point) and d_hat_lp_n");
-  run->add_option("recording", run_args->recording, "Recording (CSV, t_s column)")->required();
-  run->add_option("--design", run_args->design, "Design file from `vibid dob design`")->required();
-  run->add_option("--force", run_args->force, "Measured force column (NAME, NAME:UNIT or NAME*FACTOR)")->required();
-  run->add_option("--response", run_args->response, "Sensor column(s), comma separated, in the design's input order")->required();
-  auto* fixed_flag = run->add_flag("--fixed", run_args->fixed, "Bit-exact replay of the board's fixed-point filter (default)");
-  run->add_flag("--float", run_args->use_float, "The double-precision design instead")->excludes(fixed_flag);
-  run->add_option("--lowpass-hz", run_args->lowpass_hz, "Also write NAME_lp_n: zero-phase Butterworth low-pass at this cut-off, Hz")->check(PositiveNumber());
-  run->add_option("--lowpass-order", run_args->lowpass_order, "Order of that low-pass")->check(CLI::Range(1, 16))->capture_default_str();
-  run->add_option("--name", run_args->name, "Stem of the added columns: NAME_n, NAME_q31, NAME_lp_n")->capture_default_str();
-  run->add_option("--verify", run_args->verify,
-                  "Board output column (e.g. d_hat_q31 of `vibid acquire`): fail unless the replay equals it bit for bit");
-  run->add_option("-o,--output", run_args->out, "CSV to write (default: stdout)");
-  run->callback([run_args] { RunRun(*run_args); });
-
-  auto cmp_args = std::make_shared<CompareArgs>();
-  CLI::App* cmp = dob->add_subcommand("compare", "Agreement of an estimated and a measured disturbance");
-  cmp->add_option("recording", cmp_args->recording, "CSV with both columns (e.g. the output of `dob run`)")->required();
-  cmp->add_option("--estimate", cmp_args->estimate, "Estimated force column")->required();
-  cmp->add_option("--measured", cmp_args->measured, "Measured force column")->required();
-  cmp->add_option("--skip-s", cmp_args->skip_s, "Seconds left out at each end (start-up, filter edges)")->check(NonNegativeNumber())->capture_default_str();
-  cmp->add_option("--max-delay-s", cmp_args->max_delay_s, "Largest lag searched (0: a tenth of the record)")->check(NonNegativeNumber())->capture_default_str();
-  cmp->add_flag("--json", cmp_args->json, "JSON: fit_percent, correlation, delay_s, rmse_n");
-  cmp->add_option("-o,--output", cmp_args->out, "File to write (default: stdout)");
-  cmp->callback([cmp_args] { RunCompare(*cmp_args); });
+  RegisterDobDesignCommand(*dob);
+  RegisterDobRunCommand(*dob);
+  RegisterDobCompareCommand(*dob);
+  RegisterDobDeviceCommands(*dob, globals);
 }
 
 }  // namespace vibid::cli

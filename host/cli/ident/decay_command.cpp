@@ -1,6 +1,5 @@
 // `vibid decay`: free-decay analysis of pull-and-release records.
 #include <cmath>
-#include <memory>
 #include <sstream>
 #include <string>
 #include <vector>
@@ -8,6 +7,7 @@
 #include <nlohmann/json.hpp>
 
 #include "cli_support.hpp"
+#include "common/command.hpp"
 #include "ident_commands.hpp"
 #include "vibid/common/csv.hpp"
 #include "vibid/common/error.hpp"
@@ -75,26 +75,49 @@ nlohmann::json SetJson(const DecaySet& s, const std::vector<std::string>& paths)
           {"omega_d_std", s.omega_d_std}, {"zeta_std", s.zeta_std}, {"records", recs}};
 }
 
+constexpr const char* kDecayHelp =
+    "Free decay after a pull and release (no force channel): finds the release, fits x = x0 + A exp(-sigma t)\n"
+    "cos(omega_d t + phi) over the first cycles, gives omega_d, zeta, omega_n (repeats averaged). With --loaded\n"
+    "records of the same spring carrying --added-kg more, solves k and the base mass.";
+
+struct DecayArgs {
+  std::vector<std::string> inputs;
+  std::vector<std::string> loaded;
+  std::string position;
+  double scale = 1.0;
+  double fs_hz = 0.0;
+  double added_kg = 0.0;
+  ident::DecayOptions options{.end_fraction = 0.1, .cycles = 3};
+  bool json = false;
+  std::string output;
+};
+
+void Run(const DecayArgs& a) {
+  Require(a.loaded.empty() || a.added_kg > 0.0, "--loaded needs --added-kg");
+  Require(a.added_kg == 0.0 || !a.loaded.empty(), "--added-kg needs --loaded records");
+  const DecaySet base = AnalyzeAll(a.inputs, a.position, a.scale, a.fs_hz, a.options);
+  nlohmann::json j = SetJson(base, a.inputs);
+  std::ostringstream text;
+  text << "omega_d " << base.omega_d << " rad/s, zeta " << base.zeta << ", omega_n " << base.omega_n << " rad/s";
+  if (base.results.size() > 1) text << " (mean of " << base.results.size() << "; sd " << base.omega_d_std << ", " << base.zeta_std << ")";
+  text << "\n";
+  if (!a.loaded.empty()) {
+    const DecaySet loaded = AnalyzeAll(a.loaded, a.position, a.scale, a.fs_hz, a.options);
+    const ident::AddedMassSolution s = ident::SolveAddedMass(base.omega_n, loaded.omega_n, a.added_kg);
+    j["loaded"] = SetJson(loaded, a.loaded);
+    j["added_kg"] = a.added_kg;
+    j["k_n_per_m"] = s.k_n_per_m;
+    j["base_mass_kg"] = s.base_mass_kg;
+    text << "loaded: omega_d " << loaded.omega_d << " rad/s, zeta " << loaded.zeta << ", omega_n " << loaded.omega_n
+         << " rad/s\nk " << s.k_n_per_m << " N/m, base mass " << s.base_mass_kg << " kg\n";
+  }
+  EmitOutput(a.json ? j.dump(2) + "\n" : text.str(), a.output);
+}
+
 }  // namespace
 
 void RegisterDecay(CLI::App& app) {
-  struct Args {
-    std::vector<std::string> inputs;
-    std::vector<std::string> loaded;
-    std::string position;
-    double scale = 1.0;
-    double fs_hz = 0.0;
-    double added_kg = 0.0;
-    ident::DecayOptions options{.end_fraction = 0.1, .cycles = 3};
-    bool json = false;
-    std::string output;
-  };
-  auto a = std::make_shared<Args>();
-  CLI::App* cmd = app.add_subcommand(
-      "decay",
-      "Free decay after a pull and release (no force channel): finds the release, fits x = x0 + A exp(-sigma t)\n"
-      "cos(omega_d t + phi) over the first cycles, gives omega_d, zeta, omega_n (repeats averaged). With --loaded\n"
-      "records of the same spring carrying --added-kg more, solves k and the base mass.");
+  const auto [cmd, a] = AddCommand<DecayArgs>(app, "decay", kDecayHelp, Run);
   cmd->add_option("recordings", a->inputs, "Record(s) of the base configuration, REC.csv ...")->required();
   cmd->add_option("--position", a->position, "Position column, NAME[:UNIT|*FACTOR] (e.g. X_cm:cm)")->required();
   cmd->add_option("--scale", a->scale, "Extra factor applied to the position (e.g. counts to metres)")->check(PositiveNumber());
@@ -109,27 +132,6 @@ void RegisterDecay(CLI::App& app) {
   cmd->add_option("--added-kg", a->added_kg, "Mass added in the --loaded records (kg)")->check(PositiveNumber());
   cmd->add_flag("--json", a->json, "JSON output");
   cmd->add_option("-o,--output", a->output, "Write the result here instead of stdout");
-  cmd->callback([a] {
-    Require(a->loaded.empty() || a->added_kg > 0.0, "--loaded needs --added-kg");
-    Require(a->added_kg == 0.0 || !a->loaded.empty(), "--added-kg needs --loaded records");
-    const DecaySet base = AnalyzeAll(a->inputs, a->position, a->scale, a->fs_hz, a->options);
-    nlohmann::json j = SetJson(base, a->inputs);
-    std::ostringstream text;
-    text << "omega_d " << base.omega_d << " rad/s, zeta " << base.zeta << ", omega_n " << base.omega_n << " rad/s";
-    if (base.results.size() > 1) text << " (mean of " << base.results.size() << "; sd " << base.omega_d_std << ", " << base.zeta_std << ")";
-    text << "\n";
-    if (!a->loaded.empty()) {
-      const DecaySet loaded = AnalyzeAll(a->loaded, a->position, a->scale, a->fs_hz, a->options);
-      const ident::AddedMassSolution s = ident::SolveAddedMass(base.omega_n, loaded.omega_n, a->added_kg);
-      j["loaded"] = SetJson(loaded, a->loaded);
-      j["added_kg"] = a->added_kg;
-      j["k_n_per_m"] = s.k_n_per_m;
-      j["base_mass_kg"] = s.base_mass_kg;
-      text << "loaded: omega_d " << loaded.omega_d << " rad/s, zeta " << loaded.zeta << ", omega_n " << loaded.omega_n
-           << " rad/s\nk " << s.k_n_per_m << " N/m, base mass " << s.base_mass_kg << " kg\n";
-    }
-    EmitOutput(a->json ? j.dump(2) + "\n" : text.str(), a->output);
-  });
 }
 
 }  // namespace vibid::cli

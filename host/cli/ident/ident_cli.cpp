@@ -159,21 +159,22 @@ ident::Frf LoadOrEstimate(const std::string& path, const EstimationArgs& a, std:
     return ident::ConvertFrf(ident::ParseFrfCsv(text, path), kind);
   }
   Estimated e = EstimateFromRecording(path, a);
+  // Said on stderr too: a user who did not ask for a processing mode should see which one ran.
+  KeepEstimationNotes(path, e, true, notes);
+  return std::move(e.frf);
+}
+
+void KeepEstimationNotes(const std::string& path, const Estimated& e, bool say_note, std::vector<std::string>& notes) {
   if (!e.note.empty()) {
-    // Said on stderr too: a user who did not ask for a processing mode should see which one ran.
-    std::cerr << "vibid: note: " << e.note << "\n";
+    if (say_note) std::cerr << "vibid: note: " << e.note << "\n";
     notes.push_back(e.note);
   }
   for (const std::string& w : e.warnings) {
     std::cerr << "vibid: warning: " << w << "\n";
     notes.push_back(w);
   }
-  if (!e.hits.empty()) {
-    std::istringstream in(DescribeHits(e.hits));
-    std::string line;
-    while (std::getline(in, line)) notes.push_back(path + ": " + line);
-  }
-  return std::move(e.frf);
+  std::istringstream in(DescribeHits(e.hits));
+  for (std::string line; std::getline(in, line);) notes.push_back(path + ": " + line);
 }
 
 ident::Frf JoinColumns(const std::vector<ident::Frf>& frfs, const std::vector<std::string>& sources) {
@@ -270,14 +271,6 @@ std::vector<ident::ModeEstimate> ModesFromJson(const nlohmann::json& json, const
   }
   Require(!modes.empty(), source + ": the \"modes\" array is empty");
   return modes;
-}
-
-nlohmann::json SummaryToJson(const ident::SolverSummary& s) {
-  return {{"termination", ident::TerminationName(s.termination)},
-          {"iterations", s.iterations},
-          {"initial_cost", s.initial_cost},
-          {"final_cost", s.final_cost},
-          {"message", s.message}};
 }
 
 nlohmann::json DiagramToJson(const ident::StabilizationDiagram& d) {

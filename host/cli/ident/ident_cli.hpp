@@ -54,6 +54,10 @@ Estimated EstimateFromRecording(const std::string& path, const EstimationArgs& a
 /// estimated first. The result is converted to `args.kind`.
 ident::Frf LoadOrEstimate(const std::string& path, const EstimationArgs& args, std::vector<std::string>& notes);
 
+/// Says on stderr what the estimation of `path` warned of (and its processing note when
+/// `say_note`), and keeps the note, the warnings and one line per hit in `notes` for the report.
+void KeepEstimationNotes(const std::string& path, const Estimated& e, bool say_note, std::vector<std::string>& notes);
+
 /// Joins FRFs of the same frequency lines column-wise (responses of one test in several files).
 ident::Frf JoinColumns(const std::vector<ident::Frf>& frfs, const std::vector<std::string>& sources);
 
@@ -62,7 +66,6 @@ std::string DescribeHits(const std::vector<ident::Hit>& hits);
 
 nlohmann::json ModesToJson(const std::vector<ident::ModeEstimate>& modes);
 std::vector<ident::ModeEstimate> ModesFromJson(const nlohmann::json& json, const std::string& source);
-nlohmann::json SummaryToJson(const ident::SolverSummary& summary);
 /// {"method", "band_hz": [lo, hi], "orders": [...], "poles": [{order, freq_hz, zeta, stable_freq,
 /// stable_damping, stable_shape, cluster}], "selected": [{freq_hz, omega_rad_s, zeta, orders, ...}]}
 nlohmann::json DiagramToJson(const ident::StabilizationDiagram& diagram);

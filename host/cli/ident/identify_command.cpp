@@ -2,13 +2,16 @@
 #include <cmath>
 #include <filesystem>
 #include <iostream>
-#include <memory>
+#include <optional>
 #include <numbers>
 #include <sstream>
 #include <string>
 #include <vector>
 
 #include "cli_support.hpp"
+#include "common/command.hpp"
+#include "common/option_text.hpp"
+#include "common/solver_json.hpp"
 #include "ident_cli.hpp"
 #include "ident_commands.hpp"
 #include "vibid/common/atomic_file.hpp"
@@ -28,15 +31,9 @@ std::pair<std::size_t, std::string> ParsePositionAssignment(const std::string& t
   Require(eq != std::string::npos && eq > 0 && eq + 1 < text.size(),
           option + " '" + text + "' must be POSITION=VALUE (position counted from 1)");
   const std::string pos = text.substr(0, eq);
-  std::size_t used = 0;
-  long p = 0;
-  try {
-    p = std::stol(pos, &used);
-  } catch (...) {
-    used = 0;
-  }
-  Require(used == pos.size() && p >= 1, option + " '" + text + "': position '" + pos + "' is not a number >= 1");
-  return {static_cast<std::size_t>(p - 1), text.substr(eq + 1)};
+  const std::optional<long long> p = ParseInteger(pos);
+  Require(p && *p >= 1, option + " '" + text + "': position '" + pos + "' is not a number >= 1");
+  return {static_cast<std::size_t>(*p - 1), text.substr(eq + 1)};
 }
 
 nlohmann::json Triple(double nominal, double updated, double test) {
@@ -96,30 +93,152 @@ std::string OverlayCsv(const ident::Frf& measured, std::size_t driving_point, co
   return FormatCsv(names, cols);
 }
 
+constexpr const char* kIdentifyHelp =
+    "The whole identification: effective masses from 1-DOF hammer tests (--mass-test POS=REC), modes from\n"
+    "hammer tests of the chain (--modal-test REC, hammer at the driving point), stiffness and damping from the\n"
+    "modes with the updated masses averaged over the tests; writes the updated chain model and prints the\n"
+    "validation table (nominal, updated, test).";
+
+struct IdentifyArgs {
+  std::string nominal;
+  std::vector<std::string> mass_tests;
+  std::vector<std::string> mass_springs;
+  std::vector<std::string> modal_tests;
+  std::string mass_response = "acc_m_s2";
+  std::string modal_responses = "acc1_m_s2,acc2_m_s2";
+  std::string output;
+  std::string report;
+  bool welch = false;
+  EstimationArgs est;  ///< Its force column defaults to force_n (set at registration).
+  ModeArgs modes;
+};
+
+/// The springs of the mass tests: given (N/m), 0 for the nominal chain spring, or to be fitted.
+struct MassSprings {
+  std::vector<double> k_n_per_m;
+  std::vector<bool> fit;
+};
+
+MassSprings ParseMassSprings(const std::vector<std::string>& specs, std::size_t n) {
+  MassSprings out{std::vector<double>(n, 0.0), std::vector<bool>(n, false)};
+  for (const std::string& s : specs) {
+    const auto [pos, value] = ParsePositionAssignment(s, "--mass-spring");
+    Require(pos < n, "--mass-spring position " + std::to_string(pos + 1) + " is beyond the model's " + std::to_string(n) + " masses");
+    if (value == "fit") {
+      out.fit[pos] = true;
+      continue;
+    }
+    double k = 0.0;
+    Require(ParseNumber(value, k) == NumberText::kOk && k > 0.0, "--mass-spring '" + s + "': stiffness must be a number > 0");
+    out.k_n_per_m[pos] = k;
+  }
+  return out;
+}
+
+// identify is made for hammer tests: the processing note is said only when a recording did not
+// look like one.
+ident::Frf EstimateTest(const std::string& path, const EstimationArgs& est, std::vector<std::string>& notes) {
+  Estimated e = EstimateFromRecording(path, est);
+  KeepEstimationNotes(path, e, e.hits.empty(), notes);
+  return std::move(e.frf);
+}
+
+std::vector<ident::MassTestInput> MassTests(const IdentifyArgs& a, const EstimationArgs& est, std::size_t n,
+                                            std::vector<std::string>& notes) {
+  const MassSprings springs = ParseMassSprings(a.mass_springs, n);
+  const std::vector<std::string> mass_responses = SplitOptionList(a.mass_response);
+  Require(mass_responses.size() == 1 || mass_responses.size() == a.mass_tests.size(),
+          "--mass-response names " + std::to_string(mass_responses.size()) + " columns for " +
+              std::to_string(a.mass_tests.size()) + " mass tests (give one for all, or one per test)");
+  std::vector<ident::MassTestInput> inputs;
+  for (std::size_t t = 0; t < a.mass_tests.size(); ++t) {
+    const auto [pos, path] = ParsePositionAssignment(a.mass_tests[t], "--mass-test");
+    Require(pos < n, "--mass-test position " + std::to_string(pos + 1) + " is beyond the model's " + std::to_string(n) + " masses");
+    EstimationArgs me = est;
+    me.responses = mass_responses[mass_responses.size() == 1 ? 0 : t];
+    inputs.push_back({pos, EstimateTest(path, me, notes), springs.k_n_per_m[pos], springs.fit[pos]});
+  }
+  return inputs;
+}
+
+nlohmann::json ChainJson(const ident::ChainParameters& chain, std::size_t n) {
+  const auto list = [n](const Eigen::VectorXd& v) { return std::vector<double>(v.data(), v.data() + n); };
+  return {{"topology", "chain"},
+          {"masses", list(chain.masses_kg)},
+          {"springs", list(chain.springs_n_per_m)},
+          {"dampers", list(chain.dampers_ns_per_m)}};
+}
+
+nlohmann::json ReportJson(const ident::IdentifyResult& r, const nlohmann::json& model_json,
+                          const std::vector<std::string>& notes) {
+  nlohmann::json report;
+  report["updated_model"] = model_json;
+  report["validation"] = ValidationJson(r.table, r.test_modes);
+  report["test_modes"] = ModesToJson(r.test_modes)["modes"];
+  nlohmann::json masses = nlohmann::json::array();
+  for (const auto& m : r.mass_tests) {
+    nlohmann::json j = MassUpdateJson(m.update);
+    j["position"] = m.position + 1;
+    masses.push_back(j);
+  }
+  report["mass_tests"] = masses;
+  nlohmann::json modal_json = nlohmann::json::array();
+  for (const auto& mt : r.modal_tests) {
+    nlohmann::json j = ModesToJson(mt.modes);
+    if (mt.fitted) j["summary"] = SolverSummaryJson(mt.fit.summary);
+    if (mt.has_diagram) j["stabilization"] = DiagramToJson(mt.diagram);
+    modal_json.push_back(j);
+  }
+  report["modal_tests"] = modal_json;
+  report["stiffness"] = StiffnessJson(r.stiffness);
+  report["warnings"] = r.warnings;
+  report["notes"] = notes;
+  return report;
+}
+
+void Run(const IdentifyArgs& a) {
+  const model::Model nominal = model::LoadModel(a.nominal);
+  const auto n = static_cast<std::size_t>(nominal.dofs());
+  EstimationArgs est = a.est;
+  est.impact = false;
+  est.welch = a.welch;  // otherwise each recording is classified by its force channel
+  est.kind = "receptance";
+  std::vector<std::string> notes;
+  const std::vector<ident::MassTestInput> mass_inputs = MassTests(a, est, n, notes);
+  std::vector<ident::Frf> modal;
+  for (const std::string& path : a.modal_tests) {
+    EstimationArgs me = est;
+    me.responses = a.modal_responses;
+    modal.push_back(EstimateTest(path, me, notes));
+  }
+  ident::IdentifyOptions options;
+  options.modes = a.modes.options;
+  options.modes.method = ident::ParseModeMethod(a.modes.method);
+  if (!a.modes.orders.empty()) ident::ParseOrders(a.modes.orders, options.modes.stabilization);
+  options.driving_point = ResolveDrivingPoint(modal.front(), a.modes.driving_point);
+  const ident::IdentifyResult r = ident::Identify(nominal, mass_inputs, modal, options);
+
+  const nlohmann::json model_json = ChainJson(r.chain, n);
+  const std::string table = ident::FormatValidationTable(r.table);
+  if (!a.report.empty()) {
+    std::error_code ec;
+    std::filesystem::create_directories(a.report, ec);
+    Require(!ec && std::filesystem::is_directory(a.report), "--report: cannot create directory '" + a.report + "'");
+    const std::filesystem::path dir(a.report);
+    WriteFileAtomic((dir / "validation.txt").string(), table);
+    WriteJsonFile((dir / "report.json").string(), ReportJson(r, model_json, notes));
+    WriteFileAtomic((dir / "frf_overlay.csv").string(), OverlayCsv(modal.front(), options.driving_point, nominal, r.updated));
+  }
+  WriteJsonFile(a.output, model_json);
+  std::cout << table;
+  for (const auto& w : r.warnings) std::cerr << "vibid: warning: " << w << "\n";
+}
+
 }  // namespace
 
 void RegisterIdentify(CLI::App& app) {
-  struct Args {
-    std::string nominal;
-    std::vector<std::string> mass_tests;
-    std::vector<std::string> mass_springs;
-    std::vector<std::string> modal_tests;
-    std::string mass_response = "acc_m_s2";
-    std::string modal_responses = "acc1_m_s2,acc2_m_s2";
-    std::string output;
-    std::string report;
-    bool welch = false;
-    EstimationArgs est;
-    ModeArgs modes;
-  };
-  auto a = std::make_shared<Args>();
+  const auto [cmd, a] = AddCommand<IdentifyArgs>(app, "identify", kIdentifyHelp, Run);
   a->est.force = "force_n";
-  CLI::App* cmd = app.add_subcommand(
-      "identify",
-      "The whole identification: effective masses from 1-DOF hammer tests (--mass-test POS=REC), modes from\n"
-      "hammer tests of the chain (--modal-test REC, hammer at the driving point), stiffness and damping from the\n"
-      "modes with the updated masses averaged over the tests; writes the updated chain model and prints the\n"
-      "validation table (nominal, updated, test).");
   cmd->add_option("--nominal", a->nominal, "Nominal model file (JSON; a chain)")->required();
   cmd->add_option("--mass-test", a->mass_tests, "POS=REC.csv: mass POS (from 1) alone on its spring, hammer test");
   cmd->add_option("--mass-spring", a->mass_springs,
@@ -149,120 +268,6 @@ void RegisterIdentify(CLI::App& app) {
   cmd->add_option("-o,--output", a->output, "Updated model file (JSON, chain form)")->required();
   cmd->add_option("--report", a->report,
                   "Directory for the report: validation.txt, report.json (all results), frf_overlay.csv (test vs models)");
-  cmd->callback([a] {
-    const model::Model nominal = model::LoadModel(a->nominal);
-    const auto n = static_cast<std::size_t>(nominal.dofs());
-    EstimationArgs est = a->est;
-    est.impact = false;
-    est.welch = a->welch;  // otherwise each recording is classified by its force channel
-    est.kind = "receptance";
-
-    std::vector<double> springs(n, 0.0);
-    std::vector<bool> fit_springs(n, false);
-    for (const std::string& s : a->mass_springs) {
-      const auto [pos, value] = ParsePositionAssignment(s, "--mass-spring");
-      Require(pos < n, "--mass-spring position " + std::to_string(pos + 1) + " is beyond the model's " + std::to_string(n) + " masses");
-      if (value == "fit") {
-        fit_springs[pos] = true;
-        continue;
-      }
-      double k = 0.0;
-      std::size_t used = 0;
-      try {
-        k = std::stod(value, &used);
-      } catch (...) {
-        used = 0;
-      }
-      Require(used == value.size() && std::isfinite(k) && k > 0.0, "--mass-spring '" + s + "': stiffness must be a number > 0");
-      springs[pos] = k;
-    }
-    const std::vector<std::string> mass_responses = SplitList(a->mass_response);
-    Require(mass_responses.size() == 1 || mass_responses.size() == a->mass_tests.size(),
-            "--mass-response names " + std::to_string(mass_responses.size()) + " columns for " +
-                std::to_string(a->mass_tests.size()) + " mass tests (give one for all, or one per test)");
-    std::vector<ident::MassTestInput> mass_inputs;
-    std::vector<std::string> notes;
-    for (std::size_t t = 0; t < a->mass_tests.size(); ++t) {
-      const std::string& s = a->mass_tests[t];
-      const auto [pos, path] = ParsePositionAssignment(s, "--mass-test");
-      Require(pos < n, "--mass-test position " + std::to_string(pos + 1) + " is beyond the model's " + std::to_string(n) + " masses");
-      EstimationArgs me = est;
-      me.responses = mass_responses[mass_responses.size() == 1 ? 0 : t];
-      Estimated e = EstimateFromRecording(path, me);
-      // identify is made for hammer tests: say so only when a recording did not look like one.
-      if (!e.note.empty() && e.hits.empty()) std::cerr << "vibid: note: " << e.note << "\n";
-      if (!e.note.empty()) notes.push_back(e.note);
-      for (const std::string& w : e.warnings) {
-        std::cerr << "vibid: warning: " << w << "\n";
-        notes.push_back(w);
-      }
-      std::istringstream hits(DescribeHits(e.hits));
-      for (std::string line; std::getline(hits, line);) notes.push_back(path + ": " + line);
-      mass_inputs.push_back({pos, std::move(e.frf), springs[pos], fit_springs[pos]});
-    }
-    std::vector<ident::Frf> modal;
-    for (const std::string& path : a->modal_tests) {
-      EstimationArgs me = est;
-      me.responses = a->modal_responses;
-      Estimated e = EstimateFromRecording(path, me);
-      // identify is made for hammer tests: say so only when a recording did not look like one.
-      if (!e.note.empty() && e.hits.empty()) std::cerr << "vibid: note: " << e.note << "\n";
-      if (!e.note.empty()) notes.push_back(e.note);
-      for (const std::string& w : e.warnings) {
-        std::cerr << "vibid: warning: " << w << "\n";
-        notes.push_back(w);
-      }
-      std::istringstream hits(DescribeHits(e.hits));
-      for (std::string line; std::getline(hits, line);) notes.push_back(path + ": " + line);
-      modal.push_back(std::move(e.frf));
-    }
-    ident::IdentifyOptions options;
-    options.modes = a->modes.options;
-    options.modes.method = ident::ParseModeMethod(a->modes.method);
-    if (!a->modes.orders.empty()) ident::ParseOrders(a->modes.orders, options.modes.stabilization);
-    options.driving_point = ResolveDrivingPoint(modal.front(), a->modes.driving_point);
-    const ident::IdentifyResult r = ident::Identify(nominal, mass_inputs, modal, options);
-
-    const nlohmann::json model_json = {{"topology", "chain"},
-                                       {"masses", std::vector<double>(r.chain.masses_kg.data(), r.chain.masses_kg.data() + n)},
-                                       {"springs", std::vector<double>(r.chain.springs_n_per_m.data(), r.chain.springs_n_per_m.data() + n)},
-                                       {"dampers", std::vector<double>(r.chain.dampers_ns_per_m.data(), r.chain.dampers_ns_per_m.data() + n)}};
-    const std::string table = ident::FormatValidationTable(r.table);
-    if (!a->report.empty()) {
-      std::error_code ec;
-      std::filesystem::create_directories(a->report, ec);
-      Require(!ec && std::filesystem::is_directory(a->report), "--report: cannot create directory '" + a->report + "'");
-      nlohmann::json report;
-      report["updated_model"] = model_json;
-      report["validation"] = ValidationJson(r.table, r.test_modes);
-      report["test_modes"] = ModesToJson(r.test_modes)["modes"];
-      nlohmann::json masses = nlohmann::json::array();
-      for (const auto& m : r.mass_tests) {
-        nlohmann::json j = MassUpdateJson(m.update);
-        j["position"] = m.position + 1;
-        masses.push_back(j);
-      }
-      report["mass_tests"] = masses;
-      nlohmann::json modal_json = nlohmann::json::array();
-      for (const auto& mt : r.modal_tests) {
-        nlohmann::json j = ModesToJson(mt.modes);
-        if (mt.fitted) j["summary"] = SummaryToJson(mt.fit.summary);
-        if (mt.has_diagram) j["stabilization"] = DiagramToJson(mt.diagram);
-        modal_json.push_back(j);
-      }
-      report["modal_tests"] = modal_json;
-      report["stiffness"] = StiffnessJson(r.stiffness);
-      report["warnings"] = r.warnings;
-      report["notes"] = notes;
-      const std::filesystem::path dir(a->report);
-      WriteFileAtomic((dir / "validation.txt").string(), table);
-      WriteJsonFile((dir / "report.json").string(), report);
-      WriteFileAtomic((dir / "frf_overlay.csv").string(), OverlayCsv(modal.front(), options.driving_point, nominal, r.updated));
-    }
-    WriteJsonFile(a->output, model_json);
-    std::cout << table;
-    for (const auto& w : r.warnings) std::cerr << "vibid: warning: " << w << "\n";
-  });
 }
 
 }  // namespace vibid::cli

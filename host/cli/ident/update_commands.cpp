@@ -1,11 +1,14 @@
 // `vibid update mass` and `vibid update stiffness`.
 #include <iostream>
-#include <memory>
+#include <cmath>
 #include <sstream>
 #include <string>
 #include <vector>
 
 #include "cli_support.hpp"
+#include "common/command.hpp"
+#include "common/option_text.hpp"
+#include "common/solver_json.hpp"
 #include "ident_cli.hpp"
 #include "ident_commands.hpp"
 #include "vibid/common/error.hpp"
@@ -24,20 +27,11 @@ nlohmann::json MatrixJson(const Eigen::MatrixXd& m) {
   return rows;
 }
 
-std::vector<double> ParseNumberList(const std::string& text, const std::string& what) {
+std::vector<double> ParsePositiveList(const std::string& text, const std::string& what) {
   std::vector<double> out;
-  std::stringstream in(text);
-  std::string item;
-  while (std::getline(in, item, ',')) {
-    std::size_t used = 0;
+  for (const std::string& item : SplitOptionList(text, TrailingEmpty::kDrop)) {
     double v = 0.0;
-    try {
-      v = std::stod(item, &used);
-    } catch (...) {
-      used = 0;
-    }
-    Require(used == item.size() && !item.empty() && std::isfinite(v) && v > 0.0,
-            what + ": '" + item + "' is not a positive number");
+    Require(ParseNumber(item, v) == NumberText::kOk && v > 0.0, what + ": '" + item + "' is not a positive number");
     out.push_back(v);
   }
   Require(!out.empty(), what + " is empty");
@@ -59,7 +53,7 @@ nlohmann::json MassUpdateJson(const ident::MassUpdateResult& r) {
           {"omega_rad_s", r.omega_rad_s},
           {"lines_fitted", r.lines_fitted},
           {"warnings", r.warnings},
-          {"summary", SummaryToJson(r.summary)}};
+          {"summary", SolverSummaryJson(r.summary)}};
 }
 
 nlohmann::json StiffnessJson(const ident::StiffnessAverage& avg) {
@@ -102,93 +96,111 @@ ident::StiffnessUpdateResult StiffnessFromModes(const Eigen::VectorXd& masses, c
   return ident::UpdateStiffness(masses, omega, zeta, shapes);
 }
 
+namespace {
+
+constexpr const char* kMassHelp =
+    "Effective mass of one mass alone on its spring (1-DOF hammer test): fit |H| = 1/sqrt((k - m w^2)^2 + (c w)^2)\n"
+    "to the coherence-weighted log receptance around the resonance (Levenberg-Marquardt), c started from the\n"
+    "half-power damping and refined (--fixed-damping keeps it).";
+
+struct MassArgs {
+  std::string input;
+  bool json = false;
+  std::string output;
+  EstimationArgs est;
+  ident::MassUpdateOptions options;
+};
+
+std::string MassText(const ident::MassUpdateResult& r) {
+  std::ostringstream out;
+  out << "effective mass " << r.mass_kg << " kg";
+  if (r.nominal_kg > 0.0) out << " (nominal " << r.nominal_kg << " kg, " << r.change_percent << " %)";
+  out << "\nk " << r.k_n_per_m << " N/m" << (r.stiffness_fitted ? " (fitted)" : " (given)") << ", zeta " << r.zeta
+      << (r.damping_fitted ? " (fitted; half-power " + std::to_string(r.zeta_half_power) + ")" : " (half-power)")
+      << ", c " << r.c_ns_per_m << " N*s/m, omega " << r.omega_rad_s << " rad/s\n"
+      << "fit: " << ident::TerminationName(r.summary.termination) << ", " << r.summary.iterations << " iterations, "
+      << r.lines_fitted << " lines\n";
+  return out.str();
+}
+
+void Run(const MassArgs& a) {
+  Require(a.est.kind == "receptance", "the mass update fits a receptance; leave --kind at its default");
+  std::vector<std::string> notes;
+  const ident::Frf frf = LoadOrEstimate(a.input, a.est, notes);
+  Require(frf.responses() == 1, "update mass: give exactly one response (got " + std::to_string(frf.responses()) + ")");
+  const ident::MassUpdateResult r = ident::UpdateMass(frf, 0, a.options);
+  if (!r.summary.Converged()) throw NumericalError("mass update did not converge: " + r.summary.message);
+  if (a.json) {
+    nlohmann::json j = MassUpdateJson(r);
+    j["notes"] = notes;
+    EmitOutput(j.dump(2) + "\n", a.output);
+  } else {
+    EmitOutput(MassText(r), a.output);
+  }
+  for (const auto& w : r.warnings) std::cerr << "vibid: warning: " << w << "\n";
+}
+
+constexpr const char* kStiffnessHelp =
+    "Stiffness from modal tests (Eq. 7): K = M Phi Omega^2 Phi^T M with mass-normalised shapes; chain springs\n"
+    "k2 = K22, k1 = K11 - K22, a least-squares chain fit and the off-diagonal mismatch; tests averaged with their spread.";
+
+struct StiffnessArgs {
+  std::string masses;
+  std::vector<std::string> modes;
+  bool json = false;
+  std::string output;
+};
+
+std::string StiffnessText(const ident::StiffnessAverage& avg, std::size_t tests) {
+  std::ostringstream out;
+  out << "springs (k_n = K_nn, k_i = K_ii - k_i+1):";
+  for (Eigen::Index i = 0; i < avg.springs.size(); ++i) out << " k" << i + 1 << " = " << avg.springs[i] << " +- " << avg.spread[i];
+  out << " N/m\nleast-squares chain:";
+  for (Eigen::Index i = 0; i < avg.springs_lsq.size(); ++i) out << " k" << i + 1 << " = " << avg.springs_lsq[i];
+  out << " N/m\noff-diagonal mismatch " << avg.offdiag_mismatch_percent << " % over " << tests << " test(s)\n";
+  return out.str();
+}
+
+void Run(const StiffnessArgs& a) {
+  const std::vector<double> mv = ParsePositiveList(a.masses, "--masses");
+  const Eigen::VectorXd masses = Eigen::Map<const Eigen::VectorXd>(mv.data(), static_cast<Eigen::Index>(mv.size()));
+  std::vector<ident::StiffnessUpdateResult> tests;
+  for (const std::string& path : a.modes) {
+    tests.push_back(StiffnessFromModes(masses, ModesFromJson(ReadJsonFile(path), path), path));
+  }
+  const ident::StiffnessAverage avg = ident::AverageStiffness(tests);
+  EmitOutput(a.json ? StiffnessJson(avg).dump(2) + "\n" : StiffnessText(avg, tests.size()), a.output);
+}
+
+void RegisterMassUpdate(CLI::App& update) {
+  const auto [cmd, a] = AddCommand<MassArgs>(update, "mass", kMassHelp, Run);
+  cmd->add_option("input", a->input, "Recording (REC.csv) or FRF file")->required();
+  AddEstimationOptions(cmd, a->est, false, "receptance");
+  cmd->add_option("--stiffness-n-per-m", a->options.k_n_per_m, "Known spring stiffness (N/m); omitted: fitted too")
+      ->check(PositiveNumber());
+  cmd->add_option("--nominal-kg", a->options.nominal_kg, "Nominal mass (kg) for the % change")->check(PositiveNumber());
+  cmd->add_option("--band", a->options.band_fraction, "Fitted band: omega within (1 +- band) omega_peak")->capture_default_str();
+  cmd->add_flag("--fixed-damping{false}", a->options.fit_damping,
+                "Hold c at the half-power value instead of refining it in the fit");
+  cmd->add_flag("--json", a->json, "JSON output");
+  cmd->add_option("-o,--output", a->output, "Write the result here instead of stdout");
+}
+
+void RegisterStiffnessUpdate(CLI::App& update) {
+  const auto [cmd, a] = AddCommand<StiffnessArgs>(update, "stiffness", kStiffnessHelp, Run);
+  cmd->add_option("--masses", a->masses, "Masses m1,m2,... (kg), e.g. from `update mass`")->required();
+  cmd->add_option("--modes", a->modes, "MODES.json from `vibid modes --json`, one per test")->required();
+  cmd->add_flag("--json", a->json, "JSON output");
+  cmd->add_option("-o,--output", a->output, "Write the result here instead of stdout");
+}
+
+}  // namespace
+
 void RegisterUpdate(CLI::App& app) {
   CLI::App* update = app.add_subcommand("update", "Update a model's masses or springs from test data");
   update->require_subcommand(1);
-
-  struct MassArgs {
-    std::string input;
-    bool json = false;
-    std::string output;
-    EstimationArgs est;
-    ident::MassUpdateOptions options;
-  };
-  auto ma = std::make_shared<MassArgs>();
-  CLI::App* mass = update->add_subcommand(
-      "mass",
-      "Effective mass of one mass alone on its spring (1-DOF hammer test): fit |H| = 1/sqrt((k - m w^2)^2 + (c w)^2)\n"
-      "to the coherence-weighted log receptance around the resonance (Levenberg-Marquardt), c started from the\n"
-      "half-power damping and refined (--fixed-damping keeps it).");
-  mass->add_option("input", ma->input, "Recording (REC.csv) or FRF file")->required();
-  AddEstimationOptions(mass, ma->est, false, "receptance");
-  mass->add_option("--stiffness-n-per-m", ma->options.k_n_per_m, "Known spring stiffness (N/m); omitted: fitted too")
-      ->check(PositiveNumber());
-  mass->add_option("--nominal-kg", ma->options.nominal_kg, "Nominal mass (kg) for the % change")->check(PositiveNumber());
-  mass->add_option("--band", ma->options.band_fraction, "Fitted band: omega within (1 +- band) omega_peak")->capture_default_str();
-  mass->add_flag("--fixed-damping{false}", ma->options.fit_damping,
-                 "Hold c at the half-power value instead of refining it in the fit");
-  mass->add_flag("--json", ma->json, "JSON output");
-  mass->add_option("-o,--output", ma->output, "Write the result here instead of stdout");
-  mass->callback([ma] {
-    Require(ma->est.kind == "receptance", "the mass update fits a receptance; leave --kind at its default");
-    std::vector<std::string> notes;
-    const ident::Frf frf = LoadOrEstimate(ma->input, ma->est, notes);
-    Require(frf.responses() == 1, "update mass: give exactly one response (got " + std::to_string(frf.responses()) + ")");
-    const ident::MassUpdateResult r = ident::UpdateMass(frf, 0, ma->options);
-    if (!r.summary.Converged()) throw NumericalError("mass update did not converge: " + r.summary.message);
-    if (ma->json) {
-      nlohmann::json j = MassUpdateJson(r);
-      j["notes"] = notes;
-      EmitOutput(j.dump(2) + "\n", ma->output);
-    } else {
-      std::ostringstream out;
-      out << "effective mass " << r.mass_kg << " kg";
-      if (r.nominal_kg > 0.0) out << " (nominal " << r.nominal_kg << " kg, " << r.change_percent << " %)";
-      out << "\nk " << r.k_n_per_m << " N/m" << (r.stiffness_fitted ? " (fitted)" : " (given)") << ", zeta " << r.zeta
-          << (r.damping_fitted ? " (fitted; half-power " + std::to_string(r.zeta_half_power) + ")" : " (half-power)")
-          << ", c " << r.c_ns_per_m << " N*s/m, omega " << r.omega_rad_s << " rad/s\n"
-          << "fit: " << ident::TerminationName(r.summary.termination) << ", " << r.summary.iterations << " iterations, "
-          << r.lines_fitted << " lines\n";
-      EmitOutput(out.str(), ma->output);
-    }
-    for (const auto& w : r.warnings) std::cerr << "vibid: warning: " << w << "\n";
-  });
-
-  struct StiffArgs {
-    std::string masses;
-    std::vector<std::string> modes;
-    bool json = false;
-    std::string output;
-  };
-  auto sa = std::make_shared<StiffArgs>();
-  CLI::App* stiff = update->add_subcommand(
-      "stiffness",
-      "Stiffness from modal tests (Eq. 7): K = M Phi Omega^2 Phi^T M with mass-normalised shapes; chain springs\n"
-      "k2 = K22, k1 = K11 - K22, a least-squares chain fit and the off-diagonal mismatch; tests averaged with their spread.");
-  stiff->add_option("--masses", sa->masses, "Masses m1,m2,... (kg), e.g. from `update mass`")->required();
-  stiff->add_option("--modes", sa->modes, "MODES.json from `vibid modes --json`, one per test")->required();
-  stiff->add_flag("--json", sa->json, "JSON output");
-  stiff->add_option("-o,--output", sa->output, "Write the result here instead of stdout");
-  stiff->callback([sa] {
-    const std::vector<double> mv = ParseNumberList(sa->masses, "--masses");
-    const Eigen::VectorXd masses = Eigen::Map<const Eigen::VectorXd>(mv.data(), static_cast<Eigen::Index>(mv.size()));
-    std::vector<ident::StiffnessUpdateResult> tests;
-    for (const std::string& path : sa->modes) {
-      tests.push_back(StiffnessFromModes(masses, ModesFromJson(ReadJsonFile(path), path), path));
-    }
-    const ident::StiffnessAverage avg = ident::AverageStiffness(tests);
-    if (sa->json) {
-      EmitOutput(StiffnessJson(avg).dump(2) + "\n", sa->output);
-    } else {
-      std::ostringstream out;
-      out << "springs (k_n = K_nn, k_i = K_ii - k_i+1):";
-      for (Eigen::Index i = 0; i < avg.springs.size(); ++i) out << " k" << i + 1 << " = " << avg.springs[i] << " +- " << avg.spread[i];
-      out << " N/m\nleast-squares chain:";
-      for (Eigen::Index i = 0; i < avg.springs_lsq.size(); ++i) out << " k" << i + 1 << " = " << avg.springs_lsq[i];
-      out << " N/m\noff-diagonal mismatch " << avg.offdiag_mismatch_percent << " % over " << tests.size() << " test(s)\n";
-      EmitOutput(out.str(), sa->output);
-    }
-  });
+  RegisterMassUpdate(*update);
+  RegisterStiffnessUpdate(*update);
 }
 
 }  // namespace vibid::cli

@@ -2,12 +2,12 @@
 // synthesized FRFs as CSV.
 #include <cmath>
 #include <complex>
-#include <memory>
 #include <numbers>
 #include <string>
 #include <vector>
 
 #include "cli_support.hpp"
+#include "common/command.hpp"
 #include "model/model_commands.hpp"
 #include "vibid/common/csv.hpp"
 #include "vibid/common/error.hpp"
@@ -16,6 +16,11 @@
 
 namespace vibid::cli {
 namespace {
+
+constexpr const char* kFrfHelp =
+    "Frequency response of a model, (K - w^2 M + j w C)^-1 for receptance (m/N), times j w for mobility\n"
+    "(m/(N*s)), times -w^2 for accelerance (m/(N*s^2)). CSV: freq_hz, then re_/im_<kind>_<in>_<out>\n"
+    "per output (or mag_ and phase_deg_ with --polar).";
 
 struct FrfArgs {
   std::string model_path;
@@ -79,12 +84,7 @@ void Run(const FrfArgs& a) {
 }  // namespace
 
 void RegisterFrfCommand(CLI::App& app) {
-  auto args = std::make_shared<FrfArgs>();
-  CLI::App* cmd = app.add_subcommand(
-      "frf",
-      "Frequency response of a model, (K - w^2 M + j w C)^-1 for receptance (m/N), times j w for mobility\n"
-      "(m/(N*s)), times -w^2 for accelerance (m/(N*s^2)). CSV: freq_hz, then re_/im_<kind>_<in>_<out>\n"
-      "per output (or mag_ and phase_deg_ with --polar).");
+  const auto [cmd, args] = AddCommand<FrfArgs>(app, "frf", kFrfHelp, Run);
   cmd->add_option("model", args->model_path, "Model file (JSON)")->required();
   cmd->add_option("--input", args->input, "DOF the force acts on (from 1)")->required();
   cmd->add_option("--output", args->outputs, "Response DOF(s), comma separated (from 1)")->required();
@@ -95,7 +95,6 @@ void RegisterFrfCommand(CLI::App& app) {
   cmd->add_flag("--log", args->log, "Logarithmic frequency spacing (needs --f-min-hz > 0)");
   cmd->add_flag("--polar", args->polar, "Magnitude and phase (degrees) instead of real and imaginary parts");
   cmd->add_option("-o,--output-file", args->output_path, "CSV file to write (default: stdout)");
-  cmd->callback([args] { Run(*args); });
 }
 
 }  // namespace vibid::cli

@@ -1,18 +1,22 @@
 // `vibid modal MODEL.json [--json] [-o FILE]`: natural frequencies, damping and mode shapes.
 #include <cmath>
 #include <cstdio>
-#include <memory>
 #include <string>
 
 #include <nlohmann/json.hpp>
 
 #include "cli_support.hpp"
+#include "common/command.hpp"
 #include "model/model_commands.hpp"
 #include "vibid/model/modal.hpp"
 #include "vibid/model/model_json.hpp"
 
 namespace vibid::cli {
 namespace {
+
+constexpr const char* kModalHelp =
+    "Modal analysis of a model: natural frequencies (Hz, rad/s), damping ratios and mass-normalised mode\n"
+    "shapes (1/sqrt(kg)), sorted by frequency; for 2 or more DOFs the shape ratio a1/a2.";
 
 struct ModalArgs {
   std::string model_path;
@@ -70,22 +74,19 @@ nlohmann::json Json(const model::ModalResult& r) {
   return {{"modes", modes}, {"damping", DampingName(r.damping)}};
 }
 
+void Run(const ModalArgs& a) {
+  const model::ModalResult r = model::Modal(model::LoadModel(a.model_path));
+  EmitOutput(a.json ? Json(r).dump(2) + "\n" : Table(r), a.output);
+}
+
 }  // namespace
 
 void RegisterModalCommand(CLI::App& app) {
-  auto args = std::make_shared<ModalArgs>();
-  CLI::App* cmd = app.add_subcommand(
-      "modal",
-      "Modal analysis of a model: natural frequencies (Hz, rad/s), damping ratios and mass-normalised mode\n"
-      "shapes (1/sqrt(kg)), sorted by frequency; for 2 or more DOFs the shape ratio a1/a2.");
+  const auto [cmd, args] = AddCommand<ModalArgs>(app, "modal", kModalHelp, Run);
   cmd->add_option("model", args->model_path, "Model file (JSON: chain, cart or M/K/C matrices in kg, N/m, N*s/m)")->required();
   cmd->add_flag("--json", args->json,
                 "Print {\"modes\": [{\"omega_rad_s\", \"freq_hz\", \"zeta\", \"shape\", \"ratio\"}, ...]} instead of a table");
   cmd->add_option("-o,--output", args->output, "Write to this file instead of stdout");
-  cmd->callback([args] {
-    const model::ModalResult r = model::Modal(model::LoadModel(args->model_path));
-    EmitOutput(args->json ? Json(r).dump(2) + "\n" : Table(r), args->output);
-  });
 }
 
 }  // namespace vibid::cli

@@ -1,9 +1,9 @@
-#include <charconv>
+// The model command family, and the DOF and number lists its options take.
 #include <cmath>
 
 #include "commands.hpp"
+#include "common/option_text.hpp"
 #include "model/model_commands.hpp"
-#include "vibid/common/csv.hpp"
 #include "vibid/common/error.hpp"
 
 namespace vibid::cli {
@@ -16,11 +16,9 @@ void RegisterModelCommands(CLI::App& app) {
 
 std::vector<double> ParseNumberList(const std::string& text, const std::string& option) {
   std::vector<double> out;
-  for (const std::string& item : SplitList(text)) {
+  for (const std::string& item : SplitOptionList(text)) {
     double value = 0.0;
-    const auto [end, ec] = std::from_chars(item.data(), item.data() + item.size(), value);
-    Require(!item.empty() && ec == std::errc() && end == item.data() + item.size() && std::isfinite(value),
-            option + ": '" + item + "' is not a finite number");
+    Require(ParseNumber(item, value) == NumberText::kOk, option + ": '" + item + "' is not a finite number");
     out.push_back(value);
   }
   return out;

@@ -1,9 +1,9 @@
 // `vibid simulate MODEL.json --method euler|rk4|exact --dt-s --t-end-s --force SPEC ...`: time response.
-#include <memory>
 #include <string>
 #include <vector>
 
 #include "cli_support.hpp"
+#include "common/command.hpp"
 #include "model/model_commands.hpp"
 #include "vibid/common/csv.hpp"
 #include "vibid/common/error.hpp"
@@ -12,6 +12,13 @@
 
 namespace vibid::cli {
 namespace {
+
+constexpr const char* kSimulateHelp =
+    "Time response of M x'' + C x' + K x = F(t). CSV columns: t_s, x<i>_m, v<i>_m_s, a<i>_m_s2, f<i>_n.\n"
+    "Force SPECs (DOF from 1, amp in N, times in s, frequencies in Hz; t0 defaults to 0):\n"
+    "  step:dof=1,amp=5[,t0=0]                  pulse:dof=1,amp=5,width=0.1[,t0=0]\n"
+    "  halfsine:dof=2,amp=100,width=0.001[,t0=] sine:dof=2,amp=1,freq_hz=16[,t0=]\n"
+    "  chirp:dof=1,amp=1,f0_hz=1,f1_hz=50,t1=10[,t0=]  (linear sweep over t1 seconds)";
 
 struct SimulateArgs {
   std::string model_path;
@@ -73,14 +80,7 @@ void Run(const SimulateArgs& a) {
 }  // namespace
 
 void RegisterSimulateCommand(CLI::App& app) {
-  auto args = std::make_shared<SimulateArgs>();
-  CLI::App* cmd = app.add_subcommand(
-      "simulate",
-      "Time response of M x'' + C x' + K x = F(t). CSV columns: t_s, x<i>_m, v<i>_m_s, a<i>_m_s2, f<i>_n.\n"
-      "Force SPECs (DOF from 1, amp in N, times in s, frequencies in Hz; t0 defaults to 0):\n"
-      "  step:dof=1,amp=5[,t0=0]                  pulse:dof=1,amp=5,width=0.1[,t0=0]\n"
-      "  halfsine:dof=2,amp=100,width=0.001[,t0=] sine:dof=2,amp=1,freq_hz=16[,t0=]\n"
-      "  chirp:dof=1,amp=1,f0_hz=1,f1_hz=50,t1=10[,t0=]  (linear sweep over t1 seconds)");
+  const auto [cmd, args] = AddCommand<SimulateArgs>(app, "simulate", kSimulateHelp, Run);
   cmd->add_option("model", args->model_path, "Model file (JSON)")->required();
   cmd->add_option("--method", args->method,
                   "euler | rk4 | exact (zero-order hold: exact for forces constant over each step; linear only)")
@@ -98,7 +98,6 @@ void RegisterSimulateCommand(CLI::App& app) {
   cmd->add_option("--x0-m", args->x0, "Initial positions, m, comma separated (default 0)");
   cmd->add_option("--v0-m-s", args->v0, "Initial velocities, m/s, comma separated (default 0)");
   cmd->add_option("-o,--output-file", args->output_path, "CSV file to write (default: stdout)");
-  cmd->callback([args] { Run(*args); });
 }
 
 }  // namespace vibid::cli

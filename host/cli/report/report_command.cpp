@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "cli_support.hpp"
+#include "common/command.hpp"
 #include "commands.hpp"
 #include "vibid/common/csv.hpp"
 #include "vibid/common/atomic_file.hpp"
@@ -32,7 +33,12 @@ constexpr const char* kNominalColor = "#d62728";
 constexpr const char* kUpdatedColor = "#1f77b4";
 constexpr const char* kPalette[] = {"#1f77b4", "#d62728", "#2ca02c", "#9467bd", "#ff7f0e"};
 
-struct Args {
+constexpr const char* kReportHelp =
+    "One HTML page (inline SVG, no scripts) from an identification (`vibid identify --report DIR`): validation\n"
+    "table and FRFs measured/nominal/updated; and from an observer recording (`vibid dob run`): fit of each\n"
+    "estimate to the measured force and the traces over time.";
+
+struct ReportArgs {
   std::string title = "vibid rig report";
   std::string identify_dir;
   std::string truth;
@@ -210,7 +216,7 @@ void StabilizationFigure(const nlohmann::json& report, const std::string& overla
               "red lines: the poles chosen as modes (clusters of stable poles).");
 }
 
-void ObserverSection(const Args& a, report::HtmlPage& page) {
+void ObserverSection(const ReportArgs& a, report::HtmlPage& page) {
   const Recording rec = LoadRecording(a.dob_recording);
   const Eigen::VectorXd t = rec.Time();
   const Eigen::VectorXd measured = rec.Signal(ParseColumnSpec(a.measured));
@@ -243,7 +249,7 @@ void ObserverSection(const Args& a, report::HtmlPage& page) {
               a.dob_recording);
 }
 
-void Run(const Args& a) {
+void Run(const ReportArgs& a) {
   Require(!a.identify_dir.empty() || !a.dob_recording.empty(), "give --identify DIR, --dob REC.csv, or both");
   Require(a.dob_recording.empty() || (!a.measured.empty() && !a.estimates.empty()),
           "--dob needs --measured COLUMN and at least one --estimate COLUMN[=LABEL]");
@@ -278,12 +284,7 @@ void Run(const Args& a) {
 }  // namespace
 
 void RegisterReportCommands(CLI::App& app) {
-  auto a = std::make_shared<Args>();
-  CLI::App* cmd = app.add_subcommand(
-      "report",
-      "One HTML page (inline SVG, no scripts) from an identification (`vibid identify --report DIR`): validation\n"
-      "table and FRFs measured/nominal/updated; and from an observer recording (`vibid dob run`): fit of each\n"
-      "estimate to the measured force and the traces over time.");
+  const auto [cmd, a] = AddCommand<ReportArgs>(app, "report", kReportHelp, Run);
   cmd->add_option("--identify", a->identify_dir, "Directory written by `vibid identify --report`");
   cmd->add_option("--truth", a->truth, "Model file of the rig's true values (e.g. `vibid-emu --print-truth`): adds the error of the update");
   cmd->add_option("--dob", a->dob_recording, "Recording with the measured force and the estimates (CSV)");
@@ -294,7 +295,6 @@ void RegisterReportCommands(CLI::App& app) {
   cmd->add_option("--note", a->notes, "A line for the top of the report (rig, firmware, checks); repeat for several");
   cmd->add_option("--title", a->title, "Page title")->capture_default_str();
   cmd->add_option("-o,--output", a->out, "HTML file to write")->required();
-  cmd->callback([a] { Run(*a); });
 }
 
 }  // namespace vibid::cli

@@ -1,8 +1,12 @@
 // vibid arx, vibid pem: discrete-time polynomial models.
-#include <memory>
+#include <limits>
+#include <optional>
 #include <sstream>
 
 #include "cli_support.hpp"
+#include "common/command.hpp"
+#include "common/option_text.hpp"
+#include "common/solver_json.hpp"
 #include "sysid/sysid_cli.hpp"
 #include "vibid/common/error.hpp"
 #include "vibid/sysid/continuous.hpp"
@@ -99,20 +103,12 @@ nlohmann::json ModelReport(const sysid::PolyModel& m, const sysid::IoData& est, 
 sysid::PolyOrders ParseOrders(const std::string& text, sysid::Structure s) {
   sysid::PolyOrders o;
   o.nb = 0;
-  std::vector<std::string> items;
-  std::stringstream ss(text);
-  for (std::string item; std::getline(ss, item, ',');) items.push_back(item);
+  const std::vector<std::string> items = SplitOptionList(text, TrailingEmpty::kDrop);
   Require(!items.empty(), "--orders is empty");
   auto integer = [&](const std::string& v) {
-    std::size_t used = 0;
-    int n = -1;
-    try {
-      n = std::stoi(v, &used);
-    } catch (...) {
-      used = 0;
-    }
-    Require(used == v.size() && n >= 0, "--orders: '" + v + "' is not an integer >= 0");
-    return n;
+    const std::optional<long long> n = ParseInteger(v);
+    Require(n && *n >= 0 && *n <= std::numeric_limits<int>::max(), "--orders: '" + v + "' is not an integer >= 0");
+    return static_cast<int>(*n);
   };
   const bool named = items[0].find('=') != std::string::npos;
   if (named) {
@@ -150,85 +146,99 @@ sysid::PolyOrders ParseOrders(const std::string& text, sysid::Structure s) {
   return o;
 }
 
+constexpr const char* kArxHelp =
+    "ARX model A(q)y = B(q)u + e by least squares (QR); coefficients in q^-1";
+
+struct ArxArgs {
+  PolyArgs poly;
+  int na = -1;
+  int nb = -1;
+  int nk = 1;
+  std::string select;
+  int max_order = 10;
+};
+
+void Run(const ArxArgs& a) {
+  const sysid::IoData all = LoadIoData(a.poly.record);
+  const sysid::IoData est = ApplyRange(all, a.poly.estimate_range, "--estimate-range");
+  std::ostringstream text;
+  nlohmann::json selection;
+  sysid::PolyOrders o{a.na, a.nb, 0, 0, 0, a.nk};
+  if (!a.select.empty()) {
+    Require(a.na < 0 && a.nb < 0, "give either --select or --na/--nb, not both");
+    const auto crit = a.select == "aic" ? sysid::OrderCriterion::kAic : sysid::OrderCriterion::kFpe;
+    const sysid::OrderSelection sel = sysid::SelectArxOrder(est, 1, a.max_order, a.nk, crit);
+    for (const auto& c : sel.candidates) {
+      selection.push_back({{"na", c.orders.na}, {"nb", c.orders.nb}, {"loss", c.loss}, {a.select, c.criterion}});
+      text << "na=nb=" << c.orders.na << ": loss " << FormatNumber(c.loss) << ", " << a.select << " "
+           << FormatNumber(c.criterion) << "\n";
+    }
+    o = sel.candidates[sel.best].orders;
+    text << "selected na=nb=" << o.na << "\n";
+  } else {
+    Require(a.na >= 0 && a.nb >= 1, "arx needs --na and --nb (or --select aic|fpe)");
+  }
+  const sysid::ArxResult r = sysid::EstimateArx(est, o);
+  nlohmann::json j = ModelReport(r.model, est, all, a.poly, text);
+  j["loss"] = r.loss;
+  if (!selection.is_null()) j["order_selection"] = selection;
+  Emit(j, text.str(), a.poly.json, a.poly.out);
+}
+
+constexpr const char* kPemHelp =
+    "Prediction-error model (arx, armax, oe, bj) by Levenberg-Marquardt";
+
+struct PemArgs {
+  PolyArgs poly;
+  std::string structure;
+  std::string orders;
+  int max_iterations = 200;
+};
+
+void Run(const PemArgs& a) {
+  const sysid::Structure s = sysid::ParseStructure(a.structure);
+  const sysid::PolyOrders o = ParseOrders(a.orders, s);
+  sysid::SolverOptions so;
+  so.max_iterations = a.max_iterations;
+  const sysid::IoData all = LoadIoData(a.poly.record);
+  const sysid::IoData est = ApplyRange(all, a.poly.estimate_range, "--estimate-range");
+  const sysid::PemResult r = sysid::EstimatePem(est, s, o, so);
+  if (r.summary.termination == sysid::Termination::kNumericalFailure) {
+    throw NumericalError("pem did not produce a model: " + r.summary.message);
+  }
+  std::ostringstream text;
+  nlohmann::json j = ModelReport(r.model, est, all, a.poly, text);
+  j["summary"] = SolverSummaryJson(r.summary);
+  j["initialization"] = r.initialization;
+  text << "search: " << sysid::TerminationName(r.summary.termination) << " after " << r.summary.iterations
+       << " iterations (" << r.initialization << " start), cost " << FormatNumber(r.summary.initial_cost) << " -> "
+       << FormatNumber(r.summary.final_cost) << "\n";
+  Emit(j, text.str(), a.poly.json, a.poly.out);
+}
+
 }  // namespace
 
 void RegisterArxCommand(CLI::App& app) {
-  auto a = std::make_shared<PolyArgs>();
-  auto na = std::make_shared<int>(-1);
-  auto nb = std::make_shared<int>(-1);
-  auto nk = std::make_shared<int>(1);
-  auto select = std::make_shared<std::string>();
-  auto max_order = std::make_shared<int>(10);
-  auto* cmd = app.add_subcommand("arx", "ARX model A(q)y = B(q)u + e by least squares (QR); coefficients in q^-1");
-  AddPolyOptions(*cmd, *a);
-  cmd->add_option("--na", *na, "Order of A")->check(CLI::NonNegativeNumber);
-  cmd->add_option("--nb", *nb, "Number of B coefficients")->check(CLI::PositiveNumber);
-  cmd->add_option("--nk", *nk, "Input delay in samples (MATLAB convention; default 1)")->check(CLI::NonNegativeNumber);
-  cmd->add_option("--select", *select, "Choose na = nb by aic|fpe over 1..--max-order instead of --na/--nb")
+  const auto [cmd, a] = AddCommand<ArxArgs>(app, "arx", kArxHelp, Run);
+  AddPolyOptions(*cmd, a->poly);
+  cmd->add_option("--na", a->na, "Order of A")->check(CLI::NonNegativeNumber);
+  cmd->add_option("--nb", a->nb, "Number of B coefficients")->check(CLI::PositiveNumber);
+  cmd->add_option("--nk", a->nk, "Input delay in samples (MATLAB convention; default 1)")->check(CLI::NonNegativeNumber);
+  cmd->add_option("--select", a->select, "Choose na = nb by aic|fpe over 1..--max-order instead of --na/--nb")
       ->check(CLI::IsMember({"aic", "fpe"}));
-  cmd->add_option("--max-order", *max_order, "Largest order tried by --select")->check(CLI::Range(1, 200));
-  cmd->callback([=] {
-    const sysid::IoData all = LoadIoData(a->record);
-    const sysid::IoData est = ApplyRange(all, a->estimate_range, "--estimate-range");
-    std::ostringstream text;
-    nlohmann::json selection;
-    sysid::PolyOrders o{*na, *nb, 0, 0, 0, *nk};
-    if (!select->empty()) {
-      Require(*na < 0 && *nb < 0, "give either --select or --na/--nb, not both");
-      const auto crit = *select == "aic" ? sysid::OrderCriterion::kAic : sysid::OrderCriterion::kFpe;
-      const sysid::OrderSelection sel = sysid::SelectArxOrder(est, 1, *max_order, *nk, crit);
-      for (const auto& c : sel.candidates) {
-        selection.push_back({{"na", c.orders.na}, {"nb", c.orders.nb}, {"loss", c.loss}, {*select, c.criterion}});
-        text << "na=nb=" << c.orders.na << ": loss " << FormatNumber(c.loss) << ", " << *select << " "
-             << FormatNumber(c.criterion) << "\n";
-      }
-      o = sel.candidates[sel.best].orders;
-      text << "selected na=nb=" << o.na << "\n";
-    } else {
-      Require(*na >= 0 && *nb >= 1, "arx needs --na and --nb (or --select aic|fpe)");
-    }
-    const sysid::ArxResult r = sysid::EstimateArx(est, o);
-    nlohmann::json j = ModelReport(r.model, est, all, *a, text);
-    j["loss"] = r.loss;
-    if (!selection.is_null()) j["order_selection"] = selection;
-    Emit(j, text.str(), a->json, a->out);
-  });
+  cmd->add_option("--max-order", a->max_order, "Largest order tried by --select")->check(CLI::Range(1, 200));
 }
 
 void RegisterPemCommand(CLI::App& app) {
-  auto a = std::make_shared<PolyArgs>();
-  auto structure = std::make_shared<std::string>();
-  auto orders = std::make_shared<std::string>();
-  auto max_iterations = std::make_shared<int>(200);
-  auto* cmd = app.add_subcommand("pem", "Prediction-error model (arx, armax, oe, bj) by Levenberg-Marquardt");
-  AddPolyOptions(*cmd, *a);
-  cmd->add_option("--structure", *structure, "arx | armax | oe | bj")->required()
+  const auto [cmd, a] = AddCommand<PemArgs>(app, "pem", kPemHelp, Run);
+  AddPolyOptions(*cmd, a->poly);
+  cmd->add_option("--structure", a->structure, "arx | armax | oe | bj")->required()
       ->check(CLI::IsMember({"arx", "armax", "oe", "bj"}));
-  cmd->add_option("--orders", *orders,
+  cmd->add_option("--orders", a->orders,
                   "Orders as NAME=N pairs (na,nb,nc,nd,nf,nk; nk defaults to 1) or MATLAB's vector: arx na,nb,nk; "
                   "armax na,nb,nc,nk; oe nb,nf,nk; bj nb,nc,nd,nf,nk")
       ->required();
-  cmd->add_option("--max-iterations", *max_iterations, "Iteration limit of the search")->check(CLI::Range(1, 100000));
-  cmd->callback([=] {
-    const sysid::Structure s = sysid::ParseStructure(*structure);
-    const sysid::PolyOrders o = ParseOrders(*orders, s);
-    sysid::SolverOptions so;
-    so.max_iterations = *max_iterations;
-    const sysid::IoData all = LoadIoData(a->record);
-    const sysid::IoData est = ApplyRange(all, a->estimate_range, "--estimate-range");
-    const sysid::PemResult r = sysid::EstimatePem(est, s, o, so);
-    if (r.summary.termination == sysid::Termination::kNumericalFailure) {
-      throw NumericalError("pem did not produce a model: " + r.summary.message);
-    }
-    std::ostringstream text;
-    nlohmann::json j = ModelReport(r.model, est, all, *a, text);
-    j["summary"] = SummaryJson(r.summary);
-    j["initialization"] = r.initialization;
-    text << "search: " << sysid::TerminationName(r.summary.termination) << " after " << r.summary.iterations
-         << " iterations (" << r.initialization << " start), cost " << FormatNumber(r.summary.initial_cost) << " -> "
-         << FormatNumber(r.summary.final_cost) << "\n";
-    Emit(j, text.str(), a->json, a->out);
-  });
+  cmd->add_option("--max-iterations", a->max_iterations, "Iteration limit of the search")->check(CLI::Range(1, 100000));
 }
 
 }  // namespace vibid::cli

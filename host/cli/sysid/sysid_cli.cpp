@@ -46,14 +46,6 @@ sysid::IoData ApplyRange(const sysid::IoData& data, const std::string& range, co
   }
 }
 
-nlohmann::json SummaryJson(const sysid::SolverSummary& s) {
-  return {{"termination", sysid::TerminationName(s.termination)},
-          {"iterations", s.iterations},
-          {"initial_cost", s.initial_cost},
-          {"final_cost", s.final_cost},
-          {"message", s.message}};
-}
-
 nlohmann::json ResidualJson(const sysid::ResidualTests& t) {
   return {{"max_lag", t.max_lag},
           {"confidence", t.confidence},

@@ -34,7 +34,6 @@ sysid::IoData LoadIoData(const RecordArgs& args);
 /// Part `range` ("a:b", empty for all) of `data`; `option` names it in errors.
 sysid::IoData ApplyRange(const sysid::IoData& data, const std::string& range, const std::string& option);
 
-nlohmann::json SummaryJson(const sysid::SolverSummary& s);
 nlohmann::json ResidualJson(const sysid::ResidualTests& t);
 /// Residual tests when the record allows them (more than 4 × 25 samples, nonzero residuals).
 std::optional<sysid::ResidualTests> TryResidualTests(const Eigen::VectorXd& residual, const Eigen::VectorXd& input);
