@@ -139,7 +139,7 @@ void RegisterModes(CLI::App& app) {
             << r.diagram.poles.size() << " poles, " << r.diagram.selected.size() << " chosen; residue fit rms relative misfit "
             << r.fit.rms_relative_error << "\n";
       } else if (r.fitted) {
-        out << "curve fit: " << ident::TerminationName(r.fit.summary.termination) << ", " << r.fit.summary.iterations
+        out << "curve fit: " << numerics::TerminationName(r.fit.summary.termination) << ", " << r.fit.summary.iterations
             << " iterations, cost " << r.fit.summary.initial_cost << " -> " << r.fit.summary.final_cost
             << ", rms relative misfit " << r.fit.rms_relative_error << "\n";
       }

@@ -272,8 +272,8 @@ std::vector<ident::ModeEstimate> ModesFromJson(const nlohmann::json& json, const
   return modes;
 }
 
-nlohmann::json SummaryToJson(const ident::SolverSummary& s) {
-  return {{"termination", ident::TerminationName(s.termination)},
+nlohmann::json SummaryToJson(const numerics::SolverSummary& s) {
+  return {{"termination", numerics::TerminationName(s.termination)},
           {"iterations", s.iterations},
           {"initial_cost", s.initial_cost},
           {"final_cost", s.final_cost},

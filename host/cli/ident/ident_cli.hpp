@@ -11,7 +11,7 @@
 
 #include "vibid/ident/impact.hpp"
 #include "vibid/ident/modes.hpp"
-#include "vibid/ident/solver.hpp"
+#include "vibid/numerics/least_squares.hpp"
 #include "vibid/ident/spectral.hpp"
 
 namespace vibid::cli {
@@ -62,7 +62,7 @@ std::string DescribeHits(const std::vector<ident::Hit>& hits);
 
 nlohmann::json ModesToJson(const std::vector<ident::ModeEstimate>& modes);
 std::vector<ident::ModeEstimate> ModesFromJson(const nlohmann::json& json, const std::string& source);
-nlohmann::json SummaryToJson(const ident::SolverSummary& summary);
+nlohmann::json SummaryToJson(const numerics::SolverSummary& summary);
 /// {"method", "band_hz": [lo, hi], "orders": [...], "poles": [{order, freq_hz, zeta, stable_freq,
 /// stable_damping, stable_shape, cluster}], "selected": [{freq_hz, omega_rad_s, zeta, orders, ...}]}
 nlohmann::json DiagramToJson(const ident::StabilizationDiagram& diagram);

@@ -128,7 +128,7 @@ DecayResult AnalyzeDecay(const Eigen::Ref<const Eigen::VectorXd>& position, doub
 
   // Variable projection: the amplitude, phase and offset are linear once sigma and omega_d are
   // fixed; LM moves p = [omega_d / omega_d0, sigma / omega_d0].
-  const ResidualFunction f = [&](const Eigen::VectorXd& p, Eigen::VectorXd& r) {
+  const numerics::ResidualOnlyFunction f = [&](const Eigen::VectorXd& p, Eigen::VectorXd& r) {
     const double wd = p[0] * omega_d0;
     const double sg = p[1] * omega_d0;
     if (wd <= 0.0) return false;
@@ -139,7 +139,7 @@ DecayResult AnalyzeDecay(const Eigen::Ref<const Eigen::VectorXd>& position, doub
   };
   Eigen::VectorXd p(2);
   p << 1.0, std::max(sigma0, 0.0) / omega_d0;
-  res.summary = LevenbergMarquardt(f, p, options.solver);
+  res.summary = numerics::LevenbergMarquardt(numerics::NumericDiff(f), p, options.solver);
   res.omega_d_rad_s = p[0] * omega_d0;
   res.sigma_per_s = p[1] * omega_d0;
   res.omega_n_rad_s = std::hypot(res.omega_d_rad_s, res.sigma_per_s);

@@ -239,57 +239,29 @@ ModalModelFit FitModalModel(const Frf& receptance, const std::vector<std::comple
   out.lines = static_cast<int>(L);
 
   const auto used_lines = [&](Eigen::Index o) { return static_cast<double>((prob.weight.col(o).array() > 0.0).count()); };
-  const auto refine = [&](Eigen::VectorXd& th, SolverSummary& summary) {
-    Eigen::VectorXd r;
-    Eigen::MatrixXd jac;
-    prob.Evaluate(th, r, &jac);
-    double cost = 0.5 * r.squaredNorm();
-    summary.initial_cost = cost;
-    summary.termination = Termination::kMaxIterations;
-    double mu = 1e-3;
-    int it = 0;
-    for (; it < options.max_iterations; ++it) {
-      const Eigen::VectorXd scale = jac.colwise().norm().transpose().cwiseMax(1e-300).cwiseInverse();
-      const Eigen::MatrixXd js = jac * scale.asDiagonal();
-      const Eigen::MatrixXd jtj = js.transpose() * js;
-      const Eigen::VectorXd g = js.transpose() * r;
-      bool accepted = false;
-      for (int tries = 0; tries < 12 && !accepted; ++tries) {
-        Eigen::MatrixXd a = jtj;
-        a.diagonal().array() += mu;
-        const Eigen::VectorXd step = scale.cwiseProduct(a.ldlt().solve(-g));
-        Eigen::VectorXd next = th + step;
-        bool ok = step.allFinite();
-        for (Eigen::Index i = 0; ok && i < prob.modes; ++i) ok = next[2 * i] > 0.0 && next[2 * i + 1] > 0.0 && next[2 * i + 1] < 1.0;
-        Eigen::VectorXd rn;
-        if (ok) prob.Evaluate(next, rn, nullptr);
-        const double cn = ok ? 0.5 * rn.squaredNorm() : std::numeric_limits<double>::infinity();
-        if (cn <= cost) {
-          const double drop = (cost - cn) / std::max(cost, 1e-300);
-          summary.iterations = it + 1;
-          th = next;
-          cost = cn;
-          mu = std::max(mu / 10.0, 1e-12);
-          accepted = true;
-          prob.Evaluate(th, r, &jac);
-          if (drop < 1e-10) {
-            summary.termination = Termination::kFunctionTolerance;
-            it = options.max_iterations;
-          }
-        } else {
-          mu *= 10.0;
-        }
-      }
-      if (!accepted) {
-        // No step lowers the cost any further: at the minimum to rounding.
-        summary.termination = Termination::kFunctionTolerance;
-        break;
-      }
+  // Poles stay physical: omega > 0 and 0 < zeta < 1; a step outside is rejected.
+  const numerics::ResidualFunction residuals = [&prob](const Eigen::VectorXd& th, Eigen::VectorXd& r,
+                                                       Eigen::MatrixXd* jac) {
+    for (Eigen::Index i = 0; i < prob.modes; ++i) {
+      if (!(th[2 * i] > 0.0 && th[2 * i + 1] > 0.0 && th[2 * i + 1] < 1.0)) return false;
     }
-    summary.final_cost = cost;
-    summary.message = options.max_iterations == 0 ? "residues by linear least squares with the poles held"
-                                                  : "poles and residues refined (weighted least squares)";
-    if (options.max_iterations == 0) summary.termination = Termination::kFunctionTolerance;
+    prob.Evaluate(th, r, jac);
+    return true;
+  };
+  const auto refine = [&](Eigen::VectorXd& th, numerics::SolverSummary& summary) {
+    if (options.max_iterations == 0) {
+      Eigen::VectorXd r;
+      prob.Evaluate(th, r, nullptr);
+      summary = {};
+      summary.termination = numerics::TerminationType::kFunctionTolerance;
+      summary.initial_cost = summary.final_cost = 0.5 * r.squaredNorm();
+      summary.message = "residues by linear least squares with the poles held";
+      return;
+    }
+    const numerics::SolverOptions solver{.max_iterations = options.max_iterations,
+                                         .function_tolerance = 1e-10};
+    summary = numerics::LevenbergMarquardt(residuals, th, solver);
+    summary.message = "poles and residues refined (weighted least squares): " + summary.message;
   };
 
   refine(theta, out.summary);
