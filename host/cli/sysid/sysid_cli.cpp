@@ -46,8 +46,8 @@ sysid::IoData ApplyRange(const sysid::IoData& data, const std::string& range, co
   }
 }
 
-nlohmann::json SummaryJson(const sysid::SolverSummary& s) {
-  return {{"termination", sysid::TerminationName(s.termination)},
+nlohmann::json SummaryJson(const numerics::SolverSummary& s) {
+  return {{"termination", numerics::TerminationName(s.termination)},
           {"iterations", s.iterations},
           {"initial_cost", s.initial_cost},
           {"final_cost", s.final_cost},

@@ -11,7 +11,7 @@
 
 #include "vibid/sysid/fit.hpp"
 #include "vibid/sysid/io_data.hpp"
-#include "vibid/sysid/least_squares.hpp"
+#include "vibid/numerics/least_squares.hpp"
 #include "vibid/sysid/poly_model.hpp"
 
 namespace vibid::cli {
@@ -34,7 +34,7 @@ sysid::IoData LoadIoData(const RecordArgs& args);
 /// Part `range` ("a:b", empty for all) of `data`; `option` names it in errors.
 sysid::IoData ApplyRange(const sysid::IoData& data, const std::string& range, const std::string& option);
 
-nlohmann::json SummaryJson(const sysid::SolverSummary& s);
+nlohmann::json SummaryJson(const numerics::SolverSummary& s);
 nlohmann::json ResidualJson(const sysid::ResidualTests& t);
 /// Residual tests when the record allows them (more than 4 × 25 samples, nonzero residuals).
 std::optional<sysid::ResidualTests> TryResidualTests(const Eigen::VectorXd& residual, const Eigen::VectorXd& input);
