@@ -12,9 +12,9 @@ namespace {
 
 constexpr double kTwoPi = 2.0 * std::numbers::pi;
 
-int Degree(const Eigen::VectorXd& p) { return static_cast<int>(TrimLeadingZeros(p).size()) - 1; }
+int Degree(const Eigen::VectorXd& p) { return static_cast<int>(numerics::TrimLeadingZeros(p).size()) - 1; }
 
-double Lead(const Eigen::VectorXd& p) { return TrimLeadingZeros(p)[0]; }
+double Lead(const Eigen::VectorXd& p) { return numerics::TrimLeadingZeros(p)[0]; }
 
 void Append(std::vector<Complex>& to, const std::vector<Complex>& from) {
   to.insert(to.end(), from.begin(), from.end());
@@ -67,8 +67,8 @@ void ValidateOptions(const DobOptions& o) {
 // Q's poles and zeros, from its polynomials.
 Zpk QZpk(const QFilter& q) {
   Zpk z;
-  z.zeros = PolynomialRoots(q.num);
-  z.poles = PolynomialRoots(q.den);
+  z.zeros = numerics::PolynomialRoots(q.num);
+  z.poles = numerics::PolynomialRoots(q.den);
   z.gain = Lead(q.num) / Lead(q.den);
   return z;
 }
@@ -100,7 +100,7 @@ double QBandEdgeHz(const QFilter& q, double tolerance) {
   double hi = wc * 10.0;
   const auto err = [&](double w) {
     const Complex s(0.0, w);
-    return std::abs(EvaluatePolynomial(q.num, s) / EvaluatePolynomial(q.den, s) - 1.0);
+    return std::abs(numerics::EvaluatePolynomial(q.num, s) / numerics::EvaluatePolynomial(q.den, s) - 1.0);
   };
   if (err(lo) >= tolerance) return lo / kTwoPi;
   // |Q - 1| grows monotonically over the pass band for these prototypes; bisect on log scale.
@@ -134,15 +134,15 @@ DobDesign DesignObserver(const NominalPlant& plant, const DobOptions& options) {
             "the nominal model gives no transfer function for the SISO form");
     const Eigen::VectorXd& num = plant.receptance_num;
     const Eigen::VectorXd& den = plant.receptance_den;
-    Require(TrimLeadingZeros(num).cwiseAbs().maxCoeff() > 0.0,
+    Require(numerics::TrimLeadingZeros(num).cwiseAbs().maxCoeff() > 0.0,
             "the nominal transfer function from the force to the sensor is zero: the sensor does not see the force");
     design.plant_relative_degree = Degree(den) - Degree(num) - m;
     const std::string what = "G_A (force on m" + std::to_string(o.input_dof + 1) + " to " + sensor_name +
                              " of m" + std::to_string(o.output_dof + 1) + ")";
     Require(o.relative_degree >= design.plant_relative_degree,
             RelativeDegreeMessage(o.relative_degree, design.plant_relative_degree, what));
-    const auto g_zeros = PolynomialRoots(num);
-    const auto g_poles = PolynomialRoots(den);
+    const auto g_zeros = numerics::PolynomialRoots(num);
+    const auto g_poles = numerics::PolynomialRoots(den);
     // G_A's zeros become poles of the observer: they must lie strictly in the left half plane.
     for (const Complex& z : g_zeros) {
       if (z.real() >= -1e-9 * std::max(1.0, std::abs(z)) && refusal.empty()) {
@@ -171,10 +171,10 @@ DobDesign DesignObserver(const NominalPlant& plant, const DobOptions& options) {
     for (Eigen::Index l = 0; l < n; ++l) {
       const Eigen::Vector3d row(plant.m_row[l], plant.c_row[l], plant.k_row[l]);
       if (row.cwiseAbs().maxCoeff() == 0.0) continue;
-      const Eigen::VectorXd poly = TrimLeadingZeros(row, 0.0);
+      const Eigen::VectorXd poly = numerics::TrimLeadingZeros(row, 0.0);
       plant_degree = std::max(plant_degree, static_cast<int>(poly.size()) - 1 - m);
       Zpk sensor = q;
-      Append(sensor.zeros, PolynomialRoots(poly));
+      Append(sensor.zeros, numerics::PolynomialRoots(poly));
       Append(sensor.poles, LeakPoles(o));
       sensor.gain = q.gain * poly[0];
       sensor_paths.push_back(sensor);
