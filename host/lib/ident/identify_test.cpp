@@ -12,7 +12,7 @@
 
 #include "test_support.hpp"
 #include "vibid/common/error.hpp"
-#include "vibid/ident/hammer_test.hpp"
+#include "vibid/ident/testing/hammer_test.hpp"
 #include "vibid/ident/impact.hpp"
 #include "vibid/model/modal.hpp"
 

@@ -11,7 +11,7 @@
 
 #include "test_support.hpp"
 #include "vibid/common/csv.hpp"
-#include "vibid/ident/hammer_test.hpp"
+#include "vibid/ident/testing/hammer_test.hpp"
 #include "vibid/ident/identify.hpp"
 #include "vibid/ident/impact.hpp"
 #include "vibid/ident/modes.hpp"

@@ -1,4 +1,4 @@
-#include "vibid/ident/hammer_test.hpp"
+#include "vibid/ident/testing/hammer_test.hpp"
 
 #include <cmath>
 #include <random>
