@@ -12,7 +12,9 @@ namespace {
 
 constexpr double kTwoPi = 2.0 * std::numbers::pi;
 
-int Degree(const Eigen::VectorXd& p) { return static_cast<int>(numerics::TrimLeadingZeros(p).size()) - 1; }
+int Degree(const Eigen::VectorXd& p) {
+  return static_cast<int>(numerics::TrimLeadingZeros(p).size()) - 1;
+}
 
 double Lead(const Eigen::VectorXd& p) { return numerics::TrimLeadingZeros(p)[0]; }
 
@@ -100,7 +102,8 @@ double QBandEdgeHz(const QFilter& q, double tolerance) {
   double hi = wc * 10.0;
   const auto err = [&](double w) {
     const Complex s(0.0, w);
-    return std::abs(numerics::EvaluatePolynomial(q.num, s) / numerics::EvaluatePolynomial(q.den, s) - 1.0);
+    return std::abs(
+        numerics::EvaluatePolynomial(q.num, s) / numerics::EvaluatePolynomial(q.den, s) - 1.0);
   };
   if (err(lo) >= tolerance) return lo / kTwoPi;
   // |Q - 1| grows monotonically over the pass band for these prototypes; bisect on log scale.
@@ -126,7 +129,8 @@ struct SensorPaths {
 std::string ZeroRefusal(const std::vector<Complex>& g_zeros) {
   for (const Complex& z : g_zeros) {
     if (z.real() >= -1e-9 * std::max(1.0, std::abs(z))) {
-      return "G_A has a zero at s = " + FormatComplex(z) + " rad/s (" + std::to_string(std::abs(z) / kTwoPi) +
+      return "G_A has a zero at s = " + FormatComplex(z) + " rad/s (" +
+             std::to_string(std::abs(z) / kTwoPi) +
              " Hz) on or right of the imaginary axis, so G_A^-1 is " + "unstable" +
              (std::abs(z.real()) < 1e-9 * std::max(1.0, std::abs(z))
                   ? ": the nominal model is undamped there; give it the identified damping"
@@ -143,12 +147,13 @@ SensorPaths SisoSensorPath(const NominalPlant& plant, const DobOptions& o, const
   const Eigen::VectorXd& num = plant.receptance_num;
   const Eigen::VectorXd& den = plant.receptance_den;
   Require(numerics::TrimLeadingZeros(num).cwiseAbs().maxCoeff() > 0.0,
-          "the nominal transfer function from the force to the sensor is zero: the sensor does not see the force");
+          "the nominal transfer function from the force to the sensor is zero: the sensor does not "
+          "see the force");
   const int m = static_cast<int>(o.sensor);
   SensorPaths out;
   out.plant_relative_degree = Degree(den) - Degree(num) - m;
-  const std::string what = "G_A (force on m" + std::to_string(o.input_dof + 1) + " to " + SensorName(o.sensor) +
-                           " of m" + std::to_string(o.output_dof + 1) + ")";
+  const std::string what = "G_A (force on m" + std::to_string(o.input_dof + 1) + " to " +
+                           SensorName(o.sensor) + " of m" + std::to_string(o.output_dof + 1) + ")";
   Require(o.relative_degree >= out.plant_relative_degree,
           RelativeDegreeMessage(o.relative_degree, out.plant_relative_degree, what));
   const auto g_zeros = numerics::PolynomialRoots(num);
@@ -160,8 +165,10 @@ SensorPaths SisoSensorPath(const NominalPlant& plant, const DobOptions& o, const
   Append(sensor.poles, LeakPoles(o));
   sensor.gain = q.gain * Lead(den) / Lead(num);
   out.zpk.push_back(sensor);
-  out.shells.push_back(ObserverPath{.kind = InputKindOf(o.sensor), .dof = o.output_dof,
-                                    .full_scale = o.sensor_full_scale, .sos = {}});
+  out.shells.push_back(ObserverPath{.kind = InputKindOf(o.sensor),
+                                    .dof = o.output_dof,
+                                    .full_scale = o.sensor_full_scale,
+                                    .sos = {}});
   return out;
 }
 
@@ -170,8 +177,8 @@ SensorPaths MimoSensorPaths(const NominalPlant& plant, const DobOptions& o, cons
   const Eigen::Index n = plant.m_row.size();
   Require(n > 0 && plant.c_row.size() == n && plant.k_row.size() == n,
           "the nominal model gives no M, C, K row for the MIMO form");
-  Require(o.input_dof < n, "input dof " + std::to_string(o.input_dof + 1) + " exceeds the model's " +
-                               std::to_string(n) + " masses");
+  Require(o.input_dof < n, "input dof " + std::to_string(o.input_dof + 1) +
+                               " exceeds the model's " + std::to_string(n) + " masses");
   const int m = static_cast<int>(o.sensor);
   SensorPaths out;
   int plant_degree = -100;
@@ -185,13 +192,16 @@ SensorPaths MimoSensorPaths(const NominalPlant& plant, const DobOptions& o, cons
     Append(sensor.poles, LeakPoles(o));
     sensor.gain = q.gain * poly[0];
     out.zpk.push_back(sensor);
-    out.shells.push_back(ObserverPath{.kind = InputKindOf(o.sensor), .dof = static_cast<int>(l),
-                                      .full_scale = o.sensor_full_scale, .sos = {}});
+    out.shells.push_back(ObserverPath{.kind = InputKindOf(o.sensor),
+                                      .dof = static_cast<int>(l),
+                                      .full_scale = o.sensor_full_scale,
+                                      .sos = {}});
   }
   Require(!out.zpk.empty(), "the model's row for m" + std::to_string(o.input_dof + 1) + " is zero");
   Require(out.zpk.size() + 1 <= fixed::kMaxInputs,
           "the MIMO form needs " + std::to_string(out.zpk.size() + 1) +
-              " inputs; the fixed-point observer takes at most " + std::to_string(fixed::kMaxInputs));
+              " inputs; the fixed-point observer takes at most " +
+              std::to_string(fixed::kMaxInputs));
   out.plant_relative_degree = plant_degree;
   Require(o.relative_degree >= plant_degree,
           RelativeDegreeMessage(o.relative_degree, plant_degree,
@@ -231,14 +241,17 @@ DobDesign DesignObserver(const NominalPlant& plant, const DobOptions& options) {
   const Zpk q = QZpk(design.q);
   const int m = static_cast<int>(o.sensor);
 
-  SensorPaths sensors = o.form == ObserverForm::kSiso ? SisoSensorPath(plant, o, q) : MimoSensorPaths(plant, o, q);
+  SensorPaths sensors =
+      o.form == ObserverForm::kSiso ? SisoSensorPath(plant, o, q) : MimoSensorPaths(plant, o, q);
   design.plant_relative_degree = sensors.plant_relative_degree;
   Zpk force_path = q;
   force_path.gain = -q.gain;
   design.continuous = sensors.zpk;
   design.continuous.push_back(force_path);
-  sensors.shells.push_back(ObserverPath{.kind = fixed::InputKind::kForce, .dof = o.input_dof,
-                                        .full_scale = o.force_full_scale_n, .sos = {}});
+  sensors.shells.push_back(ObserverPath{.kind = fixed::InputKind::kForce,
+                                        .dof = o.input_dof,
+                                        .full_scale = o.force_full_scale_n,
+                                        .sos = {}});
   DiscretizePaths(o, sensors.shells, design);
 
   std::string refusal = sensors.refusal;

@@ -194,8 +194,9 @@ Zpk ZeroOrderHoldZpk(const Zpk& analog, double fs_hz) {
       if (zeros.size() == pg.size()) break;
     }
     const Complex probe(0.0, std::max(1e-9, Radius(pg)));
-    const double scale = std::abs(numerics::EvaluatePolynomial(numerics::PolynomialFromRoots(pg), probe) /
-                                  numerics::EvaluatePolynomial(numerics::PolynomialFromRoots(zeros), probe));
+    const double scale =
+        std::abs(numerics::EvaluatePolynomial(numerics::PolynomialFromRoots(pg), probe) /
+                 numerics::EvaluatePolynomial(numerics::PolynomialFromRoots(zeros), probe));
     output_gain /= scale;
     const RealBlock blk = Block(pg, zeros, scale);
     sys = first ? blk : Series(sys, blk);
@@ -318,8 +319,8 @@ Complex EvaluateSos(const std::vector<SosSection>& sos, Complex z) {
   return h;
 }
 
-Eigen::VectorXd FilterSos(const std::vector<SosSection>& sos, const Eigen::Ref<const Eigen::VectorXd>& x,
-                          SosStart start) {
+Eigen::VectorXd FilterSos(const std::vector<SosSection>& sos,
+                          const Eigen::Ref<const Eigen::VectorXd>& x, SosStart start) {
   Eigen::VectorXd y = x;
   // Input level each section settles on; only read for the steady start, where a section with a
   // pole at z = 1 would give an infinite DC gain.

@@ -144,7 +144,8 @@ ScaledPath ScaleByL1(const std::vector<SosSection>& sos, std::size_t path_index)
   return out;
 }
 
-void QuantizeSections(const std::vector<SosSection>& scaled, std::size_t path_index, fixed::Path& p) {
+void QuantizeSections(const std::vector<SosSection>& scaled, std::size_t path_index,
+                      fixed::Path& p) {
   p.section_count = static_cast<std::uint8_t>(scaled.size());
   for (std::size_t k = 0; k < scaled.size(); ++k) {
     const SosSection& s = scaled[k];
@@ -201,8 +202,8 @@ void ChooseErrorFeedback(const ScaledPath& path, fixed::Path& p, double& noise_v
 }
 
 // Fills input i of the description and adds the path's rounding noise to `noise_var_q31`.
-void QuantizePath(const ObserverPath& path, std::size_t i, double out_fs, fixed::FilterDescription& d,
-                  QuantizeResult& result, double& noise_var_q31) {
+void QuantizePath(const ObserverPath& path, std::size_t i, double out_fs,
+                  fixed::FilterDescription& d, QuantizeResult& result, double& noise_var_q31) {
   Require(path.sos.size() <= fixed::kMaxSections,
           "path " + std::to_string(i) + " needs " + std::to_string(path.sos.size()) +
               " second-order sections; the fixed-point format holds at most " +
@@ -232,7 +233,8 @@ void QuantizePath(const ObserverPath& path, std::size_t i, double out_fs, fixed:
 
 }  // namespace
 
-QuantizeResult QuantizeObserver(const std::vector<ObserverPath>& paths, const QuantizeOptions& options) {
+QuantizeResult QuantizeObserver(const std::vector<ObserverPath>& paths,
+                                const QuantizeOptions& options) {
   RequireValidRequest(paths, options);
   QuantizeResult result;
   fixed::FilterDescription& d = result.description;
@@ -243,7 +245,8 @@ QuantizeResult QuantizeObserver(const std::vector<ObserverPath>& paths, const Qu
   d.output_full_scale_bits = fixed::FullScaleBits(static_cast<float>(out_fs));
 
   double noise_var_q31 = 0.0;  // in (Q31 LSB)^2 at d_hat
-  for (std::size_t i = 0; i < paths.size(); ++i) QuantizePath(paths[i], i, out_fs, d, result, noise_var_q31);
+  for (std::size_t i = 0; i < paths.size(); ++i)
+    QuantizePath(paths[i], i, out_fs, d, result, noise_var_q31);
   fixed::Seal(d);
   const Status st = fixed::ValidateDescription(d);
   result.ok = st == Status::kOk;

@@ -81,7 +81,8 @@ HalfCycles FindHalfCycles(const Eigen::VectorXd& dev, Eigen::Index release) {
 Eigen::Index FitEnd(const HalfCycles& hc, Eigen::Index n, const DecayOptions& options) {
   if (options.cycles > 0) {
     const auto c = static_cast<std::size_t>(2 * options.cycles);
-    Require(c < hc.crossings.size(), "decay: the record holds fewer than " + std::to_string(options.cycles) +
+    Require(c < hc.crossings.size(), "decay: the record holds fewer than " +
+                                         std::to_string(options.cycles) +
                                          " cycles after the release");
     return hc.crossings[c];
   }
@@ -116,7 +117,8 @@ DecayStart StartFromCycles(const HalfCycles& hc, Eigen::Index end, double fs_hz,
   }
   const std::size_t pairs = last_peak / 2;
   if (pairs >= 1 && hc.peak_amp[2 * pairs] > 0.0) {
-    const double delta = std::log(hc.peak_amp[0] / hc.peak_amp[2 * pairs]) / static_cast<double>(pairs);
+    const double delta =
+        std::log(hc.peak_amp[0] / hc.peak_amp[2 * pairs]) / static_cast<double>(pairs);
     res.zeta_log_decrement = delta / std::sqrt(4.0 * std::numbers::pi * std::numbers::pi + delta * delta);
     start.sigma0 = delta * start.omega_d0 / (2.0 * std::numbers::pi);
   }
@@ -126,8 +128,8 @@ DecayStart StartFromCycles(const HalfCycles& hc, Eigen::Index end, double fs_hz,
 
 // Variable projection: the amplitude, phase and offset are linear once sigma and omega_d are
 // fixed; LM moves p = [omega_d / omega_d0, sigma / omega_d0].
-void FitDecay(const Eigen::VectorXd& y, double fs_hz, const DecayStart& start, const DecayOptions& options,
-              DecayResult& res) {
+void FitDecay(const Eigen::VectorXd& y, double fs_hz, const DecayStart& start,
+              const DecayOptions& options, DecayResult& res) {
   const Eigen::Index m = y.size();
   Eigen::VectorXd t(m);
   for (Eigen::Index i = 0; i < m; ++i) t[i] = static_cast<double>(i) / fs_hz;
@@ -158,7 +160,8 @@ void FitDecay(const Eigen::VectorXd& y, double fs_hz, const DecayStart& start, c
 
 }  // namespace
 
-DecayResult AnalyzeDecay(const Eigen::Ref<const Eigen::VectorXd>& position, double fs_hz, const DecayOptions& options) {
+DecayResult AnalyzeDecay(const Eigen::Ref<const Eigen::VectorXd>& position, double fs_hz,
+                         const DecayOptions& options) {
   options.Validate();
   Require(fs_hz > 0.0 && std::isfinite(fs_hz), "sample rate must be > 0");
   const Eigen::Index n = position.size();

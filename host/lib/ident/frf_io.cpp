@@ -279,7 +279,8 @@ void ParseUff58Header(const UffText& t, std::size_t h, Uff58Dataset& d, long& or
   d.id1 = Trim(t.lines[h]);
   d.func_type = static_cast<int>(ToLong(t.Field(h + 5, 0, 5), t.Where(h + 5) + ": function type"));
   const long rsp_node = ToLong(t.Field(h + 5, 41, 10), t.Where(h + 5) + ": response node");
-  Require(rsp_node >= 1 && rsp_node <= 999999999, t.Where(h + 5) + ": the response node must be 1 to 999999999");
+  Require(rsp_node >= 1 && rsp_node <= 999999999,
+          t.Where(h + 5) + ": the response node must be 1 to 999999999");
   d.rsp_node = static_cast<int>(rsp_node);
   ord_type = ToLong(t.Field(h + 6, 0, 10), t.Where(h + 6) + ": ordinate data type");
   const long points = ToLong(t.Field(h + 6, 10, 10), t.Where(h + 6) + ": number of points");
@@ -295,8 +296,9 @@ void ParseUff58Header(const UffText& t, std::size_t h, Uff58Dataset& d, long& or
   Require(d.dx > 0.0 && std::isfinite(d.x0 + d.dx * static_cast<double>(d.points - 1)),
           t.Where(h + 6) + ": the abscissa step must be positive and the frequencies finite");
   d.ord_spec = static_cast<int>(ToLong(t.Field(h + 8, 0, 10), t.Where(h + 8) + ": ordinate type"));
-  Require(ord_type == 2 || ord_type == 4 || ord_type == 5 || ord_type == 6,
-          t.Where(h + 6) + ": ordinate data type " + std::to_string(ord_type) + " is not 2, 4, 5 or 6");
+  Require(
+      ord_type == 2 || ord_type == 4 || ord_type == 5 || ord_type == 6,
+      t.Where(h + 6) + ": ordinate data type " + std::to_string(ord_type) + " is not 2, 4, 5 or 6");
   d.complex = ord_type == 5 || ord_type == 6;
 }
 
@@ -316,13 +318,15 @@ Uff58Dataset ParseUff58Dataset(const UffText& t, std::size_t i, std::size_t end)
       const std::string cell = Trim(std::string_view(l).substr(at, width));
       if (cell.empty()) continue;
       std::string c = cell;
-      for (char& ch : c) if (ch == 'D' || ch == 'd') ch = 'E';
+      for (char& ch : c)
+        if (ch == 'D' || ch == 'd') ch = 'E';
       d.values.push_back(ToDouble(c, t.Where(ln)));
     }
   }
   Require(d.values.size() == d.points * (d.complex ? 2u : 1u),
-          t.Where(h) + ": dataset holds " + std::to_string(d.values.size()) + " values, header says " +
-              std::to_string(d.points) + (d.complex ? " complex points" : " points"));
+          t.Where(h) + ": dataset holds " + std::to_string(d.values.size()) +
+              " values, header says " + std::to_string(d.points) +
+              (d.complex ? " complex points" : " points"));
   return d;
 }
 
@@ -349,8 +353,9 @@ std::vector<Uff58Dataset> ReadUff58Datasets(const UffText& t) {
 }
 
 // Coherence datasets (function type 6, real) of the FRFs' response nodes fill their columns.
-void AddUff58Coherence(const std::vector<Uff58Dataset>& sets, const std::map<int, Eigen::Index>& column_of_node,
-                       std::size_t points, const std::string& source, Frf& frf) {
+void AddUff58Coherence(const std::vector<Uff58Dataset>& sets,
+                       const std::map<int, Eigen::Index>& column_of_node, std::size_t points,
+                       const std::string& source, Frf& frf) {
   for (const Uff58Dataset& d : sets) {
     if (d.func_type != 6 || d.complex || d.points != points) continue;
     const auto it = column_of_node.find(d.rsp_node);

@@ -160,7 +160,8 @@ namespace {
 // A hit and its rebounds: pulses closer than the double-hit window to the previous one.
 using PulseGroup = std::vector<Pulse>;
 
-std::vector<PulseGroup> GroupRebounds(const std::vector<Pulse>& pulses, std::size_t rebound_samples) {
+std::vector<PulseGroup> GroupRebounds(const std::vector<Pulse>& pulses,
+                                      std::size_t rebound_samples) {
   std::vector<PulseGroup> groups;
   for (const Pulse& p : pulses) {
     if (!groups.empty() && p.start <= groups.back().back().end + rebound_samples) {
@@ -199,7 +200,8 @@ RecordLayout ChooseRecord(const std::vector<PulseGroup>& groups, std::size_t n, 
   } else {
     layout.pre = std::min(record / 64, groups.front().front().start);
   }
-  if (options.record_s <= 0.0) record = FastFftLength(record + (groups.size() > 1 ? 0 : layout.pre));
+  if (options.record_s <= 0.0)
+    record = FastFftLength(record + (groups.size() > 1 ? 0 : layout.pre));
   Require(record >= 16, "impact: hit records would be shorter than 16 samples");
   Require(layout.pre < record / 2, "impact: pretrigger must be shorter than half the hit record");
   return layout;
@@ -207,13 +209,16 @@ RecordLayout ChooseRecord(const std::vector<PulseGroup>& groups, std::size_t n, 
 
 // Exponential window from the trigger, of value `end_value` at the record end (all ones for 0);
 // `tau_s` receives its time constant (0 for none).
-Eigen::VectorXd ExponentialWindow(const RecordLayout& layout, double fs_hz, double end_value, double& tau_s) {
+Eigen::VectorXd ExponentialWindow(const RecordLayout& layout, double fs_hz, double end_value,
+                                  double& tau_s) {
   tau_s = 0.0;
-  if (end_value > 0.0) tau_s = static_cast<double>(layout.record - layout.pre) / fs_hz / std::log(1.0 / end_value);
+  if (end_value > 0.0)
+    tau_s = static_cast<double>(layout.record - layout.pre) / fs_hz / std::log(1.0 / end_value);
   Eigen::VectorXd window = Eigen::VectorXd::Ones(static_cast<Eigen::Index>(layout.record));
   if (tau_s > 0.0) {
     for (std::size_t i = layout.pre; i < layout.record; ++i) {
-      window[static_cast<Eigen::Index>(i)] = std::exp(-static_cast<double>(i - layout.pre) / fs_hz / tau_s);
+      window[static_cast<Eigen::Index>(i)] =
+          std::exp(-static_cast<double>(i - layout.pre) / fs_hz / tau_s);
     }
   }
   return window;
@@ -234,8 +239,9 @@ struct HitSpan {
 };
 
 // Flags a hit as truncated, double or clipped, with a note saying why.
-Hit ClassifyHit(const PulseGroup& group, const std::vector<Pulse>& all_pulses, const ImpactChannels& ch,
-                const RecordLayout& layout, double fs_hz, const ImpactOptions& options, HitSpan& span) {
+Hit ClassifyHit(const PulseGroup& group, const std::vector<Pulse>& all_pulses,
+                const ImpactChannels& ch, const RecordLayout& layout, double fs_hz,
+                const ImpactOptions& options, HitSpan& span) {
   const auto n = static_cast<std::size_t>(ch.force.size());
   const std::size_t pre = layout.pre;
   const std::size_t record = layout.record;
@@ -258,7 +264,8 @@ Hit ClassifyHit(const PulseGroup& group, const std::vector<Pulse>& all_pulses, c
   const std::size_t s1 = std::min(n, s0 + record);
   // Any other pulse inside this hit's record is a second impact on the structure.
   for (const Pulse& p : all_pulses) {
-    if (p.start > first.end && p.start < s1 && p.peak_value >= options.double_hit_fraction * first.peak_value) {
+    if (p.start > first.end && p.start < s1 &&
+        p.peak_value >= options.double_hit_fraction * first.peak_value) {
       hit.double_hit = true;
     }
   }
@@ -278,7 +285,8 @@ Hit ClassifyHit(const PulseGroup& group, const std::vector<Pulse>& all_pulses, c
   // Force window: keep through the hit's last pulse plus the first pulse's width as margin.
   const std::size_t width = std::max<std::size_t>(first.end - first.start, 1);
   std::size_t keep = pre + (last.end - first.start) + width;
-  if (options.force_window_s > 0.0) keep = pre + static_cast<std::size_t>(std::llround(options.force_window_s * fs_hz));
+  if (options.force_window_s > 0.0)
+    keep = pre + static_cast<std::size_t>(std::llround(options.force_window_s * fs_hz));
   span = {s0, std::min(keep, record)};
   return hit;
 }
@@ -294,7 +302,8 @@ bool KeepDoubleHits(const ImpactOptions& options, ImpactResult& result) {
   }
   if (options.reject_bad_hits && any_candidate && all_double) {
     result.warnings.push_back(
-        "every hit is a double hit: used all the same, each force window spanning the hit's pulses");
+        "every hit is a double hit: used all the same, each force window spanning the hit's "
+        "pulses");
   }
   return !options.reject_bad_hits || (any_candidate && all_double);
 }
@@ -302,14 +311,16 @@ bool KeepDoubleHits(const ImpactOptions& options, ImpactResult& result) {
 // Adds one hit's auto and cross spectra to the sums: offsets from the pretrigger (else the force
 // baseline), the force kept up to span.keep then tapered to zero by a half cosine as long as the
 // first pulse, every channel under the exponential window.
-void AccumulateHit(const ImpactChannels& ch, const HitSpan& span, std::size_t taper_width, const RecordLayout& layout,
-                   double baseline, const Eigen::VectorXd& exp_window, RealFft& fft, CrossSpectra& spectra) {
+void AccumulateHit(const ImpactChannels& ch, const HitSpan& span, std::size_t taper_width,
+                   const RecordLayout& layout, double baseline, const Eigen::VectorXd& exp_window,
+                   RealFft& fft, CrossSpectra& spectra) {
   const std::size_t record = layout.record;
   const std::size_t pre = layout.pre;
   const auto seg = [&](const Eigen::VectorXd& x) {
     return x.segment(static_cast<Eigen::Index>(span.start), static_cast<Eigen::Index>(record));
   };
-  const double f_offset = pre >= 4 ? seg(ch.force).head(static_cast<Eigen::Index>(pre)).mean() : baseline;
+  const double f_offset =
+      pre >= 4 ? seg(ch.force).head(static_cast<Eigen::Index>(pre)).mean() : baseline;
   const std::size_t keep = span.keep;
   const std::size_t taper = std::min(taper_width, record - keep);
   Eigen::VectorXd fbuf(static_cast<Eigen::Index>(record));
@@ -318,10 +329,12 @@ void AccumulateHit(const ImpactChannels& ch, const HitSpan& span, std::size_t ta
     if (i < keep) {
       w = 1.0;
     } else if (i < keep + taper) {
-      w = 0.5 * (1.0 + std::cos(std::numbers::pi * static_cast<double>(i - keep + 1) / static_cast<double>(taper + 1)));
+      w = 0.5 * (1.0 + std::cos(std::numbers::pi * static_cast<double>(i - keep + 1) /
+                                static_cast<double>(taper + 1)));
     }
     fbuf[static_cast<Eigen::Index>(i)] =
-        (ch.force[static_cast<Eigen::Index>(span.start + i)] - f_offset) * w * exp_window[static_cast<Eigen::Index>(i)];
+        (ch.force[static_cast<Eigen::Index>(span.start + i)] - f_offset) * w *
+        exp_window[static_cast<Eigen::Index>(i)];
   }
   Eigen::VectorXcd fspec;
   fft.Transform(fbuf.data(), fspec);
@@ -340,7 +353,8 @@ void AccumulateHit(const ImpactChannels& ch, const HitSpan& span, std::size_t ta
 
 // With double hits averaged, the force spectrum has notches: lines where it falls below the
 // dynamic range carry no FRF.
-void LimitToForceBand(const CrossSpectra& spectra, const ImpactOptions& options, ImpactResult& result) {
+void LimitToForceBand(const CrossSpectra& spectra, const ImpactOptions& options,
+                      ImpactResult& result) {
   const Eigen::Index lines = spectra.freq_hz.size();
   const double top = spectra.gff.tail(lines - 1).maxCoeff();
   const double floor = top * std::pow(10.0, -options.force_dynamic_range_db / 10.0);
@@ -350,17 +364,17 @@ void LimitToForceBand(const CrossSpectra& spectra, const ImpactOptions& options,
   result.frf.coherence.bottomRows(lines - k).setZero();
   std::ostringstream w;
   w.precision(4);
-  w << "double hits in the average: the force spectrum stays within " << options.force_dynamic_range_db
-    << " dB of its peak from " << result.usable_min_hz << " to " << result.usable_max_hz
-    << " Hz; lines above carry no FRF (coherence set to 0)";
+  w << "double hits in the average: the force spectrum stays within "
+    << options.force_dynamic_range_db << " dB of its peak from " << result.usable_min_hz << " to "
+    << result.usable_max_hz << " Hz; lines above carry no FRF (coherence set to 0)";
   result.warnings.push_back(w.str());
 }
 
 CrossSpectra ZeroSpectra(const RecordLayout& layout, Eigen::Index responses, double fs_hz) {
   const auto lines = static_cast<Eigen::Index>(layout.record / 2 + 1);
   CrossSpectra spectra;
-  spectra.freq_hz = Eigen::VectorXd::LinSpaced(lines, 0.0,
-                                               static_cast<double>(lines - 1) * fs_hz / static_cast<double>(layout.record));
+  spectra.freq_hz = Eigen::VectorXd::LinSpaced(
+      lines, 0.0, static_cast<double>(lines - 1) * fs_hz / static_cast<double>(layout.record));
   spectra.gff = Eigen::VectorXd::Zero(lines);
   spectra.gxx = Eigen::MatrixXd::Zero(lines, responses);
   spectra.gfx = Eigen::MatrixXcd::Zero(lines, responses);
@@ -371,7 +385,8 @@ CrossSpectra ZeroSpectra(const RecordLayout& layout, Eigen::Index responses, dou
 
 ImpactResult EstimateImpactFrf(const Eigen::Ref<const Eigen::VectorXd>& force,
                                const Eigen::Ref<const Eigen::MatrixXd>& responses, double fs_hz,
-                               const ImpactOptions& options, Estimator estimator, Quantity response_quantity) {
+                               const ImpactOptions& options, Estimator estimator,
+                               Quantity response_quantity) {
   options.Validate();
   Require(fs_hz > 0.0 && std::isfinite(fs_hz), "sample rate must be > 0");
   Require(responses.rows() == force.size(), "force and responses differ in length");
@@ -384,8 +399,8 @@ ImpactResult EstimateImpactFrf(const Eigen::Ref<const Eigen::VectorXd>& force,
   const double peak_all = centred.cwiseAbs().maxCoeff();
   Require(peak_all > 0.0, "force channel is constant: no hit to detect");
   const std::vector<Pulse> pulses = FindPulses(centred, options.trigger_fraction * peak_all);
-  const std::vector<PulseGroup> groups =
-      GroupRebounds(pulses, static_cast<std::size_t>(std::llround(options.double_hit_window_s * fs_hz)));
+  const std::vector<PulseGroup> groups = GroupRebounds(
+      pulses, static_cast<std::size_t>(std::llround(options.double_hit_window_s * fs_hz)));
   Require(!groups.empty(), "no hit found in the force channel");
 
   ImpactResult result;
@@ -394,7 +409,8 @@ ImpactResult EstimateImpactFrf(const Eigen::Ref<const Eigen::VectorXd>& force,
   result.pretrigger_samples = layout.pre;
   CrossSpectra spectra = ZeroSpectra(layout, responses.cols(), fs_hz);
   double tau_s = 0.0;
-  const Eigen::VectorXd exp_window = ExponentialWindow(layout, fs_hz, options.exp_window_end, tau_s);
+  const Eigen::VectorXd exp_window =
+      ExponentialWindow(layout, fs_hz, options.exp_window_end, tau_s);
 
   const Eigen::MatrixXd resp = responses;
   ImpactChannels channels{force, centred, resp, {FindRails(force)}};
@@ -403,7 +419,8 @@ ImpactResult EstimateImpactFrf(const Eigen::Ref<const Eigen::VectorXd>& force,
   // First pass: classify every hit; the second pass averages the ones used.
   std::vector<HitSpan> spans(groups.size());
   for (std::size_t g = 0; g < groups.size(); ++g) {
-    result.hits.push_back(ClassifyHit(groups[g], pulses, channels, layout, fs_hz, options, spans[g]));
+    result.hits.push_back(
+        ClassifyHit(groups[g], pulses, channels, layout, fs_hz, options, spans[g]));
   }
   const bool keep_doubles = KeepDoubleHits(options, result);
 
@@ -431,7 +448,8 @@ ImpactResult EstimateImpactFrf(const Eigen::Ref<const Eigen::VectorXd>& force,
                      (overridable ? " (--keep-bad-hits uses double and clipped hits anyway)" : ""));
   }
   spectra.averages = used;
-  const double scale = 2.0 / (fs_hz * static_cast<double>(layout.record) * static_cast<double>(used));
+  const double scale =
+      2.0 / (fs_hz * static_cast<double>(layout.record) * static_cast<double>(used));
   spectra.gff *= scale;
   spectra.gxx *= scale;
   spectra.gfx *= scale;

@@ -240,8 +240,8 @@ ModalModelFit FitModalModel(const Frf& receptance, const std::vector<std::comple
 
   const auto used_lines = [&](Eigen::Index o) { return static_cast<double>((prob.weight.col(o).array() > 0.0).count()); };
   // Poles stay physical: omega > 0 and 0 < zeta < 1; a step outside is rejected.
-  const numerics::ResidualFunction residuals = [&prob](const Eigen::VectorXd& th, Eigen::VectorXd& r,
-                                                       Eigen::MatrixXd* jac) {
+  const numerics::ResidualFunction residuals = [&prob](const Eigen::VectorXd& th,
+                                                       Eigen::VectorXd& r, Eigen::MatrixXd* jac) {
     for (Eigen::Index i = 0; i < prob.modes; ++i) {
       if (!(th[2 * i] > 0.0 && th[2 * i + 1] > 0.0 && th[2 * i + 1] < 1.0)) return false;
     }

@@ -188,7 +188,9 @@ CurveFitResult FitModesImpl(const Frf& receptance, const std::vector<Peak>& star
     params[2 * i] = 0.0;
     params[2 * i + 1] = std::log(std::clamp(p.zeta, 1e-5, 0.5));
   }
-  const numerics::ResidualOnlyFunction f = [&prob](const Eigen::VectorXd& p, Eigen::VectorXd& r) { return prob.Solve(p, r, nullptr); };
+  const numerics::ResidualOnlyFunction f = [&prob](const Eigen::VectorXd& p, Eigen::VectorXd& r) {
+    return prob.Solve(p, r, nullptr);
+  };
   CurveFitResult result;
   result.freq_min_hz = lo;
   result.freq_max_hz = hi;

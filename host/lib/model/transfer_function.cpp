@@ -1,9 +1,8 @@
 #include "vibid/model/transfer_function.hpp"
 
+#include <Eigen/Cholesky>
 #include <cmath>
 #include <string>
-
-#include <Eigen/Cholesky>
 
 #include "vibid/common/error.hpp"
 #include "vibid/model/state_space.hpp"

@@ -1,12 +1,11 @@
 #include "vibid/numerics/least_squares.hpp"
 
+#include <Eigen/QR>
+#include <Eigen/SVD>
 #include <algorithm>
 #include <cmath>
 #include <limits>
 #include <utility>
-
-#include <Eigen/QR>
-#include <Eigen/SVD>
 
 #include "vibid/common/error.hpp"
 
@@ -26,11 +25,16 @@ void SolverOptions::Validate() const {
 
 const char* TerminationName(TerminationType termination) {
   switch (termination) {
-    case TerminationType::kFunctionTolerance: return "function_tolerance";
-    case TerminationType::kParameterTolerance: return "parameter_tolerance";
-    case TerminationType::kGradientTolerance: return "gradient_tolerance";
-    case TerminationType::kMaxIterations: return "max_iterations";
-    case TerminationType::kNumericalFailure: return "numerical_failure";
+    case TerminationType::kFunctionTolerance:
+      return "function_tolerance";
+    case TerminationType::kParameterTolerance:
+      return "parameter_tolerance";
+    case TerminationType::kGradientTolerance:
+      return "gradient_tolerance";
+    case TerminationType::kMaxIterations:
+      return "max_iterations";
+    case TerminationType::kNumericalFailure:
+      return "numerical_failure";
   }
   return "numerical_failure";
 }

@@ -1,10 +1,10 @@
 #include "vibid/numerics/least_squares.hpp"
 
-#include <cmath>
-#include <string>
+#include <gtest/gtest.h>
 
 #include <Eigen/LU>
-#include <gtest/gtest.h>
+#include <cmath>
+#include <string>
 
 #include "vibid/common/error.hpp"
 
@@ -37,11 +37,10 @@ TEST(LevenbergMarquardt, AnalyticJacobianFindsTheExactFit) {
   const ExpDecay problem(2.5, 1.3);
   Eigen::VectorXd x(2);
   x << 1.0, 0.2;
-  const SolverSummary s = LevenbergMarquardt(
-      [&](const Eigen::VectorXd& p, Eigen::VectorXd& r, Eigen::MatrixXd* j) {
-        return problem.WithJacobian(p, r, j);
-      },
-      x, SolverOptions{});
+  const SolverSummary s =
+      LevenbergMarquardt([&](const Eigen::VectorXd& p, Eigen::VectorXd& r,
+                             Eigen::MatrixXd* j) { return problem.WithJacobian(p, r, j); },
+                         x, SolverOptions{});
   ASSERT_TRUE(s.Converged()) << s.message;
   EXPECT_NEAR(x[0], 2.5, 1e-9);
   EXPECT_NEAR(x[1], 1.3, 1e-9);
@@ -77,11 +76,10 @@ TEST(LevenbergMarquardt, BadlyScaledParametersConverge) {
   const ExpDecay problem(3.0e6, 0.5);
   Eigen::VectorXd x(2);
   x << 1.0e6, 2.0;
-  const SolverSummary s = LevenbergMarquardt(
-      [&](const Eigen::VectorXd& p, Eigen::VectorXd& r, Eigen::MatrixXd* j) {
-        return problem.WithJacobian(p, r, j);
-      },
-      x, SolverOptions{});
+  const SolverSummary s =
+      LevenbergMarquardt([&](const Eigen::VectorXd& p, Eigen::VectorXd& r,
+                             Eigen::MatrixXd* j) { return problem.WithJacobian(p, r, j); },
+                         x, SolverOptions{});
   ASSERT_TRUE(s.Converged()) << s.message;
   EXPECT_NEAR(x[0] / 3.0e6, 1.0, 1e-9);
   EXPECT_NEAR(x[1], 0.5, 1e-9);
@@ -92,12 +90,12 @@ TEST(LevenbergMarquardt, RejectedDomainKeepsTheSearchInside) {
   const ExpDecay problem(1.0, 0.05);
   Eigen::VectorXd x(2);
   x << 1.0, 3.0;
-  const SolverSummary s = LevenbergMarquardt(
-      NumericDiff([&](const Eigen::VectorXd& p, Eigen::VectorXd& r) {
-        if (p[1] < 0.0) return false;
-        return problem.Residuals(p, r);
-      }),
-      x, SolverOptions{});
+  const SolverSummary s =
+      LevenbergMarquardt(NumericDiff([&](const Eigen::VectorXd& p, Eigen::VectorXd& r) {
+                           if (p[1] < 0.0) return false;
+                           return problem.Residuals(p, r);
+                         }),
+                         x, SolverOptions{});
   ASSERT_TRUE(s.Converged()) << s.message;
   EXPECT_GE(x[1], 0.0);
   EXPECT_NEAR(x[1], 0.05, 1e-8);
@@ -105,12 +103,12 @@ TEST(LevenbergMarquardt, RejectedDomainKeepsTheSearchInside) {
 
 TEST(LevenbergMarquardt, NonFiniteStartIsANumericalFailure) {
   Eigen::VectorXd x = Eigen::VectorXd::Ones(1);
-  const SolverSummary s = LevenbergMarquardt(
-      NumericDiff([](const Eigen::VectorXd&, Eigen::VectorXd& r) {
-        r = Eigen::VectorXd::Constant(3, std::nan(""));
-        return true;
-      }),
-      x, SolverOptions{});
+  const SolverSummary s =
+      LevenbergMarquardt(NumericDiff([](const Eigen::VectorXd&, Eigen::VectorXd& r) {
+                           r = Eigen::VectorXd::Constant(3, std::nan(""));
+                           return true;
+                         }),
+                         x, SolverOptions{});
   EXPECT_EQ(s.termination, TerminationType::kNumericalFailure);
   EXPECT_FALSE(s.Converged());
   EXPECT_FALSE(s.message.empty());

@@ -1,11 +1,10 @@
 #include "vibid/numerics/polynomial.hpp"
 
+#include <Eigen/Eigenvalues>
 #include <algorithm>
 #include <cmath>
 #include <cstddef>
 #include <utility>
-
-#include <Eigen/Eigenvalues>
 
 #include "vibid/common/error.hpp"
 

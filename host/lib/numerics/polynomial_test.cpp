@@ -1,9 +1,9 @@
 #include "vibid/numerics/polynomial.hpp"
 
+#include <gtest/gtest.h>
+
 #include <cmath>
 #include <random>
-
-#include <gtest/gtest.h>
 
 #include "vibid/common/error.hpp"
 

@@ -1,10 +1,9 @@
 #include "vibid/sysid/continuous.hpp"
 
+#include <Eigen/Eigenvalues>
 #include <cmath>
 #include <string>
 #include <type_traits>
-
-#include <Eigen/Eigenvalues>
 #include <unsupported/Eigen/MatrixFunctions>
 
 #include "vibid/common/error.hpp"
@@ -192,9 +191,11 @@ namespace {
 /// det(sI − A + BC) = det(sI − A)(1 + C (sI − A)⁻¹ B).
 TransferFunction TfFromStateSpace(const Eigen::MatrixXd& a, const Eigen::VectorXd& b, const Eigen::RowVectorXd& c,
                                   double d) {
-  const Eigen::VectorXd den = numerics::PolynomialFromRoots(Eigen::EigenSolver<Eigen::MatrixXd>(a, false).eigenvalues());
+  const Eigen::VectorXd den =
+      numerics::PolynomialFromRoots(Eigen::EigenSolver<Eigen::MatrixXd>(a, false).eigenvalues());
   const Eigen::MatrixXd closed = a - b * c;
-  const Eigen::VectorXd both = numerics::PolynomialFromRoots(Eigen::EigenSolver<Eigen::MatrixXd>(closed, false).eigenvalues());
+  const Eigen::VectorXd both = numerics::PolynomialFromRoots(
+      Eigen::EigenSolver<Eigen::MatrixXd>(closed, false).eigenvalues());
   Eigen::VectorXd num = both - den + d * den;
   return TransferFunction{num, den};
 }

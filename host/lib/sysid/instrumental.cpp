@@ -4,7 +4,8 @@
 
 namespace vibid::sysid {
 
-bool SolveInstrumental(Eigen::Ref<const Eigen::MatrixXd> zeta, Eigen::Ref<const Eigen::MatrixXd> phi,
+bool SolveInstrumental(Eigen::Ref<const Eigen::MatrixXd> zeta,
+                       Eigen::Ref<const Eigen::MatrixXd> phi,
                        Eigen::Ref<const Eigen::VectorXd> target, Eigen::VectorXd& theta) {
   const Eigen::Index p = phi.cols();
   Eigen::VectorXd phi_scale = phi.colwise().norm().transpose();

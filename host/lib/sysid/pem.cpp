@@ -1,17 +1,15 @@
 #include "vibid/sysid/pem.hpp"
 
+#include <Eigen/QR>
 #include <algorithm>
 #include <cmath>
 
-#include <Eigen/QR>
-
+#include "search.hpp"
 #include "vibid/common/error.hpp"
 #include "vibid/numerics/polynomial.hpp"
 #include "vibid/sysid/continuous.hpp"
 #include "vibid/sysid/instrumental.hpp"
 #include "vibid/sysid/tfest.hpp"
-
-#include "search.hpp"
 
 namespace vibid::sysid {
 
@@ -25,7 +23,9 @@ void DelayInto(const Eigen::VectorXd& v, Eigen::Index k, double sign, Eigen::Ref
   out.tail(n - zeros) = sign * v.head(n - zeros);
 }
 
-bool StableFilter(const Eigen::VectorXd& p) { return p.size() <= 1 || numerics::SpectralRadius(p) < 1.0; }
+bool StableFilter(const Eigen::VectorXd& p) {
+  return p.size() <= 1 || numerics::SpectralRadius(p) < 1.0;
+}
 
 /// Residual and Jacobian of e = D/C (A y − B/F u) for the parameter layout of PolyModel.
 bool PredictionErrorJacobian(const PolyModel& base, const IoData& data, const Eigen::VectorXd& theta,
@@ -283,7 +283,8 @@ PemResult EstimatePem(const IoData& data, Structure structure, const PolyOrders&
   }
 
   Eigen::VectorXd theta = start.Parameters();
-  const numerics::ResidualFunction fn = [&](const Eigen::VectorXd& th, Eigen::VectorXd& r, Eigen::MatrixXd* j) {
+  const numerics::ResidualFunction fn = [&](const Eigen::VectorXd& th, Eigen::VectorXd& r,
+                                            Eigen::MatrixXd* j) {
     return PredictionErrorJacobian(start, data, th, r, j);
   };
   Eigen::MatrixXd jac;

@@ -1,6 +1,6 @@
 // The nonlinear searches of sysid on the shared solver, reporting the prediction-error criterion
-// V(θ) = (1/N) Σ r_t(θ)² (the System Identification Toolbox's loss) as the summary's cost rather than
-// the solver's ½ ‖r‖², so that costs read the same as the closed-form ARX loss.
+// V(θ) = (1/N) Σ r_t(θ)² (the System Identification Toolbox's loss) as the summary's cost rather
+// than the solver's ½ ‖r‖², so that costs read the same as the closed-form ARX loss.
 #pragma once
 
 #include <Eigen/Core>

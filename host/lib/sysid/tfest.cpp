@@ -1,18 +1,16 @@
 #include "vibid/sysid/tfest.hpp"
 
-#include <cmath>
+#include <Eigen/QR>
 #include <algorithm>
+#include <cmath>
 #include <cstdio>
 #include <limits>
 
-#include <Eigen/QR>
-
+#include "search.hpp"
 #include "vibid/common/error.hpp"
 #include "vibid/numerics/polynomial.hpp"
 #include "vibid/sysid/fit.hpp"
 #include "vibid/sysid/instrumental.hpp"
-
-#include "search.hpp"
 
 namespace vibid::sysid {
 
@@ -143,7 +141,8 @@ struct SrivcOutcome {
 SrivcOutcome SvfStart(int np, double lambda_rad_s) {
   SrivcOutcome out;
   out.tf.den = Eigen::VectorXd::Ones(1);
-  for (int i = 0; i < np; ++i) out.tf.den = numerics::MultiplyPolynomials(out.tf.den, Eigen::Vector2d(1.0, lambda_rad_s));
+  for (int i = 0; i < np; ++i)
+    out.tf.den = numerics::MultiplyPolynomials(out.tf.den, Eigen::Vector2d(1.0, lambda_rad_s));
   return out;
 }
 
@@ -180,7 +179,8 @@ void SrivcPasses(const IoData& data, int np, int nz, int last_pass, const TfestO
     zeta = phi;
     if (num.size() > 0) {
       // Instruments: the prefiltered noise-free output of the current model, exact for the ZOH input.
-      FilteredDerivativesInto(numerics::MultiplyPolynomials(den, den), data.u, data.dt_s, Hold::kZero, work.w);
+      FilteredDerivativesInto(numerics::MultiplyPolynomials(den, den), data.u, data.dt_s,
+                              Hold::kZero, work.w);
       for (Eigen::Index j = 0; j < n; ++j) CombineInto(num, work.w, n - 1 - j, -1.0, zeta.col(j));
     }
     Eigen::VectorXd theta;
@@ -224,8 +224,9 @@ Eigen::VectorXd FitInitialCondition(const TransferFunction& tf, const IoData& da
   return ascending.reverse().eval().head(n);
 }
 
-CtOeResult FitContinuousOe(const IoData& data, const CtParameterization& param, Eigen::Ref<const Eigen::VectorXd> theta0,
-                           InitialCondition ic, const numerics::SolverOptions& options) {
+CtOeResult FitContinuousOe(const IoData& data, const CtParameterization& param,
+                           Eigen::Ref<const Eigen::VectorXd> theta0, InitialCondition ic,
+                           const numerics::SolverOptions& options) {
   options.Validate();
   const Eigen::Index n = param.np;
   const Eigen::Index m = param.nz;
@@ -234,7 +235,8 @@ CtOeResult FitContinuousOe(const IoData& data, const CtParameterization& param, 
   Eigen::VectorXd theta(q + (with_ic ? n : 0));
   theta.head(q) = theta0;
   if (with_ic) theta.tail(n).setZero();
-  const numerics::ResidualFunction fn = [&](const Eigen::VectorXd& th, Eigen::VectorXd& r, Eigen::MatrixXd* j) {
+  const numerics::ResidualFunction fn = [&](const Eigen::VectorXd& th, Eigen::VectorXd& r,
+                                            Eigen::MatrixXd* j) {
     Eigen::VectorXd coef;
     Eigen::MatrixXd dcoef;
     if (!param.map(th.head(q), coef, j != nullptr ? &dcoef : nullptr)) return false;
@@ -260,7 +262,8 @@ CtOeResult FitContinuousOe(const IoData& data, const CtParameterization& param, 
   res.theta = theta.head(q);
   res.ic_num = with_ic ? Eigen::VectorXd(theta.tail(n)) : Eigen::VectorXd::Zero(n);
   fn(theta, res.residual, nullptr);
-  if (jac.rows() == data.samples()) res.covariance = numerics::CovarianceFromJacobian(jac, res.residual);
+  if (jac.rows() == data.samples())
+    res.covariance = numerics::CovarianceFromJacobian(jac, res.residual);
   return res;
 }
 

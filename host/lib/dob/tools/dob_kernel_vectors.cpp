@@ -12,8 +12,8 @@
 
 #include "vibid/dob/chain_plant.hpp"
 #include "vibid/dob/design.hpp"
-#include "vibid/numerics/polynomial.hpp"
 #include "vibid/dob/quantize.hpp"
+#include "vibid/numerics/polynomial.hpp"
 #include "vibid/shared/fixed/dob_filter.hpp"
 
 int main(int argc, char** argv) {

@@ -48,7 +48,8 @@ enum class SosStart {
 };
 
 /// Runs the cascade over x in double precision.
-Eigen::VectorXd FilterSos(const std::vector<SosSection>& sos, const Eigen::Ref<const Eigen::VectorXd>& x,
+Eigen::VectorXd FilterSos(const std::vector<SosSection>& sos,
+                          const Eigen::Ref<const Eigen::VectorXd>& x,
                           SosStart start = SosStart::kZero);
 
 /// Largest pole radius of the cascade.

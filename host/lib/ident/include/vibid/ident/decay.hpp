@@ -3,9 +3,8 @@
 // for the stiffness and the base mass.
 #pragma once
 
-#include <cstddef>
-
 #include <Eigen/Core>
+#include <cstddef>
 
 #include "vibid/numerics/least_squares.hpp"
 
@@ -18,7 +17,8 @@ struct DecayOptions {
   /// When > 0, fit only this many cycles after the release instead (guide friction makes the
   /// decay amplitude-dependent; the first cycles compare with a first-peaks log decrement).
   int cycles = 0;
-  numerics::SolverOptions solver{.max_iterations = 200, .function_tolerance = 1e-14, .parameter_tolerance = 1e-12};
+  numerics::SolverOptions solver{
+      .max_iterations = 200, .function_tolerance = 1e-14, .parameter_tolerance = 1e-12};
 
   void Validate() const;
 };

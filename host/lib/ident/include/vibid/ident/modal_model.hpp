@@ -37,14 +37,13 @@
 // seeded synthetic hammer tests).
 #pragma once
 
+#include <Eigen/Core>
 #include <complex>
 #include <string>
 #include <vector>
 
-#include <Eigen/Core>
-
-#include "vibid/numerics/least_squares.hpp"
 #include "vibid/ident/spectral.hpp"
+#include "vibid/numerics/least_squares.hpp"
 
 namespace vibid::ident {
 

@@ -8,10 +8,9 @@
 // R instead of JᵀJ keeps the step accurate when J is ill conditioned.
 #pragma once
 
+#include <Eigen/Core>
 #include <functional>
 #include <string>
-
-#include <Eigen/Core>
 
 namespace vibid::numerics {
 

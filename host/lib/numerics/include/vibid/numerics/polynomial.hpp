@@ -7,10 +7,9 @@
 // the roots of zⁿ + a1 zⁿ⁻¹ + ... + an.
 #pragma once
 
+#include <Eigen/Core>
 #include <complex>
 #include <vector>
-
-#include <Eigen/Core>
 
 namespace vibid::numerics {
 

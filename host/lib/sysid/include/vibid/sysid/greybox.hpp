@@ -11,16 +11,15 @@
 // With a position input the TF is homogeneous in (M, B, k, Bi) scale: one of them must be fixed.
 #pragma once
 
+#include <Eigen/Core>
 #include <map>
 #include <string>
 #include <vector>
 
-#include <Eigen/Core>
-
 #include "vibid/model/transfer_function.hpp"
+#include "vibid/numerics/least_squares.hpp"
 #include "vibid/sysid/continuous.hpp"
 #include "vibid/sysid/io_data.hpp"
-#include "vibid/numerics/least_squares.hpp"
 #include "vibid/sysid/tfest.hpp"
 
 namespace vibid::sysid {

@@ -10,8 +10,8 @@
 
 #include <string>
 
-#include "vibid/sysid/io_data.hpp"
 #include "vibid/numerics/least_squares.hpp"
+#include "vibid/sysid/io_data.hpp"
 #include "vibid/sysid/poly_model.hpp"
 
 namespace vibid::sysid {

@@ -12,14 +12,13 @@
 // ∂ŷ/∂p_k = imp(s^k/A), every one of them read from the states of 1/A and 1/A².
 #pragma once
 
+#include <Eigen/Core>
 #include <functional>
 #include <string>
 
-#include <Eigen/Core>
-
+#include "vibid/numerics/least_squares.hpp"
 #include "vibid/sysid/continuous.hpp"
 #include "vibid/sysid/io_data.hpp"
-#include "vibid/numerics/least_squares.hpp"
 
 namespace vibid::sysid {
 
@@ -80,7 +79,8 @@ struct CtOeResult {
 };
 
 /// Output-error fit of a parameterised continuous TF (exact ZOH simulation, exact Jacobian).
-CtOeResult FitContinuousOe(const IoData& data, const CtParameterization& param, Eigen::Ref<const Eigen::VectorXd> theta0,
-                           InitialCondition ic, const numerics::SolverOptions& options);
+CtOeResult FitContinuousOe(const IoData& data, const CtParameterization& param,
+                           Eigen::Ref<const Eigen::VectorXd> theta0, InitialCondition ic,
+                           const numerics::SolverOptions& options);
 
 }  // namespace vibid::sysid
