@@ -160,11 +160,12 @@ double ModalModelFit::ShapeRatioSd(Eigen::Index mode, Eigen::Index j, Eigen::Ind
   return std::sqrt(std::max(0.0, g.dot(covariance * g)));
 }
 
-ModalModelFit FitModalModel(const Frf& receptance, const std::vector<std::complex<double>>& start,
-                            const ModalModelOptions& options) {
-  options.Validate();
-  Require(receptance.quantity == Quantity::kDisplacement, "modal model fit needs a receptance FRF");
-  Require(!start.empty(), "modal model fit needs at least one pole");
+namespace {
+
+// Lines of the fit: the band around the start poles (or the options' band); on a long FRF only
+// the lines near a pole.
+std::vector<Eigen::Index> FitLines(const Frf& acc, const std::vector<std::complex<double>>& start,
+                                   const ModalModelOptions& options) {
   double fmin = std::numeric_limits<double>::infinity();
   double fmax = 0.0;
   for (const cd& l : start) {
@@ -175,7 +176,6 @@ ModalModelFit FitModalModel(const Frf& receptance, const std::vector<std::comple
   }
   const double lo = options.freq_min_hz > 0.0 ? options.freq_min_hz : 0.6 * fmin;
   const double hi = options.freq_max_hz > 0.0 ? options.freq_max_hz : 1.4 * fmax;
-  const Frf acc = ConvertFrf(receptance, Quantity::kAcceleration);
   std::vector<Eigen::Index> rows;
   for (Eigen::Index k = 0; k < acc.freq_hz.size(); ++k) {
     const double f = acc.freq_hz[k];
@@ -200,12 +200,13 @@ ModalModelFit FitModalModel(const Frf& receptance, const std::vector<std::comple
     }
     rows = std::move(near);
   }
-  Problem prob;
-  prob.modes = static_cast<Eigen::Index>(start.size());
-  prob.pretrigger_s = receptance.pretrigger_s;
+  return rows;
+}
+
+// Fills the problem's frequencies, FRF and first weights (1 / peak, 0 where the coherence is 0).
+void LoadLines(const Frf& acc, const std::vector<Eigen::Index>& rows, Problem& prob) {
   const auto L = static_cast<Eigen::Index>(rows.size());
   const Eigen::Index R = acc.h.cols();
-  Require(L > prob.per_response() + prob.modes, "modal model fit: too few frequency lines in the band");
   prob.w.resize(L);
   prob.h.resize(L, R);
   prob.weight.resize(L, R);
@@ -224,6 +225,24 @@ ModalModelFit FitModalModel(const Frf& receptance, const std::vector<std::comple
       prob.weight(k, o) = acc.coherence(rows[static_cast<std::size_t>(k)], o) > 0.0 ? 1.0 / top : 0.0;
     }
   }
+}
+
+}  // namespace
+
+ModalModelFit FitModalModel(const Frf& receptance, const std::vector<std::complex<double>>& start,
+                            const ModalModelOptions& options) {
+  options.Validate();
+  Require(receptance.quantity == Quantity::kDisplacement, "modal model fit needs a receptance FRF");
+  Require(!start.empty(), "modal model fit needs at least one pole");
+  const Frf acc = ConvertFrf(receptance, Quantity::kAcceleration);
+  const std::vector<Eigen::Index> rows = FitLines(acc, start, options);
+  Problem prob;
+  prob.modes = static_cast<Eigen::Index>(start.size());
+  prob.pretrigger_s = receptance.pretrigger_s;
+  const auto L = static_cast<Eigen::Index>(rows.size());
+  const Eigen::Index R = acc.h.cols();
+  Require(L > prob.per_response() + prob.modes, "modal model fit: too few frequency lines in the band");
+  LoadLines(acc, rows, prob);
 
   Eigen::VectorXd theta = Eigen::VectorXd::Zero(prob.parameters());
   for (Eigen::Index i = 0; i < prob.modes; ++i) {
