@@ -9,12 +9,17 @@
 
 namespace vibid::sysid {
 
-/// Runs numerics::LevenbergMarquardt; `jacobian` receives J at the returned θ.
+/// Runs numerics::LevenbergMarquardt; `jacobian` receives J at the returned θ. The search stops on
+/// the cost decrease and the step only: an absolute gradient bound means nothing for a loss whose
+/// scale is the data's, so gradient_tolerance is not applied here.
 inline numerics::SolverSummary MinimizePredictionError(const numerics::ResidualFunction& fn,
                                                        Eigen::VectorXd& theta,
                                                        const numerics::SolverOptions& options,
                                                        Eigen::MatrixXd& jacobian) {
-  numerics::SolverSummary summary = numerics::LevenbergMarquardt(fn, theta, options, &jacobian);
+  options.Validate();
+  numerics::SolverOptions scale_free = options;
+  scale_free.gradient_tolerance = 0.0;
+  numerics::SolverSummary summary = numerics::LevenbergMarquardt(fn, theta, scale_free, &jacobian);
   if (jacobian.rows() > 0) {
     const double to_mean_square = 2.0 / static_cast<double>(jacobian.rows());
     summary.initial_cost *= to_mean_square;
