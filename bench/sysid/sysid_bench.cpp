@@ -89,7 +89,7 @@ void BM_Oe4(benchmark::State& state) {
   state.counters["iterations"] = r.summary.iterations;
   state.counters["converged"] = r.summary.Converged() ? 1 : 0;
   state.counters["fit_percent"] = FitPercent(data.y, SimulatePoly(r.model, data.u));
-  state.SetLabel(TerminationName(r.summary.termination));
+  state.SetLabel(vibid::numerics::TerminationName(r.summary.termination));
 }
 BENCHMARK(BM_Oe4)->Unit(benchmark::kMillisecond)->Iterations(5);
 
@@ -106,7 +106,7 @@ void BM_Tfest4(benchmark::State& state) {
   state.counters["iterations"] = r.summary.iterations;
   state.counters["converged"] = r.summary.Converged() ? 1 : 0;
   state.counters["fit_percent"] = r.fit_percent;
-  state.SetLabel(TerminationName(r.summary.termination));
+  state.SetLabel(vibid::numerics::TerminationName(r.summary.termination));
 }
 BENCHMARK(BM_Tfest4)->Unit(benchmark::kMillisecond)->Iterations(5);
 

@@ -69,7 +69,7 @@ nlohmann::json SetJson(const DecaySet& s, const std::vector<std::string>& paths)
                     {"rms_residual", r.rms_residual},
                     {"zeta_log_decrement", r.zeta_log_decrement},
                     {"cycles", r.cycles},
-                    {"termination", ident::TerminationName(r.summary.termination)}});
+                    {"termination", numerics::TerminationName(r.summary.termination)}});
   }
   return {{"omega_d_rad_s", s.omega_d}, {"zeta", s.zeta}, {"omega_n_rad_s", s.omega_n},
           {"omega_d_std", s.omega_d_std}, {"zeta_std", s.zeta_std}, {"records", recs}};

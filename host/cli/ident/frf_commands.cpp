@@ -85,7 +85,7 @@ std::string ModesText(const ident::ModeIdentification& r) {
         << r.diagram.poles.size() << " poles, " << r.diagram.selected.size() << " chosen; residue fit rms relative misfit "
         << r.fit.rms_relative_error << "\n";
   } else if (r.fitted) {
-    out << "curve fit: " << ident::TerminationName(r.fit.summary.termination) << ", " << r.fit.summary.iterations
+    out << "curve fit: " << numerics::TerminationName(r.fit.summary.termination) << ", " << r.fit.summary.iterations
         << " iterations, cost " << r.fit.summary.initial_cost << " -> " << r.fit.summary.final_cost
         << ", rms relative misfit " << r.fit.rms_relative_error << "\n";
   }

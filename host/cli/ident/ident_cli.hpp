@@ -11,7 +11,7 @@
 
 #include "vibid/ident/impact.hpp"
 #include "vibid/ident/modes.hpp"
-#include "vibid/ident/solver.hpp"
+#include "vibid/numerics/least_squares.hpp"
 #include "vibid/ident/spectral.hpp"
 
 namespace vibid::cli {

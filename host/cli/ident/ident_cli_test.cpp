@@ -13,7 +13,7 @@
 
 #include "run_cli.hpp"
 #include "vibid/common/atomic_file.hpp"
-#include "vibid/ident/hammer_test.hpp"
+#include "vibid/ident/testing/hammer_test.hpp"
 #include "vibid/model/modal.hpp"
 #include "vibid/model/model.hpp"
 

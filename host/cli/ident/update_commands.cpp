@@ -118,7 +118,7 @@ std::string MassText(const ident::MassUpdateResult& r) {
   out << "\nk " << r.k_n_per_m << " N/m" << (r.stiffness_fitted ? " (fitted)" : " (given)") << ", zeta " << r.zeta
       << (r.damping_fitted ? " (fitted; half-power " + std::to_string(r.zeta_half_power) + ")" : " (half-power)")
       << ", c " << r.c_ns_per_m << " N*s/m, omega " << r.omega_rad_s << " rad/s\n"
-      << "fit: " << ident::TerminationName(r.summary.termination) << ", " << r.summary.iterations << " iterations, "
+      << "fit: " << numerics::TerminationName(r.summary.termination) << ", " << r.summary.iterations << " iterations, "
       << r.lines_fitted << " lines\n";
   return out.str();
 }

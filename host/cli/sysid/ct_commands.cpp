@@ -23,8 +23,8 @@ namespace vibid::cli {
 
 namespace {
 
-void CheckSolver(const sysid::SolverSummary& s, const std::string& what) {
-  if (s.termination == sysid::Termination::kNumericalFailure) {
+void CheckSolver(const numerics::SolverSummary& s, const std::string& what) {
+  if (s.termination == numerics::TerminationType::kNumericalFailure) {
     throw NumericalError(what + " did not produce a model: " + s.message);
   }
 }
@@ -72,7 +72,7 @@ void Run(const TfestArgs& a) {
   std::ostringstream text;
   text << "num = " << FormatVector(r.tf.num) << "\nden = " << FormatVector(r.tf.den) << "\nfit "
        << FormatNumber(r.fit_percent) << " % (simulation, ic " << a.ic << ") on " << est.samples() << " samples\n"
-       << "search: " << sysid::TerminationName(r.summary.termination) << " after " << r.summary.iterations
+       << "search: " << numerics::TerminationName(r.summary.termination) << " after " << r.summary.iterations
        << " iterations, start " << r.initialization << "\n";
   if (!a.validate_range.empty()) {
     const sysid::IoData val = ApplyRange(all, a.validate_range, "--validate-range");
@@ -226,7 +226,7 @@ void Run(const GreyboxArgs& a) {
     text << p.name << " = " << FormatNumber(p.value) << (p.fixed ? " (fixed)" : " +- " + FormatNumber(p.std)) << "\n";
   }
   text << "fit " << FormatNumber(r.fit_percent) << " % (simulation) on " << est.samples() << " samples; search "
-       << sysid::TerminationName(r.summary.termination) << " after " << r.summary.iterations << " iterations\n";
+       << numerics::TerminationName(r.summary.termination) << " after " << r.summary.iterations << " iterations\n";
   nlohmann::json j{{"model", "cart"},
                    {"carts", a.carts},
                    {"input_kind", a.input_kind},

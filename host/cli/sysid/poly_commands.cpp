@@ -11,7 +11,7 @@
 #include "vibid/common/error.hpp"
 #include "vibid/sysid/continuous.hpp"
 #include "vibid/sysid/pem.hpp"
-#include "vibid/sysid/polynomial.hpp"
+#include "vibid/numerics/polynomial.hpp"
 
 namespace vibid::cli {
 
@@ -88,7 +88,7 @@ nlohmann::json ModelReport(const sysid::PolyModel& m, const sysid::IoData& est, 
   if (a.d2c) {
     Require(m.orders.nk <= 1, "--d2c: nk = " + std::to_string(m.orders.nk) +
                                   " is a delay of more than one sample, which has no continuous-time TF");
-    const Eigen::VectorXd den = sysid::PolyMul(m.a, m.f);
+    const Eigen::VectorXd den = numerics::MultiplyPolynomials(m.a, m.f);
     Eigen::VectorXd num = m.b;
     Require(num.size() <= den.size(), "--d2c: B longer than A·F: the model is not causal in continuous time");
     const sysid::TransferFunction tf = sysid::Normalized(sysid::D2cZoh(num, den, m.dt_s));
@@ -198,19 +198,19 @@ struct PemArgs {
 void Run(const PemArgs& a) {
   const sysid::Structure s = sysid::ParseStructure(a.structure);
   const sysid::PolyOrders o = ParseOrders(a.orders, s);
-  sysid::SolverOptions so;
+  numerics::SolverOptions so;
   so.max_iterations = a.max_iterations;
   const sysid::IoData all = LoadIoData(a.poly.record);
   const sysid::IoData est = ApplyRange(all, a.poly.estimate_range, "--estimate-range");
   const sysid::PemResult r = sysid::EstimatePem(est, s, o, so);
-  if (r.summary.termination == sysid::Termination::kNumericalFailure) {
+  if (r.summary.termination == numerics::TerminationType::kNumericalFailure) {
     throw NumericalError("pem did not produce a model: " + r.summary.message);
   }
   std::ostringstream text;
   nlohmann::json j = ModelReport(r.model, est, all, a.poly, text);
   j["summary"] = SolverSummaryJson(r.summary);
   j["initialization"] = r.initialization;
-  text << "search: " << sysid::TerminationName(r.summary.termination) << " after " << r.summary.iterations
+  text << "search: " << numerics::TerminationName(r.summary.termination) << " after " << r.summary.iterations
        << " iterations (" << r.initialization << " start), cost " << FormatNumber(r.summary.initial_cost) << " -> "
        << FormatNumber(r.summary.final_cost) << "\n";
   Emit(j, text.str(), a.poly.json, a.poly.out);

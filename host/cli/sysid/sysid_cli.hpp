@@ -11,7 +11,7 @@
 
 #include "vibid/sysid/fit.hpp"
 #include "vibid/sysid/io_data.hpp"
-#include "vibid/sysid/least_squares.hpp"
+#include "vibid/numerics/least_squares.hpp"
 #include "vibid/sysid/poly_model.hpp"
 
 namespace vibid::cli {

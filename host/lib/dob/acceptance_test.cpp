@@ -198,9 +198,11 @@ TEST(DobAcceptance, DatasheetModelLeavesAQuantifiedModelError) {
   const NominalPlant sheet_tf = PlantFromModel(Datasheet(), 1, 1);
   const std::complex<double> s(0.0, 2.0 * std::numbers::pi * 16.0);
   const auto inverse = [&](const NominalPlant& p) {
-    return EvaluatePolynomial(p.receptance_den, s) / EvaluatePolynomial(p.receptance_num, s);
+    return numerics::EvaluatePolynomial(p.receptance_den, s) /
+           numerics::EvaluatePolynomial(p.receptance_num, s);
   };
-  const std::complex<double> q = EvaluatePolynomial(matched.q.num, s) / EvaluatePolynomial(matched.q.den, s);
+  const std::complex<double> q = numerics::EvaluatePolynomial(matched.q.num, s) /
+                                 numerics::EvaluatePolynomial(matched.q.den, s);
   const double predicted = std::abs(q * (inverse(sheet_tf) - inverse(truth_tf))) * amplitude(x2, 16.0);
   const double measured = amplitude(err, 16.0);
   EXPECT_GT(measured, 1.0);  // newtons: not a rounding effect
@@ -219,8 +221,10 @@ TEST(DobAcceptance, ClosedFormChainEqualsTheModelCore) {
   const NominalPlant b = PlantFromModel(Truth(), 1, 1);
   for (const double w : {1.0, 30.0, 100.0, 1000.0}) {
     const std::complex<double> s(0.0, w);
-    const auto ha = EvaluatePolynomial(a.receptance_num, s) / EvaluatePolynomial(a.receptance_den, s);
-    const auto hb = EvaluatePolynomial(b.receptance_num, s) / EvaluatePolynomial(b.receptance_den, s);
+    const auto ha = numerics::EvaluatePolynomial(a.receptance_num, s) /
+                    numerics::EvaluatePolynomial(a.receptance_den, s);
+    const auto hb = numerics::EvaluatePolynomial(b.receptance_num, s) /
+                    numerics::EvaluatePolynomial(b.receptance_den, s);
     EXPECT_NEAR(std::abs(ha - hb), 0.0, 1e-10 * std::abs(ha));
   }
 }

@@ -1,6 +1,6 @@
 #include "vibid/dob/chain_plant.hpp"
 
-#include "vibid/dob/polynomial.hpp"
+#include "vibid/numerics/polynomial.hpp"
 
 namespace vibid::dob {
 
@@ -9,8 +9,8 @@ NominalPlant ChainPlantForceOnM2(const ChainParameters& p) {
   const Eigen::Vector3d d22(p.m2_kg, p.c2_ns_per_m, p.k2_n_per_m);
   const Eigen::Vector2d d12(-p.c2_ns_per_m, -p.k2_n_per_m);
   NominalPlant plant;
-  const Eigen::VectorXd off = MultiplyPolynomials(d12, d12);
-  Eigen::VectorXd det = MultiplyPolynomials(d11, d22);
+  const Eigen::VectorXd off = numerics::MultiplyPolynomials(d12, d12);
+  Eigen::VectorXd det = numerics::MultiplyPolynomials(d11, d22);
   det.tail(off.size()) -= off;
   plant.receptance_num = d11;
   plant.receptance_den = det;

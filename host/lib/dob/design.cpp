@@ -12,9 +12,11 @@ namespace {
 
 constexpr double kTwoPi = 2.0 * std::numbers::pi;
 
-int Degree(const Eigen::VectorXd& p) { return static_cast<int>(TrimLeadingZeros(p).size()) - 1; }
+int Degree(const Eigen::VectorXd& p) {
+  return static_cast<int>(numerics::TrimLeadingZeros(p).size()) - 1;
+}
 
-double Lead(const Eigen::VectorXd& p) { return TrimLeadingZeros(p)[0]; }
+double Lead(const Eigen::VectorXd& p) { return numerics::TrimLeadingZeros(p)[0]; }
 
 void Append(std::vector<Complex>& to, const std::vector<Complex>& from) {
   to.insert(to.end(), from.begin(), from.end());
@@ -67,8 +69,8 @@ void ValidateOptions(const DobOptions& o) {
 // Q's poles and zeros, from its polynomials.
 Zpk QZpk(const QFilter& q) {
   Zpk z;
-  z.zeros = PolynomialRoots(q.num);
-  z.poles = PolynomialRoots(q.den);
+  z.zeros = numerics::PolynomialRoots(q.num);
+  z.poles = numerics::PolynomialRoots(q.den);
   z.gain = Lead(q.num) / Lead(q.den);
   return z;
 }
@@ -100,7 +102,8 @@ double QBandEdgeHz(const QFilter& q, double tolerance) {
   double hi = wc * 10.0;
   const auto err = [&](double w) {
     const Complex s(0.0, w);
-    return std::abs(EvaluatePolynomial(q.num, s) / EvaluatePolynomial(q.den, s) - 1.0);
+    return std::abs(
+        numerics::EvaluatePolynomial(q.num, s) / numerics::EvaluatePolynomial(q.den, s) - 1.0);
   };
   if (err(lo) >= tolerance) return lo / kTwoPi;
   // |Q - 1| grows monotonically over the pass band for these prototypes; bisect on log scale.
@@ -111,90 +114,105 @@ double QBandEdgeHz(const QFilter& q, double tolerance) {
   return lo / kTwoPi;
 }
 
-DobDesign DesignObserver(const NominalPlant& plant, const DobOptions& options) {
-  ValidateOptions(options);
-  DobDesign design;
-  design.options = options;
-  DobOptions& o = design.options;
-  if (o.sensor_full_scale == 0.0) o.sensor_full_scale = DefaultSensorFullScale(o.sensor);
-  if (o.output_full_scale_n == 0.0) o.output_full_scale_n = 2.0 * o.force_full_scale_n;
-  design.q = MakeQFilter(o.order, o.relative_degree, o.tau_s, o.prototype);
-  const Zpk q = QZpk(design.q);
-  const int m = static_cast<int>(o.sensor);
-  const std::string sensor_name = SensorName(o.sensor);
+namespace {
 
-  Zpk force_path = q;
-  force_path.gain = -q.gain;
-  std::vector<Zpk> sensor_paths;
-  std::vector<ObserverPath> shells;  // kind/dof/full scale per input, sections filled below
+// The observer's sensor paths in continuous time, one input each (kind/dof/full scale set,
+// sections filled after discretization), and why the design is refused (empty: it is not).
+struct SensorPaths {
+  std::vector<Zpk> zpk;
+  std::vector<ObserverPath> shells;
+  int plant_relative_degree = 0;
   std::string refusal;
+};
 
-  if (o.form == ObserverForm::kSiso) {
-    Require(plant.receptance_num.size() > 0 && plant.receptance_den.size() > 0,
-            "the nominal model gives no transfer function for the SISO form");
-    const Eigen::VectorXd& num = plant.receptance_num;
-    const Eigen::VectorXd& den = plant.receptance_den;
-    Require(TrimLeadingZeros(num).cwiseAbs().maxCoeff() > 0.0,
-            "the nominal transfer function from the force to the sensor is zero: the sensor does not see the force");
-    design.plant_relative_degree = Degree(den) - Degree(num) - m;
-    const std::string what = "G_A (force on m" + std::to_string(o.input_dof + 1) + " to " + sensor_name +
-                             " of m" + std::to_string(o.output_dof + 1) + ")";
-    Require(o.relative_degree >= design.plant_relative_degree,
-            RelativeDegreeMessage(o.relative_degree, design.plant_relative_degree, what));
-    const auto g_zeros = PolynomialRoots(num);
-    const auto g_poles = PolynomialRoots(den);
-    // G_A's zeros become poles of the observer: they must lie strictly in the left half plane.
-    for (const Complex& z : g_zeros) {
-      if (z.real() >= -1e-9 * std::max(1.0, std::abs(z)) && refusal.empty()) {
-        refusal = "G_A has a zero at s = " + FormatComplex(z) + " rad/s (" +
-                  std::to_string(std::abs(z) / kTwoPi) + " Hz) on or right of the imaginary axis, so G_A^-1 is " +
-                  "unstable" + (std::abs(z.real()) < 1e-9 * std::max(1.0, std::abs(z))
-                                    ? ": the nominal model is undamped there; give it the identified damping"
-                                    : ": the model is non-minimum-phase for this sensor/force pair");
-      }
+// G_A's zeros become poles of the observer: they must lie strictly in the left half plane.
+std::string ZeroRefusal(const std::vector<Complex>& g_zeros) {
+  for (const Complex& z : g_zeros) {
+    if (z.real() >= -1e-9 * std::max(1.0, std::abs(z))) {
+      return "G_A has a zero at s = " + FormatComplex(z) + " rad/s (" +
+             std::to_string(std::abs(z) / kTwoPi) +
+             " Hz) on or right of the imaginary axis, so G_A^-1 is " + "unstable" +
+             (std::abs(z.real()) < 1e-9 * std::max(1.0, std::abs(z))
+                  ? ": the nominal model is undamped there; give it the identified damping"
+                  : ": the model is non-minimum-phase for this sensor/force pair");
     }
-    Zpk sensor = q;
-    Append(sensor.zeros, g_poles);
-    Append(sensor.poles, g_zeros);
-    Append(sensor.poles, LeakPoles(o));
-    sensor.gain = q.gain * Lead(den) / Lead(num);
-    sensor_paths.push_back(sensor);
-    shells.push_back(ObserverPath{.kind = InputKindOf(o.sensor), .dof = o.output_dof,
-                                  .full_scale = o.sensor_full_scale, .sos = {}});
-  } else {
-    const Eigen::Index n = plant.m_row.size();
-    Require(n > 0 && plant.c_row.size() == n && plant.k_row.size() == n,
-            "the nominal model gives no M, C, K row for the MIMO form");
-    Require(o.input_dof < n, "input dof " + std::to_string(o.input_dof + 1) + " exceeds the model's " +
-                                 std::to_string(n) + " masses");
-    int plant_degree = -100;
-    for (Eigen::Index l = 0; l < n; ++l) {
-      const Eigen::Vector3d row(plant.m_row[l], plant.c_row[l], plant.k_row[l]);
-      if (row.cwiseAbs().maxCoeff() == 0.0) continue;
-      const Eigen::VectorXd poly = TrimLeadingZeros(row, 0.0);
-      plant_degree = std::max(plant_degree, static_cast<int>(poly.size()) - 1 - m);
-      Zpk sensor = q;
-      Append(sensor.zeros, PolynomialRoots(poly));
-      Append(sensor.poles, LeakPoles(o));
-      sensor.gain = q.gain * poly[0];
-      sensor_paths.push_back(sensor);
-      shells.push_back(ObserverPath{.kind = InputKindOf(o.sensor), .dof = static_cast<int>(l),
-                                    .full_scale = o.sensor_full_scale, .sos = {}});
-    }
-    Require(!sensor_paths.empty(), "the model's row for m" + std::to_string(o.input_dof + 1) + " is zero");
-    Require(sensor_paths.size() + 1 <= fixed::kMaxInputs,
-            "the MIMO form needs " + std::to_string(sensor_paths.size() + 1) +
-                " inputs; the fixed-point observer takes at most " + std::to_string(fixed::kMaxInputs));
-    design.plant_relative_degree = plant_degree;
-    Require(o.relative_degree >= plant_degree,
-            RelativeDegreeMessage(o.relative_degree, plant_degree,
-                                  "the row operator of m" + std::to_string(o.input_dof + 1) + " (" + sensor_name + " sensors)"));
   }
-  design.continuous = sensor_paths;
-  design.continuous.push_back(force_path);
-  shells.push_back(ObserverPath{.kind = fixed::InputKind::kForce, .dof = o.input_dof,
-                                .full_scale = o.force_full_scale_n, .sos = {}});
+  return {};
+}
 
+// SISO form: Q G_A^-1 from the sensor on the output mass.
+SensorPaths SisoSensorPath(const NominalPlant& plant, const DobOptions& o, const Zpk& q) {
+  Require(plant.receptance_num.size() > 0 && plant.receptance_den.size() > 0,
+          "the nominal model gives no transfer function for the SISO form");
+  const Eigen::VectorXd& num = plant.receptance_num;
+  const Eigen::VectorXd& den = plant.receptance_den;
+  Require(numerics::TrimLeadingZeros(num).cwiseAbs().maxCoeff() > 0.0,
+          "the nominal transfer function from the force to the sensor is zero: the sensor does not "
+          "see the force");
+  const int m = static_cast<int>(o.sensor);
+  SensorPaths out;
+  out.plant_relative_degree = Degree(den) - Degree(num) - m;
+  const std::string what = "G_A (force on m" + std::to_string(o.input_dof + 1) + " to " +
+                           SensorName(o.sensor) + " of m" + std::to_string(o.output_dof + 1) + ")";
+  Require(o.relative_degree >= out.plant_relative_degree,
+          RelativeDegreeMessage(o.relative_degree, out.plant_relative_degree, what));
+  const auto g_zeros = numerics::PolynomialRoots(num);
+  const auto g_poles = numerics::PolynomialRoots(den);
+  out.refusal = ZeroRefusal(g_zeros);
+  Zpk sensor = q;
+  Append(sensor.zeros, g_poles);
+  Append(sensor.poles, g_zeros);
+  Append(sensor.poles, LeakPoles(o));
+  sensor.gain = q.gain * Lead(den) / Lead(num);
+  out.zpk.push_back(sensor);
+  out.shells.push_back(ObserverPath{.kind = InputKindOf(o.sensor),
+                                    .dof = o.output_dof,
+                                    .full_scale = o.sensor_full_scale,
+                                    .sos = {}});
+  return out;
+}
+
+// MIMO form: the input mass's row of M s^2 + C s + K, one sensor path per mass it couples to.
+SensorPaths MimoSensorPaths(const NominalPlant& plant, const DobOptions& o, const Zpk& q) {
+  const Eigen::Index n = plant.m_row.size();
+  Require(n > 0 && plant.c_row.size() == n && plant.k_row.size() == n,
+          "the nominal model gives no M, C, K row for the MIMO form");
+  Require(o.input_dof < n, "input dof " + std::to_string(o.input_dof + 1) +
+                               " exceeds the model's " + std::to_string(n) + " masses");
+  const int m = static_cast<int>(o.sensor);
+  SensorPaths out;
+  int plant_degree = -100;
+  for (Eigen::Index l = 0; l < n; ++l) {
+    const Eigen::Vector3d row(plant.m_row[l], plant.c_row[l], plant.k_row[l]);
+    if (row.cwiseAbs().maxCoeff() == 0.0) continue;
+    const Eigen::VectorXd poly = numerics::TrimLeadingZeros(row, 0.0);
+    plant_degree = std::max(plant_degree, static_cast<int>(poly.size()) - 1 - m);
+    Zpk sensor = q;
+    Append(sensor.zeros, numerics::PolynomialRoots(poly));
+    Append(sensor.poles, LeakPoles(o));
+    sensor.gain = q.gain * poly[0];
+    out.zpk.push_back(sensor);
+    out.shells.push_back(ObserverPath{.kind = InputKindOf(o.sensor),
+                                      .dof = static_cast<int>(l),
+                                      .full_scale = o.sensor_full_scale,
+                                      .sos = {}});
+  }
+  Require(!out.zpk.empty(), "the model's row for m" + std::to_string(o.input_dof + 1) + " is zero");
+  Require(out.zpk.size() + 1 <= fixed::kMaxInputs,
+          "the MIMO form needs " + std::to_string(out.zpk.size() + 1) +
+              " inputs; the fixed-point observer takes at most " +
+              std::to_string(fixed::kMaxInputs));
+  out.plant_relative_degree = plant_degree;
+  Require(o.relative_degree >= plant_degree,
+          RelativeDegreeMessage(o.relative_degree, plant_degree,
+                                "the row operator of m" + std::to_string(o.input_dof + 1) + " (" +
+                                    SensorName(o.sensor) + " sensors)"));
+  return out;
+}
+
+// Discretizes every continuous path into the sections of its input; records the largest pole
+// radius.
+void DiscretizePaths(const DobOptions& o, std::vector<ObserverPath>& shells, DobDesign& design) {
   const double warp = 1.0 / o.tau_s;
   for (std::size_t i = 0; i < design.continuous.size(); ++i) {
     const Zpk digital = o.discretization == Discretization::kTustin
@@ -208,7 +226,35 @@ DobDesign DesignObserver(const NominalPlant& plant, const DobOptions& options) {
     for (const Complex& p : digital.poles) design.max_pole_radius = std::max(design.max_pole_radius, std::abs(p));
   }
   design.paths = shells;
+}
 
+}  // namespace
+
+DobDesign DesignObserver(const NominalPlant& plant, const DobOptions& options) {
+  ValidateOptions(options);
+  DobDesign design;
+  design.options = options;
+  DobOptions& o = design.options;
+  if (o.sensor_full_scale == 0.0) o.sensor_full_scale = DefaultSensorFullScale(o.sensor);
+  if (o.output_full_scale_n == 0.0) o.output_full_scale_n = 2.0 * o.force_full_scale_n;
+  design.q = MakeQFilter(o.order, o.relative_degree, o.tau_s, o.prototype);
+  const Zpk q = QZpk(design.q);
+  const int m = static_cast<int>(o.sensor);
+
+  SensorPaths sensors =
+      o.form == ObserverForm::kSiso ? SisoSensorPath(plant, o, q) : MimoSensorPaths(plant, o, q);
+  design.plant_relative_degree = sensors.plant_relative_degree;
+  Zpk force_path = q;
+  force_path.gain = -q.gain;
+  design.continuous = sensors.zpk;
+  design.continuous.push_back(force_path);
+  sensors.shells.push_back(ObserverPath{.kind = fixed::InputKind::kForce,
+                                        .dof = o.input_dof,
+                                        .full_scale = o.force_full_scale_n,
+                                        .sos = {}});
+  DiscretizePaths(o, sensors.shells, design);
+
+  std::string refusal = sensors.refusal;
   if (refusal.empty() && design.max_pole_radius >= 1.0 - 1e-12) {
     refusal = "the discrete filter has a pole at |z| = " + std::to_string(design.max_pole_radius) +
               " (on or outside the unit circle)";

@@ -80,7 +80,10 @@ TEST(DobDesign, UndampedNominalModelIsRefusedWithTheReason) {
 TEST(DobDesign, UpperBandEdgeIsWhereQLeavesTenPercent) {
   const DobDesign d = DesignObserver(ChainPlantForceOnM2({}), DobOptions{});
   const Complex s(0.0, 2.0 * std::numbers::pi * d.valid_band_hi_hz);
-  EXPECT_NEAR(std::abs(EvaluatePolynomial(d.q.num, s) / EvaluatePolynomial(d.q.den, s) - 1.0), 0.1, 1e-9);
+  EXPECT_NEAR(
+      std::abs(numerics::EvaluatePolynomial(d.q.num, s) / numerics::EvaluatePolynomial(d.q.den, s) -
+               1.0),
+      0.1, 1e-9);
   DobOptions acc;
   acc.sensor = SensorKind::kAcceleration;
   acc.relative_degree = 2;

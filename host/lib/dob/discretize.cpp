@@ -85,8 +85,8 @@ struct RealBlock {
 // matrix exponential): a complex pair sigma +- j omega as [[sigma, omega], [-omega, sigma]], two
 // real poles as a chain [[p1, 0], [1, p2]].
 RealBlock Block(const Group& poles, const Group& zeros, double gain) {
-  const Eigen::VectorXd den = PolynomialFromRoots(poles);
-  const Eigen::VectorXd num = PolynomialFromRoots(zeros) * gain;
+  const Eigen::VectorXd den = numerics::PolynomialFromRoots(poles);
+  const Eigen::VectorXd num = numerics::PolynomialFromRoots(zeros) * gain;
   const Eigen::Index n = den.size() - 1;
   Eigen::VectorXd padded = Eigen::VectorXd::Zero(n + 1);
   padded.tail(num.size()) = num;
@@ -194,8 +194,9 @@ Zpk ZeroOrderHoldZpk(const Zpk& analog, double fs_hz) {
       if (zeros.size() == pg.size()) break;
     }
     const Complex probe(0.0, std::max(1e-9, Radius(pg)));
-    const double scale = std::abs(EvaluatePolynomial(PolynomialFromRoots(pg), probe) /
-                                  EvaluatePolynomial(PolynomialFromRoots(zeros), probe));
+    const double scale =
+        std::abs(numerics::EvaluatePolynomial(numerics::PolynomialFromRoots(pg), probe) /
+                 numerics::EvaluatePolynomial(numerics::PolynomialFromRoots(zeros), probe));
     output_gain /= scale;
     const RealBlock blk = Block(pg, zeros, scale);
     sys = first ? blk : Series(sys, blk);
@@ -318,10 +319,20 @@ Complex EvaluateSos(const std::vector<SosSection>& sos, Complex z) {
   return h;
 }
 
-Eigen::VectorXd FilterSos(const std::vector<SosSection>& sos, const Eigen::Ref<const Eigen::VectorXd>& x) {
+Eigen::VectorXd FilterSos(const std::vector<SosSection>& sos,
+                          const Eigen::Ref<const Eigen::VectorXd>& x, SosStart start) {
   Eigen::VectorXd y = x;
+  // Input level each section settles on; only read for the steady start, where a section with a
+  // pole at z = 1 would give an infinite DC gain.
+  double level = start == SosStart::kSteadyState && x.size() > 0 ? x[0] : 0.0;
   for (const SosSection& s : sos) {
     double x1 = 0.0, x2 = 0.0, y1 = 0.0, y2 = 0.0;
+    if (start == SosStart::kSteadyState) {
+      const double gain = (s.b0 + s.b1 + s.b2) / (1.0 + s.a1 + s.a2);
+      x1 = x2 = level;
+      y1 = y2 = gain * level;
+      level *= gain;
+    }
     for (Eigen::Index n = 0; n < y.size(); ++n) {
       const double xn = y[n];
       const double yn = s.b0 * xn + s.b1 * x1 + s.b2 * x2 - s.a1 * y1 - s.a2 * y2;
@@ -339,7 +350,7 @@ double MaxPoleRadius(const std::vector<SosSection>& sos) {
   double r = 0.0;
   for (const SosSection& s : sos) {
     Eigen::Vector3d den(1.0, s.a1, s.a2);
-    for (const Complex& p : PolynomialRoots(den)) r = std::max(r, std::abs(p));
+    for (const Complex& p : numerics::PolynomialRoots(den)) r = std::max(r, std::abs(p));
   }
   return r;
 }

@@ -13,9 +13,9 @@ namespace {
 
 Zpk FromPolys(const Eigen::VectorXd& num, const Eigen::VectorXd& den) {
   Zpk z;
-  z.zeros = PolynomialRoots(num);
-  z.poles = PolynomialRoots(den);
-  z.gain = TrimLeadingZeros(num)[0] / TrimLeadingZeros(den)[0];
+  z.zeros = numerics::PolynomialRoots(num);
+  z.poles = numerics::PolynomialRoots(den);
+  z.gain = numerics::TrimLeadingZeros(num)[0] / numerics::TrimLeadingZeros(den)[0];
   return z;
 }
 

@@ -7,30 +7,6 @@
 #include "vibid/common/error.hpp"
 
 namespace vibid::dob {
-namespace {
-
-// Runs the cascade starting from the steady state for a constant input equal to x[0].
-Eigen::VectorXd FilterSteadyStart(const std::vector<SosSection>& sos, const Eigen::VectorXd& x) {
-  Eigen::VectorXd y = x;
-  double level = x.size() > 0 ? x[0] : 0.0;
-  for (const SosSection& s : sos) {
-    const double gain = (s.b0 + s.b1 + s.b2) / (1.0 + s.a1 + s.a2);
-    double x1 = level, x2 = level, y1 = gain * level, y2 = gain * level;
-    for (Eigen::Index n = 0; n < y.size(); ++n) {
-      const double xn = y[n];
-      const double yn = s.b0 * xn + s.b1 * x1 + s.b2 * x2 - s.a1 * y1 - s.a2 * y2;
-      x2 = x1;
-      x1 = xn;
-      y2 = y1;
-      y1 = yn;
-      y[n] = yn;
-    }
-    level *= gain;
-  }
-  return y;
-}
-
-}  // namespace
 
 std::vector<SosSection> ButterworthLowpass(int order, double cutoff_hz, double fs_hz) {
   Require(order >= 1, "low-pass order must be >= 1, got " + std::to_string(order));
@@ -67,9 +43,9 @@ Eigen::VectorXd FiltFilt(const std::vector<SosSection>& sos, const Eigen::Ref<co
     ext[n + pad + i] = 2.0 * x[n - 1] - x[n - 2 - i];
   }
   ext.segment(pad, n) = x;
-  Eigen::VectorXd forward = FilterSteadyStart(sos, ext);
+  Eigen::VectorXd forward = FilterSos(sos, ext, SosStart::kSteadyState);
   Eigen::VectorXd reversed = forward.reverse();
-  Eigen::VectorXd backward = FilterSteadyStart(sos, reversed).reverse();
+  Eigen::VectorXd backward = FilterSos(sos, reversed, SosStart::kSteadyState).reverse();
   return backward.segment(pad, n);
 }
 

@@ -7,7 +7,7 @@
 
 #include "test_support.hpp"
 #include "vibid/common/error.hpp"
-#include "vibid/dob/polynomial.hpp"
+#include "vibid/numerics/polynomial.hpp"
 
 namespace vibid::dob {
 namespace {
@@ -42,7 +42,8 @@ TEST(QFilter, AllPoleCaseIsUnityAtDcAndMinus3dBAtTheCutoff) {
   for (int n = 1; n <= 8; ++n) {
     const QFilter q = MakeQFilter(n, n, 0.002);
     const auto h = [&](double w) {
-      return EvaluatePolynomial(q.num, {0.0, w}) / EvaluatePolynomial(q.den, {0.0, w});
+      return numerics::EvaluatePolynomial(q.num, {0.0, w}) /
+             numerics::EvaluatePolynomial(q.den, {0.0, w});
     };
     EXPECT_NEAR(std::abs(h(0.0)), 1.0, 1e-15);
     EXPECT_NEAR(20.0 * std::log10(std::abs(h(1.0 / 0.002))), -10.0 * std::log10(2.0), 1e-9);

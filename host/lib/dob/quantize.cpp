@@ -88,7 +88,9 @@ std::int32_t ToQ31(double value, double full_scale) {
   return static_cast<std::int32_t>(q);
 }
 
-QuantizeResult QuantizeObserver(const std::vector<ObserverPath>& paths, const QuantizeOptions& options) {
+namespace {
+
+void RequireValidRequest(const std::vector<ObserverPath>& paths, const QuantizeOptions& options) {
   Require(!paths.empty() && paths.size() <= fixed::kMaxInputs,
           "the fixed-point observer takes 1 to " + std::to_string(fixed::kMaxInputs) + " inputs, got " +
               std::to_string(paths.size()));
@@ -96,6 +98,144 @@ QuantizeResult QuantizeObserver(const std::vector<ObserverPath>& paths, const Qu
   Require(std::isfinite(options.output_full_scale_n) && options.output_full_scale_n > 0.0,
           "output full scale must be > 0 N");
   Require(options.output_dof >= 0 && options.output_dof < 256, "output dof out of range");
+}
+
+// The path's sections scaled so that no section output exceeds full scale, with the gain the
+// output stage must restore.
+struct ScaledPath {
+  std::vector<SosSection> sections;
+  Eigen::Index impulse_length = 0;
+  double l1_gain = 0.0;      // of the whole path, in Q31 units
+  double output_gain = 1.0;  // 1 / gain of the scaled cascade
+};
+
+// l1 scaling. g_k, the gain from the path input to section k's output, must keep that output
+// within full scale for any input: g_k <= margin / l1_k. The last section fills its range; going
+// backwards, each earlier section gives up some range where that lets the next section's
+// numerator fill its Q31 words (same shift as its denominator needs): numerators with zeros near
+// z = 1 are differences of nearly equal coefficients, so their size is their precision.
+ScaledPath ScaleByL1(const std::vector<SosSection>& sos, std::size_t path_index) {
+  ScaledPath out;
+  out.impulse_length = ImpulseLength(sos);
+  Eigen::VectorXd h = Impulse(out.impulse_length);
+  std::vector<double> l1(sos.size());
+  for (std::size_t k = 0; k < sos.size(); ++k) {
+    h = FilterSos({sos[k]}, h);
+    l1[k] = h.cwiseAbs().sum();
+    Require(std::isfinite(l1[k]) && l1[k] > 0.0,
+            "path " + std::to_string(path_index) + " has a zero or unbounded section");
+  }
+  std::vector<double> g(sos.size());
+  g.back() = kScaleMargin / l1.back();
+  for (std::size_t k = sos.size() - 1; k > 0; --k) {
+    // At most 3 bits of range given up, so the earlier section's rounding stays negligible.
+    const double full = kScaleMargin / l1[k - 1];
+    g[k - 1] = std::clamp(g[k] / MaxNumeratorScale(sos[k]), full / 8.0, full);
+  }
+  out.sections = sos;
+  for (std::size_t k = 0; k < sos.size(); ++k) {
+    const double step = g[k] / (k == 0 ? 1.0 : g[k - 1]);
+    out.sections[k].b0 *= step;
+    out.sections[k].b1 *= step;
+    out.sections[k].b2 *= step;
+  }
+  out.l1_gain = h.cwiseAbs().sum();
+  out.output_gain = 1.0 / g.back();
+  return out;
+}
+
+void QuantizeSections(const std::vector<SosSection>& scaled, std::size_t path_index,
+                      fixed::Path& p) {
+  p.section_count = static_cast<std::uint8_t>(scaled.size());
+  for (std::size_t k = 0; k < scaled.size(); ++k) {
+    const SosSection& s = scaled[k];
+    const int shift = SectionShift(s);
+    Require(shift <= fixed::kMaxSectionShift,
+            "path " + std::to_string(path_index) + " section " + std::to_string(k) +
+                " has coefficients too large for Q31 with the largest shift");
+    const double one = std::ldexp(1.0, 31 - shift);
+    fixed::Section& q = p.sections[k];
+    // Sections with poles and zeros near z = 1 (the rig's resonances at kHz rates) have
+    // coefficient sums of order (omega T)^2, and their DC gains are those sums' ratio. Rounding
+    // b1 and a1 so that the sums are rounded once (not three times) keeps the section's DC gain,
+    // which slow disturbances see, within half an LSB of each sum.
+    q.b0 = RoundToInt32(s.b0 * one);
+    q.b2 = RoundToInt32(s.b2 * one);
+    q.b1 = RoundToInt32(std::nearbyint((s.b0 + s.b1 + s.b2) * one) - q.b0 - q.b2);
+    q.a2 = RoundToInt32(s.a2 * one);
+    q.a1 = RoundToInt32(std::nearbyint((1.0 + s.a1 + s.a2) * one) - one - q.a2);
+    q.shift = static_cast<std::uint8_t>(shift);
+  }
+}
+
+void QuantizeOutputGain(double output_gain, std::size_t path_index, fixed::Path& p) {
+  int out_shift = 0;
+  while (out_shift < fixed::kMaxOutputShift &&
+         std::abs(output_gain) >= std::ldexp(1.0, out_shift) * (1.0 - 1e-9)) {
+    ++out_shift;
+  }
+  Require(std::abs(output_gain) < std::ldexp(1.0, out_shift),
+          "path " + std::to_string(path_index) + " output gain " + std::to_string(output_gain) +
+              " exceeds the format's range; raise the output full scale");
+  p.output_shift = static_cast<std::uint8_t>(out_shift);
+  p.output_gain = RoundToInt32(output_gain * std::ldexp(1.0, 31 - out_shift));
+}
+
+// Rounding noise at d_hat in (Q31 LSB)^2: 1/12 LSB^2 at each section output, through the section's
+// own poles (shaped by (1 - z^-1)^2 when the error feedback is on), the rest of the path and the
+// output gain; plus the output term's own rounding, added to `noise_var_q31`. Enables the
+// feedback where it lowers that noise.
+void ChooseErrorFeedback(const ScaledPath& path, fixed::Path& p, double& noise_var_q31) {
+  const std::vector<SosSection>& scaled = path.sections;
+  for (std::size_t k = 0; k < scaled.size(); ++k) {
+    std::vector<SosSection> chain(scaled.begin() + static_cast<std::ptrdiff_t>(k), scaled.end());
+    const SosSection own = chain.front();
+    chain.front() = SosSection{.b0 = 1.0, .b1 = 0.0, .b2 = 0.0, .a1 = own.a1, .a2 = own.a2};
+    const double plain = FilterSos(chain, Impulse(path.impulse_length)).squaredNorm();
+    chain.front().b1 = -2.0;
+    chain.front().b2 = 1.0;
+    const double shaped = FilterSos(chain, Impulse(path.impulse_length)).squaredNorm();
+    if (shaped < plain) p.sections[k].feedback = fixed::ErrorFeedback::kSecondOrder;
+    noise_var_q31 += std::min(plain, shaped) * path.output_gain * path.output_gain / 12.0;
+  }
+  noise_var_q31 += 1.0 / 12.0;
+}
+
+// Fills input i of the description and adds the path's rounding noise to `noise_var_q31`.
+void QuantizePath(const ObserverPath& path, std::size_t i, double out_fs,
+                  fixed::FilterDescription& d, QuantizeResult& result, double& noise_var_q31) {
+  Require(path.sos.size() <= fixed::kMaxSections,
+          "path " + std::to_string(i) + " needs " + std::to_string(path.sos.size()) +
+              " second-order sections; the fixed-point format holds at most " +
+              std::to_string(fixed::kMaxSections));
+  Require(std::isfinite(path.full_scale) && path.full_scale > 0.0, "input full scale must be > 0");
+  Require(path.dof >= 0 && path.dof < 256, "input dof out of range");
+  const double in_fs = StoredFullScale(path.full_scale);
+  d.input_kind[i] = path.kind;
+  d.input_dof[i] = static_cast<std::uint8_t>(path.dof);
+  d.input_full_scale_bits[i] = fixed::FullScaleBits(static_cast<float>(in_fs));
+
+  // The path in Q31 units: input fraction of in_fs to output fraction of out_fs.
+  std::vector<SosSection> sos = path.sos;
+  if (sos.empty()) sos.push_back(SosSection{.b0 = 1.0});
+  const double unit = in_fs / out_fs;
+  sos.front().b0 *= unit;
+  sos.front().b1 *= unit;
+  sos.front().b2 *= unit;
+
+  const ScaledPath scaled = ScaleByL1(sos, i);
+  result.path_l1_gain.push_back(scaled.l1_gain);
+  fixed::Path& p = d.paths[i];
+  QuantizeSections(scaled.sections, i, p);
+  QuantizeOutputGain(scaled.output_gain, i, p);
+  ChooseErrorFeedback(scaled, p, noise_var_q31);
+}
+
+}  // namespace
+
+QuantizeResult QuantizeObserver(const std::vector<ObserverPath>& paths,
+                                const QuantizeOptions& options) {
+  RequireValidRequest(paths, options);
   QuantizeResult result;
   fixed::FilterDescription& d = result.description;
   d.input_count = static_cast<std::uint8_t>(paths.size());
@@ -105,105 +245,8 @@ QuantizeResult QuantizeObserver(const std::vector<ObserverPath>& paths, const Qu
   d.output_full_scale_bits = fixed::FullScaleBits(static_cast<float>(out_fs));
 
   double noise_var_q31 = 0.0;  // in (Q31 LSB)^2 at d_hat
-  for (std::size_t i = 0; i < paths.size(); ++i) {
-    const ObserverPath& path = paths[i];
-    Require(path.sos.size() <= fixed::kMaxSections,
-            "path " + std::to_string(i) + " needs " + std::to_string(path.sos.size()) +
-                " second-order sections; the fixed-point format holds at most " +
-                std::to_string(fixed::kMaxSections));
-    Require(std::isfinite(path.full_scale) && path.full_scale > 0.0, "input full scale must be > 0");
-    Require(path.dof >= 0 && path.dof < 256, "input dof out of range");
-    const double in_fs = StoredFullScale(path.full_scale);
-    d.input_kind[i] = path.kind;
-    d.input_dof[i] = static_cast<std::uint8_t>(path.dof);
-    d.input_full_scale_bits[i] = fixed::FullScaleBits(static_cast<float>(in_fs));
-
-    // The path in Q31 units: input fraction of in_fs to output fraction of out_fs.
-    std::vector<SosSection> sos = path.sos;
-    if (sos.empty()) sos.push_back(SosSection{.b0 = 1.0});
-    const double unit = in_fs / out_fs;
-    sos.front().b0 *= unit;
-    sos.front().b1 *= unit;
-    sos.front().b2 *= unit;
-
-    // l1 scaling. g_k, the gain from the path input to section k's output, must keep that output
-    // within full scale for any input: g_k <= margin / l1_k. The last section fills its range;
-    // going backwards, each earlier section gives up some range where that lets the next section's
-    // numerator fill its Q31 words (same shift as its denominator needs): numerators with zeros
-    // near z = 1 are differences of nearly equal coefficients, so their size is their precision.
-    const Eigen::Index len = ImpulseLength(sos);
-    Eigen::VectorXd h = Impulse(len);
-    std::vector<double> l1(sos.size());
-    for (std::size_t k = 0; k < sos.size(); ++k) {
-      h = FilterSos({sos[k]}, h);
-      l1[k] = h.cwiseAbs().sum();
-      Require(std::isfinite(l1[k]) && l1[k] > 0.0, "path " + std::to_string(i) + " has a zero or unbounded section");
-    }
-    std::vector<double> g(sos.size());
-    g.back() = kScaleMargin / l1.back();
-    for (std::size_t k = sos.size() - 1; k > 0; --k) {
-      // At most 3 bits of range given up, so the earlier section's rounding stays negligible.
-      const double full = kScaleMargin / l1[k - 1];
-      g[k - 1] = std::clamp(g[k] / MaxNumeratorScale(sos[k]), full / 8.0, full);
-    }
-    std::vector<SosSection> scaled = sos;
-    for (std::size_t k = 0; k < sos.size(); ++k) {
-      const double step = g[k] / (k == 0 ? 1.0 : g[k - 1]);
-      scaled[k].b0 *= step;
-      scaled[k].b1 *= step;
-      scaled[k].b2 *= step;
-    }
-    const double previous_gain = g.back();
-    result.path_l1_gain.push_back(h.cwiseAbs().sum());
-    double output_gain = 1.0 / previous_gain;
-
-    fixed::Path& p = d.paths[i];
-    p.section_count = static_cast<std::uint8_t>(scaled.size());
-    for (std::size_t k = 0; k < scaled.size(); ++k) {
-      const SosSection& s = scaled[k];
-      const int shift = SectionShift(s);
-      Require(shift <= fixed::kMaxSectionShift,
-              "path " + std::to_string(i) + " section " + std::to_string(k) +
-                  " has coefficients too large for Q31 with the largest shift");
-      const double one = std::ldexp(1.0, 31 - shift);
-      fixed::Section& q = p.sections[k];
-      // Sections with poles and zeros near z = 1 (the rig's resonances at kHz rates) have
-      // coefficient sums of order (omega T)^2, and their DC gains are those sums' ratio. Rounding
-      // b1 and a1 so that the sums are rounded once (not three times) keeps the section's DC gain,
-      // which slow disturbances see, within half an LSB of each sum.
-      q.b0 = RoundToInt32(s.b0 * one);
-      q.b2 = RoundToInt32(s.b2 * one);
-      q.b1 = RoundToInt32(std::nearbyint((s.b0 + s.b1 + s.b2) * one) - q.b0 - q.b2);
-      q.a2 = RoundToInt32(s.a2 * one);
-      q.a1 = RoundToInt32(std::nearbyint((1.0 + s.a1 + s.a2) * one) - one - q.a2);
-      q.shift = static_cast<std::uint8_t>(shift);
-    }
-    int out_shift = 0;
-    while (out_shift < fixed::kMaxOutputShift && std::abs(output_gain) >= std::ldexp(1.0, out_shift) * (1.0 - 1e-9)) {
-      ++out_shift;
-    }
-    Require(std::abs(output_gain) < std::ldexp(1.0, out_shift),
-            "path " + std::to_string(i) + " output gain " + std::to_string(output_gain) +
-                " exceeds the format's range; raise the output full scale");
-    p.output_shift = static_cast<std::uint8_t>(out_shift);
-    p.output_gain = RoundToInt32(output_gain * std::ldexp(1.0, 31 - out_shift));
-
-    // Rounding noise: 1/12 LSB^2 at each section output, through the section's own poles (shaped
-    // by (1 - z^-1)^2 when the error feedback is on), the rest of the path and the output gain;
-    // plus the output term's own rounding. The feedback is enabled where it lowers that noise.
-    for (std::size_t k = 0; k < scaled.size(); ++k) {
-      std::vector<SosSection> chain(scaled.begin() + static_cast<std::ptrdiff_t>(k), scaled.end());
-      const SosSection own = chain.front();
-      chain.front() = SosSection{.b0 = 1.0, .b1 = 0.0, .b2 = 0.0, .a1 = own.a1, .a2 = own.a2};
-      const double plain = FilterSos(chain, Impulse(len)).squaredNorm();
-      chain.front().b1 = -2.0;
-      chain.front().b2 = 1.0;
-      const double shaped = FilterSos(chain, Impulse(len)).squaredNorm();
-      if (shaped < plain) p.sections[k].feedback = fixed::ErrorFeedback::kSecondOrder;
-      noise_var_q31 += std::min(plain, shaped) * output_gain * output_gain / 12.0;
-    }
-    noise_var_q31 += 1.0 / 12.0;
-  }
+  for (std::size_t i = 0; i < paths.size(); ++i)
+    QuantizePath(paths[i], i, out_fs, d, result, noise_var_q31);
   fixed::Seal(d);
   const Status st = fixed::ValidateDescription(d);
   result.ok = st == Status::kOk;

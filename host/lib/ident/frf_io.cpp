@@ -233,103 +233,150 @@ std::string FormatUff58(const Frf& frf, int reference_node) {
   return out.str();
 }
 
-Frf ParseUff58(std::string_view text, const std::string& source) {
+namespace {
+
+std::vector<std::string> SplitLines(std::string_view text) {
   std::vector<std::string> lines;
-  {
-    std::size_t pos = 0;
-    while (pos < text.size()) {
-      const std::size_t nl = text.find('\n', pos);
-      const std::size_t end = nl == std::string_view::npos ? text.size() : nl;
-      std::string l(text.substr(pos, end - pos));
-      if (!l.empty() && l.back() == '\r') l.pop_back();
-      lines.push_back(l);
-      pos = end + 1;
-    }
+  std::size_t pos = 0;
+  while (pos < text.size()) {
+    const std::size_t nl = text.find('\n', pos);
+    const std::size_t end = nl == std::string_view::npos ? text.size() : nl;
+    std::string l(text.substr(pos, end - pos));
+    if (!l.empty() && l.back() == '\r') l.pop_back();
+    lines.push_back(l);
+    pos = end + 1;
   }
-  struct Dataset {
-    int func_type = 0;
-    int rsp_node = 0;
-    int ord_spec = 0;
-    std::string id1;
-    double x0 = 0.0;
-    double dx = 0.0;
-    std::vector<double> values;
-    std::size_t points = 0;
-    bool complex = false;
-  };
-  std::vector<Dataset> sets;
-  const auto field = [&](std::size_t ln, std::size_t at, std::size_t width) {
+  return lines;
+}
+
+struct Uff58Dataset {
+  int func_type = 0;
+  int rsp_node = 0;
+  int ord_spec = 0;
+  std::string id1;
+  double x0 = 0.0;
+  double dx = 0.0;
+  std::vector<double> values;
+  std::size_t points = 0;
+  bool complex = false;
+};
+
+// The file's lines with fixed-column access and error locations.
+struct UffText {
+  std::vector<std::string> lines;
+  const std::string& source;
+  std::size_t text_size = 0;
+
+  std::string Field(std::size_t ln, std::size_t at, std::size_t width) const {
     const std::string& l = lines[ln];
     return at >= l.size() ? std::string() : Trim(std::string_view(l).substr(at, width));
-  };
-  const auto where = [&](std::size_t ln) { return source + ": line " + std::to_string(ln + 1); };
+  }
+  std::string Where(std::size_t ln) const { return source + ": line " + std::to_string(ln + 1); }
+};
+
+// Records 1 to 11 of a dataset 58 whose record 1 is line h.
+void ParseUff58Header(const UffText& t, std::size_t h, Uff58Dataset& d, long& ord_type) {
+  d.id1 = Trim(t.lines[h]);
+  d.func_type = static_cast<int>(ToLong(t.Field(h + 5, 0, 5), t.Where(h + 5) + ": function type"));
+  const long rsp_node = ToLong(t.Field(h + 5, 41, 10), t.Where(h + 5) + ": response node");
+  Require(rsp_node >= 1 && rsp_node <= 999999999,
+          t.Where(h + 5) + ": the response node must be 1 to 999999999");
+  d.rsp_node = static_cast<int>(rsp_node);
+  ord_type = ToLong(t.Field(h + 6, 0, 10), t.Where(h + 6) + ": ordinate data type");
+  const long points = ToLong(t.Field(h + 6, 10, 10), t.Where(h + 6) + ": number of points");
+  // Bounded by what the text can hold (one value per character at most), so a header cannot
+  // make the reader allocate more than the file's size.
+  Require(points >= 2 && static_cast<std::size_t>(points) <= t.text_size,
+          t.Where(h + 6) + ": number of points must be 2 or more and fit the file");
+  d.points = static_cast<std::size_t>(points);
+  const long even = ToLong(t.Field(h + 6, 20, 10), t.Where(h + 6) + ": abscissa spacing");
+  Require(even == 1, t.Where(h + 6) + ": only evenly spaced abscissas are supported");
+  d.x0 = ToDouble(t.Field(h + 6, 30, 13), t.Where(h + 6) + ": abscissa start");
+  d.dx = ToDouble(t.Field(h + 6, 43, 13), t.Where(h + 6) + ": abscissa step");
+  Require(d.dx > 0.0 && std::isfinite(d.x0 + d.dx * static_cast<double>(d.points - 1)),
+          t.Where(h + 6) + ": the abscissa step must be positive and the frequencies finite");
+  d.ord_spec = static_cast<int>(ToLong(t.Field(h + 8, 0, 10), t.Where(h + 8) + ": ordinate type"));
+  Require(
+      ord_type == 2 || ord_type == 4 || ord_type == 5 || ord_type == 6,
+      t.Where(h + 6) + ": ordinate data type " + std::to_string(ord_type) + " is not 2, 4, 5 or 6");
+  d.complex = ord_type == 5 || ord_type == 6;
+}
+
+// Dataset 58 between the delimiters on lines i and end.
+Uff58Dataset ParseUff58Dataset(const UffText& t, std::size_t i, std::size_t end) {
+  Require(t.lines[i + 1].size() < 7 || t.lines[i + 1][6] != 'b',
+          t.Where(i + 1) + ": binary UFF58 (58b) is not supported");
+  Require(end >= i + 14, t.Where(i) + ": dataset 58 header is incomplete");
+  Uff58Dataset d;
+  const std::size_t h = i + 2;  // record 1
+  long ord_type = 0;
+  ParseUff58Header(t, h, d, ord_type);
+  const std::size_t width = (ord_type == 4 || ord_type == 6) ? 20 : 13;
+  for (std::size_t ln = h + 11; ln < end; ++ln) {
+    const std::string& l = t.lines[ln];
+    for (std::size_t at = 0; at + 1 < l.size() + 1 && at < l.size(); at += width) {
+      const std::string cell = Trim(std::string_view(l).substr(at, width));
+      if (cell.empty()) continue;
+      std::string c = cell;
+      for (char& ch : c)
+        if (ch == 'D' || ch == 'd') ch = 'E';
+      d.values.push_back(ToDouble(c, t.Where(ln)));
+    }
+  }
+  Require(d.values.size() == d.points * (d.complex ? 2u : 1u),
+          t.Where(h) + ": dataset holds " + std::to_string(d.values.size()) +
+              " values, header says " + std::to_string(d.points) +
+              (d.complex ? " complex points" : " points"));
+  return d;
+}
+
+// Every dataset 58 of the file; other datasets are skipped.
+std::vector<Uff58Dataset> ReadUff58Datasets(const UffText& t) {
+  std::vector<Uff58Dataset> sets;
+  const std::vector<std::string>& lines = t.lines;
   std::size_t i = 0;
   while (i < lines.size()) {
     if (Trim(lines[i]) != "-1") {
-      Require(Trim(lines[i]).empty(), where(i) + ": expected a dataset delimiter '-1'");
+      Require(Trim(lines[i]).empty(), t.Where(i) + ": expected a dataset delimiter '-1'");
       ++i;
       continue;
     }
-    Require(i + 1 < lines.size(), where(i) + ": file ends after a delimiter");
-    const std::string type = field(i + 1, 0, 6);
+    Require(i + 1 < lines.size(), t.Where(i) + ": file ends after a delimiter");
+    const std::string type = t.Field(i + 1, 0, 6);
     std::size_t end = i + 2;
     while (end < lines.size() && Trim(lines[end]) != "-1") ++end;
-    Require(end < lines.size(), where(i) + ": dataset " + type + " has no closing '-1'");
-    if (type != "58") {
-      i = end + 1;
-      continue;
-    }
-    Require(lines[i + 1].size() < 7 || lines[i + 1][6] != 'b', where(i + 1) + ": binary UFF58 (58b) is not supported");
-    Require(end >= i + 14, where(i) + ": dataset 58 header is incomplete");
-    Dataset d;
-    const std::size_t h = i + 2;  // record 1
-    d.id1 = Trim(lines[h]);
-    d.func_type = static_cast<int>(ToLong(field(h + 5, 0, 5), where(h + 5) + ": function type"));
-    const long rsp_node = ToLong(field(h + 5, 41, 10), where(h + 5) + ": response node");
-    Require(rsp_node >= 1 && rsp_node <= 999999999, where(h + 5) + ": the response node must be 1 to 999999999");
-    d.rsp_node = static_cast<int>(rsp_node);
-    const long ord_type = ToLong(field(h + 6, 0, 10), where(h + 6) + ": ordinate data type");
-    const long points = ToLong(field(h + 6, 10, 10), where(h + 6) + ": number of points");
-    // Bounded by what the text can hold (one value per character at most), so a header cannot
-    // make the reader allocate more than the file's size.
-    Require(points >= 2 && static_cast<std::size_t>(points) <= text.size(),
-            where(h + 6) + ": number of points must be 2 or more and fit the file");
-    d.points = static_cast<std::size_t>(points);
-    const long even = ToLong(field(h + 6, 20, 10), where(h + 6) + ": abscissa spacing");
-    Require(even == 1, where(h + 6) + ": only evenly spaced abscissas are supported");
-    d.x0 = ToDouble(field(h + 6, 30, 13), where(h + 6) + ": abscissa start");
-    d.dx = ToDouble(field(h + 6, 43, 13), where(h + 6) + ": abscissa step");
-    Require(d.dx > 0.0 && std::isfinite(d.x0 + d.dx * static_cast<double>(d.points - 1)),
-            where(h + 6) + ": the abscissa step must be positive and the frequencies finite");
-    d.ord_spec = static_cast<int>(ToLong(field(h + 8, 0, 10), where(h + 8) + ": ordinate type"));
-    Require(ord_type == 2 || ord_type == 4 || ord_type == 5 || ord_type == 6,
-            where(h + 6) + ": ordinate data type " + std::to_string(ord_type) + " is not 2, 4, 5 or 6");
-    d.complex = ord_type == 5 || ord_type == 6;
-    const std::size_t width = (ord_type == 4 || ord_type == 6) ? 20 : 13;
-    for (std::size_t ln = h + 11; ln < end; ++ln) {
-      const std::string& l = lines[ln];
-      for (std::size_t at = 0; at + 1 < l.size() + 1 && at < l.size(); at += width) {
-        const std::string cell = Trim(std::string_view(l).substr(at, width));
-        if (cell.empty()) continue;
-        std::string c = cell;
-        for (char& ch : c) if (ch == 'D' || ch == 'd') ch = 'E';
-        d.values.push_back(ToDouble(c, where(ln)));
-      }
-    }
-    Require(d.values.size() == d.points * (d.complex ? 2u : 1u),
-            where(h) + ": dataset holds " + std::to_string(d.values.size()) + " values, header says " +
-                std::to_string(d.points) + (d.complex ? " complex points" : " points"));
-    sets.push_back(std::move(d));
+    Require(end < lines.size(), t.Where(i) + ": dataset " + type + " has no closing '-1'");
+    if (type == "58") sets.push_back(ParseUff58Dataset(t, i, end));
     i = end + 1;
   }
+  return sets;
+}
+
+// Coherence datasets (function type 6, real) of the FRFs' response nodes fill their columns.
+void AddUff58Coherence(const std::vector<Uff58Dataset>& sets,
+                       const std::map<int, Eigen::Index>& column_of_node, std::size_t points,
+                       const std::string& source, Frf& frf) {
+  for (const Uff58Dataset& d : sets) {
+    if (d.func_type != 6 || d.complex || d.points != points) continue;
+    const auto it = column_of_node.find(d.rsp_node);
+    if (it == column_of_node.end()) continue;
+    for (std::size_t k = 0; k < d.points; ++k) {
+      Require(d.values[k] >= 0.0 && d.values[k] <= 1.0,
+              source + ": coherence of node " + std::to_string(d.rsp_node) + " is not in [0, 1]");
+      frf.coherence(static_cast<Eigen::Index>(k), it->second) = d.values[k];
+    }
+  }
+}
+
+Frf FrfFromUff58(const std::vector<Uff58Dataset>& sets, const std::string& source) {
   Frf frf;
   std::map<int, Eigen::Index> column_of_node;
-  std::vector<const Dataset*> frfs;
-  for (const Dataset& d : sets) {
+  std::vector<const Uff58Dataset*> frfs;
+  for (const Uff58Dataset& d : sets) {
     if (d.func_type == 4 && d.complex) frfs.push_back(&d);
   }
   Require(!frfs.empty(), source + ": no FRF dataset (58, function type 4, complex)");
-  const Dataset& first = *frfs.front();
+  const Uff58Dataset& first = *frfs.front();
   frf.freq_hz = Eigen::VectorXd::LinSpaced(static_cast<Eigen::Index>(first.points), first.x0,
                                            first.x0 + first.dx * static_cast<double>(first.points - 1));
   switch (first.ord_spec) {
@@ -340,7 +387,7 @@ Frf ParseUff58(std::string_view text, const std::string& source) {
   frf.h.resize(static_cast<Eigen::Index>(first.points), static_cast<Eigen::Index>(frfs.size()));
   frf.coherence = Eigen::MatrixXd::Ones(frf.h.rows(), frf.h.cols());
   for (std::size_t j = 0; j < frfs.size(); ++j) {
-    const Dataset& d = *frfs[j];
+    const Uff58Dataset& d = *frfs[j];
     Require(d.points == first.points && d.x0 == first.x0 && d.dx == first.dx && d.ord_spec == first.ord_spec,
             source + ": FRF datasets differ in abscissa or ordinate type");
     for (std::size_t k = 0; k < d.points; ++k) {
@@ -350,18 +397,16 @@ Frf ParseUff58(std::string_view text, const std::string& source) {
             source + ": two FRF datasets for response node " + std::to_string(d.rsp_node));
     frf.response_names.push_back("node" + std::to_string(d.rsp_node));
   }
-  for (const Dataset& d : sets) {
-    if (d.func_type != 6 || d.complex || d.points != first.points) continue;
-    const auto it = column_of_node.find(d.rsp_node);
-    if (it == column_of_node.end()) continue;
-    for (std::size_t k = 0; k < d.points; ++k) {
-      Require(d.values[k] >= 0.0 && d.values[k] <= 1.0,
-              source + ": coherence of node " + std::to_string(d.rsp_node) + " is not in [0, 1]");
-      frf.coherence(static_cast<Eigen::Index>(k), it->second) = d.values[k];
-    }
-  }
+  AddUff58Coherence(sets, column_of_node, first.points, source, frf);
   frf.averages = 0;
   return frf;
+}
+
+}  // namespace
+
+Frf ParseUff58(std::string_view text, const std::string& source) {
+  const UffText t{SplitLines(text), source, text.size()};
+  return FrfFromUff58(ReadUff58Datasets(t), source);
 }
 
 namespace {

@@ -4,16 +4,16 @@
 // modal analysis in closed form (test_support.hpp).
 #include "vibid/ident/identify.hpp"
 
+#include <gtest/gtest.h>
+
 #include <cmath>
 #include <cstdio>
 #include <string>
 
-#include <gtest/gtest.h>
-
 #include "test_support.hpp"
 #include "vibid/common/error.hpp"
-#include "vibid/ident/hammer_test.hpp"
 #include "vibid/ident/impact.hpp"
+#include "vibid/ident/testing/hammer_test.hpp"
 #include "vibid/model/modal.hpp"
 
 namespace vibid::ident {

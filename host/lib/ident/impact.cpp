@@ -155,9 +155,238 @@ ExcitationCheck ClassifyExcitation(const Eigen::Ref<const Eigen::VectorXd>& forc
   return out;
 }
 
+namespace {
+
+// A hit and its rebounds: pulses closer than the double-hit window to the previous one.
+using PulseGroup = std::vector<Pulse>;
+
+std::vector<PulseGroup> GroupRebounds(const std::vector<Pulse>& pulses,
+                                      std::size_t rebound_samples) {
+  std::vector<PulseGroup> groups;
+  for (const Pulse& p : pulses) {
+    if (!groups.empty() && p.start <= groups.back().back().end + rebound_samples) {
+      groups.back().push_back(p);
+    } else {
+      groups.push_back({p});
+    }
+  }
+  return groups;
+}
+
+// Samples per hit record and before the trigger.
+struct RecordLayout {
+  std::size_t record = 0;
+  std::size_t pre = 0;
+};
+
+RecordLayout ChooseRecord(const std::vector<PulseGroup>& groups, std::size_t n, double fs_hz,
+                          const ImpactOptions& options) {
+  RecordLayout layout;
+  std::size_t& record = layout.record;
+  if (options.record_s > 0.0) {
+    record = static_cast<std::size_t>(std::llround(options.record_s * fs_hz));
+  } else {
+    record = n - groups.front().front().start;
+    for (std::size_t g = 1; g < groups.size(); ++g) {
+      record = std::min(record, groups[g].front().start - groups[g - 1].front().start);
+    }
+    if (groups.size() > 1) {
+      // The last hit's tail is often cut short by the end of the file; do not let it set the length.
+      record = std::max<std::size_t>(record, 16);
+    }
+  }
+  if (options.pretrigger_s >= 0.0) {
+    layout.pre = static_cast<std::size_t>(std::llround(options.pretrigger_s * fs_hz));
+  } else {
+    layout.pre = std::min(record / 64, groups.front().front().start);
+  }
+  if (options.record_s <= 0.0)
+    record = FastFftLength(record + (groups.size() > 1 ? 0 : layout.pre));
+  Require(record >= 16, "impact: hit records would be shorter than 16 samples");
+  Require(layout.pre < record / 2, "impact: pretrigger must be shorter than half the hit record");
+  return layout;
+}
+
+// Exponential window from the trigger, of value `end_value` at the record end (all ones for 0);
+// `tau_s` receives its time constant (0 for none).
+Eigen::VectorXd ExponentialWindow(const RecordLayout& layout, double fs_hz, double end_value,
+                                  double& tau_s) {
+  tau_s = 0.0;
+  if (end_value > 0.0)
+    tau_s = static_cast<double>(layout.record - layout.pre) / fs_hz / std::log(1.0 / end_value);
+  Eigen::VectorXd window = Eigen::VectorXd::Ones(static_cast<Eigen::Index>(layout.record));
+  if (tau_s > 0.0) {
+    for (std::size_t i = layout.pre; i < layout.record; ++i) {
+      window[static_cast<Eigen::Index>(i)] =
+          std::exp(-static_cast<double>(i - layout.pre) / fs_hz / tau_s);
+    }
+  }
+  return window;
+}
+
+// The channels of the record as the hit classification reads them.
+struct ImpactChannels {
+  const Eigen::Ref<const Eigen::VectorXd>& force;
+  const Eigen::VectorXd& centred_force;
+  const Eigen::MatrixXd& responses;
+  std::vector<Rails> rails;  // force first, then one per response
+};
+
+// Where a hit's record starts and how much of the force window is kept before the taper.
+struct HitSpan {
+  std::size_t start = 0;
+  std::size_t keep = 0;
+};
+
+// Flags a hit as truncated, double or clipped, with a note saying why.
+Hit ClassifyHit(const PulseGroup& group, const std::vector<Pulse>& all_pulses,
+                const ImpactChannels& ch, const RecordLayout& layout, double fs_hz,
+                const ImpactOptions& options, HitSpan& span) {
+  const auto n = static_cast<std::size_t>(ch.force.size());
+  const std::size_t pre = layout.pre;
+  const std::size_t record = layout.record;
+  const Pulse& first = group.front();
+  const Pulse& last = group.back();
+  Hit hit;
+  hit.trigger_index = first.start;
+  hit.peak_index = first.peak;
+  hit.peak_n = ch.centred_force[static_cast<Eigen::Index>(first.peak)];
+  hit.t_s = static_cast<double>(first.start) / fs_hz;
+  hit.pulse_width_s = static_cast<double>(first.end - first.start) / fs_hz;
+  hit.pulses = group.size();
+  std::vector<std::string> notes;
+  if (first.start < pre || first.start - pre + record > n) {
+    hit.truncated = true;
+    notes.push_back(first.start < pre ? "too little data before the hit for the pretrigger"
+                                      : "record ends before the hit's window");
+  }
+  const std::size_t s0 = first.start >= pre ? first.start - pre : 0;
+  const std::size_t s1 = std::min(n, s0 + record);
+  // Any other pulse inside this hit's record is a second impact on the structure.
+  for (const Pulse& p : all_pulses) {
+    if (p.start > first.end && p.start < s1 &&
+        p.peak_value >= options.double_hit_fraction * first.peak_value) {
+      hit.double_hit = true;
+    }
+  }
+  if (hit.double_hit) notes.push_back("double hit");
+  if (Clipped(ch.force.data() + s0, s1 - s0, ch.rails[0], options.clip_run_samples)) {
+    hit.clipped = true;
+    notes.push_back("force channel clipped");
+  }
+  for (Eigen::Index j = 0; j < ch.responses.cols(); ++j) {
+    if (Clipped(ch.responses.col(j).data() + s0, s1 - s0, ch.rails[static_cast<std::size_t>(j) + 1],
+                options.clip_run_samples)) {
+      hit.clipped = true;
+      notes.push_back("response " + std::to_string(j + 1) + " clipped");
+    }
+  }
+  for (std::size_t k = 0; k < notes.size(); ++k) hit.note += (k ? "; " : "") + notes[k];
+  // Force window: keep through the hit's last pulse plus the first pulse's width as margin.
+  const std::size_t width = std::max<std::size_t>(first.end - first.start, 1);
+  std::size_t keep = pre + (last.end - first.start) + width;
+  if (options.force_window_s > 0.0)
+    keep = pre + static_cast<std::size_t>(std::llround(options.force_window_s * fs_hz));
+  span = {s0, std::min(keep, record)};
+  return hit;
+}
+
+// Double hits are used after all when every complete hit is one (a rig that always rebounds).
+bool KeepDoubleHits(const ImpactOptions& options, ImpactResult& result) {
+  bool all_double = true;
+  bool any_candidate = false;
+  for (const Hit& h : result.hits) {
+    if (h.truncated) continue;
+    any_candidate = true;
+    all_double = all_double && h.double_hit && !h.clipped;
+  }
+  if (options.reject_bad_hits && any_candidate && all_double) {
+    result.warnings.push_back(
+        "every hit is a double hit: used all the same, each force window spanning the hit's "
+        "pulses");
+  }
+  return !options.reject_bad_hits || (any_candidate && all_double);
+}
+
+// Adds one hit's auto and cross spectra to the sums: offsets from the pretrigger (else the force
+// baseline), the force kept up to span.keep then tapered to zero by a half cosine as long as the
+// first pulse, every channel under the exponential window.
+void AccumulateHit(const ImpactChannels& ch, const HitSpan& span, std::size_t taper_width,
+                   const RecordLayout& layout, double baseline, const Eigen::VectorXd& exp_window,
+                   RealFft& fft, CrossSpectra& spectra) {
+  const std::size_t record = layout.record;
+  const std::size_t pre = layout.pre;
+  const auto seg = [&](const Eigen::VectorXd& x) {
+    return x.segment(static_cast<Eigen::Index>(span.start), static_cast<Eigen::Index>(record));
+  };
+  const double f_offset =
+      pre >= 4 ? seg(ch.force).head(static_cast<Eigen::Index>(pre)).mean() : baseline;
+  const std::size_t keep = span.keep;
+  const std::size_t taper = std::min(taper_width, record - keep);
+  Eigen::VectorXd fbuf(static_cast<Eigen::Index>(record));
+  for (std::size_t i = 0; i < record; ++i) {
+    double w = 0.0;
+    if (i < keep) {
+      w = 1.0;
+    } else if (i < keep + taper) {
+      w = 0.5 * (1.0 + std::cos(std::numbers::pi * static_cast<double>(i - keep + 1) /
+                                static_cast<double>(taper + 1)));
+    }
+    fbuf[static_cast<Eigen::Index>(i)] =
+        (ch.force[static_cast<Eigen::Index>(span.start + i)] - f_offset) * w *
+        exp_window[static_cast<Eigen::Index>(i)];
+  }
+  Eigen::VectorXcd fspec;
+  fft.Transform(fbuf.data(), fspec);
+  spectra.gff += fspec.cwiseAbs2();
+  Eigen::VectorXd xbuf(static_cast<Eigen::Index>(record));
+  Eigen::VectorXcd xspec;
+  for (Eigen::Index j = 0; j < ch.responses.cols(); ++j) {
+    const Eigen::VectorXd x = ch.responses.col(j);
+    const double x_offset = pre >= 4 ? seg(x).head(static_cast<Eigen::Index>(pre)).mean() : 0.0;
+    xbuf = (seg(x).array() - x_offset) * exp_window.array();
+    fft.Transform(xbuf.data(), xspec);
+    spectra.gxx.col(j) += xspec.cwiseAbs2();
+    spectra.gfx.col(j).array() += fspec.array().conjugate() * xspec.array();
+  }
+}
+
+// With double hits averaged, the force spectrum has notches: lines where it falls below the
+// dynamic range carry no FRF.
+void LimitToForceBand(const CrossSpectra& spectra, const ImpactOptions& options,
+                      ImpactResult& result) {
+  const Eigen::Index lines = spectra.freq_hz.size();
+  const double top = spectra.gff.tail(lines - 1).maxCoeff();
+  const double floor = top * std::pow(10.0, -options.force_dynamic_range_db / 10.0);
+  Eigen::Index k = 1;
+  while (k < lines && spectra.gff[k] >= floor) ++k;
+  result.usable_max_hz = spectra.freq_hz[k - 1];
+  result.frf.coherence.bottomRows(lines - k).setZero();
+  std::ostringstream w;
+  w.precision(4);
+  w << "double hits in the average: the force spectrum stays within "
+    << options.force_dynamic_range_db << " dB of its peak from " << result.usable_min_hz << " to "
+    << result.usable_max_hz << " Hz; lines above carry no FRF (coherence set to 0)";
+  result.warnings.push_back(w.str());
+}
+
+CrossSpectra ZeroSpectra(const RecordLayout& layout, Eigen::Index responses, double fs_hz) {
+  const auto lines = static_cast<Eigen::Index>(layout.record / 2 + 1);
+  CrossSpectra spectra;
+  spectra.freq_hz = Eigen::VectorXd::LinSpaced(
+      lines, 0.0, static_cast<double>(lines - 1) * fs_hz / static_cast<double>(layout.record));
+  spectra.gff = Eigen::VectorXd::Zero(lines);
+  spectra.gxx = Eigen::MatrixXd::Zero(lines, responses);
+  spectra.gfx = Eigen::MatrixXcd::Zero(lines, responses);
+  return spectra;
+}
+
+}  // namespace
+
 ImpactResult EstimateImpactFrf(const Eigen::Ref<const Eigen::VectorXd>& force,
                                const Eigen::Ref<const Eigen::MatrixXd>& responses, double fs_hz,
-                               const ImpactOptions& options, Estimator estimator, Quantity response_quantity) {
+                               const ImpactOptions& options, Estimator estimator,
+                               Quantity response_quantity) {
   options.Validate();
   Require(fs_hz > 0.0 && std::isfinite(fs_hz), "sample rate must be > 0");
   Require(responses.rows() == force.size(), "force and responses differ in length");
@@ -170,134 +399,32 @@ ImpactResult EstimateImpactFrf(const Eigen::Ref<const Eigen::VectorXd>& force,
   const double peak_all = centred.cwiseAbs().maxCoeff();
   Require(peak_all > 0.0, "force channel is constant: no hit to detect");
   const std::vector<Pulse> pulses = FindPulses(centred, options.trigger_fraction * peak_all);
-
-  // Group rebounds with their hit.
-  struct Group {
-    std::vector<Pulse> pulses;
-  };
-  std::vector<Group> groups;
-  const auto rebound = static_cast<std::size_t>(std::llround(options.double_hit_window_s * fs_hz));
-  for (const Pulse& p : pulses) {
-    if (!groups.empty() && p.start <= groups.back().pulses.back().end + rebound) {
-      groups.back().pulses.push_back(p);
-    } else {
-      groups.push_back({{p}});
-    }
-  }
+  const std::vector<PulseGroup> groups = GroupRebounds(
+      pulses, static_cast<std::size_t>(std::llround(options.double_hit_window_s * fs_hz)));
   Require(!groups.empty(), "no hit found in the force channel");
 
   ImpactResult result;
-  std::size_t record = 0;
-  if (options.record_s > 0.0) {
-    record = static_cast<std::size_t>(std::llround(options.record_s * fs_hz));
-  } else {
-    record = n - groups.front().pulses.front().start;
-    for (std::size_t g = 1; g < groups.size(); ++g) {
-      record = std::min(record, groups[g].pulses.front().start - groups[g - 1].pulses.front().start);
-    }
-    if (groups.size() > 1) {
-      // The last hit's tail is often cut short by the end of the file; do not let it set the length.
-      record = std::max<std::size_t>(record, 16);
-    }
-  }
-  std::size_t pre = 0;
-  if (options.pretrigger_s >= 0.0) {
-    pre = static_cast<std::size_t>(std::llround(options.pretrigger_s * fs_hz));
-  } else {
-    pre = std::min(record / 64, groups.front().pulses.front().start);
-  }
-  if (options.record_s <= 0.0) record = FastFftLength(record + (groups.size() > 1 ? 0 : pre));
-  Require(record >= 16, "impact: hit records would be shorter than 16 samples");
-  Require(pre < record / 2, "impact: pretrigger must be shorter than half the hit record");
-  result.record_samples = record;
-  result.pretrigger_samples = pre;
-
-  const auto lines = static_cast<Eigen::Index>(record / 2 + 1);
-  const Eigen::Index nresp = responses.cols();
-  CrossSpectra spectra;
-  spectra.freq_hz = Eigen::VectorXd::LinSpaced(lines, 0.0, static_cast<double>(lines - 1) * fs_hz / static_cast<double>(record));
-  spectra.gff = Eigen::VectorXd::Zero(lines);
-  spectra.gxx = Eigen::MatrixXd::Zero(lines, nresp);
-  spectra.gfx = Eigen::MatrixXcd::Zero(lines, nresp);
-
-  // Exponential window from the trigger: value exp_window_end at the record end.
+  const RecordLayout layout = ChooseRecord(groups, n, fs_hz, options);
+  result.record_samples = layout.record;
+  result.pretrigger_samples = layout.pre;
+  CrossSpectra spectra = ZeroSpectra(layout, responses.cols(), fs_hz);
   double tau_s = 0.0;
-  if (options.exp_window_end > 0.0) {
-    tau_s = static_cast<double>(record - pre) / fs_hz / std::log(1.0 / options.exp_window_end);
-  }
-  Eigen::VectorXd exp_window = Eigen::VectorXd::Ones(static_cast<Eigen::Index>(record));
-  if (tau_s > 0.0) {
-    for (std::size_t i = pre; i < record; ++i) {
-      exp_window[static_cast<Eigen::Index>(i)] = std::exp(-static_cast<double>(i - pre) / fs_hz / tau_s);
-    }
-  }
+  const Eigen::VectorXd exp_window =
+      ExponentialWindow(layout, fs_hz, options.exp_window_end, tau_s);
 
   const Eigen::MatrixXd resp = responses;
-  std::vector<Rails> rails{FindRails(force)};
-  for (Eigen::Index j = 0; j < nresp; ++j) rails.push_back(FindRails(resp.col(j)));
+  ImpactChannels channels{force, centred, resp, {FindRails(force)}};
+  for (Eigen::Index j = 0; j < resp.cols(); ++j) channels.rails.push_back(FindRails(resp.col(j)));
 
-  RealFft fft(record);
-  Eigen::VectorXd fbuf(static_cast<Eigen::Index>(record));
-  Eigen::VectorXd xbuf(static_cast<Eigen::Index>(record));
-  Eigen::VectorXcd fspec;
-  Eigen::VectorXcd xspec;
   // First pass: classify every hit; the second pass averages the ones used.
-  std::vector<std::pair<std::size_t, std::size_t>> spans;  // record start, force window keep
+  std::vector<HitSpan> spans(groups.size());
   for (std::size_t g = 0; g < groups.size(); ++g) {
-    const Pulse& first = groups[g].pulses.front();
-    const Pulse& last = groups[g].pulses.back();
-    Hit hit;
-    hit.trigger_index = first.start;
-    hit.peak_index = first.peak;
-    hit.peak_n = centred[static_cast<Eigen::Index>(first.peak)];
-    hit.t_s = static_cast<double>(first.start) / fs_hz;
-    hit.pulse_width_s = static_cast<double>(first.end - first.start) / fs_hz;
-    hit.pulses = groups[g].pulses.size();
-    std::vector<std::string> notes;
-    if (first.start < pre || first.start - pre + record > n) {
-      hit.truncated = true;
-      notes.push_back(first.start < pre ? "too little data before the hit for the pretrigger"
-                                        : "record ends before the hit's window");
-    }
-    const std::size_t s0 = first.start >= pre ? first.start - pre : 0;
-    const std::size_t s1 = std::min(n, s0 + record);
-    // Any other pulse inside this hit's record is a second impact on the structure.
-    for (const Pulse& p : pulses) {
-      if (p.start > first.end && p.start < s1 && p.peak_value >= options.double_hit_fraction * first.peak_value) {
-        hit.double_hit = true;
-      }
-    }
-    if (hit.double_hit) notes.push_back("double hit");
-    if (Clipped(force.data() + s0, s1 - s0, rails[0], options.clip_run_samples)) {
-      hit.clipped = true;
-      notes.push_back("force channel clipped");
-    }
-    for (Eigen::Index j = 0; j < nresp; ++j) {
-      if (Clipped(resp.col(j).data() + s0, s1 - s0, rails[static_cast<std::size_t>(j) + 1], options.clip_run_samples)) {
-        hit.clipped = true;
-        notes.push_back("response " + std::to_string(j + 1) + " clipped");
-      }
-    }
-    for (std::size_t k = 0; k < notes.size(); ++k) hit.note += (k ? "; " : "") + notes[k];
-    // Force window: keep through the hit's last pulse plus the first pulse's width as margin.
-    const std::size_t width = std::max<std::size_t>(first.end - first.start, 1);
-    std::size_t keep = pre + (last.end - first.start) + width;
-    if (options.force_window_s > 0.0) keep = pre + static_cast<std::size_t>(std::llround(options.force_window_s * fs_hz));
-    spans.emplace_back(s0, std::min(keep, record));
-    result.hits.push_back(hit);
+    result.hits.push_back(
+        ClassifyHit(groups[g], pulses, channels, layout, fs_hz, options, spans[g]));
   }
-  bool all_double = true;
-  bool any_candidate = false;
-  for (const Hit& h : result.hits) {
-    if (h.truncated) continue;
-    any_candidate = true;
-    all_double = all_double && h.double_hit && !h.clipped;
-  }
-  const bool keep_doubles = !options.reject_bad_hits || (any_candidate && all_double);
-  if (options.reject_bad_hits && any_candidate && all_double) {
-    result.warnings.push_back("every hit is a double hit: used all the same, each force window spanning the hit's pulses");
-  }
+  const bool keep_doubles = KeepDoubleHits(options, result);
 
+  RealFft fft(layout.record);
   std::size_t used = 0;
   bool doubles_used = false;
   std::ostringstream reasons;
@@ -311,35 +438,9 @@ ImpactResult EstimateImpactFrf(const Eigen::Ref<const Eigen::VectorXd>& force,
       continue;
     }
     doubles_used = doubles_used || hit.double_hit;
-    const std::size_t s0 = spans[g].first;
-    const std::size_t keep = spans[g].second;
-    const Pulse& first = groups[g].pulses.front();
+    const Pulse& first = groups[g].front();
     const std::size_t width = std::max<std::size_t>(first.end - first.start, 1);
-
-    // Offsets from the pretrigger (the part of the record before the hit), else the force baseline.
-    const auto seg = [&](const Eigen::VectorXd& x) { return x.segment(static_cast<Eigen::Index>(s0), static_cast<Eigen::Index>(record)); };
-    const double f_offset = pre >= 4 ? seg(force).head(static_cast<Eigen::Index>(pre)).mean() : baseline;
-    // Force window: kept up to `keep`, then a half-cosine taper to zero.
-    const std::size_t taper = std::min(width, record - keep);
-    for (std::size_t i = 0; i < record; ++i) {
-      double w = 0.0;
-      if (i < keep) {
-        w = 1.0;
-      } else if (i < keep + taper) {
-        w = 0.5 * (1.0 + std::cos(std::numbers::pi * static_cast<double>(i - keep + 1) / static_cast<double>(taper + 1)));
-      }
-      fbuf[static_cast<Eigen::Index>(i)] = (force[static_cast<Eigen::Index>(s0 + i)] - f_offset) * w * exp_window[static_cast<Eigen::Index>(i)];
-    }
-    fft.Transform(fbuf.data(), fspec);
-    spectra.gff += fspec.cwiseAbs2();
-    for (Eigen::Index j = 0; j < nresp; ++j) {
-      const Eigen::VectorXd x = resp.col(j);
-      const double x_offset = pre >= 4 ? seg(x).head(static_cast<Eigen::Index>(pre)).mean() : 0.0;
-      xbuf = (seg(x).array() - x_offset) * exp_window.array();
-      fft.Transform(xbuf.data(), xspec);
-      spectra.gxx.col(j) += xspec.cwiseAbs2();
-      spectra.gfx.col(j).array() += fspec.array().conjugate() * xspec.array();
-    }
+    AccumulateHit(channels, spans[g], width, layout, baseline, exp_window, fft, spectra);
     ++used;
   }
   if (used == 0) {
@@ -347,29 +448,18 @@ ImpactResult EstimateImpactFrf(const Eigen::Ref<const Eigen::VectorXd>& force,
                      (overridable ? " (--keep-bad-hits uses double and clipped hits anyway)" : ""));
   }
   spectra.averages = used;
-  const double scale = 2.0 / (fs_hz * static_cast<double>(record) * static_cast<double>(used));
+  const double scale =
+      2.0 / (fs_hz * static_cast<double>(layout.record) * static_cast<double>(used));
   spectra.gff *= scale;
   spectra.gxx *= scale;
   spectra.gfx *= scale;
   result.frf = FrfFromSpectra(spectra, estimator, response_quantity);
   result.frf.exp_window_tau_s = tau_s;
-  result.frf.pretrigger_s = static_cast<double>(pre) / fs_hz;
+  result.frf.pretrigger_s = static_cast<double>(layout.pre) / fs_hz;
+  const Eigen::Index lines = spectra.freq_hz.size();
   result.usable_min_hz = spectra.freq_hz[std::min<Eigen::Index>(1, lines - 1)];
   result.usable_max_hz = spectra.freq_hz[lines - 1];
-  if (doubles_used && lines > 2) {
-    const double top = spectra.gff.tail(lines - 1).maxCoeff();
-    const double floor = top * std::pow(10.0, -options.force_dynamic_range_db / 10.0);
-    Eigen::Index k = 1;
-    while (k < lines && spectra.gff[k] >= floor) ++k;
-    result.usable_max_hz = spectra.freq_hz[k - 1];
-    result.frf.coherence.bottomRows(lines - k).setZero();
-    std::ostringstream w;
-    w.precision(4);
-    w << "double hits in the average: the force spectrum stays within " << options.force_dynamic_range_db
-      << " dB of its peak from " << result.usable_min_hz << " to " << result.usable_max_hz
-      << " Hz; lines above carry no FRF (coherence set to 0)";
-    result.warnings.push_back(w.str());
-  }
+  if (doubles_used && lines > 2) LimitToForceBand(spectra, options, result);
   return result;
 }
 

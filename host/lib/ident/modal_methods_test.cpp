@@ -1,20 +1,20 @@
 // The modal methods side by side on the cases that decide the default: a long multi-hit hammer
 // record, short lightly damped records (one with a rebound), and the LADISK beam. Truth: the
 // simulated rig's state-matrix eigenvalues (model core) and its undamped shapes in closed form.
+#include <gtest/gtest.h>
+
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <string>
 #include <vector>
 
-#include <gtest/gtest.h>
-
 #include "test_support.hpp"
 #include "vibid/common/csv.hpp"
-#include "vibid/ident/hammer_test.hpp"
 #include "vibid/ident/identify.hpp"
 #include "vibid/ident/impact.hpp"
 #include "vibid/ident/modes.hpp"
+#include "vibid/ident/testing/hammer_test.hpp"
 #include "vibid/model/modal.hpp"
 
 namespace vibid::ident {

@@ -160,11 +160,12 @@ double ModalModelFit::ShapeRatioSd(Eigen::Index mode, Eigen::Index j, Eigen::Ind
   return std::sqrt(std::max(0.0, g.dot(covariance * g)));
 }
 
-ModalModelFit FitModalModel(const Frf& receptance, const std::vector<std::complex<double>>& start,
-                            const ModalModelOptions& options) {
-  options.Validate();
-  Require(receptance.quantity == Quantity::kDisplacement, "modal model fit needs a receptance FRF");
-  Require(!start.empty(), "modal model fit needs at least one pole");
+namespace {
+
+// Lines of the fit: the band around the start poles (or the options' band); on a long FRF only
+// the lines near a pole.
+std::vector<Eigen::Index> FitLines(const Frf& acc, const std::vector<std::complex<double>>& start,
+                                   const ModalModelOptions& options) {
   double fmin = std::numeric_limits<double>::infinity();
   double fmax = 0.0;
   for (const cd& l : start) {
@@ -175,7 +176,6 @@ ModalModelFit FitModalModel(const Frf& receptance, const std::vector<std::comple
   }
   const double lo = options.freq_min_hz > 0.0 ? options.freq_min_hz : 0.6 * fmin;
   const double hi = options.freq_max_hz > 0.0 ? options.freq_max_hz : 1.4 * fmax;
-  const Frf acc = ConvertFrf(receptance, Quantity::kAcceleration);
   std::vector<Eigen::Index> rows;
   for (Eigen::Index k = 0; k < acc.freq_hz.size(); ++k) {
     const double f = acc.freq_hz[k];
@@ -200,12 +200,13 @@ ModalModelFit FitModalModel(const Frf& receptance, const std::vector<std::comple
     }
     rows = std::move(near);
   }
-  Problem prob;
-  prob.modes = static_cast<Eigen::Index>(start.size());
-  prob.pretrigger_s = receptance.pretrigger_s;
+  return rows;
+}
+
+// Fills the problem's frequencies, FRF and first weights (1 / peak, 0 where the coherence is 0).
+void LoadLines(const Frf& acc, const std::vector<Eigen::Index>& rows, Problem& prob) {
   const auto L = static_cast<Eigen::Index>(rows.size());
   const Eigen::Index R = acc.h.cols();
-  Require(L > prob.per_response() + prob.modes, "modal model fit: too few frequency lines in the band");
   prob.w.resize(L);
   prob.h.resize(L, R);
   prob.weight.resize(L, R);
@@ -224,6 +225,24 @@ ModalModelFit FitModalModel(const Frf& receptance, const std::vector<std::comple
       prob.weight(k, o) = acc.coherence(rows[static_cast<std::size_t>(k)], o) > 0.0 ? 1.0 / top : 0.0;
     }
   }
+}
+
+}  // namespace
+
+ModalModelFit FitModalModel(const Frf& receptance, const std::vector<std::complex<double>>& start,
+                            const ModalModelOptions& options) {
+  options.Validate();
+  Require(receptance.quantity == Quantity::kDisplacement, "modal model fit needs a receptance FRF");
+  Require(!start.empty(), "modal model fit needs at least one pole");
+  const Frf acc = ConvertFrf(receptance, Quantity::kAcceleration);
+  const std::vector<Eigen::Index> rows = FitLines(acc, start, options);
+  Problem prob;
+  prob.modes = static_cast<Eigen::Index>(start.size());
+  prob.pretrigger_s = receptance.pretrigger_s;
+  const auto L = static_cast<Eigen::Index>(rows.size());
+  const Eigen::Index R = acc.h.cols();
+  Require(L > prob.per_response() + prob.modes, "modal model fit: too few frequency lines in the band");
+  LoadLines(acc, rows, prob);
 
   Eigen::VectorXd theta = Eigen::VectorXd::Zero(prob.parameters());
   for (Eigen::Index i = 0; i < prob.modes; ++i) {
@@ -239,57 +258,29 @@ ModalModelFit FitModalModel(const Frf& receptance, const std::vector<std::comple
   out.lines = static_cast<int>(L);
 
   const auto used_lines = [&](Eigen::Index o) { return static_cast<double>((prob.weight.col(o).array() > 0.0).count()); };
-  const auto refine = [&](Eigen::VectorXd& th, SolverSummary& summary) {
-    Eigen::VectorXd r;
-    Eigen::MatrixXd jac;
-    prob.Evaluate(th, r, &jac);
-    double cost = 0.5 * r.squaredNorm();
-    summary.initial_cost = cost;
-    summary.termination = Termination::kMaxIterations;
-    double mu = 1e-3;
-    int it = 0;
-    for (; it < options.max_iterations; ++it) {
-      const Eigen::VectorXd scale = jac.colwise().norm().transpose().cwiseMax(1e-300).cwiseInverse();
-      const Eigen::MatrixXd js = jac * scale.asDiagonal();
-      const Eigen::MatrixXd jtj = js.transpose() * js;
-      const Eigen::VectorXd g = js.transpose() * r;
-      bool accepted = false;
-      for (int tries = 0; tries < 12 && !accepted; ++tries) {
-        Eigen::MatrixXd a = jtj;
-        a.diagonal().array() += mu;
-        const Eigen::VectorXd step = scale.cwiseProduct(a.ldlt().solve(-g));
-        Eigen::VectorXd next = th + step;
-        bool ok = step.allFinite();
-        for (Eigen::Index i = 0; ok && i < prob.modes; ++i) ok = next[2 * i] > 0.0 && next[2 * i + 1] > 0.0 && next[2 * i + 1] < 1.0;
-        Eigen::VectorXd rn;
-        if (ok) prob.Evaluate(next, rn, nullptr);
-        const double cn = ok ? 0.5 * rn.squaredNorm() : std::numeric_limits<double>::infinity();
-        if (cn <= cost) {
-          const double drop = (cost - cn) / std::max(cost, 1e-300);
-          summary.iterations = it + 1;
-          th = next;
-          cost = cn;
-          mu = std::max(mu / 10.0, 1e-12);
-          accepted = true;
-          prob.Evaluate(th, r, &jac);
-          if (drop < 1e-10) {
-            summary.termination = Termination::kFunctionTolerance;
-            it = options.max_iterations;
-          }
-        } else {
-          mu *= 10.0;
-        }
-      }
-      if (!accepted) {
-        // No step lowers the cost any further: at the minimum to rounding.
-        summary.termination = Termination::kFunctionTolerance;
-        break;
-      }
+  // Poles stay physical: omega > 0 and 0 < zeta < 1; a step outside is rejected.
+  const numerics::ResidualFunction residuals = [&prob](const Eigen::VectorXd& th,
+                                                       Eigen::VectorXd& r, Eigen::MatrixXd* jac) {
+    for (Eigen::Index i = 0; i < prob.modes; ++i) {
+      if (!(th[2 * i] > 0.0 && th[2 * i + 1] > 0.0 && th[2 * i + 1] < 1.0)) return false;
     }
-    summary.final_cost = cost;
-    summary.message = options.max_iterations == 0 ? "residues by linear least squares with the poles held"
-                                                  : "poles and residues refined (weighted least squares)";
-    if (options.max_iterations == 0) summary.termination = Termination::kFunctionTolerance;
+    prob.Evaluate(th, r, jac);
+    return true;
+  };
+  const auto refine = [&](Eigen::VectorXd& th, numerics::SolverSummary& summary) {
+    if (options.max_iterations == 0) {
+      Eigen::VectorXd r;
+      prob.Evaluate(th, r, nullptr);
+      summary = {};
+      summary.termination = numerics::TerminationType::kFunctionTolerance;
+      summary.initial_cost = summary.final_cost = 0.5 * r.squaredNorm();
+      summary.message = "residues by linear least squares with the poles held";
+      return;
+    }
+    const numerics::SolverOptions solver{.max_iterations = options.max_iterations,
+                                         .function_tolerance = 1e-10};
+    summary = numerics::LevenbergMarquardt(residuals, th, solver);
+    summary.message = "poles and residues refined (weighted least squares): " + summary.message;
   };
 
   refine(theta, out.summary);

@@ -3,18 +3,18 @@
 // and its undamped shapes in closed form (test_support.hpp).
 #include "vibid/ident/modal_model.hpp"
 
+#include <gtest/gtest.h>
+
 #include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <numbers>
 
-#include <gtest/gtest.h>
-
 #include "test_support.hpp"
 #include "vibid/common/error.hpp"
-#include "vibid/ident/hammer_test.hpp"
 #include "vibid/ident/impact.hpp"
 #include "vibid/ident/modes.hpp"
+#include "vibid/ident/testing/hammer_test.hpp"
 #include "vibid/model/modal.hpp"
 
 namespace vibid::ident {

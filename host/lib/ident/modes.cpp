@@ -188,15 +188,17 @@ CurveFitResult FitModesImpl(const Frf& receptance, const std::vector<Peak>& star
     params[2 * i] = 0.0;
     params[2 * i + 1] = std::log(std::clamp(p.zeta, 1e-5, 0.5));
   }
-  const ResidualFunction f = [&prob](const Eigen::VectorXd& p, Eigen::VectorXd& r) { return prob.Solve(p, r, nullptr); };
+  const numerics::ResidualOnlyFunction f = [&prob](const Eigen::VectorXd& p, Eigen::VectorXd& r) {
+    return prob.Solve(p, r, nullptr);
+  };
   CurveFitResult result;
   result.freq_min_hz = lo;
   result.freq_max_hz = hi;
   if (hold_poles) {
-    result.summary.termination = Termination::kFunctionTolerance;
+    result.summary.termination = numerics::TerminationType::kFunctionTolerance;
     result.summary.message = "linear least squares with the poles held";
   } else {
-    result.summary = LevenbergMarquardt(f, params, options.solver);
+    result.summary = numerics::LevenbergMarquardt(numerics::NumericDiff(f), params, options.solver);
   }
 
   Eigen::VectorXd r;
@@ -205,7 +207,7 @@ CurveFitResult FitModesImpl(const Frf& receptance, const std::vector<Peak>& star
   Eigen::VectorXd ze;
   prob.Poles(params, om, ze);
   if (!prob.Solve(params, r, &coef)) {
-    result.summary.termination = Termination::kNumericalFailure;
+    result.summary.termination = numerics::TerminationType::kNumericalFailure;
     result.summary.message = "fitted poles left the physical domain";
     return result;
   }

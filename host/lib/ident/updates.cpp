@@ -94,13 +94,13 @@ MassUpdateResult UpdateMass(const Frf& receptance, std::size_t response, const M
     k = k_index >= 0 ? k0 * std::exp(q[k_index]) : k0;
     zeta = zeta_index >= 0 ? peak.zeta * std::exp(q[zeta_index]) : peak.zeta;
   };
-  const ResidualFunction f = [&](const Eigen::VectorXd& q, Eigen::VectorXd& r) {
+  const numerics::ResidualOnlyFunction f = [&](const Eigen::VectorXd& q, Eigen::VectorXd& r) {
     double m = 0.0, k = 0.0, zeta = 0.0;
     unpack(q, m, k, zeta);
     model(m, k, 2.0 * zeta * std::sqrt(k * m), r);
     return true;
   };
-  res.summary = LevenbergMarquardt(f, p, options.solver);
+  res.summary = numerics::LevenbergMarquardt(numerics::NumericDiff(f), p, options.solver);
   unpack(p, res.mass_kg, res.k_n_per_m, res.zeta);
   res.c_ns_per_m = 2.0 * res.zeta * std::sqrt(res.k_n_per_m * res.mass_kg);
   if (options.nominal_kg > 0.0) res.change_percent = 100.0 * (res.mass_kg - options.nominal_kg) / options.nominal_kg;

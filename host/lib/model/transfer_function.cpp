@@ -1,22 +1,15 @@
 #include "vibid/model/transfer_function.hpp"
 
+#include <Eigen/Cholesky>
 #include <cmath>
 #include <string>
 
-#include <Eigen/Cholesky>
-
 #include "vibid/common/error.hpp"
 #include "vibid/model/state_space.hpp"
+#include "vibid/numerics/polynomial.hpp"
 
 namespace vibid::model {
 namespace {
-
-Eigen::VectorXd PolyMultiply(const Eigen::VectorXd& a, const Eigen::VectorXd& b) {
-  if (a.size() == 0 || b.size() == 0) return {};
-  Eigen::VectorXd out = Eigen::VectorXd::Zero(a.size() + b.size() - 1);
-  for (Eigen::Index i = 0; i < a.size(); ++i) out.segment(i, b.size()) += a[i] * b;
-  return out;
-}
 
 // Drops leading coefficients that are rounding noise. "Small" is judged after substituting the
 // model's frequency scale for s, so that coefficients of different powers are comparable.
@@ -50,7 +43,7 @@ Eigen::VectorXcd EvaluateTfAt(const TransferFunction& tf, Eigen::Ref<const Eigen
 }
 
 TransferFunction Multiply(const TransferFunction& a, const TransferFunction& b) {
-  return {PolyMultiply(a.num, b.num), PolyMultiply(a.den, b.den)};
+  return {numerics::MultiplyPolynomials(a.num, b.num), numerics::MultiplyPolynomials(a.den, b.den)};
 }
 
 TransferFunction ModelTransferFunction(const Model& model, int input_dof, int output_dof, FrfKind kind) {
@@ -93,10 +86,10 @@ TransferFunction ModelTransferFunction(const Model& model, int input_dof, int ou
       tf.num = receptance;
       break;
     case FrfKind::kMobility:
-      tf.num = PolyMultiply(receptance, Eigen::Vector2d(1.0, 0.0));
+      tf.num = numerics::MultiplyPolynomials(receptance, Eigen::Vector2d(1.0, 0.0));
       break;
     case FrfKind::kAccelerance:
-      tf.num = PolyMultiply(receptance, Eigen::Vector3d(1.0, 0.0, 0.0));
+      tf.num = numerics::MultiplyPolynomials(receptance, Eigen::Vector3d(1.0, 0.0, 0.0));
       break;
   }
   return tf;

@@ -1,15 +1,14 @@
 #include "vibid/sysid/continuous.hpp"
 
+#include <Eigen/Eigenvalues>
 #include <cmath>
 #include <string>
 #include <type_traits>
-
-#include <Eigen/Eigenvalues>
 #include <unsupported/Eigen/MatrixFunctions>
 
 #include "vibid/common/error.hpp"
 #include "vibid/model/state_space.hpp"
-#include "vibid/sysid/polynomial.hpp"
+#include "vibid/numerics/polynomial.hpp"
 
 namespace vibid::sysid {
 
@@ -192,9 +191,11 @@ namespace {
 /// det(sI − A + BC) = det(sI − A)(1 + C (sI − A)⁻¹ B).
 TransferFunction TfFromStateSpace(const Eigen::MatrixXd& a, const Eigen::VectorXd& b, const Eigen::RowVectorXd& c,
                                   double d) {
-  const Eigen::VectorXd den = PolyFromRoots(Eigen::EigenSolver<Eigen::MatrixXd>(a, false).eigenvalues());
+  const Eigen::VectorXd den =
+      numerics::PolynomialFromRoots(Eigen::EigenSolver<Eigen::MatrixXd>(a, false).eigenvalues());
   const Eigen::MatrixXd closed = a - b * c;
-  const Eigen::VectorXd both = PolyFromRoots(Eigen::EigenSolver<Eigen::MatrixXd>(closed, false).eigenvalues());
+  const Eigen::VectorXd both = numerics::PolynomialFromRoots(
+      Eigen::EigenSolver<Eigen::MatrixXd>(closed, false).eigenvalues());
   Eigen::VectorXd num = both - den + d * den;
   return TransferFunction{num, den};
 }
@@ -223,8 +224,8 @@ TransferFunction D2cZoh(Eigen::Ref<const Eigen::VectorXd> num, Eigen::Ref<const 
   const Eigen::Index n = den.size() - 1;
   Eigen::VectorXd padded = Eigen::VectorXd::Zero(n + 1);
   padded.head(num.size()) = num;
-  const Eigen::VectorXcd poles = Roots(den);
-  for (Eigen::Index i = 0; i < poles.size(); ++i) {
+  const std::vector<numerics::Complex> poles = numerics::PolynomialRoots(den);
+  for (std::size_t i = 0; i < poles.size(); ++i) {
     Require(!(std::abs(poles[i].imag()) <= 1e-12 * std::max(1.0, std::abs(poles[i])) && poles[i].real() <= 1e-12),
             "d2c: discrete pole at z = " + std::to_string(poles[i].real()) +
                 " on the negative real axis (or at 0, a pure delay) has no continuous-time equivalent");

@@ -1,17 +1,17 @@
 // Record handling (checks, detrending, ranges, decimation) and the fit and residual statistics.
 #include "vibid/sysid/io_data.hpp"
 
+#include <gmock/gmock.h>
+#include <gtest/gtest.h>
+
 #include <cmath>
 #include <limits>
 #include <numbers>
 
-#include <gmock/gmock.h>
-#include <gtest/gtest.h>
-
 #include "testing_systems.hpp"
 #include "vibid/common/error.hpp"
+#include "vibid/numerics/polynomial.hpp"
 #include "vibid/sysid/fit.hpp"
-#include "vibid/sysid/polynomial.hpp"
 
 namespace vibid::sysid {
 namespace {
@@ -113,7 +113,8 @@ TEST(Fit, ResidualTestsSeparateWhiteFromColouredAndCorrelated) {
   EXPECT_TRUE(white.independent);
   EXPECT_NEAR(white.autocorrelation_bound, 2.575829 / std::sqrt(4000.0), 1e-6);
   // AR(1) residuals, ρ(1) = 0.3: the Ljung–Box test rejects whiteness.
-  const ResidualTests coloured = TestResiduals(Filter(Eigen::VectorXd::Ones(1), Eigen::Vector2d(1.0, -0.3), e), u);
+  const ResidualTests coloured =
+      TestResiduals(numerics::Filter(Eigen::VectorXd::Ones(1), Eigen::Vector2d(1.0, -0.3), e), u);
   EXPECT_FALSE(coloured.white);
   EXPECT_NEAR(coloured.autocorrelation[0], 0.3, 0.05);
   // Residuals that still contain the input two samples back: the cross-correlation test rejects.

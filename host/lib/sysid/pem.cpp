@@ -1,13 +1,14 @@
 #include "vibid/sysid/pem.hpp"
 
+#include <Eigen/QR>
 #include <algorithm>
 #include <cmath>
 
-#include <Eigen/QR>
-
+#include "search.hpp"
 #include "vibid/common/error.hpp"
+#include "vibid/numerics/polynomial.hpp"
 #include "vibid/sysid/continuous.hpp"
-#include "vibid/sysid/polynomial.hpp"
+#include "vibid/sysid/instrumental.hpp"
 #include "vibid/sysid/tfest.hpp"
 
 namespace vibid::sysid {
@@ -22,7 +23,9 @@ void DelayInto(const Eigen::VectorXd& v, Eigen::Index k, double sign, Eigen::Ref
   out.tail(n - zeros) = sign * v.head(n - zeros);
 }
 
-bool StableFilter(const Eigen::VectorXd& p) { return p.size() <= 1 || SpectralRadius(p) < 1.0; }
+bool StableFilter(const Eigen::VectorXd& p) {
+  return p.size() <= 1 || numerics::SpectralRadius(p) < 1.0;
+}
 
 /// Residual and Jacobian of e = D/C (A y − B/F u) for the parameter layout of PolyModel.
 bool PredictionErrorJacobian(const PolyModel& base, const IoData& data, const Eigen::VectorXd& theta,
@@ -32,30 +35,30 @@ bool PredictionErrorJacobian(const PolyModel& base, const IoData& data, const Ei
   if (!StableFilter(m.c) || !StableFilter(m.f)) return false;
   const PolyOrders& o = m.orders;
   const Eigen::VectorXd one = Eigen::VectorXd::Ones(1);
-  const Eigen::VectorXd x = Filter(m.b, m.f, data.u);
-  const Eigen::VectorXd v = Filter(m.a, one, data.y) - x;
-  e = Filter(m.d, m.c, v);
+  const Eigen::VectorXd x = numerics::Filter(m.b, m.f, data.u);
+  const Eigen::VectorXd v = numerics::Filter(m.a, one, data.y) - x;
+  e = numerics::Filter(m.d, m.c, v);
   if (jac == nullptr) return true;
   const Eigen::Index n = data.samples();
   jac->resize(n, o.Parameters());
   Eigen::Index col = 0;
   if (o.na > 0) {
-    const Eigen::VectorXd yf = Filter(m.d, m.c, data.y);
+    const Eigen::VectorXd yf = numerics::Filter(m.d, m.c, data.y);
     for (int k = 1; k <= o.na; ++k) DelayInto(yf, k, 1.0, jac->col(col++));
   }
-  const Eigen::VectorXd cf = PolyMul(m.c, m.f);
-  const Eigen::VectorXd uf = Filter(m.d, cf, data.u);
+  const Eigen::VectorXd cf = numerics::MultiplyPolynomials(m.c, m.f);
+  const Eigen::VectorXd uf = numerics::Filter(m.d, cf, data.u);
   for (int k = 0; k < o.nb; ++k) DelayInto(uf, o.nk + k, -1.0, jac->col(col++));
   if (o.nc > 0) {
-    const Eigen::VectorXd ef = Filter(one, m.c, e);
+    const Eigen::VectorXd ef = numerics::Filter(one, m.c, e);
     for (int k = 1; k <= o.nc; ++k) DelayInto(ef, k, -1.0, jac->col(col++));
   }
   if (o.nd > 0) {
-    const Eigen::VectorXd vf = Filter(one, m.c, v);
+    const Eigen::VectorXd vf = numerics::Filter(one, m.c, v);
     for (int k = 1; k <= o.nd; ++k) DelayInto(vf, k, 1.0, jac->col(col++));
   }
   if (o.nf > 0) {
-    const Eigen::VectorXd xf = Filter(m.d, cf, x);
+    const Eigen::VectorXd xf = numerics::Filter(m.d, cf, x);
     for (int k = 1; k <= o.nf; ++k) DelayInto(xf, k, 1.0, jac->col(col++));
   }
   return true;
@@ -113,7 +116,7 @@ Eigen::VectorXd Monic(const Eigen::VectorXd& tail) {
 PolyModel EstimateOeIv(const IoData& data, const PolyOrders& orders, double tolerance) {
   const PolyOrders arx_orders{orders.nf, orders.nb, 0, 0, 0, orders.nk};
   const ArxResult arx = EstimateArx(data, arx_orders);
-  Eigen::VectorXd f = StabilizeDiscrete(arx.model.a);
+  Eigen::VectorXd f = numerics::StabilizeDiscrete(arx.model.a);
   Eigen::VectorXd b = arx.model.b;
   const int nf = orders.nf;
   const int nb = orders.nb;
@@ -142,11 +145,11 @@ PolyModel EstimateOeIv(const IoData& data, const PolyOrders& orders, double tole
       }
       Eigen::VectorXd th;
       if (SolveInstrumental(zeta, phi, data.y.tail(m), th)) {
-        const Eigen::VectorXd f_iv = StabilizeDiscrete(Monic(th.head(nf)));
+        const Eigen::VectorXd f_iv = numerics::StabilizeDiscrete(Monic(th.head(nf)));
         Eigen::VectorXd b_iv = Eigen::VectorXd::Zero(nk + nb);
         b_iv.tail(nb) = th.tail(nb);
-        const double err_iv = (data.y - Filter(b_iv, f_iv, data.u)).squaredNorm();
-        const double err_arx = (data.y - Filter(b, f, data.u)).squaredNorm();
+        const double err_iv = (data.y - numerics::Filter(b_iv, f_iv, data.u)).squaredNorm();
+        const double err_arx = (data.y - numerics::Filter(b, f, data.u)).squaredNorm();
         if (std::isfinite(err_iv) && err_iv < err_arx) {
           f = f_iv;
           b = b_iv;
@@ -162,10 +165,10 @@ PolyModel EstimateOeIv(const IoData& data, const PolyOrders& orders, double tole
   Eigen::MatrixXd phi(rows, nf + nb);
   Eigen::MatrixXd zeta(rows, nf + nb);
   for (int pass = 0; pass < 20 && nf > 0; ++pass) {
-    const Eigen::VectorXd x = Filter(b, f, data.u);
-    const Eigen::VectorXd yf = Filter(one, f, data.y);
-    const Eigen::VectorXd uf = Filter(one, f, data.u);
-    const Eigen::VectorXd xf = Filter(one, f, x);
+    const Eigen::VectorXd x = numerics::Filter(b, f, data.u);
+    const Eigen::VectorXd yf = numerics::Filter(one, f, data.y);
+    const Eigen::VectorXd uf = numerics::Filter(one, f, data.u);
+    const Eigen::VectorXd xf = numerics::Filter(one, f, x);
     for (Eigen::Index r = 0; r < rows; ++r) {
       const Eigen::Index t = t0 + r;
       for (int i = 0; i < nf; ++i) {
@@ -176,7 +179,7 @@ PolyModel EstimateOeIv(const IoData& data, const PolyOrders& orders, double tole
     }
     Eigen::VectorXd th;
     if (!SolveInstrumental(zeta, phi, yf.tail(rows), th)) break;
-    f = StabilizeDiscrete(Monic(th.head(nf)));
+    f = numerics::StabilizeDiscrete(Monic(th.head(nf)));
     b = Eigen::VectorXd::Zero(nk + nb);
     b.tail(nb) = th.tail(nb);
     Eigen::VectorXd current(nf + nb);
@@ -213,7 +216,7 @@ PolyModel OeStart(const IoData& data, const PolyOrders& orders, std::string& nam
   if (r.tf.den.size() != orders.nf + 1) return best;
   const DiscreteTf d = C2dZoh(r.tf, data.dt_s);
   PolyModel candidate = best;
-  candidate.f = StabilizeDiscrete(d.den);
+  candidate.f = numerics::StabilizeDiscrete(d.den);
   candidate.b = Eigen::VectorXd::Zero(orders.nk + orders.nb);
   candidate.b.tail(orders.nb) = d.num.tail(orders.nb);
   const double err_best = (data.y - SimulatePoly(best, data.u)).squaredNorm();
@@ -228,7 +231,7 @@ PolyModel OeStart(const IoData& data, const PolyOrders& orders, std::string& nam
 }  // namespace
 
 PemResult EstimatePem(const IoData& data, Structure structure, const PolyOrders& orders,
-                      const SolverOptions& options) {
+                      const numerics::SolverOptions& options) {
   options.Validate();
   ValidateOrders(structure, orders, data.samples());
   PemResult res;
@@ -236,7 +239,7 @@ PemResult EstimatePem(const IoData& data, Structure structure, const PolyOrders&
     const ArxResult arx = EstimateArx(data, orders);
     res.model = arx.model;
     res.initialization = "least-squares";
-    res.summary.termination = Termination::kConvergedCost;
+    res.summary.termination = numerics::TerminationType::kFunctionTolerance;
     res.summary.initial_cost = res.summary.final_cost = arx.loss;
     res.summary.message = "linear least squares (closed form)";
     return res;
@@ -253,7 +256,7 @@ PemResult EstimatePem(const IoData& data, Structure structure, const PolyOrders&
       Eigen::VectorXd theta(orders.Parameters());
       theta << th;
       start.SetParameters(theta);
-      start.c = StabilizeDiscrete(start.c);
+      start.c = numerics::StabilizeDiscrete(start.c);
       res.initialization = "hannan-rissanen";
       break;
     }
@@ -267,11 +270,11 @@ PemResult EstimatePem(const IoData& data, Structure structure, const PolyOrders&
       const PolyModel iv = OeStart(data, PolyOrders{0, orders.nb, 0, 0, orders.nf, orders.nk}, res.initialization);
       start.b = iv.b;
       start.f = iv.f;
-      const Eigen::VectorXd w = data.y - Filter(iv.b, iv.f, data.u);
+      const Eigen::VectorXd w = data.y - numerics::Filter(iv.b, iv.f, data.u);
       // Noise model C/D: an ARMA fit of the output error, D from its AR part, C from the MA part.
       const Eigen::VectorXd th = HannanRissanen(w, nullptr, orders.nd, 0, 0, orders.nc);
-      start.d = StabilizeDiscrete(Monic(th.head(orders.nd)));
-      start.c = StabilizeDiscrete(Monic(th.tail(orders.nc)));
+      start.d = numerics::StabilizeDiscrete(Monic(th.head(orders.nd)));
+      start.c = numerics::StabilizeDiscrete(Monic(th.tail(orders.nc)));
       res.initialization += " + hannan-rissanen";
       break;
     }
@@ -280,17 +283,18 @@ PemResult EstimatePem(const IoData& data, Structure structure, const PolyOrders&
   }
 
   Eigen::VectorXd theta = start.Parameters();
-  const ResidualFunction fn = [&](const Eigen::VectorXd& th, Eigen::VectorXd& r, Eigen::MatrixXd* j) {
+  const numerics::ResidualFunction fn = [&](const Eigen::VectorXd& th, Eigen::VectorXd& r,
+                                            Eigen::MatrixXd* j) {
     return PredictionErrorJacobian(start, data, th, r, j);
   };
   Eigen::MatrixXd jac;
-  res.summary = MinimizeLeastSquares(fn, theta, options, &jac);
+  res.summary = MinimizePredictionError(fn, theta, options, jac);
   res.model = start;
   res.model.SetParameters(theta);
   Eigen::VectorXd e;
   PredictionErrorJacobian(start, data, theta, e, nullptr);
   if (jac.rows() == e.size()) {
-    res.model.covariance = CovarianceFromJacobian(jac, e);
+    res.model.covariance = numerics::CovarianceFromJacobian(jac, e);
   }
   res.model.noise_variance =
       e.squaredNorm() / static_cast<double>(std::max<Eigen::Index>(e.size() - orders.Parameters(), 1));

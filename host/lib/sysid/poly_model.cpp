@@ -1,12 +1,11 @@
 #include "vibid/sysid/poly_model.hpp"
 
+#include <Eigen/QR>
 #include <algorithm>
 #include <cmath>
 
-#include <Eigen/QR>
-
 #include "vibid/common/error.hpp"
-#include "vibid/sysid/polynomial.hpp"
+#include "vibid/numerics/polynomial.hpp"
 
 namespace vibid::sysid {
 
@@ -92,21 +91,26 @@ void PolyModel::SetParameters(Eigen::Ref<const Eigen::VectorXd> theta) {
 }
 
 Eigen::VectorXd SimulatePoly(const PolyModel& m, Eigen::Ref<const Eigen::VectorXd> u) {
-  return Filter(m.b, PolyMul(m.a, m.f), u);
+  return numerics::Filter(m.b, numerics::MultiplyPolynomials(m.a, m.f), u);
 }
 
 Eigen::VectorXd PredictionErrors(const PolyModel& m, const IoData& data) {
-  const Eigen::VectorXd v = Filter(m.a, Eigen::VectorXd::Ones(1), data.y) - Filter(m.b, m.f, data.u);
-  return Filter(m.d, m.c, v);
+  const Eigen::VectorXd v =
+      numerics::Filter(m.a, Eigen::VectorXd::Ones(1), data.y) - numerics::Filter(m.b, m.f, data.u);
+  return numerics::Filter(m.d, m.c, v);
 }
 
 Eigen::VectorXd PredictKStep(const PolyModel& m, const IoData& data, int k) {
   Require(k >= 1, "prediction horizon must be at least 1 sample");
   Eigen::VectorXd impulse = Eigen::VectorXd::Zero(k);
   impulse[0] = 1.0;
-  const Eigen::VectorXd hk = Filter(m.c, PolyMul(m.a, m.d), impulse);
-  const Eigen::VectorXd from_y = Filter(PolyMul(hk, PolyMul(m.a, m.d)), m.c, data.y);
-  const Eigen::VectorXd from_u = Filter(PolyMul(hk, PolyMul(m.d, m.b)), PolyMul(m.c, m.f), data.u);
+  const Eigen::VectorXd hk =
+      numerics::Filter(m.c, numerics::MultiplyPolynomials(m.a, m.d), impulse);
+  const Eigen::VectorXd from_y = numerics::Filter(
+      numerics::MultiplyPolynomials(hk, numerics::MultiplyPolynomials(m.a, m.d)), m.c, data.y);
+  const Eigen::VectorXd from_u =
+      numerics::Filter(numerics::MultiplyPolynomials(hk, numerics::MultiplyPolynomials(m.d, m.b)),
+                       numerics::MultiplyPolynomials(m.c, m.f), data.u);
   return data.y - from_y + from_u;
 }
 

@@ -2,19 +2,19 @@
 // ARX under output noise, k-step prediction identities, order selection, bad orders.
 #include "vibid/sysid/poly_model.hpp"
 
-#include <cmath>
-
 #include <gtest/gtest.h>
+
+#include <cmath>
 #include <nlohmann/json.hpp>
 
 #include "testing_systems.hpp"
 #include "vibid/common/csv.hpp"
 #include "vibid/common/error.hpp"
 #include "vibid/common/json_file.hpp"
+#include "vibid/numerics/polynomial.hpp"
 #include "vibid/sysid/fit.hpp"
 #include "vibid/sysid/greybox.hpp"
 #include "vibid/sysid/pem.hpp"
-#include "vibid/sysid/polynomial.hpp"
 
 namespace vibid::sysid {
 namespace {
@@ -50,7 +50,7 @@ TEST(Arx, RecoversNoiseFreeArxSystemExactly) {
   Eigen::VectorXd b(4);
   b << 0.0, 0.0, 1.0, 0.5;  // nk = 2, nb = 2
   const Eigen::VectorXd u = testing::WhiteNoise(500, 1.0, 7);
-  const IoData data = MakeIoData(u, Filter(b, a, u), 1.0);
+  const IoData data = MakeIoData(u, numerics::Filter(b, a, u), 1.0);
   const ArxResult r = EstimateArx(data, PolyOrders{2, 2, 0, 0, 0, 2});
   EXPECT_LT(MaxAbs(r.model.a, a), 1e-12);
   EXPECT_LT(MaxAbs(r.model.b, b), 1e-12);
@@ -67,7 +67,8 @@ TEST(Arx, CovarianceMatchesMonteCarloSpread) {
   Eigen::VectorXd mean_std = Eigen::VectorXd::Zero(3);
   for (int run = 0; run < runs; ++run) {
     const Eigen::VectorXd e = testing::WhiteNoise(1000, 0.3, 100 + static_cast<std::uint32_t>(run));
-    const IoData data = MakeIoData(u, Filter(b, a, u) + Filter(Eigen::VectorXd::Ones(1), a, e), 1.0);
+    const IoData data = MakeIoData(
+        u, numerics::Filter(b, a, u) + numerics::Filter(Eigen::VectorXd::Ones(1), a, e), 1.0);
     const ArxResult r = EstimateArx(data, PolyOrders{2, 1, 0, 0, 0, 1});
     estimates.row(run) = r.model.Parameters().transpose();
     mean_std += r.model.covariance.diagonal().cwiseSqrt() / runs;
@@ -127,7 +128,7 @@ TEST(Pem, OeOfAFastSampledFourthOrderSystem) {
   const DiscreteTf d = C2dZoh(tf, dt);
   Eigen::VectorXd u = Eigen::VectorXd::Zero(6000);
   for (Eigen::Index i = 0; i < u.size(); ++i) u[i] = ((i / 150) % 2 == 0) ? 5.0 : -5.0;
-  const Eigen::VectorXd y0 = Filter(d.num, d.den, u);
+  const Eigen::VectorXd y0 = numerics::Filter(d.num, d.den, u);
   const PemResult r = EstimatePem(MakeIoData(u, y0, dt), Structure::kOe, PolyOrders{0, 4, 0, 0, 4, 1});
   ASSERT_TRUE(r.summary.Converged()) << r.summary.message;
   EXPECT_LT((r.model.f - d.den).cwiseAbs().maxCoeff(), 1e-9);
@@ -150,7 +151,8 @@ TEST(Pem, RecoversArmaxAndBoxJenkinsSystems) {
     truth.structure = Structure::kArmax;
     truth.orders = PolyOrders{2, 2, 1, 0, 0, 1};
     truth.SetParameters((Eigen::VectorXd(5) << -1.5, 0.7, 1.0, 0.5, 0.6).finished());
-    const Eigen::VectorXd y = Filter(truth.b, truth.a, u) + Filter(truth.c, truth.a, e);
+    const Eigen::VectorXd y =
+        numerics::Filter(truth.b, truth.a, u) + numerics::Filter(truth.c, truth.a, e);
     const PemResult r = EstimatePem(MakeIoData(u, y, 1.0), Structure::kArmax, truth.orders);
     ASSERT_TRUE(r.summary.Converged()) << r.summary.message;
     const Eigen::VectorXd err = r.model.Parameters() - truth.Parameters();
@@ -163,7 +165,8 @@ TEST(Pem, RecoversArmaxAndBoxJenkinsSystems) {
     truth.structure = Structure::kBj;
     truth.orders = PolyOrders{0, 2, 1, 1, 2, 1};
     truth.SetParameters((Eigen::VectorXd(6) << 1.0, 0.5, 0.4, -0.8, -1.2, 0.5).finished());
-    const Eigen::VectorXd y = Filter(truth.b, truth.f, u) + Filter(truth.c, truth.d, e);
+    const Eigen::VectorXd y =
+        numerics::Filter(truth.b, truth.f, u) + numerics::Filter(truth.c, truth.d, e);
     const PemResult r = EstimatePem(MakeIoData(u, y, 1.0), Structure::kBj, truth.orders);
     ASSERT_TRUE(r.summary.Converged()) << r.summary.message;
     const Eigen::VectorXd err = r.model.Parameters() - truth.Parameters();
@@ -178,7 +181,8 @@ TEST(Pem, KStepPredictionIdentities) {
   m.orders = PolyOrders{2, 2, 1, 0, 0, 1};
   m.SetParameters((Eigen::VectorXd(5) << -1.5, 0.7, 1.0, 0.5, 0.6).finished());
   const Eigen::VectorXd u = testing::WhiteNoise(400, 1.0, 5);
-  const Eigen::VectorXd y = Filter(m.b, m.a, u) + Filter(m.c, m.a, testing::WhiteNoise(400, 0.1, 6));
+  const Eigen::VectorXd y =
+      numerics::Filter(m.b, m.a, u) + numerics::Filter(m.c, m.a, testing::WhiteNoise(400, 0.1, 6));
   const IoData data = MakeIoData(u, y, 1.0);
   // k = 1: the one-step predictor, ŷ = y − e.
   EXPECT_LT((PredictKStep(m, data, 1) - (y - PredictionErrors(m, data))).cwiseAbs().maxCoeff(), 1e-12);
@@ -190,7 +194,9 @@ TEST(Arx, AicAndFpePickTheTrueOrder) {
   const Eigen::Vector4d a(1.0, -1.8, 1.3, -0.38);  // 3rd order, stable
   const Eigen::Vector4d b(0.0, 1.0, 0.4, 0.2);
   const Eigen::VectorXd u = testing::WhiteNoise(4000, 1.0, 31);
-  const Eigen::VectorXd y = Filter(b, a, u) + Filter(Eigen::VectorXd::Ones(1), a, testing::WhiteNoise(4000, 0.1, 32));
+  const Eigen::VectorXd y =
+      numerics::Filter(b, a, u) +
+      numerics::Filter(Eigen::VectorXd::Ones(1), a, testing::WhiteNoise(4000, 0.1, 32));
   const IoData data = MakeIoData(u, y, 1.0);
   for (const auto criterion : {OrderCriterion::kAic, OrderCriterion::kFpe}) {
     const OrderSelection s = SelectArxOrder(data, 1, 8, 1, criterion);

@@ -26,7 +26,7 @@ TEST(RealData, RobotArmOutputErrorOrders2To8) {
   const SplitData parts = Split(all, 0.5);
   std::vector<double> validation(9, 0.0);
   for (int n = 2; n <= 8; ++n) {
-    SolverOptions so;
+    numerics::SolverOptions so;
     so.max_iterations = 1000;
     const PemResult r = EstimatePem(parts.estimation, Structure::kOe, PolyOrders{0, n + 1, 0, 0, n, 0}, so);
     EXPECT_TRUE(r.summary.Converged()) << "order " << n << ": " << r.summary.message;

@@ -1,15 +1,16 @@
 #include "vibid/sysid/tfest.hpp"
 
-#include <cmath>
+#include <Eigen/QR>
 #include <algorithm>
+#include <cmath>
 #include <cstdio>
 #include <limits>
 
-#include <Eigen/QR>
-
+#include "search.hpp"
 #include "vibid/common/error.hpp"
+#include "vibid/numerics/polynomial.hpp"
 #include "vibid/sysid/fit.hpp"
-#include "vibid/sysid/polynomial.hpp"
+#include "vibid/sysid/instrumental.hpp"
 
 namespace vibid::sysid {
 
@@ -82,9 +83,8 @@ Eigen::VectorXd Combine(const Eigen::VectorXd& descending, const Eigen::MatrixXd
 }
 
 bool StableContinuous(const Eigen::VectorXd& den) {
-  const Eigen::VectorXcd r = Roots(den);
-  for (Eigen::Index i = 0; i < r.size(); ++i) {
-    if (!(r[i].real() < 0.0)) return false;
+  for (const numerics::Complex& r : numerics::PolynomialRoots(den)) {
+    if (!(r.real() < 0.0)) return false;
   }
   return true;
 }
@@ -105,7 +105,7 @@ bool OutputAndJacobian(const Eigen::VectorXd& den, const Eigen::VectorXd& num, c
   if (jac == nullptr) return y_hat.allFinite();
   const Eigen::Index cols = n + m + 1 + (ic != nullptr ? n : 0);
   jac->resize(data.samples(), cols);
-  const Eigen::VectorXd den2 = PolyMul(den, den);
+  const Eigen::VectorXd den2 = numerics::MultiplyPolynomials(den, den);
   const Eigen::MatrixXd w = FilteredDerivatives(den2, data.u, data.dt_s, Hold::kZero, false);
   Eigen::MatrixXd h;
   if (ic != nullptr) h = FilteredDerivatives(den2, data.u, data.dt_s, Hold::kZero, true);
@@ -141,7 +141,8 @@ struct SrivcOutcome {
 SrivcOutcome SvfStart(int np, double lambda_rad_s) {
   SrivcOutcome out;
   out.tf.den = Eigen::VectorXd::Ones(1);
-  for (int i = 0; i < np; ++i) out.tf.den = PolyMul(out.tf.den, Eigen::Vector2d(1.0, lambda_rad_s));
+  for (int i = 0; i < np; ++i)
+    out.tf.den = numerics::MultiplyPolynomials(out.tf.den, Eigen::Vector2d(1.0, lambda_rad_s));
   return out;
 }
 
@@ -178,12 +179,13 @@ void SrivcPasses(const IoData& data, int np, int nz, int last_pass, const TfestO
     zeta = phi;
     if (num.size() > 0) {
       // Instruments: the prefiltered noise-free output of the current model, exact for the ZOH input.
-      FilteredDerivativesInto(PolyMul(den, den), data.u, data.dt_s, Hold::kZero, work.w);
+      FilteredDerivativesInto(numerics::MultiplyPolynomials(den, den), data.u, data.dt_s,
+                              Hold::kZero, work.w);
       for (Eigen::Index j = 0; j < n; ++j) CombineInto(num, work.w, n - 1 - j, -1.0, zeta.col(j));
     }
     Eigen::VectorXd theta;
     if (!SolveInstrumental(zeta, phi, target, theta)) break;
-    den = StabilizeContinuous(MonicFromTail(theta.head(n)));
+    den = numerics::StabilizeContinuous(MonicFromTail(theta.head(n)));
     num = theta.tail(m + 1);
     state.tf = TransferFunction{num, den};
     state.iterations = iter;
@@ -222,8 +224,9 @@ Eigen::VectorXd FitInitialCondition(const TransferFunction& tf, const IoData& da
   return ascending.reverse().eval().head(n);
 }
 
-CtOeResult FitContinuousOe(const IoData& data, const CtParameterization& param, Eigen::Ref<const Eigen::VectorXd> theta0,
-                           InitialCondition ic, const SolverOptions& options) {
+CtOeResult FitContinuousOe(const IoData& data, const CtParameterization& param,
+                           Eigen::Ref<const Eigen::VectorXd> theta0, InitialCondition ic,
+                           const numerics::SolverOptions& options) {
   options.Validate();
   const Eigen::Index n = param.np;
   const Eigen::Index m = param.nz;
@@ -232,7 +235,8 @@ CtOeResult FitContinuousOe(const IoData& data, const CtParameterization& param, 
   Eigen::VectorXd theta(q + (with_ic ? n : 0));
   theta.head(q) = theta0;
   if (with_ic) theta.tail(n).setZero();
-  const ResidualFunction fn = [&](const Eigen::VectorXd& th, Eigen::VectorXd& r, Eigen::MatrixXd* j) {
+  const numerics::ResidualFunction fn = [&](const Eigen::VectorXd& th, Eigen::VectorXd& r,
+                                            Eigen::MatrixXd* j) {
     Eigen::VectorXd coef;
     Eigen::MatrixXd dcoef;
     if (!param.map(th.head(q), coef, j != nullptr ? &dcoef : nullptr)) return false;
@@ -254,11 +258,12 @@ CtOeResult FitContinuousOe(const IoData& data, const CtParameterization& param, 
   };
   CtOeResult res;
   Eigen::MatrixXd jac;
-  res.summary = MinimizeLeastSquares(fn, theta, options, &jac);
+  res.summary = MinimizePredictionError(fn, theta, options, jac);
   res.theta = theta.head(q);
   res.ic_num = with_ic ? Eigen::VectorXd(theta.tail(n)) : Eigen::VectorXd::Zero(n);
   fn(theta, res.residual, nullptr);
-  if (jac.rows() == data.samples()) res.covariance = CovarianceFromJacobian(jac, res.residual);
+  if (jac.rows() == data.samples())
+    res.covariance = numerics::CovarianceFromJacobian(jac, res.residual);
   return res;
 }
 
@@ -293,7 +298,7 @@ TfestResult EstimateTf(const IoData& data, const TfestOptions& options) {
     }
   }
   if (!best.ok) {
-    res.summary.termination = Termination::kNumericalFailure;
+    res.summary.termination = numerics::TerminationType::kNumericalFailure;
     res.summary.message = "no starting model: the filtered regressors are rank deficient (input not exciting enough)";
     return res;
   }
@@ -322,7 +327,7 @@ TfestResult EstimateTf(const IoData& data, const TfestOptions& options) {
     res.den_std = Eigen::VectorXd::Zero(np + 1);
     res.num_std = Eigen::VectorXd::Zero(nz + 1);
     res.fit_percent = best_fit;
-    res.summary.termination = Termination::kConvergedStep;
+    res.summary.termination = numerics::TerminationType::kParameterTolerance;
     res.summary.message = "SRIVC estimate without output-error refinement";
     return res;
   }

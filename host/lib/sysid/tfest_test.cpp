@@ -54,8 +54,10 @@ TEST(Tfest, RecoversNoiseFreeCartModels) {
     o.nz = static_cast<int>(c.truth.num.size() - 1);
     const TfestResult r = EstimateTf(MakeIoData(c.u, y, kDt), o);
     const double err = MaxRelativeError(r.tf, c.truth);
-    std::printf("%s: max rel coef error %.3e, fit %.6f %%, %s, %d iterations, init %s\n", c.name.c_str(), err,
-                r.fit_percent, TerminationName(r.summary.termination), r.summary.iterations, r.initialization.c_str());
+    std::printf("%s: max rel coef error %.3e, fit %.6f %%, %s, %d iterations, init %s\n",
+                c.name.c_str(), err, r.fit_percent,
+                numerics::TerminationName(r.summary.termination), r.summary.iterations,
+                r.initialization.c_str());
     EXPECT_TRUE(r.summary.Converged()) << r.summary.message;
     EXPECT_LT(err, 1e-3);
     EXPECT_GE(FitPercent(y, Simulate(r.tf, c.u, kDt)), 99.9);

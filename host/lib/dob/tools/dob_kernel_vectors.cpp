@@ -12,8 +12,8 @@
 
 #include "vibid/dob/chain_plant.hpp"
 #include "vibid/dob/design.hpp"
-#include "vibid/dob/polynomial.hpp"
 #include "vibid/dob/quantize.hpp"
+#include "vibid/numerics/polynomial.hpp"
 #include "vibid/shared/fixed/dob_filter.hpp"
 
 int main(int argc, char** argv) {
@@ -39,8 +39,8 @@ int main(int argc, char** argv) {
   const double fs = 5000.0;
   const dob::NominalPlant plant = dob::ChainPlantForceOnM2({});
   dob::Zpk receptance;
-  receptance.zeros = dob::PolynomialRoots(plant.receptance_num);
-  receptance.poles = dob::PolynomialRoots(plant.receptance_den);
+  receptance.zeros = numerics::PolynomialRoots(plant.receptance_num);
+  receptance.poles = numerics::PolynomialRoots(plant.receptance_den);
   receptance.gain = plant.receptance_num[0] / plant.receptance_den[0];
   const auto plant_sos = dob::ZpkToSos(dob::TustinZpk(receptance, fs, 0.0));
   Eigen::VectorXd force(n), total(n);

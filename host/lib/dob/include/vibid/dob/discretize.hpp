@@ -4,9 +4,11 @@
 
 #include <vector>
 
-#include "vibid/dob/polynomial.hpp"
+#include "vibid/numerics/polynomial.hpp"
 
 namespace vibid::dob {
+
+using Complex = numerics::Complex;
 
 /// H(x) = gain * prod(x - zeros) / prod(x - poles); x is s (rad/s) or z. Complex roots come in
 /// conjugate pairs so H is real.
@@ -39,8 +41,16 @@ std::vector<SosSection> ZpkToSos(const Zpk& digital);
 
 Complex EvaluateSos(const std::vector<SosSection>& sos, Complex z);
 
-/// Runs the cascade over x in double precision, zero initial state.
-Eigen::VectorXd FilterSos(const std::vector<SosSection>& sos, const Eigen::Ref<const Eigen::VectorXd>& x);
+/// State of the cascade before the first sample.
+enum class SosStart {
+  kZero,         ///< All delays zero (scipy.signal.sosfilt without zi).
+  kSteadyState,  ///< Settled on a constant input equal to x[0] (sosfilt_zi scaled by x[0]).
+};
+
+/// Runs the cascade over x in double precision.
+Eigen::VectorXd FilterSos(const std::vector<SosSection>& sos,
+                          const Eigen::Ref<const Eigen::VectorXd>& x,
+                          SosStart start = SosStart::kZero);
 
 /// Largest pole radius of the cascade.
 double MaxPoleRadius(const std::vector<SosSection>& sos);

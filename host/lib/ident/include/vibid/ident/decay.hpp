@@ -3,11 +3,10 @@
 // for the stiffness and the base mass.
 #pragma once
 
+#include <Eigen/Core>
 #include <cstddef>
 
-#include <Eigen/Core>
-
-#include "vibid/ident/solver.hpp"
+#include "vibid/numerics/least_squares.hpp"
 
 namespace vibid::ident {
 
@@ -18,7 +17,8 @@ struct DecayOptions {
   /// When > 0, fit only this many cycles after the release instead (guide friction makes the
   /// decay amplitude-dependent; the first cycles compare with a first-peaks log decrement).
   int cycles = 0;
-  LmOptions solver{.max_iterations = 200, .function_tolerance = 1e-14, .parameter_tolerance = 1e-12};
+  numerics::SolverOptions solver{
+      .max_iterations = 200, .function_tolerance = 1e-14, .parameter_tolerance = 1e-12};
 
   void Validate() const;
 };
@@ -39,7 +39,7 @@ struct DecayResult {
   /// Log decrement over the cycles in the fitted part (peaks of the same sign), for comparison.
   double zeta_log_decrement = 0.0;
   int cycles = 0;
-  SolverSummary summary;
+  numerics::SolverSummary summary;
 };
 
 /// Analyses one record `position` (any length unit) sampled at `fs_hz`. InputError when no release

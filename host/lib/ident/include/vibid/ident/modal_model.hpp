@@ -37,14 +37,13 @@
 // seeded synthetic hammer tests).
 #pragma once
 
+#include <Eigen/Core>
 #include <complex>
 #include <string>
 #include <vector>
 
-#include <Eigen/Core>
-
-#include "vibid/ident/solver.hpp"
 #include "vibid/ident/spectral.hpp"
+#include "vibid/numerics/least_squares.hpp"
 
 namespace vibid::ident {
 
@@ -89,7 +88,7 @@ struct ModalModelFit {
   /// Weighted misfit per degree of freedom with the noise levels from the residuals (about 1; the
   /// covariance is scaled by it).
   double reduced_chi2 = 0.0;
-  SolverSummary summary;
+  numerics::SolverSummary summary;
 
   /// Projection of response j's residue on response p's, Re(R_j conj(R_p)) / |R_p|^2 (the shape
   /// ratio phi_j / phi_p of a real mode), and its standard deviation.

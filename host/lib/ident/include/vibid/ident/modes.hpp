@@ -2,6 +2,7 @@
 // multi-mode least-squares curve fit of the modal FRF model started from the peak picks.
 #pragma once
 
+#include <Eigen/Core>
 #include <array>
 #include <cmath>
 #include <complex>
@@ -11,13 +12,11 @@
 #include <string_view>
 #include <vector>
 
-#include <Eigen/Core>
-
 #include "vibid/ident/modal_model.hpp"
 #include "vibid/ident/peaks.hpp"
-#include "vibid/ident/solver.hpp"
 #include "vibid/ident/spectral.hpp"
 #include "vibid/ident/stabilization.hpp"
+#include "vibid/numerics/least_squares.hpp"
 
 namespace vibid::ident {
 
@@ -56,7 +55,8 @@ struct CurveFitOptions {
   bool residual_terms = true;
   /// Weight each line by its coherence (lines where the force had no energy count little).
   bool coherence_weighting = true;
-  LmOptions solver{.max_iterations = 100, .function_tolerance = 1e-12, .parameter_tolerance = 1e-12};
+  numerics::SolverOptions solver{
+      .max_iterations = 100, .function_tolerance = 1e-12, .parameter_tolerance = 1e-12};
 
   void Validate() const;
 };
@@ -76,7 +76,7 @@ struct CurveFitResult {
   double freq_max_hz = 0.0;
   /// RMS of the weighted relative misfit |H_model - H| / |H| over the band.
   double rms_relative_error = 0.0;
-  SolverSummary summary;
+  numerics::SolverSummary summary;
 };
 
 /// Fits all modes at once to a receptance (variable projection: the residues and residual terms

@@ -2,16 +2,15 @@
 // stiffness from modal test data (methods §7, Eq. 7).
 #pragma once
 
+#include <Eigen/Core>
 #include <cstddef>
 #include <string>
 #include <vector>
 
-#include <Eigen/Core>
-
 #include "vibid/ident/modes.hpp"
 #include "vibid/ident/peaks.hpp"
-#include "vibid/ident/solver.hpp"
 #include "vibid/ident/spectral.hpp"
+#include "vibid/numerics/least_squares.hpp"
 
 namespace vibid::ident {
 
@@ -28,7 +27,8 @@ struct MassUpdateOptions {
   /// low by the same factor). false keeps c at the half-power value (methods §6 as written).
   bool fit_damping = true;
   PeakOptions peaks;
-  LmOptions solver{.max_iterations = 100, .function_tolerance = 1e-14, .parameter_tolerance = 1e-12};
+  numerics::SolverOptions solver{
+      .max_iterations = 100, .function_tolerance = 1e-14, .parameter_tolerance = 1e-12};
 
   void Validate() const;
 };
@@ -45,7 +45,7 @@ struct MassUpdateResult {
   double nominal_kg = 0.0;
   double change_percent = 0.0; ///< 100 (m - nominal) / nominal; 0 without a nominal.
   std::size_t lines_fitted = 0;
-  SolverSummary summary;
+  numerics::SolverSummary summary;
   std::vector<std::string> warnings;
 };
 

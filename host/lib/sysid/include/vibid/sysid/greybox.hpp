@@ -11,16 +11,15 @@
 // With a position input the TF is homogeneous in (M, B, k, Bi) scale: one of them must be fixed.
 #pragma once
 
+#include <Eigen/Core>
 #include <map>
 #include <string>
 #include <vector>
 
-#include <Eigen/Core>
-
 #include "vibid/model/transfer_function.hpp"
+#include "vibid/numerics/least_squares.hpp"
 #include "vibid/sysid/continuous.hpp"
 #include "vibid/sysid/io_data.hpp"
-#include "vibid/sysid/least_squares.hpp"
 #include "vibid/sysid/tfest.hpp"
 
 namespace vibid::sysid {
@@ -44,7 +43,7 @@ struct GreyboxOptions {
   CartConfig config;
   std::map<std::string, double> fixed;  ///< Parameters held at a value (by name).
   InitialCondition ic = InitialCondition::kZero;
-  SolverOptions solver;
+  numerics::SolverOptions solver;
   /// Throws InputError: unknown or non-positive fixed parameters, a position input without one fixed.
   void Validate() const;
 };
@@ -61,7 +60,7 @@ struct GreyboxResult {
   TransferFunction tf;                 ///< Monic, from the estimated parameters.
   double fit_percent = 0.0;
   std::string initialization;
-  SolverSummary summary;
+  numerics::SolverSummary summary;
 };
 
 GreyboxResult EstimateCart(const IoData& data, const GreyboxOptions& options);

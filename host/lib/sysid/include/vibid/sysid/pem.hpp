@@ -10,15 +10,15 @@
 
 #include <string>
 
+#include "vibid/numerics/least_squares.hpp"
 #include "vibid/sysid/io_data.hpp"
-#include "vibid/sysid/least_squares.hpp"
 #include "vibid/sysid/poly_model.hpp"
 
 namespace vibid::sysid {
 
 struct PemResult {
   PolyModel model;
-  SolverSummary summary;
+  numerics::SolverSummary summary;
   std::string initialization;  ///< How the start was found ("least-squares", "instrumental-variable", ...).
 };
 
@@ -26,7 +26,7 @@ struct PemResult {
 /// Numerical trouble (no convergence) is reported in the summary; the model then holds the last
 /// accepted parameters.
 PemResult EstimatePem(const IoData& data, Structure structure, const PolyOrders& orders,
-                      const SolverOptions& options = {});
+                      const numerics::SolverOptions& options = {});
 
 /// Instrumental-variable estimate of an OE model B/F (orders nb, nf, nk): ARX start, then up to 20
 /// passes of the simplified refined IV method (data prefiltered by 1/F̂, the current model's

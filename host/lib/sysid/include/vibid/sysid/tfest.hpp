@@ -12,14 +12,13 @@
 // ∂ŷ/∂p_k = imp(s^k/A), every one of them read from the states of 1/A and 1/A².
 #pragma once
 
+#include <Eigen/Core>
 #include <functional>
 #include <string>
 
-#include <Eigen/Core>
-
+#include "vibid/numerics/least_squares.hpp"
 #include "vibid/sysid/continuous.hpp"
 #include "vibid/sysid/io_data.hpp"
-#include "vibid/sysid/least_squares.hpp"
 
 namespace vibid::sysid {
 
@@ -34,7 +33,7 @@ struct TfestOptions {
   int srivc_iterations = 30;                   ///< SRIVC passes of the chosen start.
   double srivc_tolerance = 1e-10;              ///< Relative parameter change that ends SRIVC.
   bool refine = true;                          ///< Output-error refinement after SRIVC (false: SRIVC only, no covariance).
-  SolverOptions solver;
+  numerics::SolverOptions solver;
   /// Throws InputError naming the first bad option.
   void Validate() const;
 };
@@ -49,7 +48,7 @@ struct TfestResult {
   double fit_percent = 0.0;                    ///< Simulation fit on the estimation data, same IC handling.
   double noise_variance = 0.0;
   std::string initialization;                  ///< e.g. "svf(lambda=12.57 rad/s)+srivc(7 iterations)".
-  SolverSummary summary;
+  numerics::SolverSummary summary;
 };
 
 /// Estimates B/A from the record. InputError for bad options or orders too high for the record.
@@ -76,11 +75,12 @@ struct CtOeResult {
   Eigen::VectorXd ic_num;
   Eigen::MatrixXd covariance;                  ///< Of [θ, P] (P only with kEstimate).
   Eigen::VectorXd residual;
-  SolverSummary summary;
+  numerics::SolverSummary summary;
 };
 
 /// Output-error fit of a parameterised continuous TF (exact ZOH simulation, exact Jacobian).
-CtOeResult FitContinuousOe(const IoData& data, const CtParameterization& param, Eigen::Ref<const Eigen::VectorXd> theta0,
-                           InitialCondition ic, const SolverOptions& options);
+CtOeResult FitContinuousOe(const IoData& data, const CtParameterization& param,
+                           Eigen::Ref<const Eigen::VectorXd> theta0, InitialCondition ic,
+                           const numerics::SolverOptions& options);
 
 }  // namespace vibid::sysid

@@ -7,11 +7,10 @@
 // direct force term, an error of order omega T in the identified shapes.
 #pragma once
 
+#include <Eigen/Core>
 #include <cstdint>
 #include <string>
 #include <vector>
-
-#include <Eigen/Core>
 
 #include "vibid/ident/spectral.hpp"
 #include "vibid/model/model.hpp"
@@ -28,9 +27,9 @@ struct HammerTestSpec {
   double hit_peak_n = 50.0;
   double hit_peak_spread = 0.3;  ///< Peak uniform in (1 +- spread) hit_peak_n.
   double pulse_width_s = 0.002;
-  double spacing_min_s = 8.0;    ///< Hit spacing uniform in [min, max].
+  double spacing_min_s = 8.0;  ///< Hit spacing uniform in [min, max].
   double spacing_max_s = 11.0;
-  double lead_s = 0.5;           ///< Quiet time before the first hit.
+  double lead_s = 0.5;  ///< Quiet time before the first hit.
   /// Every hit followed by a rebound (a second half-sine of the same width) this long after the
   /// hit's start, of this fraction of the hit's peak; 0: none.
   double rebound_delay_s = 0.0;
@@ -46,13 +45,14 @@ struct HammerTestSpec {
 struct HammerTestRecord {
   Eigen::VectorXd t_s;
   Eigen::VectorXd force_n;
-  Eigen::MatrixXd response;     ///< One column per response DOF, in the sensor's SI unit.
+  Eigen::MatrixXd response;  ///< One column per response DOF, in the sensor's SI unit.
   std::vector<double> hit_times_s;
 };
 
 HammerTestRecord SimulateHammerTest(const model::Model& rig, const HammerTestSpec& spec);
 
 /// CSV with t_s, force_n and the response columns named `names` (one per response).
-std::string FormatHammerTestCsv(const HammerTestRecord& record, const std::vector<std::string>& names);
+std::string FormatHammerTestCsv(const HammerTestRecord& record,
+                                const std::vector<std::string>& names);
 
 }  // namespace vibid::ident

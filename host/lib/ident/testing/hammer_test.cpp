@@ -1,4 +1,4 @@
-#include "vibid/ident/hammer_test.hpp"
+#include "vibid/ident/testing/hammer_test.hpp"
 
 #include <cmath>
 #include <random>
@@ -13,13 +13,18 @@ void HammerTestSpec::Validate(int dofs) const {
   Require(hammer_dof >= 0 && hammer_dof < dofs, "hammer test: hammer DOF out of range");
   for (int d : response_dofs) Require(d >= 0 && d < dofs, "hammer test: response DOF out of range");
   Require(oversample >= 1, "hammer test: oversampling factor must be >= 1");
-  Require(fs_hz > 0.0 && hits >= 1 && hit_peak_n > 0.0, "hammer test: sample rate, hits and peak must be > 0");
-  Require(hit_peak_spread >= 0.0 && hit_peak_spread < 1.0, "hammer test: peak spread must be in [0, 1)");
-  Require(pulse_width_s > 0.0 && spacing_min_s > pulse_width_s && spacing_max_s >= spacing_min_s && lead_s >= 0.0,
+  Require(fs_hz > 0.0 && hits >= 1 && hit_peak_n > 0.0,
+          "hammer test: sample rate, hits and peak must be > 0");
+  Require(hit_peak_spread >= 0.0 && hit_peak_spread < 1.0,
+          "hammer test: peak spread must be in [0, 1)");
+  Require(pulse_width_s > 0.0 && spacing_min_s > pulse_width_s && spacing_max_s >= spacing_min_s &&
+              lead_s >= 0.0,
           "hammer test: need pulse width < spacing_min <= spacing_max");
-  Require(rebound_delay_s >= 0.0 && rebound_fraction >= 0.0 && rebound_fraction < 1.0 &&
-              (rebound_fraction == 0.0 || (rebound_delay_s > pulse_width_s && rebound_delay_s < spacing_min_s)),
-          "hammer test: a rebound needs pulse width < delay < spacing_min and a fraction in [0, 1)");
+  Require(
+      rebound_delay_s >= 0.0 && rebound_fraction >= 0.0 && rebound_fraction < 1.0 &&
+          (rebound_fraction == 0.0 ||
+           (rebound_delay_s > pulse_width_s && rebound_delay_s < spacing_min_s)),
+      "hammer test: a rebound needs pulse width < delay < spacing_min and a fraction in [0, 1)");
   Require(force_noise >= 0.0 && response_noise >= 0.0, "hammer test: noise levels must be >= 0");
 }
 
@@ -84,8 +89,10 @@ HammerTestRecord SimulateHammerTest(const model::Model& rig, const HammerTestSpe
   return rec;
 }
 
-std::string FormatHammerTestCsv(const HammerTestRecord& record, const std::vector<std::string>& names) {
-  Require(static_cast<Eigen::Index>(names.size()) == record.response.cols(), "hammer test: one name per response");
+std::string FormatHammerTestCsv(const HammerTestRecord& record,
+                                const std::vector<std::string>& names) {
+  Require(static_cast<Eigen::Index>(names.size()) == record.response.cols(),
+          "hammer test: one name per response");
   std::vector<std::string> header{"t_s", "force_n"};
   std::vector<Eigen::VectorXd> cols{record.t_s, record.force_n};
   for (std::size_t j = 0; j < names.size(); ++j) {
