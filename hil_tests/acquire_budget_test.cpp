@@ -50,10 +50,13 @@ class AcquireBudgetTest : public ::testing::Test {
   /// rate log d_hat.
   void CalibrateWithObserver(const std::string& fs_hz) {
     const std::string design = dir + "/design.json";
-    ASSERT_EQ(RunVibid({"dob", "design", VIBID_SOURCE_DIR "/examples/rig_nominal.json", "--fs-hz", fs_hz,
-                        "--force-fs-n", "400", "-o", design}).exit_code, 0);
-    const auto up = Vibid({"cal", "upload", VIBID_SOURCE_DIR "/examples/rig_nominal.json", "--design", design,
-                           "--sensors", VIBID_SOURCE_DIR "/examples/sensors.json"});
+    ASSERT_EQ(RunVibid({"dob", "design", VIBID_SOURCE_DIR "/examples/rig_nominal.json", "--fs-hz",
+                        fs_hz, "--force-fs-n", "400", "-o", design})
+                  .exit_code,
+              0);
+    const auto up =
+        Vibid({"cal", "upload", VIBID_SOURCE_DIR "/examples/rig_nominal.json", "--design", design,
+               "--sensors", VIBID_SOURCE_DIR "/examples/sensors.json"});
     ASSERT_EQ(up.exit_code, 0) << up.err;
     ASSERT_EQ(Vibid({"cal", "commit"}).exit_code, 0);
   }
@@ -70,21 +73,28 @@ TEST_F(AcquireBudgetTest, BeyondTheBudgetIsRefusedOrDropsWhatIsPredicted) {
   const std::string out = dir + "/fast.csv";
   const auto refused = Vibid({"acquire", "--rate-hz", "10000", "--seconds", "2", "-o", out});
   EXPECT_EQ(refused.exit_code, 1) << refused.err;
-  EXPECT_NE(refused.err.find("200000 B/s of log records (10000 records/s of 20 B) exceed the link's 40000 B/s"),
-            std::string::npos) << refused.err;
-  EXPECT_NE(refused.err.find("the 96 KiB log overflows after 0.5 s of the 2.0 s"), std::string::npos) << refused.err;
+  EXPECT_NE(refused.err.find(
+                "200000 B/s of log records (10000 records/s of 20 B) exceed the link's 40000 B/s"),
+            std::string::npos)
+      << refused.err;
+  EXPECT_NE(refused.err.find("the 96 KiB log overflows after 0.5 s of the 2.0 s"),
+            std::string::npos)
+      << refused.err;
   EXPECT_NE(refused.err.find("use --log-rate-hz 2000 or lower"), std::string::npos) << refused.err;
   EXPECT_FALSE(std::filesystem::exists(out)) << "nothing written";
 
-  const auto allowed = Vibid({"acquire", "--rate-hz", "10000", "--seconds", "2", "--allow-drops", "-o", out});
+  const auto allowed =
+      Vibid({"acquire", "--rate-hz", "10000", "--seconds", "2", "--allow-drops", "-o", out});
   ASSERT_EQ(allowed.exit_code, 0) << allowed.err;
   const wire::LogLayout layout{wire::kAllChannelsMask, wire::kAcqFlagLogDob};
   const device::StreamPrediction p = device::PredictStream(
       20000, 10, static_cast<std::uint32_t>(kBoardProfile.log_bytes / layout.StoredRecordBytes()),
       static_cast<std::uint32_t>(layout.RecordsPerReport()));
   std::printf("10 kHz, all channels and d_hat, 2 s: predicted %llu kept, %llu dropped; %s",
-              static_cast<unsigned long long>(p.kept), static_cast<unsigned long long>(p.dropped), allowed.err.c_str());
-  EXPECT_NE(allowed.err.find("the board dropped " + std::to_string(p.dropped) + " records"), std::string::npos)
+              static_cast<unsigned long long>(p.kept), static_cast<unsigned long long>(p.dropped),
+              allowed.err.c_str());
+  EXPECT_NE(allowed.err.find("the board dropped " + std::to_string(p.dropped) + " records"),
+            std::string::npos)
       << allowed.err;
   EXPECT_EQ(DataRows(out), p.kept);
 }
@@ -93,7 +103,8 @@ TEST_F(AcquireBudgetTest, BeyondTheBudgetIsRefusedOrDropsWhatIsPredicted) {
 TEST_F(AcquireBudgetTest, TheDecimatedLogFitsAndDropsNothing) {
   CalibrateWithObserver("10000");
   const std::string out = dir + "/decimated.csv";
-  const auto r = Vibid({"acquire", "--rate-hz", "10000", "--log-rate-hz", "2000", "--seconds", "3", "-o", out});
+  const auto r = Vibid(
+      {"acquire", "--rate-hz", "10000", "--log-rate-hz", "2000", "--seconds", "3", "-o", out});
   ASSERT_EQ(r.exit_code, 0) << r.err;
   EXPECT_EQ(r.err.find("the board dropped"), std::string::npos) << r.err;
   EXPECT_EQ(DataRows(out), 6000u);
@@ -101,18 +112,22 @@ TEST_F(AcquireBudgetTest, TheDecimatedLogFitsAndDropsNothing) {
   std::string header;
   std::getline(in, header);
   EXPECT_NE(header.find("d_hat_q31"), std::string::npos) << header;
-  const auto bad = Vibid({"acquire", "--rate-hz", "10000", "--log-rate-hz", "3000", "--seconds", "1", "-o", out});
+  const auto bad = Vibid(
+      {"acquire", "--rate-hz", "10000", "--log-rate-hz", "3000", "--seconds", "1", "-o", out});
   EXPECT_EQ(bad.exit_code, 1);
-  EXPECT_NE(bad.err.find("--log-rate-hz 3000: the sample rate 10000 Hz must be a whole multiple of it"),
-            std::string::npos) << bad.err;
+  EXPECT_NE(
+      bad.err.find("--log-rate-hz 3000: the sample rate 10000 Hz must be a whole multiple of it"),
+      std::string::npos)
+      << bad.err;
 }
 
 // Load cell 1 and both accelerometers at 5 kHz: 6-byte records, 9 per report (9000 records/s on
 // the link for 5000 made), for 10 simulated minutes.
 TEST_F(AcquireBudgetTest, ThreeChannelsStreamTenMinutesAtFiveKilohertz) {
   const std::string out = dir + "/ten_minutes.csv";
-  const auto r = Vibid({"acquire", "--rate-hz", "5000", "--channels", "force1,acc1,acc2", "--seconds", "600",
-                        "--scenario", "hammer", "--scenario-param", "2,200,2,0", "-o", out});
+  const auto r =
+      Vibid({"acquire", "--rate-hz", "5000", "--channels", "force1,acc1,acc2", "--seconds", "600",
+             "--scenario", "hammer", "--scenario-param", "2,200,2,0", "-o", out});
   ASSERT_EQ(r.exit_code, 0) << r.err;
   EXPECT_EQ(r.err.find("the board dropped"), std::string::npos) << r.err;
   EXPECT_EQ(DataRows(out), 3'000'000u);

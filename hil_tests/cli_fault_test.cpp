@@ -32,7 +32,8 @@ std::string ReadText(const std::string& path) {
 
 std::vector<std::string> FilesIn(const std::string& dir) {
   std::vector<std::string> names;
-  for (const auto& e : std::filesystem::directory_iterator(dir)) names.push_back(e.path().filename().string());
+  for (const auto& e : std::filesystem::directory_iterator(dir))
+    names.push_back(e.path().filename().string());
   std::sort(names.begin(), names.end());
   return names;
 }
@@ -43,7 +44,8 @@ class CliFaultTest : public ::testing::Test {
     // The suite's target picks the case: only a vibid-emu process can be killed or signalled
     // around from outside while a separate `vibid` process talks to it.
     if (MakeTarget()->Name() != "emu") GTEST_SKIP() << "needs the emu target (a vibid-emu process)";
-    emu = std::make_unique<EmulatorProcess>(EmulatorBinary(), std::vector<std::string>{"--realtime"});
+    emu =
+        std::make_unique<EmulatorProcess>(EmulatorBinary(), std::vector<std::string>{"--realtime"});
     dir = vibid::testing::MakeTempDir("cli-fault");
   }
   void TearDown() override {
@@ -55,8 +57,8 @@ class CliFaultTest : public ::testing::Test {
   /// configure, start and begin pulling.
   std::unique_ptr<VibidProcess> StartAcquire(const std::string& output) {
     auto p = std::make_unique<VibidProcess>(
-        std::vector<std::string>{"--device", emu->device_spec(), "acquire", "--seconds", "60", "--channels",
-                                 "force1,acc1,acc2", "-o", output});
+        std::vector<std::string>{"--device", emu->device_spec(), "acquire", "--seconds", "60",
+                                 "--channels", "force1,acc1,acc2", "-o", output});
     EXPECT_TRUE(emu->AwaitLog("USB/IP client imported", 1, 5s)) << emu->Log();
     std::this_thread::sleep_for(300ms);
     return p;
@@ -94,7 +96,8 @@ TEST_F(CliFaultTest, CtrlCStopsTheAcquisitionAndWritesNothing) {
   // The board is idle: a monitor line reports its acquisition state.
   const auto monitor = RunVibid({"--device", emu->device_spec(), "monitor", "--count", "1"});
   ASSERT_EQ(monitor.exit_code, 0) << monitor.err;
-  const std::string last_line = monitor.out.substr(monitor.out.rfind('\n', monitor.out.size() - 2) + 1);
+  const std::string last_line =
+      monitor.out.substr(monitor.out.rfind('\n', monitor.out.size() - 2) + 1);
   EXPECT_EQ(last_line.substr(last_line.rfind('\t') + 1), "idle\n") << monitor.out;
 }
 
@@ -112,11 +115,12 @@ TEST(CliPullTest, PullKilledMidwayIsRepeatedAndResumedWithNothingLostOrDuplicate
   // In real time, so the pull (1000 reports, one per 1 ms frame) is still going when it is killed.
   EmulatorProcess emu(EmulatorBinary(), {"--realtime"});
   const std::string dir = vibid::testing::MakeTempDir("cli-pull");
-  const std::string acquired = dir + "/acquired.csv", pulled = dir + "/pulled.csv", tail = dir + "/tail.csv";
+  const std::string acquired = dir + "/acquired.csv", pulled = dir + "/pulled.csv",
+                    tail = dir + "/tail.csv";
   // 1.6 s at 5 kHz of three channels (10 bytes a record in the board's RAM): 8000 records, all
   // still in the 96 KiB log (9830) when the pulls below ask for them.
-  const auto a = RunVibid({"--device", emu.device_spec(), "acquire", "--seconds", "1.6", "--channels", "force1,acc1,acc2",
-                           "-o", acquired});
+  const auto a = RunVibid({"--device", emu.device_spec(), "acquire", "--seconds", "1.6",
+                           "--channels", "force1,acc1,acc2", "-o", acquired});
   ASSERT_EQ(a.exit_code, 0) << a.err;
   const std::vector<std::string> rows = Lines(ReadText(acquired));
   ASSERT_EQ(rows.size(), 8001u) << "header and 1.6 s at 5 kHz";
@@ -135,12 +139,14 @@ TEST(CliPullTest, PullKilledMidwayIsRepeatedAndResumedWithNothingLostOrDuplicate
   ASSERT_EQ(again.exit_code, 0) << again.err;
   EXPECT_EQ(ReadText(pulled), ReadText(acquired)) << "the whole log again, record for record";
 
-  const auto resumed = RunVibid({"--device", emu.device_spec(), "log", "pull", "--from", "6000", "-o", tail});
+  const auto resumed =
+      RunVibid({"--device", emu.device_spec(), "log", "pull", "--from", "6000", "-o", tail});
   ASSERT_EQ(resumed.exit_code, 0) << resumed.err;
   const std::vector<std::string> tail_rows = Lines(ReadText(tail));
   ASSERT_EQ(tail_rows.size(), 2001u);
   EXPECT_EQ(tail_rows.front(), rows.front());
-  EXPECT_TRUE(std::equal(tail_rows.begin() + 1, tail_rows.end(), rows.begin() + 6001)) << "records 6000.. as acquired";
+  EXPECT_TRUE(std::equal(tail_rows.begin() + 1, tail_rows.end(), rows.begin() + 6001))
+      << "records 6000.. as acquired";
   std::error_code ec;
   std::filesystem::remove_all(dir, ec);
 }
@@ -174,8 +180,10 @@ TEST_F(CliCoreFaultTest, AnotherProtocolMajorIsRefusedNamingBothVersions) {
   loop->SetProtocolMajor(wire::kProtocolMajor + 1);
   const auto r = Vibid({"info"});
   EXPECT_EQ(r.exit_code, 4);
-  EXPECT_EQ(r.err, "vibid: error: the device speaks protocol 3.x, this host speaks 2." + std::to_string(wire::kProtocolMinor) +
-                       ": flash firmware that matches this host (vibid flash) or use a matching host\n");
+  EXPECT_EQ(r.err,
+            "vibid: error: the device speaks protocol 3.x, this host speaks 2." +
+                std::to_string(wire::kProtocolMinor) +
+                ": flash firmware that matches this host (vibid flash) or use a matching host\n");
   EXPECT_TRUE(r.out.empty()) << r.out;
 }
 
@@ -202,7 +210,8 @@ TEST_F(CliCoreFaultTest, AnswersThatNeverComeFailWithOneLine) {
 
 TEST_F(CliCoreFaultTest, UnknownCommandNamesItAndWritesNothing) {
   // The scenario command exists on the emulator only; this board answers unimplemented.
-  const auto r = Vibid({"acquire", "--seconds", "0.1", "--scenario", "hammer", "-o", dir + "/rec.csv"});
+  const auto r =
+      Vibid({"acquire", "--seconds", "0.1", "--scenario", "hammer", "-o", dir + "/rec.csv"});
   EXPECT_EQ(r.exit_code, 4);
   EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << r.err;
   EXPECT_NE(r.err.find("select-scenario"), std::string::npos) << r.err;

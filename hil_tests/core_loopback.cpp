@@ -94,7 +94,9 @@ std::array<std::int32_t, wire::kChannelCount> CoreLoopback::FrameAt(std::uint32_
   // A 20-tick half-sine pulse of 1500 counts above the load cell's 2048 zero, starting at tick
   // 200 and every 500 ticks after (so a trigger has pre-trigger history).
   const std::uint32_t phase = (tick + 300) % 500;
-  raw[0] = 2048 + (phase < 20 ? static_cast<std::int32_t>(std::lround(1500.0 * std::sin(std::numbers::pi * phase / 20.0))) : 0);
+  raw[0] = 2048 + (phase < 20 ? static_cast<std::int32_t>(
+                                    std::lround(1500.0 * std::sin(std::numbers::pi * phase / 20.0)))
+                              : 0);
   raw[1] = 2048 + static_cast<std::int32_t>((tick / 8) % 256);
   raw[2] = 2048 + static_cast<std::int32_t>(tick % 64);
   raw[3] = 2048 - static_cast<std::int32_t>(tick % 32);

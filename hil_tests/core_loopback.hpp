@@ -37,9 +37,9 @@ class CoreLoopback {
   void Kill();
 
   // Faults on the device-to-host path, applied to the next reports the core sends.
-  void CorruptNext(int reports) { corrupt_.store(reports); }   ///< Flips the magic.
-  void TruncateNext(int reports) { truncate_.store(reports); } ///< Delivers 40 of 64 bytes.
-  void DropNext(int reports) { drop_.store(reports); }         ///< Never delivered.
+  void CorruptNext(int reports) { corrupt_.store(reports); }    ///< Flips the magic.
+  void TruncateNext(int reports) { truncate_.store(reports); }  ///< Delivers 40 of 64 bytes.
+  void DropNext(int reports) { drop_.store(reports); }          ///< Never delivered.
   /// Drops the data report with this sequence number in the next stream.
   void DropStreamReport(int sequence) { drop_sequence_.store(sequence); }
   /// Rewrites the protocol major of every report (a device of another protocol generation).

@@ -36,7 +36,8 @@ wire::AcqConfigureRequest AllChannels(std::uint32_t record_limit) {
 std::array<std::int32_t, wire::kChannelCount> LoggedAt(std::uint32_t tick) {
   auto v = CoreLoopback::FrameAt(tick);
   for (std::size_t c = 0; c < wire::kChannelCount; ++c) {
-    if (wire::LogValueBytes(static_cast<wire::Channel>(c)) == 2) v[c] *= 1 << wire::kLogAdcFractionBits;
+    if (wire::LogValueBytes(static_cast<wire::Channel>(c)) == 2)
+      v[c] *= 1 << wire::kLogAdcFractionBits;
   }
   return v;
 }
@@ -86,7 +87,9 @@ TEST_F(DeviceTest, CalibrationRoundTripAndPersistenceAcrossRestart) {
     wire::CalGetTrailer trailer;
     EXPECT_EQ(c->CalGet(&trailer), record);
     EXPECT_EQ(trailer.sequence, commit.sequence);
-    EXPECT_EQ(c->GetInfo().cal_crc, wire::StoredRecordCrc(std::span<const std::uint8_t, wire::kCalRecordBytes>(record.data(), record.size())));
+    EXPECT_EQ(c->GetInfo().cal_crc,
+              wire::StoredRecordCrc(std::span<const std::uint8_t, wire::kCalRecordBytes>(
+                  record.data(), record.size())));
   }
   if (!target->Restart()) GTEST_SKIP() << "target cannot be power cycled by the test";
   auto c = target->Connect();
@@ -134,7 +137,8 @@ TEST_F(DeviceTest, ForceTriggerKeepsThePretriggerRecords) {
   cfg.trigger_threshold = static_cast<std::int32_t>(std::lround(20.0 / 100.0 * 2147483648.0));
   cfg.pretrigger_records = 50;
   const bool simulated_rig = (c->info().capabilities & wire::kCapScenarioSelect) != 0;
-  if (simulated_rig) c->SelectScenario("hammer", std::vector<float>{2.0f, 100.0f, 0.5f});  // hits on mass 2
+  if (simulated_rig)
+    c->SelectScenario("hammer", std::vector<float>{2.0f, 100.0f, 0.5f});  // hits on mass 2
   c->Configure(cfg);
   c->StartAcquisition();
   target->Feed(*c, 0, 1000);
@@ -146,7 +150,8 @@ TEST_F(DeviceTest, ForceTriggerKeepsThePretriggerRecords) {
   const auto force_n = [](const wire::LogRecord& r) {
     std::uint32_t clips = 0;
     const auto scaling = fw::testing::TestRecord(9).channels[0];
-    return wire::ScaleChannel(r.raw[0] >> wire::kLogAdcFractionBits, scaling, clips) / 2147483648.0 * 100.0;
+    return wire::ScaleChannel(r.raw[0] >> wire::kLogAdcFractionBits, scaling, clips) /
+           2147483648.0 * 100.0;
   };
   // The test signal's pulse starts at tick 200; 1500 sin(2 pi / 20) counts = 22.6 N is its first
   // sample above (a simulated rig's hammer hits at its own times).
@@ -182,11 +187,12 @@ TEST_F(DeviceTest, PullWhileAcquiringFollowsTheLog) {
   if (loop != nullptr) loop->SetFramesPerStep(2);
   auto c = target->Connect();
   // A target fed by the test can only be fed ahead of the pull, so it gets what fits.
-  const std::uint32_t fits = c->info().log_capacity_bytes / static_cast<std::uint32_t>(
-      wire::LogLayout{wire::kAllChannelsMask, 0}.StoredRecordBytes());
+  const std::uint32_t fits =
+      c->info().log_capacity_bytes /
+      static_cast<std::uint32_t>(wire::LogLayout{wire::kAllChannelsMask, 0}.StoredRecordBytes());
   // The loopback's sampling waits for nobody, so twice its log must pass through a pull that
   // keeps up; a rig running at its own pace gets a fixed length.
-  const std::uint32_t n = target->NeedsFeed() ? fits
+  const std::uint32_t n = target->NeedsFeed()             ? fits
                           : target->loopback() != nullptr ? std::max<std::uint32_t>(3000, 2 * fits)
                                                           : std::min<std::uint32_t>(3000, fits);
   c->Configure(AllChannels(n));
@@ -206,12 +212,13 @@ TEST_F(DeviceTest, LogPulledWhileAcquiringCanBePulledAgain) {
   CoreLoopback* loop = target->loopback();
   if (loop != nullptr) loop->SetFramesPerStep(2);
   auto c = target->Connect();
-  const std::uint32_t fits = c->info().log_capacity_bytes / static_cast<std::uint32_t>(
-      wire::LogLayout{wire::kAllChannelsMask, 0}.StoredRecordBytes());
+  const std::uint32_t fits =
+      c->info().log_capacity_bytes /
+      static_cast<std::uint32_t>(wire::LogLayout{wire::kAllChannelsMask, 0}.StoredRecordBytes());
   // The loopback's log is small: make it wrap, so the refusal below is exercised there.
   const std::uint32_t n = target->NeedsFeed() ? fits
-                          : loop != nullptr  ? std::max<std::uint32_t>(3000, 2 * fits)
-                                             : std::min<std::uint32_t>(3000, fits);
+                          : loop != nullptr   ? std::max<std::uint32_t>(3000, 2 * fits)
+                                              : std::min<std::uint32_t>(3000, fits);
   c->Configure(AllChannels(n));
   c->StartAcquisition();
   target->Feed(*c, 0, n);
@@ -254,7 +261,8 @@ TEST_F(DeviceTest, CorruptedAndTruncatedReportsAreDroppedAndTheRequestRetried) {
 TEST_F(DeviceTest, LostAnswersFailWithAOneLineMessageAfterTheRetries) {
   CoreLoopback* loop = target->loopback();
   if (loop == nullptr) GTEST_SKIP() << "needs fault injection";
-  auto c = target->Connect(device::ConnectionOptions{.timeout = std::chrono::milliseconds(50), .retries = 2});
+  auto c = target->Connect(
+      device::ConnectionOptions{.timeout = std::chrono::milliseconds(50), .retries = 2});
   loop->DropNext(3);
   try {
     c->GetStatus();
@@ -287,12 +295,14 @@ TEST_F(DeviceTest, UnknownCommandIsRefusedAsUnimplemented) {
     c->Expect(static_cast<Command>(0x5A));
     FAIL();
   } catch (const DeviceError& e) {
-    EXPECT_NE(std::string(e.what()).find("does not know this command"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("does not know this command"), std::string::npos)
+        << e.what();
   }
 }
 
 TEST_F(DeviceTest, DeviceVanishingMidPullIsReported) {
-  if (target->Name() != "emu" && target->Name() != "core") GTEST_SKIP() << "the test cannot remove this device";
+  if (target->Name() != "emu" && target->Name() != "core")
+    GTEST_SKIP() << "the test cannot remove this device";
   CoreLoopback* loop = target->loopback();
   if (loop != nullptr) loop->SetFramesPerStep(1);
   auto c = target->Connect();

@@ -35,7 +35,9 @@ std::vector<std::uint8_t> ReadAll(const std::string& path) {
 }
 
 void WriteAll(const std::string& path, const std::vector<std::uint8_t>& bytes) {
-  std::ofstream(path, std::ios::binary).write(reinterpret_cast<const char*>(bytes.data()), static_cast<std::streamsize>(bytes.size()));
+  std::ofstream(path, std::ios::binary)
+      .write(reinterpret_cast<const char*>(bytes.data()),
+             static_cast<std::streamsize>(bytes.size()));
 }
 
 /// A whole board image as `objcopy -O binary --gap-fill 0xff` gives it for the board's linker
@@ -66,7 +68,9 @@ class DfuFlashTest : public ::testing::Test {
   void SetUp() override {
     target = MakeTarget();
     emu = target->emulator();
-    if (emu == nullptr) GTEST_SKIP() << "target '" << target->Name() << "' has no flash file the test can read (emulator only)";
+    if (emu == nullptr)
+      GTEST_SKIP() << "target '" << target->Name()
+                   << "' has no flash file the test can read (emulator only)";
     dir = vibid::testing::MakeTempDir("flash");
     // A committed calibration, so the calibration sectors hold something to keep.
     auto c = target->Connect();
@@ -76,7 +80,8 @@ class DfuFlashTest : public ::testing::Test {
     cal_crc = c->GetInfo().cal_crc;
     before = ReadAll(emu->flash_path());
     ASSERT_EQ(before.size(), kFlashBytes);
-    ASSERT_TRUE(std::any_of(before.begin() + kCalBegin, before.begin() + kCalEnd, [](std::uint8_t b) { return b != 0xFF; }));
+    ASSERT_TRUE(std::any_of(before.begin() + kCalBegin, before.begin() + kCalEnd,
+                            [](std::uint8_t b) { return b != 0xFF; }));
   }
   void TearDown() override {
     std::error_code ec;
@@ -89,15 +94,17 @@ class DfuFlashTest : public ::testing::Test {
     const std::vector<std::uint8_t> now = ReadAll(emu->flash_path());
     ASSERT_EQ(now.size(), kFlashBytes);
     EXPECT_TRUE(std::equal(image.begin(), image.begin() + kCalBegin, now.begin())) << "sectors 0-1";
-    EXPECT_TRUE(std::equal(before.begin() + kCalBegin, before.begin() + kCalEnd, now.begin() + kCalBegin))
+    EXPECT_TRUE(
+        std::equal(before.begin() + kCalBegin, before.begin() + kCalEnd, now.begin() + kCalBegin))
         << "the calibration sectors changed";
     const auto differs = std::mismatch(image.begin() + kCalEnd, image.end(), now.begin() + kCalEnd);
-    EXPECT_EQ(differs.first, image.end()) << "first difference at flash offset 0x" << std::hex
-                                          << (differs.first - image.begin());
-    EXPECT_TRUE(std::all_of(now.begin() + static_cast<std::ptrdiff_t>(image.size()), now.begin() + kSector6End,
-                            [](std::uint8_t b) { return b == 0xFF; }))
+    EXPECT_EQ(differs.first, image.end())
+        << "first difference at flash offset 0x" << std::hex << (differs.first - image.begin());
+    EXPECT_TRUE(std::all_of(now.begin() + static_cast<std::ptrdiff_t>(image.size()),
+                            now.begin() + kSector6End, [](std::uint8_t b) { return b == 0xFF; }))
         << "the rest of sector 6 is erased";
-    EXPECT_TRUE(std::equal(before.begin() + kSector6End, before.end(), now.begin() + kSector6End)) << "sectors 7-11";
+    EXPECT_TRUE(std::equal(before.begin() + kSector6End, before.end(), now.begin() + kSector6End))
+        << "sectors 7-11";
   }
 
   /// The application runs again, still calibrated with the same record.
@@ -120,11 +127,13 @@ TEST_F(DfuFlashTest, HostLayerWritesTheImageByteForByteAndKeepsTheCalibration) {
   const std::vector<std::uint8_t> image = BoardImage(20261121, 300000);
   std::uint64_t blocks = 0;
   const auto started = std::chrono::steady_clock::now();
-  const device::FlashBoardResult r = device::FlashBoard(device::ParseDeviceSpec(emu->device_spec()), image, kFlashBase,
-                                                        [&](const std::string& phase, std::uint64_t done, std::uint64_t) {
-                                                          if (phase == "download") blocks = done;
-                                                        });
-  const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();
+  const device::FlashBoardResult r =
+      device::FlashBoard(device::ParseDeviceSpec(emu->device_spec()), image, kFlashBase,
+                         [&](const std::string& phase, std::uint64_t done, std::uint64_t) {
+                           if (phase == "download") blocks = done;
+                         });
+  const double seconds =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();
   std::printf("flashed %zu bytes through the DfuSe bootloader in %.3f s\n", image.size(), seconds);
   EXPECT_TRUE(r.from_application);
   // 32 KiB + 300000 bytes in 2048-byte blocks: 16 + ceil(300000 / 2048) = 16 + 147.
@@ -161,8 +170,11 @@ TEST_F(DfuFlashTest, BadImagesAreRefusedBeforeTheBoardLeavesItsApplication) {
   } cases[] = {
       {"empty.bin", {}, "empty.bin: the image is empty"},
       {"huge.bin", std::vector<std::uint8_t>(kFlashBytes + 1, 0xFF),
-       "huge.bin: the image (1048577 bytes at 0x08000000) does not fit the flash (1048576 bytes at 0x08000000)"},
-      {"cal.bin", in_calibration, "cal.bin: the image has data at 0x08008123, in the sector at 0x08008000 that holds the calibration"},
+       "huge.bin: the image (1048577 bytes at 0x08000000) does not fit the flash (1048576 bytes at "
+       "0x08000000)"},
+      {"cal.bin", in_calibration,
+       "cal.bin: the image has data at 0x08008123, in the sector at 0x08008000 that holds the "
+       "calibration"},
   };
   for (const auto& c : cases) {
     const std::string path = dir + "/" + c.name;
@@ -174,7 +186,8 @@ TEST_F(DfuFlashTest, BadImagesAreRefusedBeforeTheBoardLeavesItsApplication) {
     EXPECT_TRUE(r.out.empty()) << r.out;
   }
   EXPECT_EQ(ReadAll(emu->flash_path()), before) << "nothing written";
-  EXPECT_FALSE(emu->AwaitLog("DfuSe bootloader running", 1, std::chrono::milliseconds(0))) << emu->Log();
+  EXPECT_FALSE(emu->AwaitLog("DfuSe bootloader running", 1, std::chrono::milliseconds(0)))
+      << emu->Log();
   ExpectApplicationBackCalibrated();
 }
 

@@ -66,7 +66,9 @@ void EmulatorProcess::Start() {
   banner_ = line;
 }
 
-std::string EmulatorProcess::device_spec() const { return "usbip://127.0.0.1:" + std::to_string(port_); }
+std::string EmulatorProcess::device_spec() const {
+  return "usbip://127.0.0.1:" + std::to_string(port_);
+}
 
 std::string EmulatorProcess::Log() const {
   std::ifstream in(dir_ + "/emu.log");
@@ -75,12 +77,15 @@ std::string EmulatorProcess::Log() const {
   return s.str();
 }
 
-bool EmulatorProcess::AwaitLog(const std::string& text, int count, std::chrono::milliseconds timeout) const {
+bool EmulatorProcess::AwaitLog(const std::string& text, int count,
+                               std::chrono::milliseconds timeout) const {
   const auto deadline = std::chrono::steady_clock::now() + timeout;
   for (;;) {
     const std::string log = Log();
     int seen = 0;
-    for (std::size_t at = log.find(text); at != std::string::npos; at = log.find(text, at + text.size())) ++seen;
+    for (std::size_t at = log.find(text); at != std::string::npos;
+         at = log.find(text, at + text.size()))
+      ++seen;
     if (seen >= count) return true;
     if (std::chrono::steady_clock::now() > deadline) return false;
     std::this_thread::sleep_for(std::chrono::milliseconds(5));

@@ -35,10 +35,24 @@ QemuBoard::QemuBoard(const std::string& image) {
   socket_ = dir_ + "/usart1.sock";
   diagnostics_ = dir_ + "/usart2.log";
   // The same machine the firmware's own QEMU test boots (firmware/ports/qemu/qemu_link.py).
-  std::vector<std::string> args = {"qemu-system-arm", "-M", "netduinoplus2", "-display", "none", "-monitor", "none",
-                                   "-no-reboot", "-icount", "shift=0,align=off,sleep=off",
-                                   "-chardev", "socket,id=link,path=" + socket_ + ",server=on,wait=off",
-                                   "-serial", "chardev:link", "-serial", "file:" + diagnostics_, "-kernel", image};
+  std::vector<std::string> args = {"qemu-system-arm",
+                                   "-M",
+                                   "netduinoplus2",
+                                   "-display",
+                                   "none",
+                                   "-monitor",
+                                   "none",
+                                   "-no-reboot",
+                                   "-icount",
+                                   "shift=0,align=off,sleep=off",
+                                   "-chardev",
+                                   "socket,id=link,path=" + socket_ + ",server=on,wait=off",
+                                   "-serial",
+                                   "chardev:link",
+                                   "-serial",
+                                   "file:" + diagnostics_,
+                                   "-kernel",
+                                   image};
   pid_ = fork();
   if (pid_ < 0) throw std::runtime_error("fork failed");
   if (pid_ == 0) {
@@ -55,7 +69,8 @@ QemuBoard::QemuBoard(const std::string& image) {
       pid_ = -1;
       throw std::runtime_error("qemu-system-arm exited before the image was ready");
     }
-    if (std::chrono::steady_clock::now() > deadline) throw std::runtime_error("the QEMU image did not report ready");
+    if (std::chrono::steady_clock::now() > deadline)
+      throw std::runtime_error("the QEMU image did not report ready");
     std::this_thread::sleep_for(std::chrono::milliseconds(20));
   }
 }

@@ -13,14 +13,17 @@
 
 namespace vibid::hil {
 
-SerialBridge::SerialBridge(Connect connect, std::string path) : connect_(std::move(connect)), path_(std::move(path)) {
+SerialBridge::SerialBridge(Connect connect, std::string path)
+    : connect_(std::move(connect)), path_(std::move(path)) {
   listener_ = ::socket(AF_UNIX, SOCK_STREAM | SOCK_CLOEXEC, 0);
   sockaddr_un addr{};
   addr.sun_family = AF_UNIX;
-  if (listener_ < 0 || path_.size() >= sizeof(addr.sun_path)) throw std::runtime_error("cannot serve " + path_);
+  if (listener_ < 0 || path_.size() >= sizeof(addr.sun_path))
+    throw std::runtime_error("cannot serve " + path_);
   std::memcpy(addr.sun_path, path_.c_str(), path_.size() + 1);
   ::unlink(path_.c_str());
-  if (::bind(listener_, reinterpret_cast<const sockaddr*>(&addr), sizeof(addr)) != 0 || ::listen(listener_, 1) != 0) {
+  if (::bind(listener_, reinterpret_cast<const sockaddr*>(&addr), sizeof(addr)) != 0 ||
+      ::listen(listener_, 1) != 0) {
     ::close(listener_);
     throw std::runtime_error("cannot listen on " + path_ + ": " + std::strerror(errno));
   }

@@ -32,8 +32,8 @@ std::uint16_t Le16(const std::vector<std::uint8_t>& d, std::size_t at) {
 }
 
 /// GET_DESCRIPTOR addressed to an interface (HID 1.11 §7.1.1: class descriptors).
-std::vector<std::uint8_t> InterfaceDescriptor(UsbipDevice& usb, std::uint8_t type, std::uint8_t interface,
-                                              std::uint16_t length) {
+std::vector<std::uint8_t> InterfaceDescriptor(UsbipDevice& usb, std::uint8_t type,
+                                              std::uint8_t interface, std::uint16_t length) {
   Setup s;
   s.request_type = 0x81;  // device-to-host, standard, interface
   s.request = device::kGetDescriptor;
@@ -64,7 +64,9 @@ class UsbEnumerationTest : public ::testing::Test {
   void SetUp() override {
     target = MakeTarget();
     emu = target->emulator();
-    if (emu == nullptr) GTEST_SKIP() << "target '" << target->Name() << "' exposes no USB device to the test (USB/IP only)";
+    if (emu == nullptr)
+      GTEST_SKIP() << "target '" << target->Name()
+                   << "' exposes no USB device to the test (USB/IP only)";
     usb = UsbipDevice::Open("127.0.0.1", emu->port());
   }
   std::unique_ptr<Target> target;
@@ -75,11 +77,11 @@ class UsbEnumerationTest : public ::testing::Test {
 TEST_F(UsbEnumerationTest, DeviceDescriptorFollowsUsb20Table9_8) {
   const std::vector<std::uint8_t> d = GetDescriptor(*usb, kDevice, 0, 18);
   ASSERT_EQ(d.size(), 18u);
-  EXPECT_EQ(d[0], 18);                    // bLength
-  EXPECT_EQ(d[1], kDevice);               // bDescriptorType
-  EXPECT_EQ(Le16(d, 2), 0x0200);          // bcdUSB 2.00
-  EXPECT_EQ(d[4], 0);                     // bDeviceClass: defined per interface
-  EXPECT_EQ(d[7], 64);                    // bMaxPacketSize0: 64 at full speed (§9.6.1)
+  EXPECT_EQ(d[0], 18);            // bLength
+  EXPECT_EQ(d[1], kDevice);       // bDescriptorType
+  EXPECT_EQ(Le16(d, 2), 0x0200);  // bcdUSB 2.00
+  EXPECT_EQ(d[4], 0);             // bDeviceClass: defined per interface
+  EXPECT_EQ(d[7], 64);            // bMaxPacketSize0: 64 at full speed (§9.6.1)
   EXPECT_EQ(Le16(d, 8), fw::usb::kVendorId);
   EXPECT_EQ(Le16(d, 10), fw::usb::kProductId);
   EXPECT_EQ(Le16(d, 8), device::kUsbVendorId) << "the host's device filter";
@@ -87,7 +89,7 @@ TEST_F(UsbEnumerationTest, DeviceDescriptorFollowsUsb20Table9_8) {
   EXPECT_NE(d[14], 0) << "iManufacturer";
   EXPECT_NE(d[15], 0) << "iProduct";
   EXPECT_NE(d[16], 0) << "iSerialNumber";
-  EXPECT_EQ(d[17], 1);                    // bNumConfigurations
+  EXPECT_EQ(d[17], 1);  // bNumConfigurations
   EXPECT_EQ(d, usb->device_descriptor()) << "what Open enumerated";
   // A shorter wLength returns the first bytes only (§9.4.3): the host's first 8-byte request.
   const std::vector<std::uint8_t> head = GetDescriptor(*usb, kDevice, 0, 8);
@@ -142,7 +144,8 @@ TEST_F(UsbEnumerationTest, ConfigurationWalksToHidInterfaceAndDfuRuntimeInterfac
   }
   EXPECT_EQ(at, total);
   ASSERT_EQ(interfaces.size(), head[4]) << "bNumInterfaces";
-  for (const Interface& i : interfaces) EXPECT_EQ(i.endpoints_seen, i.endpoints) << "interface " << int{i.number};
+  for (const Interface& i : interfaces)
+    EXPECT_EQ(i.endpoints_seen, i.endpoints) << "interface " << int{i.number};
 
   // Interface 0: HID (class 3), no boot subclass, two interrupt endpoints of 64 bytes.
   ASSERT_EQ(interfaces.size(), 2u);
@@ -154,7 +157,8 @@ TEST_F(UsbEnumerationTest, ConfigurationWalksToHidInterfaceAndDfuRuntimeInterfac
     ASSERT_EQ(endpoints.count(address), 1u) << "endpoint 0x" << std::hex << int{address};
     const std::vector<std::uint8_t>& e = endpoints[address];
     EXPECT_EQ(e[3] & 0x03, 0x03) << "bmAttributes: interrupt";
-    EXPECT_EQ(Le16(e, 4), wire::kReportBytes) << "wMaxPacketSize: one 64-byte report per transaction";
+    EXPECT_EQ(Le16(e, 4), wire::kReportBytes)
+        << "wMaxPacketSize: one 64-byte report per transaction";
     EXPECT_GE(e[6], 1) << "bInterval";
   }
   // HID 1.11 §6.2.1: bcdHID 1.11, one class descriptor of type Report.
@@ -196,14 +200,29 @@ TEST_F(UsbEnumerationTest, HidReportDescriptorDeclares64ByteVendorReports) {
     std::uint32_t data = 0;
     for (std::size_t k = 0; k < size; ++k) data |= std::uint32_t{r[i + 1 + k]} << (8 * k);
     switch (prefix & 0xFC) {
-      case 0x04: usage_page = data; break;        // Global: Usage Page
-      case 0x74: report_size = data; break;       // Global: Report Size
-      case 0x94: report_count = data; break;      // Global: Report Count
-      case 0x80: input_bits += report_size * report_count; break;   // Main: Input
-      case 0x90: output_bits += report_size * report_count; break;  // Main: Output
-      case 0xA0: ++depth, ++collections; break;   // Main: Collection
-      case 0xC0: --depth; break;                  // Main: End Collection
-      default: break;
+      case 0x04:
+        usage_page = data;
+        break;  // Global: Usage Page
+      case 0x74:
+        report_size = data;
+        break;  // Global: Report Size
+      case 0x94:
+        report_count = data;
+        break;  // Global: Report Count
+      case 0x80:
+        input_bits += report_size * report_count;
+        break;  // Main: Input
+      case 0x90:
+        output_bits += report_size * report_count;
+        break;  // Main: Output
+      case 0xA0:
+        ++depth, ++collections;
+        break;  // Main: Collection
+      case 0xC0:
+        --depth;
+        break;  // Main: End Collection
+      default:
+        break;
     }
     ASSERT_GE(depth, 0) << "End Collection without a Collection at " << i;
     i += 1 + size;
@@ -260,7 +279,9 @@ std::vector<RawExport> RawDeviceList(int port) {
   std::uint8_t buf[4096];
   for (ssize_t n; (n = ::read(fd, buf, sizeof(buf))) > 0;) reply.insert(reply.end(), buf, buf + n);
   ::close(fd);
-  const auto be16 = [&](std::size_t at) { return static_cast<std::uint16_t>((reply.at(at) << 8) | reply.at(at + 1)); };
+  const auto be16 = [&](std::size_t at) {
+    return static_cast<std::uint16_t>((reply.at(at) << 8) | reply.at(at + 1));
+  };
   const auto be32 = [&](std::size_t at) { return (std::uint32_t{be16(at)} << 16) | be16(at + 2); };
   std::vector<RawExport> out;
   EXPECT_GE(reply.size(), 12u);
@@ -277,7 +298,8 @@ std::vector<RawExport> RawDeviceList(int port) {
     e.product = be16(at + 302);
     const std::uint8_t n = reply.at(at + 311);
     at += 312;
-    for (std::uint8_t k = 0; k < n; ++k, at += 4) e.interfaces.push_back({reply.at(at), reply.at(at + 1), reply.at(at + 2)});
+    for (std::uint8_t k = 0; k < n; ++k, at += 4)
+      e.interfaces.push_back({reply.at(at), reply.at(at + 1), reply.at(at + 2)});
     out.push_back(e);
   }
   EXPECT_EQ(at, reply.size()) << "nothing after the last device";
@@ -297,7 +319,8 @@ TEST_F(UsbEnumerationTest, DeviceListNamesBusIdIdsAndInterfaceClasses) {
   EXPECT_EQ(raw[0].interfaces[1], (std::array<std::uint8_t, 3>{0xFE, 0x01, 0x01}));  // DFU run-time
 
   // The host library reads the same list.
-  const std::vector<device::UsbipExport> listed = device::ListUsbipExports("127.0.0.1", emu->port());
+  const std::vector<device::UsbipExport> listed =
+      device::ListUsbipExports("127.0.0.1", emu->port());
   ASSERT_EQ(listed.size(), 1u);
   EXPECT_EQ(listed[0].busid, raw[0].busid);
   EXPECT_EQ(listed[0].vendor_id, raw[0].vendor);

@@ -39,19 +39,24 @@ int Shell(const std::string& command) {
 TEST(Workflow, CalibratesTheEmulatedRigAndTheObserverFindsThePush) {
   auto target = MakeTarget();
   EmulatorProcess* emu = target->emulator();
-  if (emu == nullptr) GTEST_SKIP() << "needs the emulator's hammer and shaker scenarios (target " << target->Name() << ")";
+  if (emu == nullptr)
+    GTEST_SKIP() << "needs the emulator's hammer and shaker scenarios (target " << target->Name()
+                 << ")";
   const std::string dir = testing::MakeTempDir("workflow");
   const std::string truth_path = dir + "/truth.json";
   ASSERT_EQ(Shell("'" + EmulatorBinary() + "' --print-truth > '" + truth_path + "'"), 0);
   const std::string out = dir + "/run";
   const std::string log = dir + "/workflow.log";
-  const int rc = Shell("VIBID='" VIBID_CLI_PATH "' '" VIBID_SOURCE_DIR "/scripts/workflow' --device '" + emu->device_spec() +
-                       "' --out '" + out + "' --truth '" + truth_path + "' > '" + log + "' 2>&1");
+  const int rc =
+      Shell("VIBID='" VIBID_CLI_PATH "' '" VIBID_SOURCE_DIR "/scripts/workflow' --device '" +
+            emu->device_spec() + "' --out '" + out + "' --truth '" + truth_path + "' > '" + log +
+            "' 2>&1");
   ASSERT_EQ(rc, 0) << ReadText(log);
   // Every acquisition fit the link: the CLI names any record the board dropped.
   const std::string transcript = ReadText(log);
   EXPECT_EQ(transcript.find("the board dropped"), std::string::npos) << transcript;
-  EXPECT_NE(transcript.find("link          64000 B/s"), std::string::npos) << "vibid info shows the board's link";
+  EXPECT_NE(transcript.find("link          64000 B/s"), std::string::npos)
+      << "vibid info shows the board's link";
 
   // Truth: the emulator's built-in rig (m1 2.0 kg with 9 % effective-mass loss, m2 1.53 kg,
   // k1 3520, k2 2760 N/m), as `vibid-emu --print-truth` states it.
@@ -61,9 +66,11 @@ TEST(Workflow, CalibratesTheEmulatedRigAndTheObserverFindsThePush) {
     const double m = truth["masses"][i].get<double>(), k = truth["springs"][i].get<double>();
     EXPECT_NEAR(updated["masses"][i].get<double>(), m, 0.01 * m) << "mass " << i + 1;
     EXPECT_NEAR(updated["springs"][i].get<double>(), k, 0.01 * k) << "spring " << i + 1;
-    std::printf("m%zu %.4f kg (truth %.4f, %+.2f %%), k%zu %.1f N/m (truth %.1f, %+.2f %%)\n", i + 1,
-                updated["masses"][i].get<double>(), m, 100 * (updated["masses"][i].get<double>() - m) / m, i + 1,
-                updated["springs"][i].get<double>(), k, 100 * (updated["springs"][i].get<double>() - k) / k);
+    std::printf("m%zu %.4f kg (truth %.4f, %+.2f %%), k%zu %.1f N/m (truth %.1f, %+.2f %%)\n",
+                i + 1, updated["masses"][i].get<double>(), m,
+                100 * (updated["masses"][i].get<double>() - m) / m, i + 1,
+                updated["springs"][i].get<double>(), k,
+                100 * (updated["springs"][i].get<double>() - k) / k);
   }
   const double fit_updated = ReadJson(out + "/fit_updated.json")["fit_percent"].get<double>();
   const double fit_nominal = ReadJson(out + "/fit_nominal.json")["fit_percent"].get<double>();
@@ -77,7 +84,9 @@ TEST(Workflow, CalibratesTheEmulatedRigAndTheObserverFindsThePush) {
 
   const std::string html = ReadText(out + "/report.html");
   std::size_t figures = 0;
-  for (std::size_t at = html.find("<svg "); at != std::string::npos; at = html.find("<svg ", at + 1)) ++figures;
+  for (std::size_t at = html.find("<svg "); at != std::string::npos;
+       at = html.find("<svg ", at + 1))
+    ++figures;
   EXPECT_EQ(figures, 4u) << "FRFs of both masses, the stabilization diagram and the push";
   char fits[64];
   std::snprintf(fits, sizeof fits, "%.2f", fit_updated);

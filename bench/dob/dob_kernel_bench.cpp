@@ -14,7 +14,8 @@ namespace {
 using namespace vibid;
 
 const fixed::FilterDescription& DefaultDescription() {
-  static const dob::DobDesign design = dob::DesignObserver(dob::ChainPlantForceOnM2({}), dob::DobOptions{});
+  static const dob::DobDesign design =
+      dob::DesignObserver(dob::ChainPlantForceOnM2({}), dob::DobOptions{});
   return design.fixed.description;
 }
 

@@ -20,11 +20,13 @@ constexpr std::size_t kFrames = 1000;
 
 TEST(DobKernelM4, RunsTheVectorOnce) {
   FilterDescription d{};
-  static_cast<void>(DecodeDescription(std::span<const std::uint8_t, kDescriptionBytes>(kVectorDescription), d));
+  static_cast<void>(
+      DecodeDescription(std::span<const std::uint8_t, kDescriptionBytes>(kVectorDescription), d));
   DobFilter filter;
   ASSERT_EQ(filter.Init(d), Status::kOk);
   static std::int32_t out[kFrames];
-  ASSERT_EQ(filter.StepBlock(std::span<const std::int32_t>(kVectorInput, 2 * kFrames), out), Status::kOk);
+  ASSERT_EQ(filter.StepBlock(std::span<const std::int32_t>(kVectorInput, 2 * kFrames), out),
+            Status::kOk);
   EXPECT_EQ(out[kFrames - 1], kVectorOutput[kFrames - 1]);
 }
 

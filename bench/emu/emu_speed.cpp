@@ -53,7 +53,8 @@ std::array<std::uint8_t, wire::kCalRecordBytes> RecordWithObserver(const emu::Ri
   o.sensor_full_scale = rig.accelerometers[1].range;
   const dob::DobDesign design = dob::DesignObserver(dob::ChainPlantForceOnM2(p), o);
   if (!design.stable || !design.fixed.ok) {
-    std::fprintf(stderr, "observer design failed: %s %s\n", design.message.c_str(), design.fixed.message.c_str());
+    std::fprintf(stderr, "observer design failed: %s %s\n", design.message.c_str(),
+                 design.fixed.message.c_str());
     std::exit(1);
   }
   wire::CalibrationRecord r;
@@ -61,8 +62,10 @@ std::array<std::uint8_t, wire::kCalRecordBytes> RecordWithObserver(const emu::Ri
   r.mass_kg = {static_cast<float>(p.m1_kg), 0.0f, 0.0f, static_cast<float>(p.m2_kg)};
   r.channels[0] = Scaling(wire::Unit::kNewton, 1, static_cast<float>(rig.load_cells[0].range));
   r.channels[1] = Scaling(wire::Unit::kNewton, 1, static_cast<float>(rig.load_cells[1].range));
-  r.channels[2] = Scaling(wire::Unit::kMeterPerSecond2, 0, static_cast<float>(rig.accelerometers[0].range));
-  r.channels[3] = Scaling(wire::Unit::kMeterPerSecond2, 1, static_cast<float>(rig.accelerometers[1].range));
+  r.channels[2] =
+      Scaling(wire::Unit::kMeterPerSecond2, 0, static_cast<float>(rig.accelerometers[0].range));
+  r.channels[3] =
+      Scaling(wire::Unit::kMeterPerSecond2, 1, static_cast<float>(rig.accelerometers[1].range));
   r.flags |= wire::kCalFlagHasDob;
   for (std::size_t i = 0; i < design.fixed.description.input_count; ++i) {
     const auto kind = design.fixed.description.input_kind[i];
@@ -121,9 +124,10 @@ int main() {
                                       [](const wire::LogRecord& r) { return r.d_hat != 0; });
     if (!observed) Fail("d_hat stayed 0: the observer did not run");
     const double speed = sim_s / wall_s;
-    std::printf("emulator speed (board-faithful): %.1f simulated s in %.3f wall s = %.1fx real time "
-                "(5 kHz, 2-DOF rig, DOB running, %zu records streamed, %u dropped)\n",
-                sim_s, wall_s, speed, pull.records.size(), pull.trailer.dropped_records);
+    std::printf(
+        "emulator speed (board-faithful): %.1f simulated s in %.3f wall s = %.1fx real time "
+        "(5 kHz, 2-DOF rig, DOB running, %zu records streamed, %u dropped)\n",
+        sim_s, wall_s, speed, pull.records.size(), pull.trailer.dropped_records);
     if (pull.trailer.dropped_records != 0) rc = 1;
     if (speed < 20.0) rc = 1;
 
@@ -143,13 +147,17 @@ int main() {
     const double reports = static_cast<double>(c.counters().reports - reports_before);
     const double record_bytes = 6.0;
     const double records = static_cast<double>(flood.records.size());
-    const double payload = records * record_bytes + (reports - 2.0) * 4.0;  // records + one tick per data report
-    std::printf("link use beyond the budget (10 kHz, load cell and two accelerometers, 6-byte records): %.0f reports in %.3f simulated s "
-                "= %.3f reports per 1 ms frame; payload %.0f B/s = %.1f %% of 64000 B/s (records alone %.1f %%); "
-                "%.0f records kept, %u dropped; %.1fx real time\n",
-                reports, sim_s, reports / (sim_s * 1000.0), payload / sim_s, 100.0 * payload / sim_s / 64000.0,
-                100.0 * records * record_bytes / sim_s / 64000.0, records, flood.trailer.dropped_records,
-                sim_s / wall_s);
+    const double payload =
+        records * record_bytes + (reports - 2.0) * 4.0;  // records + one tick per data report
+    std::printf(
+        "link use beyond the budget (10 kHz, load cell and two accelerometers, 6-byte records): "
+        "%.0f reports in %.3f simulated s "
+        "= %.3f reports per 1 ms frame; payload %.0f B/s = %.1f %% of 64000 B/s (records alone "
+        "%.1f %%); "
+        "%.0f records kept, %u dropped; %.1fx real time\n",
+        reports, sim_s, reports / (sim_s * 1000.0), payload / sim_s,
+        100.0 * payload / sim_s / 64000.0, 100.0 * records * record_bytes / sim_s / 64000.0,
+        records, flood.trailer.dropped_records, sim_s / wall_s);
   } catch (const std::exception& e) {
     std::fprintf(stderr, "emu_speed: %s\n", e.what());
     rc = 1;

@@ -30,7 +30,8 @@ int main(int argc, char** argv) {
     const vibid::Recording rec = vibid::LoadRecording(path);
     // As frf-estimate reads them: unscaled channels are the recording's own columns.
     const Eigen::VectorXd& force = rec.table.Column("force_n");
-    const std::vector<const Eigen::VectorXd*> resp = {&rec.table.Column("acc1_m_s2"), &rec.table.Column("acc2_m_s2")};
+    const std::vector<const Eigen::VectorXd*> resp = {&rec.table.Column("acc1_m_s2"),
+                                                      &rec.table.Column("acc2_m_s2")};
     const double load_s = std::chrono::duration<double>(clock::now() - t0).count();
     const double load_cpu_s = static_cast<double>(std::clock() - c0) / CLOCKS_PER_SEC;
     double best = 1e300;
@@ -41,14 +42,16 @@ int main(int argc, char** argv) {
       const std::clock_t c1 = std::clock();
       const vibid::ident::CrossSpectra s = vibid::ident::WelchSpectra(
           force, resp, rec.fs_hz, {.segment_samples = segment, .overlap_samples = segment / 2});
-      const vibid::ident::Frf frf =
-          vibid::ident::FrfFromSpectra(s, vibid::ident::Estimator::kH1, vibid::ident::Quantity::kAcceleration);
+      const vibid::ident::Frf frf = vibid::ident::FrfFromSpectra(
+          s, vibid::ident::Estimator::kH1, vibid::ident::Quantity::kAcceleration);
       best = std::min(best, std::chrono::duration<double>(clock::now() - t1).count());
       best_cpu = std::min(best_cpu, static_cast<double>(std::clock() - c1) / CLOCKS_PER_SEC);
       checksum = frf.coherence.sum() + std::abs(frf.h(frf.h.rows() / 3, 0));
     }
-    std::printf("samples %zu segment %zu load_s %.4f compute_s %.4f load_cpu_s %.4f compute_cpu_s %.4f checksum %.12g\n",
-                rec.samples(), segment, load_s, best, load_cpu_s, best_cpu, checksum);
+    std::printf(
+        "samples %zu segment %zu load_s %.4f compute_s %.4f load_cpu_s %.4f compute_cpu_s %.4f "
+        "checksum %.12g\n",
+        rec.samples(), segment, load_s, best, load_cpu_s, best_cpu, checksum);
   } catch (const vibid::InputError& e) {
     std::fprintf(stderr, "bench_frf: %s\n", e.what());
     return 1;

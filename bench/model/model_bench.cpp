@@ -6,7 +6,10 @@
 namespace vibid::model {
 namespace {
 
-Model Rig() { return MakeChain(Eigen::Vector2d(2.0, 1.5), Eigen::Vector2d(4000.0, 3000.0), Eigen::Vector2d(2.0, 1.5)); }
+Model Rig() {
+  return MakeChain(Eigen::Vector2d(2.0, 1.5), Eigen::Vector2d(4000.0, 3000.0),
+                   Eigen::Vector2d(2.0, 1.5));
+}
 
 void BM_Simulate(benchmark::State& state) {
   SimulationOptions o;

@@ -57,7 +57,9 @@ double BestMs(int repeats, F&& f) {
   for (int i = 0; i < repeats; ++i) {
     const auto t0 = std::chrono::steady_clock::now();
     f();
-    best = std::min(best, std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count());
+    best = std::min(
+        best,
+        std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count());
   }
   return best;
 }
@@ -74,14 +76,15 @@ void BM_Oe4(benchmark::State& state) {
   double oe_ms = 1e300;
   double arx_ms = 1e300;
   for (int round = 0; round < 3; ++round) {
-    oe_ms = std::min(oe_ms, BestMs(1, [&] {
-      PemResult oe = EstimatePem(data, Structure::kOe, PolyOrders{0, 4, 0, 0, 4, 1});
-      benchmark::DoNotOptimize(oe.model.f.data());
-    }));
+    oe_ms =
+        std::min(oe_ms, BestMs(1, [&] {
+                   PemResult oe = EstimatePem(data, Structure::kOe, PolyOrders{0, 4, 0, 0, 4, 1});
+                   benchmark::DoNotOptimize(oe.model.f.data());
+                 }));
     arx_ms = std::min(arx_ms, BestMs(5, [&] {
-      ArxResult arx = EstimateArx(data, PolyOrders{4, 4, 0, 0, 0, 1});
-      benchmark::DoNotOptimize(arx.model.a.data());
-    }));
+                        ArxResult arx = EstimateArx(data, PolyOrders{4, 4, 0, 0, 0, 1});
+                        benchmark::DoNotOptimize(arx.model.a.data());
+                      }));
   }
   state.counters["oe_ms"] = oe_ms;
   state.counters["arx_ms"] = arx_ms;

@@ -54,7 +54,8 @@ Status CalibrationStore::Load() {
   const SlotInfo a = Inspect(Slot::kA);
   const SlotInfo b = Inspect(Slot::kB);
   if (!a.valid && !b.valid) return Status::kDataLoss;
-  const Slot chosen = (a.valid && (!b.valid || !Newer(b.sequence, a.sequence))) ? Slot::kA : Slot::kB;
+  const Slot chosen =
+      (a.valid && (!b.valid || !Newer(b.sequence, a.sequence))) ? Slot::kA : Slot::kB;
   // scratch_ holds the slot inspected last (B); re-read if A won.
   if (chosen == Slot::kA) (void)Inspect(Slot::kA);
   calibrated_ = true;

@@ -124,7 +124,8 @@ wire::InfoResponse Core::Info() const {
     info.channel_kind[c] = wire::KindOf(static_cast<wire::Channel>(c));
   }
   info.reset_cause = port_.system.LastResetCause();
-  info.cal_state = store_.calibrated() ? wire::CalState::kCalibrated : wire::CalState::kUncalibrated;
+  info.cal_state =
+      store_.calibrated() ? wire::CalState::kCalibrated : wire::CalState::kUncalibrated;
   info.cal_slot = store_.slot();
   info.cal_crc = store_.record_crc();
   info.overrun_count = sampler_.overruns();
@@ -301,7 +302,8 @@ Status Core::ValidateConfig(const wire::AcqConfigureRequest& c) const {
   } else if (!wire::IsLoadCell(c.trigger_channel)) {
     return Status::kInvalidArgument;
   }
-  if (c.pretrigger_records >= ring_.CapacityFor(layout.StoredRecordBytes())) return Status::kOutOfRange;
+  if (c.pretrigger_records >= ring_.CapacityFor(layout.StoredRecordBytes()))
+    return Status::kOutOfRange;
   if (layout.HasDob()) {
     if (!dob_.loaded()) return Status::kFailedPrecondition;
     // The filter is only right at the rate it was discretized for.
@@ -344,7 +346,8 @@ Status Core::HandleAcqStart(const Header& h) {
   return Status::kOk;
 }
 
-void Core::StartLogStream(std::uint16_t token, std::uint32_t first, std::uint32_t end, bool follow) {
+void Core::StartLogStream(std::uint16_t token, std::uint32_t first, std::uint32_t end,
+                          bool follow) {
   encoder_.Begin(Command::kLogRead, token);
   stream_token_ = token;
   stream_ = StreamKind::kLog;
@@ -380,14 +383,15 @@ Status Core::HandleDobControl(const Header& h, std::span<const std::uint8_t> pay
   return Status::kOk;
 }
 
-Status Core::PackLogRecords(std::span<std::uint8_t, wire::kMaxStreamPayload> payload, std::size_t& length) {
+Status Core::PackLogRecords(std::span<std::uint8_t, wire::kMaxStreamPayload> payload,
+                            std::size_t& length) {
   // One report: the first record's tick, then records whose ticks follow by the decimation (a
   // gap, where the sampler dropped records, ends the report).
   const wire::LogLayout layout = sampler_.layout();
   const std::size_t rb = layout.RecordBytes();
   const std::uint32_t step = sampler_.config().decimation;
-  const std::uint32_t n_max = std::min(static_cast<std::uint32_t>(layout.RecordsPerReport()),
-                                       stream_end_ - stream_next_);
+  const std::uint32_t n_max =
+      std::min(static_cast<std::uint32_t>(layout.RecordsPerReport()), stream_end_ - stream_next_);
   std::uint32_t first_tick = 0;
   std::uint32_t n = 0;
   for (; n < n_max; ++n) {
@@ -401,7 +405,8 @@ Status Core::PackLogRecords(std::span<std::uint8_t, wire::kMaxStreamPayload> pay
       break;
     }
     const auto body = stored.subspan(wire::kLogIndexBytes, rb);
-    std::copy(body.begin(), body.end(), payload.begin() + static_cast<std::ptrdiff_t>(wire::kLogIndexBytes + n * rb));
+    std::copy(body.begin(), body.end(),
+              payload.begin() + static_cast<std::ptrdiff_t>(wire::kLogIndexBytes + n * rb));
   }
   // A released record can be overwritten while it is copied: if the oldest one of the report
   // is still intact now, so are the others, and the copies (ticks included) are whole.
@@ -436,7 +441,8 @@ bool Core::NextStreamReport() {
     } else {
       s = PackLogRecords(payload, length);
     }
-    if (s == Status::kOk) s = encoder_.Data(std::span<const std::uint8_t>(payload).first(length), pending_);
+    if (s == Status::kOk)
+      s = encoder_.Data(std::span<const std::uint8_t>(payload).first(length), pending_);
     if (s == Status::kOk) {
       if (stream_ == StreamKind::kLog && stream_follows_) (void)ring_.Release(stream_next_);
       has_pending_ = true;
@@ -446,7 +452,8 @@ bool Core::NextStreamReport() {
     // records before they went out (ask again from a newer record); anything else is a broken
     // invariant. End with a refusal either way.
     Header h;
-    h.command = static_cast<std::uint8_t>(stream_ == StreamKind::kLog ? Command::kLogRead : Command::kCalGet);
+    h.command = static_cast<std::uint8_t>(stream_ == StreamKind::kLog ? Command::kLogRead
+                                                                      : Command::kCalGet);
     h.token = stream_token_;  // the host's stream decoder takes only its own token
     stream_ = StreamKind::kNone;
     Respond(h, s == Status::kOutOfRange ? Status::kOutOfRange : Status::kInternal);
@@ -458,7 +465,8 @@ bool Core::NextStreamReport() {
     t.slot = store_.slot();
     t.sequence = store_.sequence();
     wire::Encode(t, payload);
-    (void)encoder_.End(std::span<std::uint8_t>(payload).first(wire::CalGetTrailer::kBytes), pending_);
+    (void)encoder_.End(std::span<std::uint8_t>(payload).first(wire::CalGetTrailer::kBytes),
+                       pending_);
   } else {
     const wire::LogLayout layout = sampler_.layout();
     wire::LogTrailer t;

@@ -17,7 +17,6 @@ using testing::Response;
 using testing::TestRecord;
 using wire::Command;
 
-
 wire::Report Chunk(std::span<const std::uint8_t> record, std::size_t i, std::uint16_t token) {
   wire::Report r{};
   (void)wire::BuildCalPutData(record, i, token, r);
@@ -173,7 +172,7 @@ TEST(CoreCalibration, CommittedScalingIsApplied) {
   wire::LatestResponse latest;
   ASSERT_EQ(wire::Decode(h.Request(Command::kReadLatest).payload(), latest), Status::kOk);
   // TestRecord: load cells and accelerometers (raw - 2048) * 2^20, encoders raw * 2^16.
-  EXPECT_EQ(latest.calibrated[0], 1 << 30);       // half of full scale: 50 N of 100 N
+  EXPECT_EQ(latest.calibrated[0], 1 << 30);  // half of full scale: 50 N of 100 N
   EXPECT_EQ(latest.calibrated[1], -(1 << 29));
   EXPECT_EQ(latest.calibrated[2], 0);
   EXPECT_EQ(latest.calibrated[3], 1 << 20);

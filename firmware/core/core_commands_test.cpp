@@ -156,8 +156,8 @@ TEST(CoreCommands, RefusesPayloadOnEmptyCommands) {
   for (const Command c : {Command::kGetInfo, Command::kGetStatus, Command::kReset,
                           Command::kEnterDfu, Command::kCalCommit, Command::kCalGet,
                           Command::kAcqStart, Command::kAcqStop, Command::kReadLatest}) {
-    EXPECT_EQ(h.Request(c, one).status(), Status::kInvalidArgument) << wire::CommandName(
-        static_cast<std::uint8_t>(c));
+    EXPECT_EQ(h.Request(c, one).status(), Status::kInvalidArgument)
+        << wire::CommandName(static_cast<std::uint8_t>(c));
   }
   EXPECT_EQ(h.fake.system.resets, 0);
   for (const Command c : {Command::kCalPutBegin, Command::kAcqConfigure, Command::kLogRead}) {
@@ -207,28 +207,36 @@ TEST(CoreCommands, AcqConfigureValidatesEveryField) {
     return c;
   };
   const Case cases[] = {
-      {"period too short", with([](auto& c) { c.sample_period_us = 99; }), Status::kInvalidArgument},
-      {"period too long", with([](auto& c) { c.sample_period_us = 1000001; }), Status::kInvalidArgument},
+      {"period too short", with([](auto& c) { c.sample_period_us = 99; }),
+       Status::kInvalidArgument},
+      {"period too long", with([](auto& c) { c.sample_period_us = 1000001; }),
+       Status::kInvalidArgument},
       {"no channel", with([](auto& c) { c.channel_mask = 0; }), Status::kInvalidArgument},
       {"seventh channel", with([](auto& c) { c.channel_mask = 0x41; }), Status::kInvalidArgument},
       {"unknown flag", with([](auto& c) { c.flags = 0x80; }), Status::kInvalidArgument},
       {"decimation 0", with([](auto& c) { c.decimation = 0; }), Status::kInvalidArgument},
       {"decimation too big", with([](auto& c) { c.decimation = 2000; }), Status::kInvalidArgument},
-      {"decimation the decimator lacks", with([](auto& c) { c.decimation = 3; }), Status::kInvalidArgument},
-      {"immediate with pre-trigger", with([](auto& c) { c.pretrigger_records = 1; }), Status::kInvalidArgument},
-      {"immediate with threshold", with([](auto& c) { c.trigger_threshold = 5; }), Status::kInvalidArgument},
+      {"decimation the decimator lacks", with([](auto& c) { c.decimation = 3; }),
+       Status::kInvalidArgument},
+      {"immediate with pre-trigger", with([](auto& c) { c.pretrigger_records = 1; }),
+       Status::kInvalidArgument},
+      {"immediate with threshold", with([](auto& c) { c.trigger_threshold = 5; }),
+       Status::kInvalidArgument},
       {"trigger on an accelerometer", with([](auto& c) {
          c.trigger_mode = wire::TriggerMode::kRising;
          c.trigger_channel = 2;
-       }), Status::kInvalidArgument},
+       }),
+       Status::kInvalidArgument},
       // Six channels, no d_hat: 16-byte records, 20 with the tick in the log: 2048 / 20 = 102
       // fit; 102 pre-trigger records would leave no room for the trigger record.
       {"pre-trigger fills the log", with([](auto& c) {
          c.trigger_mode = wire::TriggerMode::kFalling;
          c.trigger_channel = 1;
          c.pretrigger_records = 102;
-       }), Status::kOutOfRange},
-      {"d_hat without a filter", with([](auto& c) { c.flags = wire::kAcqFlagLogDob; }), Status::kFailedPrecondition},
+       }),
+       Status::kOutOfRange},
+      {"d_hat without a filter", with([](auto& c) { c.flags = wire::kAcqFlagLogDob; }),
+       Status::kFailedPrecondition},
   };
   for (const Case& c : cases) {
     EXPECT_EQ(h.Request(Command::kAcqConfigure, c.config).status(), c.expected) << c.what;
@@ -250,7 +258,7 @@ TEST(CoreCommands, AcqConfigureValidatesEveryField) {
 TEST(CoreCommands, AcquisitionStateRules) {
   CoreHarness h;
   EXPECT_EQ(h.Request(Command::kAcqStart).status(), Status::kFailedPrecondition);  // unconfigured
-  EXPECT_EQ(h.Request(Command::kAcqStop).status(), Status::kOk);  // idempotent
+  EXPECT_EQ(h.Request(Command::kAcqStop).status(), Status::kOk);                   // idempotent
   ASSERT_EQ(h.StartAcquisition(Immediate()), Status::kOk);
   EXPECT_TRUE(h.fake.frames.running());
   EXPECT_EQ(h.fake.frames.period_us, 200u);
@@ -274,14 +282,15 @@ TEST(CoreCommands, AcquisitionStateRules) {
 
 TEST(CoreCommands, CalibrationRefusals) {
   CoreHarness h;
-  EXPECT_EQ(h.Request(Command::kCalCommit).status(), Status::kFailedPrecondition);  // nothing staged
+  EXPECT_EQ(h.Request(Command::kCalCommit).status(),
+            Status::kFailedPrecondition);                                        // nothing staged
   EXPECT_EQ(h.Request(Command::kCalGet).status(), Status::kFailedPrecondition);  // uncalibrated
   const std::array<std::uint8_t, 52> chunk{};
   EXPECT_EQ(h.Request(Command::kCalPutData, chunk).status(), Status::kFailedPrecondition);
-  EXPECT_EQ(h.Request(Command::kCalPutBegin,
-                      wire::CalPutBeginRequest{.record_bytes = 836, .crc32 = 0})
-                .status(),
-            Status::kVersionMismatch);
+  EXPECT_EQ(
+      h.Request(Command::kCalPutBegin, wire::CalPutBeginRequest{.record_bytes = 836, .crc32 = 0})
+          .status(),
+      Status::kVersionMismatch);
 }
 
 TEST(CoreCommands, LogReadRefusals) {

@@ -66,7 +66,7 @@ TEST(CoreDob, LoggedDhatEqualsHostReplayBitForBit) {
   CoreHarness h;
   InstallDob(h);
   wire::AcqConfigureRequest c;
-  c.sample_period_us = 200;  // 5 kHz, the filter's rate
+  c.sample_period_us = 200;   // 5 kHz, the filter's rate
   c.channel_mask = 0b001001;  // force 1, accelerometer 2
   c.flags = wire::kAcqFlagLogDob;
   ASSERT_EQ(h.StartAcquisition(c), Status::kOk);

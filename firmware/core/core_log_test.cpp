@@ -68,7 +68,7 @@ TEST(CoreLog, DecimationFiltersEveryChannelAlike) {
   const PulledLog log = PullLog(h, 0, 0);
   ASSERT_EQ(log.status, Status::kOk);
   const std::uint32_t delay = fixed::DecimatorDelayTicks(5);
-  ASSERT_EQ(delay, 47u);  // the /5 design's 95 taps (scripts/golden/decimator_design.py)
+  ASSERT_EQ(delay, 47u);            // the /5 design's 95 taps (scripts/golden/decimator_design.py)
   const std::uint32_t settle = 95;  // 2 x 47 rounded up to a multiple of 5
   ASSERT_EQ(log.count, (kFrames - settle) / 5);  // ticks 95, 100, ..., 595
   for (std::uint32_t i = 0; i < log.count; ++i) {
@@ -337,7 +337,8 @@ TEST(CoreLog, StreamedAcquisitionFollowsTheLogToItsEnd) {
       if (step.event == wire::StreamDecoder::Event::kData) {
         std::array<wire::LogRecord, wire::kMaxRecordsPerReport> batch{};
         std::size_t n = 0;
-        ASSERT_EQ(wire::DecodeLogPayload(wire::LogLayout{0b000101, 0}, 1, step.payload, batch, n), Status::kOk);
+        ASSERT_EQ(wire::DecodeLogPayload(wire::LogLayout{0b000101, 0}, 1, step.payload, batch, n),
+                  Status::kOk);
         for (std::size_t k = 0; k < n; ++k) EXPECT_EQ(batch[k].sample_index, next_tick++);
         records += static_cast<std::uint32_t>(n);
       } else {

@@ -6,7 +6,8 @@ namespace vibid::fw {
 
 Status Sampler::Arm(const wire::AcqConfigureRequest& config) {
   layout_ = wire::LogLayout{config.channel_mask, config.flags};
-  Status s = decimator_.Init(config.decimation, layout_.ChannelCount() + (layout_.HasDob() ? 1 : 0));
+  Status s =
+      decimator_.Init(config.decimation, layout_.ChannelCount() + (layout_.HasDob() ? 1 : 0));
   if (s != Status::kOk) return s;
   // Twice the delay, rounded up to an output tick: records before it would hold the filter's
   // start from rest (zeros before the acquisition) rather than the signal.
@@ -17,8 +18,9 @@ Status Sampler::Arm(const wire::AcqConfigureRequest& config) {
   config_ = config;
   expected_tick_ = 0;
   post_trigger_records_ = 0;
-  dob_rate_ok_ = dob_.loaded() &&
-                 static_cast<std::uint64_t>(config.sample_period_us) * dob_.sample_rate_hz() == 1000000u;
+  dob_rate_ok_ =
+      dob_.loaded() &&
+      static_cast<std::uint64_t>(config.sample_period_us) * dob_.sample_rate_hz() == 1000000u;
   dob_in_acquisition_ = dob_rate_ok_ && layout_.HasDob();
   dob_was_running_ = false;
   dob_.Reset();
@@ -52,9 +54,12 @@ bool Sampler::dob_running() const {
 bool Sampler::TriggerFires(const std::array<std::int32_t, wire::kChannelCount>& calibrated) const {
   const std::int32_t v = calibrated[config_.trigger_channel];
   switch (config_.trigger_mode) {
-    case wire::TriggerMode::kImmediate: return true;
-    case wire::TriggerMode::kRising: return v >= config_.trigger_threshold;
-    case wire::TriggerMode::kFalling: return v <= config_.trigger_threshold;
+    case wire::TriggerMode::kImmediate:
+      return true;
+    case wire::TriggerMode::kRising:
+      return v >= config_.trigger_threshold;
+    case wire::TriggerMode::kFalling:
+      return v <= config_.trigger_threshold;
   }
   return false;
 }
@@ -70,8 +75,9 @@ void Sampler::OnFrame(const SampleFrame& frame) {
   // The DOB steps on every frame at the sampling rate whatever the log rate, so the host can
   // replay it from a log kept at the sampling rate. A run switched on mid-acquisition starts
   // from rest.
-  const bool run_dob = sampling && (dob_in_acquisition_ ||
-                                    (dob_rate_ok_ && dob_requested_.load(std::memory_order_relaxed)));
+  const bool run_dob =
+      sampling &&
+      (dob_in_acquisition_ || (dob_rate_ok_ && dob_requested_.load(std::memory_order_relaxed)));
   if (run_dob && !dob_was_running_) dob_.Reset();
   dob_was_running_ = run_dob;
   const std::int32_t d_hat = run_dob ? dob_.Step(calibrated) : 0;
@@ -79,7 +85,8 @@ void Sampler::OnFrame(const SampleFrame& frame) {
   if (!sampling) return;
 
   ticks_.store(ticks_.load(std::memory_order_relaxed) + 1, std::memory_order_relaxed);
-  if (clips != 0) clips_.store(clips_.load(std::memory_order_relaxed) + clips, std::memory_order_relaxed);
+  if (clips != 0)
+    clips_.store(clips_.load(std::memory_order_relaxed) + clips, std::memory_order_relaxed);
   // Ticks count from 0 at Start; a jump means the port lost frames before they reached us.
   if (frame.tick != expected_tick_) {
     const std::uint32_t missed = frame.tick - expected_tick_;
@@ -124,7 +131,8 @@ Sampler::Logged Sampler::LogFrame(const SampleFrame& frame, std::int32_t d_hat) 
   }
   if (layout_.HasDob()) in[n++] = d_hat;
   std::array<std::int32_t, fixed::kDecimatorMaxChannels> out{};
-  if (!decimator_.Push(in.data(), out.data()) || frame.tick < settle_ticks_) return Logged::kNoRecord;
+  if (!decimator_.Push(in.data(), out.data()) || frame.tick < settle_ticks_)
+    return Logged::kNoRecord;
 
   wire::LogRecord record;
   n = 0;
@@ -134,8 +142,10 @@ Sampler::Logged Sampler::LogFrame(const SampleFrame& frame, std::int32_t d_hat) 
   if (layout_.HasDob()) record.d_hat = out[n];
   std::array<std::uint8_t, wire::kLogIndexBytes + wire::kMaxLogRecordBytes> bytes{};
   wire::StoreU32(bytes, 0, frame.tick);
-  wire::EncodeLogRecord(layout_, record, std::span<std::uint8_t>(bytes).subspan(wire::kLogIndexBytes));
-  const bool kept = ring_.Push(std::span<const std::uint8_t>(bytes).first(layout_.StoredRecordBytes()));
+  wire::EncodeLogRecord(layout_, record,
+                        std::span<std::uint8_t>(bytes).subspan(wire::kLogIndexBytes));
+  const bool kept =
+      ring_.Push(std::span<const std::uint8_t>(bytes).first(layout_.StoredRecordBytes()));
   return kept ? Logged::kKept : Logged::kRefused;
 }
 

@@ -1,5 +1,6 @@
 // Reset and fault handling for the mps2-an386 test images: vector table, .data/.bss set-up, FPU
-// enable, static constructors, then the tests; the exit status goes back to the host over semihosting.
+// enable, static constructors, then the tests; the exit status goes back to the host over
+// semihosting.
 #include <cstdint>
 
 #include "runner.hpp"
@@ -23,7 +24,8 @@ void Fault_Handler();
 
 namespace {
 
-// Coprocessor Access Control Register (ARMv7-M ARM, B3.2.20): CP10/CP11 full access enables the FPU.
+// Coprocessor Access Control Register (ARMv7-M ARM, B3.2.20): CP10/CP11 full access enables the
+// FPU.
 volatile std::uint32_t& Cpacr() { return *reinterpret_cast<volatile std::uint32_t*>(0xE000ED88u); }
 
 }  // namespace
@@ -54,7 +56,10 @@ __attribute__((section(".vectors"), used)) const Vector kVectorTable[16] = {
     Fault_Handler,  // MemManage
     Fault_Handler,  // BusFault
     Fault_Handler,  // UsageFault
-    nullptr, nullptr, nullptr, nullptr,
+    nullptr,
+    nullptr,
+    nullptr,
+    nullptr,
     Fault_Handler,  // SVCall
     Fault_Handler,  // DebugMonitor
     nullptr,

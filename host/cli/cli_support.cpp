@@ -30,7 +30,8 @@ CLI::Validator NumberValidator(bool allow_zero) {
           case NumberText::kOk:
             break;
         }
-        if (allow_zero ? v < 0.0 : v <= 0.0) return "'" + s + (allow_zero ? "' must be >= 0" : "' must be > 0");
+        if (allow_zero ? v < 0.0 : v <= 0.0)
+          return "'" + s + (allow_zero ? "' must be >= 0" : "' must be > 0");
         return {};
       },
       allow_zero ? "NUMBER>=0" : "NUMBER>0");

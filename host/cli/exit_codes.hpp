@@ -5,11 +5,12 @@ namespace vibid::cli {
 
 enum ExitCode : int {
   kExitOk = 0,
-  kExitInputError = 1,     ///< A file or value the user gave is wrong (message names it).
-  kExitUsage = 2,          ///< The command line itself is wrong (unknown option, missing argument).
-  kExitNumerical = 3,      ///< The input was fine but the computation failed (no convergence, unstable filter).
-  kExitDevice = 4,         ///< No device, a transfer failed, or the device refused a request.
-  kExitInternal = 5,       ///< A defect: an unexpected exception.
+  kExitInputError = 1,  ///< A file or value the user gave is wrong (message names it).
+  kExitUsage = 2,       ///< The command line itself is wrong (unknown option, missing argument).
+  kExitNumerical =
+      3,  ///< The input was fine but the computation failed (no convergence, unstable filter).
+  kExitDevice = 4,    ///< No device, a transfer failed, or the device refused a request.
+  kExitInternal = 5,  ///< A defect: an unexpected exception.
 };
 
 }  // namespace vibid::cli

@@ -12,14 +12,17 @@
 
 int main(int argc, char** argv) {
   using namespace vibid::cli;
-  CLI::App app{"vibid: identify mass-spring vibration rigs and run a disturbance observer on the DAQ board.\n"
-               "SI units throughout: kg, N/m, N*s/m, s, rad/s; frequencies in Hz are named *_hz.",
-               "vibid"};
+  CLI::App app{
+      "vibid: identify mass-spring vibration rigs and run a disturbance observer on the DAQ "
+      "board.\n"
+      "SI units throughout: kg, N/m, N*s/m, s, rad/s; frequencies in Hz are named *_hz.",
+      "vibid"};
   app.require_subcommand(1);
   app.set_version_flag("--version", std::string("vibid ") + VIBID_VERSION);
   GlobalOptions globals;
   app.add_option("--device", globals.device,
-                 "Board to talk to: hid[:SERIAL] | usbip://HOST:PORT | serial:/dev/ttyX | qemu (default: the only one found)");
+                 "Board to talk to: hid[:SERIAL] | usbip://HOST:PORT | serial:/dev/ttyX | qemu "
+                 "(default: the only one found)");
 
   RegisterModelCommands(app);
   RegisterIdentCommands(app);
@@ -33,7 +36,8 @@ int main(int argc, char** argv) {
   } catch (const CLI::ParseError& e) {
     // A value out of its range or not of its kind is bad input, like a bad file: one line, exit 1.
     // Usage errors (unknown or missing options) keep CLI11's message and exit 2.
-    if (dynamic_cast<const CLI::ValidationError*>(&e) || dynamic_cast<const CLI::ConversionError*>(&e)) {
+    if (dynamic_cast<const CLI::ValidationError*>(&e) ||
+        dynamic_cast<const CLI::ConversionError*>(&e)) {
       std::cerr << "vibid: error: " << e.what() << "\n";
       return kExitInputError;
     }

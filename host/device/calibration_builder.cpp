@@ -22,11 +22,16 @@ wire::Unit UnitFromName(const std::string& name, const std::string& where) {
 
 wire::Unit UnitOfInput(fixed::InputKind kind) {
   switch (kind) {
-    case fixed::InputKind::kForce: return wire::Unit::kNewton;
-    case fixed::InputKind::kDisplacement: return wire::Unit::kMeter;
-    case fixed::InputKind::kVelocity: return wire::Unit::kMeterPerSecond;
-    case fixed::InputKind::kAcceleration: return wire::Unit::kMeterPerSecond2;
-    case fixed::InputKind::kUnused: break;
+    case fixed::InputKind::kForce:
+      return wire::Unit::kNewton;
+    case fixed::InputKind::kDisplacement:
+      return wire::Unit::kMeter;
+    case fixed::InputKind::kVelocity:
+      return wire::Unit::kMeterPerSecond;
+    case fixed::InputKind::kAcceleration:
+      return wire::Unit::kMeterPerSecond2;
+    case fixed::InputKind::kUnused:
+      break;
   }
   return wire::Unit::kCounts;
 }
@@ -36,26 +41,31 @@ wire::Unit UnitOfInput(fixed::InputKind kind) {
 SensorSet SensorsFromJson(const nlohmann::json& j, const std::string& source) {
   const auto fail = [&](const std::string& what) { throw InputError(source + ": " + what); };
   // Compared as JSON values: a field of another type is a wrong value, not a type error.
-  if (!j.is_object() || j.value("format", nlohmann::json()) != "vibid-sensors") fail("not a vibid sensors file");
+  if (!j.is_object() || j.value("format", nlohmann::json()) != "vibid-sensors")
+    fail("not a vibid sensors file");
   if (j.value("version", nlohmann::json()) != 1) fail("unsupported sensors file version");
   if (!j.contains("channels") || !j["channels"].is_object()) fail("missing object 'channels'");
   SensorSet set;
   for (const auto& [name, c] : j["channels"].items()) {
     wire::Channel ch{};
-    if (!ChannelFromStem(name, ch)) fail("channels: unknown channel '" + Printable(name) + "' (force1, force2, acc1, acc2, x1, x2)");
+    if (!ChannelFromStem(name, ch))
+      fail("channels: unknown channel '" + Printable(name) +
+           "' (force1, force2, acc1, acc2, x1, x2)");
     const std::string where = source + ": channels." + name;
     SensorScaling s;
     try {
       s.unit = UnitFromName(c.at("unit").get<std::string>(), where);
       s.counts_per_unit = c.at("counts_per_unit").get<double>();
       const double offset = c.value("offset_counts", 0.0);
-      if (offset != std::round(offset) || std::abs(offset) > 2147483647.0) fail(name + ".offset_counts must be a 32-bit integer");
+      if (offset != std::round(offset) || std::abs(offset) > 2147483647.0)
+        fail(name + ".offset_counts must be a 32-bit integer");
       s.offset_counts = static_cast<std::int32_t>(offset);
       s.full_scale = c.at("full_scale").get<double>();
       if (c.contains("dof")) {
         // Checked before the conversion: get<int> of 1e300 or of -2^31 minus one is undefined.
         const nlohmann::json& dof = c.at("dof");
-        if (!dof.is_number_integer() || dof.get<std::int64_t>() < 1 || dof.get<std::int64_t>() > static_cast<std::int64_t>(wire::kMaxDof)) {
+        if (!dof.is_number_integer() || dof.get<std::int64_t>() < 1 ||
+            dof.get<std::int64_t>() > static_cast<std::int64_t>(wire::kMaxDof)) {
           fail("channels." + name + ".dof must be 1 or 2");
         }
         s.dof = dof.get<int>() - 1;
@@ -63,9 +73,12 @@ SensorSet SensorsFromJson(const nlohmann::json& j, const std::string& source) {
     } catch (const nlohmann::json::exception& e) {
       fail("channels." + name + ": " + e.what());
     }
-    if (!std::isfinite(s.counts_per_unit) || s.counts_per_unit == 0.0) fail("channels." + name + ".counts_per_unit must be finite and nonzero");
-    if (!std::isfinite(s.full_scale) || s.full_scale <= 0.0) fail("channels." + name + ".full_scale must be finite and > 0");
-    if (s.dof < -1 || s.dof >= static_cast<int>(wire::kMaxDof)) fail("channels." + name + ".dof must be 1 or 2");
+    if (!std::isfinite(s.counts_per_unit) || s.counts_per_unit == 0.0)
+      fail("channels." + name + ".counts_per_unit must be finite and nonzero");
+    if (!std::isfinite(s.full_scale) || s.full_scale <= 0.0)
+      fail("channels." + name + ".full_scale must be finite and > 0");
+    if (s.dof < -1 || s.dof >= static_cast<int>(wire::kMaxDof))
+      fail("channels." + name + ".dof must be 1 or 2");
     set[static_cast<std::size_t>(ch)] = s;
   }
   return set;
@@ -78,7 +91,8 @@ SensorScaling FromChannelScaling(const wire::ChannelScaling& c) {
   s.full_scale = static_cast<double>(c.full_scale);
   s.dof = c.dof == wire::kNoDof ? -1 : c.dof;
   // SI per count = gain / 2^shift * full_scale / 2^31.
-  s.counts_per_unit = std::ldexp(1.0, c.gain_shift) * kQ31 / (static_cast<double>(c.gain) * s.full_scale);
+  s.counts_per_unit =
+      std::ldexp(1.0, c.gain_shift) * kQ31 / (static_cast<double>(c.gain) * s.full_scale);
   return s;
 }
 
@@ -94,7 +108,8 @@ wire::ChannelScaling ToChannelScaling(const SensorScaling& s, const std::string&
   while (shift > 0 && std::abs(std::round(std::ldexp(factor, shift))) > 2147483647.0) --shift;
   const double gain = std::round(std::ldexp(factor, shift));
   if (std::abs(gain) > 2147483647.0 || gain == 0.0) {
-    throw InputError(channel_name + ": counts_per_unit and full_scale give a gain the board cannot represent");
+    throw InputError(channel_name +
+                     ": counts_per_unit and full_scale give a gain the board cannot represent");
   }
   c.gain = static_cast<std::int32_t>(gain);
   c.gain_shift = static_cast<std::uint8_t>(shift);
@@ -112,8 +127,10 @@ wire::CalibrationRecord BuildCalibrationRecord(const RecordInputs& in) {
   r.host_major = in.host_major;
   r.host_minor = in.host_minor;
   r.host_patch = in.host_patch;
-  Require(in.label.size() < wire::kCalLabelBytes, "label '" + in.label + "' is longer than 23 characters");
-  for (char ch : in.label) Require(ch >= 0x20 && ch < 0x7F, "label '" + in.label + "' must be printable ASCII");
+  Require(in.label.size() < wire::kCalLabelBytes,
+          "label '" + in.label + "' is longer than 23 characters");
+  for (char ch : in.label)
+    Require(ch >= 0x20 && ch < 0x7F, "label '" + in.label + "' must be printable ASCII");
   std::copy(in.label.begin(), in.label.end(), r.label.begin());
   for (int i = 0; i < n; ++i) {
     for (int k = 0; k < n; ++k) {
@@ -127,7 +144,8 @@ wire::CalibrationRecord BuildCalibrationRecord(const RecordInputs& in) {
   for (std::size_t c = 0; c < wire::kChannelCount; ++c) {
     if (sensors[c] && sensors[c]->dof >= n) {
       throw InputError(std::string(ChannelStem(static_cast<wire::Channel>(c))) + " sits on mass " +
-                       std::to_string(sensors[c]->dof + 1) + " but the model has " + std::to_string(n));
+                       std::to_string(sensors[c]->dof + 1) + " but the model has " +
+                       std::to_string(n));
     }
   }
   if (in.observer) {
@@ -154,13 +172,15 @@ wire::CalibrationRecord BuildCalibrationRecord(const RecordInputs& in) {
     }
   }
   for (std::size_t c = 0; c < wire::kChannelCount; ++c) {
-    if (sensors[c]) r.channels[c] = ToChannelScaling(*sensors[c], ChannelStem(static_cast<wire::Channel>(c)));
+    if (sensors[c])
+      r.channels[c] = ToChannelScaling(*sensors[c], ChannelStem(static_cast<wire::Channel>(c)));
   }
   std::array<std::uint8_t, wire::kCalRecordBytes> bytes{};
   wire::EncodeCalibrationRecord(r, bytes);
   wire::CalibrationRecord check;
   const Status st = wire::DecodeCalibrationRecord(bytes, check);
-  Require(st == Status::kOk, std::string("the calibration record would be refused by the board: ") + StatusName(st));
+  Require(st == Status::kOk,
+          std::string("the calibration record would be refused by the board: ") + StatusName(st));
   return r;
 }
 

@@ -115,7 +115,8 @@ std::uint16_t Connection::NextToken() {
 
 void Connection::ThrowIfLinkFailed() {
   std::lock_guard lock(mutex_);
-  if (!link_error_.empty()) throw DeviceError("lost the device (" + Describe() + "): " + link_error_);
+  if (!link_error_.empty())
+    throw DeviceError("lost the device (" + Describe() + "): " + link_error_);
   if (!version_error_.empty()) throw DeviceError(version_error_);
 }
 
@@ -149,25 +150,30 @@ bool Connection::Await(std::uint8_t command, std::uint16_t token, std::chrono::m
     if (!link_error_.empty()) {
       const std::string e = link_error_;
       lock.unlock();
-      throw DeviceError("lost the device during " + CommandText(command) + " (" + Describe() + "): " + e);
+      throw DeviceError("lost the device during " + CommandText(command) + " (" + Describe() +
+                        "): " + e);
     }
     if (!version_error_.empty()) {
       const std::string e = version_error_;
       lock.unlock();
       throw DeviceError(e);
     }
-    if (arrived_.wait_until(lock, deadline) == std::cv_status::timeout && inbox_.empty()) return false;
+    if (arrived_.wait_until(lock, deadline) == std::cv_status::timeout && inbox_.empty())
+      return false;
   }
 }
 
-Reply Connection::Call(Command command, std::span<const std::uint8_t> payload, std::uint16_t sequence) {
+Reply Connection::Call(Command command, std::span<const std::uint8_t> payload,
+                       std::uint16_t sequence) {
   const std::uint16_t token = NextToken();
   wire::Report request{};
-  if (wire::BuildReport(command, token, sequence, 0, Status::kOk, payload, request) != Status::kOk) {
+  if (wire::BuildReport(command, token, sequence, 0, Status::kOk, payload, request) !=
+      Status::kOk) {
     throw DeviceError(CommandText(static_cast<std::uint8_t>(command)) + ": payload too long");
   }
   const auto id = static_cast<std::uint8_t>(command);
-  // Not cancellable: a single exchange is short, and the stop that follows an interrupt must go out.
+  // Not cancellable: a single exchange is short, and the stop that follows an interrupt must go
+  // out.
   for (int attempt = 0; attempt <= options_.retries; ++attempt) {
     if (attempt > 0) {
       std::lock_guard lock(mutex_);
@@ -182,18 +188,26 @@ Reply Connection::Call(Command command, std::span<const std::uint8_t> payload, s
                     std::to_string(options_.timeout.count()) + " ms");
 }
 
-Reply Connection::Expect(Command command, std::span<const std::uint8_t> payload, std::uint16_t sequence) {
+Reply Connection::Expect(Command command, std::span<const std::uint8_t> payload,
+                         std::uint16_t sequence) {
   Reply r = Call(command, payload, sequence);
   if (r.header.status != Status::kOk) {
     std::string why;
     switch (r.header.status) {
-      case Status::kUnimplemented: why = " (the device does not know this command)"; break;
-      case Status::kFailedPrecondition: why = " (not allowed in the device's current state)"; break;
-      case Status::kVersionMismatch: why = " (protocol version)"; break;
-      default: break;
+      case Status::kUnimplemented:
+        why = " (the device does not know this command)";
+        break;
+      case Status::kFailedPrecondition:
+        why = " (not allowed in the device's current state)";
+        break;
+      case Status::kVersionMismatch:
+        why = " (protocol version)";
+        break;
+      default:
+        break;
     }
-    throw DeviceError("the device refused " + CommandText(static_cast<std::uint8_t>(command)) + ": " +
-                      StatusName(r.header.status) + why);
+    throw DeviceError("the device refused " + CommandText(static_cast<std::uint8_t>(command)) +
+                      ": " + StatusName(r.header.status) + why);
   }
   return r;
 }
@@ -243,7 +257,8 @@ std::vector<std::uint8_t> Connection::CalGet(wire::CalGetTrailer* trailer) {
         bytes.insert(bytes.end(), step.payload.begin(), step.payload.end());
       } else if (step.event == wire::StreamDecoder::Event::kEnd) {
         wire::CalGetTrailer t;
-        if (wire::Decode(step.payload, t) != Status::kOk) throw DeviceError("malformed cal-get trailer");
+        if (wire::Decode(step.payload, t) != Status::kOk)
+          throw DeviceError("malformed cal-get trailer");
         if (trailer != nullptr) *trailer = t;
         return bytes;
       } else if (step.event == wire::StreamDecoder::Event::kRefused) {
@@ -263,7 +278,8 @@ void Connection::CalPut(std::span<const std::uint8_t> record, const Progress& pr
   const std::uint16_t token = NextToken();
   wire::Report report{};
   if (wire::BuildCalPutBegin(record, token, report) != Status::kOk) {
-    throw DeviceError("calibration record of " + std::to_string(record.size()) + " bytes cannot be sent");
+    throw DeviceError("calibration record of " + std::to_string(record.size()) +
+                      " bytes cannot be sent");
   }
   const Reply begin = Expect(Command::kCalPutBegin, wire::PayloadOf(report));
   static_cast<void>(begin);
@@ -275,7 +291,8 @@ void Connection::CalPut(std::span<const std::uint8_t> record, const Progress& pr
     if (r.header.status != Status::kOk) {
       const bool last = c + 1 == chunks;
       throw DeviceError(std::string("the device refused the calibration record") +
-                        (last ? "" : " at chunk " + std::to_string(c)) + ": " + StatusName(r.header.status));
+                        (last ? "" : " at chunk " + std::to_string(c)) + ": " +
+                        StatusName(r.header.status));
     }
     if (progress) progress(c + 1, chunks);
   }
@@ -286,7 +303,8 @@ wire::CalCommitResponse Connection::CalCommit() {
 }
 
 wire::AcqConfigureResponse Connection::Configure(const wire::AcqConfigureRequest& request) {
-  return DecodeAnswer<wire::AcqConfigureResponse>(Expect(Command::kAcqConfigure, request), "acq-configure");
+  return DecodeAnswer<wire::AcqConfigureResponse>(Expect(Command::kAcqConfigure, request),
+                                                  "acq-configure");
 }
 
 void Connection::StartAcquisition() { static_cast<void>(Expect(Command::kAcqStart)); }
@@ -324,7 +342,8 @@ bool Connection::ReadLogOnce(std::uint32_t first, std::uint32_t max, LogPull& pu
   std::array<std::uint8_t, wire::LogReadRequest::kBytes> payload{};
   wire::Encode(req, payload);
   wire::Report request{};
-  static_cast<void>(wire::BuildReport(Command::kLogRead, token, 0, 0, Status::kOk, payload, request));
+  static_cast<void>(
+      wire::BuildReport(Command::kLogRead, token, 0, 0, Status::kOk, payload, request));
   Send(request);
   return ReceiveLogStream(token, first, pull, {});
 }
@@ -352,8 +371,8 @@ bool Connection::ReceiveLogStream(std::uint16_t token, std::uint32_t first, LogP
       if (wire::Decode(step.payload, trailer) != Status::kOk) return false;
       break;
     } else if (step.event == wire::StreamDecoder::Event::kRefused) {
-      throw DeviceError(std::string("the device refused log-read from record ") + std::to_string(first) +
-                        ": " + StatusName(step.status));
+      throw DeviceError(std::string("the device refused log-read from record ") +
+                        std::to_string(first) + ": " + StatusName(step.status));
     } else if (step.event == wire::StreamDecoder::Event::kError) {
       return false;
     }
@@ -361,8 +380,8 @@ bool Connection::ReceiveLogStream(std::uint16_t token, std::uint32_t first, LogP
   wire::LogLayout layout;
   layout.channel_mask = trailer.channel_mask;
   layout.flags = trailer.acq_flags;
-  if (!layout.Valid() || trailer.first_record != first || trailer.record_bytes != layout.RecordBytes() ||
-      trailer.decimation == 0) {
+  if (!layout.Valid() || trailer.first_record != first ||
+      trailer.record_bytes != layout.RecordBytes() || trailer.decimation == 0) {
     throw DeviceError("malformed log-read trailer from the device");
   }
   std::vector<wire::LogRecord> records;
@@ -375,7 +394,8 @@ bool Connection::ReceiveLogStream(std::uint16_t token, std::uint32_t first, LogP
     }
     records.insert(records.end(), batch.begin(), batch.begin() + static_cast<std::ptrdiff_t>(n));
   }
-  if (records.size() != trailer.record_count) throw DeviceError("malformed log-read trailer from the device");
+  if (records.size() != trailer.record_count)
+    throw DeviceError("malformed log-read trailer from the device");
   if (pull.records.empty()) pull.first_record = first;
   pull.layout = layout;
   pull.trailer = trailer;
@@ -393,7 +413,8 @@ LogPull Connection::AcquireStreamed(const Progress& progress) {
     throw DeviceError("no answer to acq-start from " + Describe());
   }
   if (answer.header.status != Status::kOk) {
-    throw DeviceError(std::string("the device refused acq-start: ") + StatusName(answer.header.status));
+    throw DeviceError(std::string("the device refused acq-start: ") +
+                      StatusName(answer.header.status));
   }
   LogPull pull;
   if (ReceiveLogStream(token, 0, pull, progress)) return pull;
@@ -419,7 +440,8 @@ LogPull Connection::PullLog(std::uint32_t first, const Progress& progress, int m
       std::lock_guard lock(mutex_);
       ++counters_.stream_resumes;
     }
-    if (pull.records.size() > before) failures = 0;
+    if (pull.records.size() > before)
+      failures = 0;
     else if (!complete && ++failures > max_resumes) {
       throw DeviceError("log-read from record " + std::to_string(next) + " kept breaking off (" +
                         std::to_string(max_resumes) + " resumes without progress)");
@@ -427,7 +449,8 @@ LogPull Connection::PullLog(std::uint32_t first, const Progress& progress, int m
     if (!complete) continue;
     const wire::LogTrailer& t = pull.trailer;
     const std::uint32_t have = first + static_cast<std::uint32_t>(pull.records.size());
-    const bool sampling = t.acq_state == wire::AcqState::kArmed || t.acq_state == wire::AcqState::kAcquiring;
+    const bool sampling =
+        t.acq_state == wire::AcqState::kArmed || t.acq_state == wire::AcqState::kAcquiring;
     if (progress) progress(have, std::max(have, t.records_written));
     if (!sampling && have >= t.records_written) return pull;
     if (t.record_count == 0) std::this_thread::sleep_for(std::chrono::milliseconds(5));

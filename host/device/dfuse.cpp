@@ -52,15 +52,19 @@ std::vector<DfuSeSector> ParseDfuSeLayout(const std::string& layout) {
     if (*end != '*' || count == 0) bad();
     const unsigned long size = std::strtoul(end + 1, &end, 10);
     std::uint64_t unit = 1;
-    if (*end == 'K') unit = 1024;
-    else if (*end == 'M') unit = 1024 * 1024;
-    else if (*end != 'B') bad();
+    if (*end == 'K')
+      unit = 1024;
+    else if (*end == 'M')
+      unit = 1024 * 1024;
+    else if (*end != 'B')
+      bad();
     ++end;
     if (*end == '\0' || size == 0) bad();
     ++end;  // the attribute letter (a..g)
     for (unsigned long i = 0; i < count; ++i) {
       if (address + size * unit > 0x100000000ull) bad();
-      out.push_back(DfuSeSector{static_cast<std::uint32_t>(address), static_cast<std::uint32_t>(size * unit)});
+      out.push_back(DfuSeSector{static_cast<std::uint32_t>(address),
+                                static_cast<std::uint32_t>(size * unit)});
       address += size * unit;
     }
     at = static_cast<std::size_t>(end - layout.c_str());
@@ -80,8 +84,8 @@ DfuSe::DfuSe(UsbControl& usb, std::uint8_t interface, std::uint16_t transfer_siz
 DfuSe DfuSe::Open(UsbControl& usb, std::vector<DfuSeSector>& layout) {
   const std::vector<std::uint8_t> head = GetDescriptor(usb, kDescriptorConfiguration, 0, 9);
   if (head.size() != 9) throw DeviceError("malformed configuration descriptor from the bootloader");
-  const std::vector<std::uint8_t> cfg = GetDescriptor(usb, kDescriptorConfiguration, 0,
-                                                      static_cast<std::uint16_t>(head[2] | (head[3] << 8)));
+  const std::vector<std::uint8_t> cfg = GetDescriptor(
+      usb, kDescriptorConfiguration, 0, static_cast<std::uint16_t>(head[2] | (head[3] << 8)));
   int interface = -1;
   std::uint8_t name_index = 0;
   std::uint16_t transfer = 0;
@@ -112,18 +116,25 @@ DfuStatusReply DfuSe::GetStatus() {
   Setup s{kRequestIn, kDfuGetStatus, 0, interface_, 6};
   const std::vector<std::uint8_t> r = usb_->Control(s, {}, kTimeout);
   if (r.size() != 6) throw DeviceError("malformed DFU_GETSTATUS answer");
-  return DfuStatusReply{r[0], static_cast<std::uint32_t>(r[1] | (r[2] << 8) | (r[3] << 16)), static_cast<DfuState>(r[4])};
+  return DfuStatusReply{r[0], static_cast<std::uint32_t>(r[1] | (r[2] << 8) | (r[3] << 16)),
+                        static_cast<DfuState>(r[4])};
 }
 
-void DfuSe::ClearStatus() { static_cast<void>(usb_->Control(Setup{kRequestOut, kDfuClrStatus, 0, interface_, 0}, {}, kTimeout)); }
-void DfuSe::Abort() { static_cast<void>(usb_->Control(Setup{kRequestOut, kDfuAbort, 0, interface_, 0}, {}, kTimeout)); }
+void DfuSe::ClearStatus() {
+  static_cast<void>(
+      usb_->Control(Setup{kRequestOut, kDfuClrStatus, 0, interface_, 0}, {}, kTimeout));
+}
+void DfuSe::Abort() {
+  static_cast<void>(usb_->Control(Setup{kRequestOut, kDfuAbort, 0, interface_, 0}, {}, kTimeout));
+}
 
 DfuStatusReply DfuSe::Settle(const std::string& what) {
   for (int i = 0; i < 10000; ++i) {
     const DfuStatusReply st = GetStatus();
     if (st.state == DfuState::kError || st.status != 0) {
       ClearStatus();
-      throw DeviceError(what + " failed in the bootloader (DFU status " + std::to_string(st.status) + ")");
+      throw DeviceError(what + " failed in the bootloader (DFU status " +
+                        std::to_string(st.status) + ")");
     }
     if (st.state != DfuState::kDnBusy) return st;
     std::this_thread::sleep_for(std::chrono::milliseconds(st.poll_timeout_ms));
@@ -131,12 +142,14 @@ DfuStatusReply DfuSe::Settle(const std::string& what) {
   throw DeviceError(what + ": the bootloader stayed busy");
 }
 
-void DfuSe::Dnload(std::uint16_t block, std::span<const std::uint8_t> data, const std::string& what) {
+void DfuSe::Dnload(std::uint16_t block, std::span<const std::uint8_t> data,
+                   const std::string& what) {
   Setup s{kRequestOut, kDfuDnload, block, interface_, static_cast<std::uint16_t>(data.size())};
   static_cast<void>(usb_->Control(s, data, kTimeout));
   const DfuStatusReply st = Settle(what);
   if (!data.empty() && st.state != DfuState::kDnloadIdle) {
-    throw DeviceError(what + ": the bootloader is in DFU state " + std::to_string(static_cast<int>(st.state)));
+    throw DeviceError(what + ": the bootloader is in DFU state " +
+                      std::to_string(static_cast<int>(st.state)));
   }
 }
 
@@ -144,7 +157,9 @@ void DfuSe::SetAddress(std::uint32_t address) {
   Dnload(0, Command(kDfuSeSetAddress, address), "set address " + Hex(address));
 }
 
-void DfuSe::EraseSector(std::uint32_t address) { Dnload(0, Command(kDfuSeErase, address), "erase at " + Hex(address)); }
+void DfuSe::EraseSector(std::uint32_t address) {
+  Dnload(0, Command(kDfuSeErase, address), "erase at " + Hex(address));
+}
 
 void DfuSe::Download(std::uint16_t block, std::span<const std::uint8_t> data) {
   Dnload(block, data, "download of block " + std::to_string(block));
@@ -170,10 +185,12 @@ FlashPlan PlanFlash(const std::vector<DfuSeSector>& layout, std::span<const std:
                     std::uint32_t address, std::span<const FlashRange> keep) {
   if (image.empty()) throw InputError("the image is empty");
   const std::uint64_t end = std::uint64_t{address} + image.size();
-  const std::uint64_t flash_end = layout.empty() ? 0 : std::uint64_t{layout.back().address} + layout.back().bytes;
+  const std::uint64_t flash_end =
+      layout.empty() ? 0 : std::uint64_t{layout.back().address} + layout.back().bytes;
   if (layout.empty() || address < layout.front().address || end > flash_end) {
     throw InputError("the image (" + std::to_string(image.size()) + " bytes at " + Hex(address) +
-                     ") does not fit the flash (" + std::to_string(flash_end - (layout.empty() ? 0 : layout.front().address)) +
+                     ") does not fit the flash (" +
+                     std::to_string(flash_end - (layout.empty() ? 0 : layout.front().address)) +
                      " bytes at " + Hex(layout.empty() ? 0 : layout.front().address) + ")");
   }
   FlashPlan plan;
@@ -186,27 +203,35 @@ FlashPlan PlanFlash(const std::vector<DfuSeSector>& layout, std::span<const std:
       return k.address < s_end && std::uint64_t{k.address} + k.bytes > s.address;
     });
     if (kept) {
-      const auto part = image.subspan(static_cast<std::size_t>(from - address), static_cast<std::size_t>(to - from));
-      const auto data = std::find_if(part.begin(), part.end(), [](std::uint8_t b) { return b != 0xFF; });
+      const auto part = image.subspan(static_cast<std::size_t>(from - address),
+                                      static_cast<std::size_t>(to - from));
+      const auto data =
+          std::find_if(part.begin(), part.end(), [](std::uint8_t b) { return b != 0xFF; });
       if (data != part.end()) {
-        const auto at = static_cast<std::uint32_t>(from + static_cast<std::uint64_t>(data - part.begin()));
-        throw InputError("the image has data at " + Hex(at) + ", in the sector at " + Hex(s.address) +
-                         " that holds the calibration and is never flashed; leave it 0xff (objcopy --gap-fill 0xff)");
+        const auto at =
+            static_cast<std::uint32_t>(from + static_cast<std::uint64_t>(data - part.begin()));
+        throw InputError("the image has data at " + Hex(at) + ", in the sector at " +
+                         Hex(s.address) +
+                         " that holds the calibration and is never flashed; leave it 0xff (objcopy "
+                         "--gap-fill 0xff)");
       }
       continue;
     }
     plan.erase.push_back(s.address);
-    if (!plan.write.empty() && std::uint64_t{plan.write.back().address} + plan.write.back().bytes == from) {
+    if (!plan.write.empty() &&
+        std::uint64_t{plan.write.back().address} + plan.write.back().bytes == from) {
       plan.write.back().bytes += static_cast<std::uint32_t>(to - from);
     } else {
-      plan.write.push_back(FlashRange{static_cast<std::uint32_t>(from), static_cast<std::uint32_t>(to - from)});
+      plan.write.push_back(
+          FlashRange{static_cast<std::uint32_t>(from), static_cast<std::uint32_t>(to - from)});
     }
   }
   return plan;
 }
 
-void FlashImage(DfuSe& dfu, const std::vector<DfuSeSector>& layout, std::span<const std::uint8_t> image,
-                std::uint32_t address, std::span<const FlashRange> keep, const FlashProgress& progress) {
+void FlashImage(DfuSe& dfu, const std::vector<DfuSeSector>& layout,
+                std::span<const std::uint8_t> image, std::uint32_t address,
+                std::span<const FlashRange> keep, const FlashProgress& progress) {
   FlashPlan plan;
   try {
     plan = PlanFlash(layout, image, address, keep);
@@ -224,13 +249,16 @@ void FlashImage(DfuSe& dfu, const std::vector<DfuSeSector>& layout, std::span<co
   const std::size_t ts = dfu.transfer_size();
   std::size_t blocks = 0;
   for (const FlashRange& r : plan.write) blocks += (r.bytes + ts - 1) / ts;
-  const auto part_of = [&](const FlashRange& r) { return image.subspan(r.address - address, r.bytes); };
+  const auto part_of = [&](const FlashRange& r) {
+    return image.subspan(r.address - address, r.bytes);
+  };
   std::size_t done = 0;
   for (const FlashRange& r : plan.write) {
     const auto part = part_of(r);
     dfu.SetAddress(r.address);
     for (std::size_t b = 0; b * ts < part.size(); ++b) {
-      dfu.Download(static_cast<std::uint16_t>(b + 2), part.subspan(b * ts, std::min(ts, part.size() - b * ts)));
+      dfu.Download(static_cast<std::uint16_t>(b + 2),
+                   part.subspan(b * ts, std::min(ts, part.size() - b * ts)));
       if (progress) progress("download", ++done, blocks);
     }
   }
@@ -244,12 +272,16 @@ void FlashImage(DfuSe& dfu, const std::vector<DfuSeSector>& layout, std::span<co
     dfu.Abort();
     for (std::size_t b = 0; b * ts < part.size(); ++b) {
       const std::size_t n = std::min(ts, part.size() - b * ts);
-      const std::vector<std::uint8_t> got = dfu.Upload(static_cast<std::uint16_t>(b + 2), static_cast<std::uint16_t>(n));
+      const std::vector<std::uint8_t> got =
+          dfu.Upload(static_cast<std::uint16_t>(b + 2), static_cast<std::uint16_t>(n));
       const auto want = part.subspan(b * ts, n);
-      if (got.size() != n) throw DeviceError("verify: the block at " + Hex(static_cast<std::uint32_t>(r.address + b * ts)) + " read back short");
+      if (got.size() != n)
+        throw DeviceError("verify: the block at " +
+                          Hex(static_cast<std::uint32_t>(r.address + b * ts)) + " read back short");
       const auto diff = std::mismatch(want.begin(), want.end(), got.begin());
       if (diff.first != want.end()) {
-        const auto at = static_cast<std::uint32_t>(r.address + b * ts + static_cast<std::size_t>(diff.first - want.begin()));
+        const auto at = static_cast<std::uint32_t>(
+            r.address + b * ts + static_cast<std::size_t>(diff.first - want.begin()));
         throw DeviceError("verify failed at " + Hex(at) + ": the flash does not hold the image");
       }
       if (progress) progress("verify", ++done, blocks);

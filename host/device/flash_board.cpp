@@ -31,8 +31,9 @@ auto AwaitBootloader(Open open) {
 
 }  // namespace
 
-FlashBoardResult FlashBoard(DeviceSpec spec, std::span<const std::uint8_t> image, std::uint32_t address,
-                            const FlashProgress& progress, const std::function<void(const std::string&)>& note) {
+FlashBoardResult FlashBoard(DeviceSpec spec, std::span<const std::uint8_t> image,
+                            std::uint32_t address, const FlashProgress& progress,
+                            const std::function<void(const std::string&)>& note) {
   const std::span<const FlashRange> keep(&kCalibrationSectors, 1);
   FlashBoardResult result;
   result.plan = PlanFlash(ParseDfuSeLayout(kBoardFlashLayout), image, address, keep);
@@ -40,16 +41,19 @@ FlashBoardResult FlashBoard(DeviceSpec spec, std::span<const std::uint8_t> image
     const auto all = ListDevices();
     if (all.size() == 1) spec = ParseDeviceSpec(all[0].spec);
   }
-  if (spec.kind == DeviceSpec::Kind::kSerial) throw InputError("a serial link has no bootloader: flash needs hid or usbip");
+  if (spec.kind == DeviceSpec::Kind::kSerial)
+    throw InputError("a serial link has no bootloader: flash needs hid or usbip");
   // The application, if it runs, enters the bootloader; a board already in DFU goes straight on.
   try {
     Connection c(OpenTransport(spec));
-    if ((c.info().capabilities & wire::kCapDfu) == 0) throw DeviceError("this board cannot enter DFU");
+    if ((c.info().capabilities & wire::kCapDfu) == 0)
+      throw DeviceError("this board cannot enter DFU");
     static_cast<void>(c.Expect(wire::Command::kEnterDfu));
     result.from_application = true;
     if (note) note("board entered its bootloader");
   } catch (const DeviceError& e) {
-    if (note) note(std::string("no running application (") + e.what() + "); looking for a bootloader");
+    if (note)
+      note(std::string("no running application (") + e.what() + "); looking for a bootloader");
   }
   const std::unique_ptr<UsbControl> usb = AwaitBootloader([&]() -> std::unique_ptr<UsbControl> {
     if (spec.kind == DeviceSpec::Kind::kUsbip) {

@@ -26,7 +26,8 @@ void InitHidapi() {
 
 class HidTransport final : public Transport {
  public:
-  HidTransport(hid_device* handle, HidListing listing) : handle_(handle), listing_(std::move(listing)) {}
+  HidTransport(hid_device* handle, HidListing listing)
+      : handle_(handle), listing_(std::move(listing)) {}
   ~HidTransport() override { hid_close(handle_); }
   HidTransport(const HidTransport&) = delete;
   HidTransport& operator=(const HidTransport&) = delete;
@@ -42,7 +43,8 @@ class HidTransport final : public Transport {
 
   std::size_t Receive(std::span<std::uint8_t, wire::kReportBytes> out,
                       std::chrono::milliseconds timeout) override {
-    const int n = hid_read_timeout(handle_, out.data(), out.size(), static_cast<int>(timeout.count()));
+    const int n =
+        hid_read_timeout(handle_, out.data(), out.size(), static_cast<int>(timeout.count()));
     if (n < 0) throw DeviceError("HID read failed: " + Narrow(hid_error(handle_)));
     return static_cast<std::size_t>(n);
   }
@@ -65,8 +67,10 @@ std::vector<HidListing> ListHidDevices() {
   for (hid_device_info* d = list; d != nullptr; d = d->next) {
     // The hidraw backend reads the usage page from the report descriptor.
     if (d->usage_page != wire::kHidUsagePage) continue;
-    out.push_back(HidListing{.path = d->path, .serial = Narrow(d->serial_number),
-                             .product = Narrow(d->product_string), .release = d->release_number});
+    out.push_back(HidListing{.path = d->path,
+                             .serial = Narrow(d->serial_number),
+                             .product = Narrow(d->product_string),
+                             .release = d->release_number});
   }
   hid_free_enumeration(list);
   return out;
@@ -82,11 +86,13 @@ std::unique_ptr<Transport> OpenHid(const std::string& serial) {
                                      : "no vibid board with serial " + serial + " on USB HID");
   }
   if (match.size() > 1) {
-    throw DeviceError(std::to_string(match.size()) + " vibid boards on USB HID: choose one with --device hid:SERIAL");
+    throw DeviceError(std::to_string(match.size()) +
+                      " vibid boards on USB HID: choose one with --device hid:SERIAL");
   }
   hid_device* h = hid_open_path(match[0].path.c_str());
   if (h == nullptr) {
-    throw DeviceError("cannot open " + match[0].path + " (permissions? see the udev rule in README)");
+    throw DeviceError("cannot open " + match[0].path +
+                      " (permissions? see the udev rule in README)");
   }
   return std::make_unique<HidTransport>(h, match[0]);
 }

@@ -26,10 +26,12 @@ class LibusbControl final : public UsbControl {
                                     std::chrono::milliseconds timeout) override {
     std::vector<std::uint8_t> buf(s.In() ? s.length : out.size());
     if (!s.In()) std::copy(out.begin(), out.end(), buf.begin());
-    const int n = libusb_control_transfer(handle_, s.request_type, s.request, s.value, s.index, buf.data(),
-                                          static_cast<std::uint16_t>(buf.size()), static_cast<unsigned>(timeout.count()));
+    const int n = libusb_control_transfer(handle_, s.request_type, s.request, s.value, s.index,
+                                          buf.data(), static_cast<std::uint16_t>(buf.size()),
+                                          static_cast<unsigned>(timeout.count()));
     if (n < 0) {
-      throw DeviceError("USB control request " + std::to_string(s.request) + " failed: " + libusb_error_name(n));
+      throw DeviceError("USB control request " + std::to_string(s.request) +
+                        " failed: " + libusb_error_name(n));
     }
     if (!s.In()) return {};
     buf.resize(static_cast<std::size_t>(n));
@@ -53,7 +55,8 @@ std::unique_ptr<UsbControl> OpenLibusbControl(std::uint16_t vendor_id, std::uint
     libusb_exit(ctx);
     char id[10];
     std::snprintf(id, sizeof(id), "%04x:%04x", vendor_id, product_id);
-    throw DeviceError(std::string("no USB device ") + id + " (is the board in DFU mode? permissions?)");
+    throw DeviceError(std::string("no USB device ") + id +
+                      " (is the board in DFU mode? permissions?)");
   }
   const int r = libusb_claim_interface(h, interface);
   if (r != 0) {

@@ -17,23 +17,34 @@ constexpr double kQ31 = 2147483648.0;
 
 const char* ChannelStem(wire::Channel channel) {
   switch (channel) {
-    case wire::Channel::kForce1: return "force1";
-    case wire::Channel::kForce2: return "force2";
-    case wire::Channel::kAccel1: return "acc1";
-    case wire::Channel::kAccel2: return "acc2";
-    case wire::Channel::kEncoder1: return "x1";
-    case wire::Channel::kEncoder2: return "x2";
+    case wire::Channel::kForce1:
+      return "force1";
+    case wire::Channel::kForce2:
+      return "force2";
+    case wire::Channel::kAccel1:
+      return "acc1";
+    case wire::Channel::kAccel2:
+      return "acc2";
+    case wire::Channel::kEncoder1:
+      return "x1";
+    case wire::Channel::kEncoder2:
+      return "x2";
   }
   return "?";
 }
 
 const char* UnitSuffix(wire::Unit unit) {
   switch (unit) {
-    case wire::Unit::kNewton: return "n";
-    case wire::Unit::kMeterPerSecond2: return "m_s2";
-    case wire::Unit::kMeter: return "m";
-    case wire::Unit::kMeterPerSecond: return "m_s";
-    case wire::Unit::kCounts: return "counts";
+    case wire::Unit::kNewton:
+      return "n";
+    case wire::Unit::kMeterPerSecond2:
+      return "m_s2";
+    case wire::Unit::kMeter:
+      return "m";
+    case wire::Unit::kMeterPerSecond:
+      return "m_s";
+    case wire::Unit::kCounts:
+      return "counts";
   }
   return "counts";
 }
@@ -72,7 +83,8 @@ double Calibrated(std::int32_t logged, wire::Channel channel, const wire::Channe
 
 }  // namespace
 
-LogTable MakeLogTable(const LogPull& pull, const wire::CalibrationRecord& calibration, bool has_record) {
+LogTable MakeLogTable(const LogPull& pull, const wire::CalibrationRecord& calibration,
+                      bool has_record) {
   LogTable t;
   const auto n = static_cast<Eigen::Index>(pull.records.size());
   const double period_s = pull.trailer.sample_period_us * 1e-6;
@@ -88,12 +100,16 @@ LogTable MakeLogTable(const LogPull& pull, const wire::CalibrationRecord& calibr
   for (std::size_t c = 0; c < wire::kChannelCount; ++c) {
     if ((pull.layout.channel_mask & (1u << c)) == 0) continue;
     const wire::ChannelScaling s = has_record ? calibration.channels[c] : wire::DefaultScaling();
-    const double scale = s.unit == wire::Unit::kCounts ? 1.0 : static_cast<double>(s.full_scale) / kQ31;
+    const double scale =
+        s.unit == wire::Unit::kCounts ? 1.0 : static_cast<double>(s.full_scale) / kQ31;
     Eigen::VectorXd v(n);
     for (Eigen::Index i = 0; i < n; ++i) {
-      v(i) = Calibrated(pull.records[static_cast<std::size_t>(i)].raw[c], static_cast<wire::Channel>(c), s) * scale;
+      v(i) = Calibrated(pull.records[static_cast<std::size_t>(i)].raw[c],
+                        static_cast<wire::Channel>(c), s) *
+             scale;
     }
-    t.names.push_back(std::string(ChannelStem(static_cast<wire::Channel>(c))) + "_" + UnitSuffix(s.unit));
+    t.names.push_back(std::string(ChannelStem(static_cast<wire::Channel>(c))) + "_" +
+                      UnitSuffix(s.unit));
     t.columns.push_back(v);
   }
   if (pull.layout.HasDob()) {
@@ -116,7 +132,8 @@ LogTable MakeLogTable(const LogPull& pull, const wire::CalibrationRecord& calibr
   return t;
 }
 
-std::string FormatLogCsv(const LogPull& pull, const wire::CalibrationRecord& calibration, bool has_record) {
+std::string FormatLogCsv(const LogPull& pull, const wire::CalibrationRecord& calibration,
+                         bool has_record) {
   const LogTable t = MakeLogTable(pull, calibration, has_record);
   return FormatCsv(t.names, t.columns);
 }

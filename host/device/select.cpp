@@ -41,7 +41,8 @@ DeviceSpec ParseDeviceSpec(const std::string& text) {
       const std::string port = rest.substr(colon + 1);
       char* end = nullptr;
       const long p = std::strtol(port.c_str(), &end, 10);
-      if (port.empty() || *end != '\0' || p < 1 || p > 65535) bad("port must be a number from 1 to 65535");
+      if (port.empty() || *end != '\0' || p < 1 || p > 65535)
+        bad("port must be a number from 1 to 65535");
       spec.port = static_cast<int>(p);
     }
     if (spec.host.empty()) bad("missing host");
@@ -72,9 +73,11 @@ std::vector<Listing> ListDevices() {
     out.push_back(Listing{.spec = "hid:" + h.serial, .description = h.product + " at " + h.path});
   }
   try {
-    for (const UsbipExport& e : ListUsbipExports(kDefaultUsbipHost, kDefaultUsbipPort, std::chrono::milliseconds(300))) {
+    for (const UsbipExport& e :
+         ListUsbipExports(kDefaultUsbipHost, kDefaultUsbipPort, std::chrono::milliseconds(300))) {
       if (e.vendor_id != kUsbVendorId || e.product_id != kUsbProductId) continue;
-      out.push_back(Listing{.spec = std::string("usbip://") + kDefaultUsbipHost + ":" + std::to_string(kDefaultUsbipPort),
+      out.push_back(Listing{.spec = std::string("usbip://") + kDefaultUsbipHost + ":" +
+                                    std::to_string(kDefaultUsbipPort),
                             .description = "USB/IP export " + e.busid});
     }
   } catch (const DeviceError&) {
@@ -85,13 +88,19 @@ std::vector<Listing> ListDevices() {
 
 std::unique_ptr<Transport> OpenTransport(const DeviceSpec& spec) {
   switch (spec.kind) {
-    case DeviceSpec::Kind::kHid: return OpenHid(spec.serial);
-    case DeviceSpec::Kind::kUsbip: return UsbipDevice::Open(spec.host, spec.port);
-    case DeviceSpec::Kind::kSerial: return OpenSerial(spec.path);
-    case DeviceSpec::Kind::kAny: break;
+    case DeviceSpec::Kind::kHid:
+      return OpenHid(spec.serial);
+    case DeviceSpec::Kind::kUsbip:
+      return UsbipDevice::Open(spec.host, spec.port);
+    case DeviceSpec::Kind::kSerial:
+      return OpenSerial(spec.path);
+    case DeviceSpec::Kind::kAny:
+      break;
   }
   const std::vector<Listing> all = ListDevices();
-  if (all.empty()) throw DeviceError("no vibid device found (no board on USB HID, no vibid-emu on 127.0.0.1:3240)");
+  if (all.empty())
+    throw DeviceError(
+        "no vibid device found (no board on USB HID, no vibid-emu on 127.0.0.1:3240)");
   if (all.size() > 1) {
     std::string names;
     for (const Listing& l : all) names += (names.empty() ? "" : ", ") + l.spec;

@@ -26,12 +26,14 @@ TEST(ParseDeviceSpec, ReadsEveryForm) {
 }
 
 TEST(ParseDeviceSpec, RefusesMalformedValuesNamingThem) {
-  for (const char* bad : {"hid:", "usbip://", "usbip://h:0", "usbip://h:70000", "usbip://h:x", "tcp://h", "HID", "serial:"}) {
+  for (const char* bad : {"hid:", "usbip://", "usbip://h:0", "usbip://h:70000", "usbip://h:x",
+                          "tcp://h", "HID", "serial:"}) {
     try {
       ParseDeviceSpec(bad);
       ADD_FAILURE() << bad << " accepted";
     } catch (const InputError& e) {
-      EXPECT_NE(std::string(e.what()).find(std::string("'") + bad + "'"), std::string::npos) << e.what();
+      EXPECT_NE(std::string(e.what()).find(std::string("'") + bad + "'"), std::string::npos)
+          << e.what();
     }
   }
 }

@@ -33,13 +33,18 @@ usbip::Socket Connect(const std::string& host, int port, std::chrono::millisecon
 }
 
 UsbipExport ToExport(const usbip::UsbDevice& d) {
-  return UsbipExport{.busid = d.busid, .vendor_id = d.id_vendor, .product_id = d.id_product,
-                     .release = d.bcd_device, .interfaces = d.num_interfaces, .interface_classes = d.interfaces};
+  return UsbipExport{.busid = d.busid,
+                     .vendor_id = d.id_vendor,
+                     .product_id = d.id_product,
+                     .release = d.bcd_device,
+                     .interfaces = d.num_interfaces,
+                     .interface_classes = d.interfaces};
 }
 
 }  // namespace
 
-std::vector<UsbipExport> ListUsbipExports(const std::string& host, int port, std::chrono::milliseconds timeout) {
+std::vector<UsbipExport> ListUsbipExports(const std::string& host, int port,
+                                          std::chrono::milliseconds timeout) {
   usbip::Socket s = Connect(host, port, timeout);
   std::vector<UsbipExport> out;
   try {
@@ -61,9 +66,12 @@ class UsbipDevice::Impl {
     std::vector<std::uint8_t> data;
   };
 
-  Impl(const std::string& host, int port) : socket(Connect(host, port, kConnectTimeout)), where(Where(host, port)) {}
+  Impl(const std::string& host, int port)
+      : socket(Connect(host, port, kConnectTimeout)), where(Where(host, port)) {}
 
-  void Start() { pump = std::thread([this] { Pump(); }); }
+  void Start() {
+    pump = std::thread([this] { Pump(); });
+  }
 
   ~Impl() {
     stopping = true;
@@ -78,7 +86,8 @@ class UsbipDevice::Impl {
       std::lock_guard lock(mutex);
       if (!error.empty()) throw DeviceError(error);
       cmd.basic.seqnum = ++seqnum;
-      pending[cmd.basic.seqnum] = Pending{.kind = kind, .in = in, .done = false, .status = 0, .data = {}};
+      pending[cmd.basic.seqnum] =
+          Pending{.kind = kind, .in = in, .done = false, .status = 0, .data = {}};
     }
     cmd.basic.command = usbip::UrbCommand::kCmdSubmit;
     cmd.basic.devid = devid;
@@ -110,7 +119,8 @@ class UsbipDevice::Impl {
     try {
       for (;;) {
         usbip::UrbHeader h;
-        if (!usbip::ReceiveUrbHeader(socket, h)) throw DeviceError("connection to " + where + " closed");
+        if (!usbip::ReceiveUrbHeader(socket, h))
+          throw DeviceError("connection to " + where + " closed");
         if (h.basic.command == usbip::UrbCommand::kRetUnlink) continue;
         if (h.basic.command != usbip::UrbCommand::kRetSubmit) {
           throw DeviceError("USB/IP server " + where + " sent a request instead of a reply");
@@ -123,7 +133,8 @@ class UsbipDevice::Impl {
         {
           std::lock_guard lock(mutex);
           auto it = pending.find(seq);
-          if (it == pending.end()) throw DeviceError("USB/IP server " + where + " completed an unknown URB");
+          if (it == pending.end())
+            throw DeviceError("USB/IP server " + where + " completed an unknown URB");
           in = it->second.in;
           kind = it->second.kind;
         }
@@ -183,8 +194,9 @@ class UsbipDevice::Impl {
 UsbipDevice::UsbipDevice(std::unique_ptr<Impl> impl) : impl_(std::move(impl)) {}
 UsbipDevice::~UsbipDevice() = default;
 
-std::unique_ptr<UsbipDevice> UsbipDevice::Open(const std::string& host, int port, const std::string& busid_in,
-                                               std::uint16_t vendor_id, std::uint16_t product_id) {
+std::unique_ptr<UsbipDevice> UsbipDevice::Open(const std::string& host, int port,
+                                               const std::string& busid_in, std::uint16_t vendor_id,
+                                               std::uint16_t product_id) {
   std::string busid = busid_in;
   if (busid.empty()) {
     std::vector<std::string> ours;
@@ -192,8 +204,10 @@ std::unique_ptr<UsbipDevice> UsbipDevice::Open(const std::string& host, int port
       if (e.vendor_id == vendor_id && e.product_id == product_id) ours.push_back(e.busid);
     }
     const std::string where = host + ":" + std::to_string(port);
-    if (ours.empty()) throw DeviceError("the USB/IP server at " + where + " exports no vibid device");
-    if (ours.size() > 1) throw DeviceError("the USB/IP server at " + where + " exports several vibid devices");
+    if (ours.empty())
+      throw DeviceError("the USB/IP server at " + where + " exports no vibid device");
+    if (ours.size() > 1)
+      throw DeviceError("the USB/IP server at " + where + " exports several vibid devices");
     busid = ours[0];
   }
   auto impl = std::make_unique<Impl>(host, port);
@@ -201,7 +215,8 @@ std::unique_ptr<UsbipDevice> UsbipDevice::Open(const std::string& host, int port
     const usbip::UsbDevice d = usbip::RequestImport(impl->socket, busid);
     impl->devid = d.devid();
   } catch (const std::runtime_error& e) {
-    throw DeviceError("USB/IP server " + impl->where + " refused to export " + busid + ": " + e.what());
+    throw DeviceError("USB/IP server " + impl->where + " refused to export " + busid + ": " +
+                      e.what());
   }
   impl->busid = busid;
   impl->Start();
@@ -210,15 +225,18 @@ std::unique_ptr<UsbipDevice> UsbipDevice::Open(const std::string& host, int port
 
   // Enumeration as a host controller driver does it.
   m.device_descriptor = GetDescriptor(*dev, kDescriptorDevice, 0, 18);
-  if (m.device_descriptor.size() != 18) throw DeviceError("malformed device descriptor from " + dev->Describe());
+  if (m.device_descriptor.size() != 18)
+    throw DeviceError("malformed device descriptor from " + dev->Describe());
   const std::vector<std::uint8_t> head = GetDescriptor(*dev, kDescriptorConfiguration, 0, 9);
-  if (head.size() != 9) throw DeviceError("malformed configuration descriptor from " + dev->Describe());
+  if (head.size() != 9)
+    throw DeviceError("malformed configuration descriptor from " + dev->Describe());
   const auto total = static_cast<std::uint16_t>(head[2] | (head[3] << 8));
   m.configuration = GetDescriptor(*dev, kDescriptorConfiguration, 0, total);
   // The HID interface's interrupt endpoints (class 3).
   bool hid = false;
   bool has_hid_in = false;
-  for (std::size_t i = 0; i + 1 < m.configuration.size() && m.configuration[i] >= 2; i += m.configuration[i]) {
+  for (std::size_t i = 0; i + 1 < m.configuration.size() && m.configuration[i] >= 2;
+       i += m.configuration[i]) {
     const std::uint8_t* p = &m.configuration[i];
     if (p[1] == 4 && i + 5 < m.configuration.size()) hid = p[5] == 3;
     if (p[1] == 5 && hid && i + 3 < m.configuration.size() && (p[3] & 3) == 3) {
@@ -235,18 +253,22 @@ std::unique_ptr<UsbipDevice> UsbipDevice::Open(const std::string& host, int port
   set.value = head[5];  // bConfigurationValue
   static_cast<void>(dev->Control(set, {}, std::chrono::milliseconds(1000)));
   for (int i = 0; has_hid_in && i < kInUrbs; ++i) {
-    static_cast<void>(m.Submit(Impl::Kind::kInterruptIn, true, m.in_endpoint, {}, wire::kReportBytes, {}));
+    static_cast<void>(
+        m.Submit(Impl::Kind::kInterruptIn, true, m.in_endpoint, {}, wire::kReportBytes, {}));
   }
   return dev;
 }
 
 void UsbipDevice::Send(const wire::Report& report) {
-  static_cast<void>(impl_->Submit(Impl::Kind::kInterruptOut, false, impl_->out_endpoint, report, 0, {}));
+  static_cast<void>(
+      impl_->Submit(Impl::Kind::kInterruptOut, false, impl_->out_endpoint, report, 0, {}));
 }
 
-std::size_t UsbipDevice::Receive(std::span<std::uint8_t, wire::kReportBytes> out, std::chrono::milliseconds timeout) {
+std::size_t UsbipDevice::Receive(std::span<std::uint8_t, wire::kReportBytes> out,
+                                 std::chrono::milliseconds timeout) {
   std::unique_lock lock(impl_->mutex);
-  impl_->changed.wait_for(lock, timeout, [&] { return !impl_->reports.empty() || !impl_->error.empty(); });
+  impl_->changed.wait_for(lock, timeout,
+                          [&] { return !impl_->reports.empty() || !impl_->error.empty(); });
   if (!impl_->reports.empty()) {
     std::vector<std::uint8_t> r = std::move(impl_->reports.front());
     impl_->reports.pop_front();
@@ -262,17 +284,21 @@ std::string UsbipDevice::Describe() const {
   return "usbip://" + impl_->where + " bus " + impl_->busid;
 }
 
-std::vector<std::uint8_t> UsbipDevice::Control(const Setup& setup, std::span<const std::uint8_t> out,
+std::vector<std::uint8_t> UsbipDevice::Control(const Setup& setup,
+                                               std::span<const std::uint8_t> out,
                                                std::chrono::milliseconds timeout) {
-  const std::uint32_t seq = impl_->Submit(Impl::Kind::kControl, setup.In(), 0, out, setup.length, setup.Bytes());
+  const std::uint32_t seq =
+      impl_->Submit(Impl::Kind::kControl, setup.In(), 0, out, setup.length, setup.Bytes());
   std::unique_lock lock(impl_->mutex);
-  const bool done = impl_->changed.wait_for(lock, timeout, [&] {
-    return impl_->pending[seq].done || !impl_->error.empty();
-  });
+  const bool done = impl_->changed.wait_for(
+      lock, timeout, [&] { return impl_->pending[seq].done || !impl_->error.empty(); });
   Impl::Pending p = impl_->pending[seq];
   impl_->pending.erase(seq);
-  const std::string what = "control request " + std::to_string(setup.request) + " (type 0x" +
-                           [&] { char b[3]; std::snprintf(b, 3, "%02x", setup.request_type); return std::string(b); }() + ")";
+  const std::string what = "control request " + std::to_string(setup.request) + " (type 0x" + [&] {
+    char b[3];
+    std::snprintf(b, 3, "%02x", setup.request_type);
+    return std::string(b);
+  }() + ")";
   if (!p.done) {
     if (!impl_->error.empty()) throw DeviceError(impl_->error);
     static_cast<void>(done);
@@ -282,7 +308,11 @@ std::vector<std::uint8_t> UsbipDevice::Control(const Setup& setup, std::span<con
   return p.data;
 }
 
-const std::vector<std::uint8_t>& UsbipDevice::device_descriptor() const { return impl_->device_descriptor; }
-const std::vector<std::uint8_t>& UsbipDevice::configuration_descriptor() const { return impl_->configuration; }
+const std::vector<std::uint8_t>& UsbipDevice::device_descriptor() const {
+  return impl_->device_descriptor;
+}
+const std::vector<std::uint8_t>& UsbipDevice::configuration_descriptor() const {
+  return impl_->configuration;
+}
 
 }  // namespace vibid::device

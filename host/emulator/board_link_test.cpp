@@ -22,13 +22,14 @@ struct StreamRun {
   std::vector<std::uint8_t> records;
   std::vector<std::uint32_t> ticks;
   wire::LogTrailer trailer;
-  std::uint64_t sim_us = 0;  // simulated time from the first sample to the frame the trailer left in
+  std::uint64_t sim_us =
+      0;  // simulated time from the first sample to the frame the trailer left in
 };
 
 struct RunOptions {
   double speed = 0.0;
-  int hog_threads = 0;          // busy threads beside the emulator (a loaded machine)
-  int host_delay_us = 0;        // the test host sleeps this long before each IN URB
+  int hog_threads = 0;    // busy threads beside the emulator (a loaded machine)
+  int host_delay_us = 0;  // the test host sleeps this long before each IN URB
 };
 
 /// One streamed acquisition against a fresh emulator (seed 5, hammer on m2 every 0.3 s).
@@ -51,8 +52,10 @@ StreamRun Acquire(const wire::AcqConfigureRequest& config, const RunOptions& ro 
   {
     testing::DeviceSession s(emu.port());
     s.receive_delay_us = ro.host_delay_us;
-    EXPECT_EQ(s.Request(wire::Command::kSelectScenario, testing::ScenarioOf("hammer", {2, 200, 0.3f, 0})).header.status,
-              Status::kOk);
+    EXPECT_EQ(
+        s.Request(wire::Command::kSelectScenario, testing::ScenarioOf("hammer", {2, 200, 0.3f, 0}))
+            .header.status,
+        Status::kOk);
     EXPECT_EQ(s.Request(wire::Command::kAcqConfigure, config).header.status, Status::kOk);
     const wire::LogLayout layout{config.channel_mask, config.flags};
     run.records = s.StreamAcquisition(layout.RecordBytes());
@@ -66,7 +69,8 @@ StreamRun Acquire(const wire::AcqConfigureRequest& config, const RunOptions& ro 
   return run;
 }
 
-wire::AcqConfigureRequest Streamed(std::uint32_t period_us, std::uint8_t mask, std::uint32_t records) {
+wire::AcqConfigureRequest Streamed(std::uint32_t period_us, std::uint8_t mask,
+                                   std::uint32_t records) {
   wire::AcqConfigureRequest c;
   c.sample_period_us = period_us;
   c.channel_mask = mask;

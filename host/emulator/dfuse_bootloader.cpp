@@ -23,9 +23,12 @@ constexpr std::uint32_t kMassErasePollMs = 20;
 constexpr std::array<std::uint8_t, 18> kDeviceDescriptor = {
     18, 1, 0x00, 0x02, 0, 0, 0, 64, 0x83, 0x04, 0x11, 0xDF, 0x00, 0x22, 1, 2, 3, 1};
 constexpr std::array<std::uint8_t, 27> kConfigurationDescriptor = {
-    9, 2, 27, 0, 1, 1, 0, 0xC0, 50,          // one interface, self powered, 100 mA
-    9, 4, 0, 0, 0, 0xFE, 0x01, 0x02, 4,      // application-specific class, DFU subclass, DFU mode
-    9, 0x21, 0x0B, 255, 0, 0x00, 0x08, 0x1A, 0x01};
+    9,    2,    27,   0,   1,
+    1,    0,    0xC0, 50,  // one interface, self powered, 100 mA
+    9,    4,    0,    0,   0,
+    0xFE, 0x01, 0x02, 4,  // application-specific class, DFU subclass, DFU mode
+    9,    0x21, 0x0B, 255, 0,
+    0x00, 0x08, 0x1A, 0x01};
 static_assert(kConfigurationDescriptor[2] == kConfigurationDescriptor.size());
 
 std::uint32_t Le32(const std::vector<std::uint8_t>& d, std::size_t at) {
@@ -81,15 +84,17 @@ void DfuSeBootloader::Submit(Urb urb) {
   if (sink_ != nullptr) sink_->Complete(urb, r);
 }
 
-UrbResult DfuSeBootloader::Control(const std::array<std::uint8_t, 8>& s, const std::vector<std::uint8_t>& out,
-                                   std::uint32_t length) {
+UrbResult DfuSeBootloader::Control(const std::array<std::uint8_t, 8>& s,
+                                   const std::vector<std::uint8_t>& out, std::uint32_t length) {
   const std::uint8_t type = s[0];
   const std::uint8_t request = s[1];
   const auto value = static_cast<std::uint16_t>(s[2] | (s[3] << 8));
   const auto index = static_cast<std::uint16_t>(s[4] | (s[5] << 8));
-  const auto w_length = static_cast<std::uint16_t>(std::min<std::uint32_t>(static_cast<std::uint32_t>(s[6] | (s[7] << 8)), length));
+  const auto w_length = static_cast<std::uint16_t>(
+      std::min<std::uint32_t>(static_cast<std::uint32_t>(s[6] | (s[7] << 8)), length));
   if ((type & 0x60) == 0x00) return Standard(request, value, w_length);
-  if ((type & 0x60) == 0x20 && (type & 0x1F) == 0x01 && index == 0) return Dfu(request, value, out, w_length);
+  if ((type & 0x60) == 0x20 && (type & 0x1F) == 0x01 && index == 0)
+    return Dfu(request, value, out, w_length);
   return Stall();
 }
 
@@ -97,11 +102,20 @@ std::vector<std::uint8_t> DfuSeBootloader::StringDescriptor(std::uint8_t index) 
   if (index == 0) return {4, 3, 0x09, 0x04};  // English (United States)
   std::string text;
   switch (index) {
-    case 1: text = "vibid"; break;
-    case 2: text = "vibid DfuSe bootloader (emulated)"; break;
-    case 3: text = serial_; break;
-    case 4: text = kMemoryLayout; break;
-    default: return {};
+    case 1:
+      text = "vibid";
+      break;
+    case 2:
+      text = "vibid DfuSe bootloader (emulated)";
+      break;
+    case 3:
+      text = serial_;
+      break;
+    case 4:
+      text = kMemoryLayout;
+      break;
+    default:
+      return {};
   }
   std::vector<std::uint8_t> d = {static_cast<std::uint8_t>(2 + 2 * text.size()), 3};
   for (char c : text) {
@@ -111,7 +125,8 @@ std::vector<std::uint8_t> DfuSeBootloader::StringDescriptor(std::uint8_t index) 
   return d;
 }
 
-UrbResult DfuSeBootloader::Standard(std::uint8_t request, std::uint16_t value, std::uint16_t length) {
+UrbResult DfuSeBootloader::Standard(std::uint8_t request, std::uint16_t value,
+                                    std::uint16_t length) {
   switch (request) {
     case 0x00:  // GET_STATUS: self powered, no remote wakeup
       return Data({0x01, 0x00}, length);
@@ -120,21 +135,26 @@ UrbResult DfuSeBootloader::Standard(std::uint8_t request, std::uint16_t value, s
     case 0x06: {  // GET_DESCRIPTOR
       const auto kind = static_cast<std::uint8_t>(value >> 8);
       if (kind == 1) return Data({kDeviceDescriptor.begin(), kDeviceDescriptor.end()}, length);
-      if (kind == 2) return Data({kConfigurationDescriptor.begin(), kConfigurationDescriptor.end()}, length);
+      if (kind == 2)
+        return Data({kConfigurationDescriptor.begin(), kConfigurationDescriptor.end()}, length);
       if (kind == 3) {
         auto d = StringDescriptor(static_cast<std::uint8_t>(value & 0xFF));
         if (!d.empty()) return Data(std::move(d), length);
       }
       return Stall();
     }
-    case 0x08: return Data({configuration_}, length);  // GET_CONFIGURATION
-    case 0x09:  // SET_CONFIGURATION
+    case 0x08:
+      return Data({configuration_}, length);  // GET_CONFIGURATION
+    case 0x09:                                // SET_CONFIGURATION
       if (value > 1) return Stall();
       configuration_ = static_cast<std::uint8_t>(value);
       return {};
-    case 0x0A: return Data({0}, length);               // GET_INTERFACE
-    case 0x0B: return value == 0 ? UrbResult{} : Stall();  // SET_INTERFACE: one alternate setting
-    default: return Stall();
+    case 0x0A:
+      return Data({0}, length);  // GET_INTERFACE
+    case 0x0B:
+      return value == 0 ? UrbResult{} : Stall();  // SET_INTERFACE: one alternate setting
+    default:
+      return Stall();
   }
 }
 
@@ -148,8 +168,8 @@ UrbResult DfuSeBootloader::StallAndError() {
   return Stall();
 }
 
-UrbResult DfuSeBootloader::Dfu(std::uint8_t request, std::uint16_t value, const std::vector<std::uint8_t>& out,
-                               std::uint16_t length) {
+UrbResult DfuSeBootloader::Dfu(std::uint8_t request, std::uint16_t value,
+                               const std::vector<std::uint8_t>& out, std::uint16_t length) {
   switch (request) {
     case 0:  // DETACH: already in the bootloader
       return {};
@@ -181,7 +201,8 @@ UrbResult DfuSeBootloader::Dfu(std::uint8_t request, std::uint16_t value, const 
         Fail(DfuStatus::kErrAddress);
         return Stall();
       }
-      const std::size_t n = std::min<std::size_t>(length, FlashImage::kBytes - (at - FlashImage::kBase));
+      const std::size_t n =
+          std::min<std::size_t>(length, FlashImage::kBytes - (at - FlashImage::kBase));
       std::vector<std::uint8_t> bytes(n);
       (void)flash_.Read(at, bytes);
       // A short block ends the upload (DFU 1.1 §6.2).
@@ -200,12 +221,15 @@ UrbResult DfuSeBootloader::Dfu(std::uint8_t request, std::uint16_t value, const 
       status_ = DfuStatus::kOk;
       state_ = State::kIdle;
       return {};
-    case 5: return Data({static_cast<std::uint8_t>(state_)}, length);  // GETSTATE
-    case 6:  // ABORT
-      if (state_ == State::kError || state_ == State::kDnBusy || state_ == State::kManifest) return StallAndError();
+    case 5:
+      return Data({static_cast<std::uint8_t>(state_)}, length);  // GETSTATE
+    case 6:                                                      // ABORT
+      if (state_ == State::kError || state_ == State::kDnBusy || state_ == State::kManifest)
+        return StallAndError();
       state_ = State::kIdle;
       return {};
-    default: return StallAndError();
+    default:
+      return StallAndError();
   }
 }
 
@@ -267,12 +291,16 @@ UrbResult DfuSeBootloader::GetStatus() {
       state_ = State::kManifestWaitReset;
       leave_ = true;
       break;
-    default: break;
+    default:
+      break;
   }
   UrbResult r;
-  r.in_data = {static_cast<std::uint8_t>(status_), static_cast<std::uint8_t>(poll_ms & 0xFF),
-               static_cast<std::uint8_t>((poll_ms >> 8) & 0xFF), static_cast<std::uint8_t>((poll_ms >> 16) & 0xFF),
-               static_cast<std::uint8_t>(reported), 0};
+  r.in_data = {static_cast<std::uint8_t>(status_),
+               static_cast<std::uint8_t>(poll_ms & 0xFF),
+               static_cast<std::uint8_t>((poll_ms >> 8) & 0xFF),
+               static_cast<std::uint8_t>((poll_ms >> 16) & 0xFF),
+               static_cast<std::uint8_t>(reported),
+               0};
   r.actual_length = 6;
   return r;
 }

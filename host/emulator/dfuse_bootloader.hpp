@@ -28,18 +28,33 @@ namespace vibid::emu {
 
 class DfuSeBootloader final : public ExportedDevice {
  public:
-  static constexpr std::uint16_t kVendorId = 0x0483;   // as the STM32 system-memory bootloader
+  static constexpr std::uint16_t kVendorId = 0x0483;  // as the STM32 system-memory bootloader
   static constexpr std::uint16_t kProductId = 0xDF11;
   static constexpr std::uint16_t kTransferSize = 2048;
-  static constexpr const char* kMemoryLayout = "@Internal Flash  /0x08000000/04*016Kg,01*064Kg,07*128Kg";
+  static constexpr const char* kMemoryLayout =
+      "@Internal Flash  /0x08000000/04*016Kg,01*064Kg,07*128Kg";
 
   enum class State : std::uint8_t {
-    kAppIdle = 0, kAppDetach = 1, kIdle = 2, kDnloadSync = 3, kDnBusy = 4, kDnloadIdle = 5,
-    kManifestSync = 6, kManifest = 7, kManifestWaitReset = 8, kUploadIdle = 9, kError = 10,
+    kAppIdle = 0,
+    kAppDetach = 1,
+    kIdle = 2,
+    kDnloadSync = 3,
+    kDnBusy = 4,
+    kDnloadIdle = 5,
+    kManifestSync = 6,
+    kManifest = 7,
+    kManifestWaitReset = 8,
+    kUploadIdle = 9,
+    kError = 10,
   };
   enum class DfuStatus : std::uint8_t {
-    kOk = 0x00, kErrTarget = 0x01, kErrWrite = 0x03, kErrErase = 0x04, kErrVerify = 0x07,
-    kErrAddress = 0x08, kErrStalledPkt = 0x0F,
+    kOk = 0x00,
+    kErrTarget = 0x01,
+    kErrWrite = 0x03,
+    kErrErase = 0x04,
+    kErrVerify = 0x07,
+    kErrAddress = 0x08,
+    kErrStalledPkt = 0x0F,
   };
 
   /// `record` is the base identity (busid, bus/dev numbers); the ids become ST's bootloader's.
@@ -57,9 +72,11 @@ class DfuSeBootloader final : public ExportedDevice {
   State state() const { return state_; }
 
  private:
-  UrbResult Control(const std::array<std::uint8_t, 8>& setup, const std::vector<std::uint8_t>& out, std::uint32_t length);
+  UrbResult Control(const std::array<std::uint8_t, 8>& setup, const std::vector<std::uint8_t>& out,
+                    std::uint32_t length);
   UrbResult Standard(std::uint8_t request, std::uint16_t value, std::uint16_t length);
-  UrbResult Dfu(std::uint8_t request, std::uint16_t value, const std::vector<std::uint8_t>& out, std::uint16_t length);
+  UrbResult Dfu(std::uint8_t request, std::uint16_t value, const std::vector<std::uint8_t>& out,
+                std::uint16_t length);
   UrbResult GetStatus();
   void ExecuteDownload();
   UrbResult StallAndError();

@@ -78,7 +78,8 @@ Emulator::Emulator(EmulatorOptions options)
       server_(options_.bind_address, options_.port, options_.verbose),
       log_(options_.log_bytes) {
   char serial[24];
-  std::snprintf(serial, sizeof serial, "EMU%016llX", static_cast<unsigned long long>(options_.seed));
+  std::snprintf(serial, sizeof serial, "EMU%016llX",
+                static_cast<unsigned long long>(options_.seed));
   serial_ = serial;
   last_wall_ = Clock::now();
   BootApplication(wire::ResetCause::kPowerOn);
@@ -216,7 +217,9 @@ void Emulator::AdvanceTime() {
         std::chrono::duration_cast<std::chrono::microseconds>(now - pace_wall_).count());
     const double behind = static_cast<double>(pace_sim_us_) + elapsed_us * options_.speed -
                           static_cast<double>(sim_us_);
-    frames = behind <= 0.0 ? 0 : static_cast<int>(std::min<double>(kChunkFrames, behind / kFrameUs + 1.0));
+    frames = behind <= 0.0
+                 ? 0
+                 : static_cast<int>(std::min<double>(kChunkFrames, behind / kFrameUs + 1.0));
   }
   for (int i = 0; i < frames && Busy(); ++i) {
     if (WaitForHost(now)) return;
@@ -254,7 +257,8 @@ void Emulator::Step(std::chrono::milliseconds max_wait) {
                                         : std::min(max_wait, std::chrono::milliseconds(1));
   // Drain every message that is already there before the firmware runs.
   bool handled = server_.Poll(wait);
-  for (int more = 0; handled && more < 64; ++more) handled = server_.Poll(std::chrono::milliseconds(0));
+  for (int more = 0; handled && more < 64; ++more)
+    handled = server_.Poll(std::chrono::milliseconds(0));
   RunFirmware();
   AdvanceTime();
   HandleRequests();

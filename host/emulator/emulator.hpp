@@ -50,7 +50,7 @@ struct EmulatorOptions {
   std::size_t log_bytes = kBoardProfile.log_bytes;
   /// Experiments only: no per-frame report limit, any log size. Never used by tests or the demo.
   bool beyond_board = false;
-  bool verbose = false;       ///< one line per personality change and USB/IP import on stderr
+  bool verbose = false;  ///< one line per personality change and USB/IP import on stderr
 };
 
 class Emulator {
@@ -81,8 +81,12 @@ class Emulator {
   /// When, in simulated time, sampling last started and an IN report last left: the timing of
   /// an acquisition as the board produced it, which another thread cannot read off SimulatedUs()
   /// without racing the idle clock.
-  std::uint64_t SamplingStartUs() const { return sampling_start_us_.load(std::memory_order_acquire); }
-  std::uint64_t LastInReportUs() const { return last_in_report_us_.load(std::memory_order_acquire); }
+  std::uint64_t SamplingStartUs() const {
+    return sampling_start_us_.load(std::memory_order_acquire);
+  }
+  std::uint64_t LastInReportUs() const {
+    return last_in_report_us_.load(std::memory_order_acquire);
+  }
 
  private:
   struct Application;

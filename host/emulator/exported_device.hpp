@@ -25,8 +25,8 @@ struct Urb {
 
 struct UrbResult {
   std::int32_t status = usbip::kStatusOk;
-  std::uint32_t actual_length = 0;     ///< OUT: bytes taken; IN: in_data.size()
-  std::vector<std::uint8_t> in_data;   ///< IN only
+  std::uint32_t actual_length = 0;    ///< OUT: bytes taken; IN: in_data.size()
+  std::vector<std::uint8_t> in_data;  ///< IN only
 };
 
 /// Receives completed URBs (the server turns them into RET_SUBMIT).

@@ -17,9 +17,11 @@ FlashImage::FlashImage(std::string path) : path_(std::move(path)), bytes_(kBytes
     Persist();  // a new board: fully erased
     return;
   }
-  std::vector<std::uint8_t> content((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
-  Require(content.size() == kBytes, "flash file '" + path_ + "' is " + std::to_string(content.size()) +
-                                        " bytes, not the " + std::to_string(kBytes) + " of the board's flash");
+  std::vector<std::uint8_t> content((std::istreambuf_iterator<char>(in)),
+                                    std::istreambuf_iterator<char>());
+  Require(content.size() == kBytes, "flash file '" + path_ + "' is " +
+                                        std::to_string(content.size()) + " bytes, not the " +
+                                        std::to_string(kBytes) + " of the board's flash");
   bytes_ = std::move(content);
 }
 
@@ -74,7 +76,8 @@ bool FlashImage::Read(std::uint32_t address, std::span<std::uint8_t> out) const 
 
 void FlashImage::Persist() const {
   if (path_.empty()) return;
-  WriteFileAtomic(path_, std::string_view(reinterpret_cast<const char*>(bytes_.data()), bytes_.size()));
+  WriteFileAtomic(path_,
+                  std::string_view(reinterpret_cast<const char*>(bytes_.data()), bytes_.size()));
 }
 
 }  // namespace vibid::emu

@@ -13,7 +13,8 @@ namespace vibid::emu {
 namespace {
 
 std::filesystem::path TempFile(const char* name) {
-  return std::filesystem::temp_directory_path() / ("vibid_flash_" + std::to_string(::getpid()) + "_" + name);
+  return std::filesystem::temp_directory_path() /
+         ("vibid_flash_" + std::to_string(::getpid()) + "_" + name);
 }
 
 TEST(FlashImage, SectorMapOfTheStm32f405) {
@@ -62,7 +63,8 @@ TEST(FlashImage, CalibrationSlotsPersistInTheFile) {
     const std::array<std::uint8_t, 3> data = {1, 2, 3};
     ASSERT_EQ(slots.Erase(fw::CalibrationFlash::Slot::kB), Status::kOk);
     ASSERT_EQ(slots.Program(fw::CalibrationFlash::Slot::kB, 100, data), Status::kOk);
-    EXPECT_EQ(slots.Program(fw::CalibrationFlash::Slot::kB, 16 * 1024 - 2, data), Status::kOutOfRange);
+    EXPECT_EQ(slots.Program(fw::CalibrationFlash::Slot::kB, 16 * 1024 - 2, data),
+              Status::kOutOfRange);
   }
   {
     FlashImage f(path.string());

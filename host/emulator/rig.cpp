@@ -20,8 +20,8 @@ constexpr double kFirstEventS = 0.5;
 /// would otherwise chatter around zero velocity.
 constexpr double kStictionSpeedMPerS = 1e-4;
 
-std::vector<double> NumberArray(const nlohmann::json& json, const char* key, const std::string& source,
-                                std::size_t count, bool positive) {
+std::vector<double> NumberArray(const nlohmann::json& json, const char* key,
+                                const std::string& source, std::size_t count, bool positive) {
   Require(json.contains(key), source + ": missing \"" + key + "\"");
   const auto& a = json.at(key);
   Require(a.is_array() && a.size() == count,
@@ -38,18 +38,20 @@ std::vector<double> NumberArray(const nlohmann::json& json, const char* key, con
 }
 
 double Number(const nlohmann::json& json, const char* key, const std::string& source) {
-  Require(json.contains(key) && json.at(key).is_number(), source + ": missing number \"" + key + "\"");
+  Require(json.contains(key) && json.at(key).is_number(),
+          source + ": missing number \"" + key + "\"");
   const double x = json.at(key).get<double>();
   Require(std::isfinite(x) && x > 0.0, source + ": \"" + key + "\" must be > 0");
   return x;
 }
 
-AnalogSensor SensorFromJson(const nlohmann::json& json, const char* range_key, const char* noise_key,
-                            const std::string& source) {
+AnalogSensor SensorFromJson(const nlohmann::json& json, const char* range_key,
+                            const char* noise_key, const std::string& source) {
   Require(json.is_object(), source + " must be an object");
   AnalogSensor s;
   s.range = Number(json, range_key, source);
-  Require(json.contains(noise_key) && json.at(noise_key).is_number() && json.at(noise_key).get<double>() >= 0.0,
+  Require(json.contains(noise_key) && json.at(noise_key).is_number() &&
+              json.at(noise_key).get<double>() >= 0.0,
           source + ": \"" + noise_key + "\" must be a number >= 0");
   s.noise_rms = json.at(noise_key).get<double>();
   Require(json.contains("adc_bits") && json.at("adc_bits").is_number_integer(),
@@ -60,8 +62,9 @@ AnalogSensor SensorFromJson(const nlohmann::json& json, const char* range_key, c
   return s;
 }
 
-std::array<AnalogSensor, 2> SensorPair(const nlohmann::json& json, const char* key, const char* range_key,
-                                       const char* noise_key, const std::string& source) {
+std::array<AnalogSensor, 2> SensorPair(const nlohmann::json& json, const char* key,
+                                       const char* range_key, const char* noise_key,
+                                       const std::string& source) {
   Require(json.contains(key) && json.at(key).is_array() && json.at(key).size() == 2,
           source + ": \"" + key + "\" must be an array of 2 sensors");
   return {SensorFromJson(json.at(key)[0], range_key, noise_key, source + " " + key + "[0]"),
@@ -98,11 +101,11 @@ model::Model RigSpec::Truth() const {
 
 RigSpec DefaultRig() {
   RigSpec r;
-  r.masses_kg = {2.0, 1.53};            // plate stacks: m1 as specified, m2 +2 %
-  r.effective_mass_loss = {0.09, 0.0};  // m1 behaves 9 % lighter: 1.82 kg
-  r.springs_n_per_m = {3520.0, 2760.0}; // 4000 −12 %, 3000 −8 %
+  r.masses_kg = {2.0, 1.53};             // plate stacks: m1 as specified, m2 +2 %
+  r.effective_mass_loss = {0.09, 0.0};   // m1 behaves 9 % lighter: 1.82 kg
+  r.springs_n_per_m = {3520.0, 2760.0};  // 4000 −12 %, 3000 −8 %
   r.dampers_ns_per_m = {5.0, 3.5};
-  r.coulomb_n = {0.005, 0.005};        // guide friction of a low-friction carriage, 5 mN
+  r.coulomb_n = {0.005, 0.005};  // guide friction of a low-friction carriage, 5 mN
   r.load_cells = {AnalogSensor{500.0, 0.1, 12}, AnalogSensor{50.0, 0.01, 12}};
   r.accelerometers = {AnalogSensor{200.0, 0.05, 12}, AnalogSensor{200.0, 0.05, 12}};
   r.encoder_counts_per_m = 100000.0;  // 10 µm per count
@@ -116,16 +119,19 @@ RigSpec RigFromJson(const nlohmann::json& json, const std::string& source) {
   Require(json.value("topology", nlohmann::json()) == "chain",
           source + ": \"topology\" must be \"chain\" (masses in series from ground)");
   RigSpec r;
-  Require(json.contains("masses_kg") && json.at("masses_kg").is_array(), source + ": missing \"masses_kg\"");
+  Require(json.contains("masses_kg") && json.at("masses_kg").is_array(),
+          source + ": missing \"masses_kg\"");
   const std::size_t n = json.at("masses_kg").size();
-  Require(n == 1 || n == 2, source + ": the rig has 1 or 2 masses (the board has two accelerometers)");
+  Require(n == 1 || n == 2,
+          source + ": the rig has 1 or 2 masses (the board has two accelerometers)");
   r.masses_kg = NumberArray(json, "masses_kg", source, n, true);
   r.springs_n_per_m = NumberArray(json, "springs_n_per_m", source, n, true);
   r.dampers_ns_per_m = NumberArray(json, "dampers_ns_per_m", source, n, false);
   r.coulomb_n = NumberArray(json, "coulomb_n", source, n, false);
   r.effective_mass_loss = NumberArray(json, "effective_mass_loss", source, n, false);
   for (double loss : r.effective_mass_loss) {
-    Require(loss < 0.5, source + ": \"effective_mass_loss\" must be below 0.5 (a fraction of the mass)");
+    Require(loss < 0.5,
+            source + ": \"effective_mass_loss\" must be below 0.5 (a fraction of the mass)");
   }
   r.load_cells = SensorPair(json, "load_cells", "range_n", "noise_n", source);
   r.accelerometers = SensorPair(json, "accelerometers", "range_m_s2", "noise_m_s2", source);
@@ -144,7 +150,8 @@ nlohmann::json RigToJson(const RigSpec& r) {
           {"dampers_ns_per_m", r.dampers_ns_per_m},
           {"coulomb_n", r.coulomb_n},
           {"load_cells",
-           {SensorToJson(r.load_cells[0], "range_n", "noise_n"), SensorToJson(r.load_cells[1], "range_n", "noise_n")}},
+           {SensorToJson(r.load_cells[0], "range_n", "noise_n"),
+            SensorToJson(r.load_cells[1], "range_n", "noise_n")}},
           {"accelerometers",
            {SensorToJson(r.accelerometers[0], "range_m_s2", "noise_m_s2"),
             SensorToJson(r.accelerometers[1], "range_m_s2", "noise_m_s2")}},
@@ -154,8 +161,12 @@ nlohmann::json RigToJson(const RigSpec& r) {
 
 nlohmann::json TruthToJson(const RigSpec& r) {
   std::vector<double> m;
-  for (std::size_t i = 0; i < r.masses_kg.size(); ++i) m.push_back(r.masses_kg[i] * (1.0 - r.effective_mass_loss[i]));
-  return {{"topology", "chain"}, {"masses", m}, {"springs", r.springs_n_per_m}, {"dampers", r.dampers_ns_per_m}};
+  for (std::size_t i = 0; i < r.masses_kg.size(); ++i)
+    m.push_back(r.masses_kg[i] * (1.0 - r.effective_mass_loss[i]));
+  return {{"topology", "chain"},
+          {"masses", m},
+          {"springs", r.springs_n_per_m},
+          {"dampers", r.dampers_ns_per_m}};
 }
 
 RigSimulator::RigSimulator(RigSpec spec, std::uint64_t seed) : spec_(std::move(spec)), seed_(seed) {
@@ -200,8 +211,12 @@ void RigSimulator::Start(double dt_s) {
     case Configuration::kChain:
       for (int i = 0; i < spec_.dofs(); ++i) moving_.push_back(i);
       break;
-    case Configuration::kMass1Alone: moving_.push_back(0); break;
-    case Configuration::kMass2Alone: moving_.push_back(1); break;
+    case Configuration::kMass1Alone:
+      moving_.push_back(0);
+      break;
+    case Configuration::kMass2Alone:
+      moving_.push_back(1);
+      break;
   }
   discrete_ = model::Discretize(model::ModelStateSpace(ActiveModel()), dt_s);
   const auto n = static_cast<Eigen::Index>(moving_.size());
@@ -235,15 +250,18 @@ void RigSimulator::Excitation(double t, double& force_n, double& push_n) {
     return amplitude * fade * (0.5 + 0.5 * sum / static_cast<double>(push_freq_hz_.size()));
   };
   switch (s.kind) {
-    case ScenarioKind::kIdle: break;
+    case ScenarioKind::kIdle:
+      break;
     case ScenarioKind::kHammer: {
       if (t >= next_hit_s_) {
-        std::uniform_real_distribution<double> height(0.6, 1.4), spacing(0.7, 1.3), chance(0.0, 1.0);
+        std::uniform_real_distribution<double> height(0.6, 1.4), spacing(0.7, 1.3),
+            chance(0.0, 1.0);
         pulses_.push_back({next_hit_s_, kHammerPulseS, s.force_n * height(rng_)});
         if (chance(rng_) < 0.1) {  // the hammer bounces: a smaller second hit a few ms later
           std::uniform_real_distribution<double> gap(0.003, 0.008), rebound(0.2, 0.4);
           const Pulse first = pulses_.back();
-          pulses_.push_back({first.start_s + first.width_s + gap(rng_), kHammerPulseS, first.height_n * rebound(rng_)});
+          pulses_.push_back({first.start_s + first.width_s + gap(rng_), kHammerPulseS,
+                             first.height_n * rebound(rng_)});
         }
         next_hit_s_ += s.spacing_s * spacing(rng_);
       }
@@ -259,7 +277,9 @@ void RigSimulator::Excitation(double t, double& force_n, double& push_n) {
       force_n = s.force_n * std::sin(2.0 * kPi * s.frequency_hz * t);
       if (s.push_n > 0.0) push_n = hand_push(s.push_n);
       break;
-    case ScenarioKind::kPush: push_n = hand_push(s.force_n); break;
+    case ScenarioKind::kPush:
+      push_n = hand_push(s.force_n);
+      break;
     case ScenarioKind::kStep: {
       // Pull by hand through a load cell: ramp up over 0.3 s, hold, let go at once.
       const double ramp_s = 0.3;

@@ -45,7 +45,7 @@ struct RigSpec {
   std::vector<double> effective_mass_loss;
   std::vector<double> springs_n_per_m;
   std::vector<double> dampers_ns_per_m;
-  std::vector<double> coulomb_n;  ///< Coulomb friction force per mass (guide), N
+  std::vector<double> coulomb_n;                 ///< Coulomb friction force per mass (guide), N
   std::array<AnalogSensor, 2> load_cells{};      ///< hammer/shaker/pull, hand push
   std::array<AnalogSensor, 2> accelerometers{};  ///< on mass 1, mass 2
   double encoder_counts_per_m = 0.0;

@@ -65,7 +65,8 @@ TEST(Rig, SingleMassFreeDecayMatchesTheClosedForm) {
       static_x = x;
       static_counts = raw[4];
     }
-    if (t > release_s + 0.01 && prev > 0.0 && x <= 0.0) crossings.push_back(t - 1.0 / kFs + prev / (prev - x) / kFs);
+    if (t > release_s + 0.01 && prev > 0.0 && x <= 0.0)
+      crossings.push_back(t - 1.0 / kFs + prev / (prev - x) / kFs);
     prev = x;
   }
   // After 5 s of hold (ζ ≈ 0.031, decay time 0.7 s) the pull stretches spring 1 by F/k.
@@ -73,7 +74,8 @@ TEST(Rig, SingleMassFreeDecayMatchesTheClosedForm) {
   EXPECT_EQ(static_counts, static_cast<std::int32_t>(std::floor(static_x * 1e5)));  // 10 µm counts
   EXPECT_EQ(raw[5], 0);  // mass 2 is not on the rig
   ASSERT_GE(crossings.size(), 20u);
-  const double period = (crossings.back() - crossings.front()) / static_cast<double>(crossings.size() - 1);
+  const double period =
+      (crossings.back() - crossings.front()) / static_cast<double>(crossings.size() - 1);
   EXPECT_NEAR(period, 2.0 * std::numbers::pi / omega_d, 1e-5 * period);
 }
 
@@ -223,7 +225,7 @@ TEST(Scenario, ParametersAndRefusals) {
   };
   EXPECT_TRUE(refused("tornado", {}));
   EXPECT_TRUE(refused("hammer", {3, 0, 0, 0}));
-  EXPECT_TRUE(refused("hammer", {1, 0, 0, 2}));   // mass 1 is not on the rig when m2 is alone
+  EXPECT_TRUE(refused("hammer", {1, 0, 0, 2}));     // mass 1 is not on the rig when m2 is alone
   EXPECT_TRUE(refused("hammer", {0, 0, 0, 2}, 1));  // a 1-DOF rig has no mass 2
   EXPECT_TRUE(refused("hammer", {1.5f, 0, 0, 0}));
   EXPECT_TRUE(refused("hammer", {0, -5, 0, 0}));
@@ -238,9 +240,11 @@ TEST(RigFile, ShippedFiles) {
   EXPECT_EQ(RigToJson(file), RigToJson(DefaultRig()));
   // rigs/cart_1dof.json: the ECP cart with spring Khigh as its lab published it
   // (../shared/data/README.md: k = 712.60 N/m, m_c = 0.5848 kg, ζ = 0.0179 unloaded).
-  const RigSpec cart = LoadRig(std::string(VIBID_SOURCE_DIR) + "/host/emulator/rigs/cart_1dof.json");
+  const RigSpec cart =
+      LoadRig(std::string(VIBID_SOURCE_DIR) + "/host/emulator/rigs/cart_1dof.json");
   ASSERT_EQ(cart.dofs(), 1);
-  const double zeta = cart.dampers_ns_per_m[0] / (2.0 * std::sqrt(cart.springs_n_per_m[0] * cart.masses_kg[0]));
+  const double zeta =
+      cart.dampers_ns_per_m[0] / (2.0 * std::sqrt(cart.springs_n_per_m[0] * cart.masses_kg[0]));
   EXPECT_NEAR(zeta, 0.0179, 0.0005);
   RigSimulator rig(cart, 1);
   rig.Select(Parse("hammer", {0, 0, 0, 0}, 1));

@@ -15,8 +15,9 @@ double OrDefault(float p, double fallback) { return p == 0.0f ? fallback : stati
 bool MassAndConfiguration(float mass_param, float config_param, int dofs, Scenario& s) {
   if (config_param != std::floor(config_param) || config_param > 2.0f) return false;
   s.configuration = static_cast<Configuration>(static_cast<int>(config_param));
-  const int alone = s.configuration == Configuration::kMass1Alone ? 1
-                    : s.configuration == Configuration::kMass2Alone ? 2 : 0;
+  const int alone = s.configuration == Configuration::kMass1Alone   ? 1
+                    : s.configuration == Configuration::kMass2Alone ? 2
+                                                                    : 0;
   if (alone > dofs) return false;
   if (mass_param != std::floor(mass_param) || mass_param > 2.0f) return false;
   int mass = static_cast<int>(mass_param);

@@ -33,7 +33,8 @@ class TestClient {
   const usbip::UsbDevice& device() const { return device_; }
 
   std::uint32_t Submit(std::uint8_t ep, usbip::Direction dir, std::uint32_t length,
-                       std::array<std::uint8_t, 8> setup = {}, const std::vector<std::uint8_t>& out = {}) {
+                       std::array<std::uint8_t, 8> setup = {},
+                       const std::vector<std::uint8_t>& out = {}) {
     usbip::CmdSubmit s;
     s.basic.seqnum = ++seqnum_;
     s.basic.devid = device_.devid();
@@ -42,7 +43,8 @@ class TestClient {
     s.transfer_buffer_length = length;
     s.setup = setup;
     std::vector<std::uint8_t> bytes(usbip::kUrbHeaderBytes);
-    usbip::Encode(s, std::span<std::uint8_t, usbip::kUrbHeaderBytes>(bytes.data(), usbip::kUrbHeaderBytes));
+    usbip::Encode(
+        s, std::span<std::uint8_t, usbip::kUrbHeaderBytes>(bytes.data(), usbip::kUrbHeaderBytes));
     bytes.insert(bytes.end(), out.begin(), out.end());
     directions_[s.basic.seqnum] = dir;
     socket_.SendAll(bytes);
@@ -81,7 +83,8 @@ class TestClient {
     }
   }
 
-  Completion Control(std::array<std::uint8_t, 8> setup, std::uint32_t length, const std::vector<std::uint8_t>& out = {}) {
+  Completion Control(std::array<std::uint8_t, 8> setup, std::uint32_t length,
+                     const std::vector<std::uint8_t>& out = {}) {
     const bool in = (setup[0] & 0x80) != 0;
     return Wait(Submit(0, in ? usbip::Direction::kIn : usbip::Direction::kOut, length, setup, out));
   }
@@ -108,7 +111,8 @@ class TestClient {
       unlinks_[h.basic.seqnum] = h.ret_unlink.status;
       return;
     }
-    if (h.basic.command != usbip::UrbCommand::kRetSubmit) throw usbip::ProtocolError("unexpected command");
+    if (h.basic.command != usbip::UrbCommand::kRetSubmit)
+      throw usbip::ProtocolError("unexpected command");
     Completion c;
     c.status = h.ret_submit.status;
     c.actual_length = h.ret_submit.actual_length;
@@ -128,10 +132,15 @@ class TestClient {
 };
 
 inline std::array<std::uint8_t, 8> Req(std::uint8_t type, std::uint8_t request, std::uint16_t value,
-                                         std::uint16_t index, std::uint16_t length) {
-  return {type, request, static_cast<std::uint8_t>(value & 0xFF), static_cast<std::uint8_t>(value >> 8),
-          static_cast<std::uint8_t>(index & 0xFF), static_cast<std::uint8_t>(index >> 8),
-          static_cast<std::uint8_t>(length & 0xFF), static_cast<std::uint8_t>(length >> 8)};
+                                       std::uint16_t index, std::uint16_t length) {
+  return {type,
+          request,
+          static_cast<std::uint8_t>(value & 0xFF),
+          static_cast<std::uint8_t>(value >> 8),
+          static_cast<std::uint8_t>(index & 0xFF),
+          static_cast<std::uint8_t>(index >> 8),
+          static_cast<std::uint8_t>(length & 0xFF),
+          static_cast<std::uint8_t>(length >> 8)};
 }
 
 /// The board's command protocol over the HID interrupt endpoints of an imported emulator:
@@ -145,12 +154,14 @@ class DeviceSession {
   };
 
   explicit DeviceSession(std::uint16_t port) : client_(port) {
-    if (client_.Control(Req(0x00, 9, 1, 0, 0), 0).status != 0) throw std::runtime_error("SET_CONFIGURATION refused");
+    if (client_.Control(Req(0x00, 9, 1, 0, 0), 0).status != 0)
+      throw std::runtime_error("SET_CONFIGURATION refused");
   }
 
   TestClient& client() { return client_; }
 
-  Answer Request(wire::Command command, std::span<const std::uint8_t> payload = {}, std::uint16_t sequence = 0) {
+  Answer Request(wire::Command command, std::span<const std::uint8_t> payload = {},
+                 std::uint16_t sequence = 0) {
     wire::Report r{};
     if (wire::BuildReport(command, ++token_, sequence, 0, Status::kOk, payload, r) != Status::kOk) {
       throw std::runtime_error("request does not fit a report");
@@ -160,7 +171,7 @@ class DeviceSession {
   }
 
   template <typename Payload>
-    requires requires { Payload::kBytes; }
+  requires requires { Payload::kBytes; }
   Answer Request(wire::Command command, const Payload& payload) {
     std::array<std::uint8_t, Payload::kBytes> bytes{};
     wire::Encode(payload, bytes);
@@ -205,7 +216,8 @@ class DeviceSession {
     for (;;) {
       if (ReadMore(bytes, record_bytes)) continue;
       const wire::StatusResponse s = GetStatus();
-      const bool sampling = s.acq_state == wire::AcqState::kArmed || s.acq_state == wire::AcqState::kAcquiring;
+      const bool sampling =
+          s.acq_state == wire::AcqState::kArmed || s.acq_state == wire::AcqState::kAcquiring;
       if (!sampling && bytes.size() / record_bytes >= s.records_written) return bytes;
     }
   }
@@ -235,7 +247,8 @@ class DeviceSession {
     std::uint16_t expected = 0;
     for (;;) {
       const Answer a = Receive();
-      if (a.header.token != token_ || a.header.status != Status::kOk || a.header.sequence != expected++) {
+      if (a.header.token != token_ || a.header.status != Status::kOk ||
+          a.header.sequence != expected++) {
         throw std::runtime_error("log stream broken");
       }
       if ((a.header.flags & wire::kFlagStreamEnd) != 0) {
@@ -252,15 +265,19 @@ class DeviceSession {
   wire::StatusResponse GetStatus() {
     const Answer a = Request(wire::Command::kGetStatus);
     wire::StatusResponse s;
-    if (wire::Decode(a.payload, s) != Status::kOk) throw std::runtime_error("bad get-status answer");
+    if (wire::Decode(a.payload, s) != Status::kOk)
+      throw std::runtime_error("bad get-status answer");
     return s;
   }
 
  private:
-  void Append(const std::vector<std::uint8_t>& payload, std::vector<std::uint8_t>& bytes, std::size_t record_bytes) {
-    if (payload.size() < 4 || (payload.size() - 4) % record_bytes != 0) throw std::runtime_error("bad log payload");
-    const std::uint32_t first = static_cast<std::uint32_t>(payload[0] | payload[1] << 8 | payload[2] << 16) |
-                                static_cast<std::uint32_t>(payload[3]) << 24;
+  void Append(const std::vector<std::uint8_t>& payload, std::vector<std::uint8_t>& bytes,
+              std::size_t record_bytes) {
+    if (payload.size() < 4 || (payload.size() - 4) % record_bytes != 0)
+      throw std::runtime_error("bad log payload");
+    const std::uint32_t first =
+        static_cast<std::uint32_t>(payload[0] | payload[1] << 8 | payload[2] << 16) |
+        static_cast<std::uint32_t>(payload[3]) << 24;
     for (std::size_t k = 0; k < (payload.size() - 4) / record_bytes; ++k) {
       ticks.push_back(first + static_cast<std::uint32_t>(k) * decimation);
     }
@@ -268,19 +285,23 @@ class DeviceSession {
   }
 
   void Send(const wire::Report& r) {
-    const auto out = client_.Wait(client_.Submit(1, usbip::Direction::kOut, 64, {}, {r.begin(), r.end()}));
+    const auto out =
+        client_.Wait(client_.Submit(1, usbip::Direction::kOut, 64, {}, {r.begin(), r.end()}));
     if (out.status != 0) throw std::runtime_error("interrupt OUT failed");
   }
   Answer Receive() {
-    if (receive_delay_us > 0) std::this_thread::sleep_for(std::chrono::microseconds(receive_delay_us));
+    if (receive_delay_us > 0)
+      std::this_thread::sleep_for(std::chrono::microseconds(receive_delay_us));
     const auto in = client_.Wait(client_.Submit(1, usbip::Direction::kIn, 64));
-    if (in.status != 0 || in.data.size() != wire::kReportBytes) throw std::runtime_error("interrupt IN failed");
+    if (in.status != 0 || in.data.size() != wire::kReportBytes)
+      throw std::runtime_error("interrupt IN failed");
     wire::Report r{};
     std::copy(in.data.begin(), in.data.end(), r.begin());
     Answer a;
     if (wire::IsStreamData(r)) {
       wire::StreamDataHeader d;
-      if (wire::DecodeStreamData(r, d) != Status::kOk) throw std::runtime_error("malformed stream data report");
+      if (wire::DecodeStreamData(r, d) != Status::kOk)
+        throw std::runtime_error("malformed stream data report");
       a.stream_data = true;
       a.header.token = d.token;
       a.header.sequence = d.sequence;

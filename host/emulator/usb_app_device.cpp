@@ -22,7 +22,8 @@ void UsbAppDevice::Attach(UrbSink& sink) {
   // The exporting host has enumerated the device before it offers it: reset and address it.
   stack_.OnBusReset();
   stack_.Task();
-  const std::array<std::uint8_t, 8> set_address = {0x00, 0x05, static_cast<std::uint8_t>(record_.devnum), 0, 0, 0, 0, 0};
+  const std::array<std::uint8_t, 8> set_address = {
+      0x00, 0x05, static_cast<std::uint8_t>(record_.devnum), 0, 0, 0, 0, 0};
   (void)Control(set_address, {}, 0);
 }
 
@@ -64,7 +65,8 @@ UrbResult UsbAppDevice::Control(const std::array<std::uint8_t, 8>& setup_bytes,
       if (!in.active) return fail(kStatusTimedOut);
       const std::size_t packet = in.buffer.size();
       const std::size_t n = std::min<std::size_t>(packet, w_length - r.in_data.size());
-      r.in_data.insert(r.in_data.end(), in.buffer.begin(), in.buffer.begin() + static_cast<std::ptrdiff_t>(n));
+      r.in_data.insert(r.in_data.end(), in.buffer.begin(),
+                       in.buffer.begin() + static_cast<std::ptrdiff_t>(n));
       complete(kEp0In, packet);
       if (packet < kEp0Size || r.in_data.size() >= w_length) break;
     }
@@ -102,7 +104,8 @@ void UsbAppDevice::Submit(Urb urb) {
     if (sink_ != nullptr) sink_->Complete(urb, r);
     return;
   }
-  const auto ep_addr = static_cast<std::uint8_t>(urb.endpoint | (urb.direction == usbip::Direction::kIn ? 0x80 : 0x00));
+  const auto ep_addr = static_cast<std::uint8_t>(
+      urb.endpoint | (urb.direction == usbip::Direction::kIn ? 0x80 : 0x00));
   if (!dcd_.IsOpen(ep_addr) || dcd_.Stalled(ep_addr)) {
     UrbResult r;
     r.status = usbip::kStatusStall;
@@ -115,7 +118,8 @@ void UsbAppDevice::Submit(Urb urb) {
 
 bool UsbAppDevice::Unlink(std::uint32_t seqnum) {
   for (auto* queue : {&in_urbs_, &out_urbs_}) {
-    const auto it = std::find_if(queue->begin(), queue->end(), [&](const Urb& u) { return u.seqnum == seqnum; });
+    const auto it = std::find_if(queue->begin(), queue->end(),
+                                 [&](const Urb& u) { return u.seqnum == seqnum; });
     if (it != queue->end()) {
       queue->erase(it);
       return true;
@@ -128,7 +132,8 @@ void UsbAppDevice::FailStalled() {
   std::vector<Urb> failed;
   for (auto* queue : {&in_urbs_, &out_urbs_}) {
     for (auto it = queue->begin(); it != queue->end();) {
-      const auto ep_addr = static_cast<std::uint8_t>(it->endpoint | (it->direction == usbip::Direction::kIn ? 0x80 : 0));
+      const auto ep_addr = static_cast<std::uint8_t>(
+          it->endpoint | (it->direction == usbip::Direction::kIn ? 0x80 : 0));
       if (dcd_.IsOpen(ep_addr) && !dcd_.Stalled(ep_addr)) {
         ++it;
       } else {
@@ -173,7 +178,8 @@ bool UsbAppDevice::NeedsFrame() const {
     const auto in = static_cast<std::uint8_t>(ep | 0x80);
     if (dcd_.IsOpen(in) && dcd_.PendingOnConst(in).active) return true;
     if (dcd_.IsOpen(ep) && dcd_.PendingOnConst(ep).active &&
-        std::any_of(out_urbs_.begin(), out_urbs_.end(), [&](const Urb& u) { return u.endpoint == ep; })) {
+        std::any_of(out_urbs_.begin(), out_urbs_.end(),
+                    [&](const Urb& u) { return u.endpoint == ep; })) {
       return true;
     }
   }

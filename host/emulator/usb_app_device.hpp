@@ -45,14 +45,16 @@ class UsbAppDevice final : public ExportedDevice {
   bool Attached() const { return sink_ != nullptr; }
   /// Each interrupt IN transaction stores its frame's start time here before the host can see
   /// the report, so another thread that has the report also sees when it left.
-  void StampInTransactions(std::atomic<std::uint64_t>& frame_start_us) { in_stamp_ = &frame_start_us; }
+  void StampInTransactions(std::atomic<std::uint64_t>& frame_start_us) {
+    in_stamp_ = &frame_start_us;
+  }
   /// A transaction is due in the next frame: an armed IN report, or a host's OUT report the
   /// armed OUT endpoint has not taken yet.
   bool NeedsFrame() const;
 
   /// Runs one control transfer through the stack: SETUP, data stage, status stage.
-  UrbResult Control(const std::array<std::uint8_t, 8>& setup, std::span<const std::uint8_t> out_data,
-                    std::uint32_t length);
+  UrbResult Control(const std::array<std::uint8_t, 8>& setup,
+                    std::span<const std::uint8_t> out_data, std::uint32_t length);
 
  private:
   bool ServiceIn(std::uint8_t ep_addr);

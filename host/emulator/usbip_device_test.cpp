@@ -112,7 +112,7 @@ TEST_F(EmulatorOverUsbIp, EnumeratesLikeABoard) {
   EXPECT_EQ(dev.data[7], 64);    // bMaxPacketSize0
   EXPECT_EQ(dev.data[8], 0x09);  // idVendor 0x1209, little-endian
   EXPECT_EQ(dev.data[9], 0x12);
-  EXPECT_EQ(dev.data[17], 1);    // bNumConfigurations
+  EXPECT_EQ(dev.data[17], 1);  // bNumConfigurations
   EXPECT_TRUE(std::equal(dev.data.begin(), dev.data.end(), fw::usb::kDeviceDescriptor.begin()));
 
   // GET_DESCRIPTOR(configuration): the 9-byte header first, then wTotalLength (two packets).
@@ -124,7 +124,8 @@ TEST_F(EmulatorOverUsbIp, EnumeratesLikeABoard) {
   const auto config = c.Control(Req(0x80, 6, 0x0200, 0, 255), 255);
   ASSERT_EQ(config.status, 0);
   ASSERT_EQ(config.data.size(), total);
-  EXPECT_TRUE(std::equal(config.data.begin(), config.data.end(), fw::usb::kConfigurationDescriptor.begin()));
+  EXPECT_TRUE(std::equal(config.data.begin(), config.data.end(),
+                         fw::usb::kConfigurationDescriptor.begin()));
 
   // A string: the serial number names the emulator and its seed.
   const auto serial = c.Control(Req(0x80, 6, 0x0303, 0x0409, 255), 255);
@@ -160,7 +161,8 @@ TEST_F(EmulatorOverUsbIp, PingAndInfoOverInterruptEndpoints) {
 
   const std::array<std::uint8_t, 5> hello = {'h', 'e', 'l', 'l', 'o'};
   wire::Report ping{};
-  ASSERT_EQ(wire::BuildReport(wire::Command::kPing, 0x1234, 0, 0, Status::kOk, hello, ping), Status::kOk);
+  ASSERT_EQ(wire::BuildReport(wire::Command::kPing, 0x1234, 0, 0, Status::kOk, hello, ping),
+            Status::kOk);
   const wire::Report pong = Transact(c, ping);
   wire::Header h;
   ASSERT_EQ(wire::DecodeHeader(pong, h), Status::kOk);
@@ -172,7 +174,8 @@ TEST_F(EmulatorOverUsbIp, PingAndInfoOverInterruptEndpoints) {
   EXPECT_TRUE(std::equal(payload.begin(), payload.end(), hello.begin(), hello.end()));
 
   wire::Report get_info{};
-  ASSERT_EQ(wire::BuildReport(wire::Command::kGetInfo, 7, 0, 0, Status::kOk, std::span<const std::uint8_t>(), get_info),
+  ASSERT_EQ(wire::BuildReport(wire::Command::kGetInfo, 7, 0, 0, Status::kOk,
+                              std::span<const std::uint8_t>(), get_info),
             Status::kOk);
   const wire::Report info_report = Transact(c, get_info);
   wire::InfoResponse info;
@@ -193,13 +196,14 @@ TEST_F(EmulatorOverUsbIp, ScenarioCommand) {
     std::snprintf(s.name.data(), s.name.size(), "%s", name);
     s.params = params;
     wire::Report r{};
-    EXPECT_EQ(wire::BuildReport(wire::Command::kSelectScenario, 1, 0, 0, Status::kOk, s, r), Status::kOk);
+    EXPECT_EQ(wire::BuildReport(wire::Command::kSelectScenario, 1, 0, 0, Status::kOk, s, r),
+              Status::kOk);
     wire::Header h;
     EXPECT_EQ(wire::DecodeHeader(Transact(c, r), h), Status::kOk);
     return h.status;
   };
   EXPECT_EQ(select("hammer", {2, 120, 1, 0}), Status::kOk);
-  EXPECT_EQ(select("hammer", {1, 0, 0, 1}), Status::kOk);  // mass 1 alone
+  EXPECT_EQ(select("hammer", {1, 0, 0, 1}), Status::kOk);               // mass 1 alone
   EXPECT_EQ(select("hammer", {2, 0, 0, 1}), Status::kInvalidArgument);  // m2 is not on the rig then
   EXPECT_EQ(select("shaker", {16, 10, 5, 0}), Status::kOk);
   EXPECT_EQ(select("earthquake", {}), Status::kInvalidArgument);
@@ -216,7 +220,9 @@ TEST_F(EmulatorOverUsbIp, UnlinkCancelsAPendingInterruptIn) {
 
   // The unlinked URB never completes: the next answer goes to the next IN URB.
   wire::Report ping{};
-  ASSERT_EQ(wire::BuildReport(wire::Command::kPing, 99, 0, 0, Status::kOk, std::span<const std::uint8_t>(), ping), Status::kOk);
+  ASSERT_EQ(wire::BuildReport(wire::Command::kPing, 99, 0, 0, Status::kOk,
+                              std::span<const std::uint8_t>(), ping),
+            Status::kOk);
   const wire::Report pong = Transact(c, ping);
   wire::Header h;
   ASSERT_EQ(wire::DecodeHeader(pong, h), Status::kOk);
@@ -251,7 +257,8 @@ TEST_F(EmulatorOverUsbIp, DfuDetachReachesTheBootloader) {
   const auto layout = boot.Control(Req(0x80, 6, 0x0304, 0x0409, 255), 255);  // iInterface string
   ASSERT_EQ(layout.status, 0);
   std::string text;
-  for (std::size_t i = 2; i + 1 < layout.data.size(); i += 2) text.push_back(static_cast<char>(layout.data[i]));
+  for (std::size_t i = 2; i + 1 < layout.data.size(); i += 2)
+    text.push_back(static_cast<char>(layout.data[i]));
   EXPECT_EQ(text, "@Internal Flash  /0x08000000/04*016Kg,01*064Kg,07*128Kg");
 }
 
@@ -289,7 +296,8 @@ TEST_F(EmulatorOverUsbIp, CalibrationSurvivesARestartAndResetIsSoftware) {
   const wire::InfoResponse info = info_of(s);
   EXPECT_EQ(info.reset_cause, wire::ResetCause::kPowerOn);
   EXPECT_EQ(info.cal_state, wire::CalState::kCalibrated);
-  EXPECT_EQ(info.cal_crc, wire::ComputeCrc32(std::span<const std::uint8_t>(bytes).first(wire::kCalOffCrc)));
+  EXPECT_EQ(info.cal_crc,
+            wire::ComputeCrc32(std::span<const std::uint8_t>(bytes).first(wire::kCalOffCrc)));
 }
 
 TEST_F(EmulatorOverUsbIp, GarbageDropsOnlyThatClient) {
@@ -314,7 +322,9 @@ TEST_F(EmulatorOverUsbIp, GarbageDropsOnlyThatClient) {
 // DfuSe: GETSTATUS after a download runs it (dfuDNBUSY), the next one reports dfuDNLOAD-IDLE.
 void DfuSeBlock(TestClient& c, std::uint16_t block, const std::vector<std::uint8_t>& data) {
   ASSERT_EQ(c.Control(Req(0x21, 1, block, 0, static_cast<std::uint16_t>(data.size())),
-                      static_cast<std::uint32_t>(data.size()), data).status, 0);
+                      static_cast<std::uint32_t>(data.size()), data)
+                .status,
+            0);
   const auto busy = c.Control(Req(0xA1, 3, 0, 0, 6), 6);
   ASSERT_EQ(busy.data.size(), 6u);
   ASSERT_EQ(busy.data[0], 0) << "bStatus";
@@ -331,14 +341,17 @@ std::vector<std::uint8_t> Command(std::uint8_t cmd, std::uint32_t address) {
 TEST_F(EmulatorOverUsbIp, DfuSeDownloadLandsInTheFlashFile) {
   constexpr std::uint32_t kImageAddress = 0x08010000;  // sector 4, where the board's code starts
   std::vector<std::uint8_t> image(5000);
-  for (std::size_t i = 0; i < image.size(); ++i) image[i] = static_cast<std::uint8_t>((i * 31 + 7) ^ (i >> 8));
+  for (std::size_t i = 0; i < image.size(); ++i)
+    image[i] = static_cast<std::uint8_t>((i * 31 + 7) ^ (i >> 8));
 
   {
     // enter-DFU over HID: answered, then the device re-enumerates as the bootloader.
     TestClient app(port_);
     Configure(app);
     wire::Report enter{};
-    ASSERT_EQ(wire::BuildReport(wire::Command::kEnterDfu, 5, 0, 0, Status::kOk, std::span<const std::uint8_t>(), enter), Status::kOk);
+    ASSERT_EQ(wire::BuildReport(wire::Command::kEnterDfu, 5, 0, 0, Status::kOk,
+                                std::span<const std::uint8_t>(), enter),
+              Status::kOk);
     wire::Header h;
     ASSERT_EQ(wire::DecodeHeader(Transact(app, enter), h), Status::kOk);
     EXPECT_EQ(h.status, Status::kOk);
@@ -370,8 +383,8 @@ TEST_F(EmulatorOverUsbIp, DfuSeDownloadLandsInTheFlashFile) {
     // Programming over bytes that are not erased fails verification: dfuERROR, errVERIFY.
     ASSERT_EQ(boot.Control(Req(0x21, 1, 2, 0, 4), 4, {0xFF, 0xFF, 0xFF, 0xFF}).status, 0);
     const auto verify = boot.Control(Req(0xA1, 3, 0, 0, 6), 6);
-    EXPECT_EQ(verify.data[0], 0x07);  // errVERIFY
-    EXPECT_EQ(verify.data[4], 10);    // dfuERROR
+    EXPECT_EQ(verify.data[0], 0x07);                              // errVERIFY
+    EXPECT_EQ(verify.data[4], 10);                                // dfuERROR
     EXPECT_EQ(boot.Control(Req(0x21, 4, 0, 0, 0), 0).status, 0);  // CLRSTATUS
 
     // Read back with UPLOAD from the pointer (ABORT to dfuIDLE first).
@@ -399,7 +412,8 @@ TEST_F(EmulatorOverUsbIp, DfuSeDownloadLandsInTheFlashFile) {
   }
   Stop();
   std::ifstream in(dir_ / "flash.bin", std::ios::binary);
-  const std::vector<std::uint8_t> flash((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  const std::vector<std::uint8_t> flash((std::istreambuf_iterator<char>(in)),
+                                        std::istreambuf_iterator<char>());
   ASSERT_EQ(flash.size(), 1024u * 1024u);
   EXPECT_TRUE(std::equal(image.begin(), image.end(), flash.begin() + 0x10000));
   // The rest of sector 4 stays erased; the calibration sectors were not touched.
@@ -419,8 +433,10 @@ std::vector<std::uint8_t> HammerRun(std::uint64_t seed, std::uint64_t* ticks) {
   std::vector<std::uint8_t> log;
   {
     testing::DeviceSession s(emu.port());
-    EXPECT_EQ(s.Request(wire::Command::kSelectScenario, testing::ScenarioOf("hammer", {2, 100, 0.25f, 0})).header.status,
-              Status::kOk);
+    EXPECT_EQ(
+        s.Request(wire::Command::kSelectScenario, testing::ScenarioOf("hammer", {2, 100, 0.25f, 0}))
+            .header.status,
+        Status::kOk);
     wire::AcqConfigureRequest c;
     c.sample_period_us = 200;
     c.channel_mask = wire::kAllChannelsMask;

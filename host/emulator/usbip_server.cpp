@@ -32,7 +32,8 @@ void UsbIpServer::Close(Connection& c) {
 }
 
 void UsbIpServer::Sweep() {
-  std::erase_if(connections_, [](const std::unique_ptr<Connection>& c) { return !c->socket.valid(); });
+  std::erase_if(connections_,
+                [](const std::unique_ptr<Connection>& c) { return !c->socket.valid(); });
 }
 
 bool UsbIpServer::Poll(std::chrono::milliseconds timeout) {
@@ -88,7 +89,8 @@ void UsbIpServer::HandleOperation(Connection& c) {
     Close(c);
     return;
   }
-  if (h.code != usbip::OpCode::kReqImport) throw usbip::ProtocolError("unexpected operation in a request");
+  if (h.code != usbip::OpCode::kReqImport)
+    throw usbip::ProtocolError("unexpected operation in a request");
   std::array<std::uint8_t, usbip::kBusIdBytes> busid_bytes{};
   c.socket.ReceiveExact(busid_bytes);
   const std::string busid = usbip::DecodeBusId(busid_bytes);
@@ -122,7 +124,8 @@ void UsbIpServer::HandleUrb(Connection& c) {
       urb.start_frame = h.cmd_submit.start_frame;
       urb.number_of_packets = h.cmd_submit.number_of_packets;
       const std::size_t payload = usbip::SubmitPayloadBytes(h.cmd_submit);
-      if (payload > 65536) throw usbip::ProtocolError("URB of " + std::to_string(payload) + " bytes");
+      if (payload > 65536)
+        throw usbip::ProtocolError("URB of " + std::to_string(payload) + " bytes");
       urb.out_data.resize(payload);
       c.socket.ReceiveExact(urb.out_data);
       ++urbs_submitted_;
@@ -140,7 +143,8 @@ void UsbIpServer::HandleUrb(Connection& c) {
       c.socket.SendAll(bytes);
       return;
     }
-    default: throw usbip::ProtocolError("a client sent a reply-type URB message");
+    default:
+      throw usbip::ProtocolError("a client sent a reply-type URB message");
   }
 }
 
@@ -154,7 +158,8 @@ void UsbIpServer::Complete(const Urb& urb, const UrbResult& result) {
   r.start_frame = urb.start_frame;
   r.number_of_packets = urb.number_of_packets;
   std::vector<std::uint8_t> bytes(usbip::kUrbHeaderBytes);
-  usbip::Encode(r, std::span<std::uint8_t, usbip::kUrbHeaderBytes>(bytes.data(), usbip::kUrbHeaderBytes));
+  usbip::Encode(
+      r, std::span<std::uint8_t, usbip::kUrbHeaderBytes>(bytes.data(), usbip::kUrbHeaderBytes));
   if (in) bytes.insert(bytes.end(), result.in_data.begin(), result.in_data.end());
   try {
     importer_->socket.SendAll(bytes);

@@ -30,12 +30,15 @@ void CheckShape(const ident::Frf& f) {
 }
 
 void CheckSame(const ident::Frf& a, const ident::Frf& b) {
-  Require(a.lines() == b.lines() && a.responses() == b.responses() && a.response_names == b.response_names &&
-          a.force_name == b.force_name && a.quantity == b.quantity && a.estimator == b.estimator &&
-          a.averages == b.averages && fuzz::Same(a.exp_window_tau_s, b.exp_window_tau_s));
-  for (Eigen::Index i = 0; i < a.freq_hz.size(); ++i) Require(fuzz::Same(a.freq_hz[i], b.freq_hz[i]));
+  Require(a.lines() == b.lines() && a.responses() == b.responses() &&
+          a.response_names == b.response_names && a.force_name == b.force_name &&
+          a.quantity == b.quantity && a.estimator == b.estimator && a.averages == b.averages &&
+          fuzz::Same(a.exp_window_tau_s, b.exp_window_tau_s));
+  for (Eigen::Index i = 0; i < a.freq_hz.size(); ++i)
+    Require(fuzz::Same(a.freq_hz[i], b.freq_hz[i]));
   for (Eigen::Index i = 0; i < a.h.size(); ++i) {
-    Require(fuzz::Same(a.h.data()[i].real(), b.h.data()[i].real()) && fuzz::Same(a.h.data()[i].imag(), b.h.data()[i].imag()));
+    Require(fuzz::Same(a.h.data()[i].real(), b.h.data()[i].real()) &&
+            fuzz::Same(a.h.data()[i].imag(), b.h.data()[i].imag()));
     Require(fuzz::Same(a.coherence.data()[i], b.coherence.data()[i]));
   }
 }
@@ -51,14 +54,21 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   if ((mode & 2u) != 0) (void)ident::LooksLikeFrfCsv(text);
   const bool uff = (mode & 1u) != 0;
   std::optional<ident::Frf> frf;
-  if (!Accepts([&] { frf = uff ? ident::ParseUff58(text, "fuzz.uff") : ident::ParseFrfCsv(text, "fuzz.csv"); })) return 0;
+  if (!Accepts([&] {
+        frf = uff ? ident::ParseUff58(text, "fuzz.uff") : ident::ParseFrfCsv(text, "fuzz.csv");
+      }))
+    return 0;
   CheckShape(*frf);
 
   const int node = 1 + (mode >> 4);
   std::string written;
-  Require(Accepts([&] { written = uff ? ident::FormatUff58(*frf, node) : ident::FormatFrfCsv(*frf); }));
+  Require(
+      Accepts([&] { written = uff ? ident::FormatUff58(*frf, node) : ident::FormatFrfCsv(*frf); }));
   std::optional<ident::Frf> again;
-  Require(Accepts([&] { again = uff ? ident::ParseUff58(written, "again.uff") : ident::ParseFrfCsv(written, "again.csv"); }));
+  Require(Accepts([&] {
+    again =
+        uff ? ident::ParseUff58(written, "again.uff") : ident::ParseFrfCsv(written, "again.csv");
+  }));
   CheckShape(*again);
   if (uff) {
     Require((uff ? ident::FormatUff58(*again, node) : ident::FormatFrfCsv(*again)) == written);

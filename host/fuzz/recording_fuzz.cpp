@@ -26,7 +26,8 @@ void CheckSameTable(const CsvTable& a, const CsvTable& b) {
   Require(a.names == b.names && a.columns.size() == b.columns.size() && a.rows() == b.rows());
   for (std::size_t c = 0; c < a.columns.size(); ++c) {
     Require(a.columns[c].size() == b.columns[c].size());
-    for (Eigen::Index i = 0; i < a.columns[c].size(); ++i) Require(fuzz::Same(a.columns[c][i], b.columns[c][i]));
+    for (Eigen::Index i = 0; i < a.columns[c].size(); ++i)
+      Require(fuzz::Same(a.columns[c][i], b.columns[c][i]));
   }
 }
 
@@ -36,10 +37,17 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   FuzzedDataProvider in(data, size);
   RecordingOptions options;
   switch (in.ConsumeIntegralInRange<int>(0, 3)) {
-    case 0: break;
-    case 1: options.time_column = in.ConsumeRandomLengthString(12); break;
-    case 2: options.fs_hz = in.ConsumeFloatingPoint<double>(); break;
-    default: options.fs_hz = in.ConsumeFloatingPointInRange<double>(0.1, 1e6); break;
+    case 0:
+      break;
+    case 1:
+      options.time_column = in.ConsumeRandomLengthString(12);
+      break;
+    case 2:
+      options.fs_hz = in.ConsumeFloatingPoint<double>();
+      break;
+    default:
+      options.fs_hz = in.ConsumeFloatingPointInRange<double>(0.1, 1e6);
+      break;
   }
   const std::string specs = in.ConsumeRandomLengthString(64);
   const std::string text = in.ConsumeBytesAsString(in.remaining_bytes());
@@ -49,15 +57,18 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
 
   // The writer's text reads back to the same table.
   std::optional<CsvTable> again;
-  Require(Accepts([&] { again = ParseCsv(FormatCsv(table->names, table->columns), "again.csv", 1); }));
+  Require(
+      Accepts([&] { again = ParseCsv(FormatCsv(table->names, table->columns), "again.csv", 1); }));
   CheckSameTable(*table, *again);
 
   std::optional<Recording> recording;
   if (!Accepts([&] { recording = MakeRecording(*table, options); })) return 0;
-  Require(std::isfinite(recording->fs_hz) && recording->fs_hz > 0.0 && std::isfinite(recording->t0_s));
+  Require(std::isfinite(recording->fs_hz) && recording->fs_hz > 0.0 &&
+          std::isfinite(recording->t0_s));
   std::optional<Recording> recording_again;
   Require(Accepts([&] { recording_again = MakeRecording(*again, options); }));
-  Require(fuzz::Same(recording->fs_hz, recording_again->fs_hz) && fuzz::Same(recording->t0_s, recording_again->t0_s));
+  Require(fuzz::Same(recording->fs_hz, recording_again->fs_hz) &&
+          fuzz::Same(recording->t0_s, recording_again->t0_s));
 
   std::vector<ColumnSpec> list;
   if (!Accepts([&] { list = ParseColumnList(specs); })) return 0;

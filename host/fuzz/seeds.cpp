@@ -28,12 +28,14 @@ int main(int argc, char** argv) {
       o.form = dob::ObserverForm::kMimo;
       o.sensor = dob::SensorKind::kAcceleration;
     }
-    const dob::DobDesign design = dob::DesignObserver(dob::PlantFromModel(m, o.input_dof, o.output_dof), o);
+    const dob::DobDesign design =
+        dob::DesignObserver(dob::PlantFromModel(m, o.input_dof, o.output_dof), o);
     if (!design.stable) {
       std::cerr << design.message << "\n";
       return 1;
     }
-    std::ofstream out(std::string(argv[2]) + (mimo ? "/design_mimo.json" : "/design_siso.json"), std::ios::binary);
+    std::ofstream out(std::string(argv[2]) + (mimo ? "/design_mimo.json" : "/design_siso.json"),
+                      std::ios::binary);
     out << '\x01' << dob::DesignToJson(design).dump(1) << "\n";
   }
   const ident::Frf frf = ident::ParseFrfCsv(ReadFileText(argv[3]), argv[3]);

@@ -62,7 +62,8 @@ constexpr const DecimatorPlan* FindPlan(std::uint32_t factor) {
 
 constexpr bool PlansAreSound() {
   // The header's sizes are exact, so a regenerated table that needs less shrinks them too.
-  if (kPlanMaxStages != kDecimatorMaxStages || kPlanMaxStateWords != kDecimatorStateWordsPerChannel) return false;
+  if (kPlanMaxStages != kDecimatorMaxStages || kPlanMaxStateWords != kDecimatorStateWordsPerChannel)
+    return false;
   for (std::uint32_t f = 1; f <= kDecimatorMaxFactor; ++f) {
     const DecimatorPlan* p = FindPlan(f);
     if ((p != nullptr) != IsSupportedDecimation(f)) return false;
@@ -97,11 +98,13 @@ std::int32_t Saturate(std::int64_t y, std::uint32_t& saturations) {
 // from the outside in so both pointers stay inside the window; the stride is a template
 // argument so the pointer steps are immediate post-increments (no index arithmetic, no branch).
 template <std::uint32_t kStride>
-std::int32_t Convolve(const std::int32_t* window, const DecimatorStageDesign& d, std::uint32_t& saturations) {
+std::int32_t Convolve(const std::int32_t* window, const DecimatorStageDesign& d,
+                      std::uint32_t& saturations) {
   const std::int32_t* lo = window;
   const std::int32_t* hi = window + (d.length - 1);
   const std::int32_t* tap = d.pairs + d.pair_count;
-  std::int64_t acc = (std::int64_t{1} << (kTapShift - 1)) + std::int64_t{d.center} * window[(d.length - 1) / 2];
+  std::int64_t acc =
+      (std::int64_t{1} << (kTapShift - 1)) + std::int64_t{d.center} * window[(d.length - 1) / 2];
   for (std::uint32_t n = d.pair_count; n != 0; --n) {
     const std::int64_t h = *--tap;
     acc += h * *lo;  // two SMLALs with one tap load; see the header for why not pre-added

@@ -26,8 +26,9 @@ constexpr std::size_t kVectorChannels = 4;
 
 static_assert(IsSupportedDecimation(1) && IsSupportedDecimation(2) && IsSupportedDecimation(5) &&
               IsSupportedDecimation(640) && IsSupportedDecimation(1000));
-static_assert(!IsSupportedDecimation(0) && !IsSupportedDecimation(3) && !IsSupportedDecimation(1024) &&
-              !IsSupportedDecimation(2048) && !IsSupportedDecimation(30 * 7));
+static_assert(!IsSupportedDecimation(0) && !IsSupportedDecimation(3) &&
+              !IsSupportedDecimation(1024) && !IsSupportedDecimation(2048) &&
+              !IsSupportedDecimation(30 * 7));
 
 // ---- the golden input, mirrored from test_input() in scripts/golden/decimator_design.py:
 // integer "magic circle" oscillators (k = 2 sin(pi f) in Q30, f = 0.0011 and 0.17 of fs_in) and
@@ -60,7 +61,8 @@ class GoldenInput {
     std::int64_t code = 2048 + ((a * 1500) >> 30) + ((b * 300) >> 30) + (r >> 24) - 128;
     code = code < 0 ? 0 : (code > 4095 ? 4095 : code);
     frame[0] = static_cast<std::int32_t>(code * 16);
-    frame[1] = static_cast<std::int32_t>(((a * (std::int64_t{1} << 23)) >> 30) + ((b * (std::int64_t{1} << 16)) >> 30) +
+    frame[1] = static_cast<std::int32_t>(((a * (std::int64_t{1} << 23)) >> 30) +
+                                         ((b * (std::int64_t{1} << 16)) >> 30) +
                                          ((r >> 12) & 0xFFF) - 2048);
     // 0.63 and 0.2 of full scale (the fast oscillator peaks at 1.16) plus +-1/8 of noise: peaks at
     // 98 % of full scale, within int32 (the script asserts it never needs the clamp it mirrors).
@@ -97,7 +99,8 @@ std::size_t RunInTwoBlocks(const DecimatorVector& v, Decimator& dec) {
             Status::kOk);
   EXPECT_EQ(dec.PushBlock(std::span<const std::int32_t>(g_input + split * kVectorChannels,
                                                         (v.frames - split) * kVectorChannels),
-                          std::span<std::int32_t>(g_output + first * kVectorChannels, (400 - first) * kVectorChannels),
+                          std::span<std::int32_t>(g_output + first * kVectorChannels,
+                                                  (400 - first) * kVectorChannels),
                           second),
             Status::kOk);
   return first + second;
@@ -173,9 +176,10 @@ TEST(Decimator, SevenChannelsAreIndependent) {
 TEST(Decimator, MatchesTheDoubleReference) {
   // Measured (scripts/golden/decimator_design.py prints the same): SNR ADC 100.2..102.1 dB,
   // encoder 144.1..146.4 dB, Q31 (peaks at 98 % of full scale) 187.0..190.4 dB; max error
-  // 0.50 LSB with one stage (D = 2, 5), 0.92 LSB with two (D = 10), 1.16 LSB with five (D = 200). The bound per stage is 1/2 LSB at
-  // its output, passed on with a gain of about one by the later stages. The SNR is that of the
-  // signal (not full scale) against the rounding: 12.4 ADC input carries 4 bits below one code.
+  // 0.50 LSB with one stage (D = 2, 5), 0.92 LSB with two (D = 10), 1.16 LSB with five (D = 200).
+  // The bound per stage is 1/2 LSB at its output, passed on with a gain of about one by the later
+  // stages. The SNR is that of the signal (not full scale) against the rounding: 12.4 ADC input
+  // carries 4 bits below one code.
   constexpr std::array<double, 3> kMinSnrDb = {98.0, 142.0, 185.0};
   for (const DecimatorVector& v : kVectors) {
     MakeInput(v.frames);
@@ -214,7 +218,8 @@ std::int32_t g_sine[kBins * 1000];
 void FillSine(std::uint32_t factor) {
   const std::size_t period = kBins * factor;
   for (std::size_t i = 0; i < period; ++i) {
-    const double phase = 2.0 * std::numbers::pi * static_cast<double>(i) / static_cast<double>(period);
+    const double phase =
+        2.0 * std::numbers::pi * static_cast<double>(i) / static_cast<double>(period);
     g_sine[i] = static_cast<std::int32_t>(std::lround(std::sin(phase) * 1073741824.0));
   }
 }
@@ -235,7 +240,8 @@ double ToneGainDb(std::uint32_t factor, std::size_t cycles, std::size_t bin) {
     std::int32_t y = 0;
     if (!dec.Push(&x, &y)) continue;
     if (m >= skip) {
-      const double phase = 2.0 * std::numbers::pi * static_cast<double>((bin * (m - skip)) % kBins) / kBins;
+      const double phase =
+          2.0 * std::numbers::pi * static_cast<double>((bin * (m - skip)) % kBins) / kBins;
       re += y * std::cos(phase);
       im -= y * std::sin(phase);
     }
@@ -262,7 +268,11 @@ TEST(Decimator, RejectsEveryToneThatFoldsIntoThePassband) {
     std::array<std::uint32_t, 12> j;  // 0 = end; empty = all
   };
   const Case cases[] = {
-      {2, {}}, {5, {}}, {10, {}}, {25, {}}, {50, {}},
+      {2, {}},
+      {5, {}},
+      {10, {}},
+      {25, {}},
+      {50, {}},
       {200, {1, 2, 3, 4, 8, 16, 39, 40, 41, 80, 99, 100}},
       {625, {1, 2, 5, 25, 124, 125, 126, 250, 312, 0}},
       {512, {1, 2, 3, 4, 8, 16, 64, 128, 255, 256, 0}},  // half-band stages only
@@ -276,11 +286,13 @@ TEST(Decimator, RejectsEveryToneThatFoldsIntoThePassband) {
     double worst_db = -1e9;
     const auto check = [&](std::uint32_t j) {
       for (const int sign : {-1, 1}) {
-        const long cycles = static_cast<long>(j) * static_cast<long>(kBins) + sign * static_cast<long>(kAliasBin);
+        const long cycles =
+            static_cast<long>(j) * static_cast<long>(kBins) + sign * static_cast<long>(kAliasBin);
         if (cycles <= 0 || static_cast<std::size_t>(cycles) > kBins * c.factor / 2) continue;
-        const double db = ToneGainDb(c.factor, static_cast<std::size_t>(cycles), kAliasBin) - pass_db;
-        EXPECT_LE(db, -80.0) << "D = " << c.factor << ", tone at " << j << " fs_out " << (sign < 0 ? "-" : "+")
-                             << " 0.39 fs_out";
+        const double db =
+            ToneGainDb(c.factor, static_cast<std::size_t>(cycles), kAliasBin) - pass_db;
+        EXPECT_LE(db, -80.0) << "D = " << c.factor << ", tone at " << j << " fs_out "
+                             << (sign < 0 ? "-" : "+") << " 0.39 fs_out";
         worst_db = std::fmax(worst_db, db);
       }
     };
@@ -320,16 +332,19 @@ TEST(Decimator, DcAndRampsAreExactAfterTheDelay) {
     ASSERT_EQ(DecimatorDelayTicks(f.factor), f.delay) << "D = " << f.factor;
     Decimator dec;
     ASSERT_EQ(dec.Init(f.factor, 5), Status::kOk);
-    const std::size_t settled = 2 * std::size_t{f.delay} / f.factor + 1;  // first m with m D >= 2 delay
+    const std::size_t settled =
+        2 * std::size_t{f.delay} / f.factor + 1;  // first m with m D >= 2 delay
     std::size_t m = 0;
     std::size_t wrong = 0;
     for (std::int64_t n = 0; m < settled + 8; ++n) {
-      const std::int32_t in[5] = {65520, -12345678, 1234567890, static_cast<std::int32_t>(97 * n - 5000000),
+      const std::int32_t in[5] = {65520, -12345678, 1234567890,
+                                  static_cast<std::int32_t>(97 * n - 5000000),
                                   static_cast<std::int32_t>(1900000000 - 40000 * n)};
       std::int32_t out[5];
       if (!dec.Push(in, out)) continue;
       if (m >= settled) {
-        const std::int64_t t = static_cast<std::int64_t>(m) * f.factor - f.delay;  // the input index it reproduces
+        const std::int64_t t =
+            static_cast<std::int64_t>(m) * f.factor - f.delay;  // the input index it reproduces
         wrong += out[0] != 65520;
         wrong += out[1] != -12345678;
         wrong += out[2] != 1234567890;
@@ -447,14 +462,17 @@ TEST(Decimator, RefusesUnsupportedFactorsAndChannelCounts) {
   EXPECT_TRUE(dec.initialised());
   // A block of partial frames or with too little room for the outputs is refused whole.
   std::size_t frames = 99;
-  EXPECT_EQ(dec.PushBlock(std::span<const std::int32_t>(in, 6), std::span<std::int32_t>(out, 8), frames),
-            Status::kInvalidArgument);
+  EXPECT_EQ(
+      dec.PushBlock(std::span<const std::int32_t>(in, 6), std::span<std::int32_t>(out, 8), frames),
+      Status::kInvalidArgument);
   EXPECT_EQ(frames, 0u);
   ASSERT_EQ(dec.Init(2, 2), Status::kOk);
-  EXPECT_EQ(dec.PushBlock(std::span<const std::int32_t>(in, 8), std::span<std::int32_t>(out, 2), frames),
-            Status::kInvalidArgument);  // 4 frames can give 2 outputs: needs 4 words
-  EXPECT_EQ(dec.PushBlock(std::span<const std::int32_t>(in, 8), std::span<std::int32_t>(out, 4), frames),
-            Status::kOk);
+  EXPECT_EQ(
+      dec.PushBlock(std::span<const std::int32_t>(in, 8), std::span<std::int32_t>(out, 2), frames),
+      Status::kInvalidArgument);  // 4 frames can give 2 outputs: needs 4 words
+  EXPECT_EQ(
+      dec.PushBlock(std::span<const std::int32_t>(in, 8), std::span<std::int32_t>(out, 4), frames),
+      Status::kOk);
   EXPECT_EQ(frames, 2u);
 }
 

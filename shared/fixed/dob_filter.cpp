@@ -171,8 +171,8 @@ vibid_fixed_dob_code:
 extern "C" {
 // kernel: {program, state, frame loop entry}; frames of input_count inputs from `input` until
 // `output` reaches `output_end`. Returns the saturations.
-std::uint32_t vibid_fixed_dob_run(const std::uintptr_t* kernel, const std::int32_t* input, std::int32_t* output,
-                                  std::int32_t* output_end);
+std::uint32_t vibid_fixed_dob_run(const std::uintptr_t* kernel, const std::int32_t* input,
+                                  std::int32_t* output, std::int32_t* output_end);
 extern const std::uint32_t vibid_fixed_dob_code[];
 }
 
@@ -183,8 +183,8 @@ constexpr std::size_t kPlainSection = 0;      // + q - 16
 constexpr std::size_t kFeedbackSection = 16;  // + q - 16
 constexpr std::size_t kFirstStage = 32;
 constexpr std::size_t kMiddleStage = 33;
-constexpr std::size_t kLastStage = 33;        // + input_count
-constexpr std::size_t kFrameLoop = 36;        // + input_count
+constexpr std::size_t kLastStage = 33;  // + input_count
+constexpr std::size_t kFrameLoop = 36;  // + input_count
 
 }  // namespace
 
@@ -214,7 +214,8 @@ Status DobFilter::Init(const FilterDescription& description) {
       put(start);
       put(start >> 32);
       put(s.a2);
-      program_[w++] = vibid_fixed_dob_code[(feedback ? kFeedbackSection : kPlainSection) + static_cast<std::size_t>(q - 16)];
+      program_[w++] = vibid_fixed_dob_code[(feedback ? kFeedbackSection : kPlainSection) +
+                                           static_cast<std::size_t>(q - 16)];
       put(s.b0);
       put(s.b1);
       put(s.a1);
@@ -225,7 +226,8 @@ Status DobFilter::Init(const FilterDescription& description) {
     put(std::int64_t{1} << (shift - 1));
     put(0);
     put(shift);
-    program_[w++] = vibid_fixed_dob_code[i + 1 == n_in ? kLastStage + n_in : (i == 0 ? kFirstStage : kMiddleStage)];
+    program_[w++] = vibid_fixed_dob_code[i + 1 == n_in ? kLastStage + n_in
+                                                       : (i == 0 ? kFirstStage : kMiddleStage)];
     put(std::int64_t{1} << (32 - shift));
   }
   frame_start_ = vibid_fixed_dob_code[kFrameLoop + n_in];
@@ -282,7 +284,8 @@ inline std::int64_t ShiftRight(std::int64_t v, std::int32_t n, std::int32_t left
   const auto lo = static_cast<std::uint32_t>(v);
   const auto hi = static_cast<std::int32_t>(v >> 32);
   const std::uint32_t out_lo = (lo >> n) | (static_cast<std::uint32_t>(hi) << left);
-  return static_cast<std::int64_t>((static_cast<std::uint64_t>(static_cast<std::uint32_t>(hi >> n)) << 32) | out_lo);
+  return static_cast<std::int64_t>(
+      (static_cast<std::uint64_t>(static_cast<std::uint32_t>(hi >> n)) << 32) | out_lo);
 }
 
 }  // namespace
@@ -347,7 +350,8 @@ std::uint64_t DobFilter::StepPath(std::int32_t x, SectionRecord* r, std::uint32_
   SectionRecord* const end = r + (count >> 16) + 1;
   for (; r != end; ++r) {
     // Exact: ValidateDescription bounds the raw coefficient sum (see the header).
-    std::int64_t acc = static_cast<std::int64_t>((std::uint64_t{static_cast<std::uint32_t>(r->start_hi)} << 32) | r->start_lo);
+    std::int64_t acc = static_cast<std::int64_t>(
+        (std::uint64_t{static_cast<std::uint32_t>(r->start_hi)} << 32) | r->start_lo);
     acc += std::int64_t{r->b0} * x;
     acc += std::int64_t{r->b1} * r->x1;
     acc += std::int64_t{r->b2} * r->x2;
@@ -357,7 +361,8 @@ std::uint64_t DobFilter::StepPath(std::int32_t x, SectionRecord* r, std::uint32_
     acc += std::int64_t{r->f2} * r->r2;
     const auto lo = static_cast<std::uint32_t>(acc);
     const auto hi = static_cast<std::int32_t>(acc >> 32);
-    std::int32_t y = static_cast<std::int32_t>((lo >> r->q) | (static_cast<std::uint32_t>(hi) << r->left));
+    std::int32_t y =
+        static_cast<std::int32_t>((lo >> r->q) | (static_cast<std::uint32_t>(hi) << r->left));
     std::int32_t rem = static_cast<std::int32_t>(lo & r->mask);
     // y fits an int32 exactly when hi lies in [-2^(q-1), 2^(q-1)).
     if (((static_cast<std::uint32_t>(hi) + static_cast<std::uint32_t>(r->half)) >> r->q) != 0) {
@@ -376,9 +381,9 @@ std::uint64_t DobFilter::StepPath(std::int32_t x, SectionRecord* r, std::uint32_
   return (std::uint64_t{count} << 32) | static_cast<std::uint32_t>(x);
 }
 
-
 // Inlined into Step and StepBlock: the per-frame work is counted in the functions the board calls.
-__attribute__((always_inline)) inline std::int32_t DobFilter::StepFrame(const std::int32_t* inputs) {
+__attribute__((always_inline)) inline std::int32_t DobFilter::StepFrame(
+    const std::int32_t* inputs) {
   std::int64_t sum = 0;
   std::uint32_t saturations = 0;
   const std::size_t n_in = description_.input_count;

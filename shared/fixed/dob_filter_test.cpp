@@ -19,12 +19,13 @@ namespace {
 #include "testdata/dob_kernel_vectors.inc"
 
 constexpr std::size_t kInputs = 2;
-constexpr std::size_t kSplit = 1234;                        // first block length (two-block runs)
+constexpr std::size_t kSplit = 1234;  // first block length (two-block runs)
 constexpr std::size_t kLinearSamples = 3 * kVectorSamples / 4;  // before the full-scale part
 
 FilterDescription VectorDescription() {
   FilterDescription d{};
-  static_cast<void>(DecodeDescription(std::span<const std::uint8_t, kDescriptionBytes>(kVectorDescription), d));
+  static_cast<void>(
+      DecodeDescription(std::span<const std::uint8_t, kDescriptionBytes>(kVectorDescription), d));
   return d;
 }
 
@@ -42,7 +43,8 @@ class DoubleReference {
         const Section& s = p.sections[k];
         const double one = std::ldexp(1.0, 31 - s.shift);
         auto& st = state_[i][k];
-        const double y = (s.b0 * x + s.b1 * st[0] + s.b2 * st[1] - s.a1 * st[2] - s.a2 * st[3]) / one;
+        const double y =
+            (s.b0 * x + s.b1 * st[0] + s.b2 * st[1] - s.a1 * st[2] - s.a2 * st[3]) / one;
         st[1] = st[0];
         st[0] = x;
         st[3] = st[2];
@@ -154,13 +156,17 @@ TEST(DobFilter, SectionOutputSaturatesAtTheRails) {
   d.output_full_scale_bits = FullScaleBits(1.0f);
   d.paths[0].section_count = 1;
   d.paths[0].output_gain = std::numeric_limits<std::int32_t>::max();  // ~1.0 with shift 0
-  d.paths[0].sections[0] = Section{.b0 = 3 << 28, .b1 = 0, .b2 = 0, .a1 = 0, .a2 = 0, .shift = 2};  // 1.5
+  d.paths[0].sections[0] =
+      Section{.b0 = 3 << 28, .b1 = 0, .b2 = 0, .a1 = 0, .a2 = 0, .shift = 2};  // 1.5
   Seal(d);
   DobFilter filter;
   ASSERT_EQ(filter.Init(d), Status::kOk);
-  EXPECT_EQ(filter.Step({1 << 29, 0, 0}), 3 << 28);  // 0.25 in, 0.375 out (gain 1 - 2^-31 rounds away)
-  EXPECT_EQ(filter.Step({std::numeric_limits<std::int32_t>::max(), 0, 0}), std::numeric_limits<std::int32_t>::max() - 1);
-  EXPECT_EQ(filter.Step({std::numeric_limits<std::int32_t>::min(), 0, 0}), std::numeric_limits<std::int32_t>::min() + 1);
+  EXPECT_EQ(filter.Step({1 << 29, 0, 0}),
+            3 << 28);  // 0.25 in, 0.375 out (gain 1 - 2^-31 rounds away)
+  EXPECT_EQ(filter.Step({std::numeric_limits<std::int32_t>::max(), 0, 0}),
+            std::numeric_limits<std::int32_t>::max() - 1);
+  EXPECT_EQ(filter.Step({std::numeric_limits<std::int32_t>::min(), 0, 0}),
+            std::numeric_limits<std::int32_t>::min() + 1);
   EXPECT_EQ(filter.saturation_count(), 2u);
 }
 
@@ -182,8 +188,10 @@ class IntegerReference {
         if (s.feedback == ErrorFeedback::kSecondOrder) acc += 2 * st[4] - st[5];
         std::int64_t y = (acc + (std::int64_t{1} << (q - 1))) >> q;
         std::int64_t r = acc - (y << q);
-        if (y > std::numeric_limits<std::int32_t>::max() || y < std::numeric_limits<std::int32_t>::min()) {
-          y = y > 0 ? std::numeric_limits<std::int32_t>::max() : std::numeric_limits<std::int32_t>::min();
+        if (y > std::numeric_limits<std::int32_t>::max() ||
+            y < std::numeric_limits<std::int32_t>::min()) {
+          y = y > 0 ? std::numeric_limits<std::int32_t>::max()
+                    : std::numeric_limits<std::int32_t>::min();
           r = 0;
           ++saturations_;
         }
@@ -193,9 +201,11 @@ class IntegerReference {
       const int shift = 31 - p.output_shift;
       sum += (x * p.output_gain + (std::int64_t{1} << (shift - 1))) >> shift;
     }
-    if (sum > std::numeric_limits<std::int32_t>::max() || sum < std::numeric_limits<std::int32_t>::min()) {
+    if (sum > std::numeric_limits<std::int32_t>::max() ||
+        sum < std::numeric_limits<std::int32_t>::min()) {
       ++saturations_;
-      return sum > 0 ? std::numeric_limits<std::int32_t>::max() : std::numeric_limits<std::int32_t>::min();
+      return sum > 0 ? std::numeric_limits<std::int32_t>::max()
+                     : std::numeric_limits<std::int32_t>::min();
     }
     return static_cast<std::int32_t>(sum);
   }
@@ -230,13 +240,14 @@ TEST(DobFilter, EveryShiftAndInputCountMatchesTheIntegerReference) {
         // Poles at radius rho, angle 0.3 rad; |a1| < 1 needs rho = 0.5 at shift 0.
         const double rho = s == 0 ? 0.5 : 0.95;
         const double gain = (k % 3 == 0) ? 1.6 : 0.4;  // some sections gain more than one: rails
-        p.sections[k] = Section{.b0 = static_cast<std::int32_t>(0.3 * gain * one),
-                                .b1 = static_cast<std::int32_t>(0.2 * gain * one),
-                                .b2 = static_cast<std::int32_t>(-0.1 * gain * one),
-                                .a1 = static_cast<std::int32_t>(-2.0 * rho * std::cos(0.3) * one),
-                                .a2 = static_cast<std::int32_t>(rho * rho * one),
-                                .shift = static_cast<std::uint8_t>(s),
-                                .feedback = (k + i) % 2 == 0 ? ErrorFeedback::kSecondOrder : ErrorFeedback::kNone};
+        p.sections[k] = Section{
+            .b0 = static_cast<std::int32_t>(0.3 * gain * one),
+            .b1 = static_cast<std::int32_t>(0.2 * gain * one),
+            .b2 = static_cast<std::int32_t>(-0.1 * gain * one),
+            .a1 = static_cast<std::int32_t>(-2.0 * rho * std::cos(0.3) * one),
+            .a2 = static_cast<std::int32_t>(rho * rho * one),
+            .shift = static_cast<std::uint8_t>(s),
+            .feedback = (k + i) % 2 == 0 ? ErrorFeedback::kSecondOrder : ErrorFeedback::kNone};
       }
     }
     Seal(d);
@@ -252,7 +263,8 @@ TEST(DobFilter, EveryShiftAndInputCountMatchesTheIntegerReference) {
       // Quiet first half, full scale second half.
       in[n] = static_cast<std::int32_t>(lcg) >> (n < kFrames * inputs / 2 ? 6 : 0);
     }
-    ASSERT_EQ(filter.StepBlock(std::span<const std::int32_t>(in, 100 * inputs), std::span<std::int32_t>(out, 100)),
+    ASSERT_EQ(filter.StepBlock(std::span<const std::int32_t>(in, 100 * inputs),
+                               std::span<std::int32_t>(out, 100)),
               Status::kOk);
     for (std::size_t n = 100; n < kFrames; ++n) {
       InputFrame frame{};

@@ -136,7 +136,8 @@ void EncodeDescription(const FilterDescription& d, std::span<std::uint8_t, kDesc
   w.U32(d.checksum);
 }
 
-Status DecodeDescription(std::span<const std::uint8_t, kDescriptionBytes> in, FilterDescription& d) {
+Status DecodeDescription(std::span<const std::uint8_t, kDescriptionBytes> in,
+                         FilterDescription& d) {
   Reader r(in);
   d.magic = r.U32();
   d.version = r.U16();

@@ -26,8 +26,13 @@ FilterDescription ValidDescription() {
     p.section_count = 1;
     p.output_gain = 1 << 30;
     p.output_shift = 1;
-    p.sections[0] = Section{.b0 = kOneQ30 / 4, .b1 = 0, .b2 = 0, .a1 = -3 * (kOneQ30 / 4),
-                            .a2 = kOneQ30 / 8, .shift = 1, .feedback = ErrorFeedback::kSecondOrder};
+    p.sections[0] = Section{.b0 = kOneQ30 / 4,
+                            .b1 = 0,
+                            .b2 = 0,
+                            .a1 = -3 * (kOneQ30 / 4),
+                            .a2 = kOneQ30 / 8,
+                            .shift = 1,
+                            .feedback = ErrorFeedback::kSecondOrder};
   }
   Seal(d);
   return d;
@@ -51,9 +56,9 @@ TEST(FilterDescription, EncodeDecodeRoundTripsEveryByte) {
   EXPECT_EQ(bytes[8], 5000 & 0xFF);
   EXPECT_EQ(bytes[9], 5000 >> 8);
   EXPECT_EQ(bytes[12], static_cast<std::uint8_t>(InputKind::kDisplacement));
-  EXPECT_EQ(bytes[36], 1);                       // paths[0].section_count
-  EXPECT_EQ(bytes[36 + 8 + 20], 1);              // paths[0].sections[0].shift
-  EXPECT_EQ(bytes[36 + 8 + 21], 1);              // paths[0].sections[0].feedback
+  EXPECT_EQ(bytes[36], 1);           // paths[0].section_count
+  EXPECT_EQ(bytes[36 + 8 + 20], 1);  // paths[0].sections[0].shift
+  EXPECT_EQ(bytes[36 + 8 + 21], 1);  // paths[0].sections[0].feedback
   EXPECT_EQ(bytes[636], d.checksum & 0xFFu);
   FilterDescription back{};
   ASSERT_EQ(DecodeDescription(bytes, back), Status::kOk);
@@ -90,30 +95,31 @@ TEST(FilterDescription, RefusesEachBrokenRule) {
   EXPECT_TRUE(check([](FilterDescription& d) { d.version = 2; }, Status::kVersionMismatch));
   EXPECT_TRUE(check([](FilterDescription& d) { d.input_count = 0; }, Status::kOutOfRange));
   EXPECT_TRUE(check([](FilterDescription& d) { d.input_count = 4; }, Status::kOutOfRange));
-  EXPECT_TRUE(check([](FilterDescription& d) { d.paths[0].section_count = 9; },
-                    Status::kOutOfRange));
+  EXPECT_TRUE(
+      check([](FilterDescription& d) { d.paths[0].section_count = 9; }, Status::kOutOfRange));
   EXPECT_TRUE(check([](FilterDescription& d) { d.sample_rate_hz = 0; }, Status::kInvalidArgument));
   EXPECT_TRUE(check([](FilterDescription& d) { d.reserved0 = 1; }, Status::kInvalidArgument));
   EXPECT_TRUE(check([](FilterDescription& d) { d.paths[0].sections[0].shift = 16; },
                     Status::kInvalidArgument));
-  EXPECT_TRUE(check([](FilterDescription& d) { d.paths[0].output_shift = 31; },
-                    Status::kInvalidArgument));
+  EXPECT_TRUE(
+      check([](FilterDescription& d) { d.paths[0].output_shift = 31; }, Status::kInvalidArgument));
   EXPECT_TRUE(check([](FilterDescription& d) { d.paths[1].sections[0].reserved[1] = 1; },
                     Status::kInvalidArgument));
-  EXPECT_TRUE(check([](FilterDescription& d) { d.paths[1].sections[0].feedback = static_cast<ErrorFeedback>(2); },
-                    Status::kInvalidArgument));
+  EXPECT_TRUE(check(
+      [](FilterDescription& d) { d.paths[1].sections[0].feedback = static_cast<ErrorFeedback>(2); },
+      Status::kInvalidArgument));
   EXPECT_TRUE(check([](FilterDescription& d) { d.input_kind[1] = InputKind::kUnused; },
                     Status::kInvalidArgument));
   EXPECT_TRUE(check([](FilterDescription& d) { d.input_kind[0] = static_cast<InputKind>(9); },
                     Status::kInvalidArgument));
   // An unused slot must be all zero so the checksum covers no stale data.
-  EXPECT_TRUE(check([](FilterDescription& d) { d.paths[2].output_gain = 1; },
-                    Status::kInvalidArgument));
+  EXPECT_TRUE(
+      check([](FilterDescription& d) { d.paths[2].output_gain = 1; }, Status::kInvalidArgument));
   EXPECT_TRUE(check([](FilterDescription& d) { d.input_full_scale_bits[2] = FullScaleBits(1.0f); },
                     Status::kInvalidArgument));
   // A section beyond section_count must be zero.
-  EXPECT_TRUE(check([](FilterDescription& d) { d.paths[0].sections[1].a2 = 5; },
-                    Status::kInvalidArgument));
+  EXPECT_TRUE(
+      check([](FilterDescription& d) { d.paths[0].sections[1].a2 = 5; }, Status::kInvalidArgument));
   EXPECT_TRUE(check([](FilterDescription& d) { d.input_full_scale_bits[0] = FullScaleBits(-1.0f); },
                     Status::kInvalidArgument));
   EXPECT_TRUE(check([](FilterDescription& d) { d.output_full_scale_bits = 0x7FC00000u; },  // NaN
@@ -136,8 +142,8 @@ TEST(FilterDescription, RefusesEachBrokenRule) {
         d.paths[1].sections[0].a2 = kOneQ30 / 2;
       },
       Status::kUnstable));
-  EXPECT_TRUE(check([](FilterDescription& d) { d.paths[1].sections[0].a2 = kOneQ30; },
-                    Status::kUnstable));
+  EXPECT_TRUE(
+      check([](FilterDescription& d) { d.paths[1].sections[0].a2 = kOneQ30; }, Status::kUnstable));
   // Checksum: a flipped byte after sealing.
   FilterDescription d = ValidDescription();
   d.paths[0].sections[0].b2 ^= 1;

@@ -113,24 +113,24 @@ TEST(CalibrationRecord, RefusesOutOfRangeFields) {
   };
   // Each edit breaks one rule; the record is re-sealed so only the range checks can catch it.
   const Edit edits[] = {
-      {kCalOffDofCount, 0},                       // no masses
-      {kCalOffDofCount, 3},                       // more than kMaxDof
-      {kCalOffFlags, 0x80},                       // unknown flag
-      {kCalOffReserved, 1},                       // reserved byte
-      {kCalOffLabel + 20, 'x'},                   // text after the label's NUL
-      {kCalOffLabel + 1, 0x07},                   // control character
-      {kCalOffMass + 3, 0x80},                    // m11 = -0.57: not positive definite
-      {kCalOffStiffness + 4 + 3, 0x41},           // k12 != k21: asymmetric
-      {kCalOffDamping + 3, 0x7F},                 // c11 exponent all ones: not finite
-      {kCalOffChannels + 8, 32},                  // gain shift beyond 31
-      {kCalOffChannels + 16 + 9, 9},              // unknown unit
-      {kCalOffChannels + 32 + 10, 2},             // dof 2 of a 2-mass rig
-      {kCalOffChannels + 48 + 11, 1},             // reserved channel byte
-      {kCalOffChannels + 64 + 15, 0xBF},          // negative full scale
-      {kCalOffDob + 100, 1},                      // DOB bytes without the flag
-      {kCalOffDobInputs + 1, 2},                  // DOB input channel without the flag
-      {kCalOffDobReserved, 1},                    // reserved byte after the inputs
-      {kCalOffCreated + 7, 0x80},                 // negative creation time
+      {kCalOffDofCount, 0},               // no masses
+      {kCalOffDofCount, 3},               // more than kMaxDof
+      {kCalOffFlags, 0x80},               // unknown flag
+      {kCalOffReserved, 1},               // reserved byte
+      {kCalOffLabel + 20, 'x'},           // text after the label's NUL
+      {kCalOffLabel + 1, 0x07},           // control character
+      {kCalOffMass + 3, 0x80},            // m11 = -0.57: not positive definite
+      {kCalOffStiffness + 4 + 3, 0x41},   // k12 != k21: asymmetric
+      {kCalOffDamping + 3, 0x7F},         // c11 exponent all ones: not finite
+      {kCalOffChannels + 8, 32},          // gain shift beyond 31
+      {kCalOffChannels + 16 + 9, 9},      // unknown unit
+      {kCalOffChannels + 32 + 10, 2},     // dof 2 of a 2-mass rig
+      {kCalOffChannels + 48 + 11, 1},     // reserved channel byte
+      {kCalOffChannels + 64 + 15, 0xBF},  // negative full scale
+      {kCalOffDob + 100, 1},              // DOB bytes without the flag
+      {kCalOffDobInputs + 1, 2},          // DOB input channel without the flag
+      {kCalOffDobReserved, 1},            // reserved byte after the inputs
+      {kCalOffCreated + 7, 0x80},         // negative creation time
   };
   CalibrationRecord r;
   for (const Edit& e : edits) {

@@ -27,8 +27,9 @@ InfoResponse ExpectedInfo() {
   v.log_capacity_bytes = 98304;
   v.link_reports_per_s = 1000;
   v.adc_bits = 12;
-  v.channel_kind = {ChannelKind::kLoadCell,      ChannelKind::kLoadCell, ChannelKind::kAccelerometer,
-                    ChannelKind::kAccelerometer, ChannelKind::kEncoder,  ChannelKind::kEncoder};
+  v.channel_kind = {ChannelKind::kLoadCell,      ChannelKind::kLoadCell,
+                    ChannelKind::kAccelerometer, ChannelKind::kAccelerometer,
+                    ChannelKind::kEncoder,       ChannelKind::kEncoder};
   v.reset_cause = ResetCause::kWatchdog;
   v.cal_state = CalState::kCalibrated;
   v.cal_slot = 1;
@@ -40,9 +41,9 @@ InfoResponse ExpectedInfo() {
 
 TEST(Commands, InfoResponse) {
   Report out{};
-  ASSERT_EQ(BuildReport(Command::kGetInfo, 0x0102, 0, kFlagResponse, Status::kOk, ExpectedInfo(),
-                        out),
-            Status::kOk);
+  ASSERT_EQ(
+      BuildReport(Command::kGetInfo, 0x0102, 0, kFlagResponse, Status::kOk, ExpectedInfo(), out),
+      Status::kOk);
   EXPECT_TRUE(out == GoldenReport("info_response"));
 
   InfoResponse v;
@@ -160,9 +161,9 @@ TEST(Commands, LogReadAndCalibrationSmallPayloads) {
             Status::kOk);
   EXPECT_TRUE(out == GoldenReport("cal_commit_response"));
 
-  ASSERT_EQ(BuildReport(Command::kDobControl, 9, 0, 0, Status::kOk, DobControlRequest{.run = 1},
-                        out),
-            Status::kOk);
+  ASSERT_EQ(
+      BuildReport(Command::kDobControl, 9, 0, 0, Status::kOk, DobControlRequest{.run = 1}, out),
+      Status::kOk);
   EXPECT_TRUE(out == GoldenReport("dob_control_request"));
   DobControlRequest d;
   const std::array<std::uint8_t, 1> two{2};

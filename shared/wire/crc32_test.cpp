@@ -24,10 +24,9 @@ TEST(Crc32, MatchesZlibGolden) {
   const std::size_t n = testing::GoldenVector("crc_check_input", input);
   ASSERT_EQ(n, 9u);
   ASSERT_EQ(testing::GoldenVector("crc_check_value", expected), 4u);
-  const std::uint32_t want = static_cast<std::uint32_t>(expected[0]) |
-                             static_cast<std::uint32_t>(expected[1]) << 8 |
-                             static_cast<std::uint32_t>(expected[2]) << 16 |
-                             static_cast<std::uint32_t>(expected[3]) << 24;
+  const std::uint32_t want =
+      static_cast<std::uint32_t>(expected[0]) | static_cast<std::uint32_t>(expected[1]) << 8 |
+      static_cast<std::uint32_t>(expected[2]) << 16 | static_cast<std::uint32_t>(expected[3]) << 24;
   EXPECT_EQ(ComputeCrc32(std::span<const std::uint8_t>(input).first(n)), want);
 }
 

@@ -12,7 +12,8 @@ void EncodeLogRecord(const LogLayout& layout, const LogRecord& record,
   for (std::size_t c = 0; c < kChannelCount; ++c) {
     if ((layout.channel_mask & (1u << c)) == 0) continue;
     if (LogValueBytes(static_cast<Channel>(c)) == 2) {
-      StoreU16(out, offset, static_cast<std::uint16_t>(std::clamp<std::int32_t>(record.raw[c], 0, kLogAdcMax)));
+      StoreU16(out, offset,
+               static_cast<std::uint16_t>(std::clamp<std::int32_t>(record.raw[c], 0, kLogAdcMax)));
       offset += 2;
     } else {
       StoreI32(out, offset, record.raw[c]);

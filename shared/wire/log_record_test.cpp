@@ -65,7 +65,8 @@ TEST(LogRecord, DecodesGoldenReport) {
   EXPECT_EQ(DecodeLogPayload(layout, 5, payload.first(4 + 11), recs, n), Status::kInvalidArgument);
   EXPECT_EQ(DecodeLogPayload(layout, 5, payload.first(4), recs, n), Status::kInvalidArgument);
   EXPECT_EQ(DecodeLogPayload(layout, 0, payload, recs, n), Status::kInvalidArgument);
-  EXPECT_EQ(DecodeLogPayload(layout, 5, payload, std::span(recs).first(2), n), Status::kInvalidArgument);
+  EXPECT_EQ(DecodeLogPayload(layout, 5, payload, std::span(recs).first(2), n),
+            Status::kInvalidArgument);
 }
 
 // Converter values beyond 16 bits are clamped (a filter overshoot near full scale).

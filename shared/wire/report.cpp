@@ -52,8 +52,8 @@ std::span<const std::uint8_t> PayloadOf(const Report& report) {
   return std::span<const std::uint8_t>(report).subspan(kOffPayload, length);
 }
 
-Status EncodeStreamData(std::uint16_t token, std::uint16_t sequence, std::span<const std::uint8_t> payload,
-                        Report& out) {
+Status EncodeStreamData(std::uint16_t token, std::uint16_t sequence,
+                        std::span<const std::uint8_t> payload, Report& out) {
   out.fill(0);
   if (payload.empty() || payload.size() > kMaxStreamPayload) return Status::kOutOfRange;
   StoreU8(out, 0, kStreamDataTag);
@@ -69,7 +69,8 @@ Status DecodeStreamData(const Report& report, StreamDataHeader& header) {
   header.payload_length = LoadU8(report, 1);
   header.token = LoadU16(report, 2);
   header.sequence = LoadU16(report, 4);
-  if (header.payload_length == 0 || header.payload_length > kMaxStreamPayload) return Status::kInvalidArgument;
+  if (header.payload_length == 0 || header.payload_length > kMaxStreamPayload)
+    return Status::kInvalidArgument;
   return Status::kOk;
 }
 

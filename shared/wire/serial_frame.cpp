@@ -32,7 +32,9 @@ void SerialFrameDecoder::Resync(std::size_t drop) {
   // Keep the longest tail that could still be the start of a frame.
   std::size_t start = drop;
   while (start < fill_) {
-    if (buffer_[start] == kSerialSync0 && (start + 1 == fill_ || buffer_[start + 1] == kSerialSync1)) break;
+    if (buffer_[start] == kSerialSync0 &&
+        (start + 1 == fill_ || buffer_[start + 1] == kSerialSync1))
+      break;
     ++start;
   }
   counters_.skipped_bytes += static_cast<std::uint32_t>(start);
@@ -51,7 +53,8 @@ bool SerialFrameDecoder::Push(std::uint8_t byte, Report& report) {
   }
   if (fill_ < kSerialFrameBytes) return false;
   std::uint32_t crc = 0;
-  for (std::size_t i = 0; i < 4; ++i) crc |= static_cast<std::uint32_t>(buffer_[kOffCrc + i]) << (8 * i);
+  for (std::size_t i = 0; i < 4; ++i)
+    crc |= static_cast<std::uint32_t>(buffer_[kOffCrc + i]) << (8 * i);
   if (crc != FrameCrc(buffer_)) {
     ++counters_.crc_errors;
     Resync(1);

@@ -133,7 +133,10 @@ TEST(SerialFrame, EveryFrameSurvivesNoiseBetweenFrames) {
     const std::uint32_t noise = next() % 41;
     for (std::uint32_t i = 0; i < noise; ++i) {
       const std::uint32_t pick = next() % 4;
-      const std::uint8_t b = pick == 0 ? kSerialSync0 : pick == 1 ? kSerialSync1 : pick == 2 ? 64 : static_cast<std::uint8_t>(next());
+      const std::uint8_t b = pick == 0   ? kSerialSync0
+                             : pick == 1 ? kSerialSync1
+                             : pick == 2 ? 64
+                                         : static_cast<std::uint8_t>(next());
       if (d.Push(b, got)) in_order = false;  // Noise never forms a frame with a valid CRC here.
     }
     Report report{};

@@ -13,7 +13,8 @@ void StreamEncoder::Begin(Command command, std::uint16_t token) {
 }
 
 Status StreamEncoder::Data(std::span<const std::uint8_t> payload, Report& out) {
-  const Status s = EncodeStreamData(token_, static_cast<std::uint16_t>(data_reports_), payload, out);
+  const Status s =
+      EncodeStreamData(token_, static_cast<std::uint16_t>(data_reports_), payload, out);
   if (s != Status::kOk) return s;
   crc_.Update(payload);
   total_bytes_ += static_cast<std::uint32_t>(payload.size());
@@ -57,9 +58,8 @@ StreamDecoder::Step StreamDecoder::Feed(const Report& report) {
   }
   Header h;
   const Status decoded = DecodeHeader(report, h);
-  if (decoded == Status::kOk &&
-      ((h.flags & kFlagResponse) == 0 || h.token != token_ ||
-       h.command != static_cast<std::uint8_t>(command_))) {
+  if (decoded == Status::kOk && ((h.flags & kFlagResponse) == 0 || h.token != token_ ||
+                                 h.command != static_cast<std::uint8_t>(command_))) {
     step.event = Event::kStale;
     return step;
   }
@@ -99,13 +99,13 @@ Status BuildCalPutBegin(std::span<const std::uint8_t> record, std::uint16_t toke
   return BuildReport(Command::kCalPutBegin, token, 0, 0, Status::kOk, begin, out);
 }
 
-Status BuildCalPutData(std::span<const std::uint8_t> record, std::size_t chunk,
-                       std::uint16_t token, Report& out) {
+Status BuildCalPutData(std::span<const std::uint8_t> record, std::size_t chunk, std::uint16_t token,
+                       Report& out) {
   if (chunk >= CalPutChunkCount(record.size()) || chunk > 0xFFFFu) return Status::kOutOfRange;
   const std::size_t offset = chunk * kMaxPayload;
   const std::size_t length = std::min(kMaxPayload, record.size() - offset);
-  return BuildReport(Command::kCalPutData, token, static_cast<std::uint16_t>(chunk), 0,
-                     Status::kOk, record.subspan(offset, length), out);
+  return BuildReport(Command::kCalPutData, token, static_cast<std::uint16_t>(chunk), 0, Status::kOk,
+                     record.subspan(offset, length), out);
 }
 
 }  // namespace vibid::wire

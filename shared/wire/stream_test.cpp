@@ -99,9 +99,9 @@ TEST(StreamDecoder, IgnoresStaleAndReportsRefusal) {
   const auto reports = GoldenLogStream();
   EXPECT_EQ(d.Feed(reports[0]).event, Event::kStale);  // token of an earlier request
   Report refusal{};
-  ASSERT_EQ(BuildReport(Command::kLogRead, 0x7778, 0, kFlagResponse, Status::kOutOfRange, {},
-                        refusal),
-            Status::kOk);
+  ASSERT_EQ(
+      BuildReport(Command::kLogRead, 0x7778, 0, kFlagResponse, Status::kOutOfRange, {}, refusal),
+      Status::kOk);
   const auto step = d.Feed(refusal);
   EXPECT_EQ(step.event, Event::kRefused);
   EXPECT_EQ(step.status, Status::kOutOfRange);

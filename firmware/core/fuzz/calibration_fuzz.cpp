@@ -33,7 +33,8 @@ void CheckRoundTrip(std::span<const std::uint8_t> bytes) {
   for (std::size_t i = 0; i < wire::CalPutChunkCount(bytes.size()); ++i) {
     const std::size_t offset = i * wire::kMaxPayload;
     const auto chunk = bytes.subspan(offset, std::min(wire::kMaxPayload, bytes.size() - offset));
-    if (upload.Data(static_cast<std::uint16_t>(i), chunk, complete) != Status::kOk) __builtin_trap();
+    if (upload.Data(static_cast<std::uint16_t>(i), chunk, complete) != Status::kOk)
+      __builtin_trap();
   }
   if (!complete || !upload.staged()) __builtin_trap();
 }

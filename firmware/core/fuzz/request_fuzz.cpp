@@ -58,9 +58,9 @@ const std::array<std::uint8_t, wire::kCalRecordBytes>& GoldenRecord(bool with_fi
 }
 
 // Every id the core dispatches, the port range included, and a few it does not know.
-constexpr std::array<std::uint8_t, 20> kCommandIds = {
-    0x01, 0x02, 0x03, 0x04, 0x05, 0x10, 0x11, 0x12, 0x13, 0x20,
-    0x21, 0x22, 0x23, 0x24, 0x30, 0x70, 0x71, 0x7F, 0x00, 0xFF};
+constexpr std::array<std::uint8_t, 20> kCommandIds = {0x01, 0x02, 0x03, 0x04, 0x05, 0x10, 0x11,
+                                                      0x12, 0x13, 0x20, 0x21, 0x22, 0x23, 0x24,
+                                                      0x30, 0x70, 0x71, 0x7F, 0x00, 0xFF};
 
 // A port that knows two commands, so the core's port dispatch sees answers and refusals.
 class FuzzPortCommands final : public fw::PortCommandHandler {
@@ -138,7 +138,8 @@ class Board {
   void Follow(const wire::Report& r) {
     Require(follow_.has_value() && IsFollowed(r));
     const wire::StreamDecoder::Step step = follow_->Feed(r);
-    Require(step.event == Event::kData || step.event == Event::kEnd || step.event == Event::kRefused);
+    Require(step.event == Event::kData || step.event == Event::kEnd ||
+            step.event == Event::kRefused);
     if (step.event == Event::kData) {
       follow_payloads_.emplace_back(step.payload.begin(), step.payload.end());
       return;
@@ -180,22 +181,27 @@ std::vector<std::uint8_t> Payload(FuzzedDataProvider& in, std::uint8_t id) {
   };
   // One time in eight the payload is arbitrary bytes of any length the header allows.
   if (in.ConsumeIntegralInRange<int>(0, 7) == 0) {
-    return in.ConsumeBytes<std::uint8_t>(in.ConsumeIntegralInRange<std::size_t>(0, wire::kMaxPayload));
+    return in.ConsumeBytes<std::uint8_t>(
+        in.ConsumeIntegralInRange<std::size_t>(0, wire::kMaxPayload));
   }
   switch (static_cast<Command>(id)) {
     case Command::kPing:
-      return in.ConsumeBytes<std::uint8_t>(in.ConsumeIntegralInRange<std::size_t>(0, wire::kMaxPayload));
+      return in.ConsumeBytes<std::uint8_t>(
+          in.ConsumeIntegralInRange<std::size_t>(0, wire::kMaxPayload));
     case Command::kAcqConfigure: {
       constexpr std::array<std::uint32_t, 7> kPeriods = {200, 100, 1000, 250, 99, 1000001, 500};
       constexpr std::array<std::uint16_t, 9> kDecimations = {1, 2, 5, 10, 1000, 0, 3, 1024, 8};
       wire::AcqConfigureRequest c;
-      c.sample_period_us = in.ConsumeBool() ? in.PickValueInArray(kPeriods) : in.ConsumeIntegral<std::uint32_t>();
+      c.sample_period_us =
+          in.ConsumeBool() ? in.PickValueInArray(kPeriods) : in.ConsumeIntegral<std::uint32_t>();
       c.channel_mask = static_cast<std::uint8_t>(in.ConsumeIntegralInRange<unsigned>(0, 0x40));
       c.flags = static_cast<std::uint8_t>(in.ConsumeIntegralInRange<unsigned>(0, 4));
       c.decimation = in.PickValueInArray(kDecimations);
       c.trigger_mode = static_cast<wire::TriggerMode>(in.ConsumeIntegralInRange<unsigned>(0, 3));
-      // Trigger fields are set for an immediate start too, now and then: the board must refuse them.
-      if (c.trigger_mode != wire::TriggerMode::kImmediate || in.ConsumeIntegralInRange<int>(0, 7) == 7) {
+      // Trigger fields are set for an immediate start too, now and then: the board must refuse
+      // them.
+      if (c.trigger_mode != wire::TriggerMode::kImmediate ||
+          in.ConsumeIntegralInRange<int>(0, 7) == 7) {
         c.trigger_channel = static_cast<std::uint8_t>(in.ConsumeIntegralInRange<unsigned>(0, 6));
         c.trigger_threshold = in.ConsumeIntegralInRange<std::int32_t>(-(1 << 30), 1 << 30);
         c.pretrigger_records = in.ConsumeIntegralInRange<std::uint32_t>(0, 200);
@@ -212,7 +218,8 @@ std::vector<std::uint8_t> Payload(FuzzedDataProvider& in, std::uint8_t id) {
       return p;
     }
     case Command::kDobControl:
-      encode(wire::DobControlRequest{.run = static_cast<std::uint8_t>(in.ConsumeIntegralInRange<unsigned>(0, 2))});
+      encode(wire::DobControlRequest{
+          .run = static_cast<std::uint8_t>(in.ConsumeIntegralInRange<unsigned>(0, 2))});
       return p;
     case Command::kCalPutBegin: {
       wire::CalPutBeginRequest b;
@@ -244,13 +251,30 @@ class Script {
   void Run() {
     for (int step = 0; step < 64 && in_.remaining_bytes() > 0; ++step) {
       switch (in_.ConsumeIntegralInRange<int>(0, 11)) {
-        case 0: case 1: case 2: case 3: WellFormed(in_.PickValueInArray(kCommandIds)); break;
-        case 4: Broken(); break;
-        case 5: Upload(); break;
-        case 6: Frames(); break;
-        case 7: RawReport(); break;
-        case 8: PowerCutCommit(); break;
-        case 9: board_.fake.clock.now_us += in_.ConsumeIntegral<std::uint16_t>(); break;
+        case 0:
+        case 1:
+        case 2:
+        case 3:
+          WellFormed(in_.PickValueInArray(kCommandIds));
+          break;
+        case 4:
+          Broken();
+          break;
+        case 5:
+          Upload();
+          break;
+        case 6:
+          Frames();
+          break;
+        case 7:
+          RawReport();
+          break;
+        case 8:
+          PowerCutCommit();
+          break;
+        case 9:
+          board_.fake.clock.now_us += in_.ConsumeIntegral<std::uint16_t>();
+          break;
         case 10:  // the host does not poll the IN endpoint for a while
           board_.link.in_busy = true;
           for (int i = in_.ConsumeIntegralInRange<int>(1, 4); i > 0; --i) board_.core().Poll();
@@ -280,7 +304,8 @@ class Script {
     Request(id, payload, sequence);
   }
 
-  std::vector<wire::Report> Request(std::uint8_t id, std::span<const std::uint8_t> payload, std::uint16_t sequence) {
+  std::vector<wire::Report> Request(std::uint8_t id, std::span<const std::uint8_t> payload,
+                                    std::uint16_t sequence) {
     const std::uint16_t token = ++token_;
     wire::Report r{};
     wire::Header h;
@@ -298,12 +323,14 @@ class Script {
   void Check(std::uint8_t id, std::uint16_t token, std::span<const std::uint8_t> payload,
              const std::vector<wire::Report>& out) {
     Require(!out.empty());
-    if (id == static_cast<std::uint8_t>(Command::kLogRead) || id == static_cast<std::uint8_t>(Command::kCalGet)) {
+    if (id == static_cast<std::uint8_t>(Command::kLogRead) ||
+        id == static_cast<std::uint8_t>(Command::kCalGet)) {
       CheckStream(static_cast<Command>(id), token, out);
       return;
     }
     const Header answer = Answer(out[0], token, id);
-    if (id == static_cast<std::uint8_t>(Command::kAcqStart) && answer.status == Status::kOk && stream_flag_) {
+    if (id == static_cast<std::uint8_t>(Command::kAcqStart) && answer.status == Status::kOk &&
+        stream_flag_) {
       // The stream that follows the acquisition may already have begun behind the answer.
       board_.StartFollowing(token);
       for (std::size_t i = 1; i < out.size(); ++i) board_.Follow(out[i]);
@@ -381,12 +408,30 @@ class Script {
     h.payload_length = static_cast<std::uint8_t>(payload.size());
     Require(wire::EncodeReport(h, payload, r) == Status::kOk);
     switch (in_.ConsumeIntegralInRange<int>(0, 6)) {
-      case 0: r[in_.ConsumeIntegralInRange<std::size_t>(0, 1)] ^= static_cast<std::uint8_t>(in_.ConsumeIntegralInRange<unsigned>(1, 255)); break;
-      case 1: r[wire::kOffProtocolMajor] = static_cast<std::uint8_t>(in_.ConsumeIntegralInRange<unsigned>(3, 255)); break;
-      case 2: r[wire::kOffPayloadLength] = static_cast<std::uint8_t>(in_.ConsumeIntegralInRange<unsigned>(53, 255)); break;
-      case 3: r[wire::kOffFlags] = static_cast<std::uint8_t>(in_.ConsumeIntegralInRange<unsigned>(1, 255)); break;
-      case 4: r[wire::kOffReserved] = static_cast<std::uint8_t>(in_.ConsumeIntegralInRange<unsigned>(1, 255)); break;
-      case 5: r[wire::kOffStatus] = static_cast<std::uint8_t>(in_.ConsumeIntegralInRange<unsigned>(1, 255)); break;
+      case 0:
+        r[in_.ConsumeIntegralInRange<std::size_t>(0, 1)] ^=
+            static_cast<std::uint8_t>(in_.ConsumeIntegralInRange<unsigned>(1, 255));
+        break;
+      case 1:
+        r[wire::kOffProtocolMajor] =
+            static_cast<std::uint8_t>(in_.ConsumeIntegralInRange<unsigned>(3, 255));
+        break;
+      case 2:
+        r[wire::kOffPayloadLength] =
+            static_cast<std::uint8_t>(in_.ConsumeIntegralInRange<unsigned>(53, 255));
+        break;
+      case 3:
+        r[wire::kOffFlags] =
+            static_cast<std::uint8_t>(in_.ConsumeIntegralInRange<unsigned>(1, 255));
+        break;
+      case 4:
+        r[wire::kOffReserved] =
+            static_cast<std::uint8_t>(in_.ConsumeIntegralInRange<unsigned>(1, 255));
+        break;
+      case 5:
+        r[wire::kOffStatus] =
+            static_cast<std::uint8_t>(in_.ConsumeIntegralInRange<unsigned>(1, 255));
+        break;
       case 6:
         if (id == static_cast<std::uint8_t>(Command::kCalPutData)) return;  // sequences are its own
         wire::StoreU16(r, wire::kOffSequence, in_.ConsumeIntegralInRange<std::uint16_t>(1, 0xFFFF));
@@ -415,31 +460,41 @@ class Script {
   // a flipped byte, a missing, repeated or out-of-order chunk, or an abandoned upload.
   void Upload() {
     const bool with_filter = in_.ConsumeBool();
-    std::vector<std::uint8_t> record(GoldenRecord(with_filter).begin(), GoldenRecord(with_filter).end());
+    std::vector<std::uint8_t> record(GoldenRecord(with_filter).begin(),
+                                     GoldenRecord(with_filter).end());
     const int damage = in_.ConsumeIntegralInRange<int>(0, 15);
     if (damage == 1) {
-      record[in_.ConsumeIntegralInRange<std::size_t>(0, record.size() - 1)] ^= in_.ConsumeIntegralInRange<std::uint8_t>(1, 255);
+      record[in_.ConsumeIntegralInRange<std::size_t>(0, record.size() - 1)] ^=
+          in_.ConsumeIntegralInRange<std::uint8_t>(1, 255);
     }
     if (damage == 2) {
       // A field changed behind a correct record CRC: the range and filter checks decide.
-      record[in_.ConsumeIntegralInRange<std::size_t>(0, wire::kCalOffCrc - 1)] = in_.ConsumeIntegral<std::uint8_t>();
-      wire::StoreU32(record, wire::kCalOffCrc,
-                     wire::ComputeCrc32(std::span<const std::uint8_t>(record).first(wire::kCalOffCrc)));
+      record[in_.ConsumeIntegralInRange<std::size_t>(0, wire::kCalOffCrc - 1)] =
+          in_.ConsumeIntegral<std::uint8_t>();
+      wire::StoreU32(
+          record, wire::kCalOffCrc,
+          wire::ComputeCrc32(std::span<const std::uint8_t>(record).first(wire::kCalOffCrc)));
     }
     std::uint32_t crc = wire::ComputeCrc32(record);
     if (damage == 3) crc ^= 1u;
     std::array<std::uint8_t, wire::CalPutBeginRequest::kBytes> begin{};
-    wire::Encode(wire::CalPutBeginRequest{.record_bytes = static_cast<std::uint32_t>(record.size()), .crc32 = crc}, begin);
+    wire::Encode(wire::CalPutBeginRequest{.record_bytes = static_cast<std::uint32_t>(record.size()),
+                                          .crc32 = crc},
+                 begin);
     const auto begin_out = Request(static_cast<std::uint8_t>(Command::kCalPutBegin), begin, 0);
     const std::size_t chunks = wire::CalPutChunkCount(record.size());
-    const std::size_t stop = damage == 4 ? in_.ConsumeIntegralInRange<std::size_t>(0, chunks) : chunks;
+    const std::size_t stop =
+        damage == 4 ? in_.ConsumeIntegralInRange<std::size_t>(0, chunks) : chunks;
     Status last = Status::kOk;
     for (std::size_t i = 0; i < stop; ++i) {
       std::size_t chunk = i;
-      if (damage == 5 && in_.ConsumeIntegralInRange<int>(0, 7) == 0) chunk = in_.ConsumeIntegralInRange<std::size_t>(0, chunks);
+      if (damage == 5 && in_.ConsumeIntegralInRange<int>(0, 7) == 0)
+        chunk = in_.ConsumeIntegralInRange<std::size_t>(0, chunks);
       const std::size_t offset = std::min(chunk * wire::kMaxPayload, record.size());
-      const auto data = std::span<const std::uint8_t>(record).subspan(offset, std::min(wire::kMaxPayload, record.size() - offset));
-      const auto out = Request(static_cast<std::uint8_t>(Command::kCalPutData), data, static_cast<std::uint16_t>(chunk));
+      const auto data = std::span<const std::uint8_t>(record).subspan(
+          offset, std::min(wire::kMaxPayload, record.size() - offset));
+      const auto out = Request(static_cast<std::uint8_t>(Command::kCalPutData), data,
+                               static_cast<std::uint16_t>(chunk));
       wire::Header h;
       (void)wire::DecodeHeader(out[0], h);
       last = h.status;
@@ -461,13 +516,22 @@ class Script {
       std::array<std::int32_t, wire::kChannelCount> raw{};
       for (std::size_t c = 0; c < raw.size(); ++c) {
         switch (shape) {
-          case 0: raw[c] = 2048 + static_cast<std::int32_t>((tick_ * (c + 3)) % 512) - 256; break;
-          case 1: raw[c] = (tick_ / 16) % 2 == 0 ? 0 : 4095; break;  // full-scale steps fire triggers
-          case 2: raw[c] = in_.ConsumeIntegral<std::int32_t>(); break;
-          default: raw[c] = in_.ConsumeIntegralInRange<std::int32_t>(0, 4095); break;
+          case 0:
+            raw[c] = 2048 + static_cast<std::int32_t>((tick_ * (c + 3)) % 512) - 256;
+            break;
+          case 1:
+            raw[c] = (tick_ / 16) % 2 == 0 ? 0 : 4095;
+            break;  // full-scale steps fire triggers
+          case 2:
+            raw[c] = in_.ConsumeIntegral<std::int32_t>();
+            break;
+          default:
+            raw[c] = in_.ConsumeIntegralInRange<std::int32_t>(0, 4095);
+            break;
         }
       }
-      if (in_.ConsumeIntegralInRange<int>(0, 31) == 0) board_.fake.frames.Skip(in_.ConsumeIntegralInRange<std::uint32_t>(1, 50));
+      if (in_.ConsumeIntegralInRange<int>(0, 31) == 0)
+        board_.fake.frames.Skip(in_.ConsumeIntegralInRange<std::uint32_t>(1, 50));
       (void)board_.fake.frames.Emit(raw);
       ++tick_;
       if (in_.ConsumeIntegralInRange<int>(0, 3) == 0) {
@@ -546,7 +610,8 @@ void RunRaw(const std::uint8_t* data, std::size_t size) {
     board.link.Push(r);
     const auto out = board.Drain();
     wire::Header h;
-    Require(!out.empty() && wire::DecodeHeader(out.back(), h) == Status::kOk && h.status == Status::kOk);
+    Require(!out.empty() && wire::DecodeHeader(out.back(), h) == Status::kOk &&
+            h.status == Status::kOk);
   }
   ++data;
   --size;

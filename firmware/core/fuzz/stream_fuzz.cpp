@@ -58,12 +58,14 @@ Sent EncodeLog(FuzzedDataProvider& in, std::uint16_t token, const wire::LogLayou
   const auto end = static_cast<std::uint32_t>(records.size());
   while (next < end) {
     std::array<std::uint8_t, wire::kMaxStreamPayload> payload{};
-    const std::uint32_t n_max = std::min<std::uint32_t>(static_cast<std::uint32_t>(layout.RecordsPerReport()), end - next);
+    const std::uint32_t n_max =
+        std::min<std::uint32_t>(static_cast<std::uint32_t>(layout.RecordsPerReport()), end - next);
     std::uint32_t n = 0;
     for (; n < n_max; ++n) {
       if (n > 0 && ticks[next + n] != ticks[next] + n * decimation) break;
-      wire::EncodeLogRecord(layout, records[next + n],
-                            std::span<std::uint8_t>(payload).subspan(wire::kLogIndexBytes + n * rb, rb));
+      wire::EncodeLogRecord(
+          layout, records[next + n],
+          std::span<std::uint8_t>(payload).subspan(wire::kLogIndexBytes + n * rb, rb));
     }
     wire::StoreU32(payload, 0, ticks[next]);
     const std::size_t length = wire::kLogIndexBytes + n * rb;
@@ -71,7 +73,8 @@ Sent EncodeLog(FuzzedDataProvider& in, std::uint16_t token, const wire::LogLayou
     Require(encoder.Data(std::span<const std::uint8_t>(payload).first(length), r) == Status::kOk);
     s.reports.push_back(r);
     s.first_of.push_back(next);
-    s.data.insert(s.data.end(), payload.begin(), payload.begin() + static_cast<std::ptrdiff_t>(length));
+    s.data.insert(s.data.end(), payload.begin(),
+                  payload.begin() + static_cast<std::ptrdiff_t>(length));
     next += n;
   }
   std::array<std::uint8_t, wire::LogTrailer::kBytes> trailer{};
@@ -107,7 +110,9 @@ Sent EncodeCalibration(FuzzedDataProvider& in, std::uint16_t token) {
   }
   s.data = record;
   std::array<std::uint8_t, wire::CalGetTrailer::kBytes> trailer{};
-  wire::Encode(wire::CalGetTrailer{.slot = in.ConsumeIntegral<std::uint8_t>(), .sequence = in.ConsumeIntegral<std::uint32_t>()}, trailer);
+  wire::Encode(wire::CalGetTrailer{.slot = in.ConsumeIntegral<std::uint8_t>(),
+                                   .sequence = in.ConsumeIntegral<std::uint32_t>()},
+               trailer);
   wire::Report r{};
   Require(encoder.End(trailer, r) == Status::kOk);
   s.reports.push_back(r);
@@ -115,7 +120,8 @@ Sent EncodeCalibration(FuzzedDataProvider& in, std::uint16_t token) {
 }
 
 // The link between board and host. Returns true if it delivered the stream untouched.
-bool Damage(FuzzedDataProvider& in, std::vector<wire::Report>& reports, std::uint16_t token, Command command) {
+bool Damage(FuzzedDataProvider& in, std::vector<wire::Report>& reports, std::uint16_t token,
+            Command command) {
   bool clean = true;
   bool byte_changed = false;
   const int rounds = in.ConsumeIntegralInRange<int>(0, 3);
@@ -146,16 +152,21 @@ bool Damage(FuzzedDataProvider& in, std::vector<wire::Report>& reports, std::uin
         break;
       case 4: {  // a stale data report or answer of another request: ignored
         wire::Report stale{};
-        const auto other = static_cast<std::uint16_t>(token ^ in.ConsumeIntegralInRange<std::uint16_t>(1, 0xFFFF));
+        const auto other =
+            static_cast<std::uint16_t>(token ^ in.ConsumeIntegralInRange<std::uint16_t>(1, 0xFFFF));
         if (in.ConsumeBool()) {
-          const auto bytes = in.ConsumeBytes<std::uint8_t>(in.ConsumeIntegralInRange<std::size_t>(1, wire::kMaxStreamPayload));
+          const auto bytes = in.ConsumeBytes<std::uint8_t>(
+              in.ConsumeIntegralInRange<std::size_t>(1, wire::kMaxStreamPayload));
           if (bytes.empty()) break;  // the input ran out: no report to slip in
-          Require(wire::EncodeStreamData(other, in.ConsumeIntegral<std::uint16_t>(), bytes, stale) == Status::kOk);
+          Require(wire::EncodeStreamData(other, in.ConsumeIntegral<std::uint16_t>(), bytes,
+                                         stale) == Status::kOk);
         } else {
-          const auto id = in.ConsumeBool() ? command : static_cast<Command>(in.ConsumeIntegral<std::uint8_t>());
+          const auto id =
+              in.ConsumeBool() ? command : static_cast<Command>(in.ConsumeIntegral<std::uint8_t>());
           const std::uint16_t to = in.ConsumeBool() ? other : token;
           const std::uint8_t flags = in.ConsumeBool() ? wire::kFlagResponse : 0;
-          Require(wire::BuildReport(id, to, in.ConsumeIntegral<std::uint16_t>(), flags, Status::kOk, {}, stale) == Status::kOk);
+          Require(wire::BuildReport(id, to, in.ConsumeIntegral<std::uint16_t>(), flags, Status::kOk,
+                                    {}, stale) == Status::kOk);
           // An answer to this very request is no stale report: it ends the stream.
           if (id == command && to == token && flags != 0) clean = false;
         }
@@ -164,8 +175,10 @@ bool Damage(FuzzedDataProvider& in, std::vector<wire::Report>& reports, std::uin
       }
       case 5: {  // the board gave up: a refusal in place of the rest
         wire::Report refusal{};
-        const auto status = in.PickValueInArray({Status::kOutOfRange, Status::kInternal, Status::kFailedPrecondition});
-        Require(wire::BuildReport(command, token, 0, wire::kFlagResponse, status, {}, refusal) == Status::kOk);
+        const auto status = in.PickValueInArray(
+            {Status::kOutOfRange, Status::kInternal, Status::kFailedPrecondition});
+        Require(wire::BuildReport(command, token, 0, wire::kFlagResponse, status, {}, refusal) ==
+                Status::kOk);
         reports.resize(at);
         reports.push_back(refusal);
         clean = false;
@@ -211,8 +224,11 @@ Received Decode(Command command, std::uint16_t token, const std::vector<wire::Re
         r.data.insert(r.data.end(), step.payload.begin(), step.payload.end());
         r.payloads.emplace_back(step.payload.begin(), step.payload.end());
         break;
-      case Event::kStale: break;
-      case Event::kEnd: r.trailer.assign(step.payload.begin(), step.payload.end()); [[fallthrough]];
+      case Event::kStale:
+        break;
+      case Event::kEnd:
+        r.trailer.assign(step.payload.begin(), step.payload.end());
+        [[fallthrough]];
       case Event::kRefused:
       case Event::kError:
         r.last = step.event;
@@ -227,8 +243,10 @@ Received Decode(Command command, std::uint16_t token, const std::vector<wire::Re
 
 void RunLog(FuzzedDataProvider& in) {
   wire::LogLayout layout;
-  layout.channel_mask = static_cast<std::uint8_t>(in.ConsumeIntegralInRange<unsigned>(1, wire::kAllChannelsMask));
-  layout.flags = static_cast<std::uint8_t>(in.ConsumeIntegralInRange<unsigned>(0, wire::kAcqKnownFlags));
+  layout.channel_mask =
+      static_cast<std::uint8_t>(in.ConsumeIntegralInRange<unsigned>(1, wire::kAllChannelsMask));
+  layout.flags =
+      static_cast<std::uint8_t>(in.ConsumeIntegralInRange<unsigned>(0, wire::kAcqKnownFlags));
   const std::uint16_t decimation = in.PickValueInArray<std::uint16_t>({1, 2, 5, 10, 1000});
   // Records with ticks that follow by the decimation, with gaps where the sampler dropped some.
   const std::size_t count = in.ConsumeIntegralInRange<std::size_t>(0, 200);
@@ -239,10 +257,13 @@ void RunLog(FuzzedDataProvider& in) {
     ticks[i] = tick;
     records[i].sample_index = tick;
     for (std::size_t c = 0; c < wire::kChannelCount; ++c) {
-      if ((layout.channel_mask & (1u << c)) != 0) records[i].raw[c] = static_cast<std::int32_t>((tick * 37u + c * 1000u) % 4096u);
+      if ((layout.channel_mask & (1u << c)) != 0)
+        records[i].raw[c] = static_cast<std::int32_t>((tick * 37u + c * 1000u) % 4096u);
     }
     if (layout.HasDob()) records[i].d_hat = static_cast<std::int32_t>(tick * 2654435761u);
-    tick += decimation * (in.ConsumeIntegralInRange<int>(0, 15) == 0 ? in.ConsumeIntegralInRange<std::uint32_t>(2, 9) : 1u);
+    tick += decimation * (in.ConsumeIntegralInRange<int>(0, 15) == 0
+                              ? in.ConsumeIntegralInRange<std::uint32_t>(2, 9)
+                              : 1u);
   }
 
   // The host's pull: from record 0, resumed from the first record not yet received intact.
@@ -262,7 +283,9 @@ void RunLog(FuzzedDataProvider& in) {
       ended = true;
       // The CRC covers the data, not the trailer's own fields: those are checked as sent.
       const auto sent_trailer = wire::PayloadOf(sent.reports.back());
-      if (!std::equal(got.trailer.begin(), got.trailer.end(), sent_trailer.begin(), sent_trailer.end())) continue;
+      if (!std::equal(got.trailer.begin(), got.trailer.end(), sent_trailer.begin(),
+                      sent_trailer.end()))
+        continue;
       wire::LogTrailer t;
       Require(wire::Decode(got.trailer, t) == Status::kOk);
       Require(t.first_record == from && t.record_count == sent.end_record - from);
@@ -270,10 +293,12 @@ void RunLog(FuzzedDataProvider& in) {
       for (const auto& p : got.payloads) {
         std::array<wire::LogRecord, wire::kMaxRecordsPerReport> batch{};
         std::size_t n = 0;
-        Require(wire::DecodeLogPayload(wire::LogLayout{t.channel_mask, t.acq_flags}, t.decimation, p, batch, n) == Status::kOk);
+        Require(wire::DecodeLogPayload(wire::LogLayout{t.channel_mask, t.acq_flags}, t.decimation,
+                                       p, batch, n) == Status::kOk);
         for (std::size_t k = 0; k < n; ++k) {
           const wire::LogRecord& want = records[from + decoded + k];
-          Require(batch[k].sample_index == want.sample_index && batch[k].raw == want.raw && batch[k].d_hat == want.d_hat);
+          Require(batch[k].sample_index == want.sample_index && batch[k].raw == want.raw &&
+                  batch[k].d_hat == want.d_hat);
         }
         decoded += static_cast<std::uint32_t>(n);
       }
@@ -310,7 +335,8 @@ void CheckResponse(std::span<const std::uint8_t> payload) {
   if (wire::Decode(payload, v) != Status::kOk) return;
   std::array<std::uint8_t, Response::kBytes> again{};
   wire::Encode(v, again);
-  Require(payload.size() >= again.size() && std::equal(again.begin(), again.end(), payload.begin()));
+  Require(payload.size() >= again.size() &&
+          std::equal(again.begin(), again.end(), payload.begin()));
 }
 
 void CheckResponses(const wire::Report& report) {

@@ -31,12 +31,14 @@ void Require(bool condition) {
   if (!condition) __builtin_trap();
 }
 
-constexpr std::array<std::uint8_t, 10> kRequestTypes = {0x80, 0x00, 0x81, 0x01, 0x82, 0x02, 0xA1, 0x21, 0xC0, 0x40};
+constexpr std::array<std::uint8_t, 10> kRequestTypes = {0x80, 0x00, 0x81, 0x01, 0x82,
+                                                        0x02, 0xA1, 0x21, 0xC0, 0x40};
 constexpr std::array<std::uint8_t, 14> kRequests = {0, 1, 3, 5, 6, 7, 8, 9, 10, 11, 12, 2, 4, 0xFF};
-constexpr std::array<std::uint16_t, 12> kValues = {0x0100, 0x0200, 0x0300, 0x0301, 0x0302, 0x0303, 0x0304,
-                                                    0x2100, 0x2200, 0x0600, 0x0001, 0x0000};
+constexpr std::array<std::uint16_t, 12> kValues = {0x0100, 0x0200, 0x0300, 0x0301, 0x0302, 0x0303,
+                                                   0x0304, 0x2100, 0x2200, 0x0600, 0x0001, 0x0000};
 constexpr std::array<std::uint16_t, 8> kIndexes = {0, 1, 2, 0x81, 0x01, 0x82, 0x80, 0x0409};
-constexpr std::array<std::uint16_t, 13> kLengths = {0, 1, 2, 7, 8, 9, 18, 63, 64, 65, 128, 255, 0xFFFF};
+constexpr std::array<std::uint16_t, 13> kLengths = {0,  1,  2,  7,   8,   9,     18,
+                                                    63, 64, 65, 128, 255, 0xFFFF};
 
 struct Fixture {
   testing::Rig rig;
@@ -46,19 +48,32 @@ struct Fixture {
 void RunControl(FuzzedDataProvider& in, Fixture& f) {
   std::array<std::uint8_t, 8> setup{};
   const bool arbitrary = in.ConsumeIntegralInRange<int>(0, 15) == 0;
-  const std::uint8_t type = arbitrary ? in.ConsumeIntegral<std::uint8_t>() : in.PickValueInArray(kRequestTypes);
-  std::uint8_t request = arbitrary ? in.ConsumeIntegral<std::uint8_t>() : in.PickValueInArray(kRequests);
-  std::uint16_t value = arbitrary ? in.ConsumeIntegral<std::uint16_t>() : in.PickValueInArray(kValues);
-  const std::uint16_t index = arbitrary ? in.ConsumeIntegral<std::uint16_t>() : in.PickValueInArray(kIndexes);
-  const std::uint16_t length = arbitrary ? in.ConsumeIntegral<std::uint16_t>() : in.PickValueInArray(kLengths);
-  if (!arbitrary && request == 5) value = in.ConsumeIntegralInRange<std::uint16_t>(0, 130);  // SET_ADDRESS
-  if (!arbitrary && request == 9 && (type & 0x60) == 0) value = in.ConsumeIntegralInRange<std::uint16_t>(0, 2);
-  setup = {type, request, static_cast<std::uint8_t>(value), static_cast<std::uint8_t>(value >> 8),
-           static_cast<std::uint8_t>(index), static_cast<std::uint8_t>(index >> 8),
-           static_cast<std::uint8_t>(length), static_cast<std::uint8_t>(length >> 8)};
+  const std::uint8_t type =
+      arbitrary ? in.ConsumeIntegral<std::uint8_t>() : in.PickValueInArray(kRequestTypes);
+  std::uint8_t request =
+      arbitrary ? in.ConsumeIntegral<std::uint8_t>() : in.PickValueInArray(kRequests);
+  std::uint16_t value =
+      arbitrary ? in.ConsumeIntegral<std::uint16_t>() : in.PickValueInArray(kValues);
+  const std::uint16_t index =
+      arbitrary ? in.ConsumeIntegral<std::uint16_t>() : in.PickValueInArray(kIndexes);
+  const std::uint16_t length =
+      arbitrary ? in.ConsumeIntegral<std::uint16_t>() : in.PickValueInArray(kLengths);
+  if (!arbitrary && request == 5)
+    value = in.ConsumeIntegralInRange<std::uint16_t>(0, 130);  // SET_ADDRESS
+  if (!arbitrary && request == 9 && (type & 0x60) == 0)
+    value = in.ConsumeIntegralInRange<std::uint16_t>(0, 2);
+  setup = {type,
+           request,
+           static_cast<std::uint8_t>(value),
+           static_cast<std::uint8_t>(value >> 8),
+           static_cast<std::uint8_t>(index),
+           static_cast<std::uint8_t>(index >> 8),
+           static_cast<std::uint8_t>(length),
+           static_cast<std::uint8_t>(length >> 8)};
   std::vector<std::uint8_t> out;
   if ((type & 0x80) == 0) {
-    out = in.ConsumeBytes<std::uint8_t>(in.ConsumeIntegralInRange<std::size_t>(0, std::min<std::size_t>(length, 300)));
+    out = in.ConsumeBytes<std::uint8_t>(
+        in.ConsumeIntegralInRange<std::size_t>(0, std::min<std::size_t>(length, 300)));
     out.resize(std::min<std::size_t>(length, 300));
   }
   const std::uint32_t overflows = f.rig.device.counters().event_overflows;
@@ -95,19 +110,27 @@ void RunRawEvent(FuzzedDataProvider& in, Fixture& f) {
       const std::uint8_t ep = in.PickValueInArray(kEps);
       auto& pending = f.rig.dcd.PendingOn(ep);
       if (!pending.active) break;
-      const auto n = (ep & 0x80) != 0 ? pending.buffer.size()
-                                      : in.ConsumeIntegralInRange<std::size_t>(0, pending.buffer.size());
+      const auto n = (ep & 0x80) != 0
+                         ? pending.buffer.size()
+                         : in.ConsumeIntegralInRange<std::size_t>(0, pending.buffer.size());
       pending = {};
       d.OnTransferComplete(ep, static_cast<std::uint16_t>(n));
       break;
     }
-    case 2: d.OnBusReset(); break;
-    case 3: d.OnSuspend(); break;
-    case 4: d.OnResume(); break;
+    case 2:
+      d.OnBusReset();
+      break;
+    case 3:
+      d.OnSuspend();
+      break;
+    case 4:
+      d.OnResume();
+      break;
     case 5:  // a burst the queue cannot hold: counted, never overwritten
       for (int i = in.ConsumeIntegralInRange<int>(1, 40); i > 0; --i) d.OnResume();
       break;
-    default: break;
+    default:
+      break;
   }
   if (in.ConsumeBool()) d.Task();
 }
@@ -126,7 +149,8 @@ void RunReports(FuzzedDataProvider& in, Fixture& f) {
     std::fill(out_ep.buffer.begin(), out_ep.buffer.end(), 0);
     std::copy(bytes.begin(), bytes.end(), out_ep.buffer.begin());
     std::array<std::uint8_t, 64> sent{};
-    std::copy_n(out_ep.buffer.begin(), std::min<std::size_t>(64, out_ep.buffer.size()), sent.begin());
+    std::copy_n(out_ep.buffer.begin(), std::min<std::size_t>(64, out_ep.buffer.size()),
+                sent.begin());
     out_ep = {};
     f.rig.device.OnTransferComplete(kHidOutEndpoint, static_cast<std::uint16_t>(n));
     f.rig.device.Task();
@@ -162,10 +186,20 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   if (in.ConsumeBool()) f.rig.host.Enumerate(in.ConsumeIntegralInRange<std::uint8_t>(1, 127));
   for (int step = 0; step < 48 && in.remaining_bytes() > 0; ++step) {
     switch (in.ConsumeIntegralInRange<int>(0, 5)) {
-      case 0: case 1: case 2: RunControl(in, f); break;
-      case 3: RunRawEvent(in, f); break;
-      case 4: RunReports(in, f); break;
-      default: f.rig.host.BusReset(); break;
+      case 0:
+      case 1:
+      case 2:
+        RunControl(in, f);
+        break;
+      case 3:
+        RunRawEvent(in, f);
+        break;
+      case 4:
+        RunReports(in, f);
+        break;
+      default:
+        f.rig.host.BusReset();
+        break;
     }
   }
   f.rig.device.Task();

@@ -71,7 +71,8 @@ PulledLog PullLog(CoreHarness& h, std::uint32_t first, std::uint32_t max, int lo
   std::array<std::uint8_t, wire::LogReadRequest::kBytes> payload{};
   wire::Encode(wire::LogReadRequest{.first_record = first, .max_records = max}, payload);
   wire::Report report{};
-  (void)wire::BuildReport(wire::Command::kLogRead, h.last_token, 0, 0, Status::kOk, payload, report);
+  (void)wire::BuildReport(wire::Command::kLogRead, h.last_token, 0, 0, Status::kOk, payload,
+                          report);
   h.link.ClearOut();
   h.link.Push(report);
 
@@ -98,18 +99,18 @@ PulledLog PullLog(CoreHarness& h, std::uint32_t first, std::uint32_t max, int lo
     }
   }
   if (out.last_event != wire::StreamDecoder::Event::kEnd || out.status != Status::kOk) return out;
-  const wire::LogLayout layout{out.trailer.channel_mask,
-                               out.trailer.acq_flags};
+  const wire::LogLayout layout{out.trailer.channel_mask, out.trailer.acq_flags};
   for (std::size_t p = 0; p < payload_count; ++p) {
     std::array<wire::LogRecord, wire::kMaxRecordsPerReport> batch{};
     std::size_t n = 0;
     if (wire::DecodeLogPayload(layout, out.trailer.decimation,
-                               std::span<const std::uint8_t>(payloads[p]).first(lengths[p]), batch, n) !=
-        Status::kOk) {
+                               std::span<const std::uint8_t>(payloads[p]).first(lengths[p]), batch,
+                               n) != Status::kOk) {
       out.status = Status::kInvalidArgument;
       return out;
     }
-    for (std::size_t k = 0; k < n && out.count < out.records.size(); ++k) out.records[out.count++] = batch[k];
+    for (std::size_t k = 0; k < n && out.count < out.records.size(); ++k)
+      out.records[out.count++] = batch[k];
   }
   return out;
 }

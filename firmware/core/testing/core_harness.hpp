@@ -32,7 +32,7 @@ class CoreHarness {
   Response Request(wire::Command command, std::span<const std::uint8_t> payload = {},
                    std::uint16_t sequence = 0);
   template <typename Payload>
-    requires requires { Payload::kBytes; }
+  requires requires { Payload::kBytes; }
   Response Request(wire::Command command, const Payload& payload) {
     std::array<std::uint8_t, Payload::kBytes> bytes{};
     wire::Encode(payload, bytes);

@@ -57,7 +57,10 @@ class FakeFlash final : public CalibrationFlash {
   Status Read(Slot slot, std::size_t offset, std::span<std::uint8_t> out) const override;
 
   /// Restores power and counts steps from zero again.
-  void PowerOn() { steps_ = 0; powered_ = true; }
+  void PowerOn() {
+    steps_ = 0;
+    powered_ = true;
+  }
 
   std::span<std::uint8_t> bytes(Slot slot) { return data_[static_cast<std::size_t>(slot)]; }
 

@@ -7,7 +7,8 @@ namespace {
 
 static_assert(kDeviceDescriptor[0] == kDeviceDescriptor.size());
 static_assert(kConfigurationDescriptor[0] == kConfigurationHeaderSize);
-static_assert(kHidReportDescriptor.size() == 25, "HID report descriptor length is in the HID descriptor");
+static_assert(kHidReportDescriptor.size() == 25,
+              "HID report descriptor length is in the HID descriptor");
 
 }  // namespace
 

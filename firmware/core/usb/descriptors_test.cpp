@@ -67,15 +67,15 @@ TEST(UsbDescriptors, ConfigurationDescriptorSet) {
       0x80,        // bmAttributes: reserved bit 7 set, bus powered, no remote wakeup
       0x7D,        // bMaxPower 125 x 2 mA = 250 mA
       // Interface 0 (table 9-12)
-      0x09,        // bLength
-      0x04,        // bDescriptorType INTERFACE
-      0x00,        // bInterfaceNumber 0
-      0x00,        // bAlternateSetting 0
-      0x02,        // bNumEndpoints 2
-      0x03,        // bInterfaceClass HID
-      0x00,        // bInterfaceSubClass: no boot interface
-      0x00,        // bInterfaceProtocol: none
-      0x00,        // iInterface
+      0x09,  // bLength
+      0x04,  // bDescriptorType INTERFACE
+      0x00,  // bInterfaceNumber 0
+      0x00,  // bAlternateSetting 0
+      0x02,  // bNumEndpoints 2
+      0x03,  // bInterfaceClass HID
+      0x00,  // bInterfaceSubClass: no boot interface
+      0x00,  // bInterfaceProtocol: none
+      0x00,  // iInterface
       // HID descriptor (HID 1.11 §6.2.1)
       0x09,        // bLength
       0x21,        // bDescriptorType HID
@@ -98,15 +98,15 @@ TEST(UsbDescriptors, ConfigurationDescriptorSet) {
       0x40, 0x00,  // wMaxPacketSize 64
       0x01,        // bInterval 1 frame
       // Interface 1: DFU run-time (DFU 1.1 table 4.1)
-      0x09,        // bLength
-      0x04,        // bDescriptorType INTERFACE
-      0x01,        // bInterfaceNumber 1
-      0x00,        // bAlternateSetting 0
-      0x00,        // bNumEndpoints 0 (control pipe only)
-      0xFE,        // bInterfaceClass application specific
-      0x01,        // bInterfaceSubClass device firmware upgrade
-      0x01,        // bInterfaceProtocol run-time
-      0x04,        // iInterface -> string 4
+      0x09,  // bLength
+      0x04,  // bDescriptorType INTERFACE
+      0x01,  // bInterfaceNumber 1
+      0x00,  // bAlternateSetting 0
+      0x00,  // bNumEndpoints 0 (control pipe only)
+      0xFE,  // bInterfaceClass application specific
+      0x01,  // bInterfaceSubClass device firmware upgrade
+      0x01,  // bInterfaceProtocol run-time
+      0x04,  // iInterface -> string 4
       // DFU functional descriptor (DFU 1.1 table 4.2)
       0x09,        // bLength
       0x21,        // bDescriptorType DFU FUNCTIONAL
@@ -159,7 +159,8 @@ TEST(UsbDescriptors, HidReportDescriptor) {
 
   // The HID descriptor alone: wValue high byte 0x21.
   const auto hid = rig.host.Control({0x81, 0x06, 0x00, 0x21, 0x00, 0x00, 0x09, 0x00});
-  const std::array<std::uint8_t, 9> want_hid = {0x09, 0x21, 0x11, 0x01, 0x00, 0x01, 0x22, 0x19, 0x00};
+  const std::array<std::uint8_t, 9> want_hid = {0x09, 0x21, 0x11, 0x01, 0x00,
+                                                0x01, 0x22, 0x19, 0x00};
   ExpectBytes(hid.Bytes(), want_hid);
 }
 
@@ -173,7 +174,8 @@ TEST(UsbDescriptors, StringDescriptors) {
 
   // String 1 "vibid" in UTF-16LE: bLength 2 + 2 x 5 = 12.
   const auto maker = rig.host.Control({0x80, 0x06, 0x01, 0x03, 0x09, 0x04, 0xFF, 0x00});
-  const std::array<std::uint8_t, 12> want_maker = {0x0C, 0x03, 'v', 0, 'i', 0, 'b', 0, 'i', 0, 'd', 0};
+  const std::array<std::uint8_t, 12> want_maker = {0x0C, 0x03, 'v', 0, 'i', 0,
+                                                   'b',  0,    'i', 0, 'd', 0};
   ExpectBytes(maker.Bytes(), want_maker);
 
   // String 3, the serial: 24 hex digits -> bLength 50; the digits are the board id as given.

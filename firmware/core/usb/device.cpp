@@ -10,7 +10,8 @@ constexpr std::uint8_t kEp0In = 0x80;
 
 }  // namespace
 
-UsbDevice::UsbDevice(Dcd& dcd, std::span<ClassDriver* const> drivers, const DescriptorSet& descriptors)
+UsbDevice::UsbDevice(Dcd& dcd, std::span<ClassDriver* const> drivers,
+                     const DescriptorSet& descriptors)
     : dcd_(dcd), descriptors_(descriptors) {
   driver_count_ = std::min(drivers.size(), kMaxDrivers);
   std::copy_n(drivers.begin(), driver_count_, drivers_.begin());
@@ -61,14 +62,22 @@ void UsbDevice::Task() {
     tail = static_cast<std::uint8_t>((tail + 1U) % kEventQueueSize);
     tail_.store(tail, std::memory_order_release);
     switch (e.kind) {
-      case EventKind::kBusReset: HandleBusReset(); break;
-      case EventKind::kSetup: HandleSetup(SetupPacket::Decode(e.setup)); break;
-      case EventKind::kTransferComplete: HandleTransferComplete(e.ep_addr, e.length); break;
+      case EventKind::kBusReset:
+        HandleBusReset();
+        break;
+      case EventKind::kSetup:
+        HandleSetup(SetupPacket::Decode(e.setup));
+        break;
+      case EventKind::kTransferComplete:
+        HandleTransferComplete(e.ep_addr, e.length);
+        break;
       case EventKind::kSuspend:
         suspended_ = true;
         ++counters_.suspends;
         break;
-      case EventKind::kResume: suspended_ = false; break;
+      case EventKind::kResume:
+        suspended_ = false;
+        break;
     }
   }
 }
@@ -102,7 +111,8 @@ void UsbDevice::HandleSetup(const SetupPacket& setup) {
           setup.b_request == static_cast<std::uint8_t>(StandardRequest::kGetDescriptor)) {
         // Class descriptors (HID, report) are fetched with a standard request to the interface.
         control_owner_ = Configured() ? DriverForInterface(target) : nullptr;
-        if (control_owner_ != nullptr) reply = control_owner_->OnControlRequest(setup, control_buffer_);
+        if (control_owner_ != nullptr)
+          reply = control_owner_->OnControlRequest(setup, control_buffer_);
       } else {
         reply = StandardRequest(setup);
       }
@@ -112,7 +122,8 @@ void UsbDevice::HandleSetup(const SetupPacket& setup) {
         if (setup.To() == Recipient::kInterface) control_owner_ = DriverForInterface(target);
         if (setup.To() == Recipient::kEndpoint) control_owner_ = DriverForEndpoint(target);
       }
-      if (control_owner_ != nullptr) reply = control_owner_->OnControlRequest(setup, control_buffer_);
+      if (control_owner_ != nullptr)
+        reply = control_owner_->OnControlRequest(setup, control_buffer_);
       break;
     case RequestType::kVendor:
     case RequestType::kReserved:
@@ -226,7 +237,8 @@ void UsbDevice::SendNextInPacket() {
 
 void UsbDevice::ArmOutPacket() {
   const std::size_t chunk = std::min<std::size_t>(kEp0Size, setup_.w_length - out_received_);
-  (void)dcd_.Transfer(kEp0Out, std::span<std::uint8_t>(control_buffer_).subspan(out_received_, chunk));
+  (void)dcd_.Transfer(kEp0Out,
+                      std::span<std::uint8_t>(control_buffer_).subspan(out_received_, chunk));
 }
 
 void UsbDevice::SendStatusIn() {
@@ -243,10 +255,14 @@ void UsbDevice::ArmStatusOut() {
 
 ControlReply UsbDevice::StandardRequest(const SetupPacket& setup) {
   switch (setup.To()) {
-    case Recipient::kDevice: return DeviceRequest(setup);
-    case Recipient::kInterface: return InterfaceRequest(setup);
-    case Recipient::kEndpoint: return EndpointRequest(setup);
-    default: return ControlReply::Stall();
+    case Recipient::kDevice:
+      return DeviceRequest(setup);
+    case Recipient::kInterface:
+      return InterfaceRequest(setup);
+    case Recipient::kEndpoint:
+      return EndpointRequest(setup);
+    default:
+      return ControlReply::Stall();
   }
 }
 
@@ -259,8 +275,8 @@ ControlReply UsbDevice::DeviceRequest(const SetupPacket& setup) {
       buf[1] = 0;
       return ControlReply::Data(std::span<const std::uint8_t>(buf).first(2));
     case StandardRequest::kSetAddress:
-      if (setup.DeviceToHost() || setup.w_value > 127 || setup.w_index != 0 || setup.w_length != 0 ||
-          state_ == DeviceState::kConfigured) {
+      if (setup.DeviceToHost() || setup.w_value > 127 || setup.w_index != 0 ||
+          setup.w_length != 0 || state_ == DeviceState::kConfigured) {
         break;
       }
       pending_address_ = static_cast<std::uint8_t>(setup.w_value);
@@ -289,7 +305,8 @@ ControlReply UsbDevice::DeviceRequest(const SetupPacket& setup) {
 
 ControlReply UsbDevice::SetConfiguration(std::uint8_t value) {
   // bConfigurationValue is byte 5 of the configuration descriptor (USB 2.0 table 9-10).
-  const std::uint8_t configuration_value = descriptors_.configuration.size() > 5 ? descriptors_.configuration[5] : 0;
+  const std::uint8_t configuration_value =
+      descriptors_.configuration.size() > 5 ? descriptors_.configuration[5] : 0;
   if (value != 0 && value != configuration_value) return ControlReply::Stall();
   for (std::size_t i = 0; i < driver_count_; ++i) drivers_[i]->Close();
   dcd_.EndpointCloseAll();
@@ -323,7 +340,7 @@ ControlReply UsbDevice::GetDescriptor(const SetupPacket& setup) {
       return ControlReply::Data(descriptors_.configuration);
     case DescriptorType::kString: {
       auto out = std::span<std::uint8_t, kMaxStringDescriptorSize>(control_buffer_.data(),
-                                                                    kMaxStringDescriptorSize);
+                                                                   kMaxStringDescriptorSize);
       std::size_t n = 0;
       if (index == kStringLanguages) {
         out[0] = 4;
@@ -331,7 +348,8 @@ ControlReply UsbDevice::GetDescriptor(const SetupPacket& setup) {
         out[2] = 0x09;  // wLANGID[0] = 0x0409, English (United States)
         out[3] = 0x04;
         n = 4;
-      } else if (index <= descriptors_.strings.size() && descriptors_.strings[index - 1U] != nullptr) {
+      } else if (index <= descriptors_.strings.size() &&
+                 descriptors_.strings[index - 1U] != nullptr) {
         n = BuildStringDescriptor(descriptors_.strings[index - 1U], kMaxSerialLength, out);
       } else {
         return ControlReply::Stall();
@@ -348,7 +366,8 @@ ControlReply UsbDevice::GetDescriptor(const SetupPacket& setup) {
 
 ControlReply UsbDevice::InterfaceRequest(const SetupPacket& setup) {
   const auto interface_number = static_cast<std::uint8_t>(setup.w_index & 0xFF);
-  if (!Configured() || DriverForInterface(interface_number) == nullptr) return ControlReply::Stall();
+  if (!Configured() || DriverForInterface(interface_number) == nullptr)
+    return ControlReply::Stall();
   auto& buf = control_buffer_;
   switch (static_cast<usb::StandardRequest>(setup.b_request)) {
     case StandardRequest::kGetStatus:
@@ -390,7 +409,8 @@ ControlReply UsbDevice::EndpointRequest(const SetupPacket& setup) {
       buf[1] = 0;
       return ControlReply::Data(std::span<const std::uint8_t>(buf).first(2));
     case StandardRequest::kClearFeature:
-      if (setup.DeviceToHost() || setup.w_value != kFeatureEndpointHalt || setup.w_length != 0) break;
+      if (setup.DeviceToHost() || setup.w_value != kFeatureEndpointHalt || setup.w_length != 0)
+        break;
       halted_[HaltIndex(ep)] = false;
       if (EpNumber(ep) != 0) {
         dcd_.EndpointClearStall(ep);

@@ -8,7 +8,8 @@ bool DfuRuntime::OwnsInterface(std::uint8_t interface_number) const {
   return interface_number == kDfuInterface;
 }
 
-ControlReply DfuRuntime::OnControlRequest(const SetupPacket& setup, std::span<std::uint8_t> scratch) {
+ControlReply DfuRuntime::OnControlRequest(const SetupPacket& setup,
+                                          std::span<std::uint8_t> scratch) {
   if (setup.Type() != RequestType::kClass) return ControlReply::Stall();
   // In appIDLE only DETACH, GETSTATUS and GETSTATE are valid (DFU 1.1 §6.1.2); the rest stall.
   switch (static_cast<DfuRequest>(setup.b_request)) {
@@ -22,7 +23,7 @@ ControlReply DfuRuntime::OnControlRequest(const SetupPacket& setup, std::span<st
       scratch[2] = 0;
       scratch[3] = 0;
       scratch[4] = static_cast<std::uint8_t>(state_);  // bState
-      scratch[5] = 0;  // iString
+      scratch[5] = 0;                                  // iString
       return ControlReply::Data(scratch.first(6));
     case DfuRequest::kGetState:
       if (!setup.DeviceToHost()) break;

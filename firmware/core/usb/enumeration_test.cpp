@@ -13,15 +13,24 @@ namespace {
 using testing::Rig;
 
 // bmRequestType, bRequest, wValue (LE), wIndex (LE), wLength (LE)
-constexpr std::array<std::uint8_t, 8> kGetDeviceDescriptor64 = {0x80, 0x06, 0x00, 0x01, 0x00, 0x00, 0x40, 0x00};
-constexpr std::array<std::uint8_t, 8> kSetAddress5 = {0x00, 0x05, 0x05, 0x00, 0x00, 0x00, 0x00, 0x00};
-constexpr std::array<std::uint8_t, 8> kGetConfiguration = {0x80, 0x08, 0x00, 0x00, 0x00, 0x00, 0x01, 0x00};
-constexpr std::array<std::uint8_t, 8> kSetConfiguration1 = {0x00, 0x09, 0x01, 0x00, 0x00, 0x00, 0x00, 0x00};
-constexpr std::array<std::uint8_t, 8> kSetConfiguration0 = {0x00, 0x09, 0x00, 0x00, 0x00, 0x00, 0x00, 0x00};
-constexpr std::array<std::uint8_t, 8> kGetDeviceStatus = {0x80, 0x00, 0x00, 0x00, 0x00, 0x00, 0x02, 0x00};
-constexpr std::array<std::uint8_t, 8> kGetStatusEp81 = {0x82, 0x00, 0x00, 0x00, 0x81, 0x00, 0x02, 0x00};
-constexpr std::array<std::uint8_t, 8> kSetHaltEp81 = {0x02, 0x03, 0x00, 0x00, 0x81, 0x00, 0x00, 0x00};
-constexpr std::array<std::uint8_t, 8> kClearHaltEp81 = {0x02, 0x01, 0x00, 0x00, 0x81, 0x00, 0x00, 0x00};
+constexpr std::array<std::uint8_t, 8> kGetDeviceDescriptor64 = {0x80, 0x06, 0x00, 0x01,
+                                                                0x00, 0x00, 0x40, 0x00};
+constexpr std::array<std::uint8_t, 8> kSetAddress5 = {0x00, 0x05, 0x05, 0x00,
+                                                      0x00, 0x00, 0x00, 0x00};
+constexpr std::array<std::uint8_t, 8> kGetConfiguration = {0x80, 0x08, 0x00, 0x00,
+                                                           0x00, 0x00, 0x01, 0x00};
+constexpr std::array<std::uint8_t, 8> kSetConfiguration1 = {0x00, 0x09, 0x01, 0x00,
+                                                            0x00, 0x00, 0x00, 0x00};
+constexpr std::array<std::uint8_t, 8> kSetConfiguration0 = {0x00, 0x09, 0x00, 0x00,
+                                                            0x00, 0x00, 0x00, 0x00};
+constexpr std::array<std::uint8_t, 8> kGetDeviceStatus = {0x80, 0x00, 0x00, 0x00,
+                                                          0x00, 0x00, 0x02, 0x00};
+constexpr std::array<std::uint8_t, 8> kGetStatusEp81 = {0x82, 0x00, 0x00, 0x00,
+                                                        0x81, 0x00, 0x02, 0x00};
+constexpr std::array<std::uint8_t, 8> kSetHaltEp81 = {0x02, 0x03, 0x00, 0x00,
+                                                      0x81, 0x00, 0x00, 0x00};
+constexpr std::array<std::uint8_t, 8> kClearHaltEp81 = {0x02, 0x01, 0x00, 0x00,
+                                                        0x81, 0x00, 0x00, 0x00};
 
 TEST(UsbEnumeration, StartInitializesAndConnects) {
   Rig rig;
@@ -238,7 +247,8 @@ class BulkyClass final : public ClassDriver {
   Status Open(Dcd&) override { return Status::kOk; }
   void Close() override {}
   ControlReply OnControlRequest(const SetupPacket& setup, std::span<std::uint8_t>) override {
-    if (setup.DeviceToHost()) return ControlReply::Data(std::span<const std::uint8_t>(payload).first(reply_length));
+    if (setup.DeviceToHost())
+      return ControlReply::Data(std::span<const std::uint8_t>(payload).first(reply_length));
     return ControlReply::Accept();
   }
   bool OnControlData(const SetupPacket&, std::span<const std::uint8_t> data) override {
@@ -261,7 +271,8 @@ class BulkyClass final : public ClassDriver {
 TEST(UsbControlPipe, MultiPacketDataStages) {
   testing::FakeDcd dcd;
   BulkyClass bulky;
-  for (std::size_t i = 0; i < bulky.payload.size(); ++i) bulky.payload[i] = static_cast<std::uint8_t>(i);
+  for (std::size_t i = 0; i < bulky.payload.size(); ++i)
+    bulky.payload[i] = static_cast<std::uint8_t>(i);
   std::array<ClassDriver*, 1> drivers{&bulky};
   const DaqStrings strings = MakeDaqStrings("S");
   UsbDevice device{dcd, drivers, DaqDescriptors(strings)};
@@ -316,7 +327,7 @@ TEST(UsbControlPipe, AnotherPersonalityBringsItsOwnDescriptors) {
   host.BusReset();
   const auto d = host.Control({0x80, 0x06, 0x00, 0x01, 0x00, 0x00, 0x12, 0x00});
   ASSERT_EQ(d.length, 18U);
-  EXPECT_EQ(d.data[8], 0x83);  // idVendor 0x0483 low byte, as given
+  EXPECT_EQ(d.data[8], 0x83);   // idVendor 0x0483 low byte, as given
   EXPECT_EQ(d.data[11], 0xDF);  // idProduct 0xDF11 high byte
   const auto s1 = host.Control({0x80, 0x06, 0x01, 0x03, 0x09, 0x04, 0xFF, 0x00});
   ASSERT_EQ(s1.length, 10U);  // "boot": 2 + 2 x 4

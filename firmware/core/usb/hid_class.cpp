@@ -105,9 +105,12 @@ ControlReply HidClass::OnControlRequest(const SetupPacket& setup, std::span<std:
     // (HID 1.11 §7.1.1).
     if (!setup.DeviceToHost()) return ControlReply::Stall();
     switch (static_cast<DescriptorType>(setup.ValueHigh())) {
-      case DescriptorType::kHid: return ControlReply::Data(kHidDescriptor);
-      case DescriptorType::kHidReport: return ControlReply::Data(kHidReportDescriptor);
-      default: return ControlReply::Stall();
+      case DescriptorType::kHid:
+        return ControlReply::Data(kHidDescriptor);
+      case DescriptorType::kHidReport:
+        return ControlReply::Data(kHidReportDescriptor);
+      default:
+        return ControlReply::Stall();
     }
   }
   const auto type = static_cast<HidReportType>(setup.ValueHigh());

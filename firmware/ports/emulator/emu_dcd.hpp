@@ -23,7 +23,8 @@ class EmuDcd final : public fw::usb::Dcd {
   void Connect() override { connected_ = true; }
   void Disconnect() override { connected_ = false; }
   void SetAddress(std::uint8_t address) override { address_ = address; }
-  Status EndpointOpen(std::uint8_t ep_addr, fw::usb::EndpointType type, std::uint16_t max_packet) override;
+  Status EndpointOpen(std::uint8_t ep_addr, fw::usb::EndpointType type,
+                      std::uint16_t max_packet) override;
   void EndpointCloseAll() override;
   void EndpointStall(std::uint8_t ep_addr) override;
   void EndpointClearStall(std::uint8_t ep_addr) override;
@@ -39,7 +40,9 @@ class EmuDcd final : public fw::usb::Dcd {
   void OnSetupArrived();
 
  private:
-  static std::size_t Index(std::uint8_t ep_addr) { return (ep_addr & 0x0F) + ((ep_addr & 0x80) != 0 ? 16U : 0U); }
+  static std::size_t Index(std::uint8_t ep_addr) {
+    return (ep_addr & 0x0F) + ((ep_addr & 0x80) != 0 ? 16U : 0U);
+  }
 
   fw::usb::DcdEvents* events_ = nullptr;
   bool connected_ = false;

@@ -1,6 +1,5 @@
 #include "emu_port.hpp"
 
-
 namespace vibid::emu {
 
 Status RigFrameSource::Start(std::uint32_t sample_period_us, fw::FrameSink& sink) {
@@ -30,21 +29,25 @@ Status FlashCalibrationSlots::Erase(Slot slot) {
   return flash_.EraseSector(kSlotSector[static_cast<int>(slot)]) ? Status::kOk : Status::kInternal;
 }
 
-Status FlashCalibrationSlots::Program(Slot slot, std::size_t offset, std::span<const std::uint8_t> data) {
+Status FlashCalibrationSlots::Program(Slot slot, std::size_t offset,
+                                      std::span<const std::uint8_t> data) {
   if (offset > SlotBytes() || data.size() > SlotBytes() - offset) return Status::kOutOfRange;
   return flash_.Program(Address(slot, offset), data) ? Status::kOk : Status::kInternal;
 }
 
-Status FlashCalibrationSlots::Read(Slot slot, std::size_t offset, std::span<std::uint8_t> out) const {
+Status FlashCalibrationSlots::Read(Slot slot, std::size_t offset,
+                                   std::span<std::uint8_t> out) const {
   if (offset > SlotBytes() || out.size() > SlotBytes() - offset) return Status::kOutOfRange;
   return flash_.Read(Address(slot, offset), out) ? Status::kOk : Status::kInternal;
 }
 
-Status ScenarioCommands::HandlePortCommand(std::uint8_t command, std::span<const std::uint8_t> request,
+Status ScenarioCommands::HandlePortCommand(std::uint8_t command,
+                                           std::span<const std::uint8_t> request,
                                            std::span<std::uint8_t, wire::kMaxPayload>,
                                            std::size_t& response_length) {
   response_length = 0;
-  if (command != static_cast<std::uint8_t>(wire::Command::kSelectScenario)) return Status::kUnimplemented;
+  if (command != static_cast<std::uint8_t>(wire::Command::kSelectScenario))
+    return Status::kUnimplemented;
   if (frames_.Running()) return Status::kFailedPrecondition;
   wire::ScenarioRequest r;
   if (wire::Decode(request, r) != Status::kOk) return Status::kInvalidArgument;

@@ -100,7 +100,9 @@ class EmuSystemControl final : public fw::SystemControl {
  public:
   explicit EmuSystemControl(wire::ResetCause cause) : cause_(cause) {}
   wire::BoardId Board() const override { return wire::BoardId::kEmulator; }
-  std::uint32_t PortCapabilities() const override { return wire::kCapDfu | wire::kCapScenarioSelect; }
+  std::uint32_t PortCapabilities() const override {
+    return wire::kCapDfu | wire::kCapScenarioSelect;
+  }
   wire::ResetCause LastResetCause() const override { return cause_; }
   void Reset() override { request_ = Request::kReset; }
   void EnterDfu() override { request_ = Request::kEnterDfu; }

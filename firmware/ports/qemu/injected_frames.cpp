@@ -8,7 +8,8 @@ namespace vibid::fw::qemu {
 
 using namespace vibid::fw::stm32;
 
-std::array<InjectedFrameSource::Raw, InjectedFrameSource::kQueueFrames> InjectedFrameSource::queue_{};
+std::array<InjectedFrameSource::Raw, InjectedFrameSource::kQueueFrames>
+    InjectedFrameSource::queue_{};
 
 void InjectedFrameSource::Init(std::uint32_t core_clock_hz, std::uint32_t idle_tick_hz) {
   core_clock_hz_ = core_clock_hz;
@@ -43,7 +44,8 @@ void InjectedFrameSource::Stop() {
 }
 
 std::size_t InjectedFrameSource::Free() const {
-  return kQueueFrames - (head_.load(std::memory_order_relaxed) - tail_.load(std::memory_order_acquire));
+  return kQueueFrames -
+         (head_.load(std::memory_order_relaxed) - tail_.load(std::memory_order_acquire));
 }
 
 Status InjectedFrameSource::Inject(std::span<const Raw> frames) {

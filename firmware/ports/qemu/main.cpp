@@ -37,7 +37,8 @@ class InjectionCommands final : public PortCommandHandler {
                            std::span<std::uint8_t, wire::kMaxPayload>,
                            std::size_t& response_length) override {
     response_length = 0;
-    if (command != static_cast<std::uint8_t>(wire::Command::kInjectFrames)) return Status::kUnimplemented;
+    if (command != static_cast<std::uint8_t>(wire::Command::kInjectFrames))
+      return Status::kUnimplemented;
     wire::InjectFramesRequest frames;
     if (const Status s = wire::Decode(request, frames); s != Status::kOk) return s;
     // kUnavailable when the queue is full: the host sends the same frames again later.
@@ -61,7 +62,8 @@ void ReportSamplingCost() {
     return;
   }
   reported = frames;
-  static constexpr const char* kLabels[] = {"frames", "starved_ticks", "isr_cycles", "link_crc_errors"};
+  static constexpr const char* kLabels[] = {"frames", "starved_ticks", "isr_cycles",
+                                            "link_crc_errors"};
   const std::uint64_t values[] = {frames, g_source.starved_ticks(), g_source.handler_cycles(),
                                   g_link.DecoderCounters().crc_errors};
   DiagnosticsValues(kLabels, values, 4);

@@ -45,7 +45,8 @@ Status RamCalibrationFlash::Erase(Slot slot) {
   return Status::kOk;
 }
 
-Status RamCalibrationFlash::Program(Slot slot, std::size_t offset, std::span<const std::uint8_t> data) {
+Status RamCalibrationFlash::Program(Slot slot, std::size_t offset,
+                                    std::span<const std::uint8_t> data) {
   if (offset > kSlotBytes || data.size() > kSlotBytes - offset) return Status::kOutOfRange;
   auto& s = slots_[static_cast<std::size_t>(slot)];
   for (std::size_t i = 0; i < data.size(); ++i) s[offset + i] &= data[i];

@@ -16,7 +16,8 @@ void UsartReportLink::Init(std::uint32_t pclk_hz, std::uint32_t baud) {
   gpio::SetAlternate(gpio::kPortA, 10, 7);
   // Oversampling by 16: BRR = pclk / baud, mantissa and fraction in one division.
   Reg(usart::kUsart1 + usart::kBrr) = (pclk_hz + baud / 2) / baud;
-  Reg(usart::kUsart1 + usart::kCr1) = usart::kCr1Ue | usart::kCr1Te | usart::kCr1Re | usart::kCr1Rxneie;
+  Reg(usart::kUsart1 + usart::kCr1) =
+      usart::kCr1Ue | usart::kCr1Te | usart::kCr1Re | usart::kCr1Rxneie;
   nvic::SetPriority(irq::kUsart1, 4);
   nvic::Enable(irq::kUsart1);
 }

@@ -25,7 +25,8 @@ bool WaitIdle(std::uint32_t polls) {
 bool WaitIdleFeedingWatchdog() {
   const std::uint64_t start_us = MicrosecondsSinceBoot();
   for (;;) {
-    if (WaitFor(flash::kSr, flash::kSrBsy, 0, kPollsPerChunk)) return (Reg(flash::kSr) & flash::kSrErrors) == 0;
+    if (WaitFor(flash::kSr, flash::kSrBsy, 0, kPollsPerChunk))
+      return (Reg(flash::kSr) & flash::kSrErrors) == 0;
     KickWatchdog();
     if (MicrosecondsSinceBoot() - start_us > kEraseTimeoutUs) return false;
   }
@@ -72,7 +73,8 @@ Status InternalCalibrationFlash::Erase(Slot slot) {
     Unlocked unlocked;
     ok = WaitIdle(kWordPolls);
     if (ok) {
-      Reg(flash::kCr) = flash::kCrSer | Psize() | Field(kSector[static_cast<std::size_t>(slot)], flash::kCrSnbPos);
+      Reg(flash::kCr) = flash::kCrSer | Psize() |
+                        Field(kSector[static_cast<std::size_t>(slot)], flash::kCrSnbPos);
       // A full watchdog period for the erase, whatever the main loop last did.
       KickWatchdog();
       Reg(flash::kCr) |= flash::kCrStrt;
@@ -90,15 +92,18 @@ Status InternalCalibrationFlash::Erase(Slot slot) {
   return Status::kOk;
 }
 
-Status InternalCalibrationFlash::Program(Slot slot, std::size_t offset, std::span<const std::uint8_t> data) {
+Status InternalCalibrationFlash::Program(Slot slot, std::size_t offset,
+                                         std::span<const std::uint8_t> data) {
   if (offset > kSlotBytes || data.size() > kSlotBytes - offset) return Status::kOutOfRange;
   if (data.empty()) return Status::kOk;
-  const Status s = parallelism_ == Parallelism::kX32 ? ProgramWords(slot, offset, data) : ProgramBytes(slot, offset, data);
+  const Status s = parallelism_ == Parallelism::kX32 ? ProgramWords(slot, offset, data)
+                                                     : ProgramBytes(slot, offset, data);
   if (s != Status::kOk) ++errors_;
   return s;
 }
 
-Status InternalCalibrationFlash::ProgramWords(Slot slot, std::size_t offset, std::span<const std::uint8_t> data) {
+Status InternalCalibrationFlash::ProgramWords(Slot slot, std::size_t offset,
+                                              std::span<const std::uint8_t> data) {
   Unlocked unlocked;
   bool ok = WaitIdle(kWordPolls);
   // The access size must match PSIZE, or the flash refuses with PGPERR (RM0090 §3.6.2).
@@ -126,7 +131,8 @@ Status InternalCalibrationFlash::ProgramWords(Slot slot, std::size_t offset, std
   return ok ? Status::kOk : Status::kInternal;
 }
 
-Status InternalCalibrationFlash::ProgramBytes(Slot slot, std::size_t offset, std::span<const std::uint8_t> data) {
+Status InternalCalibrationFlash::ProgramBytes(Slot slot, std::size_t offset,
+                                              std::span<const std::uint8_t> data) {
   Unlocked unlocked;
   bool ok = WaitIdle(kWordPolls);
   Reg(flash::kCr) = flash::kCrPg | flash::kCrPsizeX8;
@@ -142,9 +148,11 @@ Status InternalCalibrationFlash::ProgramBytes(Slot slot, std::size_t offset, std
   return ok ? Status::kOk : Status::kInternal;
 }
 
-Status InternalCalibrationFlash::Read(Slot slot, std::size_t offset, std::span<std::uint8_t> out) const {
+Status InternalCalibrationFlash::Read(Slot slot, std::size_t offset,
+                                      std::span<std::uint8_t> out) const {
   if (offset > kSlotBytes || out.size() > kSlotBytes - offset) return Status::kOutOfRange;
-  for (std::size_t i = 0; i < out.size(); ++i) out[i] = static_cast<std::uint8_t>(Reg8(SlotAddress(slot, offset + i)));
+  for (std::size_t i = 0; i < out.size(); ++i)
+    out[i] = static_cast<std::uint8_t>(Reg8(SlotAddress(slot, offset + i)));
   return Status::kOk;
 }
 

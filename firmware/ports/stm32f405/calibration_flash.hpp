@@ -22,7 +22,8 @@ class InternalCalibrationFlash final : public CalibrationFlash {
     kX32,  ///< 2.7-3.6 V: word writes, sector erase up to 500 ms.
   };
 
-  explicit InternalCalibrationFlash(Parallelism parallelism = Parallelism::kX32) : parallelism_(parallelism) {}
+  explicit InternalCalibrationFlash(Parallelism parallelism = Parallelism::kX32)
+      : parallelism_(parallelism) {}
 
   static constexpr std::size_t kSlotBytes = 16 * 1024;
   static constexpr std::array<std::uintptr_t, 2> kSlotAddress = {0x08008000, 0x0800C000};

@@ -55,13 +55,15 @@ TEST_F(CalibrationFlashTest, EraseSequence) {
   ASSERT_NE(lock, kNone);
   std::vector<std::uint32_t> acr;
   for (std::size_t i = start; i < log.size(); ++i) {
-    if (log[i].kind == Access::Kind::kWrite && log[i].address == flash::kAcr) acr.push_back(log[i].value);
+    if (log[i].kind == Access::Kind::kWrite && log[i].address == flash::kAcr)
+      acr.push_back(log[i].value);
   }
   const std::uint32_t ic = flash::kAcrIcen, dc = flash::kAcrDcen;
   const std::uint32_t icrst = Bit(11), dcrst = Bit(12);  // RM0090 §3.9.1 FLASH_ACR
-  EXPECT_EQ(acr, (std::vector<std::uint32_t>{kAcrRunning & ~ic, (kAcrRunning & ~ic) | icrst, kAcrRunning & ~ic,
-                                             kAcrRunning, kAcrRunning & ~dc, (kAcrRunning & ~dc) | dcrst,
-                                             kAcrRunning & ~dc, kAcrRunning}));
+  EXPECT_EQ(acr,
+            (std::vector<std::uint32_t>{
+                kAcrRunning & ~ic, (kAcrRunning & ~ic) | icrst, kAcrRunning & ~ic, kAcrRunning,
+                kAcrRunning & ~dc, (kAcrRunning & ~dc) | dcrst, kAcrRunning & ~dc, kAcrRunning}));
 }
 
 /// Each SysTick read is `ms` milliseconds later.
@@ -87,7 +89,8 @@ TEST_F(CalibrationFlashTest, LongEraseFeedsTheWatchdogAndTimesOut) {
   std::size_t feeds_after_start = 0;
   for (std::size_t i = start; i < regs().log().size(); ++i) {
     const Access& a = regs().log()[i];
-    feeds_after_start += a.kind == Access::Kind::kWrite && a.address == iwdg::kKr && a.value == 0xAAAA;
+    feeds_after_start +=
+        a.kind == Access::Kind::kWrite && a.address == iwdg::kKr && a.value == 0xAAAA;
   }
   EXPECT_EQ(feeds_after_start, 3U);  // two during the wait, one after
   // SNB 3 for slot 1.
@@ -150,7 +153,8 @@ TEST_F(CalibrationFlashTest, LowVoltageBoardsUseByteParallelism) {
   std::vector<Address> written;
   for (std::size_t i = before; i < regs().log().size(); ++i) {
     const Access& a = regs().log()[i];
-    if (a.kind != Access::Kind::kWrite || a.address < kSlot0 || a.address >= kSlot0 + 0x4000) continue;
+    if (a.kind != Access::Kind::kWrite || a.address < kSlot0 || a.address >= kSlot0 + 0x4000)
+      continue;
     EXPECT_EQ(a.width, 1U);
     written.push_back(a.address);
   }

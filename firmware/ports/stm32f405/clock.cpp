@@ -26,7 +26,8 @@ static_assert(kPlan.ok,
               "VCO input 1..2 MHz (PLLM 2..63), VCO output 100..432 MHz (PLLN 50..432), "
               "PLLP 2/4/6/8, PLLQ 2..15 (RM0090 7.3.2)");
 // Both outputs exact, checked in whole hertz: HSE * N = target * M * divider.
-static_assert(std::uint64_t{kHseHz} * kPlan.n == std::uint64_t{kSysclkTargetHz} * kPlan.m * kPlan.p);
+static_assert(std::uint64_t{kHseHz} * kPlan.n ==
+              std::uint64_t{kSysclkTargetHz} * kPlan.m * kPlan.p);
 static_assert(std::uint64_t{kHseHz} * kPlan.n == std::uint64_t{kUsbTargetHz} * kPlan.m * kPlan.q);
 
 ClockConfig HsiFallback() {
@@ -63,7 +64,8 @@ ClockConfig ConfigureClocks() {
 
   Modify(rcc::kCfgr, rcc::kCfgrPrescalerMask, rcc::kCfgrPpre1Div4 | rcc::kCfgrPpre2Div2);
   Modify(rcc::kCfgr, rcc::kCfgrSwMask, rcc::kCfgrSwPll);
-  if (!WaitFor(rcc::kCfgr, rcc::kCfgrSwsMask, rcc::kCfgrSwsPll, kSwitchTimeoutPolls)) return HsiFallback();
+  if (!WaitFor(rcc::kCfgr, rcc::kCfgrSwsMask, rcc::kCfgrSwsPll, kSwitchTimeoutPolls))
+    return HsiFallback();
   // APB1 prescaler 4 doubles the timer clock: 84 MHz.
   return ClockConfig{ClockSource::kPllFromHse, 168000000, 84000000, 84000000};
 }

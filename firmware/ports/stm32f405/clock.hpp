@@ -7,8 +7,8 @@
 namespace vibid::fw::stm32 {
 
 enum class ClockSource : std::uint8_t {
-  kPllFromHse = 0,  ///< Normal: 168 MHz from the crystal; USB usable.
-  kHsiFallback = 1, ///< HSE or PLL did not start in time: 16 MHz HSI, USB not clocked.
+  kPllFromHse = 0,   ///< Normal: 168 MHz from the crystal; USB usable.
+  kHsiFallback = 1,  ///< HSE or PLL did not start in time: 16 MHz HSI, USB not clocked.
 };
 
 struct ClockConfig {

@@ -40,7 +40,8 @@ Status OtgFsDcd::Init(usb::DcdEvents& events) {
 
   // Core soft reset once the AHB master is idle (RM0090 §34.17.1).
   Reg(otg::kGusbcfg) |= otg::kGusbcfgPhysel;
-  if (!WaitFor(otg::kGrstctl, otg::kGrstctlAhbidl, otg::kGrstctlAhbidl, kPollLimit)) return Status::kUnavailable;
+  if (!WaitFor(otg::kGrstctl, otg::kGrstctlAhbidl, otg::kGrstctlAhbidl, kPollLimit))
+    return Status::kUnavailable;
   Reg(otg::kGrstctl) = otg::kGrstctlCsrst;
   if (!WaitFor(otg::kGrstctl, otg::kGrstctlCsrst, 0, kPollLimit)) return Status::kUnavailable;
 
@@ -90,11 +91,13 @@ void OtgFsDcd::SetAddress(std::uint8_t address) {
   Modify(otg::kDcfg, otg::kDcfgDadMask, Field(address, otg::kDcfgDadPos));
 }
 
-Status OtgFsDcd::EndpointOpen(std::uint8_t ep_addr, usb::EndpointType type, std::uint16_t max_packet) {
+Status OtgFsDcd::EndpointOpen(std::uint8_t ep_addr, usb::EndpointType type,
+                              std::uint16_t max_packet) {
   const unsigned n = usb::EpNumber(ep_addr);
   if (n == 0 || n >= kEndpoints || max_packet > 64) return Status::kResourceExhausted;
   CriticalSection lock;
-  const std::uint32_t ctl = (max_packet & otg::kEpctlMpsizMask) | otg::kEpctlUsbaep | otg::kEpctlSd0pid |
+  const std::uint32_t ctl = (max_packet & otg::kEpctlMpsizMask) | otg::kEpctlUsbaep |
+                            otg::kEpctlSd0pid |
                             Field(static_cast<std::uint32_t>(type), otg::kEpctlEptypPos);
   if (usb::IsIn(ep_addr)) {
     in_[n] = Endpoint{{}, 0, max_packet, false};
@@ -157,7 +160,8 @@ Status OtgFsDcd::Transfer(std::uint8_t ep_addr, std::span<std::uint8_t> buffer) 
     if (ep.busy) return Status::kUnavailable;
     ep = Endpoint{buffer, 0, ep.max_packet, true};
     const std::uint16_t packets = PacketCount(buffer.size(), ep.max_packet);
-    Reg(otg::Dieptsiz(n)) = Field(packets, otg::kTsizPktcntPos) | static_cast<std::uint32_t>(buffer.size());
+    Reg(otg::Dieptsiz(n)) =
+        Field(packets, otg::kTsizPktcntPos) | static_cast<std::uint32_t>(buffer.size());
     Reg(otg::Diepctl(n)) |= otg::kEpctlCnak | otg::kEpctlEpena;
     if (!buffer.empty()) Reg(otg::kDiepempmsk) |= Bit(n);
   } else {
@@ -165,7 +169,8 @@ Status OtgFsDcd::Transfer(std::uint8_t ep_addr, std::span<std::uint8_t> buffer) 
     if (ep.busy) return Status::kUnavailable;
     ep = Endpoint{buffer, 0, ep.max_packet, true};
     const std::uint16_t packets = PacketCount(buffer.size(), ep.max_packet);
-    std::uint32_t tsiz = Field(packets, otg::kTsizPktcntPos) + static_cast<std::uint32_t>(packets) * ep.max_packet;
+    std::uint32_t tsiz =
+        Field(packets, otg::kTsizPktcntPos) + static_cast<std::uint32_t>(packets) * ep.max_packet;
     if (n == 0) tsiz |= otg::kDoeptsiz0Stupcnt3;
     Reg(otg::Doeptsiz(n)) = tsiz;
     Reg(otg::Doepctl(n)) |= otg::kEpctlCnak | otg::kEpctlEpena;
@@ -301,7 +306,8 @@ void OtgFsDcd::HandleRxFifo() {
       const std::uint32_t v = Reg(otg::Fifo(0));
       for (std::uint32_t b = 0; b < 4 && 4 * w + b < count; ++b) {
         // Bytes beyond the posted buffer are read out of the FIFO and dropped.
-        if (ep.done < ep.buffer.size()) ep.buffer[ep.done++] = static_cast<std::uint8_t>(v >> (8 * b));
+        if (ep.done < ep.buffer.size())
+          ep.buffer[ep.done++] = static_cast<std::uint8_t>(v >> (8 * b));
       }
     }
   }

@@ -21,7 +21,8 @@ class OtgFsDcd final : public usb::Dcd {
   void Connect() override;
   void Disconnect() override;
   void SetAddress(std::uint8_t address) override;
-  Status EndpointOpen(std::uint8_t ep_addr, usb::EndpointType type, std::uint16_t max_packet) override;
+  Status EndpointOpen(std::uint8_t ep_addr, usb::EndpointType type,
+                      std::uint16_t max_packet) override;
   void EndpointCloseAll() override;
   void EndpointStall(std::uint8_t ep_addr) override;
   void EndpointClearStall(std::uint8_t ep_addr) override;
@@ -35,7 +36,7 @@ class OtgFsDcd final : public usb::Dcd {
  private:
   struct Endpoint {
     std::span<std::uint8_t> buffer{};
-    std::uint16_t done = 0;        ///< Bytes written to the FIFO (IN) or read from it (OUT).
+    std::uint16_t done = 0;  ///< Bytes written to the FIFO (IN) or read from it (OUT).
     std::uint16_t max_packet = 64;
     bool busy = false;
   };

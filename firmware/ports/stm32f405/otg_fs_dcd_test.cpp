@@ -125,7 +125,8 @@ TEST_F(OtgTest, InterruptBeforeInitTouchesNothing) {
   dcd_.HandleInterrupt();
   ASSERT_EQ(regs().WritesTo(kIcer2), std::vector<std::uint32_t>{kOtgBit});
   for (const Access& a : regs().log()) {
-    EXPECT_FALSE(a.kind == Access::Kind::kWrite && a.address >= otg::kBase && a.address < otg::kBase + 0x40000);
+    EXPECT_FALSE(a.kind == Access::Kind::kWrite && a.address >= otg::kBase &&
+                 a.address < otg::kBase + 0x40000);
   }
   EXPECT_TRUE(events_.calls.empty());
 }
@@ -142,7 +143,8 @@ TEST_F(OtgTest, NewSetupDisablesEp0InAndFlushesItsFifoFirst) {
   ASSERT_EQ(events_.calls, std::vector<const char*>{"setup"});
   // NAK first, EPDIS only once the NAK is effective (INEPNE), then EPDISD acknowledged.
   const std::size_t nak = regs().FindWriteWithBits(otg::Diepctl(0), otg::kEpctlSnak, before);
-  const std::size_t disable = regs().FindWriteWithBits(otg::Diepctl(0), otg::kEpctlEpdis | otg::kEpctlSnak, before);
+  const std::size_t disable =
+      regs().FindWriteWithBits(otg::Diepctl(0), otg::kEpctlEpdis | otg::kEpctlSnak, before);
   ASSERT_NE(nak, kNone);
   EXPECT_LT(nak, disable);
   EXPECT_EQ(regs().log()[nak].value & otg::kEpctlEpdis, 0U);
@@ -159,7 +161,8 @@ TEST_F(OtgTest, StallOnEp0AlsoFlushesEp0In) {
   ASSERT_EQ(dcd_.Init(events_), Status::kOk);
   const std::size_t before = regs().log().size();
   dcd_.EndpointStall(0x80);
-  EXPECT_NE(regs().FindWriteWithBits(otg::Diepctl(0), otg::kEpctlStall | otg::kEpctlSnak, before), kNone);
+  EXPECT_NE(regs().FindWriteWithBits(otg::Diepctl(0), otg::kEpctlStall | otg::kEpctlSnak, before),
+            kNone);
   EXPECT_NE(regs().FindWrite(otg::kGrstctl, otg::kGrstctlTxfflsh, before), kNone);
   // EP1 IN: TXFNUM 1 -> 1 << 6.
   dcd_.EndpointStall(0x81);
@@ -180,7 +183,8 @@ TEST_F(OtgTest, ReconfigurationDisablesOutEndpointsInTheRm0090Order) {
     if (a.kind == Access::Kind::kRead && a.address == otg::kGrxstsp) popped = i;
   }
   ASSERT_NE(popped, kNone);
-  const std::size_t epdis = regs().FindWriteWithBits(otg::Doepctl(1), otg::kEpctlEpdis | otg::kEpctlSnak, popped);
+  const std::size_t epdis =
+      regs().FindWriteWithBits(otg::Doepctl(1), otg::kEpctlEpdis | otg::kEpctlSnak, popped);
   const std::size_t ack = regs().FindWrite(otg::Doepint(1), otg::kEpIntEpdisd, epdis);
   const std::size_t cgonak = regs().FindWriteWithBits(otg::kDctl, otg::kDctlCgonak, ack);
   ASSERT_NE(sgonak, kNone);

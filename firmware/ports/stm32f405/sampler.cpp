@@ -67,7 +67,8 @@ void ArmAdcStream() {
 }
 
 /// One encoder count register to one latch word at every request, circular, no increment.
-void ArmEncoderStream(unsigned stream_number, std::uint32_t channel, Address counter, const volatile std::uint16_t* latch) {
+void ArmEncoderStream(unsigned stream_number, std::uint32_t channel, Address counter,
+                      const volatile std::uint16_t* latch) {
   const Address stream = dma::Stream(dma::kDma1, stream_number);
   DisableStream(dma::kDma1, stream_number);
   Reg(stream + dma::kSxPar) = static_cast<std::uint32_t>(counter);
@@ -78,8 +79,8 @@ void ArmEncoderStream(unsigned stream_number, std::uint32_t channel, Address cou
                              dma::kCrPsize16 | dma::kCrCirc | dma::kCrEn;
 }
 
-constexpr std::uint32_t kAdcCr2Running = adc::kCr2Adon | adc::kCr2Dma | adc::kCr2Dds |
-                                         adc::kCr2ExtselTim2Trgo | adc::kCr2ExtenRising;
+constexpr std::uint32_t kAdcCr2Running =
+    adc::kCr2Adon | adc::kCr2Dma | adc::kCr2Dds | adc::kCr2ExtselTim2Trgo | adc::kCr2ExtenRising;
 
 }  // namespace
 
@@ -89,14 +90,16 @@ void Sampler::Init(const ClockConfig& clocks) {
   // trigger synchronisation only adds to it). 272 x 4 = 1088 timer clocks at full speed.
   scan_timer_ticks_ = static_cast<std::uint32_t>(std::uint64_t{kScanAdcClocks} * kAdcPrescaler *
                                                  timer_clock_hz_ / clocks.apb2_hz);
-  const std::uint64_t scan_ns = std::uint64_t{kScanAdcClocks} * kAdcPrescaler * 1000000000ULL / clocks.apb2_hz;
+  const std::uint64_t scan_ns =
+      std::uint64_t{kScanAdcClocks} * kAdcPrescaler * 1000000000ULL / clocks.apb2_hz;
   min_period_us_ = static_cast<std::uint32_t>((scan_ns + 999) / 1000) + kPeriodMarginUs;
 
   EnableClock(rcc::kAhb1enr, rcc::kAhb1GpioA | rcc::kAhb1GpioB | rcc::kAhb1Dma1 | rcc::kAhb1Dma2);
   EnableClock(rcc::kApb1enr, rcc::kApb1Tim2 | rcc::kApb1Tim3 | rcc::kApb1Tim4 | rcc::kApb1Tim5);
   EnableClock(rcc::kApb2enr, rcc::kApb2Adc1);
 
-  for (unsigned pin = 0; pin < kAnalogChannels; ++pin) gpio::SetMode(gpio::kPortA, pin, gpio::Mode::kAnalog);
+  for (unsigned pin = 0; pin < kAnalogChannels; ++pin)
+    gpio::SetMode(gpio::kPortA, pin, gpio::Mode::kAnalog);
   // Encoder inputs: TIM3 CH1/CH2 on PA6/PA7, TIM4 CH1/CH2 on PB6/PB7, alternate function 2,
   // pulled up for open-collector encoders.
   for (unsigned pin : {6U, 7U}) {
@@ -148,7 +151,8 @@ void Sampler::Init(const ClockConfig& clocks) {
 Status Sampler::Start(std::uint32_t sample_period_us, FrameSink& sink) {
   if (running_) return Status::kFailedPrecondition;
   const std::uint64_t ticks = std::uint64_t{timer_clock_hz_} * sample_period_us;
-  if (sample_period_us < min_period_us_ || ticks % 1000000 != 0 || ticks / 1000000 > 0xFFFFFFFFULL) {
+  if (sample_period_us < min_period_us_ || ticks % 1000000 != 0 ||
+      ticks / 1000000 > 0xFFFFFFFFULL) {
     return Status::kInvalidArgument;
   }
   sink_ = &sink;
@@ -192,11 +196,13 @@ void Sampler::CheckEncoderStreams() {
   const std::uint32_t teif = dma::kStream0Teif;
   if ((flags & (teif << dma::FlagShift(kEncoder0Stream))) != 0) {
     ++counters_.dma_errors;
-    ArmEncoderStream(kEncoder0Stream, kEncoder0Channel, tim::kTim3 + tim::kCnt, &g_encoder_latch[0]);
+    ArmEncoderStream(kEncoder0Stream, kEncoder0Channel, tim::kTim3 + tim::kCnt,
+                     &g_encoder_latch[0]);
   }
   if ((flags & (teif << dma::FlagShift(kEncoder1Stream))) != 0) {
     ++counters_.dma_errors;
-    ArmEncoderStream(kEncoder1Stream, kEncoder1Channel, tim::kTim4 + tim::kCnt, &g_encoder_latch[1]);
+    ArmEncoderStream(kEncoder1Stream, kEncoder1Channel, tim::kTim4 + tim::kCnt,
+                     &g_encoder_latch[1]);
   }
 }
 
@@ -246,7 +252,8 @@ void Sampler::HandleDmaInterrupt() {
     const std::uint16_t raw = g_encoder_latch[i];
     // The 16-bit counter moves by far less than 2^15 counts per sample, so the signed
     // difference is the true motion and the 32-bit sum never misses a wrap.
-    encoder_[i] += static_cast<std::int16_t>(static_cast<std::uint16_t>(raw - last_encoder_raw_[i]));
+    encoder_[i] +=
+        static_cast<std::int16_t>(static_cast<std::uint16_t>(raw - last_encoder_raw_[i]));
     last_encoder_raw_[i] = raw;
   }
   frame.raw[4] = encoder_[0];

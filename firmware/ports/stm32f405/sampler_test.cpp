@@ -31,8 +31,8 @@ class SamplerTest : public PortTest {
   }
   /// One DMA transfer-complete interrupt with `edges` counted by TIM5 and the TIM2 counter at
   /// `since_edge` timer clocks after the latest edge.
-  void Interrupt(std::uint32_t edges, std::uint32_t since_edge = 2000, std::uint32_t lisr = dma::kStream0Tcif,
-                 std::uint32_t ndtr = 4) {
+  void Interrupt(std::uint32_t edges, std::uint32_t since_edge = 2000,
+                 std::uint32_t lisr = dma::kStream0Tcif, std::uint32_t ndtr = 4) {
     regs().Poke(tim::kTim5 + tim::kCnt, edges);
     regs().Poke(kAdcStream + dma::kSxNdtr, ndtr);
     regs().Poke(tim::kTim2 + tim::kCnt, since_edge);
@@ -52,11 +52,12 @@ TEST_F(SamplerTest, InitRoutesTheEdgeToAdcEncodersAndFrameCounter) {
   // TIM5: external clock mode 1 (SMS 111) from ITR0 = TIM2 TRGO (TS 000), trigger DMA (TDE).
   EXPECT_EQ(regs().Peek(tim::kTim5 + tim::kSmcr), 0x7U);
   EXPECT_EQ(regs().Peek(tim::kTim5 + tim::kDier), Bit(14));
-  EXPECT_EQ(regs().Peek(tim::kTim2 + tim::kDier), Bit(8));  // UDE
+  EXPECT_EQ(regs().Peek(tim::kTim2 + tim::kDier), Bit(8));    // UDE
   EXPECT_EQ(regs().Peek(tim::kTim2 + tim::kCr2), 0x2U << 4);  // MMS update -> TRGO
   // DMA1 stream 1 channel 3 (TIM2_UP) <- TIM3_CNT, stream 3 channel 6 (TIM5_TRIG) <- TIM4_CNT:
   // RM0090 table 42. 16 bit, circular, one item, no increment, enabled.
-  const std::uint32_t common = dma::kCrPlHigh | dma::kCrMsize16 | dma::kCrPsize16 | dma::kCrCirc | dma::kCrEn;
+  const std::uint32_t common =
+      dma::kCrPlHigh | dma::kCrMsize16 | dma::kCrPsize16 | dma::kCrCirc | dma::kCrEn;
   EXPECT_EQ(regs().Peek(kEnc0Stream + dma::kSxCr), common | (3U << 25));
   EXPECT_EQ(regs().Peek(kEnc1Stream + dma::kSxCr), common | (6U << 25));
   EXPECT_EQ(regs().Peek(kEnc0Stream + dma::kSxPar), 0x40000424U);  // TIM3 base + CNT 0x24
@@ -143,13 +144,17 @@ TEST_F(SamplerTest, AdcOverrunIsCountedAndRecoveredFromTheFirstChannel) {
   // ADC off (sequencer back to IN0) -> stream disabled -> flags cleared -> NDTR 4 and the buffer
   // start -> stream on -> OVR cleared -> ADC on with DMA and the trigger (RM0090 §13.8.1).
   const std::size_t adc_off = regs().FindWrite(adc::kAdc1 + adc::kCr2, 0, before);
-  const std::size_t stream_off = regs().FindWrite(kAdcStream + dma::kSxCr, regs().Peek(kAdcStream + dma::kSxCr) & ~dma::kCrEn, adc_off);
-  const std::size_t flags = regs().FindWrite(dma::kDma2 + dma::kLifcr, dma::kStream0Flags, stream_off);
+  const std::size_t stream_off = regs().FindWrite(
+      kAdcStream + dma::kSxCr, regs().Peek(kAdcStream + dma::kSxCr) & ~dma::kCrEn, adc_off);
+  const std::size_t flags =
+      regs().FindWrite(dma::kDma2 + dma::kLifcr, dma::kStream0Flags, stream_off);
   const std::size_t ndtr = regs().FindWrite(kAdcStream + dma::kSxNdtr, 4, flags);
   const std::size_t stream_on = regs().FindWriteWithBits(kAdcStream + dma::kSxCr, dma::kCrEn, ndtr);
   const std::size_t ovr = regs().FindWrite(adc::kAdc1 + adc::kSr, 0, stream_on);
-  const std::size_t adc_on = regs().FindWriteWithBits(adc::kAdc1 + adc::kCr2, adc::kCr2Adon | adc::kCr2Dma, ovr);
-  for (std::size_t step : {adc_off, stream_off, flags, ndtr, stream_on, ovr, adc_on}) EXPECT_NE(step, kNone);
+  const std::size_t adc_on =
+      regs().FindWriteWithBits(adc::kAdc1 + adc::kCr2, adc::kCr2Adon | adc::kCr2Dma, ovr);
+  for (std::size_t step : {adc_off, stream_off, flags, ndtr, stream_on, ovr, adc_on})
+    EXPECT_NE(step, kNone);
   // Scans lost meanwhile show as the gap: edges 2..3 never completed.
   Interrupt(4);
   EXPECT_EQ(Ticks(), (std::vector<std::uint32_t>{0, 3}));
@@ -165,7 +170,8 @@ TEST_F(SamplerTest, DmaTransferErrorsAreCountedAndRecovered) {
   const std::size_t before = regs().log().size();
   Interrupt(2);
   EXPECT_EQ(sampler_.counters().dma_errors, 2U);
-  EXPECT_NE(regs().FindWriteWithBits(kEnc0Stream + dma::kSxCr, dma::kCrEn | dma::kCrCirc, before), kNone);
+  EXPECT_NE(regs().FindWriteWithBits(kEnc0Stream + dma::kSxCr, dma::kCrEn | dma::kCrCirc, before),
+            kNone);
   EXPECT_NE(regs().FindWrite(dma::kDma1 + dma::kLifcr, dma::kStream0Flags << 6, before), kNone);
   EXPECT_EQ(Ticks(), (std::vector<std::uint32_t>{1}));
 }

@@ -26,8 +26,9 @@ TEST_F(StartTest, BootloaderLeftoversForceASystemReset) {
     Address reg;
     std::uint32_t bits;
   };
-  for (const Leftover l : {Leftover{rcc::kCfgr, rcc::kCfgrSwsPll}, Leftover{rcc::kCr, rcc::kCrPllOn},
-                           Leftover{rcc::kCr, rcc::kCrHseOn}, Leftover{rcc::kAhb2enr, rcc::kAhb2OtgFs}}) {
+  for (const Leftover l :
+       {Leftover{rcc::kCfgr, rcc::kCfgrSwsPll}, Leftover{rcc::kCr, rcc::kCrPllOn},
+        Leftover{rcc::kCr, rcc::kCrHseOn}, Leftover{rcc::kAhb2enr, rcc::kAhb2OtgFs}}) {
     regs().Clear();
     regs().Poke(l.reg, l.bits);
     EXPECT_TRUE(StartedWithoutReset());
@@ -70,7 +71,8 @@ class ResetDrainTest : public PortTest {
 
 TEST_F(ResetDrainTest, ResetWaitsUntilTheHostTookTheReply) {
   int reads = 0;
-  regs().OnRead(otg::Diepctl(1), [&reads](std::uint32_t) { return ++reads <= 5 ? otg::kEpctlEpena : 0U; });
+  regs().OnRead(otg::Diepctl(1),
+                [&reads](std::uint32_t) { return ++reads <= 5 ? otg::kEpctlEpena : 0U; });
   EXPECT_TRUE(FakeRegisters::RunUntilHalt([&] { system_.Reset(); }));
   EXPECT_EQ(reads, 6);  // Polled until EPENA cleared, then reset.
   EXPECT_EQ(regs().WritesTo(scb::kAircr), std::vector<std::uint32_t>{0x05FA0004U});
@@ -83,7 +85,8 @@ TEST_F(ResetDrainTest, ResetGivesUpOnAHostThatNeverReads) {
   EXPECT_EQ(regs().WritesTo(scb::kAircr), std::vector<std::uint32_t>{0x05FA0004U});
   // About 100 one-millisecond SysTick reads, not an endless loop.
   std::size_t waited = 0;
-  for (const Access& a : regs().log()) waited += (a.kind == Access::Kind::kRead && a.address == systick::kVal);
+  for (const Access& a : regs().log())
+    waited += (a.kind == Access::Kind::kRead && a.address == systick::kVal);
   EXPECT_GE(waited, 100U);
   EXPECT_LE(waited, 210U);
 }

@@ -85,7 +85,8 @@ struct VectorTable {
 }  // namespace
 
 extern const VectorTable g_vector_table;
-[[gnu::section(".isr_vector"), gnu::used]] const VectorTable g_vector_table = {&_estack, MakeVectors()};
+[[gnu::section(".isr_vector"), gnu::used]] const VectorTable g_vector_table = {&_estack,
+                                                                               MakeVectors()};
 
 extern "C" [[noreturn]] void ResetHandler() {
   // A jump from the ROM bootloader is not a reset: restart from a real one before touching

@@ -35,7 +35,8 @@ void ResetIfStartedWithoutReset();
 inline constexpr std::uint32_t kLsiMaxHz = 47000;
 inline constexpr std::uint32_t kWatchdogPrescaler = 32;
 /// 4095 counts (the 12-bit reload) at 47 kHz / 32.
-inline constexpr std::uint32_t kWatchdogMaxTimeoutMs = 4095ULL * kWatchdogPrescaler * 1000 / kLsiMaxHz;
+inline constexpr std::uint32_t kWatchdogMaxTimeoutMs =
+    4095ULL * kWatchdogPrescaler * 1000 / kLsiMaxHz;
 /// Reload count for a timeout of at least `timeout_ms` (clamped to 1..kWatchdogMaxTimeoutMs).
 std::uint32_t WatchdogReload(std::uint32_t timeout_ms);
 /// Starts the independent watchdog with a timeout of at least `timeout_ms` at any LSI frequency;

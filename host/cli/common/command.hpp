@@ -14,8 +14,8 @@ namespace vibid::cli {
 /// Adds subcommand `name` to `parent` with a fresh Args; the returned pointers stay valid for the
 /// life of the app (CLI11 owns the subcommand, the callback owns the Args).
 template <typename Args>
-std::pair<CLI::App*, Args*> AddCommand(CLI::App& parent, const std::string& name, const std::string& description,
-                                       void (*run)(const Args&)) {
+std::pair<CLI::App*, Args*> AddCommand(CLI::App& parent, const std::string& name,
+                                       const std::string& description, void (*run)(const Args&)) {
   auto args = std::make_shared<Args>();
   CLI::App* cmd = parent.add_subcommand(name, description);
   cmd->callback([args, run] { run(*args); });

@@ -17,8 +17,8 @@ enum class NumberText {
   kNotFinite,   ///< A number followed by other text, or inf / nan.
 };
 
-/// The whole of `text` as a finite double, with strtod's reading: leading blanks, a sign, decimal or
-/// hexadecimal digits, an exponent. `value` is set whenever a number was read.
+/// The whole of `text` as a finite double, with strtod's reading: leading blanks, a sign, decimal
+/// or hexadecimal digits, an exponent. `value` is set whenever a number was read.
 NumberText ParseNumber(std::string_view text, double& value);
 
 /// The whole of `text` as an integer in `base` (0: 0x.. hexadecimal, 0.. octal, else decimal);
@@ -30,6 +30,7 @@ enum class TrailingEmpty { kKeep, kDrop };
 
 /// "a,b,c" -> {"a", "b", "c"}. Empty items inside are kept so the caller can name the bad one; an
 /// empty last item is kept or dropped by `trailing` (dropped, "" gives no item at all).
-std::vector<std::string> SplitOptionList(std::string_view text, TrailingEmpty trailing = TrailingEmpty::kKeep);
+std::vector<std::string> SplitOptionList(std::string_view text,
+                                         TrailingEmpty trailing = TrailingEmpty::kKeep);
 
 }  // namespace vibid::cli

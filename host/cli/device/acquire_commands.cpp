@@ -47,11 +47,15 @@ Trigger ParseTrigger(const std::string& text) {
   Trigger t;
   if (text.empty()) return t;
   const std::size_t op = text.find_first_of("<>");
-  const auto bad = [&] { throw InputError("--trigger '" + text + "': expected force>F, force1>F or force2<F (F in N)"); };
+  const auto bad = [&] {
+    throw InputError("--trigger '" + text + "': expected force>F, force1>F or force2<F (F in N)");
+  };
   if (op == std::string::npos) bad();
   std::string stem = text.substr(0, op);
   if (stem == "force") stem = "force1";
-  if (!device::ChannelFromStem(stem, t.channel) || !wire::IsLoadCell(static_cast<std::uint8_t>(t.channel))) bad();
+  if (!device::ChannelFromStem(stem, t.channel) ||
+      !wire::IsLoadCell(static_cast<std::uint8_t>(t.channel)))
+    bad();
   t.mode = text[op] == '>' ? wire::TriggerMode::kRising : wire::TriggerMode::kFalling;
   if (ParseNumber(text.substr(op + 1), t.threshold) != NumberText::kOk) bad();
   return t;
@@ -71,19 +75,21 @@ int DecimationFor(double rate_hz, double log_rate_hz, int decimation) {
     const double d = rate_hz / log_rate_hz;
     decimation = static_cast<int>(std::lround(d));
     Require(std::abs(d - decimation) < 1e-9 * d && decimation >= 1,
-            "--log-rate-hz " + FormatNumber(log_rate_hz) + ": the sample rate " + FormatNumber(rate_hz) +
-                " Hz must be a whole multiple of it");
+            "--log-rate-hz " + FormatNumber(log_rate_hz) + ": the sample rate " +
+                FormatNumber(rate_hz) + " Hz must be a whole multiple of it");
   }
   if (!fixed::IsSupportedDecimation(static_cast<std::uint32_t>(decimation))) {
     std::string near;
     for (std::uint32_t d = 1; d <= fixed::kDecimatorMaxFactor; ++d) {
-      if (fixed::IsSupportedDecimation(d) && std::abs(static_cast<int>(d) - decimation) <= decimation / 2) {
+      if (fixed::IsSupportedDecimation(d) &&
+          std::abs(static_cast<int>(d) - decimation) <= decimation / 2) {
         near += (near.empty() ? "" : ", ") + FormatNumber(rate_hz / d);
       }
     }
-    throw InputError("log rate " + FormatNumber(rate_hz / decimation) + " Hz: the board decimates by 2^a 5^b up to " +
-                     std::to_string(fixed::kDecimatorMaxFactor) + " only (decimation " + std::to_string(decimation) +
-                     "); log rates near it: " + near + " Hz");
+    throw InputError("log rate " + FormatNumber(rate_hz / decimation) +
+                     " Hz: the board decimates by 2^a 5^b up to " +
+                     std::to_string(fixed::kDecimatorMaxFactor) + " only (decimation " +
+                     std::to_string(decimation) + "); log rates near it: " + near + " Hz");
   }
   return decimation;
 }
@@ -105,20 +111,25 @@ void WriteLog(device::Connection& c, const device::LogPull& pull, const std::str
 wire::AcqConfigureRequest AcquireConfig(const AcquireArgs& a, Trigger& trig) {
   wire::AcqConfigureRequest cfg;
   const double period_us = 1e6 / a.rate_hz;
-  Require(std::abs(period_us - std::round(period_us)) < 1e-6 && period_us >= wire::kMinSamplePeriodUs &&
-              period_us <= wire::kMaxSamplePeriodUs,
-          "--rate-hz " + std::to_string(a.rate_hz) + ": the period must be a whole number of microseconds from 100 to 1000000");
+  Require(std::abs(period_us - std::round(period_us)) < 1e-6 &&
+              period_us >= wire::kMinSamplePeriodUs && period_us <= wire::kMaxSamplePeriodUs,
+          "--rate-hz " + std::to_string(a.rate_hz) +
+              ": the period must be a whole number of microseconds from 100 to 1000000");
   cfg.sample_period_us = static_cast<std::uint32_t>(std::lround(period_us));
-  cfg.decimation = static_cast<std::uint16_t>(DecimationFor(a.rate_hz, a.log_rate_hz, a.decimation));
+  cfg.decimation =
+      static_cast<std::uint16_t>(DecimationFor(a.rate_hz, a.log_rate_hz, a.decimation));
   cfg.channel_mask = 0;
   for (const std::string& name : a.channels) {
     wire::Channel ch{};
-    Require(device::ChannelFromStem(name, ch), "--channels: unknown channel '" + name + "' (force1, force2, acc1, acc2, x1, x2)");
-    cfg.channel_mask = static_cast<std::uint8_t>(cfg.channel_mask | (1u << static_cast<unsigned>(ch)));
+    Require(device::ChannelFromStem(name, ch),
+            "--channels: unknown channel '" + name + "' (force1, force2, acc1, acc2, x1, x2)");
+    cfg.channel_mask =
+        static_cast<std::uint8_t>(cfg.channel_mask | (1u << static_cast<unsigned>(ch)));
   }
   if (cfg.channel_mask == 0) cfg.channel_mask = wire::kAllChannelsMask;
   trig = ParseTrigger(a.trigger);
-  Require(a.pretrigger_s == 0.0 || trig.mode != wire::TriggerMode::kImmediate, "--pretrigger-s needs a --trigger");
+  Require(a.pretrigger_s == 0.0 || trig.mode != wire::TriggerMode::kImmediate,
+          "--pretrigger-s needs a --trigger");
   const double log_rate_hz = a.rate_hz / cfg.decimation;
   cfg.record_limit = static_cast<std::uint32_t>(std::lround(a.seconds * log_rate_hz));
   cfg.pretrigger_records = static_cast<std::uint32_t>(std::lround(a.pretrigger_s * log_rate_hz));
@@ -128,14 +139,18 @@ wire::AcqConfigureRequest AcquireConfig(const AcquireArgs& a, Trigger& trig) {
 }
 
 /// What the board's calibration adds: the observer output, and the trigger threshold in ADC units.
-void ApplyCalibration(device::Connection& c, const AcquireArgs& a, const Trigger& trig, wire::AcqConfigureRequest& cfg) {
+void ApplyCalibration(device::Connection& c, const AcquireArgs& a, const Trigger& trig,
+                      wire::AcqConfigureRequest& cfg) {
   bool has_record = false;
   const wire::CalibrationRecord rec = ActiveRecord(c, has_record);
-  if (!a.no_dob && has_record && (rec.flags & wire::kCalFlagHasDob) != 0) cfg.flags = wire::kAcqFlagLogDob;
+  if (!a.no_dob && has_record && (rec.flags & wire::kCalFlagHasDob) != 0)
+    cfg.flags = wire::kAcqFlagLogDob;
   if (trig.mode == wire::TriggerMode::kImmediate) return;
   const wire::ChannelScaling& s = rec.channels[static_cast<std::size_t>(trig.channel)];
   if (!has_record || s.unit != wire::Unit::kNewton) {
-    throw device::DeviceError("a force trigger needs a calibrated load cell: upload a calibration first (vibid cal upload)");
+    throw device::DeviceError(
+        "a force trigger needs a calibrated load cell: upload a calibration first (vibid cal "
+        "upload)");
   }
   const double q = trig.threshold / static_cast<double>(s.full_scale) * 2147483648.0;
   Require(std::abs(q) < 2147483647.0, "--trigger threshold is beyond the load cell's full scale");
@@ -144,8 +159,10 @@ void ApplyCalibration(device::Connection& c, const AcquireArgs& a, const Trigger
   cfg.trigger_threshold = static_cast<std::int32_t>(std::lround(q));
 }
 
-/// Runs the configured acquisition, streaming the log as it fills; the board is left idle on any failure.
-device::LogPull Acquire(device::Connection& c, const wire::AcqConfigureRequest& cfg, const device::LinkBudget& budget) {
+/// Runs the configured acquisition, streaming the log as it fills; the board is left idle on any
+/// failure.
+device::LogPull Acquire(device::Connection& c, const wire::AcqConfigureRequest& cfg,
+                        const device::LinkBudget& budget) {
   try {
     ProgressBar bar("acquire");
     const std::uint64_t total = std::uint64_t{cfg.record_limit} + cfg.pretrigger_records;
@@ -204,7 +221,8 @@ void Run(const PullArgs& a) {
       const wire::StatusResponse st = c.GetStatus();
       const std::uint32_t first = a.first_given ? a.first : st.oldest_record;
       if (first < st.oldest_record) {
-        throw device::DeviceError("--from " + std::to_string(first) + ": the board's log has been overwritten up to record " +
+        throw device::DeviceError("--from " + std::to_string(first) +
+                                  ": the board's log has been overwritten up to record " +
                                   std::to_string(st.oldest_record) + ", the oldest it still holds");
       }
       if (first > st.records_written) {
@@ -222,20 +240,34 @@ void Run(const PullArgs& a) {
 void RegisterAcquire(CLI::App& app, const GlobalOptions& globals) {
   const auto [acq, o] = AddCommand<AcquireArgs>(app, "acquire", kAcquireHelp, Run);
   o->globals = &globals;
-  acq->add_option("--seconds", o->seconds, "Seconds to record after the trigger")->required()->check(PositiveNumber());
+  acq->add_option("--seconds", o->seconds, "Seconds to record after the trigger")
+      ->required()
+      ->check(PositiveNumber());
   acq->add_option("--rate-hz", o->rate_hz, "Sample rate (Hz)")->check(PositiveNumber());
-  auto* log_rate = acq->add_option("--log-rate-hz", o->log_rate_hz,
-                                   "Log rate (Hz): the board low-pass filters and decimates every logged channel "
-                                   "(default: the sample rate)")->check(PositiveNumber());
-  acq->add_option("--decimation", o->decimation, "Log one filtered sample in N (2^a 5^b, up to 1000)")
-      ->check(CLI::Range(1, 1000))->excludes(log_rate);
-  acq->add_flag("--allow-drops", o->allow_drops,
-                "Start even if the log rate exceeds what the link carries and the log would overflow");
-  acq->add_option("--channels", o->channels, "Channels to log: force1,force2,acc1,acc2,x1,x2 (default all)")->delimiter(',');
+  auto* log_rate =
+      acq->add_option(
+             "--log-rate-hz", o->log_rate_hz,
+             "Log rate (Hz): the board low-pass filters and decimates every logged channel "
+             "(default: the sample rate)")
+          ->check(PositiveNumber());
+  acq->add_option("--decimation", o->decimation,
+                  "Log one filtered sample in N (2^a 5^b, up to 1000)")
+      ->check(CLI::Range(1, 1000))
+      ->excludes(log_rate);
+  acq->add_flag(
+      "--allow-drops", o->allow_drops,
+      "Start even if the log rate exceeds what the link carries and the log would overflow");
+  acq->add_option("--channels", o->channels,
+                  "Channels to log: force1,force2,acc1,acc2,x1,x2 (default all)")
+      ->delimiter(',');
   acq->add_option("--trigger", o->trigger, "Start on a load cell threshold: force>F (N), force2<F");
-  acq->add_option("--pretrigger-s", o->pretrigger_s, "Seconds kept before the trigger")->check(NonNegativeNumber());
-  acq->add_option("--scenario", o->scenario, "Emulator only: the rig excitation to run (hammer, shaker, push, ...)");
-  acq->add_option("--scenario-param", o->scenario_params, "Emulator only: up to 4 scenario parameters (SI)")->delimiter(',');
+  acq->add_option("--pretrigger-s", o->pretrigger_s, "Seconds kept before the trigger")
+      ->check(NonNegativeNumber());
+  acq->add_option("--scenario", o->scenario,
+                  "Emulator only: the rig excitation to run (hammer, shaker, push, ...)");
+  acq->add_option("--scenario-param", o->scenario_params,
+                  "Emulator only: up to 4 scenario parameters (SI)")
+      ->delimiter(',');
   acq->add_flag("--no-dob", o->no_dob, "Do not log the observer output");
   acq->add_option("-o,--output", o->output, "Output CSV")->required();
 }
@@ -248,7 +280,9 @@ void RegisterLogPull(CLI::App& app, const GlobalOptions& globals) {
   PullArgs* po = added.second;
   po->globals = &globals;
   pull_cmd->add_option("-o,--output", po->output, "Output CSV")->required();
-  pull_cmd->add_option("--from", po->first, "First log record to pull (default: the oldest the board still holds)")
+  pull_cmd
+      ->add_option("--from", po->first,
+                   "First log record to pull (default: the oldest the board still holds)")
       ->each([po](const std::string&) { po->first_given = true; });
 }
 

@@ -24,11 +24,16 @@ namespace {
 
 const char* UnitName(wire::Unit u) {
   switch (u) {
-    case wire::Unit::kNewton: return "N";
-    case wire::Unit::kMeterPerSecond2: return "m/s2";
-    case wire::Unit::kMeter: return "m";
-    case wire::Unit::kMeterPerSecond: return "m/s";
-    case wire::Unit::kCounts: return "counts";
+    case wire::Unit::kNewton:
+      return "N";
+    case wire::Unit::kMeterPerSecond2:
+      return "m/s2";
+    case wire::Unit::kMeter:
+      return "m";
+    case wire::Unit::kMeterPerSecond:
+      return "m/s";
+    case wire::Unit::kCounts:
+      return "counts";
   }
   return "counts";
 }
@@ -37,13 +42,15 @@ nlohmann::json Matrix(const std::array<float, wire::kMaxDof * wire::kMaxDof>& m,
   nlohmann::json rows = nlohmann::json::array();
   for (std::size_t i = 0; i < n; ++i) {
     nlohmann::json row = nlohmann::json::array();
-    for (std::size_t k = 0; k < n; ++k) row.push_back(static_cast<double>(m[i * wire::kMaxDof + k]));
+    for (std::size_t k = 0; k < n; ++k)
+      row.push_back(static_cast<double>(m[i * wire::kMaxDof + k]));
     rows.push_back(row);
   }
   return rows;
 }
 
-nlohmann::json RecordJson(const wire::CalibrationRecord& r, const wire::CalGetTrailer& t, std::uint32_t crc) {
+nlohmann::json RecordJson(const wire::CalibrationRecord& r, const wire::CalGetTrailer& t,
+                          std::uint32_t crc) {
   const std::size_t n = r.dof_count;
   nlohmann::json channels = nlohmann::json::object();
   for (std::size_t c = 0; c < wire::kChannelCount; ++c) {
@@ -61,27 +68,31 @@ nlohmann::json RecordJson(const wire::CalibrationRecord& r, const wire::CalGetTr
   }
   char crc_text[11];
   std::snprintf(crc_text, sizeof(crc_text), "0x%08x", crc);
-  nlohmann::json j = {{"label", std::string(r.label.data(), strnlen(r.label.data(), r.label.size()))},
-                      {"created_unix_s", r.created_unix_s},
-                      {"host_version", std::to_string(r.host_major) + "." + std::to_string(r.host_minor) + "." + std::to_string(r.host_patch)},
-                      {"slot", t.slot},
-                      {"sequence", t.sequence},
-                      {"crc32", crc_text},
-                      {"M", Matrix(r.mass_kg, n)},
-                      {"C", Matrix(r.damping_ns_per_m, n)},
-                      {"K", Matrix(r.stiffness_n_per_m, n)},
-                      {"channels", channels}};
+  nlohmann::json j = {
+      {"label", std::string(r.label.data(), strnlen(r.label.data(), r.label.size()))},
+      {"created_unix_s", r.created_unix_s},
+      {"host_version", std::to_string(r.host_major) + "." + std::to_string(r.host_minor) + "." +
+                           std::to_string(r.host_patch)},
+      {"slot", t.slot},
+      {"sequence", t.sequence},
+      {"crc32", crc_text},
+      {"M", Matrix(r.mass_kg, n)},
+      {"C", Matrix(r.damping_ns_per_m, n)},
+      {"K", Matrix(r.stiffness_n_per_m, n)},
+      {"channels", channels}};
   if ((r.flags & wire::kCalFlagHasDob) != 0) {
     fixed::FilterDescription d;
     static_cast<void>(fixed::DecodeDescription(r.dob, d));
     nlohmann::json inputs = nlohmann::json::array();
     for (std::size_t i = 0; i < d.input_count; ++i) {
-      inputs.push_back({{"channel", device::ChannelStem(static_cast<wire::Channel>(r.dob_input_channel[i]))},
-                        {"sections", d.paths[i].section_count}});
+      inputs.push_back(
+          {{"channel", device::ChannelStem(static_cast<wire::Channel>(r.dob_input_channel[i]))},
+           {"sections", d.paths[i].section_count}});
     }
     j["observer"] = {{"sample_rate_hz", d.sample_rate_hz},
                      {"output_dof", d.output_dof + 1},
-                     {"output_full_scale_n", static_cast<double>(fixed::FullScaleValue(d.output_full_scale_bits))},
+                     {"output_full_scale_n",
+                      static_cast<double>(fixed::FullScaleValue(d.output_full_scale_bits))},
                      {"inputs", inputs}};
   } else {
     j["observer"] = nullptr;
@@ -91,14 +102,15 @@ nlohmann::json RecordJson(const wire::CalibrationRecord& r, const wire::CalGetTr
 
 std::string FormatRecord(const nlohmann::json& j) {
   std::ostringstream o;
-  o << "record    '" << j["label"].get<std::string>() << "', slot " << j["slot"].get<int>() << ", sequence "
-    << j["sequence"].get<std::uint32_t>() << ", crc " << j["crc32"].get<std::string>() << ", built by host "
-    << j["host_version"].get<std::string>() << "\n";
+  o << "record    '" << j["label"].get<std::string>() << "', slot " << j["slot"].get<int>()
+    << ", sequence " << j["sequence"].get<std::uint32_t>() << ", crc "
+    << j["crc32"].get<std::string>() << ", built by host " << j["host_version"].get<std::string>()
+    << "\n";
   for (const char* m : {"M", "C", "K"}) o << m << "         " << j[m].dump() << "\n";
   for (const auto& [name, c] : j["channels"].items()) {
-    o << "sensor    " << name << ": " << c["counts_per_unit"].get<double>() << " counts/" << c["unit"].get<std::string>()
-      << ", offset " << c["offset_counts"].get<std::int64_t>() << ", full scale " << c["full_scale"].get<double>() << " "
-      << c["unit"].get<std::string>();
+    o << "sensor    " << name << ": " << c["counts_per_unit"].get<double>() << " counts/"
+      << c["unit"].get<std::string>() << ", offset " << c["offset_counts"].get<std::int64_t>()
+      << ", full scale " << c["full_scale"].get<double>() << " " << c["unit"].get<std::string>();
     if (c.contains("dof")) o << ", mass " << c["dof"].get<int>();
     o << "\n";
   }
@@ -106,9 +118,12 @@ std::string FormatRecord(const nlohmann::json& j) {
     o << "observer  none\n";
   } else {
     const auto& d = j["observer"];
-    o << "observer  " << d["sample_rate_hz"].get<std::uint32_t>() << " Hz, d_hat on mass " << d["output_dof"].get<int>()
-      << " (full scale " << d["output_full_scale_n"].get<double>() << " N), inputs";
-    for (const auto& in : d["inputs"]) o << " " << in["channel"].get<std::string>() << "(" << in["sections"].get<int>() << " sections)";
+    o << "observer  " << d["sample_rate_hz"].get<std::uint32_t>() << " Hz, d_hat on mass "
+      << d["output_dof"].get<int>() << " (full scale " << d["output_full_scale_n"].get<double>()
+      << " N), inputs";
+    for (const auto& in : d["inputs"])
+      o << " " << in["channel"].get<std::string>() << "(" << in["sections"].get<int>()
+        << " sections)";
     o << "\n";
   }
   return o.str();
@@ -136,14 +151,16 @@ std::string RecordLabel(const UploadArgs& a) {
   return label;
 }
 
-/// Everything of the record that comes from files and this host (the sensors may come from the board).
+/// Everything of the record that comes from files and this host (the sensors may come from the
+/// board).
 device::RecordInputs UploadInputs(const UploadArgs& a) {
   device::RecordInputs in;
   in.model = model::LoadModel(a.model);
   in.observer = dob::ObserverFromJson(ReadJsonFile(a.design), a.design).description;
   in.label = RecordLabel(a);
   in.created_unix_s = std::chrono::duration_cast<std::chrono::seconds>(
-                          std::chrono::system_clock::now().time_since_epoch()).count();
+                          std::chrono::system_clock::now().time_since_epoch())
+                          .count();
   unsigned major = 0, minor = 0, patch = 0;
   static_cast<void>(std::sscanf(VIBID_VERSION, "%u.%u.%u", &major, &minor, &patch));
   in.host_major = static_cast<std::uint8_t>(major);
@@ -159,9 +176,11 @@ void Run(const UploadArgs& a) {
     if (a.sensors.empty()) {
       bool has_record = false;
       const wire::CalibrationRecord old = ActiveRecord(c, has_record);
-      if (!has_record) throw InputError("the board is uncalibrated: give its sensors with --sensors SENSORS.json");
+      if (!has_record)
+        throw InputError("the board is uncalibrated: give its sensors with --sensors SENSORS.json");
       for (std::size_t k = 0; k < wire::kChannelCount; ++k) {
-        if (old.channels[k].unit != wire::Unit::kCounts) in.sensors[k] = device::FromChannelScaling(old.channels[k]);
+        if (old.channels[k].unit != wire::Unit::kCounts)
+          in.sensors[k] = device::FromChannelScaling(old.channels[k]);
       }
     }
     const wire::CalibrationRecord rec = device::BuildCalibrationRecord(in);
@@ -173,8 +192,8 @@ void Run(const UploadArgs& a) {
     }
     char crc[11];
     std::snprintf(crc, sizeof(crc), "0x%08x", wire::StoredRecordCrc(bytes));
-    std::cout << "staged calibration '" << in.label << "' (" << bytes.size() << " bytes, crc " << crc
-              << "); `vibid cal commit` writes it to flash\n";
+    std::cout << "staged calibration '" << in.label << "' (" << bytes.size() << " bytes, crc "
+              << crc << "); `vibid cal commit` writes it to flash\n";
   });
 }
 
@@ -195,8 +214,13 @@ void Run(const ShowArgs& a) {
     const std::vector<std::uint8_t> bytes = c.CalGet(&t);
     wire::CalibrationRecord r;
     const Status st = wire::DecodeCalibrationRecord(bytes, r);
-    if (st != Status::kOk) throw device::DeviceError(std::string("the board's calibration record does not decode: ") + StatusName(st));
-    const nlohmann::json j = RecordJson(r, t, wire::StoredRecordCrc(std::span<const std::uint8_t, wire::kCalRecordBytes>(bytes.data(), bytes.size())));
+    if (st != Status::kOk)
+      throw device::DeviceError(std::string("the board's calibration record does not decode: ") +
+                                StatusName(st));
+    const nlohmann::json j =
+        RecordJson(r, t,
+                   wire::StoredRecordCrc(std::span<const std::uint8_t, wire::kCalRecordBytes>(
+                       bytes.data(), bytes.size())));
     std::cout << (a.json ? j.dump(2) + "\n" : FormatRecord(j));
   });
 }
@@ -210,22 +234,27 @@ struct CommitArgs {
 void Run(const CommitArgs& a) {
   WithDevice(*a.globals, [](device::Connection& c) {
     const wire::CalCommitResponse r = c.CalCommit();
-    std::cout << "committed to slot " << static_cast<int>(r.slot) << ", sequence " << r.sequence << "\n";
+    std::cout << "committed to slot " << static_cast<int>(r.slot) << ", sequence " << r.sequence
+              << "\n";
   });
 }
 
 }  // namespace
 
 void RegisterCalCommands(CLI::App& app, const GlobalOptions& globals) {
-  CLI::App* cal = app.add_subcommand("cal", "The board's calibration record: model, sensor scaling, observer");
+  CLI::App* cal =
+      app.add_subcommand("cal", "The board's calibration record: model, sensor scaling, observer");
   cal->require_subcommand(1);
 
   const auto [upload, uo] = AddCommand<UploadArgs>(*cal, "upload", kUploadHelp, Run);
   uo->globals = &globals;
   upload->add_option("model", uo->model, "Model file (M, C, K) of the rig")->required();
-  upload->add_option("--design", uo->design, "Observer design file from `vibid dob design`")->required();
-  upload->add_option("--sensors", uo->sensors, "Sensors file (default: the scaling the board already holds)");
-  upload->add_option("--label", uo->label, "Rig name stored in the record (default: the model file's name)");
+  upload->add_option("--design", uo->design, "Observer design file from `vibid dob design`")
+      ->required();
+  upload->add_option("--sensors", uo->sensors,
+                     "Sensors file (default: the scaling the board already holds)");
+  upload->add_option("--label", uo->label,
+                     "Rig name stored in the record (default: the model file's name)");
 
   const auto [show, show_args] = AddCommand<ShowArgs>(*cal, "show", kShowHelp, Run);
   show_args->globals = &globals;

@@ -7,11 +7,11 @@
 
 namespace vibid::cli {
 
-void RegisterInfoCommands(CLI::App& app, const GlobalOptions& globals);     // devices, info, monitor
-void RegisterCalCommands(CLI::App& app, const GlobalOptions& globals);      // cal upload|show|commit
+void RegisterInfoCommands(CLI::App& app, const GlobalOptions& globals);  // devices, info, monitor
+void RegisterCalCommands(CLI::App& app, const GlobalOptions& globals);   // cal upload|show|commit
 void RegisterAcquireCommands(CLI::App& app, const GlobalOptions& globals);  // acquire, log pull
 /// Adds `start` and `stop` to the `dob` command (registered by RegisterDobCommands).
 void RegisterDobDeviceCommands(CLI::App& dob, const GlobalOptions& globals);
-void RegisterFlashCommand(CLI::App& app, const GlobalOptions& globals);     // flash
+void RegisterFlashCommand(CLI::App& app, const GlobalOptions& globals);  // flash
 
 }  // namespace vibid::cli

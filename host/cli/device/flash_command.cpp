@@ -37,24 +37,29 @@ void Run(const FlashArgs& a) {
           "--address '" + a.address + "' must be a flash address from 0x08000000");
   const device::DeviceSpec spec = device::ParseDeviceSpec(a.globals->device);
   ProgressBar erase("erase"), download("download"), verify("verify");
-  const device::FlashProgress progress = [&](const std::string& phase, std::uint64_t done, std::uint64_t total) {
+  const device::FlashProgress progress = [&](const std::string& phase, std::uint64_t done,
+                                             std::uint64_t total) {
     (phase == "erase" ? erase : phase == "download" ? download : verify).Update(done, total);
   };
   const auto started = std::chrono::steady_clock::now();
   device::FlashBoardResult result;
   try {
-    result = device::FlashBoard(spec, image, static_cast<std::uint32_t>(*address), progress,
-                                [](const std::string& note) { std::cerr << "vibid: " << note << "\n"; });
+    result =
+        device::FlashBoard(spec, image, static_cast<std::uint32_t>(*address), progress,
+                           [](const std::string& note) { std::cerr << "vibid: " << note << "\n"; });
   } catch (const InputError& e) {
     throw InputError(a.image + ": " + e.what());
   }
-  const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();
+  const double seconds =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();
   std::uint64_t written = 0;
   for (const device::FlashRange& r : result.plan.write) written += r.bytes;
   char line[200];
   std::snprintf(line, sizeof(line),
-                "flashed %zu bytes at %s in %.2f s (%llu written, %zu sectors erased, calibration kept), verified; the board restarts\n",
-                image.size(), a.address.c_str(), seconds, static_cast<unsigned long long>(written), result.plan.erase.size());
+                "flashed %zu bytes at %s in %.2f s (%llu written, %zu sectors erased, calibration "
+                "kept), verified; the board restarts\n",
+                image.size(), a.address.c_str(), seconds, static_cast<unsigned long long>(written),
+                result.plan.erase.size());
   std::cout << line;
 }
 
@@ -64,7 +69,8 @@ void RegisterFlashCommand(CLI::App& app, const GlobalOptions& globals) {
   const auto [flash, o] = AddCommand<FlashArgs>(app, "flash", kFlashHelp, Run);
   o->globals = &globals;
   flash->add_option("image", o->image, "Raw image (.bin)")->required();
-  flash->add_option("--address", o->address, "Flash address of the image's first byte")->capture_default_str();
+  flash->add_option("--address", o->address, "Flash address of the image's first byte")
+      ->capture_default_str();
 }
 
 }  // namespace vibid::cli

@@ -20,23 +20,34 @@ namespace {
 
 const char* BoardName(wire::BoardId id) {
   switch (id) {
-    case wire::BoardId::kStm32f405: return "stm32f405";
-    case wire::BoardId::kQemuNetduinoPlus2: return "qemu-netduinoplus2";
-    case wire::BoardId::kEmulator: return "emulator";
-    case wire::BoardId::kHostTest: return "host-test";
+    case wire::BoardId::kStm32f405:
+      return "stm32f405";
+    case wire::BoardId::kQemuNetduinoPlus2:
+      return "qemu-netduinoplus2";
+    case wire::BoardId::kEmulator:
+      return "emulator";
+    case wire::BoardId::kHostTest:
+      return "host-test";
   }
   return "unknown";
 }
 
 const char* ResetName(wire::ResetCause c) {
   switch (c) {
-    case wire::ResetCause::kUnknown: return "unknown";
-    case wire::ResetCause::kPowerOn: return "power-on";
-    case wire::ResetCause::kPin: return "reset-pin";
-    case wire::ResetCause::kSoftware: return "software";
-    case wire::ResetCause::kWatchdog: return "watchdog";
-    case wire::ResetCause::kBrownOut: return "brown-out";
-    case wire::ResetCause::kLowPower: return "low-power";
+    case wire::ResetCause::kUnknown:
+      return "unknown";
+    case wire::ResetCause::kPowerOn:
+      return "power-on";
+    case wire::ResetCause::kPin:
+      return "reset-pin";
+    case wire::ResetCause::kSoftware:
+      return "software";
+    case wire::ResetCause::kWatchdog:
+      return "watchdog";
+    case wire::ResetCause::kBrownOut:
+      return "brown-out";
+    case wire::ResetCause::kLowPower:
+      return "low-power";
   }
   return "unknown";
 }
@@ -44,8 +55,11 @@ const char* ResetName(wire::ResetCause c) {
 std::vector<std::string> CapabilityNames(std::uint32_t caps) {
   std::vector<std::string> out;
   const std::pair<std::uint32_t, const char*> names[] = {
-      {wire::kCapDob, "dob"}, {wire::kCapForceTrigger, "force-trigger"}, {wire::kCapDfu, "dfu"},
-      {wire::kCapScenarioSelect, "scenario-select"}, {wire::kCapSampleInjection, "sample-injection"}};
+      {wire::kCapDob, "dob"},
+      {wire::kCapForceTrigger, "force-trigger"},
+      {wire::kCapDfu, "dfu"},
+      {wire::kCapScenarioSelect, "scenario-select"},
+      {wire::kCapSampleInjection, "sample-injection"}};
   for (const auto& [bit, name] : names) {
     if ((caps & bit) != 0) out.emplace_back(name);
   }
@@ -64,34 +78,38 @@ nlohmann::json InfoJson(const device::Connection& c, const wire::InfoResponse& i
   for (std::size_t k = 0; k < wire::kChannelCount; ++k) {
     const auto ch = static_cast<wire::Channel>(k);
     channels.push_back(device::ChannelStem(ch));
-    formats[device::ChannelStem(ch)] = wire::LogValueBytes(ch) == 2
-        ? "u16 " + std::to_string(i.adc_bits) + "." + std::to_string(wire::kLogAdcFractionBits) + " ADC code"
-        : std::string("i32 counts");
+    formats[device::ChannelStem(ch)] =
+        wire::LogValueBytes(ch) == 2 ? "u16 " + std::to_string(i.adc_bits) + "." +
+                                           std::to_string(wire::kLogAdcFractionBits) + " ADC code"
+                                     : std::string("i32 counts");
   }
-  return {{"device", c.Describe()},
-          {"protocol", std::to_string(i.protocol_major) + "." + std::to_string(i.protocol_minor)},
-          {"firmware", std::to_string(i.fw_major) + "." + std::to_string(i.fw_minor) + "." + std::to_string(i.fw_patch)},
-          {"build_id", Hex32(i.build_id)},
-          {"board", BoardName(i.board_id)},
-          {"capabilities", CapabilityNames(i.capabilities)},
-          {"sample_period_us", i.sample_period_us},
-          {"min_sample_period_us", i.min_sample_period_us},
-          {"log_capacity_bytes", i.log_capacity_bytes},
-          {"log_bytes", i.log_capacity_bytes},
-          {"link_reports_per_s", i.link_reports_per_s},
-          {"report_bytes", wire::kReportBytes},
-          {"link_bytes_per_s", std::uint32_t{i.link_reports_per_s} * wire::kReportBytes},
-          {"link_record_bytes_per_s", std::uint32_t{i.link_reports_per_s} * wire::kLogRecordPayload},
-          {"max_sample_rate_hz", 1e6 / i.min_sample_period_us},
-          {"adc_bits", i.adc_bits},
-          {"channels", channels},
-          {"channel_formats", formats},
-          {"reset_cause", ResetName(i.reset_cause)},
-          {"calibrated", i.cal_state == wire::CalState::kCalibrated},
-          {"cal_slot", i.cal_slot == wire::kNoSlot ? nlohmann::json(nullptr) : nlohmann::json(i.cal_slot)},
-          {"cal_crc", Hex32(i.cal_crc)},
-          {"overrun_count", i.overrun_count},
-          {"dropped_records", i.dropped_records}};
+  return {
+      {"device", c.Describe()},
+      {"protocol", std::to_string(i.protocol_major) + "." + std::to_string(i.protocol_minor)},
+      {"firmware", std::to_string(i.fw_major) + "." + std::to_string(i.fw_minor) + "." +
+                       std::to_string(i.fw_patch)},
+      {"build_id", Hex32(i.build_id)},
+      {"board", BoardName(i.board_id)},
+      {"capabilities", CapabilityNames(i.capabilities)},
+      {"sample_period_us", i.sample_period_us},
+      {"min_sample_period_us", i.min_sample_period_us},
+      {"log_capacity_bytes", i.log_capacity_bytes},
+      {"log_bytes", i.log_capacity_bytes},
+      {"link_reports_per_s", i.link_reports_per_s},
+      {"report_bytes", wire::kReportBytes},
+      {"link_bytes_per_s", std::uint32_t{i.link_reports_per_s} * wire::kReportBytes},
+      {"link_record_bytes_per_s", std::uint32_t{i.link_reports_per_s} * wire::kLogRecordPayload},
+      {"max_sample_rate_hz", 1e6 / i.min_sample_period_us},
+      {"adc_bits", i.adc_bits},
+      {"channels", channels},
+      {"channel_formats", formats},
+      {"reset_cause", ResetName(i.reset_cause)},
+      {"calibrated", i.cal_state == wire::CalState::kCalibrated},
+      {"cal_slot",
+       i.cal_slot == wire::kNoSlot ? nlohmann::json(nullptr) : nlohmann::json(i.cal_slot)},
+      {"cal_crc", Hex32(i.cal_crc)},
+      {"overrun_count", i.overrun_count},
+      {"dropped_records", i.dropped_records}};
 }
 
 constexpr const char* kDevicesHelp = "List the vibid boards and emulators this host can reach";
@@ -118,13 +136,14 @@ struct InfoArgs {
 std::string InfoText(const device::Connection& c, const nlohmann::json& j) {
   std::ostringstream o;
   o << "device        " << c.Describe() << "\n"
-    << "board         " << j["board"].get<std::string>() << ", firmware " << j["firmware"].get<std::string>()
-    << " (build " << j["build_id"].get<std::string>() << "), protocol " << j["protocol"].get<std::string>() << "\n"
+    << "board         " << j["board"].get<std::string>() << ", firmware "
+    << j["firmware"].get<std::string>() << " (build " << j["build_id"].get<std::string>()
+    << "), protocol " << j["protocol"].get<std::string>() << "\n"
     << "capabilities  ";
   for (const auto& cap : j["capabilities"]) o << cap.get<std::string>() << " ";
   const wire::InfoResponse& i = c.info();
-  o << "\nsampling      " << 1e6 / i.sample_period_us << " Hz (fastest " << 1e6 / i.min_sample_period_us
-    << " Hz), log " << i.log_capacity_bytes << " bytes\n"
+  o << "\nsampling      " << 1e6 / i.sample_period_us << " Hz (fastest "
+    << 1e6 / i.min_sample_period_us << " Hz), log " << i.log_capacity_bytes << " bytes\n"
     << "link          " << std::uint32_t{i.link_reports_per_s} * wire::kReportBytes << " B/s ("
     << i.link_reports_per_s << " reports/s of " << wire::kReportBytes << " B; "
     << std::uint32_t{i.link_reports_per_s} * wire::kLogRecordPayload << " B/s of log records)\n"
@@ -137,7 +156,8 @@ std::string InfoText(const device::Connection& c, const nlohmann::json& j) {
     o << "none (raw counts, no observer)";
   }
   o << "\nreset cause   " << j["reset_cause"].get<std::string>() << "\n"
-    << "errors        " << i.overrun_count << " overruns, " << i.dropped_records << " dropped records\n";
+    << "errors        " << i.overrun_count << " overruns, " << i.dropped_records
+    << " dropped records\n";
   return o.str();
 }
 
@@ -160,21 +180,26 @@ void PrintMonitorHeader(const wire::CalibrationRecord& rec, bool has_record) {
   std::cout << "tick";
   for (std::size_t k = 0; k < wire::kChannelCount; ++k) {
     const wire::Unit u = has_record ? rec.channels[k].unit : wire::Unit::kCounts;
-    std::cout << "\t" << device::ChannelStem(static_cast<wire::Channel>(k)) << "_" << device::UnitSuffix(u);
+    std::cout << "\t" << device::ChannelStem(static_cast<wire::Channel>(k)) << "_"
+              << device::UnitSuffix(u);
   }
   std::cout << "\td_hat_q31\tstate" << std::endl;
 }
 
-void PrintMonitorLine(const wire::LatestResponse& l, const wire::CalibrationRecord& rec, bool has_record) {
+void PrintMonitorLine(const wire::LatestResponse& l, const wire::CalibrationRecord& rec,
+                      bool has_record) {
   std::cout << l.tick;
   for (std::size_t k = 0; k < wire::kChannelCount; ++k) {
     const wire::ChannelScaling s = has_record ? rec.channels[k] : wire::DefaultScaling();
-    const double v = s.unit == wire::Unit::kCounts ? l.calibrated[k]
-                                                   : l.calibrated[k] * (static_cast<double>(s.full_scale) / 2147483648.0);
+    const double v = s.unit == wire::Unit::kCounts
+                         ? l.calibrated[k]
+                         : l.calibrated[k] * (static_cast<double>(s.full_scale) / 2147483648.0);
     std::cout << "\t" << v;
   }
   std::cout << "\t" << l.d_hat << "\t"
-            << (l.acq_state == wire::AcqState::kIdle ? "idle" : l.acq_state == wire::AcqState::kDone ? "done" : "sampling")
+            << (l.acq_state == wire::AcqState::kIdle   ? "idle"
+                : l.acq_state == wire::AcqState::kDone ? "done"
+                                                       : "sampling")
             << (l.dob_running != 0 ? "+dob" : "") << std::endl;
 }
 
@@ -202,8 +227,10 @@ void RegisterInfoCommands(CLI::App& app, const GlobalOptions& globals) {
 
   const auto [monitor, mo] = AddCommand<MonitorArgs>(app, "monitor", kMonitorHelp, Run);
   mo->globals = &globals;
-  monitor->add_option("--interval-s", mo->interval_s, "Seconds between lines")->check(PositiveNumber());
-  monitor->add_option("--count", mo->count, "Stop after this many lines (default: until Ctrl-C)")->check(CLI::NonNegativeNumber);
+  monitor->add_option("--interval-s", mo->interval_s, "Seconds between lines")
+      ->check(PositiveNumber());
+  monitor->add_option("--count", mo->count, "Stop after this many lines (default: until Ctrl-C)")
+      ->check(CLI::NonNegativeNumber);
 }
 
 }  // namespace vibid::cli

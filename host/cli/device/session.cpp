@@ -36,7 +36,8 @@ class SigintGuard {
 
 const std::atomic<bool>& InterruptFlag() { return g_interrupted; }
 
-void WithDevice(const GlobalOptions& globals, const std::function<void(device::Connection&)>& body) {
+void WithDevice(const GlobalOptions& globals,
+                const std::function<void(device::Connection&)>& body) {
   const device::DeviceSpec spec = device::ParseDeviceSpec(globals.device);
   SigintGuard guard;
   device::ConnectionOptions options;
@@ -57,7 +58,8 @@ wire::CalibrationRecord ActiveRecord(device::Connection& c, bool& has_record) {
   return r;
 }
 
-ProgressBar::ProgressBar(std::string what) : what_(std::move(what)), tty_(isatty(STDERR_FILENO) == 1) {}
+ProgressBar::ProgressBar(std::string what)
+    : what_(std::move(what)), tty_(isatty(STDERR_FILENO) == 1) {}
 
 ProgressBar::~ProgressBar() {
   if (drawn_) std::fputc('\n', stderr);

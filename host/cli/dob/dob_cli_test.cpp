@@ -20,11 +20,14 @@ class DobCli : public ::testing::Test {
  protected:
   static void SetUpTestSuite() {
     dir_ = MakeTempDir("dob_cli");
-    WriteFileAtomic(dir_ + "/rig.json",
-                    R"({"topology": "chain", "masses": [2.5, 2.0], "springs": [4000, 3000], "dampers": [3, 3]})");
-    WriteFileAtomic(dir_ + "/undamped.json", R"({"topology": "chain", "masses": [2.5, 2.0], "springs": [4000, 3000]})");
+    WriteFileAtomic(
+        dir_ + "/rig.json",
+        R"({"topology": "chain", "masses": [2.5, 2.0], "springs": [4000, 3000], "dampers": [3, 3]})");
+    WriteFileAtomic(dir_ + "/undamped.json",
+                    R"({"topology": "chain", "masses": [2.5, 2.0], "springs": [4000, 3000]})");
     // The source's experiment: shaker 40 N at 16 Hz on m2, a 10 N push sweeping 0.2-2 Hz on m2.
-    const model::Model m = model::MakeChain(Eigen::Vector2d(2.5, 2.0), Eigen::Vector2d(4000, 3000), Eigen::Vector2d(3, 3));
+    const model::Model m = model::MakeChain(Eigen::Vector2d(2.5, 2.0), Eigen::Vector2d(4000, 3000),
+                                            Eigen::Vector2d(3, 3));
     model::ForceInput shaker;
     shaker.shapes.push_back(model::ParseForceShape("sine:dof=2,amp=40,freq_hz=16"));
     model::ForceInput push;
@@ -34,9 +37,10 @@ class DobCli : public ::testing::Test {
     o.dt_s = 1.0 / 5000.0;
     o.t_end_s = 6.0;
     const model::SimulationResult r = model::Simulate(m, shaker, push, o);
-    WriteFileAtomic(dir_ + "/rec.csv", FormatCsv({"t_s", "shaker_n", "push_n", "x1_m", "x2_m_mm"},
-                                                 {r.t_s, r.force_n.col(1), r.disturbance_n.col(1), r.x_m.col(0),
-                                                  Eigen::VectorXd(r.x_m.col(1) * 1000.0)}));
+    WriteFileAtomic(dir_ + "/rec.csv",
+                    FormatCsv({"t_s", "shaker_n", "push_n", "x1_m", "x2_m_mm"},
+                              {r.t_s, r.force_n.col(1), r.disturbance_n.col(1), r.x_m.col(0),
+                               Eigen::VectorXd(r.x_m.col(1) * 1000.0)}));
     const auto d = RunVibid({"dob", "design", dir_ + "/rig.json", "-o", dir_ + "/design.json"});
     ASSERT_EQ(d.exit_code, 0) << d.err;
   }
@@ -46,16 +50,36 @@ class DobCli : public ::testing::Test {
 
 std::string DobCli::dir_;
 
-nlohmann::json ReadJson(const std::string& path) { return nlohmann::json::parse(std::ifstream(path)); }
+nlohmann::json ReadJson(const std::string& path) {
+  return nlohmann::json::parse(std::ifstream(path));
+}
 
 TEST_F(DobCli, DesignWritesTheContract) {
-  const auto r = RunVibid({"dob", "design", dir_ + "/rig.json", "--N", "5", "--r", "4", "--tau-s", "0.002", "--fs-hz",
-                           "5000", "--input-dof", "2", "--output-dof", "2", "--sensor", "disp", "--json", "-o",
+  const auto r = RunVibid({"dob",
+                           "design",
+                           dir_ + "/rig.json",
+                           "--N",
+                           "5",
+                           "--r",
+                           "4",
+                           "--tau-s",
+                           "0.002",
+                           "--fs-hz",
+                           "5000",
+                           "--input-dof",
+                           "2",
+                           "--output-dof",
+                           "2",
+                           "--sensor",
+                           "disp",
+                           "--json",
+                           "-o",
                            dir_ + "/d1.json"});
   ASSERT_EQ(r.exit_code, 0) << r.err;
   const nlohmann::json j = ReadJson(dir_ + "/d1.json");
   EXPECT_EQ(nlohmann::json::parse(r.out), j);  // --json also prints it
-  // Eq. 14, N = 5, r = 4, tau = 2 ms: den = sum a_k tau^k s^k (Butterworth a_k), num = 1 + a_1 tau s.
+  // Eq. 14, N = 5, r = 4, tau = 2 ms: den = sum a_k tau^k s^k (Butterworth a_k), num = 1 + a_1 tau
+  // s.
   const auto den = j["q"]["den"].get<std::vector<double>>();
   const auto num = j["q"]["num"].get<std::vector<double>>();
   ASSERT_EQ(den.size(), 6u);
@@ -100,15 +124,16 @@ TEST_F(DobCli, DesignRefusesWithReasons) {
 
 TEST_F(DobCli, RunRecoversThePushAndCompareScoresIt) {
   const std::string out = dir_ + "/out.csv";
-  const auto r = RunVibid({"dob", "run", dir_ + "/rec.csv", "--design", dir_ + "/design.json", "--force", "shaker_n",
-                           "--response", "x2_m_mm:mm", "--lowpass-hz", "4", "-o", out});
+  const auto r =
+      RunVibid({"dob", "run", dir_ + "/rec.csv", "--design", dir_ + "/design.json", "--force",
+                "shaker_n", "--response", "x2_m_mm:mm", "--lowpass-hz", "4", "-o", out});
   ASSERT_EQ(r.exit_code, 0) << r.err;
   const CsvTable t = ReadCsv(out);
   EXPECT_TRUE(t.Has("d_hat_n"));
   EXPECT_TRUE(t.Has("d_hat_lp_n"));
   EXPECT_TRUE(t.Has("x1_m"));
-  const auto c = RunVibid({"dob", "compare", out, "--estimate", "d_hat_lp_n", "--measured", "push_n", "--skip-s", "1",
-                           "--json"});
+  const auto c = RunVibid({"dob", "compare", out, "--estimate", "d_hat_lp_n", "--measured",
+                           "push_n", "--skip-s", "1", "--json"});
   ASSERT_EQ(c.exit_code, 0) << c.err;
   const nlohmann::json j = nlohmann::json::parse(c.out);
   EXPECT_GE(j["fit_percent"].get<double>(), 99.0);
@@ -116,8 +141,9 @@ TEST_F(DobCli, RunRecoversThePushAndCompareScoresIt) {
   EXPECT_EQ(j["delay_s"].get<double>(), 0.0);
   EXPECT_LT(j["rmse_n"].get<double>(), 0.1);
   // The double design gives the same estimate within the fixed point's error.
-  const auto f = RunVibid({"dob", "run", dir_ + "/rec.csv", "--design", dir_ + "/design.json", "--force", "shaker_n",
-                           "--response", "x2_m_mm:mm", "--float", "-o", dir_ + "/float.csv"});
+  const auto f =
+      RunVibid({"dob", "run", dir_ + "/rec.csv", "--design", dir_ + "/design.json", "--force",
+                "shaker_n", "--response", "x2_m_mm:mm", "--float", "-o", dir_ + "/float.csv"});
   ASSERT_EQ(f.exit_code, 0) << f.err;
   const Eigen::VectorXd diff = ReadCsv(dir_ + "/float.csv").Column("d_hat_n") - t.Column("d_hat_n");
   EXPECT_LT(diff.cwiseAbs().maxCoeff(), 1e-3);
@@ -127,30 +153,36 @@ TEST_F(DobCli, RunRecoversThePushAndCompareScoresIt) {
 // for bit; one sample changed by one LSB is found and named, exit 3, nothing written.
 TEST_F(DobCli, VerifyFindsAOneLsbDifference) {
   const std::string first = dir_ + "/first.csv";
-  ASSERT_EQ(RunVibid({"dob", "run", dir_ + "/rec.csv", "--design", dir_ + "/design.json", "--force", "shaker_n", "--response",
-                      "x2_m_mm:mm", "-o", first})
+  ASSERT_EQ(RunVibid({"dob", "run", dir_ + "/rec.csv", "--design", dir_ + "/design.json", "--force",
+                      "shaker_n", "--response", "x2_m_mm:mm", "-o", first})
                 .exit_code,
             0);
   CsvTable t = ReadCsv(first);
   ASSERT_TRUE(t.Has("d_hat_q31"));
-  auto r = RunVibid({"dob", "run", first, "--design", dir_ + "/design.json", "--force", "shaker_n", "--response", "x2_m_mm:mm",
-                     "--name", "host", "--verify", "d_hat_q31", "-o", dir_ + "/second.csv"});
+  auto r = RunVibid({"dob", "run", first, "--design", dir_ + "/design.json", "--force", "shaker_n",
+                     "--response", "x2_m_mm:mm", "--name", "host", "--verify", "d_hat_q31", "-o",
+                     dir_ + "/second.csv"});
   ASSERT_EQ(r.exit_code, 0) << r.err;
-  EXPECT_NE(r.err.find("bit-exact: " + std::to_string(t.Column("t_s").size()) + " samples"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("bit-exact: " + std::to_string(t.Column("t_s").size()) + " samples"),
+            std::string::npos)
+      << r.err;
   EXPECT_TRUE(ReadCsv(dir_ + "/second.csv").Has("host_q31"));
 
-  const std::size_t q = static_cast<std::size_t>(std::find(t.names.begin(), t.names.end(), "d_hat_q31") - t.names.begin());
+  const std::size_t q = static_cast<std::size_t>(
+      std::find(t.names.begin(), t.names.end(), "d_hat_q31") - t.names.begin());
   t.columns[q][1234] += 1.0;
   WriteFileAtomic(dir_ + "/tampered.csv", FormatCsv(t.names, t.columns));
   const std::string out = dir_ + "/third.csv";
-  r = RunVibid({"dob", "run", dir_ + "/tampered.csv", "--design", dir_ + "/design.json", "--force", "shaker_n", "--response",
-                "x2_m_mm:mm", "--name", "host", "--verify", "d_hat_q31", "-o", out});
+  r = RunVibid({"dob", "run", dir_ + "/tampered.csv", "--design", dir_ + "/design.json", "--force",
+                "shaker_n", "--response", "x2_m_mm:mm", "--name", "host", "--verify", "d_hat_q31",
+                "-o", out});
   EXPECT_EQ(r.exit_code, 3);
   EXPECT_NE(r.err.find("differs from the replay in 1 of"), std::string::npos) << r.err;
   EXPECT_NE(r.err.find("row 1235"), std::string::npos) << r.err;
   EXPECT_FALSE(std::filesystem::exists(out));
   // The default stem is taken already.
-  r = RunVibid({"dob", "run", first, "--design", dir_ + "/design.json", "--force", "shaker_n", "--response", "x2_m_mm:mm", "-o", out});
+  r = RunVibid({"dob", "run", first, "--design", dir_ + "/design.json", "--force", "shaker_n",
+                "--response", "x2_m_mm:mm", "-o", out});
   EXPECT_EQ(r.exit_code, 1);
   EXPECT_NE(r.err.find("--name"), std::string::npos) << r.err;
 }
@@ -158,20 +190,28 @@ TEST_F(DobCli, VerifyFindsAOneLsbDifference) {
 TEST_F(DobCli, RunRefusesBadInput) {
   const std::string out = dir_ + "/bad.csv";
   const std::string design = dir_ + "/design.json";
-  auto r = RunVibid({"dob", "run", dir_ + "/rec.csv", "--design", design, "--force", "nope", "--response", "x2_m_mm:mm", "-o", out});
+  auto r = RunVibid({"dob", "run", dir_ + "/rec.csv", "--design", design, "--force", "nope",
+                     "--response", "x2_m_mm:mm", "-o", out});
   EXPECT_EQ(r.exit_code, 1);
   EXPECT_NE(r.err.find("nope"), std::string::npos) << r.err;
-  r = RunVibid({"dob", "run", dir_ + "/rec.csv", "--design", design, "--force", "shaker_n", "--response", "x1_m,x2_m_mm", "-o", out});
+  r = RunVibid({"dob", "run", dir_ + "/rec.csv", "--design", design, "--force", "shaker_n",
+                "--response", "x1_m,x2_m_mm", "-o", out});
   EXPECT_EQ(r.exit_code, 1);
   EXPECT_NE(r.err.find("takes 1 response column"), std::string::npos) << r.err;
-  r = RunVibid({"dob", "run", dir_ + "/rec.csv", "--design", dir_ + "/rig.json", "--force", "shaker_n", "--response", "x1_m", "-o", out});
+  r = RunVibid({"dob", "run", dir_ + "/rec.csv", "--design", dir_ + "/rig.json", "--force",
+                "shaker_n", "--response", "x1_m", "-o", out});
   EXPECT_EQ(r.exit_code, 1);
   EXPECT_NE(r.err.find("not a vibid DOB design"), std::string::npos) << r.err;
-  r = RunVibid({"dob", "run", dir_ + "/rec.csv", "--design", design, "--force", "shaker_n", "--response", "x1_m", "--fixed", "--float", "-o", out});
+  r = RunVibid({"dob", "run", dir_ + "/rec.csv", "--design", design, "--force", "shaker_n",
+                "--response", "x1_m", "--fixed", "--float", "-o", out});
   EXPECT_EQ(r.exit_code, 2);
   // A design for another sample rate.
-  ASSERT_EQ(RunVibid({"dob", "design", dir_ + "/rig.json", "--fs-hz", "2000", "-o", dir_ + "/d2k.json"}).exit_code, 0);
-  r = RunVibid({"dob", "run", dir_ + "/rec.csv", "--design", dir_ + "/d2k.json", "--force", "shaker_n", "--response", "x1_m", "-o", out});
+  ASSERT_EQ(
+      RunVibid({"dob", "design", dir_ + "/rig.json", "--fs-hz", "2000", "-o", dir_ + "/d2k.json"})
+          .exit_code,
+      0);
+  r = RunVibid({"dob", "run", dir_ + "/rec.csv", "--design", dir_ + "/d2k.json", "--force",
+                "shaker_n", "--response", "x1_m", "-o", out});
   EXPECT_EQ(r.exit_code, 1);
   EXPECT_NE(r.err.find("designed for 2000"), std::string::npos) << r.err;
   // A tampered fixed-point description is refused by the same validation the board runs.
@@ -180,23 +220,28 @@ TEST_F(DobCli, RunRefusesBadInput) {
   hex[200] = hex[200] == '0' ? '1' : '0';
   j["fixed"]["description_hex"] = hex;
   WriteFileAtomic(dir_ + "/tampered.json", j.dump());
-  r = RunVibid({"dob", "run", dir_ + "/rec.csv", "--design", dir_ + "/tampered.json", "--force", "shaker_n", "--response", "x1_m", "-o", out});
+  r = RunVibid({"dob", "run", dir_ + "/rec.csv", "--design", dir_ + "/tampered.json", "--force",
+                "shaker_n", "--response", "x1_m", "-o", out});
   EXPECT_EQ(r.exit_code, 1);
   EXPECT_NE(r.err.find("data-loss"), std::string::npos) << r.err;
-  r = RunVibid({"dob", "run", dir_ + "/rec.csv", "--design", design, "--force", "shaker_n", "--response", "x2_m_mm:mm", "--lowpass-hz", "3000", "-o", out});
+  r = RunVibid({"dob", "run", dir_ + "/rec.csv", "--design", design, "--force", "shaker_n",
+                "--response", "x2_m_mm:mm", "--lowpass-hz", "3000", "-o", out});
   EXPECT_EQ(r.exit_code, 1);
   EXPECT_FALSE(std::filesystem::exists(out));
 }
 
 TEST_F(DobCli, CompareRefusesBadInput) {
-  auto r = RunVibid({"dob", "compare", dir_ + "/rec.csv", "--estimate", "missing", "--measured", "push_n"});
+  auto r = RunVibid(
+      {"dob", "compare", dir_ + "/rec.csv", "--estimate", "missing", "--measured", "push_n"});
   EXPECT_EQ(r.exit_code, 1);
   EXPECT_NE(r.err.find("missing"), std::string::npos) << r.err;
-  r = RunVibid({"dob", "compare", dir_ + "/rec.csv", "--estimate", "push_n", "--measured", "push_n", "--skip-s", "10"});
+  r = RunVibid({"dob", "compare", dir_ + "/rec.csv", "--estimate", "push_n", "--measured", "push_n",
+                "--skip-s", "10"});
   EXPECT_EQ(r.exit_code, 1);
   r = RunVibid({"dob", "compare", dir_ + "/nofile.csv", "--estimate", "a", "--measured", "b"});
   EXPECT_EQ(r.exit_code, 1);
-  r = RunVibid({"dob", "compare", dir_ + "/rec.csv", "--estimate", "push_n", "--measured", "push_n"});
+  r = RunVibid(
+      {"dob", "compare", dir_ + "/rec.csv", "--estimate", "push_n", "--measured", "push_n"});
   EXPECT_EQ(r.exit_code, 0);
   EXPECT_NE(r.out.find("fit 100.000 %"), std::string::npos) << r.out;
 }

@@ -1,5 +1,5 @@
-// `vibid dob design | run | compare | start | stop`: observer design from a model file, replay of the
-// board's fixed-point observer (or the double design) on a recording, agreement with a measured
+// `vibid dob design | run | compare | start | stop`: observer design from a model file, replay of
+// the board's fixed-point observer (or the double design) on a recording, agreement with a measured
 // force; start and stop act on the board and live with the device commands.
 #include <cmath>
 #include <cstdio>
@@ -50,10 +50,13 @@ struct DesignArgs {
 std::string Summary(const dob::DobDesign& d) {
   std::ostringstream os;
   os.precision(6);
-  os << "Q: N = " << d.options.order << ", r = " << d.options.relative_degree << ", cut-off 1/tau = "
-     << 1.0 / d.options.tau_s << " rad/s (" << 1.0 / d.options.tau_s / (2.0 * 3.141592653589793) << " Hz)\n";
+  os << "Q: N = " << d.options.order << ", r = " << d.options.relative_degree
+     << ", cut-off 1/tau = " << 1.0 / d.options.tau_s << " rad/s ("
+     << 1.0 / d.options.tau_s / (2.0 * 3.141592653589793) << " Hz)\n";
   os << "plant relative degree " << d.plant_relative_degree << "; " << d.paths.size() << " inputs:";
-  for (const auto& p : d.paths) os << " " << dob::InputKindName(p.kind) << "@m" << p.dof + 1 << " (" << p.sos.size() << " sections)";
+  for (const auto& p : d.paths)
+    os << " " << dob::InputKindName(p.kind) << "@m" << p.dof + 1 << " (" << p.sos.size()
+       << " sections)";
   os << "\nstable: max discrete pole radius " << d.max_pole_radius << "\n";
   os << "valid band: " << d.valid_band_lo_hz << " .. " << d.valid_band_hi_hz << " Hz\n";
   os << "fixed point: predicted noise " << d.fixed.predicted_noise_rms_n << " N rms, SNR "
@@ -65,27 +68,32 @@ std::string Summary(const dob::DobDesign& d) {
 void Run(const DesignArgs& a) {
   const model::Model m = model::LoadModel(a.model_path);
   Require(a.input_dof >= 1 && a.input_dof <= m.dofs(),
-          "--input-dof " + std::to_string(a.input_dof) + " is out of range 1.." + std::to_string(m.dofs()));
+          "--input-dof " + std::to_string(a.input_dof) + " is out of range 1.." +
+              std::to_string(m.dofs()));
   Require(a.output_dof >= 1 && a.output_dof <= m.dofs(),
-          "--output-dof " + std::to_string(a.output_dof) + " is out of range 1.." + std::to_string(m.dofs()));
+          "--output-dof " + std::to_string(a.output_dof) + " is out of range 1.." +
+              std::to_string(m.dofs()));
   dob::DobOptions o;
   o.order = a.order;
   o.relative_degree = a.relative_degree;
   o.tau_s = a.tau_s;
   o.fs_hz = a.fs_hz;
-  o.prototype = a.prototype == "binomial" ? dob::QPrototype::kBinomial : dob::QPrototype::kButterworth;
+  o.prototype =
+      a.prototype == "binomial" ? dob::QPrototype::kBinomial : dob::QPrototype::kButterworth;
   o.sensor = a.sensor == "acc"   ? dob::SensorKind::kAcceleration
              : a.sensor == "vel" ? dob::SensorKind::kVelocity
                                  : dob::SensorKind::kDisplacement;
   o.form = a.form == "mimo" ? dob::ObserverForm::kMimo : dob::ObserverForm::kSiso;
-  o.discretization = a.discretize == "zoh" ? dob::Discretization::kZeroOrderHold : dob::Discretization::kTustin;
+  o.discretization =
+      a.discretize == "zoh" ? dob::Discretization::kZeroOrderHold : dob::Discretization::kTustin;
   o.input_dof = a.input_dof - 1;
   o.output_dof = a.output_dof - 1;
   o.leak_hz = a.leak_hz;
   o.force_full_scale_n = a.force_fs_n;
   o.sensor_full_scale = a.sensor_fs;
   o.output_full_scale_n = a.output_fs_n;
-  const dob::DobDesign design = dob::DesignObserver(dob::PlantFromModel(m, o.input_dof, o.output_dof), o);
+  const dob::DobDesign design =
+      dob::DesignObserver(dob::PlantFromModel(m, o.input_dof, o.output_dof), o);
   if (!design.stable) throw NumericalError("observer refused: " + design.message);
   const std::string text = dob::DesignToJson(design).dump(2) + "\n";
   EmitOutput(text, a.out);
@@ -111,7 +119,8 @@ struct RunArgs {
 
 // Compares the replay with the board's own output, sample for sample: the fixed-point kernel is
 // the same code on both sides, so any difference is a fault (wrong calibration, lost samples).
-void VerifyAgainstBoard(const Recording& rec, const std::string& column, const std::vector<std::int32_t>& replay_q31) {
+void VerifyAgainstBoard(const Recording& rec, const std::string& column,
+                        const std::vector<std::int32_t>& replay_q31) {
   const Eigen::VectorXd board = rec.Signal(ParseColumnSpec(column));
   std::size_t mismatches = 0;
   Eigen::Index first = -1;
@@ -121,42 +130,50 @@ void VerifyAgainstBoard(const Recording& rec, const std::string& column, const s
     }
   }
   if (mismatches > 0) {
-    throw NumericalError("the board's " + column + " differs from the replay in " + std::to_string(mismatches) + " of " +
-                         std::to_string(board.size()) + " samples (first at row " + std::to_string(first + 1) +
-                         ": board " + std::to_string(static_cast<long long>(board[first])) + ", replay " +
+    throw NumericalError("the board's " + column + " differs from the replay in " +
+                         std::to_string(mismatches) + " of " + std::to_string(board.size()) +
+                         " samples (first at row " + std::to_string(first + 1) + ": board " +
+                         std::to_string(static_cast<long long>(board[first])) + ", replay " +
                          std::to_string(replay_q31[static_cast<std::size_t>(first)]) + ")");
   }
-  std::cerr << "vibid: bit-exact: " << board.size() << " samples of " << column << " equal the replay\n";
+  std::cerr << "vibid: bit-exact: " << board.size() << " samples of " << column
+            << " equal the replay\n";
 }
 
 void Run(const RunArgs& a) {
   const Recording rec = LoadRecording(a.recording);
   const dob::ObserverFile f = dob::ObserverFromJson(ReadJsonFile(a.design), a.design);
   Require(std::abs(rec.fs_hz - f.fs_hz) <= 1e-6 * f.fs_hz,
-          a.recording + " is sampled at " + std::to_string(rec.fs_hz) + " Hz but the observer was designed for " +
-              std::to_string(f.fs_hz) + " Hz");
+          a.recording + " is sampled at " + std::to_string(rec.fs_hz) +
+              " Hz but the observer was designed for " + std::to_string(f.fs_hz) + " Hz");
   const std::vector<ColumnSpec> responses = ParseColumnList(a.response);
   const std::size_t sensors = f.paths.size() - 1;
   if (responses.size() != sensors) {
     std::string want;
     for (std::size_t i = 0; i < sensors; ++i) {
-      want += (i ? ", " : "") + std::string(dob::InputKindName(f.paths[i].kind)) + " of m" + std::to_string(f.paths[i].dof + 1);
+      want += (i ? ", " : "") + std::string(dob::InputKindName(f.paths[i].kind)) + " of m" +
+              std::to_string(f.paths[i].dof + 1);
     }
-    throw InputError("the observer takes " + std::to_string(sensors) + " response column(s) (" + want + "), got " +
-                     std::to_string(responses.size()));
+    throw InputError("the observer takes " + std::to_string(sensors) + " response column(s) (" +
+                     want + "), got " + std::to_string(responses.size()));
   }
-  Require(!a.name.empty() && a.name.find(',') == std::string::npos, "--name must be a non-empty column stem");
+  Require(!a.name.empty() && a.name.find(',') == std::string::npos,
+          "--name must be a non-empty column stem");
   const std::string out_n = a.name + "_n", out_lp = a.name + "_lp_n", out_q31 = a.name + "_q31";
   for (const std::string& name : {out_n, out_lp, out_q31}) {
-    Require(!rec.table.Has(name), a.recording + " already has a column '" + name + "' (choose another --name)");
+    Require(!rec.table.Has(name),
+            a.recording + " already has a column '" + name + "' (choose another --name)");
   }
-  Require(a.verify.empty() || !a.use_float, "--verify compares the fixed-point replay; it does not go with --float");
+  Require(a.verify.empty() || !a.use_float,
+          "--verify compares the fixed-point replay; it does not go with --float");
   std::vector<Eigen::VectorXd> inputs;
   for (const ColumnSpec& c : responses) inputs.push_back(rec.Signal(c));
   inputs.push_back(rec.Signal(ParseColumnSpec(a.force)));
-  for (const Eigen::VectorXd& x : inputs) Require(x.allFinite(), a.recording + ": an input column has non-finite values");
+  for (const Eigen::VectorXd& x : inputs)
+    Require(x.allFinite(), a.recording + ": an input column has non-finite values");
   if (a.lowpass_hz != 0.0) {
-    Require(a.lowpass_hz < rec.fs_hz / 2.0, "--lowpass-hz must lie below fs/2 = " + std::to_string(rec.fs_hz / 2.0) + " Hz");
+    Require(a.lowpass_hz < rec.fs_hz / 2.0,
+            "--lowpass-hz must lie below fs/2 = " + std::to_string(rec.fs_hz / 2.0) + " Hz");
   }
   Eigen::VectorXd d_hat;
   Eigen::VectorXd d_hat_q31;
@@ -165,7 +182,9 @@ void Run(const RunArgs& a) {
   } else {
     const dob::FixedRun run = dob::RunFixed(f.description, inputs);
     d_hat = run.d_hat_n;
-    d_hat_q31 = Eigen::Map<const Eigen::Matrix<std::int32_t, Eigen::Dynamic, 1>>(run.d_hat_q31.data(), d_hat.size()).cast<double>();
+    d_hat_q31 = Eigen::Map<const Eigen::Matrix<std::int32_t, Eigen::Dynamic, 1>>(
+                    run.d_hat_q31.data(), d_hat.size())
+                    .cast<double>();
     if (!a.verify.empty()) VerifyAgainstBoard(rec, a.verify, run.d_hat_q31);
     if (run.saturations > 0) {
       std::cerr << "vibid: warning: the fixed-point observer saturated " << run.saturations
@@ -182,7 +201,8 @@ void Run(const RunArgs& a) {
   }
   if (a.lowpass_hz != 0.0) {
     names.push_back(out_lp);
-    columns.push_back(dob::FiltFilt(dob::ButterworthLowpass(a.lowpass_order, a.lowpass_hz, rec.fs_hz), d_hat));
+    columns.push_back(
+        dob::FiltFilt(dob::ButterworthLowpass(a.lowpass_order, a.lowpass_hz, rec.fs_hz), d_hat));
   }
   EmitOutput(FormatCsv(names, columns), a.out);
 }
@@ -204,17 +224,21 @@ void Run(const CompareArgs& a) {
   const Eigen::VectorXd e = rec.Signal(ParseColumnSpec(a.estimate));
   const Eigen::VectorXd m = rec.Signal(ParseColumnSpec(a.measured));
   const auto skip = static_cast<Eigen::Index>(std::llround(a.skip_s * rec.fs_hz));
-  Require(2 * skip + 2 <= e.size(), "--skip-s " + std::to_string(a.skip_s) + " s at both ends leaves fewer than 2 samples");
+  Require(2 * skip + 2 <= e.size(),
+          "--skip-s " + std::to_string(a.skip_s) + " s at both ends leaves fewer than 2 samples");
   const Eigen::Index n = e.size() - 2 * skip;
-  const dob::Agreement g = dob::CompareSignals(e.segment(skip, n), m.segment(skip, n), rec.fs_hz, a.max_delay_s);
-  nlohmann::json j = {{"fit_percent", g.fit_percent}, {"correlation", g.correlation}, {"delay_s", g.delay_s},
+  const dob::Agreement g =
+      dob::CompareSignals(e.segment(skip, n), m.segment(skip, n), rec.fs_hz, a.max_delay_s);
+  nlohmann::json j = {{"fit_percent", g.fit_percent},
+                      {"correlation", g.correlation},
+                      {"delay_s", g.delay_s},
                       {"rmse_n", g.rmse_n}};
   if (a.json) {
     EmitOutput(j.dump(2) + "\n", a.out);
   } else {
     char text[256];
-    std::snprintf(text, sizeof(text), "fit %.3f %%\ncorrelation %.6f\ndelay %.6g s\nrmse %.6g N\n", g.fit_percent,
-                  g.correlation, g.delay_s, g.rmse_n);
+    std::snprintf(text, sizeof(text), "fit %.3f %%\ncorrelation %.6f\ndelay %.6g s\nrmse %.6g N\n",
+                  g.fit_percent, g.correlation, g.delay_s, g.rmse_n);
     EmitOutput(text, a.out);
   }
 }
@@ -223,19 +247,46 @@ void RegisterDobDesignCommand(CLI::App& dob) {
   const auto [cmd, a] = AddCommand<DesignArgs>(dob, "design", kDesignHelp, Run);
   cmd->add_option("model", a->model_path, "Model file (JSON)")->required();
   cmd->add_option("--N", a->order, "Order of Q (>= 1)")->capture_default_str();
-  cmd->add_option("--r", a->relative_degree, "Relative degree of Q (0 <= N - r, r >= that of G_A)")->capture_default_str();
-  cmd->add_option("--tau-s", a->tau_s, "Time constant of Q, s (cut-off 1/tau rad/s)")->check(PositiveNumber())->capture_default_str();
-  cmd->add_option("--fs-hz", a->fs_hz, "Board sample rate, Hz")->check(PositiveNumber())->capture_default_str();
-  cmd->add_option("--input-dof", a->input_dof, "Mass the force (and the disturbance) acts on, from 1")->capture_default_str();
-  cmd->add_option("--output-dof", a->output_dof, "Mass whose sensor feeds the SISO form, from 1")->capture_default_str();
-  cmd->add_option("--sensor", a->sensor, "Sensor: disp, vel or acc")->check(CLI::IsMember({"disp", "vel", "acc"}))->capture_default_str();
-  cmd->add_option("--form", a->form, "siso: Q G_A^-1 y - Q u; mimo: Q[M x'' + C x' + K x - F]")->check(CLI::IsMember({"siso", "mimo"}))->capture_default_str();
-  cmd->add_option("--discretize", a->discretize, "tustin (pre-warped at 1/tau) or zoh")->check(CLI::IsMember({"tustin", "zoh"}))->capture_default_str();
-  cmd->add_option("--prototype", a->prototype, "Q polynomial: butterworth or binomial")->check(CLI::IsMember({"butterworth", "binomial"}))->capture_default_str();
-  cmd->add_option("--leak-hz", a->leak_hz, "Corner of the leaky integrators for vel/acc sensors, Hz")->check(PositiveNumber())->capture_default_str();
-  cmd->add_option("--force-fs-n", a->force_fs_n, "Force full scale, N")->check(PositiveNumber())->capture_default_str();
-  cmd->add_option("--sensor-fs", a->sensor_fs, "Sensor full scale, SI (0: 0.05 m, 1 m/s or 50 m/s^2)")->check(NonNegativeNumber())->capture_default_str();
-  cmd->add_option("--output-fs-n", a->output_fs_n, "Full scale of d_hat, N (0: twice the force full scale)")->check(NonNegativeNumber())->capture_default_str();
+  cmd->add_option("--r", a->relative_degree, "Relative degree of Q (0 <= N - r, r >= that of G_A)")
+      ->capture_default_str();
+  cmd->add_option("--tau-s", a->tau_s, "Time constant of Q, s (cut-off 1/tau rad/s)")
+      ->check(PositiveNumber())
+      ->capture_default_str();
+  cmd->add_option("--fs-hz", a->fs_hz, "Board sample rate, Hz")
+      ->check(PositiveNumber())
+      ->capture_default_str();
+  cmd->add_option("--input-dof", a->input_dof,
+                  "Mass the force (and the disturbance) acts on, from 1")
+      ->capture_default_str();
+  cmd->add_option("--output-dof", a->output_dof, "Mass whose sensor feeds the SISO form, from 1")
+      ->capture_default_str();
+  cmd->add_option("--sensor", a->sensor, "Sensor: disp, vel or acc")
+      ->check(CLI::IsMember({"disp", "vel", "acc"}))
+      ->capture_default_str();
+  cmd->add_option("--form", a->form, "siso: Q G_A^-1 y - Q u; mimo: Q[M x'' + C x' + K x - F]")
+      ->check(CLI::IsMember({"siso", "mimo"}))
+      ->capture_default_str();
+  cmd->add_option("--discretize", a->discretize, "tustin (pre-warped at 1/tau) or zoh")
+      ->check(CLI::IsMember({"tustin", "zoh"}))
+      ->capture_default_str();
+  cmd->add_option("--prototype", a->prototype, "Q polynomial: butterworth or binomial")
+      ->check(CLI::IsMember({"butterworth", "binomial"}))
+      ->capture_default_str();
+  cmd->add_option("--leak-hz", a->leak_hz,
+                  "Corner of the leaky integrators for vel/acc sensors, Hz")
+      ->check(PositiveNumber())
+      ->capture_default_str();
+  cmd->add_option("--force-fs-n", a->force_fs_n, "Force full scale, N")
+      ->check(PositiveNumber())
+      ->capture_default_str();
+  cmd->add_option("--sensor-fs", a->sensor_fs,
+                  "Sensor full scale, SI (0: 0.05 m, 1 m/s or 50 m/s^2)")
+      ->check(NonNegativeNumber())
+      ->capture_default_str();
+  cmd->add_option("--output-fs-n", a->output_fs_n,
+                  "Full scale of d_hat, N (0: twice the force full scale)")
+      ->check(NonNegativeNumber())
+      ->capture_default_str();
   cmd->add_option("-o,--output", a->out, "Design file to write (default: stdout)");
   cmd->add_flag("--json", a->json, "Print the design JSON on stdout even when writing a file");
 }
@@ -244,25 +295,42 @@ void RegisterDobRunCommand(CLI::App& dob) {
   const auto [cmd, a] = AddCommand<RunArgs>(dob, "run", kRunHelp, Run);
   cmd->add_option("recording", a->recording, "Recording (CSV, t_s column)")->required();
   cmd->add_option("--design", a->design, "Design file from `vibid dob design`")->required();
-  cmd->add_option("--force", a->force, "Measured force column (NAME, NAME:UNIT or NAME*FACTOR)")->required();
-  cmd->add_option("--response", a->response, "Sensor column(s), comma separated, in the design's input order")->required();
-  auto* fixed_flag = cmd->add_flag("--fixed", a->fixed, "Bit-exact replay of the board's fixed-point filter (default)");
-  cmd->add_flag("--float", a->use_float, "The double-precision design instead")->excludes(fixed_flag);
-  cmd->add_option("--lowpass-hz", a->lowpass_hz, "Also write NAME_lp_n: zero-phase Butterworth low-pass at this cut-off, Hz")->check(PositiveNumber());
-  cmd->add_option("--lowpass-order", a->lowpass_order, "Order of that low-pass")->check(CLI::Range(1, 16))->capture_default_str();
-  cmd->add_option("--name", a->name, "Stem of the added columns: NAME_n, NAME_q31, NAME_lp_n")->capture_default_str();
+  cmd->add_option("--force", a->force, "Measured force column (NAME, NAME:UNIT or NAME*FACTOR)")
+      ->required();
+  cmd->add_option("--response", a->response,
+                  "Sensor column(s), comma separated, in the design's input order")
+      ->required();
+  auto* fixed_flag = cmd->add_flag("--fixed", a->fixed,
+                                   "Bit-exact replay of the board's fixed-point filter (default)");
+  cmd->add_flag("--float", a->use_float, "The double-precision design instead")
+      ->excludes(fixed_flag);
+  cmd->add_option("--lowpass-hz", a->lowpass_hz,
+                  "Also write NAME_lp_n: zero-phase Butterworth low-pass at this cut-off, Hz")
+      ->check(PositiveNumber());
+  cmd->add_option("--lowpass-order", a->lowpass_order, "Order of that low-pass")
+      ->check(CLI::Range(1, 16))
+      ->capture_default_str();
+  cmd->add_option("--name", a->name, "Stem of the added columns: NAME_n, NAME_q31, NAME_lp_n")
+      ->capture_default_str();
   cmd->add_option("--verify", a->verify,
-                  "Board output column (e.g. d_hat_q31 of `vibid acquire`): fail unless the replay equals it bit for bit");
+                  "Board output column (e.g. d_hat_q31 of `vibid acquire`): fail unless the replay "
+                  "equals it bit for bit");
   cmd->add_option("-o,--output", a->out, "CSV to write (default: stdout)");
 }
 
 void RegisterDobCompareCommand(CLI::App& dob) {
   const auto [cmd, a] = AddCommand<CompareArgs>(dob, "compare", kDobCompareHelp, Run);
-  cmd->add_option("recording", a->recording, "CSV with both columns (e.g. the output of `dob run`)")->required();
+  cmd->add_option("recording", a->recording, "CSV with both columns (e.g. the output of `dob run`)")
+      ->required();
   cmd->add_option("--estimate", a->estimate, "Estimated force column")->required();
   cmd->add_option("--measured", a->measured, "Measured force column")->required();
-  cmd->add_option("--skip-s", a->skip_s, "Seconds left out at each end (start-up, filter edges)")->check(NonNegativeNumber())->capture_default_str();
-  cmd->add_option("--max-delay-s", a->max_delay_s, "Largest lag searched (0: a tenth of the record)")->check(NonNegativeNumber())->capture_default_str();
+  cmd->add_option("--skip-s", a->skip_s, "Seconds left out at each end (start-up, filter edges)")
+      ->check(NonNegativeNumber())
+      ->capture_default_str();
+  cmd->add_option("--max-delay-s", a->max_delay_s,
+                  "Largest lag searched (0: a tenth of the record)")
+      ->check(NonNegativeNumber())
+      ->capture_default_str();
   cmd->add_flag("--json", a->json, "JSON: fit_percent, correlation, delay_s, rmse_n");
   cmd->add_option("-o,--output", a->out, "File to write (default: stdout)");
 }

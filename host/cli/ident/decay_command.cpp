@@ -23,8 +23,8 @@ struct DecaySet {
   double omega_d_std = 0.0, zeta_std = 0.0;
 };
 
-DecaySet AnalyzeAll(const std::vector<std::string>& paths, const std::string& position, double scale, double fs_hz,
-                    const ident::DecayOptions& options) {
+DecaySet AnalyzeAll(const std::vector<std::string>& paths, const std::string& position,
+                    double scale, double fs_hz, const ident::DecayOptions& options) {
   DecaySet s;
   for (const std::string& p : paths) {
     RecordingOptions ro;
@@ -71,13 +71,15 @@ nlohmann::json SetJson(const DecaySet& s, const std::vector<std::string>& paths)
                     {"cycles", r.cycles},
                     {"termination", numerics::TerminationName(r.summary.termination)}});
   }
-  return {{"omega_d_rad_s", s.omega_d}, {"zeta", s.zeta}, {"omega_n_rad_s", s.omega_n},
+  return {{"omega_d_rad_s", s.omega_d},   {"zeta", s.zeta},         {"omega_n_rad_s", s.omega_n},
           {"omega_d_std", s.omega_d_std}, {"zeta_std", s.zeta_std}, {"records", recs}};
 }
 
 constexpr const char* kDecayHelp =
-    "Free decay after a pull and release (no force channel): finds the release, fits x = x0 + A exp(-sigma t)\n"
-    "cos(omega_d t + phi) over the first cycles, gives omega_d, zeta, omega_n (repeats averaged). With --loaded\n"
+    "Free decay after a pull and release (no force channel): finds the release, fits x = x0 + A "
+    "exp(-sigma t)\n"
+    "cos(omega_d t + phi) over the first cycles, gives omega_d, zeta, omega_n (repeats averaged). "
+    "With --loaded\n"
     "records of the same spring carrying --added-kg more, solves k and the base mass.";
 
 struct DecayArgs {
@@ -98,18 +100,23 @@ void Run(const DecayArgs& a) {
   const DecaySet base = AnalyzeAll(a.inputs, a.position, a.scale, a.fs_hz, a.options);
   nlohmann::json j = SetJson(base, a.inputs);
   std::ostringstream text;
-  text << "omega_d " << base.omega_d << " rad/s, zeta " << base.zeta << ", omega_n " << base.omega_n << " rad/s";
-  if (base.results.size() > 1) text << " (mean of " << base.results.size() << "; sd " << base.omega_d_std << ", " << base.zeta_std << ")";
+  text << "omega_d " << base.omega_d << " rad/s, zeta " << base.zeta << ", omega_n " << base.omega_n
+       << " rad/s";
+  if (base.results.size() > 1)
+    text << " (mean of " << base.results.size() << "; sd " << base.omega_d_std << ", "
+         << base.zeta_std << ")";
   text << "\n";
   if (!a.loaded.empty()) {
     const DecaySet loaded = AnalyzeAll(a.loaded, a.position, a.scale, a.fs_hz, a.options);
-    const ident::AddedMassSolution s = ident::SolveAddedMass(base.omega_n, loaded.omega_n, a.added_kg);
+    const ident::AddedMassSolution s =
+        ident::SolveAddedMass(base.omega_n, loaded.omega_n, a.added_kg);
     j["loaded"] = SetJson(loaded, a.loaded);
     j["added_kg"] = a.added_kg;
     j["k_n_per_m"] = s.k_n_per_m;
     j["base_mass_kg"] = s.base_mass_kg;
-    text << "loaded: omega_d " << loaded.omega_d << " rad/s, zeta " << loaded.zeta << ", omega_n " << loaded.omega_n
-         << " rad/s\nk " << s.k_n_per_m << " N/m, base mass " << s.base_mass_kg << " kg\n";
+    text << "loaded: omega_d " << loaded.omega_d << " rad/s, zeta " << loaded.zeta << ", omega_n "
+         << loaded.omega_n << " rad/s\nk " << s.k_n_per_m << " N/m, base mass " << s.base_mass_kg
+         << " kg\n";
   }
   EmitOutput(a.json ? j.dump(2) + "\n" : text.str(), a.output);
 }
@@ -118,18 +125,27 @@ void Run(const DecayArgs& a) {
 
 void RegisterDecay(CLI::App& app) {
   const auto [cmd, a] = AddCommand<DecayArgs>(app, "decay", kDecayHelp, Run);
-  cmd->add_option("recordings", a->inputs, "Record(s) of the base configuration, REC.csv ...")->required();
-  cmd->add_option("--position", a->position, "Position column, NAME[:UNIT|*FACTOR] (e.g. X_cm:cm)")->required();
-  cmd->add_option("--scale", a->scale, "Extra factor applied to the position (e.g. counts to metres)")->check(PositiveNumber());
-  cmd->add_option("--fs-hz", a->fs_hz, "Sample rate (Hz) when the file has no t_s column")->check(PositiveNumber());
-  cmd->add_option("--cycles", a->options.cycles,
-                  "Cycles after the release in the fit (0: until the envelope falls below --end-fraction); friction\n"
-                  "makes damping grow as the amplitude falls, so the first cycles are the comparable ones")
+  cmd->add_option("recordings", a->inputs, "Record(s) of the base configuration, REC.csv ...")
+      ->required();
+  cmd->add_option("--position", a->position, "Position column, NAME[:UNIT|*FACTOR] (e.g. X_cm:cm)")
+      ->required();
+  cmd->add_option("--scale", a->scale,
+                  "Extra factor applied to the position (e.g. counts to metres)")
+      ->check(PositiveNumber());
+  cmd->add_option("--fs-hz", a->fs_hz, "Sample rate (Hz) when the file has no t_s column")
+      ->check(PositiveNumber());
+  cmd->add_option(
+         "--cycles", a->options.cycles,
+         "Cycles after the release in the fit (0: until the envelope falls below --end-fraction); "
+         "friction\n"
+         "makes damping grow as the amplitude falls, so the first cycles are the comparable ones")
       ->capture_default_str();
-  cmd->add_option("--end-fraction", a->options.end_fraction, "With --cycles 0: stop where the envelope falls below this fraction")
+  cmd->add_option("--end-fraction", a->options.end_fraction,
+                  "With --cycles 0: stop where the envelope falls below this fraction")
       ->capture_default_str();
   cmd->add_option("--loaded", a->loaded, "Record(s) with the added mass, for k and the base mass");
-  cmd->add_option("--added-kg", a->added_kg, "Mass added in the --loaded records (kg)")->check(PositiveNumber());
+  cmd->add_option("--added-kg", a->added_kg, "Mass added in the --loaded records (kg)")
+      ->check(PositiveNumber());
   cmd->add_flag("--json", a->json, "JSON output");
   cmd->add_option("-o,--output", a->output, "Write the result here instead of stdout");
 }

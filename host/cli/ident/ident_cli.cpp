@@ -20,44 +20,64 @@
 
 namespace vibid::cli {
 
-void AddEstimationOptions(CLI::App* cmd, EstimationArgs& a, bool require_columns, const std::string& kind_default) {
+void AddEstimationOptions(CLI::App* cmd, EstimationArgs& a, bool require_columns,
+                          const std::string& kind_default) {
   a.kind = kind_default;
-  auto* force = cmd->add_option("--force", a.force, "Force column of the recording, NAME[:UNIT|*FACTOR] (N)");
-  auto* resp = cmd->add_option("--response", a.responses, "Response column(s), comma separated, NAME[:UNIT|*FACTOR]");
+  auto* force =
+      cmd->add_option("--force", a.force, "Force column of the recording, NAME[:UNIT|*FACTOR] (N)");
+  auto* resp = cmd->add_option("--response", a.responses,
+                               "Response column(s), comma separated, NAME[:UNIT|*FACTOR]");
   if (require_columns) {
     force->required();
     resp->required();
   }
-  cmd->add_option("--estimator", a.estimator, "FRF estimator: h1 (noise on the output), h2 (noise on the input), hv")
+  cmd->add_option("--estimator", a.estimator,
+                  "FRF estimator: h1 (noise on the output), h2 (noise on the input), hv")
       ->capture_default_str();
-  auto* impact = cmd->add_flag("--impact", a.impact,
-                               "Hammer test: one record per detected hit, force and exponential windows (the default when\n"
-                               "the force is a train of short pulses)");
-  cmd->add_flag("--welch", a.welch, "Welch averaging even when the force looks like hammer hits")->excludes(impact);
-  cmd->add_option("--window", a.window, "Welch window: rect, hann, hamming, blackmanharris, flattop")->capture_default_str();
-  cmd->add_option("--segment", a.segment, "Welch segment length in samples (default: a power of two, at most 4096 and a quarter of the record)");
+  auto* impact = cmd->add_flag(
+      "--impact", a.impact,
+      "Hammer test: one record per detected hit, force and exponential windows (the default when\n"
+      "the force is a train of short pulses)");
+  cmd->add_flag("--welch", a.welch, "Welch averaging even when the force looks like hammer hits")
+      ->excludes(impact);
+  cmd->add_option("--window", a.window,
+                  "Welch window: rect, hann, hamming, blackmanharris, flattop")
+      ->capture_default_str();
+  cmd->add_option("--segment", a.segment,
+                  "Welch segment length in samples (default: a power of two, at most 4096 and a "
+                  "quarter of the record)");
   cmd->add_option("--overlap", a.overlap, "Welch overlap in samples (default: half a segment)");
-  cmd->add_option("--detrend", a.detrend, "Welch per-segment detrend: none, constant")->capture_default_str();
-  cmd->add_option("--sensor", a.sensor, "What the response channels measure: acc, vel, disp")->capture_default_str();
-  cmd->add_option("--kind", a.kind, "FRF to produce: receptance, mobility, accelerance")->capture_default_str();
-  cmd->add_option("--fs-hz", a.fs_hz, "Sample rate (Hz) when the recording has no t_s column")->check(PositiveNumber());
-  cmd->add_option("--trigger", a.impact_options.trigger_fraction, "Impact: hit threshold as a fraction of the largest force")
+  cmd->add_option("--detrend", a.detrend, "Welch per-segment detrend: none, constant")
+      ->capture_default_str();
+  cmd->add_option("--sensor", a.sensor, "What the response channels measure: acc, vel, disp")
+      ->capture_default_str();
+  cmd->add_option("--kind", a.kind, "FRF to produce: receptance, mobility, accelerance")
+      ->capture_default_str();
+  cmd->add_option("--fs-hz", a.fs_hz, "Sample rate (Hz) when the recording has no t_s column")
+      ->check(PositiveNumber());
+  cmd->add_option("--trigger", a.impact_options.trigger_fraction,
+                  "Impact: hit threshold as a fraction of the largest force")
       ->capture_default_str();
   cmd->add_option("--pretrigger-s", a.impact_options.pretrigger_s,
                   "Impact: seconds kept before each hit (default: 1/64 of the hit record)");
-  cmd->add_option("--record-s", a.impact_options.record_s, "Impact: length of each hit's record, s (default: the shortest hit spacing)")
+  cmd->add_option("--record-s", a.impact_options.record_s,
+                  "Impact: length of each hit's record, s (default: the shortest hit spacing)")
       ->check(NonNegativeNumber());
-  cmd->add_option("--force-window-s", a.impact_options.force_window_s,
-                  "Impact: force kept up to this time after the trigger, s (default: twice the pulse width)")
+  cmd->add_option(
+         "--force-window-s", a.impact_options.force_window_s,
+         "Impact: force kept up to this time after the trigger, s (default: twice the pulse width)")
       ->check(NonNegativeNumber());
   cmd->add_option("--exp-window", a.impact_options.exp_window_end,
-                  "Impact: exponential window on force and responses, its value at the record end (0: none); damping is corrected for it")
+                  "Impact: exponential window on force and responses, its value at the record end "
+                  "(0: none); damping is corrected for it")
       ->check(NonNegativeNumber());
-  cmd->add_option("--double-hit-window-s", a.impact_options.double_hit_window_s,
-                  "Impact: pulses closer than this to the previous one are rebounds of the same hit, s")
+  cmd->add_option(
+         "--double-hit-window-s", a.impact_options.double_hit_window_s,
+         "Impact: pulses closer than this to the previous one are rebounds of the same hit, s")
       ->capture_default_str()
       ->check(NonNegativeNumber());
-  cmd->add_flag("--keep-bad-hits", a.keep_bad_hits, "Impact: use double hits and clipped hits (only flag them)");
+  cmd->add_flag("--keep-bad-hits", a.keep_bad_hits,
+                "Impact: use double hits and clipped hits (only flag them)");
 }
 
 namespace {
@@ -72,7 +92,8 @@ std::size_t DefaultSegment(std::size_t samples) {
 
 Estimated EstimateFromRecording(const std::string& path, const EstimationArgs& a) {
   Require(!a.force.empty(), "--force is required to estimate an FRF from the recording " + path);
-  Require(!a.responses.empty(), "--response is required to estimate an FRF from the recording " + path);
+  Require(!a.responses.empty(),
+          "--response is required to estimate an FRF from the recording " + path);
   RecordingOptions ro;
   if (a.fs_hz > 0.0) ro.fs_hz = a.fs_hz;
   const Recording rec = LoadRecording(path, ro);
@@ -98,7 +119,8 @@ Estimated EstimateFromRecording(const std::string& path, const EstimationArgs& a
   // Welch options are checked whichever path runs: a typo must not pass silently because the
   // record turned out to be a hammer test.
   const ident::Window window = ident::ParseWindow(a.window);
-  Require(a.detrend == "none" || a.detrend == "constant", "--detrend must be none or constant, not '" + a.detrend + "'");
+  Require(a.detrend == "none" || a.detrend == "constant",
+          "--detrend must be none or constant, not '" + a.detrend + "'");
   Require(a.overlap < 0 || a.segment == 0 || static_cast<std::size_t>(a.overlap) < a.segment,
           "--overlap must be smaller than the segment");
   Estimated out;
@@ -106,15 +128,17 @@ Estimated EstimateFromRecording(const std::string& path, const EstimationArgs& a
   if (!a.impact && !a.welch) {
     const ident::ExcitationCheck check = ident::ClassifyExcitation(force, rec.fs_hz);
     impact = check.impact;
-    out.note = path + ": " + check.description + ": " +
-               (impact ? "processed as an impact test, one record per hit (--welch forces Welch averaging)"
-                       : "Welch averaging (--impact forces per-hit records)");
+    out.note =
+        path + ": " + check.description + ": " +
+        (impact ? "processed as an impact test, one record per hit (--welch forces Welch averaging)"
+                : "Welch averaging (--impact forces per-hit records)");
   }
   if (impact) {
     ident::ImpactOptions io = a.impact_options;
     io.reject_bad_hits = !a.keep_bad_hits;
     Eigen::MatrixXd resp(force.size(), static_cast<Eigen::Index>(responses.size()));
-    for (std::size_t j = 0; j < responses.size(); ++j) resp.col(static_cast<Eigen::Index>(j)) = *responses[j];
+    for (std::size_t j = 0; j < responses.size(); ++j)
+      resp.col(static_cast<Eigen::Index>(j)) = *responses[j];
     ident::ImpactResult r = ident::EstimateImpactFrf(force, resp, rec.fs_hz, io, est, sensor);
     out.frf = std::move(r.frf);
     out.hits = std::move(r.hits);
@@ -130,7 +154,8 @@ Estimated EstimateFromRecording(const std::string& path, const EstimationArgs& a
                                                      std::to_string(wo.segment_samples));
     Require(a.overlap < 0 || static_cast<std::size_t>(a.overlap) < wo.segment_samples,
             "--overlap must be smaller than the segment");
-    wo.overlap_samples = a.overlap >= 0 ? static_cast<std::size_t>(a.overlap) : wo.segment_samples / 2;
+    wo.overlap_samples =
+        a.overlap >= 0 ? static_cast<std::size_t>(a.overlap) : wo.segment_samples / 2;
     const ident::CrossSpectra s = ident::WelchSpectra(force, responses, rec.fs_hz, wo);
     out.frf = ident::FrfFromSpectra(s, est, sensor);
     out.record_samples = wo.segment_samples;
@@ -141,9 +166,11 @@ Estimated EstimateFromRecording(const std::string& path, const EstimationArgs& a
   return out;
 }
 
-ident::Frf LoadOrEstimate(const std::string& path, const EstimationArgs& a, std::vector<std::string>& notes) {
+ident::Frf LoadOrEstimate(const std::string& path, const EstimationArgs& a,
+                          std::vector<std::string>& notes) {
   const ident::Quantity kind = ident::ParseQuantity(a.kind);
-  const bool uff = path.size() > 4 && (path.substr(path.size() - 4) == ".uff" || path.substr(path.size() - 4) == ".unv");
+  const bool uff = path.size() > 4 && (path.substr(path.size() - 4) == ".uff" ||
+                                       path.substr(path.size() - 4) == ".unv");
   if (uff) return ident::ConvertFrf(ident::LoadFrf(path), kind);
   // The first bytes tell an FRF file from a recording: a recording is not read whole twice.
   RequireReadableSize(path, kMaxCsvFileBytes);
@@ -153,7 +180,8 @@ ident::Frf LoadOrEstimate(const std::string& path, const EstimationArgs& a, std:
   file.read(head.data(), static_cast<std::streamsize>(head.size()));
   head.resize(static_cast<std::size_t>(file.gcount()));
   // Said before anything else: an empty file is neither an FRF nor a recording missing its --force.
-  Require(head.size() == 256 || head.find_first_not_of(" \t\r\n") != std::string::npos, path + ": empty file");
+  Require(head.size() == 256 || head.find_first_not_of(" \t\r\n") != std::string::npos,
+          path + ": empty file");
   if (ident::LooksLikeFrfCsv(head)) {
     const std::string text = ReadFileText(path);
     return ident::ConvertFrf(ident::ParseFrfCsv(text, path), kind);
@@ -164,7 +192,8 @@ ident::Frf LoadOrEstimate(const std::string& path, const EstimationArgs& a, std:
   return std::move(e.frf);
 }
 
-void KeepEstimationNotes(const std::string& path, const Estimated& e, bool say_note, std::vector<std::string>& notes) {
+void KeepEstimationNotes(const std::string& path, const Estimated& e, bool say_note,
+                         std::vector<std::string>& notes) {
   if (!e.note.empty()) {
     if (say_note) std::cerr << "vibid: note: " << e.note << "\n";
     notes.push_back(e.note);
@@ -177,23 +206,29 @@ void KeepEstimationNotes(const std::string& path, const Estimated& e, bool say_n
   for (std::string line; std::getline(in, line);) notes.push_back(path + ": " + line);
 }
 
-ident::Frf JoinColumns(const std::vector<ident::Frf>& frfs, const std::vector<std::string>& sources) {
+ident::Frf JoinColumns(const std::vector<ident::Frf>& frfs,
+                       const std::vector<std::string>& sources) {
   Require(!frfs.empty(), "no FRF given");
   ident::Frf out = frfs.front();
   for (std::size_t i = 1; i < frfs.size(); ++i) {
     const ident::Frf& f = frfs[i];
-    Require(f.freq_hz.size() == out.freq_hz.size() && (f.freq_hz - out.freq_hz).cwiseAbs().maxCoeff() <=
-                                                          1e-6 * out.freq_hz.cwiseAbs().maxCoeff(),
-            sources[i] + ": frequency lines differ from " + sources[0] + "'s; estimate both the same way");
-    Require(f.quantity == out.quantity, sources[i] + ": FRF kind differs from " + sources[0] + "'s");
+    Require(
+        f.freq_hz.size() == out.freq_hz.size() && (f.freq_hz - out.freq_hz).cwiseAbs().maxCoeff() <=
+                                                      1e-6 * out.freq_hz.cwiseAbs().maxCoeff(),
+        sources[i] + ": frequency lines differ from " + sources[0] +
+            "'s; estimate both the same way");
+    Require(f.quantity == out.quantity,
+            sources[i] + ": FRF kind differs from " + sources[0] + "'s");
     const Eigen::Index c = out.h.cols();
     out.h.conservativeResize(Eigen::NoChange, c + f.h.cols());
     out.coherence.conservativeResize(Eigen::NoChange, c + f.h.cols());
     out.h.rightCols(f.h.cols()) = f.h;
     out.coherence.rightCols(f.h.cols()) = f.coherence;
-    out.response_names.insert(out.response_names.end(), f.response_names.begin(), f.response_names.end());
+    out.response_names.insert(out.response_names.end(), f.response_names.begin(),
+                              f.response_names.end());
     out.exp_window_tau_s = std::max(out.exp_window_tau_s, f.exp_window_tau_s);
-    Require(f.pretrigger_s == out.pretrigger_s, sources[i] + ": pretrigger differs from " + sources[0] + "'s; estimate both the same way");
+    Require(f.pretrigger_s == out.pretrigger_s, sources[i] + ": pretrigger differs from " +
+                                                    sources[0] + "'s; estimate both the same way");
   }
   return out;
 }
@@ -203,8 +238,9 @@ std::string DescribeHits(const std::vector<ident::Hit>& hits) {
   for (std::size_t i = 0; i < hits.size(); ++i) {
     const ident::Hit& h = hits[i];
     char line[256];
-    std::snprintf(line, sizeof line, "hit %zu at %.4f s, peak %.4g, %s%s%s\n", i + 1, h.t_s, h.peak_n,
-                  h.used ? "used" : "rejected", h.note.empty() ? "" : ": ", h.note.c_str());
+    std::snprintf(line, sizeof line, "hit %zu at %.4f s, peak %.4g, %s%s%s\n", i + 1, h.t_s,
+                  h.peak_n, h.used ? "used" : "rejected", h.note.empty() ? "" : ": ",
+                  h.note.c_str());
     out << line;
   }
   return out.str();
@@ -221,16 +257,20 @@ nlohmann::json ModesToJson(const std::vector<ident::ModeEstimate>& modes) {
     j["shape"] = std::vector<double>(m.shape.data(), m.shape.data() + m.shape.size());
     if (m.HasIntervals()) {
       const auto pair = [](const std::array<double, 2>& ci) {
-        return std::isfinite(ci[0]) && std::isfinite(ci[1]) ? nlohmann::json{ci[0], ci[1]} : nlohmann::json(nullptr);
+        return std::isfinite(ci[0]) && std::isfinite(ci[1]) ? nlohmann::json{ci[0], ci[1]}
+                                                            : nlohmann::json(nullptr);
       };
-      j["ci95"] = {{"omega_rad_s", pair(m.omega_ci95_rad_s)}, {"zeta", pair(m.zeta_ci95)}, {"ratio", pair(m.ratio_ci95)}};
+      j["ci95"] = {{"omega_rad_s", pair(m.omega_ci95_rad_s)},
+                   {"zeta", pair(m.zeta_ci95)},
+                   {"ratio", pair(m.ratio_ci95)}};
     }
     arr.push_back(j);
   }
   return nlohmann::json{{"modes", arr}};
 }
 
-std::vector<ident::ModeEstimate> ModesFromJson(const nlohmann::json& json, const std::string& source) {
+std::vector<ident::ModeEstimate> ModesFromJson(const nlohmann::json& json,
+                                               const std::string& source) {
   Require(json.is_object() && json.contains("modes") && json["modes"].is_array(),
           source + ": expected an object with a \"modes\" array");
   std::vector<ident::ModeEstimate> modes;
@@ -238,19 +278,24 @@ std::vector<ident::ModeEstimate> ModesFromJson(const nlohmann::json& json, const
   for (const auto& m : json["modes"]) {
     ++i;
     const std::string where = source + ": mode " + std::to_string(i);
-    Require(m.is_object() && m.contains("omega_rad_s") && m["omega_rad_s"].is_number(), where + ": omega_rad_s missing or not a number");
+    Require(m.is_object() && m.contains("omega_rad_s") && m["omega_rad_s"].is_number(),
+            where + ": omega_rad_s missing or not a number");
     ident::ModeEstimate e;
     e.omega_rad_s = m["omega_rad_s"].get<double>();
-    Require(std::isfinite(e.omega_rad_s) && e.omega_rad_s > 0.0, where + ": omega_rad_s must be > 0");
+    Require(std::isfinite(e.omega_rad_s) && e.omega_rad_s > 0.0,
+            where + ": omega_rad_s must be > 0");
     e.freq_hz = e.omega_rad_s / (2.0 * std::numbers::pi);
     e.zeta = m.contains("zeta") && m["zeta"].is_number() ? m["zeta"].get<double>() : 0.0;
-    e.ratio = m.contains("ratio") && m["ratio"].is_number() ? m["ratio"].get<double>() : std::numeric_limits<double>::quiet_NaN();
+    e.ratio = m.contains("ratio") && m["ratio"].is_number()
+                  ? m["ratio"].get<double>()
+                  : std::numeric_limits<double>::quiet_NaN();
     if (m.contains("ci95")) {
       Require(m["ci95"].is_object(), where + ": ci95 must be an object");
       const auto read = [&](const char* key, std::array<double, 2>& ci) {
         if (!m["ci95"].contains(key) || m["ci95"][key].is_null()) return;
         const nlohmann::json& v = m["ci95"][key];
-        Require(v.is_array() && v.size() == 2 && v[0].is_number() && v[1].is_number() && v[0].get<double>() <= v[1].get<double>(),
+        Require(v.is_array() && v.size() == 2 && v[0].is_number() && v[1].is_number() &&
+                    v[0].get<double>() <= v[1].get<double>(),
                 where + ": ci95." + key + " must be [lo, hi] with lo <= hi");
         ci = {v[0].get<double>(), v[1].get<double>()};
       };
@@ -305,7 +350,8 @@ std::string ModesTable(const std::vector<ident::ModeEstimate>& modes) {
   bool intervals = false;
   for (const auto& m : modes) intervals = intervals || m.HasIntervals();
   if (intervals) {
-    out << "mode   freq_hz      omega_rad_s (95 %)     zeta (95 %)             ratio a1/a2 (95 %)   shape\n";
+    out << "mode   freq_hz      omega_rad_s (95 %)     zeta (95 %)             ratio a1/a2 (95 %)  "
+           " shape\n";
   } else {
     out << "mode   freq_hz      omega_rad_s  zeta       ratio a1/a2  shape\n";
   }
@@ -325,10 +371,12 @@ std::string ModesTable(const std::vector<ident::ModeEstimate>& modes) {
     char line[256];
     if (intervals) {
       std::snprintf(line, sizeof line, "%-6zu %-12.5g %-22s %-23s %-20s", i + 1, m.freq_hz,
-                    pm(m.omega_rad_s, m.omega_ci95_rad_s, "%.6g").c_str(), pm(m.zeta, m.zeta_ci95, "%.4g").c_str(),
+                    pm(m.omega_rad_s, m.omega_ci95_rad_s, "%.6g").c_str(),
+                    pm(m.zeta, m.zeta_ci95, "%.4g").c_str(),
                     pm(m.ratio, m.ratio_ci95, "%.5g").c_str());
     } else {
-      std::snprintf(line, sizeof line, "%-6zu %-12.5g %-12.5g %-10.4g %-12.5g", i + 1, m.freq_hz, m.omega_rad_s, m.zeta, m.ratio);
+      std::snprintf(line, sizeof line, "%-6zu %-12.5g %-12.5g %-10.4g %-12.5g", i + 1, m.freq_hz,
+                    m.omega_rad_s, m.zeta, m.ratio);
     }
     out << line;
     for (Eigen::Index j = 0; j < m.shape.size(); ++j) {

@@ -34,7 +34,8 @@ struct EstimationArgs {
 };
 
 /// Adds --force/--response (required when `require_columns`) and every estimation option.
-void AddEstimationOptions(CLI::App* cmd, EstimationArgs& args, bool require_columns, const std::string& kind_default);
+void AddEstimationOptions(CLI::App* cmd, EstimationArgs& args, bool require_columns,
+                          const std::string& kind_default);
 
 struct Estimated {
   ident::Frf frf;
@@ -52,25 +53,31 @@ Estimated EstimateFromRecording(const std::string& path, const EstimationArgs& a
 
 /// An FRF file (.uff/.unv, or a CSV with freq_hz) as it is; any other CSV is a recording and is
 /// estimated first. The result is converted to `args.kind`.
-ident::Frf LoadOrEstimate(const std::string& path, const EstimationArgs& args, std::vector<std::string>& notes);
+ident::Frf LoadOrEstimate(const std::string& path, const EstimationArgs& args,
+                          std::vector<std::string>& notes);
 
 /// Says on stderr what the estimation of `path` warned of (and its processing note when
 /// `say_note`), and keeps the note, the warnings and one line per hit in `notes` for the report.
-void KeepEstimationNotes(const std::string& path, const Estimated& e, bool say_note, std::vector<std::string>& notes);
+void KeepEstimationNotes(const std::string& path, const Estimated& e, bool say_note,
+                         std::vector<std::string>& notes);
 
 /// Joins FRFs of the same frequency lines column-wise (responses of one test in several files).
-ident::Frf JoinColumns(const std::vector<ident::Frf>& frfs, const std::vector<std::string>& sources);
+ident::Frf JoinColumns(const std::vector<ident::Frf>& frfs,
+                       const std::vector<std::string>& sources);
 
 /// One line per hit: time, peak, used or why not.
 std::string DescribeHits(const std::vector<ident::Hit>& hits);
 
 nlohmann::json ModesToJson(const std::vector<ident::ModeEstimate>& modes);
-std::vector<ident::ModeEstimate> ModesFromJson(const nlohmann::json& json, const std::string& source);
+std::vector<ident::ModeEstimate> ModesFromJson(const nlohmann::json& json,
+                                               const std::string& source);
 /// {"method", "band_hz": [lo, hi], "orders": [...], "poles": [{order, freq_hz, zeta, stable_freq,
-/// stable_damping, stable_shape, cluster}], "selected": [{freq_hz, omega_rad_s, zeta, orders, ...}]}
+/// stable_damping, stable_shape, cluster}], "selected": [{freq_hz, omega_rad_s, zeta, orders,
+/// ...}]}
 nlohmann::json DiagramToJson(const ident::StabilizationDiagram& diagram);
 
-/// Text table of modes (freq, omega, zeta, ratio, shape); with intervals, value +- the 95 % half-width.
+/// Text table of modes (freq, omega, zeta, ratio, shape); with intervals, value +- the 95 %
+/// half-width.
 std::string ModesTable(const std::vector<ident::ModeEstimate>& modes);
 
 }  // namespace vibid::cli

@@ -35,15 +35,24 @@ class Rig {
   const std::string dir = MakeTempDir("ident_cli");
 
   /// Modal tests: hammer on mass 2, both accelerations (seeds 7 and 8).
-  const std::string& modal1() const { return Made(modal1_, [&] { return Modal("modal1.csv", 7); }); }
-  const std::string& modal2() const { return Made(modal2_, [&] { return Modal("modal2.csv", 8); }); }
+  const std::string& modal1() const {
+    return Made(modal1_, [&] { return Modal("modal1.csv", 7); });
+  }
+  const std::string& modal2() const {
+    return Made(modal2_, [&] { return Modal("modal2.csv", 8); });
+  }
   /// Mass tests: each mass alone on its nominal spring (+10 %), ζ = 2 %.
-  const std::string& mass1() const { return Made(mass1_, [&] { return Mass(0); }); }
-  const std::string& mass2() const { return Made(mass2_, [&] { return Mass(1); }); }
+  const std::string& mass1() const {
+    return Made(mass1_, [&] { return Mass(0); });
+  }
+  const std::string& mass2() const {
+    return Made(mass2_, [&] { return Mass(1); });
+  }
   /// Nominal: masses +8 %, springs +10 % (the mass tests' springs are these nominal ones).
   const std::string& nominal() const {
     return Made(nominal_, [&] {
-      return Write(dir, "nominal.json", R"({"topology": "chain", "masses": [1.296, 0.864], "springs": [3300, 2200]})");
+      return Write(dir, "nominal.json",
+                   R"({"topology": "chain", "masses": [1.296, 0.864], "springs": [3300, 2200]})");
     });
   }
 
@@ -54,16 +63,28 @@ class Rig {
     return path;
   }
   std::string Modal(const std::string& name, std::uint64_t seed) const {
-    const model::Model truth = model::MakeChain(Eigen::Vector2d(1.2, 0.8), Eigen::Vector2d(3000, 2000), Eigen::Vector2d(0.9, 0.8));
-    ident::HammerTestSpec spec{.hammer_dof = 1, .fs_hz = 500, .hits = 10, .pulse_width_s = 0.004, .spacing_min_s = 16,
-                               .spacing_max_s = 20, .seed = seed};
-    return Write(dir, name, ident::FormatHammerTestCsv(ident::SimulateHammerTest(truth, spec), {"acc1_m_s2", "acc2_m_s2"}));
+    const model::Model truth = model::MakeChain(
+        Eigen::Vector2d(1.2, 0.8), Eigen::Vector2d(3000, 2000), Eigen::Vector2d(0.9, 0.8));
+    ident::HammerTestSpec spec{.hammer_dof = 1,
+                               .fs_hz = 500,
+                               .hits = 10,
+                               .pulse_width_s = 0.004,
+                               .spacing_min_s = 16,
+                               .spacing_max_s = 20,
+                               .seed = seed};
+    return Write(dir, name,
+                 ident::FormatHammerTestCsv(ident::SimulateHammerTest(truth, spec),
+                                            {"acc1_m_s2", "acc2_m_s2"}));
   }
   std::string Mass(int i) const {
     const double ms[2] = {1.2, 0.8}, ks[2] = {3300, 2200};
-    const model::Model one = model::MakeChain(Eigen::VectorXd::Constant(1, ms[i]), Eigen::VectorXd::Constant(1, ks[i]),
-                                              Eigen::VectorXd::Constant(1, 2 * 0.02 * std::sqrt(ks[i] * ms[i])));
-    ident::HammerTestSpec spec{.fs_hz = 500, .pulse_width_s = 0.004, .spacing_min_s = 10, .spacing_max_s = 13,
+    const model::Model one =
+        model::MakeChain(Eigen::VectorXd::Constant(1, ms[i]), Eigen::VectorXd::Constant(1, ks[i]),
+                         Eigen::VectorXd::Constant(1, 2 * 0.02 * std::sqrt(ks[i] * ms[i])));
+    ident::HammerTestSpec spec{.fs_hz = 500,
+                               .pulse_width_s = 0.004,
+                               .spacing_min_s = 10,
+                               .spacing_max_s = 13,
                                .seed = 100u + static_cast<unsigned>(i)};
     return Write(dir, "mass" + std::to_string(i + 1) + ".csv",
                  ident::FormatHammerTestCsv(ident::SimulateHammerTest(one, spec), {"acc_m_s2"}));
@@ -92,16 +113,16 @@ std::string MadeOnce(const std::string& path, const std::vector<std::string>& ar
 /// The H1 estimate of the first modal test (as FrfEstimateCli.ImpactCsvAndUff makes it).
 std::string ImpactFrfCsv() {
   const Rig& rig = SyntheticRig();
-  return MadeOnce(rig.dir + "/impact_frf.csv", {"frf-estimate", rig.modal1(), "--force", "force_n", "--response",
-                                                "acc1_m_s2,acc2_m_s2", "--impact"});
+  return MadeOnce(rig.dir + "/impact_frf.csv", {"frf-estimate", rig.modal1(), "--force", "force_n",
+                                                "--response", "acc1_m_s2,acc2_m_s2", "--impact"});
 }
 
 /// The modes of the first modal test (as ModesCli.JsonSchemaAndTruth makes them).
 std::string Modes1Json() {
   const Rig& rig = SyntheticRig();
   return MadeOnce(rig.dir + "/modes_of_test1.json",
-                  {"modes", rig.modal1(), "--force", "force_n", "--response", "acc1_m_s2,acc2_m_s2", "--impact",
-                   "--exp-window", "0.01", "--max-modes", "2", "--json"});
+                  {"modes", rig.modal1(), "--force", "force_n", "--response", "acc1_m_s2,acc2_m_s2",
+                   "--impact", "--exp-window", "0.01", "--max-modes", "2", "--json"});
 }
 
 void ExpectInputError(const CliResult& r, const std::string& fragment) {
@@ -112,61 +133,81 @@ void ExpectInputError(const CliResult& r, const std::string& fragment) {
 
 TEST(FrfEstimateCli, ImpactCsvAndUff) {
   const Rig& rig = SyntheticRig();
-  const auto r = RunVibid({"frf-estimate", rig.modal1(), "--force", "force_n", "--response", "acc1_m_s2,acc2_m_s2", "--impact",
-                           "-o", rig.dir + "/frf.csv"});
+  const auto r = RunVibid({"frf-estimate", rig.modal1(), "--force", "force_n", "--response",
+                           "acc1_m_s2,acc2_m_s2", "--impact", "-o", rig.dir + "/frf.csv"});
   ASSERT_EQ(r.exit_code, 0) << r.err;
   EXPECT_NE(r.out.find("10 average(s)"), std::string::npos) << r.out;
   const std::string csv = ReadFileText(rig.dir + "/frf.csv");
-  EXPECT_EQ(csv.rfind("# vibid-frf kind=receptance estimator=h1 averages=10", 0), 0u) << csv.substr(0, 80);
-  const auto u = RunVibid({"frf-estimate", rig.modal1(), "--force", "force_n", "--response", "acc2_m_s2", "--impact", "--kind",
-                           "accelerance", "-o", rig.dir + "/frf.uff"});
+  EXPECT_EQ(csv.rfind("# vibid-frf kind=receptance estimator=h1 averages=10", 0), 0u)
+      << csv.substr(0, 80);
+  const auto u =
+      RunVibid({"frf-estimate", rig.modal1(), "--force", "force_n", "--response", "acc2_m_s2",
+                "--impact", "--kind", "accelerance", "-o", rig.dir + "/frf.uff"});
   ASSERT_EQ(u.exit_code, 0) << u.err;
   EXPECT_EQ(ReadFileText(rig.dir + "/frf.uff").substr(0, 13), "    -1\n    58");
   // Welch on the same record to stdout.
-  const auto w = RunVibid({"frf-estimate", rig.modal1(), "--force", "force_n", "--response", "acc2_m_s2", "--segment", "2048",
-                           "--window", "hann", "--estimator", "h2"});
+  const auto w =
+      RunVibid({"frf-estimate", rig.modal1(), "--force", "force_n", "--response", "acc2_m_s2",
+                "--segment", "2048", "--window", "hann", "--estimator", "h2"});
   ASSERT_EQ(w.exit_code, 0) << w.err;
   EXPECT_NE(w.out.find("estimator=h2"), std::string::npos);
 }
 
 TEST(FrfEstimateCli, BadInput) {
   const Rig& rig = SyntheticRig();
-  ExpectInputError(RunVibid({"frf-estimate", rig.dir + "/missing.csv", "--force", "f", "--response", "x"}), "missing.csv");
-  ExpectInputError(RunVibid({"frf-estimate", rig.modal1(), "--force", "force_n", "--response", "nope"}), "nope");
-  ExpectInputError(RunVibid({"frf-estimate", rig.modal1(), "--force", "force_n", "--response", "acc1_m_s2", "--estimator", "h3"}),
+  ExpectInputError(
+      RunVibid({"frf-estimate", rig.dir + "/missing.csv", "--force", "f", "--response", "x"}),
+      "missing.csv");
+  ExpectInputError(
+      RunVibid({"frf-estimate", rig.modal1(), "--force", "force_n", "--response", "nope"}), "nope");
+  ExpectInputError(RunVibid({"frf-estimate", rig.modal1(), "--force", "force_n", "--response",
+                             "acc1_m_s2", "--estimator", "h3"}),
                    "h3");
-  ExpectInputError(RunVibid({"frf-estimate", rig.modal1(), "--force", "force_n", "--response", "acc1_m_s2", "--segment", "64",
-                             "--overlap", "64"}),
+  ExpectInputError(RunVibid({"frf-estimate", rig.modal1(), "--force", "force_n", "--response",
+                             "acc1_m_s2", "--segment", "64", "--overlap", "64"}),
                    "overlap");
-  ExpectInputError(RunVibid({"frf-estimate", rig.modal1(), "--force", "force_n", "--response", "acc1_m_s2", "--window", "kaiser"}),
+  ExpectInputError(RunVibid({"frf-estimate", rig.modal1(), "--force", "force_n", "--response",
+                             "acc1_m_s2", "--window", "kaiser"}),
                    "kaiser");
   const std::string nan = Write(rig.dir, "nan.csv", "t_s,f,x\n0,1,2\n0.1,nan,2\n0.2,1,2\n");
   ExpectInputError(RunVibid({"frf-estimate", nan, "--force", "f", "--response", "x"}), "nan.csv:3");
-  const std::string jumpy = Write(rig.dir, "jumpy.csv", "t_s,f,x\n0,1,2\n0.1,1,2\n0.5,1,2\n0.6,1,2\n0.7,1,2\n0.8,1,2\n0.9,1,2\n1.0,1,2\n1.1,1,2\n");
+  const std::string jumpy = Write(
+      rig.dir, "jumpy.csv",
+      "t_s,f,x\n0,1,2\n0.1,1,2\n0.5,1,2\n0.6,1,2\n0.7,1,2\n0.8,1,2\n0.9,1,2\n1.0,1,2\n1.1,1,2\n");
   const auto j = RunVibid({"frf-estimate", jumpy, "--force", "f", "--response", "x"});
   EXPECT_EQ(j.exit_code, 1) << j.err;
   // A recording without any hit in impact mode.
-  const std::string flat = Write(rig.dir, "flat.csv", "t_s,f,x\n0,0,0\n0.1,0,0\n0.2,0,0\n0.3,0,0\n0.4,0,0\n0.5,0,0\n0.6,0,0\n0.7,0,0\n0.8,0,0\n0.9,0,0\n1.0,0,0\n1.1,0,0\n1.2,0,0\n1.3,0,0\n1.4,0,0\n1.5,0,0\n1.6,0,0\n");
-  ExpectInputError(RunVibid({"frf-estimate", flat, "--force", "f", "--response", "x", "--impact"}), "no hit");
-  EXPECT_EQ(RunVibid({"frf-estimate", rig.modal1(), "--response", "acc1_m_s2"}).exit_code, 2);  // --force missing
+  const std::string flat =
+      Write(rig.dir, "flat.csv",
+            "t_s,f,x\n0,0,0\n0.1,0,0\n0.2,0,0\n0.3,0,0\n0.4,0,0\n0.5,0,0\n0.6,0,0\n0.7,0,0\n0.8,0,"
+            "0\n0.9,0,0\n1.0,0,0\n1.1,0,0\n1.2,0,0\n1.3,0,0\n1.4,0,0\n1.5,0,0\n1.6,0,0\n");
+  ExpectInputError(RunVibid({"frf-estimate", flat, "--force", "f", "--response", "x", "--impact"}),
+                   "no hit");
+  EXPECT_EQ(RunVibid({"frf-estimate", rig.modal1(), "--response", "acc1_m_s2"}).exit_code,
+            2);  // --force missing
   // Nothing is written on failure.
-  RunVibid({"frf-estimate", rig.modal1(), "--force", "force_n", "--response", "nope", "-o", rig.dir + "/never.csv"});
+  RunVibid({"frf-estimate", rig.modal1(), "--force", "force_n", "--response", "nope", "-o",
+            rig.dir + "/never.csv"});
   EXPECT_FALSE(std::filesystem::exists(rig.dir + "/never.csv"));
 }
 
 TEST(ModesCli, JsonSchemaAndTruth) {
   const Rig& rig = SyntheticRig();
-  const auto r = RunVibid({"modes", rig.modal1(), "--force", "force_n", "--response", "acc1_m_s2,acc2_m_s2", "--impact",
-                           "--exp-window", "0.01", "--max-modes", "2", "--json", "-o", rig.dir + "/modes1.json"});
+  const auto r = RunVibid({"modes", rig.modal1(), "--force", "force_n", "--response",
+                           "acc1_m_s2,acc2_m_s2", "--impact", "--exp-window", "0.01", "--max-modes",
+                           "2", "--json", "-o", rig.dir + "/modes1.json"});
   ASSERT_EQ(r.exit_code, 0) << r.err;
   const json j = json::parse(ReadFileText(rig.dir + "/modes1.json"));
   ASSERT_EQ(j["modes"].size(), 2u);
-  for (const char* key : {"omega_rad_s", "freq_hz", "zeta", "ratio", "shape"}) EXPECT_TRUE(j["modes"][0].contains(key)) << key;
-  // Truth (model core's modal analysis of the chain): omega 33.594 and 74.418 rad/s, a1/a2 0.5486 and -1.2153.
+  for (const char* key : {"omega_rad_s", "freq_hz", "zeta", "ratio", "shape"})
+    EXPECT_TRUE(j["modes"][0].contains(key)) << key;
+  // Truth (model core's modal analysis of the chain): omega 33.594 and 74.418 rad/s, a1/a2 0.5486
+  // and -1.2153.
   EXPECT_NEAR(j["modes"][0]["omega_rad_s"].get<double>(), 33.594, 0.002 * 33.594);
   EXPECT_NEAR(j["modes"][1]["omega_rad_s"].get<double>(), 74.418, 0.002 * 74.418);
   EXPECT_NEAR(j["modes"][0]["ratio"].get<double>(), 0.5486, 0.03 * 0.5486);
-  EXPECT_EQ(j["summary"]["termination"].get<std::string>().find("tolerance") != std::string::npos, true);
+  EXPECT_EQ(j["summary"]["termination"].get<std::string>().find("tolerance") != std::string::npos,
+            true);
   // The default method gives 95 % intervals around each value.
   for (const auto& m : j["modes"]) {
     ASSERT_TRUE(m.contains("ci95")) << m.dump();
@@ -178,7 +219,8 @@ TEST(ModesCli, JsonSchemaAndTruth) {
     }
   }
   // From an FRF file, peak picking: no intervals.
-  const auto p = RunVibid({"modes", ImpactFrfCsv(), "--method", "peaks", "--max-modes", "2", "--json"});
+  const auto p =
+      RunVibid({"modes", ImpactFrfCsv(), "--method", "peaks", "--max-modes", "2", "--json"});
   ASSERT_EQ(p.exit_code, 0) << p.err;
   EXPECT_EQ(json::parse(p.out)["modes"].size(), 2u);
   EXPECT_FALSE(json::parse(p.out)["modes"][0].contains("ci95"));
@@ -189,7 +231,8 @@ TEST(ModesCli, JsonSchemaAndTruth) {
 // (model core) and the closed-form a1/a2 of the chain.
 TEST(ModesCli, DefaultPathRecognisesAnImpactTest) {
   const Rig& rig = SyntheticRig();
-  const auto r = RunVibid({"modes", rig.modal1(), "--force", "force_n", "--response", "acc1_m_s2,acc2_m_s2", "--json"});
+  const auto r = RunVibid(
+      {"modes", rig.modal1(), "--force", "force_n", "--response", "acc1_m_s2,acc2_m_s2", "--json"});
   ASSERT_EQ(r.exit_code, 0) << r.err;
   EXPECT_NE(r.err.find("processed as an impact test"), std::string::npos) << r.err;
   const json j = json::parse(r.out);
@@ -197,22 +240,28 @@ TEST(ModesCli, DefaultPathRecognisesAnImpactTest) {
   ASSERT_TRUE(j.contains("stabilization"));
   EXPECT_FALSE(j["stabilization"]["poles"].empty());
   ASSERT_EQ(j["modes"].size(), 2u);
-  const model::Model truth = model::MakeChain(Eigen::Vector2d(1.2, 0.8), Eigen::Vector2d(3000, 2000), Eigen::Vector2d(0.9, 0.8));
+  const model::Model truth = model::MakeChain(
+      Eigen::Vector2d(1.2, 0.8), Eigen::Vector2d(3000, 2000), Eigen::Vector2d(0.9, 0.8));
   const model::ComplexModes cm = model::ComplexModalDamping(truth);
   for (Eigen::Index i = 0; i < 2; ++i) {
     const json& mode = j["modes"][static_cast<std::size_t>(i)];
     const double omega = mode["omega_rad_s"].get<double>();
     const double zeta = mode["zeta"].get<double>();
-    std::printf("modes default path mode %ld: omega %+.4f %%, zeta %+.2f %%\n", static_cast<long>(i) + 1, 100 * (omega / cm.omega_rad_s[i] - 1),
+    std::printf("modes default path mode %ld: omega %+.4f %%, zeta %+.2f %%\n",
+                static_cast<long>(i) + 1, 100 * (omega / cm.omega_rad_s[i] - 1),
                 100 * (zeta / cm.zeta[i] - 1));
     EXPECT_NEAR(omega, cm.omega_rad_s[i], 0.0005 * cm.omega_rad_s[i]);
     EXPECT_NEAR(zeta, cm.zeta[i], 0.03 * cm.zeta[i]);
   }
-  const auto w = RunVibid({"modes", rig.modal1(), "--force", "force_n", "--response", "acc1_m_s2,acc2_m_s2", "--welch",
-                           "--method", "fit"});
+  const auto w = RunVibid({"modes", rig.modal1(), "--force", "force_n", "--response",
+                           "acc1_m_s2,acc2_m_s2", "--welch", "--method", "fit"});
   EXPECT_EQ(w.err.find("processed as an impact test"), std::string::npos) << w.err;
-  EXPECT_EQ(RunVibid({"modes", rig.modal1(), "--force", "force_n", "--response", "acc1_m_s2", "--welch", "--impact"}).exit_code, 2);
-  const auto bad = RunVibid({"modes", rig.modal1(), "--force", "force_n", "--response", "acc1_m_s2", "--orders", "9:3"});
+  EXPECT_EQ(RunVibid({"modes", rig.modal1(), "--force", "force_n", "--response", "acc1_m_s2",
+                      "--welch", "--impact"})
+                .exit_code,
+            2);
+  const auto bad = RunVibid(
+      {"modes", rig.modal1(), "--force", "force_n", "--response", "acc1_m_s2", "--orders", "9:3"});
   EXPECT_EQ(bad.exit_code, 1);
   EXPECT_NE(bad.err.find("--orders '9:3'"), std::string::npos) << bad.err;
 }
@@ -221,8 +270,9 @@ TEST(ModesCli, DefaultPathRecognisesAnImpactTest) {
 // few lines and the default falls back to LSCE, saying so. Reference: the data set's own statement
 // that a 4th-order model is good enough, i.e. two modes.
 TEST(ModesCli, DefaultFallsBackWhenLscfFindsNoStablePole) {
-  const auto r = RunVibid({"modes", std::string(VIBID_DATA_DIR) + "/daisy_robot_arm/robot_arm.csv", "--force", "u_reaction_torque",
-                           "--response", "y_arm_acceleration", "--fs-hz", "1", "--json"});
+  const auto r =
+      RunVibid({"modes", std::string(VIBID_DATA_DIR) + "/daisy_robot_arm/robot_arm.csv", "--force",
+                "u_reaction_torque", "--response", "y_arm_acceleration", "--fs-hz", "1", "--json"});
   ASSERT_EQ(r.exit_code, 0) << r.err;
   EXPECT_NE(r.err.find("Welch averaging"), std::string::npos) << r.err;
   EXPECT_NE(r.err.find("modes from LSCE"), std::string::npos) << r.err;
@@ -243,23 +293,28 @@ TEST(ModesCli, BadInput) {
 
 TEST(UpdateCli, MassAndStiffness) {
   const Rig& rig = SyntheticRig();
-  const auto m = RunVibid({"update", "mass", rig.mass1(), "--force", "force_n", "--response", "acc_m_s2", "--impact",
-                           "--stiffness-n-per-m", "3300", "--nominal-kg", "1.296", "--json"});
+  const auto m =
+      RunVibid({"update", "mass", rig.mass1(), "--force", "force_n", "--response", "acc_m_s2",
+                "--impact", "--stiffness-n-per-m", "3300", "--nominal-kg", "1.296", "--json"});
   ASSERT_EQ(m.exit_code, 0) << m.err;
   const json mj = json::parse(m.out);
-  for (const char* key : {"mass_kg", "nominal_kg", "change_percent", "zeta", "summary"}) EXPECT_TRUE(mj.contains(key)) << key;
+  for (const char* key : {"mass_kg", "nominal_kg", "change_percent", "zeta", "summary"})
+    EXPECT_TRUE(mj.contains(key)) << key;
   EXPECT_NEAR(mj["mass_kg"].get<double>(), 1.2, 0.01 * 1.2);
-  EXPECT_NEAR(mj["change_percent"].get<double>(), 100 * (mj["mass_kg"].get<double>() - 1.296) / 1.296, 1e-9);
+  EXPECT_NEAR(mj["change_percent"].get<double>(),
+              100 * (mj["mass_kg"].get<double>() - 1.296) / 1.296, 1e-9);
   EXPECT_NEAR(mj["zeta"].get<double>(), 0.02, 0.002);
 
-  const auto m2 = RunVibid({"modes", rig.modal2(), "--force", "force_n", "--response", "acc1_m_s2,acc2_m_s2", "--impact",
-                            "--exp-window", "0.01", "--max-modes", "2", "--json", "-o", rig.dir + "/modes2.json"});
+  const auto m2 = RunVibid({"modes", rig.modal2(), "--force", "force_n", "--response",
+                            "acc1_m_s2,acc2_m_s2", "--impact", "--exp-window", "0.01",
+                            "--max-modes", "2", "--json", "-o", rig.dir + "/modes2.json"});
   ASSERT_EQ(m2.exit_code, 0) << m2.err;
   const auto s = RunVibid({"update", "stiffness", "--masses", "1.2,0.8", "--modes", Modes1Json(),
                            rig.dir + "/modes2.json", "--json"});
   ASSERT_EQ(s.exit_code, 0) << s.err;
   const json sj = json::parse(s.out);
-  for (const char* key : {"springs", "K", "springs_lsq", "offdiag_mismatch_percent", "spread"}) EXPECT_TRUE(sj.contains(key)) << key;
+  for (const char* key : {"springs", "K", "springs_lsq", "offdiag_mismatch_percent", "spread"})
+    EXPECT_TRUE(sj.contains(key)) << key;
   EXPECT_NEAR(sj["springs"][0].get<double>(), 3000, 30);
   EXPECT_NEAR(sj["springs"][1].get<double>(), 2000, 20);
   EXPECT_EQ(sj["K"].size(), 2u);
@@ -267,14 +322,19 @@ TEST(UpdateCli, MassAndStiffness) {
 
 TEST(UpdateCli, BadInput) {
   const Rig& rig = SyntheticRig();
-  ExpectInputError(RunVibid({"update", "mass", rig.modal1(), "--force", "force_n", "--response", "acc1_m_s2,acc2_m_s2", "--impact"}),
+  ExpectInputError(RunVibid({"update", "mass", rig.modal1(), "--force", "force_n", "--response",
+                             "acc1_m_s2,acc2_m_s2", "--impact"}),
                    "exactly one response");
-  ExpectInputError(RunVibid({"update", "mass", rig.mass1(), "--force", "force_n", "--response", "acc_m_s2", "--nominal-kg", "-1"}),
+  ExpectInputError(RunVibid({"update", "mass", rig.mass1(), "--force", "force_n", "--response",
+                             "acc_m_s2", "--nominal-kg", "-1"}),
                    "--nominal-kg");
-  ExpectInputError(RunVibid({"update", "stiffness", "--masses", "1,abc", "--modes", Modes1Json()}), "abc");
-  ExpectInputError(RunVibid({"update", "stiffness", "--masses", "1,1,1", "--modes", Modes1Json()}), "2 modes for 3 masses");
+  ExpectInputError(RunVibid({"update", "stiffness", "--masses", "1,abc", "--modes", Modes1Json()}),
+                   "abc");
+  ExpectInputError(RunVibid({"update", "stiffness", "--masses", "1,1,1", "--modes", Modes1Json()}),
+                   "2 modes for 3 masses");
   const std::string broken = Write(rig.dir, "broken.json", "{\"modes\": [");
-  ExpectInputError(RunVibid({"update", "stiffness", "--masses", "1,1", "--modes", broken}), "broken.json");
+  ExpectInputError(RunVibid({"update", "stiffness", "--masses", "1,1", "--modes", broken}),
+                   "broken.json");
   const std::string empty = Write(rig.dir, "empty.json", "{\"modes\": []}");
   ExpectInputError(RunVibid({"update", "stiffness", "--masses", "1,1", "--modes", empty}), "empty");
   EXPECT_EQ(RunVibid({"update"}).exit_code, 2);
@@ -282,24 +342,33 @@ TEST(UpdateCli, BadInput) {
 
 TEST(DecayCli, EcpPairAndBadInput) {
   const std::string d = std::string(VIBID_DATA_DIR) + "/ecp_cart_free_decay/";
-  const auto r = RunVibid({"decay", d + "Khigh_load-none_Khigh_hand_Nomass.csv", d + "Khigh_load-none_Khigh_hand_Nomass2.csv",
-                           d + "Khigh_load-none_Khigh_hand_Nomass3.csv", "--position", "X_cm:cm", "--loaded",
-                           d + "Khigh_load-0.986kg_Khigh_hand_2mass.csv", d + "Khigh_load-0.986kg_Khigh_hand_2mass2.csv",
-                           d + "Khigh_load-0.986kg_Khigh_hand_2mass3.csv", "--added-kg", "0.986", "--json"});
+  const auto r = RunVibid(
+      {"decay", d + "Khigh_load-none_Khigh_hand_Nomass.csv",
+       d + "Khigh_load-none_Khigh_hand_Nomass2.csv", d + "Khigh_load-none_Khigh_hand_Nomass3.csv",
+       "--position", "X_cm:cm", "--loaded", d + "Khigh_load-0.986kg_Khigh_hand_2mass.csv",
+       d + "Khigh_load-0.986kg_Khigh_hand_2mass2.csv",
+       d + "Khigh_load-0.986kg_Khigh_hand_2mass3.csv", "--added-kg", "0.986", "--json"});
   ASSERT_EQ(r.exit_code, 0) << r.err;
   const json j = json::parse(r.out);
-  for (const char* key : {"omega_d_rad_s", "zeta", "omega_n_rad_s", "k_n_per_m", "base_mass_kg"}) EXPECT_TRUE(j.contains(key)) << key;
-  // The lab's values (data README): omega_d 34.9066 rad/s (one 200 Hz sample = 2.8 %), k 712.60 N/m, m_c 0.5848 kg.
+  for (const char* key : {"omega_d_rad_s", "zeta", "omega_n_rad_s", "k_n_per_m", "base_mass_kg"})
+    EXPECT_TRUE(j.contains(key)) << key;
+  // The lab's values (data README): omega_d 34.9066 rad/s (one 200 Hz sample = 2.8 %), k 712.60
+  // N/m, m_c 0.5848 kg.
   EXPECT_NEAR(j["omega_d_rad_s"].get<double>(), 34.9066, 0.028 * 34.9066);
   EXPECT_NEAR(j["k_n_per_m"].get<double>(), 712.60, 0.02 * 712.60);
   EXPECT_NEAR(j["base_mass_kg"].get<double>(), 0.5848, 0.03 * 0.5848);
 
-  ExpectInputError(RunVibid({"decay", d + "Khigh_load-none_Khigh_hand_Nomass.csv", "--position", "Y"}), "Y");
-  ExpectInputError(RunVibid({"decay", d + "Khigh_load-none_Khigh_hand_Nomass.csv", "--position", "X_cm:cm", "--loaded",
-                             d + "Khigh_load-none_Khigh_hand_Nomass2.csv"}),
+  ExpectInputError(
+      RunVibid({"decay", d + "Khigh_load-none_Khigh_hand_Nomass.csv", "--position", "Y"}), "Y");
+  ExpectInputError(RunVibid({"decay", d + "Khigh_load-none_Khigh_hand_Nomass.csv", "--position",
+                             "X_cm:cm", "--loaded", d + "Khigh_load-none_Khigh_hand_Nomass2.csv"}),
                    "--added-kg");
   const Rig& rig = SyntheticRig();
-  const std::string flat = Write(rig.dir, "still.csv", "t_s,X\n0,1\n0.1,1\n0.2,1\n0.3,1\n0.4,1\n0.5,1\n0.6,1\n0.7,1\n0.8,1\n0.9,1\n1.0,1\n1.1,1\n1.2,1\n1.3,1\n1.4,1\n1.5,1\n1.6,1\n1.7,1\n1.8,1\n1.9,1\n2.0,1\n2.1,1\n2.2,1\n2.3,1\n2.4,1\n2.5,1\n2.6,1\n2.7,1\n2.8,1\n2.9,1\n3.0,1\n3.1,1\n");
+  const std::string flat =
+      Write(rig.dir, "still.csv",
+            "t_s,X\n0,1\n0.1,1\n0.2,1\n0.3,1\n0.4,1\n0.5,1\n0.6,1\n0.7,1\n0.8,1\n0.9,1\n1.0,1\n1.1,"
+            "1\n1.2,1\n1.3,1\n1.4,1\n1.5,1\n1.6,1\n1.7,1\n1.8,1\n1.9,1\n2.0,1\n2.1,1\n2.2,1\n2.3,"
+            "1\n2.4,1\n2.5,1\n2.6,1\n2.7,1\n2.8,1\n2.9,1\n3.0,1\n3.1,1\n");
   ExpectInputError(RunVibid({"decay", flat, "--position", "X"}), "no motion");
   EXPECT_EQ(RunVibid({"decay", flat}).exit_code, 2);  // --position missing
 }
@@ -307,11 +376,13 @@ TEST(DecayCli, EcpPairAndBadInput) {
 TEST(IdentifyCli, WholeChainOnSyntheticTruth) {
   const Rig& rig = SyntheticRig();
   const std::string out = rig.dir + "/updated.json";
-  const auto r = RunVibid({"identify", "--nominal", rig.nominal(), "--mass-test", "1=" + rig.mass1(), "--mass-test", "2=" + rig.mass2(),
-                           "--modal-test", rig.modal1(), "--modal-test", rig.modal2(), "--exp-window", "0.01", "-o", out,
-                           "--report", rig.dir + "/report"});
+  const auto r =
+      RunVibid({"identify", "--nominal", rig.nominal(), "--mass-test", "1=" + rig.mass1(),
+                "--mass-test", "2=" + rig.mass2(), "--modal-test", rig.modal1(), "--modal-test",
+                rig.modal2(), "--exp-window", "0.01", "-o", out, "--report", rig.dir + "/report"});
   ASSERT_EQ(r.exit_code, 0) << r.err;
-  EXPECT_NE(r.out.find("Modes (deviation of each model from the test)"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("Modes (deviation of each model from the test)"), std::string::npos)
+      << r.out;
   const json m = json::parse(ReadFileText(out));
   EXPECT_EQ(m["topology"], "chain");
   EXPECT_NEAR(m["masses"][0].get<double>(), 1.2, 0.012);
@@ -326,15 +397,20 @@ TEST(IdentifyCli, WholeChainOnSyntheticTruth) {
 TEST(IdentifyCli, BadInput) {
   const Rig& rig = SyntheticRig();
   const std::string out = rig.dir + "/not_written.json";
-  ExpectInputError(RunVibid({"identify", "--nominal", rig.nominal(), "--mass-test", "one=" + rig.mass1(), "--modal-test",
-                             rig.modal1(), "-o", out}),
+  ExpectInputError(RunVibid({"identify", "--nominal", rig.nominal(), "--mass-test",
+                             "one=" + rig.mass1(), "--modal-test", rig.modal1(), "-o", out}),
                    "--mass-test");
-  ExpectInputError(RunVibid({"identify", "--nominal", rig.nominal(), "--mass-test", "3=" + rig.mass1(), "--modal-test",
-                             rig.modal1(), "-o", out}),
+  ExpectInputError(RunVibid({"identify", "--nominal", rig.nominal(), "--mass-test",
+                             "3=" + rig.mass1(), "--modal-test", rig.modal1(), "-o", out}),
                    "beyond");
-  ExpectInputError(RunVibid({"identify", "--nominal", rig.dir + "/nope.json", "--modal-test", rig.modal1(), "-o", out}), "nope.json");
-  ExpectInputError(RunVibid({"identify", "--nominal", rig.nominal(), "--modal-test", rig.mass1(), "-o", out}), "acc1_m_s2");
-  EXPECT_EQ(RunVibid({"identify", "--nominal", rig.nominal(), "-o", out}).exit_code, 2);  // no --modal-test
+  ExpectInputError(RunVibid({"identify", "--nominal", rig.dir + "/nope.json", "--modal-test",
+                             rig.modal1(), "-o", out}),
+                   "nope.json");
+  ExpectInputError(
+      RunVibid({"identify", "--nominal", rig.nominal(), "--modal-test", rig.mass1(), "-o", out}),
+      "acc1_m_s2");
+  EXPECT_EQ(RunVibid({"identify", "--nominal", rig.nominal(), "-o", out}).exit_code,
+            2);  // no --modal-test
   EXPECT_FALSE(std::filesystem::exists(out));
 }
 

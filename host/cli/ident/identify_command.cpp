@@ -26,7 +26,8 @@ namespace vibid::cli {
 
 namespace {
 
-std::pair<std::size_t, std::string> ParsePositionAssignment(const std::string& text, const std::string& option) {
+std::pair<std::size_t, std::string> ParsePositionAssignment(const std::string& text,
+                                                            const std::string& option) {
   const auto eq = text.find('=');
   Require(eq != std::string::npos && eq > 0 && eq + 1 < text.size(),
           option + " '" + text + "' must be POSITION=VALUE (position counted from 1)");
@@ -44,7 +45,8 @@ nlohmann::json Triple(double nominal, double updated, double test) {
           {"updated_dev_percent", ident::PercentDeviation(updated, test)}};
 }
 
-nlohmann::json ValidationJson(const ident::ValidationTable& t, const std::vector<ident::ModeEstimate>& test_modes) {
+nlohmann::json ValidationJson(const ident::ValidationTable& t,
+                              const std::vector<ident::ModeEstimate>& test_modes) {
   nlohmann::json modes = nlohmann::json::array();
   for (std::size_t i = 0; i < t.modes.size(); ++i) {
     const auto& m = t.modes[i];
@@ -56,17 +58,22 @@ nlohmann::json ValidationJson(const ident::ValidationTable& t, const std::vector
       const std::pair<const char*, const std::array<double, 2>*> cis[] = {
           {"omega_rad_s", &e.omega_ci95_rad_s}, {"zeta", &e.zeta_ci95}, {"ratio", &e.ratio_ci95}};
       for (const auto& [key, ci] : cis) {
-        if (std::isfinite((*ci)[0]) && std::isfinite((*ci)[1])) row[key]["test_ci95"] = {(*ci)[0], (*ci)[1]};
+        if (std::isfinite((*ci)[0]) && std::isfinite((*ci)[1]))
+          row[key]["test_ci95"] = {(*ci)[0], (*ci)[1]};
       }
     }
     modes.push_back(row);
   }
   nlohmann::json positions = nlohmann::json::array();
   for (const auto& p : t.positions) {
-    positions.push_back({{"m_kg", {{"nominal", p.m_nominal}, {"updated", p.m_updated},
-                                   {"change_percent", ident::PercentDeviation(p.m_updated, p.m_nominal)}}},
-                         {"k_n_per_m", {{"nominal", p.k_nominal}, {"updated", p.k_updated},
-                                        {"change_percent", ident::PercentDeviation(p.k_updated, p.k_nominal)}}},
+    positions.push_back({{"m_kg",
+                          {{"nominal", p.m_nominal},
+                           {"updated", p.m_updated},
+                           {"change_percent", ident::PercentDeviation(p.m_updated, p.m_nominal)}}},
+                         {"k_n_per_m",
+                          {{"nominal", p.k_nominal},
+                           {"updated", p.k_updated},
+                           {"change_percent", ident::PercentDeviation(p.k_updated, p.k_nominal)}}},
                          {"c_ns_per_m", {{"updated", p.c_updated}}}});
   }
   return {{"modes", modes}, {"positions", positions}};
@@ -74,8 +81,8 @@ nlohmann::json ValidationJson(const ident::ValidationTable& t, const std::vector
 
 // Measured receptance of the first modal test beside the nominal and updated models' receptances
 // (hammer at the driving point), magnitudes per response.
-std::string OverlayCsv(const ident::Frf& measured, std::size_t driving_point, const model::Model& nominal,
-                       const model::Model& updated) {
+std::string OverlayCsv(const ident::Frf& measured, std::size_t driving_point,
+                       const model::Model& nominal, const model::Model& updated) {
   const Eigen::VectorXd omega = 2.0 * std::numbers::pi * measured.freq_hz;
   std::vector<std::string> names{"freq_hz"};
   std::vector<Eigen::VectorXd> cols{measured.freq_hz};
@@ -84,19 +91,24 @@ std::string OverlayCsv(const ident::Frf& measured, std::size_t driving_point, co
     names.push_back(base + "_test");
     cols.push_back(measured.h.col(j).cwiseAbs());
     names.push_back(base + "_nominal");
-    cols.push_back(model::Frf(nominal, static_cast<int>(driving_point), static_cast<int>(j), model::FrfKind::kReceptance, omega)
+    cols.push_back(model::Frf(nominal, static_cast<int>(driving_point), static_cast<int>(j),
+                              model::FrfKind::kReceptance, omega)
                        .cwiseAbs());
     names.push_back(base + "_updated");
-    cols.push_back(model::Frf(updated, static_cast<int>(driving_point), static_cast<int>(j), model::FrfKind::kReceptance, omega)
+    cols.push_back(model::Frf(updated, static_cast<int>(driving_point), static_cast<int>(j),
+                              model::FrfKind::kReceptance, omega)
                        .cwiseAbs());
   }
   return FormatCsv(names, cols);
 }
 
 constexpr const char* kIdentifyHelp =
-    "The whole identification: effective masses from 1-DOF hammer tests (--mass-test POS=REC), modes from\n"
-    "hammer tests of the chain (--modal-test REC, hammer at the driving point), stiffness and damping from the\n"
-    "modes with the updated masses averaged over the tests; writes the updated chain model and prints the\n"
+    "The whole identification: effective masses from 1-DOF hammer tests (--mass-test POS=REC), "
+    "modes from\n"
+    "hammer tests of the chain (--modal-test REC, hammer at the driving point), stiffness and "
+    "damping from the\n"
+    "modes with the updated masses averaged over the tests; writes the updated chain model and "
+    "prints the\n"
     "validation table (nominal, updated, test).";
 
 struct IdentifyArgs {
@@ -123,13 +135,15 @@ MassSprings ParseMassSprings(const std::vector<std::string>& specs, std::size_t 
   MassSprings out{std::vector<double>(n, 0.0), std::vector<bool>(n, false)};
   for (const std::string& s : specs) {
     const auto [pos, value] = ParsePositionAssignment(s, "--mass-spring");
-    Require(pos < n, "--mass-spring position " + std::to_string(pos + 1) + " is beyond the model's " + std::to_string(n) + " masses");
+    Require(pos < n, "--mass-spring position " + std::to_string(pos + 1) +
+                         " is beyond the model's " + std::to_string(n) + " masses");
     if (value == "fit") {
       out.fit[pos] = true;
       continue;
     }
     double k = 0.0;
-    Require(ParseNumber(value, k) == NumberText::kOk && k > 0.0, "--mass-spring '" + s + "': stiffness must be a number > 0");
+    Require(ParseNumber(value, k) == NumberText::kOk && k > 0.0,
+            "--mass-spring '" + s + "': stiffness must be a number > 0");
     out.k_n_per_m[pos] = k;
   }
   return out;
@@ -137,32 +151,38 @@ MassSprings ParseMassSprings(const std::vector<std::string>& specs, std::size_t 
 
 // identify is made for hammer tests: the processing note is said only when a recording did not
 // look like one.
-ident::Frf EstimateTest(const std::string& path, const EstimationArgs& est, std::vector<std::string>& notes) {
+ident::Frf EstimateTest(const std::string& path, const EstimationArgs& est,
+                        std::vector<std::string>& notes) {
   Estimated e = EstimateFromRecording(path, est);
   KeepEstimationNotes(path, e, e.hits.empty(), notes);
   return std::move(e.frf);
 }
 
-std::vector<ident::MassTestInput> MassTests(const IdentifyArgs& a, const EstimationArgs& est, std::size_t n,
-                                            std::vector<std::string>& notes) {
+std::vector<ident::MassTestInput> MassTests(const IdentifyArgs& a, const EstimationArgs& est,
+                                            std::size_t n, std::vector<std::string>& notes) {
   const MassSprings springs = ParseMassSprings(a.mass_springs, n);
   const std::vector<std::string> mass_responses = SplitOptionList(a.mass_response);
   Require(mass_responses.size() == 1 || mass_responses.size() == a.mass_tests.size(),
           "--mass-response names " + std::to_string(mass_responses.size()) + " columns for " +
-              std::to_string(a.mass_tests.size()) + " mass tests (give one for all, or one per test)");
+              std::to_string(a.mass_tests.size()) +
+              " mass tests (give one for all, or one per test)");
   std::vector<ident::MassTestInput> inputs;
   for (std::size_t t = 0; t < a.mass_tests.size(); ++t) {
     const auto [pos, path] = ParsePositionAssignment(a.mass_tests[t], "--mass-test");
-    Require(pos < n, "--mass-test position " + std::to_string(pos + 1) + " is beyond the model's " + std::to_string(n) + " masses");
+    Require(pos < n, "--mass-test position " + std::to_string(pos + 1) + " is beyond the model's " +
+                         std::to_string(n) + " masses");
     EstimationArgs me = est;
     me.responses = mass_responses[mass_responses.size() == 1 ? 0 : t];
-    inputs.push_back({pos, EstimateTest(path, me, notes), springs.k_n_per_m[pos], springs.fit[pos]});
+    inputs.push_back(
+        {pos, EstimateTest(path, me, notes), springs.k_n_per_m[pos], springs.fit[pos]});
   }
   return inputs;
 }
 
 nlohmann::json ChainJson(const ident::ChainParameters& chain, std::size_t n) {
-  const auto list = [n](const Eigen::VectorXd& v) { return std::vector<double>(v.data(), v.data() + n); };
+  const auto list = [n](const Eigen::VectorXd& v) {
+    return std::vector<double>(v.data(), v.data() + n);
+  };
   return {{"topology", "chain"},
           {"masses", list(chain.masses_kg)},
           {"springs", list(chain.springs_n_per_m)},
@@ -223,11 +243,13 @@ void Run(const IdentifyArgs& a) {
   if (!a.report.empty()) {
     std::error_code ec;
     std::filesystem::create_directories(a.report, ec);
-    Require(!ec && std::filesystem::is_directory(a.report), "--report: cannot create directory '" + a.report + "'");
+    Require(!ec && std::filesystem::is_directory(a.report),
+            "--report: cannot create directory '" + a.report + "'");
     const std::filesystem::path dir(a.report);
     WriteFileAtomic((dir / "validation.txt").string(), table);
     WriteJsonFile((dir / "report.json").string(), ReportJson(r, model_json, notes));
-    WriteFileAtomic((dir / "frf_overlay.csv").string(), OverlayCsv(modal.front(), options.driving_point, nominal, r.updated));
+    WriteFileAtomic((dir / "frf_overlay.csv").string(),
+                    OverlayCsv(modal.front(), options.driving_point, nominal, r.updated));
   }
   WriteJsonFile(a.output, model_json);
   std::cout << table;
@@ -240,34 +262,51 @@ void RegisterIdentify(CLI::App& app) {
   const auto [cmd, a] = AddCommand<IdentifyArgs>(app, "identify", kIdentifyHelp, Run);
   a->est.force = "force_n";
   cmd->add_option("--nominal", a->nominal, "Nominal model file (JSON; a chain)")->required();
-  cmd->add_option("--mass-test", a->mass_tests, "POS=REC.csv: mass POS (from 1) alone on its spring, hammer test");
-  cmd->add_option("--mass-spring", a->mass_springs,
-                  "POS=K: spring (N/m) of that mass test, when it is not the nominal chain spring of POS;\n"
-                  "POS=fit: not known, fitted with the mass");
-  cmd->add_option("--modal-test", a->modal_tests, "REC.csv: hammer test of the chain; repeat for several tests")->required();
-  cmd->add_option("--force", a->est.force, "Force column in every recording")->capture_default_str();
+  cmd->add_option("--mass-test", a->mass_tests,
+                  "POS=REC.csv: mass POS (from 1) alone on its spring, hammer test");
+  cmd->add_option(
+      "--mass-spring", a->mass_springs,
+      "POS=K: spring (N/m) of that mass test, when it is not the nominal chain spring of POS;\n"
+      "POS=fit: not known, fitted with the mass");
+  cmd->add_option("--modal-test", a->modal_tests,
+                  "REC.csv: hammer test of the chain; repeat for several tests")
+      ->required();
+  cmd->add_option("--force", a->est.force, "Force column in every recording")
+      ->capture_default_str();
   cmd->add_option("--mass-response", a->mass_response,
-                  "Response column of the mass tests: one for all, or one per --mass-test in order (comma separated)")
+                  "Response column of the mass tests: one for all, or one per --mass-test in order "
+                  "(comma separated)")
       ->capture_default_str();
-  cmd->add_option("--modal-responses", a->modal_responses, "Response columns of the modal tests, one per mass in order")
+  cmd->add_option("--modal-responses", a->modal_responses,
+                  "Response columns of the modal tests, one per mass in order")
       ->capture_default_str();
-  cmd->add_option("--sensor", a->est.sensor, "What the response channels measure: acc, vel, disp")->capture_default_str();
-  cmd->add_option("--estimator", a->est.estimator, "FRF estimator: h1, h2, hv")->capture_default_str();
-  cmd->add_flag("--welch", a->welch, "Welch averaging even for recordings whose force looks like hammer hits (default: per-hit\n"
-                "records for hammer tests, Welch for random/periodic excitation, decided per recording)");
+  cmd->add_option("--sensor", a->est.sensor, "What the response channels measure: acc, vel, disp")
+      ->capture_default_str();
+  cmd->add_option("--estimator", a->est.estimator, "FRF estimator: h1, h2, hv")
+      ->capture_default_str();
+  cmd->add_flag(
+      "--welch", a->welch,
+      "Welch averaging even for recordings whose force looks like hammer hits (default: per-hit\n"
+      "records for hammer tests, Welch for random/periodic excitation, decided per recording)");
   cmd->add_option("--exp-window", a->est.impact_options.exp_window_end,
-                  "Exponential window value at the end of each hit record (0: none); damping is corrected for it")
+                  "Exponential window value at the end of each hit record (0: none); damping is "
+                  "corrected for it")
       ->check(NonNegativeNumber());
-  cmd->add_option("--record-s", a->est.impact_options.record_s, "Length of each hit's record, s (default: the shortest hit spacing)")
+  cmd->add_option("--record-s", a->est.impact_options.record_s,
+                  "Length of each hit's record, s (default: the shortest hit spacing)")
       ->check(NonNegativeNumber());
-  cmd->add_option("--trigger", a->est.impact_options.trigger_fraction, "Hit threshold as a fraction of the largest force")
+  cmd->add_option("--trigger", a->est.impact_options.trigger_fraction,
+                  "Hit threshold as a fraction of the largest force")
       ->capture_default_str();
-  cmd->add_flag("--keep-bad-hits", a->est.keep_bad_hits, "Use double and clipped hits (only flag them)");
-  cmd->add_option("--fs-hz", a->est.fs_hz, "Sample rate (Hz) when recordings have no t_s column")->check(PositiveNumber());
+  cmd->add_flag("--keep-bad-hits", a->est.keep_bad_hits,
+                "Use double and clipped hits (only flag them)");
+  cmd->add_option("--fs-hz", a->est.fs_hz, "Sample rate (Hz) when recordings have no t_s column")
+      ->check(PositiveNumber());
   AddModeOptions(cmd, a->modes);
   cmd->add_option("-o,--output", a->output, "Updated model file (JSON, chain form)")->required();
   cmd->add_option("--report", a->report,
-                  "Directory for the report: validation.txt, report.json (all results), frf_overlay.csv (test vs models)");
+                  "Directory for the report: validation.txt, report.json (all results), "
+                  "frf_overlay.csv (test vs models)");
 }
 
 }  // namespace vibid::cli

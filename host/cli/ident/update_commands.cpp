@@ -31,7 +31,8 @@ std::vector<double> ParsePositiveList(const std::string& text, const std::string
   std::vector<double> out;
   for (const std::string& item : SplitOptionList(text, TrailingEmpty::kDrop)) {
     double v = 0.0;
-    Require(ParseNumber(item, v) == NumberText::kOk && v > 0.0, what + ": '" + item + "' is not a positive number");
+    Require(ParseNumber(item, v) == NumberText::kOk && v > 0.0,
+            what + ": '" + item + "' is not a positive number");
     out.push_back(v);
   }
   Require(!out.empty(), what + " is empty");
@@ -74,11 +75,13 @@ nlohmann::json StiffnessJson(const ident::StiffnessAverage& avg) {
           {"tests", tests}};
 }
 
-ident::StiffnessUpdateResult StiffnessFromModes(const Eigen::VectorXd& masses, const std::vector<ident::ModeEstimate>& modes,
+ident::StiffnessUpdateResult StiffnessFromModes(const Eigen::VectorXd& masses,
+                                                const std::vector<ident::ModeEstimate>& modes,
                                                 const std::string& source) {
   const Eigen::Index n = masses.size();
-  Require(static_cast<Eigen::Index>(modes.size()) == n,
-          source + ": " + std::to_string(modes.size()) + " modes for " + std::to_string(n) + " masses");
+  Require(
+      static_cast<Eigen::Index>(modes.size()) == n,
+      source + ": " + std::to_string(modes.size()) + " modes for " + std::to_string(n) + " masses");
   Eigen::VectorXd omega(n), zeta(n);
   Eigen::MatrixXd shapes(n, n);
   for (Eigen::Index i = 0; i < n; ++i) {
@@ -88,7 +91,8 @@ ident::StiffnessUpdateResult StiffnessFromModes(const Eigen::VectorXd& masses, c
     if (n == 2 && std::isfinite(m.ratio)) {
       shapes.col(i) << m.ratio, 1.0;
     } else {
-      Require(m.shape.size() == n, source + ": mode " + std::to_string(i + 1) + " needs a shape of " + std::to_string(n) +
+      Require(m.shape.size() == n, source + ": mode " + std::to_string(i + 1) +
+                                       " needs a shape of " + std::to_string(n) +
                                        " entries (or a ratio for 2 masses)");
       shapes.col(i) = m.shape;
     }
@@ -99,8 +103,10 @@ ident::StiffnessUpdateResult StiffnessFromModes(const Eigen::VectorXd& masses, c
 namespace {
 
 constexpr const char* kMassHelp =
-    "Effective mass of one mass alone on its spring (1-DOF hammer test): fit |H| = 1/sqrt((k - m w^2)^2 + (c w)^2)\n"
-    "to the coherence-weighted log receptance around the resonance (Levenberg-Marquardt), c started from the\n"
+    "Effective mass of one mass alone on its spring (1-DOF hammer test): fit |H| = 1/sqrt((k - m "
+    "w^2)^2 + (c w)^2)\n"
+    "to the coherence-weighted log receptance around the resonance (Levenberg-Marquardt), c "
+    "started from the\n"
     "half-power damping and refined (--fixed-damping keeps it).";
 
 struct MassArgs {
@@ -114,22 +120,28 @@ struct MassArgs {
 std::string MassText(const ident::MassUpdateResult& r) {
   std::ostringstream out;
   out << "effective mass " << r.mass_kg << " kg";
-  if (r.nominal_kg > 0.0) out << " (nominal " << r.nominal_kg << " kg, " << r.change_percent << " %)";
-  out << "\nk " << r.k_n_per_m << " N/m" << (r.stiffness_fitted ? " (fitted)" : " (given)") << ", zeta " << r.zeta
-      << (r.damping_fitted ? " (fitted; half-power " + std::to_string(r.zeta_half_power) + ")" : " (half-power)")
+  if (r.nominal_kg > 0.0)
+    out << " (nominal " << r.nominal_kg << " kg, " << r.change_percent << " %)";
+  out << "\nk " << r.k_n_per_m << " N/m" << (r.stiffness_fitted ? " (fitted)" : " (given)")
+      << ", zeta " << r.zeta
+      << (r.damping_fitted ? " (fitted; half-power " + std::to_string(r.zeta_half_power) + ")"
+                           : " (half-power)")
       << ", c " << r.c_ns_per_m << " N*s/m, omega " << r.omega_rad_s << " rad/s\n"
-      << "fit: " << numerics::TerminationName(r.summary.termination) << ", " << r.summary.iterations << " iterations, "
-      << r.lines_fitted << " lines\n";
+      << "fit: " << numerics::TerminationName(r.summary.termination) << ", " << r.summary.iterations
+      << " iterations, " << r.lines_fitted << " lines\n";
   return out.str();
 }
 
 void Run(const MassArgs& a) {
-  Require(a.est.kind == "receptance", "the mass update fits a receptance; leave --kind at its default");
+  Require(a.est.kind == "receptance",
+          "the mass update fits a receptance; leave --kind at its default");
   std::vector<std::string> notes;
   const ident::Frf frf = LoadOrEstimate(a.input, a.est, notes);
-  Require(frf.responses() == 1, "update mass: give exactly one response (got " + std::to_string(frf.responses()) + ")");
+  Require(frf.responses() == 1,
+          "update mass: give exactly one response (got " + std::to_string(frf.responses()) + ")");
   const ident::MassUpdateResult r = ident::UpdateMass(frf, 0, a.options);
-  if (!r.summary.Converged()) throw NumericalError("mass update did not converge: " + r.summary.message);
+  if (!r.summary.Converged())
+    throw NumericalError("mass update did not converge: " + r.summary.message);
   if (a.json) {
     nlohmann::json j = MassUpdateJson(r);
     j["notes"] = notes;
@@ -141,8 +153,10 @@ void Run(const MassArgs& a) {
 }
 
 constexpr const char* kStiffnessHelp =
-    "Stiffness from modal tests (Eq. 7): K = M Phi Omega^2 Phi^T M with mass-normalised shapes; chain springs\n"
-    "k2 = K22, k1 = K11 - K22, a least-squares chain fit and the off-diagonal mismatch; tests averaged with their spread.";
+    "Stiffness from modal tests (Eq. 7): K = M Phi Omega^2 Phi^T M with mass-normalised shapes; "
+    "chain springs\n"
+    "k2 = K22, k1 = K11 - K22, a least-squares chain fit and the off-diagonal mismatch; tests "
+    "averaged with their spread.";
 
 struct StiffnessArgs {
   std::string masses;
@@ -154,32 +168,41 @@ struct StiffnessArgs {
 std::string StiffnessText(const ident::StiffnessAverage& avg, std::size_t tests) {
   std::ostringstream out;
   out << "springs (k_n = K_nn, k_i = K_ii - k_i+1):";
-  for (Eigen::Index i = 0; i < avg.springs.size(); ++i) out << " k" << i + 1 << " = " << avg.springs[i] << " +- " << avg.spread[i];
+  for (Eigen::Index i = 0; i < avg.springs.size(); ++i)
+    out << " k" << i + 1 << " = " << avg.springs[i] << " +- " << avg.spread[i];
   out << " N/m\nleast-squares chain:";
-  for (Eigen::Index i = 0; i < avg.springs_lsq.size(); ++i) out << " k" << i + 1 << " = " << avg.springs_lsq[i];
-  out << " N/m\noff-diagonal mismatch " << avg.offdiag_mismatch_percent << " % over " << tests << " test(s)\n";
+  for (Eigen::Index i = 0; i < avg.springs_lsq.size(); ++i)
+    out << " k" << i + 1 << " = " << avg.springs_lsq[i];
+  out << " N/m\noff-diagonal mismatch " << avg.offdiag_mismatch_percent << " % over " << tests
+      << " test(s)\n";
   return out.str();
 }
 
 void Run(const StiffnessArgs& a) {
   const std::vector<double> mv = ParsePositiveList(a.masses, "--masses");
-  const Eigen::VectorXd masses = Eigen::Map<const Eigen::VectorXd>(mv.data(), static_cast<Eigen::Index>(mv.size()));
+  const Eigen::VectorXd masses =
+      Eigen::Map<const Eigen::VectorXd>(mv.data(), static_cast<Eigen::Index>(mv.size()));
   std::vector<ident::StiffnessUpdateResult> tests;
   for (const std::string& path : a.modes) {
     tests.push_back(StiffnessFromModes(masses, ModesFromJson(ReadJsonFile(path), path), path));
   }
   const ident::StiffnessAverage avg = ident::AverageStiffness(tests);
-  EmitOutput(a.json ? StiffnessJson(avg).dump(2) + "\n" : StiffnessText(avg, tests.size()), a.output);
+  EmitOutput(a.json ? StiffnessJson(avg).dump(2) + "\n" : StiffnessText(avg, tests.size()),
+             a.output);
 }
 
 void RegisterMassUpdate(CLI::App& update) {
   const auto [cmd, a] = AddCommand<MassArgs>(update, "mass", kMassHelp, Run);
   cmd->add_option("input", a->input, "Recording (REC.csv) or FRF file")->required();
   AddEstimationOptions(cmd, a->est, false, "receptance");
-  cmd->add_option("--stiffness-n-per-m", a->options.k_n_per_m, "Known spring stiffness (N/m); omitted: fitted too")
+  cmd->add_option("--stiffness-n-per-m", a->options.k_n_per_m,
+                  "Known spring stiffness (N/m); omitted: fitted too")
       ->check(PositiveNumber());
-  cmd->add_option("--nominal-kg", a->options.nominal_kg, "Nominal mass (kg) for the % change")->check(PositiveNumber());
-  cmd->add_option("--band", a->options.band_fraction, "Fitted band: omega within (1 +- band) omega_peak")->capture_default_str();
+  cmd->add_option("--nominal-kg", a->options.nominal_kg, "Nominal mass (kg) for the % change")
+      ->check(PositiveNumber());
+  cmd->add_option("--band", a->options.band_fraction,
+                  "Fitted band: omega within (1 +- band) omega_peak")
+      ->capture_default_str();
   cmd->add_flag("--fixed-damping{false}", a->options.fit_damping,
                 "Hold c at the half-power value instead of refining it in the fit");
   cmd->add_flag("--json", a->json, "JSON output");
@@ -188,8 +211,10 @@ void RegisterMassUpdate(CLI::App& update) {
 
 void RegisterStiffnessUpdate(CLI::App& update) {
   const auto [cmd, a] = AddCommand<StiffnessArgs>(update, "stiffness", kStiffnessHelp, Run);
-  cmd->add_option("--masses", a->masses, "Masses m1,m2,... (kg), e.g. from `update mass`")->required();
-  cmd->add_option("--modes", a->modes, "MODES.json from `vibid modes --json`, one per test")->required();
+  cmd->add_option("--masses", a->masses, "Masses m1,m2,... (kg), e.g. from `update mass`")
+      ->required();
+  cmd->add_option("--modes", a->modes, "MODES.json from `vibid modes --json`, one per test")
+      ->required();
   cmd->add_flag("--json", a->json, "JSON output");
   cmd->add_option("-o,--output", a->output, "Write the result here instead of stdout");
 }
@@ -197,7 +222,8 @@ void RegisterStiffnessUpdate(CLI::App& update) {
 }  // namespace
 
 void RegisterUpdate(CLI::App& app) {
-  CLI::App* update = app.add_subcommand("update", "Update a model's masses or springs from test data");
+  CLI::App* update =
+      app.add_subcommand("update", "Update a model's masses or springs from test data");
   update->require_subcommand(1);
   RegisterMassUpdate(*update);
   RegisterStiffnessUpdate(*update);

@@ -15,7 +15,8 @@ namespace vibid::cli {
 namespace {
 
 constexpr const char* kModalHelp =
-    "Modal analysis of a model: natural frequencies (Hz, rad/s), damping ratios and mass-normalised mode\n"
+    "Modal analysis of a model: natural frequencies (Hz, rad/s), damping ratios and "
+    "mass-normalised mode\n"
     "shapes (1/sqrt(kg)), sorted by frequency; for 2 or more DOFs the shape ratio a1/a2.";
 
 struct ModalArgs {
@@ -44,14 +45,15 @@ std::string Format(const char* format, double value) {
 
 std::string Table(const model::ModalResult& r) {
   const int n = r.size();
-  std::string out = "damping: " + std::string(DampingName(r.damping)) +
-                    (r.damping == model::DampingKind::kGeneral ? " (zeta from complex eigenvalues)" : "") + "\n";
+  std::string out =
+      "damping: " + std::string(DampingName(r.damping)) +
+      (r.damping == model::DampingKind::kGeneral ? " (zeta from complex eigenvalues)" : "") + "\n";
   out += "mode   freq_hz      omega_rad_s  zeta        ";
   if (n >= 2) out += "ratio_a1_a2  ";
   out += "shape (mass-normalised, 1/sqrt(kg))\n";
   for (int i = 0; i < n; ++i) {
-    out += Format("%-6.0f ", i + 1.0) + Format("%-12.6g ", r.freq_hz[i]) + Format("%-12.6g ", r.omega_rad_s[i]) +
-           Format("%-11.5g ", r.zeta[i]);
+    out += Format("%-6.0f ", i + 1.0) + Format("%-12.6g ", r.freq_hz[i]) +
+           Format("%-12.6g ", r.omega_rad_s[i]) + Format("%-11.5g ", r.zeta[i]);
     if (n >= 2) out += Format("%-12.6g ", r.ratio[i]);
     for (int j = 0; j < n; ++j) out += Format(j == 0 ? "%.6g" : " %.6g", r.shapes(j, i));
     out += "\n";
@@ -64,12 +66,13 @@ nlohmann::json Json(const model::ModalResult& r) {
   for (int i = 0; i < r.size(); ++i) {
     nlohmann::json shape = nlohmann::json::array();
     for (Eigen::Index j = 0; j < r.shapes.rows(); ++j) shape.push_back(r.shapes(j, i));
-    modes.push_back({{"omega_rad_s", r.omega_rad_s[i]},
-                     {"freq_hz", r.freq_hz[i]},
-                     {"zeta", r.zeta[i]},
-                     {"shape", shape},
-                     // JSON has no NaN: a 1-DOF model has no ratio.
-                     {"ratio", std::isnan(r.ratio[i]) ? nlohmann::json(nullptr) : nlohmann::json(r.ratio[i])}});
+    modes.push_back(
+        {{"omega_rad_s", r.omega_rad_s[i]},
+         {"freq_hz", r.freq_hz[i]},
+         {"zeta", r.zeta[i]},
+         {"shape", shape},
+         // JSON has no NaN: a 1-DOF model has no ratio.
+         {"ratio", std::isnan(r.ratio[i]) ? nlohmann::json(nullptr) : nlohmann::json(r.ratio[i])}});
   }
   return {{"modes", modes}, {"damping", DampingName(r.damping)}};
 }
@@ -83,9 +86,12 @@ void Run(const ModalArgs& a) {
 
 void RegisterModalCommand(CLI::App& app) {
   const auto [cmd, args] = AddCommand<ModalArgs>(app, "modal", kModalHelp, Run);
-  cmd->add_option("model", args->model_path, "Model file (JSON: chain, cart or M/K/C matrices in kg, N/m, N*s/m)")->required();
+  cmd->add_option("model", args->model_path,
+                  "Model file (JSON: chain, cart or M/K/C matrices in kg, N/m, N*s/m)")
+      ->required();
   cmd->add_flag("--json", args->json,
-                "Print {\"modes\": [{\"omega_rad_s\", \"freq_hz\", \"zeta\", \"shape\", \"ratio\"}, ...]} instead of a table");
+                "Print {\"modes\": [{\"omega_rad_s\", \"freq_hz\", \"zeta\", \"shape\", "
+                "\"ratio\"}, ...]} instead of a table");
   cmd->add_option("-o,--output", args->output, "Write to this file instead of stdout");
 }
 

@@ -19,7 +19,9 @@ class ModelCli : public ::testing::Test {
  protected:
   void SetUp() override {
     dir_ = MakeTempDir("model_cli");
-    rig_ = Write("rig.json", R"({"topology": "chain", "masses": [2.0, 1.5], "springs": [4000, 3000], "dampers": [2, 1]})");
+    rig_ = Write(
+        "rig.json",
+        R"({"topology": "chain", "masses": [2.0, 1.5], "springs": [4000, 3000], "dampers": [2, 1]})");
     one_ = Write("one.json", R"({"M": [[2]], "K": [[5000]], "C": [[4]]})");
   }
   std::string Write(const std::string& name, const std::string& text) {
@@ -68,27 +70,32 @@ TEST_F(ModelCli, ModalTableAndOneDofJson) {
 
 TEST_F(ModelCli, FrfCsvHoldsTheOneDofReceptance) {
   const std::string out = dir_ + "/frf.csv";
-  const CliResult r = RunVibid({"frf", one_, "--input", "1", "--output", "1", "--kind", "receptance", "--f-min-hz", "0",
-                                "--f-max-hz", "20", "--points", "5", "-o", out});
+  const CliResult r =
+      RunVibid({"frf", one_, "--input", "1", "--output", "1", "--kind", "receptance", "--f-min-hz",
+                "0", "--f-max-hz", "20", "--points", "5", "-o", out});
   ASSERT_EQ(r.exit_code, 0) << r.err;
   const CsvTable t = ReadCsv(out);
-  ASSERT_EQ(t.names, (std::vector<std::string>{"freq_hz", "re_receptance_1_1", "im_receptance_1_1"}));
+  ASSERT_EQ(t.names,
+            (std::vector<std::string>{"freq_hz", "re_receptance_1_1", "im_receptance_1_1"}));
   ASSERT_EQ(t.rows(), 5u);
   for (std::size_t i = 0; i < 5; ++i) {
     const double w = 2.0 * M_PI * t.columns[0][static_cast<Eigen::Index>(i)];
-    const std::complex<double> h = 1.0 / std::complex<double>(5000.0 - 2.0 * w * w, 4.0 * w);  // 1/(k − mω² + jωc)
+    const std::complex<double> h =
+        1.0 / std::complex<double>(5000.0 - 2.0 * w * w, 4.0 * w);  // 1/(k − mω² + jωc)
     EXPECT_NEAR(t.columns[1][static_cast<Eigen::Index>(i)], h.real(), 1e-15);
     EXPECT_NEAR(t.columns[2][static_cast<Eigen::Index>(i)], h.imag(), 1e-15);
   }
 }
 
 TEST_F(ModelCli, FrfPolarLogAndTwoOutputs) {
-  const CliResult r = RunVibid({"frf", rig_, "--input", "1", "--output", "1,2", "--kind", "accelerance", "--f-min-hz", "1",
-                                "--f-max-hz", "100", "--points", "3", "--log", "--polar"});
+  const CliResult r =
+      RunVibid({"frf", rig_, "--input", "1", "--output", "1,2", "--kind", "accelerance",
+                "--f-min-hz", "1", "--f-max-hz", "100", "--points", "3", "--log", "--polar"});
   ASSERT_EQ(r.exit_code, 0) << r.err;
   const CsvTable t = ParseCsv(r.out, "stdout");
-  EXPECT_EQ(t.names, (std::vector<std::string>{"freq_hz", "mag_accelerance_1_1", "phase_deg_accelerance_1_1",
-                                               "mag_accelerance_1_2", "phase_deg_accelerance_1_2"}));
+  EXPECT_EQ(t.names,
+            (std::vector<std::string>{"freq_hz", "mag_accelerance_1_1", "phase_deg_accelerance_1_1",
+                                      "mag_accelerance_1_2", "phase_deg_accelerance_1_2"}));
   EXPECT_EQ(t.columns[0], Eigen::Vector3d(1.0, 10.0, 100.0));
   // Far above both resonances the accelerance tends to the mass line 1/m1 at the driving point.
   EXPECT_NEAR(t.columns[1][2], 1.0 / 2.0, 0.05);
@@ -96,8 +103,8 @@ TEST_F(ModelCli, FrfPolarLogAndTwoOutputs) {
 
 TEST_F(ModelCli, SimulateExactStepSettlesAtFOverK) {
   const std::string out = dir_ + "/sim.csv";
-  const CliResult r = RunVibid({"simulate", one_, "--method", "exact", "--dt-s", "0.001", "--t-end-s", "5", "--force",
-                                "step:dof=1,amp=5", "-o", out});
+  const CliResult r = RunVibid({"simulate", one_, "--method", "exact", "--dt-s", "0.001",
+                                "--t-end-s", "5", "--force", "step:dof=1,amp=5", "-o", out});
   ASSERT_EQ(r.exit_code, 0) << r.err;
   const CsvTable t = ReadCsv(out);
   EXPECT_EQ(t.names, (std::vector<std::string>{"t_s", "x1_m", "v1_m_s", "a1_m_s2", "f1_n"}));
@@ -108,16 +115,17 @@ TEST_F(ModelCli, SimulateExactStepSettlesAtFOverK) {
 }
 
 TEST_F(ModelCli, SimulateWithFrictionHoldsTheBlock) {
-  const CliResult r = RunVibid({"simulate", one_, "--method", "rk4", "--dt-s", "0.001", "--t-end-s", "0.1", "--force",
-                                "step:dof=1,amp=5", "--friction", "0.3,0.2"});
+  const CliResult r = RunVibid({"simulate", one_, "--method", "rk4", "--dt-s", "0.001", "--t-end-s",
+                                "0.1", "--force", "step:dof=1,amp=5", "--friction", "0.3,0.2"});
   ASSERT_EQ(r.exit_code, 0) << r.err;
   const CsvTable t = ParseCsv(r.out, "stdout");
   EXPECT_TRUE(t.Column("x1_m").isZero(0.0));  // μs m g = 5.88 N > 5 N
 }
 
 TEST_F(ModelCli, RepeatedForcesAddUpAndNeverSwallowTheModelPath) {
-  const CliResult r = RunVibid({"simulate", "--force", "step:dof=1,amp=5", "--force", "pulse:dof=2,amp=1,width=0.02", rig_,
-                                "--method", "exact", "--dt-s", "0.01", "--t-end-s", "0.03"});
+  const CliResult r = RunVibid({"simulate", "--force", "step:dof=1,amp=5", "--force",
+                                "pulse:dof=2,amp=1,width=0.02", rig_, "--method", "exact", "--dt-s",
+                                "0.01", "--t-end-s", "0.03"});
   ASSERT_EQ(r.exit_code, 0) << r.err;
   const CsvTable t = ParseCsv(r.out, "stdout");
   EXPECT_EQ(t.Column("f1_n"), Eigen::Vector4d(5.0, 5.0, 5.0, 5.0));
@@ -128,44 +136,63 @@ TEST_F(ModelCli, HelpListsUnits) {
   for (const char* cmd : {"modal", "frf", "simulate"}) {
     const CliResult r = RunVibid({cmd, "--help"});
     EXPECT_EQ(r.exit_code, 0);
-    EXPECT_NE(r.out.find(std::string(cmd) == "frf" ? "Hz" : std::string(cmd) == "modal" ? "rad/s" : ", s"), std::string::npos)
+    EXPECT_NE(r.out.find(std::string(cmd) == "frf"     ? "Hz"
+                         : std::string(cmd) == "modal" ? "rad/s"
+                                                       : ", s"),
+              std::string::npos)
         << r.out;
   }
 }
 
 TEST_F(ModelCli, BadModelFilesAreOneLineInputErrors) {
   ExpectInputError({"modal", dir_ + "/absent.json"}, "absent.json");
-  ExpectInputError({"modal", Write("bad.json", "{\n \"M\": [[1]],\n \"K\": [[1]\n}")}, "bad.json:4: malformed JSON");
-  ExpectInputError({"modal", Write("sizes.json", R"({"M": [[1, 0], [0, 1]], "K": [[1]]})")}, "K must be 2x2 like M, got 1x1");
-  ExpectInputError({"modal", Write("indef.json", R"({"M": [[1, 2], [2, 1]], "K": [[1, 0], [0, 1]]})")}, "M is not positive definite");
-  ExpectInputError({"frf", Write("chain.json", R"({"topology": "chain", "masses": [1, 2], "springs": [1]})"), "--input", "1",
-                    "--output", "1", "--f-min-hz", "1", "--f-max-hz", "2"},
-                   "chain has 2 masses but 1 springs");
-  ExpectInputError({"simulate", Write("field.json", R"({"topology": "chain", "masses": [1, "x"], "springs": [1, 1]})"),
-                    "--dt-s", "0.001", "--t-end-s", "1", "--force", "step:dof=1,amp=1"},
-                   "field \"masses\"[2] must be a number");
+  ExpectInputError({"modal", Write("bad.json", "{\n \"M\": [[1]],\n \"K\": [[1]\n}")},
+                   "bad.json:4: malformed JSON");
+  ExpectInputError({"modal", Write("sizes.json", R"({"M": [[1, 0], [0, 1]], "K": [[1]]})")},
+                   "K must be 2x2 like M, got 1x1");
+  ExpectInputError(
+      {"modal", Write("indef.json", R"({"M": [[1, 2], [2, 1]], "K": [[1, 0], [0, 1]]})")},
+      "M is not positive definite");
+  ExpectInputError(
+      {"frf", Write("chain.json", R"({"topology": "chain", "masses": [1, 2], "springs": [1]})"),
+       "--input", "1", "--output", "1", "--f-min-hz", "1", "--f-max-hz", "2"},
+      "chain has 2 masses but 1 springs");
+  ExpectInputError(
+      {"simulate",
+       Write("field.json", R"({"topology": "chain", "masses": [1, "x"], "springs": [1, 1]})"),
+       "--dt-s", "0.001", "--t-end-s", "1", "--force", "step:dof=1,amp=1"},
+      "field \"masses\"[2] must be a number");
 }
 
 TEST_F(ModelCli, BadOptionsAreOneLineInputErrors) {
-  const std::vector<std::string> sim{"simulate", rig_, "--t-end-s", "1", "--force", "step:dof=1,amp=1"};
+  const std::vector<std::string> sim{"simulate", rig_,      "--t-end-s",
+                                     "1",        "--force", "step:dof=1,amp=1"};
   auto with = [&sim](std::vector<std::string> extra) {
     std::vector<std::string> args = sim;
     args.insert(args.end(), extra.begin(), extra.end());
     return args;
   };
   ExpectInputError(with({"--dt-s", "-0.001"}), "dt_s must be finite and > 0, got -0.001");
-  ExpectInputError(with({"--dt-s", "0.001", "--method", "verlet"}), "unknown simulation method 'verlet'");
-  ExpectInputError({"simulate", rig_, "--dt-s", "0.1", "--t-end-s", "0.05", "--force", "step:dof=1,amp=1"},
-                   "t_end_s must be finite and greater than dt_s");
-  ExpectInputError({"simulate", rig_, "--dt-s", "0.001", "--t-end-s", "1", "--force", "kick:dof=1"}, "unknown kind 'kick'");
-  ExpectInputError({"simulate", rig_, "--dt-s", "0.001", "--t-end-s", "1", "--force", "pulse:dof=1,amp=1"}, "missing key 'width'");
-  ExpectInputError({"simulate", rig_, "--dt-s", "0.001", "--t-end-s", "1", "--force", "step:dof=3,amp=1"},
-                   "force dof 3 is out of range 1..2");
+  ExpectInputError(with({"--dt-s", "0.001", "--method", "verlet"}),
+                   "unknown simulation method 'verlet'");
+  ExpectInputError(
+      {"simulate", rig_, "--dt-s", "0.1", "--t-end-s", "0.05", "--force", "step:dof=1,amp=1"},
+      "t_end_s must be finite and greater than dt_s");
+  ExpectInputError({"simulate", rig_, "--dt-s", "0.001", "--t-end-s", "1", "--force", "kick:dof=1"},
+                   "unknown kind 'kick'");
+  ExpectInputError(
+      {"simulate", rig_, "--dt-s", "0.001", "--t-end-s", "1", "--force", "pulse:dof=1,amp=1"},
+      "missing key 'width'");
+  ExpectInputError(
+      {"simulate", rig_, "--dt-s", "0.001", "--t-end-s", "1", "--force", "step:dof=3,amp=1"},
+      "force dof 3 is out of range 1..2");
   ExpectInputError(with({"--dt-s", "0.001", "--method", "exact", "--friction", "0.1,0.1"}),
                    "cannot simulate Coulomb friction");
   ExpectInputError(with({"--dt-s", "0.001", "--friction", "0.1"}), "expected mu_static,mu_dynamic");
-  ExpectInputError({"simulate", rig_, "--dt-s", "0.001", "--t-end-s", "1"}, "nothing excites the model");
-  ExpectInputError(with({"--dt-s", "0.001", "--x0-m", "0.1"}), "--x0-m has 1 values, the model has 2 DOFs");
+  ExpectInputError({"simulate", rig_, "--dt-s", "0.001", "--t-end-s", "1"},
+                   "nothing excites the model");
+  ExpectInputError(with({"--dt-s", "0.001", "--x0-m", "0.1"}),
+                   "--x0-m has 1 values, the model has 2 DOFs");
 
   const std::vector<std::string> frf{"frf", rig_, "--f-min-hz", "1", "--f-max-hz", "50"};
   auto frf_with = [&frf](std::vector<std::string> extra) {
@@ -174,19 +201,25 @@ TEST_F(ModelCli, BadOptionsAreOneLineInputErrors) {
     return args;
   };
   ExpectInputError(frf_with({"--input", "3", "--output", "1"}), "--input 3 is out of range 1..2");
-  ExpectInputError(frf_with({"--input", "1", "--output", "1,5"}), "--output 5 is out of range 1..2");
+  ExpectInputError(frf_with({"--input", "1", "--output", "1,5"}),
+                   "--output 5 is out of range 1..2");
   ExpectInputError(frf_with({"--input", "1", "--output", "0"}), "must be an integer >= 1");
-  ExpectInputError(frf_with({"--input", "1", "--output", "1", "--kind", "inertance"}), "unknown FRF kind 'inertance'");
-  ExpectInputError({"frf", rig_, "--input", "1", "--output", "1", "--f-min-hz", "10", "--f-max-hz", "5"},
-                   "--f-max-hz must be greater than --f-min-hz");
-  ExpectInputError({"frf", rig_, "--input", "1", "--output", "1", "--f-min-hz", "0", "--f-max-hz", "5", "--log"},
-                   "--log needs --f-min-hz > 0");
-  ExpectInputError(frf_with({"--input", "1", "--output", "1", "--points", "1"}), "--points must be between 2");
+  ExpectInputError(frf_with({"--input", "1", "--output", "1", "--kind", "inertance"}),
+                   "unknown FRF kind 'inertance'");
+  ExpectInputError(
+      {"frf", rig_, "--input", "1", "--output", "1", "--f-min-hz", "10", "--f-max-hz", "5"},
+      "--f-max-hz must be greater than --f-min-hz");
+  ExpectInputError(
+      {"frf", rig_, "--input", "1", "--output", "1", "--f-min-hz", "0", "--f-max-hz", "5", "--log"},
+      "--log needs --f-min-hz > 0");
+  ExpectInputError(frf_with({"--input", "1", "--output", "1", "--points", "1"}),
+                   "--points must be between 2");
 }
 
 TEST_F(ModelCli, UnwritableOutputLeavesNothing) {
   const std::string out = dir_ + "/missing_dir/sim.csv";
-  const CliResult r = RunVibid({"simulate", one_, "--dt-s", "0.001", "--t-end-s", "0.1", "--force", "step:dof=1,amp=1", "-o", out});
+  const CliResult r = RunVibid({"simulate", one_, "--dt-s", "0.001", "--t-end-s", "0.1", "--force",
+                                "step:dof=1,amp=1", "-o", out});
   EXPECT_EQ(r.exit_code, 1);
   EXPECT_FALSE(std::filesystem::exists(out));
 }

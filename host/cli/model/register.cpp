@@ -18,7 +18,8 @@ std::vector<double> ParseNumberList(const std::string& text, const std::string& 
   std::vector<double> out;
   for (const std::string& item : SplitOptionList(text)) {
     double value = 0.0;
-    Require(ParseNumber(item, value) == NumberText::kOk, option + ": '" + item + "' is not a finite number");
+    Require(ParseNumber(item, value) == NumberText::kOk,
+            option + ": '" + item + "' is not a finite number");
     out.push_back(value);
   }
   return out;
@@ -27,8 +28,9 @@ std::vector<double> ParseNumberList(const std::string& text, const std::string& 
 std::vector<int> ParseDofList(const std::string& text, const std::string& option) {
   std::vector<int> out;
   for (const double value : ParseNumberList(text, option)) {
-    Require(value >= 1.0 && value == std::floor(value) && value < 1e6,
-            option + ": DOF " + std::to_string(value) + " must be an integer >= 1 (DOFs count from 1)");
+    Require(
+        value >= 1.0 && value == std::floor(value) && value < 1e6,
+        option + ": DOF " + std::to_string(value) + " must be an integer >= 1 (DOFs count from 1)");
     out.push_back(static_cast<int>(value) - 1);
   }
   return out;

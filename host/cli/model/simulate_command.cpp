@@ -1,4 +1,5 @@
-// `vibid simulate MODEL.json --method euler|rk4|exact --dt-s --t-end-s --force SPEC ...`: time response.
+// `vibid simulate MODEL.json --method euler|rk4|exact --dt-s --t-end-s --force SPEC ...`: time
+// response.
 #include <string>
 #include <vector>
 
@@ -14,7 +15,8 @@ namespace vibid::cli {
 namespace {
 
 constexpr const char* kSimulateHelp =
-    "Time response of M x'' + C x' + K x = F(t). CSV columns: t_s, x<i>_m, v<i>_m_s, a<i>_m_s2, f<i>_n.\n"
+    "Time response of M x'' + C x' + K x = F(t). CSV columns: t_s, x<i>_m, v<i>_m_s, a<i>_m_s2, "
+    "f<i>_n.\n"
     "Force SPECs (DOF from 1, amp in N, times in s, frequencies in Hz; t0 defaults to 0):\n"
     "  step:dof=1,amp=5[,t0=0]                  pulse:dof=1,amp=5,width=0.1[,t0=0]\n"
     "  halfsine:dof=2,amp=100,width=0.001[,t0=] sine:dof=2,amp=1,freq_hz=16[,t0=]\n"
@@ -36,8 +38,9 @@ struct SimulateArgs {
 Eigen::VectorXd InitialState(const std::string& text, const char* option, int dofs) {
   if (text.empty()) return {};
   const std::vector<double> values = ParseNumberList(text, option);
-  Require(static_cast<int>(values.size()) == dofs, std::string(option) + " has " + std::to_string(values.size()) +
-                                                       " values, the model has " + std::to_string(dofs) + " DOFs");
+  Require(static_cast<int>(values.size()) == dofs,
+          std::string(option) + " has " + std::to_string(values.size()) +
+              " values, the model has " + std::to_string(dofs) + " DOFs");
   return Eigen::Map<const Eigen::VectorXd>(values.data(), static_cast<Eigen::Index>(values.size()));
 }
 
@@ -83,7 +86,8 @@ void RegisterSimulateCommand(CLI::App& app) {
   const auto [cmd, args] = AddCommand<SimulateArgs>(app, "simulate", kSimulateHelp, Run);
   cmd->add_option("model", args->model_path, "Model file (JSON)")->required();
   cmd->add_option("--method", args->method,
-                  "euler | rk4 | exact (zero-order hold: exact for forces constant over each step; linear only)")
+                  "euler | rk4 | exact (zero-order hold: exact for forces constant over each step; "
+                  "linear only)")
       ->capture_default_str();
   cmd->add_option("--dt-s", args->dt_s, "Time step, s (> 0)")->required();
   cmd->add_option("--t-end-s", args->t_end_s, "Duration, s (> dt)")->required();
@@ -93,7 +97,8 @@ void RegisterSimulateCommand(CLI::App& app) {
   cmd->add_option("--force-table", args->force_table,
                   "CSV with t_s and f<i>_n columns (N), held from each sample to the next");
   cmd->add_option("--friction", args->frictions,
-                  "Coulomb friction mu_static,mu_dynamic (normal force m g): once for every mass, or once per DOF")
+                  "Coulomb friction mu_static,mu_dynamic (normal force m g): once for every mass, "
+                  "or once per DOF")
       ->allow_extra_args(false);
   cmd->add_option("--x0-m", args->x0, "Initial positions, m, comma separated (default 0)");
   cmd->add_option("--v0-m-s", args->v0, "Initial velocities, m/s, comma separated (default 0)");

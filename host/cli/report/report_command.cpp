@@ -34,8 +34,10 @@ constexpr const char* kUpdatedColor = "#1f77b4";
 constexpr const char* kPalette[] = {"#1f77b4", "#d62728", "#2ca02c", "#9467bd", "#ff7f0e"};
 
 constexpr const char* kReportHelp =
-    "One HTML page (inline SVG, no scripts) from an identification (`vibid identify --report DIR`): validation\n"
-    "table and FRFs measured/nominal/updated; and from an observer recording (`vibid dob run`): fit of each\n"
+    "One HTML page (inline SVG, no scripts) from an identification (`vibid identify --report "
+    "DIR`): validation\n"
+    "table and FRFs measured/nominal/updated; and from an observer recording (`vibid dob run`): "
+    "fit of each\n"
     "estimate to the measured force and the traces over time.";
 
 struct ReportArgs {
@@ -67,12 +69,14 @@ double Get(const nlohmann::json& j, const char* key, const std::string& where) {
   return j.at(key).get<double>();
 }
 
-void ValidationTables(const nlohmann::json& report, const std::string& where, const model::Model* truth,
-                      report::HtmlPage& page) {
-  Require(report.contains("validation") && report["validation"].is_object(), where + ": no \"validation\" object");
+void ValidationTables(const nlohmann::json& report, const std::string& where,
+                      const model::Model* truth, report::HtmlPage& page) {
+  Require(report.contains("validation") && report["validation"].is_object(),
+          where + ": no \"validation\" object");
   const nlohmann::json& v = report["validation"];
   std::vector<std::vector<std::string>> rows;
-  const char* quantities[][2] = {{"omega_rad_s", "omega (rad/s)"}, {"zeta", "zeta"}, {"ratio", "a1/a2"}};
+  const char* quantities[][2] = {
+      {"omega_rad_s", "omega (rad/s)"}, {"zeta", "zeta"}, {"ratio", "a1/a2"}};
   for (std::size_t i = 0; i < v.at("modes").size(); ++i) {
     const nlohmann::json& mode = v["modes"][i];
     for (const auto& q : quantities) {
@@ -87,16 +91,22 @@ void ValidationTables(const nlohmann::json& report, const std::string& where, co
         std::snprintf(hw, sizeof hw, "%.2g", 0.5 * (ci[1].get<double>() - ci[0].get<double>()));
         test += std::string(" ± ") + hw;
       }
-      rows.push_back({std::to_string(i + 1), q[1], Sig(Get(x, "nominal", where)), Sig(Get(x, "updated", where)), test,
-                      Fixed(Get(x, "nominal_dev_percent", where), 2), Fixed(Get(x, "updated_dev_percent", where), 2)});
+      rows.push_back({std::to_string(i + 1), q[1], Sig(Get(x, "nominal", where)),
+                      Sig(Get(x, "updated", where)), test,
+                      Fixed(Get(x, "nominal_dev_percent", where), 2),
+                      Fixed(Get(x, "updated_dev_percent", where), 2)});
     }
   }
-  page.Table({"mode", "quantity", "nominal", "updated", "test (± 95 %)", "nominal dev %", "updated dev %"}, rows,
-             "Deviation of each model from the test (methods §8); the test's 95 % confidence half-width where the "
-             "modal method gives one (lscf, lsce).");
+  page.Table(
+      {"mode", "quantity", "nominal", "updated", "test (± 95 %)", "nominal dev %", "updated dev %"},
+      rows,
+      "Deviation of each model from the test (methods §8); the test's 95 % confidence half-width "
+      "where the "
+      "modal method gives one (lscf, lsce).");
 
   std::vector<std::string> header{"position", "quantity", "nominal", "updated", "change %"};
-  const ident::ChainParameters chain = truth != nullptr ? ident::ChainOf(*truth) : ident::ChainParameters{};
+  const ident::ChainParameters chain =
+      truth != nullptr ? ident::ChainOf(*truth) : ident::ChainParameters{};
   if (truth != nullptr) {
     header.push_back("truth");
     header.push_back("updated vs truth %");
@@ -116,8 +126,8 @@ void ValidationTables(const nlohmann::json& report, const std::string& where, co
     for (const Q& q : {Q{"m_kg", "m (kg)", m_true}, Q{"k_n_per_m", "k (N/m)", k_true}}) {
       const nlohmann::json& x = pos.at(q.key);
       const double updated = Get(x, "updated", where);
-      std::vector<std::string> row{std::to_string(p + 1), q.name, Sig(Get(x, "nominal", where)), Sig(updated),
-                                   Fixed(Get(x, "change_percent", where), 2)};
+      std::vector<std::string> row{std::to_string(p + 1), q.name, Sig(Get(x, "nominal", where)),
+                                   Sig(updated), Fixed(Get(x, "change_percent", where), 2)};
       if (truth != nullptr) {
         row.push_back(have_truth ? Sig(q.truth) : "");
         row.push_back(have_truth ? Fixed(100.0 * (updated - q.truth) / q.truth, 2) : "");
@@ -126,7 +136,8 @@ void ValidationTables(const nlohmann::json& report, const std::string& where, co
     }
   }
   page.Table(header, rows,
-             truth != nullptr ? "Physical parameters: change from nominal, and error of the update against the rig's truth."
+             truth != nullptr ? "Physical parameters: change from nominal, and error of the update "
+                                "against the rig's truth."
                               : "Physical parameters: change from nominal.");
 }
 
@@ -135,7 +146,9 @@ void ValidationTables(const nlohmann::json& report, const std::string& where, co
 void FrfBand(const nlohmann::json& report, double& lo_hz, double& hi_hz) {
   lo_hz = 0.0;
   hi_hz = std::numeric_limits<double>::infinity();
-  if (!report.contains("test_modes") || !report["test_modes"].is_array() || report["test_modes"].empty()) return;
+  if (!report.contains("test_modes") || !report["test_modes"].is_array() ||
+      report["test_modes"].empty())
+    return;
   double f_min = std::numeric_limits<double>::infinity(), f_max = 0.0;
   for (const auto& m : report["test_modes"]) {
     if (!m.contains("freq_hz") || !m["freq_hz"].is_number()) return;
@@ -146,7 +159,8 @@ void FrfBand(const nlohmann::json& report, double& lo_hz, double& hi_hz) {
   hi_hz = f_max * 3.0;
 }
 
-void FrfFigures(const std::string& overlay_path, double lo_hz, double hi_hz, report::HtmlPage& page) {
+void FrfFigures(const std::string& overlay_path, double lo_hz, double hi_hz,
+                report::HtmlPage& page) {
   const CsvTable all = ReadCsv(overlay_path);
   Require(all.Has("freq_hz"), overlay_path + ": no column 'freq_hz'");
   std::vector<Eigen::Index> keep;
@@ -154,51 +168,68 @@ void FrfFigures(const std::string& overlay_path, double lo_hz, double hi_hz, rep
   for (Eigen::Index i = 0; i < f_all.size(); ++i) {
     if (f_all[i] >= lo_hz && f_all[i] <= hi_hz) keep.push_back(i);
   }
-  Require(keep.size() >= 2, overlay_path + ": fewer than 2 frequency lines between " + Sig(lo_hz) + " and " + Sig(hi_hz) + " Hz");
+  Require(keep.size() >= 2, overlay_path + ": fewer than 2 frequency lines between " + Sig(lo_hz) +
+                                " and " + Sig(hi_hz) + " Hz");
   CsvTable t;
   t.names = all.names;
   for (const Eigen::VectorXd& c : all.columns) t.columns.push_back(c(keep));
   const Eigen::VectorXd f = t.Column("freq_hz");
   for (const std::string& name : t.names) {
     const std::string suffix = "_test";
-    if (name.size() <= suffix.size() || name.compare(name.size() - suffix.size(), suffix.size(), suffix) != 0) continue;
+    if (name.size() <= suffix.size() ||
+        name.compare(name.size() - suffix.size(), suffix.size(), suffix) != 0)
+      continue;
     const std::string base = name.substr(0, name.size() - suffix.size());
-    std::vector<report::Series> series{{.label = "measured", .x = f, .y = t.Column(name), .color = kTestColor}};
+    std::vector<report::Series> series{
+        {.label = "measured", .x = f, .y = t.Column(name), .color = kTestColor}};
     if (t.Has(base + "_nominal")) {
-      series.push_back({.label = "nominal model", .x = f, .y = t.Column(base + "_nominal"), .color = kNominalColor, .dashed = true});
+      series.push_back({.label = "nominal model",
+                        .x = f,
+                        .y = t.Column(base + "_nominal"),
+                        .color = kNominalColor,
+                        .dashed = true});
     }
     if (t.Has(base + "_updated")) {
-      series.push_back({.label = "updated model", .x = f, .y = t.Column(base + "_updated"), .color = kUpdatedColor});
+      series.push_back({.label = "updated model",
+                        .x = f,
+                        .y = t.Column(base + "_updated"),
+                        .color = kUpdatedColor});
     }
     const std::string io = base.size() >= 3 ? base.substr(1) : base;
-    const std::string title = "Receptance |H" + io + "| (response " + io.substr(0, io.size() / 2) + ", hammer " +
-                              io.substr(io.size() / 2) + ")";
-    page.Figure(report::SvgPlot(series, {.title = title,
-                                         .x = {"frequency (Hz)", report::Scale::kLog},
-                                         .y = {"|H| (m/N)", report::Scale::kLog}}),
-                "Measured receptance (first modal test) against the nominal and the updated model.");
+    const std::string title = "Receptance |H" + io + "| (response " + io.substr(0, io.size() / 2) +
+                              ", hammer " + io.substr(io.size() / 2) + ")";
+    page.Figure(
+        report::SvgPlot(series, {.title = title,
+                                 .x = {"frequency (Hz)", report::Scale::kLog},
+                                 .y = {"|H| (m/N)", report::Scale::kLog}}),
+        "Measured receptance (first modal test) against the nominal and the updated model.");
   }
 }
 
 // The stabilization diagram of the first modal test (`vibid identify` with --method lscf/lsce,
 // the default), over the measured driving-point receptance of frf_overlay.csv.
-void StabilizationFigure(const nlohmann::json& report, const std::string& overlay_path, report::HtmlPage& page) {
-  if (!report.contains("modal_tests") || !report["modal_tests"].is_array() || report["modal_tests"].empty()) return;
+void StabilizationFigure(const nlohmann::json& report, const std::string& overlay_path,
+                         report::HtmlPage& page) {
+  if (!report.contains("modal_tests") || !report["modal_tests"].is_array() ||
+      report["modal_tests"].empty())
+    return;
   const nlohmann::json& test = report["modal_tests"][0];
   if (!test.contains("stabilization") || !test["stabilization"].is_object()) return;
   const nlohmann::json& d = test["stabilization"];
   report::StabilizationFigure f;
-  f.title = "Stabilization diagram (" + d.value("method", std::string("lscf")) + "), first modal test";
+  f.title =
+      "Stabilization diagram (" + d.value("method", std::string("lscf")) + "), first modal test";
   const std::vector<double> band = d.at("band_hz").get<std::vector<double>>();
   Require(band.size() == 2, "report.json: stabilization band_hz must hold two numbers");
   f.freq_min_hz = band[0];
   f.freq_max_hz = band[1];
   for (const auto& p : d.at("poles")) {
-    const bool all = p.value("stable_freq", false) && p.value("stable_damping", false) && p.value("stable_shape", false);
+    const bool all = p.value("stable_freq", false) && p.value("stable_damping", false) &&
+                     p.value("stable_shape", false);
     f.poles.push_back({p.at("freq_hz").get<double>(), p.at("order").get<int>(),
-                       all                              ? report::PoleMark::kStable
+                       all                             ? report::PoleMark::kStable
                        : p.value("stable_freq", false) ? report::PoleMark::kFrequency
-                                                        : report::PoleMark::kUnstable});
+                                                       : report::PoleMark::kUnstable});
   }
   for (const auto& c : d.at("selected")) f.chosen_hz.push_back(c.at("freq_hz").get<double>());
   if (f.poles.empty()) return;
@@ -212,7 +243,8 @@ void StabilizationFigure(const nlohmann::json& report, const std::string& overla
     }
   }
   page.Figure(report::StabilizationSvg(f),
-              "Poles of every model order; filled: stable in frequency, damping and shape against the previous order; "
+              "Poles of every model order; filled: stable in frequency, damping and shape against "
+              "the previous order; "
               "red lines: the poles chosen as modes (clusters of stable poles).");
 }
 
@@ -221,27 +253,36 @@ void ObserverSection(const ReportArgs& a, report::HtmlPage& page) {
   const Eigen::VectorXd t = rec.Time();
   const Eigen::VectorXd measured = rec.Signal(ParseColumnSpec(a.measured));
   const auto skip = static_cast<Eigen::Index>(std::llround(a.skip_s * rec.fs_hz));
-  Require(2 * skip + 2 <= measured.size(), "--skip-s " + std::to_string(a.skip_s) + " s at both ends leaves fewer than 2 samples");
+  Require(2 * skip + 2 <= measured.size(),
+          "--skip-s " + std::to_string(a.skip_s) + " s at both ends leaves fewer than 2 samples");
   const Eigen::Index n = measured.size() - 2 * skip;
 
   std::vector<std::vector<std::string>> rows;
-  std::vector<report::Series> series{{.label = "measured (" + a.measured + ")", .x = t.segment(skip, n),
-                                      .y = measured.segment(skip, n), .color = kTestColor}};
+  std::vector<report::Series> series{{.label = "measured (" + a.measured + ")",
+                                      .x = t.segment(skip, n),
+                                      .y = measured.segment(skip, n),
+                                      .color = kTestColor}};
   for (std::size_t i = 0; i < a.estimates.size(); ++i) {
     const std::string& spec = a.estimates[i];
     const std::size_t eq = spec.find('=');
     const std::string column = spec.substr(0, eq);
     const std::string label = eq == std::string::npos ? column : spec.substr(eq + 1);
-    Require(!column.empty() && !label.empty(), "--estimate '" + spec + "': expected COLUMN or COLUMN=LABEL");
+    Require(!column.empty() && !label.empty(),
+            "--estimate '" + spec + "': expected COLUMN or COLUMN=LABEL");
     const Eigen::VectorXd e = rec.Signal(ParseColumnSpec(column));
-    const dob::Agreement g = dob::CompareSignals(e.segment(skip, n), measured.segment(skip, n), rec.fs_hz, 0.0);
-    rows.push_back({label, column, Fixed(g.fit_percent, 2), Fixed(g.correlation, 5), Sig(g.delay_s), Sig(g.rmse_n)});
-    series.push_back({.label = label, .x = t.segment(skip, n), .y = e.segment(skip, n),
-                      .color = kPalette[i % (sizeof kPalette / sizeof kPalette[0])], .dashed = i > 0});
+    const dob::Agreement g =
+        dob::CompareSignals(e.segment(skip, n), measured.segment(skip, n), rec.fs_hz, 0.0);
+    rows.push_back({label, column, Fixed(g.fit_percent, 2), Fixed(g.correlation, 5), Sig(g.delay_s),
+                    Sig(g.rmse_n)});
+    series.push_back({.label = label,
+                      .x = t.segment(skip, n),
+                      .y = e.segment(skip, n),
+                      .color = kPalette[i % (sizeof kPalette / sizeof kPalette[0])],
+                      .dashed = i > 0});
   }
   page.Table({"estimate", "column", "fit %", "correlation", "delay (s)", "rmse (N)"}, rows,
-             "Agreement with the measured force: fit = 100 (1 - |m - e| / |m - mean(m)|), " + Fixed(a.skip_s, 2) +
-                 " s left out at each end.");
+             "Agreement with the measured force: fit = 100 (1 - |m - e| / |m - mean(m)|), " +
+                 Fixed(a.skip_s, 2) + " s left out at each end.");
   page.Figure(report::SvgPlot(series, {.title = "Disturbance estimate against the measured push",
                                        .x = {"time (s)", report::Scale::kLinear},
                                        .y = {"force (N)", report::Scale::kLinear},
@@ -250,7 +291,8 @@ void ObserverSection(const ReportArgs& a, report::HtmlPage& page) {
 }
 
 void Run(const ReportArgs& a) {
-  Require(!a.identify_dir.empty() || !a.dob_recording.empty(), "give --identify DIR, --dob REC.csv, or both");
+  Require(!a.identify_dir.empty() || !a.dob_recording.empty(),
+          "give --identify DIR, --dob REC.csv, or both");
   Require(a.dob_recording.empty() || (!a.measured.empty() && !a.estimates.empty()),
           "--dob needs --measured COLUMN and at least one --estimate COLUMN[=LABEL]");
   report::HtmlPage page(a.title);
@@ -263,7 +305,8 @@ void Run(const ReportArgs& a) {
     if (!a.truth.empty()) truth = std::make_unique<model::Model>(model::LoadModel(a.truth));
     page.Heading("Identification");
     ValidationTables(report, json_path, truth.get(), page);
-    if (report.contains("warnings") && report["warnings"].is_array() && !report["warnings"].empty()) {
+    if (report.contains("warnings") && report["warnings"].is_array() &&
+        !report["warnings"].empty()) {
       page.Paragraph("Warnings:");
       page.List(report["warnings"].get<std::vector<std::string>>());
     }
@@ -286,13 +329,20 @@ void Run(const ReportArgs& a) {
 void RegisterReportCommands(CLI::App& app) {
   const auto [cmd, a] = AddCommand<ReportArgs>(app, "report", kReportHelp, Run);
   cmd->add_option("--identify", a->identify_dir, "Directory written by `vibid identify --report`");
-  cmd->add_option("--truth", a->truth, "Model file of the rig's true values (e.g. `vibid-emu --print-truth`): adds the error of the update");
-  cmd->add_option("--dob", a->dob_recording, "Recording with the measured force and the estimates (CSV)");
+  cmd->add_option("--truth", a->truth,
+                  "Model file of the rig's true values (e.g. `vibid-emu --print-truth`): adds the "
+                  "error of the update");
+  cmd->add_option("--dob", a->dob_recording,
+                  "Recording with the measured force and the estimates (CSV)");
   cmd->add_option("--measured", a->measured, "Measured force column of --dob");
-  cmd->add_option("--estimate", a->estimates, "COLUMN[=LABEL]: an estimate to score and plot; repeat for several");
-  cmd->add_option("--skip-s", a->skip_s, "Seconds left out at each end of --dob (start-up, filter edges)")
-      ->check(NonNegativeNumber())->capture_default_str();
-  cmd->add_option("--note", a->notes, "A line for the top of the report (rig, firmware, checks); repeat for several");
+  cmd->add_option("--estimate", a->estimates,
+                  "COLUMN[=LABEL]: an estimate to score and plot; repeat for several");
+  cmd->add_option("--skip-s", a->skip_s,
+                  "Seconds left out at each end of --dob (start-up, filter edges)")
+      ->check(NonNegativeNumber())
+      ->capture_default_str();
+  cmd->add_option("--note", a->notes,
+                  "A line for the top of the report (rig, firmware, checks); repeat for several");
   cmd->add_option("--title", a->title, "Page title")->capture_default_str();
   cmd->add_option("-o,--output", a->out, "HTML file to write")->required();
 }

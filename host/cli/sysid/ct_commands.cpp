@@ -55,31 +55,34 @@ void Run(const TfestArgs& a) {
   const sysid::IoData est = ApplyRange(all, a.estimate_range, "--estimate-range");
   const sysid::TfestResult r = sysid::EstimateTf(est, o);
   CheckSolver(r.summary, "tfest");
-  nlohmann::json j{{"num", ToStdVector(r.tf.num)},
-                   {"den", ToStdVector(r.tf.den)},
-                   {"std", {{"num", ToStdVector(r.num_std)}, {"den", ToStdVector(r.den_std)}}},
-                   {"fit_percent", r.fit_percent},
-                   {"fit_kind", "simulation on the estimation samples, with the initial conditions below"},
-                   {"ic", sysid::InitialConditionName(o.ic)},
-                   {"ic_num", ToStdVector(r.ic_num)},
-                   {"noise_variance", r.noise_variance},
-                   {"samples", est.samples()},
-                   {"fs_hz", 1.0 / est.dt_s},
-                   {"initialization", r.initialization},
-                   {"summary", SolverSummaryJson(r.summary)}};
+  nlohmann::json j{
+      {"num", ToStdVector(r.tf.num)},
+      {"den", ToStdVector(r.tf.den)},
+      {"std", {{"num", ToStdVector(r.num_std)}, {"den", ToStdVector(r.den_std)}}},
+      {"fit_percent", r.fit_percent},
+      {"fit_kind", "simulation on the estimation samples, with the initial conditions below"},
+      {"ic", sysid::InitialConditionName(o.ic)},
+      {"ic_num", ToStdVector(r.ic_num)},
+      {"noise_variance", r.noise_variance},
+      {"samples", est.samples()},
+      {"fs_hz", 1.0 / est.dt_s},
+      {"initialization", r.initialization},
+      {"summary", SolverSummaryJson(r.summary)}};
   const Eigen::VectorXd residual = est.y - sysid::SimulateWithIc(r.tf, r.ic_num, est.u, est.dt_s);
   if (const auto t = TryResidualTests(residual, est.u)) j["residuals"] = ResidualJson(*t);
   std::ostringstream text;
   text << "num = " << FormatVector(r.tf.num) << "\nden = " << FormatVector(r.tf.den) << "\nfit "
-       << FormatNumber(r.fit_percent) << " % (simulation, ic " << a.ic << ") on " << est.samples() << " samples\n"
-       << "search: " << numerics::TerminationName(r.summary.termination) << " after " << r.summary.iterations
-       << " iterations, start " << r.initialization << "\n";
+       << FormatNumber(r.fit_percent) << " % (simulation, ic " << a.ic << ") on " << est.samples()
+       << " samples\n"
+       << "search: " << numerics::TerminationName(r.summary.termination) << " after "
+       << r.summary.iterations << " iterations, start " << r.initialization << "\n";
   if (!a.validate_range.empty()) {
     const sysid::IoData val = ApplyRange(all, a.validate_range, "--validate-range");
     const Eigen::VectorXd ic_val = o.ic == sysid::InitialCondition::kEstimate
                                        ? sysid::FitInitialCondition(r.tf, val)
                                        : Eigen::VectorXd(Eigen::VectorXd::Zero(o.np));
-    const double fit = sysid::FitPercent(val.y, sysid::SimulateWithIc(r.tf, ic_val, val.u, val.dt_s));
+    const double fit =
+        sysid::FitPercent(val.y, sysid::SimulateWithIc(r.tf, ic_val, val.u, val.dt_s));
     j["validation"] = {{"fit_percent", fit}, {"samples", val.samples()}};
     text << "validation fit " << FormatNumber(fit) << " %\n";
   }
@@ -87,7 +90,8 @@ void Run(const TfestArgs& a) {
 }
 
 constexpr const char* kCompareHelp =
-    "Fit of a model's simulated (or k-step predicted) output to a recording: 100(1-|y-yhat|/|y-mean(y)|) %";
+    "Fit of a model's simulated (or k-step predicted) output to a recording: "
+    "100(1-|y-yhat|/|y-mean(y)|) %";
 
 struct CompareArgs {
   RecordArgs record;
@@ -114,21 +118,25 @@ int ParseHorizon(const std::string& text) {
 
 /// The continuous TF of `model`: a num/den file as it is, a model file's receptance between the
 /// chosen DOFs. Says which in j["model_kind"].
-sysid::TransferFunction ContinuousTf(const nlohmann::json& model, const CompareArgs& a, nlohmann::json& j) {
+sysid::TransferFunction ContinuousTf(const nlohmann::json& model, const CompareArgs& a,
+                                     nlohmann::json& j) {
   if (model.contains("num") && model.contains("den")) {
     j["model_kind"] = "continuous";
-    return sysid::Normalized(sysid::TransferFunction{JsonVector(model, "num", a.model), JsonVector(model, "den", a.model)});
+    return sysid::Normalized(sysid::TransferFunction{JsonVector(model, "num", a.model),
+                                                     JsonVector(model, "den", a.model)});
   }
   const model::Model m = model::ModelFromJson(model, a.model);
   Require(a.input_dof <= m.dofs() && a.output_dof <= m.dofs(),
           "--input-dof/--output-dof: the model has " + std::to_string(m.dofs()) + " DOFs");
-  const model::TransferFunction mtf =
-      model::ModelTransferFunction(m, a.input_dof - 1, a.output_dof - 1, model::FrfKind::kReceptance);
-  j["model_kind"] = "model file (receptance DOF " + std::to_string(a.input_dof) + " -> " + std::to_string(a.output_dof) + ")";
+  const model::TransferFunction mtf = model::ModelTransferFunction(
+      m, a.input_dof - 1, a.output_dof - 1, model::FrfKind::kReceptance);
+  j["model_kind"] = "model file (receptance DOF " + std::to_string(a.input_dof) + " -> " +
+                    std::to_string(a.output_dof) + ")";
   return sysid::Normalized(sysid::TransferFunction{mtf.num, mtf.den});
 }
 
-Eigen::VectorXd SimulateContinuous(const sysid::TransferFunction& tf, const sysid::IoData& data, const CompareArgs& a) {
+Eigen::VectorXd SimulateContinuous(const sysid::TransferFunction& tf, const sysid::IoData& data,
+                                   const CompareArgs& a) {
   Eigen::VectorXd ic_num = Eigen::VectorXd::Zero(tf.Order());
   if (a.ic == "estimate") {
     Require(a.method == "exact", "--ic estimate works with --method exact");
@@ -139,13 +147,14 @@ Eigen::VectorXd SimulateContinuous(const sysid::TransferFunction& tf, const sysi
   return sysid::SimulateRk4(tf, data.u, data.dt_s, a.substeps);
 }
 
-Eigen::VectorXd SimulatePolynomial(const nlohmann::json& model, const sysid::IoData& data, int horizon,
-                                   const CompareArgs& a) {
+Eigen::VectorXd SimulatePolynomial(const nlohmann::json& model, const sysid::IoData& data,
+                                   int horizon, const CompareArgs& a) {
   const sysid::PolyModel m = PolyModelFromJson(model, a.model);
   Require(a.method == "exact", "--method euler|rk4 applies to continuous-time TFs only");
   Require(a.ic == "zero", "--ic estimate applies to continuous-time TFs only");
-  Require(std::abs(m.dt_s - data.dt_s) <= 1e-9 * m.dt_s, "the model's sample period " + FormatNumber(m.dt_s) +
-                                                             " s differs from the record's " + FormatNumber(data.dt_s) + " s");
+  Require(std::abs(m.dt_s - data.dt_s) <= 1e-9 * m.dt_s,
+          "the model's sample period " + FormatNumber(m.dt_s) + " s differs from the record's " +
+              FormatNumber(data.dt_s) + " s");
   return horizon > 0 ? sysid::PredictKStep(m, data, horizon) : sysid::SimulatePoly(m, data.u);
 }
 
@@ -158,12 +167,14 @@ void Run(const CompareArgs& a) {
   std::string note;
   if (!(model.contains("A") && model.contains("B"))) {
     y_hat = SimulateContinuous(ContinuousTf(model, a, j), data, a);
-    if (horizon > 0) note = "output-error model (noise model 1): every prediction horizon equals simulation";
+    if (horizon > 0)
+      note = "output-error model (noise model 1): every prediction horizon equals simulation";
   } else {
     y_hat = SimulatePolynomial(model, data, horizon, a);
     j["model_kind"] = "polynomial";
   }
-  Require(y_hat.allFinite(), "the model's output diverges on this record (unstable model or method)");
+  Require(y_hat.allFinite(),
+          "the model's output diverges on this record (unstable model or method)");
   const double fit = sysid::FitPercent(data.y, y_hat);
   j["fit_percent"] = fit;
   j["horizon"] = horizon > 0 ? nlohmann::json(horizon) : nlohmann::json("inf");
@@ -173,13 +184,15 @@ void Run(const CompareArgs& a) {
   if (!note.empty()) j["note"] = note;
   if (const auto t = TryResidualTests(data.y - y_hat, data.u)) j["residuals"] = ResidualJson(*t);
   if (!a.write_sim.empty()) {
-    const Eigen::VectorXd t = Eigen::VectorXd::LinSpaced(data.samples(), 0.0, static_cast<double>(data.samples() - 1)) *
-                              data.dt_s;
+    const Eigen::VectorXd t =
+        Eigen::VectorXd::LinSpaced(data.samples(), 0.0, static_cast<double>(data.samples() - 1)) *
+        data.dt_s;
     WriteFileAtomic(a.write_sim, FormatCsv({"t_s", "y", "y_model"}, {t, data.y, y_hat}));
   }
   std::ostringstream text;
-  text << "fit " << FormatNumber(fit) << " % (" << (horizon > 0 ? std::to_string(horizon) + "-step prediction" : "simulation")
-       << ", " << a.method << ", ic " << a.ic << ") on " << data.samples() << " samples\n";
+  text << "fit " << FormatNumber(fit) << " % ("
+       << (horizon > 0 ? std::to_string(horizon) + "-step prediction" : "simulation") << ", "
+       << a.method << ", ic " << a.ic << ") on " << data.samples() << " samples\n";
   Emit(j, text.str(), a.json, "");
 }
 
@@ -223,10 +236,12 @@ void Run(const GreyboxArgs& a) {
   std::ostringstream text;
   for (const auto& p : r.parameters) {
     params[p.name] = {{"value", p.value}, {"std", p.std}, {"fixed", p.fixed}};
-    text << p.name << " = " << FormatNumber(p.value) << (p.fixed ? " (fixed)" : " +- " + FormatNumber(p.std)) << "\n";
+    text << p.name << " = " << FormatNumber(p.value)
+         << (p.fixed ? " (fixed)" : " +- " + FormatNumber(p.std)) << "\n";
   }
-  text << "fit " << FormatNumber(r.fit_percent) << " % (simulation) on " << est.samples() << " samples; search "
-       << numerics::TerminationName(r.summary.termination) << " after " << r.summary.iterations << " iterations\n";
+  text << "fit " << FormatNumber(r.fit_percent) << " % (simulation) on " << est.samples()
+       << " samples; search " << numerics::TerminationName(r.summary.termination) << " after "
+       << r.summary.iterations << " iterations\n";
   nlohmann::json j{{"model", "cart"},
                    {"carts", a.carts},
                    {"input_kind", a.input_kind},
@@ -250,9 +265,11 @@ void RegisterTfestCommand(CLI::App& app) {
   cmd->add_option("--nz", a->nz, "Number of zeros (< np)")->check(CLI::Range(0, 19));
   cmd->add_option("--ic", a->ic, "Initial conditions: zero (record starts at rest) | estimate")
       ->check(CLI::IsMember({"zero", "estimate"}));
-  cmd->add_option("--estimate-range", a->estimate_range, "Samples FIRST:LAST (LAST excluded) used for estimation");
+  cmd->add_option("--estimate-range", a->estimate_range,
+                  "Samples FIRST:LAST (LAST excluded) used for estimation");
   cmd->add_option("--validate-range", a->validate_range, "Samples FIRST:LAST for a validation fit");
-  cmd->add_option("--max-iterations", a->max_iterations, "Iteration limit of the output-error search")
+  cmd->add_option("--max-iterations", a->max_iterations,
+                  "Iteration limit of the output-error search")
       ->check(CLI::Range(1, 100000));
   cmd->add_flag("--json", a->json, "Print the result as JSON");
   cmd->add_option("-o,--out", a->out, "Write the TF (JSON, readable by compare) to this file");
@@ -262,17 +279,23 @@ void RegisterCompareCommand(CLI::App& app) {
   const auto [cmd, a] = AddCommand<CompareArgs>(app, "compare", kCompareHelp, Run);
   AddRecordOptions(*cmd, a->record);
   cmd->add_option("--model", a->model,
-                  "TF.json (num/den, as tfest and greybox write), a polynomial model (arx/pem -o), or a model file "
-                  "(M/C/K or topology; the input column is then a force in N, the output a displacement in m)")
+                  "TF.json (num/den, as tfest and greybox write), a polynomial model (arx/pem -o), "
+                  "or a model file "
+                  "(M/C/K or topology; the input column is then a force in N, the output a "
+                  "displacement in m)")
       ->required();
-  cmd->add_option("--input-dof", a->input_dof, "Model file: DOF the input force acts on (from 1)")->check(CLI::Range(1, 1000));
-  cmd->add_option("--output-dof", a->output_dof, "Model file: DOF whose displacement is the output (from 1)")
+  cmd->add_option("--input-dof", a->input_dof, "Model file: DOF the input force acts on (from 1)")
+      ->check(CLI::Range(1, 1000));
+  cmd->add_option("--output-dof", a->output_dof,
+                  "Model file: DOF whose displacement is the output (from 1)")
       ->check(CLI::Range(1, 1000));
   cmd->add_option("--horizon", a->horizon, "inf (simulation) or K >= 1 (K-step-ahead prediction)");
   cmd->add_option("--method", a->method, "Simulation of a continuous TF: exact (ZOH) | euler | rk4")
       ->check(CLI::IsMember({"exact", "euler", "rk4"}));
-  cmd->add_option("--substeps", a->substeps, "Integration steps per sample for euler/rk4")->check(CLI::Range(1, 10000));
-  cmd->add_option("--ic", a->ic, "Initial conditions of a continuous TF: zero | estimate (least squares)")
+  cmd->add_option("--substeps", a->substeps, "Integration steps per sample for euler/rk4")
+      ->check(CLI::Range(1, 10000));
+  cmd->add_option("--ic", a->ic,
+                  "Initial conditions of a continuous TF: zero | estimate (least squares)")
       ->check(CLI::IsMember({"zero", "estimate"}));
   cmd->add_option("--range", a->range, "Samples FIRST:LAST (LAST excluded) to compare on");
   cmd->add_option("--write-sim", a->write_sim, "Write t_s, measured and model output to this CSV");
@@ -280,18 +303,23 @@ void RegisterCompareCommand(CLI::App& app) {
 }
 
 void RegisterGreyboxCommand(CLI::App& app) {
-  auto* group = app.add_subcommand("greybox", "Physical parameters by output error on a first-principle model");
+  auto* group = app.add_subcommand(
+      "greybox", "Physical parameters by output error on a first-principle model");
   group->require_subcommand(1);
   const auto [cmd, a] = AddCommand<GreyboxArgs>(*group, "cart", kGreyboxHelp, Run);
   AddRecordOptions(*cmd, a->record);
   cmd->add_option("--carts", a->carts, "1 (cart 2 pinned) or 2")->check(CLI::IsMember({1, 2}));
-  cmd->add_option("--input-kind", a->input_kind, "force (N on cart 1) | position (Xi through the first spring, m)")
+  cmd->add_option("--input-kind", a->input_kind,
+                  "force (N on cart 1) | position (Xi through the first spring, m)")
       ->check(CLI::IsMember({"force", "position"}));
   cmd->add_option("--fix", a->fix, "Parameters held fixed, e.g. M=0.57,k=15 (SI units)");
-  cmd->add_option("--ic", a->ic, "Initial conditions: zero | estimate")->check(CLI::IsMember({"zero", "estimate"}));
-  cmd->add_option("--estimate-range", a->estimate_range, "Samples FIRST:LAST (LAST excluded) used for estimation");
+  cmd->add_option("--ic", a->ic, "Initial conditions: zero | estimate")
+      ->check(CLI::IsMember({"zero", "estimate"}));
+  cmd->add_option("--estimate-range", a->estimate_range,
+                  "Samples FIRST:LAST (LAST excluded) used for estimation");
   cmd->add_flag("--json", a->json, "Print the result as JSON");
-  cmd->add_option("-o,--out", a->out, "Write the result (JSON, with num/den readable by compare) to this file");
+  cmd->add_option("-o,--out", a->out,
+                  "Write the result (JSON, with num/den readable by compare) to this file");
 }
 
 }  // namespace vibid::cli

@@ -10,14 +10,19 @@
 namespace vibid::cli {
 
 void AddRecordOptions(CLI::App& cmd, RecordArgs& args) {
-  cmd.add_option("recording", args.path, "Recording (CSV with a header; t_s column or --fs-hz)")->required();
-  cmd.add_option("--input", args.input, "Input column, e.g. V_volt or I_amp*-178.57 (NAME, NAME:UNIT, NAME*FACTOR)")
+  cmd.add_option("recording", args.path, "Recording (CSV with a header; t_s column or --fs-hz)")
       ->required();
-  cmd.add_option("--output", args.output, "Output column, e.g. X_encoder_counts*1.7857e-5")->required();
-  cmd.add_option("--fs-hz", args.fs_hz, "Sample rate, Hz, for records without a t_s column")->check(PositiveNumber());
+  cmd.add_option("--input", args.input,
+                 "Input column, e.g. V_volt or I_amp*-178.57 (NAME, NAME:UNIT, NAME*FACTOR)")
+      ->required();
+  cmd.add_option("--output", args.output, "Output column, e.g. X_encoder_counts*1.7857e-5")
+      ->required();
+  cmd.add_option("--fs-hz", args.fs_hz, "Sample rate, Hz, for records without a t_s column")
+      ->check(PositiveNumber());
   cmd.add_option("--detrend", args.detrend, "Remove none|mean|linear trend from input and output")
       ->check(CLI::IsMember({"none", "mean", "linear"}));
-  cmd.add_option("--decimate", args.decimate, "Keep every N-th sample after an anti-alias FIR low-pass")
+  cmd.add_option("--decimate", args.decimate,
+                 "Keep every N-th sample after an anti-alias FIR low-pass")
       ->check(CLI::Range(1, 1000));
 }
 
@@ -27,7 +32,8 @@ sysid::IoData LoadIoData(const RecordArgs& args) {
   const Recording rec = LoadRecording(args.path, ro);
   const ColumnSpec in = ParseColumnSpec(args.input);
   const ColumnSpec out = ParseColumnSpec(args.output);
-  sysid::IoData data = sysid::MakeIoData(rec.Signal(in), rec.Signal(out), rec.dt_s(), in.name, out.name);
+  sysid::IoData data =
+      sysid::MakeIoData(rec.Signal(in), rec.Signal(out), rec.dt_s(), in.name, out.name);
   const sysid::Trend trend = args.detrend == "mean"     ? sysid::Trend::kMean
                              : args.detrend == "linear" ? sysid::Trend::kLinear
                                                         : sysid::Trend::kNone;
@@ -35,12 +41,13 @@ sysid::IoData LoadIoData(const RecordArgs& args) {
   return sysid::Decimate(data, args.decimate);
 }
 
-sysid::IoData ApplyRange(const sysid::IoData& data, const std::string& range, const std::string& option) {
+sysid::IoData ApplyRange(const sysid::IoData& data, const std::string& range,
+                         const std::string& option) {
   if (range.empty()) return data;
   try {
     const sysid::SampleRange r = sysid::ParseSampleRange(range, data.samples());
-    return sysid::MakeIoData(data.u.segment(r.first, r.last - r.first), data.y.segment(r.first, r.last - r.first),
-                             data.dt_s);
+    return sysid::MakeIoData(data.u.segment(r.first, r.last - r.first),
+                             data.y.segment(r.first, r.last - r.first), data.dt_s);
   } catch (const InputError& e) {
     throw InputError(option + ": " + e.what());
   }
@@ -49,32 +56,40 @@ sysid::IoData ApplyRange(const sysid::IoData& data, const std::string& range, co
 nlohmann::json ResidualJson(const sysid::ResidualTests& t) {
   return {{"max_lag", t.max_lag},
           {"confidence", t.confidence},
-          {"whiteness", {{"passed", t.white},
-                         {"ljung_box_q", t.ljung_box},
-                         {"threshold", t.ljung_box_threshold},
-                         {"bound", t.autocorrelation_bound},
-                         {"lags_outside", t.autocorrelation_outside},
-                         {"autocorrelation", ToStdVector(t.autocorrelation)}}},
-          {"input_independence", {{"passed", t.independent},
-                                  {"statistic", t.cross_correlation_statistic},
-                                  {"threshold", t.cross_correlation_threshold},
-                                  {"bound", t.cross_correlation_bound},
-                                  {"lags_outside", t.cross_correlation_outside},
-                                  {"cross_correlation", ToStdVector(t.cross_correlation)}}}};
+          {"whiteness",
+           {{"passed", t.white},
+            {"ljung_box_q", t.ljung_box},
+            {"threshold", t.ljung_box_threshold},
+            {"bound", t.autocorrelation_bound},
+            {"lags_outside", t.autocorrelation_outside},
+            {"autocorrelation", ToStdVector(t.autocorrelation)}}},
+          {"input_independence",
+           {{"passed", t.independent},
+            {"statistic", t.cross_correlation_statistic},
+            {"threshold", t.cross_correlation_threshold},
+            {"bound", t.cross_correlation_bound},
+            {"lags_outside", t.cross_correlation_outside},
+            {"cross_correlation", ToStdVector(t.cross_correlation)}}}};
 }
 
-std::optional<sysid::ResidualTests> TryResidualTests(const Eigen::VectorXd& residual, const Eigen::VectorXd& input) {
-  if (residual.size() <= 100 || residual.squaredNorm() == 0.0 || !residual.allFinite()) return std::nullopt;
+std::optional<sysid::ResidualTests> TryResidualTests(const Eigen::VectorXd& residual,
+                                                     const Eigen::VectorXd& input) {
+  if (residual.size() <= 100 || residual.squaredNorm() == 0.0 || !residual.allFinite())
+    return std::nullopt;
   return sysid::TestResiduals(residual, input, 25, 0.99);
 }
 
-std::vector<double> ToStdVector(const Eigen::VectorXd& v) { return std::vector<double>(v.data(), v.data() + v.size()); }
+std::vector<double> ToStdVector(const Eigen::VectorXd& v) {
+  return std::vector<double>(v.data(), v.data() + v.size());
+}
 
-Eigen::VectorXd JsonVector(const nlohmann::json& j, const std::string& key, const std::string& source) {
+Eigen::VectorXd JsonVector(const nlohmann::json& j, const std::string& key,
+                           const std::string& source) {
   Require(j.contains(key) && j[key].is_array(), source + ": missing array '" + key + "'");
   std::vector<double> v;
   for (const auto& x : j[key]) {
-    Require(x.is_number() && std::isfinite(x.get<double>()), source + ": '" + key + "' must hold finite numbers");
+    Require(x.is_number() && std::isfinite(x.get<double>()),
+            source + ": '" + key + "' must hold finite numbers");
     v.push_back(x.get<double>());
   }
   Require(!v.empty(), source + ": '" + key + "' is empty");
@@ -83,8 +98,13 @@ Eigen::VectorXd JsonVector(const nlohmann::json& j, const std::string& key, cons
 
 nlohmann::json PolyModelJson(const sysid::PolyModel& m) {
   return {{"structure", sysid::StructureName(m.structure)},
-          {"A", ToStdVector(m.a)}, {"B", ToStdVector(m.b)}, {"C", ToStdVector(m.c)}, {"D", ToStdVector(m.d)},
-          {"F", ToStdVector(m.f)}, {"nk", m.orders.nk}, {"dt_s", m.dt_s}};
+          {"A", ToStdVector(m.a)},
+          {"B", ToStdVector(m.b)},
+          {"C", ToStdVector(m.c)},
+          {"D", ToStdVector(m.d)},
+          {"F", ToStdVector(m.f)},
+          {"nk", m.orders.nk},
+          {"dt_s", m.dt_s}};
 }
 
 sysid::PolyModel PolyModelFromJson(const nlohmann::json& j, const std::string& source) {
@@ -105,10 +125,14 @@ sysid::PolyModel PolyModelFromJson(const nlohmann::json& j, const std::string& s
   m.dt_s = j["dt_s"].get<double>();
   int nk = 0;
   while (nk < m.b.size() && m.b[nk] == 0.0) ++nk;
-  m.orders = sysid::PolyOrders{static_cast<int>(m.a.size() - 1), static_cast<int>(std::max<Eigen::Index>(m.b.size() - nk, 1)),
-                               static_cast<int>(m.c.size() - 1), static_cast<int>(m.d.size() - 1),
-                               static_cast<int>(m.f.size() - 1), nk};
-  if (j.contains("structure") && j["structure"].is_string()) m.structure = sysid::ParseStructure(j["structure"]);
+  m.orders = sysid::PolyOrders{static_cast<int>(m.a.size() - 1),
+                               static_cast<int>(std::max<Eigen::Index>(m.b.size() - nk, 1)),
+                               static_cast<int>(m.c.size() - 1),
+                               static_cast<int>(m.d.size() - 1),
+                               static_cast<int>(m.f.size() - 1),
+                               nk};
+  if (j.contains("structure") && j["structure"].is_string())
+    m.structure = sysid::ParseStructure(j["structure"]);
   return m;
 }
 
@@ -124,7 +148,8 @@ std::string FormatVector(const Eigen::VectorXd& v) {
   return s + "]";
 }
 
-void Emit(const nlohmann::json& j, const std::string& text, bool json, const std::string& out_path) {
+void Emit(const nlohmann::json& j, const std::string& text, bool json,
+          const std::string& out_path) {
   if (!out_path.empty()) EmitOutput(j.dump(2) + "\n", out_path);
   EmitOutput(json ? j.dump(2) + "\n" : text, "");
 }

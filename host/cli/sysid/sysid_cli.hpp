@@ -32,11 +32,13 @@ void AddRecordOptions(CLI::App& cmd, RecordArgs& args);
 sysid::IoData LoadIoData(const RecordArgs& args);
 
 /// Part `range` ("a:b", empty for all) of `data`; `option` names it in errors.
-sysid::IoData ApplyRange(const sysid::IoData& data, const std::string& range, const std::string& option);
+sysid::IoData ApplyRange(const sysid::IoData& data, const std::string& range,
+                         const std::string& option);
 
 nlohmann::json ResidualJson(const sysid::ResidualTests& t);
 /// Residual tests when the record allows them (more than 4 × 25 samples, nonzero residuals).
-std::optional<sysid::ResidualTests> TryResidualTests(const Eigen::VectorXd& residual, const Eigen::VectorXd& input);
+std::optional<sysid::ResidualTests> TryResidualTests(const Eigen::VectorXd& residual,
+                                                     const Eigen::VectorXd& input);
 
 /// A polynomial model in the file format arx and pem write: A, B, C, D, F in powers of q⁻¹ (B with
 /// its nk leading zeros), nk, dt_s.
@@ -46,7 +48,8 @@ sysid::PolyModel PolyModelFromJson(const nlohmann::json& j, const std::string& s
 /// JSON array of a vector, and a vector from a JSON array of finite numbers (InputError naming
 /// `source` and `key` otherwise).
 std::vector<double> ToStdVector(const Eigen::VectorXd& v);
-Eigen::VectorXd JsonVector(const nlohmann::json& j, const std::string& key, const std::string& source);
+Eigen::VectorXd JsonVector(const nlohmann::json& j, const std::string& key,
+                           const std::string& source);
 
 /// Number formatting for the text (non-JSON) output.
 std::string FormatNumber(double v);

@@ -43,8 +43,9 @@ FlashImage& Flash() {
   return flash;
 }
 
-constexpr std::array<std::uint32_t, 9> kAddresses = {
-    0x08000000u, 0x08004000u, 0x08008000u, 0x0800C000u, 0x08010000u, 0x08020000u, 0x080FF800u, 0x08100000u, 0x07FFFFFFu};
+constexpr std::array<std::uint32_t, 9> kAddresses = {0x08000000u, 0x08004000u, 0x08008000u,
+                                                     0x0800C000u, 0x08010000u, 0x08020000u,
+                                                     0x080FF800u, 0x08100000u, 0x07FFFFFFu};
 
 class Script {
  public:
@@ -56,14 +57,32 @@ class Script {
   void Run() {
     for (int step = 0; step < 40 && in_.remaining_bytes() > 0; ++step) {
       switch (in_.ConsumeIntegralInRange<int>(0, 9)) {
-        case 0: Command(); break;
-        case 1: case 2: Block(); break;
-        case 3: case 4: Dfu(3, 0, 6); break;  // GETSTATUS
-        case 5: Dfu(5, 0, 1); break;          // GETSTATE
-        case 6: Dfu(in_.PickValueInArray<std::uint8_t>({0, 4, 6, 7}), 0, 0); break;  // DETACH, CLRSTATUS, ABORT
-        case 7: Upload(); break;
-        case 8: Standard(); break;
-        default: Arbitrary(); break;
+        case 0:
+          Command();
+          break;
+        case 1:
+        case 2:
+          Block();
+          break;
+        case 3:
+        case 4:
+          Dfu(3, 0, 6);
+          break;  // GETSTATUS
+        case 5:
+          Dfu(5, 0, 1);
+          break;  // GETSTATE
+        case 6:
+          Dfu(in_.PickValueInArray<std::uint8_t>({0, 4, 6, 7}), 0, 0);
+          break;  // DETACH, CLRSTATUS, ABORT
+        case 7:
+          Upload();
+          break;
+        case 8:
+          Standard();
+          break;
+        default:
+          Arbitrary();
+          break;
       }
     }
   }
@@ -77,8 +96,9 @@ class Script {
     return d;
   }
 
-  emu::UrbResult Submit(std::uint8_t endpoint, usbip::Direction direction, const std::array<std::uint8_t, 8>& setup,
-                        std::uint32_t length, std::vector<std::uint8_t> out) {
+  emu::UrbResult Submit(std::uint8_t endpoint, usbip::Direction direction,
+                        const std::array<std::uint8_t, 8>& setup, std::uint32_t length,
+                        std::vector<std::uint8_t> out) {
     emu::Urb urb;
     urb.seqnum = ++seqnum_;
     urb.endpoint = endpoint;
@@ -99,14 +119,21 @@ class Script {
   emu::UrbResult Dfu(std::uint8_t request, std::uint16_t value, std::uint16_t length,
                      std::vector<std::uint8_t> out = {}) {
     const bool to_host = request == 2 || request == 3 || request == 5;
-    const std::array<std::uint8_t, 8> setup = {static_cast<std::uint8_t>(to_host ? 0xA1 : 0x21), request,
-                                               static_cast<std::uint8_t>(value), static_cast<std::uint8_t>(value >> 8),
-                                               0, 0, static_cast<std::uint8_t>(length), static_cast<std::uint8_t>(length >> 8)};
+    const std::array<std::uint8_t, 8> setup = {static_cast<std::uint8_t>(to_host ? 0xA1 : 0x21),
+                                               request,
+                                               static_cast<std::uint8_t>(value),
+                                               static_cast<std::uint8_t>(value >> 8),
+                                               0,
+                                               0,
+                                               static_cast<std::uint8_t>(length),
+                                               static_cast<std::uint8_t>(length >> 8)};
     // The URB's buffer is usually wLength long; sometimes shorter, as a broken client sends it.
     std::uint32_t buffer = length;
-    if (in_.ConsumeIntegralInRange<int>(0, 15) == 15) buffer = in_.ConsumeIntegralInRange<std::uint32_t>(0, length);
+    if (in_.ConsumeIntegralInRange<int>(0, 15) == 15)
+      buffer = in_.ConsumeIntegralInRange<std::uint32_t>(0, length);
     if (!to_host) out.resize(std::min<std::size_t>(out.size(), buffer));
-    const emu::UrbResult r = Submit(0, to_host ? usbip::Direction::kIn : usbip::Direction::kOut, setup, buffer, std::move(out));
+    const emu::UrbResult r = Submit(0, to_host ? usbip::Direction::kIn : usbip::Direction::kOut,
+                                    setup, buffer, std::move(out));
     if (r.status != usbip::kStatusOk) return r;
     if (request == 3 && buffer >= 6) {
       Require(r.in_data.size() == 6 && r.in_data[4] <= 10);
@@ -120,13 +147,26 @@ class Script {
   // DNLOAD block 0: a DfuSe command; then GETSTATUS runs it.
   void Command() {
     std::vector<std::uint8_t> c;
-    const std::uint32_t a = in_.ConsumeBool() ? in_.PickValueInArray(kAddresses) : in_.ConsumeIntegral<std::uint32_t>();
+    const std::uint32_t a =
+        in_.ConsumeBool() ? in_.PickValueInArray(kAddresses) : in_.ConsumeIntegral<std::uint32_t>();
     switch (in_.ConsumeIntegralInRange<int>(0, 4)) {
-      case 0: c = {0x21, static_cast<std::uint8_t>(a), static_cast<std::uint8_t>(a >> 8), static_cast<std::uint8_t>(a >> 16), static_cast<std::uint8_t>(a >> 24)}; break;
-      case 1: c = {0x41}; break;
-      case 2: c = {0x41, static_cast<std::uint8_t>(a), static_cast<std::uint8_t>(a >> 8), static_cast<std::uint8_t>(a >> 16), static_cast<std::uint8_t>(a >> 24)}; break;
-      case 3: c = {0x92}; break;
-      default: c = in_.ConsumeBytes<std::uint8_t>(in_.ConsumeIntegralInRange<std::size_t>(1, 8)); break;
+      case 0:
+        c = {0x21, static_cast<std::uint8_t>(a), static_cast<std::uint8_t>(a >> 8),
+             static_cast<std::uint8_t>(a >> 16), static_cast<std::uint8_t>(a >> 24)};
+        break;
+      case 1:
+        c = {0x41};
+        break;
+      case 2:
+        c = {0x41, static_cast<std::uint8_t>(a), static_cast<std::uint8_t>(a >> 8),
+             static_cast<std::uint8_t>(a >> 16), static_cast<std::uint8_t>(a >> 24)};
+        break;
+      case 3:
+        c = {0x92};
+        break;
+      default:
+        c = in_.ConsumeBytes<std::uint8_t>(in_.ConsumeIntegralInRange<std::size_t>(1, 8));
+        break;
     }
     if (c.empty()) c = {0};
     const auto length = static_cast<std::uint16_t>(c.size());
@@ -135,9 +175,13 @@ class Script {
 
   // DNLOAD block n >= 2 (data); checked after the two GETSTATUS that program it.
   void Block() {
-    const auto block = static_cast<std::uint16_t>(in_.ConsumeBool() ? in_.ConsumeIntegralInRange<int>(2, 5) : in_.ConsumeIntegral<std::uint16_t>());
-    const std::uint16_t length = in_.PickValueInArray<std::uint16_t>({16, 256, DfuSeBootloader::kTransferSize, 0, 1, 2049});
-    std::vector<std::uint8_t> data = in_.ConsumeBytes<std::uint8_t>(in_.ConsumeIntegralInRange<std::size_t>(0, 64));
+    const auto block =
+        static_cast<std::uint16_t>(in_.ConsumeBool() ? in_.ConsumeIntegralInRange<int>(2, 5)
+                                                     : in_.ConsumeIntegral<std::uint16_t>());
+    const std::uint16_t length =
+        in_.PickValueInArray<std::uint16_t>({16, 256, DfuSeBootloader::kTransferSize, 0, 1, 2049});
+    std::vector<std::uint8_t> data =
+        in_.ConsumeBytes<std::uint8_t>(in_.ConsumeIntegralInRange<std::size_t>(0, 64));
     data.resize(length, 0x5A);
     const emu::UrbResult r = Dfu(1, block, length, data);
     // Blocks 0 and 1 are commands, not data: nothing to read back.
@@ -157,19 +201,35 @@ class Script {
   }
 
   void Upload() {
-    const auto block = static_cast<std::uint16_t>(in_.ConsumeBool() ? in_.ConsumeIntegralInRange<int>(0, 5) : in_.ConsumeIntegral<std::uint16_t>());
-    const std::uint16_t length = in_.PickValueInArray<std::uint16_t>({4, 16, DfuSeBootloader::kTransferSize, 0, 0xFFFF});
+    const auto block =
+        static_cast<std::uint16_t>(in_.ConsumeBool() ? in_.ConsumeIntegralInRange<int>(0, 5)
+                                                     : in_.ConsumeIntegral<std::uint16_t>());
+    const std::uint16_t length =
+        in_.PickValueInArray<std::uint16_t>({4, 16, DfuSeBootloader::kTransferSize, 0, 0xFFFF});
     (void)Dfu(2, block, length);
   }
 
   void Standard() {
-    constexpr std::array<std::array<std::uint8_t, 4>, 10> kRequests = {{
-        {0x80, 0x06, 0x00, 0x01}, {0x80, 0x06, 0x00, 0x02}, {0x80, 0x06, 0x04, 0x03}, {0x80, 0x06, 0x09, 0x03},
-        {0x80, 0x00, 0, 0}, {0x80, 0x08, 0, 0}, {0x00, 0x09, 0x01, 0}, {0x00, 0x09, 0x02, 0},
-        {0x81, 0x0A, 0, 0}, {0x01, 0x0B, 0x01, 0}}};
+    constexpr std::array<std::array<std::uint8_t, 4>, 10> kRequests = {{{0x80, 0x06, 0x00, 0x01},
+                                                                        {0x80, 0x06, 0x00, 0x02},
+                                                                        {0x80, 0x06, 0x04, 0x03},
+                                                                        {0x80, 0x06, 0x09, 0x03},
+                                                                        {0x80, 0x00, 0, 0},
+                                                                        {0x80, 0x08, 0, 0},
+                                                                        {0x00, 0x09, 0x01, 0},
+                                                                        {0x00, 0x09, 0x02, 0},
+                                                                        {0x81, 0x0A, 0, 0},
+                                                                        {0x01, 0x0B, 0x01, 0}}};
     const auto& q = in_.PickValueInArray(kRequests);
     const std::uint16_t length = in_.PickValueInArray<std::uint16_t>({0, 1, 2, 9, 18, 64, 255});
-    const std::array<std::uint8_t, 8> setup = {q[0], q[1], q[2], q[3], 0, 0, static_cast<std::uint8_t>(length), static_cast<std::uint8_t>(length >> 8)};
+    const std::array<std::uint8_t, 8> setup = {q[0],
+                                               q[1],
+                                               q[2],
+                                               q[3],
+                                               0,
+                                               0,
+                                               static_cast<std::uint8_t>(length),
+                                               static_cast<std::uint8_t>(length >> 8)};
     const bool to_host = (q[0] & 0x80) != 0;
     (void)Submit(0, to_host ? usbip::Direction::kIn : usbip::Direction::kOut, setup, length, {});
   }
@@ -183,7 +243,8 @@ class Script {
     const bool to_host = in_.ConsumeBool();
     std::vector<std::uint8_t> out;
     if (!to_host) out = in_.ConsumeBytes<std::uint8_t>(length);
-    (void)Submit(endpoint, to_host ? usbip::Direction::kIn : usbip::Direction::kOut, setup, length, std::move(out));
+    (void)Submit(endpoint, to_host ? usbip::Direction::kIn : usbip::Direction::kOut, setup, length,
+                 std::move(out));
   }
 
   FuzzedDataProvider& in_;

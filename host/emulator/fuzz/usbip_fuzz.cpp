@@ -57,14 +57,29 @@ struct Message {
 
 // Control setups the bootloader knows (and a few it refuses), as a client sends them.
 std::array<std::uint8_t, 8> Setup(FuzzedDataProvider& in, bool& to_host) {
-  constexpr std::array<std::array<std::uint8_t, 4>, 12> kSetups = {{
-      {0x80, 0x06, 0x00, 0x01}, {0x80, 0x06, 0x00, 0x02}, {0x80, 0x06, 0x02, 0x03}, {0x00, 0x09, 0x01, 0x00},
-      {0xA1, 0x03, 0, 0}, {0xA1, 0x05, 0, 0}, {0x21, 0x01, 0, 0}, {0x21, 0x01, 2, 0},
-      {0xA1, 0x02, 0, 0}, {0xA1, 0x02, 2, 0}, {0x21, 0x06, 0, 0}, {0x21, 0x04, 0, 0}}};
+  constexpr std::array<std::array<std::uint8_t, 4>, 12> kSetups = {{{0x80, 0x06, 0x00, 0x01},
+                                                                    {0x80, 0x06, 0x00, 0x02},
+                                                                    {0x80, 0x06, 0x02, 0x03},
+                                                                    {0x00, 0x09, 0x01, 0x00},
+                                                                    {0xA1, 0x03, 0, 0},
+                                                                    {0xA1, 0x05, 0, 0},
+                                                                    {0x21, 0x01, 0, 0},
+                                                                    {0x21, 0x01, 2, 0},
+                                                                    {0xA1, 0x02, 0, 0},
+                                                                    {0xA1, 0x02, 2, 0},
+                                                                    {0x21, 0x06, 0, 0},
+                                                                    {0x21, 0x04, 0, 0}}};
   const auto& s = in.PickValueInArray(kSetups);
   const std::uint16_t length = in.PickValueInArray<std::uint16_t>({0, 1, 5, 6, 18, 64, 255, 2048});
   to_host = (s[0] & 0x80) != 0;
-  return {s[0], s[1], s[2], s[3], 0, 0, static_cast<std::uint8_t>(length), static_cast<std::uint8_t>(length >> 8)};
+  return {s[0],
+          s[1],
+          s[2],
+          s[3],
+          0,
+          0,
+          static_cast<std::uint8_t>(length),
+          static_cast<std::uint8_t>(length >> 8)};
 }
 
 Message Script(FuzzedDataProvider& in) {
@@ -91,7 +106,8 @@ Message Script(FuzzedDataProvider& in) {
     case 2:  // an operation with the version or code wrong
       ip::EncodeOpHeader({ip::kVersion, ip::OpCode::kReqImport, 0}, op);
       m.bytes.assign(op.begin(), op.end());
-      m.bytes[in.ConsumeIntegralInRange<std::size_t>(0, 3)] ^= in.ConsumeIntegralInRange<std::uint8_t>(1, 255);
+      m.bytes[in.ConsumeIntegralInRange<std::size_t>(0, 3)] ^=
+          in.ConsumeIntegralInRange<std::uint8_t>(1, 255);
       m.well_formed = false;
       break;
     default:
@@ -123,10 +139,12 @@ Message Script(FuzzedDataProvider& in) {
       if (!to_host) {
         auto data = in.ConsumeBytes<std::uint8_t>(c.transfer_buffer_length);
         data.resize(c.transfer_buffer_length);
-        if (c.transfer_buffer_length >= 1 && c.setup[1] == 0x01 && c.setup[2] == 0) data[0] = 0x41;  // a DfuSe erase
+        if (c.transfer_buffer_length >= 1 && c.setup[1] == 0x01 && c.setup[2] == 0)
+          data[0] = 0x41;  // a DfuSe erase
         m.bytes.insert(m.bytes.end(), data.begin(), data.end());
       }
-      m.expected.push_back({Expected::Kind::kSubmit, c.basic.seqnum, to_host, c.transfer_buffer_length});
+      m.expected.push_back(
+          {Expected::Kind::kSubmit, c.basic.seqnum, to_host, c.transfer_buffer_length});
     } else if (what == 6) {
       ip::CmdUnlink u;
       u.basic.seqnum = ++seqnum;
@@ -140,12 +158,15 @@ Message Script(FuzzedDataProvider& in) {
       c.basic.direction = ip::Direction::kIn;
       ip::Encode(c, h);
       switch (what) {
-        case 7: h[in.ConsumeIntegralInRange<std::size_t>(0, 11)] ^= in.ConsumeIntegralInRange<std::uint8_t>(1, 255); break;
+        case 7:
+          h[in.ConsumeIntegralInRange<std::size_t>(0, 11)] ^=
+              in.ConsumeIntegralInRange<std::uint8_t>(1, 255);
+          break;
         case 8:  // isochronous, or an OUT length longer than what follows
           if (in.ConsumeBool()) {
             h[35] = 7;
           } else {
-            h[15] = 0;  // direction OUT
+            h[15] = 0;     // direction OUT
             h[25] = 0x10;  // transfer_buffer_length 0x100000
           }
           break;
@@ -187,7 +208,8 @@ std::vector<std::uint8_t> Exchange(const std::vector<std::uint8_t>& request) {
   record.busid = emu::UsbIpServer::kBusId;
   record.busnum = 1;
   record.devnum = 2;
-  for (int sector = 0; sector < emu::FlashImage::kSectorCount; ++sector) (void)s.flash.EraseSector(sector);
+  for (int sector = 0; sector < emu::FlashImage::kSectorCount; ++sector)
+    (void)s.flash.EraseSector(sector);
   emu::DfuSeBootloader device(s.flash, record, "FUZZ");
   s.server.SetDevice(&device);
 
@@ -226,13 +248,22 @@ void CheckCodecs(FuzzedDataProvider& in) {
   std::vector<std::uint8_t> buf(bytes);
   buf.resize(ip::kUsbDeviceBytes + ip::kUrbHeaderBytes);
   try {
-    const ip::UrbHeader h = ip::DecodeUrbHeader(std::span<const std::uint8_t, ip::kUrbHeaderBytes>(buf.data(), ip::kUrbHeaderBytes));
+    const ip::UrbHeader h = ip::DecodeUrbHeader(
+        std::span<const std::uint8_t, ip::kUrbHeaderBytes>(buf.data(), ip::kUrbHeaderBytes));
     std::array<std::uint8_t, ip::kUrbHeaderBytes> again{};
     switch (h.basic.command) {
-      case ip::UrbCommand::kCmdSubmit: ip::Encode(h.cmd_submit, again); break;
-      case ip::UrbCommand::kRetSubmit: ip::Encode(h.ret_submit, again); break;
-      case ip::UrbCommand::kCmdUnlink: ip::Encode(h.cmd_unlink, again); break;
-      case ip::UrbCommand::kRetUnlink: ip::Encode(h.ret_unlink, again); break;
+      case ip::UrbCommand::kCmdSubmit:
+        ip::Encode(h.cmd_submit, again);
+        break;
+      case ip::UrbCommand::kRetSubmit:
+        ip::Encode(h.ret_submit, again);
+        break;
+      case ip::UrbCommand::kCmdUnlink:
+        ip::Encode(h.cmd_unlink, again);
+        break;
+      case ip::UrbCommand::kRetUnlink:
+        ip::Encode(h.ret_unlink, again);
+        break;
     }
     const ip::UrbHeader back = ip::DecodeUrbHeader(again);
     Require(back.basic.command == h.basic.command && back.basic.seqnum == h.basic.seqnum &&
@@ -240,12 +271,14 @@ void CheckCodecs(FuzzedDataProvider& in) {
   } catch (const ip::ProtocolError&) {
   }
   try {
-    const ip::UsbDevice d = ip::DecodeUsbDevice(std::span<const std::uint8_t, ip::kUsbDeviceBytes>(buf.data() + ip::kUrbHeaderBytes, ip::kUsbDeviceBytes));
+    const ip::UsbDevice d = ip::DecodeUsbDevice(std::span<const std::uint8_t, ip::kUsbDeviceBytes>(
+        buf.data() + ip::kUrbHeaderBytes, ip::kUsbDeviceBytes));
     std::array<std::uint8_t, ip::kUsbDeviceBytes> again{};
     ip::EncodeUsbDevice(d, again);
     const ip::UsbDevice back = ip::DecodeUsbDevice(again);
-    Require(back.path == d.path && back.busid == d.busid && back.devid() == d.devid() && back.speed == d.speed &&
-            back.id_vendor == d.id_vendor && back.num_interfaces == d.num_interfaces);
+    Require(back.path == d.path && back.busid == d.busid && back.devid() == d.devid() &&
+            back.speed == d.speed && back.id_vendor == d.id_vendor &&
+            back.num_interfaces == d.num_interfaces);
   } catch (const ip::ProtocolError&) {
   }
   try {
@@ -258,14 +291,17 @@ void CheckAnswers(const Message& m, const std::vector<std::uint8_t>& got) {
   std::size_t at = 0;
   if (m.device_list) {
     const std::vector<ip::UsbDevice> list = ip::DecodeRepDevlist(got);
-    Require(list.size() == 1 && list[0].busid == "1-1" && list[0].interfaces.size() == list[0].num_interfaces);
+    Require(list.size() == 1 && list[0].busid == "1-1" &&
+            list[0].interfaces.size() == list[0].num_interfaces);
     return;
   }
   if (!m.import) return;
   Require(got.size() >= ip::kRepImportBytes);
-  const ip::OpHeader op = ip::DecodeOpHeader(std::span<const std::uint8_t, ip::kOpHeaderBytes>(got.data(), ip::kOpHeaderBytes));
+  const ip::OpHeader op = ip::DecodeOpHeader(
+      std::span<const std::uint8_t, ip::kOpHeaderBytes>(got.data(), ip::kOpHeaderBytes));
   Require(op.code == ip::OpCode::kRepImport && op.status == ip::kOpStatusOk);
-  const ip::UsbDevice d = ip::DecodeUsbDevice(std::span<const std::uint8_t, ip::kUsbDeviceBytes>(got.data() + ip::kOpHeaderBytes, ip::kUsbDeviceBytes));
+  const ip::UsbDevice d = ip::DecodeUsbDevice(std::span<const std::uint8_t, ip::kUsbDeviceBytes>(
+      got.data() + ip::kOpHeaderBytes, ip::kUsbDeviceBytes));
   Require(d.busid == "1-1");
   at = ip::kRepImportBytes;
   // After a damaged message the server may have answered some of it before dropping the
@@ -274,7 +310,8 @@ void CheckAnswers(const Message& m, const std::vector<std::uint8_t>& got) {
   std::size_t answered = 0;
   while (at < got.size()) {
     Require(got.size() - at >= ip::kUrbHeaderBytes && answered < m.expected.size());
-    const ip::UrbHeader h = ip::DecodeUrbHeader(std::span<const std::uint8_t, ip::kUrbHeaderBytes>(got.data() + at, ip::kUrbHeaderBytes));
+    const ip::UrbHeader h = ip::DecodeUrbHeader(
+        std::span<const std::uint8_t, ip::kUrbHeaderBytes>(got.data() + at, ip::kUrbHeaderBytes));
     at += ip::kUrbHeaderBytes;
     const Expected& e = m.expected[answered++];
     Require(h.basic.seqnum == e.seqnum);
@@ -285,7 +322,8 @@ void CheckAnswers(const Message& m, const std::vector<std::uint8_t>& got) {
         at += h.ret_submit.actual_length;
       }
     } else {
-      Require(h.basic.command == ip::UrbCommand::kRetUnlink && h.ret_unlink.status == ip::kStatusOk);
+      Require(h.basic.command == ip::UrbCommand::kRetUnlink &&
+              h.ret_unlink.status == ip::kStatusOk);
     }
     Require(at <= got.size());
   }

@@ -71,7 +71,8 @@ std::string ReadFileText(const std::string& path, std::uint64_t max_bytes) {
   while (in.read(block, sizeof(block)) || in.gcount() > 0) {
     text.append(block, static_cast<std::size_t>(in.gcount()));
     if (text.size() > max_bytes) {
-      throw InputError(path + ": too large (more than the " + FormatBytes(max_bytes) + " this reader takes)");
+      throw InputError(path + ": too large (more than the " + FormatBytes(max_bytes) +
+                       " this reader takes)");
     }
   }
   if (in.bad()) throw InputError("cannot read '" + path + "': " + std::strerror(errno));

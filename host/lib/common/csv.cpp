@@ -12,8 +12,10 @@ namespace vibid {
 namespace csv_detail {
 
 std::string_view Trim(std::string_view s) {
-  while (!s.empty() && (s.front() == ' ' || s.front() == '\t' || s.front() == '\r')) s.remove_prefix(1);
-  while (!s.empty() && (s.back() == ' ' || s.back() == '\t' || s.back() == '\r')) s.remove_suffix(1);
+  while (!s.empty() && (s.front() == ' ' || s.front() == '\t' || s.front() == '\r'))
+    s.remove_prefix(1);
+  while (!s.empty() && (s.back() == ' ' || s.back() == '\t' || s.back() == '\r'))
+    s.remove_suffix(1);
   return s;
 }
 
@@ -49,9 +51,12 @@ void CheckHeader(std::string_view line, const std::string& where, std::vector<st
     if (c.empty()) throw InputError(where + "empty column name in the header");
     // Only the file's first bytes may be a byte-order mark (ParseCsv skips it there); one before a
     // later header line would become part of the name, invisibly, and not survive a rewrite.
-    if (c.starts_with("\xEF\xBB\xBF")) throw InputError(where + "a column name starts with a byte-order mark (U+FEFF)");
+    if (c.starts_with("\xEF\xBB\xBF"))
+      throw InputError(where + "a column name starts with a byte-order mark (U+FEFF)");
     if (ParseNumber(c)) {
-      throw InputError(where + "the first row must be a header of column names, found the number '" + std::string(c) + "'");
+      throw InputError(where +
+                       "the first row must be a header of column names, found the number '" +
+                       std::string(c) + "'");
     }
     names.emplace_back(c);
   }
@@ -62,16 +67,19 @@ void CheckHeader(std::string_view line, const std::string& where, std::vector<st
   }
 }
 
-void ExplainBadRow(std::string_view line, const std::string& where, const std::vector<std::string>& names) {
+void ExplainBadRow(std::string_view line, const std::string& where,
+                   const std::vector<std::string>& names) {
   const std::vector<std::string_view> cells = SplitCells(line);
   if (cells.size() != names.size()) {
-    throw InputError(where + "expected " + std::to_string(names.size()) + " cells, found " + std::to_string(cells.size()));
+    throw InputError(where + "expected " + std::to_string(names.size()) + " cells, found " +
+                     std::to_string(cells.size()));
   }
   for (std::size_t c = 0; c < cells.size(); ++c) {
     const std::string column = "column " + std::to_string(c + 1) + " '" + names[c] + "': ";
     const auto v = ParseNumber(cells[c]);
     if (!v) throw InputError(where + column + "'" + Printable(cells[c]) + "' is not a number");
-    if (!std::isfinite(*v)) throw InputError(where + column + "non-finite value '" + Printable(cells[c]) + "'");
+    if (!std::isfinite(*v))
+      throw InputError(where + column + "non-finite value '" + Printable(cells[c]) + "'");
   }
   // The fast parser refused a line this checker accepts: a defect, reported rather than hidden.
   throw InputError(where + "cannot read the row '" + Printable(line) + "'");
@@ -103,10 +111,12 @@ std::size_t CsvTable::Index(std::string_view name) const {
   for (std::size_t i = 0; i < names.size(); ++i) {
     if (names[i] == name) return i;
   }
-  throw InputError(source + ": no column '" + Printable(name) + "' (columns: " + JoinNames(names) + ")");
+  throw InputError(source + ": no column '" + Printable(name) + "' (columns: " + JoinNames(names) +
+                   ")");
 }
 
-std::string FormatCsv(const std::vector<std::string>& names, const std::vector<Eigen::VectorXd>& columns) {
+std::string FormatCsv(const std::vector<std::string>& names,
+                      const std::vector<Eigen::VectorXd>& columns) {
   Require(names.size() == columns.size(), "FormatCsv: names and columns differ in count");
   std::string out;
   for (std::size_t i = 0; i < names.size(); ++i) out += (i ? "," : "") + names[i];
@@ -132,9 +142,9 @@ double UnitToSi(std::string_view unit) {
   };
   // Standard gravity per ISO 80000-3 / CGPM 1901: 9.80665 m/s^2.
   static constexpr Entry kUnits[] = {
-      {"m", 1.0},    {"cm", 1e-2},  {"mm", 1e-3}, {"um", 1e-6}, {"g", 9.80665}, {"m/s2", 1.0},
-      {"m/s", 1.0},  {"mm/s", 1e-3}, {"N", 1.0},  {"kN", 1e3},  {"s", 1.0},     {"ms", 1e-3},
-      {"V", 1.0},    {"mV", 1e-3},  {"A", 1.0},  {"mA", 1e-3},
+      {"m", 1.0},   {"cm", 1e-2},   {"mm", 1e-3}, {"um", 1e-6}, {"g", 9.80665}, {"m/s2", 1.0},
+      {"m/s", 1.0}, {"mm/s", 1e-3}, {"N", 1.0},   {"kN", 1e3},  {"s", 1.0},     {"ms", 1e-3},
+      {"V", 1.0},   {"mV", 1e-3},   {"A", 1.0},   {"mA", 1e-3},
   };
   for (const auto& e : kUnits) {
     if (e.name == unit) return e.factor;
@@ -149,13 +159,15 @@ ColumnSpec ParseColumnSpec(std::string_view spec) {
   Require(!spec.empty(), "empty column name");
   // No header cell holds one (a CSV line ends at a line break), and echoed in a message it would
   // break the message's one line.
-  Require(std::none_of(spec.begin(), spec.end(), [](char c) { return static_cast<unsigned char>(c) < 0x20 || c == 0x7F; }),
+  Require(std::none_of(spec.begin(), spec.end(),
+                       [](char c) { return static_cast<unsigned char>(c) < 0x20 || c == 0x7F; }),
           "a column spec holds a control character (a line break?)");
   ColumnSpec out;
   if (const auto star = spec.rfind('*'); star != std::string_view::npos) {
     const auto factor = ParseNumber(Trim(spec.substr(star + 1)));
     if (!factor || !std::isfinite(*factor) || *factor == 0.0) {
-      throw InputError("column '" + std::string(spec) + "': the factor after '*' must be a nonzero number");
+      throw InputError("column '" + std::string(spec) +
+                       "': the factor after '*' must be a nonzero number");
     }
     out.name = std::string(Trim(spec.substr(0, star)));
     out.scale = *factor;
@@ -179,7 +191,8 @@ std::vector<std::string> SplitList(std::string_view list) {
   std::size_t start = 0;
   while (true) {
     const auto comma = list.find(',', start);
-    out.emplace_back(list.substr(start, comma == std::string_view::npos ? list.npos : comma - start));
+    out.emplace_back(
+        list.substr(start, comma == std::string_view::npos ? list.npos : comma - start));
     if (comma == std::string_view::npos) return out;
     start = comma + 1;
   }
@@ -213,7 +226,8 @@ Recording MakeRecording(CsvTable table, const RecordingOptions& options) {
                      std::to_string(options.min_samples) + " needed");
   }
   if (options.fs_hz) {
-    Require(std::isfinite(*options.fs_hz) && *options.fs_hz > 0.0, "sample rate must be a positive number of Hz");
+    Require(std::isfinite(*options.fs_hz) && *options.fs_hz > 0.0,
+            "sample rate must be a positive number of Hz");
     rec.fs_hz = *options.fs_hz;
     rec.t0_s = table.Has(options.time_column) ? table.Column(options.time_column)[0] : 0.0;
   } else {
@@ -231,12 +245,14 @@ Recording MakeRecording(CsvTable table, const RecordingOptions& options) {
                          std::to_string(t[i - 1]) + " then " + std::to_string(t[i]) + ")");
       }
     }
-    // Uniformity is checked only once time is known to increase: a repeated stamp is the clearer report.
+    // Uniformity is checked only once time is known to increase: a repeated stamp is the clearer
+    // report.
     for (Eigen::Index i = 1; i < t.size(); ++i) {
       const double dt = t[i] - t[i - 1];
       if (std::abs(dt - mean_dt) > options.uniform_tolerance * mean_dt) {
-        throw InputError(table.source + ":" + std::to_string(i + 2) + ": non-uniform sampling (step " +
-                         std::to_string(dt) + " s, mean step " + std::to_string(mean_dt) + " s)");
+        throw InputError(table.source + ":" + std::to_string(i + 2) +
+                         ": non-uniform sampling (step " + std::to_string(dt) + " s, mean step " +
+                         std::to_string(mean_dt) + " s)");
       }
     }
     rec.fs_hz = 1.0 / mean_dt;

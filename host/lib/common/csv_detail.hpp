@@ -22,7 +22,8 @@ void CheckHeader(std::string_view line, const std::string& where, std::vector<st
 
 /// Throws the InputError that says why a data line (trimmed) is not a row of `names.size()` finite
 /// numbers, naming the column by 1-based index and name. Used for a line the fast parser refused.
-[[noreturn]] void ExplainBadRow(std::string_view line, const std::string& where, const std::vector<std::string>& names);
+[[noreturn]] void ExplainBadRow(std::string_view line, const std::string& where,
+                                const std::vector<std::string>& names);
 
 /// Transparent huge pages for a large buffer about to be written (Linux; no effect elsewhere or
 /// when refused): the page-aligned interior of [data, data + bytes) is advised.

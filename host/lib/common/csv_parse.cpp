@@ -63,7 +63,8 @@ std::string_view LineText(const char* line, const char* next) {
 // runs at memory speed: sixteen bytes per step where SSE2 is there (each newline byte subtracts -1
 // from its byte counter, the counters summed before they can wrap), then eight bytes at a time: a
 // byte of w ^ 0x0a..0a is zero exactly where w holds a newline, and the classic carry-free test
-// below sets the top bit of exactly those bytes (no false positives, unlike the (x - 0x01..) variant).
+// below sets the top bit of exactly those bytes (no false positives, unlike the (x - 0x01..)
+// variant).
 std::size_t CountLines(const char* const begin, const char* const end) {
   std::size_t newlines = 0;
   const char* p = begin;
@@ -77,7 +78,8 @@ std::size_t CountLines(const char* const begin, const char* const end) {
       counts = _mm_sub_epi8(counts, _mm_cmpeq_epi8(v, newline));
     }
     const __m128i sums = _mm_sad_epu8(counts, _mm_setzero_si128());
-    newlines += static_cast<std::size_t>(_mm_cvtsi128_si64(sums) + _mm_cvtsi128_si64(_mm_unpackhi_epi64(sums, sums)));
+    newlines += static_cast<std::size_t>(_mm_cvtsi128_si64(sums) +
+                                         _mm_cvtsi128_si64(_mm_unpackhi_epi64(sums, sums)));
   }
 #endif
   constexpr std::uint64_t kNewlines = 0x0a0a0a0a0a0a0a0aull;
@@ -105,9 +107,10 @@ constexpr double kPow10[] = {1e0,  1e1,  1e2,  1e3,  1e4,  1e5,  1e6,  1e7,  1e8
 // with at most 19 digits whose value m is at most 2^53 and a decimal exponent e with |e| <= 22.
 // Then m and 10^|e| are exact doubles and one IEEE multiplication or division rounds m 10^e
 // correctly (Clinger's fast path), the same double std::from_chars returns. Anything else (more
-// digits, a larger exponent, inf/nan, hex, a leading '.') returns false and goes to std::from_chars.
-// The value of eight ASCII digits loaded little-endian (the first digit the most significant):
-// pairs, then quads, then the eight by three multiplications instead of eight dependent steps.
+// digits, a larger exponent, inf/nan, hex, a leading '.') returns false and goes to
+// std::from_chars. The value of eight ASCII digits loaded little-endian (the first digit the most
+// significant): pairs, then quads, then the eight by three multiplications instead of eight
+// dependent steps.
 inline std::uint64_t EightDigitsValue(std::uint64_t w) {
   static_assert(std::endian::native == std::endian::little);
   w -= 0x3030303030303030ull;
@@ -117,7 +120,8 @@ inline std::uint64_t EightDigitsValue(std::uint64_t w) {
          32;
 }
 
-constexpr std::uint64_t kPow10Int[] = {1, 10, 100, 1000, 10000, 100000, 1000000, 10000000, 100000000};
+constexpr std::uint64_t kPow10Int[] = {1,      10,      100,      1000,     10000,
+                                       100000, 1000000, 10000000, 100000000};
 
 // Appends the decimal digits at q to m and counts them: the same m (mod 2^64) as one digit at a
 // time, up to eight per step. A byte is a digit when its high nibble is 3 and adding 6 carries out
@@ -128,9 +132,9 @@ const char* ReadDigits(const char* q, const char* end, std::uint64_t& m, int& co
   while (end - q >= 8) {
     std::uint64_t w = 0;
     std::memcpy(&w, q, 8);
-    const std::uint64_t other =
-        ((w & 0xF0F0F0F0F0F0F0F0ull) | (((w + 0x0606060606060606ull) & 0xF0F0F0F0F0F0F0F0ull) >> 4)) ^
-        0x3333333333333333ull;
+    const std::uint64_t other = ((w & 0xF0F0F0F0F0F0F0F0ull) |
+                                 (((w + 0x0606060606060606ull) & 0xF0F0F0F0F0F0F0F0ull) >> 4)) ^
+                                0x3333333333333333ull;
     if (other == 0) {
       m = m * 100000000u + EightDigitsValue(w);
       q += 8;
@@ -146,7 +150,8 @@ const char* ReadDigits(const char* q, const char* end, std::uint64_t& m, int& co
     }
     return q;
   }
-  for (; q != end && static_cast<unsigned>(*q - '0') <= 9u; ++q, ++count) m = m * 10u + static_cast<unsigned>(*q - '0');
+  for (; q != end && static_cast<unsigned>(*q - '0') <= 9u; ++q, ++count)
+    m = m * 10u + static_cast<unsigned>(*q - '0');
   return q;
 }
 
@@ -174,7 +179,8 @@ bool ParseSimpleNumber(const char*& p, const char* end, double& value) {
     if (q != end && (*q == '+' || *q == '-')) exp_negative = *q++ == '-';
     const char* const exp_start = q;
     int e = 0;
-    for (; q != end && static_cast<unsigned>(*q - '0') <= 9u && e < 1000; ++q) e = e * 10 + (*q - '0');
+    for (; q != end && static_cast<unsigned>(*q - '0') <= 9u && e < 1000; ++q)
+      e = e * 10 + (*q - '0');
     if (q == exp_start || (q != end && static_cast<unsigned>(*q - '0') <= 9u)) return false;
     exp10 += exp_negative ? -e : e;
   }
@@ -189,8 +195,8 @@ bool ParseSimpleNumber(const char*& p, const char* end, double& value) {
 struct Chunk {
   const char* begin = nullptr;
   const char* end = nullptr;
-  std::size_t first_row = 0;  ///< Row index the chunk's first data row goes to.
-  std::size_t rows = 0;       ///< Rows parsed.
+  std::size_t first_row = 0;       ///< Row index the chunk's first data row goes to.
+  std::size_t rows = 0;            ///< Rows parsed.
   const char* bad_line = nullptr;  ///< Start of the first line the fast path refused, or null.
 };
 
@@ -201,7 +207,8 @@ void ParseChunk(Chunk& chunk, const std::vector<double*>& columns) {
   const char* p = chunk.begin;
   const char* const end = chunk.end;
   std::size_t row = chunk.first_row;
-  // chunk.rows holds the chunk's line count here: never more rows than that (a guard on the buffer).
+  // chunk.rows holds the chunk's line count here: never more rows than that (a guard on the
+  // buffer).
   const std::size_t row_limit = chunk.first_row + chunk.rows;
   while (p != end) {
     const char* const line = p;
@@ -263,7 +270,8 @@ void AdviseHugePages(void* data, std::size_t bytes) {
   const auto page = static_cast<std::uintptr_t>(::sysconf(_SC_PAGESIZE));
   const auto first = (reinterpret_cast<std::uintptr_t>(data) + page - 1) / page * page;
   const auto last = (reinterpret_cast<std::uintptr_t>(data) + bytes) / page * page;
-  if (last > first) static_cast<void>(::madvise(reinterpret_cast<void*>(first), last - first, MADV_HUGEPAGE));
+  if (last > first)
+    static_cast<void>(::madvise(reinterpret_cast<void*>(first), last - first, MADV_HUGEPAGE));
 }
 
 }  // namespace csv_detail
@@ -275,7 +283,9 @@ CsvTable ParseCsv(std::string_view text, const std::string& source, std::size_t 
   if (text.starts_with("\xEF\xBB\xBF")) text.remove_prefix(3);
   const char* const begin = text.data();
   const char* const end = begin + text.size();
-  const auto line_of = [&](const char* at) { return 1 + static_cast<std::size_t>(std::count(begin, at, '\n')); };
+  const auto line_of = [&](const char* at) {
+    return 1 + static_cast<std::size_t>(std::count(begin, at, '\n'));
+  };
 
   // Header: the first line that is neither empty nor a comment.
   const char* body = begin;
@@ -303,7 +313,8 @@ CsvTable ParseCsv(std::string_view text, const std::string& source, std::size_t 
   const char* cut = body;
   for (std::size_t i = 0; i < nthreads; ++i) {
     chunks[i].begin = cut;
-    cut = i + 1 == nthreads ? end : NextLine(std::max(cut, body + body_bytes / nthreads * (i + 1)), end);
+    cut = i + 1 == nthreads ? end
+                            : NextLine(std::max(cut, body + body_bytes / nthreads * (i + 1)), end);
     chunks[i].end = cut;
   }
   RunChunks(chunks, [](Chunk& c) { c.rows = CountLines(c.begin, c.end); });
@@ -330,7 +341,8 @@ CsvTable ParseCsv(std::string_view text, const std::string& source, std::size_t 
   std::size_t rows = 0;
   for (const Chunk& c : chunks) {
     if (c.first_row != rows) {
-      for (double* col : columns) std::memmove(col + rows, col + c.first_row, c.rows * sizeof(double));
+      for (double* col : columns)
+        std::memmove(col + rows, col + c.first_row, c.rows * sizeof(double));
     }
     rows += c.rows;
   }

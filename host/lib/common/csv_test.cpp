@@ -31,8 +31,10 @@ TEST(Csv, ParsesHeaderAndColumns) {
 }
 
 TEST(Csv, ErrorsNameTheLine) {
-  EXPECT_NE(ErrorOf([] { ParseCsv("a,b\n1,2\n3,x\n", "f.csv"); }).find("f.csv:3:"), std::string::npos);
-  EXPECT_NE(ErrorOf([] { ParseCsv("a,b\n1,2\n3\n", "f.csv"); }).find("f.csv:3: expected 2 cells"), std::string::npos);
+  EXPECT_NE(ErrorOf([] { ParseCsv("a,b\n1,2\n3,x\n", "f.csv"); }).find("f.csv:3:"),
+            std::string::npos);
+  EXPECT_NE(ErrorOf([] { ParseCsv("a,b\n1,2\n3\n", "f.csv"); }).find("f.csv:3: expected 2 cells"),
+            std::string::npos);
   EXPECT_NE(ErrorOf([] { ParseCsv("1,2\n3,4\n", "f.csv"); }).find("header"), std::string::npos);
   EXPECT_NE(ErrorOf([] { ParseCsv("a,b\n1,nan\n", "f.csv"); }).find("f.csv:2:"), std::string::npos);
   EXPECT_NE(ErrorOf([] { ParseCsv("", "f.csv"); }).find("empty"), std::string::npos);
@@ -40,14 +42,22 @@ TEST(Csv, ErrorsNameTheLine) {
 }
 
 TEST(Csv, ErrorsNameTheColumn) {
-  EXPECT_NE(ErrorOf([] { ParseCsv("a,b\n1,2\n3,x\n", "f.csv"); }).find("f.csv:3: column 2 'b': 'x' is not a number"),
+  EXPECT_NE(ErrorOf([] {
+              ParseCsv("a,b\n1,2\n3,x\n", "f.csv");
+            }).find("f.csv:3: column 2 'b': 'x' is not a number"),
             std::string::npos);
-  EXPECT_NE(ErrorOf([] { ParseCsv("a,b\n1,2\ninf,4\n", "f.csv"); }).find("f.csv:3: column 1 'a': non-finite value 'inf'"),
+  EXPECT_NE(ErrorOf([] {
+              ParseCsv("a,b\n1,2\ninf,4\n", "f.csv");
+            }).find("f.csv:3: column 1 'a': non-finite value 'inf'"),
             std::string::npos);
   // Comment and blank lines count as lines.
-  EXPECT_NE(ErrorOf([] { ParseCsv("# c\na,b\n\n1,2\n3,4,5\n", "f.csv"); }).find("f.csv:5: expected 2 cells, found 3"),
+  EXPECT_NE(ErrorOf([] {
+              ParseCsv("# c\na,b\n\n1,2\n3,4,5\n", "f.csv");
+            }).find("f.csv:5: expected 2 cells, found 3"),
             std::string::npos);
-  EXPECT_NE(ErrorOf([] { ParseCsv("a,b\n1,2\n1,\n", "f.csv"); }).find("f.csv:3: column 2 'b': '' is not a number"),
+  EXPECT_NE(ErrorOf([] {
+              ParseCsv("a,b\n1,2\n1,\n", "f.csv");
+            }).find("f.csv:3: column 2 'b': '' is not a number"),
             std::string::npos);
 }
 
@@ -64,10 +74,26 @@ TEST(Csv, AcceptsBlanksSignsCommentsAndCrLf) {
 // The fast decimal path and std::from_chars against strtod (the C library), cell by cell: signs,
 // "1.", -0, exponents at and past the exact-power limit, 2^53 + 1, more than 19 digits, subnormals.
 TEST(Csv, NumbersMatchStrtod) {
-  const char* cells[] = {"0", "-0", "1.", "+2.5", "-3.25e-2", "1e22", "1e23", "1E-22", "1e-23", "9007199254740992",
-                         "9007199254740993", "12345678901234567890123", "0.1", "0.30000000000000004",
-                         "4.9406564584124654e-324", "1.7976931348623157e308", "123.456e+7", "000012.5000",
-                         "-1234567891e-14", "2.2250738585072014e-308"};
+  const char* cells[] = {"0",
+                         "-0",
+                         "1.",
+                         "+2.5",
+                         "-3.25e-2",
+                         "1e22",
+                         "1e23",
+                         "1E-22",
+                         "1e-23",
+                         "9007199254740992",
+                         "9007199254740993",
+                         "12345678901234567890123",
+                         "0.1",
+                         "0.30000000000000004",
+                         "4.9406564584124654e-324",
+                         "1.7976931348623157e308",
+                         "123.456e+7",
+                         "000012.5000",
+                         "-1234567891e-14",
+                         "2.2250738585072014e-308"};
   std::string text = "v\n";
   for (const char* c : cells) text += std::string(c) + "\n";
   const CsvTable t = ParseCsv(text, "mem");
@@ -85,7 +111,8 @@ std::string LargeText(std::size_t rows) {
   char buf[96];
   for (std::size_t i = 0; i < rows; ++i) {
     const double t = static_cast<double>(i) / 1000.0;
-    const int n = std::snprintf(buf, sizeof buf, "%.17g,%.17g,%.6e\n", t, std::sin(t) * 1e-3, std::cos(3.0 * t));
+    const int n = std::snprintf(buf, sizeof buf, "%.17g,%.17g,%.6e\n", t, std::sin(t) * 1e-3,
+                                std::cos(3.0 * t));
     text.append(buf, static_cast<std::size_t>(n));
     if (i % 9973 == 0) text += "# marker\n";
     if (i % 7919 == 0) text += "\n";
@@ -115,7 +142,9 @@ TEST(Csv, ThreadCountDoesNotChangeTheResult) {
     const CsvTable many = ParseCsv(text, "mem", threads);
     ASSERT_EQ(many.rows(), one.rows()) << threads;
     for (std::size_t c = 0; c < one.columns.size(); ++c) {
-      EXPECT_EQ(0, std::memcmp(one.columns[c].data(), many.columns[c].data(), one.rows() * sizeof(double))) << threads;
+      EXPECT_EQ(0, std::memcmp(one.columns[c].data(), many.columns[c].data(),
+                               one.rows() * sizeof(double)))
+          << threads;
     }
   }
 }
@@ -127,7 +156,8 @@ TEST(Csv, FirstBadLineIsReportedWhateverTheThreads) {
   text.replace(late, 1, "x");
   const auto early = text.find('\n', text.size() / 3) + 1;
   text.replace(early, 1, "?");
-  const auto line = 1 + std::count(text.begin(), text.begin() + static_cast<std::ptrdiff_t>(early), '\n');
+  const auto line =
+      1 + std::count(text.begin(), text.begin() + static_cast<std::ptrdiff_t>(early), '\n');
   const std::string want = "mem:" + std::to_string(line) + ": column 1 't_s': '?";
   for (const std::size_t threads : {1u, 2u, 4u}) {
     const std::string msg = ErrorOf([&] { ParseCsv(text, "mem", threads); });
@@ -167,16 +197,23 @@ TEST(ColumnSpec, UnitsAndFactors) {
 }
 
 TEST(Recording, DerivesRateAndChecksTime) {
-  const auto r = MakeRecording(ParseCsv("t_s,x\n0,1\n0.005,2\n0.01,3\n0.015,4\n", "f"), {.min_samples = 3});
+  const auto r =
+      MakeRecording(ParseCsv("t_s,x\n0,1\n0.005,2\n0.01,3\n0.015,4\n", "f"), {.min_samples = 3});
   EXPECT_NEAR(r.fs_hz, 200.0, 1e-9);
-  EXPECT_NE(ErrorOf([] { MakeRecording(ParseCsv("t_s,x\n0,1\n0.005,2\n0.005,3\n", "f"), {.min_samples = 2}); })
-                .find("f:4: time does not increase"),
+  EXPECT_NE(ErrorOf([] {
+              MakeRecording(ParseCsv("t_s,x\n0,1\n0.005,2\n0.005,3\n", "f"), {.min_samples = 2});
+            }).find("f:4: time does not increase"),
             std::string::npos);
-  EXPECT_NE(ErrorOf([] { MakeRecording(ParseCsv("t_s,x\n0,1\n0.005,2\n0.02,3\n0.025,4\n", "f"), {.min_samples = 2}); })
-                .find("non-uniform"),
+  EXPECT_NE(ErrorOf([] {
+              MakeRecording(ParseCsv("t_s,x\n0,1\n0.005,2\n0.02,3\n0.025,4\n", "f"),
+                            {.min_samples = 2});
+            }).find("non-uniform"),
             std::string::npos);
-  EXPECT_NE(ErrorOf([] { MakeRecording(ParseCsv("t_s,x\n0,1\n", "f"), {}); }).find("too short"), std::string::npos);
-  EXPECT_NE(ErrorOf([] { MakeRecording(ParseCsv("k,x\n0,1\n1,2\n", "f"), {.min_samples = 2}); }).find("--fs-hz"),
+  EXPECT_NE(ErrorOf([] { MakeRecording(ParseCsv("t_s,x\n0,1\n", "f"), {}); }).find("too short"),
+            std::string::npos);
+  EXPECT_NE(ErrorOf([] {
+              MakeRecording(ParseCsv("k,x\n0,1\n1,2\n", "f"), {.min_samples = 2});
+            }).find("--fs-hz"),
             std::string::npos);
   const auto k = MakeRecording(ParseCsv("k,x\n0,1\n1,2\n", "f"), {.fs_hz = 1.0, .min_samples = 2});
   EXPECT_DOUBLE_EQ(k.fs_hz, 1.0);
@@ -184,7 +221,8 @@ TEST(Recording, DerivesRateAndChecksTime) {
 
 TEST(Recording, ReadsSharedMeasuredRecord) {
   // ../shared/data/ecp_cart_free_decay: 200 Hz records in cm (data README).
-  const auto r = LoadRecording(std::string(VIBID_DATA_DIR) + "/ecp_cart_free_decay/Khigh_load-none_Khigh_hand_Nomass.csv");
+  const auto r = LoadRecording(std::string(VIBID_DATA_DIR) +
+                               "/ecp_cart_free_decay/Khigh_load-none_Khigh_hand_Nomass.csv");
   EXPECT_NEAR(r.fs_hz, 200.0, 1e-6);
   EXPECT_NEAR(r.Signal(ParseColumnSpec("X_cm:cm"))[0], -0.00178571e-2, 1e-12);
 }

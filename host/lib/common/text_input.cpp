@@ -27,9 +27,11 @@ std::string FormatBytes(std::uint64_t bytes) {
 
 void RequireReadableSize(const std::string& path, std::uint64_t max_bytes) {
   struct stat st {};
-  if (::stat(path.c_str(), &st) != 0) throw InputError("cannot open '" + path + "': " + std::strerror(errno));
+  if (::stat(path.c_str(), &st) != 0)
+    throw InputError("cannot open '" + path + "': " + std::strerror(errno));
   if (S_ISDIR(st.st_mode)) throw InputError("cannot read '" + path + "': it is a directory");
-  // Pipes and character devices (/dev/stdin) have no size to check; their readers stop at the limit.
+  // Pipes and character devices (/dev/stdin) have no size to check; their readers stop at the
+  // limit.
   if (!S_ISREG(st.st_mode)) return;
   const auto size = static_cast<std::uint64_t>(st.st_size);
   if (size > max_bytes) {
@@ -39,7 +41,8 @@ void RequireReadableSize(const std::string& path, std::uint64_t max_bytes) {
 }
 
 void RequireUtf8(std::string_view text, const std::string& source) {
-  if (text.size() >= 2 && ((text[0] == '\xFF' && text[1] == '\xFE') || (text[0] == '\xFE' && text[1] == '\xFF'))) {
+  if (text.size() >= 2 &&
+      ((text[0] == '\xFF' && text[1] == '\xFE') || (text[0] == '\xFE' && text[1] == '\xFF'))) {
     throw InputError(source + ": UTF-16 text; save it as UTF-8");
   }
   const auto* s = reinterpret_cast<const unsigned char*>(text.data());
@@ -78,8 +81,8 @@ void RequireUtf8(std::string_view text, const std::string& source) {
     }
     if (!ok) {
       char what[64];
-      std::snprintf(what, sizeof(what), ":%zu:%zu: not UTF-8 text (byte 0x%02X)", line, i - line_start + 1,
-                    static_cast<unsigned>(c));
+      std::snprintf(what, sizeof(what), ":%zu:%zu: not UTF-8 text (byte 0x%02X)", line,
+                    i - line_start + 1, static_cast<unsigned>(c));
       throw InputError(source + what);
     }
     i += len;

@@ -23,7 +23,8 @@ constexpr double kTwo31 = 2147483648.0;
 // The rig's truth (also the closed-form chain of chain_plant.hpp).
 model::Model Truth() {
   const ChainParameters p;
-  return model::MakeChain(Eigen::Vector2d(p.m1_kg, p.m2_kg), Eigen::Vector2d(p.k1_n_per_m, p.k2_n_per_m),
+  return model::MakeChain(Eigen::Vector2d(p.m1_kg, p.m2_kg),
+                          Eigen::Vector2d(p.k1_n_per_m, p.k2_n_per_m),
                           Eigen::Vector2d(p.c1_ns_per_m, p.c2_ns_per_m));
 }
 
@@ -43,10 +44,12 @@ struct Experiment {
   Eigen::VectorXd x2_m;
 };
 
-Experiment Simulated(const std::vector<model::ForceShape>& disturbance, double t_end_s, bool shaker = true) {
+Experiment Simulated(const std::vector<model::ForceShape>& disturbance, double t_end_s,
+                     bool shaker = true) {
   model::ForceInput force;
   // The shaker (or, without it, a zero force table so the measured force channel exists).
-  force.shapes.push_back(model::ParseForceShape(shaker ? "sine:dof=2,amp=40,freq_hz=16" : "step:dof=2,amp=0"));
+  force.shapes.push_back(
+      model::ParseForceShape(shaker ? "sine:dof=2,amp=40,freq_hz=16" : "step:dof=2,amp=0"));
   model::ForceInput dist;
   dist.shapes = disturbance;
   model::SimulationOptions o;
@@ -150,8 +153,12 @@ TEST(DobAcceptance, FixedPointTracksTheDoubleDesign) {
   std::vector<std::int32_t> out(static_cast<std::size_t>(ref.size()));
   const std::span<const std::int32_t> all(in);
   const std::span<std::int32_t> outs(out);
-  ASSERT_EQ(filter.StepBlock(all.first(static_cast<std::size_t>(2 * split)), outs.first(static_cast<std::size_t>(split))), Status::kOk);
-  ASSERT_EQ(filter.StepBlock(all.subspan(static_cast<std::size_t>(2 * split)), outs.subspan(static_cast<std::size_t>(split))), Status::kOk);
+  ASSERT_EQ(filter.StepBlock(all.first(static_cast<std::size_t>(2 * split)),
+                             outs.first(static_cast<std::size_t>(split))),
+            Status::kOk);
+  ASSERT_EQ(filter.StepBlock(all.subspan(static_cast<std::size_t>(2 * split)),
+                             outs.subspan(static_cast<std::size_t>(split))),
+            Status::kOk);
   const auto out_fs = static_cast<double>(fixed::FullScaleValue(d.output_full_scale_bits));
   double signal = 0.0, noise = 0.0, max_lsb = 0.0;
   for (Eigen::Index k = 0; k < ref.size(); ++k) {
@@ -170,8 +177,9 @@ TEST(DobAcceptance, FixedPointTracksTheDoubleDesign) {
   EXPECT_LT(max_lsb, 6000.0);
   RecordProperty("snr_db", std::to_string(snr_db));
   RecordProperty("max_error_lsb", std::to_string(max_lsb));
-  std::printf("fixed vs double: SNR %.1f dB, max error %.0f LSB (%.3g N), predicted noise %.3g N rms\n",
-              snr_db, max_lsb, max_lsb * out_fs / kTwo31, design.fixed.predicted_noise_rms_n);
+  std::printf(
+      "fixed vs double: SNR %.1f dB, max error %.0f LSB (%.3g N), predicted noise %.3g N rms\n",
+      snr_db, max_lsb, max_lsb * out_fs / kTwo31, design.fixed.predicted_noise_rms_n);
 }
 
 // An unupdated (datasheet) nominal model leaves a model-error term Q (G_A^-1 - G_R^-1) y in d_hat.
@@ -190,7 +198,8 @@ TEST(DobAcceptance, DatasheetModelLeavesAQuantifiedModelError) {
   const auto amplitude = [](const Eigen::VectorXd& v, double f_hz) {
     std::complex<double> acc = 0.0;
     for (Eigen::Index k = 0; k < v.size(); ++k) {
-      acc += v[k] * std::exp(std::complex<double>(0.0, -2.0 * std::numbers::pi * f_hz * static_cast<double>(k) / kFs));
+      acc += v[k] * std::exp(std::complex<double>(
+                        0.0, -2.0 * std::numbers::pi * f_hz * static_cast<double>(k) / kFs));
     }
     return 2.0 * std::abs(acc) / static_cast<double>(v.size());
   };
@@ -203,17 +212,23 @@ TEST(DobAcceptance, DatasheetModelLeavesAQuantifiedModelError) {
   };
   const std::complex<double> q = numerics::EvaluatePolynomial(matched.q.num, s) /
                                  numerics::EvaluatePolynomial(matched.q.den, s);
-  const double predicted = std::abs(q * (inverse(sheet_tf) - inverse(truth_tf))) * amplitude(x2, 16.0);
+  const double predicted =
+      std::abs(q * (inverse(sheet_tf) - inverse(truth_tf))) * amplitude(x2, 16.0);
   const double measured = amplitude(err, 16.0);
   EXPECT_GT(measured, 1.0);  // newtons: not a rounding effect
   EXPECT_NEAR(measured, predicted, 0.03 * predicted);
-  // The slow push is hurt too: the static stiffness is 10 % off, so the fit after the low-pass drops.
+  // The slow push is hurt too: the static stiffness is 10 % off, so the fit after the low-pass
+  // drops.
   const auto lp = ButterworthLowpass(4, 4.0, kFs);
-  const double fit_bad = CompareSignals(Tail(FiltFilt(lp, bad), 1.0), Tail(e.push_n, 1.0), kFs).fit_percent;
-  const double fit_good = CompareSignals(Tail(FiltFilt(lp, good), 1.0), Tail(e.push_n, 1.0), kFs).fit_percent;
+  const double fit_bad =
+      CompareSignals(Tail(FiltFilt(lp, bad), 1.0), Tail(e.push_n, 1.0), kFs).fit_percent;
+  const double fit_good =
+      CompareSignals(Tail(FiltFilt(lp, good), 1.0), Tail(e.push_n, 1.0), kFs).fit_percent;
   EXPECT_LT(fit_bad, fit_good - 5.0);
-  std::printf("model error at 16 Hz: measured %.3f N, predicted %.3f N; fit after low-pass %.1f %% vs %.1f %%\n",
-              measured, predicted, fit_bad, fit_good);
+  std::printf(
+      "model error at 16 Hz: measured %.3f N, predicted %.3f N; fit after low-pass %.1f %% vs %.1f "
+      "%%\n",
+      measured, predicted, fit_bad, fit_good);
 }
 
 TEST(DobAcceptance, ClosedFormChainEqualsTheModelCore) {

@@ -34,8 +34,10 @@ TEST(Compare, ClosedFormsOnKnownSignals) {
 }
 
 TEST(Compare, RefusesMismatchedInput) {
-  EXPECT_THROW(CompareSignals(Eigen::VectorXd::Ones(3), Eigen::VectorXd::Ones(4), 10.0), InputError);
-  EXPECT_THROW(CompareSignals(Eigen::VectorXd::Ones(1), Eigen::VectorXd::Ones(1), 10.0), InputError);
+  EXPECT_THROW(CompareSignals(Eigen::VectorXd::Ones(3), Eigen::VectorXd::Ones(4), 10.0),
+               InputError);
+  EXPECT_THROW(CompareSignals(Eigen::VectorXd::Ones(1), Eigen::VectorXd::Ones(1), 10.0),
+               InputError);
 }
 
 }  // namespace

@@ -31,18 +31,24 @@ std::string FormatComplex(Complex c) {
 
 fixed::InputKind InputKindOf(SensorKind s) {
   switch (s) {
-    case SensorKind::kDisplacement: return fixed::InputKind::kDisplacement;
-    case SensorKind::kVelocity: return fixed::InputKind::kVelocity;
-    case SensorKind::kAcceleration: return fixed::InputKind::kAcceleration;
+    case SensorKind::kDisplacement:
+      return fixed::InputKind::kDisplacement;
+    case SensorKind::kVelocity:
+      return fixed::InputKind::kVelocity;
+    case SensorKind::kAcceleration:
+      return fixed::InputKind::kAcceleration;
   }
   return fixed::InputKind::kUnused;
 }
 
 double DefaultSensorFullScale(SensorKind s) {
   switch (s) {
-    case SensorKind::kDisplacement: return 0.05;
-    case SensorKind::kVelocity: return 1.0;
-    case SensorKind::kAcceleration: return 50.0;
+    case SensorKind::kDisplacement:
+      return 0.05;
+    case SensorKind::kVelocity:
+      return 1.0;
+    case SensorKind::kAcceleration:
+      return 50.0;
   }
   return 1.0;
 }
@@ -50,20 +56,24 @@ double DefaultSensorFullScale(SensorKind s) {
 void ValidateOptions(const DobOptions& o) {
   Require(o.order >= 1, "N must be >= 1, got " + std::to_string(o.order));
   Require(o.relative_degree >= 0 && o.relative_degree <= o.order,
-          "r must satisfy 0 <= r <= N (N = " + std::to_string(o.order) + "), got r = " +
-              std::to_string(o.relative_degree));
+          "r must satisfy 0 <= r <= N (N = " + std::to_string(o.order) +
+              "), got r = " + std::to_string(o.relative_degree));
   Require(std::isfinite(o.tau_s) && o.tau_s > 0.0, "tau_s must be > 0");
-  Require(std::isfinite(o.fs_hz) && o.fs_hz > 0.0 && o.fs_hz == std::floor(o.fs_hz) && o.fs_hz < 4.0e9,
-          "fs_hz must be a positive whole number of Hz");
+  Require(
+      std::isfinite(o.fs_hz) && o.fs_hz > 0.0 && o.fs_hz == std::floor(o.fs_hz) && o.fs_hz < 4.0e9,
+      "fs_hz must be a positive whole number of Hz");
   Require(1.0 / o.tau_s < std::numbers::pi * o.fs_hz,
           "Q's cut-off 1/tau = " + std::to_string(1.0 / o.tau_s) +
-              " rad/s must lie below the Nyquist frequency pi*fs = " + std::to_string(std::numbers::pi * o.fs_hz) +
-              " rad/s");
+              " rad/s must lie below the Nyquist frequency pi*fs = " +
+              std::to_string(std::numbers::pi * o.fs_hz) + " rad/s");
   Require(o.input_dof >= 0 && o.output_dof >= 0, "dof indices must be >= 1");
   Require(std::isfinite(o.leak_hz) && o.leak_hz > 0.0, "leak_hz must be > 0");
-  Require(std::isfinite(o.force_full_scale_n) && o.force_full_scale_n > 0.0, "force full scale must be > 0");
-  Require(std::isfinite(o.sensor_full_scale) && o.sensor_full_scale >= 0.0, "sensor full scale must be >= 0");
-  Require(std::isfinite(o.output_full_scale_n) && o.output_full_scale_n >= 0.0, "output full scale must be >= 0");
+  Require(std::isfinite(o.force_full_scale_n) && o.force_full_scale_n > 0.0,
+          "force full scale must be > 0");
+  Require(std::isfinite(o.sensor_full_scale) && o.sensor_full_scale >= 0.0,
+          "sensor full scale must be >= 0");
+  Require(std::isfinite(o.output_full_scale_n) && o.output_full_scale_n >= 0.0,
+          "output full scale must be >= 0");
 }
 
 // Q's poles and zeros, from its polynomials.
@@ -81,17 +91,21 @@ std::vector<Complex> LeakPoles(const DobOptions& o) {
 }
 
 std::string RelativeDegreeMessage(int r, int plant, const std::string& what) {
-  return "r = " + std::to_string(r) + " is below the relative degree " + std::to_string(plant) + " of " +
-         what + ": Q G_A^-1 would not be proper (realizable); use r >= " + std::to_string(plant);
+  return "r = " + std::to_string(r) + " is below the relative degree " + std::to_string(plant) +
+         " of " + what +
+         ": Q G_A^-1 would not be proper (realizable); use r >= " + std::to_string(plant);
 }
 
 }  // namespace
 
 const char* SensorName(SensorKind kind) {
   switch (kind) {
-    case SensorKind::kDisplacement: return "disp";
-    case SensorKind::kVelocity: return "vel";
-    case SensorKind::kAcceleration: return "acc";
+    case SensorKind::kDisplacement:
+      return "disp";
+    case SensorKind::kVelocity:
+      return "vel";
+    case SensorKind::kAcceleration:
+      return "acc";
   }
   return "?";
 }
@@ -223,7 +237,8 @@ void DiscretizePaths(const DobOptions& o, std::vector<ObserverPath>& shells, Dob
             "the observer path for input " + std::to_string(i + 1) + " needs " +
                 std::to_string(shells[i].sos.size()) + " second-order sections; at most " +
                 std::to_string(fixed::kMaxSections) + " fit (lower N or simplify the model)");
-    for (const Complex& p : digital.poles) design.max_pole_radius = std::max(design.max_pole_radius, std::abs(p));
+    for (const Complex& p : digital.poles)
+      design.max_pole_radius = std::max(design.max_pole_radius, std::abs(p));
   }
   design.paths = shells;
 }
@@ -264,10 +279,10 @@ DobDesign DesignObserver(const NominalPlant& plant, const DobOptions& options) {
   design.valid_band_lo_hz = m == 0 ? 0.0 : 10.0 * o.leak_hz;
   design.valid_band_hi_hz = std::min(QBandEdgeHz(design.q, 0.1), o.fs_hz / 2.0);
   if (design.stable) {
-    design.fixed = QuantizeObserver(design.paths,
-                                    QuantizeOptions{.sample_rate_hz = static_cast<std::uint32_t>(o.fs_hz),
-                                                    .output_dof = o.input_dof,
-                                                    .output_full_scale_n = o.output_full_scale_n});
+    design.fixed = QuantizeObserver(
+        design.paths, QuantizeOptions{.sample_rate_hz = static_cast<std::uint32_t>(o.fs_hz),
+                                      .output_dof = o.input_dof,
+                                      .output_full_scale_n = o.output_full_scale_n});
     if (!design.fixed.ok) {
       design.stable = false;
       design.message = design.fixed.message;

@@ -28,20 +28,29 @@ int HexDigit(char c) {
   return -1;
 }
 
-nlohmann::json PolyJson(const Eigen::VectorXd& v) { return std::vector<double>(v.data(), v.data() + v.size()); }
+nlohmann::json PolyJson(const Eigen::VectorXd& v) {
+  return std::vector<double>(v.data(), v.data() + v.size());
+}
 
-const char* DiscretizationName(Discretization d) { return d == Discretization::kTustin ? "tustin" : "zoh"; }
+const char* DiscretizationName(Discretization d) {
+  return d == Discretization::kTustin ? "tustin" : "zoh";
+}
 const char* FormName(ObserverForm f) { return f == ObserverForm::kSiso ? "siso" : "mimo"; }
 
 }  // namespace
 
 const char* InputKindName(fixed::InputKind kind) {
   switch (kind) {
-    case fixed::InputKind::kForce: return "force";
-    case fixed::InputKind::kDisplacement: return "disp";
-    case fixed::InputKind::kVelocity: return "vel";
-    case fixed::InputKind::kAcceleration: return "acc";
-    case fixed::InputKind::kUnused: break;
+    case fixed::InputKind::kForce:
+      return "force";
+    case fixed::InputKind::kDisplacement:
+      return "disp";
+    case fixed::InputKind::kVelocity:
+      return "vel";
+    case fixed::InputKind::kAcceleration:
+      return "acc";
+    case fixed::InputKind::kUnused:
+      break;
   }
   return "unused";
 }
@@ -52,20 +61,21 @@ nlohmann::json DesignToJson(const DobDesign& design) {
   nlohmann::json j;
   j["format"] = "vibid-dob-design";
   j["version"] = 1;
-  j["options"] = {{"N", o.order},
-                  {"r", o.relative_degree},
-                  {"tau_s", o.tau_s},
-                  {"fs_hz", o.fs_hz},
-                  {"prototype", o.prototype == QPrototype::kButterworth ? "butterworth" : "binomial"},
-                  {"sensor", SensorName(o.sensor)},
-                  {"form", FormName(o.form)},
-                  {"discretize", DiscretizationName(o.discretization)},
-                  {"input_dof", o.input_dof + 1},
-                  {"output_dof", o.output_dof + 1},
-                  {"leak_hz", o.leak_hz},
-                  {"force_full_scale_n", o.force_full_scale_n},
-                  {"sensor_full_scale", o.sensor_full_scale},
-                  {"output_full_scale_n", o.output_full_scale_n}};
+  j["options"] = {
+      {"N", o.order},
+      {"r", o.relative_degree},
+      {"tau_s", o.tau_s},
+      {"fs_hz", o.fs_hz},
+      {"prototype", o.prototype == QPrototype::kButterworth ? "butterworth" : "binomial"},
+      {"sensor", SensorName(o.sensor)},
+      {"form", FormName(o.form)},
+      {"discretize", DiscretizationName(o.discretization)},
+      {"input_dof", o.input_dof + 1},
+      {"output_dof", o.output_dof + 1},
+      {"leak_hz", o.leak_hz},
+      {"force_full_scale_n", o.force_full_scale_n},
+      {"sensor_full_scale", o.sensor_full_scale},
+      {"output_full_scale_n", o.output_full_scale_n}};
   j["q"] = {{"num", PolyJson(design.q.num)}, {"den", PolyJson(design.q.den)}};
   j["butterworth"] = PolyJson(design.q.prototype);
   j["plant_relative_degree"] = design.plant_relative_degree;
@@ -73,9 +83,13 @@ nlohmann::json DesignToJson(const DobDesign& design) {
   for (const ObserverPath& p : design.paths) {
     nlohmann::json sos = nlohmann::json::array();
     for (const SosSection& s : p.sos) sos.push_back({s.b0, s.b1, s.b2, 1.0, s.a1, s.a2});
-    inputs.push_back({{"kind", InputKindName(p.kind)}, {"dof", p.dof + 1}, {"full_scale", p.full_scale}, {"sos", sos}});
+    inputs.push_back({{"kind", InputKindName(p.kind)},
+                      {"dof", p.dof + 1},
+                      {"full_scale", p.full_scale},
+                      {"sos", sos}});
   }
-  j["discrete"] = {{"fs_hz", o.fs_hz}, {"inputs", inputs}, {"max_pole_radius", design.max_pole_radius}};
+  j["discrete"] = {
+      {"fs_hz", o.fs_hz}, {"inputs", inputs}, {"max_pole_radius", design.max_pole_radius}};
 
   const fixed::FilterDescription& d = design.fixed.description;
   std::array<std::uint8_t, fixed::kDescriptionBytes> bytes{};
@@ -98,12 +112,13 @@ nlohmann::json DesignToJson(const DobDesign& design) {
   }
   char checksum[11];
   std::snprintf(checksum, sizeof(checksum), "0x%08x", d.checksum);
-  j["fixed"] = {{"bytes", fixed::kDescriptionBytes},
-                {"checksum", checksum},
-                {"output_full_scale_n", static_cast<double>(fixed::FullScaleValue(d.output_full_scale_bits))},
-                {"predicted_noise_rms_n", design.fixed.predicted_noise_rms_n},
-                {"paths", paths},
-                {"description_hex", Hex(bytes)}};
+  j["fixed"] = {
+      {"bytes", fixed::kDescriptionBytes},
+      {"checksum", checksum},
+      {"output_full_scale_n", static_cast<double>(fixed::FullScaleValue(d.output_full_scale_bits))},
+      {"predicted_noise_rms_n", design.fixed.predicted_noise_rms_n},
+      {"paths", paths},
+      {"description_hex", Hex(bytes)}};
   j["stable"] = design.stable;
   j["valid_band_hz"] = {design.valid_band_lo_hz, design.valid_band_hi_hz};
   j["predicted_snr_db"] = design.fixed.predicted_snr_db;
@@ -113,7 +128,8 @@ nlohmann::json DesignToJson(const DobDesign& design) {
 ObserverFile ObserverFromJson(const nlohmann::json& j, const std::string& source) {
   const auto fail = [&](const std::string& what) { throw InputError(source + ": " + what); };
   // Compared as JSON values: a field of another type is a wrong value, not a type error.
-  if (!j.is_object() || j.value("format", nlohmann::json()) != "vibid-dob-design") fail("not a vibid DOB design file");
+  if (!j.is_object() || j.value("format", nlohmann::json()) != "vibid-dob-design")
+    fail("not a vibid DOB design file");
   if (j.value("version", nlohmann::json()) != 1) fail("unsupported design file version");
   ObserverFile f;
   try {
@@ -121,11 +137,16 @@ ObserverFile ObserverFromJson(const nlohmann::json& j, const std::string& source
     for (const auto& in : j.at("discrete").at("inputs")) {
       ObserverPath p;
       const std::string kind = in.at("kind").get<std::string>();
-      if (kind == "force") p.kind = fixed::InputKind::kForce;
-      else if (kind == "disp") p.kind = fixed::InputKind::kDisplacement;
-      else if (kind == "vel") p.kind = fixed::InputKind::kVelocity;
-      else if (kind == "acc") p.kind = fixed::InputKind::kAcceleration;
-      else fail("discrete.inputs: unknown kind '" + Printable(kind) + "'");
+      if (kind == "force")
+        p.kind = fixed::InputKind::kForce;
+      else if (kind == "disp")
+        p.kind = fixed::InputKind::kDisplacement;
+      else if (kind == "vel")
+        p.kind = fixed::InputKind::kVelocity;
+      else if (kind == "acc")
+        p.kind = fixed::InputKind::kAcceleration;
+      else
+        fail("discrete.inputs: unknown kind '" + Printable(kind) + "'");
       // Checked before the conversion: get<int> of 1e300 or of -2^31 minus one is undefined.
       const nlohmann::json& dof = in.at("dof");
       if (!dof.is_number_integer() || dof.get<std::int64_t>() < 1 ||
@@ -136,14 +157,16 @@ ObserverFile ObserverFromJson(const nlohmann::json& j, const std::string& source
       p.full_scale = in.at("full_scale").get<double>();
       for (const auto& row : in.at("sos")) {
         const auto v = row.get<std::vector<double>>();
-        if (v.size() != 6 || v[3] != 1.0) fail("discrete.inputs.sos: rows must be [b0, b1, b2, 1, a1, a2]");
+        if (v.size() != 6 || v[3] != 1.0)
+          fail("discrete.inputs.sos: rows must be [b0, b1, b2, 1, a1, a2]");
         p.sos.push_back(SosSection{.b0 = v[0], .b1 = v[1], .b2 = v[2], .a1 = v[4], .a2 = v[5]});
       }
       f.paths.push_back(std::move(p));
     }
     const std::string hex = j.at("fixed").at("description_hex").get<std::string>();
     if (hex.size() != 2 * fixed::kDescriptionBytes) {
-      fail("fixed.description_hex must hold " + std::to_string(fixed::kDescriptionBytes) + " bytes");
+      fail("fixed.description_hex must hold " + std::to_string(fixed::kDescriptionBytes) +
+           " bytes");
     }
     std::array<std::uint8_t, fixed::kDescriptionBytes> bytes{};
     for (std::size_t i = 0; i < bytes.size(); ++i) {
@@ -157,9 +180,12 @@ ObserverFile ObserverFromJson(const nlohmann::json& j, const std::string& source
     fail(std::string("malformed design: ") + e.what());
   }
   const Status st = fixed::ValidateDescription(f.description);
-  if (st != Status::kOk) fail(std::string("the fixed-point description is refused: ") + StatusName(st));
-  if (f.paths.size() != f.description.input_count) fail("discrete and fixed parts disagree on the input count");
-  if (!(f.fs_hz > 0.0) || f.fs_hz != f.description.sample_rate_hz) fail("discrete and fixed parts disagree on fs_hz");
+  if (st != Status::kOk)
+    fail(std::string("the fixed-point description is refused: ") + StatusName(st));
+  if (f.paths.size() != f.description.input_count)
+    fail("discrete and fixed parts disagree on the input count");
+  if (!(f.fs_hz > 0.0) || f.fs_hz != f.description.sample_rate_hz)
+    fail("discrete and fixed parts disagree on fs_hz");
   return f;
 }
 

@@ -20,7 +20,8 @@ namespace {
 constexpr double kFs = 5000.0;
 
 model::Model Rig() {
-  return model::MakeChain(Eigen::Vector2d(2.5, 2.0), Eigen::Vector2d(4000, 3000), Eigen::Vector2d(3, 3));
+  return model::MakeChain(Eigen::Vector2d(2.5, 2.0), Eigen::Vector2d(4000, 3000),
+                          Eigen::Vector2d(3, 3));
 }
 
 // The sensor path Q G_A^-1 against scipy (bilinear_zpk of the same zeros and poles, pre-warped).
@@ -72,7 +73,8 @@ TEST(DobDesign, UndampedNominalModelIsRefusedWithTheReason) {
   EXPECT_FALSE(d.stable);
   EXPECT_NE(d.message.find("undamped"), std::string::npos) << d.message;
   // sqrt((k1 + k2) / m1) = sqrt(7000 / 2.5) rad/s: the anti-resonance of m2, named in Hz.
-  EXPECT_NE(d.message.find(std::to_string(std::sqrt(7000.0 / 2.5) / (2.0 * std::numbers::pi)).substr(0, 5)),
+  EXPECT_NE(d.message.find(
+                std::to_string(std::sqrt(7000.0 / 2.5) / (2.0 * std::numbers::pi)).substr(0, 5)),
             std::string::npos)
       << d.message;
 }
@@ -137,7 +139,8 @@ TEST(DobDesign, MimoFormAndZeroOrderHoldRecoverThePush) {
   z.discretization = Discretization::kZeroOrderHold;
   const DobDesign zoh = DesignObserver(PlantFromModel(Rig(), 1, 1), z);
   ASSERT_TRUE(zoh.stable) << zoh.message;
-  EXPECT_GE(FitAfterLowpass(RunFloat(zoh.paths, {s.r.x_m.col(1), s.r.force_n.col(1)}), s.push, 1.0), 99.0);
+  EXPECT_GE(FitAfterLowpass(RunFloat(zoh.paths, {s.r.x_m.col(1), s.r.force_n.col(1)}), s.push, 1.0),
+            99.0);
 }
 
 // Which sensor serves which band: a 0.5-1.3 Hz push seen through accelerometers (0.01 m/s^2 rms
@@ -157,11 +160,14 @@ TEST(DobDesign, AccelerometersLoseASlowPushThatEncodersRecover) {
   const DobDesign with_acc = DesignObserver(PlantFromModel(Rig(), 1, 1), a);
   ASSERT_TRUE(with_acc.stable) << with_acc.message;
   const DobDesign with_enc = DesignObserver(PlantFromModel(Rig(), 1, 1), DobOptions{});
-  const double fit_acc = FitAfterLowpass(RunFloat(with_acc.paths, {acc, s.r.force_n.col(1)}), s.push, 5.0);
-  const double fit_enc = FitAfterLowpass(RunFloat(with_enc.paths, {enc, s.r.force_n.col(1)}), s.push, 5.0);
+  const double fit_acc =
+      FitAfterLowpass(RunFloat(with_acc.paths, {acc, s.r.force_n.col(1)}), s.push, 5.0);
+  const double fit_enc =
+      FitAfterLowpass(RunFloat(with_enc.paths, {enc, s.r.force_n.col(1)}), s.push, 5.0);
   EXPECT_LT(fit_acc, 90.0);
   EXPECT_GE(fit_enc, 99.0);
-  std::printf("0.5-1.3 Hz push: fit %.1f %% with accelerometers, %.2f %% with the encoder\n", fit_acc, fit_enc);
+  std::printf("0.5-1.3 Hz push: fit %.1f %% with accelerometers, %.2f %% with the encoder\n",
+              fit_acc, fit_enc);
 }
 
 TEST(DobDesign, BinomialPrototypeHasNoOvershoot) {

@@ -16,7 +16,9 @@ namespace {
 
 constexpr double kImagTol = 1e-9;
 
-bool IsReal(const Complex& c) { return std::abs(c.imag()) <= kImagTol * std::max(1.0, std::abs(c)); }
+bool IsReal(const Complex& c) {
+  return std::abs(c.imag()) <= kImagTol * std::max(1.0, std::abs(c));
+}
 
 // A conjugate pair or one or two real roots: the roots of one real factor of degree <= 2.
 using Group = std::vector<Complex>;
@@ -33,7 +35,8 @@ std::vector<Group> GroupRoots(const std::vector<Complex>& roots) {
     }
   }
   // Pair reals nearest the unit circle together; a lone one is the smallest in magnitude.
-  std::sort(reals.begin(), reals.end(), [](double a, double b) { return std::abs(a) > std::abs(b); });
+  std::sort(reals.begin(), reals.end(),
+            [](double a, double b) { return std::abs(a) > std::abs(b); });
   std::size_t i = 0;
   for (; i + 1 < reals.size(); i += 2) groups.push_back({reals[i], reals[i + 1]});
   if (i < reals.size()) groups.push_back({reals[i]});
@@ -150,7 +153,8 @@ Complex EvaluateZpk(const Zpk& zpk, Complex x) {
 
 Zpk TustinZpk(const Zpk& analog, double fs_hz, double omega_warp_rad_s) {
   Require(fs_hz > 0.0, "sample rate must be > 0");
-  Require(analog.zeros.size() <= analog.poles.size(), "Tustin needs a proper system (zeros <= poles)");
+  Require(analog.zeros.size() <= analog.poles.size(),
+          "Tustin needs a proper system (zeros <= poles)");
   const double k = omega_warp_rad_s > 0.0
                        ? omega_warp_rad_s / std::tan(omega_warp_rad_s / (2.0 * fs_hz))
                        : 2.0 * fs_hz;
@@ -234,7 +238,8 @@ Zpk ZeroOrderHoldZpk(const Zpk& analog, double fs_hz) {
   }
   if (zero_dynamics.size() > 0) {
     const Eigen::EigenSolver<Eigen::MatrixXd> zs(zero_dynamics, false);
-    for (Eigen::Index i = 0; i < zs.eigenvalues().size(); ++i) d.zeros.push_back(zs.eigenvalues()[i]);
+    for (Eigen::Index i = 0; i < zs.eigenvalues().size(); ++i)
+      d.zeros.push_back(zs.eigenvalues()[i]);
   }
   // Clean conjugate symmetry: tiny imaginary parts of real zeros are rounding.
   for (Complex& z : d.zeros) {
@@ -257,15 +262,16 @@ std::vector<SosSection> ZpkToSos(const Zpk& digital) {
   Require(digital.zeros.size() <= digital.poles.size(), "more zeros than poles");
   const auto pole_groups = GroupRoots(digital.poles);
   const auto zero_groups = GroupRoots(digital.zeros);
-  std::vector<Group> pairs;   // two-zero groups
-  std::vector<Group> singles; // lone real zeros
+  std::vector<Group> pairs;    // two-zero groups
+  std::vector<Group> singles;  // lone real zeros
   for (const Group& g : zero_groups) (g.size() == 2 ? pairs : singles).push_back(g);
 
   // Assign zeros to pole groups, nearest first, starting with the poles closest to the unit circle.
   std::vector<std::size_t> order(pole_groups.size());
   for (std::size_t i = 0; i < order.size(); ++i) order[i] = i;
-  std::sort(order.begin(), order.end(),
-            [&](std::size_t a, std::size_t b) { return Radius(pole_groups[a]) > Radius(pole_groups[b]); });
+  std::sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) {
+    return Radius(pole_groups[a]) > Radius(pole_groups[b]);
+  });
   std::vector<Group> assigned(pole_groups.size());
   // A lone pole takes a lone zero if there is one.
   for (std::size_t i : order) {
@@ -292,8 +298,9 @@ std::vector<SosSection> ZpkToSos(const Zpk& digital) {
   Require(pairs.empty() && singles.empty(), "could not pair every zero with a pole section");
 
   // Output order: increasing pole radius.
-  std::sort(order.begin(), order.end(),
-            [&](std::size_t a, std::size_t b) { return Radius(pole_groups[a]) < Radius(pole_groups[b]); });
+  std::sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) {
+    return Radius(pole_groups[a]) < Radius(pole_groups[b]);
+  });
   std::vector<SosSection> sos;
   for (std::size_t i : order) {
     SosSection s;

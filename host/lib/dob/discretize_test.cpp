@@ -19,8 +19,8 @@ Zpk FromPolys(const Eigen::VectorXd& num, const Eigen::VectorXd& den) {
   return z;
 }
 
-void ExpectResponse(const std::vector<SosSection>& sos, const nlohmann::json& freqs, const nlohmann::json& ref,
-                    double fs_hz, double rel_tol) {
+void ExpectResponse(const std::vector<SosSection>& sos, const nlohmann::json& freqs,
+                    const nlohmann::json& ref, double fs_hz, double rel_tol) {
   for (std::size_t i = 0; i < freqs.size(); ++i) {
     const double f = freqs[i].get<double>();
     const Complex z = std::exp(Complex(0.0, 2.0 * std::numbers::pi * f / fs_hz));
@@ -52,8 +52,10 @@ TEST(Discretize, PrewarpingPinsTheResponseAtTheWarpFrequency) {
 // scipy.signal.cont2discrete(method='zoh').
 TEST(Discretize, ZeroOrderHoldMatchesScipy) {
   const auto& ref = test::Golden()["zoh"];
-  const Eigen::VectorXd num = Eigen::Map<const Eigen::VectorXd>(ref["num"].get<std::vector<double>>().data(), 2);
-  const Eigen::VectorXd den = Eigen::Map<const Eigen::VectorXd>(ref["den"].get<std::vector<double>>().data(), 3);
+  const Eigen::VectorXd num =
+      Eigen::Map<const Eigen::VectorXd>(ref["num"].get<std::vector<double>>().data(), 2);
+  const Eigen::VectorXd den =
+      Eigen::Map<const Eigen::VectorXd>(ref["den"].get<std::vector<double>>().data(), 3);
   const auto sos = ZpkToSos(ZeroOrderHoldZpk(FromPolys(num, den), 5000.0));
   ExpectResponse(sos, ref["freqs_hz"], ref["response"], 5000.0, 1e-8);
 }
@@ -79,7 +81,8 @@ TEST(Discretize, ZeroOrderHoldOfAnIntegratorChainIsStepInvariant) {
 
 TEST(Discretize, SosOrdersPolesTowardsTheUnitCircleLast) {
   Zpk d;
-  d.poles = {Complex(0.3, 0.0), Complex(0.9, 0.1), Complex(0.9, -0.1), Complex(0.5, 0.0), Complex(-0.2, 0.0)};
+  d.poles = {Complex(0.3, 0.0), Complex(0.9, 0.1), Complex(0.9, -0.1), Complex(0.5, 0.0),
+             Complex(-0.2, 0.0)};
   d.zeros = {Complex(-1.0, 0.0), Complex(-1.0, 0.0), Complex(0.2, 0.0)};
   d.gain = 0.25;
   const auto sos = ZpkToSos(d);

@@ -13,7 +13,8 @@ Eigen::VectorXd ButterworthCoefficients(int order) {
   const double gamma = std::numbers::pi / (2.0 * order);
   Eigen::VectorXd a(order + 1);
   a[0] = 1.0;
-  for (int k = 1; k <= order; ++k) a[k] = a[k - 1] * std::cos((k - 1) * gamma) / std::sin(k * gamma);
+  for (int k = 1; k <= order; ++k)
+    a[k] = a[k - 1] * std::cos((k - 1) * gamma) / std::sin(k * gamma);
   return a;
 }
 
@@ -36,7 +37,7 @@ QFilter MakeQFilter(int order, int relative_degree, double tau_s, QPrototype pro
   q.relative_degree = relative_degree;
   q.tau_s = tau_s;
   q.prototype = prototype == QPrototype::kButterworth ? ButterworthCoefficients(order)
-                                                     : BinomialCoefficients(order);
+                                                      : BinomialCoefficients(order);
   const int num_degree = order - relative_degree;
   q.den.resize(order + 1);
   q.num.resize(num_degree + 1);

@@ -14,10 +14,12 @@ namespace {
 
 TEST(QFilter, ButterworthMatchesScipyForEveryOrder) {
   for (int n = 1; n <= 8; ++n) {
-    const auto ref = test::Golden()["butterworth"][std::to_string(n)];  // scipy.signal.butter(n, 1, analog=True)
+    const auto ref =
+        test::Golden()["butterworth"][std::to_string(n)];  // scipy.signal.butter(n, 1, analog=True)
     const Eigen::VectorXd a = ButterworthCoefficients(n);
     ASSERT_EQ(a.size(), static_cast<Eigen::Index>(ref.size()));
-    for (Eigen::Index k = 0; k < a.size(); ++k) EXPECT_NEAR(a[k], ref[static_cast<std::size_t>(k)].get<double>(), 1e-12);
+    for (Eigen::Index k = 0; k < a.size(); ++k)
+      EXPECT_NEAR(a[k], ref[static_cast<std::size_t>(k)].get<double>(), 1e-12);
   }
 }
 
@@ -25,7 +27,9 @@ TEST(QFilter, ButterworthMatchesScipyForEveryOrder) {
 TEST(QFilter, N5R4IsEquation14) {
   const double tau = 0.002;
   const QFilter q = MakeQFilter(5, 4, tau);
-  const double a[6] = {1.0, 1.0 + std::sqrt(5.0), 3.0 + std::sqrt(5.0), 3.0 + std::sqrt(5.0), 1.0 + std::sqrt(5.0), 1.0};
+  const double a[6] = {
+      1.0, 1.0 + std::sqrt(5.0), 3.0 + std::sqrt(5.0), 3.0 + std::sqrt(5.0), 1.0 + std::sqrt(5.0),
+      1.0};
   EXPECT_NEAR(a[1], 3.236068, 1e-6);
   EXPECT_NEAR(a[2], 5.236068, 1e-6);
   ASSERT_EQ(q.den.size(), 6);
@@ -35,7 +39,9 @@ TEST(QFilter, N5R4IsEquation14) {
   EXPECT_NEAR(q.num[0] / tau, a[1], 1e-12);
   // Against the scipy-built polynomials too.
   const auto& ref = test::Golden()["q_n5_r4"];
-  for (int k = 0; k <= 5; ++k) EXPECT_NEAR(q.den[k], ref["den"][static_cast<std::size_t>(k)].get<double>(), 1e-12 * std::abs(q.den[k]) + 1e-300);
+  for (int k = 0; k <= 5; ++k)
+    EXPECT_NEAR(q.den[k], ref["den"][static_cast<std::size_t>(k)].get<double>(),
+                1e-12 * std::abs(q.den[k]) + 1e-300);
 }
 
 TEST(QFilter, AllPoleCaseIsUnityAtDcAndMinus3dBAtTheCutoff) {

@@ -46,9 +46,10 @@ int SectionShift(const SosSection& s) {
   }
   int shift = 0;
   // Keep one LSB of room below each bound so rounding cannot reach it.
-  while (shift <= fixed::kMaxSectionShift &&
-         (max_abs * std::ldexp(1.0, 31 - shift) >= kTwo31 - 1.0 ||
-          sum * std::ldexp(1.0, 31 - shift) >= static_cast<double>(fixed::kMaxCoefficientSum) - 8.0)) {
+  while (
+      shift <= fixed::kMaxSectionShift &&
+      (max_abs * std::ldexp(1.0, 31 - shift) >= kTwo31 - 1.0 ||
+       sum * std::ldexp(1.0, 31 - shift) >= static_cast<double>(fixed::kMaxCoefficientSum) - 8.0)) {
     ++shift;
   }
   return shift;
@@ -65,7 +66,8 @@ double MaxNumeratorScale(const SosSection& s) {
   const double b_max = std::max({std::abs(s.b0), std::abs(s.b1), std::abs(s.b2)});
   if (b_sum == 0.0) return 1.0;
   int shift = 0;
-  while (a_max >= std::ldexp(1.0, shift) * 0.999 || a_sum >= std::ldexp(1.0, 1 + shift) * 0.999) ++shift;
+  while (a_max >= std::ldexp(1.0, shift) * 0.999 || a_sum >= std::ldexp(1.0, 1 + shift) * 0.999)
+    ++shift;
   const auto scale = [&](int sh) {
     return 0.99 * std::min((std::ldexp(1.0, 1 + sh) - a_sum) / b_sum, std::ldexp(1.0, sh) / b_max);
   };
@@ -92,8 +94,8 @@ namespace {
 
 void RequireValidRequest(const std::vector<ObserverPath>& paths, const QuantizeOptions& options) {
   Require(!paths.empty() && paths.size() <= fixed::kMaxInputs,
-          "the fixed-point observer takes 1 to " + std::to_string(fixed::kMaxInputs) + " inputs, got " +
-              std::to_string(paths.size()));
+          "the fixed-point observer takes 1 to " + std::to_string(fixed::kMaxInputs) +
+              " inputs, got " + std::to_string(paths.size()));
   Require(options.sample_rate_hz > 0, "sample rate must be > 0");
   Require(std::isfinite(options.output_full_scale_n) && options.output_full_scale_n > 0.0,
           "output full scale must be > 0 N");
@@ -251,8 +253,9 @@ QuantizeResult QuantizeObserver(const std::vector<ObserverPath>& paths,
   const Status st = fixed::ValidateDescription(d);
   result.ok = st == Status::kOk;
   if (!result.ok) {
-    result.message = std::string("the quantized filter fails validation: ") + StatusName(st) +
-                     (st == Status::kUnstable ? " (a section's integer poles left the unit circle)" : "");
+    result.message =
+        std::string("the quantized filter fails validation: ") + StatusName(st) +
+        (st == Status::kUnstable ? " (a section's integer poles left the unit circle)" : "");
   }
   result.predicted_noise_rms_n = std::sqrt(noise_var_q31) / kTwo31 * out_fs;
   result.predicted_snr_db = 10.0 * std::log10(0.5 * kTwo31 * kTwo31 / noise_var_q31);
@@ -270,14 +273,16 @@ FixedRun RunFixed(const fixed::FilterDescription& description,
               " inputs, got " + std::to_string(inputs_si.size()));
   const Eigen::Index n = inputs_si.front().size();
   for (const auto& x : inputs_si) Require(x.size() == n, "inputs differ in length");
-  const auto out_fs = static_cast<double>(fixed::FullScaleValue(description.output_full_scale_bits));
+  const auto out_fs =
+      static_cast<double>(fixed::FullScaleValue(description.output_full_scale_bits));
   FixedRun run;
   run.d_hat_n.resize(n);
   run.d_hat_q31.resize(static_cast<std::size_t>(n));
   fixed::InputFrame frame{};
   for (Eigen::Index k = 0; k < n; ++k) {
     for (std::size_t i = 0; i < inputs_si.size(); ++i) {
-      const auto full_scale = static_cast<double>(fixed::FullScaleValue(description.input_full_scale_bits[i]));
+      const auto full_scale =
+          static_cast<double>(fixed::FullScaleValue(description.input_full_scale_bits[i]));
       frame[i] = ToQ31(inputs_si[i][k], full_scale);
     }
     const std::int32_t y = filter.Step(frame);

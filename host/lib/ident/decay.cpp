@@ -119,7 +119,8 @@ DecayStart StartFromCycles(const HalfCycles& hc, Eigen::Index end, double fs_hz,
   if (pairs >= 1 && hc.peak_amp[2 * pairs] > 0.0) {
     const double delta =
         std::log(hc.peak_amp[0] / hc.peak_amp[2 * pairs]) / static_cast<double>(pairs);
-    res.zeta_log_decrement = delta / std::sqrt(4.0 * std::numbers::pi * std::numbers::pi + delta * delta);
+    res.zeta_log_decrement =
+        delta / std::sqrt(4.0 * std::numbers::pi * std::numbers::pi + delta * delta);
     start.sigma0 = delta * start.omega_d0 / (2.0 * std::numbers::pi);
   }
   res.cycles = static_cast<int>(pairs);
@@ -187,8 +188,10 @@ DecayResult AnalyzeDecay(const Eigen::Ref<const Eigen::VectorXd>& position, doub
   return res;
 }
 
-AddedMassSolution SolveAddedMass(double omega_unloaded_rad_s, double omega_loaded_rad_s, double added_kg) {
-  Require(omega_unloaded_rad_s > 0.0 && omega_loaded_rad_s > 0.0, "natural frequencies must be > 0");
+AddedMassSolution SolveAddedMass(double omega_unloaded_rad_s, double omega_loaded_rad_s,
+                                 double added_kg) {
+  Require(omega_unloaded_rad_s > 0.0 && omega_loaded_rad_s > 0.0,
+          "natural frequencies must be > 0");
   Require(added_kg > 0.0, "added mass must be > 0");
   Require(omega_loaded_rad_s < omega_unloaded_rad_s,
           "the loaded record must oscillate slower than the unloaded one");

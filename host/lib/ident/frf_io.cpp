@@ -24,7 +24,8 @@ std::string Trim(std::string_view s) {
   std::size_t a = 0;
   std::size_t b = s.size();
   while (a < b && (s[a] == ' ' || s[a] == '\t' || s[a] == '\r')) ++a;
-  while (b > a && (s[b - 1] == ' ' || s[b - 1] == '\t' || s[b - 1] == '\r' || s[b - 1] == '\n')) --b;
+  while (b > a && (s[b - 1] == ' ' || s[b - 1] == '\t' || s[b - 1] == '\r' || s[b - 1] == '\n'))
+    --b;
   return std::string(s.substr(a, b - a));
 }
 
@@ -37,14 +38,16 @@ double ToDouble(const std::string& s, const std::string& what) {
   const char* b = s.data();
   const char* e = s.data() + s.size();
   const auto r = std::from_chars(b, e, v);
-  Require(r.ec == std::errc() && r.ptr == e && std::isfinite(v), what + ": '" + Printable(s) + "' is not a finite number");
+  Require(r.ec == std::errc() && r.ptr == e && std::isfinite(v),
+          what + ": '" + Printable(s) + "' is not a finite number");
   return v;
 }
 
 long ToLong(const std::string& s, const std::string& what) {
   long v = 0;
   const auto r = std::from_chars(s.data(), s.data() + s.size(), v);
-  Require(r.ec == std::errc() && r.ptr == s.data() + s.size(), what + ": '" + Printable(s) + "' is not an integer");
+  Require(r.ec == std::errc() && r.ptr == s.data() + s.size(),
+          what + ": '" + Printable(s) + "' is not an integer");
   return v;
 }
 
@@ -61,7 +64,8 @@ std::string FormatFrfCsv(const Frf& frf) {
   std::vector<Eigen::VectorXd> cols{frf.freq_hz};
   for (Eigen::Index j = 0; j < frf.h.cols(); ++j) {
     const auto ju = static_cast<std::size_t>(j);
-    const std::string base = ju < frf.response_names.size() ? frf.response_names[ju] : "h" + std::to_string(j + 1);
+    const std::string base =
+        ju < frf.response_names.size() ? frf.response_names[ju] : "h" + std::to_string(j + 1);
     names.push_back(base + "_re");
     cols.push_back(frf.h.col(j).real());
     names.push_back(base + "_im");
@@ -71,9 +75,9 @@ std::string FormatFrfCsv(const Frf& frf) {
   }
   std::ostringstream meta;
   meta.precision(17);
-  meta << kMetaTag << " kind=" << FrfKindName(frf.quantity) << " estimator=" << EstimatorName(frf.estimator)
-       << " averages=" << frf.averages << " exp_window_tau_s=" << frf.exp_window_tau_s
-       << " pretrigger_s=" << frf.pretrigger_s;
+  meta << kMetaTag << " kind=" << FrfKindName(frf.quantity)
+       << " estimator=" << EstimatorName(frf.estimator) << " averages=" << frf.averages
+       << " exp_window_tau_s=" << frf.exp_window_tau_s << " pretrigger_s=" << frf.pretrigger_s;
   // An FRF read without a force name is written without one, so it reads back as it was.
   if (!frf.force_name.empty()) meta << " force=" << frf.force_name;
   meta << "\n";
@@ -93,22 +97,25 @@ Frf ParseFrfCsv(std::string_view text, const std::string& source) {
     std::string kv;
     while (in >> kv) {
       const auto eq = kv.find('=');
-      Require(eq != std::string::npos, source + ": line 1: metadata item '" + Printable(kv) + "' is not key=value");
+      Require(eq != std::string::npos,
+              source + ": line 1: metadata item '" + Printable(kv) + "' is not key=value");
       const std::string key = kv.substr(0, eq);
       const std::string value = kv.substr(eq + 1);
-      if (key == "kind") frf.quantity = ParseQuantity(value);
-      else if (key == "estimator") frf.estimator = ParseEstimator(value);
+      if (key == "kind")
+        frf.quantity = ParseQuantity(value);
+      else if (key == "estimator")
+        frf.estimator = ParseEstimator(value);
       else if (key == "averages") {
         const long averages = ToLong(value, source + ": line 1: averages");
         Require(averages >= 0, source + ": line 1: averages must not be negative");
         frf.averages = static_cast<std::size_t>(averages);
-      }
-      else if (key == "exp_window_tau_s") frf.exp_window_tau_s = ToDouble(value, source + ": line 1: exp_window_tau_s");
+      } else if (key == "exp_window_tau_s")
+        frf.exp_window_tau_s = ToDouble(value, source + ": line 1: exp_window_tau_s");
       else if (key == "pretrigger_s") {
         frf.pretrigger_s = ToDouble(value, source + ": line 1: pretrigger_s");
         Require(frf.pretrigger_s >= 0.0, source + ": line 1: pretrigger_s must not be negative");
-      }
-      else if (key == "force") frf.force_name = value;
+      } else if (key == "force")
+        frf.force_name = value;
     }
   }
   const CsvTable table = ParseCsv(text, source);
@@ -116,7 +123,8 @@ Frf ParseFrfCsv(std::string_view text, const std::string& source) {
   frf.freq_hz = table.Column("freq_hz");
   Require(frf.freq_hz.size() >= 4, source + ": an FRF needs at least 4 frequency lines");
   for (Eigen::Index i = 1; i < frf.freq_hz.size(); ++i) {
-    Require(frf.freq_hz[i] > frf.freq_hz[i - 1], source + ": freq_hz must increase (row " + std::to_string(i + 1) + ")");
+    Require(frf.freq_hz[i] > frf.freq_hz[i - 1],
+            source + ": freq_hz must increase (row " + std::to_string(i + 1) + ")");
   }
   std::vector<std::string> bases;
   for (const std::string& n : table.names) {
@@ -124,10 +132,12 @@ Frf ParseFrfCsv(std::string_view text, const std::string& source) {
   }
   Require(!bases.empty(), source + ": no NAME_re/NAME_im column pair");
   frf.h.resize(frf.freq_hz.size(), static_cast<Eigen::Index>(bases.size()));
-  frf.coherence = Eigen::MatrixXd::Ones(frf.freq_hz.size(), static_cast<Eigen::Index>(bases.size()));
+  frf.coherence =
+      Eigen::MatrixXd::Ones(frf.freq_hz.size(), static_cast<Eigen::Index>(bases.size()));
   for (std::size_t j = 0; j < bases.size(); ++j) {
     const auto jj = static_cast<Eigen::Index>(j);
-    Require(table.Has(bases[j] + "_im"), source + ": column " + bases[j] + "_re has no " + bases[j] + "_im");
+    Require(table.Has(bases[j] + "_im"),
+            source + ": column " + bases[j] + "_re has no " + bases[j] + "_im");
     frf.h.col(jj).real() = table.Column(bases[j] + "_re");
     frf.h.col(jj).imag() = table.Column(bases[j] + "_im");
     if (table.Has(bases[j] + "_coh")) {
@@ -147,32 +157,39 @@ namespace {
 
 int OrdinateType(Quantity q) {
   switch (q) {
-    case Quantity::kDisplacement: return 8;
-    case Quantity::kVelocity: return 11;
-    case Quantity::kAcceleration: return 12;
+    case Quantity::kDisplacement:
+      return 8;
+    case Quantity::kVelocity:
+      return 11;
+    case Quantity::kAcceleration:
+      return 12;
   }
   return 0;
 }
 
-void WriteHeader(std::ostringstream& out, const std::string& id1, int func_type, int rsp_node, int ref_node,
-                 int ord_data_type, std::size_t points, double x0, double dx, int ord_spec, int ord_len_exp) {
+void WriteHeader(std::ostringstream& out, const std::string& id1, int func_type, int rsp_node,
+                 int ref_node, int ord_data_type, std::size_t points, double x0, double dx,
+                 int ord_spec, int ord_len_exp) {
   char line[256];
   out << "    -1\n    58" << std::string(74, ' ') << "\n";
   std::snprintf(line, sizeof line, "%-80.80s\n", id1.c_str());
   out << line;
   out << "vibid" << std::string(75, ' ') << "\n";
   for (int k = 0; k < 3; ++k) out << "NONE" << std::string(76, ' ') << "\n";
-  std::snprintf(line, sizeof line, "%5d%10d%5d%10d %-10s%10d%4d %-10s%10d%4d\n", func_type, 0, 0, 0, "NONE", rsp_node,
-                1, "NONE", ref_node, 1);
+  std::snprintf(line, sizeof line, "%5d%10d%5d%10d %-10s%10d%4d %-10s%10d%4d\n", func_type, 0, 0, 0,
+                "NONE", rsp_node, 1, "NONE", ref_node, 1);
   out << line;
-  std::snprintf(line, sizeof line, "%10d%10zu%10d%13.5E%13.5E%13.5E\n", ord_data_type, points, 1, x0, dx, 0.0);
+  std::snprintf(line, sizeof line, "%10d%10zu%10d%13.5E%13.5E%13.5E\n", ord_data_type, points, 1,
+                x0, dx, 0.0);
   out << line;
   std::snprintf(line, sizeof line, "%10d%5d%5d%5d %-20s %-20s\n", 18, 0, 0, 0, "Frequency", "Hz");
   out << line;
-  std::snprintf(line, sizeof line, "%10d%5d%5d%5d %-20s %-20s\n", ord_spec, ord_len_exp, 0, 0, "Response", "m");
+  std::snprintf(line, sizeof line, "%10d%5d%5d%5d %-20s %-20s\n", ord_spec, ord_len_exp, 0, 0,
+                "Response", "m");
   out << line;
-  std::snprintf(line, sizeof line, "%10d%5d%5d%5d %-20s %-20s\n", func_type == 4 ? 13 : 0, 0, func_type == 4 ? 1 : 0,
-                0, func_type == 4 ? "Force" : "NONE", func_type == 4 ? "N" : "NONE");
+  std::snprintf(line, sizeof line, "%10d%5d%5d%5d %-20s %-20s\n", func_type == 4 ? 13 : 0, 0,
+                func_type == 4 ? 1 : 0, 0, func_type == 4 ? "Force" : "NONE",
+                func_type == 4 ? "N" : "NONE");
   out << line;
   std::snprintf(line, sizeof line, "%10d%5d%5d%5d %-20s %-20s\n", 0, 0, 0, 0, "NONE", "NONE");
   out << line;
@@ -200,8 +217,8 @@ std::string FormatUff58(const Frf& frf, int reference_node) {
     int node = 0;
     const char* digits = n.data() + std::min<std::size_t>(4, n.size());
     const auto r = std::from_chars(digits, n.data() + n.size(), node);
-    if (!n.starts_with("node") || r.ec != std::errc() || r.ptr != n.data() + n.size() || node < 1 || node > 999999999 ||
-        !seen.insert(node).second) {
+    if (!n.starts_with("node") || r.ec != std::errc() || r.ptr != n.data() + n.size() || node < 1 ||
+        node > 999999999 || !seen.insert(node).second) {
       break;
     }
     nodes.push_back(node);
@@ -213,9 +230,10 @@ std::string FormatUff58(const Frf& frf, int reference_node) {
   std::ostringstream out;
   for (Eigen::Index j = 0; j < frf.h.cols(); ++j) {
     const auto ju = static_cast<std::size_t>(j);
-    const std::string name = ju < frf.response_names.size() ? frf.response_names[ju] : "h" + std::to_string(j + 1);
-    WriteHeader(out, std::string(FrfKindName(frf.quantity)) + " " + name, 4, nodes[ju], reference_node, 6,
-                points, x0, dx, OrdinateType(frf.quantity), 1);
+    const std::string name =
+        ju < frf.response_names.size() ? frf.response_names[ju] : "h" + std::to_string(j + 1);
+    WriteHeader(out, std::string(FrfKindName(frf.quantity)) + " " + name, 4, nodes[ju],
+                reference_node, 6, points, x0, dx, OrdinateType(frf.quantity), 1);
     std::vector<double> values;
     values.reserve(2 * points);
     for (std::size_t i = 0; i < points; ++i) {
@@ -226,7 +244,8 @@ std::string FormatUff58(const Frf& frf, int reference_node) {
     out << "    -1\n";
     WriteHeader(out, "coherence " + name, 6, nodes[ju], reference_node, 4, points, x0, dx, 0, 0);
     values.clear();
-    for (std::size_t i = 0; i < points; ++i) values.push_back(frf.coherence(static_cast<Eigen::Index>(i), j));
+    for (std::size_t i = 0; i < points; ++i)
+      values.push_back(frf.coherence(static_cast<Eigen::Index>(i), j));
     WriteValues(out, values);
     out << "    -1\n";
   }
@@ -377,21 +396,30 @@ Frf FrfFromUff58(const std::vector<Uff58Dataset>& sets, const std::string& sourc
   }
   Require(!frfs.empty(), source + ": no FRF dataset (58, function type 4, complex)");
   const Uff58Dataset& first = *frfs.front();
-  frf.freq_hz = Eigen::VectorXd::LinSpaced(static_cast<Eigen::Index>(first.points), first.x0,
-                                           first.x0 + first.dx * static_cast<double>(first.points - 1));
+  frf.freq_hz =
+      Eigen::VectorXd::LinSpaced(static_cast<Eigen::Index>(first.points), first.x0,
+                                 first.x0 + first.dx * static_cast<double>(first.points - 1));
   switch (first.ord_spec) {
-    case 11: frf.quantity = Quantity::kVelocity; break;
-    case 12: frf.quantity = Quantity::kAcceleration; break;
-    default: frf.quantity = Quantity::kDisplacement; break;
+    case 11:
+      frf.quantity = Quantity::kVelocity;
+      break;
+    case 12:
+      frf.quantity = Quantity::kAcceleration;
+      break;
+    default:
+      frf.quantity = Quantity::kDisplacement;
+      break;
   }
   frf.h.resize(static_cast<Eigen::Index>(first.points), static_cast<Eigen::Index>(frfs.size()));
   frf.coherence = Eigen::MatrixXd::Ones(frf.h.rows(), frf.h.cols());
   for (std::size_t j = 0; j < frfs.size(); ++j) {
     const Uff58Dataset& d = *frfs[j];
-    Require(d.points == first.points && d.x0 == first.x0 && d.dx == first.dx && d.ord_spec == first.ord_spec,
+    Require(d.points == first.points && d.x0 == first.x0 && d.dx == first.dx &&
+                d.ord_spec == first.ord_spec,
             source + ": FRF datasets differ in abscissa or ordinate type");
     for (std::size_t k = 0; k < d.points; ++k) {
-      frf.h(static_cast<Eigen::Index>(k), static_cast<Eigen::Index>(j)) = {d.values[2 * k], d.values[2 * k + 1]};
+      frf.h(static_cast<Eigen::Index>(k), static_cast<Eigen::Index>(j)) = {d.values[2 * k],
+                                                                           d.values[2 * k + 1]};
     }
     Require(column_of_node.emplace(d.rsp_node, static_cast<Eigen::Index>(j)).second,
             source + ": two FRF datasets for response node " + std::to_string(d.rsp_node));

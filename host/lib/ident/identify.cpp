@@ -27,7 +27,8 @@ ChainParameters ChainOf(const model::Model& m) {
 }
 
 double PercentDeviation(double value, double reference) {
-  if (reference == 0.0 || !std::isfinite(reference) || !std::isfinite(value)) return std::numeric_limits<double>::quiet_NaN();
+  if (reference == 0.0 || !std::isfinite(reference) || !std::isfinite(value))
+    return std::numeric_limits<double>::quiet_NaN();
   return 100.0 * (value - reference) / reference;
 }
 
@@ -50,15 +51,18 @@ ValidationTable BuildValidationTable(const model::Model& nominal, const model::M
     r.zeta_nominal = ii < cn.zeta.size() ? cn.zeta[ii] : mn.zeta[ii];
     r.zeta_updated = ii < cu.zeta.size() ? cu.zeta[ii] : mu.zeta[ii];
     r.zeta_test = test_modes[i].zeta;
-    r.ratio_nominal = mn.ratio.size() > ii ? mn.ratio[ii] : std::numeric_limits<double>::quiet_NaN();
-    r.ratio_updated = mu.ratio.size() > ii ? mu.ratio[ii] : std::numeric_limits<double>::quiet_NaN();
+    r.ratio_nominal =
+        mn.ratio.size() > ii ? mn.ratio[ii] : std::numeric_limits<double>::quiet_NaN();
+    r.ratio_updated =
+        mu.ratio.size() > ii ? mu.ratio[ii] : std::numeric_limits<double>::quiet_NaN();
     r.ratio_test = test_modes[i].ratio;
     t.modes.push_back(r);
   }
   const ChainParameters a = ChainOf(nominal);
   const ChainParameters b = ChainOf(updated);
   for (Eigen::Index i = 0; i < a.masses_kg.size(); ++i) {
-    t.positions.push_back({a.masses_kg[i], b.masses_kg[i], a.springs_n_per_m[i], b.springs_n_per_m[i], b.dampers_ns_per_m[i]});
+    t.positions.push_back({a.masses_kg[i], b.masses_kg[i], a.springs_n_per_m[i],
+                           b.springs_n_per_m[i], b.dampers_ns_per_m[i]});
   }
   return t;
 }
@@ -67,8 +71,8 @@ std::string FormatValidationTable(const ValidationTable& t) {
   std::ostringstream out;
   char line[512];
   out << "Modes (deviation of each model from the test)\n";
-  std::snprintf(line, sizeof line, "%-5s %-9s %12s %12s %12s %9s %9s\n", "mode", "quantity", "nominal", "updated", "test",
-                "nom dev%", "upd dev%");
+  std::snprintf(line, sizeof line, "%-5s %-9s %12s %12s %12s %9s %9s\n", "mode", "quantity",
+                "nominal", "updated", "test", "nom dev%", "upd dev%");
   out << line;
   for (std::size_t i = 0; i < t.modes.size(); ++i) {
     const ModeComparison& r = t.modes[i];
@@ -79,23 +83,26 @@ std::string FormatValidationTable(const ValidationTable& t) {
                 {"zeta", r.zeta_nominal, r.zeta_updated, r.zeta_test},
                 {"a1/a2", r.ratio_nominal, r.ratio_updated, r.ratio_test}};
     for (const auto& row : rows) {
-      std::snprintf(line, sizeof line, "%-5zu %-9s %12.6g %12.6g %12.6g %9.2f %9.2f\n", i + 1, row.name, row.n, row.u,
-                    row.x, PercentDeviation(row.n, row.x), PercentDeviation(row.u, row.x));
+      std::snprintf(line, sizeof line, "%-5zu %-9s %12.6g %12.6g %12.6g %9.2f %9.2f\n", i + 1,
+                    row.name, row.n, row.u, row.x, PercentDeviation(row.n, row.x),
+                    PercentDeviation(row.u, row.x));
       out << line;
     }
   }
   out << "Positions (change from nominal)\n";
-  std::snprintf(line, sizeof line, "%-5s %-12s %12s %12s %9s\n", "pos", "quantity", "nominal", "updated", "change%");
+  std::snprintf(line, sizeof line, "%-5s %-12s %12s %12s %9s\n", "pos", "quantity", "nominal",
+                "updated", "change%");
   out << line;
   for (std::size_t i = 0; i < t.positions.size(); ++i) {
     const PositionComparison& p = t.positions[i];
-    std::snprintf(line, sizeof line, "%-5zu %-12s %12.6g %12.6g %9.2f\n", i + 1, "m_kg", p.m_nominal, p.m_updated,
-                  PercentDeviation(p.m_updated, p.m_nominal));
+    std::snprintf(line, sizeof line, "%-5zu %-12s %12.6g %12.6g %9.2f\n", i + 1, "m_kg",
+                  p.m_nominal, p.m_updated, PercentDeviation(p.m_updated, p.m_nominal));
     out << line;
-    std::snprintf(line, sizeof line, "%-5zu %-12s %12.6g %12.6g %9.2f\n", i + 1, "k_n_per_m", p.k_nominal, p.k_updated,
-                  PercentDeviation(p.k_updated, p.k_nominal));
+    std::snprintf(line, sizeof line, "%-5zu %-12s %12.6g %12.6g %9.2f\n", i + 1, "k_n_per_m",
+                  p.k_nominal, p.k_updated, PercentDeviation(p.k_updated, p.k_nominal));
     out << line;
-    std::snprintf(line, sizeof line, "%-5zu %-12s %12s %12.6g\n", i + 1, "c_ns_per_m", "", p.c_updated);
+    std::snprintf(line, sizeof line, "%-5zu %-12s %12s %12.6g\n", i + 1, "c_ns_per_m", "",
+                  p.c_updated);
     out << line;
   }
   return out.str();
@@ -106,27 +113,33 @@ IdentifyResult Identify(const model::Model& nominal, const std::vector<MassTestI
   model::Validate(nominal);
   const Eigen::Index n = nominal.m_kg.rows();
   Require(n >= 2, "identify: the nominal model must have at least 2 masses");
-  Require(nominal.m_kg.isDiagonal(), "identify: the nominal model needs a diagonal mass matrix (a chain)");
+  Require(nominal.m_kg.isDiagonal(),
+          "identify: the nominal model needs a diagonal mass matrix (a chain)");
   Require(!modal_tests.empty(), "identify: at least one modal test is needed");
   const ChainParameters nominal_chain = ChainOf(nominal);
   IdentifyResult res;
   res.chain = nominal_chain;
   std::vector<bool> seen(static_cast<std::size_t>(n), false);
   for (const MassTestInput& mt : mass_tests) {
-    Require(mt.position < static_cast<std::size_t>(n),
-            "identify: mass test for position " + std::to_string(mt.position + 1) + ", the model has " + std::to_string(n));
-    Require(!seen[mt.position], "identify: two mass tests for position " + std::to_string(mt.position + 1));
+    Require(mt.position < static_cast<std::size_t>(n), "identify: mass test for position " +
+                                                           std::to_string(mt.position + 1) +
+                                                           ", the model has " + std::to_string(n));
+    Require(!seen[mt.position],
+            "identify: two mass tests for position " + std::to_string(mt.position + 1));
     seen[mt.position] = true;
     MassUpdateOptions mo = options.mass;
     const auto pos = static_cast<Eigen::Index>(mt.position);
-    mo.k_n_per_m = mt.fit_spring ? 0.0 : mt.k_n_per_m > 0.0 ? mt.k_n_per_m : nominal_chain.springs_n_per_m[pos];
+    mo.k_n_per_m = mt.fit_spring        ? 0.0
+                   : mt.k_n_per_m > 0.0 ? mt.k_n_per_m
+                                        : nominal_chain.springs_n_per_m[pos];
     mo.nominal_kg = nominal_chain.masses_kg[pos];
     MassTestResult r{mt.position, UpdateMass(mt.receptance, 0, mo)};
     if (!r.update.summary.Converged()) {
-      throw InputError("identify: mass test " + std::to_string(mt.position + 1) + ": fit did not converge (" +
-                       r.update.summary.message + ")");
+      throw InputError("identify: mass test " + std::to_string(mt.position + 1) +
+                       ": fit did not converge (" + r.update.summary.message + ")");
     }
-    for (const auto& w : r.update.warnings) res.warnings.push_back("mass test " + std::to_string(mt.position + 1) + ": " + w);
+    for (const auto& w : r.update.warnings)
+      res.warnings.push_back("mass test " + std::to_string(mt.position + 1) + ": " + w);
     res.chain.masses_kg[pos] = r.update.mass_kg;
     res.mass_tests.push_back(r);
   }
@@ -139,8 +152,8 @@ IdentifyResult Identify(const model::Model& nominal, const std::vector<MassTestI
     ModeIdentification mi = IdentifyModes(modal_tests[t], options.driving_point, mo);
     for (const auto& w : mi.warnings) res.warnings.push_back(name + ": " + w);
     Require(static_cast<Eigen::Index>(mi.modes.size()) == n,
-            "identify: " + name + " shows " + std::to_string(mi.modes.size()) + " modes, the model has " +
-                std::to_string(n) + " (set the band or --max-modes)");
+            "identify: " + name + " shows " + std::to_string(mi.modes.size()) +
+                " modes, the model has " + std::to_string(n) + " (set the band or --max-modes)");
     Require(static_cast<Eigen::Index>(modal_tests[t].responses()) == n,
             "identify: " + name + " needs one response per mass (" + std::to_string(n) + ")");
     Eigen::VectorXd omega(n), zeta(n);
@@ -173,11 +186,14 @@ IdentifyResult Identify(const model::Model& nominal, const std::vector<MassTestI
     avg.zeta /= count;
     avg.shape /= count;
     avg.freq_hz = avg.omega_rad_s / (2.0 * std::numbers::pi);
-    avg.ratio = avg.shape.size() == 2 && avg.shape[1] != 0.0 ? avg.shape[0] / avg.shape[1] : std::numeric_limits<double>::quiet_NaN();
+    avg.ratio = avg.shape.size() == 2 && avg.shape[1] != 0.0
+                    ? avg.shape[0] / avg.shape[1]
+                    : std::numeric_limits<double>::quiet_NaN();
     // Interval of the mean over the tests: from each test's standard deviation, or from the
     // tests' scatter when that is larger (the rig changing between tests is no noise the
     // modal model sees). Normal quantile: the per-test variances are well determined.
-    const auto mean_interval = [&](auto value_of, auto ci_of, double mean, std::array<double, 2>& out) {
+    const auto mean_interval = [&](auto value_of, auto ci_of, double mean,
+                                   std::array<double, 2>& out) {
       double var_sum = 0.0;
       double ss = 0.0;
       for (const auto& mt : res.modal_tests) {
@@ -192,21 +208,28 @@ IdentifyResult Identify(const model::Model& nominal, const std::vector<MassTestI
       const double hw = kZ95 * std::sqrt(var);
       out = {mean - hw, mean + hw};
     };
-    mean_interval([](const ModeEstimate& m) { return m.omega_rad_s; }, [](const ModeEstimate& m) -> const std::array<double, 2>& { return m.omega_ci95_rad_s; },
-                  avg.omega_rad_s, avg.omega_ci95_rad_s);
-    mean_interval([](const ModeEstimate& m) { return m.zeta; }, [](const ModeEstimate& m) -> const std::array<double, 2>& { return m.zeta_ci95; },
+    mean_interval(
+        [](const ModeEstimate& m) { return m.omega_rad_s; },
+        [](const ModeEstimate& m) -> const std::array<double, 2>& { return m.omega_ci95_rad_s; },
+        avg.omega_rad_s, avg.omega_ci95_rad_s);
+    mean_interval([](const ModeEstimate& m) { return m.zeta; },
+                  [](const ModeEstimate& m) -> const std::array<double, 2>& { return m.zeta_ci95; },
                   avg.zeta, avg.zeta_ci95);
-    mean_interval([](const ModeEstimate& m) { return m.ratio; }, [](const ModeEstimate& m) -> const std::array<double, 2>& { return m.ratio_ci95; },
-                  avg.ratio, avg.ratio_ci95);
+    mean_interval(
+        [](const ModeEstimate& m) { return m.ratio; },
+        [](const ModeEstimate& m) -> const std::array<double, 2>& { return m.ratio_ci95; },
+        avg.ratio, avg.ratio_ci95);
   }
   Require((res.chain.springs_n_per_m.array() > 0.0).all(),
-          "identify: the test data give a non-positive chain spring; the chain topology does not explain the tests");
+          "identify: the test data give a non-positive chain spring; the chain topology does not "
+          "explain the tests");
   Eigen::VectorXd dampers = res.chain.dampers_ns_per_m.cwiseMax(0.0);
   if ((res.chain.dampers_ns_per_m.array() < 0.0).any()) {
     res.warnings.push_back("a negative chain damper from the test damping was set to zero");
   }
   res.chain.dampers_ns_per_m = dampers;
-  res.updated = model::MakeChain(res.chain.masses_kg, res.chain.springs_n_per_m, res.chain.dampers_ns_per_m);
+  res.updated =
+      model::MakeChain(res.chain.masses_kg, res.chain.springs_n_per_m, res.chain.dampers_ns_per_m);
   res.table = BuildValidationTable(nominal, res.updated, res.test_modes);
   return res;
 }

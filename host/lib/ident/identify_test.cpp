@@ -33,8 +33,9 @@ const Truth kTruths[] = {
 // Lightly damped modes ring longer than the hit spacing: an exponential window (its damping is
 // corrected in the fit) as in practice.
 Frf Receptance(const HammerTestRecord& rec, double fs_hz) {
-  const ImpactResult r = EstimateImpactFrf(rec.force_n, rec.response, fs_hz, {.exp_window_end = 0.01}, Estimator::kH1,
-                                           Quantity::kAcceleration);
+  const ImpactResult r =
+      EstimateImpactFrf(rec.force_n, rec.response, fs_hz, {.exp_window_end = 0.01}, Estimator::kH1,
+                        Quantity::kAcceleration);
   for (const Hit& h : r.hits) EXPECT_TRUE(h.used) << h.note;
   return ConvertFrf(r.frf, Quantity::kDisplacement);
 }
@@ -53,19 +54,28 @@ TEST_P(SyntheticChain, RecoversTheTruth) {
   for (std::size_t i = 0; i < 2; ++i) {
     const double k = 1.1 * (i == 0 ? t.k1 : t.k2);
     const double c = 2 * 0.02 * std::sqrt(k * ms[i]);
-    const model::Model one = model::MakeChain(Eigen::VectorXd::Constant(1, ms[i]), Eigen::VectorXd::Constant(1, k),
-                                              Eigen::VectorXd::Constant(1, c));
-    HammerTestSpec spec{.fs_hz = fs, .pulse_width_s = 0.004, .spacing_min_s = 10, .spacing_max_s = 13,
+    const model::Model one =
+        model::MakeChain(Eigen::VectorXd::Constant(1, ms[i]), Eigen::VectorXd::Constant(1, k),
+                         Eigen::VectorXd::Constant(1, c));
+    HammerTestSpec spec{.fs_hz = fs,
+                        .pulse_width_s = 0.004,
+                        .spacing_min_s = 10,
+                        .spacing_max_s = 13,
                         .seed = 100 + i};
     mass_tests.push_back({i, Receptance(SimulateHammerTest(one, spec), fs), 0.0});
   }
   // Two modal tests of the truth chain, hammer on m2, accelerometers on both masses.
-  const model::Model truth = model::MakeChain(Eigen::Vector2d(t.m1, t.m2), Eigen::Vector2d(t.k1, t.k2),
-                                              Eigen::Vector2d(t.c1, t.c2));
+  const model::Model truth = model::MakeChain(
+      Eigen::Vector2d(t.m1, t.m2), Eigen::Vector2d(t.k1, t.k2), Eigen::Vector2d(t.c1, t.c2));
   std::vector<Frf> modal;
   for (std::uint64_t seed : {7u, 8u}) {
-    HammerTestSpec spec{.hammer_dof = 1, .fs_hz = fs, .hits = 10, .pulse_width_s = 0.004, .spacing_min_s = 16,
-                        .spacing_max_s = 20, .seed = seed};
+    HammerTestSpec spec{.hammer_dof = 1,
+                        .fs_hz = fs,
+                        .hits = 10,
+                        .pulse_width_s = 0.004,
+                        .spacing_min_s = 16,
+                        .spacing_max_s = 20,
+                        .seed = seed};
     modal.push_back(Receptance(SimulateHammerTest(truth, spec), fs));
   }
   const IdentifyResult r = Identify(nominal, mass_tests, modal, {});
@@ -78,10 +88,13 @@ TEST_P(SyntheticChain, RecoversTheTruth) {
   for (std::size_t i = 0; i < 2; ++i) {
     const ModeEstimate& m = r.test_modes[i];
     const auto ii = static_cast<Eigen::Index>(i);
-    std::printf("%s mode %zu: omega %.5f (truth %.5f, %.3f %%), zeta %.5f (truth %.5f, %.2f %%), ratio %.5f (truth %.5f, %.3f %%)\n",
-                t.name, i + 1, m.omega_rad_s, cm.omega_rad_s[ii], PercentDeviation(m.omega_rad_s, cm.omega_rad_s[ii]),
-                m.zeta, cm.zeta[ii], PercentDeviation(m.zeta, cm.zeta[ii]), m.ratio, tm.ratio[i],
-                PercentDeviation(m.ratio, tm.ratio[i]));
+    std::printf(
+        "%s mode %zu: omega %.5f (truth %.5f, %.3f %%), zeta %.5f (truth %.5f, %.2f %%), ratio "
+        "%.5f (truth %.5f, %.3f %%)\n",
+        t.name, i + 1, m.omega_rad_s, cm.omega_rad_s[ii],
+        PercentDeviation(m.omega_rad_s, cm.omega_rad_s[ii]), m.zeta, cm.zeta[ii],
+        PercentDeviation(m.zeta, cm.zeta[ii]), m.ratio, tm.ratio[i],
+        PercentDeviation(m.ratio, tm.ratio[i]));
     EXPECT_NEAR(m.omega_rad_s, cm.omega_rad_s[ii], 0.002 * cm.omega_rad_s[ii]) << t.name;
     EXPECT_NEAR(m.zeta, cm.zeta[ii], 0.1 * cm.zeta[ii]) << t.name;
     EXPECT_NEAR(m.ratio, tm.ratio[i], 0.02 * std::abs(tm.ratio[i])) << t.name;
@@ -89,10 +102,12 @@ TEST_P(SyntheticChain, RecoversTheTruth) {
   const double truth_m[2] = {t.m1, t.m2};
   const double truth_k[2] = {t.k1, t.k2};
   for (Eigen::Index i = 0; i < 2; ++i) {
-    std::printf("%s position %ld: m %.5f (truth %.5f, %.3f %%), k %.3f (truth %.3f, %.3f %%), spread %.3f\n", t.name,
-                static_cast<long>(i) + 1, r.chain.masses_kg[i], truth_m[i], PercentDeviation(r.chain.masses_kg[i], truth_m[i]),
-                r.chain.springs_n_per_m[i], truth_k[i], PercentDeviation(r.chain.springs_n_per_m[i], truth_k[i]),
-                r.stiffness.spread[i]);
+    std::printf(
+        "%s position %ld: m %.5f (truth %.5f, %.3f %%), k %.3f (truth %.3f, %.3f %%), spread "
+        "%.3f\n",
+        t.name, static_cast<long>(i) + 1, r.chain.masses_kg[i], truth_m[i],
+        PercentDeviation(r.chain.masses_kg[i], truth_m[i]), r.chain.springs_n_per_m[i], truth_k[i],
+        PercentDeviation(r.chain.springs_n_per_m[i], truth_k[i]), r.stiffness.spread[i]);
     EXPECT_NEAR(r.chain.masses_kg[i], truth_m[i], 0.01 * truth_m[i]) << t.name;
     EXPECT_NEAR(r.chain.springs_n_per_m[i], truth_k[i], 0.01 * truth_k[i]) << t.name;
   }
@@ -110,14 +125,16 @@ TEST(Identify, InconsistentInputsAreInputErrors) {
   EXPECT_THROW(Identify(nominal, {}, {}, {}), InputError);
   const Frf one = testing::ChainFrf(1, 1, 1000, 1000, 0.5, 0.5, 1, 0.02, 1000);
   EXPECT_THROW(Identify(nominal, {{5, one, 0.0}}, {one}, {}), InputError);
-  const model::Model single = model::MakeChain(Eigen::VectorXd::Ones(1), Eigen::VectorXd::Constant(1, 100.0));
+  const model::Model single =
+      model::MakeChain(Eigen::VectorXd::Ones(1), Eigen::VectorXd::Constant(1, 100.0));
   EXPECT_THROW(Identify(single, {}, {one}, {}), InputError);
 }
 
 TEST(Validation, PercentDeviationsAndChainOf) {
   EXPECT_DOUBLE_EQ(PercentDeviation(110, 100), 10.0);
   EXPECT_TRUE(std::isnan(PercentDeviation(1, 0)));
-  const model::Model m = model::MakeChain(Eigen::Vector2d(1, 2), Eigen::Vector2d(300, 200), Eigen::Vector2d(3, 2));
+  const model::Model m =
+      model::MakeChain(Eigen::Vector2d(1, 2), Eigen::Vector2d(300, 200), Eigen::Vector2d(3, 2));
   const ChainParameters c = ChainOf(m);
   EXPECT_DOUBLE_EQ(c.springs_n_per_m[0], 300);
   EXPECT_DOUBLE_EQ(c.springs_n_per_m[1], 200);

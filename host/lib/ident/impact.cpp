@@ -10,13 +10,18 @@
 namespace vibid::ident {
 
 void ImpactOptions::Validate() const {
-  Require(trigger_fraction > 0.0 && trigger_fraction < 1.0, "impact: trigger fraction must be in (0, 1)");
+  Require(trigger_fraction > 0.0 && trigger_fraction < 1.0,
+          "impact: trigger fraction must be in (0, 1)");
   Require(std::isfinite(pretrigger_s), "impact: pretrigger must be finite");
   Require(record_s >= 0.0 && std::isfinite(record_s), "impact: record length must be >= 0");
-  Require(force_window_s >= 0.0 && std::isfinite(force_window_s), "impact: force window must be >= 0");
-  Require(exp_window_end >= 0.0 && exp_window_end < 1.0, "impact: exponential window end value must be in [0, 1)");
-  Require(double_hit_window_s >= 0.0 && std::isfinite(double_hit_window_s), "impact: double-hit window must be >= 0");
-  Require(double_hit_fraction > 0.0 && double_hit_fraction < 1.0, "impact: double-hit fraction must be in (0, 1)");
+  Require(force_window_s >= 0.0 && std::isfinite(force_window_s),
+          "impact: force window must be >= 0");
+  Require(exp_window_end >= 0.0 && exp_window_end < 1.0,
+          "impact: exponential window end value must be in [0, 1)");
+  Require(double_hit_window_s >= 0.0 && std::isfinite(double_hit_window_s),
+          "impact: double-hit window must be >= 0");
+  Require(double_hit_fraction > 0.0 && double_hit_fraction < 1.0,
+          "impact: double-hit fraction must be in (0, 1)");
   Require(clip_run_samples >= 2, "impact: clipping run must be at least 2 samples");
   Require(force_dynamic_range_db > 0.0 && std::isfinite(force_dynamic_range_db),
           "impact: force dynamic range must be > 0 dB");
@@ -149,8 +154,8 @@ ExcitationCheck ClassifyExcitation(const Eigen::Ref<const Eigen::VectorXd>& forc
   out.impact = out.crest_factor >= kImpactCrestFactor && out.pulse_duty <= kImpactMaxDuty;
   std::ostringstream d;
   d.precision(3);
-  d << "force has " << out.pulses << " pulse(s) over " << 100.0 * out.pulse_duty << " % of the record, crest factor "
-    << out.crest_factor;
+  d << "force has " << out.pulses << " pulse(s) over " << 100.0 * out.pulse_duty
+    << " % of the record, crest factor " << out.crest_factor;
   out.description = d.str();
   return out;
 }
@@ -191,7 +196,8 @@ RecordLayout ChooseRecord(const std::vector<PulseGroup>& groups, std::size_t n, 
       record = std::min(record, groups[g].front().start - groups[g - 1].front().start);
     }
     if (groups.size() > 1) {
-      // The last hit's tail is often cut short by the end of the file; do not let it set the length.
+      // The last hit's tail is often cut short by the end of the file; do not let it set the
+      // length.
       record = std::max<std::size_t>(record, 16);
     }
   }
@@ -431,7 +437,8 @@ ImpactResult EstimateImpactFrf(const Eigen::Ref<const Eigen::VectorXd>& force,
   bool overridable = false;
   for (std::size_t g = 0; g < groups.size(); ++g) {
     Hit& hit = result.hits[g];
-    hit.used = !hit.truncated && (!options.reject_bad_hits || !hit.clipped) && (keep_doubles || !hit.double_hit);
+    hit.used = !hit.truncated && (!options.reject_bad_hits || !hit.clipped) &&
+               (keep_doubles || !hit.double_hit);
     if (!hit.used) {
       reasons << " hit at " << hit.t_s << " s: " << hit.note << ";";
       overridable = overridable || !hit.truncated;

@@ -92,7 +92,8 @@ TEST(Impact, DoubleHitIsRejectedAndClippingFlagged) {
   EXPECT_EQ(r.frf.averages, 1u);
   // Flag only: every hit is used.
   const ImpactResult flagged =
-      EstimateImpactFrf(f, y, 1.0, {.double_hit_window_s = 50, .reject_bad_hits = false}, Estimator::kH1, Quantity::kDisplacement);
+      EstimateImpactFrf(f, y, 1.0, {.double_hit_window_s = 50, .reject_bad_hits = false},
+                        Estimator::kH1, Quantity::kDisplacement);
   EXPECT_EQ(flagged.frf.averages, 3u);
   // The only hit is clipped: an input error listing why and naming the override.
   Eigen::VectorXd g = Eigen::VectorXd::Zero(3000);
@@ -101,7 +102,8 @@ TEST(Impact, DoubleHitIsRejectedAndClippingFlagged) {
   const double rail_g = 0.5 * yg.cwiseAbs().maxCoeff();
   yg = yg.cwiseMin(rail_g).cwiseMax(-rail_g);
   try {
-    const ImpactResult bad = EstimateImpactFrf(g, yg, 1.0, opt, Estimator::kH1, Quantity::kDisplacement);
+    const ImpactResult bad =
+        EstimateImpactFrf(g, yg, 1.0, opt, Estimator::kH1, Quantity::kDisplacement);
     FAIL() << bad.hits.size() << " " << bad.hits[0].note << " used " << bad.hits[0].used;
   } catch (const InputError& e) {
     EXPECT_NE(std::string(e.what()).find("clipped"), std::string::npos) << e.what();
@@ -120,7 +122,8 @@ TEST(Impact, AllDoubleHitsAreUsedWithTheWholeGroupInTheForceWindow) {
     AddHit(f, at + 20, 40, 5);
   }
   const Eigen::MatrixXd y = sys.Filter(f);
-  const ImpactResult r = EstimateImpactFrf(f, y, 1.0, {.double_hit_window_s = 50}, Estimator::kH1, Quantity::kDisplacement);
+  const ImpactResult r = EstimateImpactFrf(f, y, 1.0, {.double_hit_window_s = 50}, Estimator::kH1,
+                                           Quantity::kDisplacement);
   ASSERT_EQ(r.hits.size(), 3u);
   for (const Hit& h : r.hits) {
     EXPECT_TRUE(h.used);
@@ -150,7 +153,8 @@ TEST(Impact, AllDoubleHitsAreUsedWithTheWholeGroupInTheForceWindow) {
   // The old force window (only the first pulse) is what made double hits unusable: force window
   // forced to 10 samples after the trigger cuts the rebound and the FRF is far off.
   const ImpactResult cut =
-      EstimateImpactFrf(f, y, 1.0, {.force_window_s = 10, .double_hit_window_s = 50}, Estimator::kH1, Quantity::kDisplacement);
+      EstimateImpactFrf(f, y, 1.0, {.force_window_s = 10, .double_hit_window_s = 50},
+                        Estimator::kH1, Quantity::kDisplacement);
   const Eigen::Index probe = 100;
   const cd ref = sys.Response(2 * std::numbers::pi * cut.frf.freq_hz[probe]);
   EXPECT_GT(std::abs(cut.frf.h(probe, 0) - ref) / std::abs(ref), 0.1);
@@ -194,10 +198,11 @@ TEST(Impact, ExponentialWindowDampingIsCorrected) {
   AddHit(f, 8300, 100, 4);
   AddHit(f, 16700, 100, 4);
   const Eigen::MatrixXd y = sys.Filter(f);
-  const ImpactResult r =
-      EstimateImpactFrf(f, y, 1.0, {.exp_window_end = 0.02}, Estimator::kH1, Quantity::kDisplacement);
+  const ImpactResult r = EstimateImpactFrf(f, y, 1.0, {.exp_window_end = 0.02}, Estimator::kH1,
+                                           Quantity::kDisplacement);
   EXPECT_GT(r.frf.exp_window_tau_s, 0.0);
-  const PeakResult p = PickPeaks(r.frf.freq_hz, r.frf.h.col(0).cwiseAbs(), {}, r.frf.exp_window_tau_s);
+  const PeakResult p =
+      PickPeaks(r.frf.freq_hz, r.frf.h.col(0).cwiseAbs(), {}, r.frf.exp_window_tau_s);
   ASSERT_EQ(p.peaks.size(), 1u);
   EXPECT_NEAR(p.peaks[0].zeta, sys.Zeta(), 0.05 * sys.Zeta());
   EXPECT_GT(p.peaks[0].zeta_measured, 1.25 * sys.Zeta());
@@ -207,21 +212,27 @@ TEST(Impact, ExponentialWindowDampingIsCorrected) {
 TEST(Impact, BadOptionsAndSignals) {
   const Eigen::VectorXd f = Eigen::VectorXd::Zero(100);
   const Eigen::MatrixXd y = Eigen::MatrixXd::Zero(100, 1);
-  EXPECT_THROW(EstimateImpactFrf(f, y, 1.0, {}, Estimator::kH1, Quantity::kDisplacement), InputError);
-  EXPECT_THROW(EstimateImpactFrf(f, y, 1.0, {.trigger_fraction = 2}, Estimator::kH1, Quantity::kDisplacement),
+  EXPECT_THROW(EstimateImpactFrf(f, y, 1.0, {}, Estimator::kH1, Quantity::kDisplacement),
                InputError);
-  EXPECT_THROW(EstimateImpactFrf(f, Eigen::MatrixXd::Zero(99, 1), 1.0, {}, Estimator::kH1, Quantity::kDisplacement),
+  EXPECT_THROW(EstimateImpactFrf(f, y, 1.0, {.trigger_fraction = 2}, Estimator::kH1,
+                                 Quantity::kDisplacement),
+               InputError);
+  EXPECT_THROW(EstimateImpactFrf(f, Eigen::MatrixXd::Zero(99, 1), 1.0, {}, Estimator::kH1,
+                                 Quantity::kDisplacement),
                InputError);
 }
 
 // The LADISK beam record: one hit near 0.7 ms, 50 kHz, accelerometer in g. Default options only.
 // Expected peaks: the README's rough look at a single-hit H1 (about 36, 696, 1898, 3672 Hz).
 TEST(ImpactLadisk, DefaultsFindTheBeamResonances) {
-  const Recording rec = LoadRecording(std::string(VIBID_DATA_DIR) + "/ladisk_impact_hammer/impact_acceleration_force.csv");
+  const Recording rec = LoadRecording(std::string(VIBID_DATA_DIR) +
+                                      "/ladisk_impact_hammer/impact_acceleration_force.csv");
   const Eigen::VectorXd force = rec.Signal(ParseColumnSpec("force_N"));
-  EXPECT_TRUE(ClassifyExcitation(force, rec.fs_hz).impact) << ClassifyExcitation(force, rec.fs_hz).description;
+  EXPECT_TRUE(ClassifyExcitation(force, rec.fs_hz).impact)
+      << ClassifyExcitation(force, rec.fs_hz).description;
   const Eigen::MatrixXd acc = rec.Signal(ParseColumnSpec("acceleration_g:g"));
-  const ImpactResult r = EstimateImpactFrf(force, acc, rec.fs_hz, {}, Estimator::kH1, Quantity::kAcceleration);
+  const ImpactResult r =
+      EstimateImpactFrf(force, acc, rec.fs_hz, {}, Estimator::kH1, Quantity::kAcceleration);
   ASSERT_EQ(r.hits.size(), 1u);
   EXPECT_TRUE(r.hits[0].used) << r.hits[0].note;
   EXPECT_NEAR(r.hits[0].t_s, 0.0006, 0.0002);
@@ -230,25 +241,30 @@ TEST(ImpactLadisk, DefaultsFindTheBeamResonances) {
   std::vector<double> found;
   for (const Peak& pk : p.peaks) found.push_back(pk.freq_hz);
   for (double expected : {36.0, 696.0, 1898.0, 3672.0}) {
-    const auto near = std::find_if(found.begin(), found.end(),
-                                   [&](double fh) { return std::abs(fh - expected) < 0.03 * expected + 3.0; });
+    const auto near = std::find_if(found.begin(), found.end(), [&](double fh) {
+      return std::abs(fh - expected) < 0.03 * expected + 3.0;
+    });
     EXPECT_NE(near, found.end()) << "no peak near " << expected << " Hz";
   }
   // The same with an exponential window: the peaks stay, the damping is corrected back.
-  const ImpactResult rw =
-      EstimateImpactFrf(force, acc, rec.fs_hz, {.exp_window_end = 0.05}, Estimator::kH1, Quantity::kAcceleration);
-  const PeakResult pw = PickPeaks(rw.frf.freq_hz, rw.frf.h.col(0).cwiseAbs(), {.freq_max_hz = 5000}, rw.frf.exp_window_tau_s);
+  const ImpactResult rw = EstimateImpactFrf(force, acc, rec.fs_hz, {.exp_window_end = 0.05},
+                                            Estimator::kH1, Quantity::kAcceleration);
+  const PeakResult pw = PickPeaks(rw.frf.freq_hz, rw.frf.h.col(0).cwiseAbs(), {.freq_max_hz = 5000},
+                                  rw.frf.exp_window_tau_s);
   for (double expected : {696.0, 1898.0, 3672.0}) {
-    const auto near = std::find_if(pw.peaks.begin(), pw.peaks.end(),
-                                   [&](const Peak& pk) { return std::abs(pk.freq_hz - expected) < 0.03 * expected; });
+    const auto near = std::find_if(pw.peaks.begin(), pw.peaks.end(), [&](const Peak& pk) {
+      return std::abs(pk.freq_hz - expected) < 0.03 * expected;
+    });
     ASSERT_NE(near, pw.peaks.end()) << "exp window: no peak near " << expected << " Hz";
-    const auto plain = std::find_if(p.peaks.begin(), p.peaks.end(),
-                                    [&](const Peak& pk) { return std::abs(pk.freq_hz - expected) < 0.03 * expected; });
+    const auto plain = std::find_if(p.peaks.begin(), p.peaks.end(), [&](const Peak& pk) {
+      return std::abs(pk.freq_hz - expected) < 0.03 * expected;
+    });
     EXPECT_GT(near->zeta_measured, plain->zeta_measured);
     EXPECT_NEAR(near->zeta, plain->zeta, 0.5 * plain->zeta) << expected;
   }
   for (const Peak& pk : p.peaks) {
-    std::printf("LADISK peak %.1f Hz zeta %.4f lines %.1f\n", pk.freq_hz, pk.zeta, pk.lines_in_band);
+    std::printf("LADISK peak %.1f Hz zeta %.4f lines %.1f\n", pk.freq_hz, pk.zeta,
+                pk.lines_in_band);
   }
 }
 

@@ -13,9 +13,11 @@
 namespace vibid::ident {
 
 void ModalModelOptions::Validate() const {
-  Require(freq_min_hz >= 0.0 && freq_max_hz >= 0.0 && std::isfinite(freq_min_hz) && std::isfinite(freq_max_hz),
+  Require(freq_min_hz >= 0.0 && freq_max_hz >= 0.0 && std::isfinite(freq_min_hz) &&
+              std::isfinite(freq_max_hz),
           "modal model: band limits must be >= 0");
-  Require(freq_max_hz == 0.0 || freq_max_hz > freq_min_hz, "modal model: band maximum must exceed the minimum");
+  Require(freq_max_hz == 0.0 || freq_max_hz > freq_min_hz,
+          "modal model: band maximum must exceed the minimum");
   Require(max_iterations >= 0 && max_iterations <= 1000, "modal model: iterations must be 0..1000");
   Require(max_lines >= 64, "modal model: max_lines must be >= 64");
 }
@@ -116,7 +118,8 @@ struct Problem {
       const Eigen::Index base = 2 * modes + o * per_response();
       const Eigen::MatrixXd a = jac.block(2 * o * L, base, 2 * L, per_response());
       // r = a x_current - y: the new x solves a x = y = a x_current - r.
-      const Eigen::VectorXd y = a * theta.segment(base, per_response()) - r.segment(2 * o * L, 2 * L);
+      const Eigen::VectorXd y =
+          a * theta.segment(base, per_response()) - r.segment(2 * o * L, 2 * L);
       const Eigen::VectorXd scale = a.colwise().norm().transpose().cwiseMax(1e-300).cwiseInverse();
       const Eigen::VectorXd x = (a * scale.asDiagonal()).colPivHouseholderQr().solve(y);
       theta.segment(base, per_response()) = scale.cwiseProduct(x);
@@ -129,7 +132,8 @@ struct Problem {
 double ModalModelFit::ShapeRatio(Eigen::Index mode, Eigen::Index j, Eigen::Index p) const {
   const cd rj = residues(mode, j);
   const cd rp = residues(mode, p);
-  return std::norm(rp) > 0.0 ? std::real(rj * std::conj(rp)) / std::norm(rp) : std::numeric_limits<double>::quiet_NaN();
+  return std::norm(rp) > 0.0 ? std::real(rj * std::conj(rp)) / std::norm(rp)
+                             : std::numeric_limits<double>::quiet_NaN();
 }
 
 double ModalModelFit::ShapeRatioSd(Eigen::Index mode, Eigen::Index j, Eigen::Index p) const {
@@ -143,8 +147,9 @@ double ModalModelFit::ShapeRatioSd(Eigen::Index mode, Eigen::Index j, Eigen::Ind
   const double ratio = std::real(rj * std::conj(rp)) / n2;
   // Gradient in Re, Im of the resonance residues, then through R + S exp(j omega_d t_p) to the
   // parameters (the phase's own dependence on the pole is of second order).
-  const double gr[2][2] = {{rp.real() / n2, rp.imag() / n2},
-                           {(rj.real() - 2.0 * rp.real() * ratio) / n2, (rj.imag() - 2.0 * rp.imag() * ratio) / n2}};
+  const double gr[2][2] = {
+      {rp.real() / n2, rp.imag() / n2},
+      {(rj.real() - 2.0 * rp.real() * ratio) / n2, (rj.imag() - 2.0 * rp.imag() * ratio) / n2}};
   const Eigen::Index at[2] = {2 * modes + j * per + 2 * mode, 2 * modes + p * per + 2 * mode};
   const cd e = std::polar(1.0, lambda[mode].imag() * pretrigger_s);
   Eigen::VectorXd g = Eigen::VectorXd::Zero(covariance.rows());
@@ -191,7 +196,8 @@ std::vector<Eigen::Index> FitLines(const Frf& acc, const std::vector<std::comple
       const double f = acc.freq_hz[k];
       for (const cd& l : start) {
         const double fp = std::abs(l) / (2.0 * std::numbers::pi);
-        const double half = std::max(10.0 * 2.0 * (-l.real()) / (2.0 * std::numbers::pi), 32.0 * df);
+        const double half =
+            std::max(10.0 * 2.0 * (-l.real()) / (2.0 * std::numbers::pi), 32.0 * df);
         if (std::abs(f - fp) <= half) {
           near.push_back(k);
           break;
@@ -218,11 +224,13 @@ void LoadLines(const Frf& acc, const std::vector<Eigen::Index>& rows, Problem& p
       prob.h(k, o) = acc.h(src, o);
       top = std::max(top, std::abs(acc.h(src, o)));
     }
-    Require(top > 0.0, "modal model fit: response " + std::to_string(o + 1) + " is zero in the band");
+    Require(top > 0.0,
+            "modal model fit: response " + std::to_string(o + 1) + " is zero in the band");
     // Lines where the force had no energy (coherence 0) carry no FRF. The noise level is set from
     // the residuals after the first fit.
     for (Eigen::Index k = 0; k < L; ++k) {
-      prob.weight(k, o) = acc.coherence(rows[static_cast<std::size_t>(k)], o) > 0.0 ? 1.0 / top : 0.0;
+      prob.weight(k, o) =
+          acc.coherence(rows[static_cast<std::size_t>(k)], o) > 0.0 ? 1.0 / top : 0.0;
     }
   }
 }
@@ -241,7 +249,8 @@ ModalModelFit FitModalModel(const Frf& receptance, const std::vector<std::comple
   prob.pretrigger_s = receptance.pretrigger_s;
   const auto L = static_cast<Eigen::Index>(rows.size());
   const Eigen::Index R = acc.h.cols();
-  Require(L > prob.per_response() + prob.modes, "modal model fit: too few frequency lines in the band");
+  Require(L > prob.per_response() + prob.modes,
+          "modal model fit: too few frequency lines in the band");
   LoadLines(acc, rows, prob);
 
   Eigen::VectorXd theta = Eigen::VectorXd::Zero(prob.parameters());
@@ -257,7 +266,9 @@ ModalModelFit FitModalModel(const Frf& receptance, const std::vector<std::comple
   out.freq_max_hz = acc.freq_hz[rows.back()];
   out.lines = static_cast<int>(L);
 
-  const auto used_lines = [&](Eigen::Index o) { return static_cast<double>((prob.weight.col(o).array() > 0.0).count()); };
+  const auto used_lines = [&](Eigen::Index o) {
+    return static_cast<double>((prob.weight.col(o).array() > 0.0).count());
+  };
   // Poles stay physical: omega > 0 and 0 < zeta < 1; a step outside is rejected.
   const numerics::ResidualFunction residuals = [&prob](const Eigen::VectorXd& th,
                                                        Eigen::VectorXd& r, Eigen::MatrixXd* jac) {
@@ -289,9 +300,11 @@ ModalModelFit FitModalModel(const Frf& receptance, const std::vector<std::comple
     Eigen::VectorXd r;
     prob.Evaluate(theta, r, nullptr);
     for (Eigen::Index o = 0; o < R; ++o) {
-      const double dof = std::max(1.0, 2.0 * used_lines(o) - static_cast<double>(prob.per_response()) -
-                                           2.0 * static_cast<double>(prob.modes) / static_cast<double>(R));
-      const double s2 = r.segment(2 * o * L, 2 * L).squaredNorm() / dof;  // in units of the old weights
+      const double dof =
+          std::max(1.0, 2.0 * used_lines(o) - static_cast<double>(prob.per_response()) -
+                            2.0 * static_cast<double>(prob.modes) / static_cast<double>(R));
+      const double s2 =
+          r.segment(2 * o * L, 2 * L).squaredNorm() / dof;  // in units of the old weights
       if (s2 > 0.0) prob.weight.col(o) /= std::sqrt(s2);
     }
     refine(theta, out.summary);
@@ -309,7 +322,8 @@ ModalModelFit FitModalModel(const Frf& receptance, const std::vector<std::comple
   const Eigen::MatrixXd info = js.transpose() * js;
   // The noise level is estimated, so the covariance takes the misfit per degree of freedom as it
   // is (Gauss-Newton covariance with an unknown variance).
-  out.covariance = scale.asDiagonal() * info.ldlt().solve(Eigen::MatrixXd::Identity(info.rows(), info.cols())) *
+  out.covariance = scale.asDiagonal() *
+                   info.ldlt().solve(Eigen::MatrixXd::Identity(info.rows(), info.cols())) *
                    scale.asDiagonal() * out.reduced_chi2;
 
   const Eigen::Index M = prob.modes;

@@ -24,13 +24,13 @@ bool Inside(const std::array<double, 2>& ci, double v) { return ci[0] <= v && v 
 
 // Over 120 seeded hammer tests (3 hits of 5 s at 200 Hz, 0.5 % noise on force and responses,
 // the default path: impact FRF, lscf) the 95 % intervals must hold the true omega and zeta in
-// 90-99 % of the cases, and the a1/a2 intervals the closed-form ratio (both modes pooled: 240 intervals each, so a true rate of 95 % lands in
-// that range with a probability above 0.999). Short records keep the test cheap enough for the
-// sanitizer build.
+// 90-99 % of the cases, and the a1/a2 intervals the closed-form ratio (both modes pooled: 240
+// intervals each, so a true rate of 95 % lands in that range with a probability above 0.999). Short
+// records keep the test cheap enough for the sanitizer build.
 TEST(ModalModel, IntervalsCoverTheTruthAtTheirRate) {
   const double m1 = 1.0, m2 = 0.5, k1 = 4000.0, k2 = 2000.0, beta = 1e-3, fs = 200.0;
-  const model::Model truth =
-      model::MakeChain(Eigen::Vector2d(m1, m2), Eigen::Vector2d(k1, k2), Eigen::Vector2d(beta * k1, beta * k2));
+  const model::Model truth = model::MakeChain(Eigen::Vector2d(m1, m2), Eigen::Vector2d(k1, k2),
+                                              Eigen::Vector2d(beta * k1, beta * k2));
   const model::ComplexModes cm = model::ComplexModalDamping(truth);
   const auto tm = testing::ChainModesOf(m1, m2, k1, k2);
   constexpr int kTests = 120;
@@ -38,12 +38,20 @@ TEST(ModalModel, IntervalsCoverTheTruthAtTheirRate) {
   double omega_hw[2] = {0, 0}, zeta_hw[2] = {0, 0};
   const auto t0 = std::chrono::steady_clock::now();
   for (int seed = 1; seed <= kTests; ++seed) {
-    HammerTestSpec spec{.hammer_dof = 1, .fs_hz = fs, .hits = 3, .pulse_width_s = 0.004, .spacing_min_s = 5.0,
-                        .spacing_max_s = 5.5, .lead_s = 0.2, .force_noise = 0.005, .response_noise = 0.005,
+    HammerTestSpec spec{.hammer_dof = 1,
+                        .fs_hz = fs,
+                        .hits = 3,
+                        .pulse_width_s = 0.004,
+                        .spacing_min_s = 5.0,
+                        .spacing_max_s = 5.5,
+                        .lead_s = 0.2,
+                        .force_noise = 0.005,
+                        .response_noise = 0.005,
                         .seed = static_cast<std::uint64_t>(5000 + seed)};
     const HammerTestRecord rec = SimulateHammerTest(truth, spec);
     ASSERT_TRUE(ClassifyExcitation(rec.force_n, fs).impact);
-    const ImpactResult r = EstimateImpactFrf(rec.force_n, rec.response, fs, {}, Estimator::kH1, Quantity::kAcceleration);
+    const ImpactResult r = EstimateImpactFrf(rec.force_n, rec.response, fs, {}, Estimator::kH1,
+                                             Quantity::kAcceleration);
     const ModeIdentification id = IdentifyModes(ConvertFrf(r.frf, Quantity::kDisplacement), 1, {});
     ASSERT_TRUE(id.has_model) << "seed " << seed;
     ASSERT_EQ(id.modes.size(), 2u) << "seed " << seed;
@@ -58,16 +66,21 @@ TEST(ModalModel, IntervalsCoverTheTruthAtTheirRate) {
     }
     ++done;
   }
-  const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-  const auto rate = [&](const int* in) { return static_cast<double>(in[0] + in[1]) / (2.0 * done); };
+  const double seconds =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  const auto rate = [&](const int* in) {
+    return static_cast<double>(in[0] + in[1]) / (2.0 * done);
+  };
   for (int i = 0; i < 2; ++i) {
-    std::printf("mode %d (%.3f Hz, zeta %.4f): omega in 95 %% interval %d/%d (mean half-width %.4f %%), zeta %d/%d "
-                "(%.2f %%), a1/a2 %d/%d\n",
-                i + 1, cm.omega_rad_s[i] / (2 * std::numbers::pi), cm.zeta[i], omega_in[i], done, 100 * omega_hw[i] / done,
-                zeta_in[i], done, 100 * zeta_hw[i] / done, ratio_in[i], done);
+    std::printf(
+        "mode %d (%.3f Hz, zeta %.4f): omega in 95 %% interval %d/%d (mean half-width %.4f %%), "
+        "zeta %d/%d "
+        "(%.2f %%), a1/a2 %d/%d\n",
+        i + 1, cm.omega_rad_s[i] / (2 * std::numbers::pi), cm.zeta[i], omega_in[i], done,
+        100 * omega_hw[i] / done, zeta_in[i], done, 100 * zeta_hw[i] / done, ratio_in[i], done);
   }
-  std::printf("coverage over %d tests (%.1f s): omega %.1f %%, zeta %.1f %%, a1/a2 %.1f %%\n", done, seconds,
-              100 * rate(omega_in), 100 * rate(zeta_in), 100 * rate(ratio_in));
+  std::printf("coverage over %d tests (%.1f s): omega %.1f %%, zeta %.1f %%, a1/a2 %.1f %%\n", done,
+              seconds, 100 * rate(omega_in), 100 * rate(zeta_in), 100 * rate(ratio_in));
   EXPECT_GE(rate(omega_in), 0.90);
   EXPECT_LE(rate(omega_in), 0.99);
   EXPECT_GE(rate(zeta_in), 0.90);
@@ -106,7 +119,8 @@ TEST(ModalModel, BadInputsAreInputErrors) {
   EXPECT_THROW(FitModalModel(frf, {}, {}), InputError);
   EXPECT_THROW(FitModalModel(frf, {{0.1, 30.0}}, {}), InputError);  // unstable start pole
   EXPECT_THROW(FitModalModel(frf, {{-0.1, 30.0}}, {.max_iterations = -1}), InputError);
-  EXPECT_THROW(FitModalModel(frf, {{-0.1, 30.0}}, {.freq_min_hz = 5.0, .freq_max_hz = 4.0}), InputError);
+  EXPECT_THROW(FitModalModel(frf, {{-0.1, 30.0}}, {.freq_min_hz = 5.0, .freq_max_hz = 4.0}),
+               InputError);
   Frf acc = frf;
   acc.quantity = Quantity::kAcceleration;
   EXPECT_THROW(FitModalModel(acc, {{-0.1, 30.0}}, {}), InputError);

@@ -34,7 +34,8 @@ std::vector<ModeEstimate> ShapesFromPeaks(const Frf& receptance, std::size_t dri
     m.freq_hz = peak.freq_hz;
     m.zeta = peak.zeta;
     const double scale = 2.0 * peak.zeta * peak.omega_rad_s * peak.omega_rad_s;
-    const std::complex<double> hpp = InterpolateAt(receptance.freq_hz, receptance.h.col(p), peak.freq_hz);
+    const std::complex<double> hpp =
+        InterpolateAt(receptance.freq_hz, receptance.h.col(p), peak.freq_hz);
     const double phi_p = std::sqrt(scale * std::abs(hpp));
     m.shape.resize(receptance.h.cols());
     for (Eigen::Index j = 0; j < receptance.h.cols(); ++j) {
@@ -42,7 +43,8 @@ std::vector<ModeEstimate> ShapesFromPeaks(const Frf& receptance, std::size_t dri
         m.shape[j] = phi_p;
         continue;
       }
-      const std::complex<double> hjp = InterpolateAt(receptance.freq_hz, receptance.h.col(j), peak.freq_hz);
+      const std::complex<double> hjp =
+          InterpolateAt(receptance.freq_hz, receptance.h.col(j), peak.freq_hz);
       const double sign = std::real(hjp * std::conj(hpp)) >= 0.0 ? 1.0 : -1.0;
       m.shape[j] = phi_p > 0.0 ? sign * scale * std::abs(hjp) / phi_p : 0.0;
     }
@@ -54,7 +56,8 @@ std::vector<ModeEstimate> ShapesFromPeaks(const Frf& receptance, std::size_t dri
 
 void CurveFitOptions::Validate() const {
   Require(freq_min_hz >= 0.0 && freq_max_hz >= 0.0, "curve fit: band limits must be >= 0");
-  Require(freq_max_hz == 0.0 || freq_max_hz > freq_min_hz, "curve fit: band maximum must exceed the minimum");
+  Require(freq_max_hz == 0.0 || freq_max_hz > freq_min_hz,
+          "curve fit: band maximum must exceed the minimum");
   solver.Validate();
 }
 
@@ -88,7 +91,8 @@ struct FitProblem {
     for (Eigen::Index k = 0; k < lines; ++k) {
       const double w = omega[k];
       for (Eigen::Index i = 0; i < modes(); ++i) {
-        const std::complex<double> b = 1.0 / std::complex<double>(om[i] * om[i] - w * w, 2.0 * ze[i] * om[i] * w);
+        const std::complex<double> b =
+            1.0 / std::complex<double>(om[i] * om[i] - w * w, 2.0 * ze[i] * om[i] * w);
         // A b with A = a + j c: real part a Re b - c Im b, imaginary part a Im b + c Re b.
         a(2 * k, i) = b.real();
         a(2 * k + 1, i) = b.imag();
@@ -140,8 +144,8 @@ struct FitProblem {
 
 namespace {
 
-CurveFitResult FitModesImpl(const Frf& receptance, const std::vector<Peak>& start, const CurveFitOptions& options,
-                            bool hold_poles) {
+CurveFitResult FitModesImpl(const Frf& receptance, const std::vector<Peak>& start,
+                            const CurveFitOptions& options, bool hold_poles) {
   options.Validate();
   Require(receptance.quantity == Quantity::kDisplacement, "curve fit needs a receptance FRF");
   Require(!start.empty(), "curve fit needs at least one starting mode (no peaks were found)");
@@ -165,7 +169,8 @@ CurveFitResult FitModesImpl(const Frf& receptance, const std::vector<Peak>& star
   const auto lines = static_cast<Eigen::Index>(rows.size());
   const Eigen::Index nresp = receptance.h.cols();
   const auto nmodes = static_cast<Eigen::Index>(start.size());
-  Require(lines * 2 > 2 * nmodes + 2 + 2 * nmodes, "curve fit: too few frequency lines in the band");
+  Require(lines * 2 > 2 * nmodes + 2 + 2 * nmodes,
+          "curve fit: too few frequency lines in the band");
   prob.omega.resize(lines);
   prob.h.resize(lines, nresp);
   prob.weight.resize(lines, nresp);
@@ -212,7 +217,8 @@ CurveFitResult FitModesImpl(const Frf& receptance, const std::vector<Peak>& star
     return result;
   }
   double weight_sum = 0.0;
-  for (Eigen::Index k = 0; k < prob.weight.size(); ++k) weight_sum += 2.0 * prob.weight(k) * prob.weight(k) * std::norm(prob.h(k));
+  for (Eigen::Index k = 0; k < prob.weight.size(); ++k)
+    weight_sum += 2.0 * prob.weight(k) * prob.weight(k) * std::norm(prob.h(k));
   result.rms_relative_error = weight_sum > 0.0 ? std::sqrt(r.squaredNorm() / weight_sum) : 0.0;
   for (Eigen::Index i = 0; i < nmodes; ++i) {
     FittedMode m;
@@ -220,7 +226,8 @@ CurveFitResult FitModesImpl(const Frf& receptance, const std::vector<Peak>& star
     m.freq_hz = om[i] / (2.0 * std::numbers::pi);
     m.zeta = CorrectExponentialWindowDamping(ze[i], om[i], receptance.exp_window_tau_s);
     m.residues.resize(nresp);
-    for (Eigen::Index j = 0; j < nresp; ++j) m.residues[j] = std::complex<double>(coef(i, j), coef(nmodes + i, j));
+    for (Eigen::Index j = 0; j < nresp; ++j)
+      m.residues[j] = std::complex<double>(coef(i, j), coef(nmodes + i, j));
     result.modes.push_back(m);
   }
   std::sort(result.modes.begin(), result.modes.end(),
@@ -236,7 +243,8 @@ CurveFitResult FitModesImpl(const Frf& receptance, const std::vector<Peak>& star
 
 }  // namespace
 
-CurveFitResult FitModes(const Frf& receptance, const std::vector<Peak>& start, const CurveFitOptions& options) {
+CurveFitResult FitModes(const Frf& receptance, const std::vector<Peak>& start,
+                        const CurveFitOptions& options) {
   return FitModesImpl(receptance, start, options, false);
 }
 
@@ -244,7 +252,8 @@ CurveFitResult FitResidues(const Frf& receptance, const std::vector<double>& ome
                            const std::vector<double>& zeta, const CurveFitOptions& options) {
   options.Validate();
   Require(receptance.quantity == Quantity::kDisplacement, "residue fit needs a receptance FRF");
-  Require(!omega_rad_s.empty() && omega_rad_s.size() == zeta.size(), "residue fit needs one damping per pole");
+  Require(!omega_rad_s.empty() && omega_rad_s.size() == zeta.size(),
+          "residue fit needs one damping per pole");
   std::vector<Peak> start;
   for (std::size_t i = 0; i < omega_rad_s.size(); ++i) {
     Peak p;
@@ -259,7 +268,8 @@ CurveFitResult FitResidues(const Frf& receptance, const std::vector<double>& ome
 std::vector<ModeEstimate> ShapesFromResidues(const CurveFitResult& fit, std::size_t driving_point) {
   std::vector<ModeEstimate> modes;
   for (const FittedMode& f : fit.modes) {
-    Require(driving_point < static_cast<std::size_t>(f.residues.size()), "driving-point response out of range");
+    Require(driving_point < static_cast<std::size_t>(f.residues.size()),
+            "driving-point response out of range");
     const auto p = static_cast<Eigen::Index>(driving_point);
     const std::complex<double> app = f.residues[p];
     ModeEstimate m;
@@ -271,7 +281,8 @@ std::vector<ModeEstimate> ShapesFromResidues(const CurveFitResult& fit, std::siz
     for (Eigen::Index j = 0; j < f.residues.size(); ++j) {
       // Projection of A_jp on the direction of A_pp: real for real modes, robust for slightly
       // complex ones.
-      const double proj = std::abs(app) > 0.0 ? std::real(f.residues[j] * std::conj(app)) / std::abs(app) : 0.0;
+      const double proj =
+          std::abs(app) > 0.0 ? std::real(f.residues[j] * std::conj(app)) / std::abs(app) : 0.0;
       m.shape[j] = phi_p > 0.0 ? proj / phi_p : 0.0;
     }
     m.ratio = Ratio(m.shape);
@@ -299,12 +310,14 @@ ModeMethod ParseModeMethod(std::string_view name) {
   if (name == "fit" || name == "curve-fit") return ModeMethod::kCurveFit;
   if (name == "lscf" || name == "polymax") return ModeMethod::kLscf;
   if (name == "lsce") return ModeMethod::kLsce;
-  throw InputError("unknown mode method '" + std::string(name) + "' (known: lscf, lsce, fit, peaks)");
+  throw InputError("unknown mode method '" + std::string(name) +
+                   "' (known: lscf, lsce, fit, peaks)");
 }
 
 ModeIdentification IdentifyModes(const Frf& receptance, std::size_t driving_point,
                                  const ModeIdentificationOptions& options) {
-  Require(receptance.quantity == Quantity::kDisplacement, "mode identification needs a receptance FRF");
+  Require(receptance.quantity == Quantity::kDisplacement,
+          "mode identification needs a receptance FRF");
   Require(driving_point < receptance.responses(), "driving-point response out of range");
   ModeIdentification out;
   if (options.method == ModeMethod::kLscf || options.method == ModeMethod::kLsce) {
@@ -316,7 +329,8 @@ ModeIdentification IdentifyModes(const Frf& receptance, std::size_t driving_poin
       out.diagram = BuildStabilizationDiagram(receptance, so);
     } else {
       // No band given: bands around the resonances the peak picker sees (see AutomaticBands).
-      const PeakResult seen = PickPeaks(receptance.freq_hz, PickingMagnitude(receptance, options.picking_column), options.peaks);
+      const PeakResult seen = PickPeaks(
+          receptance.freq_hz, PickingMagnitude(receptance, options.picking_column), options.peaks);
       std::vector<double> at;
       for (const Peak& p : seen.peaks) at.push_back(p.freq_hz);
       std::vector<std::pair<double, double>> bands =
@@ -328,18 +342,23 @@ ModeIdentification IdentifyModes(const Frf& receptance, std::size_t driving_poin
     std::vector<SelectedPole> chosen = out.diagram.selected;
     if (options.peaks.max_peaks > 0 && chosen.size() > options.peaks.max_peaks) {
       // The largest N: the poles seen at the most orders.
-      std::stable_sort(chosen.begin(), chosen.end(), [](const SelectedPole& a, const SelectedPole& b) { return a.orders > b.orders; });
+      std::stable_sort(
+          chosen.begin(), chosen.end(),
+          [](const SelectedPole& a, const SelectedPole& b) { return a.orders > b.orders; });
       chosen.resize(options.peaks.max_peaks);
-      std::sort(chosen.begin(), chosen.end(), [](const SelectedPole& a, const SelectedPole& b) { return a.freq_hz < b.freq_hz; });
+      std::sort(chosen.begin(), chosen.end(),
+                [](const SelectedPole& a, const SelectedPole& b) { return a.freq_hz < b.freq_hz; });
     }
-    if (chosen.empty() && options.method == ModeMethod::kLscf && !options.stabilization_fallback_off) {
+    if (chosen.empty() && options.method == ModeMethod::kLscf &&
+        !options.stabilization_fallback_off) {
       // The default must not leave a user with nothing: LSCE next (it holds up on short Welch
       // FRFs where pLSCF finds no stable pole, e.g. the DaISy robot arm), then the curve fit.
       ModeIdentificationOptions next = options;
       next.stabilization_fallback_off = true;
       next.method = ModeMethod::kLsce;
-      const std::string why = std::string("no stable pole in the pLSCF diagram (orders ") + std::to_string(so.min_order) +
-                              ".." + std::to_string(so.max_order) + ")";
+      const std::string why = std::string("no stable pole in the pLSCF diagram (orders ") +
+                              std::to_string(so.min_order) + ".." + std::to_string(so.max_order) +
+                              ")";
       ModeIdentification alt;
       try {
         alt = IdentifyModes(receptance, driving_point, next);
@@ -351,15 +370,19 @@ ModeIdentification IdentifyModes(const Frf& receptance, std::size_t driving_poin
       }
       return alt;
     }
-    Require(!chosen.empty(), std::string("no stable pole in the stabilization diagram (") + PoleMethodName(so.method) +
-                                 ", orders " + std::to_string(so.min_order) + ".." + std::to_string(so.max_order) +
-                                 "): raise the orders (--orders), narrow the band, or use --method fit");
+    Require(!chosen.empty(),
+            std::string("no stable pole in the stabilization diagram (") +
+                PoleMethodName(so.method) + ", orders " + std::to_string(so.min_order) + ".." +
+                std::to_string(so.max_order) +
+                "): raise the orders (--orders), narrow the band, or use --method fit");
     std::vector<double> om;
     std::vector<double> ze;
     for (const SelectedPole& p : chosen) {
       om.push_back(p.omega_rad_s);
       // FitResidues models the damping the FRF shows: undo the exponential-window correction.
-      ze.push_back(receptance.exp_window_tau_s > 0.0 ? p.zeta + 1.0 / (receptance.exp_window_tau_s * p.omega_rad_s) : p.zeta);
+      ze.push_back(receptance.exp_window_tau_s > 0.0
+                       ? p.zeta + 1.0 / (receptance.exp_window_tau_s * p.omega_rad_s)
+                       : p.zeta);
     }
     CurveFitOptions fo = options.fit;
     // Residues over 0.6x the lowest to 1.4x the highest chosen pole (FitModes' automatic band):
@@ -369,7 +392,8 @@ ModeIdentification IdentifyModes(const Frf& receptance, std::size_t driving_poin
     out.fit = FitResidues(receptance, om, ze, fo);
     out.fitted = true;
     out.modes = ShapesFromResidues(out.fit, driving_point);
-    for (std::size_t i = 0; i < out.modes.size() && i < chosen.size(); ++i) out.modes[i].zeta = chosen[i].zeta;
+    for (std::size_t i = 0; i < out.modes.size() && i < chosen.size(); ++i)
+      out.modes[i].zeta = chosen[i].zeta;
     // The chosen poles start a weighted least-squares fit of the pole-residue model (see
     // modal_model.hpp), which gives omega, zeta and the shape directions with their covariance.
     // The diagram's poles are medians over model orders, and the pLSCF numerators at low orders
@@ -392,12 +416,15 @@ ModeIdentification IdentifyModes(const Frf& receptance, std::size_t driving_poin
         const auto ii = static_cast<Eigen::Index>(i);
         // A refinement that walks away from the diagram's pole found another minimum (a pole
         // swapped with its neighbour, or absorbed by noise): keep the diagram's values.
-        moved = moved || std::abs(out.model.omega_rad_s[ii] - out.modes[i].omega_rad_s) >
-                             so.freq_tolerance * out.modes[i].omega_rad_s ||
+        moved = moved ||
+                std::abs(out.model.omega_rad_s[ii] - out.modes[i].omega_rad_s) >
+                    so.freq_tolerance * out.modes[i].omega_rad_s ||
                 !(std::abs(out.model.zeta[ii] - out.modes[i].zeta) <= 0.5 * out.modes[i].zeta);
       }
       if (moved || !out.model.summary.Converged()) {
-        out.warnings.push_back("the modal model fit moved away from the diagram's poles: modes from the diagram, no confidence intervals");
+        out.warnings.push_back(
+            "the modal model fit moved away from the diagram's poles: modes from the diagram, no "
+            "confidence intervals");
         out.has_model = false;
       }
     }
@@ -429,15 +456,18 @@ ModeIdentification IdentifyModes(const Frf& receptance, std::size_t driving_poin
     return out;
   }
   const Eigen::VectorXd mag = PickingMagnitude(receptance, options.picking_column);
-  const PeakResult picked = PickPeaks(receptance.freq_hz, mag, options.peaks, receptance.exp_window_tau_s);
-  Require(!picked.peaks.empty(), "no resonance found in the FRF (check the band and the threshold)");
+  const PeakResult picked =
+      PickPeaks(receptance.freq_hz, mag, options.peaks, receptance.exp_window_tau_s);
+  Require(!picked.peaks.empty(),
+          "no resonance found in the FRF (check the band and the threshold)");
   out.peaks = picked.peaks;
   out.warnings = picked.warnings;
   out.modes = ShapesFromPeaks(receptance, driving_point, picked.peaks);
   constexpr std::size_t kMaxFittedModes = 12;
   if (options.method == ModeMethod::kCurveFit && picked.peaks.size() > kMaxFittedModes) {
     out.warnings.push_back(std::to_string(picked.peaks.size()) +
-                           " peaks are too many for one curve fit; modes are the peak-picking estimates (narrow the band, "
+                           " peaks are too many for one curve fit; modes are the peak-picking "
+                           "estimates (narrow the band, "
                            "raise the threshold or limit the number of modes)");
   } else if (options.method == ModeMethod::kCurveFit) {
     out.fit = FitModes(receptance, picked.peaks, options.fit);
@@ -462,12 +492,15 @@ ModeIdentification IdentifyModes(const Frf& receptance, std::size_t driving_poin
       continue;
     }
     char line[200];
-    std::snprintf(line, sizeof line, "pole at %.5g Hz dropped: its damping is not resolved (zeta = %.3g)", m.freq_hz, m.zeta);
+    std::snprintf(line, sizeof line,
+                  "pole at %.5g Hz dropped: its damping is not resolved (zeta = %.3g)", m.freq_hz,
+                  m.zeta);
     out.warnings.emplace_back(line);
     out.dropped.push_back(m);
   }
   out.modes = std::move(kept);
-  if (out.modes.empty()) throw InputError("no mode with a resolved damping in the FRF: " + out.warnings.back());
+  if (out.modes.empty())
+    throw InputError("no mode with a resolved damping in the FRF: " + out.warnings.back());
   return out;
 }
 

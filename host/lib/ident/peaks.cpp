@@ -10,9 +10,11 @@
 namespace vibid::ident {
 
 void PeakOptions::Validate() const {
-  Require(threshold_fraction >= 0.0 && threshold_fraction < 1.0, "peaks: threshold fraction must be in [0, 1)");
+  Require(threshold_fraction >= 0.0 && threshold_fraction < 1.0,
+          "peaks: threshold fraction must be in [0, 1)");
   Require(freq_min_hz >= 0.0 && freq_max_hz >= 0.0, "peaks: band limits must be >= 0");
-  Require(freq_max_hz == 0.0 || freq_max_hz > freq_min_hz, "peaks: band maximum must exceed the minimum");
+  Require(freq_max_hz == 0.0 || freq_max_hz > freq_min_hz,
+          "peaks: band maximum must exceed the minimum");
   Require(min_lines_in_band >= 0.0, "peaks: minimum lines in the half-power band must be >= 0");
 }
 
@@ -20,7 +22,8 @@ namespace {
 
 // Least-squares cubic through (x_k, y_k); returns the abscissa of its maximum within [lo, hi] and
 // the value there, or false when the cubic has no interior maximum.
-bool CubicMaximum(const double* x, const double* y, int count, double lo, double hi, double& x_max, double& y_max) {
+bool CubicMaximum(const double* x, const double* y, int count, double lo, double hi, double& x_max,
+                  double& y_max) {
   // Normal equations of a 4-coefficient polynomial; count is 4 or 5 and x is O(1), so this is
   // well conditioned.
   double ata[4][4] = {};
@@ -54,7 +57,9 @@ bool CubicMaximum(const double* x, const double* y, int count, double lo, double
     for (int c = col + 1; c < 4; ++c) s -= ata[order[col]][c] * coef[c];
     coef[col] = s / ata[order[col]][col];
   }
-  const auto value = [&](double t) { return coef[0] + t * (coef[1] + t * (coef[2] + t * coef[3])); };
+  const auto value = [&](double t) {
+    return coef[0] + t * (coef[1] + t * (coef[2] + t * coef[3]));
+  };
   // Stationary points: 3 c3 t^2 + 2 c2 t + c1 = 0, maximum where 6 c3 t + 2 c2 < 0.
   const double qa = 3.0 * coef[3];
   const double qb = 2.0 * coef[2];
@@ -171,9 +176,11 @@ PeakResult PickPeaks(const Eigen::Ref<const Eigen::VectorXd>& freq_hz,
     found.push_back(p);
   }
   if (options.max_peaks > 0 && found.size() > options.max_peaks) {
-    std::sort(found.begin(), found.end(), [](const Peak& a, const Peak& b) { return a.magnitude > b.magnitude; });
+    std::sort(found.begin(), found.end(),
+              [](const Peak& a, const Peak& b) { return a.magnitude > b.magnitude; });
     found.resize(options.max_peaks);
-    std::sort(found.begin(), found.end(), [](const Peak& a, const Peak& b) { return a.freq_hz < b.freq_hz; });
+    std::sort(found.begin(), found.end(),
+              [](const Peak& a, const Peak& b) { return a.freq_hz < b.freq_hz; });
   }
   for (const Peak& p : found) {
     if (p.resolution_warning) {
@@ -184,7 +191,8 @@ PeakResult PickPeaks(const Eigen::Ref<const Eigen::VectorXd>& freq_hz,
     }
     if (exp_window_tau_s > 0.0 && p.zeta <= 0.0) {
       std::ostringstream w;
-      w << "peak at " << p.freq_hz << " Hz: the exponential window's damping exceeds the measured one";
+      w << "peak at " << p.freq_hz
+        << " Hz: the exponential window's damping exceeds the measured one";
       result.warnings.push_back(w.str());
     }
   }
@@ -193,8 +201,11 @@ PeakResult PickPeaks(const Eigen::Ref<const Eigen::VectorXd>& freq_hz,
 }
 
 Eigen::VectorXd PickingMagnitude(const Frf& frf, int column) {
-  Require(column < 0 || static_cast<std::size_t>(column) < frf.responses(), "response column out of range");
-  const int power = frf.quantity == Quantity::kDisplacement ? 1 : frf.quantity == Quantity::kVelocity ? 0 : -1;
+  Require(column < 0 || static_cast<std::size_t>(column) < frf.responses(),
+          "response column out of range");
+  const int power = frf.quantity == Quantity::kDisplacement ? 1
+                    : frf.quantity == Quantity::kVelocity   ? 0
+                                                            : -1;
   Eigen::VectorXd sum = Eigen::VectorXd::Zero(frf.h.rows());
   for (Eigen::Index j = 0; j < frf.h.cols(); ++j) {
     if (column >= 0 && j != column) continue;

@@ -36,14 +36,16 @@ TEST(PeakPicking, SdofHalfPowerDampingAndCubicPeak) {
   const Peak& p = r.peaks[0];
   // |H| peaks at omega_n sqrt(1 - 2 zeta^2) (closed form); the cubic through 5 lines finds it.
   EXPECT_NEAR(p.omega_rad_s, wn * std::sqrt(1 - 2 * zeta * zeta), 1e-4 * wn);
-  EXPECT_NEAR(p.magnitude, 1.0 / (2 * zeta * std::sqrt(1 - zeta * zeta) * k), 2e-3 / (2 * zeta * k));
+  EXPECT_NEAR(p.magnitude, 1.0 / (2 * zeta * std::sqrt(1 - zeta * zeta) * k),
+              2e-3 / (2 * zeta * k));
   EXPECT_NEAR(p.zeta, zeta, 0.005 * zeta);
   EXPECT_FALSE(p.resolution_warning);
   EXPECT_TRUE(r.warnings.empty());
 }
 
 TEST(PeakPicking, WarnsWhenTheHalfPowerBandSpansFewLines) {
-  const Eigen::VectorXd f = Eigen::VectorXd::LinSpaced(101, 0.0, 40.0);  // 0.4 Hz lines, band 0.2 Hz
+  const Eigen::VectorXd f =
+      Eigen::VectorXd::LinSpaced(101, 0.0, 40.0);  // 0.4 Hz lines, band 0.2 Hz
   const PeakResult r = PickPeaks(f, SdofMagnitude(f, 2.0, 8000.0, 0.01), {});
   ASSERT_EQ(r.peaks.size(), 1u);
   EXPECT_TRUE(r.peaks[0].resolution_warning);
@@ -87,9 +89,13 @@ TEST_P(ChainModes2, PeakPicksAndCurveFitRecoverTheModes) {
   const auto quick = ShapesFromPeaks(frf, 1, picks.peaks);
   for (int i = 0; i < 2; ++i) {
     const double zeta_true = t.beta * modes.omega[i] / 2;  // C = beta K: zeta_i = beta omega_i / 2
-    EXPECT_NEAR(quick[static_cast<std::size_t>(i)].omega_rad_s, modes.omega[i], 2e-3 * modes.omega[i]) << t.name;
+    EXPECT_NEAR(quick[static_cast<std::size_t>(i)].omega_rad_s, modes.omega[i],
+                2e-3 * modes.omega[i])
+        << t.name;
     EXPECT_NEAR(quick[static_cast<std::size_t>(i)].zeta, zeta_true, 0.1 * zeta_true) << t.name;
-    EXPECT_NEAR(quick[static_cast<std::size_t>(i)].ratio, modes.ratio[i], 0.05 * std::abs(modes.ratio[i])) << t.name;
+    EXPECT_NEAR(quick[static_cast<std::size_t>(i)].ratio, modes.ratio[i],
+                0.05 * std::abs(modes.ratio[i]))
+        << t.name;
   }
   const CurveFitResult fit = FitModes(frf, picks.peaks, {});
   ASSERT_TRUE(fit.summary.Converged()) << fit.summary.message;
@@ -103,7 +109,8 @@ TEST_P(ChainModes2, PeakPicksAndCurveFitRecoverTheModes) {
     EXPECT_NEAR(s.zeta, zeta_true, 1e-5 * zeta_true) << t.name;
     EXPECT_NEAR(s.ratio, modes.ratio[i], 1e-5 * std::abs(modes.ratio[i])) << t.name;
     // Mass normalisation: phi^T M phi = 1 with the true masses.
-    EXPECT_NEAR(t.m1 * s.shape[0] * s.shape[0] + t.m2 * s.shape[1] * s.shape[1], 1.0, 1e-5) << t.name;
+    EXPECT_NEAR(t.m1 * s.shape[0] * s.shape[0] + t.m2 * s.shape[1] * s.shape[1], 1.0, 1e-5)
+        << t.name;
   }
   EXPECT_LT(fit.rms_relative_error, 1e-6);
 }

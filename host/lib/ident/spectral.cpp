@@ -20,16 +20,22 @@ Window ParseWindow(std::string_view name) {
   if (name == "hamming") return Window::kHamming;
   if (name == "blackmanharris") return Window::kBlackmanHarris;
   if (name == "flattop") return Window::kFlatTop;
-  throw InputError("unknown window '" + std::string(name) + "' (known: rect, hann, hamming, blackmanharris, flattop)");
+  throw InputError("unknown window '" + std::string(name) +
+                   "' (known: rect, hann, hamming, blackmanharris, flattop)");
 }
 
 const char* WindowName(Window window) {
   switch (window) {
-    case Window::kRectangular: return "rect";
-    case Window::kHann: return "hann";
-    case Window::kHamming: return "hamming";
-    case Window::kBlackmanHarris: return "blackmanharris";
-    case Window::kFlatTop: return "flattop";
+    case Window::kRectangular:
+      return "rect";
+    case Window::kHann:
+      return "hann";
+    case Window::kHamming:
+      return "hamming";
+    case Window::kBlackmanHarris:
+      return "blackmanharris";
+    case Window::kFlatTop:
+      return "flattop";
   }
   return "unknown";
 }
@@ -39,11 +45,21 @@ Eigen::VectorXd MakeWindow(Window window, std::size_t n) {
   // Cosine-sum coefficients as scipy.signal.windows defines them (alternating signs applied below).
   std::vector<double> a;
   switch (window) {
-    case Window::kRectangular: a = {1.0}; break;
-    case Window::kHann: a = {0.5, 0.5}; break;
-    case Window::kHamming: a = {0.54, 0.46}; break;
-    case Window::kBlackmanHarris: a = {0.35875, 0.48829, 0.14128, 0.01168}; break;
-    case Window::kFlatTop: a = {0.21557895, 0.41663158, 0.277263158, 0.083578947, 0.006947368}; break;
+    case Window::kRectangular:
+      a = {1.0};
+      break;
+    case Window::kHann:
+      a = {0.5, 0.5};
+      break;
+    case Window::kHamming:
+      a = {0.54, 0.46};
+      break;
+    case Window::kBlackmanHarris:
+      a = {0.35875, 0.48829, 0.14128, 0.01168};
+      break;
+    case Window::kFlatTop:
+      a = {0.21557895, 0.41663158, 0.277263158, 0.083578947, 0.006947368};
+      break;
   }
   const double dn = static_cast<double>(n);
   for (std::size_t i = 0; i < n; ++i) {
@@ -68,26 +84,34 @@ Estimator ParseEstimator(std::string_view name) {
 
 const char* EstimatorName(Estimator estimator) {
   switch (estimator) {
-    case Estimator::kH1: return "h1";
-    case Estimator::kH2: return "h2";
-    case Estimator::kHv: return "hv";
+    case Estimator::kH1:
+      return "h1";
+    case Estimator::kH2:
+      return "h2";
+    case Estimator::kHv:
+      return "hv";
   }
   return "unknown";
 }
 
 Quantity ParseQuantity(std::string_view name) {
-  if (name == "disp" || name == "displacement" || name == "receptance") return Quantity::kDisplacement;
+  if (name == "disp" || name == "displacement" || name == "receptance")
+    return Quantity::kDisplacement;
   if (name == "vel" || name == "velocity" || name == "mobility") return Quantity::kVelocity;
-  if (name == "acc" || name == "acceleration" || name == "accelerance") return Quantity::kAcceleration;
+  if (name == "acc" || name == "acceleration" || name == "accelerance")
+    return Quantity::kAcceleration;
   throw InputError("unknown sensor/FRF type '" + std::string(name) +
                    "' (known: disp|receptance, vel|mobility, acc|accelerance)");
 }
 
 const char* FrfKindName(Quantity quantity) {
   switch (quantity) {
-    case Quantity::kDisplacement: return "receptance";
-    case Quantity::kVelocity: return "mobility";
-    case Quantity::kAcceleration: return "accelerance";
+    case Quantity::kDisplacement:
+      return "receptance";
+    case Quantity::kVelocity:
+      return "mobility";
+    case Quantity::kAcceleration:
+      return "accelerance";
   }
   return "unknown";
 }
@@ -98,8 +122,8 @@ void WelchOptions::Validate(std::size_t record_samples) const {
                                                  " samples) must be smaller than the segment (" +
                                                  std::to_string(segment_samples) + " samples)");
   Require(record_samples >= segment_samples, "record has " + std::to_string(record_samples) +
-                                                  " samples, fewer than one segment of " +
-                                                  std::to_string(segment_samples));
+                                                 " samples, fewer than one segment of " +
+                                                 std::to_string(segment_samples));
 }
 
 struct RealFft::Plan {
@@ -107,7 +131,8 @@ struct RealFft::Plan {
   kissfft<double> fft;
   std::vector<std::complex<double>> in;
   std::vector<std::complex<double>> out;
-  Plan(std::size_t n, bool even) : fft(even ? n / 2 : n, false), in(even ? 0 : n), out(even ? n / 2 : n) {}
+  Plan(std::size_t n, bool even)
+      : fft(even ? n / 2 : n, false), in(even ? 0 : n), out(even ? n / 2 : n) {}
 };
 
 RealFft::RealFft(std::size_t n) : n_(n), plan_(std::make_unique<Plan>(n, n % 2 == 0)) {
@@ -133,8 +158,8 @@ void RealFft::Transform(const double* in, Eigen::VectorXcd& out) {
 
 namespace {
 
-// Segments are summed in kPartials contiguous runs, each in segment order, and the runs are added in
-// run order. The runs do not depend on the thread count, so neither does any bit of the result.
+// Segments are summed in kPartials contiguous runs, each in segment order, and the runs are added
+// in run order. The runs do not depend on the thread count, so neither does any bit of the result.
 constexpr std::size_t kPartials = 8;
 
 // Running sums of one run of segments (unscaled |F|^2, |X_j|^2, F^* X_j).
@@ -148,7 +173,10 @@ struct PartialSums {
 class SegmentWorker {
  public:
   SegmentWorker(const Eigen::VectorXd& window, Detrend detrend)
-      : window_(window), detrend_(detrend), fft_(static_cast<std::size_t>(window.size())), buf_(window.size()) {}
+      : window_(window),
+        detrend_(detrend),
+        fft_(static_cast<std::size_t>(window.size())),
+        buf_(window.size()) {}
 
   void Sum(const double* force, std::span<const double* const> responses, std::size_t first_seg,
            std::size_t end_seg, std::size_t hop, PartialSums& out) {
@@ -158,14 +186,16 @@ class SegmentWorker {
       const std::size_t start = s * hop;
       Transform(force + start, fspec_);
       const std::complex<double>* const f = fspec_.data();
-      for (Eigen::Index i = 0; i < lines; ++i) gff[i] += f[i].real() * f[i].real() + f[i].imag() * f[i].imag();
+      for (Eigen::Index i = 0; i < lines; ++i)
+        gff[i] += f[i].real() * f[i].real() + f[i].imag() * f[i].imag();
       for (std::size_t jj = 0; jj < responses.size(); ++jj) {
         const auto j = static_cast<Eigen::Index>(jj);
         Transform(responses[jj] + start, xspec_);
         const std::complex<double>* const x = xspec_.data();
         double* const gxx = out.gxx.col(j).data();
         std::complex<double>* const gfx = out.gfx.col(j).data();
-        // Written out rather than f^* x with std::complex: no call into the C99 NaN-recovery multiply.
+        // Written out rather than f^* x with std::complex: no call into the C99 NaN-recovery
+        // multiply.
         for (Eigen::Index i = 0; i < lines; ++i) {
           const double fr = f[i].real(), fi = f[i].imag(), xr = x[i].real(), xi = x[i].imag();
           gxx[i] += xr * xr + xi * xi;
@@ -193,7 +223,8 @@ class SegmentWorker {
 };
 
 std::size_t ThreadsToUse(std::size_t requested, std::size_t runs) {
-  const std::size_t wanted = requested ? requested : std::max(1u, std::thread::hardware_concurrency());
+  const std::size_t wanted =
+      requested ? requested : std::max(1u, std::thread::hardware_concurrency());
   return std::min(wanted, runs);
 }
 
@@ -201,8 +232,9 @@ std::size_t ThreadsToUse(std::size_t requested, std::size_t runs) {
 
 namespace {
 
-CrossSpectra Welch(const Eigen::Ref<const Eigen::VectorXd>& force, std::span<const double* const> responses,
-                   double fs_hz, const WelchOptions& options) {
+CrossSpectra Welch(const Eigen::Ref<const Eigen::VectorXd>& force,
+                   std::span<const double* const> responses, double fs_hz,
+                   const WelchOptions& options) {
   Require(fs_hz > 0.0 && std::isfinite(fs_hz), "sample rate must be > 0");
   Require(!responses.empty(), "at least one response channel is needed");
   const auto total = static_cast<std::size_t>(force.size());
@@ -226,7 +258,8 @@ CrossSpectra Welch(const Eigen::Ref<const Eigen::VectorXd>& force, std::span<con
   const auto work = [&](std::size_t t) {
     SegmentWorker worker(window, options.detrend);
     for (std::size_t k = t; k < nparts; k += nthreads) {
-      worker.Sum(force.data(), responses, k * nseg / nparts, (k + 1) * nseg / nparts, hop, parts[k]);
+      worker.Sum(force.data(), responses, k * nseg / nparts, (k + 1) * nseg / nparts, hop,
+                 parts[k]);
     }
   };
   {
@@ -236,7 +269,8 @@ CrossSpectra Welch(const Eigen::Ref<const Eigen::VectorXd>& force, std::span<con
   }
 
   CrossSpectra out;
-  out.freq_hz = Eigen::VectorXd::LinSpaced(lines, 0.0, static_cast<double>(lines - 1) * fs_hz / static_cast<double>(seg));
+  out.freq_hz = Eigen::VectorXd::LinSpaced(
+      lines, 0.0, static_cast<double>(lines - 1) * fs_hz / static_cast<double>(seg));
   out.gff = std::move(parts[0].gff);
   out.gxx = std::move(parts[0].gxx);
   out.gfx = std::move(parts[0].gfx);
@@ -303,8 +337,12 @@ Frf FrfFromSpectra(const CrossSpectra& spectra, Estimator estimator, Quantity re
       if (gff <= gff_floor || gxx <= gff_floor || cross2 <= 0.0) continue;
       std::complex<double> h;
       switch (estimator) {
-        case Estimator::kH1: h = gfx / gff; break;
-        case Estimator::kH2: h = gxx / std::conj(gfx); break;
+        case Estimator::kH1:
+          h = gfx / gff;
+          break;
+        case Estimator::kH2:
+          h = gxx / std::conj(gfx);
+          break;
         case Estimator::kHv: {
           const double d = gxx - gff;
           h = (d + std::sqrt(d * d + 4.0 * cross2)) / (2.0 * std::conj(gfx));
@@ -322,9 +360,12 @@ namespace {
 
 int Order(Quantity q) {
   switch (q) {
-    case Quantity::kDisplacement: return 0;
-    case Quantity::kVelocity: return 1;
-    case Quantity::kAcceleration: return 2;
+    case Quantity::kDisplacement:
+      return 0;
+    case Quantity::kVelocity:
+      return 1;
+    case Quantity::kAcceleration:
+      return 2;
   }
   return 0;
 }
@@ -358,7 +399,8 @@ double CorrectExponentialWindowDamping(double zeta_measured, double omega_rad_s,
   if (tau_s <= 0.0) return zeta_measured;
   // The window shifts the pole's real part only: sigma_m = sigma + 1/tau, omega_d unchanged.
   const double sigma_m = zeta_measured * omega_rad_s;
-  const double omega_d = omega_rad_s * std::sqrt(std::max(0.0, 1.0 - zeta_measured * zeta_measured));
+  const double omega_d =
+      omega_rad_s * std::sqrt(std::max(0.0, 1.0 - zeta_measured * zeta_measured));
   const double sigma = sigma_m - 1.0 / tau_s;
   return sigma / std::hypot(omega_d, sigma);
 }

@@ -66,9 +66,12 @@ void CheckAgainstScipy(const std::string& name, const WelchOptions& options) {
   const CrossSpectra s = WelchSpectra(force, resp, fs, options);
   const Frf frf = FrfFromSpectra(s, Estimator::kH1, Quantity::kDisplacement);
   // Reference: scipy.signal.welch/csd/coherence, testdata/welch_<name>.csv.
-  const CsvTable ref = ReadCsv(std::string(VIBID_SOURCE_DIR) + "/host/lib/ident/testdata/welch_" + name + ".csv");
+  const CsvTable ref =
+      ReadCsv(std::string(VIBID_SOURCE_DIR) + "/host/lib/ident/testdata/welch_" + name + ".csv");
   ASSERT_EQ(static_cast<Eigen::Index>(ref.rows()), s.freq_hz.size());
-  const auto rel = [](double a, double b) { return std::abs(a - b) / std::max(std::abs(b), 1e-300); };
+  const auto rel = [](double a, double b) {
+    return std::abs(a - b) / std::max(std::abs(b), 1e-300);
+  };
   double worst = 0.0;
   for (Eigen::Index i = 0; i < s.freq_hz.size(); ++i) {
     EXPECT_NEAR(s.freq_hz[i], ref.Column("freq_hz")[i], 1e-12);
@@ -85,11 +88,14 @@ void CheckAgainstScipy(const std::string& name, const WelchOptions& options) {
 }
 
 TEST(Welch, MatchesScipyHannEvenSegments) {
-  CheckAgainstScipy("hann256", {.segment_samples = 256, .overlap_samples = 128, .window = Window::kHann});
+  CheckAgainstScipy("hann256",
+                    {.segment_samples = 256, .overlap_samples = 128, .window = Window::kHann});
 }
 
 TEST(Welch, MatchesScipyHammingDetrendedSegments) {
-  CheckAgainstScipy("hamming200", {.segment_samples = 200, .overlap_samples = 50, .window = Window::kHamming,
+  CheckAgainstScipy("hamming200", {.segment_samples = 200,
+                                   .overlap_samples = 50,
+                                   .window = Window::kHamming,
                                    .detrend = Detrend::kConstant});
 }
 
@@ -106,7 +112,8 @@ TEST(FrfEstimators, NoiseFreePeriodicInputGivesTheAnalyticFrf) {
   for (Eigen::Index k = 1; k < period / 2; ++k) {
     const double ph = phase(rng);
     for (Eigen::Index i = 0; i < period; ++i) {
-      one[i] += std::cos(2.0 * std::numbers::pi * static_cast<double>(k * i) / static_cast<double>(period) + ph);
+      one[i] += std::cos(
+          2.0 * std::numbers::pi * static_cast<double>(k * i) / static_cast<double>(period) + ph);
     }
   }
   Eigen::VectorXd force(period * periods);
@@ -117,7 +124,8 @@ TEST(FrfEstimators, NoiseFreePeriodicInputGivesTheAnalyticFrf) {
   const Eigen::Index skip = 20 * period;
   const Eigen::VectorXd f = force.tail(force.size() - skip);
   const Eigen::MatrixXd x = y.tail(y.size() - skip);
-  const WelchOptions opt{.segment_samples = static_cast<std::size_t>(period), .overlap_samples = 0,
+  const WelchOptions opt{.segment_samples = static_cast<std::size_t>(period),
+                         .overlap_samples = 0,
                          .window = Window::kRectangular};
   const double fs = 100.0;
   const CrossSpectra s = WelchSpectra(f, x, fs, opt);
@@ -163,7 +171,8 @@ NoiseCase RunNoise(double input_var, double output_var) {
     const Frf frf = FrfFromSpectra(s, est[e], Quantity::kDisplacement);
     std::vector<double> r;
     for (Eigen::Index i = 5; i < frf.freq_hz.size() - 5; ++i) {
-      r.push_back(std::abs(frf.h(i, 0)) / std::abs(sys.Response(2.0 * std::numbers::pi * frf.freq_hz[i])));
+      r.push_back(std::abs(frf.h(i, 0)) /
+                  std::abs(sys.Response(2.0 * std::numbers::pi * frf.freq_hz[i])));
     }
     std::nth_element(r.begin(), r.begin() + static_cast<std::ptrdiff_t>(r.size() / 2), r.end());
     *slots[e] = r[r.size() / 2];
@@ -218,7 +227,8 @@ TEST(Windows, PeriodicClosedForms) {
 }
 
 // The spectra must not depend on the thread count by a single bit: segments are summed in fixed
-// runs whatever the threads. 61 segments (not a multiple of the runs) of 3 responses, Hann, detrended.
+// runs whatever the threads. 61 segments (not a multiple of the runs) of 3 responses, Hann,
+// detrended.
 TEST(Welch, ThreadCountDoesNotChangeABit) {
   const Eigen::Index n = 64 * 62;
   const Eigen::VectorXd force = LcgNoise(n, 4242);
@@ -226,13 +236,17 @@ TEST(Welch, ThreadCountDoesNotChangeABit) {
   resp.col(0) = Resonator(0.98, 0.3, 0.2, 0.1, 0.0).Filter(force);
   resp.col(1) = Resonator(0.95, 0.9, 0.0, 0.5, -0.25).Filter(force) + 0.05 * LcgNoise(n, 31);
   resp.col(2) = LcgNoise(n, 99);
-  WelchOptions o{.segment_samples = 128, .overlap_samples = 64, .window = Window::kHann, .detrend = Detrend::kConstant};
+  WelchOptions o{.segment_samples = 128,
+                 .overlap_samples = 64,
+                 .window = Window::kHann,
+                 .detrend = Detrend::kConstant};
   o.threads = 1;
   const CrossSpectra one = WelchSpectra(force, resp, 500.0, o);
   ASSERT_EQ(one.averages, 61u);
   const auto same = [](const auto& a, const auto& b) {
     return a.size() == b.size() &&
-           std::memcmp(a.data(), b.data(), static_cast<std::size_t>(a.size()) * sizeof(*a.data())) == 0;
+           std::memcmp(a.data(), b.data(),
+                       static_cast<std::size_t>(a.size()) * sizeof(*a.data())) == 0;
   };
   for (const std::size_t threads : {2u, 3u, 8u, 64u}) {
     o.threads = threads;
@@ -269,8 +283,10 @@ TEST(Welch, ThreadCountDoesNotChangeABit) {
 TEST(Welch, BadOptionsAreInputErrors) {
   const Eigen::VectorXd f = Eigen::VectorXd::Ones(100);
   const Eigen::MatrixXd x = Eigen::MatrixXd::Ones(100, 1);
-  EXPECT_THROW(WelchSpectra(f, x, 10.0, {.segment_samples = 64, .overlap_samples = 64}), InputError);
-  EXPECT_THROW(WelchSpectra(f, x, 10.0, {.segment_samples = 128, .overlap_samples = 0}), InputError);
+  EXPECT_THROW(WelchSpectra(f, x, 10.0, {.segment_samples = 64, .overlap_samples = 64}),
+               InputError);
+  EXPECT_THROW(WelchSpectra(f, x, 10.0, {.segment_samples = 128, .overlap_samples = 0}),
+               InputError);
   EXPECT_THROW(WelchSpectra(f, x, 0.0, {.segment_samples = 64, .overlap_samples = 0}), InputError);
 }
 

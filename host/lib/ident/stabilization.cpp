@@ -14,19 +14,25 @@
 
 namespace vibid::ident {
 
-const char* PoleMethodName(PoleMethod method) { return method == PoleMethod::kLscf ? "lscf" : "lsce"; }
+const char* PoleMethodName(PoleMethod method) {
+  return method == PoleMethod::kLscf ? "lscf" : "lsce";
+}
 
 void StabilizationOptions::Validate() const {
-  Require(freq_min_hz >= 0.0 && freq_max_hz >= 0.0 && std::isfinite(freq_min_hz) && std::isfinite(freq_max_hz),
+  Require(freq_min_hz >= 0.0 && freq_max_hz >= 0.0 && std::isfinite(freq_min_hz) &&
+              std::isfinite(freq_max_hz),
           "stabilization: band limits must be >= 0");
-  Require(freq_max_hz == 0.0 || freq_max_hz > freq_min_hz, "stabilization: band maximum must exceed the minimum");
+  Require(freq_max_hz == 0.0 || freq_max_hz > freq_min_hz,
+          "stabilization: band maximum must exceed the minimum");
   Require(min_order >= 2 && max_order >= min_order && order_step >= 1,
           "stabilization: orders must satisfy 2 <= min <= max and step >= 1");
   Require(max_order <= 400, "stabilization: orders above 400 are not supported");
   Require(freq_tolerance > 0.0 && damping_tolerance > 0.0 && mac_min > 0.0 && mac_min <= 1.0,
           "stabilization: tolerances must be > 0 and the MAC limit in (0, 1]");
-  Require(min_zeta >= 0.0 && max_zeta > min_zeta && max_zeta < 1.0, "stabilization: need 0 <= min_zeta < max_zeta < 1");
-  Require(min_cluster_fraction > 0.0 && min_cluster_fraction <= 1.0, "stabilization: cluster fraction must be in (0, 1]");
+  Require(min_zeta >= 0.0 && max_zeta > min_zeta && max_zeta < 1.0,
+          "stabilization: need 0 <= min_zeta < max_zeta < 1");
+  Require(min_cluster_fraction > 0.0 && min_cluster_fraction <= 1.0,
+          "stabilization: cluster fraction must be in (0, 1]");
 }
 
 void ParseOrders(std::string_view text, StabilizationOptions& options) {
@@ -43,11 +49,13 @@ void ParseOrders(std::string_view text, StabilizationOptions& options) {
     } catch (...) {
       used = 0;
     }
-    Require(!item.empty() && used == item.size(), "--orders '" + s + "' must be MIN:MAX or MIN:MAX:STEP (whole numbers)");
+    Require(!item.empty() && used == item.size(),
+            "--orders '" + s + "' must be MIN:MAX or MIN:MAX:STEP (whole numbers)");
     parts.push_back(v);
     start = colon + 1;
   }
-  Require(parts.size() == 2 || parts.size() == 3, "--orders '" + s + "' must be MIN:MAX or MIN:MAX:STEP");
+  Require(parts.size() == 2 || parts.size() == 3,
+          "--orders '" + s + "' must be MIN:MAX or MIN:MAX:STEP");
   Require(parts[0] >= 2 && parts[1] >= parts[0] && (parts.size() == 2 || parts[2] >= 1),
           "--orders '" + s + "': need 2 <= MIN <= MAX and STEP >= 1");
   options.min_order = parts[0];
@@ -193,11 +201,12 @@ struct LsceNormals {
     const auto last = static_cast<Eigen::Index>(std::llround(acc.freq_hz[lines - 1] / df));
     const auto first = static_cast<Eigen::Index>(std::llround(acc.freq_hz[0] / df));
     Require(first <= 1 && last == first + lines - 1,
-            "lsce needs every line from the first to the Nyquist line (an FRF from one record per hit, or a Welch FRF)");
+            "lsce needs every line from the first to the Nyquist line (an FRF from one record per "
+            "hit, or a Welch FRF)");
     const Eigen::Index n = 2 * last;  // period of the impulse response
     dt_s = 1.0 / (static_cast<double>(n) * df);
-    // Spectrum X_k, k = 0..last (DC taken as 0). x[m] = (1/N)(Re FFT(u)[m] + Im FFT(v)[m]) with u, v
-    // the even and odd extensions of Re X and Im X.
+    // Spectrum X_k, k = 0..last (DC taken as 0). x[m] = (1/N)(Re FFT(u)[m] + Im FFT(v)[m]) with u,
+    // v the even and odd extensions of Re X and Im X.
     RealFft fft(static_cast<std::size_t>(n));
     const Eigen::Index half = n / 2;
     const Eigen::Index k0 = 2;  // skip the direct (impulsive) part of the accelerance
@@ -230,9 +239,11 @@ struct LsceNormals {
       fft.Transform(u.data(), fu);
       fft.Transform(v.data(), fv);
       Eigen::VectorXd g(half + 1);
-      for (Eigen::Index m = 0; m <= half; ++m) g[m] = (fu[m].real() + fv[m].imag()) / static_cast<double>(n);
+      for (Eigen::Index m = 0; m <= half; ++m)
+        g[m] = (fu[m].real() + fv[m].imag()) / static_cast<double>(n);
       Eigen::MatrixXd hank(rows, max_order + 1);
-      for (Eigen::Index k = 0; k < rows; ++k) hank.row(k) = g.segment(k0 + k, max_order + 1).transpose();
+      for (Eigen::Index k = 0; k < rows; ++k)
+        hank.row(k) = g.segment(k0 + k, max_order + 1).transpose();
       normal += hank.transpose() * hank;
     }
   }
@@ -285,7 +296,8 @@ PoleSet LscePoles(const Frf& frf, int order, double freq_max_hz) {
   return LsceNormals(frf, order, freq_max_hz).Solve(order);
 }
 
-StabilizationDiagram BuildStabilizationDiagram(const Frf& frf, const StabilizationOptions& options) {
+StabilizationDiagram BuildStabilizationDiagram(const Frf& frf,
+                                               const StabilizationOptions& options) {
   options.Validate();
   Require(frf.lines() >= 4 && frf.responses() >= 1, "stabilization: the FRF is empty");
   const Band band = BandOf(frf, options.freq_min_hz, options.freq_max_hz);
@@ -302,7 +314,8 @@ StabilizationDiagram BuildStabilizationDiagram(const Frf& frf, const Stabilizati
   if (options.method == PoleMethod::kLscf) {
     // Fitted as accelerance: what accelerometers measure, so a truncated record's DFT ratio is
     // rational in W (see the header), and resonances over decades of frequency weigh alike.
-    lscf = std::make_unique<LscfNormals>(ConvertFrf(frf, Quantity::kAcceleration), band, options.max_order);
+    lscf = std::make_unique<LscfNormals>(ConvertFrf(frf, Quantity::kAcceleration), band,
+                                         options.max_order);
   } else {
     lsce = std::make_unique<LsceNormals>(frf, options.max_order, band.hi);
   }
@@ -315,13 +328,17 @@ StabilizationDiagram BuildStabilizationDiagram(const Frf& frf, const Stabilizati
     std::vector<Eigen::VectorXcd> now_shapes;
     for (Eigen::Index i = 0; i < set.lambda.size(); ++i) {
       const std::complex<double> l = set.lambda[i];
-      if (!std::isfinite(l.real()) || !std::isfinite(l.imag()) || l.imag() <= 0.0 || l.real() >= 0.0) continue;
+      if (!std::isfinite(l.real()) || !std::isfinite(l.imag()) || l.imag() <= 0.0 ||
+          l.real() >= 0.0)
+        continue;
       DiagramPole p;
       p.order = order;
       const double omega = std::abs(l);
       p.freq_hz = omega / (2.0 * std::numbers::pi);
       p.zeta = CorrectExponentialWindowDamping(-l.real() / omega, omega, frf.exp_window_tau_s);
-      if (p.freq_hz < band.lo || p.freq_hz > band.hi || !(p.zeta > 0.0) || p.zeta >= options.max_zeta) continue;
+      if (p.freq_hz < band.lo || p.freq_hz > band.hi || !(p.zeta > 0.0) ||
+          p.zeta >= options.max_zeta)
+        continue;
       if (lscf) p.shape = set.shapes.col(i);
       now.push_back(p);
       now_shapes.push_back(set.shapes.col(i));
@@ -353,9 +370,10 @@ StabilizationDiagram BuildStabilizationDiagram(const Frf& frf, const Stabilizati
   for (std::size_t i = 0; i < d.poles.size(); ++i) {
     if (d.poles[i].Stable()) stable.push_back(i);
   }
-  std::sort(stable.begin(), stable.end(), [&](std::size_t a, std::size_t b) { return d.poles[a].freq_hz < d.poles[b].freq_hz; });
-  const auto needed = static_cast<std::size_t>(
-      std::max(3.0, std::ceil(options.min_cluster_fraction * static_cast<double>(d.orders.size()))));
+  std::sort(stable.begin(), stable.end(),
+            [&](std::size_t a, std::size_t b) { return d.poles[a].freq_hz < d.poles[b].freq_hz; });
+  const auto needed = static_cast<std::size_t>(std::max(
+      3.0, std::ceil(options.min_cluster_fraction * static_cast<double>(d.orders.size()))));
   std::size_t begin = 0;
   while (begin < stable.size()) {
     std::size_t end = begin + 1;
@@ -381,7 +399,8 @@ StabilizationDiagram BuildStabilizationDiagram(const Frf& frf, const Stabilizati
       s.orders = static_cast<int>(orders.size());
       s.freq_spread = RelativeSpread(fs);
       s.zeta_spread = RelativeSpread(zs);
-      for (std::size_t k = begin; k < end; ++k) d.poles[stable[k]].cluster = static_cast<int>(d.selected.size());
+      for (std::size_t k = begin; k < end; ++k)
+        d.poles[stable[k]].cluster = static_cast<int>(d.selected.size());
       d.selected.push_back(s);
     }
     begin = end;
@@ -393,7 +412,8 @@ StabilizationDiagram BuildStabilizationDiagram(const Frf& frf, const Stabilizati
 
 namespace vibid::ident {
 
-std::vector<std::pair<double, double>> AutomaticBands(std::vector<double> resonances_hz, double last_line_hz, double max_span) {
+std::vector<std::pair<double, double>> AutomaticBands(std::vector<double> resonances_hz,
+                                                      double last_line_hz, double max_span) {
   std::sort(resonances_hz.begin(), resonances_hz.end());
   std::vector<std::pair<double, double>> bands;
   std::size_t i = 0;
@@ -409,10 +429,12 @@ std::vector<std::pair<double, double>> AutomaticBands(std::vector<double> resona
   return bands;
 }
 
-StabilizationDiagram BuildStabilizationDiagram(const Frf& frf, const StabilizationOptions& options,
-                                               const std::vector<std::pair<double, double>>& bands) {
+StabilizationDiagram BuildStabilizationDiagram(
+    const Frf& frf, const StabilizationOptions& options,
+    const std::vector<std::pair<double, double>>& bands) {
   Require(!bands.empty(), "stabilization: no band");
-  if (bands.size() == 1 && bands.front().second <= 0.0) return BuildStabilizationDiagram(frf, options);
+  if (bands.size() == 1 && bands.front().second <= 0.0)
+    return BuildStabilizationDiagram(frf, options);
   StabilizationDiagram all;
   struct Candidate {
     SelectedPole pole;
@@ -430,19 +452,25 @@ StabilizationDiagram BuildStabilizationDiagram(const Frf& frf, const Stabilizati
     int lines = 0;
     for (Eigen::Index k = 0; k < frf.freq_hz.size(); ++k) {
       const double f = frf.freq_hz[k];
-      if (f > 0.0 && f <= o.freq_max_hz && (o.method == PoleMethod::kLsce || f >= o.freq_min_hz)) ++lines;
+      if (f > 0.0 && f <= o.freq_max_hz && (o.method == PoleMethod::kLsce || f >= o.freq_min_hz))
+        ++lines;
     }
     const int cap = o.min_order + (lines / 4 - o.min_order) / o.order_step * o.order_step;
     if (lines / 4 < o.min_order + 2 * o.order_step) continue;
     o.max_order = std::min(o.max_order, cap);
     parts.push_back(BuildStabilizationDiagram(frf, o));
-    for (std::size_t k = 0; k < parts.back().selected.size(); ++k) candidates.push_back({parts.back().selected[k], parts.size() - 1, static_cast<int>(k)});
+    for (std::size_t k = 0; k < parts.back().selected.size(); ++k)
+      candidates.push_back({parts.back().selected[k], parts.size() - 1, static_cast<int>(k)});
   }
-  Require(!parts.empty(), "stabilization: every band is too narrow for the lowest orders (give --fmax-hz or --orders)");
-  std::sort(candidates.begin(), candidates.end(), [](const Candidate& a, const Candidate& c) { return a.pole.freq_hz < c.pole.freq_hz; });
+  Require(
+      !parts.empty(),
+      "stabilization: every band is too narrow for the lowest orders (give --fmax-hz or --orders)");
+  std::sort(candidates.begin(), candidates.end(),
+            [](const Candidate& a, const Candidate& c) { return a.pole.freq_hz < c.pole.freq_hz; });
   std::vector<Candidate> kept;
   for (const Candidate& c : candidates) {
-    if (!kept.empty() && c.pole.freq_hz - kept.back().pole.freq_hz <= options.freq_tolerance * c.pole.freq_hz) {
+    if (!kept.empty() &&
+        c.pole.freq_hz - kept.back().pole.freq_hz <= options.freq_tolerance * c.pole.freq_hz) {
       if (c.pole.orders > kept.back().pole.orders) kept.back() = c;
       continue;
     }

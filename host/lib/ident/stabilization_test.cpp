@@ -21,7 +21,9 @@ namespace {
 
 using cd = std::complex<double>;
 
-std::string TestData(const std::string& name) { return std::string(VIBID_SOURCE_DIR) + "/host/lib/ident/testdata/" + name; }
+std::string TestData(const std::string& name) {
+  return std::string(VIBID_SOURCE_DIR) + "/host/lib/ident/testdata/" + name;
+}
 
 // Reference: scripts/golden/ident_plscf.py (numpy, explicit Jacobian blocks, numpy.roots), the
 // same FRF file, the same band and order: every pole equal to 1e-6 relative.
@@ -40,7 +42,8 @@ TEST(Lscf, PolesMatchTheIndependentNumpyReference) {
     frf.coherence.col(j) = t.Column(n + "_coh");
   }
   const CsvTable ref = ReadCsv(TestData("plscf_poles.csv"));
-  const Eigen::VectorXd fmin = ref.Column("fmin_hz"), fmax = ref.Column("fmax_hz"), order = ref.Column("order");
+  const Eigen::VectorXd fmin = ref.Column("fmin_hz"), fmax = ref.Column("fmax_hz"),
+                        order = ref.Column("order");
   const Eigen::VectorXd re = ref.Column("re"), im = ref.Column("im");
   int cases = 0;
   for (Eigen::Index start = 0; start < order.size();) {
@@ -52,8 +55,10 @@ TEST(Lscf, PolesMatchTheIndependentNumpyReference) {
     for (Eigen::Index i = start; i < end; ++i) {
       const cd want(re[i], im[i]);
       double best = 1e300;
-      for (Eigen::Index k = 0; k < got.lambda.size(); ++k) best = std::min(best, std::abs(got.lambda[k] - want));
-      EXPECT_LT(best, 1e-6 * std::abs(want)) << "order " << p << " band " << fmin[start] << ".." << fmax[start] << " pole " << want;
+      for (Eigen::Index k = 0; k < got.lambda.size(); ++k)
+        best = std::min(best, std::abs(got.lambda[k] - want));
+      EXPECT_LT(best, 1e-6 * std::abs(want))
+          << "order " << p << " band " << fmin[start] << ".." << fmax[start] << " pole " << want;
     }
     ++cases;
     start = end;

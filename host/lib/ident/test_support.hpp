@@ -13,8 +13,8 @@ namespace vibid::ident::testing {
 
 /// Receptance matrix entry (out, in) of the 2-DOF chain ground-k1-m1-k2-m2 with dampers c1, c2,
 /// by the explicit 2x2 inverse of K - omega^2 M + j omega C.
-inline std::complex<double> ChainReceptance(double m1, double m2, double k1, double k2, double c1, double c2,
-                                            int out, int in, double omega) {
+inline std::complex<double> ChainReceptance(double m1, double m2, double k1, double k2, double c1,
+                                            double c2, int out, int in, double omega) {
   using cd = std::complex<double>;
   const cd jw(0.0, omega);
   const cd d11 = k1 + k2 - omega * omega * m1 + jw * (c1 + c2);
@@ -47,8 +47,8 @@ inline ChainModes ChainModesOf(double m1, double m2, double k1, double k2) {
 }
 
 /// Receptance FRF of the chain, hammer on `in`, both masses as responses, at uniform lines.
-inline Frf ChainFrf(double m1, double m2, double k1, double k2, double c1, double c2, int in, double df_hz,
-                    Eigen::Index lines) {
+inline Frf ChainFrf(double m1, double m2, double k1, double k2, double c1, double c2, int in,
+                    double df_hz, Eigen::Index lines) {
   Frf frf;
   frf.quantity = Quantity::kDisplacement;
   frf.freq_hz = Eigen::VectorXd::LinSpaced(lines, df_hz, df_hz * static_cast<double>(lines));

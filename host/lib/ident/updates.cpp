@@ -12,14 +12,17 @@
 namespace vibid::ident {
 
 void MassUpdateOptions::Validate() const {
-  Require(k_n_per_m >= 0.0 && std::isfinite(k_n_per_m), "mass update: stiffness must be >= 0 (0: fit it)");
+  Require(k_n_per_m >= 0.0 && std::isfinite(k_n_per_m),
+          "mass update: stiffness must be >= 0 (0: fit it)");
   Require(nominal_kg >= 0.0 && std::isfinite(nominal_kg), "mass update: nominal mass must be >= 0");
-  Require(band_fraction > 0.0 && band_fraction < 1.0, "mass update: band fraction must be in (0, 1)");
+  Require(band_fraction > 0.0 && band_fraction < 1.0,
+          "mass update: band fraction must be in (0, 1)");
   peaks.Validate();
   solver.Validate();
 }
 
-MassUpdateResult UpdateMass(const Frf& receptance, std::size_t response, const MassUpdateOptions& options) {
+MassUpdateResult UpdateMass(const Frf& receptance, std::size_t response,
+                            const MassUpdateOptions& options) {
   options.Validate();
   Require(receptance.quantity == Quantity::kDisplacement, "mass update needs a receptance FRF");
   Require(response < receptance.responses(), "mass update: response column out of range");
@@ -30,10 +33,12 @@ MassUpdateResult UpdateMass(const Frf& receptance, std::size_t response, const M
   PeakOptions peak_options = options.peaks;
   if (options.fit_damping) peak_options.min_lines_in_band = 0.0;
   const PeakResult picked =
-      PickPeaks(receptance.freq_hz, PickingMagnitude(receptance, static_cast<int>(col)), peak_options, receptance.exp_window_tau_s);
+      PickPeaks(receptance.freq_hz, PickingMagnitude(receptance, static_cast<int>(col)),
+                peak_options, receptance.exp_window_tau_s);
   Require(!picked.peaks.empty(), "mass update: no resonance found in the FRF");
-  const Peak peak = *std::max_element(picked.peaks.begin(), picked.peaks.end(),
-                                      [](const Peak& a, const Peak& b) { return a.magnitude < b.magnitude; });
+  const Peak peak =
+      *std::max_element(picked.peaks.begin(), picked.peaks.end(),
+                        [](const Peak& a, const Peak& b) { return a.magnitude < b.magnitude; });
   MassUpdateResult res;
   // Only the resonance used matters; other peaks (noise at low frequency) are not reported.
   for (const std::string& w : picked.warnings) {
@@ -48,11 +53,13 @@ MassUpdateResult UpdateMass(const Frf& receptance, std::size_t response, const M
   std::vector<Eigen::Index> rows;
   for (Eigen::Index i = 0; i < receptance.freq_hz.size(); ++i) {
     const double w = 2.0 * std::numbers::pi * receptance.freq_hz[i];
-    if (w > 0.0 && std::abs(w - peak.omega_rad_s) <= options.band_fraction * peak.omega_rad_s && mag[i] > 0.0) {
+    if (w > 0.0 && std::abs(w - peak.omega_rad_s) <= options.band_fraction * peak.omega_rad_s &&
+        mag[i] > 0.0) {
       rows.push_back(i);
     }
   }
-  Require(rows.size() >= 5, "mass update: fewer than 5 frequency lines in the band around the resonance");
+  Require(rows.size() >= 5,
+          "mass update: fewer than 5 frequency lines in the band around the resonance");
   res.lines_fitted = rows.size();
   const auto nrows = static_cast<Eigen::Index>(rows.size());
   Eigen::VectorXd omega(nrows);
@@ -62,14 +69,17 @@ MassUpdateResult UpdateMass(const Frf& receptance, std::size_t response, const M
     const Eigen::Index i = rows[static_cast<std::size_t>(r)];
     omega[r] = 2.0 * std::numbers::pi * receptance.freq_hz[i];
     log_mag[r] = std::log(mag[i]);
-    weight[r] = options.coherence_weighting ? std::sqrt(std::max(receptance.coherence(i, col), 0.0)) : 1.0;
+    weight[r] =
+        options.coherence_weighting ? std::sqrt(std::max(receptance.coherence(i, col), 0.0)) : 1.0;
   }
   // Start: k given (or from the peak height 1/(2 zeta k)), m = k / omega^2.
   res.stiffness_fitted = options.k_n_per_m == 0.0;
   res.damping_fitted = options.fit_damping;
   // Receptance peak height 1/(2 zeta k) gives the starting stiffness when it is not known.
-  const double peak_receptance = std::abs(InterpolateAt(receptance.freq_hz, receptance.h.col(col), peak.freq_hz));
-  const double k0 = res.stiffness_fitted ? 1.0 / (2.0 * peak.zeta * peak_receptance) : options.k_n_per_m;
+  const double peak_receptance =
+      std::abs(InterpolateAt(receptance.freq_hz, receptance.h.col(col), peak.freq_hz));
+  const double k0 =
+      res.stiffness_fitted ? 1.0 / (2.0 * peak.zeta * peak_receptance) : options.k_n_per_m;
   const double m0 = k0 / (peak.omega_rad_s * peak.omega_rad_s);
   res.zeta_half_power = peak.zeta;
   // The window multiplies the impulse response by exp(-a t), a = 1/tau, which moves s to s + a:
@@ -103,7 +113,8 @@ MassUpdateResult UpdateMass(const Frf& receptance, std::size_t response, const M
   res.summary = numerics::LevenbergMarquardt(numerics::NumericDiff(f), p, options.solver);
   unpack(p, res.mass_kg, res.k_n_per_m, res.zeta);
   res.c_ns_per_m = 2.0 * res.zeta * std::sqrt(res.k_n_per_m * res.mass_kg);
-  if (options.nominal_kg > 0.0) res.change_percent = 100.0 * (res.mass_kg - options.nominal_kg) / options.nominal_kg;
+  if (options.nominal_kg > 0.0)
+    res.change_percent = 100.0 * (res.mass_kg - options.nominal_kg) / options.nominal_kg;
   return res;
 }
 
@@ -141,26 +152,31 @@ StiffnessUpdateResult UpdateStiffness(const Eigen::Ref<const Eigen::VectorXd>& m
                                       const Eigen::Ref<const Eigen::MatrixXd>& shapes) {
   const Eigen::Index n = masses_kg.size();
   Require(n >= 1, "stiffness update: no masses");
-  Require((masses_kg.array() > 0.0).all() && masses_kg.allFinite(), "stiffness update: masses must be > 0");
+  Require((masses_kg.array() > 0.0).all() && masses_kg.allFinite(),
+          "stiffness update: masses must be > 0");
   Require(shapes.rows() == n && shapes.cols() == n && omega_rad_s.size() == n && zeta.size() == n,
-          "stiffness update: need as many modes (" + std::to_string(omega_rad_s.size()) + ") as masses (" +
-              std::to_string(n) + ")");
-  Require((omega_rad_s.array() > 0.0).all() && omega_rad_s.allFinite(), "stiffness update: frequencies must be > 0");
+          "stiffness update: need as many modes (" + std::to_string(omega_rad_s.size()) +
+              ") as masses (" + std::to_string(n) + ")");
+  Require((omega_rad_s.array() > 0.0).all() && omega_rad_s.allFinite(),
+          "stiffness update: frequencies must be > 0");
   const Eigen::MatrixXd m = masses_kg.asDiagonal();
   Eigen::MatrixXd phi = shapes;
   for (Eigen::Index i = 0; i < n; ++i) {
     const double norm2 = phi.col(i).dot(m * phi.col(i));
-    Require(norm2 > 0.0 && std::isfinite(norm2), "stiffness update: mode " + std::to_string(i + 1) + " has a zero shape");
+    Require(norm2 > 0.0 && std::isfinite(norm2),
+            "stiffness update: mode " + std::to_string(i + 1) + " has a zero shape");
     phi.col(i) /= std::sqrt(norm2);
   }
   StiffnessUpdateResult res;
   const Eigen::MatrixXd mphi = m * phi;
   res.k_matrix = mphi * omega_rad_s.array().square().matrix().asDiagonal() * mphi.transpose();
-  res.c_matrix = mphi * (2.0 * zeta.array() * omega_rad_s.array()).matrix().asDiagonal() * mphi.transpose();
+  res.c_matrix =
+      mphi * (2.0 * zeta.array() * omega_rad_s.array()).matrix().asDiagonal() * mphi.transpose();
   res.springs = DiagonalChain(res.k_matrix);
   res.dampers = DiagonalChain(res.c_matrix);
   const Eigen::MatrixXd basis = ChainBasis(n);
-  res.springs_lsq = basis.colPivHouseholderQr().solve(Eigen::Map<const Eigen::VectorXd>(res.k_matrix.data(), n * n));
+  res.springs_lsq = basis.colPivHouseholderQr().solve(
+      Eigen::Map<const Eigen::VectorXd>(res.k_matrix.data(), n * n));
   double worst = 0.0;
   for (Eigen::Index i = 1; i < n; ++i) {
     const double mismatch = 100.0 * (-res.k_matrix(i - 1, i) - res.springs[i]) / res.springs[i];
@@ -170,15 +186,18 @@ StiffnessUpdateResult UpdateStiffness(const Eigen::Ref<const Eigen::VectorXd>& m
   return res;
 }
 
-StiffnessUpdateResult UpdateStiffness2(double m1_kg, double m2_kg, const std::vector<ModeEstimate>& modes) {
-  Require(modes.size() == 2, "stiffness update of a 2-DOF chain needs exactly 2 modes, got " + std::to_string(modes.size()));
+StiffnessUpdateResult UpdateStiffness2(double m1_kg, double m2_kg,
+                                       const std::vector<ModeEstimate>& modes) {
+  Require(modes.size() == 2, "stiffness update of a 2-DOF chain needs exactly 2 modes, got " +
+                                 std::to_string(modes.size()));
   Eigen::Vector2d masses(m1_kg, m2_kg);
   Eigen::Vector2d omega(modes[0].omega_rad_s, modes[1].omega_rad_s);
   Eigen::Vector2d zeta(modes[0].zeta, modes[1].zeta);
   Eigen::Matrix2d shapes;
   for (int i = 0; i < 2; ++i) {
     const ModeEstimate& m = modes[static_cast<std::size_t>(i)];
-    Require(std::isfinite(m.ratio), "stiffness update: mode " + std::to_string(i + 1) + " has no shape ratio a1/a2");
+    Require(std::isfinite(m.ratio),
+            "stiffness update: mode " + std::to_string(i + 1) + " has no shape ratio a1/a2");
     shapes(0, i) = m.ratio;
     shapes(1, i) = 1.0;
   }

@@ -29,7 +29,8 @@ Frf SdofReceptance(double m, double k, double c, double df_hz, Eigen::Index line
 TEST(MassUpdate, RecoversTheMassWithKnownStiffness) {
   // m = 1.37 kg on k = 2500 N/m, zeta 0.02.
   const double m = 1.37, k = 2500.0, c = 2 * 0.02 * std::sqrt(k * m);
-  const MassUpdateResult r = UpdateMass(SdofReceptance(m, k, c, 0.01, 3000), 0, {.k_n_per_m = k, .nominal_kg = 1.5});
+  const MassUpdateResult r =
+      UpdateMass(SdofReceptance(m, k, c, 0.01, 3000), 0, {.k_n_per_m = k, .nominal_kg = 1.5});
   ASSERT_TRUE(r.summary.Converged()) << r.summary.message;
   EXPECT_NEAR(r.mass_kg, m, 1e-4 * m);
   EXPECT_NEAR(r.zeta, 0.02, 0.005 * 0.02);
@@ -50,14 +51,16 @@ TEST(MassUpdate, FitsStiffnessWhenNotGiven) {
 // Half-power damping on a coarse grid: the band spans about 1.5 lines, so zeta comes out high.
 // Held at that value, c drags m and k down together; refined in the fit, both come back.
 TEST(MassUpdate, RefinedDampingRemovesTheCoarseGridBias) {
-  const double m = 1.82, k = 3520.0, c = 2 * 0.02 * std::sqrt(k * m);  // 7.0 Hz, half-power band 0.28 Hz
+  const double m = 1.82, k = 3520.0,
+               c = 2 * 0.02 * std::sqrt(k * m);  // 7.0 Hz, half-power band 0.28 Hz
   const Frf coarse = SdofReceptance(m, k, c, 0.19, 200);
   const MassUpdateResult held = UpdateMass(coarse, 0, {.fit_damping = false});
   const MassUpdateResult fitted = UpdateMass(coarse, 0, {});
   ASSERT_TRUE(held.summary.Converged() && fitted.summary.Converged());
   EXPECT_FALSE(held.damping_fitted);
   EXPECT_EQ(held.zeta, held.zeta_half_power);
-  EXPECT_GT(std::abs(held.mass_kg - m), 0.003 * m) << "the grid is meant to bias the half-power value";
+  EXPECT_GT(std::abs(held.mass_kg - m), 0.003 * m)
+      << "the grid is meant to bias the half-power value";
   EXPECT_TRUE(fitted.damping_fitted);
   EXPECT_NEAR(fitted.mass_kg, m, 1e-6 * m);
   EXPECT_NEAR(fitted.k_n_per_m, k, 1e-6 * k);
@@ -97,8 +100,10 @@ ModeEstimate Mode(double omega, double zeta, double ratio) {
 TEST(StiffnessUpdate, ExactModesGiveTheChainBack) {
   const double m1 = 1.1, m2 = 0.7, k1 = 2600, k2 = 1400, beta = 1e-3;
   const auto t = testing::ChainModesOf(m1, m2, k1, k2);
-  const StiffnessUpdateResult r = UpdateStiffness2(
-      m1, m2, {Mode(t.omega[0], beta * t.omega[0] / 2, t.ratio[0]), Mode(t.omega[1], beta * t.omega[1] / 2, t.ratio[1])});
+  const StiffnessUpdateResult r =
+      UpdateStiffness2(m1, m2,
+                       {Mode(t.omega[0], beta * t.omega[0] / 2, t.ratio[0]),
+                        Mode(t.omega[1], beta * t.omega[1] / 2, t.ratio[1])});
   EXPECT_NEAR(r.springs[0], k1, 1e-9 * k1);
   EXPECT_NEAR(r.springs[1], k2, 1e-9 * k2);
   EXPECT_NEAR(r.springs_lsq[0], k1, 1e-9 * k1);
@@ -113,12 +118,13 @@ TEST(StiffnessUpdate, ExactModesGiveTheChainBack) {
 TEST(StiffnessUpdate, WrongRatioShowsAsOffDiagonalMismatch) {
   const double m1 = 1.0, m2 = 1.0, k1 = 2000, k2 = 1000;
   const auto t = testing::ChainModesOf(m1, m2, k1, k2);
-  const StiffnessUpdateResult r =
-      UpdateStiffness2(m1, m2, {Mode(t.omega[0], 0.01, 1.2 * t.ratio[0]), Mode(t.omega[1], 0.01, t.ratio[1])});
+  const StiffnessUpdateResult r = UpdateStiffness2(
+      m1, m2, {Mode(t.omega[0], 0.01, 1.2 * t.ratio[0]), Mode(t.omega[1], 0.01, t.ratio[1])});
   // Reference: numpy, K = M P diag(w^2) P^T M with the first ratio scaled by 1.2 -> 0.4013 %.
   EXPECT_NEAR(r.offdiag_mismatch_percent, 0.40128486, 1e-6);
   // Closed form of the off-diagonal mismatch definition.
-  EXPECT_NEAR(r.offdiag_mismatch_percent, 100 * (-r.k_matrix(0, 1) - r.k_matrix(1, 1)) / r.k_matrix(1, 1), 1e-9);
+  EXPECT_NEAR(r.offdiag_mismatch_percent,
+              100 * (-r.k_matrix(0, 1) - r.k_matrix(1, 1)) / r.k_matrix(1, 1), 1e-9);
 }
 
 TEST(StiffnessUpdate, AverageAndSpread) {
@@ -143,7 +149,8 @@ TEST(StiffnessUpdate, AverageAndSpread) {
 TEST(StiffnessUpdate, BadInputs) {
   EXPECT_THROW(UpdateStiffness2(1, 1, {Mode(10, 0.01, 1)}), InputError);
   EXPECT_THROW(UpdateStiffness2(-1, 1, {Mode(10, 0.01, 1), Mode(20, 0.01, -1)}), InputError);
-  EXPECT_THROW(UpdateStiffness2(1, 1, {Mode(10, 0.01, std::nan("")), Mode(20, 0.01, -1)}), InputError);
+  EXPECT_THROW(UpdateStiffness2(1, 1, {Mode(10, 0.01, std::nan("")), Mode(20, 0.01, -1)}),
+               InputError);
 }
 
 }  // namespace

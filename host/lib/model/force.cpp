@@ -45,11 +45,14 @@ std::string Trim(std::string_view s) {
 ForceShape ParseForceShape(std::string_view spec) {
   const std::string where = "force spec '" + std::string(spec) + "'";
   const auto colon = spec.find(':');
-  Require(colon != std::string_view::npos,
-          where + ": expected KIND:key=value,... with KIND one of step, pulse, halfsine, sine, chirp");
+  Require(
+      colon != std::string_view::npos,
+      where + ": expected KIND:key=value,... with KIND one of step, pulse, halfsine, sine, chirp");
   const std::string kind_name = Trim(spec.substr(0, colon));
-  const auto kind = std::find_if(Kinds().begin(), Kinds().end(), [&](const KindInfo& k) { return kind_name == k.name; });
-  Require(kind != Kinds().end(), where + ": unknown kind '" + kind_name + "' (expected step, pulse, halfsine, sine or chirp)");
+  const auto kind = std::find_if(Kinds().begin(), Kinds().end(),
+                                 [&](const KindInfo& k) { return kind_name == k.name; });
+  Require(kind != Kinds().end(), where + ": unknown kind '" + kind_name +
+                                     "' (expected step, pulse, halfsine, sine or chirp)");
 
   std::map<std::string, double> values;
   std::string_view rest = spec.substr(colon + 1);
@@ -61,9 +64,10 @@ ForceShape ParseForceShape(std::string_view spec) {
     Require(eq != std::string::npos && eq > 0, where + ": '" + item + "' is not key=value");
     const std::string key = Trim(std::string_view(item).substr(0, eq));
     const std::string text = Trim(std::string_view(item).substr(eq + 1));
-    const bool known = key == "dof" || key == "amp" ||
-                       std::find(kind->required.begin(), kind->required.end(), key) != kind->required.end() ||
-                       std::find(kind->optional.begin(), kind->optional.end(), key) != kind->optional.end();
+    const bool known =
+        key == "dof" || key == "amp" ||
+        std::find(kind->required.begin(), kind->required.end(), key) != kind->required.end() ||
+        std::find(kind->optional.begin(), kind->optional.end(), key) != kind->optional.end();
     Require(known, where + ": unknown key '" + key + "' for " + kind->name);
     Require(!values.contains(key), where + ": key '" + key + "' given twice");
     double value = 0.0;
@@ -79,7 +83,8 @@ ForceShape ParseForceShape(std::string_view spec) {
   ForceShape shape;
   shape.kind = kind->kind;
   const double dof = get("dof");
-  Require(dof >= 1.0 && dof == std::floor(dof) && dof < 1e6, where + ": dof must be an integer >= 1 (counted from 1)");
+  Require(dof >= 1.0 && dof == std::floor(dof) && dof < 1e6,
+          where + ": dof must be an integer >= 1 (counted from 1)");
   shape.dof = static_cast<int>(dof) - 1;
   shape.amp_n = get("amp");
   shape.t0_s = values.contains("t0") ? values.at("t0") : 0.0;
@@ -119,13 +124,16 @@ double EvaluateShape(const ForceShape& shape, double t_s, Side side) {
     case ShapeKind::kPulse:
       return edge_tau < shape.width_s ? shape.amp_n : 0.0;
     case ShapeKind::kHalfSine:
-      return edge_tau < shape.width_s ? shape.amp_n * std::sin(std::numbers::pi * std::max(tau, 0.0) / shape.width_s) : 0.0;
+      return edge_tau < shape.width_s
+                 ? shape.amp_n * std::sin(std::numbers::pi * std::max(tau, 0.0) / shape.width_s)
+                 : 0.0;
     case ShapeKind::kSine:
       return shape.amp_n * std::sin(kTwoPi * shape.freq_hz * std::max(tau, 0.0));
     case ShapeKind::kChirp:
       if (edge_tau >= shape.t1_s) return 0.0;
-      return shape.amp_n * std::sin(kTwoPi * (shape.f0_hz * std::max(tau, 0.0) +
-                                              (shape.f1_hz - shape.f0_hz) * tau * tau / (2.0 * shape.t1_s)));
+      return shape.amp_n *
+             std::sin(kTwoPi * (shape.f0_hz * std::max(tau, 0.0) +
+                                (shape.f1_hz - shape.f0_hz) * tau * tau / (2.0 * shape.t1_s)));
   }
   return 0.0;
 }
@@ -146,7 +154,8 @@ ForceTable LoadForceTable(const std::string& path, int dofs) {
   }
   for (const std::string& name : csv.names) {
     Require(name == "t_s" || (name.size() > 3 && name[0] == 'f' && name.ends_with("_n")),
-            path + ": unexpected column '" + name + "' (expected t_s and f1_n..f" + std::to_string(dofs) + "_n)");
+            path + ": unexpected column '" + name + "' (expected t_s and f1_n..f" +
+                std::to_string(dofs) + "_n)");
   }
   Require(used + 1 == static_cast<int>(csv.names.size()),
           path + ": force columns must be f1_n..f" + std::to_string(dofs) + "_n for this model");
@@ -157,20 +166,26 @@ void ValidateForceInput(const ForceInput& input, int dofs, const std::string& wh
   for (const ForceShape& shape : input.shapes) {
     Require(shape.dof >= 0 && shape.dof < dofs, what + " dof " + std::to_string(shape.dof + 1) +
                                                     " is out of range 1.." + std::to_string(dofs));
-    Require(std::isfinite(shape.amp_n) && std::isfinite(shape.t0_s), what + " amplitude and t0 must be finite");
+    Require(std::isfinite(shape.amp_n) && std::isfinite(shape.t0_s),
+            what + " amplitude and t0 must be finite");
   }
   const ForceTable& table = input.table;
   if (table.t_s.size() == 0) return;
-  Require(table.force_n.rows() == table.t_s.size(), what + " table: force rows must match the time samples");
-  Require(table.force_n.cols() == dofs, what + " table has " + std::to_string(table.force_n.cols()) +
-                                            " columns, the model has " + std::to_string(dofs) + " DOFs");
-  Require(table.t_s.allFinite() && table.force_n.allFinite(), what + " table has a non-finite value");
+  Require(table.force_n.rows() == table.t_s.size(),
+          what + " table: force rows must match the time samples");
+  Require(table.force_n.cols() == dofs,
+          what + " table has " + std::to_string(table.force_n.cols()) + " columns, the model has " +
+              std::to_string(dofs) + " DOFs");
+  Require(table.t_s.allFinite() && table.force_n.allFinite(),
+          what + " table has a non-finite value");
   for (Eigen::Index i = 1; i < table.t_s.size(); ++i) {
-    Require(table.t_s[i] > table.t_s[i - 1], what + " table: t_s must increase strictly (row " + std::to_string(i + 1) + ")");
+    Require(table.t_s[i] > table.t_s[i - 1],
+            what + " table: t_s must increase strictly (row " + std::to_string(i + 1) + ")");
   }
 }
 
-void EvaluateForce(const ForceInput& input, double t_s, Eigen::Ref<Eigen::VectorXd> out, Side side) {
+void EvaluateForce(const ForceInput& input, double t_s, Eigen::Ref<Eigen::VectorXd> out,
+                   Side side) {
   out.setZero();
   for (const ForceShape& shape : input.shapes) out[shape.dof] += EvaluateShape(shape, t_s, side);
   const ForceTable& table = input.table;

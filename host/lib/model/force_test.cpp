@@ -52,28 +52,39 @@ TEST(ForceShape, ValuesFollowTheDocumentedFormulas) {
   EXPECT_EQ(EvaluateShape(hammer, 0.0125), 0.0);
   const ForceShape sine = ParseForceShape("sine:dof=1,amp=2,freq_hz=4");
   EXPECT_NEAR(EvaluateShape(sine, 1.0 / 16.0), 2.0, 1e-12);
-  // Linear chirp: instantaneous frequency f0 + (f1 − f0) τ / t1; phase 2π (f0 τ + (f1−f0) τ²/(2 t1)).
+  // Linear chirp: instantaneous frequency f0 + (f1 − f0) τ / t1; phase 2π (f0 τ + (f1−f0) τ²/(2
+  // t1)).
   const ForceShape chirp = ParseForceShape("chirp:dof=1,amp=1,f0_hz=1,f1_hz=3,t1=2");
   EXPECT_NEAR(EvaluateShape(chirp, 1.0), std::sin(2.0 * std::numbers::pi * (1.0 + 0.5)), 1e-12);
   EXPECT_EQ(EvaluateShape(chirp, 2.5), 0.0);
 }
 
 TEST(ForceShape, ErrorsNameTheProblem) {
-  EXPECT_EQ(ErrorOf("ramp:dof=1,amp=1"), "force spec 'ramp:dof=1,amp=1': unknown kind 'ramp' (expected step, pulse, halfsine, sine or chirp)");
+  EXPECT_EQ(ErrorOf("ramp:dof=1,amp=1"),
+            "force spec 'ramp:dof=1,amp=1': unknown kind 'ramp' (expected step, pulse, halfsine, "
+            "sine or chirp)");
   EXPECT_EQ(ErrorOf("pulse:dof=1,amp=1"), "force spec 'pulse:dof=1,amp=1': missing key 'width'");
-  EXPECT_EQ(ErrorOf("step:dof=1,amp=x"), "force spec 'step:dof=1,amp=x': amp='x' is not a finite number");
-  EXPECT_EQ(ErrorOf("step:dof=1,amp=1,freq_hz=3"), "force spec 'step:dof=1,amp=1,freq_hz=3': unknown key 'freq_hz' for step");
-  EXPECT_EQ(ErrorOf("step:dof=0,amp=1"), "force spec 'step:dof=0,amp=1': dof must be an integer >= 1 (counted from 1)");
-  EXPECT_EQ(ErrorOf("step"), "force spec 'step': expected KIND:key=value,... with KIND one of step, pulse, halfsine, sine, chirp");
-  EXPECT_EQ(ErrorOf("step:dof=1,dof=2,amp=1"), "force spec 'step:dof=1,dof=2,amp=1': key 'dof' given twice");
-  EXPECT_EQ(ErrorOf("halfsine:dof=1,amp=1,width=0"), "force spec 'halfsine:dof=1,amp=1,width=0': width must be > 0 s");
+  EXPECT_EQ(ErrorOf("step:dof=1,amp=x"),
+            "force spec 'step:dof=1,amp=x': amp='x' is not a finite number");
+  EXPECT_EQ(ErrorOf("step:dof=1,amp=1,freq_hz=3"),
+            "force spec 'step:dof=1,amp=1,freq_hz=3': unknown key 'freq_hz' for step");
+  EXPECT_EQ(ErrorOf("step:dof=0,amp=1"),
+            "force spec 'step:dof=0,amp=1': dof must be an integer >= 1 (counted from 1)");
+  EXPECT_EQ(ErrorOf("step"),
+            "force spec 'step': expected KIND:key=value,... with KIND one of step, pulse, "
+            "halfsine, sine, chirp");
+  EXPECT_EQ(ErrorOf("step:dof=1,dof=2,amp=1"),
+            "force spec 'step:dof=1,dof=2,amp=1': key 'dof' given twice");
+  EXPECT_EQ(ErrorOf("halfsine:dof=1,amp=1,width=0"),
+            "force spec 'halfsine:dof=1,amp=1,width=0': width must be > 0 s");
 }
 
 TEST(ForceInput, SumsShapesAndHoldsTheTable) {
   ForceInput input;
   input.shapes.push_back(ParseForceShape("step:dof=2,amp=1"));
   input.table.t_s = Eigen::Vector3d(0.0, 0.1, 0.2);
-  input.table.force_n = (Eigen::Matrix<double, 3, 2>() << 1.0, 10.0, 2.0, 20.0, 3.0, 30.0).finished();
+  input.table.force_n =
+      (Eigen::Matrix<double, 3, 2>() << 1.0, 10.0, 2.0, 20.0, 3.0, 30.0).finished();
   ValidateForceInput(input, 2);
   Eigen::VectorXd f(2);
   EvaluateForce(input, 0.15, f);

@@ -11,8 +11,8 @@ namespace vibid::model {
 namespace {
 
 void RequireDof(int dof, Eigen::Index n, const char* what) {
-  Require(dof >= 0 && dof < n, std::string(what) + " DOF " + std::to_string(dof + 1) + " is out of range 1.." +
-                                   std::to_string(n));
+  Require(dof >= 0 && dof < n, std::string(what) + " DOF " + std::to_string(dof + 1) +
+                                   " is out of range 1.." + std::to_string(n));
 }
 
 std::complex<double> KindFactor(FrfKind kind, double omega_rad_s) {
@@ -33,7 +33,8 @@ FrfKind ParseFrfKind(std::string_view name) {
   if (name == "receptance") return FrfKind::kReceptance;
   if (name == "mobility") return FrfKind::kMobility;
   if (name == "accelerance") return FrfKind::kAccelerance;
-  throw InputError("unknown FRF kind '" + std::string(name) + "' (expected receptance, mobility or accelerance)");
+  throw InputError("unknown FRF kind '" + std::string(name) +
+                   "' (expected receptance, mobility or accelerance)");
 }
 
 std::string_view FrfKindName(FrfKind kind) {

@@ -21,7 +21,8 @@ TEST(Frf, OneDofPeakReceptanceClosedForm) {
   // m = 2, k = 5000, c = 4 → ωn = 50, ζ = 0.02. |H| peaks at ωn√(1−2ζ²) with 1/(2kζ√(1−ζ²));
   // at ωn, H = 1/(jωn c) = −j/(2kζ).
   const double k = 5000.0, zeta = 0.02, wn = 50.0;
-  const Model m = MakeChain(Eigen::VectorXd::Constant(1, 2.0), Eigen::VectorXd::Constant(1, k), Eigen::VectorXd::Constant(1, 4.0));
+  const Model m = MakeChain(Eigen::VectorXd::Constant(1, 2.0), Eigen::VectorXd::Constant(1, k),
+                            Eigen::VectorXd::Constant(1, 4.0));
   const double w_peak = wn * std::sqrt(1.0 - 2.0 * zeta * zeta);
   const Eigen::Vector3d omega(w_peak * (1.0 - 1e-4), w_peak, w_peak * (1.0 + 1e-4));
   const Eigen::VectorXcd h = Frf(m, 0, 0, FrfKind::kReceptance, omega);
@@ -29,15 +30,18 @@ TEST(Frf, OneDofPeakReceptanceClosedForm) {
   EXPECT_NEAR(std::abs(h[1]), peak, 1e-12 * peak);
   EXPECT_LT(std::abs(h[0]), std::abs(h[1]));
   EXPECT_LT(std::abs(h[2]), std::abs(h[1]));
-  const Eigen::VectorXcd at_wn = Frf(m, 0, 0, FrfKind::kReceptance, Eigen::VectorXd::Constant(1, wn));
+  const Eigen::VectorXcd at_wn =
+      Frf(m, 0, 0, FrfKind::kReceptance, Eigen::VectorXd::Constant(1, wn));
   EXPECT_NEAR(at_wn[0].real(), 0.0, 1e-15);
   EXPECT_NEAR(at_wn[0].imag(), -1.0 / (2.0 * k * zeta), 1e-13);
   // Static: 1/k.
-  EXPECT_NEAR(Frf(m, 0, 0, FrfKind::kReceptance, Eigen::VectorXd::Zero(1))[0].real(), 1.0 / k, 1e-18);
+  EXPECT_NEAR(Frf(m, 0, 0, FrfKind::kReceptance, Eigen::VectorXd::Zero(1))[0].real(), 1.0 / k,
+              1e-18);
 }
 
 TEST(Frf, MobilityAndAccelerationAreJOmegaAndMinusOmegaSquaredTimesReceptance) {
-  const Model m = MakeChain(Eigen::Vector2d(2.0, 1.5), Eigen::Vector2d(4000.0, 3000.0), Eigen::Vector2d(2.0, 1.0));
+  const Model m = MakeChain(Eigen::Vector2d(2.0, 1.5), Eigen::Vector2d(4000.0, 3000.0),
+                            Eigen::Vector2d(2.0, 1.0));
   const Eigen::VectorXd omega = Eigen::VectorXd::LinSpaced(50, 1.0, 200.0);
   const Eigen::VectorXcd h = Frf(m, 0, 1, FrfKind::kReceptance, omega);
   const Eigen::VectorXcd y = Frf(m, 0, 1, FrfKind::kMobility, omega);
@@ -57,7 +61,8 @@ TEST(Frf, MatchesNumpySolveForNonProportionalDamping) {
   Eigen::VectorXcd expected(omega.size());
   expected.real() = JsonVector(g.at("re"));
   expected.imag() = JsonVector(g.at("im"));
-  const Eigen::VectorXcd h = Frf(m, g.at("input_dof").get<int>() - 1, g.at("output_dof").get<int>() - 1, FrfKind::kReceptance, omega);
+  const Eigen::VectorXcd h = Frf(m, g.at("input_dof").get<int>() - 1,
+                                 g.at("output_dof").get<int>() - 1, FrfKind::kReceptance, omega);
   EXPECT_LT(MaxRelativeError(h, expected), 1e-11);
 }
 
@@ -71,7 +76,8 @@ TEST(Frf, MatrixAndModalFormsAgreeToOneInABillionForProportionalDamping) {
     Eigen::VectorXd omega(3 * n + 40);
     omega.head(40) = Eigen::VectorXd::LinSpaced(40, 0.1, 1.5 * modes.omega_rad_s.maxCoeff());
     for (Eigen::Index i = 0; i < n; ++i) {
-      omega.segment(40 + 3 * i, 3) << modes.omega_rad_s[i] * 0.999, modes.omega_rad_s[i], modes.omega_rad_s[i] * 1.001;
+      omega.segment(40 + 3 * i, 3) << modes.omega_rad_s[i] * 0.999, modes.omega_rad_s[i],
+          modes.omega_rad_s[i] * 1.001;
     }
     for (const FrfKind kind : {FrfKind::kReceptance, FrfKind::kMobility, FrfKind::kAccelerance}) {
       const int in = trial % static_cast<int>(n);
@@ -89,7 +95,9 @@ TEST(Frf, ModalFormHandlesRigidBodyModes) {
   m.k_n_per_m = (Eigen::Matrix2d() << 500.0, -500.0, -500.0, 500.0).finished();
   m.c_ns_per_m = 0.002 * m.k_n_per_m;
   const Eigen::VectorXd omega = Eigen::VectorXd::LinSpaced(30, 1.0, 80.0);
-  EXPECT_LT(MaxRelativeError(FrfModal(Modal(m), 0, 1, FrfKind::kAccelerance, omega), Frf(m, 0, 1, FrfKind::kAccelerance, omega)), 1e-9);
+  EXPECT_LT(MaxRelativeError(FrfModal(Modal(m), 0, 1, FrfKind::kAccelerance, omega),
+                             Frf(m, 0, 1, FrfKind::kAccelerance, omega)),
+            1e-9);
 }
 
 TEST(Frf, ParsesKindsAndRejectsBadDofs) {
@@ -98,7 +106,8 @@ TEST(Frf, ParsesKindsAndRejectsBadDofs) {
   EXPECT_THROW(ParseFrfKind("inertance"), InputError);
   const Model m = MakeChain(Eigen::Vector2d(2.0, 1.5), Eigen::Vector2d(4000.0, 3000.0));
   EXPECT_THROW(Frf(m, 2, 0, FrfKind::kReceptance, Eigen::VectorXd::Ones(1)), InputError);
-  EXPECT_THROW(FrfModal(Modal(m), 0, -1, FrfKind::kReceptance, Eigen::VectorXd::Ones(1)), InputError);
+  EXPECT_THROW(FrfModal(Modal(m), 0, -1, FrfKind::kReceptance, Eigen::VectorXd::Ones(1)),
+               InputError);
 }
 
 }  // namespace

@@ -22,7 +22,8 @@ constexpr double kProportionalTolerance = 1e-9;
 ModalResult Modal(const Model& model) {
   Validate(model);
   const Eigen::Index n = model.m_kg.rows();
-  const Eigen::GeneralizedSelfAdjointEigenSolver<Eigen::MatrixXd> solver(model.k_n_per_m, model.m_kg);
+  const Eigen::GeneralizedSelfAdjointEigenSolver<Eigen::MatrixXd> solver(model.k_n_per_m,
+                                                                         model.m_kg);
   // Eigen returns ascending eigenvalues and M-normalised vectors (φᵀMφ = 1).
   ModalResult r;
   r.omega_rad_s = solver.eigenvalues().cwiseMax(0.0).cwiseSqrt();
@@ -90,7 +91,8 @@ ComplexModes ComplexModalDamping(const Model& model) {
     }
   }
   // Rigid-body roots (λ = 0) are not vibration modes; overdamped pairs are taken in order of size.
-  std::sort(real_roots.begin(), real_roots.end(), [](double x, double y) { return std::abs(x) < std::abs(y); });
+  std::sort(real_roots.begin(), real_roots.end(),
+            [](double x, double y) { return std::abs(x) < std::abs(y); });
   std::vector<double> flexible;
   for (const double root : real_roots) {
     if (std::abs(root) > 1e-9 * std::max(scale, 1.0)) flexible.push_back(root);

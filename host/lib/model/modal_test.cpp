@@ -90,7 +90,8 @@ TEST(Modal, ProportionalDampingGivesRayleighZetaInClosedForm) {
 
 TEST(Modal, GeneralDampingIsDetectedAndItsEigenvaluesSolveTheQuadraticProblem) {
   // Damper only at the tip of a chain: not of the form ΦᵀCΦ diagonal.
-  const Model m = MakeChain(Eigen::Vector2d(2.0, 1.5), Eigen::Vector2d(4000.0, 3000.0), Eigen::Vector2d(0.0, 8.0));
+  const Model m = MakeChain(Eigen::Vector2d(2.0, 1.5), Eigen::Vector2d(4000.0, 3000.0),
+                            Eigen::Vector2d(0.0, 8.0));
   const ModalResult r = Modal(m);
   EXPECT_EQ(r.damping, DampingKind::kGeneral);
   const ComplexModes c = ComplexModalDamping(m);
@@ -98,9 +99,11 @@ TEST(Modal, GeneralDampingIsDetectedAndItsEigenvaluesSolveTheQuadraticProblem) {
     EXPECT_GT(r.zeta[i], 0.0);
     EXPECT_EQ(r.zeta[i], c.zeta[i]);
     // λ = −ζω + jω√(1−ζ²) must make M λ² + C λ + K singular.
-    const std::complex<double> lambda(-c.zeta[i] * c.omega_rad_s[i], c.omega_rad_s[i] * std::sqrt(1.0 - c.zeta[i] * c.zeta[i]));
+    const std::complex<double> lambda(-c.zeta[i] * c.omega_rad_s[i],
+                                      c.omega_rad_s[i] * std::sqrt(1.0 - c.zeta[i] * c.zeta[i]));
     const Eigen::MatrixXcd q = m.m_kg.cast<std::complex<double>>() * lambda * lambda +
-                               m.c_ns_per_m.cast<std::complex<double>>() * lambda + m.k_n_per_m.cast<std::complex<double>>();
+                               m.c_ns_per_m.cast<std::complex<double>>() * lambda +
+                               m.k_n_per_m.cast<std::complex<double>>();
     const Eigen::JacobiSVD<Eigen::MatrixXcd> svd(q);
     EXPECT_LT(svd.singularValues()[1], 1e-9 * svd.singularValues()[0]) << "mode " << i;
   }
@@ -137,9 +140,12 @@ TEST(Modal, PropertiesOverRandomSystems) {
     const Eigen::MatrixXd& phi = r.shapes;
     EXPECT_TRUE((phi.transpose() * m.m_kg * phi).isIdentity(1e-10)) << "trial " << trial;
     const Eigen::MatrixXd kk = phi.transpose() * m.k_n_per_m * phi;
-    EXPECT_TRUE(kk.isApprox(Eigen::MatrixXd(r.omega_rad_s.cwiseAbs2().asDiagonal()), 1e-10)) << "trial " << trial;
+    EXPECT_TRUE(kk.isApprox(Eigen::MatrixXd(r.omega_rad_s.cwiseAbs2().asDiagonal()), 1e-10))
+        << "trial " << trial;
     for (Eigen::Index i = 1; i < n; ++i) EXPECT_LE(r.omega_rad_s[i - 1], r.omega_rad_s[i]);
-    EXPECT_EQ(r.damping, trial % 2 == 0 ? DampingKind::kProportional : (n == 1 ? DampingKind::kProportional : DampingKind::kGeneral))
+    EXPECT_EQ(r.damping, trial % 2 == 0
+                             ? DampingKind::kProportional
+                             : (n == 1 ? DampingKind::kProportional : DampingKind::kGeneral))
         << "trial " << trial;
   }
 }

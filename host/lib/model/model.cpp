@@ -39,9 +39,11 @@ void Validate(const Model& model) {
   Require(n >= 1, "model has no degrees of freedom (M is empty)");
   Require(model.m_kg.cols() == n, "M must be square, got " + Shape(model.m_kg));
   Require(model.k_n_per_m.rows() == n && model.k_n_per_m.cols() == n,
-          "K must be " + std::to_string(n) + "x" + std::to_string(n) + " like M, got " + Shape(model.k_n_per_m));
+          "K must be " + std::to_string(n) + "x" + std::to_string(n) + " like M, got " +
+              Shape(model.k_n_per_m));
   Require(model.c_ns_per_m.rows() == n && model.c_ns_per_m.cols() == n,
-          "C must be " + std::to_string(n) + "x" + std::to_string(n) + " like M, got " + Shape(model.c_ns_per_m));
+          "C must be " + std::to_string(n) + "x" + std::to_string(n) + " like M, got " +
+              Shape(model.c_ns_per_m));
   Require(model.m_kg.allFinite(), "M has a non-finite entry");
   Require(model.k_n_per_m.allFinite(), "K has a non-finite entry");
   Require(model.c_ns_per_m.allFinite(), "C has a non-finite entry");
@@ -52,24 +54,29 @@ void Validate(const Model& model) {
   const Eigen::LLT<Eigen::MatrixXd> llt(model.m_kg);
   Require(llt.info() == Eigen::Success && model.m_kg.diagonal().minCoeff() > 0.0,
           "M is not positive definite");
-  const Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> eig_k(model.k_n_per_m, Eigen::EigenvaluesOnly);
+  const Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> eig_k(model.k_n_per_m,
+                                                             Eigen::EigenvaluesOnly);
   const double k_scale = model.k_n_per_m.cwiseAbs().maxCoeff();
   Require(eig_k.eigenvalues().minCoeff() >= -1e-12 * k_scale,
-          "K is not positive semidefinite (smallest eigenvalue " + std::to_string(eig_k.eigenvalues().minCoeff()) + ")");
+          "K is not positive semidefinite (smallest eigenvalue " +
+              std::to_string(eig_k.eigenvalues().minCoeff()) + ")");
   // M's own eigenvalues: LLT accepts matrices that are positive definite only to rounding.
   const Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> eig_m(model.m_kg, Eigen::EigenvaluesOnly);
-  Require(eig_m.eigenvalues().minCoeff() > 1e-12 * model.m_kg.cwiseAbs().maxCoeff(), "M is not positive definite");
+  Require(eig_m.eigenvalues().minCoeff() > 1e-12 * model.m_kg.cwiseAbs().maxCoeff(),
+          "M is not positive definite");
 }
 
-Model MakeChain(Eigen::Ref<const Eigen::VectorXd> masses_kg, Eigen::Ref<const Eigen::VectorXd> springs_n_per_m,
+Model MakeChain(Eigen::Ref<const Eigen::VectorXd> masses_kg,
+                Eigen::Ref<const Eigen::VectorXd> springs_n_per_m,
                 Eigen::Ref<const Eigen::VectorXd> dampers_ns_per_m) {
   const Eigen::Index n = masses_kg.size();
   Require(n >= 1, "chain needs at least one mass");
   Require(springs_n_per_m.size() == n, "chain has " + std::to_string(n) + " masses but " +
-                                           std::to_string(springs_n_per_m.size()) + " springs (need one per mass)");
+                                           std::to_string(springs_n_per_m.size()) +
+                                           " springs (need one per mass)");
   Require(dampers_ns_per_m.size() == 0 || dampers_ns_per_m.size() == n,
-          "chain has " + std::to_string(n) + " springs but " + std::to_string(dampers_ns_per_m.size()) +
-              " dampers (need none or one per spring)");
+          "chain has " + std::to_string(n) + " springs but " +
+              std::to_string(dampers_ns_per_m.size()) + " dampers (need none or one per spring)");
   RequireVector(masses_kg, "masses", false);
   RequireVector(springs_n_per_m, "springs", true);
   RequireVector(dampers_ns_per_m, "dampers", true);
@@ -99,10 +106,11 @@ Model MakeCartTrack(Eigen::Ref<const Eigen::VectorXd> masses_kg, double k_n_per_
                     Eigen::Ref<const Eigen::VectorXd> frictions_ns_per_m) {
   const Eigen::Index n = masses_kg.size();
   Require(n >= 1, "cart track needs at least one cart");
-  Require(std::isfinite(k_n_per_m) && k_n_per_m >= 0.0, "cart track spring must be finite and >= 0");
+  Require(std::isfinite(k_n_per_m) && k_n_per_m >= 0.0,
+          "cart track spring must be finite and >= 0");
   Require(frictions_ns_per_m.size() == 0 || frictions_ns_per_m.size() == n,
-          "cart track has " + std::to_string(n) + " carts but " + std::to_string(frictions_ns_per_m.size()) +
-              " frictions (need none or one per cart)");
+          "cart track has " + std::to_string(n) + " carts but " +
+              std::to_string(frictions_ns_per_m.size()) + " frictions (need none or one per cart)");
   RequireVector(masses_kg, "masses", false);
   RequireVector(frictions_ns_per_m, "frictions", true);
 

@@ -19,7 +19,8 @@ double Number(const json& value, const std::string& where) {
   return x;
 }
 
-Eigen::VectorXd Vector(const json& object, const char* field, const std::string& source, bool required) {
+Eigen::VectorXd Vector(const json& object, const char* field, const std::string& source,
+                       bool required) {
   const std::string where = source + ": field \"" + field + "\"";
   if (!object.contains(field)) {
     Require(!required, where + " is missing");
@@ -80,7 +81,8 @@ Model WithSource(const std::string& source, F&& build) {
 Model ModelFromJson(const json& value, const std::string& source) {
   Require(value.is_object(), source + ": a model must be a JSON object");
   if (value.contains("topology")) {
-    Require(value.at("topology").is_string(), source + ": field \"topology\" must be \"chain\" or \"cart\"");
+    Require(value.at("topology").is_string(),
+            source + ": field \"topology\" must be \"chain\" or \"cart\"");
     const std::string topology = value.at("topology").get<std::string>();
     if (topology == "chain") {
       const Eigen::VectorXd masses = Vector(value, "masses", source, true);
@@ -95,15 +97,17 @@ Model ModelFromJson(const json& value, const std::string& source) {
       const Eigen::VectorXd frictions = Vector(value, "frictions", source, false);
       return WithSource(source, [&] { return MakeCartTrack(masses, k, frictions); });
     }
-    throw InputError(source + ": field \"topology\" is \"" + Printable(topology) + "\"; expected \"chain\" or \"cart\"");
+    throw InputError(source + ": field \"topology\" is \"" + Printable(topology) +
+                     "\"; expected \"chain\" or \"cart\"");
   }
   Require(value.contains("M") && value.contains("K"),
           source + ": a model needs \"topology\" (chain or cart) or the matrices \"M\" and \"K\"");
   Model model;
   model.m_kg = Matrix(value, "M", source);
   model.k_n_per_m = Matrix(value, "K", source);
-  model.c_ns_per_m = value.contains("C") ? Matrix(value, "C", source)
-                                         : Eigen::MatrixXd::Zero(model.m_kg.rows(), model.m_kg.rows());
+  model.c_ns_per_m = value.contains("C")
+                         ? Matrix(value, "C", source)
+                         : Eigen::MatrixXd::Zero(model.m_kg.rows(), model.m_kg.rows());
   return WithSource(source, [&] {
     Validate(model);
     return model;
@@ -111,7 +115,9 @@ Model ModelFromJson(const json& value, const std::string& source) {
 }
 
 json ModelToJson(const Model& model) {
-  return json{{"M", MatrixJson(model.m_kg)}, {"C", MatrixJson(model.c_ns_per_m)}, {"K", MatrixJson(model.k_n_per_m)}};
+  return json{{"M", MatrixJson(model.m_kg)},
+              {"C", MatrixJson(model.c_ns_per_m)},
+              {"K", MatrixJson(model.k_n_per_m)}};
 }
 
 Model LoadModel(const std::string& path) { return ModelFromJson(ReadJsonFile(path), path); }

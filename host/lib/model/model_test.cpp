@@ -25,7 +25,8 @@ std::string ErrorOf(const json& j) {
 
 TEST(MakeChain, TwoDofMatchesMethodsSection1) {
   // Methods §1: K = [[k1+k2, −k2], [−k2, k2]], M = diag(m1, m2); dampers assemble the same way.
-  const Model m = MakeChain(Eigen::Vector2d(2.0, 1.5), Eigen::Vector2d(4000.0, 3000.0), Eigen::Vector2d(2.0, 1.0));
+  const Model m = MakeChain(Eigen::Vector2d(2.0, 1.5), Eigen::Vector2d(4000.0, 3000.0),
+                            Eigen::Vector2d(2.0, 1.0));
   EXPECT_EQ(m.m_kg, (Eigen::Matrix2d() << 2.0, 0.0, 0.0, 1.5).finished());
   EXPECT_EQ(m.k_n_per_m, (Eigen::Matrix2d() << 7000.0, -3000.0, -3000.0, 3000.0).finished());
   EXPECT_EQ(m.c_ns_per_m, (Eigen::Matrix2d() << 3.0, -1.0, -1.0, 1.0).finished());
@@ -42,7 +43,9 @@ TEST(MakeChain, ThreeDofIsTridiagonalAndUndampedWithoutDampers) {
 
 TEST(MakeChain, RejectsMismatchedCountsAndBadValues) {
   EXPECT_THROW(MakeChain(Eigen::Vector2d(1.0, 1.0), Eigen::VectorXd::Constant(1, 5.0)), InputError);
-  EXPECT_THROW(MakeChain(Eigen::Vector2d(1.0, 1.0), Eigen::Vector2d(5.0, 5.0), Eigen::VectorXd::Constant(1, 1.0)), InputError);
+  EXPECT_THROW(MakeChain(Eigen::Vector2d(1.0, 1.0), Eigen::Vector2d(5.0, 5.0),
+                         Eigen::VectorXd::Constant(1, 1.0)),
+               InputError);
   EXPECT_THROW(MakeChain(Eigen::Vector2d(1.0, 0.0), Eigen::Vector2d(5.0, 5.0)), InputError);
   EXPECT_THROW(MakeChain(Eigen::Vector2d(1.0, 1.0), Eigen::Vector2d(5.0, -5.0)), InputError);
 }
@@ -106,17 +109,22 @@ TEST(Validate, RejectsEachDefect) {
 }
 
 TEST(ModelJson, ChainCartAndMatrixFormsBuildTheSameModelsAsTheBuilders) {
-  const Model chain = ModelFromJson(json::parse(R"({"topology":"chain","masses":[2.0,1.5],"springs":[4000,3000],"dampers":[2,1]})"));
-  const Model chain_ref = MakeChain(Eigen::Vector2d(2.0, 1.5), Eigen::Vector2d(4000.0, 3000.0), Eigen::Vector2d(2.0, 1.0));
+  const Model chain = ModelFromJson(json::parse(
+      R"({"topology":"chain","masses":[2.0,1.5],"springs":[4000,3000],"dampers":[2,1]})"));
+  const Model chain_ref = MakeChain(Eigen::Vector2d(2.0, 1.5), Eigen::Vector2d(4000.0, 3000.0),
+                                    Eigen::Vector2d(2.0, 1.0));
   EXPECT_EQ(chain.k_n_per_m, chain_ref.k_n_per_m);
   EXPECT_EQ(chain.c_ns_per_m, chain_ref.c_ns_per_m);
   EXPECT_EQ(chain.m_kg, chain_ref.m_kg);
 
-  const Model cart = ModelFromJson(json::parse(R"({"topology":"cart","masses":[0.57,0.56],"spring":15,"frictions":[0.4,0.3]})"));
-  EXPECT_EQ(cart.k_n_per_m, MakeCartTrack(Eigen::Vector2d(0.57, 0.56), 15.0, Eigen::Vector2d(0.4, 0.3)).k_n_per_m);
+  const Model cart = ModelFromJson(
+      json::parse(R"({"topology":"cart","masses":[0.57,0.56],"spring":15,"frictions":[0.4,0.3]})"));
+  EXPECT_EQ(cart.k_n_per_m,
+            MakeCartTrack(Eigen::Vector2d(0.57, 0.56), 15.0, Eigen::Vector2d(0.4, 0.3)).k_n_per_m);
   EXPECT_EQ(cart.c_ns_per_m(1, 1), 0.3);
 
-  const Model full = ModelFromJson(json::parse(R"({"M":[[2,0],[0,1.5]],"K":[[7000,-3000],[-3000,3000]]})"));
+  const Model full =
+      ModelFromJson(json::parse(R"({"M":[[2,0],[0,1.5]],"K":[[7000,-3000],[-3000,3000]]})"));
   EXPECT_EQ(full.k_n_per_m, chain_ref.k_n_per_m);
   EXPECT_TRUE(full.c_ns_per_m.isZero(0.0));
 }
@@ -134,17 +142,22 @@ TEST(ModelJson, RoundTripIsBitExact) {
 
 TEST(ModelJson, ErrorsNameTheSourceAndField) {
   EXPECT_EQ(ErrorOf(json::parse(R"([1,2])")), "rig.json: a model must be a JSON object");
-  EXPECT_EQ(ErrorOf(json::parse(R"({"topology":"chain","springs":[1]})")), "rig.json: field \"masses\" is missing");
+  EXPECT_EQ(ErrorOf(json::parse(R"({"topology":"chain","springs":[1]})")),
+            "rig.json: field \"masses\" is missing");
   EXPECT_EQ(ErrorOf(json::parse(R"({"topology":"chain","masses":[1,"a"],"springs":[1,1]})")),
             "rig.json: field \"masses\"[2] must be a number");
   EXPECT_EQ(ErrorOf(json::parse(R"({"topology":"ring","masses":[1]})")),
             "rig.json: field \"topology\" is \"ring\"; expected \"chain\" or \"cart\"");
-  EXPECT_EQ(ErrorOf(json::parse(R"({"topology":"cart","masses":[1]})")), "rig.json: field \"spring\" is missing");
+  EXPECT_EQ(ErrorOf(json::parse(R"({"topology":"cart","masses":[1]})")),
+            "rig.json: field \"spring\" is missing");
   EXPECT_EQ(ErrorOf(json::parse(R"({"topology":"chain","masses":[1,1],"springs":[1]})")),
             "rig.json: chain has 2 masses but 1 springs (need one per mass)");
-  EXPECT_EQ(ErrorOf(json::parse(R"({"M":[[1,0],[0]],"K":[[1,0],[0,1]]})")), "rig.json: field \"M\" row 2 has 1 entries, row 1 has 2");
-  EXPECT_EQ(ErrorOf(json::parse(R"({"M":[[1,0],[0,1]],"K":[[1]]})")), "rig.json: K must be 2x2 like M, got 1x1");
-  EXPECT_EQ(ErrorOf(json::parse(R"({"M":[[1,0],[0,-1]],"K":[[1,0],[0,1]]})")), "rig.json: M is not positive definite");
+  EXPECT_EQ(ErrorOf(json::parse(R"({"M":[[1,0],[0]],"K":[[1,0],[0,1]]})")),
+            "rig.json: field \"M\" row 2 has 1 entries, row 1 has 2");
+  EXPECT_EQ(ErrorOf(json::parse(R"({"M":[[1,0],[0,1]],"K":[[1]]})")),
+            "rig.json: K must be 2x2 like M, got 1x1");
+  EXPECT_EQ(ErrorOf(json::parse(R"({"M":[[1,0],[0,-1]],"K":[[1,0],[0,1]]})")),
+            "rig.json: M is not positive definite");
   EXPECT_EQ(ErrorOf(json::parse(R"({"K":[[1]]})")),
             "rig.json: a model needs \"topology\" (chain or cart) or the matrices \"M\" and \"K\"");
 }

@@ -26,7 +26,8 @@ Method ParseMethod(std::string_view name) {
   if (name == "euler") return Method::kEuler;
   if (name == "rk4") return Method::kRk4;
   if (name == "exact") return Method::kExact;
-  throw InputError("unknown simulation method '" + std::string(name) + "' (expected euler, rk4 or exact)");
+  throw InputError("unknown simulation method '" + std::string(name) +
+                   "' (expected euler, rk4 or exact)");
 }
 
 std::string_view MethodName(Method method) {
@@ -44,20 +45,25 @@ std::string_view MethodName(Method method) {
 void ValidateOptions(const Model& model, const SimulationOptions& options) {
   Validate(model);
   const Eigen::Index n = model.m_kg.rows();
-  Require(options.method == Method::kEuler || options.method == Method::kRk4 || options.method == Method::kExact,
+  Require(options.method == Method::kEuler || options.method == Method::kRk4 ||
+              options.method == Method::kExact,
           "unknown simulation method");
-  Require(std::isfinite(options.dt_s) && options.dt_s > 0.0, "dt_s must be finite and > 0, got " + detail::NumberText(options.dt_s));
+  Require(std::isfinite(options.dt_s) && options.dt_s > 0.0,
+          "dt_s must be finite and > 0, got " + detail::NumberText(options.dt_s));
   Require(std::isfinite(options.t_end_s) && options.t_end_s > options.dt_s,
-          "t_end_s must be finite and greater than dt_s (" + detail::NumberText(options.dt_s) + " s), got " +
-              detail::NumberText(options.t_end_s));
+          "t_end_s must be finite and greater than dt_s (" + detail::NumberText(options.dt_s) +
+              " s), got " + detail::NumberText(options.t_end_s));
   Require(options.x0_m.size() == 0 || options.x0_m.size() == n,
-          "x0 has " + std::to_string(options.x0_m.size()) + " entries, the model has " + std::to_string(n) + " DOFs");
+          "x0 has " + std::to_string(options.x0_m.size()) + " entries, the model has " +
+              std::to_string(n) + " DOFs");
   Require(options.v0_m_s.size() == 0 || options.v0_m_s.size() == n,
-          "v0 has " + std::to_string(options.v0_m_s.size()) + " entries, the model has " + std::to_string(n) + " DOFs");
+          "v0 has " + std::to_string(options.v0_m_s.size()) + " entries, the model has " +
+              std::to_string(n) + " DOFs");
   Require(options.x0_m.allFinite() && options.v0_m_s.allFinite(), "initial state must be finite");
   const std::size_t nf = options.friction.size();
   Require(nf == 0 || nf == 1 || nf == static_cast<std::size_t>(n),
-          "friction needs one entry or one per DOF (" + std::to_string(n) + "), got " + std::to_string(nf));
+          "friction needs one entry or one per DOF (" + std::to_string(n) + "), got " +
+              std::to_string(nf));
   for (const CoulombFriction& f : options.friction) {
     Require(std::isfinite(f.mu_static) && std::isfinite(f.mu_dynamic) && f.mu_dynamic >= 0.0,
             "friction coefficients must be finite and >= 0");
@@ -65,10 +71,13 @@ void ValidateOptions(const Model& model, const SimulationOptions& options) {
   }
   if (nf > 0) {
     Require(options.method != Method::kExact,
-            "the exact (zero-order-hold) method is linear and cannot simulate Coulomb friction; use rk4 or euler");
+            "the exact (zero-order-hold) method is linear and cannot simulate Coulomb friction; "
+            "use rk4 or euler");
     const Eigen::MatrixXd off = model.m_kg - Eigen::MatrixXd(model.m_kg.diagonal().asDiagonal());
-    Require(off.cwiseAbs().maxCoeff() == 0.0, "Coulomb friction needs a diagonal mass matrix (one mass per DOF)");
-    Require(std::isfinite(options.gravity_m_s2) && options.gravity_m_s2 > 0.0, "gravity must be finite and > 0");
+    Require(off.cwiseAbs().maxCoeff() == 0.0,
+            "Coulomb friction needs a diagonal mass matrix (one mass per DOF)");
+    Require(std::isfinite(options.gravity_m_s2) && options.gravity_m_s2 > 0.0,
+            "gravity must be finite and > 0");
   }
 }
 
@@ -105,8 +114,9 @@ class SimulationEngine {
       bd = d.B;
     }
     const auto un = static_cast<Eigen::Index>(n);
-    for (Eigen::VectorXd* vec : {&x, &v, &a, &f_last, &f, &r, &x0, &v0, &xs, &vs, &k1x, &k1v, &k2x, &k2v, &k3x, &k3v,
-                                 &k4x, &k4v, &static_n, &dynamic_n, &direction}) {
+    for (Eigen::VectorXd* vec :
+         {&x,   &v,   &a,   &f_last, &f,   &r,   &x0,  &v0,       &xs,        &vs,       &k1x,
+          &k1v, &k2x, &k2v, &k3x,    &k3v, &k4x, &k4v, &static_n, &dynamic_n, &direction}) {
       *vec = Eigen::VectorXd::Zero(un);
     }
     z = Eigen::VectorXd::Zero(2 * un);
@@ -116,7 +126,9 @@ class SimulationEngine {
     stuck.assign(static_cast<std::size_t>(n), false);
     has_friction = !options.friction.empty();
     for (Eigen::Index i = 0; i < un && has_friction; ++i) {
-      const CoulombFriction& cf = options.friction.size() == 1 ? options.friction[0] : options.friction[static_cast<std::size_t>(i)];
+      const CoulombFriction& cf = options.friction.size() == 1
+                                      ? options.friction[0]
+                                      : options.friction[static_cast<std::size_t>(i)];
       const double normal_n = model.m_kg(i, i) * options.gravity_m_s2;
       static_n[i] = cf.mu_static * normal_n;
       dynamic_n[i] = cf.mu_dynamic * normal_n;
@@ -125,7 +137,9 @@ class SimulationEngine {
     }
   }
 
-  bool HasFriction(Eigen::Index i) const { return has_friction && (static_n[i] > 0.0 || dynamic_n[i] > 0.0); }
+  bool HasFriction(Eigen::Index i) const {
+    return has_friction && (static_n[i] > 0.0 || dynamic_n[i] > 0.0);
+  }
 
   // Net force on each mass from the inputs, springs and dampers (friction excluded) → r.
   void NetForce(const Eigen::VectorXd& xq, const Eigen::VectorXd& vq) {
@@ -139,7 +153,8 @@ class SimulationEngine {
     NetForce(xq, vq);
     if (has_friction) {
       for (Eigen::Index i = 0; i < n; ++i) {
-        if (HasFriction(i) && !stuck[static_cast<std::size_t>(i)]) r[i] -= dynamic_n[i] * direction[i];
+        if (HasFriction(i) && !stuck[static_cast<std::size_t>(i)])
+          r[i] -= dynamic_n[i] * direction[i];
       }
     }
     out.noalias() = m_inv * r;
@@ -287,14 +302,16 @@ struct Simulator::Impl : SimulationEngine {
   using SimulationEngine::SimulationEngine;
 };
 
-Simulator::Simulator(const Model& model, const SimulationOptions& options) : impl_(std::make_unique<Impl>(model, options)) {}
+Simulator::Simulator(const Model& model, const SimulationOptions& options)
+    : impl_(std::make_unique<Impl>(model, options)) {}
 Simulator::~Simulator() = default;
 Simulator::Simulator(Simulator&&) noexcept = default;
 Simulator& Simulator::operator=(Simulator&&) noexcept = default;
 
 void Simulator::Step(Eigen::Ref<const Eigen::VectorXd> force_n) {
-  Require(force_n.size() == impl_->n, "force vector has " + std::to_string(force_n.size()) + " entries, the model has " +
-                                          std::to_string(impl_->n) + " DOFs");
+  Require(force_n.size() == impl_->n, "force vector has " + std::to_string(force_n.size()) +
+                                          " entries, the model has " + std::to_string(impl_->n) +
+                                          " DOFs");
   auto held = [&force_n](double, Eigen::VectorXd& out, Side) { out = force_n; };
   impl_->Advance(held);
   impl_->UpdateAcceleration(held);
@@ -306,19 +323,21 @@ const Eigen::VectorXd& Simulator::velocity_m_s() const { return impl_->v; }
 const Eigen::VectorXd& Simulator::acceleration_m_s2() const { return impl_->a; }
 const std::vector<bool>& Simulator::stuck() const { return impl_->stuck; }
 
-SimulationResult Simulate(const Model& model, const ForceInput& force, const SimulationOptions& options) {
+SimulationResult Simulate(const Model& model, const ForceInput& force,
+                          const SimulationOptions& options) {
   return Simulate(model, force, ForceInput{}, options);
 }
 
-SimulationResult Simulate(const Model& model, const ForceInput& force, const ForceInput& disturbance,
-                          const SimulationOptions& options) {
+SimulationResult Simulate(const Model& model, const ForceInput& force,
+                          const ForceInput& disturbance, const SimulationOptions& options) {
   ValidateOptions(model, options);
   const int n = model.dofs();
   ValidateForceInput(force, n, "force");
   ValidateForceInput(disturbance, n, "disturbance");
   const Eigen::Index samples = SampleCount(options);
   Require(static_cast<double>(samples) * 5.0 * n <= kMaxStoredValues,
-          "simulation would store " + std::to_string(samples) + " samples; raise dt_s or lower t_end_s");
+          "simulation would store " + std::to_string(samples) +
+              " samples; raise dt_s or lower t_end_s");
 
   SimulationEngine sim(model, options);
   Eigen::VectorXd force_now = Eigen::VectorXd::Zero(n);
@@ -334,7 +353,8 @@ SimulationResult Simulate(const Model& model, const ForceInput& force, const For
 
   SimulationResult result;
   result.t_s.resize(samples);
-  for (Eigen::MatrixXd* m : {&result.x_m, &result.v_m_s, &result.a_m_s2, &result.force_n, &result.disturbance_n}) {
+  for (Eigen::MatrixXd* m :
+       {&result.x_m, &result.v_m_s, &result.a_m_s2, &result.force_n, &result.disturbance_n}) {
     m->resize(samples, n);
   }
   for (Eigen::Index k = 0; k < samples; ++k) {

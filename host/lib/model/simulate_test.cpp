@@ -24,7 +24,8 @@ constexpr double kPi = std::numbers::pi;
 
 // m = 2 kg, k = 5000 N/m, c = 4 N·s/m: ωn = 50 rad/s, ζ = 0.02.
 Model OneDof() {
-  return MakeChain(Eigen::VectorXd::Constant(1, 2.0), Eigen::VectorXd::Constant(1, 5000.0), Eigen::VectorXd::Constant(1, 4.0));
+  return MakeChain(Eigen::VectorXd::Constant(1, 2.0), Eigen::VectorXd::Constant(1, 5000.0),
+                   Eigen::VectorXd::Constant(1, 4.0));
 }
 constexpr double kWn = 50.0;
 constexpr double kZeta = 0.02;
@@ -33,7 +34,8 @@ constexpr double kK = 5000.0;
 // Free response from (x0, v0): e^{−ζωt}(x0 cos ωd t + (v0 + ζω x0)/ωd sin ωd t).
 double FreeResponse(double t, double x0, double v0) {
   const double wd = kWn * std::sqrt(1.0 - kZeta * kZeta);
-  return std::exp(-kZeta * kWn * t) * (x0 * std::cos(wd * t) + (v0 + kZeta * kWn * x0) / wd * std::sin(wd * t));
+  return std::exp(-kZeta * kWn * t) *
+         (x0 * std::cos(wd * t) + (v0 + kZeta * kWn * x0) / wd * std::sin(wd * t));
 }
 
 ForceInput Shapes(std::initializer_list<const char*> specs) {
@@ -51,16 +53,20 @@ SimulationOptions Options(Method method, double dt_s, double t_end_s) {
 }
 
 TEST(Simulate, ExactMatchesTheAnalyticStepResponseToOneInABillion) {
-  // x(t) = F/k [1 − e^{−ζωt}(cos ωd t + ζ/√(1−ζ²) sin ωd t)], v(t) = F/k ωn/√(1−ζ²) e^{−ζωt} sin ωd t.
+  // x(t) = F/k [1 − e^{−ζωt}(cos ωd t + ζ/√(1−ζ²) sin ωd t)], v(t) = F/k ωn/√(1−ζ²) e^{−ζωt} sin ωd
+  // t.
   const double force = 5.0;
-  const SimulationResult r = Simulate(OneDof(), Shapes({"step:dof=1,amp=5"}), Options(Method::kExact, 1e-3, 2.0));
+  const SimulationResult r =
+      Simulate(OneDof(), Shapes({"step:dof=1,amp=5"}), Options(Method::kExact, 1e-3, 2.0));
   ASSERT_EQ(r.t_s.size(), 2001);
   const double wd = kWn * std::sqrt(1.0 - kZeta * kZeta);
   double worst_x = 0.0, worst_v = 0.0;
   for (Eigen::Index i = 0; i < r.t_s.size(); ++i) {
     const double t = r.t_s[i];
     const double decay = std::exp(-kZeta * kWn * t);
-    const double x = force / kK * (1.0 - decay * (std::cos(wd * t) + kZeta / std::sqrt(1.0 - kZeta * kZeta) * std::sin(wd * t)));
+    const double x = force / kK *
+                     (1.0 - decay * (std::cos(wd * t) +
+                                     kZeta / std::sqrt(1.0 - kZeta * kZeta) * std::sin(wd * t)));
     const double v = force / kK * kWn / std::sqrt(1.0 - kZeta * kZeta) * decay * std::sin(wd * t);
     worst_x = std::max(worst_x, std::abs(r.x_m(i, 0) - x));
     worst_v = std::max(worst_v, std::abs(r.v_m_s(i, 0) - v));
@@ -80,7 +86,8 @@ TEST(Simulate, FreeResponseExactAndRk4) {
     o.method = method;
     const SimulationResult r = Simulate(OneDof(), ForceInput{}, o);
     double worst = 0.0;
-    for (Eigen::Index i = 0; i < r.t_s.size(); ++i) worst = std::max(worst, std::abs(r.x_m(i, 0) - FreeResponse(r.t_s[i], 0.01, -0.2)));
+    for (Eigen::Index i = 0; i < r.t_s.size(); ++i)
+      worst = std::max(worst, std::abs(r.x_m(i, 0) - FreeResponse(r.t_s[i], 0.01, -0.2)));
     // RK4 at ωn dt = 0.05: global error ~ (ωn dt)^4 / 120 per radian of phase.
     EXPECT_LT(worst, method == Method::kExact ? 1e-13 : 1e-7) << MethodName(method);
   }
@@ -89,11 +96,14 @@ TEST(Simulate, FreeResponseExactAndRk4) {
 TEST(Simulate, ForcedSineSettlesToTheFrfAmplitudeAndPhase) {
   // Steady state x = |H| F sin(ωt + ∠H); transients decay as e^{−ζωn t} (1/s time constant).
   const double f_hz = 6.0, amp = 3.0, w = 2.0 * kPi * f_hz;
-  const SimulationResult r = Simulate(OneDof(), Shapes({"sine:dof=1,amp=3,freq_hz=6"}), Options(Method::kRk4, 2e-4, 30.0));
-  const std::complex<double> h = Frf(OneDof(), 0, 0, FrfKind::kReceptance, Eigen::VectorXd::Constant(1, w))[0];
+  const SimulationResult r =
+      Simulate(OneDof(), Shapes({"sine:dof=1,amp=3,freq_hz=6"}), Options(Method::kRk4, 2e-4, 30.0));
+  const std::complex<double> h =
+      Frf(OneDof(), 0, 0, FrfKind::kReceptance, Eigen::VectorXd::Constant(1, w))[0];
   double worst = 0.0;
   for (Eigen::Index i = r.t_s.size() - 5000; i < r.t_s.size(); ++i) {
-    worst = std::max(worst, std::abs(r.x_m(i, 0) - amp * std::abs(h) * std::sin(w * r.t_s[i] + std::arg(h))));
+    worst = std::max(
+        worst, std::abs(r.x_m(i, 0) - amp * std::abs(h) * std::sin(w * r.t_s[i] + std::arg(h))));
   }
   EXPECT_LT(worst, 1e-7 * amp * std::abs(h));
 }
@@ -105,7 +115,8 @@ double MaxError(Method method, double dt) {
   const SimulationResult r = Simulate(OneDof(), ForceInput{}, o);
   EXPECT_NEAR(r.t_s[r.t_s.size() - 1], 1.0, 1e-12);
   double worst = 0.0;
-  for (Eigen::Index i = 0; i < r.t_s.size(); ++i) worst = std::max(worst, std::abs(r.x_m(i, 0) - FreeResponse(r.t_s[i], 0.01, 0.0)));
+  for (Eigen::Index i = 0; i < r.t_s.size(); ++i)
+    worst = std::max(worst, std::abs(r.x_m(i, 0) - FreeResponse(r.t_s[i], 0.01, 0.0)));
   return worst;
 }
 
@@ -159,10 +170,13 @@ TEST(Simulate, ExactAndRk4AgreeOverRandomSystems) {
 }
 
 TEST(Simulate, DisturbanceAddsToTheForceAndIsRecorded) {
-  const Model m = MakeChain(Eigen::Vector2d(2.0, 1.5), Eigen::Vector2d(4000.0, 3000.0), Eigen::Vector2d(2.0, 1.0));
+  const Model m = MakeChain(Eigen::Vector2d(2.0, 1.5), Eigen::Vector2d(4000.0, 3000.0),
+                            Eigen::Vector2d(2.0, 1.0));
   const SimulationOptions o = Options(Method::kExact, 1e-3, 0.5);
-  const SimulationResult split = Simulate(m, Shapes({"step:dof=1,amp=2"}), Shapes({"pulse:dof=2,amp=1,width=0.1"}), o);
-  const SimulationResult joint = Simulate(m, Shapes({"step:dof=1,amp=2", "pulse:dof=2,amp=1,width=0.1"}), o);
+  const SimulationResult split =
+      Simulate(m, Shapes({"step:dof=1,amp=2"}), Shapes({"pulse:dof=2,amp=1,width=0.1"}), o);
+  const SimulationResult joint =
+      Simulate(m, Shapes({"step:dof=1,amp=2", "pulse:dof=2,amp=1,width=0.1"}), o);
   EXPECT_EQ(split.x_m, joint.x_m);
   EXPECT_EQ(split.disturbance_n(50, 1), 1.0);
   EXPECT_EQ(split.force_n(50, 1), 0.0);
@@ -170,7 +184,8 @@ TEST(Simulate, DisturbanceAddsToTheForceAndIsRecorded) {
 }
 
 TEST(Simulator, StepByStepEqualsSimulate) {
-  const Model m = MakeChain(Eigen::Vector2d(2.0, 1.5), Eigen::Vector2d(4000.0, 3000.0), Eigen::Vector2d(2.0, 1.0));
+  const Model m = MakeChain(Eigen::Vector2d(2.0, 1.5), Eigen::Vector2d(4000.0, 3000.0),
+                            Eigen::Vector2d(2.0, 1.0));
   for (const Method method : {Method::kExact, Method::kRk4, Method::kEuler}) {
     const SimulationOptions o = Options(method, 1e-3, 0.3);
     const SimulationResult r = Simulate(m, Shapes({"step:dof=2,amp=4"}), o);
@@ -237,7 +252,8 @@ TEST(Friction, SpringMassAmplitudeDecaysLinearlyAndSticksInsideTheDeadBand) {
   o.friction = {{mu, mu}};
   o.x0_m = Eigen::VectorXd::Constant(1, 5.5 * delta);
   const SimulationResult r = Simulate(m, ForceInput{}, o);
-  // The turning point falls between samples: the nearest sample is within ½ a (dt/2)², a ≤ ω² 2.5 δ.
+  // The turning point falls between samples: the nearest sample is within ½ a (dt/2)², a ≤ ω² 2.5
+  // δ.
   EXPECT_NEAR(r.x_m.col(0).minCoeff(), -3.5 * delta, 0.5 * w * w * 2.5 * delta * 0.25e-6);
   EXPECT_NEAR(r.x_m(r.t_s.size() - 1, 0), 0.5 * delta, 1e-9);
   const auto after_stop = static_cast<Eigen::Index>(std::ceil(3.0 * kPi / w / 1e-3)) + 1;
@@ -264,7 +280,8 @@ TEST(SimulateOptions, AreValidatedUpFront) {
   EXPECT_THROW(Simulate(m, none, Options(Method::kRk4, 0.0, 1.0)), InputError);
   EXPECT_THROW(Simulate(m, none, Options(Method::kRk4, -1e-3, 1.0)), InputError);
   EXPECT_THROW(Simulate(m, none, Options(Method::kRk4, 1e-3, 1e-3)), InputError);
-  EXPECT_THROW(Simulate(m, Shapes({"step:dof=2,amp=1"}), Options(Method::kRk4, 1e-3, 1.0)), InputError);
+  EXPECT_THROW(Simulate(m, Shapes({"step:dof=2,amp=1"}), Options(Method::kRk4, 1e-3, 1.0)),
+               InputError);
   SimulationOptions o = Options(Method::kExact, 1e-3, 1.0);
   o.friction = {{0.1, 0.1}};
   EXPECT_THROW(Simulate(m, none, o), InputError);

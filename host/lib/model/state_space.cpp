@@ -38,7 +38,8 @@ StateSpace Discretize(const StateSpace& continuous, double dt_s) {
   Require(std::isfinite(dt_s) && dt_s > 0.0, "dt_s must be finite and > 0");
   const Eigen::Index ns = continuous.A.rows();
   const Eigen::Index ni = continuous.B.cols();
-  Require(continuous.A.cols() == ns && continuous.B.rows() == ns, "state-space A and B sizes do not match");
+  Require(continuous.A.cols() == ns && continuous.B.rows() == ns,
+          "state-space A and B sizes do not match");
   // Van Loan: the exponential of the augmented matrix carries both ∫e^{Aτ}dτ B and e^{A dt}.
   Eigen::MatrixXd augmented = Eigen::MatrixXd::Zero(ns + ni, ns + ni);
   augmented.topLeftCorner(ns, ns) = continuous.A * dt_s;

@@ -43,7 +43,9 @@ TEST(Discretize, UndampedOscillatorIsARotation) {
   const StateSpace d = Discretize(ModelStateSpace(m), dt);
   const double c = std::cos(w * dt), s = std::sin(w * dt);
   // Relative 2e-13: the closed form's own 1 − cos ωT loses three digits to cancellation.
-  const auto near = [](double actual, double expected) { EXPECT_NEAR(actual, expected, 2e-13 * std::abs(expected)); };
+  const auto near = [](double actual, double expected) {
+    EXPECT_NEAR(actual, expected, 2e-13 * std::abs(expected));
+  };
   near(d.A(0, 0), c);
   near(d.A(0, 1), s / w);
   near(d.A(1, 0), -w * s);
@@ -53,7 +55,8 @@ TEST(Discretize, UndampedOscillatorIsARotation) {
 }
 
 TEST(Discretize, RejectsBadStepAndDiscreteInput) {
-  const Model m = MakeChain(Eigen::VectorXd::Constant(1, 2.0), Eigen::VectorXd::Constant(1, 5000.0));
+  const Model m =
+      MakeChain(Eigen::VectorXd::Constant(1, 2.0), Eigen::VectorXd::Constant(1, 5000.0));
   const StateSpace ss = ModelStateSpace(m);
   EXPECT_THROW(Discretize(ss, 0.0), InputError);
   EXPECT_THROW(Discretize(ss, -1e-3), InputError);

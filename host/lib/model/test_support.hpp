@@ -15,21 +15,25 @@ namespace vibid::model::testing {
 
 /// host/lib/model/testdata/model_golden.json, written by scripts/golden/model_golden.py (scipy).
 inline const nlohmann::json& Golden() {
-  static const nlohmann::json golden = ReadJsonFile(std::string(VIBID_SOURCE_DIR) + "/host/lib/model/testdata/model_golden.json");
+  static const nlohmann::json golden =
+      ReadJsonFile(std::string(VIBID_SOURCE_DIR) + "/host/lib/model/testdata/model_golden.json");
   return golden;
 }
 
 inline Eigen::MatrixXd JsonMatrix(const nlohmann::json& rows) {
-  Eigen::MatrixXd m(static_cast<Eigen::Index>(rows.size()), static_cast<Eigen::Index>(rows[0].size()));
+  Eigen::MatrixXd m(static_cast<Eigen::Index>(rows.size()),
+                    static_cast<Eigen::Index>(rows[0].size()));
   for (Eigen::Index r = 0; r < m.rows(); ++r) {
-    for (Eigen::Index c = 0; c < m.cols(); ++c) m(r, c) = rows[static_cast<std::size_t>(r)][static_cast<std::size_t>(c)].get<double>();
+    for (Eigen::Index c = 0; c < m.cols(); ++c)
+      m(r, c) = rows[static_cast<std::size_t>(r)][static_cast<std::size_t>(c)].get<double>();
   }
   return m;
 }
 
 inline Eigen::VectorXd JsonVector(const nlohmann::json& values) {
   Eigen::VectorXd v(static_cast<Eigen::Index>(values.size()));
-  for (Eigen::Index i = 0; i < v.size(); ++i) v[i] = values[static_cast<std::size_t>(i)].get<double>();
+  for (Eigen::Index i = 0; i < v.size(); ++i)
+    v[i] = values[static_cast<std::size_t>(i)].get<double>();
   return v;
 }
 
@@ -37,7 +41,8 @@ inline Model JsonModel(const nlohmann::json& j) {
   Model m;
   m.m_kg = JsonMatrix(j.at("M"));
   m.k_n_per_m = JsonMatrix(j.at("K"));
-  m.c_ns_per_m = j.contains("C") ? JsonMatrix(j.at("C")) : Eigen::MatrixXd::Zero(m.m_kg.rows(), m.m_kg.rows());
+  m.c_ns_per_m =
+      j.contains("C") ? JsonMatrix(j.at("C")) : Eigen::MatrixXd::Zero(m.m_kg.rows(), m.m_kg.rows());
   return m;
 }
 

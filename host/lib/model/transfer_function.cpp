@@ -36,9 +36,11 @@ std::complex<double> EvaluateTf(const TransferFunction& tf, std::complex<double>
   return horner(tf.num) / horner(tf.den);
 }
 
-Eigen::VectorXcd EvaluateTfAt(const TransferFunction& tf, Eigen::Ref<const Eigen::VectorXd> omega_rad_s) {
+Eigen::VectorXcd EvaluateTfAt(const TransferFunction& tf,
+                              Eigen::Ref<const Eigen::VectorXd> omega_rad_s) {
   Eigen::VectorXcd out(omega_rad_s.size());
-  for (Eigen::Index i = 0; i < omega_rad_s.size(); ++i) out[i] = EvaluateTf(tf, {0.0, omega_rad_s[i]});
+  for (Eigen::Index i = 0; i < omega_rad_s.size(); ++i)
+    out[i] = EvaluateTf(tf, {0.0, omega_rad_s[i]});
   return out;
 }
 
@@ -46,11 +48,14 @@ TransferFunction Multiply(const TransferFunction& a, const TransferFunction& b) 
   return {numerics::MultiplyPolynomials(a.num, b.num), numerics::MultiplyPolynomials(a.den, b.den)};
 }
 
-TransferFunction ModelTransferFunction(const Model& model, int input_dof, int output_dof, FrfKind kind) {
+TransferFunction ModelTransferFunction(const Model& model, int input_dof, int output_dof,
+                                       FrfKind kind) {
   const StateSpace ss = ModelStateSpace(model);
   const Eigen::Index n = model.m_kg.rows();
-  Require(input_dof >= 0 && input_dof < n, "input DOF " + std::to_string(input_dof + 1) + " is out of range 1.." + std::to_string(n));
-  Require(output_dof >= 0 && output_dof < n, "output DOF " + std::to_string(output_dof + 1) + " is out of range 1.." + std::to_string(n));
+  Require(input_dof >= 0 && input_dof < n, "input DOF " + std::to_string(input_dof + 1) +
+                                               " is out of range 1.." + std::to_string(n));
+  Require(output_dof >= 0 && output_dof < n, "output DOF " + std::to_string(output_dof + 1) +
+                                                 " is out of range 1.." + std::to_string(n));
   const Eigen::Index order = 2 * n;
 
   // Faddeev–LeVerrier on A/w: det(zI − Ã) and adj(zI − Ã) = Σ_k M_k z^(N−k). The scaling keeps the
@@ -76,9 +81,11 @@ TransferFunction ModelTransferFunction(const Model& model, int input_dof, int ou
   // Back to s = w z, multiplying through by w^N: den_j ← den_j w^j, num_(k−1) ← num_(k−1) w^(k−1).
   TransferFunction tf;
   tf.den.resize(order + 1);
-  for (Eigen::Index j = 0; j <= order; ++j) tf.den[j] = den[j] * std::pow(w, static_cast<double>(j));
+  for (Eigen::Index j = 0; j <= order; ++j)
+    tf.den[j] = den[j] * std::pow(w, static_cast<double>(j));
   Eigen::VectorXd receptance(order - 1);  // the s^(N−1) term is zero by structure: drop it
-  for (Eigen::Index k = 2; k <= order; ++k) receptance[k - 2] = num[k - 1] * std::pow(w, static_cast<double>(k - 1));
+  for (Eigen::Index k = 2; k <= order; ++k)
+    receptance[k - 2] = num[k - 1] * std::pow(w, static_cast<double>(k - 1));
   receptance = TrimLeading(receptance, w);
 
   switch (kind) {
@@ -96,14 +103,19 @@ TransferFunction ModelTransferFunction(const Model& model, int input_dof, int ou
 }
 
 TransferFunction CartTrackTf(Eigen::Ref<const Eigen::VectorXd> masses_kg, double k_n_per_m,
-                             Eigen::Ref<const Eigen::VectorXd> frictions_ns_per_m, CartInput input, double bi_ns_per_m) {
+                             Eigen::Ref<const Eigen::VectorXd> frictions_ns_per_m, CartInput input,
+                             double bi_ns_per_m) {
   const Eigen::Index n = masses_kg.size();
-  Require(n == 1 || n == 2, "the cart-track first-principle model has 1 or 2 carts, got " + std::to_string(n));
+  Require(n == 1 || n == 2,
+          "the cart-track first-principle model has 1 or 2 carts, got " + std::to_string(n));
   Require(frictions_ns_per_m.size() == n, "cart track needs one friction per cart");
-  Require(masses_kg.minCoeff() > 0.0 && masses_kg.allFinite(), "cart masses must be finite and > 0");
+  Require(masses_kg.minCoeff() > 0.0 && masses_kg.allFinite(),
+          "cart masses must be finite and > 0");
   Require(std::isfinite(k_n_per_m) && k_n_per_m >= 0.0, "cart spring must be finite and >= 0");
-  Require(frictions_ns_per_m.allFinite() && frictions_ns_per_m.minCoeff() >= 0.0, "cart frictions must be finite and >= 0");
-  Require(std::isfinite(bi_ns_per_m) && bi_ns_per_m >= 0.0, "input friction Bi must be finite and >= 0");
+  Require(frictions_ns_per_m.allFinite() && frictions_ns_per_m.minCoeff() >= 0.0,
+          "cart frictions must be finite and >= 0");
+  Require(std::isfinite(bi_ns_per_m) && bi_ns_per_m >= 0.0,
+          "input friction Bi must be finite and >= 0");
   const double k = k_n_per_m;
   const double bi = bi_ns_per_m;
   TransferFunction tf;
@@ -112,7 +124,8 @@ TransferFunction CartTrackTf(Eigen::Ref<const Eigen::VectorXd> masses_kg, double
     const double m = masses_kg[0];
     const double b = frictions_ns_per_m[0];
     tf.den = Eigen::Vector3d(1.0, b / m, 2.0 * k / m);
-    tf.num = input == CartInput::kForce ? Eigen::VectorXd::Constant(1, 1.0 / m) : Eigen::VectorXd(Eigen::Vector2d(bi / m, 2.0 * k / m));
+    tf.num = input == CartInput::kForce ? Eigen::VectorXd::Constant(1, 1.0 / m)
+                                        : Eigen::VectorXd(Eigen::Vector2d(bi / m, 2.0 * k / m));
     return tf;
   }
   // Methods §10, two carts, output X1.
@@ -122,13 +135,14 @@ TransferFunction CartTrackTf(Eigen::Ref<const Eigen::VectorXd> masses_kg, double
   const double b2 = frictions_ns_per_m[1];
   const double mm = m1 * m2;
   tf.den.resize(5);
-  tf.den << 1.0, (m1 * b2 + m2 * b1) / mm, (2.0 * k * m1 + 2.0 * k * m2 + b1 * b2) / mm, (2.0 * k * b1 + 2.0 * k * b2) / mm,
-      3.0 * k * k / mm;
+  tf.den << 1.0, (m1 * b2 + m2 * b1) / mm, (2.0 * k * m1 + 2.0 * k * m2 + b1 * b2) / mm,
+      (2.0 * k * b1 + 2.0 * k * b2) / mm, 3.0 * k * k / mm;
   if (input == CartInput::kForce) {
     tf.num = Eigen::Vector3d(m2 / mm, b2 / mm, 2.0 * k / mm);
   } else {
     tf.num.resize(4);
-    tf.num << bi * m2 / mm, (2.0 * k * m2 + b2 * bi) / mm, (2.0 * k * b2 + 2.0 * k * bi) / mm, 4.0 * k * k / mm;
+    tf.num << bi * m2 / mm, (2.0 * k * m2 + b2 * bi) / mm, (2.0 * k * b2 + 2.0 * k * bi) / mm,
+        4.0 * k * k / mm;
   }
   return tf;
 }

@@ -16,8 +16,10 @@ using testing::Golden;
 using testing::JsonVector;
 using testing::MaxRelativeError;
 
-void ExpectCoefficientsNear(const Eigen::VectorXd& actual, const Eigen::VectorXd& expected, double rel) {
-  ASSERT_EQ(actual.size(), expected.size()) << "actual " << actual.transpose() << " expected " << expected.transpose();
+void ExpectCoefficientsNear(const Eigen::VectorXd& actual, const Eigen::VectorXd& expected,
+                            double rel) {
+  ASSERT_EQ(actual.size(), expected.size())
+      << "actual " << actual.transpose() << " expected " << expected.transpose();
   for (Eigen::Index i = 0; i < expected.size(); ++i) {
     EXPECT_NEAR(actual[i], expected[i], rel * std::abs(expected[i])) << "coefficient " << i;
   }
@@ -61,8 +63,12 @@ TEST(TransferFunction, AgreesWithMatrixFrfOverRandomSystems) {
       const TransferFunction tf = ModelTransferFunction(m, in, out, kind);
       EXPECT_EQ(tf.den.size(), 2 * n + 1);
       EXPECT_EQ(tf.den[0], 1.0);
-      EXPECT_LE(tf.num.size(), 2 * n - 1 + (kind == FrfKind::kMobility ? 1 : kind == FrfKind::kAccelerance ? 2 : 0));
-      EXPECT_LT(MaxRelativeError(EvaluateTfAt(tf, omega), Frf(m, in, out, kind, omega)), 1e-8) << "trial " << trial;
+      EXPECT_LE(tf.num.size(), 2 * n - 1 +
+                                   (kind == FrfKind::kMobility      ? 1
+                                    : kind == FrfKind::kAccelerance ? 2
+                                                                    : 0));
+      EXPECT_LT(MaxRelativeError(EvaluateTfAt(tf, omega), Frf(m, in, out, kind, omega)), 1e-8)
+          << "trial " << trial;
     }
   }
 }
@@ -74,13 +80,16 @@ TEST(CartTrack, OneCartForceAndPositionTfsMatchTheMatrixModel) {
   const Eigen::VectorXd frictions = Eigen::VectorXd::Constant(1, b);
   const Model model = MakeCartTrack(masses, k, frictions);
   const TransferFunction force = CartTrackTf(masses, k, frictions, CartInput::kForce);
-  ExpectCoefficientsNear(force.den, ModelTransferFunction(model, 0, 0, FrfKind::kReceptance).den, 1e-13);
-  ExpectCoefficientsNear(force.num, ModelTransferFunction(model, 0, 0, FrfKind::kReceptance).num, 1e-13);
+  ExpectCoefficientsNear(force.den, ModelTransferFunction(model, 0, 0, FrfKind::kReceptance).den,
+                         1e-13);
+  ExpectCoefficientsNear(force.num, ModelTransferFunction(model, 0, 0, FrfKind::kReceptance).num,
+                         1e-13);
   ExpectCoefficientsNear(force.den, Eigen::Vector3d(1.0, b / mass, 2.0 * k / mass), 1e-15);
 
   const Eigen::VectorXd omega = Eigen::VectorXd::LinSpaced(40, 0.5, 50.0);
   Eigen::VectorXcd expected = Frf(model, 0, 0, FrfKind::kReceptance, omega);
-  for (Eigen::Index i = 0; i < omega.size(); ++i) expected[i] *= std::complex<double>(2.0 * k, bi * omega[i]);
+  for (Eigen::Index i = 0; i < omega.size(); ++i)
+    expected[i] *= std::complex<double>(2.0 * k, bi * omega[i]);
   const TransferFunction position = CartTrackTf(masses, k, frictions, CartInput::kPosition, bi);
   EXPECT_LT(MaxRelativeError(EvaluateTfAt(position, omega), expected), 1e-12);
 }
@@ -106,15 +115,19 @@ TEST(CartTrack, TwoCartCoefficientsMatchTheMatrixModel) {
 
   const Eigen::VectorXd omega = Eigen::VectorXd::LinSpaced(40, 0.5, 50.0);
   Eigen::VectorXcd expected = Frf(model, 0, 0, FrfKind::kReceptance, omega);
-  for (Eigen::Index i = 0; i < omega.size(); ++i) expected[i] *= std::complex<double>(2.0 * k, bi * omega[i]);
+  for (Eigen::Index i = 0; i < omega.size(); ++i)
+    expected[i] *= std::complex<double>(2.0 * k, bi * omega[i]);
   EXPECT_LT(MaxRelativeError(EvaluateTfAt(position, omega), expected), 1e-12);
   // a0 = 3k²/(M1M2): the det of [[2k, −k], [−k, 2k]] over the masses.
   EXPECT_NEAR(position.den[4], 3.0 * k * k / (masses[0] * masses[1]), 1e-12);
 }
 
 TEST(CartTrack, RejectsMoreThanTwoCarts) {
-  EXPECT_THROW(CartTrackTf(Eigen::Vector3d(1, 1, 1), 1.0, Eigen::Vector3d(0, 0, 0), CartInput::kForce), InputError);
-  EXPECT_THROW(CartTrackTf(Eigen::Vector2d(1, 1), 1.0, Eigen::VectorXd::Zero(1), CartInput::kForce), InputError);
+  EXPECT_THROW(
+      CartTrackTf(Eigen::Vector3d(1, 1, 1), 1.0, Eigen::Vector3d(0, 0, 0), CartInput::kForce),
+      InputError);
+  EXPECT_THROW(CartTrackTf(Eigen::Vector2d(1, 1), 1.0, Eigen::VectorXd::Zero(1), CartInput::kForce),
+               InputError);
 }
 
 }  // namespace

@@ -10,7 +10,8 @@ namespace {
 constexpr const char* kStyle =
     "body{font-family:sans-serif;max-width:60rem;margin:2rem auto;padding:0 1rem;color:#222}"
     "h1{font-size:1.6rem}h2{font-size:1.25rem;margin-top:2rem;border-bottom:1px solid #ccc}"
-    "table{border-collapse:collapse;margin:0.5rem 0 1rem}th,td{border:1px solid #bbb;padding:2px 8px}"
+    "table{border-collapse:collapse;margin:0.5rem 0 1rem}th,td{border:1px solid #bbb;padding:2px "
+    "8px}"
     "th{background:#f0f0f0}td.num{text-align:right;font-variant-numeric:tabular-nums}"
     "caption{caption-side:bottom;font-size:0.85rem;color:#555;text-align:left}"
     "figure{margin:1rem 0}figcaption{font-size:0.85rem;color:#555}";
@@ -29,12 +30,23 @@ std::string HtmlEscape(std::string_view text) {
   out.reserve(text.size());
   for (char c : text) {
     switch (c) {
-      case '&': out += "&amp;"; break;
-      case '<': out += "&lt;"; break;
-      case '>': out += "&gt;"; break;
-      case '"': out += "&quot;"; break;
-      case '\'': out += "&#39;"; break;
-      default: out += c;
+      case '&':
+        out += "&amp;";
+        break;
+      case '<':
+        out += "&lt;";
+        break;
+      case '>':
+        out += "&gt;";
+        break;
+      case '"':
+        out += "&quot;";
+        break;
+      case '\'':
+        out += "&#39;";
+        break;
+      default:
+        out += c;
     }
   }
   return out;
@@ -48,13 +60,14 @@ void HtmlPage::Heading(std::string_view text, int level) {
 
 void HtmlPage::Paragraph(std::string_view text) { body_ += "<p>" + HtmlEscape(text) + "</p>\n"; }
 
-void HtmlPage::Table(const std::vector<std::string>& header, const std::vector<std::vector<std::string>>& rows,
-                     std::string_view caption) {
+void HtmlPage::Table(const std::vector<std::string>& header,
+                     const std::vector<std::vector<std::string>>& rows, std::string_view caption) {
   std::vector<bool> numeric(header.size(), !rows.empty());
   for (const auto& row : rows) {
-    Require(row.size() == header.size(), "table row has " + std::to_string(row.size()) + " cells, the header " +
-                                             std::to_string(header.size()));
-    for (std::size_t c = 0; c < row.size(); ++c) numeric[c] = numeric[c] && (row[c].empty() || IsNumber(row[c]));
+    Require(row.size() == header.size(), "table row has " + std::to_string(row.size()) +
+                                             " cells, the header " + std::to_string(header.size()));
+    for (std::size_t c = 0; c < row.size(); ++c)
+      numeric[c] = numeric[c] && (row[c].empty() || IsNumber(row[c]));
   }
   body_ += "<table>\n";
   if (!caption.empty()) body_ += "<caption>" + HtmlEscape(caption) + "</caption>\n";
@@ -82,9 +95,9 @@ void HtmlPage::List(const std::vector<std::string>& items) {
 }
 
 std::string HtmlPage::Render() const {
-  return "<!DOCTYPE html>\n<html lang=\"en\">\n<head>\n<meta charset=\"utf-8\">\n<title>" + HtmlEscape(title_) +
-         "</title>\n<style>" + kStyle + "</style>\n</head>\n<body>\n<h1>" + HtmlEscape(title_) + "</h1>\n" + body_ +
-         "</body>\n</html>\n";
+  return "<!DOCTYPE html>\n<html lang=\"en\">\n<head>\n<meta charset=\"utf-8\">\n<title>" +
+         HtmlEscape(title_) + "</title>\n<style>" + kStyle + "</style>\n</head>\n<body>\n<h1>" +
+         HtmlEscape(title_) + "</h1>\n" + body_ + "</body>\n</html>\n";
 }
 
 }  // namespace vibid::report

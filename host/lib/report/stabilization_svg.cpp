@@ -23,9 +23,11 @@ std::string Label(double v) {
 }  // namespace
 
 std::string StabilizationSvg(const StabilizationFigure& f) {
-  Require(f.freq_min_hz >= 0.0 && f.freq_max_hz > f.freq_min_hz, "stabilization figure: empty frequency band");
+  Require(f.freq_min_hz >= 0.0 && f.freq_max_hz > f.freq_min_hz,
+          "stabilization figure: empty frequency band");
   Require(!f.poles.empty(), "stabilization figure: no pole to draw");
-  Require(f.frf_freq_hz.size() == f.frf_magnitude.size(), "stabilization figure: FRF lines and magnitudes differ in length");
+  Require(f.frf_freq_hz.size() == f.frf_magnitude.size(),
+          "stabilization figure: FRF lines and magnitudes differ in length");
   PlotOptions po;
   po.width_px = f.width_px;
   po.height_px = f.height_px;
@@ -38,30 +40,36 @@ std::string StabilizationSvg(const StabilizationFigure& f) {
     hi = std::pow(10.0, std::ceil(std::log10(hi)));
   }
   const auto xv = [&](double v) { return log_x ? std::log10(v) : v; };
-  const auto px = [&](double v) { return a.left + (xv(v) - xv(lo)) / (xv(hi) - xv(lo)) * (a.right - a.left); };
+  const auto px = [&](double v) {
+    return a.left + (xv(v) - xv(lo)) / (xv(hi) - xv(lo)) * (a.right - a.left);
+  };
   int max_order = 0;
   for (const DiagramMarker& p : f.poles) max_order = std::max(max_order, p.order);
   const double top_order = static_cast<double>(max_order) * 1.08 + 1.0;
   const auto py = [&](double order) { return a.bottom - order / top_order * (a.bottom - a.top); };
 
   std::ostringstream svg;
-  svg << "<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"" << f.width_px << "\" height=\"" << f.height_px
-      << "\" viewBox=\"0 0 " << f.width_px << " " << f.height_px << "\" font-family=\"sans-serif\" font-size=\"11\">\n";
+  svg << "<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"" << f.width_px << "\" height=\""
+      << f.height_px << "\" viewBox=\"0 0 " << f.width_px << " " << f.height_px
+      << "\" font-family=\"sans-serif\" font-size=\"11\">\n";
   svg << "<title>" << HtmlEscape(f.title) << "</title>\n";
-  svg << "<text x=\"" << Num(0.5 * (a.left + a.right)) << "\" y=\"18\" text-anchor=\"middle\" font-size=\"13\">"
-      << HtmlEscape(f.title) << "</text>\n";
-  svg << "<rect x=\"" << Num(a.left) << "\" y=\"" << Num(a.top) << "\" width=\"" << Num(a.right - a.left) << "\" height=\""
-      << Num(a.bottom - a.top) << "\" fill=\"none\" stroke=\"#444\"/>\n";
+  svg << "<text x=\"" << Num(0.5 * (a.left + a.right))
+      << "\" y=\"18\" text-anchor=\"middle\" font-size=\"13\">" << HtmlEscape(f.title)
+      << "</text>\n";
+  svg << "<rect x=\"" << Num(a.left) << "\" y=\"" << Num(a.top) << "\" width=\""
+      << Num(a.right - a.left) << "\" height=\"" << Num(a.bottom - a.top)
+      << "\" fill=\"none\" stroke=\"#444\"/>\n";
   const std::vector<double> xt = log_x ? LogTicks(lo, hi) : LinearTicks(lo, hi, 8);
   for (double t : xt) {
-    svg << "<line x1=\"" << Num(px(t)) << "\" y1=\"" << Num(a.top) << "\" x2=\"" << Num(px(t)) << "\" y2=\"" << Num(a.bottom)
-        << "\" stroke=\"#e4e4e4\"/><text x=\"" << Num(px(t)) << "\" y=\"" << Num(a.bottom + 14)
-        << "\" text-anchor=\"middle\">" << Label(t) << "</text>\n";
+    svg << "<line x1=\"" << Num(px(t)) << "\" y1=\"" << Num(a.top) << "\" x2=\"" << Num(px(t))
+        << "\" y2=\"" << Num(a.bottom) << "\" stroke=\"#e4e4e4\"/><text x=\"" << Num(px(t))
+        << "\" y=\"" << Num(a.bottom + 14) << "\" text-anchor=\"middle\">" << Label(t)
+        << "</text>\n";
   }
   for (double t : LinearTicks(0.0, top_order, 6)) {
-    svg << "<line x1=\"" << Num(a.left) << "\" y1=\"" << Num(py(t)) << "\" x2=\"" << Num(a.right) << "\" y2=\"" << Num(py(t))
-        << "\" stroke=\"#e4e4e4\"/><text x=\"" << Num(a.left - 4) << "\" y=\"" << Num(py(t) + 4)
-        << "\" text-anchor=\"end\">" << Label(t) << "</text>\n";
+    svg << "<line x1=\"" << Num(a.left) << "\" y1=\"" << Num(py(t)) << "\" x2=\"" << Num(a.right)
+        << "\" y2=\"" << Num(py(t)) << "\" stroke=\"#e4e4e4\"/><text x=\"" << Num(a.left - 4)
+        << "\" y=\"" << Num(py(t) + 4) << "\" text-anchor=\"end\">" << Label(t) << "</text>\n";
   }
   svg << "<text x=\"" << Num(0.5 * (a.left + a.right)) << "\" y=\"" << Num(f.height_px - 8.0)
       << "\" text-anchor=\"middle\">frequency (Hz)</text>\n";
@@ -102,46 +110,53 @@ std::string StabilizationSvg(const StabilizationFigure& f) {
     int row = 0;
     while (row < 2 && px(c) < last_label_x[row]) ++row;
     last_label_x[row] = px(c) + 6.0 * static_cast<double>(text.size()) + 6.0;
-    svg << "<line class=\"chosen\" x1=\"" << Num(px(c)) << "\" y1=\"" << Num(a.top) << "\" x2=\"" << Num(px(c)) << "\" y2=\""
-        << Num(a.bottom) << "\" stroke=\"#d62728\" stroke-dasharray=\"4,3\"/><text x=\"" << Num(px(c) + 2) << "\" y=\""
-        << Num(a.top + 10 + 11 * row) << "\" fill=\"#d62728\" font-size=\"10\">" << text << "</text>\n";
+    svg << "<line class=\"chosen\" x1=\"" << Num(px(c)) << "\" y1=\"" << Num(a.top) << "\" x2=\""
+        << Num(px(c)) << "\" y2=\"" << Num(a.bottom)
+        << "\" stroke=\"#d62728\" stroke-dasharray=\"4,3\"/><text x=\"" << Num(px(c) + 2)
+        << "\" y=\"" << Num(a.top + 10 + 11 * row) << "\" fill=\"#d62728\" font-size=\"10\">"
+        << text << "</text>\n";
   }
   for (const DiagramMarker& p : f.poles) {
     if (!(p.freq_hz >= lo && p.freq_hz <= hi)) continue;
     const double x = px(p.freq_hz), y = py(p.order);
     switch (p.mark) {
       case PoleMark::kStable:
-        svg << "<circle class=\"stable\" cx=\"" << Num(x) << "\" cy=\"" << Num(y) << "\" r=\"2.6\" fill=\"#1f3f8f\"/>\n";
+        svg << "<circle class=\"stable\" cx=\"" << Num(x) << "\" cy=\"" << Num(y)
+            << "\" r=\"2.6\" fill=\"#1f3f8f\"/>\n";
         break;
       case PoleMark::kFrequency:
         svg << "<circle class=\"freq\" cx=\"" << Num(x) << "\" cy=\"" << Num(y)
             << "\" r=\"2.6\" fill=\"none\" stroke=\"#2ca02c\" stroke-width=\"1\"/>\n";
         break;
       case PoleMark::kUnstable:
-        svg << "<circle class=\"unstable\" cx=\"" << Num(x) << "\" cy=\"" << Num(y) << "\" r=\"1.2\" fill=\"#999\"/>\n";
+        svg << "<circle class=\"unstable\" cx=\"" << Num(x) << "\" cy=\"" << Num(y)
+            << "\" r=\"1.2\" fill=\"#999\"/>\n";
         break;
     }
   }
   // Legend row between the title and the plot.
   const double ly = 34.0;
   double lx = a.left;
-  svg << "<circle cx=\"" << Num(lx + 4) << "\" cy=\"" << Num(ly - 4) << "\" r=\"2.6\" fill=\"#1f3f8f\"/><text x=\"" << Num(lx + 10)
-      << "\" y=\"" << Num(ly) << "\">stable (frequency, damping, shape)</text>\n";
+  svg << "<circle cx=\"" << Num(lx + 4) << "\" cy=\"" << Num(ly - 4)
+      << "\" r=\"2.6\" fill=\"#1f3f8f\"/><text x=\"" << Num(lx + 10) << "\" y=\"" << Num(ly)
+      << "\">stable (frequency, damping, shape)</text>\n";
   lx += 215;
   svg << "<circle cx=\"" << Num(lx + 4) << "\" cy=\"" << Num(ly - 4)
-      << "\" r=\"2.6\" fill=\"none\" stroke=\"#2ca02c\"/><text x=\"" << Num(lx + 10) << "\" y=\"" << Num(ly)
-      << "\">stable in frequency</text>\n";
+      << "\" r=\"2.6\" fill=\"none\" stroke=\"#2ca02c\"/><text x=\"" << Num(lx + 10) << "\" y=\""
+      << Num(ly) << "\">stable in frequency</text>\n";
   lx += 125;
-  svg << "<circle cx=\"" << Num(lx + 4) << "\" cy=\"" << Num(ly - 4) << "\" r=\"1.2\" fill=\"#999\"/><text x=\"" << Num(lx + 10)
-      << "\" y=\"" << Num(ly) << "\">not stable</text>\n";
+  svg << "<circle cx=\"" << Num(lx + 4) << "\" cy=\"" << Num(ly - 4)
+      << "\" r=\"1.2\" fill=\"#999\"/><text x=\"" << Num(lx + 10) << "\" y=\"" << Num(ly)
+      << "\">not stable</text>\n";
   lx += 80;
-  svg << "<line x1=\"" << Num(lx) << "\" y1=\"" << Num(ly - 4) << "\" x2=\"" << Num(lx + 16) << "\" y2=\"" << Num(ly - 4)
-      << "\" stroke=\"#d62728\" stroke-dasharray=\"4,3\"/><text x=\"" << Num(lx + 20) << "\" y=\"" << Num(ly)
-      << "\">chosen pole</text>\n";
+  svg << "<line x1=\"" << Num(lx) << "\" y1=\"" << Num(ly - 4) << "\" x2=\"" << Num(lx + 16)
+      << "\" y2=\"" << Num(ly - 4) << "\" stroke=\"#d62728\" stroke-dasharray=\"4,3\"/><text x=\""
+      << Num(lx + 20) << "\" y=\"" << Num(ly) << "\">chosen pole</text>\n";
   lx += 95;
   if (any) {
-    svg << "<line x1=\"" << Num(lx) << "\" y1=\"" << Num(ly - 4) << "\" x2=\"" << Num(lx + 16) << "\" y2=\"" << Num(ly - 4)
-        << "\" stroke=\"#9bb7d4\"/><text x=\"" << Num(lx + 20) << "\" y=\"" << Num(ly) << "\">|H| (log)</text>\n";
+    svg << "<line x1=\"" << Num(lx) << "\" y1=\"" << Num(ly - 4) << "\" x2=\"" << Num(lx + 16)
+        << "\" y2=\"" << Num(ly - 4) << "\" stroke=\"#9bb7d4\"/><text x=\"" << Num(lx + 20)
+        << "\" y=\"" << Num(ly) << "\">|H| (log)</text>\n";
   }
   svg << "</svg>\n";
   return svg.str();

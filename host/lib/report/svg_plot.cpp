@@ -16,7 +16,9 @@ constexpr double kMarginLeft = 72.0, kMarginRight = 16.0, kMarginTop = 44.0, kMa
 /// Legend: one row between the title and the plot area, so it never hides a trace.
 constexpr double kLegendY = 34.0, kLegendSwatch = 22.0, kLegendCharPx = 6.2, kLegendGap = 18.0;
 
-bool Drawable(double v, Scale scale) { return std::isfinite(v) && (scale == Scale::kLinear || v > 0.0); }
+bool Drawable(double v, Scale scale) {
+  return std::isfinite(v) && (scale == Scale::kLinear || v > 0.0);
+}
 
 // Axis coordinate: log axes map log10 of the value.
 double AxisValue(double v, Scale scale) { return scale == Scale::kLog ? std::log10(v) : v; }
@@ -123,12 +125,14 @@ std::vector<double> LinearTicks(double lo, double hi, int target) {
 std::vector<double> LogTicks(double lo, double hi) {
   std::vector<double> ticks;
   if (!(lo > 0.0) || !(hi > lo) || !std::isfinite(hi)) return ticks;
-  for (int e = static_cast<int>(std::ceil(std::log10(lo) - 1e-9)); e <= static_cast<int>(std::floor(std::log10(hi) + 1e-9)); ++e) {
+  for (int e = static_cast<int>(std::ceil(std::log10(lo) - 1e-9));
+       e <= static_cast<int>(std::floor(std::log10(hi) + 1e-9)); ++e) {
     ticks.push_back(std::pow(10.0, e));
   }
   if (ticks.size() >= 3) return ticks;
   ticks.clear();
-  for (int e = static_cast<int>(std::floor(std::log10(lo))); e <= static_cast<int>(std::ceil(std::log10(hi))); ++e) {
+  for (int e = static_cast<int>(std::floor(std::log10(lo)));
+       e <= static_cast<int>(std::ceil(std::log10(hi))); ++e) {
     for (double m : {1.0, 2.0, 5.0}) {
       const double v = m * std::pow(10.0, e);
       if (v >= lo * (1 - 1e-9) && v <= hi * (1 + 1e-9)) ticks.push_back(v);
@@ -145,10 +149,12 @@ std::string SvgNumber(double v) {
 
 std::string SvgPlot(const std::vector<Series>& series, const PlotOptions& o) {
   Require(!series.empty(), "plot '" + o.title + "': no series");
-  Require(o.width_px >= 200 && o.height_px >= 120, "plot '" + o.title + "': smaller than 200 x 120 px");
+  Require(o.width_px >= 200 && o.height_px >= 120,
+          "plot '" + o.title + "': smaller than 200 x 120 px");
   Range xr, yr;
   for (const Series& s : series) {
-    Require(s.x.size() == s.y.size(), "plot '" + o.title + "': series '" + s.label + "' has x and y of different lengths");
+    Require(s.x.size() == s.y.size(),
+            "plot '" + o.title + "': series '" + s.label + "' has x and y of different lengths");
     for (Eigen::Index i = 0; i < s.x.size(); ++i) {
       if (!Drawable(s.x[i], o.x.scale) || !Drawable(s.y[i], o.y.scale)) continue;
       xr.lo = std::min(xr.lo, s.x[i]);
@@ -165,37 +171,46 @@ std::string SvgPlot(const std::vector<Series>& series, const PlotOptions& o) {
   const PlotArea a = AreaOf(o);
   const double x0 = AxisValue(xr.lo, o.x.scale), x1 = AxisValue(xr.hi, o.x.scale);
   const double y0 = AxisValue(yr.lo, o.y.scale), y1 = AxisValue(yr.hi, o.y.scale);
-  const auto px = [&](double v) { return a.left + (AxisValue(v, o.x.scale) - x0) / (x1 - x0) * (a.right - a.left); };
-  const auto py = [&](double v) { return a.bottom - (AxisValue(v, o.y.scale) - y0) / (y1 - y0) * (a.bottom - a.top); };
+  const auto px = [&](double v) {
+    return a.left + (AxisValue(v, o.x.scale) - x0) / (x1 - x0) * (a.right - a.left);
+  };
+  const auto py = [&](double v) {
+    return a.bottom - (AxisValue(v, o.y.scale) - y0) / (y1 - y0) * (a.bottom - a.top);
+  };
 
   std::ostringstream svg;
-  svg << "<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"" << o.width_px << "\" height=\"" << o.height_px
-      << "\" viewBox=\"0 0 " << o.width_px << " " << o.height_px << "\" font-family=\"sans-serif\" font-size=\"11\">\n";
+  svg << "<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"" << o.width_px << "\" height=\""
+      << o.height_px << "\" viewBox=\"0 0 " << o.width_px << " " << o.height_px
+      << "\" font-family=\"sans-serif\" font-size=\"11\">\n";
   svg << "<title>" << HtmlEscape(o.title) << "</title>\n";
-  svg << "<text x=\"" << Number(0.5 * (a.left + a.right)) << "\" y=\"18\" text-anchor=\"middle\" font-size=\"13\">"
-      << HtmlEscape(o.title) << "</text>\n";
-  svg << "<rect x=\"" << Number(a.left) << "\" y=\"" << Number(a.top) << "\" width=\"" << Number(a.right - a.left)
-      << "\" height=\"" << Number(a.bottom - a.top) << "\" fill=\"none\" stroke=\"#444\"/>\n";
-  const std::vector<double> xt = o.x.scale == Scale::kLog ? LogTicks(xr.lo, xr.hi) : LinearTicks(xr.lo, xr.hi, 8);
-  const std::vector<double> yt = o.y.scale == Scale::kLog ? LogTicks(yr.lo, yr.hi) : LinearTicks(yr.lo, yr.hi, 6);
+  svg << "<text x=\"" << Number(0.5 * (a.left + a.right))
+      << "\" y=\"18\" text-anchor=\"middle\" font-size=\"13\">" << HtmlEscape(o.title)
+      << "</text>\n";
+  svg << "<rect x=\"" << Number(a.left) << "\" y=\"" << Number(a.top) << "\" width=\""
+      << Number(a.right - a.left) << "\" height=\"" << Number(a.bottom - a.top)
+      << "\" fill=\"none\" stroke=\"#444\"/>\n";
+  const std::vector<double> xt =
+      o.x.scale == Scale::kLog ? LogTicks(xr.lo, xr.hi) : LinearTicks(xr.lo, xr.hi, 8);
+  const std::vector<double> yt =
+      o.y.scale == Scale::kLog ? LogTicks(yr.lo, yr.hi) : LinearTicks(yr.lo, yr.hi, 6);
   for (double t : xt) {
     const double x = px(t);
-    svg << "<line class=\"grid\" x1=\"" << Number(x) << "\" y1=\"" << Number(a.top) << "\" x2=\"" << Number(x) << "\" y2=\""
-        << Number(a.bottom) << "\" stroke=\"#ddd\"/>"
-        << "<text x=\"" << Number(x) << "\" y=\"" << Number(a.bottom + 14) << "\" text-anchor=\"middle\">" << TickLabel(t)
-        << "</text>\n";
+    svg << "<line class=\"grid\" x1=\"" << Number(x) << "\" y1=\"" << Number(a.top) << "\" x2=\""
+        << Number(x) << "\" y2=\"" << Number(a.bottom) << "\" stroke=\"#ddd\"/>"
+        << "<text x=\"" << Number(x) << "\" y=\"" << Number(a.bottom + 14)
+        << "\" text-anchor=\"middle\">" << TickLabel(t) << "</text>\n";
   }
   for (double t : yt) {
     const double y = py(t);
-    svg << "<line class=\"grid\" x1=\"" << Number(a.left) << "\" y1=\"" << Number(y) << "\" x2=\"" << Number(a.right)
-        << "\" y2=\"" << Number(y) << "\" stroke=\"#ddd\"/>"
-        << "<text x=\"" << Number(a.left - 4) << "\" y=\"" << Number(y + 4) << "\" text-anchor=\"end\">" << TickLabel(t)
-        << "</text>\n";
+    svg << "<line class=\"grid\" x1=\"" << Number(a.left) << "\" y1=\"" << Number(y) << "\" x2=\""
+        << Number(a.right) << "\" y2=\"" << Number(y) << "\" stroke=\"#ddd\"/>"
+        << "<text x=\"" << Number(a.left - 4) << "\" y=\"" << Number(y + 4)
+        << "\" text-anchor=\"end\">" << TickLabel(t) << "</text>\n";
   }
   svg << "<text x=\"" << Number(0.5 * (a.left + a.right)) << "\" y=\"" << Number(o.height_px - 8.0)
       << "\" text-anchor=\"middle\">" << HtmlEscape(o.x.label) << "</text>\n";
-  svg << "<text transform=\"translate(14," << Number(0.5 * (a.top + a.bottom)) << ") rotate(-90)\" text-anchor=\"middle\">"
-      << HtmlEscape(o.y.label) << "</text>\n";
+  svg << "<text transform=\"translate(14," << Number(0.5 * (a.top + a.bottom))
+      << ") rotate(-90)\" text-anchor=\"middle\">" << HtmlEscape(o.y.label) << "</text>\n";
 
   double legend_x = a.left;
   for (std::size_t k = 0; k < series.size(); ++k) {
@@ -206,8 +221,9 @@ std::string SvgPlot(const std::vector<Series>& series, const PlotOptions& o) {
       std::string points;
       AppendReduced(run, points);
       if (!points.empty()) points.pop_back();
-      svg << "<polyline class=\"series\" data-series=\"" << k << "\" fill=\"none\" stroke=\"" << HtmlEscape(s.color)
-          << "\" stroke-width=\"1.3\"" << (s.dashed ? " stroke-dasharray=\"5,3\"" : "") << " points=\"" << points << "\"/>\n";
+      svg << "<polyline class=\"series\" data-series=\"" << k << "\" fill=\"none\" stroke=\""
+          << HtmlEscape(s.color) << "\" stroke-width=\"1.3\""
+          << (s.dashed ? " stroke-dasharray=\"5,3\"" : "") << " points=\"" << points << "\"/>\n";
       run.clear();
     };
     for (Eigen::Index i = 0; i < s.x.size(); ++i) {
@@ -218,11 +234,14 @@ std::string SvgPlot(const std::vector<Series>& series, const PlotOptions& o) {
       run.emplace_back(px(s.x[i]), py(s.y[i]));
     }
     flush();
-    svg << "<line x1=\"" << Number(legend_x) << "\" y1=\"" << Number(kLegendY - 4) << "\" x2=\"" << Number(legend_x + kLegendSwatch)
-        << "\" y2=\"" << Number(kLegendY - 4) << "\" stroke=\"" << HtmlEscape(s.color) << "\" stroke-width=\"2\""
-        << (s.dashed ? " stroke-dasharray=\"5,3\"" : "") << "/><text x=\"" << Number(legend_x + kLegendSwatch + 4) << "\" y=\""
-        << Number(kLegendY) << "\">" << HtmlEscape(s.label) << "</text>\n";
-    legend_x += kLegendSwatch + 4 + kLegendCharPx * static_cast<double>(s.label.size()) + kLegendGap;
+    svg << "<line x1=\"" << Number(legend_x) << "\" y1=\"" << Number(kLegendY - 4) << "\" x2=\""
+        << Number(legend_x + kLegendSwatch) << "\" y2=\"" << Number(kLegendY - 4) << "\" stroke=\""
+        << HtmlEscape(s.color) << "\" stroke-width=\"2\""
+        << (s.dashed ? " stroke-dasharray=\"5,3\"" : "") << "/><text x=\""
+        << Number(legend_x + kLegendSwatch + 4) << "\" y=\"" << Number(kLegendY) << "\">"
+        << HtmlEscape(s.label) << "</text>\n";
+    legend_x +=
+        kLegendSwatch + 4 + kLegendCharPx * static_cast<double>(s.label.size()) + kLegendGap;
   }
   svg << "</svg>\n";
   return svg.str();

@@ -17,7 +17,9 @@ namespace {
 std::vector<std::string> Polylines(const std::string& svg) {
   std::vector<std::string> out;
   const std::regex re("<polyline class=\"series\"[^>]* points=\"([^\"]*)\"");
-  for (auto it = std::sregex_iterator(svg.begin(), svg.end(), re); it != std::sregex_iterator(); ++it) out.push_back((*it)[1]);
+  for (auto it = std::sregex_iterator(svg.begin(), svg.end(), re); it != std::sregex_iterator();
+       ++it)
+    out.push_back((*it)[1]);
   return out;
 }
 
@@ -27,7 +29,8 @@ std::vector<std::pair<double, double>> Points(const std::string& list) {
   while (i < list.size()) {
     std::size_t comma = list.find(',', i), space = list.find(' ', comma);
     if (space == std::string::npos) space = list.size();
-    out.emplace_back(std::stod(list.substr(i, comma - i)), std::stod(list.substr(comma + 1, space - comma - 1)));
+    out.emplace_back(std::stod(list.substr(i, comma - i)),
+                     std::stod(list.substr(comma + 1, space - comma - 1)));
     i = space + 1;
   }
   return out;
@@ -53,7 +56,11 @@ TEST(Ticks, LogTicksAreDecadesOrOneTwoFive) {
 TEST(SvgPlot, PointsLandWhereTheAxesSayTheyShould) {
   // y from 0 to 10 on a linear axis padded to ticks 0..10: (0, 0) at the bottom left corner,
   // (10, 10) at the top right, (5, 2.5) a quarter up the middle.
-  PlotOptions o{.title = "line", .x = {"x", Scale::kLinear}, .y = {"y", Scale::kLinear}, .width_px = 400, .height_px = 300};
+  PlotOptions o{.title = "line",
+                .x = {"x", Scale::kLinear},
+                .y = {"y", Scale::kLinear},
+                .width_px = 400,
+                .height_px = 300};
   Series s{.label = "s", .x = Eigen::Vector3d(0, 5, 10), .y = Eigen::Vector3d(0, 2.5, 10)};
   const std::string svg = SvgPlot({s}, o);
   const auto lines = Polylines(svg);
@@ -70,10 +77,16 @@ TEST(SvgPlot, PointsLandWhereTheAxesSayTheyShould) {
 }
 
 TEST(SvgPlot, LogAxesMapDecadesEvenlyAndBreakAtNonPositiveValues) {
-  PlotOptions o{.title = "frf", .x = {"f", Scale::kLog}, .y = {"|H|", Scale::kLog}, .width_px = 400, .height_px = 300};
+  PlotOptions o{.title = "frf",
+                .x = {"f", Scale::kLog},
+                .y = {"|H|", Scale::kLog},
+                .width_px = 400,
+                .height_px = 300};
   // x 1, 10, 100 and y 1e-4, 1e-3, (0: not drawable), 1e-2 at x = 100: the axes end on those
   // values (1-2-5 padding leaves 1-2-5 values as they are).
-  Series s{.label = "h", .x = Eigen::Vector4d(1, 10, 50, 100), .y = Eigen::Vector4d(1e-4, 1e-3, 0.0, 1e-2)};
+  Series s{.label = "h",
+           .x = Eigen::Vector4d(1, 10, 50, 100),
+           .y = Eigen::Vector4d(1e-4, 1e-3, 0.0, 1e-2)};
   const auto lines = Polylines(SvgPlot({s}, o));
   ASSERT_EQ(lines.size(), 2u);
   const auto first = Points(lines[0]);
@@ -81,8 +94,9 @@ TEST(SvgPlot, LogAxesMapDecadesEvenlyAndBreakAtNonPositiveValues) {
   const PlotArea a = AreaOf(o);
   ASSERT_EQ(first.size(), 2u);
   ASSERT_EQ(second.size(), 1u);
-  EXPECT_NEAR(first[1].first, 0.5 * (a.left + a.right), 0.05);   // 10 is half way between 1 and 100
-  EXPECT_NEAR(first[1].second, 0.5 * (a.top + a.bottom), 0.05);  // 1e-3 half way between 1e-4 and 1e-2
+  EXPECT_NEAR(first[1].first, 0.5 * (a.left + a.right), 0.05);  // 10 is half way between 1 and 100
+  EXPECT_NEAR(first[1].second, 0.5 * (a.top + a.bottom),
+              0.05);  // 1e-3 half way between 1e-4 and 1e-2
   EXPECT_NEAR(second[0].first, a.right, 0.05);
 }
 
@@ -91,7 +105,11 @@ TEST(SvgPlot, LongRecordsKeepTheirExtremesInFewPoints) {
   Eigen::VectorXd t = Eigen::VectorXd::LinSpaced(n, 0.0, 30.0);
   Eigen::VectorXd y = (2 * std::numbers::pi * 16.0 * t.array()).sin().matrix();
   y[77777] = 3.0;  // one spike must survive the reduction
-  PlotOptions o{.title = "d", .x = {"t", Scale::kLinear}, .y = {"F", Scale::kLinear}, .width_px = 600, .height_px = 300};
+  PlotOptions o{.title = "d",
+                .x = {"t", Scale::kLinear},
+                .y = {"F", Scale::kLinear},
+                .width_px = 600,
+                .height_px = 300};
   const auto lines = Polylines(SvgPlot({Series{.label = "y", .x = t, .y = y}}, o));
   ASSERT_EQ(lines.size(), 1u);
   const auto p = Points(lines[0]);
@@ -104,14 +122,19 @@ TEST(SvgPlot, LongRecordsKeepTheirExtremesInFewPoints) {
 
 TEST(SvgPlot, EscapesTextAndRefusesBadInput) {
   PlotOptions o{.title = "a<b & \"c\"", .x = {"x", Scale::kLinear}, .y = {"y", Scale::kLinear}};
-  const std::string svg = SvgPlot({Series{.label = "<s>", .x = Eigen::Vector2d(0, 1), .y = Eigen::Vector2d(1, 2)}}, o);
+  const std::string svg =
+      SvgPlot({Series{.label = "<s>", .x = Eigen::Vector2d(0, 1), .y = Eigen::Vector2d(1, 2)}}, o);
   EXPECT_NE(svg.find("a&lt;b &amp; &quot;c&quot;"), std::string::npos);
   EXPECT_NE(svg.find("&lt;s&gt;"), std::string::npos);
   EXPECT_EQ(svg.find("<s>"), std::string::npos);
   EXPECT_THROW(SvgPlot({}, o), InputError);
-  EXPECT_THROW(SvgPlot({Series{.label = "s", .x = Eigen::Vector2d(0, 1), .y = Eigen::Vector3d(1, 2, 3)}}, o), InputError);
+  EXPECT_THROW(
+      SvgPlot({Series{.label = "s", .x = Eigen::Vector2d(0, 1), .y = Eigen::Vector3d(1, 2, 3)}}, o),
+      InputError);
   o.y.scale = Scale::kLog;
-  EXPECT_THROW(SvgPlot({Series{.label = "s", .x = Eigen::Vector2d(0, 1), .y = Eigen::Vector2d(-1, 0)}}, o), InputError);
+  EXPECT_THROW(
+      SvgPlot({Series{.label = "s", .x = Eigen::Vector2d(0, 1), .y = Eigen::Vector2d(-1, 0)}}, o),
+      InputError);
 }
 
 }  // namespace

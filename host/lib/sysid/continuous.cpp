@@ -13,9 +13,11 @@
 namespace vibid::sysid {
 
 void ValidateTf(const TransferFunction& tf) {
-  Require(tf.den.size() >= 1 && tf.den[0] != 0.0, "transfer function: leading denominator coefficient must be nonzero");
+  Require(tf.den.size() >= 1 && tf.den[0] != 0.0,
+          "transfer function: leading denominator coefficient must be nonzero");
   Require(tf.num.size() >= 1, "transfer function: empty numerator");
-  Require(tf.num.allFinite() && tf.den.allFinite(), "transfer function: coefficients must be finite");
+  Require(tf.num.allFinite() && tf.den.allFinite(),
+          "transfer function: coefficients must be finite");
   Eigen::Index first = 0;
   while (first < tf.num.size() - 1 && tf.num[first] == 0.0) ++first;
   Require(tf.num.size() - first <= tf.den.size(),
@@ -47,7 +49,8 @@ StateSpaceSiso ControllableCanonical(const TransferFunction& tf) {
   return ss;
 }
 
-Eigen::MatrixXd SimulateStates(Eigen::Ref<const Eigen::MatrixXd> a, Eigen::Ref<const Eigen::VectorXd> b,
+Eigen::MatrixXd SimulateStates(Eigen::Ref<const Eigen::MatrixXd> a,
+                               Eigen::Ref<const Eigen::VectorXd> b,
                                Eigen::Ref<const Eigen::VectorXd> u, double dt_s, Hold hold,
                                Eigen::Ref<const Eigen::VectorXd> x0) {
   Eigen::MatrixXd states;
@@ -57,7 +60,8 @@ Eigen::MatrixXd SimulateStates(Eigen::Ref<const Eigen::MatrixXd> a, Eigen::Ref<c
 
 void SimulateStatesInto(Eigen::Ref<const Eigen::MatrixXd> a, Eigen::Ref<const Eigen::VectorXd> b,
                         Eigen::Ref<const Eigen::VectorXd> u, double dt_s, Hold hold,
-                        Eigen::Ref<const Eigen::VectorXd> x0, bool reversed, Eigen::MatrixXd& states) {
+                        Eigen::Ref<const Eigen::VectorXd> x0, bool reversed,
+                        Eigen::MatrixXd& states) {
   const Eigen::Index n = a.rows();
   const Eigen::Index samples = u.size();
   states.resize(samples, n);
@@ -88,13 +92,15 @@ void SimulateStatesInto(Eigen::Ref<const Eigen::MatrixXd> a, Eigen::Ref<const Ei
     double b1[N];
     double x[N];
     for (std::size_t i = 0; i < N; ++i) {
-      for (std::size_t j = 0; j < N; ++j) ph[i][j] = phi(static_cast<Eigen::Index>(i), static_cast<Eigen::Index>(j));
+      for (std::size_t j = 0; j < N; ++j)
+        ph[i][j] = phi(static_cast<Eigen::Index>(i), static_cast<Eigen::Index>(j));
       b0[i] = g0[static_cast<Eigen::Index>(i)];
       b1[i] = g1[static_cast<Eigen::Index>(i)];
       x[i] = x0[static_cast<Eigen::Index>(i)];
     }
     for (Eigen::Index k = 0; k < samples; ++k) {
-      for (std::size_t i = 0; i < N; ++i) out[static_cast<Eigen::Index>(reversed ? N - 1 - i : i) * samples + k] = x[i];
+      for (std::size_t i = 0; i < N; ++i)
+        out[static_cast<Eigen::Index>(reversed ? N - 1 - i : i) * samples + k] = x[i];
       if (k + 1 == samples) break;
       const double du = first_order ? in[k + 1] - in[k] : 0.0;
       double next[N];
@@ -109,15 +115,24 @@ void SimulateStatesInto(Eigen::Ref<const Eigen::MatrixXd> a, Eigen::Ref<const Ei
     }
   };
   switch (n) {
-    case 1: return run(std::integral_constant<std::size_t, 1>{});
-    case 2: return run(std::integral_constant<std::size_t, 2>{});
-    case 3: return run(std::integral_constant<std::size_t, 3>{});
-    case 4: return run(std::integral_constant<std::size_t, 4>{});
-    case 5: return run(std::integral_constant<std::size_t, 5>{});
-    case 6: return run(std::integral_constant<std::size_t, 6>{});
-    case 7: return run(std::integral_constant<std::size_t, 7>{});
-    case 8: return run(std::integral_constant<std::size_t, 8>{});
-    default: break;
+    case 1:
+      return run(std::integral_constant<std::size_t, 1>{});
+    case 2:
+      return run(std::integral_constant<std::size_t, 2>{});
+    case 3:
+      return run(std::integral_constant<std::size_t, 3>{});
+    case 4:
+      return run(std::integral_constant<std::size_t, 4>{});
+    case 5:
+      return run(std::integral_constant<std::size_t, 5>{});
+    case 6:
+      return run(std::integral_constant<std::size_t, 6>{});
+    case 7:
+      return run(std::integral_constant<std::size_t, 7>{});
+    case 8:
+      return run(std::integral_constant<std::size_t, 8>{});
+    default:
+      break;
   }
   Eigen::VectorXd x = x0;
   Eigen::VectorXd next(n);
@@ -136,18 +151,20 @@ void SimulateStatesInto(Eigen::Ref<const Eigen::MatrixXd> a, Eigen::Ref<const Ei
   }
 }
 
-Eigen::VectorXd Simulate(const TransferFunction& tf, Eigen::Ref<const Eigen::VectorXd> u, double dt_s, Hold hold) {
+Eigen::VectorXd Simulate(const TransferFunction& tf, Eigen::Ref<const Eigen::VectorXd> u,
+                         double dt_s, Hold hold) {
   const StateSpaceSiso ss = ControllableCanonical(tf);
   if (ss.a.rows() == 0) return ss.d * u;
-  const Eigen::MatrixXd x = SimulateStates(ss.a, ss.b, u, dt_s, hold, Eigen::VectorXd::Zero(ss.a.rows()));
+  const Eigen::MatrixXd x =
+      SimulateStates(ss.a, ss.b, u, dt_s, hold, Eigen::VectorXd::Zero(ss.a.rows()));
   return x * ss.c.transpose() + ss.d * u;
 }
 
 namespace {
 
 template <typename Step>
-Eigen::VectorXd Integrate(const TransferFunction& tf, Eigen::Ref<const Eigen::VectorXd> u, double dt_s,
-                          int substeps, Step step) {
+Eigen::VectorXd Integrate(const TransferFunction& tf, Eigen::Ref<const Eigen::VectorXd> u,
+                          double dt_s, int substeps, Step step) {
   Require(substeps >= 1, "substeps must be at least 1");
   Require(dt_s > 0.0, "sample period must be > 0");
   const StateSpaceSiso ss = ControllableCanonical(tf);
@@ -164,19 +181,21 @@ Eigen::VectorXd Integrate(const TransferFunction& tf, Eigen::Ref<const Eigen::Ve
 
 }  // namespace
 
-Eigen::VectorXd SimulateEuler(const TransferFunction& tf, Eigen::Ref<const Eigen::VectorXd> u, double dt_s,
-                              int substeps) {
+Eigen::VectorXd SimulateEuler(const TransferFunction& tf, Eigen::Ref<const Eigen::VectorXd> u,
+                              double dt_s, int substeps) {
   return Integrate(tf, u, dt_s, substeps,
-                   [](const StateSpaceSiso& ss, const Eigen::VectorXd& x, double uk, double h) -> Eigen::VectorXd {
-                     return x + h * (ss.a * x + ss.b * uk);
-                   });
+                   [](const StateSpaceSiso& ss, const Eigen::VectorXd& x, double uk,
+                      double h) -> Eigen::VectorXd { return x + h * (ss.a * x + ss.b * uk); });
 }
 
-Eigen::VectorXd SimulateRk4(const TransferFunction& tf, Eigen::Ref<const Eigen::VectorXd> u, double dt_s,
-                            int substeps) {
+Eigen::VectorXd SimulateRk4(const TransferFunction& tf, Eigen::Ref<const Eigen::VectorXd> u,
+                            double dt_s, int substeps) {
   return Integrate(tf, u, dt_s, substeps,
-                   [](const StateSpaceSiso& ss, const Eigen::VectorXd& x, double uk, double h) -> Eigen::VectorXd {
-                     auto f = [&](const Eigen::VectorXd& s) -> Eigen::VectorXd { return ss.a * s + ss.b * uk; };
+                   [](const StateSpaceSiso& ss, const Eigen::VectorXd& x, double uk,
+                      double h) -> Eigen::VectorXd {
+                     auto f = [&](const Eigen::VectorXd& s) -> Eigen::VectorXd {
+                       return ss.a * s + ss.b * uk;
+                     };
                      const Eigen::VectorXd k1 = f(x);
                      const Eigen::VectorXd k2 = f(x + 0.5 * h * k1);
                      const Eigen::VectorXd k3 = f(x + 0.5 * h * k2);
@@ -189,8 +208,8 @@ namespace {
 
 /// Transfer function C (sI − A)⁻¹ B + D of a SISO state space, from characteristic polynomials:
 /// det(sI − A + BC) = det(sI − A)(1 + C (sI − A)⁻¹ B).
-TransferFunction TfFromStateSpace(const Eigen::MatrixXd& a, const Eigen::VectorXd& b, const Eigen::RowVectorXd& c,
-                                  double d) {
+TransferFunction TfFromStateSpace(const Eigen::MatrixXd& a, const Eigen::VectorXd& b,
+                                  const Eigen::RowVectorXd& c, double d) {
   const Eigen::VectorXd den =
       numerics::PolynomialFromRoots(Eigen::EigenSolver<Eigen::MatrixXd>(a, false).eigenvalues());
   const Eigen::MatrixXd closed = a - b * c;
@@ -216,19 +235,23 @@ DiscreteTf C2dZoh(const TransferFunction& tf, double dt_s) {
   return DiscreteTf{z.num, z.den};
 }
 
-TransferFunction D2cZoh(Eigen::Ref<const Eigen::VectorXd> num, Eigen::Ref<const Eigen::VectorXd> den, double dt_s) {
+TransferFunction D2cZoh(Eigen::Ref<const Eigen::VectorXd> num,
+                        Eigen::Ref<const Eigen::VectorXd> den, double dt_s) {
   Require(dt_s > 0.0, "sample period must be > 0");
   Require(den.size() >= 1 && den[0] != 0.0, "d2c: leading denominator coefficient must be nonzero");
-  Require(num.size() <= den.size(), "d2c: numerator longer than denominator (more than one sample of delay "
-                                    "or a non-causal model): no continuous equivalent");
+  Require(num.size() <= den.size(),
+          "d2c: numerator longer than denominator (more than one sample of delay "
+          "or a non-causal model): no continuous equivalent");
   const Eigen::Index n = den.size() - 1;
   Eigen::VectorXd padded = Eigen::VectorXd::Zero(n + 1);
   padded.head(num.size()) = num;
   const std::vector<numerics::Complex> poles = numerics::PolynomialRoots(den);
   for (std::size_t i = 0; i < poles.size(); ++i) {
-    Require(!(std::abs(poles[i].imag()) <= 1e-12 * std::max(1.0, std::abs(poles[i])) && poles[i].real() <= 1e-12),
-            "d2c: discrete pole at z = " + std::to_string(poles[i].real()) +
-                " on the negative real axis (or at 0, a pure delay) has no continuous-time equivalent");
+    Require(
+        !(std::abs(poles[i].imag()) <= 1e-12 * std::max(1.0, std::abs(poles[i])) &&
+          poles[i].real() <= 1e-12),
+        "d2c: discrete pole at z = " + std::to_string(poles[i].real()) +
+            " on the negative real axis (or at 0, a pure delay) has no continuous-time equivalent");
   }
   // Discrete state space in the same canonical form, then the matrix logarithm of the ZOH block.
   const StateSpaceSiso zs = ControllableCanonical(TransferFunction{padded, den});

@@ -21,7 +21,9 @@ Eigen::VectorXd Vec(const nlohmann::json& j) {
   return Eigen::Map<const Eigen::VectorXd>(v.data(), static_cast<Eigen::Index>(v.size()));
 }
 
-nlohmann::json Golden() { return ReadJsonFile(VIBID_SOURCE_DIR "/host/lib/sysid/testdata/zoh_scipy.json"); }
+nlohmann::json Golden() {
+  return ReadJsonFile(VIBID_SOURCE_DIR "/host/lib/sysid/testdata/zoh_scipy.json");
+}
 
 TEST(Continuous, ZohDiscretizationMatchesScipy) {
   const auto g = Golden();  // scripts/golden/sysid_zoh_scipy.py: scipy.signal.cont2discrete(zoh)
@@ -32,7 +34,8 @@ TEST(Continuous, ZohDiscretizationMatchesScipy) {
   ASSERT_EQ(d.den.size(), dend.size());
   ASSERT_EQ(d.num.size(), numd.size());
   EXPECT_LT((d.den - dend).cwiseAbs().maxCoeff(), 1e-12);
-  // The numerator nearly cancels (the zeros sit close to the poles at 200 Hz): compare to its scale.
+  // The numerator nearly cancels (the zeros sit close to the poles at 200 Hz): compare to its
+  // scale.
   EXPECT_LT((d.num - numd).cwiseAbs().maxCoeff(), 1e-11 * numd.cwiseAbs().maxCoeff());
 }
 
@@ -45,7 +48,8 @@ TEST(Continuous, ZohSimulationMatchesScipyDlsim) {
     const Eigen::VectorXd u = Vec(g[std::string("u_") + which]);
     const Eigen::VectorXd y = Vec(g[std::string("y_") + which]);
     const Eigen::VectorXd mine = Simulate(tf, u, dt);
-    // scipy's dlsim goes through tf2ss of the nearly cancelling discrete numerator: ~1e-10 relative.
+    // scipy's dlsim goes through tf2ss of the nearly cancelling discrete numerator: ~1e-10
+    // relative.
     EXPECT_LT((mine - y).cwiseAbs().maxCoeff(), 1e-9 * y.cwiseAbs().maxCoeff());
   }
 }
@@ -54,7 +58,8 @@ TEST(Continuous, D2cInvertsC2d) {
   // A q⁻¹ polynomial with n poles near z = 1 carries its information in the last ~n·log10(1/(ω dt))
   // digits, so the round trip loses accuracy as dt shrinks: the tolerance follows (ω dt)^-4.
   for (const TransferFunction& tf : {testing::OneCartTf(), testing::TwoCartTf()}) {
-    for (const auto& [dt, tol] : {std::pair{0.001, 1e-5}, std::pair{0.005, 1e-7}, std::pair{0.05, 1e-10}}) {
+    for (const auto& [dt, tol] :
+         {std::pair{0.001, 1e-5}, std::pair{0.005, 1e-7}, std::pair{0.05, 1e-10}}) {
       const DiscreteTf d = C2dZoh(tf, dt);
       const TransferFunction back = D2cZoh(d.num, d.den, dt);
       EXPECT_LT(testing::MaxRelativeError(Normalized(back), tf), tol) << "dt " << dt;
@@ -66,7 +71,8 @@ TEST(Continuous, D2cRejectsNegativeRealPoles) {
   // z = −0.5 is the ZOH image of no real continuous system.
   EXPECT_THROW(D2cZoh(Eigen::Vector2d(0.0, 1.0), Eigen::Vector2d(1.0, 0.5), 0.01), InputError);
   // Two samples of delay: a pole at z = 0.
-  EXPECT_THROW(D2cZoh(Eigen::Vector3d(0.0, 0.0, 1.0), Eigen::Vector3d(1.0, -0.5, 0.0), 0.01), InputError);
+  EXPECT_THROW(D2cZoh(Eigen::Vector3d(0.0, 0.0, 1.0), Eigen::Vector3d(1.0, -0.5, 0.0), 0.01),
+               InputError);
 }
 
 TEST(Continuous, FirstOrderSystemClosedForm) {
@@ -80,7 +86,8 @@ TEST(Continuous, FirstOrderSystemClosedForm) {
   // First-order hold is exact for a ramp u = t: y = t/2 − 1/4 + e^{−2t}/4.
   const Eigen::VectorXd t = Eigen::VectorXd::LinSpaced(300, 0.0, 299 * dt);
   const Eigen::VectorXd yr = Simulate(tf, t, dt, Hold::kFirst);
-  for (Eigen::Index k = 0; k < 300; ++k) EXPECT_NEAR(yr[k], t[k] / 2 - 0.25 + std::exp(-2.0 * t[k]) / 4, 1e-13);
+  for (Eigen::Index k = 0; k < 300; ++k)
+    EXPECT_NEAR(yr[k], t[k] / 2 - 0.25 + std::exp(-2.0 * t[k]) / 4, 1e-13);
 }
 
 TEST(Continuous, EulerAndRk4ConvergeAtTheirOrders) {
@@ -102,9 +109,11 @@ TEST(Continuous, EulerAndRk4ConvergeAtTheirOrders) {
 }
 
 TEST(Continuous, RejectsImproperTf) {
-  EXPECT_THROW(Simulate(TransferFunction{Eigen::Vector3d(1, 0, 0), Eigen::Vector2d(1, 1)}, Eigen::VectorXd::Ones(4), 0.1),
+  EXPECT_THROW(Simulate(TransferFunction{Eigen::Vector3d(1, 0, 0), Eigen::Vector2d(1, 1)},
+                        Eigen::VectorXd::Ones(4), 0.1),
                InputError);
-  EXPECT_THROW(Simulate(TransferFunction{Eigen::VectorXd::Ones(1), Eigen::Vector2d(0, 1)}, Eigen::VectorXd::Ones(4), 0.1),
+  EXPECT_THROW(Simulate(TransferFunction{Eigen::VectorXd::Ones(1), Eigen::Vector2d(0, 1)},
+                        Eigen::VectorXd::Ones(4), 0.1),
                InputError);
 }
 

@@ -8,19 +8,22 @@
 namespace vibid::sysid {
 
 std::vector<std::string> CartParameterNames(const CartConfig& config) {
-  std::vector<std::string> names =
-      config.carts == 1 ? std::vector<std::string>{"M", "B", "k"} : std::vector<std::string>{"M1", "M2", "B1", "B2", "k"};
+  std::vector<std::string> names = config.carts == 1
+                                       ? std::vector<std::string>{"M", "B", "k"}
+                                       : std::vector<std::string>{"M1", "M2", "B1", "B2", "k"};
   if (config.input == CartInput::kPosition) names.emplace_back("Bi");
   return names;
 }
 
 TransferFunction CartTf(const CartConfig& config, Eigen::Ref<const Eigen::VectorXd> v) {
   Require(config.carts == 1 || config.carts == 2, "cart model: 1 or 2 carts");
-  Require(static_cast<std::size_t>(v.size()) == CartParameterNames(config).size(), "cart model: wrong parameter count");
+  Require(static_cast<std::size_t>(v.size()) == CartParameterNames(config).size(),
+          "cart model: wrong parameter count");
   const bool position = config.input == CartInput::kPosition;
   const Eigen::Index n = config.carts;
   const Eigen::VectorXd masses = n == 1 ? Eigen::VectorXd(v.head(1)) : Eigen::VectorXd(v.head(2));
-  const Eigen::VectorXd frictions = n == 1 ? Eigen::VectorXd(v.segment(1, 1)) : Eigen::VectorXd(v.segment(2, 2));
+  const Eigen::VectorXd frictions =
+      n == 1 ? Eigen::VectorXd(v.segment(1, 1)) : Eigen::VectorXd(v.segment(2, 2));
   const double k = v[2 * n];
   const model::TransferFunction tf =
       model::CartTrackTf(masses, k, frictions, config.input, position ? v[2 * n + 1] : 0.0);
@@ -35,14 +38,18 @@ void GreyboxOptions::Validate() const {
     for (const auto& n : names) known = known || n == name;
     std::string list;
     for (const auto& n : names) list += (list.empty() ? "" : ", ") + n;
-    Require(known, "greybox: unknown parameter '" + name + "' for this cart model (parameters: " + list + ")");
-    Require(std::isfinite(value) && value >= 0.0, "greybox: fixed value of " + name + " must be a number >= 0");
+    Require(known, "greybox: unknown parameter '" + name +
+                       "' for this cart model (parameters: " + list + ")");
+    Require(std::isfinite(value) && value >= 0.0,
+            "greybox: fixed value of " + name + " must be a number >= 0");
   }
   Require(fixed.size() < names.size(), "greybox: every parameter is fixed, nothing to estimate");
   if (config.input == CartInput::kPosition) {
     bool scale = false;
     for (const char* n : {"M", "M1", "M2", "k"}) scale = scale || fixed.count(n) > 0;
-    Require(scale, "greybox: with a position input the data fix only ratios to the mass; fix M (or M1/M2) or k");
+    Require(scale,
+            "greybox: with a position input the data fix only ratios to the mass; fix M (or M1/M2) "
+            "or k");
   }
   solver.Validate();
 }
@@ -104,7 +111,8 @@ GreyboxResult EstimateCart(const IoData& data, const GreyboxOptions& options) {
   const CartConfig& c = options.config;
   const auto names = CartParameterNames(c);
   const int np = 2 * c.carts;
-  const int nz = c.carts == 1 ? (c.input == CartInput::kPosition ? 1 : 0) : (c.input == CartInput::kPosition ? 3 : 2);
+  const int nz = c.carts == 1 ? (c.input == CartInput::kPosition ? 1 : 0)
+                              : (c.input == CartInput::kPosition ? 3 : 2);
 
   TfestOptions free_options;
   free_options.np = np;
@@ -112,9 +120,11 @@ GreyboxResult EstimateCart(const IoData& data, const GreyboxOptions& options) {
   free_options.solver = options.solver;
   const TfestResult free_fit = EstimateTf(data, free_options);
   GreyboxResult res;
-  Require(free_fit.tf.den.size() == np + 1, "greybox: the free continuous-time fit found no starting model");
+  Require(free_fit.tf.den.size() == np + 1,
+          "greybox: the free continuous-time fit found no starting model");
   const Eigen::VectorXd start = StartValues(c, free_fit.tf, options.fixed);
-  res.initialization = "tfest(np=" + std::to_string(np) + ", nz=" + std::to_string(nz) + ") mapped to parameters";
+  res.initialization =
+      "tfest(np=" + std::to_string(np) + ", nz=" + std::to_string(nz) + ") mapped to parameters";
 
   std::vector<Eigen::Index> free_index;
   for (std::size_t i = 0; i < names.size(); ++i) {
@@ -140,7 +150,8 @@ GreyboxResult EstimateCart(const IoData& data, const GreyboxOptions& options) {
         Eigen::VectorXd up = theta, down = theta;
         up[i] += h;
         down[i] -= h;
-        jac->col(i) = (MonicCoefficients(c, full(up)) - MonicCoefficients(c, full(down))) / (2.0 * h);
+        jac->col(i) =
+            (MonicCoefficients(c, full(up)) - MonicCoefficients(c, full(down))) / (2.0 * h);
       }
     }
     return true;
@@ -151,7 +162,8 @@ GreyboxResult EstimateCart(const IoData& data, const GreyboxOptions& options) {
   res.summary = oe.summary;
   const Eigen::VectorXd values = full(oe.theta);
   for (std::size_t i = 0, j = 0; i < names.size(); ++i) {
-    GreyboxParameter p{names[i], values[static_cast<Eigen::Index>(i)], 0.0, options.fixed.count(names[i]) > 0};
+    GreyboxParameter p{names[i], values[static_cast<Eigen::Index>(i)], 0.0,
+                       options.fixed.count(names[i]) > 0};
     if (!p.fixed) {
       const auto jj = static_cast<Eigen::Index>(j++);
       if (oe.covariance.rows() > jj) p.std = std::sqrt(oe.covariance(jj, jj));

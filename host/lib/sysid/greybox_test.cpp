@@ -1,4 +1,5 @@
-// Grey-box cart parameters: exact recovery from noise-free records, fixed parameters, uncertainties.
+// Grey-box cart parameters: exact recovery from noise-free records, fixed parameters,
+// uncertainties.
 #include "vibid/sysid/greybox.hpp"
 
 #include <cmath>
@@ -24,18 +25,20 @@ double Value(const GreyboxResult& r, const std::string& name) {
 TEST(Greybox, CartTfMatchesMethodsFormulas) {
   // methods §10, two carts, position input: b3 = Bi M2/(M1 M2), ..., a0 = 3k²/(M1 M2).
   const double m1 = 0.57, m2 = 0.56, b1 = 0.6, b2 = 0.5, k = 15.0, bi = 0.25;
-  const TransferFunction tf = Normalized(CartTf(CartConfig{2, CartInput::kPosition}, testing::TwoCartValues()));
+  const TransferFunction tf =
+      Normalized(CartTf(CartConfig{2, CartInput::kPosition}, testing::TwoCartValues()));
   const double mm = m1 * m2;
-  const Eigen::Vector4d num(bi * m2 / mm, (2 * k * m2 + b2 * bi) / mm, (2 * k * b2 + 2 * k * bi) / mm, 4 * k * k / mm);
+  const Eigen::Vector4d num(bi * m2 / mm, (2 * k * m2 + b2 * bi) / mm,
+                            (2 * k * b2 + 2 * k * bi) / mm, 4 * k * k / mm);
   Eigen::VectorXd den(5);
-  den << 1.0, (m1 * b2 + m2 * b1) / mm, (2 * k * m1 + 2 * k * m2 + b1 * b2) / mm, (2 * k * b1 + 2 * k * b2) / mm,
-      3 * k * k / mm;
+  den << 1.0, (m1 * b2 + m2 * b1) / mm, (2 * k * m1 + 2 * k * m2 + b1 * b2) / mm,
+      (2 * k * b1 + 2 * k * b2) / mm, 3 * k * k / mm;
   EXPECT_LT((tf.num - num).cwiseAbs().maxCoeff(), 1e-12 * num.cwiseAbs().maxCoeff());
   EXPECT_LT((tf.den - den).cwiseAbs().maxCoeff(), 1e-12 * den.cwiseAbs().maxCoeff());
 }
 
 TEST(Greybox, RecoversOneCartForceModel) {
-  const Eigen::Vector3d truth(0.57, 0.6, 15.0);  // M, B, k
+  const Eigen::Vector3d truth(0.57, 0.6, 15.0);                 // M, B, k
   const Eigen::VectorXd u = testing::Pulse(3000, 20, 20, 5.0);  // 5 N for 0.1 s (methods §10)
   const Eigen::VectorXd y = Simulate(CartTf(CartConfig{1, CartInput::kForce}, truth), u, kDt);
   GreyboxOptions o;
@@ -79,7 +82,8 @@ TEST(Greybox, RecoversTwoCartForceModel) {
   const GreyboxResult r = EstimateCart(MakeIoData(u, y, kDt), o);
   ASSERT_TRUE(r.summary.Converged()) << r.summary.message;
   const char* names[] = {"M1", "M2", "B1", "B2", "k"};
-  for (int i = 0; i < 5; ++i) EXPECT_NEAR(Value(r, names[i]), truth[i], 1e-6 * truth[i]) << names[i];
+  for (int i = 0; i < 5; ++i)
+    EXPECT_NEAR(Value(r, names[i]), truth[i], 1e-6 * truth[i]) << names[i];
 }
 
 TEST(Greybox, RejectsUnidentifiableOrUnknownParameters) {

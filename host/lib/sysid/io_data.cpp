@@ -55,23 +55,29 @@ Eigen::VectorXd FilterCentered(const Eigen::VectorXd& x, const Eigen::VectorXd& 
 
 }  // namespace
 
-IoData MakeIoData(Eigen::Ref<const Eigen::VectorXd> u, Eigen::Ref<const Eigen::VectorXd> y, double dt_s,
-                  const std::string& u_name, const std::string& y_name, Eigen::Index min_samples) {
-  Require(u.size() == y.size(), "input '" + u_name + "' has " + std::to_string(u.size()) + " samples but output '" +
-                                    y_name + "' has " + std::to_string(y.size()) + ": lengths must match");
+IoData MakeIoData(Eigen::Ref<const Eigen::VectorXd> u, Eigen::Ref<const Eigen::VectorXd> y,
+                  double dt_s, const std::string& u_name, const std::string& y_name,
+                  Eigen::Index min_samples) {
+  Require(u.size() == y.size(), "input '" + u_name + "' has " + std::to_string(u.size()) +
+                                    " samples but output '" + y_name + "' has " +
+                                    std::to_string(y.size()) + ": lengths must match");
   Require(std::isfinite(dt_s) && dt_s > 0.0, "sample period must be a positive number of seconds");
-  Require(y.size() >= min_samples, "record too short: " + std::to_string(y.size()) + " samples, at least " +
-                                       std::to_string(min_samples) + " needed");
+  Require(y.size() >= min_samples, "record too short: " + std::to_string(y.size()) +
+                                       " samples, at least " + std::to_string(min_samples) +
+                                       " needed");
   IoData d{u, y, dt_s};
   if (const Eigen::Index i = FirstNonFinite(d.u); i >= 0) {
-    throw InputError("input '" + u_name + "' is not finite (NaN or Inf) at sample " + std::to_string(i));
+    throw InputError("input '" + u_name + "' is not finite (NaN or Inf) at sample " +
+                     std::to_string(i));
   }
   if (const Eigen::Index i = FirstNonFinite(d.y); i >= 0) {
-    throw InputError("output '" + y_name + "' is not finite (NaN or Inf) at sample " + std::to_string(i));
+    throw InputError("output '" + y_name + "' is not finite (NaN or Inf) at sample " +
+                     std::to_string(i));
   }
   const double u_range = d.u.maxCoeff() - d.u.minCoeff();
   Require(u_range > 1e-12 * std::max(1.0, d.u.cwiseAbs().maxCoeff()),
-          "input '" + u_name + "' is constant: it is not persistently exciting, so no dynamics can be identified");
+          "input '" + u_name +
+              "' is constant: it is not persistently exciting, so no dynamics can be identified");
   return d;
 }
 
@@ -85,14 +91,16 @@ DetrendResult Detrend(const IoData& data, Trend trend) {
 
 IoData Slice(const IoData& data, Eigen::Index first, Eigen::Index last) {
   Require(first >= 0 && last <= data.samples() && first < last,
-          "sample range " + std::to_string(first) + ":" + std::to_string(last) + " is empty or outside 0:" +
-              std::to_string(data.samples()));
-  return IoData{data.u.segment(first, last - first), data.y.segment(first, last - first), data.dt_s};
+          "sample range " + std::to_string(first) + ":" + std::to_string(last) +
+              " is empty or outside 0:" + std::to_string(data.samples()));
+  return IoData{data.u.segment(first, last - first), data.y.segment(first, last - first),
+                data.dt_s};
 }
 
 SampleRange ParseSampleRange(const std::string& text, Eigen::Index samples) {
   const auto colon = text.find(':');
-  Require(colon != std::string::npos, "range '" + text + "' must be FIRST:LAST (sample indices, LAST excluded)");
+  Require(colon != std::string::npos,
+          "range '" + text + "' must be FIRST:LAST (sample indices, LAST excluded)");
   auto parse = [&](const std::string& part, Eigen::Index fallback) -> Eigen::Index {
     if (part.empty()) return fallback;
     std::size_t used = 0;
@@ -102,18 +110,21 @@ SampleRange ParseSampleRange(const std::string& text, Eigen::Index samples) {
     } catch (...) {
       used = 0;
     }
-    Require(used == part.size() && v >= 0, "range '" + text + "': '" + part + "' is not a sample index >= 0");
+    Require(used == part.size() && v >= 0,
+            "range '" + text + "': '" + part + "' is not a sample index >= 0");
     return static_cast<Eigen::Index>(v);
   };
   SampleRange r{parse(text.substr(0, colon), 0), parse(text.substr(colon + 1), samples)};
-  Require(r.first < r.last && r.last <= samples, "range '" + text + "' is empty or beyond the record's " +
+  Require(r.first < r.last && r.last <= samples, "range '" + text +
+                                                     "' is empty or beyond the record's " +
                                                      std::to_string(samples) + " samples");
   return r;
 }
 
 SplitData Split(const IoData& data, double fraction) {
   Require(fraction > 0.0 && fraction < 1.0, "split fraction must lie strictly between 0 and 1");
-  const auto cut = static_cast<Eigen::Index>(std::floor(fraction * static_cast<double>(data.samples())));
+  const auto cut =
+      static_cast<Eigen::Index>(std::floor(fraction * static_cast<double>(data.samples())));
   return SplitData{Slice(data, 0, cut), Slice(data, cut, data.samples())};
 }
 
@@ -136,7 +147,8 @@ Eigen::VectorXd LowPassFir(int taps, double cutoff) {
 IoData Decimate(const IoData& data, int factor) {
   Require(factor >= 1, "decimation factor must be a positive integer");
   if (factor == 1) return data;
-  Require(data.samples() / factor >= 8, "decimation by " + std::to_string(factor) + " leaves fewer than 8 samples");
+  Require(data.samples() / factor >= 8,
+          "decimation by " + std::to_string(factor) + " leaves fewer than 8 samples");
   // 20 taps per output sample: the Blackman window gives about 74 dB stop-band attenuation from
   // roughly 1.1 x the new Nyquist frequency on.
   const Eigen::VectorXd h = LowPassFir(20 * factor + 1, 0.8 * 0.5 / factor);

@@ -25,11 +25,13 @@ TEST(IoData, RejectsBadRecordsWithClearMessages) {
   nan[4] = std::numeric_limits<double>::quiet_NaN();
   EXPECT_THAT([&] { MakeIoData(ten, Eigen::VectorXd::Ones(9), 0.1, "V", "X"); },
               ThrowsMessage<InputError>(HasSubstr("lengths must match")));
-  EXPECT_THAT([&] { MakeIoData(ten, nan, 0.1, "V", "X"); },
-              ThrowsMessage<InputError>(HasSubstr("output 'X' is not finite (NaN or Inf) at sample 4")));
+  EXPECT_THAT(
+      [&] { MakeIoData(ten, nan, 0.1, "V", "X"); },
+      ThrowsMessage<InputError>(HasSubstr("output 'X' is not finite (NaN or Inf) at sample 4")));
   EXPECT_THAT([&] { MakeIoData(Eigen::VectorXd::Constant(10, 3.0), ten, 0.1, "V", "X"); },
               ThrowsMessage<InputError>(HasSubstr("not persistently exciting")));
-  EXPECT_THAT([&] { MakeIoData(ten.head(4), ten.head(4), 0.1); }, ThrowsMessage<InputError>(HasSubstr("too short")));
+  EXPECT_THAT([&] { MakeIoData(ten.head(4), ten.head(4), 0.1); },
+              ThrowsMessage<InputError>(HasSubstr("too short")));
   EXPECT_THROW(MakeIoData(ten, ten, 0.0), InputError);
 }
 
@@ -47,7 +49,8 @@ TEST(IoData, DetrendRemovesMeanAndLine) {
 }
 
 TEST(IoData, RangesAndSplit) {
-  const IoData d{Eigen::VectorXd::LinSpaced(20, 0.0, 19.0), Eigen::VectorXd::LinSpaced(20, 0.0, 19.0), 0.5};
+  const IoData d{Eigen::VectorXd::LinSpaced(20, 0.0, 19.0),
+                 Eigen::VectorXd::LinSpaced(20, 0.0, 19.0), 0.5};
   const SampleRange r = ParseSampleRange("5:", 20);
   EXPECT_EQ(r.first, 5);
   EXPECT_EQ(r.last, 20);
@@ -76,13 +79,15 @@ TEST(IoData, DecimationKeepsTheBandAndRejectsAliases) {
   double pass_err = 0.0;
   double stop_amp = 0.0;
   for (Eigen::Index i = 50; i < 950; ++i) {
-    pass_err = std::max(pass_err, std::abs(out.u[i] - std::sin(kTwoPi * 20.0 * 0.005 * static_cast<double>(i))));
+    pass_err = std::max(
+        pass_err, std::abs(out.u[i] - std::sin(kTwoPi * 20.0 * 0.005 * static_cast<double>(i))));
     stop_amp = std::max(stop_amp, std::abs(out.y[i]));
   }
   EXPECT_LT(pass_err, 2e-3);
   EXPECT_LT(stop_amp, 1e-3);  // below −60 dB
   // A constant passes unchanged everywhere, edges included (the kernel is renormalised there).
-  const IoData c = Decimate(IoData{Eigen::VectorXd::Constant(100, 2.0), Eigen::VectorXd::Constant(100, -1.0), 1.0}, 4);
+  const IoData c = Decimate(
+      IoData{Eigen::VectorXd::Constant(100, 2.0), Eigen::VectorXd::Constant(100, -1.0), 1.0}, 4);
   EXPECT_LT((c.u.array() - 2.0).abs().maxCoeff(), 1e-12);
   EXPECT_NEAR(LowPassFir(81, 0.1).sum(), 1.0, 1e-15);
 }
@@ -92,7 +97,8 @@ TEST(Fit, FitPercentClosedForms) {
   EXPECT_DOUBLE_EQ(FitPercent(y, y), 100.0);
   EXPECT_NEAR(FitPercent(y, Eigen::Vector4d::Constant(2.5)), 0.0, 1e-12);  // the mean: 0 %
   // ‖y − ŷ‖ = 1, ‖y − ȳ‖ = √5: 100 (1 − 1/√5).
-  EXPECT_NEAR(FitPercent(y, Eigen::Vector4d(1.0, 2.0, 3.0, 5.0)), 100.0 * (1.0 - 1.0 / std::sqrt(5.0)), 1e-12);
+  EXPECT_NEAR(FitPercent(y, Eigen::Vector4d(1.0, 2.0, 3.0, 5.0)),
+              100.0 * (1.0 - 1.0 / std::sqrt(5.0)), 1e-12);
   EXPECT_THROW(FitPercent(y, Eigen::Vector3d::Zero()), InputError);
 }
 

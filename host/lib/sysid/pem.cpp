@@ -16,7 +16,8 @@ namespace vibid::sysid {
 namespace {
 
 /// out = sign * (v delayed by k samples, zeros shifted in), written in place (a Jacobian column).
-void DelayInto(const Eigen::VectorXd& v, Eigen::Index k, double sign, Eigen::Ref<Eigen::VectorXd> out) {
+void DelayInto(const Eigen::VectorXd& v, Eigen::Index k, double sign,
+               Eigen::Ref<Eigen::VectorXd> out) {
   const Eigen::Index n = v.size();
   const Eigen::Index zeros = std::min(k, n);
   out.head(zeros).setZero();
@@ -28,8 +29,9 @@ bool StableFilter(const Eigen::VectorXd& p) {
 }
 
 /// Residual and Jacobian of e = D/C (A y − B/F u) for the parameter layout of PolyModel.
-bool PredictionErrorJacobian(const PolyModel& base, const IoData& data, const Eigen::VectorXd& theta,
-                             Eigen::VectorXd& e, Eigen::MatrixXd* jac) {
+bool PredictionErrorJacobian(const PolyModel& base, const IoData& data,
+                             const Eigen::VectorXd& theta, Eigen::VectorXd& e,
+                             Eigen::MatrixXd* jac) {
   PolyModel m = base;
   m.SetParameters(theta);
   if (!StableFilter(m.c) || !StableFilter(m.f)) return false;
@@ -67,10 +69,11 @@ bool PredictionErrorJacobian(const PolyModel& base, const IoData& data, const Ei
 /// Hannan–Rissanen: innovations from a long AR fit of `signal` (or an ARX fit when `input` is
 /// given), then least squares of signal on its own lags, the input lags and the innovation lags.
 /// Returns [a1..ana, b.., c1..cnc] in that order.
-Eigen::VectorXd HannanRissanen(const Eigen::VectorXd& signal, const Eigen::VectorXd* input, int na, int nb, int nk,
-                               int nc) {
+Eigen::VectorXd HannanRissanen(const Eigen::VectorXd& signal, const Eigen::VectorXd* input, int na,
+                               int nb, int nk, int nc) {
   const Eigen::Index n = signal.size();
-  const int long_order = static_cast<int>(std::min<Eigen::Index>(std::max(20, 3 * (na + nc)), n / 10));
+  const int long_order =
+      static_cast<int>(std::min<Eigen::Index>(std::max(20, 3 * (na + nc)), n / 10));
   Eigen::VectorXd innovations = signal;
   if (long_order >= 1) {
     const Eigen::Index t0 = long_order + (input != nullptr ? nk + long_order : 0);
@@ -91,7 +94,8 @@ Eigen::VectorXd HannanRissanen(const Eigen::VectorXd& signal, const Eigen::Vecto
     }
   }
   const int nbu = input != nullptr ? nb : 0;
-  const Eigen::Index t0 = std::max<Eigen::Index>({na, nc, input != nullptr ? nk + nb - 1 : 0}) + long_order;
+  const Eigen::Index t0 =
+      std::max<Eigen::Index>({na, nc, input != nullptr ? nk + nb - 1 : 0}) + long_order;
   const Eigen::Index rows = n - t0;
   const int p = na + nbu + nc;
   Eigen::MatrixXd phi(rows, p);
@@ -184,7 +188,9 @@ PolyModel EstimateOeIv(const IoData& data, const PolyOrders& orders, double tole
     b.tail(nb) = th.tail(nb);
     Eigen::VectorXd current(nf + nb);
     current << f.tail(nf), th.tail(nb);
-    if (previous.size() == current.size() && (current - previous).norm() <= tolerance * current.norm()) break;
+    if (previous.size() == current.size() &&
+        (current - previous).norm() <= tolerance * current.norm())
+      break;
     previous = current;
   }
   PolyModel m;
@@ -252,7 +258,8 @@ PemResult EstimatePem(const IoData& data, Structure structure, const PolyOrders&
   switch (structure) {
     case Structure::kArmax: {
       // A stable start for ARMAX: regress y on its lags, the input and the innovations.
-      const Eigen::VectorXd th = HannanRissanen(data.y, &data.u, orders.na, orders.nb, orders.nk, orders.nc);
+      const Eigen::VectorXd th =
+          HannanRissanen(data.y, &data.u, orders.na, orders.nb, orders.nk, orders.nc);
       Eigen::VectorXd theta(orders.Parameters());
       theta << th;
       start.SetParameters(theta);
@@ -267,7 +274,8 @@ PemResult EstimatePem(const IoData& data, Structure structure, const PolyOrders&
       break;
     }
     case Structure::kBj: {
-      const PolyModel iv = OeStart(data, PolyOrders{0, orders.nb, 0, 0, orders.nf, orders.nk}, res.initialization);
+      const PolyModel iv =
+          OeStart(data, PolyOrders{0, orders.nb, 0, 0, orders.nf, orders.nk}, res.initialization);
       start.b = iv.b;
       start.f = iv.f;
       const Eigen::VectorXd w = data.y - numerics::Filter(iv.b, iv.f, data.u);
@@ -296,8 +304,8 @@ PemResult EstimatePem(const IoData& data, Structure structure, const PolyOrders&
   if (jac.rows() == e.size()) {
     res.model.covariance = numerics::CovarianceFromJacobian(jac, e);
   }
-  res.model.noise_variance =
-      e.squaredNorm() / static_cast<double>(std::max<Eigen::Index>(e.size() - orders.Parameters(), 1));
+  res.model.noise_variance = e.squaredNorm() / static_cast<double>(std::max<Eigen::Index>(
+                                                   e.size() - orders.Parameters(), 1));
   return res;
 }
 

@@ -11,10 +11,14 @@ namespace vibid::sysid {
 
 const char* StructureName(Structure s) {
   switch (s) {
-    case Structure::kArx: return "arx";
-    case Structure::kArmax: return "armax";
-    case Structure::kOe: return "oe";
-    case Structure::kBj: return "bj";
+    case Structure::kArx:
+      return "arx";
+    case Structure::kArmax:
+      return "armax";
+    case Structure::kOe:
+      return "oe";
+    case Structure::kBj:
+      return "bj";
   }
   return "arx";
 }
@@ -49,10 +53,10 @@ void ValidateOrders(Structure s, const PolyOrders& o, Eigen::Index samples) {
   const Eigen::Index lag = std::max<Eigen::Index>({o.na, o.nc, o.nd, o.nf, o.nk + o.nb - 1});
   const Eigen::Index rows = samples - lag;
   Require(rows > o.Parameters(), std::string("orders too high for the data: ") + name + " with " +
-                                     std::to_string(o.Parameters()) + " parameters and lags up to " +
-                                     std::to_string(lag) + " needs more than " +
-                                     std::to_string(o.Parameters() + lag) + " samples, the record has " +
-                                     std::to_string(samples));
+                                     std::to_string(o.Parameters()) +
+                                     " parameters and lags up to " + std::to_string(lag) +
+                                     " needs more than " + std::to_string(o.Parameters() + lag) +
+                                     " samples, the record has " + std::to_string(samples));
 }
 
 Eigen::VectorXd PolyModel::Parameters() const {
@@ -131,10 +135,12 @@ ArxResult EstimateArx(const IoData& data, const PolyOrders& orders) {
   }
   const Eigen::VectorXd target = data.y.tail(rows);
 
-  // Persistent excitation of the input for nb coefficients: its own lagged block must have full rank.
+  // Persistent excitation of the input for nb coefficients: its own lagged block must have full
+  // rank.
   const Eigen::ColPivHouseholderQR<Eigen::MatrixXd> qr_u(phi.rightCols(nb));
-  Require(qr_u.rank() == nb, "input is not persistently exciting of order " + std::to_string(nb) +
-                                 " (nb): its lagged copies are linearly dependent (constant or too few changes)");
+  Require(qr_u.rank() == nb,
+          "input is not persistently exciting of order " + std::to_string(nb) +
+              " (nb): its lagged copies are linearly dependent (constant or too few changes)");
   Eigen::ColPivHouseholderQR<Eigen::MatrixXd> qr(phi);
   qr.setThreshold(1e-11);
   Require(qr.rank() == p, "regressors are linearly dependent: orders too high for the data (na=" +
@@ -149,7 +155,8 @@ ArxResult EstimateArx(const IoData& data, const PolyOrders& orders) {
   res.model.SetParameters(theta);
   res.rows_used = rows;
   res.loss = residual.squaredNorm() / static_cast<double>(rows);
-  const double sigma2 = residual.squaredNorm() / static_cast<double>(std::max<Eigen::Index>(rows - p, 1));
+  const double sigma2 =
+      residual.squaredNorm() / static_cast<double>(std::max<Eigen::Index>(rows - p, 1));
   res.model.noise_variance = sigma2;
   // (ΦᵀΦ)⁻¹ = P R⁻¹ R⁻ᵀ Pᵀ from the pivoted QR factor.
   const Eigen::MatrixXd r_factor = qr.matrixR().topLeftCorner(p, p).triangularView<Eigen::Upper>();
@@ -170,7 +177,8 @@ double Fpe(double loss, int parameters, Eigen::Index samples) {
   return loss * (1.0 + ratio) / (1.0 - ratio);
 }
 
-OrderSelection SelectArxOrder(const IoData& data, int n_min, int n_max, int nk, OrderCriterion criterion) {
+OrderSelection SelectArxOrder(const IoData& data, int n_min, int n_max, int nk,
+                              OrderCriterion criterion) {
   Require(n_min >= 1 && n_max >= n_min, "order range must satisfy 1 <= min <= max");
   OrderSelection sel;
   for (int n = n_min; n <= n_max; ++n) {

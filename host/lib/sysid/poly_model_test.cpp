@@ -32,12 +32,14 @@ double MaxAbs(const Eigen::VectorXd& a, const Eigen::VectorXd& b) {
 TEST(Arx, MatchesOctaveControl) {
   // Golden: scripts/golden/sysid_arx_octave.m (octave-control 3.4.0 arx; its nk is ours minus one).
   const Recording rec = LoadRecording(VIBID_SOURCE_DIR "/host/lib/sysid/testdata/arx_data.csv");
-  const IoData data = MakeIoData(rec.Signal(ParseColumnSpec("u")), rec.Signal(ParseColumnSpec("y")), rec.dt_s());
+  const IoData data =
+      MakeIoData(rec.Signal(ParseColumnSpec("u")), rec.Signal(ParseColumnSpec("y")), rec.dt_s());
   const auto golden = ReadJsonFile(VIBID_SOURCE_DIR "/host/lib/sysid/testdata/arx_octave.json");
   ASSERT_GE(golden["cases"].size(), 5u);
   for (const auto& c : golden["cases"]) {
     const PolyOrders o{c["na"].get<int>(), c["nb"].get<int>(), 0, 0, 0, c["nk"].get<int>()};
-    SCOPED_TRACE("na=" + std::to_string(o.na) + " nb=" + std::to_string(o.nb) + " nk=" + std::to_string(o.nk));
+    SCOPED_TRACE("na=" + std::to_string(o.na) + " nb=" + std::to_string(o.nb) +
+                 " nk=" + std::to_string(o.nk));
     const ArxResult r = EstimateArx(data, o);
     EXPECT_LT(MaxAbs(r.model.a, Vec(c["A"])), 1e-8);
     EXPECT_LT(MaxAbs(r.model.b, Vec(c["B"])), 1e-8);
@@ -75,7 +77,9 @@ TEST(Arx, CovarianceMatchesMonteCarloSpread) {
   }
   const Eigen::RowVectorXd mean = estimates.colwise().mean();
   const Eigen::VectorXd spread =
-      ((estimates.rowwise() - mean).cwiseAbs2().colwise().sum() / (runs - 1)).cwiseSqrt().transpose();
+      ((estimates.rowwise() - mean).cwiseAbs2().colwise().sum() / (runs - 1))
+          .cwiseSqrt()
+          .transpose();
   for (Eigen::Index i = 0; i < 3; ++i) {
     // 200 runs: the sample std is within ±15 % of the true one with probability > 0.97.
     EXPECT_NEAR(spread[i] / mean_std[i], 1.0, 0.15) << "parameter " << i;
@@ -108,15 +112,18 @@ TEST(Pem, OeBeatsArxWhenTheNoiseIsNotEquationError) {
   const double fit_oe = FitPercent(y0, SimulatePoly(oe.model, u));
   const double err_arx = (arx.model.a - truth.f).cwiseAbs().maxCoeff();
   const double err_oe = (oe.model.f - truth.f).cwiseAbs().maxCoeff();
-  std::printf("fit vs noise-free output: ARX %.2f %%, OE %.2f %%; max |pole poly error| ARX %.2e, OE %.2e\n", fit_arx,
-              fit_oe, err_arx, err_oe);
+  std::printf(
+      "fit vs noise-free output: ARX %.2f %%, OE %.2f %%; max |pole poly error| ARX %.2e, OE "
+      "%.2e\n",
+      fit_arx, fit_oe, err_arx, err_oe);
   EXPECT_GT(fit_oe, 99.0);
   EXPECT_LT(fit_arx, fit_oe - 5.0);
   EXPECT_LT(err_oe * 10.0, err_arx);
   // The OE estimate is consistent: within 4 of its own standard deviations.
   const Eigen::VectorXd err = oe.model.Parameters() - truth.Parameters();
   const Eigen::VectorXd sd = oe.model.covariance.diagonal().cwiseSqrt();
-  for (Eigen::Index i = 0; i < err.size(); ++i) EXPECT_LT(std::abs(err[i]), 4.0 * sd[i]) << "parameter " << i;
+  for (Eigen::Index i = 0; i < err.size(); ++i)
+    EXPECT_LT(std::abs(err[i]), 4.0 * sd[i]) << "parameter " << i;
 }
 
 TEST(Pem, OeOfAFastSampledFourthOrderSystem) {
@@ -124,17 +131,20 @@ TEST(Pem, OeOfAFastSampledFourthOrderSystem) {
   // useless. Noise-free, the delayed-input IV start is exact; with 1 % output noise the start comes
   // from the continuous-time route and the search converges next to the ZOH model.
   const double dt = 0.005;
-  const TransferFunction tf = Normalized(CartTf(CartConfig{2, CartInput::kForce}, testing::TwoCartValues().head(5)));
+  const TransferFunction tf =
+      Normalized(CartTf(CartConfig{2, CartInput::kForce}, testing::TwoCartValues().head(5)));
   const DiscreteTf d = C2dZoh(tf, dt);
   Eigen::VectorXd u = Eigen::VectorXd::Zero(6000);
   for (Eigen::Index i = 0; i < u.size(); ++i) u[i] = ((i / 150) % 2 == 0) ? 5.0 : -5.0;
   const Eigen::VectorXd y0 = numerics::Filter(d.num, d.den, u);
-  const PemResult r = EstimatePem(MakeIoData(u, y0, dt), Structure::kOe, PolyOrders{0, 4, 0, 0, 4, 1});
+  const PemResult r =
+      EstimatePem(MakeIoData(u, y0, dt), Structure::kOe, PolyOrders{0, 4, 0, 0, 4, 1});
   ASSERT_TRUE(r.summary.Converged()) << r.summary.message;
   EXPECT_LT((r.model.f - d.den).cwiseAbs().maxCoeff(), 1e-9);
   EXPECT_LT((r.model.b - d.num).cwiseAbs().maxCoeff(), 1e-9 * d.num.cwiseAbs().maxCoeff());
   const Eigen::VectorXd y = y0 + testing::WhiteNoise(y0.size(), 0.01 * testing::Rms(y0), 91);
-  const PemResult noisy = EstimatePem(MakeIoData(u, y, dt), Structure::kOe, PolyOrders{0, 4, 0, 0, 4, 1});
+  const PemResult noisy =
+      EstimatePem(MakeIoData(u, y, dt), Structure::kOe, PolyOrders{0, 4, 0, 0, 4, 1});
   ASSERT_TRUE(noisy.summary.Converged()) << noisy.summary.message;
   EXPECT_EQ(noisy.initialization, "continuous-time srivc (zoh)");
   EXPECT_GT(FitPercent(y0, SimulatePoly(noisy.model, u)), 99.5);
@@ -157,7 +167,8 @@ TEST(Pem, RecoversArmaxAndBoxJenkinsSystems) {
     ASSERT_TRUE(r.summary.Converged()) << r.summary.message;
     const Eigen::VectorXd err = r.model.Parameters() - truth.Parameters();
     const Eigen::VectorXd sd = r.model.covariance.diagonal().cwiseSqrt();
-    for (Eigen::Index i = 0; i < err.size(); ++i) EXPECT_LT(std::abs(err[i]), 4.0 * sd[i]) << "armax parameter " << i;
+    for (Eigen::Index i = 0; i < err.size(); ++i)
+      EXPECT_LT(std::abs(err[i]), 4.0 * sd[i]) << "armax parameter " << i;
     EXPECT_NEAR(r.model.noise_variance, 0.04, 0.04 * 0.05);
   }
   {
@@ -171,7 +182,8 @@ TEST(Pem, RecoversArmaxAndBoxJenkinsSystems) {
     ASSERT_TRUE(r.summary.Converged()) << r.summary.message;
     const Eigen::VectorXd err = r.model.Parameters() - truth.Parameters();
     const Eigen::VectorXd sd = r.model.covariance.diagonal().cwiseSqrt();
-    for (Eigen::Index i = 0; i < err.size(); ++i) EXPECT_LT(std::abs(err[i]), 4.0 * sd[i]) << "bj parameter " << i;
+    for (Eigen::Index i = 0; i < err.size(); ++i)
+      EXPECT_LT(std::abs(err[i]), 4.0 * sd[i]) << "bj parameter " << i;
   }
 }
 
@@ -185,7 +197,8 @@ TEST(Pem, KStepPredictionIdentities) {
       numerics::Filter(m.b, m.a, u) + numerics::Filter(m.c, m.a, testing::WhiteNoise(400, 0.1, 6));
   const IoData data = MakeIoData(u, y, 1.0);
   // k = 1: the one-step predictor, ŷ = y − e.
-  EXPECT_LT((PredictKStep(m, data, 1) - (y - PredictionErrors(m, data))).cwiseAbs().maxCoeff(), 1e-12);
+  EXPECT_LT((PredictKStep(m, data, 1) - (y - PredictionErrors(m, data))).cwiseAbs().maxCoeff(),
+            1e-12);
   // k = N: nothing measured is recent enough, the prediction is the simulation.
   EXPECT_LT((PredictKStep(m, data, 400) - SimulatePoly(m, u)).cwiseAbs().maxCoeff(), 1e-10);
 }
@@ -225,7 +238,8 @@ TEST(Arx, RejectsOrdersTooHighAndNonExcitingInput) {
     EstimateArx(stepped, PolyOrders{1, 3, 0, 0, 0, 1});
     ADD_FAILURE() << "no error";
   } catch (const InputError& e) {
-    EXPECT_NE(std::string(e.what()).find("not persistently exciting"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("not persistently exciting"), std::string::npos)
+        << e.what();
   }
   EXPECT_THROW(ValidateOrders(Structure::kOe, PolyOrders{1, 2, 0, 0, 2, 1}, 100), InputError);
 }

@@ -28,18 +28,24 @@ TEST(RealData, RobotArmOutputErrorOrders2To8) {
   for (int n = 2; n <= 8; ++n) {
     numerics::SolverOptions so;
     so.max_iterations = 1000;
-    const PemResult r = EstimatePem(parts.estimation, Structure::kOe, PolyOrders{0, n + 1, 0, 0, n, 0}, so);
+    const PemResult r =
+        EstimatePem(parts.estimation, Structure::kOe, PolyOrders{0, n + 1, 0, 0, n, 0}, so);
     EXPECT_TRUE(r.summary.Converged()) << "order " << n << ": " << r.summary.message;
-    const double fit_est = FitPercent(parts.estimation.y, SimulatePoly(r.model, parts.estimation.u));
-    validation[static_cast<std::size_t>(n)] = FitPercent(parts.validation.y, SimulatePoly(r.model, parts.validation.u));
+    const double fit_est =
+        FitPercent(parts.estimation.y, SimulatePoly(r.model, parts.estimation.u));
+    validation[static_cast<std::size_t>(n)] =
+        FitPercent(parts.validation.y, SimulatePoly(r.model, parts.validation.u));
     // ARX of the same orders for comparison (equation error: biased by the output noise).
     const ArxResult arx = EstimateArx(parts.estimation, PolyOrders{n, n + 1, 0, 0, 0, 0});
-    const double arx_val = FitPercent(parts.validation.y, SimulatePoly(arx.model, parts.validation.u));
-    std::printf("robot arm order %d: OE estimation fit %.2f %%, validation fit %.2f %% (%d iterations); ARX validation %.2f %%\n",
-                n, fit_est, validation[static_cast<std::size_t>(n)], r.summary.iterations, arx_val);
+    const double arx_val =
+        FitPercent(parts.validation.y, SimulatePoly(arx.model, parts.validation.u));
+    std::printf(
+        "robot arm order %d: OE estimation fit %.2f %%, validation fit %.2f %% (%d iterations); "
+        "ARX validation %.2f %%\n",
+        n, fit_est, validation[static_cast<std::size_t>(n)], r.summary.iterations, arx_val);
   }
-  // Measured (this estimator): order 2 76.1 %, 3 77.5 %, 4 88.32 %, 6 88.34 %, 8 88.35 %. The jump at
-  // order 4 is the second resonance; beyond it the models only fit noise.
+  // Measured (this estimator): order 2 76.1 %, 3 77.5 %, 4 88.32 %, 6 88.34 %, 8 88.35 %. The jump
+  // at order 4 is the second resonance; beyond it the models only fit noise.
   EXPECT_GT(validation[4], 87.0);
   EXPECT_GT(validation[4], validation[3] + 8.0);
   EXPECT_GE(validation[6], validation[4] - 0.1);
@@ -62,17 +68,19 @@ TEST(RealData, EcpCartSpringRatesFromMotorCurrent) {
   };
   for (const CartRun& run : runs) {
     SCOPED_TRACE(run.file);
-    const Recording rec = LoadRecording(std::string(VIBID_DATA_DIR "/ecp_cart_motor_driven/") + run.file + ".csv");
-    const IoData data = MakeIoData(rec.Signal(ParseColumnSpec("I_amp*-178.57")),
-                                   rec.Signal(ParseColumnSpec("X_encoder_counts*1.7857e-3")), rec.dt_s());
+    const Recording rec =
+        LoadRecording(std::string(VIBID_DATA_DIR "/ecp_cart_motor_driven/") + run.file + ".csv");
+    const IoData data =
+        MakeIoData(rec.Signal(ParseColumnSpec("I_amp*-178.57")),
+                   rec.Signal(ParseColumnSpec("X_encoder_counts*1.7857e-3")), rec.dt_s());
     TfestOptions o;
     o.np = 2;
     o.nz = 0;
     const TfestResult r = EstimateTf(data, o);
     const double b0 = r.tf.num[0];
     const double m = 1.0 / b0, c = r.tf.den[1] / b0, k = r.tf.den[2] / b0;
-    std::printf("%s: M %.3f kg, C %.2f N s/m, K %.1f N/m (lab %.0f), fit %.1f %%\n", run.file, m, c, k,
-                run.lab_k_n_per_m, r.fit_percent);
+    std::printf("%s: M %.3f kg, C %.2f N s/m, K %.1f N/m (lab %.0f), fit %.1f %%\n", run.file, m, c,
+                k, run.lab_k_n_per_m, r.fit_percent);
     // Measured: K within 0.1–8.3 % of the lab's value on all six records; fits 87–92 %.
     EXPECT_NEAR(k / run.lab_k_n_per_m, 1.0, 0.10);
     EXPECT_GT(r.fit_percent, 85.0);

@@ -18,14 +18,17 @@ namespace vibid::sysid::testing {
 
 /// Viscous friction values are not given by the source; these give damping ratios of 3–8 %,
 /// typical of carts on linear guides.
-inline Eigen::VectorXd OneCartValues() { return Eigen::Vector4d(0.57, 0.6, 15.0, 0.25); }  // M, B, k, Bi
+inline Eigen::VectorXd OneCartValues() {
+  return Eigen::Vector4d(0.57, 0.6, 15.0, 0.25);
+}  // M, B, k, Bi
 inline Eigen::VectorXd TwoCartValues() {
   Eigen::VectorXd v(6);
   v << 0.57, 0.56, 0.6, 0.5, 15.0, 0.25;  // M1, M2, B1, B2, k, Bi
   return v;
 }
 
-/// X1/Xi for one cart (2nd order) and two carts (4th order), position input through the first spring.
+/// X1/Xi for one cart (2nd order) and two carts (4th order), position input through the first
+/// spring.
 inline TransferFunction OneCartTf() {
   return Normalized(CartTf(CartConfig{1, CartInput::kPosition}, OneCartValues()));
 }
@@ -41,10 +44,13 @@ struct ModelCoreRecord {
   Eigen::VectorXd x1_m;
   TransferFunction truth;  ///< X1/F from the model core's first-principle TF.
 };
-inline ModelCoreRecord SimulateCartTrack(int carts, const std::string& shape, double dt_s, double t_end_s) {
+inline ModelCoreRecord SimulateCartTrack(int carts, const std::string& shape, double dt_s,
+                                         double t_end_s) {
   const Eigen::VectorXd v = carts == 1 ? OneCartValues() : TwoCartValues();
-  const Eigen::VectorXd masses = carts == 1 ? Eigen::VectorXd(v.head(1)) : Eigen::VectorXd(v.head(2));
-  const Eigen::VectorXd frictions = carts == 1 ? Eigen::VectorXd(v.segment(1, 1)) : Eigen::VectorXd(v.segment(2, 2));
+  const Eigen::VectorXd masses =
+      carts == 1 ? Eigen::VectorXd(v.head(1)) : Eigen::VectorXd(v.head(2));
+  const Eigen::VectorXd frictions =
+      carts == 1 ? Eigen::VectorXd(v.segment(1, 1)) : Eigen::VectorXd(v.segment(2, 2));
   const double k = v[2 * carts];
   const model::Model m = model::MakeCartTrack(masses, k, frictions);
   model::ForceInput force;
@@ -54,8 +60,9 @@ inline ModelCoreRecord SimulateCartTrack(int carts, const std::string& shape, do
   o.dt_s = dt_s;
   o.t_end_s = t_end_s;
   const model::SimulationResult r = model::Simulate(m, force, o);
-  const TransferFunction tf = CartTf(CartConfig{carts, CartInput::kForce},
-                                     carts == 1 ? Eigen::VectorXd(v.head(3)) : Eigen::VectorXd(v.head(5)));
+  const TransferFunction tf =
+      CartTf(CartConfig{carts, CartInput::kForce},
+             carts == 1 ? Eigen::VectorXd(v.head(3)) : Eigen::VectorXd(v.head(5)));
   return {r.force_n.col(0), r.x_m.col(0), tf};
 }
 
@@ -67,7 +74,8 @@ inline Eigen::VectorXd Step(Eigen::Index samples, Eigen::Index start, double amp
 }
 
 /// A rectangular pulse of `amplitude` over samples [start, start + width).
-inline Eigen::VectorXd Pulse(Eigen::Index samples, Eigen::Index start, Eigen::Index width, double amplitude) {
+inline Eigen::VectorXd Pulse(Eigen::Index samples, Eigen::Index start, Eigen::Index width,
+                             double amplitude) {
   Eigen::VectorXd u = Eigen::VectorXd::Zero(samples);
   u.segment(start, width).setConstant(amplitude);
   return u;
@@ -82,7 +90,9 @@ inline Eigen::VectorXd WhiteNoise(Eigen::Index samples, double sigma, std::uint3
   return e;
 }
 
-inline double Rms(const Eigen::VectorXd& v) { return std::sqrt(v.squaredNorm() / static_cast<double>(v.size())); }
+inline double Rms(const Eigen::VectorXd& v) {
+  return std::sqrt(v.squaredNorm() / static_cast<double>(v.size()));
+}
 
 /// Largest relative coefficient error between two monic TFs of the same orders.
 inline double MaxRelativeError(const TransferFunction& estimate, const TransferFunction& truth) {

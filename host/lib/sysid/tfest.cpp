@@ -14,7 +14,9 @@
 
 namespace vibid::sysid {
 
-const char* InitialConditionName(InitialCondition ic) { return ic == InitialCondition::kZero ? "zero" : "estimate"; }
+const char* InitialConditionName(InitialCondition ic) {
+  return ic == InitialCondition::kZero ? "zero" : "estimate";
+}
 
 InitialCondition ParseInitialCondition(const std::string& name) {
   if (name == "zero") return InitialCondition::kZero;
@@ -27,7 +29,8 @@ void TfestOptions::Validate() const {
   Require(nz >= 0 && nz < np, "tfest: nz (number of zeros) must satisfy 0 <= nz < np");
   Require(np <= 20, "tfest: np above 20 is beyond what a continuous-time fit can resolve");
   Require(srivc_iterations >= 1, "tfest: srivc_iterations must be at least 1");
-  Require(std::isfinite(srivc_tolerance) && srivc_tolerance > 0.0, "tfest: srivc_tolerance must be > 0");
+  Require(std::isfinite(srivc_tolerance) && srivc_tolerance > 0.0,
+          "tfest: srivc_tolerance must be > 0");
   solver.Validate();
 }
 
@@ -51,8 +54,8 @@ Eigen::VectorXd UnitVector(Eigen::Index n) {
 Eigen::MatrixXd Derivatives(const Eigen::MatrixXd& states) { return states.rowwise().reverse(); }
 
 /// Forced response through 1/den (or free response from x0 = e1 when `free`), as derivatives.
-Eigen::MatrixXd FilteredDerivatives(const Eigen::VectorXd& monic_den, const Eigen::VectorXd& signal, double dt_s,
-                                    Hold hold, bool free) {
+Eigen::MatrixXd FilteredDerivatives(const Eigen::VectorXd& monic_den, const Eigen::VectorXd& signal,
+                                    double dt_s, Hold hold, bool free) {
   const Eigen::Index n = monic_den.size() - 1;
   const Eigen::VectorXd x0 = free ? UnitVector(n) : Eigen::VectorXd::Zero(n);
   const Eigen::VectorXd input = free ? Eigen::VectorXd::Zero(signal.size()) : signal;
@@ -60,22 +63,25 @@ Eigen::MatrixXd FilteredDerivatives(const Eigen::VectorXd& monic_den, const Eige
 }
 
 /// FilteredDerivatives of a forced response into `out` (storage reused when the size matches).
-void FilteredDerivativesInto(const Eigen::VectorXd& monic_den, const Eigen::VectorXd& signal, double dt_s, Hold hold,
-                             Eigen::MatrixXd& out) {
+void FilteredDerivativesInto(const Eigen::VectorXd& monic_den, const Eigen::VectorXd& signal,
+                             double dt_s, Hold hold, Eigen::MatrixXd& out) {
   const Eigen::Index n = monic_den.size() - 1;
-  SimulateStatesInto(Companion(monic_den), UnitVector(n), signal, dt_s, hold, Eigen::VectorXd::Zero(n), true, out);
+  SimulateStatesInto(Companion(monic_den), UnitVector(n), signal, dt_s, hold,
+                     Eigen::VectorXd::Zero(n), true, out);
 }
 
-/// out = sign Σ_i c_i D.col(i + shift), written in place (sign ±1: the same bits as negating after).
-void CombineInto(const Eigen::VectorXd& descending, const Eigen::MatrixXd& derivs, Eigen::Index shift, double sign,
-                 Eigen::Ref<Eigen::VectorXd> out) {
+/// out = sign Σ_i c_i D.col(i + shift), written in place (sign ±1: the same bits as negating
+/// after).
+void CombineInto(const Eigen::VectorXd& descending, const Eigen::MatrixXd& derivs,
+                 Eigen::Index shift, double sign, Eigen::Ref<Eigen::VectorXd> out) {
   const Eigen::Index m = descending.size() - 1;
   out.setZero();
   for (Eigen::Index i = 0; i <= m; ++i) out += (sign * descending[m - i]) * derivs.col(i + shift);
 }
 
 /// Σ_i c_i D.col(i + shift) for a polynomial c in descending powers (c_i multiplies s^i).
-Eigen::VectorXd Combine(const Eigen::VectorXd& descending, const Eigen::MatrixXd& derivs, Eigen::Index shift) {
+Eigen::VectorXd Combine(const Eigen::VectorXd& descending, const Eigen::MatrixXd& derivs,
+                        Eigen::Index shift) {
   const Eigen::Index m = descending.size() - 1;
   Eigen::VectorXd out = Eigen::VectorXd::Zero(derivs.rows());
   for (Eigen::Index i = 0; i <= m; ++i) out += descending[m - i] * derivs.col(i + shift);
@@ -90,8 +96,9 @@ bool StableContinuous(const Eigen::VectorXd& den) {
 }
 
 /// Model output and its Jacobian in [a_{n-1}..a_0, b_m..b_0, p_{n-1}..p_0] (p only when given).
-bool OutputAndJacobian(const Eigen::VectorXd& den, const Eigen::VectorXd& num, const Eigen::VectorXd* ic,
-                       const IoData& data, Eigen::VectorXd& y_hat, Eigen::MatrixXd* jac) {
+bool OutputAndJacobian(const Eigen::VectorXd& den, const Eigen::VectorXd& num,
+                       const Eigen::VectorXd* ic, const IoData& data, Eigen::VectorXd& y_hat,
+                       Eigen::MatrixXd* jac) {
   if (!StableContinuous(den)) return false;
   const Eigen::Index n = den.size() - 1;
   const Eigen::Index m = num.size() - 1;
@@ -130,11 +137,12 @@ Eigen::VectorXd MonicFromTail(const Eigen::VectorXd& tail) {
 }
 
 struct SrivcOutcome {
-  TransferFunction tf;       ///< den: the prefilter before the first pass; num: empty before it.
-  int iterations = -1;       ///< Last pass done (0: the state-variable-filter least squares).
-  bool ok = false;           ///< At least one pass gave an estimate.
-  bool converged = false;    ///< The relative parameter change fell below the tolerance.
-  Eigen::VectorXd previous;  ///< Parameters after the pass before the last, for the convergence test.
+  TransferFunction tf;     ///< den: the prefilter before the first pass; num: empty before it.
+  int iterations = -1;     ///< Last pass done (0: the state-variable-filter least squares).
+  bool ok = false;         ///< At least one pass gave an estimate.
+  bool converged = false;  ///< The relative parameter change fell below the tolerance.
+  Eigen::VectorXd
+      previous;  ///< Parameters after the pass before the last, for the convergence test.
 };
 
 /// Starting prefilter 1/(s + λ)^np.
@@ -153,10 +161,11 @@ struct SrivcWork {
   Eigen::VectorXd target;
 };
 
-/// Passes up to `last_pass` on top of `state`: the first (num still empty) is the state-variable-filter
-/// least squares with the prefilter 1/den, every later one an SRIVC pass with the current model.
-void SrivcPasses(const IoData& data, int np, int nz, int last_pass, const TfestOptions& options, SrivcWork& work,
-                 SrivcOutcome& state) {
+/// Passes up to `last_pass` on top of `state`: the first (num still empty) is the
+/// state-variable-filter least squares with the prefilter 1/den, every later one an SRIVC pass with
+/// the current model.
+void SrivcPasses(const IoData& data, int np, int nz, int last_pass, const TfestOptions& options,
+                 SrivcWork& work, SrivcOutcome& state) {
   const Eigen::Index n = np;
   const Eigen::Index m = nz;
   const Eigen::Index p = n + m + 1;
@@ -178,7 +187,8 @@ void SrivcPasses(const IoData& data, int np, int nz, int last_pass, const TfestO
     Eigen::MatrixXd& zeta = work.zeta;
     zeta = phi;
     if (num.size() > 0) {
-      // Instruments: the prefiltered noise-free output of the current model, exact for the ZOH input.
+      // Instruments: the prefiltered noise-free output of the current model, exact for the ZOH
+      // input.
       FilteredDerivativesInto(numerics::MultiplyPolynomials(den, den), data.u, data.dt_s,
                               Hold::kZero, work.w);
       for (Eigen::Index j = 0; j < n; ++j) CombineInto(num, work.w, n - 1 - j, -1.0, zeta.col(j));
@@ -207,7 +217,8 @@ Eigen::VectorXd SimulateWithIc(const TransferFunction& tf, Eigen::Ref<const Eige
   const TransferFunction t = Normalized(tf);
   Eigen::VectorXd y = Simulate(t, u, dt_s);
   if (ic_num.size() > 0 && ic_num.cwiseAbs().maxCoeff() > 0.0) {
-    Require(ic_num.size() <= t.Order(), "initial-condition polynomial must have fewer coefficients than den");
+    Require(ic_num.size() <= t.Order(),
+            "initial-condition polynomial must have fewer coefficients than den");
     const Eigen::MatrixXd g = FilteredDerivatives(t.den, u, dt_s, Hold::kZero, true);
     y += Combine(ic_num, g, 0);
   }
@@ -245,7 +256,8 @@ CtOeResult FitContinuousOe(const IoData& data, const CtParameterization& param,
     const Eigen::VectorXd p = with_ic ? Eigen::VectorXd(th.tail(n)) : Eigen::VectorXd();
     Eigen::VectorXd y_hat;
     Eigen::MatrixXd jc;
-    if (!OutputAndJacobian(den, num, with_ic ? &p : nullptr, data, y_hat, j != nullptr ? &jc : nullptr)) {
+    if (!OutputAndJacobian(den, num, with_ic ? &p : nullptr, data, y_hat,
+                           j != nullptr ? &jc : nullptr)) {
       return false;
     }
     r = data.y - y_hat;
@@ -272,9 +284,10 @@ TfestResult EstimateTf(const IoData& data, const TfestOptions& options) {
   const int np = options.np;
   const int nz = options.nz;
   const Eigen::Index p = np + nz + 1 + (options.ic == InitialCondition::kEstimate ? np : 0);
-  Require(data.samples() >= 10 * p, "orders too high for the data: tfest with np=" + std::to_string(np) +
-                                        ", nz=" + std::to_string(nz) + " needs at least " + std::to_string(10 * p) +
-                                        " samples, the record has " + std::to_string(data.samples()));
+  Require(data.samples() >= 10 * p,
+          "orders too high for the data: tfest with np=" + std::to_string(np) +
+              ", nz=" + std::to_string(nz) + " needs at least " + std::to_string(10 * p) +
+              " samples, the record has " + std::to_string(data.samples()));
   TfestResult res;
   // Starting filters across the band: λ from 1 % to 30 % of the Nyquist frequency. SRIVC converges
   // to the same fixed point from any start in its basin, so the starts are screened after the
@@ -288,7 +301,8 @@ TfestResult EstimateTf(const IoData& data, const TfestOptions& options) {
   SrivcWork work;
   for (const double fraction : {0.01, 0.03, 0.1, 0.3}) {
     SrivcOutcome o = SvfStart(np, fraction * nyquist_rad_s);
-    SrivcPasses(data, np, nz, std::min(kScreeningPasses, options.srivc_iterations), options, work, o);
+    SrivcPasses(data, np, nz, std::min(kScreeningPasses, options.srivc_iterations), options, work,
+                o);
     if (!o.ok) continue;
     const double fit = FitPercent(data.y, Simulate(o.tf, data.u, data.dt_s));
     if (std::isfinite(fit) && fit > best_fit) {
@@ -299,7 +313,8 @@ TfestResult EstimateTf(const IoData& data, const TfestOptions& options) {
   }
   if (!best.ok) {
     res.summary.termination = numerics::TerminationType::kNumericalFailure;
-    res.summary.message = "no starting model: the filtered regressors are rank deficient (input not exciting enough)";
+    res.summary.message =
+        "no starting model: the filtered regressors are rank deficient (input not exciting enough)";
     return res;
   }
   if (best.iterations < options.srivc_iterations && !best.converged) {
@@ -308,7 +323,8 @@ TfestResult EstimateTf(const IoData& data, const TfestOptions& options) {
     if (std::isfinite(fit)) best_fit = fit;
   }
   char init[96];
-  std::snprintf(init, sizeof init, "svf(lambda=%.4g rad/s)+srivc(%d iterations)", best_lambda, best.iterations);
+  std::snprintf(init, sizeof init, "svf(lambda=%.4g rad/s)+srivc(%d iterations)", best_lambda,
+                best.iterations);
   res.initialization = init;
 
   CtParameterization identity;
@@ -343,7 +359,8 @@ TfestResult EstimateTf(const IoData& data, const TfestOptions& options) {
     res.den_std.tail(np) = sd.head(np);
     res.num_std = sd.segment(np, nz + 1);
   }
-  res.noise_variance = oe.residual.squaredNorm() / static_cast<double>(std::max<Eigen::Index>(data.samples() - p, 1));
+  res.noise_variance = oe.residual.squaredNorm() /
+                       static_cast<double>(std::max<Eigen::Index>(data.samples() - p, 1));
   res.fit_percent = FitPercent(data.y, data.y - oe.residual);
   return res;
 }

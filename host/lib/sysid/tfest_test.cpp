@@ -83,7 +83,8 @@ TEST(Tfest, OnePercentOutputNoise) {
     const TfestResult r = EstimateTf(MakeIoData(c.u, y, kDt), o);
     const double err = MaxRelativeError(r.tf, c.truth);
     const double fit = FitPercent(y0, Simulate(r.tf, c.u, kDt));
-    std::printf("%s + 1%% noise: max rel coef error %.3e, fit vs noise-free %.4f %%\n", c.name.c_str(), err, fit);
+    std::printf("%s + 1%% noise: max rel coef error %.3e, fit vs noise-free %.4f %%\n",
+                c.name.c_str(), err, fit);
     EXPECT_GE(fit, 98.0);
     if (!held_step) {
       EXPECT_LT(err, 0.02);
@@ -106,16 +107,20 @@ TEST(Tfest, StandardDeviationsMatchMonteCarloSpread) {
   Eigen::MatrixXd est(runs, 4);
   Eigen::VectorXd mean_std = Eigen::VectorXd::Zero(4);
   for (int run = 0; run < runs; ++run) {
-    const Eigen::VectorXd y = y0 + testing::WhiteNoise(y0.size(), 0.01 * testing::Rms(y0), 500 + static_cast<std::uint32_t>(run));
+    const Eigen::VectorXd y = y0 + testing::WhiteNoise(y0.size(), 0.01 * testing::Rms(y0),
+                                                       500 + static_cast<std::uint32_t>(run));
     TfestOptions o;
     o.np = 2;
     o.nz = 1;
     const TfestResult r = EstimateTf(MakeIoData(u, y, kDt), o);
     est.row(run) << r.tf.den[1], r.tf.den[2], r.tf.num[0], r.tf.num[1];
-    mean_std += (Eigen::Vector4d() << r.den_std[1], r.den_std[2], r.num_std[0], r.num_std[1]).finished() / runs;
+    mean_std +=
+        (Eigen::Vector4d() << r.den_std[1], r.den_std[2], r.num_std[0], r.num_std[1]).finished() /
+        runs;
   }
   const Eigen::RowVectorXd mean = est.colwise().mean();
-  const Eigen::VectorXd spread = ((est.rowwise() - mean).cwiseAbs2().colwise().sum() / (runs - 1)).cwiseSqrt().transpose();
+  const Eigen::VectorXd spread =
+      ((est.rowwise() - mean).cwiseAbs2().colwise().sum() / (runs - 1)).cwiseSqrt().transpose();
   for (Eigen::Index i = 0; i < 4; ++i) {
     // 40 runs: the sample std is within ±30 % of the true one with probability ≈ 0.99.
     EXPECT_NEAR(spread[i] / mean_std[i], 1.0, 0.3) << "coefficient " << i;

@@ -39,7 +39,8 @@ std::string GetString(const std::uint8_t* p, std::size_t field_bytes, const char
   return std::string(p, end);
 }
 
-// Offsets inside usbip_usb_device (usbip_protocol.rst, OP_REP_IMPORT table minus its 8-byte header).
+// Offsets inside usbip_usb_device (usbip_protocol.rst, OP_REP_IMPORT table minus its 8-byte
+// header).
 constexpr std::size_t kOffBusId = 0x100;
 constexpr std::size_t kOffBusnum = 0x120;
 constexpr std::size_t kOffDevnum = 0x124;
@@ -72,15 +73,18 @@ OpHeader DecodeOpHeader(std::span<const std::uint8_t, kOpHeaderBytes> in) {
   if (h.version != kVersion) {
     char text[8];
     std::snprintf(text, sizeof text, "0x%04x", static_cast<unsigned>(h.version));
-    throw ProtocolError(std::string("USB/IP version ") + text + " is not the supported 0x0111 (v1.1.1)");
+    throw ProtocolError(std::string("USB/IP version ") + text +
+                        " is not the supported 0x0111 (v1.1.1)");
   }
   const std::uint16_t code = Get16(in.data() + 2);
   switch (static_cast<OpCode>(code)) {
     case OpCode::kReqDevlist:
     case OpCode::kRepDevlist:
     case OpCode::kReqImport:
-    case OpCode::kRepImport: break;
-    default: throw ProtocolError("unknown USB/IP operation code " + std::to_string(code));
+    case OpCode::kRepImport:
+      break;
+    default:
+      throw ProtocolError("unknown USB/IP operation code " + std::to_string(code));
   }
   h.code = static_cast<OpCode>(code);
   h.status = Get32(in.data() + 4);
@@ -164,7 +168,8 @@ std::vector<std::uint8_t> EncodeRepDevlist(const std::vector<UsbDevice>& devices
     EncodeUsbDevice(d, std::span<std::uint8_t, kUsbDeviceBytes>(out.data() + at, kUsbDeviceBytes));
     at += kUsbDeviceBytes;
     for (const UsbInterface& i : d.interfaces) {
-      EncodeUsbInterface(i, std::span<std::uint8_t, kUsbInterfaceBytes>(out.data() + at, kUsbInterfaceBytes));
+      EncodeUsbInterface(
+          i, std::span<std::uint8_t, kUsbInterfaceBytes>(out.data() + at, kUsbInterfaceBytes));
       at += kUsbInterfaceBytes;
     }
   }
@@ -172,18 +177,23 @@ std::vector<std::uint8_t> EncodeRepDevlist(const std::vector<UsbDevice>& devices
 }
 
 std::vector<UsbDevice> DecodeRepDevlist(std::span<const std::uint8_t> in) {
-  if (in.size() < kOpHeaderBytes + 4) throw ProtocolError("device list reply shorter than 12 bytes");
+  if (in.size() < kOpHeaderBytes + 4)
+    throw ProtocolError("device list reply shorter than 12 bytes");
   const OpHeader h = DecodeOpHeader(in.first<kOpHeaderBytes>());
-  if (h.code != OpCode::kRepDevlist) throw ProtocolError("expected a device list reply (OP_REP_DEVLIST)");
-  if (h.status != kOpStatusOk) throw ProtocolError("device list refused, status " + std::to_string(h.status));
+  if (h.code != OpCode::kRepDevlist)
+    throw ProtocolError("expected a device list reply (OP_REP_DEVLIST)");
+  if (h.status != kOpStatusOk)
+    throw ProtocolError("device list refused, status " + std::to_string(h.status));
   const std::uint32_t count = Get32(in.data() + kOpHeaderBytes);
   std::vector<UsbDevice> devices;
   std::size_t at = kOpHeaderBytes + 4;
   for (std::uint32_t n = 0; n < count; ++n) {
     if (in.size() < at + kUsbDeviceBytes) throw ProtocolError("device list reply truncated");
-    UsbDevice d = DecodeUsbDevice(std::span<const std::uint8_t, kUsbDeviceBytes>(in.data() + at, kUsbDeviceBytes));
+    UsbDevice d = DecodeUsbDevice(
+        std::span<const std::uint8_t, kUsbDeviceBytes>(in.data() + at, kUsbDeviceBytes));
     at += kUsbDeviceBytes;
-    if (in.size() < at + kUsbInterfaceBytes * d.num_interfaces) throw ProtocolError("device list reply truncated");
+    if (in.size() < at + kUsbInterfaceBytes * d.num_interfaces)
+      throw ProtocolError("device list reply truncated");
     for (std::uint8_t i = 0; i < d.num_interfaces; ++i) {
       d.interfaces.push_back(DecodeUsbInterface(
           std::span<const std::uint8_t, kUsbInterfaceBytes>(in.data() + at, kUsbInterfaceBytes)));
@@ -191,7 +201,8 @@ std::vector<UsbDevice> DecodeRepDevlist(std::span<const std::uint8_t> in) {
     }
     devices.push_back(std::move(d));
   }
-  if (at != in.size()) throw ProtocolError("device list reply has " + std::to_string(in.size() - at) + " extra bytes");
+  if (at != in.size())
+    throw ProtocolError("device list reply has " + std::to_string(in.size() - at) + " extra bytes");
   return devices;
 }
 
@@ -212,7 +223,8 @@ std::vector<std::uint8_t> EncodeRepImport(const UsbDevice* device) {
   EncodeOpHeader({kVersion, OpCode::kRepImport, device != nullptr ? kOpStatusOk : kOpStatusError},
                  std::span<std::uint8_t, kOpHeaderBytes>(out.data(), kOpHeaderBytes));
   if (device != nullptr) {
-    EncodeUsbDevice(*device, std::span<std::uint8_t, kUsbDeviceBytes>(out.data() + kOpHeaderBytes, kUsbDeviceBytes));
+    EncodeUsbDevice(*device, std::span<std::uint8_t, kUsbDeviceBytes>(out.data() + kOpHeaderBytes,
+                                                                      kUsbDeviceBytes));
   }
   return out;
 }
@@ -265,9 +277,12 @@ UrbHeader DecodeUrbHeader(std::span<const std::uint8_t, kUrbHeaderBytes> in) {
   const std::uint8_t* p = in.data();
   UrbHeader h;
   const std::uint32_t command = Get32(p);
-  if (command < 1 || command > 4) throw ProtocolError("unknown USB/IP URB command " + std::to_string(command));
+  if (command < 1 || command > 4)
+    throw ProtocolError("unknown USB/IP URB command " + std::to_string(command));
   const std::uint32_t direction = Get32(p + 12);
-  if (direction > 1) throw ProtocolError("URB direction " + std::to_string(direction) + " is neither OUT (0) nor IN (1)");
+  if (direction > 1)
+    throw ProtocolError("URB direction " + std::to_string(direction) +
+                        " is neither OUT (0) nor IN (1)");
   h.basic.command = static_cast<UrbCommand>(command);
   h.basic.seqnum = Get32(p + 4);
   h.basic.devid = Get32(p + 8);

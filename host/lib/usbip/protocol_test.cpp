@@ -168,9 +168,9 @@ TEST(UsbipOp, DevlistReplyOffsets) {
   EXPECT_EQ(bytes[0x0C], '/');
   EXPECT_EQ(bytes[0x10C], '1');  // busid
   EXPECT_EQ(bytes[0x10D], '-');
-  EXPECT_EQ(bytes[0x12F], 1);  // busnum (big-endian at 0x12C)
-  EXPECT_EQ(bytes[0x133], 2);  // devnum at 0x130
-  EXPECT_EQ(bytes[0x137], 2);  // speed at 0x134: USB_SPEED_FULL
+  EXPECT_EQ(bytes[0x12F], 1);     // busnum (big-endian at 0x12C)
+  EXPECT_EQ(bytes[0x133], 2);     // devnum at 0x130
+  EXPECT_EQ(bytes[0x137], 2);     // speed at 0x134: USB_SPEED_FULL
   EXPECT_EQ(bytes[0x138], 0x12);  // idVendor at 0x138
   EXPECT_EQ(bytes[0x139], 0x09);
   EXPECT_EQ(bytes[0x13A], 0x7a);  // idProduct
@@ -207,7 +207,8 @@ TEST(UsbipOp, ImportRequestAndReply) {
   EXPECT_EQ(req[8], '1');
   EXPECT_EQ(req[10], '1');
   EXPECT_EQ(req[11], 0);
-  EXPECT_EQ(DecodeBusId(std::span<const std::uint8_t, kBusIdBytes>(req.data() + 8, kBusIdBytes)), "1-1");
+  EXPECT_EQ(DecodeBusId(std::span<const std::uint8_t, kBusIdBytes>(req.data() + 8, kBusIdBytes)),
+            "1-1");
 
   const UsbDevice d = ExampleDevice();
   const auto rep = EncodeRepImport(&d);
@@ -223,9 +224,11 @@ TEST(UsbipOp, ImportRequestAndReply) {
 
 TEST(UsbipOp, RejectsOtherVersionsAndCodes) {
   auto bytes = Hex("0110 8005 00000000");
-  EXPECT_THROW(DecodeOpHeader(std::span<const std::uint8_t, kOpHeaderBytes>(bytes.data(), 8)), ProtocolError);
+  EXPECT_THROW(DecodeOpHeader(std::span<const std::uint8_t, kOpHeaderBytes>(bytes.data(), 8)),
+               ProtocolError);
   bytes = Hex("0111 8004 00000000");
-  EXPECT_THROW(DecodeOpHeader(std::span<const std::uint8_t, kOpHeaderBytes>(bytes.data(), 8)), ProtocolError);
+  EXPECT_THROW(DecodeOpHeader(std::span<const std::uint8_t, kOpHeaderBytes>(bytes.data(), 8)),
+               ProtocolError);
   std::array<std::uint8_t, kUsbDeviceBytes> unterminated{};
   unterminated.fill('a');
   EXPECT_THROW(DecodeUsbDevice(unterminated), ProtocolError);

@@ -82,7 +82,8 @@ bool Socket::ReceiveExactOrEof(std::span<std::uint8_t> data) {
 }
 
 void Socket::ReceiveExact(std::span<std::uint8_t> data) {
-  if (!ReceiveExactOrEof(data) && !data.empty()) throw IoError("USB/IP connection closed by the peer");
+  if (!ReceiveExactOrEof(data) && !data.empty())
+    throw IoError("USB/IP connection closed by the peer");
 }
 
 bool Socket::WaitReadable(std::chrono::milliseconds timeout) const {
@@ -174,8 +175,10 @@ std::vector<UsbDevice> RequestDeviceList(Socket& socket) {
   socket.SendAll(EncodeReqDevlist());
   std::vector<std::uint8_t> reply(kOpHeaderBytes + 4);
   socket.ReceiveExact(reply);
-  const OpHeader h = DecodeOpHeader(std::span<const std::uint8_t, kOpHeaderBytes>(reply.data(), kOpHeaderBytes));
-  if (h.code != OpCode::kRepDevlist) throw ProtocolError("expected a device list reply (OP_REP_DEVLIST)");
+  const OpHeader h =
+      DecodeOpHeader(std::span<const std::uint8_t, kOpHeaderBytes>(reply.data(), kOpHeaderBytes));
+  if (h.code != OpCode::kRepDevlist)
+    throw ProtocolError("expected a device list reply (OP_REP_DEVLIST)");
   const std::uint32_t count = (std::uint32_t{reply[8]} << 24) | (std::uint32_t{reply[9]} << 16) |
                               (std::uint32_t{reply[10]} << 8) | std::uint32_t{reply[11]};
   if (count > 64) throw ProtocolError("device list claims " + std::to_string(count) + " devices");

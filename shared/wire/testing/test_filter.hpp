@@ -30,8 +30,12 @@ inline fixed::FilterDescription TestFilter(std::uint32_t sample_rate_hz = 5000) 
     p.section_count = 1;
     p.output_gain = i == 0 ? -(1 << 30) : (1 << 30);
     p.output_shift = 1;
-    p.sections[0] = fixed::Section{.b0 = kOneQ30 / 4, .b1 = kOneQ30 / 8, .b2 = 0,
-                                   .a1 = -3 * (kOneQ30 / 4), .a2 = kOneQ30 / 8, .shift = 1};
+    p.sections[0] = fixed::Section{.b0 = kOneQ30 / 4,
+                                   .b1 = kOneQ30 / 8,
+                                   .b2 = 0,
+                                   .a1 = -3 * (kOneQ30 / 4),
+                                   .a2 = kOneQ30 / 8,
+                                   .shift = 1};
   }
   fixed::Seal(d);
   return d;

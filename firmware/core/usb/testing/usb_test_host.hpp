@@ -104,7 +104,8 @@ class Host {
 
   /// Runs SETUP (+ IN data) + status. `out_data` is sent in the OUT data stage when the request
   /// is host-to-device with wLength > 0.
-  ControlResult Control(std::array<std::uint8_t, 8> setup, std::span<const std::uint8_t> out_data = {}) {
+  ControlResult Control(std::array<std::uint8_t, 8> setup,
+                        std::span<const std::uint8_t> out_data = {}) {
     ControlResult r;
     dcd_.OnSetupHardware();
     device_.OnSetupReceived(setup);
@@ -139,7 +140,8 @@ class Host {
       if (StalledNow()) return Stall(r);
       auto& out = dcd_.PendingOn(0x00);
       if (!out.active) return Error(r);
-      const std::size_t n = std::min<std::size_t>({kEp0Size, packet.w_length - sent, out_data.size() - sent});
+      const std::size_t n =
+          std::min<std::size_t>({kEp0Size, packet.w_length - sent, out_data.size() - sent});
       if (n > out.buffer.size()) return Error(r);
       std::copy_n(out_data.begin() + static_cast<std::ptrdiff_t>(sent), n, out.buffer.begin());
       sent += n;

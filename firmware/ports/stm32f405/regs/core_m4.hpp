@@ -83,8 +83,8 @@ inline void InstructionSyncBarrier() { fake::Cpu(fake::CpuOp::kIsb); }
 /// from warning as unused.
 class CriticalSection {
  public:
-  CriticalSection() {}                // NOLINT(modernize-use-equals-default)
-  ~CriticalSection() {}               // NOLINT(modernize-use-equals-default)
+  CriticalSection() {}   // NOLINT(modernize-use-equals-default)
+  ~CriticalSection() {}  // NOLINT(modernize-use-equals-default)
   CriticalSection(const CriticalSection&) = delete;
   CriticalSection& operator=(const CriticalSection&) = delete;
 };

@@ -4,8 +4,8 @@
 //
 // On the target Reg() is a volatile reference to the address. A host build of the port's tests
 // defines VIBID_STM32_FAKE_REGISTERS: Reg() then returns a small proxy that forwards every read
-// and write to a fake register file (testing/fake_registers.hpp), which logs the sequence and models
-// the few hardware reactions a test needs. The driver code is the same in both builds.
+// and write to a fake register file (testing/fake_registers.hpp), which logs the sequence and
+// models the few hardware reactions a test needs. The driver code is the same in both builds.
 #pragma once
 
 #include <cstdint>
@@ -29,17 +29,26 @@ void Write(Address address, std::uint32_t value, unsigned width_bytes);
 /// Stands in for `volatile std::uint32_t&` with the operators the drivers use.
 class RegRef {
  public:
-  constexpr RegRef(Address address, unsigned width_bytes) : address_(address), width_(width_bytes) {}
-  operator std::uint32_t() const { return fake::Read(address_, width_); }  // NOLINT: mimics a reference
+  constexpr RegRef(Address address, unsigned width_bytes)
+      : address_(address), width_(width_bytes) {}
+  operator std::uint32_t() const {
+    return fake::Read(address_, width_);
+  }  // NOLINT: mimics a reference
   const RegRef& operator=(std::uint32_t v) const {
     fake::Write(address_, v, width_);
     return *this;
   }
   // `Reg(a) = Reg(b)` copies the value, as with references, not the proxy.
-  const RegRef& operator=(const RegRef& other) const { return *this = static_cast<std::uint32_t>(other); }
+  const RegRef& operator=(const RegRef& other) const {
+    return *this = static_cast<std::uint32_t>(other);
+  }
   RegRef(const RegRef&) = default;
-  const RegRef& operator|=(std::uint32_t v) const { return *this = (fake::Read(address_, width_) | v); }
-  const RegRef& operator&=(std::uint32_t v) const { return *this = (fake::Read(address_, width_) & v); }
+  const RegRef& operator|=(std::uint32_t v) const {
+    return *this = (fake::Read(address_, width_) | v);
+  }
+  const RegRef& operator&=(std::uint32_t v) const {
+    return *this = (fake::Read(address_, width_) & v);
+  }
 
  private:
   Address address_;
@@ -67,7 +76,8 @@ inline void Modify(Address address, std::uint32_t mask, std::uint32_t value) {
 
 /// Polls until (reg & mask) == want or `max_polls` reads have been made.
 /// @returns true when the condition was met.
-inline bool WaitFor(Address address, std::uint32_t mask, std::uint32_t want, std::uint32_t max_polls) {
+inline bool WaitFor(Address address, std::uint32_t mask, std::uint32_t want,
+                    std::uint32_t max_polls) {
   for (std::uint32_t i = 0; i < max_polls; ++i) {
     if ((Reg(address) & mask) == want) return true;
   }

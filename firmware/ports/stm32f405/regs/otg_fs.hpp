@@ -72,9 +72,9 @@ inline constexpr std::uint32_t kDctlSgonak = Bit(9);
 inline constexpr std::uint32_t kDctlCgonak = Bit(10);
 inline constexpr std::uint32_t kEpIntXfrc = Bit(0);
 inline constexpr std::uint32_t kEpIntEpdisd = Bit(1);  ///< Endpoint disabled.
-inline constexpr std::uint32_t kEpIntStup = Bit(3);  ///< DOEPINT: SETUP phase done.
+inline constexpr std::uint32_t kEpIntStup = Bit(3);    ///< DOEPINT: SETUP phase done.
 inline constexpr std::uint32_t kEpIntInepne = Bit(6);  ///< DIEPINT: IN endpoint NAK effective.
-inline constexpr std::uint32_t kEpIntTxfe = Bit(7);  ///< DIEPINT: TX FIFO empty.
+inline constexpr std::uint32_t kEpIntTxfe = Bit(7);    ///< DIEPINT: TX FIFO empty.
 
 constexpr Address Diepctl(unsigned n) { return kBase + 0x900 + 0x20 * n; }
 constexpr Address Diepint(unsigned n) { return kBase + 0x908 + 0x20 * n; }

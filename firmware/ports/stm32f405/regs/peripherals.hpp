@@ -62,14 +62,15 @@ inline constexpr std::uint32_t kCr2MmsUpdate = 0x2U << 4;
 inline constexpr std::uint32_t kSmcrEncoderMode3 = 0x3;
 /// CCMR1 CC1S (1:0) = 01 and CC2S (9:8) = 01: IC1 on TI1, IC2 on TI2; IC1F/IC2F (7:4, 15:12)
 /// = 0011: fCK_INT, N = 8 glitch filter for the encoder lines.
-inline constexpr std::uint32_t kCcmr1EncoderInputs = 0x1U | (0x3U << 4) | (0x1U << 8) | (0x3U << 12);
+inline constexpr std::uint32_t kCcmr1EncoderInputs =
+    0x1U | (0x3U << 4) | (0x1U << 8) | (0x3U << 12);
 /// SMCR TS (6:4) = 000: ITR0, which is TIM2's TRGO for TIM5 (RM0090 table 99, TIMx internal
 /// trigger connection); SMS (2:0) = 111: external clock mode 1, one count per trigger edge.
 inline constexpr std::uint32_t kSmcrTsItr0 = 0x0U << 4;
 inline constexpr std::uint32_t kSmcrExternalClock1 = 0x7;
 inline constexpr std::uint32_t kDierUie = Bit(0);
-inline constexpr std::uint32_t kDierUde = Bit(8);  ///< DMA request on update.
-inline constexpr std::uint32_t kDierTde = Bit(14); ///< DMA request on trigger.
+inline constexpr std::uint32_t kDierUde = Bit(8);   ///< DMA request on update.
+inline constexpr std::uint32_t kDierTde = Bit(14);  ///< DMA request on trigger.
 inline constexpr std::uint32_t kSrUif = Bit(0);
 inline constexpr std::uint32_t kEgrUg = Bit(0);
 }  // namespace tim

@@ -36,12 +36,15 @@ std::uint32_t FakeRegisters::Peek(Address word_address) const {
   return it == words_.end() ? 0 : it->second;
 }
 
-void FakeRegisters::Poke(Address word_address, std::uint32_t value) { words_[word_address] = value; }
+void FakeRegisters::Poke(Address word_address, std::uint32_t value) {
+  words_[word_address] = value;
+}
 
 std::uint32_t FakeRegisters::Read(Address address, unsigned width) {
   const Address word_address = address & ~Address{3};
   std::uint32_t value = Peek(word_address);
-  if (const auto hook = read_hooks_.find(word_address); hook != read_hooks_.end()) value = hook->second(value);
+  if (const auto hook = read_hooks_.find(word_address); hook != read_hooks_.end())
+    value = hook->second(value);
   if (width == 1) value = (value >> (8 * (address & 3))) & 0xFF;
   if (log_reads_) log_.push_back(Access{Access::Kind::kRead, address, value, width, {}});
   return value;
@@ -101,10 +104,12 @@ std::size_t FakeRegisters::FindWrite(Address address, std::uint32_t value, std::
   return kNone;
 }
 
-std::size_t FakeRegisters::FindWriteWithBits(Address address, std::uint32_t bits, std::size_t from) const {
+std::size_t FakeRegisters::FindWriteWithBits(Address address, std::uint32_t bits,
+                                             std::size_t from) const {
   for (std::size_t i = from; i < log_.size(); ++i) {
     const Access& a = log_[i];
-    if (a.kind == Access::Kind::kWrite && a.address == address && (a.value & bits) == bits) return i;
+    if (a.kind == Access::Kind::kWrite && a.address == address && (a.value & bits) == bits)
+      return i;
   }
   return kNone;
 }

@@ -40,7 +40,9 @@ class FakeRegisters {
   std::uint32_t Peek(Address word_address) const;
   void Poke(Address word_address, std::uint32_t value);
   void OnRead(Address word_address, ReadHook hook) { read_hooks_[word_address] = std::move(hook); }
-  void OnWrite(Address word_address, WriteHook hook) { write_hooks_[word_address] = std::move(hook); }
+  void OnWrite(Address word_address, WriteHook hook) {
+    write_hooks_[word_address] = std::move(hook);
+  }
 
   /// Long polls would fill the log with reads: a test can keep only writes and CPU operations.
   void LogReads(bool on) { log_reads_ = on; }

@@ -113,12 +113,12 @@ namespace internal {
 
 // Each operand is evaluated exactly once (as in GoogleTest): the comparison runs here, on the
 // values, inside this system header so mixed-sign comparisons warn no more than with GoogleTest.
-#define VIBID_GTEST_OPERATOR_(Name, op)                   \
-  struct Name {                                          \
-    template <class A, class B>                          \
-    bool operator()(const A& a, const B& b) const {      \
-      return a op b;                                     \
-    }                                                    \
+#define VIBID_GTEST_OPERATOR_(Name, op)             \
+  struct Name {                                     \
+    template <class A, class B>                     \
+    bool operator()(const A& a, const B& b) const { \
+      return a op b;                                \
+    }                                               \
   };
 VIBID_GTEST_OPERATOR_(Eq, ==)
 VIBID_GTEST_OPERATOR_(Ne, !=)
@@ -200,7 +200,8 @@ inline AssertionResult StrEq(bool want_equal, const char* ea, const char* eb, co
                              const char* b) {
   const bool equal = (a == nullptr || b == nullptr) ? a == b : std::strcmp(a, b) == 0;
   const bool ok = equal == want_equal;
-  return Compare([ok](const char*, const char*) { return ok; }, ea, want_equal ? "==" : "!=", eb, a, b);
+  return Compare([ok](const char*, const char*) { return ok; }, ea, want_equal ? "==" : "!=", eb, a,
+                 b);
 }
 
 /// Records a failure; `=` so a streamed Message can follow the macro.
@@ -220,13 +221,13 @@ class AssertHelper {
 }  // namespace internal
 }  // namespace testing
 
-#define VIBID_GTEST_CHECK_(result, on_failure)                                                   \
-  switch (0)                                                                                     \
-  case 0:                                                                                        \
-  default:                                                                                       \
-    if (const ::testing::AssertionResult vibid_gtest_ar = (result); vibid_gtest_ar)              \
-      ;                                                                                          \
-    else                                                                                         \
+#define VIBID_GTEST_CHECK_(result, on_failure)                                      \
+  switch (0)                                                                        \
+  case 0:                                                                           \
+  default:                                                                          \
+    if (const ::testing::AssertionResult vibid_gtest_ar = (result); vibid_gtest_ar) \
+      ;                                                                             \
+    else                                                                            \
       on_failure(vibid_gtest_ar.message())
 
 #define VIBID_GTEST_NONFATAL_(text) \
@@ -234,9 +235,9 @@ class AssertHelper {
 #define VIBID_GTEST_FATAL_(text) \
   return ::testing::internal::AssertHelper(__FILE__, __LINE__, text, true) = ::testing::Message()
 
-#define VIBID_GTEST_CMP_(a, Op, op, b, on_failure)                                               \
-  VIBID_GTEST_CHECK_(::testing::internal::Compare(::testing::internal::Op{}, #a, #op, #b, (a), (b)), \
-                     on_failure)
+#define VIBID_GTEST_CMP_(a, Op, op, b, on_failure) \
+  VIBID_GTEST_CHECK_(                              \
+      ::testing::internal::Compare(::testing::internal::Op{}, #a, #op, #b, (a), (b)), on_failure)
 
 #define EXPECT_EQ(a, b) VIBID_GTEST_CMP_(a, Eq, ==, b, VIBID_GTEST_NONFATAL_)
 #define EXPECT_NE(a, b) VIBID_GTEST_CMP_(a, Ne, !=, b, VIBID_GTEST_NONFATAL_)
@@ -251,34 +252,36 @@ class AssertHelper {
 #define ASSERT_GT(a, b) VIBID_GTEST_CMP_(a, Gt, >, b, VIBID_GTEST_FATAL_)
 #define ASSERT_GE(a, b) VIBID_GTEST_CMP_(a, Ge, >=, b, VIBID_GTEST_FATAL_)
 
-#define EXPECT_TRUE(c) \
-  VIBID_GTEST_CHECK_(::testing::internal::Boolean(static_cast<bool>(c), #c, "true"), VIBID_GTEST_NONFATAL_)
+#define EXPECT_TRUE(c)                                                               \
+  VIBID_GTEST_CHECK_(::testing::internal::Boolean(static_cast<bool>(c), #c, "true"), \
+                     VIBID_GTEST_NONFATAL_)
 #define EXPECT_FALSE(c) \
   VIBID_GTEST_CHECK_(::testing::internal::Boolean(!(c), #c, "false"), VIBID_GTEST_NONFATAL_)
-#define ASSERT_TRUE(c) \
-  VIBID_GTEST_CHECK_(::testing::internal::Boolean(static_cast<bool>(c), #c, "true"), VIBID_GTEST_FATAL_)
+#define ASSERT_TRUE(c)                                                               \
+  VIBID_GTEST_CHECK_(::testing::internal::Boolean(static_cast<bool>(c), #c, "true"), \
+                     VIBID_GTEST_FATAL_)
 #define ASSERT_FALSE(c) \
   VIBID_GTEST_CHECK_(::testing::internal::Boolean(!(c), #c, "false"), VIBID_GTEST_FATAL_)
 
-#define EXPECT_NEAR(a, b, tol)                                                                  \
-  VIBID_GTEST_CHECK_(::testing::internal::Near(#a, #b, #tol, static_cast<double>(a),           \
+#define EXPECT_NEAR(a, b, tol)                                                                    \
+  VIBID_GTEST_CHECK_(::testing::internal::Near(#a, #b, #tol, static_cast<double>(a),              \
                                                static_cast<double>(b), static_cast<double>(tol)), \
                      VIBID_GTEST_NONFATAL_)
-#define ASSERT_NEAR(a, b, tol)                                                                  \
-  VIBID_GTEST_CHECK_(::testing::internal::Near(#a, #b, #tol, static_cast<double>(a),           \
+#define ASSERT_NEAR(a, b, tol)                                                                    \
+  VIBID_GTEST_CHECK_(::testing::internal::Near(#a, #b, #tol, static_cast<double>(a),              \
                                                static_cast<double>(b), static_cast<double>(tol)), \
                      VIBID_GTEST_FATAL_)
-#define EXPECT_DOUBLE_EQ(a, b)                                                                  \
-  VIBID_GTEST_CHECK_((::testing::internal::UlpEq<double, std::uint64_t>(#a, #b, (a), (b))),     \
+#define EXPECT_DOUBLE_EQ(a, b)                                                              \
+  VIBID_GTEST_CHECK_((::testing::internal::UlpEq<double, std::uint64_t>(#a, #b, (a), (b))), \
                      VIBID_GTEST_NONFATAL_)
-#define ASSERT_DOUBLE_EQ(a, b)                                                                  \
-  VIBID_GTEST_CHECK_((::testing::internal::UlpEq<double, std::uint64_t>(#a, #b, (a), (b))),     \
+#define ASSERT_DOUBLE_EQ(a, b)                                                              \
+  VIBID_GTEST_CHECK_((::testing::internal::UlpEq<double, std::uint64_t>(#a, #b, (a), (b))), \
                      VIBID_GTEST_FATAL_)
-#define EXPECT_FLOAT_EQ(a, b)                                                                   \
-  VIBID_GTEST_CHECK_((::testing::internal::UlpEq<float, std::uint32_t>(#a, #b, (a), (b))),      \
+#define EXPECT_FLOAT_EQ(a, b)                                                              \
+  VIBID_GTEST_CHECK_((::testing::internal::UlpEq<float, std::uint32_t>(#a, #b, (a), (b))), \
                      VIBID_GTEST_NONFATAL_)
-#define ASSERT_FLOAT_EQ(a, b)                                                                   \
-  VIBID_GTEST_CHECK_((::testing::internal::UlpEq<float, std::uint32_t>(#a, #b, (a), (b))),      \
+#define ASSERT_FLOAT_EQ(a, b)                                                              \
+  VIBID_GTEST_CHECK_((::testing::internal::UlpEq<float, std::uint32_t>(#a, #b, (a), (b))), \
                      VIBID_GTEST_FATAL_)
 #define EXPECT_STREQ(a, b) \
   VIBID_GTEST_CHECK_(::testing::internal::StrEq(true, #a, #b, (a), (b)), VIBID_GTEST_NONFATAL_)
@@ -295,21 +298,21 @@ class AssertHelper {
 
 #define VIBID_GTEST_CLASS_(suite, name) suite##_##name##_Test
 
-#define VIBID_GTEST_DEFINE_(suite, name, parent)                                               \
-  class VIBID_GTEST_CLASS_(suite, name) : public parent {                                      \
-   public:                                                                                     \
-    void TestBody() override;                                                                  \
-    static void Run() {                                                                        \
-      VIBID_GTEST_CLASS_(suite, name) test;                                                    \
-      ::testing::internal::RunTest(test);                                                      \
-    }                                                                                          \
-    static ::testing::internal::TestInfo info;                                                 \
-    static const ::testing::internal::Registrar registrar;                                     \
-  };                                                                                           \
-  ::testing::internal::TestInfo VIBID_GTEST_CLASS_(suite, name)::info = {                      \
-      #suite, #name, &VIBID_GTEST_CLASS_(suite, name)::Run, nullptr};                          \
-  const ::testing::internal::Registrar VIBID_GTEST_CLASS_(suite, name)::registrar{             \
-      &VIBID_GTEST_CLASS_(suite, name)::info};                                                 \
+#define VIBID_GTEST_DEFINE_(suite, name, parent)                          \
+  class VIBID_GTEST_CLASS_(suite, name) : public parent {                 \
+   public:                                                                \
+    void TestBody() override;                                             \
+    static void Run() {                                                   \
+      VIBID_GTEST_CLASS_(suite, name) test;                               \
+      ::testing::internal::RunTest(test);                                 \
+    }                                                                     \
+    static ::testing::internal::TestInfo info;                            \
+    static const ::testing::internal::Registrar registrar;                \
+  };                                                                      \
+  ::testing::internal::TestInfo VIBID_GTEST_CLASS_(suite, name)::info = { \
+      #suite, #name, &VIBID_GTEST_CLASS_(suite, name)::Run, nullptr};     \
+  const ::testing::internal::Registrar VIBID_GTEST_CLASS_(                \
+      suite, name)::registrar{&VIBID_GTEST_CLASS_(suite, name)::info};    \
   void VIBID_GTEST_CLASS_(suite, name)::TestBody()
 
 #define TEST(suite, name) VIBID_GTEST_DEFINE_(suite, name, ::testing::Test)

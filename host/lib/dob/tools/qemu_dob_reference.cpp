@@ -91,7 +91,8 @@ int Record(const std::string& out_path) {
   std::array<std::uint8_t, wire::kCalRecordBytes> bytes{};
   wire::EncodeCalibrationRecord(record, bytes);
   std::ofstream out(out_path, std::ios::binary);
-  out.write(reinterpret_cast<const char*>(bytes.data()), static_cast<std::streamsize>(bytes.size()));
+  out.write(reinterpret_cast<const char*>(bytes.data()),
+            static_cast<std::streamsize>(bytes.size()));
   if (!out) return Fail("cannot write " + out_path);
   return 0;
 }
@@ -99,7 +100,8 @@ int Record(const std::string& out_path) {
 int Replay(const std::string& record_path, const std::string& frames_path) {
   std::ifstream in(record_path, std::ios::binary);
   if (!in) return Fail("cannot open " + record_path);
-  const std::vector<std::uint8_t> bytes{std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
+  const std::vector<std::uint8_t> bytes{std::istreambuf_iterator<char>(in),
+                                        std::istreambuf_iterator<char>()};
   wire::CalibrationRecord record;
   if (wire::DecodeCalibrationRecord(bytes, record) != Status::kOk) {
     return Fail(record_path + ": not a valid calibration record");
@@ -109,7 +111,8 @@ int Replay(const std::string& record_path, const std::string& frames_path) {
     return Fail(record_path + ": the DOB description does not decode");
   }
   fixed::DobFilter filter;
-  if (filter.Init(description) != Status::kOk) return Fail(record_path + ": the DOB does not validate");
+  if (filter.Init(description) != Status::kOk)
+    return Fail(record_path + ": the DOB does not validate");
 
   std::ifstream frames(frames_path);
   if (!frames) return Fail("cannot open " + frames_path);
@@ -121,12 +124,14 @@ int Replay(const std::string& record_path, const std::string& frames_path) {
     std::istringstream fields(line);
     std::array<std::int32_t, wire::kChannelCount> raw{};
     for (auto& v : raw) {
-      if (!(fields >> v)) return Fail(frames_path + ":" + std::to_string(line_number) + ": expected six integers");
+      if (!(fields >> v))
+        return Fail(frames_path + ":" + std::to_string(line_number) + ": expected six integers");
     }
     fixed::InputFrame inputs{};
     for (std::size_t i = 0; i < inputs.size(); ++i) {
       const std::uint8_t c = record.dob_input_channel[i];
-      if (c < wire::kChannelCount) inputs[i] = wire::ScaleChannel(raw[c], record.channels[c], clips);
+      if (c < wire::kChannelCount)
+        inputs[i] = wire::ScaleChannel(raw[c], record.channels[c], clips);
     }
     std::cout << filter.Step(inputs) << '\n';
   }

@@ -21,7 +21,7 @@ struct BoardProfile {
   std::uint32_t log_bytes = 0;           ///< RAM the acquisition log gets.
   std::uint32_t link_reports_per_s = 0;  ///< IN reports the link moves per second (one per frame).
   std::uint32_t min_sample_period_us = 0;
-  std::uint8_t adc_bits = 0;             ///< Resolution of the load-cell and accelerometer ADC.
+  std::uint8_t adc_bits = 0;  ///< Resolution of the load-cell and accelerometer ADC.
 
   constexpr std::uint32_t link_bytes_per_s() const {
     return link_reports_per_s * static_cast<std::uint32_t>(wire::kReportBytes);

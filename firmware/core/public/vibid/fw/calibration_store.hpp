@@ -54,7 +54,9 @@ class CalibrationStore {
 
   bool calibrated() const { return calibrated_; }
   /// 0 for slot A, 1 for slot B, wire::kNoSlot when uncalibrated.
-  std::uint8_t slot() const { return calibrated_ ? static_cast<std::uint8_t>(slot_) : wire::kNoSlot; }
+  std::uint8_t slot() const {
+    return calibrated_ ? static_cast<std::uint8_t>(slot_) : wire::kNoSlot;
+  }
   std::uint32_t sequence() const { return calibrated_ ? sequence_ : 0; }
   /// The active record's own CRC-32 field (what the host computed when it built the record).
   std::uint32_t record_crc() const { return calibrated_ ? record_crc_ : 0; }

@@ -94,7 +94,8 @@ class Core {
   /// stream has nothing to send yet.
   bool NextStreamReport();
   /// Packs the records from stream_next_ into one log data report payload.
-  Status PackLogRecords(std::span<std::uint8_t, wire::kMaxStreamPayload> payload, std::size_t& length);
+  Status PackLogRecords(std::span<std::uint8_t, wire::kMaxStreamPayload> payload,
+                        std::size_t& length);
   void StartLogStream(std::uint16_t token, std::uint32_t first, std::uint32_t end, bool follow);
   wire::InfoResponse Info() const;
   wire::StatusResponse CurrentStatus() const;

@@ -96,8 +96,8 @@ class LogRing {
   // Producer-owned.
   std::uint32_t write_slot_ = 0;
   std::uint32_t pre_kept_ = 0;
-  std::uint32_t start_slot_ = 0;      // slot of log index 0; published by triggered_
-  std::uint32_t trigger_index_ = 0;   // published by triggered_
+  std::uint32_t start_slot_ = 0;     // slot of log index 0; published by triggered_
+  std::uint32_t trigger_index_ = 0;  // published by triggered_
   std::atomic<bool> triggered_{false};
   std::atomic<std::uint32_t> written_{0};
 

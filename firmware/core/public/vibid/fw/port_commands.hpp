@@ -16,7 +16,8 @@ class PortCommandHandler {
   /// Handles `command` (wire::IsPortCommand) with its request payload. Writes up to
   /// wire::kMaxPayload response bytes into `response` and sets `response_length`.
   /// @returns the status sent back: kOk, or the refusal (kUnimplemented for an id this port
-  ///          does not know, kInvalidArgument for a bad payload, ...). A refusal carries no payload.
+  ///          does not know, kInvalidArgument for a bad payload, ...). A refusal carries no
+  ///          payload.
   virtual Status HandlePortCommand(std::uint8_t command, std::span<const std::uint8_t> request,
                                    std::span<std::uint8_t, wire::kMaxPayload> response,
                                    std::size_t& response_length) = 0;

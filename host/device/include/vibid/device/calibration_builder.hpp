@@ -46,8 +46,8 @@ wire::ChannelScaling ToChannelScaling(const SensorScaling& s, const std::string&
 
 struct RecordInputs {
   model::Model model;
-  std::string label;                         ///< The rig's name (<= 23 printable ASCII characters).
-  SensorSet sensors;                          ///< Channels without a scaling stay in raw counts.
+  std::string label;  ///< The rig's name (<= 23 printable ASCII characters).
+  SensorSet sensors;  ///< Channels without a scaling stay in raw counts.
   std::optional<fixed::FilterDescription> observer;
   std::int64_t created_unix_s = 0;
   std::uint8_t host_major = 0, host_minor = 0;

@@ -44,12 +44,12 @@ struct ConnectionOptions {
 
 /// Counters of what the reader thread discarded.
 struct LinkCounters {
-  std::uint64_t reports = 0;        ///< Whole reports taken from the transport.
-  std::uint64_t truncated = 0;      ///< Shorter than 64 bytes.
-  std::uint64_t corrupted = 0;      ///< Wrong magic or malformed header.
-  std::uint64_t stale = 0;          ///< Answers nobody waited for (old token, late duplicate).
-  std::uint64_t retries = 0;        ///< Requests sent again after a timeout.
-  std::uint64_t stream_resumes = 0; ///< Log pulls restarted after a broken stream.
+  std::uint64_t reports = 0;         ///< Whole reports taken from the transport.
+  std::uint64_t truncated = 0;       ///< Shorter than 64 bytes.
+  std::uint64_t corrupted = 0;       ///< Wrong magic or malformed header.
+  std::uint64_t stale = 0;           ///< Answers nobody waited for (old token, late duplicate).
+  std::uint64_t retries = 0;         ///< Requests sent again after a timeout.
+  std::uint64_t stream_resumes = 0;  ///< Log pulls restarted after a broken stream.
 };
 
 /// One answer report.
@@ -92,7 +92,7 @@ class Connection {
   Reply Expect(wire::Command command, std::span<const std::uint8_t> payload = {},
                std::uint16_t sequence = 0);
   template <typename Payload>
-    requires requires { Payload::kBytes; }
+  requires requires { Payload::kBytes; }
   Reply Expect(wire::Command command, const Payload& payload) {
     std::array<std::uint8_t, Payload::kBytes> bytes{};
     wire::Encode(payload, bytes);
@@ -137,11 +137,13 @@ class Connection {
   void ReaderLoop();
   /// Receives one log stream answering `token` (records from `first`) to its trailer; appends
   /// its records to `pull` if the trailer checked out. False if it broke off or timed out.
-  bool ReceiveLogStream(std::uint16_t token, std::uint32_t first, LogPull& pull, const Progress& progress);
+  bool ReceiveLogStream(std::uint16_t token, std::uint32_t first, LogPull& pull,
+                        const Progress& progress);
   std::uint16_t NextToken();
   void Send(const wire::Report& report);
   /// Waits for an answer with `token` to `command`. False on timeout.
-  bool Await(std::uint8_t command, std::uint16_t token, std::chrono::milliseconds timeout, Reply& out);
+  bool Await(std::uint8_t command, std::uint16_t token, std::chrono::milliseconds timeout,
+             Reply& out);
   void ThrowIfLinkFailed();
   void CheckCancel() const;
 
@@ -152,8 +154,8 @@ class Connection {
   mutable std::mutex mutex_;
   std::condition_variable arrived_;
   std::deque<Reply> inbox_;
-  std::string link_error_;          // set once by the reader when the transport fails
-  std::string version_error_;       // set when a report of another protocol major arrived
+  std::string link_error_;     // set once by the reader when the transport fails
+  std::string version_error_;  // set when a report of another protocol major arrived
   LinkCounters counters_{};
   std::atomic<bool> stop_{false};
   std::uint16_t token_ = 0;

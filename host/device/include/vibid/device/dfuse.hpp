@@ -31,20 +31,30 @@ struct FlashRange {
 
 /// The board's flash as its bootloader describes it (STM32F405, RM0090 §3.3), for checks made
 /// before the board is asked into DFU.
-inline constexpr const char* kBoardFlashLayout = "@Internal Flash  /0x08000000/04*016Kg,01*064Kg,07*128Kg";
+inline constexpr const char* kBoardFlashLayout =
+    "@Internal Flash  /0x08000000/04*016Kg,01*064Kg,07*128Kg";
 /// The board's calibration slots: sectors 2 and 3 (CAL_SLOTS in the board's linker script).
 /// A firmware image never erases or writes them, so the calibration survives a flash.
 inline constexpr FlashRange kCalibrationSectors{0x08008000u, 0x8000u};
 
-/// Parses a DfuSe memory layout string, e.g. "@Internal Flash  /0x08000000/04*016Kg,01*064Kg,07*128Kg"
-/// (name, start address, then COUNT*SIZE[B|K|M]ATTR groups). InputError-free: throws DeviceError
-/// naming the string when malformed.
+/// Parses a DfuSe memory layout string, e.g. "@Internal Flash
+/// /0x08000000/04*016Kg,01*064Kg,07*128Kg" (name, start address, then COUNT*SIZE[B|K|M]ATTR
+/// groups). InputError-free: throws DeviceError naming the string when malformed.
 std::vector<DfuSeSector> ParseDfuSeLayout(const std::string& layout);
 
 /// DFU 1.1 device states (table A.2.12).
 enum class DfuState : std::uint8_t {
-  kAppIdle = 0, kAppDetach = 1, kIdle = 2, kDnloadSync = 3, kDnBusy = 4, kDnloadIdle = 5,
-  kManifestSync = 6, kManifest = 7, kManifestWaitReset = 8, kUploadIdle = 9, kError = 10,
+  kAppIdle = 0,
+  kAppDetach = 1,
+  kIdle = 2,
+  kDnloadSync = 3,
+  kDnBusy = 4,
+  kDnloadIdle = 5,
+  kManifestSync = 6,
+  kManifest = 7,
+  kManifestWaitReset = 8,
+  kUploadIdle = 9,
+  kError = 10,
 };
 
 struct DfuStatusReply {
@@ -88,7 +98,8 @@ class DfuSe {
   std::uint16_t transfer_size_;
 };
 
-using FlashProgress = std::function<void(const std::string& phase, std::uint64_t done, std::uint64_t total)>;
+using FlashProgress =
+    std::function<void(const std::string& phase, std::uint64_t done, std::uint64_t total)>;
 
 /// What flashing an image does: the sectors it erases and the parts of the image it writes.
 struct FlashPlan {
@@ -106,7 +117,8 @@ FlashPlan PlanFlash(const std::vector<DfuSeSector>& layout, std::span<const std:
 
 /// Runs PlanFlash's plan: erases, downloads, reads back and compares byte for byte, then leaves
 /// DFU. Throws DeviceError naming the first differing address on a verify failure.
-void FlashImage(DfuSe& dfu, const std::vector<DfuSeSector>& layout, std::span<const std::uint8_t> image,
-                std::uint32_t address, std::span<const FlashRange> keep, const FlashProgress& progress = {});
+void FlashImage(DfuSe& dfu, const std::vector<DfuSeSector>& layout,
+                std::span<const std::uint8_t> image, std::uint32_t address,
+                std::span<const FlashRange> keep, const FlashProgress& progress = {});
 
 }  // namespace vibid::device

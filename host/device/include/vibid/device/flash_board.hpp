@@ -23,8 +23,8 @@ struct FlashBoardResult {
 /// bootloader). `note` receives one-line progress remarks (bootloader entered or found).
 /// Throws InputError before touching the board when the image does not suit its flash (empty,
 /// too large, data in the calibration sectors), DeviceError on any device failure.
-FlashBoardResult FlashBoard(DeviceSpec spec, std::span<const std::uint8_t> image, std::uint32_t address,
-                            const FlashProgress& progress = {},
+FlashBoardResult FlashBoard(DeviceSpec spec, std::span<const std::uint8_t> image,
+                            std::uint32_t address, const FlashProgress& progress = {},
                             const std::function<void(const std::string&)>& note = {});
 
 }  // namespace vibid::device

@@ -12,8 +12,8 @@
 namespace vibid::device {
 
 struct HidListing {
-  std::string path;           ///< OS path (/dev/hidrawN).
-  std::string serial;         ///< iSerialNumber.
+  std::string path;    ///< OS path (/dev/hidrawN).
+  std::string serial;  ///< iSerialNumber.
   std::string product;
   std::uint16_t release = 0;  ///< bcdDevice.
 };

@@ -17,16 +17,16 @@
 namespace vibid::device {
 
 struct LinkBudget {
-  std::size_t record_bytes = 0;          ///< One record on the wire.
-  std::size_t stored_record_bytes = 0;   ///< One record in the board's log RAM (with its tick).
+  std::size_t record_bytes = 0;         ///< One record on the wire.
+  std::size_t stored_record_bytes = 0;  ///< One record in the board's log RAM (with its tick).
   std::size_t records_per_report = 0;
   double sample_rate_hz = 0.0;
-  double log_rate_hz = 0.0;              ///< Records made per second.
-  double data_bytes_per_s = 0.0;         ///< log_rate_hz x record_bytes.
-  double link_bytes_per_s = 0.0;         ///< Reports per second x 64.
-  double link_records_per_s = 0.0;       ///< Reports per second x records_per_report.
-  std::uint32_t log_bytes = 0;           ///< The board's log RAM.
-  std::uint32_t capacity_records = 0;    ///< Records the log holds.
+  double log_rate_hz = 0.0;            ///< Records made per second.
+  double data_bytes_per_s = 0.0;       ///< log_rate_hz x record_bytes.
+  double link_bytes_per_s = 0.0;       ///< Reports per second x 64.
+  double link_records_per_s = 0.0;     ///< Reports per second x records_per_report.
+  std::uint32_t log_bytes = 0;         ///< The board's log RAM.
+  std::uint32_t capacity_records = 0;  ///< Records the log holds.
   /// Seconds after the trigger until the log is full and records are dropped; infinity when
   /// the link keeps up. Pre-trigger records already occupy part of the log.
   double overflow_after_s = 0.0;
@@ -46,11 +46,12 @@ struct StreamPrediction {
   std::uint64_t kept = 0;
   std::uint64_t dropped = 0;
 };
-StreamPrediction PredictStream(std::uint64_t records, std::uint32_t ticks_per_frame, std::uint32_t capacity,
-                               std::uint32_t per_report);
+StreamPrediction PredictStream(std::uint64_t records, std::uint32_t ticks_per_frame,
+                               std::uint32_t capacity, std::uint32_t per_report);
 
 /// Budget of `config` on a board that answered `info` (log size, link rate).
-LinkBudget ComputeLinkBudget(const wire::InfoResponse& info, const wire::AcqConfigureRequest& config);
+LinkBudget ComputeLinkBudget(const wire::InfoResponse& info,
+                             const wire::AcqConfigureRequest& config);
 
 /// The refusal text for an acquisition of `seconds` that would drop records, naming the figures
 /// and the ways out.

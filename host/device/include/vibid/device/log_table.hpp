@@ -29,9 +29,11 @@ struct LogTable {
 /// in double so a reader recovers the board's Q31 value), and with the observer logged
 /// `d_hat_q31` (the board's integer output) and `d_hat_n`.
 /// `calibration` is the active record (has_record false: uncalibrated, columns in counts).
-LogTable MakeLogTable(const LogPull& pull, const wire::CalibrationRecord& calibration, bool has_record);
+LogTable MakeLogTable(const LogPull& pull, const wire::CalibrationRecord& calibration,
+                      bool has_record);
 
 /// MakeLogTable formatted with vibid::FormatCsv.
-std::string FormatLogCsv(const LogPull& pull, const wire::CalibrationRecord& calibration, bool has_record);
+std::string FormatLogCsv(const LogPull& pull, const wire::CalibrationRecord& calibration,
+                         bool has_record);
 
 }  // namespace vibid::device

@@ -22,13 +22,17 @@ struct Setup {
   std::uint8_t request = 0;
   std::uint16_t value = 0;
   std::uint16_t index = 0;
-  std::uint16_t length = 0;       ///< wLength: bytes of the data stage.
+  std::uint16_t length = 0;  ///< wLength: bytes of the data stage.
   bool In() const { return (request_type & 0x80) != 0; }
   std::array<std::uint8_t, 8> Bytes() const {
-    return {request_type, request,
-            static_cast<std::uint8_t>(value & 0xFF), static_cast<std::uint8_t>(value >> 8),
-            static_cast<std::uint8_t>(index & 0xFF), static_cast<std::uint8_t>(index >> 8),
-            static_cast<std::uint8_t>(length & 0xFF), static_cast<std::uint8_t>(length >> 8)};
+    return {request_type,
+            request,
+            static_cast<std::uint8_t>(value & 0xFF),
+            static_cast<std::uint8_t>(value >> 8),
+            static_cast<std::uint8_t>(index & 0xFF),
+            static_cast<std::uint8_t>(index >> 8),
+            static_cast<std::uint8_t>(length & 0xFF),
+            static_cast<std::uint8_t>(length >> 8)};
   }
 };
 

@@ -25,12 +25,14 @@ struct UsbipExport {
   std::uint16_t product_id = 0;
   std::uint16_t release = 0;
   std::uint8_t interfaces = 0;
-  std::vector<usbip::UsbInterface> interface_classes;  ///< class, subclass, protocol per interface, in order
+  std::vector<usbip::UsbInterface>
+      interface_classes;  ///< class, subclass, protocol per interface, in order
 };
 
 /// Lists what the server at host:port exports. Throws DeviceError if it cannot be reached.
-std::vector<UsbipExport> ListUsbipExports(const std::string& host, int port,
-                                          std::chrono::milliseconds timeout = std::chrono::milliseconds(1000));
+std::vector<UsbipExport> ListUsbipExports(
+    const std::string& host, int port,
+    std::chrono::milliseconds timeout = std::chrono::milliseconds(1000));
 
 /// An imported device: control transfers, and the HID report pipe as a Transport.
 class UsbipDevice final : public Transport, public UsbControl {
@@ -39,8 +41,10 @@ class UsbipDevice final : public Transport, public UsbControl {
   /// vibid application), enumerates and configures. HID reports flow when the device has a HID
   /// interface (the DFU bootloader has none: control transfers only). Throws DeviceError naming
   /// the server on any failure.
-  static std::unique_ptr<UsbipDevice> Open(const std::string& host, int port, const std::string& busid = {},
-                                           std::uint16_t vendor_id = kUsbVendorId, std::uint16_t product_id = kUsbProductId);
+  static std::unique_ptr<UsbipDevice> Open(const std::string& host, int port,
+                                           const std::string& busid = {},
+                                           std::uint16_t vendor_id = kUsbVendorId,
+                                           std::uint16_t product_id = kUsbProductId);
   ~UsbipDevice() override;
 
   void Send(const wire::Report& report) override;

@@ -4,12 +4,12 @@
 //
 // Structure: for a factor D = 2^a 5^b the signal passes a cascade of decimate-by-2 and
 // decimate-by-5 stages, each a linear-phase FIR of odd length L with Q30 taps h (designed, verified
-// and quantized by scripts/golden/decimator_design.py into shared/fixed/decimator_coefficients.inc).
-// Stage s keeps every r_s-th output of its convolution (compute-on-output: the other phases only
-// store the input), for input index n = j r_s:
+// and quantized by scripts/golden/decimator_design.py into
+// shared/fixed/decimator_coefficients.inc). Stage s keeps every r_s-th output of its convolution
+// (compute-on-output: the other phases only store the input), for input index n = j r_s:
 //
-//   acc  = 2^29 + h[c] x[n-c] + sum_i h[c-d_i] (x[n-c+d_i] + x[n-c-d_i])   int64, exact; c = (L-1)/2
-//   y[j] = sat32(acc >> 30)                                                  round half up
+//   acc  = 2^29 + h[c] x[n-c] + sum_i h[c-d_i] (x[n-c+d_i] + x[n-c-d_i])   int64, exact; c =
+//   (L-1)/2 y[j] = sat32(acc >> 30)                                                  round half up
 //
 // d_i = 1 + i * stride (stride 2 for the half-band /2 designs, whose even distances are exactly
 // zero; 1 otherwise). The symmetric pair is applied as two multiply-accumulates with one stored
@@ -26,20 +26,20 @@
 // so the last L inputs are always contiguous at [w + 1, w + L] (no modulo in the inner loop).
 //
 // Scaling and overflow:
-//   Every stage keeps its input's scale (the integer taps sum to exactly 2^30): ADC channels in 12.4
-//   (0..65520), encoder counts, d_hat in Q31 come out in the same units. Products are of two int32
-//   values (|p| <= 2^61 since |h| < 2^30) and the script asserts sum|h| <= 2^32 - 1 for every design,
-//   so |acc| <= (2^32 - 1) 2^31 + 2^29 < 2^63: the 64-bit accumulator holds the exact sum and never
-//   wraps. Each stage output is rounded once (half up) and saturated to int32; every clipped stage
-//   output is counted. The worst-case gain from the input to any stage output (the l1 norm of the
-//   cascade's impulse response up to that stage) is at most 1.82 (the script computes and asserts
-//   it), so only Q31 input beyond 55 % of full scale can clip, and a full-scale step does, briefly
-//   (step-response overshoot up to 8.7 %); 12.4 ADC values and encoder counts below 2^30 never do.
-//   DC: a constant input passes every stage exactly (sum h = 2^30, no rounding error), so after
-//   the delay the output equals the input; likewise a ramp comes out as the ramp delayed by
-//   DecimatorDelayTicks, exactly.
-//   Rounding error: at most 1/2 LSB per stage output (uniform, 0.29 LSB rms), filtered by the
-//   following stages (gain <= 1 + ripple in their passband).
+//   Every stage keeps its input's scale (the integer taps sum to exactly 2^30): ADC channels
+//   in 12.4 (0..65520), encoder counts, d_hat in Q31 come out in the same units. Products are of
+//   two int32 values (|p| <= 2^61 since |h| < 2^30) and the script asserts sum|h| <= 2^32 - 1 for
+//   every design, so |acc| <= (2^32 - 1) 2^31 + 2^29 < 2^63: the 64-bit accumulator holds the exact
+//   sum and never wraps. Each stage output is rounded once (half up) and saturated to int32; every
+//   clipped stage output is counted. The worst-case gain from the input to any stage output (the l1
+//   norm of the cascade's impulse response up to that stage) is at most 1.82 (the script computes
+//   and asserts it), so only Q31 input beyond 55 % of full scale can clip, and a full-scale step
+//   does, briefly (step-response overshoot up to 8.7 %); 12.4 ADC values and encoder counts below
+//   2^30 never do. DC: a constant input passes every stage exactly (sum h = 2^30, no rounding
+//   error), so after the delay the output equals the input; likewise a ramp comes out as the ramp
+//   delayed by DecimatorDelayTicks, exactly. Rounding error: at most 1/2 LSB per stage output
+//   (uniform, 0.29 LSB rms), filtered by the following stages (gain <= 1 + ripple in their
+//   passband).
 //
 // Cost (bench/decimator/m4_instructions.py: 7 channels, Cortex-M4 under QEMU, cycles estimated
 // from the TRM timings): on average 375 (D = 625) .. 960 (D = 5) cycles per input frame, 2.2 ..
@@ -131,7 +131,8 @@ class Decimator {
   std::uint32_t tick_ = 0;  // input index modulo factor_ (0: the next Push outputs)
   std::uint32_t saturation_count_ = 0;
   std::array<Stage, kDecimatorMaxStages> stages_{};
-  std::array<std::array<std::int32_t, kDecimatorStateWordsPerChannel>, kDecimatorMaxChannels> state_{};
+  std::array<std::array<std::int32_t, kDecimatorStateWordsPerChannel>, kDecimatorMaxChannels>
+      state_{};
 };
 
 }  // namespace vibid::fixed

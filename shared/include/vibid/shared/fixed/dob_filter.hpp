@@ -135,19 +135,19 @@ class DobFilter {
     std::uint32_t start_lo;  ///< Accumulator start value, low and high words.
     std::int32_t start_hi;
     std::int32_t b1, b2, a1, a2;
-    std::int32_t f1, f2;     ///< Error-feedback weights: (2, -1) with feedback, (0, 0) without.
-    std::int32_t q;          ///< 31 - shift: the right shift from the accumulator to y, 16..31.
-    std::int32_t left;       ///< 32 - q.
-    std::uint32_t mask;      ///< 2^q - 1: r' is the accumulator's low q bits.
-    std::int32_t half;       ///< 2^(q-1): r' at rest and after a saturation.
+    std::int32_t f1, f2;  ///< Error-feedback weights: (2, -1) with feedback, (0, 0) without.
+    std::int32_t q;       ///< 31 - shift: the right shift from the accumulator to y, 16..31.
+    std::int32_t left;    ///< 32 - q.
+    std::uint32_t mask;   ///< 2^q - 1: r' is the accumulator's low q bits.
+    std::int32_t half;    ///< 2^(q-1): r' at rest and after a saturation.
   };
   struct KernelPath {
-    std::int32_t sections;   ///< Section count.
-    std::uint32_t count;     ///< (sections - 1) << 16: StepPath's loop count.
-    std::int32_t gain;       ///< output_gain.
-    std::int32_t p;          ///< 31 - output_shift, 1..31.
-    std::int32_t left;       ///< 32 - p.
-    std::int64_t half;       ///< 2^(p-1).
+    std::int32_t sections;  ///< Section count.
+    std::uint32_t count;    ///< (sections - 1) << 16: StepPath's loop count.
+    std::int32_t gain;      ///< output_gain.
+    std::int32_t p;         ///< 31 - output_shift, 1..31.
+    std::int32_t left;      ///< 32 - p.
+    std::int64_t half;      ///< 2^(p-1).
   };
 
   /// Runs the sections rec[0 .. (count >> 16)] on x; count's low half must be 0. Returns y in the

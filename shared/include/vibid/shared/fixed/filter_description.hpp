@@ -24,9 +24,9 @@
 //   19  u8   reserved1                0
 //   20  u32  input_full_scale_bits[3] IEEE-754 binary32 bit pattern: SI value of Q31 full scale
 //                                     (N for force, m, m/s, m/s^2) of input i
-//   32  u32  output_full_scale_bits   binary32 bit pattern: N that d_hat's Q31 full scale stands for
-//   36  Path paths[3]                 3 x 200 bytes, layout below
-//   636 u32  checksum                 CRC-32 (ISO-HDLC, poly 0xEDB88320 reflected, init and
+//   32  u32  output_full_scale_bits   binary32 bit pattern: N that d_hat's Q31 full scale stands
+//   for 36  Path paths[3]                 3 x 200 bytes, layout below 636 u32  checksum CRC-32
+//   (ISO-HDLC, poly 0xEDB88320 reflected, init and
 //                                     xorout 0xFFFFFFFF) of encoded bytes [0, 636)
 //
 //   Path (200 bytes):
@@ -37,7 +37,8 @@
 //   8   Section sections[8]           8 x 24 bytes; sections >= section_count are all zero
 //
 //   Section (24 bytes), coefficients in Q(31 - shift), i.e. real value = raw / 2^(31 - shift):
-//   0   i32  b0, b1, b2, a1, a2       y[n] = b0 x[n] + b1 x[n-1] + b2 x[n-2] - a1 y[n-1] - a2 y[n-2]
+//   0   i32  b0, b1, b2, a1, a2       y[n] = b0 x[n] + b1 x[n-1] + b2 x[n-2] - a1 y[n-1] - a2
+//   y[n-2]
 //                                     (scipy.signal sos convention, a0 = 1 implied)
 //   20  u8   shift                    0..kMaxSectionShift
 //   21  u8   feedback                 ErrorFeedback: 0 none, 1 second-order (1 - z^-1)^2
@@ -137,7 +138,8 @@ static_assert(offsetof(FilterDescription, paths) == 36);
 static_assert(offsetof(FilterDescription, checksum) == kChecksumOffset);
 static_assert(sizeof(FilterDescription) == kDescriptionBytes);
 
-/// binary32 bit pattern <-> value, for the full-scale fields (metadata; the kernel is integer-only).
+/// binary32 bit pattern <-> value, for the full-scale fields (metadata; the kernel is
+/// integer-only).
 constexpr std::uint32_t FullScaleBits(float value) { return std::bit_cast<std::uint32_t>(value); }
 constexpr float FullScaleValue(std::uint32_t bits) { return std::bit_cast<float>(bits); }
 
@@ -164,7 +166,8 @@ void Seal(FilterDescription& description);
 ///          kVersionMismatch for a wrong magic or version (checked first);
 ///          kDataLoss if the checksum does not match (checked next: corrupted bytes say nothing);
 ///          kOutOfRange for input_count outside 1..kMaxInputs or section_count > kMaxSections;
-///          kInvalidArgument for a shift or feedback mode out of range, a nonzero reserved byte, a used input of
+///          kInvalidArgument for a shift or feedback mode out of range, a nonzero reserved byte, a
+///          used input of
 ///            kind kUnused or an unused slot carrying data, a zero sample rate, a non-finite or
 ///            non-positive full scale, or a section whose absolute coefficient sum exceeds
 ///            kMaxCoefficientSum (the bound that keeps the 64-bit accumulator from overflowing);

@@ -76,7 +76,8 @@ inline constexpr std::size_t kCalOffChannels = kCalOffStiffness + 4 * kMaxDof * 
 inline constexpr std::size_t kChannelScalingBytes = 16;
 inline constexpr std::size_t kMaxDobInputs = 3;
 inline constexpr std::uint8_t kNoChannel = 0xFF;
-inline constexpr std::size_t kCalOffDobInputs = kCalOffChannels + kChannelCount * kChannelScalingBytes;
+inline constexpr std::size_t kCalOffDobInputs =
+    kCalOffChannels + kChannelCount * kChannelScalingBytes;
 inline constexpr std::size_t kCalOffDobReserved = kCalOffDobInputs + kMaxDobInputs;
 inline constexpr std::size_t kCalOffDob = kCalOffDobReserved + 1;
 inline constexpr std::size_t kCalOffCrc = kCalOffDob + kDobDescriptionBytes;
@@ -113,9 +114,9 @@ struct CalibrationRecord {
   std::uint8_t host_minor = 0;
   std::uint16_t host_patch = 0;
   std::array<char, kCalLabelBytes> label{};
-  std::array<float, kMaxDof * kMaxDof> mass_kg{};           ///< Row-major.
-  std::array<float, kMaxDof * kMaxDof> damping_ns_per_m{};  ///< Row-major.
-  std::array<float, kMaxDof * kMaxDof> stiffness_n_per_m{}; ///< Row-major.
+  std::array<float, kMaxDof * kMaxDof> mass_kg{};            ///< Row-major.
+  std::array<float, kMaxDof * kMaxDof> damping_ns_per_m{};   ///< Row-major.
+  std::array<float, kMaxDof * kMaxDof> stiffness_n_per_m{};  ///< Row-major.
   std::array<ChannelScaling, kChannelCount> channels{};
   std::array<std::uint8_t, kMaxDobInputs> dob_input_channel{kNoChannel, kNoChannel, kNoChannel};
   std::array<std::uint8_t, kDobDescriptionBytes> dob{};

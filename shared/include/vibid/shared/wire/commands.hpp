@@ -30,21 +30,21 @@
 namespace vibid::wire {
 
 enum class Command : std::uint8_t {
-  kPing = 0x01,          ///< Echoes its payload.
-  kGetInfo = 0x02,       ///< -> InfoResponse.
-  kGetStatus = 0x03,     ///< -> StatusResponse.
-  kReset = 0x04,         ///< Answers, then resets the board.
-  kEnterDfu = 0x05,      ///< Answers, then enters the DFU bootloader (refused while acquiring).
-  kCalPutBegin = 0x10,   ///< CalPutBeginRequest.
-  kCalPutData = 0x11,    ///< Chunk of the record; header.sequence = chunk index.
-  kCalCommit = 0x12,     ///< -> CalCommitResponse (refused while acquiring).
-  kCalGet = 0x13,        ///< -> stream of the active record, trailer CalGetTrailer.
-  kAcqConfigure = 0x20,  ///< AcqConfigureRequest -> AcqConfigureResponse.
-  kAcqStart = 0x21,      ///< Clears the log and arms the trigger.
-  kAcqStop = 0x22,       ///< -> AcqStopResponse; keeps the log. Idempotent.
-  kReadLatest = 0x23,    ///< -> LatestResponse (live values for a monitor).
-  kLogRead = 0x24,       ///< LogReadRequest -> stream of log records, trailer LogTrailer.
-  kDobControl = 0x30,    ///< DobControlRequest: run or stop the observer.
+  kPing = 0x01,            ///< Echoes its payload.
+  kGetInfo = 0x02,         ///< -> InfoResponse.
+  kGetStatus = 0x03,       ///< -> StatusResponse.
+  kReset = 0x04,           ///< Answers, then resets the board.
+  kEnterDfu = 0x05,        ///< Answers, then enters the DFU bootloader (refused while acquiring).
+  kCalPutBegin = 0x10,     ///< CalPutBeginRequest.
+  kCalPutData = 0x11,      ///< Chunk of the record; header.sequence = chunk index.
+  kCalCommit = 0x12,       ///< -> CalCommitResponse (refused while acquiring).
+  kCalGet = 0x13,          ///< -> stream of the active record, trailer CalGetTrailer.
+  kAcqConfigure = 0x20,    ///< AcqConfigureRequest -> AcqConfigureResponse.
+  kAcqStart = 0x21,        ///< Clears the log and arms the trigger.
+  kAcqStop = 0x22,         ///< -> AcqStopResponse; keeps the log. Idempotent.
+  kReadLatest = 0x23,      ///< -> LatestResponse (live values for a monitor).
+  kLogRead = 0x24,         ///< LogReadRequest -> stream of log records, trailer LogTrailer.
+  kDobControl = 0x30,      ///< DobControlRequest: run or stop the observer.
   kSelectScenario = 0x70,  ///< Emulator only (kCapScenarioSelect): ScenarioRequest.
   kInjectFrames = 0x71,    ///< QEMU image only (kCapSampleInjection): InjectFramesRequest.
 };
@@ -75,8 +75,8 @@ enum class TriggerMode : std::uint8_t {
 };
 
 /// Acquisition limits the device enforces (AcqConfigure refusals).
-inline constexpr std::uint32_t kMinSamplePeriodUs = 100;       ///< 10 kHz.
-inline constexpr std::uint32_t kMaxSamplePeriodUs = 1000000;   ///< 1 Hz.
+inline constexpr std::uint32_t kMinSamplePeriodUs = 100;      ///< 10 kHz.
+inline constexpr std::uint32_t kMaxSamplePeriodUs = 1000000;  ///< 1 Hz.
 /// Decimation factors 2^a 5^b up to this one; each runs the anti-aliasing decimator
 /// (vibid/shared/fixed/decimator.hpp) on every logged channel and d_hat.
 inline constexpr std::uint16_t kMaxDecimation = 1000;
@@ -342,7 +342,7 @@ Status BuildReport(Command command, std::uint16_t token, std::uint16_t sequence,
 
 /// Encodes a fixed-size payload struct straight into a report.
 template <typename Payload>
-  requires requires { Payload::kBytes; }
+requires requires { Payload::kBytes; }
 Status BuildReport(Command command, std::uint16_t token, std::uint16_t sequence, std::uint8_t flags,
                    Status status, const Payload& payload, Report& out) {
   std::array<std::uint8_t, Payload::kBytes> bytes{};

@@ -1,4 +1,5 @@
-// The wire's CRC-32 is the shared one (vibid/shared/crc32.hpp), named in this namespace for the codecs.
+// The wire's CRC-32 is the shared one (vibid/shared/crc32.hpp), named in this namespace for the
+// codecs.
 #pragma once
 
 #include "vibid/shared/crc32.hpp"

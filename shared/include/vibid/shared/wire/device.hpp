@@ -9,10 +9,10 @@ namespace vibid::wire {
 
 /// The six sample channels, in frame and log order. A channel mask bit i selects Channel(i).
 enum class Channel : std::uint8_t {
-  kForce1 = 0,  ///< Load cell 1 (hammer or shaker), raw ADC code.
-  kForce2 = 1,  ///< Load cell 2 (hand push), raw ADC code.
-  kAccel1 = 2,  ///< Accelerometer on mass 1, raw ADC code.
-  kAccel2 = 3,  ///< Accelerometer on mass 2, raw ADC code.
+  kForce1 = 0,    ///< Load cell 1 (hammer or shaker), raw ADC code.
+  kForce2 = 1,    ///< Load cell 2 (hand push), raw ADC code.
+  kAccel1 = 2,    ///< Accelerometer on mass 1, raw ADC code.
+  kAccel2 = 3,    ///< Accelerometer on mass 2, raw ADC code.
   kEncoder1 = 4,  ///< Encoder 1, signed position count (extended to 32 bits by the port).
   kEncoder2 = 5,  ///< Encoder 2, signed position count.
 };
@@ -30,11 +30,14 @@ enum class ChannelKind : std::uint8_t {
 constexpr ChannelKind KindOf(Channel c) {
   switch (c) {
     case Channel::kForce1:
-    case Channel::kForce2: return ChannelKind::kLoadCell;
+    case Channel::kForce2:
+      return ChannelKind::kLoadCell;
     case Channel::kAccel1:
-    case Channel::kAccel2: return ChannelKind::kAccelerometer;
+    case Channel::kAccel2:
+      return ChannelKind::kAccelerometer;
     case Channel::kEncoder1:
-    case Channel::kEncoder2: return ChannelKind::kEncoder;
+    case Channel::kEncoder2:
+      return ChannelKind::kEncoder;
   }
   return ChannelKind::kLoadCell;
 }
@@ -59,9 +62,9 @@ constexpr bool IsLoadCell(std::uint8_t channel_index) {
 enum class ResetCause : std::uint8_t {
   kUnknown = 0,
   kPowerOn = 1,
-  kPin = 2,        ///< External reset pin (NRST).
-  kSoftware = 3,   ///< The reset command or an explicit software reset.
-  kWatchdog = 4,   ///< Independent or window watchdog.
+  kPin = 2,       ///< External reset pin (NRST).
+  kSoftware = 3,  ///< The reset command or an explicit software reset.
+  kWatchdog = 4,  ///< Independent or window watchdog.
   kBrownOut = 5,
   kLowPower = 6,
 };
@@ -79,6 +82,7 @@ inline constexpr std::uint32_t kCapDob = 1u << 0;             ///< Runs the fixe
 inline constexpr std::uint32_t kCapForceTrigger = 1u << 1;    ///< Force-threshold trigger.
 inline constexpr std::uint32_t kCapDfu = 1u << 2;             ///< enter-DFU reaches a bootloader.
 inline constexpr std::uint32_t kCapScenarioSelect = 1u << 3;  ///< Emulator only: select-scenario.
-inline constexpr std::uint32_t kCapSampleInjection = 1u << 4; ///< QEMU image: samples arrive over the link.
+inline constexpr std::uint32_t kCapSampleInjection =
+    1u << 4;  ///< QEMU image: samples arrive over the link.
 
 }  // namespace vibid::wire

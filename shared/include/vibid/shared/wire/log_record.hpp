@@ -77,7 +77,8 @@ void EncodeLogRecord(const LogLayout& layout, const LogRecord& record, std::span
 
 /// Reads one record's channels and d_hat (sample_index is left as it is).
 /// @returns kOk; kInvalidArgument if the layout is not Valid() or in.size() != RecordBytes().
-Status DecodeLogRecord(const LogLayout& layout, std::span<const std::uint8_t> in, LogRecord& record);
+Status DecodeLogRecord(const LogLayout& layout, std::span<const std::uint8_t> in,
+                       LogRecord& record);
 
 /// Decodes a log data report payload: the first record's tick, then whole records.
 /// @returns kOk with `count` records in out[0..count); kInvalidArgument for an invalid layout,

@@ -64,10 +64,10 @@ inline constexpr std::size_t kOffPayloadLength = 10;
 inline constexpr std::size_t kOffReserved = 11;
 inline constexpr std::size_t kOffPayload = 12;
 static_assert(kOffMagic + 2 == kOffProtocolMajor && kOffProtocolMajor + 1 == kOffCommand &&
-              kOffCommand + 1 == kOffStatus && kOffStatus + 1 == kOffFlags &&
-              kOffFlags + 1 == kOffToken && kOffToken + 2 == kOffSequence &&
-              kOffSequence + 2 == kOffPayloadLength && kOffPayloadLength + 1 == kOffReserved &&
-              kOffReserved + 1 == kOffPayload && kOffPayload == kHeaderBytes,
+                  kOffCommand + 1 == kOffStatus && kOffStatus + 1 == kOffFlags &&
+                  kOffFlags + 1 == kOffToken && kOffToken + 2 == kOffSequence &&
+                  kOffSequence + 2 == kOffPayloadLength && kOffPayloadLength + 1 == kOffReserved &&
+                  kOffReserved + 1 == kOffPayload && kOffPayload == kHeaderBytes,
               "header fields are contiguous");
 static_assert(kMaxPayload == 52);
 
@@ -118,8 +118,8 @@ constexpr bool IsStreamData(const Report& report) { return report[0] == kStreamD
 
 /// Writes a stream data report; zeroes the rest.
 /// @returns kOk; kOutOfRange for an empty payload or one longer than kMaxStreamPayload.
-Status EncodeStreamData(std::uint16_t token, std::uint16_t sequence, std::span<const std::uint8_t> payload,
-                        Report& out);
+Status EncodeStreamData(std::uint16_t token, std::uint16_t sequence,
+                        std::span<const std::uint8_t> payload, Report& out);
 
 /// @returns kOk; kDataLoss if the report is not a stream data report; kInvalidArgument for a
 ///          payload length of 0 or over kMaxStreamPayload.

@@ -91,7 +91,7 @@ Status BuildCalPutBegin(std::span<const std::uint8_t> record, std::uint16_t toke
 
 /// cal-put-data report number `chunk` of `record`.
 /// @returns kOk; kOutOfRange if chunk >= CalPutChunkCount(record.size()).
-Status BuildCalPutData(std::span<const std::uint8_t> record, std::size_t chunk,
-                       std::uint16_t token, Report& out);
+Status BuildCalPutData(std::span<const std::uint8_t> record, std::size_t chunk, std::uint16_t token,
+                       Report& out);
 
 }  // namespace vibid::wire

@@ -17,11 +17,13 @@
 namespace vibid {
 
 struct CsvTable {
-  std::string source;                ///< File path or label, for messages.
-  std::vector<std::string> names;    ///< Header cells, trimmed.
+  std::string source;                    ///< File path or label, for messages.
+  std::vector<std::string> names;        ///< Header cells, trimmed.
   std::vector<Eigen::VectorXd> columns;  ///< One vector per header cell, all of rows() length.
 
-  std::size_t rows() const { return columns.empty() ? 0 : static_cast<std::size_t>(columns[0].size()); }
+  std::size_t rows() const {
+    return columns.empty() ? 0 : static_cast<std::size_t>(columns[0].size());
+  }
   bool Has(std::string_view name) const;
   /// Index of a column; InputError listing the available names when absent.
   std::size_t Index(std::string_view name) const;
@@ -39,7 +41,8 @@ CsvTable ReadCsv(const std::string& path);
 
 /// Formats columns as CSV with a header; numbers in shortest round-trip form, so a written file
 /// reads back bit-identical.
-std::string FormatCsv(const std::vector<std::string>& names, const std::vector<Eigen::VectorXd>& columns);
+std::string FormatCsv(const std::vector<std::string>& names,
+                      const std::vector<Eigen::VectorXd>& columns);
 
 /// A column selected by the user, with a conversion to SI:
 ///   `NAME`           taken as it is (already SI)

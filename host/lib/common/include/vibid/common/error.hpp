@@ -1,8 +1,8 @@
 // Errors at the boundary between a user and the host library.
 //
 // Bad user input (a missing file, a malformed cell, an impossible option) is an InputError: the CLI
-// catches it, prints its message on one line and exits nonzero. Numerical trouble inside a solver is
-// not an exception; it is reported in the solver's Summary.
+// catches it, prints its message on one line and exits nonzero. Numerical trouble inside a solver
+// is not an exception; it is reported in the solver's Summary.
 #pragma once
 
 #include <stdexcept>

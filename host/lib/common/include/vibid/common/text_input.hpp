@@ -20,7 +20,8 @@ inline constexpr std::uint64_t kMaxCsvFileBytes = std::uint64_t{4} << 30;
 void RequireReadableSize(const std::string& path, std::uint64_t max_bytes);
 
 /// Throws InputError "SOURCE:LINE:COLUMN: not UTF-8 text (byte 0xNN)" at the first byte that is
-/// not part of well-formed UTF-8 (or is NUL, which marks a binary file), or "SOURCE: UTF-16 text; save it as UTF-8" for a UTF-16 file.
+/// not part of well-formed UTF-8 (or is NUL, which marks a binary file), or "SOURCE: UTF-16 text;
+/// save it as UTF-8" for a UTF-16 file.
 void RequireUtf8(std::string_view text, const std::string& source);
 
 /// The text with control characters and bytes outside printable ASCII written as \xNN, cut to

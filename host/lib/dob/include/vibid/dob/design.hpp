@@ -39,34 +39,34 @@ struct NominalPlant {
 };
 
 struct DobOptions {
-  int order = 5;             ///< N
-  int relative_degree = 4;   ///< r
-  double tau_s = 0.002;      ///< 1/tau is Q's cut-off, rad/s.
-  double fs_hz = 5000.0;     ///< Board sample rate.
+  int order = 5;            ///< N
+  int relative_degree = 4;  ///< r
+  double tau_s = 0.002;     ///< 1/tau is Q's cut-off, rad/s.
+  double fs_hz = 5000.0;    ///< Board sample rate.
   QPrototype prototype = QPrototype::kButterworth;
   SensorKind sensor = SensorKind::kDisplacement;
   ObserverForm form = ObserverForm::kSiso;
   Discretization discretization = Discretization::kTustin;
-  int input_dof = 1;   ///< 0-based mass the force (and d) acts on.
-  int output_dof = 1;  ///< 0-based mass of the sensor (SISO).
+  int input_dof = 1;      ///< 0-based mass the force (and d) acts on.
+  int output_dof = 1;     ///< 0-based mass of the sensor (SISO).
   double leak_hz = 0.05;  ///< Corner of the leaky integrators for velocity/acceleration sensors.
   double force_full_scale_n = 100.0;
-  double sensor_full_scale = 0.0;       ///< 0: 0.05 m, 1 m/s or 50 m/s^2 by sensor kind.
-  double output_full_scale_n = 0.0;     ///< 0: twice the force full scale.
+  double sensor_full_scale = 0.0;    ///< 0: 0.05 m, 1 m/s or 50 m/s^2 by sensor kind.
+  double output_full_scale_n = 0.0;  ///< 0: twice the force full scale.
 };
 
 struct DobDesign {
   DobOptions options;
   QFilter q;
-  int plant_relative_degree = 0;   ///< of G_A (SISO) or of the row operator (MIMO), in s.
-  std::vector<Zpk> continuous;     ///< Per input, the analog path (N per input unit).
-  std::vector<ObserverPath> paths; ///< Per input, the discrete sections (double).
+  int plant_relative_degree = 0;    ///< of G_A (SISO) or of the row operator (MIMO), in s.
+  std::vector<Zpk> continuous;      ///< Per input, the analog path (N per input unit).
+  std::vector<ObserverPath> paths;  ///< Per input, the discrete sections (double).
   bool stable = false;
-  std::string message;             ///< Why the filter was refused, when !stable.
-  double max_pole_radius = 0.0;    ///< Discrete, over all paths.
+  std::string message;           ///< Why the filter was refused, when !stable.
+  double max_pole_radius = 0.0;  ///< Discrete, over all paths.
   double valid_band_lo_hz = 0.0;
   double valid_band_hi_hz = 0.0;
-  QuantizeResult fixed;            ///< Filled only when stable.
+  QuantizeResult fixed;  ///< Filled only when stable.
 };
 
 /// Validates options (InputError naming the problem, e.g. r below the plant's relative degree),

@@ -17,6 +17,7 @@ std::vector<SosSection> ButterworthLowpass(int order, double cutoff_hz, double f
 /// Forward-backward (zero-phase) filtering with odd extension of 3 * (2 sections + 1) samples at
 /// each end and steady-state initial conditions, as scipy.signal.sosfiltfilt. The magnitude
 /// response is squared. InputError when the signal is not longer than the extension.
-Eigen::VectorXd FiltFilt(const std::vector<SosSection>& sos, const Eigen::Ref<const Eigen::VectorXd>& x);
+Eigen::VectorXd FiltFilt(const std::vector<SosSection>& sos,
+                         const Eigen::Ref<const Eigen::VectorXd>& x);
 
 }  // namespace vibid::dob

@@ -30,8 +30,8 @@ struct QuantizeOptions {
 
 struct QuantizeResult {
   fixed::FilterDescription description{};
-  bool ok = false;       ///< Validated and every section stable on the integers.
-  std::string message;   ///< Why not, when !ok.
+  bool ok = false;      ///< Validated and every section stable on the integers.
+  std::string message;  ///< Why not, when !ok.
   /// Rounding noise predicted at d_hat from the section outputs' 1/2-LSB rounding (N rms).
   double predicted_noise_rms_n = 0.0;
   /// 10 log10(full-scale sine power / predicted noise power).
@@ -46,7 +46,8 @@ struct QuantizeResult {
 /// each section's shift from its largest coefficient and the accumulator bound, rounds to Q31 and
 /// seals the description. The full scales are rounded to binary32 first, as the description
 /// carries them. InputError for paths the format cannot hold (count, sections, ranges).
-QuantizeResult QuantizeObserver(const std::vector<ObserverPath>& paths, const QuantizeOptions& options);
+QuantizeResult QuantizeObserver(const std::vector<ObserverPath>& paths,
+                                const QuantizeOptions& options);
 
 /// The full scales as the description stores them (binary32), for converting signals.
 double StoredFullScale(double full_scale);

@@ -44,7 +44,8 @@ struct DecayResult {
 
 /// Analyses one record `position` (any length unit) sampled at `fs_hz`. InputError when no release
 /// or fewer than two oscillation cycles are found.
-DecayResult AnalyzeDecay(const Eigen::Ref<const Eigen::VectorXd>& position, double fs_hz, const DecayOptions& options);
+DecayResult AnalyzeDecay(const Eigen::Ref<const Eigen::VectorXd>& position, double fs_hz,
+                         const DecayOptions& options);
 
 struct AddedMassSolution {
   double k_n_per_m = 0.0;
@@ -54,6 +55,7 @@ struct AddedMassSolution {
 /// Same spring, base mass m alone (omega_unloaded) and with `added_kg` (omega_loaded):
 /// omega_u^2 = k/m, omega_l^2 = k/(m + added) => m = added omega_l^2/(omega_u^2 - omega_l^2),
 /// k = m omega_u^2. InputError when omega_loaded >= omega_unloaded.
-AddedMassSolution SolveAddedMass(double omega_unloaded_rad_s, double omega_loaded_rad_s, double added_kg);
+AddedMassSolution SolveAddedMass(double omega_unloaded_rad_s, double omega_loaded_rad_s,
+                                 double added_kg);
 
 }  // namespace vibid::ident

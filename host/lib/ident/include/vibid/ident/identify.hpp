@@ -57,14 +57,14 @@ std::string FormatValidationTable(const ValidationTable& table);
 struct MassTestInput {
   std::size_t position = 0;  ///< 0-based mass index.
   Frf receptance;            ///< One response: the mass alone on its spring.
-  double k_n_per_m = 0.0;    ///< Spring of the 1-DOF test; 0: the nominal chain spring of `position`.
-  bool fit_spring = false;   ///< The spring is not known: fit it with the mass (k_n_per_m ignored).
+  double k_n_per_m = 0.0;  ///< Spring of the 1-DOF test; 0: the nominal chain spring of `position`.
+  bool fit_spring = false;  ///< The spring is not known: fit it with the mass (k_n_per_m ignored).
 };
 
 struct IdentifyOptions {
   std::size_t driving_point = 1;  ///< Response column of the modal tests at the hammer.
   ModeIdentificationOptions modes;
-  MassUpdateOptions mass;          ///< k and nominal are filled per test.
+  MassUpdateOptions mass;  ///< k and nominal are filled per test.
 };
 
 struct MassTestResult {

@@ -50,15 +50,16 @@ struct ImpactOptions {
 struct Hit {
   std::size_t trigger_index = 0;  ///< First sample above the trigger level.
   std::size_t peak_index = 0;
-  double t_s = 0.0;               ///< Trigger time from the record start.
-  double peak_n = 0.0;            ///< Peak force above the baseline (force units).
+  double t_s = 0.0;     ///< Trigger time from the record start.
+  double peak_n = 0.0;  ///< Peak force above the baseline (force units).
   double pulse_width_s = 0.0;
   bool double_hit = false;
   bool clipped = false;
-  bool truncated = false;         ///< The record ends before the hit's window does.
-  std::size_t pulses = 1;         ///< Pulses of this hit (a rebound within the double-hit window adds one).
+  bool truncated = false;  ///< The record ends before the hit's window does.
+  std::size_t pulses =
+      1;  ///< Pulses of this hit (a rebound within the double-hit window adds one).
   bool used = false;
-  std::string note;               ///< Why a hit was rejected or flagged; empty when clean.
+  std::string note;  ///< Why a hit was rejected or flagged; empty when clean.
 };
 
 struct ImpactResult {
@@ -79,7 +80,8 @@ struct ImpactResult {
 /// response holds its effect biases the FRF). InputError when no hit is usable, with the reasons.
 ImpactResult EstimateImpactFrf(const Eigen::Ref<const Eigen::VectorXd>& force,
                                const Eigen::Ref<const Eigen::MatrixXd>& responses, double fs_hz,
-                               const ImpactOptions& options, Estimator estimator, Quantity response_quantity);
+                               const ImpactOptions& options, Estimator estimator,
+                               Quantity response_quantity);
 
 /// How a force channel looks: a train of short pulses (an impact test) or a continuous excitation
 /// (random, periodic, sweep), for the choice between per-hit records and Welch averaging.

@@ -8,19 +8,19 @@
 //   H_a(w) = sum_i [ R_i / (jw - lambda_i) + conj(R_i) / (jw - conj(lambda_i)) ] + c - w^2 d
 //
 // (with a pretrigger t_p, plus exp(j w t_p) sum_i [ S_i / (jw - lambda_i) + conj(S_i) / (...) ],
-// see below) on the accelerance (residuals: c for the modes below the band and the accelerometer's direct
-// term, d for the modes above it), each response with its own complex residues R_i, every line
-// weighted by the inverse of its standard deviation. Why this form and not the modal form
-// A / (w_i^2 - w^2 + 2j zeta w_i w) with a complex A: a record that ends before the response has
-// died out (or that starts in the previous hit's ringing) multiplies each mode's residue at the
-// DFT lines by one complex factor 1 - exp(lambda T), the same for every response. The
-// pole-residue form carries that factor exactly, so shape ratios stay unbiased; the modal form
-// with a complex A puts the factor's imaginary part on j instead of j w and pushes the misfit into
-// the damping and the shapes. When the hit sits t_p into its record, H1 = X / F divides by the
-// force's exp(-j w t_p): the response to the hit keeps the plain pole terms, while the ringing
-// cut off at the record's end and the previous hits' tails (free decays present from the record's
-// start) come with exp(j w t_p) - the S_i terms. Without them the misfit of a decay that spans one
-// line or two biases zeta by 1-2 % (synthetic 2-DOF, 16 s records, zeta 0.7 %).
+// see below) on the accelerance (residuals: c for the modes below the band and the accelerometer's
+// direct term, d for the modes above it), each response with its own complex residues R_i, every
+// line weighted by the inverse of its standard deviation. Why this form and not the modal form A /
+// (w_i^2 - w^2 + 2j zeta w_i w) with a complex A: a record that ends before the response has died
+// out (or that starts in the previous hit's ringing) multiplies each mode's residue at the DFT
+// lines by one complex factor 1 - exp(lambda T), the same for every response. The pole-residue form
+// carries that factor exactly, so shape ratios stay unbiased; the modal form with a complex A puts
+// the factor's imaginary part on j instead of j w and pushes the misfit into the damping and the
+// shapes. When the hit sits t_p into its record, H1 = X / F divides by the force's exp(-j w t_p):
+// the response to the hit keeps the plain pole terms, while the ringing cut off at the record's end
+// and the previous hits' tails (free decays present from the record's start) come with exp(j w t_p)
+// - the S_i terms. Without them the misfit of a decay that spans one line or two biases zeta by 1-2
+// % (synthetic 2-DOF, 16 s records, zeta 0.7 %).
 //
 // Noise: white in each response's accelerance over the band (an accelerometer's noise floor over
 // a hammer's flat force spectrum), its level from the fit's residuals with the degrees of freedom

@@ -36,7 +36,9 @@ struct ModeEstimate {
   std::array<double, 2> zeta_ci95{kNoInterval, kNoInterval};
   std::array<double, 2> ratio_ci95{kNoInterval, kNoInterval};
   static constexpr double kNoInterval = std::numeric_limits<double>::quiet_NaN();
-  bool HasIntervals() const { return std::isfinite(omega_ci95_rad_s[0]) && std::isfinite(zeta_ci95[0]); }
+  bool HasIntervals() const {
+    return std::isfinite(omega_ci95_rad_s[0]) && std::isfinite(zeta_ci95[0]);
+  }
 };
 
 /// Eq. 10 with the hammer at response `driving_point`: phi_p^2 = 2 zeta omega^2 |H_pp(omega)|,
@@ -65,7 +67,8 @@ struct FittedMode {
   double omega_rad_s = 0.0;
   double freq_hz = 0.0;
   double zeta = 0.0;
-  Eigen::VectorXcd residues;  ///< One per response: H_j = sum_i A_ji / (omega_i^2 - omega^2 + 2j zeta_i omega_i omega).
+  Eigen::VectorXcd residues;  ///< One per response: H_j = sum_i A_ji / (omega_i^2 - omega^2 + 2j
+                              ///< zeta_i omega_i omega).
 };
 
 struct CurveFitResult {
@@ -82,7 +85,8 @@ struct CurveFitResult {
 /// Fits all modes at once to a receptance (variable projection: the residues and residual terms
 /// are solved linearly for each pole set, Levenberg–Marquardt moves the poles). InputError for a
 /// non-receptance FRF or an empty start.
-CurveFitResult FitModes(const Frf& receptance, const std::vector<Peak>& start, const CurveFitOptions& options);
+CurveFitResult FitModes(const Frf& receptance, const std::vector<Peak>& start,
+                        const CurveFitOptions& options);
 
 /// Residues (and residual terms) for given poles, by linear least squares over the band
 /// (least-squares frequency domain, "LSFD"): the same model and weights as FitModes with the
@@ -117,7 +121,8 @@ struct ModeIdentification {
   std::vector<Peak> peaks;
   std::vector<std::string> warnings;
   bool fitted = false;
-  CurveFitResult fit;  ///< Valid when `fitted` (for lscf/lsce: the residue fit with the chosen poles).
+  CurveFitResult
+      fit;  ///< Valid when `fitted` (for lscf/lsce: the residue fit with the chosen poles).
   bool has_diagram = false;
   StabilizationDiagram diagram;  ///< lscf/lsce.
   /// Modes that were estimated but are not reported: damping not resolved (zeta <= 1e-6).

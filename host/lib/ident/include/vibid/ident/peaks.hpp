@@ -30,15 +30,15 @@ struct PeakOptions {
 };
 
 struct Peak {
-  std::size_t line = 0;         ///< Index of the largest sample.
-  double freq_hz = 0.0;         ///< Refined by the cubic.
+  std::size_t line = 0;  ///< Index of the largest sample.
+  double freq_hz = 0.0;  ///< Refined by the cubic.
   double omega_rad_s = 0.0;
-  double magnitude = 0.0;       ///< |H| at the refined peak.
-  double omega_a_rad_s = 0.0;   ///< Half-power points.
+  double magnitude = 0.0;      ///< |H| at the refined peak.
+  double omega_a_rad_s = 0.0;  ///< Half-power points.
   double omega_b_rad_s = 0.0;
-  double zeta = 0.0;            ///< Half-power damping, exponential-window correction applied.
-  double zeta_measured = 0.0;   ///< Before that correction.
-  double lines_in_band = 0.0;   ///< (omega_b - omega_a) / line spacing.
+  double zeta = 0.0;           ///< Half-power damping, exponential-window correction applied.
+  double zeta_measured = 0.0;  ///< Before that correction.
+  double lines_in_band = 0.0;  ///< (omega_b - omega_a) / line spacing.
   bool resolution_warning = false;
 };
 

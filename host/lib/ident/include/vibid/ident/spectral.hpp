@@ -73,9 +73,9 @@ CrossSpectra WelchSpectra(const Eigen::Ref<const Eigen::VectorXd>& force,
 
 /// Estimated FRFs of several responses to one force, with coherence.
 struct Frf {
-  Eigen::VectorXd freq_hz;     ///< Uniform lines (the DC line may be absent after a conversion).
-  Eigen::MatrixXcd h;          ///< lines x responses.
-  Eigen::MatrixXd coherence;   ///< lines x responses, ordinary coherence in [0, 1].
+  Eigen::VectorXd freq_hz;    ///< Uniform lines (the DC line may be absent after a conversion).
+  Eigen::MatrixXcd h;         ///< lines x responses.
+  Eigen::MatrixXd coherence;  ///< lines x responses, ordinary coherence in [0, 1].
   Quantity quantity = Quantity::kDisplacement;
   Estimator estimator = Estimator::kH1;
   std::size_t averages = 0;

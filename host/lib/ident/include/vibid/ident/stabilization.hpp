@@ -93,8 +93,8 @@ struct StabilizationDiagram {
   double freq_min_hz = 0.0;  ///< Band used.
   double freq_max_hz = 0.0;
   std::vector<int> orders;
-  std::vector<DiagramPole> poles;     ///< Every physical-looking pole of every order, in the band.
-  std::vector<SelectedPole> selected; ///< Chosen poles, in frequency order.
+  std::vector<DiagramPole> poles;      ///< Every physical-looking pole of every order, in the band.
+  std::vector<SelectedPole> selected;  ///< Chosen poles, in frequency order.
 };
 
 /// Every root of the pLSCF denominator of `order` fitted over [freq_min_hz, freq_max_hz] (0: as in
@@ -124,8 +124,8 @@ StabilizationDiagram BuildStabilizationDiagram(const Frf& frf, const Stabilizati
 /// sits where z = exp(lambda dt) crowds 1 and is lost to the polynomial's conditioning. The
 /// resonances (sorted, Hz) are grouped so that each group spans at most a factor `max_span`; each
 /// group gets the band [0.6 f_first (0 for the first group), min(last_line, 1.6 f_last)].
-std::vector<std::pair<double, double>> AutomaticBands(std::vector<double> resonances_hz, double last_line_hz,
-                                                      double max_span = 8.0);
+std::vector<std::pair<double, double>> AutomaticBands(std::vector<double> resonances_hz,
+                                                      double last_line_hz, double max_span = 8.0);
 
 /// One diagram per band (options' band ignored), merged: chosen poles of overlapping bands within
 /// the frequency tolerance of each other count once (the one seen at more orders).

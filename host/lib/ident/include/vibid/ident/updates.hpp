@@ -34,16 +34,16 @@ struct MassUpdateOptions {
 };
 
 struct MassUpdateResult {
-  double mass_kg = 0.0;        ///< Effective mass.
-  double k_n_per_m = 0.0;      ///< As given, or fitted.
+  double mass_kg = 0.0;    ///< Effective mass.
+  double k_n_per_m = 0.0;  ///< As given, or fitted.
   bool stiffness_fitted = false;
   bool damping_fitted = false;
-  double zeta = 0.0;           ///< c / (2 sqrt(k m)): fitted, or the half-power value.
+  double zeta = 0.0;             ///< c / (2 sqrt(k m)): fitted, or the half-power value.
   double zeta_half_power = 0.0;  ///< Half-power damping (exponential-window correction applied).
-  double c_ns_per_m = 0.0;     ///< Viscous damping of the mass alone (window damping removed).
-  double omega_rad_s = 0.0;    ///< Peak-picked resonance.
+  double c_ns_per_m = 0.0;       ///< Viscous damping of the mass alone (window damping removed).
+  double omega_rad_s = 0.0;      ///< Peak-picked resonance.
   double nominal_kg = 0.0;
-  double change_percent = 0.0; ///< 100 (m - nominal) / nominal; 0 without a nominal.
+  double change_percent = 0.0;  ///< 100 (m - nominal) / nominal; 0 without a nominal.
   std::size_t lines_fitted = 0;
   numerics::SolverSummary summary;
   std::vector<std::string> warnings;
@@ -54,16 +54,17 @@ struct MassUpdateResult {
 /// Levenberg–Marquardt, c started from the half-power damping (2 zeta sqrt(k m)) and refined
 /// unless options.fit_damping is false. An exponential window on the records adds 2 m / tau to
 /// the damping the windowed FRF shows; the fit models it and reports c without it.
-MassUpdateResult UpdateMass(const Frf& receptance, std::size_t response, const MassUpdateOptions& options);
+MassUpdateResult UpdateMass(const Frf& receptance, std::size_t response,
+                            const MassUpdateOptions& options);
 
 /// Stiffness (and damping) matrices from one modal test, chain springs by the source's
 /// convention and by least squares.
 struct StiffnessUpdateResult {
-  Eigen::MatrixXd k_matrix;        ///< K = M Phi Omega^2 Phi^T M.
-  Eigen::MatrixXd c_matrix;        ///< C = M Phi diag(2 zeta omega) Phi^T M.
-  Eigen::VectorXd springs;         ///< k_n = K_nn, k_i = K_ii - k_{i+1} (k2 = K22, k1 = K11 - K22).
-  Eigen::VectorXd springs_lsq;     ///< Chain springs closest to K in the Frobenius norm.
-  Eigen::VectorXd dampers;         ///< Same convention as `springs`, from C.
+  Eigen::MatrixXd k_matrix;     ///< K = M Phi Omega^2 Phi^T M.
+  Eigen::MatrixXd c_matrix;     ///< C = M Phi diag(2 zeta omega) Phi^T M.
+  Eigen::VectorXd springs;      ///< k_n = K_nn, k_i = K_ii - k_{i+1} (k2 = K22, k1 = K11 - K22).
+  Eigen::VectorXd springs_lsq;  ///< Chain springs closest to K in the Frobenius norm.
+  Eigen::VectorXd dampers;      ///< Same convention as `springs`, from C.
   /// 100 (-K_{i-1,i} - k_i) / k_i, largest in magnitude over the chain links (2-DOF: -K12 vs k2).
   double offdiag_mismatch_percent = 0.0;
 };
@@ -76,16 +77,17 @@ StiffnessUpdateResult UpdateStiffness(const Eigen::Ref<const Eigen::VectorXd>& m
                                       const Eigen::Ref<const Eigen::MatrixXd>& shapes);
 
 /// 2-DOF form: shape i = [ratio_i, 1].
-StiffnessUpdateResult UpdateStiffness2(double m1_kg, double m2_kg, const std::vector<ModeEstimate>& modes);
+StiffnessUpdateResult UpdateStiffness2(double m1_kg, double m2_kg,
+                                       const std::vector<ModeEstimate>& modes);
 
 /// Several tests updated separately, then averaged.
 struct StiffnessAverage {
   std::vector<StiffnessUpdateResult> tests;
-  Eigen::MatrixXd k_matrix;      ///< Mean.
-  Eigen::VectorXd springs;       ///< Mean.
-  Eigen::VectorXd springs_lsq;   ///< Mean.
-  Eigen::VectorXd dampers;       ///< Mean.
-  Eigen::VectorXd spread;        ///< Sample standard deviation of `springs` (0 for one test).
+  Eigen::MatrixXd k_matrix;     ///< Mean.
+  Eigen::VectorXd springs;      ///< Mean.
+  Eigen::VectorXd springs_lsq;  ///< Mean.
+  Eigen::VectorXd dampers;      ///< Mean.
+  Eigen::VectorXd spread;       ///< Sample standard deviation of `springs` (0 for one test).
   double offdiag_mismatch_percent = 0.0;  ///< Mean.
 };
 

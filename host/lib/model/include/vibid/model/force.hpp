@@ -3,12 +3,12 @@
 // Shape SPEC strings (the CLI's --force), `KIND:key=value,...`, dof counted from 1, SI units:
 //   step:dof=1,amp=5[,t0=0]                      amp (N) for t ≥ t0
 //   pulse:dof=1,amp=5,width=0.1[,t0=0]           amp for t0 ≤ t < t0 + width
-//   halfsine:dof=2,amp=100,width=0.001[,t0=0]    amp sin(π (t − t0)/width) on [t0, t0 + width] (hammer)
-//   sine:dof=2,amp=1,freq_hz=16[,t0=0]           amp sin(2π f (t − t0)) for t ≥ t0
+//   halfsine:dof=2,amp=100,width=0.001[,t0=0]    amp sin(π (t − t0)/width) on [t0, t0 + width]
+//   (hammer) sine:dof=2,amp=1,freq_hz=16[,t0=0]           amp sin(2π f (t − t0)) for t ≥ t0
 //   chirp:dof=1,amp=1,f0_hz=1,f1_hz=50,t1=10[,t0=0]
 //                                                linear sweep f0 → f1 over t1 seconds from t0,
-//                                                amp sin(2π (f0 τ + (f1 − f0) τ²/(2 t1))), τ = t − t0;
-//                                                zero outside [t0, t0 + t1]
+//                                                amp sin(2π (f0 τ + (f1 − f0) τ²/(2 t1))), τ = t −
+//                                                t0; zero outside [t0, t0 + t1]
 #pragma once
 
 #include <string>
@@ -23,14 +23,14 @@ enum class ShapeKind { kStep, kPulse, kHalfSine, kSine, kChirp };
 
 struct ForceShape {
   ShapeKind kind = ShapeKind::kStep;
-  int dof = 0;             ///< 0-based
+  int dof = 0;  ///< 0-based
   double amp_n = 0.0;
   double t0_s = 0.0;
-  double width_s = 0.0;    ///< pulse, halfsine
-  double freq_hz = 0.0;    ///< sine
-  double f0_hz = 0.0;      ///< chirp start
-  double f1_hz = 0.0;      ///< chirp end
-  double t1_s = 0.0;       ///< chirp duration
+  double width_s = 0.0;  ///< pulse, halfsine
+  double freq_hz = 0.0;  ///< sine
+  double f0_hz = 0.0;    ///< chirp start
+  double f1_hz = 0.0;    ///< chirp end
+  double t1_s = 0.0;     ///< chirp duration
 };
 
 /// Parses a SPEC (see above). InputError naming the spec and the bad or missing key.
@@ -66,6 +66,7 @@ struct ForceInput {
 void ValidateForceInput(const ForceInput& input, int dofs, const std::string& what = "force");
 
 /// Writes the force on each DOF at t_s into `out` (size dofs). No allocation.
-void EvaluateForce(const ForceInput& input, double t_s, Eigen::Ref<Eigen::VectorXd> out, Side side = Side::kFrom);
+void EvaluateForce(const ForceInput& input, double t_s, Eigen::Ref<Eigen::VectorXd> out,
+                   Side side = Side::kFrom);
 
 }  // namespace vibid::model

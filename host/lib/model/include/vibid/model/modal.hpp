@@ -21,8 +21,9 @@ struct ModalResult {
   /// Modal damping φᵢᵀ C φᵢ in 1/s (= 2 ζ ω for a flexible mode); used by the modal FRF so that
   /// rigid-body modes with damping are represented too.
   Eigen::VectorXd modal_damping_per_s;
-  Eigen::MatrixXd shapes;       ///< Mass-normalised shapes, n×n, one per column; first nonzero entry > 0.
-  Eigen::VectorXd ratio;        ///< a1/a2 = shapes(0,i)/shapes(1,i) (sign kept); NaN when n < 2.
+  Eigen::MatrixXd
+      shapes;  ///< Mass-normalised shapes, n×n, one per column; first nonzero entry > 0.
+  Eigen::VectorXd ratio;  ///< a1/a2 = shapes(0,i)/shapes(1,i) (sign kept); NaN when n < 2.
   DampingKind damping = DampingKind::kNone;
 
   int size() const { return static_cast<int>(omega_rad_s.size()); }

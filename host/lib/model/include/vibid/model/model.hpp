@@ -22,7 +22,8 @@ void Validate(const Model& model);
 
 /// Series chain ground –k1– m1 –k2– m2 – … (rig A). `dampers_ns_per_m` is empty (undamped) or has
 /// one dashpot per spring, in parallel with it. Validates the result.
-Model MakeChain(Eigen::Ref<const Eigen::VectorXd> masses_kg, Eigen::Ref<const Eigen::VectorXd> springs_n_per_m,
+Model MakeChain(Eigen::Ref<const Eigen::VectorXd> masses_kg,
+                Eigen::Ref<const Eigen::VectorXd> springs_n_per_m,
                 Eigen::Ref<const Eigen::VectorXd> dampers_ns_per_m = Eigen::VectorXd());
 
 /// Cart track ground –k– M1 –k– M2 – … –k– ground (rig B): n carts, n+1 springs of equal k, and a

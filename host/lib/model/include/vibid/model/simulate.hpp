@@ -40,8 +40,8 @@ struct CoulombFriction {
 
 struct SimulationOptions {
   Method method = Method::kRk4;
-  double dt_s = 1e-3;   ///< > 0
-  double t_end_s = 1.0; ///< > dt_s; samples at 0, dt, …, up to t_end (inclusive within 1e-9 dt)
+  double dt_s = 1e-3;    ///< > 0
+  double t_end_s = 1.0;  ///< > dt_s; samples at 0, dt, …, up to t_end (inclusive within 1e-9 dt)
   /// Empty: no friction; one entry applies to every mass; otherwise one per DOF.
   std::vector<CoulombFriction> friction;
   double gravity_m_s2 = kStandardGravity_m_s2;
@@ -64,9 +64,10 @@ struct SimulationResult {
 };
 
 /// Validates model, options and inputs up front (InputError), then simulates.
-SimulationResult Simulate(const Model& model, const ForceInput& force, const SimulationOptions& options);
-SimulationResult Simulate(const Model& model, const ForceInput& force, const ForceInput& disturbance,
+SimulationResult Simulate(const Model& model, const ForceInput& force,
                           const SimulationOptions& options);
+SimulationResult Simulate(const Model& model, const ForceInput& force,
+                          const ForceInput& disturbance, const SimulationOptions& options);
 
 /// Step-by-step simulation for callers that produce the force as they go (an emulated rig):
 /// each Step holds the given force constant over dt_s. Discrete matrices are precomputed; a Step

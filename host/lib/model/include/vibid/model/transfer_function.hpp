@@ -19,7 +19,8 @@ struct TransferFunction {
 /// Value at a complex s.
 std::complex<double> EvaluateTf(const TransferFunction& tf, std::complex<double> s);
 /// Values at s = jω for each ω (rad/s): directly comparable with Frf().
-Eigen::VectorXcd EvaluateTfAt(const TransferFunction& tf, Eigen::Ref<const Eigen::VectorXd> omega_rad_s);
+Eigen::VectorXcd EvaluateTfAt(const TransferFunction& tf,
+                              Eigen::Ref<const Eigen::VectorXd> omega_rad_s);
 
 /// Product of two transfer functions (polynomial products).
 TransferFunction Multiply(const TransferFunction& a, const TransferFunction& b);
@@ -28,7 +29,8 @@ TransferFunction Multiply(const TransferFunction& a, const TransferFunction& b);
 /// so the denominator (degree 2n) is monic. Computed by Faddeev–LeVerrier on the frequency-scaled
 /// state matrix; numerator coefficients that are zero by structure are dropped (receptance
 /// degree ≤ 2n−2, mobility one more, accelerance two more).
-TransferFunction ModelTransferFunction(const Model& model, int input_dof, int output_dof, FrfKind kind);
+TransferFunction ModelTransferFunction(const Model& model, int input_dof, int output_dof,
+                                       FrfKind kind);
 
 /// Input of the cart-track first-principle models (methods §10).
 enum class CartInput {

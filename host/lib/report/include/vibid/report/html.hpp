@@ -19,8 +19,8 @@ class HtmlPage {
   void Paragraph(std::string_view text);
   /// Rows of cells; every row must have as many cells as the header (InputError otherwise).
   /// Cells are text; numbers are right-aligned when a whole column parses as numbers.
-  void Table(const std::vector<std::string>& header, const std::vector<std::vector<std::string>>& rows,
-             std::string_view caption = {});
+  void Table(const std::vector<std::string>& header,
+             const std::vector<std::vector<std::string>>& rows, std::string_view caption = {});
   /// `svg` is trusted markup from SvgPlot.
   void Figure(std::string svg, std::string_view caption);
   void List(const std::vector<std::string>& items);

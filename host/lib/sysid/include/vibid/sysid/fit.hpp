@@ -23,12 +23,12 @@ double ChiSquareQuantile(double probability, int dof);
 struct ResidualTests {
   int max_lag = 0;
   double confidence = 0.0;
-  Eigen::VectorXd autocorrelation;    ///< ρ_e(τ), τ = 1..max_lag (normalised by ρ_e(0)).
-  double autocorrelation_bound = 0.0; ///< z/√N: ρ_e of white residuals stays inside.
+  Eigen::VectorXd autocorrelation;     ///< ρ_e(τ), τ = 1..max_lag (normalised by ρ_e(0)).
+  double autocorrelation_bound = 0.0;  ///< z/√N: ρ_e of white residuals stays inside.
   int autocorrelation_outside = 0;
-  double ljung_box = 0.0;             ///< Q = N(N+2) Σ ρ_e(τ)²/(N − τ).
-  double ljung_box_threshold = 0.0;   ///< χ²(max_lag) quantile at `confidence`.
-  bool white = false;                 ///< Q below its threshold.
+  double ljung_box = 0.0;            ///< Q = N(N+2) Σ ρ_e(τ)²/(N − τ).
+  double ljung_box_threshold = 0.0;  ///< χ²(max_lag) quantile at `confidence`.
+  bool white = false;                ///< Q below its threshold.
 
   Eigen::VectorXd cross_correlation;  ///< ρ_eu(τ), τ = −max_lag..max_lag (e lagging u for τ > 0).
   double cross_correlation_bound = 0.0;  ///< z √(Σ_k ρ_e(k) ρ_u(k) / N).
@@ -39,7 +39,8 @@ struct ResidualTests {
   bool independent = false;                  ///< S below its threshold.
 };
 
-ResidualTests TestResiduals(Eigen::Ref<const Eigen::VectorXd> residual, Eigen::Ref<const Eigen::VectorXd> input,
-                            int max_lag = 25, double confidence = 0.99);
+ResidualTests TestResiduals(Eigen::Ref<const Eigen::VectorXd> residual,
+                            Eigen::Ref<const Eigen::VectorXd> input, int max_lag = 25,
+                            double confidence = 0.99);
 
 }  // namespace vibid::sysid

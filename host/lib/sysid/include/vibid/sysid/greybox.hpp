@@ -27,7 +27,7 @@ namespace vibid::sysid {
 using model::CartInput;
 
 struct CartConfig {
-  int carts = 1;                      ///< 1 or 2.
+  int carts = 1;  ///< 1 or 2.
   CartInput input = CartInput::kForce;
 };
 
@@ -44,20 +44,21 @@ struct GreyboxOptions {
   std::map<std::string, double> fixed;  ///< Parameters held at a value (by name).
   InitialCondition ic = InitialCondition::kZero;
   numerics::SolverOptions solver;
-  /// Throws InputError: unknown or non-positive fixed parameters, a position input without one fixed.
+  /// Throws InputError: unknown or non-positive fixed parameters, a position input without one
+  /// fixed.
   void Validate() const;
 };
 
 struct GreyboxParameter {
   std::string name;
   double value = 0.0;
-  double std = 0.0;    ///< 0 when fixed.
+  double std = 0.0;  ///< 0 when fixed.
   bool fixed = false;
 };
 
 struct GreyboxResult {
   std::vector<GreyboxParameter> parameters;
-  TransferFunction tf;                 ///< Monic, from the estimated parameters.
+  TransferFunction tf;  ///< Monic, from the estimated parameters.
   double fit_percent = 0.0;
   std::string initialization;
   numerics::SolverSummary summary;

@@ -12,20 +12,20 @@
 namespace vibid::sysid {
 
 struct IoData {
-  Eigen::VectorXd u;   ///< Input samples (SI, e.g. N or V).
-  Eigen::VectorXd y;   ///< Output samples (SI, e.g. m).
-  double dt_s = 1.0;   ///< Sample period, seconds (1 for records given in sample units).
+  Eigen::VectorXd u;  ///< Input samples (SI, e.g. N or V).
+  Eigen::VectorXd y;  ///< Output samples (SI, e.g. m).
+  double dt_s = 1.0;  ///< Sample period, seconds (1 for records given in sample units).
 
   Eigen::Index samples() const { return y.size(); }
 };
 
 /// Builds an IoData and checks it: equal lengths, finite values, a positive sample period, at least
 /// `min_samples` samples, and an input that is not constant (a constant input is not persistently
-/// exciting: no dynamics can be told apart). Throws InputError naming the problem; `u_name`/`y_name`
-/// name the signals in messages.
-IoData MakeIoData(Eigen::Ref<const Eigen::VectorXd> u, Eigen::Ref<const Eigen::VectorXd> y, double dt_s,
-                  const std::string& u_name = "input", const std::string& y_name = "output",
-                  Eigen::Index min_samples = 8);
+/// exciting: no dynamics can be told apart). Throws InputError naming the problem;
+/// `u_name`/`y_name` name the signals in messages.
+IoData MakeIoData(Eigen::Ref<const Eigen::VectorXd> u, Eigen::Ref<const Eigen::VectorXd> y,
+                  double dt_s, const std::string& u_name = "input",
+                  const std::string& y_name = "output", Eigen::Index min_samples = 8);
 
 enum class Trend { kNone, kMean, kLinear };
 

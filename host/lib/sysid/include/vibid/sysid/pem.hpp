@@ -4,8 +4,9 @@
 // The mean squared one-step prediction error V = (1/N) Σ e(t)², e = D/C (A y − B/F u), zero initial
 // conditions, is minimised by Levenberg–Marquardt with the analytic gradient: every column of
 // ∂e/∂θ is a filtered, delayed copy of y, u, e, A y − B/F u or B/F u (Ljung, System Identification,
-// 2nd ed., §10.2). Starting points: ARX for ARMAX (Hannan–Rissanen for C), a refined instrumental-variable
-// estimate for OE, and OE + Hannan–Rissanen on the output error for Box–Jenkins.
+// 2nd ed., §10.2). Starting points: ARX for ARMAX (Hannan–Rissanen for C), a refined
+// instrumental-variable estimate for OE, and OE + Hannan–Rissanen on the output error for
+// Box–Jenkins.
 #pragma once
 
 #include <string>
@@ -19,7 +20,8 @@ namespace vibid::sysid {
 struct PemResult {
   PolyModel model;
   numerics::SolverSummary summary;
-  std::string initialization;  ///< How the start was found ("least-squares", "instrumental-variable", ...).
+  std::string
+      initialization;  ///< How the start was found ("least-squares", "instrumental-variable", ...).
 };
 
 /// Estimates the model. InputError on orders that do not fit the structure or the record.

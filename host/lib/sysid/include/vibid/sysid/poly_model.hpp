@@ -99,6 +99,7 @@ struct OrderSelection {
   std::vector<OrderCandidate> candidates;
   std::size_t best = 0;
 };
-OrderSelection SelectArxOrder(const IoData& data, int n_min, int n_max, int nk, OrderCriterion criterion);
+OrderSelection SelectArxOrder(const IoData& data, int n_min, int n_max, int nk,
+                              OrderCriterion criterion);
 
 }  // namespace vibid::sysid

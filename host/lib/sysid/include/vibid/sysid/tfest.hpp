@@ -27,27 +27,27 @@ const char* InitialConditionName(InitialCondition ic);
 InitialCondition ParseInitialCondition(const std::string& name);
 
 struct TfestOptions {
-  int np = 2;                                  ///< Number of poles.
-  int nz = 0;                                  ///< Number of zeros, < np.
+  int np = 2;  ///< Number of poles.
+  int nz = 0;  ///< Number of zeros, < np.
   InitialCondition ic = InitialCondition::kZero;
-  int srivc_iterations = 30;                   ///< SRIVC passes of the chosen start.
-  double srivc_tolerance = 1e-10;              ///< Relative parameter change that ends SRIVC.
-  bool refine = true;                          ///< Output-error refinement after SRIVC (false: SRIVC only, no covariance).
+  int srivc_iterations = 30;       ///< SRIVC passes of the chosen start.
+  double srivc_tolerance = 1e-10;  ///< Relative parameter change that ends SRIVC.
+  bool refine = true;  ///< Output-error refinement after SRIVC (false: SRIVC only, no covariance).
   numerics::SolverOptions solver;
   /// Throws InputError naming the first bad option.
   void Validate() const;
 };
 
 struct TfestResult {
-  TransferFunction tf;                         ///< Monic denominator, highest power first.
-  Eigen::VectorXd ic_num;                      ///< P(s), descending powers (np coefficients; zeros for kZero).
+  TransferFunction tf;     ///< Monic denominator, highest power first.
+  Eigen::VectorXd ic_num;  ///< P(s), descending powers (np coefficients; zeros for kZero).
   /// Covariance of [a_{np-1}..a_0, b_nz..b_0, p_{np-1}..p_0] (the den tail, num, P when estimated).
   Eigen::MatrixXd covariance;
-  Eigen::VectorXd den_std;                     ///< Standard deviations of den (0 for the leading 1).
+  Eigen::VectorXd den_std;  ///< Standard deviations of den (0 for the leading 1).
   Eigen::VectorXd num_std;
-  double fit_percent = 0.0;                    ///< Simulation fit on the estimation data, same IC handling.
+  double fit_percent = 0.0;  ///< Simulation fit on the estimation data, same IC handling.
   double noise_variance = 0.0;
-  std::string initialization;                  ///< e.g. "svf(lambda=12.57 rad/s)+srivc(7 iterations)".
+  std::string initialization;  ///< e.g. "svf(lambda=12.57 rad/s)+srivc(7 iterations)".
   numerics::SolverSummary summary;
 };
 
@@ -67,13 +67,15 @@ Eigen::VectorXd FitInitialCondition(const TransferFunction& tf, const IoData& da
 struct CtParameterization {
   int np = 2;
   int nz = 0;
-  std::function<bool(const Eigen::VectorXd& theta, Eigen::VectorXd& coefficients, Eigen::MatrixXd* jacobian)> map;
+  std::function<bool(const Eigen::VectorXd& theta, Eigen::VectorXd& coefficients,
+                     Eigen::MatrixXd* jacobian)>
+      map;
 };
 
 struct CtOeResult {
   Eigen::VectorXd theta;
   Eigen::VectorXd ic_num;
-  Eigen::MatrixXd covariance;                  ///< Of [θ, P] (P only with kEstimate).
+  Eigen::MatrixXd covariance;  ///< Of [θ, P] (P only with kEstimate).
   Eigen::VectorXd residual;
   numerics::SolverSummary summary;
 };

@@ -45,17 +45,24 @@ enum class UrbCommand : std::uint32_t {
 enum class Direction : std::uint32_t { kOut = 0, kIn = 1 };
 
 /// Linux `enum usb_device_speed` values carried in the device record.
-enum class Speed : std::uint32_t { kUnknown = 0, kLow = 1, kFull = 2, kHigh = 3, kWireless = 4, kSuper = 5 };
+enum class Speed : std::uint32_t {
+  kUnknown = 0,
+  kLow = 1,
+  kFull = 2,
+  kHigh = 3,
+  kWireless = 4,
+  kSuper = 5
+};
 
 // Sizes and offsets (usbip_protocol.rst "Message Format").
-inline constexpr std::size_t kOpHeaderBytes = 8;      ///< version, code, status
+inline constexpr std::size_t kOpHeaderBytes = 8;  ///< version, code, status
 inline constexpr std::size_t kPathBytes = 256;
 inline constexpr std::size_t kBusIdBytes = 32;
 inline constexpr std::size_t kUsbDeviceBytes = 312;   ///< struct usbip_usb_device
 inline constexpr std::size_t kUsbInterfaceBytes = 4;  ///< struct usbip_usb_interface
 inline constexpr std::size_t kReqImportBytes = kOpHeaderBytes + kBusIdBytes;
 inline constexpr std::size_t kRepImportBytes = kOpHeaderBytes + kUsbDeviceBytes;
-inline constexpr std::size_t kUrbHeaderBytes = 48;    ///< every CMD_/RET_ header, padded
+inline constexpr std::size_t kUrbHeaderBytes = 48;  ///< every CMD_/RET_ header, padded
 static_assert(kPathBytes + kBusIdBytes + 3 * 4 + 3 * 2 + 6 == kUsbDeviceBytes);
 static_assert(kReqImportBytes == 40 && kRepImportBytes == 320);
 
@@ -64,8 +71,9 @@ inline constexpr std::uint32_t kNotIsochronous = 0xFFFFFFFFu;
 
 /// URB status values (negated Linux errno, as the kernel's stub driver sends them).
 inline constexpr std::int32_t kStatusOk = 0;
-inline constexpr std::int32_t kStatusStall = -32;      ///< -EPIPE: endpoint stalled / request refused
-inline constexpr std::int32_t kStatusUnlinked = -104;  ///< -ECONNRESET: RET_UNLINK of a cancelled URB
+inline constexpr std::int32_t kStatusStall = -32;  ///< -EPIPE: endpoint stalled / request refused
+inline constexpr std::int32_t kStatusUnlinked =
+    -104;  ///< -ECONNRESET: RET_UNLINK of a cancelled URB
 inline constexpr std::int32_t kStatusShutdown = -108;  ///< -ESHUTDOWN: device went away
 inline constexpr std::int32_t kStatusNoDevice = -19;   ///< -ENODEV
 
@@ -111,9 +119,9 @@ struct UsbDevice {
 struct UrbBasic {
   UrbCommand command = UrbCommand::kCmdSubmit;
   std::uint32_t seqnum = 0;
-  std::uint32_t devid = 0;      ///< client: (busnum << 16) | devnum; server: 0
+  std::uint32_t devid = 0;                ///< client: (busnum << 16) | devnum; server: 0
   Direction direction = Direction::kOut;  ///< server: 0
-  std::uint32_t ep = 0;         ///< endpoint number without the direction bit; server: 0
+  std::uint32_t ep = 0;                   ///< endpoint number without the direction bit; server: 0
 };
 
 struct CmdSubmit {

@@ -38,7 +38,8 @@ class ClassDriver {
   virtual void Close() = 0;
   /// A class request, or a standard GET_DESCRIPTOR to one of its interfaces. `scratch` is the
   /// stack's control buffer, usable for a reply built on the fly.
-  virtual ControlReply OnControlRequest(const SetupPacket& setup, std::span<std::uint8_t> scratch) = 0;
+  virtual ControlReply OnControlRequest(const SetupPacket& setup,
+                                        std::span<std::uint8_t> scratch) = 0;
   /// The OUT data stage of an accepted request arrived complete (before the status stage).
   /// @returns false to STALL the status stage.
   virtual bool OnControlData(const SetupPacket& setup, std::span<const std::uint8_t> data) = 0;

@@ -16,7 +16,12 @@
 
 namespace vibid::fw::usb {
 
-enum class EndpointType : std::uint8_t { kControl = 0, kIsochronous = 1, kBulk = 2, kInterrupt = 3 };
+enum class EndpointType : std::uint8_t {
+  kControl = 0,
+  kIsochronous = 1,
+  kBulk = 2,
+  kInterrupt = 3
+};
 
 /// Events a driver reports (from its interrupt handler).
 class DcdEvents {
@@ -50,7 +55,8 @@ class Dcd {
   virtual void SetAddress(std::uint8_t address) = 0;
   /// Opens a non-control endpoint after SET_CONFIGURATION. Data toggle starts at DATA0.
   /// @returns kOk, or kResourceExhausted when the endpoint number or FIFO space is not available.
-  virtual Status EndpointOpen(std::uint8_t ep_addr, EndpointType type, std::uint16_t max_packet) = 0;
+  virtual Status EndpointOpen(std::uint8_t ep_addr, EndpointType type,
+                              std::uint16_t max_packet) = 0;
   /// Closes every non-control endpoint (bus reset, SET_CONFIGURATION 0).
   virtual void EndpointCloseAll() = 0;
   /// Halts an endpoint (STALL handshake) and abandons its pending transfer, which then never

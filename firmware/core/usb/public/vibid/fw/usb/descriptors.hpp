@@ -64,34 +64,39 @@ inline constexpr std::array<std::uint8_t, 25> kHidReportDescriptor = {
     0xC0,              // End Collection
 };
 
-inline constexpr std::size_t kDeviceDescriptorSize = 18;         // USB 2.0 table 9-8
-inline constexpr std::size_t kConfigurationHeaderSize = 9;       // USB 2.0 table 9-10
-inline constexpr std::size_t kInterfaceDescriptorSize = 9;       // USB 2.0 table 9-12
-inline constexpr std::size_t kEndpointDescriptorSize = 7;        // USB 2.0 table 9-13
-inline constexpr std::size_t kHidDescriptorSize = 9;             // HID 1.11 §6.2.1, one class descriptor
-inline constexpr std::size_t kDfuFunctionalDescriptorSize = 9;   // DFU 1.1 table 4.2
+inline constexpr std::size_t kDeviceDescriptorSize = 18;    // USB 2.0 table 9-8
+inline constexpr std::size_t kConfigurationHeaderSize = 9;  // USB 2.0 table 9-10
+inline constexpr std::size_t kInterfaceDescriptorSize = 9;  // USB 2.0 table 9-12
+inline constexpr std::size_t kEndpointDescriptorSize = 7;   // USB 2.0 table 9-13
+inline constexpr std::size_t kHidDescriptorSize = 9;  // HID 1.11 §6.2.1, one class descriptor
+inline constexpr std::size_t kDfuFunctionalDescriptorSize = 9;  // DFU 1.1 table 4.2
 
 inline constexpr std::array<std::uint8_t, kDeviceDescriptorSize> kDeviceDescriptor = {
-    18,                                 // bLength
+    18,  // bLength
     static_cast<std::uint8_t>(DescriptorType::kDevice),
-    0x00, 0x02,                         // bcdUSB 2.00
-    0x00,                               // bDeviceClass: per interface
-    0x00,                               // bDeviceSubClass
-    0x00,                               // bDeviceProtocol
-    kEp0Size,                           // bMaxPacketSize0
-    Lo(kVendorId), Hi(kVendorId),       // idVendor
-    Lo(kProductId), Hi(kProductId),     // idProduct
-    Lo(kDeviceRelease), Hi(kDeviceRelease),  // bcdDevice
-    kStringManufacturer,                // iManufacturer
-    kStringProduct,                     // iProduct
-    kStringSerial,                      // iSerialNumber
-    1,                                  // bNumConfigurations
+    0x00,
+    0x02,      // bcdUSB 2.00
+    0x00,      // bDeviceClass: per interface
+    0x00,      // bDeviceSubClass
+    0x00,      // bDeviceProtocol
+    kEp0Size,  // bMaxPacketSize0
+    Lo(kVendorId),
+    Hi(kVendorId),  // idVendor
+    Lo(kProductId),
+    Hi(kProductId),  // idProduct
+    Lo(kDeviceRelease),
+    Hi(kDeviceRelease),   // bcdDevice
+    kStringManufacturer,  // iManufacturer
+    kStringProduct,       // iProduct
+    kStringSerial,        // iSerialNumber
+    1,                    // bNumConfigurations
 };
 
 inline constexpr std::size_t kConfigurationTotalSize =
     kConfigurationHeaderSize + kInterfaceDescriptorSize + kHidDescriptorSize +
     2 * kEndpointDescriptorSize + kInterfaceDescriptorSize + kDfuFunctionalDescriptorSize;
-static_assert(kConfigurationTotalSize == 59, "config + HID if + HID + 2 EP + DFU if + DFU functional");
+static_assert(kConfigurationTotalSize == 59,
+              "config + HID if + HID + 2 EP + DFU if + DFU functional");
 
 /// DFU run-time functional descriptor attributes (DFU 1.1 table 4.2): bitWillDetach (bit 3),
 /// the device leaves for the bootloader by itself after DFU_DETACH; download and upload
@@ -103,13 +108,15 @@ inline constexpr std::uint16_t kDfuTransferSize = 2048;
 // The HID class descriptor: part of the configuration set, and returned alone by GET_DESCRIPTOR
 // to the interface (HID 1.11 §7.1.1).
 inline constexpr std::array<std::uint8_t, kHidDescriptorSize> kHidDescriptor = {
-    9,                                  // bLength
+    9,  // bLength
     static_cast<std::uint8_t>(DescriptorType::kHid),
-    0x11, 0x01,                         // bcdHID 1.11
-    0x00,                               // bCountryCode: not localized
-    1,                                  // bNumDescriptors
+    0x11,
+    0x01,  // bcdHID 1.11
+    0x00,  // bCountryCode: not localized
+    1,     // bNumDescriptors
     static_cast<std::uint8_t>(DescriptorType::kHidReport),
-    Lo(kHidReportDescriptor.size()), Hi(kHidReportDescriptor.size()),  // wDescriptorLength
+    Lo(kHidReportDescriptor.size()),
+    Hi(kHidReportDescriptor.size()),  // wDescriptorLength
 };
 
 /// Joins descriptors into one configuration descriptor set at compile time.
@@ -117,48 +124,70 @@ template <std::size_t... N>
 constexpr std::array<std::uint8_t, (N + ...)> Concat(const std::array<std::uint8_t, N>&... parts) {
   std::array<std::uint8_t, (N + ...)> out{};
   std::size_t at = 0;
-  ((std::copy(parts.begin(), parts.end(), out.begin() + static_cast<std::ptrdiff_t>(at)), at += N), ...);
+  ((std::copy(parts.begin(), parts.end(), out.begin() + static_cast<std::ptrdiff_t>(at)), at += N),
+   ...);
   return out;
 }
 
 inline constexpr std::array<std::uint8_t, kConfigurationHeaderSize> kConfigurationHeader = {
-    9, static_cast<std::uint8_t>(DescriptorType::kConfiguration),
-    Lo(kConfigurationTotalSize), Hi(kConfigurationTotalSize),  // wTotalLength
-    kInterfaceCount,                    // bNumInterfaces
-    kConfigurationValue,                // bConfigurationValue
-    0,                                  // iConfiguration
-    0x80,                               // bmAttributes: bus powered, no remote wakeup
-    125,                                // bMaxPower: 250 mA in 2 mA units (sensors are bus powered)
+    9,
+    static_cast<std::uint8_t>(DescriptorType::kConfiguration),
+    Lo(kConfigurationTotalSize),
+    Hi(kConfigurationTotalSize),  // wTotalLength
+    kInterfaceCount,              // bNumInterfaces
+    kConfigurationValue,          // bConfigurationValue
+    0,                            // iConfiguration
+    0x80,                         // bmAttributes: bus powered, no remote wakeup
+    125,                          // bMaxPower: 250 mA in 2 mA units (sensors are bus powered)
 };
 
 // Interface 0: HID, no boot subclass.
 inline constexpr std::array<std::uint8_t, kInterfaceDescriptorSize> kHidInterfaceDescriptor = {
-    9, static_cast<std::uint8_t>(DescriptorType::kInterface),
-    kHidInterface, 0,                   // bInterfaceNumber, bAlternateSetting
-    2,                                  // bNumEndpoints
-    0x03, 0x00, 0x00,                   // bInterfaceClass HID, no subclass, no protocol
-    0,                                  // iInterface
+    9,
+    static_cast<std::uint8_t>(DescriptorType::kInterface),
+    kHidInterface,
+    0,  // bInterfaceNumber, bAlternateSetting
+    2,  // bNumEndpoints
+    0x03,
+    0x00,
+    0x00,  // bInterfaceClass HID, no subclass, no protocol
+    0,     // iInterface
 };
 
-constexpr std::array<std::uint8_t, kEndpointDescriptorSize> InterruptEndpoint(std::uint8_t address) {
-  return {7, static_cast<std::uint8_t>(DescriptorType::kEndpoint), address, 0x03,
-          Lo(kHidReportSize), Hi(kHidReportSize), kHidPollIntervalFrames};
+constexpr std::array<std::uint8_t, kEndpointDescriptorSize> InterruptEndpoint(
+    std::uint8_t address) {
+  return {7,
+          static_cast<std::uint8_t>(DescriptorType::kEndpoint),
+          address,
+          0x03,
+          Lo(kHidReportSize),
+          Hi(kHidReportSize),
+          kHidPollIntervalFrames};
 }
 
 // Interface 1: DFU run-time (application specific class, DFU subclass, run-time protocol).
 inline constexpr std::array<std::uint8_t, kInterfaceDescriptorSize> kDfuInterfaceDescriptor = {
-    9, static_cast<std::uint8_t>(DescriptorType::kInterface),
-    kDfuInterface, 0, 0,                // bInterfaceNumber, bAlternateSetting, bNumEndpoints
-    0xFE, 0x01, 0x01,                   // bInterfaceClass, bInterfaceSubClass, bInterfaceProtocol
-    kStringDfu,                         // iInterface
+    9,
+    static_cast<std::uint8_t>(DescriptorType::kInterface),
+    kDfuInterface,
+    0,
+    0,  // bInterfaceNumber, bAlternateSetting, bNumEndpoints
+    0xFE,
+    0x01,
+    0x01,        // bInterfaceClass, bInterfaceSubClass, bInterfaceProtocol
+    kStringDfu,  // iInterface
 };
 
 inline constexpr std::array<std::uint8_t, kDfuFunctionalDescriptorSize> kDfuFunctionalDescriptor = {
-    9, static_cast<std::uint8_t>(DescriptorType::kDfuFunctional),
+    9,
+    static_cast<std::uint8_t>(DescriptorType::kDfuFunctional),
     kDfuAttributes,
-    Lo(kDfuDetachTimeoutMs), Hi(kDfuDetachTimeoutMs),
-    Lo(kDfuTransferSize), Hi(kDfuTransferSize),
-    0x10, 0x01,                         // bcdDFUVersion 1.1
+    Lo(kDfuDetachTimeoutMs),
+    Hi(kDfuDetachTimeoutMs),
+    Lo(kDfuTransferSize),
+    Hi(kDfuTransferSize),
+    0x10,
+    0x01,  // bcdDFUVersion 1.1
 };
 
 inline constexpr auto kConfigurationDescriptor =

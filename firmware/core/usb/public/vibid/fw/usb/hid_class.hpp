@@ -34,9 +34,9 @@ enum class HidRequest : std::uint8_t {
 enum class HidReportType : std::uint8_t { kInput = 1, kOutput = 2, kFeature = 3 };
 
 struct HidCounters {
-  std::uint32_t reports_in = 0;        ///< Input reports the host collected.
-  std::uint32_t reports_out = 0;       ///< Output reports received (endpoint or SET_REPORT).
-  std::uint32_t short_reports = 0;     ///< OUT packets shorter than a report, discarded.
+  std::uint32_t reports_in = 0;     ///< Input reports the host collected.
+  std::uint32_t reports_out = 0;    ///< Output reports received (endpoint or SET_REPORT).
+  std::uint32_t short_reports = 0;  ///< OUT packets shorter than a report, discarded.
 };
 
 class HidClass final : public ClassDriver, public ReportLink {
@@ -81,7 +81,7 @@ class HidClass final : public ClassDriver, public ReportLink {
   bool out_halted_ = false;
   std::uint8_t idle_rate_ = 0;
   alignas(4) Report tx_buffer_{};
-  alignas(4) Report last_input_{};   ///< What GET_REPORT(Input) answers: the latest report sent.
+  alignas(4) Report last_input_{};  ///< What GET_REPORT(Input) answers: the latest report sent.
   alignas(4) Report out_buffer_{};
   std::array<Report, kRxSlots> rx_{};
   std::size_t rx_head_ = 0;
