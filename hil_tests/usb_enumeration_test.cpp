@@ -200,29 +200,14 @@ TEST_F(UsbEnumerationTest, HidReportDescriptorDeclares64ByteVendorReports) {
     std::uint32_t data = 0;
     for (std::size_t k = 0; k < size; ++k) data |= std::uint32_t{r[i + 1 + k]} << (8 * k);
     switch (prefix & 0xFC) {
-      case 0x04:
-        usage_page = data;
-        break;  // Global: Usage Page
-      case 0x74:
-        report_size = data;
-        break;  // Global: Report Size
-      case 0x94:
-        report_count = data;
-        break;  // Global: Report Count
-      case 0x80:
-        input_bits += report_size * report_count;
-        break;  // Main: Input
-      case 0x90:
-        output_bits += report_size * report_count;
-        break;  // Main: Output
-      case 0xA0:
-        ++depth, ++collections;
-        break;  // Main: Collection
-      case 0xC0:
-        --depth;
-        break;  // Main: End Collection
-      default:
-        break;
+      case 0x04: usage_page = data; break;                          // Global: Usage Page
+      case 0x74: report_size = data; break;                         // Global: Report Size
+      case 0x94: report_count = data; break;                        // Global: Report Count
+      case 0x80: input_bits += report_size * report_count; break;   // Main: Input
+      case 0x90: output_bits += report_size * report_count; break;  // Main: Output
+      case 0xA0: ++depth, ++collections; break;                     // Main: Collection
+      case 0xC0: --depth; break;                                    // Main: End Collection
+      default: break;
     }
     ASSERT_GE(depth, 0) << "End Collection without a Collection at " << i;
     i += 1 + size;

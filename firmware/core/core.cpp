@@ -180,9 +180,7 @@ Status Core::Dispatch(const Header& h, std::span<const std::uint8_t> payload) {
   // Commands without a request payload refuse one.
   const Status empty = payload.empty() ? Status::kOk : Status::kInvalidArgument;
   switch (static_cast<Command>(h.command)) {
-    case Command::kPing:
-      Respond(h, Status::kOk, payload);
-      return Status::kOk;
+    case Command::kPing: Respond(h, Status::kOk, payload); return Status::kOk;
     case Command::kGetInfo:
       if (empty != Status::kOk) return empty;
       RespondWith(h, Info());
@@ -203,18 +201,12 @@ Status Core::Dispatch(const Header& h, std::span<const std::uint8_t> payload) {
       Respond(h, Status::kOk);
       deferred_ = Deferred::kEnterDfu;
       return Status::kOk;
-    case Command::kCalPutBegin:
-      return HandleCalPutBegin(h, payload);
-    case Command::kCalPutData:
-      return HandleCalPutData(h, payload);
-    case Command::kCalCommit:
-      return empty != Status::kOk ? empty : HandleCalCommit(h);
-    case Command::kCalGet:
-      return empty != Status::kOk ? empty : HandleCalGet(h);
-    case Command::kAcqConfigure:
-      return HandleAcqConfigure(h, payload);
-    case Command::kAcqStart:
-      return empty != Status::kOk ? empty : HandleAcqStart(h);
+    case Command::kCalPutBegin: return HandleCalPutBegin(h, payload);
+    case Command::kCalPutData: return HandleCalPutData(h, payload);
+    case Command::kCalCommit: return empty != Status::kOk ? empty : HandleCalCommit(h);
+    case Command::kCalGet: return empty != Status::kOk ? empty : HandleCalGet(h);
+    case Command::kAcqConfigure: return HandleAcqConfigure(h, payload);
+    case Command::kAcqStart: return empty != Status::kOk ? empty : HandleAcqStart(h);
     case Command::kAcqStop:
       if (empty != Status::kOk) return empty;
       StopSampling();
@@ -227,13 +219,10 @@ Status Core::Dispatch(const Header& h, std::span<const std::uint8_t> payload) {
       RespondWith(h, latest);
       return Status::kOk;
     }
-    case Command::kLogRead:
-      return HandleLogRead(h, payload);
-    case Command::kDobControl:
-      return HandleDobControl(h, payload);
+    case Command::kLogRead: return HandleLogRead(h, payload);
+    case Command::kDobControl: return HandleDobControl(h, payload);
     case Command::kSelectScenario:
-    case Command::kInjectFrames:
-      break;  // port commands, dispatched above
+    case Command::kInjectFrames: break;  // port commands, dispatched above
   }
   return Status::kUnimplemented;
 }

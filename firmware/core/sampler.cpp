@@ -54,12 +54,9 @@ bool Sampler::dob_running() const {
 bool Sampler::TriggerFires(const std::array<std::int32_t, wire::kChannelCount>& calibrated) const {
   const std::int32_t v = calibrated[config_.trigger_channel];
   switch (config_.trigger_mode) {
-    case wire::TriggerMode::kImmediate:
-      return true;
-    case wire::TriggerMode::kRising:
-      return v >= config_.trigger_threshold;
-    case wire::TriggerMode::kFalling:
-      return v <= config_.trigger_threshold;
+    case wire::TriggerMode::kImmediate: return true;
+    case wire::TriggerMode::kRising: return v >= config_.trigger_threshold;
+    case wire::TriggerMode::kFalling: return v <= config_.trigger_threshold;
   }
   return false;
 }

@@ -132,14 +132,9 @@ class BadInput : public ::testing::Test {
     fs::create_directories(d);
     const std::string in = d + "/" + row.file;
     switch (row.make) {
-      case Make::kMissing:
-        break;
-      case Make::kContent:
-        WriteBytes(in, row.content);
-        break;
-      case Make::kDirectory:
-        fs::create_directories(in);
-        break;
+      case Make::kMissing: break;
+      case Make::kContent: WriteBytes(in, row.content); break;
+      case Make::kDirectory: fs::create_directories(in); break;
       case Make::kSparse:
         WriteBytes(in, "");
         ASSERT_EQ(::truncate(in.c_str(), static_cast<off_t>(row.sparse_bytes)), 0);

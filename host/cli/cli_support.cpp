@@ -23,12 +23,9 @@ CLI::Validator NumberValidator(bool allow_zero) {
       [allow_zero](std::string& s) -> std::string {
         double v = 0.0;
         switch (ParseNumber(s, v)) {
-          case NumberText::kNotANumber:
-            return "'" + s + "' is not a number";
-          case NumberText::kNotFinite:
-            return "'" + s + "' is not a finite number";
-          case NumberText::kOk:
-            break;
+          case NumberText::kNotANumber: return "'" + s + "' is not a number";
+          case NumberText::kNotFinite: return "'" + s + "' is not a finite number";
+          case NumberText::kOk: break;
         }
         if (allow_zero ? v < 0.0 : v <= 0.0)
           return "'" + s + (allow_zero ? "' must be >= 0" : "' must be > 0");

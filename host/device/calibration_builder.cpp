@@ -22,16 +22,11 @@ wire::Unit UnitFromName(const std::string& name, const std::string& where) {
 
 wire::Unit UnitOfInput(fixed::InputKind kind) {
   switch (kind) {
-    case fixed::InputKind::kForce:
-      return wire::Unit::kNewton;
-    case fixed::InputKind::kDisplacement:
-      return wire::Unit::kMeter;
-    case fixed::InputKind::kVelocity:
-      return wire::Unit::kMeterPerSecond;
-    case fixed::InputKind::kAcceleration:
-      return wire::Unit::kMeterPerSecond2;
-    case fixed::InputKind::kUnused:
-      break;
+    case fixed::InputKind::kForce: return wire::Unit::kNewton;
+    case fixed::InputKind::kDisplacement: return wire::Unit::kMeter;
+    case fixed::InputKind::kVelocity: return wire::Unit::kMeterPerSecond;
+    case fixed::InputKind::kAcceleration: return wire::Unit::kMeterPerSecond2;
+    case fixed::InputKind::kUnused: break;
   }
   return wire::Unit::kCounts;
 }

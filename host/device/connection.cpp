@@ -194,17 +194,10 @@ Reply Connection::Expect(Command command, std::span<const std::uint8_t> payload,
   if (r.header.status != Status::kOk) {
     std::string why;
     switch (r.header.status) {
-      case Status::kUnimplemented:
-        why = " (the device does not know this command)";
-        break;
-      case Status::kFailedPrecondition:
-        why = " (not allowed in the device's current state)";
-        break;
-      case Status::kVersionMismatch:
-        why = " (protocol version)";
-        break;
-      default:
-        break;
+      case Status::kUnimplemented: why = " (the device does not know this command)"; break;
+      case Status::kFailedPrecondition: why = " (not allowed in the device's current state)"; break;
+      case Status::kVersionMismatch: why = " (protocol version)"; break;
+      default: break;
     }
     throw DeviceError("the device refused " + CommandText(static_cast<std::uint8_t>(command)) +
                       ": " + StatusName(r.header.status) + why);

@@ -17,34 +17,23 @@ constexpr double kQ31 = 2147483648.0;
 
 const char* ChannelStem(wire::Channel channel) {
   switch (channel) {
-    case wire::Channel::kForce1:
-      return "force1";
-    case wire::Channel::kForce2:
-      return "force2";
-    case wire::Channel::kAccel1:
-      return "acc1";
-    case wire::Channel::kAccel2:
-      return "acc2";
-    case wire::Channel::kEncoder1:
-      return "x1";
-    case wire::Channel::kEncoder2:
-      return "x2";
+    case wire::Channel::kForce1: return "force1";
+    case wire::Channel::kForce2: return "force2";
+    case wire::Channel::kAccel1: return "acc1";
+    case wire::Channel::kAccel2: return "acc2";
+    case wire::Channel::kEncoder1: return "x1";
+    case wire::Channel::kEncoder2: return "x2";
   }
   return "?";
 }
 
 const char* UnitSuffix(wire::Unit unit) {
   switch (unit) {
-    case wire::Unit::kNewton:
-      return "n";
-    case wire::Unit::kMeterPerSecond2:
-      return "m_s2";
-    case wire::Unit::kMeter:
-      return "m";
-    case wire::Unit::kMeterPerSecond:
-      return "m_s";
-    case wire::Unit::kCounts:
-      return "counts";
+    case wire::Unit::kNewton: return "n";
+    case wire::Unit::kMeterPerSecond2: return "m_s2";
+    case wire::Unit::kMeter: return "m";
+    case wire::Unit::kMeterPerSecond: return "m_s";
+    case wire::Unit::kCounts: return "counts";
   }
   return "counts";
 }

@@ -88,14 +88,10 @@ std::vector<Listing> ListDevices() {
 
 std::unique_ptr<Transport> OpenTransport(const DeviceSpec& spec) {
   switch (spec.kind) {
-    case DeviceSpec::Kind::kHid:
-      return OpenHid(spec.serial);
-    case DeviceSpec::Kind::kUsbip:
-      return UsbipDevice::Open(spec.host, spec.port);
-    case DeviceSpec::Kind::kSerial:
-      return OpenSerial(spec.path);
-    case DeviceSpec::Kind::kAny:
-      break;
+    case DeviceSpec::Kind::kHid: return OpenHid(spec.serial);
+    case DeviceSpec::Kind::kUsbip: return UsbipDevice::Open(spec.host, spec.port);
+    case DeviceSpec::Kind::kSerial: return OpenSerial(spec.path);
+    case DeviceSpec::Kind::kAny: break;
   }
   const std::vector<Listing> all = ListDevices();
   if (all.empty())

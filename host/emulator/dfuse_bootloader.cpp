@@ -102,20 +102,11 @@ std::vector<std::uint8_t> DfuSeBootloader::StringDescriptor(std::uint8_t index) 
   if (index == 0) return {4, 3, 0x09, 0x04};  // English (United States)
   std::string text;
   switch (index) {
-    case 1:
-      text = "vibid";
-      break;
-    case 2:
-      text = "vibid DfuSe bootloader (emulated)";
-      break;
-    case 3:
-      text = serial_;
-      break;
-    case 4:
-      text = kMemoryLayout;
-      break;
-    default:
-      return {};
+    case 1: text = "vibid"; break;
+    case 2: text = "vibid DfuSe bootloader (emulated)"; break;
+    case 3: text = serial_; break;
+    case 4: text = kMemoryLayout; break;
+    default: return {};
   }
   std::vector<std::uint8_t> d = {static_cast<std::uint8_t>(2 + 2 * text.size()), 3};
   for (char c : text) {
@@ -143,18 +134,14 @@ UrbResult DfuSeBootloader::Standard(std::uint8_t request, std::uint16_t value,
       }
       return Stall();
     }
-    case 0x08:
-      return Data({configuration_}, length);  // GET_CONFIGURATION
-    case 0x09:                                // SET_CONFIGURATION
+    case 0x08: return Data({configuration_}, length);  // GET_CONFIGURATION
+    case 0x09:                                         // SET_CONFIGURATION
       if (value > 1) return Stall();
       configuration_ = static_cast<std::uint8_t>(value);
       return {};
-    case 0x0A:
-      return Data({0}, length);  // GET_INTERFACE
-    case 0x0B:
-      return value == 0 ? UrbResult{} : Stall();  // SET_INTERFACE: one alternate setting
-    default:
-      return Stall();
+    case 0x0A: return Data({0}, length);                   // GET_INTERFACE
+    case 0x0B: return value == 0 ? UrbResult{} : Stall();  // SET_INTERFACE: one alternate setting
+    default: return Stall();
   }
 }
 
@@ -221,15 +208,13 @@ UrbResult DfuSeBootloader::Dfu(std::uint8_t request, std::uint16_t value,
       status_ = DfuStatus::kOk;
       state_ = State::kIdle;
       return {};
-    case 5:
-      return Data({static_cast<std::uint8_t>(state_)}, length);  // GETSTATE
-    case 6:                                                      // ABORT
+    case 5: return Data({static_cast<std::uint8_t>(state_)}, length);  // GETSTATE
+    case 6:                                                            // ABORT
       if (state_ == State::kError || state_ == State::kDnBusy || state_ == State::kManifest)
         return StallAndError();
       state_ = State::kIdle;
       return {};
-    default:
-      return StallAndError();
+    default: return StallAndError();
   }
 }
 
@@ -291,8 +276,7 @@ UrbResult DfuSeBootloader::GetStatus() {
       state_ = State::kManifestWaitReset;
       leave_ = true;
       break;
-    default:
-      break;
+    default: break;
   }
   UrbResult r;
   r.in_data = {static_cast<std::uint8_t>(status_),

@@ -211,12 +211,8 @@ void RigSimulator::Start(double dt_s) {
     case Configuration::kChain:
       for (int i = 0; i < spec_.dofs(); ++i) moving_.push_back(i);
       break;
-    case Configuration::kMass1Alone:
-      moving_.push_back(0);
-      break;
-    case Configuration::kMass2Alone:
-      moving_.push_back(1);
-      break;
+    case Configuration::kMass1Alone: moving_.push_back(0); break;
+    case Configuration::kMass2Alone: moving_.push_back(1); break;
   }
   discrete_ = model::Discretize(model::ModelStateSpace(ActiveModel()), dt_s);
   const auto n = static_cast<Eigen::Index>(moving_.size());
@@ -250,8 +246,7 @@ void RigSimulator::Excitation(double t, double& force_n, double& push_n) {
     return amplitude * fade * (0.5 + 0.5 * sum / static_cast<double>(push_freq_hz_.size()));
   };
   switch (s.kind) {
-    case ScenarioKind::kIdle:
-      break;
+    case ScenarioKind::kIdle: break;
     case ScenarioKind::kHammer: {
       if (t >= next_hit_s_) {
         std::uniform_real_distribution<double> height(0.6, 1.4), spacing(0.7, 1.3),
@@ -277,9 +272,7 @@ void RigSimulator::Excitation(double t, double& force_n, double& push_n) {
       force_n = s.force_n * std::sin(2.0 * kPi * s.frequency_hz * t);
       if (s.push_n > 0.0) push_n = hand_push(s.push_n);
       break;
-    case ScenarioKind::kPush:
-      push_n = hand_push(s.force_n);
-      break;
+    case ScenarioKind::kPush: push_n = hand_push(s.force_n); break;
     case ScenarioKind::kStep: {
       // Pull by hand through a load cell: ramp up over 0.3 s, hold, let go at once.
       const double ramp_s = 0.3;

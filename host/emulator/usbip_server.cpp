@@ -143,8 +143,7 @@ void UsbIpServer::HandleUrb(Connection& c) {
       c.socket.SendAll(bytes);
       return;
     }
-    default:
-      throw usbip::ProtocolError("a client sent a reply-type URB message");
+    default: throw usbip::ProtocolError("a client sent a reply-type URB message");
   }
 }
 

@@ -65,16 +65,11 @@ void Design(const nlohmann::json& j) {
 
 const char* UnitName(wire::Unit unit) {
   switch (unit) {
-    case wire::Unit::kNewton:
-      return "N";
-    case wire::Unit::kMeterPerSecond2:
-      return "m/s2";
-    case wire::Unit::kMeter:
-      return "m";
-    case wire::Unit::kMeterPerSecond:
-      return "m/s";
-    case wire::Unit::kCounts:
-      break;
+    case wire::Unit::kNewton: return "N";
+    case wire::Unit::kMeterPerSecond2: return "m/s2";
+    case wire::Unit::kMeter: return "m";
+    case wire::Unit::kMeterPerSecond: return "m/s";
+    case wire::Unit::kCounts: break;
   }
   Require(false);
   return "";
@@ -145,18 +140,10 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   const std::string_view text(reinterpret_cast<const char*>(data + 1), size - 1);
   if (!Accepts([&] { j = ParseJsonText(text, "fuzz.json"); })) return 0;
   switch (reader) {
-    case 0:
-      Model(j);
-      break;
-    case 1:
-      Design(j);
-      break;
-    case 2:
-      Sensors(j);
-      break;
-    default:
-      Rig(j);
-      break;
+    case 0: Model(j); break;
+    case 1: Design(j); break;
+    case 2: Sensors(j); break;
+    default: Rig(j); break;
   }
   return 0;
 }

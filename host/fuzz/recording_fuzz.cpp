@@ -37,17 +37,10 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   FuzzedDataProvider in(data, size);
   RecordingOptions options;
   switch (in.ConsumeIntegralInRange<int>(0, 3)) {
-    case 0:
-      break;
-    case 1:
-      options.time_column = in.ConsumeRandomLengthString(12);
-      break;
-    case 2:
-      options.fs_hz = in.ConsumeFloatingPoint<double>();
-      break;
-    default:
-      options.fs_hz = in.ConsumeFloatingPointInRange<double>(0.1, 1e6);
-      break;
+    case 0: break;
+    case 1: options.time_column = in.ConsumeRandomLengthString(12); break;
+    case 2: options.fs_hz = in.ConsumeFloatingPoint<double>(); break;
+    default: options.fs_hz = in.ConsumeFloatingPointInRange<double>(0.1, 1e6); break;
   }
   const std::string specs = in.ConsumeRandomLengthString(64);
   const std::string text = in.ConsumeBytesAsString(in.remaining_bytes());

@@ -76,16 +76,11 @@ bool ChannelOk(const ChannelScaling& s, std::size_t dof_count) {
 
 Unit UnitOf(fixed::InputKind kind) {
   switch (kind) {
-    case fixed::InputKind::kForce:
-      return Unit::kNewton;
-    case fixed::InputKind::kDisplacement:
-      return Unit::kMeter;
-    case fixed::InputKind::kVelocity:
-      return Unit::kMeterPerSecond;
-    case fixed::InputKind::kAcceleration:
-      return Unit::kMeterPerSecond2;
-    case fixed::InputKind::kUnused:
-      break;
+    case fixed::InputKind::kForce: return Unit::kNewton;
+    case fixed::InputKind::kDisplacement: return Unit::kMeter;
+    case fixed::InputKind::kVelocity: return Unit::kMeterPerSecond;
+    case fixed::InputKind::kAcceleration: return Unit::kMeterPerSecond2;
+    case fixed::InputKind::kUnused: break;
   }
   return Unit::kCounts;
 }

@@ -371,40 +371,23 @@ Status BuildReport(Command command, std::uint16_t token, std::uint16_t sequence,
 
 const char* CommandName(std::uint8_t id) {
   switch (static_cast<Command>(id)) {
-    case Command::kPing:
-      return "ping";
-    case Command::kGetInfo:
-      return "get-info";
-    case Command::kGetStatus:
-      return "get-status";
-    case Command::kReset:
-      return "reset";
-    case Command::kEnterDfu:
-      return "enter-dfu";
-    case Command::kCalPutBegin:
-      return "cal-put-begin";
-    case Command::kCalPutData:
-      return "cal-put-data";
-    case Command::kCalCommit:
-      return "cal-commit";
-    case Command::kCalGet:
-      return "cal-get";
-    case Command::kAcqConfigure:
-      return "acq-configure";
-    case Command::kAcqStart:
-      return "acq-start";
-    case Command::kAcqStop:
-      return "acq-stop";
-    case Command::kReadLatest:
-      return "read-latest";
-    case Command::kLogRead:
-      return "log-read";
-    case Command::kDobControl:
-      return "dob-control";
-    case Command::kSelectScenario:
-      return "select-scenario";
-    case Command::kInjectFrames:
-      return "inject-frames";
+    case Command::kPing: return "ping";
+    case Command::kGetInfo: return "get-info";
+    case Command::kGetStatus: return "get-status";
+    case Command::kReset: return "reset";
+    case Command::kEnterDfu: return "enter-dfu";
+    case Command::kCalPutBegin: return "cal-put-begin";
+    case Command::kCalPutData: return "cal-put-data";
+    case Command::kCalCommit: return "cal-commit";
+    case Command::kCalGet: return "cal-get";
+    case Command::kAcqConfigure: return "acq-configure";
+    case Command::kAcqStart: return "acq-start";
+    case Command::kAcqStop: return "acq-stop";
+    case Command::kReadLatest: return "read-latest";
+    case Command::kLogRead: return "log-read";
+    case Command::kDobControl: return "dob-control";
+    case Command::kSelectScenario: return "select-scenario";
+    case Command::kInjectFrames: return "inject-frames";
   }
   return "unknown";
 }

@@ -229,9 +229,7 @@ std::vector<std::uint8_t> Payload(FuzzedDataProvider& in, std::uint8_t id) {
       encode(b);
       return p;
     }
-    case Command::kSelectScenario:
-      p.resize(wire::ScenarioRequest::kBytes);
-      return p;
+    case Command::kSelectScenario: p.resize(wire::ScenarioRequest::kBytes); return p;
     case Command::kInjectFrames: {
       wire::InjectFramesRequest f;
       f.frame_count = static_cast<std::uint8_t>(in.ConsumeIntegralInRange<unsigned>(0, 3));
@@ -239,8 +237,7 @@ std::vector<std::uint8_t> Payload(FuzzedDataProvider& in, std::uint8_t id) {
       if (!p.empty()) p[0] = f.frame_count;
       return p;
     }
-    default:
-      return p;  // commands without a request payload
+    default: return p;  // commands without a request payload
   }
 }
 
@@ -254,27 +251,13 @@ class Script {
         case 0:
         case 1:
         case 2:
-        case 3:
-          WellFormed(in_.PickValueInArray(kCommandIds));
-          break;
-        case 4:
-          Broken();
-          break;
-        case 5:
-          Upload();
-          break;
-        case 6:
-          Frames();
-          break;
-        case 7:
-          RawReport();
-          break;
-        case 8:
-          PowerCutCommit();
-          break;
-        case 9:
-          board_.fake.clock.now_us += in_.ConsumeIntegral<std::uint16_t>();
-          break;
+        case 3: WellFormed(in_.PickValueInArray(kCommandIds)); break;
+        case 4: Broken(); break;
+        case 5: Upload(); break;
+        case 6: Frames(); break;
+        case 7: RawReport(); break;
+        case 8: PowerCutCommit(); break;
+        case 9: board_.fake.clock.now_us += in_.ConsumeIntegral<std::uint16_t>(); break;
         case 10:  // the host does not poll the IN endpoint for a while
           board_.link.in_busy = true;
           for (int i = in_.ConsumeIntegralInRange<int>(1, 4); i > 0; --i) board_.core().Poll();
@@ -516,18 +499,12 @@ class Script {
       std::array<std::int32_t, wire::kChannelCount> raw{};
       for (std::size_t c = 0; c < raw.size(); ++c) {
         switch (shape) {
-          case 0:
-            raw[c] = 2048 + static_cast<std::int32_t>((tick_ * (c + 3)) % 512) - 256;
-            break;
+          case 0: raw[c] = 2048 + static_cast<std::int32_t>((tick_ * (c + 3)) % 512) - 256; break;
           case 1:
             raw[c] = (tick_ / 16) % 2 == 0 ? 0 : 4095;
             break;  // full-scale steps fire triggers
-          case 2:
-            raw[c] = in_.ConsumeIntegral<std::int32_t>();
-            break;
-          default:
-            raw[c] = in_.ConsumeIntegralInRange<std::int32_t>(0, 4095);
-            break;
+          case 2: raw[c] = in_.ConsumeIntegral<std::int32_t>(); break;
+          default: raw[c] = in_.ConsumeIntegralInRange<std::int32_t>(0, 4095); break;
         }
       }
       if (in_.ConsumeIntegralInRange<int>(0, 31) == 0)

@@ -224,11 +224,8 @@ Received Decode(Command command, std::uint16_t token, const std::vector<wire::Re
         r.data.insert(r.data.end(), step.payload.begin(), step.payload.end());
         r.payloads.emplace_back(step.payload.begin(), step.payload.end());
         break;
-      case Event::kStale:
-        break;
-      case Event::kEnd:
-        r.trailer.assign(step.payload.begin(), step.payload.end());
-        [[fallthrough]];
+      case Event::kStale: break;
+      case Event::kEnd: r.trailer.assign(step.payload.begin(), step.payload.end()); [[fallthrough]];
       case Event::kRefused:
       case Event::kError:
         r.last = step.event;

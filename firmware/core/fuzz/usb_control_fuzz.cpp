@@ -117,20 +117,13 @@ void RunRawEvent(FuzzedDataProvider& in, Fixture& f) {
       d.OnTransferComplete(ep, static_cast<std::uint16_t>(n));
       break;
     }
-    case 2:
-      d.OnBusReset();
-      break;
-    case 3:
-      d.OnSuspend();
-      break;
-    case 4:
-      d.OnResume();
-      break;
+    case 2: d.OnBusReset(); break;
+    case 3: d.OnSuspend(); break;
+    case 4: d.OnResume(); break;
     case 5:  // a burst the queue cannot hold: counted, never overwritten
       for (int i = in.ConsumeIntegralInRange<int>(1, 40); i > 0; --i) d.OnResume();
       break;
-    default:
-      break;
+    default: break;
   }
   if (in.ConsumeBool()) d.Task();
 }
@@ -188,18 +181,10 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
     switch (in.ConsumeIntegralInRange<int>(0, 5)) {
       case 0:
       case 1:
-      case 2:
-        RunControl(in, f);
-        break;
-      case 3:
-        RunRawEvent(in, f);
-        break;
-      case 4:
-        RunReports(in, f);
-        break;
-      default:
-        f.rig.host.BusReset();
-        break;
+      case 2: RunControl(in, f); break;
+      case 3: RunRawEvent(in, f); break;
+      case 4: RunReports(in, f); break;
+      default: f.rig.host.BusReset(); break;
     }
   }
   f.rig.device.Task();

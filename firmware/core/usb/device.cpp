@@ -62,22 +62,14 @@ void UsbDevice::Task() {
     tail = static_cast<std::uint8_t>((tail + 1U) % kEventQueueSize);
     tail_.store(tail, std::memory_order_release);
     switch (e.kind) {
-      case EventKind::kBusReset:
-        HandleBusReset();
-        break;
-      case EventKind::kSetup:
-        HandleSetup(SetupPacket::Decode(e.setup));
-        break;
-      case EventKind::kTransferComplete:
-        HandleTransferComplete(e.ep_addr, e.length);
-        break;
+      case EventKind::kBusReset: HandleBusReset(); break;
+      case EventKind::kSetup: HandleSetup(SetupPacket::Decode(e.setup)); break;
+      case EventKind::kTransferComplete: HandleTransferComplete(e.ep_addr, e.length); break;
       case EventKind::kSuspend:
         suspended_ = true;
         ++counters_.suspends;
         break;
-      case EventKind::kResume:
-        suspended_ = false;
-        break;
+      case EventKind::kResume: suspended_ = false; break;
     }
   }
 }
@@ -126,14 +118,11 @@ void UsbDevice::HandleSetup(const SetupPacket& setup) {
         reply = control_owner_->OnControlRequest(setup, control_buffer_);
       break;
     case RequestType::kVendor:
-    case RequestType::kReserved:
-      break;
+    case RequestType::kReserved: break;
   }
 
   switch (reply.kind) {
-    case ControlReply::Kind::kStall:
-      StallControl();
-      return;
+    case ControlReply::Kind::kStall: StallControl(); return;
     case ControlReply::Kind::kData:
       if (!setup.DeviceToHost()) {
         StallControl();
@@ -190,8 +179,7 @@ void UsbDevice::HandleTransferComplete(std::uint8_t ep_addr, std::uint16_t lengt
         }
         if (control_owner_ != nullptr) control_owner_->OnControlComplete(setup_);
         return;
-      default:
-        return;  // A completion left over from a transfer a new SETUP abandoned.
+      default: return;  // A completion left over from a transfer a new SETUP abandoned.
     }
   }
   switch (stage_) {
@@ -213,8 +201,7 @@ void UsbDevice::HandleTransferComplete(std::uint8_t ep_addr, std::uint16_t lengt
       stage_ = ControlStage::kIdle;
       if (control_owner_ != nullptr) control_owner_->OnControlComplete(setup_);
       return;
-    default:
-      return;
+    default: return;
   }
 }
 
@@ -255,14 +242,10 @@ void UsbDevice::ArmStatusOut() {
 
 ControlReply UsbDevice::StandardRequest(const SetupPacket& setup) {
   switch (setup.To()) {
-    case Recipient::kDevice:
-      return DeviceRequest(setup);
-    case Recipient::kInterface:
-      return InterfaceRequest(setup);
-    case Recipient::kEndpoint:
-      return EndpointRequest(setup);
-    default:
-      return ControlReply::Stall();
+    case Recipient::kDevice: return DeviceRequest(setup);
+    case Recipient::kInterface: return InterfaceRequest(setup);
+    case Recipient::kEndpoint: return EndpointRequest(setup);
+    default: return ControlReply::Stall();
   }
 }
 
@@ -382,8 +365,7 @@ ControlReply UsbDevice::InterfaceRequest(const SetupPacket& setup) {
     case StandardRequest::kSetInterface:
       if (setup.DeviceToHost() || setup.w_value != 0) break;
       return ControlReply::Accept();
-    default:
-      break;  // No interface features are defined.
+    default: break;  // No interface features are defined.
   }
   return ControlReply::Stall();
 }
@@ -427,8 +409,7 @@ ControlReply UsbDevice::EndpointRequest(const SetupPacket& setup) {
       halted_[HaltIndex(ep)] = true;
       DriverForEndpoint(ep)->OnEndpointHalt(ep, true);
       return ControlReply::Accept();
-    default:
-      break;  // SYNCH_FRAME is for isochronous endpoints only.
+    default: break;  // SYNCH_FRAME is for isochronous endpoints only.
   }
   return ControlReply::Stall();
 }

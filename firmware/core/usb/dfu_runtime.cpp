@@ -29,8 +29,7 @@ ControlReply DfuRuntime::OnControlRequest(const SetupPacket& setup,
       if (!setup.DeviceToHost()) break;
       scratch[0] = static_cast<std::uint8_t>(state_);
       return ControlReply::Data(scratch.first(1));
-    default:
-      break;
+    default: break;
   }
   return ControlReply::Stall();
 }

@@ -105,12 +105,9 @@ ControlReply HidClass::OnControlRequest(const SetupPacket& setup, std::span<std:
     // (HID 1.11 §7.1.1).
     if (!setup.DeviceToHost()) return ControlReply::Stall();
     switch (static_cast<DescriptorType>(setup.ValueHigh())) {
-      case DescriptorType::kHid:
-        return ControlReply::Data(kHidDescriptor);
-      case DescriptorType::kHidReport:
-        return ControlReply::Data(kHidReportDescriptor);
-      default:
-        return ControlReply::Stall();
+      case DescriptorType::kHid: return ControlReply::Data(kHidDescriptor);
+      case DescriptorType::kHidReport: return ControlReply::Data(kHidReportDescriptor);
+      default: return ControlReply::Stall();
     }
   }
   const auto type = static_cast<HidReportType>(setup.ValueHigh());
@@ -137,8 +134,7 @@ ControlReply HidClass::OnControlRequest(const SetupPacket& setup, std::span<std:
       if (setup.DeviceToHost() || report_id != 0) break;
       idle_rate_ = setup.ValueHigh();
       return ControlReply::Accept();
-    default:
-      break;  // GET/SET_PROTOCOL: boot protocol not supported (bInterfaceSubClass 0).
+    default: break;  // GET/SET_PROTOCOL: boot protocol not supported (bInterfaceSubClass 0).
   }
   return ControlReply::Stall();
 }

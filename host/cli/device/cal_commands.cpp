@@ -24,16 +24,11 @@ namespace {
 
 const char* UnitName(wire::Unit u) {
   switch (u) {
-    case wire::Unit::kNewton:
-      return "N";
-    case wire::Unit::kMeterPerSecond2:
-      return "m/s2";
-    case wire::Unit::kMeter:
-      return "m";
-    case wire::Unit::kMeterPerSecond:
-      return "m/s";
-    case wire::Unit::kCounts:
-      return "counts";
+    case wire::Unit::kNewton: return "N";
+    case wire::Unit::kMeterPerSecond2: return "m/s2";
+    case wire::Unit::kMeter: return "m";
+    case wire::Unit::kMeterPerSecond: return "m/s";
+    case wire::Unit::kCounts: return "counts";
   }
   return "counts";
 }

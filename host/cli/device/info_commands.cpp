@@ -20,34 +20,23 @@ namespace {
 
 const char* BoardName(wire::BoardId id) {
   switch (id) {
-    case wire::BoardId::kStm32f405:
-      return "stm32f405";
-    case wire::BoardId::kQemuNetduinoPlus2:
-      return "qemu-netduinoplus2";
-    case wire::BoardId::kEmulator:
-      return "emulator";
-    case wire::BoardId::kHostTest:
-      return "host-test";
+    case wire::BoardId::kStm32f405: return "stm32f405";
+    case wire::BoardId::kQemuNetduinoPlus2: return "qemu-netduinoplus2";
+    case wire::BoardId::kEmulator: return "emulator";
+    case wire::BoardId::kHostTest: return "host-test";
   }
   return "unknown";
 }
 
 const char* ResetName(wire::ResetCause c) {
   switch (c) {
-    case wire::ResetCause::kUnknown:
-      return "unknown";
-    case wire::ResetCause::kPowerOn:
-      return "power-on";
-    case wire::ResetCause::kPin:
-      return "reset-pin";
-    case wire::ResetCause::kSoftware:
-      return "software";
-    case wire::ResetCause::kWatchdog:
-      return "watchdog";
-    case wire::ResetCause::kBrownOut:
-      return "brown-out";
-    case wire::ResetCause::kLowPower:
-      return "low-power";
+    case wire::ResetCause::kUnknown: return "unknown";
+    case wire::ResetCause::kPowerOn: return "power-on";
+    case wire::ResetCause::kPin: return "reset-pin";
+    case wire::ResetCause::kSoftware: return "software";
+    case wire::ResetCause::kWatchdog: return "watchdog";
+    case wire::ResetCause::kBrownOut: return "brown-out";
+    case wire::ResetCause::kLowPower: return "low-power";
   }
   return "unknown";
 }

@@ -27,12 +27,9 @@ struct ModalArgs {
 
 const char* DampingName(model::DampingKind kind) {
   switch (kind) {
-    case model::DampingKind::kNone:
-      return "none";
-    case model::DampingKind::kProportional:
-      return "proportional";
-    case model::DampingKind::kGeneral:
-      return "general";
+    case model::DampingKind::kNone: return "none";
+    case model::DampingKind::kProportional: return "proportional";
+    case model::DampingKind::kGeneral: return "general";
   }
   return "none";
 }

@@ -149,18 +149,10 @@ sysid::PolyOrders ParseOrders(const std::string& text, sysid::Structure s) {
   }
   std::vector<int*> slots;
   switch (s) {
-    case sysid::Structure::kArx:
-      slots = {&o.na, &o.nb, &o.nk};
-      break;
-    case sysid::Structure::kArmax:
-      slots = {&o.na, &o.nb, &o.nc, &o.nk};
-      break;
-    case sysid::Structure::kOe:
-      slots = {&o.nb, &o.nf, &o.nk};
-      break;
-    case sysid::Structure::kBj:
-      slots = {&o.nb, &o.nc, &o.nd, &o.nf, &o.nk};
-      break;
+    case sysid::Structure::kArx: slots = {&o.na, &o.nb, &o.nk}; break;
+    case sysid::Structure::kArmax: slots = {&o.na, &o.nb, &o.nc, &o.nk}; break;
+    case sysid::Structure::kOe: slots = {&o.nb, &o.nf, &o.nk}; break;
+    case sysid::Structure::kBj: slots = {&o.nb, &o.nc, &o.nd, &o.nf, &o.nk}; break;
   }
   Require(items.size() == slots.size(), std::string("--orders for ") + sysid::StructureName(s) +
                                             " takes " + std::to_string(slots.size()) +

@@ -57,32 +57,18 @@ class Script {
   void Run() {
     for (int step = 0; step < 40 && in_.remaining_bytes() > 0; ++step) {
       switch (in_.ConsumeIntegralInRange<int>(0, 9)) {
-        case 0:
-          Command();
-          break;
+        case 0: Command(); break;
         case 1:
-        case 2:
-          Block();
-          break;
+        case 2: Block(); break;
         case 3:
-        case 4:
-          Dfu(3, 0, 6);
-          break;  // GETSTATUS
-        case 5:
-          Dfu(5, 0, 1);
-          break;  // GETSTATE
+        case 4: Dfu(3, 0, 6); break;  // GETSTATUS
+        case 5: Dfu(5, 0, 1); break;  // GETSTATE
         case 6:
           Dfu(in_.PickValueInArray<std::uint8_t>({0, 4, 6, 7}), 0, 0);
           break;  // DETACH, CLRSTATUS, ABORT
-        case 7:
-          Upload();
-          break;
-        case 8:
-          Standard();
-          break;
-        default:
-          Arbitrary();
-          break;
+        case 7: Upload(); break;
+        case 8: Standard(); break;
+        default: Arbitrary(); break;
       }
     }
   }
@@ -154,16 +140,12 @@ class Script {
         c = {0x21, static_cast<std::uint8_t>(a), static_cast<std::uint8_t>(a >> 8),
              static_cast<std::uint8_t>(a >> 16), static_cast<std::uint8_t>(a >> 24)};
         break;
-      case 1:
-        c = {0x41};
-        break;
+      case 1: c = {0x41}; break;
       case 2:
         c = {0x41, static_cast<std::uint8_t>(a), static_cast<std::uint8_t>(a >> 8),
              static_cast<std::uint8_t>(a >> 16), static_cast<std::uint8_t>(a >> 24)};
         break;
-      case 3:
-        c = {0x92};
-        break;
+      case 3: c = {0x92}; break;
       default:
         c = in_.ConsumeBytes<std::uint8_t>(in_.ConsumeIntegralInRange<std::size_t>(1, 8));
         break;

@@ -252,18 +252,10 @@ void CheckCodecs(FuzzedDataProvider& in) {
         std::span<const std::uint8_t, ip::kUrbHeaderBytes>(buf.data(), ip::kUrbHeaderBytes));
     std::array<std::uint8_t, ip::kUrbHeaderBytes> again{};
     switch (h.basic.command) {
-      case ip::UrbCommand::kCmdSubmit:
-        ip::Encode(h.cmd_submit, again);
-        break;
-      case ip::UrbCommand::kRetSubmit:
-        ip::Encode(h.ret_submit, again);
-        break;
-      case ip::UrbCommand::kCmdUnlink:
-        ip::Encode(h.cmd_unlink, again);
-        break;
-      case ip::UrbCommand::kRetUnlink:
-        ip::Encode(h.ret_unlink, again);
-        break;
+      case ip::UrbCommand::kCmdSubmit: ip::Encode(h.cmd_submit, again); break;
+      case ip::UrbCommand::kRetSubmit: ip::Encode(h.ret_submit, again); break;
+      case ip::UrbCommand::kCmdUnlink: ip::Encode(h.cmd_unlink, again); break;
+      case ip::UrbCommand::kRetUnlink: ip::Encode(h.ret_unlink, again); break;
     }
     const ip::UrbHeader back = ip::DecodeUrbHeader(again);
     Require(back.basic.command == h.basic.command && back.basic.seqnum == h.basic.seqnum &&

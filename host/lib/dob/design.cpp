@@ -31,24 +31,18 @@ std::string FormatComplex(Complex c) {
 
 fixed::InputKind InputKindOf(SensorKind s) {
   switch (s) {
-    case SensorKind::kDisplacement:
-      return fixed::InputKind::kDisplacement;
-    case SensorKind::kVelocity:
-      return fixed::InputKind::kVelocity;
-    case SensorKind::kAcceleration:
-      return fixed::InputKind::kAcceleration;
+    case SensorKind::kDisplacement: return fixed::InputKind::kDisplacement;
+    case SensorKind::kVelocity: return fixed::InputKind::kVelocity;
+    case SensorKind::kAcceleration: return fixed::InputKind::kAcceleration;
   }
   return fixed::InputKind::kUnused;
 }
 
 double DefaultSensorFullScale(SensorKind s) {
   switch (s) {
-    case SensorKind::kDisplacement:
-      return 0.05;
-    case SensorKind::kVelocity:
-      return 1.0;
-    case SensorKind::kAcceleration:
-      return 50.0;
+    case SensorKind::kDisplacement: return 0.05;
+    case SensorKind::kVelocity: return 1.0;
+    case SensorKind::kAcceleration: return 50.0;
   }
   return 1.0;
 }
@@ -100,12 +94,9 @@ std::string RelativeDegreeMessage(int r, int plant, const std::string& what) {
 
 const char* SensorName(SensorKind kind) {
   switch (kind) {
-    case SensorKind::kDisplacement:
-      return "disp";
-    case SensorKind::kVelocity:
-      return "vel";
-    case SensorKind::kAcceleration:
-      return "acc";
+    case SensorKind::kDisplacement: return "disp";
+    case SensorKind::kVelocity: return "vel";
+    case SensorKind::kAcceleration: return "acc";
   }
   return "?";
 }

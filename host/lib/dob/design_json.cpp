@@ -41,16 +41,11 @@ const char* FormName(ObserverForm f) { return f == ObserverForm::kSiso ? "siso" 
 
 const char* InputKindName(fixed::InputKind kind) {
   switch (kind) {
-    case fixed::InputKind::kForce:
-      return "force";
-    case fixed::InputKind::kDisplacement:
-      return "disp";
-    case fixed::InputKind::kVelocity:
-      return "vel";
-    case fixed::InputKind::kAcceleration:
-      return "acc";
-    case fixed::InputKind::kUnused:
-      break;
+    case fixed::InputKind::kForce: return "force";
+    case fixed::InputKind::kDisplacement: return "disp";
+    case fixed::InputKind::kVelocity: return "vel";
+    case fixed::InputKind::kAcceleration: return "acc";
+    case fixed::InputKind::kUnused: break;
   }
   return "unused";
 }

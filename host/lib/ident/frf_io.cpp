@@ -157,12 +157,9 @@ namespace {
 
 int OrdinateType(Quantity q) {
   switch (q) {
-    case Quantity::kDisplacement:
-      return 8;
-    case Quantity::kVelocity:
-      return 11;
-    case Quantity::kAcceleration:
-      return 12;
+    case Quantity::kDisplacement: return 8;
+    case Quantity::kVelocity: return 11;
+    case Quantity::kAcceleration: return 12;
   }
   return 0;
 }
@@ -400,15 +397,9 @@ Frf FrfFromUff58(const std::vector<Uff58Dataset>& sets, const std::string& sourc
       Eigen::VectorXd::LinSpaced(static_cast<Eigen::Index>(first.points), first.x0,
                                  first.x0 + first.dx * static_cast<double>(first.points - 1));
   switch (first.ord_spec) {
-    case 11:
-      frf.quantity = Quantity::kVelocity;
-      break;
-    case 12:
-      frf.quantity = Quantity::kAcceleration;
-      break;
-    default:
-      frf.quantity = Quantity::kDisplacement;
-      break;
+    case 11: frf.quantity = Quantity::kVelocity; break;
+    case 12: frf.quantity = Quantity::kAcceleration; break;
+    default: frf.quantity = Quantity::kDisplacement; break;
   }
   frf.h.resize(static_cast<Eigen::Index>(first.points), static_cast<Eigen::Index>(frfs.size()));
   frf.coherence = Eigen::MatrixXd::Ones(frf.h.rows(), frf.h.cols());

@@ -26,16 +26,11 @@ Window ParseWindow(std::string_view name) {
 
 const char* WindowName(Window window) {
   switch (window) {
-    case Window::kRectangular:
-      return "rect";
-    case Window::kHann:
-      return "hann";
-    case Window::kHamming:
-      return "hamming";
-    case Window::kBlackmanHarris:
-      return "blackmanharris";
-    case Window::kFlatTop:
-      return "flattop";
+    case Window::kRectangular: return "rect";
+    case Window::kHann: return "hann";
+    case Window::kHamming: return "hamming";
+    case Window::kBlackmanHarris: return "blackmanharris";
+    case Window::kFlatTop: return "flattop";
   }
   return "unknown";
 }
@@ -45,18 +40,10 @@ Eigen::VectorXd MakeWindow(Window window, std::size_t n) {
   // Cosine-sum coefficients as scipy.signal.windows defines them (alternating signs applied below).
   std::vector<double> a;
   switch (window) {
-    case Window::kRectangular:
-      a = {1.0};
-      break;
-    case Window::kHann:
-      a = {0.5, 0.5};
-      break;
-    case Window::kHamming:
-      a = {0.54, 0.46};
-      break;
-    case Window::kBlackmanHarris:
-      a = {0.35875, 0.48829, 0.14128, 0.01168};
-      break;
+    case Window::kRectangular: a = {1.0}; break;
+    case Window::kHann: a = {0.5, 0.5}; break;
+    case Window::kHamming: a = {0.54, 0.46}; break;
+    case Window::kBlackmanHarris: a = {0.35875, 0.48829, 0.14128, 0.01168}; break;
     case Window::kFlatTop:
       a = {0.21557895, 0.41663158, 0.277263158, 0.083578947, 0.006947368};
       break;
@@ -84,12 +71,9 @@ Estimator ParseEstimator(std::string_view name) {
 
 const char* EstimatorName(Estimator estimator) {
   switch (estimator) {
-    case Estimator::kH1:
-      return "h1";
-    case Estimator::kH2:
-      return "h2";
-    case Estimator::kHv:
-      return "hv";
+    case Estimator::kH1: return "h1";
+    case Estimator::kH2: return "h2";
+    case Estimator::kHv: return "hv";
   }
   return "unknown";
 }
@@ -106,12 +90,9 @@ Quantity ParseQuantity(std::string_view name) {
 
 const char* FrfKindName(Quantity quantity) {
   switch (quantity) {
-    case Quantity::kDisplacement:
-      return "receptance";
-    case Quantity::kVelocity:
-      return "mobility";
-    case Quantity::kAcceleration:
-      return "accelerance";
+    case Quantity::kDisplacement: return "receptance";
+    case Quantity::kVelocity: return "mobility";
+    case Quantity::kAcceleration: return "accelerance";
   }
   return "unknown";
 }
@@ -337,12 +318,8 @@ Frf FrfFromSpectra(const CrossSpectra& spectra, Estimator estimator, Quantity re
       if (gff <= gff_floor || gxx <= gff_floor || cross2 <= 0.0) continue;
       std::complex<double> h;
       switch (estimator) {
-        case Estimator::kH1:
-          h = gfx / gff;
-          break;
-        case Estimator::kH2:
-          h = gxx / std::conj(gfx);
-          break;
+        case Estimator::kH1: h = gfx / gff; break;
+        case Estimator::kH2: h = gxx / std::conj(gfx); break;
         case Estimator::kHv: {
           const double d = gxx - gff;
           h = (d + std::sqrt(d * d + 4.0 * cross2)) / (2.0 * std::conj(gfx));
@@ -360,12 +337,9 @@ namespace {
 
 int Order(Quantity q) {
   switch (q) {
-    case Quantity::kDisplacement:
-      return 0;
-    case Quantity::kVelocity:
-      return 1;
-    case Quantity::kAcceleration:
-      return 2;
+    case Quantity::kDisplacement: return 0;
+    case Quantity::kVelocity: return 1;
+    case Quantity::kAcceleration: return 2;
   }
   return 0;
 }

@@ -89,8 +89,7 @@ ForceShape ParseForceShape(std::string_view spec) {
   shape.amp_n = get("amp");
   shape.t0_s = values.contains("t0") ? values.at("t0") : 0.0;
   switch (shape.kind) {
-    case ShapeKind::kStep:
-      break;
+    case ShapeKind::kStep: break;
     case ShapeKind::kPulse:
     case ShapeKind::kHalfSine:
       shape.width_s = get("width");
@@ -119,10 +118,8 @@ double EvaluateShape(const ForceShape& shape, double t_s, Side side) {
   if (edge_tau < 0.0) return 0.0;
   constexpr double kTwoPi = 2.0 * std::numbers::pi;
   switch (shape.kind) {
-    case ShapeKind::kStep:
-      return shape.amp_n;
-    case ShapeKind::kPulse:
-      return edge_tau < shape.width_s ? shape.amp_n : 0.0;
+    case ShapeKind::kStep: return shape.amp_n;
+    case ShapeKind::kPulse: return edge_tau < shape.width_s ? shape.amp_n : 0.0;
     case ShapeKind::kHalfSine:
       return edge_tau < shape.width_s
                  ? shape.amp_n * std::sin(std::numbers::pi * std::max(tau, 0.0) / shape.width_s)

@@ -17,12 +17,9 @@ void RequireDof(int dof, Eigen::Index n, const char* what) {
 
 std::complex<double> KindFactor(FrfKind kind, double omega_rad_s) {
   switch (kind) {
-    case FrfKind::kReceptance:
-      return 1.0;
-    case FrfKind::kMobility:
-      return {0.0, omega_rad_s};
-    case FrfKind::kAccelerance:
-      return -omega_rad_s * omega_rad_s;
+    case FrfKind::kReceptance: return 1.0;
+    case FrfKind::kMobility: return {0.0, omega_rad_s};
+    case FrfKind::kAccelerance: return -omega_rad_s * omega_rad_s;
   }
   return 1.0;
 }
@@ -39,12 +36,9 @@ FrfKind ParseFrfKind(std::string_view name) {
 
 std::string_view FrfKindName(FrfKind kind) {
   switch (kind) {
-    case FrfKind::kReceptance:
-      return "receptance";
-    case FrfKind::kMobility:
-      return "mobility";
-    case FrfKind::kAccelerance:
-      return "accelerance";
+    case FrfKind::kReceptance: return "receptance";
+    case FrfKind::kMobility: return "mobility";
+    case FrfKind::kAccelerance: return "accelerance";
   }
   return "receptance";
 }

@@ -32,12 +32,9 @@ Method ParseMethod(std::string_view name) {
 
 std::string_view MethodName(Method method) {
   switch (method) {
-    case Method::kEuler:
-      return "euler";
-    case Method::kRk4:
-      return "rk4";
-    case Method::kExact:
-      return "exact";
+    case Method::kEuler: return "euler";
+    case Method::kRk4: return "rk4";
+    case Method::kExact: return "exact";
   }
   return "rk4";
 }

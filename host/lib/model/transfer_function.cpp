@@ -89,9 +89,7 @@ TransferFunction ModelTransferFunction(const Model& model, int input_dof, int ou
   receptance = TrimLeading(receptance, w);
 
   switch (kind) {
-    case FrfKind::kReceptance:
-      tf.num = receptance;
-      break;
+    case FrfKind::kReceptance: tf.num = receptance; break;
     case FrfKind::kMobility:
       tf.num = numerics::MultiplyPolynomials(receptance, Eigen::Vector2d(1.0, 0.0));
       break;

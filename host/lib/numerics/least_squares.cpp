@@ -25,16 +25,11 @@ void SolverOptions::Validate() const {
 
 const char* TerminationName(TerminationType termination) {
   switch (termination) {
-    case TerminationType::kFunctionTolerance:
-      return "function_tolerance";
-    case TerminationType::kParameterTolerance:
-      return "parameter_tolerance";
-    case TerminationType::kGradientTolerance:
-      return "gradient_tolerance";
-    case TerminationType::kMaxIterations:
-      return "max_iterations";
-    case TerminationType::kNumericalFailure:
-      return "numerical_failure";
+    case TerminationType::kFunctionTolerance: return "function_tolerance";
+    case TerminationType::kParameterTolerance: return "parameter_tolerance";
+    case TerminationType::kGradientTolerance: return "gradient_tolerance";
+    case TerminationType::kMaxIterations: return "max_iterations";
+    case TerminationType::kNumericalFailure: return "numerical_failure";
   }
   return "numerical_failure";
 }

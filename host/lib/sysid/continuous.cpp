@@ -115,24 +115,15 @@ void SimulateStatesInto(Eigen::Ref<const Eigen::MatrixXd> a, Eigen::Ref<const Ei
     }
   };
   switch (n) {
-    case 1:
-      return run(std::integral_constant<std::size_t, 1>{});
-    case 2:
-      return run(std::integral_constant<std::size_t, 2>{});
-    case 3:
-      return run(std::integral_constant<std::size_t, 3>{});
-    case 4:
-      return run(std::integral_constant<std::size_t, 4>{});
-    case 5:
-      return run(std::integral_constant<std::size_t, 5>{});
-    case 6:
-      return run(std::integral_constant<std::size_t, 6>{});
-    case 7:
-      return run(std::integral_constant<std::size_t, 7>{});
-    case 8:
-      return run(std::integral_constant<std::size_t, 8>{});
-    default:
-      break;
+    case 1: return run(std::integral_constant<std::size_t, 1>{});
+    case 2: return run(std::integral_constant<std::size_t, 2>{});
+    case 3: return run(std::integral_constant<std::size_t, 3>{});
+    case 4: return run(std::integral_constant<std::size_t, 4>{});
+    case 5: return run(std::integral_constant<std::size_t, 5>{});
+    case 6: return run(std::integral_constant<std::size_t, 6>{});
+    case 7: return run(std::integral_constant<std::size_t, 7>{});
+    case 8: return run(std::integral_constant<std::size_t, 8>{});
+    default: break;
   }
   Eigen::VectorXd x = x0;
   Eigen::VectorXd next(n);

@@ -286,8 +286,7 @@ PemResult EstimatePem(const IoData& data, Structure structure, const PolyOrders&
       res.initialization += " + hannan-rissanen";
       break;
     }
-    case Structure::kArx:
-      break;
+    case Structure::kArx: break;
   }
 
   Eigen::VectorXd theta = start.Parameters();

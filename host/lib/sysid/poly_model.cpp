@@ -11,14 +11,10 @@ namespace vibid::sysid {
 
 const char* StructureName(Structure s) {
   switch (s) {
-    case Structure::kArx:
-      return "arx";
-    case Structure::kArmax:
-      return "armax";
-    case Structure::kOe:
-      return "oe";
-    case Structure::kBj:
-      return "bj";
+    case Structure::kArx: return "arx";
+    case Structure::kArmax: return "armax";
+    case Structure::kOe: return "oe";
+    case Structure::kBj: return "bj";
   }
   return "arx";
 }
@@ -46,9 +42,7 @@ void ValidateOrders(Structure s, const PolyOrders& o, Eigen::Index samples) {
     case Structure::kOe:
       Require(o.na == 0 && o.nc == 0 && o.nd == 0, "oe takes nb, nf, nk only");
       break;
-    case Structure::kBj:
-      Require(o.na == 0, "bj takes nb, nc, nd, nf, nk only");
-      break;
+    case Structure::kBj: Require(o.na == 0, "bj takes nb, nc, nd, nf, nk only"); break;
   }
   const Eigen::Index lag = std::max<Eigen::Index>({o.na, o.nc, o.nd, o.nf, o.nk + o.nb - 1});
   const Eigen::Index rows = samples - lag;

@@ -81,10 +81,8 @@ OpHeader DecodeOpHeader(std::span<const std::uint8_t, kOpHeaderBytes> in) {
     case OpCode::kReqDevlist:
     case OpCode::kRepDevlist:
     case OpCode::kReqImport:
-    case OpCode::kRepImport:
-      break;
-    default:
-      throw ProtocolError("unknown USB/IP operation code " + std::to_string(code));
+    case OpCode::kRepImport: break;
+    default: throw ProtocolError("unknown USB/IP operation code " + std::to_string(code));
   }
   h.code = static_cast<OpCode>(code);
   h.status = Get32(in.data() + 4);

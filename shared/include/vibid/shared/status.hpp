@@ -27,28 +27,17 @@ enum class [[nodiscard]] Status : std::uint8_t{
 /// Short stable name, for logs and host messages.
 constexpr const char* StatusName(Status s) {
   switch (s) {
-    case Status::kOk:
-      return "ok";
-    case Status::kInvalidArgument:
-      return "invalid-argument";
-    case Status::kOutOfRange:
-      return "out-of-range";
-    case Status::kFailedPrecondition:
-      return "failed-precondition";
-    case Status::kDataLoss:
-      return "data-loss";
-    case Status::kUnavailable:
-      return "unavailable";
-    case Status::kUnimplemented:
-      return "unimplemented";
-    case Status::kResourceExhausted:
-      return "resource-exhausted";
-    case Status::kInternal:
-      return "internal";
-    case Status::kVersionMismatch:
-      return "version-mismatch";
-    case Status::kUnstable:
-      return "unstable";
+    case Status::kOk: return "ok";
+    case Status::kInvalidArgument: return "invalid-argument";
+    case Status::kOutOfRange: return "out-of-range";
+    case Status::kFailedPrecondition: return "failed-precondition";
+    case Status::kDataLoss: return "data-loss";
+    case Status::kUnavailable: return "unavailable";
+    case Status::kUnimplemented: return "unimplemented";
+    case Status::kResourceExhausted: return "resource-exhausted";
+    case Status::kInternal: return "internal";
+    case Status::kVersionMismatch: return "version-mismatch";
+    case Status::kUnstable: return "unstable";
   }
   return "unknown";
 }

@@ -30,14 +30,11 @@ enum class ChannelKind : std::uint8_t {
 constexpr ChannelKind KindOf(Channel c) {
   switch (c) {
     case Channel::kForce1:
-    case Channel::kForce2:
-      return ChannelKind::kLoadCell;
+    case Channel::kForce2: return ChannelKind::kLoadCell;
     case Channel::kAccel1:
-    case Channel::kAccel2:
-      return ChannelKind::kAccelerometer;
+    case Channel::kAccel2: return ChannelKind::kAccelerometer;
     case Channel::kEncoder1:
-    case Channel::kEncoder2:
-      return ChannelKind::kEncoder;
+    case Channel::kEncoder2: return ChannelKind::kEncoder;
   }
   return ChannelKind::kLoadCell;
 }
