@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <limits>
 #include <random>
 
 #include "vibid/common/error.hpp"
@@ -40,7 +41,7 @@ TEST(Polynomial, RootsRoundTripOverRandomWideRangePolynomials) {
     const std::vector<Complex> found = PolynomialRoots(p);
     ASSERT_EQ(found.size(), roots.size());
     for (const Complex& r : roots) {
-      double nearest = INFINITY;
+      double nearest = std::numeric_limits<double>::infinity();
       for (const Complex& f : found) nearest = std::min(nearest, std::abs(f - r) / std::abs(r));
       EXPECT_LT(nearest, 1e-7) << "trial " << trial << " root " << r;
     }
