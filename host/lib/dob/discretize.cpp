@@ -175,17 +175,16 @@ Zpk TustinZpk(const Zpk& analog, double fs_hz, double omega_warp_rad_s) {
   return d;
 }
 
-Zpk ZeroOrderHoldZpk(const Zpk& analog, double fs_hz) {
-  Require(fs_hz > 0.0, "sample rate must be > 0");
-  Require(analog.zeros.size() <= analog.poles.size(), "zero-order hold needs a proper system");
-  const double t_s = 1.0 / fs_hz;
+namespace {
+
+// A real state space as a cascade of first/second-order blocks (well conditioned even when the
+// poles span decades), each block taking zeros from the remaining groups.
+// Each block is normalised to unit gain at its own pole frequency; the overall gain is applied
+// to the output only. A large gain inside the chain would enter A through the couplings between
+// blocks and ruin the matrix exponential.
+RealBlock BlockCascade(const Zpk& analog) {
   const auto pole_groups = GroupRoots(analog.poles);
   auto zero_groups = GroupRoots(analog.zeros);
-  // Build a real state space as a cascade of first/second-order blocks (well conditioned even when
-  // the poles span decades), each block taking zeros from the remaining groups.
-  // Each block is normalised to unit gain at its own pole frequency; the overall gain is applied
-  // to the output only. A large gain inside the chain would enter A through the couplings between
-  // blocks and ruin the matrix exponential.
   RealBlock sys;
   bool first = true;
   double output_gain = analog.gain;
@@ -209,20 +208,16 @@ Zpk ZeroOrderHoldZpk(const Zpk& analog, double fs_hz) {
   sys.c *= output_gain;
   sys.d *= output_gain;
   Require(zi == zero_groups.size(), "zero-order hold: could not place every zero");
-  const Eigen::Index n = sys.a.rows();
-  Eigen::MatrixXd aug = Eigen::MatrixXd::Zero(n + 1, n + 1);
-  aug.topLeftCorner(n, n) = sys.a * t_s;
-  aug.topRightCorner(n, 1) = sys.b * t_s;
-  const Eigen::MatrixXd e = aug.exp();
-  const Eigen::MatrixXd ad = e.topLeftCorner(n, n);
-  const Eigen::MatrixXd bd = e.topRightCorner(n, 1);
+  return sys;
+}
 
-  Zpk d;
-  for (const Complex& p : analog.poles) d.poles.push_back(std::exp(p * t_s));
-  // Zeros of the discrete SISO system. With a feedthrough they are eig(Ad - Bd C / D). Without
-  // one, the zero dynamics: inputs that keep y = 0 must keep x in ker C, which takes
-  // u = -(C Bd)^-1 C Ad x, so the zeros are the eigenvalues of P Ad (P = I - Bd (C Bd)^-1 C) on
-  // ker C. (A ZOH-sampled strictly proper system has C Bd != 0.)
+// Zeros of the discrete SISO system (ad, bd, sys.c, sys.d). With a feedthrough they are
+// eig(Ad - Bd C / D). Without one, the zero dynamics: inputs that keep y = 0 must keep x in ker C,
+// which takes u = -(C Bd)^-1 C Ad x, so the zeros are the eigenvalues of P Ad
+// (P = I - Bd (C Bd)^-1 C) on ker C. (A ZOH-sampled strictly proper system has C Bd != 0.)
+std::vector<Complex> DiscreteZeros(const RealBlock& sys, const Eigen::MatrixXd& ad,
+                                   const Eigen::MatrixXd& bd) {
+  const Eigen::Index n = sys.a.rows();
   const double dd = sys.d(0, 0);
   const double cb = (sys.c * bd)(0, 0);
   Eigen::MatrixXd zero_dynamics;
@@ -236,15 +231,36 @@ Zpk ZeroOrderHoldZpk(const Zpk& analog, double fs_hz) {
     const Eigen::MatrixXd kernel = q.rightCols(n - 1);
     zero_dynamics = kernel.transpose() * proj * ad * kernel;
   }
+  std::vector<Complex> zeros;
   if (zero_dynamics.size() > 0) {
     const Eigen::EigenSolver<Eigen::MatrixXd> zs(zero_dynamics, false);
-    for (Eigen::Index i = 0; i < zs.eigenvalues().size(); ++i)
-      d.zeros.push_back(zs.eigenvalues()[i]);
+    for (Eigen::Index i = 0; i < zs.eigenvalues().size(); ++i) zeros.push_back(zs.eigenvalues()[i]);
   }
   // Clean conjugate symmetry: tiny imaginary parts of real zeros are rounding.
-  for (Complex& z : d.zeros) {
+  for (Complex& z : zeros) {
     if (IsReal(z)) z = z.real();
   }
+  return zeros;
+}
+
+}  // namespace
+
+Zpk ZeroOrderHoldZpk(const Zpk& analog, double fs_hz) {
+  Require(fs_hz > 0.0, "sample rate must be > 0");
+  Require(analog.zeros.size() <= analog.poles.size(), "zero-order hold needs a proper system");
+  const double t_s = 1.0 / fs_hz;
+  const RealBlock sys = BlockCascade(analog);
+  const Eigen::Index n = sys.a.rows();
+  Eigen::MatrixXd aug = Eigen::MatrixXd::Zero(n + 1, n + 1);
+  aug.topLeftCorner(n, n) = sys.a * t_s;
+  aug.topRightCorner(n, 1) = sys.b * t_s;
+  const Eigen::MatrixXd e = aug.exp();
+  const Eigen::MatrixXd ad = e.topLeftCorner(n, n);
+  const Eigen::MatrixXd bd = e.topRightCorner(n, 1);
+
+  Zpk d;
+  for (const Complex& p : analog.poles) d.poles.push_back(std::exp(p * t_s));
+  d.zeros = DiscreteZeros(sys, ad, bd);
   // Gain from the state space at z0 = 1 (DC), or another real point if a pole sits there.
   Complex z0 = 1.0;
   for (const Complex& p : d.poles) {

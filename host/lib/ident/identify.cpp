@@ -1,5 +1,6 @@
 #include "vibid/ident/identify.hpp"
 
+#include <array>
 #include <cmath>
 #include <cstdio>
 #include <limits>
@@ -108,17 +109,13 @@ std::string FormatValidationTable(const ValidationTable& t) {
   return out.str();
 }
 
-IdentifyResult Identify(const model::Model& nominal, const std::vector<MassTestInput>& mass_tests,
-                        const std::vector<Frf>& modal_tests, const IdentifyOptions& options) {
-  model::Validate(nominal);
-  const Eigen::Index n = nominal.m_kg.rows();
-  Require(n >= 2, "identify: the nominal model must have at least 2 masses");
-  Require(nominal.m_kg.isDiagonal(),
-          "identify: the nominal model needs a diagonal mass matrix (a chain)");
-  Require(!modal_tests.empty(), "identify: at least one modal test is needed");
-  const ChainParameters nominal_chain = ChainOf(nominal);
-  IdentifyResult res;
-  res.chain = nominal_chain;
+namespace {
+
+// Each mass test's fitted mass replaces the nominal one in `res.chain`.
+void UpdateMasses(const ChainParameters& nominal_chain,
+                  const std::vector<MassTestInput>& mass_tests, const IdentifyOptions& options,
+                  IdentifyResult& res) {
+  const Eigen::Index n = nominal_chain.masses_kg.size();
   std::vector<bool> seen(static_cast<std::size_t>(n), false);
   for (const MassTestInput& mt : mass_tests) {
     Require(mt.position < static_cast<std::size_t>(n), "identify: mass test for position " +
@@ -143,6 +140,12 @@ IdentifyResult Identify(const model::Model& nominal, const std::vector<MassTestI
     res.chain.masses_kg[pos] = r.update.mass_kg;
     res.mass_tests.push_back(r);
   }
+}
+
+// The modes of every modal test, kept in `res.modal_tests`, and the stiffness update of each.
+std::vector<StiffnessUpdateResult> UpdateStiffnessPerTest(const std::vector<Frf>& modal_tests,
+                                                          const IdentifyOptions& options,
+                                                          Eigen::Index n, IdentifyResult& res) {
   std::vector<StiffnessUpdateResult> updates;
   for (std::size_t t = 0; t < modal_tests.size(); ++t) {
     const std::string name = "modal test " + std::to_string(t + 1);
@@ -167,21 +170,45 @@ IdentifyResult Identify(const model::Model& nominal, const std::vector<MassTestI
     updates.push_back(UpdateStiffness(res.chain.masses_kg, omega, zeta, shapes));
     res.modal_tests.push_back(std::move(mi));
   }
-  res.stiffness = AverageStiffness(updates);
-  res.chain.springs_n_per_m = res.stiffness.springs;
-  res.chain.dampers_ns_per_m = res.stiffness.dampers;
-  // Test modes averaged over the tests (mode i of every test is the same physical mode).
-  res.test_modes = res.modal_tests.front().modes;
-  for (std::size_t i = 0; i < res.test_modes.size(); ++i) {
-    ModeEstimate& avg = res.test_modes[i];
+  return updates;
+}
+
+// Interval of the mean over the tests: from each test's standard deviation, or from the
+// tests' scatter when that is larger (the rig changing between tests is no noise the
+// modal model sees). Normal quantile: the per-test variances are well determined. `out` is left
+// as it is when a test has no interval.
+template <typename ValueOf, typename CiOf>
+void MeanInterval(const std::vector<ModeIdentification>& tests, std::size_t i, ValueOf value_of,
+                  CiOf ci_of, double mean, std::array<double, 2>& out) {
+  const auto count = static_cast<double>(tests.size());
+  double var_sum = 0.0;
+  double ss = 0.0;
+  for (const auto& mt : tests) {
+    const std::array<double, 2>& ci = ci_of(mt.modes[i]);
+    if (!std::isfinite(ci[0]) || !std::isfinite(ci[1])) return;
+    const double sd = 0.5 * (ci[1] - ci[0]) / kZ95;
+    var_sum += sd * sd;
+    ss += (value_of(mt.modes[i]) - mean) * (value_of(mt.modes[i]) - mean);
+  }
+  double var = var_sum / (count * count);
+  if (count >= 2.0) var = std::max(var, ss / (count - 1.0) / count);
+  const double hw = kZ95 * std::sqrt(var);
+  out = {mean - hw, mean + hw};
+}
+
+// Mode i of every test is the same physical mode.
+std::vector<ModeEstimate> AverageTestModes(const std::vector<ModeIdentification>& tests) {
+  std::vector<ModeEstimate> modes = tests.front().modes;
+  for (std::size_t i = 0; i < modes.size(); ++i) {
+    ModeEstimate& avg = modes[i];
     avg.omega_rad_s = avg.zeta = 0.0;
     avg.shape.setZero();
-    for (const auto& mt : res.modal_tests) {
+    for (const auto& mt : tests) {
       avg.omega_rad_s += mt.modes[i].omega_rad_s;
       avg.zeta += mt.modes[i].zeta;
       avg.shape += mt.modes[i].shape;
     }
-    const auto count = static_cast<double>(res.modal_tests.size());
+    const auto count = static_cast<double>(tests.size());
     avg.omega_rad_s /= count;
     avg.zeta /= count;
     avg.shape /= count;
@@ -189,37 +216,42 @@ IdentifyResult Identify(const model::Model& nominal, const std::vector<MassTestI
     avg.ratio = avg.shape.size() == 2 && avg.shape[1] != 0.0
                     ? avg.shape[0] / avg.shape[1]
                     : std::numeric_limits<double>::quiet_NaN();
-    // Interval of the mean over the tests: from each test's standard deviation, or from the
-    // tests' scatter when that is larger (the rig changing between tests is no noise the
-    // modal model sees). Normal quantile: the per-test variances are well determined.
-    const auto mean_interval = [&](auto value_of, auto ci_of, double mean,
-                                   std::array<double, 2>& out) {
-      double var_sum = 0.0;
-      double ss = 0.0;
-      for (const auto& mt : res.modal_tests) {
-        const std::array<double, 2>& ci = ci_of(mt.modes[i]);
-        if (!std::isfinite(ci[0]) || !std::isfinite(ci[1])) return;
-        const double sd = 0.5 * (ci[1] - ci[0]) / kZ95;
-        var_sum += sd * sd;
-        ss += (value_of(mt.modes[i]) - mean) * (value_of(mt.modes[i]) - mean);
-      }
-      double var = var_sum / (count * count);
-      if (count >= 2.0) var = std::max(var, ss / (count - 1.0) / count);
-      const double hw = kZ95 * std::sqrt(var);
-      out = {mean - hw, mean + hw};
-    };
-    mean_interval(
-        [](const ModeEstimate& m) { return m.omega_rad_s; },
+    MeanInterval(
+        tests, i, [](const ModeEstimate& m) { return m.omega_rad_s; },
         [](const ModeEstimate& m) -> const std::array<double, 2>& { return m.omega_ci95_rad_s; },
         avg.omega_rad_s, avg.omega_ci95_rad_s);
-    mean_interval([](const ModeEstimate& m) { return m.zeta; },
-                  [](const ModeEstimate& m) -> const std::array<double, 2>& { return m.zeta_ci95; },
-                  avg.zeta, avg.zeta_ci95);
-    mean_interval(
-        [](const ModeEstimate& m) { return m.ratio; },
+    MeanInterval(
+        tests, i, [](const ModeEstimate& m) { return m.zeta; },
+        [](const ModeEstimate& m) -> const std::array<double, 2>& { return m.zeta_ci95; }, avg.zeta,
+        avg.zeta_ci95);
+    MeanInterval(
+        tests, i, [](const ModeEstimate& m) { return m.ratio; },
         [](const ModeEstimate& m) -> const std::array<double, 2>& { return m.ratio_ci95; },
         avg.ratio, avg.ratio_ci95);
   }
+  return modes;
+}
+
+}  // namespace
+
+IdentifyResult Identify(const model::Model& nominal, const std::vector<MassTestInput>& mass_tests,
+                        const std::vector<Frf>& modal_tests, const IdentifyOptions& options) {
+  model::Validate(nominal);
+  const Eigen::Index n = nominal.m_kg.rows();
+  Require(n >= 2, "identify: the nominal model must have at least 2 masses");
+  Require(nominal.m_kg.isDiagonal(),
+          "identify: the nominal model needs a diagonal mass matrix (a chain)");
+  Require(!modal_tests.empty(), "identify: at least one modal test is needed");
+  const ChainParameters nominal_chain = ChainOf(nominal);
+  IdentifyResult res;
+  res.chain = nominal_chain;
+  UpdateMasses(nominal_chain, mass_tests, options, res);
+  const std::vector<StiffnessUpdateResult> updates =
+      UpdateStiffnessPerTest(modal_tests, options, n, res);
+  res.stiffness = AverageStiffness(updates);
+  res.chain.springs_n_per_m = res.stiffness.springs;
+  res.chain.dampers_ns_per_m = res.stiffness.dampers;
+  res.test_modes = AverageTestModes(res.modal_tests);
   Require((res.chain.springs_n_per_m.array() > 0.0).all(),
           "identify: the test data give a non-positive chain spring; the chain topology does not "
           "explain the tests");

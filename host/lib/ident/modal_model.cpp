@@ -235,6 +235,139 @@ void LoadLines(const Frf& acc, const std::vector<Eigen::Index>& rows, Problem& p
   }
 }
 
+Eigen::VectorXd StartParameters(const std::vector<std::complex<double>>& start,
+                                const Problem& prob) {
+  Eigen::VectorXd theta = Eigen::VectorXd::Zero(prob.parameters());
+  for (Eigen::Index i = 0; i < prob.modes; ++i) {
+    const cd l = start[static_cast<std::size_t>(i)];
+    theta[2 * i] = std::abs(l);
+    theta[2 * i + 1] = -l.real() / std::abs(l);
+  }
+  return theta;
+}
+
+double UsedLines(const Problem& prob, Eigen::Index o) {
+  return static_cast<double>((prob.weight.col(o).array() > 0.0).count());
+}
+
+void Refine(Problem& prob, const ModalModelOptions& options, Eigen::VectorXd& th,
+            numerics::SolverSummary& summary) {
+  if (options.max_iterations == 0) {
+    Eigen::VectorXd r;
+    prob.Evaluate(th, r, nullptr);
+    summary = {};
+    summary.termination = numerics::TerminationType::kFunctionTolerance;
+    summary.initial_cost = summary.final_cost = 0.5 * r.squaredNorm();
+    summary.message = "residues by linear least squares with the poles held";
+    return;
+  }
+  // Poles stay physical: omega > 0 and 0 < zeta < 1; a step outside is rejected.
+  const numerics::ResidualFunction residuals = [&prob](const Eigen::VectorXd& t, Eigen::VectorXd& r,
+                                                       Eigen::MatrixXd* jac) {
+    for (Eigen::Index i = 0; i < prob.modes; ++i) {
+      if (!(t[2 * i] > 0.0 && t[2 * i + 1] > 0.0 && t[2 * i + 1] < 1.0)) return false;
+    }
+    prob.Evaluate(t, r, jac);
+    return true;
+  };
+  const numerics::SolverOptions solver{.max_iterations = options.max_iterations,
+                                       .function_tolerance = 1e-10};
+  summary = numerics::LevenbergMarquardt(residuals, th, solver);
+  summary.message = "poles and residues refined (weighted least squares): " + summary.message;
+}
+
+// Each response's weight scaled by its noise level, estimated from the residuals at `theta`.
+void WeightByNoiseLevel(const Eigen::VectorXd& theta, Problem& prob) {
+  const Eigen::Index L = prob.lines();
+  const Eigen::Index R = prob.responses();
+  Eigen::VectorXd r;
+  prob.Evaluate(theta, r, nullptr);
+  for (Eigen::Index o = 0; o < R; ++o) {
+    const double dof =
+        std::max(1.0, 2.0 * UsedLines(prob, o) - static_cast<double>(prob.per_response()) -
+                          2.0 * static_cast<double>(prob.modes) / static_cast<double>(R));
+    const double s2 =
+        r.segment(2 * o * L, 2 * L).squaredNorm() / dof;  // in units of the old weights
+    if (s2 > 0.0) prob.weight.col(o) /= std::sqrt(s2);
+  }
+}
+
+void EstimateCovariance(const Problem& prob, const Eigen::VectorXd& theta, ModalModelFit& out) {
+  Eigen::VectorXd r;
+  Eigen::MatrixXd jac;
+  prob.Evaluate(theta, r, &jac);
+  double obs = 0.0;
+  for (Eigen::Index o = 0; o < prob.responses(); ++o) obs += 2.0 * UsedLines(prob, o);
+  const double dof = std::max(1.0, obs - static_cast<double>(prob.parameters()));
+  out.reduced_chi2 = r.squaredNorm() / dof;
+  const Eigen::VectorXd scale = jac.colwise().norm().transpose().cwiseMax(1e-300).cwiseInverse();
+  const Eigen::MatrixXd js = jac * scale.asDiagonal();
+  const Eigen::MatrixXd info = js.transpose() * js;
+  // The noise level is estimated, so the covariance takes the misfit per degree of freedom as it
+  // is (Gauss-Newton covariance with an unknown variance).
+  out.covariance = scale.asDiagonal() *
+                   info.ldlt().solve(Eigen::MatrixXd::Identity(info.rows(), info.cols())) *
+                   scale.asDiagonal() * out.reduced_chi2;
+}
+
+void StoreResidues(const Problem& prob, const Eigen::VectorXd& theta, Eigen::Index i,
+                   ModalModelFit& out) {
+  const Eigen::Index M = prob.modes;
+  const cd lam = out.lambda[i];
+  for (Eigen::Index o = 0; o < out.residues.cols(); ++o) {
+    const Eigen::Index base = 2 * M + o * prob.per_response();
+    out.residues(i, o) = cd(theta[base + 2 * i], theta[base + 2 * i + 1]);
+    if (prob.families() == 2) {
+      // Around the peak the ringing term adds to the hit's own with the phase exp(j omega_d t_p);
+      // the two are hard to tell apart there (large, opposite errors) but their sum is sharp.
+      out.residues(i, o) += cd(theta[base + 2 * M + 2 * i], theta[base + 2 * M + 2 * i + 1]) *
+                            std::polar(1.0, lam.imag() * prob.pretrigger_s);
+    }
+  }
+}
+
+// The window moved the real part by -1/tau; omega and zeta of the structure from the moved-back
+// pole, with the gradient through it.
+void StoreStructurePole(double om, double ze, double tau, Eigen::Index i, ModalModelFit& out) {
+  const cd lam = out.lambda[i];
+  const cd lt = tau > 0.0 ? lam + 1.0 / tau : lam;
+  const double wt = std::abs(lt);
+  out.omega_rad_s[i] = wt;
+  out.zeta[i] = -lt.real() / wt;
+  const cd dl_dw = lam / om;
+  const cd dl_dz(-om, -om * ze / std::sqrt(std::max(1e-300, 1.0 - ze * ze)));
+  Eigen::Matrix2d g;  // rows: omega_t, zeta_t; columns: omega, zeta
+  for (int c = 0; c < 2; ++c) {
+    const cd dl = c == 0 ? dl_dw : dl_dz;
+    const double dwt = std::real(std::conj(lt) * dl) / wt;
+    g(0, c) = dwt;
+    g(1, c) = -dl.real() / wt + lt.real() * dwt / (wt * wt);
+  }
+  const Eigen::Matrix2d c = g * out.covariance.block<2, 2>(2 * i, 2 * i) * g.transpose();
+  out.omega_sd_rad_s[i] = std::sqrt(std::max(0.0, c(0, 0)));
+  out.zeta_sd[i] = std::sqrt(std::max(0.0, c(1, 1)));
+}
+
+void StoreModes(const Problem& prob, const Eigen::VectorXd& theta, double tau, ModalModelFit& out) {
+  const Eigen::Index M = prob.modes;
+  const Eigen::Index R = prob.responses();
+  out.lambda.resize(M);
+  out.per_response = prob.per_response();
+  out.pretrigger_s = prob.pretrigger_s;
+  out.residues.resize(M, R);
+  out.omega_rad_s.resize(M);
+  out.zeta.resize(M);
+  out.omega_sd_rad_s.resize(M);
+  out.zeta_sd.resize(M);
+  for (Eigen::Index i = 0; i < M; ++i) {
+    const double om = theta[2 * i];
+    const double ze = theta[2 * i + 1];
+    out.lambda[i] = Problem::Pole(om, ze);
+    StoreResidues(prob, theta, i, out);
+    StoreStructurePole(om, ze, tau, i, out);
+  }
+}
+
 }  // namespace
 
 ModalModelFit FitModalModel(const Frf& receptance, const std::vector<std::complex<double>>& start,
@@ -248,17 +381,11 @@ ModalModelFit FitModalModel(const Frf& receptance, const std::vector<std::comple
   prob.modes = static_cast<Eigen::Index>(start.size());
   prob.pretrigger_s = receptance.pretrigger_s;
   const auto L = static_cast<Eigen::Index>(rows.size());
-  const Eigen::Index R = acc.h.cols();
   Require(L > prob.per_response() + prob.modes,
           "modal model fit: too few frequency lines in the band");
   LoadLines(acc, rows, prob);
 
-  Eigen::VectorXd theta = Eigen::VectorXd::Zero(prob.parameters());
-  for (Eigen::Index i = 0; i < prob.modes; ++i) {
-    const cd l = start[static_cast<std::size_t>(i)];
-    theta[2 * i] = std::abs(l);
-    theta[2 * i + 1] = -l.real() / std::abs(l);
-  }
+  Eigen::VectorXd theta = StartParameters(start, prob);
   prob.SolveLinear(theta);
 
   ModalModelFit out;
@@ -266,110 +393,13 @@ ModalModelFit FitModalModel(const Frf& receptance, const std::vector<std::comple
   out.freq_max_hz = acc.freq_hz[rows.back()];
   out.lines = static_cast<int>(L);
 
-  const auto used_lines = [&](Eigen::Index o) {
-    return static_cast<double>((prob.weight.col(o).array() > 0.0).count());
-  };
-  // Poles stay physical: omega > 0 and 0 < zeta < 1; a step outside is rejected.
-  const numerics::ResidualFunction residuals = [&prob](const Eigen::VectorXd& th,
-                                                       Eigen::VectorXd& r, Eigen::MatrixXd* jac) {
-    for (Eigen::Index i = 0; i < prob.modes; ++i) {
-      if (!(th[2 * i] > 0.0 && th[2 * i + 1] > 0.0 && th[2 * i + 1] < 1.0)) return false;
-    }
-    prob.Evaluate(th, r, jac);
-    return true;
-  };
-  const auto refine = [&](Eigen::VectorXd& th, numerics::SolverSummary& summary) {
-    if (options.max_iterations == 0) {
-      Eigen::VectorXd r;
-      prob.Evaluate(th, r, nullptr);
-      summary = {};
-      summary.termination = numerics::TerminationType::kFunctionTolerance;
-      summary.initial_cost = summary.final_cost = 0.5 * r.squaredNorm();
-      summary.message = "residues by linear least squares with the poles held";
-      return;
-    }
-    const numerics::SolverOptions solver{.max_iterations = options.max_iterations,
-                                         .function_tolerance = 1e-10};
-    summary = numerics::LevenbergMarquardt(residuals, th, solver);
-    summary.message = "poles and residues refined (weighted least squares): " + summary.message;
-  };
+  Refine(prob, options, theta, out.summary);
+  // Once more with each response weighted by its noise level.
+  WeightByNoiseLevel(theta, prob);
+  Refine(prob, options, theta, out.summary);
 
-  refine(theta, out.summary);
-  {
-    // Each response's noise level from its residuals, then once more with those weights.
-    Eigen::VectorXd r;
-    prob.Evaluate(theta, r, nullptr);
-    for (Eigen::Index o = 0; o < R; ++o) {
-      const double dof =
-          std::max(1.0, 2.0 * used_lines(o) - static_cast<double>(prob.per_response()) -
-                            2.0 * static_cast<double>(prob.modes) / static_cast<double>(R));
-      const double s2 =
-          r.segment(2 * o * L, 2 * L).squaredNorm() / dof;  // in units of the old weights
-      if (s2 > 0.0) prob.weight.col(o) /= std::sqrt(s2);
-    }
-    refine(theta, out.summary);
-  }
-
-  Eigen::VectorXd r;
-  Eigen::MatrixXd jac;
-  prob.Evaluate(theta, r, &jac);
-  double obs = 0.0;
-  for (Eigen::Index o = 0; o < R; ++o) obs += 2.0 * used_lines(o);
-  const double dof = std::max(1.0, obs - static_cast<double>(prob.parameters()));
-  out.reduced_chi2 = r.squaredNorm() / dof;
-  const Eigen::VectorXd scale = jac.colwise().norm().transpose().cwiseMax(1e-300).cwiseInverse();
-  const Eigen::MatrixXd js = jac * scale.asDiagonal();
-  const Eigen::MatrixXd info = js.transpose() * js;
-  // The noise level is estimated, so the covariance takes the misfit per degree of freedom as it
-  // is (Gauss-Newton covariance with an unknown variance).
-  out.covariance = scale.asDiagonal() *
-                   info.ldlt().solve(Eigen::MatrixXd::Identity(info.rows(), info.cols())) *
-                   scale.asDiagonal() * out.reduced_chi2;
-
-  const Eigen::Index M = prob.modes;
-  out.lambda.resize(M);
-  out.per_response = prob.per_response();
-  out.pretrigger_s = prob.pretrigger_s;
-  out.residues.resize(M, R);
-  out.omega_rad_s.resize(M);
-  out.zeta.resize(M);
-  out.omega_sd_rad_s.resize(M);
-  out.zeta_sd.resize(M);
-  const double tau = acc.exp_window_tau_s;
-  for (Eigen::Index i = 0; i < M; ++i) {
-    const double om = theta[2 * i];
-    const double ze = theta[2 * i + 1];
-    const cd lam = Problem::Pole(om, ze);
-    out.lambda[i] = lam;
-    for (Eigen::Index o = 0; o < R; ++o) {
-      const Eigen::Index base = 2 * M + o * prob.per_response();
-      out.residues(i, o) = cd(theta[base + 2 * i], theta[base + 2 * i + 1]);
-      if (prob.families() == 2) {
-        // Around the peak the ringing term adds to the hit's own with the phase exp(j omega_d t_p);
-        // the two are hard to tell apart there (large, opposite errors) but their sum is sharp.
-        out.residues(i, o) += cd(theta[base + 2 * M + 2 * i], theta[base + 2 * M + 2 * i + 1]) *
-                              std::polar(1.0, lam.imag() * prob.pretrigger_s);
-      }
-    }
-    // The window moved the real part by -1/tau; omega and zeta of the structure from the moved-back
-    // pole, with the gradient through it.
-    const cd lt = tau > 0.0 ? lam + 1.0 / tau : lam;
-    const double wt = std::abs(lt);
-    out.omega_rad_s[i] = wt;
-    out.zeta[i] = -lt.real() / wt;
-    const cd dl_dw = lam / om;
-    const cd dl_dz(-om, -om * ze / std::sqrt(std::max(1e-300, 1.0 - ze * ze)));
-    Eigen::Matrix2d g;  // rows: omega_t, zeta_t; columns: omega, zeta
-    for (int c = 0; c < 2; ++c) {
-      const cd dl = c == 0 ? dl_dw : dl_dz;
-      const double dwt = std::real(std::conj(lt) * dl) / wt;
-      g(0, c) = dwt;
-      g(1, c) = -dl.real() / wt + lt.real() * dwt / (wt * wt);
-    }
-    const Eigen::Matrix2d c = g * out.covariance.block<2, 2>(2 * i, 2 * i) * g.transpose();
-    out.omega_sd_rad_s[i] = std::sqrt(std::max(0.0, c(0, 0)));
-    out.zeta_sd[i] = std::sqrt(std::max(0.0, c(1, 1)));
-  }
+  EstimateCovariance(prob, theta, out);
+  StoreModes(prob, theta, acc.exp_window_tau_s, out);
   return out;
 }
 

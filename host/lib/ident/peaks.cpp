@@ -89,6 +89,89 @@ bool CubicMaximum(const double* x, const double* y, int count, double lo, double
   return found;
 }
 
+using VectorRef = Eigen::Ref<const Eigen::VectorXd>;
+
+// Maximum near line i from a cubic in units of lines around it: offset in lines and magnitude,
+// or the sample itself when the cubic has no maximum above it within one line.
+void RefineMaximum(const VectorRef& magnitude, Eigen::Index i0, Eigen::Index i1, Eigen::Index i,
+                   double& x_peak, double& m_peak) {
+  const double m = magnitude[i];
+  const Eigen::Index lo = std::max(i0, i - 2);
+  const Eigen::Index hi = std::min(i1, i + 2);
+  double xs[5];
+  double ys[5];
+  int count = 0;
+  for (Eigen::Index k = lo; k <= hi; ++k, ++count) {
+    xs[count] = static_cast<double>(k - i);
+    ys[count] = magnitude[k];
+  }
+  x_peak = 0.0;
+  m_peak = m;
+  if (count < 4 || !CubicMaximum(xs, ys, count, -1.0, 1.0, x_peak, m_peak) || m_peak < m) {
+    x_peak = 0.0;
+    m_peak = m;
+  }
+}
+
+// Walks outwards from line i to the half-power crossings fa < fb; false when a higher sample (or
+// the band edge) comes first, so that this is not an isolated resonance (a ripple on another
+// mode's flank).
+bool HalfPowerCrossings(const VectorRef& freq_hz, const VectorRef& magnitude, Eigen::Index i0,
+                        Eigen::Index i1, Eigen::Index i, double half, double df, double& fa,
+                        double& fb) {
+  const double m = magnitude[i];
+  fa = 0.0;
+  Eigen::Index k = i - 1;
+  while (true) {
+    if (k < i0 || magnitude[k] > m) return false;
+    if (magnitude[k] < half) {
+      fa = freq_hz[k] + (half - magnitude[k]) / (magnitude[k + 1] - magnitude[k]) * df;
+      break;
+    }
+    --k;
+  }
+  fb = 0.0;
+  k = i + 1;
+  while (true) {
+    if (k > i1 || magnitude[k] > m) return false;
+    if (magnitude[k] < half) {
+      fb = freq_hz[k] - (half - magnitude[k]) / (magnitude[k - 1] - magnitude[k]) * df;
+      return true;
+    }
+    ++k;
+  }
+}
+
+// The `max_peaks` largest (0: all), in frequency order.
+void KeepLargest(std::size_t max_peaks, std::vector<Peak>& found) {
+  if (max_peaks > 0 && found.size() > max_peaks) {
+    std::sort(found.begin(), found.end(),
+              [](const Peak& a, const Peak& b) { return a.magnitude > b.magnitude; });
+    found.resize(max_peaks);
+    std::sort(found.begin(), found.end(),
+              [](const Peak& a, const Peak& b) { return a.freq_hz < b.freq_hz; });
+  }
+}
+
+std::vector<std::string> PeakWarnings(const std::vector<Peak>& found, double exp_window_tau_s) {
+  std::vector<std::string> warnings;
+  for (const Peak& p : found) {
+    if (p.resolution_warning) {
+      std::ostringstream w;
+      w << "peak at " << p.freq_hz << " Hz: half-power band spans only " << p.lines_in_band
+        << " lines; damping is unreliable (use longer records or a curve fit)";
+      warnings.push_back(w.str());
+    }
+    if (exp_window_tau_s > 0.0 && p.zeta <= 0.0) {
+      std::ostringstream w;
+      w << "peak at " << p.freq_hz
+        << " Hz: the exponential window's damping exceeds the measured one";
+      warnings.push_back(w.str());
+    }
+  }
+  return warnings;
+}
+
 }  // namespace
 
 PeakResult PickPeaks(const Eigen::Ref<const Eigen::VectorXd>& freq_hz,
@@ -115,53 +198,13 @@ PeakResult PickPeaks(const Eigen::Ref<const Eigen::VectorXd>& freq_hz,
   for (Eigen::Index i = i0 + 1; i < i1; ++i) {
     const double m = magnitude[i];
     if (!(m > magnitude[i - 1] && m >= magnitude[i + 1] && m >= threshold && m > 0.0)) continue;
-    // Refine with a cubic in units of lines around i.
-    const Eigen::Index lo = std::max(i0, i - 2);
-    const Eigen::Index hi = std::min(i1, i + 2);
-    double xs[5];
-    double ys[5];
-    int count = 0;
-    for (Eigen::Index k = lo; k <= hi; ++k, ++count) {
-      xs[count] = static_cast<double>(k - i);
-      ys[count] = magnitude[k];
-    }
     double x_peak = 0.0;
     double m_peak = m;
-    if (count < 4 || !CubicMaximum(xs, ys, count, -1.0, 1.0, x_peak, m_peak) || m_peak < m) {
-      x_peak = 0.0;
-      m_peak = m;
-    }
+    RefineMaximum(magnitude, i0, i1, i, x_peak, m_peak);
     const double half = m_peak / std::numbers::sqrt2;
-    // Walk outwards to the half-power crossings; a higher sample first means this is not an
-    // isolated resonance (a ripple on another mode's flank).
-    bool ok = true;
     double fa = 0.0;
-    Eigen::Index k = i - 1;
-    while (true) {
-      if (k < i0 || magnitude[k] > m) {
-        ok = false;
-        break;
-      }
-      if (magnitude[k] < half) {
-        fa = freq_hz[k] + (half - magnitude[k]) / (magnitude[k + 1] - magnitude[k]) * df;
-        break;
-      }
-      --k;
-    }
     double fb = 0.0;
-    k = i + 1;
-    while (ok) {
-      if (k > i1 || magnitude[k] > m) {
-        ok = false;
-        break;
-      }
-      if (magnitude[k] < half) {
-        fb = freq_hz[k] - (half - magnitude[k]) / (magnitude[k - 1] - magnitude[k]) * df;
-        break;
-      }
-      ++k;
-    }
-    if (!ok) continue;
+    if (!HalfPowerCrossings(freq_hz, magnitude, i0, i1, i, half, df, fa, fb)) continue;
     Peak p;
     p.line = static_cast<std::size_t>(i);
     p.freq_hz = freq_hz[i] + x_peak * df;
@@ -175,27 +218,8 @@ PeakResult PickPeaks(const Eigen::Ref<const Eigen::VectorXd>& freq_hz,
     p.resolution_warning = p.lines_in_band < options.min_lines_in_band;
     found.push_back(p);
   }
-  if (options.max_peaks > 0 && found.size() > options.max_peaks) {
-    std::sort(found.begin(), found.end(),
-              [](const Peak& a, const Peak& b) { return a.magnitude > b.magnitude; });
-    found.resize(options.max_peaks);
-    std::sort(found.begin(), found.end(),
-              [](const Peak& a, const Peak& b) { return a.freq_hz < b.freq_hz; });
-  }
-  for (const Peak& p : found) {
-    if (p.resolution_warning) {
-      std::ostringstream w;
-      w << "peak at " << p.freq_hz << " Hz: half-power band spans only " << p.lines_in_band
-        << " lines; damping is unreliable (use longer records or a curve fit)";
-      result.warnings.push_back(w.str());
-    }
-    if (exp_window_tau_s > 0.0 && p.zeta <= 0.0) {
-      std::ostringstream w;
-      w << "peak at " << p.freq_hz
-        << " Hz: the exponential window's damping exceeds the measured one";
-      result.warnings.push_back(w.str());
-    }
-  }
+  KeepLargest(options.max_peaks, found);
+  result.warnings = PeakWarnings(found, exp_window_tau_s);
   result.peaks = std::move(found);
   return result;
 }

@@ -296,76 +296,58 @@ PoleSet LscePoles(const Frf& frf, int order, double freq_max_hz) {
   return LsceNormals(frf, order, freq_max_hz).Solve(order);
 }
 
-StabilizationDiagram BuildStabilizationDiagram(const Frf& frf,
-                                               const StabilizationOptions& options) {
-  options.Validate();
-  Require(frf.lines() >= 4 && frf.responses() >= 1, "stabilization: the FRF is empty");
-  const Band band = BandOf(frf, options.freq_min_hz, options.freq_max_hz);
-  StabilizationDiagram d;
-  d.method = options.method;
-  d.freq_min_hz = band.lo;
-  d.freq_max_hz = band.hi;
-  if (options.method == PoleMethod::kLscf) {
-    Require(static_cast<Eigen::Index>(band.rows.size()) > options.max_order,
-            "lscf: the band holds fewer lines than the highest model order");
-  }
-  std::unique_ptr<LscfNormals> lscf;
-  std::unique_ptr<LsceNormals> lsce;
-  if (options.method == PoleMethod::kLscf) {
-    // Fitted as accelerance: what accelerometers measure, so a truncated record's DFT ratio is
-    // rational in W (see the header), and resonances over decades of frequency weigh alike.
-    lscf = std::make_unique<LscfNormals>(ConvertFrf(frf, Quantity::kAcceleration), band,
-                                         options.max_order);
-  } else {
-    lsce = std::make_unique<LsceNormals>(frf, options.max_order, band.hi);
-  }
-  std::vector<Eigen::VectorXcd> prev_shapes;
-  std::vector<DiagramPole> prev;
-  for (int order = options.min_order; order <= options.max_order; order += options.order_step) {
-    const PoleSet set = lscf ? lscf->Solve(order) : lsce->Solve(order);
-    d.orders.push_back(order);
-    std::vector<DiagramPole> now;
-    std::vector<Eigen::VectorXcd> now_shapes;
-    for (Eigen::Index i = 0; i < set.lambda.size(); ++i) {
-      const std::complex<double> l = set.lambda[i];
-      if (!std::isfinite(l.real()) || !std::isfinite(l.imag()) || l.imag() <= 0.0 ||
-          l.real() >= 0.0)
-        continue;
-      DiagramPole p;
-      p.order = order;
-      const double omega = std::abs(l);
-      p.freq_hz = omega / (2.0 * std::numbers::pi);
-      p.zeta = CorrectExponentialWindowDamping(-l.real() / omega, omega, frf.exp_window_tau_s);
-      if (p.freq_hz < band.lo || p.freq_hz > band.hi || !(p.zeta > 0.0) ||
-          p.zeta >= options.max_zeta)
-        continue;
-      if (lscf) p.shape = set.shapes.col(i);
-      now.push_back(p);
-      now_shapes.push_back(set.shapes.col(i));
-    }
-    for (std::size_t i = 0; i < now.size(); ++i) {
-      DiagramPole& p = now[i];
-      std::size_t best = prev.size();
-      double best_df = 0.0;
-      for (std::size_t q = 0; q < prev.size(); ++q) {
-        const double df = std::abs(prev[q].freq_hz - p.freq_hz);
-        if (best == prev.size() || df < best_df) {
-          best = q;
-          best_df = df;
-        }
-      }
-      if (best == prev.size()) continue;
-      p.stable_freq = best_df <= options.freq_tolerance * p.freq_hz;
-      p.stable_damping = std::abs(prev[best].zeta - p.zeta) <= options.damping_tolerance * p.zeta;
-      p.stable_shape = Mac(now_shapes[i], prev_shapes[best]) >= options.mac_min;
-    }
-    for (const DiagramPole& p : now) d.poles.push_back(p);
-    prev = std::move(now);
-    prev_shapes = std::move(now_shapes);
-  }
+namespace {
 
-  // Clusters of the fully stable poles: sorted by frequency, split where neighbours are further
-  // apart than the frequency tolerance.
+// The poles of one order that can be modes of the structure: a positive frequency in the band and
+// a damping between 0 and the maximum. `keep_shape`: the method resolves shapes.
+void ModalPolesOfOrder(const PoleSet& set, int order, const Band& band,
+                       const StabilizationOptions& options, double exp_window_tau_s,
+                       bool keep_shape, std::vector<DiagramPole>& now,
+                       std::vector<Eigen::VectorXcd>& now_shapes) {
+  for (Eigen::Index i = 0; i < set.lambda.size(); ++i) {
+    const std::complex<double> l = set.lambda[i];
+    if (!std::isfinite(l.real()) || !std::isfinite(l.imag()) || l.imag() <= 0.0 || l.real() >= 0.0)
+      continue;
+    DiagramPole p;
+    p.order = order;
+    const double omega = std::abs(l);
+    p.freq_hz = omega / (2.0 * std::numbers::pi);
+    p.zeta = CorrectExponentialWindowDamping(-l.real() / omega, omega, exp_window_tau_s);
+    if (p.freq_hz < band.lo || p.freq_hz > band.hi || !(p.zeta > 0.0) || p.zeta >= options.max_zeta)
+      continue;
+    if (keep_shape) p.shape = set.shapes.col(i);
+    now.push_back(p);
+    now_shapes.push_back(set.shapes.col(i));
+  }
+}
+
+// Each pole against the nearest pole of the previous order.
+void MarkStability(const std::vector<DiagramPole>& prev,
+                   const std::vector<Eigen::VectorXcd>& prev_shapes,
+                   const std::vector<Eigen::VectorXcd>& now_shapes,
+                   const StabilizationOptions& options, std::vector<DiagramPole>& now) {
+  for (std::size_t i = 0; i < now.size(); ++i) {
+    DiagramPole& p = now[i];
+    std::size_t best = prev.size();
+    double best_df = 0.0;
+    for (std::size_t q = 0; q < prev.size(); ++q) {
+      const double df = std::abs(prev[q].freq_hz - p.freq_hz);
+      if (best == prev.size() || df < best_df) {
+        best = q;
+        best_df = df;
+      }
+    }
+    if (best == prev.size()) continue;
+    p.stable_freq = best_df <= options.freq_tolerance * p.freq_hz;
+    p.stable_damping = std::abs(prev[best].zeta - p.zeta) <= options.damping_tolerance * p.zeta;
+    p.stable_shape = Mac(now_shapes[i], prev_shapes[best]) >= options.mac_min;
+  }
+}
+
+// Clusters of the fully stable poles: sorted by frequency, split where neighbours are further
+// apart than the frequency tolerance. A cluster seen at enough orders, with a resolved damping,
+// becomes a selected pole.
+void SelectClusters(const StabilizationOptions& options, StabilizationDiagram& d) {
   std::vector<std::size_t> stable;
   for (std::size_t i = 0; i < d.poles.size(); ++i) {
     if (d.poles[i].Stable()) stable.push_back(i);
@@ -405,6 +387,48 @@ StabilizationDiagram BuildStabilizationDiagram(const Frf& frf,
     }
     begin = end;
   }
+}
+
+}  // namespace
+
+StabilizationDiagram BuildStabilizationDiagram(const Frf& frf,
+                                               const StabilizationOptions& options) {
+  options.Validate();
+  Require(frf.lines() >= 4 && frf.responses() >= 1, "stabilization: the FRF is empty");
+  const Band band = BandOf(frf, options.freq_min_hz, options.freq_max_hz);
+  StabilizationDiagram d;
+  d.method = options.method;
+  d.freq_min_hz = band.lo;
+  d.freq_max_hz = band.hi;
+  if (options.method == PoleMethod::kLscf) {
+    Require(static_cast<Eigen::Index>(band.rows.size()) > options.max_order,
+            "lscf: the band holds fewer lines than the highest model order");
+  }
+  std::unique_ptr<LscfNormals> lscf;
+  std::unique_ptr<LsceNormals> lsce;
+  if (options.method == PoleMethod::kLscf) {
+    // Fitted as accelerance: what accelerometers measure, so a truncated record's DFT ratio is
+    // rational in W (see the header), and resonances over decades of frequency weigh alike.
+    lscf = std::make_unique<LscfNormals>(ConvertFrf(frf, Quantity::kAcceleration), band,
+                                         options.max_order);
+  } else {
+    lsce = std::make_unique<LsceNormals>(frf, options.max_order, band.hi);
+  }
+  std::vector<Eigen::VectorXcd> prev_shapes;
+  std::vector<DiagramPole> prev;
+  for (int order = options.min_order; order <= options.max_order; order += options.order_step) {
+    const PoleSet set = lscf ? lscf->Solve(order) : lsce->Solve(order);
+    d.orders.push_back(order);
+    std::vector<DiagramPole> now;
+    std::vector<Eigen::VectorXcd> now_shapes;
+    ModalPolesOfOrder(set, order, band, options, frf.exp_window_tau_s, lscf != nullptr, now,
+                      now_shapes);
+    MarkStability(prev, prev_shapes, now_shapes, options, now);
+    for (const DiagramPole& p : now) d.poles.push_back(p);
+    prev = std::move(now);
+    prev_shapes = std::move(now_shapes);
+  }
+  SelectClusters(options, d);
   return d;
 }
 

@@ -21,13 +21,12 @@ void MassUpdateOptions::Validate() const {
   solver.Validate();
 }
 
-MassUpdateResult UpdateMass(const Frf& receptance, std::size_t response,
-                            const MassUpdateOptions& options) {
-  options.Validate();
-  Require(receptance.quantity == Quantity::kDisplacement, "mass update needs a receptance FRF");
-  Require(response < receptance.responses(), "mass update: response column out of range");
-  const auto col = static_cast<Eigen::Index>(response);
-  const Eigen::VectorXd mag = receptance.h.col(col).cwiseAbs();
+namespace {
+
+// The largest resonance of column `col`, and the picker's warnings about it alone (other peaks,
+// such as noise at low frequency, are not reported).
+Peak LargestResonance(const Frf& receptance, Eigen::Index col, const MassUpdateOptions& options,
+                      std::vector<std::string>& warnings) {
   // The grid's resolution of the half-power band only matters when c is held at its value; the
   // fit refines c otherwise, so the picker need not warn about it.
   PeakOptions peak_options = options.peaks;
@@ -39,17 +38,24 @@ MassUpdateResult UpdateMass(const Frf& receptance, std::size_t response,
   const Peak peak =
       *std::max_element(picked.peaks.begin(), picked.peaks.end(),
                         [](const Peak& a, const Peak& b) { return a.magnitude < b.magnitude; });
-  MassUpdateResult res;
-  // Only the resonance used matters; other peaks (noise at low frequency) are not reported.
   for (const std::string& w : picked.warnings) {
     std::ostringstream at;
     at << "peak at " << peak.freq_hz << " Hz";
-    if (w.rfind(at.str(), 0) == 0) res.warnings.push_back(w);
+    if (w.rfind(at.str(), 0) == 0) warnings.push_back(w);
   }
-  res.omega_rad_s = peak.omega_rad_s;
-  res.nominal_kg = options.nominal_kg;
-  Require(peak.zeta > 0.0, "mass update: the half-power damping is not positive");
+  return peak;
+}
 
+// The lines around the resonance that the single-DOF model is fitted to.
+struct ResonanceLines {
+  Eigen::VectorXd omega;
+  Eigen::VectorXd log_mag;
+  Eigen::VectorXd weight;
+};
+
+ResonanceLines LinesAroundResonance(const Frf& receptance, Eigen::Index col,
+                                    const Eigen::VectorXd& mag, const Peak& peak,
+                                    const MassUpdateOptions& options) {
   std::vector<Eigen::Index> rows;
   for (Eigen::Index i = 0; i < receptance.freq_hz.size(); ++i) {
     const double w = 2.0 * std::numbers::pi * receptance.freq_hz[i];
@@ -60,58 +66,97 @@ MassUpdateResult UpdateMass(const Frf& receptance, std::size_t response,
   }
   Require(rows.size() >= 5,
           "mass update: fewer than 5 frequency lines in the band around the resonance");
-  res.lines_fitted = rows.size();
   const auto nrows = static_cast<Eigen::Index>(rows.size());
-  Eigen::VectorXd omega(nrows);
-  Eigen::VectorXd log_mag(nrows);
-  Eigen::VectorXd weight(nrows);
+  ResonanceLines lines;
+  lines.omega.resize(nrows);
+  lines.log_mag.resize(nrows);
+  lines.weight.resize(nrows);
   for (Eigen::Index r = 0; r < nrows; ++r) {
     const Eigen::Index i = rows[static_cast<std::size_t>(r)];
-    omega[r] = 2.0 * std::numbers::pi * receptance.freq_hz[i];
-    log_mag[r] = std::log(mag[i]);
-    weight[r] =
+    lines.omega[r] = 2.0 * std::numbers::pi * receptance.freq_hz[i];
+    lines.log_mag[r] = std::log(mag[i]);
+    lines.weight[r] =
         options.coherence_weighting ? std::sqrt(std::max(receptance.coherence(i, col), 0.0)) : 1.0;
   }
-  // Start: k given (or from the peak height 1/(2 zeta k)), m = k / omega^2.
-  res.stiffness_fitted = options.k_n_per_m == 0.0;
-  res.damping_fitted = options.fit_damping;
-  // Receptance peak height 1/(2 zeta k) gives the starting stiffness when it is not known.
-  const double peak_receptance =
-      std::abs(InterpolateAt(receptance.freq_hz, receptance.h.col(col), peak.freq_hz));
-  const double k0 =
-      res.stiffness_fitted ? 1.0 / (2.0 * peak.zeta * peak_receptance) : options.k_n_per_m;
-  const double m0 = k0 / (peak.omega_rad_s * peak.omega_rad_s);
-  res.zeta_half_power = peak.zeta;
+  return lines;
+}
+
+// Single-DOF log-magnitude misfit. Parameters are log-scale factors on the start:
+// q = [m, k (if fitted), zeta (if fitted)].
+struct SingleDofFit {
+  const ResonanceLines* lines = nullptr;
+  double m0 = 0.0;
+  double k0 = 0.0;
+  double zeta0 = 0.0;
+  double a_w = 0.0;  // 1 / tau of the exponential window, 0 without one
+  Eigen::Index k_index = -1;
+  Eigen::Index zeta_index = -1;
+
+  Eigen::Index parameters() const { return 1 + (k_index >= 0 ? 1 : 0) + (zeta_index >= 0 ? 1 : 0); }
+
+  void Unpack(const Eigen::VectorXd& q, double& m, double& k, double& zeta) const {
+    m = m0 * std::exp(q[0]);
+    k = k_index >= 0 ? k0 * std::exp(q[k_index]) : k0;
+    zeta = zeta_index >= 0 ? zeta0 * std::exp(q[zeta_index]) : zeta0;
+  }
+
   // The window multiplies the impulse response by exp(-a t), a = 1/tau, which moves s to s + a:
   // the windowed FRF is that of m s^2 + (c + 2 m a) s + (k + c a + m a^2).
-  const double a_w = receptance.exp_window_tau_s > 0.0 ? 1.0 / receptance.exp_window_tau_s : 0.0;
-  const auto model = [&](double m, double k, double c, Eigen::VectorXd& r) {
+  void Residuals(double m, double k, double c, Eigen::VectorXd& r) const {
+    const Eigen::VectorXd& omega = lines->omega;
+    const Eigen::Index nrows = omega.size();
     const double c_seen = c + 2.0 * m * a_w;
     const double k_seen = k + c * a_w + m * a_w * a_w;
     r.resize(nrows);
     for (Eigen::Index i = 0; i < nrows; ++i) {
       const double re = k_seen - m * omega[i] * omega[i];
       const double im = c_seen * omega[i];
-      r[i] = weight[i] * (-0.5 * std::log(re * re + im * im) - log_mag[i]);
+      r[i] = lines->weight[i] * (-0.5 * std::log(re * re + im * im) - lines->log_mag[i]);
     }
-  };
-  // Parameters are log-scale factors on the start: q = [m, k (if fitted), zeta (if fitted)].
-  const Eigen::Index k_index = res.stiffness_fitted ? 1 : -1;
-  const Eigen::Index zeta_index = options.fit_damping ? (res.stiffness_fitted ? 2 : 1) : -1;
-  Eigen::VectorXd p = Eigen::VectorXd::Zero(1 + (k_index >= 0 ? 1 : 0) + (zeta_index >= 0 ? 1 : 0));
-  const auto unpack = [&](const Eigen::VectorXd& q, double& m, double& k, double& zeta) {
-    m = m0 * std::exp(q[0]);
-    k = k_index >= 0 ? k0 * std::exp(q[k_index]) : k0;
-    zeta = zeta_index >= 0 ? peak.zeta * std::exp(q[zeta_index]) : peak.zeta;
-  };
-  const numerics::ResidualOnlyFunction f = [&](const Eigen::VectorXd& q, Eigen::VectorXd& r) {
+  }
+};
+
+}  // namespace
+
+MassUpdateResult UpdateMass(const Frf& receptance, std::size_t response,
+                            const MassUpdateOptions& options) {
+  options.Validate();
+  Require(receptance.quantity == Quantity::kDisplacement, "mass update needs a receptance FRF");
+  Require(response < receptance.responses(), "mass update: response column out of range");
+  const auto col = static_cast<Eigen::Index>(response);
+  const Eigen::VectorXd mag = receptance.h.col(col).cwiseAbs();
+  MassUpdateResult res;
+  const Peak peak = LargestResonance(receptance, col, options, res.warnings);
+  res.omega_rad_s = peak.omega_rad_s;
+  res.nominal_kg = options.nominal_kg;
+  Require(peak.zeta > 0.0, "mass update: the half-power damping is not positive");
+
+  const ResonanceLines lines = LinesAroundResonance(receptance, col, mag, peak, options);
+  res.lines_fitted = static_cast<std::size_t>(lines.omega.size());
+  // Start: k given (or from the peak height 1/(2 zeta k)), m = k / omega^2.
+  res.stiffness_fitted = options.k_n_per_m == 0.0;
+  res.damping_fitted = options.fit_damping;
+  // Receptance peak height 1/(2 zeta k) gives the starting stiffness when it is not known.
+  const double peak_receptance =
+      std::abs(InterpolateAt(receptance.freq_hz, receptance.h.col(col), peak.freq_hz));
+  SingleDofFit fit;
+  fit.lines = &lines;
+  fit.k0 = res.stiffness_fitted ? 1.0 / (2.0 * peak.zeta * peak_receptance) : options.k_n_per_m;
+  fit.m0 = fit.k0 / (peak.omega_rad_s * peak.omega_rad_s);
+  fit.zeta0 = peak.zeta;
+  res.zeta_half_power = peak.zeta;
+  fit.a_w = receptance.exp_window_tau_s > 0.0 ? 1.0 / receptance.exp_window_tau_s : 0.0;
+  fit.k_index = res.stiffness_fitted ? 1 : -1;
+  fit.zeta_index = options.fit_damping ? (res.stiffness_fitted ? 2 : 1) : -1;
+  Eigen::VectorXd p = Eigen::VectorXd::Zero(fit.parameters());
+  const numerics::ResidualOnlyFunction f = [&fit](const Eigen::VectorXd& q, Eigen::VectorXd& r) {
     double m = 0.0, k = 0.0, zeta = 0.0;
-    unpack(q, m, k, zeta);
-    model(m, k, 2.0 * zeta * std::sqrt(k * m), r);
+    fit.Unpack(q, m, k, zeta);
+    fit.Residuals(m, k, 2.0 * zeta * std::sqrt(k * m), r);
     return true;
   };
   res.summary = numerics::LevenbergMarquardt(numerics::NumericDiff(f), p, options.solver);
-  unpack(p, res.mass_kg, res.k_n_per_m, res.zeta);
+  fit.Unpack(p, res.mass_kg, res.k_n_per_m, res.zeta);
   res.c_ns_per_m = 2.0 * res.zeta * std::sqrt(res.k_n_per_m * res.mass_kg);
   if (options.nominal_kg > 0.0)
     res.change_percent = 100.0 * (res.mass_kg - options.nominal_kg) / options.nominal_kg;

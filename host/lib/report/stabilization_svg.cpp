@@ -20,35 +20,43 @@ std::string Label(double v) {
   return text;
 }
 
-}  // namespace
+// Frequency (linear, or logarithmic over more than two decades) across, model order up.
+struct DiagramAxes {
+  PlotArea a;
+  bool log_x = false;
+  double lo = 0.0;
+  double hi = 0.0;
+  double top_order = 0.0;
 
-std::string StabilizationSvg(const StabilizationFigure& f) {
-  Require(f.freq_min_hz >= 0.0 && f.freq_max_hz > f.freq_min_hz,
-          "stabilization figure: empty frequency band");
-  Require(!f.poles.empty(), "stabilization figure: no pole to draw");
-  Require(f.frf_freq_hz.size() == f.frf_magnitude.size(),
-          "stabilization figure: FRF lines and magnitudes differ in length");
+  double Xv(double v) const { return log_x ? std::log10(v) : v; }
+  double Px(double v) const {
+    return a.left + (Xv(v) - Xv(lo)) / (Xv(hi) - Xv(lo)) * (a.right - a.left);
+  }
+  double Py(double order) const { return a.bottom - order / top_order * (a.bottom - a.top); }
+  bool InBand(double freq_hz) const { return freq_hz >= lo && freq_hz <= hi; }
+};
+
+DiagramAxes AxesOf(const StabilizationFigure& f) {
   PlotOptions po;
   po.width_px = f.width_px;
   po.height_px = f.height_px;
-  const PlotArea a = AreaOf(po);
-  const bool log_x = f.freq_min_hz > 0.0 && f.freq_max_hz / f.freq_min_hz > 100.0;
-  double lo = f.freq_min_hz;
-  double hi = f.freq_max_hz;
-  if (log_x) {
-    lo = std::pow(10.0, std::floor(std::log10(lo)));
-    hi = std::pow(10.0, std::ceil(std::log10(hi)));
+  DiagramAxes ax;
+  ax.a = AreaOf(po);
+  ax.log_x = f.freq_min_hz > 0.0 && f.freq_max_hz / f.freq_min_hz > 100.0;
+  ax.lo = f.freq_min_hz;
+  ax.hi = f.freq_max_hz;
+  if (ax.log_x) {
+    ax.lo = std::pow(10.0, std::floor(std::log10(ax.lo)));
+    ax.hi = std::pow(10.0, std::ceil(std::log10(ax.hi)));
   }
-  const auto xv = [&](double v) { return log_x ? std::log10(v) : v; };
-  const auto px = [&](double v) {
-    return a.left + (xv(v) - xv(lo)) / (xv(hi) - xv(lo)) * (a.right - a.left);
-  };
   int max_order = 0;
   for (const DiagramMarker& p : f.poles) max_order = std::max(max_order, p.order);
-  const double top_order = static_cast<double>(max_order) * 1.08 + 1.0;
-  const auto py = [&](double order) { return a.bottom - order / top_order * (a.bottom - a.top); };
+  ax.top_order = static_cast<double>(max_order) * 1.08 + 1.0;
+  return ax;
+}
 
-  std::ostringstream svg;
+void WriteFrame(const StabilizationFigure& f, const DiagramAxes& ax, std::ostringstream& svg) {
+  const PlotArea& a = ax.a;
   svg << "<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"" << f.width_px << "\" height=\""
       << f.height_px << "\" viewBox=\"0 0 " << f.width_px << " " << f.height_px
       << "\" font-family=\"sans-serif\" font-size=\"11\">\n";
@@ -59,66 +67,85 @@ std::string StabilizationSvg(const StabilizationFigure& f) {
   svg << "<rect x=\"" << Num(a.left) << "\" y=\"" << Num(a.top) << "\" width=\""
       << Num(a.right - a.left) << "\" height=\"" << Num(a.bottom - a.top)
       << "\" fill=\"none\" stroke=\"#444\"/>\n";
-  const std::vector<double> xt = log_x ? LogTicks(lo, hi) : LinearTicks(lo, hi, 8);
+  const std::vector<double> xt = ax.log_x ? LogTicks(ax.lo, ax.hi) : LinearTicks(ax.lo, ax.hi, 8);
   for (double t : xt) {
-    svg << "<line x1=\"" << Num(px(t)) << "\" y1=\"" << Num(a.top) << "\" x2=\"" << Num(px(t))
-        << "\" y2=\"" << Num(a.bottom) << "\" stroke=\"#e4e4e4\"/><text x=\"" << Num(px(t))
+    svg << "<line x1=\"" << Num(ax.Px(t)) << "\" y1=\"" << Num(a.top) << "\" x2=\"" << Num(ax.Px(t))
+        << "\" y2=\"" << Num(a.bottom) << "\" stroke=\"#e4e4e4\"/><text x=\"" << Num(ax.Px(t))
         << "\" y=\"" << Num(a.bottom + 14) << "\" text-anchor=\"middle\">" << Label(t)
         << "</text>\n";
   }
-  for (double t : LinearTicks(0.0, top_order, 6)) {
-    svg << "<line x1=\"" << Num(a.left) << "\" y1=\"" << Num(py(t)) << "\" x2=\"" << Num(a.right)
-        << "\" y2=\"" << Num(py(t)) << "\" stroke=\"#e4e4e4\"/><text x=\"" << Num(a.left - 4)
-        << "\" y=\"" << Num(py(t) + 4) << "\" text-anchor=\"end\">" << Label(t) << "</text>\n";
+  for (double t : LinearTicks(0.0, ax.top_order, 6)) {
+    svg << "<line x1=\"" << Num(a.left) << "\" y1=\"" << Num(ax.Py(t)) << "\" x2=\"" << Num(a.right)
+        << "\" y2=\"" << Num(ax.Py(t)) << "\" stroke=\"#e4e4e4\"/><text x=\"" << Num(a.left - 4)
+        << "\" y=\"" << Num(ax.Py(t) + 4) << "\" text-anchor=\"end\">" << Label(t) << "</text>\n";
   }
   svg << "<text x=\"" << Num(0.5 * (a.left + a.right)) << "\" y=\"" << Num(f.height_px - 8.0)
       << "\" text-anchor=\"middle\">frequency (Hz)</text>\n";
   svg << "<text transform=\"translate(14," << Num(0.5 * (a.top + a.bottom))
       << ") rotate(-90)\" text-anchor=\"middle\">model order</text>\n";
+}
 
-  // Backdrop: log |H| scaled to the plot height, inside the band.
+bool DrawsFrfLine(const StabilizationFigure& f, const DiagramAxes& ax, Eigen::Index i) {
+  const double v = f.frf_magnitude[i], fr = f.frf_freq_hz[i];
+  return v > 0.0 && ax.InBand(fr) && (!ax.log_x || fr > 0.0);
+}
+
+// Backdrop: log |H| scaled to the plot height, inside the band. False when there is none.
+bool WriteFrfBackdrop(const StabilizationFigure& f, const DiagramAxes& ax,
+                      std::ostringstream& svg) {
   double mlo = 0.0, mhi = 0.0;
   bool any = false;
   for (Eigen::Index i = 0; i < f.frf_freq_hz.size(); ++i) {
-    const double v = f.frf_magnitude[i], fr = f.frf_freq_hz[i];
-    if (!(v > 0.0) || !(fr >= lo && fr <= hi) || (log_x && !(fr > 0.0))) continue;
+    if (!DrawsFrfLine(f, ax, i)) continue;
+    const double v = f.frf_magnitude[i];
     mlo = any ? std::min(mlo, std::log10(v)) : std::log10(v);
     mhi = any ? std::max(mhi, std::log10(v)) : std::log10(v);
     any = true;
   }
-  if (any && mhi > mlo) {
-    svg << "<polyline class=\"frf\" fill=\"none\" stroke=\"#9bb7d4\" stroke-width=\"1\" points=\"";
-    double last_x = -1.0;
-    for (Eigen::Index i = 0; i < f.frf_freq_hz.size(); ++i) {
-      const double v = f.frf_magnitude[i], fr = f.frf_freq_hz[i];
-      if (!(v > 0.0) || !(fr >= lo && fr <= hi) || (log_x && !(fr > 0.0))) continue;
-      const double x = px(fr);
-      if (x - last_x < 0.5) continue;  // one point per half pixel is plenty
-      last_x = x;
-      const double y = a.bottom - (std::log10(v) - mlo) / (mhi - mlo) * (a.bottom - a.top) * 0.9;
-      svg << Num(x) << "," << Num(y) << " ";
-    }
-    svg << "\"/>\n";
+  if (!(any && mhi > mlo)) return any;
+  const PlotArea& a = ax.a;
+  svg << "<polyline class=\"frf\" fill=\"none\" stroke=\"#9bb7d4\" stroke-width=\"1\" points=\"";
+  double last_x = -1.0;
+  for (Eigen::Index i = 0; i < f.frf_freq_hz.size(); ++i) {
+    if (!DrawsFrfLine(f, ax, i)) continue;
+    const double x = ax.Px(f.frf_freq_hz[i]);
+    if (x - last_x < 0.5) continue;  // one point per half pixel is plenty
+    last_x = x;
+    const double y =
+        a.bottom - (std::log10(f.frf_magnitude[i]) - mlo) / (mhi - mlo) * (a.bottom - a.top) * 0.9;
+    svg << Num(x) << "," << Num(y) << " ";
   }
+  svg << "\"/>\n";
+  return any;
+}
+
+void WriteChosenPoles(const StabilizationFigure& f, const DiagramAxes& ax,
+                      std::ostringstream& svg) {
+  const PlotArea& a = ax.a;
   // Labels of neighbouring chosen poles are staggered over three rows so they do not overprint.
   std::vector<double> chosen = f.chosen_hz;
   std::sort(chosen.begin(), chosen.end());
   double last_label_x[3] = {-1e9, -1e9, -1e9};
   for (double c : chosen) {
-    if (!(c >= lo && c <= hi)) continue;
+    if (!ax.InBand(c)) continue;
     const std::string text = Label(std::round(c * 10.0) / 10.0);
+    const double x = ax.Px(c);
     int row = 0;
-    while (row < 2 && px(c) < last_label_x[row]) ++row;
-    last_label_x[row] = px(c) + 6.0 * static_cast<double>(text.size()) + 6.0;
-    svg << "<line class=\"chosen\" x1=\"" << Num(px(c)) << "\" y1=\"" << Num(a.top) << "\" x2=\""
-        << Num(px(c)) << "\" y2=\"" << Num(a.bottom)
-        << "\" stroke=\"#d62728\" stroke-dasharray=\"4,3\"/><text x=\"" << Num(px(c) + 2)
-        << "\" y=\"" << Num(a.top + 10 + 11 * row) << "\" fill=\"#d62728\" font-size=\"10\">"
-        << text << "</text>\n";
+    while (row < 2 && x < last_label_x[row]) ++row;
+    last_label_x[row] = x + 6.0 * static_cast<double>(text.size()) + 6.0;
+    svg << "<line class=\"chosen\" x1=\"" << Num(x) << "\" y1=\"" << Num(a.top) << "\" x2=\""
+        << Num(x) << "\" y2=\"" << Num(a.bottom)
+        << "\" stroke=\"#d62728\" stroke-dasharray=\"4,3\"/><text x=\"" << Num(x + 2) << "\" y=\""
+        << Num(a.top + 10 + 11 * row) << "\" fill=\"#d62728\" font-size=\"10\">" << text
+        << "</text>\n";
   }
+}
+
+void WritePoleMarkers(const StabilizationFigure& f, const DiagramAxes& ax,
+                      std::ostringstream& svg) {
   for (const DiagramMarker& p : f.poles) {
-    if (!(p.freq_hz >= lo && p.freq_hz <= hi)) continue;
-    const double x = px(p.freq_hz), y = py(p.order);
+    if (!ax.InBand(p.freq_hz)) continue;
+    const double x = ax.Px(p.freq_hz), y = ax.Py(p.order);
     switch (p.mark) {
       case PoleMark::kStable:
         svg << "<circle class=\"stable\" cx=\"" << Num(x) << "\" cy=\"" << Num(y)
@@ -134,7 +161,10 @@ std::string StabilizationSvg(const StabilizationFigure& f) {
         break;
     }
   }
-  // Legend row between the title and the plot.
+}
+
+// Legend row between the title and the plot.
+void WriteLegend(const PlotArea& a, bool with_frf, std::ostringstream& svg) {
   const double ly = 34.0;
   double lx = a.left;
   svg << "<circle cx=\"" << Num(lx + 4) << "\" cy=\"" << Num(ly - 4)
@@ -153,11 +183,28 @@ std::string StabilizationSvg(const StabilizationFigure& f) {
       << "\" y2=\"" << Num(ly - 4) << "\" stroke=\"#d62728\" stroke-dasharray=\"4,3\"/><text x=\""
       << Num(lx + 20) << "\" y=\"" << Num(ly) << "\">chosen pole</text>\n";
   lx += 95;
-  if (any) {
+  if (with_frf) {
     svg << "<line x1=\"" << Num(lx) << "\" y1=\"" << Num(ly - 4) << "\" x2=\"" << Num(lx + 16)
         << "\" y2=\"" << Num(ly - 4) << "\" stroke=\"#9bb7d4\"/><text x=\"" << Num(lx + 20)
         << "\" y=\"" << Num(ly) << "\">|H| (log)</text>\n";
   }
+}
+
+}  // namespace
+
+std::string StabilizationSvg(const StabilizationFigure& f) {
+  Require(f.freq_min_hz >= 0.0 && f.freq_max_hz > f.freq_min_hz,
+          "stabilization figure: empty frequency band");
+  Require(!f.poles.empty(), "stabilization figure: no pole to draw");
+  Require(f.frf_freq_hz.size() == f.frf_magnitude.size(),
+          "stabilization figure: FRF lines and magnitudes differ in length");
+  const DiagramAxes ax = AxesOf(f);
+  std::ostringstream svg;
+  WriteFrame(f, ax, svg);
+  const bool any_frf = WriteFrfBackdrop(f, ax, svg);
+  WriteChosenPoles(f, ax, svg);
+  WritePoleMarkers(f, ax, svg);
+  WriteLegend(ax.a, any_frf, svg);
   svg << "</svg>\n";
   return svg.str();
 }

@@ -147,11 +147,10 @@ std::string SvgNumber(double v) {
   return text;
 }
 
-std::string SvgPlot(const std::vector<Series>& series, const PlotOptions& o) {
-  Require(!series.empty(), "plot '" + o.title + "': no series");
-  Require(o.width_px >= 200 && o.height_px >= 120,
-          "plot '" + o.title + "': smaller than 200 x 120 px");
-  Range xr, yr;
+namespace {
+
+// The ranges the axes show: the drawable points, padded.
+void AxisRanges(const std::vector<Series>& series, const PlotOptions& o, Range& xr, Range& yr) {
   for (const Series& s : series) {
     Require(s.x.size() == s.y.size(),
             "plot '" + o.title + "': series '" + s.label + "' has x and y of different lengths");
@@ -167,18 +166,35 @@ std::string SvgPlot(const std::vector<Series>& series, const PlotOptions& o) {
   if (o.x.scale == Scale::kLinear && xr.hi == xr.lo) xr = Padded(xr, Scale::kLinear);
   if (o.x.scale == Scale::kLog) xr = Padded(xr, Scale::kLog);
   yr = Padded(yr, o.y.scale);
+}
 
-  const PlotArea a = AreaOf(o);
-  const double x0 = AxisValue(xr.lo, o.x.scale), x1 = AxisValue(xr.hi, o.x.scale);
-  const double y0 = AxisValue(yr.lo, o.y.scale), y1 = AxisValue(yr.hi, o.y.scale);
-  const auto px = [&](double v) {
-    return a.left + (AxisValue(v, o.x.scale) - x0) / (x1 - x0) * (a.right - a.left);
-  };
-  const auto py = [&](double v) {
-    return a.bottom - (AxisValue(v, o.y.scale) - y0) / (y1 - y0) * (a.bottom - a.top);
-  };
+// Data to pixel coordinates.
+struct PixelMap {
+  PlotArea a;
+  Scale x_scale = Scale::kLinear;
+  Scale y_scale = Scale::kLinear;
+  double x0 = 0.0, x1 = 0.0, y0 = 0.0, y1 = 0.0;
 
-  std::ostringstream svg;
+  PixelMap(const PlotOptions& o, const Range& xr, const Range& yr)
+      : a(AreaOf(o)),
+        x_scale(o.x.scale),
+        y_scale(o.y.scale),
+        x0(AxisValue(xr.lo, o.x.scale)),
+        x1(AxisValue(xr.hi, o.x.scale)),
+        y0(AxisValue(yr.lo, o.y.scale)),
+        y1(AxisValue(yr.hi, o.y.scale)) {}
+
+  double Px(double v) const {
+    return a.left + (AxisValue(v, x_scale) - x0) / (x1 - x0) * (a.right - a.left);
+  }
+  double Py(double v) const {
+    return a.bottom - (AxisValue(v, y_scale) - y0) / (y1 - y0) * (a.bottom - a.top);
+  }
+};
+
+void WriteFrame(const PlotOptions& o, const PixelMap& map, const Range& xr, const Range& yr,
+                std::ostringstream& svg) {
+  const PlotArea& a = map.a;
   svg << "<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"" << o.width_px << "\" height=\""
       << o.height_px << "\" viewBox=\"0 0 " << o.width_px << " " << o.height_px
       << "\" font-family=\"sans-serif\" font-size=\"11\">\n";
@@ -194,14 +210,14 @@ std::string SvgPlot(const std::vector<Series>& series, const PlotOptions& o) {
   const std::vector<double> yt =
       o.y.scale == Scale::kLog ? LogTicks(yr.lo, yr.hi) : LinearTicks(yr.lo, yr.hi, 6);
   for (double t : xt) {
-    const double x = px(t);
+    const double x = map.Px(t);
     svg << "<line class=\"grid\" x1=\"" << Number(x) << "\" y1=\"" << Number(a.top) << "\" x2=\""
         << Number(x) << "\" y2=\"" << Number(a.bottom) << "\" stroke=\"#ddd\"/>"
         << "<text x=\"" << Number(x) << "\" y=\"" << Number(a.bottom + 14)
         << "\" text-anchor=\"middle\">" << TickLabel(t) << "</text>\n";
   }
   for (double t : yt) {
-    const double y = py(t);
+    const double y = map.Py(t);
     svg << "<line class=\"grid\" x1=\"" << Number(a.left) << "\" y1=\"" << Number(y) << "\" x2=\""
         << Number(a.right) << "\" y2=\"" << Number(y) << "\" stroke=\"#ddd\"/>"
         << "<text x=\"" << Number(a.left - 4) << "\" y=\"" << Number(y + 4)
@@ -211,37 +227,58 @@ std::string SvgPlot(const std::vector<Series>& series, const PlotOptions& o) {
       << "\" text-anchor=\"middle\">" << HtmlEscape(o.x.label) << "</text>\n";
   svg << "<text transform=\"translate(14," << Number(0.5 * (a.top + a.bottom))
       << ") rotate(-90)\" text-anchor=\"middle\">" << HtmlEscape(o.y.label) << "</text>\n";
+}
 
-  double legend_x = a.left;
-  for (std::size_t k = 0; k < series.size(); ++k) {
-    const Series& s = series[k];
-    std::vector<std::pair<double, double>> run;
-    const auto flush = [&] {
-      if (run.empty()) return;
-      std::string points;
-      AppendReduced(run, points);
-      if (!points.empty()) points.pop_back();
-      svg << "<polyline class=\"series\" data-series=\"" << k << "\" fill=\"none\" stroke=\""
-          << HtmlEscape(s.color) << "\" stroke-width=\"1.3\""
-          << (s.dashed ? " stroke-dasharray=\"5,3\"" : "") << " points=\"" << points << "\"/>\n";
-      run.clear();
-    };
-    for (Eigen::Index i = 0; i < s.x.size(); ++i) {
-      if (!Drawable(s.x[i], o.x.scale) || !Drawable(s.y[i], o.y.scale)) {
-        flush();
-        continue;
-      }
-      run.emplace_back(px(s.x[i]), py(s.y[i]));
+// One polyline per run of drawable points: a point that cannot be drawn breaks the line.
+void WriteSeries(const Series& s, std::size_t k, const PixelMap& map, std::ostringstream& svg) {
+  std::vector<std::pair<double, double>> run;
+  const auto flush = [&] {
+    if (run.empty()) return;
+    std::string points;
+    AppendReduced(run, points);
+    if (!points.empty()) points.pop_back();
+    svg << "<polyline class=\"series\" data-series=\"" << k << "\" fill=\"none\" stroke=\""
+        << HtmlEscape(s.color) << "\" stroke-width=\"1.3\""
+        << (s.dashed ? " stroke-dasharray=\"5,3\"" : "") << " points=\"" << points << "\"/>\n";
+    run.clear();
+  };
+  for (Eigen::Index i = 0; i < s.x.size(); ++i) {
+    if (!Drawable(s.x[i], map.x_scale) || !Drawable(s.y[i], map.y_scale)) {
+      flush();
+      continue;
     }
-    flush();
-    svg << "<line x1=\"" << Number(legend_x) << "\" y1=\"" << Number(kLegendY - 4) << "\" x2=\""
-        << Number(legend_x + kLegendSwatch) << "\" y2=\"" << Number(kLegendY - 4) << "\" stroke=\""
-        << HtmlEscape(s.color) << "\" stroke-width=\"2\""
-        << (s.dashed ? " stroke-dasharray=\"5,3\"" : "") << "/><text x=\""
-        << Number(legend_x + kLegendSwatch + 4) << "\" y=\"" << Number(kLegendY) << "\">"
-        << HtmlEscape(s.label) << "</text>\n";
-    legend_x +=
-        kLegendSwatch + 4 + kLegendCharPx * static_cast<double>(s.label.size()) + kLegendGap;
+    run.emplace_back(map.Px(s.x[i]), map.Py(s.y[i]));
+  }
+  flush();
+}
+
+// The series' legend entry at `legend_x`; returns where the next one starts.
+double WriteLegendEntry(const Series& s, double legend_x, std::ostringstream& svg) {
+  svg << "<line x1=\"" << Number(legend_x) << "\" y1=\"" << Number(kLegendY - 4) << "\" x2=\""
+      << Number(legend_x + kLegendSwatch) << "\" y2=\"" << Number(kLegendY - 4) << "\" stroke=\""
+      << HtmlEscape(s.color) << "\" stroke-width=\"2\""
+      << (s.dashed ? " stroke-dasharray=\"5,3\"" : "") << "/><text x=\""
+      << Number(legend_x + kLegendSwatch + 4) << "\" y=\"" << Number(kLegendY) << "\">"
+      << HtmlEscape(s.label) << "</text>\n";
+  return legend_x +
+         (kLegendSwatch + 4 + kLegendCharPx * static_cast<double>(s.label.size()) + kLegendGap);
+}
+
+}  // namespace
+
+std::string SvgPlot(const std::vector<Series>& series, const PlotOptions& o) {
+  Require(!series.empty(), "plot '" + o.title + "': no series");
+  Require(o.width_px >= 200 && o.height_px >= 120,
+          "plot '" + o.title + "': smaller than 200 x 120 px");
+  Range xr, yr;
+  AxisRanges(series, o, xr, yr);
+  const PixelMap map(o, xr, yr);
+  std::ostringstream svg;
+  WriteFrame(o, map, xr, yr, svg);
+  double legend_x = map.a.left;
+  for (std::size_t k = 0; k < series.size(); ++k) {
+    WriteSeries(series[k], k, map, svg);
+    legend_x = WriteLegendEntry(series[k], legend_x, svg);
   }
   svg << "</svg>\n";
   return svg.str();

@@ -58,17 +58,21 @@ Eigen::MatrixXd SimulateStates(Eigen::Ref<const Eigen::MatrixXd> a,
   return states;
 }
 
-void SimulateStatesInto(Eigen::Ref<const Eigen::MatrixXd> a, Eigen::Ref<const Eigen::VectorXd> b,
-                        Eigen::Ref<const Eigen::VectorXd> u, double dt_s, Hold hold,
-                        Eigen::Ref<const Eigen::VectorXd> x0, bool reversed,
-                        Eigen::MatrixXd& states) {
+namespace {
+
+// x_{k+1} = phi x_k + g0 u_k + g1 (u_{k+1} - u_k) (g1 only with a first-order hold).
+struct HoldDiscretization {
+  Eigen::MatrixXd phi;
+  Eigen::VectorXd g0;
+  Eigen::VectorXd g1;
+};
+
+// The input as an extra state u' = w/dt (w = u_{k+1} − u_k, the slope of a first-order hold):
+// the ZOH discretization of [[A, B], [0, 0]] driven by w gives Φ, the ZOH input integral Γ0 (next
+// to Φ) and the first-order-hold one Γ1 (Franklin, Powell & Workman, Digital Control, §6.3.2).
+HoldDiscretization DiscretizeWithHold(const Eigen::Ref<const Eigen::MatrixXd>& a,
+                                      const Eigen::Ref<const Eigen::VectorXd>& b, double dt_s) {
   const Eigen::Index n = a.rows();
-  const Eigen::Index samples = u.size();
-  states.resize(samples, n);
-  if (samples == 0) return;
-  // The input as an extra state u' = w/dt (w = u_{k+1} − u_k, the slope of a first-order hold):
-  // the ZOH discretization of [[A, B], [0, 0]] driven by w gives Φ, the ZOH input integral Γ0 (next
-  // to Φ) and the first-order-hold one Γ1 (Franklin, Powell & Workman, Digital Control, §6.3.2).
   model::StateSpace ct;
   ct.A = Eigen::MatrixXd::Zero(n + 1, n + 1);
   ct.A.topLeftCorner(n, n) = a;
@@ -76,55 +80,53 @@ void SimulateStatesInto(Eigen::Ref<const Eigen::MatrixXd> a, Eigen::Ref<const Ei
   ct.B = Eigen::MatrixXd::Zero(n + 1, 1);
   ct.B(n, 0) = 1.0 / dt_s;
   const model::StateSpace d = model::Discretize(ct, dt_s);
-  const Eigen::MatrixXd phi = d.A.topLeftCorner(n, n);
-  const Eigen::VectorXd g0 = d.A.topRightCorner(n, 1);
-  const Eigen::VectorXd g1 = d.B.topRows(n);
-  // This runs for every sample of every filtered regressor in SRIVC and tfest: the state update is
-  // compiled for each order up to 8 (the loops unrolled, the state in registers), larger orders
-  // take the general loop. Both sum in the order phi * x, then + g0 u, then + g1 du, as the matrix
-  // expression they replace, so every order gives the same bits either way.
-  const bool first_order = hold == Hold::kFirst;
+  return {d.A.topLeftCorner(n, n), d.A.topRightCorner(n, 1), d.B.topRows(n)};
+}
+
+// This runs for every sample of every filtered regressor in SRIVC and tfest: the state update is
+// compiled for each order up to 8 (the loops unrolled, the state in registers), larger orders
+// take the general loop. Both sum in the order phi * x, then + g0 u, then + g1 du, as the matrix
+// expression they replace, so every order gives the same bits either way.
+template <std::size_t N>
+void SimulateFixedOrder(const HoldDiscretization& h, const Eigen::Ref<const Eigen::VectorXd>& u,
+                        bool first_order, const Eigen::Ref<const Eigen::VectorXd>& x0,
+                        bool reversed, Eigen::MatrixXd& states) {
+  const Eigen::Index samples = u.size();
   const double* const in = u.data();
   double* const out = states.data();
-  const auto run = [&]<std::size_t N>(std::integral_constant<std::size_t, N>) {
-    double ph[N][N];
-    double b0[N];
-    double b1[N];
-    double x[N];
-    for (std::size_t i = 0; i < N; ++i) {
-      for (std::size_t j = 0; j < N; ++j)
-        ph[i][j] = phi(static_cast<Eigen::Index>(i), static_cast<Eigen::Index>(j));
-      b0[i] = g0[static_cast<Eigen::Index>(i)];
-      b1[i] = g1[static_cast<Eigen::Index>(i)];
-      x[i] = x0[static_cast<Eigen::Index>(i)];
-    }
-    for (Eigen::Index k = 0; k < samples; ++k) {
-      for (std::size_t i = 0; i < N; ++i)
-        out[static_cast<Eigen::Index>(reversed ? N - 1 - i : i) * samples + k] = x[i];
-      if (k + 1 == samples) break;
-      const double du = first_order ? in[k + 1] - in[k] : 0.0;
-      double next[N];
-      for (std::size_t i = 0; i < N; ++i) {
-        double acc = 0.0;
-        for (std::size_t j = 0; j < N; ++j) acc += ph[i][j] * x[j];
-        acc += b0[i] * in[k];
-        if (first_order) acc += b1[i] * du;
-        next[i] = acc;
-      }
-      for (std::size_t i = 0; i < N; ++i) x[i] = next[i];
-    }
-  };
-  switch (n) {
-    case 1: return run(std::integral_constant<std::size_t, 1>{});
-    case 2: return run(std::integral_constant<std::size_t, 2>{});
-    case 3: return run(std::integral_constant<std::size_t, 3>{});
-    case 4: return run(std::integral_constant<std::size_t, 4>{});
-    case 5: return run(std::integral_constant<std::size_t, 5>{});
-    case 6: return run(std::integral_constant<std::size_t, 6>{});
-    case 7: return run(std::integral_constant<std::size_t, 7>{});
-    case 8: return run(std::integral_constant<std::size_t, 8>{});
-    default: break;
+  double ph[N][N];
+  double b0[N];
+  double b1[N];
+  double x[N];
+  for (std::size_t i = 0; i < N; ++i) {
+    for (std::size_t j = 0; j < N; ++j)
+      ph[i][j] = h.phi(static_cast<Eigen::Index>(i), static_cast<Eigen::Index>(j));
+    b0[i] = h.g0[static_cast<Eigen::Index>(i)];
+    b1[i] = h.g1[static_cast<Eigen::Index>(i)];
+    x[i] = x0[static_cast<Eigen::Index>(i)];
   }
+  for (Eigen::Index k = 0; k < samples; ++k) {
+    for (std::size_t i = 0; i < N; ++i)
+      out[static_cast<Eigen::Index>(reversed ? N - 1 - i : i) * samples + k] = x[i];
+    if (k + 1 == samples) break;
+    const double du = first_order ? in[k + 1] - in[k] : 0.0;
+    double next[N];
+    for (std::size_t i = 0; i < N; ++i) {
+      double acc = 0.0;
+      for (std::size_t j = 0; j < N; ++j) acc += ph[i][j] * x[j];
+      acc += b0[i] * in[k];
+      if (first_order) acc += b1[i] * du;
+      next[i] = acc;
+    }
+    for (std::size_t i = 0; i < N; ++i) x[i] = next[i];
+  }
+}
+
+void SimulateAnyOrder(const HoldDiscretization& h, const Eigen::Ref<const Eigen::VectorXd>& u,
+                      bool first_order, const Eigen::Ref<const Eigen::VectorXd>& x0, bool reversed,
+                      Eigen::MatrixXd& states) {
+  const Eigen::Index n = h.phi.rows();
+  const Eigen::Index samples = u.size();
   Eigen::VectorXd x = x0;
   Eigen::VectorXd next(n);
   for (Eigen::Index k = 0; k < samples; ++k) {
@@ -133,12 +135,37 @@ void SimulateStatesInto(Eigen::Ref<const Eigen::MatrixXd> a, Eigen::Ref<const Ei
     const double du = first_order ? u[k + 1] - u[k] : 0.0;
     for (Eigen::Index i = 0; i < n; ++i) {
       double acc = 0.0;
-      for (Eigen::Index j = 0; j < n; ++j) acc += phi(i, j) * x[j];
-      acc += g0[i] * u[k];
-      if (first_order) acc += g1[i] * du;
+      for (Eigen::Index j = 0; j < n; ++j) acc += h.phi(i, j) * x[j];
+      acc += h.g0[i] * u[k];
+      if (first_order) acc += h.g1[i] * du;
       next[i] = acc;
     }
     x.swap(next);
+  }
+}
+
+}  // namespace
+
+void SimulateStatesInto(Eigen::Ref<const Eigen::MatrixXd> a, Eigen::Ref<const Eigen::VectorXd> b,
+                        Eigen::Ref<const Eigen::VectorXd> u, double dt_s, Hold hold,
+                        Eigen::Ref<const Eigen::VectorXd> x0, bool reversed,
+                        Eigen::MatrixXd& states) {
+  const Eigen::Index n = a.rows();
+  const Eigen::Index samples = u.size();
+  states.resize(samples, n);
+  if (samples == 0) return;
+  const HoldDiscretization h = DiscretizeWithHold(a, b, dt_s);
+  const bool first_order = hold == Hold::kFirst;
+  switch (n) {
+    case 1: return SimulateFixedOrder<1>(h, u, first_order, x0, reversed, states);
+    case 2: return SimulateFixedOrder<2>(h, u, first_order, x0, reversed, states);
+    case 3: return SimulateFixedOrder<3>(h, u, first_order, x0, reversed, states);
+    case 4: return SimulateFixedOrder<4>(h, u, first_order, x0, reversed, states);
+    case 5: return SimulateFixedOrder<5>(h, u, first_order, x0, reversed, states);
+    case 6: return SimulateFixedOrder<6>(h, u, first_order, x0, reversed, states);
+    case 7: return SimulateFixedOrder<7>(h, u, first_order, x0, reversed, states);
+    case 8: return SimulateFixedOrder<8>(h, u, first_order, x0, reversed, states);
+    default: return SimulateAnyOrder(h, u, first_order, x0, reversed, states);
   }
 }
 

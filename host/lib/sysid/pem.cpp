@@ -115,56 +115,53 @@ Eigen::VectorXd Monic(const Eigen::VectorXd& tail) {
   return p;
 }
 
-}  // namespace
-
-PolyModel EstimateOeIv(const IoData& data, const PolyOrders& orders, double tolerance) {
-  const PolyOrders arx_orders{orders.nf, orders.nb, 0, 0, 0, orders.nk};
-  const ArxResult arx = EstimateArx(data, arx_orders);
-  Eigen::VectorXd f = numerics::StabilizeDiscrete(arx.model.a);
-  Eigen::VectorXd b = arx.model.b;
+// ARX is biased when the noise is not equation error (badly so at high sample rates, where A(q)
+// weights the error like a high-pass). The basic IV estimate with delayed inputs as instruments
+// is consistent for any noise independent of u: it replaces f, b when it simulates better.
+void PreferBasicIv(const IoData& data, const PolyOrders& orders, Eigen::Index t0,
+                   Eigen::VectorXd& f, Eigen::VectorXd& b) {
   const int nf = orders.nf;
   const int nb = orders.nb;
   const int nk = orders.nk;
   const Eigen::Index n = data.samples();
-  const Eigen::Index t0 = std::max<Eigen::Index>(nf, nk + nb - 1);
-  const Eigen::Index rows = n - t0;
-  const Eigen::VectorXd one = Eigen::VectorXd::Ones(1);
-  // ARX is biased when the noise is not equation error (badly so at high sample rates, where A(q)
-  // weights the error like a high-pass). The basic IV estimate with delayed inputs as instruments
-  // is consistent for any noise independent of u: use it instead when it simulates better.
-  {
-    const Eigen::Index lag0 = nk + nb + nf - 1;
-    const Eigen::Index s0 = std::max<Eigen::Index>(t0, lag0);
-    const Eigen::Index m = n - s0;
-    if (nf > 0 && m > 2 * (nf + nb)) {
-      Eigen::MatrixXd phi(m, nf + nb);
-      Eigen::MatrixXd zeta(m, nf + nb);
-      for (Eigen::Index r = 0; r < m; ++r) {
-        const Eigen::Index t = s0 + r;
-        for (int i = 0; i < nf; ++i) {
-          phi(r, i) = -data.y[t - 1 - i];
-          zeta(r, i) = data.u[t - nk - nb - i];
-        }
-        for (int j = 0; j < nb; ++j) phi(r, nf + j) = zeta(r, nf + j) = data.u[t - nk - j];
-      }
-      Eigen::VectorXd th;
-      if (SolveInstrumental(zeta, phi, data.y.tail(m), th)) {
-        const Eigen::VectorXd f_iv = numerics::StabilizeDiscrete(Monic(th.head(nf)));
-        Eigen::VectorXd b_iv = Eigen::VectorXd::Zero(nk + nb);
-        b_iv.tail(nb) = th.tail(nb);
-        const double err_iv = (data.y - numerics::Filter(b_iv, f_iv, data.u)).squaredNorm();
-        const double err_arx = (data.y - numerics::Filter(b, f, data.u)).squaredNorm();
-        if (std::isfinite(err_iv) && err_iv < err_arx) {
-          f = f_iv;
-          b = b_iv;
-        }
-      }
+  const Eigen::Index lag0 = nk + nb + nf - 1;
+  const Eigen::Index s0 = std::max<Eigen::Index>(t0, lag0);
+  const Eigen::Index m = n - s0;
+  if (!(nf > 0 && m > 2 * (nf + nb))) return;
+  Eigen::MatrixXd phi(m, nf + nb);
+  Eigen::MatrixXd zeta(m, nf + nb);
+  for (Eigen::Index r = 0; r < m; ++r) {
+    const Eigen::Index t = s0 + r;
+    for (int i = 0; i < nf; ++i) {
+      phi(r, i) = -data.y[t - 1 - i];
+      zeta(r, i) = data.u[t - nk - nb - i];
     }
+    for (int j = 0; j < nb; ++j) phi(r, nf + j) = zeta(r, nf + j) = data.u[t - nk - j];
   }
+  Eigen::VectorXd th;
+  if (!SolveInstrumental(zeta, phi, data.y.tail(m), th)) return;
+  const Eigen::VectorXd f_iv = numerics::StabilizeDiscrete(Monic(th.head(nf)));
+  Eigen::VectorXd b_iv = Eigen::VectorXd::Zero(nk + nb);
+  b_iv.tail(nb) = th.tail(nb);
+  const double err_iv = (data.y - numerics::Filter(b_iv, f_iv, data.u)).squaredNorm();
+  const double err_arx = (data.y - numerics::Filter(b, f, data.u)).squaredNorm();
+  if (std::isfinite(err_iv) && err_iv < err_arx) {
+    f = f_iv;
+    b = b_iv;
+  }
+}
+
+// Simplified refined IV (Young): prefilter y, u and the instruments by 1/F̂ and use the noise-free
+// output of the current model as instruments; a fixed point of the iteration is consistent and
+// close to the OE optimum, so the search that follows only polishes.
+void RefineIv(const IoData& data, const PolyOrders& orders, Eigen::Index t0, double tolerance,
+              Eigen::VectorXd& f, Eigen::VectorXd& b) {
+  const int nf = orders.nf;
+  const int nb = orders.nb;
+  const int nk = orders.nk;
+  const Eigen::Index rows = data.samples() - t0;
+  const Eigen::VectorXd one = Eigen::VectorXd::Ones(1);
   Eigen::VectorXd previous;
-  // Simplified refined IV (Young): prefilter y, u and the instruments by 1/F̂ and use the noise-free
-  // output of the current model as instruments; a fixed point of the iteration is consistent and
-  // close to the OE optimum, so the search that follows only polishes.
   // The regressor matrices are allocated once: fresh megabyte-sized ones per pass cost page faults.
   Eigen::MatrixXd phi(rows, nf + nb);
   Eigen::MatrixXd zeta(rows, nf + nb);
@@ -193,9 +190,21 @@ PolyModel EstimateOeIv(const IoData& data, const PolyOrders& orders, double tole
       break;
     previous = current;
   }
+}
+
+}  // namespace
+
+PolyModel EstimateOeIv(const IoData& data, const PolyOrders& orders, double tolerance) {
+  const PolyOrders arx_orders{orders.nf, orders.nb, 0, 0, 0, orders.nk};
+  const ArxResult arx = EstimateArx(data, arx_orders);
+  Eigen::VectorXd f = numerics::StabilizeDiscrete(arx.model.a);
+  Eigen::VectorXd b = arx.model.b;
+  const Eigen::Index t0 = std::max<Eigen::Index>(orders.nf, orders.nk + orders.nb - 1);
+  PreferBasicIv(data, orders, t0, f, b);
+  RefineIv(data, orders, t0, tolerance, f, b);
   PolyModel m;
   m.structure = Structure::kOe;
-  m.orders = PolyOrders{0, nb, 0, 0, nf, nk};
+  m.orders = PolyOrders{0, orders.nb, 0, 0, orders.nf, orders.nk};
   m.dt_s = data.dt_s;
   m.b = b;
   m.f = f;

@@ -279,54 +279,40 @@ CtOeResult FitContinuousOe(const IoData& data, const CtParameterization& param,
   return res;
 }
 
-TfestResult EstimateTf(const IoData& data, const TfestOptions& options) {
-  options.Validate();
-  const int np = options.np;
-  const int nz = options.nz;
-  const Eigen::Index p = np + nz + 1 + (options.ic == InitialCondition::kEstimate ? np : 0);
-  Require(data.samples() >= 10 * p,
-          "orders too high for the data: tfest with np=" + std::to_string(np) +
-              ", nz=" + std::to_string(nz) + " needs at least " + std::to_string(10 * p) +
-              " samples, the record has " + std::to_string(data.samples()));
-  TfestResult res;
-  // Starting filters across the band: λ from 1 % to 30 % of the Nyquist frequency. SRIVC converges
-  // to the same fixed point from any start in its basin, so the starts are screened after the
-  // state-variable-filter pass, and only the best by simulation fit is iterated on (rather than
-  // every start to convergence, which cost four times the passes).
+namespace {
+
+// The start SRIVC is iterated from, with its simulation fit (percent) and filter frequency.
+struct ScreenedStart {
+  SrivcOutcome outcome;
+  double fit = -std::numeric_limits<double>::infinity();
+  double lambda_rad_s = 0.0;
+};
+
+// Starting filters across the band: λ from 1 % to 30 % of the Nyquist frequency. SRIVC converges
+// to the same fixed point from any start in its basin, so the starts are screened after the
+// state-variable-filter pass, and only the best by simulation fit is iterated on (rather than
+// every start to convergence, which cost four times the passes).
+ScreenedStart ScreenStarts(const IoData& data, const TfestOptions& options, SrivcWork& work) {
   constexpr int kScreeningPasses = 0;
   const double nyquist_rad_s = std::acos(-1.0) / data.dt_s;
-  double best_fit = -std::numeric_limits<double>::infinity();
-  SrivcOutcome best;
-  double best_lambda = 0.0;
-  SrivcWork work;
+  ScreenedStart best;
   for (const double fraction : {0.01, 0.03, 0.1, 0.3}) {
-    SrivcOutcome o = SvfStart(np, fraction * nyquist_rad_s);
-    SrivcPasses(data, np, nz, std::min(kScreeningPasses, options.srivc_iterations), options, work,
-                o);
+    SrivcOutcome o = SvfStart(options.np, fraction * nyquist_rad_s);
+    SrivcPasses(data, options.np, options.nz, std::min(kScreeningPasses, options.srivc_iterations),
+                options, work, o);
     if (!o.ok) continue;
     const double fit = FitPercent(data.y, Simulate(o.tf, data.u, data.dt_s));
-    if (std::isfinite(fit) && fit > best_fit) {
-      best_fit = fit;
-      best = o;
-      best_lambda = fraction * nyquist_rad_s;
+    if (std::isfinite(fit) && fit > best.fit) {
+      best.fit = fit;
+      best.outcome = o;
+      best.lambda_rad_s = fraction * nyquist_rad_s;
     }
   }
-  if (!best.ok) {
-    res.summary.termination = numerics::TerminationType::kNumericalFailure;
-    res.summary.message =
-        "no starting model: the filtered regressors are rank deficient (input not exciting enough)";
-    return res;
-  }
-  if (best.iterations < options.srivc_iterations && !best.converged) {
-    SrivcPasses(data, np, nz, options.srivc_iterations, options, work, best);
-    const double fit = FitPercent(data.y, Simulate(best.tf, data.u, data.dt_s));
-    if (std::isfinite(fit)) best_fit = fit;
-  }
-  char init[96];
-  std::snprintf(init, sizeof init, "svf(lambda=%.4g rad/s)+srivc(%d iterations)", best_lambda,
-                best.iterations);
-  res.initialization = init;
+  return best;
+}
 
+// The coefficients themselves as the parameters: [den tail, num].
+CtParameterization DirectParameterization(int np, int nz) {
   CtParameterization identity;
   identity.np = np;
   identity.nz = nz;
@@ -335,19 +321,11 @@ TfestResult EstimateTf(const IoData& data, const TfestOptions& options) {
     if (j != nullptr) *j = Eigen::MatrixXd::Identity(th.size(), th.size());
     return true;
   };
-  Eigen::VectorXd theta0(np + nz + 1);
-  theta0 << best.tf.den.tail(np), best.tf.num;
-  if (!options.refine) {
-    res.tf = best.tf;
-    res.ic_num = Eigen::VectorXd::Zero(np);
-    res.den_std = Eigen::VectorXd::Zero(np + 1);
-    res.num_std = Eigen::VectorXd::Zero(nz + 1);
-    res.fit_percent = best_fit;
-    res.summary.termination = numerics::TerminationType::kParameterTolerance;
-    res.summary.message = "SRIVC estimate without output-error refinement";
-    return res;
-  }
-  const CtOeResult oe = FitContinuousOe(data, identity, theta0, options.ic, options.solver);
+  return identity;
+}
+
+void StoreOeRefinement(const CtOeResult& oe, const IoData& data, int np, int nz, Eigen::Index p,
+                       TfestResult& res) {
   res.summary = oe.summary;
   res.tf = TransferFunction{oe.theta.tail(nz + 1), MonicFromTail(oe.theta.head(np))};
   res.ic_num = oe.ic_num;
@@ -362,6 +340,54 @@ TfestResult EstimateTf(const IoData& data, const TfestOptions& options) {
   res.noise_variance = oe.residual.squaredNorm() /
                        static_cast<double>(std::max<Eigen::Index>(data.samples() - p, 1));
   res.fit_percent = FitPercent(data.y, data.y - oe.residual);
+}
+
+}  // namespace
+
+TfestResult EstimateTf(const IoData& data, const TfestOptions& options) {
+  options.Validate();
+  const int np = options.np;
+  const int nz = options.nz;
+  const Eigen::Index p = np + nz + 1 + (options.ic == InitialCondition::kEstimate ? np : 0);
+  Require(data.samples() >= 10 * p,
+          "orders too high for the data: tfest with np=" + std::to_string(np) +
+              ", nz=" + std::to_string(nz) + " needs at least " + std::to_string(10 * p) +
+              " samples, the record has " + std::to_string(data.samples()));
+  TfestResult res;
+  SrivcWork work;
+  ScreenedStart start = ScreenStarts(data, options, work);
+  SrivcOutcome& best = start.outcome;
+  if (!best.ok) {
+    res.summary.termination = numerics::TerminationType::kNumericalFailure;
+    res.summary.message =
+        "no starting model: the filtered regressors are rank deficient (input not exciting enough)";
+    return res;
+  }
+  if (best.iterations < options.srivc_iterations && !best.converged) {
+    SrivcPasses(data, np, nz, options.srivc_iterations, options, work, best);
+    const double fit = FitPercent(data.y, Simulate(best.tf, data.u, data.dt_s));
+    if (std::isfinite(fit)) start.fit = fit;
+  }
+  char init[96];
+  std::snprintf(init, sizeof init, "svf(lambda=%.4g rad/s)+srivc(%d iterations)",
+                start.lambda_rad_s, best.iterations);
+  res.initialization = init;
+
+  Eigen::VectorXd theta0(np + nz + 1);
+  theta0 << best.tf.den.tail(np), best.tf.num;
+  if (!options.refine) {
+    res.tf = best.tf;
+    res.ic_num = Eigen::VectorXd::Zero(np);
+    res.den_std = Eigen::VectorXd::Zero(np + 1);
+    res.num_std = Eigen::VectorXd::Zero(nz + 1);
+    res.fit_percent = start.fit;
+    res.summary.termination = numerics::TerminationType::kParameterTolerance;
+    res.summary.message = "SRIVC estimate without output-error refinement";
+    return res;
+  }
+  const CtOeResult oe =
+      FitContinuousOe(data, DirectParameterization(np, nz), theta0, options.ic, options.solver);
+  StoreOeRefinement(oe, data, np, nz, p, res);
   return res;
 }
 
