@@ -10,8 +10,8 @@ using fw::usb::kEp0Size;
 using fw::usb::SetupPacket;
 
 namespace {
-constexpr std::uint8_t kEp0In = 0x80;
-constexpr std::uint8_t kEp0Out = 0x00;
+constexpr std::uint8_t kEp0In = EmuDcd::kEp0In;
+constexpr std::uint8_t kEp0Out = EmuDcd::kEp0Out;
 // A device that does not arm the stage the host expects would make a real host time out; the
 // URB completes with this status instead (-ETIMEDOUT).
 constexpr std::int32_t kStatusTimedOut = -110;

@@ -2,11 +2,6 @@
 
 namespace vibid::emu {
 
-namespace {
-constexpr std::uint8_t kEp0In = 0x80;
-constexpr std::uint8_t kEp0Out = 0x00;
-}  // namespace
-
 Status EmuDcd::Init(fw::usb::DcdEvents& events) {
   events_ = &events;
   open_.fill(false);

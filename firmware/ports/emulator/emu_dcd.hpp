@@ -9,11 +9,15 @@
 #include <span>
 
 #include "vibid/fw/usb/dcd.hpp"
+#include "vibid/fw/usb/usb_types.hpp"
 
 namespace vibid::emu {
 
 class EmuDcd final : public fw::usb::Dcd {
  public:
+  /// Endpoint 0's two directions, as the bus side addresses them.
+  static constexpr std::uint8_t kEp0In = fw::usb::kDirIn;
+  static constexpr std::uint8_t kEp0Out = 0x00;
   struct Pending {
     bool active = false;
     std::span<std::uint8_t> buffer{};
