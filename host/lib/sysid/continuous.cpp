@@ -87,13 +87,12 @@ HoldDiscretization DiscretizeWithHold(const Eigen::Ref<const Eigen::MatrixXd>& a
 // compiled for each order up to 8 (the loops unrolled, the state in registers), larger orders
 // take the general loop. Both sum in the order phi * x, then + g0 u, then + g1 du, as the matrix
 // expression they replace, so every order gives the same bits either way.
-template <std::size_t N>
+template <std::size_t N, bool kFirstOrder, bool kReversed>
 void SimulateFixedOrder(const HoldDiscretization& h, const Eigen::Ref<const Eigen::VectorXd>& u,
-                        bool first_order, const Eigen::Ref<const Eigen::VectorXd>& x0,
-                        bool reversed, Eigen::MatrixXd& states) {
+                        const Eigen::Ref<const Eigen::VectorXd>& x0, Eigen::MatrixXd& states) {
   const Eigen::Index samples = u.size();
   const double* const in = u.data();
-  double* const out = states.data();
+  double* col[N];
   double ph[N][N];
   double b0[N];
   double b1[N];
@@ -104,22 +103,40 @@ void SimulateFixedOrder(const HoldDiscretization& h, const Eigen::Ref<const Eige
     b0[i] = h.g0[static_cast<Eigen::Index>(i)];
     b1[i] = h.g1[static_cast<Eigen::Index>(i)];
     x[i] = x0[static_cast<Eigen::Index>(i)];
+    col[i] = states.col(static_cast<Eigen::Index>(kReversed ? N - 1 - i : i)).data();
   }
-  for (Eigen::Index k = 0; k < samples; ++k) {
-    for (std::size_t i = 0; i < N; ++i)
-      out[static_cast<Eigen::Index>(reversed ? N - 1 - i : i) * samples + k] = x[i];
+  for (Eigen::Index k = 0;; ++k) {
+#pragma GCC unroll 8
+    for (std::size_t i = 0; i < N; ++i) col[i][k] = x[i];
     if (k + 1 == samples) break;
-    const double du = first_order ? in[k + 1] - in[k] : 0.0;
+    const double uk = in[k];
+    const double du = kFirstOrder ? in[k + 1] - uk : 0.0;
     double next[N];
+#pragma GCC unroll 8
     for (std::size_t i = 0; i < N; ++i) {
       double acc = 0.0;
+#pragma GCC unroll 8
       for (std::size_t j = 0; j < N; ++j) acc += ph[i][j] * x[j];
-      acc += b0[i] * in[k];
-      if (first_order) acc += b1[i] * du;
+      acc += b0[i] * uk;
+      if constexpr (kFirstOrder) acc += b1[i] * du;
       next[i] = acc;
     }
+#pragma GCC unroll 8
     for (std::size_t i = 0; i < N; ++i) x[i] = next[i];
   }
+}
+
+// The hold and the column order as template arguments: no test of either per sample.
+template <std::size_t N>
+void SimulateFixedOrder(const HoldDiscretization& h, const Eigen::Ref<const Eigen::VectorXd>& u,
+                        bool first_order, const Eigen::Ref<const Eigen::VectorXd>& x0,
+                        bool reversed, Eigen::MatrixXd& states) {
+  if (first_order) {
+    return reversed ? SimulateFixedOrder<N, true, true>(h, u, x0, states)
+                    : SimulateFixedOrder<N, true, false>(h, u, x0, states);
+  }
+  return reversed ? SimulateFixedOrder<N, false, true>(h, u, x0, states)
+                  : SimulateFixedOrder<N, false, false>(h, u, x0, states);
 }
 
 void SimulateAnyOrder(const HoldDiscretization& h, const Eigen::Ref<const Eigen::VectorXd>& u,
