@@ -172,8 +172,8 @@ class Script {
     data.resize(r.actual_length);
     (void)Dfu(3, 0, 6);
     const emu::UrbResult done = Dfu(3, 0, 6);
-    if (done.status != usbip::kStatusOk || dfu_.state() == DfuSeBootloader::State::kError) return;
-    if (dfu_.state() != DfuSeBootloader::State::kDnloadIdle) return;
+    if (done.status != usbip::kStatusOk || dfu_.state() == dfu::State::kError) return;
+    if (dfu_.state() != dfu::State::kDnloadIdle) return;
     // Read back through the protocol, from the bootloader's own address pointer.
     if (Dfu(6, 0, 0).status != usbip::kStatusOk) return;
     const emu::UrbResult back = Dfu(2, block, length);
