@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 
 #include "vibid/common/error.hpp"
+#include "vibid/common/testing/input_error.hpp"
 #include "vibid/device/error.hpp"
 
 namespace vibid::device {
@@ -30,13 +31,12 @@ TEST(ParseDfuSeLayout, RefusesMalformedStrings) {
 }
 
 std::string MessageOf(const std::vector<std::uint8_t>& image, std::uint32_t address) {
-  try {
-    PlanFlash(ParseDfuSeLayout(dfu::kStm32f405FlashLayout), image, address,
-              std::span(&kCalibrationSectors, 1));
-  } catch (const InputError& e) {
-    return e.what();
-  }
-  return "accepted";
+  return InputErrorOf(
+      [&] {
+        PlanFlash(ParseDfuSeLayout(dfu::kStm32f405FlashLayout), image, address,
+                  std::span(&kCalibrationSectors, 1));
+      },
+      "accepted");
 }
 
 // A board image as objcopy --gap-fill 0xff makes it: vectors and startup in sectors 0-1, the
