@@ -167,9 +167,7 @@ class DeviceSession {
   template <typename Payload>
   requires requires { Payload::kBytes; }
   Answer Request(wire::Command command, const Payload& payload) {
-    std::array<std::uint8_t, Payload::kBytes> bytes{};
-    wire::Encode(payload, bytes);
-    return Request(command, std::span<const std::uint8_t>(bytes));
+    return Request(command, wire::EncodedBytes(payload));
   }
 
   /// Uploads and commits a calibration record. @returns the commit's status.
