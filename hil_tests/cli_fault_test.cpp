@@ -20,15 +20,9 @@ namespace vibid::hil {
 namespace {
 
 using namespace std::chrono_literals;
+using vibid::testing::ReadFileBytes;
 using vibid::testing::RunVibid;
 using vibid::testing::VibidProcess;
-
-std::string ReadText(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  std::stringstream s;
-  s << in.rdbuf();
-  return s.str();
-}
 
 std::vector<std::string> FilesIn(const std::string& dir) {
   std::vector<std::string> names;
@@ -80,7 +74,7 @@ TEST_F(CliFaultTest, EmulatorKilledMidPullLeavesTheOutputUntouched) {
   EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << "one line: " << r.err;
   EXPECT_EQ(r.err.rfind("vibid: error: lost the device", 0), 0u) << r.err;
   EXPECT_NE(r.err.find(spec), std::string::npos) << "names the device: " << r.err;
-  EXPECT_EQ(ReadText(output), previous);
+  EXPECT_EQ(ReadFileBytes(output), previous);
   EXPECT_EQ(FilesIn(dir), std::vector<std::string>{"OUT.csv"}) << "no temporary file left";
 }
 
@@ -122,7 +116,7 @@ TEST(CliPullTest, PullKilledMidwayIsRepeatedAndResumedWithNothingLostOrDuplicate
   const auto a = RunVibid({"--device", emu.device_spec(), "acquire", "--seconds", "1.6",
                            "--channels", "force1,acc1,acc2", "-o", acquired});
   ASSERT_EQ(a.exit_code, 0) << a.err;
-  const std::vector<std::string> rows = Lines(ReadText(acquired));
+  const std::vector<std::string> rows = Lines(ReadFileBytes(acquired));
   ASSERT_EQ(rows.size(), 8001u) << "header and 1.6 s at 5 kHz";
 
   const int imports = 2;  // the acquire above, then the pull about to be killed
@@ -137,12 +131,13 @@ TEST(CliPullTest, PullKilledMidwayIsRepeatedAndResumedWithNothingLostOrDuplicate
 
   const auto again = RunVibid({"--device", emu.device_spec(), "log", "pull", "-o", pulled});
   ASSERT_EQ(again.exit_code, 0) << again.err;
-  EXPECT_EQ(ReadText(pulled), ReadText(acquired)) << "the whole log again, record for record";
+  EXPECT_EQ(ReadFileBytes(pulled), ReadFileBytes(acquired))
+      << "the whole log again, record for record";
 
   const auto resumed =
       RunVibid({"--device", emu.device_spec(), "log", "pull", "--from", "6000", "-o", tail});
   ASSERT_EQ(resumed.exit_code, 0) << resumed.err;
-  const std::vector<std::string> tail_rows = Lines(ReadText(tail));
+  const std::vector<std::string> tail_rows = Lines(ReadFileBytes(tail));
   ASSERT_EQ(tail_rows.size(), 2001u);
   EXPECT_EQ(tail_rows.front(), rows.front());
   EXPECT_TRUE(std::equal(tail_rows.begin() + 1, tail_rows.end(), rows.begin() + 6001))

@@ -51,9 +51,38 @@ void AwaitDone(Connection& c) {
   FAIL() << "acquisition did not reach its record limit";
 }
 
+/// Records the board's log holds with every channel on.
+std::uint32_t LogCapacityRecords(const Connection& c) {
+  return c.info().log_capacity_bytes /
+         static_cast<std::uint32_t>(wire::LogLayout{wire::kAllChannelsMask, 0}.StoredRecordBytes());
+}
+
 class DeviceTest : public ::testing::Test {
  protected:
   void SetUp() override { target = MakeTarget(); }
+
+  /// Connects for an acquisition pulled while it runs: the loopback samples two frames a step.
+  std::unique_ptr<Connection> ConnectToFollow() {
+    if (CoreLoopback* loop = target->loopback()) loop->SetFramesPerStep(2);
+    return target->Connect();
+  }
+
+  /// Starts an acquisition of every channel to pull while it runs; returns its record limit. A
+  /// target fed by the test can only be fed ahead of the pull, so it gets what fits. The
+  /// loopback's sampling waits for nobody, so twice its log (it wraps) must pass through a pull
+  /// that keeps up; a rig running at its own pace gets a fixed length.
+  std::uint32_t StartFollowedAcquisition(Connection& c) {
+    const std::uint32_t fits = LogCapacityRecords(c);
+    const std::uint32_t n = target->NeedsFeed() ? fits
+                            : target->loopback() != nullptr
+                                ? std::max<std::uint32_t>(3000, 2 * fits)
+                                : std::min<std::uint32_t>(3000, fits);
+    c.Configure(AllChannels(n));
+    c.StartAcquisition();
+    target->Feed(c, 0, n);
+    return n;
+  }
+
   std::unique_ptr<Target> target;
 };
 
@@ -183,21 +212,8 @@ TEST_F(DeviceTest, InterruptedLogPullResumesWithNothingLostOrDuplicated) {
 }
 
 TEST_F(DeviceTest, PullWhileAcquiringFollowsTheLog) {
-  CoreLoopback* loop = target->loopback();
-  if (loop != nullptr) loop->SetFramesPerStep(2);
-  auto c = target->Connect();
-  // A target fed by the test can only be fed ahead of the pull, so it gets what fits.
-  const std::uint32_t fits =
-      c->info().log_capacity_bytes /
-      static_cast<std::uint32_t>(wire::LogLayout{wire::kAllChannelsMask, 0}.StoredRecordBytes());
-  // The loopback's sampling waits for nobody, so twice its log must pass through a pull that
-  // keeps up; a rig running at its own pace gets a fixed length.
-  const std::uint32_t n = target->NeedsFeed()             ? fits
-                          : target->loopback() != nullptr ? std::max<std::uint32_t>(3000, 2 * fits)
-                                                          : std::min<std::uint32_t>(3000, fits);
-  c->Configure(AllChannels(n));
-  c->StartAcquisition();
-  target->Feed(*c, 0, n);
+  auto c = ConnectToFollow();
+  const std::uint32_t n = StartFollowedAcquisition(*c);
   const device::LogPull pull = c->PullLog();
   ASSERT_EQ(pull.records.size(), n);
   EXPECT_EQ(pull.records.back().sample_index, n - 1);
@@ -209,19 +225,10 @@ TEST_F(DeviceTest, PullWhileAcquiringFollowsTheLog) {
 // log wraps over them: a second pull from the oldest record get-status names returns exactly
 // what the first one got from there, and anything older is refused.
 TEST_F(DeviceTest, LogPulledWhileAcquiringCanBePulledAgain) {
-  CoreLoopback* loop = target->loopback();
-  if (loop != nullptr) loop->SetFramesPerStep(2);
-  auto c = target->Connect();
-  const std::uint32_t fits =
-      c->info().log_capacity_bytes /
-      static_cast<std::uint32_t>(wire::LogLayout{wire::kAllChannelsMask, 0}.StoredRecordBytes());
-  // The loopback's log is small: make it wrap, so the refusal below is exercised there.
-  const std::uint32_t n = target->NeedsFeed() ? fits
-                          : loop != nullptr   ? std::max<std::uint32_t>(3000, 2 * fits)
-                                              : std::min<std::uint32_t>(3000, fits);
-  c->Configure(AllChannels(n));
-  c->StartAcquisition();
-  target->Feed(*c, 0, n);
+  auto c = ConnectToFollow();
+  // The loopback's log is small: it wraps, so the refusal below is exercised there.
+  const std::uint32_t n = StartFollowedAcquisition(*c);
+  const std::uint32_t fits = LogCapacityRecords(*c);
   const device::LogPull first = c->PullLog();
   ASSERT_EQ(first.records.size(), n);
 

@@ -11,8 +11,8 @@
 #include <random>
 #include <thread>
 
+#include "emulator_test.hpp"
 #include "run_cli.hpp"
-#include "target.hpp"
 #include "test_records.hpp"
 #include "vibid/device/error.hpp"
 #include "vibid/device/flash_board.hpp"
@@ -63,14 +63,11 @@ std::unique_ptr<device::Connection> AwaitApplication(Target& target) {
   }
 }
 
-class DfuFlashTest : public ::testing::Test {
+class DfuFlashTest : public EmulatorTest {
  protected:
-  void SetUp() override {
-    target = MakeTarget();
-    emu = target->emulator();
-    if (emu == nullptr)
-      GTEST_SKIP() << "target '" << target->Name()
-                   << "' has no flash file the test can read (emulator only)";
+  DfuFlashTest() : EmulatorTest("has no flash file the test can read (emulator only)") {}
+
+  void SetUpEmulator() override {
     dir = vibid::testing::MakeTempDir("flash");
     // A committed calibration, so the calibration sectors hold something to keep.
     auto c = target->Connect();
@@ -114,8 +111,6 @@ class DfuFlashTest : public ::testing::Test {
     EXPECT_EQ(c->info().cal_crc, cal_crc);
   }
 
-  std::unique_ptr<Target> target;
-  EmulatorProcess* emu = nullptr;
   std::string dir;
   std::uint32_t cal_crc = 0;
   std::vector<std::uint8_t> before;

@@ -8,10 +8,10 @@
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
-#include <fstream>
-#include <sstream>
 #include <stdexcept>
 #include <thread>
+
+#include "run_cli.hpp"
 
 namespace vibid::hil {
 
@@ -70,12 +70,7 @@ std::string EmulatorProcess::device_spec() const {
   return "usbip://127.0.0.1:" + std::to_string(port_);
 }
 
-std::string EmulatorProcess::Log() const {
-  std::ifstream in(dir_ + "/emu.log");
-  std::stringstream s;
-  s << in.rdbuf();
-  return s.str();
-}
+std::string EmulatorProcess::Log() const { return testing::ReadFileBytes(dir_ + "/emu.log"); }
 
 bool EmulatorProcess::AwaitLog(const std::string& text, int count,
                                std::chrono::milliseconds timeout) const {

@@ -8,25 +8,15 @@
 #include <chrono>
 #include <cstdlib>
 #include <filesystem>
-#include <fstream>
-#include <sstream>
 #include <stdexcept>
 #include <thread>
 #include <vector>
 
+#include "run_cli.hpp"
 #include "vibid/device/serial_transport.hpp"
 
 namespace vibid::hil {
-namespace {
-
-std::string ReadAll(const std::string& path) {
-  std::ifstream f(path);
-  std::stringstream s;
-  s << f.rdbuf();
-  return s.str();
-}
-
-}  // namespace
+namespace {}  // namespace
 
 QemuBoard::QemuBoard(const std::string& image) {
   char tmpl[] = "/tmp/vibid-qemu-XXXXXX";
@@ -63,7 +53,7 @@ QemuBoard::QemuBoard(const std::string& image) {
     _exit(127);
   }
   const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(20);
-  while (ReadAll(diagnostics_).find("ready") == std::string::npos) {
+  while (testing::ReadFileBytes(diagnostics_).find("ready") == std::string::npos) {
     int status = 0;
     if (waitpid(pid_, &status, WNOHANG) == pid_) {
       pid_ = -1;

@@ -11,7 +11,7 @@
 
 #include <map>
 
-#include "target.hpp"
+#include "emulator_test.hpp"
 #include "vibid/device/usbip_transport.hpp"
 #include "vibid/fw/usb/descriptors.hpp"
 #include "vibid/shared/wire/report.hpp"
@@ -59,18 +59,11 @@ std::string StringAt(UsbipDevice& usb, std::uint8_t index) {
   return s;
 }
 
-class UsbEnumerationTest : public ::testing::Test {
+class UsbEnumerationTest : public EmulatorTest {
  protected:
-  void SetUp() override {
-    target = MakeTarget();
-    emu = target->emulator();
-    if (emu == nullptr)
-      GTEST_SKIP() << "target '" << target->Name()
-                   << "' exposes no USB device to the test (USB/IP only)";
-    usb = UsbipDevice::Open("127.0.0.1", emu->port());
-  }
-  std::unique_ptr<Target> target;
-  EmulatorProcess* emu = nullptr;
+  UsbEnumerationTest() : EmulatorTest("exposes no USB device to the test (USB/IP only)") {}
+
+  void SetUpEmulator() override { usb = UsbipDevice::Open("127.0.0.1", emu->port()); }
   std::unique_ptr<UsbipDevice> usb;
 };
 

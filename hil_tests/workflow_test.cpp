@@ -8,8 +8,6 @@
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
-#include <fstream>
-#include <sstream>
 #include <string>
 
 #include <gtest/gtest.h>
@@ -21,14 +19,9 @@
 namespace vibid::hil {
 namespace {
 
-std::string ReadText(const std::string& path) {
-  std::ifstream in(path);
-  std::stringstream s;
-  s << in.rdbuf();
-  return s.str();
+nlohmann::json ReadJson(const std::string& path) {
+  return nlohmann::json::parse(testing::ReadFileBytes(path));
 }
-
-nlohmann::json ReadJson(const std::string& path) { return nlohmann::json::parse(ReadText(path)); }
 
 // Exit status of a shell command line (output to the log file given in it).
 int Shell(const std::string& command) {
@@ -51,9 +44,9 @@ TEST(Workflow, CalibratesTheEmulatedRigAndTheObserverFindsThePush) {
       Shell("VIBID='" VIBID_CLI_PATH "' '" VIBID_SOURCE_DIR "/scripts/workflow' --device '" +
             emu->device_spec() + "' --out '" + out + "' --truth '" + truth_path + "' > '" + log +
             "' 2>&1");
-  ASSERT_EQ(rc, 0) << ReadText(log);
+  ASSERT_EQ(rc, 0) << testing::ReadFileBytes(log);
   // Every acquisition fit the link: the CLI names any record the board dropped.
-  const std::string transcript = ReadText(log);
+  const std::string transcript = testing::ReadFileBytes(log);
   EXPECT_EQ(transcript.find("the board dropped"), std::string::npos) << transcript;
   EXPECT_NE(transcript.find("link          64000 B/s"), std::string::npos)
       << "vibid info shows the board's link";
@@ -78,11 +71,11 @@ TEST(Workflow, CalibratesTheEmulatedRigAndTheObserverFindsThePush) {
   EXPECT_GE(fit_updated, 95.0);
   EXPECT_LT(fit_nominal, fit_updated - 10.0);
 
-  const std::string bitexact = ReadText(out + "/bitexact.txt");
+  const std::string bitexact = testing::ReadFileBytes(out + "/bitexact.txt");
   EXPECT_NE(bitexact.find("bit-exact: "), std::string::npos) << bitexact;
   EXPECT_NE(bitexact.find("samples of d_hat_q31 equal the replay"), std::string::npos) << bitexact;
 
-  const std::string html = ReadText(out + "/report.html");
+  const std::string html = testing::ReadFileBytes(out + "/report.html");
   std::size_t figures = 0;
   for (std::size_t at = html.find("<svg "); at != std::string::npos;
        at = html.find("<svg ", at + 1))

@@ -101,9 +101,7 @@ void Core::Respond(const Header& request, Status status, std::span<const std::ui
 
 template <typename Payload>
 void Core::RespondWith(const Header& request, const Payload& payload) {
-  std::array<std::uint8_t, Payload::kBytes> bytes{};
-  wire::Encode(payload, bytes);
-  Respond(request, Status::kOk, bytes);
+  Respond(request, Status::kOk, wire::EncodedBytes(payload));
 }
 
 wire::InfoResponse Core::Info() const {

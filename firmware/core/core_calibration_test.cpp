@@ -17,6 +17,12 @@ using testing::Response;
 using testing::TestRecord;
 using wire::Command;
 
+wire::Report Begin(std::span<const std::uint8_t> record, std::uint16_t token) {
+  wire::Report r{};
+  EXPECT_EQ(wire::BuildCalPutBegin(record, token, r), Status::kOk);
+  return r;
+}
+
 wire::Report Chunk(std::span<const std::uint8_t> record, std::size_t i, std::uint16_t token) {
   wire::Report r{};
   (void)wire::BuildCalPutData(record, i, token, r);
@@ -85,9 +91,7 @@ TEST(CoreCalibration, UploadCommitReadBackAndReboot) {
 TEST(CoreCalibration, CorruptedReportIsRejectedAndNothingStaged) {
   CoreHarness h;
   const auto record = Encoded(TestRecord(1));
-  wire::Report begin{};
-  ASSERT_EQ(wire::BuildCalPutBegin(record, 0x11, begin), Status::kOk);
-  ASSERT_EQ(h.Raw(begin).status(), Status::kOk);
+  ASSERT_EQ(h.Raw(Begin(record, 0x11)).status(), Status::kOk);
   Status last = Status::kOk;
   for (std::size_t i = 0; i < wire::CalPutChunkCount(record.size()); ++i) {
     wire::Report chunk = Chunk(record, i, 0x11);
@@ -108,8 +112,7 @@ TEST(CoreCalibration, CorruptedReportIsRejectedAndNothingStaged) {
 TEST(CoreCalibration, OutOfOrderOrShortChunksAbortTheTransfer) {
   CoreHarness h;
   const auto record = Encoded(TestRecord(1));
-  wire::Report begin{};
-  ASSERT_EQ(wire::BuildCalPutBegin(record, 0x12, begin), Status::kOk);
+  const wire::Report begin = Begin(record, 0x12);
 
   ASSERT_EQ(h.Raw(begin).status(), Status::kOk);
   EXPECT_EQ(h.Raw(Chunk(record, 0, 0x12)).status(), Status::kOk);

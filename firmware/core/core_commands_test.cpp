@@ -124,25 +124,25 @@ TEST(CoreCommands, RefusesMalformedReports) {
   EXPECT_EQ(a.status(), Status::kVersionMismatch);
   EXPECT_EQ(a.header.protocol_major, wire::kProtocolMajor);  // the device says what it speaks
 
-  wire::Report response_flag = r;
-  response_flag[wire::kOffFlags] = wire::kFlagResponse;
-  EXPECT_EQ(h.Raw(response_flag).status(), Status::kInvalidArgument);
-
-  wire::Report reserved = r;
-  reserved[wire::kOffReserved] = 1;
-  EXPECT_EQ(h.Raw(reserved).status(), Status::kInvalidArgument);
-
-  wire::Report long_payload = r;
-  long_payload[wire::kOffPayloadLength] = 53;
-  EXPECT_EQ(h.Raw(long_payload).status(), Status::kInvalidArgument);
-
-  wire::Report sequenced = r;
-  sequenced[wire::kOffSequence] = 1;
-  EXPECT_EQ(h.Raw(sequenced).status(), Status::kInvalidArgument);
-
-  wire::Report unknown = r;
-  unknown[wire::kOffCommand] = 0x55;
-  EXPECT_EQ(h.Raw(unknown).status(), Status::kUnimplemented);
+  // One header byte off each.
+  struct Malformed {
+    const char* what;
+    std::size_t offset;
+    std::uint8_t value;
+    Status status;
+  };
+  const Malformed cases[] = {
+      {"response flag", wire::kOffFlags, wire::kFlagResponse, Status::kInvalidArgument},
+      {"reserved byte", wire::kOffReserved, 1, Status::kInvalidArgument},
+      {"payload longer than a report", wire::kOffPayloadLength, 53, Status::kInvalidArgument},
+      {"sequence on a request", wire::kOffSequence, 1, Status::kInvalidArgument},
+      {"unknown command", wire::kOffCommand, 0x55, Status::kUnimplemented},
+  };
+  for (const Malformed& m : cases) {
+    wire::Report bad = r;
+    bad[m.offset] = m.value;
+    EXPECT_EQ(h.Raw(bad).status(), m.status) << m.what;
+  }
 
   EXPECT_EQ(h.core.rejected_requests(), 7u);
   wire::StatusResponse s;

@@ -30,6 +30,18 @@ wire::AcqConfigureRequest Config(std::uint8_t mask, std::uint16_t decimation) {
   return c;
 }
 
+/// Config(mask, 1) armed until force `channel` crosses `threshold`, keeping `pretrigger` records
+/// from before the crossing.
+wire::AcqConfigureRequest Triggered(std::uint8_t mask, wire::TriggerMode mode, std::uint8_t channel,
+                                    std::int32_t threshold, std::uint32_t pretrigger) {
+  wire::AcqConfigureRequest c = Config(mask, 1);
+  c.trigger_mode = mode;
+  c.trigger_channel = channel;
+  c.trigger_threshold = threshold;
+  c.pretrigger_records = pretrigger;
+  return c;
+}
+
 TEST(CoreLog, ImmediateAcquisitionStreamsEveryRecord) {
   CoreHarness h;
   ASSERT_EQ(h.StartAcquisition(Config(wire::kAllChannelsMask, 1)), Status::kOk);
@@ -139,11 +151,7 @@ TEST(CoreLog, MaxRecordsLimitsTheStream) {
 
 TEST(CoreLog, ForceTriggerKeepsPreTriggerRecords) {
   CoreHarness h;
-  wire::AcqConfigureRequest c = Config(0b000001, 1);
-  c.trigger_mode = wire::TriggerMode::kRising;
-  c.trigger_channel = 0;
-  c.trigger_threshold = 30;
-  c.pretrigger_records = 5;
+  wire::AcqConfigureRequest c = Triggered(0b000001, wire::TriggerMode::kRising, 0, 30, 5);
   c.record_limit = 8;
   ASSERT_EQ(h.StartAcquisition(c), Status::kOk);
   // Force 1 reads k at frame k: it reaches 30 at frame 30.
@@ -170,12 +178,8 @@ TEST(CoreLog, ForceTriggerKeepsPreTriggerRecords) {
 
 TEST(CoreLog, FallingTriggerWithFewerFramesThanPreTrigger) {
   CoreHarness h;
-  wire::AcqConfigureRequest c = Config(0b000010, 1);
-  c.trigger_mode = wire::TriggerMode::kFalling;
-  c.trigger_channel = 1;
-  c.trigger_threshold = 98;
-  c.pretrigger_records = 10;
-  ASSERT_EQ(h.StartAcquisition(c), Status::kOk);
+  ASSERT_EQ(h.StartAcquisition(Triggered(0b000010, wire::TriggerMode::kFalling, 1, 98, 10)),
+            Status::kOk);
   h.EmitRamp(6, kBase, -1);  // force 2 = 100 - k: reaches 98 at frame 2
   const PulledLog log = PullLog(h, 0, 0);
   ASSERT_EQ(log.status, Status::kOk);

@@ -20,6 +20,16 @@ std::uint32_t ValueAt(const LogRing& ring, std::uint32_t index) {
   return static_cast<std::uint32_t>(r[0] | r[1] << 8 | r[2] << 16 | r[3] << 24);
 }
 
+// Room for ten records, triggered before the first: every record pushed is kept until released.
+struct TriggeredRing {
+  TriggeredRing() {
+    EXPECT_EQ(ring.Reset(4, 0), Status::kOk);
+    ring.MarkTrigger();
+  }
+  std::array<std::uint8_t, 40> storage{};
+  LogRing ring{storage};
+};
+
 TEST(LogRing, CapacityAndResetRefusals) {
   std::array<std::uint8_t, 40> storage{};
   LogRing ring(storage);
@@ -51,10 +61,8 @@ TEST(LogRing, PreTriggerKeepsNewestAcrossWraps) {
 // After the trigger nothing is overwritten: a full ring refuses, a release makes room, and
 // indices stay continuous while the slots wrap.
 TEST(LogRing, FullAfterTriggerRefusesUntilReleased) {
-  std::array<std::uint8_t, 40> storage{};
-  LogRing ring(storage);
-  ASSERT_EQ(ring.Reset(4, 0), Status::kOk);
-  ring.MarkTrigger();
+  TriggeredRing t;
+  LogRing& ring = t.ring;
   std::uint32_t n = 0;
   for (; n < 10; ++n) EXPECT_TRUE(ring.Push(Rec(n)));
   EXPECT_FALSE(ring.Push(Rec(999)));
@@ -81,10 +89,8 @@ TEST(LogRing, FullAfterTriggerRefusesUntilReleased) {
 // A release only lets the producer reuse slots: released records read back unchanged until the
 // producer writes over them, and the oldest readable index follows the overwrites.
 TEST(LogRing, ReleasedRecordsStayReadableUntilOverwritten) {
-  std::array<std::uint8_t, 40> storage{};
-  LogRing ring(storage);
-  ASSERT_EQ(ring.Reset(4, 0), Status::kOk);
-  ring.MarkTrigger();
+  TriggeredRing t;
+  LogRing& ring = t.ring;
   for (std::uint32_t n = 0; n < 8; ++n) ASSERT_TRUE(ring.Push(Rec(n)));
   ASSERT_EQ(ring.Release(8), Status::kOk);  // a host pulled everything while sampling
   EXPECT_EQ(ring.released(), 8u);
@@ -110,10 +116,8 @@ TEST(LogRing, ReleasedRecordsStayReadableUntilOverwritten) {
 
 // Release never moves back; a release beyond the log is refused and changes nothing.
 TEST(LogRing, ReleaseIsMonotonic) {
-  std::array<std::uint8_t, 40> storage{};
-  LogRing ring(storage);
-  ASSERT_EQ(ring.Reset(4, 0), Status::kOk);
-  ring.MarkTrigger();
+  TriggeredRing t;
+  LogRing& ring = t.ring;
   for (std::uint32_t n = 0; n < 6; ++n) ASSERT_TRUE(ring.Push(Rec(n)));
   ASSERT_EQ(ring.Release(5), Status::kOk);
   EXPECT_EQ(ring.Release(2), Status::kOk);  // a re-read from 2 does not take space back
@@ -130,10 +134,8 @@ TEST(LogRing, ReleaseIsMonotonic) {
 // An unreleased record is never overwritten, even when the full ring makes written() reach
 // index + capacity: the producer drops instead, so the whole log stays readable from 0.
 TEST(LogRing, FullRingWithoutReleaseKeepsIndexZero) {
-  std::array<std::uint8_t, 40> storage{};
-  LogRing ring(storage);
-  ASSERT_EQ(ring.Reset(4, 0), Status::kOk);
-  ring.MarkTrigger();
+  TriggeredRing t;
+  LogRing& ring = t.ring;
   for (std::uint32_t n = 0; n < 10; ++n) ASSERT_TRUE(ring.Push(Rec(n)));
   EXPECT_FALSE(ring.Push(Rec(10)));
   EXPECT_EQ(ring.oldest(), 0u);
@@ -144,10 +146,8 @@ TEST(LogRing, FullRingWithoutReleaseKeepsIndexZero) {
 // The reader's re-check after a copy: a record copied, then overwritten by the producer before
 // the check, is reported as no longer intact, and the copy indeed differs from the record.
 TEST(LogRing, RecheckAfterCopyDetectsAnOverwrite) {
-  std::array<std::uint8_t, 40> storage{};
-  LogRing ring(storage);
-  ASSERT_EQ(ring.Reset(4, 0), Status::kOk);
-  ring.MarkTrigger();
+  TriggeredRing t;
+  LogRing& ring = t.ring;
   for (std::uint32_t n = 0; n < 9; ++n) ASSERT_TRUE(ring.Push(Rec(n)));
   ASSERT_EQ(ring.Release(9), Status::kOk);
 

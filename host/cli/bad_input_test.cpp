@@ -28,13 +28,6 @@ void WriteBytes(const std::string& path, const std::string& bytes) {
   out << bytes;
 }
 
-std::string ReadBytes(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  std::ostringstream ss;
-  ss << in.rdbuf();
-  return ss.str();
-}
-
 // A 1-DOF rig (m = 1 kg, k = 4e4 N/m, c = 20 N s/m) driven by a deterministic random force at
 // 1 kHz, integrated exactly enough for a well-formed recording: only the file's form matters here.
 std::string GoodRecording() {
@@ -371,8 +364,8 @@ TEST_F(BadInput, ModelJson) {
 TEST_F(BadInput, FrfFiles) {
   const std::vector<std::string> modes = {"modes", "{IN}",   "--method", "peaks", "--max-modes",
                                           "1",     "--json", "-o",       "{OUT}"};
-  const std::string csv = ReadBytes(*dir_ + "/frf.csv");
-  const std::string uff = ReadBytes(*dir_ + "/frf.uff");
+  const std::string csv = ReadFileBytes(*dir_ + "/frf.csv");
+  const std::string uff = ReadFileBytes(*dir_ + "/frf.uff");
   ASSERT_FALSE(csv.empty());
   ASSERT_FALSE(uff.empty());
   const std::vector<Row> rows = {
@@ -413,7 +406,7 @@ TEST_F(BadInput, FrfFiles) {
 }
 
 TEST_F(BadInput, DesignSensorsAndRigJson) {
-  const std::string design = ReadBytes(*dir_ + "/design.json");
+  const std::string design = ReadFileBytes(*dir_ + "/design.json");
   ASSERT_FALSE(design.empty());
   const std::vector<std::string> run = {"dob",  "run",     "{DIR}/rec.csv", "--design",
                                         "{IN}", "--force", "force_n",       "--response",

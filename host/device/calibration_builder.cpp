@@ -3,6 +3,7 @@
 #include <cmath>
 #include <cstdint>
 
+#include "vibid/common/enum_names.hpp"
 #include "vibid/common/error.hpp"
 #include "vibid/common/text_input.hpp"
 #include "vibid/device/log_table.hpp"
@@ -12,11 +13,15 @@ namespace {
 
 constexpr double kQ31 = 2147483648.0;
 
+// The physical units a sensors file may name; a channel without one stays in raw counts.
+constexpr EnumNames<wire::Unit, 4> kUnitNames{{{wire::Unit::kNewton, "N"},
+                                               {wire::Unit::kMeterPerSecond2, "m/s2"},
+                                               {wire::Unit::kMeter, "m"},
+                                               {wire::Unit::kMeterPerSecond, "m/s"}}};
+
 wire::Unit UnitFromName(const std::string& name, const std::string& where) {
-  if (name == "N") return wire::Unit::kNewton;
-  if (name == "m/s2" || name == "m/s^2") return wire::Unit::kMeterPerSecond2;
-  if (name == "m") return wire::Unit::kMeter;
-  if (name == "m/s") return wire::Unit::kMeterPerSecond;
+  if (name == "m/s^2") return wire::Unit::kMeterPerSecond2;
+  if (const std::optional<wire::Unit> unit = FindByName(kUnitNames, name)) return *unit;
   throw InputError(where + ": unit '" + Printable(name) + "' is not one of N, m/s2, m, m/s");
 }
 
@@ -32,6 +37,8 @@ wire::Unit UnitOfInput(fixed::InputKind kind) {
 }
 
 }  // namespace
+
+const char* UnitName(wire::Unit unit) { return NameOf(kUnitNames, unit, "counts"); }
 
 SensorSet SensorsFromJson(const nlohmann::json& j, const std::string& source) {
   const auto fail = [&](const std::string& what) { throw InputError(source + ": " + what); };

@@ -12,17 +12,11 @@
 namespace vibid::device {
 namespace {
 
-// DFU class requests (DFU 1.1 table 3.2) and DfuSe download commands (UM0424 §6).
-constexpr std::uint8_t kDfuDnload = 1;
-constexpr std::uint8_t kDfuUpload = 2;
-constexpr std::uint8_t kDfuGetStatus = 3;
-constexpr std::uint8_t kDfuClrStatus = 4;
-constexpr std::uint8_t kDfuAbort = 6;
-constexpr std::uint8_t kDfuSeSetAddress = 0x21;
-constexpr std::uint8_t kDfuSeErase = 0x41;
 constexpr std::uint8_t kRequestOut = 0x21;  // class, interface, host-to-device
 constexpr std::uint8_t kRequestIn = 0xA1;
 constexpr std::chrono::milliseconds kTimeout{5000};
+
+constexpr std::uint8_t Code(dfu::Request r) { return static_cast<std::uint8_t>(r); }
 
 std::string Hex(std::uint32_t v) {
   char b[11];
@@ -30,9 +24,10 @@ std::string Hex(std::uint32_t v) {
   return b;
 }
 
-std::array<std::uint8_t, 5> Command(std::uint8_t command, std::uint32_t address) {
-  return {command, static_cast<std::uint8_t>(address), static_cast<std::uint8_t>(address >> 8),
-          static_cast<std::uint8_t>(address >> 16), static_cast<std::uint8_t>(address >> 24)};
+std::array<std::uint8_t, 5> Command(dfu::DfuSeCommand command, std::uint32_t address) {
+  return {static_cast<std::uint8_t>(command), static_cast<std::uint8_t>(address),
+          static_cast<std::uint8_t>(address >> 8), static_cast<std::uint8_t>(address >> 16),
+          static_cast<std::uint8_t>(address >> 24)};
 }
 
 }  // namespace
@@ -112,31 +107,31 @@ DfuSe DfuSe::Open(UsbControl& usb, std::vector<DfuSeSector>& layout) {
   return DfuSe(usb, static_cast<std::uint8_t>(interface), transfer);
 }
 
-DfuStatusReply DfuSe::GetStatus() {
-  Setup s{kRequestIn, kDfuGetStatus, 0, interface_, 6};
+dfu::StatusReply DfuSe::GetStatus() {
+  Setup s{kRequestIn, Code(dfu::Request::kGetStatus), 0, interface_, dfu::kStatusReplyBytes};
   const std::vector<std::uint8_t> r = usb_->Control(s, {}, kTimeout);
-  if (r.size() != 6) throw DeviceError("malformed DFU_GETSTATUS answer");
-  return DfuStatusReply{r[0], static_cast<std::uint32_t>(r[1] | (r[2] << 8) | (r[3] << 16)),
-                        static_cast<DfuState>(r[4])};
+  if (r.size() != dfu::kStatusReplyBytes) throw DeviceError("malformed DFU_GETSTATUS answer");
+  return dfu::DecodeStatusReply(std::span<const std::uint8_t, dfu::kStatusReplyBytes>(r));
 }
 
 void DfuSe::ClearStatus() {
-  static_cast<void>(
-      usb_->Control(Setup{kRequestOut, kDfuClrStatus, 0, interface_, 0}, {}, kTimeout));
+  static_cast<void>(usb_->Control(
+      Setup{kRequestOut, Code(dfu::Request::kClrStatus), 0, interface_, 0}, {}, kTimeout));
 }
 void DfuSe::Abort() {
-  static_cast<void>(usb_->Control(Setup{kRequestOut, kDfuAbort, 0, interface_, 0}, {}, kTimeout));
+  static_cast<void>(usb_->Control(Setup{kRequestOut, Code(dfu::Request::kAbort), 0, interface_, 0},
+                                  {}, kTimeout));
 }
 
-DfuStatusReply DfuSe::Settle(const std::string& what) {
+dfu::StatusReply DfuSe::Settle(const std::string& what) {
   for (int i = 0; i < 10000; ++i) {
-    const DfuStatusReply st = GetStatus();
-    if (st.state == DfuState::kError || st.status != 0) {
+    const dfu::StatusReply st = GetStatus();
+    if (st.state == dfu::State::kError || st.status != dfu::Status::kOk) {
       ClearStatus();
       throw DeviceError(what + " failed in the bootloader (DFU status " +
-                        std::to_string(st.status) + ")");
+                        std::to_string(static_cast<int>(st.status)) + ")");
     }
-    if (st.state != DfuState::kDnBusy) return st;
+    if (st.state != dfu::State::kDnBusy) return st;
     std::this_thread::sleep_for(std::chrono::milliseconds(st.poll_timeout_ms));
   }
   throw DeviceError(what + ": the bootloader stayed busy");
@@ -144,21 +139,22 @@ DfuStatusReply DfuSe::Settle(const std::string& what) {
 
 void DfuSe::Dnload(std::uint16_t block, std::span<const std::uint8_t> data,
                    const std::string& what) {
-  Setup s{kRequestOut, kDfuDnload, block, interface_, static_cast<std::uint16_t>(data.size())};
+  Setup s{kRequestOut, Code(dfu::Request::kDnload), block, interface_,
+          static_cast<std::uint16_t>(data.size())};
   static_cast<void>(usb_->Control(s, data, kTimeout));
-  const DfuStatusReply st = Settle(what);
-  if (!data.empty() && st.state != DfuState::kDnloadIdle) {
+  const dfu::StatusReply st = Settle(what);
+  if (!data.empty() && st.state != dfu::State::kDnloadIdle) {
     throw DeviceError(what + ": the bootloader is in DFU state " +
                       std::to_string(static_cast<int>(st.state)));
   }
 }
 
 void DfuSe::SetAddress(std::uint32_t address) {
-  Dnload(0, Command(kDfuSeSetAddress, address), "set address " + Hex(address));
+  Dnload(0, Command(dfu::DfuSeCommand::kSetAddressPointer, address), "set address " + Hex(address));
 }
 
 void DfuSe::EraseSector(std::uint32_t address) {
-  Dnload(0, Command(kDfuSeErase, address), "erase at " + Hex(address));
+  Dnload(0, Command(dfu::DfuSeCommand::kErase, address), "erase at " + Hex(address));
 }
 
 void DfuSe::Download(std::uint16_t block, std::span<const std::uint8_t> data) {
@@ -166,12 +162,13 @@ void DfuSe::Download(std::uint16_t block, std::span<const std::uint8_t> data) {
 }
 
 std::vector<std::uint8_t> DfuSe::Upload(std::uint16_t block, std::uint16_t length) {
-  return usb_->Control(Setup{kRequestIn, kDfuUpload, block, interface_, length}, {}, kTimeout);
+  return usb_->Control(Setup{kRequestIn, Code(dfu::Request::kUpload), block, interface_, length},
+                       {}, kTimeout);
 }
 
 void DfuSe::Leave(std::uint32_t address) {
   SetAddress(address);
-  Setup s{kRequestOut, kDfuDnload, 0, interface_, 0};
+  Setup s{kRequestOut, Code(dfu::Request::kDnload), 0, interface_, 0};
   static_cast<void>(usb_->Control(s, {}, kTimeout));
   // The bootloader answers this GETSTATUS with dfuMANIFEST and starts the application; a link
   // that drops right after is the expected end.
@@ -238,9 +235,9 @@ void FlashImage(DfuSe& dfu, const std::vector<DfuSeSector>& layout,
   } catch (const InputError& e) {
     throw DeviceError(std::string("the bootloader's flash layout refuses this image: ") + e.what());
   }
-  const DfuStatusReply start = dfu.GetStatus();
-  if (start.state == DfuState::kError) dfu.ClearStatus();
-  if (start.state != DfuState::kIdle) dfu.Abort();
+  const dfu::StatusReply start = dfu.GetStatus();
+  if (start.state == dfu::State::kError) dfu.ClearStatus();
+  if (start.state != dfu::State::kIdle) dfu.Abort();
   for (std::size_t i = 0; i < plan.erase.size(); ++i) {
     dfu.EraseSector(plan.erase[i]);
     if (progress) progress("erase", i + 1, plan.erase.size());

@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 
 #include "vibid/common/error.hpp"
+#include "vibid/common/testing/input_error.hpp"
 #include "vibid/device/error.hpp"
 
 namespace vibid::device {
@@ -30,13 +31,12 @@ TEST(ParseDfuSeLayout, RefusesMalformedStrings) {
 }
 
 std::string MessageOf(const std::vector<std::uint8_t>& image, std::uint32_t address) {
-  try {
-    PlanFlash(ParseDfuSeLayout(kBoardFlashLayout), image, address,
-              std::span(&kCalibrationSectors, 1));
-  } catch (const InputError& e) {
-    return e.what();
-  }
-  return "accepted";
+  return InputErrorOf(
+      [&] {
+        PlanFlash(ParseDfuSeLayout(dfu::kStm32f405FlashLayout), image, address,
+                  std::span(&kCalibrationSectors, 1));
+      },
+      "accepted");
 }
 
 // A board image as objcopy --gap-fill 0xff makes it: vectors and startup in sectors 0-1, the
@@ -44,7 +44,7 @@ std::string MessageOf(const std::vector<std::uint8_t>& image, std::uint32_t addr
 TEST(PlanFlash, SkipsTheCalibrationSectorsOfAWholeBoardImage) {
   std::vector<std::uint8_t> image(0x10000 + 300000, 0x5A);
   std::fill(image.begin() + 0x8000, image.begin() + 0x10000, 0xFF);
-  const FlashPlan p = PlanFlash(ParseDfuSeLayout(kBoardFlashLayout), image, 0x08000000,
+  const FlashPlan p = PlanFlash(ParseDfuSeLayout(dfu::kStm32f405FlashLayout), image, 0x08000000,
                                 std::span(&kCalibrationSectors, 1));
   // RM0090 table 5: sectors 0, 1 (16 KiB), 4 (64 KiB at 0x08010000), 5 and 6 (128 KiB); the image
   // ends at 0x08010000 + 300000 = 0x0805B3E0, inside sector 6 (0x08040000-0x0805FFFF).
@@ -59,7 +59,7 @@ TEST(PlanFlash, SkipsTheCalibrationSectorsOfAWholeBoardImage) {
 
 TEST(PlanFlash, ApplicationFromSector4UpToTheEndOfTheFlash) {
   const std::vector<std::uint8_t> image(0x100000 - 0x10000, 0x00);
-  const FlashPlan p = PlanFlash(ParseDfuSeLayout(kBoardFlashLayout), image, 0x08010000,
+  const FlashPlan p = PlanFlash(ParseDfuSeLayout(dfu::kStm32f405FlashLayout), image, 0x08010000,
                                 std::span(&kCalibrationSectors, 1));
   EXPECT_EQ(p.erase.size(), 8u);  // sectors 4..11
   ASSERT_EQ(p.write.size(), 1u);

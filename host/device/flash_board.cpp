@@ -36,7 +36,8 @@ FlashBoardResult FlashBoard(DeviceSpec spec, std::span<const std::uint8_t> image
                             const std::function<void(const std::string&)>& note) {
   const std::span<const FlashRange> keep(&kCalibrationSectors, 1);
   FlashBoardResult result;
-  result.plan = PlanFlash(ParseDfuSeLayout(kBoardFlashLayout), image, address, keep);
+  // Planned from the layout the bootloader will report, before the board is asked into DFU.
+  result.plan = PlanFlash(ParseDfuSeLayout(dfu::kStm32f405FlashLayout), image, address, keep);
   if (spec.kind == DeviceSpec::Kind::kAny) {
     const auto all = ListDevices();
     if (all.size() == 1) spec = ParseDeviceSpec(all[0].spec);
@@ -57,9 +58,10 @@ FlashBoardResult FlashBoard(DeviceSpec spec, std::span<const std::uint8_t> image
   }
   const std::unique_ptr<UsbControl> usb = AwaitBootloader([&]() -> std::unique_ptr<UsbControl> {
     if (spec.kind == DeviceSpec::Kind::kUsbip) {
-      return UsbipDevice::Open(spec.host, spec.port, {}, kDfuSeVendorId, kDfuSeProductId);
+      return UsbipDevice::Open(spec.host, spec.port, {}, dfu::kStBootloaderVendorId,
+                               dfu::kStBootloaderProductId);
     }
-    return OpenLibusbControl(kDfuSeVendorId, kDfuSeProductId, 0);
+    return OpenLibusbControl(dfu::kStBootloaderVendorId, dfu::kStBootloaderProductId, 0);
   });
   std::vector<DfuSeSector> layout;
   DfuSe dfu = DfuSe::Open(*usb, layout);

@@ -3,8 +3,10 @@
 #include <algorithm>
 #include <cmath>
 #include <cstring>
+#include <optional>
 
 #include "vibid/common/csv.hpp"
+#include "vibid/common/enum_names.hpp"
 #include "vibid/shared/fixed/decimator.hpp"
 #include "vibid/shared/fixed/filter_description.hpp"
 
@@ -13,39 +15,33 @@ namespace {
 
 constexpr double kQ31 = 2147483648.0;
 
+constexpr EnumNames<wire::Channel, wire::kChannelCount> kChannelStems{{
+    {wire::Channel::kForce1, "force1"},
+    {wire::Channel::kForce2, "force2"},
+    {wire::Channel::kAccel1, "acc1"},
+    {wire::Channel::kAccel2, "acc2"},
+    {wire::Channel::kEncoder1, "x1"},
+    {wire::Channel::kEncoder2, "x2"},
+}};
+
+constexpr EnumNames<wire::Unit, 5> kUnitSuffixes{{
+    {wire::Unit::kNewton, "n"},
+    {wire::Unit::kMeterPerSecond2, "m_s2"},
+    {wire::Unit::kMeter, "m"},
+    {wire::Unit::kMeterPerSecond, "m_s"},
+    {wire::Unit::kCounts, "counts"},
+}};
+
 }  // namespace
 
-const char* ChannelStem(wire::Channel channel) {
-  switch (channel) {
-    case wire::Channel::kForce1: return "force1";
-    case wire::Channel::kForce2: return "force2";
-    case wire::Channel::kAccel1: return "acc1";
-    case wire::Channel::kAccel2: return "acc2";
-    case wire::Channel::kEncoder1: return "x1";
-    case wire::Channel::kEncoder2: return "x2";
-  }
-  return "?";
-}
+const char* ChannelStem(wire::Channel channel) { return NameOf(kChannelStems, channel, "?"); }
 
-const char* UnitSuffix(wire::Unit unit) {
-  switch (unit) {
-    case wire::Unit::kNewton: return "n";
-    case wire::Unit::kMeterPerSecond2: return "m_s2";
-    case wire::Unit::kMeter: return "m";
-    case wire::Unit::kMeterPerSecond: return "m_s";
-    case wire::Unit::kCounts: return "counts";
-  }
-  return "counts";
-}
+const char* UnitSuffix(wire::Unit unit) { return NameOf(kUnitSuffixes, unit, "counts"); }
 
 bool ChannelFromStem(const std::string& stem, wire::Channel& channel) {
-  for (std::size_t i = 0; i < wire::kChannelCount; ++i) {
-    if (stem == ChannelStem(static_cast<wire::Channel>(i))) {
-      channel = static_cast<wire::Channel>(i);
-      return true;
-    }
-  }
-  return false;
+  const std::optional<wire::Channel> found = FindByName(kChannelStems, stem);
+  if (found) channel = *found;
+  return found.has_value();
 }
 
 namespace {

@@ -5,10 +5,10 @@
 namespace vibid::emu {
 namespace {
 
-constexpr std::uint8_t kCmdGetCommands = 0x00;
-constexpr std::uint8_t kCmdSetAddress = 0x21;
-constexpr std::uint8_t kCmdErase = 0x41;
-constexpr std::uint8_t kCmdReadUnprotect = 0x92;
+using dfu::DfuSeCommand;
+using dfu::State;
+
+constexpr std::uint8_t Byte(DfuSeCommand c) { return static_cast<std::uint8_t>(c); }
 
 // Poll times the bootloader asks for (bwPollTimeout). Shorter than the silicon's (a 128 KiB
 // sector erase takes about a second) because the emulated flash is a file, not because the
@@ -57,8 +57,8 @@ DfuSeBootloader::DfuSeBootloader(FlashImage& flash, usbip::UsbDevice record, std
 
 usbip::UsbDevice DfuSeBootloader::Describe() const {
   usbip::UsbDevice d = record_;
-  d.id_vendor = kVendorId;
-  d.id_product = kProductId;
+  d.id_vendor = dfu::kStBootloaderVendorId;
+  d.id_product = dfu::kStBootloaderProductId;
   d.bcd_device = 0x2200;
   d.device_class = d.device_subclass = d.device_protocol = 0;
   d.configuration_value = configuration_;
@@ -105,7 +105,7 @@ std::vector<std::uint8_t> DfuSeBootloader::StringDescriptor(std::uint8_t index) 
     case 1: text = "vibid"; break;
     case 2: text = "vibid DfuSe bootloader (emulated)"; break;
     case 3: text = serial_; break;
-    case 4: text = kMemoryLayout; break;
+    case 4: text = dfu::kStm32f405FlashLayout; break;
     default: return {};
   }
   std::vector<std::uint8_t> d = {static_cast<std::uint8_t>(2 + 2 * text.size()), 3};
@@ -145,22 +145,22 @@ UrbResult DfuSeBootloader::Standard(std::uint8_t request, std::uint16_t value,
   }
 }
 
-void DfuSeBootloader::Fail(DfuStatus status) {
+void DfuSeBootloader::Fail(dfu::Status status) {
   status_ = status;
   state_ = State::kError;
 }
 
 UrbResult DfuSeBootloader::StallAndError() {
-  Fail(DfuStatus::kErrStalledPkt);
+  Fail(dfu::Status::kErrStalledPkt);
   return Stall();
 }
 
 UrbResult DfuSeBootloader::Dfu(std::uint8_t request, std::uint16_t value,
                                const std::vector<std::uint8_t>& out, std::uint16_t length) {
-  switch (request) {
-    case 0:  // DETACH: already in the bootloader
+  switch (static_cast<dfu::Request>(request)) {
+    case dfu::Request::kDetach:  // already in the bootloader
       return {};
-    case 1: {  // DNLOAD
+    case dfu::Request::kDnload: {
       if (state_ != State::kIdle && state_ != State::kDnloadIdle) return StallAndError();
       if (length == 0) {
         if (state_ != State::kDnloadIdle) return StallAndError();
@@ -176,16 +176,19 @@ UrbResult DfuSeBootloader::Dfu(std::uint8_t request, std::uint16_t value,
       r.actual_length = length;
       return r;
     }
-    case 2: {  // UPLOAD
+    case dfu::Request::kUpload: {
       if (state_ != State::kIdle && state_ != State::kUploadIdle) return StallAndError();
       if (value == 0) {
         state_ = State::kUploadIdle;
-        return Data({kCmdGetCommands, kCmdSetAddress, kCmdErase, kCmdReadUnprotect}, length);
+        return Data({Byte(DfuSeCommand::kGetCommands), Byte(DfuSeCommand::kSetAddressPointer),
+                     Byte(DfuSeCommand::kErase), Byte(DfuSeCommand::kReadUnprotect)},
+                    length);
       }
-      if (value == 1) return StallAndError();
-      const std::uint32_t at = address_ + static_cast<std::uint32_t>(value - 2) * kTransferSize;
+      if (value < dfu::kFirstDataBlock) return StallAndError();
+      const std::uint32_t at =
+          address_ + static_cast<std::uint32_t>(value - dfu::kFirstDataBlock) * kTransferSize;
       if (!FlashImage::Contains(at, 1)) {
-        Fail(DfuStatus::kErrAddress);
+        Fail(dfu::Status::kErrAddress);
         return Stall();
       }
       const std::size_t n =
@@ -196,20 +199,20 @@ UrbResult DfuSeBootloader::Dfu(std::uint8_t request, std::uint16_t value,
       state_ = n < length ? State::kIdle : State::kUploadIdle;
       return Data(std::move(bytes), length);
     }
-    case 3: {
+    case dfu::Request::kGetStatus: {
       // Six bytes, or fewer if the host asked for fewer (a device never sends more than wLength).
       UrbResult r = GetStatus();
       if (r.in_data.size() > length) r.in_data.resize(length);
       r.actual_length = static_cast<std::uint32_t>(r.in_data.size());
       return r;
     }
-    case 4:  // CLRSTATUS
+    case dfu::Request::kClrStatus:
       if (state_ != State::kError) return StallAndError();
-      status_ = DfuStatus::kOk;
+      status_ = dfu::Status::kOk;
       state_ = State::kIdle;
       return {};
-    case 5: return Data({static_cast<std::uint8_t>(state_)}, length);  // GETSTATE
-    case 6:                                                            // ABORT
+    case dfu::Request::kGetState: return Data({static_cast<std::uint8_t>(state_)}, length);
+    case dfu::Request::kAbort:
       if (state_ == State::kError || state_ == State::kDnBusy || state_ == State::kManifest)
         return StallAndError();
       state_ = State::kIdle;
@@ -221,32 +224,34 @@ UrbResult DfuSeBootloader::Dfu(std::uint8_t request, std::uint16_t value,
 void DfuSeBootloader::ExecuteDownload() {
   poll_timeout_ms_ = kWritePollMs;
   if (block_ == 0) {
-    const std::uint8_t command = block_data_[0];
-    if (command == kCmdSetAddress && block_data_.size() == 5) {
+    const auto command = static_cast<DfuSeCommand>(block_data_[0]);
+    if (command == DfuSeCommand::kSetAddressPointer && block_data_.size() == 5) {
       const std::uint32_t a = Le32(block_data_, 1);
-      if (!FlashImage::Contains(a, 1)) return Fail(DfuStatus::kErrAddress);
+      if (!FlashImage::Contains(a, 1)) return Fail(dfu::Status::kErrAddress);
       address_ = a;
       return;
     }
-    if (command == kCmdErase && block_data_.size() == 1) {
+    if (command == DfuSeCommand::kErase && block_data_.size() == 1) {
       for (int s = 0; s < FlashImage::kSectorCount; ++s) (void)flash_.EraseSector(s);
       poll_timeout_ms_ = kMassErasePollMs;
       return;
     }
-    if (command == kCmdErase && block_data_.size() == 5) {
+    if (command == DfuSeCommand::kErase && block_data_.size() == 5) {
       const auto sector = FlashImage::SectorOf(Le32(block_data_, 1));
-      if (!sector) return Fail(DfuStatus::kErrAddress);
-      if (!flash_.EraseSector(*sector)) return Fail(DfuStatus::kErrErase);
+      if (!sector) return Fail(dfu::Status::kErrAddress);
+      if (!flash_.EraseSector(*sector)) return Fail(dfu::Status::kErrErase);
       poll_timeout_ms_ = kSectorErasePollMs;
       return;
     }
-    if (command == kCmdReadUnprotect && block_data_.size() == 1) return;  // nothing is protected
-    return Fail(DfuStatus::kErrTarget);
+    if (command == DfuSeCommand::kReadUnprotect && block_data_.size() == 1)
+      return;  // nothing is protected
+    return Fail(dfu::Status::kErrTarget);
   }
-  if (block_ == 1) return Fail(DfuStatus::kErrTarget);
-  const std::uint32_t at = address_ + static_cast<std::uint32_t>(block_ - 2) * kTransferSize;
-  if (!FlashImage::Contains(at, block_data_.size())) return Fail(DfuStatus::kErrAddress);
-  if (!flash_.Program(at, block_data_)) return Fail(DfuStatus::kErrVerify);
+  if (block_ < dfu::kFirstDataBlock) return Fail(dfu::Status::kErrTarget);
+  const std::uint32_t at =
+      address_ + static_cast<std::uint32_t>(block_ - dfu::kFirstDataBlock) * kTransferSize;
+  if (!FlashImage::Contains(at, block_data_.size())) return Fail(dfu::Status::kErrAddress);
+  if (!flash_.Program(at, block_data_)) return Fail(dfu::Status::kErrVerify);
 }
 
 UrbResult DfuSeBootloader::GetStatus() {
@@ -279,13 +284,10 @@ UrbResult DfuSeBootloader::GetStatus() {
     default: break;
   }
   UrbResult r;
-  r.in_data = {static_cast<std::uint8_t>(status_),
-               static_cast<std::uint8_t>(poll_ms & 0xFF),
-               static_cast<std::uint8_t>((poll_ms >> 8) & 0xFF),
-               static_cast<std::uint8_t>((poll_ms >> 16) & 0xFF),
-               static_cast<std::uint8_t>(reported),
-               0};
-  r.actual_length = 6;
+  r.in_data.resize(dfu::kStatusReplyBytes);
+  dfu::Encode(dfu::StatusReply{status_, poll_ms, reported},
+              std::span<std::uint8_t, dfu::kStatusReplyBytes>(r.in_data));
+  r.actual_length = dfu::kStatusReplyBytes;
   return r;
 }
 

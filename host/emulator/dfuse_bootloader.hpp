@@ -23,39 +23,13 @@
 
 #include "exported_device.hpp"
 #include "flash_image.hpp"
+#include "vibid/shared/dfu.hpp"
 
 namespace vibid::emu {
 
 class DfuSeBootloader final : public ExportedDevice {
  public:
-  static constexpr std::uint16_t kVendorId = 0x0483;  // as the STM32 system-memory bootloader
-  static constexpr std::uint16_t kProductId = 0xDF11;
   static constexpr std::uint16_t kTransferSize = 2048;
-  static constexpr const char* kMemoryLayout =
-      "@Internal Flash  /0x08000000/04*016Kg,01*064Kg,07*128Kg";
-
-  enum class State : std::uint8_t {
-    kAppIdle = 0,
-    kAppDetach = 1,
-    kIdle = 2,
-    kDnloadSync = 3,
-    kDnBusy = 4,
-    kDnloadIdle = 5,
-    kManifestSync = 6,
-    kManifest = 7,
-    kManifestWaitReset = 8,
-    kUploadIdle = 9,
-    kError = 10,
-  };
-  enum class DfuStatus : std::uint8_t {
-    kOk = 0x00,
-    kErrTarget = 0x01,
-    kErrWrite = 0x03,
-    kErrErase = 0x04,
-    kErrVerify = 0x07,
-    kErrAddress = 0x08,
-    kErrStalledPkt = 0x0F,
-  };
 
   /// `record` is the base identity (busid, bus/dev numbers); the ids become ST's bootloader's.
   DfuSeBootloader(FlashImage& flash, usbip::UsbDevice record, std::string serial);
@@ -69,7 +43,7 @@ class DfuSeBootloader final : public ExportedDevice {
 
   /// True once a manifestation completed: the emulator restarts the application.
   bool leave_requested() const { return leave_; }
-  State state() const { return state_; }
+  dfu::State state() const { return state_; }
 
  private:
   UrbResult Control(const std::array<std::uint8_t, 8>& setup, const std::vector<std::uint8_t>& out,
@@ -80,15 +54,15 @@ class DfuSeBootloader final : public ExportedDevice {
   UrbResult GetStatus();
   void ExecuteDownload();
   UrbResult StallAndError();
-  void Fail(DfuStatus status);
+  void Fail(dfu::Status status);
   std::vector<std::uint8_t> StringDescriptor(std::uint8_t index) const;
 
   FlashImage& flash_;
   usbip::UsbDevice record_;
   std::string serial_;
   UrbSink* sink_ = nullptr;
-  State state_ = State::kIdle;
-  DfuStatus status_ = DfuStatus::kOk;
+  dfu::State state_ = dfu::State::kIdle;
+  dfu::Status status_ = dfu::Status::kOk;
   bool download_done_ = false;
   std::uint32_t poll_timeout_ms_ = 0;
   std::uint32_t address_ = FlashImage::kBase;

@@ -9,6 +9,7 @@
 
 #include "scenario.hpp"
 #include "vibid/common/error.hpp"
+#include "vibid/common/testing/input_error.hpp"
 
 namespace vibid::emu {
 namespace {
@@ -260,13 +261,8 @@ TEST(RigFile, RoundTripAndClearErrors) {
   EXPECT_EQ(r.accelerometers[1].adc_bits, 12);
   EXPECT_DOUBLE_EQ(r.encoder_counts_per_m, 1e5);
 
-  auto message = [](nlohmann::json j) {
-    try {
-      RigFromJson(j, "rig.json");
-    } catch (const InputError& e) {
-      return std::string(e.what());
-    }
-    return std::string("accepted");
+  auto message = [](const nlohmann::json& j) {
+    return InputErrorOf([&] { RigFromJson(j, "rig.json"); }, "accepted");
   };
   nlohmann::json j = RigToJson(DefaultRig());
   j.erase("springs_n_per_m");

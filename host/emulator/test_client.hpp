@@ -11,6 +11,7 @@
 #include <thread>
 #include <vector>
 
+#include "vibid/device/usb_control.hpp"
 #include "vibid/shared/wire/commands.hpp"
 #include "vibid/shared/wire/crc32.hpp"
 #include "vibid/usbip/socket.hpp"
@@ -133,14 +134,7 @@ class TestClient {
 
 inline std::array<std::uint8_t, 8> Req(std::uint8_t type, std::uint8_t request, std::uint16_t value,
                                        std::uint16_t index, std::uint16_t length) {
-  return {type,
-          request,
-          static_cast<std::uint8_t>(value & 0xFF),
-          static_cast<std::uint8_t>(value >> 8),
-          static_cast<std::uint8_t>(index & 0xFF),
-          static_cast<std::uint8_t>(index >> 8),
-          static_cast<std::uint8_t>(length & 0xFF),
-          static_cast<std::uint8_t>(length >> 8)};
+  return device::Setup{type, request, value, index, length}.Bytes();
 }
 
 /// The board's command protocol over the HID interrupt endpoints of an imported emulator:
@@ -173,9 +167,7 @@ class DeviceSession {
   template <typename Payload>
   requires requires { Payload::kBytes; }
   Answer Request(wire::Command command, const Payload& payload) {
-    std::array<std::uint8_t, Payload::kBytes> bytes{};
-    wire::Encode(payload, bytes);
-    return Request(command, std::span<const std::uint8_t>(bytes));
+    return Request(command, wire::EncodedBytes(payload));
   }
 
   /// Uploads and commits a calibration record. @returns the commit's status.

@@ -61,6 +61,13 @@ class EmulatorOverUsbIp : public ::testing::Test {
     ASSERT_EQ(r.status, 0);
   }
 
+  // A request without a payload.
+  static wire::Report Request(wire::Command command, std::uint16_t token) {
+    wire::Report r{};
+    EXPECT_EQ(wire::BuildReport(command, token, 0, 0, Status::kOk, {}, r), Status::kOk);
+    return r;
+  }
+
   // One request over the HID interrupt endpoints; returns the answer's report.
   static wire::Report Transact(TestClient& c, const wire::Report& request) {
     const std::uint32_t in = c.Submit(1, Direction::kIn, 64);
@@ -173,11 +180,7 @@ TEST_F(EmulatorOverUsbIp, PingAndInfoOverInterruptEndpoints) {
   const auto payload = wire::PayloadOf(pong);
   EXPECT_TRUE(std::equal(payload.begin(), payload.end(), hello.begin(), hello.end()));
 
-  wire::Report get_info{};
-  ASSERT_EQ(wire::BuildReport(wire::Command::kGetInfo, 7, 0, 0, Status::kOk,
-                              std::span<const std::uint8_t>(), get_info),
-            Status::kOk);
-  const wire::Report info_report = Transact(c, get_info);
+  const wire::Report info_report = Transact(c, Request(wire::Command::kGetInfo, 7));
   wire::InfoResponse info;
   ASSERT_EQ(wire::Decode(wire::PayloadOf(info_report), info), Status::kOk);
   EXPECT_EQ(info.board_id, wire::BoardId::kEmulator);
@@ -219,11 +222,7 @@ TEST_F(EmulatorOverUsbIp, UnlinkCancelsAPendingInterruptIn) {
   EXPECT_EQ(c.Unlink(pending), usbip::kStatusUnlinked);
 
   // The unlinked URB never completes: the next answer goes to the next IN URB.
-  wire::Report ping{};
-  ASSERT_EQ(wire::BuildReport(wire::Command::kPing, 99, 0, 0, Status::kOk,
-                              std::span<const std::uint8_t>(), ping),
-            Status::kOk);
-  const wire::Report pong = Transact(c, ping);
+  const wire::Report pong = Transact(c, Request(wire::Command::kPing, 99));
   wire::Header h;
   ASSERT_EQ(wire::DecodeHeader(pong, h), Status::kOk);
   EXPECT_EQ(h.token, 99);
@@ -348,12 +347,9 @@ TEST_F(EmulatorOverUsbIp, DfuSeDownloadLandsInTheFlashFile) {
     // enter-DFU over HID: answered, then the device re-enumerates as the bootloader.
     TestClient app(port_);
     Configure(app);
-    wire::Report enter{};
-    ASSERT_EQ(wire::BuildReport(wire::Command::kEnterDfu, 5, 0, 0, Status::kOk,
-                                std::span<const std::uint8_t>(), enter),
-              Status::kOk);
     wire::Header h;
-    ASSERT_EQ(wire::DecodeHeader(Transact(app, enter), h), Status::kOk);
+    ASSERT_EQ(wire::DecodeHeader(Transact(app, Request(wire::Command::kEnterDfu, 5)), h),
+              Status::kOk);
     EXPECT_EQ(h.status, Status::kOk);
     EXPECT_TRUE(app.Closed(2000ms));
   }

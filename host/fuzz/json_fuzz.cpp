@@ -63,18 +63,6 @@ void Design(const nlohmann::json& j) {
   Require(bytes == bytes_again);
 }
 
-const char* UnitName(wire::Unit unit) {
-  switch (unit) {
-    case wire::Unit::kNewton: return "N";
-    case wire::Unit::kMeterPerSecond2: return "m/s2";
-    case wire::Unit::kMeter: return "m";
-    case wire::Unit::kMeterPerSecond: return "m/s";
-    case wire::Unit::kCounts: break;
-  }
-  Require(false);
-  return "";
-}
-
 void Sensors(const nlohmann::json& j) {
   std::optional<device::SensorSet> set;
   if (!Accepts([&] { set = device::SensorsFromJson(j, "fuzz.json"); })) return;
@@ -85,8 +73,8 @@ void Sensors(const nlohmann::json& j) {
     if (!s) continue;
     Require(std::isfinite(s->counts_per_unit) && s->counts_per_unit != 0.0 &&
             std::isfinite(s->full_scale) && s->full_scale > 0.0 && s->dof >= -1 &&
-            s->dof < static_cast<int>(wire::kMaxDof));
-    nlohmann::json channel = {{"unit", UnitName(s->unit)},
+            s->dof < static_cast<int>(wire::kMaxDof) && s->unit != wire::Unit::kCounts);
+    nlohmann::json channel = {{"unit", device::UnitName(s->unit)},
                               {"counts_per_unit", s->counts_per_unit},
                               {"offset_counts", s->offset_counts},
                               {"full_scale", s->full_scale}};

@@ -14,6 +14,15 @@ namespace {
 
 using testing::GoldenReport;
 
+// Encoding the values written out here must give golden report `golden` byte for byte.
+template <typename Payload>
+bool EncodesAsGolden(const char* golden, Command command, std::uint16_t token, std::uint8_t flags,
+                     const Payload& payload) {
+  Report out{};
+  return BuildReport(command, token, 0, flags, Status::kOk, payload, out) == Status::kOk &&
+         out == GoldenReport(golden);
+}
+
 InfoResponse ExpectedInfo() {
   InfoResponse v;
   v.fw_major = 0;
@@ -40,11 +49,8 @@ InfoResponse ExpectedInfo() {
 }
 
 TEST(Commands, InfoResponse) {
-  Report out{};
-  ASSERT_EQ(
-      BuildReport(Command::kGetInfo, 0x0102, 0, kFlagResponse, Status::kOk, ExpectedInfo(), out),
-      Status::kOk);
-  EXPECT_TRUE(out == GoldenReport("info_response"));
+  ASSERT_TRUE(
+      EncodesAsGolden("info_response", Command::kGetInfo, 0x0102, kFlagResponse, ExpectedInfo()));
 
   InfoResponse v;
   const Report golden = GoldenReport("info_response");
@@ -84,10 +90,7 @@ TEST(Commands, StatusResponse) {
   s.saturation_count = 3;
   s.trigger_record = 40;
   s.cal_sequence = 9;
-  Report out{};
-  ASSERT_EQ(BuildReport(Command::kGetStatus, 0xFFFF, 0, kFlagResponse, Status::kOk, s, out),
-            Status::kOk);
-  EXPECT_TRUE(out == GoldenReport("status_response"));
+  ASSERT_TRUE(EncodesAsGolden("status_response", Command::kGetStatus, 0xFFFF, kFlagResponse, s));
 
   StatusResponse v;
   ASSERT_EQ(Decode(PayloadOf(GoldenReport("status_response")), v), Status::kOk);
@@ -109,9 +112,7 @@ TEST(Commands, AcqConfigure) {
   a.trigger_threshold = 429496730;  // 0.2 of full scale in Q31
   a.pretrigger_records = 250;
   a.record_limit = 10000;
-  Report out{};
-  ASSERT_EQ(BuildReport(Command::kAcqConfigure, 0x0A0B, 0, 0, Status::kOk, a, out), Status::kOk);
-  EXPECT_TRUE(out == GoldenReport("acq_configure_request"));
+  ASSERT_TRUE(EncodesAsGolden("acq_configure_request", Command::kAcqConfigure, 0x0A0B, 0, a));
 
   AcqConfigureRequest v;
   Report golden = GoldenReport("acq_configure_request");
@@ -126,10 +127,9 @@ TEST(Commands, AcqConfigure) {
   golden[kOffPayload + 8] = 3;  // no such trigger mode
   EXPECT_EQ(Decode(PayloadOf(golden), v), Status::kInvalidArgument);
 
-  ASSERT_EQ(BuildReport(Command::kAcqConfigure, 0x0A0B, 0, kFlagResponse, Status::kOk,
-                        AcqConfigureResponse{.record_bytes = 12, .capacity_records = 6144}, out),
-            Status::kOk);
-  EXPECT_TRUE(out == GoldenReport("acq_configure_response"));
+  ASSERT_TRUE(EncodesAsGolden("acq_configure_response", Command::kAcqConfigure, 0x0A0B,
+                              kFlagResponse,
+                              AcqConfigureResponse{.record_bytes = 12, .capacity_records = 6144}));
 }
 
 TEST(Commands, LatestResponse) {
@@ -139,32 +139,20 @@ TEST(Commands, LatestResponse) {
   l.d_hat = 99;
   l.acq_state = AcqState::kAcquiring;
   l.dob_running = 1;
-  Report out{};
-  ASSERT_EQ(BuildReport(Command::kReadLatest, 3, 0, kFlagResponse, Status::kOk, l, out),
-            Status::kOk);
-  EXPECT_TRUE(out == GoldenReport("latest_response"));
+  ASSERT_TRUE(EncodesAsGolden("latest_response", Command::kReadLatest, 3, kFlagResponse, l));
   LatestResponse v;
-  ASSERT_EQ(Decode(PayloadOf(out), v), Status::kOk);
+  ASSERT_EQ(Decode(PayloadOf(GoldenReport("latest_response")), v), Status::kOk);
   EXPECT_EQ(v.calibrated[5], -6);
   EXPECT_EQ(v.d_hat, 99);
 }
 
 TEST(Commands, LogReadAndCalibrationSmallPayloads) {
-  Report out{};
-  ASSERT_EQ(BuildReport(Command::kLogRead, 0x7777, 0, 0, Status::kOk,
-                        LogReadRequest{.first_record = 10, .max_records = 5}, out),
-            Status::kOk);
-  EXPECT_TRUE(out == GoldenReport("log_read_request"));
-
-  ASSERT_EQ(BuildReport(Command::kCalCommit, 0x0C0D, 0, kFlagResponse, Status::kOk,
-                        CalCommitResponse{.slot = 1, .sequence = 8}, out),
-            Status::kOk);
-  EXPECT_TRUE(out == GoldenReport("cal_commit_response"));
-
-  ASSERT_EQ(
-      BuildReport(Command::kDobControl, 9, 0, 0, Status::kOk, DobControlRequest{.run = 1}, out),
-      Status::kOk);
-  EXPECT_TRUE(out == GoldenReport("dob_control_request"));
+  ASSERT_TRUE(EncodesAsGolden("log_read_request", Command::kLogRead, 0x7777, 0,
+                              LogReadRequest{.first_record = 10, .max_records = 5}));
+  ASSERT_TRUE(EncodesAsGolden("cal_commit_response", Command::kCalCommit, 0x0C0D, kFlagResponse,
+                              CalCommitResponse{.slot = 1, .sequence = 8}));
+  ASSERT_TRUE(EncodesAsGolden("dob_control_request", Command::kDobControl, 9, 0,
+                              DobControlRequest{.run = 1}));
   DobControlRequest d;
   const std::array<std::uint8_t, 1> two{2};
   EXPECT_EQ(Decode(two, d), Status::kInvalidArgument);
@@ -175,9 +163,7 @@ TEST(Commands, ScenarioRequest) {
   const char name[] = "shaker";
   for (std::size_t i = 0; i + 1 < sizeof(name); ++i) s.name[i] = name[i];
   s.params = {16.0f, 2.5f, 0.0f, -1.0f};
-  Report out{};
-  ASSERT_EQ(BuildReport(Command::kSelectScenario, 0x70, 0, 0, Status::kOk, s, out), Status::kOk);
-  EXPECT_TRUE(out == GoldenReport("scenario_request"));
+  ASSERT_TRUE(EncodesAsGolden("scenario_request", Command::kSelectScenario, 0x70, 0, s));
 
   ScenarioRequest v;
   Report golden = GoldenReport("scenario_request");
@@ -197,17 +183,15 @@ TEST(Commands, InjectFrames) {
   f.raw[1] = {2047, 2048, 4095, 0, INT32_MAX, INT32_MIN};
   std::array<std::uint8_t, InjectFramesRequest::kBytes> bytes{};
   Encode(f, bytes);
-  Report out{};
-  ASSERT_EQ(BuildReport(Command::kInjectFrames, 0x71, 0, 0, Status::kOk,
-                        std::span<const std::uint8_t>(bytes).first(EncodedSize(f)), out),
-            Status::kOk);
-  EXPECT_TRUE(out == GoldenReport("inject_frames_request"));
+  ASSERT_TRUE(EncodesAsGolden("inject_frames_request", Command::kInjectFrames, 0x71, 0,
+                              std::span<const std::uint8_t>(bytes).first(EncodedSize(f))));
 
   InjectFramesRequest v;
-  ASSERT_EQ(Decode(PayloadOf(out), v), Status::kOk);
+  const Report golden = GoldenReport("inject_frames_request");
+  ASSERT_EQ(Decode(PayloadOf(golden), v), Status::kOk);
   EXPECT_EQ(v.frame_count, 2);
   EXPECT_EQ(v.raw[1][5], INT32_MIN);
-  EXPECT_EQ(Decode(PayloadOf(out).first(28), v), Status::kInvalidArgument);  // count says 2
+  EXPECT_EQ(Decode(PayloadOf(golden).first(28), v), Status::kInvalidArgument);  // count says 2
 }
 
 TEST(Commands, NamesAndPortRange) {

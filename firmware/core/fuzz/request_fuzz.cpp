@@ -390,35 +390,32 @@ class Script {
     h.token = token;
     h.payload_length = static_cast<std::uint8_t>(payload.size());
     Require(wire::EncodeReport(h, payload, r) == Status::kOk);
-    switch (in_.ConsumeIntegralInRange<int>(0, 6)) {
+    // One-byte header fields and the lowest broken value written there: above what a request
+    // carries (major 2, at most 52 payload bytes, zero flags, reserved byte and status).
+    struct BrokenByte {
+      std::size_t offset;
+      unsigned lowest;
+    };
+    constexpr BrokenByte kBrokenBytes[] = {{wire::kOffProtocolMajor, 3},
+                                           {wire::kOffPayloadLength, 53},
+                                           {wire::kOffFlags, 1},
+                                           {wire::kOffReserved, 1},
+                                           {wire::kOffStatus, 1}};
+    switch (const int field = in_.ConsumeIntegralInRange<int>(0, 6)) {
       case 0:
         r[in_.ConsumeIntegralInRange<std::size_t>(0, 1)] ^=
-            static_cast<std::uint8_t>(in_.ConsumeIntegralInRange<unsigned>(1, 255));
-        break;
-      case 1:
-        r[wire::kOffProtocolMajor] =
-            static_cast<std::uint8_t>(in_.ConsumeIntegralInRange<unsigned>(3, 255));
-        break;
-      case 2:
-        r[wire::kOffPayloadLength] =
-            static_cast<std::uint8_t>(in_.ConsumeIntegralInRange<unsigned>(53, 255));
-        break;
-      case 3:
-        r[wire::kOffFlags] =
-            static_cast<std::uint8_t>(in_.ConsumeIntegralInRange<unsigned>(1, 255));
-        break;
-      case 4:
-        r[wire::kOffReserved] =
-            static_cast<std::uint8_t>(in_.ConsumeIntegralInRange<unsigned>(1, 255));
-        break;
-      case 5:
-        r[wire::kOffStatus] =
             static_cast<std::uint8_t>(in_.ConsumeIntegralInRange<unsigned>(1, 255));
         break;
       case 6:
         if (id == static_cast<std::uint8_t>(Command::kCalPutData)) return;  // sequences are its own
         wire::StoreU16(r, wire::kOffSequence, in_.ConsumeIntegralInRange<std::uint16_t>(1, 0xFFFF));
         break;
+      default: {
+        const BrokenByte& b = kBrokenBytes[field - 1];
+        r[b.offset] =
+            static_cast<std::uint8_t>(in_.ConsumeIntegralInRange<unsigned>(b.lowest, 255));
+        break;
+      }
     }
     const std::vector<wire::Report> out = Send(r);
     // Two fields a request should leave alone are not checked by the board: a known status

@@ -34,9 +34,7 @@ class CoreHarness {
   template <typename Payload>
   requires requires { Payload::kBytes; }
   Response Request(wire::Command command, const Payload& payload) {
-    std::array<std::uint8_t, Payload::kBytes> bytes{};
-    wire::Encode(payload, bytes);
-    return Request(command, bytes);
+    return Request(command, wire::EncodedBytes(payload));
   }
   /// Sends a raw report (malformed ones included).
   Response Raw(const wire::Report& report);

@@ -196,22 +196,14 @@ TEST(UsbDescriptors, StringOfExactlyOnePacketEndsWithZeroLengthPacket) {
   // A 31-character serial gives a 64-byte descriptor. Asked with wLength 255 the device must send
   // one full packet and then a ZLP, or the host waits for more (USB 2.0 §5.5.3); asked with
   // wLength 64 it must not send the ZLP.
-  testing::FakeDcd dcd;
-  HidClass hid;
-  testing::RecordingDetach detach;
-  DfuRuntime dfu{detach};
-  std::array<ClassDriver*, 2> drivers{&hid, &dfu};
-  const DaqStrings strings = MakeDaqStrings("ABCDEFGHIJKLMNOPQRSTUVWXYZ01234");
-  UsbDevice device{dcd, drivers, DaqDescriptors(strings)};
-  const Status s1 = device.Start();
-  ASSERT_EQ(s1, Status::kOk);
-  testing::Host host{device, dcd};
-  host.BusReset();
-  const auto with_zlp = host.Control({0x80, 0x06, 0x03, 0x03, 0x09, 0x04, 0xFF, 0x00});
+  Rig rig{"ABCDEFGHIJKLMNOPQRSTUVWXYZ01234"};
+  ASSERT_EQ(rig.start_status, Status::kOk);
+  rig.host.BusReset();
+  const auto with_zlp = rig.host.Control({0x80, 0x06, 0x03, 0x03, 0x09, 0x04, 0xFF, 0x00});
   ASSERT_FALSE(with_zlp.protocol_error);
   EXPECT_EQ(with_zlp.length, 64U);
   EXPECT_EQ(with_zlp.packets, 2U);
-  const auto exact = host.Control({0x80, 0x06, 0x03, 0x03, 0x09, 0x04, 0x40, 0x00});
+  const auto exact = rig.host.Control({0x80, 0x06, 0x03, 0x03, 0x09, 0x04, 0x40, 0x00});
   ASSERT_FALSE(exact.protocol_error);
   EXPECT_EQ(exact.length, 64U);
   EXPECT_EQ(exact.packets, 1U);

@@ -41,18 +41,10 @@ TEST(UsbEnumeration, StartInitializesAndConnects) {
 }
 
 TEST(UsbEnumeration, FailedControllerInitStaysDetached) {
-  testing::FakeDcd dcd;
-  dcd.init_status = Status::kUnavailable;
-  HidClass hid;
-  testing::RecordingDetach detach;
-  DfuRuntime dfu{detach};
-  std::array<ClassDriver*, 2> drivers{&hid, &dfu};
-  const DaqStrings strings = MakeDaqStrings("X");
-  UsbDevice device{dcd, drivers, DaqDescriptors(strings)};
-  const Status s1 = device.Start();
-  EXPECT_EQ(s1, Status::kUnavailable);
-  EXPECT_FALSE(dcd.connected);
-  EXPECT_EQ(device.state(), DeviceState::kDetached);
+  const Rig rig{"X", Status::kUnavailable};
+  EXPECT_EQ(rig.start_status, Status::kUnavailable);
+  EXPECT_FALSE(rig.dcd.connected);
+  EXPECT_EQ(rig.device.state(), DeviceState::kDetached);
 }
 
 TEST(UsbEnumeration, LinuxSequenceReachesConfigured) {

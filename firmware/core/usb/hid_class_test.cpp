@@ -213,7 +213,7 @@ TEST(DfuRuntime, StatusStateAndDetach) {
   rig.device.Task();
   EXPECT_EQ(rig.detach.calls, 1);
   EXPECT_EQ(rig.detach.last_timeout_ms, 1000);
-  EXPECT_EQ(rig.dfu.state(), DfuState::kAppDetach);
+  EXPECT_EQ(rig.dfu.state(), dfu::State::kAppDetach);
 }
 
 }  // namespace

@@ -22,17 +22,6 @@
 namespace vibid::cli {
 namespace {
 
-const char* UnitName(wire::Unit u) {
-  switch (u) {
-    case wire::Unit::kNewton: return "N";
-    case wire::Unit::kMeterPerSecond2: return "m/s2";
-    case wire::Unit::kMeter: return "m";
-    case wire::Unit::kMeterPerSecond: return "m/s";
-    case wire::Unit::kCounts: return "counts";
-  }
-  return "counts";
-}
-
 nlohmann::json Matrix(const std::array<float, wire::kMaxDof * wire::kMaxDof>& m, std::size_t n) {
   nlohmann::json rows = nlohmann::json::array();
   for (std::size_t i = 0; i < n; ++i) {
@@ -52,7 +41,7 @@ nlohmann::json RecordJson(const wire::CalibrationRecord& r, const wire::CalGetTr
     const wire::ChannelScaling& s = r.channels[c];
     if (s.unit == wire::Unit::kCounts) continue;
     const device::SensorScaling p = device::FromChannelScaling(s);
-    nlohmann::json ch = {{"unit", UnitName(s.unit)},
+    nlohmann::json ch = {{"unit", device::UnitName(s.unit)},
                          {"counts_per_unit", p.counts_per_unit},
                          {"offset_counts", s.offset_counts},
                          {"full_scale", static_cast<double>(s.full_scale)},

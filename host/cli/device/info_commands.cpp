@@ -11,6 +11,7 @@
 #include "common/command.hpp"
 #include "device_commands.hpp"
 #include "session.hpp"
+#include "vibid/common/enum_names.hpp"
 #include "vibid/device/log_table.hpp"
 #include "vibid/device/select.hpp"
 #include "vibid/shared/wire/log_record.hpp"
@@ -18,28 +19,22 @@
 namespace vibid::cli {
 namespace {
 
-const char* BoardName(wire::BoardId id) {
-  switch (id) {
-    case wire::BoardId::kStm32f405: return "stm32f405";
-    case wire::BoardId::kQemuNetduinoPlus2: return "qemu-netduinoplus2";
-    case wire::BoardId::kEmulator: return "emulator";
-    case wire::BoardId::kHostTest: return "host-test";
-  }
-  return "unknown";
-}
+constexpr EnumNames<wire::BoardId, 4> kBoardNames{{
+    {wire::BoardId::kStm32f405, "stm32f405"},
+    {wire::BoardId::kQemuNetduinoPlus2, "qemu-netduinoplus2"},
+    {wire::BoardId::kEmulator, "emulator"},
+    {wire::BoardId::kHostTest, "host-test"},
+}};
 
-const char* ResetName(wire::ResetCause c) {
-  switch (c) {
-    case wire::ResetCause::kUnknown: return "unknown";
-    case wire::ResetCause::kPowerOn: return "power-on";
-    case wire::ResetCause::kPin: return "reset-pin";
-    case wire::ResetCause::kSoftware: return "software";
-    case wire::ResetCause::kWatchdog: return "watchdog";
-    case wire::ResetCause::kBrownOut: return "brown-out";
-    case wire::ResetCause::kLowPower: return "low-power";
-  }
-  return "unknown";
-}
+constexpr EnumNames<wire::ResetCause, 7> kResetNames{{
+    {wire::ResetCause::kUnknown, "unknown"},
+    {wire::ResetCause::kPowerOn, "power-on"},
+    {wire::ResetCause::kPin, "reset-pin"},
+    {wire::ResetCause::kSoftware, "software"},
+    {wire::ResetCause::kWatchdog, "watchdog"},
+    {wire::ResetCause::kBrownOut, "brown-out"},
+    {wire::ResetCause::kLowPower, "low-power"},
+}};
 
 std::vector<std::string> CapabilityNames(std::uint32_t caps) {
   std::vector<std::string> out;
@@ -78,7 +73,7 @@ nlohmann::json InfoJson(const device::Connection& c, const wire::InfoResponse& i
       {"firmware", std::to_string(i.fw_major) + "." + std::to_string(i.fw_minor) + "." +
                        std::to_string(i.fw_patch)},
       {"build_id", Hex32(i.build_id)},
-      {"board", BoardName(i.board_id)},
+      {"board", NameOf(kBoardNames, i.board_id, "unknown")},
       {"capabilities", CapabilityNames(i.capabilities)},
       {"sample_period_us", i.sample_period_us},
       {"min_sample_period_us", i.min_sample_period_us},
@@ -92,7 +87,7 @@ nlohmann::json InfoJson(const device::Connection& c, const wire::InfoResponse& i
       {"adc_bits", i.adc_bits},
       {"channels", channels},
       {"channel_formats", formats},
-      {"reset_cause", ResetName(i.reset_cause)},
+      {"reset_cause", NameOf(kResetNames, i.reset_cause, "unknown")},
       {"calibrated", i.cal_state == wire::CalState::kCalibrated},
       {"cal_slot",
        i.cal_slot == wire::kNoSlot ? nlohmann::json(nullptr) : nlohmann::json(i.cal_slot)},

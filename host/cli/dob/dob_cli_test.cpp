@@ -45,6 +45,23 @@ class DobCli : public ::testing::Test {
     ASSERT_EQ(d.exit_code, 0) << d.err;
   }
 
+  /// `vibid dob run RECORD --design DESIGN --force FORCE --response RESPONSE MORE... -o OUT`.
+  struct DobRun {
+    std::string record = dir_ + "/rec.csv";
+    std::string design = dir_ + "/design.json";
+    std::string force = "shaker_n";
+    std::string response = "x2_m_mm:mm";
+    std::vector<std::string> more;
+    std::string out;
+  };
+  static CliResult RunDob(const DobRun& run) {
+    std::vector<std::string> args = {"dob",     "run",     run.record,   "--design",  run.design,
+                                     "--force", run.force, "--response", run.response};
+    args.insert(args.end(), run.more.begin(), run.more.end());
+    args.insert(args.end(), {"-o", run.out});
+    return RunVibid(args);
+  }
+
   static std::string dir_;
 };
 
@@ -124,9 +141,7 @@ TEST_F(DobCli, DesignRefusesWithReasons) {
 
 TEST_F(DobCli, RunRecoversThePushAndCompareScoresIt) {
   const std::string out = dir_ + "/out.csv";
-  const auto r =
-      RunVibid({"dob", "run", dir_ + "/rec.csv", "--design", dir_ + "/design.json", "--force",
-                "shaker_n", "--response", "x2_m_mm:mm", "--lowpass-hz", "4", "-o", out});
+  const auto r = RunDob({.more = {"--lowpass-hz", "4"}, .out = out});
   ASSERT_EQ(r.exit_code, 0) << r.err;
   const CsvTable t = ReadCsv(out);
   EXPECT_TRUE(t.Has("d_hat_n"));
@@ -141,9 +156,7 @@ TEST_F(DobCli, RunRecoversThePushAndCompareScoresIt) {
   EXPECT_EQ(j["delay_s"].get<double>(), 0.0);
   EXPECT_LT(j["rmse_n"].get<double>(), 0.1);
   // The double design gives the same estimate within the fixed point's error.
-  const auto f =
-      RunVibid({"dob", "run", dir_ + "/rec.csv", "--design", dir_ + "/design.json", "--force",
-                "shaker_n", "--response", "x2_m_mm:mm", "--float", "-o", dir_ + "/float.csv"});
+  const auto f = RunDob({.more = {"--float"}, .out = dir_ + "/float.csv"});
   ASSERT_EQ(f.exit_code, 0) << f.err;
   const Eigen::VectorXd diff = ReadCsv(dir_ + "/float.csv").Column("d_hat_n") - t.Column("d_hat_n");
   EXPECT_LT(diff.cwiseAbs().maxCoeff(), 1e-3);
@@ -153,15 +166,12 @@ TEST_F(DobCli, RunRecoversThePushAndCompareScoresIt) {
 // for bit; one sample changed by one LSB is found and named, exit 3, nothing written.
 TEST_F(DobCli, VerifyFindsAOneLsbDifference) {
   const std::string first = dir_ + "/first.csv";
-  ASSERT_EQ(RunVibid({"dob", "run", dir_ + "/rec.csv", "--design", dir_ + "/design.json", "--force",
-                      "shaker_n", "--response", "x2_m_mm:mm", "-o", first})
-                .exit_code,
-            0);
+  ASSERT_EQ(RunDob({.out = first}).exit_code, 0);
   CsvTable t = ReadCsv(first);
   ASSERT_TRUE(t.Has("d_hat_q31"));
-  auto r = RunVibid({"dob", "run", first, "--design", dir_ + "/design.json", "--force", "shaker_n",
-                     "--response", "x2_m_mm:mm", "--name", "host", "--verify", "d_hat_q31", "-o",
-                     dir_ + "/second.csv"});
+  auto r = RunDob({.record = first,
+                   .more = {"--name", "host", "--verify", "d_hat_q31"},
+                   .out = dir_ + "/second.csv"});
   ASSERT_EQ(r.exit_code, 0) << r.err;
   EXPECT_NE(r.err.find("bit-exact: " + std::to_string(t.Column("t_s").size()) + " samples"),
             std::string::npos)
@@ -173,16 +183,15 @@ TEST_F(DobCli, VerifyFindsAOneLsbDifference) {
   t.columns[q][1234] += 1.0;
   WriteFileAtomic(dir_ + "/tampered.csv", FormatCsv(t.names, t.columns));
   const std::string out = dir_ + "/third.csv";
-  r = RunVibid({"dob", "run", dir_ + "/tampered.csv", "--design", dir_ + "/design.json", "--force",
-                "shaker_n", "--response", "x2_m_mm:mm", "--name", "host", "--verify", "d_hat_q31",
-                "-o", out});
+  r = RunDob({.record = dir_ + "/tampered.csv",
+              .more = {"--name", "host", "--verify", "d_hat_q31"},
+              .out = out});
   EXPECT_EQ(r.exit_code, 3);
   EXPECT_NE(r.err.find("differs from the replay in 1 of"), std::string::npos) << r.err;
   EXPECT_NE(r.err.find("row 1235"), std::string::npos) << r.err;
   EXPECT_FALSE(std::filesystem::exists(out));
   // The default stem is taken already.
-  r = RunVibid({"dob", "run", first, "--design", dir_ + "/design.json", "--force", "shaker_n",
-                "--response", "x2_m_mm:mm", "-o", out});
+  r = RunDob({.record = first, .out = out});
   EXPECT_EQ(r.exit_code, 1);
   EXPECT_NE(r.err.find("--name"), std::string::npos) << r.err;
 }
@@ -190,28 +199,23 @@ TEST_F(DobCli, VerifyFindsAOneLsbDifference) {
 TEST_F(DobCli, RunRefusesBadInput) {
   const std::string out = dir_ + "/bad.csv";
   const std::string design = dir_ + "/design.json";
-  auto r = RunVibid({"dob", "run", dir_ + "/rec.csv", "--design", design, "--force", "nope",
-                     "--response", "x2_m_mm:mm", "-o", out});
+  auto r = RunDob({.force = "nope", .out = out});
   EXPECT_EQ(r.exit_code, 1);
   EXPECT_NE(r.err.find("nope"), std::string::npos) << r.err;
-  r = RunVibid({"dob", "run", dir_ + "/rec.csv", "--design", design, "--force", "shaker_n",
-                "--response", "x1_m,x2_m_mm", "-o", out});
+  r = RunDob({.response = "x1_m,x2_m_mm", .out = out});
   EXPECT_EQ(r.exit_code, 1);
   EXPECT_NE(r.err.find("takes 1 response column"), std::string::npos) << r.err;
-  r = RunVibid({"dob", "run", dir_ + "/rec.csv", "--design", dir_ + "/rig.json", "--force",
-                "shaker_n", "--response", "x1_m", "-o", out});
+  r = RunDob({.design = dir_ + "/rig.json", .response = "x1_m", .out = out});
   EXPECT_EQ(r.exit_code, 1);
   EXPECT_NE(r.err.find("not a vibid DOB design"), std::string::npos) << r.err;
-  r = RunVibid({"dob", "run", dir_ + "/rec.csv", "--design", design, "--force", "shaker_n",
-                "--response", "x1_m", "--fixed", "--float", "-o", out});
+  r = RunDob({.response = "x1_m", .more = {"--fixed", "--float"}, .out = out});
   EXPECT_EQ(r.exit_code, 2);
   // A design for another sample rate.
   ASSERT_EQ(
       RunVibid({"dob", "design", dir_ + "/rig.json", "--fs-hz", "2000", "-o", dir_ + "/d2k.json"})
           .exit_code,
       0);
-  r = RunVibid({"dob", "run", dir_ + "/rec.csv", "--design", dir_ + "/d2k.json", "--force",
-                "shaker_n", "--response", "x1_m", "-o", out});
+  r = RunDob({.design = dir_ + "/d2k.json", .response = "x1_m", .out = out});
   EXPECT_EQ(r.exit_code, 1);
   EXPECT_NE(r.err.find("designed for 2000"), std::string::npos) << r.err;
   // A tampered fixed-point description is refused by the same validation the board runs.
@@ -220,12 +224,10 @@ TEST_F(DobCli, RunRefusesBadInput) {
   hex[200] = hex[200] == '0' ? '1' : '0';
   j["fixed"]["description_hex"] = hex;
   WriteFileAtomic(dir_ + "/tampered.json", j.dump());
-  r = RunVibid({"dob", "run", dir_ + "/rec.csv", "--design", dir_ + "/tampered.json", "--force",
-                "shaker_n", "--response", "x1_m", "-o", out});
+  r = RunDob({.design = dir_ + "/tampered.json", .response = "x1_m", .out = out});
   EXPECT_EQ(r.exit_code, 1);
   EXPECT_NE(r.err.find("data-loss"), std::string::npos) << r.err;
-  r = RunVibid({"dob", "run", dir_ + "/rec.csv", "--design", design, "--force", "shaker_n",
-                "--response", "x2_m_mm:mm", "--lowpass-hz", "3000", "-o", out});
+  r = RunDob({.more = {"--lowpass-hz", "3000"}, .out = out});
   EXPECT_EQ(r.exit_code, 1);
   EXPECT_FALSE(std::filesystem::exists(out));
 }

@@ -80,9 +80,7 @@ void Run(const DesignArgs& a) {
   o.fs_hz = a.fs_hz;
   o.prototype =
       a.prototype == "binomial" ? dob::QPrototype::kBinomial : dob::QPrototype::kButterworth;
-  o.sensor = a.sensor == "acc"   ? dob::SensorKind::kAcceleration
-             : a.sensor == "vel" ? dob::SensorKind::kVelocity
-                                 : dob::SensorKind::kDisplacement;
+  o.sensor = dob::ParseSensorKind(a.sensor);
   o.form = a.form == "mimo" ? dob::ObserverForm::kMimo : dob::ObserverForm::kSiso;
   o.discretization =
       a.discretize == "zoh" ? dob::Discretization::kZeroOrderHold : dob::Discretization::kTustin;

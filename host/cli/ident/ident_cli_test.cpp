@@ -32,6 +32,7 @@ std::string Write(const std::string& dir, const std::string& name, const std::st
 // simulated the first time a case asks for it (ctest runs every case in its own process).
 class Rig {
  public:
+  static constexpr double kFsHz = 500;
   const std::string dir = MakeTempDir("ident_cli");
 
   /// Modal tests: hammer on mass 2, both accelerations (seeds 7 and 8).
@@ -65,27 +66,17 @@ class Rig {
   std::string Modal(const std::string& name, std::uint64_t seed) const {
     const model::Model truth = model::MakeChain(
         Eigen::Vector2d(1.2, 0.8), Eigen::Vector2d(3000, 2000), Eigen::Vector2d(0.9, 0.8));
-    ident::HammerTestSpec spec{.hammer_dof = 1,
-                               .fs_hz = 500,
-                               .hits = 10,
-                               .pulse_width_s = 0.004,
-                               .spacing_min_s = 16,
-                               .spacing_max_s = 20,
-                               .seed = seed};
     return Write(dir, name,
-                 ident::FormatHammerTestCsv(ident::SimulateHammerTest(truth, spec),
-                                            {"acc1_m_s2", "acc2_m_s2"}));
+                 ident::FormatHammerTestCsv(
+                     ident::SimulateHammerTest(truth, ident::ModalTestSpec(kFsHz, seed)),
+                     {"acc1_m_s2", "acc2_m_s2"}));
   }
   std::string Mass(int i) const {
     const double ms[2] = {1.2, 0.8}, ks[2] = {3300, 2200};
     const model::Model one =
         model::MakeChain(Eigen::VectorXd::Constant(1, ms[i]), Eigen::VectorXd::Constant(1, ks[i]),
                          Eigen::VectorXd::Constant(1, 2 * 0.02 * std::sqrt(ks[i] * ms[i])));
-    ident::HammerTestSpec spec{.fs_hz = 500,
-                               .pulse_width_s = 0.004,
-                               .spacing_min_s = 10,
-                               .spacing_max_s = 13,
-                               .seed = 100u + static_cast<unsigned>(i)};
+    const ident::HammerTestSpec spec = ident::MassTestSpec(kFsHz, 100u + static_cast<unsigned>(i));
     return Write(dir, "mass" + std::to_string(i + 1) + ".csv",
                  ident::FormatHammerTestCsv(ident::SimulateHammerTest(one, spec), {"acc_m_s2"}));
   }

@@ -1,4 +1,5 @@
-// Runs the `vibid` binary in a child process for CLI tests (exit code, stdout, stderr).
+// Runs the `vibid` binary in a child process for CLI tests (exit code, stdout, stderr), and reads
+// back the files it writes.
 #pragma once
 
 #include <sys/types.h>
@@ -45,5 +46,8 @@ CliResult RunProgram(const std::string& program, const std::vector<std::string>&
 
 /// A fresh empty directory under the system temp dir, unique per call.
 std::string MakeTempDir(const std::string& tag);
+
+/// The whole file, byte for byte; empty when it cannot be read (e.g. a log not written yet).
+std::string ReadFileBytes(const std::string& path);
 
 }  // namespace vibid::testing

@@ -16,6 +16,7 @@
 
 #include "dfuse_bootloader.hpp"
 #include "flash_image.hpp"
+#include "vibid/device/usb_control.hpp"
 
 namespace {
 
@@ -105,14 +106,9 @@ class Script {
   emu::UrbResult Dfu(std::uint8_t request, std::uint16_t value, std::uint16_t length,
                      std::vector<std::uint8_t> out = {}) {
     const bool to_host = request == 2 || request == 3 || request == 5;
-    const std::array<std::uint8_t, 8> setup = {static_cast<std::uint8_t>(to_host ? 0xA1 : 0x21),
-                                               request,
-                                               static_cast<std::uint8_t>(value),
-                                               static_cast<std::uint8_t>(value >> 8),
-                                               0,
-                                               0,
-                                               static_cast<std::uint8_t>(length),
-                                               static_cast<std::uint8_t>(length >> 8)};
+    const std::array<std::uint8_t, 8> setup =
+        device::Setup{static_cast<std::uint8_t>(to_host ? 0xA1 : 0x21), request, value, 0, length}
+            .Bytes();
     // The URB's buffer is usually wLength long; sometimes shorter, as a broken client sends it.
     std::uint32_t buffer = length;
     if (in_.ConsumeIntegralInRange<int>(0, 15) == 15)
@@ -172,8 +168,8 @@ class Script {
     data.resize(r.actual_length);
     (void)Dfu(3, 0, 6);
     const emu::UrbResult done = Dfu(3, 0, 6);
-    if (done.status != usbip::kStatusOk || dfu_.state() == DfuSeBootloader::State::kError) return;
-    if (dfu_.state() != DfuSeBootloader::State::kDnloadIdle) return;
+    if (done.status != usbip::kStatusOk || dfu_.state() == dfu::State::kError) return;
+    if (dfu_.state() != dfu::State::kDnloadIdle) return;
     // Read back through the protocol, from the bootloader's own address pointer.
     if (Dfu(6, 0, 0).status != usbip::kStatusOk) return;
     const emu::UrbResult back = Dfu(2, block, length);
@@ -192,28 +188,21 @@ class Script {
   }
 
   void Standard() {
-    constexpr std::array<std::array<std::uint8_t, 4>, 10> kRequests = {{{0x80, 0x06, 0x00, 0x01},
-                                                                        {0x80, 0x06, 0x00, 0x02},
-                                                                        {0x80, 0x06, 0x04, 0x03},
-                                                                        {0x80, 0x06, 0x09, 0x03},
-                                                                        {0x80, 0x00, 0, 0},
-                                                                        {0x80, 0x08, 0, 0},
-                                                                        {0x00, 0x09, 0x01, 0},
-                                                                        {0x00, 0x09, 0x02, 0},
-                                                                        {0x81, 0x0A, 0, 0},
-                                                                        {0x01, 0x0B, 0x01, 0}}};
-    const auto& q = in_.PickValueInArray(kRequests);
-    const std::uint16_t length = in_.PickValueInArray<std::uint16_t>({0, 1, 2, 9, 18, 64, 255});
-    const std::array<std::uint8_t, 8> setup = {q[0],
-                                               q[1],
-                                               q[2],
-                                               q[3],
-                                               0,
-                                               0,
-                                               static_cast<std::uint8_t>(length),
-                                               static_cast<std::uint8_t>(length >> 8)};
-    const bool to_host = (q[0] & 0x80) != 0;
-    (void)Submit(0, to_host ? usbip::Direction::kIn : usbip::Direction::kOut, setup, length, {});
+    // bmRequestType, bRequest, wValue; wLength is picked below.
+    constexpr std::array<device::Setup, 10> kRequests = {{{0x80, 0x06, 0x0100},
+                                                          {0x80, 0x06, 0x0200},
+                                                          {0x80, 0x06, 0x0304},
+                                                          {0x80, 0x06, 0x0309},
+                                                          {0x80, 0x00, 0},
+                                                          {0x80, 0x08, 0},
+                                                          {0x00, 0x09, 1},
+                                                          {0x00, 0x09, 2},
+                                                          {0x81, 0x0A, 0},
+                                                          {0x01, 0x0B, 1}}};
+    device::Setup setup = in_.PickValueInArray(kRequests);
+    setup.length = in_.PickValueInArray<std::uint16_t>({0, 1, 2, 9, 18, 64, 255});
+    (void)Submit(0, setup.In() ? usbip::Direction::kIn : usbip::Direction::kOut, setup.Bytes(),
+                 setup.length, {});
   }
 
   void Arbitrary() {

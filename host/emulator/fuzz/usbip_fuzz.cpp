@@ -28,6 +28,7 @@
 #include "dfuse_bootloader.hpp"
 #include "flash_image.hpp"
 #include "usbip_server.hpp"
+#include "vibid/device/usb_control.hpp"
 #include "vibid/usbip/protocol.hpp"
 #include "vibid/usbip/socket.hpp"
 
@@ -57,29 +58,23 @@ struct Message {
 
 // Control setups the bootloader knows (and a few it refuses), as a client sends them.
 std::array<std::uint8_t, 8> Setup(FuzzedDataProvider& in, bool& to_host) {
-  constexpr std::array<std::array<std::uint8_t, 4>, 12> kSetups = {{{0x80, 0x06, 0x00, 0x01},
-                                                                    {0x80, 0x06, 0x00, 0x02},
-                                                                    {0x80, 0x06, 0x02, 0x03},
-                                                                    {0x00, 0x09, 0x01, 0x00},
-                                                                    {0xA1, 0x03, 0, 0},
-                                                                    {0xA1, 0x05, 0, 0},
-                                                                    {0x21, 0x01, 0, 0},
-                                                                    {0x21, 0x01, 2, 0},
-                                                                    {0xA1, 0x02, 0, 0},
-                                                                    {0xA1, 0x02, 2, 0},
-                                                                    {0x21, 0x06, 0, 0},
-                                                                    {0x21, 0x04, 0, 0}}};
-  const auto& s = in.PickValueInArray(kSetups);
-  const std::uint16_t length = in.PickValueInArray<std::uint16_t>({0, 1, 5, 6, 18, 64, 255, 2048});
-  to_host = (s[0] & 0x80) != 0;
-  return {s[0],
-          s[1],
-          s[2],
-          s[3],
-          0,
-          0,
-          static_cast<std::uint8_t>(length),
-          static_cast<std::uint8_t>(length >> 8)};
+  // bmRequestType, bRequest, wValue; wLength is picked below.
+  constexpr std::array<device::Setup, 12> kSetups = {{{0x80, 0x06, 0x0100},
+                                                      {0x80, 0x06, 0x0200},
+                                                      {0x80, 0x06, 0x0302},
+                                                      {0x00, 0x09, 1},
+                                                      {0xA1, 0x03, 0},
+                                                      {0xA1, 0x05, 0},
+                                                      {0x21, 0x01, 0},
+                                                      {0x21, 0x01, 2},
+                                                      {0xA1, 0x02, 0},
+                                                      {0xA1, 0x02, 2},
+                                                      {0x21, 0x06, 0},
+                                                      {0x21, 0x04, 0}}};
+  device::Setup s = in.PickValueInArray(kSetups);
+  s.length = in.PickValueInArray<std::uint16_t>({0, 1, 5, 6, 18, 64, 255, 2048});
+  to_host = s.In();
+  return s.Bytes();
 }
 
 Message Script(FuzzedDataProvider& in) {

@@ -6,18 +6,14 @@
 
 #include "vibid/common/csv.hpp"
 #include "vibid/common/error.hpp"
+#include "vibid/common/testing/input_error.hpp"
 #include "vibid/common/text_input.hpp"
 
 namespace vibid {
 namespace {
 
 std::string Utf8Error(const std::string& text) {
-  try {
-    RequireUtf8(text, "f");
-  } catch (const InputError& e) {
-    return e.what();
-  }
-  return "";
+  return InputErrorOf([&] { RequireUtf8(text, "f"); });
 }
 
 TEST(RequireUtf8, AcceptsWellFormedSequences) {

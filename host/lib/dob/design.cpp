@@ -5,12 +5,18 @@
 #include <numbers>
 #include <sstream>
 
+#include "vibid/common/enum_names.hpp"
 #include "vibid/common/error.hpp"
 
 namespace vibid::dob {
 namespace {
 
 constexpr double kTwoPi = 2.0 * std::numbers::pi;
+
+// As the CLI's --sensor and the design file's "sensor" spell them.
+constexpr EnumNames<SensorKind, 3> kSensorNames{{{SensorKind::kDisplacement, "disp"},
+                                                 {SensorKind::kVelocity, "vel"},
+                                                 {SensorKind::kAcceleration, "acc"}}};
 
 int Degree(const Eigen::VectorXd& p) {
   return static_cast<int>(numerics::TrimLeadingZeros(p).size()) - 1;
@@ -92,13 +98,10 @@ std::string RelativeDegreeMessage(int r, int plant, const std::string& what) {
 
 }  // namespace
 
-const char* SensorName(SensorKind kind) {
-  switch (kind) {
-    case SensorKind::kDisplacement: return "disp";
-    case SensorKind::kVelocity: return "vel";
-    case SensorKind::kAcceleration: return "acc";
-  }
-  return "?";
+const char* SensorName(SensorKind kind) { return NameOf(kSensorNames, kind, "?"); }
+
+SensorKind ParseSensorKind(std::string_view name) {
+  return ParseName(kSensorNames, name, "sensor");
 }
 
 double QBandEdgeHz(const QFilter& q, double tolerance) {

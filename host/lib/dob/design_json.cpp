@@ -3,7 +3,9 @@
 #include <cstdint>
 #include <cstdio>
 #include <limits>
+#include <optional>
 
+#include "vibid/common/enum_names.hpp"
 #include "vibid/common/error.hpp"
 #include "vibid/common/text_input.hpp"
 
@@ -37,18 +39,16 @@ const char* DiscretizationName(Discretization d) {
 }
 const char* FormName(ObserverForm f) { return f == ObserverForm::kSiso ? "siso" : "mimo"; }
 
+// The observer's input paths as the design file spells them.
+constexpr EnumNames<fixed::InputKind, 4> kInputKindNames{
+    {{fixed::InputKind::kForce, "force"},
+     {fixed::InputKind::kDisplacement, "disp"},
+     {fixed::InputKind::kVelocity, "vel"},
+     {fixed::InputKind::kAcceleration, "acc"}}};
+
 }  // namespace
 
-const char* InputKindName(fixed::InputKind kind) {
-  switch (kind) {
-    case fixed::InputKind::kForce: return "force";
-    case fixed::InputKind::kDisplacement: return "disp";
-    case fixed::InputKind::kVelocity: return "vel";
-    case fixed::InputKind::kAcceleration: return "acc";
-    case fixed::InputKind::kUnused: break;
-  }
-  return "unused";
-}
+const char* InputKindName(fixed::InputKind kind) { return NameOf(kInputKindNames, kind, "unused"); }
 
 nlohmann::json DesignToJson(const DobDesign& design) {
   Require(design.stable, "an unstable design is not written: " + design.message);
@@ -132,16 +132,9 @@ ObserverFile ObserverFromJson(const nlohmann::json& j, const std::string& source
     for (const auto& in : j.at("discrete").at("inputs")) {
       ObserverPath p;
       const std::string kind = in.at("kind").get<std::string>();
-      if (kind == "force")
-        p.kind = fixed::InputKind::kForce;
-      else if (kind == "disp")
-        p.kind = fixed::InputKind::kDisplacement;
-      else if (kind == "vel")
-        p.kind = fixed::InputKind::kVelocity;
-      else if (kind == "acc")
-        p.kind = fixed::InputKind::kAcceleration;
-      else
-        fail("discrete.inputs: unknown kind '" + Printable(kind) + "'");
+      const std::optional<fixed::InputKind> known = FindByName(kInputKindNames, kind);
+      if (!known) fail("discrete.inputs: unknown kind '" + Printable(kind) + "'");
+      p.kind = *known;
       // Checked before the conversion: get<int> of 1e300 or of -2^31 minus one is undefined.
       const nlohmann::json& dof = in.at("dof");
       if (!dof.is_number_integer() || dof.get<std::int64_t>() < 1 ||

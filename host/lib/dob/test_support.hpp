@@ -2,19 +2,16 @@
 #pragma once
 
 #include <complex>
-#include <string>
 
 #include <nlohmann/json.hpp>
 
-#include "vibid/common/json_file.hpp"
+#include "vibid/common/testing/golden.hpp"
 
 namespace vibid::dob::test {
 
 /// host/lib/dob/testdata/dob_golden.json, written by scripts/golden/dob_golden.py (scipy).
 inline const nlohmann::json& Golden() {
-  static const nlohmann::json golden =
-      ReadJsonFile(std::string(VIBID_SOURCE_DIR) + "/host/lib/dob/testdata/dob_golden.json");
-  return golden;
+  return ReadGolden("host/lib/dob/testdata/dob_golden.json");
 }
 
 inline std::complex<double> AsComplex(const nlohmann::json& pair) {

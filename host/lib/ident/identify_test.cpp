@@ -57,26 +57,15 @@ TEST_P(SyntheticChain, RecoversTheTruth) {
     const model::Model one =
         model::MakeChain(Eigen::VectorXd::Constant(1, ms[i]), Eigen::VectorXd::Constant(1, k),
                          Eigen::VectorXd::Constant(1, c));
-    HammerTestSpec spec{.fs_hz = fs,
-                        .pulse_width_s = 0.004,
-                        .spacing_min_s = 10,
-                        .spacing_max_s = 13,
-                        .seed = 100 + i};
-    mass_tests.push_back({i, Receptance(SimulateHammerTest(one, spec), fs), 0.0});
+    mass_tests.push_back(
+        {i, Receptance(SimulateHammerTest(one, MassTestSpec(fs, 100 + i)), fs), 0.0});
   }
   // Two modal tests of the truth chain, hammer on m2, accelerometers on both masses.
   const model::Model truth = model::MakeChain(
       Eigen::Vector2d(t.m1, t.m2), Eigen::Vector2d(t.k1, t.k2), Eigen::Vector2d(t.c1, t.c2));
   std::vector<Frf> modal;
   for (std::uint64_t seed : {7u, 8u}) {
-    HammerTestSpec spec{.hammer_dof = 1,
-                        .fs_hz = fs,
-                        .hits = 10,
-                        .pulse_width_s = 0.004,
-                        .spacing_min_s = 16,
-                        .spacing_max_s = 20,
-                        .seed = seed};
-    modal.push_back(Receptance(SimulateHammerTest(truth, spec), fs));
+    modal.push_back(Receptance(SimulateHammerTest(truth, ModalTestSpec(fs, seed)), fs));
   }
   const IdentifyResult r = Identify(nominal, mass_tests, modal, {});
   std::printf("%s\n%s", t.name, FormatValidationTable(r.table).c_str());

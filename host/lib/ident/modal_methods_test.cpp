@@ -57,15 +57,10 @@ TEST(ModalMethods, DefaultPathOnAMultiHitHammerRecord) {
       model::MakeChain(Eigen::Vector2d(m1, m2), Eigen::Vector2d(k1, k2), Eigen::Vector2d(c1, c2));
   const model::ComplexModes cm = model::ComplexModalDamping(truth);
   const auto tm = testing::ChainModesOf(m1, m2, k1, k2);
-  HammerTestSpec spec{.hammer_dof = 1,
-                      .fs_hz = fs,
-                      .hits = 5,
-                      .pulse_width_s = 0.004,
-                      .spacing_min_s = 16,
-                      .spacing_max_s = 20,
-                      .force_noise = 0.005,
-                      .response_noise = 0.005,
-                      .seed = 11};
+  // The identification scenario's modal test, shorter and noisier.
+  HammerTestSpec spec = ModalTestSpec(fs, 11);
+  spec.hits = 5;
+  spec.force_noise = spec.response_noise = 0.005;
   const HammerTestRecord rec = SimulateHammerTest(truth, spec);
   for (ModeMethod method : {ModeMethod::kLscf, ModeMethod::kCurveFit, ModeMethod::kPeakPicking}) {
     const ModeIdentification r = DefaultPath(rec, fs, method);

@@ -8,16 +8,13 @@
 #include <Eigen/Cholesky>
 #include <Eigen/QR>
 
+#include "band.hpp"
 #include "vibid/common/error.hpp"
 
 namespace vibid::ident {
 
 void ModalModelOptions::Validate() const {
-  Require(freq_min_hz >= 0.0 && freq_max_hz >= 0.0 && std::isfinite(freq_min_hz) &&
-              std::isfinite(freq_max_hz),
-          "modal model: band limits must be >= 0");
-  Require(freq_max_hz == 0.0 || freq_max_hz > freq_min_hz,
-          "modal model: band maximum must exceed the minimum");
+  RequireBand(freq_min_hz, freq_max_hz, "modal model");
   Require(max_iterations >= 0 && max_iterations <= 1000, "modal model: iterations must be 0..1000");
   Require(max_lines >= 64, "modal model: max_lines must be >= 64");
 }

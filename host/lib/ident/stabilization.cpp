@@ -10,6 +10,7 @@
 #include <Eigen/Eigenvalues>
 #include <Eigen/LU>
 
+#include "band.hpp"
 #include "vibid/common/error.hpp"
 
 namespace vibid::ident {
@@ -19,11 +20,7 @@ const char* PoleMethodName(PoleMethod method) {
 }
 
 void StabilizationOptions::Validate() const {
-  Require(freq_min_hz >= 0.0 && freq_max_hz >= 0.0 && std::isfinite(freq_min_hz) &&
-              std::isfinite(freq_max_hz),
-          "stabilization: band limits must be >= 0");
-  Require(freq_max_hz == 0.0 || freq_max_hz > freq_min_hz,
-          "stabilization: band maximum must exceed the minimum");
+  RequireBand(freq_min_hz, freq_max_hz, "stabilization");
   Require(min_order >= 2 && max_order >= min_order && order_step >= 1,
           "stabilization: orders must satisfy 2 <= min <= max and step >= 1");
   Require(max_order <= 400, "stabilization: orders above 400 are not supported");

@@ -46,18 +46,28 @@ inline ChainModes ChainModesOf(double m1, double m2, double k1, double k2) {
   return r;
 }
 
-/// Receptance FRF of the chain, hammer on `in`, both masses as responses, at uniform lines.
-inline Frf ChainFrf(double m1, double m2, double k1, double k2, double c1, double c2, int in,
-                    double df_hz, Eigen::Index lines) {
+/// A receptance FRF in closed form: `lines` uniform lines from df_hz, coherence 1, column j at
+/// omega (rad/s) h(j, omega).
+template <typename Receptance>
+Frf ClosedFormFrf(double df_hz, Eigen::Index lines, int columns, Receptance h) {
   Frf frf;
   frf.quantity = Quantity::kDisplacement;
   frf.freq_hz = Eigen::VectorXd::LinSpaced(lines, df_hz, df_hz * static_cast<double>(lines));
-  frf.h.resize(lines, 2);
-  frf.coherence = Eigen::MatrixXd::Ones(lines, 2);
+  frf.h.resize(lines, columns);
+  frf.coherence = Eigen::MatrixXd::Ones(lines, columns);
   for (Eigen::Index i = 0; i < lines; ++i) {
     const double w = 2.0 * std::numbers::pi * frf.freq_hz[i];
-    for (int j = 0; j < 2; ++j) frf.h(i, j) = ChainReceptance(m1, m2, k1, k2, c1, c2, j, in, w);
+    for (int j = 0; j < columns; ++j) frf.h(i, j) = h(j, w);
   }
+  return frf;
+}
+
+/// Receptance FRF of the chain, hammer on `in`, both masses as responses, at uniform lines.
+inline Frf ChainFrf(double m1, double m2, double k1, double k2, double c1, double c2, int in,
+                    double df_hz, Eigen::Index lines) {
+  Frf frf = ClosedFormFrf(df_hz, lines, 2, [&](int out, double w) {
+    return ChainReceptance(m1, m2, k1, k2, c1, c2, out, in, w);
+  });
   frf.response_names = {"x1", "x2"};
   return frf;
 }

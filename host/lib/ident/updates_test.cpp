@@ -3,7 +3,6 @@
 
 #include <cmath>
 #include <complex>
-#include <numbers>
 
 #include <gtest/gtest.h>
 
@@ -14,16 +13,9 @@ namespace vibid::ident {
 namespace {
 
 Frf SdofReceptance(double m, double k, double c, double df_hz, Eigen::Index lines) {
-  Frf frf;
-  frf.quantity = Quantity::kDisplacement;
-  frf.freq_hz = Eigen::VectorXd::LinSpaced(lines, df_hz, df_hz * static_cast<double>(lines));
-  frf.h.resize(lines, 1);
-  frf.coherence = Eigen::MatrixXd::Ones(lines, 1);
-  for (Eigen::Index i = 0; i < lines; ++i) {
-    const double w = 2 * std::numbers::pi * frf.freq_hz[i];
-    frf.h(i, 0) = 1.0 / std::complex<double>(k - m * w * w, c * w);
-  }
-  return frf;
+  return testing::ClosedFormFrf(df_hz, lines, 1, [&](int, double w) {
+    return 1.0 / std::complex<double>(k - m * w * w, c * w);
+  });
 }
 
 TEST(MassUpdate, RecoversTheMassWithKnownStiffness) {

@@ -9,17 +9,13 @@
 
 #include "vibid/common/atomic_file.hpp"
 #include "vibid/common/error.hpp"
+#include "vibid/common/testing/input_error.hpp"
 
 namespace vibid::model {
 namespace {
 
 std::string ErrorOf(const std::string& spec) {
-  try {
-    ParseForceShape(spec);
-  } catch (const InputError& e) {
-    return e.what();
-  }
-  return "";
+  return InputErrorOf([&] { ParseForceShape(spec); });
 }
 
 TEST(ForceShape, ParsesEveryKindWithDefaults) {

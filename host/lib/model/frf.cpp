@@ -5,6 +5,7 @@
 
 #include <Eigen/LU>
 
+#include "vibid/common/enum_names.hpp"
 #include "vibid/common/error.hpp"
 
 namespace vibid::model {
@@ -24,24 +25,15 @@ std::complex<double> KindFactor(FrfKind kind, double omega_rad_s) {
   return 1.0;
 }
 
+constexpr EnumNames<FrfKind, 3> kFrfKindNames{{{FrfKind::kReceptance, "receptance"},
+                                               {FrfKind::kMobility, "mobility"},
+                                               {FrfKind::kAccelerance, "accelerance"}}};
+
 }  // namespace
 
-FrfKind ParseFrfKind(std::string_view name) {
-  if (name == "receptance") return FrfKind::kReceptance;
-  if (name == "mobility") return FrfKind::kMobility;
-  if (name == "accelerance") return FrfKind::kAccelerance;
-  throw InputError("unknown FRF kind '" + std::string(name) +
-                   "' (expected receptance, mobility or accelerance)");
-}
+FrfKind ParseFrfKind(std::string_view name) { return ParseName(kFrfKindNames, name, "FRF kind"); }
 
-std::string_view FrfKindName(FrfKind kind) {
-  switch (kind) {
-    case FrfKind::kReceptance: return "receptance";
-    case FrfKind::kMobility: return "mobility";
-    case FrfKind::kAccelerance: return "accelerance";
-  }
-  return "receptance";
-}
+std::string_view FrfKindName(FrfKind kind) { return NameOf(kFrfKindNames, kind, "receptance"); }
 
 Eigen::VectorXcd Frf(const Model& model, int input_dof, int output_dof, FrfKind kind,
                      Eigen::Ref<const Eigen::VectorXd> omega_rad_s) {

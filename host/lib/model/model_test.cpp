@@ -7,6 +7,7 @@
 #include <string>
 
 #include "vibid/common/error.hpp"
+#include "vibid/common/testing/input_error.hpp"
 #include "vibid/model/model_json.hpp"
 
 namespace vibid::model {
@@ -15,12 +16,7 @@ namespace {
 using nlohmann::json;
 
 std::string ErrorOf(const json& j) {
-  try {
-    ModelFromJson(j, "rig.json");
-  } catch (const InputError& e) {
-    return e.what();
-  }
-  return "";
+  return InputErrorOf([&] { ModelFromJson(j, "rig.json"); });
 }
 
 TEST(MakeChain, TwoDofMatchesMethodsSection1) {
@@ -73,14 +69,7 @@ TEST(Validate, AcceptsSemidefiniteK) {
 
 TEST(Validate, RejectsEachDefect) {
   const Model good = MakeChain(Eigen::Vector2d(2.0, 1.5), Eigen::Vector2d(4000.0, 3000.0));
-  const auto message = [](const Model& m) {
-    try {
-      Validate(m);
-    } catch (const InputError& e) {
-      return std::string(e.what());
-    }
-    return std::string();
-  };
+  const auto message = [](const Model& m) { return InputErrorOf([&] { Validate(m); }); };
   Model m = good;
   m.m_kg(0, 1) = 0.5;
   EXPECT_EQ(message(m), "M is not symmetric");

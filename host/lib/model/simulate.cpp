@@ -7,6 +7,7 @@
 #include <Eigen/LU>
 
 #include "number_text.hpp"
+#include "vibid/common/enum_names.hpp"
 #include "vibid/common/error.hpp"
 #include "vibid/model/state_space.hpp"
 
@@ -20,24 +21,16 @@ Eigen::Index SampleCount(const SimulationOptions& options) {
   return static_cast<Eigen::Index>(std::floor(options.t_end_s / options.dt_s + 1e-9)) + 1;
 }
 
+constexpr EnumNames<Method, 3> kMethodNames{
+    {{Method::kEuler, "euler"}, {Method::kRk4, "rk4"}, {Method::kExact, "exact"}}};
+
 }  // namespace
 
 Method ParseMethod(std::string_view name) {
-  if (name == "euler") return Method::kEuler;
-  if (name == "rk4") return Method::kRk4;
-  if (name == "exact") return Method::kExact;
-  throw InputError("unknown simulation method '" + std::string(name) +
-                   "' (expected euler, rk4 or exact)");
+  return ParseName(kMethodNames, name, "simulation method");
 }
 
-std::string_view MethodName(Method method) {
-  switch (method) {
-    case Method::kEuler: return "euler";
-    case Method::kRk4: return "rk4";
-    case Method::kExact: return "exact";
-  }
-  return "rk4";
-}
+std::string_view MethodName(Method method) { return NameOf(kMethodNames, method, "rk4"); }
 
 void ValidateOptions(const Model& model, const SimulationOptions& options) {
   Validate(model);

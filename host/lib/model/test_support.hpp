@@ -2,22 +2,19 @@
 #pragma once
 
 #include <random>
-#include <string>
 
 #include <Eigen/Core>
 #include <Eigen/QR>
 #include <nlohmann/json.hpp>
 
-#include "vibid/common/json_file.hpp"
+#include "vibid/common/testing/golden.hpp"
 #include "vibid/model/model.hpp"
 
 namespace vibid::model::testing {
 
 /// host/lib/model/testdata/model_golden.json, written by scripts/golden/model_golden.py (scipy).
 inline const nlohmann::json& Golden() {
-  static const nlohmann::json golden =
-      ReadJsonFile(std::string(VIBID_SOURCE_DIR) + "/host/lib/model/testdata/model_golden.json");
-  return golden;
+  return ReadGolden("host/lib/model/testdata/model_golden.json");
 }
 
 inline Eigen::MatrixXd JsonMatrix(const nlohmann::json& rows) {

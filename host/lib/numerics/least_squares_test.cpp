@@ -31,16 +31,19 @@ struct ExpDecay {
     }
     return true;
   }
+  /// The residuals with the analytic Jacobian, as the solver takes them.
+  ResidualFunction Analytic() const {
+    return [this](const Eigen::VectorXd& x, Eigen::VectorXd& r, Eigen::MatrixXd* jac) {
+      return WithJacobian(x, r, jac);
+    };
+  }
 };
 
 TEST(LevenbergMarquardt, AnalyticJacobianFindsTheExactFit) {
   const ExpDecay problem(2.5, 1.3);
   Eigen::VectorXd x(2);
   x << 1.0, 0.2;
-  const SolverSummary s =
-      LevenbergMarquardt([&](const Eigen::VectorXd& p, Eigen::VectorXd& r,
-                             Eigen::MatrixXd* j) { return problem.WithJacobian(p, r, j); },
-                         x, SolverOptions{});
+  const SolverSummary s = LevenbergMarquardt(problem.Analytic(), x, SolverOptions{});
   ASSERT_TRUE(s.Converged()) << s.message;
   EXPECT_NEAR(x[0], 2.5, 1e-9);
   EXPECT_NEAR(x[1], 1.3, 1e-9);
@@ -76,10 +79,7 @@ TEST(LevenbergMarquardt, BadlyScaledParametersConverge) {
   const ExpDecay problem(3.0e6, 0.5);
   Eigen::VectorXd x(2);
   x << 1.0e6, 2.0;
-  const SolverSummary s =
-      LevenbergMarquardt([&](const Eigen::VectorXd& p, Eigen::VectorXd& r,
-                             Eigen::MatrixXd* j) { return problem.WithJacobian(p, r, j); },
-                         x, SolverOptions{});
+  const SolverSummary s = LevenbergMarquardt(problem.Analytic(), x, SolverOptions{});
   ASSERT_TRUE(s.Converged()) << s.message;
   EXPECT_NEAR(x[0] / 3.0e6, 1.0, 1e-9);
   EXPECT_NEAR(x[1], 0.5, 1e-9);

@@ -5,8 +5,8 @@
 #include <cstdio>
 #include <sstream>
 
+#include "svg_frame.hpp"
 #include "vibid/common/error.hpp"
-#include "vibid/report/html.hpp"
 #include "vibid/report/svg_plot.hpp"
 
 namespace vibid::report {
@@ -57,16 +57,7 @@ DiagramAxes AxesOf(const StabilizationFigure& f) {
 
 void WriteFrame(const StabilizationFigure& f, const DiagramAxes& ax, std::ostringstream& svg) {
   const PlotArea& a = ax.a;
-  svg << "<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"" << f.width_px << "\" height=\""
-      << f.height_px << "\" viewBox=\"0 0 " << f.width_px << " " << f.height_px
-      << "\" font-family=\"sans-serif\" font-size=\"11\">\n";
-  svg << "<title>" << HtmlEscape(f.title) << "</title>\n";
-  svg << "<text x=\"" << Num(0.5 * (a.left + a.right))
-      << "\" y=\"18\" text-anchor=\"middle\" font-size=\"13\">" << HtmlEscape(f.title)
-      << "</text>\n";
-  svg << "<rect x=\"" << Num(a.left) << "\" y=\"" << Num(a.top) << "\" width=\""
-      << Num(a.right - a.left) << "\" height=\"" << Num(a.bottom - a.top)
-      << "\" fill=\"none\" stroke=\"#444\"/>\n";
+  WriteSvgOpening(svg, f.width_px, f.height_px, f.title, a);
   const std::vector<double> xt = ax.log_x ? LogTicks(ax.lo, ax.hi) : LinearTicks(ax.lo, ax.hi, 8);
   for (double t : xt) {
     svg << "<line x1=\"" << Num(ax.Px(t)) << "\" y1=\"" << Num(a.top) << "\" x2=\"" << Num(ax.Px(t))
@@ -79,10 +70,7 @@ void WriteFrame(const StabilizationFigure& f, const DiagramAxes& ax, std::ostrin
         << "\" y2=\"" << Num(ax.Py(t)) << "\" stroke=\"#e4e4e4\"/><text x=\"" << Num(a.left - 4)
         << "\" y=\"" << Num(ax.Py(t) + 4) << "\" text-anchor=\"end\">" << Label(t) << "</text>\n";
   }
-  svg << "<text x=\"" << Num(0.5 * (a.left + a.right)) << "\" y=\"" << Num(f.height_px - 8.0)
-      << "\" text-anchor=\"middle\">frequency (Hz)</text>\n";
-  svg << "<text transform=\"translate(14," << Num(0.5 * (a.top + a.bottom))
-      << ") rotate(-90)\" text-anchor=\"middle\">model order</text>\n";
+  WriteAxisLabels(svg, f.height_px, "frequency (Hz)", "model order", a);
 }
 
 bool DrawsFrfLine(const StabilizationFigure& f, const DiagramAxes& ax, Eigen::Index i) {

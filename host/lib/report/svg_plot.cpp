@@ -6,6 +6,7 @@
 #include <limits>
 #include <sstream>
 
+#include "svg_frame.hpp"
 #include "vibid/common/error.hpp"
 #include "vibid/report/html.hpp"
 
@@ -195,16 +196,7 @@ struct PixelMap {
 void WriteFrame(const PlotOptions& o, const PixelMap& map, const Range& xr, const Range& yr,
                 std::ostringstream& svg) {
   const PlotArea& a = map.a;
-  svg << "<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"" << o.width_px << "\" height=\""
-      << o.height_px << "\" viewBox=\"0 0 " << o.width_px << " " << o.height_px
-      << "\" font-family=\"sans-serif\" font-size=\"11\">\n";
-  svg << "<title>" << HtmlEscape(o.title) << "</title>\n";
-  svg << "<text x=\"" << Number(0.5 * (a.left + a.right))
-      << "\" y=\"18\" text-anchor=\"middle\" font-size=\"13\">" << HtmlEscape(o.title)
-      << "</text>\n";
-  svg << "<rect x=\"" << Number(a.left) << "\" y=\"" << Number(a.top) << "\" width=\""
-      << Number(a.right - a.left) << "\" height=\"" << Number(a.bottom - a.top)
-      << "\" fill=\"none\" stroke=\"#444\"/>\n";
+  WriteSvgOpening(svg, o.width_px, o.height_px, o.title, a);
   const std::vector<double> xt =
       o.x.scale == Scale::kLog ? LogTicks(xr.lo, xr.hi) : LinearTicks(xr.lo, xr.hi, 8);
   const std::vector<double> yt =
@@ -223,10 +215,7 @@ void WriteFrame(const PlotOptions& o, const PixelMap& map, const Range& xr, cons
         << "<text x=\"" << Number(a.left - 4) << "\" y=\"" << Number(y + 4)
         << "\" text-anchor=\"end\">" << TickLabel(t) << "</text>\n";
   }
-  svg << "<text x=\"" << Number(0.5 * (a.left + a.right)) << "\" y=\"" << Number(o.height_px - 8.0)
-      << "\" text-anchor=\"middle\">" << HtmlEscape(o.x.label) << "</text>\n";
-  svg << "<text transform=\"translate(14," << Number(0.5 * (a.top + a.bottom))
-      << ") rotate(-90)\" text-anchor=\"middle\">" << HtmlEscape(o.y.label) << "</text>\n";
+  WriteAxisLabels(svg, o.height_px, o.x.label, o.y.label, a);
 }
 
 // One polyline per run of drawable points: a point that cannot be drawn breaks the line.

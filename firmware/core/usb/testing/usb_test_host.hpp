@@ -197,16 +197,22 @@ struct Rig {
   /// A 96-bit STM32 unique id printed as 24 hex digits, the way the ports form the serial.
   static constexpr const char* kSerial = "0123456789ABCDEF01234567";
 
+  /// Starts the device with `serial`, on a controller whose Init answers `init_status`.
+  explicit Rig(const char* serial = kSerial, Status init_status = Status::kOk)
+      : strings(MakeDaqStrings(serial)) {
+    dcd.init_status = init_status;
+    start_status = device.Start();
+  }
+
   FakeDcd dcd;
   HidClass hid;
   RecordingDetach detach;
   DfuRuntime dfu{detach};
   std::array<ClassDriver*, 2> drivers{&hid, &dfu};
-  DaqStrings strings = MakeDaqStrings(kSerial);
+  DaqStrings strings;
   UsbDevice device{dcd, drivers, DaqDescriptors(strings)};
   Host host{device, dcd};
-
-  Rig() { (void)device.Start(); }
+  Status start_status = Status::kOk;  ///< What device.Start() answered.
 };
 
 }  // namespace vibid::fw::usb::testing

@@ -28,6 +28,24 @@ void HammerTestSpec::Validate(int dofs) const {
   Require(force_noise >= 0.0 && response_noise >= 0.0, "hammer test: noise levels must be >= 0");
 }
 
+HammerTestSpec ModalTestSpec(double fs_hz, std::uint64_t seed) {
+  return HammerTestSpec{.hammer_dof = 1,
+                        .fs_hz = fs_hz,
+                        .hits = 10,
+                        .pulse_width_s = 0.004,
+                        .spacing_min_s = 16,
+                        .spacing_max_s = 20,
+                        .seed = seed};
+}
+
+HammerTestSpec MassTestSpec(double fs_hz, std::uint64_t seed) {
+  return HammerTestSpec{.fs_hz = fs_hz,
+                        .pulse_width_s = 0.004,
+                        .spacing_min_s = 10,
+                        .spacing_max_s = 13,
+                        .seed = seed};
+}
+
 HammerTestRecord SimulateHammerTest(const model::Model& rig, const HammerTestSpec& spec) {
   spec.Validate(rig.dofs());
   std::mt19937_64 rng(spec.seed);

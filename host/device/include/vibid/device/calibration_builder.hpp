@@ -33,6 +33,9 @@ struct SensorScaling {
 
 using SensorSet = std::array<std::optional<SensorScaling>, wire::kChannelCount>;
 
+/// A unit as a sensors file spells it ("N", "m/s2", "m", "m/s"); "counts" for raw counts.
+const char* UnitName(wire::Unit unit);
+
 /// Parses a sensors file; InputError naming `source` and the field on any problem.
 SensorSet SensorsFromJson(const nlohmann::json& json, const std::string& source);
 

@@ -94,9 +94,7 @@ class Connection {
   template <typename Payload>
   requires requires { Payload::kBytes; }
   Reply Expect(wire::Command command, const Payload& payload) {
-    std::array<std::uint8_t, Payload::kBytes> bytes{};
-    wire::Encode(payload, bytes);
-    return Expect(command, bytes);
+    return Expect(command, wire::EncodedBytes(payload));
   }
 
   wire::InfoResponse GetInfo();

@@ -10,12 +10,9 @@
 #include <vector>
 
 #include "vibid/device/usb_control.hpp"
+#include "vibid/shared/dfu.hpp"
 
 namespace vibid::device {
-
-/// The ST bootloader's USB identity.
-inline constexpr std::uint16_t kDfuSeVendorId = 0x0483;
-inline constexpr std::uint16_t kDfuSeProductId = 0xDF11;
 
 /// One erasable sector of the memory a DfuSe interface string describes.
 struct DfuSeSector {
@@ -29,10 +26,6 @@ struct FlashRange {
   std::uint32_t bytes = 0;
 };
 
-/// The board's flash as its bootloader describes it (STM32F405, RM0090 §3.3), for checks made
-/// before the board is asked into DFU.
-inline constexpr const char* kBoardFlashLayout =
-    "@Internal Flash  /0x08000000/04*016Kg,01*064Kg,07*128Kg";
 /// The board's calibration slots: sectors 2 and 3 (CAL_SLOTS in the board's linker script).
 /// A firmware image never erases or writes them, so the calibration survives a flash.
 inline constexpr FlashRange kCalibrationSectors{0x08008000u, 0x8000u};
@@ -41,27 +34,6 @@ inline constexpr FlashRange kCalibrationSectors{0x08008000u, 0x8000u};
 /// /0x08000000/04*016Kg,01*064Kg,07*128Kg" (name, start address, then COUNT*SIZE[B|K|M]ATTR
 /// groups). InputError-free: throws DeviceError naming the string when malformed.
 std::vector<DfuSeSector> ParseDfuSeLayout(const std::string& layout);
-
-/// DFU 1.1 device states (table A.2.12).
-enum class DfuState : std::uint8_t {
-  kAppIdle = 0,
-  kAppDetach = 1,
-  kIdle = 2,
-  kDnloadSync = 3,
-  kDnBusy = 4,
-  kDnloadIdle = 5,
-  kManifestSync = 6,
-  kManifest = 7,
-  kManifestWaitReset = 8,
-  kUploadIdle = 9,
-  kError = 10,
-};
-
-struct DfuStatusReply {
-  std::uint8_t status = 0;  ///< bStatus: 0 OK, else the DFU error code.
-  std::uint32_t poll_timeout_ms = 0;
-  DfuState state = DfuState::kIdle;
-};
 
 class DfuSe {
  public:
@@ -73,7 +45,7 @@ class DfuSe {
   /// layout of alternate setting 0. Throws DeviceError if the device has no DfuSe interface.
   static DfuSe Open(UsbControl& usb, std::vector<DfuSeSector>& layout);
 
-  DfuStatusReply GetStatus();
+  dfu::StatusReply GetStatus();
   void ClearStatus();
   void Abort();
   void SetAddress(std::uint32_t address);
@@ -90,7 +62,7 @@ class DfuSe {
 
  private:
   /// Polls GETSTATUS through dfuDNBUSY until the state settles; throws on dfuERROR.
-  DfuStatusReply Settle(const std::string& what);
+  dfu::StatusReply Settle(const std::string& what);
   void Dnload(std::uint16_t block, std::span<const std::uint8_t> data, const std::string& what);
 
   UsbControl* usb_;

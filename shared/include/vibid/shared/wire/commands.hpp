@@ -340,14 +340,21 @@ Status Decode(std::span<const std::uint8_t> in, InjectFramesRequest& v);
 Status BuildReport(Command command, std::uint16_t token, std::uint16_t sequence, std::uint8_t flags,
                    Status status, std::span<const std::uint8_t> payload, Report& out);
 
+/// A fixed-size payload struct's bytes, for everything that takes a payload as bytes.
+template <typename Payload>
+requires requires { Payload::kBytes; }
+std::array<std::uint8_t, Payload::kBytes> EncodedBytes(const Payload& payload) {
+  std::array<std::uint8_t, Payload::kBytes> bytes{};
+  Encode(payload, bytes);
+  return bytes;
+}
+
 /// Encodes a fixed-size payload struct straight into a report.
 template <typename Payload>
 requires requires { Payload::kBytes; }
 Status BuildReport(Command command, std::uint16_t token, std::uint16_t sequence, std::uint8_t flags,
                    Status status, const Payload& payload, Report& out) {
-  std::array<std::uint8_t, Payload::kBytes> bytes{};
-  Encode(payload, bytes);
-  return BuildReport(command, token, sequence, flags, status, bytes, out);
+  return BuildReport(command, token, sequence, flags, status, EncodedBytes(payload), out);
 }
 
 /// Short stable name of a command id ("log-read"), "unknown" otherwise.

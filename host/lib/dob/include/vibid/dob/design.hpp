@@ -12,6 +12,7 @@
 #pragma once
 
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include <Eigen/Core>
@@ -77,6 +78,9 @@ DobDesign DesignObserver(const NominalPlant& plant, const DobOptions& options);
 /// Frequency (Hz) where |Q(j 2 pi f) - 1| first reaches `tolerance`.
 double QBandEdgeHz(const QFilter& q, double tolerance);
 
+/// "disp", "vel" or "acc".
 const char* SensorName(SensorKind kind);
+/// The kind SensorName names; InputError otherwise.
+SensorKind ParseSensorKind(std::string_view name);
 
 }  // namespace vibid::dob

@@ -7,21 +7,9 @@
 #include <span>
 
 #include "vibid/fw/usb/class_driver.hpp"
+#include "vibid/shared/dfu.hpp"
 
 namespace vibid::fw::usb {
-
-/// DFU class request codes (DFU 1.1 table 3.2).
-enum class DfuRequest : std::uint8_t {
-  kDetach = 0,
-  kDnload = 1,
-  kUpload = 2,
-  kGetStatus = 3,
-  kClrStatus = 4,
-  kGetState = 5,
-  kAbort = 6,
-};
-/// Run-time states (DFU 1.1 §6.1.2).
-enum class DfuState : std::uint8_t { kAppIdle = 0, kAppDetach = 1 };
 
 /// What the port does on DFU_DETACH: typically a jump to the ROM bootloader.
 class DfuDetachHandler {
@@ -37,12 +25,12 @@ class DfuRuntime final : public ClassDriver {
  public:
   explicit DfuRuntime(DfuDetachHandler& handler) : handler_(handler) {}
 
-  DfuState state() const { return state_; }
+  dfu::State state() const { return state_; }
 
   bool OwnsInterface(std::uint8_t interface_number) const override;
   bool OwnsEndpoint(std::uint8_t) const override { return false; }
   Status Open(Dcd&) override { return Status::kOk; }
-  void Close() override { state_ = DfuState::kAppIdle; }
+  void Close() override { state_ = dfu::State::kAppIdle; }
   ControlReply OnControlRequest(const SetupPacket& setup, std::span<std::uint8_t> scratch) override;
   bool OnControlData(const SetupPacket&, std::span<const std::uint8_t>) override { return false; }
   void OnControlComplete(const SetupPacket& setup) override;
@@ -51,7 +39,7 @@ class DfuRuntime final : public ClassDriver {
 
  private:
   DfuDetachHandler& handler_;
-  DfuState state_ = DfuState::kAppIdle;
+  dfu::State state_ = dfu::State::kAppIdle;
 };
 
 }  // namespace vibid::fw::usb

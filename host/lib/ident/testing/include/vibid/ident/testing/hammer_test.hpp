@@ -51,6 +51,12 @@ struct HammerTestRecord {
 
 HammerTestRecord SimulateHammerTest(const model::Model& rig, const HammerTestSpec& spec);
 
+/// The identification scenario's modal test (the library's end-to-end tests and the CLI's): mass 2
+/// (DOF 1) of the chain hit ten times, 4 ms pulses 16 to 20 s apart, every mass measured.
+HammerTestSpec ModalTestSpec(double fs_hz, std::uint64_t seed);
+/// Its mass test: the one mass of a single-DOF rig hit five times, 4 ms pulses 10 to 13 s apart.
+HammerTestSpec MassTestSpec(double fs_hz, std::uint64_t seed);
+
 /// CSV with t_s, force_n and the response columns named `names` (one per response).
 std::string FormatHammerTestCsv(const HammerTestRecord& record,
                                 const std::vector<std::string>& names);
