@@ -12,8 +12,6 @@
 namespace vibid::report {
 namespace {
 
-std::string Num(double v) { return SvgNumber(v); }
-
 std::string Label(double v) {
   char text[32];
   std::snprintf(text, sizeof text, "%g", v);
@@ -60,15 +58,16 @@ void WriteFrame(const StabilizationFigure& f, const DiagramAxes& ax, std::ostrin
   WriteSvgOpening(svg, f.width_px, f.height_px, f.title, a);
   const std::vector<double> xt = ax.log_x ? LogTicks(ax.lo, ax.hi) : LinearTicks(ax.lo, ax.hi, 8);
   for (double t : xt) {
-    svg << "<line x1=\"" << Num(ax.Px(t)) << "\" y1=\"" << Num(a.top) << "\" x2=\"" << Num(ax.Px(t))
-        << "\" y2=\"" << Num(a.bottom) << "\" stroke=\"#e4e4e4\"/><text x=\"" << Num(ax.Px(t))
-        << "\" y=\"" << Num(a.bottom + 14) << "\" text-anchor=\"middle\">" << Label(t)
-        << "</text>\n";
+    svg << "<line x1=\"" << SvgNumber(ax.Px(t)) << "\" y1=\"" << SvgNumber(a.top) << "\" x2=\""
+        << SvgNumber(ax.Px(t)) << "\" y2=\"" << SvgNumber(a.bottom)
+        << "\" stroke=\"#e4e4e4\"/><text x=\"" << SvgNumber(ax.Px(t)) << "\" y=\""
+        << SvgNumber(a.bottom + 14) << "\" text-anchor=\"middle\">" << Label(t) << "</text>\n";
   }
   for (double t : LinearTicks(0.0, ax.top_order, 6)) {
-    svg << "<line x1=\"" << Num(a.left) << "\" y1=\"" << Num(ax.Py(t)) << "\" x2=\"" << Num(a.right)
-        << "\" y2=\"" << Num(ax.Py(t)) << "\" stroke=\"#e4e4e4\"/><text x=\"" << Num(a.left - 4)
-        << "\" y=\"" << Num(ax.Py(t) + 4) << "\" text-anchor=\"end\">" << Label(t) << "</text>\n";
+    svg << "<line x1=\"" << SvgNumber(a.left) << "\" y1=\"" << SvgNumber(ax.Py(t)) << "\" x2=\""
+        << SvgNumber(a.right) << "\" y2=\"" << SvgNumber(ax.Py(t))
+        << "\" stroke=\"#e4e4e4\"/><text x=\"" << SvgNumber(a.left - 4) << "\" y=\""
+        << SvgNumber(ax.Py(t) + 4) << "\" text-anchor=\"end\">" << Label(t) << "</text>\n";
   }
   WriteAxisLabels(svg, f.height_px, "frequency (Hz)", "model order", a);
 }
@@ -101,7 +100,7 @@ bool WriteFrfBackdrop(const StabilizationFigure& f, const DiagramAxes& ax,
     last_x = x;
     const double y =
         a.bottom - (std::log10(f.frf_magnitude[i]) - mlo) / (mhi - mlo) * (a.bottom - a.top) * 0.9;
-    svg << Num(x) << "," << Num(y) << " ";
+    svg << SvgNumber(x) << "," << SvgNumber(y) << " ";
   }
   svg << "\"/>\n";
   return any;
@@ -121,11 +120,11 @@ void WriteChosenPoles(const StabilizationFigure& f, const DiagramAxes& ax,
     int row = 0;
     while (row < 2 && x < last_label_x[row]) ++row;
     last_label_x[row] = x + 6.0 * static_cast<double>(text.size()) + 6.0;
-    svg << "<line class=\"chosen\" x1=\"" << Num(x) << "\" y1=\"" << Num(a.top) << "\" x2=\""
-        << Num(x) << "\" y2=\"" << Num(a.bottom)
-        << "\" stroke=\"#d62728\" stroke-dasharray=\"4,3\"/><text x=\"" << Num(x + 2) << "\" y=\""
-        << Num(a.top + 10 + 11 * row) << "\" fill=\"#d62728\" font-size=\"10\">" << text
-        << "</text>\n";
+    svg << "<line class=\"chosen\" x1=\"" << SvgNumber(x) << "\" y1=\"" << SvgNumber(a.top)
+        << "\" x2=\"" << SvgNumber(x) << "\" y2=\"" << SvgNumber(a.bottom)
+        << "\" stroke=\"#d62728\" stroke-dasharray=\"4,3\"/><text x=\"" << SvgNumber(x + 2)
+        << "\" y=\"" << SvgNumber(a.top + 10 + 11 * row) << "\" fill=\"#d62728\" font-size=\"10\">"
+        << text << "</text>\n";
   }
 }
 
@@ -136,15 +135,15 @@ void WritePoleMarkers(const StabilizationFigure& f, const DiagramAxes& ax,
     const double x = ax.Px(p.freq_hz), y = ax.Py(p.order);
     switch (p.mark) {
       case PoleMark::kStable:
-        svg << "<circle class=\"stable\" cx=\"" << Num(x) << "\" cy=\"" << Num(y)
+        svg << "<circle class=\"stable\" cx=\"" << SvgNumber(x) << "\" cy=\"" << SvgNumber(y)
             << "\" r=\"2.6\" fill=\"#1f3f8f\"/>\n";
         break;
       case PoleMark::kFrequency:
-        svg << "<circle class=\"freq\" cx=\"" << Num(x) << "\" cy=\"" << Num(y)
+        svg << "<circle class=\"freq\" cx=\"" << SvgNumber(x) << "\" cy=\"" << SvgNumber(y)
             << "\" r=\"2.6\" fill=\"none\" stroke=\"#2ca02c\" stroke-width=\"1\"/>\n";
         break;
       case PoleMark::kUnstable:
-        svg << "<circle class=\"unstable\" cx=\"" << Num(x) << "\" cy=\"" << Num(y)
+        svg << "<circle class=\"unstable\" cx=\"" << SvgNumber(x) << "\" cy=\"" << SvgNumber(y)
             << "\" r=\"1.2\" fill=\"#999\"/>\n";
         break;
     }
@@ -155,26 +154,28 @@ void WritePoleMarkers(const StabilizationFigure& f, const DiagramAxes& ax,
 void WriteLegend(const PlotArea& a, bool with_frf, std::ostringstream& svg) {
   const double ly = 34.0;
   double lx = a.left;
-  svg << "<circle cx=\"" << Num(lx + 4) << "\" cy=\"" << Num(ly - 4)
-      << "\" r=\"2.6\" fill=\"#1f3f8f\"/><text x=\"" << Num(lx + 10) << "\" y=\"" << Num(ly)
-      << "\">stable (frequency, damping, shape)</text>\n";
+  svg << "<circle cx=\"" << SvgNumber(lx + 4) << "\" cy=\"" << SvgNumber(ly - 4)
+      << "\" r=\"2.6\" fill=\"#1f3f8f\"/><text x=\"" << SvgNumber(lx + 10) << "\" y=\""
+      << SvgNumber(ly) << "\">stable (frequency, damping, shape)</text>\n";
   lx += 215;
-  svg << "<circle cx=\"" << Num(lx + 4) << "\" cy=\"" << Num(ly - 4)
-      << "\" r=\"2.6\" fill=\"none\" stroke=\"#2ca02c\"/><text x=\"" << Num(lx + 10) << "\" y=\""
-      << Num(ly) << "\">stable in frequency</text>\n";
+  svg << "<circle cx=\"" << SvgNumber(lx + 4) << "\" cy=\"" << SvgNumber(ly - 4)
+      << "\" r=\"2.6\" fill=\"none\" stroke=\"#2ca02c\"/><text x=\"" << SvgNumber(lx + 10)
+      << "\" y=\"" << SvgNumber(ly) << "\">stable in frequency</text>\n";
   lx += 125;
-  svg << "<circle cx=\"" << Num(lx + 4) << "\" cy=\"" << Num(ly - 4)
-      << "\" r=\"1.2\" fill=\"#999\"/><text x=\"" << Num(lx + 10) << "\" y=\"" << Num(ly)
-      << "\">not stable</text>\n";
+  svg << "<circle cx=\"" << SvgNumber(lx + 4) << "\" cy=\"" << SvgNumber(ly - 4)
+      << "\" r=\"1.2\" fill=\"#999\"/><text x=\"" << SvgNumber(lx + 10) << "\" y=\""
+      << SvgNumber(ly) << "\">not stable</text>\n";
   lx += 80;
-  svg << "<line x1=\"" << Num(lx) << "\" y1=\"" << Num(ly - 4) << "\" x2=\"" << Num(lx + 16)
-      << "\" y2=\"" << Num(ly - 4) << "\" stroke=\"#d62728\" stroke-dasharray=\"4,3\"/><text x=\""
-      << Num(lx + 20) << "\" y=\"" << Num(ly) << "\">chosen pole</text>\n";
+  svg << "<line x1=\"" << SvgNumber(lx) << "\" y1=\"" << SvgNumber(ly - 4) << "\" x2=\""
+      << SvgNumber(lx + 16) << "\" y2=\"" << SvgNumber(ly - 4)
+      << "\" stroke=\"#d62728\" stroke-dasharray=\"4,3\"/><text x=\"" << SvgNumber(lx + 20)
+      << "\" y=\"" << SvgNumber(ly) << "\">chosen pole</text>\n";
   lx += 95;
   if (with_frf) {
-    svg << "<line x1=\"" << Num(lx) << "\" y1=\"" << Num(ly - 4) << "\" x2=\"" << Num(lx + 16)
-        << "\" y2=\"" << Num(ly - 4) << "\" stroke=\"#9bb7d4\"/><text x=\"" << Num(lx + 20)
-        << "\" y=\"" << Num(ly) << "\">|H| (log)</text>\n";
+    svg << "<line x1=\"" << SvgNumber(lx) << "\" y1=\"" << SvgNumber(ly - 4) << "\" x2=\""
+        << SvgNumber(lx + 16) << "\" y2=\"" << SvgNumber(ly - 4)
+        << "\" stroke=\"#9bb7d4\"/><text x=\"" << SvgNumber(lx + 20) << "\" y=\"" << SvgNumber(ly)
+        << "\">|H| (log)</text>\n";
   }
 }
 

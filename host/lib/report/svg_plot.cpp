@@ -63,8 +63,6 @@ Range Padded(Range r, Scale scale) {
   return {std::floor(r.lo / step) * step, std::ceil(r.hi / step) * step};
 }
 
-std::string Number(double v) { return SvgNumber(v); }
-
 std::string TickLabel(double v) {
   char text[32];
   if (v == 0.0) return "0";
@@ -75,7 +73,9 @@ std::string TickLabel(double v) {
 
 // Minimum and maximum per pixel column, in x order, for one run of points in pixel coordinates.
 void AppendReduced(const std::vector<std::pair<double, double>>& run, std::string& points) {
-  const auto emit = [&points](double x, double y) { points += Number(x) + "," + Number(y) + " "; };
+  const auto emit = [&points](double x, double y) {
+    points += SvgNumber(x) + "," + SvgNumber(y) + " ";
+  };
   if (run.size() <= 4) {
     for (const auto& [x, y] : run) emit(x, y);
     return;
@@ -203,16 +203,16 @@ void WriteFrame(const PlotOptions& o, const PixelMap& map, const Range& xr, cons
       o.y.scale == Scale::kLog ? LogTicks(yr.lo, yr.hi) : LinearTicks(yr.lo, yr.hi, 6);
   for (double t : xt) {
     const double x = map.Px(t);
-    svg << "<line class=\"grid\" x1=\"" << Number(x) << "\" y1=\"" << Number(a.top) << "\" x2=\""
-        << Number(x) << "\" y2=\"" << Number(a.bottom) << "\" stroke=\"#ddd\"/>"
-        << "<text x=\"" << Number(x) << "\" y=\"" << Number(a.bottom + 14)
+    svg << "<line class=\"grid\" x1=\"" << SvgNumber(x) << "\" y1=\"" << SvgNumber(a.top)
+        << "\" x2=\"" << SvgNumber(x) << "\" y2=\"" << SvgNumber(a.bottom) << "\" stroke=\"#ddd\"/>"
+        << "<text x=\"" << SvgNumber(x) << "\" y=\"" << SvgNumber(a.bottom + 14)
         << "\" text-anchor=\"middle\">" << TickLabel(t) << "</text>\n";
   }
   for (double t : yt) {
     const double y = map.Py(t);
-    svg << "<line class=\"grid\" x1=\"" << Number(a.left) << "\" y1=\"" << Number(y) << "\" x2=\""
-        << Number(a.right) << "\" y2=\"" << Number(y) << "\" stroke=\"#ddd\"/>"
-        << "<text x=\"" << Number(a.left - 4) << "\" y=\"" << Number(y + 4)
+    svg << "<line class=\"grid\" x1=\"" << SvgNumber(a.left) << "\" y1=\"" << SvgNumber(y)
+        << "\" x2=\"" << SvgNumber(a.right) << "\" y2=\"" << SvgNumber(y) << "\" stroke=\"#ddd\"/>"
+        << "<text x=\"" << SvgNumber(a.left - 4) << "\" y=\"" << SvgNumber(y + 4)
         << "\" text-anchor=\"end\">" << TickLabel(t) << "</text>\n";
   }
   WriteAxisLabels(svg, o.height_px, o.x.label, o.y.label, a);
@@ -243,11 +243,11 @@ void WriteSeries(const Series& s, std::size_t k, const PixelMap& map, std::ostri
 
 // The series' legend entry at `legend_x`; returns where the next one starts.
 double WriteLegendEntry(const Series& s, double legend_x, std::ostringstream& svg) {
-  svg << "<line x1=\"" << Number(legend_x) << "\" y1=\"" << Number(kLegendY - 4) << "\" x2=\""
-      << Number(legend_x + kLegendSwatch) << "\" y2=\"" << Number(kLegendY - 4) << "\" stroke=\""
-      << HtmlEscape(s.color) << "\" stroke-width=\"2\""
+  svg << "<line x1=\"" << SvgNumber(legend_x) << "\" y1=\"" << SvgNumber(kLegendY - 4) << "\" x2=\""
+      << SvgNumber(legend_x + kLegendSwatch) << "\" y2=\"" << SvgNumber(kLegendY - 4)
+      << "\" stroke=\"" << HtmlEscape(s.color) << "\" stroke-width=\"2\""
       << (s.dashed ? " stroke-dasharray=\"5,3\"" : "") << "/><text x=\""
-      << Number(legend_x + kLegendSwatch + 4) << "\" y=\"" << Number(kLegendY) << "\">"
+      << SvgNumber(legend_x + kLegendSwatch + 4) << "\" y=\"" << SvgNumber(kLegendY) << "\">"
       << HtmlEscape(s.label) << "</text>\n";
   return legend_x +
          (kLegendSwatch + 4 + kLegendCharPx * static_cast<double>(s.label.size()) + kLegendGap);
