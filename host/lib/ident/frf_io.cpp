@@ -109,9 +109,12 @@ Frf ParseFrfCsv(std::string_view text, const std::string& source) {
         const long averages = ToLong(value, source + ": line 1: averages");
         Require(averages >= 0, source + ": line 1: averages must not be negative");
         frf.averages = static_cast<std::size_t>(averages);
-      } else if (key == "exp_window_tau_s")
+      } else if (key == "exp_window_tau_s") {
         frf.exp_window_tau_s = ToDouble(value, source + ": line 1: exp_window_tau_s");
-      else if (key == "pretrigger_s") {
+        // 0 is "no window"; a negative time constant would silently mean the same.
+        Require(frf.exp_window_tau_s >= 0.0,
+                source + ": line 1: exp_window_tau_s must not be negative");
+      } else if (key == "pretrigger_s") {
         frf.pretrigger_s = ToDouble(value, source + ": line 1: pretrigger_s");
         Require(frf.pretrigger_s >= 0.0, source + ": line 1: pretrigger_s must not be negative");
       } else if (key == "force")

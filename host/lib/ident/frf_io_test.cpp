@@ -48,6 +48,21 @@ TEST(FrfCsv, MalformedFilesNameTheProblem) {
   } catch (const InputError& e) {
     EXPECT_NE(std::string(e.what()).find("increase"), std::string::npos);
   }
+  // A negative exponential-window time constant is refused, not read as "no window".
+  const std::string written = FormatFrfCsv(Sample());
+  const std::string key = "exp_window_tau_s=";
+  const std::size_t at = written.find(key);
+  ASSERT_NE(at, std::string::npos);
+  const std::size_t value = at + key.size();
+  const std::string text = written.substr(0, value) + "-" + written.substr(value);
+  try {
+    ParseFrfCsv(text, "x.csv");
+    FAIL();
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("x.csv: line 1: exp_window_tau_s must not be negative"),
+              std::string::npos)
+        << e.what();
+  }
 }
 
 TEST(Uff58, RoundTripAndFixedFields) {
