@@ -288,9 +288,11 @@ struct ScreenedStart {
   double lambda_rad_s = 0.0;
 };
 
-// The starting filters screened on `data`: each after its state-variable-filter pass, by simulation
-// fit.
-ScreenedStart ScreenStartsOn(const IoData& data, const TfestOptions& options, SrivcWork& work) {
+// Starting filters across the band: λ from 1 % to 30 % of the Nyquist frequency. SRIVC converges
+// to the same fixed point from any start in its basin, so the starts are screened after the
+// state-variable-filter pass, and only the best by simulation fit is iterated on (rather than
+// every start to convergence, which cost four times the passes).
+ScreenedStart ScreenStarts(const IoData& data, const TfestOptions& options, SrivcWork& work) {
   constexpr int kScreeningPasses = 0;
   const double nyquist_rad_s = std::acos(-1.0) / data.dt_s;
   ScreenedStart best;
@@ -307,25 +309,6 @@ ScreenedStart ScreenStartsOn(const IoData& data, const TfestOptions& options, Sr
     }
   }
   return best;
-}
-
-// The screening compares starting filters on the record's first kScreeningSamples samples: it only
-// ranks them, and SRIVC then iterates the best on the whole record to the same fixed point.
-// On the 20 000-sample record of bench/sysid that is a quarter of the screening's filtering.
-constexpr Eigen::Index kScreeningSamples = 5000;
-
-// Starting filters across the band: λ from 1 % to 30 % of the Nyquist frequency. SRIVC converges
-// to the same fixed point from any start in its basin, so the starts are screened after the
-// state-variable-filter pass, and only the best by simulation fit is iterated on (rather than
-// every start to convergence, which cost four times the passes). A head of the record that gives
-// no start at all (a quiet beginning) is screened again whole.
-ScreenedStart ScreenStarts(const IoData& data, const TfestOptions& options, SrivcWork& work) {
-  if (data.samples() > 2 * kScreeningSamples) {
-    const IoData head{data.u.head(kScreeningSamples), data.y.head(kScreeningSamples), data.dt_s};
-    ScreenedStart best = ScreenStartsOn(head, options, work);
-    if (best.outcome.ok) return best;
-  }
-  return ScreenStartsOn(data, options, work);
 }
 
 // The coefficients themselves as the parameters: [den tail, num].
