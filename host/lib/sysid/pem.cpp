@@ -115,11 +115,65 @@ Eigen::VectorXd Monic(const Eigen::VectorXd& tail) {
   return p;
 }
 
-// ARX is biased when the noise is not equation error (badly so at high sample rates, where A(q)
-// weights the error like a high-pass). The basic IV estimate with delayed inputs as instruments
-// is consistent for any noise independent of u: it replaces f, b when it simulates better.
-void PreferBasicIv(const IoData& data, const PolyOrders& orders, Eigen::Index t0,
-                   Eigen::VectorXd& f, Eigen::VectorXd& b) {
+// At high sample rates the poles crowd near z = 1: the lagged regressors y(t−1) … y(t−nf) are
+// nearly equal, and y(t−1) nearly equals the target y(t), so ZᵀΦ is singular to working precision.
+// The IV regressions are therefore written in backward differences (Δs(t) = s(t) − s(t−1), the
+// δ-operator basis): F(q) = Δⁿ + Σₖ gₖ Δᵏ q^−(n−k) and B(q) = Σₖ hₖ Δᵏ q^−nk, so that
+//   Δⁿ y(t) = −Σₖ gₖ Δᵏ y(t − n + k) + Σₖ hₖ Δᵏ u(t − nk) + e(t),
+// whose target and columns are of comparable size and far from collinear. The IV solution does
+// not depend on the basis; g and h are mapped back to F and B afterwards.
+
+/// Columns k = 0..order of d: Δᵏ s, with the samples before s's start taken as zero.
+void Differences(const Eigen::VectorXd& s, int order, Eigen::MatrixXd& d) {
+  const Eigen::Index n = s.size();
+  d.resize(n, order + 1);
+  d.col(0) = s;
+  for (int k = 1; k <= order; ++k) {
+    d(0, k) = d(0, k - 1);
+    d.col(k).tail(n - 1) = d.col(k - 1).tail(n - 1) - d.col(k - 1).head(n - 1);
+  }
+}
+
+/// Columns [col, col + count) of out, row r ↔ t = t0 + r. kDenominator: sign · Δᵏ s(t − count + k)
+/// (the F block); kNumerator: sign · Δᵏ s(t − lag) (the B block and the delayed-input instruments).
+enum class Block { kDenominator, kNumerator };
+void FillDifferences(const Eigen::MatrixXd& d, Block block, double sign, Eigen::Index lag,
+                     Eigen::Index t0, Eigen::Index col, int count, Eigen::Ref<Eigen::MatrixXd> out) {
+  const Eigen::Index rows = out.rows();
+  for (int k = 0; k < count; ++k) {
+    const Eigen::Index shift = block == Block::kDenominator ? count - k : lag;
+    out.col(col + k) = sign * d.col(k).segment(t0 - shift, rows);
+  }
+}
+
+/// (1 − q⁻¹)ᵏ as coefficients of q⁰, q⁻¹, …
+Eigen::VectorXd DifferencePower(int k) {
+  Eigen::VectorXd p = Eigen::VectorXd::Ones(1);
+  for (int i = 0; i < k; ++i) p = numerics::MultiplyPolynomials(p, Eigen::Vector2d(1.0, -1.0));
+  return p;
+}
+
+/// F = Δⁿ + Σₖ gₖ Δᵏ q^−(n−k), monic, as coefficients of q⁰ … q⁻ⁿ.
+Eigen::VectorXd DenominatorFromDifferences(Eigen::Ref<const Eigen::VectorXd> g) {
+  const int n = static_cast<int>(g.size());
+  Eigen::VectorXd f = DifferencePower(n);
+  for (int k = 0; k < n; ++k) f.segment(n - k, k + 1) += g[k] * DifferencePower(k);
+  return f;
+}
+
+/// B's coefficients of q^−nk … q^−(nk+nb−1) from h: Σₖ hₖ Δᵏ q^−nk.
+Eigen::VectorXd NumeratorFromDifferences(Eigen::Ref<const Eigen::VectorXd> h) {
+  const Eigen::Index nb = h.size();
+  Eigen::VectorXd b = Eigen::VectorXd::Zero(nb);
+  for (int k = 0; k < nb; ++k) b.head(k + 1) += h[k] * DifferencePower(k);
+  return b;
+}
+
+// The basic IV estimate with delayed inputs as instruments: consistent for any noise independent of
+// u (ARX is not when the noise is not equation error, badly so at high sample rates, where A(q)
+// weights the error like a high-pass). False when the record is too short or ZᵀΦ is singular.
+bool BasicIv(const IoData& data, const PolyOrders& orders, Eigen::Index t0, Eigen::VectorXd& f,
+             Eigen::VectorXd& b) {
   const int nf = orders.nf;
   const int nb = orders.nb;
   const int nk = orders.nk;
@@ -127,34 +181,30 @@ void PreferBasicIv(const IoData& data, const PolyOrders& orders, Eigen::Index t0
   const Eigen::Index lag0 = nk + nb + nf - 1;
   const Eigen::Index s0 = std::max<Eigen::Index>(t0, lag0);
   const Eigen::Index m = n - s0;
-  if (!(nf > 0 && m > 2 * (nf + nb))) return;
+  if (!(nf > 0 && m > 2 * (nf + nb))) return false;
   Eigen::MatrixXd phi(m, nf + nb);
   Eigen::MatrixXd zeta(m, nf + nb);
-  for (Eigen::Index r = 0; r < m; ++r) {
-    const Eigen::Index t = s0 + r;
-    for (int i = 0; i < nf; ++i) {
-      phi(r, i) = -data.y[t - 1 - i];
-      zeta(r, i) = data.u[t - nk - nb - i];
-    }
-    for (int j = 0; j < nb; ++j) phi(r, nf + j) = zeta(r, nf + j) = data.u[t - nk - j];
-  }
+  Eigen::MatrixXd dy;
+  Eigen::MatrixXd du;
+  Differences(data.y, nf, dy);
+  Differences(data.u, std::max(nf, nb), du);
+  FillDifferences(dy, Block::kDenominator, -1.0, 0, s0, 0, nf, phi);
+  FillDifferences(du, Block::kNumerator, 1.0, nk, s0, nf, nb, phi);
+  FillDifferences(du, Block::kNumerator, 1.0, nk + nb, s0, 0, nf, zeta);
+  zeta.rightCols(nb) = phi.rightCols(nb);
   Eigen::VectorXd th;
-  if (!SolveInstrumental(zeta, phi, data.y.tail(m), th)) return;
-  const Eigen::VectorXd f_iv = numerics::StabilizeDiscrete(Monic(th.head(nf)));
-  Eigen::VectorXd b_iv = Eigen::VectorXd::Zero(nk + nb);
-  b_iv.tail(nb) = th.tail(nb);
-  const double err_iv = (data.y - numerics::Filter(b_iv, f_iv, data.u)).squaredNorm();
-  const double err_arx = (data.y - numerics::Filter(b, f, data.u)).squaredNorm();
-  if (std::isfinite(err_iv) && err_iv < err_arx) {
-    f = f_iv;
-    b = b_iv;
-  }
+  if (!SolveInstrumental(zeta, phi, dy.col(nf).tail(m), th)) return false;
+  f = numerics::StabilizeDiscrete(DenominatorFromDifferences(th.head(nf)));
+  b = Eigen::VectorXd::Zero(nk + nb);
+  b.tail(nb) = NumeratorFromDifferences(th.tail(nb));
+  return true;
 }
 
 // Simplified refined IV (Young): prefilter y, u and the instruments by 1/F̂ and use the noise-free
-// output of the current model as instruments; a fixed point of the iteration is consistent and
-// close to the OE optimum, so the search that follows only polishes.
-void RefineIv(const IoData& data, const PolyOrders& orders, Eigen::Index t0, double tolerance,
+// output of the current model as instruments. At a fixed point F̂ = F the IV equations read
+// Σ ζ(t) (y(t) − B/F u(t)) = 0 with ζ = −∂ŷ/∂θ: the OE criterion's stationarity condition, so the
+// search that follows only confirms it. True when the relative change fell below `tolerance`.
+bool RefineIv(const IoData& data, const PolyOrders& orders, Eigen::Index t0, double tolerance,
               Eigen::VectorXd& f, Eigen::VectorXd& b) {
   const int nf = orders.nf;
   const int nb = orders.nb;
@@ -165,43 +215,47 @@ void RefineIv(const IoData& data, const PolyOrders& orders, Eigen::Index t0, dou
   // The regressor matrices are allocated once: fresh megabyte-sized ones per pass cost page faults.
   Eigen::MatrixXd phi(rows, nf + nb);
   Eigen::MatrixXd zeta(rows, nf + nb);
+  Eigen::MatrixXd dy;
+  Eigen::MatrixXd dx;
+  Eigen::MatrixXd du;
   for (int pass = 0; pass < 20 && nf > 0; ++pass) {
     const Eigen::VectorXd x = numerics::Filter(b, f, data.u);
     const Eigen::VectorXd yf = numerics::Filter(one, f, data.y);
     const Eigen::VectorXd uf = numerics::Filter(one, f, data.u);
     const Eigen::VectorXd xf = numerics::Filter(one, f, x);
-    for (Eigen::Index r = 0; r < rows; ++r) {
-      const Eigen::Index t = t0 + r;
-      for (int i = 0; i < nf; ++i) {
-        phi(r, i) = -yf[t - 1 - i];
-        zeta(r, i) = -xf[t - 1 - i];
-      }
-      for (int j = 0; j < nb; ++j) phi(r, nf + j) = zeta(r, nf + j) = uf[t - nk - j];
-    }
+    Differences(yf, nf, dy);
+    Differences(xf, nf, dx);
+    Differences(uf, nb, du);
+    FillDifferences(dy, Block::kDenominator, -1.0, 0, t0, 0, nf, phi);
+    FillDifferences(dx, Block::kDenominator, -1.0, 0, t0, 0, nf, zeta);
+    FillDifferences(du, Block::kNumerator, 1.0, nk, t0, nf, nb, phi);
+    zeta.rightCols(nb) = phi.rightCols(nb);
     Eigen::VectorXd th;
-    if (!SolveInstrumental(zeta, phi, yf.tail(rows), th)) break;
-    f = numerics::StabilizeDiscrete(Monic(th.head(nf)));
+    if (!SolveInstrumental(zeta, phi, dy.col(nf).tail(rows), th)) break;
+    f = numerics::StabilizeDiscrete(DenominatorFromDifferences(th.head(nf)));
     b = Eigen::VectorXd::Zero(nk + nb);
-    b.tail(nb) = th.tail(nb);
+    b.tail(nb) = NumeratorFromDifferences(th.tail(nb));
     Eigen::VectorXd current(nf + nb);
-    current << f.tail(nf), th.tail(nb);
+    current << f.tail(nf), b.tail(nb);
     if (previous.size() == current.size() &&
         (current - previous).norm() <= tolerance * current.norm())
-      break;
+      return true;
     previous = current;
   }
+  return false;
 }
 
-}  // namespace
-
-PolyModel EstimateOeIv(const IoData& data, const PolyOrders& orders, double tolerance) {
-  const PolyOrders arx_orders{orders.nf, orders.nb, 0, 0, 0, orders.nk};
-  const ArxResult arx = EstimateArx(data, arx_orders);
-  Eigen::VectorXd f = numerics::StabilizeDiscrete(arx.model.a);
-  Eigen::VectorXd b = arx.model.b;
+PolyModel RefinedIvEstimate(const IoData& data, const PolyOrders& orders, double tolerance,
+                            bool& converged) {
   const Eigen::Index t0 = std::max<Eigen::Index>(orders.nf, orders.nk + orders.nb - 1);
-  PreferBasicIv(data, orders, t0, f, b);
-  RefineIv(data, orders, t0, tolerance, f, b);
+  Eigen::VectorXd f;
+  Eigen::VectorXd b;
+  if (!BasicIv(data, orders, t0, f, b)) {
+    const ArxResult arx = EstimateArx(data, PolyOrders{orders.nf, orders.nb, 0, 0, 0, orders.nk});
+    f = numerics::StabilizeDiscrete(arx.model.a);
+    b = arx.model.b;
+  }
+  converged = RefineIv(data, orders, t0, tolerance, f, b);
   PolyModel m;
   m.structure = Structure::kOe;
   m.orders = PolyOrders{0, orders.nb, 0, 0, orders.nf, orders.nk};
@@ -211,17 +265,25 @@ PolyModel EstimateOeIv(const IoData& data, const PolyOrders& orders, double tole
   return m;
 }
 
+}  // namespace
+
+PolyModel EstimateOeIv(const IoData& data, const PolyOrders& orders, double tolerance) {
+  bool converged = false;
+  return RefinedIvEstimate(data, orders, tolerance, converged);
+}
+
 namespace {
 
-/// The better (by simulation error) of the refined-IV start and, when the orders are those of a
-/// sampled continuous system (nk = 1, nb = nf), the ZOH image of an SRIVC continuous-time estimate.
-/// At high sample rates the poles crowd near z = 1 and the q⁻¹ regressors become nearly collinear
-/// (ZᵀΦ then has a condition number near 1/eps); the continuous-time route does not suffer from it.
+/// The refined-IV estimate when its passes converge. When they do not and the orders are those of a
+/// sampled continuous system (nk = 1, nb = nf), the better (by simulation error) of it and the ZOH
+/// image of an SRIVC continuous-time estimate, whose regressors are time derivatives rather than
+/// lags.
 PolyModel OeStart(const IoData& data, const PolyOrders& orders, std::string& name) {
   // Only a start: the search polishes it, so the IV passes stop at a 1e-6 relative change.
-  PolyModel best = EstimateOeIv(data, orders, 1e-6);
+  bool converged = false;
+  PolyModel best = RefinedIvEstimate(data, orders, 1e-6, converged);
   name = "instrumental-variable";
-  if (orders.nk != 1 || orders.nb != orders.nf || orders.nf < 1 || orders.nf > 20) return best;
+  if (converged || orders.nk != 1 || orders.nb != orders.nf || orders.nf < 1 || orders.nf > 20) return best;
   TfestOptions ct;
   ct.np = orders.nf;
   ct.nz = orders.nf - 1;

@@ -127,9 +127,10 @@ TEST(Pem, OeBeatsArxWhenTheNoiseIsNotEquationError) {
 }
 
 TEST(Pem, OeOfAFastSampledFourthOrderSystem) {
-  // Two-cart model at 200 Hz: the discrete poles sit within 0.01 of z = 1, where the ARX start is
-  // useless. Noise-free, the delayed-input IV start is exact; with 1 % output noise the start comes
-  // from the continuous-time route and the search converges next to the ZOH model.
+  // Two-cart model at 200 Hz: the discrete poles sit within 0.01 of z = 1 (one on it: the carts are
+  // free), where the ARX start is useless and lagged regressors are collinear to working precision.
+  // The IV passes, written in backward differences, converge to the OE stationary point, noise-free
+  // and with 1 % output noise alike.
   const double dt = 0.005;
   const TransferFunction tf =
       Normalized(CartTf(CartConfig{2, CartInput::kForce}, testing::TwoCartValues().head(5)));
@@ -141,13 +142,21 @@ TEST(Pem, OeOfAFastSampledFourthOrderSystem) {
       EstimatePem(MakeIoData(u, y0, dt), Structure::kOe, PolyOrders{0, 4, 0, 0, 4, 1});
   ASSERT_TRUE(r.summary.Converged()) << r.summary.message;
   EXPECT_LT((r.model.f - d.den).cwiseAbs().maxCoeff(), 1e-9);
-  EXPECT_LT((r.model.b - d.num).cwiseAbs().maxCoeff(), 1e-9 * d.num.cwiseAbs().maxCoeff());
+  // B is the weak direction at this rate: a relative change of 1e-8 in B, with F following it by
+  // 1e-12, moves the simulated output by 1e-9 of its RMS (the criterion cannot resolve it further).
+  EXPECT_LT((r.model.b - d.num).cwiseAbs().maxCoeff(), 1e-7 * d.num.cwiseAbs().maxCoeff());
+  EXPECT_LT((y0 - SimulatePoly(r.model, u)).norm(), 1e-8 * y0.norm());
   const Eigen::VectorXd y = y0 + testing::WhiteNoise(y0.size(), 0.01 * testing::Rms(y0), 91);
   const PemResult noisy =
       EstimatePem(MakeIoData(u, y, dt), Structure::kOe, PolyOrders{0, 4, 0, 0, 4, 1});
   ASSERT_TRUE(noisy.summary.Converged()) << noisy.summary.message;
-  EXPECT_EQ(noisy.initialization, "continuous-time srivc (zoh)");
+  EXPECT_EQ(noisy.initialization, "instrumental-variable");
   EXPECT_GT(FitPercent(y0, SimulatePoly(noisy.model, u)), 99.5);
+  const Eigen::VectorXd truth = (Eigen::VectorXd(8) << d.num.tail(4), d.den.tail(4)).finished();
+  const Eigen::VectorXd err = noisy.model.Parameters() - truth;
+  const Eigen::VectorXd sd = noisy.model.covariance.diagonal().cwiseSqrt();
+  for (Eigen::Index i = 0; i < err.size(); ++i)
+    EXPECT_LT(std::abs(err[i]), 4.0 * sd[i]) << "parameter " << i;
   const ArxResult arx = EstimateArx(MakeIoData(u, y, dt), PolyOrders{4, 4, 0, 0, 0, 1});
   EXPECT_LT(FitPercent(y0, SimulatePoly(arx.model, u)), 90.0);
 }
