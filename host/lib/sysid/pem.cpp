@@ -138,7 +138,8 @@ void Differences(const Eigen::VectorXd& s, int order, Eigen::MatrixXd& d) {
 /// (the F block); kNumerator: sign · Δᵏ s(t − lag) (the B block and the delayed-input instruments).
 enum class Block { kDenominator, kNumerator };
 void FillDifferences(const Eigen::MatrixXd& d, Block block, double sign, Eigen::Index lag,
-                     Eigen::Index t0, Eigen::Index col, int count, Eigen::Ref<Eigen::MatrixXd> out) {
+                     Eigen::Index t0, Eigen::Index col, int count,
+                     Eigen::Ref<Eigen::MatrixXd> out) {
   const Eigen::Index rows = out.rows();
   for (int k = 0; k < count; ++k) {
     const Eigen::Index shift = block == Block::kDenominator ? count - k : lag;
@@ -283,7 +284,8 @@ PolyModel OeStart(const IoData& data, const PolyOrders& orders, std::string& nam
   bool converged = false;
   PolyModel best = RefinedIvEstimate(data, orders, 1e-6, converged);
   name = "instrumental-variable";
-  if (converged || orders.nk != 1 || orders.nb != orders.nf || orders.nf < 1 || orders.nf > 20) return best;
+  if (converged || orders.nk != 1 || orders.nb != orders.nf || orders.nf < 1 || orders.nf > 20)
+    return best;
   TfestOptions ct;
   ct.np = orders.nf;
   ct.nz = orders.nf - 1;
