@@ -12,6 +12,7 @@
 
 #include <benchmark/benchmark.h>
 
+#include "vibid/common/memory_policy.hpp"
 #include "vibid/sysid/continuous.hpp"
 #include "vibid/sysid/fit.hpp"
 #include "vibid/sysid/greybox.hpp"
@@ -124,4 +125,13 @@ BENCHMARK(BM_Arx4)->Unit(benchmark::kMillisecond);
 
 }  // namespace
 
-BENCHMARK_MAIN();
+// The allocator policy of the vibid CLI (vibid/common/memory_policy.hpp), so that what is timed is
+// what a `vibid pem` run does.
+int main(int argc, char** argv) {
+  vibid::KeepFreedMemory();
+  benchmark::Initialize(&argc, argv);
+  if (benchmark::ReportUnrecognizedArguments(argc, argv)) return 1;
+  benchmark::RunSpecifiedBenchmarks();
+  benchmark::Shutdown();
+  return 0;
+}

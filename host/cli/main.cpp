@@ -8,10 +8,12 @@
 #include "cli_support.hpp"
 #include "commands.hpp"
 #include "vibid/common/error.hpp"
+#include "vibid/common/memory_policy.hpp"
 #include "vibid/device/error.hpp"
 
 int main(int argc, char** argv) {
   using namespace vibid::cli;
+  vibid::KeepFreedMemory();
   CLI::App app{
       "vibid: identify mass-spring vibration rigs and run a disturbance observer on the DAQ "
       "board.\n"

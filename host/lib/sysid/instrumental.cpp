@@ -20,12 +20,6 @@ bool SolveInstrumental(Eigen::Ref<const Eigen::MatrixXd> zeta,
   qr.setThreshold(1e-13);
   if (qr.rank() < p) return false;
   theta = phi_scale.cwiseInverse().asDiagonal() * qr.solve(zy);
-  // ZᵀΦ is conditioned like cond(Z)·cond(Φ), so the solve alone loses digits that the data hold
-  // (a noise-free record is then fitted to 1e-8 rather than to rounding). One step of iterative
-  // refinement on the residual computed from the full record restores them.
-  const Eigen::VectorXd rho = target - phi * theta;
-  const Eigen::VectorXd zr = zeta_scale.cwiseInverse().asDiagonal() * (zeta.transpose() * rho);
-  theta += phi_scale.cwiseInverse().asDiagonal() * qr.solve(zr);
   return theta.allFinite();
 }
 

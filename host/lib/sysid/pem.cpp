@@ -246,17 +246,36 @@ bool RefineIv(const IoData& data, const PolyOrders& orders, Eigen::Index t0, dou
   return false;
 }
 
+/// B and F from the basic IV, or from ARX when the basic IV has no solution.
+void IvStart(const IoData& data, const PolyOrders& orders, Eigen::Index t0, Eigen::VectorXd& f,
+             Eigen::VectorXd& b) {
+  if (BasicIv(data, orders, t0, f, b)) return;
+  const ArxResult arx = EstimateArx(data, PolyOrders{orders.nf, orders.nb, 0, 0, 0, orders.nk});
+  f = numerics::StabilizeDiscrete(arx.model.a);
+  b = arx.model.b;
+}
+
 PolyModel RefinedIvEstimate(const IoData& data, const PolyOrders& orders, double tolerance,
                             bool& converged) {
   const Eigen::Index t0 = std::max<Eigen::Index>(orders.nf, orders.nk + orders.nb - 1);
+  // The passes far from the fixed point only need to bring F̂ near it: on a long record they run on
+  // its first quarter, and the passes on the whole record then converge to the whole record's
+  // fixed point (the estimate does not depend on how the start was found, only the pass count).
+  const Eigen::Index head = data.samples() / 4;
   Eigen::VectorXd f;
   Eigen::VectorXd b;
-  if (!BasicIv(data, orders, t0, f, b)) {
-    const ArxResult arx = EstimateArx(data, PolyOrders{orders.nf, orders.nb, 0, 0, 0, orders.nk});
-    f = numerics::StabilizeDiscrete(arx.model.a);
-    b = arx.model.b;
+  converged = false;
+  if (head >= 500 * (orders.nf + orders.nb)) {
+    const IoData first = Slice(data, 0, head);
+    IvStart(first, orders, t0, f, b);
+    if (RefineIv(first, orders, t0, 1e-3, f, b)) {
+      converged = RefineIv(data, orders, t0, tolerance, f, b);
+    }
   }
-  converged = RefineIv(data, orders, t0, tolerance, f, b);
+  if (!converged) {
+    IvStart(data, orders, t0, f, b);
+    converged = RefineIv(data, orders, t0, tolerance, f, b);
+  }
   PolyModel m;
   m.structure = Structure::kOe;
   m.orders = PolyOrders{0, orders.nb, 0, 0, orders.nf, orders.nk};
