@@ -37,7 +37,12 @@ bool PredictionErrorJacobian(const PolyModel& base, const IoData& data,
   if (!StableFilter(m.c) || !StableFilter(m.f)) return false;
   const PolyOrders& o = m.orders;
   const Eigen::VectorXd one = Eigen::VectorXd::Ones(1);
-  const Eigen::VectorXd x = numerics::Filter(m.b, m.f, data.u);
+  // Without a noise model (OE), u/F is also the B-columns' filtered input: x = B (u/F) is then one
+  // recursion and a short FIR instead of two recursions (the same x whether J is asked for or not).
+  const bool white = m.c.size() == 1 && m.c[0] == 1.0 && m.d.size() == 1 && m.d[0] == 1.0;
+  const Eigen::VectorXd u_over_f = white ? numerics::Filter(one, m.f, data.u) : Eigen::VectorXd();
+  const Eigen::VectorXd x =
+      white ? numerics::Filter(m.b, one, u_over_f) : numerics::Filter(m.b, m.f, data.u);
   const Eigen::VectorXd v = numerics::Filter(m.a, one, data.y) - x;
   e = numerics::Filter(m.d, m.c, v);
   if (jac == nullptr) return true;
@@ -49,7 +54,7 @@ bool PredictionErrorJacobian(const PolyModel& base, const IoData& data,
     for (int k = 1; k <= o.na; ++k) DelayInto(yf, k, 1.0, jac->col(col++));
   }
   const Eigen::VectorXd cf = numerics::MultiplyPolynomials(m.c, m.f);
-  const Eigen::VectorXd uf = numerics::Filter(m.d, cf, data.u);
+  const Eigen::VectorXd uf = white ? u_over_f : numerics::Filter(m.d, cf, data.u);
   for (int k = 0; k < o.nb; ++k) DelayInto(uf, o.nk + k, -1.0, jac->col(col++));
   if (o.nc > 0) {
     const Eigen::VectorXd ef = numerics::Filter(one, m.c, e);
@@ -220,9 +225,9 @@ bool RefineIv(const IoData& data, const PolyOrders& orders, Eigen::Index t0, dou
   Eigen::MatrixXd dx;
   Eigen::MatrixXd du;
   for (int pass = 0; pass < 20 && nf > 0; ++pass) {
-    const Eigen::VectorXd x = numerics::Filter(b, f, data.u);
     const Eigen::VectorXd yf = numerics::Filter(one, f, data.y);
     const Eigen::VectorXd uf = numerics::Filter(one, f, data.u);
+    const Eigen::VectorXd x = numerics::Filter(b, one, uf);  // B/F u: one recursion fewer
     const Eigen::VectorXd xf = numerics::Filter(one, f, x);
     Differences(yf, nf, dy);
     Differences(xf, nf, dx);
