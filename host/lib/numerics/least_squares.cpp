@@ -150,7 +150,7 @@ void FinishWithoutStep(const Point& point, const Eigen::VectorXd& scale, SolverS
 }  // namespace
 
 SolverSummary LevenbergMarquardt(const ResidualFunction& residual, Eigen::VectorXd& x,
-                                 const SolverOptions& options, Eigen::MatrixXd* jacobian_out) {
+                                 const SolverOptions& options, Solution* solution) {
   options.Validate();
   SolverSummary summary;
   Point point;
@@ -163,6 +163,8 @@ SolverSummary LevenbergMarquardt(const ResidualFunction& residual, Eigen::Vector
   constexpr double kMaxDamping = 1e16;
   double lambda = options.initial_damping;
   Eigen::VectorXd trial_r;
+  Factored factored;
+  bool factored_here = false;  // `factored` is that of `point`
   bool done = false;
   while (!done) {
     if (summary.iterations >= options.max_iterations) {
@@ -177,7 +179,8 @@ SolverSummary LevenbergMarquardt(const ResidualFunction& residual, Eigen::Vector
       break;
     }
     ++summary.iterations;
-    const Factored factored = Factor(point);
+    factored = Factor(point);
+    factored_here = true;
     bool accepted = false;
     for (; lambda < kMaxDamping && !done; lambda *= 10.0) {
       const Eigen::VectorXd step = DampedStep(factored, lambda);
@@ -198,6 +201,7 @@ SolverSummary LevenbergMarquardt(const ResidualFunction& residual, Eigen::Vector
       const double decrease = point.cost - next.cost;
       x = candidate;
       point = std::move(next);
+      factored_here = false;
       lambda = std::max(lambda / 10.0, 1e-12);
       accepted = true;
       if (decrease <= options.function_tolerance * (point.cost + decrease)) {
@@ -213,17 +217,31 @@ SolverSummary LevenbergMarquardt(const ResidualFunction& residual, Eigen::Vector
     }
   }
   summary.final_cost = point.cost;
-  if (jacobian_out != nullptr) *jacobian_out = std::move(point.jac);
+  if (solution != nullptr) {
+    solution->r_factor = factored_here ? std::move(factored.rfac) : Factor(point).rfac;
+    solution->residuals = std::move(point.r);
+    solution->jacobian = std::move(point.jac);
+  }
   return summary;
 }
 
 Eigen::MatrixXd CovarianceFromJacobian(Eigen::Ref<const Eigen::MatrixXd> jacobian,
                                        Eigen::Ref<const Eigen::VectorXd> residual) {
-  const Eigen::Index n = jacobian.rows();
   const Eigen::Index p = jacobian.cols();
+  const Eigen::HouseholderQR<Eigen::MatrixXd> qr(jacobian);
+  const Eigen::Index rows = std::min(p, jacobian.rows());
+  Eigen::MatrixXd r_factor = Eigen::MatrixXd::Zero(p, p);
+  r_factor.topRows(rows) = qr.matrixQR().topRows(rows).triangularView<Eigen::Upper>();
+  return CovarianceFromFactor(r_factor, residual);
+}
+
+Eigen::MatrixXd CovarianceFromFactor(Eigen::Ref<const Eigen::MatrixXd> r_factor,
+                                     Eigen::Ref<const Eigen::VectorXd> residual) {
+  const Eigen::Index n = residual.size();
+  const Eigen::Index p = r_factor.cols();
   const double dof = static_cast<double>(std::max<Eigen::Index>(n - p, 1));
   const double sigma2 = residual.squaredNorm() / dof;
-  const Eigen::JacobiSVD<Eigen::MatrixXd> svd(jacobian, Eigen::ComputeThinV);
+  const Eigen::JacobiSVD<Eigen::MatrixXd> svd(r_factor, Eigen::ComputeFullV);
   const Eigen::VectorXd sv = svd.singularValues();
   Eigen::MatrixXd cov = Eigen::MatrixXd::Zero(p, p);
   const double tol = sv.size() > 0 ? sv[0] * 1e-12 * static_cast<double>(std::max(n, p)) : 0.0;

@@ -64,13 +64,20 @@ TEST(LevenbergMarquardt, NumericDiffMatchesTheAnalyticJacobian) {
   ASSERT_TRUE(problem.WithJacobian(x, r, &j_analytic));
   EXPECT_LT((j_numeric - j_analytic).cwiseAbs().maxCoeff(), 1e-8);
 
-  Eigen::MatrixXd j_final;
-  const SolverSummary s = LevenbergMarquardt(numeric, x, SolverOptions{}, &j_final);
+  Solution final;
+  const SolverSummary s = LevenbergMarquardt(numeric, x, SolverOptions{}, &final);
   ASSERT_TRUE(s.Converged()) << s.message;
   EXPECT_NEAR(x[0], 0.7, 1e-8);
   EXPECT_NEAR(x[1], 4.0, 1e-8);
-  EXPECT_EQ(j_final.rows(), 40);
-  EXPECT_EQ(j_final.cols(), 2);
+  EXPECT_EQ(final.jacobian.rows(), 40);
+  EXPECT_EQ(final.jacobian.cols(), 2);
+  // r and R at the returned x: the function's own residuals, and RᵀR = JᵀJ.
+  Eigen::VectorXd r_final;
+  ASSERT_TRUE(problem.Residuals(x, r_final));
+  EXPECT_LT((final.residuals - r_final).cwiseAbs().maxCoeff(), 1e-15);
+  const Eigen::MatrixXd jtj = final.jacobian.transpose() * final.jacobian;
+  EXPECT_LT((final.r_factor.transpose() * final.r_factor - jtj).cwiseAbs().maxCoeff(),
+            1e-12 * jtj.cwiseAbs().maxCoeff());
 }
 
 // Marquardt's scaling: the same problem with one parameter a million times larger converges the

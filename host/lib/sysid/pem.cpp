@@ -391,14 +391,15 @@ PemResult EstimatePem(const IoData& data, Structure structure, const PolyOrders&
                                             Eigen::MatrixXd* j) {
     return PredictionErrorJacobian(start, data, th, r, j);
   };
-  Eigen::MatrixXd jac;
-  res.summary = MinimizePredictionError(fn, theta, options, jac);
+  numerics::Solution solution;
+  res.summary = MinimizePredictionError(fn, theta, options, solution);
   res.model = start;
   res.model.SetParameters(theta);
-  Eigen::VectorXd e;
-  PredictionErrorJacobian(start, data, theta, e, nullptr);
-  if (jac.rows() == e.size()) {
-    res.model.covariance = numerics::CovarianceFromJacobian(jac, e);
+  Eigen::VectorXd& e = solution.residuals;
+  if (e.size() == data.samples()) {
+    res.model.covariance = numerics::CovarianceFromFactor(solution.r_factor, e);
+  } else {
+    PredictionErrorJacobian(start, data, theta, e, nullptr);
   }
   res.model.noise_variance = e.squaredNorm() / static_cast<double>(std::max<Eigen::Index>(
                                                    e.size() - orders.Parameters(), 1));

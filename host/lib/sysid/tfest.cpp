@@ -269,13 +269,16 @@ CtOeResult FitContinuousOe(const IoData& data, const CtParameterization& param,
     return true;
   };
   CtOeResult res;
-  Eigen::MatrixXd jac;
-  res.summary = MinimizePredictionError(fn, theta, options, jac);
+  numerics::Solution solution;
+  res.summary = MinimizePredictionError(fn, theta, options, solution);
   res.theta = theta.head(q);
   res.ic_num = with_ic ? Eigen::VectorXd(theta.tail(n)) : Eigen::VectorXd::Zero(n);
-  fn(theta, res.residual, nullptr);
-  if (jac.rows() == data.samples())
-    res.covariance = numerics::CovarianceFromJacobian(jac, res.residual);
+  if (solution.residuals.size() == data.samples()) {
+    res.residual = std::move(solution.residuals);
+    res.covariance = numerics::CovarianceFromFactor(solution.r_factor, res.residual);
+  } else {
+    fn(theta, res.residual, nullptr);
+  }
   return res;
 }
 

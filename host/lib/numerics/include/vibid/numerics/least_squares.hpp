@@ -70,16 +70,28 @@ using ResidualOnlyFunction =
 /// would show. Callers scale their parameters to O(1).
 ResidualFunction NumericDiff(ResidualOnlyFunction residual, double relative_step_size = 1e-6);
 
-/// Minimises ½ ‖r(x)‖² from `x` (updated in place with the best point found). `jacobian_out`, when
-/// given, receives J at the returned x (for a parameter covariance). Numerical trouble is reported
-/// in the summary; only invalid options throw.
+/// What the solver holds at the point it returns, for a parameter covariance and residual analysis
+/// without evaluating or factoring again.
+struct Solution {
+  Eigen::VectorXd residuals;  ///< r(x).
+  Eigen::MatrixXd jacobian;   ///< J(x).
+  Eigen::MatrixXd r_factor;   ///< R of J = QR: p × p upper triangular, RᵀR = JᵀJ.
+};
+
+/// Minimises ½ ‖r(x)‖² from `x` (updated in place with the best point found). `solution`, when
+/// given, receives r, J and J's R factor at the returned x (all empty when the start itself could
+/// not be evaluated). Numerical trouble is reported in the summary; only invalid options throw.
 SolverSummary LevenbergMarquardt(const ResidualFunction& residual, Eigen::VectorXd& x,
-                                 const SolverOptions& options,
-                                 Eigen::MatrixXd* jacobian_out = nullptr);
+                                 const SolverOptions& options, Solution* solution = nullptr);
 
 /// Parameter covariance σ² (JᵀJ)⁻¹ with σ² = ‖r‖²/(N − p), by the SVD of J (pseudo-inverse on
 /// rank deficiency, which gives infinite standard deviations for the unidentifiable directions).
 Eigen::MatrixXd CovarianceFromJacobian(Eigen::Ref<const Eigen::MatrixXd> jacobian,
                                        Eigen::Ref<const Eigen::VectorXd> residual);
+
+/// The same from J's R factor (J = QR): J and R have the same singular values and right singular
+/// vectors, so only the p × p factor is decomposed.
+Eigen::MatrixXd CovarianceFromFactor(Eigen::Ref<const Eigen::MatrixXd> r_factor,
+                                     Eigen::Ref<const Eigen::VectorXd> residual);
 
 }  // namespace vibid::numerics
