@@ -165,24 +165,28 @@ namespace {
 // compiled with the tap counts as constants, the past outputs kept in registers.
 constexpr Eigen::Index kFixedTaps = 9;
 
-template <std::size_t NB, std::size_t NA, typename Divide>
-void FilterFixed(const double* b_in, const double* a_in, const double* in, Eigen::Index warm,
-                 Eigen::Index n, double* out, Divide divide) {
+template <std::size_t NB, std::size_t NA, std::size_t M, typename Divide>
+void FilterFixed(const double* b_in, const double* a_in, const double* const* in, Eigen::Index warm,
+                 Eigen::Index n, double* const* out, Divide divide) {
   if (warm >= n) return;  // else warm = max(nb, na) − 1: every past output below is there
   double b[NB];
   double a[NA];
-  double past[NA];  // past[k] = y(t − k), k ≥ 1
+  double past[M][NA];  // past[m][k] = y_m(t − k), k ≥ 1
   for (std::size_t k = 0; k < NB; ++k) b[k] = b_in[k];
   for (std::size_t k = 0; k < NA; ++k) a[k] = a_in[k];
-  for (std::size_t k = 1; k < NA; ++k) past[k] = out[warm - static_cast<Eigen::Index>(k)];
+  for (std::size_t m = 0; m < M; ++m) {
+    for (std::size_t k = 1; k < NA; ++k) past[m][k] = out[m][warm - static_cast<Eigen::Index>(k)];
+  }
   for (Eigen::Index t = warm; t < n; ++t) {
-    double acc = 0.0;
-    for (std::size_t k = 0; k < NB; ++k) acc += b[k] * in[t - static_cast<Eigen::Index>(k)];
-    for (std::size_t k = NA - 1; k >= 1; --k) acc -= a[k] * past[k];
-    const double y = divide(acc);
-    out[t] = y;
-    for (std::size_t k = NA - 1; k >= 2; --k) past[k] = past[k - 1];
-    if constexpr (NA > 1) past[1] = y;
+    for (std::size_t m = 0; m < M; ++m) {  // M independent recursions, interleaved
+      double acc = 0.0;
+      for (std::size_t k = 0; k < NB; ++k) acc += b[k] * in[m][t - static_cast<Eigen::Index>(k)];
+      for (std::size_t k = NA - 1; k >= 1; --k) acc -= a[k] * past[m][k];
+      const double y = divide(acc);
+      out[m][t] = y;
+      for (std::size_t k = NA - 1; k >= 2; --k) past[m][k] = past[m][k - 1];
+      if constexpr (NA > 1) past[m][1] = y;
+    }
   }
 }
 
@@ -197,41 +201,40 @@ void FilterAny(const double* b, Eigen::Index nb, const double* a, Eigen::Index n
   }
 }
 
-/// Entry (nb − 1) · kFixedTaps + (na − 1) filters with nb and na taps.
-template <typename Divide, std::size_t... I>
+/// Entry (nb − 1) · kFixedTaps + (na − 1) filters M signals with nb and na taps.
+template <std::size_t M, typename Divide, std::size_t... I>
 void FilterDispatch(std::index_sequence<I...>, const double* b, Eigen::Index nb, const double* a,
-                    Eigen::Index na, const double* in, Eigen::Index warm, Eigen::Index n,
-                    double* out, Divide divide) {
-  using Kernel = void (*)(const double*, const double*, const double*, Eigen::Index, Eigen::Index,
-                          double*, Divide);
+                    Eigen::Index na, const double* const* in, Eigen::Index warm, Eigen::Index n,
+                    double* const* out, Divide divide) {
+  using Kernel = void (*)(const double*, const double*, const double* const*, Eigen::Index,
+                          Eigen::Index, double* const*, Divide);
   constexpr std::size_t kTaps = kFixedTaps;
-  static constexpr Kernel kTable[] = {&FilterFixed<I / kTaps + 1, I % kTaps + 1, Divide>...};
+  static constexpr Kernel kTable[] = {&FilterFixed<I / kTaps + 1, I % kTaps + 1, M, Divide>...};
   kTable[static_cast<std::size_t>((nb - 1) * kFixedTaps + (na - 1))](b, a, in, warm, n, out,
                                                                      divide);
 }
 
-template <typename Divide>
+/// Filters M signals (M = 2 only for monic filters with a fixed-size kernel, see FilterPair).
+template <std::size_t M, typename Divide>
 void FilterSteady(const double* b, Eigen::Index nb, const double* a, Eigen::Index na,
-                  const double* in, Eigen::Index warm, Eigen::Index n, double* out, Divide divide) {
+                  const double* const* in, Eigen::Index warm, Eigen::Index n, double* const* out,
+                  Divide divide) {
   if (nb >= 1 && nb <= kFixedTaps && na >= 1 && na <= kFixedTaps) {
-    FilterDispatch(std::make_index_sequence<kFixedTaps * kFixedTaps>{}, b, nb, a, na, in, warm, n,
-                   out, divide);
+    FilterDispatch<M>(std::make_index_sequence<kFixedTaps * kFixedTaps>{}, b, nb, a, na, in, warm,
+                      n, out, divide);
   } else {
-    FilterAny(b, nb, a, na, in, warm, n, out, divide);
+    for (std::size_t m = 0; m < M; ++m) FilterAny(b, nb, a, na, in[m], warm, n, out[m], divide);
   }
 }
 
-}  // namespace
-
-Eigen::VectorXd Filter(Eigen::Ref<const Eigen::VectorXd> num, Eigen::Ref<const Eigen::VectorXd> den,
-                       Eigen::Ref<const Eigen::VectorXd> x) {
-  Require(den.size() >= 1 && den[0] != 0.0,
-          "Filter: leading denominator coefficient must be nonzero");
+/// The first max(nb, na) − 1 samples, where not every tap is there yet; returns that count.
+Eigen::Index FilterWarmUp(Eigen::Ref<const Eigen::VectorXd> num,
+                          Eigen::Ref<const Eigen::VectorXd> den,
+                          Eigen::Ref<const Eigen::VectorXd> x, Eigen::VectorXd& y) {
   const Eigen::Index nb = num.size();
   const Eigen::Index na = den.size();
   const Eigen::Index n = x.size();
-  const double a0 = den[0];
-  Eigen::VectorXd y(n);
+  y.resize(n);
   // Direct form: y(t) = (sum b_k x(t-k) - sum_{k>=1} a_k y(t-k)) / a0.
   const Eigen::Index warm = std::min(n, std::max(nb, na) - 1);
   for (Eigen::Index t = 0; t < warm; ++t) {
@@ -240,19 +243,50 @@ Eigen::VectorXd Filter(Eigen::Ref<const Eigen::VectorXd> num, Eigen::Ref<const E
     for (Eigen::Index k = 0; k <= kb; ++k) acc += num[k] * x[t - k];
     const Eigen::Index ka = std::min(na - 1, t);
     for (Eigen::Index k = ka; k >= 1; --k) acc -= den[k] * y[t - k];
-    y[t] = acc / a0;
+    y[t] = acc / den[0];
   }
-  // Past the first max(nb, na) - 1 samples every tap is there: the same sums in the same order
-  // without the bounds, and no division when a0 = 1 (x / 1 is x exactly): the division's latency
-  // would be part of every sample's, and the filters here are mostly monic.
+  return warm;
+}
+
+}  // namespace
+
+Eigen::VectorXd Filter(Eigen::Ref<const Eigen::VectorXd> num, Eigen::Ref<const Eigen::VectorXd> den,
+                       Eigen::Ref<const Eigen::VectorXd> x) {
+  Require(den.size() >= 1 && den[0] != 0.0,
+          "Filter: leading denominator coefficient must be nonzero");
+  Eigen::VectorXd y;
+  const Eigen::Index warm = FilterWarmUp(num, den, x, y);
+  // Past the warm-up every tap is there: the same sums in the same order without the bounds, and
+  // no division when a0 = 1 (x / 1 is x exactly): the division's latency would be part of every
+  // sample's, and the filters here are mostly monic.
+  const double a0 = den[0];
+  const double* in[1] = {x.data()};
+  double* out[1] = {y.data()};
   if (a0 == 1.0) {
-    FilterSteady(num.data(), nb, den.data(), na, x.data(), warm, n, y.data(),
-                 [](double acc) { return acc; });
+    FilterSteady<1>(num.data(), num.size(), den.data(), den.size(), in, warm, x.size(), out,
+                    [](double acc) { return acc; });
   } else {
-    FilterSteady(num.data(), nb, den.data(), na, x.data(), warm, n, y.data(),
-                 [a0](double acc) { return acc / a0; });
+    FilterSteady<1>(num.data(), num.size(), den.data(), den.size(), in, warm, x.size(), out,
+                    [a0](double acc) { return acc / a0; });
   }
   return y;
+}
+
+void FilterPair(Eigen::Ref<const Eigen::VectorXd> num, Eigen::Ref<const Eigen::VectorXd> den,
+                Eigen::Ref<const Eigen::VectorXd> x1, Eigen::Ref<const Eigen::VectorXd> x2,
+                Eigen::VectorXd& y1, Eigen::VectorXd& y2) {
+  Require(x1.size() == x2.size(), "FilterPair: the two signals must have the same length");
+  if (!(den.size() >= 1 && den[0] == 1.0)) {
+    y1 = Filter(num, den, x1);
+    y2 = Filter(num, den, x2);
+    return;
+  }
+  const Eigen::Index warm = FilterWarmUp(num, den, x1, y1);
+  FilterWarmUp(num, den, x2, y2);
+  const double* in[2] = {x1.data(), x2.data()};
+  double* out[2] = {y1.data(), y2.data()};
+  FilterSteady<2>(num.data(), num.size(), den.data(), den.size(), in, warm, x1.size(), out,
+                  [](double acc) { return acc; });
 }
 
 }  // namespace vibid::numerics

@@ -101,5 +101,57 @@ TEST(Filter, MatchesTheDifferenceEquation) {
   EXPECT_THROW(Filter(num, Eigen::Vector2d(0.0, 1.0), x), InputError);
 }
 
+// The plain difference equation, in the summation order Filter documents (the input taps in order,
+// then the feedback taps oldest first): Filter's fixed-tap kernels and its general loop must give
+// the same bits for every order, and FilterPair the bits of two Filter calls.
+Eigen::VectorXd ReferenceFilter(const Eigen::VectorXd& num, const Eigen::VectorXd& den,
+                                const Eigen::VectorXd& x) {
+  Eigen::VectorXd y(x.size());
+  for (Eigen::Index t = 0; t < x.size(); ++t) {
+    double acc = 0.0;
+    for (Eigen::Index k = 0; k < num.size() && k <= t; ++k) acc += num[k] * x[t - k];
+    for (Eigen::Index k = std::min(den.size() - 1, t); k >= 1; --k) acc -= den[k] * y[t - k];
+    y[t] = acc / den[0];
+  }
+  return y;
+}
+
+TEST(Filter, EveryOrderGivesTheBitsOfTheDifferenceEquation) {
+  std::mt19937 gen(5);
+  std::normal_distribution<double> normal(0.0, 1.0);
+  Eigen::VectorXd x1(300);
+  Eigen::VectorXd x2(300);
+  for (Eigen::Index i = 0; i < x1.size(); ++i) {
+    x1[i] = normal(gen);
+    x2[i] = normal(gen);
+  }
+  for (int nb = 1; nb <= 11; ++nb) {
+    for (int na = 1; na <= 11; ++na) {
+      for (const double a0 : {1.0, 1.5}) {
+        Eigen::VectorXd num(nb);
+        Eigen::VectorXd den(na);
+        for (int k = 0; k < nb; ++k) num[k] = normal(gen);
+        den[0] = a0;
+        // Stable: feedback taps small enough that Σ|a_k| < a0.
+        for (int k = 1; k < na; ++k) den[k] = 0.5 * a0 * normal(gen) / (na * 2.0);
+        const Eigen::VectorXd y1 = ReferenceFilter(num, den, x1);
+        const Eigen::VectorXd y2 = ReferenceFilter(num, den, x2);
+        EXPECT_TRUE((Filter(num, den, x1).array() == y1.array()).all()) << nb << " " << na;
+        Eigen::VectorXd p1;
+        Eigen::VectorXd p2;
+        FilterPair(num, den, x1, x2, p1, p2);
+        EXPECT_TRUE((p1.array() == y1.array()).all()) << nb << " " << na << " pair";
+        EXPECT_TRUE((p2.array() == y2.array()).all()) << nb << " " << na << " pair";
+      }
+    }
+  }
+  // Shorter than the warm-up: only the bounded loop runs.
+  const Eigen::VectorXd num = Eigen::VectorXd::Ones(6);
+  const Eigen::VectorXd den = (Eigen::VectorXd(4) << 1.0, 0.1, 0.1, 0.1).finished();
+  EXPECT_TRUE(
+      (Filter(num, den, x1.head(3)).array() == ReferenceFilter(num, den, x1.head(3)).array())
+          .all());
+}
+
 }  // namespace
 }  // namespace vibid::numerics

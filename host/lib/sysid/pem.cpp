@@ -224,9 +224,10 @@ bool RefineIv(const IoData& data, const PolyOrders& orders, Eigen::Index t0, dou
   Eigen::MatrixXd dy;
   Eigen::MatrixXd dx;
   Eigen::MatrixXd du;
+  Eigen::VectorXd yf;
+  Eigen::VectorXd uf;
   for (int pass = 0; pass < 20 && nf > 0; ++pass) {
-    const Eigen::VectorXd yf = numerics::Filter(one, f, data.y);
-    const Eigen::VectorXd uf = numerics::Filter(one, f, data.u);
+    numerics::FilterPair(one, f, data.y, data.u, yf, uf);
     const Eigen::VectorXd x = numerics::Filter(b, one, uf);  // B/F u: one recursion fewer
     const Eigen::VectorXd xf = numerics::Filter(one, f, x);
     Differences(yf, nf, dy);

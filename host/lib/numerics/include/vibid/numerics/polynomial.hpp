@@ -52,4 +52,10 @@ Eigen::VectorXd StabilizeContinuous(Eigen::Ref<const Eigen::VectorXd> p);
 Eigen::VectorXd Filter(Eigen::Ref<const Eigen::VectorXd> num, Eigen::Ref<const Eigen::VectorXd> den,
                        Eigen::Ref<const Eigen::VectorXd> x);
 
+/// y1 = Filter(num, den, x1), y2 = Filter(num, den, x2), the same bits as two calls. Each recursion
+/// is latency bound; run side by side they share the time of one.
+void FilterPair(Eigen::Ref<const Eigen::VectorXd> num, Eigen::Ref<const Eigen::VectorXd> den,
+                Eigen::Ref<const Eigen::VectorXd> x1, Eigen::Ref<const Eigen::VectorXd> x2,
+                Eigen::VectorXd& y1, Eigen::VectorXd& y2);
+
 }  // namespace vibid::numerics
