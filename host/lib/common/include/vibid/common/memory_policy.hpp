@@ -3,9 +3,9 @@
 // glibc maps every block above its mmap threshold (128 KiB at start, so every record-length
 // vector of more than 16 384 samples) afresh and unmaps it on free, and returns the heap's top to
 // the system once more than twice that is free there. A numerical pass then touches new pages on
-// every allocation, and each first touch is a page fault: about 30 µs under the virtualisation of
-// this project's CI, so a 20 000-sample output-error fit spent four fifths of its time in the
-// kernel. Keeping freed memory for reuse makes those faults happen once per process.
+// every allocation, and each first touch is a page fault: about 12 µs on a virtual machine, where
+// a 20 000-sample output-error fit spent five sixths of its time in the kernel (docs/performance.md).
+// Keeping freed memory for reuse makes those faults happen once per process.
 #pragma once
 
 #include <cstddef>

@@ -30,10 +30,13 @@ struct PemResult {
 PemResult EstimatePem(const IoData& data, Structure structure, const PolyOrders& orders,
                       const numerics::SolverOptions& options = {});
 
-/// Instrumental-variable estimate of an OE model B/F (orders nb, nf, nk): ARX start, then up to 20
-/// passes of the simplified refined IV method (data prefiltered by 1/F̂, the current model's
-/// noise-free output as instruments), ended when the relative parameter change falls below
-/// `tolerance`. F is stabilised.
+/// Instrumental-variable estimate of an OE model B/F (orders nb, nf, nk): the basic IV (delayed
+/// inputs as instruments; ARX when it has no solution), then up to 20 passes of the simplified
+/// refined IV method (data prefiltered by 1/F̂, the current model's noise-free output as
+/// instruments), ended when the relative parameter change falls below `tolerance`. The regressions
+/// are written in backward differences (the δ-operator basis) so that they stay well conditioned at
+/// high sample rates. On records of at least 2000 (nb + nf) samples the first passes run on the
+/// first quarter, and the passes on the whole record continue from there. F is stabilised.
 PolyModel EstimateOeIv(const IoData& data, const PolyOrders& orders, double tolerance = 1e-9);
 
 }  // namespace vibid::sysid
