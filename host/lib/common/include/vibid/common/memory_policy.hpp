@@ -4,8 +4,8 @@
 // vector of more than 16 384 samples) afresh and unmaps it on free, and returns the heap's top to
 // the system once more than twice that is free there. A numerical pass then touches new pages on
 // every allocation, and each first touch is a page fault: about 12 µs on a virtual machine, where
-// a 20 000-sample output-error fit spent five sixths of its time in the kernel (docs/performance.md).
-// Keeping freed memory for reuse makes those faults happen once per process.
+// a 20 000-sample output-error fit spent five sixths of its time in the kernel
+// (docs/performance.md). Keeping freed memory for reuse makes those faults happen once per process.
 #pragma once
 
 #include <cstddef>
