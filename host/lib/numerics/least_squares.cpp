@@ -106,13 +106,21 @@ struct Factored {
   Eigen::VectorXd scale;
 };
 
+/// R of J = QR as a p × p upper triangle (zero rows below J's row count when J is wide).
+Eigen::MatrixXd UpperFactor(const Eigen::HouseholderQR<Eigen::MatrixXd>& qr) {
+  const Eigen::Index p = qr.matrixQR().cols();
+  const Eigen::Index rows = std::min(p, qr.matrixQR().rows());
+  Eigen::MatrixXd r = Eigen::MatrixXd::Zero(p, p);
+  r.topRows(rows) = qr.matrixQR().topRows(rows).triangularView<Eigen::Upper>();
+  return r;
+}
+
 Factored Factor(const Point& point) {
   const Eigen::Index p = point.jac.cols();
   const Eigen::HouseholderQR<Eigen::MatrixXd> qr(point.jac);
   Factored out;
   const Eigen::Index rows = std::min(p, point.jac.rows());
-  out.rfac = Eigen::MatrixXd::Zero(p, p);
-  out.rfac.topRows(rows) = qr.matrixQR().topRows(rows).triangularView<Eigen::Upper>();
+  out.rfac = UpperFactor(qr);
   out.qtr = Eigen::VectorXd::Zero(p);
   out.qtr.head(rows) = (qr.householderQ().transpose() * point.r).head(rows);
   out.scale = ColumnScale(point.jac);
@@ -227,12 +235,8 @@ SolverSummary LevenbergMarquardt(const ResidualFunction& residual, Eigen::Vector
 
 Eigen::MatrixXd CovarianceFromJacobian(Eigen::Ref<const Eigen::MatrixXd> jacobian,
                                        Eigen::Ref<const Eigen::VectorXd> residual) {
-  const Eigen::Index p = jacobian.cols();
-  const Eigen::HouseholderQR<Eigen::MatrixXd> qr(jacobian);
-  const Eigen::Index rows = std::min(p, jacobian.rows());
-  Eigen::MatrixXd r_factor = Eigen::MatrixXd::Zero(p, p);
-  r_factor.topRows(rows) = qr.matrixQR().topRows(rows).triangularView<Eigen::Upper>();
-  return CovarianceFromFactor(r_factor, residual);
+  return CovarianceFromFactor(UpperFactor(Eigen::HouseholderQR<Eigen::MatrixXd>(jacobian)),
+                              residual);
 }
 
 Eigen::MatrixXd CovarianceFromFactor(Eigen::Ref<const Eigen::MatrixXd> r_factor,

@@ -37,12 +37,10 @@ bool PredictionErrorJacobian(const PolyModel& base, const IoData& data,
   if (!StableFilter(m.c) || !StableFilter(m.f)) return false;
   const PolyOrders& o = m.orders;
   const Eigen::VectorXd one = Eigen::VectorXd::Ones(1);
-  // Without a noise model (OE), u/F is also the B-columns' filtered input: x = B (u/F) is then one
-  // recursion and a short FIR instead of two recursions (the same x whether J is asked for or not).
-  const bool white = m.c.size() == 1 && m.c[0] == 1.0 && m.d.size() == 1 && m.d[0] == 1.0;
-  const Eigen::VectorXd u_over_f = white ? numerics::Filter(one, m.f, data.u) : Eigen::VectorXd();
-  const Eigen::VectorXd x =
-      white ? numerics::Filter(m.b, one, u_over_f) : numerics::Filter(m.b, m.f, data.u);
+  // u/F serves twice: x = B (u/F), and the B columns' input D/(CF) u = (D/C)(u/F). One recursion
+  // through F instead of two (for OE, D/C = 1 and the B columns take u/F as it is).
+  const Eigen::VectorXd u_over_f = numerics::Filter(one, m.f, data.u);
+  const Eigen::VectorXd x = numerics::Filter(m.b, one, u_over_f);
   const Eigen::VectorXd v = numerics::Filter(m.a, one, data.y) - x;
   e = numerics::Filter(m.d, m.c, v);
   if (jac == nullptr) return true;
@@ -53,8 +51,7 @@ bool PredictionErrorJacobian(const PolyModel& base, const IoData& data,
     const Eigen::VectorXd yf = numerics::Filter(m.d, m.c, data.y);
     for (int k = 1; k <= o.na; ++k) DelayInto(yf, k, 1.0, jac->col(col++));
   }
-  const Eigen::VectorXd cf = numerics::MultiplyPolynomials(m.c, m.f);
-  const Eigen::VectorXd uf = white ? u_over_f : numerics::Filter(m.d, cf, data.u);
+  const Eigen::VectorXd uf = numerics::Filter(m.d, m.c, u_over_f);
   for (int k = 0; k < o.nb; ++k) DelayInto(uf, o.nk + k, -1.0, jac->col(col++));
   if (o.nc > 0) {
     const Eigen::VectorXd ef = numerics::Filter(one, m.c, e);
@@ -65,7 +62,7 @@ bool PredictionErrorJacobian(const PolyModel& base, const IoData& data,
     for (int k = 1; k <= o.nd; ++k) DelayInto(vf, k, 1.0, jac->col(col++));
   }
   if (o.nf > 0) {
-    const Eigen::VectorXd xf = numerics::Filter(m.d, cf, x);
+    const Eigen::VectorXd xf = numerics::Filter(m.d, numerics::MultiplyPolynomials(m.c, m.f), x);
     for (int k = 1; k <= o.nf; ++k) DelayInto(xf, k, 1.0, jac->col(col++));
   }
   return true;
