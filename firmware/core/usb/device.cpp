@@ -63,7 +63,16 @@ void UsbDevice::Task() {
     tail_.store(tail, std::memory_order_release);
     switch (e.kind) {
       case EventKind::kBusReset: HandleBusReset(); break;
-      case EventKind::kSetup: HandleSetup(SetupPacket::Decode(e.setup)); break;
+      case EventKind::kSetup:
+        // The controller abandoned this SETUP's transfer when a newer SETUP or a bus reset
+        // arrived (USB 2.0 §8.5.3; the drivers drop endpoint 0's pending data then). Answering it
+        // now would arm its data or its stall on the newer transfer.
+        if (NewerSetupQueued(tail)) {
+          ++counters_.superseded_setups;
+          break;
+        }
+        HandleSetup(SetupPacket::Decode(e.setup));
+        break;
       case EventKind::kTransferComplete: HandleTransferComplete(e.ep_addr, e.length); break;
       case EventKind::kSuspend:
         suspended_ = true;
@@ -72,6 +81,17 @@ void UsbDevice::Task() {
       case EventKind::kResume: suspended_ = false; break;
     }
   }
+}
+
+bool UsbDevice::NewerSetupQueued(std::uint8_t from) const {
+  // Only the interrupt writes events, and only at head: the slots up to head are stable here.
+  const std::uint8_t head = head_.load(std::memory_order_acquire);
+  for (std::uint8_t i = from; i != head;
+       i = static_cast<std::uint8_t>((i + 1U) % kEventQueueSize)) {
+    if (events_[i].kind == EventKind::kSetup || events_[i].kind == EventKind::kBusReset)
+      return true;
+  }
+  return false;
 }
 
 void UsbDevice::HandleBusReset() {

@@ -218,6 +218,27 @@ TEST(UsbEnumeration, NewSetupAbandonsTransferInProgress) {
   EXPECT_EQ(rig.device.address(), 5);
 }
 
+TEST(UsbEnumeration, SetupSupersededBeforeTaskRanIsDropped) {
+  Rig rig;
+  rig.host.Enumerate(5);
+  // A GET_DESCRIPTOR waits in the queue when the host abandons it and sends SET_CONFIGURATION 1
+  // (the controller drops endpoint 0's state on each SETUP): the device must answer only the
+  // newer one, a zero-length status IN, not the descriptor's 18 bytes (USB 2.0 §8.5.3).
+  rig.dcd.OnSetupHardware();
+  rig.device.OnSetupReceived(kGetDeviceDescriptor64);
+  const auto r = rig.host.Control(kSetConfiguration1);
+  EXPECT_FALSE(r.stalled);
+  EXPECT_FALSE(r.protocol_error);
+  EXPECT_EQ(rig.device.counters().superseded_setups, 1U);
+  // A bus reset queued behind a SETUP abandons it too: nothing is armed on endpoint 0.
+  rig.device.OnSetupReceived(kGetDeviceDescriptor64);
+  rig.device.OnBusReset();
+  rig.device.Task();
+  EXPECT_FALSE(rig.dcd.PendingOn(0x80).active);
+  EXPECT_EQ(rig.device.counters().superseded_setups, 2U);
+  EXPECT_EQ(rig.device.state(), DeviceState::kDefault);
+}
+
 TEST(UsbEnumeration, EventQueueOverflowIsCounted) {
   Rig rig;
   for (std::size_t i = 0; i < UsbDevice::kEventQueueSize + 3; ++i) rig.device.OnSuspend();

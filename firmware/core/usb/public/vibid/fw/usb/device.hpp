@@ -30,6 +30,7 @@ struct UsbCounters {
   std::uint32_t stalled_requests = 0;
   std::uint32_t event_overflows = 0;  ///< Events lost because Task() ran too late.
   std::uint32_t suspends = 0;
+  std::uint32_t superseded_setups = 0;  ///< SETUPs dropped because a newer one was queued.
 };
 
 class UsbDevice final : public DcdEvents {
@@ -76,6 +77,8 @@ class UsbDevice final : public DcdEvents {
   enum class ControlStage : std::uint8_t { kIdle, kDataIn, kDataOut, kStatusIn, kStatusOut };
 
   void Push(const Event& e);
+  /// True when a SETUP or bus reset is queued at or after slot `from`.
+  bool NewerSetupQueued(std::uint8_t from) const;
   void HandleBusReset();
   void HandleSetup(const SetupPacket& setup);
   void HandleTransferComplete(std::uint8_t ep_addr, std::uint16_t length);
