@@ -88,6 +88,8 @@ int main() {
   static TimerClock clock;
   clock.Init();
   g_link.Init(kUsartClockHz, kBaud);
+  // The reset handler left interrupts masked; SysTick and USART1 have their drivers now.
+  stm32::EnableInterrupts();
   static InjectionCommands injection{g_source};
   static Core core(Port{clock, g_source, g_flash, system}, g_link, g_log, &injection);
   (void)core.Boot();

@@ -9,27 +9,32 @@
 namespace vibid::fw::stm32 {
 namespace {
 
-// Status polls are a few cycles each at 168 MHz (the loop runs from the flash cache while the
-// array is busy): 10 000 polls are well under a millisecond. The erase wait feeds the watchdog
-// after each such chunk and gives up after 2 s by the SysTick clock, 2.5 times the worst erase
-// (800 ms at x8). A single program takes at most 100 us.
-constexpr std::uint32_t kPollsPerChunk = 10000;
-constexpr std::uint64_t kEraseTimeoutUs = 2000000;
+// A single program takes at most 100 us; 100 000 status polls, a few cycles each at 168 MHz, are
+// well above that.
 constexpr std::uint32_t kWordPolls = 100000;
+// The erase's bound: above the datasheet's worst 16 KiB sector erase at either parallelism (x32
+// 500 ms, x8 800 ms) and below the watchdog's shortest period (1.0 s, fed right before the
+// erase starts), so a sector that never finishes is reported, not ended by a watchdog reset.
+constexpr std::uint64_t kEraseTimeoutUs = 900000;
+static_assert(kEraseTimeoutUs > 1000ULL * InternalCalibrationFlash::kEraseMaxMsX8);
+static_assert(kEraseTimeoutUs < 1000ULL * kWatchdogTimeoutMs);
 
 bool WaitIdle(std::uint32_t polls) {
   if (!WaitFor(flash::kSr, flash::kSrBsy, 0, polls)) return false;
   return (Reg(flash::kSr) & flash::kSrErrors) == 0;
 }
 
-bool WaitIdleFeedingWatchdog() {
+/// No watchdog feeding in here: while the erase runs, every read of the flash array stalls the
+/// bus until it ends (RM0090 §3.5, erase and program operations), and this code, its
+/// constants, the vector table and the handlers all sit in that array. Whether the loop spins
+/// (from the ART cache) or stalls on its next fetch, the erase has the full watchdog period the
+/// feed before STRT gave it.
+bool WaitEraseDone() {
   const std::uint64_t start_us = MicrosecondsSinceBoot();
-  for (;;) {
-    if (WaitFor(flash::kSr, flash::kSrBsy, 0, kPollsPerChunk))
-      return (Reg(flash::kSr) & flash::kSrErrors) == 0;
-    KickWatchdog();
+  while ((Reg(flash::kSr) & flash::kSrBsy) != 0) {
     if (MicrosecondsSinceBoot() - start_us > kEraseTimeoutUs) return false;
   }
+  return (Reg(flash::kSr) & flash::kSrErrors) == 0;
 }
 
 /// Resets a cache that is enabled: disable, pulse the reset bit, enable (RM0090 §3.5.2: the
@@ -78,7 +83,7 @@ Status InternalCalibrationFlash::Erase(Slot slot) {
       // A full watchdog period for the erase, whatever the main loop last did.
       KickWatchdog();
       Reg(flash::kCr) |= flash::kCrStrt;
-      ok = WaitIdleFeedingWatchdog();
+      ok = WaitEraseDone();
       KickWatchdog();
       Reg(flash::kCr) = 0;
     }

@@ -3,6 +3,7 @@
 #include "clock_plan.hpp"
 #include "regs/core_m4.hpp"
 #include "regs/rcc.hpp"
+#include "system.hpp"
 
 namespace vibid::fw::stm32 {
 namespace {
@@ -57,10 +58,9 @@ ClockConfig ConfigureClocks() {
   Reg(rcc::kCr) |= rcc::kCrPllOn;
   if (!WaitFor(rcc::kCr, rcc::kCrPllRdy, rcc::kCrPllRdy, kPllTimeoutPolls)) return HsiFallback();
 
-  // 5 wait states at 168 MHz and 2.7-3.6 V (RM0090 table 10), with prefetch and caches, set
-  // before the clock goes up.
-  Reg(flash::kAcr) = 5 | flash::kAcrPrften | flash::kAcrIcen | flash::kAcrDcen;
-  if ((Reg(flash::kAcr) & flash::kAcrLatencyMask) != 5) return HsiFallback();
+  // 5 wait states at 168 MHz and 2.7-3.6 V (RM0090 table 10), caches on and prefetch off (the
+  // ADC noise erratum, ES0182), set before the clock goes up.
+  if (!ConfigureFlashAccess(5)) return HsiFallback();
 
   Modify(rcc::kCfgr, rcc::kCfgrPrescalerMask, rcc::kCfgrPpre1Div4 | rcc::kCfgrPpre2Div2);
   Modify(rcc::kCfgr, rcc::kCfgrSwMask, rcc::kCfgrSwPll);

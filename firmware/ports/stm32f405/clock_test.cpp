@@ -1,9 +1,11 @@
 // ConfigureClocks on the fake register file: the PLL register takes the planned factors for
 // the build's crystal (8 MHz in this test build), the flash wait states go up before the switch,
-// and a PWR clock enable is followed by a DSB (ES0182 §2.1.13).
+// and a PWR clock enable is followed by a DSB (ES0182 §2.1.13); the flash accelerator runs with
+// caches and without prefetch; the option bytes' brown-out level reads back.
 #include "clock.hpp"
 #include "port_test_fixture.hpp"
 #include "regs/rcc.hpp"
+#include "system.hpp"
 
 namespace vibid::fw::stm32::test {
 namespace {
@@ -44,6 +46,27 @@ TEST_F(ClockTest, ProgramsThePlannedPllFor8MHz) {
   ASSERT_NE(pwr_clock, kNone);
   ASSERT_NE(dsb, kNone);
   EXPECT_LT(dsb, vos);
+}
+
+TEST_F(ClockTest, FlashRunsWithCachesAndWithoutPrefetch) {
+  ModelRcc(true);
+  ASSERT_EQ(ConfigureClocks().source, ClockSource::kPllFromHse);
+  // FLASH_ACR (RM0090 §3.9.1): LATENCY 2:0, PRFTEN 8, ICEN 9, DCEN 10, ICRST 11, DCRST 12. Caches
+  // reset while off, then on; prefetch never on (ES0182 ADC noise workaround).
+  EXPECT_EQ(regs().WritesTo(flash::kAcr), (std::vector<std::uint32_t>{0x1805, 0x0005, 0x0605}));
+  EXPECT_EQ(regs().FindWriteWithBits(flash::kAcr, Bit(8)), kNone);
+}
+
+TEST_F(ClockTest, BrownOutLevelIsTheOptionBytesField) {
+  // FLASH_OPTCR resets to 0x0FFFAAED (RM0090 §3.9.10): BOR_LEV (3:2) = 11, brown-out reset off.
+  regs().Poke(flash::kOptcr, 0x0FFFAAED);
+  EXPECT_EQ(BrownOutLevel(), BrownOut::kOff);
+  regs().Poke(flash::kOptcr, 0x0FFFAAE1);  // BOR_LEV 00: level 3
+  EXPECT_EQ(BrownOutLevel(), BrownOut::kLevel3);
+  regs().Poke(flash::kOptcr, 0x0FFFAAE5);  // 01: level 2
+  EXPECT_EQ(BrownOutLevel(), BrownOut::kLevel2);
+  regs().Poke(flash::kOptcr, 0x0FFFAAE9);  // 10: level 1
+  EXPECT_EQ(BrownOutLevel(), BrownOut::kLevel1);
 }
 
 TEST_F(ClockTest, FallsBackToHsiWhenTheCrystalDoesNotStart) {

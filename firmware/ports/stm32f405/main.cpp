@@ -19,10 +19,6 @@
 namespace vibid::fw::stm32 {
 namespace {
 
-// At least 1 s at the fastest LSI (StartWatchdog computes at 47 kHz). The main loop kicks at
-// least once per SysTick (1 ms); a calibration commit feeds it right before each sector erase
-// (500 ms worst case at x32) and during programming.
-constexpr std::uint32_t kWatchdogTimeoutMs = 1000;
 /// The acquisition log: the largest block the RAM budget leaves (SRAM; CCM holds the stack). Its
 /// size is part of the board profile the emulator and the host's preflight use.
 constexpr std::size_t kLogBytes = vibid::kBoardProfile.log_bytes;
@@ -52,10 +48,14 @@ int main() {
   using namespace vibid::fw;
   using namespace vibid::fw::stm32;
 
-  // Interrupts stay masked until every handler's driver is set up (the reset handler made sure
-  // this is a clean start: nothing from a bootloader is pending or configured). The watchdog
-  // goes first: every step after it is bounded by it.
+  // Interrupts stay masked (since the reset handler, which also made sure this is a clean start:
+  // nothing from a bootloader is pending or configured) until every handler's driver is set up.
+  // The watchdog goes first: every step after it is bounded by it.
   DisableInterrupts();
+#if !defined(NDEBUG)
+  // Debug builds are the ones run under a debugger: a breakpoint must not reset the board.
+  FreezeWatchdogWhenHalted();
+#endif
   StartWatchdog(kWatchdogTimeoutMs);
   static BoardSystemControl system;
   system.Init();

@@ -6,6 +6,7 @@
 #include "regs/otg_fs.hpp"
 #include "regs/peripherals.hpp"
 #include "regs/rcc.hpp"
+#include "system.hpp"
 
 namespace vibid::fw::stm32 {
 namespace {
@@ -15,10 +16,10 @@ constexpr std::uint32_t kEp0TxWords = 16;
 constexpr std::uint32_t kEpTxWords = 32;
 constexpr std::uint32_t kPollLimit = 200000;
 
-/// Busy wait of roughly `cycles` core cycles, for the settle times RM0090 asks for.
-void Delay(std::uint32_t cycles) {
-  for (std::uint32_t i = 0; i < cycles / 4; ++i) asm volatile("nop");
-}
+/// The core clock while the driver runs: main starts USB only on the PLL's 168 MHz.
+constexpr std::uint32_t kCoreClockHz = 168000000;
+/// A forced mode change takes effect after at most 25 ms (RM0090 §34.16.2, OTG_FS_GUSBCFG FDMOD).
+constexpr std::uint32_t kForcedModeCycles = kCoreClockHz / 1000 * 25;
 
 std::uint16_t PacketCount(std::size_t length, std::uint16_t max_packet) {
   if (length == 0) return 1;
@@ -44,14 +45,19 @@ Status OtgFsDcd::Init(usb::DcdEvents& events) {
     return Status::kUnavailable;
   Reg(otg::kGrstctl) = otg::kGrstctlCsrst;
   if (!WaitFor(otg::kGrstctl, otg::kGrstctlCsrst, 0, kPollLimit)) return Status::kUnavailable;
+  // The soft reset cleared DCTL, SDIS with it (RM0090 §34.16.2, OTG_FS_GRSTCTL CSRST: all CSRs but
+  // a few PCGCCTL, HCFG and DCFG bits): disconnect again before the transceiver is powered, so the
+  // D+ pull-up never shows before Connect (no attach/detach glitch for the host).
+  Reg(otg::kDctl) |= otg::kDctlSdis;
 
   // Transceiver on; VBUS is not wired to PA9 on this board, so sensing is off.
   Reg(otg::kGccfg) = otg::kGccfgPwrdwn | otg::kGccfgNovbussens;
   // Forced device mode, turnaround time 6 for an AHB clock above 32 MHz; the mode change takes
-  // effect after 25 ms.
+  // effect after 25 ms, timed by the DWT cycle counter (a loop's duration depends on the flash
+  // wait states and the caches).
   Modify(otg::kGusbcfg, otg::kGusbcfgFdmod | otg::kGusbcfgTrdtMask,
          otg::kGusbcfgFdmod | Field(6, otg::kGusbcfgTrdtPos));
-  Delay(168000U * 25U);
+  if (!WaitCycles(kForcedModeCycles)) return Status::kUnavailable;
   // The mode switch is confirmed, not assumed: CMOD reads 0 in device mode.
   if ((Reg(otg::kGintsts) & otg::kIntCmod) != 0) return Status::kUnavailable;
   Reg(otg::kPcgcctl) = 0;

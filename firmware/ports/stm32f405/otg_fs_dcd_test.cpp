@@ -5,6 +5,7 @@
 
 #include "otg_fs_dcd.hpp"
 #include "port_test_fixture.hpp"
+#include "regs/core_m4.hpp"
 #include "regs/otg_fs.hpp"
 #include "regs/rcc.hpp"
 
@@ -40,6 +41,11 @@ class OtgTest : public PortTest {
   /// The core's self-clearing reset and flush bits, EPDIS completing into EPDISD, and the
   /// global OUT NAK taking effect.
   static void ModelCore() {
+    // The DWT cycle counter runs: each read is a millisecond (168 000 cycles) later.
+    regs().OnRead(dwt::kCyccnt, [](std::uint32_t held) {
+      FakeRegisters::Get().Poke(dwt::kCyccnt, held + 168000);
+      return held + 168000;
+    });
     regs().OnRead(otg::kGrstctl, [](std::uint32_t held) { return held | otg::kGrstctlAhbidl; });
     regs().OnWrite(otg::kGrstctl, [](std::uint32_t, std::uint32_t w) {
       return w & ~(otg::kGrstctlCsrst | otg::kGrstctlTxfflsh | otg::kGrstctlRxfflsh);
@@ -111,6 +117,36 @@ TEST_F(OtgTest, InitMasksAndClearsTheInterruptUntilTheCoreIsReady) {
   const std::size_t enabled = regs().FindWrite(kIser2, kOtgBit, cleared_again);
   ASSERT_NE(enabled, kNone);
   EXPECT_EQ(regs().FindWrite(kIser2, kOtgBit), enabled);  // never enabled earlier
+}
+
+TEST_F(OtgTest, InitDisconnectsRightAfterTheCoreResetAndTimesTheModeChange) {
+  ASSERT_EQ(dcd_.Init(events_), Status::kOk);
+  const std::size_t reset = regs().FindWrite(otg::kGrstctl, otg::kGrstctlCsrst);
+  const std::size_t sdis = regs().FindWriteWithBits(otg::kDctl, otg::kDctlSdis, reset);
+  const std::size_t transceiver = regs().FindWriteWithBits(otg::kGccfg, otg::kGccfgPwrdwn);
+  const std::size_t device_mode = regs().FindWriteWithBits(otg::kGusbcfg, otg::kGusbcfgFdmod);
+  ASSERT_NE(reset, kNone);
+  ASSERT_NE(sdis, kNone);
+  // SDIS lands before the transceiver is powered and before device mode is forced: the pull-up
+  // cannot appear before Connect.
+  EXPECT_LT(sdis, transceiver);
+  EXPECT_LT(sdis, device_mode);
+  // The 25 ms forced-mode wait (RM0090 OTG_FS_GUSBCFG FDMOD) by the DWT: 168 000 cycles per fake
+  // read, so at least 25 reads of CYCCNT between FDMOD and the CMOD check.
+  std::size_t cycle_reads = 0;
+  const std::size_t cmod_check = regs().log().size();
+  for (std::size_t i = device_mode; i < cmod_check; ++i) {
+    const Access& a = regs().log()[i];
+    cycle_reads += a.kind == Access::Kind::kRead && a.address == dwt::kCyccnt;
+  }
+  EXPECT_GE(cycle_reads, 26U);  // the start, then 25 ms
+  EXPECT_LE(cycle_reads, 27U);
+}
+
+TEST_F(OtgTest, InitRefusesACoreWithoutACycleCounter) {
+  regs().OnRead(dwt::kCyccnt, [](std::uint32_t held) { return held; });
+  EXPECT_EQ(dcd_.Init(events_), Status::kUnavailable);
+  EXPECT_EQ(regs().FindWrite(kIser2, kOtgBit), kNone);
 }
 
 TEST_F(OtgTest, InitRefusesACoreThatStaysInHostMode) {

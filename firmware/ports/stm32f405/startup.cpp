@@ -89,9 +89,11 @@ extern const VectorTable g_vector_table;
                                                                                MakeVectors()};
 
 extern "C" [[noreturn]] void ResetHandler() {
-  // A jump from the ROM bootloader is not a reset: restart from a real one before touching
-  // anything (the PLL, the OTG core and its pending interrupts are still live).
-  vibid::fw::stm32::ResetIfStartedWithoutReset();
+  // Before anything else: interrupts masked, SysTick stopped and VTOR on this image's table,
+  // and a start without a reset (ROM bootloader "leave", a debugger's "go") turned into a real
+  // one, so no state a previous owner left (the PLL, the OTG core, pending interrupts) is live.
+  vibid::fw::stm32::TakeOverCore(
+      static_cast<std::uint32_t>(reinterpret_cast<std::uintptr_t>(&g_vector_table)));
   vibid::fw::stm32::EnterBootloaderIfRequested();
   // The FPU must be on before any code that may use it (the compiler is free to).
   using vibid::fw::stm32::Reg;
@@ -104,7 +106,6 @@ extern "C" [[noreturn]] void ResetHandler() {
   for (std::uint32_t* dst = &_sdata; dst < &_edata;) *dst++ = *src++;
   for (std::uint32_t* dst = &_sbss; dst < &_ebss;) *dst++ = 0;
   for (std::uint32_t* dst = &_sccm_bss; dst < &_eccm_bss;) *dst++ = 0;
-  Reg(scb::kVtor) = static_cast<std::uint32_t>(reinterpret_cast<std::uintptr_t>(&g_vector_table));
   for (auto* f = __init_array_start; f < __init_array_end; ++f) (*f)();
   (void)ApplicationMain();
   for (;;) {

@@ -57,6 +57,11 @@ void EnterBootloaderIfRequested() {
   Reg(kSyscfgMemrmp) = kMemrmpSystemFlash;
   const std::uint32_t stack = Reg(kSystemMemory);
   const std::uint32_t entry = Reg(kSystemMemory + 4);
+  // The ROM expects the core as a reset leaves it: VTOR 0 (now the ROM's own table) and
+  // interrupts unmasked; TakeOverCore changed both, and nothing can interrupt yet.
+  Reg(scb::kVtor) = 0;
+  DataSyncBarrier();
+  EnableInterrupts();
 #if defined(__arm__)
   asm volatile(
       "msr msp, %0\n"
@@ -69,18 +74,37 @@ void EnterBootloaderIfRequested() {
 }
 
 bool StartedWithoutReset() {
-  // After any reset the chip runs from HSI with HSE, PLL and the OTG clock off (RM0090 §7.3.1,
-  // §7.3.3 and §7.3.11 reset values). The ROM bootloader's DFU "leave" jumps here with its own
-  // USB clocking still up (AN3156), and a debugger "go" without reset does the same.
-  const bool pll_system_clock = (Reg(rcc::kCfgr) & rcc::kCfgrSwsMask) != rcc::kCfgrSwsHsi;
-  const bool oscillators_on = (Reg(rcc::kCr) & (rcc::kCrPllOn | rcc::kCrHseOn)) != 0;
-  const bool otg_clock_on = (Reg(rcc::kAhb2enr) & rcc::kAhb2OtgFs) != 0;
-  return pll_system_clock || oscillators_on || otg_clock_on;
+  // RCC_CR resets to 0x0000XX83: HSI on, everything else off (RM0090 §7.3.1); RCC_CFGR to 0,
+  // HSI as system clock and no prescaler (§7.3.3).
+  constexpr std::uint32_t kOscillators =
+      rcc::kCrHseOn | rcc::kCrCssOn | rcc::kCrPllOn | rcc::kCrPlli2sOn;
+  const bool clock_tree = (Reg(rcc::kCr) & kOscillators) != 0 || Reg(rcc::kCfgr) != 0;
+  // Peripheral clocks off at reset: all but CCM data RAM (§7.3.10 to §7.3.14).
+  const bool peripheral_clock = (Reg(rcc::kAhb1enr) & ~rcc::kAhb1CcmDataRam) != 0 ||
+                                Reg(rcc::kAhb2enr) != 0 || Reg(rcc::kAhb3enr) != 0 ||
+                                Reg(rcc::kApb1enr) != 0 || Reg(rcc::kApb2enr) != 0;
+  // SYST_CSR resets with ENABLE and TICKINT clear, NVIC_ISERn and VTOR to 0 (ARMv7-M ARM
+  // B3.3.3, B3.4.4, B3.2.5).
+  const bool systick = (Reg(systick::kCtrl) & (systick::kCtrlEnable | systick::kCtrlTickInt)) != 0;
+  bool nvic_line = false;
+  for (unsigned w = 0; w < nvic::kIserWords; ++w) nvic_line |= Reg(nvic::kIser + 4 * w) != 0;
+  const bool vtor_moved = Reg(scb::kVtor) != 0;
+  return clock_tree || peripheral_clock || systick || nvic_line || vtor_moved;
 }
 
-void ResetIfStartedWithoutReset() {
-  if (StartedWithoutReset()) SystemReset();
+void TakeOverCore(std::uint32_t vector_table) {
+  // Nothing a previous owner armed may run before the image has its own state: no interrupt,
+  // no SysTick, and exceptions vectored to this image's table.
+  DisableInterrupts();
+  const bool without_reset = StartedWithoutReset();
+  Reg(systick::kCtrl) = 0;
+  Reg(scb::kVtor) = vector_table;
+  DataSyncBarrier();
+  InstructionSyncBarrier();
+  if (without_reset) SystemReset();
 }
+
+void FreezeWatchdogWhenHalted() { Reg(dbgmcu::kApb1Fz) |= dbgmcu::kApb1FzIwdgStop; }
 
 std::uint32_t WatchdogReload(std::uint32_t timeout_ms) {
   if (timeout_ms < 1) timeout_ms = 1;
@@ -102,6 +126,20 @@ void StartWatchdog(std::uint32_t timeout_ms) {
 }
 
 void KickWatchdog() { Reg(iwdg::kKr) = iwdg::kKeyReload; }
+
+BrownOut BrownOutLevel() {
+  return static_cast<BrownOut>((Reg(flash::kOptcr) & flash::kOptcrBorLevMask) >>
+                               flash::kOptcrBorLevPos);
+}
+
+bool ConfigureFlashAccess(std::uint32_t wait_states) {
+  // The cache resets work only while the caches are off (RM0090 §3.5.2 / FLASH_ACR ICRST, DCRST);
+  // the latency goes in first so it never lags the clock.
+  Reg(flash::kAcr) = wait_states | flash::kAcrIcrst | flash::kAcrDcrst;
+  Reg(flash::kAcr) = wait_states;
+  Reg(flash::kAcr) = wait_states | flash::kAcrIcen | flash::kAcrDcen;
+  return (Reg(flash::kAcr) & flash::kAcrLatencyMask) == wait_states;
+}
 
 std::array<char, 25> BoardIdHex() {
   static constexpr char kHex[] = "0123456789ABCDEF";
@@ -142,5 +180,25 @@ std::uint64_t MicrosecondsSinceBoot() {
 
 void OnSysTick() { ++g_milliseconds; }
 std::uint32_t CycleCount() { return Reg(dwt::kCyccnt); }
+
+bool WaitCycles(std::uint32_t cycles) {
+  // TRCENA powers the DWT (ARMv7-M ARM C1.6.5), CYCCNTENA starts the counter (C1.8.7).
+  if ((Reg(dwt::kCtrl) & dwt::kCtrlCyccntEna) == 0) {
+    Reg(scb::kDemcr) |= scb::kDemcrTrcena;
+    Reg(dwt::kCtrl) |= dwt::kCtrlCyccntEna;
+  }
+  // Unsigned differences survive the counter's wrap (25.6 s at 168 MHz).
+  const std::uint32_t start = Reg(dwt::kCyccnt);
+  constexpr std::uint32_t kStuckPolls = 1000;  // Each poll takes several cycles.
+  std::uint32_t last = start;
+  std::uint32_t unchanged = 0;
+  for (;;) {
+    const std::uint32_t now = Reg(dwt::kCyccnt);
+    if (now - start >= cycles) return true;
+    unchanged = now == last ? unchanged + 1 : 0;
+    if (unchanged >= kStuckPolls) return false;
+    last = now;
+  }
+}
 
 }  // namespace vibid::fw::stm32

@@ -22,12 +22,24 @@ wire::ResetCause ReadAndClearResetCause();
 /// Called first thing from the reset handler: jumps to the ROM when RebootToBootloader asked.
 void EnterBootloaderIfRequested();
 
-/// True when the chip runs from anything but its reset clock state (HSI, PLL/HSE off, OTG clock
-/// off): the ROM bootloader jumped here after a DFU "leave" without a reset (AN3156).
+/// True when anything the image would find at its reset value is not (the reset values of
+/// RM0090 §7.3 and of the ARMv7-M system registers): a system clock or oscillator left on (RCC_CR
+/// HSEON, CSSON, PLLON, PLLI2SON; RCC_CFGR nonzero), a peripheral clock that is off at reset, the
+/// SysTick counter or its interrupt enabled, an NVIC line enabled, or VTOR moved. The ROM
+/// bootloader's DFU "leave" jumps here without a reset (AN2606, AN3156) and frees what it used
+/// (AN2662), so no single one of these is relied on; a debugger's "go" without reset is caught
+/// the same way.
 bool StartedWithoutReset();
-/// Called first thing from the reset handler: a start without a reset becomes a system reset, so
-/// the image always starts from the reset state (PLL off, OTG core idle, nothing pending).
-void ResetIfStartedWithoutReset();
+/// First thing in the reset handler, before memory is initialised: masks interrupts, reads the
+/// evidence of StartedWithoutReset, stops SysTick, points VTOR at `vector_table`, and turns a
+/// start without reset into a system reset so the image always starts from the reset state
+/// (PLL off, OTG core idle, nothing pending). Interrupts stay masked; main enables them once
+/// its handlers' drivers are set up.
+void TakeOverCore(std::uint32_t vector_table);
+
+/// Debug builds: the independent watchdog stops while a debugger halts the core
+/// (DBGMCU_APB1_FZ DBG_IWDG_STOP), so a breakpoint does not reset the board.
+void FreezeWatchdogWhenHalted();
 
 /// The LSI clocking the independent watchdog is 17..47 kHz (STM32F405 datasheet, LSI
 /// characteristics): the timeout is computed at 47 kHz, the shortest it can be, and is up to
@@ -37,12 +49,33 @@ inline constexpr std::uint32_t kWatchdogPrescaler = 32;
 /// 4095 counts (the 12-bit reload) at 47 kHz / 32.
 inline constexpr std::uint32_t kWatchdogMaxTimeoutMs =
     4095ULL * kWatchdogPrescaler * 1000 / kLsiMaxHz;
+/// The board image's watchdog: at least 1 s at the fastest LSI. The main loop kicks it at least
+/// once per SysTick (1 ms); a calibration commit kicks it right before each sector erase, which
+/// then has the whole period (the CPU stalls while the flash erases), and while programming.
+inline constexpr std::uint32_t kWatchdogTimeoutMs = 1000;
 /// Reload count for a timeout of at least `timeout_ms` (clamped to 1..kWatchdogMaxTimeoutMs).
 std::uint32_t WatchdogReload(std::uint32_t timeout_ms);
 /// Starts the independent watchdog with a timeout of at least `timeout_ms` at any LSI frequency;
 /// once started it cannot be stopped.
 void StartWatchdog(std::uint32_t timeout_ms);
 void KickWatchdog();
+
+/// The brown-out reset threshold the option bytes set (FLASH_OPTCR BOR_LEV, RM0090 §3.9.10;
+/// thresholds: STM32F405 datasheet, "reset and power control block characteristics").
+enum class BrownOut : std::uint8_t {
+  kLevel3 = 0,  ///< About 2.7 V: the supply x32 flash programming needs (RM0090 §3.6.2).
+  kLevel2 = 1,  ///< About 2.4 V.
+  kLevel1 = 2,  ///< About 2.1 V.
+  kOff = 3,     ///< Only POR/PDR (about 1.8 V): the factory setting.
+};
+/// Reads the option bytes' brown-out level as the flash interface loaded it at reset.
+BrownOut BrownOutLevel();
+
+/// Flash access for `wait_states` (RM0090 table 10: 5 at 168 MHz and 2.7-3.6 V): instruction and
+/// data caches reset, then on; prefetch off, because ES0182's ADC erratum ("internal noise
+/// impacting the ADC accuracy") traces ADC noise to the prefetch's flash reads and gives this as
+/// the workaround. @returns false when FLASH_ACR did not take the wait states.
+[[nodiscard]] bool ConfigureFlashAccess(std::uint32_t wait_states);
 
 /// The 96-bit unique device id as 24 uppercase hex digits plus a terminating zero.
 std::array<char, 25> BoardIdHex();
@@ -56,5 +89,9 @@ std::uint64_t MicrosecondsSinceBoot();
 void OnSysTick();
 /// DWT cycle counter (enabled by StartMillisecondTick).
 std::uint32_t CycleCount();
+/// Waits at least `cycles` core cycles by the DWT cycle counter, enabling it when it is off.
+/// @returns false when the counter does not advance (no DWT, e.g. under QEMU), instead of
+///          waiting for ever or for an unknown time.
+[[nodiscard]] bool WaitCycles(std::uint32_t cycles);
 
 }  // namespace vibid::fw::stm32

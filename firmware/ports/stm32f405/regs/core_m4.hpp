@@ -28,6 +28,8 @@ inline constexpr Address kIser = 0xE000E100;  ///< Set-enable, one bit per IRQ, 
 inline constexpr Address kIcer = 0xE000E180;  ///< Clear-enable.
 inline constexpr Address kIcpr = 0xE000E280;  ///< Clear-pending.
 inline constexpr Address kIpr = 0xE000E400;   ///< Priority, one byte per IRQ (top 4 bits used).
+/// ISER words that hold the STM32F405's 82 interrupt lines (0..81).
+inline constexpr unsigned kIserWords = 3;
 
 inline void Enable(unsigned irq) { Reg(kIser + 4 * (irq / 32)) = Bit(irq % 32); }
 inline void Disable(unsigned irq) { Reg(kIcer + 4 * (irq / 32)) = Bit(irq % 32); }
@@ -46,6 +48,13 @@ inline constexpr std::uint32_t kCtrlEnable = Bit(0);
 inline constexpr std::uint32_t kCtrlTickInt = Bit(1);
 inline constexpr std::uint32_t kCtrlClkSourceCpu = Bit(2);
 }  // namespace systick
+
+/// STM32F4 debug support (RM0090 §38.16): DBGMCU_APB1_FZ freezes APB1 peripherals while the
+/// core is halted by a debugger; DBG_IWDG_STOP (bit 12) stops the independent watchdog.
+namespace dbgmcu {
+inline constexpr Address kApb1Fz = 0xE0042008;
+inline constexpr std::uint32_t kApb1FzIwdgStop = Bit(12);
+}  // namespace dbgmcu
 
 namespace dwt {
 inline constexpr Address kCtrl = 0xE0001000;

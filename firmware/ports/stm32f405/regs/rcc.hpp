@@ -13,6 +13,7 @@ inline constexpr Address kCfgr = kBase + 0x08;
 inline constexpr Address kCir = kBase + 0x0C;
 inline constexpr Address kAhb1enr = kBase + 0x30;
 inline constexpr Address kAhb2enr = kBase + 0x34;
+inline constexpr Address kAhb3enr = kBase + 0x38;
 inline constexpr Address kApb1enr = kBase + 0x40;
 inline constexpr Address kApb2enr = kBase + 0x44;
 inline constexpr Address kCsr = kBase + 0x74;
@@ -25,6 +26,7 @@ inline constexpr std::uint32_t kCrHseRdy = Bit(17);
 inline constexpr std::uint32_t kCrCssOn = Bit(19);
 inline constexpr std::uint32_t kCrPllOn = Bit(24);
 inline constexpr std::uint32_t kCrPllRdy = Bit(25);
+inline constexpr std::uint32_t kCrPlli2sOn = Bit(26);
 
 // RCC_PLLCFGR: PLLM 5:0, PLLN 14:6, PLLP 17:16 (0 = /2), PLLSRC 22 (1 = HSE), PLLQ 27:24.
 inline constexpr unsigned kPllcfgrPllmPos = 0;
@@ -51,6 +53,9 @@ inline constexpr std::uint32_t kAhb1GpioC = Bit(2);
 inline constexpr std::uint32_t kAhb1Dma1 = Bit(21);
 inline constexpr std::uint32_t kAhb1Dma2 = Bit(22);
 inline constexpr std::uint32_t kAhb2OtgFs = Bit(7);
+/// AHB1ENR's only bit set at reset: CCMDATARAMEN (bit 20); reset value 0x00100000 (RM0090
+/// §7.3.10). AHB2ENR, AHB3ENR, APB1ENR and APB2ENR reset to 0 (§7.3.11 to §7.3.14).
+inline constexpr std::uint32_t kAhb1CcmDataRam = Bit(20);
 inline constexpr std::uint32_t kApb1Tim2 = Bit(0);
 inline constexpr std::uint32_t kApb1Tim3 = Bit(1);
 inline constexpr std::uint32_t kApb1Tim4 = Bit(2);
@@ -85,6 +90,7 @@ inline constexpr Address kAcr = kBase + 0x00;
 inline constexpr Address kKeyr = kBase + 0x04;
 inline constexpr Address kSr = kBase + 0x0C;
 inline constexpr Address kCr = kBase + 0x10;
+inline constexpr Address kOptcr = kBase + 0x14;
 inline constexpr std::uint32_t kKey1 = 0x45670123;
 inline constexpr std::uint32_t kKey2 = 0xCDEF89AB;
 
@@ -117,6 +123,11 @@ inline constexpr std::uint32_t kCrPsizeX32 = 0x2U << 8;
 inline constexpr std::uint32_t kCrPsizeMask = 0x3U << 8;
 inline constexpr std::uint32_t kCrStrt = Bit(16);
 inline constexpr std::uint32_t kCrLock = Bit(31);
+
+// FLASH_OPTCR (RM0090 §3.9.10, reset value 0x0FFFAAED): BOR_LEV 3:2, loaded from the user
+// option bytes at reset: 00 level 3, 01 level 2, 10 level 1, 11 off (POR/PDR only).
+inline constexpr unsigned kOptcrBorLevPos = 2;
+inline constexpr std::uint32_t kOptcrBorLevMask = 0x3U << 2;
 }  // namespace flash
 
 /// Device electronic signature (RM0090 §39.1): the 96-bit unique id.
