@@ -3,6 +3,7 @@
 #include <array>
 #include <cstdint>
 
+#include "board_led.hpp"
 #include "board_port.hpp"
 #include "calibration_flash.hpp"
 #include "clock.hpp"
@@ -60,6 +61,7 @@ int main() {
   static BoardSystemControl system;
   system.Init();
   const ClockConfig clocks = ConfigureClocks();
+  LightBoardLed();
   StartMillisecondTick(clocks.sysclk_hz);
   g_sampler.Init(clocks);
   EnableInterrupts();
