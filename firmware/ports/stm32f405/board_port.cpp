@@ -19,6 +19,16 @@ void BoardSystemControl::DrainReplies() const {
   }
 }
 
+wire::BrownOut BoardSystemControl::BrownOutLevel() const {
+  switch (stm32::BrownOutLevel()) {
+    case BrownOut::kLevel3: return wire::BrownOut::kLevel3;
+    case BrownOut::kLevel2: return wire::BrownOut::kLevel2;
+    case BrownOut::kLevel1: return wire::BrownOut::kLevel1;
+    case BrownOut::kOff: return wire::BrownOut::kOff;
+  }
+  return wire::BrownOut::kUnknown;
+}
+
 void BoardSystemControl::Reset() {
   DrainReplies();
   SystemReset();

@@ -27,6 +27,8 @@ class BoardSystemControl final : public SystemControl {
   wire::BoardId Board() const override { return wire::BoardId::kStm32f405; }
   std::uint32_t PortCapabilities() const override { return wire::kCapDfu; }
   wire::ResetCause LastResetCause() const override { return reset_cause_; }
+  /// The option bytes' brown-out level (FLASH_OPTCR BOR_LEV).
+  wire::BrownOut BrownOutLevel() const override;
   void Reset() override;
   /// Reboots into the ROM's USB DFU bootloader (system memory, AN2606).
   void EnterDfu() override;

@@ -2,6 +2,7 @@
 // the build's crystal (8 MHz in this test build), the flash wait states go up before the switch,
 // and a PWR clock enable is followed by a DSB (ES0182 §2.1.13); the flash accelerator runs with
 // caches and without prefetch; the option bytes' brown-out level reads back.
+#include "board_port.hpp"
 #include "clock.hpp"
 #include "port_test_fixture.hpp"
 #include "regs/rcc.hpp"
@@ -67,6 +68,13 @@ TEST_F(ClockTest, BrownOutLevelIsTheOptionBytesField) {
   EXPECT_EQ(BrownOutLevel(), BrownOut::kLevel2);
   regs().Poke(flash::kOptcr, 0x0FFFAAE9);  // 10: level 1
   EXPECT_EQ(BrownOutLevel(), BrownOut::kLevel1);
+  // The core's view through the port (what a self-test or get-info would report).
+  const BoardSystemControl system;
+  EXPECT_EQ(system.BrownOutLevel(), wire::BrownOut::kLevel1);
+  regs().Poke(flash::kOptcr, 0x0FFFAAE1);
+  EXPECT_EQ(system.BrownOutLevel(), wire::BrownOut::kLevel3);
+  regs().Poke(flash::kOptcr, 0x0FFFAAED);
+  EXPECT_EQ(system.BrownOutLevel(), wire::BrownOut::kOff);
 }
 
 TEST_F(ClockTest, FallsBackToHsiWhenTheCrystalDoesNotStart) {

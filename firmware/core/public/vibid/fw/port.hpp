@@ -106,6 +106,9 @@ class SystemControl {
   /// Why this boot happened; read once by the port at startup.
   virtual wire::ResetCause LastResetCause() const = 0;
 
+  /// The brown-out reset level the hardware is set to; ports without one keep kUnknown.
+  virtual wire::BrownOut BrownOutLevel() const { return wire::BrownOut::kUnknown; }
+
   /// Resets the board. Does not return on a board; the emulator restarts its core.
   virtual void Reset() = 0;
 

@@ -66,6 +66,16 @@ enum class ResetCause : std::uint8_t {
   kLowPower = 6,
 };
 
+/// The supply level below which the board holds itself in reset (get-info). STM32F405: the
+/// option bytes' BOR_LEV (RM0090 §3.9.10); the thresholds are the datasheet's nominal ones.
+enum class BrownOut : std::uint8_t {
+  kUnknown = 0,  ///< Not reported (the emulator, the QEMU image).
+  kOff = 1,      ///< Power-on/power-down reset only (about 1.8 V): the STM32's factory setting.
+  kLevel1 = 2,   ///< About 2.1 V.
+  kLevel2 = 3,   ///< About 2.4 V.
+  kLevel3 = 4,   ///< About 2.7 V: the least supply x32 flash programming takes.
+};
+
 /// Which hardware answers. The emulator and the QEMU image name themselves so the host can tell.
 enum class BoardId : std::uint16_t {
   kStm32f405 = 1,
