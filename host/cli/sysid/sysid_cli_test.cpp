@@ -193,9 +193,9 @@ TEST(SysidCli, RealRecordWithASampleRate) {
 
 TEST(SysidCli, RealRecordWithColumnSpecs) {
   VIBID_SHARED_DATA_OR_SKIP(dir, "ecp_cart_motor_driven");
-  const auto ecp = Json(RunVibid(
-      {"tfest", dir + "/pulse_kmed_2mass_data0000.csv", "--input",
-       "I_amp*-178.57", "--output", "X_encoder_counts*1.7857e-3", "--np", "2", "--json"}));
+  const auto ecp =
+      Json(RunVibid({"tfest", dir + "/pulse_kmed_2mass_data0000.csv", "--input", "I_amp*-178.57",
+                     "--output", "X_encoder_counts*1.7857e-3", "--np", "2", "--json"}));
   EXPECT_NEAR(ecp["den"][2].get<double>() / ecp["num"][0].get<double>(), 281.0,
               281.0 * 0.05);  // lab K
 }

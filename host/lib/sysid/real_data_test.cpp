@@ -21,7 +21,8 @@ TEST(RealData, RobotArmOutputErrorOrders2To8) {
   // (nk = 0). Validation is a free-run simulation from zero initial conditions at sample 512.
   RecordingOptions ro;
   ro.fs_hz = 1.0;
-  const Recording rec = LoadRecording(vibid::testing::TestData("daisy_robot_arm/robot_arm.csv"), ro);
+  const Recording rec =
+      LoadRecording(vibid::testing::TestData("daisy_robot_arm/robot_arm.csv"), ro);
   const IoData all = MakeIoData(rec.Signal(ParseColumnSpec("u_reaction_torque")),
                                 rec.Signal(ParseColumnSpec("y_arm_acceleration")), 1.0);
   const SplitData parts = Split(all, 0.5);
@@ -70,8 +71,7 @@ TEST(RealData, EcpCartSpringRatesFromMotorCurrent) {
   };
   for (const CartRun& run : runs) {
     SCOPED_TRACE(run.file);
-    const Recording rec =
-        LoadRecording(dir + "/" + run.file + ".csv");
+    const Recording rec = LoadRecording(dir + "/" + run.file + ".csv");
     const IoData data =
         MakeIoData(rec.Signal(ParseColumnSpec("I_amp*-178.57")),
                    rec.Signal(ParseColumnSpec("X_encoder_counts*1.7857e-3")), rec.dt_s());

@@ -46,19 +46,20 @@ inline SharedData FindSharedData(const std::string& folder, const std::string& s
   return found;
 }
 
-inline const char* const kEcpSource = "ECP Model 210 cart, github rssalessio/Control-Linear-Vibrations @ 4e7749bc";
+inline const char* const kEcpSource =
+    "ECP Model 210 cart, github rssalessio/Control-Linear-Vibrations @ 4e7749bc";
 
 }  // namespace vibid::testing
 
 /// Declares `const std::string VAR`, the folder FOLDER of the shared data, or ends the test:
 /// skipped when the folder is absent, failed when VIBID_REQUIRE_REAL_DATA=1 asks for the records.
-#define VIBID_SHARED_DATA_OR_SKIP(VAR, FOLDER)                                                     \
-  const ::vibid::testing::SharedData VAR##_lookup =                                                \
-      ::vibid::testing::FindSharedData(FOLDER, ::vibid::testing::kEcpSource);                      \
-  if (VAR##_lookup.dir.empty()) {                                                                  \
-    if (VAR##_lookup.required) {                                                                   \
-      FAIL() << VAR##_lookup.missing << "; VIBID_REQUIRE_REAL_DATA=1 asks for them";               \
-    }                                                                                              \
-    GTEST_SKIP() << VAR##_lookup.missing;                                                          \
-  }                                                                                                \
+#define VIBID_SHARED_DATA_OR_SKIP(VAR, FOLDER)                                       \
+  const ::vibid::testing::SharedData VAR##_lookup =                                  \
+      ::vibid::testing::FindSharedData(FOLDER, ::vibid::testing::kEcpSource);        \
+  if (VAR##_lookup.dir.empty()) {                                                    \
+    if (VAR##_lookup.required) {                                                     \
+      FAIL() << VAR##_lookup.missing << "; VIBID_REQUIRE_REAL_DATA=1 asks for them"; \
+    }                                                                                \
+    GTEST_SKIP() << VAR##_lookup.missing;                                            \
+  }                                                                                  \
   const std::string VAR = VAR##_lookup.dir
