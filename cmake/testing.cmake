@@ -13,7 +13,9 @@
 #
 # Test data paths are passed as compile definitions so a test runs from any working directory:
 #   VIBID_SOURCE_DIR   the project root
-#   VIBID_DATA_DIR     ../shared/data beside the project (real measured records)
+#   VIBID_TESTDATA_DIR testdata/: the licensed real records the project ships
+#   VIBID_DATA_DIR     ../shared/data beside the project (the unlicensed real records; optional,
+#                      see vibid/common/testing/real_data.hpp)
 
 # Runs one Cortex-M4 test image; semihosting carries stdout and the exit code back to ctest.
 set(VIBID_QEMU_TEST_COMMAND qemu-system-arm -M mps2-an386 -cpu cortex-m4 -nographic -monitor none
@@ -28,7 +30,8 @@ function(vibid_add_host_test name)
   add_executable(${name} ${ARG_SOURCES})
   target_link_libraries(${name} PRIVATE ${ARG_LIBS} GTest::gtest GTest::gtest_main GTest::gmock vibid_warnings)
   target_compile_definitions(${name} PRIVATE
-    VIBID_SOURCE_DIR="${PROJECT_SOURCE_DIR}" VIBID_DATA_DIR="${VIBID_DATA_DIR}")
+    VIBID_SOURCE_DIR="${PROJECT_SOURCE_DIR}" VIBID_TESTDATA_DIR="${PROJECT_SOURCE_DIR}/testdata"
+    VIBID_DATA_DIR="${VIBID_DATA_DIR}")
   vibid_discover_tests(${name} "host;${ARG_LABELS}" ${ARG_DISCOVERY})
 endfunction()
 

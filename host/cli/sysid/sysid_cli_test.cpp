@@ -10,6 +10,7 @@
 #include "vibid/common/atomic_file.hpp"
 #include "vibid/common/csv.hpp"
 #include "vibid/common/json_file.hpp"
+#include "vibid/common/testing/real_data.hpp"
 #include "vibid/sysid/continuous.hpp"
 #include "vibid/sysid/greybox.hpp"
 
@@ -176,8 +177,8 @@ TEST(SysidCli, CompareAcceptsModelCoreFiles) {
   EXPECT_GT(j["fit_percent"].get<double>(), 99.999);
 }
 
-TEST(SysidCli, RealRecordsWithColumnSpecsAndSampleRate) {
-  const std::string arm = VIBID_DATA_DIR "/daisy_robot_arm/robot_arm.csv";
+TEST(SysidCli, RealRecordWithASampleRate) {
+  const std::string arm = vibid::testing::TestData("daisy_robot_arm/robot_arm.csv");
   // No t_s column: the sample rate must be given.
   ExpectInputError(RunVibid({"arx", arm, "--input", "u_reaction_torque", "--output",
                              "y_arm_acceleration", "--na", "4", "--nb", "4"}),
@@ -188,9 +189,13 @@ TEST(SysidCli, RealRecordsWithColumnSpecsAndSampleRate) {
                      "--estimate-range", "0:512", "--validate-range", "512:", "--json"}));
   EXPECT_GT(j["validation"]["fit_percent"].get<double>(),
             87.0);  // 88.3 % measured (real_data_test)
-  const auto ecp = Json(RunVibid(
-      {"tfest", VIBID_DATA_DIR "/ecp_cart_motor_driven/pulse_kmed_2mass_data0000.csv", "--input",
-       "I_amp*-178.57", "--output", "X_encoder_counts*1.7857e-3", "--np", "2", "--json"}));
+}
+
+TEST(SysidCli, RealRecordWithColumnSpecs) {
+  VIBID_SHARED_DATA_OR_SKIP(dir, "ecp_cart_motor_driven");
+  const auto ecp =
+      Json(RunVibid({"tfest", dir + "/pulse_kmed_2mass_data0000.csv", "--input", "I_amp*-178.57",
+                     "--output", "X_encoder_counts*1.7857e-3", "--np", "2", "--json"}));
   EXPECT_NEAR(ecp["den"][2].get<double>() / ecp["num"][0].get<double>(), 281.0,
               281.0 * 0.05);  // lab K
 }

@@ -9,6 +9,7 @@
 #include <cstring>
 
 #include "vibid/common/error.hpp"
+#include "vibid/common/testing/real_data.hpp"
 
 namespace vibid {
 namespace {
@@ -221,8 +222,8 @@ TEST(Recording, DerivesRateAndChecksTime) {
 
 TEST(Recording, ReadsSharedMeasuredRecord) {
   // ../shared/data/ecp_cart_free_decay: 200 Hz records in cm (data README).
-  const auto r = LoadRecording(std::string(VIBID_DATA_DIR) +
-                               "/ecp_cart_free_decay/Khigh_load-none_Khigh_hand_Nomass.csv");
+  VIBID_SHARED_DATA_OR_SKIP(dir, "ecp_cart_free_decay");
+  const auto r = LoadRecording(dir + "/Khigh_load-none_Khigh_hand_Nomass.csv");
   EXPECT_NEAR(r.fs_hz, 200.0, 1e-6);
   EXPECT_NEAR(r.Signal(ParseColumnSpec("X_cm:cm"))[0], -0.00178571e-2, 1e-12);
 }

@@ -10,6 +10,7 @@
 #include <gtest/gtest.h>
 
 #include "vibid/common/csv.hpp"
+#include "vibid/common/testing/real_data.hpp"
 #include "vibid/ident/decay.hpp"
 
 namespace vibid::ident {
@@ -55,8 +56,8 @@ const Lab kLabs[] = {
 
 // The lab's damping is a first-peaks log decrement; guide friction makes the decay
 // amplitude-dependent, so the comparable fit covers the first two cycles after the release.
-DecayResult Analyze(const std::string& file) {
-  const Recording rec = LoadRecording(std::string(VIBID_DATA_DIR) + "/ecp_cart_free_decay/" + file);
+DecayResult Analyze(const std::string& dir, const std::string& file) {
+  const Recording rec = LoadRecording(dir + "/" + file);
   return AnalyzeDecay(rec.Signal(ParseColumnSpec("X_cm:cm")), rec.fs_hz, {.cycles = 2});
 }
 
@@ -75,11 +76,12 @@ Stats MeanStd(const std::vector<double>& v) {
 }
 
 TEST(DecayEcp, MatchesThePublishedValues) {
+  VIBID_SHARED_DATA_OR_SKIP(dir, "ecp_cart_free_decay");
   for (const Lab& lab : kLabs) {
     std::vector<double> wd_l, wd_u, z_l, z_u, wn_l, wn_u;
     for (int i = 0; i < 3; ++i) {
-      const DecayResult l = Analyze(lab.loaded[i]);
-      const DecayResult u = Analyze(lab.unloaded[i]);
+      const DecayResult l = Analyze(dir, lab.loaded[i]);
+      const DecayResult u = Analyze(dir, lab.unloaded[i]);
       EXPECT_TRUE(l.summary.Converged()) << lab.loaded[i] << ": " << l.summary.message;
       EXPECT_TRUE(u.summary.Converged()) << lab.unloaded[i] << ": " << u.summary.message;
       wd_l.push_back(l.omega_d_rad_s);

@@ -13,6 +13,7 @@
 #include <gtest/gtest.h>
 
 #include "vibid/common/csv.hpp"
+#include "vibid/common/testing/real_data.hpp"
 #include "vibid/common/error.hpp"
 #include "vibid/ident/peaks.hpp"
 
@@ -225,8 +226,8 @@ TEST(Impact, BadOptionsAndSignals) {
 // The LADISK beam record: one hit near 0.7 ms, 50 kHz, accelerometer in g. Default options only.
 // Expected peaks: the README's rough look at a single-hit H1 (about 36, 696, 1898, 3672 Hz).
 TEST(ImpactLadisk, DefaultsFindTheBeamResonances) {
-  const Recording rec = LoadRecording(std::string(VIBID_DATA_DIR) +
-                                      "/ladisk_impact_hammer/impact_acceleration_force.csv");
+  const Recording rec =
+      LoadRecording(vibid::testing::TestData("ladisk_impact_hammer/impact_acceleration_force.csv"));
   const Eigen::VectorXd force = rec.Signal(ParseColumnSpec("force_N"));
   EXPECT_TRUE(ClassifyExcitation(force, rec.fs_hz).impact)
       << ClassifyExcitation(force, rec.fs_hz).description;

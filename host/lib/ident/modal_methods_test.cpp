@@ -11,6 +11,7 @@
 
 #include "test_support.hpp"
 #include "vibid/common/csv.hpp"
+#include "vibid/common/testing/real_data.hpp"
 #include "vibid/ident/identify.hpp"
 #include "vibid/ident/impact.hpp"
 #include "vibid/ident/modes.hpp"
@@ -154,8 +155,8 @@ TEST(ModalMethods, ShortLightlyDampedRecords) {
 // within 0.5 % in frequency for the modes below 4 kHz (no published values: the two methods check
 // each other).
 TEST(ModalMethods, LadiskDiagramAgreesWithTheCurveFit) {
-  const Recording rec = LoadRecording(std::string(VIBID_DATA_DIR) +
-                                      "/ladisk_impact_hammer/impact_acceleration_force.csv");
+  const Recording rec =
+      LoadRecording(vibid::testing::TestData("ladisk_impact_hammer/impact_acceleration_force.csv"));
   const Eigen::VectorXd force = rec.Signal(ParseColumnSpec("force_N"));
   const Eigen::MatrixXd acc = rec.Signal(ParseColumnSpec("acceleration_g:g"));
   const ImpactResult r =

@@ -6,6 +6,7 @@
 #include <gtest/gtest.h>
 
 #include "vibid/common/csv.hpp"
+#include "vibid/common/testing/real_data.hpp"
 #include "vibid/sysid/fit.hpp"
 #include "vibid/sysid/greybox.hpp"
 #include "vibid/sysid/pem.hpp"
@@ -20,7 +21,8 @@ TEST(RealData, RobotArmOutputErrorOrders2To8) {
   // (nk = 0). Validation is a free-run simulation from zero initial conditions at sample 512.
   RecordingOptions ro;
   ro.fs_hz = 1.0;
-  const Recording rec = LoadRecording(VIBID_DATA_DIR "/daisy_robot_arm/robot_arm.csv", ro);
+  const Recording rec =
+      LoadRecording(vibid::testing::TestData("daisy_robot_arm/robot_arm.csv"), ro);
   const IoData all = MakeIoData(rec.Signal(ParseColumnSpec("u_reaction_torque")),
                                 rec.Signal(ParseColumnSpec("y_arm_acceleration")), 1.0);
   const SplitData parts = Split(all, 0.5);
@@ -58,6 +60,7 @@ struct CartRun {
 };
 
 TEST(RealData, EcpCartSpringRatesFromMotorCurrent) {
+  VIBID_SHARED_DATA_OR_SKIP(dir, "ecp_cart_motor_driven");
   // X(s) = γ I(s)/(M s² + C s + K), γ = −178.57 N/A with X in cm (counts / 560), as the lab's model
   // is written. Input: measured current × γ (a force); output: encoder counts → cm. A free
   // second-order fit gives M, C, K as 1/b0, a1/b0, a0/b0.
@@ -68,8 +71,7 @@ TEST(RealData, EcpCartSpringRatesFromMotorCurrent) {
   };
   for (const CartRun& run : runs) {
     SCOPED_TRACE(run.file);
-    const Recording rec =
-        LoadRecording(std::string(VIBID_DATA_DIR "/ecp_cart_motor_driven/") + run.file + ".csv");
+    const Recording rec = LoadRecording(dir + "/" + run.file + ".csv");
     const IoData data =
         MakeIoData(rec.Signal(ParseColumnSpec("I_amp*-178.57")),
                    rec.Signal(ParseColumnSpec("X_encoder_counts*1.7857e-3")), rec.dt_s());
