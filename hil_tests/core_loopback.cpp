@@ -114,8 +114,9 @@ void CoreLoopback::Deliver(const wire::Report& r) {
   }
   const int seq = drop_sequence_.load();
   wire::StreamDataHeader data;
-  if (seq >= 0 && wire::DecodeStreamData(r, data) == Status::kOk && data.sequence == seq) {
-    drop_sequence_ = -1;
+  if (seq >= 0 && wire::DecodeStreamData(r, data) == Status::kOk && data.sequence >= seq &&
+      data.sequence < seq + drop_count_) {
+    if (data.sequence + 1 == seq + drop_count_) drop_sequence_ = -1;
     return;
   }
   if (corrupt_ > 0) {

@@ -41,7 +41,13 @@ class CoreLoopback {
   void TruncateNext(int reports) { truncate_.store(reports); }  ///< Delivers 40 of 64 bytes.
   void DropNext(int reports) { drop_.store(reports); }          ///< Never delivered.
   /// Drops the data report with this sequence number in the next stream.
-  void DropStreamReport(int sequence) { drop_sequence_.store(sequence); }
+  void DropStreamReport(int sequence) { DropStreamReports(sequence, 1); }
+  /// Drops `count` data reports in a row from this sequence number on in the next stream (a host
+  /// that stops taking reports while the board goes on sending).
+  void DropStreamReports(int first_sequence, int count) {
+    drop_count_.store(count);
+    drop_sequence_.store(first_sequence);
+  }
   /// Rewrites the protocol major of every report (a device of another protocol generation).
   void SetProtocolMajor(std::uint8_t major) { major_.store(major); }
   /// True while injected corruptions, truncations or drops have not all been applied yet.
@@ -74,6 +80,7 @@ class CoreLoopback {
   std::atomic<int> truncate_{0};
   std::atomic<int> drop_{0};
   std::atomic<int> drop_sequence_{-1};
+  std::atomic<int> drop_count_{1};
   std::atomic<std::uint8_t> major_{wire::kProtocolMajor};
   std::atomic<int> frames_per_step_{20};
   std::thread thread_;

@@ -211,6 +211,40 @@ TEST_F(DeviceTest, InterruptedLogPullResumesWithNothingLostOrDuplicated) {
   EXPECT_GE(c->counters().stream_resumes, 1u);
 }
 
+/// Records per data report with every channel on.
+std::uint32_t RecordsPerReport() {
+  return static_cast<std::uint32_t>(wire::LogLayout{wire::kAllChannelsMask, 0}.RecordsPerReport());
+}
+
+// The board releases each record of an acquisition's stream as it sends it, and its log wraps
+// over released records: once the stream breaks off after the log wrapped, record 0 is gone. What
+// arrived in sequence is kept and the pull resumes from the first record that did not.
+TEST_F(DeviceTest, BrokenAcquisitionStreamResumesAfterTheLastRecordReceived) {
+  CoreLoopback* loop = target->loopback();
+  if (loop == nullptr) GTEST_SKIP() << "needs fault injection";
+  loop->SetFramesPerStep(2);
+  auto c = target->Connect(device::ConnectionOptions{.timeout = std::chrono::milliseconds(200)});
+  const std::uint32_t fits = LogCapacityRecords(*c);
+  // Every report carries at least one record, so report `fits` starts past the log's first
+  // wrap; the acquisition goes on for as long again.
+  const std::uint32_t lost_report = fits;
+  const std::uint32_t n = (RecordsPerReport() + 1) * (fits + 1);
+  wire::AcqConfigureRequest cfg = AllChannels(n);
+  cfg.flags = wire::kAcqFlagStream;
+  c->Configure(cfg);
+  loop->DropStreamReport(static_cast<int>(lost_report));
+  const device::LogPull pull = c->AcquireStreamed();
+  EXPECT_EQ(c->counters().stream_resumes, 1u);
+  ASSERT_EQ(pull.records.size(), n);
+  EXPECT_EQ(pull.first_record, 0u);
+  for (std::uint32_t i = 0; i < n; ++i) {
+    ASSERT_EQ(pull.records[i].sample_index, i);
+    ASSERT_EQ(pull.records[i].raw, LoggedAt(i)) << "record " << i;
+  }
+  EXPECT_EQ(pull.trailer.dropped_records, 0u);
+  EXPECT_EQ(pull.trailer.acq_state, wire::AcqState::kDone);
+}
+
 TEST_F(DeviceTest, PullWhileAcquiringFollowsTheLog) {
   auto c = ConnectToFollow();
   const std::uint32_t n = StartFollowedAcquisition(*c);

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <random>
+#include <thread>
 
 #include "vibid/device/error.hpp"
 #include "vibid/shared/wire/stream.hpp"
@@ -22,6 +23,8 @@ std::string VersionMessage(std::uint8_t device_major) {
 constexpr std::chrono::milliseconds kReaderPoll{20};
 /// Records per log-read request in a pull: a broken stream costs at most this many again.
 constexpr std::uint32_t kLogChunkRecords = 4096;
+/// Resumes in a row without progress before a streamed acquisition's pull gives up.
+constexpr int kMaxResumes = 8;
 
 }  // namespace
 
@@ -296,8 +299,11 @@ wire::CalCommitResponse Connection::CalCommit() {
 }
 
 wire::AcqConfigureResponse Connection::Configure(const wire::AcqConfigureRequest& request) {
-  return DecodeAnswer<wire::AcqConfigureResponse>(Expect(Command::kAcqConfigure, request),
-                                                  "acq-configure");
+  const auto answer = DecodeAnswer<wire::AcqConfigureResponse>(
+      Expect(Command::kAcqConfigure, request), "acq-configure");
+  configured_ = true;
+  configured_request_ = request;
+  return answer;
 }
 
 void Connection::StartAcquisition() { static_cast<void>(Expect(Command::kAcqStart)); }
@@ -327,7 +333,8 @@ void Connection::SelectScenario(const std::string& name, std::span<const float> 
   static_cast<void>(Expect(Command::kSelectScenario, r));
 }
 
-bool Connection::ReadLogOnce(std::uint32_t first, std::uint32_t max, LogPull& pull) {
+Connection::StreamEnd Connection::RequestLog(std::uint32_t first, std::uint32_t max,
+                                             LogPull& pull) {
   const std::uint16_t token = NextToken();
   wire::LogReadRequest req;
   req.first_record = first;
@@ -338,11 +345,18 @@ bool Connection::ReadLogOnce(std::uint32_t first, std::uint32_t max, LogPull& pu
   static_cast<void>(
       wire::BuildReport(Command::kLogRead, token, 0, 0, Status::kOk, payload, request));
   Send(request);
-  return ReceiveLogStream(token, first, pull, {});
+  return ReceiveLogStream(token, first, pull, {}, false);
 }
 
-bool Connection::ReceiveLogStream(std::uint16_t token, std::uint32_t first, LogPull& pull,
-                                  const Progress& progress) {
+bool Connection::ReadLogOnce(std::uint32_t first, std::uint32_t max, LogPull& pull) {
+  const StreamEnd end = RequestLog(first, max, pull);
+  if (end == StreamEnd::kOverwritten) throw DeviceError(OverwrittenMessage(first));
+  return end == StreamEnd::kComplete;
+}
+
+Connection::StreamEnd Connection::ReceiveLogStream(std::uint16_t token, std::uint32_t first,
+                                                   LogPull& pull, const Progress& progress,
+                                                   bool keep_partial) {
   // Records are kept only from a stream whose trailer checked out (byte count and CRC-32 over
   // every data payload): a report corrupted in a way its header does not show is caught there.
   // The layout comes with the trailer, so payloads are kept whole until then.
@@ -351,23 +365,35 @@ bool Connection::ReceiveLogStream(std::uint16_t token, std::uint32_t first, LogP
   std::uint64_t bytes = 0;
   const auto id = static_cast<std::uint8_t>(Command::kLogRead);
   wire::LogTrailer trailer;
+  // A running acquisition's stream is the exception: the board released every record it sent,
+  // so when the stream ends early, the reports that arrived in sequence are all the host may
+  // ever get of them. They are kept (each passed the link's own check and the stream's sequence
+  // and length checks; only the stream CRC, which comes last, cannot vouch for them). Not after
+  // a count or CRC mismatch in the trailer: then some payload is known to be wrong.
+  const auto end_early = [&](StreamEnd end) {
+    if (keep_partial && configured_) KeepPartialStream(first, payloads, pull);
+    return end;
+  };
   for (;;) {
     CheckCancel();
     Reply r;
-    if (!Await(id, token, options_.timeout, r)) return false;
+    if (!Await(id, token, options_.timeout, r)) return end_early(StreamEnd::kBroken);
     const auto step = decoder.Feed(r.report);
     if (step.event == wire::StreamDecoder::Event::kData) {
       payloads.emplace_back(step.payload.begin(), step.payload.end());
       bytes += step.payload.size();
       if (progress) progress(bytes, 0);
     } else if (step.event == wire::StreamDecoder::Event::kEnd) {
-      if (wire::Decode(step.payload, trailer) != Status::kOk) return false;
+      if (wire::Decode(step.payload, trailer) != Status::kOk) return StreamEnd::kBroken;
       break;
     } else if (step.event == wire::StreamDecoder::Event::kRefused) {
+      // Out-of-range: the board's log wrapped over a record of the stream before it went out.
+      if (step.status == Status::kOutOfRange) return end_early(StreamEnd::kOverwritten);
       throw DeviceError(std::string("the device refused log-read from record ") +
                         std::to_string(first) + ": " + StatusName(step.status));
     } else if (step.event == wire::StreamDecoder::Event::kError) {
-      return false;
+      if (wire::IsStreamData(r.report)) return end_early(StreamEnd::kBroken);
+      return StreamEnd::kBroken;
     }
   }
   wire::LogLayout layout;
@@ -379,21 +405,55 @@ bool Connection::ReceiveLogStream(std::uint16_t token, std::uint32_t first, LogP
   }
   std::vector<wire::LogRecord> records;
   records.reserve(trailer.record_count);
+  AppendLogPayloads(layout, trailer.decimation, payloads, records);
+  if (records.size() != trailer.record_count)
+    throw DeviceError("malformed log-read trailer from the device");
+  if (pull.records.empty() && pull.missing.empty()) pull.first_record = first;
+  pull.layout = layout;
+  pull.trailer = trailer;
+  pull.records.insert(pull.records.end(), records.begin(), records.end());
+  return StreamEnd::kComplete;
+}
+
+void Connection::KeepPartialStream(std::uint32_t first,
+                                   const std::vector<std::vector<std::uint8_t>>& payloads,
+                                   LogPull& pull) const {
+  const wire::AcqConfigureRequest& c = configured_request_;
+  const wire::LogLayout layout{c.channel_mask, c.flags};
+  std::vector<wire::LogRecord> records;
+  AppendLogPayloads(layout, c.decimation, payloads, records);
+  if (records.empty()) return;
+  if (pull.records.empty() && pull.missing.empty()) pull.first_record = first;
+  if (pull.trailer.decimation == 0) {
+    // No trailer yet: the acquisition as configured, so the records can be written even if no
+    // stream of it ever completes.
+    pull.layout = layout;
+    pull.trailer.record_bytes = static_cast<std::uint16_t>(layout.RecordBytes());
+    pull.trailer.channel_mask = c.channel_mask;
+    pull.trailer.acq_flags = c.flags;
+    pull.trailer.sample_period_us = c.sample_period_us;
+    pull.trailer.decimation = c.decimation;
+    pull.trailer.trigger_record = wire::kNoRecord;
+  }
+  pull.records.insert(pull.records.end(), records.begin(), records.end());
+}
+
+void Connection::AppendLogPayloads(const wire::LogLayout& layout, std::uint32_t decimation,
+                                   const std::vector<std::vector<std::uint8_t>>& payloads,
+                                   std::vector<wire::LogRecord>& records) {
   std::array<wire::LogRecord, wire::kMaxRecordsPerReport> batch{};
   for (const auto& p : payloads) {
     std::size_t n = 0;
-    if (wire::DecodeLogPayload(layout, trailer.decimation, p, batch, n) != Status::kOk) {
+    if (wire::DecodeLogPayload(layout, decimation, p, batch, n) != Status::kOk) {
       throw DeviceError("malformed log data report from the device");
     }
     records.insert(records.end(), batch.begin(), batch.begin() + static_cast<std::ptrdiff_t>(n));
   }
-  if (records.size() != trailer.record_count)
-    throw DeviceError("malformed log-read trailer from the device");
-  if (pull.records.empty()) pull.first_record = first;
-  pull.layout = layout;
-  pull.trailer = trailer;
-  pull.records.insert(pull.records.end(), records.begin(), records.end());
-  return true;
+}
+
+std::string Connection::OverwrittenMessage(std::uint32_t first) {
+  return "the device refused log-read from record " + std::to_string(first) + ": " +
+         StatusName(Status::kOutOfRange);
 }
 
 LogPull Connection::AcquireStreamed(const Progress& progress) {
@@ -410,30 +470,55 @@ LogPull Connection::AcquireStreamed(const Progress& progress) {
                       StatusName(answer.header.status));
   }
   LogPull pull;
-  if (ReceiveLogStream(token, 0, pull, progress)) return pull;
-  // The stream broke off (a lost or corrupted report, or a long wait for the trigger): the
-  // records are still in the board's log; pull them, and the rest, with log-read.
+  if (ReceiveLogStream(token, 0, pull, progress, true) == StreamEnd::kComplete) return pull;
+  // The stream broke off (a lost or corrupted report, a stall of either side, a long wait for
+  // the trigger). It released every record it sent, and the log may have wrapped over the
+  // first ones since: the pull goes on from the first record that did not arrive, which the
+  // board keeps until the log wraps over it.
   {
     std::lock_guard lock(mutex_);
     ++counters_.stream_resumes;
   }
-  return PullLog(0, progress);
+  ContinuePull(pull, static_cast<std::uint32_t>(pull.records.size()), progress, kMaxResumes, false);
+  return pull;
 }
 
 LogPull Connection::PullLog(std::uint32_t first, const Progress& progress, int max_resumes) {
   LogPull pull;
   pull.first_record = first;
+  ContinuePull(pull, first, progress, max_resumes, true);
+  return pull;
+}
+
+void Connection::ContinuePull(LogPull& pull, std::uint32_t next, const Progress& progress,
+                              int max_resumes, bool refuse_next) {
   int failures = 0;
   for (;;) {
     CheckCancel();
-    const std::uint32_t next = first + static_cast<std::uint32_t>(pull.records.size());
     const std::size_t before = pull.records.size();
-    const bool complete = ReadLogOnce(next, kLogChunkRecords, pull);
+    const StreamEnd end = RequestLog(next, kLogChunkRecords, pull);
+    const auto received = static_cast<std::uint32_t>(pull.records.size() - before);
+    if (end == StreamEnd::kOverwritten) {
+      if (refuse_next && pull.records.empty() && pull.missing.empty())
+        throw DeviceError(OverwrittenMessage(next));
+      // The board's log wrapped over `next` before it could be pulled (the host fell a whole
+      // log behind): those records are gone, the ones it still holds are not.
+      const std::uint32_t oldest = GetStatus().oldest_record;
+      if (oldest > next) {
+        pull.missing.push_back(LogRange{next, oldest});
+        next = oldest;
+      } else if (++failures > max_resumes) {
+        throw DeviceError(OverwrittenMessage(next));
+      }
+      continue;
+    }
+    next += received;
+    const bool complete = end == StreamEnd::kComplete;
     if (!complete) {
       std::lock_guard lock(mutex_);
       ++counters_.stream_resumes;
     }
-    if (pull.records.size() > before)
+    if (received > 0)
       failures = 0;
     else if (!complete && ++failures > max_resumes) {
       throw DeviceError("log-read from record " + std::to_string(next) + " kept breaking off (" +
@@ -441,13 +526,46 @@ LogPull Connection::PullLog(std::uint32_t first, const Progress& progress, int m
     }
     if (!complete) continue;
     const wire::LogTrailer& t = pull.trailer;
-    const std::uint32_t have = first + static_cast<std::uint32_t>(pull.records.size());
     const bool sampling =
         t.acq_state == wire::AcqState::kArmed || t.acq_state == wire::AcqState::kAcquiring;
-    if (progress) progress(have, std::max(have, t.records_written));
-    if (!sampling && have >= t.records_written) return pull;
+    if (progress) progress(next, std::max(next, t.records_written));
+    if (!sampling && next >= t.records_written) {
+      if (!pull.missing.empty()) throw IncompleteLog(std::move(pull));
+      return;
+    }
     if (t.record_count == 0) std::this_thread::sleep_for(std::chrono::milliseconds(5));
   }
 }
+
+namespace {
+
+std::string RangeText(std::uint32_t first, std::uint32_t end) {
+  return end == first + 1 ? std::to_string(first)
+                          : std::to_string(first) + ".." + std::to_string(end - 1);
+}
+
+std::string IncompleteMessage(const LogPull& pull) {
+  std::string lost;
+  std::string kept;
+  std::uint64_t lost_count = 0;
+  std::uint32_t from = pull.first_record;
+  for (const LogRange& m : pull.missing) {
+    if (m.first > from) kept += (kept.empty() ? "" : ", ") + RangeText(from, m.first);
+    lost += (lost.empty() ? "" : ", ") + RangeText(m.first, m.end);
+    lost_count += m.end - m.first;
+    from = m.end;
+  }
+  const std::uint32_t end =
+      pull.first_record + static_cast<std::uint32_t>(pull.records.size() + lost_count);
+  if (end > from) kept += (kept.empty() ? "" : ", ") + RangeText(from, end);
+  return "the board's log wrapped over records " + lost + " (" + std::to_string(lost_count) +
+         ") before they could be pulled; kept " + std::to_string(pull.records.size()) +
+         " records: " + (kept.empty() ? "none" : kept);
+}
+
+}  // namespace
+
+IncompleteLog::IncompleteLog(LogPull pull)
+    : DeviceError(IncompleteMessage(pull)), pull_(std::move(pull)) {}
 
 }  // namespace vibid::device

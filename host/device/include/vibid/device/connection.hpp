@@ -9,7 +9,12 @@
 //
 // Streams (log-read, cal-get) are checked with the shared StreamDecoder (sequence numbers, byte
 // count, CRC-32). A log pull that breaks off (lost report, CRC mismatch, timeout) resumes from
-// the first record it did not receive intact, so nothing is lost or duplicated.
+// the first record it did not receive intact, so nothing is lost or duplicated. The stream of a
+// running acquisition is the exception to "intact": the board releases each record as it sends
+// it, so when that stream breaks off, what arrived in sequence before the break is kept (the
+// board may already have overwritten it) and the pull resumes after it. Records the board
+// overwrote before any of them could be pulled are skipped, the rest is still pulled, and the
+// pull ends with IncompleteLog, which carries everything received.
 //
 // Construction performs get-info and refuses a device whose protocol major differs. The
 // destructor stops the reader thread; it does not change the device's state.
@@ -28,6 +33,7 @@
 #include <thread>
 #include <vector>
 
+#include "vibid/device/error.hpp"
 #include "vibid/device/transport.hpp"
 #include "vibid/shared/wire/commands.hpp"
 #include "vibid/shared/wire/log_record.hpp"
@@ -60,12 +66,33 @@ struct Reply {
   std::span<const std::uint8_t> payload() const { return wire::PayloadOf(report); }
 };
 
+/// Log indices [first, end).
+struct LogRange {
+  std::uint32_t first = 0;
+  std::uint32_t end = 0;
+};
+
 /// Records of a log pull, in log order, and the last trailer seen.
 struct LogPull {
   std::vector<wire::LogRecord> records;
   std::uint32_t first_record = 0;  ///< Log index of records[0].
   wire::LogTrailer trailer;        ///< From the last stream (acq_state, counters, layout).
   wire::LogLayout layout;
+  /// Ranges the board's log wrapped over before they could be pulled, in order; records holds
+  /// everything else from first_record on. Empty in every pull that returns normally.
+  std::vector<LogRange> missing;
+};
+
+/// A pull that lost records: the board overwrote them before they could be pulled (the host
+/// fell a whole log behind). Everything else was pulled; pull() holds it, and the message names
+/// the records kept and the ranges lost.
+class IncompleteLog : public DeviceError {
+ public:
+  explicit IncompleteLog(LogPull pull);
+  const LogPull& pull() const { return pull_; }
+
+ private:
+  LogPull pull_;
 };
 
 /// Progress of a long transfer: done and total in the transfer's own unit (records, bytes).
@@ -120,23 +147,51 @@ class Connection {
   /// if the stream broke off or timed out (nothing appended; ask again from the same record).
   bool ReadLogOnce(std::uint32_t first, std::uint32_t max, LogPull& pull);
 
-  /// Starts the configured acquisition (configured with kAcqFlagStream) and receives the log
-  /// the board streams while it samples, to its end. If the stream breaks off, the rest comes
-  /// by PullLog. `progress` gets payload bytes received. Throws DeviceError if acq-start is
-  /// refused.
+  /// Starts the acquisition this connection configured (with kAcqFlagStream) and receives the
+  /// log the board streams while it samples, to its end. If the stream breaks off, the records
+  /// that arrived in sequence are kept and the rest comes as by PullLog. `progress` gets payload
+  /// bytes received. Throws DeviceError if acq-start is refused, IncompleteLog if the board
+  /// overwrote records before they could be pulled.
   LogPull AcquireStreamed(const Progress& progress = {});
 
   /// Pulls every record from `first` until the log holds no more and sampling has ended
   /// (while sampling, it keeps pulling as records arrive). Broken streams resume from the first
-  /// missing record, up to `max_resumes` times in a row without progress.
+  /// missing record, up to `max_resumes` times in a row without progress. Throws DeviceError if
+  /// `first` itself is no longer on the board, IncompleteLog if later records were overwritten
+  /// before they could be pulled (the rest is pulled first).
   LogPull PullLog(std::uint32_t first = 0, const Progress& progress = {}, int max_resumes = 8);
 
  private:
+  /// How a log stream ended.
+  enum class StreamEnd : std::uint8_t {
+    kComplete,     ///< The trailer checked out; its records were appended.
+    kBroken,       ///< Broke off or timed out: ask again.
+    kOverwritten,  ///< Refused out-of-range: the board's log wrapped over the first record.
+  };
+
   void ReaderLoop();
   /// Receives one log stream answering `token` (records from `first`) to its trailer; appends
-  /// its records to `pull` if the trailer checked out. False if it broke off or timed out.
-  bool ReceiveLogStream(std::uint16_t token, std::uint32_t first, LogPull& pull,
-                        const Progress& progress);
+  /// its records to `pull` if the trailer checked out. With `keep_partial` (the stream of a
+  /// running acquisition, whose records the board releases as they go out) the records of the
+  /// data reports that arrived in sequence are appended too when it breaks off or is refused,
+  /// decoded with the layout this connection configured. Throws on any other refusal.
+  StreamEnd ReceiveLogStream(std::uint16_t token, std::uint32_t first, LogPull& pull,
+                             const Progress& progress, bool keep_partial);
+  /// Sends log-read for [first, first + max) and receives its stream.
+  StreamEnd RequestLog(std::uint32_t first, std::uint32_t max, LogPull& pull);
+  /// Appends the records of a broken stream's payloads (from log index `first`), decoded with the
+  /// configured layout.
+  void KeepPartialStream(std::uint32_t first,
+                         const std::vector<std::vector<std::uint8_t>>& payloads,
+                         LogPull& pull) const;
+  static void AppendLogPayloads(const wire::LogLayout& layout, std::uint32_t decimation,
+                                const std::vector<std::vector<std::uint8_t>>& payloads,
+                                std::vector<wire::LogRecord>& records);
+  static std::string OverwrittenMessage(std::uint32_t first);
+  /// PullLog's loop from log index `next` into `pull`. `refuse_next`: a `next` the board no
+  /// longer holds is refused (nothing pulled yet) instead of skipped.
+  void ContinuePull(LogPull& pull, std::uint32_t next, const Progress& progress, int max_resumes,
+                    bool refuse_next);
   std::uint16_t NextToken();
   void Send(const wire::Report& report);
   /// Waits for an answer with `token` to `command`. False on timeout.
@@ -148,6 +203,9 @@ class Connection {
   std::unique_ptr<Transport> transport_;
   ConnectionOptions options_;
   wire::InfoResponse info_{};
+  /// The last acquisition configured through this connection (its layout decodes a broken stream).
+  bool configured_ = false;
+  wire::AcqConfigureRequest configured_request_{};
 
   mutable std::mutex mutex_;
   std::condition_variable arrived_;
