@@ -356,7 +356,9 @@ Status Core::HandleLogRead(const Header& h, std::span<const std::uint8_t> payloa
   if (ring_.Release(r.first_record) != Status::kOk) return Status::kOutOfRange;
   std::uint32_t count = written - r.first_record;
   if (r.max_records != 0) count = std::min(count, r.max_records);
-  StartLogStream(h.token, r.first_record, r.first_record + count, false);
+  // Following, the stream's end moves with the log (NextStreamReport).
+  StartLogStream(h.token, r.first_record, r.first_record + count,
+                 r.max_records == wire::kLogReadFollow);
   (void)NextStreamReport();
   return Status::kOk;
 }

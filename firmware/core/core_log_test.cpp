@@ -370,6 +370,54 @@ TEST(CoreLog, StreamedAcquisitionFollowsTheLogToItsEnd) {
   EXPECT_EQ(t.dropped_records, 0u);
 }
 
+// log-read with max_records kLogReadFollow while sampling: the stream acq-start would have sent,
+// from the record asked for on (what a host sends when that stream broke off). It releases what
+// it sent and ends once the record limit stopped sampling and every record went out.
+TEST(CoreLog, FollowingLogReadResumesTheAcquisitionStream) {
+  CoreHarness h;
+  wire::AcqConfigureRequest c = Config(0b000101, 1);  // force 1, acc 1: 4-byte records, 13/report
+  c.record_limit = 100;
+  ASSERT_EQ(h.StartAcquisition(c), Status::kOk);
+  h.EmitRamp(30, kBase, 1);
+  wire::Report request{};
+  std::array<std::uint8_t, wire::LogReadRequest::kBytes> p{};
+  wire::Encode(wire::LogReadRequest{.first_record = 12, .max_records = wire::kLogReadFollow}, p);
+  ASSERT_EQ(wire::BuildReport(Command::kLogRead, 9, 0, 0, Status::kOk, p, request), Status::kOk);
+  h.link.Push(request);
+  wire::StreamDecoder decoder(Command::kLogRead, 9);
+  std::uint32_t next_tick = 12;
+  wire::Report in{};
+  auto take = [&] {
+    h.Drain();
+    while (h.link.Pop(in)) {
+      const auto step = decoder.Feed(in);
+      if (step.event == wire::StreamDecoder::Event::kData) {
+        std::array<wire::LogRecord, wire::kMaxRecordsPerReport> batch{};
+        std::size_t n = 0;
+        ASSERT_EQ(wire::DecodeLogPayload(wire::LogLayout{0b000101, 0}, 1, step.payload, batch, n),
+                  Status::kOk);
+        for (std::size_t k = 0; k < n; ++k) ASSERT_EQ(batch[k].sample_index, next_tick++);
+      } else {
+        ASSERT_EQ(step.event, wire::StreamDecoder::Event::kEnd);
+      }
+    }
+  };
+  take();
+  EXPECT_EQ(next_tick, 30u);  // records 12..29 went out
+  EXPECT_FALSE(decoder.finished()) << "the stream waits for the sampler";
+  EXPECT_EQ(h.core.log().released(), 30u);
+  h.EmitRamp(80, kBase, 1);  // the limit stops sampling after 100 records
+  take();
+  ASSERT_TRUE(decoder.finished());
+  EXPECT_EQ(next_tick, 100u);
+  wire::LogTrailer t;
+  ASSERT_EQ(wire::Decode(wire::PayloadOf(in), t), Status::kOk);
+  EXPECT_EQ(t.first_record, 12u);
+  EXPECT_EQ(t.record_count, 88u);
+  EXPECT_EQ(t.records_written, 100u);
+  EXPECT_EQ(t.acq_state, wire::AcqState::kDone);
+}
+
 TEST(CoreLog, BusyLinkLosesNothing) {
   CoreHarness h;
   ASSERT_EQ(h.StartAcquisition(Config(wire::kAllChannelsMask, 1)), Status::kOk);

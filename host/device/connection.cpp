@@ -333,8 +333,8 @@ void Connection::SelectScenario(const std::string& name, std::span<const float> 
   static_cast<void>(Expect(Command::kSelectScenario, r));
 }
 
-Connection::StreamEnd Connection::RequestLog(std::uint32_t first, std::uint32_t max,
-                                             LogPull& pull) {
+Connection::StreamEnd Connection::RequestLog(std::uint32_t first, std::uint32_t max, LogPull& pull,
+                                             bool keep_partial) {
   const std::uint16_t token = NextToken();
   wire::LogReadRequest req;
   req.first_record = first;
@@ -345,11 +345,11 @@ Connection::StreamEnd Connection::RequestLog(std::uint32_t first, std::uint32_t 
   static_cast<void>(
       wire::BuildReport(Command::kLogRead, token, 0, 0, Status::kOk, payload, request));
   Send(request);
-  return ReceiveLogStream(token, first, pull, {}, false);
+  return ReceiveLogStream(token, first, pull, {}, keep_partial);
 }
 
 bool Connection::ReadLogOnce(std::uint32_t first, std::uint32_t max, LogPull& pull) {
-  const StreamEnd end = RequestLog(first, max, pull);
+  const StreamEnd end = RequestLog(first, max, pull, false);
   if (end == StreamEnd::kOverwritten) throw DeviceError(OverwrittenMessage(first));
   return end == StreamEnd::kComplete;
 }
@@ -474,32 +474,37 @@ LogPull Connection::AcquireStreamed(const Progress& progress) {
   // The stream broke off (a lost or corrupted report, a stall of either side, a long wait for
   // the trigger). It released every record it sent, and the log may have wrapped over the
   // first ones since: the pull goes on from the first record that did not arrive, which the
-  // board keeps until the log wraps over it.
+  // board keeps until the log wraps over it, with a stream that follows the acquisition again.
+  // (Pulling the rest in requests would leave the link idle between them: a board samples on
+  // regardless, so a slow host would drop records the stream carries.)
   {
     std::lock_guard lock(mutex_);
     ++counters_.stream_resumes;
   }
-  ContinuePull(pull, static_cast<std::uint32_t>(pull.records.size()), progress, kMaxResumes, false);
+  ContinuePull(pull, static_cast<std::uint32_t>(pull.records.size()), progress, kMaxResumes,
+               PullMode::kFollow);
   return pull;
 }
 
 LogPull Connection::PullLog(std::uint32_t first, const Progress& progress, int max_resumes) {
   LogPull pull;
   pull.first_record = first;
-  ContinuePull(pull, first, progress, max_resumes, true);
+  ContinuePull(pull, first, progress, max_resumes, PullMode::kChunks);
   return pull;
 }
 
 void Connection::ContinuePull(LogPull& pull, std::uint32_t next, const Progress& progress,
-                              int max_resumes, bool refuse_next) {
+                              int max_resumes, PullMode mode) {
+  const bool follow = mode == PullMode::kFollow;
   int failures = 0;
   for (;;) {
     CheckCancel();
     const std::size_t before = pull.records.size();
-    const StreamEnd end = RequestLog(next, kLogChunkRecords, pull);
+    const StreamEnd end =
+        RequestLog(next, follow ? wire::kLogReadFollow : kLogChunkRecords, pull, follow);
     const auto received = static_cast<std::uint32_t>(pull.records.size() - before);
     if (end == StreamEnd::kOverwritten) {
-      if (refuse_next && pull.records.empty() && pull.missing.empty())
+      if (!follow && pull.records.empty() && pull.missing.empty())
         throw DeviceError(OverwrittenMessage(next));
       // The board's log wrapped over `next` before it could be pulled (the host fell a whole
       // log behind): those records are gone, the ones it still holds are not.
@@ -518,7 +523,10 @@ void Connection::ContinuePull(LogPull& pull, std::uint32_t next, const Progress&
       std::lock_guard lock(mutex_);
       ++counters_.stream_resumes;
     }
-    if (received > 0)
+    // A following stream that brought nothing before the timeout may be waiting for the trigger.
+    const bool waiting = follow && end == StreamEnd::kBroken && received == 0 &&
+                         GetStatus().acq_state == wire::AcqState::kArmed;
+    if (received > 0 || waiting)
       failures = 0;
     else if (!complete && ++failures > max_resumes) {
       throw DeviceError("log-read from record " + std::to_string(next) + " kept breaking off (" +
@@ -528,7 +536,13 @@ void Connection::ContinuePull(LogPull& pull, std::uint32_t next, const Progress&
     const wire::LogTrailer& t = pull.trailer;
     const bool sampling =
         t.acq_state == wire::AcqState::kArmed || t.acq_state == wire::AcqState::kAcquiring;
-    if (progress) progress(next, std::max(next, t.records_written));
+    if (progress) {
+      // Acquiring: payload bytes, as the stream it resumes counts them.
+      if (follow)
+        progress(std::uint64_t{next} * pull.layout.RecordBytes(), 0);
+      else
+        progress(next, std::max(next, t.records_written));
+    }
     if (!sampling && next >= t.records_written) {
       if (!pull.missing.empty()) throw IncompleteLog(std::move(pull));
       return;

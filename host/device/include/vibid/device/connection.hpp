@@ -177,8 +177,8 @@ class Connection {
   /// decoded with the layout this connection configured. Throws on any other refusal.
   StreamEnd ReceiveLogStream(std::uint16_t token, std::uint32_t first, LogPull& pull,
                              const Progress& progress, bool keep_partial);
-  /// Sends log-read for [first, first + max) and receives its stream.
-  StreamEnd RequestLog(std::uint32_t first, std::uint32_t max, LogPull& pull);
+  /// Sends log-read for [first, first + max) and receives its stream (see ReceiveLogStream).
+  StreamEnd RequestLog(std::uint32_t first, std::uint32_t max, LogPull& pull, bool keep_partial);
   /// Appends the records of a broken stream's payloads (from log index `first`), decoded with the
   /// configured layout.
   void KeepPartialStream(std::uint32_t first,
@@ -188,10 +188,18 @@ class Connection {
                                 const std::vector<std::vector<std::uint8_t>>& payloads,
                                 std::vector<wire::LogRecord>& records);
   static std::string OverwrittenMessage(std::uint32_t first);
-  /// PullLog's loop from log index `next` into `pull`. `refuse_next`: a `next` the board no
-  /// longer holds is refused (nothing pulled yet) instead of skipped.
+  enum class PullMode : std::uint8_t {
+    /// PullLog: log-read in chunks, each kept only whole; a first record the board no longer
+    /// holds is refused.
+    kChunks,
+    /// The resume of a broken acquisition stream: log-read following the acquisition (records
+    /// released as they go out, so a broken stream's records are kept); records the board
+    /// overwrote are skipped.
+    kFollow,
+  };
+  /// The pull loop from log index `next` into `pull`, to the end of the acquisition.
   void ContinuePull(LogPull& pull, std::uint32_t next, const Progress& progress, int max_resumes,
-                    bool refuse_next);
+                    PullMode mode);
   std::uint16_t NextToken();
   void Send(const wire::Report& report);
   /// Waits for an answer with `token` to `command`. False on timeout.

@@ -210,11 +210,16 @@ struct LatestResponse {
 };
 
 // ---------------------------------------------------------------------------------------------
-// log-read request: 0 u32 first_record  4 u32 max_records (0 = all available)
+// log-read request: 0 u32 first_record  4 u32 max_records (0 = all available; kLogReadFollow:
+// follow the acquisition, as the stream acq-start starts does)
 // Records below first_record are released: the device may reuse their space, but they stay
 // readable until it does (get-status oldest_record), so a log pulled while sampling can be pulled
 // again. A pull that broke off resumes by asking again from the first record it did not receive
 // intact. A record overwritten before or while it is streamed refuses the request (out-of-range).
+// A following stream sends records as they are written, releases what it sent and ends once
+// sampling ended and every record went out: the resume of a broken acquisition stream, which
+// keeps the link as busy as the original stream did. Not sampling, it is an "all available" pull.
+inline constexpr std::uint32_t kLogReadFollow = 0xFFFFFFFFu;
 struct LogReadRequest {
   static constexpr std::size_t kBytes = 8;
   std::uint32_t first_record = 0;
