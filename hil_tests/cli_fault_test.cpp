@@ -203,6 +203,30 @@ TEST_F(CliCoreFaultTest, AnswersThatNeverComeFailWithOneLine) {
   EXPECT_NE(r.err.find(bridge->device_spec()), std::string::npos) << "names the device: " << r.err;
 }
 
+// The host stops receiving the acquisition's stream for longer than its timeout while the board
+// goes on sending (and releasing) records: the log wraps over the ones it missed. Every record
+// the board still holds is pulled and written, and the command fails naming what is missing.
+TEST_F(CliCoreFaultTest, AcquisitionThatLostRecordsWritesWhatWasKeptAndNamesTheRest) {
+  loop->SetFramesPerStep(20);
+  loop->DropStreamReports(100, 1 << 30);  // until the host gives up on the stream
+  const std::string out = dir + "/rec.csv";
+  const auto r = Vibid({"acquire", "--seconds", "10", "--rate-hz", "1000", "-o", out});
+  EXPECT_EQ(r.exit_code, 4) << r.err;
+  const std::size_t why = r.err.find("vibid: error: the board's log wrapped over records ");
+  ASSERT_NE(why, std::string::npos) << r.err;
+  const std::size_t kept_at = r.err.find("before they could be pulled; kept ", why);
+  ASSERT_NE(kept_at, std::string::npos) << r.err;
+  const std::size_t kept = std::stoul(r.err.substr(kept_at + 34));
+  EXPECT_GT(kept, 0u);
+  EXPECT_LT(kept, 10000u);
+  EXPECT_NE(r.err.find("records: 0.."), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("..9999; the records kept are written to " + out), std::string::npos)
+      << r.err;
+  EXPECT_NE(r.err.find("vibid: " + std::to_string(kept) + " records"), std::string::npos) << r.err;
+  const std::vector<std::string> rows = Lines(ReadFileBytes(out));
+  EXPECT_EQ(rows.size(), kept + 1) << "the header and every record kept";
+}
+
 TEST_F(CliCoreFaultTest, UnknownCommandNamesItAndWritesNothing) {
   // The scenario command exists on the emulator only; this board answers unimplemented.
   const auto r =

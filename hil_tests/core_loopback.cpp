@@ -114,10 +114,16 @@ void CoreLoopback::Deliver(const wire::Report& r) {
   }
   const int seq = drop_sequence_.load();
   wire::StreamDataHeader data;
-  if (seq >= 0 && wire::DecodeStreamData(r, data) == Status::kOk && data.sequence >= seq &&
-      data.sequence < seq + drop_count_) {
-    if (data.sequence + 1 == seq + drop_count_) drop_sequence_ = -1;
-    return;
+  if (seq >= 0 && wire::DecodeStreamData(r, data) == Status::kOk) {
+    // The drops belong to one stream: a stream of another token (the host gave up and asked
+    // again) ends them.
+    if (drop_token_ >= 0 && data.token != drop_token_) {
+      drop_sequence_ = -1;
+    } else if (data.sequence >= seq && data.sequence < seq + drop_count_) {
+      drop_token_ = data.token;
+      if (data.sequence + 1 == seq + drop_count_) drop_sequence_ = -1;
+      return;
+    }
   }
   if (corrupt_ > 0) {
     --corrupt_;

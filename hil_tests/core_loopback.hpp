@@ -43,9 +43,10 @@ class CoreLoopback {
   /// Drops the data report with this sequence number in the next stream.
   void DropStreamReport(int sequence) { DropStreamReports(sequence, 1); }
   /// Drops `count` data reports in a row from this sequence number on in the next stream (a host
-  /// that stops taking reports while the board goes on sending).
+  /// that stops taking reports while the board goes on sending); a later stream ends the drops.
   void DropStreamReports(int first_sequence, int count) {
     drop_count_.store(count);
+    drop_token_.store(-1);
     drop_sequence_.store(first_sequence);
   }
   /// Rewrites the protocol major of every report (a device of another protocol generation).
@@ -81,6 +82,7 @@ class CoreLoopback {
   std::atomic<int> drop_{0};
   std::atomic<int> drop_sequence_{-1};
   std::atomic<int> drop_count_{1};
+  std::atomic<int> drop_token_{-1};  // the stream the drops began in
   std::atomic<std::uint8_t> major_{wire::kProtocolMajor};
   std::atomic<int> frames_per_step_{20};
   std::thread thread_;

@@ -237,12 +237,77 @@ TEST_F(DeviceTest, BrokenAcquisitionStreamResumesAfterTheLastRecordReceived) {
   EXPECT_EQ(c->counters().stream_resumes, 1u);
   ASSERT_EQ(pull.records.size(), n);
   EXPECT_EQ(pull.first_record, 0u);
+  EXPECT_TRUE(pull.missing.empty());
   for (std::uint32_t i = 0; i < n; ++i) {
     ASSERT_EQ(pull.records[i].sample_index, i);
     ASSERT_EQ(pull.records[i].raw, LoggedAt(i)) << "record " << i;
   }
   EXPECT_EQ(pull.trailer.dropped_records, 0u);
   EXPECT_EQ(pull.trailer.acq_state, wire::AcqState::kDone);
+}
+
+/// Every record of `pull` is the test signal at its log index (the loopback logs from tick 0),
+/// and the records and missing ranges cover [first_record, first_record + n) once each.
+void ExpectTheTestSignal(const device::LogPull& pull, std::uint32_t n) {
+  std::uint32_t index = pull.first_record;
+  std::size_t gap = 0;
+  for (const wire::LogRecord& r : pull.records) {
+    if (gap < pull.missing.size() && index == pull.missing[gap].first)
+      index = pull.missing[gap++].end;
+    ASSERT_EQ(r.sample_index, index);
+    ASSERT_EQ(r.raw, LoggedAt(index)) << "record " << index;
+    ++index;
+  }
+  EXPECT_EQ(gap, pull.missing.size());
+  EXPECT_EQ(index, pull.first_record + n);
+}
+
+// A host that falls a whole log behind the stream loses what the board overwrote meanwhile, and
+// only that: the pull goes on from the oldest record the board still holds, and ends with an
+// error that carries every record received and names what was kept and what was lost.
+TEST_F(DeviceTest, RecordsOverwrittenBeforeTheyArrivedAreNamedAndTheRestIsPulled) {
+  CoreLoopback* loop = target->loopback();
+  if (loop == nullptr) GTEST_SKIP() << "needs fault injection";
+  loop->SetFramesPerStep(2);
+  // The host waits out the lost reports: it learns of them from the first one after them.
+  auto c = target->Connect(device::ConnectionOptions{.timeout = std::chrono::seconds(10)});
+  const std::uint32_t fits = LogCapacityRecords(*c);
+  // More reports than the log holds records never arrive (each carries at least one record):
+  // the board sent them, released their records and wrapped over most of them.
+  const std::uint32_t lost_reports = fits + 100;
+  const std::uint32_t n = 3 * RecordsPerReport() * lost_reports;
+  wire::AcqConfigureRequest cfg = AllChannels(n);
+  cfg.flags = wire::kAcqFlagStream;
+  c->Configure(cfg);
+  loop->DropStreamReports(100, static_cast<int>(lost_reports));
+  try {
+    static_cast<void>(c->AcquireStreamed());
+    FAIL() << "the pull did not say that records were lost";
+  } catch (const device::IncompleteLog& e) {
+    const device::LogPull& pull = e.pull();
+    ASSERT_FALSE(pull.missing.empty());
+    const device::LogRange lost = pull.missing[0];
+    EXPECT_GE(lost.first, 100u) << "reports 0..99 arrived";
+    std::uint32_t lost_count = 0;
+    for (const device::LogRange& m : pull.missing) lost_count += m.end - m.first;
+    EXPECT_GE(lost_count, 100u) << "at least the excess over the log's capacity";
+    EXPECT_EQ(pull.records.size() + lost_count, n);
+    ExpectTheTestSignal(pull, n);
+    EXPECT_EQ(pull.trailer.acq_state, wire::AcqState::kDone);
+    EXPECT_EQ(pull.trailer.dropped_records, 0u);
+    const std::string why = e.what();
+    EXPECT_EQ(why.rfind("the board's log wrapped over records " + std::to_string(lost.first) +
+                            ".." + std::to_string(lost.end - 1),
+                        0),
+              0u)
+        << why;
+    EXPECT_NE(why.find("(" + std::to_string(lost_count) + ") before they could be pulled; kept " +
+                       std::to_string(pull.records.size()) + " records: 0.." +
+                       std::to_string(lost.first - 1) + ", " + std::to_string(lost.end) + ".."),
+              std::string::npos)
+        << why;
+    EXPECT_NE(why.find(".." + std::to_string(n - 1)), std::string::npos) << why;
+  }
 }
 
 TEST_F(DeviceTest, PullWhileAcquiringFollowsTheLog) {

@@ -25,6 +25,11 @@ constexpr std::chrono::milliseconds kReaderPoll{20};
 constexpr std::uint32_t kLogChunkRecords = 4096;
 /// Resumes in a row without progress before a streamed acquisition's pull gives up.
 constexpr int kMaxResumes = 8;
+/// Records a resume skips beyond the oldest one the board holds after its first refusal in a
+/// row (then twice as many each time), and at most: a sampling board overwrites the oldest
+/// record next.
+constexpr std::uint32_t kFirstResumeMargin = 64;
+constexpr std::uint32_t kMaxResumeMargin = 1u << 20;
 
 }  // namespace
 
@@ -392,7 +397,14 @@ Connection::StreamEnd Connection::ReceiveLogStream(std::uint16_t token, std::uin
       throw DeviceError(std::string("the device refused log-read from record ") +
                         std::to_string(first) + ": " + StatusName(step.status));
     } else if (step.event == wire::StreamDecoder::Event::kError) {
-      if (wire::IsStreamData(r.report)) return end_early(StreamEnd::kBroken);
+      // A sequence gap, or a trailer that counts more bytes than arrived (the last reports were
+      // lost): what came before is whole. A trailer whose count matches but whose CRC does not
+      // says that some payload is wrong.
+      wire::StreamTrailer sent;
+      const bool lost_tail = !wire::IsStreamData(r.report) &&
+                             wire::Decode(r.payload(), sent) == Status::kOk &&
+                             sent.total_bytes > decoder.total_bytes();
+      if (wire::IsStreamData(r.report) || lost_tail) return end_early(StreamEnd::kBroken);
       return StreamEnd::kBroken;
     }
   }
@@ -497,6 +509,7 @@ void Connection::ContinuePull(LogPull& pull, std::uint32_t next, const Progress&
                               int max_resumes, PullMode mode) {
   const bool follow = mode == PullMode::kFollow;
   int failures = 0;
+  std::uint32_t margin = 0;
   for (;;) {
     CheckCancel();
     const std::size_t before = pull.records.size();
@@ -507,11 +520,20 @@ void Connection::ContinuePull(LogPull& pull, std::uint32_t next, const Progress&
       if (!follow && pull.records.empty() && pull.missing.empty())
         throw DeviceError(OverwrittenMessage(next));
       // The board's log wrapped over `next` before it could be pulled (the host fell a whole
-      // log behind): those records are gone, the ones it still holds are not.
-      const std::uint32_t oldest = GetStatus().oldest_record;
-      if (oldest > next) {
-        pull.missing.push_back(LogRange{next, oldest});
-        next = oldest;
+      // log behind): those records are gone, the ones it still holds are not. While the board
+      // samples, the oldest one it names is the next to go: after a refusal in a row the pull
+      // aims further ahead, twice as far each time, so that it overtakes the sampler instead
+      // of chasing it.
+      const wire::StatusResponse st = GetStatus();
+      const std::uint32_t target =
+          std::min(st.records_written, st.oldest_record + std::min(margin, kMaxResumeMargin));
+      margin = margin == 0 ? kFirstResumeMargin : 2 * margin;
+      if (target > next) {
+        if (!pull.missing.empty() && pull.missing.back().end == next)
+          pull.missing.back().end = target;
+        else
+          pull.missing.push_back(LogRange{next, target});
+        next = target;
       } else if (++failures > max_resumes) {
         throw DeviceError(OverwrittenMessage(next));
       }
@@ -519,6 +541,7 @@ void Connection::ContinuePull(LogPull& pull, std::uint32_t next, const Progress&
     }
     next += received;
     const bool complete = end == StreamEnd::kComplete;
+    if (complete) margin = 0;
     if (!complete) {
       std::lock_guard lock(mutex_);
       ++counters_.stream_resumes;

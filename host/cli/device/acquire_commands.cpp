@@ -106,6 +106,16 @@ void WriteLog(device::Connection& c, const device::LogPull& pull, const std::str
   std::cerr << (path.empty() || path == "-" ? "" : " written to " + path) << "\n";
 }
 
+/// A pull that lost records the board overwrote: what it holds is written all the same, and the
+/// error names what is missing.
+[[noreturn]] void WriteIncomplete(device::Connection& c, const device::IncompleteLog& e,
+                                  const std::string& path) {
+  WriteLog(c, e.pull(), path);
+  const bool file = !path.empty() && path != "-";
+  throw device::DeviceError(std::string(e.what()) + "; the records kept are written" +
+                            (file ? " to " + path : ""));
+}
+
 /// The acquisition the options ask for, checked as far as it can be without the board; `trig` gets
 /// the parsed --trigger (read in the order the options are checked, so the first bad one is named).
 wire::AcqConfigureRequest AcquireConfig(const AcquireArgs& a, Trigger& trig) {
@@ -197,7 +207,12 @@ void Run(const AcquireArgs& a) {
     cfg.flags = static_cast<std::uint8_t>(cfg.flags | wire::kAcqFlagStream);
     if (!a.scenario.empty()) c.SelectScenario(a.scenario, a.scenario_params);
     c.Configure(cfg);
-    const device::LogPull pull = Acquire(c, cfg, budget);
+    device::LogPull pull;
+    try {
+      pull = Acquire(c, cfg, budget);
+    } catch (const device::IncompleteLog& e) {
+      WriteIncomplete(c, e, a.output);
+    }
     WriteLog(c, pull, a.output);
   });
 }
@@ -230,6 +245,8 @@ void Run(const PullArgs& a) {
                                   std::to_string(st.records_written) + " records");
       }
       pull = c.PullLog(first, bar.Callback());
+    } catch (const device::IncompleteLog& e) {
+      WriteIncomplete(c, e, a.output);
     } catch (const device::Interrupted&) {
       throw device::DeviceError("interrupted: nothing written");
     }
