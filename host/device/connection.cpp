@@ -546,14 +546,18 @@ void Connection::ContinuePull(LogPull& pull, std::uint32_t next, const Progress&
       std::lock_guard lock(mutex_);
       ++counters_.stream_resumes;
     }
-    // A following stream that brought nothing before the timeout may be waiting for the trigger.
-    const bool waiting = follow && end == StreamEnd::kBroken && received == 0 &&
-                         GetStatus().acq_state == wire::AcqState::kArmed;
+    // A following stream that brought nothing yet may be waiting for the trigger. (Asking the
+    // board would stop the stream: the link would idle for a round trip while it samples.)
+    const bool waiting = follow && received == 0 && pull.records.empty() && pull.missing.empty();
     if (received > 0 || waiting)
       failures = 0;
     else if (!complete && ++failures > max_resumes) {
-      throw DeviceError("log-read from record " + std::to_string(next) + " kept breaking off (" +
-                        std::to_string(max_resumes) + " resumes without progress)");
+      const std::string why = "log-read from record " + std::to_string(next) +
+                              " kept breaking off (" + std::to_string(max_resumes) +
+                              " resumes without progress)";
+      // What a following pull received was released on the board: it must not be lost here.
+      if (follow && !pull.records.empty()) throw IncompleteLog(std::move(pull), why);
+      throw DeviceError(why);
     }
     if (!complete) continue;
     const wire::LogTrailer& t = pull.trailer;
@@ -581,7 +585,7 @@ std::string RangeText(std::uint32_t first, std::uint32_t end) {
                           : std::to_string(first) + ".." + std::to_string(end - 1);
 }
 
-std::string IncompleteMessage(const LogPull& pull) {
+std::string IncompleteMessage(const LogPull& pull, const std::string& why) {
   std::string lost;
   std::string kept;
   std::uint64_t lost_count = 0;
@@ -595,14 +599,17 @@ std::string IncompleteMessage(const LogPull& pull) {
   const std::uint32_t end =
       pull.first_record + static_cast<std::uint32_t>(pull.records.size() + lost_count);
   if (end > from) kept += (kept.empty() ? "" : ", ") + RangeText(from, end);
-  return "the board's log wrapped over records " + lost + " (" + std::to_string(lost_count) +
-         ") before they could be pulled; kept " + std::to_string(pull.records.size()) +
+  const std::string head = !why.empty()
+                               ? why
+                               : "the board's log wrapped over records " + lost + " (" +
+                                     std::to_string(lost_count) + ") before they could be pulled";
+  return head + "; kept " + std::to_string(pull.records.size()) +
          " records: " + (kept.empty() ? "none" : kept);
 }
 
 }  // namespace
 
-IncompleteLog::IncompleteLog(LogPull pull)
-    : DeviceError(IncompleteMessage(pull)), pull_(std::move(pull)) {}
+IncompleteLog::IncompleteLog(LogPull pull, const std::string& why)
+    : DeviceError(IncompleteMessage(pull, why)), pull_(std::move(pull)) {}
 
 }  // namespace vibid::device

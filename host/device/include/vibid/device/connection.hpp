@@ -84,11 +84,12 @@ struct LogPull {
 };
 
 /// A pull that lost records: the board overwrote them before they could be pulled (the host
-/// fell a whole log behind). Everything else was pulled; pull() holds it, and the message names
-/// the records kept and the ranges lost.
+/// fell a whole log behind; everything else was pulled), or the pull of a running acquisition
+/// gave up (`why`). pull() holds every record received; the message names the records kept and
+/// the ranges lost.
 class IncompleteLog : public DeviceError {
  public:
-  explicit IncompleteLog(LogPull pull);
+  explicit IncompleteLog(LogPull pull, const std::string& why = {});
   const LogPull& pull() const { return pull_; }
 
  private:
