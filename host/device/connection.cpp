@@ -525,9 +525,8 @@ void Connection::ContinuePull(LogPull& pull, std::uint32_t next, const Progress&
       // aims further ahead, twice as far each time, so that it overtakes the sampler instead
       // of chasing it.
       const wire::StatusResponse st = GetStatus();
-      const std::uint32_t target =
-          std::min(st.records_written, st.oldest_record + std::min(margin, kMaxResumeMargin));
-      margin = margin == 0 ? kFirstResumeMargin : 2 * margin;
+      const std::uint32_t target = std::min(st.records_written, st.oldest_record + margin);
+      margin = margin == 0 ? kFirstResumeMargin : std::min(2 * margin, kMaxResumeMargin);
       if (target > next) {
         if (!pull.missing.empty() && pull.missing.back().end == next)
           pull.missing.back().end = target;
@@ -599,10 +598,11 @@ std::string IncompleteMessage(const LogPull& pull, const std::string& why) {
   const std::uint32_t end =
       pull.first_record + static_cast<std::uint32_t>(pull.records.size() + lost_count);
   if (end > from) kept += (kept.empty() ? "" : ", ") + RangeText(from, end);
-  const std::string head = !why.empty()
-                               ? why
-                               : "the board's log wrapped over records " + lost + " (" +
-                                     std::to_string(lost_count) + ") before they could be pulled";
+  std::string head = why;
+  if (!pull.missing.empty()) {
+    head = "the board's log wrapped over records " + lost + " (" + std::to_string(lost_count) +
+           ") before they could be pulled" + (why.empty() ? "" : "; " + why);
+  }
   return head + "; kept " + std::to_string(pull.records.size()) +
          " records: " + (kept.empty() ? "none" : kept);
 }
