@@ -4,6 +4,7 @@
 #include <random>
 
 #include "vibid/device/error.hpp"
+#include "vibid/device/refusal_text.hpp"
 #include "vibid/shared/wire/stream.hpp"
 
 namespace vibid::device {
@@ -192,15 +193,8 @@ Reply Connection::Expect(Command command, std::span<const std::uint8_t> payload,
                          std::uint16_t sequence) {
   Reply r = Call(command, payload, sequence);
   if (r.header.status != Status::kOk) {
-    std::string why;
-    switch (r.header.status) {
-      case Status::kUnimplemented: why = " (the device does not know this command)"; break;
-      case Status::kFailedPrecondition: why = " (not allowed in the device's current state)"; break;
-      case Status::kVersionMismatch: why = " (protocol version)"; break;
-      default: break;
-    }
-    throw DeviceError("the device refused " + CommandText(static_cast<std::uint8_t>(command)) +
-                      ": " + StatusName(r.header.status) + why);
+    throw DeviceError(
+        RefusalMessage(static_cast<std::uint8_t>(command), r.header.status, r.payload()));
   }
   return r;
 }
@@ -255,7 +249,8 @@ std::vector<std::uint8_t> Connection::CalGet(wire::CalGetTrailer* trailer) {
         if (trailer != nullptr) *trailer = t;
         return bytes;
       } else if (step.event == wire::StreamDecoder::Event::kRefused) {
-        throw DeviceError(std::string("the device refused cal-get: ") + StatusName(step.status));
+        throw DeviceError(RefusalMessage(static_cast<std::uint8_t>(Command::kCalGet), step.status,
+                                         step.payload));
       } else if (step.event == wire::StreamDecoder::Event::kError) {
         break;
       }
@@ -285,7 +280,7 @@ void Connection::CalPut(std::span<const std::uint8_t> record, const Progress& pr
       const bool last = c + 1 == chunks;
       throw DeviceError(std::string("the device refused the calibration record") +
                         (last ? "" : " at chunk " + std::to_string(c)) + ": " +
-                        StatusName(r.header.status));
+                        RefusalCause(r.header.status, r.payload()));
     }
     if (progress) progress(c + 1, chunks);
   }
@@ -308,6 +303,11 @@ wire::AcqStopResponse Connection::StopAcquisition() {
 
 wire::LatestResponse Connection::ReadLatest() {
   return DecodeAnswer<wire::LatestResponse>(Expect(Command::kReadLatest), "read-latest");
+}
+
+std::optional<wire::ClipResponse> Connection::GetClips() {
+  if (info_.protocol_minor < 1) return std::nullopt;  // get-clips came with protocol 2.1
+  return DecodeAnswer<wire::ClipResponse>(Expect(Command::kGetClips), "get-clips");
 }
 
 void Connection::DobControl(bool run) {
@@ -364,8 +364,9 @@ bool Connection::ReceiveLogStream(std::uint16_t token, std::uint32_t first, LogP
       if (wire::Decode(step.payload, trailer) != Status::kOk) return false;
       break;
     } else if (step.event == wire::StreamDecoder::Event::kRefused) {
-      throw DeviceError(std::string("the device refused log-read from record ") +
-                        std::to_string(first) + ": " + StatusName(step.status));
+      throw DeviceError(RefusalMessage(static_cast<std::uint8_t>(Command::kLogRead), step.status,
+                                       step.payload) +
+                        " (log-read from record " + std::to_string(first) + ")");
     } else if (step.event == wire::StreamDecoder::Event::kError) {
       return false;
     }
@@ -406,8 +407,8 @@ LogPull Connection::AcquireStreamed(const Progress& progress) {
     throw DeviceError("no answer to acq-start from " + Describe());
   }
   if (answer.header.status != Status::kOk) {
-    throw DeviceError(std::string("the device refused acq-start: ") +
-                      StatusName(answer.header.status));
+    throw DeviceError(RefusalMessage(static_cast<std::uint8_t>(Command::kAcqStart),
+                                     answer.header.status, answer.payload()));
   }
   LogPull pull;
   if (ReceiveLogStream(token, 0, pull, progress)) return pull;
