@@ -414,5 +414,23 @@ TEST(CoreCommands, ClipsAreCountedPerChannel) {
   EXPECT_EQ(clips.clipped, (std::array<std::uint32_t, wire::kChannelCount>{}));
 }
 
+// read-latest after an acquisition holds its last frame: frames the port delivers after the
+// record limit (before the main loop stops it) do not replace it.
+TEST(CoreCommands, ReadLatestKeepsTheLastFrameOfTheAcquisition) {
+  CoreHarness h;
+  wire::AcqConfigureRequest c = Immediate();
+  c.record_limit = 3;
+  ASSERT_EQ(h.StartAcquisition(c), Status::kOk);
+  h.EmitRamp(5, {100, 100, 100, 100, 100, 100}, 1);  // ticks 0..4; the limit is reached at 2
+  wire::LatestResponse latest;
+  ASSERT_EQ(wire::Decode(h.Request(Command::kReadLatest).payload(), latest), Status::kOk);
+  EXPECT_EQ(latest.acq_state, wire::AcqState::kDone);
+  EXPECT_EQ(latest.tick, 2u);
+  EXPECT_EQ(latest.calibrated[0], 102);
+  wire::StatusResponse s;
+  ASSERT_EQ(wire::Decode(h.Request(Command::kGetStatus).payload(), s), Status::kOk);
+  EXPECT_EQ(s.ticks, 3u);  // the host's "last frame" is tick ticks - 1
+}
+
 }  // namespace
 }  // namespace vibid::fw

@@ -324,7 +324,12 @@ void Connection::SelectScenario(const std::string& name, std::span<const float> 
   if (params.size() > r.params.size()) throw DeviceError("a scenario takes at most 4 parameters");
   std::copy(name.begin(), name.end(), r.name.begin());
   std::copy(params.begin(), params.end(), r.params.begin());
-  static_cast<void>(Expect(Command::kSelectScenario, r));
+  const Reply reply = Call(Command::kSelectScenario, wire::EncodedBytes(r));
+  if (reply.header.status != Status::kOk) {
+    // The scenario's name belongs in the sentence: the board does not echo it.
+    throw DeviceError("the device refused select-scenario '" + name +
+                      "': " + RefusalCause(reply.header.status, reply.payload()));
+  }
 }
 
 bool Connection::ReadLogOnce(std::uint32_t first, std::uint32_t max, LogPull& pull) {

@@ -67,8 +67,9 @@ class Sampler final : public FrameSink {
   const wire::AcqConfigureRequest& config() const { return config_; }
   wire::LogLayout layout() const { return layout_; }
 
-  /// The newest frame after calibration and its d_hat, consistent even while frames arrive.
-  /// @returns false if no frame has been seen since boot.
+  /// The newest frame of the current or last acquisition after calibration, and its d_hat,
+  /// consistent even while frames arrive. @returns false if no acquisition sampled a frame since
+  /// boot.
   bool Latest(wire::LatestResponse& out) const;
 
  private:
