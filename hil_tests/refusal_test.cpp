@@ -19,7 +19,9 @@ namespace {
 using vibid::testing::CliResult;
 using vibid::testing::RunVibid;
 
-std::size_t Lines(const std::string& s) { return std::count(s.begin(), s.end(), '\n'); }
+std::size_t Lines(const std::string& s) {
+  return static_cast<std::size_t>(std::count(s.begin(), s.end(), '\n'));
+}
 
 bool Has(const std::string& text, const std::string& part) {
   return text.find(part) != std::string::npos;
@@ -121,9 +123,11 @@ TEST_F(RefusalTest, AnObserverForAnotherRangeDoesNotOverwriteTheSensors) {
   EXPECT_TRUE(Has(show.out, "force1: 4.096 counts/N, offset 2048, full scale 500 N")) << show.out;
 }
 
-// Hammer hits of up to 1.4 x 900 N on the ±500 N cell: the converter sits at its ends. The board
-// counts each such sample; the count equals the rows of the CSV at the converter's ends (4095 or
-// 0 with offset 2048 and 4.096 counts/N: 499.756 N or -500 N), and acquire and info say so.
+// Hammer hits of 0.6 to 1.4 x 900 N on mass 2: the ±500 N load cell and the ±200 m/s2
+// accelerometer (1.53 kg: about 590 m/s2) sit at their converters' ends. The board counts each
+// such sample; the counts equal the rows of the CSV at the converter's ends (codes 4095 or 0 with
+// offset 2048: force1 499.756 or -500 N at 4.096 counts/N, acc2 199.902 or -200 m/s2 at 10.24
+// counts/(m/s2), examples/sensors.json), and acquire and info say so.
 TEST_F(RefusalTest, ClippedSamplesAreCountedAndReported) {
   ASSERT_EQ(Upload(Design("500")).exit_code, 0);
   ASSERT_EQ(Vibid({"cal", "commit"}).exit_code, 0);
@@ -135,25 +139,28 @@ TEST_F(RefusalTest, ClippedSamplesAreCountedAndReported) {
   std::ifstream csv(out);
   std::string line;
   std::getline(csv, line);
-  ASSERT_TRUE(Has(line, "force1_n")) << line;
-  std::size_t at_end = 0;
+  ASSERT_EQ(line, "t_s,force1_n,acc2_m_s2");
+  std::size_t force_at_end = 0, accel_at_end = 0;
   while (std::getline(csv, line)) {
     std::istringstream fields(line);
-    std::string t, f;
+    std::string t, f, a;
     std::getline(fields, t, ',');
     std::getline(fields, f, ',');
-    const double force_n = std::stod(f);
-    if (force_n >= 499.7 || force_n <= -500.0) ++at_end;
+    std::getline(fields, a, ',');
+    const double force_n = std::stod(f), accel_m_s2 = std::stod(a);
+    if (force_n >= 499.7 || force_n <= -500.0) ++force_at_end;
+    if (accel_m_s2 >= 199.85 || accel_m_s2 <= -200.0) ++accel_at_end;
   }
-  ASSERT_GT(at_end, 0u) << "900 N hits must reach the converter's end";
-  std::printf("hammer 900 N on the 500 N cell: %zu of 15000 force1 samples at the converter's end\n",
-              at_end);
-  EXPECT_TRUE(Has(r.err, "vibid: warning: clipped samples: force1 " + std::to_string(at_end) +
-                             " of 15000"))
-      << r.err;
-  EXPECT_TRUE(Has(r.err, "force1 500 N")) << r.err;
+  ASSERT_GT(force_at_end, 0u) << "900 N hits must reach the converter's end";
+  std::printf("hammer 900 N on mass 2, 3 s at 5 kHz: force1 %zu and acc2 %zu of 15000 samples at "
+              "the converter's end\n",
+              force_at_end, accel_at_end);
+  const std::string counts = "force1 " + std::to_string(force_at_end) + ", acc2 " +
+                             std::to_string(accel_at_end) + " of 15000";
+  EXPECT_TRUE(Has(r.err, "vibid: warning: clipped samples: " + counts)) << r.err;
+  EXPECT_TRUE(Has(r.err, "force1 500 N, acc2 200 m/s2")) << r.err;
   const CliResult info = Vibid({"info"});
-  EXPECT_TRUE(Has(info.out, "clipped       force1 " + std::to_string(at_end)))
+  EXPECT_TRUE(Has(info.out, "clipped       " + counts + " samples in the last acquisition"))
       << info.out;
 }
 
