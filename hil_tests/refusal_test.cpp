@@ -103,9 +103,9 @@ TEST_F(RefusalTest, AcquireAtAnotherRateThanTheCommittedObserver) {
                 "acquire at --rate-hz 5000, or without the observer (--no-dob)");
   EXPECT_FALSE(std::filesystem::exists(out));
   // The ways out work.
-  EXPECT_EQ(Vibid({"acquire", "--seconds", "0.5", "--rate-hz", "1000", "--no-dob", "-o", out})
-                .exit_code,
-            0);
+  EXPECT_EQ(
+      Vibid({"acquire", "--seconds", "0.5", "--rate-hz", "1000", "--no-dob", "-o", out}).exit_code,
+      0);
   EXPECT_EQ(Vibid({"acquire", "--seconds", "0.5", "--rate-hz", "5000", "-o", out}).exit_code, 0);
 }
 
@@ -113,8 +113,9 @@ TEST_F(RefusalTest, AcquireAtAnotherRateThanTheCommittedObserver) {
 // record is not staged, so the board keeps what it had.
 TEST_F(RefusalTest, AnObserverForAnotherRangeDoesNotOverwriteTheSensors) {
   const CliResult r = Upload(Design("100"));
-  ExpectRefusal(r, 1, "force1: the sensors give a full scale of 500 N, the observer's input 2 "
-                      "was designed for 100 N",
+  ExpectRefusal(r, 1,
+                "force1: the sensors give a full scale of 500 N, the observer's input 2 "
+                "was designed for 100 N",
                 "vibid dob design --force-fs-n 500");
   ExpectRefusal(Vibid({"cal", "commit"}), 4, "no calibration record is staged", "vibid cal upload");
   ASSERT_EQ(Upload(Design("500")).exit_code, 0);
@@ -132,9 +133,8 @@ TEST_F(RefusalTest, ClippedSamplesAreCountedAndReported) {
   ASSERT_EQ(Upload(Design("500")).exit_code, 0);
   ASSERT_EQ(Vibid({"cal", "commit"}).exit_code, 0);
   const std::string out = dir + "/hammer.csv";
-  const CliResult r =
-      Vibid({"acquire", "--seconds", "3", "--channels", "force1,acc2", "--scenario", "hammer",
-             "--scenario-param", "2,900,1,0", "--no-dob", "-o", out});
+  const CliResult r = Vibid({"acquire", "--seconds", "3", "--channels", "force1,acc2", "--scenario",
+                             "hammer", "--scenario-param", "2,900,1,0", "--no-dob", "-o", out});
   ASSERT_EQ(r.exit_code, 0) << r.err;
   std::ifstream csv(out);
   std::string line;
@@ -152,9 +152,10 @@ TEST_F(RefusalTest, ClippedSamplesAreCountedAndReported) {
     if (accel_m_s2 >= 199.85 || accel_m_s2 <= -200.0) ++accel_at_end;
   }
   ASSERT_GT(force_at_end, 0u) << "900 N hits must reach the converter's end";
-  std::printf("hammer 900 N on mass 2, 3 s at 5 kHz: force1 %zu and acc2 %zu of 15000 samples at "
-              "the converter's end\n",
-              force_at_end, accel_at_end);
+  std::printf(
+      "hammer 900 N on mass 2, 3 s at 5 kHz: force1 %zu and acc2 %zu of 15000 samples at "
+      "the converter's end\n",
+      force_at_end, accel_at_end);
   const std::string counts = "force1 " + std::to_string(force_at_end) + ", acc2 " +
                              std::to_string(accel_at_end) + " of 15000";
   EXPECT_TRUE(Has(r.err, "vibid: warning: clipped samples: " + counts)) << r.err;
@@ -167,8 +168,9 @@ TEST_F(RefusalTest, ClippedSamplesAreCountedAndReported) {
 TEST_F(RefusalTest, MonitorSaysWhatItShows) {
   const CliResult idle = Vibid({"monitor", "--count", "2", "--interval-s", "0.01"});
   ASSERT_EQ(idle.exit_code, 0) << idle.err;
-  EXPECT_TRUE(Has(idle.out, "-\tidle: no samples (the board samples only while an acquisition "
-                            "runs)\n-\tidle: no samples"))
+  EXPECT_TRUE(Has(idle.out,
+                  "-\tidle: no samples (the board samples only while an acquisition "
+                  "runs)\n-\tidle: no samples"))
       << idle.out;
   ASSERT_EQ(Vibid({"acquire", "--seconds", "0.2", "-o", dir + "/x.csv"}).exit_code, 0);
   const CliResult after = Vibid({"monitor", "--count", "1", "--interval-s", "0.01"});

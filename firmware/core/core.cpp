@@ -242,7 +242,8 @@ Status Core::Dispatch(const Header& h, std::span<const std::uint8_t> payload) {
 }
 
 Status Core::HandlePortCommand(const Header& h, std::span<const std::uint8_t> payload) {
-  if (port_commands_ == nullptr) return Refuse(Status::kUnimplemented, wire::Reason::kUnknownCommand);
+  if (port_commands_ == nullptr)
+    return Refuse(Status::kUnimplemented, wire::Reason::kUnknownCommand);
   std::array<std::uint8_t, wire::kMaxPayload> response{};
   std::size_t length = 0;
   const Status s = port_commands_->HandlePortCommand(h.command, payload, response, length);
@@ -250,7 +251,8 @@ Status Core::HandlePortCommand(const Header& h, std::span<const std::uint8_t> pa
     // A port names its reason with a Refusal in the response bytes; one that does not gets a
     // reason from the status alone.
     wire::Refusal why;
-    const auto bytes = std::span<const std::uint8_t>(response).first(std::min(length, response.size()));
+    const auto bytes =
+        std::span<const std::uint8_t>(response).first(std::min(length, response.size()));
     if (length >= wire::Refusal::kBytes && wire::Decode(bytes, why) == Status::kOk) {
       return Refuse(s, why.reason, why.detail);
     }
@@ -267,7 +269,8 @@ Status Core::HandleCalPutBegin(const Header& h, std::span<const std::uint8_t> pa
     return Refuse(Status::kInvalidArgument, wire::Reason::kPayloadLength);
   const Status s = upload_.Begin(begin);
   if (s != Status::kOk) {
-    return Refuse(s, wire::Reason::kRecordLength, static_cast<std::uint32_t>(wire::kCalRecordBytes));
+    return Refuse(s, wire::Reason::kRecordLength,
+                  static_cast<std::uint32_t>(wire::kCalRecordBytes));
   }
   Respond(h, Status::kOk);
   return s;
@@ -282,7 +285,8 @@ Status Core::HandleCalPutData(const Header& h, std::span<const std::uint8_t> pay
     Respond(h, Status::kOk);
     return s;
   }
-  if (!active || s == Status::kOutOfRange) return Refuse(s, wire::Reason::kUploadSequence, expected);
+  if (!active || s == Status::kOutOfRange)
+    return Refuse(s, wire::Reason::kUploadSequence, expected);
   if (!upload_.assembled()) return Refuse(s, wire::Reason::kPayloadLength);
   if (s == Status::kDataLoss) return Refuse(s, wire::Reason::kRecordCrc);
   return Refuse(s, wire::Reason::kRecordInvalid, static_cast<std::uint32_t>(s));
@@ -300,7 +304,8 @@ Status Core::HandleCalCommit(const Header& h) {
 }
 
 Status Core::HandleCalGet(const Header& h) {
-  if (!store_.calibrated()) return Refuse(Status::kFailedPrecondition, wire::Reason::kNotCalibrated);
+  if (!store_.calibrated())
+    return Refuse(Status::kFailedPrecondition, wire::Reason::kNotCalibrated);
   encoder_.Begin(Command::kCalGet, h.token);
   stream_token_ = h.token;
   stream_ = StreamKind::kCalibration;
@@ -317,8 +322,7 @@ Status Core::ValidateConfig(const wire::AcqConfigureRequest& c) {
     return Refuse(Status::kInvalidArgument, wire::Reason::kSamplePeriod, wire::kMinSamplePeriodUs);
   }
   const wire::LogLayout layout{c.channel_mask, c.flags};
-  if (!layout.Valid())
-    return Refuse(Status::kInvalidArgument, wire::Reason::kChannelSelection);
+  if (!layout.Valid()) return Refuse(Status::kInvalidArgument, wire::Reason::kChannelSelection);
   if (!fixed::IsSupportedDecimation(c.decimation))
     return Refuse(Status::kInvalidArgument, wire::Reason::kDecimation, wire::kMaxDecimation);
   if (c.trigger_mode == wire::TriggerMode::kImmediate) {

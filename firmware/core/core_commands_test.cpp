@@ -236,15 +236,20 @@ TEST(CoreCommands, AcqConfigureValidatesEveryField) {
     return c;
   };
   const Case cases[] = {
-      {"period too short", with([](auto& c) { c.sample_period_us = 99; }),
-       Status::kInvalidArgument, wire::Reason::kSamplePeriod, 100},
+      {"period too short", with([](auto& c) { c.sample_period_us = 99; }), Status::kInvalidArgument,
+       wire::Reason::kSamplePeriod, 100},
       {"period too long", with([](auto& c) { c.sample_period_us = 1000001; }),
        Status::kInvalidArgument, wire::Reason::kSamplePeriod, 100},
-      {"no channel", with([](auto& c) { c.channel_mask = 0; }), Status::kInvalidArgument, wire::Reason::kChannelSelection},
-      {"seventh channel", with([](auto& c) { c.channel_mask = 0x41; }), Status::kInvalidArgument, wire::Reason::kChannelSelection},
-      {"unknown flag", with([](auto& c) { c.flags = 0x80; }), Status::kInvalidArgument, wire::Reason::kChannelSelection},
-      {"decimation 0", with([](auto& c) { c.decimation = 0; }), Status::kInvalidArgument, wire::Reason::kDecimation, 1000},
-      {"decimation too big", with([](auto& c) { c.decimation = 2000; }), Status::kInvalidArgument, wire::Reason::kDecimation, 1000},
+      {"no channel", with([](auto& c) { c.channel_mask = 0; }), Status::kInvalidArgument,
+       wire::Reason::kChannelSelection},
+      {"seventh channel", with([](auto& c) { c.channel_mask = 0x41; }), Status::kInvalidArgument,
+       wire::Reason::kChannelSelection},
+      {"unknown flag", with([](auto& c) { c.flags = 0x80; }), Status::kInvalidArgument,
+       wire::Reason::kChannelSelection},
+      {"decimation 0", with([](auto& c) { c.decimation = 0; }), Status::kInvalidArgument,
+       wire::Reason::kDecimation, 1000},
+      {"decimation too big", with([](auto& c) { c.decimation = 2000; }), Status::kInvalidArgument,
+       wire::Reason::kDecimation, 1000},
       {"decimation the decimator lacks", with([](auto& c) { c.decimation = 3; }),
        Status::kInvalidArgument, wire::Reason::kDecimation, 1000},
       {"immediate with pre-trigger", with([](auto& c) { c.pretrigger_records = 1; }),
@@ -293,7 +298,7 @@ TEST(CoreCommands, AcquisitionStateRules) {
   const Response unconfigured = h.Request(Command::kAcqStart);
   EXPECT_EQ(unconfigured.status(), Status::kFailedPrecondition);
   EXPECT_EQ(ReasonOf(unconfigured).reason, wire::Reason::kNotConfigured);
-  EXPECT_EQ(h.Request(Command::kAcqStop).status(), Status::kOk);                   // idempotent
+  EXPECT_EQ(h.Request(Command::kAcqStop).status(), Status::kOk);  // idempotent
   ASSERT_EQ(h.StartAcquisition(Immediate()), Status::kOk);
   EXPECT_TRUE(h.fake.frames.running());
   EXPECT_EQ(h.fake.frames.period_us, 200u);

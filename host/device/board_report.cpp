@@ -16,8 +16,8 @@ std::string DescribeClips(const wire::ClipResponse& clips, const wire::Calibrati
     const char* name = ChannelStem(static_cast<wire::Channel>(c));
     counts << (clipped_channels == 0 ? "" : ", ") << name << " " << clips.clipped[c];
     if (record != nullptr && record->channels[c].unit != wire::Unit::kCounts) {
-      scales << (scales.tellp() == 0 ? "" : ", ") << name << " "
-             << record->channels[c].full_scale << " " << UnitName(record->channels[c].unit);
+      scales << (scales.tellp() == 0 ? "" : ", ") << name << " " << record->channels[c].full_scale
+             << " " << UnitName(record->channels[c].unit);
     }
     ++clipped_channels;
   }

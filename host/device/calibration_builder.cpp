@@ -188,8 +188,8 @@ wire::CalibrationRecord BuildCalibrationRecord(const RecordInputs& in) {
               "; a channel has one range: design the observer for the sensor's (vibid dob "
               "design " +
               DesignOptionFor(d.input_kind[i]) + " " + Number(s->full_scale) +
-              "), or, if the sensor's range is " + Number(static_cast<double>(observer_fs)) +
-              " " + u + ", set channels." + name + ".full_scale to it in the sensors file");
+              "), or, if the sensor's range is " + Number(static_cast<double>(observer_fs)) + " " +
+              u + ", set channels." + name + ".full_scale to it in the sensors file");
         }
         r.dob_input_channel[i] = static_cast<std::uint8_t>(c);
         routed = true;

@@ -249,8 +249,8 @@ std::vector<std::uint8_t> Connection::CalGet(wire::CalGetTrailer* trailer) {
         if (trailer != nullptr) *trailer = t;
         return bytes;
       } else if (step.event == wire::StreamDecoder::Event::kRefused) {
-        throw DeviceError(RefusalMessage(static_cast<std::uint8_t>(Command::kCalGet), step.status,
-                                         step.payload));
+        throw DeviceError(
+            RefusalMessage(static_cast<std::uint8_t>(Command::kCalGet), step.status, step.payload));
       } else if (step.event == wire::StreamDecoder::Event::kError) {
         break;
       }
@@ -369,9 +369,9 @@ bool Connection::ReceiveLogStream(std::uint16_t token, std::uint32_t first, LogP
       if (wire::Decode(step.payload, trailer) != Status::kOk) return false;
       break;
     } else if (step.event == wire::StreamDecoder::Event::kRefused) {
-      throw DeviceError(RefusalMessage(static_cast<std::uint8_t>(Command::kLogRead), step.status,
-                                       step.payload) +
-                        " (log-read from record " + std::to_string(first) + ")");
+      throw DeviceError(
+          RefusalMessage(static_cast<std::uint8_t>(Command::kLogRead), step.status, step.payload) +
+          " (log-read from record " + std::to_string(first) + ")");
     } else if (step.event == wire::StreamDecoder::Event::kError) {
       return false;
     }

@@ -35,8 +35,7 @@ std::string ReasonText(Status status, const wire::Refusal& r) {
       return "the board is acquiring; wait for the acquisition to end (or interrupt the vibid "
              "acquire that runs it) and try again";
     case wire::Reason::kSamplePeriod:
-      if (d == 0)
-        return "the board's converters cannot sample this fast; choose a lower --rate-hz";
+      if (d == 0) return "the board's converters cannot sample this fast; choose a lower --rate-hz";
       return "the sample rate is outside the board's 1 Hz .. " + Hz(1000000u / d) +
              "; choose --rate-hz from 1 to " + std::to_string(1000000u / d);
     case wire::Reason::kChannelSelection:

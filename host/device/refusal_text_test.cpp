@@ -49,16 +49,17 @@ TEST(RefusalText, EveryReasonSaysItsCauseAndAWayOut) {
     EXPECT_NE(m.find("; "), std::string::npos) << "cause; way out: " << m;
     EXPECT_NE(m.find(std::string(wire::ReasonName(reason)) + "]"), std::string::npos) << m;
   }
-  EXPECT_NE(RefusalMessage(0x12, Status::kFailedPrecondition,
-                           Payload(wire::Reason::kNothingStaged))
+  EXPECT_NE(RefusalMessage(0x12, Status::kFailedPrecondition, Payload(wire::Reason::kNothingStaged))
                 .find("no calibration record is staged; stage one first (vibid cal upload"),
             std::string::npos);
-  EXPECT_NE(RefusalMessage(0x24, Status::kOutOfRange, Payload(wire::Reason::kLogOverwritten, 190171))
-                .find("the oldest the board holds is record 190171 (vibid log pull --from 190171)"),
-            std::string::npos);
-  EXPECT_NE(RefusalMessage(0x20, Status::kInvalidArgument, Payload(wire::Reason::kSamplePeriod, 100))
-                .find("outside the board's 1 Hz .. 10000 Hz; choose --rate-hz from 1 to 10000"),
-            std::string::npos);
+  EXPECT_NE(
+      RefusalMessage(0x24, Status::kOutOfRange, Payload(wire::Reason::kLogOverwritten, 190171))
+          .find("the oldest the board holds is record 190171 (vibid log pull --from 190171)"),
+      std::string::npos);
+  EXPECT_NE(
+      RefusalMessage(0x20, Status::kInvalidArgument, Payload(wire::Reason::kSamplePeriod, 100))
+          .find("outside the board's 1 Hz .. 10000 Hz; choose --rate-hz from 1 to 10000"),
+      std::string::npos);
 }
 
 TEST(RefusalText, AReasonThisHostDoesNotKnowIsSaidAsSuch) {

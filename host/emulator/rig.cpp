@@ -63,9 +63,10 @@ AnalogSensor SensorFromJson(const nlohmann::json& json, const char* range_key,
   // The emulator is the board: its converters are the board's, and the log's 12.4 format holds
   // their codes and no more (a wider code would sit at the format's top, every sample clipped).
   Require(bits == kBoardProfile.adc_bits,
-          source + ": \"adc_bits\" is " + std::to_string(bits) + ", but the board's converters have " +
-              std::to_string(kBoardProfile.adc_bits) + " bits: write " +
-              std::to_string(kBoardProfile.adc_bits) + " (a finer sensor is quantized by the board's ADC)");
+          source + ": \"adc_bits\" is " + std::to_string(bits) +
+              ", but the board's converters have " + std::to_string(kBoardProfile.adc_bits) +
+              " bits: write " + std::to_string(kBoardProfile.adc_bits) +
+              " (a finer sensor is quantized by the board's ADC)");
   s.adc_bits = static_cast<int>(bits);
   return s;
 }
@@ -154,8 +155,8 @@ RigSpec RigFromJson(const nlohmann::json& json, const std::string& source) {
   const double board_max_hz = kBoardProfile.max_sample_rate_hz();
   Require(r.max_sample_rate_hz <= board_max_hz,
           source + ": \"max_sample_rate_hz\" is " + FormatRate(r.max_sample_rate_hz) +
-              ", but the board samples at " + FormatRate(board_max_hz) +
-              " at most: write " + FormatRate(board_max_hz) + " or less");
+              ", but the board samples at " + FormatRate(board_max_hz) + " at most: write " +
+              FormatRate(board_max_hz) + " or less");
   return r;
 }
 
@@ -196,8 +197,7 @@ void RigSimulator::Select(const Scenario& scenario) { scenario_ = scenario; }
 
 Status RigSimulator::SelectScenario(const wire::ScenarioRequest& request, wire::Refusal& why) {
   Scenario s;
-  if (const Status st = ParseScenario(request, spec_.dofs(), s, &why); st != Status::kOk)
-    return st;
+  if (const Status st = ParseScenario(request, spec_.dofs(), s, &why); st != Status::kOk) return st;
   Select(s);
   return Status::kOk;
 }

@@ -22,14 +22,14 @@ TEST(Refusal, EncodesAsGolden) {
   // Golden: acq-configure refused invalid-argument, reason observer-rate (11), detail 5000 Hz.
   const Refusal r{.reason = Reason::kObserverRate, .detail = 5000};
   Report out{};
-  ASSERT_EQ(BuildReport(Command::kAcqConfigure, 0x0A0D, 0, kFlagResponse,
-                        Status::kInvalidArgument, r, out),
+  ASSERT_EQ(BuildReport(Command::kAcqConfigure, 0x0A0D, 0, kFlagResponse, Status::kInvalidArgument,
+                        r, out),
             Status::kOk);
   EXPECT_EQ(out, GoldenReport("refusal_reason_response"));
 
   const Refusal staged{.reason = Reason::kNothingStaged};
-  ASSERT_EQ(BuildReport(Command::kCalCommit, 0x0C0F, 0, kFlagResponse,
-                        Status::kFailedPrecondition, staged, out),
+  ASSERT_EQ(BuildReport(Command::kCalCommit, 0x0C0F, 0, kFlagResponse, Status::kFailedPrecondition,
+                        staged, out),
             Status::kOk);
   EXPECT_EQ(out, GoldenReport("refusal_nothing_staged"));
 }
@@ -62,8 +62,7 @@ TEST(Refusal, ReadsTheFirstEightBytesAndRefusesFewer) {
   EXPECT_EQ(r.reason, Reason::kScenarioParameter);
   EXPECT_EQ(r.detail, 3u);
   for (std::size_t n = 1; n < Refusal::kBytes; ++n) {
-    EXPECT_EQ(Decode(std::span<const std::uint8_t>(longer).first(n), r),
-              Status::kInvalidArgument)
+    EXPECT_EQ(Decode(std::span<const std::uint8_t>(longer).first(n), r), Status::kInvalidArgument)
         << n;
   }
 }
@@ -93,9 +92,9 @@ TEST(Refusal, EveryReasonHasItsOwnName) {
 TEST(Refusal, AStreamRefusalHandsOverItsReason) {
   Report refusal{};
   const Refusal sent{.reason = Reason::kLogOverwritten, .detail = 190171};
-  ASSERT_EQ(BuildReport(Command::kLogRead, 0x7777, 0, kFlagResponse, Status::kOutOfRange, sent,
-                        refusal),
-            Status::kOk);
+  ASSERT_EQ(
+      BuildReport(Command::kLogRead, 0x7777, 0, kFlagResponse, Status::kOutOfRange, sent, refusal),
+      Status::kOk);
   StreamDecoder d(Command::kLogRead, 0x7777);
   ASSERT_EQ(d.Feed(GoldenReport("log_stream_0")).event, StreamDecoder::Event::kData);
   const auto step = d.Feed(refusal);

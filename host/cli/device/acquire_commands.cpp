@@ -124,9 +124,9 @@ wire::AcqConfigureRequest AcquireConfig(const AcquireArgs& a, Trigger& trig) {
               " Hz at most (a " + std::to_string(wire::kMinSamplePeriodUs) +
               " us period); choose --rate-hz " + FormatNumber(1e6 / wire::kMinSamplePeriodUs) +
               " or less");
-  Require(period_us <= wire::kMaxSamplePeriodUs,
-          rate + ": the board samples at " + FormatNumber(1e6 / wire::kMaxSamplePeriodUs) +
-              " Hz at least; choose --rate-hz 1 or more");
+  Require(period_us <= wire::kMaxSamplePeriodUs, rate + ": the board samples at " +
+                                                     FormatNumber(1e6 / wire::kMaxSamplePeriodUs) +
+                                                     " Hz at least; choose --rate-hz 1 or more");
   Require(std::abs(period_us - std::round(period_us)) < 1e-6,
           rate + ": the board's sample period is a whole number of microseconds, and 1000000 / " +
               FormatNumber(a.rate_hz) + " = " + FormatNumber(period_us) +

@@ -171,7 +171,8 @@ std::string InfoText(const device::Connection& c, const nlohmann::json& j) {
   std::string counts;
   for (const auto& ch : j["channels"]) {  // in channel order
     const auto n = clips["channels"][ch.get<std::string>()].get<std::uint32_t>();
-    if (n != 0) counts += (counts.empty() ? "" : ", ") + ch.get<std::string>() + " " + std::to_string(n);
+    if (n != 0)
+      counts += (counts.empty() ? "" : ", ") + ch.get<std::string>() + " " + std::to_string(n);
   }
   o << (counts.empty() ? "none" : counts) << " of " << samples
     << " samples in the last acquisition\n";
@@ -228,7 +229,7 @@ void PrintMonitorLine(const wire::LatestResponse& l, const wire::StatusResponse&
   }
   std::cout << "\t" << l.d_hat << "\t";
   if (kind == device::LatestKind::kStopped) {
-    std::cout << "stopped: the last frame of the acquisition that " 
+    std::cout << "stopped: the last frame of the acquisition that "
               << (l.acq_state == wire::AcqState::kDone ? "ended" : "was stopped") << std::endl;
     return;
   }

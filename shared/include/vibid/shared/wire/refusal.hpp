@@ -39,10 +39,10 @@ enum class Reason : std::uint16_t {
   kNotCalibrated = 14,      ///< cal-get on a board with no calibration.
   kNoLog = 15,              ///< log-read before any acquisition.
   kLogOverwritten = 16,     ///< The records asked for are overwritten; detail: the oldest held.
-  kUploadSequence = 17,     ///< cal-put-data out of order or without a begin; detail: the chunk due.
-  kRecordLength = 18,       ///< cal-put-begin announces another length; detail: the length expected.
+  kUploadSequence = 17,     ///< cal-put-data out of order or without begin; detail: chunk due.
+  kRecordLength = 18,       ///< cal-put-begin of another length; detail: the length taken.
   kRecordCrc = 19,          ///< The uploaded record does not match its announced CRC-32.
-  kRecordInvalid = 20,      ///< The record fails the board's checks; detail: the Status of its decode.
+  kRecordInvalid = 20,      ///< The record fails the board's checks; detail: the decode's Status.
   kFlashWrite = 21,         ///< Writing the flash failed (counted in get-status flash_errors).
   kNoBootloader = 22,       ///< This port has no DFU bootloader.
   kUnknownScenario = 23,    ///< Emulator: no scenario of that name.
