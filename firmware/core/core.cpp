@@ -185,26 +185,27 @@ void Core::Handle(const wire::Report& request) {
 Status Core::Dispatch(const Header& h, std::span<const std::uint8_t> payload) {
   if (wire::IsPortCommand(h.command)) return HandlePortCommand(h, payload);
   // Commands without a request payload refuse one.
-  const Status empty = payload.empty()
-                           ? Status::kOk
-                           : Refuse(Status::kInvalidArgument, wire::Reason::kPayloadLength);
+  const bool stray_payload = !payload.empty();
+  const auto refuse_payload = [this] {
+    return Refuse(Status::kInvalidArgument, wire::Reason::kPayloadLength);
+  };
   switch (static_cast<Command>(h.command)) {
     case Command::kPing: Respond(h, Status::kOk, payload); return Status::kOk;
     case Command::kGetInfo:
-      if (empty != Status::kOk) return empty;
+      if (stray_payload) return refuse_payload();
       RespondWith(h, Info());
       return Status::kOk;
     case Command::kGetStatus:
-      if (empty != Status::kOk) return empty;
+      if (stray_payload) return refuse_payload();
       RespondWith(h, CurrentStatus());
       return Status::kOk;
     case Command::kReset:
-      if (empty != Status::kOk) return empty;
+      if (stray_payload) return refuse_payload();
       Respond(h, Status::kOk);
       deferred_ = Deferred::kReset;
       return Status::kOk;
     case Command::kEnterDfu:
-      if (empty != Status::kOk) return empty;
+      if (stray_payload) return refuse_payload();
       if ((port_.system.PortCapabilities() & wire::kCapDfu) == 0)
         return Refuse(Status::kUnimplemented, wire::Reason::kNoBootloader);
       if (Sampling()) return Refuse(Status::kFailedPrecondition, wire::Reason::kBusySampling);
@@ -213,24 +214,24 @@ Status Core::Dispatch(const Header& h, std::span<const std::uint8_t> payload) {
       return Status::kOk;
     case Command::kCalPutBegin: return HandleCalPutBegin(h, payload);
     case Command::kCalPutData: return HandleCalPutData(h, payload);
-    case Command::kCalCommit: return empty != Status::kOk ? empty : HandleCalCommit(h);
-    case Command::kCalGet: return empty != Status::kOk ? empty : HandleCalGet(h);
+    case Command::kCalCommit: return stray_payload ? refuse_payload() : HandleCalCommit(h);
+    case Command::kCalGet: return stray_payload ? refuse_payload() : HandleCalGet(h);
     case Command::kAcqConfigure: return HandleAcqConfigure(h, payload);
-    case Command::kAcqStart: return empty != Status::kOk ? empty : HandleAcqStart(h);
+    case Command::kAcqStart: return stray_payload ? refuse_payload() : HandleAcqStart(h);
     case Command::kAcqStop:
-      if (empty != Status::kOk) return empty;
+      if (stray_payload) return refuse_payload();
       StopSampling();
       RespondWith(h, wire::AcqStopResponse{.records_written = ring_.written()});
       return Status::kOk;
     case Command::kReadLatest: {
-      if (empty != Status::kOk) return empty;
+      if (stray_payload) return refuse_payload();
       wire::LatestResponse latest;
       if (!sampler_.Latest(latest)) latest.acq_state = sampler_.state();
       RespondWith(h, latest);
       return Status::kOk;
     }
     case Command::kGetClips:
-      if (empty != Status::kOk) return empty;
+      if (stray_payload) return refuse_payload();
       RespondWith(h, sampler_.Clips());
       return Status::kOk;
     case Command::kLogRead: return HandleLogRead(h, payload);
