@@ -46,12 +46,12 @@ class AcquireBudgetTest : public ::testing::Test {
     args.insert(args.begin(), {"--device", emu->device_spec()});
     return RunVibid(args);
   }
-  /// Nominal model, an observer designed at `fs_hz`, uploaded and committed: acquisitions at that
-  /// rate log d_hat.
+  /// Nominal model, an observer designed at `fs_hz` for the sensors' 500 N load cell, uploaded
+  /// and committed: acquisitions at that rate log d_hat.
   void CalibrateWithObserver(const std::string& fs_hz) {
     const std::string design = dir + "/design.json";
     ASSERT_EQ(RunVibid({"dob", "design", VIBID_SOURCE_DIR "/examples/rig_nominal.json", "--fs-hz",
-                        fs_hz, "--force-fs-n", "400", "-o", design})
+                        fs_hz, "--force-fs-n", "500", "-o", design})
                   .exit_code,
               0);
     const auto up =

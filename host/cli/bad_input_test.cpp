@@ -67,10 +67,10 @@ constexpr const char* kSensors =
 constexpr const char* kRig =
     "{\"topology\": \"chain\", \"masses_kg\": [0.5848], \"effective_mass_loss\": [0.0],\n"
     " \"springs_n_per_m\": [712.6], \"dampers_ns_per_m\": [0.73], \"coulomb_n\": [0.01],\n"
-    " \"load_cells\": [{\"range_n\": 100.0, \"noise_n\": 0.02, \"adc_bits\": 16},\n"
-    "                {\"range_n\": 20.0, \"noise_n\": 0.005, \"adc_bits\": 16}],\n"
-    " \"accelerometers\": [{\"range_m_s2\": 100.0, \"noise_m_s2\": 0.02, \"adc_bits\": 16},\n"
-    "                    {\"range_m_s2\": 100.0, \"noise_m_s2\": 0.02, \"adc_bits\": 16}],\n"
+    " \"load_cells\": [{\"range_n\": 100.0, \"noise_n\": 0.02, \"adc_bits\": 12},\n"
+    "                {\"range_n\": 20.0, \"noise_n\": 0.005, \"adc_bits\": 12}],\n"
+    " \"accelerometers\": [{\"range_m_s2\": 100.0, \"noise_m_s2\": 0.02, \"adc_bits\": 12},\n"
+    "                    {\"range_m_s2\": 100.0, \"noise_m_s2\": 0.02, \"adc_bits\": 12}],\n"
     " \"encoder_counts_per_m\": 56000.0, \"max_sample_rate_hz\": 10000.0}\n";
 
 // How the bad file of a row is made.

@@ -4,6 +4,7 @@
 #include <random>
 
 #include "vibid/device/error.hpp"
+#include "vibid/device/refusal_text.hpp"
 #include "vibid/shared/wire/stream.hpp"
 
 namespace vibid::device {
@@ -192,15 +193,8 @@ Reply Connection::Expect(Command command, std::span<const std::uint8_t> payload,
                          std::uint16_t sequence) {
   Reply r = Call(command, payload, sequence);
   if (r.header.status != Status::kOk) {
-    std::string why;
-    switch (r.header.status) {
-      case Status::kUnimplemented: why = " (the device does not know this command)"; break;
-      case Status::kFailedPrecondition: why = " (not allowed in the device's current state)"; break;
-      case Status::kVersionMismatch: why = " (protocol version)"; break;
-      default: break;
-    }
-    throw DeviceError("the device refused " + CommandText(static_cast<std::uint8_t>(command)) +
-                      ": " + StatusName(r.header.status) + why);
+    throw DeviceError(
+        RefusalMessage(static_cast<std::uint8_t>(command), r.header.status, r.payload()));
   }
   return r;
 }
@@ -255,7 +249,8 @@ std::vector<std::uint8_t> Connection::CalGet(wire::CalGetTrailer* trailer) {
         if (trailer != nullptr) *trailer = t;
         return bytes;
       } else if (step.event == wire::StreamDecoder::Event::kRefused) {
-        throw DeviceError(std::string("the device refused cal-get: ") + StatusName(step.status));
+        throw DeviceError(
+            RefusalMessage(static_cast<std::uint8_t>(Command::kCalGet), step.status, step.payload));
       } else if (step.event == wire::StreamDecoder::Event::kError) {
         break;
       }
@@ -285,7 +280,7 @@ void Connection::CalPut(std::span<const std::uint8_t> record, const Progress& pr
       const bool last = c + 1 == chunks;
       throw DeviceError(std::string("the device refused the calibration record") +
                         (last ? "" : " at chunk " + std::to_string(c)) + ": " +
-                        StatusName(r.header.status));
+                        RefusalCause(r.header.status, r.payload()));
     }
     if (progress) progress(c + 1, chunks);
   }
@@ -310,6 +305,11 @@ wire::LatestResponse Connection::ReadLatest() {
   return DecodeAnswer<wire::LatestResponse>(Expect(Command::kReadLatest), "read-latest");
 }
 
+std::optional<wire::ClipResponse> Connection::GetClips() {
+  if (info_.protocol_minor < 1) return std::nullopt;  // get-clips came with protocol 2.1
+  return DecodeAnswer<wire::ClipResponse>(Expect(Command::kGetClips), "get-clips");
+}
+
 void Connection::DobControl(bool run) {
   wire::DobControlRequest r;
   r.run = run ? 1 : 0;
@@ -324,7 +324,12 @@ void Connection::SelectScenario(const std::string& name, std::span<const float> 
   if (params.size() > r.params.size()) throw DeviceError("a scenario takes at most 4 parameters");
   std::copy(name.begin(), name.end(), r.name.begin());
   std::copy(params.begin(), params.end(), r.params.begin());
-  static_cast<void>(Expect(Command::kSelectScenario, r));
+  const Reply reply = Call(Command::kSelectScenario, wire::EncodedBytes(r));
+  if (reply.header.status != Status::kOk) {
+    // The scenario's name belongs in the sentence: the board does not echo it.
+    throw DeviceError("the device refused select-scenario '" + name +
+                      "': " + RefusalCause(reply.header.status, reply.payload()));
+  }
 }
 
 bool Connection::ReadLogOnce(std::uint32_t first, std::uint32_t max, LogPull& pull) {
@@ -364,8 +369,9 @@ bool Connection::ReceiveLogStream(std::uint16_t token, std::uint32_t first, LogP
       if (wire::Decode(step.payload, trailer) != Status::kOk) return false;
       break;
     } else if (step.event == wire::StreamDecoder::Event::kRefused) {
-      throw DeviceError(std::string("the device refused log-read from record ") +
-                        std::to_string(first) + ": " + StatusName(step.status));
+      throw DeviceError(
+          RefusalMessage(static_cast<std::uint8_t>(Command::kLogRead), step.status, step.payload) +
+          " (log-read from record " + std::to_string(first) + ")");
     } else if (step.event == wire::StreamDecoder::Event::kError) {
       return false;
     }
@@ -406,8 +412,8 @@ LogPull Connection::AcquireStreamed(const Progress& progress) {
     throw DeviceError("no answer to acq-start from " + Describe());
   }
   if (answer.header.status != Status::kOk) {
-    throw DeviceError(std::string("the device refused acq-start: ") +
-                      StatusName(answer.header.status));
+    throw DeviceError(RefusalMessage(static_cast<std::uint8_t>(Command::kAcqStart),
+                                     answer.header.status, answer.payload()));
   }
   LogPull pull;
   if (ReceiveLogStream(token, 0, pull, progress)) return pull;

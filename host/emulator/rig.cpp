@@ -3,10 +3,13 @@
 #include <algorithm>
 #include <cmath>
 #include <numbers>
+#include <sstream>
+#include <string>
 
 #include "scenario.hpp"
 #include "vibid/common/error.hpp"
 #include "vibid/common/json_file.hpp"
+#include "vibid/shared/board_profile.hpp"
 
 namespace vibid::emu {
 namespace {
@@ -57,7 +60,13 @@ AnalogSensor SensorFromJson(const nlohmann::json& json, const char* range_key,
   Require(json.contains("adc_bits") && json.at("adc_bits").is_number_integer(),
           source + ": missing integer \"adc_bits\"");
   const std::int64_t bits = json.at("adc_bits").get<std::int64_t>();
-  Require(bits >= 8 && bits <= 24, source + ": \"adc_bits\" must be 8..24");
+  // The emulator is the board: its converters are the board's, and the log's 12.4 format holds
+  // their codes and no more (a wider code would sit at the format's top, every sample clipped).
+  Require(bits == kBoardProfile.adc_bits,
+          source + ": \"adc_bits\" is " + std::to_string(bits) +
+              ", but the board's converters have " + std::to_string(kBoardProfile.adc_bits) +
+              " bits: write " + std::to_string(kBoardProfile.adc_bits) +
+              " (a finer sensor is quantized by the board's ADC)");
   s.adc_bits = static_cast<int>(bits);
   return s;
 }
@@ -69,6 +78,12 @@ std::array<AnalogSensor, 2> SensorPair(const nlohmann::json& json, const char* k
           source + ": \"" + key + "\" must be an array of 2 sensors");
   return {SensorFromJson(json.at(key)[0], range_key, noise_key, source + " " + key + "[0]"),
           SensorFromJson(json.at(key)[1], range_key, noise_key, source + " " + key + "[1]")};
+}
+
+std::string FormatRate(double hz) {
+  std::ostringstream o;
+  o << hz << " Hz";
+  return o.str();
 }
 
 nlohmann::json SensorToJson(const AnalogSensor& s, const char* range_key, const char* noise_key) {
@@ -137,6 +152,11 @@ RigSpec RigFromJson(const nlohmann::json& json, const std::string& source) {
   r.accelerometers = SensorPair(json, "accelerometers", "range_m_s2", "noise_m_s2", source);
   r.encoder_counts_per_m = Number(json, "encoder_counts_per_m", source);
   r.max_sample_rate_hz = Number(json, "max_sample_rate_hz", source);
+  const double board_max_hz = kBoardProfile.max_sample_rate_hz();
+  Require(r.max_sample_rate_hz <= board_max_hz,
+          source + ": \"max_sample_rate_hz\" is " + FormatRate(r.max_sample_rate_hz) +
+              ", but the board samples at " + FormatRate(board_max_hz) + " at most: write " +
+              FormatRate(board_max_hz) + " or less");
   return r;
 }
 
@@ -175,9 +195,9 @@ RigSimulator::RigSimulator(RigSpec spec, std::uint64_t seed) : spec_(std::move(s
 
 void RigSimulator::Select(const Scenario& scenario) { scenario_ = scenario; }
 
-Status RigSimulator::SelectScenario(const wire::ScenarioRequest& request) {
+Status RigSimulator::SelectScenario(const wire::ScenarioRequest& request, wire::Refusal& why) {
   Scenario s;
-  if (const Status st = ParseScenario(request, spec_.dofs(), s); st != Status::kOk) return st;
+  if (const Status st = ParseScenario(request, spec_.dofs(), s, &why); st != Status::kOk) return st;
   Select(s);
   return Status::kOk;
 }

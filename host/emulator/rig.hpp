@@ -97,7 +97,7 @@ class RigSimulator final : public SimulatedRig {
   void Select(const Scenario& scenario);
 
   /// select-scenario from the wire: parsed against this rig's masses, then selected.
-  Status SelectScenario(const wire::ScenarioRequest& request) override;
+  Status SelectScenario(const wire::ScenarioRequest& request, wire::Refusal& why) override;
   double MaxSampleRateHz() const override { return spec_.max_sample_rate_hz; }
 
   /// Puts the rig at rest and restarts the excitation for a new acquisition at dt_s.

@@ -4,6 +4,8 @@
 
 #include <gtest/gtest.h>
 
+#include <filesystem>
+
 #include <cmath>
 #include <numbers>
 
@@ -275,10 +277,49 @@ TEST(RigFile, RoundTripAndClearErrors) {
   EXPECT_EQ(message(j), "rig.json: \"springs_n_per_m\" values must be > 0");
   j = RigToJson(DefaultRig());
   j["load_cells"][1]["adc_bits"] = 40;
-  EXPECT_EQ(message(j), "rig.json load_cells[1]: \"adc_bits\" must be 8..24");
+  EXPECT_EQ(message(j),
+            "rig.json load_cells[1]: \"adc_bits\" is 40, but the board's converters have 12 bits: "
+            "write 12 (a finer sensor is quantized by the board's ADC)");
   j = RigToJson(DefaultRig());
   j["topology"] = "cart";
   EXPECT_NE(message(j).find("\"topology\" must be \"chain\""), std::string::npos);
+}
+
+// The emulator never does what the board cannot: a converter other than the board's 12-bit ADC
+// (kBoardProfile) or a rate beyond its fastest is refused, naming the value and the way out.
+TEST(RigFile, PartsTheBoardCannotHaveAreRefused) {
+  auto message = [](const nlohmann::json& j) {
+    return InputErrorOf([&] { RigFromJson(j, "rig.json"); }, "accepted");
+  };
+  for (const int bits : {8, 11, 13, 16, 24}) {
+    nlohmann::json j = RigToJson(DefaultRig());
+    j["accelerometers"][0]["adc_bits"] = bits;
+    EXPECT_EQ(message(j), "rig.json accelerometers[0]: \"adc_bits\" is " + std::to_string(bits) +
+                              ", but the board's converters have 12 bits: write 12 (a finer "
+                              "sensor is quantized by the board's ADC)");
+  }
+  nlohmann::json j = RigToJson(DefaultRig());
+  j["max_sample_rate_hz"] = 20000.0;
+  EXPECT_EQ(message(j),
+            "rig.json: \"max_sample_rate_hz\" is 20000 Hz, but the board samples at 10000 Hz at "
+            "most: write 10000 Hz or less");
+  j["max_sample_rate_hz"] = 10000.0;  // the board's own limit (board_profile.hpp: 100 us)
+  EXPECT_NO_THROW(RigFromJson(j, "rig.json"));
+}
+
+// Every rig file shipped in rigs/ loads: each is a board the emulator can be.
+TEST(RigFile, EveryShippedRigIsValid) {
+  int files = 0;
+  for (const auto& e :
+       std::filesystem::directory_iterator(std::string(VIBID_SOURCE_DIR) + "/host/emulator/rigs")) {
+    if (e.path().extension() != ".json") continue;
+    ++files;
+    RigSpec r;
+    EXPECT_NO_THROW(r = LoadRig(e.path().string())) << e.path();
+    for (const AnalogSensor& s : r.load_cells) EXPECT_EQ(s.adc_bits, 12) << e.path();
+    for (const AnalogSensor& s : r.accelerometers) EXPECT_EQ(s.adc_bits, 12) << e.path();
+  }
+  EXPECT_GE(files, 2);  // default.json and cart_1dof.json at least
 }
 
 }  // namespace

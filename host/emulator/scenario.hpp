@@ -15,11 +15,14 @@
 #include "rig.hpp"
 #include "vibid/shared/status.hpp"
 #include "vibid/shared/wire/commands.hpp"
+#include "vibid/shared/wire/refusal.hpp"
 
 namespace vibid::emu {
 
 /// @returns kOk with `out` set; kInvalidArgument for an unknown name or a parameter out of range
-///          (negative, not finite, a mass or configuration the rig does not have).
-Status ParseScenario(const wire::ScenarioRequest& request, int dofs, Scenario& out);
+///          (negative, not finite, a mass or configuration the rig does not have), with `why`
+///          (if given) naming which: kUnknownScenario, or kScenarioParameter and its index.
+Status ParseScenario(const wire::ScenarioRequest& request, int dofs, Scenario& out,
+                     wire::Refusal* why = nullptr);
 
 }  // namespace vibid::emu

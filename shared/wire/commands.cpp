@@ -165,6 +165,18 @@ Status Decode(std::span<const std::uint8_t> in, AcqStopResponse& v) {
   return Status::kOk;
 }
 
+void Encode(const ClipResponse& v, std::span<std::uint8_t> out) {
+  StoreU32(out, 0, v.ticks);
+  for (std::size_t i = 0; i < kChannelCount; ++i) StoreU32(out, 4 + 4 * i, v.clipped[i]);
+}
+
+Status Decode(std::span<const std::uint8_t> in, ClipResponse& v) {
+  if (in.size() != ClipResponse::kBytes) return Status::kInvalidArgument;
+  v.ticks = LoadU32(in, 0);
+  for (std::size_t i = 0; i < kChannelCount; ++i) v.clipped[i] = LoadU32(in, 4 + 4 * i);
+  return Status::kOk;
+}
+
 void Encode(const LatestResponse& v, std::span<std::uint8_t> out) {
   StoreU32(out, 0, v.tick);
   for (std::size_t i = 0; i < kChannelCount; ++i) StoreI32(out, 4 + 4 * i, v.calibrated[i]);
@@ -385,6 +397,7 @@ const char* CommandName(std::uint8_t id) {
     case Command::kAcqStop: return "acq-stop";
     case Command::kReadLatest: return "read-latest";
     case Command::kLogRead: return "log-read";
+    case Command::kGetClips: return "get-clips";
     case Command::kDobControl: return "dob-control";
     case Command::kSelectScenario: return "select-scenario";
     case Command::kInjectFrames: return "inject-frames";

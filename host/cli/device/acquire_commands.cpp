@@ -2,6 +2,7 @@
 #include <cmath>
 #include <cstdio>
 #include <iostream>
+#include <optional>
 
 #include "cli_support.hpp"
 #include "common/command.hpp"
@@ -9,6 +10,7 @@
 #include "device_commands.hpp"
 #include "session.hpp"
 #include "vibid/common/error.hpp"
+#include "vibid/device/board_report.hpp"
 #include "vibid/device/error.hpp"
 #include "vibid/device/link_budget.hpp"
 #include "vibid/device/log_table.hpp"
@@ -104,6 +106,11 @@ void WriteLog(device::Connection& c, const device::LogPull& pull, const std::str
               << pull.trailer.overrun_count << " ticks)";
   }
   std::cerr << (path.empty() || path == "-" ? "" : " written to " + path) << "\n";
+  // Clipped samples are in the file as the board saw them; say which, and how many.
+  if (const std::optional<wire::ClipResponse> clips = c.GetClips()) {
+    const std::string text = device::DescribeClips(*clips, has_record ? &rec : nullptr);
+    if (!text.empty()) std::cerr << "vibid: warning: " << text << "\n";
+  }
 }
 
 /// The acquisition the options ask for, checked as far as it can be without the board; `trig` gets
@@ -111,10 +118,19 @@ void WriteLog(device::Connection& c, const device::LogPull& pull, const std::str
 wire::AcqConfigureRequest AcquireConfig(const AcquireArgs& a, Trigger& trig) {
   wire::AcqConfigureRequest cfg;
   const double period_us = 1e6 / a.rate_hz;
-  Require(std::abs(period_us - std::round(period_us)) < 1e-6 &&
-              period_us >= wire::kMinSamplePeriodUs && period_us <= wire::kMaxSamplePeriodUs,
-          "--rate-hz " + std::to_string(a.rate_hz) +
-              ": the period must be a whole number of microseconds from 100 to 1000000");
+  const std::string rate = "--rate-hz " + FormatNumber(a.rate_hz);
+  Require(period_us >= wire::kMinSamplePeriodUs,
+          rate + ": the board samples at " + FormatNumber(1e6 / wire::kMinSamplePeriodUs) +
+              " Hz at most (a " + std::to_string(wire::kMinSamplePeriodUs) +
+              " us period); choose --rate-hz " + FormatNumber(1e6 / wire::kMinSamplePeriodUs) +
+              " or less");
+  Require(period_us <= wire::kMaxSamplePeriodUs, rate + ": the board samples at " +
+                                                     FormatNumber(1e6 / wire::kMaxSamplePeriodUs) +
+                                                     " Hz at least; choose --rate-hz 1 or more");
+  Require(std::abs(period_us - std::round(period_us)) < 1e-6,
+          rate + ": the board's sample period is a whole number of microseconds, and 1000000 / " +
+              FormatNumber(a.rate_hz) + " = " + FormatNumber(period_us) +
+              " is not; choose a rate that divides 1000000 (10000, 5000, 2500, 2000, 1000, ...)");
   cfg.sample_period_us = static_cast<std::uint32_t>(std::lround(period_us));
   cfg.decimation =
       static_cast<std::uint16_t>(DecimationFor(a.rate_hz, a.log_rate_hz, a.decimation));

@@ -20,7 +20,10 @@ struct DobControlArgs {
 void Run(const DobControlArgs& a) {
   WithDevice(*a.globals, [&](device::Connection& c) {
     c.DobControl(a.running);
-    std::cout << (a.running ? "observer running\n" : "observer stopped\n");
+    // The board samples only while an acquisition runs: say when the observer will step.
+    std::cout << (a.running ? "observer on: it steps on every sample of the acquisitions that "
+                              "follow (the board samples only while one runs)\n"
+                            : "observer off\n");
   });
 }
 

@@ -23,6 +23,7 @@
 #include <functional>
 #include <memory>
 #include <mutex>
+#include <optional>
 #include <span>
 #include <string>
 #include <thread>
@@ -111,6 +112,9 @@ class Connection {
   void StartAcquisition();
   wire::AcqStopResponse StopAcquisition();
   wire::LatestResponse ReadLatest();
+  /// Clipped samples per channel of the current or last acquisition; nullopt from a 2.0 board,
+  /// which does not count them per channel.
+  std::optional<wire::ClipResponse> GetClips();
   void DobControl(bool run);
   /// Emulator only (kCapScenarioSelect).
   void SelectScenario(const std::string& name, std::span<const float> params);
