@@ -21,7 +21,8 @@ namespace vibid::cli {
 namespace {
 
 constexpr const char* kAcquireHelp =
-    "Record from the board: configure, start, pull the log into a CSV";
+    "Record from the board: configure, start, pull the log into a CSV. Ctrl-C stops the "
+    "acquisition and keeps what it recorded (exit 130); a second Ctrl-C aborts";
 
 struct AcquireArgs {
   const GlobalOptions* globals = nullptr;

@@ -41,6 +41,11 @@ class SigintGuard {
 const std::atomic<bool>& InterruptFlag() { return g_interrupted; }
 
 void TakesDeviceOption(CLI::App* command) {
+  // The command's own --help lists its options only: say where the board comes from.
+  command->footer(
+      "The board: --device hid[:SERIAL]|usbip://HOST:PORT|serial:PATH|qemu, before or after the "
+      "command's name; default: the VIBID_DEVICE environment variable (the option wins over it), "
+      "else the only board found.");
   for (CLI::App* a = command; a != nullptr && a->get_parent() != nullptr; a = a->get_parent())
     a->fallthrough();
 }
