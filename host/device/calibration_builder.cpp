@@ -6,6 +6,7 @@
 
 #include "vibid/common/enum_names.hpp"
 #include "vibid/common/error.hpp"
+#include "vibid/common/json_keys.hpp"
 #include "vibid/common/text_input.hpp"
 #include "vibid/device/log_table.hpp"
 
@@ -58,6 +59,7 @@ SensorSet SensorsFromJson(const nlohmann::json& j, const std::string& source) {
   if (!j.is_object() || j.value("format", nlohmann::json()) != "vibid-sensors")
     fail("not a vibid sensors file");
   if (j.value("version", nlohmann::json()) != 1) fail("unsupported sensors file version");
+  RequireKnownKeys(j, {"format", "version", "channels"}, "sensors file " + source);
   if (!j.contains("channels") || !j["channels"].is_object()) fail("missing object 'channels'");
   SensorSet set;
   for (const auto& [name, c] : j["channels"].items()) {
@@ -66,6 +68,8 @@ SensorSet SensorsFromJson(const nlohmann::json& j, const std::string& source) {
       fail("channels: unknown channel '" + Printable(name) +
            "' (force1, force2, acc1, acc2, x1, x2)");
     const std::string where = source + ": channels." + name;
+    RequireKnownKeys(c, {"unit", "counts_per_unit", "offset_counts", "full_scale", "dof"},
+                     "sensors file " + source + " channels." + name);
     SensorScaling s;
     try {
       s.unit = UnitFromName(c.at("unit").get<std::string>(), where);

@@ -23,6 +23,8 @@ std::string VersionMessage(std::uint8_t device_major) {
 constexpr std::chrono::milliseconds kReaderPoll{20};
 /// Records per log-read request in a pull: a broken stream costs at most this many again.
 constexpr std::uint32_t kLogChunkRecords = 4096;
+/// How often a streamed acquisition asks whether to stop while no report arrives.
+constexpr std::chrono::milliseconds kStopPoll{100};
 
 }  // namespace
 
@@ -291,8 +293,10 @@ wire::CalCommitResponse Connection::CalCommit() {
 }
 
 wire::AcqConfigureResponse Connection::Configure(const wire::AcqConfigureRequest& request) {
-  return DecodeAnswer<wire::AcqConfigureResponse>(Expect(Command::kAcqConfigure, request),
-                                                  "acq-configure");
+  const auto answer = DecodeAnswer<wire::AcqConfigureResponse>(
+      Expect(Command::kAcqConfigure, request), "acq-configure");
+  configured_ = request;
+  return answer;
 }
 
 void Connection::StartAcquisition() { static_cast<void>(Expect(Command::kAcqStart)); }
@@ -343,11 +347,12 @@ bool Connection::ReadLogOnce(std::uint32_t first, std::uint32_t max, LogPull& pu
   static_cast<void>(
       wire::BuildReport(Command::kLogRead, token, 0, 0, Status::kOk, payload, request));
   Send(request);
-  return ReceiveLogStream(token, first, pull, {});
+  return ReceiveLogStream(token, first, pull, {}) == StreamEnd::kComplete;
 }
 
-bool Connection::ReceiveLogStream(std::uint16_t token, std::uint32_t first, LogPull& pull,
-                                  const Progress& progress) {
+Connection::StreamEnd Connection::ReceiveLogStream(std::uint16_t token, std::uint32_t first,
+                                                   LogPull& pull, const Progress& progress,
+                                                   const StopRequest& stop) {
   // Records are kept only from a stream whose trailer checked out (byte count and CRC-32 over
   // every data payload): a report corrupted in a way its header does not show is caught there.
   // The layout comes with the trailer, so payloads are kept whole until then.
@@ -356,24 +361,38 @@ bool Connection::ReceiveLogStream(std::uint16_t token, std::uint32_t first, LogP
   std::uint64_t bytes = 0;
   const auto id = static_cast<std::uint8_t>(Command::kLogRead);
   wire::LogTrailer trailer;
+  // With a stop to watch, the wait for a report is cut into slices so a stop is seen promptly.
+  const std::chrono::milliseconds slice =
+      stop ? std::min(options_.timeout, kStopPoll) : options_.timeout;
   for (;;) {
     CheckCancel();
     Reply r;
-    if (!Await(id, token, options_.timeout, r)) return false;
+    bool got = false;
+    for (auto waited = std::chrono::milliseconds(0); !got && waited < options_.timeout;
+         waited += slice) {
+      got = Await(id, token, slice, r);
+      if (!got && stop && stop(nullptr)) break;
+      CheckCancel();
+    }
+    if (stop && stop(nullptr)) {
+      AppendPartialStream(payloads, first, pull);
+      return StreamEnd::kStopped;
+    }
+    if (!got) return StreamEnd::kBroken;
     const auto step = decoder.Feed(r.report);
     if (step.event == wire::StreamDecoder::Event::kData) {
       payloads.emplace_back(step.payload.begin(), step.payload.end());
       bytes += step.payload.size();
       if (progress) progress(bytes, 0);
     } else if (step.event == wire::StreamDecoder::Event::kEnd) {
-      if (wire::Decode(step.payload, trailer) != Status::kOk) return false;
+      if (wire::Decode(step.payload, trailer) != Status::kOk) return StreamEnd::kBroken;
       break;
     } else if (step.event == wire::StreamDecoder::Event::kRefused) {
       throw DeviceError(
           RefusalMessage(static_cast<std::uint8_t>(Command::kLogRead), step.status, step.payload) +
           " (log-read from record " + std::to_string(first) + ")");
     } else if (step.event == wire::StreamDecoder::Event::kError) {
-      return false;
+      return StreamEnd::kBroken;
     }
   }
   wire::LogLayout layout;
@@ -399,10 +418,37 @@ bool Connection::ReceiveLogStream(std::uint16_t token, std::uint32_t first, LogP
   pull.layout = layout;
   pull.trailer = trailer;
   pull.records.insert(pull.records.end(), records.begin(), records.end());
-  return true;
+  return StreamEnd::kComplete;
 }
 
-LogPull Connection::AcquireStreamed(const Progress& progress) {
+void Connection::AppendPartialStream(const std::vector<std::vector<std::uint8_t>>& payloads,
+                                     std::uint32_t first, LogPull& pull) const {
+  // Without the trailer the layout is the configured one; the decoder has checked the reports'
+  // sequence numbers. A payload that does not decode ends what is kept: the log-read that
+  // follows starts again from the first record missing.
+  if (!configured_) return;
+  wire::LogLayout layout;
+  layout.channel_mask = configured_->channel_mask;
+  layout.flags = configured_->flags;
+  if (!layout.Valid() || configured_->decimation == 0) return;
+  if (pull.records.empty()) pull.first_record = first;
+  pull.layout = layout;
+  std::array<wire::LogRecord, wire::kMaxRecordsPerReport> batch{};
+  for (const auto& p : payloads) {
+    std::size_t n = 0;
+    if (wire::DecodeLogPayload(layout, configured_->decimation, p, batch, n) != Status::kOk) return;
+    pull.records.insert(pull.records.end(), batch.begin(),
+                        batch.begin() + static_cast<std::ptrdiff_t>(n));
+  }
+}
+
+void Connection::StopForKeeps(LogPull& pull) {
+  // acq-stop is one short exchange, not cancellable: the board must be left idle.
+  static_cast<void>(StopAcquisition());
+  pull.stopped = true;
+}
+
+LogPull Connection::AcquireStreamed(const Progress& progress, const StopRequest& stop) {
   const std::uint16_t token = NextToken();
   wire::Report request{};
   static_cast<void>(wire::BuildReport(Command::kAcqStart, token, 0, 0, Status::kOk, {}, request));
@@ -416,19 +462,31 @@ LogPull Connection::AcquireStreamed(const Progress& progress) {
                                      answer.header.status, answer.payload()));
   }
   LogPull pull;
-  if (ReceiveLogStream(token, 0, pull, progress)) return pull;
-  // The stream broke off (a lost or corrupted report, or a long wait for the trigger): the
-  // records are still in the board's log; pull them, and the rest, with log-read.
-  {
+  const StreamEnd end = ReceiveLogStream(token, 0, pull, progress, stop);
+  if (end == StreamEnd::kComplete) return pull;
+  if (end == StreamEnd::kStopped) {
+    // The rest of what was recorded (records in flight when the stop went out, and any the
+    // stream had not reached) is in the board's log.
+    StopForKeeps(pull);
+  } else {
+    // The stream broke off (a lost or corrupted report, or a long wait for the trigger): the
+    // records are still in the board's log; pull them, and the rest, with log-read.
     std::lock_guard lock(mutex_);
     ++counters_.stream_resumes;
   }
-  return PullLog(0, progress);
+  PullLogInto(pull, 0, progress, 8, stop);
+  return pull;
 }
 
 LogPull Connection::PullLog(std::uint32_t first, const Progress& progress, int max_resumes) {
   LogPull pull;
   pull.first_record = first;
+  PullLogInto(pull, first, progress, max_resumes, {});
+  return pull;
+}
+
+void Connection::PullLogInto(LogPull& pull, std::uint32_t first, const Progress& progress,
+                             int max_resumes, const StopRequest& stop) {
   int failures = 0;
   for (;;) {
     CheckCancel();
@@ -451,7 +509,12 @@ LogPull Connection::PullLog(std::uint32_t first, const Progress& progress, int m
     const bool sampling =
         t.acq_state == wire::AcqState::kArmed || t.acq_state == wire::AcqState::kAcquiring;
     if (progress) progress(have, std::max(have, t.records_written));
-    if (!sampling && have >= t.records_written) return pull;
+    if (sampling && !pull.stopped && stop && stop(&t)) {
+      // Read on: the next trailer says how many records the stopped acquisition left.
+      StopForKeeps(pull);
+      continue;
+    }
+    if (!sampling && have >= t.records_written) return;
     if (t.record_count == 0) std::this_thread::sleep_for(std::chrono::milliseconds(5));
   }
 }

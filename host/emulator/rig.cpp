@@ -10,6 +10,7 @@
 #include "vibid/common/error.hpp"
 #include "vibid/common/json_file.hpp"
 #include "vibid/shared/board_profile.hpp"
+#include "vibid/common/json_keys.hpp"
 
 namespace vibid::emu {
 namespace {
@@ -51,6 +52,7 @@ double Number(const nlohmann::json& json, const char* key, const std::string& so
 AnalogSensor SensorFromJson(const nlohmann::json& json, const char* range_key,
                             const char* noise_key, const std::string& source) {
   Require(json.is_object(), source + " must be an object");
+  RequireKnownKeys(json, {range_key, noise_key, "adc_bits"}, "rig file " + source);
   AnalogSensor s;
   s.range = Number(json, range_key, source);
   Require(json.contains(noise_key) && json.at(noise_key).is_number() &&
@@ -130,6 +132,11 @@ RigSpec DefaultRig() {
 
 RigSpec RigFromJson(const nlohmann::json& json, const std::string& source) {
   Require(json.is_object(), source + ": expected a JSON object");
+  RequireKnownKeys(
+      json,
+      {"topology", "masses_kg", "effective_mass_loss", "springs_n_per_m", "dampers_ns_per_m",
+       "coulomb_n", "load_cells", "accelerometers", "encoder_counts_per_m", "max_sample_rate_hz"},
+      "rig file " + source);
   // Compared as a JSON value: a topology of another type is a wrong value, not a type error.
   Require(json.value("topology", nlohmann::json()) == "chain",
           source + ": \"topology\" must be \"chain\" (masses in series from ground)");

@@ -283,6 +283,18 @@ TEST(RigFile, RoundTripAndClearErrors) {
   j = RigToJson(DefaultRig());
   j["topology"] = "cart";
   EXPECT_NE(message(j).find("\"topology\" must be \"chain\""), std::string::npos);
+  // A misspelt key is refused, not left at a default, at either level.
+  j = RigToJson(DefaultRig());
+  j["damper_ns_per_m"] = j["dampers_ns_per_m"];
+  j.erase("dampers_ns_per_m");
+  EXPECT_EQ(
+      message(j),
+      "unknown key 'damper_ns_per_m' in rig file rig.json (did you mean 'dampers_ns_per_m'?)");
+  j = RigToJson(DefaultRig());
+  j["accelerometers"][0]["noise_n"] = 0.1;
+  EXPECT_EQ(message(j),
+            "unknown key 'noise_n' in rig file rig.json accelerometers[0] (valid keys: "
+            "range_m_s2, noise_m_s2, adc_bits)");
 }
 
 // The emulator never does what the board cannot: a converter other than the board's 12-bit ADC

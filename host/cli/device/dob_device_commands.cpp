@@ -32,8 +32,10 @@ void Run(const DobControlArgs& a) {
 void RegisterDobDeviceCommands(CLI::App& dob, const GlobalOptions& globals) {
   const auto [start, start_args] = AddCommand<DobControlArgs>(dob, "start", kDobStartHelp, Run);
   *start_args = {.globals = &globals, .running = true};
+  TakesDeviceOption(start);
   const auto [stop, stop_args] = AddCommand<DobControlArgs>(dob, "stop", kDobStopHelp, Run);
   *stop_args = {.globals = &globals, .running = false};
+  TakesDeviceOption(stop);
 }
 
 }  // namespace vibid::cli

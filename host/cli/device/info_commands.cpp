@@ -15,6 +15,7 @@
 #include "vibid/common/enum_names.hpp"
 #include "vibid/common/error.hpp"
 #include "vibid/device/board_report.hpp"
+#include "vibid/device/error.hpp"
 #include "vibid/device/log_table.hpp"
 #include "vibid/device/select.hpp"
 #include "vibid/shared/wire/log_record.hpp"
@@ -110,11 +111,36 @@ nlohmann::json InfoJson(const device::Connection& c, const wire::InfoResponse& i
       {"clipped", ClipsJson(clips)}};
 }
 
-constexpr const char* kDevicesHelp = "List the vibid boards and emulators this host can reach";
+constexpr const char* kDevicesHelp =
+    "List the vibid boards and emulators this host can reach; with --device or VIBID_DEVICE, "
+    "probe the one it names";
 
-struct DevicesArgs {};
+struct DevicesArgs {
+  const GlobalOptions* globals = nullptr;
+};
 
-void Run(const DevicesArgs&) {
+/// One line for the board `choice` names: what answers there, or a DeviceError saying nothing does.
+void Probe(const GlobalOptions& globals, const device::DeviceChoice& choice) {
+  try {
+    WithDevice(globals, [&](device::Connection& c) {
+      const nlohmann::json j = InfoJson(c, c.info());
+      std::cout << choice.text << "\t" << j["board"].get<std::string>() << ", firmware "
+                << j["firmware"].get<std::string>() << ", protocol "
+                << j["protocol"].get<std::string>() << ", "
+                << (j["calibrated"].get<bool>() ? "calibrated" : "not calibrated") << " ("
+                << c.Describe() << ")\n";
+    });
+  } catch (const device::Interrupted&) {
+    throw;
+  } catch (const device::DeviceError& e) {
+    throw device::DeviceError("no vibid board answers at " + choice.text + " (from " +
+                              choice.origin + "): " + e.what());
+  }
+}
+
+void Run(const DevicesArgs& a) {
+  const device::DeviceChoice choice = device::ChooseDevice(a.globals->device);
+  if (!choice.text.empty()) return Probe(*a.globals, choice);
   const auto all = device::ListDevices();
   if (all.empty()) {
     std::cout << "no vibid device found (no board on USB HID, no vibid-emu on 127.0.0.1:3240)\n";
@@ -260,14 +286,18 @@ void Run(const MonitorArgs& a) {
 }  // namespace
 
 void RegisterInfoCommands(CLI::App& app, const GlobalOptions& globals) {
-  AddCommand<DevicesArgs>(app, "devices", kDevicesHelp, Run);
+  const auto [devices, devices_args] = AddCommand<DevicesArgs>(app, "devices", kDevicesHelp, Run);
+  devices_args->globals = &globals;
+  TakesDeviceOption(devices);
 
   const auto [info, info_args] = AddCommand<InfoArgs>(app, "info", kInfoHelp, Run);
   info_args->globals = &globals;
+  TakesDeviceOption(info);
   info->add_flag("--json", info_args->json, "Print JSON");
 
   const auto [monitor, mo] = AddCommand<MonitorArgs>(app, "monitor", kMonitorHelp, Run);
   mo->globals = &globals;
+  TakesDeviceOption(monitor);
   monitor
       ->add_option("--interval-s", mo->interval_s,
                    "Seconds between lines (at least 0.002: two exchanges of one 1 ms frame each)")

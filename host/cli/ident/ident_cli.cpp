@@ -15,6 +15,7 @@
 #include "vibid/common/atomic_file.hpp"
 #include "vibid/common/csv.hpp"
 #include "vibid/common/error.hpp"
+#include "vibid/common/json_keys.hpp"
 #include "vibid/common/text_input.hpp"
 #include "vibid/ident/frf_io.hpp"
 
@@ -273,6 +274,11 @@ std::vector<ident::ModeEstimate> ModesFromJson(const nlohmann::json& json,
                                                const std::string& source) {
   Require(json.is_object() && json.contains("modes") && json["modes"].is_array(),
           source + ": expected an object with a \"modes\" array");
+  // What `modes --json` writes around the modes; the reader takes the modes alone.
+  RequireKnownKeys(json,
+                   {"modes", "method", "responses", "warnings", "notes", "stabilization", "summary",
+                    "fit_band_hz", "rms_relative_error"},
+                   "modes file " + source);
   std::vector<ident::ModeEstimate> modes;
   std::size_t i = 0;
   for (const auto& m : json["modes"]) {
@@ -280,6 +286,8 @@ std::vector<ident::ModeEstimate> ModesFromJson(const nlohmann::json& json,
     const std::string where = source + ": mode " + std::to_string(i);
     Require(m.is_object() && m.contains("omega_rad_s") && m["omega_rad_s"].is_number(),
             where + ": omega_rad_s missing or not a number");
+    RequireKnownKeys(m, {"omega_rad_s", "freq_hz", "zeta", "ratio", "shape", "ci95"},
+                     "modes file " + source + " mode " + std::to_string(i));
     ident::ModeEstimate e;
     e.omega_rad_s = m["omega_rad_s"].get<double>();
     Require(std::isfinite(e.omega_rad_s) && e.omega_rad_s > 0.0,
@@ -291,6 +299,8 @@ std::vector<ident::ModeEstimate> ModesFromJson(const nlohmann::json& json,
                   : std::numeric_limits<double>::quiet_NaN();
     if (m.contains("ci95")) {
       Require(m["ci95"].is_object(), where + ": ci95 must be an object");
+      RequireKnownKeys(m["ci95"], {"omega_rad_s", "zeta", "ratio"},
+                       "modes file " + source + " mode " + std::to_string(i) + " ci95");
       const auto read = [&](const char* key, std::array<double, 2>& ci) {
         if (!m["ci95"].contains(key) || m["ci95"][key].is_null()) return;
         const nlohmann::json& v = m["ci95"][key];

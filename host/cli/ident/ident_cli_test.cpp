@@ -329,6 +329,12 @@ TEST(UpdateCli, BadInput) {
                    "broken.json");
   const std::string empty = Write(rig.dir, "empty.json", "{\"modes\": []}");
   ExpectInputError(RunVibid({"update", "stiffness", "--masses", "1,1", "--modes", empty}), "empty");
+  // A misspelt key is refused: "zetta" would otherwise load as a mode without damping.
+  const std::string misspelt =
+      Write(rig.dir, "misspelt.json", R"({"modes": [{"omega_rad_s": 40, "zetta": 0.01}]})");
+  ExpectInputError(
+      RunVibid({"update", "stiffness", "--masses", "1", "--modes", misspelt}),
+      "unknown key 'zetta' in modes file " + misspelt + " mode 1 (did you mean 'zeta'?)");
   EXPECT_EQ(RunVibid({"update"}).exit_code, 2);
 }
 

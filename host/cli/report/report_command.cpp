@@ -17,6 +17,7 @@
 #include "vibid/common/atomic_file.hpp"
 #include "vibid/common/error.hpp"
 #include "vibid/common/json_file.hpp"
+#include "vibid/common/json_keys.hpp"
 #include "vibid/dob/compare.hpp"
 #include "vibid/ident/identify.hpp"
 #include "vibid/model/model.hpp"
@@ -301,6 +302,11 @@ void Run(const ReportArgs& a) {
     const std::filesystem::path dir(a.identify_dir);
     const std::string json_path = (dir / "report.json").string();
     const nlohmann::json report = ReadJsonFile(json_path);
+    // The keys `identify --report` writes.
+    RequireKnownKeys(report,
+                     {"updated_model", "validation", "test_modes", "mass_tests", "modal_tests",
+                      "stiffness", "warnings", "notes"},
+                     "identification report " + json_path);
     std::unique_ptr<model::Model> truth;
     if (!a.truth.empty()) truth = std::make_unique<model::Model>(model::LoadModel(a.truth));
     page.Heading("Identification");

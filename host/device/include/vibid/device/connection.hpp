@@ -67,10 +67,18 @@ struct LogPull {
   std::uint32_t first_record = 0;  ///< Log index of records[0].
   wire::LogTrailer trailer;        ///< From the last stream (acq_state, counters, layout).
   wire::LogLayout layout;
+  /// The acquisition was stopped (acq-stop) before it ended on its own: the records are what it
+  /// had recorded until then.
+  bool stopped = false;
 };
 
 /// Progress of a long transfer: done and total in the transfer's own unit (records, bytes).
 using Progress = std::function<void(std::uint64_t done, std::uint64_t total)>;
+
+/// Asked while a streamed acquisition runs (at least every 100 ms): true stops it now and keeps
+/// what it recorded. `state` is the last log-read trailer seen (acq_state armed or acquiring,
+/// records_written), null while the acquisition's own stream runs.
+using StopRequest = std::function<bool(const wire::LogTrailer* state)>;
 
 class Connection {
  public:
@@ -128,7 +136,11 @@ class Connection {
   /// the board streams while it samples, to its end. If the stream breaks off, the rest comes
   /// by PullLog. `progress` gets payload bytes received. Throws DeviceError if acq-start is
   /// refused.
-  LogPull AcquireStreamed(const Progress& progress = {});
+  /// When `stop` asks for it, sends acq-stop and pulls the rest of what was recorded: the records
+  /// of the broken-off stream are kept (checked by their sequence numbers; the trailer that
+  /// would carry their CRC never comes) and the log is read on from the first one missing. The
+  /// result is marked `stopped`. The cancel flag still interrupts (Interrupted), keeping nothing.
+  LogPull AcquireStreamed(const Progress& progress = {}, const StopRequest& stop = {});
 
   /// Pulls every record from `first` until the log holds no more and sampling has ended
   /// (while sampling, it keeps pulling as records arrive). Broken streams resume from the first
@@ -137,10 +149,22 @@ class Connection {
 
  private:
   void ReaderLoop();
+  enum class StreamEnd { kComplete, kBroken, kStopped };
   /// Receives one log stream answering `token` (records from `first`) to its trailer; appends
-  /// its records to `pull` if the trailer checked out. False if it broke off or timed out.
-  bool ReceiveLogStream(std::uint16_t token, std::uint32_t first, LogPull& pull,
-                        const Progress& progress);
+  /// its records to `pull` if the trailer checked out (kComplete). kBroken if it broke off or
+  /// timed out (nothing appended). kStopped when `stop` asked for it: the records received so
+  /// far are appended, decoded with the configured layout.
+  StreamEnd ReceiveLogStream(std::uint16_t token, std::uint32_t first, LogPull& pull,
+                             const Progress& progress, const StopRequest& stop = {});
+  /// PullLog appending to `pull` from record `first` + its size; stops the acquisition when
+  /// `stop` asks for it, and then pulls to the log's end.
+  void PullLogInto(LogPull& pull, std::uint32_t first, const Progress& progress, int max_resumes,
+                   const StopRequest& stop);
+  /// Appends the records of a stream cut short, decoded with the configured layout.
+  void AppendPartialStream(const std::vector<std::vector<std::uint8_t>>& payloads,
+                           std::uint32_t first, LogPull& pull) const;
+  /// acq-stop, and `pull` marked stopped.
+  void StopForKeeps(LogPull& pull);
   std::uint16_t NextToken();
   void Send(const wire::Report& report);
   /// Waits for an answer with `token` to `command`. False on timeout.
@@ -152,6 +176,8 @@ class Connection {
   std::unique_ptr<Transport> transport_;
   ConnectionOptions options_;
   wire::InfoResponse info_{};
+  /// The last acquisition configured: its layout decodes a stream cut short by a stop.
+  std::optional<wire::AcqConfigureRequest> configured_;
 
   mutable std::mutex mutex_;
   std::condition_variable arrived_;
