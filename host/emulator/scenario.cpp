@@ -61,6 +61,11 @@ Status ParseScenario(const wire::ScenarioRequest& request, int dofs, Scenario& o
     if (!MassAndConfiguration(p[0], p[3], dofs, s)) return Status::kInvalidArgument;
     s.force_n = OrDefault(p[1], 20.0);
     s.hold_s = OrDefault(p[2], 1.0);
+  } else if (name == "tone") {
+    s.kind = ScenarioKind::kTone;
+    s.frequency_hz = OrDefault(p[0], 1000.0);
+    s.amplitude = OrDefault(p[1], 0.5);
+    if (s.amplitude > 1.0 || p[2] != 0.0f || p[3] != 0.0f) return Status::kInvalidArgument;
   } else {
     return Status::kInvalidArgument;
   }

@@ -17,7 +17,7 @@ OUT = ROOT / "shared/wire/testdata/wire_vectors.txt"
 SEEDS = ROOT / "firmware/core/fuzz/seeds"
 
 PROTOCOL_MAJOR = 2
-PROTOCOL_MINOR = 0
+PROTOCOL_MINOR = 1
 CAL_RECORD_VERSION = 1
 MAGIC = b"VB"
 FLAG_RESPONSE = 0x01
@@ -113,6 +113,11 @@ def main():
     info += struct.pack("<III", 0xCAFEF00D, 3, 17)
     assert len(info) == 52
     add("info_response", report(0x02, flags=FLAG_RESPONSE, token=0x0102, payload=info))
+
+    # get-info page 1 (2.1): the sampling instants, ns after the timer edge per channel.
+    add("info_page_request", report(0x02, token=0x0103, payload=b"\x01"))
+    add("sampling_info_response", report(0x02, flags=FLAG_RESPONSE, token=0x0103,
+                                         payload=struct.pack("<6I", 2667, 5905, 2667, 2667, 0, 0)))
 
     status = struct.pack("<BBBBQ", 2, 1, 1, 0, 123456789012)
     status += struct.pack("<IIIIIIIIII", 5000, 400, 100, 2, 7, 1, 3, 40, 9, 0)

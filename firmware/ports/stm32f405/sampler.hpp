@@ -1,8 +1,13 @@
 // Timer-triggered sampling, the board's FrameSource.
 //
 // Every TIM2 update edge (the sample instant) does three things in hardware at once:
-//   - TRGO starts an ADC1 scan of the four analog channels (two load cells, two accelerometers on
-//     PA0..PA3); DMA2 stream 0 moves the four results to RAM.
+//   - TRGO starts ADC1, ADC2 and ADC3 together (triple regular simultaneous mode, RM0090
+//     §13.9.2): force1 (PA0, IN0), acc1 (PA2, IN2) and acc2 (PA3, IN3) are sampled at the same
+//     instant, 56 ADC clocks after the edge; force2 (PA1, IN1) is ADC1's second conversion,
+//     68 clocks later. ADC2 and ADC3 convert their channel again meanwhile (the sequences must be
+//     as long as ADC1's), a result the frame drops. DMA2 stream 0 moves the six results, in the
+//     order ADC1, ADC2, ADC3 of each rank, from the common data register ADC_CDR to RAM.
+//     The instants are in the board profile (board_profile.hpp).
 //   - the TIM2 update DMA request (DMA1 stream 1, channel 3) copies the TIM3 encoder count
 //     (PA6/PA7) to RAM, and TIM5, counting TIM2's TRGO edges, raises its trigger DMA request
 //     (DMA1 stream 3, channel 6), which copies the TIM4 encoder count (PB6/PB7): both encoders are
@@ -33,15 +38,20 @@ struct SamplerCounters {
 
 /// The DMA targets, in SRAM (the CCM is not reachable by DMA); named here for the host tests.
 namespace sampler_dma {
-extern volatile std::uint16_t adc[4];
+extern volatile std::uint16_t adc[6];
 extern volatile std::uint16_t encoders[2];
 }  // namespace sampler_dma
 
 class Sampler final : public FrameSource {
  public:
-  /// ADC conversions per frame and their cost: 4 x (56 sampling + 12 conversion) ADC clocks.
   static constexpr unsigned kAnalogChannels = 4;
-  static constexpr std::uint32_t kScanAdcClocks = kAnalogChannels * (56 + 12);
+  /// Three converters with two conversions each; DMA items per frame.
+  static constexpr unsigned kConverters = 3;
+  static constexpr unsigned kRanks = 2;
+  static constexpr unsigned kDmaItems = kConverters * kRanks;
+  /// A frame's conversions take 2 x (56 sampling + 12 conversion) ADC clocks.
+  static constexpr std::uint32_t kSamplingCycles = 56;
+  static constexpr std::uint32_t kScanAdcClocks = kRanks * (kSamplingCycles + 12);
   /// ADCCLK = PCLK2 / 4 (ADC common prescaler).
   static constexpr std::uint32_t kAdcPrescaler = 4;
 
@@ -54,7 +64,7 @@ class Sampler final : public FrameSource {
   Status Start(std::uint32_t sample_period_us, FrameSink& sink) override;
   void Stop() override;
 
-  /// The shortest period: one scan plus room for the DMA and the interrupt (20 us at 168 MHz).
+  /// The shortest period: one scan plus room for the DMA and the interrupt (14 us at 168 MHz).
   std::uint32_t min_period_us() const { return min_period_us_; }
   const SamplerCounters& counters() const { return counters_; }
   /// Core cycles spent in the frame sink, summed over all frames (DWT cycle counter).

@@ -97,7 +97,7 @@ int DecimationFor(double rate_hz, double log_rate_hz, int decimation) {
 void WriteLog(device::Connection& c, const device::LogPull& pull, const std::string& path) {
   bool has_record = false;
   const wire::CalibrationRecord rec = ActiveRecord(c, has_record);
-  EmitOutput(device::FormatLogCsv(pull, rec, has_record), path);
+  EmitOutput(device::FormatLogCsv(pull, rec, has_record, c.GetSamplingInfo()), path);
   std::cerr << "vibid: " << pull.records.size() << " records";
   if (pull.trailer.dropped_records != 0 || pull.trailer.overrun_count != 0) {
     std::cerr << " (the board dropped " << pull.trailer.dropped_records << " records and missed "
