@@ -236,6 +236,8 @@ void KeepEstimationNotes(const std::string& path, const Estimated& e, bool say_n
     std::cerr << "vibid: warning: " << w << "\n";
     notes.push_back(w);
   }
+  if (!e.compensation.empty())
+    notes.push_back(path + ": " + e.compensation.substr(0, e.compensation.size() - 1));
   std::istringstream in(DescribeHits(e.hits));
   for (std::string line; std::getline(in, line);) notes.push_back(path + ": " + line);
 }

@@ -168,7 +168,8 @@ double FrfPhaseAt(const std::string& path, double freq_hz) {
   const CsvTable t = ParseCsv(ReadFileText(path), path);
   const Eigen::VectorXd& f = t.Column("freq_hz");
   for (Eigen::Index k = 0; k < f.size(); ++k) {
-    if (f(k) == freq_hz) return std::atan2(t.Column("acc1_m_s2_im")(k), t.Column("acc1_m_s2_re")(k));
+    if (f(k) == freq_hz)
+      return std::atan2(t.Column("acc1_m_s2_im")(k), t.Column("acc1_m_s2_re")(k));
   }
   ADD_FAILURE() << "no line at " << freq_hz << " Hz in " << path;
   return NAN;
@@ -176,10 +177,9 @@ double FrfPhaseAt(const std::string& path, double freq_hz) {
 
 TEST(FrfEstimateCli, SampleInstantsInTheHeaderAreCompensatedAndStated) {
   const Rig& rig = SyntheticRig();
-  const std::vector<std::string> welch = {"--force",   "force2_n", "--response", "acc1_m_s2",
-                                          "--welch",   "--window", "rect",       "--segment",
-                                          "10000",     "--overlap", "0",         "--kind",
-                                          "accelerance"};
+  const std::vector<std::string> welch = {
+      "--force",   "force2_n", "--response", "acc1_m_s2", "--welch", "--window",   "rect",
+      "--segment", "10000",    "--overlap",  "0",         "--kind",  "accelerance"};
   const auto run = [&](const std::string& recording, const std::string& out) {
     std::vector<std::string> args = {"frf-estimate", recording};
     args.insert(args.end(), welch.begin(), welch.end());
@@ -194,17 +194,17 @@ TEST(FrfEstimateCli, SampleInstantsInTheHeaderAreCompensatedAndStated) {
   EXPECT_EQ(p.out.find("sampling instants"), std::string::npos) << p.out;
   EXPECT_NEAR(FrfPhaseAt(rig.dir + "/plain.csv", 2437.0), -2.0 * M_PI * 2437.0 * 3.238e-6, 1e-9);
   // With the board's header line: moved to the force's instant, and said.
-  const std::string stated = ToneRecording(
-      rig.dir, "tone_stated.csv",
-      "# vibid-recording sample_instants_us=force2_n:5.905,acc1_m_s2:2.667\n");
+  const std::string stated =
+      ToneRecording(rig.dir, "tone_stated.csv",
+                    "# vibid-recording sample_instants_us=force2_n:5.905,acc1_m_s2:2.667\n");
   const auto s = run(stated, rig.dir + "/stated.csv");
   ASSERT_EQ(s.exit_code, 0) << s.err;
   EXPECT_NE(s.out.find("sampling instants compensated"), std::string::npos) << s.out;
   EXPECT_NE(s.out.find("acc1_m_s2 -3.238 us"), std::string::npos) << s.out;
   EXPECT_NEAR(FrfPhaseAt(rig.dir + "/stated.csv", 2437.0), 0.0, 1e-9);
   // A header that leaves out a column used is refused, naming it.
-  const std::string partial = ToneRecording(rig.dir, "tone_partial.csv",
-                                            "# vibid-recording sample_instants_us=force2_n:5.905\n");
+  const std::string partial = ToneRecording(
+      rig.dir, "tone_partial.csv", "# vibid-recording sample_instants_us=force2_n:5.905\n");
   ExpectInputError(run(partial, rig.dir + "/partial.csv"), "acc1_m_s2");
 }
 
