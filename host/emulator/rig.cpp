@@ -321,7 +321,7 @@ void RigSimulator::Step(std::array<std::int32_t, wire::kChannelCount>& raw) {
   output_.noalias() = discrete_.C * state_;
   output_.noalias() += discrete_.D * input_;
 
-  // Positions at the edge (the encoders' instant), accelerations at the accelerometers' own.
+  // Positions at the encoders' instant, accelerations at the accelerometers'.
   std::array<double, 2> x{}, a{};
   for (Eigen::Index j = 0; j < n; ++j) {
     const auto mass = static_cast<std::size_t>(moving_[static_cast<std::size_t>(j)]);

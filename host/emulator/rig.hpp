@@ -5,8 +5,8 @@
 // Stepping is exact for the linear part: the state advances by the zero-order-hold
 // discretization of (M, C, K) at the sample period (vibid::model::Discretize), with the applied
 // forces, the friction force included, held over each sample. Each channel is read at the
-// board's own sampling instant after tick k's edge (board_profile.hpp: the encoders at the edge,
-// force1, acc1 and acc2 2.667 us after it, force2 5.905 us): a response is the state advanced
+// board's own sampling instant after tick k's edge (board_profile.hpp: force1, acc1, acc2 and
+// the encoders 2.667 us after it, force2 5.905 us): a response is the state advanced
 // exactly from the edge to that instant under the held forces (the same zero-order hold over a
 // part of the step), a load cell reads the force held over the step, and a tone on the analog
 // inputs (scenario tone) is evaluated at each channel's instant. Then the values are quantized
@@ -113,7 +113,7 @@ class RigSimulator final : public SimulatedRig {
   void Step(std::array<std::int32_t, wire::kChannelCount>& raw) override;
 
   /// Physical values at the last Step (for tests): applied excitation force, push force,
-  /// true positions at the edge and accelerations at the accelerometers' instants.
+  /// true positions and accelerations at the encoders' and accelerometers' instants.
   struct Truths {
     double force_n = 0.0;
     double push_n = 0.0;

@@ -84,7 +84,7 @@ TEST(Commands, InfoPageSampling) {
 
   // The board's instants (board_profile.hpp): 56 and 124 ADC clocks at 21 MHz.
   SamplingInfoResponse instants;
-  instants.sample_instant_ns = {2667, 5905, 2667, 2667, 0, 0};
+  instants.sample_instant_ns = {2667, 5905, 2667, 2667, 2667, 2667};
   ASSERT_TRUE(EncodesAsGolden("sampling_info_response", Command::kGetInfo, 0x0103, kFlagResponse,
                               instants));
   SamplingInfoResponse v;
@@ -93,7 +93,7 @@ TEST(Commands, InfoPageSampling) {
   EXPECT_EQ(v.sample_instant_ns[0], 2667u);
   EXPECT_EQ(v.sample_instant_ns[1], 5905u);
   EXPECT_EQ(v.sample_instant_ns[3], 2667u);
-  EXPECT_EQ(v.sample_instant_ns[5], 0u);
+  EXPECT_EQ(v.sample_instant_ns[5], 2667u);
   EXPECT_EQ(Decode(PayloadOf(golden).first(23), v), Status::kInvalidArgument);
 }
 

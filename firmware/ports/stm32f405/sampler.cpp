@@ -29,17 +29,19 @@ static_assert(kBoardProfile.conversion_slot[0] == kBufferIndex[0] / Sampler::kCo
 static_assert(kBoardProfile.conversion_slot[1] == kBufferIndex[1] / Sampler::kConverters);
 static_assert(kBoardProfile.conversion_slot[2] == kBufferIndex[2] / Sampler::kConverters);
 static_assert(kBoardProfile.conversion_slot[3] == kBufferIndex[3] / Sampler::kConverters);
+// The encoders are latched at the end of the first sampling phase (TIM2 channels 3 and 4).
+static_assert(kBoardProfile.conversion_slot[4] == 0 && kBoardProfile.conversion_slot[5] == 0);
 static_assert(kBoardProfile.adc_clock_hz * Sampler::kAdcPrescaler == 84000000);  // PCLK2
 
 // ADC1 (in multi-ADC mode: the common data register) on DMA2 stream 0 channel 0 (RM0090
-// table 43). The encoder latches on DMA1 (table 42):
-// TIM2_UP on stream 1 channel 3, TIM5_TRIG on stream 3 channel 6. DMA1 reaches TIM3/TIM4 on
-// APB1 and SRAM; DMA2 would not reach APB1.
+// table 43). The encoder latches on DMA1 (table 42): TIM2_CH3 on stream 1 channel 3 (shared
+// with TIM2_UP, whose request stays off), TIM2_CH4 on stream 7 channel 3 (likewise). DMA1
+// reaches TIM3/TIM4 on APB1 and SRAM; DMA2 would not reach APB1.
 constexpr unsigned kAdcStream = 0;
 constexpr unsigned kEncoder0Stream = 1;
 constexpr std::uint32_t kEncoder0Channel = 3;
-constexpr unsigned kEncoder1Stream = 3;
-constexpr std::uint32_t kEncoder1Channel = 6;
+constexpr unsigned kEncoder1Stream = 7;
+constexpr std::uint32_t kEncoder1Channel = 3;
 constexpr std::uint32_t kStreamDisablePolls = 10000;
 // Room after the scan for the DMA, the interrupt and the frame sink before the next edge.
 constexpr std::uint32_t kPeriodMarginUs = 7;
@@ -148,18 +150,25 @@ void Sampler::Init(const ClockConfig& clocks) {
   ConfigureEncoder(tim::kTim3);
   ConfigureEncoder(tim::kTim4);
 
-  // TIM2 (32 bit) update = sample clock, routed to TRGO and to a DMA request; stopped until Start.
+  // TIM2 (32 bit) update = sample clock, routed to TRGO; stopped until Start. Its compare
+  // channels 3 and 4 (frozen output compare, no pin) match when the converters end their first
+  // sampling phase, 56 ADC clocks = 224 timer clocks after the edge, and their DMA requests
+  // latch the two encoders then (RM0090 §18.3.8: a match sets CCxIF and, with CCxDE, requests
+  // DMA): the encoders are sampled with force1, acc1 and acc2.
+  latch_timer_ticks_ = static_cast<std::uint32_t>(std::uint64_t{kSamplingCycles} * kAdcPrescaler *
+                                                  timer_clock_hz_ / clocks.apb2_hz);
   Reg(tim::kTim2 + tim::kCr1) = 0;
   Reg(tim::kTim2 + tim::kPsc) = 0;
   Reg(tim::kTim2 + tim::kCr2) = tim::kCr2MmsUpdate;
-  Reg(tim::kTim2 + tim::kDier) = tim::kDierUde;
-  // TIM5 (32 bit) counts TIM2's TRGO edges: the frame counter. Its trigger DMA request latches
-  // the second encoder.
+  Reg(tim::kTim2 + tim::kCcr3) = latch_timer_ticks_;
+  Reg(tim::kTim2 + tim::kCcr4) = latch_timer_ticks_;
+  Reg(tim::kTim2 + tim::kDier) = tim::kDierCc3de | tim::kDierCc4de;
+  // TIM5 (32 bit) counts TIM2's TRGO edges: the frame counter.
   Reg(tim::kTim5 + tim::kCr1) = 0;
   Reg(tim::kTim5 + tim::kPsc) = 0;
   Reg(tim::kTim5 + tim::kArr) = 0xFFFFFFFF;
   Reg(tim::kTim5 + tim::kSmcr) = tim::kSmcrTsItr0 | tim::kSmcrExternalClock1;
-  Reg(tim::kTim5 + tim::kDier) = tim::kDierTde;
+  Reg(tim::kTim5 + tim::kDier) = 0;
 
   // ADC1, ADC2, ADC3 in triple regular simultaneous mode (RM0090 §13.9.2), DMA mode 1 with
   // requests kept on for circular transfers, ADCCLK = PCLK2 / 4 = 21 MHz. Each converter scans
@@ -238,14 +247,16 @@ void Sampler::Recover() {
 }
 
 void Sampler::CheckEncoderStreams() {
-  const std::uint32_t flags = Reg(dma::kDma1 + dma::kLisr);
   const std::uint32_t teif = dma::kStream0Teif;
-  if ((flags & (teif << dma::FlagShift(kEncoder0Stream))) != 0) {
+  const auto failed = [&](unsigned stream) {
+    return (Reg(dma::kDma1 + dma::FlagStatus(stream)) & (teif << dma::FlagShift(stream))) != 0;
+  };
+  if (failed(kEncoder0Stream)) {
     ++counters_.dma_errors;
     ArmEncoderStream(kEncoder0Stream, kEncoder0Channel, tim::kTim3 + tim::kCnt,
                      &g_encoder_latch[0]);
   }
-  if ((flags & (teif << dma::FlagShift(kEncoder1Stream))) != 0) {
+  if (failed(kEncoder1Stream)) {
     ++counters_.dma_errors;
     ArmEncoderStream(kEncoder1Stream, kEncoder1Channel, tim::kTim4 + tim::kCnt,
                      &g_encoder_latch[1]);

@@ -8,10 +8,10 @@
 //     as long as ADC1's), a result the frame drops. DMA2 stream 0 moves the six results, in the
 //     order ADC1, ADC2, ADC3 of each rank, from the common data register ADC_CDR to RAM.
 //     The instants are in the board profile (board_profile.hpp).
-//   - the TIM2 update DMA request (DMA1 stream 1, channel 3) copies the TIM3 encoder count
-//     (PA6/PA7) to RAM, and TIM5, counting TIM2's TRGO edges, raises its trigger DMA request
-//     (DMA1 stream 3, channel 6), which copies the TIM4 encoder count (PB6/PB7): both encoders are
-//     latched at the edge, within a few bus cycles, not when the interrupt runs.
+//   - 224 timer clocks later, when the converters end that sampling phase, TIM2's compare
+//     channels 3 and 4 raise DMA requests (DMA1 stream 1 and stream 7, channel 3) that copy the
+//     TIM3 (PA6/PA7) and TIM4 (PB6/PB7) encoder counts to RAM: both encoders are latched at the
+//     hammer channels' instant, within a few bus cycles, not when the interrupt runs.
 //   - TIM5 counts the edge: the frame tick comes from the timer, not from counting interrupts,
 //     so scans merged into one interrupt or lost to an ADC overrun leave a gap the core counts.
 // The DMA2 stream 0 transfer-complete interrupt assembles the frame for the core.
@@ -82,7 +82,8 @@ class Sampler final : public FrameSource {
   void CheckEncoderStreams();
 
   std::uint32_t timer_clock_hz_ = 0;
-  std::uint32_t scan_timer_ticks_ = 0;  ///< Timer clocks the scan's conversions take at least.
+  std::uint32_t scan_timer_ticks_ = 0;   ///< Timer clocks the scan's conversions take at least.
+  std::uint32_t latch_timer_ticks_ = 0;  ///< Edge to the encoder latch (the sampling phase).
   std::uint32_t min_period_us_ = 20;
   FrameSink* sink_ = nullptr;
   volatile bool running_ = false;

@@ -1,5 +1,5 @@
-// Sampler on the fake register file: encoders latched by DMA at the timer edge, the frame tick
-// taken from the TIM5 edge counter (so lost frames leave a gap the core counts as overruns),
+// Sampler on the fake register file: encoders latched by DMA at the converters' instant, the frame
+// tick taken from the TIM5 edge counter (so lost frames leave a gap the core counts as overruns),
 // torn frames dropped, and ADC overrun / DMA error recovery from the first channel.
 #include <vector>
 
@@ -14,7 +14,7 @@ namespace {
 constexpr ClockConfig kFullSpeed{ClockSource::kPllFromHse, 168000000, 84000000, 84000000};
 const Address kAdcStream = dma::Stream(dma::kDma2, 0);
 const Address kEnc0Stream = dma::Stream(dma::kDma1, 1);
-const Address kEnc1Stream = dma::Stream(dma::kDma1, 3);
+const Address kEnc1Stream = dma::Stream(dma::kDma1, 7);
 
 class CaptureSink final : public FrameSink {
  public:
@@ -49,17 +49,23 @@ class SamplerTest : public PortTest {
 };
 
 TEST_F(SamplerTest, InitRoutesTheEdgeToAdcEncodersAndFrameCounter) {
-  // TIM5: external clock mode 1 (SMS 111) from ITR0 = TIM2 TRGO (TS 000), trigger DMA (TDE).
+  // TIM5: external clock mode 1 (SMS 111) from ITR0 = TIM2 TRGO (TS 000), no DMA request.
   EXPECT_EQ(regs().Peek(tim::kTim5 + tim::kSmcr), 0x7U);
-  EXPECT_EQ(regs().Peek(tim::kTim5 + tim::kDier), Bit(14));
-  EXPECT_EQ(regs().Peek(tim::kTim2 + tim::kDier), Bit(8));    // UDE
+  EXPECT_EQ(regs().Peek(tim::kTim5 + tim::kDier), 0U);
+  // TIM2 (RM0090 §18.4): DIER CC3DE (bit 11) and CC4DE (bit 12), no UDE (bit 8); CCR3 (0x3C)
+  // and CCR4 (0x40) at 56 ADC clocks x 4 = 224 timer clocks, when the converters' first
+  // sampling phase ends: the encoders are latched with force1, acc1 and acc2.
+  EXPECT_EQ(regs().Peek(tim::kTim2 + tim::kDier), Bit(11) | Bit(12));
+  EXPECT_EQ(regs().Peek(tim::kTim2 + 0x3C), 224U);
+  EXPECT_EQ(regs().Peek(tim::kTim2 + 0x40), 224U);
   EXPECT_EQ(regs().Peek(tim::kTim2 + tim::kCr2), 0x2U << 4);  // MMS update -> TRGO
-  // DMA1 stream 1 channel 3 (TIM2_UP) <- TIM3_CNT, stream 3 channel 6 (TIM5_TRIG) <- TIM4_CNT:
-  // RM0090 table 42. 16 bit, circular, one item, no increment, enabled.
+  // DMA1 stream 1 channel 3 (TIM2_UP/TIM2_CH3) <- TIM3_CNT, stream 7 channel 3 (TIM2_UP/
+  // TIM2_CH4) <- TIM4_CNT: RM0090 table 42. 16 bit, circular, one item, no increment, enabled.
   const std::uint32_t common =
       dma::kCrPlHigh | dma::kCrMsize16 | dma::kCrPsize16 | dma::kCrCirc | dma::kCrEn;
   EXPECT_EQ(regs().Peek(kEnc0Stream + dma::kSxCr), common | (3U << 25));
-  EXPECT_EQ(regs().Peek(kEnc1Stream + dma::kSxCr), common | (6U << 25));
+  EXPECT_EQ(regs().Peek(kEnc1Stream + dma::kSxCr), common | (3U << 25));
+  EXPECT_EQ(kEnc1Stream, 0x400260B8U);  // DMA1 0x40026000 + 0x10 + 0x18 x 7
   EXPECT_EQ(regs().Peek(kEnc0Stream + dma::kSxPar), 0x40000424U);  // TIM3 base + CNT 0x24
   EXPECT_EQ(regs().Peek(kEnc1Stream + dma::kSxPar), 0x40000824U);  // TIM4 base + CNT 0x24
   EXPECT_EQ(regs().Peek(kEnc0Stream + dma::kSxNdtr), 1U);
@@ -144,7 +150,7 @@ TEST_F(SamplerTest, StartArmsTheCounterBeforeTheFirstEdge) {
   EXPECT_EQ(sampler_.Start(14, sink_), Status::kOk);
 }
 
-TEST_F(SamplerTest, FramesCarryTheTimerTickAndTheEdgeLatchedEncoders) {
+TEST_F(SamplerTest, FramesCarryTheTimerTickAndTheLatchedEncoders) {
   sampler_dma::adc[0] = 100;
   sampler_dma::adc[2] = 4000;
   sampler_dma::encoders[0] = 5;
@@ -231,6 +237,15 @@ TEST_F(SamplerTest, DmaTransferErrorsAreCountedAndRecovered) {
             kNone);
   EXPECT_NE(regs().FindWrite(dma::kDma1 + dma::kLifcr, dma::kStream0Flags << 6, before), kNone);
   EXPECT_EQ(Ticks(), (std::vector<std::uint32_t>{1}));
+  // Stream 7's transfer error (TEIF7) is HISR bit 22 + 3 = 25; its flags clear in HIFCR.
+  regs().Poke(dma::kDma1 + dma::kLisr, 0);
+  regs().Poke(dma::kDma1 + dma::kHisr, Bit(25));
+  const std::size_t later = regs().log().size();
+  Interrupt(3);
+  EXPECT_EQ(sampler_.counters().dma_errors, 3U);
+  EXPECT_NE(regs().FindWriteWithBits(kEnc1Stream + dma::kSxCr, dma::kCrEn | dma::kCrCirc, later),
+            kNone);
+  EXPECT_NE(regs().FindWrite(dma::kDma1 + dma::kHifcr, dma::kStream0Flags << 22, later), kNone);
 }
 
 }  // namespace

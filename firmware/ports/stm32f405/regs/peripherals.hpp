@@ -53,6 +53,8 @@ inline constexpr Address kCcer = 0x20;
 inline constexpr Address kCnt = 0x24;
 inline constexpr Address kPsc = 0x28;
 inline constexpr Address kArr = 0x2C;
+inline constexpr Address kCcr3 = 0x3C;
+inline constexpr Address kCcr4 = 0x40;
 
 inline constexpr std::uint32_t kCr1Cen = Bit(0);
 inline constexpr std::uint32_t kCr1Arpe = Bit(7);
@@ -69,8 +71,10 @@ inline constexpr std::uint32_t kCcmr1EncoderInputs =
 inline constexpr std::uint32_t kSmcrTsItr0 = 0x0U << 4;
 inline constexpr std::uint32_t kSmcrExternalClock1 = 0x7;
 inline constexpr std::uint32_t kDierUie = Bit(0);
-inline constexpr std::uint32_t kDierUde = Bit(8);   ///< DMA request on update.
-inline constexpr std::uint32_t kDierTde = Bit(14);  ///< DMA request on trigger.
+inline constexpr std::uint32_t kDierUde = Bit(8);     ///< DMA request on update.
+inline constexpr std::uint32_t kDierCc3de = Bit(11);  ///< DMA request on a channel 3 compare.
+inline constexpr std::uint32_t kDierCc4de = Bit(12);  ///< DMA request on a channel 4 compare.
+inline constexpr std::uint32_t kDierTde = Bit(14);    ///< DMA request on trigger.
 inline constexpr std::uint32_t kSrUif = Bit(0);
 inline constexpr std::uint32_t kEgrUg = Bit(0);
 }  // namespace tim

@@ -16,8 +16,8 @@
 // ADC2 and ADC3 at once (triple regular simultaneous mode) and force2 second on ADC1:
 //   ADCCLK = PCLK2 84 MHz / 4 = 21 MHz, 56-cycle sampling:
 //   force1, acc1, acc2: 56 / 21 MHz = 2.667 us;  force2: (68 + 56) / 21 MHz = 5.905 us;
-//   encoders: 0 (copied by DMA at the edge).
-// The trigger's own latency (at most 2 ADC clocks, the same for every converter) is left out.
+//   encoders: latched by a timer compare at the end of the first sampling phase, 2.667 us.
+// The ADC trigger's own latency (at most 2 ADC clocks, the same for every converter) is left out.
 #pragma once
 
 #include <array>
@@ -38,14 +38,12 @@ struct BoardProfile {
   std::uint32_t adc_sampling_cycles = 0;    ///< Sampling (track) phase of every analog channel.
   std::uint32_t adc_conversion_cycles = 0;  ///< Successive approximation after the sampling.
   /// Each channel's place in its converter's sequence (0: converted first), in wire::Channel
-  /// order; kLatchedAtEdge for the encoder counts.
+  /// order; the encoders, latched when the first conversions' sampling ends, have 0.
   std::array<std::uint8_t, wire::kChannelCount> conversion_slot{};
-  static constexpr std::uint8_t kLatchedAtEdge = 0xFF;
 
   /// When `channel` is sampled after the timer edge, in ns (rounded to the nearest).
   constexpr std::uint32_t sample_instant_ns(std::size_t channel) const {
     const std::uint8_t slot = conversion_slot[channel];
-    if (slot == kLatchedAtEdge) return 0;
     const std::uint64_t cycles =
         std::uint64_t{slot} * (adc_sampling_cycles + adc_conversion_cycles) + adc_sampling_cycles;
     return static_cast<std::uint32_t>((cycles * 1000000000ULL + adc_clock_hz / 2) / adc_clock_hz);
@@ -69,12 +67,13 @@ inline constexpr BoardProfile kBoardProfile{
     .adc_clock_hz = 21000000,
     .adc_sampling_cycles = 56,
     .adc_conversion_cycles = 12,
-    // force1 (ADC1 first), force2 (ADC1 second), acc1 (ADC2), acc2 (ADC3), both encoders.
-    .conversion_slot = {0, 1, 0, 0, BoardProfile::kLatchedAtEdge, BoardProfile::kLatchedAtEdge},
+    // force1 (ADC1 first), force2 (ADC1 second), acc1 (ADC2), acc2 (ADC3), both encoders at
+    // the first conversions' sampling end.
+    .conversion_slot = {0, 1, 0, 0, 0, 0},
 };
 static_assert(kBoardProfile.sample_instant_ns(0) == 2667);  // 56 / 21 MHz = 2666.7 ns
 static_assert(kBoardProfile.sample_instant_ns(1) == 5905);  // 124 / 21 MHz = 5904.8 ns
-static_assert(kBoardProfile.sample_instant_ns(4) == 0);
+static_assert(kBoardProfile.sample_instant_ns(4) == 2667);
 static_assert(kBoardProfile.link_bytes_per_s() == 64000);
 static_assert(kBoardProfile.frame_us() == 1000);
 

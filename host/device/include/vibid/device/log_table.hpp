@@ -34,7 +34,7 @@ LogTable MakeLogTable(const LogPull& pull, const wire::CalibrationRecord& calibr
                       bool has_record);
 
 /// The header line stating when each logged channel was sampled after the timer edge:
-/// `# vibid-recording sample_instants_us=force1_n:2.667,acc1_m_s2:2.667,...` (channel columns
+/// `# vibid-recording sample_instants_us=force1_n:2.667,force2_n:5.905,...` (channel columns
 /// only, in the table's order; ident::ReadSampleInstants reads it back).
 std::string SampleInstantsLine(const LogTable& table, const LogPull& pull,
                                const wire::SamplingInfoResponse& instants);

@@ -2,7 +2,7 @@
 // take turns) see a common signal with a phase difference of omega x (t_a - t_b). An FRF of such
 // channels carries that phase on top of the structure's; knowing the instants, it comes off
 // exactly. A recording from the board states them in its header line:
-//   # vibid-recording sample_instants_us=force1_n:2.667,acc1_m_s2:2.667,x1_m:0
+//   # vibid-recording sample_instants_us=force1_n:2.667,force2_n:5.905,x1_m:2.667
 #pragma once
 
 #include <optional>
