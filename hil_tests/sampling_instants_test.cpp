@@ -6,9 +6,14 @@
 #include <cmath>
 #include <complex>
 #include <cstdio>
+#include <filesystem>
+#include <fstream>
 #include <numbers>
 #include <thread>
 
+#include <nlohmann/json.hpp>
+
+#include "run_cli.hpp"
 #include "target.hpp"
 #include "vibid/device/log_table.hpp"
 #include "vibid/ident/sample_instants.hpp"
@@ -92,6 +97,39 @@ TEST_F(SamplingInstantsTest, ACommonToneShowsTheInstantsAndTheHostTakesThemOff) 
       "%s: tone %.0f Hz, acc1 / force2 phase %.6f rad (expected %.6f), %.2e rad after "
       "compensation\n",
       target->Name().c_str(), f, measured, expected, compensated);
+}
+
+// What a user sees: `vibid info --json` and the first line of a recording from `vibid acquire`.
+TEST(SamplingInstantsCli, InfoAndTheRecordingStateTheInstants) {
+  if (MakeTarget()->Name() != "emu") GTEST_SKIP() << "needs the emu target (a vibid-emu process)";
+  EmulatorProcess emu(EmulatorBinary());
+  const auto info = vibid::testing::RunVibid({"--device", emu.device_spec(), "info", "--json"});
+  ASSERT_EQ(info.exit_code, 0) << info.err;
+  const nlohmann::json instants = nlohmann::json::parse(info.out).at("sample_instants_us");
+  // 56 / 21 MHz = 2.667 us (whole ns) for force1, the accelerometers and the encoders; force2
+  // one 68-clock conversion later, 124 / 21 MHz = 5.905 us.
+  EXPECT_EQ(instants.at("force1").get<double>(), 2.667);
+  EXPECT_EQ(instants.at("force2").get<double>(), 5.905);
+  EXPECT_EQ(instants.at("acc1").get<double>(), 2.667);
+  EXPECT_EQ(instants.at("acc2").get<double>(), 2.667);
+  EXPECT_EQ(instants.at("x1").get<double>(), 2.667);
+  EXPECT_EQ(instants.at("x2").get<double>(), 2.667);
+
+  const std::string dir = vibid::testing::MakeTempDir("instants-cli");
+  const std::string rec = dir + "/rec.csv";
+  const auto a = vibid::testing::RunVibid({"--device", emu.device_spec(), "acquire", "--seconds",
+                                           "0.1", "--channels", "force1,force2,x2", "-o", rec});
+  ASSERT_EQ(a.exit_code, 0) << a.err;
+  std::ifstream in(rec);
+  std::string first, second;
+  std::getline(in, first);
+  std::getline(in, second);
+  EXPECT_EQ(first,
+            "# vibid-recording sample_instants_us=force1_counts:2.667,force2_counts:5.905,"
+            "x2_counts:2.667");
+  EXPECT_EQ(second, "t_s,force1_counts,force2_counts,x2_counts");
+  std::error_code ec;
+  std::filesystem::remove_all(dir, ec);
 }
 
 }  // namespace
