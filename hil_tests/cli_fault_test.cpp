@@ -80,10 +80,13 @@ TEST_F(CliFaultTest, EmulatorKilledMidPullLeavesTheOutputUntouched) {
   EXPECT_EQ(FilesIn(dir), std::vector<std::string>{"OUT.csv"}) << "no temporary file left";
 }
 
+/// A recording's header row and data rows (its opening '#' lines left out).
 std::vector<std::string> Lines(const std::string& text) {
   std::vector<std::string> lines;
   std::istringstream in(text);
-  for (std::string line; std::getline(in, line);) lines.push_back(line);
+  for (std::string line; std::getline(in, line);) {
+    if (!line.starts_with('#')) lines.push_back(line);
+  }
   return lines;
 }
 

@@ -139,6 +139,15 @@ wire::InfoResponse Core::Info() const {
   return info;
 }
 
+wire::SamplingInfoResponse Core::SamplingInfo() {
+  // Every port delivers frames as the board samples them: the emulator's rig evaluates each
+  // channel at these instants, and the QEMU image's injected frames stand for the board's.
+  wire::SamplingInfoResponse r;
+  for (std::size_t c = 0; c < wire::kChannelCount; ++c)
+    r.sample_instant_ns[c] = kBoardProfile.sample_instant_ns(c);
+  return r;
+}
+
 wire::StatusResponse Core::CurrentStatus() const {
   wire::StatusResponse s;
   s.acq_state = sampler_.state();
@@ -191,10 +200,18 @@ Status Core::Dispatch(const Header& h, std::span<const std::uint8_t> payload) {
   };
   switch (static_cast<Command>(h.command)) {
     case Command::kPing: Respond(h, Status::kOk, payload); return Status::kOk;
-    case Command::kGetInfo:
-      if (stray_payload) return refuse_payload();
-      RespondWith(h, Info());
+    case Command::kGetInfo: {
+      if (!stray_payload) {
+        RespondWith(h, Info());
+        return Status::kOk;
+      }
+      wire::InfoPageRequest page;
+      if (wire::Decode(payload, page) != Status::kOk) return refuse_payload();
+      if (page.page != wire::kInfoPageSampling)
+        return Refuse(Status::kInvalidArgument, wire::Reason::kUnknownInfoPage, page.page);
+      RespondWith(h, SamplingInfo());
       return Status::kOk;
+    }
     case Command::kGetStatus:
       if (stray_payload) return refuse_payload();
       RespondWith(h, CurrentStatus());

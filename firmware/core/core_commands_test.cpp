@@ -69,6 +69,23 @@ TEST(CoreCommands, GetInfoDescribesTheBoard) {
   EXPECT_EQ(board_info.cal_crc, 0u);
 }
 
+TEST(CoreCommands, GetInfoPageGivesTheSamplingInstants) {
+  CoreHarness h;
+  const std::array<std::uint8_t, 1> page{wire::kInfoPageSampling};
+  const Response r = h.Request(Command::kGetInfo, page);
+  ASSERT_EQ(r.status(), Status::kOk);
+  wire::SamplingInfoResponse s;
+  ASSERT_EQ(wire::Decode(r.payload(), s), Status::kOk);
+  // force1, acc1, acc2 and the encoders at 56 ADC clocks of 21 MHz (2666.7 ns), force2 one
+  // 68-clock conversion later (124 clocks, 5904.8 ns) (board_profile.hpp).
+  EXPECT_EQ(s.sample_instant_ns,
+            (std::array<std::uint32_t, wire::kChannelCount>{2667, 5905, 2667, 2667, 2667, 2667}));
+  const std::array<std::uint8_t, 1> unknown{2};
+  EXPECT_EQ(h.Request(Command::kGetInfo, unknown).status(), Status::kInvalidArgument);
+  const std::array<std::uint8_t, 2> longer{1, 0};
+  EXPECT_EQ(h.Request(Command::kGetInfo, longer).status(), Status::kInvalidArgument);
+}
+
 TEST(CoreCommands, GetStatusReportsClockAndCounters) {
   CoreHarness h;
   h.fake.clock.now_us = 987654321;

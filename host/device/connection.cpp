@@ -216,6 +216,13 @@ wire::InfoResponse Connection::GetInfo() {
   return DecodeAnswer<wire::InfoResponse>(Expect(Command::kGetInfo), "get-info");
 }
 
+std::optional<wire::SamplingInfoResponse> Connection::GetSamplingInfo() {
+  if (info_.protocol_minor < 1) return std::nullopt;
+  return DecodeAnswer<wire::SamplingInfoResponse>(
+      Expect(Command::kGetInfo, wire::InfoPageRequest{.page = wire::kInfoPageSampling}),
+      "get-info sampling page");
+}
+
 wire::StatusResponse Connection::GetStatus() {
   return DecodeAnswer<wire::StatusResponse>(Expect(Command::kGetStatus), "get-status");
 }

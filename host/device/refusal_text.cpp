@@ -91,13 +91,16 @@ std::string ReasonText(Status status, const wire::Refusal& r) {
     case wire::Reason::kNoBootloader:
       return "this board has no DFU bootloader; flash it with a debugger (SWD)";
     case wire::Reason::kUnknownScenario:
-      return "the emulator has no such scenario; choose hammer, shaker, push, step or idle "
+      return "the emulator has no such scenario; choose hammer, shaker, push, step, tone or idle "
              "(--scenario)";
     case wire::Reason::kScenarioParameter:
       return "scenario parameter " + std::to_string(d + 1) +
              " is out of range for this scenario and rig; see the scenario table in "
              "docs/emulator.md (--scenario-param)";
     case wire::Reason::kPortRefused: return StatusText(status) + " (refused by the board's port)";
+    case wire::Reason::kUnknownInfoPage:
+      return "the board has no get-info page " + std::to_string(d) +
+             "; use a host that matches the firmware";
   }
   return StatusText(status) + " (reason " + std::to_string(static_cast<unsigned>(r.reason)) +
          ", which this host does not know; use a host that matches the firmware)";

@@ -5,6 +5,7 @@
 #include <numbers>
 #include <sstream>
 #include <string>
+#include <stdexcept>
 
 #include "scenario.hpp"
 #include "vibid/common/error.hpp"
@@ -198,6 +199,8 @@ nlohmann::json TruthToJson(const RigSpec& r) {
 
 RigSimulator::RigSimulator(RigSpec spec, std::uint64_t seed) : spec_(std::move(spec)), seed_(seed) {
   (void)spec_.Truth();  // validates
+  for (std::size_t c = 0; c < wire::kChannelCount; ++c)
+    instant_s_[c] = kBoardProfile.sample_instant_ns(c) * 1e-9;
 }
 
 void RigSimulator::Select(const Scenario& scenario) { scenario_ = scenario; }
@@ -241,7 +244,17 @@ void RigSimulator::Start(double dt_s) {
     case Configuration::kMass1Alone: moving_.push_back(0); break;
     case Configuration::kMass2Alone: moving_.push_back(1); break;
   }
-  discrete_ = model::Discretize(model::ModelStateSpace(ActiveModel()), dt_s);
+  const model::StateSpace continuous = model::ModelStateSpace(ActiveModel());
+  discrete_ = model::Discretize(continuous, dt_s);
+  part_steps_.clear();
+  for (double instant : instant_s_) {
+    const bool known = std::any_of(part_steps_.begin(), part_steps_.end(),
+                                   [&](const auto& p) { return p.first == instant; });
+    // An instant is well inside any period the board allows (100 us and up).
+    Require(instant < dt_s, "sampling instant beyond the sample period");
+    if (!known && instant > 0.0)
+      part_steps_.emplace_back(instant, model::Discretize(continuous, instant));
+  }
   const auto n = static_cast<Eigen::Index>(moving_.size());
   state_ = Eigen::VectorXd::Zero(2 * n);
   input_ = Eigen::VectorXd::Zero(n);
@@ -300,6 +313,7 @@ void RigSimulator::Excitation(double t, double& force_n, double& push_n) {
       if (s.push_n > 0.0) push_n = hand_push(s.push_n);
       break;
     case ScenarioKind::kPush: push_n = hand_push(s.force_n); break;
+    case ScenarioKind::kTone: break;  // on the converters' inputs, not on the rig
     case ScenarioKind::kStep: {
       // Pull by hand through a load cell: ramp up over 0.3 s, hold, let go at once.
       const double ramp_s = 0.3;
@@ -333,24 +347,47 @@ void RigSimulator::Step(std::array<std::int32_t, wire::kChannelCount>& raw) {
   output_.noalias() = discrete_.C * state_;
   output_.noalias() += discrete_.D * input_;
 
+  // Positions at the encoders' instant, accelerations at the accelerometers'.
   std::array<double, 2> x{}, a{};
   for (Eigen::Index j = 0; j < n; ++j) {
     const auto mass = static_cast<std::size_t>(moving_[static_cast<std::size_t>(j)]);
-    x[mass] = output_(j);
-    a[mass] = output_(2 * n + j);
+    x[mass] = OutputsAt(instant_s_[4 + mass])(j);
+    a[mass] = OutputsAt(instant_s_[2 + mass])(2 * n + j);
   }
   last_ = Truths{force, push, x, a};
 
-  raw[0] = spec_.load_cells[0].Code(force + Noise(spec_.load_cells[0].noise_rms));
-  raw[1] = spec_.load_cells[1].Code(push + Noise(spec_.load_cells[1].noise_rms));
-  raw[2] = spec_.accelerometers[0].Code(a[0] + Noise(spec_.accelerometers[0].noise_rms));
-  raw[3] = spec_.accelerometers[1].Code(a[1] + Noise(spec_.accelerometers[1].noise_rms));
+  std::array<double, 4> analog{force, push, a[0], a[1]};
+  const std::array<const AnalogSensor*, 4> sensor{&spec_.load_cells[0], &spec_.load_cells[1],
+                                                  &spec_.accelerometers[0],
+                                                  &spec_.accelerometers[1]};
+  if (scenario_.kind == ScenarioKind::kTone) {
+    // A signal generator on the four converter inputs: each converts it at its own instant.
+    for (std::size_t c = 0; c < analog.size(); ++c) {
+      analog[c] = scenario_.amplitude * sensor[c]->range *
+                  std::sin(2.0 * kPi * scenario_.frequency_hz * (t + instant_s_[c]));
+    }
+  }
+  for (std::size_t c = 0; c < analog.size(); ++c)
+    raw[c] = sensor[c]->Code(analog[c] + Noise(sensor[c]->noise_rms));
   for (std::size_t i = 0; i < 2; ++i) {
     raw[4 + i] = static_cast<std::int32_t>(std::floor(x[i] * spec_.encoder_counts_per_m));
   }
 
   state_ = discrete_.A * state_ + discrete_.B * input_;
   ++tick_;
+}
+
+const Eigen::VectorXd& RigSimulator::OutputsAt(double instant_s) {
+  if (instant_s == 0.0) return output_;
+  for (const auto& [instant, step] : part_steps_) {
+    if (instant != instant_s) continue;
+    part_state_.noalias() = step.A * state_;
+    part_state_.noalias() += step.B * input_;
+    part_output_.noalias() = step.C * part_state_;
+    part_output_.noalias() += step.D * input_;
+    return part_output_;
+  }
+  throw std::logic_error("no step to a sampling instant");
 }
 
 }  // namespace vibid::emu

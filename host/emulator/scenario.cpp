@@ -40,7 +40,8 @@ Status ParseScenario(const wire::ScenarioRequest& request, int dofs, Scenario& o
   const auto bad_parameter = [&](std::uint32_t index) {
     return refuse(wire::Reason::kScenarioParameter, index);
   };
-  if (name != "idle" && name != "hammer" && name != "shaker" && name != "push" && name != "step")
+  if (name != "idle" && name != "hammer" && name != "shaker" && name != "push" && name != "step" &&
+      name != "tone")
     return refuse(wire::Reason::kUnknownScenario, 0);
   for (std::uint32_t i = 0; i < request.params.size(); ++i) {
     if (!Valid(request.params[i])) return bad_parameter(i);
@@ -73,11 +74,19 @@ Status ParseScenario(const wire::ScenarioRequest& request, int dofs, Scenario& o
     for (std::uint32_t i = 1; i < p.size(); ++i) {
       if (p[i] != 0.0f) return bad_parameter(i);
     }
-  } else {
+  } else if (name == "step") {
     s.kind = ScenarioKind::kStep;
     if (!MassAndConfiguration(p[0], p[3], dofs, s)) return mass_or_configuration();
     s.force_n = OrDefault(p[1], 20.0);
     s.hold_s = OrDefault(p[2], 1.0);
+  } else {
+    s.kind = ScenarioKind::kTone;
+    s.frequency_hz = OrDefault(p[0], 1000.0);
+    s.amplitude = OrDefault(p[1], 0.5);
+    if (s.amplitude > 1.0) return bad_parameter(1);
+    for (std::uint32_t i = 2; i < p.size(); ++i) {
+      if (p[i] != 0.0f) return bad_parameter(i);
+    }
   }
   out = s;
   return Status::kOk;

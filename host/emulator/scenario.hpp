@@ -6,6 +6,9 @@
 //   shaker    frequency Hz (16)    amplitude N (10)     hand push N (0: none)  -
 //   push      amplitude N (10)     -                    -                      -
 //   step      mass pulled (1, 2)   pull force N (20)    hold s (1.0)           configuration
+//   tone      frequency Hz (1000)  amplitude, fraction of each converter's range (0.5, <= 1)
+//             a sine generator on the four converter inputs (the rig at rest): each channel
+//             converts it at its own sampling instant, so their phases show the instants
 //
 // A zero parameter takes the default in brackets. configuration: 0 the chain, 1 mass 1 alone on
 // spring 1, 2 mass 2 alone on spring 2 (the mass tests); with a mass alone, the mass parameter

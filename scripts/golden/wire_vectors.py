@@ -114,6 +114,11 @@ def main():
     assert len(info) == 52
     add("info_response", report(0x02, flags=FLAG_RESPONSE, token=0x0102, payload=info))
 
+    # get-info page 1 (2.1): the sampling instants, ns after the timer edge per channel.
+    add("info_page_request", report(0x02, token=0x0103, payload=b"\x01"))
+    add("sampling_info_response", report(0x02, flags=FLAG_RESPONSE, token=0x0103,
+                                         payload=struct.pack("<6I", 2667, 5905, 2667, 2667, 2667, 2667)))
+
     status = struct.pack("<BBBBQ", 2, 1, 1, 0, 123456789012)
     status += struct.pack("<IIIIIIIIII", 5000, 400, 100, 2, 7, 1, 3, 40, 9, 0)
     assert len(status) == 52

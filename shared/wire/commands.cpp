@@ -66,6 +66,24 @@ Status Decode(std::span<const std::uint8_t> in, InfoResponse& v) {
   return Status::kOk;
 }
 
+void Encode(const InfoPageRequest& v, std::span<std::uint8_t> out) { StoreU8(out, 0, v.page); }
+
+Status Decode(std::span<const std::uint8_t> in, InfoPageRequest& v) {
+  if (in.size() != InfoPageRequest::kBytes) return Status::kInvalidArgument;
+  v.page = LoadU8(in, 0);
+  return Status::kOk;
+}
+
+void Encode(const SamplingInfoResponse& v, std::span<std::uint8_t> out) {
+  for (std::size_t i = 0; i < kChannelCount; ++i) StoreU32(out, 4 * i, v.sample_instant_ns[i]);
+}
+
+Status Decode(std::span<const std::uint8_t> in, SamplingInfoResponse& v) {
+  if (in.size() != SamplingInfoResponse::kBytes) return Status::kInvalidArgument;
+  for (std::size_t i = 0; i < kChannelCount; ++i) v.sample_instant_ns[i] = LoadU32(in, 4 * i);
+  return Status::kOk;
+}
+
 void Encode(const StatusResponse& v, std::span<std::uint8_t> out) {
   StoreU8(out, 0, static_cast<std::uint8_t>(v.acq_state));
   StoreU8(out, 1, v.dob_running);

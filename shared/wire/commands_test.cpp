@@ -75,6 +75,28 @@ TEST(Commands, InfoResponse) {
   EXPECT_EQ(Decode(PayloadOf(golden).first(51), v), Status::kInvalidArgument);
 }
 
+TEST(Commands, InfoPageSampling) {
+  ASSERT_TRUE(EncodesAsGolden("info_page_request", Command::kGetInfo, 0x0103, 0,
+                              InfoPageRequest{.page = kInfoPageSampling}));
+  InfoPageRequest page;
+  ASSERT_EQ(Decode(PayloadOf(GoldenReport("info_page_request")), page), Status::kOk);
+  EXPECT_EQ(page.page, 1);
+
+  // The board's instants (board_profile.hpp): 56 and 124 ADC clocks at 21 MHz.
+  SamplingInfoResponse instants;
+  instants.sample_instant_ns = {2667, 5905, 2667, 2667, 2667, 2667};
+  ASSERT_TRUE(EncodesAsGolden("sampling_info_response", Command::kGetInfo, 0x0103, kFlagResponse,
+                              instants));
+  SamplingInfoResponse v;
+  const Report golden = GoldenReport("sampling_info_response");
+  ASSERT_EQ(Decode(PayloadOf(golden), v), Status::kOk);
+  EXPECT_EQ(v.sample_instant_ns[0], 2667u);
+  EXPECT_EQ(v.sample_instant_ns[1], 5905u);
+  EXPECT_EQ(v.sample_instant_ns[3], 2667u);
+  EXPECT_EQ(v.sample_instant_ns[5], 2667u);
+  EXPECT_EQ(Decode(PayloadOf(golden).first(23), v), Status::kInvalidArgument);
+}
+
 TEST(Commands, StatusResponse) {
   StatusResponse s;
   s.acq_state = AcqState::kAcquiring;

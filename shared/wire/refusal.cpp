@@ -47,6 +47,7 @@ const char* ReasonName(Reason reason) {
     case Reason::kUnknownScenario: return "unknown-scenario";
     case Reason::kScenarioParameter: return "scenario-parameter";
     case Reason::kPortRefused: return "port-refused";
+    case Reason::kUnknownInfoPage: return "unknown-info-page";
   }
   return "unknown";
 }

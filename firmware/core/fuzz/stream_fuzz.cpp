@@ -354,6 +354,7 @@ void CheckResponse(std::span<const std::uint8_t> payload) {
 void CheckResponses(const wire::Report& report) {
   const auto payload = wire::PayloadOf(report);
   CheckResponse<wire::InfoResponse>(payload);
+  CheckResponse<wire::SamplingInfoResponse>(payload);
   CheckResponse<wire::StatusResponse>(payload);
   CheckResponse<wire::AcqConfigureResponse>(payload);
   CheckResponse<wire::AcqStopResponse>(payload);

@@ -105,7 +105,7 @@ int DecimationFor(double rate_hz, double log_rate_hz, int decimation) {
 void WriteLog(device::Connection& c, const device::LogPull& pull, ClaimedOutput& output) {
   bool has_record = false;
   const wire::CalibrationRecord rec = ActiveRecord(c, has_record);
-  output.Write(device::FormatLogCsv(pull, rec, has_record));
+  output.Write(device::FormatLogCsv(pull, rec, has_record, c.GetSamplingInfo()));
   std::cerr << "vibid: " << pull.records.size() << " records";
   if (pull.trailer.dropped_records != 0 || pull.trailer.overrun_count != 0) {
     std::cerr << " (the board dropped " << pull.trailer.dropped_records << " records and missed "

@@ -70,7 +70,17 @@ nlohmann::json ClipsJson(const std::optional<wire::ClipResponse>& clips) {
 }
 
 nlohmann::json InfoJson(const device::Connection& c, const wire::InfoResponse& i,
-                        const std::optional<wire::ClipResponse>& clips) {
+                        const std::optional<wire::ClipResponse>& clips,
+                        const std::optional<wire::SamplingInfoResponse>& sampling) {
+  // Channel -> us after the timer edge; null for a board of protocol 2.0, which does not say.
+  nlohmann::json instants = nullptr;
+  if (sampling) {
+    instants = nlohmann::json::object();
+    for (std::size_t k = 0; k < wire::kChannelCount; ++k) {
+      instants[device::ChannelStem(static_cast<wire::Channel>(k))] =
+          sampling->sample_instant_ns[k] / 1000.0;
+    }
+  }
   nlohmann::json channels = nlohmann::json::array();
   nlohmann::json formats = nlohmann::json::object();
   for (std::size_t k = 0; k < wire::kChannelCount; ++k) {
@@ -101,6 +111,7 @@ nlohmann::json InfoJson(const device::Connection& c, const wire::InfoResponse& i
       {"adc_bits", i.adc_bits},
       {"channels", channels},
       {"channel_formats", formats},
+      {"sample_instants_us", instants},
       {"reset_cause", NameOf(kResetNames, i.reset_cause, "unknown")},
       {"calibrated", i.cal_state == wire::CalState::kCalibrated},
       {"cal_slot",
@@ -123,7 +134,7 @@ struct DevicesArgs {
 void Probe(const GlobalOptions& globals, const device::DeviceChoice& choice) {
   try {
     WithDevice(globals, [&](device::Connection& c) {
-      const nlohmann::json j = InfoJson(c, c.info());
+      const nlohmann::json j = InfoJson(c, c.info(), std::nullopt, std::nullopt);
       std::cout << choice.text << "\t" << j["board"].get<std::string>() << ", firmware "
                 << j["firmware"].get<std::string>() << ", protocol "
                 << j["protocol"].get<std::string>() << ", "
@@ -173,6 +184,16 @@ std::string InfoText(const device::Connection& c, const nlohmann::json& j) {
     << std::uint32_t{i.link_reports_per_s} * wire::kLogRecordPayload << " B/s of log records)\n"
     << "channels      ";
   for (const auto& ch : j["channels"]) o << ch.get<std::string>() << " ";
+  o << "\ninstants      ";
+  if (j["sample_instants_us"].is_null()) {
+    o << "not stated (protocol 2.0 board)";
+  } else {
+    for (const auto& ch : j["channels"]) {
+      o << ch.get<std::string>() << " "
+        << j["sample_instants_us"][ch.get<std::string>()].get<double>() << " ";
+    }
+    o << "(us after the sample clock's edge)";
+  }
   o << "\ncalibration   ";
   if (i.cal_state == wire::CalState::kCalibrated) {
     o << "slot " << static_cast<int>(i.cal_slot) << ", crc " << j["cal_crc"].get<std::string>();
@@ -207,7 +228,7 @@ std::string InfoText(const device::Connection& c, const nlohmann::json& j) {
 
 void Run(const InfoArgs& a) {
   WithDevice(*a.globals, [&](device::Connection& c) {
-    const nlohmann::json j = InfoJson(c, c.info(), c.GetClips());
+    const nlohmann::json j = InfoJson(c, c.info(), c.GetClips(), c.GetSamplingInfo());
     std::cout << (a.json ? j.dump(2) + "\n" : InfoText(c, j));
   });
 }

@@ -9,6 +9,7 @@
 #include <iostream>
 #include <limits>
 #include <numbers>
+#include <optional>
 #include <sstream>
 
 #include "cli_support.hpp"
@@ -18,6 +19,7 @@
 #include "vibid/common/json_keys.hpp"
 #include "vibid/common/text_input.hpp"
 #include "vibid/ident/frf_io.hpp"
+#include "vibid/ident/sample_instants.hpp"
 
 namespace vibid::cli {
 
@@ -87,6 +89,37 @@ std::size_t DefaultSegment(std::size_t samples) {
   std::size_t seg = 4096;
   while (seg > 16 && seg > samples / 4) seg /= 2;
   return seg;
+}
+
+}  // namespace
+
+namespace {
+
+/// Moves every response to the force's sampling instant when the recording states the instants
+/// (a board's recording does); says what it did, or nothing for a recording without them.
+std::string CompensateInstants(const std::string& path, ident::Frf& frf) {
+  const std::optional<ident::SampleInstants> instants = ident::ReadSampleInstants(path);
+  if (!instants) return {};
+  const auto instant_of = [&](const std::string& column) {
+    const std::optional<double> t = instants->Of(column);
+    Require(t.has_value(),
+            path + ": the header's sample_instants_us does not name column '" + column + "'");
+    return *t;
+  };
+  const double force_s = instant_of(frf.force_name);
+  std::vector<double> response_s;
+  std::ostringstream text;
+  text.precision(6);
+  text << "sampling instants compensated (each response moved to " << frf.force_name
+       << "'s instant, H x exp(j omega (t_force - t_response))):";
+  for (const std::string& name : frf.response_names) {
+    response_s.push_back(instant_of(name));
+    text << " " << name << " " << (response_s.back() - force_s) * 1e6 << " us;";
+  }
+  ident::CompensateSampleInstants(frf, force_s, response_s);
+  std::string s = text.str();
+  s.back() = '\n';
+  return s;
 }
 
 }  // namespace
@@ -163,6 +196,7 @@ Estimated EstimateFromRecording(const std::string& path, const EstimationArgs& a
   }
   out.frf.response_names = names;
   out.frf.force_name = fspec.name;
+  out.compensation = CompensateInstants(path, out.frf);
   out.frf = ident::ConvertFrf(out.frf, kind);
   return out;
 }
@@ -203,6 +237,8 @@ void KeepEstimationNotes(const std::string& path, const Estimated& e, bool say_n
     std::cerr << "vibid: warning: " << w << "\n";
     notes.push_back(w);
   }
+  if (!e.compensation.empty())
+    notes.push_back(path + ": " + e.compensation.substr(0, e.compensation.size() - 1));
   std::istringstream in(DescribeHits(e.hits));
   for (std::string line; std::getline(in, line);) notes.push_back(path + ": " + line);
 }

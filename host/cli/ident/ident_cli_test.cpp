@@ -13,6 +13,7 @@
 
 #include "run_cli.hpp"
 #include "vibid/common/atomic_file.hpp"
+#include "vibid/common/csv.hpp"
 #include "vibid/common/testing/real_data.hpp"
 #include "vibid/ident/testing/hammer_test.hpp"
 #include "vibid/model/modal.hpp"
@@ -143,6 +144,69 @@ TEST(FrfEstimateCli, ImpactCsvAndUff) {
                 "--segment", "2048", "--window", "hann", "--estimator", "h2"});
   ASSERT_EQ(w.exit_code, 0) << w.err;
   EXPECT_NE(w.out.find("estimator=h2"), std::string::npos);
+}
+
+// A tone on two channels sampled 3.238 us apart (the board's force2 after acc1: one 68-clock
+// conversion at 21 MHz), as a board recording states them in its header line.
+std::string ToneRecording(const std::string& dir, const std::string& name,
+                          const std::string& header) {
+  const double fs = 10000.0, f = 2437.0, force_us = 5.905, response_us = 2.667;
+  std::string text = header;
+  text += "t_s,force2_n,acc1_m_s2\n";
+  char line[128];
+  for (int i = 0; i < 10000; ++i) {
+    const double t = i / fs;
+    std::snprintf(line, sizeof(line), "%.17g,%.17g,%.17g\n", t,
+                  std::sin(2.0 * M_PI * f * (t + force_us * 1e-6)),
+                  std::sin(2.0 * M_PI * f * (t + response_us * 1e-6)));
+    text += line;
+  }
+  return Write(dir, name, text);
+}
+
+/// Phase of the FRF file's response at `freq_hz` (one of its lines).
+double FrfPhaseAt(const std::string& path, double freq_hz) {
+  const CsvTable t = ParseCsv(ReadFileText(path), path);
+  const Eigen::VectorXd& f = t.Column("freq_hz");
+  for (Eigen::Index k = 0; k < f.size(); ++k) {
+    if (f(k) == freq_hz)
+      return std::atan2(t.Column("acc1_m_s2_im")(k), t.Column("acc1_m_s2_re")(k));
+  }
+  ADD_FAILURE() << "no line at " << freq_hz << " Hz in " << path;
+  return NAN;
+}
+
+TEST(FrfEstimateCli, SampleInstantsInTheHeaderAreCompensatedAndStated) {
+  const Rig& rig = SyntheticRig();
+  const std::vector<std::string> welch = {
+      "--force",   "force2_n", "--response", "acc1_m_s2", "--welch", "--window",   "rect",
+      "--segment", "10000",    "--overlap",  "0",         "--kind",  "accelerance"};
+  const auto run = [&](const std::string& recording, const std::string& out) {
+    std::vector<std::string> args = {"frf-estimate", recording};
+    args.insert(args.end(), welch.begin(), welch.end());
+    args.insert(args.end(), {"-o", out});
+    return RunVibid(args);
+  };
+  // Without instants: the response, sampled 3.238 us before the force, shows
+  // exp(-j 2 pi 2437 Hz 3.238 us) = -0.049581 rad.
+  const std::string plain = ToneRecording(rig.dir, "tone_plain.csv", "");
+  const auto p = run(plain, rig.dir + "/plain.csv");
+  ASSERT_EQ(p.exit_code, 0) << p.err;
+  EXPECT_EQ(p.out.find("sampling instants"), std::string::npos) << p.out;
+  EXPECT_NEAR(FrfPhaseAt(rig.dir + "/plain.csv", 2437.0), -2.0 * M_PI * 2437.0 * 3.238e-6, 1e-9);
+  // With the board's header line: moved to the force's instant, and said.
+  const std::string stated =
+      ToneRecording(rig.dir, "tone_stated.csv",
+                    "# vibid-recording sample_instants_us=force2_n:5.905,acc1_m_s2:2.667\n");
+  const auto s = run(stated, rig.dir + "/stated.csv");
+  ASSERT_EQ(s.exit_code, 0) << s.err;
+  EXPECT_NE(s.out.find("sampling instants compensated"), std::string::npos) << s.out;
+  EXPECT_NE(s.out.find("acc1_m_s2 -3.238 us"), std::string::npos) << s.out;
+  EXPECT_NEAR(FrfPhaseAt(rig.dir + "/stated.csv", 2437.0), 0.0, 1e-9);
+  // A header that leaves out a column used is refused, naming it.
+  const std::string partial = ToneRecording(
+      rig.dir, "tone_partial.csv", "# vibid-recording sample_instants_us=force2_n:5.905\n");
+  ExpectInputError(run(partial, rig.dir + "/partial.csv"), "acc1_m_s2");
 }
 
 TEST(FrfEstimateCli, BadInput) {

@@ -102,6 +102,8 @@ class Core {
                         std::size_t& length);
   void StartLogStream(std::uint16_t token, std::uint32_t first, std::uint32_t end, bool follow);
   wire::InfoResponse Info() const;
+  /// get-info page kInfoPageSampling: the board profile's sampling instants.
+  static wire::SamplingInfoResponse SamplingInfo();
   wire::StatusResponse CurrentStatus() const;
 
   const Port port_;

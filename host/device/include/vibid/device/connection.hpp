@@ -22,6 +22,7 @@
 #include <deque>
 #include <functional>
 #include <memory>
+#include <optional>
 #include <mutex>
 #include <optional>
 #include <span>
@@ -107,6 +108,9 @@ class Connection {
   }
 
   wire::InfoResponse GetInfo();
+  /// get-info's sampling page: when the board samples each channel after its timer edge. Empty
+  /// for a board of protocol 2.0, which does not say.
+  std::optional<wire::SamplingInfoResponse> GetSamplingInfo();
   wire::StatusResponse GetStatus();
   void Ping();
 

@@ -128,6 +128,26 @@ struct InfoResponse {
 };
 static_assert(InfoResponse::kBytes <= kMaxPayload);
 
+// get-info request, protocol 2.1: no payload asks for InfoResponse, as in 2.0; one byte asks for
+// a further page of facts the 52-byte InfoResponse has no room for:
+//   0 u8 page    kInfoPageSampling -> SamplingInfoResponse; any other page is refused
+// A 2.0 board refuses any payload (kInvalidArgument): a host asks for a page only of a board whose
+// InfoResponse says protocol_minor >= 1.
+inline constexpr std::uint8_t kInfoPageSampling = 1;
+struct InfoPageRequest {
+  static constexpr std::size_t kBytes = 1;
+  std::uint8_t page = kInfoPageSampling;
+};
+
+// get-info page kInfoPageSampling (protocol 2.1): when the board samples each channel.
+//   0 u32 sample_instant_ns[6]   after the sample timer's edge, in ns, wire::Channel order
+// Channels sampled at different instants see a common signal with a phase difference of
+// 2 pi f (t_a - t_b); the host compensates a cross spectrum with them (docs/board.md).
+struct SamplingInfoResponse {
+  static constexpr std::size_t kBytes = 24;
+  std::array<std::uint32_t, kChannelCount> sample_instant_ns{};
+};
+
 // ---------------------------------------------------------------------------------------------
 // get-status response
 //   0  u8  acq_state    1  u8  dob_running (0/1)   2  u8  cal_state   3  u8  cal_staged (0/1)
@@ -320,6 +340,10 @@ void Encode(const InfoResponse& v, std::span<std::uint8_t> out);
 Status Decode(std::span<const std::uint8_t> in, InfoResponse& v);
 void Encode(const StatusResponse& v, std::span<std::uint8_t> out);
 Status Decode(std::span<const std::uint8_t> in, StatusResponse& v);
+void Encode(const InfoPageRequest& v, std::span<std::uint8_t> out);
+Status Decode(std::span<const std::uint8_t> in, InfoPageRequest& v);
+void Encode(const SamplingInfoResponse& v, std::span<std::uint8_t> out);
+Status Decode(std::span<const std::uint8_t> in, SamplingInfoResponse& v);
 void Encode(const AcqConfigureRequest& v, std::span<std::uint8_t> out);
 Status Decode(std::span<const std::uint8_t> in, AcqConfigureRequest& v);
 void Encode(const AcqConfigureResponse& v, std::span<std::uint8_t> out);

@@ -48,10 +48,11 @@ enum class Reason : std::uint16_t {
   kUnknownScenario = 23,    ///< Emulator: no scenario of that name.
   kScenarioParameter = 24,  ///< Emulator: a parameter is out of range; detail: its index (0..3).
   kPortRefused = 25,        ///< A port command was refused for a port-specific cause.
+  kUnknownInfoPage = 26,    ///< get-info of a page the board does not have; detail: the page.
 };
 
 /// The highest Reason this build knows; a larger value decodes and names itself "unknown".
-inline constexpr Reason kLastReason = Reason::kPortRefused;
+inline constexpr Reason kLastReason = Reason::kUnknownInfoPage;
 
 struct Refusal {
   static constexpr std::size_t kBytes = 8;
