@@ -125,7 +125,8 @@ TEST_F(CliFaultTest, CtrlCStopsTheAcquisitionAndKeepsTheRecord) {
   EXPECT_EQ(r.err.rfind("vibid: Ctrl-C: stopping the acquisition, keeping what it recorded", 0), 0u)
       << r.err;
   EXPECT_EQ(FilesIn(dir), std::vector<std::string>{"REC.csv"}) << "no temporary file left";
-  EXPECT_EQ(BoardState(emu->device_spec()), "idle");
+  EXPECT_EQ(BoardState(emu->device_spec()),
+            "stopped: the last frame of the acquisition that was stopped");
 }
 
 TEST_F(CliFaultTest, AnOutputThatCannotBeWrittenIsRefusedBeforeTheBoardStarts) {
@@ -149,10 +150,10 @@ class CliTriggerTest : public CliFaultTest {
   /// The nominal model, its observer and the example sensors on the board: force triggers in N.
   void Calibrate() {
     const std::string design = dir + "/design.json";
-    ASSERT_EQ(
-        RunVibid({"dob", "design", VIBID_SOURCE_DIR "/examples/rig_nominal.json", "-o", design})
-            .exit_code,
-        0);
+    ASSERT_EQ(RunVibid({"dob", "design", VIBID_SOURCE_DIR "/examples/rig_nominal.json",
+                        "--force-fs-n", "500", "-o", design})
+                  .exit_code,
+              0);
     const auto up = RunVibid({"--device", emu->device_spec(), "cal", "upload",
                               VIBID_SOURCE_DIR "/examples/rig_nominal.json", "--design", design,
                               "--sensors", VIBID_SOURCE_DIR "/examples/sensors.json"});
@@ -181,7 +182,8 @@ TEST_F(CliTriggerTest, AWaitForTheTriggerSaysSoAndTimesOut) {
             "vibid: error: the trigger did not fire within 2.5 s (--trigger-timeout-s): "
             "acquisition stopped before anything was recorded, nothing written");
   EXPECT_FALSE(std::filesystem::exists(output));
-  EXPECT_EQ(BoardState(emu->device_spec()), "idle");
+  EXPECT_EQ(BoardState(emu->device_spec()),
+            "stopped: the last frame of the acquisition that was stopped");
 }
 
 TEST_F(CliTriggerTest, CtrlCStopsAWaitForTheTrigger) {
@@ -201,7 +203,8 @@ TEST_F(CliTriggerTest, CtrlCStopsAWaitForTheTrigger) {
             std::string::npos)
       << r.err;
   EXPECT_FALSE(std::filesystem::exists(output));
-  EXPECT_EQ(BoardState(emu->device_spec()), "idle");
+  EXPECT_EQ(BoardState(emu->device_spec()),
+            "stopped: the last frame of the acquisition that was stopped");
 }
 
 // --device before or after the command, or VIBID_DEVICE: the same board; the option wins.
