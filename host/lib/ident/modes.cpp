@@ -470,29 +470,52 @@ void FitModelFromPoles(const Frf& receptance, const std::vector<double>& om,
   }
 }
 
+// The modal model's omega, zeta and shape ratios with their intervals, each where the model
+// determines it; elsewhere the diagram's pole or the residue fit's shape stays, without an
+// interval, and a warning says so.
 void ModesFromModel(std::size_t driving_point, ModeIdentification& out) {
   const auto p = static_cast<Eigen::Index>(driving_point);
+  if (!out.model.note.empty()) out.warnings.push_back(out.model.note);
   for (std::size_t i = 0; i < out.modes.size(); ++i) {
     const auto ii = static_cast<Eigen::Index>(i);
     ModeEstimate& m = out.modes[i];
-    m.omega_rad_s = out.model.omega_rad_s[ii];
-    m.freq_hz = m.omega_rad_s / (2.0 * std::numbers::pi);
-    m.zeta = out.model.zeta[ii];
-    for (Eigen::Index j = 0; j < m.shape.size(); ++j) {
-      if (j != p) m.shape[j] = m.shape[p] * out.model.ShapeRatio(ii, j, p);
+    char line[200];
+    const double sd_omega = out.model.omega_sd_rad_s[ii];
+    const double sd_zeta = out.model.zeta_sd[ii];
+    if (std::isfinite(sd_omega) && std::isfinite(sd_zeta)) {
+      m.omega_rad_s = out.model.omega_rad_s[ii];
+      m.freq_hz = m.omega_rad_s / (2.0 * std::numbers::pi);
+      m.zeta = out.model.zeta[ii];
+      m.omega_ci95_rad_s = Interval95(m.omega_rad_s, sd_omega);
+      m.zeta_ci95 = Interval95(m.zeta, sd_zeta);
+    } else {
+      std::snprintf(line, sizeof line,
+                    "mode at %.5g Hz: the modal model does not determine its pole from these "
+                    "lines: omega and zeta from the diagram, no interval",
+                    m.freq_hz);
+      out.warnings.emplace_back(line);
     }
+    if (m.shape.size() != 2) {
+      for (Eigen::Index j = 0; j < m.shape.size(); ++j) {
+        if (j != p) m.shape[j] = m.shape[p] * out.model.ShapeRatio(ii, j, p);
+      }
+      m.ratio = Ratio(m.shape);
+      continue;
+    }
+    // ratio = phi_0 / phi_1: the projection itself when the hammer is at 1, its inverse at 0.
+    const double q = out.model.ShapeRatio(ii, 1 - p, p);
+    const double sd = out.model.ShapeRatioSd(ii, 1 - p, p);
+    if (!std::isfinite(sd)) {
+      std::snprintf(line, sizeof line,
+                    "mode at %.5g Hz: the modal model does not determine its shape from these "
+                    "lines: shape from the residue fit, no interval on a1/a2",
+                    m.freq_hz);
+      out.warnings.emplace_back(line);
+      continue;
+    }
+    m.shape[1 - p] = m.shape[p] * q;
     m.ratio = Ratio(m.shape);
-    const double hw_omega = kZ95 * out.model.omega_sd_rad_s[ii];
-    const double hw_zeta = kZ95 * out.model.zeta_sd[ii];
-    m.omega_ci95_rad_s = {m.omega_rad_s - hw_omega, m.omega_rad_s + hw_omega};
-    m.zeta_ci95 = {m.zeta - hw_zeta, m.zeta + hw_zeta};
-    if (m.shape.size() == 2) {
-      // ratio = phi_0 / phi_1: the projection itself when the hammer is at 1, its inverse at 0.
-      const double q = out.model.ShapeRatio(ii, 1 - p, p);
-      const double sd = out.model.ShapeRatioSd(ii, 1 - p, p);
-      const double hw = kZ95 * (p == 1 ? sd : sd / (q * q));
-      m.ratio_ci95 = {m.ratio - hw, m.ratio + hw};
-    }
+    m.ratio_ci95 = Interval95(m.ratio, p == 1 ? sd : sd / (q * q));
   }
 }
 
