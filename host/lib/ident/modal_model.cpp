@@ -178,7 +178,8 @@ double ModalModelFit::Variance(const Eigen::VectorXd& gradient) const {
   if (undetermined.cols() > 0) {
     // Even at the least variance an undetermined direction can have, it outweighs what the
     // determined ones give: the data do not fix this quantity.
-    const double least = (undetermined.transpose() * gradient).squaredNorm() * undetermined_variance;
+    const double least =
+        (undetermined.transpose() * gradient).squaredNorm() * undetermined_variance;
     if (!(least <= v)) return kNone;
   }
   return std::isfinite(v) && v > 0.0 ? v : kNone;
@@ -354,8 +355,8 @@ void EstimateCovariance(const Problem& prob, const Eigen::VectorXd& theta, Modal
   for (std::size_t k = 0; k < undetermined.size(); ++k)
     out.undetermined.col(static_cast<Eigen::Index>(k)) = sv.col(undetermined[k]);
   // The least variance an undetermined direction can have: its eigenvalue at the floor.
-  out.undetermined_variance = top > 0.0 ? out.reduced_chi2 / floor
-                                        : std::numeric_limits<double>::infinity();
+  out.undetermined_variance =
+      top > 0.0 ? out.reduced_chi2 / floor : std::numeric_limits<double>::infinity();
 }
 
 void StoreResidues(const Problem& prob, const Eigen::VectorXd& theta, Eigen::Index i,

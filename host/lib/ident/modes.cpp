@@ -383,23 +383,28 @@ std::vector<SelectedPole> StrongestPoles(std::vector<SelectedPole> chosen, std::
 }
 
 // The default must not leave a user with nothing: LSCE next (it holds up on short Welch FRFs
-// where pLSCF finds no stable pole, e.g. the DaISy robot arm), then the curve fit.
+// where pLSCF finds no stable pole, e.g. the DaISy robot arm), then the curve fit; each step says
+// why the one before gave no mode, and when none does the refusal names all three causes.
 ModeIdentification IdentifyWithoutPlscf(const Frf& receptance, std::size_t driving_point,
                                         const ModeIdentificationOptions& options,
-                                        const StabilizationOptions& so) {
+                                        const std::string& why) {
   ModeIdentificationOptions next = options;
   next.stabilization_fallback_off = true;
   next.method = ModeMethod::kLsce;
-  const std::string why = std::string("no stable pole in the pLSCF diagram (orders ") +
-                          std::to_string(so.min_order) + ".." + std::to_string(so.max_order) + ")";
   ModeIdentification alt;
   try {
     alt = IdentifyModes(receptance, driving_point, next);
     alt.warnings.insert(alt.warnings.begin(), why + ": modes from LSCE");
-  } catch (const InputError&) {
+    return alt;
+  } catch (const InputError& lsce) {
     next.method = ModeMethod::kCurveFit;
-    alt = IdentifyModes(receptance, driving_point, next);
-    alt.warnings.insert(alt.warnings.begin(), why + " nor in LSCE's: modes from the curve fit");
+    try {
+      alt = IdentifyModes(receptance, driving_point, next);
+    } catch (const InputError& fit) {
+      throw InputError("no modes: " + why + "; " + lsce.what() + "; curve fit: " + fit.what());
+    }
+    alt.warnings.insert(alt.warnings.begin(),
+                        why + "; " + lsce.what() + ": modes from the curve fit (no intervals)");
   }
   return alt;
 }
@@ -523,18 +528,29 @@ ModeIdentification IdentifyFromDiagram(const Frf& receptance, std::size_t drivin
                                        const ModeIdentificationOptions& options) {
   ModeIdentification out;
   const StabilizationOptions so = DiagramOptions(options);
-  out.diagram = DiagramForReceptance(receptance, options, so);
+  const bool may_fall_back =
+      options.method == ModeMethod::kLscf && !options.stabilization_fallback_off;
+  try {
+    out.diagram = DiagramForReceptance(receptance, options, so);
+  } catch (const InputError& e) {
+    if (!may_fall_back) throw;
+    return IdentifyWithoutPlscf(receptance, driving_point, options, e.what());
+  }
   out.has_diagram = true;
   const std::vector<SelectedPole> chosen =
       StrongestPoles(out.diagram.selected, options.peaks.max_peaks);
-  if (chosen.empty() && options.method == ModeMethod::kLscf &&
-      !options.stabilization_fallback_off) {
-    return IdentifyWithoutPlscf(receptance, driving_point, options, so);
+  const std::string orders = out.diagram.orders.empty()
+                                 ? std::string("none")
+                                 : std::to_string(out.diagram.orders.front()) + ".." +
+                                       std::to_string(out.diagram.orders.back());
+  if (chosen.empty() && may_fall_back) {
+    return IdentifyWithoutPlscf(receptance, driving_point, options,
+                                "lscf: no stable pole in the diagram (orders " + orders + ")");
   }
-  Require(!chosen.empty(),
-          std::string("no stable pole in the stabilization diagram (") + PoleMethodName(so.method) +
-              ", orders " + std::to_string(so.min_order) + ".." + std::to_string(so.max_order) +
-              "): raise the orders (--orders), narrow the band, or use --method fit");
+  Require(!chosen.empty(), std::string("no stable pole in the stabilization diagram (") +
+                               PoleMethodName(so.method) + ", orders " + orders +
+                               "): raise the orders (--orders), narrow the band, or use "
+                               "--method fit");
   std::vector<double> om;
   for (const SelectedPole& p : chosen) om.push_back(p.omega_rad_s);
   const std::vector<double> ze = DampingShownByFrf(receptance, chosen);
