@@ -2,11 +2,13 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <numbers>
 
 #include "scenario.hpp"
 #include "vibid/common/error.hpp"
 #include "vibid/common/json_file.hpp"
+#include "vibid/model/modal.hpp"
 
 namespace vibid::emu {
 namespace {
@@ -173,7 +175,23 @@ RigSimulator::RigSimulator(RigSpec spec, std::uint64_t seed) : spec_(std::move(s
   (void)spec_.Truth();  // validates
 }
 
-void RigSimulator::Select(const Scenario& scenario) { scenario_ = scenario; }
+double DefaultHammerSpacingS(const model::Model& active) {
+  constexpr double kLongestS = 60.0;
+  const model::ComplexModes modes = model::ComplexModalDamping(active);
+  double ring_down_s = 0.0;
+  for (Eigen::Index i = 0; i < modes.omega_rad_s.size(); ++i) {
+    const double decay_rate = modes.zeta[i] * modes.omega_rad_s[i];
+    ring_down_s = decay_rate > 0.0 ? std::max(ring_down_s, std::log(100.0) / decay_rate)
+                                   : std::numeric_limits<double>::infinity();
+  }
+  return std::min(kLongestS, std::ceil(ring_down_s / 0.7 * 2.0) / 2.0);
+}
+
+void RigSimulator::Select(const Scenario& scenario) {
+  scenario_ = scenario;
+  if (scenario_.kind == ScenarioKind::kHammer && scenario_.spacing_s == 0.0)
+    scenario_.spacing_s = DefaultHammerSpacingS(ActiveModel());
+}
 
 Status RigSimulator::SelectScenario(const wire::ScenarioRequest& request) {
   Scenario s;

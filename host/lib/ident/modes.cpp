@@ -357,9 +357,14 @@ StabilizationDiagram DiagramForReceptance(const Frf& receptance,
                                           const ModeIdentificationOptions& options,
                                           const StabilizationOptions& so) {
   if (so.freq_max_hz > 0.0) return BuildStabilizationDiagram(receptance, so);
-  // No band given: bands around the resonances the peak picker sees (see AutomaticBands).
-  const PeakResult seen = PickPeaks(
-      receptance.freq_hz, PickingMagnitude(receptance, options.picking_column), options.peaks);
+  // No band given: bands around the resonances the peak picker sees (see AutomaticBands). Every
+  // peak places a band: a limit on the modes keeps the poles seen at the most orders
+  // (StrongestPoles), it does not choose where to look (the largest peaks of a single-hit FRF can
+  // be noise at the force spectrum's notches, above a weak mode).
+  PeakOptions look = options.peaks;
+  look.max_peaks = 0;
+  const PeakResult seen =
+      PickPeaks(receptance.freq_hz, PickingMagnitude(receptance, options.picking_column), look);
   std::vector<double> at;
   for (const Peak& p : seen.peaks) at.push_back(p.freq_hz);
   std::vector<std::pair<double, double>> bands =
