@@ -599,19 +599,28 @@ ModeIdentification IdentifyFromPeaks(const Frf& receptance, std::size_t driving_
 }
 
 // A pole with no resolved damping is a numerical artefact (a zero-width peak, or a fit that
-// drove the damping to zero), not a mode.
+// drove the damping to zero), or a pole the record cannot tell from an undamped one (its 95 %
+// interval on zeta reaches 0): not a mode.
 void DropUnresolvedModes(ModeIdentification& out) {
   constexpr double kMinResolvedZeta = 1e-6;
   std::vector<ModeEstimate> kept;
   for (const ModeEstimate& m : out.modes) {
-    if (m.zeta > kMinResolvedZeta && std::isfinite(m.zeta)) {
+    const bool interval_reaches_zero = std::isfinite(m.zeta_ci95[0]) && m.zeta_ci95[0] <= 0.0;
+    if (m.zeta > kMinResolvedZeta && std::isfinite(m.zeta) && !interval_reaches_zero) {
       kept.push_back(m);
       continue;
     }
     char line[200];
-    std::snprintf(line, sizeof line,
-                  "pole at %.5g Hz dropped: its damping is not resolved (zeta = %.3g)", m.freq_hz,
-                  m.zeta);
+    if (interval_reaches_zero) {
+      std::snprintf(line, sizeof line,
+                    "pole at %.5g Hz dropped: its damping is not resolved (zeta = %.3g, 95 %% "
+                    "interval %.3g..%.3g reaches 0)",
+                    m.freq_hz, m.zeta, m.zeta_ci95[0], m.zeta_ci95[1]);
+    } else {
+      std::snprintf(line, sizeof line,
+                    "pole at %.5g Hz dropped: its damping is not resolved (zeta = %.3g)", m.freq_hz,
+                    m.zeta);
+    }
     out.warnings.emplace_back(line);
     out.dropped.push_back(m);
   }
@@ -627,10 +636,10 @@ ModeIdentification IdentifyModes(const Frf& receptance, std::size_t driving_poin
   Require(receptance.quantity == Quantity::kDisplacement,
           "mode identification needs a receptance FRF");
   Require(driving_point < receptance.responses(), "driving-point response out of range");
-  if (options.method == ModeMethod::kLscf || options.method == ModeMethod::kLsce) {
-    return IdentifyFromDiagram(receptance, driving_point, options);
-  }
-  ModeIdentification out = IdentifyFromPeaks(receptance, driving_point, options);
+  ModeIdentification out =
+      options.method == ModeMethod::kLscf || options.method == ModeMethod::kLsce
+          ? IdentifyFromDiagram(receptance, driving_point, options)
+          : IdentifyFromPeaks(receptance, driving_point, options);
   DropUnresolvedModes(out);
   return out;
 }

@@ -81,12 +81,12 @@ void ExpectTheChainModes(const ModeIdentification& r, const ShortRecordCase& c, 
   ASSERT_EQ(r.modes.size(), 2u) << how;
   for (std::size_t i = 0; i < 2; ++i) {
     const ModeEstimate& m = r.modes[i];
-    std::printf("%s mode %zu: omega %+.4f %%, zeta %+.2f %%, a1/a2 %.5f (closed form %.5f, %+.3f %%)"
-                " +- %.3g\n",
-                how, i + 1, Pct(m.omega_rad_s, c.damped.omega_rad_s[static_cast<Eigen::Index>(i)]),
-                Pct(m.zeta, c.damped.zeta[static_cast<Eigen::Index>(i)]), m.ratio,
-                c.undamped.ratio[i], Pct(m.ratio, c.undamped.ratio[i]),
-                0.5 * (m.ratio_ci95[1] - m.ratio_ci95[0]));
+    std::printf(
+        "%s mode %zu: omega %+.4f %%, zeta %+.2f %%, a1/a2 %.5f (closed form %.5f, %+.3f %%)"
+        " +- %.3g\n",
+        how, i + 1, Pct(m.omega_rad_s, c.damped.omega_rad_s[static_cast<Eigen::Index>(i)]),
+        Pct(m.zeta, c.damped.zeta[static_cast<Eigen::Index>(i)]), m.ratio, c.undamped.ratio[i],
+        Pct(m.ratio, c.undamped.ratio[i]), 0.5 * (m.ratio_ci95[1] - m.ratio_ci95[0]));
     EXPECT_NEAR(m.omega_rad_s, c.damped.omega_rad_s[static_cast<Eigen::Index>(i)],
                 0.002 * c.damped.omega_rad_s[static_cast<Eigen::Index>(i)])
         << how;
@@ -172,16 +172,15 @@ TEST(ShortRecords, AutomaticOrdersFollowTheLines) {
   EXPECT_EQ(LinesNeeded(o), 24);
 }
 
-// A closed-form FRF in coarse lines with the ringing terms asked for (a pretrigger) that it does not
-// hold and that 16 lines 0.8 Hz apart cannot tell from the residues: the fit drops them, says so, and gives
-// every quantity a positive interval; omega, zeta and a1/a2 as the closed form.
+// A closed-form FRF in coarse lines with the ringing terms asked for (a pretrigger) that it does
+// not hold and that 16 lines 0.8 Hz apart cannot tell from the residues: the fit drops them, says
+// so, and gives every quantity a positive interval; omega, zeta and a1/a2 as the closed form.
 TEST(ShortRecords, UndeterminedRingingTermsAreLeftOut) {
   const double m1 = 1.82, m2 = 1.53, k1 = 3520, k2 = 2760, beta = 1.43e-3;
   Frf frf = testing::ChainFrf(m1, m2, k1, k2, beta * k1, beta * k2, 1, 0.8, 50);
   frf.pretrigger_s = 0.0166;
-  const model::ComplexModes cm = model::ComplexModalDamping(
-      model::MakeChain(Eigen::Vector2d(m1, m2), Eigen::Vector2d(k1, k2),
-                       Eigen::Vector2d(beta * k1, beta * k2)));
+  const model::ComplexModes cm = model::ComplexModalDamping(model::MakeChain(
+      Eigen::Vector2d(m1, m2), Eigen::Vector2d(k1, k2), Eigen::Vector2d(beta * k1, beta * k2)));
   const testing::ChainModes um = testing::ChainModesOf(m1, m2, k1, k2);
   std::vector<std::complex<double>> start;
   for (Eigen::Index i = 0; i < 2; ++i) {
@@ -212,18 +211,22 @@ TEST(ShortRecords, AnIntervalOfZeroWidthIsNoInterval) {
   EXPECT_DOUBLE_EQ(ci[1], 1.0 + kZ95 * 0.5);
 }
 
-// The LADISK beam with every default: modes, and none with an interval of 0 (the 18 Hz pole with
-// no resolved damping keeps a wide interval).
+// The LADISK beam with every default: modes, none with an interval of 0, none whose damping
+// interval reaches 0 (the 18 Hz pole, zeta 0.025 +- 0.049, is dropped with a warning).
 TEST(ShortRecords, LadiskDefaultsGiveNoPointInterval) {
   const Recording rec = LoadRecording(std::string(VIBID_DATA_DIR) +
                                       "/ladisk_impact_hammer/impact_acceleration_force.csv");
-  const ImpactResult r =
-      EstimateImpactFrf(rec.Signal(ParseColumnSpec("force_N")),
-                        rec.Signal(ParseColumnSpec("acceleration_g:g")), rec.fs_hz, {},
-                        Estimator::kH1, Quantity::kAcceleration);
+  const ImpactResult r = EstimateImpactFrf(rec.Signal(ParseColumnSpec("force_N")),
+                                           rec.Signal(ParseColumnSpec("acceleration_g:g")),
+                                           rec.fs_hz, {}, Estimator::kH1, Quantity::kAcceleration);
   const ModeIdentification m = IdentifyModes(ConvertFrf(r.frf, Quantity::kDisplacement), 0, {});
   EXPECT_GE(m.modes.size(), 4u);
   ExpectNoPointIntervals(m.modes);
+  for (const ModeEstimate& e : m.modes) EXPECT_FALSE(e.zeta_ci95[0] <= 0.0) << e.freq_hz;
+  bool dropped_18_hz = false;
+  for (const ModeEstimate& e : m.dropped)
+    dropped_18_hz = dropped_18_hz || std::abs(e.freq_hz - 18) < 1;
+  EXPECT_TRUE(dropped_18_hz);
 }
 
 }  // namespace
