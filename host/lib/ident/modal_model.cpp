@@ -482,9 +482,11 @@ ModalModelFit FitModalModel(const Frf& receptance, const std::vector<std::comple
   char line[240];
   std::snprintf(line, sizeof line,
                 "the %d lines of %.4g..%.4g Hz do not tell the ringing terms of the %.4g s "
-                "pretrigger from the hit's own residues: modal model without them",
+                "pretrigger from the hit's own residues: modal model without them, no intervals "
+                "(hits further apart give both)",
                 out.lines, out.freq_min_hz, out.freq_max_hz, prob.pretrigger_s);
   alt.note = line;
+  alt.ringing_terms_dropped = true;
   return alt;
 }
 

@@ -492,12 +492,16 @@ void ModesFromModel(std::size_t driving_point, ModeIdentification& out) {
     char line[200];
     const double sd_omega = out.model.omega_sd_rad_s[ii];
     const double sd_zeta = out.model.zeta_sd[ii];
+    // Without the ringing terms the values stand but the covariance misses the ringing.
+    const bool intervals = !out.model.ringing_terms_dropped;
     if (std::isfinite(sd_omega) && std::isfinite(sd_zeta)) {
       m.omega_rad_s = out.model.omega_rad_s[ii];
       m.freq_hz = m.omega_rad_s / (2.0 * std::numbers::pi);
       m.zeta = out.model.zeta[ii];
-      m.omega_ci95_rad_s = Interval95(m.omega_rad_s, sd_omega);
-      m.zeta_ci95 = Interval95(m.zeta, sd_zeta);
+      if (intervals) {
+        m.omega_ci95_rad_s = Interval95(m.omega_rad_s, sd_omega);
+        m.zeta_ci95 = Interval95(m.zeta, sd_zeta);
+      }
     } else {
       std::snprintf(line, sizeof line,
                     "mode at %.5g Hz: the modal model does not determine its pole from these "
@@ -525,7 +529,7 @@ void ModesFromModel(std::size_t driving_point, ModeIdentification& out) {
     }
     m.shape[1 - p] = m.shape[p] * q;
     m.ratio = Ratio(m.shape);
-    m.ratio_ci95 = Interval95(m.ratio, p == 1 ? sd : sd / (q * q));
+    if (intervals) m.ratio_ci95 = Interval95(m.ratio, p == 1 ? sd : sd / (q * q));
   }
 }
 
