@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <numbers>
 #include <sstream>
 #include <string>
@@ -12,6 +13,7 @@
 #include "vibid/common/json_file.hpp"
 #include "vibid/shared/board_profile.hpp"
 #include "vibid/common/json_keys.hpp"
+#include "vibid/model/modal.hpp"
 
 namespace vibid::emu {
 namespace {
@@ -203,7 +205,23 @@ RigSimulator::RigSimulator(RigSpec spec, std::uint64_t seed) : spec_(std::move(s
     instant_s_[c] = kBoardProfile.sample_instant_ns(c) * 1e-9;
 }
 
-void RigSimulator::Select(const Scenario& scenario) { scenario_ = scenario; }
+double DefaultHammerSpacingS(const model::Model& active) {
+  constexpr double kLongestS = 60.0;
+  const model::ComplexModes modes = model::ComplexModalDamping(active);
+  double ring_down_s = 0.0;
+  for (Eigen::Index i = 0; i < modes.omega_rad_s.size(); ++i) {
+    const double decay_rate = modes.zeta[i] * modes.omega_rad_s[i];
+    ring_down_s = decay_rate > 0.0 ? std::max(ring_down_s, std::log(100.0) / decay_rate)
+                                   : std::numeric_limits<double>::infinity();
+  }
+  return std::min(kLongestS, std::ceil(ring_down_s / 0.7 * 2.0) / 2.0);
+}
+
+void RigSimulator::Select(const Scenario& scenario) {
+  scenario_ = scenario;
+  if (scenario_.kind == ScenarioKind::kHammer && scenario_.spacing_s == 0.0)
+    scenario_.spacing_s = DefaultHammerSpacingS(ActiveModel());
+}
 
 Status RigSimulator::SelectScenario(const wire::ScenarioRequest& request, wire::Refusal& why) {
   Scenario s;

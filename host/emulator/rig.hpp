@@ -84,12 +84,20 @@ struct Scenario {
   Configuration configuration = Configuration::kChain;
   int mass = 1;               ///< 0-based mass the hammer hits / the pull acts on
   double force_n = 0.0;       ///< hammer peak, shaker amplitude, push amplitude, pull force
-  double spacing_s = 0.0;     ///< hammer: mean time between hits
+  double spacing_s = 0.0;     ///< hammer: mean time between hits (0: DefaultHammerSpacingS)
   double frequency_hz = 0.0;  ///< shaker
   double push_n = 0.0;        ///< shaker: amplitude of the simultaneous hand push (0: none)
   double hold_s = 0.0;        ///< step: how long the pull holds before the release
   double amplitude = 0.0;     ///< tone: fraction of each converter's range
 };
+
+/// The hammer's mean hit spacing when the scenario leaves it open: the shortest spacing (0.7 of
+/// the mean) lets the slowest mode of `active` ring down to 1 % (ln 100 / (zeta omega)), rounded
+/// up to 0.5 s, at most 60 s. Why: each hit's record runs to the next hit, so the record holds
+/// the hit's whole response and its lines (1 / record apart) resolve the mode's half-power band;
+/// hits closer than that give records a modal analysis cannot use (12.5 s for the built-in
+/// chain, 5 s and 6 s for its masses alone).
+double DefaultHammerSpacingS(const model::Model& active);
 
 /// The rig behind the emulated board's converters (the port's SimulatedRig).
 class RigSimulator final : public SimulatedRig {

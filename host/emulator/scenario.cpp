@@ -59,8 +59,8 @@ Status ParseScenario(const wire::ScenarioRequest& request, int dofs, Scenario& o
     s.kind = ScenarioKind::kHammer;
     if (!MassAndConfiguration(p[0], p[3], dofs, s)) return mass_or_configuration();
     s.force_n = OrDefault(p[1], 100.0);
-    s.spacing_s = OrDefault(p[2], 1.5);
-    if (s.spacing_s < 0.05) return bad_parameter(2);
+    s.spacing_s = static_cast<double>(p[2]);  // 0: from the rig when selected
+    if (s.spacing_s != 0.0 && s.spacing_s < 0.05) return bad_parameter(2);
   } else if (name == "shaker") {
     s.kind = ScenarioKind::kShaker;
     s.mass = dofs - 1;

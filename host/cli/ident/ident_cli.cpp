@@ -294,8 +294,9 @@ nlohmann::json ModesToJson(const std::vector<ident::ModeEstimate>& modes) {
     j["shape"] = std::vector<double>(m.shape.data(), m.shape.data() + m.shape.size());
     if (m.HasIntervals()) {
       const auto pair = [](const std::array<double, 2>& ci) {
-        return std::isfinite(ci[0]) && std::isfinite(ci[1]) ? nlohmann::json{ci[0], ci[1]}
-                                                            : nlohmann::json(nullptr);
+        return std::isfinite(ci[0]) && std::isfinite(ci[1]) && ci[1] > ci[0]
+                   ? nlohmann::json{ci[0], ci[1]}
+                   : nlohmann::json(nullptr);
       };
       j["ci95"] = {{"omega_rad_s", pair(m.omega_ci95_rad_s)},
                    {"zeta", pair(m.zeta_ci95)},
@@ -341,8 +342,8 @@ std::vector<ident::ModeEstimate> ModesFromJson(const nlohmann::json& json,
         if (!m["ci95"].contains(key) || m["ci95"][key].is_null()) return;
         const nlohmann::json& v = m["ci95"][key];
         Require(v.is_array() && v.size() == 2 && v[0].is_number() && v[1].is_number() &&
-                    v[0].get<double>() <= v[1].get<double>(),
-                where + ": ci95." + key + " must be [lo, hi] with lo <= hi");
+                    v[0].get<double>() < v[1].get<double>(),
+                where + ": ci95." + key + " must be [lo, hi] with lo < hi (null: no interval)");
         ci = {v[0].get<double>(), v[1].get<double>()};
       };
       read("omega_rad_s", e.omega_ci95_rad_s);
@@ -403,14 +404,15 @@ std::string ModesTable(const std::vector<ident::ModeEstimate>& modes) {
   }
   const auto pm = [](double value, const std::array<double, 2>& ci, const char* format) {
     char text[96];
-    if (std::isfinite(ci[0]) && std::isfinite(ci[1])) {
+    std::snprintf(text, sizeof text, format, value);
+    // The library gives an interval only with a positive width; one it could not estimate is
+    // said as such, never shown as +- 0.
+    if (std::isfinite(ci[0]) && std::isfinite(ci[1]) && ci[1] > ci[0]) {
       char hw[32];
       std::snprintf(hw, sizeof hw, "%.2g", 0.5 * (ci[1] - ci[0]));
-      std::snprintf(text, sizeof text, format, value);
       return std::string(text) + " +- " + hw;
     }
-    std::snprintf(text, sizeof text, format, value);
-    return std::string(text);
+    return std::string(text) + (std::isfinite(value) ? " +- n/a" : "");
   };
   for (std::size_t i = 0; i < modes.size(); ++i) {
     const auto& m = modes[i];

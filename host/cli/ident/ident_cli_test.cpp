@@ -337,6 +337,56 @@ TEST(ModesCli, DefaultFallsBackWhenLscfFindsNoStablePole) {
   EXPECT_EQ(j["stabilization"]["method"], "lsce");
 }
 
+// Hits faster than the chain rings down (every 1.05 to 1.95 s: records of about a second, lines
+// about 1 Hz apart), the emulated rig's chain with c = 1.43e-3 k. `vibid modes` with its defaults
+// and with the orders of the report give both modes, a1/a2 of opposite signs as the closed form
+// (0.5678, -1.4806), and no interval printed as +- 0 (text) or of zero width (JSON).
+TEST(ModesCli, ShortRecordsGiveTheModesAndNoPointInterval) {
+  const Rig& rig = SyntheticRig();
+  const std::string rec = rig.dir + "/short_hits.csv";
+  if (!std::filesystem::exists(rec)) {
+    const model::Model truth =
+        model::MakeChain(Eigen::Vector2d(1.82, 1.53), Eigen::Vector2d(3520, 2760),
+                         Eigen::Vector2d(1.43e-3 * 3520, 1.43e-3 * 2760));
+    const ident::HammerTestSpec spec{.hammer_dof = 1,
+                                     .fs_hz = Rig::kFsHz,
+                                     .hits = 26,
+                                     .hit_peak_n = 100,
+                                     .spacing_min_s = 1.05,
+                                     .spacing_max_s = 1.95,
+                                     .seed = 7};
+    Write(rig.dir, "short_hits.csv",
+          ident::FormatHammerTestCsv(ident::SimulateHammerTest(truth, spec),
+                                     {"acc1_m_s2", "acc2_m_s2"}));
+  }
+  const std::string frf =
+      MadeOnce(rig.dir + "/short_frf.csv",
+               {"frf-estimate", rec, "--force", "force_n", "--response", "acc1_m_s2,acc2_m_s2"});
+  const std::vector<std::vector<std::string>> runs = {
+      {"modes", frf}, {"modes", frf, "--fmax-hz", "30", "--orders", "4:12:2"}};
+  for (const auto& args : runs) {
+    const auto t = RunVibid(args);
+    ASSERT_EQ(t.exit_code, 0) << t.err;
+    EXPECT_EQ(t.out.find("+- 0 "), std::string::npos) << t.out;
+    std::vector<std::string> with_json = args;
+    with_json.push_back("--json");
+    const auto r = RunVibid(with_json);
+    ASSERT_EQ(r.exit_code, 0) << r.err;
+    const json j = json::parse(r.out);
+    ASSERT_EQ(j["modes"].size(), 2u) << r.out;
+    EXPECT_NEAR(j["modes"][0]["ratio"].get<double>(), 0.5678, 0.02 * 0.5678);
+    EXPECT_NEAR(j["modes"][1]["ratio"].get<double>(), -1.4806, 0.02 * 1.4806);
+    for (const auto& m : j["modes"]) {
+      if (!m.contains("ci95")) continue;
+      for (const auto& [key, ci] : m["ci95"].items()) {
+        if (!ci.is_null()) {
+          EXPECT_LT(ci[0].get<double>(), ci[1].get<double>()) << key;
+        }
+      }
+    }
+  }
+}
+
 TEST(ModesCli, BadInput) {
   const Rig& rig = SyntheticRig();
   ExpectInputError(RunVibid({"modes", rig.dir + "/none.csv", "--json"}), "none.csv");
