@@ -67,17 +67,38 @@ nlohmann::json ValidationJson(const ident::ValidationTable& t,
   }
   nlohmann::json positions = nlohmann::json::array();
   for (const auto& p : t.positions) {
-    positions.push_back({{"m_kg",
-                          {{"nominal", p.m_nominal},
-                           {"updated", p.m_updated},
-                           {"change_percent", ident::PercentDeviation(p.m_updated, p.m_nominal)}}},
-                         {"k_n_per_m",
-                          {{"nominal", p.k_nominal},
-                           {"updated", p.k_updated},
-                           {"change_percent", ident::PercentDeviation(p.k_updated, p.k_nominal)}}},
-                         {"c_ns_per_m", {{"updated", p.c_updated}}}});
+    nlohmann::json m = {{"nominal", p.m_nominal},
+                        {"updated", p.m_updated},
+                        {"change_percent", ident::PercentDeviation(p.m_updated, p.m_nominal)}};
+    nlohmann::json k = {{"nominal", p.k_nominal},
+                        {"updated", p.k_updated},
+                        {"change_percent", ident::PercentDeviation(p.k_updated, p.k_nominal)}};
+    nlohmann::json c = {{"updated", p.c_updated}};
+    PutInterval(m, "updated", p.m_ci95);
+    PutInterval(k, "updated", p.k_ci95);
+    PutInterval(c, "updated", p.c_ci95);
+    positions.push_back({{"m_kg", m}, {"k_n_per_m", k}, {"c_ns_per_m", c}});
   }
   return {{"modes", modes}, {"positions", positions}};
+}
+
+// The updated parameters with their 95 % intervals, one object per position:
+// {"position", "m_kg", "m_kg_ci95": [lo, hi] or null, "m_kg_ci95_basis" or "m_kg_ci95_missing",
+// the same for k_n_per_m and c_ns_per_m}.
+nlohmann::json ParametersJson(const ident::ValidationTable& t) {
+  nlohmann::json out = nlohmann::json::array();
+  for (std::size_t i = 0; i < t.positions.size(); ++i) {
+    const auto& p = t.positions[i];
+    nlohmann::json j = {{"position", i + 1},
+                        {"m_kg", p.m_updated},
+                        {"k_n_per_m", p.k_updated},
+                        {"c_ns_per_m", p.c_updated}};
+    PutInterval(j, "m_kg", p.m_ci95);
+    PutInterval(j, "k_n_per_m", p.k_ci95);
+    PutInterval(j, "c_ns_per_m", p.c_ci95);
+    out.push_back(j);
+  }
+  return out;
 }
 
 // Measured receptance of the first modal test beside the nominal and updated models' receptances
@@ -202,6 +223,7 @@ nlohmann::json ReportJson(const ident::IdentifyResult& r, const nlohmann::json& 
   nlohmann::json report;
   report["updated_model"] = model_json;
   report["validation"] = ValidationJson(r.table, r.test_modes);
+  report["parameters"] = ParametersJson(r.table);
   report["test_modes"] = ModesToJson(r.test_modes)["modes"];
   nlohmann::json masses = nlohmann::json::array();
   for (const auto& m : r.mass_tests) {

@@ -68,14 +68,6 @@ ValidationTable BuildValidationTable(const model::Model& nominal, const model::M
   return t;
 }
 
-std::string FormatInterval(const Interval95& ci, double value) {
-  char buf[64];
-  if (!ci.Known()) return "n/a (" + (ci.missing.empty() ? std::string("not estimated") : ci.missing) + ")";
-  std::snprintf(buf, sizeof buf, "+- %.3g (%.2g %%)", ci.HalfWidth(),
-                100.0 * ci.HalfWidth() / std::abs(value));
-  return buf;
-}
-
 std::string FormatValidationTable(const ValidationTable& t) {
   std::ostringstream out;
   char line[512];

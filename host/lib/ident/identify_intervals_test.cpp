@@ -294,6 +294,35 @@ TEST(IdentifyIntervals, CoverTheTruthAtTheirRate) {
   EXPECT_LE(total, 354);
 }
 
+// The mass test alone, its spring given (identify's default: the nominal chain spring) and an
+// exponential window on the records (which makes neighbouring lines move together): over 60
+// seeds, the interval on m holds the truth in 53 to 60 (a 95 % rate gives 57 +- 1.7). Without
+// the residuals' autocorrelation in the covariance, 5 hits at 500 Hz gave half the standard
+// deviation the estimates scattered with.
+TEST(IdentifyIntervals, MassIntervalsCoverWithAGivenSpringAndAWindow) {
+  const double m = 0.5, k = 2200.0, c = 2 * 0.02 * std::sqrt(k * m);
+  const model::Model one = model::MakeChain(Eigen::VectorXd::Constant(1, m),
+                                            Eigen::VectorXd::Constant(1, k),
+                                            Eigen::VectorXd::Constant(1, c));
+  int inside = 0;
+  for (std::uint64_t seed = 1; seed <= 60; ++seed) {
+    HammerTestSpec spec = ShortSpec(0, 5, 300 + seed);
+    spec.spacing_min_s = 10.0;
+    spec.spacing_max_s = 13.0;
+    const HammerTestRecord rec = SimulateHammerTest(one, spec);
+    const ImpactResult r = EstimateImpactFrf(rec.force_n, rec.response, kFs,
+                                             {.exp_window_end = 0.01}, Estimator::kH1,
+                                             Quantity::kAcceleration);
+    const MassUpdateResult u =
+        UpdateMass(ConvertFrf(r.frf, Quantity::kDisplacement), 0, {.k_n_per_m = k});
+    const Interval95 ci = IntervalOf(u.mass_kg, u.mass_u);
+    ASSERT_TRUE(ci.Known()) << ci.missing;
+    inside += Inside(ci, m) ? 1 : 0;
+  }
+  std::printf("m with k given and a window: %d/60 inside\n", inside);
+  EXPECT_GE(inside, 53);
+}
+
 // More data, narrower intervals: four modal tests and mass tests of twelve hits against one modal
 // test and three hits, over the same 8 seeds' rig (the half-widths average over the seeds).
 // The mass's share dominates k and c here, and twelve hits against three halve it.

@@ -92,6 +92,14 @@ Interval95 IntervalOf(double value, const Uncertainty& u) {
   return out;
 }
 
+std::string FormatInterval(const Interval95& ci, double value) {
+  char buf[64];
+  if (!ci.Known()) return "n/a (" + (ci.missing.empty() ? std::string("not estimated") : ci.missing) + ")";
+  std::snprintf(buf, sizeof buf, "+- %.3g (%.2g %%)", ci.HalfWidth(),
+                100.0 * ci.HalfWidth() / std::abs(value));
+  return buf;
+}
+
 Uncertainty Propagate(const std::vector<double>& gradient, const std::vector<Uncertainty>& parts,
                       std::string basis) {
   Require(gradient.size() == parts.size(), "propagation: one gradient entry per part");

@@ -63,7 +63,12 @@ TestSensitivity SensitivityOfTest(const Eigen::VectorXd& masses,
     }
     // The update normalises each shape, so only its direction a1/a2 counts: shape [a1/a2, 1],
     // and a1/a2's uncertainty is the first entry's.
-    shapes.col(i) << m.ratio, 1.0;
+    if (std::isfinite(m.ratio)) {
+      shapes.col(i) << m.ratio, 1.0;
+    } else {
+      Require(m.shape.size() == 2, "stiffness uncertainty: a shape or a ratio per mode");
+      shapes.col(i) = m.shape;
+    }
     parts.push_back(ModeIntervalUncertainty(m.ratio_ci95));
   }
   const Eigen::MatrixXd jac = StiffnessJacobian(masses, omega, zeta, shapes);
@@ -110,7 +115,8 @@ ChainUncertainty StiffnessUncertainty(const Eigen::VectorXd& masses_kg,
     for (Eigen::Index p = 0; p < n; ++p) {
       g.push_back(d_masses[p]);
       parts.push_back(masses_u[static_cast<std::size_t>(p)]);
-      if (mass_basis.empty() && masses_u[static_cast<std::size_t>(p)].Known())
+      if (mass_basis.empty() && (masses_u[static_cast<std::size_t>(p)].Known() ||
+                                 masses_u[static_cast<std::size_t>(p)].Exact()))
         mass_basis = masses_u[static_cast<std::size_t>(p)].basis;
     }
     const Uncertainty u =

@@ -55,6 +55,9 @@ struct Interval95 {
 /// value +- t(dof) sqrt(variance); the reason when the uncertainty is not known.
 Interval95 IntervalOf(double value, const Uncertainty& u);
 
+/// "+- HALF (P %)" of `value`, or "n/a (reason)": never an interval of zero.
+std::string FormatInterval(const Interval95& ci, double value);
+
 /// Two-sided 95 % point of Student's t with `dof` degrees of freedom (the normal's 1.95996 for an
 /// infinite dof). A fractional dof (Welch-Satterthwaite) is rounded down: the wider interval.
 double StudentT95(double dof);
