@@ -300,6 +300,13 @@ TEST(UpdateCli, MassAndStiffness) {
   EXPECT_NEAR(mj["change_percent"].get<double>(),
               100 * (mj["mass_kg"].get<double>() - 1.296) / 1.296, 1e-9);
   EXPECT_NEAR(mj["zeta"].get<double>(), 0.02, 0.002);
+  // 95 % intervals: m and c from the fit, none for the given k (and the reason).
+  ASSERT_TRUE(mj["mass_kg_ci95"].is_array()) << mj.dump();
+  EXPECT_LT(mj["mass_kg_ci95"][0].get<double>(), mj["mass_kg"].get<double>());
+  EXPECT_GT(mj["mass_kg_ci95"][1].get<double>(), mj["mass_kg"].get<double>());
+  EXPECT_TRUE(mj["c_ns_per_m_ci95"].is_array());
+  EXPECT_TRUE(mj["k_n_per_m_ci95"].is_null());
+  EXPECT_EQ(mj["k_n_per_m_ci95_missing"], "given, not fitted");
 
   const auto m2 = RunVibid({"modes", rig.modal2(), "--force", "force1_n", "--response",
                             "acc1_m_s2,acc2_m_s2", "--impact", "--exp-window", "0.01",
@@ -314,6 +321,17 @@ TEST(UpdateCli, MassAndStiffness) {
   EXPECT_NEAR(sj["springs"][0].get<double>(), 3000, 30);
   EXPECT_NEAR(sj["springs"][1].get<double>(), 2000, 20);
   EXPECT_EQ(sj["K"].size(), 2u);
+  // Intervals per position, the masses taken as exact unless their half-widths are given.
+  ASSERT_EQ(sj["intervals"].size(), 2u);
+  const json& k1 = sj["intervals"][0];
+  ASSERT_TRUE(k1["k_n_per_m_ci95"].is_array()) << sj.dump();
+  EXPECT_NE(k1["k_n_per_m_ci95_basis"].get<std::string>().find("masses taken as exact"),
+            std::string::npos);
+  const auto one = RunVibid({"update", "stiffness", "--masses", "1.2,0.8", "--modes", Modes1Json(),
+                             "--mass-ci95", "0.002,0.001"});
+  ASSERT_EQ(one.exit_code, 0) << one.err;
+  EXPECT_NE(one.out.find("95 % intervals: k1 +- "), std::string::npos) << one.out;
+  EXPECT_EQ(one.out.find("+- 0 "), std::string::npos) << one.out;
 }
 
 TEST(UpdateCli, BadInput) {
@@ -388,6 +406,34 @@ TEST(IdentifyCli, WholeChainOnSyntheticTruth) {
   for (const char* f : {"validation.txt", "report.json", "frf_overlay.csv"}) {
     EXPECT_TRUE(std::filesystem::exists(rig.dir + "/report/" + f)) << f;
   }
+  // m, k and c with their 95 % intervals, in the table and the report (truth: 1.2, 0.8 kg,
+  // 3000, 2000 N/m).
+  EXPECT_NE(r.out.find("95 % interval"), std::string::npos) << r.out;
+  const json rep = json::parse(ReadFileText(rig.dir + "/report/report.json"));
+  ASSERT_EQ(rep["parameters"].size(), 2u);
+  const double truth[2][2] = {{1.2, 3000}, {0.8, 2000}};
+  for (std::size_t p = 0; p < 2; ++p) {
+    const json& q = rep["parameters"][p];
+    for (const char* key : {"m_kg_ci95", "k_n_per_m_ci95", "c_ns_per_m_ci95"})
+      ASSERT_TRUE(q[key].is_array()) << key << " " << q.dump();
+    EXPECT_LE(q["k_n_per_m_ci95"][0].get<double>(), truth[p][1]) << q.dump();
+    EXPECT_GE(q["k_n_per_m_ci95"][1].get<double>(), truth[p][1]) << q.dump();
+  }
+  EXPECT_TRUE(rep["validation"]["positions"][0]["m_kg"]["updated_ci95"].is_array());
+  // The mass tests' springs are the nominal ones: nothing to warn of.
+  EXPECT_EQ(r.err.find("its FRF's level says"), std::string::npos) << r.err;
+}
+
+// A wrong given spring moves the mass by as much; the test's own level says so.
+TEST(IdentifyCli, AWrongSpringIsNamed) {
+  const Rig& rig = SyntheticRig();
+  const auto r = RunVibid({"identify", "--nominal", rig.nominal(), "--mass-test",
+                           "1=" + rig.mass1(), "--mass-spring", "1=3600", "--modal-test",
+                           rig.modal1(), "-o", rig.dir + "/updated_wrong_spring.json"});
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_NE(r.err.find("mass test 1: its FRF's level says the spring is"), std::string::npos)
+      << r.err;
+  EXPECT_NE(r.err.find("--mass-spring 1=fit"), std::string::npos) << r.err;
 }
 
 // identify's default columns are the names the board's log table gives the load cell and the

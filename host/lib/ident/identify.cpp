@@ -113,6 +113,32 @@ std::string FormatValidationTable(const ValidationTable& t) {
 
 namespace {
 
+// A given spring fixes m = k / omega^2; the FRF's level (1/k below the resonance) says what k
+// the test saw. When that disagrees with the given k beyond its interval, the mass is off by the
+// same factor: say so, with the way out.
+void CheckGivenSpring(const MassTestInput& mt, const MassUpdateOptions& given,
+                      const MassUpdateResult& held, IdentifyResult& res) {
+  MassUpdateOptions free = given;
+  free.k_n_per_m = 0.0;
+  MassUpdateResult fitted;
+  try {
+    fitted = UpdateMass(mt.receptance, 0, free);
+  } catch (const InputError&) {
+    return;
+  }
+  const Interval95 k = IntervalOf(fitted.k_n_per_m, fitted.k_u);
+  if (!fitted.summary.Converged() || !k.Known()) return;
+  if (given.k_n_per_m >= k.lo && given.k_n_per_m <= k.hi) return;
+  char text[320];
+  std::snprintf(text, sizeof text,
+                "mass test %zu: its FRF's level says the spring is %.6g N/m (95 %%: %.4g to "
+                "%.4g), not the %.6g N/m given; the mass %.6g kg is off by as much (--mass-spring "
+                "%zu=fit fits the spring with the mass: %.6g kg)",
+                mt.position + 1, fitted.k_n_per_m, k.lo, k.hi, given.k_n_per_m, held.mass_kg,
+                mt.position + 1, fitted.mass_kg);
+  res.warnings.push_back(text);
+}
+
 // Each mass test's fitted mass replaces the nominal one in `res.chain`.
 void UpdateMasses(const ChainParameters& nominal_chain,
                   const std::vector<MassTestInput>& mass_tests, const IdentifyOptions& options,
@@ -138,6 +164,7 @@ void UpdateMasses(const ChainParameters& nominal_chain,
     }
     for (const auto& w : r.update.warnings)
       res.warnings.push_back("mass test " + std::to_string(mt.position + 1) + ": " + w);
+    if (!r.update.stiffness_fitted) CheckGivenSpring(mt, mo, r.update, res);
     masses[mt.position].push_back(r.update.mass_kg);
     each[mt.position].push_back(r.update.mass_u);
     res.mass_tests.push_back(r);
