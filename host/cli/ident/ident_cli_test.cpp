@@ -80,10 +80,11 @@ class Rig {
         model::MakeChain(Eigen::VectorXd::Constant(1, ms[i]), Eigen::VectorXd::Constant(1, ks[i]),
                          Eigen::VectorXd::Constant(1, 2 * 0.02 * std::sqrt(ks[i] * ms[i])));
     const ident::HammerTestSpec spec = ident::MassTestSpec(kFsHz, 100u + static_cast<unsigned>(i));
-    return Write(dir, "mass" + std::to_string(i + 1) + ".csv",
-                 ident::FormatHammerTestCsv(ident::SimulateHammerTest(one, spec),
-                                            {ident::AccelerationColumn(static_cast<std::size_t>(i) + 1)},
-                                            ident::ForceColumn()));
+    return Write(
+        dir, "mass" + std::to_string(i + 1) + ".csv",
+        ident::FormatHammerTestCsv(ident::SimulateHammerTest(one, spec),
+                                   {ident::AccelerationColumn(static_cast<std::size_t>(i) + 1)},
+                                   ident::ForceColumn()));
   }
 
   mutable std::string modal1_, modal2_, mass1_, mass2_, nominal_;
@@ -116,9 +117,10 @@ std::string ImpactFrfCsv() {
 /// The modes of the first modal test (as ModesCli.JsonSchemaAndTruth makes them).
 std::string Modes1Json() {
   const Rig& rig = SyntheticRig();
-  return MadeOnce(rig.dir + "/modes_of_test1.json",
-                  {"modes", rig.modal1(), "--force", "force1_n", "--response", "acc1_m_s2,acc2_m_s2",
-                   "--impact", "--exp-window", "0.01", "--max-modes", "2", "--json"});
+  return MadeOnce(
+      rig.dir + "/modes_of_test1.json",
+      {"modes", rig.modal1(), "--force", "force1_n", "--response", "acc1_m_s2,acc2_m_s2",
+       "--impact", "--exp-window", "0.01", "--max-modes", "2", "--json"});
 }
 
 void ExpectInputError(const CliResult& r, const std::string& fragment) {
@@ -155,7 +157,8 @@ TEST(FrfEstimateCli, BadInput) {
       RunVibid({"frf-estimate", rig.dir + "/missing.csv", "--force", "f", "--response", "x"}),
       "missing.csv");
   ExpectInputError(
-      RunVibid({"frf-estimate", rig.modal1(), "--force", "force1_n", "--response", "nope"}), "nope");
+      RunVibid({"frf-estimate", rig.modal1(), "--force", "force1_n", "--response", "nope"}),
+      "nope");
   ExpectInputError(RunVibid({"frf-estimate", rig.modal1(), "--force", "force1_n", "--response",
                              "acc1_m_s2", "--estimator", "h3"}),
                    "h3");
@@ -227,8 +230,8 @@ TEST(ModesCli, JsonSchemaAndTruth) {
 // (model core) and the closed-form a1/a2 of the chain.
 TEST(ModesCli, DefaultPathRecognisesAnImpactTest) {
   const Rig& rig = SyntheticRig();
-  const auto r = RunVibid(
-      {"modes", rig.modal1(), "--force", "force1_n", "--response", "acc1_m_s2,acc2_m_s2", "--json"});
+  const auto r = RunVibid({"modes", rig.modal1(), "--force", "force1_n", "--response",
+                           "acc1_m_s2,acc2_m_s2", "--json"});
   ASSERT_EQ(r.exit_code, 0) << r.err;
   EXPECT_NE(r.err.find("processed as an impact test"), std::string::npos) << r.err;
   const json j = json::parse(r.out);
@@ -443,8 +446,10 @@ TEST(IdentifyCli, DefaultColumnsAreTheBoardsNames) {
     return std::string(device::ChannelStem(c)) + "_" + device::UnitSuffix(u);
   };
   EXPECT_EQ(ident::ForceColumn(), name(wire::Channel::kForce1, wire::Unit::kNewton));
-  EXPECT_EQ(ident::AccelerationColumn(1), name(wire::Channel::kAccel1, wire::Unit::kMeterPerSecond2));
-  EXPECT_EQ(ident::AccelerationColumn(2), name(wire::Channel::kAccel2, wire::Unit::kMeterPerSecond2));
+  EXPECT_EQ(ident::AccelerationColumn(1),
+            name(wire::Channel::kAccel1, wire::Unit::kMeterPerSecond2));
+  EXPECT_EQ(ident::AccelerationColumn(2),
+            name(wire::Channel::kAccel2, wire::Unit::kMeterPerSecond2));
   EXPECT_EQ(ident::AccelerationColumns(2), "acc1_m_s2,acc2_m_s2");
 }
 

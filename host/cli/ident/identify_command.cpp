@@ -198,10 +198,11 @@ std::vector<ident::MassTestInput> MassTests(const IdentifyArgs& a, const Estimat
     Require(pos < n, "--mass-test position " + std::to_string(pos + 1) + " is beyond the model's " +
                          std::to_string(n) + " masses");
     EstimationArgs me = est;
-    // By default the accelerometer on the tested mass, as `acquire --channels force1,accP` names it.
-    me.responses = mass_responses.empty()        ? ident::AccelerationColumn(pos + 1)
+    // By default the accelerometer on the tested mass, as `acquire --channels force1,accP` names
+    // it.
+    me.responses = mass_responses.empty()       ? ident::AccelerationColumn(pos + 1)
                    : mass_responses.size() == 1 ? mass_responses[0]
-                                                 : mass_responses[t];
+                                                : mass_responses[t];
     inputs.push_back(
         {pos, EstimateTest(path, me, notes), springs.k_n_per_m[pos], springs.fit[pos]});
   }

@@ -46,8 +46,8 @@ std::vector<ident::Uncertainty> MassUncertainties(const std::string& text, std::
         n, ident::Uncertainty::ExactValue("masses taken as exact (--mass-ci95 adds theirs)"));
   }
   const std::vector<double> hw = ParsePositiveList(text, "--mass-ci95");
-  Require(hw.size() == n, "--mass-ci95 gives " + std::to_string(hw.size()) +
-                              " half-widths for " + std::to_string(n) + " masses");
+  Require(hw.size() == n, "--mass-ci95 gives " + std::to_string(hw.size()) + " half-widths for " +
+                              std::to_string(n) + " masses");
   std::vector<ident::Uncertainty> out;
   for (double h : hw) {
     ident::Uncertainty u;
@@ -72,18 +72,18 @@ void PutInterval(nlohmann::json& j, const std::string& key, const ident::Interva
 
 nlohmann::json MassUpdateJson(const ident::MassUpdateResult& r) {
   nlohmann::json j = {{"mass_kg", r.mass_kg},
-          {"nominal_kg", r.nominal_kg},
-          {"change_percent", r.change_percent},
-          {"zeta", r.zeta},
-          {"zeta_half_power", r.zeta_half_power},
-          {"damping_fitted", r.damping_fitted},
-          {"k_n_per_m", r.k_n_per_m},
-          {"stiffness_fitted", r.stiffness_fitted},
-          {"c_ns_per_m", r.c_ns_per_m},
-          {"omega_rad_s", r.omega_rad_s},
-          {"lines_fitted", r.lines_fitted},
-          {"warnings", r.warnings},
-          {"summary", SolverSummaryJson(r.summary)}};
+                      {"nominal_kg", r.nominal_kg},
+                      {"change_percent", r.change_percent},
+                      {"zeta", r.zeta},
+                      {"zeta_half_power", r.zeta_half_power},
+                      {"damping_fitted", r.damping_fitted},
+                      {"k_n_per_m", r.k_n_per_m},
+                      {"stiffness_fitted", r.stiffness_fitted},
+                      {"c_ns_per_m", r.c_ns_per_m},
+                      {"omega_rad_s", r.omega_rad_s},
+                      {"lines_fitted", r.lines_fitted},
+                      {"warnings", r.warnings},
+                      {"summary", SolverSummaryJson(r.summary)}};
   PutInterval(j, "mass_kg", ident::IntervalOf(r.mass_kg, r.mass_u));
   PutInterval(j, "k_n_per_m", ident::IntervalOf(r.k_n_per_m, r.k_u));
   PutInterval(j, "c_ns_per_m", ident::IntervalOf(r.c_ns_per_m, r.c_u));
@@ -211,9 +211,11 @@ std::string StiffnessText(const ident::StiffnessAverage& avg, const ident::Chain
                           std::size_t tests) {
   std::ostringstream out;
   out << "springs (k_n = K_nn, k_i = K_ii - k_i+1):";
-  for (Eigen::Index i = 0; i < avg.springs.size(); ++i) out << " k" << i + 1 << " = " << avg.springs[i];
+  for (Eigen::Index i = 0; i < avg.springs.size(); ++i)
+    out << " k" << i + 1 << " = " << avg.springs[i];
   out << " N/m\ndampers (same convention):";
-  for (Eigen::Index i = 0; i < avg.dampers.size(); ++i) out << " c" << i + 1 << " = " << avg.dampers[i];
+  for (Eigen::Index i = 0; i < avg.dampers.size(); ++i)
+    out << " c" << i + 1 << " = " << avg.dampers[i];
   out << " N*s/m\n95 % intervals:";
   std::string basis;
   for (Eigen::Index i = 0; i < avg.springs.size(); ++i) {

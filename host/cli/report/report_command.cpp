@@ -69,19 +69,19 @@ double Get(const nlohmann::json& j, const char* key, const std::string& where) {
   return j.at(key).get<double>();
 }
 
-// "± half-width (p %)" from `updated_ci95`, or "n/a" with the reason; each distinct basis or
-// reason goes to `notes` once. Reports written before intervals existed have neither: "".
-std::string IntervalCell(const nlohmann::json& x, double updated, const std::string& where,
-                         std::vector<std::string>& notes) {
-  const auto note = [&notes](const std::string& text) {
-    if (std::find(notes.begin(), notes.end(), text) == notes.end()) notes.push_back(text);
-  };
+// "± half-width (p %)" from `updated_ci95`, or "n/a" with the reason; how it was estimated (or
+// why not) goes to `notes` after `label`. Reports written before intervals existed have neither:
+// "".
+std::string IntervalCell(const nlohmann::json& x, double updated, const std::string& label,
+                         const std::string& where, std::vector<std::string>& notes) {
+  const auto note = [&notes, &label](const std::string& text) { notes.push_back(label + text); };
   if (!x.contains("updated_ci95")) return "";
   const nlohmann::json& ci = x["updated_ci95"];
   if (ci.is_null()) {
-    const std::string why = x.contains("updated_ci95_missing") && x["updated_ci95_missing"].is_string()
-                                ? x["updated_ci95_missing"].get<std::string>()
-                                : std::string("not estimated");
+    const std::string why =
+        x.contains("updated_ci95_missing") && x["updated_ci95_missing"].is_string()
+            ? x["updated_ci95_missing"].get<std::string>()
+            : std::string("not estimated");
     note("n/a: " + why);
     return "n/a (" + why + ")";
   }
@@ -89,7 +89,7 @@ std::string IntervalCell(const nlohmann::json& x, double updated, const std::str
           where + ": updated_ci95 must be [lo, hi] or null");
   const double hw = 0.5 * (ci[1].get<double>() - ci[0].get<double>());
   if (x.contains("updated_ci95_basis") && x["updated_ci95_basis"].is_string())
-    note("intervals from: " + x["updated_ci95_basis"].get<std::string>());
+    note(x["updated_ci95_basis"].get<std::string>());
   char text[64];
   std::snprintf(text, sizeof text, "± %.2g (%.2g %%)", hw, 100.0 * hw / std::abs(updated));
   return text;
@@ -130,8 +130,8 @@ void ValidationTables(const nlohmann::json& report, const std::string& where,
       "where the "
       "modal method gives one (lscf, lsce).");
 
-  std::vector<std::string> header{"position", "quantity", "nominal", "updated", "± 95 %",
-                                  "change %"};
+  std::vector<std::string> header{"position", "quantity", "nominal",
+                                  "updated",  "± 95 %",   "change %"};
   const ident::ChainParameters chain =
       truth != nullptr ? ident::ChainOf(*truth) : ident::ChainParameters{};
   if (truth != nullptr) {
@@ -158,10 +158,14 @@ void ValidationTables(const nlohmann::json& report, const std::string& where,
       const nlohmann::json& x = pos.at(q.key);
       const double updated = Get(x, "updated", where);
       const bool has_nominal = x.contains("nominal");
-      std::vector<std::string> row{std::to_string(p + 1), q.name,
-                                   has_nominal ? Sig(Get(x, "nominal", where)) : "",
-                                   Sig(updated), IntervalCell(x, updated, where, notes),
-                                   has_nominal ? Fixed(Get(x, "change_percent", where), 2) : ""};
+      std::vector<std::string> row{
+          std::to_string(p + 1),
+          q.name,
+          has_nominal ? Sig(Get(x, "nominal", where)) : "",
+          Sig(updated),
+          IntervalCell(x, updated, "position " + std::to_string(p + 1) + ", " + q.name + ": ",
+                       where, notes),
+          has_nominal ? Fixed(Get(x, "change_percent", where), 2) : ""};
       if (truth != nullptr) {
         row.push_back(have_truth ? Sig(q.truth) : "");
         row.push_back(have_truth ? Fixed(100.0 * (updated - q.truth) / q.truth, 2) : "");
@@ -174,7 +178,11 @@ void ValidationTables(const nlohmann::json& report, const std::string& where,
                                 "updated value, and error of the update against the rig's truth."
                               : "Physical parameters: change from nominal and 95 % interval of "
                                 "the updated value.");
-  if (!notes.empty()) page.List(notes);
+  if (!notes.empty()) {
+    page.Paragraph(
+        "How each interval was estimated (docs/identification.md, intervals on m, k and c):");
+    page.List(notes);
+  }
 }
 
 // The band worth looking at: from a fifth of the lowest test mode to three times the highest

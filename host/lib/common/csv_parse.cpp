@@ -378,15 +378,13 @@ CsvTable ParseCsvImpl(std::string_view text, const std::string& source, std::siz
   for (const Chunk& c : chunks) {
     if (!c.bad_line) continue;
     const std::string where = source + ":" + std::to_string(line_of(c.bad_line)) + ": ";
-    csv_detail::ExplainBadRow(LineText(c.bad_line, NextLine(c.bad_line, end)), where, header,
-                              keep);
+    csv_detail::ExplainBadRow(LineText(c.bad_line, NextLine(c.bad_line, end)), where, header, keep);
   }
   // Blank and comment lines left gaps at the end of a chunk's share: close them up.
   std::size_t rows = 0;
   for (const Chunk& c : chunks) {
     if (c.first_row != rows) {
-      for (double* col : kept)
-        std::memmove(col + rows, col + c.first_row, c.rows * sizeof(double));
+      for (double* col : kept) std::memmove(col + rows, col + c.first_row, c.rows * sizeof(double));
     }
     rows += c.rows;
   }
@@ -402,8 +400,8 @@ CsvTable ParseCsv(std::string_view text, const std::string& source, std::size_t 
   return ParseCsvImpl(text, source, threads, nullptr);
 }
 
-CsvTable ParseCsvColumns(std::string_view text, const std::string& source,
-                         const CsvColumns& wanted, std::size_t threads) {
+CsvTable ParseCsvColumns(std::string_view text, const std::string& source, const CsvColumns& wanted,
+                         std::size_t threads) {
   return ParseCsvImpl(text, source, threads, &wanted);
 }
 

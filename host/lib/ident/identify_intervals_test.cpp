@@ -57,35 +57,36 @@ Uncertainty Normal(double sd) {
 
 TEST(Intervals, RepeatsTakeTheirOwnVarianceOrTheirScatter) {
   // Consistent: chi2 = (0.1^2 + 0.1^2) / 0.1^2 ... = 2 < 5.99 (2 dof): own variance over T.
-  const MeanOfTests agree = MeanOfRepeats({1.0, 1.1, 0.9}, {Normal(0.1), Normal(0.1), Normal(0.1)},
-                                          "tests");
+  const MeanOfTests agree =
+      MeanOfRepeats({1.0, 1.1, 0.9}, {Normal(0.1), Normal(0.1), Normal(0.1)}, "tests");
   EXPECT_DOUBLE_EQ(agree.mean, 1.0);
   EXPECT_NEAR(agree.uncertainty.variance, 3 * 0.01 / 9.0, 1e-15);
   EXPECT_TRUE(std::isinf(agree.uncertainty.dof));
   // Disagreeing (chi2 = 200): the scatter s^2 / T with T - 1 dof, so t(2) = 4.303.
-  const MeanOfTests apart = MeanOfRepeats({1.0, 2.0, 3.0}, {Normal(0.1), Normal(0.1), Normal(0.1)},
-                                          "tests");
+  const MeanOfTests apart =
+      MeanOfRepeats({1.0, 2.0, 3.0}, {Normal(0.1), Normal(0.1), Normal(0.1)}, "tests");
   EXPECT_NEAR(apart.uncertainty.variance, 1.0 / 3.0, 1e-15);
   EXPECT_DOUBLE_EQ(apart.uncertainty.dof, 2.0);
   const Interval95 ci = IntervalOf(apart.mean, apart.uncertainty);
   EXPECT_NEAR(ci.HalfWidth(), 4.302652730 * std::sqrt(1.0 / 3.0), 1e-8);
   // No variance of their own: the scatter alone.
-  const MeanOfTests bare =
-      MeanOfRepeats({1.0, 3.0}, {Uncertainty::Missing("none"), Uncertainty::Missing("none")}, "tests");
+  const MeanOfTests bare = MeanOfRepeats(
+      {1.0, 3.0}, {Uncertainty::Missing("none"), Uncertainty::Missing("none")}, "tests");
   EXPECT_NEAR(bare.uncertainty.variance, 2.0 / 2.0, 1e-15);
   EXPECT_DOUBLE_EQ(bare.uncertainty.dof, 1.0);
 }
 
 TEST(Intervals, NeverAnIntervalOfZero) {
   // One test and no variance of its own: no interval, and the reason.
-  const MeanOfTests one = MeanOfRepeats({2.0}, {Uncertainty::Missing("no modal intervals")}, "tests");
+  const MeanOfTests one =
+      MeanOfRepeats({2.0}, {Uncertainty::Missing("no modal intervals")}, "tests");
   const Interval95 a = IntervalOf(one.mean, one.uncertainty);
   EXPECT_FALSE(a.Known());
   EXPECT_NE(a.missing.find("one test only"), std::string::npos) << a.missing;
   EXPECT_NE(a.missing.find("no modal intervals"), std::string::npos) << a.missing;
   // Identical values without a variance: no scatter to take.
-  const MeanOfTests same =
-      MeanOfRepeats({2.0, 2.0}, {Uncertainty::Missing("none"), Uncertainty::Missing("none")}, "tests");
+  const MeanOfTests same = MeanOfRepeats(
+      {2.0, 2.0}, {Uncertainty::Missing("none"), Uncertainty::Missing("none")}, "tests");
   EXPECT_FALSE(IntervalOf(same.mean, same.uncertainty).Known());
   // A zero variance is no interval either.
   Uncertainty zero;
@@ -95,8 +96,8 @@ TEST(Intervals, NeverAnIntervalOfZero) {
   EXPECT_FALSE(z.Known());
   EXPECT_NE(z.missing.find("zero variance"), std::string::npos);
   // Propagation through a term without an uncertainty has none.
-  EXPECT_FALSE(Propagate({1.0, 2.0}, {Normal(1.0), Uncertainty::Missing("nominal mass")}, "x")
-                   .Known());
+  EXPECT_FALSE(
+      Propagate({1.0, 2.0}, {Normal(1.0), Uncertainty::Missing("nominal mass")}, "x").Known());
   // An exact term adds nothing; a zero gradient does not ask for the term at all.
   EXPECT_DOUBLE_EQ(
       Propagate({1.0, 2.0}, {Normal(1.0), Uncertainty::ExactValue("given")}, "x").variance, 1.0);
@@ -129,8 +130,8 @@ TEST(StiffnessIntervals, OneDofMatchesTheHandWrittenDeltaMethod) {
   mode.zeta_ci95 = {zeta - kZ * sd_zeta, zeta + kZ * sd_zeta};
   const Eigen::VectorXd masses = Eigen::VectorXd::Constant(1, m);
   const StiffnessUpdateResult update =
-      UpdateStiffness(masses, Eigen::VectorXd::Constant(1, omega), Eigen::VectorXd::Constant(1, zeta),
-                      Eigen::MatrixXd::Ones(1, 1));
+      UpdateStiffness(masses, Eigen::VectorXd::Constant(1, omega),
+                      Eigen::VectorXd::Constant(1, zeta), Eigen::MatrixXd::Ones(1, 1));
   EXPECT_NEAR(update.springs[0], m * omega * omega, 1e-9);
   EXPECT_NEAR(update.dampers[0], 2 * zeta * m * omega, 1e-12);
   const ChainUncertainty u = StiffnessUncertainty(masses, {Normal(sd_m)}, {{mode}}, {update});
@@ -192,8 +193,8 @@ TEST(StiffnessIntervals, TwoDofDeltaMethodAgreesWithABootstrapOfTheMap) {
   for (int o = 0; o < 4; ++o) {
     const double mean = sum[o] / kDraws;
     const double var = sum2[o] / kDraws - mean * mean;
-    const Uncertainty& delta = o < 2 ? u.springs[static_cast<std::size_t>(o)]
-                                     : u.dampers[static_cast<std::size_t>(o - 2)];
+    const Uncertainty& delta =
+        o < 2 ? u.springs[static_cast<std::size_t>(o)] : u.dampers[static_cast<std::size_t>(o - 2)];
     ASSERT_TRUE(delta.Known()) << delta.missing;
     // The sample variance of 4000 draws is within 2 x sqrt(2 / 4000) = 4.5 % of the truth at 95 %.
     EXPECT_NEAR(std::sqrt(var), std::sqrt(delta.variance), 0.05 * std::sqrt(delta.variance))
@@ -223,8 +224,8 @@ HammerTestSpec ShortSpec(int hammer_dof, int hits, std::uint64_t seed) {
 }
 
 Frf Receptance(const HammerTestRecord& rec) {
-  const ImpactResult r =
-      EstimateImpactFrf(rec.force_n, rec.response, kFs, {}, Estimator::kH1, Quantity::kAcceleration);
+  const ImpactResult r = EstimateImpactFrf(rec.force_n, rec.response, kFs, {}, Estimator::kH1,
+                                           Quantity::kAcceleration);
   return ConvertFrf(r.frf, Quantity::kDisplacement);
 }
 
@@ -237,16 +238,15 @@ IdentifyResult IdentifySeed(std::uint64_t seed, int modal_tests, int mass_hits,
   std::vector<MassTestInput> mass_tests;
   for (std::size_t i = 0; i < 2; ++i) {
     const double k = 1.1 * kK[i];
-    const model::Model one = model::MakeChain(
-        Eigen::VectorXd::Constant(1, kM[i]), Eigen::VectorXd::Constant(1, k),
-        Eigen::VectorXd::Constant(1, 2 * 0.02 * std::sqrt(k * kM[i])));
+    const model::Model one =
+        model::MakeChain(Eigen::VectorXd::Constant(1, kM[i]), Eigen::VectorXd::Constant(1, k),
+                         Eigen::VectorXd::Constant(1, 2 * 0.02 * std::sqrt(k * kM[i])));
     mass_tests.push_back(
         {i, Receptance(SimulateHammerTest(one, ShortSpec(0, mass_hits, 1000 * seed + i))), 0.0,
          true});
   }
-  const model::Model truth = model::MakeChain(Eigen::Vector2d(kM[0], kM[1]),
-                                              Eigen::Vector2d(kK[0], kK[1]),
-                                              Eigen::Vector2d(kC[0], kC[1]));
+  const model::Model truth = model::MakeChain(
+      Eigen::Vector2d(kM[0], kM[1]), Eigen::Vector2d(kK[0], kK[1]), Eigen::Vector2d(kC[0], kC[1]));
   std::vector<Frf> modal;
   for (int t = 0; t < modal_tests; ++t) {
     modal.push_back(Receptance(SimulateHammerTest(
@@ -301,18 +301,18 @@ TEST(IdentifyIntervals, CoverTheTruthAtTheirRate) {
 // deviation the estimates scattered with.
 TEST(IdentifyIntervals, MassIntervalsCoverWithAGivenSpringAndAWindow) {
   const double m = 0.5, k = 2200.0, c = 2 * 0.02 * std::sqrt(k * m);
-  const model::Model one = model::MakeChain(Eigen::VectorXd::Constant(1, m),
-                                            Eigen::VectorXd::Constant(1, k),
-                                            Eigen::VectorXd::Constant(1, c));
+  const model::Model one =
+      model::MakeChain(Eigen::VectorXd::Constant(1, m), Eigen::VectorXd::Constant(1, k),
+                       Eigen::VectorXd::Constant(1, c));
   int inside = 0;
   for (std::uint64_t seed = 1; seed <= 60; ++seed) {
     HammerTestSpec spec = ShortSpec(0, 5, 300 + seed);
     spec.spacing_min_s = 10.0;
     spec.spacing_max_s = 13.0;
     const HammerTestRecord rec = SimulateHammerTest(one, spec);
-    const ImpactResult r = EstimateImpactFrf(rec.force_n, rec.response, kFs,
-                                             {.exp_window_end = 0.01}, Estimator::kH1,
-                                             Quantity::kAcceleration);
+    const ImpactResult r =
+        EstimateImpactFrf(rec.force_n, rec.response, kFs, {.exp_window_end = 0.01}, Estimator::kH1,
+                          Quantity::kAcceleration);
     const MassUpdateResult u =
         UpdateMass(ConvertFrf(r.frf, Quantity::kDisplacement), 0, {.k_n_per_m = k});
     const Interval95 ci = IntervalOf(u.mass_kg, u.mass_u);
@@ -367,15 +367,13 @@ TEST(IdentifyIntervals, WithoutModalIntervalsOneTestIsNotAnInterval) {
   EXPECT_EQ(table.find("+- 0 "), std::string::npos) << table;
   const IdentifyResult two = IdentifySeed(201, 2, 3, fit);
   ASSERT_TRUE(two.table.positions[0].k_ci95.Known()) << two.table.positions[0].k_ci95.missing;
-  EXPECT_NE(two.table.positions[0].k_ci95.basis.find("scatter of 2 modal tests"),
-            std::string::npos)
+  EXPECT_NE(two.table.positions[0].k_ci95.basis.find("scatter of 2 modal tests"), std::string::npos)
       << two.table.positions[0].k_ci95.basis;
   // No mass test: m is the nominal value, and k and c, which depend on it, get no interval.
   const model::Model nominal =
       model::MakeChain(Eigen::Vector2d(kM[0], kM[1]), Eigen::Vector2d(kK[0], kK[1]));
-  const model::Model truth = model::MakeChain(Eigen::Vector2d(kM[0], kM[1]),
-                                              Eigen::Vector2d(kK[0], kK[1]),
-                                              Eigen::Vector2d(kC[0], kC[1]));
+  const model::Model truth = model::MakeChain(
+      Eigen::Vector2d(kM[0], kM[1]), Eigen::Vector2d(kK[0], kK[1]), Eigen::Vector2d(kC[0], kC[1]));
   const IdentifyResult bare =
       Identify(nominal, {}, {Receptance(SimulateHammerTest(truth, ShortSpec(1, 3, 7)))}, {});
   EXPECT_NE(bare.table.positions[0].m_ci95.missing.find("nominal mass"), std::string::npos);

@@ -36,8 +36,7 @@ TestSensitivity SensitivityOfTest(const Eigen::VectorXd& masses,
                                   const std::vector<ModeEstimate>& modes,
                                   const StiffnessUpdateResult& update) {
   const Eigen::Index n = masses.size();
-  Require(static_cast<Eigen::Index>(modes.size()) == n,
-          "stiffness uncertainty: one mode per mass");
+  Require(static_cast<Eigen::Index>(modes.size()) == n, "stiffness uncertainty: one mode per mass");
   Eigen::VectorXd omega(n), zeta(n);
   Eigen::MatrixXd shapes(n, n);
   std::vector<Eigen::Index> columns;
@@ -119,8 +118,7 @@ ChainUncertainty StiffnessUncertainty(const Eigen::VectorXd& masses_kg,
                                  masses_u[static_cast<std::size_t>(p)].Exact()))
         mass_basis = masses_u[static_cast<std::size_t>(p)].basis;
     }
-    const Uncertainty u =
-        Propagate(g, parts, modal.uncertainty.basis + "; masses: " + mass_basis);
+    const Uncertainty u = Propagate(g, parts, modal.uncertainty.basis + "; masses: " + mass_basis);
     (o < n ? out.springs : out.dampers).push_back(u);
   }
   return out;

@@ -308,8 +308,8 @@ Eigen::MatrixXd StiffnessJacobian(const Eigen::Ref<const Eigen::VectorXd>& masse
                                   const Eigen::Ref<const Eigen::MatrixXd>& shapes) {
   const Eigen::Index n = masses_kg.size();
   Eigen::VectorXd x(3 * n + n * n);
-  x << masses_kg, omega_rad_s, zeta, Eigen::Map<const Eigen::VectorXd>(
-                                         Eigen::MatrixXd(shapes).data(), n * n);
+  x << masses_kg, omega_rad_s, zeta,
+      Eigen::Map<const Eigen::VectorXd>(Eigen::MatrixXd(shapes).data(), n * n);
   const auto outputs = [n](const Eigen::VectorXd& v) {
     const Eigen::MatrixXd s = Eigen::Map<const Eigen::MatrixXd>(v.data() + 3 * n, n, n);
     const StiffnessUpdateResult r =

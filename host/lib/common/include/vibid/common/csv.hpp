@@ -47,8 +47,8 @@ struct CsvColumns {
 
 /// ParseCsv for the asked-for columns only; every other cell is skipped unread (a row must still
 /// have as many cells as the header).
-CsvTable ParseCsvColumns(std::string_view text, const std::string& source,
-                         const CsvColumns& wanted, std::size_t threads = 0);
+CsvTable ParseCsvColumns(std::string_view text, const std::string& source, const CsvColumns& wanted,
+                         std::size_t threads = 0);
 
 /// Reads (memory-mapped where the file allows it) and parses a CSV file.
 CsvTable ReadCsv(const std::string& path);

@@ -48,7 +48,9 @@ struct Interval95 {
   std::string basis;
   std::string missing;
 
-  bool Known() const { return missing.empty() && std::isfinite(lo) && std::isfinite(hi) && hi > lo; }
+  bool Known() const {
+    return missing.empty() && std::isfinite(lo) && std::isfinite(hi) && hi > lo;
+  }
   double HalfWidth() const { return 0.5 * (hi - lo); }
 };
 

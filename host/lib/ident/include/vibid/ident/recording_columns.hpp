@@ -1,7 +1,8 @@
-// The channel names of the board's recordings (`vibid acquire`, `vibid log pull`: docs/file-formats.md),
-// which the identification commands read by default: a recording straight off the board needs no
-// column option. The board names a channel by its stem (force1, acc2, ...) and its unit suffix (n,
-// m_s2); host/device's log table writes them, and a test holds both to the same names.
+// The channel names of the board's recordings (`vibid acquire`, `vibid log pull`:
+// docs/file-formats.md), which the identification commands read by default: a recording straight
+// off the board needs no column option. The board names a channel by its stem (force1, acc2, ...)
+// and its unit suffix (n, m_s2); host/device's log table writes them, and a test holds both to the
+// same names.
 #pragma once
 
 #include <cstddef>
