@@ -87,7 +87,7 @@ struct IdentifyResult {
   std::vector<MassTestResult> mass_tests;
   std::vector<ModeIdentification> modal_tests;
   /// Averaged over the modal tests; 95 % intervals of the mean from the tests' intervals, or from
-  /// their scatter when that is wider.
+  /// their scatter when they disagree beyond them (MeanOfRepeats, intervals.hpp).
   std::vector<ModeEstimate> test_modes;
   StiffnessAverage stiffness;
   /// One per position: m from its mass tests (fit covariance; several tests of one position
