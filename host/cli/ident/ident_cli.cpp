@@ -128,11 +128,14 @@ Estimated EstimateFromRecording(const std::string& path, const EstimationArgs& a
   Require(!a.force.empty(), "--force is required to estimate an FRF from the recording " + path);
   Require(!a.responses.empty(),
           "--response is required to estimate an FRF from the recording " + path);
-  RecordingOptions ro;
-  if (a.fs_hz > 0.0) ro.fs_hz = a.fs_hz;
-  const Recording rec = LoadRecording(path, ro);
   const ColumnSpec fspec = ParseColumnSpec(a.force);
   const std::vector<ColumnSpec> rspecs = ParseColumnList(a.responses);
+  RecordingOptions ro;
+  if (a.fs_hz > 0.0) ro.fs_hz = a.fs_hz;
+  // Only the channels asked for must be numbers: a recording may carry other columns (notes).
+  ro.channels.push_back(fspec.name);
+  for (const ColumnSpec& spec : rspecs) ro.channels.push_back(spec.name);
+  const Recording rec = LoadRecording(path, ro);
   // Channels as the estimation reads them: the recording's own column where the spec does not
   // scale it (x * 1 is x), else a scaled copy; no record-length copy of the rest.
   std::deque<Eigen::VectorXd> scaled;
