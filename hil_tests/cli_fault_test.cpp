@@ -6,6 +6,8 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <cstdio>
+#include <cstdlib>
 #include <csignal>
 #include <filesystem>
 #include <fstream>
@@ -78,28 +80,164 @@ TEST_F(CliFaultTest, EmulatorKilledMidPullLeavesTheOutputUntouched) {
   EXPECT_EQ(FilesIn(dir), std::vector<std::string>{"OUT.csv"}) << "no temporary file left";
 }
 
-TEST_F(CliFaultTest, CtrlCStopsTheAcquisitionAndWritesNothing) {
-  const std::string output = dir + "/REC.csv";
-  auto acquire = StartAcquire(output);
-  acquire->Signal(SIGINT);
-  const auto r = acquire->Wait();
-  EXPECT_NE(r.exit_code, 0);
-  EXPECT_EQ(r.exit_code, 4) << "the device exit code, not death by the signal: " << r.err;
-  EXPECT_EQ(r.err, "vibid: error: interrupted: acquisition stopped, nothing written\n");
-  EXPECT_TRUE(FilesIn(dir).empty()) << "no partial file";
-  // The board is idle: a monitor line reports its acquisition state.
-  const auto monitor = RunVibid({"--device", emu->device_spec(), "monitor", "--count", "1"});
-  ASSERT_EQ(monitor.exit_code, 0) << monitor.err;
-  const std::string last_line =
-      monitor.out.substr(monitor.out.rfind('\n', monitor.out.size() - 2) + 1);
-  EXPECT_EQ(last_line.substr(last_line.rfind('\t') + 1), "idle\n") << monitor.out;
-}
-
+/// A recording's header row and data rows (its opening '#' lines left out).
 std::vector<std::string> Lines(const std::string& text) {
   std::vector<std::string> lines;
   std::istringstream in(text);
-  for (std::string line; std::getline(in, line);) lines.push_back(line);
+  for (std::string line; std::getline(in, line);) {
+    if (!line.starts_with('#')) lines.push_back(line);
+  }
   return lines;
+}
+
+/// The acquisition state a `monitor` line reports (its last column).
+std::string BoardState(const std::string& device_spec) {
+  const auto monitor = RunVibid({"--device", device_spec, "monitor", "--count", "1"});
+  EXPECT_EQ(monitor.exit_code, 0) << monitor.err;
+  const std::vector<std::string> lines = Lines(monitor.out);
+  return lines.empty() ? "" : lines.back().substr(lines.back().rfind('\t') + 1);
+}
+
+TEST_F(CliFaultTest, CtrlCStopsTheAcquisitionAndKeepsTheRecord) {
+  const std::string output = dir + "/REC.csv";
+  auto acquire = StartAcquire(output);
+  std::this_thread::sleep_for(1s);
+  acquire->Signal(SIGINT);
+  const auto r = acquire->Wait();
+  EXPECT_EQ(r.exit_code, 130) << "128 + SIGINT, as the shell reports an interrupt: " << r.err;
+  // The record: 5 kHz rows from t = 0, none missing or repeated where the stream was cut and
+  // the log read on.
+  const std::vector<std::string> rows = Lines(ReadFileBytes(output));
+  ASSERT_GT(rows.size(), 1u) << r.err;
+  EXPECT_EQ(rows[0], "t_s,force1_counts,acc1_counts,acc2_counts");
+  const std::size_t records = rows.size() - 1;
+  EXPECT_GT(records, 5000u) << "more than the 1.3 s before the Ctrl-C at 5 kHz";
+  EXPECT_LT(records, 60u * 5000u) << "stopped well before the 60 s";
+  for (std::size_t i = 1; i < rows.size(); ++i) {
+    const double t_s = std::stod(rows[i].substr(0, rows[i].find(',')));
+    ASSERT_NEAR(t_s, static_cast<double>(i - 1) * 0.0002, 1e-9) << "row " << i;
+  }
+  char kept[160];
+  std::snprintf(kept, sizeof kept,
+                "vibid: stopped by Ctrl-C: kept %zu records (%.3f s at 5000 Hz) in ", records,
+                static_cast<double>(records) / 5000.0);
+  EXPECT_NE(r.err.find(std::string(kept) + output + "\n"), std::string::npos) << r.err;
+  EXPECT_EQ(r.err.rfind("vibid: Ctrl-C: stopping the acquisition, keeping what it recorded", 0), 0u)
+      << r.err;
+  EXPECT_EQ(FilesIn(dir), std::vector<std::string>{"REC.csv"}) << "no temporary file left";
+  EXPECT_EQ(BoardState(emu->device_spec()),
+            "stopped: the last frame of the acquisition that was stopped");
+}
+
+TEST_F(CliFaultTest, AnOutputThatCannotBeWrittenIsRefusedBeforeTheBoardStarts) {
+  for (const std::vector<std::string>& command :
+       {std::vector<std::string>{"acquire", "--seconds", "60", "-o", dir + "/nodir/x.csv"},
+        std::vector<std::string>{"log", "pull", "-o", dir + "/nodir/x.csv"},
+        std::vector<std::string>{"acquire", "--seconds", "60", "-o", dir}}) {
+    std::vector<std::string> args = {"--device", emu->device_spec()};
+    args.insert(args.end(), command.begin(), command.end());
+    const auto r = RunVibid(args);
+    EXPECT_EQ(r.exit_code, 1) << r.err;
+    EXPECT_EQ(r.err.rfind("vibid: error: cannot write '" + command.back() + "': ", 0), 0u) << r.err;
+  }
+  // Refused before the device was even opened.
+  EXPECT_EQ(emu->Log().find("USB/IP client imported"), std::string::npos) << emu->Log();
+  EXPECT_TRUE(FilesIn(dir).empty());
+}
+
+class CliTriggerTest : public CliFaultTest {
+ protected:
+  /// The nominal model, its observer and the example sensors on the board: force triggers in N.
+  void Calibrate() {
+    const std::string design = dir + "/design.json";
+    ASSERT_EQ(RunVibid({"dob", "design", VIBID_SOURCE_DIR "/examples/rig_nominal.json",
+                        "--force-fs-n", "500", "-o", design})
+                  .exit_code,
+              0);
+    const auto up = RunVibid({"--device", emu->device_spec(), "cal", "upload",
+                              VIBID_SOURCE_DIR "/examples/rig_nominal.json", "--design", design,
+                              "--sensors", VIBID_SOURCE_DIR "/examples/sensors.json"});
+    ASSERT_EQ(up.exit_code, 0) << up.err;
+    ASSERT_EQ(RunVibid({"--device", emu->device_spec(), "cal", "commit"}).exit_code, 0);
+    std::filesystem::remove(design);
+  }
+};
+
+// The rig at rest never reaches 40 N: the wait says so every second, and the timeout ends it.
+TEST_F(CliTriggerTest, AWaitForTheTriggerSaysSoAndTimesOut) {
+  Calibrate();
+  const std::string output = dir + "/T.csv";
+  const auto r = RunVibid({"--device", emu->device_spec(), "acquire", "--seconds", "1",
+                           "--channels", "force1,acc1", "--trigger", "force>40",
+                           "--trigger-timeout-s", "2.5", "-o", output});
+  EXPECT_EQ(r.exit_code, 4) << r.err;
+  const std::vector<std::string> lines = Lines(r.err);
+  ASSERT_GE(lines.size(), 3u) << r.err;
+  for (std::size_t i = 0; i + 1 < lines.size(); ++i) {
+    EXPECT_EQ(
+        lines[i].rfind("vibid: waiting for the trigger on load cell 1: force1 > 40 N, now ", 0), 0u)
+        << lines[i];
+  }
+  EXPECT_EQ(lines.back(),
+            "vibid: error: the trigger did not fire within 2.5 s (--trigger-timeout-s): "
+            "acquisition stopped before anything was recorded, nothing written");
+  EXPECT_FALSE(std::filesystem::exists(output));
+  EXPECT_EQ(BoardState(emu->device_spec()),
+            "stopped: the last frame of the acquisition that was stopped");
+}
+
+TEST_F(CliTriggerTest, CtrlCStopsAWaitForTheTrigger) {
+  Calibrate();
+  const std::string output = dir + "/T.csv";
+  VibidProcess acquire({"--device", emu->device_spec(), "acquire", "--seconds", "1", "--channels",
+                        "force1,acc1", "--trigger", "force>40", "-o", output});
+  std::this_thread::sleep_for(2500ms);
+  acquire.Signal(SIGINT);
+  const auto r = acquire.Wait();
+  EXPECT_EQ(r.exit_code, 130) << r.err;
+  EXPECT_NE(r.err.find("vibid: waiting for the trigger on load cell 1: force1 > 40 N, now "),
+            std::string::npos)
+      << r.err;
+  EXPECT_NE(r.err.find("vibid: stopped by Ctrl-C: acquisition stopped before anything was "
+                       "recorded (the trigger had not fired), nothing written\n"),
+            std::string::npos)
+      << r.err;
+  EXPECT_FALSE(std::filesystem::exists(output));
+  EXPECT_EQ(BoardState(emu->device_spec()),
+            "stopped: the last frame of the acquisition that was stopped");
+}
+
+// --device before or after the command, or VIBID_DEVICE: the same board; the option wins.
+TEST_F(CliFaultTest, DeviceOptionEitherSideOfTheCommandAndFromTheEnvironment) {
+  const std::string spec = emu->device_spec();
+  const auto before = RunVibid({"--device", spec, "info", "--json"});
+  ASSERT_EQ(before.exit_code, 0) << before.err;
+  const auto after = RunVibid({"info", "--json", "--device", spec});
+  ASSERT_EQ(after.exit_code, 0) << after.err;
+  EXPECT_EQ(after.out, before.out);
+  EXPECT_EQ(RunVibid({"--device", spec, "info", "--device", spec}).exit_code, 2) << "given twice";
+  EXPECT_EQ(RunVibid({"modal", VIBID_SOURCE_DIR "/examples/rig_nominal.json", "--device", spec})
+                .exit_code,
+            2)
+      << "not a device command";
+
+  ::setenv("VIBID_DEVICE", spec.c_str(), 1);
+  const auto from_variable = RunVibid({"info", "--json"});
+  const auto probed = RunVibid({"devices"});
+  ::setenv("VIBID_DEVICE", "usbip://127.0.0.1:1", 1);
+  const auto option_wins = RunVibid({"info", "--json", "--device", spec});
+  const auto nothing_there = RunVibid({"devices"});
+  ::unsetenv("VIBID_DEVICE");
+  EXPECT_EQ(from_variable.exit_code, 0) << from_variable.err;
+  EXPECT_EQ(from_variable.out, before.out);
+  EXPECT_EQ(option_wins.exit_code, 0) << option_wins.err;
+  EXPECT_EQ(option_wins.out, before.out);
+  ASSERT_EQ(probed.exit_code, 0) << probed.err;
+  EXPECT_EQ(probed.out.rfind(spec + "\temulator, firmware ", 0), 0u) << probed.out;
+  EXPECT_EQ(nothing_there.exit_code, 4);
+  EXPECT_EQ(nothing_there.err,
+            "vibid: error: no vibid board answers at usbip://127.0.0.1:1 (from VIBID_DEVICE): no "
+            "USB/IP server at 127.0.0.1:1 (is vibid-emu running?)\n");
 }
 
 // A pull broken off by the host (the `vibid` process killed outright) loses nothing on the board:

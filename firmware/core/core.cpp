@@ -84,10 +84,18 @@ void Core::Poll() {
   }
 }
 
+Status Core::Refuse(Status status, wire::Reason reason, std::uint32_t detail) {
+  refusal_ = wire::Refusal{.reason = reason, .detail = detail};
+  return status;
+}
+
 void Core::Respond(const Header& request, Status status, std::span<const std::uint8_t> payload) {
+  std::array<std::uint8_t, wire::Refusal::kBytes> why{};
   if (status != Status::kOk) {
     ++rejected_requests_;
-    payload = {};
+    wire::Encode(refusal_, why);
+    payload = why;
+    refusal_ = {};
   }
   wire::Header h;
   h.command = request.command;
@@ -131,6 +139,15 @@ wire::InfoResponse Core::Info() const {
   return info;
 }
 
+wire::SamplingInfoResponse Core::SamplingInfo() {
+  // Every port delivers frames as the board samples them: the emulator's rig evaluates each
+  // channel at these instants, and the QEMU image's injected frames stand for the board's.
+  wire::SamplingInfoResponse r;
+  for (std::size_t c = 0; c < wire::kChannelCount; ++c)
+    r.sample_instant_ns[c] = kBoardProfile.sample_instant_ns(c);
+  return r;
+}
+
 wire::StatusResponse Core::CurrentStatus() const {
   wire::StatusResponse s;
   s.acq_state = sampler_.state();
@@ -152,6 +169,7 @@ wire::StatusResponse Core::CurrentStatus() const {
 }
 
 void Core::Handle(const wire::Report& request) {
+  refusal_ = {};
   Header h;
   const Status header_status = wire::DecodeHeader(request, h);
   if (header_status == Status::kDataLoss) {
@@ -161,12 +179,12 @@ void Core::Handle(const wire::Report& request) {
     h.sequence = 0;
   }
   if (header_status != Status::kOk) {
-    Respond(h, header_status);
+    Respond(h, Refuse(header_status, wire::Reason::kMalformedRequest));
     return;
   }
   if ((h.flags & wire::kFlagResponse) != 0 ||
       (h.sequence != 0 && h.command != static_cast<std::uint8_t>(Command::kCalPutData))) {
-    Respond(h, Status::kInvalidArgument);
+    Respond(h, Refuse(Status::kInvalidArgument, wire::Reason::kMalformedRequest));
     return;
   }
   const Status s = Dispatch(h, wire::PayloadOf(request));
@@ -176,85 +194,127 @@ void Core::Handle(const wire::Report& request) {
 Status Core::Dispatch(const Header& h, std::span<const std::uint8_t> payload) {
   if (wire::IsPortCommand(h.command)) return HandlePortCommand(h, payload);
   // Commands without a request payload refuse one.
-  const Status empty = payload.empty() ? Status::kOk : Status::kInvalidArgument;
+  const bool stray_payload = !payload.empty();
+  const auto refuse_payload = [this] {
+    return Refuse(Status::kInvalidArgument, wire::Reason::kPayloadLength);
+  };
   switch (static_cast<Command>(h.command)) {
     case Command::kPing: Respond(h, Status::kOk, payload); return Status::kOk;
-    case Command::kGetInfo:
-      if (empty != Status::kOk) return empty;
-      RespondWith(h, Info());
+    case Command::kGetInfo: {
+      if (!stray_payload) {
+        RespondWith(h, Info());
+        return Status::kOk;
+      }
+      wire::InfoPageRequest page;
+      if (wire::Decode(payload, page) != Status::kOk) return refuse_payload();
+      if (page.page != wire::kInfoPageSampling)
+        return Refuse(Status::kInvalidArgument, wire::Reason::kUnknownInfoPage, page.page);
+      RespondWith(h, SamplingInfo());
       return Status::kOk;
+    }
     case Command::kGetStatus:
-      if (empty != Status::kOk) return empty;
+      if (stray_payload) return refuse_payload();
       RespondWith(h, CurrentStatus());
       return Status::kOk;
     case Command::kReset:
-      if (empty != Status::kOk) return empty;
+      if (stray_payload) return refuse_payload();
       Respond(h, Status::kOk);
       deferred_ = Deferred::kReset;
       return Status::kOk;
     case Command::kEnterDfu:
-      if (empty != Status::kOk) return empty;
-      if ((port_.system.PortCapabilities() & wire::kCapDfu) == 0) return Status::kUnimplemented;
-      if (Sampling()) return Status::kFailedPrecondition;
+      if (stray_payload) return refuse_payload();
+      if ((port_.system.PortCapabilities() & wire::kCapDfu) == 0)
+        return Refuse(Status::kUnimplemented, wire::Reason::kNoBootloader);
+      if (Sampling()) return Refuse(Status::kFailedPrecondition, wire::Reason::kBusySampling);
       Respond(h, Status::kOk);
       deferred_ = Deferred::kEnterDfu;
       return Status::kOk;
     case Command::kCalPutBegin: return HandleCalPutBegin(h, payload);
     case Command::kCalPutData: return HandleCalPutData(h, payload);
-    case Command::kCalCommit: return empty != Status::kOk ? empty : HandleCalCommit(h);
-    case Command::kCalGet: return empty != Status::kOk ? empty : HandleCalGet(h);
+    case Command::kCalCommit: return stray_payload ? refuse_payload() : HandleCalCommit(h);
+    case Command::kCalGet: return stray_payload ? refuse_payload() : HandleCalGet(h);
     case Command::kAcqConfigure: return HandleAcqConfigure(h, payload);
-    case Command::kAcqStart: return empty != Status::kOk ? empty : HandleAcqStart(h);
+    case Command::kAcqStart: return stray_payload ? refuse_payload() : HandleAcqStart(h);
     case Command::kAcqStop:
-      if (empty != Status::kOk) return empty;
+      if (stray_payload) return refuse_payload();
       StopSampling();
       RespondWith(h, wire::AcqStopResponse{.records_written = ring_.written()});
       return Status::kOk;
     case Command::kReadLatest: {
-      if (empty != Status::kOk) return empty;
+      if (stray_payload) return refuse_payload();
       wire::LatestResponse latest;
       if (!sampler_.Latest(latest)) latest.acq_state = sampler_.state();
       RespondWith(h, latest);
       return Status::kOk;
     }
+    case Command::kGetClips:
+      if (stray_payload) return refuse_payload();
+      RespondWith(h, sampler_.Clips());
+      return Status::kOk;
     case Command::kLogRead: return HandleLogRead(h, payload);
     case Command::kDobControl: return HandleDobControl(h, payload);
     case Command::kSelectScenario:
     case Command::kInjectFrames: break;  // port commands, dispatched above
   }
-  return Status::kUnimplemented;
+  return Refuse(Status::kUnimplemented, wire::Reason::kUnknownCommand);
 }
 
 Status Core::HandlePortCommand(const Header& h, std::span<const std::uint8_t> payload) {
-  if (port_commands_ == nullptr) return Status::kUnimplemented;
+  if (port_commands_ == nullptr)
+    return Refuse(Status::kUnimplemented, wire::Reason::kUnknownCommand);
   std::array<std::uint8_t, wire::kMaxPayload> response{};
   std::size_t length = 0;
   const Status s = port_commands_->HandlePortCommand(h.command, payload, response, length);
-  if (s != Status::kOk) return s;
+  if (s != Status::kOk) {
+    // A port names its reason with a Refusal in the response bytes; one that does not gets a
+    // reason from the status alone.
+    wire::Refusal why;
+    const auto bytes =
+        std::span<const std::uint8_t>(response).first(std::min(length, response.size()));
+    if (length >= wire::Refusal::kBytes && wire::Decode(bytes, why) == Status::kOk) {
+      return Refuse(s, why.reason, why.detail);
+    }
+    return Refuse(s, s == Status::kUnimplemented ? wire::Reason::kUnknownCommand
+                                                 : wire::Reason::kPortRefused);
+  }
   Respond(h, s, std::span<const std::uint8_t>(response).first(std::min(length, response.size())));
   return Status::kOk;
 }
 
 Status Core::HandleCalPutBegin(const Header& h, std::span<const std::uint8_t> payload) {
   wire::CalPutBeginRequest begin;
-  if (wire::Decode(payload, begin) != Status::kOk) return Status::kInvalidArgument;
+  if (wire::Decode(payload, begin) != Status::kOk)
+    return Refuse(Status::kInvalidArgument, wire::Reason::kPayloadLength);
   const Status s = upload_.Begin(begin);
-  if (s == Status::kOk) Respond(h, Status::kOk);
+  if (s != Status::kOk) {
+    return Refuse(s, wire::Reason::kRecordLength,
+                  static_cast<std::uint32_t>(wire::kCalRecordBytes));
+  }
+  Respond(h, Status::kOk);
   return s;
 }
 
 Status Core::HandleCalPutData(const Header& h, std::span<const std::uint8_t> payload) {
   bool complete = false;
+  const std::uint16_t expected = upload_.next_sequence();
+  const bool active = upload_.active();
   const Status s = upload_.Data(h.sequence, payload, complete);
-  if (s == Status::kOk) Respond(h, Status::kOk);
-  return s;
+  if (s == Status::kOk) {
+    Respond(h, Status::kOk);
+    return s;
+  }
+  if (!active || s == Status::kOutOfRange)
+    return Refuse(s, wire::Reason::kUploadSequence, expected);
+  if (!upload_.assembled()) return Refuse(s, wire::Reason::kPayloadLength);
+  if (s == Status::kDataLoss) return Refuse(s, wire::Reason::kRecordCrc);
+  return Refuse(s, wire::Reason::kRecordInvalid, static_cast<std::uint32_t>(s));
 }
 
 Status Core::HandleCalCommit(const Header& h) {
-  if (Sampling()) return Status::kFailedPrecondition;
-  if (!upload_.staged()) return Status::kFailedPrecondition;
+  if (Sampling()) return Refuse(Status::kFailedPrecondition, wire::Reason::kBusySampling);
+  if (!upload_.staged()) return Refuse(Status::kFailedPrecondition, wire::Reason::kNothingStaged);
   const Status s = store_.Commit(upload_.bytes(), upload_.record());
-  if (s != Status::kOk) return s;
+  if (s != Status::kOk) return Refuse(s, wire::Reason::kFlashWrite);
   upload_.Clear();
   ApplyCalibration();
   RespondWith(h, wire::CalCommitResponse{.slot = store_.slot(), .sequence = store_.sequence()});
@@ -262,7 +322,8 @@ Status Core::HandleCalCommit(const Header& h) {
 }
 
 Status Core::HandleCalGet(const Header& h) {
-  if (!store_.calibrated()) return Status::kFailedPrecondition;
+  if (!store_.calibrated())
+    return Refuse(Status::kFailedPrecondition, wire::Reason::kNotCalibrated);
   encoder_.Begin(Command::kCalGet, h.token);
   stream_token_ = h.token;
   stream_ = StreamKind::kCalibration;
@@ -273,29 +334,30 @@ Status Core::HandleCalGet(const Header& h) {
   return Status::kOk;
 }
 
-Status Core::ValidateConfig(const wire::AcqConfigureRequest& c) const {
+Status Core::ValidateConfig(const wire::AcqConfigureRequest& c) {
   if (c.sample_period_us < wire::kMinSamplePeriodUs ||
       c.sample_period_us > wire::kMaxSamplePeriodUs) {
-    return Status::kInvalidArgument;
+    return Refuse(Status::kInvalidArgument, wire::Reason::kSamplePeriod, wire::kMinSamplePeriodUs);
   }
   const wire::LogLayout layout{c.channel_mask, c.flags};
-  if (!layout.Valid() || !fixed::IsSupportedDecimation(c.decimation)) {
-    return Status::kInvalidArgument;
-  }
+  if (!layout.Valid()) return Refuse(Status::kInvalidArgument, wire::Reason::kChannelSelection);
+  if (!fixed::IsSupportedDecimation(c.decimation))
+    return Refuse(Status::kInvalidArgument, wire::Reason::kDecimation, wire::kMaxDecimation);
   if (c.trigger_mode == wire::TriggerMode::kImmediate) {
     if (c.trigger_channel != 0 || c.trigger_threshold != 0 || c.pretrigger_records != 0) {
-      return Status::kInvalidArgument;
+      return Refuse(Status::kInvalidArgument, wire::Reason::kTrigger);
     }
   } else if (!wire::IsLoadCell(c.trigger_channel)) {
-    return Status::kInvalidArgument;
+    return Refuse(Status::kInvalidArgument, wire::Reason::kTrigger);
   }
-  if (c.pretrigger_records >= ring_.CapacityFor(layout.StoredRecordBytes()))
-    return Status::kOutOfRange;
+  const std::uint32_t capacity = ring_.CapacityFor(layout.StoredRecordBytes());
+  if (c.pretrigger_records >= capacity)
+    return Refuse(Status::kOutOfRange, wire::Reason::kPretriggerTooLong, capacity);
   if (layout.HasDob()) {
-    if (!dob_.loaded()) return Status::kFailedPrecondition;
+    if (!dob_.loaded()) return Refuse(Status::kFailedPrecondition, wire::Reason::kNoObserver);
     // The filter is only right at the rate it was discretized for.
     if (static_cast<std::uint64_t>(c.sample_period_us) * dob_.sample_rate_hz() != 1000000u) {
-      return Status::kInvalidArgument;
+      return Refuse(Status::kInvalidArgument, wire::Reason::kObserverRate, dob_.sample_rate_hz());
     }
   }
   return Status::kOk;
@@ -303,8 +365,9 @@ Status Core::ValidateConfig(const wire::AcqConfigureRequest& c) const {
 
 Status Core::HandleAcqConfigure(const Header& h, std::span<const std::uint8_t> payload) {
   wire::AcqConfigureRequest c;
-  if (wire::Decode(payload, c) != Status::kOk) return Status::kInvalidArgument;
-  if (Sampling()) return Status::kFailedPrecondition;
+  if (wire::Decode(payload, c) != Status::kOk)
+    return Refuse(Status::kInvalidArgument, wire::Reason::kPayloadLength);
+  if (Sampling()) return Refuse(Status::kFailedPrecondition, wire::Reason::kBusySampling);
   const Status s = ValidateConfig(c);
   if (s != Status::kOk) return s;
   config_ = c;
@@ -317,14 +380,19 @@ Status Core::HandleAcqConfigure(const Header& h, std::span<const std::uint8_t> p
 }
 
 Status Core::HandleAcqStart(const Header& h) {
-  if (!configured_ || Sampling()) return Status::kFailedPrecondition;
+  if (!configured_) return Refuse(Status::kFailedPrecondition, wire::Reason::kNotConfigured);
+  if (Sampling()) return Refuse(Status::kFailedPrecondition, wire::Reason::kBusySampling);
   if (sampling_) StopSampling();  // a finished acquisition whose stop Poll has not seen yet
   Status s = sampler_.Arm(config_);
-  if (s != Status::kOk) return s;
+  // The configuration passed ValidateConfig against the same log, so these are broken
+  // invariants or a port that cannot sample at the period: named by status alone.
+  if (s != Status::kOk) return Refuse(s, wire::Reason::kUnspecified);
   s = port_.frames.Start(config_.sample_period_us, sampler_);
   if (s != Status::kOk) {
     sampler_.Disarm();
-    return s;
+    // The port cannot sample at this period (the emulator's rig has slower converters): its
+    // limit is its own, so no detail.
+    return Refuse(s, wire::Reason::kSamplePeriod, 0);
   }
   sampling_ = true;
   Respond(h, Status::kOk);
@@ -346,14 +414,18 @@ void Core::StartLogStream(std::uint16_t token, std::uint32_t first, std::uint32_
 
 Status Core::HandleLogRead(const Header& h, std::span<const std::uint8_t> payload) {
   wire::LogReadRequest r;
-  if (wire::Decode(payload, r) != Status::kOk) return Status::kInvalidArgument;
-  if (ring_.record_bytes() == 0) return Status::kFailedPrecondition;  // nothing acquired yet
+  if (wire::Decode(payload, r) != Status::kOk)
+    return Refuse(Status::kInvalidArgument, wire::Reason::kPayloadLength);
+  if (ring_.record_bytes() == 0)  // nothing acquired yet
+    return Refuse(Status::kFailedPrecondition, wire::Reason::kNoLog);
   // Any record still intact can be read again, released or not (a second pull of a log pulled
   // while sampling); from first_record == written() the stream is empty (a host waiting for
   // more). The release only lets the sampler reuse space below first_record; it never moves back.
   const std::uint32_t written = ring_.written();
-  if (r.first_record != written && !ring_.Intact(r.first_record)) return Status::kOutOfRange;
-  if (ring_.Release(r.first_record) != Status::kOk) return Status::kOutOfRange;
+  if (r.first_record != written && !ring_.Intact(r.first_record))
+    return Refuse(Status::kOutOfRange, wire::Reason::kLogOverwritten, ring_.oldest());
+  if (ring_.Release(r.first_record) != Status::kOk)
+    return Refuse(Status::kOutOfRange, wire::Reason::kLogOverwritten, ring_.oldest());
   std::uint32_t count = written - r.first_record;
   if (r.max_records != 0) count = std::min(count, r.max_records);
   // Following, the stream's end moves with the log (NextStreamReport).
@@ -365,8 +437,10 @@ Status Core::HandleLogRead(const Header& h, std::span<const std::uint8_t> payloa
 
 Status Core::HandleDobControl(const Header& h, std::span<const std::uint8_t> payload) {
   wire::DobControlRequest r;
-  if (wire::Decode(payload, r) != Status::kOk) return Status::kInvalidArgument;
-  if (r.run == 1 && !dob_.loaded()) return Status::kFailedPrecondition;
+  if (wire::Decode(payload, r) != Status::kOk)
+    return Refuse(Status::kInvalidArgument, wire::Reason::kPayloadLength);
+  if (r.run == 1 && !dob_.loaded())
+    return Refuse(Status::kFailedPrecondition, wire::Reason::kNoObserver);
   sampler_.SetDobRunning(r.run == 1);
   Respond(h, Status::kOk);
   return Status::kOk;
@@ -445,7 +519,9 @@ bool Core::NextStreamReport() {
                                                                       : Command::kCalGet);
     h.token = stream_token_;  // the host's stream decoder takes only its own token
     stream_ = StreamKind::kNone;
-    Respond(h, s == Status::kOutOfRange ? Status::kOutOfRange : Status::kInternal);
+    Respond(h, s == Status::kOutOfRange
+                   ? Refuse(Status::kOutOfRange, wire::Reason::kLogOverwritten, ring_.oldest())
+                   : Refuse(Status::kInternal, wire::Reason::kUnspecified));
     return true;
   }
   payload.fill(0);

@@ -2,10 +2,12 @@
 #include <gtest/gtest.h>
 
 #include <array>
+#include <optional>
 
 #include "core_harness.hpp"
 #include "vibid/fw/version.hpp"
 #include "vibid/shared/wire/byte_order.hpp"
+#include "vibid/shared/wire/refusal.hpp"
 
 namespace vibid::fw {
 namespace {
@@ -13,6 +15,14 @@ namespace {
 using testing::CoreHarness;
 using testing::Response;
 using wire::Command;
+
+/// The reason a refusal names (protocol 2.1: every refusal carries one).
+wire::Refusal ReasonOf(const Response& r) {
+  wire::Refusal why;
+  EXPECT_EQ(r.payload().size(), wire::Refusal::kBytes) << "a refusal names its reason";
+  EXPECT_EQ(wire::Decode(r.payload(), why), Status::kOk);
+  return why;
+}
 
 wire::AcqConfigureRequest Immediate() {
   wire::AcqConfigureRequest c;
@@ -57,6 +67,23 @@ TEST(CoreCommands, GetInfoDescribesTheBoard) {
   EXPECT_EQ(board_info.cal_state, wire::CalState::kUncalibrated);
   EXPECT_EQ(board_info.cal_slot, wire::kNoSlot);
   EXPECT_EQ(board_info.cal_crc, 0u);
+}
+
+TEST(CoreCommands, GetInfoPageGivesTheSamplingInstants) {
+  CoreHarness h;
+  const std::array<std::uint8_t, 1> page{wire::kInfoPageSampling};
+  const Response r = h.Request(Command::kGetInfo, page);
+  ASSERT_EQ(r.status(), Status::kOk);
+  wire::SamplingInfoResponse s;
+  ASSERT_EQ(wire::Decode(r.payload(), s), Status::kOk);
+  // force1, acc1, acc2 and the encoders at 56 ADC clocks of 21 MHz (2666.7 ns), force2 one
+  // 68-clock conversion later (124 clocks, 5904.8 ns) (board_profile.hpp).
+  EXPECT_EQ(s.sample_instant_ns,
+            (std::array<std::uint32_t, wire::kChannelCount>{2667, 5905, 2667, 2667, 2667, 2667}));
+  const std::array<std::uint8_t, 1> unknown{2};
+  EXPECT_EQ(h.Request(Command::kGetInfo, unknown).status(), Status::kInvalidArgument);
+  const std::array<std::uint8_t, 2> longer{1, 0};
+  EXPECT_EQ(h.Request(Command::kGetInfo, longer).status(), Status::kInvalidArgument);
 }
 
 TEST(CoreCommands, GetStatusReportsClockAndCounters) {
@@ -171,18 +198,26 @@ class EchoPortCommands final : public PortCommandHandler {
                            std::span<std::uint8_t, wire::kMaxPayload> response,
                            std::size_t& response_length) override {
     last_command = command;
+    if (refusal) {
+      wire::Encode(*refusal, response);
+      response_length = wire::Refusal::kBytes;
+      return Status::kInvalidArgument;
+    }
     if (request.empty()) return Status::kInvalidArgument;
     response[0] = static_cast<std::uint8_t>(request[0] + 1);
     response_length = 1;
     return Status::kOk;
   }
   std::uint8_t last_command = 0;
+  std::optional<wire::Refusal> refusal;  // set: refuse with this reason
 };
 
 TEST(CoreCommands, PortCommandsGoToThePortHandler) {
   CoreHarness without;
   const std::array<std::uint8_t, 1> one{41};
-  EXPECT_EQ(without.Request(Command::kSelectScenario, one).status(), Status::kUnimplemented);
+  const Response unknown = without.Request(Command::kSelectScenario, one);
+  EXPECT_EQ(unknown.status(), Status::kUnimplemented);
+  EXPECT_EQ(ReasonOf(unknown).reason, wire::Reason::kUnknownCommand);
 
   EchoPortCommands handler;
   CoreHarness h(&handler);
@@ -191,7 +226,16 @@ TEST(CoreCommands, PortCommandsGoToThePortHandler) {
   EXPECT_EQ(handler.last_command, static_cast<std::uint8_t>(Command::kSelectScenario));
   ASSERT_EQ(r.payload().size(), 1u);
   EXPECT_EQ(r.payload()[0], 42);
-  EXPECT_EQ(h.Request(Command::kInjectFrames).status(), Status::kInvalidArgument);
+  // A port refusal without a reason of its own is named from the status.
+  const Response refused = h.Request(Command::kInjectFrames);
+  EXPECT_EQ(refused.status(), Status::kInvalidArgument);
+  EXPECT_EQ(ReasonOf(refused).reason, wire::Reason::kPortRefused);
+  // A port refusal with a reason passes it on, detail included.
+  handler.refusal = wire::Refusal{.reason = wire::Reason::kScenarioParameter, .detail = 2};
+  const Response named = h.Request(Command::kSelectScenario, one);
+  EXPECT_EQ(named.status(), Status::kInvalidArgument);
+  EXPECT_EQ(ReasonOf(named).reason, wire::Reason::kScenarioParameter);
+  EXPECT_EQ(ReasonOf(named).detail, 2u);
 }
 
 TEST(CoreCommands, AcqConfigureValidatesEveryField) {
@@ -200,6 +244,8 @@ TEST(CoreCommands, AcqConfigureValidatesEveryField) {
     const char* what;
     wire::AcqConfigureRequest config;
     Status expected;
+    wire::Reason reason;
+    std::uint32_t detail = 0;
   };
   auto with = [](auto edit) {
     wire::AcqConfigureRequest c = Immediate();
@@ -207,26 +253,31 @@ TEST(CoreCommands, AcqConfigureValidatesEveryField) {
     return c;
   };
   const Case cases[] = {
-      {"period too short", with([](auto& c) { c.sample_period_us = 99; }),
-       Status::kInvalidArgument},
+      {"period too short", with([](auto& c) { c.sample_period_us = 99; }), Status::kInvalidArgument,
+       wire::Reason::kSamplePeriod, 100},
       {"period too long", with([](auto& c) { c.sample_period_us = 1000001; }),
-       Status::kInvalidArgument},
-      {"no channel", with([](auto& c) { c.channel_mask = 0; }), Status::kInvalidArgument},
-      {"seventh channel", with([](auto& c) { c.channel_mask = 0x41; }), Status::kInvalidArgument},
-      {"unknown flag", with([](auto& c) { c.flags = 0x80; }), Status::kInvalidArgument},
-      {"decimation 0", with([](auto& c) { c.decimation = 0; }), Status::kInvalidArgument},
-      {"decimation too big", with([](auto& c) { c.decimation = 2000; }), Status::kInvalidArgument},
+       Status::kInvalidArgument, wire::Reason::kSamplePeriod, 100},
+      {"no channel", with([](auto& c) { c.channel_mask = 0; }), Status::kInvalidArgument,
+       wire::Reason::kChannelSelection},
+      {"seventh channel", with([](auto& c) { c.channel_mask = 0x41; }), Status::kInvalidArgument,
+       wire::Reason::kChannelSelection},
+      {"unknown flag", with([](auto& c) { c.flags = 0x80; }), Status::kInvalidArgument,
+       wire::Reason::kChannelSelection},
+      {"decimation 0", with([](auto& c) { c.decimation = 0; }), Status::kInvalidArgument,
+       wire::Reason::kDecimation, 1000},
+      {"decimation too big", with([](auto& c) { c.decimation = 2000; }), Status::kInvalidArgument,
+       wire::Reason::kDecimation, 1000},
       {"decimation the decimator lacks", with([](auto& c) { c.decimation = 3; }),
-       Status::kInvalidArgument},
+       Status::kInvalidArgument, wire::Reason::kDecimation, 1000},
       {"immediate with pre-trigger", with([](auto& c) { c.pretrigger_records = 1; }),
-       Status::kInvalidArgument},
+       Status::kInvalidArgument, wire::Reason::kTrigger},
       {"immediate with threshold", with([](auto& c) { c.trigger_threshold = 5; }),
-       Status::kInvalidArgument},
+       Status::kInvalidArgument, wire::Reason::kTrigger},
       {"trigger on an accelerometer", with([](auto& c) {
          c.trigger_mode = wire::TriggerMode::kRising;
          c.trigger_channel = 2;
        }),
-       Status::kInvalidArgument},
+       Status::kInvalidArgument, wire::Reason::kTrigger},
       // Six channels, no d_hat: 16-byte records, 20 with the tick in the log: 2048 / 20 = 102
       // fit; 102 pre-trigger records would leave no room for the trigger record.
       {"pre-trigger fills the log", with([](auto& c) {
@@ -234,12 +285,16 @@ TEST(CoreCommands, AcqConfigureValidatesEveryField) {
          c.trigger_channel = 1;
          c.pretrigger_records = 102;
        }),
-       Status::kOutOfRange},
+       Status::kOutOfRange, wire::Reason::kPretriggerTooLong, 102},
       {"d_hat without a filter", with([](auto& c) { c.flags = wire::kAcqFlagLogDob; }),
-       Status::kFailedPrecondition},
+       Status::kFailedPrecondition, wire::Reason::kNoObserver},
   };
   for (const Case& c : cases) {
-    EXPECT_EQ(h.Request(Command::kAcqConfigure, c.config).status(), c.expected) << c.what;
+    const Response r = h.Request(Command::kAcqConfigure, c.config);
+    EXPECT_EQ(r.status(), c.expected) << c.what;
+    const wire::Refusal why = ReasonOf(r);
+    EXPECT_EQ(why.reason, c.reason) << c.what;
+    EXPECT_EQ(why.detail, c.detail) << c.what;
   }
   EXPECT_EQ(h.core.rejected_requests(), sizeof(cases) / sizeof(cases[0]));
 
@@ -257,13 +312,17 @@ TEST(CoreCommands, AcqConfigureValidatesEveryField) {
 
 TEST(CoreCommands, AcquisitionStateRules) {
   CoreHarness h;
-  EXPECT_EQ(h.Request(Command::kAcqStart).status(), Status::kFailedPrecondition);  // unconfigured
-  EXPECT_EQ(h.Request(Command::kAcqStop).status(), Status::kOk);                   // idempotent
+  const Response unconfigured = h.Request(Command::kAcqStart);
+  EXPECT_EQ(unconfigured.status(), Status::kFailedPrecondition);
+  EXPECT_EQ(ReasonOf(unconfigured).reason, wire::Reason::kNotConfigured);
+  EXPECT_EQ(h.Request(Command::kAcqStop).status(), Status::kOk);  // idempotent
   ASSERT_EQ(h.StartAcquisition(Immediate()), Status::kOk);
   EXPECT_TRUE(h.fake.frames.running());
   EXPECT_EQ(h.fake.frames.period_us, 200u);
   EXPECT_EQ(h.Request(Command::kAcqStart).status(), Status::kFailedPrecondition);
-  EXPECT_EQ(h.Request(Command::kAcqConfigure, Immediate()).status(), Status::kFailedPrecondition);
+  const Response busy = h.Request(Command::kAcqConfigure, Immediate());
+  EXPECT_EQ(busy.status(), Status::kFailedPrecondition);
+  EXPECT_EQ(ReasonOf(busy).reason, wire::Reason::kBusySampling);
   h.EmitRamp(3, {}, 1);
   const Response stop = h.Request(Command::kAcqStop);
   ASSERT_EQ(stop.status(), Status::kOk);
@@ -282,21 +341,29 @@ TEST(CoreCommands, AcquisitionStateRules) {
 
 TEST(CoreCommands, CalibrationRefusals) {
   CoreHarness h;
-  EXPECT_EQ(h.Request(Command::kCalCommit).status(),
-            Status::kFailedPrecondition);                                        // nothing staged
-  EXPECT_EQ(h.Request(Command::kCalGet).status(), Status::kFailedPrecondition);  // uncalibrated
+  const Response commit = h.Request(Command::kCalCommit);
+  EXPECT_EQ(commit.status(), Status::kFailedPrecondition);
+  EXPECT_EQ(ReasonOf(commit).reason, wire::Reason::kNothingStaged);
+  const Response get = h.Request(Command::kCalGet);
+  EXPECT_EQ(get.status(), Status::kFailedPrecondition);
+  EXPECT_EQ(ReasonOf(get).reason, wire::Reason::kNotCalibrated);
   const std::array<std::uint8_t, 52> chunk{};
-  EXPECT_EQ(h.Request(Command::kCalPutData, chunk).status(), Status::kFailedPrecondition);
-  EXPECT_EQ(
-      h.Request(Command::kCalPutBegin, wire::CalPutBeginRequest{.record_bytes = 836, .crc32 = 0})
-          .status(),
-      Status::kVersionMismatch);
+  const Response data = h.Request(Command::kCalPutData, chunk);
+  EXPECT_EQ(data.status(), Status::kFailedPrecondition);
+  EXPECT_EQ(ReasonOf(data).reason, wire::Reason::kUploadSequence);
+  const Response begin =
+      h.Request(Command::kCalPutBegin, wire::CalPutBeginRequest{.record_bytes = 836, .crc32 = 0});
+  EXPECT_EQ(begin.status(), Status::kVersionMismatch);
+  EXPECT_EQ(ReasonOf(begin).reason, wire::Reason::kRecordLength);
+  EXPECT_EQ(ReasonOf(begin).detail, 840u);  // kCalRecordBytes
 }
 
 TEST(CoreCommands, LogReadRefusals) {
   CoreHarness h;
   const wire::LogReadRequest from0{.first_record = 0, .max_records = 0};
-  EXPECT_EQ(h.Request(Command::kLogRead, from0).status(), Status::kFailedPrecondition);
+  const Response none = h.Request(Command::kLogRead, from0);
+  EXPECT_EQ(none.status(), Status::kFailedPrecondition);
+  EXPECT_EQ(ReasonOf(none).reason, wire::Reason::kNoLog);
   ASSERT_EQ(h.StartAcquisition(Immediate()), Status::kOk);
   h.EmitRamp(5, {}, 1);
   EXPECT_EQ(h.Request(Command::kLogRead, wire::LogReadRequest{.first_record = 6}).status(),
@@ -312,10 +379,13 @@ TEST(CoreCommands, LogReadRefusals) {
 
 TEST(CoreCommands, DobControlWithoutFilter) {
   CoreHarness h;
-  EXPECT_EQ(h.Request(Command::kDobControl, wire::DobControlRequest{.run = 1}).status(),
-            Status::kFailedPrecondition);
+  const Response run = h.Request(Command::kDobControl, wire::DobControlRequest{.run = 1});
+  EXPECT_EQ(run.status(), Status::kFailedPrecondition);
+  EXPECT_EQ(ReasonOf(run).reason, wire::Reason::kNoObserver);
   const std::array<std::uint8_t, 1> two{2};
-  EXPECT_EQ(h.Request(Command::kDobControl, two).status(), Status::kInvalidArgument);
+  const Response bad = h.Request(Command::kDobControl, two);
+  EXPECT_EQ(bad.status(), Status::kInvalidArgument);
+  EXPECT_EQ(ReasonOf(bad).reason, wire::Reason::kPayloadLength);
 }
 
 TEST(CoreCommands, ReadLatestShowsCalibratedFrame) {
@@ -334,6 +404,54 @@ TEST(CoreCommands, ReadLatestShowsCalibratedFrame) {
   EXPECT_EQ(latest.calibrated[0], 16);
   EXPECT_EQ(latest.calibrated[4], -44);
   EXPECT_EQ(latest.acq_state, wire::AcqState::kAcquiring);
+}
+
+// get-clips: a sample counts on its channel when its code sits at an end of the 12-bit ADC's
+// range (0 or 4095) or its calibration saturates; encoders only by saturation.
+TEST(CoreCommands, ClipsAreCountedPerChannel) {
+  CoreHarness h;
+  ASSERT_EQ(h.StartAcquisition(Immediate()), Status::kOk);
+  // force1 at the top code, force2 at 0, acc1 mid-scale, acc2 beyond the top (a converter the
+  // board cannot have), encoders at INT32 extremes (uncalibrated: identity, no saturation).
+  const std::array<std::array<std::int32_t, wire::kChannelCount>, 3> frames{{
+      {4095, 0, 2048, 65535, INT32_MAX, INT32_MIN},
+      {4094, 1, 2048, 4095, 0, 0},
+      {4095, 2, 2048, 100, 0, 0},
+  }};
+  for (const auto& f : frames) h.fake.frames.Emit(f);
+  const Response r = h.Request(Command::kGetClips);
+  ASSERT_EQ(r.status(), Status::kOk);
+  wire::ClipResponse clips;
+  ASSERT_EQ(wire::Decode(r.payload(), clips), Status::kOk);
+  EXPECT_EQ(clips.ticks, 3u);
+  EXPECT_EQ(clips.clipped, (std::array<std::uint32_t, wire::kChannelCount>{2, 1, 0, 2, 0, 0}));
+  wire::StatusResponse s;
+  ASSERT_EQ(wire::Decode(h.Request(Command::kGetStatus).payload(), s), Status::kOk);
+  EXPECT_EQ(s.saturation_count, 5u);  // the sum over the channels; no observer
+  // A new acquisition starts the counts again.
+  ASSERT_EQ(h.Request(Command::kAcqStop).status(), Status::kOk);
+  ASSERT_EQ(h.StartAcquisition(Immediate()), Status::kOk);
+  ASSERT_EQ(wire::Decode(h.Request(Command::kGetClips).payload(), clips), Status::kOk);
+  EXPECT_EQ(clips.ticks, 0u);
+  EXPECT_EQ(clips.clipped, (std::array<std::uint32_t, wire::kChannelCount>{}));
+}
+
+// read-latest after an acquisition holds its last frame: frames the port delivers after the
+// record limit (before the main loop stops it) do not replace it.
+TEST(CoreCommands, ReadLatestKeepsTheLastFrameOfTheAcquisition) {
+  CoreHarness h;
+  wire::AcqConfigureRequest c = Immediate();
+  c.record_limit = 3;
+  ASSERT_EQ(h.StartAcquisition(c), Status::kOk);
+  h.EmitRamp(5, {100, 100, 100, 100, 100, 100}, 1);  // ticks 0..4; the limit is reached at 2
+  wire::LatestResponse latest;
+  ASSERT_EQ(wire::Decode(h.Request(Command::kReadLatest).payload(), latest), Status::kOk);
+  EXPECT_EQ(latest.acq_state, wire::AcqState::kDone);
+  EXPECT_EQ(latest.tick, 2u);
+  EXPECT_EQ(latest.calibrated[0], 102);
+  wire::StatusResponse s;
+  ASSERT_EQ(wire::Decode(h.Request(Command::kGetStatus).payload(), s), Status::kOk);
+  EXPECT_EQ(s.ticks, 3u);  // the host's "last frame" is tick ticks - 1
 }
 
 }  // namespace

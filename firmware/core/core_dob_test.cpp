@@ -9,6 +9,7 @@
 #include "test_filter.hpp"
 #include "test_records.hpp"
 #include "vibid/shared/fixed/dob_filter.hpp"
+#include "vibid/shared/wire/refusal.hpp"
 
 namespace vibid::fw {
 namespace {
@@ -104,7 +105,13 @@ TEST(CoreDob, RateMustMatchTheFilter) {
   c.sample_period_us = 250;  // 4 kHz; the filter was discretized at 5 kHz
   c.channel_mask = 1;
   c.flags = wire::kAcqFlagLogDob;
-  EXPECT_EQ(h.Request(Command::kAcqConfigure, c).status(), Status::kInvalidArgument);
+  const testing::Response r = h.Request(Command::kAcqConfigure, c);
+  EXPECT_EQ(r.status(), Status::kInvalidArgument);
+  // The refusal names the cause and the observer's rate, for the host's way out.
+  wire::Refusal why;
+  ASSERT_EQ(wire::Decode(r.payload(), why), Status::kOk);
+  EXPECT_EQ(why.reason, wire::Reason::kObserverRate);
+  EXPECT_EQ(why.detail, 5000u);  // TestFilter(5000)
 }
 
 TEST(CoreDob, DobControlRunsItWithoutLogging) {

@@ -1,8 +1,21 @@
 #include "vibid/fw/sampler.hpp"
 
+#include "vibid/shared/board_profile.hpp"
 #include "vibid/shared/wire/byte_order.hpp"
 
 namespace vibid::fw {
+namespace {
+
+/// The converter's top code: a sample there (or at 0) is the end of the ADC's range, where the
+/// signal may be anywhere beyond it.
+constexpr std::int32_t kAdcTopCode = (std::int32_t{1} << kBoardProfile.adc_bits) - 1;
+
+/// A converter code at or beyond either end of the ADC's range.
+constexpr bool AtConverterEnd(wire::Channel c, std::int32_t raw) {
+  return wire::KindOf(c) != wire::ChannelKind::kEncoder && (raw <= 0 || raw >= kAdcTopCode);
+}
+
+}  // namespace
 
 Status Sampler::Arm(const wire::AcqConfigureRequest& config) {
   layout_ = wire::LogLayout{config.channel_mask, config.flags};
@@ -28,6 +41,7 @@ Status Sampler::Arm(const wire::AcqConfigureRequest& config) {
   overruns_.store(0, std::memory_order_relaxed);
   dropped_.store(0, std::memory_order_relaxed);
   clips_.store(0, std::memory_order_relaxed);
+  for (auto& c : channel_clips_) c.store(0, std::memory_order_relaxed);
   if (config.trigger_mode == wire::TriggerMode::kImmediate) {
     ring_.MarkTrigger();
     state_.store(wire::AcqState::kAcquiring, std::memory_order_release);
@@ -63,9 +77,15 @@ bool Sampler::TriggerFires(const std::array<std::int32_t, wire::kChannelCount>& 
 
 void Sampler::OnFrame(const SampleFrame& frame) {
   std::uint32_t clips = 0;
+  std::uint8_t clipped_channels = 0;  // bit c: channel c clipped in this frame
   std::array<std::int32_t, wire::kChannelCount> calibrated{};
   for (std::size_t c = 0; c < wire::kChannelCount; ++c) {
-    calibrated[c] = wire::ScaleChannel(frame.raw[c], scaling_[c], clips);
+    std::uint32_t saturated = 0;
+    calibrated[c] = wire::ScaleChannel(frame.raw[c], scaling_[c], saturated);
+    if (saturated != 0 || AtConverterEnd(static_cast<wire::Channel>(c), frame.raw[c])) {
+      clipped_channels = static_cast<std::uint8_t>(clipped_channels | (1u << c));
+      ++clips;
+    }
   }
   const wire::AcqState state = state_.load(std::memory_order_relaxed);
   const bool sampling = state == wire::AcqState::kArmed || state == wire::AcqState::kAcquiring;
@@ -78,12 +98,20 @@ void Sampler::OnFrame(const SampleFrame& frame) {
   if (run_dob && !dob_was_running_) dob_.Reset();
   dob_was_running_ = run_dob;
   const std::int32_t d_hat = run_dob ? dob_.Step(calibrated) : 0;
-  PublishLatest(frame, calibrated, d_hat);
+  // A frame the port delivers after the acquisition ended (before the main loop stopped it)
+  // belongs to no acquisition: read-latest keeps the acquisition's last frame and its tick.
   if (!sampling) return;
+  PublishLatest(frame, calibrated, d_hat);
 
   ticks_.store(ticks_.load(std::memory_order_relaxed) + 1, std::memory_order_relaxed);
-  if (clips != 0)
+  if (clips != 0) {
     clips_.store(clips_.load(std::memory_order_relaxed) + clips, std::memory_order_relaxed);
+    for (std::size_t c = 0; c < wire::kChannelCount; ++c) {
+      if ((clipped_channels & (1u << c)) == 0) continue;
+      channel_clips_[c].store(channel_clips_[c].load(std::memory_order_relaxed) + 1,
+                              std::memory_order_relaxed);
+    }
+  }
   // Ticks count from 0 at Start; a jump means the port lost frames before they reached us.
   if (frame.tick != expected_tick_) {
     const std::uint32_t missed = frame.tick - expected_tick_;
@@ -156,6 +184,14 @@ void Sampler::PublishLatest(const SampleFrame& frame,
   latest_calibrated_ = calibrated;
   latest_d_hat_ = d_hat;
   latest_version_.store(v + 2, std::memory_order_release);
+}
+
+wire::ClipResponse Sampler::Clips() const {
+  wire::ClipResponse r;
+  r.ticks = ticks();
+  for (std::size_t c = 0; c < wire::kChannelCount; ++c)
+    r.clipped[c] = channel_clips_[c].load(std::memory_order_relaxed);
+  return r;
 }
 
 bool Sampler::Latest(wire::LatestResponse& out) const {

@@ -67,10 +67,10 @@ constexpr const char* kSensors =
 constexpr const char* kRig =
     "{\"topology\": \"chain\", \"masses_kg\": [0.5848], \"effective_mass_loss\": [0.0],\n"
     " \"springs_n_per_m\": [712.6], \"dampers_ns_per_m\": [0.73], \"coulomb_n\": [0.01],\n"
-    " \"load_cells\": [{\"range_n\": 100.0, \"noise_n\": 0.02, \"adc_bits\": 16},\n"
-    "                {\"range_n\": 20.0, \"noise_n\": 0.005, \"adc_bits\": 16}],\n"
-    " \"accelerometers\": [{\"range_m_s2\": 100.0, \"noise_m_s2\": 0.02, \"adc_bits\": 16},\n"
-    "                    {\"range_m_s2\": 100.0, \"noise_m_s2\": 0.02, \"adc_bits\": 16}],\n"
+    " \"load_cells\": [{\"range_n\": 100.0, \"noise_n\": 0.02, \"adc_bits\": 12},\n"
+    "                {\"range_n\": 20.0, \"noise_n\": 0.005, \"adc_bits\": 12}],\n"
+    " \"accelerometers\": [{\"range_m_s2\": 100.0, \"noise_m_s2\": 0.02, \"adc_bits\": 12},\n"
+    "                    {\"range_m_s2\": 100.0, \"noise_m_s2\": 0.02, \"adc_bits\": 12}],\n"
     " \"encoder_counts_per_m\": 56000.0, \"max_sample_rate_hz\": 10000.0}\n";
 
 // How the bad file of a row is made.
@@ -343,6 +343,13 @@ TEST_F(BadInput, ModelJson) {
        0,
        sim,
        {"model.json", "masses"}},
+      {"model_misspelt_optional_key",
+       "model.json",
+       Make::kContent,
+       With(kModel, "\"dampers\"", "\"damper\""),
+       0,
+       sim,
+       {"unknown key 'damper' in model file", "model.json (did you mean 'dampers'?)"}},
       {"model_negative_mass",
        "model.json",
        Make::kContent,
@@ -453,6 +460,14 @@ TEST_F(BadInput, DesignSensorsAndRigJson) {
        cal,
        {"sensors.json", "furlong"}},
       {"sensors_empty", "sensors.json", Make::kContent, "", 0, cal, {"sensors.json", "empty file"}},
+      {"sensors_misspelt_key",
+       "sensors.json",
+       Make::kContent,
+       With(sensors, "\"offset_counts\": 0", "\"offset_count\": 0"),
+       0,
+       cal,
+       {"unknown key 'offset_count' in sensors file", "sensors.json channels.x2",
+        "(did you mean 'offset_counts'?)"}},
       {"rig_truncated",
        "rig.json",
        Make::kContent,
@@ -475,7 +490,7 @@ TEST_F(BadInput, DesignSensorsAndRigJson) {
        With(kRig, "masses_kg", "mass_kg"),
        0,
        emu,
-       {"rig.json", "missing \"masses_kg\""},
+       {"rig.json", "unknown key 'mass_kg' in rig file", "(did you mean 'masses_kg'?)"},
        true},
       {"rig_missing", "rig.json", Make::kMissing, "", 0, emu, {"rig.json", "cannot open"}, true},
   };

@@ -16,6 +16,21 @@ void EmitOutput(const std::string& content, const std::string& path) {
   }
 }
 
+ClaimedOutput::ClaimedOutput(const std::string& path) {
+  if (!path.empty() && path != "-") file_ = std::make_unique<AtomicOutputFile>(path);
+}
+
+void ClaimedOutput::Write(std::string_view content) {
+  if (file_) {
+    file_->Commit(content);
+  } else {
+    std::cout << content;
+    std::cout.flush();
+  }
+}
+
+std::string ClaimedOutput::Name() const { return file_ ? file_->path() : "stdout"; }
+
 namespace {
 
 CLI::Validator NumberValidator(bool allow_zero) {

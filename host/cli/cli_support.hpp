@@ -2,13 +2,16 @@
 // kind (input errors are vibid::InputError, device errors vibid::device::DeviceError).
 #pragma once
 
+#include <memory>
 #include <optional>
 #include <stdexcept>
 #include <string>
+#include <string_view>
 
 #include <CLI/CLI.hpp>
 
 #include "exit_codes.hpp"
+#include "vibid/common/atomic_file.hpp"
 
 namespace vibid::cli {
 
@@ -21,6 +24,28 @@ class NumericalError : public std::runtime_error {
 
 /// Writes `content` to `path` atomically, or to stdout when `path` is empty or "-".
 void EmitOutput(const std::string& content, const std::string& path);
+
+/// An output named before long work (a recording from the board): stdout for "" or "-", else
+/// the file is claimed at construction (AtomicOutputFile), so a path that cannot be written is
+/// refused before the work starts. Write once, at the end.
+class ClaimedOutput {
+ public:
+  explicit ClaimedOutput(const std::string& path);
+  void Write(std::string_view content);
+  bool to_stdout() const { return file_ == nullptr; }
+  /// The path, or "stdout".
+  std::string Name() const;
+
+ private:
+  std::unique_ptr<AtomicOutputFile> file_;
+};
+
+/// The command stopped on Ctrl-C after keeping what it had and saying so on stderr: main exits
+/// with kExitInterrupted and prints nothing more.
+class StoppedByInterrupt : public std::exception {
+ public:
+  const char* what() const noexcept override { return "stopped by Ctrl-C"; }
+};
 
 /// CLI11 validator: a finite number > 0.
 const CLI::Validator& PositiveNumber();

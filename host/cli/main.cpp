@@ -23,8 +23,9 @@ int main(int argc, char** argv) {
   app.set_version_flag("--version", std::string("vibid ") + VIBID_VERSION);
   GlobalOptions globals;
   app.add_option("--device", globals.device,
-                 "Board to talk to: hid[:SERIAL] | usbip://HOST:PORT | serial:/dev/ttyX | qemu "
-                 "(default: the only one found)");
+                 "Board to talk to: hid[:SERIAL] | usbip://HOST:PORT | serial:/dev/ttyX | qemu; "
+                 "before or after a device command's name. Default: the VIBID_DEVICE environment "
+                 "variable (the option wins over it), else the only board found");
 
   RegisterModelCommands(app);
   RegisterIdentCommands(app);
@@ -51,6 +52,11 @@ int main(int argc, char** argv) {
   } catch (const NumericalError& e) {
     std::cerr << "vibid: error: " << e.what() << "\n";
     return kExitNumerical;
+  } catch (const StoppedByInterrupt&) {
+    return kExitInterrupted;  // the command said what it kept
+  } catch (const vibid::device::Interrupted& e) {
+    std::cerr << "vibid: " << e.what() << "\n";
+    return kExitInterrupted;
   } catch (const vibid::device::DeviceError& e) {
     std::cerr << "vibid: error: " << e.what() << "\n";
     return kExitDevice;

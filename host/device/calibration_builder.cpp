@@ -2,9 +2,11 @@
 
 #include <cmath>
 #include <cstdint>
+#include <sstream>
 
 #include "vibid/common/enum_names.hpp"
 #include "vibid/common/error.hpp"
+#include "vibid/common/json_keys.hpp"
 #include "vibid/common/text_input.hpp"
 #include "vibid/device/log_table.hpp"
 
@@ -36,6 +38,17 @@ wire::Unit UnitOfInput(fixed::InputKind kind) {
   return wire::Unit::kCounts;
 }
 
+// The `vibid dob design` option that sets an input's full scale.
+const char* DesignOptionFor(fixed::InputKind kind) {
+  return kind == fixed::InputKind::kForce ? "--force-fs-n" : "--sensor-fs";
+}
+
+std::string Number(double v) {
+  std::ostringstream o;
+  o << v;
+  return o.str();
+}
+
 }  // namespace
 
 const char* UnitName(wire::Unit unit) { return NameOf(kUnitNames, unit, "counts"); }
@@ -46,6 +59,7 @@ SensorSet SensorsFromJson(const nlohmann::json& j, const std::string& source) {
   if (!j.is_object() || j.value("format", nlohmann::json()) != "vibid-sensors")
     fail("not a vibid sensors file");
   if (j.value("version", nlohmann::json()) != 1) fail("unsupported sensors file version");
+  RequireKnownKeys(j, {"format", "version", "channels"}, "sensors file " + source);
   if (!j.contains("channels") || !j["channels"].is_object()) fail("missing object 'channels'");
   SensorSet set;
   for (const auto& [name, c] : j["channels"].items()) {
@@ -54,6 +68,8 @@ SensorSet SensorsFromJson(const nlohmann::json& j, const std::string& source) {
       fail("channels: unknown channel '" + Printable(name) +
            "' (force1, force2, acc1, acc2, x1, x2)");
     const std::string where = source + ": channels." + name;
+    RequireKnownKeys(c, {"unit", "counts_per_unit", "offset_counts", "full_scale", "dof"},
+                     "sensors file " + source + " channels." + name);
     SensorScaling s;
     try {
       s.unit = UnitFromName(c.at("unit").get<std::string>(), where);
@@ -162,7 +178,23 @@ wire::CalibrationRecord BuildCalibrationRecord(const RecordInputs& in) {
       for (std::size_t c = 0; c < wire::kChannelCount && !routed; ++c) {
         std::optional<SensorScaling>& s = sensors[c];
         if (!s || s->unit != unit || s->dof != d.input_dof[i]) continue;
-        s->full_scale = static_cast<double>(fixed::FullScaleValue(d.input_full_scale_bits[i]));
+        // One range per channel: the sensor's full scale is the channel's, and the observer's
+        // Q31 input must mean the same value. Never overwrite one with the other (a 500 N cell
+        // cut to a 100 N observer clips every hit above 100 N).
+        const float observer_fs = fixed::FullScaleValue(d.input_full_scale_bits[i]);
+        if (static_cast<float>(s->full_scale) != observer_fs) {
+          const std::string name = ChannelStem(static_cast<wire::Channel>(c));
+          const std::string u = UnitName(unit);
+          throw InputError(
+              name + ": the sensors give a full scale of " + Number(s->full_scale) + " " + u +
+              ", the observer's input " + std::to_string(i + 1) + " was designed for " +
+              Number(static_cast<double>(observer_fs)) + " " + u +
+              "; a channel has one range: design the observer for the sensor's (vibid dob "
+              "design " +
+              DesignOptionFor(d.input_kind[i]) + " " + Number(s->full_scale) +
+              "), or, if the sensor's range is " + Number(static_cast<double>(observer_fs)) + " " +
+              u + ", set channels." + name + ".full_scale to it in the sensors file");
+        }
         r.dob_input_channel[i] = static_cast<std::uint8_t>(c);
         routed = true;
       }

@@ -5,6 +5,7 @@
 #include <thread>
 
 #include "vibid/device/error.hpp"
+#include "vibid/device/refusal_text.hpp"
 #include "vibid/shared/wire/stream.hpp"
 
 namespace vibid::device {
@@ -30,6 +31,8 @@ constexpr int kMaxResumes = 8;
 /// record next.
 constexpr std::uint32_t kFirstResumeMargin = 64;
 constexpr std::uint32_t kMaxResumeMargin = 1u << 20;
+/// How often a streamed acquisition asks whether to stop while no report arrives.
+constexpr std::chrono::milliseconds kStopPoll{100};
 
 }  // namespace
 
@@ -200,15 +203,8 @@ Reply Connection::Expect(Command command, std::span<const std::uint8_t> payload,
                          std::uint16_t sequence) {
   Reply r = Call(command, payload, sequence);
   if (r.header.status != Status::kOk) {
-    std::string why;
-    switch (r.header.status) {
-      case Status::kUnimplemented: why = " (the device does not know this command)"; break;
-      case Status::kFailedPrecondition: why = " (not allowed in the device's current state)"; break;
-      case Status::kVersionMismatch: why = " (protocol version)"; break;
-      default: break;
-    }
-    throw DeviceError("the device refused " + CommandText(static_cast<std::uint8_t>(command)) +
-                      ": " + StatusName(r.header.status) + why);
+    throw DeviceError(
+        RefusalMessage(static_cast<std::uint8_t>(command), r.header.status, r.payload()));
   }
   return r;
 }
@@ -226,6 +222,13 @@ T DecodeAnswer(const Reply& r, const char* what) {
 
 wire::InfoResponse Connection::GetInfo() {
   return DecodeAnswer<wire::InfoResponse>(Expect(Command::kGetInfo), "get-info");
+}
+
+std::optional<wire::SamplingInfoResponse> Connection::GetSamplingInfo() {
+  if (info_.protocol_minor < 1) return std::nullopt;
+  return DecodeAnswer<wire::SamplingInfoResponse>(
+      Expect(Command::kGetInfo, wire::InfoPageRequest{.page = wire::kInfoPageSampling}),
+      "get-info sampling page");
 }
 
 wire::StatusResponse Connection::GetStatus() {
@@ -263,7 +266,8 @@ std::vector<std::uint8_t> Connection::CalGet(wire::CalGetTrailer* trailer) {
         if (trailer != nullptr) *trailer = t;
         return bytes;
       } else if (step.event == wire::StreamDecoder::Event::kRefused) {
-        throw DeviceError(std::string("the device refused cal-get: ") + StatusName(step.status));
+        throw DeviceError(
+            RefusalMessage(static_cast<std::uint8_t>(Command::kCalGet), step.status, step.payload));
       } else if (step.event == wire::StreamDecoder::Event::kError) {
         break;
       }
@@ -293,7 +297,7 @@ void Connection::CalPut(std::span<const std::uint8_t> record, const Progress& pr
       const bool last = c + 1 == chunks;
       throw DeviceError(std::string("the device refused the calibration record") +
                         (last ? "" : " at chunk " + std::to_string(c)) + ": " +
-                        StatusName(r.header.status));
+                        RefusalCause(r.header.status, r.payload()));
     }
     if (progress) progress(c + 1, chunks);
   }
@@ -321,6 +325,11 @@ wire::LatestResponse Connection::ReadLatest() {
   return DecodeAnswer<wire::LatestResponse>(Expect(Command::kReadLatest), "read-latest");
 }
 
+std::optional<wire::ClipResponse> Connection::GetClips() {
+  if (info_.protocol_minor < 1) return std::nullopt;  // get-clips came with protocol 2.1
+  return DecodeAnswer<wire::ClipResponse>(Expect(Command::kGetClips), "get-clips");
+}
+
 void Connection::DobControl(bool run) {
   wire::DobControlRequest r;
   r.run = run ? 1 : 0;
@@ -335,11 +344,16 @@ void Connection::SelectScenario(const std::string& name, std::span<const float> 
   if (params.size() > r.params.size()) throw DeviceError("a scenario takes at most 4 parameters");
   std::copy(name.begin(), name.end(), r.name.begin());
   std::copy(params.begin(), params.end(), r.params.begin());
-  static_cast<void>(Expect(Command::kSelectScenario, r));
+  const Reply reply = Call(Command::kSelectScenario, wire::EncodedBytes(r));
+  if (reply.header.status != Status::kOk) {
+    // The scenario's name belongs in the sentence: the board does not echo it.
+    throw DeviceError("the device refused select-scenario '" + name +
+                      "': " + RefusalCause(reply.header.status, reply.payload()));
+  }
 }
 
 Connection::StreamEnd Connection::RequestLog(std::uint32_t first, std::uint32_t max, LogPull& pull,
-                                             bool keep_partial) {
+                                             bool keep_partial, const StopRequest& stop) {
   const std::uint16_t token = NextToken();
   wire::LogReadRequest req;
   req.first_record = first;
@@ -350,18 +364,18 @@ Connection::StreamEnd Connection::RequestLog(std::uint32_t first, std::uint32_t 
   static_cast<void>(
       wire::BuildReport(Command::kLogRead, token, 0, 0, Status::kOk, payload, request));
   Send(request);
-  return ReceiveLogStream(token, first, pull, {}, keep_partial);
+  return ReceiveLogStream(token, first, pull, {}, keep_partial, stop);
 }
 
 bool Connection::ReadLogOnce(std::uint32_t first, std::uint32_t max, LogPull& pull) {
-  const StreamEnd end = RequestLog(first, max, pull, false);
+  const StreamEnd end = RequestLog(first, max, pull, false, {});
   if (end == StreamEnd::kOverwritten) throw DeviceError(OverwrittenMessage(first));
   return end == StreamEnd::kComplete;
 }
 
 Connection::StreamEnd Connection::ReceiveLogStream(std::uint16_t token, std::uint32_t first,
                                                    LogPull& pull, const Progress& progress,
-                                                   bool keep_partial) {
+                                                   bool keep_partial, const StopRequest& stop) {
   // Records are kept only from a stream whose trailer checked out (byte count and CRC-32 over
   // every data payload): a report corrupted in a way its header does not show is caught there.
   // The layout comes with the trailer, so payloads are kept whole until then.
@@ -371,18 +385,30 @@ Connection::StreamEnd Connection::ReceiveLogStream(std::uint16_t token, std::uin
   const auto id = static_cast<std::uint8_t>(Command::kLogRead);
   wire::LogTrailer trailer;
   // A running acquisition's stream is the exception: the board released every record it sent,
-  // so when the stream ends early, the reports that arrived in sequence are all the host may
-  // ever get of them. They are kept (each passed the link's own check and the stream's sequence
-  // and length checks; only the stream CRC, which comes last, cannot vouch for them). Not after
-  // a count or CRC mismatch in the trailer: then some payload is known to be wrong.
+  // so when the stream ends early (broken off, refused or stopped), the reports that arrived in
+  // sequence are all the host may ever get of them. They are kept (each passed the link's own
+  // check and the stream's sequence and length checks; only the stream CRC, which comes last,
+  // cannot vouch for them). Not after a count or CRC mismatch in the trailer: then some payload
+  // is known to be wrong.
   const auto end_early = [&](StreamEnd end) {
     if (keep_partial && configured_) KeepPartialStream(first, payloads, pull);
     return end;
   };
+  // With a stop to watch, the wait for a report is cut into slices so a stop is seen promptly.
+  const std::chrono::milliseconds slice =
+      stop ? std::min(options_.timeout, kStopPoll) : options_.timeout;
   for (;;) {
     CheckCancel();
     Reply r;
-    if (!Await(id, token, options_.timeout, r)) return end_early(StreamEnd::kBroken);
+    bool got = false;
+    for (auto waited = std::chrono::milliseconds(0); !got && waited < options_.timeout;
+         waited += slice) {
+      got = Await(id, token, slice, r);
+      if (!got && stop && stop(nullptr)) break;
+      CheckCancel();
+    }
+    if (stop && stop(nullptr)) return end_early(StreamEnd::kStopped);
+    if (!got) return end_early(StreamEnd::kBroken);
     const auto step = decoder.Feed(r.report);
     if (step.event == wire::StreamDecoder::Event::kData) {
       payloads.emplace_back(step.payload.begin(), step.payload.end());
@@ -394,8 +420,9 @@ Connection::StreamEnd Connection::ReceiveLogStream(std::uint16_t token, std::uin
     } else if (step.event == wire::StreamDecoder::Event::kRefused) {
       // Out-of-range: the board's log wrapped over a record of the stream before it went out.
       if (step.status == Status::kOutOfRange) return end_early(StreamEnd::kOverwritten);
-      throw DeviceError(std::string("the device refused log-read from record ") +
-                        std::to_string(first) + ": " + StatusName(step.status));
+      throw DeviceError(
+          RefusalMessage(static_cast<std::uint8_t>(Command::kLogRead), step.status, step.payload) +
+          " (log-read from record " + std::to_string(first) + ")");
     } else if (step.event == wire::StreamDecoder::Event::kError) {
       // A sequence gap, or a trailer that counts more bytes than arrived (the last reports were
       // lost): what came before is whole. A trailer whose count matches but whose CRC does not
@@ -468,7 +495,13 @@ std::string Connection::OverwrittenMessage(std::uint32_t first) {
          StatusName(Status::kOutOfRange);
 }
 
-LogPull Connection::AcquireStreamed(const Progress& progress) {
+void Connection::StopForKeeps(LogPull& pull) {
+  // acq-stop is one short exchange, not cancellable: the board must be left idle.
+  static_cast<void>(StopAcquisition());
+  pull.stopped = true;
+}
+
+LogPull Connection::AcquireStreamed(const Progress& progress, const StopRequest& stop) {
   const std::uint16_t token = NextToken();
   wire::Report request{};
   static_cast<void>(wire::BuildReport(Command::kAcqStart, token, 0, 0, Status::kOk, {}, request));
@@ -478,43 +511,50 @@ LogPull Connection::AcquireStreamed(const Progress& progress) {
     throw DeviceError("no answer to acq-start from " + Describe());
   }
   if (answer.header.status != Status::kOk) {
-    throw DeviceError(std::string("the device refused acq-start: ") +
-                      StatusName(answer.header.status));
+    throw DeviceError(RefusalMessage(static_cast<std::uint8_t>(Command::kAcqStart),
+                                     answer.header.status, answer.payload()));
   }
   LogPull pull;
-  if (ReceiveLogStream(token, 0, pull, progress, true) == StreamEnd::kComplete) return pull;
-  // The stream broke off (a lost or corrupted report, a stall of either side, a long wait for
-  // the trigger). It released every record it sent, and the log may have wrapped over the
-  // first ones since: the pull goes on from the first record that did not arrive, which the
-  // board keeps until the log wraps over it, with a stream that follows the acquisition again.
-  // (Pulling the rest in requests would leave the link idle between them: a board samples on
-  // regardless, so a slow host would drop records the stream carries.)
-  {
+  const StreamEnd end = ReceiveLogStream(token, 0, pull, progress, true, stop);
+  if (end == StreamEnd::kComplete) return pull;
+  if (end == StreamEnd::kStopped) {
+    // The rest of what was recorded (records in flight when the stop went out, and any the
+    // stream had not reached) is in the board's log: the pull below follows it to its end.
+    StopForKeeps(pull);
+  } else {
+    // The stream broke off (a lost or corrupted report, a stall of either side, a long wait for
+    // the trigger). It released every record it sent, and the log may have wrapped over the
+    // first ones since: the pull goes on from the first record that did not arrive, which the
+    // board keeps until the log wraps over it, with a stream that follows the acquisition
+    // again. (Pulling the rest in requests would leave the link idle between them: a board
+    // samples on regardless, so a slow host would drop records the stream carries.)
     std::lock_guard lock(mutex_);
     ++counters_.stream_resumes;
   }
   ContinuePull(pull, static_cast<std::uint32_t>(pull.records.size()), progress, kMaxResumes,
-               PullMode::kFollow);
+               PullMode::kFollow, stop);
   return pull;
 }
 
 LogPull Connection::PullLog(std::uint32_t first, const Progress& progress, int max_resumes) {
   LogPull pull;
   pull.first_record = first;
-  ContinuePull(pull, first, progress, max_resumes, PullMode::kChunks);
+  ContinuePull(pull, first, progress, max_resumes, PullMode::kChunks, {});
   return pull;
 }
 
 void Connection::ContinuePull(LogPull& pull, std::uint32_t next, const Progress& progress,
-                              int max_resumes, PullMode mode) {
+                              int max_resumes, PullMode mode, const StopRequest& stop) {
   const bool follow = mode == PullMode::kFollow;
   int failures = 0;
   std::uint32_t margin = 0;
   for (;;) {
     CheckCancel();
     const std::size_t before = pull.records.size();
+    // Once stopped, the board's acquisition has ended: nothing more to watch for.
+    const StopRequest watch = pull.stopped ? StopRequest{} : stop;
     const StreamEnd end =
-        RequestLog(next, follow ? wire::kLogReadFollow : kLogChunkRecords, pull, follow);
+        RequestLog(next, follow ? wire::kLogReadFollow : kLogChunkRecords, pull, follow, watch);
     const auto received = static_cast<std::uint32_t>(pull.records.size() - before);
     if (end == StreamEnd::kOverwritten) {
       if (!follow && pull.records.empty() && pull.missing.empty())
@@ -539,6 +579,11 @@ void Connection::ContinuePull(LogPull& pull, std::uint32_t next, const Progress&
       continue;
     }
     next += received;
+    if (end == StreamEnd::kStopped) {
+      // Read on: the stopped acquisition's log goes to its end.
+      StopForKeeps(pull);
+      continue;
+    }
     const bool complete = end == StreamEnd::kComplete;
     if (complete) margin = 0;
     if (!complete) {
@@ -568,6 +613,10 @@ void Connection::ContinuePull(LogPull& pull, std::uint32_t next, const Progress&
         progress(std::uint64_t{next} * pull.layout.RecordBytes(), 0);
       else
         progress(next, std::max(next, t.records_written));
+    }
+    if (sampling && !pull.stopped && stop && stop(&t)) {
+      StopForKeeps(pull);
+      continue;
     }
     if (!sampling && next >= t.records_written) {
       if (!pull.missing.empty()) throw IncompleteLog(std::move(pull));

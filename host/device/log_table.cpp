@@ -117,10 +117,33 @@ LogTable MakeLogTable(const LogPull& pull, const wire::CalibrationRecord& calibr
   return t;
 }
 
+std::string SampleInstantsLine(const LogTable& table, const LogPull& pull,
+                               const wire::SamplingInfoResponse& instants) {
+  // The table's channel columns follow t_s in channel order.
+  std::string line = "# vibid-recording sample_instants_us=";
+  std::size_t column = 1;
+  for (std::size_t c = 0; c < wire::kChannelCount; ++c) {
+    if ((pull.layout.channel_mask & (1u << c)) == 0) continue;
+    // Whole nanoseconds as microseconds with three decimals, trailing zeros dropped: exact.
+    const std::uint32_t ns = instants.sample_instant_ns[c];
+    std::string us = std::to_string(ns / 1000);
+    if (ns % 1000 != 0) {
+      std::string frac = std::to_string(1000 + ns % 1000).substr(1);
+      while (frac.back() == '0') frac.pop_back();
+      us += "." + frac;
+    }
+    line += (column == 1 ? "" : ",") + table.names[column] + ":" + us;
+    ++column;
+  }
+  return line + "\n";
+}
+
 std::string FormatLogCsv(const LogPull& pull, const wire::CalibrationRecord& calibration,
-                         bool has_record) {
+                         bool has_record,
+                         const std::optional<wire::SamplingInfoResponse>& instants) {
   const LogTable t = MakeLogTable(pull, calibration, has_record);
-  return FormatCsv(t.names, t.columns);
+  std::string header = instants ? SampleInstantsLine(t, pull, *instants) : std::string();
+  return header + FormatCsv(t.names, t.columns);
 }
 
 }  // namespace vibid::device

@@ -1,6 +1,7 @@
 #include "vibid/device/select.hpp"
 
 #include "vibid/common/error.hpp"
+#include "vibid/common/text_input.hpp"
 #include "vibid/device/error.hpp"
 #include <cstdlib>
 
@@ -19,10 +20,17 @@ bool StartsWith(const std::string& s, const std::string& prefix) { return s.rfin
 
 }  // namespace
 
-DeviceSpec ParseDeviceSpec(const std::string& text) {
+DeviceChoice ChooseDevice(const std::string& option_value) {
+  if (!option_value.empty()) return {option_value, "--device"};
+  const char* variable = std::getenv("VIBID_DEVICE");
+  if (variable != nullptr && *variable != '\0') return {variable, "VIBID_DEVICE"};
+  return {};
+}
+
+DeviceSpec ParseDeviceSpec(const std::string& text, const std::string& origin) {
   DeviceSpec spec;
   const auto bad = [&](const std::string& why) {
-    throw InputError("--device '" + text + "': " + why);
+    throw InputError(origin + " '" + Printable(text) + "': " + why);
   };
   if (text.empty()) return spec;
   if (text == "hid" || StartsWith(text, "hid:")) {

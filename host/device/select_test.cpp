@@ -2,6 +2,8 @@
 
 #include <gtest/gtest.h>
 
+#include <cstdlib>
+
 #include "vibid/common/error.hpp"
 
 namespace vibid::device {
@@ -35,6 +37,31 @@ TEST(ParseDeviceSpec, RefusesMalformedValuesNamingThem) {
       EXPECT_NE(std::string(e.what()).find(std::string("'") + bad + "'"), std::string::npos)
           << e.what();
     }
+  }
+}
+
+TEST(ChooseDevice, TheOptionWinsOverTheVariable) {
+  ::unsetenv("VIBID_DEVICE");
+  EXPECT_EQ(ChooseDevice("").text, "");
+  EXPECT_EQ(ChooseDevice("hid").origin, "--device");
+  ::setenv("VIBID_DEVICE", "usbip://127.0.0.1:3250", 1);
+  const DeviceChoice from_variable = ChooseDevice("");
+  EXPECT_EQ(from_variable.text, "usbip://127.0.0.1:3250");
+  EXPECT_EQ(from_variable.origin, "VIBID_DEVICE");
+  const DeviceChoice from_option = ChooseDevice("hid:0042A1");
+  EXPECT_EQ(from_option.text, "hid:0042A1");
+  EXPECT_EQ(from_option.origin, "--device");
+  ::setenv("VIBID_DEVICE", "", 1);  // set but empty: as if unset
+  EXPECT_EQ(ChooseDevice("").origin, "");
+  ::unsetenv("VIBID_DEVICE");
+  // A malformed value is named with where it came from.
+  try {
+    ParseDeviceSpec("tcp://h", "VIBID_DEVICE");
+    ADD_FAILURE() << "accepted";
+  } catch (const InputError& e) {
+    EXPECT_EQ(std::string(e.what()),
+              "VIBID_DEVICE 'tcp://h': expected hid[:SERIAL], usbip://HOST[:PORT], serial:PATH or "
+              "qemu");
   }
 }
 

@@ -2,11 +2,18 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <numbers>
+#include <sstream>
+#include <string>
+#include <stdexcept>
 
 #include "scenario.hpp"
 #include "vibid/common/error.hpp"
 #include "vibid/common/json_file.hpp"
+#include "vibid/shared/board_profile.hpp"
+#include "vibid/common/json_keys.hpp"
+#include "vibid/model/modal.hpp"
 
 namespace vibid::emu {
 namespace {
@@ -48,6 +55,7 @@ double Number(const nlohmann::json& json, const char* key, const std::string& so
 AnalogSensor SensorFromJson(const nlohmann::json& json, const char* range_key,
                             const char* noise_key, const std::string& source) {
   Require(json.is_object(), source + " must be an object");
+  RequireKnownKeys(json, {range_key, noise_key, "adc_bits"}, "rig file " + source);
   AnalogSensor s;
   s.range = Number(json, range_key, source);
   Require(json.contains(noise_key) && json.at(noise_key).is_number() &&
@@ -57,7 +65,13 @@ AnalogSensor SensorFromJson(const nlohmann::json& json, const char* range_key,
   Require(json.contains("adc_bits") && json.at("adc_bits").is_number_integer(),
           source + ": missing integer \"adc_bits\"");
   const std::int64_t bits = json.at("adc_bits").get<std::int64_t>();
-  Require(bits >= 8 && bits <= 24, source + ": \"adc_bits\" must be 8..24");
+  // The emulator is the board: its converters are the board's, and the log's 12.4 format holds
+  // their codes and no more (a wider code would sit at the format's top, every sample clipped).
+  Require(bits == kBoardProfile.adc_bits,
+          source + ": \"adc_bits\" is " + std::to_string(bits) +
+              ", but the board's converters have " + std::to_string(kBoardProfile.adc_bits) +
+              " bits: write " + std::to_string(kBoardProfile.adc_bits) +
+              " (a finer sensor is quantized by the board's ADC)");
   s.adc_bits = static_cast<int>(bits);
   return s;
 }
@@ -69,6 +83,12 @@ std::array<AnalogSensor, 2> SensorPair(const nlohmann::json& json, const char* k
           source + ": \"" + key + "\" must be an array of 2 sensors");
   return {SensorFromJson(json.at(key)[0], range_key, noise_key, source + " " + key + "[0]"),
           SensorFromJson(json.at(key)[1], range_key, noise_key, source + " " + key + "[1]")};
+}
+
+std::string FormatRate(double hz) {
+  std::ostringstream o;
+  o << hz << " Hz";
+  return o.str();
 }
 
 nlohmann::json SensorToJson(const AnalogSensor& s, const char* range_key, const char* noise_key) {
@@ -115,6 +135,11 @@ RigSpec DefaultRig() {
 
 RigSpec RigFromJson(const nlohmann::json& json, const std::string& source) {
   Require(json.is_object(), source + ": expected a JSON object");
+  RequireKnownKeys(
+      json,
+      {"topology", "masses_kg", "effective_mass_loss", "springs_n_per_m", "dampers_ns_per_m",
+       "coulomb_n", "load_cells", "accelerometers", "encoder_counts_per_m", "max_sample_rate_hz"},
+      "rig file " + source);
   // Compared as a JSON value: a topology of another type is a wrong value, not a type error.
   Require(json.value("topology", nlohmann::json()) == "chain",
           source + ": \"topology\" must be \"chain\" (masses in series from ground)");
@@ -137,6 +162,11 @@ RigSpec RigFromJson(const nlohmann::json& json, const std::string& source) {
   r.accelerometers = SensorPair(json, "accelerometers", "range_m_s2", "noise_m_s2", source);
   r.encoder_counts_per_m = Number(json, "encoder_counts_per_m", source);
   r.max_sample_rate_hz = Number(json, "max_sample_rate_hz", source);
+  const double board_max_hz = kBoardProfile.max_sample_rate_hz();
+  Require(r.max_sample_rate_hz <= board_max_hz,
+          source + ": \"max_sample_rate_hz\" is " + FormatRate(r.max_sample_rate_hz) +
+              ", but the board samples at " + FormatRate(board_max_hz) + " at most: write " +
+              FormatRate(board_max_hz) + " or less");
   return r;
 }
 
@@ -171,13 +201,31 @@ nlohmann::json TruthToJson(const RigSpec& r) {
 
 RigSimulator::RigSimulator(RigSpec spec, std::uint64_t seed) : spec_(std::move(spec)), seed_(seed) {
   (void)spec_.Truth();  // validates
+  for (std::size_t c = 0; c < wire::kChannelCount; ++c)
+    instant_s_[c] = kBoardProfile.sample_instant_ns(c) * 1e-9;
 }
 
-void RigSimulator::Select(const Scenario& scenario) { scenario_ = scenario; }
+double DefaultHammerSpacingS(const model::Model& active) {
+  constexpr double kLongestS = 60.0;
+  const model::ComplexModes modes = model::ComplexModalDamping(active);
+  double ring_down_s = 0.0;
+  for (Eigen::Index i = 0; i < modes.omega_rad_s.size(); ++i) {
+    const double decay_rate = modes.zeta[i] * modes.omega_rad_s[i];
+    ring_down_s = decay_rate > 0.0 ? std::max(ring_down_s, std::log(100.0) / decay_rate)
+                                   : std::numeric_limits<double>::infinity();
+  }
+  return std::min(kLongestS, std::ceil(ring_down_s / 0.7 * 2.0) / 2.0);
+}
 
-Status RigSimulator::SelectScenario(const wire::ScenarioRequest& request) {
+void RigSimulator::Select(const Scenario& scenario) {
+  scenario_ = scenario;
+  if (scenario_.kind == ScenarioKind::kHammer && scenario_.spacing_s == 0.0)
+    scenario_.spacing_s = DefaultHammerSpacingS(ActiveModel());
+}
+
+Status RigSimulator::SelectScenario(const wire::ScenarioRequest& request, wire::Refusal& why) {
   Scenario s;
-  if (const Status st = ParseScenario(request, spec_.dofs(), s); st != Status::kOk) return st;
+  if (const Status st = ParseScenario(request, spec_.dofs(), s, &why); st != Status::kOk) return st;
   Select(s);
   return Status::kOk;
 }
@@ -214,7 +262,17 @@ void RigSimulator::Start(double dt_s) {
     case Configuration::kMass1Alone: moving_.push_back(0); break;
     case Configuration::kMass2Alone: moving_.push_back(1); break;
   }
-  discrete_ = model::Discretize(model::ModelStateSpace(ActiveModel()), dt_s);
+  const model::StateSpace continuous = model::ModelStateSpace(ActiveModel());
+  discrete_ = model::Discretize(continuous, dt_s);
+  part_steps_.clear();
+  for (double instant : instant_s_) {
+    const bool known = std::any_of(part_steps_.begin(), part_steps_.end(),
+                                   [&](const auto& p) { return p.first == instant; });
+    // An instant is well inside any period the board allows (100 us and up).
+    Require(instant < dt_s, "sampling instant beyond the sample period");
+    if (!known && instant > 0.0)
+      part_steps_.emplace_back(instant, model::Discretize(continuous, instant));
+  }
   const auto n = static_cast<Eigen::Index>(moving_.size());
   state_ = Eigen::VectorXd::Zero(2 * n);
   input_ = Eigen::VectorXd::Zero(n);
@@ -273,6 +331,7 @@ void RigSimulator::Excitation(double t, double& force_n, double& push_n) {
       if (s.push_n > 0.0) push_n = hand_push(s.push_n);
       break;
     case ScenarioKind::kPush: push_n = hand_push(s.force_n); break;
+    case ScenarioKind::kTone: break;  // on the converters' inputs, not on the rig
     case ScenarioKind::kStep: {
       // Pull by hand through a load cell: ramp up over 0.3 s, hold, let go at once.
       const double ramp_s = 0.3;
@@ -306,24 +365,47 @@ void RigSimulator::Step(std::array<std::int32_t, wire::kChannelCount>& raw) {
   output_.noalias() = discrete_.C * state_;
   output_.noalias() += discrete_.D * input_;
 
+  // Positions at the encoders' instant, accelerations at the accelerometers'.
   std::array<double, 2> x{}, a{};
   for (Eigen::Index j = 0; j < n; ++j) {
     const auto mass = static_cast<std::size_t>(moving_[static_cast<std::size_t>(j)]);
-    x[mass] = output_(j);
-    a[mass] = output_(2 * n + j);
+    x[mass] = OutputsAt(instant_s_[4 + mass])(j);
+    a[mass] = OutputsAt(instant_s_[2 + mass])(2 * n + j);
   }
   last_ = Truths{force, push, x, a};
 
-  raw[0] = spec_.load_cells[0].Code(force + Noise(spec_.load_cells[0].noise_rms));
-  raw[1] = spec_.load_cells[1].Code(push + Noise(spec_.load_cells[1].noise_rms));
-  raw[2] = spec_.accelerometers[0].Code(a[0] + Noise(spec_.accelerometers[0].noise_rms));
-  raw[3] = spec_.accelerometers[1].Code(a[1] + Noise(spec_.accelerometers[1].noise_rms));
+  std::array<double, 4> analog{force, push, a[0], a[1]};
+  const std::array<const AnalogSensor*, 4> sensor{&spec_.load_cells[0], &spec_.load_cells[1],
+                                                  &spec_.accelerometers[0],
+                                                  &spec_.accelerometers[1]};
+  if (scenario_.kind == ScenarioKind::kTone) {
+    // A signal generator on the four converter inputs: each converts it at its own instant.
+    for (std::size_t c = 0; c < analog.size(); ++c) {
+      analog[c] = scenario_.amplitude * sensor[c]->range *
+                  std::sin(2.0 * kPi * scenario_.frequency_hz * (t + instant_s_[c]));
+    }
+  }
+  for (std::size_t c = 0; c < analog.size(); ++c)
+    raw[c] = sensor[c]->Code(analog[c] + Noise(sensor[c]->noise_rms));
   for (std::size_t i = 0; i < 2; ++i) {
     raw[4 + i] = static_cast<std::int32_t>(std::floor(x[i] * spec_.encoder_counts_per_m));
   }
 
   state_ = discrete_.A * state_ + discrete_.B * input_;
   ++tick_;
+}
+
+const Eigen::VectorXd& RigSimulator::OutputsAt(double instant_s) {
+  if (instant_s == 0.0) return output_;
+  for (const auto& [instant, step] : part_steps_) {
+    if (instant != instant_s) continue;
+    part_state_.noalias() = step.A * state_;
+    part_state_.noalias() += step.B * input_;
+    part_output_.noalias() = step.C * part_state_;
+    part_output_.noalias() += step.D * input_;
+    return part_output_;
+  }
+  throw std::logic_error("no step to a sampling instant");
 }
 
 }  // namespace vibid::emu

@@ -4,16 +4,21 @@
 //
 // Stepping is exact for the linear part: the state advances by the zero-order-hold
 // discretization of (M, C, K) at the sample period (vibid::model::Discretize), with the applied
-// forces, the friction force included, held over each sample. Sensor values at tick k are taken
-// before the step (accelerations include the forces held from tick k), then quantized like the
-// board's converters. The excitation and the noise come from one generator seeded from the rig
-// seed and the acquisition count, so the same seed and the same commands give the same samples.
+// forces, the friction force included, held over each sample. Each channel is read at the
+// board's own sampling instant after tick k's edge (board_profile.hpp: force1, acc1, acc2 and
+// the encoders 2.667 us after it, force2 5.905 us): a response is the state advanced
+// exactly from the edge to that instant under the held forces (the same zero-order hold over a
+// part of the step), a load cell reads the force held over the step, and a tone on the analog
+// inputs (scenario tone) is evaluated at each channel's instant. Then the values are quantized
+// like the board's converters. The excitation and the noise come from one generator seeded from the
+// rig seed and the acquisition count, so the same seed and the same commands give the same samples.
 #pragma once
 
 #include <array>
 #include <cstdint>
 #include <random>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include <Eigen/Core>
@@ -71,7 +76,7 @@ nlohmann::json TruthToJson(const RigSpec& rig);
 /// Which masses move: the 2-DOF chain, or one mass alone on its own spring to ground.
 enum class Configuration : std::uint8_t { kChain = 0, kMass1Alone = 1, kMass2Alone = 2 };
 
-enum class ScenarioKind : std::uint8_t { kIdle, kHammer, kShaker, kPush, kStep };
+enum class ScenarioKind : std::uint8_t { kIdle, kHammer, kShaker, kPush, kStep, kTone };
 
 /// A selected excitation; see ParseScenario for the wire parameters.
 struct Scenario {
@@ -79,11 +84,20 @@ struct Scenario {
   Configuration configuration = Configuration::kChain;
   int mass = 1;               ///< 0-based mass the hammer hits / the pull acts on
   double force_n = 0.0;       ///< hammer peak, shaker amplitude, push amplitude, pull force
-  double spacing_s = 0.0;     ///< hammer: mean time between hits
+  double spacing_s = 0.0;     ///< hammer: mean time between hits (0: DefaultHammerSpacingS)
   double frequency_hz = 0.0;  ///< shaker
   double push_n = 0.0;        ///< shaker: amplitude of the simultaneous hand push (0: none)
   double hold_s = 0.0;        ///< step: how long the pull holds before the release
+  double amplitude = 0.0;     ///< tone: fraction of each converter's range
 };
+
+/// The hammer's mean hit spacing when the scenario leaves it open: the shortest spacing (0.7 of
+/// the mean) lets the slowest mode of `active` ring down to 1 % (ln 100 / (zeta omega)), rounded
+/// up to 0.5 s, at most 60 s. Why: each hit's record runs to the next hit, so the record holds
+/// the hit's whole response and its lines (1 / record apart) resolve the mode's half-power band;
+/// hits closer than that give records a modal analysis cannot use (12.5 s for the built-in
+/// chain, 5 s and 6 s for its masses alone).
+double DefaultHammerSpacingS(const model::Model& active);
 
 /// The rig behind the emulated board's converters (the port's SimulatedRig).
 class RigSimulator final : public SimulatedRig {
@@ -97,7 +111,7 @@ class RigSimulator final : public SimulatedRig {
   void Select(const Scenario& scenario);
 
   /// select-scenario from the wire: parsed against this rig's masses, then selected.
-  Status SelectScenario(const wire::ScenarioRequest& request) override;
+  Status SelectScenario(const wire::ScenarioRequest& request, wire::Refusal& why) override;
   double MaxSampleRateHz() const override { return spec_.max_sample_rate_hz; }
 
   /// Puts the rig at rest and restarts the excitation for a new acquisition at dt_s.
@@ -107,7 +121,7 @@ class RigSimulator final : public SimulatedRig {
   void Step(std::array<std::int32_t, wire::kChannelCount>& raw) override;
 
   /// Physical values at the last Step (for tests): applied excitation force, push force,
-  /// true positions and accelerations of both masses.
+  /// true positions and accelerations at the encoders' and accelerometers' instants.
   struct Truths {
     double force_n = 0.0;
     double push_n = 0.0;
@@ -132,9 +146,19 @@ class RigSimulator final : public SimulatedRig {
   std::mt19937_64 rng_;
   std::normal_distribution<double> normal_{0.0, 1.0};
 
+  /// The rig's outputs (positions, velocities, accelerations of the moving masses) at
+  /// `instant_s` after the current tick's edge, under the forces held from it.
+  const Eigen::VectorXd& OutputsAt(double instant_s);
+
   // Active configuration: indices of the moving masses and its discrete system.
   std::vector<int> moving_;
   model::StateSpace discrete_;
+  // Each channel's sampling instant after the edge (s), and the zero-order-hold step from the
+  // edge to every distinct one of them.
+  std::array<double, wire::kChannelCount> instant_s_{};
+  std::vector<std::pair<double, model::StateSpace>> part_steps_;
+  Eigen::VectorXd part_state_;
+  Eigen::VectorXd part_output_;
   Eigen::VectorXd state_;
   Eigen::VectorXd input_;
   Eigen::VectorXd output_;

@@ -4,7 +4,11 @@
 
 #include <gtest/gtest.h>
 
+#include <filesystem>
+
 #include <cmath>
+#include <complex>
+#include <cstdio>
 #include <numbers>
 
 #include "scenario.hpp"
@@ -92,11 +96,83 @@ TEST(Rig, FirstSampleOfAHitAcceleratesTheMassAtFOverM) {
   }
   const auto& v = rig.last();
   ASSERT_GT(v.force_n, 0.0);
-  // At rest, the sample's acceleration output is D u = F / m exactly (state-space D = M⁻¹).
-  EXPECT_NEAR(v.a_m_s2[1], v.force_n / m, 1e-12 * v.force_n / m);
+  // The accelerometer is read tau = 56 / 21 MHz after the edge (board_profile.hpp, in whole ns:
+  // 2667 ns; the 0.33 ns of rounding alone would be 8e-10 of F/m here), when the
+  // mass has just started to move. m a'' = -c a' - k a from rest under a step F gives
+  // a(tau) = F/m (1 - (c/m) tau + ((c/m)^2 - k/m) tau^2 / 2 + O(tau^3)); the tau^3 term is
+  // ~1e-13 of F/m here (mass 2 alone: k2 = 2760 N/m, c2 = 3.5 N s/m).
+  const double tau = 2667e-9, k = 2760.0, c = 3.5;
+  const double expected =
+      v.force_n / m * (1.0 - c / m * tau + (c * c / (m * m) - k / m) * tau * tau / 2.0);
+  EXPECT_NEAR(v.a_m_s2[1], expected, 1e-11 * v.force_n / m);
+  EXPECT_GT(v.force_n / m - v.a_m_s2[1], 0.5 * c / m * tau * v.force_n / m);  // not at the edge
   EXPECT_EQ(raw[0], rig.spec().load_cells[0].Code(v.force_n));
-  EXPECT_EQ(raw[3], rig.spec().accelerometers[1].Code(v.force_n / m));
+  EXPECT_EQ(raw[3], rig.spec().accelerometers[1].Code(v.a_m_s2[1]));
   EXPECT_EQ(raw[2], 2048);  // mass 1 absent: accelerometer 1 reads zero
+}
+
+// The phase a common tone shows between two channels: arg of X_b / X_a at the tone's line, from
+// a DFT over a whole number of cycles.
+double TonePhase(const std::vector<double>& a, const std::vector<double>& b, double f_hz,
+                 double fs_hz) {
+  std::complex<double> xa, xb;
+  for (std::size_t i = 0; i < a.size(); ++i) {
+    const std::complex<double> w =
+        std::polar(1.0, -2.0 * std::numbers::pi * f_hz * static_cast<double>(i) / fs_hz);
+    xa += a[i] * w;
+    xb += b[i] * w;
+  }
+  return std::arg(xb / xa);
+}
+
+TEST(Rig, ToneOnTheConvertersShowsEachChannelsSamplingInstant) {
+  // A 2437 Hz tone on the four converter inputs, sampled at 10 kHz for 1 s (2437 whole cycles,
+  // its samples spread over the sine so the quantization averages out), with the rig's own
+  // converter noise. Each channel converts it at its instant after the edge: force1, acc1, acc2
+  // at 56 ADC clocks, force2 at 56 + 68 (RM0090 §13.5: sampling + 12 clocks per conversion;
+  // 21 MHz ADC clock). force2 sees the tone 68 clocks later, so its phase is ahead of acc1's by
+  // 2 pi f 68 / 21 MHz = 0.049583 rad (2.841 deg); the instants travel as whole ns (3238 ns:
+  // 0.049581 rad). The hammer channels (force1, acc1, acc2) agree to the noise.
+  const double fs = 10000.0, f = 2437.0;
+  RigSimulator rig(DefaultRig(), 9);
+  rig.Select(Parse("tone", {static_cast<float>(f), 0.9f, 0, 0}));
+  rig.Start(1.0 / fs);
+  std::array<std::vector<double>, 4> x;
+  std::array<std::int32_t, wire::kChannelCount> raw{};
+  for (int i = 0; i < static_cast<int>(fs); ++i) {
+    rig.Step(raw);
+    for (std::size_t c = 0; c < 4; ++c) x[c].push_back(raw[c] - 2048.0);
+  }
+  // Quantization (0.29 code rms) and noise (at most 0.5 code rms) against a 1843-code amplitude
+  // over 10000 samples: a phase error of about 5e-6 rad rms. 3e-5 rad is 1.9 ns of instant.
+  const double tolerance = 3e-5;
+  const double expected = 2.0 * std::numbers::pi * f * 68.0 / 21e6;
+  const double force2_vs_acc1 = TonePhase(x[2], x[1], f, fs);  // arg(force2 / acc1)
+  EXPECT_NEAR(force2_vs_acc1, expected, tolerance);
+  EXPECT_NEAR(TonePhase(x[0], x[1], f, fs), expected, tolerance);  // force2 against force1
+  EXPECT_NEAR(TonePhase(x[0], x[2], f, fs), 0.0, tolerance);       // force1 and acc1
+  EXPECT_NEAR(TonePhase(x[0], x[3], f, fs), 0.0, tolerance);       // force1 and acc2
+  std::printf(
+      "tone %.0f Hz: force2 - acc1 %.6f rad (expected %.6f), acc1 - force1 %.2e rad, "
+      "acc2 - force1 %.2e rad\n",
+      f, force2_vs_acc1, expected, TonePhase(x[0], x[2], f, fs), TonePhase(x[0], x[3], f, fs));
+  // The encoders see the rig at rest.
+  EXPECT_EQ(raw[4], 0);
+  EXPECT_EQ(raw[5], 0);
+}
+
+TEST(Rig, ToneParameters) {
+  const Scenario s = Parse("tone", {0, 0, 0, 0});
+  EXPECT_EQ(s.kind, ScenarioKind::kTone);
+  EXPECT_EQ(s.frequency_hz, 1000.0);
+  EXPECT_EQ(s.amplitude, 0.5);
+  wire::ScenarioRequest r;
+  std::snprintf(r.name.data(), r.name.size(), "tone");
+  Scenario out;
+  r.params = {1000, 1.5f, 0, 0};  // beyond the converters' range
+  EXPECT_EQ(ParseScenario(r, 2, out), Status::kInvalidArgument);
+  r.params = {1000, 0.5f, 1, 0};
+  EXPECT_EQ(ParseScenario(r, 2, out), Status::kInvalidArgument);
 }
 
 TEST(Rig, ConverterCodes) {
@@ -206,7 +282,7 @@ TEST(Scenario, ParametersAndRefusals) {
   EXPECT_EQ(s.kind, ScenarioKind::kHammer);
   EXPECT_EQ(s.mass, 1);  // default: the last mass, m2
   EXPECT_DOUBLE_EQ(s.force_n, 100.0);
-  EXPECT_DOUBLE_EQ(s.spacing_s, 1.5);
+  EXPECT_DOUBLE_EQ(s.spacing_s, 0.0);  // left to the rig (HammerSpacingFollowsTheRig)
   s = Parse("hammer", {0, 0, 0, 1});
   EXPECT_EQ(s.configuration, Configuration::kMass1Alone);
   EXPECT_EQ(s.mass, 0);
@@ -233,6 +309,21 @@ TEST(Scenario, ParametersAndRefusals) {
   EXPECT_TRUE(refused("hammer", {0, 0, 0.01f, 0}));
   EXPECT_TRUE(refused("shaker", {0, std::nanf(""), 0, 0}));
   EXPECT_TRUE(refused("push", {5, 1, 0, 0}));
+}
+
+// The default spacing lets the slowest mode ring down to 1 % in the shortest spacing. Reference
+// by hand: the built-in chain (m 1.82, 1.53 kg; k 3520, 2760 N/m; c 5, 3.5 N s/m) has its slower
+// decay in mode 1, -Re(lambda) = zeta omega = 0.019167 x 27.9227 = 0.53519 1/s (`vibid modal` of
+// `vibid-emu --print-truth`): ln 100 / 0.53519 = 8.605 s, / 0.7 = 12.29 s, up to 12.5 s. Mass 1
+// alone: zeta omega = c / (2 m) = 5 / 3.64 = 1.3736 1/s: 3.353 s, / 0.7 = 4.79 s, up to 5 s.
+TEST(Scenario, HammerSpacingFollowsTheRig) {
+  RigSimulator rig(DefaultRig(), 1);
+  rig.Select(Parse("hammer", {0, 0, 0, 0}));
+  EXPECT_DOUBLE_EQ(rig.scenario().spacing_s, 12.5);
+  rig.Select(Parse("hammer", {0, 0, 0, 1}));
+  EXPECT_DOUBLE_EQ(rig.scenario().spacing_s, 5.0);
+  rig.Select(Parse("hammer", {0, 0, 2, 0}));  // given: kept
+  EXPECT_DOUBLE_EQ(rig.scenario().spacing_s, 2.0);
 }
 
 TEST(RigFile, ShippedFiles) {
@@ -275,10 +366,61 @@ TEST(RigFile, RoundTripAndClearErrors) {
   EXPECT_EQ(message(j), "rig.json: \"springs_n_per_m\" values must be > 0");
   j = RigToJson(DefaultRig());
   j["load_cells"][1]["adc_bits"] = 40;
-  EXPECT_EQ(message(j), "rig.json load_cells[1]: \"adc_bits\" must be 8..24");
+  EXPECT_EQ(message(j),
+            "rig.json load_cells[1]: \"adc_bits\" is 40, but the board's converters have 12 bits: "
+            "write 12 (a finer sensor is quantized by the board's ADC)");
   j = RigToJson(DefaultRig());
   j["topology"] = "cart";
   EXPECT_NE(message(j).find("\"topology\" must be \"chain\""), std::string::npos);
+  // A misspelt key is refused, not left at a default, at either level.
+  j = RigToJson(DefaultRig());
+  j["damper_ns_per_m"] = j["dampers_ns_per_m"];
+  j.erase("dampers_ns_per_m");
+  EXPECT_EQ(
+      message(j),
+      "unknown key 'damper_ns_per_m' in rig file rig.json (did you mean 'dampers_ns_per_m'?)");
+  j = RigToJson(DefaultRig());
+  j["accelerometers"][0]["noise_n"] = 0.1;
+  EXPECT_EQ(message(j),
+            "unknown key 'noise_n' in rig file rig.json accelerometers[0] (valid keys: "
+            "range_m_s2, noise_m_s2, adc_bits)");
+}
+
+// The emulator never does what the board cannot: a converter other than the board's 12-bit ADC
+// (kBoardProfile) or a rate beyond its fastest is refused, naming the value and the way out.
+TEST(RigFile, PartsTheBoardCannotHaveAreRefused) {
+  auto message = [](const nlohmann::json& j) {
+    return InputErrorOf([&] { RigFromJson(j, "rig.json"); }, "accepted");
+  };
+  for (const int bits : {8, 11, 13, 16, 24}) {
+    nlohmann::json j = RigToJson(DefaultRig());
+    j["accelerometers"][0]["adc_bits"] = bits;
+    EXPECT_EQ(message(j), "rig.json accelerometers[0]: \"adc_bits\" is " + std::to_string(bits) +
+                              ", but the board's converters have 12 bits: write 12 (a finer "
+                              "sensor is quantized by the board's ADC)");
+  }
+  nlohmann::json j = RigToJson(DefaultRig());
+  j["max_sample_rate_hz"] = 20000.0;
+  EXPECT_EQ(message(j),
+            "rig.json: \"max_sample_rate_hz\" is 20000 Hz, but the board samples at 10000 Hz at "
+            "most: write 10000 Hz or less");
+  j["max_sample_rate_hz"] = 10000.0;  // the board's own limit (board_profile.hpp: 100 us)
+  EXPECT_NO_THROW(RigFromJson(j, "rig.json"));
+}
+
+// Every rig file shipped in rigs/ loads: each is a board the emulator can be.
+TEST(RigFile, EveryShippedRigIsValid) {
+  int files = 0;
+  for (const auto& e :
+       std::filesystem::directory_iterator(std::string(VIBID_SOURCE_DIR) + "/host/emulator/rigs")) {
+    if (e.path().extension() != ".json") continue;
+    ++files;
+    RigSpec r;
+    EXPECT_NO_THROW(r = LoadRig(e.path().string())) << e.path();
+    for (const AnalogSensor& s : r.load_cells) EXPECT_EQ(s.adc_bits, 12) << e.path();
+    for (const AnalogSensor& s : r.accelerometers) EXPECT_EQ(s.adc_bits, 12) << e.path();
+  }
+  EXPECT_GE(files, 2);  // default.json and cart_1dof.json at least
 }
 
 }  // namespace

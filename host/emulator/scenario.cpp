@@ -29,40 +29,64 @@ bool MassAndConfiguration(float mass_param, float config_param, int dofs, Scenar
 
 }  // namespace
 
-Status ParseScenario(const wire::ScenarioRequest& request, int dofs, Scenario& out) {
+Status ParseScenario(const wire::ScenarioRequest& request, int dofs, Scenario& out,
+                     wire::Refusal* why) {
   const std::size_t length = strnlen(request.name.data(), request.name.size());
   const std::string_view name(request.name.data(), length);
-  for (float p : request.params) {
-    if (!Valid(p)) return Status::kInvalidArgument;
+  const auto refuse = [why](wire::Reason reason, std::uint32_t detail) {
+    if (why != nullptr) *why = wire::Refusal{.reason = reason, .detail = detail};
+    return Status::kInvalidArgument;
+  };
+  const auto bad_parameter = [&](std::uint32_t index) {
+    return refuse(wire::Reason::kScenarioParameter, index);
+  };
+  if (name != "idle" && name != "hammer" && name != "shaker" && name != "push" && name != "step" &&
+      name != "tone")
+    return refuse(wire::Reason::kUnknownScenario, 0);
+  for (std::uint32_t i = 0; i < request.params.size(); ++i) {
+    if (!Valid(request.params[i])) return bad_parameter(i);
   }
   const auto& p = request.params;
+  // The first parameter a mass-and-configuration check blames: the configuration if it alone
+  // is out of range, else the mass.
+  const auto mass_or_configuration = [&] {
+    return bad_parameter(p[3] != std::floor(p[3]) || p[3] > 2.0f ? 3 : 0);
+  };
   Scenario s;
   if (name == "idle") {
     s.kind = ScenarioKind::kIdle;
   } else if (name == "hammer") {
     s.kind = ScenarioKind::kHammer;
-    if (!MassAndConfiguration(p[0], p[3], dofs, s)) return Status::kInvalidArgument;
+    if (!MassAndConfiguration(p[0], p[3], dofs, s)) return mass_or_configuration();
     s.force_n = OrDefault(p[1], 100.0);
-    s.spacing_s = OrDefault(p[2], 1.5);
-    if (s.spacing_s < 0.05) return Status::kInvalidArgument;
+    s.spacing_s = static_cast<double>(p[2]);  // 0: from the rig when selected
+    if (s.spacing_s != 0.0 && s.spacing_s < 0.05) return bad_parameter(2);
   } else if (name == "shaker") {
     s.kind = ScenarioKind::kShaker;
     s.mass = dofs - 1;
     s.frequency_hz = OrDefault(p[0], 16.0);
     s.force_n = OrDefault(p[1], 10.0);
     s.push_n = static_cast<double>(p[2]);
-    if (p[3] != 0.0f) return Status::kInvalidArgument;
+    if (p[3] != 0.0f) return bad_parameter(3);
   } else if (name == "push") {
     s.kind = ScenarioKind::kPush;
     s.force_n = OrDefault(p[0], 10.0);
-    if (p[1] != 0.0f || p[2] != 0.0f || p[3] != 0.0f) return Status::kInvalidArgument;
+    for (std::uint32_t i = 1; i < p.size(); ++i) {
+      if (p[i] != 0.0f) return bad_parameter(i);
+    }
   } else if (name == "step") {
     s.kind = ScenarioKind::kStep;
-    if (!MassAndConfiguration(p[0], p[3], dofs, s)) return Status::kInvalidArgument;
+    if (!MassAndConfiguration(p[0], p[3], dofs, s)) return mass_or_configuration();
     s.force_n = OrDefault(p[1], 20.0);
     s.hold_s = OrDefault(p[2], 1.0);
   } else {
-    return Status::kInvalidArgument;
+    s.kind = ScenarioKind::kTone;
+    s.frequency_hz = OrDefault(p[0], 1000.0);
+    s.amplitude = OrDefault(p[1], 0.5);
+    if (s.amplitude > 1.0) return bad_parameter(1);
+    for (std::uint32_t i = 2; i < p.size(); ++i) {
+      if (p[i] != 0.0f) return bad_parameter(i);
+    }
   }
   out = s;
   return Status::kOk;

@@ -2,24 +2,32 @@
 //
 //   name      params[0]            params[1]            params[2]              params[3]
 //   idle      -                    -                    -                      -
-//   hammer    mass hit (1, 2)      peak force N (100)   mean spacing s (1.5)   configuration
+//   hammer    mass hit (1, 2)      peak force N (100)   mean spacing s (*)     configuration
 //   shaker    frequency Hz (16)    amplitude N (10)     hand push N (0: none)  -
 //   push      amplitude N (10)     -                    -                      -
 //   step      mass pulled (1, 2)   pull force N (20)    hold s (1.0)           configuration
+//   tone      frequency Hz (1000)  amplitude, fraction of each converter's range (0.5, <= 1)
+//             a sine generator on the four converter inputs (the rig at rest): each channel
+//             converts it at its own sampling instant, so their phases show the instants
 //
-// A zero parameter takes the default in brackets. configuration: 0 the chain, 1 mass 1 alone on
-// spring 1, 2 mass 2 alone on spring 2 (the mass tests); with a mass alone, the mass parameter
-// defaults to it and must not name the other. The shaker always drives the last mass.
+// A zero parameter takes the default in brackets; (*) the hammer's spacing is left 0 here and
+// set from the rig when the scenario is selected (DefaultHammerSpacingS). configuration: 0 the
+// chain, 1 mass 1 alone on spring 1, 2 mass 2 alone on spring 2 (the mass tests); with a mass
+// alone, the mass parameter defaults to it and must not name the other. The shaker always drives
+// the last mass.
 #pragma once
 
 #include "rig.hpp"
 #include "vibid/shared/status.hpp"
 #include "vibid/shared/wire/commands.hpp"
+#include "vibid/shared/wire/refusal.hpp"
 
 namespace vibid::emu {
 
 /// @returns kOk with `out` set; kInvalidArgument for an unknown name or a parameter out of range
-///          (negative, not finite, a mass or configuration the rig does not have).
-Status ParseScenario(const wire::ScenarioRequest& request, int dofs, Scenario& out);
+///          (negative, not finite, a mass or configuration the rig does not have), with `why`
+///          (if given) naming which: kUnknownScenario, or kScenarioParameter and its index.
+Status ParseScenario(const wire::ScenarioRequest& request, int dofs, Scenario& out,
+                     wire::Refusal* why = nullptr);
 
 }  // namespace vibid::emu

@@ -17,7 +17,7 @@ OUT = ROOT / "shared/wire/testdata/wire_vectors.txt"
 SEEDS = ROOT / "firmware/core/fuzz/seeds"
 
 PROTOCOL_MAJOR = 2
-PROTOCOL_MINOR = 0
+PROTOCOL_MINOR = 1
 CAL_RECORD_VERSION = 1
 MAGIC = b"VB"
 FLAG_RESPONSE = 0x01
@@ -114,6 +114,11 @@ def main():
     assert len(info) == 52
     add("info_response", report(0x02, flags=FLAG_RESPONSE, token=0x0102, payload=info))
 
+    # get-info page 1 (2.1): the sampling instants, ns after the timer edge per channel.
+    add("info_page_request", report(0x02, token=0x0103, payload=b"\x01"))
+    add("sampling_info_response", report(0x02, flags=FLAG_RESPONSE, token=0x0103,
+                                         payload=struct.pack("<6I", 2667, 5905, 2667, 2667, 2667, 2667)))
+
     status = struct.pack("<BBBBQ", 2, 1, 1, 0, 123456789012)
     status += struct.pack("<IIIIIIIIII", 5000, 400, 100, 2, 7, 1, 3, 40, 9, 0)
     assert len(status) == 52
@@ -125,8 +130,18 @@ def main():
     add("acq_configure_response",
         report(0x20, flags=FLAG_RESPONSE, token=0x0A0B, payload=struct.pack("<HHI", 12, 0, 6144)))
 
-    # A refusal: acq-configure with status failed-precondition (3), no payload.
+    # A refusal: acq-configure with status failed-precondition (3), no payload (a 2.0 device).
     add("refusal_response", report(0x20, status=3, flags=FLAG_RESPONSE, token=0x0A0C))
+    # A 2.1 refusal: acq-configure with status invalid-argument (1) and its reason, observer-rate
+    # (11), detail the observer's rate (5000 Hz): u16 reason, u16 reserved, u32 detail.
+    add("refusal_reason_response", report(0x20, status=1, flags=FLAG_RESPONSE, token=0x0A0D,
+                                          payload=struct.pack("<HHI", 11, 0, 5000)))
+    # cal-commit refused failed-precondition (3), nothing-staged (13).
+    add("refusal_nothing_staged", report(0x12, status=3, flags=FLAG_RESPONSE, token=0x0C0F,
+                                         payload=struct.pack("<HHI", 13, 0, 0)))
+    # get-clips (0x25): ticks, then clipped samples of force1..x2.
+    add("clips_response", report(0x25, flags=FLAG_RESPONSE, token=0x2525,
+                                 payload=struct.pack("<I6I", 50000, 1234, 0, 7, 0, 0, 65536)))
 
     add("log_read_request", report(0x24, token=0x7777, payload=struct.pack("<II", 10, 5)))
 
@@ -197,10 +212,18 @@ def main():
     # calibration switch (1: the filter is installed).
     (SEEDS / "fw_request_fuzz/requests").write_bytes(b"\x81" + v["ping_request"] + v["acq_configure_request"] +
                                                      v["log_read_request"] + v["dob_control_request"])
+    (SEEDS / "fw_request_fuzz/get_clips").write_bytes(b"\x81" + v["acq_configure_request"] +
+                                                      report(0x21, token=0x0A0E) +
+                                                      report(0x25, token=0x0A0F))
     (SEEDS / "fw_request_fuzz/cal_put").write_bytes(b"\x80" + v["cal_put_begin"] + v["cal_put_data_0"])
     # Stream seeds in the raw format: a command id below 0x80, the token, the reports.
     (SEEDS / "wire_stream_fuzz/log_stream").write_bytes(bytes([0x24, 0x77, 0x77]) +
                                                         b"".join(v[f"log_stream_{i}"] for i in range(3)))
+    # A log stream the board ends with a refusal that names its reason (log-overwritten, 16).
+    (SEEDS / "wire_stream_fuzz/log_stream_refused").write_bytes(
+        bytes([0x24, 0x77, 0x77]) + v["log_stream_0"] +
+        report(0x24, status=2, flags=FLAG_RESPONSE, token=0x7777,
+               payload=struct.pack("<HHI", 16, 0, 190171)))
 
 if __name__ == "__main__":
     main()

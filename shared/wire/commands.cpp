@@ -66,6 +66,24 @@ Status Decode(std::span<const std::uint8_t> in, InfoResponse& v) {
   return Status::kOk;
 }
 
+void Encode(const InfoPageRequest& v, std::span<std::uint8_t> out) { StoreU8(out, 0, v.page); }
+
+Status Decode(std::span<const std::uint8_t> in, InfoPageRequest& v) {
+  if (in.size() != InfoPageRequest::kBytes) return Status::kInvalidArgument;
+  v.page = LoadU8(in, 0);
+  return Status::kOk;
+}
+
+void Encode(const SamplingInfoResponse& v, std::span<std::uint8_t> out) {
+  for (std::size_t i = 0; i < kChannelCount; ++i) StoreU32(out, 4 * i, v.sample_instant_ns[i]);
+}
+
+Status Decode(std::span<const std::uint8_t> in, SamplingInfoResponse& v) {
+  if (in.size() != SamplingInfoResponse::kBytes) return Status::kInvalidArgument;
+  for (std::size_t i = 0; i < kChannelCount; ++i) v.sample_instant_ns[i] = LoadU32(in, 4 * i);
+  return Status::kOk;
+}
+
 void Encode(const StatusResponse& v, std::span<std::uint8_t> out) {
   StoreU8(out, 0, static_cast<std::uint8_t>(v.acq_state));
   StoreU8(out, 1, v.dob_running);
@@ -162,6 +180,18 @@ void Encode(const AcqStopResponse& v, std::span<std::uint8_t> out) {
 Status Decode(std::span<const std::uint8_t> in, AcqStopResponse& v) {
   if (in.size() != AcqStopResponse::kBytes) return Status::kInvalidArgument;
   v.records_written = LoadU32(in, 0);
+  return Status::kOk;
+}
+
+void Encode(const ClipResponse& v, std::span<std::uint8_t> out) {
+  StoreU32(out, 0, v.ticks);
+  for (std::size_t i = 0; i < kChannelCount; ++i) StoreU32(out, 4 + 4 * i, v.clipped[i]);
+}
+
+Status Decode(std::span<const std::uint8_t> in, ClipResponse& v) {
+  if (in.size() != ClipResponse::kBytes) return Status::kInvalidArgument;
+  v.ticks = LoadU32(in, 0);
+  for (std::size_t i = 0; i < kChannelCount; ++i) v.clipped[i] = LoadU32(in, 4 + 4 * i);
   return Status::kOk;
 }
 
@@ -385,6 +415,7 @@ const char* CommandName(std::uint8_t id) {
     case Command::kAcqStop: return "acq-stop";
     case Command::kReadLatest: return "read-latest";
     case Command::kLogRead: return "log-read";
+    case Command::kGetClips: return "get-clips";
     case Command::kDobControl: return "dob-control";
     case Command::kSelectScenario: return "select-scenario";
     case Command::kInjectFrames: return "inject-frames";

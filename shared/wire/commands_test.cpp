@@ -56,7 +56,7 @@ TEST(Commands, InfoResponse) {
   const Report golden = GoldenReport("info_response");
   ASSERT_EQ(Decode(PayloadOf(golden), v), Status::kOk);
   EXPECT_EQ(v.protocol_major, 2);
-  EXPECT_EQ(v.protocol_minor, 0);
+  EXPECT_EQ(v.protocol_minor, 1);
   EXPECT_EQ(v.fw_patch, 2);
   EXPECT_EQ(v.board_id, BoardId::kStm32f405);
   EXPECT_EQ(v.build_id, 0xDEADBEEFu);
@@ -73,6 +73,28 @@ TEST(Commands, InfoResponse) {
   EXPECT_EQ(v.overrun_count, 3u);
   EXPECT_EQ(v.dropped_records, 17u);
   EXPECT_EQ(Decode(PayloadOf(golden).first(51), v), Status::kInvalidArgument);
+}
+
+TEST(Commands, InfoPageSampling) {
+  ASSERT_TRUE(EncodesAsGolden("info_page_request", Command::kGetInfo, 0x0103, 0,
+                              InfoPageRequest{.page = kInfoPageSampling}));
+  InfoPageRequest page;
+  ASSERT_EQ(Decode(PayloadOf(GoldenReport("info_page_request")), page), Status::kOk);
+  EXPECT_EQ(page.page, 1);
+
+  // The board's instants (board_profile.hpp): 56 and 124 ADC clocks at 21 MHz.
+  SamplingInfoResponse instants;
+  instants.sample_instant_ns = {2667, 5905, 2667, 2667, 2667, 2667};
+  ASSERT_TRUE(EncodesAsGolden("sampling_info_response", Command::kGetInfo, 0x0103, kFlagResponse,
+                              instants));
+  SamplingInfoResponse v;
+  const Report golden = GoldenReport("sampling_info_response");
+  ASSERT_EQ(Decode(PayloadOf(golden), v), Status::kOk);
+  EXPECT_EQ(v.sample_instant_ns[0], 2667u);
+  EXPECT_EQ(v.sample_instant_ns[1], 5905u);
+  EXPECT_EQ(v.sample_instant_ns[3], 2667u);
+  EXPECT_EQ(v.sample_instant_ns[5], 2667u);
+  EXPECT_EQ(Decode(PayloadOf(golden).first(23), v), Status::kInvalidArgument);
 }
 
 TEST(Commands, StatusResponse) {
@@ -199,6 +221,22 @@ TEST(Commands, NamesAndPortRange) {
   EXPECT_STREQ(CommandName(0x99), "unknown");
   EXPECT_TRUE(IsPortCommand(static_cast<std::uint8_t>(Command::kSelectScenario)));
   EXPECT_FALSE(IsPortCommand(static_cast<std::uint8_t>(Command::kLogRead)));
+}
+
+TEST(Commands, ClipResponse) {
+  ClipResponse v;
+  v.ticks = 50000;
+  v.clipped = {1234, 0, 7, 0, 0, 65536};
+  ASSERT_TRUE(EncodesAsGolden("clips_response", Command::kGetClips, 0x2525, kFlagResponse, v));
+  ClipResponse d;
+  const Report golden = GoldenReport("clips_response");
+  ASSERT_EQ(Decode(PayloadOf(golden), d), Status::kOk);
+  EXPECT_EQ(d.ticks, 50000u);
+  EXPECT_EQ(d.clipped[0], 1234u);
+  EXPECT_EQ(d.clipped[2], 7u);
+  EXPECT_EQ(d.clipped[5], 65536u);
+  EXPECT_EQ(Decode(PayloadOf(golden).first(27), d), Status::kInvalidArgument);
+  EXPECT_STREQ(CommandName(0x25), "get-clips");
 }
 
 }  // namespace

@@ -71,6 +71,7 @@ StreamDecoder::Step StreamDecoder::Feed(const Report& report) {
   if (h.status != Status::kOk) {
     step.event = Event::kRefused;
     step.status = h.status;
+    step.payload = PayloadOf(report);  // the Refusal (refusal.hpp), empty from a 2.0 device
     return step;
   }
   if (h.sequence != static_cast<std::uint16_t>(data_reports_)) {

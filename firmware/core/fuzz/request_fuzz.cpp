@@ -4,7 +4,9 @@
 // cut into chunks with a correct CRC most of the time), a request with one header field broken,
 // a raw report, frames from the ADCs, a power cut during a commit, a reboot or back-pressure on
 // the IN endpoint. The harness checks what a host relies on:
-//   - every request is answered, with its own token, the response flag and a known status;
+//   - every request is answered, with its own token, the response flag and a known status; a
+//     refusal carries a Refusal naming a known reason (protocol 2.1), an answer to get-clips
+//     counts no more clipped samples per channel than ticks;
 //   - a header that breaks the rules is refused, never dispatched;
 //   - log-read and cal-get answer with a stream the host decoder accepts (data, then a trailer
 //     whose byte count and CRC match) or with one refusal; a cal-get stream holds one record;
@@ -28,6 +30,7 @@
 #include "golden_vectors.hpp"
 #include "vibid/fw/core.hpp"
 #include "vibid/shared/wire/byte_order.hpp"
+#include "vibid/shared/wire/refusal.hpp"
 #include "vibid/shared/wire/calibration_record.hpp"
 #include "vibid/shared/wire/commands.hpp"
 #include "vibid/shared/wire/crc32.hpp"
@@ -58,9 +61,9 @@ const std::array<std::uint8_t, wire::kCalRecordBytes>& GoldenRecord(bool with_fi
 }
 
 // Every id the core dispatches, the port range included, and a few it does not know.
-constexpr std::array<std::uint8_t, 20> kCommandIds = {0x01, 0x02, 0x03, 0x04, 0x05, 0x10, 0x11,
+constexpr std::array<std::uint8_t, 21> kCommandIds = {0x01, 0x02, 0x03, 0x04, 0x05, 0x10, 0x11,
                                                       0x12, 0x13, 0x20, 0x21, 0x22, 0x23, 0x24,
-                                                      0x30, 0x70, 0x71, 0x7F, 0x00, 0xFF};
+                                                      0x25, 0x30, 0x70, 0x71, 0x7F, 0x00, 0xFF};
 
 // A port that knows two commands, so the core's port dispatch sees answers and refusals.
 class FuzzPortCommands final : public fw::PortCommandHandler {
@@ -339,12 +342,28 @@ class Script {
     Status status;
   };
 
+  // A refusal names a reason this build knows, in exactly a Refusal's bytes.
+  static void RequireReason(const wire::Report& r) {
+    const auto payload = wire::PayloadOf(r);
+    wire::Refusal why;
+    Require(payload.size() == wire::Refusal::kBytes);
+    Require(wire::Decode(payload, why) == Status::kOk);
+    Require(static_cast<std::uint16_t>(why.reason) <=
+            static_cast<std::uint16_t>(wire::kLastReason));
+    Require(wire::LoadU16(payload, 2) == 0);
+  }
+
   static Header Answer(const wire::Report& r, std::uint16_t token, std::uint8_t id) {
     Require(!wire::IsStreamData(r));
     wire::Header h;
     Require(wire::DecodeHeader(r, h) == Status::kOk);
     Require((h.flags & wire::kFlagResponse) != 0 && h.token == token && h.command == id);
-    Require(h.status == Status::kOk || h.payload_length == 0);
+    if (h.status != Status::kOk) RequireReason(r);
+    if (h.status == Status::kOk && id == static_cast<std::uint8_t>(Command::kGetClips)) {
+      wire::ClipResponse clips;
+      Require(wire::Decode(wire::PayloadOf(r), clips) == Status::kOk);
+      for (const std::uint32_t n : clips.clipped) Require(n <= clips.ticks);
+    }
     return {h.status};
   }
 
@@ -434,6 +453,7 @@ class Script {
     Require(wire::DecodeHeader(out[0], a) == Status::kOk);
     Require((a.flags & wire::kFlagResponse) != 0 && a.status != Status::kOk);
     Require(r[0] == wire::kStreamDataTag || a.token == token);
+    RequireReason(out[0]);
   }
 
   // cal-put-begin and its chunks: the golden record (filter or not), now and then with a bad CRC,
@@ -537,6 +557,7 @@ class Script {
     wire::Header a;
     Require(wire::DecodeHeader(out[0], a) == Status::kOk && (a.flags & wire::kFlagResponse) != 0 &&
             a.status != Status::kOk && a.token == token);
+    RequireReason(out[0]);
   }
 
   // A commit that loses power part-way (or meets a flash controller that reports errors); the

@@ -26,6 +26,7 @@
 #include "vibid/shared/wire/calibration_record.hpp"
 #include "vibid/shared/wire/crc32.hpp"
 #include "vibid/shared/wire/log_record.hpp"
+#include "vibid/shared/wire/refusal.hpp"
 #include "vibid/shared/wire/stream.hpp"
 
 namespace {
@@ -173,12 +174,19 @@ bool Damage(FuzzedDataProvider& in, std::vector<wire::Report>& reports, std::uin
         reports.insert(reports.begin() + static_cast<std::ptrdiff_t>(at), stale);
         break;
       }
-      case 5: {  // the board gave up: a refusal in place of the rest
+      case 5: {  // the board gave up: a refusal in place of the rest, with its reason (2.1) or not
         wire::Report refusal{};
         const auto status = in.PickValueInArray(
             {Status::kOutOfRange, Status::kInternal, Status::kFailedPrecondition});
-        Require(wire::BuildReport(command, token, 0, wire::kFlagResponse, status, {}, refusal) ==
-                Status::kOk);
+        std::array<std::uint8_t, wire::Refusal::kBytes> why{};
+        wire::Encode(
+            wire::Refusal{.reason = static_cast<wire::Reason>(in.ConsumeIntegral<std::uint16_t>()),
+                          .detail = in.ConsumeIntegral<std::uint32_t>()},
+            why);
+        const std::span<const std::uint8_t> payload =
+            in.ConsumeBool() ? std::span<const std::uint8_t>(why) : std::span<const std::uint8_t>();
+        Require(wire::BuildReport(command, token, 0, wire::kFlagResponse, status, payload,
+                                  refusal) == Status::kOk);
         reports.resize(at);
         reports.push_back(refusal);
         clean = false;
@@ -219,6 +227,13 @@ Received Decode(Command command, std::uint16_t token, const std::vector<wire::Re
       continue;
     }
     Require(step.payload.size() <= wire::kMaxStreamPayload);
+    if (step.event == Event::kRefused) {
+      // The refusal's payload is handed over whole: whatever it holds decodes as a Refusal, or
+      // is refused as too short (a damaged length), never read past.
+      wire::Refusal why;
+      Require(wire::Decode(step.payload, why) == Status::kOk ||
+              step.payload.size() < wire::Refusal::kBytes);
+    }
     switch (step.event) {
       case Event::kData:
         r.data.insert(r.data.end(), step.payload.begin(), step.payload.end());
@@ -339,6 +354,7 @@ void CheckResponse(std::span<const std::uint8_t> payload) {
 void CheckResponses(const wire::Report& report) {
   const auto payload = wire::PayloadOf(report);
   CheckResponse<wire::InfoResponse>(payload);
+  CheckResponse<wire::SamplingInfoResponse>(payload);
   CheckResponse<wire::StatusResponse>(payload);
   CheckResponse<wire::AcqConfigureResponse>(payload);
   CheckResponse<wire::AcqStopResponse>(payload);

@@ -43,15 +43,28 @@ Status FlashCalibrationSlots::Read(Slot slot, std::size_t offset,
 
 Status ScenarioCommands::HandlePortCommand(std::uint8_t command,
                                            std::span<const std::uint8_t> request,
-                                           std::span<std::uint8_t, wire::kMaxPayload>,
+                                           std::span<std::uint8_t, wire::kMaxPayload> response,
                                            std::size_t& response_length) {
   response_length = 0;
+  // A refusal's reason goes back in the response bytes (the core sends it as the refusal).
+  const auto refuse = [&](Status status, wire::Reason reason) {
+    wire::Encode(wire::Refusal{.reason = reason}, response);
+    response_length = wire::Refusal::kBytes;
+    return status;
+  };
   if (command != static_cast<std::uint8_t>(wire::Command::kSelectScenario))
-    return Status::kUnimplemented;
-  if (frames_.Running()) return Status::kFailedPrecondition;
+    return refuse(Status::kUnimplemented, wire::Reason::kUnknownCommand);
+  if (frames_.Running()) return refuse(Status::kFailedPrecondition, wire::Reason::kBusySampling);
   wire::ScenarioRequest r;
-  if (wire::Decode(request, r) != Status::kOk) return Status::kInvalidArgument;
-  return rig_.SelectScenario(r);
+  if (wire::Decode(request, r) != Status::kOk)
+    return refuse(Status::kInvalidArgument, wire::Reason::kPayloadLength);
+  wire::Refusal why;
+  const Status s = rig_.SelectScenario(r, why);
+  if (s != Status::kOk) {
+    wire::Encode(why, response);
+    response_length = wire::Refusal::kBytes;
+  }
+  return s;
 }
 
 }  // namespace vibid::emu

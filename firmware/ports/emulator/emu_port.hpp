@@ -14,6 +14,7 @@
 #include "vibid/fw/port.hpp"
 #include "vibid/fw/port_commands.hpp"
 #include "vibid/shared/wire/commands.hpp"
+#include "vibid/shared/wire/refusal.hpp"
 
 namespace vibid::emu {
 
@@ -24,8 +25,8 @@ class SimulatedRig {
   virtual void Start(double sample_period_s) = 0;
   /// Advances one sample period and writes the converters' codes.
   virtual void Step(std::array<std::int32_t, wire::kChannelCount>& raw) = 0;
-  /// select-scenario: kInvalidArgument for a scenario this rig cannot run.
-  virtual Status SelectScenario(const wire::ScenarioRequest& request) = 0;
+  /// select-scenario: kInvalidArgument for a scenario this rig cannot run, `why` naming the cause.
+  virtual Status SelectScenario(const wire::ScenarioRequest& request, wire::Refusal& why) = 0;
 
  protected:
   ~SimulatedRig() = default;

@@ -4,11 +4,12 @@
 #include "regs/peripherals.hpp"
 #include "regs/rcc.hpp"
 #include "system.hpp"
+#include "vibid/shared/board_profile.hpp"
 
 namespace vibid::fw::stm32 {
 
 namespace sampler_dma {
-volatile std::uint16_t adc[4] = {};
+volatile std::uint16_t adc[6] = {};
 volatile std::uint16_t encoders[2] = {};
 }  // namespace sampler_dma
 
@@ -16,16 +17,31 @@ namespace {
 
 volatile std::uint16_t* const g_adc_dma_buffer = sampler_dma::adc;
 volatile std::uint16_t* const g_encoder_latch = sampler_dma::encoders;
-static_assert(sizeof(sampler_dma::adc) / sizeof(sampler_dma::adc[0]) == Sampler::kAnalogChannels);
+static_assert(sizeof(sampler_dma::adc) / sizeof(sampler_dma::adc[0]) == Sampler::kDmaItems);
 
-// ADC1 on DMA2 stream 0 channel 0 (RM0090 table 43). The encoder latches on DMA1 (table 42):
-// TIM2_UP on stream 1 channel 3, TIM5_TRIG on stream 3 channel 6. DMA1 reaches TIM3/TIM4 on
-// APB1 and SRAM; DMA2 would not reach APB1.
+// Where each analog channel's result lands in the DMA buffer (rank x 3 + converter): force1 is
+// ADC1 rank 1, force2 ADC1 rank 2, acc1 ADC2 rank 1, acc2 ADC3 rank 1 (items 4 and 5 are ADC2's
+// and ADC3's second conversions, not used).
+constexpr unsigned kBufferIndex[Sampler::kAnalogChannels] = {0, 3, 1, 2};
+// The board profile states the instants this sequence gives; they must agree.
+static_assert(kBoardProfile.adc_sampling_cycles == Sampler::kSamplingCycles);
+static_assert(kBoardProfile.conversion_slot[0] == kBufferIndex[0] / Sampler::kConverters);
+static_assert(kBoardProfile.conversion_slot[1] == kBufferIndex[1] / Sampler::kConverters);
+static_assert(kBoardProfile.conversion_slot[2] == kBufferIndex[2] / Sampler::kConverters);
+static_assert(kBoardProfile.conversion_slot[3] == kBufferIndex[3] / Sampler::kConverters);
+// The encoders are latched at the end of the first sampling phase (TIM2 channels 3 and 4).
+static_assert(kBoardProfile.conversion_slot[4] == 0 && kBoardProfile.conversion_slot[5] == 0);
+static_assert(kBoardProfile.adc_clock_hz * Sampler::kAdcPrescaler == 84000000);  // PCLK2
+
+// ADC1 (in multi-ADC mode: the common data register) on DMA2 stream 0 channel 0 (RM0090
+// table 43). The encoder latches on DMA1 (table 42): TIM2_CH3 on stream 1 channel 3 (shared
+// with TIM2_UP, whose request stays off), TIM2_CH4 on stream 7 channel 3 (likewise). DMA1
+// reaches TIM3/TIM4 on APB1 and SRAM; DMA2 would not reach APB1.
 constexpr unsigned kAdcStream = 0;
 constexpr unsigned kEncoder0Stream = 1;
 constexpr std::uint32_t kEncoder0Channel = 3;
-constexpr unsigned kEncoder1Stream = 3;
-constexpr std::uint32_t kEncoder1Channel = 6;
+constexpr unsigned kEncoder1Stream = 7;
+constexpr std::uint32_t kEncoder1Channel = 3;
 constexpr std::uint32_t kStreamDisablePolls = 10000;
 // Room after the scan for the DMA, the interrupt and the frame sink before the next edge.
 constexpr std::uint32_t kPeriodMarginUs = 7;
@@ -53,13 +69,14 @@ void DisableStream(Address dma_base, unsigned stream) {
   Reg(dma_base + dma::FlagClear(stream)) = dma::kStream0Flags << dma::FlagShift(stream);
 }
 
-/// ADC1 results to the frame buffer, circular, 16 bit, from the first channel.
+/// The converters' results to the frame buffer, circular, 16 bit, from ADC1's first one: in DMA
+/// mode 1 each request reads one result from ADC_CDR's low half-word (RM0090 §13.9).
 void ArmAdcStream() {
   const Address stream = dma::Stream(dma::kDma2, kAdcStream);
   DisableStream(dma::kDma2, kAdcStream);
-  Reg(stream + dma::kSxPar) = static_cast<std::uint32_t>(adc::kAdc1 + adc::kDr);
+  Reg(stream + dma::kSxPar) = static_cast<std::uint32_t>(adc::kCommonCdr);
   Reg(stream + dma::kSxM0ar) = Addr32(g_adc_dma_buffer);
-  Reg(stream + dma::kSxNdtr) = Sampler::kAnalogChannels;
+  Reg(stream + dma::kSxNdtr) = Sampler::kDmaItems;
   Reg(stream + dma::kSxFcr) = 0;  // Direct mode.
   Reg(stream + dma::kSxCr) = Field(0, dma::kCrChselPos) | dma::kCrPlHigh | dma::kCrMsize16 |
                              dma::kCrPsize16 | dma::kCrMinc | dma::kCrCirc | dma::kCrTcie |
@@ -79,15 +96,37 @@ void ArmEncoderStream(unsigned stream_number, std::uint32_t channel, Address cou
                              dma::kCrPsize16 | dma::kCrCirc | dma::kCrEn;
 }
 
-constexpr std::uint32_t kAdcCr2Running =
-    adc::kCr2Adon | adc::kCr2Dma | adc::kCr2Dds | adc::kCr2ExtselTim2Trgo | adc::kCr2ExtenRising;
+// In multi-ADC mode the DMA and DDS bits of ADC_CR2 are unused (ADC_CCR's DMA and DDS take
+// their place) and only the master, ADC1, takes the external trigger; ADC2 and ADC3 start with
+// it (RM0090 §13.9, §13.13.3).
+constexpr std::uint32_t kAdcCr2Master =
+    adc::kCr2Adon | adc::kCr2ExtselTim2Trgo | adc::kCr2ExtenRising;
+constexpr std::uint32_t kAdcCr2Slave = adc::kCr2Adon;
+constexpr Address kConverter[Sampler::kConverters] = {adc::kAdc1, adc::kAdc2, adc::kAdc3};
+
+void ConvertersOff() {
+  for (Address a : kConverter) Reg(a + adc::kCr2) = 0;
+}
+/// OVR cleared, then the slaves on before the master, so no trigger finds a slave off.
+void ConvertersOn() {
+  for (Address a : kConverter) Reg(a + adc::kSr) = 0;
+  Reg(adc::kAdc3 + adc::kCr2) = kAdcCr2Slave;
+  Reg(adc::kAdc2 + adc::kCr2) = kAdcCr2Slave;
+  Reg(adc::kAdc1 + adc::kCr2) = kAdcCr2Master;
+}
+bool AnyOverrun() {
+  for (Address a : kConverter) {
+    if ((Reg(a + adc::kSr) & adc::kSrOvr) != 0) return true;
+  }
+  return false;
+}
 
 }  // namespace
 
 void Sampler::Init(const ClockConfig& clocks) {
   timer_clock_hz_ = clocks.apb1_timer_hz;
   // The shortest time from the edge to the scan's last result: the conversions alone (the
-  // trigger synchronisation only adds to it). 272 x 4 = 1088 timer clocks at full speed.
+  // trigger synchronisation only adds to it). 136 x 4 = 544 timer clocks at full speed.
   scan_timer_ticks_ = static_cast<std::uint32_t>(std::uint64_t{kScanAdcClocks} * kAdcPrescaler *
                                                  timer_clock_hz_ / clocks.apb2_hz);
   const std::uint64_t scan_ns =
@@ -96,7 +135,7 @@ void Sampler::Init(const ClockConfig& clocks) {
 
   EnableClock(rcc::kAhb1enr, rcc::kAhb1GpioA | rcc::kAhb1GpioB | rcc::kAhb1Dma1 | rcc::kAhb1Dma2);
   EnableClock(rcc::kApb1enr, rcc::kApb1Tim2 | rcc::kApb1Tim3 | rcc::kApb1Tim4 | rcc::kApb1Tim5);
-  EnableClock(rcc::kApb2enr, rcc::kApb2Adc1);
+  EnableClock(rcc::kApb2enr, rcc::kApb2Adc1 | rcc::kApb2Adc2 | rcc::kApb2Adc3);
 
   for (unsigned pin = 0; pin < kAnalogChannels; ++pin)
     gpio::SetMode(gpio::kPortA, pin, gpio::Mode::kAnalog);
@@ -111,34 +150,51 @@ void Sampler::Init(const ClockConfig& clocks) {
   ConfigureEncoder(tim::kTim3);
   ConfigureEncoder(tim::kTim4);
 
-  // TIM2 (32 bit) update = sample clock, routed to TRGO and to a DMA request; stopped until Start.
+  // TIM2 (32 bit) update = sample clock, routed to TRGO; stopped until Start. Its compare
+  // channels 3 and 4 (frozen output compare, no pin) match when the converters end their first
+  // sampling phase, 56 ADC clocks = 224 timer clocks after the edge, and their DMA requests
+  // latch the two encoders then (RM0090 §18.3.8: a match sets CCxIF and, with CCxDE, requests
+  // DMA): the encoders are sampled with force1, acc1 and acc2.
+  latch_timer_ticks_ = static_cast<std::uint32_t>(std::uint64_t{kSamplingCycles} * kAdcPrescaler *
+                                                  timer_clock_hz_ / clocks.apb2_hz);
   Reg(tim::kTim2 + tim::kCr1) = 0;
   Reg(tim::kTim2 + tim::kPsc) = 0;
   Reg(tim::kTim2 + tim::kCr2) = tim::kCr2MmsUpdate;
-  Reg(tim::kTim2 + tim::kDier) = tim::kDierUde;
-  // TIM5 (32 bit) counts TIM2's TRGO edges: the frame counter. Its trigger DMA request latches
-  // the second encoder.
+  Reg(tim::kTim2 + tim::kCcr3) = latch_timer_ticks_;
+  Reg(tim::kTim2 + tim::kCcr4) = latch_timer_ticks_;
+  Reg(tim::kTim2 + tim::kDier) = tim::kDierCc3de | tim::kDierCc4de;
+  // TIM5 (32 bit) counts TIM2's TRGO edges: the frame counter.
   Reg(tim::kTim5 + tim::kCr1) = 0;
   Reg(tim::kTim5 + tim::kPsc) = 0;
   Reg(tim::kTim5 + tim::kArr) = 0xFFFFFFFF;
   Reg(tim::kTim5 + tim::kSmcr) = tim::kSmcrTsItr0 | tim::kSmcrExternalClock1;
-  Reg(tim::kTim5 + tim::kDier) = tim::kDierTde;
+  Reg(tim::kTim5 + tim::kDier) = 0;
 
-  // ADC1: scan IN0..IN3, 56-cycle sampling (4 x (56 + 12) / 21 MHz = 13 us per frame), one scan
-  // per rising TRGO, DMA requests kept on for circular transfers, overrun interrupt.
-  Reg(adc::kCommonCcr) = adc::kCcrAdcpreDiv4;
-  Reg(adc::kAdc1 + adc::kCr2) = 0;
-  Reg(adc::kAdc1 + adc::kCr1) = adc::kCr1Scan | adc::kCr1Ovrie;
-  Reg(adc::kAdc1 + adc::kSmpr2) = adc::kSample56Cycles | (adc::kSample56Cycles << 3) |
-                                  (adc::kSample56Cycles << 6) | (adc::kSample56Cycles << 9);
-  Reg(adc::kAdc1 + adc::kSqr1) = Field(kAnalogChannels - 1, adc::kSqr1LPos);
-  Reg(adc::kAdc1 + adc::kSqr3) = 0U | (1U << 5) | (2U << 10) | (3U << 15);
+  // ADC1, ADC2, ADC3 in triple regular simultaneous mode (RM0090 §13.9.2), DMA mode 1 with
+  // requests kept on for circular transfers, ADCCLK = PCLK2 / 4 = 21 MHz. Each converter scans
+  // two channels with 56-cycle sampling, one scan per rising TRGO (ADC1's trigger): rank 1 is
+  // force1 (IN0), acc1 (IN2), acc2 (IN3), converted at one instant; rank 2 is force2 (IN1) on
+  // ADC1 and a second conversion of IN2 and IN3 on ADC2 and ADC3 (the sequences must be as long
+  // as each other, and no channel is converted by two converters at once). 2 x (56 + 12) /
+  // 21 MHz = 6.5 us per frame. Overrun interrupts on all three.
+  ConvertersOff();
+  Reg(adc::kCommonCcr) = adc::kCcrAdcpreDiv4 | adc::kCcrDmaMode1 | adc::kCcrDds |
+                         adc::kCcrMultiTripleRegularSimultaneous;
+  constexpr std::uint32_t kChannel[Sampler::kConverters][Sampler::kRanks] = {
+      {0, 1}, {2, 2}, {3, 3}};
+  for (unsigned i = 0; i < kConverters; ++i) {
+    const Address a = kConverter[i];
+    Reg(a + adc::kCr1) = adc::kCr1Scan | adc::kCr1Ovrie;
+    Reg(a + adc::kSmpr2) = adc::kSample56Cycles | (adc::kSample56Cycles << 3) |
+                           (adc::kSample56Cycles << 6) | (adc::kSample56Cycles << 9);
+    Reg(a + adc::kSqr1) = Field(kRanks - 1, adc::kSqr1LPos);
+    Reg(a + adc::kSqr3) = adc::Sqr3(0, kChannel[i][0]) | adc::Sqr3(1, kChannel[i][1]);
+  }
 
   ArmEncoderStream(kEncoder0Stream, kEncoder0Channel, tim::kTim3 + tim::kCnt, &g_encoder_latch[0]);
   ArmEncoderStream(kEncoder1Stream, kEncoder1Channel, tim::kTim4 + tim::kCnt, &g_encoder_latch[1]);
   ArmAdcStream();
-  Reg(adc::kAdc1 + adc::kSr) = 0;
-  Reg(adc::kAdc1 + adc::kCr2) = kAdcCr2Running;
+  ConvertersOn();
 
   for (unsigned irq_number : {irq::kDma2Stream0, irq::kAdc}) {
     nvic::Disable(irq_number);
@@ -181,25 +237,26 @@ void Sampler::Stop() {
 
 void Sampler::Recover() {
   ++counters_.recoveries;
-  // ADC off resets its sequencer to the first channel and drops its DMA request logic; the
-  // stream restarts at the buffer's first element; OVR cleared last, before the ADC is back
-  // (RM0090 §13.8.1: re-initialise the DMA, clear OVR, trigger again). The next TRGO edge
-  // starts a whole scan.
-  Reg(adc::kAdc1 + adc::kCr2) = 0;
+  // The converters off reset their sequencers to rank 1 and the common DMA request logic; the
+  // stream restarts at the buffer's first element; OVR cleared last, before the converters are
+  // back (RM0090 §13.8.1: re-initialise the DMA, clear OVR, trigger again). The next TRGO edge
+  // starts a whole scan on all three.
+  ConvertersOff();
   ArmAdcStream();
-  Reg(adc::kAdc1 + adc::kSr) = 0;
-  Reg(adc::kAdc1 + adc::kCr2) = kAdcCr2Running;
+  ConvertersOn();
 }
 
 void Sampler::CheckEncoderStreams() {
-  const std::uint32_t flags = Reg(dma::kDma1 + dma::kLisr);
   const std::uint32_t teif = dma::kStream0Teif;
-  if ((flags & (teif << dma::FlagShift(kEncoder0Stream))) != 0) {
+  const auto failed = [&](unsigned stream) {
+    return (Reg(dma::kDma1 + dma::FlagStatus(stream)) & (teif << dma::FlagShift(stream))) != 0;
+  };
+  if (failed(kEncoder0Stream)) {
     ++counters_.dma_errors;
     ArmEncoderStream(kEncoder0Stream, kEncoder0Channel, tim::kTim3 + tim::kCnt,
                      &g_encoder_latch[0]);
   }
-  if ((flags & (teif << dma::FlagShift(kEncoder1Stream))) != 0) {
+  if (failed(kEncoder1Stream)) {
     ++counters_.dma_errors;
     ArmEncoderStream(kEncoder1Stream, kEncoder1Channel, tim::kTim4 + tim::kCnt,
                      &g_encoder_latch[1]);
@@ -207,7 +264,7 @@ void Sampler::CheckEncoderStreams() {
 }
 
 void Sampler::HandleAdcInterrupt() {
-  if ((Reg(adc::kAdc1 + adc::kSr) & adc::kSrOvr) == 0) return;
+  if (!AnyOverrun()) return;
   ++counters_.adc_overruns;
   Recover();
 }
@@ -218,7 +275,7 @@ void Sampler::HandleDmaInterrupt() {
   CheckEncoderStreams();
   // A transfer error disables the stream; an overrun stops the ADC's requests. Either way no
   // further scan would arrive, and the frames missed meanwhile show as a gap in the tick.
-  const bool overrun = (Reg(adc::kAdc1 + adc::kSr) & adc::kSrOvr) != 0;
+  const bool overrun = AnyOverrun();
   if ((flags & dma::kStream0Teif) != 0 || overrun) {
     if ((flags & dma::kStream0Teif) != 0) ++counters_.dma_errors;
     if (overrun) ++counters_.adc_overruns;
@@ -235,7 +292,7 @@ void Sampler::HandleDmaInterrupt() {
   const std::uint32_t edges = Reg(tim::kTim5 + tim::kCnt);
   const std::uint32_t remaining = Reg(dma::Stream(dma::kDma2, kAdcStream) + dma::kSxNdtr);
   const std::uint32_t since_edge = Reg(tim::kTim2 + tim::kCnt);
-  const bool whole_scan = since_edge >= scan_timer_ticks_ && remaining == kAnalogChannels;
+  const bool whole_scan = since_edge >= scan_timer_ticks_ && remaining == kDmaItems;
   if (Reg(tim::kTim5 + tim::kCnt) != edges || !whole_scan || edges == 0) {
     ++counters_.torn_frames;
     return;
@@ -247,7 +304,7 @@ void Sampler::HandleDmaInterrupt() {
 
   SampleFrame frame;
   frame.tick = tick;
-  for (unsigned i = 0; i < kAnalogChannels; ++i) frame.raw[i] = g_adc_dma_buffer[i];
+  for (unsigned i = 0; i < kAnalogChannels; ++i) frame.raw[i] = g_adc_dma_buffer[kBufferIndex[i]];
   for (unsigned i = 0; i < 2; ++i) {
     const std::uint16_t raw = g_encoder_latch[i];
     // The 16-bit counter moves by far less than 2^15 counts per sample, so the signed

@@ -1,12 +1,17 @@
 // Timer-triggered sampling, the board's FrameSource.
 //
 // Every TIM2 update edge (the sample instant) does three things in hardware at once:
-//   - TRGO starts an ADC1 scan of the four analog channels (two load cells, two accelerometers on
-//     PA0..PA3); DMA2 stream 0 moves the four results to RAM.
-//   - the TIM2 update DMA request (DMA1 stream 1, channel 3) copies the TIM3 encoder count
-//     (PA6/PA7) to RAM, and TIM5, counting TIM2's TRGO edges, raises its trigger DMA request
-//     (DMA1 stream 3, channel 6), which copies the TIM4 encoder count (PB6/PB7): both encoders are
-//     latched at the edge, within a few bus cycles, not when the interrupt runs.
+//   - TRGO starts ADC1, ADC2 and ADC3 together (triple regular simultaneous mode, RM0090
+//     §13.9.2): force1 (PA0, IN0), acc1 (PA2, IN2) and acc2 (PA3, IN3) are sampled at the same
+//     instant, 56 ADC clocks after the edge; force2 (PA1, IN1) is ADC1's second conversion,
+//     68 clocks later. ADC2 and ADC3 convert their channel again meanwhile (the sequences must be
+//     as long as ADC1's), a result the frame drops. DMA2 stream 0 moves the six results, in the
+//     order ADC1, ADC2, ADC3 of each rank, from the common data register ADC_CDR to RAM.
+//     The instants are in the board profile (board_profile.hpp).
+//   - 224 timer clocks later, when the converters end that sampling phase, TIM2's compare
+//     channels 3 and 4 raise DMA requests (DMA1 stream 1 and stream 7, channel 3) that copy the
+//     TIM3 (PA6/PA7) and TIM4 (PB6/PB7) encoder counts to RAM: both encoders are latched at the
+//     hammer channels' instant, within a few bus cycles, not when the interrupt runs.
 //   - TIM5 counts the edge: the frame tick comes from the timer, not from counting interrupts,
 //     so scans merged into one interrupt or lost to an ADC overrun leave a gap the core counts.
 // The DMA2 stream 0 transfer-complete interrupt assembles the frame for the core.
@@ -33,15 +38,20 @@ struct SamplerCounters {
 
 /// The DMA targets, in SRAM (the CCM is not reachable by DMA); named here for the host tests.
 namespace sampler_dma {
-extern volatile std::uint16_t adc[4];
+extern volatile std::uint16_t adc[6];
 extern volatile std::uint16_t encoders[2];
 }  // namespace sampler_dma
 
 class Sampler final : public FrameSource {
  public:
-  /// ADC conversions per frame and their cost: 4 x (56 sampling + 12 conversion) ADC clocks.
   static constexpr unsigned kAnalogChannels = 4;
-  static constexpr std::uint32_t kScanAdcClocks = kAnalogChannels * (56 + 12);
+  /// Three converters with two conversions each; DMA items per frame.
+  static constexpr unsigned kConverters = 3;
+  static constexpr unsigned kRanks = 2;
+  static constexpr unsigned kDmaItems = kConverters * kRanks;
+  /// A frame's conversions take 2 x (56 sampling + 12 conversion) ADC clocks.
+  static constexpr std::uint32_t kSamplingCycles = 56;
+  static constexpr std::uint32_t kScanAdcClocks = kRanks * (kSamplingCycles + 12);
   /// ADCCLK = PCLK2 / 4 (ADC common prescaler).
   static constexpr std::uint32_t kAdcPrescaler = 4;
 
@@ -54,7 +64,7 @@ class Sampler final : public FrameSource {
   Status Start(std::uint32_t sample_period_us, FrameSink& sink) override;
   void Stop() override;
 
-  /// The shortest period: one scan plus room for the DMA and the interrupt (20 us at 168 MHz).
+  /// The shortest period: one scan plus room for the DMA and the interrupt (14 us at 168 MHz).
   std::uint32_t min_period_us() const { return min_period_us_; }
   const SamplerCounters& counters() const { return counters_; }
   /// Core cycles spent in the frame sink, summed over all frames (DWT cycle counter).
@@ -72,7 +82,8 @@ class Sampler final : public FrameSource {
   void CheckEncoderStreams();
 
   std::uint32_t timer_clock_hz_ = 0;
-  std::uint32_t scan_timer_ticks_ = 0;  ///< Timer clocks the scan's conversions take at least.
+  std::uint32_t scan_timer_ticks_ = 0;   ///< Timer clocks the scan's conversions take at least.
+  std::uint32_t latch_timer_ticks_ = 0;  ///< Edge to the encoder latch (the sampling phase).
   std::uint32_t min_period_us_ = 20;
   FrameSink* sink_ = nullptr;
   volatile bool running_ = false;

@@ -1,5 +1,5 @@
-// Sampler on the fake register file: encoders latched by DMA at the timer edge, the frame tick
-// taken from the TIM5 edge counter (so lost frames leave a gap the core counts as overruns),
+// Sampler on the fake register file: encoders latched by DMA at the converters' instant, the frame
+// tick taken from the TIM5 edge counter (so lost frames leave a gap the core counts as overruns),
 // torn frames dropped, and ADC overrun / DMA error recovery from the first channel.
 #include <vector>
 
@@ -14,7 +14,7 @@ namespace {
 constexpr ClockConfig kFullSpeed{ClockSource::kPllFromHse, 168000000, 84000000, 84000000};
 const Address kAdcStream = dma::Stream(dma::kDma2, 0);
 const Address kEnc0Stream = dma::Stream(dma::kDma1, 1);
-const Address kEnc1Stream = dma::Stream(dma::kDma1, 3);
+const Address kEnc1Stream = dma::Stream(dma::kDma1, 7);
 
 class CaptureSink final : public FrameSink {
  public:
@@ -32,7 +32,7 @@ class SamplerTest : public PortTest {
   /// One DMA transfer-complete interrupt with `edges` counted by TIM5 and the TIM2 counter at
   /// `since_edge` timer clocks after the latest edge.
   void Interrupt(std::uint32_t edges, std::uint32_t since_edge = 2000,
-                 std::uint32_t lisr = dma::kStream0Tcif, std::uint32_t ndtr = 4) {
+                 std::uint32_t lisr = dma::kStream0Tcif, std::uint32_t ndtr = 6) {
     regs().Poke(tim::kTim5 + tim::kCnt, edges);
     regs().Poke(kAdcStream + dma::kSxNdtr, ndtr);
     regs().Poke(tim::kTim2 + tim::kCnt, since_edge);
@@ -49,20 +49,27 @@ class SamplerTest : public PortTest {
 };
 
 TEST_F(SamplerTest, InitRoutesTheEdgeToAdcEncodersAndFrameCounter) {
-  // TIM5: external clock mode 1 (SMS 111) from ITR0 = TIM2 TRGO (TS 000), trigger DMA (TDE).
+  // TIM5: external clock mode 1 (SMS 111) from ITR0 = TIM2 TRGO (TS 000), no DMA request.
   EXPECT_EQ(regs().Peek(tim::kTim5 + tim::kSmcr), 0x7U);
-  EXPECT_EQ(regs().Peek(tim::kTim5 + tim::kDier), Bit(14));
-  EXPECT_EQ(regs().Peek(tim::kTim2 + tim::kDier), Bit(8));    // UDE
+  EXPECT_EQ(regs().Peek(tim::kTim5 + tim::kDier), 0U);
+  // TIM2 (RM0090 §18.4): DIER CC3DE (bit 11) and CC4DE (bit 12), no UDE (bit 8); CCR3 (0x3C)
+  // and CCR4 (0x40) at 56 ADC clocks x 4 = 224 timer clocks, when the converters' first
+  // sampling phase ends: the encoders are latched with force1, acc1 and acc2.
+  EXPECT_EQ(regs().Peek(tim::kTim2 + tim::kDier), Bit(11) | Bit(12));
+  EXPECT_EQ(regs().Peek(tim::kTim2 + 0x3C), 224U);
+  EXPECT_EQ(regs().Peek(tim::kTim2 + 0x40), 224U);
   EXPECT_EQ(regs().Peek(tim::kTim2 + tim::kCr2), 0x2U << 4);  // MMS update -> TRGO
-  // DMA1 stream 1 channel 3 (TIM2_UP) <- TIM3_CNT, stream 3 channel 6 (TIM5_TRIG) <- TIM4_CNT:
-  // RM0090 table 42. 16 bit, circular, one item, no increment, enabled.
+  // DMA1 stream 1 channel 3 (TIM2_UP/TIM2_CH3) <- TIM3_CNT, stream 7 channel 3 (TIM2_UP/
+  // TIM2_CH4) <- TIM4_CNT: RM0090 table 42. 16 bit, circular, one item, no increment, enabled.
   const std::uint32_t common =
       dma::kCrPlHigh | dma::kCrMsize16 | dma::kCrPsize16 | dma::kCrCirc | dma::kCrEn;
   EXPECT_EQ(regs().Peek(kEnc0Stream + dma::kSxCr), common | (3U << 25));
-  EXPECT_EQ(regs().Peek(kEnc1Stream + dma::kSxCr), common | (6U << 25));
+  EXPECT_EQ(regs().Peek(kEnc1Stream + dma::kSxCr), common | (3U << 25));
+  EXPECT_EQ(kEnc1Stream, 0x400260B8U);  // DMA1 0x40026000 + 0x10 + 0x18 x 7
   EXPECT_EQ(regs().Peek(kEnc0Stream + dma::kSxPar), 0x40000424U);  // TIM3 base + CNT 0x24
   EXPECT_EQ(regs().Peek(kEnc1Stream + dma::kSxPar), 0x40000824U);  // TIM4 base + CNT 0x24
   EXPECT_EQ(regs().Peek(kEnc0Stream + dma::kSxNdtr), 1U);
+  // The converters: see ConvertersSampleTheHammerChannelsAtOneInstant.
   EXPECT_EQ(regs().Peek(adc::kAdc1 + adc::kCr1), Bit(8) | Bit(26));  // SCAN | OVRIE
   // ADC interrupt (IRQ 18) enabled in the NVIC after its pending bit was cleared.
   const std::size_t clear = regs().FindWrite(0xE000E280, Bit(18));
@@ -73,8 +80,58 @@ TEST_F(SamplerTest, InitRoutesTheEdgeToAdcEncodersAndFrameCounter) {
   const std::size_t clocks = regs().FindWriteWithBits(rcc::kApb2enr, rcc::kApb2Adc1);
   const std::size_t dsb = regs().FindCpu(fake::CpuOp::kDsb, clocks);
   EXPECT_EQ(dsb, clocks + 1);  // right after the enable write
-  // 4 x 68 ADC clocks at 21 MHz = 12.95 us, plus 7 us: 20 us (ceil).
-  EXPECT_EQ(sampler_.min_period_us(), 20U);
+  // 2 x 68 ADC clocks at 21 MHz = 6.48 us, plus 7 us: 14 us (ceil).
+  EXPECT_EQ(sampler_.min_period_us(), 14U);
+}
+
+TEST_F(SamplerTest, ConvertersSampleTheHammerChannelsAtOneInstant) {
+  // ADC_CCR (RM0090 §13.13.17): MULTI 4:0 = 10110 (triple, regular simultaneous only), DDS bit 13,
+  // DMA 15:14 = 01 (mode 1), ADCPRE 17:16 = 01 (PCLK2 / 4): 0x16 | 0x2000 | 0x4000 | 0x10000.
+  EXPECT_EQ(regs().Peek(adc::kCommonCcr), 0x16016U);
+  // The common data register ADC_CDR at 0x40012308 (common base 0x40012300 + 0x08, §13.13.18)
+  // feeds DMA2 stream 0 (channel 0, ADC1: table 43), six half-words per frame, circular.
+  EXPECT_EQ(regs().Peek(kAdcStream + dma::kSxPar), 0x40012308U);
+  EXPECT_EQ(regs().Peek(kAdcStream + dma::kSxNdtr), 6U);
+  EXPECT_EQ(regs().Peek(kAdcStream + dma::kSxCr),
+            dma::kCrPlHigh | dma::kCrMsize16 | dma::kCrPsize16 | dma::kCrMinc | dma::kCrCirc |
+                dma::kCrTcie | dma::kCrTeie | dma::kCrEn);
+  // ADC1 at 0x40012000, ADC2 at 0x40012100, ADC3 at 0x40012200 (§13.13.19). Each: SCAN (CR1 bit
+  // 8) and OVRIE (bit 26); SQR1 L 23:20 = 1 (two conversions); SMPR2 SMP0..SMP3 = 011
+  // (56 cycles); SQR3 SQ1 4:0 and SQ2 9:5 (§13.13.11).
+  struct Expected {
+    Address base;
+    std::uint32_t sq1, sq2, cr2;
+  };
+  // CR2 (§13.13.3): ADON bit 0; on ADC1 only EXTEN 29:28 = 01 (rising) and EXTSEL 27:24 = 0110
+  // (TIM2_TRGO); the DMA (bit 8) and DDS (bit 9) bits stay 0 in multi-ADC mode.
+  const Expected expected[] = {{0x40012000, 0, 1, 0x16000001},   // force1 IN0, force2 IN1
+                               {0x40012100, 2, 2, 0x00000001},   // acc1 IN2 twice
+                               {0x40012200, 3, 3, 0x00000001}};  // acc2 IN3 twice
+  for (const Expected& e : expected) {
+    EXPECT_EQ(regs().Peek(e.base + 0x04), Bit(8) | Bit(26)) << std::hex << e.base;
+    EXPECT_EQ(regs().Peek(e.base + 0x2C), 1U << 20) << std::hex << e.base;
+    EXPECT_EQ(regs().Peek(e.base + 0x10), 0x3U | (0x3U << 3) | (0x3U << 6) | (0x3U << 9));
+    EXPECT_EQ(regs().Peek(e.base + 0x34), e.sq1 | (e.sq2 << 5)) << std::hex << e.base;
+    EXPECT_EQ(regs().Peek(e.base + 0x08), e.cr2) << std::hex << e.base;
+  }
+  // The slaves are on before the master can be triggered.
+  const std::size_t master_on = regs().FindWrite(0x40012008, 0x16000001);
+  EXPECT_LT(regs().FindWrite(0x40012108, 1), master_on);
+  EXPECT_LT(regs().FindWrite(0x40012208, 1), master_on);
+  // All three clocked: RCC_APB2ENR ADC1EN 8, ADC2EN 9, ADC3EN 10 (RM0090 §7.3.14).
+  EXPECT_NE(regs().FindWriteWithBits(rcc::kApb2enr, Bit(8) | Bit(9) | Bit(10)), kNone);
+}
+
+TEST_F(SamplerTest, FramesTakeEachChannelFromItsConverterAndRank) {
+  // DMA mode 1 order: ADC1, ADC2, ADC3 of rank 1, then of rank 2 (RM0090 §13.9).
+  const std::uint16_t buffer[6] = {101, 202, 303, 404, 505, 606};
+  for (unsigned i = 0; i < 6; ++i) sampler_dma::adc[i] = buffer[i];
+  Interrupt(1);
+  ASSERT_EQ(sink_.frames.size(), 1U);
+  EXPECT_EQ(sink_.frames[0].raw[0], 101);  // force1: ADC1 rank 1
+  EXPECT_EQ(sink_.frames[0].raw[1], 404);  // force2: ADC1 rank 2
+  EXPECT_EQ(sink_.frames[0].raw[2], 202);  // acc1: ADC2 rank 1
+  EXPECT_EQ(sink_.frames[0].raw[3], 303);  // acc2: ADC3 rank 1
 }
 
 TEST_F(SamplerTest, StartArmsTheCounterBeforeTheFirstEdge) {
@@ -89,13 +146,13 @@ TEST_F(SamplerTest, StartArmsTheCounterBeforeTheFirstEdge) {
   // 1 ms at 84 MHz: ARR = 84000 - 1.
   EXPECT_EQ(regs().Peek(tim::kTim2 + tim::kArr), 83999U);
   sampler_.Stop();
-  EXPECT_EQ(sampler_.Start(19, sink_), Status::kInvalidArgument);
-  EXPECT_EQ(sampler_.Start(20, sink_), Status::kOk);
+  EXPECT_EQ(sampler_.Start(13, sink_), Status::kInvalidArgument);
+  EXPECT_EQ(sampler_.Start(14, sink_), Status::kOk);
 }
 
-TEST_F(SamplerTest, FramesCarryTheTimerTickAndTheEdgeLatchedEncoders) {
+TEST_F(SamplerTest, FramesCarryTheTimerTickAndTheLatchedEncoders) {
   sampler_dma::adc[0] = 100;
-  sampler_dma::adc[3] = 4000;
+  sampler_dma::adc[2] = 4000;
   sampler_dma::encoders[0] = 5;
   sampler_dma::encoders[1] = 0xFFFE;  // -2 from 0
   Interrupt(1);
@@ -124,13 +181,13 @@ TEST_F(SamplerTest, MergedInterruptsLeaveAGapInTheTick) {
 
 TEST_F(SamplerTest, AFrameWhoseNextScanHasBegunIsDropped) {
   Interrupt(1);
-  // 4 x (56 + 12) ADC clocks x (84 MHz / 21 MHz) = 1088 timer clocks per scan: at 1087 the
+  // 2 x (56 + 12) ADC clocks x (84 MHz / 21 MHz) = 544 timer clocks per scan: at 543 the
   // newer scan is still converting.
-  Interrupt(3, 1087);
-  // Past the conversion time but the last result not yet moved (NDTR 1 of 4).
-  Interrupt(3, 1100, dma::kStream0Tcif, 1);
+  Interrupt(3, 543);
+  // Past the conversion time but the last result not yet moved (NDTR 1 of 6).
+  Interrupt(3, 600, dma::kStream0Tcif, 1);
   // An interrupt right after its own scan, as in normal running: delivered.
-  Interrupt(3, 1088);
+  Interrupt(3, 544);
   EXPECT_EQ(Ticks(), (std::vector<std::uint32_t>{0, 2}));
   EXPECT_EQ(sampler_.counters().torn_frames, 2U);
 }
@@ -141,20 +198,26 @@ TEST_F(SamplerTest, AdcOverrunIsCountedAndRecoveredFromTheFirstChannel) {
   regs().Poke(adc::kAdc1 + adc::kSr, adc::kSrOvr);
   sampler_.HandleAdcInterrupt();
   EXPECT_EQ(sampler_.counters().adc_overruns, 1U);
-  // ADC off (sequencer back to IN0) -> stream disabled -> flags cleared -> NDTR 4 and the buffer
-  // start -> stream on -> OVR cleared -> ADC on with DMA and the trigger (RM0090 §13.8.1).
-  const std::size_t adc_off = regs().FindWrite(adc::kAdc1 + adc::kCr2, 0, before);
+  // Converters off (sequencers back to rank 1) -> stream disabled -> flags cleared -> NDTR 6 and
+  // the buffer start -> stream on -> OVR cleared -> ADC1 on with the trigger (RM0090 §13.8.1).
+  const std::size_t adc_off = regs().FindWrite(adc::kAdc3 + adc::kCr2, 0, before);
+  EXPECT_LT(regs().FindWrite(adc::kAdc1 + adc::kCr2, 0, before), adc_off);
   const std::size_t stream_off = regs().FindWrite(
       kAdcStream + dma::kSxCr, regs().Peek(kAdcStream + dma::kSxCr) & ~dma::kCrEn, adc_off);
   const std::size_t flags =
       regs().FindWrite(dma::kDma2 + dma::kLifcr, dma::kStream0Flags, stream_off);
-  const std::size_t ndtr = regs().FindWrite(kAdcStream + dma::kSxNdtr, 4, flags);
+  const std::size_t ndtr = regs().FindWrite(kAdcStream + dma::kSxNdtr, 6, flags);
   const std::size_t stream_on = regs().FindWriteWithBits(kAdcStream + dma::kSxCr, dma::kCrEn, ndtr);
   const std::size_t ovr = regs().FindWrite(adc::kAdc1 + adc::kSr, 0, stream_on);
   const std::size_t adc_on =
-      regs().FindWriteWithBits(adc::kAdc1 + adc::kCr2, adc::kCr2Adon | adc::kCr2Dma, ovr);
+      regs().FindWriteWithBits(adc::kAdc1 + adc::kCr2, adc::kCr2Adon | adc::kCr2ExtenRising, ovr);
   for (std::size_t step : {adc_off, stream_off, flags, ndtr, stream_on, ovr, adc_on})
     EXPECT_NE(step, kNone);
+  // An overrun on a slave converter is caught too.
+  regs().Poke(adc::kAdc3 + adc::kSr, adc::kSrOvr);
+  sampler_.HandleAdcInterrupt();
+  EXPECT_EQ(sampler_.counters().adc_overruns, 2U);
+  EXPECT_EQ(regs().Peek(adc::kAdc3 + adc::kSr), 0U);
   // Scans lost meanwhile show as the gap: edges 2..3 never completed.
   Interrupt(4);
   EXPECT_EQ(Ticks(), (std::vector<std::uint32_t>{0, 3}));
@@ -174,6 +237,15 @@ TEST_F(SamplerTest, DmaTransferErrorsAreCountedAndRecovered) {
             kNone);
   EXPECT_NE(regs().FindWrite(dma::kDma1 + dma::kLifcr, dma::kStream0Flags << 6, before), kNone);
   EXPECT_EQ(Ticks(), (std::vector<std::uint32_t>{1}));
+  // Stream 7's transfer error (TEIF7) is HISR bit 22 + 3 = 25; its flags clear in HIFCR.
+  regs().Poke(dma::kDma1 + dma::kLisr, 0);
+  regs().Poke(dma::kDma1 + dma::kHisr, Bit(25));
+  const std::size_t later = regs().log().size();
+  Interrupt(3);
+  EXPECT_EQ(sampler_.counters().dma_errors, 3U);
+  EXPECT_NE(regs().FindWriteWithBits(kEnc1Stream + dma::kSxCr, dma::kCrEn | dma::kCrCirc, later),
+            kNone);
+  EXPECT_NE(regs().FindWrite(dma::kDma1 + dma::kHifcr, dma::kStream0Flags << 22, later), kNone);
 }
 
 }  // namespace

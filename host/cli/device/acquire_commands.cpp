@@ -1,7 +1,11 @@
 // vibid acquire | log pull
+#include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <iostream>
+#include <optional>
+
+#include <unistd.h>
 
 #include "cli_support.hpp"
 #include "common/command.hpp"
@@ -9,6 +13,7 @@
 #include "device_commands.hpp"
 #include "session.hpp"
 #include "vibid/common/error.hpp"
+#include "vibid/device/board_report.hpp"
 #include "vibid/device/error.hpp"
 #include "vibid/device/link_budget.hpp"
 #include "vibid/device/log_table.hpp"
@@ -18,7 +23,8 @@ namespace vibid::cli {
 namespace {
 
 constexpr const char* kAcquireHelp =
-    "Record from the board: configure, start, pull the log into a CSV";
+    "Record from the board: configure, start, pull the log into a CSV. Ctrl-C stops the "
+    "acquisition and keeps what it recorded (exit 130); a second Ctrl-C aborts";
 
 struct AcquireArgs {
   const GlobalOptions* globals = nullptr;
@@ -29,6 +35,7 @@ struct AcquireArgs {
   bool allow_drops = false;
   std::vector<std::string> channels;
   std::string trigger;
+  double trigger_timeout_s = 0.0;  // 0: wait until Ctrl-C
   double pretrigger_s = 0.0;
   std::string scenario;
   std::vector<float> scenario_params;
@@ -40,6 +47,7 @@ struct Trigger {
   wire::TriggerMode mode = wire::TriggerMode::kImmediate;
   wire::Channel channel = wire::Channel::kForce1;
   double threshold = 0.0;
+  double full_scale_n = 0.0;  ///< The load cell's, from the board's calibration.
 };
 
 /// "force>F", "force2<F" ("force" is force1): the load cell, the direction and F in newtons.
@@ -94,26 +102,30 @@ int DecimationFor(double rate_hz, double log_rate_hz, int decimation) {
   return decimation;
 }
 
-void WriteLog(device::Connection& c, const device::LogPull& pull, const std::string& path) {
+void WriteLog(device::Connection& c, const device::LogPull& pull, ClaimedOutput& output) {
   bool has_record = false;
   const wire::CalibrationRecord rec = ActiveRecord(c, has_record);
-  EmitOutput(device::FormatLogCsv(pull, rec, has_record), path);
+  output.Write(device::FormatLogCsv(pull, rec, has_record, c.GetSamplingInfo()));
   std::cerr << "vibid: " << pull.records.size() << " records";
   if (pull.trailer.dropped_records != 0 || pull.trailer.overrun_count != 0) {
     std::cerr << " (the board dropped " << pull.trailer.dropped_records << " records and missed "
               << pull.trailer.overrun_count << " ticks)";
   }
-  std::cerr << (path.empty() || path == "-" ? "" : " written to " + path) << "\n";
+  std::cerr << (output.to_stdout() ? "" : " written to " + output.Name()) << "\n";
+  // Clipped samples are in the file as the board saw them; say which, and how many.
+  if (const std::optional<wire::ClipResponse> clips = c.GetClips()) {
+    const std::string text = device::DescribeClips(*clips, has_record ? &rec : nullptr);
+    if (!text.empty()) std::cerr << "vibid: warning: " << text << "\n";
+  }
 }
 
 /// A pull that lost records the board overwrote: what it holds is written all the same, and the
 /// error names what is missing.
 [[noreturn]] void WriteIncomplete(device::Connection& c, const device::IncompleteLog& e,
-                                  const std::string& path) {
-  WriteLog(c, e.pull(), path);
-  const bool file = !path.empty() && path != "-";
+                                  ClaimedOutput& output) {
+  WriteLog(c, e.pull(), output);
   throw device::DeviceError(std::string(e.what()) + "; the records kept are written" +
-                            (file ? " to " + path : ""));
+                            (output.to_stdout() ? "" : " to " + output.Name()));
 }
 
 /// The acquisition the options ask for, checked as far as it can be without the board; `trig` gets
@@ -121,10 +133,19 @@ void WriteLog(device::Connection& c, const device::LogPull& pull, const std::str
 wire::AcqConfigureRequest AcquireConfig(const AcquireArgs& a, Trigger& trig) {
   wire::AcqConfigureRequest cfg;
   const double period_us = 1e6 / a.rate_hz;
-  Require(std::abs(period_us - std::round(period_us)) < 1e-6 &&
-              period_us >= wire::kMinSamplePeriodUs && period_us <= wire::kMaxSamplePeriodUs,
-          "--rate-hz " + std::to_string(a.rate_hz) +
-              ": the period must be a whole number of microseconds from 100 to 1000000");
+  const std::string rate = "--rate-hz " + FormatNumber(a.rate_hz);
+  Require(period_us >= wire::kMinSamplePeriodUs,
+          rate + ": the board samples at " + FormatNumber(1e6 / wire::kMinSamplePeriodUs) +
+              " Hz at most (a " + std::to_string(wire::kMinSamplePeriodUs) +
+              " us period); choose --rate-hz " + FormatNumber(1e6 / wire::kMinSamplePeriodUs) +
+              " or less");
+  Require(period_us <= wire::kMaxSamplePeriodUs, rate + ": the board samples at " +
+                                                     FormatNumber(1e6 / wire::kMaxSamplePeriodUs) +
+                                                     " Hz at least; choose --rate-hz 1 or more");
+  Require(std::abs(period_us - std::round(period_us)) < 1e-6,
+          rate + ": the board's sample period is a whole number of microseconds, and 1000000 / " +
+              FormatNumber(a.rate_hz) + " = " + FormatNumber(period_us) +
+              " is not; choose a rate that divides 1000000 (10000, 5000, 2500, 2000, 1000, ...)");
   cfg.sample_period_us = static_cast<std::uint32_t>(std::lround(period_us));
   cfg.decimation =
       static_cast<std::uint16_t>(DecimationFor(a.rate_hz, a.log_rate_hz, a.decimation));
@@ -140,6 +161,8 @@ wire::AcqConfigureRequest AcquireConfig(const AcquireArgs& a, Trigger& trig) {
   trig = ParseTrigger(a.trigger);
   Require(a.pretrigger_s == 0.0 || trig.mode != wire::TriggerMode::kImmediate,
           "--pretrigger-s needs a --trigger");
+  Require(a.trigger_timeout_s == 0.0 || trig.mode != wire::TriggerMode::kImmediate,
+          "--trigger-timeout-s needs a --trigger");
   const double log_rate_hz = a.rate_hz / cfg.decimation;
   cfg.record_limit = static_cast<std::uint32_t>(std::lround(a.seconds * log_rate_hz));
   cfg.pretrigger_records = static_cast<std::uint32_t>(std::lround(a.pretrigger_s * log_rate_hz));
@@ -148,8 +171,9 @@ wire::AcqConfigureRequest AcquireConfig(const AcquireArgs& a, Trigger& trig) {
   return cfg;
 }
 
-/// What the board's calibration adds: the observer output, and the trigger threshold in ADC units.
-void ApplyCalibration(device::Connection& c, const AcquireArgs& a, const Trigger& trig,
+/// What the board's calibration adds: the observer output, the trigger threshold in ADC units
+/// (and the load cell's full scale in `trig`).
+void ApplyCalibration(device::Connection& c, const AcquireArgs& a, Trigger& trig,
                       wire::AcqConfigureRequest& cfg) {
   bool has_record = false;
   const wire::CalibrationRecord rec = ActiveRecord(c, has_record);
@@ -164,25 +188,91 @@ void ApplyCalibration(device::Connection& c, const AcquireArgs& a, const Trigger
   }
   const double q = trig.threshold / static_cast<double>(s.full_scale) * 2147483648.0;
   Require(std::abs(q) < 2147483647.0, "--trigger threshold is beyond the load cell's full scale");
+  trig.full_scale_n = static_cast<double>(s.full_scale);
   cfg.trigger_mode = trig.mode;
   cfg.trigger_channel = static_cast<std::uint8_t>(trig.channel);
   cfg.trigger_threshold = static_cast<std::int32_t>(std::lround(q));
 }
 
-/// Runs the configured acquisition, streaming the log as it fills; the board is left idle on any
-/// failure.
+/// Why an acquisition ended before its --seconds.
+enum class StopCause { kNone, kCtrlC, kTriggerTimeout };
+
+/// Decides, while the acquisition runs, whether to stop it: on the first Ctrl-C, or when the
+/// trigger has not fired within --trigger-timeout-s. While the board waits for the trigger it says
+/// so on stderr once a second, with the load cell's present value.
+class StopWatch {
+ public:
+  StopWatch(device::Connection& c, const AcquireArgs& a, const Trigger& trig)
+      : c_(c), a_(a), trig_(trig), started_(Clock::now()), last_status_(started_) {}
+
+  bool operator()(const wire::LogTrailer* state) {
+    if (InterruptFlag().load()) {
+      // On a terminal the line starts below the progress bar and the ^C the terminal echoed.
+      if (cause_ == StopCause::kNone)
+        std::cerr << (isatty(STDERR_FILENO) == 1 ? "\n" : "")
+                  << "vibid: Ctrl-C: stopping the acquisition, keeping what it recorded (Ctrl-C "
+                     "again to abort)\n";
+      cause_ = StopCause::kCtrlC;
+      return true;
+    }
+    if (state == nullptr || state->acq_state != wire::AcqState::kArmed) return false;
+    const Clock::time_point now = Clock::now();
+    const double waited_s = std::chrono::duration<double>(now - started_).count();
+    if (a_.trigger_timeout_s > 0.0 && waited_s >= a_.trigger_timeout_s) {
+      cause_ = StopCause::kTriggerTimeout;
+      return true;
+    }
+    if (now - last_status_ >= std::chrono::seconds(1)) {
+      last_status_ = now;
+      PrintStatus(waited_s);
+    }
+    return false;
+  }
+
+  StopCause cause() const { return cause_; }
+
+ private:
+  using Clock = std::chrono::steady_clock;
+
+  void PrintStatus(double waited_s) {
+    // Between log reads no stream is open: one read-latest fits in.
+    const wire::LatestResponse latest = c_.ReadLatest();
+    const double now_n = latest.calibrated[static_cast<std::size_t>(trig_.channel)] *
+                         (trig_.full_scale_n / 2147483648.0);
+    char line[200];
+    std::snprintf(
+        line, sizeof line,
+        "vibid: waiting for the trigger on load cell %d: %s %s %g N, now %.4g N (%.0f s%s)\n",
+        trig_.channel == wire::Channel::kForce1 ? 1 : 2, device::ChannelStem(trig_.channel),
+        trig_.mode == wire::TriggerMode::kRising ? ">" : "<", trig_.threshold, now_n, waited_s,
+        a_.trigger_timeout_s > 0.0 ? "" : "; Ctrl-C stops");
+    std::cerr << line;
+  }
+
+  device::Connection& c_;
+  const AcquireArgs& a_;
+  const Trigger& trig_;
+  Clock::time_point started_;
+  Clock::time_point last_status_;
+  StopCause cause_ = StopCause::kNone;
+};
+
+/// Runs the configured acquisition, streaming the log as it fills. `stop` may end it early; what
+/// was recorded until then is returned (marked stopped). The board is left idle on any failure.
 device::LogPull Acquire(device::Connection& c, const wire::AcqConfigureRequest& cfg,
-                        const device::LinkBudget& budget) {
+                        const device::LinkBudget& budget, StopWatch& stop) {
   try {
     ProgressBar bar("acquire");
     const std::uint64_t total = std::uint64_t{cfg.record_limit} + cfg.pretrigger_records;
     // Progress in records from the bytes received (the 4-byte ticks make it slightly ahead).
-    return c.AcquireStreamed([&](std::uint64_t bytes, std::uint64_t) {
-      bar.Update(std::min<std::uint64_t>(total, bytes / budget.record_bytes), total);
-    });
+    return c.AcquireStreamed(
+        [&](std::uint64_t bytes, std::uint64_t) {
+          bar.Update(std::min<std::uint64_t>(total, bytes / budget.record_bytes), total);
+        },
+        [&](const wire::LogTrailer* state) { return stop(state); });
   } catch (const device::Interrupted&) {
     c.StopAcquisition();
-    throw device::DeviceError("interrupted: acquisition stopped, nothing written");
+    throw device::Interrupted("interrupted again: acquisition stopped, nothing written");
   } catch (...) {
     // The board is left idle whenever it can still be reached.
     try {
@@ -193,28 +283,65 @@ device::LogPull Acquire(device::Connection& c, const wire::AcqConfigureRequest& 
   }
 }
 
+/// Writes what a stopped acquisition kept and says how much and where; then ends the command
+/// with the exit code of its cause.
+void KeepStopped(device::Connection& c, const device::LogPull& pull, const AcquireArgs& a,
+                 const wire::AcqConfigureRequest& cfg, StopCause cause, ClaimedOutput& output) {
+  const double log_rate_hz = 1e6 / cfg.sample_period_us / cfg.decimation;
+  const std::string why = cause == StopCause::kCtrlC
+                              ? "stopped by Ctrl-C"
+                              : "the trigger did not fire within " +
+                                    FormatNumber(a.trigger_timeout_s) + " s (--trigger-timeout-s)";
+  if (pull.records.empty()) {
+    const std::string what =
+        why + ": acquisition stopped before anything was recorded" +
+        (cause == StopCause::kCtrlC && cfg.trigger_mode != wire::TriggerMode::kImmediate
+             ? " (the trigger had not fired)"
+             : "") +
+        ", nothing written";
+    if (cause == StopCause::kCtrlC) throw device::Interrupted(what);
+    throw device::DeviceError(what);
+  }
+  WriteLog(c, pull, output);
+  char line[300];
+  std::snprintf(line, sizeof line, "vibid: %s: kept %zu records (%.3f s at %g Hz) in %s\n",
+                why.c_str(), pull.records.size(),
+                static_cast<double>(pull.records.size()) / log_rate_hz, log_rate_hz,
+                output.Name().c_str());
+  std::cerr << line;
+  if (cause == StopCause::kCtrlC) throw StoppedByInterrupt();
+  throw device::DeviceError(why + ": acquisition stopped, the records before it kept");
+}
+
 void Run(const AcquireArgs& a) {
   Trigger trig;
   wire::AcqConfigureRequest cfg = AcquireConfig(a, trig);
-  WithDevice(*a.globals, [&](device::Connection& c) {
-    ApplyCalibration(c, a, trig, cfg);
-    // Preflight: records the link cannot carry pile up in the log; refuse before the board
-    // starts if it would overflow.
-    const device::LinkBudget budget = device::ComputeLinkBudget(c.info(), cfg);
-    if (budget.overflow_after_s < a.seconds + a.pretrigger_s && !a.allow_drops) {
-      throw InputError(device::DescribeOverflow(budget, a.seconds));
-    }
-    cfg.flags = static_cast<std::uint8_t>(cfg.flags | wire::kAcqFlagStream);
-    if (!a.scenario.empty()) c.SelectScenario(a.scenario, a.scenario_params);
-    c.Configure(cfg);
-    device::LogPull pull;
-    try {
-      pull = Acquire(c, cfg, budget);
-    } catch (const device::IncompleteLog& e) {
-      WriteIncomplete(c, e, a.output);
-    }
-    WriteLog(c, pull, a.output);
-  });
+  // Claimed before the board starts: a path that cannot be written is refused now, not after.
+  ClaimedOutput output(a.output);
+  WithDevice(
+      *a.globals,
+      [&](device::Connection& c) {
+        ApplyCalibration(c, a, trig, cfg);
+        // Preflight: records the link cannot carry pile up in the log; refuse before the board
+        // starts if it would overflow.
+        const device::LinkBudget budget = device::ComputeLinkBudget(c.info(), cfg);
+        if (budget.overflow_after_s < a.seconds + a.pretrigger_s && !a.allow_drops) {
+          throw InputError(device::DescribeOverflow(budget, a.seconds));
+        }
+        cfg.flags = static_cast<std::uint8_t>(cfg.flags | wire::kAcqFlagStream);
+        if (!a.scenario.empty()) c.SelectScenario(a.scenario, a.scenario_params);
+        c.Configure(cfg);
+        StopWatch stop(c, a, trig);
+        device::LogPull pull;
+        try {
+          pull = Acquire(c, cfg, budget, stop);
+        } catch (const device::IncompleteLog& e) {
+          WriteIncomplete(c, e, output);
+        }
+        if (pull.stopped) KeepStopped(c, pull, a, cfg, stop.cause(), output);
+        WriteLog(c, pull, output);
+      },
+      CtrlC::kStopsAcquisition);
 }
 
 constexpr const char* kPullHelp = "Pull the log of the last acquisition into a CSV";
@@ -227,6 +354,8 @@ struct PullArgs {
 };
 
 void Run(const PullArgs& a) {
+  // Claimed before the pull: a path that cannot be written is refused now, not after.
+  ClaimedOutput output(a.output);
   WithDevice(*a.globals, [&](device::Connection& c) {
     device::LogPull pull;
     try {
@@ -246,17 +375,18 @@ void Run(const PullArgs& a) {
       }
       pull = c.PullLog(first, bar.Callback());
     } catch (const device::IncompleteLog& e) {
-      WriteIncomplete(c, e, a.output);
+      WriteIncomplete(c, e, output);
     } catch (const device::Interrupted&) {
-      throw device::DeviceError("interrupted: nothing written");
+      throw device::Interrupted("interrupted: nothing written");
     }
-    WriteLog(c, pull, a.output);
+    WriteLog(c, pull, output);
   });
 }
 
 void RegisterAcquire(CLI::App& app, const GlobalOptions& globals) {
   const auto [acq, o] = AddCommand<AcquireArgs>(app, "acquire", kAcquireHelp, Run);
   o->globals = &globals;
+  TakesDeviceOption(acq);
   acq->add_option("--seconds", o->seconds, "Seconds to record after the trigger")
       ->required()
       ->check(PositiveNumber());
@@ -278,6 +408,10 @@ void RegisterAcquire(CLI::App& app, const GlobalOptions& globals) {
                   "Channels to log: force1,force2,acc1,acc2,x1,x2 (default all)")
       ->delimiter(',');
   acq->add_option("--trigger", o->trigger, "Start on a load cell threshold: force>F (N), force2<F");
+  acq->add_option("--trigger-timeout-s", o->trigger_timeout_s,
+                  "Give up when the trigger has not fired after this many seconds (default: "
+                  "wait until Ctrl-C)")
+      ->check(PositiveNumber());
   acq->add_option("--pretrigger-s", o->pretrigger_s, "Seconds kept before the trigger")
       ->check(NonNegativeNumber());
   acq->add_option("--scenario", o->scenario,
@@ -296,6 +430,7 @@ void RegisterLogPull(CLI::App& app, const GlobalOptions& globals) {
   CLI::App* pull_cmd = added.first;
   PullArgs* po = added.second;
   po->globals = &globals;
+  TakesDeviceOption(pull_cmd);
   pull_cmd->add_option("-o,--output", po->output, "Output CSV")->required();
   pull_cmd
       ->add_option("--from", po->first,

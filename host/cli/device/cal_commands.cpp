@@ -232,6 +232,7 @@ void RegisterCalCommands(CLI::App& app, const GlobalOptions& globals) {
 
   const auto [upload, uo] = AddCommand<UploadArgs>(*cal, "upload", kUploadHelp, Run);
   uo->globals = &globals;
+  TakesDeviceOption(upload);
   upload->add_option("model", uo->model, "Model file (M, C, K) of the rig")->required();
   upload->add_option("--design", uo->design, "Observer design file from `vibid dob design`")
       ->required();
@@ -242,10 +243,12 @@ void RegisterCalCommands(CLI::App& app, const GlobalOptions& globals) {
 
   const auto [show, show_args] = AddCommand<ShowArgs>(*cal, "show", kShowHelp, Run);
   show_args->globals = &globals;
+  TakesDeviceOption(show);
   show->add_flag("--json", show_args->json, "Print JSON");
 
   const auto [commit, commit_args] = AddCommand<CommitArgs>(*cal, "commit", kCommitHelp, Run);
   commit_args->globals = &globals;
+  TakesDeviceOption(commit);
 }
 
 }  // namespace vibid::cli

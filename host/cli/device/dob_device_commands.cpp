@@ -20,7 +20,10 @@ struct DobControlArgs {
 void Run(const DobControlArgs& a) {
   WithDevice(*a.globals, [&](device::Connection& c) {
     c.DobControl(a.running);
-    std::cout << (a.running ? "observer running\n" : "observer stopped\n");
+    // The board samples only while an acquisition runs: say when the observer will step.
+    std::cout << (a.running ? "observer on: it steps on every sample of the acquisitions that "
+                              "follow (the board samples only while one runs)\n"
+                            : "observer off\n");
   });
 }
 
@@ -29,8 +32,10 @@ void Run(const DobControlArgs& a) {
 void RegisterDobDeviceCommands(CLI::App& dob, const GlobalOptions& globals) {
   const auto [start, start_args] = AddCommand<DobControlArgs>(dob, "start", kDobStartHelp, Run);
   *start_args = {.globals = &globals, .running = true};
+  TakesDeviceOption(start);
   const auto [stop, stop_args] = AddCommand<DobControlArgs>(dob, "stop", kDobStopHelp, Run);
   *stop_args = {.globals = &globals, .running = false};
+  TakesDeviceOption(stop);
 }
 
 }  // namespace vibid::cli

@@ -35,7 +35,7 @@ void Run(const FlashArgs& a) {
   const std::optional<long long> address = ParseInteger(a.address, 0);
   Require(address && *address >= kFlashBase && *address <= 0xFFFFFFFFll,
           "--address '" + a.address + "' must be a flash address from 0x08000000");
-  const device::DeviceSpec spec = device::ParseDeviceSpec(a.globals->device);
+  const device::DeviceSpec spec = ChosenDevice(*a.globals);
   ProgressBar erase("erase"), download("download"), verify("verify");
   const device::FlashProgress progress = [&](const std::string& phase, std::uint64_t done,
                                              std::uint64_t total) {
@@ -68,6 +68,7 @@ void Run(const FlashArgs& a) {
 void RegisterFlashCommand(CLI::App& app, const GlobalOptions& globals) {
   const auto [flash, o] = AddCommand<FlashArgs>(app, "flash", kFlashHelp, Run);
   o->globals = &globals;
+  TakesDeviceOption(flash);
   flash->add_option("image", o->image, "Raw image (.bin)")->required();
   flash->add_option("--address", o->address, "Flash address of the image's first byte")
       ->capture_default_str();

@@ -2,6 +2,7 @@
 #include <chrono>
 #include <cstdio>
 #include <iostream>
+#include <optional>
 #include <sstream>
 #include <thread>
 
@@ -12,6 +13,9 @@
 #include "device_commands.hpp"
 #include "session.hpp"
 #include "vibid/common/enum_names.hpp"
+#include "vibid/common/error.hpp"
+#include "vibid/device/board_report.hpp"
+#include "vibid/device/error.hpp"
 #include "vibid/device/log_table.hpp"
 #include "vibid/device/select.hpp"
 #include "vibid/shared/wire/log_record.hpp"
@@ -56,7 +60,27 @@ std::string Hex32(std::uint32_t v) {
   return b;
 }
 
-nlohmann::json InfoJson(const device::Connection& c, const wire::InfoResponse& i) {
+/// Clipped samples per channel of the last acquisition; null from a 2.0 board.
+nlohmann::json ClipsJson(const std::optional<wire::ClipResponse>& clips) {
+  if (!clips) return nullptr;
+  nlohmann::json per_channel = nlohmann::json::object();
+  for (std::size_t k = 0; k < wire::kChannelCount; ++k)
+    per_channel[device::ChannelStem(static_cast<wire::Channel>(k))] = clips->clipped[k];
+  return {{"samples", clips->ticks}, {"channels", per_channel}};
+}
+
+nlohmann::json InfoJson(const device::Connection& c, const wire::InfoResponse& i,
+                        const std::optional<wire::ClipResponse>& clips,
+                        const std::optional<wire::SamplingInfoResponse>& sampling) {
+  // Channel -> us after the timer edge; null for a board of protocol 2.0, which does not say.
+  nlohmann::json instants = nullptr;
+  if (sampling) {
+    instants = nlohmann::json::object();
+    for (std::size_t k = 0; k < wire::kChannelCount; ++k) {
+      instants[device::ChannelStem(static_cast<wire::Channel>(k))] =
+          sampling->sample_instant_ns[k] / 1000.0;
+    }
+  }
   nlohmann::json channels = nlohmann::json::array();
   nlohmann::json formats = nlohmann::json::object();
   for (std::size_t k = 0; k < wire::kChannelCount; ++k) {
@@ -87,20 +111,47 @@ nlohmann::json InfoJson(const device::Connection& c, const wire::InfoResponse& i
       {"adc_bits", i.adc_bits},
       {"channels", channels},
       {"channel_formats", formats},
+      {"sample_instants_us", instants},
       {"reset_cause", NameOf(kResetNames, i.reset_cause, "unknown")},
       {"calibrated", i.cal_state == wire::CalState::kCalibrated},
       {"cal_slot",
        i.cal_slot == wire::kNoSlot ? nlohmann::json(nullptr) : nlohmann::json(i.cal_slot)},
       {"cal_crc", Hex32(i.cal_crc)},
       {"overrun_count", i.overrun_count},
-      {"dropped_records", i.dropped_records}};
+      {"dropped_records", i.dropped_records},
+      {"clipped", ClipsJson(clips)}};
 }
 
-constexpr const char* kDevicesHelp = "List the vibid boards and emulators this host can reach";
+constexpr const char* kDevicesHelp =
+    "List the vibid boards and emulators this host can reach; with --device or VIBID_DEVICE, "
+    "probe the one it names";
 
-struct DevicesArgs {};
+struct DevicesArgs {
+  const GlobalOptions* globals = nullptr;
+};
 
-void Run(const DevicesArgs&) {
+/// One line for the board `choice` names: what answers there, or a DeviceError saying nothing does.
+void Probe(const GlobalOptions& globals, const device::DeviceChoice& choice) {
+  try {
+    WithDevice(globals, [&](device::Connection& c) {
+      const nlohmann::json j = InfoJson(c, c.info(), std::nullopt, std::nullopt);
+      std::cout << choice.text << "\t" << j["board"].get<std::string>() << ", firmware "
+                << j["firmware"].get<std::string>() << ", protocol "
+                << j["protocol"].get<std::string>() << ", "
+                << (j["calibrated"].get<bool>() ? "calibrated" : "not calibrated") << " ("
+                << c.Describe() << ")\n";
+    });
+  } catch (const device::Interrupted&) {
+    throw;
+  } catch (const device::DeviceError& e) {
+    throw device::DeviceError("no vibid board answers at " + choice.text + " (from " +
+                              choice.origin + "): " + e.what());
+  }
+}
+
+void Run(const DevicesArgs& a) {
+  const device::DeviceChoice choice = device::ChooseDevice(a.globals->device);
+  if (!choice.text.empty()) return Probe(*a.globals, choice);
   const auto all = device::ListDevices();
   if (all.empty()) {
     std::cout << "no vibid device found (no board on USB HID, no vibid-emu on 127.0.0.1:3240)\n";
@@ -133,6 +184,16 @@ std::string InfoText(const device::Connection& c, const nlohmann::json& j) {
     << std::uint32_t{i.link_reports_per_s} * wire::kLogRecordPayload << " B/s of log records)\n"
     << "channels      ";
   for (const auto& ch : j["channels"]) o << ch.get<std::string>() << " ";
+  o << "\ninstants      ";
+  if (j["sample_instants_us"].is_null()) {
+    o << "not stated (protocol 2.0 board)";
+  } else {
+    for (const auto& ch : j["channels"]) {
+      o << ch.get<std::string>() << " "
+        << j["sample_instants_us"][ch.get<std::string>()].get<double>() << " ";
+    }
+    o << "(us after the sample clock's edge)";
+  }
   o << "\ncalibration   ";
   if (i.cal_state == wire::CalState::kCalibrated) {
     o << "slot " << static_cast<int>(i.cal_slot) << ", crc " << j["cal_crc"].get<std::string>();
@@ -141,18 +202,44 @@ std::string InfoText(const device::Connection& c, const nlohmann::json& j) {
   }
   o << "\nreset cause   " << j["reset_cause"].get<std::string>() << "\n"
     << "errors        " << i.overrun_count << " overruns, " << i.dropped_records
-    << " dropped records\n";
+    << " dropped records\n"
+    << "clipped       ";
+  const nlohmann::json& clips = j["clipped"];
+  if (clips.is_null()) {
+    o << "not counted per channel by this firmware (protocol " << j["protocol"].get<std::string>()
+      << ")\n";
+    return o.str();
+  }
+  const std::uint32_t samples = clips["samples"].get<std::uint32_t>();
+  if (samples == 0) {
+    o << "none (nothing sampled since the board started)\n";
+    return o.str();
+  }
+  std::string counts;
+  for (const auto& ch : j["channels"]) {  // in channel order
+    const auto n = clips["channels"][ch.get<std::string>()].get<std::uint32_t>();
+    if (n != 0)
+      counts += (counts.empty() ? "" : ", ") + ch.get<std::string>() + " " + std::to_string(n);
+  }
+  o << (counts.empty() ? "none" : counts) << " of " << samples
+    << " samples in the last acquisition\n";
   return o.str();
 }
 
 void Run(const InfoArgs& a) {
   WithDevice(*a.globals, [&](device::Connection& c) {
-    const nlohmann::json j = InfoJson(c, c.info());
+    const nlohmann::json j = InfoJson(c, c.info(), c.GetClips(), c.GetSamplingInfo());
     std::cout << (a.json ? j.dump(2) + "\n" : InfoText(c, j));
   });
 }
 
-constexpr const char* kMonitorHelp = "Print the board's live calibrated values until Ctrl-C";
+constexpr const char* kMonitorHelp =
+    "Print the board's live calibrated values until Ctrl-C (the board samples only while an "
+    "acquisition runs)";
+
+/// Each line costs two exchanges (read-latest, get-status), each one report out and one back;
+/// the link moves one report each way per 1 ms frame, so a line takes 2 ms at the least.
+constexpr double kMinMonitorIntervalS = 0.002;
 
 struct MonitorArgs {
   const GlobalOptions* globals = nullptr;
@@ -170,8 +257,15 @@ void PrintMonitorHeader(const wire::CalibrationRecord& rec, bool has_record) {
   std::cout << "\td_hat_q31\tstate" << std::endl;
 }
 
-void PrintMonitorLine(const wire::LatestResponse& l, const wire::CalibrationRecord& rec,
-                      bool has_record) {
+void PrintMonitorLine(const wire::LatestResponse& l, const wire::StatusResponse& st,
+                      const wire::CalibrationRecord& rec, bool has_record) {
+  const device::LatestKind kind = device::ClassifyLatest(l, st);
+  if (kind == device::LatestKind::kNoFrame) {
+    // Zeros here would read as a measurement; there is none.
+    std::cout << "-\tidle: no samples (the board samples only while an acquisition runs)"
+              << std::endl;
+    return;
+  }
   std::cout << l.tick;
   for (std::size_t k = 0; k < wire::kChannelCount; ++k) {
     const wire::ChannelScaling s = has_record ? rec.channels[k] : wire::DefaultScaling();
@@ -180,21 +274,31 @@ void PrintMonitorLine(const wire::LatestResponse& l, const wire::CalibrationReco
                          : l.calibrated[k] * (static_cast<double>(s.full_scale) / 2147483648.0);
     std::cout << "\t" << v;
   }
-  std::cout << "\t" << l.d_hat << "\t"
-            << (l.acq_state == wire::AcqState::kIdle   ? "idle"
-                : l.acq_state == wire::AcqState::kDone ? "done"
-                                                       : "sampling")
+  std::cout << "\t" << l.d_hat << "\t";
+  if (kind == device::LatestKind::kStopped) {
+    std::cout << "stopped: the last frame of the acquisition that "
+              << (l.acq_state == wire::AcqState::kDone ? "ended" : "was stopped") << std::endl;
+    return;
+  }
+  std::cout << (l.acq_state == wire::AcqState::kArmed ? "armed" : "sampling")
             << (l.dob_running != 0 ? "+dob" : "") << std::endl;
 }
 
 void Run(const MonitorArgs& a) {
+  std::ostringstream interval;
+  interval << a.interval_s;
+  Require(a.interval_s >= kMinMonitorIntervalS,
+          "--interval-s " + interval.str() +
+              ": a line takes two exchanges (read-latest, get-status) of one 64-byte report each "
+              "way, and the link moves one report each way per 1 ms frame; use 0.002 or more");
   WithDevice(*a.globals, [&](device::Connection& c) {
     bool has_record = false;
     const wire::CalibrationRecord rec = ActiveRecord(c, has_record);
     PrintMonitorHeader(rec, has_record);
     for (int n = 0; a.count == 0 || n < a.count; ++n) {
       if (InterruptFlag().load()) break;
-      PrintMonitorLine(c.ReadLatest(), rec, has_record);
+      const wire::LatestResponse latest = c.ReadLatest();
+      PrintMonitorLine(latest, c.GetStatus(), rec, has_record);
       std::this_thread::sleep_for(std::chrono::duration<double>(a.interval_s));
     }
   });
@@ -203,15 +307,21 @@ void Run(const MonitorArgs& a) {
 }  // namespace
 
 void RegisterInfoCommands(CLI::App& app, const GlobalOptions& globals) {
-  AddCommand<DevicesArgs>(app, "devices", kDevicesHelp, Run);
+  const auto [devices, devices_args] = AddCommand<DevicesArgs>(app, "devices", kDevicesHelp, Run);
+  devices_args->globals = &globals;
+  TakesDeviceOption(devices);
 
   const auto [info, info_args] = AddCommand<InfoArgs>(app, "info", kInfoHelp, Run);
   info_args->globals = &globals;
+  TakesDeviceOption(info);
   info->add_flag("--json", info_args->json, "Print JSON");
 
   const auto [monitor, mo] = AddCommand<MonitorArgs>(app, "monitor", kMonitorHelp, Run);
   mo->globals = &globals;
-  monitor->add_option("--interval-s", mo->interval_s, "Seconds between lines")
+  TakesDeviceOption(monitor);
+  monitor
+      ->add_option("--interval-s", mo->interval_s,
+                   "Seconds between lines (at least 0.002: two exchanges of one 1 ms frame each)")
       ->check(PositiveNumber());
   monitor->add_option("--count", mo->count, "Stop after this many lines (default: until Ctrl-C)")
       ->check(CLI::NonNegativeNumber);

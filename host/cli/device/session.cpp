@@ -11,9 +11,13 @@
 namespace vibid::cli {
 namespace {
 
-std::atomic<bool> g_interrupted{false};
+std::atomic<bool> g_interrupted{false};  // the first Ctrl-C
+std::atomic<bool> g_aborted{false};      // a second one
+static_assert(std::atomic<bool>::is_always_lock_free, "set from a signal handler");
 
-extern "C" void OnSigint(int) { g_interrupted.store(true); }
+extern "C" void OnSigint(int) {
+  if (g_interrupted.exchange(true)) g_aborted.store(true);
+}
 
 /// Installs the SIGINT handler for its lifetime, restoring the previous one after.
 class SigintGuard {
@@ -36,12 +40,27 @@ class SigintGuard {
 
 const std::atomic<bool>& InterruptFlag() { return g_interrupted; }
 
-void WithDevice(const GlobalOptions& globals,
-                const std::function<void(device::Connection&)>& body) {
-  const device::DeviceSpec spec = device::ParseDeviceSpec(globals.device);
+void TakesDeviceOption(CLI::App* command) {
+  // The command's own --help lists its options only: say where the board comes from.
+  command->footer(
+      "The board: --device hid[:SERIAL]|usbip://HOST:PORT|serial:PATH|qemu, before or after the "
+      "command's name; default: the VIBID_DEVICE environment variable (the option wins over it), "
+      "else the only board found.");
+  for (CLI::App* a = command; a != nullptr && a->get_parent() != nullptr; a = a->get_parent())
+    a->fallthrough();
+}
+
+device::DeviceSpec ChosenDevice(const GlobalOptions& globals) {
+  const device::DeviceChoice choice = device::ChooseDevice(globals.device);
+  return device::ParseDeviceSpec(choice.text, choice.origin);
+}
+
+void WithDevice(const GlobalOptions& globals, const std::function<void(device::Connection&)>& body,
+                CtrlC ctrl_c) {
+  const device::DeviceSpec spec = ChosenDevice(globals);
   SigintGuard guard;
   device::ConnectionOptions options;
-  options.cancel = &g_interrupted;
+  options.cancel = ctrl_c == CtrlC::kInterrupts ? &g_interrupted : &g_aborted;
   device::Connection connection(device::OpenTransport(spec), options);
   body(connection);
 }

@@ -7,19 +7,38 @@
 #include <memory>
 #include <string>
 
+#include <CLI/CLI.hpp>
+
 #include "commands.hpp"
 #include "vibid/device/connection.hpp"
+#include "vibid/device/select.hpp"
 #include "vibid/shared/wire/calibration_record.hpp"
 
 namespace vibid::cli {
 
-/// Set by the SIGINT handler while a device command runs.
+/// Set by the SIGINT handler (the first Ctrl-C) while a device command runs.
 const std::atomic<bool>& InterruptFlag();
 
-/// Runs `body` with the connection `globals.device` selects. SIGINT is caught for the duration
-/// (the body sees device::Interrupted from long transfers). A device::DeviceError goes on to main,
-/// which prints it on one line with exit code kExitDevice.
-void WithDevice(const GlobalOptions& globals, const std::function<void(device::Connection&)>& body);
+/// What Ctrl-C does to a device command.
+enum class CtrlC {
+  kInterrupts,        ///< The first interrupts long transfers (device::Interrupted).
+  kStopsAcquisition,  ///< The first only sets InterruptFlag (the command stops the acquisition
+                      ///< and keeps its record); a second interrupts.
+};
+
+/// Lets `command` (and the commands above it) take the global --device after its own name too:
+/// an option it does not know goes on to the top level, where --device is defined once, so
+/// `vibid --device X info` and `vibid info --device X` mean the same (given twice, it is refused).
+void TakesDeviceOption(CLI::App* command);
+
+/// The board --device or $VIBID_DEVICE names (the option wins), kAny when neither does.
+device::DeviceSpec ChosenDevice(const GlobalOptions& globals);
+
+/// Runs `body` with the connection ChosenDevice selects. SIGINT is caught for the duration
+/// (`ctrl_c` says what it does). A device::DeviceError goes on to main, which prints it on one
+/// line with exit code kExitDevice (kExitInterrupted for device::Interrupted).
+void WithDevice(const GlobalOptions& globals, const std::function<void(device::Connection&)>& body,
+                CtrlC ctrl_c = CtrlC::kInterrupts);
 
 /// The board's active calibration record; `has_record` false when it is uncalibrated.
 wire::CalibrationRecord ActiveRecord(device::Connection& c, bool& has_record);

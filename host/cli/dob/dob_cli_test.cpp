@@ -227,6 +227,14 @@ TEST_F(DobCli, RunRefusesBadInput) {
   r = RunDob({.design = dir_ + "/tampered.json", .response = "x1_m", .out = out});
   EXPECT_EQ(r.exit_code, 1);
   EXPECT_NE(r.err.find("data-loss"), std::string::npos) << r.err;
+  // A misspelt key is refused wherever it sits, the nearest valid one named.
+  j = ReadJson(design);
+  j["discrete"]["inputs"][0]["full_scale_n"] = j["discrete"]["inputs"][0]["full_scale"];
+  WriteFileAtomic(dir_ + "/misspelt.json", j.dump());
+  r = RunDob({.design = dir_ + "/misspelt.json", .response = "x1_m", .out = out});
+  EXPECT_EQ(r.exit_code, 1);
+  EXPECT_EQ(r.err, "vibid: error: unknown key 'full_scale_n' in design file " + dir_ +
+                       "/misspelt.json discrete.inputs (did you mean 'full_scale'?)\n");
   r = RunDob({.more = {"--lowpass-hz", "3000"}, .out = out});
   EXPECT_EQ(r.exit_code, 1);
   EXPECT_FALSE(std::filesystem::exists(out));

@@ -29,8 +29,10 @@ DecaySet AnalyzeAll(const std::vector<std::string>& paths, const std::string& po
   for (const std::string& p : paths) {
     RecordingOptions ro;
     if (fs_hz > 0.0) ro.fs_hz = fs_hz;
+    const ColumnSpec spec = ParseColumnSpec(position);
+    ro.channels = {spec.name};
     const Recording rec = LoadRecording(p, ro);
-    const Eigen::VectorXd x = rec.Signal(ParseColumnSpec(position)) * scale;
+    const Eigen::VectorXd x = rec.Signal(spec) * scale;
     try {
       s.results.push_back(ident::AnalyzeDecay(x, rec.fs_hz, options));
     } catch (const InputError& e) {

@@ -44,10 +44,10 @@ void Run(const FrfEstimateArgs& a) {
     msg << "wrote " << a.output << ": " << ident::FrfKindName(e.frf.quantity) << ", "
         << e.frf.lines() << " lines, " << e.frf.responses() << " response(s), " << e.frf.averages
         << " average(s)\n"
-        << DescribeHits(e.hits);
+        << e.compensation << DescribeHits(e.hits);
     std::cout << msg.str();
-  } else if (!e.hits.empty()) {
-    std::cerr << DescribeHits(e.hits);
+  } else {
+    std::cerr << e.compensation << DescribeHits(e.hits);
   }
 }
 

@@ -9,14 +9,17 @@
 #include <iostream>
 #include <limits>
 #include <numbers>
+#include <optional>
 #include <sstream>
 
 #include "cli_support.hpp"
 #include "vibid/common/atomic_file.hpp"
 #include "vibid/common/csv.hpp"
 #include "vibid/common/error.hpp"
+#include "vibid/common/json_keys.hpp"
 #include "vibid/common/text_input.hpp"
 #include "vibid/ident/frf_io.hpp"
+#include "vibid/ident/sample_instants.hpp"
 
 namespace vibid::cli {
 
@@ -90,15 +93,49 @@ std::size_t DefaultSegment(std::size_t samples) {
 
 }  // namespace
 
+namespace {
+
+/// Moves every response to the force's sampling instant when the recording states the instants
+/// (a board's recording does); says what it did, or nothing for a recording without them.
+std::string CompensateInstants(const std::string& path, ident::Frf& frf) {
+  const std::optional<ident::SampleInstants> instants = ident::ReadSampleInstants(path);
+  if (!instants) return {};
+  const auto instant_of = [&](const std::string& column) {
+    const std::optional<double> t = instants->Of(column);
+    Require(t.has_value(),
+            path + ": the header's sample_instants_us does not name column '" + column + "'");
+    return *t;
+  };
+  const double force_s = instant_of(frf.force_name);
+  std::vector<double> response_s;
+  std::ostringstream text;
+  text.precision(6);
+  text << "sampling instants compensated (each response moved to " << frf.force_name
+       << "'s instant, H x exp(j omega (t_force - t_response))):";
+  for (const std::string& name : frf.response_names) {
+    response_s.push_back(instant_of(name));
+    text << " " << name << " " << (response_s.back() - force_s) * 1e6 << " us;";
+  }
+  ident::CompensateSampleInstants(frf, force_s, response_s);
+  std::string s = text.str();
+  s.back() = '\n';
+  return s;
+}
+
+}  // namespace
+
 Estimated EstimateFromRecording(const std::string& path, const EstimationArgs& a) {
   Require(!a.force.empty(), "--force is required to estimate an FRF from the recording " + path);
   Require(!a.responses.empty(),
           "--response is required to estimate an FRF from the recording " + path);
-  RecordingOptions ro;
-  if (a.fs_hz > 0.0) ro.fs_hz = a.fs_hz;
-  const Recording rec = LoadRecording(path, ro);
   const ColumnSpec fspec = ParseColumnSpec(a.force);
   const std::vector<ColumnSpec> rspecs = ParseColumnList(a.responses);
+  RecordingOptions ro;
+  if (a.fs_hz > 0.0) ro.fs_hz = a.fs_hz;
+  // Only the channels asked for must be numbers: a recording may carry other columns (notes).
+  ro.channels.push_back(fspec.name);
+  for (const ColumnSpec& spec : rspecs) ro.channels.push_back(spec.name);
+  const Recording rec = LoadRecording(path, ro);
   // Channels as the estimation reads them: the recording's own column where the spec does not
   // scale it (x * 1 is x), else a scaled copy; no record-length copy of the rest.
   std::deque<Eigen::VectorXd> scaled;
@@ -162,6 +199,7 @@ Estimated EstimateFromRecording(const std::string& path, const EstimationArgs& a
   }
   out.frf.response_names = names;
   out.frf.force_name = fspec.name;
+  out.compensation = CompensateInstants(path, out.frf);
   out.frf = ident::ConvertFrf(out.frf, kind);
   return out;
 }
@@ -202,6 +240,8 @@ void KeepEstimationNotes(const std::string& path, const Estimated& e, bool say_n
     std::cerr << "vibid: warning: " << w << "\n";
     notes.push_back(w);
   }
+  if (!e.compensation.empty())
+    notes.push_back(path + ": " + e.compensation.substr(0, e.compensation.size() - 1));
   std::istringstream in(DescribeHits(e.hits));
   for (std::string line; std::getline(in, line);) notes.push_back(path + ": " + line);
 }
@@ -257,8 +297,9 @@ nlohmann::json ModesToJson(const std::vector<ident::ModeEstimate>& modes) {
     j["shape"] = std::vector<double>(m.shape.data(), m.shape.data() + m.shape.size());
     if (m.HasIntervals()) {
       const auto pair = [](const std::array<double, 2>& ci) {
-        return std::isfinite(ci[0]) && std::isfinite(ci[1]) ? nlohmann::json{ci[0], ci[1]}
-                                                            : nlohmann::json(nullptr);
+        return std::isfinite(ci[0]) && std::isfinite(ci[1]) && ci[1] > ci[0]
+                   ? nlohmann::json{ci[0], ci[1]}
+                   : nlohmann::json(nullptr);
       };
       j["ci95"] = {{"omega_rad_s", pair(m.omega_ci95_rad_s)},
                    {"zeta", pair(m.zeta_ci95)},
@@ -273,6 +314,11 @@ std::vector<ident::ModeEstimate> ModesFromJson(const nlohmann::json& json,
                                                const std::string& source) {
   Require(json.is_object() && json.contains("modes") && json["modes"].is_array(),
           source + ": expected an object with a \"modes\" array");
+  // What `modes --json` writes around the modes; the reader takes the modes alone.
+  RequireKnownKeys(json,
+                   {"modes", "method", "responses", "warnings", "notes", "stabilization", "summary",
+                    "fit_band_hz", "rms_relative_error"},
+                   "modes file " + source);
   std::vector<ident::ModeEstimate> modes;
   std::size_t i = 0;
   for (const auto& m : json["modes"]) {
@@ -280,6 +326,8 @@ std::vector<ident::ModeEstimate> ModesFromJson(const nlohmann::json& json,
     const std::string where = source + ": mode " + std::to_string(i);
     Require(m.is_object() && m.contains("omega_rad_s") && m["omega_rad_s"].is_number(),
             where + ": omega_rad_s missing or not a number");
+    RequireKnownKeys(m, {"omega_rad_s", "freq_hz", "zeta", "ratio", "shape", "ci95"},
+                     "modes file " + source + " mode " + std::to_string(i));
     ident::ModeEstimate e;
     e.omega_rad_s = m["omega_rad_s"].get<double>();
     Require(std::isfinite(e.omega_rad_s) && e.omega_rad_s > 0.0,
@@ -291,12 +339,14 @@ std::vector<ident::ModeEstimate> ModesFromJson(const nlohmann::json& json,
                   : std::numeric_limits<double>::quiet_NaN();
     if (m.contains("ci95")) {
       Require(m["ci95"].is_object(), where + ": ci95 must be an object");
+      RequireKnownKeys(m["ci95"], {"omega_rad_s", "zeta", "ratio"},
+                       "modes file " + source + " mode " + std::to_string(i) + " ci95");
       const auto read = [&](const char* key, std::array<double, 2>& ci) {
         if (!m["ci95"].contains(key) || m["ci95"][key].is_null()) return;
         const nlohmann::json& v = m["ci95"][key];
         Require(v.is_array() && v.size() == 2 && v[0].is_number() && v[1].is_number() &&
-                    v[0].get<double>() <= v[1].get<double>(),
-                where + ": ci95." + key + " must be [lo, hi] with lo <= hi");
+                    v[0].get<double>() < v[1].get<double>(),
+                where + ": ci95." + key + " must be [lo, hi] with lo < hi (null: no interval)");
         ci = {v[0].get<double>(), v[1].get<double>()};
       };
       read("omega_rad_s", e.omega_ci95_rad_s);
@@ -357,14 +407,15 @@ std::string ModesTable(const std::vector<ident::ModeEstimate>& modes) {
   }
   const auto pm = [](double value, const std::array<double, 2>& ci, const char* format) {
     char text[96];
-    if (std::isfinite(ci[0]) && std::isfinite(ci[1])) {
+    std::snprintf(text, sizeof text, format, value);
+    // The library gives an interval only with a positive width; one it could not estimate is
+    // said as such, never shown as +- 0.
+    if (std::isfinite(ci[0]) && std::isfinite(ci[1]) && ci[1] > ci[0]) {
       char hw[32];
       std::snprintf(hw, sizeof hw, "%.2g", 0.5 * (ci[1] - ci[0]));
-      std::snprintf(text, sizeof text, format, value);
       return std::string(text) + " +- " + hw;
     }
-    std::snprintf(text, sizeof text, format, value);
-    return std::string(text);
+    return std::string(text) + (std::isfinite(value) ? " +- n/a" : "");
   };
   for (std::size_t i = 0; i < modes.size(); ++i) {
     const auto& m = modes[i];

@@ -44,6 +44,8 @@ struct Estimated {
   /// One line saying how the recording was processed when that was chosen automatically.
   std::string note;
   std::vector<std::string> warnings;  ///< From the impact processing (double hits, usable band).
+  /// The sampling-instant compensation applied (one line), empty when the recording states none.
+  std::string compensation;
 };
 
 /// Reads a recording and estimates the FRF of every response to the force, converted to the

@@ -13,7 +13,10 @@
 
 #include "run_cli.hpp"
 #include "vibid/common/atomic_file.hpp"
+#include "vibid/common/csv.hpp"
 #include "vibid/common/testing/real_data.hpp"
+#include "vibid/device/log_table.hpp"
+#include "vibid/ident/recording_columns.hpp"
 #include "vibid/ident/testing/hammer_test.hpp"
 #include "vibid/model/modal.hpp"
 #include "vibid/model/model.hpp"
@@ -29,7 +32,8 @@ std::string Write(const std::string& dir, const std::string& name, const std::st
   return path;
 }
 
-// Truth: chain m = (1.2, 0.8) kg, k = (3000, 2000) N/m, c = (0.9, 0.8) N*s/m. Each record is
+// Truth: chain m = (1.2, 0.8) kg, k = (3000, 2000) N/m, c = (0.9, 0.8) N*s/m. The columns are
+// named as `vibid acquire` writes them (force1_n, acc1_m_s2, ...). Each record is
 // simulated the first time a case asks for it (ctest runs every case in its own process).
 class Rig {
  public:
@@ -70,7 +74,7 @@ class Rig {
     return Write(dir, name,
                  ident::FormatHammerTestCsv(
                      ident::SimulateHammerTest(truth, ident::ModalTestSpec(kFsHz, seed)),
-                     {"acc1_m_s2", "acc2_m_s2"}));
+                     {"acc1_m_s2", "acc2_m_s2"}, "force1_n"));
   }
   std::string Mass(int i) const {
     const double ms[2] = {1.2, 0.8}, ks[2] = {3300, 2200};
@@ -78,8 +82,11 @@ class Rig {
         model::MakeChain(Eigen::VectorXd::Constant(1, ms[i]), Eigen::VectorXd::Constant(1, ks[i]),
                          Eigen::VectorXd::Constant(1, 2 * 0.02 * std::sqrt(ks[i] * ms[i])));
     const ident::HammerTestSpec spec = ident::MassTestSpec(kFsHz, 100u + static_cast<unsigned>(i));
-    return Write(dir, "mass" + std::to_string(i + 1) + ".csv",
-                 ident::FormatHammerTestCsv(ident::SimulateHammerTest(one, spec), {"acc_m_s2"}));
+    return Write(
+        dir, "mass" + std::to_string(i + 1) + ".csv",
+        ident::FormatHammerTestCsv(ident::SimulateHammerTest(one, spec),
+                                   {ident::AccelerationColumn(static_cast<std::size_t>(i) + 1)},
+                                   ident::ForceColumn()));
   }
 
   mutable std::string modal1_, modal2_, mass1_, mass2_, nominal_;
@@ -105,16 +112,17 @@ std::string MadeOnce(const std::string& path, const std::vector<std::string>& ar
 /// The H1 estimate of the first modal test (as FrfEstimateCli.ImpactCsvAndUff makes it).
 std::string ImpactFrfCsv() {
   const Rig& rig = SyntheticRig();
-  return MadeOnce(rig.dir + "/impact_frf.csv", {"frf-estimate", rig.modal1(), "--force", "force_n",
+  return MadeOnce(rig.dir + "/impact_frf.csv", {"frf-estimate", rig.modal1(), "--force", "force1_n",
                                                 "--response", "acc1_m_s2,acc2_m_s2", "--impact"});
 }
 
 /// The modes of the first modal test (as ModesCli.JsonSchemaAndTruth makes them).
 std::string Modes1Json() {
   const Rig& rig = SyntheticRig();
-  return MadeOnce(rig.dir + "/modes_of_test1.json",
-                  {"modes", rig.modal1(), "--force", "force_n", "--response", "acc1_m_s2,acc2_m_s2",
-                   "--impact", "--exp-window", "0.01", "--max-modes", "2", "--json"});
+  return MadeOnce(
+      rig.dir + "/modes_of_test1.json",
+      {"modes", rig.modal1(), "--force", "force1_n", "--response", "acc1_m_s2,acc2_m_s2",
+       "--impact", "--exp-window", "0.01", "--max-modes", "2", "--json"});
 }
 
 void ExpectInputError(const CliResult& r, const std::string& fragment) {
@@ -125,7 +133,7 @@ void ExpectInputError(const CliResult& r, const std::string& fragment) {
 
 TEST(FrfEstimateCli, ImpactCsvAndUff) {
   const Rig& rig = SyntheticRig();
-  const auto r = RunVibid({"frf-estimate", rig.modal1(), "--force", "force_n", "--response",
+  const auto r = RunVibid({"frf-estimate", rig.modal1(), "--force", "force1_n", "--response",
                            "acc1_m_s2,acc2_m_s2", "--impact", "-o", rig.dir + "/frf.csv"});
   ASSERT_EQ(r.exit_code, 0) << r.err;
   EXPECT_NE(r.out.find("10 average(s)"), std::string::npos) << r.out;
@@ -133,16 +141,79 @@ TEST(FrfEstimateCli, ImpactCsvAndUff) {
   EXPECT_EQ(csv.rfind("# vibid-frf kind=receptance estimator=h1 averages=10", 0), 0u)
       << csv.substr(0, 80);
   const auto u =
-      RunVibid({"frf-estimate", rig.modal1(), "--force", "force_n", "--response", "acc2_m_s2",
+      RunVibid({"frf-estimate", rig.modal1(), "--force", "force1_n", "--response", "acc2_m_s2",
                 "--impact", "--kind", "accelerance", "-o", rig.dir + "/frf.uff"});
   ASSERT_EQ(u.exit_code, 0) << u.err;
   EXPECT_EQ(ReadFileText(rig.dir + "/frf.uff").substr(0, 13), "    -1\n    58");
   // Welch on the same record to stdout.
   const auto w =
-      RunVibid({"frf-estimate", rig.modal1(), "--force", "force_n", "--response", "acc2_m_s2",
+      RunVibid({"frf-estimate", rig.modal1(), "--force", "force1_n", "--response", "acc2_m_s2",
                 "--segment", "2048", "--window", "hann", "--estimator", "h2"});
   ASSERT_EQ(w.exit_code, 0) << w.err;
   EXPECT_NE(w.out.find("estimator=h2"), std::string::npos);
+}
+
+// A tone on two channels sampled 3.238 us apart (the board's force2 after acc1: one 68-clock
+// conversion at 21 MHz), as a board recording states them in its header line.
+std::string ToneRecording(const std::string& dir, const std::string& name,
+                          const std::string& header) {
+  const double fs = 10000.0, f = 2437.0, force_us = 5.905, response_us = 2.667;
+  std::string text = header;
+  text += "t_s,force2_n,acc1_m_s2\n";
+  char line[128];
+  for (int i = 0; i < 10000; ++i) {
+    const double t = i / fs;
+    std::snprintf(line, sizeof(line), "%.17g,%.17g,%.17g\n", t,
+                  std::sin(2.0 * M_PI * f * (t + force_us * 1e-6)),
+                  std::sin(2.0 * M_PI * f * (t + response_us * 1e-6)));
+    text += line;
+  }
+  return Write(dir, name, text);
+}
+
+/// Phase of the FRF file's response at `freq_hz` (one of its lines).
+double FrfPhaseAt(const std::string& path, double freq_hz) {
+  const CsvTable t = ParseCsv(ReadFileText(path), path);
+  const Eigen::VectorXd& f = t.Column("freq_hz");
+  for (Eigen::Index k = 0; k < f.size(); ++k) {
+    if (f(k) == freq_hz)
+      return std::atan2(t.Column("acc1_m_s2_im")(k), t.Column("acc1_m_s2_re")(k));
+  }
+  ADD_FAILURE() << "no line at " << freq_hz << " Hz in " << path;
+  return NAN;
+}
+
+TEST(FrfEstimateCli, SampleInstantsInTheHeaderAreCompensatedAndStated) {
+  const Rig& rig = SyntheticRig();
+  const std::vector<std::string> welch = {
+      "--force",   "force2_n", "--response", "acc1_m_s2", "--welch", "--window",   "rect",
+      "--segment", "10000",    "--overlap",  "0",         "--kind",  "accelerance"};
+  const auto run = [&](const std::string& recording, const std::string& out) {
+    std::vector<std::string> args = {"frf-estimate", recording};
+    args.insert(args.end(), welch.begin(), welch.end());
+    args.insert(args.end(), {"-o", out});
+    return RunVibid(args);
+  };
+  // Without instants: the response, sampled 3.238 us before the force, shows
+  // exp(-j 2 pi 2437 Hz 3.238 us) = -0.049581 rad.
+  const std::string plain = ToneRecording(rig.dir, "tone_plain.csv", "");
+  const auto p = run(plain, rig.dir + "/plain.csv");
+  ASSERT_EQ(p.exit_code, 0) << p.err;
+  EXPECT_EQ(p.out.find("sampling instants"), std::string::npos) << p.out;
+  EXPECT_NEAR(FrfPhaseAt(rig.dir + "/plain.csv", 2437.0), -2.0 * M_PI * 2437.0 * 3.238e-6, 1e-9);
+  // With the board's header line: moved to the force's instant, and said.
+  const std::string stated =
+      ToneRecording(rig.dir, "tone_stated.csv",
+                    "# vibid-recording sample_instants_us=force2_n:5.905,acc1_m_s2:2.667\n");
+  const auto s = run(stated, rig.dir + "/stated.csv");
+  ASSERT_EQ(s.exit_code, 0) << s.err;
+  EXPECT_NE(s.out.find("sampling instants compensated"), std::string::npos) << s.out;
+  EXPECT_NE(s.out.find("acc1_m_s2 -3.238 us"), std::string::npos) << s.out;
+  EXPECT_NEAR(FrfPhaseAt(rig.dir + "/stated.csv", 2437.0), 0.0, 1e-9);
+  // A header that leaves out a column used is refused, naming it.
+  const std::string partial = ToneRecording(
+      rig.dir, "tone_partial.csv", "# vibid-recording sample_instants_us=force2_n:5.905\n");
+  ExpectInputError(run(partial, rig.dir + "/partial.csv"), "acc1_m_s2");
 }
 
 TEST(FrfEstimateCli, BadInput) {
@@ -151,14 +222,15 @@ TEST(FrfEstimateCli, BadInput) {
       RunVibid({"frf-estimate", rig.dir + "/missing.csv", "--force", "f", "--response", "x"}),
       "missing.csv");
   ExpectInputError(
-      RunVibid({"frf-estimate", rig.modal1(), "--force", "force_n", "--response", "nope"}), "nope");
-  ExpectInputError(RunVibid({"frf-estimate", rig.modal1(), "--force", "force_n", "--response",
+      RunVibid({"frf-estimate", rig.modal1(), "--force", "force1_n", "--response", "nope"}),
+      "nope");
+  ExpectInputError(RunVibid({"frf-estimate", rig.modal1(), "--force", "force1_n", "--response",
                              "acc1_m_s2", "--estimator", "h3"}),
                    "h3");
-  ExpectInputError(RunVibid({"frf-estimate", rig.modal1(), "--force", "force_n", "--response",
+  ExpectInputError(RunVibid({"frf-estimate", rig.modal1(), "--force", "force1_n", "--response",
                              "acc1_m_s2", "--segment", "64", "--overlap", "64"}),
                    "overlap");
-  ExpectInputError(RunVibid({"frf-estimate", rig.modal1(), "--force", "force_n", "--response",
+  ExpectInputError(RunVibid({"frf-estimate", rig.modal1(), "--force", "force1_n", "--response",
                              "acc1_m_s2", "--window", "kaiser"}),
                    "kaiser");
   const std::string nan = Write(rig.dir, "nan.csv", "t_s,f,x\n0,1,2\n0.1,nan,2\n0.2,1,2\n");
@@ -178,14 +250,14 @@ TEST(FrfEstimateCli, BadInput) {
   EXPECT_EQ(RunVibid({"frf-estimate", rig.modal1(), "--response", "acc1_m_s2"}).exit_code,
             2);  // --force missing
   // Nothing is written on failure.
-  RunVibid({"frf-estimate", rig.modal1(), "--force", "force_n", "--response", "nope", "-o",
+  RunVibid({"frf-estimate", rig.modal1(), "--force", "force1_n", "--response", "nope", "-o",
             rig.dir + "/never.csv"});
   EXPECT_FALSE(std::filesystem::exists(rig.dir + "/never.csv"));
 }
 
 TEST(ModesCli, JsonSchemaAndTruth) {
   const Rig& rig = SyntheticRig();
-  const auto r = RunVibid({"modes", rig.modal1(), "--force", "force_n", "--response",
+  const auto r = RunVibid({"modes", rig.modal1(), "--force", "force1_n", "--response",
                            "acc1_m_s2,acc2_m_s2", "--impact", "--exp-window", "0.01", "--max-modes",
                            "2", "--json", "-o", rig.dir + "/modes1.json"});
   ASSERT_EQ(r.exit_code, 0) << r.err;
@@ -223,8 +295,8 @@ TEST(ModesCli, JsonSchemaAndTruth) {
 // (model core) and the closed-form a1/a2 of the chain.
 TEST(ModesCli, DefaultPathRecognisesAnImpactTest) {
   const Rig& rig = SyntheticRig();
-  const auto r = RunVibid(
-      {"modes", rig.modal1(), "--force", "force_n", "--response", "acc1_m_s2,acc2_m_s2", "--json"});
+  const auto r = RunVibid({"modes", rig.modal1(), "--force", "force1_n", "--response",
+                           "acc1_m_s2,acc2_m_s2", "--json"});
   ASSERT_EQ(r.exit_code, 0) << r.err;
   EXPECT_NE(r.err.find("processed as an impact test"), std::string::npos) << r.err;
   const json j = json::parse(r.out);
@@ -245,15 +317,15 @@ TEST(ModesCli, DefaultPathRecognisesAnImpactTest) {
     EXPECT_NEAR(omega, cm.omega_rad_s[i], 0.0005 * cm.omega_rad_s[i]);
     EXPECT_NEAR(zeta, cm.zeta[i], 0.03 * cm.zeta[i]);
   }
-  const auto w = RunVibid({"modes", rig.modal1(), "--force", "force_n", "--response",
+  const auto w = RunVibid({"modes", rig.modal1(), "--force", "force1_n", "--response",
                            "acc1_m_s2,acc2_m_s2", "--welch", "--method", "fit"});
   EXPECT_EQ(w.err.find("processed as an impact test"), std::string::npos) << w.err;
-  EXPECT_EQ(RunVibid({"modes", rig.modal1(), "--force", "force_n", "--response", "acc1_m_s2",
+  EXPECT_EQ(RunVibid({"modes", rig.modal1(), "--force", "force1_n", "--response", "acc1_m_s2",
                       "--welch", "--impact"})
                 .exit_code,
             2);
   const auto bad = RunVibid(
-      {"modes", rig.modal1(), "--force", "force_n", "--response", "acc1_m_s2", "--orders", "9:3"});
+      {"modes", rig.modal1(), "--force", "force1_n", "--response", "acc1_m_s2", "--orders", "9:3"});
   EXPECT_EQ(bad.exit_code, 1);
   EXPECT_NE(bad.err.find("--orders '9:3'"), std::string::npos) << bad.err;
 }
@@ -273,6 +345,56 @@ TEST(ModesCli, DefaultFallsBackWhenLscfFindsNoStablePole) {
   EXPECT_EQ(j["stabilization"]["method"], "lsce");
 }
 
+// Hits faster than the chain rings down (every 1.05 to 1.95 s: records of about a second, lines
+// about 1 Hz apart), the emulated rig's chain with c = 1.43e-3 k. `vibid modes` with its defaults
+// and with the orders of the report give both modes, a1/a2 of opposite signs as the closed form
+// (0.5678, -1.4806), and no interval printed as +- 0 (text) or of zero width (JSON).
+TEST(ModesCli, ShortRecordsGiveTheModesAndNoPointInterval) {
+  const Rig& rig = SyntheticRig();
+  const std::string rec = rig.dir + "/short_hits.csv";
+  if (!std::filesystem::exists(rec)) {
+    const model::Model truth =
+        model::MakeChain(Eigen::Vector2d(1.82, 1.53), Eigen::Vector2d(3520, 2760),
+                         Eigen::Vector2d(1.43e-3 * 3520, 1.43e-3 * 2760));
+    const ident::HammerTestSpec spec{.hammer_dof = 1,
+                                     .fs_hz = Rig::kFsHz,
+                                     .hits = 26,
+                                     .hit_peak_n = 100,
+                                     .spacing_min_s = 1.05,
+                                     .spacing_max_s = 1.95,
+                                     .seed = 7};
+    Write(rig.dir, "short_hits.csv",
+          ident::FormatHammerTestCsv(ident::SimulateHammerTest(truth, spec),
+                                     {"acc1_m_s2", "acc2_m_s2"}));
+  }
+  const std::string frf =
+      MadeOnce(rig.dir + "/short_frf.csv",
+               {"frf-estimate", rec, "--force", "force_n", "--response", "acc1_m_s2,acc2_m_s2"});
+  const std::vector<std::vector<std::string>> runs = {
+      {"modes", frf}, {"modes", frf, "--fmax-hz", "30", "--orders", "4:12:2"}};
+  for (const auto& args : runs) {
+    const auto t = RunVibid(args);
+    ASSERT_EQ(t.exit_code, 0) << t.err;
+    EXPECT_EQ(t.out.find("+- 0 "), std::string::npos) << t.out;
+    std::vector<std::string> with_json = args;
+    with_json.push_back("--json");
+    const auto r = RunVibid(with_json);
+    ASSERT_EQ(r.exit_code, 0) << r.err;
+    const json j = json::parse(r.out);
+    ASSERT_EQ(j["modes"].size(), 2u) << r.out;
+    EXPECT_NEAR(j["modes"][0]["ratio"].get<double>(), 0.5678, 0.02 * 0.5678);
+    EXPECT_NEAR(j["modes"][1]["ratio"].get<double>(), -1.4806, 0.02 * 1.4806);
+    for (const auto& m : j["modes"]) {
+      if (!m.contains("ci95")) continue;
+      for (const auto& [key, ci] : m["ci95"].items()) {
+        if (!ci.is_null()) {
+          EXPECT_LT(ci[0].get<double>(), ci[1].get<double>()) << key;
+        }
+      }
+    }
+  }
+}
+
 TEST(ModesCli, BadInput) {
   const Rig& rig = SyntheticRig();
   ExpectInputError(RunVibid({"modes", rig.dir + "/none.csv", "--json"}), "none.csv");
@@ -286,7 +408,7 @@ TEST(ModesCli, BadInput) {
 TEST(UpdateCli, MassAndStiffness) {
   const Rig& rig = SyntheticRig();
   const auto m =
-      RunVibid({"update", "mass", rig.mass1(), "--force", "force_n", "--response", "acc_m_s2",
+      RunVibid({"update", "mass", rig.mass1(), "--force", "force1_n", "--response", "acc1_m_s2",
                 "--impact", "--stiffness-n-per-m", "3300", "--nominal-kg", "1.296", "--json"});
   ASSERT_EQ(m.exit_code, 0) << m.err;
   const json mj = json::parse(m.out);
@@ -296,8 +418,15 @@ TEST(UpdateCli, MassAndStiffness) {
   EXPECT_NEAR(mj["change_percent"].get<double>(),
               100 * (mj["mass_kg"].get<double>() - 1.296) / 1.296, 1e-9);
   EXPECT_NEAR(mj["zeta"].get<double>(), 0.02, 0.002);
+  // 95 % intervals: m and c from the fit, none for the given k (and the reason).
+  ASSERT_TRUE(mj["mass_kg_ci95"].is_array()) << mj.dump();
+  EXPECT_LT(mj["mass_kg_ci95"][0].get<double>(), mj["mass_kg"].get<double>());
+  EXPECT_GT(mj["mass_kg_ci95"][1].get<double>(), mj["mass_kg"].get<double>());
+  EXPECT_TRUE(mj["c_ns_per_m_ci95"].is_array());
+  EXPECT_TRUE(mj["k_n_per_m_ci95"].is_null());
+  EXPECT_EQ(mj["k_n_per_m_ci95_missing"], "given, not fitted");
 
-  const auto m2 = RunVibid({"modes", rig.modal2(), "--force", "force_n", "--response",
+  const auto m2 = RunVibid({"modes", rig.modal2(), "--force", "force1_n", "--response",
                             "acc1_m_s2,acc2_m_s2", "--impact", "--exp-window", "0.01",
                             "--max-modes", "2", "--json", "-o", rig.dir + "/modes2.json"});
   ASSERT_EQ(m2.exit_code, 0) << m2.err;
@@ -310,15 +439,26 @@ TEST(UpdateCli, MassAndStiffness) {
   EXPECT_NEAR(sj["springs"][0].get<double>(), 3000, 30);
   EXPECT_NEAR(sj["springs"][1].get<double>(), 2000, 20);
   EXPECT_EQ(sj["K"].size(), 2u);
+  // Intervals per position, the masses taken as exact unless their half-widths are given.
+  ASSERT_EQ(sj["intervals"].size(), 2u);
+  const json& k1 = sj["intervals"][0];
+  ASSERT_TRUE(k1["k_n_per_m_ci95"].is_array()) << sj.dump();
+  EXPECT_NE(k1["k_n_per_m_ci95_basis"].get<std::string>().find("masses taken as exact"),
+            std::string::npos);
+  const auto one = RunVibid({"update", "stiffness", "--masses", "1.2,0.8", "--modes", Modes1Json(),
+                             "--mass-ci95", "0.002,0.001"});
+  ASSERT_EQ(one.exit_code, 0) << one.err;
+  EXPECT_NE(one.out.find("95 % intervals: k1 +- "), std::string::npos) << one.out;
+  EXPECT_EQ(one.out.find("+- 0 "), std::string::npos) << one.out;
 }
 
 TEST(UpdateCli, BadInput) {
   const Rig& rig = SyntheticRig();
-  ExpectInputError(RunVibid({"update", "mass", rig.modal1(), "--force", "force_n", "--response",
+  ExpectInputError(RunVibid({"update", "mass", rig.modal1(), "--force", "force1_n", "--response",
                              "acc1_m_s2,acc2_m_s2", "--impact"}),
                    "exactly one response");
-  ExpectInputError(RunVibid({"update", "mass", rig.mass1(), "--force", "force_n", "--response",
-                             "acc_m_s2", "--nominal-kg", "-1"}),
+  ExpectInputError(RunVibid({"update", "mass", rig.mass1(), "--force", "force1_n", "--response",
+                             "acc1_m_s2", "--nominal-kg", "-1"}),
                    "--nominal-kg");
   ExpectInputError(RunVibid({"update", "stiffness", "--masses", "1,abc", "--modes", Modes1Json()}),
                    "abc");
@@ -329,6 +469,12 @@ TEST(UpdateCli, BadInput) {
                    "broken.json");
   const std::string empty = Write(rig.dir, "empty.json", "{\"modes\": []}");
   ExpectInputError(RunVibid({"update", "stiffness", "--masses", "1,1", "--modes", empty}), "empty");
+  // A misspelt key is refused: "zetta" would otherwise load as a mode without damping.
+  const std::string misspelt =
+      Write(rig.dir, "misspelt.json", R"({"modes": [{"omega_rad_s": 40, "zetta": 0.01}]})");
+  ExpectInputError(
+      RunVibid({"update", "stiffness", "--masses", "1", "--modes", misspelt}),
+      "unknown key 'zetta' in modes file " + misspelt + " mode 1 (did you mean 'zeta'?)");
   EXPECT_EQ(RunVibid({"update"}).exit_code, 2);
 }
 
@@ -384,6 +530,73 @@ TEST(IdentifyCli, WholeChainOnSyntheticTruth) {
   for (const char* f : {"validation.txt", "report.json", "frf_overlay.csv"}) {
     EXPECT_TRUE(std::filesystem::exists(rig.dir + "/report/" + f)) << f;
   }
+  // m, k and c with their 95 % intervals, in the table and the report (truth: 1.2, 0.8 kg,
+  // 3000, 2000 N/m).
+  EXPECT_NE(r.out.find("95 % interval"), std::string::npos) << r.out;
+  const json rep = json::parse(ReadFileText(rig.dir + "/report/report.json"));
+  ASSERT_EQ(rep["parameters"].size(), 2u);
+  const double truth[2][2] = {{1.2, 3000}, {0.8, 2000}};
+  for (std::size_t p = 0; p < 2; ++p) {
+    const json& q = rep["parameters"][p];
+    for (const char* key : {"m_kg_ci95", "k_n_per_m_ci95", "c_ns_per_m_ci95"})
+      ASSERT_TRUE(q[key].is_array()) << key << " " << q.dump();
+    EXPECT_LE(q["k_n_per_m_ci95"][0].get<double>(), truth[p][1]) << q.dump();
+    EXPECT_GE(q["k_n_per_m_ci95"][1].get<double>(), truth[p][1]) << q.dump();
+  }
+  EXPECT_TRUE(rep["validation"]["positions"][0]["m_kg"]["updated_ci95"].is_array());
+  // The mass tests' springs are the nominal ones: nothing to warn of.
+  EXPECT_EQ(r.err.find("its FRF's level says"), std::string::npos) << r.err;
+}
+
+// A wrong given spring moves the mass by as much; the test's own level says so.
+TEST(IdentifyCli, AWrongSpringIsNamed) {
+  const Rig& rig = SyntheticRig();
+  const auto r = RunVibid({"identify", "--nominal", rig.nominal(), "--mass-test",
+                           "1=" + rig.mass1(), "--mass-spring", "1=3600", "--modal-test",
+                           rig.modal1(), "-o", rig.dir + "/updated_wrong_spring.json"});
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_NE(r.err.find("mass test 1: its FRF's level says the spring is"), std::string::npos)
+      << r.err;
+  EXPECT_NE(r.err.find("--mass-spring 1=fit"), std::string::npos) << r.err;
+}
+
+// identify's default columns are the names the board's log table gives the load cell and the
+// accelerometers (host/device/log_table.cpp), so a recording off the board needs no option.
+TEST(IdentifyCli, DefaultColumnsAreTheBoardsNames) {
+  const auto name = [](wire::Channel c, wire::Unit u) {
+    return std::string(device::ChannelStem(c)) + "_" + device::UnitSuffix(u);
+  };
+  EXPECT_EQ(ident::ForceColumn(), name(wire::Channel::kForce1, wire::Unit::kNewton));
+  EXPECT_EQ(ident::AccelerationColumn(1),
+            name(wire::Channel::kAccel1, wire::Unit::kMeterPerSecond2));
+  EXPECT_EQ(ident::AccelerationColumn(2),
+            name(wire::Channel::kAccel2, wire::Unit::kMeterPerSecond2));
+  EXPECT_EQ(ident::AccelerationColumns(2), "acc1_m_s2,acc2_m_s2");
+}
+
+// A modal test with a text column nobody asked for loads; asking for that column is refused
+// with the line and the column.
+TEST(IdentifyCli, TextColumnsThatAreNotAskedForLoad) {
+  const Rig& rig = SyntheticRig();
+  std::string text = ReadFileText(rig.modal1());
+  std::string noted;
+  std::size_t line = 0;
+  for (std::size_t at = 0; at < text.size();) {
+    const std::size_t end = text.find('\n', at);
+    noted += text.substr(at, end - at) + (line == 0 ? ",note\n" : line == 1 ? ",hit A\n" : ",\n");
+    at = end + 1;
+    ++line;
+  }
+  const std::string path = Write(rig.dir, "modal1_noted.csv", noted);
+  const std::string out = rig.dir + "/updated_noted.json";
+  const auto r = RunVibid({"identify", "--nominal", rig.nominal(), "--mass-test",
+                           "1=" + rig.mass1(), "--mass-test", "2=" + rig.mass2(), "--modal-test",
+                           path, "--exp-window", "0.01", "-o", out});
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const json m = json::parse(ReadFileText(out));
+  EXPECT_NEAR(m["springs"][1].get<double>(), 2000, 20);
+  ExpectInputError(RunVibid({"modes", path, "--force", "force1_n", "--response", "acc2_m_s2,note"}),
+                   "modal1_noted.csv:2: column 5 'note': 'hit A' is not a number");
 }
 
 TEST(IdentifyCli, BadInput) {
@@ -400,7 +613,7 @@ TEST(IdentifyCli, BadInput) {
                    "nope.json");
   ExpectInputError(
       RunVibid({"identify", "--nominal", rig.nominal(), "--modal-test", rig.mass1(), "-o", out}),
-      "acc1_m_s2");
+      "no column 'acc2_m_s2'");
   EXPECT_EQ(RunVibid({"identify", "--nominal", rig.nominal(), "-o", out}).exit_code,
             2);  // no --modal-test
   EXPECT_FALSE(std::filesystem::exists(out));

@@ -23,6 +23,9 @@ std::size_t ResolveDrivingPoint(const ident::Frf& frf, const std::string& spec);
 ident::ModeIdentification RunModes(const ident::Frf& receptance, const ModeArgs& args);
 
 nlohmann::json MassUpdateJson(const ident::MassUpdateResult& result);
+/// Sets `KEY_ci95` to [lo, hi] and `KEY_ci95_basis` to how it was estimated, or `KEY_ci95` to
+/// null and `KEY_ci95_missing` to why there is none.
+void PutInterval(nlohmann::json& j, const std::string& key, const ident::Interval95& ci);
 nlohmann::json StiffnessJson(const ident::StiffnessAverage& average);
 
 void RegisterFrfEstimate(CLI::App& app);

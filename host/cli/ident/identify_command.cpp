@@ -19,6 +19,7 @@
 #include "vibid/common/error.hpp"
 #include "vibid/common/json_file.hpp"
 #include "vibid/ident/identify.hpp"
+#include "vibid/ident/recording_columns.hpp"
 #include "vibid/model/frf.hpp"
 #include "vibid/model/model_json.hpp"
 
@@ -66,17 +67,38 @@ nlohmann::json ValidationJson(const ident::ValidationTable& t,
   }
   nlohmann::json positions = nlohmann::json::array();
   for (const auto& p : t.positions) {
-    positions.push_back({{"m_kg",
-                          {{"nominal", p.m_nominal},
-                           {"updated", p.m_updated},
-                           {"change_percent", ident::PercentDeviation(p.m_updated, p.m_nominal)}}},
-                         {"k_n_per_m",
-                          {{"nominal", p.k_nominal},
-                           {"updated", p.k_updated},
-                           {"change_percent", ident::PercentDeviation(p.k_updated, p.k_nominal)}}},
-                         {"c_ns_per_m", {{"updated", p.c_updated}}}});
+    nlohmann::json m = {{"nominal", p.m_nominal},
+                        {"updated", p.m_updated},
+                        {"change_percent", ident::PercentDeviation(p.m_updated, p.m_nominal)}};
+    nlohmann::json k = {{"nominal", p.k_nominal},
+                        {"updated", p.k_updated},
+                        {"change_percent", ident::PercentDeviation(p.k_updated, p.k_nominal)}};
+    nlohmann::json c = {{"updated", p.c_updated}};
+    PutInterval(m, "updated", p.m_ci95);
+    PutInterval(k, "updated", p.k_ci95);
+    PutInterval(c, "updated", p.c_ci95);
+    positions.push_back({{"m_kg", m}, {"k_n_per_m", k}, {"c_ns_per_m", c}});
   }
   return {{"modes", modes}, {"positions", positions}};
+}
+
+// The updated parameters with their 95 % intervals, one object per position:
+// {"position", "m_kg", "m_kg_ci95": [lo, hi] or null, "m_kg_ci95_basis" or "m_kg_ci95_missing",
+// the same for k_n_per_m and c_ns_per_m}.
+nlohmann::json ParametersJson(const ident::ValidationTable& t) {
+  nlohmann::json out = nlohmann::json::array();
+  for (std::size_t i = 0; i < t.positions.size(); ++i) {
+    const auto& p = t.positions[i];
+    nlohmann::json j = {{"position", i + 1},
+                        {"m_kg", p.m_updated},
+                        {"k_n_per_m", p.k_updated},
+                        {"c_ns_per_m", p.c_updated}};
+    PutInterval(j, "m_kg", p.m_ci95);
+    PutInterval(j, "k_n_per_m", p.k_ci95);
+    PutInterval(j, "c_ns_per_m", p.c_ci95);
+    out.push_back(j);
+  }
+  return out;
 }
 
 // Measured receptance of the first modal test beside the nominal and updated models' receptances
@@ -116,12 +138,14 @@ struct IdentifyArgs {
   std::vector<std::string> mass_tests;
   std::vector<std::string> mass_springs;
   std::vector<std::string> modal_tests;
-  std::string mass_response = "acc_m_s2";
-  std::string modal_responses = "acc1_m_s2,acc2_m_s2";
+  /// Empty: the board's names (ident/recording_columns.hpp): mass test of position P reads
+  /// accP_m_s2, the modal tests acc1_m_s2 ... accN_m_s2.
+  std::string mass_response;
+  std::string modal_responses;
   std::string output;
   std::string report;
   bool welch = false;
-  EstimationArgs est;  ///< Its force column defaults to force_n (set at registration).
+  EstimationArgs est;  ///< Its force column defaults to the board's force1_n (set at registration).
   ModeArgs modes;
 };
 
@@ -161,8 +185,10 @@ ident::Frf EstimateTest(const std::string& path, const EstimationArgs& est,
 std::vector<ident::MassTestInput> MassTests(const IdentifyArgs& a, const EstimationArgs& est,
                                             std::size_t n, std::vector<std::string>& notes) {
   const MassSprings springs = ParseMassSprings(a.mass_springs, n);
-  const std::vector<std::string> mass_responses = SplitOptionList(a.mass_response);
-  Require(mass_responses.size() == 1 || mass_responses.size() == a.mass_tests.size(),
+  const std::vector<std::string> mass_responses =
+      a.mass_response.empty() ? std::vector<std::string>{} : SplitOptionList(a.mass_response);
+  Require(a.mass_response.empty() || mass_responses.size() == 1 ||
+              mass_responses.size() == a.mass_tests.size(),
           "--mass-response names " + std::to_string(mass_responses.size()) + " columns for " +
               std::to_string(a.mass_tests.size()) +
               " mass tests (give one for all, or one per test)");
@@ -172,7 +198,11 @@ std::vector<ident::MassTestInput> MassTests(const IdentifyArgs& a, const Estimat
     Require(pos < n, "--mass-test position " + std::to_string(pos + 1) + " is beyond the model's " +
                          std::to_string(n) + " masses");
     EstimationArgs me = est;
-    me.responses = mass_responses[mass_responses.size() == 1 ? 0 : t];
+    // By default the accelerometer on the tested mass, as `acquire --channels force1,accP` names
+    // it.
+    me.responses = mass_responses.empty()       ? ident::AccelerationColumn(pos + 1)
+                   : mass_responses.size() == 1 ? mass_responses[0]
+                                                : mass_responses[t];
     inputs.push_back(
         {pos, EstimateTest(path, me, notes), springs.k_n_per_m[pos], springs.fit[pos]});
   }
@@ -194,6 +224,7 @@ nlohmann::json ReportJson(const ident::IdentifyResult& r, const nlohmann::json& 
   nlohmann::json report;
   report["updated_model"] = model_json;
   report["validation"] = ValidationJson(r.table, r.test_modes);
+  report["parameters"] = ParametersJson(r.table);
   report["test_modes"] = ModesToJson(r.test_modes)["modes"];
   nlohmann::json masses = nlohmann::json::array();
   for (const auto& m : r.mass_tests) {
@@ -228,7 +259,7 @@ void Run(const IdentifyArgs& a) {
   std::vector<ident::Frf> modal;
   for (const std::string& path : a.modal_tests) {
     EstimationArgs me = est;
-    me.responses = a.modal_responses;
+    me.responses = a.modal_responses.empty() ? ident::AccelerationColumns(n) : a.modal_responses;
     modal.push_back(EstimateTest(path, me, notes));
   }
   ident::IdentifyOptions options;
@@ -260,7 +291,7 @@ void Run(const IdentifyArgs& a) {
 
 void RegisterIdentify(CLI::App& app) {
   const auto [cmd, a] = AddCommand<IdentifyArgs>(app, "identify", kIdentifyHelp, Run);
-  a->est.force = "force_n";
+  a->est.force = ident::ForceColumn();
   cmd->add_option("--nominal", a->nominal, "Nominal model file (JSON; a chain)")->required();
   cmd->add_option("--mass-test", a->mass_tests,
                   "POS=REC.csv: mass POS (from 1) alone on its spring, hammer test");
@@ -275,11 +306,11 @@ void RegisterIdentify(CLI::App& app) {
       ->capture_default_str();
   cmd->add_option("--mass-response", a->mass_response,
                   "Response column of the mass tests: one for all, or one per --mass-test in order "
-                  "(comma separated)")
-      ->capture_default_str();
+                  "(comma separated); default accP_m_s2 for the test of mass P, as acquire names "
+                  "it");
   cmd->add_option("--modal-responses", a->modal_responses,
-                  "Response columns of the modal tests, one per mass in order")
-      ->capture_default_str();
+                  "Response columns of the modal tests, one per mass in order; default acc1_m_s2,"
+                  "...,accN_m_s2 for N masses, as acquire names them");
   cmd->add_option("--sensor", a->est.sensor, "What the response channels measure: acc, vel, disp")
       ->capture_default_str();
   cmd->add_option("--estimator", a->est.estimator, "FRF estimator: h1, h2, hv")

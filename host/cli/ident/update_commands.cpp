@@ -39,22 +39,55 @@ std::vector<double> ParsePositiveList(const std::string& text, const std::string
   return out;
 }
 
+// The masses' uncertainties: from --mass-ci95 (95 % half-widths, normal), else taken as exact.
+std::vector<ident::Uncertainty> MassUncertainties(const std::string& text, std::size_t n) {
+  if (text.empty()) {
+    return std::vector<ident::Uncertainty>(
+        n, ident::Uncertainty::ExactValue("masses taken as exact (--mass-ci95 adds theirs)"));
+  }
+  const std::vector<double> hw = ParsePositiveList(text, "--mass-ci95");
+  Require(hw.size() == n, "--mass-ci95 gives " + std::to_string(hw.size()) + " half-widths for " +
+                              std::to_string(n) + " masses");
+  std::vector<ident::Uncertainty> out;
+  for (double h : hw) {
+    ident::Uncertainty u;
+    u.variance = (h / ident::kZ95) * (h / ident::kZ95);
+    u.basis = "--mass-ci95";
+    out.push_back(u);
+  }
+  return out;
+}
+
 }  // namespace
 
+void PutInterval(nlohmann::json& j, const std::string& key, const ident::Interval95& ci) {
+  if (ci.Known()) {
+    j[key + "_ci95"] = {ci.lo, ci.hi};
+    j[key + "_ci95_basis"] = ci.basis;
+  } else {
+    j[key + "_ci95"] = nullptr;
+    j[key + "_ci95_missing"] = ci.missing;
+  }
+}
+
 nlohmann::json MassUpdateJson(const ident::MassUpdateResult& r) {
-  return {{"mass_kg", r.mass_kg},
-          {"nominal_kg", r.nominal_kg},
-          {"change_percent", r.change_percent},
-          {"zeta", r.zeta},
-          {"zeta_half_power", r.zeta_half_power},
-          {"damping_fitted", r.damping_fitted},
-          {"k_n_per_m", r.k_n_per_m},
-          {"stiffness_fitted", r.stiffness_fitted},
-          {"c_ns_per_m", r.c_ns_per_m},
-          {"omega_rad_s", r.omega_rad_s},
-          {"lines_fitted", r.lines_fitted},
-          {"warnings", r.warnings},
-          {"summary", SolverSummaryJson(r.summary)}};
+  nlohmann::json j = {{"mass_kg", r.mass_kg},
+                      {"nominal_kg", r.nominal_kg},
+                      {"change_percent", r.change_percent},
+                      {"zeta", r.zeta},
+                      {"zeta_half_power", r.zeta_half_power},
+                      {"damping_fitted", r.damping_fitted},
+                      {"k_n_per_m", r.k_n_per_m},
+                      {"stiffness_fitted", r.stiffness_fitted},
+                      {"c_ns_per_m", r.c_ns_per_m},
+                      {"omega_rad_s", r.omega_rad_s},
+                      {"lines_fitted", r.lines_fitted},
+                      {"warnings", r.warnings},
+                      {"summary", SolverSummaryJson(r.summary)}};
+  PutInterval(j, "mass_kg", ident::IntervalOf(r.mass_kg, r.mass_u));
+  PutInterval(j, "k_n_per_m", ident::IntervalOf(r.k_n_per_m, r.k_u));
+  PutInterval(j, "c_ns_per_m", ident::IntervalOf(r.c_ns_per_m, r.c_u));
+  return j;
 }
 
 nlohmann::json StiffnessJson(const ident::StiffnessAverage& avg) {
@@ -122,13 +155,20 @@ std::string MassText(const ident::MassUpdateResult& r) {
   out << "effective mass " << r.mass_kg << " kg";
   if (r.nominal_kg > 0.0)
     out << " (nominal " << r.nominal_kg << " kg, " << r.change_percent << " %)";
+  const ident::Interval95 m = ident::IntervalOf(r.mass_kg, r.mass_u);
+  const ident::Interval95 k = ident::IntervalOf(r.k_n_per_m, r.k_u);
+  const ident::Interval95 c = ident::IntervalOf(r.c_ns_per_m, r.c_u);
   out << "\nk " << r.k_n_per_m << " N/m" << (r.stiffness_fitted ? " (fitted)" : " (given)")
       << ", zeta " << r.zeta
       << (r.damping_fitted ? " (fitted; half-power " + std::to_string(r.zeta_half_power) + ")"
                            : " (half-power)")
       << ", c " << r.c_ns_per_m << " N*s/m, omega " << r.omega_rad_s << " rad/s\n"
       << "fit: " << numerics::TerminationName(r.summary.termination) << ", " << r.summary.iterations
-      << " iterations, " << r.lines_fitted << " lines\n";
+      << " iterations, " << r.lines_fitted << " lines\n"
+      << "95 % intervals: m " << ident::FormatInterval(m, r.mass_kg) << " kg, k "
+      << ident::FormatInterval(k, r.k_n_per_m) << " N/m, c "
+      << ident::FormatInterval(c, r.c_ns_per_m) << " N*s/m"
+      << (m.Known() ? " (" + m.basis + ")" : "") << "\n";
   return out.str();
 }
 
@@ -156,21 +196,38 @@ constexpr const char* kStiffnessHelp =
     "Stiffness from modal tests (Eq. 7): K = M Phi Omega^2 Phi^T M with mass-normalised shapes; "
     "chain springs\n"
     "k2 = K22, k1 = K11 - K22, a least-squares chain fit and the off-diagonal mismatch; tests "
-    "averaged with their spread.";
+    "averaged,\n"
+    "with 95 % intervals from the modes' intervals, the tests' scatter and --mass-ci95.";
 
 struct StiffnessArgs {
   std::string masses;
+  std::string mass_ci95;
   std::vector<std::string> modes;
   bool json = false;
   std::string output;
 };
 
-std::string StiffnessText(const ident::StiffnessAverage& avg, std::size_t tests) {
+std::string StiffnessText(const ident::StiffnessAverage& avg, const ident::ChainUncertainty& u,
+                          std::size_t tests) {
   std::ostringstream out;
   out << "springs (k_n = K_nn, k_i = K_ii - k_i+1):";
   for (Eigen::Index i = 0; i < avg.springs.size(); ++i)
-    out << " k" << i + 1 << " = " << avg.springs[i] << " +- " << avg.spread[i];
-  out << " N/m\nleast-squares chain:";
+    out << " k" << i + 1 << " = " << avg.springs[i];
+  out << " N/m\ndampers (same convention):";
+  for (Eigen::Index i = 0; i < avg.dampers.size(); ++i)
+    out << " c" << i + 1 << " = " << avg.dampers[i];
+  out << " N*s/m\n95 % intervals:";
+  std::string basis;
+  for (Eigen::Index i = 0; i < avg.springs.size(); ++i) {
+    const auto ui = static_cast<std::size_t>(i);
+    const ident::Interval95 k = ident::IntervalOf(avg.springs[i], u.springs[ui]);
+    const ident::Interval95 c = ident::IntervalOf(avg.dampers[i], u.dampers[ui]);
+    out << (i ? "," : "") << " k" << i + 1 << " " << ident::FormatInterval(k, avg.springs[i])
+        << ", c" << i + 1 << " " << ident::FormatInterval(c, avg.dampers[i]);
+    if (basis.empty() && k.Known()) basis = k.basis;
+  }
+  if (!basis.empty()) out << "\n  from: " << basis;
+  out << "\nleast-squares chain:";
   for (Eigen::Index i = 0; i < avg.springs_lsq.size(); ++i)
     out << " k" << i + 1 << " = " << avg.springs_lsq[i];
   out << " N/m\noff-diagonal mismatch " << avg.offdiag_mismatch_percent << " % over " << tests
@@ -183,12 +240,31 @@ void Run(const StiffnessArgs& a) {
   const Eigen::VectorXd masses =
       Eigen::Map<const Eigen::VectorXd>(mv.data(), static_cast<Eigen::Index>(mv.size()));
   std::vector<ident::StiffnessUpdateResult> tests;
+  std::vector<std::vector<ident::ModeEstimate>> modes;
   for (const std::string& path : a.modes) {
-    tests.push_back(StiffnessFromModes(masses, ModesFromJson(ReadJsonFile(path), path), path));
+    modes.push_back(ModesFromJson(ReadJsonFile(path), path));
+    tests.push_back(StiffnessFromModes(masses, modes.back(), path));
   }
   const ident::StiffnessAverage avg = ident::AverageStiffness(tests);
-  EmitOutput(a.json ? StiffnessJson(avg).dump(2) + "\n" : StiffnessText(avg, tests.size()),
-             a.output);
+  const ident::ChainUncertainty u =
+      ident::StiffnessUncertainty(masses, MassUncertainties(a.mass_ci95, mv.size()), modes, tests);
+  if (a.json) {
+    nlohmann::json j = StiffnessJson(avg);
+    // Per position: {"k_n_per_m_ci95": [lo, hi] or null, "..._basis" or "..._missing", and the
+    // same for c_ns_per_m}.
+    nlohmann::json cis = nlohmann::json::array();
+    for (std::size_t i = 0; i < mv.size(); ++i) {
+      const auto ii = static_cast<Eigen::Index>(i);
+      nlohmann::json one;
+      PutInterval(one, "k_n_per_m", ident::IntervalOf(avg.springs[ii], u.springs[i]));
+      PutInterval(one, "c_ns_per_m", ident::IntervalOf(avg.dampers[ii], u.dampers[i]));
+      cis.push_back(one);
+    }
+    j["intervals"] = cis;
+    EmitOutput(j.dump(2) + "\n", a.output);
+  } else {
+    EmitOutput(StiffnessText(avg, u, tests.size()), a.output);
+  }
 }
 
 void RegisterMassUpdate(CLI::App& update) {
@@ -213,6 +289,9 @@ void RegisterStiffnessUpdate(CLI::App& update) {
   const auto [cmd, a] = AddCommand<StiffnessArgs>(update, "stiffness", kStiffnessHelp, Run);
   cmd->add_option("--masses", a->masses, "Masses m1,m2,... (kg), e.g. from `update mass`")
       ->required();
+  cmd->add_option("--mass-ci95", a->mass_ci95,
+                  "95 % half-widths of the masses (kg), e.g. from `update mass`; omitted: the\n"
+                  "masses are taken as exact and the intervals hold the modes' share only");
   cmd->add_option("--modes", a->modes, "MODES.json from `vibid modes --json`, one per test")
       ->required();
   cmd->add_flag("--json", a->json, "JSON output");

@@ -113,6 +113,17 @@ TEST_F(ReportCli, BadInputIsNamedAndNothingIsWritten) {
   r = RunVibid({"report", "--dob", dir_ + "/dob.csv", "--measured", "force2_n", "--estimate",
                 "est_n", "--skip-s", "11", "-o", out});
   EXPECT_EQ(r.exit_code, 1);
+  // A misspelt key in report.json is refused, not read as "no warnings".
+  std::filesystem::create_directories(dir_ + "/misspelt");
+  std::filesystem::copy_file(dir_ + "/ident/frf_overlay.csv", dir_ + "/misspelt/frf_overlay.csv");
+  nlohmann::json report = nlohmann::json::parse(ReadFileText(dir_ + "/ident/report.json"));
+  report["warning"] = report["warnings"];
+  report.erase("warnings");
+  WriteFileAtomic(dir_ + "/misspelt/report.json", report.dump());
+  r = RunVibid({"report", "--identify", dir_ + "/misspelt", "-o", out});
+  EXPECT_EQ(r.exit_code, 1);
+  EXPECT_EQ(r.err, "vibid: error: unknown key 'warning' in identification report " + dir_ +
+                       "/misspelt/report.json (did you mean 'warnings'?)\n");
   EXPECT_FALSE(std::filesystem::exists(out));
 }
 

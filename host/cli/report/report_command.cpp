@@ -17,6 +17,7 @@
 #include "vibid/common/atomic_file.hpp"
 #include "vibid/common/error.hpp"
 #include "vibid/common/json_file.hpp"
+#include "vibid/common/json_keys.hpp"
 #include "vibid/dob/compare.hpp"
 #include "vibid/ident/identify.hpp"
 #include "vibid/model/model.hpp"
@@ -69,6 +70,32 @@ double Get(const nlohmann::json& j, const char* key, const std::string& where) {
   return j.at(key).get<double>();
 }
 
+// "± half-width (p %)" from `updated_ci95`, or "n/a" with the reason; how it was estimated (or
+// why not) goes to `notes` after `label`. Reports written before intervals existed have neither:
+// "".
+std::string IntervalCell(const nlohmann::json& x, double updated, const std::string& label,
+                         const std::string& where, std::vector<std::string>& notes) {
+  const auto note = [&notes, &label](const std::string& text) { notes.push_back(label + text); };
+  if (!x.contains("updated_ci95")) return "";
+  const nlohmann::json& ci = x["updated_ci95"];
+  if (ci.is_null()) {
+    const std::string why =
+        x.contains("updated_ci95_missing") && x["updated_ci95_missing"].is_string()
+            ? x["updated_ci95_missing"].get<std::string>()
+            : std::string("not estimated");
+    note("n/a: " + why);
+    return "n/a (" + why + ")";
+  }
+  Require(ci.is_array() && ci.size() == 2 && ci[0].is_number() && ci[1].is_number(),
+          where + ": updated_ci95 must be [lo, hi] or null");
+  const double hw = 0.5 * (ci[1].get<double>() - ci[0].get<double>());
+  if (x.contains("updated_ci95_basis") && x["updated_ci95_basis"].is_string())
+    note(x["updated_ci95_basis"].get<std::string>());
+  char text[64];
+  std::snprintf(text, sizeof text, "± %.2g (%.2g %%)", hw, 100.0 * hw / std::abs(updated));
+  return text;
+}
+
 void ValidationTables(const nlohmann::json& report, const std::string& where,
                       const model::Model* truth, report::HtmlPage& page) {
   Require(report.contains("validation") && report["validation"].is_object(),
@@ -104,7 +131,8 @@ void ValidationTables(const nlohmann::json& report, const std::string& where,
       "where the "
       "modal method gives one (lscf, lsce).");
 
-  std::vector<std::string> header{"position", "quantity", "nominal", "updated", "change %"};
+  std::vector<std::string> header{"position", "quantity", "nominal",
+                                  "updated",  "± 95 %",   "change %"};
   const ident::ChainParameters chain =
       truth != nullptr ? ident::ChainOf(*truth) : ident::ChainParameters{};
   if (truth != nullptr) {
@@ -112,6 +140,7 @@ void ValidationTables(const nlohmann::json& report, const std::string& where,
     header.push_back("updated vs truth %");
   }
   rows.clear();
+  std::vector<std::string> notes;
   for (std::size_t p = 0; p < v.at("positions").size(); ++p) {
     const nlohmann::json& pos = v["positions"][p];
     const auto i = static_cast<Eigen::Index>(p);
@@ -123,11 +152,21 @@ void ValidationTables(const nlohmann::json& report, const std::string& where,
     const bool have_truth = i < chain.masses_kg.size();
     const double m_true = have_truth ? chain.masses_kg[i] : 0.0;
     const double k_true = have_truth ? chain.springs_n_per_m[i] : 0.0;
-    for (const Q& q : {Q{"m_kg", "m (kg)", m_true}, Q{"k_n_per_m", "k (N/m)", k_true}}) {
+    const double c_true = have_truth ? chain.dampers_ns_per_m[i] : 0.0;
+    for (const Q& q : {Q{"m_kg", "m (kg)", m_true}, Q{"k_n_per_m", "k (N/m)", k_true},
+                       Q{"c_ns_per_m", "c (N·s/m)", c_true}}) {
+      if (!pos.contains(q.key)) continue;
       const nlohmann::json& x = pos.at(q.key);
       const double updated = Get(x, "updated", where);
-      std::vector<std::string> row{std::to_string(p + 1), q.name, Sig(Get(x, "nominal", where)),
-                                   Sig(updated), Fixed(Get(x, "change_percent", where), 2)};
+      const bool has_nominal = x.contains("nominal");
+      std::vector<std::string> row{
+          std::to_string(p + 1),
+          q.name,
+          has_nominal ? Sig(Get(x, "nominal", where)) : "",
+          Sig(updated),
+          IntervalCell(x, updated, "position " + std::to_string(p + 1) + ", " + q.name + ": ",
+                       where, notes),
+          has_nominal ? Fixed(Get(x, "change_percent", where), 2) : ""};
       if (truth != nullptr) {
         row.push_back(have_truth ? Sig(q.truth) : "");
         row.push_back(have_truth ? Fixed(100.0 * (updated - q.truth) / q.truth, 2) : "");
@@ -136,9 +175,15 @@ void ValidationTables(const nlohmann::json& report, const std::string& where,
     }
   }
   page.Table(header, rows,
-             truth != nullptr ? "Physical parameters: change from nominal, and error of the update "
-                                "against the rig's truth."
-                              : "Physical parameters: change from nominal.");
+             truth != nullptr ? "Physical parameters: change from nominal, 95 % interval of the "
+                                "updated value, and error of the update against the rig's truth."
+                              : "Physical parameters: change from nominal and 95 % interval of "
+                                "the updated value.");
+  if (!notes.empty()) {
+    page.Paragraph(
+        "How each interval was estimated (docs/identification.md, intervals on m, k and c):");
+    page.List(notes);
+  }
 }
 
 // The band worth looking at: from a fifth of the lowest test mode to three times the highest
@@ -301,6 +346,11 @@ void Run(const ReportArgs& a) {
     const std::filesystem::path dir(a.identify_dir);
     const std::string json_path = (dir / "report.json").string();
     const nlohmann::json report = ReadJsonFile(json_path);
+    // The keys `identify --report` writes.
+    RequireKnownKeys(report,
+                     {"updated_model", "validation", "test_modes", "mass_tests", "modal_tests",
+                      "stiffness", "warnings", "notes"},
+                     "identification report " + json_path);
     std::unique_ptr<model::Model> truth;
     if (!a.truth.empty()) truth = std::make_unique<model::Model>(model::LoadModel(a.truth));
     page.Heading("Identification");

@@ -13,6 +13,7 @@
 #include "vibid/common/csv.hpp"
 #include "vibid/common/error.hpp"
 #include "vibid/common/json_file.hpp"
+#include "vibid/common/json_keys.hpp"
 #include "vibid/model/model_json.hpp"
 #include "vibid/model/transfer_function.hpp"
 #include "vibid/sysid/continuous.hpp"
@@ -120,7 +121,14 @@ int ParseHorizon(const std::string& text) {
 /// chosen DOFs. Says which in j["model_kind"].
 sysid::TransferFunction ContinuousTf(const nlohmann::json& model, const CompareArgs& a,
                                      nlohmann::json& j) {
-  if (model.contains("num") && model.contains("den")) {
+  if (model.contains("num") || model.contains("den")) {
+    // The keys `tfest` and `greybox cart` write: num and den are read, the rest reports the fit.
+    RequireKnownKeys(
+        model,
+        {"num", "den", "std", "fit_percent", "fit_kind", "ic", "ic_num", "noise_variance",
+         "samples", "fs_hz", "initialization", "summary", "residuals", "validation", "model",
+         "carts", "input_kind", "units", "parameters"},
+        "transfer-function file " + a.model);
     j["model_kind"] = "continuous";
     return sysid::Normalized(sysid::TransferFunction{JsonVector(model, "num", a.model),
                                                      JsonVector(model, "den", a.model)});

@@ -6,6 +6,7 @@
 #include "cli_support.hpp"
 #include "vibid/common/csv.hpp"
 #include "vibid/common/error.hpp"
+#include "vibid/common/json_keys.hpp"
 
 namespace vibid::cli {
 
@@ -108,6 +109,31 @@ nlohmann::json PolyModelJson(const sysid::PolyModel& m) {
 }
 
 sysid::PolyModel PolyModelFromJson(const nlohmann::json& j, const std::string& source) {
+  // The keys `arx` and `pem` write: the polynomials are read, the rest reports the estimation.
+  RequireKnownKeys(j,
+                   {"structure",
+                    "A",
+                    "B",
+                    "C",
+                    "D",
+                    "F",
+                    "nk",
+                    "dt_s",
+                    "std",
+                    "fit_kind",
+                    "fit_percent",
+                    "prediction_fit_percent",
+                    "noise_variance",
+                    "samples",
+                    "fs_hz",
+                    "residuals",
+                    "validation",
+                    "continuous",
+                    "loss",
+                    "order_selection",
+                    "summary",
+                    "initialization"},
+                   "polynomial model file " + source);
   sysid::PolyModel m;
   m.a = JsonVector(j, "A", source);
   m.b = JsonVector(j, "B", source);

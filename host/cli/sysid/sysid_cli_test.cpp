@@ -149,6 +149,22 @@ TEST(SysidCli, PemOeWithD2cRecoversTheContinuousModel) {
                                 model_path, "--horizon", "3", "--json"}));
   EXPECT_GT(c["fit_percent"].get<double>(), 99.99);
   EXPECT_EQ(c["model_kind"], "polynomial");
+  // A misspelt key in the model file is refused, not read as its default (F = 1 here).
+  nlohmann::json misspelt = nlohmann::json::parse(ReadFileText(model_path));
+  misspelt["f"] = misspelt["F"];
+  misspelt.erase("F");
+  WriteFileAtomic(dir + "/misspelt.json", misspelt.dump());
+  const auto refused = RunVibid(
+      {"compare", rec, "--input", "u", "--output", "y", "--model", dir + "/misspelt.json"});
+  EXPECT_EQ(refused.exit_code, 1);
+  EXPECT_EQ(refused.err, "vibid: error: unknown key 'f' in polynomial model file " + dir +
+                             "/misspelt.json (did you mean 'F'?)\n");
+  WriteFileAtomic(dir + "/tf.json", R"({"num": [1], "dne": [1, 2]})");
+  const auto tf_refused =
+      RunVibid({"compare", rec, "--input", "u", "--output", "y", "--model", dir + "/tf.json"});
+  EXPECT_EQ(tf_refused.exit_code, 1);
+  EXPECT_EQ(tf_refused.err, "vibid: error: unknown key 'dne' in transfer-function file " + dir +
+                                "/tf.json (did you mean 'den'?)\n");
 }
 
 TEST(SysidCli, GreyboxCartWithFixedMassAndSpring) {

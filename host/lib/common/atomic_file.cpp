@@ -26,38 +26,62 @@ std::string DirectoryOf(const std::string& path) {
 }  // namespace
 
 void WriteFileAtomic(const std::string& path, std::string_view content) {
-  Require(!path.empty(), "output path is empty");
+  AtomicOutputFile(path).Commit(content);
+}
+
+AtomicOutputFile::AtomicOutputFile(std::string path) : path_(std::move(path)) {
+  Require(!path_.empty(), "output path is empty");
+  // Refused now, not at the rename after the work: rename() cannot replace a directory.
+  struct stat st {};
+  if (::stat(path_.c_str(), &st) == 0 && S_ISDIR(st.st_mode))
+    throw InputError("cannot write '" + path_ + "': it is a directory");
   // mkstemp in the destination's directory so the final rename never crosses file systems.
-  std::string tmpl = DirectoryOf(path) + "/.vibid-tmp-XXXXXX";
-  const int fd = ::mkstemp(tmpl.data());
-  if (fd < 0) {
-    throw InputError("cannot write '" + path + "': " + std::strerror(errno));
+  temp_path_ = DirectoryOf(path_) + "/.vibid-tmp-XXXXXX";
+  fd_ = ::mkstemp(temp_path_.data());
+  if (fd_ < 0) throw InputError("cannot write '" + path_ + "': " + std::strerror(errno));
+}
+
+AtomicOutputFile::~AtomicOutputFile() {
+  if (fd_ >= 0) {
+    ::close(fd_);
+    ::unlink(temp_path_.c_str());
   }
+}
+
+void AtomicOutputFile::Fail(const std::string& reason) {
+  if (fd_ >= 0) ::close(fd_);
+  fd_ = -1;
+  ::unlink(temp_path_.c_str());
+  throw InputError("cannot write '" + path_ + "': " + reason);
+}
+
+void AtomicOutputFile::Commit(std::string_view content) {
+  Require(fd_ >= 0, "'" + path_ + "' was already written");
   const char* data = content.data();
   std::size_t left = content.size();
   while (left > 0) {
-    const ssize_t n = ::write(fd, data, left);
+    const ssize_t n = ::write(fd_, data, left);
     if (n < 0) {
       if (errno == EINTR) continue;
-      const std::string reason = std::strerror(errno);
-      ::close(fd);
-      ::unlink(tmpl.c_str());
-      throw InputError("cannot write '" + path + "': " + reason);
+      Fail(std::strerror(errno));
     }
     data += n;
     left -= static_cast<std::size_t>(n);
   }
   // Files are created 0600 by mkstemp; give them the usual permissions for a user's output.
-  ::fchmod(fd, 0644);
-  if (::fsync(fd) != 0 || ::close(fd) != 0) {
+  ::fchmod(fd_, 0644);
+  const int fd = fd_;
+  fd_ = -1;
+  if (::fsync(fd) != 0) {
     const std::string reason = std::strerror(errno);
-    ::unlink(tmpl.c_str());
-    throw InputError("cannot write '" + path + "': " + reason);
+    ::close(fd);
+    ::unlink(temp_path_.c_str());
+    throw InputError("cannot write '" + path_ + "': " + reason);
   }
-  if (std::rename(tmpl.c_str(), path.c_str()) != 0) {
+  if (::close(fd) != 0 || std::rename(temp_path_.c_str(), path_.c_str()) != 0) {
     const std::string reason = std::strerror(errno);
-    ::unlink(tmpl.c_str());
-    throw InputError("cannot write '" + path + "': " + reason);
+    ::unlink(temp_path_.c_str());
+    throw InputError("cannot write '" + path_ + "': " + reason);
   }
 }
 

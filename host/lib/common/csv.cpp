@@ -68,13 +68,14 @@ void CheckHeader(std::string_view line, const std::string& where, std::vector<st
 }
 
 void ExplainBadRow(std::string_view line, const std::string& where,
-                   const std::vector<std::string>& names) {
+                   const std::vector<std::string>& names, const std::vector<bool>& keep) {
   const std::vector<std::string_view> cells = SplitCells(line);
   if (cells.size() != names.size()) {
     throw InputError(where + "expected " + std::to_string(names.size()) + " cells, found " +
                      std::to_string(cells.size()));
   }
   for (std::size_t c = 0; c < cells.size(); ++c) {
+    if (!keep.empty() && !keep[c]) continue;
     const std::string column = "column " + std::to_string(c + 1) + " '" + names[c] + "': ";
     const auto v = ParseNumber(cells[c]);
     if (!v) throw InputError(where + column + "'" + Printable(cells[c]) + "' is not a number");
@@ -219,6 +220,7 @@ Eigen::VectorXd Recording::Time() const {
 }
 
 Recording MakeRecording(CsvTable table, const RecordingOptions& options) {
+  for (const std::string& name : options.channels) static_cast<void>(table.Index(name));
   Recording rec;
   const std::size_t n = table.rows();
   if (n < options.min_samples) {
@@ -263,7 +265,8 @@ Recording MakeRecording(CsvTable table, const RecordingOptions& options) {
 }
 
 Recording LoadRecording(const std::string& path, const RecordingOptions& options) {
-  return MakeRecording(ReadCsv(path), options);
+  if (options.channels.empty()) return MakeRecording(ReadCsv(path), options);
+  return MakeRecording(ReadCsvColumns(path, {options.channels, {options.time_column}}), options);
 }
 
 }  // namespace vibid

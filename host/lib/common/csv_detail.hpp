@@ -20,10 +20,12 @@ std::optional<double> ParseNumber(std::string_view cell);
 /// message. InputError on an empty name, a number in place of a name, or a duplicate name.
 void CheckHeader(std::string_view line, const std::string& where, std::vector<std::string>& names);
 
-/// Throws the InputError that says why a data line (trimmed) is not a row of `names.size()` finite
-/// numbers, naming the column by 1-based index and name. Used for a line the fast parser refused.
+/// Throws the InputError that says why a data line (trimmed) is not a row of `names.size()` cells
+/// with a finite number in every kept cell (`keep` empty: every cell), naming the column by
+/// 1-based index and name. Used for a line the fast parser refused.
 [[noreturn]] void ExplainBadRow(std::string_view line, const std::string& where,
-                                const std::vector<std::string>& names);
+                                const std::vector<std::string>& names,
+                                const std::vector<bool>& keep);
 
 /// Transparent huge pages for a large buffer about to be written (Linux; no effect elsewhere or
 /// when refused): the page-aligned interior of [data, data + bytes) is advised.

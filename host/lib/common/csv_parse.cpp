@@ -200,7 +200,8 @@ struct Chunk {
   const char* bad_line = nullptr;  ///< Start of the first line the fast path refused, or null.
 };
 
-// Parses the rows of one chunk into columns[c][first_row + i]. Stops at the first line that is not
+// Parses the rows of one chunk into columns[c][first_row + i] (a null columns[c]: cell skipped).
+// Stops at the first line that is not
 // a well-formed row of finite numbers (the caller re-reads it to say why).
 void ParseChunk(Chunk& chunk, const std::vector<double*>& columns) {
   const std::size_t ncols = columns.size();
@@ -224,18 +225,23 @@ void ParseChunk(Chunk& chunk, const std::vector<double*>& columns) {
     }
     for (std::size_t c = 0; c < ncols; ++c) {
       if (c) p = SkipBlanks(p, end);
-      if (p != end && *p == '+') ++p;
-      double v = 0.0;
-      if (!ParseSimpleNumber(p, end, v)) {
-        const auto [next, ec] = std::from_chars(p, end, v);
-        if (ec != std::errc() || !std::isfinite(v)) {
-          chunk.bad_line = line;
-          chunk.rows = row - chunk.first_row;
-          return;
+      if (columns[c] == nullptr) {
+        // A column nobody asked for: its cell is skipped unread, whatever it holds.
+        while (p != end && *p != ',' && *p != '\n') ++p;
+      } else {
+        if (p != end && *p == '+') ++p;
+        double v = 0.0;
+        if (!ParseSimpleNumber(p, end, v)) {
+          const auto [next, ec] = std::from_chars(p, end, v);
+          if (ec != std::errc() || !std::isfinite(v)) {
+            chunk.bad_line = line;
+            chunk.rows = row - chunk.first_row;
+            return;
+          }
+          p = next;
         }
-        p = next;
+        columns[c][row] = v;
       }
-      columns[c][row] = v;
       p = SkipBlanks(p, end);
       const bool last = c + 1 == ncols;
       const bool separator_ok = last ? (p == end || *p == '\n') : (p != end && *p == ',');
@@ -276,7 +282,33 @@ void AdviseHugePages(void* data, std::size_t bytes) {
 
 }  // namespace csv_detail
 
-CsvTable ParseCsv(std::string_view text, const std::string& source, std::size_t threads) {
+namespace {
+
+// Which header columns are read: all without `wanted`; else the required ones (each must be
+// there) and the optional ones that are.
+std::vector<bool> KeptColumns(const std::vector<std::string>& names, const CsvColumns* wanted,
+                              const std::string& where) {
+  if (wanted == nullptr) return std::vector<bool>(names.size(), true);
+  std::vector<bool> keep(names.size(), false);
+  const auto mark = [&](const std::string& name) {
+    const auto at = std::find(names.begin(), names.end(), name);
+    if (at == names.end()) return false;
+    keep[static_cast<std::size_t>(at - names.begin())] = true;
+    return true;
+  };
+  for (const std::string& name : wanted->required) {
+    if (!mark(name)) {
+      std::string list;
+      for (const auto& n : names) list += (list.empty() ? "" : ", ") + n;
+      throw InputError(where + "no column '" + Printable(name) + "' (columns: " + list + ")");
+    }
+  }
+  for (const std::string& name : wanted->optional) mark(name);
+  return keep;
+}
+
+CsvTable ParseCsvImpl(std::string_view text, const std::string& source, std::size_t threads,
+                      const CsvColumns* wanted) {
   CsvTable table;
   table.source = source;
   // Spreadsheets save "CSV UTF-8" with a byte-order mark; it is not part of the first name.
@@ -303,6 +335,12 @@ CsvTable ParseCsv(std::string_view text, const std::string& source, std::size_t 
     break;
   }
   if (table.names.empty()) throw InputError(source + ": empty file (no header row)");
+  const std::vector<std::string> header = std::move(table.names);
+  const std::vector<bool> keep = KeptColumns(header, wanted, source + ": ");
+  table.names.clear();
+  for (std::size_t c = 0; c < header.size(); ++c) {
+    if (keep[c]) table.names.push_back(header[c]);
+  }
   const std::size_t ncols = table.names.size();
 
   // Chunks of the body, cut after a newline, one per thread.
@@ -328,21 +366,25 @@ CsvTable ParseCsv(std::string_view text, const std::string& source, std::size_t 
     col.resize(static_cast<Eigen::Index>(capacity));
     csv_detail::AdviseHugePages(col.data(), capacity * sizeof(double));
   }
+  // One pointer per header column, null where the column is skipped.
   std::vector<double*> columns;
-  for (auto& col : table.columns) columns.push_back(col.data());
+  std::vector<double*> kept;
+  for (std::size_t c = 0, k = 0; c < header.size(); ++c) {
+    columns.push_back(keep[c] ? table.columns[k++].data() : nullptr);
+    if (keep[c]) kept.push_back(columns.back());
+  }
   RunChunks(chunks, [&columns](Chunk& c) { ParseChunk(c, columns); });
 
   for (const Chunk& c : chunks) {
     if (!c.bad_line) continue;
     const std::string where = source + ":" + std::to_string(line_of(c.bad_line)) + ": ";
-    csv_detail::ExplainBadRow(LineText(c.bad_line, NextLine(c.bad_line, end)), where, table.names);
+    csv_detail::ExplainBadRow(LineText(c.bad_line, NextLine(c.bad_line, end)), where, header, keep);
   }
   // Blank and comment lines left gaps at the end of a chunk's share: close them up.
   std::size_t rows = 0;
   for (const Chunk& c : chunks) {
     if (c.first_row != rows) {
-      for (double* col : columns)
-        std::memmove(col + rows, col + c.first_row, c.rows * sizeof(double));
+      for (double* col : kept) std::memmove(col + rows, col + c.first_row, c.rows * sizeof(double));
     }
     rows += c.rows;
   }
@@ -352,7 +394,20 @@ CsvTable ParseCsv(std::string_view text, const std::string& source, std::size_t 
   return table;
 }
 
-CsvTable ReadCsv(const std::string& path) {
+}  // namespace
+
+CsvTable ParseCsv(std::string_view text, const std::string& source, std::size_t threads) {
+  return ParseCsvImpl(text, source, threads, nullptr);
+}
+
+CsvTable ParseCsvColumns(std::string_view text, const std::string& source, const CsvColumns& wanted,
+                         std::size_t threads) {
+  return ParseCsvImpl(text, source, threads, &wanted);
+}
+
+namespace {
+
+CsvTable ReadCsvImpl(const std::string& path, const CsvColumns* wanted) {
   RequireReadableSize(path, kMaxCsvFileBytes);
   const int fd = ::open(path.c_str(), O_RDONLY | O_CLOEXEC);
   if (fd < 0) throw InputError("cannot open '" + path + "': " + std::strerror(errno));
@@ -360,19 +415,27 @@ CsvTable ReadCsv(const std::string& path) {
   if (::fstat(fd, &st) != 0 || !S_ISREG(st.st_mode) || st.st_size == 0) {
     // Not a plain file (a pipe, /dev/stdin) or empty: read it the ordinary way.
     ::close(fd);
-    return ParseCsv(ReadFileText(path, kMaxCsvFileBytes), path);
+    return ParseCsvImpl(ReadFileText(path, kMaxCsvFileBytes), path, 0, wanted);
   }
   const auto size = static_cast<std::size_t>(st.st_size);
   void* map = ::mmap(nullptr, size, PROT_READ, MAP_PRIVATE | MAP_POPULATE, fd, 0);
   ::close(fd);
-  if (map == MAP_FAILED) return ParseCsv(ReadFileText(path, kMaxCsvFileBytes), path);
+  if (map == MAP_FAILED) return ParseCsvImpl(ReadFileText(path, kMaxCsvFileBytes), path, 0, wanted);
   ::madvise(map, size, MADV_SEQUENTIAL);
   struct Unmap {
     void* p;
     std::size_t n;
     ~Unmap() { ::munmap(p, n); }
   } unmap{map, size};
-  return ParseCsv(std::string_view(static_cast<const char*>(map), size), path);
+  return ParseCsvImpl(std::string_view(static_cast<const char*>(map), size), path, 0, wanted);
+}
+
+}  // namespace
+
+CsvTable ReadCsv(const std::string& path) { return ReadCsvImpl(path, nullptr); }
+
+CsvTable ReadCsvColumns(const std::string& path, const CsvColumns& wanted) {
+  return ReadCsvImpl(path, &wanted);
 }
 
 }  // namespace vibid

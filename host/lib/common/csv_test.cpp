@@ -166,6 +166,68 @@ TEST(Csv, FirstBadLineIsReportedWhateverTheThreads) {
   }
 }
 
+// A recording with a text column (a note per row) that no command reads: only the asked-for
+// columns are parsed, and only they must be numbers.
+TEST(Csv, OnlyAskedForColumnsMustBeNumbers) {
+  const std::string text = "t_s,force1_n,note,acc1_m_s2\n0,1.5,first hit,2\n0.001,-2e-3,,3.25\n";
+  EXPECT_NE(ErrorOf([&] { ParseCsv(text, "f.csv"); }).find("f.csv:2: column 3 'note': 'first hit'"),
+            std::string::npos);
+  const CsvTable t = ParseCsvColumns(text, "f.csv", {{"acc1_m_s2", "force1_n"}, {"t_s", "x"}});
+  EXPECT_EQ(t.names, (std::vector<std::string>{"t_s", "force1_n", "acc1_m_s2"}));
+  ASSERT_EQ(t.rows(), 2u);
+  EXPECT_DOUBLE_EQ(t.Column("force1_n")[1], -2e-3);
+  EXPECT_DOUBLE_EQ(t.Column("acc1_m_s2")[1], 3.25);
+  EXPECT_DOUBLE_EQ(t.Column("t_s")[1], 0.001);
+  // The text column asked for: refused, naming the line and the column.
+  EXPECT_NE(ErrorOf([&] {
+              ParseCsvColumns(text, "f.csv", {{"note"}, {}});
+            }).find("f.csv:2: column 3 'note': 'first hit' is not a number"),
+            std::string::npos);
+  // An absent column is named with the file's columns; a short row is still a short row.
+  EXPECT_NE(ErrorOf([&] {
+              ParseCsvColumns(text, "f.csv", {{"acc2_m_s2"}, {}});
+            }).find("f.csv: no column 'acc2_m_s2' (columns: t_s, force1_n, note, acc1_m_s2)"),
+            std::string::npos);
+  EXPECT_NE(ErrorOf([&] {
+              ParseCsvColumns("a,note,b\n1,x,2\n1,y\n", "f.csv", {{"a"}, {}});
+            }).find("f.csv:3: expected 3 cells, found 2"),
+            std::string::npos);
+  EXPECT_NE(ErrorOf([&] {
+              ParseCsvColumns("a,note\n1,x,2\n", "f.csv", {{"a"}, {}});
+            }).find("f.csv:2: expected 2 cells, found 3"),
+            std::string::npos);
+}
+
+TEST(Csv, SkippedColumnsDoNotChangeTheResultWhateverTheThreads) {
+  const std::string text = LargeText(100000);
+  const CsvTable all = ParseCsv(text, "mem", 1);
+  // Column x skipped: the others come out bit-identical on any thread count.
+  for (const std::size_t threads : {1u, 2u, 4u}) {
+    const CsvTable some = ParseCsvColumns(text, "mem", {{"y"}, {"t_s"}}, threads);
+    ASSERT_EQ(some.names, (std::vector<std::string>{"t_s", "y"}));
+    EXPECT_EQ(some.Column("t_s"), all.Column("t_s"));
+    EXPECT_EQ(some.Column("y"), all.Column("y"));
+  }
+}
+
+TEST(Recording, ReadsTheAskedForChannelsOnly) {
+  const std::string path = ::testing::TempDir() + "/with_note.csv";
+  {
+    std::FILE* f = std::fopen(path.c_str(), "w");
+    ASSERT_NE(f, nullptr);
+    std::fputs("t_s,force1_n,operator,acc1_m_s2\n0,1,ann,2\n0.01,3,bob,4\n0.02,5,ann,6\n", f);
+    std::fclose(f);
+  }
+  const Recording r = LoadRecording(path, {.min_samples = 3, .channels = {"acc1_m_s2"}});
+  EXPECT_NEAR(r.fs_hz, 100.0, 1e-9);
+  EXPECT_EQ(r.table.names, (std::vector<std::string>{"t_s", "acc1_m_s2"}));
+  EXPECT_NE(ErrorOf([&] {
+              LoadRecording(path, {.min_samples = 3, .channels = {"operator"}});
+            }).find(":2: column 3 'operator': 'ann' is not a number"),
+            std::string::npos);
+  std::remove(path.c_str());
+}
+
 TEST(Csv, MissingColumnListsAvailable) {
   const auto t = ParseCsv("t_s,x\n0,1\n", "f.csv");
   EXPECT_NE(ErrorOf([&] { t.Column("y"); }).find("columns: t_s, x"), std::string::npos);

@@ -7,6 +7,7 @@
 
 #include "vibid/common/enum_names.hpp"
 #include "vibid/common/error.hpp"
+#include "vibid/common/json_keys.hpp"
 #include "vibid/common/text_input.hpp"
 
 namespace vibid::dob {
@@ -45,6 +46,47 @@ constexpr EnumNames<fixed::InputKind, 4> kInputKindNames{
      {fixed::InputKind::kDisplacement, "disp"},
      {fixed::InputKind::kVelocity, "vel"},
      {fixed::InputKind::kAcceleration, "acc"}}};
+
+// Every key DesignToJson writes, level by level: the reader takes the discrete and fixed parts,
+// the rest documents the design, and a misspelt key anywhere is refused.
+void RequireDesignKeys(const nlohmann::json& j, const std::string& what) {
+  RequireKnownKeys(j,
+                   {"format", "version", "options", "q", "butterworth", "plant_relative_degree",
+                    "discrete", "fixed", "stable", "valid_band_hz", "predicted_snr_db"},
+                   what);
+  const auto each = [](const nlohmann::json& parent, const char* key, const auto& check) {
+    if (!parent.is_object() || !parent.contains(key) || !parent.at(key).is_array()) return;
+    for (const nlohmann::json& item : parent.at(key)) check(item);
+  };
+  if (j.contains("options"))
+    RequireKnownKeys(
+        j.at("options"),
+        {"N", "r", "tau_s", "fs_hz", "prototype", "sensor", "form", "discretize", "input_dof",
+         "output_dof", "leak_hz", "force_full_scale_n", "sensor_full_scale", "output_full_scale_n"},
+        what + " options");
+  if (j.contains("q")) RequireKnownKeys(j.at("q"), {"num", "den"}, what + " q");
+  if (j.contains("discrete")) {
+    const nlohmann::json& discrete = j.at("discrete");
+    RequireKnownKeys(discrete, {"fs_hz", "inputs", "max_pole_radius"}, what + " discrete");
+    each(discrete, "inputs", [&](const nlohmann::json& in) {
+      RequireKnownKeys(in, {"kind", "dof", "full_scale", "sos"}, what + " discrete.inputs");
+    });
+  }
+  if (j.contains("fixed")) {
+    const nlohmann::json& fixed_part = j.at("fixed");
+    RequireKnownKeys(fixed_part,
+                     {"bytes", "checksum", "output_full_scale_n", "predicted_noise_rms_n", "paths",
+                      "description_hex"},
+                     what + " fixed");
+    each(fixed_part, "paths", [&](const nlohmann::json& path) {
+      RequireKnownKeys(path, {"output_gain", "output_shift", "l1_gain", "sections"},
+                       what + " fixed.paths");
+      each(path, "sections", [&](const nlohmann::json& section) {
+        RequireKnownKeys(section, {"b", "a", "shift", "feedback"}, what + " fixed.paths.sections");
+      });
+    });
+  }
+}
 
 }  // namespace
 
@@ -126,6 +168,7 @@ ObserverFile ObserverFromJson(const nlohmann::json& j, const std::string& source
   if (!j.is_object() || j.value("format", nlohmann::json()) != "vibid-dob-design")
     fail("not a vibid DOB design file");
   if (j.value("version", nlohmann::json()) != 1) fail("unsupported design file version");
+  RequireDesignKeys(j, "design file " + source);
   ObserverFile f;
   try {
     f.fs_hz = j.at("discrete").at("fs_hz").get<double>();

@@ -90,20 +90,22 @@ std::string FormatValidationTable(const ValidationTable& t) {
       out << line;
     }
   }
-  out << "Positions (change from nominal)\n";
-  std::snprintf(line, sizeof line, "%-5s %-12s %12s %12s %9s\n", "pos", "quantity", "nominal",
-                "updated", "change%");
+  out << "Positions (change from nominal, 95 % interval of the updated value)\n";
+  std::snprintf(line, sizeof line, "%-5s %-12s %12s %12s %9s  %s\n", "pos", "quantity", "nominal",
+                "updated", "change%", "95 % interval");
   out << line;
   for (std::size_t i = 0; i < t.positions.size(); ++i) {
     const PositionComparison& p = t.positions[i];
-    std::snprintf(line, sizeof line, "%-5zu %-12s %12.6g %12.6g %9.2f\n", i + 1, "m_kg",
-                  p.m_nominal, p.m_updated, PercentDeviation(p.m_updated, p.m_nominal));
+    std::snprintf(line, sizeof line, "%-5zu %-12s %12.6g %12.6g %9.2f  %s\n", i + 1, "m_kg",
+                  p.m_nominal, p.m_updated, PercentDeviation(p.m_updated, p.m_nominal),
+                  FormatInterval(p.m_ci95, p.m_updated).c_str());
     out << line;
-    std::snprintf(line, sizeof line, "%-5zu %-12s %12.6g %12.6g %9.2f\n", i + 1, "k_n_per_m",
-                  p.k_nominal, p.k_updated, PercentDeviation(p.k_updated, p.k_nominal));
+    std::snprintf(line, sizeof line, "%-5zu %-12s %12.6g %12.6g %9.2f  %s\n", i + 1, "k_n_per_m",
+                  p.k_nominal, p.k_updated, PercentDeviation(p.k_updated, p.k_nominal),
+                  FormatInterval(p.k_ci95, p.k_updated).c_str());
     out << line;
-    std::snprintf(line, sizeof line, "%-5zu %-12s %12s %12.6g\n", i + 1, "c_ns_per_m", "",
-                  p.c_updated);
+    std::snprintf(line, sizeof line, "%-5zu %-12s %12s %12.6g %9s  %s\n", i + 1, "c_ns_per_m", "",
+                  p.c_updated, "", FormatInterval(p.c_ci95, p.c_updated).c_str());
     out << line;
   }
   return out.str();
@@ -111,19 +113,44 @@ std::string FormatValidationTable(const ValidationTable& t) {
 
 namespace {
 
+// A given spring fixes m = k / omega^2; the FRF's level (1/k below the resonance) says what k
+// the test saw. When that disagrees with the given k beyond its interval, the mass is off by the
+// same factor: say so, with the way out.
+void CheckGivenSpring(const MassTestInput& mt, const MassUpdateOptions& given,
+                      const MassUpdateResult& held, IdentifyResult& res) {
+  MassUpdateOptions free = given;
+  free.k_n_per_m = 0.0;
+  MassUpdateResult fitted;
+  try {
+    fitted = UpdateMass(mt.receptance, 0, free);
+  } catch (const InputError&) {
+    return;
+  }
+  const Interval95 k = IntervalOf(fitted.k_n_per_m, fitted.k_u);
+  if (!fitted.summary.Converged() || !k.Known()) return;
+  if (given.k_n_per_m >= k.lo && given.k_n_per_m <= k.hi) return;
+  char text[320];
+  std::snprintf(text, sizeof text,
+                "mass test %zu: its FRF's level says the spring is %.6g N/m (95 %%: %.4g to "
+                "%.4g), not the %.6g N/m given; the mass %.6g kg is off by as much (--mass-spring "
+                "%zu=fit fits the spring with the mass: %.6g kg)",
+                mt.position + 1, fitted.k_n_per_m, k.lo, k.hi, given.k_n_per_m, held.mass_kg,
+                mt.position + 1, fitted.mass_kg);
+  res.warnings.push_back(text);
+}
+
 // Each mass test's fitted mass replaces the nominal one in `res.chain`.
 void UpdateMasses(const ChainParameters& nominal_chain,
                   const std::vector<MassTestInput>& mass_tests, const IdentifyOptions& options,
                   IdentifyResult& res) {
   const Eigen::Index n = nominal_chain.masses_kg.size();
-  std::vector<bool> seen(static_cast<std::size_t>(n), false);
+  const auto un = static_cast<std::size_t>(n);
+  std::vector<std::vector<double>> masses(un);
+  std::vector<std::vector<Uncertainty>> each(un);
   for (const MassTestInput& mt : mass_tests) {
-    Require(mt.position < static_cast<std::size_t>(n), "identify: mass test for position " +
-                                                           std::to_string(mt.position + 1) +
-                                                           ", the model has " + std::to_string(n));
-    Require(!seen[mt.position],
-            "identify: two mass tests for position " + std::to_string(mt.position + 1));
-    seen[mt.position] = true;
+    Require(mt.position < un, "identify: mass test for position " +
+                                  std::to_string(mt.position + 1) + ", the model has " +
+                                  std::to_string(n));
     MassUpdateOptions mo = options.mass;
     const auto pos = static_cast<Eigen::Index>(mt.position);
     mo.k_n_per_m = mt.fit_spring        ? 0.0
@@ -137,8 +164,19 @@ void UpdateMasses(const ChainParameters& nominal_chain,
     }
     for (const auto& w : r.update.warnings)
       res.warnings.push_back("mass test " + std::to_string(mt.position + 1) + ": " + w);
-    res.chain.masses_kg[pos] = r.update.mass_kg;
+    if (!r.update.stiffness_fitted) CheckGivenSpring(mt, mo, r.update, res);
+    masses[mt.position].push_back(r.update.mass_kg);
+    each[mt.position].push_back(r.update.mass_u);
     res.mass_tests.push_back(r);
+  }
+  for (std::size_t p = 0; p < un; ++p) {
+    if (masses[p].empty()) {
+      res.uncertainty[p].m_kg = Uncertainty::Missing("no mass test: the nominal mass");
+      continue;
+    }
+    const MeanOfTests mean = MeanOfRepeats(masses[p], each[p], "mass tests");
+    res.chain.masses_kg[static_cast<Eigen::Index>(p)] = mean.mean;
+    res.uncertainty[p].m_kg = mean.uncertainty;
   }
 }
 
@@ -173,27 +211,19 @@ std::vector<StiffnessUpdateResult> UpdateStiffnessPerTest(const std::vector<Frf>
   return updates;
 }
 
-// Interval of the mean over the tests: from each test's standard deviation, or from the
-// tests' scatter when that is larger (the rig changing between tests is no noise the
-// modal model sees). Normal quantile: the per-test variances are well determined. `out` is left
-// as it is when a test has no interval.
+// Interval of the mean over the tests, the tests taken as repeats (intervals.hpp). `out` is left
+// as it is (no interval) when none can be estimated.
 template <typename ValueOf, typename CiOf>
 void MeanInterval(const std::vector<ModeIdentification>& tests, std::size_t i, ValueOf value_of,
                   CiOf ci_of, double mean, std::array<double, 2>& out) {
-  const auto count = static_cast<double>(tests.size());
-  double var_sum = 0.0;
-  double ss = 0.0;
+  std::vector<double> values;
+  std::vector<Uncertainty> each;
   for (const auto& mt : tests) {
-    const std::array<double, 2>& ci = ci_of(mt.modes[i]);
-    if (!std::isfinite(ci[0]) || !std::isfinite(ci[1])) return;
-    const double sd = 0.5 * (ci[1] - ci[0]) / kZ95;
-    var_sum += sd * sd;
-    ss += (value_of(mt.modes[i]) - mean) * (value_of(mt.modes[i]) - mean);
+    values.push_back(value_of(mt.modes[i]));
+    each.push_back(ModeIntervalUncertainty(ci_of(mt.modes[i])));
   }
-  double var = var_sum / (count * count);
-  if (count >= 2.0) var = std::max(var, ss / (count - 1.0) / count);
-  const double hw = kZ95 * std::sqrt(var);
-  out = {mean - hw, mean + hw};
+  const Interval95 ci = IntervalOf(mean, MeanOfRepeats(values, each, "modal tests").uncertainty);
+  if (ci.Known()) out = {ci.lo, ci.hi};
 }
 
 // Mode i of every test is the same physical mode.
@@ -245,6 +275,7 @@ IdentifyResult Identify(const model::Model& nominal, const std::vector<MassTestI
   const ChainParameters nominal_chain = ChainOf(nominal);
   IdentifyResult res;
   res.chain = nominal_chain;
+  res.uncertainty.resize(static_cast<std::size_t>(n));
   UpdateMasses(nominal_chain, mass_tests, options, res);
   const std::vector<StiffnessUpdateResult> updates =
       UpdateStiffnessPerTest(modal_tests, options, n, res);
@@ -259,10 +290,32 @@ IdentifyResult Identify(const model::Model& nominal, const std::vector<MassTestI
   if ((res.chain.dampers_ns_per_m.array() < 0.0).any()) {
     res.warnings.push_back("a negative chain damper from the test damping was set to zero");
   }
+  std::vector<Uncertainty> mass_u;
+  for (const PositionUncertainty& u : res.uncertainty) mass_u.push_back(u.m_kg);
+  std::vector<std::vector<ModeEstimate>> modes;
+  for (const ModeIdentification& mi : res.modal_tests) modes.push_back(mi.modes);
+  const ChainUncertainty chain_u =
+      StiffnessUncertainty(res.chain.masses_kg, mass_u, modes, updates);
+  for (std::size_t i = 0; i < res.uncertainty.size(); ++i) {
+    res.uncertainty[i].k_n_per_m = chain_u.springs[i];
+    res.uncertainty[i].c_ns_per_m = chain_u.dampers[i];
+  }
+  for (Eigen::Index i = 0; i < n; ++i) {
+    if (res.chain.dampers_ns_per_m[i] < 0.0) {
+      res.uncertainty[static_cast<std::size_t>(i)].c_ns_per_m =
+          Uncertainty::Missing("a negative estimate, set to zero");
+    }
+  }
   res.chain.dampers_ns_per_m = dampers;
   res.updated =
       model::MakeChain(res.chain.masses_kg, res.chain.springs_n_per_m, res.chain.dampers_ns_per_m);
   res.table = BuildValidationTable(nominal, res.updated, res.test_modes);
+  for (std::size_t i = 0; i < res.table.positions.size(); ++i) {
+    PositionComparison& p = res.table.positions[i];
+    p.m_ci95 = IntervalOf(p.m_updated, res.uncertainty[i].m_kg);
+    p.k_ci95 = IntervalOf(p.k_updated, res.uncertainty[i].k_n_per_m);
+    p.c_ci95 = IntervalOf(p.c_updated, res.uncertainty[i].c_ns_per_m);
+  }
   return res;
 }
 

@@ -319,7 +319,7 @@ bool KeepDoubleHits(const ImpactOptions& options, ImpactResult& result) {
 // first pulse, every channel under the exponential window.
 void AccumulateHit(const ImpactChannels& ch, const HitSpan& span, std::size_t taper_width,
                    const RecordLayout& layout, double baseline, const Eigen::VectorXd& exp_window,
-                   RealFft& fft, CrossSpectra& spectra) {
+                   RealFft& fft, CrossSpectra& spectra, Eigen::VectorXd& window_noise) {
   const std::size_t record = layout.record;
   const std::size_t pre = layout.pre;
   const auto seg = [&](const Eigen::VectorXd& x) {
@@ -330,6 +330,7 @@ void AccumulateHit(const ImpactChannels& ch, const HitSpan& span, std::size_t ta
   const std::size_t keep = span.keep;
   const std::size_t taper = std::min(taper_width, record - keep);
   Eigen::VectorXd fbuf(static_cast<Eigen::Index>(record));
+  double window_power = 0.0;  // sum of the squared force window: white noise's power through it
   for (std::size_t i = 0; i < record; ++i) {
     double w = 0.0;
     if (i < keep) {
@@ -338,13 +339,17 @@ void AccumulateHit(const ImpactChannels& ch, const HitSpan& span, std::size_t ta
       w = 0.5 * (1.0 + std::cos(std::numbers::pi * static_cast<double>(i - keep + 1) /
                                 static_cast<double>(taper + 1)));
     }
+    w *= exp_window[static_cast<Eigen::Index>(i)];
+    window_power += w * w;
     fbuf[static_cast<Eigen::Index>(i)] =
-        (ch.force[static_cast<Eigen::Index>(span.start + i)] - f_offset) * w *
-        exp_window[static_cast<Eigen::Index>(i)];
+        (ch.force[static_cast<Eigen::Index>(span.start + i)] - f_offset) * w;
   }
   Eigen::VectorXcd fspec;
   fft.Transform(fbuf.data(), fspec);
   spectra.gff += fspec.cwiseAbs2();
+  // H1's error from force noise N in the window is sum F* N / sum |F|^2; its variance per unit
+  // noise variance has the numerator sum |F|^2 W (W = window_power).
+  window_noise += window_power * fspec.cwiseAbs2();
   Eigen::VectorXd xbuf(static_cast<Eigen::Index>(record));
   Eigen::VectorXcd xspec;
   for (Eigen::Index j = 0; j < ch.responses.cols(); ++j) {
@@ -374,6 +379,29 @@ void LimitToForceBand(const CrossSpectra& spectra, const ImpactOptions& options,
     << options.force_dynamic_range_db << " dB of its peak from " << result.usable_min_hz << " to "
     << result.usable_max_hz << " Hz; lines above carry no FRF (coherence set to 0)";
   result.warnings.push_back(w.str());
+}
+
+// Variance of the force channel's noise: from the median absolute deviation of the median-
+// centred force (the hits are a few per cent of the samples at most, which the median ignores;
+// 1.4826 makes it the standard deviation of normal noise).
+double ForceNoiseVariance(const Eigen::VectorXd& centred) {
+  Eigen::VectorXd a = centred.cwiseAbs();
+  const auto mid = static_cast<std::ptrdiff_t>(a.size() / 2);
+  std::nth_element(a.data(), a.data() + mid, a.data() + a.size());
+  const double sd = 1.4826 * a[mid];
+  return sd * sd;
+}
+
+// Per line: the variance of the relative error of |H1| from force noise inside the windows,
+// sigma^2 sum_h |F_h|^2 W_h / (sum_h |F_h|^2)^2, halved for the real part (the magnitude's share
+// of a complex error). 0 where the force has no energy.
+Eigen::VectorXd LevelRelativeVariance(double noise_var, const Eigen::VectorXd& window_noise,
+                                      const Eigen::VectorXd& gff) {
+  Eigen::VectorXd v = Eigen::VectorXd::Zero(gff.size());
+  for (Eigen::Index i = 0; i < gff.size(); ++i) {
+    if (gff[i] > 0.0) v[i] = 0.5 * noise_var * window_noise[i] / (gff[i] * gff[i]);
+  }
+  return v;
 }
 
 CrossSpectra ZeroSpectra(const RecordLayout& layout, Eigen::Index responses, double fs_hz) {
@@ -431,6 +459,7 @@ ImpactResult EstimateImpactFrf(const Eigen::Ref<const Eigen::VectorXd>& force,
   const bool keep_doubles = KeepDoubleHits(options, result);
 
   RealFft fft(layout.record);
+  Eigen::VectorXd window_noise = Eigen::VectorXd::Zero(spectra.gff.size());
   std::size_t used = 0;
   bool doubles_used = false;
   std::ostringstream reasons;
@@ -447,7 +476,8 @@ ImpactResult EstimateImpactFrf(const Eigen::Ref<const Eigen::VectorXd>& force,
     doubles_used = doubles_used || hit.double_hit;
     const Pulse& first = groups[g].front();
     const std::size_t width = std::max<std::size_t>(first.end - first.start, 1);
-    AccumulateHit(channels, spans[g], width, layout, baseline, exp_window, fft, spectra);
+    AccumulateHit(channels, spans[g], width, layout, baseline, exp_window, fft, spectra,
+                  window_noise);
     ++used;
   }
   if (used == 0) {
@@ -455,6 +485,8 @@ ImpactResult EstimateImpactFrf(const Eigen::Ref<const Eigen::VectorXd>& force,
                      (overridable ? " (--keep-bad-hits uses double and clipped hits anyway)" : ""));
   }
   spectra.averages = used;
+  const Eigen::VectorXd level_rel_var =
+      LevelRelativeVariance(ForceNoiseVariance(centred), window_noise, spectra.gff);
   const double scale =
       2.0 / (fs_hz * static_cast<double>(layout.record) * static_cast<double>(used));
   spectra.gff *= scale;
@@ -463,6 +495,7 @@ ImpactResult EstimateImpactFrf(const Eigen::Ref<const Eigen::VectorXd>& force,
   result.frf = FrfFromSpectra(spectra, estimator, response_quantity);
   result.frf.exp_window_tau_s = tau_s;
   result.frf.pretrigger_s = static_cast<double>(layout.pre) / fs_hz;
+  if (estimator == Estimator::kH1) result.frf.level_rel_var = level_rel_var;
   const Eigen::Index lines = spectra.freq_hz.size();
   result.usable_min_hz = spectra.freq_hz[std::min<Eigen::Index>(1, lines - 1)];
   result.usable_max_hz = spectra.freq_hz[lines - 1];

@@ -2,16 +2,25 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <limits>
 #include <numbers>
 
 #include <Eigen/Cholesky>
+#include <Eigen/Eigenvalues>
 #include <Eigen/QR>
 
 #include "band.hpp"
 #include "vibid/common/error.hpp"
 
 namespace vibid::ident {
+
+std::array<double, 2> NormalInterval95(double value, double sd) {
+  if (!(std::isfinite(sd) && sd > 0.0 && std::isfinite(value))) {
+    return {std::numeric_limits<double>::quiet_NaN(), std::numeric_limits<double>::quiet_NaN()};
+  }
+  return {value - kZ95 * sd, value + kZ95 * sd};
+}
 
 void ModalModelOptions::Validate() const {
   RequireBand(freq_min_hz, freq_max_hz, "modal model");
@@ -159,7 +168,21 @@ double ModalModelFit::ShapeRatioSd(Eigen::Index mode, Eigen::Index j, Eigen::Ind
       g[s_at + 1] = -gr[k][0] * e.imag() + gr[k][1] * e.real();
     }
   }
-  return std::sqrt(std::max(0.0, g.dot(covariance * g)));
+  return std::sqrt(Variance(g));
+}
+
+double ModalModelFit::Variance(const Eigen::VectorXd& gradient) const {
+  constexpr double kNone = std::numeric_limits<double>::quiet_NaN();
+  if (covariance.rows() != gradient.size() || covariance.rows() == 0) return kNone;
+  const double v = gradient.dot(covariance * gradient);
+  if (undetermined.cols() > 0) {
+    // Even at the least variance an undetermined direction can have, it outweighs what the
+    // determined ones give: the data do not fix this quantity.
+    const double least =
+        (undetermined.transpose() * gradient).squaredNorm() * undetermined_variance;
+    if (!(least <= v)) return kNone;
+  }
+  return std::isfinite(v) && v > 0.0 ? v : kNone;
 }
 
 namespace {
@@ -289,6 +312,16 @@ void WeightByNoiseLevel(const Eigen::VectorXd& theta, Problem& prob) {
   }
 }
 
+// Directions of the column-scaled information matrix with an eigenvalue below this fraction of
+// the largest are not determined by the band's lines: double precision cannot resolve them (a
+// singular value of the scaled Jacobian below 1e-6 of the largest).
+constexpr double kUndeterminedEigenvalue = 1e-12;
+
+// Covariance on the determined directions (pseudo-inverse of the information matrix), and the
+// undetermined directions themselves: a quantity that moves along one of them has no interval.
+// Why not the plain inverse: where the lines cannot tell two parameters apart (the ringing terms
+// of a short record against the hit's own residues and the constant term) the inverse of a
+// numerically singular matrix is noise, with negative variances that would print as +- 0.
 void EstimateCovariance(const Problem& prob, const Eigen::VectorXd& theta, ModalModelFit& out) {
   Eigen::VectorXd r;
   Eigen::MatrixXd jac;
@@ -299,12 +332,31 @@ void EstimateCovariance(const Problem& prob, const Eigen::VectorXd& theta, Modal
   out.reduced_chi2 = r.squaredNorm() / dof;
   const Eigen::VectorXd scale = jac.colwise().norm().transpose().cwiseMax(1e-300).cwiseInverse();
   const Eigen::MatrixXd js = jac * scale.asDiagonal();
-  const Eigen::MatrixXd info = js.transpose() * js;
+  const Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> es(js.transpose() * js);
+  const Eigen::VectorXd ev = es.eigenvalues();
+  const Eigen::MatrixXd& v = es.eigenvectors();
+  const double top = ev.size() > 0 ? ev[ev.size() - 1] : 0.0;
+  const double floor = kUndeterminedEigenvalue * top;
+  Eigen::VectorXd inv = Eigen::VectorXd::Zero(ev.size());
+  std::vector<Eigen::Index> undetermined;
+  for (Eigen::Index k = 0; k < ev.size(); ++k) {
+    if (ev[k] > floor && top > 0.0) {
+      inv[k] = 1.0 / ev[k];
+    } else {
+      undetermined.push_back(k);
+    }
+  }
+  out.min_eigenvalue_ratio = top > 0.0 ? std::max(0.0, ev[0]) / top : 0.0;
   // The noise level is estimated, so the covariance takes the misfit per degree of freedom as it
   // is (Gauss-Newton covariance with an unknown variance).
-  out.covariance = scale.asDiagonal() *
-                   info.ldlt().solve(Eigen::MatrixXd::Identity(info.rows(), info.cols())) *
-                   scale.asDiagonal() * out.reduced_chi2;
+  const Eigen::MatrixXd sv = scale.asDiagonal() * v;
+  out.covariance = sv * inv.asDiagonal() * sv.transpose() * out.reduced_chi2;
+  out.undetermined.resize(prob.parameters(), static_cast<Eigen::Index>(undetermined.size()));
+  for (std::size_t k = 0; k < undetermined.size(); ++k)
+    out.undetermined.col(static_cast<Eigen::Index>(k)) = sv.col(undetermined[k]);
+  // The least variance an undetermined direction can have: its eigenvalue at the floor.
+  out.undetermined_variance =
+      top > 0.0 ? out.reduced_chi2 / floor : std::numeric_limits<double>::infinity();
 }
 
 void StoreResidues(const Problem& prob, const Eigen::VectorXd& theta, Eigen::Index i,
@@ -340,9 +392,11 @@ void StoreStructurePole(double om, double ze, double tau, Eigen::Index i, ModalM
     g(0, c) = dwt;
     g(1, c) = -dl.real() / wt + lt.real() * dwt / (wt * wt);
   }
-  const Eigen::Matrix2d c = g * out.covariance.block<2, 2>(2 * i, 2 * i) * g.transpose();
-  out.omega_sd_rad_s[i] = std::sqrt(std::max(0.0, c(0, 0)));
-  out.zeta_sd[i] = std::sqrt(std::max(0.0, c(1, 1)));
+  for (int row = 0; row < 2; ++row) {
+    Eigen::VectorXd full = Eigen::VectorXd::Zero(out.covariance.rows());
+    full.segment<2>(2 * i) = g.row(row).transpose();
+    (row == 0 ? out.omega_sd_rad_s : out.zeta_sd)[i] = std::sqrt(out.Variance(full));
+  }
 }
 
 void StoreModes(const Problem& prob, const Eigen::VectorXd& theta, double tau, ModalModelFit& out) {
@@ -367,6 +421,29 @@ void StoreModes(const Problem& prob, const Eigen::VectorXd& theta, double tau, M
 
 }  // namespace
 
+namespace {
+
+// The fit of one model (with or without the ringing terms) from the start poles.
+ModalModelFit FitProblem(Problem prob, const std::vector<std::complex<double>>& start,
+                         const ModalModelOptions& options, double exp_window_tau_s) {
+  Require(prob.lines() > prob.per_response() + prob.modes,
+          "modal model fit: too few frequency lines in the band");
+  Eigen::VectorXd theta = StartParameters(start, prob);
+  prob.SolveLinear(theta);
+  ModalModelFit out;
+  out.lines = static_cast<int>(prob.lines());
+  out.ringing_terms = prob.families() == 2;
+  Refine(prob, options, theta, out.summary);
+  // Once more with each response weighted by its noise level.
+  WeightByNoiseLevel(theta, prob);
+  Refine(prob, options, theta, out.summary);
+  EstimateCovariance(prob, theta, out);
+  StoreModes(prob, theta, exp_window_tau_s, out);
+  return out;
+}
+
+}  // namespace
+
 ModalModelFit FitModalModel(const Frf& receptance, const std::vector<std::complex<double>>& start,
                             const ModalModelOptions& options) {
   options.Validate();
@@ -382,22 +459,35 @@ ModalModelFit FitModalModel(const Frf& receptance, const std::vector<std::comple
           "modal model fit: too few frequency lines in the band");
   LoadLines(acc, rows, prob);
 
-  Eigen::VectorXd theta = StartParameters(start, prob);
-  prob.SolveLinear(theta);
-
-  ModalModelFit out;
+  ModalModelFit out = FitProblem(prob, start, options, acc.exp_window_tau_s);
   out.freq_min_hz = acc.freq_hz[rows.front()];
   out.freq_max_hz = acc.freq_hz[rows.back()];
-  out.lines = static_cast<int>(L);
-
-  Refine(prob, options, theta, out.summary);
-  // Once more with each response weighted by its noise level.
-  WeightByNoiseLevel(theta, prob);
-  Refine(prob, options, theta, out.summary);
-
-  EstimateCovariance(prob, theta, out);
-  StoreModes(prob, theta, acc.exp_window_tau_s, out);
-  return out;
+  if (!out.ringing_terms || out.undetermined.cols() == 0) return out;
+  Problem plain = prob;
+  plain.pretrigger_s = 0.0;
+  ModalModelFit alt;
+  try {
+    alt = FitProblem(plain, start, options, acc.exp_window_tau_s);
+  } catch (const InputError&) {
+    return out;
+  }
+  bool near = alt.summary.Converged() && alt.undetermined.cols() == 0;
+  for (Eigen::Index i = 0; near && i < alt.omega_rad_s.size(); ++i) {
+    near = std::abs(alt.omega_rad_s[i] - out.omega_rad_s[i]) <= 0.01 * out.omega_rad_s[i] &&
+           std::abs(alt.zeta[i] - out.zeta[i]) <= 0.5 * out.zeta[i];
+  }
+  if (!near) return out;
+  alt.freq_min_hz = out.freq_min_hz;
+  alt.freq_max_hz = out.freq_max_hz;
+  char line[240];
+  std::snprintf(line, sizeof line,
+                "the %d lines of %.4g..%.4g Hz do not tell the ringing terms of the %.4g s "
+                "pretrigger from the hit's own residues: modal model without them, no intervals "
+                "(hits further apart give both)",
+                out.lines, out.freq_min_hz, out.freq_max_hz, prob.pretrigger_s);
+  alt.note = line;
+  alt.ringing_terms_dropped = true;
+  return alt;
 }
 
 }  // namespace vibid::ident

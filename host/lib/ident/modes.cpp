@@ -357,9 +357,14 @@ StabilizationDiagram DiagramForReceptance(const Frf& receptance,
                                           const ModeIdentificationOptions& options,
                                           const StabilizationOptions& so) {
   if (so.freq_max_hz > 0.0) return BuildStabilizationDiagram(receptance, so);
-  // No band given: bands around the resonances the peak picker sees (see AutomaticBands).
-  const PeakResult seen = PickPeaks(
-      receptance.freq_hz, PickingMagnitude(receptance, options.picking_column), options.peaks);
+  // No band given: bands around the resonances the peak picker sees (see AutomaticBands). Every
+  // peak places a band: a limit on the modes keeps the poles seen at the most orders
+  // (StrongestPoles), it does not choose where to look (the largest peaks of a single-hit FRF can
+  // be noise at the force spectrum's notches, above a weak mode).
+  PeakOptions look = options.peaks;
+  look.max_peaks = 0;
+  const PeakResult seen =
+      PickPeaks(receptance.freq_hz, PickingMagnitude(receptance, options.picking_column), look);
   std::vector<double> at;
   for (const Peak& p : seen.peaks) at.push_back(p.freq_hz);
   std::vector<std::pair<double, double>> bands =
@@ -383,23 +388,28 @@ std::vector<SelectedPole> StrongestPoles(std::vector<SelectedPole> chosen, std::
 }
 
 // The default must not leave a user with nothing: LSCE next (it holds up on short Welch FRFs
-// where pLSCF finds no stable pole, e.g. the DaISy robot arm), then the curve fit.
+// where pLSCF finds no stable pole, e.g. the DaISy robot arm), then the curve fit; each step says
+// why the one before gave no mode, and when none does the refusal names all three causes.
 ModeIdentification IdentifyWithoutPlscf(const Frf& receptance, std::size_t driving_point,
                                         const ModeIdentificationOptions& options,
-                                        const StabilizationOptions& so) {
+                                        const std::string& why) {
   ModeIdentificationOptions next = options;
   next.stabilization_fallback_off = true;
   next.method = ModeMethod::kLsce;
-  const std::string why = std::string("no stable pole in the pLSCF diagram (orders ") +
-                          std::to_string(so.min_order) + ".." + std::to_string(so.max_order) + ")";
   ModeIdentification alt;
   try {
     alt = IdentifyModes(receptance, driving_point, next);
     alt.warnings.insert(alt.warnings.begin(), why + ": modes from LSCE");
-  } catch (const InputError&) {
+    return alt;
+  } catch (const InputError& lsce) {
     next.method = ModeMethod::kCurveFit;
-    alt = IdentifyModes(receptance, driving_point, next);
-    alt.warnings.insert(alt.warnings.begin(), why + " nor in LSCE's: modes from the curve fit");
+    try {
+      alt = IdentifyModes(receptance, driving_point, next);
+    } catch (const InputError& fit) {
+      throw InputError("no modes: " + why + "; " + lsce.what() + "; curve fit: " + fit.what());
+    }
+    alt.warnings.insert(alt.warnings.begin(),
+                        why + "; " + lsce.what() + ": modes from the curve fit (no intervals)");
   }
   return alt;
 }
@@ -470,29 +480,56 @@ void FitModelFromPoles(const Frf& receptance, const std::vector<double>& om,
   }
 }
 
+// The modal model's omega, zeta and shape ratios with their intervals, each where the model
+// determines it; elsewhere the diagram's pole or the residue fit's shape stays, without an
+// interval, and a warning says so.
 void ModesFromModel(std::size_t driving_point, ModeIdentification& out) {
   const auto p = static_cast<Eigen::Index>(driving_point);
+  if (!out.model.note.empty()) out.warnings.push_back(out.model.note);
   for (std::size_t i = 0; i < out.modes.size(); ++i) {
     const auto ii = static_cast<Eigen::Index>(i);
     ModeEstimate& m = out.modes[i];
-    m.omega_rad_s = out.model.omega_rad_s[ii];
-    m.freq_hz = m.omega_rad_s / (2.0 * std::numbers::pi);
-    m.zeta = out.model.zeta[ii];
-    for (Eigen::Index j = 0; j < m.shape.size(); ++j) {
-      if (j != p) m.shape[j] = m.shape[p] * out.model.ShapeRatio(ii, j, p);
+    char line[200];
+    const double sd_omega = out.model.omega_sd_rad_s[ii];
+    const double sd_zeta = out.model.zeta_sd[ii];
+    // Without the ringing terms the values stand but the covariance misses the ringing.
+    const bool intervals = !out.model.ringing_terms_dropped;
+    if (std::isfinite(sd_omega) && std::isfinite(sd_zeta)) {
+      m.omega_rad_s = out.model.omega_rad_s[ii];
+      m.freq_hz = m.omega_rad_s / (2.0 * std::numbers::pi);
+      m.zeta = out.model.zeta[ii];
+      if (intervals) {
+        m.omega_ci95_rad_s = NormalInterval95(m.omega_rad_s, sd_omega);
+        m.zeta_ci95 = NormalInterval95(m.zeta, sd_zeta);
+      }
+    } else {
+      std::snprintf(line, sizeof line,
+                    "mode at %.5g Hz: the modal model does not determine its pole from these "
+                    "lines: omega and zeta from the diagram, no interval",
+                    m.freq_hz);
+      out.warnings.emplace_back(line);
     }
+    if (m.shape.size() != 2) {
+      for (Eigen::Index j = 0; j < m.shape.size(); ++j) {
+        if (j != p) m.shape[j] = m.shape[p] * out.model.ShapeRatio(ii, j, p);
+      }
+      m.ratio = Ratio(m.shape);
+      continue;
+    }
+    // ratio = phi_0 / phi_1: the projection itself when the hammer is at 1, its inverse at 0.
+    const double q = out.model.ShapeRatio(ii, 1 - p, p);
+    const double sd = out.model.ShapeRatioSd(ii, 1 - p, p);
+    if (!std::isfinite(sd)) {
+      std::snprintf(line, sizeof line,
+                    "mode at %.5g Hz: the modal model does not determine its shape from these "
+                    "lines: shape from the residue fit, no interval on a1/a2",
+                    m.freq_hz);
+      out.warnings.emplace_back(line);
+      continue;
+    }
+    m.shape[1 - p] = m.shape[p] * q;
     m.ratio = Ratio(m.shape);
-    const double hw_omega = kZ95 * out.model.omega_sd_rad_s[ii];
-    const double hw_zeta = kZ95 * out.model.zeta_sd[ii];
-    m.omega_ci95_rad_s = {m.omega_rad_s - hw_omega, m.omega_rad_s + hw_omega};
-    m.zeta_ci95 = {m.zeta - hw_zeta, m.zeta + hw_zeta};
-    if (m.shape.size() == 2) {
-      // ratio = phi_0 / phi_1: the projection itself when the hammer is at 1, its inverse at 0.
-      const double q = out.model.ShapeRatio(ii, 1 - p, p);
-      const double sd = out.model.ShapeRatioSd(ii, 1 - p, p);
-      const double hw = kZ95 * (p == 1 ? sd : sd / (q * q));
-      m.ratio_ci95 = {m.ratio - hw, m.ratio + hw};
-    }
+    if (intervals) m.ratio_ci95 = NormalInterval95(m.ratio, p == 1 ? sd : sd / (q * q));
   }
 }
 
@@ -500,18 +537,29 @@ ModeIdentification IdentifyFromDiagram(const Frf& receptance, std::size_t drivin
                                        const ModeIdentificationOptions& options) {
   ModeIdentification out;
   const StabilizationOptions so = DiagramOptions(options);
-  out.diagram = DiagramForReceptance(receptance, options, so);
+  const bool may_fall_back =
+      options.method == ModeMethod::kLscf && !options.stabilization_fallback_off;
+  try {
+    out.diagram = DiagramForReceptance(receptance, options, so);
+  } catch (const InputError& e) {
+    if (!may_fall_back) throw;
+    return IdentifyWithoutPlscf(receptance, driving_point, options, e.what());
+  }
   out.has_diagram = true;
   const std::vector<SelectedPole> chosen =
       StrongestPoles(out.diagram.selected, options.peaks.max_peaks);
-  if (chosen.empty() && options.method == ModeMethod::kLscf &&
-      !options.stabilization_fallback_off) {
-    return IdentifyWithoutPlscf(receptance, driving_point, options, so);
+  const std::string orders = out.diagram.orders.empty()
+                                 ? std::string("none")
+                                 : std::to_string(out.diagram.orders.front()) + ".." +
+                                       std::to_string(out.diagram.orders.back());
+  if (chosen.empty() && may_fall_back) {
+    return IdentifyWithoutPlscf(receptance, driving_point, options,
+                                "lscf: no stable pole in the diagram (orders " + orders + ")");
   }
-  Require(!chosen.empty(),
-          std::string("no stable pole in the stabilization diagram (") + PoleMethodName(so.method) +
-              ", orders " + std::to_string(so.min_order) + ".." + std::to_string(so.max_order) +
-              "): raise the orders (--orders), narrow the band, or use --method fit");
+  Require(!chosen.empty(), std::string("no stable pole in the stabilization diagram (") +
+                               PoleMethodName(so.method) + ", orders " + orders +
+                               "): raise the orders (--orders), narrow the band, or use "
+                               "--method fit");
   std::vector<double> om;
   for (const SelectedPole& p : chosen) om.push_back(p.omega_rad_s);
   const std::vector<double> ze = DampingShownByFrf(receptance, chosen);
@@ -555,19 +603,28 @@ ModeIdentification IdentifyFromPeaks(const Frf& receptance, std::size_t driving_
 }
 
 // A pole with no resolved damping is a numerical artefact (a zero-width peak, or a fit that
-// drove the damping to zero), not a mode.
+// drove the damping to zero), or a pole the record cannot tell from an undamped one (its 95 %
+// interval on zeta reaches 0): not a mode.
 void DropUnresolvedModes(ModeIdentification& out) {
   constexpr double kMinResolvedZeta = 1e-6;
   std::vector<ModeEstimate> kept;
   for (const ModeEstimate& m : out.modes) {
-    if (m.zeta > kMinResolvedZeta && std::isfinite(m.zeta)) {
+    const bool interval_reaches_zero = std::isfinite(m.zeta_ci95[0]) && m.zeta_ci95[0] <= 0.0;
+    if (m.zeta > kMinResolvedZeta && std::isfinite(m.zeta) && !interval_reaches_zero) {
       kept.push_back(m);
       continue;
     }
     char line[200];
-    std::snprintf(line, sizeof line,
-                  "pole at %.5g Hz dropped: its damping is not resolved (zeta = %.3g)", m.freq_hz,
-                  m.zeta);
+    if (interval_reaches_zero) {
+      std::snprintf(line, sizeof line,
+                    "pole at %.5g Hz dropped: its damping is not resolved (zeta = %.3g, 95 %% "
+                    "interval %.3g..%.3g reaches 0)",
+                    m.freq_hz, m.zeta, m.zeta_ci95[0], m.zeta_ci95[1]);
+    } else {
+      std::snprintf(line, sizeof line,
+                    "pole at %.5g Hz dropped: its damping is not resolved (zeta = %.3g)", m.freq_hz,
+                    m.zeta);
+    }
     out.warnings.emplace_back(line);
     out.dropped.push_back(m);
   }
@@ -583,10 +640,10 @@ ModeIdentification IdentifyModes(const Frf& receptance, std::size_t driving_poin
   Require(receptance.quantity == Quantity::kDisplacement,
           "mode identification needs a receptance FRF");
   Require(driving_point < receptance.responses(), "driving-point response out of range");
-  if (options.method == ModeMethod::kLscf || options.method == ModeMethod::kLsce) {
-    return IdentifyFromDiagram(receptance, driving_point, options);
-  }
-  ModeIdentification out = IdentifyFromPeaks(receptance, driving_point, options);
+  ModeIdentification out =
+      options.method == ModeMethod::kLscf || options.method == ModeMethod::kLsce
+          ? IdentifyFromDiagram(receptance, driving_point, options)
+          : IdentifyFromPeaks(receptance, driving_point, options);
   DropUnresolvedModes(out);
   return out;
 }

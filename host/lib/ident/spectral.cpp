@@ -359,6 +359,8 @@ Frf ConvertFrf(const Frf& frf, Quantity target) {
   out.freq_hz = frf.freq_hz.tail(lines);
   out.h = frf.h.bottomRows(lines);
   out.coherence = frf.coherence.bottomRows(lines);
+  if (frf.level_rel_var.size() == frf.freq_hz.size())
+    out.level_rel_var = frf.level_rel_var.tail(lines);
   for (Eigen::Index i = 0; i < lines; ++i) {
     const std::complex<double> jw(0.0, 2.0 * std::numbers::pi * out.freq_hz[i]);
     std::complex<double> factor(1.0, 0.0);

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <memory>
 #include <numbers>
 #include <set>
@@ -21,7 +22,7 @@ const char* PoleMethodName(PoleMethod method) {
 
 void StabilizationOptions::Validate() const {
   RequireBand(freq_min_hz, freq_max_hz, "stabilization");
-  Require(min_order >= 2 && max_order >= min_order && order_step >= 1,
+  Require(min_order >= 2 && (max_order == 0 || max_order >= min_order) && order_step >= 1,
           "stabilization: orders must satisfy 2 <= min <= max and step >= 1");
   Require(max_order <= 400, "stabilization: orders above 400 are not supported");
   Require(freq_tolerance > 0.0 && damping_tolerance > 0.0 && mac_min > 0.0 && mac_min <= 1.0,
@@ -59,6 +60,25 @@ void ParseOrders(std::string_view text, StabilizationOptions& options) {
   options.max_order = parts[1];
   if (parts.size() == 3) options.order_step = parts[2];
   options.Validate();
+}
+
+int AutomaticMaxOrder(int lines, const StabilizationOptions& options) {
+  constexpr int kHighestAutomaticOrder = 48;
+  // A quarter of the lines (the orders where noise is not yet fitted as poles), but up to
+  // min + 6 step where the fit's own limit allows: a band of coarse lines needs that many orders
+  // for a mode low in it to settle (the emulated chain's 4.4 Hz mode in 1 Hz lines).
+  const int fit_limit = options.method == PoleMethod::kLscf ? lines / 2 : lines / 4;
+  const int comfortable = options.min_order + 6 * options.order_step;
+  const int limit =
+      std::min(kHighestAutomaticOrder, std::max(lines / 4, std::min(fit_limit, comfortable)));
+  if (limit < options.min_order + 3 * options.order_step) return 0;
+  return options.min_order + (limit - options.min_order) / options.order_step * options.order_step;
+}
+
+int LinesNeeded(const StabilizationOptions& options) {
+  const int top =
+      options.max_order > 0 ? options.max_order : options.min_order + 3 * options.order_step;
+  return options.method == PoleMethod::kLscf ? 2 * top : 4 * top;
 }
 
 namespace {
@@ -386,6 +406,39 @@ void SelectClusters(const StabilizationOptions& options, StabilizationDiagram& d
   }
 }
 
+// Lines of the band as the method counts them: pLSCF fits the band's lines, LSCE's impulse
+// responses take every line from DC to the band's top.
+int MethodLines(const Frf& frf, const Band& band, PoleMethod method) {
+  if (method == PoleMethod::kLscf) return static_cast<int>(band.rows.size());
+  int lines = 0;
+  for (Eigen::Index k = 0; k < frf.freq_hz.size(); ++k)
+    lines += frf.freq_hz[k] > 0.0 && frf.freq_hz[k] <= band.hi;
+  return lines;
+}
+
+// The highest order of the diagram: the options' when given (and carried by the band), else
+// from the band's lines. The refusal names the band, its lines and what gives more of them.
+int OrdersForBand(const Frf& frf, const Band& band, const StabilizationOptions& options) {
+  const int lines = MethodLines(frf, band, options.method);
+  const bool lscf = options.method == PoleMethod::kLscf;
+  const bool given = options.max_order > 0;
+  const int max_order = given ? options.max_order : AutomaticMaxOrder(lines, options);
+  // Given orders need what the fit itself needs: more lines than the order (pLSCF), impulse
+  // responses with more rows than twice the order (LSCE).
+  const int needed = !given ? LinesNeeded(options) : lscf ? max_order + 1 : 3 * max_order + 3;
+  if (given ? lines >= needed : max_order > 0) return max_order;
+  const double df = frf.freq_hz.size() >= 2 ? frf.freq_hz[1] - frf.freq_hz[0] : 0.0;
+  char text[480];
+  std::snprintf(text, sizeof text,
+                "%s: the band %.4g..%.4g Hz holds %d frequency lines (%.3g Hz apart), too few for "
+                "orders %d..%d (%d lines needed): give longer records per hit (hits further apart, "
+                "or --record-s), a wider band (--fmax-hz)%s",
+                PoleMethodName(options.method), band.lo, band.hi, lines, df, options.min_order,
+                given ? max_order : options.min_order + 3 * options.order_step, needed,
+                given ? " or lower orders (--orders)" : ", or --method fit");
+  throw InputError(text);
+}
+
 }  // namespace
 
 StabilizationDiagram BuildStabilizationDiagram(const Frf& frf,
@@ -397,23 +450,19 @@ StabilizationDiagram BuildStabilizationDiagram(const Frf& frf,
   d.method = options.method;
   d.freq_min_hz = band.lo;
   d.freq_max_hz = band.hi;
-  if (options.method == PoleMethod::kLscf) {
-    Require(static_cast<Eigen::Index>(band.rows.size()) > options.max_order,
-            "lscf: the band holds fewer lines than the highest model order");
-  }
+  const int max_order = OrdersForBand(frf, band, options);
   std::unique_ptr<LscfNormals> lscf;
   std::unique_ptr<LsceNormals> lsce;
   if (options.method == PoleMethod::kLscf) {
     // Fitted as accelerance: what accelerometers measure, so a truncated record's DFT ratio is
     // rational in W (see the header), and resonances over decades of frequency weigh alike.
-    lscf = std::make_unique<LscfNormals>(ConvertFrf(frf, Quantity::kAcceleration), band,
-                                         options.max_order);
+    lscf = std::make_unique<LscfNormals>(ConvertFrf(frf, Quantity::kAcceleration), band, max_order);
   } else {
-    lsce = std::make_unique<LsceNormals>(frf, options.max_order, band.hi);
+    lsce = std::make_unique<LsceNormals>(frf, max_order, band.hi);
   }
   std::vector<Eigen::VectorXcd> prev_shapes;
   std::vector<DiagramPole> prev;
-  for (int order = options.min_order; order <= options.max_order; order += options.order_step) {
+  for (int order = options.min_order; order <= max_order; order += options.order_step) {
     const PoleSet set = lscf ? lscf->Solve(order) : lsce->Solve(order);
     d.orders.push_back(order);
     std::vector<DiagramPole> now;
@@ -468,24 +517,24 @@ StabilizationDiagram BuildStabilizationDiagram(
     StabilizationOptions o = options;
     o.freq_min_hz = bands[b].first;
     o.freq_max_hz = bands[b].second;
-    // A narrow band cannot carry the highest orders: at most a quarter of its lines (and of the
-    // lines up to its top for LSCE's impulse responses).
+    // A narrow band is widened upwards until it holds the lines its orders need; when they are
+    // left open, lines for orders min..min + 6 step: at the fewest orders (min + 3 step) a mode
+    // low in a band of coarse lines is not seen stable (the 4.4 Hz mode of the emulated chain
+    // in 1 Hz lines).
+    StabilizationOptions wide = o;
+    if (wide.max_order == 0) wide.max_order = o.min_order + 6 * o.order_step;
+    const int needed = LinesNeeded(wide);
     int lines = 0;
     for (Eigen::Index k = 0; k < frf.freq_hz.size(); ++k) {
       const double f = frf.freq_hz[k];
-      if (f > 0.0 && f <= o.freq_max_hz && (o.method == PoleMethod::kLsce || f >= o.freq_min_hz))
-        ++lines;
+      if (!(f > 0.0) || (o.method == PoleMethod::kLscf && f < o.freq_min_hz)) continue;
+      ++lines;
+      if (f > o.freq_max_hz && lines <= needed) o.freq_max_hz = f;
     }
-    const int cap = o.min_order + (lines / 4 - o.min_order) / o.order_step * o.order_step;
-    if (lines / 4 < o.min_order + 2 * o.order_step) continue;
-    o.max_order = std::min(o.max_order, cap);
     parts.push_back(BuildStabilizationDiagram(frf, o));
     for (std::size_t k = 0; k < parts.back().selected.size(); ++k)
       candidates.push_back({parts.back().selected[k], parts.size() - 1, static_cast<int>(k)});
   }
-  Require(
-      !parts.empty(),
-      "stabilization: every band is too narrow for the lowest orders (give --fmax-hz or --orders)");
   std::sort(candidates.begin(), candidates.end(),
             [](const Candidate& a, const Candidate& c) { return a.pole.freq_hz < c.pole.freq_hz; });
   std::vector<Candidate> kept;

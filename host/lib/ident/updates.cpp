@@ -5,6 +5,7 @@
 #include <numbers>
 #include <sstream>
 
+#include <Eigen/Cholesky>
 #include <Eigen/QR>
 
 #include "vibid/common/error.hpp"
@@ -116,6 +117,68 @@ struct SingleDofFit {
   }
 };
 
+// The fit's covariance in its log-scale parameters q, carried to m, k and c = 2 zeta sqrt(k m):
+// dm = m dq_m, dk = k dq_k, dc = c (dq_m / 2 + dq_k / 2 + dq_zeta).
+void FitUncertainties(const numerics::ResidualOnlyFunction& f, const Eigen::VectorXd& q,
+                      const SingleDofFit& fit, double level_rel_var, MassUpdateResult& res) {
+  Eigen::VectorXd r;
+  Eigen::MatrixXd jac;
+  numerics::NumericDiff(f)(q, r, &jac);
+  const auto nq = static_cast<double>(q.size());
+  const double dof = static_cast<double>(r.size()) - nq;
+  const std::string basis = "fit covariance (" + std::to_string(r.size()) + " lines" +
+                            (level_rel_var > 0.0 ? ", force noise" : "") + ")";
+  if (!(dof >= 1.0)) {
+    res.mass_u = res.k_u = res.c_u = Uncertainty::Missing("as many parameters as fitted lines");
+    return;
+  }
+  Eigen::MatrixXd cov = numerics::CovarianceFromJacobian(jac, r);
+  // Neighbouring lines are not independent when a window smooths the spectrum (an exponential
+  // window convolves it with its own transform): the covariance of independent lines is then too
+  // small (by 2 in standard deviation for a known k and a window ending at 0.01, 5 hits). Noise
+  // of lag-one autocorrelation rho (AR(1)) inflates it by (1 + rho) / (1 - rho); rho from the
+  // residuals, held to [0, 0.9].
+  double lag_one = 0.0;
+  for (Eigen::Index i = 1; i < r.size(); ++i) lag_one += r[i] * r[i - 1];
+  const double rho = r.squaredNorm() > 0.0 ? std::clamp(lag_one / r.squaredNorm(), 0.0, 0.9) : 0.0;
+  cov *= (1.0 + rho) / (1.0 - rho);
+  // The FRF's level error from force noise shifts every line's log magnitude alike; the fit
+  // carries a shift d of the data to its parameters as (J^T J)^-1 J^T w d (w: the lines'
+  // weights), which no residual shows.
+  if (level_rel_var > 0.0) {
+    const Eigen::VectorXd g =
+        Eigen::MatrixXd(jac.transpose() * jac).ldlt().solve(jac.transpose() * fit.lines->weight);
+    cov += level_rel_var * g * g.transpose();
+  }
+  const auto make = [&](const Eigen::VectorXd& g) {
+    Uncertainty u;
+    u.variance = g.dot(cov * g);
+    u.dof = dof;
+    u.basis = basis;
+    if (!std::isfinite(u.variance)) u = Uncertainty::Missing("the fit does not determine it");
+    return u;
+  };
+  Eigen::VectorXd g = Eigen::VectorXd::Zero(q.size());
+  g[0] = res.mass_kg;
+  res.mass_u = make(g);
+  if (fit.k_index >= 0) {
+    g.setZero();
+    g[fit.k_index] = res.k_n_per_m;
+    res.k_u = make(g);
+  } else {
+    res.k_u = Uncertainty::Missing("given, not fitted");
+  }
+  if (fit.zeta_index >= 0) {
+    g.setZero();
+    g[0] = 0.5 * res.c_ns_per_m;
+    if (fit.k_index >= 0) g[fit.k_index] = 0.5 * res.c_ns_per_m;
+    g[fit.zeta_index] = res.c_ns_per_m;
+    res.c_u = make(g);
+  } else {
+    res.c_u = Uncertainty::Missing("damping held at its half-power value (--fixed-damping)");
+  }
+}
+
 }  // namespace
 
 MassUpdateResult UpdateMass(const Frf& receptance, std::size_t response,
@@ -158,6 +221,14 @@ MassUpdateResult UpdateMass(const Frf& receptance, std::size_t response,
   res.summary = numerics::LevenbergMarquardt(numerics::NumericDiff(f), p, options.solver);
   fit.Unpack(p, res.mass_kg, res.k_n_per_m, res.zeta);
   res.c_ns_per_m = 2.0 * res.zeta * std::sqrt(res.k_n_per_m * res.mass_kg);
+  // The force noise's level error at the resonance (flat over the fitted band).
+  double level_rel_var = 0.0;
+  if (receptance.level_rel_var.size() == receptance.freq_hz.size()) {
+    Eigen::Index at = 0;
+    (receptance.freq_hz.array() - peak.freq_hz).abs().minCoeff(&at);
+    level_rel_var = receptance.level_rel_var[at];
+  }
+  FitUncertainties(f, p, fit, level_rel_var, res);
   if (options.nominal_kg > 0.0)
     res.change_percent = 100.0 * (res.mass_kg - options.nominal_kg) / options.nominal_kg;
   return res;
@@ -229,6 +300,37 @@ StiffnessUpdateResult UpdateStiffness(const Eigen::Ref<const Eigen::VectorXd>& m
   }
   res.offdiag_mismatch_percent = worst;
   return res;
+}
+
+Eigen::MatrixXd StiffnessJacobian(const Eigen::Ref<const Eigen::VectorXd>& masses_kg,
+                                  const Eigen::Ref<const Eigen::VectorXd>& omega_rad_s,
+                                  const Eigen::Ref<const Eigen::VectorXd>& zeta,
+                                  const Eigen::Ref<const Eigen::MatrixXd>& shapes) {
+  const Eigen::Index n = masses_kg.size();
+  Eigen::VectorXd x(3 * n + n * n);
+  x << masses_kg, omega_rad_s, zeta,
+      Eigen::Map<const Eigen::VectorXd>(Eigen::MatrixXd(shapes).data(), n * n);
+  const auto outputs = [n](const Eigen::VectorXd& v) {
+    const Eigen::MatrixXd s = Eigen::Map<const Eigen::MatrixXd>(v.data() + 3 * n, n, n);
+    const StiffnessUpdateResult r =
+        UpdateStiffness(v.head(n), v.segment(n, n), v.segment(2 * n, n), s);
+    Eigen::VectorXd y(2 * n);
+    y << r.springs, r.dampers;
+    return y;
+  };
+  Eigen::MatrixXd jac(2 * n, x.size());
+  for (Eigen::Index j = 0; j < x.size(); ++j) {
+    // Each shape entry steps with its column's scale (a zero entry still has one); the map is a
+    // rational function of x, smooth where UpdateStiffness accepts x.
+    double scale = std::abs(x[j]);
+    if (j >= 3 * n) scale = shapes.col((j - 3 * n) / n).cwiseAbs().maxCoeff();
+    const double h = 1e-6 * std::max(scale, 1e-6);
+    Eigen::VectorXd xp = x, xm = x;
+    xp[j] += h;
+    xm[j] -= h;
+    jac.col(j) = (outputs(xp) - outputs(xm)) / (2.0 * h);
+  }
+  return jac;
 }
 
 StiffnessUpdateResult UpdateStiffness2(double m1_kg, double m2_kg,

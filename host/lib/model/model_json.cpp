@@ -5,6 +5,7 @@
 
 #include "vibid/common/error.hpp"
 #include "vibid/common/json_file.hpp"
+#include "vibid/common/json_keys.hpp"
 #include "vibid/common/text_input.hpp"
 
 namespace vibid::model {
@@ -85,12 +86,15 @@ Model ModelFromJson(const json& value, const std::string& source) {
             source + ": field \"topology\" must be \"chain\" or \"cart\"");
     const std::string topology = value.at("topology").get<std::string>();
     if (topology == "chain") {
+      RequireKnownKeys(value, {"topology", "masses", "springs", "dampers"}, "model file " + source);
       const Eigen::VectorXd masses = Vector(value, "masses", source, true);
       const Eigen::VectorXd springs = Vector(value, "springs", source, true);
       const Eigen::VectorXd dampers = Vector(value, "dampers", source, false);
       return WithSource(source, [&] { return MakeChain(masses, springs, dampers); });
     }
     if (topology == "cart") {
+      RequireKnownKeys(value, {"topology", "masses", "spring", "frictions"},
+                       "model file " + source);
       const Eigen::VectorXd masses = Vector(value, "masses", source, true);
       Require(value.contains("spring"), source + ": field \"spring\" is missing");
       const double k = Number(value.at("spring"), source + ": field \"spring\"");
@@ -100,8 +104,13 @@ Model ModelFromJson(const json& value, const std::string& source) {
     throw InputError(source + ": field \"topology\" is \"" + Printable(topology) +
                      "\"; expected \"chain\" or \"cart\"");
   }
+  // A slip in "topology" or "M" is named before the form is guessed from what is there.
+  RequireKnownKeys(
+      value, {"topology", "masses", "springs", "dampers", "spring", "frictions", "M", "C", "K"},
+      "model file " + source);
   Require(value.contains("M") && value.contains("K"),
           source + ": a model needs \"topology\" (chain or cart) or the matrices \"M\" and \"K\"");
+  RequireKnownKeys(value, {"M", "C", "K"}, "model file " + source);
   Model model;
   model.m_kg = Matrix(value, "M", source);
   model.k_n_per_m = Matrix(value, "K", source);

@@ -151,5 +151,24 @@ TEST(ModelJson, ErrorsNameTheSourceAndField) {
             "rig.json: a model needs \"topology\" (chain or cart) or the matrices \"M\" and \"K\"");
 }
 
+TEST(ModelJson, RefusesUnknownKeysNamingTheNearestOne) {
+  // A misspelt optional field used to load as an undamped chain.
+  EXPECT_EQ(ErrorOf(json::parse(
+                R"({"topology":"chain","masses":[2,1.5],"springs":[4000,3000],"damper":[6,4.5]})")),
+            "unknown key 'damper' in model file rig.json (did you mean 'dampers'?)");
+  EXPECT_EQ(
+      ErrorOf(json::parse(R"({"topology":"cart","masses":[1],"spring":15,"friction":[0.4]})")),
+      "unknown key 'friction' in model file rig.json (did you mean 'frictions'?)");
+  EXPECT_EQ(ErrorOf(json::parse(R"({"M":[[1]],"K":[[1]],"c":[[1]]})")),
+            "unknown key 'c' in model file rig.json (did you mean 'C'?)");
+  EXPECT_EQ(ErrorOf(json::parse(R"({"topolgy":"chain","masses":[1],"springs":[1]})")),
+            "unknown key 'topolgy' in model file rig.json (did you mean 'topology'?)");
+  // A key of another form is unknown in this one.
+  EXPECT_EQ(ErrorOf(json::parse(R"({"topology":"chain","masses":[1],"springs":[1],"spring":1})")),
+            "unknown key 'spring' in model file rig.json (did you mean 'springs'?)");
+  EXPECT_EQ(ErrorOf(json::parse(R"({"M":[[1]],"K":[[1]],"masses":[1]})")),
+            "unknown key 'masses' in model file rig.json (valid keys: M, C, K)");
+}
+
 }  // namespace
 }  // namespace vibid::model

@@ -53,6 +53,8 @@ inline constexpr Address kCcer = 0x20;
 inline constexpr Address kCnt = 0x24;
 inline constexpr Address kPsc = 0x28;
 inline constexpr Address kArr = 0x2C;
+inline constexpr Address kCcr3 = 0x3C;
+inline constexpr Address kCcr4 = 0x40;
 
 inline constexpr std::uint32_t kCr1Cen = Bit(0);
 inline constexpr std::uint32_t kCr1Arpe = Bit(7);
@@ -69,15 +71,24 @@ inline constexpr std::uint32_t kCcmr1EncoderInputs =
 inline constexpr std::uint32_t kSmcrTsItr0 = 0x0U << 4;
 inline constexpr std::uint32_t kSmcrExternalClock1 = 0x7;
 inline constexpr std::uint32_t kDierUie = Bit(0);
-inline constexpr std::uint32_t kDierUde = Bit(8);   ///< DMA request on update.
-inline constexpr std::uint32_t kDierTde = Bit(14);  ///< DMA request on trigger.
+inline constexpr std::uint32_t kDierUde = Bit(8);     ///< DMA request on update.
+inline constexpr std::uint32_t kDierCc3de = Bit(11);  ///< DMA request on a channel 3 compare.
+inline constexpr std::uint32_t kDierCc4de = Bit(12);  ///< DMA request on a channel 4 compare.
+inline constexpr std::uint32_t kDierTde = Bit(14);    ///< DMA request on trigger.
 inline constexpr std::uint32_t kSrUif = Bit(0);
 inline constexpr std::uint32_t kEgrUg = Bit(0);
 }  // namespace tim
 
 namespace adc {
+/// ADC1, ADC2, ADC3 and the common registers at 0x000, 0x100, 0x200 and 0x300 from 0x40012000
+/// (RM0090 table 1 and the ADC register map, §13.13.19).
 inline constexpr Address kAdc1 = 0x40012000;
+inline constexpr Address kAdc2 = 0x40012100;
+inline constexpr Address kAdc3 = 0x40012200;
+inline constexpr Address kCommonCsr = 0x40012300;
 inline constexpr Address kCommonCcr = 0x40012304;
+/// Common regular data register for multi-ADC mode (RM0090 §13.13.18).
+inline constexpr Address kCommonCdr = 0x40012308;
 inline constexpr Address kSr = 0x00;
 inline constexpr Address kCr1 = 0x04;
 inline constexpr Address kCr2 = 0x08;
@@ -99,6 +110,17 @@ inline constexpr std::uint32_t kCr2ExtenRising = 0x1U << 28;
 inline constexpr unsigned kSqr1LPos = 20;
 /// ADC common CCR ADCPRE (17:16) = 01: ADCCLK = PCLK2 / 4 = 21 MHz (max 36 MHz).
 inline constexpr std::uint32_t kCcrAdcpreDiv4 = 0x1U << 16;
+/// CCR MULTI (4:0) = 10110: triple mode, regular simultaneous mode only (RM0090 §13.13.17).
+inline constexpr std::uint32_t kCcrMultiTripleRegularSimultaneous = 0x16;
+/// CCR DMA (15:14) = 01: DMA mode 1, one request per converted item, ADC1 then ADC2 then ADC3
+/// through ADC_CDR (RM0090 §13.9 "DMA requests in multi ADC mode", §13.13.17).
+inline constexpr std::uint32_t kCcrDmaMode1 = 0x1U << 14;
+/// CCR DDS (13) = 1: DMA requests go on after the last transfer (circular DMA) (§13.13.17).
+inline constexpr std::uint32_t kCcrDds = Bit(13);
+/// SQR3 SQ1..SQ6: 5-bit channel numbers at bits 0, 5, 10, ... (RM0090 §13.13.11).
+constexpr std::uint32_t Sqr3(unsigned position, std::uint32_t channel) {
+  return channel << (5 * position);
+}
 /// SMPR 3-bit field per channel; 011 = 56 cycles.
 inline constexpr std::uint32_t kSample56Cycles = 0x3;
 }  // namespace adc

@@ -63,6 +63,8 @@ inline constexpr std::uint32_t kApb1Tim5 = Bit(3);
 inline constexpr std::uint32_t kApb1Pwr = Bit(28);
 inline constexpr std::uint32_t kApb2Usart1 = Bit(4);
 inline constexpr std::uint32_t kApb2Adc1 = Bit(8);
+inline constexpr std::uint32_t kApb2Adc2 = Bit(9);  // RM0090 §7.3.14
+inline constexpr std::uint32_t kApb2Adc3 = Bit(10);
 inline constexpr std::uint32_t kApb2Syscfg = Bit(14);
 
 // RCC_CSR: reset flags (set by hardware, cleared by RMVF).

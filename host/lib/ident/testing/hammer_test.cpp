@@ -108,10 +108,11 @@ HammerTestRecord SimulateHammerTest(const model::Model& rig, const HammerTestSpe
 }
 
 std::string FormatHammerTestCsv(const HammerTestRecord& record,
-                                const std::vector<std::string>& names) {
+                                const std::vector<std::string>& names,
+                                const std::string& force_name) {
   Require(static_cast<Eigen::Index>(names.size()) == record.response.cols(),
           "hammer test: one name per response");
-  std::vector<std::string> header{"t_s", "force_n"};
+  std::vector<std::string> header{"t_s", force_name};
   std::vector<Eigen::VectorXd> cols{record.t_s, record.force_n};
   for (std::size_t j = 0; j < names.size(); ++j) {
     header.push_back(names[j]);

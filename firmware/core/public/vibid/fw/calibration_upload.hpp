@@ -31,6 +31,11 @@ class CalibrationUpload {
   Status Data(std::uint16_t sequence, std::span<const std::uint8_t> chunk, bool& complete);
 
   bool staged() const { return staged_; }
+  bool active() const { return active_; }
+  /// The chunk index Data expects next.
+  std::uint16_t next_sequence() const { return next_sequence_; }
+  /// Every chunk arrived (a refusal of the last chunk is the verdict on the record).
+  bool assembled() const { return received_ == wire::kCalRecordBytes; }
   std::span<const std::uint8_t, wire::kCalRecordBytes> bytes() const { return bytes_; }
   const wire::CalibrationRecord& record() const { return record_; }
   void Clear();

@@ -22,6 +22,7 @@
 #include "vibid/fw/sampler.hpp"
 #include "vibid/shared/status.hpp"
 #include "vibid/shared/wire/commands.hpp"
+#include "vibid/shared/wire/refusal.hpp"
 #include "vibid/shared/wire/report.hpp"
 #include "vibid/shared/wire/stream.hpp"
 
@@ -70,8 +71,11 @@ class Core {
 
   void Handle(const wire::Report& request);
   // Each handler answers a request it accepts and returns kOk, or returns the refusal status
-  // (Handle sends the refusal).
+  // (Handle sends the refusal, with the reason Refuse recorded).
   Status Dispatch(const wire::Header& h, std::span<const std::uint8_t> payload);
+  /// Records why the request is refused (sent as the refusal's payload) and returns `status`.
+  Status Refuse(Status status, wire::Reason reason, std::uint32_t detail = 0);
+  /// Sends an answer; a refusal (status not kOk) carries the recorded Refusal as its payload.
   void Respond(const wire::Header& request, Status status,
                std::span<const std::uint8_t> payload = {});
   template <typename Payload>
@@ -86,7 +90,7 @@ class Core {
   Status HandleLogRead(const wire::Header& h, std::span<const std::uint8_t> payload);
   Status HandleDobControl(const wire::Header& h, std::span<const std::uint8_t> payload);
   Status HandlePortCommand(const wire::Header& h, std::span<const std::uint8_t> payload);
-  Status ValidateConfig(const wire::AcqConfigureRequest& c) const;
+  Status ValidateConfig(const wire::AcqConfigureRequest& c);
   bool Sampling() const;
   void StopSampling();
   void ApplyCalibration();
@@ -98,6 +102,8 @@ class Core {
                         std::size_t& length);
   void StartLogStream(std::uint16_t token, std::uint32_t first, std::uint32_t end, bool follow);
   wire::InfoResponse Info() const;
+  /// get-info page kInfoPageSampling: the board profile's sampling instants.
+  static wire::SamplingInfoResponse SamplingInfo();
   wire::StatusResponse CurrentStatus() const;
 
   const Port port_;
@@ -113,6 +119,7 @@ class Core {
   bool sampling_ = false;
   wire::AcqConfigureRequest config_{};
   std::uint32_t rejected_requests_ = 0;
+  wire::Refusal refusal_{};  // why the request being handled is refused (Refuse)
 
   wire::Report pending_{};
   bool has_pending_ = false;

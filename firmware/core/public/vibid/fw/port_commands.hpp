@@ -16,8 +16,9 @@ class PortCommandHandler {
   /// Handles `command` (wire::IsPortCommand) with its request payload. Writes up to
   /// wire::kMaxPayload response bytes into `response` and sets `response_length`.
   /// @returns the status sent back: kOk, or the refusal (kUnimplemented for an id this port
-  ///          does not know, kInvalidArgument for a bad payload, ...). A refusal carries no
-  ///          payload.
+  ///          does not know, kInvalidArgument for a bad payload, ...). A refusal names its
+  ///          reason with a wire::Refusal in `response` (response_length = Refusal::kBytes);
+  ///          without one the core names it from the status (port-refused, unknown-command).
   virtual Status HandlePortCommand(std::uint8_t command, std::span<const std::uint8_t> request,
                                    std::span<std::uint8_t, wire::kMaxPayload> response,
                                    std::size_t& response_length) = 0;

@@ -8,8 +8,9 @@
 //                their passband values; a decimated log starts once the filter has settled
 //
 // Nothing is lost silently: a frame tick that skips ahead counts the missing ticks as overruns,
-// a record that finds the log full after the trigger counts as dropped, a calibration that
-// saturates counts as a clip.
+// a record that finds the log full after the trigger counts as dropped, and a sample that clips
+// counts on its channel: a converter code at either end of the ADC's range (the signal is beyond
+// the sensor's span) or a calibration that saturates (beyond the channel's calibrated full scale).
 #pragma once
 
 #include <array>
@@ -57,15 +58,18 @@ class Sampler final : public FrameSink {
   std::uint32_t ticks() const { return ticks_.load(std::memory_order_relaxed); }
   std::uint32_t overruns() const { return overruns_.load(std::memory_order_relaxed); }
   std::uint32_t dropped() const { return dropped_.load(std::memory_order_relaxed); }
-  /// Calibration clips plus DOB saturations since acq-start.
+  /// Clipped samples of all channels plus DOB saturations since acq-start.
   std::uint32_t saturations() const {
     return clips_.load(std::memory_order_relaxed) + dob_.saturations();
   }
+  /// Clipped samples per channel since acq-start, and the ticks they are out of (get-clips).
+  wire::ClipResponse Clips() const;
   const wire::AcqConfigureRequest& config() const { return config_; }
   wire::LogLayout layout() const { return layout_; }
 
-  /// The newest frame after calibration and its d_hat, consistent even while frames arrive.
-  /// @returns false if no frame has been seen since boot.
+  /// The newest frame of the current or last acquisition after calibration, and its d_hat,
+  /// consistent even while frames arrive. @returns false if no acquisition sampled a frame since
+  /// boot.
   bool Latest(wire::LatestResponse& out) const;
 
  private:
@@ -98,7 +102,8 @@ class Sampler final : public FrameSink {
   std::atomic<std::uint32_t> ticks_{0};
   std::atomic<std::uint32_t> overruns_{0};
   std::atomic<std::uint32_t> dropped_{0};
-  std::atomic<std::uint32_t> clips_{0};
+  std::atomic<std::uint32_t> clips_{0};  // the sum of channel_clips_
+  std::array<std::atomic<std::uint32_t>, wire::kChannelCount> channel_clips_{};
 
   // Latest frame, published with a sequence counter (odd while being written).
   std::atomic<std::uint32_t> latest_version_{0};

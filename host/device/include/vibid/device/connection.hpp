@@ -27,7 +27,9 @@
 #include <deque>
 #include <functional>
 #include <memory>
+#include <optional>
 #include <mutex>
+#include <optional>
 #include <span>
 #include <string>
 #include <thread>
@@ -78,6 +80,9 @@ struct LogPull {
   std::uint32_t first_record = 0;  ///< Log index of records[0].
   wire::LogTrailer trailer;        ///< From the last stream (acq_state, counters, layout).
   wire::LogLayout layout;
+  /// The acquisition was stopped (acq-stop) before it ended on its own: the records are what it
+  /// had recorded until then.
+  bool stopped = false;
   /// Ranges the board's log wrapped over before they could be pulled, in order; records holds
   /// everything else from first_record on. Empty in every pull that returns normally.
   std::vector<LogRange> missing;
@@ -98,6 +103,11 @@ class IncompleteLog : public DeviceError {
 
 /// Progress of a long transfer: done and total in the transfer's own unit (records, bytes).
 using Progress = std::function<void(std::uint64_t done, std::uint64_t total)>;
+
+/// Asked while a streamed acquisition runs (at least every 100 ms): true stops it now and keeps
+/// what it recorded. `state` is the last log-read trailer seen (acq_state armed or acquiring,
+/// records_written), null while the acquisition's own stream runs.
+using StopRequest = std::function<bool(const wire::LogTrailer* state)>;
 
 class Connection {
  public:
@@ -126,6 +136,9 @@ class Connection {
   }
 
   wire::InfoResponse GetInfo();
+  /// get-info's sampling page: when the board samples each channel after its timer edge. Empty
+  /// for a board of protocol 2.0, which does not say.
+  std::optional<wire::SamplingInfoResponse> GetSamplingInfo();
   wire::StatusResponse GetStatus();
   void Ping();
 
@@ -139,6 +152,9 @@ class Connection {
   void StartAcquisition();
   wire::AcqStopResponse StopAcquisition();
   wire::LatestResponse ReadLatest();
+  /// Clipped samples per channel of the current or last acquisition; nullopt from a 2.0 board,
+  /// which does not count them per channel.
+  std::optional<wire::ClipResponse> GetClips();
   void DobControl(bool run);
   /// Emulator only (kCapScenarioSelect).
   void SelectScenario(const std::string& name, std::span<const float> params);
@@ -153,7 +169,11 @@ class Connection {
   /// that arrived in sequence are kept and the rest comes as by PullLog. `progress` gets payload
   /// bytes received. Throws DeviceError if acq-start is refused, IncompleteLog if the board
   /// overwrote records before they could be pulled.
-  LogPull AcquireStreamed(const Progress& progress = {});
+  /// When `stop` asks for it, sends acq-stop and pulls the rest of what was recorded: the records
+  /// of the stream so far are kept as those of a broken stream are, and the log is read on from
+  /// the first one missing. The result is marked `stopped`. The cancel flag still interrupts
+  /// (Interrupted), keeping nothing.
+  LogPull AcquireStreamed(const Progress& progress = {}, const StopRequest& stop = {});
 
   /// Pulls every record from `first` until the log holds no more and sampling has ended
   /// (while sampling, it keeps pulling as records arrive). Broken streams resume from the first
@@ -168,6 +188,7 @@ class Connection {
     kComplete,     ///< The trailer checked out; its records were appended.
     kBroken,       ///< Broke off or timed out: ask again.
     kOverwritten,  ///< Refused out-of-range: the board's log wrapped over the first record.
+    kStopped,      ///< A stop was asked for (the records so far kept, as when broken off).
   };
 
   void ReaderLoop();
@@ -176,10 +197,13 @@ class Connection {
   /// running acquisition, whose records the board releases as they go out) the records of the
   /// data reports that arrived in sequence are appended too when it breaks off or is refused,
   /// decoded with the layout this connection configured. Throws on any other refusal.
+  /// A stop asked for ends the stream with kStopped (its records kept as with `keep_partial`).
   StreamEnd ReceiveLogStream(std::uint16_t token, std::uint32_t first, LogPull& pull,
-                             const Progress& progress, bool keep_partial);
+                             const Progress& progress, bool keep_partial,
+                             const StopRequest& stop = {});
   /// Sends log-read for [first, first + max) and receives its stream (see ReceiveLogStream).
-  StreamEnd RequestLog(std::uint32_t first, std::uint32_t max, LogPull& pull, bool keep_partial);
+  StreamEnd RequestLog(std::uint32_t first, std::uint32_t max, LogPull& pull, bool keep_partial,
+                       const StopRequest& stop);
   /// Appends the records of a broken stream's payloads (from log index `first`), decoded with the
   /// configured layout.
   void KeepPartialStream(std::uint32_t first,
@@ -199,8 +223,11 @@ class Connection {
     kFollow,
   };
   /// The pull loop from log index `next` into `pull`, to the end of the acquisition.
+  /// Stops the acquisition (acq-stop) when `stop` asks for it, and then pulls to the log's end.
   void ContinuePull(LogPull& pull, std::uint32_t next, const Progress& progress, int max_resumes,
-                    PullMode mode);
+                    PullMode mode, const StopRequest& stop);
+  /// acq-stop, and `pull` marked stopped.
+  void StopForKeeps(LogPull& pull);
   std::uint16_t NextToken();
   void Send(const wire::Report& report);
   /// Waits for an answer with `token` to `command`. False on timeout.

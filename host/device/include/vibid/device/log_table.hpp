@@ -2,6 +2,7 @@
 // in SI units through the board's own calibration arithmetic, and the observer output.
 #pragma once
 
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -32,8 +33,16 @@ struct LogTable {
 LogTable MakeLogTable(const LogPull& pull, const wire::CalibrationRecord& calibration,
                       bool has_record);
 
-/// MakeLogTable formatted with vibid::FormatCsv.
+/// The header line stating when each logged channel was sampled after the timer edge:
+/// `# vibid-recording sample_instants_us=force1_n:2.667,force2_n:5.905,...` (channel columns
+/// only, in the table's order; ident::ReadSampleInstants reads it back).
+std::string SampleInstantsLine(const LogTable& table, const LogPull& pull,
+                               const wire::SamplingInfoResponse& instants);
+
+/// MakeLogTable formatted with vibid::FormatCsv, after the sampling-instants header line when the
+/// board stated its instants (`instants` empty for a board of protocol 2.0).
 std::string FormatLogCsv(const LogPull& pull, const wire::CalibrationRecord& calibration,
-                         bool has_record);
+                         bool has_record,
+                         const std::optional<wire::SamplingInfoResponse>& instants = std::nullopt);
 
 }  // namespace vibid::device

@@ -24,8 +24,19 @@ struct DeviceSpec {
   std::string path;    ///< kSerial.
 };
 
-/// Parses a `--device` value ("" is kAny). InputError naming the value when malformed.
-DeviceSpec ParseDeviceSpec(const std::string& text);
+/// Parses a `--device` value ("" is kAny). InputError naming the value, and `origin` (the option
+/// or the variable it came from), when malformed.
+DeviceSpec ParseDeviceSpec(const std::string& text, const std::string& origin = "--device");
+
+/// The device value in force and where it came from.
+struct DeviceChoice {
+  std::string text;    ///< "" when nothing names a device (kAny).
+  std::string origin;  ///< "--device", "VIBID_DEVICE", or "" with an empty text.
+};
+
+/// The `--device` option's value when given, else the VIBID_DEVICE environment variable's: the
+/// option wins over the variable.
+DeviceChoice ChooseDevice(const std::string& option_value);
 
 /// A device seen by ListDevices, with the `--device` value that selects it.
 struct Listing {

@@ -10,7 +10,8 @@
 // with StreamTrailer (byte count and CRC-32 of all data payload bytes). Streams are not
 // acknowledged per report; a lost report shows as a sequence gap or a CRC mismatch, and the host
 // asks again (log-read resumes from a record index). A refused request gets a single response
-// report with the refusal status and no payload.
+// report with the refusal status and, from protocol 2.1, a Refusal payload naming the reason
+// (refusal.hpp).
 //
 // Calibration upload (cal-put): cal-put-begin announces the record length and CRC-32, then one
 // cal-put-data report per 52-byte chunk with sequence 0, 1, ...; each is answered. The answer to
@@ -44,6 +45,7 @@ enum class Command : std::uint8_t {
   kAcqStop = 0x22,         ///< -> AcqStopResponse; keeps the log. Idempotent.
   kReadLatest = 0x23,      ///< -> LatestResponse (live values for a monitor).
   kLogRead = 0x24,         ///< LogReadRequest -> stream of log records, trailer LogTrailer.
+  kGetClips = 0x25,        ///< -> ClipResponse (clipped samples per channel). Protocol 2.1.
   kDobControl = 0x30,      ///< DobControlRequest: run or stop the observer.
   kSelectScenario = 0x70,  ///< Emulator only (kCapScenarioSelect): ScenarioRequest.
   kInjectFrames = 0x71,    ///< QEMU image only (kCapSampleInjection): InjectFramesRequest.
@@ -126,6 +128,26 @@ struct InfoResponse {
 };
 static_assert(InfoResponse::kBytes <= kMaxPayload);
 
+// get-info request, protocol 2.1: no payload asks for InfoResponse, as in 2.0; one byte asks for
+// a further page of facts the 52-byte InfoResponse has no room for:
+//   0 u8 page    kInfoPageSampling -> SamplingInfoResponse; any other page is refused
+// A 2.0 board refuses any payload (kInvalidArgument): a host asks for a page only of a board whose
+// InfoResponse says protocol_minor >= 1.
+inline constexpr std::uint8_t kInfoPageSampling = 1;
+struct InfoPageRequest {
+  static constexpr std::size_t kBytes = 1;
+  std::uint8_t page = kInfoPageSampling;
+};
+
+// get-info page kInfoPageSampling (protocol 2.1): when the board samples each channel.
+//   0 u32 sample_instant_ns[6]   after the sample timer's edge, in ns, wire::Channel order
+// Channels sampled at different instants see a common signal with a phase difference of
+// 2 pi f (t_a - t_b); the host compensates a cross spectrum with them (docs/board.md).
+struct SamplingInfoResponse {
+  static constexpr std::size_t kBytes = 24;
+  std::array<std::uint32_t, kChannelCount> sample_instant_ns{};
+};
+
 // ---------------------------------------------------------------------------------------------
 // get-status response
 //   0  u8  acq_state    1  u8  dob_running (0/1)   2  u8  cal_state   3  u8  cal_staged (0/1)
@@ -134,7 +156,7 @@ static_assert(InfoResponse::kBytes <= kMaxPayload);
 //   20 u32 oldest_record (the oldest record a log-read can still return; = records_written
 //          when the log is empty. Pulled records stay readable until the log overwrites them.)
 //   24 u32 overrun_count   28 u32 dropped_records  32 u32 rejected_requests
-//   36 u32 saturation_count (calibration clips + DOB saturations)
+//   36 u32 saturation_count (clipped samples of all channels, get-clips, + DOB saturations)
 //   40 u32 trigger_record (kNoRecord until triggered)
 //   44 u32 cal_sequence    48 u32 flash_errors
 struct StatusResponse {
@@ -207,6 +229,19 @@ struct LatestResponse {
   std::int32_t d_hat = 0;
   AcqState acq_state = AcqState::kIdle;
   std::uint8_t dob_running = 0;
+};
+
+// ---------------------------------------------------------------------------------------------
+// get-clips response (protocol 2.1): clipped samples per channel since acq-start
+//   0  u32 ticks (frames sampled since acq-start, as get-status)   4 u32 clipped[6]
+// A sample is clipped on its channel when its converter code sits at either end of the ADC's
+// range (0 or 2^adc_bits - 1), or when its calibration saturates (the value is beyond the
+// channel's calibrated full scale). Each sample counts once per channel. get-status
+// saturation_count is the sum over the channels plus the observer's saturations.
+struct ClipResponse {
+  static constexpr std::size_t kBytes = 28;
+  std::uint32_t ticks = 0;
+  std::array<std::uint32_t, kChannelCount> clipped{};
 };
 
 // ---------------------------------------------------------------------------------------------
@@ -310,6 +345,10 @@ void Encode(const InfoResponse& v, std::span<std::uint8_t> out);
 Status Decode(std::span<const std::uint8_t> in, InfoResponse& v);
 void Encode(const StatusResponse& v, std::span<std::uint8_t> out);
 Status Decode(std::span<const std::uint8_t> in, StatusResponse& v);
+void Encode(const InfoPageRequest& v, std::span<std::uint8_t> out);
+Status Decode(std::span<const std::uint8_t> in, InfoPageRequest& v);
+void Encode(const SamplingInfoResponse& v, std::span<std::uint8_t> out);
+Status Decode(std::span<const std::uint8_t> in, SamplingInfoResponse& v);
 void Encode(const AcqConfigureRequest& v, std::span<std::uint8_t> out);
 Status Decode(std::span<const std::uint8_t> in, AcqConfigureRequest& v);
 void Encode(const AcqConfigureResponse& v, std::span<std::uint8_t> out);
@@ -318,6 +357,8 @@ void Encode(const AcqStopResponse& v, std::span<std::uint8_t> out);
 Status Decode(std::span<const std::uint8_t> in, AcqStopResponse& v);
 void Encode(const LatestResponse& v, std::span<std::uint8_t> out);
 Status Decode(std::span<const std::uint8_t> in, LatestResponse& v);
+void Encode(const ClipResponse& v, std::span<std::uint8_t> out);
+Status Decode(std::span<const std::uint8_t> in, ClipResponse& v);
 void Encode(const LogReadRequest& v, std::span<std::uint8_t> out);
 Status Decode(std::span<const std::uint8_t> in, LogReadRequest& v);
 void Encode(const StreamTrailer& v, std::span<std::uint8_t> out);

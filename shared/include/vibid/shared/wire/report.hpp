@@ -46,8 +46,9 @@ inline constexpr std::uint16_t kHidUsagePage = 0xFF00;
 inline constexpr std::uint16_t kMagic = 0x4256;  // bytes 'V','B'
 /// Protocol version. The major goes in every header; a host and a device with different majors
 /// refuse each other. The minor grows with backward-compatible additions (new commands).
+/// 2.1: refusals carry a reason (refusal.hpp); get-clips.
 inline constexpr std::uint8_t kProtocolMajor = 2;
-inline constexpr std::uint8_t kProtocolMinor = 0;
+inline constexpr std::uint8_t kProtocolMinor = 1;
 
 inline constexpr std::uint8_t kFlagResponse = 1u << 0;   ///< Set on every device-to-host report.
 inline constexpr std::uint8_t kFlagStreamEnd = 1u << 1;  ///< Last report of a stream (its trailer).

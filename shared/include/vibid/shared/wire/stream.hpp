@@ -53,7 +53,7 @@ class StreamDecoder {
     kData,     ///< A data report in sequence; `payload` holds its bytes.
     kEnd,      ///< The trailer matched; `payload` holds the whole trailer payload.
     kStale,    ///< Not an answer to this request (other token or command): ignore it.
-    kRefused,  ///< The device refused the request; `status` is its reason.
+    kRefused,  ///< The device refused the request; `status` says so, `payload` is the Refusal.
     kError,    ///< Broken stream; `status` says why (kDataLoss for a gap, count or CRC mismatch).
   };
   struct Step {

@@ -36,8 +36,24 @@ struct CsvTable {
 /// one); the result and every message are the same for any thread count.
 CsvTable ParseCsv(std::string_view text, const std::string& source, std::size_t threads = 0);
 
+/// The columns a reader asks for. Only they are parsed, so only their cells must be numbers (a
+/// recording may carry a text column, such as a note, that no command reads); the table holds
+/// them alone, in the file's order. A `required` name the header lacks is an InputError listing
+/// the file's columns; an `optional` one (the time column) is taken when it is there.
+struct CsvColumns {
+  std::vector<std::string> required;
+  std::vector<std::string> optional;
+};
+
+/// ParseCsv for the asked-for columns only; every other cell is skipped unread (a row must still
+/// have as many cells as the header).
+CsvTable ParseCsvColumns(std::string_view text, const std::string& source, const CsvColumns& wanted,
+                         std::size_t threads = 0);
+
 /// Reads (memory-mapped where the file allows it) and parses a CSV file.
 CsvTable ReadCsv(const std::string& path);
+/// ReadCsv for the asked-for columns only (see ParseCsvColumns).
+CsvTable ReadCsvColumns(const std::string& path, const CsvColumns& wanted);
 
 /// Formats columns as CSV with a header; numbers in shortest round-trip form, so a written file
 /// reads back bit-identical.
@@ -71,6 +87,10 @@ struct RecordingOptions {
   std::size_t min_samples = 8;
   /// Allowed deviation of each time step from the mean step, relative to the mean step.
   double uniform_tolerance = 0.01;
+  /// The channels the command reads (column names, no unit or factor). Not empty: only these and
+  /// the time column are read and must be numeric, other columns are skipped (ParseCsvColumns);
+  /// empty: every column must be numeric.
+  std::vector<std::string> channels;
 };
 
 /// A uniformly sampled recording.

@@ -9,6 +9,7 @@
 
 #include <Eigen/Core>
 
+#include "vibid/ident/intervals.hpp"
 #include "vibid/ident/modes.hpp"
 #include "vibid/ident/spectral.hpp"
 #include "vibid/ident/updates.hpp"
@@ -36,6 +37,8 @@ struct PositionComparison {
   double m_nominal = 0.0, m_updated = 0.0;
   double k_nominal = 0.0, k_updated = 0.0;
   double c_updated = 0.0;
+  /// 95 % intervals of the updated values, or why there are none (Identify fills them).
+  Interval95 m_ci95, k_ci95, c_ci95;
 };
 
 struct ValidationTable {
@@ -51,7 +54,8 @@ double PercentDeviation(double value, double reference);
 ValidationTable BuildValidationTable(const model::Model& nominal, const model::Model& updated,
                                      const std::vector<ModeEstimate>& test_modes);
 
-/// Fixed-width text table (the % columns are deviations from the test / changes from nominal).
+/// Fixed-width text table (the % columns are deviations from the test / changes from nominal;
+/// positions with their 95 % intervals as +- half-width, or n/a and the reason).
 std::string FormatValidationTable(const ValidationTable& table);
 
 struct MassTestInput {
@@ -72,20 +76,31 @@ struct MassTestResult {
   MassUpdateResult update;
 };
 
+/// The positions' uncertainties (see Identify).
+struct PositionUncertainty {
+  Uncertainty m_kg, k_n_per_m, c_ns_per_m;
+};
+
 struct IdentifyResult {
   model::Model updated;
   ChainParameters chain;
   std::vector<MassTestResult> mass_tests;
   std::vector<ModeIdentification> modal_tests;
   /// Averaged over the modal tests; 95 % intervals of the mean from the tests' intervals, or from
-  /// their scatter when that is wider.
+  /// their scatter when they disagree beyond them (MeanOfRepeats, intervals.hpp).
   std::vector<ModeEstimate> test_modes;
   StiffnessAverage stiffness;
+  /// One per position: m from its mass tests (fit covariance; several tests of one position
+  /// combine as repeats), k and c from the update map's Jacobian applied to the modes' intervals
+  /// (omega, zeta, a1/a2) and the masses' uncertainties, the modal tests combined as repeats
+  /// (intervals.hpp). The table's intervals are made of these.
+  std::vector<PositionUncertainty> uncertainty;
   ValidationTable table;
   std::vector<std::string> warnings;
 };
 
-/// Runs the chain. InputError on inconsistent inputs (mode counts, positions, non-receptances);
+/// Runs the chain. Several mass tests of one position are repeats: their masses are averaged.
+/// InputError on inconsistent inputs (mode counts, positions, non-receptances);
 /// a mass fit that fails to converge or an updated model that is not physical is reported by
 /// InputError naming the test, since no model can be produced from it.
 IdentifyResult Identify(const model::Model& nominal, const std::vector<MassTestInput>& mass_tests,

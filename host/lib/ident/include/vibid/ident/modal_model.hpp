@@ -38,6 +38,7 @@
 #pragma once
 
 #include <Eigen/Core>
+#include <array>
 #include <complex>
 #include <string>
 #include <vector>
@@ -49,6 +50,10 @@ namespace vibid::ident {
 
 /// Two-sided 95 % normal quantile.
 inline constexpr double kZ95 = 1.959963984540054;
+
+/// value +- kZ95 sd; both NaN unless sd is finite and > 0 (an interval of width 0 is never an
+/// estimate: it is a variance that could not be computed).
+std::array<double, 2> NormalInterval95(double value, double sd);
 
 struct ModalModelOptions {
   /// Fitted band (Hz); 0: from 0.6x the lowest to 1.4x the highest start pole, within the data.
@@ -75,13 +80,32 @@ struct ModalModelFit {
   /// Natural frequency and damping ratio per pole, corrected for the FRF's exponential window.
   Eigen::VectorXd omega_rad_s;
   Eigen::VectorXd zeta;
-  /// Standard deviations of omega and zeta (window-corrected).
+  /// Standard deviations of omega and zeta (window-corrected); NaN where the data do not
+  /// determine them (see `undetermined`), never 0.
   Eigen::VectorXd omega_sd_rad_s;
   Eigen::VectorXd zeta_sd;
   /// Covariance of [omega_i, zeta_i (as the FRF shows them) for every pole, then per response
   /// Re R_i, Im R_i for every pole, (with a pretrigger) the ringing term's Re S_i, Im S_i, c, d].
   Eigen::MatrixXd covariance;
   Eigen::Index per_response = 0;  ///< Parameters per response in `covariance`.
+  /// Parameter directions (columns, in the parameters of `covariance`) that the band's lines do
+  /// not determine: the information matrix is numerically singular along them. `covariance` is
+  /// its pseudo-inverse on the other directions; a quantity that moves along these has no
+  /// variance (Variance gives NaN).
+  Eigen::MatrixXd undetermined;
+  /// The least variance a unit step along an undetermined direction can have.
+  double undetermined_variance = 0.0;
+  /// Smallest over largest eigenvalue of the column-scaled information matrix.
+  double min_eigenvalue_ratio = 0.0;
+  /// The pretrigger's ringing terms S_i are in the model (false: no pretrigger, or the lines
+  /// could not tell them from the hit's own residues and they were left out; see `note`).
+  bool ringing_terms = false;
+  /// The record has a pretrigger but its ringing terms were left out (see FitModalModel): the
+  /// previous hits' ringing the records hold is then neither modelled nor in the noise level,
+  /// so the covariance understates the uncertainty (a1/a2 off by about 1 % against intervals of
+  /// that size on 1 s records) and gives no interval.
+  bool ringing_terms_dropped = false;
+  std::string note;
   double freq_min_hz = 0.0;
   double freq_max_hz = 0.0;
   int lines = 0;
@@ -94,12 +118,18 @@ struct ModalModelFit {
   /// ratio phi_j / phi_p of a real mode), and its standard deviation.
   double ShapeRatio(Eigen::Index mode, Eigen::Index j, Eigen::Index p) const;
   double ShapeRatioSd(Eigen::Index mode, Eigen::Index j, Eigen::Index p) const;
+  /// Variance of the linearised quantity with this gradient in the parameters of `covariance`;
+  /// NaN when the data do not determine it or the variance is not positive.
+  double Variance(const Eigen::VectorXd& gradient) const;
 };
 
 /// Fits the model above to a receptance (converted to accelerance) with the given start poles
 /// (lambda = -zeta omega + j omega sqrt(1 - zeta^2) as the FRF shows them, i.e. before any
 /// exponential-window correction). InputError for a non-receptance, no start pole, or too few
-/// usable lines in the band.
+/// usable lines in the band. When the band's lines leave the ringing terms undetermined (short
+/// records: the pretrigger's phase exp(j w t_p) hardly turns over the band) the model is fitted
+/// again without them and that fit is kept if it determines every parameter and its poles stay
+/// within 1 % (omega) and 50 % (zeta) of the first fit's.
 ModalModelFit FitModalModel(const Frf& receptance, const std::vector<std::complex<double>>& start,
                             const ModalModelOptions& options);
 

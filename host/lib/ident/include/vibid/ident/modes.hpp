@@ -125,7 +125,8 @@ struct ModeIdentification {
       fit;  ///< Valid when `fitted` (for lscf/lsce: the residue fit with the chosen poles).
   bool has_diagram = false;
   StabilizationDiagram diagram;  ///< lscf/lsce.
-  /// Modes that were estimated but are not reported: damping not resolved (zeta <= 1e-6).
+  /// Modes that were estimated but are not reported: damping not resolved (zeta <= 1e-6, or its
+  /// interval reaches 0).
   std::vector<ModeEstimate> dropped;
   /// lscf/lsce: the modal model refined from the chosen poles, which gives the reported omega,
   /// zeta, shape directions and their intervals (valid when `has_model`).
@@ -135,8 +136,9 @@ struct ModeIdentification {
 
 /// Peak picks (and, by default, the curve fit started from them) on a receptance, or the poles a
 /// stabilization diagram chooses (lscf/lsce) with residues fitted for them; shapes with the
-/// hammer at `driving_point`. A mode whose damping is not resolved (zeta <= 1e-6) is never
-/// reported as a mode: it is moved to `dropped` with a warning. InputError when no resonance is
+/// hammer at `driving_point`. A mode whose damping is not resolved (zeta <= 1e-6, or a 95 %
+/// interval on zeta that reaches 0) is never reported as a mode: it is moved to `dropped` with a
+/// warning. InputError when no resonance is
 /// found. A curve fit that does not
 /// converge is reported in `fit.summary`, and the peak-pick modes are returned with a warning.
 ModeIdentification IdentifyModes(const Frf& receptance, std::size_t driving_point,

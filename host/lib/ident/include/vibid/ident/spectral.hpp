@@ -86,6 +86,11 @@ struct Frf {
   /// ringing a record holds beyond its own hit's response (the record's end cutting the decay, the
   /// previous hit's tail) enters H1 multiplied by exp(j omega pretrigger_s); modal_model.hpp.
   double pretrigger_s = 0.0;
+  /// Impact FRFs: per line, the variance of the relative error of |H| that the force noise inside
+  /// the force windows causes. It is the same on neighbouring lines (a window of a few samples has
+  /// a flat spectrum), so it scales a resonance as a whole and no fit's residuals show it. Empty
+  /// when not known (Welch FRFs, FRF files).
+  Eigen::VectorXd level_rel_var;
   std::vector<std::string> response_names;
   std::string force_name;
 

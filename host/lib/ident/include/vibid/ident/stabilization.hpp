@@ -42,9 +42,10 @@ struct StabilizationOptions {
   /// last line.
   double freq_min_hz = 0.0;
   double freq_max_hz = 0.0;
-  /// Model orders (number of poles, conjugates included) min, min + step, ..., max.
+  /// Model orders (number of poles, conjugates included) min, min + step, ..., max. max 0: from
+  /// the band's lines (AutomaticMaxOrder).
   int min_order = 4;
-  int max_order = 48;
+  int max_order = 0;
   int order_step = 2;
   /// Stability against the previous order: relative frequency change, relative damping change,
   /// and the modal assurance criterion of the shapes.
@@ -64,6 +65,18 @@ struct StabilizationOptions {
 
 /// "MIN:MAX" or "MIN:MAX:STEP" into the options' orders; InputError otherwise.
 void ParseOrders(std::string_view text, StabilizationOptions& options);
+
+/// The highest order a band of `lines` frequency lines carries when the options leave it open:
+/// a quarter of the lines, or up to min + 6 step when half the lines (pLSCF; a quarter for LSCE,
+/// whose impulse-response rows shrink as the order grows) allow it, at most 48, on the grid
+/// min, min + step, ...; 0 when that is below min + 3 step, the
+/// fewest orders a mode can be chosen from (a pole is stable only against the previous order,
+/// and a mode needs stable poles at 3 orders).
+int AutomaticMaxOrder(int lines, const StabilizationOptions& options);
+
+/// The lines a band needs for the options' orders: for the highest order given, or for the
+/// fewest automatic orders (min + 3 step) when it is left open.
+int LinesNeeded(const StabilizationOptions& options);
 
 struct DiagramPole {
   int order = 0;
@@ -114,7 +127,9 @@ PoleSet LscfPoles(const Frf& frf, double freq_min_hz, double freq_max_hz, int or
 /// line is taken as 0.
 PoleSet LscePoles(const Frf& frf, int order, double freq_max_hz = 0.0);
 
-/// Poles over the orders, stability flags and the automatic choice of the physical poles. pLSCF
+/// Poles over the orders, stability flags and the automatic choice of the physical poles; orders
+/// left open (max_order 0) come from the band's lines (AutomaticMaxOrder). InputError naming the
+/// band, its lines and the way out when the band holds too few lines for the orders. pLSCF
 /// fits the FRF converted to accelerance (what accelerometers measure: a truncated record's DFT
 /// ratio is then rational in W, and resonances decades apart weigh alike). Damping is corrected
 /// for the FRF's exponential window.
@@ -128,7 +143,8 @@ std::vector<std::pair<double, double>> AutomaticBands(std::vector<double> resona
                                                       double last_line_hz, double max_span = 8.0);
 
 /// One diagram per band (options' band ignored), merged: chosen poles of overlapping bands within
-/// the frequency tolerance of each other count once (the one seen at more orders).
+/// the frequency tolerance of each other count once (the one seen at more orders). A band with
+/// fewer lines than LinesNeeded is widened upwards to hold them (up to the last line).
 StabilizationDiagram BuildStabilizationDiagram(const Frf& frf, const StabilizationOptions& options,
                                                const std::vector<std::pair<double, double>>& bands);
 

@@ -7,6 +7,7 @@
 #include <string>
 #include <vector>
 
+#include "vibid/ident/intervals.hpp"
 #include "vibid/ident/modes.hpp"
 #include "vibid/ident/peaks.hpp"
 #include "vibid/ident/spectral.hpp"
@@ -45,6 +46,10 @@ struct MassUpdateResult {
   double nominal_kg = 0.0;
   double change_percent = 0.0;  ///< 100 (m - nominal) / nominal; 0 without a nominal.
   std::size_t lines_fitted = 0;
+  /// Uncertainties from the fit's covariance, sigma^2 (J^T J)^-1 with sigma^2 from the residuals
+  /// (lines - parameters degrees of freedom); a quantity that was given or held (k given, c at
+  /// its half-power value) has none and says so.
+  Uncertainty mass_u, k_u, c_u;
   numerics::SolverSummary summary;
   std::vector<std::string> warnings;
 };
@@ -76,6 +81,14 @@ StiffnessUpdateResult UpdateStiffness(const Eigen::Ref<const Eigen::VectorXd>& m
                                       const Eigen::Ref<const Eigen::VectorXd>& zeta,
                                       const Eigen::Ref<const Eigen::MatrixXd>& shapes);
 
+/// Jacobian of the update map (x -> chain springs and dampers of UpdateStiffness) by central
+/// differences, for the delta method. Inputs x = [masses (n), omega (n), zeta (n), shapes (n x n,
+/// column by column)]; rows: springs (n), then dampers (n).
+Eigen::MatrixXd StiffnessJacobian(const Eigen::Ref<const Eigen::VectorXd>& masses_kg,
+                                  const Eigen::Ref<const Eigen::VectorXd>& omega_rad_s,
+                                  const Eigen::Ref<const Eigen::VectorXd>& zeta,
+                                  const Eigen::Ref<const Eigen::MatrixXd>& shapes);
+
 /// 2-DOF form: shape i = [ratio_i, 1].
 StiffnessUpdateResult UpdateStiffness2(double m1_kg, double m2_kg,
                                        const std::vector<ModeEstimate>& modes);
@@ -92,5 +105,25 @@ struct StiffnessAverage {
 };
 
 StiffnessAverage AverageStiffness(const std::vector<StiffnessUpdateResult>& tests);
+
+/// A mode's 95 % interval (value +- 1.96 sd: the modal model's are normal, large-sample) as an
+/// uncertainty; not known when the mode has none (--method fit or peaks).
+Uncertainty ModeIntervalUncertainty(const std::array<double, 2>& ci95);
+
+/// Uncertainties of the averaged chain springs and dampers (AverageStiffness of `updates`), one
+/// per position. Each test's values move with its modes' omega, zeta and a1/a2 (their intervals,
+/// taken as independent: the modal model's correlations between them are not carried) through
+/// the update map's Jacobian (StiffnessJacobian, masses held); the tests combine as repeats
+/// (MeanOfRepeats); then the masses' share through the tests' mean Jacobian, since the same
+/// masses enter every test. Shapes of more than two responses carry no interval, so there the
+/// modes' share is the tests' scatter alone. `modes[t]` are the modes `updates[t]` came from.
+struct ChainUncertainty {
+  std::vector<Uncertainty> springs;
+  std::vector<Uncertainty> dampers;
+};
+ChainUncertainty StiffnessUncertainty(const Eigen::VectorXd& masses_kg,
+                                      const std::vector<Uncertainty>& masses_u,
+                                      const std::vector<std::vector<ModeEstimate>>& modes,
+                                      const std::vector<StiffnessUpdateResult>& updates);
 
 }  // namespace vibid::ident

@@ -57,8 +57,10 @@ HammerTestSpec ModalTestSpec(double fs_hz, std::uint64_t seed);
 /// Its mass test: the one mass of a single-DOF rig hit five times, 4 ms pulses 10 to 13 s apart.
 HammerTestSpec MassTestSpec(double fs_hz, std::uint64_t seed);
 
-/// CSV with t_s, force_n and the response columns named `names` (one per response).
+/// CSV with t_s, the force column `force_name` and the response columns named `names` (one per
+/// response).
 std::string FormatHammerTestCsv(const HammerTestRecord& record,
-                                const std::vector<std::string>& names);
+                                const std::vector<std::string>& names,
+                                const std::string& force_name = "force_n");
 
 }  // namespace vibid::ident
