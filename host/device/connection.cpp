@@ -550,6 +550,15 @@ void Connection::ContinuePull(LogPull& pull, std::uint32_t next, const Progress&
   std::uint32_t margin = 0;
   for (;;) {
     CheckCancel();
+    if (follow && stop && !pull.stopped && pull.records.empty() && pull.missing.empty()) {
+      // Nothing has arrived yet: the board may be waiting for its trigger. Between two following
+      // streams none is open, so one get-status tells a stop that watches the trigger (its
+      // timeout, its status line) what the board is doing; the round trip costs no record, as
+      // the board keeps its pretrigger in the log.
+      wire::LogTrailer state;
+      state.acq_state = GetStatus().acq_state;
+      if (stop(&state)) StopForKeeps(pull);
+    }
     const std::size_t before = pull.records.size();
     // Once stopped, the board's acquisition has ended: nothing more to watch for.
     const StopRequest watch = pull.stopped ? StopRequest{} : stop;
