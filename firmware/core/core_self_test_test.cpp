@@ -2,6 +2,7 @@
 #include <gtest/gtest.h>
 
 #include <array>
+#include <cstdint>
 
 #include "core_harness.hpp"
 #include "vibid/fw/self_test_limits.hpp"
@@ -65,6 +66,13 @@ TEST(CoreSelfTest, PortMeasurementsAreJudgedAgainstTheLimits) {
   EXPECT_EQ(Check(h, SelfTestCheck::kNoiseForce2).verdict, SelfTestVerdict::kFail);
   m[8] = {.available = true, .mantissa = -101, .exp10 = 0};
   EXPECT_EQ(Check(h, SelfTestCheck::kOffsetAccel1).verdict, SelfTestVerdict::kFail);
+  m[8] = {.available = true, .mantissa = -100, .exp10 = 0};
+  EXPECT_EQ(Check(h, SelfTestCheck::kOffsetAccel1).verdict, SelfTestVerdict::kPass);
+  // Values beyond int64 once scaled fail rather than wrap.
+  m[8] = {.available = true, .mantissa = INT64_MIN, .exp10 = -6};
+  EXPECT_EQ(Check(h, SelfTestCheck::kOffsetAccel1).verdict, SelfTestVerdict::kFail);
+  m[0] = {.available = true, .mantissa = 1, .exp10 = 30};
+  EXPECT_EQ(Check(h, SelfTestCheck::kHsePpm).verdict, SelfTestVerdict::kFail);
   // The encoders and the image CRC carry the port's verdict.
   m[10] = {.available = true, .mantissa = 5, .exp10 = 0, .ok = false};
   EXPECT_EQ(Check(h, SelfTestCheck::kEncoder1).verdict, SelfTestVerdict::kFail);

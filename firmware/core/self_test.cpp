@@ -52,6 +52,7 @@ bool SelfTestWithinLimit(SelfTestCheck check, std::int64_t mantissa, std::int8_t
     micro *= 10;
   }
   for (int e = 0; e > shift; --e) micro /= 10;
+  if (micro == INT64_MIN) return false;  // no magnitude in int64, and beyond every limit
   const std::int64_t magnitude = micro < 0 ? -micro : micro;
   switch (check) {
     case SelfTestCheck::kHsePpm: return magnitude <= kHseToleranceMicroPpm;
