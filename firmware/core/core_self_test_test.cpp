@@ -5,6 +5,7 @@
 #include <cstdint>
 
 #include "core_harness.hpp"
+#include "test_records.hpp"
 #include "vibid/fw/self_test_limits.hpp"
 #include "vibid/shared/wire/refusal.hpp"
 
@@ -106,11 +107,23 @@ TEST(CoreSelfTest, CalibrationSlotsAreErasedValidOrDamaged) {
   wire::SelfTestResponse v = Check(h, SelfTestCheck::kCalSlotA);
   EXPECT_EQ(v.mantissa, static_cast<std::int64_t>(wire::SelfTestSlot::kErased));
   EXPECT_EQ(v.verdict, SelfTestVerdict::kPass);
+  // A committed record makes its slot valid (the first commit goes to slot A).
+  const auto record = testing::Encoded(testing::TestRecord(3));
+  ASSERT_EQ(h.Upload(record), Status::kOk);
+  ASSERT_EQ(h.Request(Command::kCalCommit).status(), Status::kOk);
+  v = Check(h, SelfTestCheck::kCalSlotA);
+  EXPECT_EQ(v.mantissa, static_cast<std::int64_t>(wire::SelfTestSlot::kValid));
+  EXPECT_EQ(v.verdict, SelfTestVerdict::kPass);
+  // Checking the slots leaves the active record as it was.
+  EXPECT_TRUE(h.core.calibration().calibrated());
+  EXPECT_EQ(h.core.calibration().slot(), 0);
   // One stray programmed byte in slot B's record area: neither erased nor valid.
   h.fake.flash.bytes(CalibrationFlash::Slot::kB)[40] = 0x12;
   v = Check(h, SelfTestCheck::kCalSlotB);
   EXPECT_EQ(v.mantissa, static_cast<std::int64_t>(wire::SelfTestSlot::kDamaged));
   EXPECT_EQ(v.verdict, SelfTestVerdict::kFail);
+  EXPECT_EQ(h.core.calibration().slot(), 0);
+  EXPECT_EQ(h.core.calibration().record_crc(), wire::StoredRecordCrc(record));
 }
 
 TEST(CoreSelfTest, RefusesUnknownChecksAndWhileSampling) {

@@ -45,6 +45,14 @@ SystemControl::SelfTestMeasurement BoardSystemControl::MeasureSelfTest(
               .mantissa = CrystalErrorMilliPpm(cycles, kCrystalCheckFrames, kSysclkTargetHz),
               .exp10 = -3};
     }
+    case wire::SelfTestCheck::kVdda: {
+      // Erased or absent calibration (0xFFFF, 0) leaves nothing to scale by.
+      const std::uint16_t cal = VrefintCal();
+      std::uint32_t code = 0;
+      if (cal == 0 || cal == 0xFFFF || !ConvertVrefint(kSysclkTargetHz, code) || code == 0)
+        return {};
+      return {.available = true, .mantissa = VddaMillivolts(cal, code), .exp10 = -3};
+    }
     case wire::SelfTestCheck::kEncoder1:
     case wire::SelfTestCheck::kEncoder2: {
       const EncoderState e =

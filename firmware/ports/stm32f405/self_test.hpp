@@ -37,4 +37,27 @@ constexpr std::int64_t CrystalErrorMilliPpm(std::uint32_t cycles, std::uint32_t 
 /// @returns false when a frame does not come in time (no host, or the bus is suspended).
 bool CountCyclesOverFrames(std::uint32_t frames, std::uint32_t sysclk_hz, std::uint32_t& cycles);
 
+/// VREFINT_CAL: VREFINT's conversion at VDDA = 3.3 V and 30 C, taken in production and kept in
+/// system memory at 0x1FFF7A2A..0x1FFF7A2B (STM32F405 datasheet, "Internal reference voltage
+/// calibration values"). Read as the upper half of the word at 0x1FFF7A28.
+inline constexpr Address kVrefintCalWord = 0x1FFF7A28;
+std::uint16_t VrefintCal();
+
+/// VDDA in mV: VREFINT is a fixed voltage, so its code scales as 1 / VDDA:
+/// VDDA = 3300 mV x VREFINT_CAL / VREFINT_DATA, rounded to the nearest mV. 0 for a code of 0.
+constexpr std::uint32_t VddaMillivolts(std::uint16_t vrefint_cal, std::uint32_t vrefint_code) {
+  if (vrefint_code == 0) return 0;
+  return (3300u * vrefint_cal + vrefint_code / 2) / vrefint_code;
+}
+
+/// Conversions averaged for VDDA.
+inline constexpr std::uint32_t kVrefintConversions = 16;
+
+/// Converts VREFINT (ADC1 channel 17) kVrefintConversions times by software start and returns
+/// the mean code (rounded). ADC1 and the common CCR are set for it (independent mode, TSVREFE,
+/// 480-cycle sampling: 22.9 us at ADCCLK 21 MHz, above VREFINT's 10 us minimum) and put back as
+/// they were; only while idle (the sampler owns the converters while sampling).
+/// @returns false when a conversion does not end in time.
+bool ConvertVrefint(std::uint32_t sysclk_hz, std::uint32_t& mean_code);
+
 }  // namespace vibid::fw::stm32

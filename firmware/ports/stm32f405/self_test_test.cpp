@@ -74,6 +74,62 @@ TEST_F(SelfTestPortTest, NoFramesIsUnavailableNotAPass) {
   EXPECT_FALSE(system.MeasureSelfTest(wire::SelfTestCheck::kImageCrc, 200).available);
 }
 
+TEST_F(SelfTestPortTest, VddaFromVrefintAndItsFactoryCalibration) {
+  // Closed form: VDDA = 3300 mV x VREFINT_CAL / VREFINT_DATA. A calibration of 1500 (1.209 V at
+  // 3.3 V: 1500 / 4095 x 3.3 V) converted as 1650 means VDDA = 3000 mV; 1500 exactly 3.3 V.
+  EXPECT_EQ(VddaMillivolts(1500, 1650), 3000u);
+  EXPECT_EQ(VddaMillivolts(1500, 1500), 3300u);
+  EXPECT_EQ(VddaMillivolts(1500, 0), 0u);
+
+  // ADC1 as the sampler leaves it (scan, overrun interrupt, triple mode, trigger on TIM2).
+  const std::uint32_t ccr = adc::kCcrAdcpreDiv4 | adc::kCcrDmaMode1 | adc::kCcrDds |
+                            adc::kCcrMultiTripleRegularSimultaneous;
+  const std::uint32_t cr1 = adc::kCr1Scan | adc::kCr1Ovrie;
+  const std::uint32_t cr2 = adc::kCr2Adon | adc::kCr2ExtselTim2Trgo | adc::kCr2ExtenRising;
+  regs().Poke(adc::kCommonCcr, ccr);
+  regs().Poke(adc::kAdc1 + adc::kCr1, cr1);
+  regs().Poke(adc::kAdc1 + adc::kCr2, cr2);
+  regs().Poke(adc::kAdc1 + adc::kSqr1, 1u << adc::kSqr1LPos);
+  regs().Poke(adc::kAdc1 + adc::kSqr3, adc::Sqr3(0, 0) | adc::Sqr3(1, 1));
+  regs().Poke(kVrefintCalWord, 1500u << 16);  // 0x1FFF7A2A holds the upper half-word
+  // Converter model: a software start ends the conversion (EOC), DR reads 1650 and clears EOC.
+  regs().OnRead(dwt::kCyccnt, [](std::uint32_t held) {
+    FakeRegisters::Get().Poke(dwt::kCyccnt, held + 100);
+    return held;
+  });
+  regs().OnWrite(adc::kAdc1 + adc::kCr2, [](std::uint32_t, std::uint32_t w) {
+    if ((w & adc::kCr2Swstart) != 0) FakeRegisters::Get().Poke(adc::kAdc1 + adc::kSr, adc::kSrEoc);
+    return w & ~adc::kCr2Swstart;
+  });
+  regs().OnRead(adc::kAdc1 + adc::kDr, [](std::uint32_t) {
+    FakeRegisters::Get().Poke(adc::kAdc1 + adc::kSr, 0);
+    return 1650u;
+  });
+
+  BoardSystemControl system;
+  const auto m = system.MeasureSelfTest(wire::SelfTestCheck::kVdda, 200);
+  ASSERT_TRUE(m.available);
+  EXPECT_EQ(m.mantissa, 3000);
+  EXPECT_EQ(m.exp10, -3);
+  // Converted with VREFINT connected, in independent mode, 480-cycle sampling of channel 17.
+  const std::size_t vref = regs().FindWrite(adc::kCommonCcr, (ccr & ~0x1Fu) | adc::kCcrTsvrefe);
+  ASSERT_NE(vref, kNone);
+  EXPECT_NE(regs().FindWrite(adc::kAdc1 + adc::kSmpr1, 7u << 21), kNone);
+  EXPECT_NE(regs().FindWrite(adc::kAdc1 + adc::kSqr3, 17u), kNone);
+  EXPECT_EQ(regs().WritesTo(adc::kAdc1 + adc::kCr2).size(), 2u + 16u + 2u);
+  // ... and everything put back as the sampler had it.
+  EXPECT_EQ(regs().Peek(adc::kCommonCcr), ccr);
+  EXPECT_EQ(regs().Peek(adc::kAdc1 + adc::kCr1), cr1);
+  EXPECT_EQ(regs().Peek(adc::kAdc1 + adc::kCr2), cr2);
+  EXPECT_EQ(regs().Peek(adc::kAdc1 + adc::kSqr1), 1u << adc::kSqr1LPos);
+  EXPECT_EQ(regs().Peek(adc::kAdc1 + adc::kSqr3), adc::Sqr3(0, 0) | adc::Sqr3(1, 1));
+  EXPECT_EQ(regs().Peek(adc::kAdc1 + adc::kSmpr1), 0u);
+
+  // No factory calibration (erased system memory reads 0xFFFF): unavailable, not a guess.
+  regs().Poke(kVrefintCalWord, 0xFFFFu << 16);
+  EXPECT_FALSE(system.MeasureSelfTest(wire::SelfTestCheck::kVdda, 200).available);
+}
+
 TEST_F(SelfTestPortTest, EncoderRunsWhenEnabledInEncoderMode3) {
   BoardSystemControl system;
   // Reset state: CEN clear, SMS 000 (RM0090 §18.4.1, §18.4.3).
