@@ -5,6 +5,8 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <filesystem>
+#include <fstream>
 #include <string>
 
 #include <nlohmann/json.hpp>
@@ -150,6 +152,39 @@ TEST(SelfTestCli, PrintsEachCheckAndTheBrownOutLevel) {
   ASSERT_EQ(info.exit_code, 0) << info.err;
   EXPECT_EQ(nlohmann::json::parse(info.out)["brown_out_level"], "level3");
   EXPECT_EQ(info.err.find("warning"), std::string::npos) << info.err;  // level 3: no warning
+}
+
+// A board whose option bytes leave the brown-out reset off (a new chip): info warns and still
+// exits 0, and the self-test's brown-out check fails (exit 4, naming it).
+TEST(SelfTestCli, ABrownOutBelowLevel3WarnsAndFailsTheCheck) {
+  if (MakeTarget()->Name() != "emu") GTEST_SKIP() << "needs the emu target (a vibid-emu process)";
+  const std::string dir = vibid::testing::MakeTempDir("brown-out");
+  const std::string rig = dir + "/rig.json";
+  {
+    auto j = nlohmann::json::parse(
+        vibid::testing::ReadFileBytes(VIBID_SOURCE_DIR "/host/emulator/rigs/default.json"));
+    j["brown_out_level"] = "off";
+    std::ofstream(rig) << j.dump();
+  }
+  EmulatorProcess emu(EmulatorBinary(), {"--rig", rig});
+  const auto info = vibid::testing::RunVibid({"--device", emu.device_spec(), "info", "--json"});
+  EXPECT_EQ(info.exit_code, 0) << info.err;
+  EXPECT_EQ(nlohmann::json::parse(info.out)["brown_out_level"], "off");
+  EXPECT_EQ(
+      info.err,
+      "vibid: warning: the board's brown-out reset is off (power-on reset only, about 1.8 V), "
+      "below level 3 (2.7 V), the least supply its x32 flash programming takes: a sagging "
+      "supply can lose a calibration commit; set BOR_LEV to level 3 in the option bytes "
+      "(docs/board.md, \"Brown-out level\")\n");
+  const auto self = vibid::testing::RunVibid({"--device", emu.device_spec(), "selftest"});
+  EXPECT_EQ(self.exit_code, 4);
+  EXPECT_NE(self.out.find("15  brown-out      off                    FAIL"), std::string::npos)
+      << self.out;
+  EXPECT_EQ(self.err,
+            "vibid: error: self-test: 1 of 17 checks failed (15 brown-out); docs/board.md, "
+            "\"Self-test\", says what each one means\n");
+  std::error_code ec;
+  std::filesystem::remove_all(dir, ec);
 }
 
 }  // namespace
