@@ -7,10 +7,10 @@
 
 namespace vibid::fw {
 
-/// HSE against the host's USB start-of-frame: +-100 ppm. The 8 MHz crystal's own tolerance is
-/// far inside it; a board outside it has the wrong crystal or load capacitors (the USB full-speed
-/// host's SOF is itself within +-500 ppm, USB 2.0 §7.1.11, so the check cannot be finer than
-/// the host).
+/// HSE against the host's USB start-of-frame: +-100 ppm. A crystal's own tolerance is tens of
+/// ppm; a board outside the limit has the wrong crystal or load capacitors. The host's frame
+/// clock is only required to be within +-500 ppm (USB 2.0: a full-speed frame is 1.000 ms
+/// +-500 ns), so a failing board is checked against a second host before the crystal is blamed.
 inline constexpr std::int64_t kHseToleranceMicroPpm = 100'000'000;
 /// VDDA: the board's 3.3 V regulator within +-5 %.
 inline constexpr std::int64_t kVddaMinMicroV = 3'135'000;
