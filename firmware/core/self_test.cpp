@@ -90,7 +90,8 @@ wire::SelfTestResponse Core::SelfTest(std::uint8_t check_index) {
     case SelfTestCheck::kBrownOut: {
       const wire::BrownOut level = port_.system.BrownOutLevel();
       r.mantissa = static_cast<std::int64_t>(level);
-      // 2.7 V is the least supply x32 flash programming takes (RM0090 §3.5.2, PSIZE).
+      // 2.7 V is the least supply x32 flash programming takes (RM0090 §3.6.2; docs/board.md,
+      // "Brown-out level").
       if (level == wire::BrownOut::kUnknown) {
         r.verdict = SelfTestVerdict::kUnavailable;
       } else {
