@@ -46,6 +46,24 @@ CalibrationStore::SlotInfo CalibrationStore::Inspect(Slot slot) {
   return SlotInfo{.valid = true, .sequence = sequence};
 }
 
+wire::SelfTestSlot CalibrationStore::CheckSlot(Slot slot) {
+  if (Inspect(slot).valid) return wire::SelfTestSlot::kValid;
+  // Not valid: erased only if every byte of the header and the record reads as erased flash.
+  std::array<std::uint8_t, kSlotHeaderBytes> header{};
+  if (flash_.Read(slot, 0, header) != Status::kOk ||
+      flash_.Read(slot, kSlotRecordOffset, scratch_) != Status::kOk) {
+    return wire::SelfTestSlot::kDamaged;
+  }
+  const auto erased = [](std::span<const std::uint8_t> bytes) {
+    for (const std::uint8_t b : bytes) {
+      if (b != CalibrationFlash::kErasedByte) return false;
+    }
+    return true;
+  };
+  return erased(header) && erased(scratch_) ? wire::SelfTestSlot::kErased
+                                            : wire::SelfTestSlot::kDamaged;
+}
+
 Status CalibrationStore::Load() {
   calibrated_ = false;
   record_ = UncalibratedRecord();

@@ -148,6 +148,23 @@ wire::SamplingInfoResponse Core::SamplingInfo() {
   return r;
 }
 
+Status Core::HandleSelfTest(const wire::Header& h, std::span<const std::uint8_t> payload) {
+  wire::SelfTestRequest request;
+  if (wire::Decode(payload, request) != Status::kOk)
+    return Refuse(Status::kInvalidArgument, wire::Reason::kPayloadLength);
+  if (request.check >= wire::kSelfTestCheckCount)
+    return Refuse(Status::kInvalidArgument, wire::Reason::kUnknownCheck, request.check);
+  // The noise checks sample the converters the acquisition owns.
+  if (Sampling()) return Refuse(Status::kFailedPrecondition, wire::Reason::kBusySampling);
+  RespondWith(h, SelfTest(request.check));
+  return Status::kOk;
+}
+
+wire::HealthInfoResponse Core::HealthInfo() const {
+  return wire::HealthInfoResponse{.brown_out = port_.system.BrownOutLevel(),
+                                  .reset_cause = port_.system.LastResetCause()};
+}
+
 wire::StatusResponse Core::CurrentStatus() const {
   wire::StatusResponse s;
   s.acq_state = sampler_.state();
@@ -207,9 +224,13 @@ Status Core::Dispatch(const Header& h, std::span<const std::uint8_t> payload) {
       }
       wire::InfoPageRequest page;
       if (wire::Decode(payload, page) != Status::kOk) return refuse_payload();
-      if (page.page != wire::kInfoPageSampling)
+      if (page.page == wire::kInfoPageSampling) {
+        RespondWith(h, SamplingInfo());
+      } else if (page.page == wire::kInfoPageHealth) {
+        RespondWith(h, HealthInfo());
+      } else {
         return Refuse(Status::kInvalidArgument, wire::Reason::kUnknownInfoPage, page.page);
-      RespondWith(h, SamplingInfo());
+      }
       return Status::kOk;
     }
     case Command::kGetStatus:
@@ -229,6 +250,7 @@ Status Core::Dispatch(const Header& h, std::span<const std::uint8_t> payload) {
       Respond(h, Status::kOk);
       deferred_ = Deferred::kEnterDfu;
       return Status::kOk;
+    case Command::kSelfTest: return HandleSelfTest(h, payload);
     case Command::kCalPutBegin: return HandleCalPutBegin(h, payload);
     case Command::kCalPutData: return HandleCalPutData(h, payload);
     case Command::kCalCommit: return stray_payload ? refuse_payload() : HandleCalCommit(h);

@@ -231,6 +231,18 @@ std::optional<wire::SamplingInfoResponse> Connection::GetSamplingInfo() {
       "get-info sampling page");
 }
 
+std::optional<wire::HealthInfoResponse> Connection::GetHealthInfo() {
+  if (info_.protocol_minor < 1) return std::nullopt;
+  return DecodeAnswer<wire::HealthInfoResponse>(
+      Expect(Command::kGetInfo, wire::InfoPageRequest{.page = wire::kInfoPageHealth}),
+      "get-info health page");
+}
+
+wire::SelfTestResponse Connection::SelfTest(std::uint8_t check) {
+  return DecodeAnswer<wire::SelfTestResponse>(
+      Expect(Command::kSelfTest, wire::SelfTestRequest{.check = check}), "self-test");
+}
+
 wire::StatusResponse Connection::GetStatus() {
   return DecodeAnswer<wire::StatusResponse>(Expect(Command::kGetStatus), "get-status");
 }

@@ -101,6 +101,9 @@ std::string ReasonText(Status status, const wire::Refusal& r) {
     case wire::Reason::kUnknownInfoPage:
       return "the board has no get-info page " + std::to_string(d) +
              "; use a host that matches the firmware";
+    case wire::Reason::kUnknownCheck:
+      return "the board has no self-test check " + std::to_string(d) +
+             "; use a host that matches the firmware";
   }
   return StatusText(status) + " (reason " + std::to_string(static_cast<unsigned>(r.reason)) +
          ", which this host does not know; use a host that matches the firmware)";

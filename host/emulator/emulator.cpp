@@ -38,7 +38,7 @@ class DetachToDfu final : public fw::usb::DfuDetachHandler {
 // The application as the board runs it (compare firmware/ports/stm32f405/main.cpp).
 struct Emulator::Application {
   Application(Emulator& emu, wire::ResetCause cause)
-      : system(cause),
+      : system(cause, emu.rig_, emu.options_.rig.brown_out),
         frames(emu.rig_),
         slots(emu.flash_),
         scenario(emu.rig_, frames),

@@ -135,11 +135,11 @@ RigSpec DefaultRig() {
 
 RigSpec RigFromJson(const nlohmann::json& json, const std::string& source) {
   Require(json.is_object(), source + ": expected a JSON object");
-  RequireKnownKeys(
-      json,
-      {"topology", "masses_kg", "effective_mass_loss", "springs_n_per_m", "dampers_ns_per_m",
-       "coulomb_n", "load_cells", "accelerometers", "encoder_counts_per_m", "max_sample_rate_hz"},
-      "rig file " + source);
+  RequireKnownKeys(json,
+                   {"topology", "masses_kg", "effective_mass_loss", "springs_n_per_m",
+                    "dampers_ns_per_m", "coulomb_n", "load_cells", "accelerometers",
+                    "encoder_counts_per_m", "max_sample_rate_hz", "brown_out_level"},
+                   "rig file " + source);
   // Compared as a JSON value: a topology of another type is a wrong value, not a type error.
   Require(json.value("topology", nlohmann::json()) == "chain",
           source + ": \"topology\" must be \"chain\" (masses in series from ground)");
@@ -167,6 +167,23 @@ RigSpec RigFromJson(const nlohmann::json& json, const std::string& source) {
           source + ": \"max_sample_rate_hz\" is " + FormatRate(r.max_sample_rate_hz) +
               ", but the board samples at " + FormatRate(board_max_hz) + " at most: write " +
               FormatRate(board_max_hz) + " or less");
+  if (json.contains("brown_out_level")) {
+    const nlohmann::json& level = json.at("brown_out_level");
+    const std::pair<const char*, wire::BrownOut> levels[] = {{"level3", wire::BrownOut::kLevel3},
+                                                             {"level2", wire::BrownOut::kLevel2},
+                                                             {"level1", wire::BrownOut::kLevel1},
+                                                             {"off", wire::BrownOut::kOff}};
+    bool known = false;
+    for (const auto& [name, value] : levels) {
+      if (level == name) {
+        r.brown_out = value;
+        known = true;
+      }
+    }
+    Require(known, source +
+                       ": \"brown_out_level\" must be \"level3\", \"level2\", \"level1\" or "
+                       "\"off\" (the option bytes' BOR_LEV)");
+  }
   return r;
 }
 
@@ -186,7 +203,11 @@ nlohmann::json RigToJson(const RigSpec& r) {
            {SensorToJson(r.accelerometers[0], "range_m_s2", "noise_m_s2"),
             SensorToJson(r.accelerometers[1], "range_m_s2", "noise_m_s2")}},
           {"encoder_counts_per_m", r.encoder_counts_per_m},
-          {"max_sample_rate_hz", r.max_sample_rate_hz}};
+          {"max_sample_rate_hz", r.max_sample_rate_hz},
+          {"brown_out_level", r.brown_out == wire::BrownOut::kLevel2   ? "level2"
+                              : r.brown_out == wire::BrownOut::kLevel1 ? "level1"
+                              : r.brown_out == wire::BrownOut::kOff    ? "off"
+                                                                       : "level3"}};
 }
 
 nlohmann::json TruthToJson(const RigSpec& r) {

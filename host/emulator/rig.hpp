@@ -55,6 +55,9 @@ struct RigSpec {
   std::array<AnalogSensor, 2> accelerometers{};  ///< on mass 1, mass 2
   double encoder_counts_per_m = 0.0;
   double max_sample_rate_hz = 0.0;
+  /// The emulated board's option bytes: its brown-out reset level (get-info's health page,
+  /// self-test). Rig file key "brown_out_level" ("level3", "level2", "level1", "off"), optional.
+  wire::BrownOut brown_out = wire::BrownOut::kLevel3;
 
   int dofs() const { return static_cast<int>(masses_kg.size()); }
   /// The rig's truth: the chain with the effective masses.

@@ -384,6 +384,16 @@ TEST(RigFile, RoundTripAndClearErrors) {
   EXPECT_EQ(message(j),
             "unknown key 'noise_n' in rig file rig.json accelerometers[0] (valid keys: "
             "range_m_s2, noise_m_s2, adc_bits)");
+  // The option bytes' brown-out level: level 3 unless the file says, and only a BOR_LEV name.
+  EXPECT_EQ(DefaultRig().brown_out, wire::BrownOut::kLevel3);
+  j = RigToJson(DefaultRig());
+  j["brown_out_level"] = "off";
+  EXPECT_EQ(RigFromJson(j).brown_out, wire::BrownOut::kOff);
+  EXPECT_EQ(RigToJson(RigFromJson(j))["brown_out_level"], "off");
+  j["brown_out_level"] = "level4";
+  EXPECT_EQ(message(j),
+            "rig.json: \"brown_out_level\" must be \"level3\", \"level2\", \"level1\" or \"off\" "
+            "(the option bytes' BOR_LEV)");
 }
 
 // The emulator never does what the board cannot: a converter other than the board's 12-bit ADC

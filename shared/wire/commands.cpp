@@ -84,6 +84,85 @@ Status Decode(std::span<const std::uint8_t> in, SamplingInfoResponse& v) {
   return Status::kOk;
 }
 
+void Encode(const HealthInfoResponse& v, std::span<std::uint8_t> out) {
+  StoreU8(out, 0, static_cast<std::uint8_t>(v.brown_out));
+  StoreU8(out, 1, static_cast<std::uint8_t>(v.reset_cause));
+  StoreU16(out, 2, 0);
+}
+
+Status Decode(std::span<const std::uint8_t> in, HealthInfoResponse& v) {
+  if (in.size() != HealthInfoResponse::kBytes) return Status::kInvalidArgument;
+  const std::uint8_t brown_out = LoadU8(in, 0);
+  const std::uint8_t reset_cause = LoadU8(in, 1);
+  if (brown_out > static_cast<std::uint8_t>(BrownOut::kLevel3) ||
+      reset_cause > static_cast<std::uint8_t>(ResetCause::kLowPower) || LoadU16(in, 2) != 0) {
+    return Status::kInvalidArgument;
+  }
+  v.brown_out = static_cast<BrownOut>(brown_out);
+  v.reset_cause = static_cast<ResetCause>(reset_cause);
+  return Status::kOk;
+}
+
+void Encode(const SelfTestRequest& v, std::span<std::uint8_t> out) { StoreU8(out, 0, v.check); }
+
+Status Decode(std::span<const std::uint8_t> in, SelfTestRequest& v) {
+  if (in.size() != SelfTestRequest::kBytes) return Status::kInvalidArgument;
+  v.check = LoadU8(in, 0);
+  return Status::kOk;
+}
+
+void Encode(const SelfTestResponse& v, std::span<std::uint8_t> out) {
+  StoreU8(out, 0, v.check);
+  StoreU8(out, 1, v.check_count);
+  StoreU8(out, 2, static_cast<std::uint8_t>(v.verdict));
+  StoreU8(out, 3, static_cast<std::uint8_t>(v.unit));
+  StoreU8(out, 4, static_cast<std::uint8_t>(v.exp10));
+  StoreU8(out, 5, 0);
+  StoreU16(out, 6, 0);
+  StoreI64(out, 8, v.mantissa);
+}
+
+Status Decode(std::span<const std::uint8_t> in, SelfTestResponse& v) {
+  if (in.size() != SelfTestResponse::kBytes) return Status::kInvalidArgument;
+  const std::uint8_t verdict = LoadU8(in, 2);
+  const std::uint8_t unit = LoadU8(in, 3);
+  if (verdict > static_cast<std::uint8_t>(SelfTestVerdict::kUnavailable) ||
+      unit > static_cast<std::uint8_t>(SelfTestUnit::kResetCause) || LoadU8(in, 5) != 0 ||
+      LoadU16(in, 6) != 0) {
+    return Status::kInvalidArgument;
+  }
+  v.check = LoadU8(in, 0);
+  v.check_count = LoadU8(in, 1);
+  v.verdict = static_cast<SelfTestVerdict>(verdict);
+  v.unit = static_cast<SelfTestUnit>(unit);
+  v.exp10 = static_cast<std::int8_t>(LoadU8(in, 4));
+  v.mantissa = LoadI64(in, 8);
+  return Status::kOk;
+}
+
+const char* SelfTestCheckName(std::uint8_t check) {
+  switch (static_cast<SelfTestCheck>(check)) {
+    case SelfTestCheck::kHsePpm: return "hse-ppm";
+    case SelfTestCheck::kVdda: return "vdda";
+    case SelfTestCheck::kNoiseForce1: return "noise-force1";
+    case SelfTestCheck::kNoiseForce2: return "noise-force2";
+    case SelfTestCheck::kNoiseAccel1: return "noise-acc1";
+    case SelfTestCheck::kNoiseAccel2: return "noise-acc2";
+    case SelfTestCheck::kOffsetForce1: return "offset-force1";
+    case SelfTestCheck::kOffsetForce2: return "offset-force2";
+    case SelfTestCheck::kOffsetAccel1: return "offset-acc1";
+    case SelfTestCheck::kOffsetAccel2: return "offset-acc2";
+    case SelfTestCheck::kEncoder1: return "encoder1";
+    case SelfTestCheck::kEncoder2: return "encoder2";
+    case SelfTestCheck::kImageCrc: return "image-crc";
+    case SelfTestCheck::kCalSlotA: return "cal-slot-a";
+    case SelfTestCheck::kCalSlotB: return "cal-slot-b";
+    case SelfTestCheck::kBrownOut: return "brown-out";
+    case SelfTestCheck::kResetCause: return "reset-cause";
+  }
+  return "unknown";
+}
+
 void Encode(const StatusResponse& v, std::span<std::uint8_t> out) {
   StoreU8(out, 0, static_cast<std::uint8_t>(v.acq_state));
   StoreU8(out, 1, v.dob_running);
@@ -406,6 +485,7 @@ const char* CommandName(std::uint8_t id) {
     case Command::kGetStatus: return "get-status";
     case Command::kReset: return "reset";
     case Command::kEnterDfu: return "enter-dfu";
+    case Command::kSelfTest: return "self-test";
     case Command::kCalPutBegin: return "cal-put-begin";
     case Command::kCalPutData: return "cal-put-data";
     case Command::kCalCommit: return "cal-commit";

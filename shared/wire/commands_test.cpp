@@ -97,6 +97,59 @@ TEST(Commands, InfoPageSampling) {
   EXPECT_EQ(Decode(PayloadOf(golden).first(23), v), Status::kInvalidArgument);
 }
 
+TEST(Commands, InfoPageHealth) {
+  ASSERT_TRUE(EncodesAsGolden("health_page_request", Command::kGetInfo, 0x0104, 0,
+                              InfoPageRequest{.page = kInfoPageHealth}));
+  // Brown-out level 3 (byte 4) and a watchdog reset (byte 4), as wire_vectors.py writes them.
+  const HealthInfoResponse health{.brown_out = BrownOut::kLevel3,
+                                  .reset_cause = ResetCause::kWatchdog};
+  ASSERT_TRUE(
+      EncodesAsGolden("health_info_response", Command::kGetInfo, 0x0104, kFlagResponse, health));
+  const Report golden = GoldenReport("health_info_response");
+  HealthInfoResponse v;
+  ASSERT_EQ(Decode(PayloadOf(golden), v), Status::kOk);
+  EXPECT_EQ(v.brown_out, BrownOut::kLevel3);
+  EXPECT_EQ(v.reset_cause, ResetCause::kWatchdog);
+  EXPECT_EQ(Decode(PayloadOf(golden).first(3), v), Status::kInvalidArgument);
+  std::array<std::uint8_t, 4> bad{5, 0, 0, 0};  // no brown-out level 5
+  EXPECT_EQ(Decode(bad, v), Status::kInvalidArgument);
+  bad = {4, 0, 1, 0};  // reserved byte set
+  EXPECT_EQ(Decode(bad, v), Status::kInvalidArgument);
+}
+
+TEST(Commands, SelfTest) {
+  ASSERT_TRUE(EncodesAsGolden("self_test_request", Command::kSelfTest, 0x0106, 0,
+                              SelfTestRequest{.check = 0}));
+  // hse-ppm passes at -12.345 ppm: mantissa -12345, 10^-3 (wire_vectors.py).
+  const SelfTestResponse hse{.check = 0,
+                             .check_count = 17,
+                             .verdict = SelfTestVerdict::kPass,
+                             .unit = SelfTestUnit::kPpm,
+                             .exp10 = -3,
+                             .mantissa = -12345};
+  ASSERT_TRUE(
+      EncodesAsGolden("self_test_response", Command::kSelfTest, 0x0106, kFlagResponse, hse));
+  SelfTestResponse v;
+  ASSERT_EQ(Decode(PayloadOf(GoldenReport("self_test_response")), v), Status::kOk);
+  EXPECT_EQ(v.check, 0);
+  EXPECT_EQ(v.check_count, 17);
+  EXPECT_EQ(v.verdict, SelfTestVerdict::kPass);
+  EXPECT_EQ(v.unit, SelfTestUnit::kPpm);
+  EXPECT_EQ(v.exp10, -3);
+  EXPECT_EQ(v.mantissa, -12345);
+  ASSERT_EQ(Decode(PayloadOf(GoldenReport("self_test_crc_response")), v), Status::kOk);
+  EXPECT_EQ(v.check, 12);
+  EXPECT_EQ(v.verdict, SelfTestVerdict::kUnavailable);
+  EXPECT_EQ(v.unit, SelfTestUnit::kCrc32);
+  EXPECT_STREQ(SelfTestCheckName(v.check), "image-crc");
+  EXPECT_STREQ(SelfTestCheckName(kSelfTestCheckCount), "unknown");
+  EXPECT_STREQ(CommandName(0x06), "self-test");
+  std::array<std::uint8_t, 16> bad{};
+  bad[2] = 3;  // no verdict 3
+  EXPECT_EQ(Decode(bad, v), Status::kInvalidArgument);
+  EXPECT_EQ(Decode(std::span<const std::uint8_t>(bad).first(15), v), Status::kInvalidArgument);
+}
+
 TEST(Commands, StatusResponse) {
   StatusResponse s;
   s.acq_state = AcqState::kAcquiring;

@@ -48,6 +48,7 @@ const char* ReasonName(Reason reason) {
     case Reason::kScenarioParameter: return "scenario-parameter";
     case Reason::kPortRefused: return "port-refused";
     case Reason::kUnknownInfoPage: return "unknown-info-page";
+    case Reason::kUnknownCheck: return "unknown-check";
   }
   return "unknown";
 }

@@ -32,6 +32,14 @@ TEST(Refusal, EncodesAsGolden) {
                         staged, out),
             Status::kOk);
   EXPECT_EQ(out, GoldenReport("refusal_nothing_staged"));
+
+  // self-test of check 17, which the board does not have (wire_vectors.py).
+  const Refusal check{.reason = Reason::kUnknownCheck, .detail = 17};
+  ASSERT_EQ(BuildReport(Command::kSelfTest, 0x0108, 0, kFlagResponse, Status::kInvalidArgument,
+                        check, out),
+            Status::kOk);
+  EXPECT_EQ(out, GoldenReport("refusal_unknown_check"));
+  EXPECT_STREQ(ReasonName(Reason::kUnknownCheck), "unknown-check");
 }
 
 TEST(Refusal, DecodesGolden) {

@@ -61,9 +61,9 @@ const std::array<std::uint8_t, wire::kCalRecordBytes>& GoldenRecord(bool with_fi
 }
 
 // Every id the core dispatches, the port range included, and a few it does not know.
-constexpr std::array<std::uint8_t, 21> kCommandIds = {0x01, 0x02, 0x03, 0x04, 0x05, 0x10, 0x11,
-                                                      0x12, 0x13, 0x20, 0x21, 0x22, 0x23, 0x24,
-                                                      0x25, 0x30, 0x70, 0x71, 0x7F, 0x00, 0xFF};
+constexpr std::array<std::uint8_t, 22> kCommandIds = {
+    0x01, 0x02, 0x03, 0x04, 0x05, 0x06, 0x10, 0x11, 0x12, 0x13, 0x20,
+    0x21, 0x22, 0x23, 0x24, 0x25, 0x30, 0x70, 0x71, 0x7F, 0x00, 0xFF};
 
 // A port that knows two commands, so the core's port dispatch sees answers and refusals.
 class FuzzPortCommands final : public fw::PortCommandHandler {
@@ -87,7 +87,19 @@ class FuzzPortCommands final : public fw::PortCommandHandler {
 
 class Board {
  public:
-  Board() { Reboot(); }
+  Board() {
+    // Port measurements for the self-test's judging, the extremes among them: each check is
+    // judged without overflow whatever the port reports.
+    auto& m = fake.system.self_test;
+    m[0] = {.available = true, .mantissa = INT64_MIN, .exp10 = 127};
+    m[1] = {.available = true, .mantissa = 3300, .exp10 = -3};
+    m[2] = {.available = true, .mantissa = INT64_MAX, .exp10 = -128};
+    m[6] = {.available = true, .mantissa = -40, .exp10 = 0};
+    m[8] = {.available = true, .mantissa = INT64_MIN, .exp10 = -6};
+    m[10] = {.available = true, .mantissa = 17, .exp10 = 0, .ok = true};
+    fake.system.brown_out = wire::BrownOut::kLevel2;
+    Reboot();
+  }
 
   void Reboot() {
     core_.reset();
@@ -232,6 +244,17 @@ std::vector<std::uint8_t> Payload(FuzzedDataProvider& in, std::uint8_t id) {
       encode(b);
       return p;
     }
+    case Command::kGetInfo:
+      // No payload (the info), or a page: 1 and 2 exist, 0 and 3 are refused.
+      if (in.ConsumeBool())
+        p.push_back(static_cast<std::uint8_t>(in.ConsumeIntegralInRange<unsigned>(0, 3)));
+      return p;
+    case Command::kSelfTest:
+      // The checks and one past them (refused, unknown-check).
+      encode(wire::SelfTestRequest{
+          .check = static_cast<std::uint8_t>(
+              in.ConsumeIntegralInRange<unsigned>(0, wire::kSelfTestCheckCount))});
+      return p;
     case Command::kSelectScenario: p.resize(wire::ScenarioRequest::kBytes); return p;
     case Command::kInjectFrames: {
       wire::InjectFramesRequest f;
@@ -363,6 +386,11 @@ class Script {
       wire::ClipResponse clips;
       Require(wire::Decode(wire::PayloadOf(r), clips) == Status::kOk);
       for (const std::uint32_t n : clips.clipped) Require(n <= clips.ticks);
+    }
+    if (h.status == Status::kOk && id == static_cast<std::uint8_t>(Command::kSelfTest)) {
+      wire::SelfTestResponse check;
+      Require(wire::Decode(wire::PayloadOf(r), check) == Status::kOk);
+      Require(check.check < check.check_count && check.check_count == wire::kSelfTestCheckCount);
     }
     return {h.status};
   }

@@ -355,6 +355,8 @@ void CheckResponses(const wire::Report& report) {
   const auto payload = wire::PayloadOf(report);
   CheckResponse<wire::InfoResponse>(payload);
   CheckResponse<wire::SamplingInfoResponse>(payload);
+  CheckResponse<wire::HealthInfoResponse>(payload);
+  CheckResponse<wire::SelfTestResponse>(payload);
   CheckResponse<wire::StatusResponse>(payload);
   CheckResponse<wire::AcqConfigureResponse>(payload);
   CheckResponse<wire::AcqStopResponse>(payload);

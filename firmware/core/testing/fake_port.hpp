@@ -85,11 +85,21 @@ class FakeSystem final : public SystemControl {
   wire::BoardId Board() const override { return wire::BoardId::kHostTest; }
   std::uint32_t PortCapabilities() const override { return capabilities; }
   wire::ResetCause LastResetCause() const override { return reset_cause; }
+  wire::BrownOut BrownOutLevel() const override { return brown_out; }
+  /// Answers self_test[check] and records the period it was asked at.
+  SelfTestMeasurement MeasureSelfTest(wire::SelfTestCheck check,
+                                      std::uint32_t sample_period_us) override {
+    self_test_period_us = sample_period_us;
+    return self_test[static_cast<std::size_t>(check)];
+  }
   void Reset() override { ++resets; }
   void EnterDfu() override { ++dfu_entries; }
 
   std::uint32_t capabilities = wire::kCapDfu;
   wire::ResetCause reset_cause = wire::ResetCause::kPowerOn;
+  wire::BrownOut brown_out = wire::BrownOut::kUnknown;
+  std::array<SelfTestMeasurement, wire::kSelfTestCheckCount> self_test{};
+  std::uint32_t self_test_period_us = 0;
   int resets = 0;
   int dfu_entries = 0;
 };

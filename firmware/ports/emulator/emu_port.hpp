@@ -99,12 +99,25 @@ enum class Request : std::uint8_t { kNone, kReset, kEnterDfu };
 
 class EmuSystemControl final : public fw::SystemControl {
  public:
-  explicit EmuSystemControl(wire::ResetCause cause) : cause_(cause) {}
+  /// The emulated board's analog supply: the 3.3 V its converters' codes are scaled to.
+  static constexpr std::int64_t kVddaMv = 3300;
+
+  EmuSystemControl(wire::ResetCause cause, SimulatedRig& rig,
+                   wire::BrownOut brown_out = wire::BrownOut::kLevel3)
+      : cause_(cause), rig_(rig), brown_out_(brown_out) {}
   wire::BoardId Board() const override { return wire::BoardId::kEmulator; }
   std::uint32_t PortCapabilities() const override {
     return wire::kCapDfu | wire::kCapScenarioSelect;
   }
   wire::ResetCause LastResetCause() const override { return cause_; }
+  /// The emulated option bytes: BOR level 3, as docs/board.md asks of a board, unless the rig
+  /// file says otherwise.
+  wire::BrownOut BrownOutLevel() const override { return brown_out_; }
+  /// Measures on the simulated parts: the rig's converters sampled as they are (the noise and
+  /// offset of its sensor model), its encoders; the crystal is the simulated clock, which also
+  /// times the USB frames, so its error is 0 ppm. There is no firmware image to check.
+  SelfTestMeasurement MeasureSelfTest(wire::SelfTestCheck check,
+                                      std::uint32_t sample_period_us) override;
   void Reset() override { request_ = Request::kReset; }
   void EnterDfu() override { request_ = Request::kEnterDfu; }
 
@@ -116,6 +129,8 @@ class EmuSystemControl final : public fw::SystemControl {
 
  private:
   wire::ResetCause cause_;
+  SimulatedRig& rig_;
+  wire::BrownOut brown_out_;
   Request request_ = Request::kNone;
 };
 

@@ -1,6 +1,9 @@
 #include "board_port.hpp"
 
+#include "clock_plan.hpp"
 #include "otg_fs_dcd.hpp"
+#include "regs/peripherals.hpp"
+#include "self_test.hpp"
 #include "system.hpp"
 
 namespace vibid::fw::stm32 {
@@ -27,6 +30,38 @@ wire::BrownOut BoardSystemControl::BrownOutLevel() const {
     case BrownOut::kOff: return wire::BrownOut::kOff;
   }
   return wire::BrownOut::kUnknown;
+}
+
+SystemControl::SelfTestMeasurement BoardSystemControl::MeasureSelfTest(
+    wire::SelfTestCheck check, std::uint32_t sample_period_us) {
+  (void)sample_period_us;
+  switch (check) {
+    case wire::SelfTestCheck::kHsePpm: {
+      // USB runs only with the PLL on the HSE at 168 MHz (the HSI fallback keeps it off the
+      // bus), so a host that asks is timing a 168 MHz core.
+      std::uint32_t cycles = 0;
+      if (!CountCyclesOverFrames(kCrystalCheckFrames, kSysclkTargetHz, cycles)) return {};
+      return {.available = true,
+              .mantissa = CrystalErrorMilliPpm(cycles, kCrystalCheckFrames, kSysclkTargetHz),
+              .exp10 = -3};
+    }
+    case wire::SelfTestCheck::kVdda: {
+      // Erased or absent calibration (0xFFFF, 0) leaves nothing to scale by.
+      const std::uint16_t cal = VrefintCal();
+      std::uint32_t code = 0;
+      if (cal == 0 || cal == 0xFFFF || !ConvertVrefint(kSysclkTargetHz, code) || code == 0)
+        return {};
+      return {.available = true, .mantissa = VddaMillivolts(cal, code), .exp10 = -3};
+    }
+    case wire::SelfTestCheck::kEncoder1:
+    case wire::SelfTestCheck::kEncoder2: {
+      const EncoderState e =
+          ReadEncoder(check == wire::SelfTestCheck::kEncoder1 ? tim::kTim3 : tim::kTim4);
+      // The count is the 16-bit timer's: the core extends it to 32 bits only in frames.
+      return {.available = true, .mantissa = e.count, .exp10 = 0, .ok = e.running};
+    }
+    default: return {};
+  }
 }
 
 void BoardSystemControl::Reset() {

@@ -29,6 +29,11 @@ class BoardSystemControl final : public SystemControl {
   wire::ResetCause LastResetCause() const override { return reset_cause_; }
   /// The option bytes' brown-out level (FLASH_OPTCR BOR_LEV).
   wire::BrownOut BrownOutLevel() const override;
+  /// Measures the crystal against the host's USB frames (DWT cycles over OTG_FS SOF flags), VDDA
+  /// from VREFINT and reads the encoder timers; the converter noise and offsets and the image CRC
+  /// are not measured on this port yet (unavailable).
+  SelfTestMeasurement MeasureSelfTest(wire::SelfTestCheck check,
+                                      std::uint32_t sample_period_us) override;
   void Reset() override;
   /// Reboots into the ROM's USB DFU bootloader (system memory, AN2606).
   void EnterDfu() override;

@@ -12,6 +12,7 @@ void RegisterCalCommands(CLI::App& app, const GlobalOptions& globals);   // cal 
 void RegisterAcquireCommands(CLI::App& app, const GlobalOptions& globals);  // acquire, log pull
 /// Adds `start` and `stop` to the `dob` command (registered by RegisterDobCommands).
 void RegisterDobDeviceCommands(CLI::App& dob, const GlobalOptions& globals);
-void RegisterFlashCommand(CLI::App& app, const GlobalOptions& globals);  // flash
+void RegisterFlashCommand(CLI::App& app, const GlobalOptions& globals);     // flash
+void RegisterSelfTestCommand(CLI::App& app, const GlobalOptions& globals);  // selftest
 
 }  // namespace vibid::cli

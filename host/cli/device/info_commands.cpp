@@ -16,6 +16,7 @@
 #include "vibid/common/error.hpp"
 #include "vibid/device/board_report.hpp"
 #include "vibid/device/error.hpp"
+#include "vibid/device/health_report.hpp"
 #include "vibid/device/log_table.hpp"
 #include "vibid/device/select.hpp"
 #include "vibid/shared/wire/log_record.hpp"
@@ -71,7 +72,8 @@ nlohmann::json ClipsJson(const std::optional<wire::ClipResponse>& clips) {
 
 nlohmann::json InfoJson(const device::Connection& c, const wire::InfoResponse& i,
                         const std::optional<wire::ClipResponse>& clips,
-                        const std::optional<wire::SamplingInfoResponse>& sampling) {
+                        const std::optional<wire::SamplingInfoResponse>& sampling,
+                        const std::optional<wire::HealthInfoResponse>& health) {
   // Channel -> us after the timer edge; null for a board of protocol 2.0, which does not say.
   nlohmann::json instants = nullptr;
   if (sampling) {
@@ -113,6 +115,9 @@ nlohmann::json InfoJson(const device::Connection& c, const wire::InfoResponse& i
       {"channel_formats", formats},
       {"sample_instants_us", instants},
       {"reset_cause", NameOf(kResetNames, i.reset_cause, "unknown")},
+      // "level3" .. "off", "unknown" when the board does not say (also a 2.0 board).
+      {"brown_out_level",
+       device::BrownOutName(health ? health->brown_out : wire::BrownOut::kUnknown)},
       {"calibrated", i.cal_state == wire::CalState::kCalibrated},
       {"cal_slot",
        i.cal_slot == wire::kNoSlot ? nlohmann::json(nullptr) : nlohmann::json(i.cal_slot)},
@@ -134,7 +139,7 @@ struct DevicesArgs {
 void Probe(const GlobalOptions& globals, const device::DeviceChoice& choice) {
   try {
     WithDevice(globals, [&](device::Connection& c) {
-      const nlohmann::json j = InfoJson(c, c.info(), std::nullopt, std::nullopt);
+      const nlohmann::json j = InfoJson(c, c.info(), std::nullopt, std::nullopt, std::nullopt);
       std::cout << choice.text << "\t" << j["board"].get<std::string>() << ", firmware "
                 << j["firmware"].get<std::string>() << ", protocol "
                 << j["protocol"].get<std::string>() << ", "
@@ -201,6 +206,7 @@ std::string InfoText(const device::Connection& c, const nlohmann::json& j) {
     o << "none (raw counts, no observer)";
   }
   o << "\nreset cause   " << j["reset_cause"].get<std::string>() << "\n"
+    << "brown-out     " << j["brown_out_level"].get<std::string>() << "\n"
     << "errors        " << i.overrun_count << " overruns, " << i.dropped_records
     << " dropped records\n"
     << "clipped       ";
@@ -228,8 +234,12 @@ std::string InfoText(const device::Connection& c, const nlohmann::json& j) {
 
 void Run(const InfoArgs& a) {
   WithDevice(*a.globals, [&](device::Connection& c) {
-    const nlohmann::json j = InfoJson(c, c.info(), c.GetClips(), c.GetSamplingInfo());
+    const std::optional<wire::HealthInfoResponse> health = c.GetHealthInfo();
+    const nlohmann::json j = InfoJson(c, c.info(), c.GetClips(), c.GetSamplingInfo(), health);
     std::cout << (a.json ? j.dump(2) + "\n" : InfoText(c, j));
+    if (const auto w =
+            device::BrownOutWarning(health ? health->brown_out : wire::BrownOut::kUnknown))
+      std::cerr << "vibid: warning: " << *w << "\n";
   });
 }
 

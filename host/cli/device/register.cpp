@@ -9,6 +9,7 @@ void RegisterDeviceCommands(CLI::App& app, const GlobalOptions& globals) {
   RegisterCalCommands(app, globals);
   RegisterAcquireCommands(app, globals);
   RegisterFlashCommand(app, globals);
+  RegisterSelfTestCommand(app, globals);
 }
 
 }  // namespace vibid::cli

@@ -37,6 +37,8 @@ inline constexpr std::uint32_t kGccfgNovbussens = Bit(21);
 
 // GINTSTS / GINTMSK
 inline constexpr std::uint32_t kIntCmod = Bit(0);  ///< GINTSTS: 0 = device mode, 1 = host mode.
+/// GINTSTS SOF: a start-of-frame token arrived (every 1 ms at full speed); write 1 to clear.
+inline constexpr std::uint32_t kIntSof = Bit(3);
 inline constexpr std::uint32_t kIntRxflvl = Bit(4);
 inline constexpr std::uint32_t kIntGonakeff = Bit(7);  ///< Global OUT NAK effective.
 inline constexpr std::uint32_t kIntUsbsusp = Bit(11);

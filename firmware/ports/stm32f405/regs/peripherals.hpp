@@ -92,17 +92,20 @@ inline constexpr Address kCommonCdr = 0x40012308;
 inline constexpr Address kSr = 0x00;
 inline constexpr Address kCr1 = 0x04;
 inline constexpr Address kCr2 = 0x08;
+inline constexpr Address kSmpr1 = 0x0C;
 inline constexpr Address kSmpr2 = 0x10;
 inline constexpr Address kSqr1 = 0x2C;
 inline constexpr Address kSqr3 = 0x34;
 inline constexpr Address kDr = 0x4C;
 
+inline constexpr std::uint32_t kSrEoc = Bit(1);
 inline constexpr std::uint32_t kSrOvr = Bit(5);
 inline constexpr std::uint32_t kCr1Scan = Bit(8);
 inline constexpr std::uint32_t kCr1Ovrie = Bit(26);
 inline constexpr std::uint32_t kCr2Adon = Bit(0);
 inline constexpr std::uint32_t kCr2Dma = Bit(8);
 inline constexpr std::uint32_t kCr2Dds = Bit(9);
+inline constexpr std::uint32_t kCr2Swstart = Bit(30);
 /// EXTSEL (27:24) = 0110: timer 2 TRGO; EXTEN (29:28) = 01: rising edge.
 inline constexpr std::uint32_t kCr2ExtselTim2Trgo = 0x6U << 24;
 inline constexpr std::uint32_t kCr2ExtenRising = 0x1U << 28;
@@ -121,6 +124,14 @@ inline constexpr std::uint32_t kCcrDds = Bit(13);
 constexpr std::uint32_t Sqr3(unsigned position, std::uint32_t channel) {
   return channel << (5 * position);
 }
+/// CCR TSVREFE (23): connects the temperature sensor and VREFINT (ADC1_IN17).
+inline constexpr std::uint32_t kCcrTsvrefe = Bit(23);
+inline constexpr std::uint32_t kCcrMultiMask = 0x1F;
+/// VREFINT is ADC1's channel 17; SMPR1 holds channels 10..18, SMP17 at bits 23:21.
+inline constexpr std::uint32_t kChannelVrefint = 17;
+inline constexpr unsigned kSmpr1Smp17Pos = 21;
+/// SMPR 3-bit field per channel; 111 = 480 cycles.
+inline constexpr std::uint32_t kSample480Cycles = 0x7;
 /// SMPR 3-bit field per channel; 011 = 56 cycles.
 inline constexpr std::uint32_t kSample56Cycles = 0x3;
 }  // namespace adc

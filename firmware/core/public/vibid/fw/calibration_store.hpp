@@ -62,6 +62,10 @@ class CalibrationStore {
   std::uint32_t record_crc() const { return calibrated_ ? record_crc_ : 0; }
   std::uint32_t flash_errors() const { return flash_errors_; }
 
+  /// What a slot holds (self-test): erased, a valid record, or anything else (damaged). Reads
+  /// the slot again; the active record is untouched.
+  wire::SelfTestSlot CheckSlot(CalibrationFlash::Slot slot);
+
   /// The active record (defaults when uncalibrated: raw counts, no filter).
   const wire::CalibrationRecord& record() const { return record_; }
   /// Its encoded bytes (meaningful only when calibrated()).

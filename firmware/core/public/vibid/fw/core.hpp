@@ -90,6 +90,9 @@ class Core {
   Status HandleLogRead(const wire::Header& h, std::span<const std::uint8_t> payload);
   Status HandleDobControl(const wire::Header& h, std::span<const std::uint8_t> payload);
   Status HandlePortCommand(const wire::Header& h, std::span<const std::uint8_t> payload);
+  Status HandleSelfTest(const wire::Header& h, std::span<const std::uint8_t> payload);
+  /// One self-test check (self_test.cpp); check < wire::kSelfTestCheckCount, idle only.
+  wire::SelfTestResponse SelfTest(std::uint8_t check);
   Status ValidateConfig(const wire::AcqConfigureRequest& c);
   bool Sampling() const;
   void StopSampling();
@@ -104,6 +107,8 @@ class Core {
   wire::InfoResponse Info() const;
   /// get-info page kInfoPageSampling: the board profile's sampling instants.
   static wire::SamplingInfoResponse SamplingInfo();
+  /// get-info page kInfoPageHealth: brown-out level and reset cause from the port.
+  wire::HealthInfoResponse HealthInfo() const;
   wire::StatusResponse CurrentStatus() const;
 
   const Port port_;

@@ -17,6 +17,7 @@
 #include <span>
 
 #include "vibid/shared/status.hpp"
+#include "vibid/shared/wire/commands.hpp"
 #include "vibid/shared/wire/device.hpp"
 
 namespace vibid::fw {
@@ -108,6 +109,25 @@ class SystemControl {
 
   /// The brown-out reset level the hardware is set to; ports without one keep kUnknown.
   virtual wire::BrownOut BrownOutLevel() const { return wire::BrownOut::kUnknown; }
+
+  /// One self-test measurement as the port takes it: value = mantissa x 10^exp10 in the
+  /// check's unit (wire::SelfTestCheck). The core answers the calibration slots, brown-out and
+  /// reset-cause checks itself and judges the numeric ones against its limits (selftest.hpp).
+  struct SelfTestMeasurement {
+    bool available = false;  ///< false: this port cannot measure the check.
+    std::int64_t mantissa = 0;
+    std::int8_t exp10 = 0;
+    bool ok = false;  ///< The port's verdict for checks without a limit (encoders, image CRC).
+  };
+
+  /// Takes one self-test measurement, only while idle; the noise and offset checks sample
+  /// wire::kSelfTestSamples frames at sample_period_us. Ports without it answer unavailable.
+  virtual SelfTestMeasurement MeasureSelfTest(wire::SelfTestCheck check,
+                                              std::uint32_t sample_period_us) {
+    (void)check;
+    (void)sample_period_us;
+    return {};
+  }
 
   /// Resets the board. Does not return on a board; the emulator restarts its core.
   virtual void Reset() = 0;

@@ -139,6 +139,10 @@ class Connection {
   /// get-info's sampling page: when the board samples each channel after its timer edge. Empty
   /// for a board of protocol 2.0, which does not say.
   std::optional<wire::SamplingInfoResponse> GetSamplingInfo();
+  /// get-info's health page: brown-out level and reset cause. Empty for a board of protocol 2.0.
+  std::optional<wire::HealthInfoResponse> GetHealthInfo();
+  /// self-test of one check (protocol 2.1); throws the board's refusal (busy while sampling).
+  wire::SelfTestResponse SelfTest(std::uint8_t check);
   wire::StatusResponse GetStatus();
   void Ping();
 

@@ -36,6 +36,7 @@ enum class Command : std::uint8_t {
   kGetStatus = 0x03,       ///< -> StatusResponse.
   kReset = 0x04,           ///< Answers, then resets the board.
   kEnterDfu = 0x05,        ///< Answers, then enters the DFU bootloader (refused while acquiring).
+  kSelfTest = 0x06,        ///< SelfTestRequest -> SelfTestResponse (refused while acquiring). 2.1.
   kCalPutBegin = 0x10,     ///< CalPutBeginRequest.
   kCalPutData = 0x11,      ///< Chunk of the record; header.sequence = chunk index.
   kCalCommit = 0x12,       ///< -> CalCommitResponse (refused while acquiring).
@@ -130,10 +131,12 @@ static_assert(InfoResponse::kBytes <= kMaxPayload);
 
 // get-info request, protocol 2.1: no payload asks for InfoResponse, as in 2.0; one byte asks for
 // a further page of facts the 52-byte InfoResponse has no room for:
-//   0 u8 page    kInfoPageSampling -> SamplingInfoResponse; any other page is refused
+//   0 u8 page    kInfoPageSampling -> SamplingInfoResponse, kInfoPageHealth ->
+//                HealthInfoResponse; any other page is refused
 // A 2.0 board refuses any payload (kInvalidArgument): a host asks for a page only of a board whose
 // InfoResponse says protocol_minor >= 1.
 inline constexpr std::uint8_t kInfoPageSampling = 1;
+inline constexpr std::uint8_t kInfoPageHealth = 2;
 struct InfoPageRequest {
   static constexpr std::size_t kBytes = 1;
   std::uint8_t page = kInfoPageSampling;
@@ -147,6 +150,86 @@ struct SamplingInfoResponse {
   static constexpr std::size_t kBytes = 24;
   std::array<std::uint32_t, kChannelCount> sample_instant_ns{};
 };
+
+// get-info page kInfoPageHealth (protocol 2.1): the supply and reset facts of the board.
+//   0 u8 brown_out (BrownOut: the level below which the board holds itself in reset)
+//   1 u8 reset_cause (ResetCause, as in InfoResponse)   2 u16 reserved (0)
+struct HealthInfoResponse {
+  static constexpr std::size_t kBytes = 4;
+  BrownOut brown_out = BrownOut::kUnknown;
+  ResetCause reset_cause = ResetCause::kUnknown;
+};
+
+// ---------------------------------------------------------------------------------------------
+// self-test (protocol 2.1): the board checks one of a fixed set of numbered checks per request;
+// the host asks for check 0, 1, ... up to the check_count the first answer states.
+enum class SelfTestCheck : std::uint8_t {
+  kHsePpm = 0,       ///< Crystal error against the host's 1 ms USB start-of-frame, ppm.
+  kVdda = 1,         ///< Analog supply from VREFINT and its factory calibration, V.
+  kNoiseForce1 = 2,  ///< Idle noise, LSB rms, of each converter channel (wire::Channel order),
+  kNoiseForce2 = 3,  ///< over kSelfTestSamples samples at the configured period.
+  kNoiseAccel1 = 4,
+  kNoiseAccel2 = 5,
+  kOffsetForce1 = 6,  ///< Idle mean minus the converter's mid code, LSB, same samples.
+  kOffsetForce2 = 7,
+  kOffsetAccel1 = 8,
+  kOffsetAccel2 = 9,
+  kEncoder1 = 10,  ///< The encoder timer runs; value: its count.
+  kEncoder2 = 11,
+  kImageCrc = 12,  ///< CRC-32 of the firmware image against the one the build stored.
+  kCalSlotA = 13,  ///< SelfTestSlot of calibration slot A.
+  kCalSlotB = 14,
+  kBrownOut = 15,    ///< BrownOut level; passes at kLevel3.
+  kResetCause = 16,  ///< ResetCause; informational, passes.
+};
+inline constexpr std::uint8_t kSelfTestCheckCount = 17;
+/// Samples each noise and offset check takes.
+inline constexpr std::uint32_t kSelfTestSamples = 1000;
+
+enum class SelfTestVerdict : std::uint8_t {
+  kFail = 0,
+  kPass = 1,
+  kUnavailable = 2,  ///< This port cannot measure it (neither pass nor fail).
+};
+
+enum class SelfTestUnit : std::uint8_t {
+  kNone = 0,
+  kPpm = 1,
+  kVolt = 2,
+  kLsbRms = 3,
+  kLsb = 4,
+  kCount = 5,
+  kCrc32 = 6,       ///< The mantissa is the CRC (u32).
+  kSlot = 7,        ///< SelfTestSlot.
+  kBrownOut = 8,    ///< BrownOut.
+  kResetCause = 9,  ///< ResetCause.
+};
+
+/// A calibration slot's state (check kCalSlotA/B): a damaged slot fails.
+enum class SelfTestSlot : std::uint8_t { kErased = 0, kValid = 1, kDamaged = 2 };
+
+// self-test request: 0 u8 check (0 .. kSelfTestCheckCount - 1; a larger one is refused,
+// invalid-argument, reason unknown-check)
+struct SelfTestRequest {
+  static constexpr std::size_t kBytes = 1;
+  std::uint8_t check = 0;
+};
+
+// self-test response
+//   0 u8 check   1 u8 check_count   2 u8 verdict (SelfTestVerdict)   3 u8 unit (SelfTestUnit)
+//   4 i8 exp10   5 u8[3] reserved   8 i64 mantissa      value = mantissa x 10^exp10
+struct SelfTestResponse {
+  static constexpr std::size_t kBytes = 16;
+  std::uint8_t check = 0;
+  std::uint8_t check_count = kSelfTestCheckCount;
+  SelfTestVerdict verdict = SelfTestVerdict::kUnavailable;
+  SelfTestUnit unit = SelfTestUnit::kNone;
+  std::int8_t exp10 = 0;
+  std::int64_t mantissa = 0;
+};
+
+/// Short stable name of a check ("hse-ppm"), "unknown" otherwise.
+const char* SelfTestCheckName(std::uint8_t check);
 
 // ---------------------------------------------------------------------------------------------
 // get-status response
@@ -349,6 +432,12 @@ void Encode(const InfoPageRequest& v, std::span<std::uint8_t> out);
 Status Decode(std::span<const std::uint8_t> in, InfoPageRequest& v);
 void Encode(const SamplingInfoResponse& v, std::span<std::uint8_t> out);
 Status Decode(std::span<const std::uint8_t> in, SamplingInfoResponse& v);
+void Encode(const HealthInfoResponse& v, std::span<std::uint8_t> out);
+Status Decode(std::span<const std::uint8_t> in, HealthInfoResponse& v);
+void Encode(const SelfTestRequest& v, std::span<std::uint8_t> out);
+Status Decode(std::span<const std::uint8_t> in, SelfTestRequest& v);
+void Encode(const SelfTestResponse& v, std::span<std::uint8_t> out);
+Status Decode(std::span<const std::uint8_t> in, SelfTestResponse& v);
 void Encode(const AcqConfigureRequest& v, std::span<std::uint8_t> out);
 Status Decode(std::span<const std::uint8_t> in, AcqConfigureRequest& v);
 void Encode(const AcqConfigureResponse& v, std::span<std::uint8_t> out);

@@ -49,10 +49,11 @@ enum class Reason : std::uint16_t {
   kScenarioParameter = 24,  ///< Emulator: a parameter is out of range; detail: its index (0..3).
   kPortRefused = 25,        ///< A port command was refused for a port-specific cause.
   kUnknownInfoPage = 26,    ///< get-info of a page the board does not have; detail: the page.
+  kUnknownCheck = 27,       ///< self-test of a check the board does not have; detail: the check.
 };
 
 /// The highest Reason this build knows; a larger value decodes and names itself "unknown".
-inline constexpr Reason kLastReason = Reason::kUnknownInfoPage;
+inline constexpr Reason kLastReason = Reason::kUnknownCheck;
 
 struct Refusal {
   static constexpr std::size_t kBytes = 8;
