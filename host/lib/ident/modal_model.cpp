@@ -15,7 +15,7 @@
 
 namespace vibid::ident {
 
-std::array<double, 2> Interval95(double value, double sd) {
+std::array<double, 2> ModalInterval95(double value, double sd) {
   if (!(std::isfinite(sd) && sd > 0.0 && std::isfinite(value))) {
     return {std::numeric_limits<double>::quiet_NaN(), std::numeric_limits<double>::quiet_NaN()};
   }

@@ -499,8 +499,8 @@ void ModesFromModel(std::size_t driving_point, ModeIdentification& out) {
       m.freq_hz = m.omega_rad_s / (2.0 * std::numbers::pi);
       m.zeta = out.model.zeta[ii];
       if (intervals) {
-        m.omega_ci95_rad_s = Interval95(m.omega_rad_s, sd_omega);
-        m.zeta_ci95 = Interval95(m.zeta, sd_zeta);
+        m.omega_ci95_rad_s = ModalInterval95(m.omega_rad_s, sd_omega);
+        m.zeta_ci95 = ModalInterval95(m.zeta, sd_zeta);
       }
     } else {
       std::snprintf(line, sizeof line,
@@ -529,7 +529,7 @@ void ModesFromModel(std::size_t driving_point, ModeIdentification& out) {
     }
     m.shape[1 - p] = m.shape[p] * q;
     m.ratio = Ratio(m.shape);
-    if (intervals) m.ratio_ci95 = Interval95(m.ratio, p == 1 ? sd : sd / (q * q));
+    if (intervals) m.ratio_ci95 = ModalInterval95(m.ratio, p == 1 ? sd : sd / (q * q));
   }
 }
 

@@ -207,10 +207,10 @@ TEST(ShortRecords, UndeterminedRingingTermsAreLeftOut) {
 }
 
 TEST(ShortRecords, AnIntervalOfZeroWidthIsNoInterval) {
-  EXPECT_TRUE(std::isnan(Interval95(1.0, 0.0)[0]));
-  EXPECT_TRUE(std::isnan(Interval95(1.0, -1e-9)[1]));
-  EXPECT_TRUE(std::isnan(Interval95(1.0, std::nan(""))[0]));
-  const std::array<double, 2> ci = Interval95(1.0, 0.5);
+  EXPECT_TRUE(std::isnan(ModalInterval95(1.0, 0.0)[0]));
+  EXPECT_TRUE(std::isnan(ModalInterval95(1.0, -1e-9)[1]));
+  EXPECT_TRUE(std::isnan(ModalInterval95(1.0, std::nan(""))[0]));
+  const std::array<double, 2> ci = ModalInterval95(1.0, 0.5);
   EXPECT_DOUBLE_EQ(ci[0], 1.0 - kZ95 * 0.5);
   EXPECT_DOUBLE_EQ(ci[1], 1.0 + kZ95 * 0.5);
 }

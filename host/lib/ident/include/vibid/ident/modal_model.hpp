@@ -53,7 +53,7 @@ inline constexpr double kZ95 = 1.959963984540054;
 
 /// value +- kZ95 sd; both NaN unless sd is finite and > 0 (an interval of width 0 is never an
 /// estimate: it is a variance that could not be computed).
-std::array<double, 2> Interval95(double value, double sd);
+std::array<double, 2> ModalInterval95(double value, double sd);
 
 struct ModalModelOptions {
   /// Fitted band (Hz); 0: from 0.6x the lowest to 1.4x the highest start pole, within the data.
