@@ -102,10 +102,10 @@ struct SingleDofFit {
   double m0 = 0.0;
   double k0 = 0.0;
   double zeta0 = 0.0;
-  double a_w = 0.0;          // 1 / tau of the exponential window, 0 without one
-  double record_s = 0.0;     // impact records: each hit's record length, 0 when not cut
-  double pretrigger_s = 0.0; // impact records: the hit's time in its record
-  int measured_order = 0;    // the responses' quantity: 0 displacement, 1 velocity, 2 acceleration
+  double a_w = 0.0;           // 1 / tau of the exponential window, 0 without one
+  double record_s = 0.0;      // impact records: each hit's record length, 0 when not cut
+  double pretrigger_s = 0.0;  // impact records: the hit's time in its record
+  int measured_order = 0;     // the responses' quantity: 0 displacement, 1 velocity, 2 acceleration
   Eigen::Index k_index = -1;
   Eigen::Index zeta_index = -1;
 

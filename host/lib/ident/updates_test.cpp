@@ -115,7 +115,8 @@ TEST(MassUpdate, ImpactRecordsCutBeforeTheRingDownGiveTheRigsMassAndSpring) {
     for (std::size_t h = 0; h < heights_n.size(); ++h) {
       // Hit h starts between samples; the held value is the pulse at the sample's middle.
       const double tau = t + 0.5 * dt - (0.5 + 20.0 * static_cast<double>(h) + 0.37e-4);
-      if (tau >= 0.0 && tau < 0.002) force[i] += heights_n[h] * std::sin(std::numbers::pi * tau / 0.002);
+      if (tau >= 0.0 && tau < 0.002)
+        force[i] += heights_n[h] * std::sin(std::numbers::pi * tau / 0.002);
     }
     const Eigen::Vector3d in(state[0], state[1], force[i]);
     const Eigen::Vector3d mid = half * in;
@@ -125,7 +126,8 @@ TEST(MassUpdate, ImpactRecordsCutBeforeTheRingDownGiveTheRigsMassAndSpring) {
   if (std::getenv("DUMP")) {
     std::FILE* fp = std::fopen(std::getenv("DUMP"), "w");
     std::fprintf(fp, "t_s,force1_n,acc1_m_s2\n");
-    for (Eigen::Index i = 0; i < n; ++i) std::fprintf(fp, "%.10g,%.12g,%.12g\n", static_cast<double>(i) * dt, force[i], acc(i, 0));
+    for (Eigen::Index i = 0; i < n; ++i)
+      std::fprintf(fp, "%.10g,%.12g,%.12g\n", static_cast<double>(i) * dt, force[i], acc(i, 0));
     std::fclose(fp);
   }
   for (const double record_s : {3.0, 3.2}) {
