@@ -348,8 +348,8 @@ void Run(const ReportArgs& a) {
     const nlohmann::json report = ReadJsonFile(json_path);
     // The keys `identify --report` writes.
     RequireKnownKeys(report,
-                     {"updated_model", "validation", "test_modes", "mass_tests", "modal_tests",
-                      "stiffness", "warnings", "notes"},
+                     {"updated_model", "validation", "parameters", "test_modes", "mass_tests",
+                      "modal_tests", "stiffness", "warnings", "notes"},
                      "identification report " + json_path);
     std::unique_ptr<model::Model> truth;
     if (!a.truth.empty()) truth = std::make_unique<model::Model>(model::LoadModel(a.truth));

@@ -77,7 +77,8 @@ std::string FormatFrfCsv(const Frf& frf) {
   meta.precision(17);
   meta << kMetaTag << " kind=" << FrfKindName(frf.quantity)
        << " estimator=" << EstimatorName(frf.estimator) << " averages=" << frf.averages
-       << " exp_window_tau_s=" << frf.exp_window_tau_s << " pretrigger_s=" << frf.pretrigger_s;
+       << " exp_window_tau_s=" << frf.exp_window_tau_s << " pretrigger_s=" << frf.pretrigger_s
+       << " record_s=" << frf.record_s << " measured=" << FrfKindName(frf.measured);
   // An FRF read without a force name is written without one, so it reads back as it was.
   if (!frf.force_name.empty()) meta << " force=" << frf.force_name;
   meta << "\n";
@@ -91,6 +92,7 @@ bool LooksLikeFrfCsv(std::string_view text) {
 
 Frf ParseFrfCsv(std::string_view text, const std::string& source) {
   Frf frf;
+  bool measured_given = false;
   if (text.substr(0, kMetaTag.size()) == kMetaTag) {
     const std::string line(text.substr(0, text.find('\n')));
     std::istringstream in(line.substr(kMetaTag.size()));
@@ -117,10 +119,18 @@ Frf ParseFrfCsv(std::string_view text, const std::string& source) {
       } else if (key == "pretrigger_s") {
         frf.pretrigger_s = ToDouble(value, source + ": line 1: pretrigger_s");
         Require(frf.pretrigger_s >= 0.0, source + ": line 1: pretrigger_s must not be negative");
+      } else if (key == "record_s") {
+        frf.record_s = ToDouble(value, source + ": line 1: record_s");
+        Require(frf.record_s >= 0.0, source + ": line 1: record_s must not be negative");
+      } else if (key == "measured") {
+        frf.measured = ParseQuantity(value);
+        measured_given = true;
       } else if (key == "force")
         frf.force_name = value;
     }
   }
+  // A file without it was written before it was recorded: its own kind is the best guess.
+  if (!measured_given) frf.measured = frf.quantity;
   const CsvTable table = ParseCsv(text, source);
   Require(table.Has("freq_hz"), source + ": an FRF file needs a freq_hz column");
   frf.freq_hz = table.Column("freq_hz");

@@ -18,6 +18,9 @@ Frf Sample() {
   frf.estimator = Estimator::kH2;
   frf.averages = 7;
   frf.exp_window_tau_s = 0.125;
+  frf.pretrigger_s = 0.0625;
+  frf.record_s = 3.5;
+  frf.measured = Quantity::kVelocity;
   frf.force_name = "force_n";
   frf.coherence(3, 1) = 0.5;
   return frf;
@@ -32,11 +35,24 @@ TEST(FrfCsv, RoundTripIsExact) {
   EXPECT_EQ(b.estimator, Estimator::kH2);
   EXPECT_EQ(b.averages, 7u);
   EXPECT_EQ(b.exp_window_tau_s, 0.125);
+  EXPECT_EQ(b.pretrigger_s, 0.0625);
+  EXPECT_EQ(b.record_s, 3.5);
+  EXPECT_EQ(b.measured, Quantity::kVelocity);
   EXPECT_EQ(b.force_name, "force_n");
   EXPECT_EQ(b.response_names, a.response_names);
   EXPECT_TRUE(b.freq_hz == a.freq_hz);
   EXPECT_TRUE(b.h == a.h);
   EXPECT_TRUE(b.coherence == a.coherence);
+}
+
+// A file written before `measured=` existed: the responses are taken to have measured its kind.
+TEST(FrfCsv, WithoutMeasuredTheKindIsWhatWasMeasured) {
+  const Frf b = ParseFrfCsv(
+      "# vibid-frf kind=mobility estimator=h1 averages=1\nfreq_hz,h_re,h_im\n1,2,0\n2,2,0\n3,2,0\n"
+      "4,2,0\n",
+      "old.csv");
+  EXPECT_EQ(b.measured, Quantity::kVelocity);
+  EXPECT_EQ(b.record_s, 0.0);
 }
 
 TEST(FrfCsv, MalformedFilesNameTheProblem) {

@@ -13,6 +13,7 @@
 #include "test_support.hpp"
 #include "vibid/common/csv.hpp"
 #include "vibid/common/error.hpp"
+#include "vibid/common/testing/real_data.hpp"
 #include "vibid/ident/impact.hpp"
 #include "vibid/ident/modal_model.hpp"
 #include "vibid/ident/modes.hpp"
@@ -218,8 +219,8 @@ TEST(ShortRecords, AnIntervalOfZeroWidthIsNoInterval) {
 // The LADISK beam with every default: modes, none with an interval of 0, none whose damping
 // interval reaches 0 (the 18 Hz pole, zeta 0.025 +- 0.049, is dropped with a warning).
 TEST(ShortRecords, LadiskDefaultsGiveNoPointInterval) {
-  const Recording rec = LoadRecording(std::string(VIBID_DATA_DIR) +
-                                      "/ladisk_impact_hammer/impact_acceleration_force.csv");
+  const Recording rec =
+      LoadRecording(vibid::testing::TestData("ladisk_impact_hammer/impact_acceleration_force.csv"));
   const ImpactResult r = EstimateImpactFrf(rec.Signal(ParseColumnSpec("force_N")),
                                            rec.Signal(ParseColumnSpec("acceleration_g:g")),
                                            rec.fs_hz, {}, Estimator::kH1, Quantity::kAcceleration);

@@ -306,6 +306,7 @@ Frf FrfFromSpectra(const CrossSpectra& spectra, Estimator estimator, Quantity re
   frf.h = Eigen::MatrixXcd::Zero(lines, nresp);
   frf.coherence = Eigen::MatrixXd::Zero(lines, nresp);
   frf.quantity = response_quantity;
+  frf.measured = response_quantity;
   frf.estimator = estimator;
   frf.averages = spectra.averages;
   const double gff_floor = 1e-300;

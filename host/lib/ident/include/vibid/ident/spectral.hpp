@@ -86,6 +86,12 @@ struct Frf {
   /// ringing a record holds beyond its own hit's response (the record's end cutting the decay, the
   /// previous hit's tail) enters H1 multiplied by exp(j omega pretrigger_s); modal_model.hpp.
   double pretrigger_s = 0.0;
+  /// Impact FRFs: length of each hit's record (s), 0 otherwise. The record's end cuts each hit's
+  /// (windowed) decay there, which a fit of the FRF's level must model (updates.cpp).
+  double record_s = 0.0;
+  /// What the response channels measured (the FRF may have been converted since): the record's
+  /// end cuts the decay of that quantity, and an exponential window multiplies it.
+  Quantity measured = Quantity::kDisplacement;
   /// Impact FRFs: per line, the variance of the relative error of |H| that the force noise inside
   /// the force windows causes. It is the same on neighbouring lines (a window of a few samples has
   /// a flat spectrum), so it scales a resonance as a whole and no fit's residuals show it. Empty
