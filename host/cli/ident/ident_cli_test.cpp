@@ -5,6 +5,7 @@
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <limits>
 #include <string>
 #include <vector>
 
@@ -180,7 +181,7 @@ double FrfPhaseAt(const std::string& path, double freq_hz) {
       return std::atan2(t.Column("acc1_m_s2_im")(k), t.Column("acc1_m_s2_re")(k));
   }
   ADD_FAILURE() << "no line at " << freq_hz << " Hz in " << path;
-  return NAN;
+  return std::numeric_limits<double>::quiet_NaN();
 }
 
 TEST(FrfEstimateCli, SampleInstantsInTheHeaderAreCompensatedAndStated) {

@@ -5,6 +5,7 @@
 #include <cmath>
 #include <complex>
 #include <fstream>
+#include <limits>
 #include <numbers>
 #include <sstream>
 
@@ -29,7 +30,7 @@ SampleInstants ParseList(std::string_view list, const std::string& source) {
     const std::string name(item.substr(0, colon));
     const std::string number(item.substr(colon + 1));
     std::size_t used = 0;
-    double us = NAN;
+    double us = std::numeric_limits<double>::quiet_NaN();
     try {
       us = std::stod(number, &used);
     } catch (const std::exception&) {
