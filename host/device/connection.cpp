@@ -322,8 +322,7 @@ wire::CalCommitResponse Connection::CalCommit() {
 wire::AcqConfigureResponse Connection::Configure(const wire::AcqConfigureRequest& request) {
   const auto answer = DecodeAnswer<wire::AcqConfigureResponse>(
       Expect(Command::kAcqConfigure, request), "acq-configure");
-  configured_ = true;
-  configured_request_ = request;
+  configured_ = request;
   return answer;
 }
 
@@ -377,12 +376,6 @@ Connection::StreamEnd Connection::RequestLog(std::uint32_t first, std::uint32_t 
       wire::BuildReport(Command::kLogRead, token, 0, 0, Status::kOk, payload, request));
   Send(request);
   return ReceiveLogStream(token, first, pull, {}, keep_partial, stop);
-}
-
-bool Connection::ReadLogOnce(std::uint32_t first, std::uint32_t max, LogPull& pull) {
-  const StreamEnd end = RequestLog(first, max, pull, false, {});
-  if (end == StreamEnd::kOverwritten) throw DeviceError(OverwrittenMessage(first));
-  return end == StreamEnd::kComplete;
 }
 
 Connection::StreamEnd Connection::ReceiveLogStream(std::uint16_t token, std::uint32_t first,
@@ -469,7 +462,7 @@ Connection::StreamEnd Connection::ReceiveLogStream(std::uint16_t token, std::uin
 void Connection::KeepPartialStream(std::uint32_t first,
                                    const std::vector<std::vector<std::uint8_t>>& payloads,
                                    LogPull& pull) const {
-  const wire::AcqConfigureRequest& c = configured_request_;
+  const wire::AcqConfigureRequest& c = *configured_;
   const wire::LogLayout layout{c.channel_mask, c.flags};
   std::vector<wire::LogRecord> records;
   AppendLogPayloads(layout, c.decimation, payloads, records);

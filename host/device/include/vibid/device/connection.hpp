@@ -27,7 +27,6 @@
 #include <deque>
 #include <functional>
 #include <memory>
-#include <optional>
 #include <mutex>
 #include <optional>
 #include <span>
@@ -163,11 +162,6 @@ class Connection {
   /// Emulator only (kCapScenarioSelect).
   void SelectScenario(const std::string& name, std::span<const float> params);
 
-  /// One log-read attempt from `first` (at most `max` records, 0 = all available). Appends the
-  /// stream's records to `pull` only if its trailer checked out (count and CRC-32); returns false
-  /// if the stream broke off or timed out (nothing appended; ask again from the same record).
-  bool ReadLogOnce(std::uint32_t first, std::uint32_t max, LogPull& pull);
-
   /// Starts the acquisition this connection configured (with kAcqFlagStream) and receives the
   /// log the board streams while it samples, to its end. If the stream breaks off, the records
   /// that arrived in sequence are kept and the rest comes as by PullLog. `progress` gets payload
@@ -244,8 +238,7 @@ class Connection {
   ConnectionOptions options_;
   wire::InfoResponse info_{};
   /// The last acquisition configured through this connection (its layout decodes a broken stream).
-  bool configured_ = false;
-  wire::AcqConfigureRequest configured_request_{};
+  std::optional<wire::AcqConfigureRequest> configured_;
 
   mutable std::mutex mutex_;
   std::condition_variable arrived_;
