@@ -1,0 +1,88 @@
+// FRF estimation from a recording the way every front end does it: the columns chosen by name
+// (with unit or factor), impact or Welch decided from the force channel unless asked, the default
+// Welch segment, the hit verdicts, the sampling-instant compensation a board's recording states.
+// The CLI (`frf-estimate`, `modes`, `identify`), the bench and the Python package call these.
+#pragma once
+
+#include <cstddef>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include <Eigen/Dense>
+
+#include "vibid/ident/impact.hpp"
+#include "vibid/ident/spectral.hpp"
+
+namespace vibid::workflow {
+
+/// How to process a recording. The text fields take the CLI's words (`h1`, `hann`, `acc`,
+/// `receptance`...) and are checked by Validate (a typo is refused whichever path runs).
+struct EstimationOptions {
+  std::string force;      ///< NAME[:UNIT|*FACTOR] of the force column (N).
+  std::string responses;  ///< Comma-separated NAME[:UNIT|*FACTOR] of the response columns.
+  std::string estimator = "h1";  ///< h1, h2, hv.
+  bool impact = false;           ///< Per-hit records even when the force does not look like hits.
+  bool welch = false;            ///< Welch averaging even when the force looks like hits.
+  std::string window = "hann";   ///< Welch window.
+  std::string detrend = "none";  ///< Welch per-segment detrend: none, constant.
+  std::string sensor = "acc";    ///< What the responses measure: acc, vel, disp.
+  std::string kind = "receptance";  ///< FRF produced: receptance, mobility, accelerance.
+  std::size_t segment = 0;          ///< Welch segment (samples); 0: DefaultSegment.
+  long overlap = -1;                ///< Welch overlap (samples); < 0: half a segment.
+  double fs_hz = 0.0;               ///< Sample rate when the recording has no t_s column.
+  ident::ImpactOptions impact_options;
+  bool keep_bad_hits = false;  ///< Use double and clipped hits (only flag them).
+
+  /// Throws InputError naming the option and its allowed values.
+  void Validate() const;
+};
+
+/// The Welch segment used when none is given: a power of two, at most 4096 and a quarter of the
+/// record (at least 16).
+std::size_t DefaultSegment(std::size_t samples);
+
+struct Estimated {
+  ident::Frf frf;
+  std::vector<ident::Hit> hits;  ///< Impact processing only.
+  std::size_t record_samples = 0;
+  bool impact = false;  ///< Which processing ran.
+  /// One line saying how the recording was processed when that was chosen automatically.
+  std::string note;
+  std::vector<std::string> warnings;  ///< From the impact processing (double hits, usable band).
+  /// The sampling-instant compensation applied (one line ending in '\n'), empty when the recording
+  /// states no instants.
+  std::string compensation;
+};
+
+/// Reads a recording and estimates the FRF of every response to the force, converted to
+/// `options.kind`. Per-hit impact records when `impact` is set or, unless `welch` is, when the
+/// force is a train of short pulses (ident::ClassifyExcitation); Welch averaging otherwise.
+Estimated EstimateFromRecording(const std::string& path, const EstimationOptions& options);
+
+/// The same on signals already in memory (SI units; `force`/`responses` names only label the
+/// result, the column specs of `options` are not used). No sampling-instant compensation unless
+/// `instants_s` gives one instant per channel (force first) relative to the frame.
+Estimated EstimateFromSignals(const Eigen::Ref<const Eigen::VectorXd>& force,
+                              const Eigen::Ref<const Eigen::MatrixXd>& responses, double fs_hz,
+                              const std::string& force_name,
+                              const std::vector<std::string>& response_names,
+                              const EstimationOptions& options,
+                              const std::vector<double>& instants_s = {});
+
+/// An FRF file (.uff/.unv, or a CSV with freq_hz) as it is; any other CSV is a recording and is
+/// estimated first (then `hits`, `note`... say how). The FRF is converted to `options.kind`.
+Estimated LoadOrEstimate(const std::string& path, const EstimationOptions& options);
+
+/// The lines a report keeps about one estimation: its note, warnings, compensation and one line
+/// per hit, each prefixed with `path: ` (the note as it is: it names the path already).
+std::vector<std::string> EstimationNotes(const std::string& path, const Estimated& e);
+
+/// Joins FRFs of the same frequency lines column-wise (responses of one test in several files).
+ident::Frf JoinColumns(const std::vector<ident::Frf>& frfs,
+                       const std::vector<std::string>& sources);
+
+/// One line per hit: time, peak, used or why not.
+std::string DescribeHits(const std::vector<ident::Hit>& hits);
+
+}  // namespace vibid::workflow

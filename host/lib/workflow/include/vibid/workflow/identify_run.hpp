@@ -1,0 +1,65 @@
+// The whole identification from recordings, as `vibid identify` runs it: each mass test and modal
+// test estimated (impact or Welch decided per recording), the modes, the mass and stiffness
+// updates, the validation table; and the report's data (report.json, validation.txt, the FRF
+// overlay) built from the result.
+#pragma once
+
+#include <cstddef>
+#include <string>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+#include "vibid/ident/identify.hpp"
+#include "vibid/model/model.hpp"
+#include "vibid/workflow/estimate.hpp"
+#include "vibid/workflow/modes_request.hpp"
+
+namespace vibid::workflow {
+
+struct MassTestFile {
+  std::size_t position = 0;  ///< 0-based mass position.
+  std::string path;
+};
+
+struct IdentifyRequest {
+  std::vector<MassTestFile> mass_tests;
+  /// "POS=K" (N/m) or "POS=fit" per mass test whose spring is not the nominal chain spring.
+  std::vector<std::string> mass_springs;
+  std::vector<std::string> modal_tests;
+  /// Response columns of the mass tests: empty (accP_m_s2 for mass P), one for all, or one per
+  /// mass test, comma separated.
+  std::string mass_response;
+  /// Response columns of the modal tests, one per mass; empty: acc1_m_s2..accN_m_s2.
+  std::string modal_responses;
+  /// Force column, estimator, sensor, windows, hit options; `responses`, `kind` and `impact` are
+  /// set per test. Its force defaults to the board's force1_n.
+  EstimationOptions estimation;
+  ModeRequest modes;
+};
+
+/// IdentifyRequest with the board's force column and hammer-test defaults.
+IdentifyRequest DefaultIdentifyRequest();
+
+struct IdentifyRun {
+  ident::IdentifyResult result;
+  std::vector<ident::Frf> modal_frfs;  ///< Receptances of the modal tests, in order.
+  std::size_t driving_point = 0;
+  std::vector<std::string> notes;  ///< EstimationNotes of every recording.
+  /// Processing notes of recordings that did not look like hammer tests (said to the user).
+  std::vector<std::string> processing_notes;
+  std::vector<std::string> estimation_warnings;  ///< Every estimation's warnings, path first.
+};
+
+IdentifyRun RunIdentify(const model::Model& nominal, const IdentifyRequest& request);
+
+/// {"topology": "chain", "masses", "springs", "dampers"}: the updated model file.
+nlohmann::json ChainJson(const ident::ChainParameters& chain, std::size_t n);
+/// report.json: updated model, validation (nominal/updated/test with the test's intervals),
+/// parameters with intervals, test modes, mass tests, modal tests, stiffness, warnings, notes.
+nlohmann::json IdentifyReportJson(const IdentifyRun& run, std::size_t n);
+/// Measured receptance of the first modal test beside the nominal and updated models'
+/// receptances (hammer at the driving point), magnitudes per response, as CSV.
+std::string FrfOverlayCsv(const IdentifyRun& run, const model::Model& nominal);
+
+}  // namespace vibid::workflow

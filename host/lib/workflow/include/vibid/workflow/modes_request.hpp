@@ -1,0 +1,25 @@
+// Modal identification as the front ends ask for it: a method by name, model orders as text, the
+// driving point by column name or 1-based index.
+#pragma once
+
+#include <cstddef>
+#include <string>
+
+#include "vibid/ident/modes.hpp"
+
+namespace vibid::workflow {
+
+struct ModeRequest {
+  std::string method = "lscf";  ///< lscf, lsce, fit, peaks.
+  std::string orders;           ///< "MIN:MAX[:STEP]" for lscf/lsce; empty: the defaults.
+  std::string driving_point;    ///< Column name or 1-based index; empty: the last response.
+  ident::ModeIdentificationOptions options;
+};
+
+/// Index of the driving-point response; refuses a name or index the FRF does not have.
+std::size_t ResolveDrivingPoint(const ident::Frf& frf, const std::string& spec);
+
+/// Modes of a receptance FRF as `vibid modes` computes them.
+ident::ModeIdentification IdentifyModes(const ident::Frf& receptance, const ModeRequest& request);
+
+}  // namespace vibid::workflow
