@@ -64,6 +64,12 @@ void AddEstimationOptions(CLI::App* cmd, EstimationArgs& a, bool require_columns
       ->check(NonNegativeNumber());
   cmd->add_flag("--keep-bad-hits", a.keep_bad_hits,
                 "Impact: use double hits and clipped hits (only flag them)");
+  cmd->add_option("--use-hits", a.use_hits,
+                  "Impact: average these hits whatever their verdicts, e.g. 1,2,4 (numbered as "
+                  "the hit notes number them)");
+  cmd->add_option("--hits", a.hits_file,
+                  "Impact: average the accepted hits of a hit list a hammer session saved "
+                  "(hits.json)");
 }
 
 ident::Frf LoadOrEstimate(const std::string& path, const EstimationArgs& a,

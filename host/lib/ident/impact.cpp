@@ -480,6 +480,27 @@ ImpactDetection DetectImpactHits(const Eigen::Ref<const Eigen::VectorXd>& force,
   return d;
 }
 
+Eigen::VectorXd ImpactForceWindow(const ImpactDetection& detection, std::size_t hit) {
+  Require(hit < detection.spans.size(), "impact: no such hit");
+  const HitSpan& span = detection.spans[hit];
+  const std::size_t record = detection.record_samples;
+  const std::size_t keep = span.keep;
+  const std::size_t taper = std::min(span.taper, record - keep);
+  Eigen::VectorXd window(static_cast<Eigen::Index>(record));
+  for (std::size_t i = 0; i < record; ++i) {
+    double w = 0.0;
+    if (i < keep) {
+      w = 1.0;
+    } else if (i < keep + taper) {
+      w = 0.5 * (1.0 + std::cos(std::numbers::pi * static_cast<double>(i - keep + 1) /
+                                static_cast<double>(taper + 1)));
+    }
+    w *= detection.exp_window[static_cast<Eigen::Index>(i)];
+    window[static_cast<Eigen::Index>(i)] = w;
+  }
+  return window;
+}
+
 // One hit's spectra: offsets from the pretrigger (else the force baseline), the force kept up to
 // span.keep then tapered to zero by a half cosine as long as the first pulse, every channel under
 // the exponential window.
@@ -502,19 +523,11 @@ HitSpectra ImpactHitSpectra(const Eigen::Ref<const Eigen::VectorXd>& force,
   const std::size_t quiet = pre > span.taper ? pre - span.taper : 0;
   const double f_offset =
       quiet >= 4 ? MeanAsWholeColumn(force.data(), span.start, quiet) : detection.baseline;
-  const std::size_t keep = span.keep;
-  const std::size_t taper = std::min(span.taper, record - keep);
+  const Eigen::VectorXd window = ImpactForceWindow(detection, hit);
   Eigen::VectorXd fbuf(static_cast<Eigen::Index>(record));
   double window_power = 0.0;  // sum of the squared force window: white noise's power through it
   for (std::size_t i = 0; i < record; ++i) {
-    double w = 0.0;
-    if (i < keep) {
-      w = 1.0;
-    } else if (i < keep + taper) {
-      w = 0.5 * (1.0 + std::cos(std::numbers::pi * static_cast<double>(i - keep + 1) /
-                                static_cast<double>(taper + 1)));
-    }
-    w *= exp_window[static_cast<Eigen::Index>(i)];
+    const double w = window[static_cast<Eigen::Index>(i)];
     window_power += w * w;
     fbuf[static_cast<Eigen::Index>(i)] =
         (force[static_cast<Eigen::Index>(span.start + i)] - f_offset) * w;

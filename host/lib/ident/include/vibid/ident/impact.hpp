@@ -115,6 +115,10 @@ ImpactDetection DetectImpactHits(const Eigen::Ref<const Eigen::VectorXd>& force,
                                  const Eigen::Ref<const Eigen::MatrixXd>& responses, double fs_hz,
                                  const ImpactOptions& options);
 
+/// The window hit `hit`'s force is multiplied by: ones up to its span's `keep`, the half-cosine
+/// taper, zeros after; times the exponential window.
+Eigen::VectorXd ImpactForceWindow(const ImpactDetection& detection, std::size_t hit);
+
 /// One hit's spectra before averaging: |F|^2, |X_j|^2, F^* X_j of its windowed record, and |F|^2
 /// times the force window's power (for the level's noise variance). Unscaled sums of one segment.
 struct HitSpectra {
