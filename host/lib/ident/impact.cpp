@@ -599,7 +599,9 @@ ImpactResult AverageHitSpectra(const ImpactDetection& detection,
   }
   if (used == 0) {
     throw InputError("no usable hit in the record:" + reasons.str() +
-                     (overridable ? " (--keep-bad-hits uses double and clipped hits anyway)" : ""));
+                     (overridable ? " (--keep-bad-hits uses double, clipped and weak hits anyway; "
+                                    "--use-hits picks hits by number)"
+                                  : ""));
   }
   sums.averages = used;
   const Eigen::VectorXd level_rel_var =

@@ -102,16 +102,15 @@ struct HammerSession::Channels {
 
   void Reserve(std::size_t rows) {
     if (rows <= static_cast<std::size_t>(force.size())) return;
-    const auto cap = static_cast<Eigen::Index>(std::max<std::size_t>(rows, 2 * static_cast<std::size_t>(force.size())));
+    const auto cap = static_cast<Eigen::Index>(
+        std::max<std::size_t>(rows, 2 * static_cast<std::size_t>(force.size())));
     force.conservativeResize(cap);
     responses.conservativeResize(cap, Eigen::NoChange);
   }
   auto Force() const { return force.head(static_cast<Eigen::Index>(n)); }
   auto Responses() const { return responses.topRows(static_cast<Eigen::Index>(n)); }
   // As MakeRecording derives it from the time column: 1 / mean step.
-  double FsHz() const {
-    return 1.0 / ((t_last_s - t_first_s) / static_cast<double>(n - 1));
-  }
+  double FsHz() const { return 1.0 / ((t_last_s - t_first_s) / static_cast<double>(n - 1)); }
 };
 
 HammerSession::HammerSession(HammerSessionOptions options) : options_(std::move(options)) {
@@ -207,8 +206,8 @@ void HammerSession::Feed(std::span<const wire::LogRecord> records) {
 
   // A new pulse: its record is complete a record length after it starts.
   const double fs_nominal = 1e6 / (static_cast<double>(options_.sample_period_us) * step);
-  const auto record =
-      static_cast<std::size_t>(std::llround(options_.estimation.impact_options.record_s * fs_nominal));
+  const auto record = static_cast<std::size_t>(
+      std::llround(options_.estimation.impact_options.record_s * fs_nominal));
   if (detected_once_) {
     const double level = 0.5 * detection_.trigger_level;
     for (std::size_t i = scanned_; i < d.n; ++i) {
@@ -386,9 +385,9 @@ void HammerSession::Publish(double update_ms) {
 }
 
 std::size_t HammerSession::HitOf(std::size_t index) const {
-  Require(index >= 1 && index <= judged_,
-          "hammer session: no hit " + std::to_string(index) + " (hits judged so far: 1.." +
-              std::to_string(judged_) + ")");
+  Require(index >= 1 && index <= judged_, "hammer session: no hit " + std::to_string(index) +
+                                              " (hits judged so far: 1.." +
+                                              std::to_string(judged_) + ")");
   return index - 1;
 }
 

@@ -28,9 +28,8 @@ nlohmann::json FrfJson(const ident::Frf& frf) {
   for (std::size_t j = 0; j < frf.responses(); ++j) {
     const auto col = static_cast<Eigen::Index>(j);
     const Eigen::VectorXd magnitude = frf.h.col(col).cwiseAbs();
-    const Eigen::VectorXd phase = frf.h.col(col).unaryExpr([](const std::complex<double>& z) {
-      return std::arg(z);
-    }).real();
+    const Eigen::VectorXd phase =
+        frf.h.col(col).unaryExpr([](const std::complex<double>& z) { return std::arg(z); }).real();
     responses.push_back({{"name", j < frf.response_names.size() ? frf.response_names[j] : ""},
                          {"magnitude", Values(magnitude)},
                          {"phase_rad", Values(phase)},
@@ -63,8 +62,8 @@ nlohmann::json HammerSnapshotJson(const HammerSnapshot& s) {
   j["frf"] = s.frf.lines() > 0 ? FrfJson(s.frf) : nlohmann::json(nullptr);
   j["warnings"] = s.warnings;
   j["modes"] = s.modes ? ModesToJson(s.modes->modes)["modes"] : nlohmann::json(nullptr);
-  j["diagram"] = s.modes && s.modes->has_diagram ? DiagramToJson(s.modes->diagram)
-                                                 : nlohmann::json(nullptr);
+  j["diagram"] =
+      s.modes && s.modes->has_diagram ? DiagramToJson(s.modes->diagram) : nlohmann::json(nullptr);
   j["modes_error"] = s.modes_error;
   j["timing_ms"] = {{"update", s.last_update_ms}, {"modes", s.last_modes_ms}};
   return j;

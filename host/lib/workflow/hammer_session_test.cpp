@@ -27,8 +27,9 @@ namespace {
 std::string TempDir(const std::string& tag) {
   const std::filesystem::path p =
       std::filesystem::temp_directory_path() /
-      ("vibid-hammer-" + tag + "-" + std::to_string(::testing::UnitTest::GetInstance()->random_seed()) +
-       "-" + std::to_string(reinterpret_cast<std::uintptr_t>(&tag)));
+      ("vibid-hammer-" + tag + "-" +
+       std::to_string(::testing::UnitTest::GetInstance()->random_seed()) + "-" +
+       std::to_string(reinterpret_cast<std::uintptr_t>(&tag)));
   std::filesystem::remove_all(p);
   std::filesystem::create_directories(p);
   return p.string();
@@ -56,7 +57,7 @@ void ExpectSameFrf(const ident::Frf& a, const ident::Frf& b) {
 }
 
 const std::vector<std::string> kVerdicts = {"ok", "ok",       "double hit", "ok", "clipped",
-                                             "ok", "too weak", "ok",         "ok", "truncated"};
+                                            "ok", "too weak", "ok",         "ok", "truncated"};
 
 // Feeds the records in random blocks and checks that each hit is judged in the block that
 // completes its record (pretrigger + record from the record's start); returns the update times.
@@ -104,10 +105,11 @@ TEST(HammerSession, JudgesEachHitWhenItsRecordIsComplete) {
   EXPECT_EQ(before_end.hits.size(), 9u);
   EXPECT_EQ(before_end.pending_hits, 1u);  // hit 10: 1 s of its 2 s record
   EXPECT_FALSE(before_end.finished);
-  std::printf("hammer session: 3 channels at 5 kHz, 2 s records, %zu samples: each hit judged with "
-              "FRF and modes updated in %.1f ms on average, %.1f ms at most (modes at most "
-              "%.1f ms)\n",
-              before_end.samples, t.mean_ms, t.worst_ms, t.worst_modes_ms);
+  std::printf(
+      "hammer session: 3 channels at 5 kHz, 2 s records, %zu samples: each hit judged with "
+      "FRF and modes updated in %.1f ms on average, %.1f ms at most (modes at most "
+      "%.1f ms)\n",
+      before_end.samples, t.mean_ms, t.worst_ms, t.worst_modes_ms);
   session.Finish();
   const HammerSnapshot s = session.Snapshot();
   ASSERT_EQ(s.hits.size(), 10u);
@@ -125,9 +127,14 @@ TEST(HammerSession, VerdictsAndTheCliPathGiveTheSameNumbers) {
   const std::string dir = TempDir("cli-path");
   const testing::BoardHammerTest test = testing::MakeBoardHammerTest(dir + "/live.csv", 6.0);
   HammerSession session(test.options);
-  FeedAndWatch(session, test.records, 30000, 5);
+  const Timing timing = FeedAndWatch(session, test.records, 30000, 5);
   session.Finish();
   HammerSnapshot s = session.Snapshot();
+  std::printf(
+      "hammer session: 3 channels at 5 kHz, 6 s records, %zu samples: each hit judged "
+      "with FRF and modes updated in %.1f ms on average, %.1f ms at most (modes at most "
+      "%.1f ms)\n",
+      s.samples, timing.mean_ms, timing.worst_ms, timing.worst_modes_ms);
   ASSERT_EQ(s.hits.size(), 10u);
   EXPECT_EQ(s.pending_hits, 0u);
   for (std::size_t k = 0; k < 10; ++k) {

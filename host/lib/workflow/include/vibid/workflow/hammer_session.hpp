@@ -99,7 +99,7 @@ class HammerSession {
   std::size_t HitOf(std::size_t index) const;
 
   HammerSessionOptions options_;
-  device::LogPull format_;  // layout and trailer of every block
+  device::LogPull format_;            // layout and trailer of every block
   std::vector<std::string> columns_;  // the recording's column names
   std::size_t force_column_ = 0;
   std::vector<std::size_t> response_columns_;
@@ -122,7 +122,7 @@ class HammerSession {
   bool detected_once_ = false;
   bool candidate_ = false;  // a pulse seen since the last analysis
   ident::ImpactDetection detection_;
-  std::size_t judged_ = 0;  // hits of detection_ with a complete record
+  std::size_t judged_ = 0;                       // hits of detection_ with a complete record
   std::map<std::size_t, bool> operator_choice_;  // by peak sample: accepted?
   struct KeptSpectra {
     ident::HitSpan span;

@@ -55,7 +55,7 @@ struct HammerSnapshot {
   std::vector<std::string> warnings;  ///< Of the estimation (double hits used, usable band).
   /// Modes, 95 % intervals and the stabilization diagram after the last change; none before.
   std::optional<ident::ModeIdentification> modes;
-  std::string modes_error;  ///< Why there are no modes (too few hits for a resonance...).
+  std::string modes_error;      ///< Why there are no modes (too few hits for a resonance...).
   double last_update_ms = 0.0;  ///< Time the last judgement and FRF update took.
   double last_modes_ms = 0.0;   ///< Time the last mode identification took.
 };
