@@ -255,8 +255,10 @@ void HammerSession::Analyze() {
   ident::ImpactDetection det;
   try {
     det = ident::DetectImpactHits(force, responses, fs_hz, io);
-  } catch (const InputError&) {
-    return;  // no hit yet (a constant force); the next block may bring one
+  } catch (const InputError& e) {
+    // No hit yet (a constant force): said, and the next block may bring one.
+    warnings_ = {e.what()};
+    return;
   }
   detected_once_ = true;
   candidate_ = false;
