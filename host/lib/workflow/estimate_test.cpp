@@ -33,9 +33,8 @@ struct ModalRecording {
 };
 
 ModalRecording MakeModalRecording() {
-  const model::Model truth = model::MakeChain(Eigen::Vector2d(1.8, 1.5),
-                                              Eigen::Vector2d(3500.0, 2750.0),
-                                              Eigen::Vector2d(2.0, 1.5));
+  const model::Model truth = model::MakeChain(
+      Eigen::Vector2d(1.8, 1.5), Eigen::Vector2d(3500.0, 2750.0), Eigen::Vector2d(2.0, 1.5));
   const ident::HammerTestRecord r =
       ident::SimulateHammerTest(truth, ident::ModalTestSpec(500.0, 3));
   ModalRecording out;
@@ -103,8 +102,8 @@ TEST(Estimate, RandomForceIsWelchAveragedToTheClosedFormFir) {
   double worst = 0.0;
   for (Eigen::Index i = 1; i < e.frf.freq_hz.size(); ++i) {
     const std::complex<double> h =
-        0.5 + 0.25 * std::exp(std::complex<double>(0.0, -2.0 * std::numbers::pi *
-                                                            e.frf.freq_hz[i] / fs));
+        0.5 +
+        0.25 * std::exp(std::complex<double>(0.0, -2.0 * std::numbers::pi * e.frf.freq_hz[i] / fs));
     worst = std::max(worst, std::abs(e.frf.h(i, 0) - h));
   }
   // The only error: the FIR's one sample of memory across a segment edge (x[-1] is not in the

@@ -126,9 +126,8 @@ ident::Frf EstimateTest(const std::string& path, const EstimationOptions& est, I
   return std::move(e.frf);
 }
 
-std::vector<ident::MassTestInput> MassTests(const IdentifyRequest& a,
-                                            const EstimationOptions& est, std::size_t n,
-                                            IdentifyRun& run) {
+std::vector<ident::MassTestInput> MassTests(const IdentifyRequest& a, const EstimationOptions& est,
+                                            std::size_t n, IdentifyRun& run) {
   const MassSprings springs = ParseMassSprings(a.mass_springs, n);
   const std::vector<std::string> mass_responses =
       a.mass_response.empty() ? std::vector<std::string>{} : SplitOptionList(a.mass_response);
