@@ -63,7 +63,23 @@ void AddEstimationOptions(CLI::App* cmd, EstimationArgs& a, bool require_columns
       ->capture_default_str()
       ->check(NonNegativeNumber());
   cmd->add_flag("--keep-bad-hits", a.keep_bad_hits,
-                "Impact: use double hits and clipped hits (only flag them)");
+                "Impact: use double, clipped and weak hits (only flag them)");
+  cmd->add_option("--weak-hit-fraction", a.impact_options.weak_hit_fraction,
+                  "Impact: a hit below this fraction of the median peak of the good hits is too "
+                  "weak (0: no check)")
+      ->capture_default_str()
+      ->check(NonNegativeNumber());
+  cmd->add_option("--weak-hit-noise-factor", a.impact_options.weak_hit_noise_factor,
+                  "Impact: a hit below this many force-noise standard deviations is too weak "
+                  "(0: no check)")
+      ->capture_default_str()
+      ->check(NonNegativeNumber());
+  cmd->add_option("--use-hits", a.use_hits,
+                  "Impact: average these hits whatever their verdicts, e.g. 1,2,4 (numbered as "
+                  "the hit notes number them)");
+  cmd->add_option("--hits", a.hits_file,
+                  "Impact: average the accepted hits of a hit list a hammer session saved "
+                  "(hits.json)");
 }
 
 ident::Frf LoadOrEstimate(const std::string& path, const EstimationArgs& a,

@@ -1,6 +1,7 @@
 #include "vibid/workflow/estimate.hpp"
 
 #include <algorithm>
+#include <charconv>
 #include <cerrno>
 #include <cmath>
 #include <cstdio>
@@ -13,6 +14,8 @@
 #include "vibid/common/atomic_file.hpp"
 #include "vibid/common/csv.hpp"
 #include "vibid/common/error.hpp"
+#include "vibid/common/json_file.hpp"
+#include "vibid/common/json_keys.hpp"
 #include "vibid/common/text_input.hpp"
 #include "vibid/ident/frf_io.hpp"
 #include "vibid/ident/sample_instants.hpp"
@@ -32,6 +35,12 @@ void EstimationOptions::Validate() const {
           "--overlap must be smaller than the segment");
   Require(!(impact && welch), "--impact and --welch exclude each other; give one of them");
   Require(fs_hz >= 0.0 && std::isfinite(fs_hz), "--fs-hz must be a number > 0");
+  Require(use_hits.empty() || hits_file.empty(),
+          "--use-hits and --hits both choose the hits; give one of them");
+  Require((use_hits.empty() && hits_file.empty()) || !welch,
+          "--use-hits and --hits choose hits of an impact test; Welch averaging has none (drop "
+          "--welch)");
+  if (!use_hits.empty()) (void)ParseHitList(use_hits);
   impact_options.Validate();
 }
 
@@ -105,6 +114,8 @@ Estimated Estimate(const Eigen::Ref<const Eigen::VectorXd>& force, const Respons
   if (impact) {
     ident::ImpactOptions io = o.impact_options;
     io.reject_bad_hits = !o.keep_bad_hits;
+    if (!o.use_hits.empty()) io.use_hits = ParseHitList(o.use_hits);
+    if (!o.hits_file.empty()) io.use_hits = ReadAcceptedHits(o.hits_file);
     // Per-hit records are short copies anyway; the impact code reads one matrix.
     Eigen::MatrixXd copy;
     if (responses.matrix == nullptr) {
@@ -121,6 +132,9 @@ Estimated Estimate(const Eigen::Ref<const Eigen::VectorXd>& force, const Respons
     for (const std::string& w : r.warnings) out.warnings.push_back(source + ": " + w);
     out.record_samples = r.record_samples;
   } else {
+    Require(o.use_hits.empty() && o.hits_file.empty(),
+            source + ": --use-hits/--hits choose hits, but the force is no train of hits (" +
+                out.note + "); --impact processes it per hit");
     ident::WelchOptions wo;
     wo.window = ident::ParseWindow(o.window);
     wo.detrend = o.detrend == "constant" ? ident::Detrend::kConstant : ident::Detrend::kNone;
@@ -274,6 +288,49 @@ ident::Frf JoinColumns(const std::vector<ident::Frf>& frfs,
                                                     sources[0] + "'s; estimate both the same way");
   }
   return out;
+}
+
+std::vector<std::size_t> ParseHitList(const std::string& list) {
+  std::vector<std::size_t> hits;
+  for (const std::string& item : SplitList(list)) {
+    std::string_view text = item;
+    while (!text.empty() && (text.front() == ' ' || text.front() == '\t')) text.remove_prefix(1);
+    while (!text.empty() && (text.back() == ' ' || text.back() == '\t')) text.remove_suffix(1);
+    std::size_t k = 0;
+    const auto [end, ec] = std::from_chars(text.data(), text.data() + text.size(), k);
+    Require(ec == std::errc() && end == text.data() + text.size() && k >= 1,
+            "--use-hits: '" + std::string(text) + "' is no hit number (hits count from 1: 1,2,4)");
+    Require(hits.empty() || k > hits.back(),
+            "--use-hits: list each hit once, in increasing order (got " + list + ")");
+    hits.push_back(k);
+  }
+  return hits;
+}
+
+std::vector<std::size_t> ReadAcceptedHits(const std::string& path) {
+  const nlohmann::json j = ReadJsonFile(path);
+  const std::string what = path + " (a hit list)";
+  Require(j.is_object() && j.contains("hits") && j.at("hits").is_array(),
+          what + ": expected an object with a \"hits\" array, as a hammer session saves it");
+  RequireKnownKeys(j, {"format", "hits"}, what);
+  Require(j.contains("format") && j.at("format") == kHitListFormat,
+          what + ": \"format\" must be \"" + std::string(kHitListFormat) + "\"");
+  std::vector<std::size_t> accepted;
+  std::size_t expected = 1;
+  for (const nlohmann::json& h : j.at("hits")) {
+    RequireKnownKeys(h, {"index", "t_s", "peak_n", "verdict", "reason", "accepted", "decided_by"},
+                     what + ", a hit");
+    Require(h.is_object() && h.contains("index") && h.at("index").is_number_unsigned() &&
+                h.contains("accepted") && h.at("accepted").is_boolean(),
+            what + ": every hit needs \"index\" (from 1) and \"accepted\" (true or false)");
+    const auto index = h.at("index").get<std::size_t>();
+    Require(index == expected, what + ": hit " + std::to_string(index) + " listed where hit " +
+                                   std::to_string(expected) + " belongs (every hit, in order)");
+    ++expected;
+    if (h.at("accepted").get<bool>()) accepted.push_back(index);
+  }
+  Require(!accepted.empty(), what + ": no hit is accepted; accept one to estimate an FRF");
+  return accepted;
 }
 
 std::string DescribeHits(const std::vector<ident::Hit>& hits) {
