@@ -5,6 +5,7 @@
 #include <csignal>
 #include <cstdio>
 
+#include "vibid/device/acquire_plan.hpp"
 #include "vibid/device/error.hpp"
 #include "vibid/device/select.hpp"
 
@@ -66,15 +67,7 @@ void WithDevice(const GlobalOptions& globals, const std::function<void(device::C
 }
 
 wire::CalibrationRecord ActiveRecord(device::Connection& c, bool& has_record) {
-  wire::CalibrationRecord r;
-  has_record = false;
-  if (c.info().cal_state != wire::CalState::kCalibrated) return r;
-  const std::vector<std::uint8_t> bytes = c.CalGet();
-  if (wire::DecodeCalibrationRecord(bytes, r) != Status::kOk) {
-    throw device::DeviceError("the board's active calibration record does not decode");
-  }
-  has_record = true;
-  return r;
+  return device::ActiveRecord(c, has_record);
 }
 
 ProgressBar::ProgressBar(std::string what)

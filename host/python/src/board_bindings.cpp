@@ -1,0 +1,181 @@
+// The board: a device::Connection opened by the same URLs as `--device`, the acquisition planned,
+// preflighted and run by the device layer's functions `vibid acquire` calls. Board I/O runs
+// without the GIL; Ctrl-C is noticed between reports (the acquisition's stop request) and stops
+// the board before KeyboardInterrupt is raised.
+#include <pybind11/numpy.h>
+#include <pybind11/stl.h>
+
+#include <memory>
+#include <optional>
+
+#include <nlohmann/json.hpp>
+
+#include "bindings.hpp"
+#include "vibid/common/error.hpp"
+#include "vibid/device/acquire_plan.hpp"
+#include "vibid/device/connection.hpp"
+#include "vibid/device/info_json.hpp"
+#include "vibid/device/log_table.hpp"
+#include "vibid/device/select.hpp"
+
+namespace vibid::python {
+namespace {
+
+class Board {
+ public:
+  explicit Board(const std::string& url) {
+    const device::DeviceChoice choice = device::ChooseDevice(url);
+    const device::DeviceSpec spec = device::ParseDeviceSpec(choice.text, choice.origin);
+    py::gil_scoped_release release;
+    connection_ = std::make_unique<device::Connection>(device::OpenTransport(spec));
+  }
+
+  device::Connection& c() {
+    if (!connection_) throw device::DeviceError("the board is closed");
+    return *connection_;
+  }
+
+  std::string Describe() { return c().Describe(); }
+
+  py::object Info() {
+    nlohmann::json j;
+    {
+      py::gil_scoped_release release;
+      device::Connection& con = c();
+      const wire::InfoResponse info = con.GetInfo();
+      j = device::InfoJson(con, info, con.GetClips(), con.GetSamplingInfo(), con.GetHealthInfo());
+    }
+    return ToPython(j);
+  }
+
+  std::string State() {
+    wire::StatusResponse st;
+    {
+      py::gil_scoped_release release;
+      st = c().GetStatus();
+    }
+    switch (st.acq_state) {
+      case wire::AcqState::kIdle: return "idle";
+      case wire::AcqState::kArmed: return "armed";
+      case wire::AcqState::kAcquiring: return "acquiring";
+      case wire::AcqState::kDone: return "done";
+    }
+    return "unknown";
+  }
+
+  /// (names, data (channels, samples), fs_hz, sample_index, instants_line, stopped).
+  py::tuple Acquire(const device::AcquireSettings& settings, const std::string& scenario,
+                    const std::vector<float>& scenario_params) {
+    device::Trigger trig;
+    wire::AcqConfigureRequest cfg = device::PlanAcquisition(settings, trig);
+    Require(scenario_params.size() <= 4, "--scenario-param takes at most 4 values");
+    bool interrupted = false;
+    device::LogPull pull;
+    wire::CalibrationRecord record;
+    bool has_record = false;
+    std::optional<wire::SamplingInfoResponse> instants;
+    {
+      py::gil_scoped_release release;
+      device::Connection& con = c();
+      record = device::ActiveRecord(con, has_record);
+      device::ApplyCalibration(record, has_record, settings.no_dob, trig, cfg);
+      device::Preflight(con.info(), cfg, settings);
+      cfg.flags = static_cast<std::uint8_t>(cfg.flags | wire::kAcqFlagStream);
+      if (!scenario.empty()) con.SelectScenario(scenario, scenario_params);
+      con.Configure(cfg);
+      // Asked at least every 100 ms while the board samples: a pending Ctrl-C stops it.
+      const device::StopRequest stop = [&](const wire::LogTrailer*) {
+        py::gil_scoped_acquire acquire;
+        if (PyErr_CheckSignals() != 0) {
+          PyErr_Clear();
+          interrupted = true;
+        }
+        return interrupted;
+      };
+      try {
+        pull = con.AcquireStreamed({}, stop);
+      } catch (...) {
+        // The board is left idle whenever it can still be reached.
+        try {
+          con.StopAcquisition();
+        } catch (const device::DeviceError&) {
+        }
+        throw;
+      }
+      instants = con.GetSamplingInfo();
+    }
+    const device::LogTable table = device::MakeLogTable(pull, record, has_record);
+    const auto n = static_cast<py::ssize_t>(pull.records.size());
+    const auto k = static_cast<py::ssize_t>(table.columns.size());
+    py::array_t<double> data({k, n});
+    for (py::ssize_t col = 0; col < k; ++col) {
+      const Eigen::VectorXd& v = table.columns[static_cast<std::size_t>(col)];
+      std::copy(v.data(), v.data() + n, data.mutable_data(col, 0));
+    }
+    py::array_t<std::uint32_t> index(n);
+    for (py::ssize_t i = 0; i < n; ++i)
+      index.mutable_data()[i] = pull.records[static_cast<std::size_t>(i)].sample_index;
+    const double fs_hz = 1e6 / cfg.sample_period_us / cfg.decimation;
+    const std::string instants_line =
+        instants ? device::SampleInstantsLine(table, pull, *instants) : std::string();
+    return py::make_tuple(table.names, data, fs_hz, index, instants_line, interrupted);
+  }
+
+  py::dict CalCommit() {
+    wire::CalCommitResponse r;
+    {
+      py::gil_scoped_release release;
+      r = c().CalCommit();
+    }
+    py::dict d;
+    d["slot"] = static_cast<int>(r.slot);
+    d["sequence"] = r.sequence;
+    return d;
+  }
+
+  void Dob(bool run) {
+    py::gil_scoped_release release;
+    c().DobControl(run);
+  }
+
+  void Close() {
+    py::gil_scoped_release release;
+    connection_.reset();
+  }
+
+ private:
+  std::unique_ptr<device::Connection> connection_;
+};
+
+}  // namespace
+
+void RegisterBoard(py::module_& m) {
+  py::class_<device::AcquireSettings>(m, "_AcquireSettings")
+      .def(py::init<>())
+      .def_readwrite("seconds", &device::AcquireSettings::seconds)
+      .def_readwrite("rate_hz", &device::AcquireSettings::rate_hz)
+      .def_readwrite("log_rate_hz", &device::AcquireSettings::log_rate_hz)
+      .def_readwrite("decimation", &device::AcquireSettings::decimation)
+      .def_readwrite("channels", &device::AcquireSettings::channels)
+      .def_readwrite("trigger", &device::AcquireSettings::trigger)
+      .def_readwrite("pretrigger_s", &device::AcquireSettings::pretrigger_s)
+      .def_readwrite("no_dob", &device::AcquireSettings::no_dob)
+      .def_readwrite("allow_drops", &device::AcquireSettings::allow_drops);
+  py::class_<Board>(m, "_Board")
+      .def(py::init<const std::string&>(), py::arg("url"))
+      .def("describe", &Board::Describe)
+      .def("info", &Board::Info)
+      .def("state", &Board::State)
+      .def("acquire", &Board::Acquire, py::arg("settings"), py::arg("scenario"),
+           py::arg("scenario_params"))
+      .def("cal_commit", &Board::CalCommit)
+      .def("dob", &Board::Dob, py::arg("run"))
+      .def("close", &Board::Close);
+  m.def("list_devices", [] {
+    std::vector<std::pair<std::string, std::string>> out;
+    for (const device::Listing& l : device::ListDevices()) out.emplace_back(l.spec, l.description);
+    return out;
+  });
+}
+
+}  // namespace vibid::python
