@@ -44,7 +44,7 @@ std::string FormatNumber(double v) {
 
 void WriteLog(device::Connection& c, const device::LogPull& pull, ClaimedOutput& output) {
   bool has_record = false;
-  const wire::CalibrationRecord rec = ActiveRecord(c, has_record);
+  const wire::CalibrationRecord rec = device::ActiveRecord(c, has_record);
   output.Write(device::FormatLogCsv(pull, rec, has_record, c.GetSamplingInfo()));
   std::cerr << "vibid: " << pull.records.size() << " records";
   if (pull.trailer.dropped_records != 0 || pull.trailer.overrun_count != 0) {

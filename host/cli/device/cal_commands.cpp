@@ -9,6 +9,7 @@
 
 #include "cli_support.hpp"
 #include "common/command.hpp"
+#include "vibid/device/acquire_plan.hpp"
 #include "vibid/device/error.hpp"
 #include "device_commands.hpp"
 #include "session.hpp"
@@ -159,7 +160,7 @@ void Run(const UploadArgs& a) {
   WithDevice(*a.globals, [&](device::Connection& c) {
     if (a.sensors.empty()) {
       bool has_record = false;
-      const wire::CalibrationRecord old = ActiveRecord(c, has_record);
+      const wire::CalibrationRecord old = device::ActiveRecord(c, has_record);
       if (!has_record)
         throw InputError("the board is uncalibrated: give its sensors with --sensors SENSORS.json");
       for (std::size_t k = 0; k < wire::kChannelCount; ++k) {

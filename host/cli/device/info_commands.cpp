@@ -15,6 +15,7 @@
 #include "vibid/common/enum_names.hpp"
 #include "vibid/common/error.hpp"
 #include "vibid/device/board_report.hpp"
+#include "vibid/device/acquire_plan.hpp"
 #include "vibid/device/error.hpp"
 #include "vibid/device/health_report.hpp"
 #include "vibid/device/info_json.hpp"
@@ -203,7 +204,7 @@ void Run(const MonitorArgs& a) {
               "way, and the link moves one report each way per 1 ms frame; use 0.002 or more");
   WithDevice(*a.globals, [&](device::Connection& c) {
     bool has_record = false;
-    const wire::CalibrationRecord rec = ActiveRecord(c, has_record);
+    const wire::CalibrationRecord rec = device::ActiveRecord(c, has_record);
     PrintMonitorHeader(rec, has_record);
     for (int n = 0; a.count == 0 || n < a.count; ++n) {
       if (InterruptFlag().load()) break;

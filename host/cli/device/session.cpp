@@ -5,7 +5,6 @@
 #include <csignal>
 #include <cstdio>
 
-#include "vibid/device/acquire_plan.hpp"
 #include "vibid/device/error.hpp"
 #include "vibid/device/select.hpp"
 
@@ -64,10 +63,6 @@ void WithDevice(const GlobalOptions& globals, const std::function<void(device::C
   options.cancel = ctrl_c == CtrlC::kInterrupts ? &g_interrupted : &g_aborted;
   device::Connection connection(device::OpenTransport(spec), options);
   body(connection);
-}
-
-wire::CalibrationRecord ActiveRecord(device::Connection& c, bool& has_record) {
-  return device::ActiveRecord(c, has_record);
 }
 
 ProgressBar::ProgressBar(std::string what)

@@ -27,9 +27,10 @@ def cli_json(*args):
 class Emulator:
     """vibid-emu on a free port, its flash in a temporary file; stopped by stop()."""
 
-    def __init__(self, tmp: pathlib.Path, seed: int = 1):
+    def __init__(self, tmp: pathlib.Path, seed: int = 1, realtime: bool = False):
         self.proc = subprocess.Popen(
-            [str(EMU), "--port", "0", "--seed", str(seed), "--flash", str(tmp / f"flash{seed}.bin")],
+            [str(EMU), "--port", "0", "--seed", str(seed), "--flash", str(tmp / f"flash{seed}.bin")]
+            + (["--realtime"] if realtime else []),
             stdout=subprocess.PIPE, text=True)
         banner = self.proc.stdout.readline()
         m = re.search(r"127\.0\.0\.1:(\d+),", banner)
@@ -52,8 +53,8 @@ def emulator(tmp_path):
 def make_emulator(tmp_path):
     started = []
 
-    def make(seed=1):
-        started.append(Emulator(tmp_path, seed))
+    def make(seed=1, realtime=False):
+        started.append(Emulator(tmp_path, seed, realtime))
         return started[-1]
     yield make
     for e in started:
