@@ -19,8 +19,8 @@ namespace vibid::workflow {
 /// How to process a recording. The text fields take the CLI's words (`h1`, `hann`, `acc`,
 /// `receptance`...) and are checked by Validate (a typo is refused whichever path runs).
 struct EstimationOptions {
-  std::string force;      ///< NAME[:UNIT|*FACTOR] of the force column (N).
-  std::string responses;  ///< Comma-separated NAME[:UNIT|*FACTOR] of the response columns.
+  std::string force;             ///< NAME[:UNIT|*FACTOR] of the force column (N).
+  std::string responses;         ///< Comma-separated NAME[:UNIT|*FACTOR] of the response columns.
   std::string estimator = "h1";  ///< h1, h2, hv.
   bool impact = false;           ///< Per-hit records even when the force does not look like hits.
   bool welch = false;            ///< Welch averaging even when the force looks like hits.
