@@ -45,4 +45,5 @@ PYBIND11_MODULE(_vibid, m) {
   vibid::python::RegisterErrors(m);
   vibid::python::RegisterModel(m);
   vibid::python::RegisterBoard(m);
+  vibid::python::RegisterAnalysis(m);
 }

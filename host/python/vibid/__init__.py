@@ -19,7 +19,8 @@ from ._vibid import DeviceError
 
 __all__ = [
     "DeviceError", "Model", "load_model", "modal", "Modal", "frf", "Frd", "simulate",
-    "Simulation", "Recording", "read_recording", "Board", "list_devices",
+    "Simulation", "Recording", "read_recording", "Board", "list_devices", "frf_estimate",
+    "FrfEstimate", "Hit", "modes", "Modes", "identify", "Identification", "default_segment",
 ]
 
 
@@ -240,6 +241,221 @@ def read_recording(path: str, fs_hz: Optional[float] = None, time_column: str = 
                                                list(channels or []))
     keep = [i for i, n in enumerate(names) if n != time_column]
     return Recording(names=[names[i] for i in keep], data=data[keep], fs_hz=fs, t0_s=t0)
+
+
+# --- FRF estimation, modes, identification ------------------------------------------------------
+
+def _estimation_options(force="", responses="", estimator="h1", impact=False, welch=False,
+                        window="hann", detrend="none", sensor="acc", kind="receptance",
+                        segment=0, overlap=-1, fs_hz=0.0, keep_bad_hits=False,
+                        exp_window=None, record_s=None, pretrigger_s=None):
+    o = _vibid._EstimationOptions()
+    o.force, o.responses = force, responses
+    o.estimator, o.impact, o.welch, o.window, o.detrend = estimator, impact, welch, window, detrend
+    o.sensor, o.kind, o.segment, o.overlap = sensor, kind, segment, overlap
+    o.fs_hz = 0.0 if fs_hz is None else fs_hz
+    o.keep_bad_hits = keep_bad_hits
+    if exp_window is not None:
+        o.exp_window_end = exp_window
+    if record_s is not None:
+        o.record_s = record_s
+    if pretrigger_s is not None:
+        o.pretrigger_s = pretrigger_s
+    o.validate()
+    return o
+
+
+@dataclasses.dataclass
+class Hit:
+    """One hammer hit of an impact estimation and its verdict (``used``, or why not)."""
+    t_s: float
+    peak_n: float
+    pulse_width_s: float
+    double_hit: bool
+    clipped: bool
+    truncated: bool
+    used: bool
+    note: str
+
+
+@dataclasses.dataclass(repr=False)
+class FrfEstimate:
+    """``vibid frf-estimate``'s result: the FRF (``frd``, with coherence), which processing ran
+    (``impact``: per-hit records; else Welch) and why (``note``), the hits and their verdicts."""
+    frd: Frd
+    estimator: str
+    averages: int
+    impact: bool
+    hits: list
+    note: str
+    warnings: list
+    compensation: str
+
+    def __repr__(self) -> str:
+        used = sum(h.used for h in self.hits)
+        return _repr("FrfEstimate", kind=self.frd.kind, responses=self.frd.outputs,
+                     lines=self.frd.freq_hz.size, averages=self.averages,
+                     processing="impact" if self.impact else "welch",
+                     hits=f"{used}/{len(self.hits)} used")
+
+
+def _frf_estimate(d) -> FrfEstimate:
+    h = np.asarray(d["h"])
+    frd = Frd(freq_hz=np.asarray(d["freq_hz"]), h=h.T[:, None, :], kind=d["kind"],
+              outputs=list(d["responses"]), inputs=[d["force"]],
+              coherence=np.asarray(d["coherence"]).T[:, None, :])
+    return FrfEstimate(frd=frd, estimator=d["estimator"], averages=d["averages"],
+                       impact=d["impact"], hits=[Hit(**h) for h in d["hits"]], note=d["note"],
+                       warnings=list(d["warnings"]), compensation=d["compensation"])
+
+
+def frf_estimate(recording, force: str = "", responses="", **options) -> FrfEstimate:
+    """FRFs of responses to a force (``vibid frf-estimate``, same options and defaults).
+
+    ``recording`` is a CSV path (``force``/``responses`` are column specs NAME[:UNIT|*FACTOR],
+    responses comma separated or a list) or a Recording (column names). Per-hit impact records
+    when the force is a train of short pulses (or ``impact=True``), Welch averaging otherwise (or
+    ``welch=True``). Options: estimator (h1, h2, hv), window, detrend, sensor (acc, vel, disp),
+    kind (receptance m/N, mobility, accelerance), segment, overlap (samples), fs_hz,
+    keep_bad_hits, exp_window, record_s (s), pretrigger_s (s)."""
+    names = responses.split(",") if isinstance(responses, str) else list(responses)
+    if isinstance(recording, Recording):
+        idx = [recording.names.index(n) if n in recording.names else recording[n] for n in names]
+        # Consecutive rows are a view; any other choice of rows is gathered once.
+        if idx == list(range(idx[0], idx[0] + len(idx))):
+            x = recording.data[idx[0]:idx[0] + len(idx)]
+        else:
+            x = recording.data[idx]
+        o = _estimation_options(force=force, responses=",".join(names), **options)
+        return _frf_estimate(_vibid.estimate_arrays(recording[force], x, recording.fs_hz, force,
+                                                    names, o))
+    o = _estimation_options(force=force, responses=",".join(names), **options)
+    return _frf_estimate(_vibid.estimate_file(str(recording), o))
+
+
+def frf_estimate_arrays(force, responses, fs_hz: float, force_name: str = "force",
+                        response_names: Optional[Sequence[str]] = None, **options) -> FrfEstimate:
+    """frf_estimate on signals in memory, SI units: ``force`` shaped (samples,), ``responses``
+    (responses, samples). float64 C-ordered arrays are read in place, without a copy."""
+    responses = np.asarray(responses)
+    if responses.ndim == 1:
+        responses = responses[None, :]
+    names = list(response_names) if response_names is not None else [
+        f"response{i + 1}" for i in range(responses.shape[0])]
+    o = _estimation_options(**options)
+    return _frf_estimate(_vibid.estimate_arrays(force, responses, fs_hz, force_name, names, o))
+
+
+def default_segment(samples: int) -> int:
+    """The Welch segment used when none is given (a power of two, at most 4096, a quarter)."""
+    return _vibid.default_segment(samples)
+
+
+@dataclasses.dataclass(repr=False)
+class Modes:
+    """``vibid modes --json`` as arrays: per mode freq_hz, omega_rad_s, zeta, ratio (a1/a2),
+    shapes (one column per mode), 95 % intervals in ``ci95`` ([lo, hi] per quantity and mode,
+    NaN where none could be estimated); ``stabilization`` holds the diagram's poles as arrays
+    (order, freq_hz, zeta, stable_freq, stable_damping, stable_shape, cluster). ``json`` is the
+    CLI's JSON object."""
+    freq_hz: np.ndarray
+    omega_rad_s: np.ndarray
+    zeta: np.ndarray
+    ratio: np.ndarray
+    shapes: np.ndarray
+    ci95: dict
+    stabilization: Optional[dict]
+    method: str
+    warnings: list
+    json: dict
+
+    def __repr__(self) -> str:
+        return _repr("Modes", method=self.method, freq_hz=self.freq_hz, zeta=self.zeta,
+                     ratio=self.ratio)
+
+
+def _num(v):
+    return np.nan if v is None else float(v)
+
+
+def _modes(j: dict) -> Modes:
+    ms = j["modes"]
+    ci = {}
+    for q in ("omega_rad_s", "zeta", "ratio"):
+        ci[q] = np.array([[np.nan, np.nan] if (m.get("ci95") or {}).get(q) is None
+                          else m["ci95"][q] for m in ms], dtype=float).reshape(-1, 2)
+    stab = None
+    if "stabilization" in j:
+        poles = j["stabilization"]["poles"]
+        stab = {k: np.array([p[k] for p in poles]) for k in
+                ("order", "freq_hz", "zeta", "stable_freq", "stable_damping", "stable_shape",
+                 "cluster")}
+        stab["band_hz"] = tuple(j["stabilization"]["band_hz"])
+        stab["selected"] = j["stabilization"]["selected"]
+    return Modes(freq_hz=np.array([m["freq_hz"] for m in ms], dtype=float),
+                 omega_rad_s=np.array([m["omega_rad_s"] for m in ms], dtype=float),
+                 zeta=np.array([m["zeta"] for m in ms], dtype=float),
+                 ratio=np.array([_num(m.get("ratio")) for m in ms], dtype=float),
+                 shapes=np.array([m["shape"] for m in ms], dtype=float).T, ci95=ci,
+                 stabilization=stab, method=j["method"], warnings=list(j["warnings"]), json=j)
+
+
+def modes(inputs, method: str = "lscf", orders: str = "", driving_point: str = "",
+          fmin_hz: Optional[float] = None, fmax_hz: Optional[float] = None,
+          force: str = "force1_n", responses="", **options) -> Modes:
+    """Modes from FRF files or recordings of one hammer test (``vibid modes``): method lscf,
+    lsce, fit or peaks; orders "MIN:MAX[:STEP]"; the driving point by column name or 1-based
+    index (default: the last response). Recordings are estimated first (``frf_estimate``'s
+    options); several inputs are joined as responses."""
+    paths = [str(inputs)] if isinstance(inputs, (str, bytes)) or hasattr(inputs, "__fspath__") \
+        else [str(p) for p in inputs]
+    names = responses if isinstance(responses, str) else ",".join(responses)
+    o = _estimation_options(force=force, responses=names, **options)
+    r = _vibid._ModeRequest()
+    r.method, r.orders, r.driving_point = method, orders, str(driving_point)
+    if fmin_hz is not None:
+        r.fmin_hz = fmin_hz
+    if fmax_hz is not None:
+        r.fmax_hz = fmax_hz
+    return _modes(_vibid.modes(paths, o, r))
+
+
+@dataclasses.dataclass(repr=False)
+class Identification:
+    """``vibid identify``'s result: the updated model, the validation table (``validation``: the
+    CLI's text; ``report``: report.json's data with every interval)."""
+    updated: Model
+    report: dict
+    validation: str
+
+    def __repr__(self) -> str:
+        return _repr("Identification", masses_kg=np.diag(self.updated.m_kg),
+                     springs=self.report.get("updated_model", {}).get("springs"))
+
+
+def identify(nominal: Model, mass_tests: dict, modal_tests: Sequence[str],
+             mass_springs: Optional[dict] = None, force: str = "force1_n",
+             mass_response: str = "", modal_responses: str = "", exp_window: float = 0.0,
+             record_s: float = 0.0, welch: bool = False, keep_bad_hits: bool = False,
+             method: str = "lscf", orders: str = "") -> Identification:
+    """Mass tests and modal tests to an updated model (``vibid identify``): ``mass_tests`` maps
+    a mass position (from 1) to its recording, ``mass_springs`` a position to its spring in N/m
+    or "fit"."""
+    r = _vibid._IdentifyRequest()
+    for pos, path in mass_tests.items():
+        r.add_mass_test(f"{pos}={path}")
+    r.mass_springs = [f"{p}={k}" for p, k in (mass_springs or {}).items()]
+    r.modal_tests = [str(p) for p in modal_tests]
+    r.mass_response, r.modal_responses = mass_response, modal_responses
+    e = r.estimation
+    e.force, e.welch, e.keep_bad_hits = force, welch, keep_bad_hits
+    e.exp_window_end, e.record_s = exp_window, record_s
+    r.estimation = e
+    m = r.modes
+    m.method, m.orders = method, orders
+    r.modes = m
+    chain, report, table = _vibid.identify(nominal._m, r)
+    return Identification(updated=Model.from_dict(chain), report=report, validation=table)
 
 
 # --- the board ----------------------------------------------------------------------------------
