@@ -127,13 +127,7 @@ struct UploadArgs {
 
 /// The rig name: --label, else the model file's name without its folder and .json, cut to fit.
 std::string RecordLabel(const UploadArgs& a) {
-  std::string label = a.label;
-  if (label.empty()) {
-    label = a.model.substr(a.model.find_last_of('/') + 1);
-    if (label.size() > 5 && label.ends_with(".json")) label.resize(label.size() - 5);
-    if (label.size() >= wire::kCalLabelBytes) label.resize(wire::kCalLabelBytes - 1);
-  }
-  return label;
+  return a.label.empty() ? device::LabelFromModelPath(a.model) : a.label;
 }
 
 /// Everything of the record that comes from files and this host (the sensors may come from the
@@ -163,10 +157,7 @@ void Run(const UploadArgs& a) {
       const wire::CalibrationRecord old = device::ActiveRecord(c, has_record);
       if (!has_record)
         throw InputError("the board is uncalibrated: give its sensors with --sensors SENSORS.json");
-      for (std::size_t k = 0; k < wire::kChannelCount; ++k) {
-        if (old.channels[k].unit != wire::Unit::kCounts)
-          in.sensors[k] = device::FromChannelScaling(old.channels[k]);
-      }
+      in.sensors = device::SensorsOfRecord(old);
     }
     const wire::CalibrationRecord rec = device::BuildCalibrationRecord(in);
     std::array<std::uint8_t, wire::kCalRecordBytes> bytes{};

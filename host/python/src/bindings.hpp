@@ -16,6 +16,7 @@ void RegisterErrors(py::module_& m);
 void RegisterModel(py::module_& m);
 void RegisterAnalysis(py::module_& m);
 void RegisterBoard(py::module_& m);
+void RegisterObserver(py::module_& m);
 
 /// A JSON document as Python objects (dict, list, float...), through Python's json module: the
 /// same objects `vibid ... --json` prints.

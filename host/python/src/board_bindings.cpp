@@ -5,6 +5,8 @@
 #include <pybind11/numpy.h>
 #include <pybind11/stl.h>
 
+#include <chrono>
+#include <cstdio>
 #include <memory>
 #include <optional>
 
@@ -13,6 +15,9 @@
 #include "bindings.hpp"
 #include "vibid/common/error.hpp"
 #include "vibid/device/acquire_plan.hpp"
+#include "vibid/device/calibration_builder.hpp"
+#include "vibid/dob/design_json.hpp"
+#include "vibid/model/model.hpp"
 #include "vibid/device/connection.hpp"
 #include "vibid/device/info_json.hpp"
 #include "vibid/device/log_table.hpp"
@@ -121,6 +126,46 @@ class Board {
     return py::make_tuple(table.names, data, fs_hz, index, instants_line, interrupted);
   }
 
+  /// Builds the record from the model, the observer design (the JSON of dob_design) and the
+  /// sensors (a sensors file's JSON; None: the scaling the board holds) and stages it
+  /// (`vibid cal upload`). Returns the label and the stored record's CRC.
+  py::dict CalUpload(const model::Model& m, const py::handle& design, const py::handle& sensors,
+                     const std::string& label) {
+    device::RecordInputs in;
+    in.model = m;
+    in.observer = dob::ObserverFromJson(FromPython(design), "design").description;
+    in.label = label;
+    in.created_unix_s = std::chrono::duration_cast<std::chrono::seconds>(
+                            std::chrono::system_clock::now().time_since_epoch())
+                            .count();
+    unsigned major = 0, minor = 0, patch = 0;
+    static_cast<void>(std::sscanf(VIBID_VERSION, "%u.%u.%u", &major, &minor, &patch));
+    in.host_major = static_cast<std::uint8_t>(major);
+    in.host_minor = static_cast<std::uint8_t>(minor);
+    in.host_patch = static_cast<std::uint16_t>(patch);
+    if (!sensors.is_none()) in.sensors = device::SensorsFromJson(FromPython(sensors), "sensors");
+    std::array<std::uint8_t, wire::kCalRecordBytes> bytes{};
+    {
+      py::gil_scoped_release release;
+      device::Connection& con = c();
+      if (sensors.is_none()) {
+        bool has_record = false;
+        const wire::CalibrationRecord old = device::ActiveRecord(con, has_record);
+        if (!has_record)
+          throw InputError(
+              "the board is uncalibrated: give its sensors with --sensors SENSORS.json");
+        in.sensors = device::SensorsOfRecord(old);
+      }
+      wire::EncodeCalibrationRecord(device::BuildCalibrationRecord(in), bytes);
+      con.CalPut(bytes);
+    }
+    py::dict d;
+    d["label"] = in.label;
+    d["bytes"] = bytes.size();
+    d["crc"] = wire::StoredRecordCrc(bytes);
+    return d;
+  }
+
   py::dict CalCommit() {
     wire::CalCommitResponse r;
     {
@@ -168,9 +213,12 @@ void RegisterBoard(py::module_& m) {
       .def("state", &Board::State)
       .def("acquire", &Board::Acquire, py::arg("settings"), py::arg("scenario"),
            py::arg("scenario_params"))
+      .def("cal_upload", &Board::CalUpload, py::arg("model"), py::arg("design"), py::arg("sensors"),
+           py::arg("label"))
       .def("cal_commit", &Board::CalCommit)
       .def("dob", &Board::Dob, py::arg("run"))
       .def("close", &Board::Close);
+  m.def("label_from_model_path", &device::LabelFromModelPath, py::arg("path"));
   m.def("list_devices", [] {
     std::vector<std::pair<std::string, std::string>> out;
     for (const device::Listing& l : device::ListDevices()) out.emplace_back(l.spec, l.description);

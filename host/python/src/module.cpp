@@ -46,4 +46,5 @@ PYBIND11_MODULE(_vibid, m) {
   vibid::python::RegisterModel(m);
   vibid::python::RegisterBoard(m);
   vibid::python::RegisterAnalysis(m);
+  vibid::python::RegisterObserver(m);
 }

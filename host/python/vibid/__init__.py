@@ -21,6 +21,8 @@ __all__ = [
     "DeviceError", "Model", "load_model", "modal", "Modal", "frf", "Frd", "simulate",
     "Simulation", "Recording", "read_recording", "Board", "list_devices", "frf_estimate",
     "FrfEstimate", "Hit", "modes", "Modes", "identify", "Identification", "default_segment",
+    "frf_estimate_arrays", "dob_design", "ObserverDesign", "dob_run", "ObserverRun", "lowpass",
+    "dob_compare", "Agreement",
 ]
 
 
@@ -458,6 +460,112 @@ def identify(nominal: Model, mass_tests: dict, modal_tests: Sequence[str],
     return Identification(updated=Model.from_dict(chain), report=report, validation=table)
 
 
+# --- the disturbance observer -------------------------------------------------------------------
+
+@dataclasses.dataclass(repr=False)
+class ObserverDesign:
+    """``vibid dob design``'s result: ``json`` is the design file's object (what ``vibid dob
+    run --design`` and ``Board.cal_upload`` take); the figures beside it as the CLI prints them."""
+    json: dict
+    max_pole_radius: float
+    valid_band_hz: tuple
+    predicted_noise_rms_n: float
+    predicted_snr_db: float
+
+    @property
+    def fs_hz(self) -> float:
+        return self.json["fs_hz"]
+
+    def save(self, path: str) -> None:
+        """Writes the design file (JSON)."""
+        import json
+        with open(path, "w") as f:
+            f.write(json.dumps(self.json, indent=2) + "\n")
+
+    def __repr__(self) -> str:
+        return _repr("ObserverDesign", fs_hz=self.fs_hz, max_pole_radius=self.max_pole_radius,
+                     valid_band_hz=self.valid_band_hz,
+                     predicted_noise_rms_n=self.predicted_noise_rms_n)
+
+
+def _choice(name, value, allowed):
+    if value not in allowed:
+        raise ValueError(f"--{name} '{value}': expected " + " or ".join(allowed))
+    return value
+
+
+def dob_design(model: Model, order: int = 5, relative_degree: int = 4, tau_s: float = 0.002,
+               fs_hz: float = 5000.0, input_dof: int = 2, output_dof: int = 2,
+               sensor: str = "disp", form: str = "siso", discretize: str = "tustin",
+               prototype: str = "butterworth", leak_hz: float = 0.05, force_fs_n: float = 100.0,
+               sensor_fs: float = 0.0, output_fs_n: float = 0.0) -> ObserverDesign:
+    """Designs the observer for a model and quantizes it for the board (``vibid dob design``,
+    same defaults): Q of order N and relative degree r with cut-off 1/tau_s rad/s, at fs_hz; the
+    force acts on mass input_dof, the sensor on output_dof (from 1); full scales in N (force,
+    output) and the sensor's unit (0: the sensor kind's default)."""
+    for name, dof in (("input-dof", input_dof), ("output-dof", output_dof)):
+        if not 1 <= dof <= model.dofs:
+            raise ValueError(f"--{name} {dof} is out of range 1..{model.dofs}")
+    o = _vibid._DobOptions()
+    o.order, o.relative_degree, o.tau_s, o.fs_hz = order, relative_degree, tau_s, fs_hz
+    o.input_dof, o.output_dof, o.sensor, o.leak_hz = input_dof - 1, output_dof - 1, sensor, leak_hz
+    o.mimo = _choice("form", form, ("siso", "mimo")) == "mimo"
+    o.zoh = _choice("discretize", discretize, ("tustin", "zoh")) == "zoh"
+    o.binomial = _choice("prototype", prototype, ("butterworth", "binomial")) == "binomial"
+    o.force_full_scale_n, o.sensor_full_scale, o.output_full_scale_n = \
+        force_fs_n, sensor_fs, output_fs_n
+    j, radius, lo, hi, noise, snr = _vibid.dob_design(model._m, o)
+    return ObserverDesign(json=j, max_pole_radius=radius, valid_band_hz=(lo, hi),
+                          predicted_noise_rms_n=noise, predicted_snr_db=snr)
+
+
+@dataclasses.dataclass(repr=False)
+class ObserverRun:
+    """The observer's estimate d_hat in N, and (fixed point) the board's integer output."""
+    d_hat_n: np.ndarray
+    d_hat_q31: Optional[np.ndarray]
+    saturations: int
+
+    def __repr__(self) -> str:
+        return _repr("ObserverRun", samples=self.d_hat_n.size, saturations=self.saturations)
+
+
+def dob_run(design, responses, force, fixed: bool = True) -> ObserverRun:
+    """Replays the observer on signals in SI units (``vibid dob run``): ``responses`` one array
+    per sensor input of the design (or one array), ``force`` the measured force (N). Fixed point
+    by default: the board's own kernel, so ``d_hat_q31`` equals a board's logged ``d_hat_q31``
+    bit for bit; ``fixed=False`` runs the unquantized design in double precision."""
+    j = design.json if isinstance(design, ObserverDesign) else design
+    rs = [responses] if isinstance(responses, np.ndarray) and responses.ndim == 1 else list(responses)
+    inputs = [np.ascontiguousarray(x, dtype=float) for x in rs] + [
+        np.ascontiguousarray(force, dtype=float)]
+    if fixed:
+        d, q, sat = _vibid.dob_run_fixed(j, inputs)
+        return ObserverRun(d_hat_n=d, d_hat_q31=q, saturations=sat)
+    return ObserverRun(d_hat_n=_vibid.dob_run_float(j, inputs), d_hat_q31=None, saturations=0)
+
+
+def lowpass(x, cutoff_hz: float, fs_hz: float, order: int = 4) -> np.ndarray:
+    """Zero-phase Butterworth low-pass (``vibid dob run --lowpass-hz``)."""
+    return _vibid.lowpass(np.ascontiguousarray(x, dtype=float), cutoff_hz, fs_hz, order)
+
+
+@dataclasses.dataclass
+class Agreement:
+    """``vibid dob compare``: NRMSE fit (%), correlation, lag of the estimate (s), rms error (N)."""
+    fit_percent: float
+    correlation: float
+    delay_s: float
+    rmse_n: float
+
+
+def dob_compare(estimate, measured, fs_hz: float, max_delay_s: float = 0.0) -> Agreement:
+    """Agreement of an estimated disturbance with a measured force (``vibid dob compare``)."""
+    return Agreement(**_vibid.dob_compare(np.ascontiguousarray(estimate, dtype=float),
+                                          np.ascontiguousarray(measured, dtype=float), fs_hz,
+                                          max_delay_s))
+
+
 # --- the board ----------------------------------------------------------------------------------
 
 def list_devices() -> list:
@@ -514,6 +622,23 @@ class Board:
             e.recording = rec
             raise e
         return rec
+
+    def cal_upload(self, model, design, sensors=None, label: str = "") -> dict:
+        """Builds the calibration record and stages it on the board (``vibid cal upload``):
+        ``model`` a Model or a model file, ``design`` an ObserverDesign (or its JSON),
+        ``sensors`` a sensors file's path or its JSON object (None: the scaling the board
+        already holds); the label defaults to the model file's name. cal_commit() makes it
+        permanent."""
+        import json
+        if isinstance(model, Model):
+            m, default_label = model, "model"
+        else:
+            m, default_label = load_model(model), _vibid.label_from_model_path(str(model))
+        if sensors is not None and not isinstance(sensors, dict):
+            with open(sensors) as f:
+                sensors = json.load(f)
+        j = design.json if isinstance(design, ObserverDesign) else design
+        return self._b.cal_upload(m._m, j, sensors, label or default_label)
 
     def cal_commit(self) -> dict:
         """Writes the staged calibration record to flash (``vibid cal commit``)."""
