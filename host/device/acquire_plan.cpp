@@ -114,7 +114,9 @@ wire::AcqConfigureRequest PlanAcquisition(const AcquireSettings& a, Trigger& tri
 wire::CalibrationRecord ActiveRecord(Connection& c, bool& has_record) {
   wire::CalibrationRecord r;
   has_record = false;
-  if (c.info().cal_state != wire::CalState::kCalibrated) return r;
+  // Asked now, not taken from the connection's opening get-info: a commit since then (through
+  // this connection or another) changes it.
+  if (c.GetInfo().cal_state != wire::CalState::kCalibrated) return r;
   const std::vector<std::uint8_t> bytes = c.CalGet();
   if (wire::DecodeCalibrationRecord(bytes, r) != Status::kOk) {
     throw DeviceError("the board's active calibration record does not decode");

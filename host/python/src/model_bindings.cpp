@@ -94,7 +94,7 @@ py::tuple ReadRecording(const std::string& path, std::optional<double> fs_hz,
 
 /// Writes columns (rows of `data`) as a CSV vibid reads back bit-identical.
 void WriteCsv(const std::string& path, const std::vector<std::string>& names,
-              const py::array_t<double, py::array::c_style>& data) {
+              const py::array_t<double, py::array::c_style>& data, const std::string& header) {
   Require(data.ndim() == 2, "data must be 2-D (channels, samples)");
   Require(static_cast<std::size_t>(data.shape(0)) == names.size(),
           "data has " + std::to_string(data.shape(0)) + " rows for " +
@@ -102,7 +102,7 @@ void WriteCsv(const std::string& path, const std::vector<std::string>& names,
   std::vector<Eigen::VectorXd> columns;
   for (py::ssize_t c = 0; c < data.shape(0); ++c)
     columns.emplace_back(Eigen::Map<const Eigen::VectorXd>(data.data(c, 0), data.shape(1)));
-  const std::string text = FormatCsv(names, columns);
+  const std::string text = header + FormatCsv(names, columns);
   py::module_::import("pathlib").attr("Path")(path).attr("write_text")(text);
 }
 
@@ -147,7 +147,8 @@ void RegisterModel(py::module_& m) {
         py::arg("t_end_s"), py::arg("method"), py::arg("x0_m"), py::arg("v0_m_s"));
   m.def("read_recording", &ReadRecording, py::arg("path"), py::arg("fs_hz"), py::arg("time_column"),
         py::arg("channels"));
-  m.def("write_csv", &WriteCsv, py::arg("path"), py::arg("names"), py::arg("data"));
+  m.def("write_csv", &WriteCsv, py::arg("path"), py::arg("names"), py::arg("data"),
+        py::arg("header"));
 }
 
 }  // namespace vibid::python

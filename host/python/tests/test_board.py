@@ -31,6 +31,9 @@ def test_acquisition_equals_cli_csv(make_emulator, tmp_path):
     assert py.samples == 2500
     assert py.fs_hz == 5000.0
     np.testing.assert_array_equal(py.data, cli.data)
+    # Written out, the file is vibid acquire's to the byte (sampling-instant line included).
+    py.write_csv(tmp_path / "py.csv")
+    assert (tmp_path / "py.csv").read_bytes() == out.read_bytes()
     # The board's tick of every record: consecutive, none dropped.
     np.testing.assert_array_equal(np.diff(py.sample_index.astype(np.int64)), 1)
 

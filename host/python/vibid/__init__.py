@@ -189,6 +189,7 @@ class Recording:
     t0_s: float = 0.0
     sample_index: Optional[np.ndarray] = None  #: the board's tick of each record (acquisitions)
     sample_instants: str = ""  #: the board's sampling-instant header line (acquisitions)
+    t_s: Optional[np.ndarray] = None  #: the recording's own time column, when it has one
 
     def __getitem__(self, name: str) -> np.ndarray:
         """One channel by column name (a view, no copy)."""
@@ -203,6 +204,9 @@ class Recording:
         return self.data.shape[1]
 
     def time_s(self) -> np.ndarray:
+        """The time of each sample, s: the recording's own column, else t0_s + i / fs_hz."""
+        if self.t_s is not None:
+            return self.t_s
         return self.t0_s + np.arange(self.samples) / self.fs_hz
 
     def to_sep005(self) -> list:
@@ -227,9 +231,11 @@ class Recording:
         return cls(names=[c["name"] for c in chans], data=data, fs_hz=fs.pop())
 
     def write_csv(self, path: str) -> None:
-        """Writes the recording as a vibid CSV (t_s first) that reads back bit-identical."""
+        """Writes the recording as a vibid CSV (t_s first, after the board's sampling-instant line
+        when it has one) that reads back bit-identical: an acquisition's file is the one
+        ``vibid acquire`` writes."""
         _vibid.write_csv(str(path), ["t_s"] + list(self.names),
-                         np.vstack([self.time_s()[None, :], self.data]))
+                         np.vstack([self.time_s()[None, :], self.data]), self.sample_instants)
 
     def __repr__(self) -> str:
         return _repr("Recording", names=self.names, samples=self.samples, fs_hz=self.fs_hz)
@@ -242,7 +248,8 @@ def read_recording(path: str, fs_hz: Optional[float] = None, time_column: str = 
     names, data, fs, t0 = _vibid.read_recording(str(path), fs_hz, time_column,
                                                list(channels or []))
     keep = [i for i, n in enumerate(names) if n != time_column]
-    return Recording(names=[names[i] for i in keep], data=data[keep], fs_hz=fs, t0_s=t0)
+    t = data[names.index(time_column)] if time_column in names and fs_hz is None else None
+    return Recording(names=[names[i] for i in keep], data=data[keep], fs_hz=fs, t0_s=t0, t_s=t)
 
 
 # --- FRF estimation, modes, identification ------------------------------------------------------
@@ -474,7 +481,7 @@ class ObserverDesign:
 
     @property
     def fs_hz(self) -> float:
-        return self.json["fs_hz"]
+        return self.json["options"]["fs_hz"]
 
     def save(self, path: str) -> None:
         """Writes the design file (JSON)."""
@@ -616,7 +623,7 @@ class Board:
             s, scenario, [float(p) for p in scenario_params])
         rec = Recording(names=names[1:], data=data[1:], fs_hz=fs,
                         t0_s=float(data[0, 0]) if data.shape[1] else 0.0,
-                        sample_index=index, sample_instants=instants)
+                        sample_index=index, sample_instants=instants, t_s=data[0])
         if interrupted:
             e = KeyboardInterrupt(f"acquisition stopped by Ctrl-C: kept {rec.samples} records")
             e.recording = rec
