@@ -13,6 +13,7 @@
 #include "vibid/common/error.hpp"
 #include "vibid/ident/identify.hpp"
 #include "vibid/model/model.hpp"
+#include "vibid/workflow/decay_run.hpp"
 #include "vibid/workflow/estimate.hpp"
 #include "vibid/workflow/identify_run.hpp"
 #include "vibid/workflow/modes_request.hpp"
@@ -179,6 +180,32 @@ void RegisterAnalysis(py::module_& m) {
       .def_readwrite("modal_responses", &I::modal_responses)
       .def_readwrite("estimation", &I::estimation)
       .def_readwrite("modes", &I::modes);
+  using D = workflow::DecayRequest;
+  py::class_<D>(m, "_DecayRequest")
+      .def(py::init<>())
+      .def_readwrite("recordings", &D::recordings)
+      .def_readwrite("loaded", &D::loaded)
+      .def_readwrite("position", &D::position)
+      .def_readwrite("scale", &D::scale)
+      .def_readwrite("fs_hz", &D::fs_hz)
+      .def_readwrite("added_kg", &D::added_kg)
+      .def_property(
+          "cycles", [](const D& d) { return d.options.cycles; },
+          [](D& d, int v) { d.options.cycles = v; })
+      .def_property(
+          "end_fraction", [](const D& d) { return d.options.end_fraction; },
+          [](D& d, double v) { d.options.end_fraction = v; });
+  m.def(
+      "decay",
+      [](const D& request) {
+        nlohmann::json j;
+        {
+          py::gil_scoped_release release;
+          j = workflow::RunDecay(request);
+        }
+        return ToPython(j);
+      },
+      py::arg("request"));
   m.def("estimate_file", &EstimateFile, py::arg("path"), py::arg("options"));
   m.def("estimate_arrays", &EstimateArrays, py::arg("force").noconvert(false), py::arg("responses"),
         py::arg("fs_hz"), py::arg("force_name"), py::arg("response_names"), py::arg("options"));

@@ -22,7 +22,7 @@ __all__ = [
     "Simulation", "Recording", "read_recording", "Board", "list_devices", "frf_estimate",
     "FrfEstimate", "Hit", "modes", "Modes", "identify", "Identification", "default_segment",
     "frf_estimate_arrays", "dob_design", "ObserverDesign", "dob_run", "ObserverRun", "lowpass",
-    "dob_compare", "Agreement",
+    "dob_compare", "Agreement", "decay", "Decay",
 ]
 
 
@@ -465,6 +465,44 @@ def identify(nominal: Model, mass_tests: dict, modal_tests: Sequence[str],
     r.modes = m
     chain, report, table = _vibid.identify(nominal._m, r)
     return Identification(updated=Model.from_dict(chain), report=report, validation=table)
+
+
+@dataclasses.dataclass(repr=False)
+class Decay:
+    """``vibid decay --json``: damped and natural frequency (rad/s) and damping ratio, averaged
+    over the records (``records``: each fit), and with loaded records ``k_n_per_m`` and
+    ``base_mass_kg``. ``json`` is the CLI's object."""
+    omega_d_rad_s: float
+    omega_n_rad_s: float
+    zeta: float
+    records: list
+    k_n_per_m: Optional[float]
+    base_mass_kg: Optional[float]
+    json: dict
+
+    def __repr__(self) -> str:
+        return _repr("Decay", omega_n_rad_s=self.omega_n_rad_s, zeta=self.zeta,
+                     records=len(self.records), k_n_per_m=self.k_n_per_m,
+                     base_mass_kg=self.base_mass_kg)
+
+
+def decay(recordings, position: str, scale: float = 1.0, fs_hz: Optional[float] = None,
+          cycles: int = 3, end_fraction: float = 0.1, loaded: Sequence[str] = (),
+          added_kg: float = 0.0) -> Decay:
+    """Free decay after a pull and release (``vibid decay``, same defaults): finds the release
+    and fits x0 + A exp(-sigma t) cos(omega_d t + phi) over the first ``cycles``; ``position`` is
+    the column spec NAME[:UNIT|*FACTOR]. With ``loaded`` records (``added_kg`` more on the same
+    spring) also the spring (N/m) and the base mass (kg)."""
+    r = _vibid._DecayRequest()
+    r.recordings = [str(recordings)] if isinstance(recordings, (str, bytes)) or hasattr(
+        recordings, "__fspath__") else [str(p) for p in recordings]
+    r.loaded = [str(p) for p in loaded]
+    r.position, r.scale, r.fs_hz, r.added_kg = position, scale, fs_hz or 0.0, added_kg
+    r.cycles, r.end_fraction = cycles, end_fraction
+    j = _vibid.decay(r)
+    return Decay(omega_d_rad_s=j["omega_d_rad_s"], omega_n_rad_s=j["omega_n_rad_s"], zeta=j["zeta"],
+                 records=j["records"], k_n_per_m=j.get("k_n_per_m"),
+                 base_mass_kg=j.get("base_mass_kg"), json=j)
 
 
 # --- the disturbance observer -------------------------------------------------------------------
