@@ -72,6 +72,8 @@ nlohmann::json SetJson(const DecaySet& s, const std::vector<std::string>& paths)
 }  // namespace
 
 nlohmann::json RunDecay(const DecayRequest& r) {
+  // An average of nothing would read as omega 0: refused.
+  Require(!r.recordings.empty(), "no recordings: give at least one pull-and-release record");
   Require(r.loaded.empty() || r.added_kg > 0.0, "--loaded needs --added-kg");
   Require(r.added_kg == 0.0 || !r.loaded.empty(), "--added-kg needs --loaded records");
   const DecaySet base = AnalyzeAll(r.recordings, r);

@@ -6,9 +6,14 @@
 #include <pybind11/stl.h>
 
 #include <chrono>
+#include <condition_variable>
 #include <cstdio>
+#include <deque>
+#include <exception>
 #include <memory>
+#include <mutex>
 #include <optional>
+#include <thread>
 
 #include <nlohmann/json.hpp>
 
@@ -25,6 +30,134 @@
 
 namespace vibid::python {
 namespace {
+
+/// Log records as a recording: (names, data (channels, samples), sample_index), converted through
+/// the board's calibration by the device layer (the CSV `vibid acquire` writes holds the same).
+py::tuple RecordsTable(const device::LogPull& pull, const wire::CalibrationRecord& record,
+                       bool has_record) {
+  const device::LogTable table = device::MakeLogTable(pull, record, has_record);
+  const auto n = static_cast<py::ssize_t>(pull.records.size());
+  const auto k = static_cast<py::ssize_t>(table.columns.size());
+  py::array_t<double> data({k, n});
+  for (py::ssize_t col = 0; col < k && n > 0; ++col) {
+    const Eigen::VectorXd& v = table.columns[static_cast<std::size_t>(col)];
+    std::copy(v.data(), v.data() + n, data.mutable_data(col, 0));
+  }
+  py::array_t<std::uint32_t> index(n);
+  for (py::ssize_t i = 0; i < n; ++i)
+    index.mutable_data()[i] = pull.records[static_cast<std::size_t>(i)].sample_index;
+  return py::make_tuple(table.names, data, index);
+}
+
+/// A streamed acquisition running on its own thread: the records come out in blocks as the
+/// board's reports arrive (Connection's RecordSink), and the board is stopped when the stream is
+/// stopped or dropped before its end.
+class Stream {
+ public:
+  Stream(device::Connection& c, const wire::AcqConfigureRequest& cfg,
+         const wire::CalibrationRecord& record, bool has_record)
+      : cfg_(cfg), record_(record), has_record_(has_record) {
+    thread_ = std::thread([this, &c] {
+      try {
+        device::LogPull pull = c.AcquireStreamed(
+            {}, [this](const wire::LogTrailer*) { return stop_.load(); },
+            [this](std::span<const wire::LogRecord> records, std::uint32_t first) {
+              std::lock_guard lock(mutex_);
+              blocks_.emplace_back(first,
+                                   std::vector<wire::LogRecord>(records.begin(), records.end()));
+              ready_.notify_one();
+            });
+        std::lock_guard lock(mutex_);
+        pull_ = std::move(pull);
+      } catch (...) {
+        try {
+          c.StopAcquisition();  // the board is left idle whenever it can still be reached
+        } catch (const device::DeviceError&) {
+        }
+        std::lock_guard lock(mutex_);
+        error_ = std::current_exception();
+      }
+      std::lock_guard lock(mutex_);
+      done_ = true;
+      ready_.notify_one();
+    });
+  }
+
+  ~Stream() {
+    stop_ = true;
+    if (thread_.joinable()) thread_.join();
+  }
+
+  Stream(const Stream&) = delete;
+  Stream& operator=(const Stream&) = delete;
+
+  /// ("block", first log index, names, data, sample_index), ("wait",) when nothing came within
+  /// `timeout_s`, ("end",) when the acquisition is over and every block was taken.
+  py::tuple Next(double timeout_s) {
+    std::optional<std::pair<std::uint32_t, std::vector<wire::LogRecord>>> block;
+    bool end = false;
+    {
+      py::gil_scoped_release release;
+      std::unique_lock lock(mutex_);
+      ready_.wait_for(lock, std::chrono::duration<double>(timeout_s),
+                      [this] { return !blocks_.empty() || done_; });
+      if (!blocks_.empty()) {
+        block = std::move(blocks_.front());
+        blocks_.pop_front();
+      } else {
+        end = done_;
+      }
+    }
+    if (!block) return end ? py::make_tuple("end") : py::make_tuple("wait");
+    device::LogPull pull = Shape();
+    pull.records = std::move(block->second);
+    const py::tuple t = RecordsTable(pull, record_, has_record_);
+    return py::make_tuple("block", block->first, t[0], t[1], t[2]);
+  }
+
+  void Stop() { stop_ = true; }
+
+  double FsHz() const { return 1e6 / cfg_.sample_period_us / cfg_.decimation; }
+
+  /// Waits for the end; rethrows the acquisition's error; returns the records of the final pull
+  /// from log index `next` on (those no block delivered) and whether it was stopped.
+  py::tuple Finish(std::uint32_t next) {
+    {
+      py::gil_scoped_release release;
+      if (thread_.joinable()) thread_.join();
+    }
+    if (error_) std::rethrow_exception(error_);
+    device::LogPull rest = Shape();
+    rest.first_record = next;
+    for (std::size_t i = 0; i < pull_.records.size(); ++i) {
+      if (pull_.first_record + i >= next) rest.records.push_back(pull_.records[i]);
+    }
+    const py::tuple t = RecordsTable(rest, record_, has_record_);
+    return py::make_tuple(t[0], t[1], t[2], pull_.stopped);
+  }
+
+ private:
+  /// An empty pull of the configured acquisition (layout, period, decimation) for its records.
+  device::LogPull Shape() const {
+    device::LogPull p;
+    p.layout = wire::LogLayout{cfg_.channel_mask, cfg_.flags};
+    p.trailer.sample_period_us = cfg_.sample_period_us;
+    p.trailer.decimation = cfg_.decimation;
+    return p;
+  }
+
+  wire::AcqConfigureRequest cfg_;
+  wire::CalibrationRecord record_;
+  bool has_record_;
+  std::atomic<bool> stop_{false};
+  std::mutex mutex_;
+  std::condition_variable ready_;
+  std::deque<std::pair<std::uint32_t, std::vector<wire::LogRecord>>> blocks_;
+  bool done_ = false;
+  std::exception_ptr error_;
+  device::LogPull pull_;
+  std::thread thread_;
+};
 
 class Board {
  public:
@@ -109,21 +242,13 @@ class Board {
       }
       instants = con.GetSamplingInfo();
     }
-    const device::LogTable table = device::MakeLogTable(pull, record, has_record);
-    const auto n = static_cast<py::ssize_t>(pull.records.size());
-    const auto k = static_cast<py::ssize_t>(table.columns.size());
-    py::array_t<double> data({k, n});
-    for (py::ssize_t col = 0; col < k; ++col) {
-      const Eigen::VectorXd& v = table.columns[static_cast<std::size_t>(col)];
-      std::copy(v.data(), v.data() + n, data.mutable_data(col, 0));
-    }
-    py::array_t<std::uint32_t> index(n);
-    for (py::ssize_t i = 0; i < n; ++i)
-      index.mutable_data()[i] = pull.records[static_cast<std::size_t>(i)].sample_index;
+    const py::tuple t = RecordsTable(pull, record, has_record);
     const double fs_hz = 1e6 / cfg.sample_period_us / cfg.decimation;
     const std::string instants_line =
-        instants ? device::SampleInstantsLine(table, pull, *instants) : std::string();
-    return py::make_tuple(table.names, data, fs_hz, index, instants_line, interrupted);
+        instants ? device::SampleInstantsLine(device::MakeLogTable(pull, record, has_record), pull,
+                                              *instants)
+                 : std::string();
+    return py::make_tuple(t[0], t[1], fs_hz, t[2], instants_line, interrupted);
   }
 
   /// Builds the record from the model, the observer design (the JSON of dob_design) and the
@@ -166,6 +291,26 @@ class Board {
     return d;
   }
 
+  /// Plans, preflights and configures the acquisition as Acquire does, then starts it on its own
+  /// thread; the Stream hands out its records as they arrive.
+  std::unique_ptr<Stream> StreamStart(const device::AcquireSettings& settings,
+                                      const std::string& scenario,
+                                      const std::vector<float>& scenario_params) {
+    device::Trigger trig;
+    wire::AcqConfigureRequest cfg = device::PlanAcquisition(settings, trig);
+    Require(scenario_params.size() <= 4, "--scenario-param takes at most 4 values");
+    py::gil_scoped_release release;
+    device::Connection& con = c();
+    bool has_record = false;
+    const wire::CalibrationRecord record = device::ActiveRecord(con, has_record);
+    device::ApplyCalibration(record, has_record, settings.no_dob, trig, cfg);
+    device::Preflight(con.info(), cfg, settings);
+    cfg.flags = static_cast<std::uint8_t>(cfg.flags | wire::kAcqFlagStream);
+    if (!scenario.empty()) con.SelectScenario(scenario, scenario_params);
+    con.Configure(cfg);
+    return std::make_unique<Stream>(con, cfg, record, has_record);
+  }
+
   py::dict CalCommit() {
     wire::CalCommitResponse r;
     {
@@ -206,7 +351,14 @@ void RegisterBoard(py::module_& m) {
       .def_readwrite("pretrigger_s", &device::AcquireSettings::pretrigger_s)
       .def_readwrite("no_dob", &device::AcquireSettings::no_dob)
       .def_readwrite("allow_drops", &device::AcquireSettings::allow_drops);
+  py::class_<Stream>(m, "_Stream")
+      .def("next", &Stream::Next, py::arg("timeout_s"))
+      .def("stop", &Stream::Stop)
+      .def_property_readonly("fs_hz", &Stream::FsHz)
+      .def("finish", &Stream::Finish, py::arg("next"));
   py::class_<Board>(m, "_Board")
+      .def("stream_start", &Board::StreamStart, py::arg("settings"), py::arg("scenario"),
+           py::arg("scenario_params"), py::keep_alive<0, 1>())
       .def(py::init<const std::string&>(), py::arg("url"))
       .def("describe", &Board::Describe)
       .def("info", &Board::Info)

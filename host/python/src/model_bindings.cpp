@@ -96,6 +96,7 @@ py::tuple ReadRecording(const std::string& path, std::optional<double> fs_hz,
 void WriteCsv(const std::string& path, const std::vector<std::string>& names,
               const py::array_t<double, py::array::c_style>& data, const std::string& header) {
   Require(data.ndim() == 2, "data must be 2-D (channels, samples)");
+  Require(data.shape(1) > 0, "the recording is empty (no samples)");
   Require(static_cast<std::size_t>(data.shape(0)) == names.size(),
           "data has " + std::to_string(data.shape(0)) + " rows for " +
               std::to_string(names.size()) + " names");

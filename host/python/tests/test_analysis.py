@@ -82,6 +82,12 @@ BAD_INPUTS = [
     (lambda: vibid.modes(LADISK, force="force_N", responses="acceleration_g:g", method="magic"),
      ValueError, "magic"),
     (lambda: vibid.Recording.from_sep005([]), ValueError, "no channels"),
+    (lambda: vibid.Recording(["x1_m"], np.zeros((1, 0)), 100.0).write_csv("/tmp/never.csv"),
+     ValueError, "the recording is empty (no samples)"),
+    (lambda: vibid.Board("bogus://x"), ValueError, "bogus://x"),
+    (lambda: vibid.dob_design(vibid.load_model(ROOT / "examples" / "rig_nominal.json"),
+                              input_dof=3), ValueError, "--input-dof 3 is out of range 1..2"),
+    (lambda: vibid.decay([], position="x1_m"), ValueError, "no recordings"),
 ]
 
 

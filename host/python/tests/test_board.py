@@ -87,3 +87,33 @@ def test_ctrl_c_stops_the_board_and_it_stays_usable(make_emulator):
         assert board.state() in ("idle", "done")
         again = board.acquire(seconds=0.2, rate_hz=1000, channels=["force1"], no_dob=True)
         assert again.samples == 200
+
+
+def test_stream_delivers_every_record_as_acquire_does(make_emulator):
+    # The same hammer test streamed and acquired from two emulators of one seed: the blocks,
+    # joined, are the acquisition, record for record.
+    args = dict(seconds=2, rate_hz=5000, channels=["force1", "acc1", "acc2"], no_dob=True,
+                scenario="hammer", scenario_params=[2, 200, 0.5, 0])
+    with vibid.Board(make_emulator(seed=3).url) as board:
+        whole = board.acquire(**args)
+    with vibid.Board(make_emulator(seed=3).url) as board:
+        blocks = list(board.stream(**args))
+        assert board.state() in ("idle", "done")
+    assert len(blocks) > 10  # delivered piecewise, not at the end only
+    assert all(b.names == whole.names for b in blocks)
+    np.testing.assert_array_equal(np.hstack([b.data for b in blocks]), whole.data)
+    np.testing.assert_array_equal(np.concatenate([b.sample_index for b in blocks]),
+                                  whole.sample_index)
+
+
+def test_stream_left_early_stops_the_board(make_emulator):
+    emulator = make_emulator(realtime=True)
+    with vibid.Board(emulator.url) as board:
+        got = 0
+        for b in board.stream(seconds=20, rate_hz=1000, channels=["force1"], no_dob=True):
+            got += b.samples
+            if got >= 300:
+                break
+        assert board.state() in ("idle", "done")
+        assert board.acquire(seconds=0.1, rate_hz=1000, channels=["force1"],
+                             no_dob=True).samples == 100

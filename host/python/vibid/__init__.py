@@ -10,7 +10,7 @@ vibid.DeviceError.
 from __future__ import annotations
 
 import dataclasses
-from typing import Iterable, Optional, Sequence
+from typing import Iterable, Iterator, Optional, Sequence
 
 import numpy as np
 
@@ -667,6 +667,54 @@ class Board:
             e.recording = rec
             raise e
         return rec
+
+    def stream(self, seconds: float, rate_hz: float = 5000.0, log_rate_hz: float = 0.0,
+               decimation: int = 0, channels: Optional[Sequence[str]] = None,
+               trigger: str = "", pretrigger_s: float = 0.0, no_dob: bool = False,
+               allow_drops: bool = False, scenario: str = "",
+               scenario_params: Sequence[float] = ()) -> Iterator[Recording]:
+        """The acquisition of ``acquire`` (same options, preflight and calibration), yielding
+        its records in blocks (Recordings, ``sample_index`` the board's ticks) as the board's
+        reports arrive; every record exactly once, in order. Leaving the loop early (``break``,
+        an exception, Ctrl-C) stops the board; the records after the last block are then not
+        yielded."""
+        s = _vibid._AcquireSettings()
+        s.seconds, s.rate_hz, s.log_rate_hz, s.decimation = seconds, rate_hz, log_rate_hz, decimation
+        s.channels = list(channels or [])
+        s.trigger, s.pretrigger_s, s.no_dob, s.allow_drops = trigger, pretrigger_s, no_dob, allow_drops
+        st = self._b.stream_start(s, scenario, [float(p) for p in scenario_params])
+        fs = st.fs_hz
+        next_index = 0
+        finished = False
+
+        def block(names, data, index):
+            return Recording(names=names[1:], data=data[1:], fs_hz=fs,
+                             t0_s=float(data[0, 0]) if data.shape[1] else 0.0,
+                             sample_index=index, t_s=data[0])
+        try:
+            while True:
+                r = st.next(0.1)
+                if r[0] == "end":
+                    break
+                if r[0] == "wait":
+                    continue
+                _, first, names, data, index = r
+                skip = max(0, next_index - first)  # a resumed stream may send a record again
+                if skip >= index.size:
+                    continue
+                next_index = first + index.size
+                yield block(names, data[:, skip:], index[skip:])
+            names, data, index, _ = st.finish(next_index)
+            finished = True
+            if index.size:
+                yield block(names, data, index)
+        finally:
+            if not finished:
+                st.stop()
+                try:
+                    st.finish(next_index)
+                except DeviceError:
+                    pass
 
     def cal_upload(self, model, design, sensors=None, label: str = "") -> dict:
         """Builds the calibration record and stages it on the board (``vibid cal upload``):
