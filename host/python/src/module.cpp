@@ -25,6 +25,9 @@ void RegisterErrors(py::module_& m) {
   // Board errors are vibid.DeviceError; bad input is ValueError with the CLI's message; Ctrl-C
   // during a transfer is KeyboardInterrupt.
   static py::exception<device::DeviceError> device_error(m, "DeviceError", PyExc_RuntimeError);
+  device_error.attr("__doc__") =
+      "A board failed: none found, a transfer that timed out or broke off, a refused request, "
+      "another protocol major. The message names what failed, as the CLI prints it.";
   py::register_exception_translator([](std::exception_ptr p) {
     try {
       if (p) std::rethrow_exception(p);
