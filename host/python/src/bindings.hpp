@@ -17,6 +17,7 @@ void RegisterModel(py::module_& m);
 void RegisterAnalysis(py::module_& m);
 void RegisterBoard(py::module_& m);
 void RegisterObserver(py::module_& m);
+void RegisterSysid(py::module_& m);
 
 /// A JSON document as Python objects (dict, list, float...), through Python's json module: the
 /// same objects `vibid ... --json` prints.

@@ -28,7 +28,7 @@ py::tuple Design(const model::Model& m, const dob::DobOptions& o) {
     py::gil_scoped_release release;
     design = dob::DesignObserver(dob::PlantFromModel(m, o.input_dof, o.output_dof), o);
   }
-  if (!design.stable) throw InputError("observer refused: " + design.message);
+  if (!design.stable) throw NumericalError("observer refused: " + design.message);
   return py::make_tuple(ToPython(dob::DesignToJson(design)), design.max_pole_radius,
                         design.valid_band_lo_hz, design.valid_band_hi_hz,
                         design.fixed.predicted_noise_rms_n, design.fixed.predicted_snr_db);

@@ -28,11 +28,17 @@ void RegisterErrors(py::module_& m) {
   device_error.attr("__doc__") =
       "A board failed: none found, a transfer that timed out or broke off, a refused request, "
       "another protocol major. The message names what failed, as the CLI prints it.";
+  static py::exception<NumericalError> numerical_error(m, "NumericalError", PyExc_ArithmeticError);
+  numerical_error.attr("__doc__") =
+      "A computation ran on valid input but produced no usable result (a solver's failure, an "
+      "observer the design refuses); the message says why, as the CLI prints it.";
   py::register_exception_translator([](std::exception_ptr p) {
     try {
       if (p) std::rethrow_exception(p);
     } catch (const InputError& e) {
       PyErr_SetString(PyExc_ValueError, e.what());
+    } catch (const NumericalError& e) {
+      numerical_error(e.what());
     } catch (const device::Interrupted& e) {
       PyErr_SetString(PyExc_KeyboardInterrupt, e.what());
     } catch (const device::DeviceError& e) {
@@ -50,4 +56,5 @@ PYBIND11_MODULE(_vibid, m) {
   vibid::python::RegisterBoard(m);
   vibid::python::RegisterAnalysis(m);
   vibid::python::RegisterObserver(m);
+  vibid::python::RegisterSysid(m);
 }

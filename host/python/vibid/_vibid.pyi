@@ -8,6 +8,7 @@ import numpy.typing as npt
 F64 = npt.NDArray[np.float64]
 
 class DeviceError(RuntimeError): ...
+class NumericalError(ArithmeticError): ...
 
 class _Model:
     m_kg: F64
@@ -94,6 +95,20 @@ class _DecayRequest:
     cycles: int
     end_fraction: float
 
+class _SysidRecord:
+    path: str
+    input: str
+    output: str
+    fs_hz: Optional[float]
+    detrend: str
+    decimate: int
+
+class _PolyRequest:
+    record: _SysidRecord
+    estimate_range: str
+    validate_range: str
+    d2c: bool
+
 class _DobOptions:
     order: int
     relative_degree: int
@@ -134,3 +149,10 @@ def lowpass(x: F64, cutoff_hz: float, fs_hz: float, order: int) -> F64: ...
 def dob_compare(estimate: F64, measured: F64, fs_hz: float, max_delay_s: float) -> dict: ...
 def label_from_model_path(path: str) -> str: ...
 def list_devices() -> List[Tuple[str, str]]: ...
+def arx(poly: _PolyRequest, na: int, nb: int, nk: int, select: str,
+        max_order: int) -> Tuple[dict, str]: ...
+def pem(poly: _PolyRequest, structure: str, orders: str, max_iterations: int) -> Tuple[dict, str]: ...
+def tfest(record: _SysidRecord, np: int, nz: int, ic: str, estimate_range: str,
+          validate_range: str, max_iterations: int) -> Tuple[dict, str]: ...
+def compare(record: _SysidRecord, model: str, horizon: str, method: str, substeps: int, ic: str,
+            range: str, input_dof: int, output_dof: int) -> Tuple[dict, str, F64, F64, F64]: ...
