@@ -13,7 +13,9 @@
 #include "vibid/common/error.hpp"
 #include "vibid/ident/identify.hpp"
 #include "vibid/model/model.hpp"
+#include "vibid/common/atomic_file.hpp"
 #include "vibid/workflow/decay_run.hpp"
+#include "vibid/workflow/report_page.hpp"
 #include "vibid/workflow/estimate.hpp"
 #include "vibid/workflow/identify_run.hpp"
 #include "vibid/workflow/modes_request.hpp"
@@ -206,6 +208,24 @@ void RegisterAnalysis(py::module_& m) {
         return ToPython(j);
       },
       py::arg("request"));
+  using Rep = workflow::ReportRequest;
+  py::class_<Rep>(m, "_ReportRequest")
+      .def(py::init<>())
+      .def_readwrite("title", &Rep::title)
+      .def_readwrite("identify_dir", &Rep::identify_dir)
+      .def_readwrite("truth", &Rep::truth)
+      .def_readwrite("dob_recording", &Rep::dob_recording)
+      .def_readwrite("measured", &Rep::measured)
+      .def_readwrite("estimates", &Rep::estimates)
+      .def_readwrite("skip_s", &Rep::skip_s)
+      .def_readwrite("notes", &Rep::notes);
+  m.def(
+      "report",
+      [](const Rep& request, const std::string& output) {
+        py::gil_scoped_release release;
+        WriteFileAtomic(output, workflow::ReportPage(request));
+      },
+      py::arg("request"), py::arg("output"));
   m.def("estimate_file", &EstimateFile, py::arg("path"), py::arg("options"));
   m.def("estimate_arrays", &EstimateArrays, py::arg("force").noconvert(false), py::arg("responses"),
         py::arg("fs_hz"), py::arg("force_name"), py::arg("response_names"), py::arg("options"));

@@ -92,3 +92,26 @@ def test_observer_design_equals_cli_and_the_board_equals_the_replay(tests):
     np.testing.assert_array_equal(run.d_hat_q31, push["d_hat_q31"])
     agreement = vibid.dob_compare(run.d_hat_n, run.d_hat_n, 1000.0)
     assert agreement.fit_percent == 100.0
+
+
+def test_report_equals_cli(tests):
+    d, emu = tests
+    ok("identify", "--nominal", NOMINAL, "--mass-test", f"1={d / 'mass1.csv'}",
+       "--mass-test", f"2={d / 'mass2.csv'}", "--mass-spring", "1=fit", "--mass-spring", "2=fit",
+       "--modal-test", d / "modal1.csv", "--exp-window", 0.1, "-o", d / "updated_r.json",
+       "--report", d / "report_r")
+    with vibid.Board(emu.url) as board:
+        push = board.acquire(seconds=3, rate_hz=1000, scenario="shaker",
+                             scenario_params=[16, 10, 10])
+    push.write_csv(d / "push.csv")
+    args = dict(identify=d / "report_r", dob=d / "push.csv", measured="force2_n",
+                estimates=["d_hat_n=board"], skip_s=0.5, notes=["seed 1"])
+    ok("report", "--identify", d / "report_r", "--dob", d / "push.csv", "--measured", "force2_n",
+       "--estimate", "d_hat_n=board", "--skip-s", 0.5, "--note", "seed 1",
+       "-o", d / "cli.html")
+    vibid.report(d / "py.html", **args)
+    html = (d / "py.html").read_text()
+    assert html == (d / "cli.html").read_text()
+    for heading in ("Identification", "Frequency response functions", "Disturbance observer"):
+        assert f"<h2>{heading}</h2>" in html
+    assert html.count("<svg") == 4  # FRFs (2), stabilization diagram, observer traces

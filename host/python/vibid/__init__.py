@@ -23,7 +23,7 @@ __all__ = [
     "FrfEstimate", "Hit", "modes", "Modes", "identify", "Identification", "default_segment",
     "frf_estimate_arrays", "dob_design", "ObserverDesign", "dob_run", "ObserverRun", "lowpass",
     "dob_compare", "Agreement", "decay", "Decay", "NumericalError", "SysidModel", "arx", "pem",
-    "tfest", "compare", "Comparison",
+    "tfest", "compare", "Comparison", "report",
 ]
 
 
@@ -716,6 +716,22 @@ def dob_compare(estimate, measured, fs_hz: float, max_delay_s: float = 0.0) -> A
     return Agreement(**_vibid.dob_compare(np.ascontiguousarray(estimate, dtype=float),
                                           np.ascontiguousarray(measured, dtype=float), fs_hz,
                                           max_delay_s))
+
+
+# --- the report ---------------------------------------------------------------------------------
+
+def report(output: str, identify: Optional[str] = None, truth: Optional[str] = None,
+           dob: Optional[str] = None, measured: str = "", estimates: Sequence[str] = (),
+           skip_s: float = 0.0, notes: Sequence[str] = (), title: str = "vibid rig report") -> None:
+    """Writes the HTML report (``vibid report``, same options): from the directory
+    ``vibid identify --report`` (or ``Identification``'s run) wrote, optionally against the rig's
+    true model file, and from an observer recording (``dob``, its ``measured`` force column and
+    the ``estimates`` COLUMN[=LABEL], ``skip_s`` seconds left out at each end)."""
+    r = _vibid._ReportRequest()
+    r.title, r.identify_dir, r.truth = title, str(identify or ""), str(truth or "")
+    r.dob_recording, r.measured, r.estimates = str(dob or ""), measured, list(estimates)
+    r.skip_s, r.notes = skip_s, list(notes)
+    _vibid.report(r, str(output))
 
 
 # --- the board ----------------------------------------------------------------------------------

@@ -109,6 +109,16 @@ class _PolyRequest:
     validate_range: str
     d2c: bool
 
+class _ReportRequest:
+    title: str
+    identify_dir: str
+    truth: str
+    dob_recording: str
+    measured: str
+    estimates: List[str]
+    skip_s: float
+    notes: List[str]
+
 class _DobOptions:
     order: int
     relative_degree: int
@@ -156,3 +166,4 @@ def tfest(record: _SysidRecord, np: int, nz: int, ic: str, estimate_range: str,
           validate_range: str, max_iterations: int) -> Tuple[dict, str]: ...
 def compare(record: _SysidRecord, model: str, horizon: str, method: str, substeps: int, ic: str,
             range: str, input_dof: int, output_dof: int) -> Tuple[dict, str, F64, F64, F64]: ...
+def report(request: _ReportRequest, output: str) -> None: ...
