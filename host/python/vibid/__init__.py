@@ -192,13 +192,17 @@ class Recording:
     sample_instants: str = ""  #: the board's sampling-instant header line (acquisitions)
     t_s: Optional[np.ndarray] = None  #: the recording's own time column, when it has one
 
-    def __getitem__(self, name: str) -> np.ndarray:
-        """One channel by column name (a view, no copy)."""
+    def index(self, name: str) -> int:
+        """The row of a column; ValueError naming the columns there are otherwise."""
         try:
-            return self.data[self.names.index(name)]
+            return self.names.index(name)
         except ValueError:
             raise ValueError(f"unknown column '{name}'; the recording has: "
                              + ", ".join(self.names)) from None
+
+    def __getitem__(self, name: str) -> np.ndarray:
+        """One channel by column name (a view, no copy)."""
+        return self.data[self.index(name)]
 
     @property
     def samples(self) -> int:
@@ -329,17 +333,17 @@ def frf_estimate(recording, force: str = "", responses="", **options) -> FrfEsti
     kind (receptance m/N, mobility, accelerance), segment, overlap (samples), fs_hz,
     keep_bad_hits, exp_window, record_s (s), pretrigger_s (s)."""
     names = responses.split(",") if isinstance(responses, str) else list(responses)
+    o = _estimation_options(force=force, responses=",".join(names), **options)
     if isinstance(recording, Recording):
-        idx = [recording.names.index(n) if n in recording.names else recording[n] for n in names]
+        force_signal = recording[force]
+        idx = [recording.index(n) for n in names]
         # Consecutive rows are a view; any other choice of rows is gathered once.
         if idx == list(range(idx[0], idx[0] + len(idx))):
             x = recording.data[idx[0]:idx[0] + len(idx)]
         else:
             x = recording.data[idx]
-        o = _estimation_options(force=force, responses=",".join(names), **options)
-        return _frf_estimate(_vibid.estimate_arrays(recording[force], x, recording.fs_hz, force,
+        return _frf_estimate(_vibid.estimate_arrays(force_signal, x, recording.fs_hz, force,
                                                     names, o))
-    o = _estimation_options(force=force, responses=",".join(names), **options)
     return _frf_estimate(_vibid.estimate_file(str(recording), o))
 
 
@@ -412,7 +416,7 @@ def _modes(j: dict) -> Modes:
 
 def modes(inputs, method: str = "lscf", orders: str = "", driving_point: str = "",
           fmin_hz: Optional[float] = None, fmax_hz: Optional[float] = None,
-          force: str = "force1_n", responses="", **options) -> Modes:
+          force: str = "", responses="", **options) -> Modes:
     """Modes from FRF files or recordings of one hammer test (``vibid modes``): method lscf,
     lsce, fit or peaks; orders "MIN:MAX[:STEP]"; the driving point by column name or 1-based
     index (default: the last response). Recordings are estimated first (``frf_estimate``'s
