@@ -27,6 +27,18 @@ __all__ = [
 ]
 
 
+def _signal(name: str, x, ndim: int) -> np.ndarray:
+    """An argument as float64 in C order: float64 C-ordered arrays as they are (no copy), other
+    real numbers converted once; TypeError for anything else, ValueError for the wrong shape."""
+    a = np.asarray(x)
+    if a.dtype.kind not in "biuf":
+        raise TypeError(f"{name}: expected real numbers (float64), got dtype {a.dtype}")
+    if a.ndim != ndim:
+        shape = "(samples,)" if ndim == 1 else "(channels, samples)"
+        raise ValueError(f"{name} must be {ndim}-D {shape}, not {a.ndim}-D")
+    return np.ascontiguousarray(a, dtype=np.float64)
+
+
 def _repr(name: str, **fields) -> str:
     def short(v):
         if isinstance(v, np.ndarray):
@@ -351,9 +363,10 @@ def frf_estimate_arrays(force, responses, fs_hz: float, force_name: str = "force
                         response_names: Optional[Sequence[str]] = None, **options) -> FrfEstimate:
     """frf_estimate on signals in memory, SI units: ``force`` shaped (samples,), ``responses``
     (responses, samples). float64 C-ordered arrays are read in place, without a copy."""
-    responses = np.asarray(responses)
-    if responses.ndim == 1:
-        responses = responses[None, :]
+    if np.ndim(responses) == 1:
+        responses = np.asarray(responses)[None, :]
+    force = _signal("force", force, 1)
+    responses = _signal("responses", responses, 2)
     names = list(response_names) if response_names is not None else [
         f"response{i + 1}" for i in range(responses.shape[0])]
     o = _estimation_options(**options)
@@ -693,8 +706,7 @@ def dob_run(design, responses, force, fixed: bool = True) -> ObserverRun:
     bit for bit; ``fixed=False`` runs the unquantized design in double precision."""
     j = design.json if isinstance(design, ObserverDesign) else design
     rs = [responses] if isinstance(responses, np.ndarray) and responses.ndim == 1 else list(responses)
-    inputs = [np.ascontiguousarray(x, dtype=float) for x in rs] + [
-        np.ascontiguousarray(force, dtype=float)]
+    inputs = [_signal("responses", x, 1) for x in rs] + [_signal("force", force, 1)]
     if fixed:
         d, q, sat = _vibid.dob_run_fixed(j, inputs)
         return ObserverRun(d_hat_n=d, d_hat_q31=q, saturations=sat)
@@ -703,7 +715,7 @@ def dob_run(design, responses, force, fixed: bool = True) -> ObserverRun:
 
 def lowpass(x, cutoff_hz: float, fs_hz: float, order: int = 4) -> np.ndarray:
     """Zero-phase Butterworth low-pass (``vibid dob run --lowpass-hz``)."""
-    return _vibid.lowpass(np.ascontiguousarray(x, dtype=float), cutoff_hz, fs_hz, order)
+    return _vibid.lowpass(_signal("x", x, 1), cutoff_hz, fs_hz, order)
 
 
 @dataclasses.dataclass
@@ -717,9 +729,8 @@ class Agreement:
 
 def dob_compare(estimate, measured, fs_hz: float, max_delay_s: float = 0.0) -> Agreement:
     """Agreement of an estimated disturbance with a measured force (``vibid dob compare``)."""
-    return Agreement(**_vibid.dob_compare(np.ascontiguousarray(estimate, dtype=float),
-                                          np.ascontiguousarray(measured, dtype=float), fs_hz,
-                                          max_delay_s))
+    return Agreement(**_vibid.dob_compare(_signal("estimate", estimate, 1),
+                                          _signal("measured", measured, 1), fs_hz, max_delay_s))
 
 
 # --- the report ---------------------------------------------------------------------------------
