@@ -1,6 +1,7 @@
 """The demo's workflow against vibid-emu, each step from Python beside the CLI on the same files:
 identify's updated model and report data, the observer design file, and the board's d_hat equal
 to the Python replay bit for bit (scripts/workflow's steps and figures, shorter tests)."""
+import dataclasses
 import json
 
 import numpy as np
@@ -115,3 +116,26 @@ def test_report_equals_cli(tests):
     for heading in ("Identification", "Frequency response functions", "Disturbance observer"):
         assert f"<h2>{heading}</h2>" in html
     assert html.count("<svg") == 4  # FRFs (2), stabilization diagram, observer traces
+
+
+def test_observer_replay_lowpass_and_compare_equal_cli(tests):
+    d, emu = tests
+    design = vibid.dob_design(vibid.load_model(NOMINAL), force_fs_n=FORCE_FS_N, fs_hz=1000)
+    design.save(d / "design_py.json")
+    with vibid.Board(emu.url) as board:
+        push = board.acquire(seconds=4, rate_hz=1000, scenario="shaker",
+                             scenario_params=[16, 10, 10])
+    push.write_csv(d / "push_r.csv")
+    ok("dob", "run", d / "push_r.csv", "--design", d / "design_py.json", "--force", "force1_n",
+       "--response", "x2_m", "--name", "host", "--lowpass-hz", 4, "-o", d / "replay.csv")
+    cli = vibid.read_recording(d / "replay.csv")
+    run = vibid.dob_run(design, push["x2_m"], push["force1_n"])
+    np.testing.assert_array_equal(run.d_hat_n, cli["host_n"])
+    np.testing.assert_array_equal(run.d_hat_q31, cli["host_q31"])
+    lp = vibid.lowpass(run.d_hat_n, 4, 1000)
+    np.testing.assert_array_equal(lp, cli["host_lp_n"])
+    r = ok("dob", "compare", d / "replay.csv", "--estimate", "host_lp_n", "--measured",
+           "force2_n", "--skip-s", 0.5, "--json")
+    skip = 500
+    agreement = vibid.dob_compare(lp[skip:-skip], push["force2_n"][skip:-skip], 1000.0)
+    assert dataclasses.asdict(agreement) == json.loads(r.stdout)
