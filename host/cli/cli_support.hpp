@@ -2,6 +2,8 @@
 // kind (input errors are vibid::InputError, device errors vibid::device::DeviceError).
 #pragma once
 
+#include "vibid/common/error.hpp"
+
 #include <memory>
 #include <optional>
 #include <stdexcept>
@@ -15,12 +17,9 @@
 
 namespace vibid::cli {
 
-/// A computation that ran on valid input but did not produce a usable result (the solver's
-/// summary message goes into the text). Exit code kExitNumerical.
-class NumericalError : public std::runtime_error {
- public:
-  explicit NumericalError(const std::string& message) : std::runtime_error(message) {}
-};
+/// A computation that ran on valid input but did not produce a usable result: the library's
+/// (exit code kExitNumerical).
+using vibid::NumericalError;
 
 /// Writes `content` to `path` atomically, or to stdout when `path` is empty or "-".
 void EmitOutput(const std::string& content, const std::string& path);

@@ -218,4 +218,20 @@ wire::CalibrationRecord BuildCalibrationRecord(const RecordInputs& in) {
   return r;
 }
 
+SensorSet SensorsOfRecord(const wire::CalibrationRecord& record) {
+  SensorSet sensors;
+  for (std::size_t k = 0; k < wire::kChannelCount; ++k) {
+    if (record.channels[k].unit != wire::Unit::kCounts)
+      sensors[k] = FromChannelScaling(record.channels[k]);
+  }
+  return sensors;
+}
+
+std::string LabelFromModelPath(const std::string& path) {
+  std::string label = path.substr(path.find_last_of('/') + 1);
+  if (label.size() > 5 && label.ends_with(".json")) label.resize(label.size() - 5);
+  if (label.size() >= wire::kCalLabelBytes) label.resize(wire::kCalLabelBytes - 1);
+  return label;
+}
+
 }  // namespace vibid::device

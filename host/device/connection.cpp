@@ -391,6 +391,7 @@ Connection::StreamEnd Connection::ReceiveLogStream(std::uint16_t token, std::uin
   std::uint64_t bytes = 0;
   const auto id = static_cast<std::uint8_t>(Command::kLogRead);
   wire::LogTrailer trailer;
+  std::uint32_t delivered = 0;  // records passed to sink_ from this stream
   // A running acquisition's stream is the exception: the board released every record it sent,
   // so when the stream ends early (broken off, refused or stopped), the reports that arrived in
   // sequence are all the host may ever get of them. They are kept (each passed the link's own
@@ -420,6 +421,14 @@ Connection::StreamEnd Connection::ReceiveLogStream(std::uint16_t token, std::uin
     if (step.event == wire::StreamDecoder::Event::kData) {
       payloads.emplace_back(step.payload.begin(), step.payload.end());
       bytes += step.payload.size();
+      if (sink_ != nullptr && keep_partial && configured_) {
+        // Decoded now with the configured layout, as KeepPartialStream would keep it.
+        std::vector<wire::LogRecord> block;
+        AppendLogPayloads(wire::LogLayout{configured_->channel_mask, configured_->flags},
+                          configured_->decimation, {payloads.back()}, block);
+        (*sink_)(block, first + delivered);
+        delivered += static_cast<std::uint32_t>(block.size());
+      }
       if (progress) progress(bytes, 0);
     } else if (step.event == wire::StreamDecoder::Event::kEnd) {
       if (wire::Decode(step.payload, trailer) != Status::kOk) return StreamEnd::kBroken;
@@ -508,7 +517,14 @@ void Connection::StopForKeeps(LogPull& pull) {
   pull.stopped = true;
 }
 
-LogPull Connection::AcquireStreamed(const Progress& progress, const StopRequest& stop) {
+LogPull Connection::AcquireStreamed(const Progress& progress, const StopRequest& stop,
+                                    const RecordSink& sink) {
+  // The sink is this call's only: cleared however the call ends.
+  struct SinkScope {
+    const RecordSink*& slot;
+    ~SinkScope() { slot = nullptr; }
+  } scope{sink_};
+  sink_ = sink ? &sink : nullptr;
   const std::uint16_t token = NextToken();
   wire::Report request{};
   static_cast<void>(wire::BuildReport(Command::kAcqStart, token, 0, 0, Status::kOk, {}, request));

@@ -13,11 +13,11 @@
 #include "device_commands.hpp"
 #include "session.hpp"
 #include "vibid/common/error.hpp"
+#include "vibid/device/acquire_plan.hpp"
 #include "vibid/device/board_report.hpp"
 #include "vibid/device/error.hpp"
 #include "vibid/device/link_budget.hpp"
 #include "vibid/device/log_table.hpp"
-#include "vibid/shared/fixed/decimator.hpp"
 
 namespace vibid::cli {
 namespace {
@@ -28,46 +28,13 @@ constexpr const char* kAcquireHelp =
 
 struct AcquireArgs {
   const GlobalOptions* globals = nullptr;
-  double seconds = 0.0;
-  double rate_hz = 5000.0;
-  double log_rate_hz = 0.0;  // 0: the sampling rate
-  int decimation = 0;        // 0: from log_rate_hz
-  bool allow_drops = false;
-  std::vector<std::string> channels;
-  std::string trigger;
-  double trigger_timeout_s = 0.0;  // 0: wait until Ctrl-C
-  double pretrigger_s = 0.0;
+  device::AcquireSettings settings;
   std::string scenario;
   std::vector<float> scenario_params;
-  bool no_dob = false;
   std::string output;
 };
 
-struct Trigger {
-  wire::TriggerMode mode = wire::TriggerMode::kImmediate;
-  wire::Channel channel = wire::Channel::kForce1;
-  double threshold = 0.0;
-  double full_scale_n = 0.0;  ///< The load cell's, from the board's calibration.
-};
-
-/// "force>F", "force2<F" ("force" is force1): the load cell, the direction and F in newtons.
-Trigger ParseTrigger(const std::string& text) {
-  Trigger t;
-  if (text.empty()) return t;
-  const std::size_t op = text.find_first_of("<>");
-  const auto bad = [&] {
-    throw InputError("--trigger '" + text + "': expected force>F, force1>F or force2<F (F in N)");
-  };
-  if (op == std::string::npos) bad();
-  std::string stem = text.substr(0, op);
-  if (stem == "force") stem = "force1";
-  if (!device::ChannelFromStem(stem, t.channel) ||
-      !wire::IsLoadCell(static_cast<std::uint8_t>(t.channel)))
-    bad();
-  t.mode = text[op] == '>' ? wire::TriggerMode::kRising : wire::TriggerMode::kFalling;
-  if (ParseNumber(text.substr(op + 1), t.threshold) != NumberText::kOk) bad();
-  return t;
-}
+using device::Trigger;
 
 std::string FormatNumber(double v) {
   char b[32];
@@ -75,36 +42,9 @@ std::string FormatNumber(double v) {
   return b;
 }
 
-/// The decimation for a log rate (or the one given), checked against what the board's
-/// decimator supports.
-int DecimationFor(double rate_hz, double log_rate_hz, int decimation) {
-  if (decimation == 0) {
-    if (log_rate_hz == 0.0) return 1;
-    const double d = rate_hz / log_rate_hz;
-    decimation = static_cast<int>(std::lround(d));
-    Require(std::abs(d - decimation) < 1e-9 * d && decimation >= 1,
-            "--log-rate-hz " + FormatNumber(log_rate_hz) + ": the sample rate " +
-                FormatNumber(rate_hz) + " Hz must be a whole multiple of it");
-  }
-  if (!fixed::IsSupportedDecimation(static_cast<std::uint32_t>(decimation))) {
-    std::string near;
-    for (std::uint32_t d = 1; d <= fixed::kDecimatorMaxFactor; ++d) {
-      if (fixed::IsSupportedDecimation(d) &&
-          std::abs(static_cast<int>(d) - decimation) <= decimation / 2) {
-        near += (near.empty() ? "" : ", ") + FormatNumber(rate_hz / d);
-      }
-    }
-    throw InputError("log rate " + FormatNumber(rate_hz / decimation) +
-                     " Hz: the board decimates by 2^a 5^b up to " +
-                     std::to_string(fixed::kDecimatorMaxFactor) + " only (decimation " +
-                     std::to_string(decimation) + "); log rates near it: " + near + " Hz");
-  }
-  return decimation;
-}
-
 void WriteLog(device::Connection& c, const device::LogPull& pull, ClaimedOutput& output) {
   bool has_record = false;
-  const wire::CalibrationRecord rec = ActiveRecord(c, has_record);
+  const wire::CalibrationRecord rec = device::ActiveRecord(c, has_record);
   output.Write(device::FormatLogCsv(pull, rec, has_record, c.GetSamplingInfo()));
   std::cerr << "vibid: " << pull.records.size() << " records";
   if (pull.trailer.dropped_records != 0 || pull.trailer.overrun_count != 0) {
@@ -128,72 +68,6 @@ void WriteLog(device::Connection& c, const device::LogPull& pull, ClaimedOutput&
                             (output.to_stdout() ? "" : " to " + output.Name()));
 }
 
-/// The acquisition the options ask for, checked as far as it can be without the board; `trig` gets
-/// the parsed --trigger (read in the order the options are checked, so the first bad one is named).
-wire::AcqConfigureRequest AcquireConfig(const AcquireArgs& a, Trigger& trig) {
-  wire::AcqConfigureRequest cfg;
-  const double period_us = 1e6 / a.rate_hz;
-  const std::string rate = "--rate-hz " + FormatNumber(a.rate_hz);
-  Require(period_us >= wire::kMinSamplePeriodUs,
-          rate + ": the board samples at " + FormatNumber(1e6 / wire::kMinSamplePeriodUs) +
-              " Hz at most (a " + std::to_string(wire::kMinSamplePeriodUs) +
-              " us period); choose --rate-hz " + FormatNumber(1e6 / wire::kMinSamplePeriodUs) +
-              " or less");
-  Require(period_us <= wire::kMaxSamplePeriodUs, rate + ": the board samples at " +
-                                                     FormatNumber(1e6 / wire::kMaxSamplePeriodUs) +
-                                                     " Hz at least; choose --rate-hz 1 or more");
-  Require(std::abs(period_us - std::round(period_us)) < 1e-6,
-          rate + ": the board's sample period is a whole number of microseconds, and 1000000 / " +
-              FormatNumber(a.rate_hz) + " = " + FormatNumber(period_us) +
-              " is not; choose a rate that divides 1000000 (10000, 5000, 2500, 2000, 1000, ...)");
-  cfg.sample_period_us = static_cast<std::uint32_t>(std::lround(period_us));
-  cfg.decimation =
-      static_cast<std::uint16_t>(DecimationFor(a.rate_hz, a.log_rate_hz, a.decimation));
-  cfg.channel_mask = 0;
-  for (const std::string& name : a.channels) {
-    wire::Channel ch{};
-    Require(device::ChannelFromStem(name, ch),
-            "--channels: unknown channel '" + name + "' (force1, force2, acc1, acc2, x1, x2)");
-    cfg.channel_mask =
-        static_cast<std::uint8_t>(cfg.channel_mask | (1u << static_cast<unsigned>(ch)));
-  }
-  if (cfg.channel_mask == 0) cfg.channel_mask = wire::kAllChannelsMask;
-  trig = ParseTrigger(a.trigger);
-  Require(a.pretrigger_s == 0.0 || trig.mode != wire::TriggerMode::kImmediate,
-          "--pretrigger-s needs a --trigger");
-  Require(a.trigger_timeout_s == 0.0 || trig.mode != wire::TriggerMode::kImmediate,
-          "--trigger-timeout-s needs a --trigger");
-  const double log_rate_hz = a.rate_hz / cfg.decimation;
-  cfg.record_limit = static_cast<std::uint32_t>(std::lround(a.seconds * log_rate_hz));
-  cfg.pretrigger_records = static_cast<std::uint32_t>(std::lround(a.pretrigger_s * log_rate_hz));
-  Require(cfg.record_limit > 0, "--seconds is shorter than one logged sample");
-  Require(a.scenario_params.size() <= 4, "--scenario-param takes at most 4 values");
-  return cfg;
-}
-
-/// What the board's calibration adds: the observer output, the trigger threshold in ADC units
-/// (and the load cell's full scale in `trig`).
-void ApplyCalibration(device::Connection& c, const AcquireArgs& a, Trigger& trig,
-                      wire::AcqConfigureRequest& cfg) {
-  bool has_record = false;
-  const wire::CalibrationRecord rec = ActiveRecord(c, has_record);
-  if (!a.no_dob && has_record && (rec.flags & wire::kCalFlagHasDob) != 0)
-    cfg.flags = wire::kAcqFlagLogDob;
-  if (trig.mode == wire::TriggerMode::kImmediate) return;
-  const wire::ChannelScaling& s = rec.channels[static_cast<std::size_t>(trig.channel)];
-  if (!has_record || s.unit != wire::Unit::kNewton) {
-    throw device::DeviceError(
-        "a force trigger needs a calibrated load cell: upload a calibration first (vibid cal "
-        "upload)");
-  }
-  const double q = trig.threshold / static_cast<double>(s.full_scale) * 2147483648.0;
-  Require(std::abs(q) < 2147483647.0, "--trigger threshold is beyond the load cell's full scale");
-  trig.full_scale_n = static_cast<double>(s.full_scale);
-  cfg.trigger_mode = trig.mode;
-  cfg.trigger_channel = static_cast<std::uint8_t>(trig.channel);
-  cfg.trigger_threshold = static_cast<std::int32_t>(std::lround(q));
-}
-
 /// Why an acquisition ended before its --seconds.
 enum class StopCause { kNone, kCtrlC, kTriggerTimeout };
 
@@ -202,7 +76,7 @@ enum class StopCause { kNone, kCtrlC, kTriggerTimeout };
 /// so on stderr once a second, with the load cell's present value.
 class StopWatch {
  public:
-  StopWatch(device::Connection& c, const AcquireArgs& a, const Trigger& trig)
+  StopWatch(device::Connection& c, const device::AcquireSettings& a, const Trigger& trig)
       : c_(c), a_(a), trig_(trig), started_(Clock::now()), last_status_(started_) {}
 
   bool operator()(const wire::LogTrailer* state) {
@@ -250,7 +124,7 @@ class StopWatch {
   }
 
   device::Connection& c_;
-  const AcquireArgs& a_;
+  const device::AcquireSettings& a_;
   const Trigger& trig_;
   Clock::time_point started_;
   Clock::time_point last_status_;
@@ -285,8 +159,9 @@ device::LogPull Acquire(device::Connection& c, const wire::AcqConfigureRequest& 
 
 /// Writes what a stopped acquisition kept and says how much and where; then ends the command
 /// with the exit code of its cause.
-void KeepStopped(device::Connection& c, const device::LogPull& pull, const AcquireArgs& a,
-                 const wire::AcqConfigureRequest& cfg, StopCause cause, ClaimedOutput& output) {
+void KeepStopped(device::Connection& c, const device::LogPull& pull,
+                 const device::AcquireSettings& a, const wire::AcqConfigureRequest& cfg,
+                 StopCause cause, ClaimedOutput& output) {
   const double log_rate_hz = 1e6 / cfg.sample_period_us / cfg.decimation;
   const std::string why = cause == StopCause::kCtrlC
                               ? "stopped by Ctrl-C"
@@ -313,23 +188,22 @@ void KeepStopped(device::Connection& c, const device::LogPull& pull, const Acqui
   throw device::DeviceError(why + ": acquisition stopped, the records before it kept");
 }
 
-void Run(const AcquireArgs& a) {
+void Run(const AcquireArgs& args) {
+  const device::AcquireSettings& a = args.settings;
   Trigger trig;
-  wire::AcqConfigureRequest cfg = AcquireConfig(a, trig);
+  wire::AcqConfigureRequest cfg = device::PlanAcquisition(a, trig);
+  Require(args.scenario_params.size() <= 4, "--scenario-param takes at most 4 values");
   // Claimed before the board starts: a path that cannot be written is refused now, not after.
-  ClaimedOutput output(a.output);
+  ClaimedOutput output(args.output);
   WithDevice(
-      *a.globals,
+      *args.globals,
       [&](device::Connection& c) {
-        ApplyCalibration(c, a, trig, cfg);
-        // Preflight: records the link cannot carry pile up in the log; refuse before the board
-        // starts if it would overflow.
-        const device::LinkBudget budget = device::ComputeLinkBudget(c.info(), cfg);
-        if (budget.overflow_after_s < a.seconds + a.pretrigger_s && !a.allow_drops) {
-          throw InputError(device::DescribeOverflow(budget, a.seconds));
-        }
+        bool has_record = false;
+        const wire::CalibrationRecord rec = device::ActiveRecord(c, has_record);
+        device::ApplyCalibration(rec, has_record, a.no_dob, trig, cfg);
+        const device::LinkBudget budget = device::Preflight(c.info(), cfg, a);
         cfg.flags = static_cast<std::uint8_t>(cfg.flags | wire::kAcqFlagStream);
-        if (!a.scenario.empty()) c.SelectScenario(a.scenario, a.scenario_params);
+        if (!args.scenario.empty()) c.SelectScenario(args.scenario, args.scenario_params);
         c.Configure(cfg);
         StopWatch stop(c, a, trig);
         device::LogPull pull;
@@ -387,39 +261,40 @@ void RegisterAcquire(CLI::App& app, const GlobalOptions& globals) {
   const auto [acq, o] = AddCommand<AcquireArgs>(app, "acquire", kAcquireHelp, Run);
   o->globals = &globals;
   TakesDeviceOption(acq);
-  acq->add_option("--seconds", o->seconds, "Seconds to record after the trigger")
+  acq->add_option("--seconds", o->settings.seconds, "Seconds to record after the trigger")
       ->required()
       ->check(PositiveNumber());
-  acq->add_option("--rate-hz", o->rate_hz, "Sample rate (Hz)")->check(PositiveNumber());
+  acq->add_option("--rate-hz", o->settings.rate_hz, "Sample rate (Hz)")->check(PositiveNumber());
   auto* log_rate =
       acq->add_option(
-             "--log-rate-hz", o->log_rate_hz,
+             "--log-rate-hz", o->settings.log_rate_hz,
              "Log rate (Hz): the board low-pass filters and decimates every logged channel "
              "(default: the sample rate)")
           ->check(PositiveNumber());
-  acq->add_option("--decimation", o->decimation,
+  acq->add_option("--decimation", o->settings.decimation,
                   "Log one filtered sample in N (2^a 5^b, up to 1000)")
       ->check(CLI::Range(1, 1000))
       ->excludes(log_rate);
   acq->add_flag(
-      "--allow-drops", o->allow_drops,
+      "--allow-drops", o->settings.allow_drops,
       "Start even if the log rate exceeds what the link carries and the log would overflow");
-  acq->add_option("--channels", o->channels,
+  acq->add_option("--channels", o->settings.channels,
                   "Channels to log: force1,force2,acc1,acc2,x1,x2 (default all)")
       ->delimiter(',');
-  acq->add_option("--trigger", o->trigger, "Start on a load cell threshold: force>F (N), force2<F");
-  acq->add_option("--trigger-timeout-s", o->trigger_timeout_s,
+  acq->add_option("--trigger", o->settings.trigger,
+                  "Start on a load cell threshold: force>F (N), force2<F");
+  acq->add_option("--trigger-timeout-s", o->settings.trigger_timeout_s,
                   "Give up when the trigger has not fired after this many seconds (default: "
                   "wait until Ctrl-C)")
       ->check(PositiveNumber());
-  acq->add_option("--pretrigger-s", o->pretrigger_s, "Seconds kept before the trigger")
+  acq->add_option("--pretrigger-s", o->settings.pretrigger_s, "Seconds kept before the trigger")
       ->check(NonNegativeNumber());
   acq->add_option("--scenario", o->scenario,
                   "Emulator only: the rig excitation to run (hammer, shaker, push, ...)");
   acq->add_option("--scenario-param", o->scenario_params,
                   "Emulator only: up to 4 scenario parameters (SI)")
       ->delimiter(',');
-  acq->add_flag("--no-dob", o->no_dob, "Do not log the observer output");
+  acq->add_flag("--no-dob", o->settings.no_dob, "Do not log the observer output");
   acq->add_option("-o,--output", o->output, "Output CSV")->required();
 }
 

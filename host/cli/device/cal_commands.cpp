@@ -9,6 +9,7 @@
 
 #include "cli_support.hpp"
 #include "common/command.hpp"
+#include "vibid/device/acquire_plan.hpp"
 #include "vibid/device/error.hpp"
 #include "device_commands.hpp"
 #include "session.hpp"
@@ -126,13 +127,7 @@ struct UploadArgs {
 
 /// The rig name: --label, else the model file's name without its folder and .json, cut to fit.
 std::string RecordLabel(const UploadArgs& a) {
-  std::string label = a.label;
-  if (label.empty()) {
-    label = a.model.substr(a.model.find_last_of('/') + 1);
-    if (label.size() > 5 && label.ends_with(".json")) label.resize(label.size() - 5);
-    if (label.size() >= wire::kCalLabelBytes) label.resize(wire::kCalLabelBytes - 1);
-  }
-  return label;
+  return a.label.empty() ? device::LabelFromModelPath(a.model) : a.label;
 }
 
 /// Everything of the record that comes from files and this host (the sensors may come from the
@@ -159,13 +154,10 @@ void Run(const UploadArgs& a) {
   WithDevice(*a.globals, [&](device::Connection& c) {
     if (a.sensors.empty()) {
       bool has_record = false;
-      const wire::CalibrationRecord old = ActiveRecord(c, has_record);
+      const wire::CalibrationRecord old = device::ActiveRecord(c, has_record);
       if (!has_record)
         throw InputError("the board is uncalibrated: give its sensors with --sensors SENSORS.json");
-      for (std::size_t k = 0; k < wire::kChannelCount; ++k) {
-        if (old.channels[k].unit != wire::Unit::kCounts)
-          in.sensors[k] = device::FromChannelScaling(old.channels[k]);
-      }
+      in.sensors = device::SensorsOfRecord(old);
     }
     const wire::CalibrationRecord rec = device::BuildCalibrationRecord(in);
     std::array<std::uint8_t, wire::kCalRecordBytes> bytes{};

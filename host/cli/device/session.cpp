@@ -65,18 +65,6 @@ void WithDevice(const GlobalOptions& globals, const std::function<void(device::C
   body(connection);
 }
 
-wire::CalibrationRecord ActiveRecord(device::Connection& c, bool& has_record) {
-  wire::CalibrationRecord r;
-  has_record = false;
-  if (c.info().cal_state != wire::CalState::kCalibrated) return r;
-  const std::vector<std::uint8_t> bytes = c.CalGet();
-  if (wire::DecodeCalibrationRecord(bytes, r) != Status::kOk) {
-    throw device::DeviceError("the board's active calibration record does not decode");
-  }
-  has_record = true;
-  return r;
-}
-
 ProgressBar::ProgressBar(std::string what)
     : what_(std::move(what)), tty_(isatty(STDERR_FILENO) == 1) {}
 

@@ -40,9 +40,6 @@ device::DeviceSpec ChosenDevice(const GlobalOptions& globals);
 void WithDevice(const GlobalOptions& globals, const std::function<void(device::Connection&)>& body,
                 CtrlC ctrl_c = CtrlC::kInterrupts);
 
-/// The board's active calibration record; `has_record` false when it is uncalibrated.
-wire::CalibrationRecord ActiveRecord(device::Connection& c, bool& has_record);
-
 /// A progress bar on stderr, drawn only when stderr is a terminal.
 class ProgressBar {
  public:

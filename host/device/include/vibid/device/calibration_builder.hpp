@@ -47,6 +47,13 @@ SensorScaling FromChannelScaling(const wire::ChannelScaling& s);
 /// int32 (the finest representable gain). InputError if even shift 0 overflows.
 wire::ChannelScaling ToChannelScaling(const SensorScaling& s, const std::string& channel_name);
 
+/// The sensors an existing record holds (its channels not in raw counts): what an upload without a
+/// sensors file keeps.
+SensorSet SensorsOfRecord(const wire::CalibrationRecord& record);
+
+/// The rig's name from a model file's path: its name without folder and .json, cut to fit.
+std::string LabelFromModelPath(const std::string& path);
+
 struct RecordInputs {
   model::Model model;
   std::string label;  ///< The rig's name (<= 23 printable ASCII characters).

@@ -108,6 +108,14 @@ using Progress = std::function<void(std::uint64_t done, std::uint64_t total)>;
 /// records_written), null while the acquisition's own stream runs.
 using StopRequest = std::function<bool(const wire::LogTrailer* state)>;
 
+/// Records of a streamed acquisition as each data report arrives, decoded with the configured
+/// layout, with the log index of the first. They passed the link's check and the stream's sequence
+/// and length checks; the stream's CRC, which comes with its end, cannot vouch for them yet. A
+/// stream that breaks off is resumed from its first missing record, so a record may come again
+/// (same log index): a consumer keeps the first of each index.
+using RecordSink =
+    std::function<void(std::span<const wire::LogRecord> records, std::uint32_t first)>;
+
 class Connection {
  public:
   /// Starts the reader and performs get-info. Throws DeviceError if the device does not answer or
@@ -174,7 +182,9 @@ class Connection {
   /// of the stream so far are kept as those of a broken stream are, and the log is read on from
   /// the first one missing. The result is marked `stopped`. The cancel flag still interrupts
   /// (Interrupted), keeping nothing.
-  LogPull AcquireStreamed(const Progress& progress = {}, const StopRequest& stop = {});
+  /// `sink`, when given, gets the records as they arrive (see RecordSink).
+  LogPull AcquireStreamed(const Progress& progress = {}, const StopRequest& stop = {},
+                          const RecordSink& sink = {});
 
   /// Pulls every record from `first` until the log holds no more and sampling has ended
   /// (while sampling, it keeps pulling as records arrive). Broken streams resume from the first
@@ -236,6 +246,9 @@ class Connection {
              Reply& out);
   void ThrowIfLinkFailed();
   void CheckCancel() const;
+
+  /// The sink of the AcquireStreamed call in progress; null otherwise.
+  const RecordSink* sink_ = nullptr;
 
   std::unique_ptr<Transport> transport_;
   ConnectionOptions options_;

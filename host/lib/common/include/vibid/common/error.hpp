@@ -15,6 +15,13 @@ class InputError : public std::runtime_error {
   explicit InputError(const std::string& message) : std::runtime_error(message) {}
 };
 
+/// A computation that ran on valid input but did not produce a usable result (the solver's
+/// summary message goes into the text). The CLI exits with kExitNumerical.
+class NumericalError : public std::runtime_error {
+ public:
+  explicit NumericalError(const std::string& message) : std::runtime_error(message) {}
+};
+
 /// Throws InputError(message) when `condition` is false. For validating options up front.
 inline void Require(bool condition, const std::string& message) {
   if (!condition) throw InputError(message);

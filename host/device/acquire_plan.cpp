@@ -1,0 +1,158 @@
+#include "vibid/device/acquire_plan.hpp"
+
+#include <cerrno>
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+
+#include "vibid/common/error.hpp"
+#include "vibid/device/log_table.hpp"
+#include "vibid/shared/fixed/decimator.hpp"
+
+namespace vibid::device {
+namespace {
+
+std::string FormatNumber(double v) {
+  char b[32];
+  std::snprintf(b, sizeof b, "%g", v);
+  return b;
+}
+
+/// The whole of `text` as a finite double (strtod's reading).
+bool ParseFinite(const std::string& text, double& value) {
+  char* end = nullptr;
+  errno = 0;
+  value = std::strtod(text.c_str(), &end);
+  return end != text.c_str() && errno != ERANGE && end == text.c_str() + text.size() &&
+         std::isfinite(value);
+}
+
+}  // namespace
+
+Trigger ParseTrigger(const std::string& text) {
+  Trigger t;
+  if (text.empty()) return t;
+  const std::size_t op = text.find_first_of("<>");
+  const auto bad = [&] {
+    throw InputError("--trigger '" + text + "': expected force>F, force1>F or force2<F (F in N)");
+  };
+  if (op == std::string::npos) bad();
+  std::string stem = text.substr(0, op);
+  if (stem == "force") stem = "force1";
+  if (!ChannelFromStem(stem, t.channel) || !wire::IsLoadCell(static_cast<std::uint8_t>(t.channel)))
+    bad();
+  t.mode = text[op] == '>' ? wire::TriggerMode::kRising : wire::TriggerMode::kFalling;
+  if (!ParseFinite(text.substr(op + 1), t.threshold)) bad();
+  return t;
+}
+
+int DecimationFor(double rate_hz, double log_rate_hz, int decimation) {
+  if (decimation == 0) {
+    if (log_rate_hz == 0.0) return 1;
+    const double d = rate_hz / log_rate_hz;
+    decimation = static_cast<int>(std::lround(d));
+    Require(std::abs(d - decimation) < 1e-9 * d && decimation >= 1,
+            "--log-rate-hz " + FormatNumber(log_rate_hz) + ": the sample rate " +
+                FormatNumber(rate_hz) + " Hz must be a whole multiple of it");
+  }
+  if (!fixed::IsSupportedDecimation(static_cast<std::uint32_t>(decimation))) {
+    std::string near;
+    for (std::uint32_t d = 1; d <= fixed::kDecimatorMaxFactor; ++d) {
+      if (fixed::IsSupportedDecimation(d) &&
+          std::abs(static_cast<int>(d) - decimation) <= decimation / 2) {
+        near += (near.empty() ? "" : ", ") + FormatNumber(rate_hz / d);
+      }
+    }
+    throw InputError("log rate " + FormatNumber(rate_hz / decimation) +
+                     " Hz: the board decimates by 2^a 5^b up to " +
+                     std::to_string(fixed::kDecimatorMaxFactor) + " only (decimation " +
+                     std::to_string(decimation) + "); log rates near it: " + near + " Hz");
+  }
+  return decimation;
+}
+
+wire::AcqConfigureRequest PlanAcquisition(const AcquireSettings& a, Trigger& trig) {
+  wire::AcqConfigureRequest cfg;
+  const double period_us = 1e6 / a.rate_hz;
+  const std::string rate = "--rate-hz " + FormatNumber(a.rate_hz);
+  Require(period_us >= wire::kMinSamplePeriodUs,
+          rate + ": the board samples at " + FormatNumber(1e6 / wire::kMinSamplePeriodUs) +
+              " Hz at most (a " + std::to_string(wire::kMinSamplePeriodUs) +
+              " us period); choose --rate-hz " + FormatNumber(1e6 / wire::kMinSamplePeriodUs) +
+              " or less");
+  Require(period_us <= wire::kMaxSamplePeriodUs, rate + ": the board samples at " +
+                                                     FormatNumber(1e6 / wire::kMaxSamplePeriodUs) +
+                                                     " Hz at least; choose --rate-hz 1 or more");
+  Require(std::abs(period_us - std::round(period_us)) < 1e-6,
+          rate + ": the board's sample period is a whole number of microseconds, and 1000000 / " +
+              FormatNumber(a.rate_hz) + " = " + FormatNumber(period_us) +
+              " is not; choose a rate that divides 1000000 (10000, 5000, 2500, 2000, 1000, ...)");
+  cfg.sample_period_us = static_cast<std::uint32_t>(std::lround(period_us));
+  cfg.decimation =
+      static_cast<std::uint16_t>(DecimationFor(a.rate_hz, a.log_rate_hz, a.decimation));
+  cfg.channel_mask = 0;
+  for (const std::string& name : a.channels) {
+    wire::Channel ch{};
+    Require(ChannelFromStem(name, ch),
+            "--channels: unknown channel '" + name + "' (force1, force2, acc1, acc2, x1, x2)");
+    cfg.channel_mask =
+        static_cast<std::uint8_t>(cfg.channel_mask | (1u << static_cast<unsigned>(ch)));
+  }
+  if (cfg.channel_mask == 0) cfg.channel_mask = wire::kAllChannelsMask;
+  trig = ParseTrigger(a.trigger);
+  Require(a.pretrigger_s == 0.0 || trig.mode != wire::TriggerMode::kImmediate,
+          "--pretrigger-s needs a --trigger");
+  Require(a.trigger_timeout_s == 0.0 || trig.mode != wire::TriggerMode::kImmediate,
+          "--trigger-timeout-s needs a --trigger");
+  const double log_rate_hz = a.rate_hz / cfg.decimation;
+  cfg.record_limit = static_cast<std::uint32_t>(std::lround(a.seconds * log_rate_hz));
+  cfg.pretrigger_records = static_cast<std::uint32_t>(std::lround(a.pretrigger_s * log_rate_hz));
+  Require(cfg.record_limit > 0, "--seconds is shorter than one logged sample");
+  return cfg;
+}
+
+wire::CalibrationRecord ActiveRecord(Connection& c, bool& has_record) {
+  wire::CalibrationRecord r;
+  has_record = false;
+  // Asked now, not taken from the connection's opening get-info: a commit since then (through
+  // this connection or another) changes it.
+  if (c.GetInfo().cal_state != wire::CalState::kCalibrated) return r;
+  const std::vector<std::uint8_t> bytes = c.CalGet();
+  if (wire::DecodeCalibrationRecord(bytes, r) != Status::kOk) {
+    throw DeviceError("the board's active calibration record does not decode");
+  }
+  has_record = true;
+  return r;
+}
+
+void ApplyCalibration(const wire::CalibrationRecord& rec, bool has_record, bool no_dob,
+                      Trigger& trig, wire::AcqConfigureRequest& cfg) {
+  if (!no_dob && has_record && (rec.flags & wire::kCalFlagHasDob) != 0)
+    cfg.flags = wire::kAcqFlagLogDob;
+  if (trig.mode == wire::TriggerMode::kImmediate) return;
+  const wire::ChannelScaling& s = rec.channels[static_cast<std::size_t>(trig.channel)];
+  if (!has_record || s.unit != wire::Unit::kNewton) {
+    throw DeviceError(
+        "a force trigger needs a calibrated load cell: upload a calibration first (vibid cal "
+        "upload)");
+  }
+  const double q = trig.threshold / static_cast<double>(s.full_scale) * 2147483648.0;
+  Require(std::abs(q) < 2147483647.0, "--trigger threshold is beyond the load cell's full scale");
+  trig.full_scale_n = static_cast<double>(s.full_scale);
+  cfg.trigger_mode = trig.mode;
+  cfg.trigger_channel = static_cast<std::uint8_t>(trig.channel);
+  cfg.trigger_threshold = static_cast<std::int32_t>(std::lround(q));
+}
+
+LinkBudget Preflight(const wire::InfoResponse& info, const wire::AcqConfigureRequest& cfg,
+                     const AcquireSettings& settings) {
+  // Records the link cannot carry pile up in the log; refuse before the board starts if it would
+  // overflow.
+  const LinkBudget budget = ComputeLinkBudget(info, cfg);
+  if (budget.overflow_after_s < settings.seconds + settings.pretrigger_s && !settings.allow_drops) {
+    throw InputError(DescribeOverflow(budget, settings.seconds));
+  }
+  return budget;
+}
+
+}  // namespace vibid::device

@@ -1,0 +1,20 @@
+// The board's profile as JSON, as `vibid info --json` prints it and the Python Board's info()
+// returns it: identity, capabilities, sampling and link figures, calibration state, counters.
+#pragma once
+
+#include <optional>
+
+#include <nlohmann/json.hpp>
+
+#include "vibid/device/connection.hpp"
+#include "vibid/shared/wire/commands.hpp"
+
+namespace vibid::device {
+
+/// `clips`, `sampling` and `health` are null in the JSON when absent (a board of protocol 2.0).
+nlohmann::json InfoJson(const Connection& c, const wire::InfoResponse& i,
+                        const std::optional<wire::ClipResponse>& clips,
+                        const std::optional<wire::SamplingInfoResponse>& sampling,
+                        const std::optional<wire::HealthInfoResponse>& health);
+
+}  // namespace vibid::device

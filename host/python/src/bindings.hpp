@@ -1,0 +1,28 @@
+// Registration functions of the extension module `vibid._vibid`, one per area. The binding layer
+// converts only: every decision is a library function the CLI calls too.
+#pragma once
+
+#include <pybind11/pybind11.h>
+
+#include <string>
+
+#include <nlohmann/json_fwd.hpp>
+
+namespace vibid::python {
+
+namespace py = pybind11;
+
+void RegisterErrors(py::module_& m);
+void RegisterModel(py::module_& m);
+void RegisterAnalysis(py::module_& m);
+void RegisterBoard(py::module_& m);
+void RegisterObserver(py::module_& m);
+void RegisterSysid(py::module_& m);
+
+/// A JSON document as Python objects (dict, list, float...), through Python's json module: the
+/// same objects `vibid ... --json` prints.
+py::object ToPython(const nlohmann::json& j);
+/// A Python dict (or list...) as JSON, through Python's json module (NaN refused).
+nlohmann::json FromPython(const py::handle& object);
+
+}  // namespace vibid::python

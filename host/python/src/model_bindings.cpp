@@ -1,0 +1,155 @@
+// Models (modal, FRF, simulation) and recordings: conversions between numpy arrays and the
+// library's types. Arrays of float64 in C order come in without a copy.
+#include <pybind11/eigen.h>
+#include <pybind11/numpy.h>
+#include <pybind11/stl.h>
+
+#include <nlohmann/json.hpp>
+
+#include "bindings.hpp"
+#include "vibid/common/csv.hpp"
+#include "vibid/common/error.hpp"
+#include "vibid/model/force.hpp"
+#include "vibid/model/frf.hpp"
+#include "vibid/model/modal.hpp"
+#include "vibid/model/model.hpp"
+#include "vibid/model/model_json.hpp"
+#include "vibid/model/simulate.hpp"
+
+namespace vibid::python {
+namespace {
+
+const char* DampingName(model::DampingKind kind) {
+  switch (kind) {
+    case model::DampingKind::kNone: return "none";
+    case model::DampingKind::kProportional: return "proportional";
+    case model::DampingKind::kGeneral: return "general";
+  }
+  return "none";
+}
+
+py::dict ModalDict(const model::Model& m) {
+  model::ModalResult r;
+  {
+    py::gil_scoped_release release;
+    r = model::Modal(m);
+  }
+  py::dict d;
+  d["omega_rad_s"] = r.omega_rad_s;
+  d["freq_hz"] = r.freq_hz;
+  d["zeta"] = r.zeta;
+  d["shapes"] = r.shapes;
+  d["ratio"] = r.ratio;
+  d["damping"] = DampingName(r.damping);
+  return d;
+}
+
+py::dict SimulateDict(const model::Model& m, const std::vector<std::string>& forces, double dt_s,
+                      double t_end_s, const std::string& method, const Eigen::VectorXd& x0_m,
+                      const Eigen::VectorXd& v0_m_s) {
+  model::SimulationOptions options;
+  options.method = model::ParseMethod(method);
+  options.dt_s = dt_s;
+  options.t_end_s = t_end_s;
+  options.x0_m = x0_m;
+  options.v0_m_s = v0_m_s;
+  model::ForceInput force;
+  for (const std::string& spec : forces) force.shapes.push_back(model::ParseForceShape(spec));
+  model::SimulationResult r;
+  {
+    py::gil_scoped_release release;
+    r = model::Simulate(m, force, options);
+  }
+  py::dict d;
+  d["t_s"] = r.t_s;
+  d["x_m"] = r.x_m;
+  d["v_m_s"] = r.v_m_s;
+  d["a_m_s2"] = r.a_m_s2;
+  d["force_n"] = r.force_n;
+  return d;
+}
+
+/// A recording as (names, data shaped (channels, samples), fs_hz, t0_s, header comment lines).
+py::tuple ReadRecording(const std::string& path, std::optional<double> fs_hz,
+                        const std::string& time_column, const std::vector<std::string>& channels) {
+  RecordingOptions options;
+  options.fs_hz = fs_hz;
+  options.time_column = time_column;
+  options.channels = channels;
+  Recording r;
+  {
+    py::gil_scoped_release release;
+    r = LoadRecording(path, options);
+  }
+  const auto n = static_cast<py::ssize_t>(r.samples());
+  const auto k = static_cast<py::ssize_t>(r.table.columns.size());
+  py::array_t<double> data({k, n});
+  double* out = data.mutable_data();
+  for (py::ssize_t c = 0; c < k; ++c) {
+    const Eigen::VectorXd& col = r.table.columns[static_cast<std::size_t>(c)];
+    std::copy(col.data(), col.data() + n, out + c * n);
+  }
+  return py::make_tuple(r.table.names, data, r.fs_hz, r.t0_s);
+}
+
+/// Writes columns (rows of `data`) as a CSV vibid reads back bit-identical.
+void WriteCsv(const std::string& path, const std::vector<std::string>& names,
+              const py::array_t<double, py::array::c_style>& data, const std::string& header) {
+  Require(data.ndim() == 2, "data must be 2-D (channels, samples)");
+  Require(data.shape(1) > 0, "the recording is empty (no samples)");
+  Require(static_cast<std::size_t>(data.shape(0)) == names.size(),
+          "data has " + std::to_string(data.shape(0)) + " rows for " +
+              std::to_string(names.size()) + " names");
+  std::vector<Eigen::VectorXd> columns;
+  for (py::ssize_t c = 0; c < data.shape(0); ++c)
+    columns.emplace_back(Eigen::Map<const Eigen::VectorXd>(data.data(c, 0), data.shape(1)));
+  const std::string text = header + FormatCsv(names, columns);
+  py::module_::import("pathlib").attr("Path")(path).attr("write_text")(text);
+}
+
+}  // namespace
+
+void RegisterModel(py::module_& m) {
+  py::class_<model::Model>(m, "_Model")
+      .def(py::init([](const Eigen::MatrixXd& m_kg, const Eigen::MatrixXd& k_n_per_m,
+                       const std::optional<Eigen::MatrixXd>& c_ns_per_m) {
+             model::Model mo{
+                 m_kg,
+                 c_ns_per_m ? *c_ns_per_m : Eigen::MatrixXd::Zero(m_kg.rows(), m_kg.cols()).eval(),
+                 k_n_per_m};
+             model::Validate(mo);
+             return mo;
+           }),
+           py::arg("m_kg"), py::arg("k_n_per_m"), py::arg("c_ns_per_m") = py::none())
+      .def_readonly("m_kg", &model::Model::m_kg)
+      .def_readonly("c_ns_per_m", &model::Model::c_ns_per_m)
+      .def_readonly("k_n_per_m", &model::Model::k_n_per_m)
+      .def_property_readonly("dofs", &model::Model::dofs)
+      .def("to_dict", [](const model::Model& mo) { return ToPython(model::ModelToJson(mo)); });
+  m.def("load_model", &model::LoadModel, py::arg("path"));
+  m.def(
+      "model_from_dict",
+      [](const py::handle& d, const std::string& source) {
+        return model::ModelFromJson(FromPython(d), source);
+      },
+      py::arg("d"), py::arg("source") = "model");
+  m.def("modal", &ModalDict, py::arg("model"));
+  m.def(
+      "frf",
+      [](const model::Model& mo, int input_dof, int output_dof, const std::string& kind,
+         const Eigen::Ref<const Eigen::VectorXd>& omega_rad_s) {
+        const model::FrfKind k = model::ParseFrfKind(kind);
+        py::gil_scoped_release release;
+        return Eigen::VectorXcd(model::Frf(mo, input_dof, output_dof, k, omega_rad_s));
+      },
+      py::arg("model"), py::arg("input_dof"), py::arg("output_dof"), py::arg("kind"),
+      py::arg("omega_rad_s"));
+  m.def("simulate", &SimulateDict, py::arg("model"), py::arg("forces"), py::arg("dt_s"),
+        py::arg("t_end_s"), py::arg("method"), py::arg("x0_m"), py::arg("v0_m_s"));
+  m.def("read_recording", &ReadRecording, py::arg("path"), py::arg("fs_hz"), py::arg("time_column"),
+        py::arg("channels"));
+  m.def("write_csv", &WriteCsv, py::arg("path"), py::arg("names"), py::arg("data"),
+        py::arg("header"));
+}
+
+}  // namespace vibid::python

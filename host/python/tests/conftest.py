@@ -1,0 +1,61 @@
+"""Shared fixtures: the build tree's programs, the repository's example files, emulators."""
+import json
+import os
+import pathlib
+import re
+import subprocess
+
+import pytest
+
+ROOT = pathlib.Path(__file__).resolve().parents[3]
+BUILD = pathlib.Path(os.environ.get("VIBID_BUILD_DIR", ROOT / "build" / "host"))
+VIBID = BUILD / "host" / "cli" / "vibid"
+EMU = BUILD / "host" / "emulator" / "vibid-emu"
+
+
+def run_cli(*args, device=None) -> subprocess.CompletedProcess:
+    cmd = [str(VIBID)] + ([f"--device={device}"] if device else []) + [str(a) for a in args]
+    return subprocess.run(cmd, capture_output=True, text=True, check=False)
+
+
+def cli_json(*args):
+    r = run_cli(*args)
+    assert r.returncode == 0, r.stderr
+    return json.loads(r.stdout)
+
+
+class Emulator:
+    """vibid-emu on a free port, its flash in a temporary file; stopped by stop()."""
+
+    def __init__(self, tmp: pathlib.Path, seed: int = 1, realtime: bool = False):
+        self.proc = subprocess.Popen(
+            [str(EMU), "--port", "0", "--seed", str(seed), "--flash", str(tmp / f"flash{seed}.bin")]
+            + (["--realtime"] if realtime else []),
+            stdout=subprocess.PIPE, text=True)
+        banner = self.proc.stdout.readline()
+        m = re.search(r"127\.0\.0\.1:(\d+),", banner)
+        assert m, banner
+        self.url = f"usbip://127.0.0.1:{m.group(1)}"
+
+    def stop(self):
+        self.proc.terminate()
+        self.proc.wait(timeout=10)
+
+
+@pytest.fixture
+def emulator(tmp_path):
+    emu = Emulator(tmp_path)
+    yield emu
+    emu.stop()
+
+
+@pytest.fixture
+def make_emulator(tmp_path):
+    started = []
+
+    def make(seed=1, realtime=False):
+        started.append(Emulator(tmp_path, seed, realtime))
+        return started[-1]
+    yield make
+    for e in started:
+        e.stop()
