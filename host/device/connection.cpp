@@ -386,6 +386,7 @@ Connection::StreamEnd Connection::ReceiveLogStream(std::uint16_t token, std::uin
   // The layout comes with the trailer, so payloads are kept whole until then.
   wire::StreamDecoder decoder(Command::kLogRead, token);
   std::vector<std::vector<std::uint8_t>> payloads;
+  std::uint32_t live_index = first;  // log index of the next record handed to live_
   std::uint64_t bytes = 0;
   const auto id = static_cast<std::uint8_t>(Command::kLogRead);
   wire::LogTrailer trailer;
@@ -416,6 +417,7 @@ Connection::StreamEnd Connection::ReceiveLogStream(std::uint16_t token, std::uin
     if (!got) return end_early(StreamEnd::kBroken);
     const auto step = decoder.Feed(r.report);
     if (step.event == wire::StreamDecoder::Event::kData) {
+      if (keep_partial && live_ && configured_) live_index += ForwardLive(live_index, step.payload);
       payloads.emplace_back(step.payload.begin(), step.payload.end());
       bytes += step.payload.size();
       if (progress) progress(bytes, 0);
@@ -506,7 +508,24 @@ void Connection::StopForKeeps(LogPull& pull) {
   pull.stopped = true;
 }
 
-LogPull Connection::AcquireStreamed(const Progress& progress, const StopRequest& stop) {
+std::uint32_t Connection::ForwardLive(std::uint32_t index,
+                                      std::span<const std::uint8_t> payload) const {
+  const wire::AcqConfigureRequest& c = *configured_;
+  const wire::LogLayout layout{c.channel_mask, c.flags};
+  std::array<wire::LogRecord, wire::kMaxRecordsPerReport> batch{};
+  std::size_t n = 0;
+  if (wire::DecodeLogPayload(layout, c.decimation, payload, batch, n) != Status::kOk) return 0;
+  live_(index, std::span<const wire::LogRecord>(batch.data(), n));
+  return static_cast<std::uint32_t>(n);
+}
+
+LogPull Connection::AcquireStreamed(const Progress& progress, const StopRequest& stop,
+                                    const LiveRecords& live) {
+  live_ = live;
+  struct ClearLive {
+    LiveRecords& sink;
+    ~ClearLive() { sink = {}; }
+  } clear_live{live_};
   const std::uint16_t token = NextToken();
   wire::Report request{};
   static_cast<void>(wire::BuildReport(Command::kAcqStart, token, 0, 0, Status::kOk, {}, request));
