@@ -21,6 +21,7 @@ using Clock = std::chrono::steady_clock;
 
 /// The page's interval between blocks: 25 blocks a second keep the scope fluid.
 constexpr std::chrono::milliseconds kBlockInterval{40};
+constexpr int kBlocksPerState = 10;
 /// The observer view's running fit: the last 5 s, recomputed every half second of samples.
 constexpr double kFitWindowS = 5.0;
 constexpr double kFitEveryS = 0.5;
@@ -322,6 +323,11 @@ void BenchBoard::Flush() {
   {
     std::lock_guard s(state_mutex_);
     state_["records"] = live_records_;
+  }
+  // The records so far, a few times a second (a page that reloads gets the newest).
+  if (++blocks_since_state_ >= kBlocksPerState) {
+    blocks_since_state_ = 0;
+    PublishState();
   }
 }
 

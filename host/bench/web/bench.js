@@ -71,9 +71,9 @@ async function loadBoard() {
     ['protocol', id.protocol], ['converter', id.adc_bits + ' bit'],
     ['log', (id.log_capacity_bytes / 1024).toFixed(0) + ' KiB'],
     ['link', id.link_reports_per_s + ' reports/s'],
-    ['status', b.status ? (b.status.sampling ? 'sampling' : 'idle') +
-                          (b.status.observer_running ? ', observer on' : ', observer off')
-                        : 'acquiring']]);
+    ['status', !b.status ? 'acquiring'
+               : b.status.sampling ? 'sampling' + (b.status.observer_running ? ', observer stepping' : '')
+               : 'idle (' + b.status.records_written + ' records in the last acquisition)']]);
   const c = b.calibration;
   const cal = [['state', c.state + (c.slot !== 255 ? ' (slot ' + c.slot + ')' : '')]];
   if (c.label !== undefined) {
@@ -114,7 +114,12 @@ function ask() {
     log_dob: document.getElementById('log-dob').checked,
   };
   const sc = document.getElementById('scenario').value;
-  if (sc && bench.board?.identity.emulator) a.scenario = sc;
+  if (sc && bench.board?.identity.emulator) {
+    a.scenario = sc;
+    const params = document.getElementById('scenario-params').value.trim();
+    // Sent as typed: the server reads and checks them.
+    if (params) a.scenario_params = params.split(/[\s,]+/).map(Number);
+  }
   const fit = document.getElementById('fit-measured').value;
   if (fit) a.fit_measured = fit;
   return a;
@@ -144,12 +149,16 @@ function onState(s) {
     : 'idle';
   document.getElementById('acq-state').textContent = line;
   document.body.dataset.running = s.running ? 'yes' : 'no';
+  if (s.error && !(prev && prev.error === s.error)) say(s.error, true);
   if (s.running && (!prev || prev.name !== s.name)) resetScope();
   if (prev && prev.running && !s.running) loadBoard().catch(() => {});
 }
 
 function resetScope() {
   bench.names = []; bench.buffers = {}; bench.time = null; bench.dirty = true;
+  bench.lastDhat = null;
+  const scope = document.getElementById('scope');
+  for (const k of ['blocks', 'lastTime', 'lastDhat']) delete scope.dataset[k];
   bench.fit = null; showFit();
 }
 
@@ -209,25 +218,31 @@ function buildPlots() {
   const channels = bench.names.filter(n => n !== 't_s' && !(n === 'd_hat_q31' && bench.names.includes('d_hat_n')));
   const colors = ['#1f77b4', '#d62728', '#2ca02c', '#9467bd', '#ff7f0e', '#8c564b', '#17becf'];
   channels.forEach((name, i) => {
-    bench.plots.push(makePlot(scope, [name], name + ' (' + unitOf(name) + ')', [colors[i % colors.length]], 130));
+    bench.plots.push(makePlot(scope, [name], label(name), [colors[i % colors.length]], 150));
   });
   const obs = document.getElementById('observer-plot');
   obs.replaceChildren();
   const measured = bench.state?.ask?.fit_measured;
   const force = measured ? bench.names.find(n => n.startsWith(measured + '_')) : null;
   const dhat = bench.names.includes('d_hat_n') ? 'd_hat_n' : null;
-  if (dhat && force) bench.plots.push(makePlot(obs, [force, dhat], 'N', ['#555', '#d62728'], 320));
+  if (dhat && force) bench.plots.push(makePlot(obs, [force, dhat], 'force (N)', ['#555', '#d62728'], 360));
 }
 
-function makePlot(parent, columns, label, colors, height) {
+// "force1_n" -> "force1 (N)", "d_hat_n" -> "d̂ (N)"
+function label(column) {
+  const stem = column.startsWith('d_hat') ? 'd̂' : column.split('_')[0];
+  return stem + ' (' + unitOf(column) + ')';
+}
+
+function makePlot(parent, columns, axisLabel, colors, height) {
   const div = document.createElement('div');
   parent.append(div);
   const series = [{}];
-  columns.forEach((c, i) => series.push({label: c, stroke: colors[i], width: 1, points: {show: false}}));
+  columns.forEach((c, i) => series.push({label: label(c), stroke: colors[i], width: 1, points: {show: false}}));
   const u = new uPlot({
-    width: plotWidth(parent), height, legend: {show: columns.length > 1},
+    width: plotWidth(parent), height, legend: {show: columns.length > 1, live: false},
     cursor: {show: false}, scales: {x: {time: false}},
-    axes: [{label: 't (s)'}, {label, size: 70}], series,
+    axes: [{space: 60}, {label: axisLabel, size: 70, space: 25}], series,
   }, [[], ...columns.map(() => [])], div);
   return {u, columns, parent};
 }

@@ -106,6 +106,7 @@ class BenchBoard {
   std::vector<double> fit_measured_;
   std::uint64_t fit_samples_since_ = 0;
   std::chrono::steady_clock::time_point last_flush_{};
+  int blocks_since_state_ = 0;
 };
 
 }  // namespace vibid::bench
