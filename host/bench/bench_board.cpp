@@ -81,7 +81,8 @@ BenchBoard::~BenchBoard() { Shutdown(); }
 
 void BenchBoard::ReadCalibration() {
   has_calibration_ = false;
-  if (c_.GetInfo().cal_state != wire::CalState::kCalibrated) return;
+  info_ = c_.GetInfo();
+  if (info_.cal_state != wire::CalState::kCalibrated) return;
   const std::vector<std::uint8_t> bytes = c_.CalGet();
   if (wire::DecodeCalibrationRecord(bytes, calibration_) != Status::kOk)
     throw device::DeviceError("the board's active calibration record does not decode");
@@ -90,7 +91,7 @@ void BenchBoard::ReadCalibration() {
 
 nlohmann::json BenchBoard::Describe() {
   std::unique_lock lock(board_mutex_, std::try_to_lock);
-  const wire::InfoResponse& info = c_.info();
+  const wire::InfoResponse& info = info_;
   nlohmann::json j;
   char fw[32];
   std::snprintf(fw, sizeof fw, "%u.%u.%u", info.fw_major, info.fw_minor, info.fw_patch);
@@ -391,6 +392,14 @@ void BenchBoard::WithIdleBoard(const std::function<void(device::Connection&)>& b
   std::unique_lock lock(board_mutex_, std::try_to_lock);
   if (!lock.owns_lock() || running_) throw Busy("an acquisition is running: stop it first");
   body(c_);
+}
+
+void BenchBoard::ReadCalibrationAgain() {
+  WithIdleBoard([this](device::Connection&) { ReadCalibration(); });
+}
+
+const wire::CalibrationRecord* BenchBoard::ActiveCalibration() const {
+  return has_calibration_ ? &calibration_ : nullptr;
 }
 
 nlohmann::json BenchBoard::State() const {

@@ -9,7 +9,9 @@ on a free port and drives the page:
      at its frame rate (requestAnimationFrame counts: the benchmark figure);
   3. a reload mid-acquisition shows the running acquisition again;
   4. the observer view shows d̂ against the measured push with the running fit;
-  5. Ctrl-C ends the bench with exit code 130 and the recordings on disk.
+  5. the calibration view shows what an updated model changes, stages it and commits it;
+  6. Ctrl-C ends the bench with exit code 130 and the recordings on disk; then `vibid info`
+     shows the committed record's slot and CRC.
 Prints the figures (frame rate, server CPU); saves a screenshot of each view.
 
   /usr/bin/python3 host/bench/browser_test.py --build build/host [--screenshots docs]
@@ -139,6 +141,39 @@ def page_message(driver):
     return driver.find_element(By.ID, "message").text + " | " + driver.find_element(By.ID, "acq-state").text
 
 
+def calibrate_from_page(driver, bench, shots):
+    """Stages and commits an updated model (m1 1.82 kg) from the calibration view; its CRC."""
+    with open(os.path.join(ROOT, "examples", "rig_nominal.json")) as f:
+        model = json.load(f)
+    model["masses"][0] = 1.82
+    with open(os.path.join(bench.data, "updated.json"), "w") as f:
+        json.dump(model, f)
+    for name, source in (("design.json", os.path.join(bench.work, "design.json")),
+                         ("sensors.json", os.path.join(ROOT, "examples", "sensors.json"))):
+        with open(source) as src, open(os.path.join(bench.data, name), "w") as dst:
+            dst.write(src.read())
+    driver.find_element(By.CSS_SELECTOR, "#tabs button[data-view=calibration]").click()
+    for field, value in (("cal-model", "updated.json"), ("cal-design", "design.json"),
+                         ("cal-sensors", "sensors.json"), ("cal-label", "bench-updated")):
+        driver.find_element(By.ID, field).send_keys(value)
+    driver.find_element(By.ID, "cal-preview").click()
+    wait(driver, lambda d: data(d, "cal-changes", "changes") is not None,
+         "the changes the commit makes ({message})")
+    text = driver.find_element(By.ID, "cal-changes").text
+    check("label" in text and "bench-updated" in text and "M" in text and "1.82" in text,
+          "the changes shown: " + text)
+    driver.find_element(By.ID, "cal-upload").click()
+    wait(driver, lambda d: "staged" in d.find_element(By.ID, "cal-status").text,
+         "the record staged ({message})")
+    crc = re.search(r"crc (0x[0-9a-f]{8})", driver.find_element(By.ID, "cal-status").text)
+    check(crc is not None, "no CRC in: " + driver.find_element(By.ID, "cal-status").text)
+    driver.save_screenshot(os.path.join(shots, "bench-calibration.png"))
+    driver.find_element(By.ID, "cal-commit").click()
+    wait(driver, lambda d: data(d, "cal-status", "committed") is not None,
+         "the commit ({message})")
+    return crc.group(1)
+
+
 def main():
     ap = argparse.ArgumentParser()
     ap.add_argument("--build", default=os.path.join(ROOT, "build", "host"))
@@ -211,6 +246,7 @@ def main():
         driver.save_screenshot(os.path.join(shots, "bench-observer.png"))
         wait(driver, lambda d: d.execute_script("return document.body.dataset.running") == "no",
              "the acquisition to end", timeout=30)
+        staged_crc = calibrate_from_page(driver, bench, shots)
     finally:
         if driver is not None:
             driver.quit()
@@ -224,6 +260,13 @@ def main():
     recordings = sorted(f for f in os.listdir(bench.data) if f.endswith(".csv"))
     check(len(recordings) == 2 and not any(f.endswith(".partial.csv") for f in recordings),
           "recordings: %s" % recordings)
+    # The board holds what the page committed: vibid info names its slot and CRC.
+    info = bench.cli("info")
+    check(("slot 1, crc " + staged_crc) in info, "vibid info after the commit:\n" + info)
+    shown = json.loads(bench.cli("cal", "show", "--json"))
+    check(shown["label"] == "bench-updated" and abs(shown["M"][0][0] - 1.82) < 1e-6,
+          "vibid cal show after the commit: %s %s" % (shown["label"], shown["M"]))
+    print("calibration committed from the page: vibid info shows slot 1, crc " + staged_crc)
     bench.close()
     print("bench browser test: passed in %.1f s (screenshots in %s)" % (time.monotonic() - t0,
                                                                         shots))

@@ -3,6 +3,8 @@
 // reach the live channel and the disk.
 #include "vibid/bench/server.hpp"
 
+#include "vibid/bench/calibration_routes.hpp"
+
 #include <chrono>
 #include <filesystem>
 #include <fstream>
@@ -40,6 +42,7 @@ class BenchServerTest : public ::testing::Test {
     probe_ = std::make_unique<device::Connection>(core_.Connect());
     board_ = std::make_unique<BenchBoard>(*connection_, dir_.string(), hub_);
     server_ = std::make_unique<BenchServer>(*board_, hub_, ServerOptions{});
+    AddCalibrationRoutes(*server_, *board_, dir_.string(), "0.1.0");
     server_->Start();
     host_ = "127.0.0.1:" + std::to_string(server_->port());
   }
@@ -179,6 +182,55 @@ TEST_F(BenchServerTest, OversizedAndMalformedBodiesGetAMessageAndChangeNothing) 
   ASSERT_TRUE(obs);
   EXPECT_EQ(obs->status, 400);
   EXPECT_EQ(Facts(), before);
+}
+
+TEST_F(BenchServerTest, CalibrationRequestsNameFilesInTheBenchDirectoryOnly) {
+  const BoardFacts before = Facts();
+  httplib::Client c = Client();
+  const std::vector<std::pair<std::string, std::string>> bad = {
+      {R"({"model":"../../etc/passwd","design":"d.json"})", "no folders"},
+      {R"({"model":"/etc/passwd","design":"d.json"})", "no folders"},
+      {R"({"model":".hidden","design":"d.json"})", "no folders"},
+      {R"({"model":"m.json"})", "'design' is missing"},
+      {R"({"model":"m.json","design":"d.json","sensor":"s.json"})", "unknown key 'sensor'"},
+      {R"({"model":"missing.json","design":"d.json"})", "missing.json"},
+  };
+  for (const char* route : {"/api/cal/preview", "/api/cal/upload"}) {
+    for (const auto& [body, expected] : bad) {
+      const auto r = c.Post(route, Authorized(), body, "application/json");
+      ASSERT_TRUE(r);
+      EXPECT_EQ(r->status, 400) << route << " " << body;
+      EXPECT_NE(r->body.find(expected), std::string::npos) << body << " -> " << r->body;
+    }
+  }
+  const auto commit = c.Post("/api/cal/commit", Authorized(), R"({"now":1})", "application/json");
+  ASSERT_TRUE(commit);
+  EXPECT_EQ(commit->status, 400);
+  const auto foreign =
+      c.Post("/api/cal/commit", {{"Origin", "http://evil.example"}}, "{}", "application/json");
+  ASSERT_TRUE(foreign);
+  EXPECT_EQ(foreign->status, 403);
+  EXPECT_EQ(Facts(), before);
+}
+
+TEST(RecordChanges, ListsTheFieldsThatDifferAndNotTheTimeOfBuilding) {
+  const nlohmann::json now = {{"label", "rig"},          {"M", {{2.0}}},
+                              {"K", {{4000.0}}},         {"created_unix_s", 1},
+                              {"host_version", "0.1.0"}, {"observer", nullptr}};
+  nlohmann::json next = now;
+  next["M"] = {{1.8}};
+  next["created_unix_s"] = 2;
+  next["host_version"] = "0.2.0";
+  next["observer"] = {{"sample_rate_hz", 5000}};
+  const nlohmann::json changes = RecordChanges(now, next);
+  ASSERT_EQ(changes.size(), 2u);
+  EXPECT_EQ(changes[0]["field"], "M");
+  EXPECT_EQ(changes[0]["from"], nlohmann::json({{2.0}}));
+  EXPECT_EQ(changes[0]["to"], nlohmann::json({{1.8}}));
+  EXPECT_EQ(changes[1]["field"], "observer");
+  EXPECT_TRUE(changes[1]["from"].is_null());
+  // An uncalibrated board: every field of the new record is a change.
+  EXPECT_EQ(RecordChanges(nullptr, next).size(), 4u);
 }
 
 TEST_F(BenchServerTest, AnAcquisitionReachesTheLiveChannelAndTheDisk) {

@@ -294,6 +294,59 @@ function draw() {
   }
 }
 
+// ---- calibration view --------------------------------------------------------------------------
+
+function calFiles() {
+  const f = {};
+  for (const [key, id] of [['model', 'cal-model'], ['design', 'cal-design'], ['sensors', 'cal-sensors'], ['label', 'cal-label']]) {
+    const v = document.getElementById(id).value.trim();
+    if (v) f[key] = v;
+  }
+  return f;
+}
+
+const brief = v => v === null || v === undefined ? '—'
+  : typeof v === 'object' ? JSON.stringify(v, (k, x) => typeof x === 'number' ? Number(x.toPrecision(6)) : x)
+  : String(v);
+
+async function calPreview() {
+  const status = document.getElementById('cal-status');
+  const p = await api('/api/cal/preview', calFiles());
+  const t = document.getElementById('cal-changes');
+  const head = document.createElement('tr');
+  for (const h of ['', 'on the board now', 'after the commit']) {
+    const th = document.createElement('th'); th.textContent = h; head.append(th);
+  }
+  const body = p.changes.map(c => {
+    const tr = document.createElement('tr');
+    for (const v of [c.field, brief(c.from), brief(c.to)]) {
+      const td = document.createElement('td'); td.textContent = v; tr.append(td);
+    }
+    return tr;
+  });
+  t.replaceChildren(head, ...body);
+  t.dataset.changes = p.changes.length;
+  document.getElementById('cal-upload').disabled = false;
+  document.getElementById('cal-commit').disabled = true;
+  status.textContent = p.changes.length ? p.changes.length + ' fields change' : 'nothing changes';
+}
+
+async function calUpload() {
+  const r = await api('/api/cal/upload', calFiles());
+  document.getElementById('cal-status').textContent = 'staged ' + r.staged + ' (crc ' + r.crc32 + '): commit writes it to flash';
+  document.getElementById('cal-commit').disabled = false;
+}
+
+async function calCommit() {
+  const r = await api('/api/cal/commit', {});
+  const s = document.getElementById('cal-status');
+  s.textContent = 'committed to slot ' + r.slot + ', sequence ' + r.sequence;
+  s.dataset.committed = r.sequence;
+  document.getElementById('cal-upload').disabled = true;
+  document.getElementById('cal-commit').disabled = true;
+  await loadBoard();
+}
+
 // ---- controls ----------------------------------------------------------------------------------
 
 function showView(id) {
@@ -334,6 +387,9 @@ async function main() {
   wire('stop', async () => { await api('/api/stop', {}); say('stopping: the records so far are kept'); });
   wire('dob-on', async () => { await api('/api/observer', {run: true}); say('observer on'); await loadBoard(); });
   wire('dob-off', async () => { await api('/api/observer', {run: false}); say('observer off'); await loadBoard(); });
+  wire('cal-preview', calPreview);
+  wire('cal-upload', calUpload);
+  wire('cal-commit', calCommit);
   document.getElementById('pause').addEventListener('click', e => {
     bench.paused = !bench.paused; e.target.textContent = bench.paused ? 'Resume' : 'Pause'; bench.dirty = true;
   });

@@ -9,6 +9,7 @@
 #include "device_commands.hpp"
 #include "session.hpp"
 #include "vibid/bench/bench_board.hpp"
+#include "vibid/bench/calibration_routes.hpp"
 #include "vibid/bench/server.hpp"
 
 namespace vibid::cli {
@@ -38,6 +39,7 @@ void Run(const BenchArgs& a) {
         bench::LiveHub hub;
         bench::BenchBoard board(c, a.out, hub, &InterruptFlag());
         bench::BenchServer server(board, hub, {.bind = a.bind, .port = a.port, .token = {}});
+        bench::AddCalibrationRoutes(server, board, a.out, VIBID_VERSION);
         server.Start();
         std::cout << server.Url() << std::endl;
         std::cerr << "vibid: bench on " << c.Describe() << ", recordings in " << a.out

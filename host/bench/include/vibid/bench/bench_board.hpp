@@ -62,6 +62,11 @@ class BenchBoard {
   /// Stops a running acquisition keeping its data, and waits until its recording is written.
   void Shutdown();
 
+  /// After the board's calibration changed (a commit): its record and units read again.
+  void ReadCalibrationAgain();
+  /// The active calibration record as last read (null: uncalibrated).
+  const wire::CalibrationRecord* ActiveCalibration() const;
+
   /// The hammer-test session and any other view take the blocks from here.
   void AddBlockListener(BlockListener listener);
 
@@ -82,7 +87,8 @@ class BenchBoard {
   LiveHub& hub_;
   const std::atomic<bool>* interrupt_;
 
-  std::mutex board_mutex_;  // held by the acquisition thread for its whole run
+  std::mutex board_mutex_;     // held by the acquisition thread for its whole run
+  wire::InfoResponse info_{};  // get-info when the calibration was last read
   wire::CalibrationRecord calibration_{};
   bool has_calibration_ = false;
 
