@@ -2,7 +2,7 @@
 
 #include <iostream>
 
-#include "common/option_text.hpp"
+#include "vibid/common/option_text.hpp"
 #include "vibid/common/atomic_file.hpp"
 
 namespace vibid::cli {

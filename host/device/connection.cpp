@@ -175,7 +175,7 @@ bool Connection::Await(std::uint8_t command, std::uint16_t token, std::chrono::m
 }
 
 Reply Connection::Call(Command command, std::span<const std::uint8_t> payload,
-                       std::uint16_t sequence) {
+                       std::uint16_t sequence, std::chrono::milliseconds extra_wait) {
   const std::uint16_t token = NextToken();
   wire::Report request{};
   if (wire::BuildReport(command, token, sequence, 0, Status::kOk, payload, request) !=
@@ -192,16 +192,16 @@ Reply Connection::Call(Command command, std::span<const std::uint8_t> payload,
     }
     Send(request);
     Reply reply;
-    if (Await(id, token, options_.timeout, reply)) return reply;
+    if (Await(id, token, options_.timeout + extra_wait, reply)) return reply;
   }
   throw DeviceError("no answer to " + CommandText(id) + " from " + Describe() + " after " +
                     std::to_string(options_.retries + 1) + " tries of " +
-                    std::to_string(options_.timeout.count()) + " ms");
+                    std::to_string((options_.timeout + extra_wait).count()) + " ms");
 }
 
 Reply Connection::Expect(Command command, std::span<const std::uint8_t> payload,
-                         std::uint16_t sequence) {
-  Reply r = Call(command, payload, sequence);
+                         std::uint16_t sequence, std::chrono::milliseconds extra_wait) {
+  Reply r = Call(command, payload, sequence, extra_wait);
   if (r.header.status != Status::kOk) {
     throw DeviceError(
         RefusalMessage(static_cast<std::uint8_t>(command), r.header.status, r.payload()));
@@ -240,7 +240,9 @@ std::optional<wire::HealthInfoResponse> Connection::GetHealthInfo() {
 
 wire::SelfTestResponse Connection::SelfTest(std::uint8_t check) {
   return DecodeAnswer<wire::SelfTestResponse>(
-      Expect(Command::kSelfTest, wire::SelfTestRequest{.check = check}), "self-test");
+      Expect(Command::kSelfTest, wire::EncodedBytes(wire::SelfTestRequest{.check = check}), 0,
+             std::chrono::milliseconds{wire::kSelfTestLongestCheckMs}),
+      "self-test");
 }
 
 wire::StatusResponse Connection::GetStatus() {

@@ -138,12 +138,27 @@ std::string SampleInstantsLine(const LogTable& table, const LogPull& pull,
   return line + "\n";
 }
 
+std::string FormatLogCsvHeader(const LogPull& format, const wire::CalibrationRecord& calibration,
+                               bool has_record,
+                               const std::optional<wire::SamplingInfoResponse>& instants) {
+  LogPull empty;
+  empty.layout = format.layout;
+  empty.trailer = format.trailer;
+  const LogTable t = MakeLogTable(empty, calibration, has_record);
+  const std::string header = instants ? SampleInstantsLine(t, empty, *instants) : std::string();
+  return header + FormatCsvHeader(t.names);
+}
+
+std::string FormatLogCsvRows(const LogPull& block, const wire::CalibrationRecord& calibration,
+                             bool has_record) {
+  return FormatCsvRows(MakeLogTable(block, calibration, has_record).columns);
+}
+
 std::string FormatLogCsv(const LogPull& pull, const wire::CalibrationRecord& calibration,
                          bool has_record,
                          const std::optional<wire::SamplingInfoResponse>& instants) {
-  const LogTable t = MakeLogTable(pull, calibration, has_record);
-  std::string header = instants ? SampleInstantsLine(t, pull, *instants) : std::string();
-  return header + FormatCsv(t.names, t.columns);
+  return FormatLogCsvHeader(pull, calibration, has_record, instants) +
+         FormatLogCsvRows(pull, calibration, has_record);
 }
 
 }  // namespace vibid::device

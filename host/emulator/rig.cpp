@@ -135,11 +135,12 @@ RigSpec DefaultRig() {
 
 RigSpec RigFromJson(const nlohmann::json& json, const std::string& source) {
   Require(json.is_object(), source + ": expected a JSON object");
-  RequireKnownKeys(json,
-                   {"topology", "masses_kg", "effective_mass_loss", "springs_n_per_m",
-                    "dampers_ns_per_m", "coulomb_n", "load_cells", "accelerometers",
-                    "encoder_counts_per_m", "max_sample_rate_hz", "brown_out_level"},
-                   "rig file " + source);
+  RequireKnownKeys(
+      json,
+      {"topology", "masses_kg", "effective_mass_loss", "springs_n_per_m", "dampers_ns_per_m",
+       "coulomb_n", "load_cells", "accelerometers", "encoder_counts_per_m", "max_sample_rate_hz",
+       "brown_out_level", "hammer_test_hits"},
+      "rig file " + source);
   // Compared as a JSON value: a topology of another type is a wrong value, not a type error.
   Require(json.value("topology", nlohmann::json()) == "chain",
           source + ": \"topology\" must be \"chain\" (masses in series from ground)");
@@ -184,30 +185,56 @@ RigSpec RigFromJson(const nlohmann::json& json, const std::string& source) {
                        ": \"brown_out_level\" must be \"level3\", \"level2\", \"level1\" or "
                        "\"off\" (the option bytes' BOR_LEV)");
   }
+  if (json.contains("hammer_test_hits")) {
+    const nlohmann::json& h = json.at("hammer_test_hits");
+    const std::string where = "rig file " + source + ", \"hammer_test_hits\"";
+    Require(h.is_object(), where + ": expected {\"double_hit\": [k...], \"overload\": [j...]}");
+    RequireKnownKeys(h, {"double_hit", "overload"}, where);
+    const auto hits = [&](const char* key) {
+      std::vector<int> out;
+      if (!h.contains(key)) return out;
+      const nlohmann::json& list = h.at(key);
+      Require(list.is_array(), where + ": \"" + key + "\" must be a list of hit numbers");
+      for (const nlohmann::json& k : list) {
+        Require(k.is_number_integer() && k.get<long long>() >= 1 && k.get<long long>() <= 100000,
+                where + ": \"" + key +
+                    "\" holds hit numbers from 1 (the first hit of an "
+                    "acquisition is 1)");
+        out.push_back(k.get<int>());
+      }
+      return out;
+    };
+    r.double_hits = hits("double_hit");
+    r.overloads = hits("overload");
+  }
   return r;
 }
 
 RigSpec LoadRig(const std::string& path) { return RigFromJson(ReadJsonFile(path), path); }
 
 nlohmann::json RigToJson(const RigSpec& r) {
-  return {{"topology", "chain"},
-          {"masses_kg", r.masses_kg},
-          {"effective_mass_loss", r.effective_mass_loss},
-          {"springs_n_per_m", r.springs_n_per_m},
-          {"dampers_ns_per_m", r.dampers_ns_per_m},
-          {"coulomb_n", r.coulomb_n},
-          {"load_cells",
-           {SensorToJson(r.load_cells[0], "range_n", "noise_n"),
-            SensorToJson(r.load_cells[1], "range_n", "noise_n")}},
-          {"accelerometers",
-           {SensorToJson(r.accelerometers[0], "range_m_s2", "noise_m_s2"),
-            SensorToJson(r.accelerometers[1], "range_m_s2", "noise_m_s2")}},
-          {"encoder_counts_per_m", r.encoder_counts_per_m},
-          {"max_sample_rate_hz", r.max_sample_rate_hz},
-          {"brown_out_level", r.brown_out == wire::BrownOut::kLevel2   ? "level2"
-                              : r.brown_out == wire::BrownOut::kLevel1 ? "level1"
-                              : r.brown_out == wire::BrownOut::kOff    ? "off"
-                                                                       : "level3"}};
+  nlohmann::json j = {{"topology", "chain"},
+                      {"masses_kg", r.masses_kg},
+                      {"effective_mass_loss", r.effective_mass_loss},
+                      {"springs_n_per_m", r.springs_n_per_m},
+                      {"dampers_ns_per_m", r.dampers_ns_per_m},
+                      {"coulomb_n", r.coulomb_n},
+                      {"load_cells",
+                       {SensorToJson(r.load_cells[0], "range_n", "noise_n"),
+                        SensorToJson(r.load_cells[1], "range_n", "noise_n")}},
+                      {"accelerometers",
+                       {SensorToJson(r.accelerometers[0], "range_m_s2", "noise_m_s2"),
+                        SensorToJson(r.accelerometers[1], "range_m_s2", "noise_m_s2")}},
+                      {"encoder_counts_per_m", r.encoder_counts_per_m},
+                      {"max_sample_rate_hz", r.max_sample_rate_hz},
+                      {"brown_out_level", r.brown_out == wire::BrownOut::kLevel2   ? "level2"
+                                          : r.brown_out == wire::BrownOut::kLevel1 ? "level1"
+                                          : r.brown_out == wire::BrownOut::kOff    ? "off"
+                                                                                   : "level3"}};
+  // Only a rig that asks for test hits names them: a rig file as before stays as it was.
+  if (!r.double_hits.empty() || !r.overloads.empty())
+    j["hammer_test_hits"] = {{"double_hit", r.double_hits}, {"overload", r.overloads}};
+  return j;
 }
 
 nlohmann::json TruthToJson(const RigSpec& r) {
@@ -301,6 +328,7 @@ void RigSimulator::Start(double dt_s) {
 
   pulses_.clear();
   next_hit_s_ = kFirstEventS;
+  hits_ = 0;
   std::uniform_real_distribution<double> freq(0.2, 2.0), phase(0.0, 2.0 * kPi);
   for (std::size_t i = 0; i < push_freq_hz_.size(); ++i) {
     push_freq_hz_[i] = freq(rng_);
@@ -331,12 +359,21 @@ void RigSimulator::Excitation(double t, double& force_n, double& push_n) {
         std::uniform_real_distribution<double> height(0.6, 1.4), spacing(0.7, 1.3),
             chance(0.0, 1.0);
         pulses_.push_back({next_hit_s_, kHammerPulseS, s.force_n * height(rng_)});
+        ++hits_;
+        const auto listed = [&](const std::vector<int>& hits) {
+          return std::find(hits.begin(), hits.end(), hits_) != hits.end();
+        };
+        // Test hits change the blow after its random height is drawn: the random stream, and so
+        // every other hit, stays as without them.
+        if (listed(spec_.overloads)) pulses_.back().height_n = 2.0 * spec_.load_cells[0].range;
+        const Pulse first = pulses_.back();
         if (chance(rng_) < 0.1) {  // the hammer bounces: a smaller second hit a few ms later
           std::uniform_real_distribution<double> gap(0.003, 0.008), rebound(0.2, 0.4);
-          const Pulse first = pulses_.back();
           pulses_.push_back({first.start_s + first.width_s + gap(rng_), kHammerPulseS,
                              first.height_n * rebound(rng_)});
         }
+        if (listed(spec_.double_hits))
+          pulses_.push_back({first.start_s + 0.015, kHammerPulseS, 0.6 * first.height_n});
         next_hit_s_ += s.spacing_s * spacing(rng_);
       }
       for (const Pulse& p : pulses_) {

@@ -58,6 +58,12 @@ struct RigSpec {
   /// The emulated board's option bytes: its brown-out reset level (get-info's health page,
   /// self-test). Rig file key "brown_out_level" ("level3", "level2", "level1", "off"), optional.
   wire::BrownOut brown_out = wire::BrownOut::kLevel3;
+  /// Hits of the hammer scenario made faulty on purpose, counted from 1 in each acquisition (rig
+  /// file key "hammer_test_hits": {"double_hit": [k...], "overload": [j...]}, optional): a double
+  /// hit strikes again 15 ms after its start at 60 % of its height; an overload is a blow of twice
+  /// the hammer load cell's range, which its converter clips at its top code as the board's does.
+  std::vector<int> double_hits;
+  std::vector<int> overloads;
 
   int dofs() const { return static_cast<int>(masses_kg.size()); }
   /// The rig's truth: the chain with the effective masses.
@@ -174,6 +180,7 @@ class RigSimulator final : public SimulatedRig {
   };
   std::vector<Pulse> pulses_;
   double next_hit_s_ = 0.0;
+  int hits_ = 0;  // hammer hits struck since Start
   // Hand push: a few slow sinusoids (0.2–2 Hz) making a one-sided push.
   std::array<double, 4> push_freq_hz_{};
   std::array<double, 4> push_phase_{};

@@ -226,6 +226,55 @@ TEST(Rig, HammerPulsesAreHalfSinesWithDoubleHits) {
   EXPECT_LT(doubles, static_cast<int>(impulses.size()) / 4);
 }
 
+// A rig file's test hits: hit 1 struck twice (a second blow 15 ms after its start, 60 % of its
+// height), hit 2 a blow of twice the load cell's range (1000 N), which its converter holds at its
+// top code while the blow exceeds the range, as the board's converter does; every later hit as
+// on the same rig without test hits (the random stream is the same).
+TEST(Rig, TestHitsStrikeTwiceAndOverloadTheConverter) {
+  RigSpec spec = Quiet();
+  spec.double_hits = {1};
+  spec.overloads = {2};
+  RigSimulator rig(spec, 11);
+  RigSimulator plain(Quiet(), 11);
+  rig.Select(Parse("hammer", {2, 100, 0.5f, 0}));
+  plain.Select(Parse("hammer", {2, 100, 0.5f, 0}));
+  rig.Start(1.0 / kFs);
+  plain.Start(1.0 / kFs);
+  std::array<std::int32_t, wire::kChannelCount> raw{}, raw_plain{};
+  const std::int32_t top = spec.load_cells[0].Code(1e9);
+  std::vector<double> starts, peaks;
+  bool in_pulse = false;
+  int top_run = 0, longest_top_run = 0;
+  bool later_hits_same = true;
+  for (int i = 0; i < static_cast<int>(20.0 * kFs); ++i) {
+    rig.Step(raw);
+    plain.Step(raw_plain);
+    const double f = rig.last().force_n;
+    if (f > 0.0 && !in_pulse) {
+      starts.push_back(i / kFs);
+      peaks.push_back(0.0);
+    }
+    in_pulse = f > 0.0;
+    if (in_pulse) peaks.back() = std::max(peaks.back(), f);
+    top_run = raw[0] == top ? top_run + 1 : 0;
+    longest_top_run = std::max(longest_top_run, top_run);
+    // From the third hit on (the first two and their pulses are over by 1.8 s: spacing >= 0.35 s).
+    if (starts.size() >= 4 && i / kFs > starts[3])
+      later_hits_same = later_hits_same && f == plain.last().force_n;
+  }
+  ASSERT_GE(starts.size(), 6u);
+  EXPECT_NEAR(starts[0], 0.5, 1.0 / kFs);
+  EXPECT_NEAR(starts[1] - starts[0], 0.015, 1.0 / kFs);  // the second blow
+  // Half-sines sampled at mid-sample: the peaks' ratio is the heights' (60 %) within a sample's
+  // curvature, (pi / 10)^2 / 8 of the peak for a 2 ms pulse at 5 kHz.
+  EXPECT_NEAR(peaks[1] / peaks[0], 0.6, 0.6 * 0.013);
+  EXPECT_NEAR(peaks[2], 2.0 * spec.load_cells[0].range, 0.013 * 1000.0);
+  // Above 500 N for the middle 2/3 of the 2 ms pulse (asin(0.5) = pi/6 each side): 6 samples.
+  EXPECT_GE(longest_top_run, 6);
+  EXPECT_LE(longest_top_run, 7);
+  EXPECT_TRUE(later_hits_same);
+}
+
 TEST(Rig, ShakerSineAndHandPush) {
   RigSimulator rig(Quiet(), 5);
   rig.Select(Parse("shaker", {16, 10, 8, 0}));
@@ -344,6 +393,25 @@ TEST(RigFile, ShippedFiles) {
   std::array<std::int32_t, wire::kChannelCount> raw{};
   for (int i = 0; i < 5000; ++i) rig.Step(raw);
   EXPECT_EQ(raw[5], 0);  // no second mass: encoder 2 never moves
+}
+
+TEST(RigFile, TestHitsRoundTripAndRefusals) {
+  nlohmann::json j = RigToJson(DefaultRig());
+  EXPECT_FALSE(j.contains("hammer_test_hits"));  // a rig without them writes none
+  j["hammer_test_hits"] = {{"double_hit", {3}}, {"overload", {5, 7}}};
+  const RigSpec r = RigFromJson(j, "rig.json");
+  EXPECT_EQ(r.double_hits, std::vector<int>{3});
+  EXPECT_EQ(r.overloads, (std::vector<int>{5, 7}));
+  EXPECT_EQ(RigToJson(r), j);
+  const auto message = [](const nlohmann::json& bad) {
+    return InputErrorOf([&] { RigFromJson(bad, "rig.json"); }, "accepted");
+  };
+  j["hammer_test_hits"] = {{"double_hits", {3}}};
+  EXPECT_NE(message(j).find("unknown key 'double_hits'"), std::string::npos) << message(j);
+  j["hammer_test_hits"] = {{"overload", {0}}};
+  EXPECT_NE(message(j).find("hit numbers from 1"), std::string::npos) << message(j);
+  j["hammer_test_hits"] = {{"overload", 5}};
+  EXPECT_NE(message(j).find("list of hit numbers"), std::string::npos) << message(j);
 }
 
 TEST(RigFile, RoundTripAndClearErrors) {

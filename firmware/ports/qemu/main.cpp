@@ -81,6 +81,7 @@ int main() {
 
   static QemuSystemControl system;
   system.Init();
+  system.AttachImage(stm32::OwnImage());
   // The board's flash set-up (caches on, prefetch off), so this image runs what the board runs;
   // QEMU ignores FLASH_ACR and counts instructions, not wait states.
   (void)stm32::ConfigureFlashAccess(5);

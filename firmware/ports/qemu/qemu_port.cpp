@@ -2,6 +2,7 @@
 
 #include <algorithm>
 
+#include "image_crc_self_test.hpp"
 #include "regs/core_m4.hpp"
 #include "regs/peripherals.hpp"
 #include "regs/rcc.hpp"
@@ -62,6 +63,13 @@ Status RamCalibrationFlash::Read(Slot slot, std::size_t offset, std::span<std::u
 
 void QemuSystemControl::Init() { reset_cause_ = ReadAndClearResetCause(); }
 void QemuSystemControl::Reset() { SystemReset(); }
+
+SystemControl::SelfTestMeasurement QemuSystemControl::MeasureSelfTest(
+    wire::SelfTestCheck check, std::uint32_t sample_period_us) {
+  (void)sample_period_us;
+  if (check == wire::SelfTestCheck::kImageCrc) return stm32::ImageCrcMeasurement(image_);
+  return {};
+}
 void QemuSystemControl::EnterDfu() { SystemReset(); }
 
 }  // namespace vibid::fw::qemu

@@ -7,6 +7,7 @@
 #include <cstddef>
 #include <cstdint>
 
+#include "image_crc.hpp"
 #include "vibid/fw/port.hpp"
 
 namespace vibid::fw::qemu {
@@ -46,6 +47,13 @@ class QemuSystemControl final : public SystemControl {
   wire::BoardId Board() const override { return wire::BoardId::kQemuNetduinoPlus2; }
   std::uint32_t PortCapabilities() const override { return wire::kCapSampleInjection; }
   wire::ResetCause LastResetCause() const override { return reset_cause_; }
+  /// The image whose CRC the image-crc check computes: the ELF QEMU loaded into its flash.
+  void AttachImage(const stm32::ImageView& image) { image_ = image; }
+  /// The image CRC against the one the build wrote, as on the board. QEMU 7.2's netduinoplus2
+  /// has no crystal, VREFINT calibration, timer-triggered ADC, DMA, encoder timers or option
+  /// bytes to measure, so every other check the port measures is unavailable.
+  SelfTestMeasurement MeasureSelfTest(wire::SelfTestCheck check,
+                                      std::uint32_t sample_period_us) override;
   /// System reset through AIRCR; QEMU started with -no-reboot then exits.
   void Reset() override;
   /// There is no ROM bootloader in QEMU (kCapDfu is not advertised); a request that still
@@ -54,6 +62,7 @@ class QemuSystemControl final : public SystemControl {
 
  private:
   wire::ResetCause reset_cause_ = wire::ResetCause::kUnknown;
+  stm32::ImageView image_{};
 };
 
 }  // namespace vibid::fw::qemu

@@ -1,10 +1,12 @@
 #include "board_port.hpp"
 
 #include "clock_plan.hpp"
+#include "image_crc_self_test.hpp"
 #include "otg_fs_dcd.hpp"
 #include "regs/peripherals.hpp"
 #include "self_test.hpp"
 #include "system.hpp"
+#include "vibid/shared/board_profile.hpp"
 
 namespace vibid::fw::stm32 {
 
@@ -34,7 +36,25 @@ wire::BrownOut BoardSystemControl::BrownOutLevel() const {
 
 SystemControl::SelfTestMeasurement BoardSystemControl::MeasureSelfTest(
     wire::SelfTestCheck check, std::uint32_t sample_period_us) {
-  (void)sample_period_us;
+  using wire::SelfTestCheck;
+  const auto index = static_cast<unsigned>(check);
+  if (index >= static_cast<unsigned>(SelfTestCheck::kNoiseForce1) &&
+      index <= static_cast<unsigned>(SelfTestCheck::kOffsetAccel2)) {
+    // Noise 2..5 and offset 6..9 take the same channels in wire::Channel order.
+    const bool noise = index <= static_cast<unsigned>(SelfTestCheck::kNoiseAccel2);
+    const unsigned channel = index - static_cast<unsigned>(noise ? SelfTestCheck::kNoiseForce1
+                                                                 : SelfTestCheck::kOffsetForce1);
+    CodeSums sums;
+    if (sampler_ == nullptr || SampleIdleChannel(*sampler_, sample_period_us, channel,
+                                                 wire::kSelfTestSamples, sums) != IdleSampling::kOk)
+      return {};
+    constexpr std::uint32_t kMidCode = 1u << (kBoardProfile.adc_bits - 1);  // 2048
+    std::int64_t milli_lsb = 0;
+    const bool measured =
+        noise ? RmsMilliLsb(sums, milli_lsb) : OffsetMilliLsb(sums, kMidCode, milli_lsb);
+    if (!measured) return {};
+    return {.available = true, .mantissa = milli_lsb, .exp10 = -3};
+  }
   switch (check) {
     case wire::SelfTestCheck::kHsePpm: {
       // USB runs only with the PLL on the HSE at 168 MHz (the HSI fallback keeps it off the
@@ -60,6 +80,7 @@ SystemControl::SelfTestMeasurement BoardSystemControl::MeasureSelfTest(
       // The count is the 16-bit timer's: the core extends it to 32 bits only in frames.
       return {.available = true, .mantissa = e.count, .exp10 = 0, .ok = e.running};
     }
+    case wire::SelfTestCheck::kImageCrc: return ImageCrcMeasurement(image_);
     default: return {};
   }
 }

@@ -2,6 +2,7 @@
 // and the system control (identity, capabilities, reset cause, reset, DFU).
 #pragma once
 
+#include "image_crc.hpp"
 #include "vibid/fw/port.hpp"
 
 namespace vibid::fw::stm32 {
@@ -24,14 +25,19 @@ class BoardSystemControl final : public SystemControl {
   /// The USB device whose IN transfers (the reply to "reset" / "enter DFU") must be taken by
   /// the host before the chip resets.
   void AttachUsb(const OtgFsDcd& dcd) { dcd_ = &dcd; }
+  /// The acquisitions' sampler, which the noise and offset checks run while idle.
+  void AttachSampler(FrameSource& sampler) { sampler_ = &sampler; }
+  /// The image whose CRC the image-crc check computes (OwnImage() on the chip).
+  void AttachImage(const ImageView& image) { image_ = image; }
   wire::BoardId Board() const override { return wire::BoardId::kStm32f405; }
   std::uint32_t PortCapabilities() const override { return wire::kCapDfu; }
   wire::ResetCause LastResetCause() const override { return reset_cause_; }
   /// The option bytes' brown-out level (FLASH_OPTCR BOR_LEV).
   wire::BrownOut BrownOutLevel() const override;
   /// Measures the crystal against the host's USB frames (DWT cycles over OTG_FS SOF flags), VDDA
-  /// from VREFINT and reads the encoder timers; the converter noise and offsets and the image CRC
-  /// are not measured on this port yet (unavailable).
+  /// from VREFINT, each analog channel's idle noise and offset over wire::kSelfTestSamples frames
+  /// of the sampler (unavailable above 1 s of sampling or without frames), reads the encoder
+  /// timers, and computes the image's CRC against its trailer's. The core asks only while idle.
   SelfTestMeasurement MeasureSelfTest(wire::SelfTestCheck check,
                                       std::uint32_t sample_period_us) override;
   void Reset() override;
@@ -44,6 +50,8 @@ class BoardSystemControl final : public SystemControl {
 
   wire::ResetCause reset_cause_ = wire::ResetCause::kUnknown;
   const OtgFsDcd* dcd_ = nullptr;
+  FrameSource* sampler_ = nullptr;
+  ImageView image_{};
 };
 
 }  // namespace vibid::fw::stm32

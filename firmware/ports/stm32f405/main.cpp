@@ -79,6 +79,8 @@ int main() {
   static const usb::DaqStrings strings = usb::MakeDaqStrings(serial.data());
   static usb::UsbDevice device{g_dcd, drivers, usb::DaqDescriptors(strings)};
   system.AttachUsb(g_dcd);
+  system.AttachSampler(g_sampler);
+  system.AttachImage(OwnImage());
   // Without the PLL's 48 MHz the OTG core cannot run: the board stays off the bus (get-info over
   // USB is then impossible, so the fallback is visible as a board that does not enumerate).
   if (clocks.source == ClockSource::kPllFromHse) (void)device.Start();

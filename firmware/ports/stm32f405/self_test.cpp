@@ -1,5 +1,7 @@
 #include "self_test.hpp"
 
+#include <atomic>
+
 #include "regs/core_m4.hpp"
 #include "regs/otg_fs.hpp"
 #include "regs/peripherals.hpp"
@@ -100,6 +102,46 @@ bool ConvertVrefint(std::uint32_t sysclk_hz, std::uint32_t& mean_code) {
   if (!ok) return false;
   mean_code = (sum + kVrefintConversions / 2) / kVrefintConversions;
   return true;
+}
+
+namespace {
+
+// Adds one channel's code of each frame, from the sampler's interrupt, until it has `wanted`.
+class IdleCodeSink final : public FrameSink {
+ public:
+  IdleCodeSink(unsigned channel, std::uint32_t wanted, CodeSums& sums)
+      : channel_(channel), wanted_(wanted), sums_(sums) {}
+  void OnFrame(const SampleFrame& frame) override {
+    if (taken_ >= wanted_) return;
+    sums_.Add(static_cast<std::uint32_t>(frame.raw[channel_]));
+    taken_ = taken_ + 1;
+  }
+  std::uint32_t taken() const { return taken_; }
+
+ private:
+  unsigned channel_;
+  std::uint32_t wanted_;
+  CodeSums& sums_;
+  volatile std::uint32_t taken_ = 0;  // written by the interrupt, polled by the main loop
+};
+
+}  // namespace
+
+IdleSampling SampleIdleChannel(FrameSource& sampler, std::uint32_t sample_period_us,
+                               unsigned channel, std::uint32_t frames, CodeSums& sums) {
+  const std::uint64_t frames_us = std::uint64_t{frames} * sample_period_us;
+  if (frames_us > kMaxIdleSamplingUs) return IdleSampling::kTooLong;
+  IdleCodeSink sink(channel, frames, sums);
+  if (sampler.Start(sample_period_us, sink) != Status::kOk) return IdleSampling::kRefused;
+  const std::uint64_t start = MicrosecondsSinceBoot();
+  while (sink.taken() < frames &&
+         MicrosecondsSinceBoot() - start < frames_us + kIdleSamplingSlackUs)
+    KickWatchdog();
+  sampler.Stop();
+  // The interrupt wrote the sums; after Stop it adds nothing more. Keep the compiler from
+  // reading them before the loop's last look at the count.
+  std::atomic_signal_fence(std::memory_order_seq_cst);
+  return sink.taken() < frames ? IdleSampling::kIncomplete : IdleSampling::kOk;
 }
 
 }  // namespace vibid::fw::stm32

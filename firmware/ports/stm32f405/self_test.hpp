@@ -1,10 +1,13 @@
 // Self-test measurements the STM32F405 port takes on its own registers: the encoder timers'
-// state and the crystal against the host's USB start-of-frame.
+// state, the crystal against the host's USB start-of-frame, VDDA from VREFINT, and the analog
+// channels' idle codes through the acquisitions' own sampler.
 #pragma once
 
 #include <cstdint>
 
+#include "idle_statistics.hpp"
 #include "regs/mmio.hpp"
+#include "vibid/fw/port.hpp"
 
 namespace vibid::fw::stm32 {
 
@@ -59,5 +62,26 @@ inline constexpr std::uint32_t kVrefintConversions = 16;
 /// they were; only while idle (the sampler owns the converters while sampling).
 /// @returns false when a conversion does not end in time.
 bool ConvertVrefint(std::uint32_t sysclk_hz, std::uint32_t& mean_code);
+
+/// The longest the idle sampling may block the main loop: as long as the crystal check's second.
+/// kSelfTestSamples frames at a longer configured period (above 1 ms) are not taken.
+inline constexpr std::uint64_t kMaxIdleSamplingUs = 1'000'000;
+/// Slack on the frames' own time before the sampling is given up: the first edge comes at the
+/// start, so a sampler that delivers is done long before.
+inline constexpr std::uint64_t kIdleSamplingSlackUs = 100'000;
+
+enum class IdleSampling : std::uint8_t {
+  kOk,
+  kTooLong,     ///< frames x period above kMaxIdleSamplingUs.
+  kRefused,     ///< The sampler refused to start (running, or a period it cannot make).
+  kIncomplete,  ///< Fewer frames than asked within their time plus kIdleSamplingSlackUs.
+};
+
+/// Runs the acquisitions' sampler (TIM2 edges, ADC1-3, DMA2 stream 0; sampler.hpp) at
+/// `sample_period_us` for `frames` frames and adds analog channel `channel`'s codes (wire::Channel
+/// order, 0..3) to `sums`; the main loop waits, feeding the watchdog, and stops the sampler in
+/// every case. Only while idle: a running sampler refuses to start (kRefused).
+IdleSampling SampleIdleChannel(FrameSource& sampler, std::uint32_t sample_period_us,
+                               unsigned channel, std::uint32_t frames, CodeSums& sums);
 
 }  // namespace vibid::fw::stm32

@@ -1,12 +1,16 @@
 // The port's self-test measurements on the fake register file: the crystal error from DWT
-// cycles over start-of-frame flags of a modelled host, its timeout without one, and the encoder
-// timers' state.
+// cycles over start-of-frame flags of a modelled host, its timeout without one, the encoder
+// timers' state, and the converter noise and offsets through the sampler's own interrupt path.
+#include <vector>
+
 #include "board_port.hpp"
 #include "port_test_fixture.hpp"
 #include "regs/core_m4.hpp"
 #include "regs/otg_fs.hpp"
 #include "regs/peripherals.hpp"
+#include "sampler.hpp"
 #include "self_test.hpp"
+#include "system.hpp"
 
 namespace vibid::fw::stm32::test {
 namespace {
@@ -69,7 +73,7 @@ TEST_F(SelfTestPortTest, NoFramesIsUnavailableNotAPass) {
   EXPECT_FALSE(CountCyclesOverFrames(1000, 168'000'000, cycles));
   BoardSystemControl system;
   EXPECT_FALSE(system.MeasureSelfTest(wire::SelfTestCheck::kHsePpm, 200).available);
-  // Not measured on this port: the converters and the image.
+  // Without the sampler and the image attached (main attaches both) there is nothing to measure.
   EXPECT_FALSE(system.MeasureSelfTest(wire::SelfTestCheck::kNoiseForce1, 200).available);
   EXPECT_FALSE(system.MeasureSelfTest(wire::SelfTestCheck::kImageCrc, 200).available);
 }
@@ -148,6 +152,108 @@ TEST_F(SelfTestPortTest, EncoderRunsWhenEnabledInEncoderMode3) {
   EXPECT_FALSE(system.MeasureSelfTest(wire::SelfTestCheck::kEncoder2, 200).ok);
   regs().Poke(tim::kTim4 + tim::kSmcr, tim::kSmcrEncoderMode3);
   EXPECT_TRUE(system.MeasureSelfTest(wire::SelfTestCheck::kEncoder2, 200).ok);
+}
+
+// The sampler as the board runs it, its interrupt modelled at each watchdog kick of the
+// self-test's wait: a frame with the next codes of each channel's sequence while `deliver` is
+// set, otherwise a millisecond passes (SysTick).
+class IdleSamplingTest : public PortTest {
+ protected:
+  void SetUp() override {
+    PortTest::SetUp();
+    regs().LogReads(false);
+    sampler_.Init({ClockSource::kPllFromHse, 168000000, 84000000, 84000000});
+    system_.AttachSampler(sampler_);
+    regs().OnWrite(iwdg::kKr, [this](std::uint32_t, std::uint32_t written) {
+      Tick();
+      return written;
+    });
+  }
+  void Tick() {
+    if (!deliver_ || (regs().Peek(tim::kTim2 + tim::kCr1) & tim::kCr1Cen) == 0) {
+      OnSysTick();
+      return;
+    }
+    // DMA buffer items: force1 0, acc1 1, acc2 2, force2 3 (sampler.cpp kBufferIndex).
+    constexpr unsigned kItem[4] = {0, 3, 1, 2};
+    for (unsigned ch = 0; ch < 4; ++ch)
+      sampler_dma::adc[kItem[ch]] = static_cast<std::uint16_t>(codes_[ch][k_ % codes_[ch].size()]);
+    ++k_;
+    regs().Poke(tim::kTim5 + tim::kCnt, regs().Peek(tim::kTim5 + tim::kCnt) + 1);
+    regs().Poke(dma::Stream(dma::kDma2, 0) + dma::kSxNdtr, 6);
+    regs().Poke(tim::kTim2 + tim::kCnt, 2000);
+    regs().Poke(dma::kDma2 + dma::kLisr, dma::kStream0Tcif);
+    sampler_.HandleDmaInterrupt();
+  }
+  SystemControl::SelfTestMeasurement Measure(wire::SelfTestCheck check, std::uint32_t period_us) {
+    k_ = 0;
+    return system_.MeasureSelfTest(check, period_us);
+  }
+
+  Sampler sampler_;
+  BoardSystemControl system_;
+  bool deliver_ = true;
+  std::size_t k_ = 0;
+  // force1: 2048 +- 3 alternating (rms 3, offset 0); force2: 2048, 2049, 2050, 2049 (rms
+  // sqrt(1/2) = 0.707, offset +1); acc1: constant 2100 (rms 0, offset +52); acc2: the ramp
+  // 1548 .. 2547 (rms sqrt((1000^2 - 1) / 12) = 288.675, offset -0.5).
+  std::vector<std::uint32_t> codes_[4] = {{2051, 2045}, {2048, 2049, 2050, 2049}, {2100}, {}};
+};
+
+TEST_F(IdleSamplingTest, NoiseAndOffsetOfEachChannelFromAThousandFrames) {
+  for (std::uint32_t k = 0; k < 1000; ++k) codes_[3].push_back(1548 + k);
+  using C = wire::SelfTestCheck;
+  const struct {
+    C check;
+    std::int64_t milli_lsb;
+  } expected[] = {{C::kNoiseForce1, 3'000},   {C::kNoiseForce2, 707},  {C::kNoiseAccel1, 0},
+                  {C::kNoiseAccel2, 288'675}, {C::kOffsetForce1, 0},   {C::kOffsetForce2, 1'000},
+                  {C::kOffsetAccel1, 52'000}, {C::kOffsetAccel2, -500}};
+  for (const auto& e : expected) {
+    const auto m = Measure(e.check, 200);
+    ASSERT_TRUE(m.available) << wire::SelfTestCheckName(static_cast<std::uint8_t>(e.check));
+    EXPECT_EQ(m.exp10, -3);
+    EXPECT_EQ(m.mantissa, e.milli_lsb)
+        << wire::SelfTestCheckName(static_cast<std::uint8_t>(e.check));
+    EXPECT_EQ(sampler_.frames(), wire::kSelfTestSamples);
+  }
+  // At the configured period: 84 MHz x 200 us = 16 800 timer clocks; stopped afterwards.
+  EXPECT_EQ(regs().Peek(tim::kTim2 + tim::kArr), 16'799u);
+  EXPECT_EQ(regs().Peek(tim::kTim2 + tim::kCr1) & tim::kCr1Cen, 0u);
+}
+
+TEST_F(IdleSamplingTest, NoFramesTooLongOrABusySamplerIsUnavailable) {
+  codes_[3] = {2048};
+  // No frame comes: given up after the frames' time plus the slack, the sampler stopped.
+  deliver_ = false;
+  EXPECT_FALSE(Measure(wire::SelfTestCheck::kNoiseForce1, 200).available);
+  EXPECT_EQ(regs().Peek(tim::kTim2 + tim::kCr1) & tim::kCr1Cen, 0u);
+  deliver_ = true;
+  // 1000 frames at 1001 us exceed the second the main loop may wait: not started at all.
+  const std::size_t starts = regs().WritesTo(tim::kTim2 + tim::kCr1).size();
+  EXPECT_FALSE(Measure(wire::SelfTestCheck::kNoiseForce1, 1001).available);
+  EXPECT_EQ(regs().WritesTo(tim::kTim2 + tim::kCr1).size(), starts);
+  EXPECT_TRUE(Measure(wire::SelfTestCheck::kNoiseForce1, 1000).available);
+  // A period the sampler refuses: 5 us is below its minimum (one scan and the interrupt).
+  EXPECT_FALSE(Measure(wire::SelfTestCheck::kOffsetForce1, 5).available);
+  // Running already (an acquisition): refused by the sampler, left running.
+  class Idle final : public FrameSink {
+    void OnFrame(const SampleFrame&) override {}
+  } idle;
+  ASSERT_EQ(sampler_.Start(200, idle), Status::kOk);
+  EXPECT_FALSE(Measure(wire::SelfTestCheck::kOffsetForce1, 200).available);
+  EXPECT_NE(regs().Peek(tim::kTim2 + tim::kCr1) & tim::kCr1Cen, 0u);
+  sampler_.Stop();
+}
+
+TEST_F(IdleSamplingTest, TheImageCrcIsTheTrailersCheck) {
+  // The trailer check itself: image_crc_test.cpp; here only that the port answers with it.
+  EXPECT_FALSE(system_.MeasureSelfTest(wire::SelfTestCheck::kImageCrc, 200).available);
+  std::vector<std::uint8_t> bytes(24, 0);
+  system_.AttachImage({.bytes = bytes.data(), .address = 0x08000000, .size = bytes.size()});
+  const auto m = system_.MeasureSelfTest(wire::SelfTestCheck::kImageCrc, 200);
+  EXPECT_TRUE(m.available);  // a trailer without its magic: a failure, not "unavailable"
+  EXPECT_FALSE(m.ok);
 }
 
 }  // namespace

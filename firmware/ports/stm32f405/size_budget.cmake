@@ -16,8 +16,8 @@ foreach(line IN LISTS lines)
   if(line MATCHES "^(\\.[A-Za-z_.]+)[ \t]+([0-9]+)[ \t]+([0-9]+)")
     set(name ${CMAKE_MATCH_1})
     set(bytes ${CMAKE_MATCH_2})
-    # Flash holds code, constants, the init table and the initial values of .data.
-    if(name MATCHES "^\\.(isr_vector|text|ARM\\.exidx|init_array|data)$")
+    # Flash holds code, constants, the init table, the initial values of .data and the CRC trailer.
+    if(name MATCHES "^\\.(isr_vector|text|ARM\\.exidx|init_array|data|image_crc)$")
       math(EXPR flash "${flash} + ${bytes}")
     endif()
     # Static RAM: initialized and zeroed data, no-init words, CCM buffers, the reserved stack.

@@ -1,20 +1,11 @@
-// The JSON form of an iterative solver's summary, the same for every library's solver (ident and
-// sysid each have their own Summary type with the same fields and a TerminationName beside it).
+// The JSON form of an iterative solver's summary: the workflow library's, the same for every
+// command (ident, numerics and sysid solvers).
 #pragma once
 
-#include <nlohmann/json.hpp>
+#include "vibid/workflow/result_json.hpp"
 
 namespace vibid::cli {
 
-/// {"termination", "iterations", "initial_cost", "final_cost", "message"}.
-template <typename Summary>
-nlohmann::json SolverSummaryJson(const Summary& s) {
-  // TerminationName is found beside the summary's own Termination type.
-  return {{"termination", TerminationName(s.termination)},
-          {"iterations", s.iterations},
-          {"initial_cost", s.initial_cost},
-          {"final_cost", s.final_cost},
-          {"message", s.message}};
-}
+using workflow::SolverSummaryJson;
 
 }  // namespace vibid::cli

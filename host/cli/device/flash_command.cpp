@@ -8,7 +8,7 @@
 
 #include "cli_support.hpp"
 #include "common/command.hpp"
-#include "common/option_text.hpp"
+#include "vibid/common/option_text.hpp"
 #include "device_commands.hpp"
 #include "session.hpp"
 #include "vibid/common/atomic_file.hpp"

@@ -7,8 +7,7 @@
 
 #include "cli_support.hpp"
 #include "common/command.hpp"
-#include "common/option_text.hpp"
-#include "common/solver_json.hpp"
+#include "vibid/common/option_text.hpp"
 #include "ident_cli.hpp"
 #include "ident_commands.hpp"
 #include "vibid/common/error.hpp"
@@ -65,39 +64,6 @@ struct ModesArgs {
   ModeArgs modes;
 };
 
-std::string ModesJson(const ModesArgs& a, const ident::Frf& frf, const ident::ModeIdentification& r,
-                      const std::vector<std::string>& notes) {
-  nlohmann::json j = ModesToJson(r.modes);
-  j["method"] = a.modes.method;
-  j["responses"] = frf.response_names;
-  j["warnings"] = r.warnings;
-  j["notes"] = notes;
-  if (r.has_diagram) j["stabilization"] = DiagramToJson(r.diagram);
-  if (r.fitted) {
-    j["summary"] = SolverSummaryJson(r.fit.summary);
-    j["fit_band_hz"] = {r.fit.freq_min_hz, r.fit.freq_max_hz};
-    j["rms_relative_error"] = r.fit.rms_relative_error;
-  }
-  return j.dump(2) + "\n";
-}
-
-std::string ModesText(const ident::ModeIdentification& r) {
-  std::ostringstream out;
-  out << ModesTable(r.modes);
-  if (r.has_diagram) {
-    out << "stabilization diagram: " << ident::PoleMethodName(r.diagram.method) << ", orders "
-        << r.diagram.orders.front() << ".." << r.diagram.orders.back() << ", band "
-        << r.diagram.freq_min_hz << ".." << r.diagram.freq_max_hz << " Hz, "
-        << r.diagram.poles.size() << " poles, " << r.diagram.selected.size()
-        << " chosen; residue fit rms relative misfit " << r.fit.rms_relative_error << "\n";
-  } else if (r.fitted) {
-    out << "curve fit: " << numerics::TerminationName(r.fit.summary.termination) << ", "
-        << r.fit.summary.iterations << " iterations, cost " << r.fit.summary.initial_cost << " -> "
-        << r.fit.summary.final_cost << ", rms relative misfit " << r.fit.rms_relative_error << "\n";
-  }
-  return out.str();
-}
-
 void Run(const ModesArgs& a) {
   Require(a.est.kind == "receptance",
           "modes are identified from receptances; leave --kind at its default");
@@ -105,8 +71,13 @@ void Run(const ModesArgs& a) {
   std::vector<std::string> notes;
   for (const std::string& in : a.inputs) frfs.push_back(LoadOrEstimate(in, a.est, notes));
   const ident::Frf frf = JoinColumns(frfs, a.inputs);
-  const ident::ModeIdentification r = RunModes(frf, a.modes);
-  EmitOutput(a.json ? ModesJson(a, frf, r, notes) : ModesText(r), a.output);
+  const ident::ModeIdentification r = workflow::IdentifyModes(frf, a.modes);
+  EmitOutput(
+      a.json
+          ? workflow::ModeIdentificationJson(r, a.modes.method, frf.response_names, notes).dump(2) +
+                "\n"
+          : workflow::ModeIdentificationText(r),
+      a.output);
   for (const auto& w : r.warnings) std::cerr << "vibid: warning: " << w << "\n";
 }
 
@@ -145,25 +116,6 @@ void AddModeOptions(CLI::App* cmd, ModeArgs& m) {
                   "Ignore peaks below this fraction of the largest")
       ->capture_default_str();
   cmd->add_option("--max-modes", m.options.peaks.max_peaks, "Keep the largest N peaks (0: all)");
-}
-
-std::size_t ResolveDrivingPoint(const ident::Frf& frf, const std::string& spec) {
-  if (spec.empty()) return frf.responses() - 1;
-  for (std::size_t j = 0; j < frf.response_names.size(); ++j) {
-    if (frf.response_names[j] == spec) return j;
-  }
-  const std::optional<long long> index = ParseInteger(spec);
-  Require(index && *index >= 1 && static_cast<std::size_t>(*index) <= frf.responses(),
-          "--driving-point '" + spec + "' is neither a response name nor an index 1.." +
-              std::to_string(frf.responses()));
-  return static_cast<std::size_t>(*index - 1);
-}
-
-ident::ModeIdentification RunModes(const ident::Frf& receptance, const ModeArgs& m) {
-  ident::ModeIdentificationOptions o = m.options;
-  o.method = ident::ParseModeMethod(m.method);
-  if (!m.orders.empty()) ident::ParseOrders(m.orders, o.stabilization);
-  return ident::IdentifyModes(receptance, ResolveDrivingPoint(receptance, m.driving_point), o);
 }
 
 void RegisterModes(CLI::App& app) {

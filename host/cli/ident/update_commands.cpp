@@ -7,7 +7,7 @@
 
 #include "cli_support.hpp"
 #include "common/command.hpp"
-#include "common/option_text.hpp"
+#include "vibid/common/option_text.hpp"
 #include "common/solver_json.hpp"
 #include "ident_cli.hpp"
 #include "ident_commands.hpp"
@@ -18,14 +18,6 @@
 namespace vibid::cli {
 
 namespace {
-
-std::vector<double> ToStd(const Eigen::VectorXd& v) { return {v.data(), v.data() + v.size()}; }
-
-nlohmann::json MatrixJson(const Eigen::MatrixXd& m) {
-  nlohmann::json rows = nlohmann::json::array();
-  for (Eigen::Index i = 0; i < m.rows(); ++i) rows.push_back(ToStd(m.row(i).transpose()));
-  return rows;
-}
 
 std::vector<double> ParsePositiveList(const std::string& text, const std::string& what) {
   std::vector<double> out;
@@ -59,54 +51,6 @@ std::vector<ident::Uncertainty> MassUncertainties(const std::string& text, std::
 }
 
 }  // namespace
-
-void PutInterval(nlohmann::json& j, const std::string& key, const ident::Interval95& ci) {
-  if (ci.Known()) {
-    j[key + "_ci95"] = {ci.lo, ci.hi};
-    j[key + "_ci95_basis"] = ci.basis;
-  } else {
-    j[key + "_ci95"] = nullptr;
-    j[key + "_ci95_missing"] = ci.missing;
-  }
-}
-
-nlohmann::json MassUpdateJson(const ident::MassUpdateResult& r) {
-  nlohmann::json j = {{"mass_kg", r.mass_kg},
-                      {"nominal_kg", r.nominal_kg},
-                      {"change_percent", r.change_percent},
-                      {"zeta", r.zeta},
-                      {"zeta_half_power", r.zeta_half_power},
-                      {"damping_fitted", r.damping_fitted},
-                      {"k_n_per_m", r.k_n_per_m},
-                      {"stiffness_fitted", r.stiffness_fitted},
-                      {"c_ns_per_m", r.c_ns_per_m},
-                      {"omega_rad_s", r.omega_rad_s},
-                      {"lines_fitted", r.lines_fitted},
-                      {"warnings", r.warnings},
-                      {"summary", SolverSummaryJson(r.summary)}};
-  PutInterval(j, "mass_kg", ident::IntervalOf(r.mass_kg, r.mass_u));
-  PutInterval(j, "k_n_per_m", ident::IntervalOf(r.k_n_per_m, r.k_u));
-  PutInterval(j, "c_ns_per_m", ident::IntervalOf(r.c_ns_per_m, r.c_u));
-  return j;
-}
-
-nlohmann::json StiffnessJson(const ident::StiffnessAverage& avg) {
-  nlohmann::json tests = nlohmann::json::array();
-  for (const auto& t : avg.tests) {
-    tests.push_back({{"springs", ToStd(t.springs)},
-                     {"K", MatrixJson(t.k_matrix)},
-                     {"springs_lsq", ToStd(t.springs_lsq)},
-                     {"dampers", ToStd(t.dampers)},
-                     {"offdiag_mismatch_percent", t.offdiag_mismatch_percent}});
-  }
-  return {{"springs", ToStd(avg.springs)},
-          {"K", MatrixJson(avg.k_matrix)},
-          {"springs_lsq", ToStd(avg.springs_lsq)},
-          {"offdiag_mismatch_percent", avg.offdiag_mismatch_percent},
-          {"spread", ToStd(avg.spread)},
-          {"dampers", ToStd(avg.dampers)},
-          {"tests", tests}};
-}
 
 ident::StiffnessUpdateResult StiffnessFromModes(const Eigen::VectorXd& masses,
                                                 const std::vector<ident::ModeEstimate>& modes,

@@ -2,7 +2,7 @@
 #include <cmath>
 
 #include "commands.hpp"
-#include "common/option_text.hpp"
+#include "vibid/common/option_text.hpp"
 #include "model/model_commands.hpp"
 #include "vibid/common/error.hpp"
 

@@ -6,7 +6,7 @@
 
 #include "cli_support.hpp"
 #include "common/command.hpp"
-#include "common/option_text.hpp"
+#include "vibid/common/option_text.hpp"
 #include "common/solver_json.hpp"
 #include "sysid/sysid_cli.hpp"
 #include "vibid/common/atomic_file.hpp"

@@ -119,9 +119,18 @@ std::size_t CsvTable::Index(std::string_view name) const {
 std::string FormatCsv(const std::vector<std::string>& names,
                       const std::vector<Eigen::VectorXd>& columns) {
   Require(names.size() == columns.size(), "FormatCsv: names and columns differ in count");
+  return FormatCsvHeader(names) + FormatCsvRows(columns);
+}
+
+std::string FormatCsvHeader(const std::vector<std::string>& names) {
   std::string out;
   for (std::size_t i = 0; i < names.size(); ++i) out += (i ? "," : "") + names[i];
   out += '\n';
+  return out;
+}
+
+std::string FormatCsvRows(const std::vector<Eigen::VectorXd>& columns) {
+  std::string out;
   const Eigen::Index rows = columns.empty() ? 0 : columns[0].size();
   for (const auto& c : columns) Require(c.size() == rows, "FormatCsv: columns differ in length");
   char buf[64];

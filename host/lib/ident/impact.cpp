@@ -25,6 +25,15 @@ void ImpactOptions::Validate() const {
   Require(clip_run_samples >= 2, "impact: clipping run must be at least 2 samples");
   Require(force_dynamic_range_db > 0.0 && std::isfinite(force_dynamic_range_db),
           "impact: force dynamic range must be > 0 dB");
+  Require(weak_hit_fraction >= 0.0 && weak_hit_fraction < 1.0,
+          "impact: weak-hit fraction must be in [0, 1) (0: no check)");
+  Require(weak_hit_noise_factor >= 0.0 && std::isfinite(weak_hit_noise_factor),
+          "impact: weak-hit noise factor must be >= 0 (0: no check)");
+  for (std::size_t k = 0; k < use_hits.size(); ++k) {
+    Require(use_hits[k] >= 1, "impact: hits to use are counted from 1");
+    Require(k == 0 || use_hits[k] > use_hits[k - 1],
+            "impact: hits to use must be listed once each, in increasing order");
+  }
 }
 
 std::size_t FastFftLength(std::size_t n) {
@@ -234,14 +243,8 @@ Eigen::VectorXd ExponentialWindow(const RecordLayout& layout, double fs_hz, doub
 struct ImpactChannels {
   const Eigen::Ref<const Eigen::VectorXd>& force;
   const Eigen::VectorXd& centred_force;
-  const Eigen::MatrixXd& responses;
+  const Eigen::Ref<const Eigen::MatrixXd>& responses;
   std::vector<Rails> rails;  // force first, then one per response
-};
-
-// Where a hit's record starts and how much of the force window is kept before the taper.
-struct HitSpan {
-  std::size_t start = 0;
-  std::size_t keep = 0;
 };
 
 // Flags a hit as truncated, double or clipped, with a note saying why.
@@ -293,78 +296,95 @@ Hit ClassifyHit(const PulseGroup& group, const std::vector<Pulse>& all_pulses,
   std::size_t keep = pre + (last.end - first.start) + width;
   if (options.force_window_s > 0.0)
     keep = pre + static_cast<std::size_t>(std::llround(options.force_window_s * fs_hz));
-  span = {s0, std::min(keep, record)};
+  span = {s0, std::min(keep, record), width};
   return hit;
 }
 
+// Too weak against the hits that are fine otherwise (their median peak) or against the force
+// channel's noise: flagged, with the level it fell short of.
+void FlagWeakHits(const ImpactOptions& options, double noise_sd, std::vector<Hit>& hits) {
+  std::vector<double> peaks;
+  for (const Hit& h : hits) {
+    if (!h.truncated && !h.double_hit && !h.clipped) peaks.push_back(std::abs(h.peak_n));
+  }
+  double median = 0.0;
+  if (!peaks.empty()) {
+    const auto mid = static_cast<std::ptrdiff_t>(peaks.size() / 2);
+    std::nth_element(peaks.begin(), peaks.begin() + mid, peaks.end());
+    median = peaks[static_cast<std::size_t>(mid)];
+  }
+  const double relative_floor = options.weak_hit_fraction * median;
+  const double noise_floor = options.weak_hit_noise_factor * noise_sd;
+  for (Hit& h : hits) {
+    if (h.truncated) continue;
+    const double peak = std::abs(h.peak_n);
+    std::ostringstream note;
+    note.precision(4);
+    if (peak < relative_floor) {
+      note << "too weak: peak " << peak << " below " << options.weak_hit_fraction
+           << " of the median peak " << median;
+    } else if (peak < noise_floor) {
+      note << "too weak: peak " << peak << " below " << options.weak_hit_noise_factor
+           << " force noise standard deviations (" << noise_floor << ")";
+    } else {
+      continue;
+    }
+    h.weak = true;
+    h.note += (h.note.empty() ? "" : "; ") + note.str();
+  }
+}
+
 // Double hits are used after all when every complete hit is one (a rig that always rebounds).
-bool KeepDoubleHits(const ImpactOptions& options, ImpactResult& result) {
+bool KeepDoubleHits(const ImpactOptions& options, const std::vector<Hit>& hits,
+                    std::vector<std::string>& warnings) {
   bool all_double = true;
   bool any_candidate = false;
-  for (const Hit& h : result.hits) {
+  for (const Hit& h : hits) {
     if (h.truncated) continue;
     any_candidate = true;
     all_double = all_double && h.double_hit && !h.clipped;
   }
   if (options.reject_bad_hits && any_candidate && all_double) {
-    result.warnings.push_back(
+    warnings.push_back(
         "every hit is a double hit: used all the same, each force window spanning the hit's "
         "pulses");
   }
   return !options.reject_bad_hits || (any_candidate && all_double);
 }
 
-// Adds one hit's auto and cross spectra to the sums: offsets from the pretrigger (else the force
-// baseline), the force kept up to span.keep then tapered to zero by a half cosine as long as the
-// first pulse, every channel under the exponential window.
-void AccumulateHit(const ImpactChannels& ch, const HitSpan& span, std::size_t taper_width,
-                   const RecordLayout& layout, double baseline, const Eigen::VectorXd& exp_window,
-                   RealFft& fft, CrossSpectra& spectra, Eigen::VectorXd& window_noise) {
-  const std::size_t record = layout.record;
-  const std::size_t pre = layout.pre;
-  const auto seg = [&](const Eigen::VectorXd& x) {
-    return x.segment(static_cast<Eigen::Index>(span.start), static_cast<Eigen::Index>(record));
-  };
-  // Offsets from the pretrigger's samples before the pulse: the pulse rises below the trigger
-  // threshold for up to a sample or so, and that sample (and the response's direct part of it)
-  // averaged into the offset was taken off the whole force window: |H1| came out up to 2 % high
-  // with a pretrigger of 10 ms, 0.1 to 0.3 % with the default 1/64 of a 3.5 s record.
-  const std::size_t quiet = pre > taper_width ? pre - taper_width : 0;
-  const auto quiet_rows = static_cast<Eigen::Index>(quiet);
-  const double f_offset = quiet >= 4 ? seg(ch.force).head(quiet_rows).mean() : baseline;
-  const std::size_t keep = span.keep;
-  const std::size_t taper = std::min(taper_width, record - keep);
-  Eigen::VectorXd fbuf(static_cast<Eigen::Index>(record));
-  double window_power = 0.0;  // sum of the squared force window: white noise's power through it
-  for (std::size_t i = 0; i < record; ++i) {
-    double w = 0.0;
-    if (i < keep) {
-      w = 1.0;
-    } else if (i < keep + taper) {
-      w = 0.5 * (1.0 + std::cos(std::numbers::pi * static_cast<double>(i - keep + 1) /
-                                static_cast<double>(taper + 1)));
+// The hits to average: the listed ones (a truncated one refused), else the verdicts.
+void ChooseHits(const ImpactOptions& options, ImpactDetection& d) {
+  if (!options.use_hits.empty()) {
+    for (Hit& h : d.hits) h.used = false;
+    for (const std::size_t k : options.use_hits) {
+      Require(k <= d.hits.size(), "impact: hit " + std::to_string(k) +
+                                      " asked for, but the record has " +
+                                      std::to_string(d.hits.size()) + " hit(s)");
+      Hit& h = d.hits[k - 1];
+      Require(!h.truncated, "impact: hit " + std::to_string(k) + " (at " + std::to_string(h.t_s) +
+                                " s) cannot be used: " + h.note);
+      h.used = true;
     }
-    w *= exp_window[static_cast<Eigen::Index>(i)];
-    window_power += w * w;
-    fbuf[static_cast<Eigen::Index>(i)] =
-        (ch.force[static_cast<Eigen::Index>(span.start + i)] - f_offset) * w;
+    return;
   }
-  Eigen::VectorXcd fspec;
-  fft.Transform(fbuf.data(), fspec);
-  spectra.gff += fspec.cwiseAbs2();
-  // H1's error from force noise N in the window is sum F* N / sum |F|^2; its variance per unit
-  // noise variance has the numerator sum |F|^2 W (W = window_power).
-  window_noise += window_power * fspec.cwiseAbs2();
-  Eigen::VectorXd xbuf(static_cast<Eigen::Index>(record));
-  Eigen::VectorXcd xspec;
-  for (Eigen::Index j = 0; j < ch.responses.cols(); ++j) {
-    const Eigen::VectorXd x = ch.responses.col(j);
-    const double x_offset = quiet >= 4 ? seg(x).head(quiet_rows).mean() : 0.0;
-    xbuf = (seg(x).array() - x_offset) * exp_window.array();
-    fft.Transform(xbuf.data(), xspec);
-    spectra.gxx.col(j) += xspec.cwiseAbs2();
-    spectra.gfx.col(j).array() += fspec.array().conjugate() * xspec.array();
+  const bool keep_doubles = KeepDoubleHits(options, d.hits, d.warnings);
+  for (Hit& hit : d.hits) {
+    hit.used = !hit.truncated && (!options.reject_bad_hits || (!hit.clipped && !hit.weak)) &&
+               (keep_doubles || !hit.double_hit);
   }
+}
+
+// The mean of `count` samples of a column from `start`, summed as Eigen sums a column held whole
+// in its own vector: the vectorized sum splits at aligned addresses, so the samples are copied at
+// the phase they would have there. The mean is then the same bits however the caller holds the
+// channel (a column of a wider matrix, a vector with spare capacity).
+double MeanAsWholeColumn(const double* column, std::size_t start, std::size_t count) {
+  constexpr std::size_t kPhase = EIGEN_DEFAULT_ALIGN_BYTES / sizeof(double);
+  const std::size_t phase = kPhase > 0 ? start % kPhase : 0;
+  Eigen::VectorXd buffer(static_cast<Eigen::Index>(count + phase));
+  std::copy(column + start, column + start + count, buffer.data() + phase);
+  return Eigen::Map<const Eigen::VectorXd>(buffer.data() + phase, static_cast<Eigen::Index>(count))
+      .mean();
 }
 
 // With double hits averaged, the force spectrum has notches: lines where it falls below the
@@ -409,11 +429,11 @@ Eigen::VectorXd LevelRelativeVariance(double noise_var, const Eigen::VectorXd& w
   return v;
 }
 
-CrossSpectra ZeroSpectra(const RecordLayout& layout, Eigen::Index responses, double fs_hz) {
-  const auto lines = static_cast<Eigen::Index>(layout.record / 2 + 1);
+CrossSpectra ZeroSpectra(std::size_t record, Eigen::Index responses, double fs_hz) {
+  const auto lines = static_cast<Eigen::Index>(record / 2 + 1);
   CrossSpectra spectra;
   spectra.freq_hz = Eigen::VectorXd::LinSpaced(
-      lines, 0.0, static_cast<double>(lines - 1) * fs_hz / static_cast<double>(layout.record));
+      lines, 0.0, static_cast<double>(lines - 1) * fs_hz / static_cast<double>(record));
   spectra.gff = Eigen::VectorXd::Zero(lines);
   spectra.gxx = Eigen::MatrixXd::Zero(lines, responses);
   spectra.gfx = Eigen::MatrixXcd::Zero(lines, responses);
@@ -422,10 +442,9 @@ CrossSpectra ZeroSpectra(const RecordLayout& layout, Eigen::Index responses, dou
 
 }  // namespace
 
-ImpactResult EstimateImpactFrf(const Eigen::Ref<const Eigen::VectorXd>& force,
-                               const Eigen::Ref<const Eigen::MatrixXd>& responses, double fs_hz,
-                               const ImpactOptions& options, Estimator estimator,
-                               Quantity response_quantity) {
+ImpactDetection DetectImpactHits(const Eigen::Ref<const Eigen::VectorXd>& force,
+                                 const Eigen::Ref<const Eigen::MatrixXd>& responses, double fs_hz,
+                                 const ImpactOptions& options) {
   options.Validate();
   Require(fs_hz > 0.0 && std::isfinite(fs_hz), "sample rate must be > 0");
   Require(responses.rows() == force.size(), "force and responses differ in length");
@@ -433,80 +452,191 @@ ImpactResult EstimateImpactFrf(const Eigen::Ref<const Eigen::VectorXd>& force,
   const auto n = static_cast<std::size_t>(force.size());
   Require(n >= 16, "impact record is too short (" + std::to_string(n) + " samples)");
 
-  double baseline = 0.0;
-  const Eigen::VectorXd centred = CentredOnMedian(force, baseline);
+  ImpactDetection d;
+  const Eigen::VectorXd centred = CentredOnMedian(force, d.baseline);
   const double peak_all = centred.cwiseAbs().maxCoeff();
   Require(peak_all > 0.0, "force channel is constant: no hit to detect");
-  const std::vector<Pulse> pulses = FindPulses(centred, options.trigger_fraction * peak_all);
+  d.trigger_level = options.trigger_fraction * peak_all;
+  const std::vector<Pulse> pulses = FindPulses(centred, d.trigger_level);
   const std::vector<PulseGroup> groups = GroupRebounds(
       pulses, static_cast<std::size_t>(std::llround(options.double_hit_window_s * fs_hz)));
   Require(!groups.empty(), "no hit found in the force channel");
 
-  ImpactResult result;
   const RecordLayout layout = ChooseRecord(groups, n, fs_hz, options);
-  result.record_samples = layout.record;
-  result.pretrigger_samples = layout.pre;
-  CrossSpectra spectra = ZeroSpectra(layout, responses.cols(), fs_hz);
-  double tau_s = 0.0;
-  const Eigen::VectorXd exp_window =
-      ExponentialWindow(layout, fs_hz, options.exp_window_end, tau_s);
+  d.record_samples = layout.record;
+  d.pretrigger_samples = layout.pre;
+  d.exp_window = ExponentialWindow(layout, fs_hz, options.exp_window_end, d.exp_window_tau_s);
+  d.force_noise_var = ForceNoiseVariance(centred);
 
-  const Eigen::MatrixXd resp = responses;
-  ImpactChannels channels{force, centred, resp, {FindRails(force)}};
-  for (Eigen::Index j = 0; j < resp.cols(); ++j) channels.rails.push_back(FindRails(resp.col(j)));
-
-  // First pass: classify every hit; the second pass averages the ones used.
-  std::vector<HitSpan> spans(groups.size());
+  ImpactChannels channels{force, centred, responses, {FindRails(force)}};
+  for (Eigen::Index j = 0; j < responses.cols(); ++j)
+    channels.rails.push_back(FindRails(responses.col(j)));
+  d.spans.resize(groups.size());
   for (std::size_t g = 0; g < groups.size(); ++g) {
-    result.hits.push_back(
-        ClassifyHit(groups[g], pulses, channels, layout, fs_hz, options, spans[g]));
+    d.hits.push_back(ClassifyHit(groups[g], pulses, channels, layout, fs_hz, options, d.spans[g]));
   }
-  const bool keep_doubles = KeepDoubleHits(options, result);
+  FlagWeakHits(options, std::sqrt(d.force_noise_var), d.hits);
+  ChooseHits(options, d);
+  return d;
+}
 
-  RealFft fft(layout.record);
-  Eigen::VectorXd window_noise = Eigen::VectorXd::Zero(spectra.gff.size());
+Eigen::VectorXd ImpactForceWindow(const ImpactDetection& detection, std::size_t hit) {
+  Require(hit < detection.spans.size(), "impact: no such hit");
+  const HitSpan& span = detection.spans[hit];
+  const std::size_t record = detection.record_samples;
+  const std::size_t keep = span.keep;
+  const std::size_t taper = std::min(span.taper, record - keep);
+  Eigen::VectorXd window(static_cast<Eigen::Index>(record));
+  for (std::size_t i = 0; i < record; ++i) {
+    double w = 0.0;
+    if (i < keep) {
+      w = 1.0;
+    } else if (i < keep + taper) {
+      w = 0.5 * (1.0 + std::cos(std::numbers::pi * static_cast<double>(i - keep + 1) /
+                                static_cast<double>(taper + 1)));
+    }
+    w *= detection.exp_window[static_cast<Eigen::Index>(i)];
+    window[static_cast<Eigen::Index>(i)] = w;
+  }
+  return window;
+}
+
+// One hit's spectra: offsets from the pretrigger (else the force baseline), the force kept up to
+// span.keep then tapered to zero by a half cosine as long as the first pulse, every channel under
+// the exponential window.
+HitSpectra ImpactHitSpectra(const Eigen::Ref<const Eigen::VectorXd>& force,
+                            const Eigen::Ref<const Eigen::MatrixXd>& responses,
+                            const ImpactDetection& detection, std::size_t hit, RealFft& fft) {
+  Require(hit < detection.spans.size(), "impact: no such hit");
+  Require(fft.size() == detection.record_samples, "impact: FFT length differs from the record");
+  const HitSpan& span = detection.spans[hit];
+  const std::size_t record = detection.record_samples;
+  const std::size_t pre = detection.pretrigger_samples;
+  Require(span.start + record <= static_cast<std::size_t>(force.size()) &&
+              responses.rows() == force.size(),
+          "impact: the hit's record runs past the signals");
+  const Eigen::VectorXd& exp_window = detection.exp_window;
+  // Offsets from the pretrigger's samples before the pulse: the pulse rises below the trigger
+  // threshold for up to a sample or so, and that sample (and the response's direct part of it)
+  // averaged into the offset was taken off the whole force window: |H1| came out up to 2 % high
+  // with a pretrigger of 10 ms, 0.1 to 0.3 % with the default 1/64 of a 3.5 s record.
+  const std::size_t quiet = pre > span.taper ? pre - span.taper : 0;
+  const double f_offset =
+      quiet >= 4 ? MeanAsWholeColumn(force.data(), span.start, quiet) : detection.baseline;
+  const Eigen::VectorXd window = ImpactForceWindow(detection, hit);
+  Eigen::VectorXd fbuf(static_cast<Eigen::Index>(record));
+  double window_power = 0.0;  // sum of the squared force window: white noise's power through it
+  for (std::size_t i = 0; i < record; ++i) {
+    const double w = window[static_cast<Eigen::Index>(i)];
+    window_power += w * w;
+    fbuf[static_cast<Eigen::Index>(i)] =
+        (force[static_cast<Eigen::Index>(span.start + i)] - f_offset) * w;
+  }
+  Eigen::VectorXcd fspec;
+  fft.Transform(fbuf.data(), fspec);
+  HitSpectra out;
+  out.gff = fspec.cwiseAbs2();
+  // H1's error from force noise N in the window is sum F* N / sum |F|^2; its variance per unit
+  // noise variance has the numerator sum |F|^2 W (W = window_power).
+  out.window_noise = window_power * fspec.cwiseAbs2();
+  out.gxx.resize(fspec.size(), responses.cols());
+  out.gfx.resize(fspec.size(), responses.cols());
+  Eigen::VectorXd xbuf(static_cast<Eigen::Index>(record));
+  Eigen::VectorXcd xspec;
+  for (Eigen::Index j = 0; j < responses.cols(); ++j) {
+    const double* x = responses.col(j).data();
+    const double x_offset = quiet >= 4 ? MeanAsWholeColumn(x, span.start, quiet) : 0.0;
+    xbuf = (Eigen::Map<const Eigen::VectorXd>(x + span.start, static_cast<Eigen::Index>(record))
+                .array() -
+            x_offset) *
+           exp_window.array();
+    fft.Transform(xbuf.data(), xspec);
+    out.gxx.col(j) = xspec.cwiseAbs2();
+    out.gfx.col(j).array() = fspec.array().conjugate() * xspec.array();
+  }
+  return out;
+}
+
+ImpactResult AverageHitSpectra(const ImpactDetection& detection,
+                               const std::vector<const HitSpectra*>& spectra, double fs_hz,
+                               const ImpactOptions& options, Estimator estimator,
+                               Quantity response_quantity) {
+  Require(spectra.size() == detection.hits.size(), "impact: one spectra entry per hit is needed");
+  ImpactResult result;
+  result.hits = detection.hits;
+  result.record_samples = detection.record_samples;
+  result.pretrigger_samples = detection.pretrigger_samples;
+  result.warnings = detection.warnings;
   std::size_t used = 0;
   bool doubles_used = false;
   std::ostringstream reasons;
   bool overridable = false;
-  for (std::size_t g = 0; g < groups.size(); ++g) {
-    Hit& hit = result.hits[g];
-    hit.used = !hit.truncated && (!options.reject_bad_hits || !hit.clipped) &&
-               (keep_doubles || !hit.double_hit);
+  Eigen::Index responses = 0;
+  for (std::size_t g = 0; g < spectra.size(); ++g) {
+    if (detection.hits[g].used) {
+      Require(spectra[g] != nullptr, "impact: spectra of a used hit are missing");
+      responses = spectra[g]->gxx.cols();
+    }
+  }
+  CrossSpectra sums = ZeroSpectra(detection.record_samples, responses, fs_hz);
+  Eigen::VectorXd window_noise = Eigen::VectorXd::Zero(sums.gff.size());
+  for (std::size_t g = 0; g < spectra.size(); ++g) {
+    const Hit& hit = detection.hits[g];
     if (!hit.used) {
       reasons << " hit at " << hit.t_s << " s: " << hit.note << ";";
       overridable = overridable || !hit.truncated;
       continue;
     }
     doubles_used = doubles_used || hit.double_hit;
-    const Pulse& first = groups[g].front();
-    const std::size_t width = std::max<std::size_t>(first.end - first.start, 1);
-    AccumulateHit(channels, spans[g], width, layout, baseline, exp_window, fft, spectra,
-                  window_noise);
+    const HitSpectra& s = *spectra[g];
+    Require(s.gff.size() == sums.gff.size() && s.gxx.cols() == responses,
+            "impact: spectra of another record length or channel count");
+    sums.gff += s.gff;
+    window_noise += s.window_noise;
+    sums.gxx += s.gxx;
+    sums.gfx += s.gfx;
     ++used;
   }
   if (used == 0) {
     throw InputError("no usable hit in the record:" + reasons.str() +
-                     (overridable ? " (--keep-bad-hits uses double and clipped hits anyway)" : ""));
+                     (overridable ? " (--keep-bad-hits uses double, clipped and weak hits anyway; "
+                                    "--use-hits picks hits by number)"
+                                  : ""));
   }
-  spectra.averages = used;
+  sums.averages = used;
   const Eigen::VectorXd level_rel_var =
-      LevelRelativeVariance(ForceNoiseVariance(centred), window_noise, spectra.gff);
+      LevelRelativeVariance(detection.force_noise_var, window_noise, sums.gff);
   const double scale =
-      2.0 / (fs_hz * static_cast<double>(layout.record) * static_cast<double>(used));
-  spectra.gff *= scale;
-  spectra.gxx *= scale;
-  spectra.gfx *= scale;
-  result.frf = FrfFromSpectra(spectra, estimator, response_quantity);
-  result.frf.exp_window_tau_s = tau_s;
-  result.frf.pretrigger_s = static_cast<double>(layout.pre) / fs_hz;
-  result.frf.record_s = static_cast<double>(layout.record) / fs_hz;
+      2.0 / (fs_hz * static_cast<double>(detection.record_samples) * static_cast<double>(used));
+  sums.gff *= scale;
+  sums.gxx *= scale;
+  sums.gfx *= scale;
+  result.frf = FrfFromSpectra(sums, estimator, response_quantity);
+  result.frf.exp_window_tau_s = detection.exp_window_tau_s;
+  result.frf.pretrigger_s = static_cast<double>(detection.pretrigger_samples) / fs_hz;
+  result.frf.record_s = static_cast<double>(detection.record_samples) / fs_hz;
   if (estimator == Estimator::kH1) result.frf.level_rel_var = level_rel_var;
-  const Eigen::Index lines = spectra.freq_hz.size();
-  result.usable_min_hz = spectra.freq_hz[std::min<Eigen::Index>(1, lines - 1)];
-  result.usable_max_hz = spectra.freq_hz[lines - 1];
-  if (doubles_used && lines > 2) LimitToForceBand(spectra, options, result);
+  const Eigen::Index lines = sums.freq_hz.size();
+  result.usable_min_hz = sums.freq_hz[std::min<Eigen::Index>(1, lines - 1)];
+  result.usable_max_hz = sums.freq_hz[lines - 1];
+  if (doubles_used && lines > 2) LimitToForceBand(sums, options, result);
   return result;
+}
+
+ImpactResult EstimateImpactFrf(const Eigen::Ref<const Eigen::VectorXd>& force,
+                               const Eigen::Ref<const Eigen::MatrixXd>& responses, double fs_hz,
+                               const ImpactOptions& options, Estimator estimator,
+                               Quantity response_quantity) {
+  const ImpactDetection detection = DetectImpactHits(force, responses, fs_hz, options);
+  RealFft fft(detection.record_samples);
+  std::vector<HitSpectra> kept(detection.hits.size());
+  std::vector<const HitSpectra*> spectra(detection.hits.size(), nullptr);
+  for (std::size_t g = 0; g < detection.hits.size(); ++g) {
+    if (!detection.hits[g].used) continue;
+    kept[g] = ImpactHitSpectra(force, responses, detection, g, fft);
+    spectra[g] = &kept[g];
+  }
+  return AverageHitSpectra(detection, spectra, fs_hz, options, estimator, response_quantity);
 }
 
 }  // namespace vibid::ident

@@ -210,6 +210,132 @@ TEST(Impact, ExponentialWindowDampingIsCorrected) {
   EXPECT_NEAR(p.peaks[0].omega_rad_s, 0.2, 0.002);
 }
 
+// A hit of 20 % of the others' peak is too weak (below 0.3 of their median, 100): flagged with
+// the median it fell short of and left out; the FRF is the other hits' (analytic resonator).
+TEST(Impact, WeakHitIsRejectedAgainstTheMedianPeak) {
+  const Resonator sys{0.98, 0.3};
+  Eigen::VectorXd f = Eigen::VectorXd::Zero(9000);
+  AddHit(f, 500, 100, 5);
+  AddHit(f, 2700, 20, 5);
+  AddHit(f, 4800, 90, 5);
+  AddHit(f, 6900, 110, 5);
+  const Eigen::MatrixXd y = sys.Filter(f);
+  const ImpactOptions opt{.record_s = 2000};
+  const ImpactResult r = EstimateImpactFrf(f, y, 1.0, opt, Estimator::kH1, Quantity::kDisplacement);
+  ASSERT_EQ(r.hits.size(), 4u);
+  EXPECT_TRUE(r.hits[1].weak);
+  EXPECT_FALSE(r.hits[1].used);
+  // The half-sine's peak sample: 20 sin(pi 2.5 / 5) = 20 (closed form); median of 100, 90, 110.
+  EXPECT_NE(r.hits[1].note.find("too weak: peak 20 below 0.3 of the median peak 100"),
+            std::string::npos)
+      << r.hits[1].note;
+  for (std::size_t k : {0u, 2u, 3u}) EXPECT_TRUE(r.hits[k].used && !r.hits[k].weak);
+  EXPECT_EQ(r.frf.averages, 3u);
+  // Without the check the weak hit is used (H1 weights it by its force energy: 4 % of a hit).
+  ImpactOptions lax = opt;
+  lax.weak_hit_fraction = 0.0;
+  EXPECT_EQ(EstimateImpactFrf(f, y, 1.0, lax, Estimator::kH1, Quantity::kDisplacement).frf.averages,
+            4u);
+}
+
+// The noise floor: a hit of 10 N on a force with 1 N of noise (sd) is below 10 sd; the ones of
+// 100 N are not. The noise is a fixed -1, 0, 1 cycle: its median absolute deviation is 1.
+TEST(Impact, WeakHitBelowTheNoiseFloor) {
+  const Resonator sys{0.98, 0.3};
+  Eigen::VectorXd f(7000);
+  for (Eigen::Index i = 0; i < f.size(); ++i) f[i] = static_cast<double>(i % 3) - 1.0;
+  AddHit(f, 500, 100, 5);
+  AddHit(f, 2700, 100, 5);
+  AddHit(f, 4800, 12, 5);
+  const Eigen::MatrixXd y = sys.Filter(f);
+  ImpactOptions opt{.trigger_fraction = 0.05, .record_s = 2000};
+  opt.weak_hit_fraction = 0.0;
+  const ImpactDetection d = DetectImpactHits(f, y, 1.0, opt);
+  ASSERT_EQ(d.hits.size(), 3u);
+  EXPECT_NEAR(std::sqrt(d.force_noise_var), 1.4826, 1e-12);  // 1.4826 x MAD (MAD = 1)
+  EXPECT_TRUE(d.hits[2].weak) << d.hits[2].note;
+  EXPECT_NE(d.hits[2].note.find("force noise standard deviations"), std::string::npos);
+  EXPECT_FALSE(d.hits[0].weak);
+}
+
+// The hit choice: the listed hits are used whatever their verdicts; the FRF equals the one the
+// verdicts give when they list the same hits, bit for bit; a truncated hit or one past the end
+// is refused.
+TEST(Impact, UseHitsOverridesTheVerdicts) {
+  const Resonator sys{0.98, 0.3};
+  Eigen::VectorXd f = Eigen::VectorXd::Zero(7000);
+  AddHit(f, 500, 100, 5);
+  AddHit(f, 2700, 80, 5);
+  AddHit(f, 2720, 40, 5);  // rebound: hit 2 is a double hit
+  AddHit(f, 4800, 120, 5);
+  AddHit(f, 6500, 100, 5);  // its record runs past the end: truncated
+  const Eigen::MatrixXd y = sys.Filter(f);
+  const ImpactOptions opt{.record_s = 1500, .double_hit_window_s = 50};
+  const ImpactResult auto_r =
+      EstimateImpactFrf(f, y, 1.0, opt, Estimator::kH1, Quantity::kDisplacement);
+  ASSERT_EQ(auto_r.hits.size(), 4u);
+  EXPECT_FALSE(auto_r.hits[1].used);
+  EXPECT_TRUE(auto_r.hits[3].truncated);
+  ImpactOptions same = opt;
+  same.use_hits = {1, 3};
+  const ImpactResult listed =
+      EstimateImpactFrf(f, y, 1.0, same, Estimator::kH1, Quantity::kDisplacement);
+  EXPECT_TRUE(listed.frf.h.cwiseEqual(auto_r.frf.h).all());
+  EXPECT_TRUE(listed.frf.coherence.cwiseEqual(auto_r.frf.coherence).all());
+  ImpactOptions with_double = opt;
+  with_double.use_hits = {1, 2, 3};
+  const ImpactResult d =
+      EstimateImpactFrf(f, y, 1.0, with_double, Estimator::kH1, Quantity::kDisplacement);
+  EXPECT_TRUE(d.hits[1].used);
+  EXPECT_EQ(d.frf.averages, 3u);
+  ImpactOptions truncated = opt;
+  truncated.use_hits = {4};
+  EXPECT_THROW(EstimateImpactFrf(f, y, 1.0, truncated, Estimator::kH1, Quantity::kDisplacement),
+               InputError);
+  ImpactOptions past = opt;
+  past.use_hits = {5};
+  EXPECT_THROW(EstimateImpactFrf(f, y, 1.0, past, Estimator::kH1, Quantity::kDisplacement),
+               InputError);
+  ImpactOptions unordered = opt;
+  unordered.use_hits = {3, 1};
+  EXPECT_THROW(unordered.Validate(), InputError);
+}
+
+// Per-hit spectra kept and averaged later give EstimateImpactFrf's bits, whichever way the
+// channels are held (here a wider buffer, as a growing recording is).
+TEST(Impact, KeptHitSpectraAverageToTheSameBits) {
+  const Resonator sys{0.98, 0.3};
+  Eigen::VectorXd f = Eigen::VectorXd::Zero(7001);
+  AddHit(f, 501, 100, 5);
+  AddHit(f, 2700, 80, 5);
+  AddHit(f, 4803, 120, 5);
+  for (Eigen::Index i = 0; i < f.size(); ++i)
+    f[i] += 1e-3 * std::sin(0.37 * static_cast<double>(i));
+  Eigen::MatrixXd y(f.size(), 2);
+  y.col(0) = sys.Filter(f);
+  y.col(1) = Resonator{0.97, 0.5}.Filter(f);
+  const ImpactOptions opt{.exp_window_end = 0.05};
+  const ImpactResult r = EstimateImpactFrf(f, y, 1.0, opt, Estimator::kH1, Quantity::kDisplacement);
+  Eigen::MatrixXd wide = Eigen::MatrixXd::Zero(f.size() + 3, 3);
+  wide.block(0, 1, f.size(), 2) = y;
+  Eigen::VectorXd fw = Eigen::VectorXd::Zero(f.size() + 5);
+  fw.head(f.size()) = f;
+  const auto fh = fw.head(f.size());
+  const auto yh = wide.block(0, 1, f.size(), 2);
+  const ImpactDetection d = DetectImpactHits(fh, yh, 1.0, opt);
+  RealFft fft(d.record_samples);
+  std::vector<HitSpectra> kept;
+  for (std::size_t g = 0; g < d.hits.size(); ++g)
+    kept.push_back(ImpactHitSpectra(fh, yh, d, g, fft));
+  std::vector<const HitSpectra*> used;
+  for (const HitSpectra& s : kept) used.push_back(&s);
+  const ImpactResult later =
+      AverageHitSpectra(d, used, 1.0, opt, Estimator::kH1, Quantity::kDisplacement);
+  EXPECT_TRUE(later.frf.h.cwiseEqual(r.frf.h).all());
+  EXPECT_TRUE(later.frf.coherence.cwiseEqual(r.frf.coherence).all());
+  EXPECT_TRUE(later.frf.level_rel_var.cwiseEqual(r.frf.level_rel_var).all());
+}
+
 TEST(Impact, BadOptionsAndSignals) {
   const Eigen::VectorXd f = Eigen::VectorXd::Zero(100);
   const Eigen::MatrixXd y = Eigen::MatrixXd::Zero(100, 1);

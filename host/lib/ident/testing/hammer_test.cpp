@@ -61,6 +61,16 @@ HammerTestRecord SimulateHammerTest(const model::Model& rig, const HammerTestSpe
     // Hits start on a sample so the sampled pulse is the same shape every time.
     s.t0_s = std::round(t * spec.fs_hz) / spec.fs_hz;
     s.width_s = spec.pulse_width_s;
+    for (const HammerTestSpec::HitChange& c : spec.changes) {
+      if (c.hit != h) continue;
+      s.amp_n *= c.scale;
+      if (c.second_fraction > 0.0) {
+        model::ForceShape second = s;
+        second.amp_n = s.amp_n * c.second_fraction;
+        second.t0_s = s.t0_s + std::round(c.second_delay_s * spec.fs_hz) / spec.fs_hz;
+        input.shapes.push_back(second);
+      }
+    }
     input.shapes.push_back(s);
     if (spec.rebound_fraction > 0.0) {
       model::ForceShape b = s;
@@ -75,7 +85,7 @@ HammerTestRecord SimulateHammerTest(const model::Model& rig, const HammerTestSpe
   opt.method = model::Method::kExact;
   const auto r = static_cast<Eigen::Index>(spec.oversample);
   opt.dt_s = 1.0 / (spec.fs_hz * static_cast<double>(r));
-  opt.t_end_s = t;
+  opt.t_end_s = spec.tail_s > 0.0 ? rec.hit_times_s.back() + spec.tail_s : t;
   const model::SimulationResult sim = model::Simulate(rig, input, opt);
   const Eigen::Index samples = sim.t_s.size() / r;
   // Boxcar average of `r` fine samples per output sample, the same on every channel.

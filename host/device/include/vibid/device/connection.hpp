@@ -129,11 +129,14 @@ class Connection {
 
   /// One request, one answer (retried with the same token on timeout). The answer may be a
   /// refusal: its header.status says so. Throws DeviceError on timeout or a lost link.
+  /// `extra_wait` lengthens the answer timeout for a request the device takes long to answer.
   Reply Call(wire::Command command, std::span<const std::uint8_t> payload = {},
-             std::uint16_t sequence = 0);
+             std::uint16_t sequence = 0,
+             std::chrono::milliseconds extra_wait = std::chrono::milliseconds{0});
   /// Call that throws DeviceError naming the command and status unless the answer is kOk.
   Reply Expect(wire::Command command, std::span<const std::uint8_t> payload = {},
-               std::uint16_t sequence = 0);
+               std::uint16_t sequence = 0,
+               std::chrono::milliseconds extra_wait = std::chrono::milliseconds{0});
   template <typename Payload>
   requires requires { Payload::kBytes; }
   Reply Expect(wire::Command command, const Payload& payload) {

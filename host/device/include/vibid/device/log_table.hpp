@@ -39,6 +39,16 @@ LogTable MakeLogTable(const LogPull& pull, const wire::CalibrationRecord& calibr
 std::string SampleInstantsLine(const LogTable& table, const LogPull& pull,
                                const wire::SamplingInfoResponse& instants);
 
+/// The recording's opening lines (sampling-instants line when stated, column names): `format`
+/// gives the layout and trailer, its records are not read. With FormatLogCsvRows, a recording is
+/// written as its records arrive: header + rows of every block in order is FormatLogCsv's text.
+std::string FormatLogCsvHeader(const LogPull& format, const wire::CalibrationRecord& calibration,
+                               bool has_record,
+                               const std::optional<wire::SamplingInfoResponse>& instants);
+/// The rows of `block`'s records (its layout and trailer as the whole recording's).
+std::string FormatLogCsvRows(const LogPull& block, const wire::CalibrationRecord& calibration,
+                             bool has_record);
+
 /// MakeLogTable formatted with vibid::FormatCsv, after the sampling-instants header line when the
 /// board stated its instants (`instants` empty for a board of protocol 2.0).
 std::string FormatLogCsv(const LogPull& pull, const wire::CalibrationRecord& calibration,

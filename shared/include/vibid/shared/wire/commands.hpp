@@ -185,6 +185,12 @@ enum class SelfTestCheck : std::uint8_t {
 inline constexpr std::uint8_t kSelfTestCheckCount = 17;
 /// Samples each noise and offset check takes.
 inline constexpr std::uint32_t kSelfTestSamples = 1000;
+/// The longest a board spends on one check before it answers: the crystal check counts 1000 USB
+/// frames (1 s); a noise or offset check takes kSelfTestSamples frames at a period of at most
+/// 1 ms (a board configured slower answers unavailable) plus 100 ms of slack. A host waits this
+/// long on top of its usual answer timeout, so it never sends the request again (and makes the
+/// board measure twice) while the first measurement runs.
+inline constexpr std::uint32_t kSelfTestLongestCheckMs = 1100;
 
 enum class SelfTestVerdict : std::uint8_t {
   kFail = 0,

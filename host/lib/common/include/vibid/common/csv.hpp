@@ -59,6 +59,11 @@ CsvTable ReadCsvColumns(const std::string& path, const CsvColumns& wanted);
 /// reads back bit-identical.
 std::string FormatCsv(const std::vector<std::string>& names,
                       const std::vector<Eigen::VectorXd>& columns);
+/// FormatCsv in two parts, for a file written as its rows arrive: the header line, and rows
+/// (FormatCsv is FormatCsvHeader + FormatCsvRows of all of them; rows split anywhere join to the
+/// same text).
+std::string FormatCsvHeader(const std::vector<std::string>& names);
+std::string FormatCsvRows(const std::vector<Eigen::VectorXd>& columns);
 
 /// A column selected by the user, with a conversion to SI:
 ///   `NAME`           taken as it is (already SI)

@@ -43,6 +43,17 @@ struct ImpactOptions {
   /// multiples of 1/delay, and H1 there is noise over a vanishing force. The usable band runs
   /// from the first line to the first line that falls short; above it the coherence is set to 0.
   double force_dynamic_range_db = 20.0;
+  /// A hit is too weak when its peak is below this fraction of the median peak of the complete,
+  /// single, unclipped hits: a tap that light drives the structure less far into its nonlinearity
+  /// than the others and lifts its response less far above the noise. 0: no such check.
+  double weak_hit_fraction = 0.3;
+  /// ... or when its peak is below this many standard deviations of the force channel's noise
+  /// (median absolute deviation of the whole force). 0: no such check.
+  double weak_hit_noise_factor = 10.0;
+  /// The hits to average, 1-based in the order they are detected; empty: the verdicts decide.
+  /// A listed hit is used whatever its verdict (the operator's choice), except a truncated one,
+  /// which is refused: its record does not fit in the recording.
+  std::vector<std::size_t> use_hits;
 
   void Validate() const;
 };
@@ -56,6 +67,7 @@ struct Hit {
   bool double_hit = false;
   bool clipped = false;
   bool truncated = false;  ///< The record ends before the hit's window does.
+  bool weak = false;       ///< Peak too low: see ImpactOptions::weak_hit_fraction.
   std::size_t pulses =
       1;  ///< Pulses of this hit (a rebound within the double-hit window adds one).
   bool used = false;
@@ -73,6 +85,63 @@ struct ImpactResult {
   double usable_max_hz = 0.0;
   std::vector<std::string> warnings;
 };
+
+/// Where one hit's record lies and how its force window runs (samples).
+struct HitSpan {
+  std::size_t start = 0;  ///< First sample of the hit's record.
+  std::size_t keep = 0;   ///< Force kept from the record start before the taper.
+  std::size_t taper = 0;  ///< Length of the half-cosine taper: the hit's first pulse's width.
+};
+
+/// The hits of a record as EstimateImpactFrf detects and judges them, and what their spectra are
+/// computed from. `hits[i].used` holds the verdict, or the choice of ImpactOptions::use_hits.
+struct ImpactDetection {
+  std::vector<Hit> hits;
+  std::vector<HitSpan> spans;  ///< One per hit.
+  std::size_t record_samples = 0;
+  std::size_t pretrigger_samples = 0;
+  double baseline = 0.0;         ///< Median of the force.
+  double trigger_level = 0.0;    ///< |force - baseline| where a pulse starts.
+  double force_noise_var = 0.0;  ///< Variance of the force channel's noise.
+  double exp_window_tau_s = 0.0;
+  Eigen::VectorXd exp_window;  ///< Over one hit record (ones without an exponential window).
+  std::vector<std::string> warnings;
+};
+
+/// The first half of EstimateImpactFrf: pulses, hits, their records and verdicts, the choice of
+/// ImpactOptions::use_hits. Throws only for bad options or signals (a record whose hits are all
+/// rejected is returned with none used).
+ImpactDetection DetectImpactHits(const Eigen::Ref<const Eigen::VectorXd>& force,
+                                 const Eigen::Ref<const Eigen::MatrixXd>& responses, double fs_hz,
+                                 const ImpactOptions& options);
+
+/// The window hit `hit`'s force is multiplied by: ones up to its span's `keep`, the half-cosine
+/// taper, zeros after; times the exponential window.
+Eigen::VectorXd ImpactForceWindow(const ImpactDetection& detection, std::size_t hit);
+
+/// One hit's spectra before averaging: |F|^2, |X_j|^2, F^* X_j of its windowed record, and |F|^2
+/// times the force window's power (for the level's noise variance). Unscaled sums of one segment.
+struct HitSpectra {
+  Eigen::VectorXd gff;
+  Eigen::MatrixXd gxx;
+  Eigen::MatrixXcd gfx;
+  Eigen::VectorXd window_noise;
+};
+
+/// The spectra of hit `hit` of `detection` (made from the same signals). `fft` has
+/// `detection.record_samples` points.
+HitSpectra ImpactHitSpectra(const Eigen::Ref<const Eigen::VectorXd>& force,
+                            const Eigen::Ref<const Eigen::MatrixXd>& responses,
+                            const ImpactDetection& detection, std::size_t hit, RealFft& fft);
+
+/// The second half of EstimateImpactFrf: the FRF from the spectra of the used hits, summed in hit
+/// order (`spectra[i]` for every i with `detection.hits[i].used`; the others may be null).
+/// Spectra kept from ImpactHitSpectra give the same bits as EstimateImpactFrf on the same hits.
+/// InputError when no hit is used, with the reasons.
+ImpactResult AverageHitSpectra(const ImpactDetection& detection,
+                               const std::vector<const HitSpectra*>& spectra, double fs_hz,
+                               const ImpactOptions& options, Estimator estimator,
+                               Quantity response_quantity);
 
 /// Detects the hits and returns the FRF averaged over the accepted ones (rectangular windowing
 /// apart from the force/exponential windows; one segment per hit). The force window of a hit

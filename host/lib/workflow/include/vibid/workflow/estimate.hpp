@@ -19,8 +19,8 @@ namespace vibid::workflow {
 /// How to process a recording. The text fields take the CLI's words (`h1`, `hann`, `acc`,
 /// `receptance`...) and are checked by Validate (a typo is refused whichever path runs).
 struct EstimationOptions {
-  std::string force;      ///< NAME[:UNIT|*FACTOR] of the force column (N).
-  std::string responses;  ///< Comma-separated NAME[:UNIT|*FACTOR] of the response columns.
+  std::string force;             ///< NAME[:UNIT|*FACTOR] of the force column (N).
+  std::string responses;         ///< Comma-separated NAME[:UNIT|*FACTOR] of the response columns.
   std::string estimator = "h1";  ///< h1, h2, hv.
   bool impact = false;           ///< Per-hit records even when the force does not look like hits.
   bool welch = false;            ///< Welch averaging even when the force looks like hits.
@@ -33,6 +33,11 @@ struct EstimationOptions {
   double fs_hz = 0.0;               ///< Sample rate when the recording has no t_s column.
   ident::ImpactOptions impact_options;
   bool keep_bad_hits = false;  ///< Use double and clipped hits (only flag them).
+  /// Impact: the hits to average, "1,2,4" (1-based, numbered as the hit notes number them),
+  /// whatever their verdicts; empty: the verdicts decide.
+  std::string use_hits;
+  /// Impact: a hit list a hammer session saved (hits.json): its accepted hits are averaged.
+  std::string hits_file;
 
   /// Throws InputError naming the option and its allowed values.
   void Validate() const;
@@ -81,6 +86,15 @@ std::vector<std::string> EstimationNotes(const std::string& path, const Estimate
 /// Joins FRFs of the same frequency lines column-wise (responses of one test in several files).
 ident::Frf JoinColumns(const std::vector<ident::Frf>& frfs,
                        const std::vector<std::string>& sources);
+
+/// "1,2,4" -> {1, 2, 4}: hit numbers from 1, each once, in increasing order.
+std::vector<std::size_t> ParseHitList(const std::string& list);
+
+/// The "format" of a hammer session's hit list.
+inline constexpr const char* kHitListFormat = "vibid-hammer-hits";
+
+/// The accepted hits of a hit list a hammer session saved (HammerSession::Save's hits.json).
+std::vector<std::size_t> ReadAcceptedHits(const std::string& path);
 
 /// One line per hit: time, peak, used or why not.
 std::string DescribeHits(const std::vector<ident::Hit>& hits);

@@ -22,6 +22,9 @@ struct MassTestFile {
   std::string path;
 };
 
+/// "POS=REC.csv" (POS counted from 1), as --mass-test takes it.
+MassTestFile ParseMassTest(const std::string& text);
+
 struct IdentifyRequest {
   std::vector<MassTestFile> mass_tests;
   /// "POS=K" (N/m) or "POS=fit" per mass test whose spring is not the nominal chain spring.
@@ -46,9 +49,13 @@ struct IdentifyRun {
   std::vector<ident::Frf> modal_frfs;  ///< Receptances of the modal tests, in order.
   std::size_t driving_point = 0;
   std::vector<std::string> notes;  ///< EstimationNotes of every recording.
-  /// Processing notes of recordings that did not look like hammer tests (said to the user).
-  std::vector<std::string> processing_notes;
-  std::vector<std::string> estimation_warnings;  ///< Every estimation's warnings, path first.
+  /// What the estimations have to tell the user, in order: the processing note of a recording
+  /// that did not look like a hammer test, and every warning (path first).
+  struct Message {
+    bool warning = false;
+    std::string text;
+  };
+  std::vector<Message> messages;
 };
 
 IdentifyRun RunIdentify(const model::Model& nominal, const IdentifyRequest& request);

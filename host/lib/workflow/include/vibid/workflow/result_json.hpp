@@ -10,6 +10,7 @@
 #include "vibid/ident/intervals.hpp"
 #include "vibid/ident/modes.hpp"
 #include "vibid/ident/updates.hpp"
+#include "vibid/workflow/hammer_snapshot.hpp"
 
 namespace vibid::workflow {
 
@@ -52,5 +53,17 @@ std::string ModeIdentificationText(const ident::ModeIdentification& result);
 void PutInterval(nlohmann::json& j, const std::string& key, const ident::Interval95& ci);
 nlohmann::json MassUpdateJson(const ident::MassUpdateResult& result);
 nlohmann::json StiffnessJson(const ident::StiffnessAverage& average);
+
+/// The snapshot as the page draws it: {version, samples, fs_hz, finished, pending_hits, accepted,
+/// hits: [{index, t_s, peak_n, verdict, reason, accepted, decided_by}], frf: {kind, freq_hz,
+/// responses: [{name, magnitude, phase_rad, coherence}]} or null, warnings, modes: ModesToJson
+/// (95 % intervals) or null, diagram: DiagramToJson or null, modes_error, timing_ms: {update,
+/// modes}}.
+nlohmann::json HammerSnapshotJson(const HammerSnapshot& snapshot);
+/// {index, t_s, force, force_window, responses: [{name, values}]}.
+nlohmann::json HitTracesJson(const HitTraces& traces);
+/// hits.json: {"format": kHitListFormat, "hits": [{index, t_s, peak_n, verdict, reason, accepted,
+/// decided_by}]}.
+nlohmann::json HitListJson(const std::vector<SessionHit>& hits);
 
 }  // namespace vibid::workflow

@@ -34,6 +34,16 @@ struct HammerTestSpec {
   /// hit's start, of this fraction of the hit's peak; 0: none.
   double rebound_delay_s = 0.0;
   double rebound_fraction = 0.0;
+  /// Hits made unlike the others, by 0-based hit number: a double hit, an overload, a light tap.
+  struct HitChange {
+    int hit = 0;
+    double scale = 1.0;            ///< The hit's peak multiplied by this.
+    double second_delay_s = 0.0;   ///< A second pulse this long after the hit's start (0: none)
+    double second_fraction = 0.0;  ///< of this fraction of the hit's peak.
+  };
+  std::vector<HitChange> changes;
+  /// Record end this long after the last hit's start (s); 0: one more spacing after it.
+  double tail_s = 0.0;
   /// Noise standard deviations as fractions of each channel's peak value.
   double force_noise = 0.002;
   double response_noise = 0.002;

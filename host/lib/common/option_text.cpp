@@ -1,4 +1,4 @@
-#include "common/option_text.hpp"
+#include "vibid/common/option_text.hpp"
 
 #include <cerrno>
 #include <cmath>
@@ -6,7 +6,7 @@
 
 #include "vibid/common/csv.hpp"
 
-namespace vibid::cli {
+namespace vibid {
 
 NumberText ParseNumber(std::string_view text, double& value) {
   const std::string s(text);  // strtod needs the terminating NUL
@@ -34,4 +34,4 @@ std::vector<std::string> SplitOptionList(std::string_view text, TrailingEmpty tr
   return items;
 }
 
-}  // namespace vibid::cli
+}  // namespace vibid

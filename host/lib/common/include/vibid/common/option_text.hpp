@@ -1,6 +1,6 @@
-// Reading numbers and lists out of option text. Every command parses its option values with these,
-// so "is this a number" means the same thing for every option; each command keeps its own message
-// because the message names the option and what the value is for.
+// Reading numbers and lists out of option text. Every front end parses its option values with
+// these, so "is this a number" means the same thing for every option; each command keeps its own
+// message because the message names the option and what the value is for.
 #pragma once
 
 #include <optional>
@@ -8,7 +8,7 @@
 #include <string_view>
 #include <vector>
 
-namespace vibid::cli {
+namespace vibid {
 
 /// How a text failed to be a number.
 enum class NumberText {
@@ -33,4 +33,4 @@ enum class TrailingEmpty { kKeep, kDrop };
 std::vector<std::string> SplitOptionList(std::string_view text,
                                          TrailingEmpty trailing = TrailingEmpty::kKeep);
 
-}  // namespace vibid::cli
+}  // namespace vibid

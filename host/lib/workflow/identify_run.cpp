@@ -1,0 +1,257 @@
+#include "vibid/workflow/identify_run.hpp"
+
+#include <array>
+#include <cmath>
+#include <numbers>
+#include <optional>
+#include <utility>
+
+#include "vibid/common/csv.hpp"
+#include "vibid/common/error.hpp"
+#include "vibid/common/option_text.hpp"
+#include "vibid/ident/recording_columns.hpp"
+#include "vibid/model/frf.hpp"
+#include "vibid/workflow/result_json.hpp"
+
+namespace vibid::workflow {
+
+namespace {
+
+std::pair<std::size_t, std::string> ParsePositionAssignment(const std::string& text,
+                                                            const std::string& option) {
+  const auto eq = text.find('=');
+  Require(eq != std::string::npos && eq > 0 && eq + 1 < text.size(),
+          option + " '" + text + "' must be POSITION=VALUE (position counted from 1)");
+  const std::string pos = text.substr(0, eq);
+  const std::optional<long long> p = ParseInteger(pos);
+  Require(p && *p >= 1, option + " '" + text + "': position '" + pos + "' is not a number >= 1");
+  return {static_cast<std::size_t>(*p - 1), text.substr(eq + 1)};
+}
+
+nlohmann::json Triple(double nominal, double updated, double test) {
+  return {{"nominal", nominal},
+          {"updated", updated},
+          {"test", test},
+          {"nominal_dev_percent", ident::PercentDeviation(nominal, test)},
+          {"updated_dev_percent", ident::PercentDeviation(updated, test)}};
+}
+
+nlohmann::json ValidationJson(const ident::ValidationTable& t,
+                              const std::vector<ident::ModeEstimate>& test_modes) {
+  nlohmann::json modes = nlohmann::json::array();
+  for (std::size_t i = 0; i < t.modes.size(); ++i) {
+    const auto& m = t.modes[i];
+    nlohmann::json row = {{"omega_rad_s", Triple(m.omega_nominal, m.omega_updated, m.omega_test)},
+                          {"zeta", Triple(m.zeta_nominal, m.zeta_updated, m.zeta_test)},
+                          {"ratio", Triple(m.ratio_nominal, m.ratio_updated, m.ratio_test)}};
+    if (i < test_modes.size()) {
+      const ident::ModeEstimate& e = test_modes[i];
+      const std::pair<const char*, const std::array<double, 2>*> cis[] = {
+          {"omega_rad_s", &e.omega_ci95_rad_s}, {"zeta", &e.zeta_ci95}, {"ratio", &e.ratio_ci95}};
+      for (const auto& [key, ci] : cis) {
+        if (std::isfinite((*ci)[0]) && std::isfinite((*ci)[1]))
+          row[key]["test_ci95"] = {(*ci)[0], (*ci)[1]};
+      }
+    }
+    modes.push_back(row);
+  }
+  nlohmann::json positions = nlohmann::json::array();
+  for (const auto& p : t.positions) {
+    nlohmann::json m = {{"nominal", p.m_nominal},
+                        {"updated", p.m_updated},
+                        {"change_percent", ident::PercentDeviation(p.m_updated, p.m_nominal)}};
+    nlohmann::json k = {{"nominal", p.k_nominal},
+                        {"updated", p.k_updated},
+                        {"change_percent", ident::PercentDeviation(p.k_updated, p.k_nominal)}};
+    nlohmann::json c = {{"updated", p.c_updated}};
+    PutInterval(m, "updated", p.m_ci95);
+    PutInterval(k, "updated", p.k_ci95);
+    PutInterval(c, "updated", p.c_ci95);
+    positions.push_back({{"m_kg", m}, {"k_n_per_m", k}, {"c_ns_per_m", c}});
+  }
+  return {{"modes", modes}, {"positions", positions}};
+}
+
+// The updated parameters with their 95 % intervals, one object per position:
+// {"position", "m_kg", "m_kg_ci95": [lo, hi] or null, "m_kg_ci95_basis" or "m_kg_ci95_missing",
+// the same for k_n_per_m and c_ns_per_m}.
+nlohmann::json ParametersJson(const ident::ValidationTable& t) {
+  nlohmann::json out = nlohmann::json::array();
+  for (std::size_t i = 0; i < t.positions.size(); ++i) {
+    const auto& p = t.positions[i];
+    nlohmann::json j = {{"position", i + 1},
+                        {"m_kg", p.m_updated},
+                        {"k_n_per_m", p.k_updated},
+                        {"c_ns_per_m", p.c_updated}};
+    PutInterval(j, "m_kg", p.m_ci95);
+    PutInterval(j, "k_n_per_m", p.k_ci95);
+    PutInterval(j, "c_ns_per_m", p.c_ci95);
+    out.push_back(j);
+  }
+  return out;
+}
+
+/// The springs of the mass tests: given (N/m), 0 for the nominal chain spring, or to be fitted.
+struct MassSprings {
+  std::vector<double> k_n_per_m;
+  std::vector<bool> fit;
+};
+
+MassSprings ParseMassSprings(const std::vector<std::string>& specs, std::size_t n) {
+  MassSprings out{std::vector<double>(n, 0.0), std::vector<bool>(n, false)};
+  for (const std::string& s : specs) {
+    const auto [pos, value] = ParsePositionAssignment(s, "--mass-spring");
+    Require(pos < n, "--mass-spring position " + std::to_string(pos + 1) +
+                         " is beyond the model's " + std::to_string(n) + " masses");
+    if (value == "fit") {
+      out.fit[pos] = true;
+      continue;
+    }
+    double k = 0.0;
+    Require(ParseNumber(value, k) == NumberText::kOk && k > 0.0,
+            "--mass-spring '" + s + "': stiffness must be a number > 0");
+    out.k_n_per_m[pos] = k;
+  }
+  return out;
+}
+
+/// Estimates one test; identify is made for hammer tests, so the processing note is said only
+/// when a recording did not look like one.
+ident::Frf EstimateTest(const std::string& path, const EstimationOptions& est, IdentifyRun& run) {
+  Estimated e = EstimateFromRecording(path, est);
+  if (e.hits.empty() && !e.note.empty()) run.messages.push_back({false, e.note});
+  for (const std::string& w : e.warnings) run.messages.push_back({true, w});
+  const std::vector<std::string> lines = EstimationNotes(path, e);
+  run.notes.insert(run.notes.end(), lines.begin(), lines.end());
+  return std::move(e.frf);
+}
+
+std::vector<ident::MassTestInput> MassTests(const IdentifyRequest& a, const EstimationOptions& est,
+                                            std::size_t n, IdentifyRun& run) {
+  const MassSprings springs = ParseMassSprings(a.mass_springs, n);
+  const std::vector<std::string> mass_responses =
+      a.mass_response.empty() ? std::vector<std::string>{} : SplitOptionList(a.mass_response);
+  Require(a.mass_response.empty() || mass_responses.size() == 1 ||
+              mass_responses.size() == a.mass_tests.size(),
+          "--mass-response names " + std::to_string(mass_responses.size()) + " columns for " +
+              std::to_string(a.mass_tests.size()) +
+              " mass tests (give one for all, or one per test)");
+  std::vector<ident::MassTestInput> inputs;
+  for (std::size_t t = 0; t < a.mass_tests.size(); ++t) {
+    const MassTestFile& test = a.mass_tests[t];
+    Require(test.position < n, "--mass-test position " + std::to_string(test.position + 1) +
+                                   " is beyond the model's " + std::to_string(n) + " masses");
+    EstimationOptions me = est;
+    // By default the accelerometer on the tested mass, as `acquire --channels force1,accP` names
+    // it.
+    me.responses = mass_responses.empty()       ? ident::AccelerationColumn(test.position + 1)
+                   : mass_responses.size() == 1 ? mass_responses[0]
+                                                : mass_responses[t];
+    inputs.push_back({test.position, EstimateTest(test.path, me, run),
+                      springs.k_n_per_m[test.position], springs.fit[test.position]});
+  }
+  return inputs;
+}
+
+}  // namespace
+
+IdentifyRequest DefaultIdentifyRequest() {
+  IdentifyRequest r;
+  r.estimation.force = ident::ForceColumn();
+  return r;
+}
+
+MassTestFile ParseMassTest(const std::string& text) {
+  const auto [pos, path] = ParsePositionAssignment(text, "--mass-test");
+  return {pos, path};
+}
+
+IdentifyRun RunIdentify(const model::Model& nominal, const IdentifyRequest& request) {
+  const auto n = static_cast<std::size_t>(nominal.dofs());
+  Require(!request.modal_tests.empty(), "--modal-test: at least one modal test is needed");
+  EstimationOptions est = request.estimation;
+  est.impact = false;  // each recording is classified by its force channel unless welch is set
+  est.kind = "receptance";
+  IdentifyRun run;
+  const std::vector<ident::MassTestInput> mass_inputs = MassTests(request, est, n, run);
+  for (const std::string& path : request.modal_tests) {
+    EstimationOptions me = est;
+    me.responses =
+        request.modal_responses.empty() ? ident::AccelerationColumns(n) : request.modal_responses;
+    run.modal_frfs.push_back(EstimateTest(path, me, run));
+  }
+  ident::IdentifyOptions options;
+  options.modes = request.modes.options;
+  options.modes.method = ident::ParseModeMethod(request.modes.method);
+  if (!request.modes.orders.empty())
+    ident::ParseOrders(request.modes.orders, options.modes.stabilization);
+  run.driving_point = ResolveDrivingPoint(run.modal_frfs.front(), request.modes.driving_point);
+  options.driving_point = run.driving_point;
+  run.result = ident::Identify(nominal, mass_inputs, run.modal_frfs, options);
+  return run;
+}
+
+nlohmann::json ChainJson(const ident::ChainParameters& chain, std::size_t n) {
+  const auto list = [n](const Eigen::VectorXd& v) {
+    return std::vector<double>(v.data(), v.data() + n);
+  };
+  return {{"topology", "chain"},
+          {"masses", list(chain.masses_kg)},
+          {"springs", list(chain.springs_n_per_m)},
+          {"dampers", list(chain.dampers_ns_per_m)}};
+}
+
+nlohmann::json IdentifyReportJson(const IdentifyRun& run, std::size_t n) {
+  const ident::IdentifyResult& r = run.result;
+  const std::vector<std::string>& notes = run.notes;
+  const nlohmann::json model_json = ChainJson(r.chain, n);
+  nlohmann::json report;
+  report["updated_model"] = model_json;
+  report["validation"] = ValidationJson(r.table, r.test_modes);
+  report["parameters"] = ParametersJson(r.table);
+  report["test_modes"] = ModesToJson(r.test_modes)["modes"];
+  nlohmann::json masses = nlohmann::json::array();
+  for (const auto& m : r.mass_tests) {
+    nlohmann::json j = MassUpdateJson(m.update);
+    j["position"] = m.position + 1;
+    masses.push_back(j);
+  }
+  report["mass_tests"] = masses;
+  nlohmann::json modal_json = nlohmann::json::array();
+  for (const auto& mt : r.modal_tests) {
+    nlohmann::json j = ModesToJson(mt.modes);
+    if (mt.fitted) j["summary"] = SolverSummaryJson(mt.fit.summary);
+    if (mt.has_diagram) j["stabilization"] = DiagramToJson(mt.diagram);
+    modal_json.push_back(j);
+  }
+  report["modal_tests"] = modal_json;
+  report["stiffness"] = StiffnessJson(r.stiffness);
+  report["warnings"] = r.warnings;
+  report["notes"] = notes;
+  return report;
+}
+
+std::string FrfOverlayCsv(const IdentifyRun& run, const model::Model& nominal) {
+  const ident::Frf& measured = run.modal_frfs.front();
+  const std::size_t driving_point = run.driving_point;
+  const model::Model& updated = run.result.updated;
+  const Eigen::VectorXd omega = 2.0 * std::numbers::pi * measured.freq_hz;
+  std::vector<std::string> names{"freq_hz"};
+  std::vector<Eigen::VectorXd> cols{measured.freq_hz};
+  for (Eigen::Index j = 0; j < measured.h.cols(); ++j) {
+    const std::string base = "h" + std::to_string(j + 1) + std::to_string(driving_point + 1);
+    names.push_back(base + "_test");
+    cols.push_back(measured.h.col(j).cwiseAbs());
+    names.push_back(base + "_nominal");
+    cols.push_back(model::Frf(nominal, static_cast<int>(driving_point), static_cast<int>(j),
+                              model::FrfKind::kReceptance, omega)
+                       .cwiseAbs());
+    names.push_back(base + "_updated");
+    cols.push_back(model::Frf(updated, static_cast<int>(driving_point), static_cast<int>(j),
+                              model::FrfKind::kReceptance, omega)
+                       .cwiseAbs());
+  }
+  return FormatCsv(names, cols);
+}
+
+}  // namespace vibid::workflow

@@ -1,0 +1,30 @@
+#include "vibid/workflow/modes_request.hpp"
+
+#include <optional>
+
+#include "vibid/common/error.hpp"
+#include "vibid/common/option_text.hpp"
+
+namespace vibid::workflow {
+
+std::size_t ResolveDrivingPoint(const ident::Frf& frf, const std::string& spec) {
+  if (spec.empty()) return frf.responses() - 1;
+  for (std::size_t j = 0; j < frf.response_names.size(); ++j) {
+    if (frf.response_names[j] == spec) return j;
+  }
+  const std::optional<long long> index = ParseInteger(spec);
+  Require(index && *index >= 1 && static_cast<std::size_t>(*index) <= frf.responses(),
+          "--driving-point '" + spec + "' is neither a response name nor an index 1.." +
+              std::to_string(frf.responses()));
+  return static_cast<std::size_t>(*index - 1);
+}
+
+ident::ModeIdentification IdentifyModes(const ident::Frf& receptance, const ModeRequest& request) {
+  ident::ModeIdentificationOptions o = request.options;
+  o.method = ident::ParseModeMethod(request.method);
+  if (!request.orders.empty()) ident::ParseOrders(request.orders, o.stabilization);
+  return ident::IdentifyModes(receptance, ResolveDrivingPoint(receptance, request.driving_point),
+                              o);
+}
+
+}  // namespace vibid::workflow
