@@ -82,6 +82,7 @@ BenchBoard::~BenchBoard() { Shutdown(); }
 void BenchBoard::ReadCalibration() {
   has_calibration_ = false;
   info_ = c_.GetInfo();
+  instants_ = c_.GetSamplingInfo();
   if (info_.cal_state != wire::CalState::kCalibrated) return;
   const std::vector<std::uint8_t> bytes = c_.CalGet();
   if (wire::DecodeCalibrationRecord(bytes, calibration_) != Status::kOk)
@@ -216,6 +217,11 @@ void BenchBoard::Run(AcquisitionAsk ask, wire::AcqConfigureRequest cfg, std::str
   std::string warning;
   device::LogPull pull;
   bool have_pull = false;
+  listener_failed_.assign(acquisition_listeners_.size(), false);
+  listener_warning_.clear();
+  NotifyListeners([&](AcquisitionListener& l) {
+    if (l.started) l.started(ask, cfg);
+  });
   try {
     if (journal_ == nullptr) throw InputError("cannot write the journal " + journal_path_);
     if (!ask.scenario.empty()) c_.SelectScenario(ask.scenario, ask.scenario_params);
@@ -261,6 +267,7 @@ void BenchBoard::Run(AcquisitionAsk ask, wire::AcqConfigureRequest cfg, std::str
   } else {
     std::filesystem::remove(journal_path_);
   }
+  if (!listener_warning_.empty()) warning += (warning.empty() ? "" : "; ") + listener_warning_;
   if (!warning.empty()) done["warning"] = warning;
   if (!error.empty()) done["error"] = error;
   {
@@ -269,16 +276,34 @@ void BenchBoard::Run(AcquisitionAsk ask, wire::AcqConfigureRequest cfg, std::str
     done["sample_period_us"] = cfg.sample_period_us;
     state_ = done;
   }
+  NotifyListeners([&](AcquisitionListener& l) {
+    if (l.ended) l.ended(done);
+  });
   running_ = false;
   PublishState();
+}
+
+void BenchBoard::NotifyListeners(const std::function<void(AcquisitionListener&)>& call) {
+  for (std::size_t i = 0; i < acquisition_listeners_.size(); ++i) {
+    if (listener_failed_[i]) continue;
+    try {
+      call(acquisition_listeners_[i]);
+    } catch (const std::exception& e) {
+      listener_failed_[i] = true;
+      listener_warning_ += (listener_warning_.empty() ? "" : "; ") + std::string(e.what());
+    }
+  }
 }
 
 void BenchBoard::OnRecords(std::uint32_t first, std::span<const wire::LogRecord> records) {
   // A resumed stream may hand over again what a broken one already did: from next_index_ on only.
   std::size_t skip = first < next_index_ ? next_index_ - first : 0;
   if (skip >= records.size()) return;
-  pending_.insert(pending_.end(), records.begin() + static_cast<std::ptrdiff_t>(skip),
-                  records.end());
+  const std::span<const wire::LogRecord> fresh = records.subspan(skip);
+  pending_.insert(pending_.end(), fresh.begin(), fresh.end());
+  NotifyListeners([&](AcquisitionListener& l) {
+    if (l.records) l.records(fresh);
+  });
   next_index_ = first + static_cast<std::uint32_t>(records.size());
   if (Clock::now() - last_flush_ >= kBlockInterval) {
     last_flush_ = Clock::now();
@@ -412,6 +437,10 @@ void BenchBoard::PublishState() { hub_.Publish("state", State().dump()); }
 void BenchBoard::Shutdown() {
   stop_ = true;
   if (thread_.joinable()) thread_.join();
+}
+
+void BenchBoard::AddAcquisitionListener(AcquisitionListener listener) {
+  acquisition_listeners_.push_back(std::move(listener));
 }
 
 void BenchBoard::AddBlockListener(BlockListener listener) {

@@ -4,6 +4,7 @@
 Starts the emulator (paced at wall-clock speed, as a board samples) on a free port, calibrates it
 with the nominal model, its sensors and an observer through the vibid CLI, starts `vibid bench`
 on a free port and drives the page:
+  0. while the bench holds the board, `vibid info` on it is refused (exit 4);
   1. the board view loads with the board's identity, calibration and link budget;
   2. at 5 kHz x 4 channels + d̂ the scope shows d̂ moving (read twice from the page) and draws
      at its frame rate (requestAnimationFrame counts: the benchmark figure);
@@ -20,6 +21,7 @@ import argparse
 import json
 import os
 import re
+import shutil
 import signal
 import subprocess
 import sys
@@ -187,6 +189,12 @@ def main():
     try:
         bench.calibrate()
         bench.serve()
+        # One bench per board: while it holds the board, another command is refused.
+        other = subprocess.run([bench.vibid, "--device", bench.device, "info"],
+                               capture_output=True, text=True, timeout=30)
+        check(other.returncode == 4 and "refused" in other.stderr,
+              "vibid info while the bench holds the board: %d %s" % (other.returncode,
+                                                                   other.stderr))
         driver = browser()
         driver.get(bench.url)
         wait(driver, lambda d: d.execute_script("return document.body.dataset.ready") == "yes",
@@ -268,8 +276,9 @@ def main():
           "vibid cal show after the commit: %s %s" % (shown["label"], shown["M"]))
     print("calibration committed from the page: vibid info shows slot 1, crc " + staged_crc)
     bench.close()
-    print("bench browser test: passed in %.1f s (screenshots in %s)" % (time.monotonic() - t0,
-                                                                        shots))
+    print("bench browser test: passed in %.1f s%s" % (
+        time.monotonic() - t0, " (screenshots in %s)" % shots if args.screenshots else ""))
+    shutil.rmtree(work)
 
 
 if __name__ == "__main__":

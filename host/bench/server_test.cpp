@@ -40,7 +40,7 @@ class BenchServerTest : public ::testing::Test {
             ::testing::UnitTest::GetInstance()->current_test_info()->name());
     connection_ = std::make_unique<device::Connection>(core_.Connect());
     probe_ = std::make_unique<device::Connection>(core_.Connect());
-    board_ = std::make_unique<BenchBoard>(*connection_, dir_.string(), hub_);
+    board_ = std::make_unique<BenchBoard>(*connection_, dir_.string(), hub_, &interrupt_);
     server_ = std::make_unique<BenchServer>(*board_, hub_, ServerOptions{});
     AddCalibrationRoutes(*server_, *board_, dir_.string(), "0.1.0");
     server_->Start();
@@ -74,6 +74,7 @@ class BenchServerTest : public ::testing::Test {
 
   hil::CoreLoopback core_;
   LiveHub hub_;
+  std::atomic<bool> interrupt_{false};  // Ctrl-C, as the CLI's SIGINT handler sets it
   fs::path dir_;
   std::unique_ptr<device::Connection> connection_;
   std::unique_ptr<device::Connection> probe_;
@@ -213,6 +214,26 @@ TEST_F(BenchServerTest, CalibrationRequestsNameFilesInTheBenchDirectoryOnly) {
   EXPECT_EQ(Facts(), before);
 }
 
+TEST_F(BenchServerTest, CtrlCStopsTheAcquisitionAndKeepsWhatItRecorded) {
+  board_->AddAcquisitionListener({.records = [&](std::span<const wire::LogRecord>) {
+    interrupt_ = true;  // as soon as the first records are in
+  }});
+  httplib::Client c = Client();
+  const auto r = c.Post("/api/acquire", Authorized(),
+                        R"({"sample_period_us":1000,"channels":["force1"],"seconds":3600})",
+                        "application/json");
+  ASSERT_TRUE(r);
+  ASSERT_EQ(r->status, 200) << r->body;
+  board_->Shutdown();  // waits for the recording
+  const nlohmann::json st = board_->State();
+  ASSERT_TRUE(st.contains("file")) << st.dump();
+  EXPECT_EQ(st["stopped"], true);
+  EXPECT_GT(st["records"].get<int>(), 0);
+  EXPECT_LT(st["records"].get<int>(), 3600000);
+  EXPECT_TRUE(fs::exists(st["file"].get<std::string>()));
+  EXPECT_EQ(Facts().acq_state, wire::AcqState::kIdle);  // the board left idle
+}
+
 TEST(RecordChanges, ListsTheFieldsThatDifferAndNotTheTimeOfBuilding) {
   const nlohmann::json now = {{"label", "rig"},          {"M", {{2.0}}},
                               {"K", {{4000.0}}},         {"created_unix_s", 1},
@@ -234,6 +255,20 @@ TEST(RecordChanges, ListsTheFieldsThatDifferAndNotTheTimeOfBuilding) {
 }
 
 TEST_F(BenchServerTest, AnAcquisitionReachesTheLiveChannelAndTheDisk) {
+  // A view's listener (the hammer session's way in) sees the same records, each once, in order.
+  std::uint32_t started_period_us = 0;
+  std::vector<std::uint32_t> indices;
+  nlohmann::json ended;
+  board_->AddAcquisitionListener(
+      {.started =
+           [&](const AcquisitionAsk&, const wire::AcqConfigureRequest& cfg) {
+             started_period_us = cfg.sample_period_us;
+           },
+       .records =
+           [&](std::span<const wire::LogRecord> r) {
+             for (const wire::LogRecord& x : r) indices.push_back(x.sample_index);
+           },
+       .ended = [&](const nlohmann::json& st) { ended = st; }});
   // The live channel first: the blocks it carries are the acquisition's, in SI columns.
   std::string received;
   std::atomic<bool> saw_block{false};
@@ -273,6 +308,10 @@ TEST_F(BenchServerTest, AnAcquisitionReachesTheLiveChannelAndTheDisk) {
   while (std::getline(csv, line))
     if (!line.empty() && line[0] != '#') ++lines;
   EXPECT_EQ(lines, 301);  // header + 300 records
+  EXPECT_EQ(started_period_us, 1000u);
+  ASSERT_EQ(indices.size(), 300u);
+  for (std::size_t i = 0; i < indices.size(); ++i) ASSERT_EQ(indices[i], i);  // decimation 1
+  EXPECT_EQ(ended["file"], st["file"]);
   // The journal was replaced by the checked recording.
   EXPECT_FALSE(fs::exists(dir_ / (st["name"].get<std::string>() + ".partial.csv")));
 }

@@ -12,6 +12,8 @@
 #include <chrono>
 #include <cstdio>
 #include <functional>
+#include <optional>
+#include <span>
 #include <mutex>
 #include <string>
 #include <thread>
@@ -34,6 +36,17 @@ class Busy : public std::runtime_error {
 
 /// Gets each block of a running acquisition as the page does (SI columns, after the journal).
 using BlockListener = std::function<void(const device::LogTable& block)>;
+
+/// Follows every acquisition the bench runs, in the acquisition's thread: `started` before the
+/// board starts (the request and the board's configuration), `records` with the board's records
+/// as they arrive (in log order, each once: a resumed stream's repeats are dropped), `ended`
+/// with the final state (file, records, error). An exception from a listener is reported in
+/// the state's "warning" and stops that listener only; the acquisition and its files go on.
+struct AcquisitionListener {
+  std::function<void(const AcquisitionAsk& ask, const wire::AcqConfigureRequest& config)> started;
+  std::function<void(std::span<const wire::LogRecord> records)> records;
+  std::function<void(const nlohmann::json& state)> ended;
+};
 
 class BenchBoard {
  public:
@@ -69,6 +82,10 @@ class BenchBoard {
 
   /// The hammer-test session and any other view take the blocks from here.
   void AddBlockListener(BlockListener listener);
+  /// The hammer-test session takes the raw records from here (workflow::HammerSession::Feed).
+  void AddAcquisitionListener(AcquisitionListener listener);
+  /// The board's sampling instants as get-info stated them (empty from a protocol 2.0 board).
+  const std::optional<wire::SamplingInfoResponse>& SamplingInstants() const { return instants_; }
 
   /// Runs `body` with the connection while no acquisition runs (Busy otherwise), serialized with
   /// every other request: the way a view reaches the board.
@@ -81,6 +98,7 @@ class BenchBoard {
   void PublishState();
   void UpdateFit(const device::LogTable& table);
   void ReadCalibration();
+  void NotifyListeners(const std::function<void(AcquisitionListener&)>& call);
 
   device::Connection& c_;
   std::string out_dir_;
@@ -98,6 +116,10 @@ class BenchBoard {
   std::atomic<bool> running_{false};
   std::thread thread_;
   std::vector<BlockListener> listeners_;
+  std::vector<AcquisitionListener> acquisition_listeners_;
+  std::vector<bool> listener_failed_;  // per acquisition listener, for the running acquisition
+  std::string listener_warning_;
+  std::optional<wire::SamplingInfoResponse> instants_;
 
   // Owned by the acquisition thread while it runs.
   AcquisitionAsk ask_;
