@@ -16,8 +16,9 @@ namespace vibid::cli {
 namespace {
 
 constexpr const char* kBenchHelp =
-    "Serve the live bench: a local web page with the board, a live scope and the observer's "
-    "running fit. Prints its URL (with its access token) first; Ctrl-C stops a running "
+    "Serve the live bench: a local web page with the board, a live scope, the observer's "
+    "running fit and the calibration upload. Prints its URL (with its access token) first; Ctrl-C "
+    "stops a running "
     "acquisition keeping what it recorded, and ends the bench (exit 130)";
 
 struct BenchArgs {
