@@ -174,12 +174,13 @@ nlohmann::json BenchBoard::Start(const nlohmann::json& body) {
   // The preflight `vibid acquire` makes: refuse before the board starts if the log would overflow.
   const device::LinkBudget budget = device::ComputeLinkBudget(c_.info(), cfg);
   Require(budget.overflow_after_s >= ask.seconds, device::DescribeOverflow(budget, ask.seconds));
-  Require(!ask.log_dob || (has_calibration_ && (calibration_.flags & wire::kCalFlagHasDob) != 0),
-          "'log_dob': the board holds no observer (upload and commit a calibration with one)");
   Require(ask.scenario.empty() || (c_.info().capabilities & wire::kCapScenarioSelect) != 0,
           "'scenario': this board is not the emulator (scenarios select its simulated rig)");
   std::unique_lock lock(board_mutex_, std::try_to_lock);
   if (!lock.owns_lock() || running_) throw Busy("an acquisition is running: stop it first");
+  // Under the board's lock: a commit between acquisitions rereads the calibration.
+  Require(!ask.log_dob || (has_calibration_ && (calibration_.flags & wire::kCalFlagHasDob) != 0),
+          "'log_dob': the board holds no observer (upload and commit a calibration with one)");
   if (thread_.joinable()) thread_.join();
   running_ = true;
   stop_ = false;
