@@ -388,10 +388,10 @@ Connection::StreamEnd Connection::ReceiveLogStream(std::uint16_t token, std::uin
   // The layout comes with the trailer, so payloads are kept whole until then.
   wire::StreamDecoder decoder(Command::kLogRead, token);
   std::vector<std::vector<std::uint8_t>> payloads;
+  std::uint32_t live_index = first;  // log index of the next record handed to live_
   std::uint64_t bytes = 0;
   const auto id = static_cast<std::uint8_t>(Command::kLogRead);
   wire::LogTrailer trailer;
-  std::uint32_t delivered = 0;  // records passed to sink_ from this stream
   // A running acquisition's stream is the exception: the board released every record it sent,
   // so when the stream ends early (broken off, refused or stopped), the reports that arrived in
   // sequence are all the host may ever get of them. They are kept (each passed the link's own
@@ -419,16 +419,9 @@ Connection::StreamEnd Connection::ReceiveLogStream(std::uint16_t token, std::uin
     if (!got) return end_early(StreamEnd::kBroken);
     const auto step = decoder.Feed(r.report);
     if (step.event == wire::StreamDecoder::Event::kData) {
+      if (keep_partial && live_ && configured_) live_index += ForwardLive(live_index, step.payload);
       payloads.emplace_back(step.payload.begin(), step.payload.end());
       bytes += step.payload.size();
-      if (sink_ != nullptr && keep_partial && configured_) {
-        // Decoded now with the configured layout, as KeepPartialStream would keep it.
-        std::vector<wire::LogRecord> block;
-        AppendLogPayloads(wire::LogLayout{configured_->channel_mask, configured_->flags},
-                          configured_->decimation, {payloads.back()}, block);
-        (*sink_)(block, first + delivered);
-        delivered += static_cast<std::uint32_t>(block.size());
-      }
       if (progress) progress(bytes, 0);
     } else if (step.event == wire::StreamDecoder::Event::kEnd) {
       if (wire::Decode(step.payload, trailer) != Status::kOk) return StreamEnd::kBroken;
@@ -517,14 +510,24 @@ void Connection::StopForKeeps(LogPull& pull) {
   pull.stopped = true;
 }
 
+std::uint32_t Connection::ForwardLive(std::uint32_t index,
+                                      std::span<const std::uint8_t> payload) const {
+  const wire::AcqConfigureRequest& c = *configured_;
+  const wire::LogLayout layout{c.channel_mask, c.flags};
+  std::array<wire::LogRecord, wire::kMaxRecordsPerReport> batch{};
+  std::size_t n = 0;
+  if (wire::DecodeLogPayload(layout, c.decimation, payload, batch, n) != Status::kOk) return 0;
+  live_(index, std::span<const wire::LogRecord>(batch.data(), n));
+  return static_cast<std::uint32_t>(n);
+}
+
 LogPull Connection::AcquireStreamed(const Progress& progress, const StopRequest& stop,
-                                    const RecordSink& sink) {
-  // The sink is this call's only: cleared however the call ends.
-  struct SinkScope {
-    const RecordSink*& slot;
-    ~SinkScope() { slot = nullptr; }
-  } scope{sink_};
-  sink_ = sink ? &sink : nullptr;
+                                    const LiveRecords& live) {
+  live_ = live;
+  struct ClearLive {
+    LiveRecords& sink;
+    ~ClearLive() { sink = {}; }
+  } clear_live{live_};
   const std::uint16_t token = NextToken();
   wire::Report request{};
   static_cast<void>(wire::BuildReport(Command::kAcqStart, token, 0, 0, Status::kOk, {}, request));

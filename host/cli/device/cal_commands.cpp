@@ -16,6 +16,7 @@
 #include "vibid/common/error.hpp"
 #include "vibid/common/json_file.hpp"
 #include "vibid/device/calibration_builder.hpp"
+#include "vibid/device/calibration_upload.hpp"
 #include "vibid/device/log_table.hpp"
 #include "vibid/dob/design_json.hpp"
 #include "vibid/model/model_json.hpp"
@@ -23,65 +24,15 @@
 namespace vibid::cli {
 namespace {
 
-nlohmann::json Matrix(const std::array<float, wire::kMaxDof * wire::kMaxDof>& m, std::size_t n) {
-  nlohmann::json rows = nlohmann::json::array();
-  for (std::size_t i = 0; i < n; ++i) {
-    nlohmann::json row = nlohmann::json::array();
-    for (std::size_t k = 0; k < n; ++k)
-      row.push_back(static_cast<double>(m[i * wire::kMaxDof + k]));
-    rows.push_back(row);
-  }
-  return rows;
-}
-
+/// `cal show --json`: the record, with the slot, sequence and CRC the board gave it.
 nlohmann::json RecordJson(const wire::CalibrationRecord& r, const wire::CalGetTrailer& t,
                           std::uint32_t crc) {
-  const std::size_t n = r.dof_count;
-  nlohmann::json channels = nlohmann::json::object();
-  for (std::size_t c = 0; c < wire::kChannelCount; ++c) {
-    const wire::ChannelScaling& s = r.channels[c];
-    if (s.unit == wire::Unit::kCounts) continue;
-    const device::SensorScaling p = device::FromChannelScaling(s);
-    nlohmann::json ch = {{"unit", device::UnitName(s.unit)},
-                         {"counts_per_unit", p.counts_per_unit},
-                         {"offset_counts", s.offset_counts},
-                         {"full_scale", static_cast<double>(s.full_scale)},
-                         {"gain", s.gain},
-                         {"gain_shift", s.gain_shift}};
-    if (s.dof != wire::kNoDof) ch["dof"] = s.dof + 1;
-    channels[device::ChannelStem(static_cast<wire::Channel>(c))] = ch;
-  }
   char crc_text[11];
   std::snprintf(crc_text, sizeof(crc_text), "0x%08x", crc);
-  nlohmann::json j = {
-      {"label", std::string(r.label.data(), strnlen(r.label.data(), r.label.size()))},
-      {"created_unix_s", r.created_unix_s},
-      {"host_version", std::to_string(r.host_major) + "." + std::to_string(r.host_minor) + "." +
-                           std::to_string(r.host_patch)},
-      {"slot", t.slot},
-      {"sequence", t.sequence},
-      {"crc32", crc_text},
-      {"M", Matrix(r.mass_kg, n)},
-      {"C", Matrix(r.damping_ns_per_m, n)},
-      {"K", Matrix(r.stiffness_n_per_m, n)},
-      {"channels", channels}};
-  if ((r.flags & wire::kCalFlagHasDob) != 0) {
-    fixed::FilterDescription d;
-    static_cast<void>(fixed::DecodeDescription(r.dob, d));
-    nlohmann::json inputs = nlohmann::json::array();
-    for (std::size_t i = 0; i < d.input_count; ++i) {
-      inputs.push_back(
-          {{"channel", device::ChannelStem(static_cast<wire::Channel>(r.dob_input_channel[i]))},
-           {"sections", d.paths[i].section_count}});
-    }
-    j["observer"] = {{"sample_rate_hz", d.sample_rate_hz},
-                     {"output_dof", d.output_dof + 1},
-                     {"output_full_scale_n",
-                      static_cast<double>(fixed::FullScaleValue(d.output_full_scale_bits))},
-                     {"inputs", inputs}};
-  } else {
-    j["observer"] = nullptr;
-  }
+  nlohmann::json j = device::RecordJson(r);
+  j["slot"] = t.slot;
+  j["sequence"] = t.sequence;
+  j["crc32"] = crc_text;
   return j;
 }
 
@@ -125,39 +76,17 @@ struct UploadArgs {
   std::string label;
 };
 
-/// The rig name: --label, else the model file's name without its folder and .json, cut to fit.
-std::string RecordLabel(const UploadArgs& a) {
-  return a.label.empty() ? device::LabelFromModelPath(a.model) : a.label;
-}
-
-/// Everything of the record that comes from files and this host (the sensors may come from the
-/// board).
-device::RecordInputs UploadInputs(const UploadArgs& a) {
-  device::RecordInputs in;
-  in.model = model::LoadModel(a.model);
-  in.observer = dob::ObserverFromJson(ReadJsonFile(a.design), a.design).description;
-  in.label = RecordLabel(a);
-  in.created_unix_s = std::chrono::duration_cast<std::chrono::seconds>(
-                          std::chrono::system_clock::now().time_since_epoch())
-                          .count();
-  unsigned major = 0, minor = 0, patch = 0;
-  static_cast<void>(std::sscanf(VIBID_VERSION, "%u.%u.%u", &major, &minor, &patch));
-  in.host_major = static_cast<std::uint8_t>(major);
-  in.host_minor = static_cast<std::uint8_t>(minor);
-  in.host_patch = static_cast<std::uint16_t>(patch);
-  if (!a.sensors.empty()) in.sensors = device::SensorsFromJson(ReadJsonFile(a.sensors), a.sensors);
-  return in;
+device::UploadFiles Files(const UploadArgs& a) {
+  return {.model = a.model, .design = a.design, .sensors = a.sensors, .label = a.label};
 }
 
 void Run(const UploadArgs& a) {
-  device::RecordInputs in = UploadInputs(a);
+  device::RecordInputs in = device::ReadRecordInputs(Files(a), VIBID_VERSION);
   WithDevice(*a.globals, [&](device::Connection& c) {
     if (a.sensors.empty()) {
       bool has_record = false;
       const wire::CalibrationRecord old = device::ActiveRecord(c, has_record);
-      if (!has_record)
-        throw InputError("the board is uncalibrated: give its sensors with --sensors SENSORS.json");
-      in.sensors = device::SensorsOfRecord(old);
+      device::KeepBoardSensors(in, has_record ? &old : nullptr);
     }
     const wire::CalibrationRecord rec = device::BuildCalibrationRecord(in);
     std::array<std::uint8_t, wire::kCalRecordBytes> bytes{};

@@ -14,5 +14,6 @@ void RegisterAcquireCommands(CLI::App& app, const GlobalOptions& globals);  // a
 void RegisterDobDeviceCommands(CLI::App& dob, const GlobalOptions& globals);
 void RegisterFlashCommand(CLI::App& app, const GlobalOptions& globals);     // flash
 void RegisterSelfTestCommand(CLI::App& app, const GlobalOptions& globals);  // selftest
+void RegisterBenchCommand(CLI::App& app, const GlobalOptions& globals);     // bench
 
 }  // namespace vibid::cli

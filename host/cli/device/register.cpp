@@ -10,6 +10,7 @@ void RegisterDeviceCommands(CLI::App& app, const GlobalOptions& globals) {
   RegisterAcquireCommands(app, globals);
   RegisterFlashCommand(app, globals);
   RegisterSelfTestCommand(app, globals);
+  RegisterBenchCommand(app, globals);
 }
 
 }  // namespace vibid::cli

@@ -21,6 +21,7 @@
 #include "vibid/common/error.hpp"
 #include "vibid/device/acquire_plan.hpp"
 #include "vibid/device/calibration_builder.hpp"
+#include "vibid/device/calibration_upload.hpp"
 #include "vibid/dob/design_json.hpp"
 #include "vibid/model/model.hpp"
 #include "vibid/device/connection.hpp"
@@ -50,7 +51,7 @@ py::tuple RecordsTable(const device::LogPull& pull, const wire::CalibrationRecor
 }
 
 /// A streamed acquisition running on its own thread: the records come out in blocks as the
-/// board's reports arrive (Connection's RecordSink), and the board is stopped when the stream is
+/// board's reports arrive (Connection's LiveRecords), and the board is stopped when the stream is
 /// stopped or dropped before its end.
 class Stream {
  public:
@@ -61,7 +62,7 @@ class Stream {
       try {
         device::LogPull pull = c.AcquireStreamed(
             {}, [this](const wire::LogTrailer*) { return stop_.load(); },
-            [this](std::span<const wire::LogRecord> records, std::uint32_t first) {
+            [this](std::uint32_t first, std::span<const wire::LogRecord> records) {
               std::lock_guard lock(mutex_);
               blocks_.emplace_back(first,
                                    std::vector<wire::LogRecord>(records.begin(), records.end()));
@@ -276,10 +277,7 @@ class Board {
       if (sensors.is_none()) {
         bool has_record = false;
         const wire::CalibrationRecord old = device::ActiveRecord(con, has_record);
-        if (!has_record)
-          throw InputError(
-              "the board is uncalibrated: give its sensors with --sensors SENSORS.json");
-        in.sensors = device::SensorsOfRecord(old);
+        device::KeepBoardSensors(in, has_record ? &old : nullptr);
       }
       wire::EncodeCalibrationRecord(device::BuildCalibrationRecord(in), bytes);
       con.CalPut(bytes);

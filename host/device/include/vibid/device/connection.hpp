@@ -108,13 +108,13 @@ using Progress = std::function<void(std::uint64_t done, std::uint64_t total)>;
 /// records_written), null while the acquisition's own stream runs.
 using StopRequest = std::function<bool(const wire::LogTrailer* state)>;
 
-/// Records of a streamed acquisition as each data report arrives, decoded with the configured
-/// layout, with the log index of the first. They passed the link's check and the stream's sequence
-/// and length checks; the stream's CRC, which comes with its end, cannot vouch for them yet. A
-/// stream that breaks off is resumed from its first missing record, so a record may come again
-/// (same log index): a consumer keeps the first of each index.
-using RecordSink =
-    std::function<void(std::span<const wire::LogRecord> records, std::uint32_t first)>;
+/// Records of a running acquisition as their report arrives (log index of the first, then the
+/// records), decoded with the configured layout before the stream's CRC has vouched for them:
+/// for a live display and a journal, while the returned LogPull stays the checked record. A stream
+/// that breaks off is resumed from its first missing record, so a record may come again with the
+/// same log index: a consumer keeps the first of each index.
+using LiveRecords =
+    std::function<void(std::uint32_t first_index, std::span<const wire::LogRecord> records)>;
 
 class Connection {
  public:
@@ -182,9 +182,9 @@ class Connection {
   /// of the stream so far are kept as those of a broken stream are, and the log is read on from
   /// the first one missing. The result is marked `stopped`. The cancel flag still interrupts
   /// (Interrupted), keeping nothing.
-  /// `sink`, when given, gets the records as they arrive (see RecordSink).
+  /// `live` gets every data report's records as it arrives (the resumed streams' too).
   LogPull AcquireStreamed(const Progress& progress = {}, const StopRequest& stop = {},
-                          const RecordSink& sink = {});
+                          const LiveRecords& live = {});
 
   /// Pulls every record from `first` until the log holds no more and sampling has ended
   /// (while sampling, it keeps pulling as records arrive). Broken streams resume from the first
@@ -220,6 +220,9 @@ class Connection {
   void KeepPartialStream(std::uint32_t first,
                          const std::vector<std::vector<std::uint8_t>>& payloads,
                          LogPull& pull) const;
+  /// Hands the records of `payload` (from log index `index`) to live_ and returns how many; a
+  /// payload that does not decode is left to the stream's own checks (0).
+  std::uint32_t ForwardLive(std::uint32_t index, std::span<const std::uint8_t> payload) const;
   static void AppendLogPayloads(const wire::LogLayout& layout, std::uint32_t decimation,
                                 const std::vector<std::vector<std::uint8_t>>& payloads,
                                 std::vector<wire::LogRecord>& records);
@@ -247,14 +250,13 @@ class Connection {
   void ThrowIfLinkFailed();
   void CheckCancel() const;
 
-  /// The sink of the AcquireStreamed call in progress; null otherwise.
-  const RecordSink* sink_ = nullptr;
-
   std::unique_ptr<Transport> transport_;
   ConnectionOptions options_;
   wire::InfoResponse info_{};
   /// The last acquisition configured through this connection (its layout decodes a broken stream).
   std::optional<wire::AcqConfigureRequest> configured_;
+  /// The live sink of the AcquireStreamed call running (empty otherwise).
+  LiveRecords live_;
 
   mutable std::mutex mutex_;
   std::condition_variable arrived_;

@@ -1,0 +1,451 @@
+#include "vibid/bench/bench_board.hpp"
+
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <ctime>
+#include <filesystem>
+
+#include "vibid/common/atomic_file.hpp"
+#include "vibid/common/csv.hpp"
+#include "vibid/common/error.hpp"
+#include "vibid/common/json_keys.hpp"
+#include "vibid/device/error.hpp"
+#include "vibid/device/link_budget.hpp"
+#include "vibid/dob/compare.hpp"
+
+namespace vibid::bench {
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+/// The page's interval between blocks: 25 blocks a second keep the scope fluid.
+constexpr std::chrono::milliseconds kBlockInterval{40};
+constexpr int kBlocksPerState = 10;
+/// The observer view's running fit: the last 5 s, recomputed every half second of samples.
+constexpr double kFitWindowS = 5.0;
+constexpr double kFitEveryS = 0.5;
+
+const char* UnitText(wire::Unit u) {
+  switch (u) {
+    case wire::Unit::kNewton: return "N";
+    case wire::Unit::kMeterPerSecond2: return "m/s²";
+    case wire::Unit::kMeter: return "m";
+    case wire::Unit::kMeterPerSecond: return "m/s";
+    default: return "counts";
+  }
+}
+
+const char* CalStateText(wire::CalState s) {
+  switch (s) {
+    case wire::CalState::kCalibrated: return "calibrated";
+    case wire::CalState::kUncalibrated: return "uncalibrated";
+    default: return "other";
+  }
+}
+
+/// Numbers with 7 significant digits: what a float of the board carries, a third of the bytes.
+void AppendNumber(std::string& out, double v) {
+  if (!std::isfinite(v)) {
+    out += "null";
+    return;
+  }
+  char b[32];
+  std::snprintf(b, sizeof b, "%.7g", v);
+  out += b;
+}
+
+std::string TimeStamp() {
+  const std::time_t now = std::time(nullptr);
+  std::tm tm{};
+  gmtime_r(&now, &tm);
+  char b[32];
+  std::strftime(b, sizeof b, "%Y%m%dT%H%M%SZ", &tm);
+  return b;
+}
+
+nlohmann::json Finite(double v) { return std::isfinite(v) ? nlohmann::json(v) : nlohmann::json(); }
+
+}  // namespace
+
+BenchBoard::BenchBoard(device::Connection& connection, std::string out_dir, LiveHub& hub,
+                       const std::atomic<bool>* interrupt)
+    : c_(connection), out_dir_(std::move(out_dir)), hub_(hub), interrupt_(interrupt) {
+  std::filesystem::create_directories(out_dir_);
+  state_ = {{"running", false}, {"records", 0}};
+  ReadCalibration();
+  PublishState();
+}
+
+BenchBoard::~BenchBoard() { Shutdown(); }
+
+void BenchBoard::ReadCalibration() {
+  has_calibration_ = false;
+  info_ = c_.GetInfo();
+  instants_ = c_.GetSamplingInfo();
+  if (info_.cal_state != wire::CalState::kCalibrated) return;
+  const std::vector<std::uint8_t> bytes = c_.CalGet();
+  if (wire::DecodeCalibrationRecord(bytes, calibration_) != Status::kOk)
+    throw device::DeviceError("the board's active calibration record does not decode");
+  has_calibration_ = true;
+}
+
+nlohmann::json BenchBoard::Describe() {
+  std::unique_lock lock(board_mutex_, std::try_to_lock);
+  const wire::InfoResponse& info = info_;
+  nlohmann::json j;
+  char fw[32];
+  std::snprintf(fw, sizeof fw, "%u.%u.%u", info.fw_major, info.fw_minor, info.fw_patch);
+  char build[16];
+  std::snprintf(build, sizeof build, "%08x", info.build_id);
+  j["identity"] = {
+      {"device", c_.Describe()},
+      {"firmware", fw},
+      {"build_id", build},
+      {"protocol", std::to_string(info.protocol_major) + "." + std::to_string(info.protocol_minor)},
+      {"adc_bits", info.adc_bits},
+      {"min_sample_period_us", info.min_sample_period_us},
+      {"log_capacity_bytes", info.log_capacity_bytes},
+      {"link_reports_per_s", info.link_reports_per_s},
+      {"emulator", (info.capabilities & wire::kCapScenarioSelect) != 0}};
+  nlohmann::json channels = nlohmann::json::array();
+  for (std::size_t ch = 0; ch < wire::kChannelCount; ++ch) {
+    const wire::ChannelScaling s =
+        has_calibration_ ? calibration_.channels[ch] : wire::DefaultScaling();
+    channels.push_back(
+        {{"name", device::ChannelStem(static_cast<wire::Channel>(ch))},
+         {"column", std::string(device::ChannelStem(static_cast<wire::Channel>(ch))) + "_" +
+                        device::UnitSuffix(s.unit)},
+         {"unit", UnitText(s.unit)},
+         {"full_scale",
+          s.unit == wire::Unit::kCounts ? nlohmann::json() : nlohmann::json(s.full_scale)}});
+  }
+  nlohmann::json cal = {
+      {"state", CalStateText(info.cal_state)},
+      {"slot", info.cal_slot},
+      {"crc", info.cal_crc},
+      {"has_observer", has_calibration_ && (calibration_.flags & wire::kCalFlagHasDob) != 0}};
+  if (has_calibration_) {
+    cal["label"] = std::string(calibration_.label.data(),
+                               strnlen(calibration_.label.data(), calibration_.label.size()));
+    cal["created_unix_s"] = calibration_.created_unix_s;
+    cal["dof_count"] = calibration_.dof_count;
+    nlohmann::json masses = nlohmann::json::array();
+    for (std::size_t i = 0; i < calibration_.dof_count; ++i)
+      masses.push_back(calibration_.mass_kg[i * wire::kMaxDof + i]);
+    cal["masses_kg"] = masses;
+  }
+  j["calibration"] = cal;
+  j["channels"] = channels;
+  if (lock.owns_lock()) {
+    const wire::StatusResponse st = c_.GetStatus();
+    j["status"] = {{"sampling", st.acq_state != wire::AcqState::kIdle},
+                   {"observer_running", st.dob_running != 0},
+                   {"records_written", st.records_written},
+                   {"dropped_records", st.dropped_records},
+                   {"overrun_count", st.overrun_count},
+                   {"uptime_s", static_cast<double>(st.uptime_us) * 1e-6}};
+  } else {
+    j["status"] = nullptr;  // the acquisition owns the link: its state event says the rest
+  }
+  return j;
+}
+
+nlohmann::json BenchBoard::Budget(const nlohmann::json& body) {
+  const AcquisitionAsk ask = ParseAcquisitionAsk(body);
+  const device::LinkBudget b = device::ComputeLinkBudget(c_.info(), ConfigFor(ask));
+  nlohmann::json j = {{"record_bytes", b.record_bytes},
+                      {"records_per_report", b.records_per_report},
+                      {"sample_rate_hz", b.sample_rate_hz},
+                      {"log_rate_hz", b.log_rate_hz},
+                      {"data_bytes_per_s", b.data_bytes_per_s},
+                      {"link_bytes_per_s", b.link_bytes_per_s},
+                      {"link_records_per_s", b.link_records_per_s},
+                      {"capacity_records", b.capacity_records},
+                      {"keeps_up", b.KeepsUp()},
+                      {"overflow_after_s", Finite(b.overflow_after_s)}};
+  if (b.overflow_after_s < ask.seconds) j["refusal"] = device::DescribeOverflow(b, ask.seconds);
+  return j;
+}
+
+nlohmann::json BenchBoard::Start(const nlohmann::json& body) {
+  const AcquisitionAsk ask = ParseAcquisitionAsk(body);
+  const wire::AcqConfigureRequest cfg = ConfigFor(ask);
+  // The preflight `vibid acquire` makes: refuse before the board starts if the log would overflow.
+  const device::LinkBudget budget = device::ComputeLinkBudget(c_.info(), cfg);
+  Require(budget.overflow_after_s >= ask.seconds, device::DescribeOverflow(budget, ask.seconds));
+  Require(ask.scenario.empty() || (c_.info().capabilities & wire::kCapScenarioSelect) != 0,
+          "'scenario': this board is not the emulator (scenarios select its simulated rig)");
+  std::unique_lock lock(board_mutex_, std::try_to_lock);
+  if (!lock.owns_lock() || running_) throw Busy("an acquisition is running: stop it first");
+  // Under the board's lock: a commit between acquisitions rereads the calibration.
+  Require(!ask.log_dob || (has_calibration_ && (calibration_.flags & wire::kCalFlagHasDob) != 0),
+          "'log_dob': the board holds no observer (upload and commit a calibration with one)");
+  if (thread_.joinable()) thread_.join();
+  running_ = true;
+  stop_ = false;
+  const std::string name = "bench-" + TimeStamp();
+  {
+    std::lock_guard s(state_mutex_);
+    state_ = {{"running", true},
+              {"name", name},
+              {"records", 0},
+              {"ask", body},
+              {"sample_period_us", cfg.sample_period_us},
+              {"journal", out_dir_ + "/" + name + ".partial.csv"}};
+  }
+  hub_.ResetHistory();
+  PublishState();
+  lock.unlock();
+  thread_ = std::thread([this, ask, cfg, name] { Run(ask, cfg, name); });
+  return State();
+}
+
+void BenchBoard::Run(AcquisitionAsk ask, wire::AcqConfigureRequest cfg, std::string name) {
+  std::lock_guard lock(board_mutex_);
+  ask_ = ask;
+  cfg_ = cfg;
+  pending_.clear();
+  next_index_ = 0;
+  live_records_ = 0;
+  fit_estimate_.clear();
+  fit_measured_.clear();
+  fit_samples_since_ = 0;
+  journal_path_ = out_dir_ + "/" + name + ".partial.csv";
+  journal_header_ = false;
+  journal_ = std::fopen(journal_path_.c_str(), "w");
+  std::string error;
+  std::string warning;
+  device::LogPull pull;
+  bool have_pull = false;
+  listener_failed_.assign(acquisition_listeners_.size(), false);
+  listener_warning_.clear();
+  NotifyListeners([&](AcquisitionListener& l) {
+    if (l.started) l.started(ask, cfg);
+  });
+  try {
+    if (journal_ == nullptr) throw InputError("cannot write the journal " + journal_path_);
+    if (!ask.scenario.empty()) c_.SelectScenario(ask.scenario, ask.scenario_params);
+    c_.Configure(cfg);
+    pull = c_.AcquireStreamed(
+        {},
+        [this](const wire::LogTrailer*) {
+          return stop_.load() || (interrupt_ != nullptr && interrupt_->load());
+        },
+        [this](std::uint32_t first, std::span<const wire::LogRecord> r) { OnRecords(first, r); });
+    have_pull = true;
+  } catch (const device::IncompleteLog& e) {
+    pull = e.pull();
+    have_pull = true;
+    warning = e.what();
+  } catch (const std::exception& e) {
+    error = e.what();
+    try {
+      c_.StopAcquisition();
+    } catch (const std::exception&) {
+    }
+  }
+  Flush();
+  if (journal_ != nullptr) std::fclose(journal_);
+  journal_ = nullptr;
+  nlohmann::json done = {{"running", false}, {"name", name}, {"records", live_records_}};
+  if (have_pull && !pull.records.empty()) {
+    const std::string path = out_dir_ + "/" + name + ".csv";
+    try {
+      WriteFileAtomic(
+          path, device::FormatLogCsv(pull, calibration_, has_calibration_, c_.GetSamplingInfo()));
+      std::filesystem::remove(journal_path_);
+      done["file"] = path;
+      done["records"] = pull.records.size();
+      done["stopped"] = pull.stopped;
+    } catch (const std::exception& e) {
+      error = std::string("the recording could not be written (the journal ") + journal_path_ +
+              " keeps the data): " + e.what();
+      done["journal"] = journal_path_;
+    }
+  } else if (live_records_ > 0) {
+    done["journal"] = journal_path_;  // the only copy: kept
+  } else {
+    std::filesystem::remove(journal_path_);
+  }
+  if (!listener_warning_.empty()) warning += (warning.empty() ? "" : "; ") + listener_warning_;
+  if (!warning.empty()) done["warning"] = warning;
+  if (!error.empty()) done["error"] = error;
+  {
+    std::lock_guard s(state_mutex_);
+    done["ask"] = state_.value("ask", nlohmann::json());
+    done["sample_period_us"] = cfg.sample_period_us;
+    state_ = done;
+  }
+  NotifyListeners([&](AcquisitionListener& l) {
+    if (l.ended) l.ended(done);
+  });
+  running_ = false;
+  PublishState();
+}
+
+void BenchBoard::NotifyListeners(const std::function<void(AcquisitionListener&)>& call) {
+  for (std::size_t i = 0; i < acquisition_listeners_.size(); ++i) {
+    if (listener_failed_[i]) continue;
+    try {
+      call(acquisition_listeners_[i]);
+    } catch (const std::exception& e) {
+      listener_failed_[i] = true;
+      listener_warning_ += (listener_warning_.empty() ? "" : "; ") + std::string(e.what());
+    }
+  }
+}
+
+void BenchBoard::OnRecords(std::uint32_t first, std::span<const wire::LogRecord> records) {
+  // A resumed stream may hand over again what a broken one already did: from next_index_ on only.
+  std::size_t skip = first < next_index_ ? next_index_ - first : 0;
+  if (skip >= records.size()) return;
+  const std::span<const wire::LogRecord> fresh = records.subspan(skip);
+  pending_.insert(pending_.end(), fresh.begin(), fresh.end());
+  NotifyListeners([&](AcquisitionListener& l) {
+    if (l.records) l.records(fresh);
+  });
+  next_index_ = first + static_cast<std::uint32_t>(records.size());
+  if (Clock::now() - last_flush_ >= kBlockInterval) {
+    last_flush_ = Clock::now();
+    Flush();
+  }
+}
+
+void BenchBoard::Flush() {
+  if (pending_.empty()) return;
+  device::LogPull block;
+  block.records.swap(pending_);
+  block.layout = wire::LogLayout{cfg_.channel_mask, cfg_.flags};
+  block.trailer.sample_period_us = cfg_.sample_period_us;
+  block.trailer.decimation = cfg_.decimation;
+  const device::LogTable table = device::MakeLogTable(block, calibration_, has_calibration_);
+  // The journal first: what reaches the page is on disk already.
+  if (journal_ != nullptr) {
+    std::string csv = FormatCsv(table.names, table.columns);
+    if (journal_header_) csv.erase(0, csv.find('\n') + 1);
+    journal_header_ = true;
+    std::fwrite(csv.data(), 1, csv.size(), journal_);
+    std::fflush(journal_);
+  }
+  live_records_ += block.records.size();
+  std::string j = "{\"first\":" + std::to_string(next_index_ - block.records.size()) +
+                  ",\"dt\":" + std::to_string(cfg_.sample_period_us * 1e-6) + ",\"names\":[";
+  for (std::size_t i = 0; i < table.names.size(); ++i)
+    j += (i ? ",\"" : "\"") + table.names[i] + "\"";
+  j += "],\"columns\":[";
+  for (std::size_t i = 0; i < table.columns.size(); ++i) {
+    j += i ? ",[" : "[";
+    const Eigen::VectorXd& v = table.columns[i];
+    for (Eigen::Index k = 0; k < v.size(); ++k) {
+      if (k) j += ',';
+      AppendNumber(j, v(k));
+    }
+    j += ']';
+  }
+  j += "]}";
+  hub_.Publish("block", j, true);
+  for (const BlockListener& l : listeners_) l(table);
+  UpdateFit(table);
+  {
+    std::lock_guard s(state_mutex_);
+    state_["records"] = live_records_;
+  }
+  // The records so far, a few times a second (a page that reloads gets the newest).
+  if (++blocks_since_state_ >= kBlocksPerState) {
+    blocks_since_state_ = 0;
+    PublishState();
+  }
+}
+
+void BenchBoard::UpdateFit(const device::LogTable& table) {
+  if (ask_.fit_measured.empty()) return;
+  const double fs_hz = 1e6 / cfg_.sample_period_us;
+  const Eigen::VectorXd* est = nullptr;
+  const Eigen::VectorXd* meas = nullptr;
+  for (std::size_t i = 0; i < table.names.size(); ++i) {
+    if (table.names[i] == "d_hat_n") est = &table.columns[i];
+    if (table.names[i].rfind(ask_.fit_measured + "_", 0) == 0) meas = &table.columns[i];
+  }
+  if (est == nullptr || meas == nullptr) return;
+  fit_estimate_.insert(fit_estimate_.end(), est->data(), est->data() + est->size());
+  fit_measured_.insert(fit_measured_.end(), meas->data(), meas->data() + meas->size());
+  const auto window = static_cast<std::size_t>(kFitWindowS * fs_hz);
+  if (fit_estimate_.size() > window) {
+    const auto drop = static_cast<std::ptrdiff_t>(fit_estimate_.size() - window);
+    fit_estimate_.erase(fit_estimate_.begin(), fit_estimate_.begin() + drop);
+    fit_measured_.erase(fit_measured_.begin(), fit_measured_.begin() + drop);
+  }
+  fit_samples_since_ += static_cast<std::uint64_t>(est->size());
+  if (static_cast<double>(fit_samples_since_) < kFitEveryS * fs_hz || fit_estimate_.size() < 2)
+    return;
+  fit_samples_since_ = 0;
+  const Eigen::Map<const Eigen::VectorXd> e(fit_estimate_.data(),
+                                            static_cast<Eigen::Index>(fit_estimate_.size()));
+  const Eigen::Map<const Eigen::VectorXd> m(fit_measured_.data(),
+                                            static_cast<Eigen::Index>(fit_measured_.size()));
+  nlohmann::json j = {{"window_s", static_cast<double>(fit_estimate_.size()) / fs_hz},
+                      {"measured", ask_.fit_measured}};
+  try {
+    const dob::Agreement g = dob::CompareSignals(e, m, fs_hz);
+    j["fit_percent"] = Finite(g.fit_percent);
+    j["correlation"] = Finite(g.correlation);
+    j["delay_s"] = Finite(g.delay_s);
+    j["rmse_n"] = Finite(g.rmse_n);
+  } catch (const std::exception& ex) {
+    j["refusal"] = ex.what();  // e.g. a constant measured force: no fit to state
+  }
+  hub_.Publish("fit", j.dump());
+}
+
+nlohmann::json BenchBoard::Stop() {
+  stop_ = true;
+  return State();
+}
+
+nlohmann::json BenchBoard::SetObserver(const nlohmann::json& body) {
+  Require(body.is_object(), "the request must be a JSON object");
+  RequireKnownKeys(body, {"run"}, "the observer request");
+  Require(body.contains("run") && body["run"].is_boolean(), "'run' must be true or false");
+  const bool run = body["run"].get<bool>();
+  Require(!run || (has_calibration_ && (calibration_.flags & wire::kCalFlagHasDob) != 0),
+          "the board holds no observer (upload and commit a calibration with one)");
+  WithIdleBoard([&](device::Connection& c) { c.DobControl(run); });
+  return {{"observer_running", run}};
+}
+
+void BenchBoard::WithIdleBoard(const std::function<void(device::Connection&)>& body) {
+  std::unique_lock lock(board_mutex_, std::try_to_lock);
+  if (!lock.owns_lock() || running_) throw Busy("an acquisition is running: stop it first");
+  body(c_);
+}
+
+void BenchBoard::ReadCalibrationAgain() {
+  WithIdleBoard([this](device::Connection&) { ReadCalibration(); });
+}
+
+const wire::CalibrationRecord* BenchBoard::ActiveCalibration() const {
+  return has_calibration_ ? &calibration_ : nullptr;
+}
+
+nlohmann::json BenchBoard::State() const {
+  std::lock_guard s(state_mutex_);
+  return state_;
+}
+
+void BenchBoard::PublishState() { hub_.Publish("state", State().dump()); }
+
+void BenchBoard::Shutdown() {
+  stop_ = true;
+  if (thread_.joinable()) thread_.join();
+}
+
+void BenchBoard::AddAcquisitionListener(AcquisitionListener listener) {
+  acquisition_listeners_.push_back(std::move(listener));
+}
+
+void BenchBoard::AddBlockListener(BlockListener listener) {
+  listeners_.push_back(std::move(listener));
+}
+
+}  // namespace vibid::bench

@@ -1,0 +1,35 @@
+// An acquisition as the page asks for it (POST /api/acquire, /api/budget), read strictly: every
+// key known, every value in range, or an InputError naming it (the server answers 400 and the
+// board is not touched).
+#pragma once
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+#include "vibid/shared/wire/commands.hpp"
+
+namespace vibid::bench {
+
+struct AcquisitionAsk {
+  /// The board's sample period: a whole number of microseconds, as the board takes it.
+  std::uint32_t sample_period_us = 200;
+  std::uint8_t channel_mask = 0;
+  double seconds = 0.0;
+  bool log_dob = false;  ///< Log the observer's d̂ (the board must hold an observer).
+  std::string scenario;  ///< Emulator only: the rig excitation.
+  std::vector<float> scenario_params;
+  /// The load cell the observer view fits d̂ against ("" : none).
+  std::string fit_measured;
+};
+
+/// Reads `body` (keys sample_period_us, channels, seconds, log_dob, scenario, scenario_params,
+/// fit_measured); InputError on an unknown key, a wrong type or a value out of range.
+AcquisitionAsk ParseAcquisitionAsk(const nlohmann::json& body);
+
+/// The board's acquisition for `ask`: every sample logged (no decimation), streamed.
+wire::AcqConfigureRequest ConfigFor(const AcquisitionAsk& ask);
+
+}  // namespace vibid::bench

@@ -1,0 +1,78 @@
+// vibid bench: the live bench, a local web page over the board (host/bench). It holds the board
+// (one bench per board, as any command holds it) until Ctrl-C.
+#include <chrono>
+#include <iostream>
+#include <thread>
+
+#include "cli_support.hpp"
+#include "common/command.hpp"
+#include "device_commands.hpp"
+#include "session.hpp"
+#include "vibid/bench/bench_board.hpp"
+#include "vibid/bench/calibration_routes.hpp"
+#include "vibid/bench/server.hpp"
+
+namespace vibid::cli {
+namespace {
+
+constexpr const char* kBenchHelp =
+    "Serve the live bench: a local web page with the board, a live scope, the observer's "
+    "running fit and the calibration upload. Prints its URL (with its access token) first; Ctrl-C "
+    "stops a running "
+    "acquisition keeping what it recorded, and ends the bench (exit 130)";
+
+struct BenchArgs {
+  const GlobalOptions* globals = nullptr;
+  std::string bind = "127.0.0.1";
+  int port = 0;
+  std::string out;
+};
+
+void Run(const BenchArgs& a) {
+  if (!bench::IsLoopback(a.bind)) {
+    std::cerr << "vibid: warning: --bind " << a.bind
+              << ": the bench is reachable from the network; anyone with its URL (token) can "
+                 "reconfigure the board\n";
+  }
+  WithDevice(
+      *a.globals,
+      [&](device::Connection& c) {
+        bench::LiveHub hub;
+        bench::BenchBoard board(c, a.out, hub, &InterruptFlag());
+        bench::BenchServer server(board, hub, {.bind = a.bind, .port = a.port, .token = {}});
+        bench::AddCalibrationRoutes(server, board, a.out, VIBID_VERSION);
+        server.Start();
+        std::cout << server.Url() << std::endl;
+        std::cerr << "vibid: bench on " << c.Describe() << ", recordings in " << a.out
+                  << "; Ctrl-C ends it\n";
+        while (!InterruptFlag().load()) std::this_thread::sleep_for(std::chrono::milliseconds(100));
+        std::cerr << "vibid: Ctrl-C: stopping, keeping what was recorded\n";
+        board.Shutdown();
+        const nlohmann::json st = board.State();
+        if (st.contains("file"))
+          std::cerr << "vibid: " << st["records"] << " records in " << st["file"].get<std::string>()
+                    << "\n";
+        server.Stop();
+      },
+      CtrlC::kStopsAcquisition);
+  throw StoppedByInterrupt();
+}
+
+}  // namespace
+
+void RegisterBenchCommand(CLI::App& app, const GlobalOptions& globals) {
+  const auto [cmd, o] = AddCommand<BenchArgs>(app, "bench", kBenchHelp, Run);
+  o->globals = &globals;
+  TakesDeviceOption(cmd);
+  cmd->add_option("--port", o->port, "TCP port (0: a free one)")
+      ->check(CLI::Range(0, 65535))
+      ->capture_default_str();
+  cmd->add_option("--bind", o->bind,
+                  "Address to listen on (default 127.0.0.1; another one is reachable from the "
+                  "network and is warned about)")
+      ->capture_default_str();
+  cmd->add_option("-o,--out", o->out, "Directory for the recordings (journals while they run)")
+      ->required();
+}
+
+}  // namespace vibid::cli

@@ -1,0 +1,111 @@
+#include "vibid/device/calibration_upload.hpp"
+
+#include <chrono>
+#include <cstdio>
+#include <cstring>
+
+#include "vibid/common/error.hpp"
+#include "vibid/common/json_file.hpp"
+#include "vibid/device/log_table.hpp"
+#include "vibid/dob/design_json.hpp"
+#include "vibid/model/model_json.hpp"
+
+namespace vibid::device {
+namespace {
+
+nlohmann::json Matrix(const std::array<float, wire::kMaxDof * wire::kMaxDof>& m, std::size_t n) {
+  nlohmann::json rows = nlohmann::json::array();
+  for (std::size_t i = 0; i < n; ++i) {
+    nlohmann::json row = nlohmann::json::array();
+    for (std::size_t k = 0; k < n; ++k)
+      row.push_back(static_cast<double>(m[i * wire::kMaxDof + k]));
+    rows.push_back(row);
+  }
+  return rows;
+}
+
+}  // namespace
+
+std::string RecordLabel(const UploadFiles& files) {
+  std::string label = files.label;
+  if (label.empty()) {
+    label = files.model.substr(files.model.find_last_of('/') + 1);
+    if (label.size() > 5 && label.ends_with(".json")) label.resize(label.size() - 5);
+    if (label.size() >= wire::kCalLabelBytes) label.resize(wire::kCalLabelBytes - 1);
+  }
+  return label;
+}
+
+RecordInputs ReadRecordInputs(const UploadFiles& files, const std::string& host_version) {
+  RecordInputs in;
+  in.model = model::LoadModel(files.model);
+  in.observer = dob::ObserverFromJson(ReadJsonFile(files.design), files.design).description;
+  in.label = RecordLabel(files);
+  in.created_unix_s = std::chrono::duration_cast<std::chrono::seconds>(
+                          std::chrono::system_clock::now().time_since_epoch())
+                          .count();
+  unsigned major = 0, minor = 0, patch = 0;
+  static_cast<void>(std::sscanf(host_version.c_str(), "%u.%u.%u", &major, &minor, &patch));
+  in.host_major = static_cast<std::uint8_t>(major);
+  in.host_minor = static_cast<std::uint8_t>(minor);
+  in.host_patch = static_cast<std::uint16_t>(patch);
+  if (!files.sensors.empty())
+    in.sensors = SensorsFromJson(ReadJsonFile(files.sensors), files.sensors);
+  return in;
+}
+
+void KeepBoardSensors(RecordInputs& inputs, const wire::CalibrationRecord* active) {
+  if (active == nullptr)
+    throw InputError("the board is uncalibrated: give its sensors with --sensors SENSORS.json");
+  for (std::size_t k = 0; k < wire::kChannelCount; ++k) {
+    if (active->channels[k].unit != wire::Unit::kCounts)
+      inputs.sensors[k] = FromChannelScaling(active->channels[k]);
+  }
+}
+
+nlohmann::json RecordJson(const wire::CalibrationRecord& r) {
+  const std::size_t n = r.dof_count;
+  nlohmann::json channels = nlohmann::json::object();
+  for (std::size_t c = 0; c < wire::kChannelCount; ++c) {
+    const wire::ChannelScaling& s = r.channels[c];
+    if (s.unit == wire::Unit::kCounts) continue;
+    const SensorScaling p = FromChannelScaling(s);
+    nlohmann::json ch = {{"unit", UnitName(s.unit)},
+                         {"counts_per_unit", p.counts_per_unit},
+                         {"offset_counts", s.offset_counts},
+                         {"full_scale", static_cast<double>(s.full_scale)},
+                         {"gain", s.gain},
+                         {"gain_shift", s.gain_shift}};
+    if (s.dof != wire::kNoDof) ch["dof"] = s.dof + 1;
+    channels[ChannelStem(static_cast<wire::Channel>(c))] = ch;
+  }
+  nlohmann::json j = {
+      {"label", std::string(r.label.data(), strnlen(r.label.data(), r.label.size()))},
+      {"created_unix_s", r.created_unix_s},
+      {"host_version", std::to_string(r.host_major) + "." + std::to_string(r.host_minor) + "." +
+                           std::to_string(r.host_patch)},
+      {"M", Matrix(r.mass_kg, n)},
+      {"C", Matrix(r.damping_ns_per_m, n)},
+      {"K", Matrix(r.stiffness_n_per_m, n)},
+      {"channels", channels}};
+  if ((r.flags & wire::kCalFlagHasDob) != 0) {
+    fixed::FilterDescription d;
+    static_cast<void>(fixed::DecodeDescription(r.dob, d));
+    nlohmann::json inputs = nlohmann::json::array();
+    for (std::size_t i = 0; i < d.input_count; ++i) {
+      inputs.push_back(
+          {{"channel", ChannelStem(static_cast<wire::Channel>(r.dob_input_channel[i]))},
+           {"sections", d.paths[i].section_count}});
+    }
+    j["observer"] = {{"sample_rate_hz", d.sample_rate_hz},
+                     {"output_dof", d.output_dof + 1},
+                     {"output_full_scale_n",
+                      static_cast<double>(fixed::FullScaleValue(d.output_full_scale_bits))},
+                     {"inputs", inputs}};
+  } else {
+    j["observer"] = nullptr;
+  }
+  return j;
+}
+
+}  // namespace vibid::device

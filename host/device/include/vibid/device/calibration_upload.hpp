@@ -1,0 +1,37 @@
+// What `cal upload` stages and `cal show` prints, for every front end (the CLI, the bench): the
+// record's inputs read from the model, observer design and sensors files, the board's own sensor
+// scaling kept when no sensors file is given, and the record as JSON.
+#pragma once
+
+#include <string>
+
+#include <nlohmann/json.hpp>
+
+#include "vibid/device/calibration_builder.hpp"
+
+namespace vibid::device {
+
+struct UploadFiles {
+  std::string model;    ///< Model file (M, C, K).
+  std::string design;   ///< Observer design from `vibid dob design`.
+  std::string sensors;  ///< Sensors file; empty: the scaling the board already holds.
+  std::string label;    ///< Rig name; empty: the model file's name without folder and .json.
+};
+
+/// The rig name the record gets (cut to the record's label field).
+std::string RecordLabel(const UploadFiles& files);
+
+/// Reads the files (InputError naming the file on any problem); created now, built by
+/// `host_version` ("MAJOR.MINOR.PATCH").
+RecordInputs ReadRecordInputs(const UploadFiles& files, const std::string& host_version);
+
+/// Without a sensors file the record keeps the board's scaling: every calibrated channel of the
+/// active record (`active` null: the board is uncalibrated, an InputError asking for --sensors).
+void KeepBoardSensors(RecordInputs& inputs, const wire::CalibrationRecord* active);
+
+/// The record as `cal show --json` prints it, without the slot, sequence and CRC the board adds:
+/// label, created_unix_s, host_version, M, C, K (dof x dof), channels (calibrated ones: unit,
+/// counts_per_unit, offset_counts, full_scale, gain, gain_shift, dof), observer (or null).
+nlohmann::json RecordJson(const wire::CalibrationRecord& record);
+
+}  // namespace vibid::device
