@@ -21,6 +21,7 @@
 #include "vibid/dob/lowpass.hpp"
 #include "vibid/dob/model_plant.hpp"
 #include "vibid/model/model_json.hpp"
+#include "vibid/workflow/observer_design.hpp"
 
 namespace vibid::cli {
 namespace {
@@ -31,71 +32,16 @@ struct DesignArgs {
   std::string model_path;
   std::string out;
   bool json = false;
-  int order = 5;
-  int relative_degree = 4;
-  double tau_s = 0.002;
-  double fs_hz = 5000.0;
-  int input_dof = 2;
-  int output_dof = 2;
-  std::string sensor = "disp";
-  std::string form = "siso";
-  std::string discretize = "tustin";
-  std::string prototype = "butterworth";
-  double leak_hz = 0.05;
-  double force_fs_n = 100.0;
-  double sensor_fs = 0.0;
-  double output_fs_n = 0.0;
+  workflow::ObserverDesignRequest request;
 };
 
-std::string Summary(const dob::DobDesign& d) {
-  std::ostringstream os;
-  os.precision(6);
-  os << "Q: N = " << d.options.order << ", r = " << d.options.relative_degree
-     << ", cut-off 1/tau = " << 1.0 / d.options.tau_s << " rad/s ("
-     << 1.0 / d.options.tau_s / (2.0 * 3.141592653589793) << " Hz)\n";
-  os << "plant relative degree " << d.plant_relative_degree << "; " << d.paths.size() << " inputs:";
-  for (const auto& p : d.paths)
-    os << " " << dob::InputKindName(p.kind) << "@m" << p.dof + 1 << " (" << p.sos.size()
-       << " sections)";
-  os << "\nstable: max discrete pole radius " << d.max_pole_radius << "\n";
-  os << "valid band: " << d.valid_band_lo_hz << " .. " << d.valid_band_hi_hz << " Hz\n";
-  os << "fixed point: predicted noise " << d.fixed.predicted_noise_rms_n << " N rms, SNR "
-     << d.fixed.predicted_snr_db << " dB (full-scale sine), checksum 0x" << std::hex
-     << d.fixed.description.checksum << std::dec << "\n";
-  return os.str();
-}
-
 void Run(const DesignArgs& a) {
-  const model::Model m = model::LoadModel(a.model_path);
-  Require(a.input_dof >= 1 && a.input_dof <= m.dofs(),
-          "--input-dof " + std::to_string(a.input_dof) + " is out of range 1.." +
-              std::to_string(m.dofs()));
-  Require(a.output_dof >= 1 && a.output_dof <= m.dofs(),
-          "--output-dof " + std::to_string(a.output_dof) + " is out of range 1.." +
-              std::to_string(m.dofs()));
-  dob::DobOptions o;
-  o.order = a.order;
-  o.relative_degree = a.relative_degree;
-  o.tau_s = a.tau_s;
-  o.fs_hz = a.fs_hz;
-  o.prototype =
-      a.prototype == "binomial" ? dob::QPrototype::kBinomial : dob::QPrototype::kButterworth;
-  o.sensor = dob::ParseSensorKind(a.sensor);
-  o.form = a.form == "mimo" ? dob::ObserverForm::kMimo : dob::ObserverForm::kSiso;
-  o.discretization =
-      a.discretize == "zoh" ? dob::Discretization::kZeroOrderHold : dob::Discretization::kTustin;
-  o.input_dof = a.input_dof - 1;
-  o.output_dof = a.output_dof - 1;
-  o.leak_hz = a.leak_hz;
-  o.force_full_scale_n = a.force_fs_n;
-  o.sensor_full_scale = a.sensor_fs;
-  o.output_full_scale_n = a.output_fs_n;
   const dob::DobDesign design =
-      dob::DesignObserver(dob::PlantFromModel(m, o.input_dof, o.output_dof), o);
-  if (!design.stable) throw NumericalError("observer refused: " + design.message);
+      workflow::DesignObserverFor(model::LoadModel(a.model_path), a.request);
   const std::string text = dob::DesignToJson(design).dump(2) + "\n";
   EmitOutput(text, a.out);
-  if (!a.out.empty() && a.out != "-") std::cout << (a.json ? text : Summary(design));
+  if (!a.out.empty() && a.out != "-")
+    std::cout << (a.json ? text : workflow::DesignSummary(design));
 }
 
 constexpr const char* kRunHelp =
@@ -244,44 +190,47 @@ void Run(const CompareArgs& a) {
 void RegisterDobDesignCommand(CLI::App& dob) {
   const auto [cmd, a] = AddCommand<DesignArgs>(dob, "design", kDesignHelp, Run);
   cmd->add_option("model", a->model_path, "Model file (JSON)")->required();
-  cmd->add_option("--N", a->order, "Order of Q (>= 1)")->capture_default_str();
-  cmd->add_option("--r", a->relative_degree, "Relative degree of Q (0 <= N - r, r >= that of G_A)")
+  cmd->add_option("--N", a->request.order, "Order of Q (>= 1)")->capture_default_str();
+  cmd->add_option("--r", a->request.relative_degree,
+                  "Relative degree of Q (0 <= N - r, r >= that of G_A)")
       ->capture_default_str();
-  cmd->add_option("--tau-s", a->tau_s, "Time constant of Q, s (cut-off 1/tau rad/s)")
+  cmd->add_option("--tau-s", a->request.tau_s, "Time constant of Q, s (cut-off 1/tau rad/s)")
       ->check(PositiveNumber())
       ->capture_default_str();
-  cmd->add_option("--fs-hz", a->fs_hz, "Board sample rate, Hz")
+  cmd->add_option("--fs-hz", a->request.fs_hz, "Board sample rate, Hz")
       ->check(PositiveNumber())
       ->capture_default_str();
-  cmd->add_option("--input-dof", a->input_dof,
+  cmd->add_option("--input-dof", a->request.input_dof,
                   "Mass the force (and the disturbance) acts on, from 1")
       ->capture_default_str();
-  cmd->add_option("--output-dof", a->output_dof, "Mass whose sensor feeds the SISO form, from 1")
+  cmd->add_option("--output-dof", a->request.output_dof,
+                  "Mass whose sensor feeds the SISO form, from 1")
       ->capture_default_str();
-  cmd->add_option("--sensor", a->sensor, "Sensor: disp, vel or acc")
+  cmd->add_option("--sensor", a->request.sensor, "Sensor: disp, vel or acc")
       ->check(CLI::IsMember({"disp", "vel", "acc"}))
       ->capture_default_str();
-  cmd->add_option("--form", a->form, "siso: Q G_A^-1 y - Q u; mimo: Q[M x'' + C x' + K x - F]")
+  cmd->add_option("--form", a->request.form,
+                  "siso: Q G_A^-1 y - Q u; mimo: Q[M x'' + C x' + K x - F]")
       ->check(CLI::IsMember({"siso", "mimo"}))
       ->capture_default_str();
-  cmd->add_option("--discretize", a->discretize, "tustin (pre-warped at 1/tau) or zoh")
+  cmd->add_option("--discretize", a->request.discretize, "tustin (pre-warped at 1/tau) or zoh")
       ->check(CLI::IsMember({"tustin", "zoh"}))
       ->capture_default_str();
-  cmd->add_option("--prototype", a->prototype, "Q polynomial: butterworth or binomial")
+  cmd->add_option("--prototype", a->request.prototype, "Q polynomial: butterworth or binomial")
       ->check(CLI::IsMember({"butterworth", "binomial"}))
       ->capture_default_str();
-  cmd->add_option("--leak-hz", a->leak_hz,
+  cmd->add_option("--leak-hz", a->request.leak_hz,
                   "Corner of the leaky integrators for vel/acc sensors, Hz")
       ->check(PositiveNumber())
       ->capture_default_str();
-  cmd->add_option("--force-fs-n", a->force_fs_n, "Force full scale, N")
+  cmd->add_option("--force-fs-n", a->request.force_fs_n, "Force full scale, N")
       ->check(PositiveNumber())
       ->capture_default_str();
-  cmd->add_option("--sensor-fs", a->sensor_fs,
+  cmd->add_option("--sensor-fs", a->request.sensor_fs,
                   "Sensor full scale, SI (0: 0.05 m, 1 m/s or 50 m/s^2)")
       ->check(NonNegativeNumber())
       ->capture_default_str();
-  cmd->add_option("--output-fs-n", a->output_fs_n,
+  cmd->add_option("--output-fs-n", a->request.output_fs_n,
                   "Full scale of d_hat, N (0: twice the force full scale)")
       ->check(NonNegativeNumber())
       ->capture_default_str();
