@@ -296,6 +296,45 @@ function draw() {
 
 // ---- calibration view --------------------------------------------------------------------------
 
+const listOf = id => document.getElementById(id).value.split(',').map(x => x.trim()).filter(x => x);
+
+// "1=mass1.csv, 2=mass2.csv" as the identify request's mass tests (the server checks them).
+function massTests() {
+  return listOf('id-mass').map(t => {
+    const [pos, file] = t.split('=');
+    return {position: Number(pos), file: (file || '').trim()};
+  });
+}
+
+async function identifyRun() {
+  const status = document.getElementById('id-status');
+  status.textContent = 'identifying...';
+  const r = await api('/api/cal/identify', {
+    nominal: document.getElementById('id-nominal').value.trim(),
+    mass_tests: massTests(), modal_tests: listOf('id-modal'),
+    output: document.getElementById('id-output').value.trim()});
+  document.getElementById('id-table').textContent = r.table;
+  const fmt = (v, ci) => Number(v.toPrecision(6)) +
+    (Array.isArray(ci) ? ' (95 %: ' + Number(ci[0].toPrecision(5)) + ' .. ' + Number(ci[1].toPrecision(5)) + ')' : ' (95 %: n/a)');
+  rows(document.getElementById('id-params'), r.parameters.flatMap(p => [
+    ['m' + p.position, fmt(p.m_kg, p.m_kg_ci95) + ' kg'],
+    ['k' + p.position, fmt(p.k_n_per_m, p.k_n_per_m_ci95) + ' N/m']]));
+  status.textContent = 'wrote ' + r.output + (r.warnings.length ? '; ' + r.warnings.join('; ') : '');
+  document.getElementById('design-model').value = r.output;
+  document.getElementById('cal-model').value = r.output;
+}
+
+async function designRun() {
+  const body = {model: document.getElementById('design-model').value.trim(),
+                output: document.getElementById('design-output').value.trim()};
+  const fs = document.getElementById('design-force-fs').value.trim();
+  if (fs) body.force_fs_n = Number(fs);
+  const r = await api('/api/cal/design', body);
+  document.getElementById('design-summary').textContent =
+    'wrote ' + r.output + ' (force full scale ' + r.force_fs_n + ' N, ' + r.fs_hz + ' Hz)\n' + r.summary;
+  document.getElementById('cal-design').value = r.output;
+}
+
 function calFiles() {
   const f = {};
   for (const [key, id] of [['model', 'cal-model'], ['design', 'cal-design'], ['sensors', 'cal-sensors'], ['label', 'cal-label']]) {
@@ -387,6 +426,8 @@ async function main() {
   wire('stop', async () => { await api('/api/stop', {}); say('stopping: the records so far are kept'); });
   wire('dob-on', async () => { await api('/api/observer', {run: true}); say('observer on'); await loadBoard(); });
   wire('dob-off', async () => { await api('/api/observer', {run: false}); say('observer off'); await loadBoard(); });
+  wire('id-run', identifyRun);
+  wire('design-run', designRun);
   wire('cal-preview', calPreview);
   wire('cal-upload', calUpload);
   wire('cal-commit', calCommit);

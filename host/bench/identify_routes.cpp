@@ -1,0 +1,101 @@
+#include "vibid/bench/identify_routes.hpp"
+
+#include "vibid/common/atomic_file.hpp"
+#include "vibid/common/error.hpp"
+#include "vibid/common/json_file.hpp"
+#include "vibid/common/json_keys.hpp"
+#include "vibid/device/calibration_builder.hpp"
+#include "vibid/dob/design_json.hpp"
+#include "vibid/ident/identify.hpp"
+#include "vibid/model/model_json.hpp"
+#include "vibid/workflow/identify_run.hpp"
+#include "vibid/workflow/observer_design.hpp"
+
+namespace vibid::bench {
+namespace {
+
+/// `name` as a file inside `directory`, or an InputError naming `what`: no folders, no dot files.
+std::string FileIn(const std::string& directory, const nlohmann::json& name,
+                   const std::string& what) {
+  Require(name.is_string(), "'" + what + "' must be a file name");
+  const std::string s = name.get<std::string>();
+  Require(!s.empty() && s.find('/') == std::string::npos && s.front() != '.',
+          "'" + what + "': '" + s + "' is not a file name in the bench's directory (no folders)");
+  return directory + "/" + s;
+}
+
+nlohmann::json Identify(const std::string& directory, const nlohmann::json& b) {
+  Require(b.is_object(), "the request must be a JSON object");
+  RequireKnownKeys(b, {"nominal", "mass_tests", "modal_tests", "output"}, "the identify request");
+  Require(b.contains("nominal") && b.contains("modal_tests") && b.contains("output"),
+          "the identify request needs nominal, modal_tests and output");
+  workflow::IdentifyRequest request = workflow::DefaultIdentifyRequest();
+  if (b.contains("mass_tests")) {
+    Require(b["mass_tests"].is_array(), "'mass_tests' must be a list of {position, file}");
+    for (const nlohmann::json& t : b["mass_tests"]) {
+      Require(t.is_object(), "each mass test must be {position, file}");
+      RequireKnownKeys(t, {"position", "file"}, "a mass test");
+      Require(t.contains("position") && t["position"].is_number_integer() &&
+                  t["position"].get<long long>() >= 1,
+              "a mass test's position must be a whole number from 1");
+      Require(t.contains("file"), "a mass test needs its file");
+      request.mass_tests.push_back({static_cast<std::size_t>(t["position"].get<long long>() - 1),
+                                    FileIn(directory, t["file"], "mass_tests.file")});
+    }
+  }
+  Require(b["modal_tests"].is_array() && !b["modal_tests"].empty(),
+          "'modal_tests' must be a list of at least one file");
+  for (const nlohmann::json& f : b["modal_tests"])
+    request.modal_tests.push_back(FileIn(directory, f, "modal_tests"));
+  const std::string output = FileIn(directory, b["output"], "output");
+  const model::Model nominal = model::LoadModel(FileIn(directory, b["nominal"], "nominal"));
+  const workflow::IdentifyRun run = workflow::RunIdentify(nominal, request);
+  const auto n = static_cast<std::size_t>(nominal.dofs());
+  WriteJsonFile(output, workflow::ChainJson(run.result.chain, n));
+  nlohmann::json out = workflow::IdentifyReportJson(run, n);
+  out["table"] = ident::FormatValidationTable(run.result.table);
+  out["output"] = b["output"];
+  return out;
+}
+
+nlohmann::json Design(BenchBoard& board, const std::string& directory, const nlohmann::json& b) {
+  Require(b.is_object(), "the request must be a JSON object");
+  RequireKnownKeys(b, {"model", "output", "fs_hz", "force_fs_n"}, "the design request");
+  Require(b.contains("model") && b.contains("output"), "the design request needs model and output");
+  workflow::ObserverDesignRequest request;
+  const auto number = [&](const char* key, double& value) {
+    if (!b.contains(key)) return false;
+    Require(b[key].is_number(), std::string("'") + key + "' must be a number");
+    value = b[key].get<double>();
+    return true;
+  };
+  number("fs_hz", request.fs_hz);
+  if (!number("force_fs_n", request.force_fs_n)) {
+    const wire::CalibrationRecord* active = board.ActiveCalibration();
+    const auto& cell = active ? active->channels[static_cast<std::size_t>(wire::Channel::kForce1)]
+                              : wire::ChannelScaling{};
+    if (active != nullptr && cell.unit != wire::Unit::kCounts)
+      request.force_fs_n = device::FromChannelScaling(cell).full_scale;
+  }
+  const std::string output = FileIn(directory, b["output"], "output");
+  const dob::DobDesign design = workflow::DesignObserverFor(
+      model::LoadModel(FileIn(directory, b["model"], "model")), request);
+  WriteJsonFile(output, dob::DesignToJson(design));
+  return {{"summary", workflow::DesignSummary(design)},
+          {"force_fs_n", request.force_fs_n},
+          {"fs_hz", request.fs_hz},
+          {"checksum", design.fixed.description.checksum},
+          {"output", b["output"]}};
+}
+
+}  // namespace
+
+void AddIdentifyRoutes(BenchServer& server, BenchBoard& board, const std::string& directory) {
+  server.AddJsonRoute("cal/identify",
+                      [directory](const nlohmann::json& b) { return Identify(directory, b); });
+  server.AddJsonRoute("cal/design", [&board, directory](const nlohmann::json& b) {
+    return Design(board, directory, b);
+  });
+}
+
+}  // namespace vibid::bench
