@@ -212,6 +212,7 @@ void BenchBoard::Run(AcquisitionAsk ask, wire::AcqConfigureRequest cfg, std::str
   journal_path_ = out_dir_ + "/" + name + ".partial.csv";
   journal_header_ = false;
   journal_ = std::fopen(journal_path_.c_str(), "w");
+  for (const AcquisitionListener& l : acquisition_listeners_) l.started();
   std::string error;
   std::string warning;
   device::LogPull pull;
@@ -269,6 +270,7 @@ void BenchBoard::Run(AcquisitionAsk ask, wire::AcqConfigureRequest cfg, std::str
     done["sample_period_us"] = cfg.sample_period_us;
     state_ = done;
   }
+  for (const AcquisitionListener& l : acquisition_listeners_) l.ended();
   running_ = false;
   PublishState();
 }
@@ -280,6 +282,7 @@ void BenchBoard::OnRecords(std::uint32_t first, std::span<const wire::LogRecord>
   pending_.insert(pending_.end(), records.begin() + static_cast<std::ptrdiff_t>(skip),
                   records.end());
   next_index_ = first + static_cast<std::uint32_t>(records.size());
+  for (const AcquisitionListener& l : acquisition_listeners_) l.records(records.subspan(skip));
   if (Clock::now() - last_flush_ >= kBlockInterval) {
     last_flush_ = Clock::now();
     Flush();
@@ -416,6 +419,10 @@ void BenchBoard::Shutdown() {
 
 void BenchBoard::AddBlockListener(BlockListener listener) {
   listeners_.push_back(std::move(listener));
+}
+
+void BenchBoard::AddAcquisitionListener(AcquisitionListener listener) {
+  acquisition_listeners_.push_back(std::move(listener));
 }
 
 }  // namespace vibid::bench

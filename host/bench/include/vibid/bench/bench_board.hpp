@@ -13,6 +13,7 @@
 #include <cstdio>
 #include <functional>
 #include <mutex>
+#include <span>
 #include <string>
 #include <thread>
 
@@ -34,6 +35,15 @@ class Busy : public std::runtime_error {
 
 /// Gets each block of a running acquisition as the page does (SI columns, after the journal).
 using BlockListener = std::function<void(const device::LogTable& block)>;
+
+/// Gets each acquisition as the board delivers it: its start, its log records in order as they
+/// arrive (each once, before they are batched for the page) and its end (always, after the
+/// recording is written or refused).
+struct AcquisitionListener {
+  std::function<void()> started;
+  std::function<void(std::span<const wire::LogRecord> records)> records;
+  std::function<void()> ended;
+};
 
 class BenchBoard {
  public:
@@ -69,6 +79,7 @@ class BenchBoard {
 
   /// The hammer-test session and any other view take the blocks from here.
   void AddBlockListener(BlockListener listener);
+  void AddAcquisitionListener(AcquisitionListener listener);
 
   /// Runs `body` with the connection while no acquisition runs (Busy otherwise), serialized with
   /// every other request: the way a view reaches the board.
@@ -98,6 +109,7 @@ class BenchBoard {
   std::atomic<bool> running_{false};
   std::thread thread_;
   std::vector<BlockListener> listeners_;
+  std::vector<AcquisitionListener> acquisition_listeners_;
 
   // Owned by the acquisition thread while it runs.
   AcquisitionAsk ask_;
