@@ -141,6 +141,8 @@ def main():
         wait(driver, lambda d: hits(d)[0]["accepted"] is True and hits(d)[0]["decided_by"] == "operator",
              "hit 1 accepted by the key a")
         accepted = js(driver, "return hammer.snap.accepted")
+        check(accepted == sum(1 for x in hits(driver) if x["accepted"]) == len(h) - 3,
+              "%d accepted hits on the page" % accepted)
         driver.find_element(By.ID, "hm-save").click()
         wait(driver, lambda d: d.find_element(By.ID, "hm-save").get_attribute("data-dir"), "the save")
         saved = driver.find_element(By.ID, "hm-save").get_attribute("data-dir")
@@ -149,7 +151,8 @@ def main():
         table = driver.find_element(By.ID, "hm-modes").text
         latencies = js(driver, "return hammer.latencies")
         if args.screenshots:
-            driver.execute_script("window.scrollTo(0, 0)")
+            driver.set_window_size(1400, 1750)
+            time.sleep(0.5)
             driver.save_screenshot(os.path.join(args.screenshots, "bench-hammer.png"))
     finally:
         if driver is not None:

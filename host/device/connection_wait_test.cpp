@@ -36,8 +36,8 @@ class SlowDevice : public Transport {
     auto due = std::chrono::steady_clock::now();
     const auto command = static_cast<wire::Command>(h.command);
     if (command == wire::Command::kGetInfo) {
-      ASSERT_EQ(wire::BuildReport(command, h.token, 0, wire::kFlagResponse, Status::kOk,
-                                  wire::InfoResponse{}, answer),
+      ASSERT_EQ(wire::BuildReport(command, h.token, 0, wire::kFlagResponse, Status::kOk, wire::InfoResponse{},
+                                  answer),
                 Status::kOk);
     } else {
       ASSERT_EQ(command, wire::Command::kSelfTest);

@@ -83,7 +83,7 @@ function drawTraces() {
     legend: {show: true, live: false},
   }, [t.t_s, t.force, t.force_window]);
   plot('resp', $('hm-resp-plot'), {
-    height: 150, scales: {x: {time: false}}, axes: [{label: 't from the trigger (s)'}, {size: 60}],
+    height: 150, scales: {x: {time: false}}, axes: [{label: 't from the trigger (s)'}, {label: t.responses[0].name.replace(/^[a-z0-9]+_/, ''), size: 60}],
     series: [{}, ...t.responses.map((r, i) => ({label: r.name, stroke: colors[i % 4], width: 1, points: {show: false}}))],
     legend: {show: true, live: false},
   }, [t.t_s, ...t.responses.map(r => r.values)]);
@@ -96,10 +96,12 @@ function drawFrf() {
   // Lines above 0 Hz on a logarithmic frequency axis.
   const x = f.freq_hz.slice(1);
   const series = f.responses.map((r, i) => ({label: r.name, stroke: colors[i % 4], width: 1, points: {show: false}}));
-  const base = (label, yScale) => ({height: 170, legend: {show: true, live: false}, tag: label,
-    scales: {x: {time: false, distr: 3}, y: yScale}, axes: [{label: 'Hz'}, {label, size: 70}], series: [{}, ...series]});
+  const exp = (u, vals) => vals.map(v => v === null ? '' : Number(v).toExponential(0));
+  const base = (label, yScale, log) => ({height: 170, legend: {show: true, live: false}, tag: label,
+    scales: {x: {time: false, distr: 3}, y: yScale},
+    axes: [{label: 'Hz'}, Object.assign({label, size: 70}, log ? {values: exp} : {})], series: [{}, ...series]});
   const positive = v => v > 0 ? v : null;
-  const mag = plot('mag', $('hm-mag'), Object.assign(base(f.kind, {distr: 3}), {hooks: {draw: [u => {
+  const mag = plot('mag', $('hm-mag'), Object.assign(base(f.kind === 'receptance' ? 'm/N' : f.kind, {distr: 3}, true), {hooks: {draw: [u => {
     if (hm.pendingArrival !== null) {
       hm.latencies.push(performance.timeOrigin + performance.now() - hm.pendingArrival);
       hm.pendingArrival = null;
@@ -115,17 +117,19 @@ function drawDiagram() {
   const d = hm.snap && hm.snap.diagram;
   const el = $('hm-stab');
   if (!d) { if (hm.plots.stab) { hm.plots.stab.u.destroy(); delete hm.plots.stab; } el.replaceChildren(); return; }
-  const poles = [...d.poles].sort((a, b) => a.freq_hz - b.freq_hz);
+  const [lo, hi] = d.band_hz;
+  const poles = d.poles.filter(p => p.freq_hz >= lo && p.freq_hz <= hi).sort((a, b) => a.freq_hz - b.freq_hz);
   const stable = p => p.stable_freq && p.stable_damping;
   plot('stab', el, {
     height: 230, legend: {show: true, live: false},
-    scales: {x: {time: false, range: d.band_hz}, y: {range: [0, Math.max(...d.orders) + 2]}},
+    scales: {x: {time: false, range: () => [lo, hi]}, y: {range: [0, Math.max(...d.orders) + 2]}},
     axes: [{label: 'Hz'}, {label: 'model order', size: 60}],
     series: [{}, {label: 'stable', stroke: '#2ca02c', fill: '#2ca02c', paths: () => null, points: {show: true, size: 7}},
              {label: 'not stable', stroke: '#aaa', paths: () => null, points: {show: true, size: 4}},
              {label: 'chosen', stroke: '#d62728', paths: () => null, points: {show: true, size: 11, width: 2}}],
   }, [poles.map(p => p.freq_hz), poles.map(p => stable(p) ? p.order : null), poles.map(p => stable(p) ? null : p.order),
       poles.map(p => d.selected.some(s => s.freq_hz === p.freq_hz) ? p.order : null)]);
+  hm.plots.stab.u.setScale('x', {min: lo, max: hi});
 }
 
 // ---- tables ------------------------------------------------------------------------------------
@@ -147,9 +151,9 @@ function drawHits() {
     tr.dataset.index = h.index; tr.dataset.verdict = h.verdict; tr.dataset.accepted = h.accepted;
     if (h.index === hm.sel) tr.className = 'sel';
     cell(tr, h.index); cell(tr, num(h.t_s, 4)); cell(tr, num(h.peak_n, 4));
-    cell(tr, h.verdict + (h.reason ? ': ' + h.reason : ''), h.verdict === 'ok' ? '' : 'rej');
+    cell(tr, h.verdict + (h.reason && h.reason !== h.verdict ? ': ' + h.reason : ''), h.verdict === 'ok' ? '' : 'rej');
     cell(tr, (h.accepted ? 'yes' : 'no') + (h.decided_by === 'operator' ? ' (operator)' : ''));
-    const td = cell(tr, '');
+    const td = cell(tr, '', 'hm-choice');
     for (const [label, accept] of [['Accept', true], ['Reject', false]]) {
       const b = document.createElement('button'); b.type = 'button'; b.textContent = label;
       b.className = accept ? 'hm-accept' : 'hm-reject';
@@ -192,6 +196,8 @@ function drawStatus() {
 
 function onFull(j) {
   hm.events++;
+  // An answer and the live event of the same change may cross: an older state never replaces a newer one.
+  if (j.test && hm.test && hm.snap && j.test.name === hm.test.name && j.snapshot.version < hm.snap.version) return;
   hm.test = j.test; hm.snap = j.snapshot;
   if (!hm.test) { drawStatus(); return; }
   const hits = hm.snap.hits;
