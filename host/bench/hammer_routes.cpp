@@ -113,10 +113,12 @@ class HammerTests {
 
   nlohmann::json Start(const nlohmann::json& body) {
     const Settings s = ParseSettings(body);
-    const wire::CalibrationRecord* cal = board_.ActiveCalibration();
-    Require(cal != nullptr,
-            "the board is uncalibrated: a hammer test needs the force in N (vibid cal upload "
-            "MODEL.json --design DESIGN.json --sensors SENSORS.json, then vibid cal commit)");
+    // Uncalibrated: the columns in counts, so that the settings are checked all the same before
+    // the calibration is asked for.
+    const wire::CalibrationRecord* active = board_.ActiveCalibration();
+    wire::CalibrationRecord counts{};
+    for (wire::ChannelScaling& c : counts.channels) c = wire::DefaultScaling();
+    const wire::CalibrationRecord* cal = active != nullptr ? active : &counts;
     const AcquisitionAsk ask = ParseAcquisitionAsk(s.ask);
     const wire::AcqConfigureRequest cfg = ConfigFor(ask);
     workflow::HammerSessionOptions o;
@@ -124,8 +126,7 @@ class HammerTests {
     o.sample_period_us = cfg.sample_period_us;
     o.decimation = cfg.decimation;
     o.calibration = *cal;
-    o.has_calibration = true;
-    board_.WithIdleBoard([&](device::Connection& c) { o.instants = c.GetSamplingInfo(); });
+    o.has_calibration = active != nullptr;
     o.estimation.force = Column(s.force, *cal);
     std::string responses;
     bool acc = false, disp = false;
@@ -145,10 +146,17 @@ class HammerTests {
     o.modes.driving_point = Column(s.hammer_point, *cal);
     auto test = std::make_shared<Test>();
     test->name = "hammer-" + TimeStamp();
+    // Two tests in the same second: the second gets its own folder, never the first one's.
+    for (int k = 2; std::filesystem::exists(directory_ + "/" + test->name); ++k)
+      test->name = "hammer-" + TimeStamp() + "-" + std::to_string(k);
     test->dir = directory_ + "/" + test->name;
     test->settings = body;
     o.live_csv_path = test->dir + "/live.csv";
     o.Validate();  // before anything is created: a refusal changes nothing
+    Require(active != nullptr,
+            "the board is uncalibrated: a hammer test needs the force in N (vibid cal upload "
+            "MODEL.json --design DESIGN.json --sensors SENSORS.json, then vibid cal commit)");
+    board_.WithIdleBoard([&](device::Connection& c) { o.instants = c.GetSamplingInfo(); });
     std::filesystem::create_directories(test->dir);
     try {
       test->session = std::make_unique<workflow::HammerSession>(o);
