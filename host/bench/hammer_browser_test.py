@@ -113,6 +113,8 @@ def main():
         driver.find_element(By.CSS_SELECTOR, "#tabs button[data-view=hammer]").click()
         wait(driver, lambda d: len(hits(d)) >= before, "the hits after the reload")
         check(js(driver, "return hammer.test.running") is True, "the test is not running after the reload")
+        check(driver.find_element(By.ID, "hm-seconds").get_attribute("value") == "11",
+              "the form after the reload does not show the running test's settings")
         print("reload with %d hits judged: the page shows %d, the test goes on" % (before, len(hits(driver))))
         wait(driver, lambda d: d.execute_script("return document.body.dataset.hammer") == "ended",
              "the test to end", timeout=30)

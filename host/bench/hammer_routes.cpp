@@ -57,11 +57,11 @@ struct Settings {
 
 Settings ParseSettings(const nlohmann::json& body) {
   Require(body.is_object(), "the hammer test's settings must be a JSON object");
-  RequireKnownKeys(body,
-                   {"channels", "sample_period_us", "seconds", "record_s", "hammer_point",
-                    "trigger", "pretrigger_s", "force_window_s", "exp_window", "scenario",
-                    "scenario_params"},
-                   "the hammer test's settings");
+  RequireKnownKeys(
+      body,
+      {"channels", "sample_period_us", "seconds", "record_s", "hammer_point", "trigger",
+       "pretrigger_s", "force_window_s", "exp_window", "scenario", "scenario_params"},
+      "the hammer test's settings");
   Settings s;
   s.ask = nlohmann::json::object();
   for (const char* k : {"channels", "sample_period_us", "seconds", "scenario", "scenario_params"})
@@ -182,7 +182,8 @@ class HammerTests {
     RequireKnownKeys(body, {"index", "accept"}, "the hit choice");
     Require(body.contains("index") && body["index"].is_number_unsigned(),
             "'index' (the hit's number, from 1) is missing");
-    Require(body.contains("accept") && body["accept"].is_boolean(), "'accept' must be true or false");
+    Require(body.contains("accept") && body["accept"].is_boolean(),
+            "'accept' must be true or false");
     const std::shared_ptr<Test> t = Current();
     const auto index = body["index"].get<std::size_t>();
     if (body["accept"].get<bool>()) {
@@ -257,9 +258,8 @@ class HammerTests {
     if (v == last_version_) return;
     last_version_ = v;
     const workflow::HammerSnapshot snap = t.session->Snapshot();
-    const std::string key = std::to_string(snap.hits.size()) + "/" +
-                            std::to_string(snap.accepted) + "/" +
-                            std::to_string(snap.frf.averages) + "/" + snap.modes_error;
+    const std::string key = std::to_string(snap.hits.size()) + "/" + std::to_string(snap.accepted) +
+                            "/" + std::to_string(snap.frf.averages) + "/" + snap.modes_error;
     if (key != last_key_) {
       last_key_ = key;
       hub_.Publish("hammer", Full(t, snap, arrived_ms).dump());
@@ -349,9 +349,10 @@ std::shared_ptr<HammerTests> AddHammerRoutes(BenchServer& server, BenchBoard& bo
   const Asset* html = FindAsset("/assets/hammer.html");
   const Asset* script = FindAsset("/assets/hammer.js");
   server.AddView({"hammer", "Hammer test", std::string(html->bytes), std::string(script->bytes)});
-  board.AddAcquisitionListener({[tests] { tests->OnStarted(); },
-                                [tests](std::span<const wire::LogRecord> r) { tests->OnRecords(r); },
-                                [tests] { tests->OnEnded(); }});
+  board.AddAcquisitionListener(
+      {[tests] { tests->OnStarted(); },
+       [tests](std::span<const wire::LogRecord> r) { tests->OnRecords(r); },
+       [tests] { tests->OnEnded(); }});
   const auto route = [&server, tests](const std::string& name,
                                       nlohmann::json (HammerTests::*f)(const nlohmann::json&)) {
     server.AddJsonRoute("hammer/" + name,

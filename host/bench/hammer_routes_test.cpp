@@ -99,8 +99,10 @@ TEST_F(HammerRoutesTest, RefusedSettingsGet400WithTheirMessageAndChangeNothing) 
 }
 
 TEST_F(HammerRoutesTest, BeforeATestChoicesAndTracesAreRefusedAndTheSnapshotIsEmpty) {
-  for (const auto& [route, body] : std::vector<std::pair<std::string, std::string>>{
-           {"choose", R"({"index":1,"accept":true})"}, {"traces", R"({"index":1})"}, {"save", "{}"}}) {
+  for (const auto& [route, body] :
+       std::vector<std::pair<std::string, std::string>>{{"choose", R"({"index":1,"accept":true})"},
+                                                        {"traces", R"({"index":1})"},
+                                                        {"save", "{}"}}) {
     const auto r = Post(route, body);
     ASSERT_TRUE(r);
     EXPECT_EQ(r->status, 400) << route;
@@ -109,7 +111,8 @@ TEST_F(HammerRoutesTest, BeforeATestChoicesAndTracesAreRefusedAndTheSnapshotIsEm
   const auto s = Post("snapshot", "{}");
   ASSERT_TRUE(s);
   ASSERT_EQ(s->status, 200);
-  EXPECT_EQ(nlohmann::json::parse(s->body), nlohmann::json({{"test", nullptr}, {"snapshot", nullptr}}));
+  EXPECT_EQ(nlohmann::json::parse(s->body),
+            nlohmann::json({{"test", nullptr}, {"snapshot", nullptr}}));
   const auto choose = Post("choose", R"({"index":0,"accept":"yes"})");
   ASSERT_TRUE(choose);
   EXPECT_EQ(choose->status, 400);

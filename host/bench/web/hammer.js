@@ -75,13 +75,17 @@ function drawTraces() {
   const t = hm.traces;
   if (!t) return;
   $('hm-hit-title').textContent = t.index;
+  // The force up to four times the window's length: the pulse and its taper, readable.
+  let last = 0;
+  t.force_window.forEach((w, i) => { if (w > 0) last = i; });
+  const xMax = Math.min(t.t_s[t.t_s.length - 1], Math.max(4 * t.t_s[last], 0.02));
   plot('force', $('hm-force-plot'), {
-    height: 150, scales: {x: {time: false}, w: {range: [0, 1.05]}},
+    height: 150, tag: String(xMax), scales: {x: {time: false, range: () => [t.t_s[0], xMax]}, w: {range: [0, 1.05]}},
     axes: [{}, {label: 'N', size: 60}, {scale: 'w', side: 1, label: 'window', size: 50}],
     series: [{}, {label: 'force', stroke: '#333', width: 1, points: {show: false}},
              {label: 'window', stroke: '#ff7f0e', width: 1.5, scale: 'w', points: {show: false}}],
     legend: {show: true, live: false},
-  }, [t.t_s, t.force, t.force_window]);
+  }, [t.t_s, t.force, t.force_window]).setScale('x', {min: t.t_s[0], max: xMax});
   plot('resp', $('hm-resp-plot'), {
     height: 150, scales: {x: {time: false}}, axes: [{label: 't from the trigger (s)'}, {label: t.responses[0].name.replace(/^[a-z0-9]+_/, ''), size: 60}],
     series: [{}, ...t.responses.map((r, i) => ({label: r.name, stroke: colors[i % 4], width: 1, points: {show: false}}))],
@@ -120,16 +124,17 @@ function drawDiagram() {
   const [lo, hi] = d.band_hz;
   const poles = d.poles.filter(p => p.freq_hz >= lo && p.freq_hz <= hi).sort((a, b) => a.freq_hz - b.freq_hz);
   const stable = p => p.stable_freq && p.stable_damping;
+  // The band's ends as points without a value: the frequency axis spans the band searched.
+  const col = f => [null, ...poles.map(f), null];
   plot('stab', el, {
     height: 230, legend: {show: true, live: false},
-    scales: {x: {time: false, range: () => [lo, hi]}, y: {range: [0, Math.max(...d.orders) + 2]}},
+    scales: {x: {time: false}, y: {range: [0, Math.max(...d.orders) + 2]}},
     axes: [{label: 'Hz'}, {label: 'model order', size: 60}],
     series: [{}, {label: 'stable', stroke: '#2ca02c', fill: '#2ca02c', paths: () => null, points: {show: true, size: 7}},
              {label: 'not stable', stroke: '#aaa', paths: () => null, points: {show: true, size: 4}},
              {label: 'chosen', stroke: '#d62728', paths: () => null, points: {show: true, size: 11, width: 2}}],
-  }, [poles.map(p => p.freq_hz), poles.map(p => stable(p) ? p.order : null), poles.map(p => stable(p) ? null : p.order),
-      poles.map(p => d.selected.some(s => s.freq_hz === p.freq_hz) ? p.order : null)]);
-  hm.plots.stab.u.setScale('x', {min: lo, max: hi});
+  }, [[lo, ...poles.map(p => p.freq_hz), hi], col(p => stable(p) ? p.order : null), col(p => stable(p) ? null : p.order),
+      col(p => d.selected.some(s => s.freq_hz === p.freq_hz) ? p.order : null)]);
 }
 
 // ---- tables ------------------------------------------------------------------------------------
@@ -220,7 +225,21 @@ async function choose(index, accept) {
   try { onFull(await post('choose', {index, accept})); } catch (e) { status(e.message, true); }
 }
 
-async function refresh() { onFull(await post('snapshot', {})); }
+// The form shows the settings of the test on screen (after a reload: the running one's).
+function showSettings(s) {
+  $('hm-rate').value = s.sample_period_us; $('hm-force').value = s.channels[0];
+  document.querySelectorAll('#hm-responses input').forEach(i => { i.checked = s.channels.slice(1).includes(i.value); });
+  $('hm-point').value = s.hammer_point; $('hm-seconds').value = s.seconds; $('hm-record').value = s.record_s;
+  for (const [id, key] of [['hm-trigger', 'trigger'], ['hm-pretrigger', 'pretrigger_s'], ['hm-fwin', 'force_window_s'], ['hm-exp', 'exp_window']])
+    $(id).value = s[key] === undefined ? (id === 'hm-trigger' ? 0.1 : '') : s[key];
+  $('hm-params').value = (s.scenario_params || []).join(', ');
+}
+
+async function refresh() {
+  const first = hm.test === null;
+  onFull(await post('snapshot', {}));
+  if (first && hm.test) { showSettings(hm.test.settings); preflight(); }
+}
 
 function keys(ev) {
   if (!$('view-hammer').classList.contains('active') || !hm.snap || !hm.snap.hits.length) return;
