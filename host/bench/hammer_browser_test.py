@@ -4,7 +4,8 @@
 The emulator's rig asks for a double hit at hit 2 and an overload at hit 4 (hammer_test_hits).
 The page starts a hammer test (after a refused one: the session's message is shown), a reload
 mid-test shows the hits again, the faulty hits come out rejected with their reasons and the
-others accepted, the operator rejects and accepts hit 1 from the keyboard, the test is saved;
+others accepted, the operator rejects and accepts hit 1 from the keyboard and hit 3 with the
+buttons, the test is saved;
 then `vibid modes --json` and `vibid frf-estimate` on the saved files with the saved hit list
 give exactly the modes the page holds and the FRF file the test saved. Prints the hit-to-screen
 latency (the completing block's arrival on the host to the FRF drawn in the browser).
@@ -148,6 +149,12 @@ def main():
         ActionChains(driver).send_keys_to_element(body, "a").perform()
         wait(driver, lambda d: hits(d)[0]["accepted"] is True and hits(d)[0]["decided_by"] == "operator",
              "hit 1 accepted by the key a")
+        # And with the buttons: hit 3 rejected, then accepted again.
+        driver.find_element(By.CSS_SELECTOR, "#hm-hits tr[data-index='3'] .hm-reject").click()
+        wait(driver, lambda d: hits(d)[2]["accepted"] is False, "hit 3 rejected by its button")
+        driver.find_element(By.CSS_SELECTOR, "#hm-hits tr[data-index='3'] .hm-accept").click()
+        wait(driver, lambda d: hits(d)[2]["accepted"] is True and hits(d)[2]["decided_by"] == "operator",
+             "hit 3 accepted by its button")
         accepted = js(driver, "return hammer.snap.accepted")
         check(accepted == sum(1 for x in hits(driver) if x["accepted"]) == len(h) - 3,
               "%d accepted hits on the page" % accepted)
