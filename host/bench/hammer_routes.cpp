@@ -151,6 +151,7 @@ class HammerTests {
       test->name = "hammer-" + TimeStamp() + "-" + std::to_string(k);
     test->dir = directory_ + "/" + test->name;
     test->settings = body;
+    test->ask = s.ask;
     o.live_csv_path = test->dir + "/live.csv";
     o.Validate();  // before anything is created: a refusal changes nothing
     Require(active != nullptr,
@@ -229,9 +230,11 @@ class HammerTests {
 
   // The acquisition thread's side.
   void OnStarted() {
+    // Only the acquisition this test asked for: another view's (started in between) is not fed.
+    const nlohmann::json running = board_.State().value("ask", nlohmann::json());
     std::lock_guard l(mutex_);
-    feeding_ = pending_;
-    pending_.reset();
+    feeding_.reset();
+    if (pending_ && pending_->ask == running) feeding_.swap(pending_);
     if (feeding_) {
       current_ = feeding_;
       current_->running = true;
@@ -291,6 +294,7 @@ class HammerTests {
     std::string name;
     std::string dir;
     nlohmann::json settings;
+    nlohmann::json ask;  // the acquisition it asked the board for
     std::unique_ptr<workflow::HammerSession> session;
     std::atomic<bool> running{false};
     mutable std::mutex mutex;  // saved, error
