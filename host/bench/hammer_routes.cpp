@@ -1,9 +1,12 @@
 #include "vibid/bench/hammer_routes.hpp"
 
+#include <algorithm>
+#include <atomic>
 #include <chrono>
 #include <ctime>
 #include <filesystem>
 #include <mutex>
+#include <span>
 
 #include "vibid/bench/acquisition_ask.hpp"
 #include "vibid/bench/assets.hpp"

@@ -14,6 +14,7 @@
 // the FRF) and `hammer-progress` (samples and hits pending, at most 10 a second).
 #pragma once
 
+#include <memory>
 #include <string>
 
 #include "vibid/bench/bench_board.hpp"
