@@ -440,12 +440,12 @@ void BenchBoard::Shutdown() {
   if (thread_.joinable()) thread_.join();
 }
 
-void BenchBoard::AddAcquisitionListener(AcquisitionListener listener) {
-  acquisition_listeners_.push_back(std::move(listener));
-}
-
 void BenchBoard::AddBlockListener(BlockListener listener) {
   listeners_.push_back(std::move(listener));
+}
+
+void BenchBoard::AddAcquisitionListener(AcquisitionListener listener) {
+  acquisition_listeners_.push_back(std::move(listener));
 }
 
 }  // namespace vibid::bench

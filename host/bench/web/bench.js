@@ -199,6 +199,7 @@ function showFit() {
 function connect() {
   const es = new EventSource('/api/live');
   const ls = document.getElementById('link-state');
+  bench.live = es;  // views listen on the same channel
   es.onopen = () => { ls.textContent = 'live'; };
   es.onerror = () => { ls.textContent = 'reconnecting…'; };
   es.addEventListener('state', e => onState(JSON.parse(e.data)));

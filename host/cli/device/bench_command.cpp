@@ -11,6 +11,7 @@
 #include "vibid/bench/bench_board.hpp"
 #include "vibid/bench/calibration_routes.hpp"
 #include "vibid/bench/identify_routes.hpp"
+#include "vibid/bench/hammer_routes.hpp"
 #include "vibid/bench/server.hpp"
 
 namespace vibid::cli {
@@ -43,6 +44,7 @@ void Run(const BenchArgs& a) {
         bench::BenchServer server(board, hub, {.bind = a.bind, .port = a.port, .token = {}});
         bench::AddCalibrationRoutes(server, board, a.out, VIBID_VERSION);
         bench::AddIdentifyRoutes(server, board, a.out);
+        const auto hammer = bench::AddHammerRoutes(server, board, hub, a.out);
         server.Start();
         std::cout << server.Url() << std::endl;
         std::cerr << "vibid: bench on " << c.Describe() << ", recordings in " << a.out

@@ -1,0 +1,233 @@
+#!/usr/bin/python3
+"""The bench's hammer test view in headless chromium against vibid-emu.
+
+The emulator's rig asks for a double hit at hit 2 and an overload at hit 4 (hammer_test_hits).
+The page starts a hammer test (after a refused one: the session's message is shown), a reload
+mid-test shows the hits again, the faulty hits come out rejected with their reasons and the
+others accepted, the operator rejects and accepts hit 1 from the keyboard and hit 3 with the
+buttons, the test is saved;
+then `vibid modes --json` and `vibid frf-estimate` on the saved files with the saved hit list
+give exactly the modes the page holds and the FRF file the test saved. Prints the hit-to-screen
+latency (the completing block's arrival on the host to the FRF drawn in the browser).
+
+  /usr/bin/python3 host/bench/hammer_browser_test.py --build build/host [--screenshots docs]
+"""
+import argparse
+import json
+import os
+import re
+import statistics
+import subprocess
+import sys
+import tempfile
+import time
+
+from selenium.webdriver.common.action_chains import ActionChains
+from selenium.webdriver.common.by import By
+
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+from browser_test import ROOT, Bench, browser, check, fail, wait  # noqa: E402
+
+# 5 kHz, the hammer's load cell and both accelerometers, hits on m2 every 1.5 s (0.7-1.3 x),
+# 1 s records: seven complete hits and one the end cuts off.
+SETTINGS = {"hm-seconds": "11", "hm-record": "1", "hm-params": "2, 100, 1.5, 0"}
+COLUMNS = ["--force", "force1_n", "--response", "acc1_m_s2,acc2_m_s2", "--impact", "--record-s",
+           "1", "--driving-point", "acc2_m_s2"]
+
+
+class HammerBench(Bench):
+    def __init__(self, build, work):
+        with open(os.path.join(ROOT, "host", "emulator", "rigs", "default.json")) as f:
+            rig = json.load(f)
+        rig["hammer_test_hits"] = {"double_hit": [2], "overload": [4]}
+        rig_path = os.path.join(work, "rig.json")
+        with open(rig_path, "w") as f:
+            json.dump(rig, f)
+        self.vibid = os.path.join(build, "host", "cli", "vibid")
+        emu = os.path.join(build, "host", "emulator", "vibid-emu")
+        self.work = work
+        self.emu = subprocess.Popen([emu, "--port", "0", "--realtime", "--rig", rig_path],
+                                    stdout=subprocess.PIPE, stderr=subprocess.DEVNULL, text=True)
+        port = re.search(r"127\.0\.0\.1:(\d+)", self.emu.stdout.readline())
+        check(port is not None, "no port in the emulator's banner")
+        self.device = "usbip://127.0.0.1:" + port.group(1)
+        self.server = None
+
+    def offline(self, *args):
+        r = subprocess.run([self.vibid, *args], capture_output=True, text=True, timeout=60)
+        check(r.returncode == 0, "vibid %s: %s" % (" ".join(args), r.stderr))
+        return r.stdout
+
+
+def js(driver, script):
+    return driver.execute_script(script)
+
+
+def hits(driver):
+    return js(driver, "return hammer.snap ? hammer.snap.hits : []") or []
+
+
+def fill(driver, values):
+    for field, value in values.items():
+        e = driver.find_element(By.ID, field)
+        e.clear()
+        e.send_keys(value)
+
+
+def main():
+    ap = argparse.ArgumentParser()
+    ap.add_argument("--build", default=os.path.join(ROOT, "build", "host"))
+    ap.add_argument("--screenshots", default=None, help="directory for the view's PNG")
+    ap.add_argument("--bench-seconds", type=float, default=0,
+                    help="instead of the test: a hammer test this long, one page open, and the "
+                         "hit-to-screen latency of every hit")
+    args = ap.parse_args()
+    if args.bench_seconds:
+        latency_bench(args)
+        return
+    t0 = time.monotonic()
+    work = tempfile.mkdtemp(prefix="vibid-hammer-browser-")
+    bench = HammerBench(os.path.abspath(args.build), work)
+    driver = None
+    try:
+        bench.calibrate()
+        bench.serve()
+        driver = browser()
+        driver.get(bench.url)
+        wait(driver, lambda d: d.execute_script("return document.body.dataset.ready") == "yes",
+             "the page to load")
+        driver.find_element(By.CSS_SELECTOR, "#tabs button[data-view=hammer]").click()
+        wait(driver, lambda d: d.find_element(By.ID, "view-hammer").get_attribute("data-ready") == "yes",
+             "the hammer view")
+        # A refused start: the session's own message, and nothing runs.
+        fill(driver, dict(SETTINGS, **{"hm-pretrigger": "0.8"}))
+        driver.find_element(By.ID, "hm-start").click()
+        wait(driver, lambda d: "pretrigger" in d.find_element(By.ID, "hm-status").text,
+             "the refusal of a pretrigger longer than half the record")
+        print("refused: " + driver.find_element(By.ID, "hm-status").text)
+        fill(driver, dict(SETTINGS, **{"hm-pretrigger": ""}))
+        driver.find_element(By.ID, "hm-pretrigger").clear()
+        wait(driver, lambda d: "records/s" in d.find_element(By.ID, "hm-preflight").text,
+             "the link budget")
+        print("preflight: " + driver.find_element(By.ID, "hm-preflight").text)
+        driver.find_element(By.ID, "hm-start").click()
+        wait(driver, lambda d: len(hits(d)) >= 3, "three hits judged", timeout=30)
+        # A reload mid-test: the hits come back, the test goes on.
+        before = len(hits(driver))
+        driver.refresh()
+        wait(driver, lambda d: d.execute_script("return document.body.dataset.ready") == "yes",
+             "the page after the reload")
+        driver.find_element(By.CSS_SELECTOR, "#tabs button[data-view=hammer]").click()
+        wait(driver, lambda d: len(hits(d)) >= before, "the hits after the reload")
+        check(js(driver, "return hammer.test.running") is True, "the test is not running after the reload")
+        check(driver.find_element(By.ID, "hm-seconds").get_attribute("value") == "11",
+              "the form after the reload does not show the running test's settings")
+        print("reload with %d hits judged: the page shows %d, the test goes on" % (before, len(hits(driver))))
+        wait(driver, lambda d: d.execute_script("return document.body.dataset.hammer") == "ended",
+             "the test to end", timeout=30)
+        h = hits(driver)
+        for x in h:
+            print("hit %d: %s%s, %s" % (x["index"], x["verdict"], (": " + x["reason"]) if x["reason"] else "",
+                                        "accepted" if x["accepted"] else "rejected"))
+        check(len(h) >= 6, "%d hits" % len(h))
+        check(h[1]["verdict"] == "double hit" and not h[1]["accepted"], "hit 2: %s" % h[1])
+        check(h[3]["verdict"] == "clipped" and not h[3]["accepted"] and "clipped" in h[3]["reason"],
+              "hit 4: %s" % h[3])
+        for x in h:
+            if x["index"] not in (2, 4) and x["verdict"] != "truncated":
+                check(x["verdict"] == "ok" and x["accepted"], "hit %d: %s" % (x["index"], x))
+        rows = driver.find_elements(By.CSS_SELECTOR, "#hm-hits tr[data-index]")
+        check("double hit" in rows[1].text and "clipped" in rows[3].text, "the rows: " + rows[1].text)
+        # The operator, from the keyboard: hit 1 rejected, then accepted again.
+        rows[0].click()
+        body = driver.find_element(By.TAG_NAME, "body")
+        ActionChains(driver).send_keys_to_element(body, "r").perform()
+        wait(driver, lambda d: hits(d)[0]["accepted"] is False, "hit 1 rejected by the key r")
+        ActionChains(driver).send_keys_to_element(body, "j").perform()
+        wait(driver, lambda d: d.execute_script("return hammer.sel") == 2, "j to move to hit 2")
+        ActionChains(driver).send_keys_to_element(body, "k").perform()
+        ActionChains(driver).send_keys_to_element(body, "a").perform()
+        wait(driver, lambda d: hits(d)[0]["accepted"] is True and hits(d)[0]["decided_by"] == "operator",
+             "hit 1 accepted by the key a")
+        # And with the buttons: hit 3 rejected, then accepted again.
+        driver.find_element(By.CSS_SELECTOR, "#hm-hits tr[data-index='3'] .hm-reject").click()
+        wait(driver, lambda d: hits(d)[2]["accepted"] is False, "hit 3 rejected by its button")
+        driver.find_element(By.CSS_SELECTOR, "#hm-hits tr[data-index='3'] .hm-accept").click()
+        wait(driver, lambda d: hits(d)[2]["accepted"] is True and hits(d)[2]["decided_by"] == "operator",
+             "hit 3 accepted by its button")
+        accepted = js(driver, "return hammer.snap.accepted")
+        check(accepted == sum(1 for x in hits(driver) if x["accepted"]) == len(h) - 3,
+              "%d accepted hits on the page" % accepted)
+        driver.find_element(By.ID, "hm-save").click()
+        wait(driver, lambda d: d.find_element(By.ID, "hm-save").get_attribute("data-dir"), "the save")
+        saved = driver.find_element(By.ID, "hm-save").get_attribute("data-dir")
+        wait(driver, lambda d: d.execute_script("return hammer.snap.modes !== null"), "the modes")
+        page_modes = js(driver, "return hammer.snap.modes")
+        table = driver.find_element(By.ID, "hm-modes").text
+        latencies = js(driver, "return hammer.latencies")
+        if args.screenshots:
+            driver.set_window_size(1400, 1750)
+            time.sleep(0.5)
+            driver.save_screenshot(os.path.join(args.screenshots, "bench-hammer.png"))
+    finally:
+        if driver is not None:
+            driver.quit()
+        bench.close()
+    rec, hit_list = os.path.join(saved, "recording.csv"), os.path.join(saved, "hits.json")
+    cli = json.loads(bench.offline("modes", rec, *COLUMNS, "--hits", hit_list, "--json"))
+    check(len(cli["modes"]) == len(page_modes) and len(page_modes) > 0,
+          "modes: page %d, CLI %d" % (len(page_modes), len(cli["modes"])))
+    for i, (p, c) in enumerate(zip(page_modes, cli["modes"])):
+        for k in ("freq_hz", "omega_rad_s", "zeta", "ratio", "shape", "ci95"):
+            check(p.get(k) == c.get(k), "mode %d %s: page %r, vibid modes %r" % (i + 1, k, p.get(k), c.get(k)))
+    check(("%.6g" % page_modes[0]["freq_hz"]) in table, "the modes table: " + table)
+    frf = os.path.join(work, "frf-cli.csv")
+    bench.offline("frf-estimate", rec, *COLUMNS[:-2], "--hits", hit_list, "-o", frf)
+    with open(frf, "rb") as a, open(os.path.join(saved, "frf.csv"), "rb") as b:
+        check(a.read() == b.read(), "frf-estimate's FRF differs from the saved frf.csv")
+    print("%d accepted hits: vibid modes gives the page's %d modes exactly (%s Hz); frf-estimate "
+          "writes the saved frf.csv byte for byte" % (accepted, len(page_modes),
+                                                      ", ".join("%.6g" % m["freq_hz"] for m in page_modes)))
+    check(len(latencies) >= 3, "latencies measured: %s" % latencies)
+    print("hit to screen (3 channels at 5 kHz): median %.1f ms, max %.1f ms over %d FRF updates"
+          % (statistics.median(latencies), max(latencies), len(latencies)))
+    print("hammer browser test: passed in %.1f s" % (time.monotonic() - t0))
+
+
+def latency_bench(args):
+    """Every hit of one long test: the block completing it arriving on the host (the server's
+    stamp) to the FRF plot's draw hook in the page (performance.timeOrigin + now())."""
+    work = tempfile.mkdtemp(prefix="vibid-hammer-latency-")
+    bench = HammerBench(os.path.abspath(args.build), work)
+    driver = None
+    try:
+        bench.calibrate()
+        bench.serve()
+        driver = browser()
+        driver.get(bench.url)
+        wait(driver, lambda d: d.execute_script("return document.body.dataset.ready") == "yes",
+             "the page to load")
+        driver.find_element(By.CSS_SELECTOR, "#tabs button[data-view=hammer]").click()
+        wait(driver, lambda d: d.find_element(By.ID, "view-hammer").get_attribute("data-ready") == "yes",
+             "the hammer view")
+        fill(driver, dict(SETTINGS, **{"hm-seconds": "%g" % args.bench_seconds}))
+        cpu0 = bench.cpu_s()
+        driver.find_element(By.ID, "hm-start").click()
+        wait(driver, lambda d: d.execute_script("return document.body.dataset.hammer") == "ended",
+             "the test to end", timeout=args.bench_seconds + 30)
+        cpu = 100.0 * (bench.cpu_s() - cpu0) / args.bench_seconds
+        latencies = js(driver, "return hammer.latencies")
+        n = len(hits(driver))
+        timing = js(driver, "return hammer.snap.timing_ms")
+    finally:
+        if driver is not None:
+            driver.quit()
+        bench.close()
+    print("hit to screen (3 channels at 5 kHz, %d hits, %d drawn): median %.1f ms, max %.1f ms; "
+          "the last update took %.1f ms (modes %.1f ms); server CPU %.1f %% of one core"
+          % (n, len(latencies), statistics.median(latencies), max(latencies), timing["update"],
+             timing["modes"], cpu))
+
+
+if __name__ == "__main__":
+    main()
