@@ -16,6 +16,7 @@ import argparse
 import json
 import os
 import re
+import shutil
 import statistics
 import subprocess
 import sys
@@ -33,6 +34,10 @@ from browser_test import ROOT, Bench, browser, check, fail, wait  # noqa: E402
 SETTINGS = {"hm-seconds": "11", "hm-record": "1", "hm-params": "2, 100, 1.5, 0"}
 COLUMNS = ["--force", "force1_n", "--response", "acc1_m_s2,acc2_m_s2", "--impact", "--record-s",
            "1", "--driving-point", "acc2_m_s2"]
+
+
+NOMINAL = os.path.join(ROOT, "examples", "rig_nominal.json")
+SENSORS = os.path.join(ROOT, "examples", "sensors.json")
 
 
 class HammerBench(Bench):
@@ -169,6 +174,30 @@ def main():
             driver.set_window_size(1400, 1750)
             time.sleep(0.5)
             driver.save_screenshot(os.path.join(args.screenshots, "bench-hammer.png"))
+        # The calibration view's first steps on the saved test: identify (the nominal chain, the
+        # saved recording as the modal test), then the observer design.
+        shutil.copy(NOMINAL, os.path.join(bench.data, "rig_nominal.json"))
+        saved_rel = os.path.relpath(saved, bench.data)
+        driver.find_element(By.CSS_SELECTOR, "#tabs button[data-view=calibration]").click()
+        for field, value in (("id-nominal", "rig_nominal.json"),
+                             ("id-modal", saved_rel + "/recording.csv"),
+                             ("id-output", "identified.json")):
+            driver.find_element(By.ID, field).clear()
+            driver.find_element(By.ID, field).send_keys(value)
+        driver.find_element(By.ID, "id-run").click()
+        wait(driver, lambda d: d.find_element(By.ID, "id-status").get_attribute("data-parameters"),
+             "the identification", timeout=60)
+        page_parameters = json.loads(
+            driver.find_element(By.ID, "id-status").get_attribute("data-parameters"))
+        page_table = driver.find_element(By.ID, "id-table").text
+        driver.find_element(By.ID, "design-run").click()
+        wait(driver, lambda d: d.find_element(By.ID, "design-summary").get_attribute("data-checksum"),
+             "the observer design", timeout=60)
+        page_checksum = int(driver.find_element(By.ID, "design-summary").get_attribute("data-checksum"))
+        if args.screenshots:
+            driver.set_window_size(1400, 1300)
+            time.sleep(0.5)
+            driver.save_screenshot(os.path.join(args.screenshots, "bench-identify.png"))
     finally:
         if driver is not None:
             driver.quit()
@@ -189,6 +218,27 @@ def main():
           "writes the saved frf.csv byte for byte" % (accepted, len(page_modes),
                                                       ", ".join("%.6g" % m["freq_hz"] for m in page_modes)))
     check(len(latencies) >= 3, "latencies measured: %s" % latencies)
+    # The same identification and design through the CLI: the same numbers and the same files.
+    report = os.path.join(work, "identify")
+    cli_model = os.path.join(work, "identified.json")
+    table = bench.offline("identify", "--nominal", NOMINAL, "--modal-test", rec, "-o", cli_model,
+                          "--report", report)
+    with open(os.path.join(report, "report.json")) as f:
+        cli_parameters = json.load(f)["parameters"]
+    check(page_parameters == cli_parameters,
+          "identify: page %r, vibid identify %r" % (page_parameters, cli_parameters))
+    check(page_table.strip() == table.strip(), "validation table: page\n%s\nCLI\n%s" % (page_table, table))
+    with open(cli_model) as a, open(os.path.join(bench.data, "identified.json")) as b:
+        check(json.load(a) == json.load(b), "the updated model files differ")
+    with open(SENSORS) as f:
+        force_fs = json.load(f)["channels"]["force1"]["full_scale"]
+    bench.offline("dob", "design", cli_model, "--force-fs-n", str(force_fs), "-o",
+                  os.path.join(work, "design_cli.json"))
+    with open(os.path.join(bench.data, "design.json")) as a, open(os.path.join(work, "design_cli.json")) as b:
+        check(json.load(a) == json.load(b), "the observer designs differ (page checksum %d)" % page_checksum)
+    print("calibration view: identify gives vibid identify's parameters and table exactly (m1 %.5g kg, "
+          "k1 %.5g N/m); the design equals vibid dob design's (checksum %d)"
+          % (page_parameters[0]["m_kg"], page_parameters[0]["k_n_per_m"], page_checksum))
     print("hit to screen (3 channels at 5 kHz): median %.1f ms, max %.1f ms over %d FRF updates"
           % (statistics.median(latencies), max(latencies), len(latencies)))
     print("hammer browser test: passed in %.1f s" % (time.monotonic() - t0))

@@ -321,6 +321,7 @@ async function identifyRun() {
     ['m' + p.position, fmt(p.m_kg, p.m_kg_ci95) + ' kg'],
     ['k' + p.position, fmt(p.k_n_per_m, p.k_n_per_m_ci95) + ' N/m']]));
   status.textContent = 'wrote ' + r.output + (r.warnings.length ? '; ' + r.warnings.join('; ') : '');
+  status.dataset.parameters = JSON.stringify(r.parameters);
   document.getElementById('design-model').value = r.output;
   document.getElementById('cal-model').value = r.output;
 }
@@ -333,6 +334,7 @@ async function designRun() {
   const r = await api('/api/cal/design', body);
   document.getElementById('design-summary').textContent =
     'wrote ' + r.output + ' (force full scale ' + r.force_fs_n + ' N, ' + r.fs_hz + ' Hz)\n' + r.summary;
+  document.getElementById('design-summary').dataset.checksum = String(r.checksum);
   document.getElementById('cal-design').value = r.output;
 }
 

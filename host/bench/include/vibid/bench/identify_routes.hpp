@@ -7,7 +7,7 @@
 //        -> the observer designed with `vibid dob design`'s defaults, written to `output`; the
 //           force full scale defaults to the board's calibrated load cell 1 (the CLI's default of
 //           100 N would be refused by the upload on a board whose cell is calibrated otherwise)
-// Every file is a name inside the bench's directory; outputs are written atomically.
+// Every file is inside the bench's directory; outputs are written atomically.
 #pragma once
 
 #include <string>
