@@ -16,19 +16,19 @@
 #include "vibid/dob/model_plant.hpp"
 #include "vibid/dob/quantize.hpp"
 #include "vibid/model/model.hpp"
+#include "vibid/workflow/observer_design.hpp"
 
 namespace vibid::python {
 namespace {
 
 using Vector = Eigen::Ref<const Eigen::VectorXd>;
 
-py::tuple Design(const model::Model& m, const dob::DobOptions& o) {
+py::tuple Design(const model::Model& m, const workflow::ObserverDesignRequest& request) {
   dob::DobDesign design;
   {
     py::gil_scoped_release release;
-    design = dob::DesignObserver(dob::PlantFromModel(m, o.input_dof, o.output_dof), o);
+    design = workflow::DesignObserverFor(m, request);
   }
-  if (!design.stable) throw NumericalError("observer refused: " + design.message);
   return py::make_tuple(ToPython(dob::DesignToJson(design)), design.max_pole_radius,
                         design.valid_band_lo_hz, design.valid_band_hi_hz,
                         design.fixed.predicted_noise_rms_n, design.fixed.predicted_snr_db);
@@ -78,8 +78,9 @@ py::dict Compare(const Vector& estimate, const Vector& measured, double fs_hz, d
 }  // namespace
 
 void RegisterObserver(py::module_& m) {
-  using O = dob::DobOptions;
-  py::class_<O>(m, "_DobOptions")
+  // The request `vibid dob design` fills from its options; its defaults are the CLI's.
+  using O = workflow::ObserverDesignRequest;
+  py::class_<O>(m, "_ObserverDesignRequest")
       .def(py::init<>())
       .def_readwrite("order", &O::order)
       .def_readwrite("relative_degree", &O::relative_degree)
@@ -87,28 +88,15 @@ void RegisterObserver(py::module_& m) {
       .def_readwrite("fs_hz", &O::fs_hz)
       .def_readwrite("input_dof", &O::input_dof)
       .def_readwrite("output_dof", &O::output_dof)
+      .def_readwrite("sensor", &O::sensor)
+      .def_readwrite("form", &O::form)
+      .def_readwrite("discretize", &O::discretize)
+      .def_readwrite("prototype", &O::prototype)
       .def_readwrite("leak_hz", &O::leak_hz)
-      .def_readwrite("force_full_scale_n", &O::force_full_scale_n)
-      .def_readwrite("sensor_full_scale", &O::sensor_full_scale)
-      .def_readwrite("output_full_scale_n", &O::output_full_scale_n)
-      .def_property(
-          "sensor", [](const O& o) { return std::string(dob::SensorName(o.sensor)); },
-          [](O& o, const std::string& s) { o.sensor = dob::ParseSensorKind(s); })
-      .def_property(
-          "binomial", [](const O& o) { return o.prototype == dob::QPrototype::kBinomial; },
-          [](O& o, bool b) {
-            o.prototype = b ? dob::QPrototype::kBinomial : dob::QPrototype::kButterworth;
-          })
-      .def_property(
-          "mimo", [](const O& o) { return o.form == dob::ObserverForm::kMimo; },
-          [](O& o, bool b) { o.form = b ? dob::ObserverForm::kMimo : dob::ObserverForm::kSiso; })
-      .def_property(
-          "zoh", [](const O& o) { return o.discretization == dob::Discretization::kZeroOrderHold; },
-          [](O& o, bool b) {
-            o.discretization =
-                b ? dob::Discretization::kZeroOrderHold : dob::Discretization::kTustin;
-          });
-  m.def("dob_design", &Design, py::arg("model"), py::arg("options"));
+      .def_readwrite("force_fs_n", &O::force_fs_n)
+      .def_readwrite("sensor_fs", &O::sensor_fs)
+      .def_readwrite("output_fs_n", &O::output_fs_n);
+  m.def("dob_design", &Design, py::arg("model"), py::arg("request"));
   m.def("dob_run_fixed", &RunFixed, py::arg("design"), py::arg("inputs"));
   m.def("dob_run_float", &RunFloat, py::arg("design"), py::arg("inputs"));
   m.def(

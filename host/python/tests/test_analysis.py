@@ -92,6 +92,8 @@ BAD_INPUTS = [
     (lambda: vibid.Board("bogus://x"), ValueError, "bogus://x"),
     (lambda: vibid.dob_design(vibid.load_model(ROOT / "examples" / "rig_nominal.json"),
                               input_dof=3), ValueError, "--input-dof 3 is out of range 1..2"),
+    (lambda: vibid.dob_design(vibid.load_model(ROOT / "examples" / "rig_nominal.json"),
+                              form="mixed"), ValueError, "--form 'mixed' is not one of siso, mimo"),
     (lambda: vibid.decay([], position="x1_m"), ValueError, "no recordings"),
 ]
 

@@ -657,33 +657,27 @@ class ObserverDesign:
                      predicted_noise_rms_n=self.predicted_noise_rms_n)
 
 
-def _choice(name, value, allowed):
-    if value not in allowed:
-        raise ValueError(f"--{name} '{value}': expected " + " or ".join(allowed))
-    return value
+_DESIGN = _vibid._ObserverDesignRequest()  # the library's defaults, those of `vibid dob design`
 
 
-def dob_design(model: Model, order: int = 5, relative_degree: int = 4, tau_s: float = 0.002,
-               fs_hz: float = 5000.0, input_dof: int = 2, output_dof: int = 2,
-               sensor: str = "disp", form: str = "siso", discretize: str = "tustin",
-               prototype: str = "butterworth", leak_hz: float = 0.05, force_fs_n: float = 100.0,
-               sensor_fs: float = 0.0, output_fs_n: float = 0.0) -> ObserverDesign:
+def dob_design(model: Model, order: int = _DESIGN.order,
+               relative_degree: int = _DESIGN.relative_degree, tau_s: float = _DESIGN.tau_s,
+               fs_hz: float = _DESIGN.fs_hz, input_dof: int = _DESIGN.input_dof,
+               output_dof: int = _DESIGN.output_dof, sensor: str = _DESIGN.sensor,
+               form: str = _DESIGN.form, discretize: str = _DESIGN.discretize,
+               prototype: str = _DESIGN.prototype, leak_hz: float = _DESIGN.leak_hz,
+               force_fs_n: float = _DESIGN.force_fs_n, sensor_fs: float = _DESIGN.sensor_fs,
+               output_fs_n: float = _DESIGN.output_fs_n) -> ObserverDesign:
     """Designs the observer for a model and quantizes it for the board (``vibid dob design``,
     same defaults): Q of order N and relative degree r with cut-off 1/tau_s rad/s, at fs_hz; the
     force acts on mass input_dof, the sensor on output_dof (from 1); full scales in N (force,
     output) and the sensor's unit (0: the sensor kind's default)."""
-    for name, dof in (("input-dof", input_dof), ("output-dof", output_dof)):
-        if not 1 <= dof <= model.dofs:
-            raise ValueError(f"--{name} {dof} is out of range 1..{model.dofs}")
-    o = _vibid._DobOptions()
-    o.order, o.relative_degree, o.tau_s, o.fs_hz = order, relative_degree, tau_s, fs_hz
-    o.input_dof, o.output_dof, o.sensor, o.leak_hz = input_dof - 1, output_dof - 1, sensor, leak_hz
-    o.mimo = _choice("form", form, ("siso", "mimo")) == "mimo"
-    o.zoh = _choice("discretize", discretize, ("tustin", "zoh")) == "zoh"
-    o.binomial = _choice("prototype", prototype, ("butterworth", "binomial")) == "binomial"
-    o.force_full_scale_n, o.sensor_full_scale, o.output_full_scale_n = \
-        force_fs_n, sensor_fs, output_fs_n
-    j, radius, lo, hi, noise, snr = _vibid.dob_design(model._m, o)
+    r = _vibid._ObserverDesignRequest()
+    r.order, r.relative_degree, r.tau_s, r.fs_hz = order, relative_degree, tau_s, fs_hz
+    r.input_dof, r.output_dof, r.sensor, r.form = input_dof, output_dof, sensor, form
+    r.discretize, r.prototype, r.leak_hz = discretize, prototype, leak_hz
+    r.force_fs_n, r.sensor_fs, r.output_fs_n = force_fs_n, sensor_fs, output_fs_n
+    j, radius, lo, hi, noise, snr = _vibid.dob_design(model._m, r)
     return ObserverDesign(json=j, max_pole_radius=radius, valid_band_hz=(lo, hi),
                           predicted_noise_rms_n=noise, predicted_snr_db=snr)
 

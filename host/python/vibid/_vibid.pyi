@@ -119,21 +119,21 @@ class _ReportRequest:
     skip_s: float
     notes: List[str]
 
-class _DobOptions:
+class _ObserverDesignRequest:
     order: int
     relative_degree: int
     tau_s: float
     fs_hz: float
     input_dof: int
     output_dof: int
-    leak_hz: float
-    force_full_scale_n: float
-    sensor_full_scale: float
-    output_full_scale_n: float
     sensor: str
-    binomial: bool
-    mimo: bool
-    zoh: bool
+    form: str
+    discretize: str
+    prototype: str
+    leak_hz: float
+    force_fs_n: float
+    sensor_fs: float
+    output_fs_n: float
 
 def load_model(path: str) -> _Model: ...
 def model_from_dict(d: dict, source: str = ...) -> _Model: ...
@@ -152,7 +152,7 @@ def default_segment(samples: int) -> int: ...
 def modes(inputs: List[str], options: _EstimationOptions, request: _ModeRequest) -> dict: ...
 def identify(nominal: _Model, request: _IdentifyRequest) -> Tuple[dict, dict, str]: ...
 def decay(request: _DecayRequest) -> dict: ...
-def dob_design(model: _Model, options: _DobOptions) -> tuple: ...
+def dob_design(model: _Model, request: _ObserverDesignRequest) -> tuple: ...
 def dob_run_fixed(design: dict, inputs: List[F64]) -> Tuple[F64, npt.NDArray[np.int32], int]: ...
 def dob_run_float(design: dict, inputs: List[F64]) -> F64: ...
 def lowpass(x: F64, cutoff_hz: float, fs_hz: float, order: int) -> F64: ...
