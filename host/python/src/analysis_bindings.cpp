@@ -2,7 +2,11 @@
 // frf-estimate`, `vibid modes` and `vibid identify` call it. Signals come in as numpy views:
 // a float64 C-ordered (channels, samples) array is a column-major (samples, channels) matrix, so
 // Eigen reads it in place.
+#include <optional>
+
 #include <pybind11/complex.h>
+#include <optional>
+
 #include <pybind11/eigen.h>
 #include <pybind11/numpy.h>
 #include <pybind11/stl.h>
@@ -60,6 +64,9 @@ py::dict EstimatedDict(const workflow::Estimated& e) {
   d["warnings"] = e.warnings;
   d["compensation"] = e.compensation;
   d["record_samples"] = e.record_samples;
+  // The library's FRF itself, kept with the arrays: modes on it later see every field the
+  // estimation set (windows, pretrigger, level variance), as `vibid modes` on a recording does.
+  d["_frf"] = py::cast(e.frf);
   return d;
 }
 
@@ -111,6 +118,50 @@ py::object Modes(const std::vector<std::string>& inputs, const workflow::Estimat
     j = workflow::ModeIdentificationJson(r, request.method, frf.response_names, notes);
   }
   return ToPython(j);
+}
+
+/// Modes of FRFs already in memory (each an estimate's own FRF, or one built from arrays), joined
+/// as responses, as `vibid modes` joins its inputs.
+py::object ModesOf(const std::vector<ident::Frf>& frfs, const std::vector<std::string>& sources,
+                   const workflow::ModeRequest& request) {
+  nlohmann::json j;
+  {
+    py::gil_scoped_release release;
+    Require(!frfs.empty(), "no FRF given");
+    for (const ident::Frf& f : frfs)
+      Require(f.quantity == ident::Quantity::kDisplacement,
+              "modes are identified from receptances; estimate with kind='receptance'");
+    const ident::Frf frf = workflow::JoinColumns(frfs, sources);
+    const ident::ModeIdentification r = workflow::IdentifyModes(frf, request);
+    j = workflow::ModeIdentificationJson(r, request.method, frf.response_names, {});
+  }
+  return ToPython(j);
+}
+
+/// An FRF from arrays (a receptance, mobility or accelerance `kind`): h lines x responses,
+/// coherence likewise (None: 1), uniform lines; what a FRF file without its estimation's extra
+/// columns gives.
+ident::Frf FrfFromArrays(const Eigen::VectorXd& freq_hz, const Eigen::MatrixXcd& h,
+                         const std::optional<Eigen::MatrixXd>& coherence, const std::string& kind,
+                         const std::vector<std::string>& responses, const std::string& force) {
+  Require(freq_hz.size() >= 2, "an FRF needs at least two frequency lines");
+  Require(h.rows() == freq_hz.size(), "h has " + std::to_string(h.rows()) + " lines, freq_hz " +
+                                          std::to_string(freq_hz.size()) +
+                                          "; give h shaped (n_out, 1, n_freq)");
+  Require(static_cast<std::size_t>(h.cols()) == responses.size(),
+          std::to_string(responses.size()) + " output names for " + std::to_string(h.cols()) +
+              " outputs");
+  Require(freq_hz.allFinite() && h.allFinite(), "freq_hz and h must hold finite numbers");
+  ident::Frf f;
+  f.freq_hz = freq_hz;
+  f.h = h;
+  f.coherence = coherence ? *coherence : Eigen::MatrixXd::Ones(h.rows(), h.cols());
+  Require(f.coherence.rows() == h.rows() && f.coherence.cols() == h.cols(),
+          "coherence must be shaped as h");
+  f.quantity = ident::ParseQuantity(kind);
+  f.response_names = responses;
+  f.force_name = force;
+  return f;
 }
 
 py::tuple Identify(const model::Model& nominal, const workflow::IdentifyRequest& request) {
@@ -231,6 +282,10 @@ void RegisterAnalysis(py::module_& m) {
         py::arg("fs_hz"), py::arg("force_name"), py::arg("response_names"), py::arg("options"));
   m.def("default_segment", &workflow::DefaultSegment, py::arg("samples"));
   m.def("modes", &Modes, py::arg("inputs"), py::arg("options"), py::arg("request"));
+  py::class_<ident::Frf>(m, "_Frf");
+  m.def("modes_of", &ModesOf, py::arg("frfs"), py::arg("sources"), py::arg("request"));
+  m.def("frf_from_arrays", &FrfFromArrays, py::arg("freq_hz"), py::arg("h"), py::arg("coherence"),
+        py::arg("kind"), py::arg("responses"), py::arg("force"));
   m.def("identify", &Identify, py::arg("nominal"), py::arg("request"));
 }
 

@@ -36,6 +36,34 @@ def test_modes_equal_cli_json():
     assert py.ci95["zeta"].shape == (len(cli["modes"]), 2)
 
 
+def test_modes_of_an_estimate_in_memory_equal_the_files():
+    # An array already in memory: the estimate's own FRF gives exactly what `vibid modes` gives
+    # on the recording (the CLI's JSON, notes aside: no file was read).
+    cli = cli_json("modes", LADISK, "--force", "force_N", "--response", "acceleration_g:g",
+                   "--json")
+    est = vibid.frf_estimate(LADISK, force="force_N", responses="acceleration_g:g")
+    py = vibid.modes(est)
+    cli.pop("notes")
+    mine = dict(py.json)
+    mine.pop("notes")
+    assert mine == cli
+    assert vibid.modes(est.frd).json["modes"] == cli["modes"]
+
+
+def test_modes_of_an_frd_from_arrays_are_the_model_s():
+    # A closed-form receptance (vibid.frf of the example chain, coherence 1) as a user would
+    # bring one: the modes are the model's undamped frequencies (vibid.modal), to 0.1 %.
+    model = vibid.load_model(ROOT / "examples" / "rig_nominal.json")
+    frd = vibid.frf(model, np.arange(0.1, 30.0, 0.05), input=2)
+    frd = vibid.Frd(freq_hz=frd.freq_hz, h=frd.h, kind=frd.kind, outputs=frd.outputs,
+                    inputs=frd.inputs)
+    found = sorted(m["freq_hz"] for m in vibid.modes(frd, method="fit").json["modes"])
+    expected = sorted(vibid.modal(model).freq_hz)
+    assert len(found) == len(expected)
+    for f, e in zip(found, expected):
+        assert abs(f - e) < 1e-3 * e, (found, expected)
+
+
 def test_h1_and_coherence_equal_scipy_on_the_same_segments():
     rng = np.random.default_rng(11)
     fs = 1000.0

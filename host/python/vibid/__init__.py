@@ -125,6 +125,9 @@ class Frd:
     outputs: list
     inputs: list
     coherence: Optional[np.ndarray] = None  #: (n_out, n_in, n_freq) for estimated FRFs
+    #: The library's own FRF when vibid estimated it (windows, pretrigger and level variance the
+    #: modes' intervals use); None for one built from arrays.
+    _frf: object = dataclasses.field(default=None, compare=False)
 
     @property
     def omega_rad_s(self) -> np.ndarray:
@@ -329,7 +332,7 @@ def _frf_estimate(d) -> FrfEstimate:
     h = np.asarray(d["h"])
     frd = Frd(freq_hz=np.asarray(d["freq_hz"]), h=h.T[:, None, :], kind=d["kind"],
               outputs=list(d["responses"]), inputs=[d["force"]],
-              coherence=np.asarray(d["coherence"]).T[:, None, :])
+              coherence=np.asarray(d["coherence"]).T[:, None, :], _frf=d["_frf"])
     return FrfEstimate(frd=frd, estimator=d["estimator"], averages=d["averages"],
                        impact=d["impact"], hits=[Hit(**h) for h in d["hits"]], note=d["note"],
                        warnings=list(d["warnings"]), compensation=d["compensation"])
@@ -430,21 +433,55 @@ def _modes(j: dict) -> Modes:
 def modes(inputs, method: str = "lscf", orders: str = "", driving_point: str = "",
           fmin_hz: Optional[float] = None, fmax_hz: Optional[float] = None,
           force: str = "", responses="", **options) -> Modes:
-    """Modes from FRF files or recordings of one hammer test (``vibid modes``): method lscf,
-    lsce, fit or peaks; orders "MIN:MAX[:STEP]"; the driving point by column name or 1-based
-    index (default: the last response). Recordings are estimated first (``frf_estimate``'s
-    options); several inputs are joined as responses."""
+    """Modes of one hammer test (``vibid modes``): method lscf, lsce, fit or peaks; orders
+    "MIN:MAX[:STEP]"; the driving point by column name or 1-based index (default: the last
+    response). ``inputs``: FRF files or recordings (estimated first with ``frf_estimate``'s
+    options), or FRFs in memory (a FrfEstimate, an Frd, or a list of them: a receptance shaped
+    (n_out, 1, n_freq)); several inputs are joined as responses."""
+    in_memory = [x for x in (inputs if isinstance(inputs, (list, tuple)) else [inputs])
+                 if isinstance(x, (Frd, FrfEstimate))]
+    if in_memory:
+        if len(in_memory) != (len(inputs) if isinstance(inputs, (list, tuple)) else 1):
+            raise TypeError("modes: give either files or FRFs in memory, not both")
+        if options or force or responses:
+            raise TypeError("modes of FRFs in memory take no estimation options: "
+                            "estimate with frf_estimate first")
+        return _modes(_vibid.modes_of([_library_frf(x) for x in in_memory],
+                                      [f"frf {i + 1}" for i in range(len(in_memory))],
+                                      _mode_request(method, orders, driving_point, fmin_hz,
+                                                    fmax_hz)))
     paths = [str(inputs)] if isinstance(inputs, (str, bytes)) or hasattr(inputs, "__fspath__") \
         else [str(p) for p in inputs]
     names = responses if isinstance(responses, str) else ",".join(responses)
     o = _estimation_options(force=force, responses=names, **options)
+    return _modes(_vibid.modes(paths, o, _mode_request(method, orders, driving_point, fmin_hz,
+                                                       fmax_hz)))
+
+
+def _mode_request(method, orders, driving_point, fmin_hz, fmax_hz):
     r = _vibid._ModeRequest()
     r.method, r.orders, r.driving_point = method, orders, str(driving_point)
     if fmin_hz is not None:
         r.fmin_hz = fmin_hz
     if fmax_hz is not None:
         r.fmax_hz = fmax_hz
-    return _modes(_vibid.modes(paths, o, r))
+    return r
+
+
+def _library_frf(x):
+    """The library's FRF of a FrfEstimate or Frd: its own when vibid estimated it, else one built
+    from the arrays (one input)."""
+    frd = x.frd if isinstance(x, FrfEstimate) else x
+    if frd._frf is not None:
+        return frd._frf
+    h = np.asarray(frd.h)
+    if h.ndim != 3 or h.shape[1] != 1:
+        raise ValueError(f"an Frd's h must be shaped (n_out, 1, n_freq), not {h.shape}")
+    coherence = None if frd.coherence is None else np.ascontiguousarray(
+        np.asarray(frd.coherence, dtype=float)[:, 0, :].T)
+    return _vibid.frf_from_arrays(np.asarray(frd.freq_hz, dtype=float),
+                                  np.ascontiguousarray(h[:, 0, :].T.astype(complex)), coherence,
+                                  frd.kind, [str(o) for o in frd.outputs], str(frd.inputs[0]))
 
 
 @dataclasses.dataclass(repr=False)
