@@ -1,6 +1,8 @@
 """FRF estimation and modes: the numbers of `vibid frf-estimate` and `vibid modes --json` on the
 same recording (the LADISK impact hammer record, testdata/), and H1 / coherence against
 scipy.signal.csd / welch on the same segments."""
+import time
+
 import numpy as np
 import pytest
 import scipy.signal
@@ -131,3 +133,35 @@ def test_bad_input_raises_with_message(call, exc, message):
     with pytest.raises(exc) as e:
         call()
     assert message in str(e.value)
+
+
+def test_a_long_computation_lets_other_python_threads_run():
+    # The GIL is released while the library computes: a Python thread beside a 2^22-sample FRF
+    # estimation keeps running. With the GIL held it would stop for the whole call (its longest
+    # pause would be the call's length); released, its pauses stay near the interpreter's 5 ms
+    # switch interval.
+    import threading
+    rng = np.random.default_rng(1)
+    n = 1 << 22
+    force = rng.standard_normal(n)
+    responses = np.ascontiguousarray(np.vstack([np.convolve(force, [0.5, 0.25])[:n]] * 2))
+    done = threading.Event()
+    timing = {}
+
+    def compute():
+        t0 = time.perf_counter()
+        vibid.frf_estimate_arrays(force, responses, 1000.0, welch=True)
+        timing["call_s"] = time.perf_counter() - t0
+        done.set()
+
+    worker = threading.Thread(target=compute)
+    longest = 0.0
+    last = time.perf_counter()
+    worker.start()
+    while not done.is_set():
+        now = time.perf_counter()
+        longest = max(longest, now - last)
+        last = now
+    worker.join()
+    assert timing["call_s"] > 0.05, timing  # long enough to tell the two apart
+    assert longest < 0.5 * timing["call_s"], (longest, timing)
