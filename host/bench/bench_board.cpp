@@ -1,3 +1,4 @@
+#include "vibid/bench/bench_files.hpp"
 #include "vibid/bench/bench_board.hpp"
 
 #include <chrono>
@@ -53,15 +54,6 @@ void AppendNumber(std::string& out, double v) {
   char b[32];
   std::snprintf(b, sizeof b, "%.7g", v);
   out += b;
-}
-
-std::string TimeStamp() {
-  const std::time_t now = std::time(nullptr);
-  std::tm tm{};
-  gmtime_r(&now, &tm);
-  char b[32];
-  std::strftime(b, sizeof b, "%Y%m%dT%H%M%SZ", &tm);
-  return b;
 }
 
 nlohmann::json Finite(double v) { return std::isfinite(v) ? nlohmann::json(v) : nlohmann::json(); }

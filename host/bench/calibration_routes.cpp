@@ -1,5 +1,7 @@
 #include "vibid/bench/calibration_routes.hpp"
 
+#include "vibid/bench/bench_files.hpp"
+
 #include <cstdio>
 
 #include "vibid/common/error.hpp"
@@ -9,28 +11,23 @@
 namespace vibid::bench {
 namespace {
 
-/// A file name inside `directory`, or an InputError: no folders, no dot files.
-std::string FileIn(const std::string& directory, const nlohmann::json& body, const char* key,
+/// A file of the request inside `directory` (FileIn), or "" for an optional one not given.
+std::string FileOf(const std::string& directory, const nlohmann::json& body, const char* key,
                    bool required) {
   if (!body.contains(key)) {
     Require(!required, std::string("'") + key + "' is missing");
     return {};
   }
-  Require(body[key].is_string(), std::string("'") + key + "' must be a file name");
-  const std::string name = body[key].get<std::string>();
-  Require(!name.empty() && name.find('/') == std::string::npos && name.front() != '.',
-          std::string("'") + key + "': '" + name +
-              "' is not a file name in the bench's directory (no folders)");
-  return directory + "/" + name;
+  return FileIn(directory, body[key], key);
 }
 
 device::UploadFiles Files(const std::string& directory, const nlohmann::json& body) {
   Require(body.is_object(), "the request must be a JSON object");
   RequireKnownKeys(body, {"model", "design", "sensors", "label"}, "the calibration request");
   device::UploadFiles f;
-  f.model = FileIn(directory, body, "model", true);
-  f.design = FileIn(directory, body, "design", true);
-  f.sensors = FileIn(directory, body, "sensors", false);
+  f.model = FileOf(directory, body, "model", true);
+  f.design = FileOf(directory, body, "design", true);
+  f.sensors = FileOf(directory, body, "sensors", false);
   if (body.contains("label")) {
     Require(body["label"].is_string(), "'label' must be a string");
     f.label = body["label"].get<std::string>();

@@ -1,3 +1,4 @@
+#include "vibid/bench/bench_files.hpp"
 #include "vibid/bench/hammer_routes.hpp"
 
 #include <algorithm>
@@ -28,15 +29,6 @@ double NowMs() {
   return std::chrono::duration<double, std::milli>(
              std::chrono::system_clock::now().time_since_epoch())
       .count();
-}
-
-std::string TimeStamp() {
-  const std::time_t now = std::time(nullptr);
-  std::tm tm{};
-  gmtime_r(&now, &tm);
-  char b[32];
-  std::strftime(b, sizeof b, "%Y%m%dT%H%M%SZ", &tm);
-  return b;
 }
 
 double NumberOr(const nlohmann::json& body, const char* key, double fallback) {

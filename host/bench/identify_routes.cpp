@@ -1,7 +1,6 @@
 #include "vibid/bench/identify_routes.hpp"
 
-#include <algorithm>
-
+#include "vibid/bench/bench_files.hpp"
 #include "vibid/common/atomic_file.hpp"
 #include "vibid/common/error.hpp"
 #include "vibid/common/json_file.hpp"
@@ -15,25 +14,6 @@
 
 namespace vibid::bench {
 namespace {
-
-/// `name` as a file inside `directory` (a saved test's folder may be named: "hammer-.../
-/// recording.csv"), or an InputError naming `what`: no absolute path, no part that is empty or
-/// starts with a dot (so no "..").
-std::string FileIn(const std::string& directory, const nlohmann::json& name,
-                   const std::string& what) {
-  Require(name.is_string(), "'" + what + "' must be a file name");
-  const std::string s = name.get<std::string>();
-  bool inside = !s.empty() && s.front() != '/';
-  for (std::size_t start = 0; inside && start <= s.size();) {
-    const std::size_t end = std::min(s.find('/', start), s.size());
-    inside = end > start && s[start] != '.';
-    start = end + 1;
-  }
-  Require(inside, "'" + what + "': '" + s +
-                      "' is not a file in the bench's directory (a name, or folder/name, with no "
-                      "part starting with a dot)");
-  return directory + "/" + s;
-}
 
 nlohmann::json Identify(const std::string& directory, const nlohmann::json& b) {
   Require(b.is_object(), "the request must be a JSON object");

@@ -189,9 +189,13 @@ TEST_F(BenchServerTest, CalibrationRequestsNameFilesInTheBenchDirectoryOnly) {
   const BoardFacts before = Facts();
   httplib::Client c = Client();
   const std::vector<std::pair<std::string, std::string>> bad = {
-      {R"({"model":"../../etc/passwd","design":"d.json"})", "no folders"},
-      {R"({"model":"/etc/passwd","design":"d.json"})", "no folders"},
-      {R"({"model":".hidden","design":"d.json"})", "no folders"},
+      {R"({"model":"../../etc/passwd","design":"d.json"})",
+       "is not a file in the bench's directory"},
+      {R"({"model":"/etc/passwd","design":"d.json"})", "is not a file in the bench's directory"},
+      {R"({"model":".hidden","design":"d.json"})", "is not a file in the bench's directory"},
+      {R"({"model":"saved/../../x.json","design":"d.json"})",
+       "is not a file in the bench's directory"},
+      {R"({"model":"saved//x.json","design":"d.json"})", "is not a file in the bench's directory"},
       {R"({"model":"m.json"})", "'design' is missing"},
       {R"({"model":"m.json","design":"d.json","sensor":"s.json"})", "unknown key 'sensor'"},
       {R"({"model":"missing.json","design":"d.json"})", "missing.json"},

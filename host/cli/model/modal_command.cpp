@@ -25,15 +25,6 @@ struct ModalArgs {
   std::string output;
 };
 
-const char* DampingName(model::DampingKind kind) {
-  switch (kind) {
-    case model::DampingKind::kNone: return "none";
-    case model::DampingKind::kProportional: return "proportional";
-    case model::DampingKind::kGeneral: return "general";
-  }
-  return "none";
-}
-
 std::string Format(const char* format, double value) {
   char buf[64];
   std::snprintf(buf, sizeof buf, format, value);
@@ -43,7 +34,7 @@ std::string Format(const char* format, double value) {
 std::string Table(const model::ModalResult& r) {
   const int n = r.size();
   std::string out =
-      "damping: " + std::string(DampingName(r.damping)) +
+      "damping: " + std::string(model::DampingKindName(r.damping)) +
       (r.damping == model::DampingKind::kGeneral ? " (zeta from complex eigenvalues)" : "") + "\n";
   out += "mode   freq_hz      omega_rad_s  zeta        ";
   if (n >= 2) out += "ratio_a1_a2  ";
@@ -71,7 +62,7 @@ nlohmann::json Json(const model::ModalResult& r) {
          // JSON has no NaN: a 1-DOF model has no ratio.
          {"ratio", std::isnan(r.ratio[i]) ? nlohmann::json(nullptr) : nlohmann::json(r.ratio[i])}});
   }
-  return {{"modes", modes}, {"damping", DampingName(r.damping)}};
+  return {{"modes", modes}, {"damping", model::DampingKindName(r.damping)}};
 }
 
 void Run(const ModalArgs& a) {

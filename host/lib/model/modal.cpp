@@ -12,6 +12,16 @@
 #include <Eigen/LU>
 
 namespace vibid::model {
+
+const char* DampingKindName(DampingKind kind) {
+  switch (kind) {
+    case DampingKind::kNone: return "none";
+    case DampingKind::kProportional: return "proportional";
+    case DampingKind::kGeneral: return "general";
+  }
+  return "none";
+}
+
 namespace {
 
 // Relative size of the off-diagonal of ΦᵀCΦ below which C counts as proportional (classical).

@@ -19,15 +19,6 @@
 namespace vibid::python {
 namespace {
 
-const char* DampingName(model::DampingKind kind) {
-  switch (kind) {
-    case model::DampingKind::kNone: return "none";
-    case model::DampingKind::kProportional: return "proportional";
-    case model::DampingKind::kGeneral: return "general";
-  }
-  return "none";
-}
-
 py::dict ModalDict(const model::Model& m) {
   model::ModalResult r;
   {
@@ -40,7 +31,7 @@ py::dict ModalDict(const model::Model& m) {
   d["zeta"] = r.zeta;
   d["shapes"] = r.shapes;
   d["ratio"] = r.ratio;
-  d["damping"] = DampingName(r.damping);
+  d["damping"] = model::DampingKindName(r.damping);
   return d;
 }
 

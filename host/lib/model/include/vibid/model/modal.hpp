@@ -13,6 +13,9 @@ enum class DampingKind {
   kGeneral,       ///< Non-classical C: ζ_i from the complex eigenvalues of the state matrix.
 };
 
+/// "none", "proportional", "general": the name `vibid modal` prints and its JSON holds.
+const char* DampingKindName(DampingKind kind);
+
 /// Mode i is column/entry i of every member, in ascending ω.
 struct ModalResult {
   Eigen::VectorXd omega_rad_s;  ///< Undamped natural frequencies, rad/s (0 for rigid-body modes).
