@@ -4,7 +4,7 @@
 //   POST /api/cal/preview {model, design, sensors?, label?} -> {current, staged, changes}
 //   POST /api/cal/upload  (the same body)                    -> {staged, crc32}
 //   POST /api/cal/commit  {}                                 -> {slot, sequence}
-// File names are names inside the bench's directory (no folders): the page cannot read other
+// Files are named inside the bench's directory (bench_files.hpp: FileIn): the page cannot read other
 // files through them.
 #pragma once
 
