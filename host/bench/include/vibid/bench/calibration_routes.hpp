@@ -4,8 +4,8 @@
 //   POST /api/cal/preview {model, design, sensors?, label?} -> {current, staged, changes}
 //   POST /api/cal/upload  (the same body)                    -> {staged, crc32}
 //   POST /api/cal/commit  {}                                 -> {slot, sequence}
-// Files are named inside the bench's directory (bench_files.hpp: FileIn): the page cannot read other
-// files through them.
+// Files are named inside the bench's directory (bench_files.hpp: FileIn): the page cannot read
+// other files through them.
 #pragma once
 
 #include <string>
