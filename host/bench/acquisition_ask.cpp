@@ -24,7 +24,7 @@ AcquisitionAsk ParseAcquisitionAsk(const nlohmann::json& body) {
   Require(body.is_object(), "the request must be a JSON object");
   RequireKnownKeys(body,
                    {"sample_period_us", "channels", "seconds", "log_dob", "scenario",
-                    "scenario_params", "fit_measured"},
+                    "scenario_params", "fit_measured", "fit_lowpass_hz"},
                    "the acquisition request");
   AcquisitionAsk a;
   Require(body.contains("sample_period_us"), "'sample_period_us' is missing");
@@ -86,6 +86,15 @@ AcquisitionAsk ParseAcquisitionAsk(const nlohmann::json& body) {
     Require((a.channel_mask & (1u << static_cast<unsigned>(c))) != 0,
             "'fit_measured': '" + a.fit_measured + "' is not among 'channels'");
     Require(a.log_dob, "'fit_measured' needs 'log_dob': the fit compares the observer's d̂");
+  }
+  if (body.contains("fit_lowpass_hz")) {
+    a.fit_lowpass_hz = Number(body["fit_lowpass_hz"], "fit_lowpass_hz");
+    const double nyquist_hz = 0.5e6 / a.sample_period_us;
+    Require(a.fit_lowpass_hz >= 0.0 && a.fit_lowpass_hz < nyquist_hz,
+            "'fit_lowpass_hz' must lie in [0, " + std::to_string(nyquist_hz) +
+                ") Hz (0: the raw d̂; below half the sample rate)");
+    Require(a.fit_lowpass_hz == 0.0 || !a.fit_measured.empty(),
+            "'fit_lowpass_hz' needs 'fit_measured'");
   }
   return a;
 }

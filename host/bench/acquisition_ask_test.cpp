@@ -31,6 +31,9 @@ TEST(AcquisitionAsk, ReadsTheRequestIntoTheBoardsConfiguration) {
   EXPECT_EQ(cfg.record_limit, 12500u);                 // 2.5 s x 5000 Hz
   EXPECT_EQ(cfg.decimation, 1u);
   EXPECT_EQ(cfg.flags, wire::kAcqFlagStream | wire::kAcqFlagLogDob);
+  EXPECT_EQ(a.fit_lowpass_hz, 0.0);  // the raw d̂ unless asked
+  j["fit_lowpass_hz"] = 4;
+  EXPECT_EQ(ParseAcquisitionAsk(j).fit_lowpass_hz, 4.0);
 }
 
 TEST(AcquisitionAsk, RefusesUnknownKeysTypesAndRanges) {
@@ -58,6 +61,16 @@ TEST(AcquisitionAsk, RefusesUnknownKeysTypesAndRanges) {
   nlohmann::json fit = Ask();
   fit["fit_measured"] = "acc2";
   EXPECT_NE(Refusal(fit).find("not a load cell"), std::string::npos);
+  nlohmann::json lowpass = Ask();
+  lowpass["log_dob"] = true;
+  lowpass["fit_measured"] = "force1";
+  lowpass["fit_lowpass_hz"] = 2500;  // half of 5000 Hz: no low-pass there
+  EXPECT_NE(Refusal(lowpass).find("'fit_lowpass_hz' must lie in [0, 2500"), std::string::npos);
+  lowpass["fit_lowpass_hz"] = -1;
+  EXPECT_NE(Refusal(lowpass).find("'fit_lowpass_hz' must lie in"), std::string::npos);
+  lowpass.erase("fit_measured");
+  lowpass["fit_lowpass_hz"] = 4;
+  EXPECT_NE(Refusal(lowpass).find("needs 'fit_measured'"), std::string::npos);
   EXPECT_NE(Refusal(nlohmann::json::array()).find("JSON object"), std::string::npos);
   nlohmann::json missing = Ask();
   missing.erase("channels");

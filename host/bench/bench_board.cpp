@@ -14,6 +14,7 @@
 #include "vibid/device/error.hpp"
 #include "vibid/device/link_budget.hpp"
 #include "vibid/dob/compare.hpp"
+#include "vibid/dob/lowpass.hpp"
 
 namespace vibid::bench {
 namespace {
@@ -378,8 +379,14 @@ void BenchBoard::UpdateFit(const device::LogTable& table) {
                                             static_cast<Eigen::Index>(fit_measured_.size()));
   nlohmann::json j = {{"window_s", static_cast<double>(fit_estimate_.size()) / fs_hz},
                       {"measured", ask_.fit_measured}};
+  if (ask_.fit_lowpass_hz > 0.0) j["lowpass_hz"] = ask_.fit_lowpass_hz;
   try {
-    const dob::Agreement g = dob::CompareSignals(e, m, fs_hz);
+    const dob::Agreement g =
+        ask_.fit_lowpass_hz > 0.0
+            ? dob::CompareSignals(
+                  dob::FiltFilt(dob::ButterworthLowpass(4, ask_.fit_lowpass_hz, fs_hz), e), m,
+                  fs_hz)
+            : dob::CompareSignals(e, m, fs_hz);
     j["fit_percent"] = Finite(g.fit_percent);
     j["correlation"] = Finite(g.correlation);
     j["delay_s"] = Finite(g.delay_s);

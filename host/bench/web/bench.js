@@ -122,6 +122,8 @@ function ask() {
   }
   const fit = document.getElementById('fit-measured').value;
   if (fit) a.fit_measured = fit;
+  const lp = document.getElementById('fit-lowpass').value.trim();
+  if (fit && lp) a.fit_lowpass_hz = Number(lp);  // the server checks it
   return a;
 }
 
@@ -192,7 +194,8 @@ function showFit() {
   if (f.refusal) { rows(t, [['fit', f.refusal]]); return; }
   rows(t, [['fit', fmt(f.fit_percent) + ' %'], ['correlation', fmt(f.correlation, 5)],
            ['delay', fmt(f.delay_s * 1000) + ' ms'], ['rmse', fmt(f.rmse_n) + ' N'],
-           ['window', fmt(f.window_s, 3) + ' s of ' + f.measured]]);
+           ['window', fmt(f.window_s, 3) + ' s of ' + f.measured],
+           ['d̂', f.lowpass_hz ? 'zero-phase low-pass at ' + fmt(f.lowpass_hz) + ' Hz (as dob run --lowpass-hz)' : 'raw']]);
   t.dataset.fitPercent = f.fit_percent;
 }
 

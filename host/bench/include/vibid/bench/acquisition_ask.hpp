@@ -23,10 +23,14 @@ struct AcquisitionAsk {
   std::vector<float> scenario_params;
   /// The load cell the observer view fits d̂ against ("" : none).
   std::string fit_measured;
+  /// The fit's d̂ through a zero-phase 4th-order Butterworth low-pass at this corner first, as
+  /// `vibid dob run --lowpass-hz` makes d_hat_lp_n (0: the raw d̂, as `dob compare` scores it).
+  double fit_lowpass_hz = 0.0;
 };
 
 /// Reads `body` (keys sample_period_us, channels, seconds, log_dob, scenario, scenario_params,
-/// fit_measured); InputError on an unknown key, a wrong type or a value out of range.
+/// fit_measured, fit_lowpass_hz); InputError on an unknown key, a wrong type or a value out of
+/// range.
 AcquisitionAsk ParseAcquisitionAsk(const nlohmann::json& body);
 
 /// The board's acquisition for `ask`: every sample logged (no decimation), streamed.
