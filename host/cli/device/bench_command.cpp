@@ -18,9 +18,11 @@ namespace vibid::cli {
 namespace {
 
 constexpr const char* kBenchHelp =
-    "Serve the live bench: a local web page with the board, a live scope, the observer's "
-    "running fit and the calibration upload. Prints its URL (with its access token) first; Ctrl-C "
-    "stops a running "
+    "Serve the live bench: a local web page with the board and a live scope, hammer tests hit by "
+    "hit\n"
+    "(verdicts, running FRF and modes), identification, observer design and calibration upload, "
+    "and the\n"
+    "observer's running fit. Prints its URL (with its access token) first; Ctrl-C stops a running\n"
     "acquisition keeping what it recorded, and ends the bench (exit 130)";
 
 struct BenchArgs {
@@ -75,7 +77,10 @@ void RegisterBenchCommand(CLI::App& app, const GlobalOptions& globals) {
                   "Address to listen on (default 127.0.0.1; another one is reachable from the "
                   "network and is warned about)")
       ->capture_default_str();
-  cmd->add_option("-o,--out", o->out, "Directory for the recordings (journals while they run)")
+  cmd->add_option(
+         "-o,--out", o->out,
+         "Directory for the recordings (journals while they run), saved tests and the files the\n"
+         "calibration view reads and writes")
       ->required();
 }
 
