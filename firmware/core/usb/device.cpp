@@ -73,7 +73,15 @@ void UsbDevice::Task() {
         }
         HandleSetup(SetupPacket::Decode(e.setup));
         break;
-      case EventKind::kTransferComplete: HandleTransferComplete(e.ep_addr, e.length); break;
+      case EventKind::kTransferComplete:
+        // An endpoint 0 completion of a transfer a newer SETUP (or a bus reset) abandoned: going
+        // on would arm that old transfer's next stage on endpoint 0 under the newer one.
+        if (EpNumber(e.ep_addr) == 0 && NewerSetupQueued(tail)) {
+          ++counters_.superseded_completions;
+          break;
+        }
+        HandleTransferComplete(e.ep_addr, e.length);
+        break;
       case EventKind::kSuspend:
         suspended_ = true;
         ++counters_.suspends;

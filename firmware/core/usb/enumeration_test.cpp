@@ -4,6 +4,7 @@
 
 #include <array>
 #include <cstdint>
+#include <vector>
 
 #include "usb_test_host.hpp"
 
@@ -237,6 +238,27 @@ TEST(UsbEnumeration, SetupSupersededBeforeTaskRanIsDropped) {
   EXPECT_FALSE(rig.dcd.PendingOn(0x80).active);
   EXPECT_EQ(rig.device.counters().superseded_setups, 2U);
   EXPECT_EQ(rig.device.state(), DeviceState::kDefault);
+}
+
+TEST(UsbEnumeration, CompletionOfAnAbandonedTransferArmsNothingForTheNewerOne) {
+  Rig rig;
+  rig.host.Enumerate(5);
+  // GET_STATUS (2 bytes IN) runs to its data stage; its IN completion waits in the queue when
+  // the host abandons the transfer and sends SET_INTERFACE with a data stage (wLength 65). The
+  // old completion must not arm the old transfer's status OUT (0 bytes) on endpoint 0: the new
+  // transfer's first data packet (64 bytes) needs its own 64-byte buffer.
+  rig.dcd.OnSetupHardware();
+  const std::array<std::uint8_t, 8> get_status = {0x80, 0x00, 0x00, 0x00, 0x00, 0x00, 0x02, 0x00};
+  rig.device.OnSetupReceived(get_status);
+  rig.device.Task();
+  ASSERT_TRUE(rig.dcd.PendingOn(0x80).active);
+  rig.dcd.PendingOn(0x80) = {};
+  rig.device.OnTransferComplete(0x80, 2);  // queued, not yet handled
+  std::vector<std::uint8_t> data(65, 0xBA);
+  const auto r = rig.host.Control({0x01, 0x0B, 0x00, 0x00, 0x01, 0x00, 0x41, 0x00}, data);
+  EXPECT_FALSE(r.protocol_error);
+  EXPECT_TRUE(r.stalled);  // SET_INTERFACE takes no data: the device ends it with a stall
+  EXPECT_EQ(rig.device.counters().superseded_completions, 1U);
 }
 
 TEST(UsbEnumeration, EventQueueOverflowIsCounted) {

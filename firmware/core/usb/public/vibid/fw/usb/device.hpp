@@ -31,6 +31,8 @@ struct UsbCounters {
   std::uint32_t event_overflows = 0;  ///< Events lost because Task() ran too late.
   std::uint32_t suspends = 0;
   std::uint32_t superseded_setups = 0;  ///< SETUPs dropped because a newer one was queued.
+  /// Endpoint 0 completions dropped because a newer SETUP or bus reset was queued behind them.
+  std::uint32_t superseded_completions = 0;
 };
 
 class UsbDevice final : public DcdEvents {
