@@ -18,6 +18,7 @@ Prints the figures (frame rate, server CPU); saves a screenshot of each view.
   /usr/bin/python3 host/bench/browser_test.py --build build/host [--screenshots docs]
 """
 import argparse
+import atexit
 import json
 import os
 import re
@@ -54,6 +55,8 @@ class Bench:
         self.emu = subprocess.Popen([emu, "--port", "0", "--realtime", "--flash",
                                      os.path.join(work, "flash.bin")],
                                     stdout=subprocess.PIPE, stderr=subprocess.DEVNULL, text=True)
+        # A failed check exits at once: the emulator and the bench must not outlive the test.
+        atexit.register(self.close)
         banner = self.emu.stdout.readline()
         port = re.search(r"127\.0\.0\.1:(\d+)", banner)
         check(port is not None, "no port in the emulator's banner: " + banner)
