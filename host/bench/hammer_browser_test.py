@@ -79,6 +79,24 @@ def fill(driver, values):
         e.send_keys(value)
 
 
+def open_hammer_view(bench):
+    """Calibrates the emulated board, starts the bench and opens its hammer view in chromium."""
+    bench.calibrate()
+    bench.serve()
+    driver = browser()
+    try:
+        driver.get(bench.url)
+        wait(driver, lambda d: d.execute_script("return document.body.dataset.ready") == "yes",
+             "the page to load")
+        driver.find_element(By.CSS_SELECTOR, "#tabs button[data-view=hammer]").click()
+        wait(driver, lambda d: d.find_element(By.ID, "view-hammer").get_attribute("data-ready") == "yes",
+             "the hammer view")
+    except BaseException:
+        driver.quit()  # the caller never gets it to quit
+        raise
+    return driver
+
+
 def main():
     ap = argparse.ArgumentParser()
     ap.add_argument("--build", default=os.path.join(ROOT, "build", "host"))
@@ -95,15 +113,7 @@ def main():
     bench = HammerBench(os.path.abspath(args.build), work)
     driver = None
     try:
-        bench.calibrate()
-        bench.serve()
-        driver = browser()
-        driver.get(bench.url)
-        wait(driver, lambda d: d.execute_script("return document.body.dataset.ready") == "yes",
-             "the page to load")
-        driver.find_element(By.CSS_SELECTOR, "#tabs button[data-view=hammer]").click()
-        wait(driver, lambda d: d.find_element(By.ID, "view-hammer").get_attribute("data-ready") == "yes",
-             "the hammer view")
+        driver = open_hammer_view(bench)
         # A refused start: the session's own message, and nothing runs.
         fill(driver, dict(SETTINGS, **{"hm-pretrigger": "0.8"}))
         driver.find_element(By.ID, "hm-start").click()
@@ -251,15 +261,7 @@ def latency_bench(args):
     bench = HammerBench(os.path.abspath(args.build), work)
     driver = None
     try:
-        bench.calibrate()
-        bench.serve()
-        driver = browser()
-        driver.get(bench.url)
-        wait(driver, lambda d: d.execute_script("return document.body.dataset.ready") == "yes",
-             "the page to load")
-        driver.find_element(By.CSS_SELECTOR, "#tabs button[data-view=hammer]").click()
-        wait(driver, lambda d: d.find_element(By.ID, "view-hammer").get_attribute("data-ready") == "yes",
-             "the hammer view")
+        driver = open_hammer_view(bench)
         fill(driver, dict(SETTINGS, **{"hm-seconds": "%g" % args.bench_seconds}))
         cpu0 = bench.cpu_s()
         driver.find_element(By.ID, "hm-start").click()
