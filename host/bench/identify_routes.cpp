@@ -5,7 +5,7 @@
 #include "vibid/common/error.hpp"
 #include "vibid/common/json_file.hpp"
 #include "vibid/common/json_keys.hpp"
-#include "vibid/device/calibration_builder.hpp"
+#include "vibid/device/calibration_upload.hpp"
 #include "vibid/dob/design_json.hpp"
 #include "vibid/ident/identify.hpp"
 #include "vibid/model/model_json.hpp"
@@ -62,11 +62,9 @@ nlohmann::json Design(BenchBoard& board, const std::string& directory, const nlo
   };
   number("fs_hz", request.fs_hz);
   if (!number("force_fs_n", request.force_fs_n)) {
-    const wire::CalibrationRecord* active = board.ActiveCalibration();
-    const auto& cell = active ? active->channels[static_cast<std::size_t>(wire::Channel::kForce1)]
-                              : wire::ChannelScaling{};
-    if (active != nullptr && cell.unit != wire::Unit::kCounts)
-      request.force_fs_n = device::FromChannelScaling(cell).full_scale;
+    request.force_fs_n =
+        device::CalibratedFullScale(board.ActiveCalibration(), wire::Channel::kForce1)
+            .value_or(request.force_fs_n);
   }
   const std::string output = FileIn(directory, b["output"], "output");
   const dob::DobDesign design = workflow::DesignObserverFor(

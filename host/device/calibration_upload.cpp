@@ -63,6 +63,14 @@ void KeepBoardSensors(RecordInputs& inputs, const wire::CalibrationRecord* activ
   }
 }
 
+std::optional<double> CalibratedFullScale(const wire::CalibrationRecord* active,
+                                          wire::Channel channel) {
+  if (active == nullptr) return std::nullopt;
+  const wire::ChannelScaling& s = active->channels[static_cast<std::size_t>(channel)];
+  if (s.unit == wire::Unit::kCounts) return std::nullopt;
+  return FromChannelScaling(s).full_scale;
+}
+
 nlohmann::json RecordJson(const wire::CalibrationRecord& r) {
   const std::size_t n = r.dof_count;
   nlohmann::json channels = nlohmann::json::object();

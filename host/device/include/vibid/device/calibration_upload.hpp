@@ -3,6 +3,7 @@
 // scaling kept when no sensors file is given, and the record as JSON.
 #pragma once
 
+#include <optional>
 #include <string>
 
 #include <nlohmann/json.hpp>
@@ -28,6 +29,12 @@ RecordInputs ReadRecordInputs(const UploadFiles& files, const std::string& host_
 /// Without a sensors file the record keeps the board's scaling: every calibrated channel of the
 /// active record (`active` null: the board is uncalibrated, an InputError asking for --sensors).
 void KeepBoardSensors(RecordInputs& inputs, const wire::CalibrationRecord* active);
+
+/// The SI full scale the board's active record gives `channel` (a load cell's, in N), or none
+/// when the board is uncalibrated (`active` null) or leaves the channel in counts: what an
+/// observer designed for this board takes as its force full scale unless told otherwise.
+std::optional<double> CalibratedFullScale(const wire::CalibrationRecord* active,
+                                          wire::Channel channel);
 
 /// The record as `cal show --json` prints it, without the slot, sequence and CRC the board adds:
 /// label, created_unix_s, host_version, M, C, K (dof x dof), channels (calibrated ones: unit,
