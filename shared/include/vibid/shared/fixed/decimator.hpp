@@ -41,7 +41,7 @@
 //   (uniform, 0.29 LSB rms), filtered by the following stages (gain <= 1 + ripple in their
 //   passband).
 //
-// Cost (bench/decimator/m4_instructions.py: 7 channels, Cortex-M4 under QEMU, cycles estimated
+// Cost (benchmarks/decimator/m4_instructions.py: 7 channels, Cortex-M4 under QEMU, cycles estimated
 // from the TRM timings): on average 375 (D = 625) .. 960 (D = 5) cycles per input frame, 2.2 ..
 // 5.7 % of a 168 MHz core at 10 kHz; the output tick, where every stage computes, up to 1.6k
 // (D = 2), 4.1k (D = 5, 50), 5.4k (D = 1000) and 6.7k (D = 625) cycles; the other ticks about

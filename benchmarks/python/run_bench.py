@@ -9,7 +9,7 @@ in place), and `import vibid` in fresh interpreters (best of 5, the module files
 cache). Library and Python runs alternate, so the machine's load hits both alike. Prints a
 Markdown table with the Python / library ratios.
 Usage (from the project root, after building the host preset):
-  /usr/bin/python3 bench/python/run_bench.py [BUILD_DIR] [REPEATS]
+  /usr/bin/python3 benchmarks/python/run_bench.py [BUILD_DIR] [REPEATS]
 """
 import os
 import subprocess

@@ -10,7 +10,7 @@ file, in one run:
 Prints a Markdown table of the wall times (process CPU time beside them: vibid's includes both
 threads), the ratios of the wall times (peer / vibid) and the targets, and the load average.
 Usage (from the project root, after building the host preset):
-  /usr/bin/python3 bench/frf/run_bench.py [BUILD_DIR]
+  /usr/bin/python3 benchmarks/frf/run_bench.py [BUILD_DIR]
 """
 import os
 import resource

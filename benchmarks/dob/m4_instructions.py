@@ -8,7 +8,7 @@ fall inside DobFilter::Step, StepBlock, Run and the program they run, vibid_fixe
 from arm-none-eabi-nm). The image runs StepBlock once over FRAMES frames. Prints
 the count per sample and per section beside CMSIS-DSP's q31 DF1 biquad (about 17 per section).
 
-Usage: /usr/bin/python3 bench/dob/m4_instructions.py [--no-build]
+Usage: /usr/bin/python3 benchmarks/dob/m4_instructions.py [--no-build]
 """
 import os
 import subprocess

@@ -1,7 +1,7 @@
 #!/usr/bin/python3
 """Cortex-M4 instructions of the anti-aliasing decimator, counted in QEMU (no plugins).
 
-Builds the firmware preset's decimator_m4_bench image (bench/decimator/m4_kernel_image.cpp: 7
+Builds the firmware preset's decimator_m4_bench image (benchmarks/decimator/m4_kernel_image.cpp: 7
 channels, PERIODS whole output periods at each factor in FACTORS), runs it in qemu-system-arm -M
 mps2-an386 with one instruction per translation block (-singlestep) and the execution log
 (-d exec,nochain), and counts, for every call of Decimator::Push, the instructions from its entry
@@ -18,7 +18,7 @@ and SMLAL 1; divides 7; taken branches 3, i.e. a two-cycle refill), the taken br
 the logged program counters. On the board, flash wait states the ART accelerator does not hide
 come on top.
 
-Usage: /usr/bin/python3 bench/decimator/m4_instructions.py [--no-build]
+Usage: /usr/bin/python3 benchmarks/decimator/m4_instructions.py [--no-build]
 """
 import os
 import re
