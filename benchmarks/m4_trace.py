@@ -1,4 +1,4 @@
-"""What the Cortex-M4 instruction counters in bench/ share: building a firmware-preset image and
+"""What the Cortex-M4 instruction counters in benchmarks/ share: building a firmware-preset image and
 running it in qemu-system-arm -M mps2-an386 with one instruction per translation block
 (-singlestep) and the execution log (-d exec,nochain), then reading the executed program counters.
 QEMU executes instructions, not cycles, and needs no plugin for this."""
@@ -13,12 +13,25 @@ ROOT = os.path.abspath(os.path.join(os.path.dirname(__file__), ".."))
 _PC = re.compile(r"\[[0-9a-f]+/([0-9a-f]+)/")
 
 
+def _build_dir():
+    """The firmware preset's build directory: build/firmware, or the one given by --build DIR."""
+    if "--build" in sys.argv:
+        i = sys.argv.index("--build")
+        if i + 1 >= len(sys.argv):
+            sys.exit("--build needs a directory")
+        return os.path.abspath(sys.argv[i + 1])
+    return os.path.join(ROOT, "build", "firmware")
+
+
+BUILD_DIR = _build_dir()
+
+
 def build(target):
-    """Configures the firmware preset and builds `target` (unless --no-build was given)."""
+    """Configures the firmware preset in BUILD_DIR and builds `target` (unless --no-build was given)."""
     if "--no-build" in sys.argv:
         return
-    subprocess.run(["cmake", "--preset", "firmware"], cwd=ROOT, check=True, stdout=subprocess.DEVNULL)
-    subprocess.run(["cmake", "--build", "--preset", "firmware", "--target", target], cwd=ROOT, check=True,
+    subprocess.run(["cmake", "--preset", "firmware", "-B", BUILD_DIR], cwd=ROOT, check=True, stdout=subprocess.DEVNULL)
+    subprocess.run(["cmake", "--build", BUILD_DIR, "-j2", "--target", target], cwd=ROOT, check=True,
                    stdout=subprocess.DEVNULL)
 
 

@@ -18,7 +18,7 @@ and SMLAL 1; divides 7; taken branches 3, i.e. a two-cycle refill), the taken br
 the logged program counters. On the board, flash wait states the ART accelerator does not hide
 come on top.
 
-Usage: /usr/bin/python3 benchmarks/decimator/m4_instructions.py [--no-build]
+Usage: /usr/bin/python3 benchmarks/decimator/m4_instructions.py [--no-build] [--build DIR]
 """
 import os
 import re
@@ -34,7 +34,7 @@ CHANNELS = 7
 CORE_HZ = 168e6
 INPUT_HZ = 10e3
 ROOT = os.path.abspath(os.path.join(os.path.dirname(__file__), "..", ".."))
-IMAGE = os.path.join(ROOT, "build", "firmware", "shared", "fixed", "decimator_m4_bench")
+IMAGE = os.path.join(m4_trace.BUILD_DIR, "shared", "fixed", "decimator_m4_bench")
 PUSH = "vibid::fixed::Decimator::Push("
 DRIVER = "vibid::fixed::(anonymous namespace)::Drive("
 

@@ -4,11 +4,11 @@
 Builds the firmware preset's dob_kernel_m4_bench image (default design: 2 inputs, 4 + 3 sections),
 runs it in qemu-system-arm -M mps2-an386 with one instruction per translation block
 (-singlestep) and the execution log (-d exec,nochain), and counts the logged program counters that
-fall inside DobFilter::Step, StepBlock, Run and the program they run, vibid_fixed_dob_run (ranges
+fall inside DobFilter::Step, StepBlock, the backend's DobKernel::Run and the program it runs, vibid_fixed_dob_run (ranges
 from arm-none-eabi-nm). The image runs StepBlock once over FRAMES frames. Prints
 the count per sample and per section beside CMSIS-DSP's q31 DF1 biquad (about 17 per section).
 
-Usage: /usr/bin/python3 benchmarks/dob/m4_instructions.py [--no-build]
+Usage: /usr/bin/python3 benchmarks/dob/m4_instructions.py [--no-build] [--build DIR]
 """
 import os
 import subprocess
@@ -24,9 +24,9 @@ SECTIONS = 7  # the vector's design: 4 + 3 sections
 CMSIS_PER_SECTION = 17
 TARGET_PER_SECTION = 30
 ROOT = os.path.abspath(os.path.join(os.path.dirname(__file__), "..", ".."))
-IMAGE = os.path.join(ROOT, "build", "firmware", "firmware", "testing", "dob_kernel_m4_bench")
+IMAGE = os.path.join(m4_trace.BUILD_DIR, "firmware", "testing", "dob_kernel_m4_bench")
 KERNEL = ("vibid::fixed::DobFilter::Step(", "vibid::fixed::DobFilter::StepBlock(",
-          "vibid::fixed::DobFilter::Run(", "vibid_fixed_dob_run")
+          "vibid::fixed::DobKernel::Run(", "vibid_fixed_dob_run")
 
 
 def kernel_ranges():

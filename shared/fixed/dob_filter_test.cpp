@@ -279,6 +279,77 @@ TEST(DobFilter, EveryShiftAndInputCountMatchesTheIntegerReference) {
   }
 }
 
+// One path of eight sections whose shifts start at every value in turn, all with and all without
+// error feedback: every shift and feedback mode at an even and at an odd position in the path
+// (a backend may compile sections by position), the path ending on either. The last runs put
+// a1 = -2^31 (a1 = -1.0, the only shift where |a1| < 1 + a2 allows it) in every section of shift
+// 0, at both positions. Quiet, then full-scale inputs, against the int64 reference.
+TEST(DobFilter, EverySectionKindAtEveryPositionMatchesTheIntegerReference) {
+  for (int run = 0; run < 36; ++run) {
+    const int first_shift = run % 16;
+    const bool feedback = (run / 16) % 2 == 1;
+    const bool a1_min = run >= 32;
+    FilterDescription d{};
+    d.input_count = 1;
+    d.sample_rate_hz = 1000;
+    d.output_full_scale_bits = FullScaleBits(1.0f);
+    d.input_kind[0] = InputKind::kForce;
+    d.input_full_scale_bits[0] = FullScaleBits(1.0f);
+    Path& p = d.paths[0];
+    p.output_shift = 2;
+    p.output_gain = 1234567891;
+    p.section_count = static_cast<std::uint8_t>(run % 2 == 0 ? kMaxSections : kMaxSections - 1);
+    for (std::size_t k = 0; k < p.section_count; ++k) {
+      // a1 = -2^31 runs: shift 0 at positions 0 and 1 (first_shift 0 and 15), both feedback modes.
+      const int s = a1_min ? ((run % 2 == 0 ? 0 : 15) + static_cast<int>(k)) % 16
+                           : (first_shift + static_cast<int>(k)) % 16;
+      const bool fb = a1_min ? run % 4 >= 2 : feedback;
+      const double one = std::ldexp(1.0, 31 - s);
+      const double rho = s == 0 ? 0.5 : 0.9;
+      const double gain = (k % 3 == 1 && s != 0) ? 1.5 : 0.5;  // shift 0: the coefficient bound
+      Section sec{.b0 = static_cast<std::int32_t>(0.4 * gain * one),
+                  .b1 = static_cast<std::int32_t>(0.3 * gain * one),
+                  .b2 = static_cast<std::int32_t>(0.2 * gain * one),
+                  .a1 = static_cast<std::int32_t>(-2.0 * rho * std::cos(0.5) * one),
+                  .a2 = static_cast<std::int32_t>(rho * rho * one),
+                  .shift = static_cast<std::uint8_t>(s),
+                  .feedback = fb ? ErrorFeedback::kSecondOrder : ErrorFeedback::kNone};
+      if (a1_min && s == 0) {
+        // z^2 - z + 0.6: poles of radius 0.77; |b| sum kept within the coefficient bound.
+        sec.a1 = std::numeric_limits<std::int32_t>::min();
+        sec.a2 = static_cast<std::int32_t>(0.6 * one);
+        sec.b0 = static_cast<std::int32_t>(0.15 * one);
+        sec.b1 = static_cast<std::int32_t>(0.1 * one);
+        sec.b2 = static_cast<std::int32_t>(-0.05 * one);
+      }
+      p.sections[k] = sec;
+    }
+    Seal(d);
+    DobFilter filter;
+    ASSERT_EQ(filter.Init(d), Status::kOk) << "run " << run;
+    IntegerReference ref(d);
+    constexpr std::size_t kFrames = 400;
+    static std::int32_t in[kFrames];
+    static std::int32_t out[kFrames];
+    std::uint32_t lcg = 777u + static_cast<std::uint32_t>(run);
+    for (std::size_t n = 0; n < kFrames; ++n) {
+      lcg = lcg * 1664525u + 1013904223u;
+      // Quiet noise, then a full-scale square wave (period 50) with noise: the sections' DC gains
+      // of 1.2 to 5.9 rail them.
+      const std::int32_t noise = static_cast<std::int32_t>(lcg) >> 8;
+      in[n] = n < kFrames / 2 ? noise : ((n / 25) % 2 == 0 ? 2000000000 : -2000000000) + noise;
+    }
+    ASSERT_EQ(filter.StepBlock(std::span<const std::int32_t>(in, kFrames),
+                               std::span<std::int32_t>(out, kFrames)),
+              Status::kOk);
+    std::size_t mismatches = 0;
+    for (std::size_t n = 0; n < kFrames; ++n) mismatches += out[n] != ref.Step(in + n);
+    EXPECT_EQ(mismatches, 0u) << "run " << run;
+    EXPECT_EQ(filter.saturation_count(), ref.saturations()) << "run " << run;
+    EXPECT_GT(ref.saturations(), 0u) << "run " << run;
+  }
+}
+
 TEST(DobFilter, ResetRestartsFromRest) {
   DobFilter filter;
   ASSERT_EQ(filter.Init(VectorDescription()), Status::kOk);
