@@ -85,6 +85,45 @@ std::array<AnalogSensor, 2> SensorPair(const nlohmann::json& json, const char* k
           SensorFromJson(json.at(key)[1], range_key, noise_key, source + " " + key + "[1]")};
 }
 
+// "response_inputs": {"acc1": 1, "x1": 3, ...}, the mass (from 1) each of the board's response
+// inputs is mounted on; every mass needs one. Left out: acc<i> and x<i> on mass i (1 or 2 masses).
+std::array<int, 4> ResponseInputs(const nlohmann::json& json, std::size_t masses,
+                                  const std::string& source) {
+  const std::string where = source + ": \"response_inputs\"";
+  std::array<int, 4> out{kUnmounted, kUnmounted, kUnmounted, kUnmounted};
+  if (!json.contains("response_inputs")) {
+    Require(masses <= 2, source + ": a rig of " + std::to_string(masses) +
+                             " masses names the response input on each mass: "
+                             "\"response_inputs\": {\"acc1\": 1, \"acc2\": 2, \"x1\": 3, ...} "
+                             "(inputs acc1, acc2, x1, x2; masses from 1)");
+    for (std::size_t i = 0; i < masses; ++i) {
+      out[i] = static_cast<int>(i);      // acc<i+1>
+      out[2 + i] = static_cast<int>(i);  // x<i+1>
+    }
+    return out;
+  }
+  const nlohmann::json& inputs = json.at("response_inputs");
+  Require(inputs.is_object() && !inputs.empty(),
+          where + " must be an object naming inputs: {\"acc1\": 1, \"x1\": 2, ...}");
+  RequireKnownKeys(inputs, {"acc1", "acc2", "x1", "x2"}, "rig file " + source + " response_inputs");
+  for (std::size_t c = 0; c < kResponseInputNames.size(); ++c) {
+    const char* name = kResponseInputNames[c];
+    if (!inputs.contains(name)) continue;
+    const nlohmann::json& m = inputs.at(name);
+    Require(
+        m.is_number_integer() && m.get<long long>() >= 1 &&
+            m.get<long long>() <= static_cast<long long>(masses),
+        where + ": \"" + name + "\" must name a mass of the rig, 1 to " + std::to_string(masses));
+    out[c] = m.get<int>() - 1;
+  }
+  for (std::size_t i = 0; i < masses; ++i) {
+    Require(std::find(out.begin(), out.end(), static_cast<int>(i)) != out.end(),
+            where + ": no input measures mass " + std::to_string(i + 1) +
+                " (each mass needs one of acc1, acc2, x1, x2)");
+  }
+  return out;
+}
+
 std::string FormatRate(double hz) {
   std::ostringstream o;
   o << hz << " Hz";
@@ -139,7 +178,7 @@ RigSpec RigFromJson(const nlohmann::json& json, const std::string& source) {
       json,
       {"topology", "masses_kg", "effective_mass_loss", "springs_n_per_m", "dampers_ns_per_m",
        "coulomb_n", "load_cells", "accelerometers", "encoder_counts_per_m", "max_sample_rate_hz",
-       "brown_out_level", "hammer_test_hits"},
+       "brown_out_level", "hammer_test_hits", "response_inputs", "hammer_mass"},
       "rig file " + source);
   // Compared as a JSON value: a topology of another type is a wrong value, not a type error.
   Require(json.value("topology", nlohmann::json()) == "chain",
@@ -148,8 +187,10 @@ RigSpec RigFromJson(const nlohmann::json& json, const std::string& source) {
   Require(json.contains("masses_kg") && json.at("masses_kg").is_array(),
           source + ": missing \"masses_kg\"");
   const std::size_t n = json.at("masses_kg").size();
-  Require(n == 1 || n == 2,
-          source + ": the rig has 1 or 2 masses (the board has two accelerometers)");
+  Require(n >= 1 && n <= static_cast<std::size_t>(kMaxMasses),
+          source + ": the rig has 1 to " + std::to_string(kMaxMasses) +
+              " masses (the board has four response inputs, acc1, acc2, x1, x2, and each mass "
+              "needs one)");
   r.masses_kg = NumberArray(json, "masses_kg", source, n, true);
   r.springs_n_per_m = NumberArray(json, "springs_n_per_m", source, n, true);
   r.dampers_ns_per_m = NumberArray(json, "dampers_ns_per_m", source, n, false);
@@ -158,6 +199,14 @@ RigSpec RigFromJson(const nlohmann::json& json, const std::string& source) {
   for (double loss : r.effective_mass_loss) {
     Require(loss < 0.5,
             source + ": \"effective_mass_loss\" must be below 0.5 (a fraction of the mass)");
+  }
+  r.input_mass = ResponseInputs(json, n, source);
+  if (json.contains("hammer_mass")) {
+    const nlohmann::json& h = json.at("hammer_mass");
+    Require(h.is_number_integer() && h.get<long long>() >= 1 &&
+                h.get<long long>() <= static_cast<long long>(n),
+            source + ": \"hammer_mass\" must be a mass of the rig, 1 to " + std::to_string(n));
+    r.hammer_mass = h.get<int>() - 1;
   }
   r.load_cells = SensorPair(json, "load_cells", "range_n", "noise_n", source);
   r.accelerometers = SensorPair(json, "accelerometers", "range_m_s2", "noise_m_s2", source);
@@ -231,6 +280,12 @@ nlohmann::json RigToJson(const RigSpec& r) {
                                           : r.brown_out == wire::BrownOut::kLevel1 ? "level1"
                                           : r.brown_out == wire::BrownOut::kOff    ? "off"
                                                                                    : "level3"}};
+  nlohmann::json inputs = nlohmann::json::object();
+  for (std::size_t c = 0; c < kResponseInputNames.size(); ++c) {
+    if (r.input_mass[c] != kUnmounted) inputs[kResponseInputNames[c]] = r.input_mass[c] + 1;
+  }
+  j["response_inputs"] = inputs;
+  if (r.hammer_mass != kUnmounted) j["hammer_mass"] = r.hammer_mass + 1;
   // Only a rig that asks for test hits names them: a rig file as before stays as it was.
   if (!r.double_hits.empty() || !r.overloads.empty())
     j["hammer_test_hits"] = {{"double_hit", r.double_hits}, {"overload", r.overloads}};
@@ -249,6 +304,16 @@ nlohmann::json TruthToJson(const RigSpec& r) {
 
 RigSimulator::RigSimulator(RigSpec spec, std::uint64_t seed) : spec_(std::move(spec)), seed_(seed) {
   (void)spec_.Truth();  // validates
+  Require(spec_.dofs() >= 1 && spec_.dofs() <= kMaxMasses,
+          "the rig has 1 to " + std::to_string(kMaxMasses) + " masses");
+  for (std::size_t c = 0; c < spec_.input_mass.size(); ++c) {
+    Require(spec_.input_mass[c] == kUnmounted ||
+                (spec_.input_mass[c] >= 0 && spec_.input_mass[c] < spec_.dofs()),
+            std::string("response input ") + kResponseInputNames[c] + " is on no mass of the rig");
+  }
+  Require(spec_.hammer_mass == kUnmounted ||
+              (spec_.hammer_mass >= 0 && spec_.hammer_mass < spec_.dofs()),
+          "the hammer's mass is no mass of the rig");
   for (std::size_t c = 0; c < wire::kChannelCount; ++c)
     instant_s_[c] = kBoardProfile.sample_instant_ns(c) * 1e-9;
 }
@@ -273,7 +338,9 @@ void RigSimulator::Select(const Scenario& scenario) {
 
 Status RigSimulator::SelectScenario(const wire::ScenarioRequest& request, wire::Refusal& why) {
   Scenario s;
-  if (const Status st = ParseScenario(request, spec_.dofs(), s, &why); st != Status::kOk) return st;
+  if (const Status st = ParseScenario(request, spec_.dofs(), s, &why, spec_.hammer_mass);
+      st != Status::kOk)
+    return st;
   Select(s);
   return Status::kOk;
 }
@@ -282,7 +349,8 @@ model::Model RigSimulator::ActiveModel() const {
   const model::Model truth = spec_.Truth();
   if (scenario_.configuration == Configuration::kChain) return truth;
   // One mass alone on its own spring and dashpot to ground.
-  const int i = scenario_.configuration == Configuration::kMass1Alone ? 0 : 1;
+  const int i = AloneMass(scenario_.configuration);
+  Require(i >= 0 && i < spec_.dofs(), "the configuration leaves alone a mass the rig lacks");
   const auto u = static_cast<std::size_t>(i);
   Eigen::VectorXd m(1), k(1), c(1);
   m(0) = truth.m_kg(i, i);
@@ -303,12 +371,10 @@ void RigSimulator::Start(double dt_s) {
   normal_.reset();
 
   moving_.clear();
-  switch (scenario_.configuration) {
-    case Configuration::kChain:
-      for (int i = 0; i < spec_.dofs(); ++i) moving_.push_back(i);
-      break;
-    case Configuration::kMass1Alone: moving_.push_back(0); break;
-    case Configuration::kMass2Alone: moving_.push_back(1); break;
+  if (scenario_.configuration == Configuration::kChain) {
+    for (int i = 0; i < spec_.dofs(); ++i) moving_.push_back(i);
+  } else {
+    moving_.push_back(AloneMass(scenario_.configuration));
   }
   const model::StateSpace continuous = model::ModelStateSpace(ActiveModel());
   discrete_ = model::Discretize(continuous, dt_s);
@@ -325,6 +391,28 @@ void RigSimulator::Start(double dt_s) {
   state_ = Eigen::VectorXd::Zero(2 * n);
   input_ = Eigen::VectorXd::Zero(n);
   output_ = Eigen::VectorXd::Zero(3 * n);
+  part_outputs_.assign(1 + part_steps_.size(), Eigen::VectorXd::Zero(3 * n));
+  for (std::size_t c = 0; c < wire::kChannelCount; ++c) {
+    channel_outputs_[c] = 0;
+    for (std::size_t p = 0; p < part_steps_.size(); ++p) {
+      if (part_steps_[p].first == instant_s_[c]) channel_outputs_[c] = 1 + p;
+    }
+  }
+  // Rows of the outputs (positions 0..n-1, velocities n..2n-1, accelerations 2n..3n-1) each
+  // response input and each mass's truths read; -1 for a mass that does not move.
+  const auto row_of = [&](int mass) -> Eigen::Index {
+    const auto at = std::find(moving_.begin(), moving_.end(), mass);
+    return at == moving_.end() ? -1 : static_cast<Eigen::Index>(at - moving_.begin());
+  };
+  for (std::size_t c = 0; c < input_row_.size(); ++c) {
+    const Eigen::Index j = spec_.input_mass[c] == kUnmounted ? -1 : row_of(spec_.input_mass[c]);
+    input_row_[c] = j < 0 ? -1 : (c < 2 ? 2 * n + j : j);  // acc1, acc2, then x1, x2
+  }
+  for (int mass = 0; mass < kMaxMasses; ++mass) {
+    const Eigen::Index j = row_of(mass);
+    x_row_[static_cast<std::size_t>(mass)] = j;
+    a_row_[static_cast<std::size_t>(mass)] = j < 0 ? -1 : 2 * n + j;
+  }
 
   pulses_.clear();
   next_hit_s_ = kFirstEventS;
@@ -408,7 +496,7 @@ void RigSimulator::Step(std::array<std::int32_t, wire::kChannelCount>& raw) {
 
   const auto n = static_cast<Eigen::Index>(moving_.size());
   // Forces held over this sample: excitation on its mass, the push on the last mass, friction.
-  // The shaker drives m2 in the chain; a mass alone takes every force.
+  // The shaker drives the last mass of the chain; a mass alone takes every force.
   const int excited = scenario_.kind == ScenarioKind::kShaker ? spec_.dofs() - 1 : scenario_.mass;
   for (Eigen::Index j = 0; j < n; ++j) {
     const int mass = moving_[static_cast<std::size_t>(j)];
@@ -422,17 +510,35 @@ void RigSimulator::Step(std::array<std::int32_t, wire::kChannelCount>& raw) {
   }
   output_.noalias() = discrete_.C * state_;
   output_.noalias() += discrete_.D * input_;
+  part_outputs_[0] = output_;
+  for (std::size_t p = 0; p < part_steps_.size(); ++p) {
+    // Only the instants a response input reads (not load cell 2's).
+    if (std::none_of(channel_outputs_.begin() + 2, channel_outputs_.end(),
+                     [&](std::size_t o) { return o == 1 + p; }))
+      continue;
+    const model::StateSpace& step = part_steps_[p].second;
+    part_state_.noalias() = step.A * state_;
+    part_state_.noalias() += step.B * input_;
+    part_outputs_[1 + p].noalias() = step.C * part_state_;
+    part_outputs_[1 + p].noalias() += step.D * input_;
+  }
 
-  // Positions at the encoders' instant, accelerations at the accelerometers'.
-  std::array<double, 2> x{}, a{};
-  for (Eigen::Index j = 0; j < n; ++j) {
-    const auto mass = static_cast<std::size_t>(moving_[static_cast<std::size_t>(j)]);
-    x[mass] = OutputsAt(instant_s_[4 + mass])(j);
-    a[mass] = OutputsAt(instant_s_[2 + mass])(2 * n + j);
+  // Each response input reads its mass at its own instant (0 when its mass does not move); the
+  // truths are each mass's position at the encoders' instant, acceleration at the
+  // accelerometers'.
+  const auto read = [&](std::size_t channel, Eigen::Index row) {
+    return row < 0 ? 0.0 : part_outputs_[channel_outputs_[channel]](row);
+  };
+  std::array<double, 4> response{};
+  for (std::size_t c = 0; c < response.size(); ++c) response[c] = read(2 + c, input_row_[c]);
+  std::array<double, kMaxMasses> x{}, a{};
+  for (std::size_t mass = 0; mass < x.size(); ++mass) {
+    x[mass] = read(4, x_row_[mass]);
+    a[mass] = read(2, a_row_[mass]);
   }
   last_ = Truths{force, push, x, a};
 
-  std::array<double, 4> analog{force, push, a[0], a[1]};
+  std::array<double, 4> analog{force, push, response[0], response[1]};
   const std::array<const AnalogSensor*, 4> sensor{&spec_.load_cells[0], &spec_.load_cells[1],
                                                   &spec_.accelerometers[0],
                                                   &spec_.accelerometers[1]};
@@ -446,24 +552,12 @@ void RigSimulator::Step(std::array<std::int32_t, wire::kChannelCount>& raw) {
   for (std::size_t c = 0; c < analog.size(); ++c)
     raw[c] = sensor[c]->Code(analog[c] + Noise(sensor[c]->noise_rms));
   for (std::size_t i = 0; i < 2; ++i) {
-    raw[4 + i] = static_cast<std::int32_t>(std::floor(x[i] * spec_.encoder_counts_per_m));
+    raw[4 + i] =
+        static_cast<std::int32_t>(std::floor(response[2 + i] * spec_.encoder_counts_per_m));
   }
 
   state_ = discrete_.A * state_ + discrete_.B * input_;
   ++tick_;
-}
-
-const Eigen::VectorXd& RigSimulator::OutputsAt(double instant_s) {
-  if (instant_s == 0.0) return output_;
-  for (const auto& [instant, step] : part_steps_) {
-    if (instant != instant_s) continue;
-    part_state_.noalias() = step.A * state_;
-    part_state_.noalias() += step.B * input_;
-    part_output_.noalias() = step.C * part_state_;
-    part_output_.noalias() += step.D * input_;
-    return part_output_;
-  }
-  throw std::logic_error("no step to a sampling instant");
 }
 
 }  // namespace vibid::emu

@@ -1,6 +1,7 @@
-// The simulated rig: a series chain of one or two masses on springs (methods §1, rig A), its true
-// parameters, Coulomb friction, the sensors the board samples, and the excitations of the
-// scenarios. Everything the host is meant to discover lives here and only here.
+// The simulated rig: a series chain of one to four masses on springs (methods §1, rig A), its true
+// parameters, Coulomb friction per mass, the board's response inputs (two accelerometers, two
+// encoders) each mounted on a mass, and the excitations of the scenarios. Everything the host is
+// meant to discover lives here and only here.
 //
 // Stepping is exact for the linear part: the state advances by the zero-order-hold
 // discretization of (M, C, K) at the sample period (vibid::model::Discretize), with the applied
@@ -44,6 +45,16 @@ struct AnalogSensor {
   double Value(std::int32_t code) const;
 };
 
+/// The most masses a rig may have: the board has four response inputs (acc1, acc2, x1, x2) and
+/// every mass must be measured by one of them.
+inline constexpr int kMaxMasses = 4;
+
+/// The board's response inputs, in wire::Channel order from channel 2: acc1, acc2, x1, x2.
+inline constexpr std::array<const char*, 4> kResponseInputNames{"acc1", "acc2", "x1", "x2"};
+/// Marks a response input mounted on no mass (it reads the rig at rest: mid code plus its
+/// converter's noise, or encoder count 0).
+inline constexpr int kUnmounted = -1;
+
 struct RigSpec {
   /// Plate masses as built; the dynamics use masses_kg · (1 − effective_mass_loss) (methods §6).
   std::vector<double> masses_kg;
@@ -52,8 +63,15 @@ struct RigSpec {
   std::vector<double> dampers_ns_per_m;
   std::vector<double> coulomb_n;                 ///< Coulomb friction force per mass (guide), N
   std::array<AnalogSensor, 2> load_cells{};      ///< hammer/shaker/pull, hand push
-  std::array<AnalogSensor, 2> accelerometers{};  ///< on mass 1, mass 2
+  std::array<AnalogSensor, 2> accelerometers{};  ///< acc1, acc2 (mounted per `input_mass`)
   double encoder_counts_per_m = 0.0;
+  /// The 0-based mass each response input (acc1, acc2, x1, x2) is mounted on, or kUnmounted.
+  /// Rig file key "response_inputs": {"acc1": 1, "x1": 3, ...} (masses from 1; an input left out
+  /// is unmounted); without it, a rig of one or two masses has acc<i> and x<i> on mass i.
+  std::array<int, 4> input_mass{0, 1, 0, 1};
+  /// The 0-based mass the hammer scenario hits when its mass parameter is 0 (rig file key
+  /// "hammer_mass", from 1, optional); kUnmounted: the last mass.
+  int hammer_mass = kUnmounted;
   double max_sample_rate_hz = 0.0;
   /// The emulated board's option bytes: its brown-out reset level (get-info's health page,
   /// self-test). Rig file key "brown_out_level" ("level3", "level2", "level1", "off"), optional.
@@ -82,8 +100,17 @@ nlohmann::json RigToJson(const RigSpec& rig);
 /// The truth as a model file (chain form with the effective masses), for comparisons.
 nlohmann::json TruthToJson(const RigSpec& rig);
 
-/// Which masses move: the 2-DOF chain, or one mass alone on its own spring to ground.
-enum class Configuration : std::uint8_t { kChain = 0, kMass1Alone = 1, kMass2Alone = 2 };
+/// Which masses move: the chain, or one mass alone on its own spring to ground (the mass tests).
+enum class Configuration : std::uint8_t {
+  kChain = 0,
+  kMass1Alone = 1,
+  kMass2Alone = 2,
+  kMass3Alone = 3,
+  kMass4Alone = 4
+};
+
+/// The 0-based mass a configuration leaves alone on its spring, or kUnmounted for the chain.
+inline int AloneMass(Configuration c) { return static_cast<int>(c) - 1; }
 
 enum class ScenarioKind : std::uint8_t { kIdle, kHammer, kShaker, kPush, kStep, kTone };
 
@@ -129,13 +156,14 @@ class RigSimulator final : public SimulatedRig {
   /// One sample: the six raw channel values at the current tick, then the state advances.
   void Step(std::array<std::int32_t, wire::kChannelCount>& raw) override;
 
-  /// Physical values at the last Step (for tests): applied excitation force, push force,
-  /// true positions and accelerations at the encoders' and accelerometers' instants.
+  /// Physical values at the last Step (for tests): applied excitation force, push force, and
+  /// per mass (0-based, 0 for a mass that does not move) the true position at the encoders'
+  /// instant and acceleration at the accelerometers' instant.
   struct Truths {
     double force_n = 0.0;
     double push_n = 0.0;
-    std::array<double, 2> x_m{};
-    std::array<double, 2> a_m_s2{};
+    std::array<double, kMaxMasses> x_m{};
+    std::array<double, kMaxMasses> a_m_s2{};
   };
   const Truths& last() const { return last_; }
 
@@ -155,10 +183,6 @@ class RigSimulator final : public SimulatedRig {
   std::mt19937_64 rng_;
   std::normal_distribution<double> normal_{0.0, 1.0};
 
-  /// The rig's outputs (positions, velocities, accelerations of the moving masses) at
-  /// `instant_s` after the current tick's edge, under the forces held from it.
-  const Eigen::VectorXd& OutputsAt(double instant_s);
-
   // Active configuration: indices of the moving masses and its discrete system.
   std::vector<int> moving_;
   model::StateSpace discrete_;
@@ -166,8 +190,15 @@ class RigSimulator final : public SimulatedRig {
   // edge to every distinct one of them.
   std::array<double, wire::kChannelCount> instant_s_{};
   std::vector<std::pair<double, model::StateSpace>> part_steps_;
+  // The rig's outputs (positions, velocities, accelerations of the moving masses) at each
+  // distinct instant after the current tick's edge, under the forces held from it; index 0 is
+  // the edge itself (output_), index 1 + i part_steps_[i]. Which one each channel reads, and
+  // the row in it of each response input (-1: its mass does not move).
+  std::vector<Eigen::VectorXd> part_outputs_;
+  std::array<std::size_t, wire::kChannelCount> channel_outputs_{};
+  std::array<Eigen::Index, 4> input_row_{};
+  std::array<Eigen::Index, kMaxMasses> x_row_{}, a_row_{};
   Eigen::VectorXd part_state_;
-  Eigen::VectorXd part_output_;
   Eigen::VectorXd state_;
   Eigen::VectorXd input_;
   Eigen::VectorXd output_;

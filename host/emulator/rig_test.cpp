@@ -14,6 +14,7 @@
 #include "scenario.hpp"
 #include "vibid/common/error.hpp"
 #include "vibid/common/testing/input_error.hpp"
+#include "vibid/model/modal.hpp"
 
 namespace vibid::emu {
 namespace {
@@ -427,8 +428,10 @@ TEST(RigFile, RoundTripAndClearErrors) {
   j.erase("springs_n_per_m");
   EXPECT_EQ(message(j), "rig.json: missing \"springs_n_per_m\"");
   j = RigToJson(DefaultRig());
-  j["masses_kg"] = {1.0, 1.0, 1.0};
-  EXPECT_EQ(message(j), "rig.json: the rig has 1 or 2 masses (the board has two accelerometers)");
+  j["masses_kg"] = {1.0, 1.0, 1.0, 1.0, 1.0};
+  EXPECT_EQ(message(j),
+            "rig.json: the rig has 1 to 4 masses (the board has four response inputs, acc1, acc2, "
+            "x1, x2, and each mass needs one)");
   j = RigToJson(DefaultRig());
   j["springs_n_per_m"] = {1000.0, -1.0};
   EXPECT_EQ(message(j), "rig.json: \"springs_n_per_m\" values must be > 0");
@@ -498,7 +501,218 @@ TEST(RigFile, EveryShippedRigIsValid) {
     for (const AnalogSensor& s : r.load_cells) EXPECT_EQ(s.adc_bits, 12) << e.path();
     for (const AnalogSensor& s : r.accelerometers) EXPECT_EQ(s.adc_bits, 12) << e.path();
   }
-  EXPECT_GE(files, 2);  // default.json and cart_1dof.json at least
+  EXPECT_GE(files, 4);  // default.json, cart_1dof.json, chain3.json and chain4.json at least
+}
+
+// A chain of n equal masses m on equal springs k from ground (fixed-free) has the closed-form
+// modes theta_r = (2r - 1) pi / (2n + 1), omega_r = 2 sqrt(k/m) sin(theta_r / 2), shapes
+// phi_r(i) = sin(i theta_r), i = 1..n (e.g. Rao, Mechanical Vibrations, the lumped string with a
+// free end; n = 2 gives omega^2 = (3 -+ sqrt 5)/2 k/m). Closed form, not the model library.
+struct UniformChain {
+  int n;
+  double m_kg, k_n_per_m;
+  double theta(int r) const { return (2.0 * r - 1.0) * std::numbers::pi / (2.0 * n + 1.0); }
+  double omega(int r) const { return 2.0 * std::sqrt(k_n_per_m / m_kg) * std::sin(theta(r) / 2); }
+  double shape(int r, int i) const { return std::sin(i * theta(r)); }  // i from 1
+};
+
+// Selects a scenario as the wire's select-scenario does (against the rig: its hammer_mass).
+void Select(RigSimulator& rig, const char* name, std::array<float, 4> params) {
+  wire::ScenarioRequest r;
+  std::snprintf(r.name.data(), r.name.size(), "%s", name);
+  r.params = params;
+  wire::Refusal why{};
+  ASSERT_EQ(rig.SelectScenario(r, why), Status::kOk) << name;
+}
+
+RigSpec UniformRig(const UniformChain& u, std::array<int, 4> input_mass, int hammer_mass) {
+  RigSpec r = Quiet();
+  const auto n = static_cast<std::size_t>(u.n);
+  r.masses_kg.assign(n, u.m_kg);
+  r.effective_mass_loss.assign(n, 0.0);
+  r.springs_n_per_m.assign(n, u.k_n_per_m);
+  r.dampers_ns_per_m.assign(n, 0.0);  // undamped: each modal coordinate rings as a pure sine
+  r.coulomb_n.assign(n, 0.0);
+  r.input_mass = input_mass;
+  r.hammer_mass = hammer_mass;
+  return r;
+}
+
+// The emulated 3- and 4-mass chains ring at the closed-form frequencies in the closed-form
+// shapes: after the hammer's blow (on an inner mass, chosen by the rig's hammer_mass), each
+// modal coordinate q_r = phi_r^T M x of the simulated positions is a pure sampled sine, so
+// q[k+1] + q[k-1] = 2 cos(omega_r dt) q[k] holds to rounding (a frequency 1e-6 off leaves a
+// residual of 2 sin(omega dt) omega dt 1e-6, about 1e-8 of the amplitude here; the bound is
+// 1e-9). The model library's modal frequencies of the rig's truth agree with the closed form too.
+TEST(Rig, ThreeAndFourMassChainsRingAtTheClosedFormModes) {
+  for (const int n : {3, 4}) {
+    const UniformChain u{n, 0.8, 2500.0};
+    const int hit = 1;  // 0-based: mass 2
+    RigSimulator rig(UniformRig(u, {0, 1, 2, n - 1}, hit), 7);
+    Select(rig, "hammer", {0, 100, 30, 0});
+    ASSERT_EQ(rig.scenario().mass, hit);
+    const model::ModalResult modes = model::Modal(rig.spec().Truth());
+    for (int r = 1; r <= n; ++r)
+      EXPECT_NEAR(modes.omega_rad_s[r - 1], u.omega(r), 1e-9 * u.omega(r)) << n << " mode " << r;
+    rig.Start(1.0 / kFs);
+    std::array<std::int32_t, wire::kChannelCount> raw{};
+    std::vector<std::array<double, kMaxMasses>> x;
+    bool hit_checked = false;
+    for (int i = 0; i < static_cast<int>(3.0 * kFs); ++i) {
+      rig.Step(raw);
+      const auto& v = rig.last();
+      if (v.force_n > 0.0 && !hit_checked) {
+        // The blow's first sample: the hit mass alone accelerates (F/m, less the springs'
+        // reaction over the 2.667 us since the edge), its neighbours not yet.
+        hit_checked = true;
+        for (int mass = 0; mass < n; ++mass) {
+          const double expected = mass == hit ? v.force_n / u.m_kg : 0.0;
+          EXPECT_NEAR(v.a_m_s2[static_cast<std::size_t>(mass)], expected, 1e-6 * v.force_n / u.m_kg)
+              << n << " masses, mass " << mass + 1;
+        }
+      }
+      if (i / kFs > 0.55) x.push_back(v.x_m);  // after the first blow (0.5 s + 2 ms)
+    }
+    ASSERT_TRUE(hit_checked);
+    for (int r = 1; r <= n; ++r) {
+      double norm = 0.0;
+      for (int i = 1; i <= n; ++i) norm += u.m_kg * u.shape(r, i) * u.shape(r, i);
+      std::vector<double> q;
+      for (const auto& xs : x) {
+        double s = 0.0;
+        for (int i = 1; i <= n; ++i)
+          s += u.m_kg * u.shape(r, i) * xs[static_cast<std::size_t>(i - 1)];
+        q.push_back(s / norm);
+      }
+      const double c = 2.0 * std::cos(u.omega(r) / kFs);
+      double amplitude = 0.0, residual = 0.0;
+      for (std::size_t k = 1; k + 1 < q.size(); ++k) {
+        amplitude = std::max(amplitude, std::abs(q[k]));
+        residual = std::max(residual, std::abs(q[k + 1] + q[k - 1] - c * q[k]));
+      }
+      EXPECT_GT(amplitude, 1e-5) << n << " masses: mode " << r << " is excited";
+      EXPECT_LT(residual, 1e-9 * amplitude) << n << " masses, mode " << r;
+    }
+  }
+}
+
+// Each response input reads the mass the rig file mounts it on, accelerations and encoder
+// displacements mixed; an unmounted input reads the rig at rest.
+TEST(Rig, EachResponseInputReadsItsMass) {
+  const UniformChain u{4, 1.0, 3000.0};
+  RigSpec spec = UniformRig(u, {0, 2, 1, 3}, 3);  // acc1 m1, acc2 m3, x1 m2, x2 m4
+  spec.coulomb_n.assign(4, 0.003);                // friction per mass changes nothing here
+  RigSimulator rig(spec, 2);
+  Select(rig, "hammer", {0, 100, 0, 0});
+  EXPECT_EQ(rig.scenario().mass, 3);  // the rig's hammer_mass
+  rig.Start(1.0 / kFs);
+  std::array<std::int32_t, wire::kChannelCount> raw{};
+  int moving = 0;
+  for (int i = 0; i < static_cast<int>(2.0 * kFs); ++i) {
+    rig.Step(raw);
+    const auto& v = rig.last();
+    EXPECT_EQ(raw[2], spec.accelerometers[0].Code(v.a_m_s2[0]));
+    EXPECT_EQ(raw[3], spec.accelerometers[1].Code(v.a_m_s2[2]));
+    EXPECT_EQ(raw[4], static_cast<std::int32_t>(std::floor(v.x_m[1] * 1e5)));
+    EXPECT_EQ(raw[5], static_cast<std::int32_t>(std::floor(v.x_m[3] * 1e5)));
+    moving += raw[4] != 0 && raw[5] != 0 ? 1 : 0;
+  }
+  EXPECT_GT(moving, 1000);
+
+  spec.input_mass = {0, kUnmounted, 1, kUnmounted};
+  spec.masses_kg.resize(2);
+  spec.effective_mass_loss.resize(2);
+  spec.springs_n_per_m.resize(2);
+  spec.dampers_ns_per_m.resize(2);
+  spec.coulomb_n.resize(2);
+  spec.hammer_mass = 0;
+  RigSimulator two(spec, 2);
+  Select(two, "hammer", {0, 100, 0, 0});
+  two.Start(1.0 / kFs);
+  for (int i = 0; i < static_cast<int>(1.0 * kFs); ++i) {
+    two.Step(raw);
+    EXPECT_EQ(raw[3], 2048);  // acc2 on no mass: mid code (no noise here)
+    EXPECT_EQ(raw[5], 0);
+  }
+}
+
+// Mass k of a 3-mass rig alone on spring k (configuration k): its own 1-DOF frequency.
+TEST(Rig, AnyMassAloneOnItsSpring) {
+  RigSimulator rig(LoadRig(std::string(VIBID_SOURCE_DIR) + "/host/emulator/rigs/chain3.json"), 4);
+  Select(rig, "hammer", {0, 0, 0, 3});
+  EXPECT_EQ(rig.scenario().mass, 2);
+  const model::Model alone = rig.ActiveModel();
+  ASSERT_EQ(alone.dofs(), 1);
+  EXPECT_DOUBLE_EQ(alone.m_kg(0, 0), 0.9);
+  EXPECT_DOUBLE_EQ(alone.k_n_per_m(0, 0), 2100.0);
+}
+
+TEST(Scenario, MassesAndConfigurationsOfLargerChains) {
+  const auto refused = [](std::array<float, 4> p, int dofs) {
+    wire::ScenarioRequest r;
+    std::snprintf(r.name.data(), r.name.size(), "hammer");
+    r.params = p;
+    Scenario out;
+    wire::Refusal why{};
+    const bool bad = ParseScenario(r, dofs, out, &why) == Status::kInvalidArgument;
+    return bad ? static_cast<int>(why.detail) : -1;
+  };
+  EXPECT_EQ(Parse("hammer", {4, 0, 0, 0}, 4).mass, 3);
+  EXPECT_EQ(Parse("hammer", {0, 0, 0, 0}, 4).mass, 3);  // the last mass
+  EXPECT_EQ(Parse("hammer", {0, 0, 0, 4}, 4).configuration, Configuration::kMass4Alone);
+  EXPECT_EQ(Parse("step", {3, 0, 0, 0}, 3).mass, 2);
+  EXPECT_EQ(refused({5, 0, 0, 0}, 4), 0);  // no mass 5
+  EXPECT_EQ(refused({4, 0, 0, 0}, 3), 0);
+  EXPECT_EQ(refused({0, 0, 0, 4}, 3), 3);  // a 3-mass rig has no mass 4 to leave alone
+  EXPECT_EQ(refused({2, 0, 0, 3}, 3), 0);  // mass 2 is not on the rig when mass 3 is alone
+  // The rig file's hammer mass is the default, a given mass overrides it.
+  wire::ScenarioRequest r;
+  std::snprintf(r.name.data(), r.name.size(), "hammer");
+  Scenario s;
+  r.params = {0, 0, 0, 0};
+  ASSERT_EQ(ParseScenario(r, 3, s, nullptr, 0), Status::kOk);
+  EXPECT_EQ(s.mass, 0);
+  r.params = {2, 0, 0, 0};
+  ASSERT_EQ(ParseScenario(r, 3, s, nullptr, 0), Status::kOk);
+  EXPECT_EQ(s.mass, 1);
+}
+
+TEST(RigFile, ResponseInputsAndHammerMass) {
+  const std::string dir = std::string(VIBID_SOURCE_DIR) + "/host/emulator/rigs/";
+  const RigSpec c3 = LoadRig(dir + "chain3.json");
+  ASSERT_EQ(c3.dofs(), 3);
+  EXPECT_EQ(c3.input_mass, (std::array<int, 4>{0, 1, 2, kUnmounted}));  // acc1, acc2, x1
+  EXPECT_EQ(c3.hammer_mass, 2);
+  const RigSpec c4 = LoadRig(dir + "chain4.json");
+  ASSERT_EQ(c4.dofs(), 4);
+  EXPECT_EQ(c4.input_mass, (std::array<int, 4>{0, 2, 1, 3}));  // acc1 m1, acc2 m3, x1 m2, x2 m4
+  EXPECT_EQ(RigToJson(RigFromJson(RigToJson(c4))), RigToJson(c4));
+  // Without the key, one or two masses carry acc<i> and x<i> on mass i.
+  nlohmann::json j = RigToJson(DefaultRig());
+  j.erase("response_inputs");
+  EXPECT_EQ(RigFromJson(j).input_mass, (std::array<int, 4>{0, 1, 0, 1}));
+
+  const auto message = [](const nlohmann::json& bad) {
+    return InputErrorOf([&] { RigFromJson(bad, "rig.json"); }, "accepted");
+  };
+  j = RigToJson(c3);
+  j.erase("response_inputs");
+  EXPECT_EQ(message(j),
+            "rig.json: a rig of 3 masses names the response input on each mass: "
+            "\"response_inputs\": {\"acc1\": 1, \"acc2\": 2, \"x1\": 3, ...} (inputs acc1, "
+            "acc2, x1, x2; masses from 1)");
+  j["response_inputs"] = {{"acc1", 1}, {"acc2", 2}};
+  EXPECT_EQ(message(j),
+            "rig.json: \"response_inputs\": no input measures mass 3 (each mass needs one of "
+            "acc1, acc2, x1, x2)");
+  j["response_inputs"] = {{"acc1", 1}, {"acc2", 2}, {"x3", 3}};
+  EXPECT_NE(message(j).find("unknown key 'x3'"), std::string::npos) << message(j);
+  j["response_inputs"] = {{"acc1", 1}, {"acc2", 2}, {"x1", 4}};
+  EXPECT_EQ(message(j),
+            "rig.json: \"response_inputs\": \"x1\" must name a mass of the rig, 1 to 3");
+  j["response_inputs"] = {{"acc1", 1}, {"acc2", 2}, {"x1", 3}};
+  j["hammer_mass"] = 4;
+  EXPECT_EQ(message(j), "rig.json: \"hammer_mass\" must be a mass of the rig, 1 to 3");
 }
 
 }  // namespace

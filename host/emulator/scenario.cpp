@@ -11,17 +11,19 @@ bool Valid(float p) { return std::isfinite(p) && p >= 0.0f; }
 
 double OrDefault(float p, double fallback) { return p == 0.0f ? fallback : static_cast<double>(p); }
 
-// A 1-based mass parameter and a configuration parameter, checked against the rig.
-bool MassAndConfiguration(float mass_param, float config_param, int dofs, Scenario& s) {
-  if (config_param != std::floor(config_param) || config_param > 2.0f) return false;
+constexpr float kMaxMassParam = static_cast<float>(kMaxMasses);
+
+// A 1-based mass parameter and a configuration parameter, checked against the rig; a mass left
+// at 0 is the mass alone, else `chain_default` (1-based).
+bool MassAndConfiguration(float mass_param, float config_param, int dofs, int chain_default,
+                          Scenario& s) {
+  if (config_param != std::floor(config_param) || config_param > kMaxMassParam) return false;
   s.configuration = static_cast<Configuration>(static_cast<int>(config_param));
-  const int alone = s.configuration == Configuration::kMass1Alone   ? 1
-                    : s.configuration == Configuration::kMass2Alone ? 2
-                                                                    : 0;
+  const int alone = AloneMass(s.configuration) + 1;  // 0 for the chain
   if (alone > dofs) return false;
-  if (mass_param != std::floor(mass_param) || mass_param > 2.0f) return false;
+  if (mass_param != std::floor(mass_param) || mass_param > kMaxMassParam) return false;
   int mass = static_cast<int>(mass_param);
-  if (mass == 0) mass = alone != 0 ? alone : dofs;
+  if (mass == 0) mass = alone != 0 ? alone : chain_default;
   if (mass > dofs || (alone != 0 && mass != alone)) return false;
   s.mass = mass - 1;
   return true;
@@ -30,7 +32,7 @@ bool MassAndConfiguration(float mass_param, float config_param, int dofs, Scenar
 }  // namespace
 
 Status ParseScenario(const wire::ScenarioRequest& request, int dofs, Scenario& out,
-                     wire::Refusal* why) {
+                     wire::Refusal* why, int hammer_mass) {
   const std::size_t length = strnlen(request.name.data(), request.name.size());
   const std::string_view name(request.name.data(), length);
   const auto refuse = [why](wire::Reason reason, std::uint32_t detail) {
@@ -50,14 +52,16 @@ Status ParseScenario(const wire::ScenarioRequest& request, int dofs, Scenario& o
   // The first parameter a mass-and-configuration check blames: the configuration if it alone
   // is out of range, else the mass.
   const auto mass_or_configuration = [&] {
-    return bad_parameter(p[3] != std::floor(p[3]) || p[3] > 2.0f ? 3 : 0);
+    return bad_parameter(
+        p[3] != std::floor(p[3]) || p[3] > kMaxMassParam || static_cast<int>(p[3]) > dofs ? 3 : 0);
   };
   Scenario s;
   if (name == "idle") {
     s.kind = ScenarioKind::kIdle;
   } else if (name == "hammer") {
     s.kind = ScenarioKind::kHammer;
-    if (!MassAndConfiguration(p[0], p[3], dofs, s)) return mass_or_configuration();
+    const int chain_default = hammer_mass >= 0 && hammer_mass < dofs ? hammer_mass + 1 : dofs;
+    if (!MassAndConfiguration(p[0], p[3], dofs, chain_default, s)) return mass_or_configuration();
     s.force_n = OrDefault(p[1], 100.0);
     s.spacing_s = static_cast<double>(p[2]);  // 0: from the rig when selected
     if (s.spacing_s != 0.0 && s.spacing_s < 0.05) return bad_parameter(2);
@@ -76,7 +80,7 @@ Status ParseScenario(const wire::ScenarioRequest& request, int dofs, Scenario& o
     }
   } else if (name == "step") {
     s.kind = ScenarioKind::kStep;
-    if (!MassAndConfiguration(p[0], p[3], dofs, s)) return mass_or_configuration();
+    if (!MassAndConfiguration(p[0], p[3], dofs, dofs, s)) return mass_or_configuration();
     s.force_n = OrDefault(p[1], 20.0);
     s.hold_s = OrDefault(p[2], 1.0);
   } else {

@@ -2,19 +2,20 @@
 //
 //   name      params[0]            params[1]            params[2]              params[3]
 //   idle      -                    -                    -                      -
-//   hammer    mass hit (1, 2)      peak force N (100)   mean spacing s (*)     configuration
+//   hammer    mass hit (1..n, **)  peak force N (100)   mean spacing s (*)     configuration
 //   shaker    frequency Hz (16)    amplitude N (10)     hand push N (0: none)  -
 //   push      amplitude N (10)     -                    -                      -
-//   step      mass pulled (1, 2)   pull force N (20)    hold s (1.0)           configuration
+//   step      mass pulled (1..n)   pull force N (20)    hold s (1.0)           configuration
 //   tone      frequency Hz (1000)  amplitude, fraction of each converter's range (0.5, <= 1)
 //             a sine generator on the four converter inputs (the rig at rest): each channel
 //             converts it at its own sampling instant, so their phases show the instants
 //
 // A zero parameter takes the default in brackets; (*) the hammer's spacing is left 0 here and
-// set from the rig when the scenario is selected (DefaultHammerSpacingS). configuration: 0 the
-// chain, 1 mass 1 alone on spring 1, 2 mass 2 alone on spring 2 (the mass tests); with a mass
-// alone, the mass parameter defaults to it and must not name the other. The shaker always drives
-// the last mass.
+// set from the rig when the scenario is selected (DefaultHammerSpacingS); (**) the hammer's mass
+// left 0 is the rig file's "hammer_mass", else the last mass (the step's: the last mass).
+// configuration: 0 the chain, k (1..n) mass k alone on spring k (the mass tests); with a mass
+// alone, the mass parameter defaults to it and must not name another. n is the rig's number of
+// masses (1 to 4). The shaker always drives the last mass.
 #pragma once
 
 #include "rig.hpp"
@@ -27,7 +28,9 @@ namespace vibid::emu {
 /// @returns kOk with `out` set; kInvalidArgument for an unknown name or a parameter out of range
 ///          (negative, not finite, a mass or configuration the rig does not have), with `why`
 ///          (if given) naming which: kUnknownScenario, or kScenarioParameter and its index.
+///          `hammer_mass`: the 0-based mass the hammer hits when its parameter is 0 (the rig
+///          file's "hammer_mass"), or kUnmounted for the last mass.
 Status ParseScenario(const wire::ScenarioRequest& request, int dofs, Scenario& out,
-                     wire::Refusal* why = nullptr);
+                     wire::Refusal* why = nullptr, int hammer_mass = kUnmounted);
 
 }  // namespace vibid::emu
