@@ -1,0 +1,74 @@
+#include "vibid/shared/fixed/residual_cusum.hpp"
+
+namespace vibid::fixed {
+
+Status ValidateResidualCusum(const ResidualCusumParams& p) {
+  if (p.window_samples == 0 || p.window_samples > kMaxWindowSamples) {
+    return Status::kInvalidArgument;
+  }
+  if (p.reference_shift > kMaxReferenceShift || p.residual_shift > kMaxResidualShift ||
+      p.sum_shift > kMaxSumShift || p.z_shift > kMaxZShift) {
+    return Status::kInvalidArgument;
+  }
+  if (p.z_gain <= 0 || p.k < 0 || p.h <= 0 || p.h >= kMaxStatistic) {
+    return Status::kInvalidArgument;
+  }
+  return Status::kOk;
+}
+
+Status ResidualCusum::Init(const ResidualCusumParams& params) {
+  params_ = ResidualCusumParams{};
+  const Status s = ValidateResidualCusum(params);
+  if (s != Status::kOk) return s;
+  params_ = params;
+  reference_p_ = 31 - params.reference_shift;
+  reference_round_ = std::int64_t{1} << (reference_p_ - 1);
+  residual_round_ = params.residual_shift == 0 ? 0 : std::int64_t{1} << (params.residual_shift - 1);
+  Reset();
+  return Status::kOk;
+}
+
+void ResidualCusum::Reset() {
+  sum_ = 0;
+  left_ = params_.window_samples;
+  samples_ = 0;
+  windows_ = 0;
+  g_ = 0;
+  z_ = 0;
+  tripped_ = false;
+  trip_sample_ = 0;
+  trip_statistic_ = 0;
+  clamp_count_ = 0;
+}
+
+void ResidualCusum::EndWindow() {
+  constexpr std::int64_t kI32Max = 0x7FFFFFFF;
+  constexpr std::int64_t kI32Min = -kI32Max - 1;
+  std::int64_t e = static_cast<std::int64_t>(sum_ >> params_.sum_shift) - params_.center;
+  if (e > kI32Max || e < -kI32Max) {
+    e = e > 0 ? kI32Max : -kI32Max;
+    ++clamp_count_;
+  }
+  const std::int64_t round = params_.z_shift == 0 ? 0 : std::int64_t{1} << (params_.z_shift - 1);
+  std::int64_t z = (e * params_.z_gain + round) >> params_.z_shift;
+  if (z > kI32Max) z = kI32Max;
+  if (z < kI32Min) z = kI32Min;
+  std::int64_t g = std::int64_t{g_} + z - params_.k;
+  if (g < 0) g = 0;
+  if (g > kMaxStatistic) {
+    g = kMaxStatistic;
+    ++clamp_count_;
+  }
+  z_ = static_cast<std::int32_t>(z);
+  g_ = static_cast<std::int32_t>(g);
+  ++windows_;
+  sum_ = 0;
+  left_ = params_.window_samples;
+  if (!tripped_ && g_ > params_.h) {
+    tripped_ = true;
+    trip_sample_ = samples_;
+    trip_statistic_ = g_;
+  }
+}
+
+}  // namespace vibid::fixed
