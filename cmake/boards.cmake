@@ -4,19 +4,29 @@
 # TIM3 on PA6/PA7, TIM4 on PB6/PB7, OTG_FS on PA11/PA12); docs/board.md has each board's wiring
 # table, its sources, and what cannot be wired on it.
 #
-#   vibid        the project's own board: HSE from VIBID_HSE_HZ (8 MHz by default), no LED
+#   vibid        the project's own board: HSE from VIBID_HSE_HZ (8 MHz by default), no LED, no
+#                LSE, VBUS not wired
 #   pyboard_v11  MicroPython pyboard v1.1 (PYBv1.1 schematic): 12 MHz HSE, blue LED4 on PB4,
-#                lit high
-#   olimex_h405  Olimex STM32-H405 (rev. B schematic): 8 MHz HSE, STAT LED on PC12, lit high
+#                lit high, 32.768 kHz LSE, VBUS to PA9
+#   olimex_h405  Olimex STM32-H405 (rev. B schematic): 8 MHz HSE, STAT LED on PC12, lit high,
+#                32.768 kHz LSE, VBUS not on PA9
 #
-# Each definition: HSE_HZ, then LED as "PORT;PIN;ACTIVE" (PORT A..C, ACTIVE high|low) or empty.
+# Each definition: HSE_HZ; LED as "PORT;PIN;ACTIVE" (PORT A..C, ACTIVE high|low) or empty; LSE
+# 1 with a 32.768 kHz crystal on PC14/PC15, else 0; VBUS_PA9 1 when the USB connector's VBUS
+# reaches PA9 (the OTG core then senses it), else 0.
 set(VIBID_BOARDS vibid pyboard_v11 olimex_h405)
 set(VIBID_BOARD_vibid_HSE_HZ "${VIBID_HSE_HZ}")
 set(VIBID_BOARD_vibid_LED "")
+set(VIBID_BOARD_vibid_LSE 0)
+set(VIBID_BOARD_vibid_VBUS_PA9 0)
 set(VIBID_BOARD_pyboard_v11_HSE_HZ 12000000)
 set(VIBID_BOARD_pyboard_v11_LED "B;4;high")
+set(VIBID_BOARD_pyboard_v11_LSE 1)
+set(VIBID_BOARD_pyboard_v11_VBUS_PA9 1)
 set(VIBID_BOARD_olimex_h405_HSE_HZ 8000000)
 set(VIBID_BOARD_olimex_h405_LED "C;12;high")
+set(VIBID_BOARD_olimex_h405_LSE 1)
+set(VIBID_BOARD_olimex_h405_VBUS_PA9 0)
 
 set(VIBID_BOARD vibid CACHE STRING "STM32F405 board of the vibid_board_stm32f405 image (one of VIBID_BOARDS)")
 set_property(CACHE VIBID_BOARD PROPERTY STRINGS ${VIBID_BOARDS})
@@ -32,7 +42,8 @@ function(vibid_board_compile_definitions target board)
   if(ARGC GREATER 2)
     set(hse_hz ${ARGV2})
   endif()
-  set(defs VIBID_HSE_HZ=${hse_hz} VIBID_BOARD_NAME="${board}")
+  set(defs VIBID_HSE_HZ=${hse_hz} VIBID_BOARD_NAME="${board}"
+      VIBID_BOARD_LSE=${VIBID_BOARD_${board}_LSE} VIBID_BOARD_VBUS_PA9=${VIBID_BOARD_${board}_VBUS_PA9})
   set(led "${VIBID_BOARD_${board}_LED}")
   if(led)
     list(GET led 0 port)

@@ -82,6 +82,7 @@ TEST_F(SelfTest, EveryCheckAnswersAndNoneFails) {
     EXPECT_EQ(device::SelfTestValueText(at(SelfTestCheck::kVdda)), "3.300");
     EXPECT_EQ(at(SelfTestCheck::kBrownOut).verdict, SelfTestVerdict::kPass);
     EXPECT_EQ(at(SelfTestCheck::kImageCrc).verdict, SelfTestVerdict::kUnavailable);
+    EXPECT_EQ(at(SelfTestCheck::kHsePpmLse).verdict, SelfTestVerdict::kUnavailable);
     // The built-in rig (DefaultRig, as host/emulator/rigs/default.json): force1 0.1 N rms of
     // +-500 N and force2 0.01 N of +-50 N are 0.4096 LSB, the accelerometers 0.05 of
     // +-200 m/s2 0.512 LSB, before the converter rounds to whole codes.
@@ -101,7 +102,8 @@ TEST_F(SelfTest, EveryCheckAnswersAndNoneFails) {
     // measure: those checks are unavailable, not passes.
     for (const auto check :
          {SelfTestCheck::kHsePpm, SelfTestCheck::kVdda, SelfTestCheck::kNoiseForce1,
-          SelfTestCheck::kOffsetAccel2, SelfTestCheck::kEncoder1, SelfTestCheck::kBrownOut}) {
+          SelfTestCheck::kOffsetAccel2, SelfTestCheck::kEncoder1, SelfTestCheck::kBrownOut,
+          SelfTestCheck::kHsePpmLse}) {
       EXPECT_EQ(at(check).verdict, SelfTestVerdict::kUnavailable)
           << wire::SelfTestCheckName(static_cast<std::uint8_t>(check));
     }
@@ -152,10 +154,14 @@ TEST(SelfTestCli, PrintsEachCheckAndTheBrownOutLevel) {
   const auto json = vibid::testing::RunVibid({"--device", emu.device_spec(), "selftest", "--json"});
   ASSERT_EQ(json.exit_code, 0) << json.err;
   const auto j = nlohmann::json::parse(json.out);
-  ASSERT_EQ(j["checks"].size(), 17u);
+  ASSERT_EQ(j["checks"].size(), 18u);
   EXPECT_EQ(j["checks"][0]["name"], "hse-ppm");
   EXPECT_EQ(j["checks"][0]["unit"], "ppm");
   EXPECT_EQ(j["checks"][0]["pass"], true);
+  EXPECT_EQ(j["checks"][6]["reference"], "mid-code");  // the rig has no calibrated zero yet
+  EXPECT_TRUE(j["checks"][1]["reference"].is_null());
+  EXPECT_EQ(j["checks"][17]["name"], "hse-ppm-lse");
+  EXPECT_TRUE(j["checks"][17]["pass"].is_null());  // the rig has no LSE crystal
   EXPECT_EQ(j["checks"][12]["name"], "image-crc");
   EXPECT_TRUE(j["checks"][12]["pass"].is_null());  // unavailable on the emulator
   EXPECT_TRUE(j["checks"][12]["value"].is_null());
@@ -166,13 +172,16 @@ TEST(SelfTestCli, PrintsEachCheckAndTheBrownOutLevel) {
   ASSERT_EQ(text.exit_code, 0) << text.err;
   EXPECT_NE(text.out.find(" 1  vdda           3.300         V        pass"), std::string::npos)
       << text.out;
-  EXPECT_NE(text.out.find("17 checks: 16 pass, 0 fail, 1 not measured on this board"),
+  EXPECT_NE(text.out.find("18 checks: 16 pass, 0 fail, 2 not measured on this board"),
             std::string::npos)
       << text.out;
 
   const auto info = vibid::testing::RunVibid({"--device", emu.device_spec(), "info", "--json"});
   ASSERT_EQ(info.exit_code, 0) << info.err;
-  EXPECT_EQ(nlohmann::json::parse(info.out)["brown_out_level"], "level3");
+  const auto info_json = nlohmann::json::parse(info.out);
+  EXPECT_EQ(info_json["brown_out_level"], "level3");
+  EXPECT_EQ(info_json["clock"], "unknown");  // the emulator has no crystal to report
+  EXPECT_EQ(info_json["sampler_recoveries"], 0);
   EXPECT_EQ(info.err.find("warning"), std::string::npos) << info.err;  // level 3: no warning
 }
 
@@ -195,7 +204,8 @@ TEST(SelfTestCli, ABrownOutBelowLevel3WarnsAndFailsTheCheck) {
   EXPECT_EQ(
       info.err,
       "vibid: warning: the board's brown-out reset is off (power-on reset only, about 1.8 V), "
-      "below level 3 (2.7 V), the least supply its x32 flash programming takes: a sagging "
+      "below level 3 (2.75-2.88 V), which holds it above the 2.7 V its x32 flash programming "
+      "takes: a sagging "
       "supply can lose a calibration commit; set BOR_LEV to level 3 in the option bytes "
       "(docs/board.md, \"Brown-out level\")\n");
   const auto self = vibid::testing::RunVibid({"--device", emu.device_spec(), "selftest"});
@@ -203,7 +213,7 @@ TEST(SelfTestCli, ABrownOutBelowLevel3WarnsAndFailsTheCheck) {
   EXPECT_NE(self.out.find("15  brown-out      off                    FAIL"), std::string::npos)
       << self.out;
   EXPECT_EQ(self.err,
-            "vibid: error: self-test: 1 of 17 checks failed (15 brown-out); docs/board.md, "
+            "vibid: error: self-test: 1 of 18 checks failed (15 brown-out); docs/board.md, "
             "\"Self-test\", says what each one means\n");
   std::error_code ec;
   std::filesystem::remove_all(dir, ec);

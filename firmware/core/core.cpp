@@ -161,8 +161,12 @@ Status Core::HandleSelfTest(const wire::Header& h, std::span<const std::uint8_t>
 }
 
 wire::HealthInfoResponse Core::HealthInfo() const {
+  const SystemControl::ClockReport clock = port_.system.ClockHealth();
   return wire::HealthInfoResponse{.brown_out = port_.system.BrownOutLevel(),
-                                  .reset_cause = port_.system.LastResetCause()};
+                                  .reset_cause = port_.system.LastResetCause(),
+                                  .clock = clock.state,
+                                  .hse_measured_hz = clock.hse_measured_hz,
+                                  .sampler_recoveries = port_.system.SamplerRecoveries()};
 }
 
 wire::StatusResponse Core::CurrentStatus() const {
@@ -404,6 +408,12 @@ Status Core::HandleAcqConfigure(const Header& h, std::span<const std::uint8_t> p
 Status Core::HandleAcqStart(const Header& h) {
   if (!configured_) return Refuse(Status::kFailedPrecondition, wire::Reason::kNotConfigured);
   if (Sampling()) return Refuse(Status::kFailedPrecondition, wire::Reason::kBusySampling);
+  // On its internal oscillator the board's sample clock is off by up to the oscillator's
+  // tolerance (a few percent): every rate derived from it would be silently wrong.
+  const wire::ClockState clock = port_.system.ClockHealth().state;
+  if (clock != wire::ClockState::kUnknown && clock != wire::ClockState::kCrystal)
+    return Refuse(Status::kFailedPrecondition, wire::Reason::kInternalClock,
+                  static_cast<std::uint32_t>(clock));
   if (sampling_) StopSampling();  // a finished acquisition whose stop Poll has not seen yet
   Status s = sampler_.Arm(config_);
   // The configuration passed ValidateConfig against the same log, so these are broken

@@ -29,16 +29,22 @@ wire::SelfTestResponse Check(CoreHarness& h, SelfTestCheck check) {
   return v;
 }
 
-TEST(CoreSelfTest, HealthPageCarriesBrownOutAndResetCause) {
+TEST(CoreSelfTest, HealthPageCarriesBrownOutResetCauseClockAndRecoveries) {
   CoreHarness h;
   h.fake.system.brown_out = wire::BrownOut::kLevel1;
   h.fake.system.reset_cause = wire::ResetCause::kBrownOut;
+  h.fake.system.clock = {.state = wire::ClockState::kCrystalWrongFrequency,
+                         .hse_measured_hz = 12000340};
+  h.fake.system.sampler_recoveries = 7;
   const Response r = h.Request(Command::kGetInfo, wire::InfoPageRequest{.page = 2});
   ASSERT_EQ(r.status(), Status::kOk);
   wire::HealthInfoResponse v;
   ASSERT_EQ(wire::Decode(r.payload(), v), Status::kOk);
   EXPECT_EQ(v.brown_out, wire::BrownOut::kLevel1);
   EXPECT_EQ(v.reset_cause, wire::ResetCause::kBrownOut);
+  EXPECT_EQ(v.clock, wire::ClockState::kCrystalWrongFrequency);
+  EXPECT_EQ(v.hse_measured_hz, 12000340u);
+  EXPECT_EQ(v.sampler_recoveries, 7u);
   const Response unknown = h.Request(Command::kGetInfo, wire::InfoPageRequest{.page = 3});
   EXPECT_EQ(unknown.status(), Status::kInvalidArgument);
 }
@@ -46,15 +52,31 @@ TEST(CoreSelfTest, HealthPageCarriesBrownOutAndResetCause) {
 TEST(CoreSelfTest, PortMeasurementsAreJudgedAgainstTheLimits) {
   CoreHarness h;
   auto& m = h.fake.system.self_test;
-  // +99.999 ppm passes, -100.001 ppm fails (limit +-100 ppm, self_test_limits.hpp).
-  m[0] = {.available = true, .mantissa = 99999, .exp10 = -3};
+  // Against the host's USB frames (themselves +-500 ppm, USB 2.0): +599.999 ppm passes,
+  // -600.001 ppm fails (limit +-600 ppm, self_test_limits.hpp); the reference travels along.
+  m[0] = {.available = true,
+          .mantissa = 599999,
+          .exp10 = -3,
+          .reference = wire::SelfTestReference::kUsbFrames};
   wire::SelfTestResponse v = Check(h, SelfTestCheck::kHsePpm);
   EXPECT_EQ(v.verdict, SelfTestVerdict::kPass);
   EXPECT_EQ(v.unit, wire::SelfTestUnit::kPpm);
-  EXPECT_EQ(v.mantissa, 99999);
+  EXPECT_EQ(v.mantissa, 599999);
   EXPECT_EQ(v.exp10, -3);
-  m[0] = {.available = true, .mantissa = -100001, .exp10 = -3};
+  EXPECT_EQ(v.reference, wire::SelfTestReference::kUsbFrames);
+  m[0] = {.available = true, .mantissa = -600001, .exp10 = -3};
   EXPECT_EQ(Check(h, SelfTestCheck::kHsePpm).verdict, SelfTestVerdict::kFail);
+  // Against the board's LSE crystal: +-100 ppm.
+  m[17] = {.available = true,
+           .mantissa = 99999,
+           .exp10 = -3,
+           .reference = wire::SelfTestReference::kLse};
+  v = Check(h, SelfTestCheck::kHsePpmLse);
+  EXPECT_EQ(v.verdict, SelfTestVerdict::kPass);
+  EXPECT_EQ(v.unit, wire::SelfTestUnit::kPpm);
+  EXPECT_EQ(v.reference, wire::SelfTestReference::kLse);
+  m[17] = {.available = true, .mantissa = -100001, .exp10 = -3};
+  EXPECT_EQ(Check(h, SelfTestCheck::kHsePpmLse).verdict, SelfTestVerdict::kFail);
   // VDDA 3.30 V passes; 3.10 V (below 3.135 V) fails.
   m[1] = {.available = true, .mantissa = 330, .exp10 = -2};
   EXPECT_EQ(Check(h, SelfTestCheck::kVdda).verdict, SelfTestVerdict::kPass);
@@ -85,6 +107,57 @@ TEST(CoreSelfTest, PortMeasurementsAreJudgedAgainstTheLimits) {
   EXPECT_EQ(Check(h, SelfTestCheck::kNoiseForce1).verdict, SelfTestVerdict::kUnavailable);
   // The port samples at the configured period (200 us before any acq-configure).
   EXPECT_EQ(h.fake.system.self_test_period_us, 200u);
+}
+
+TEST(CoreSelfTest, OffsetsAreJudgedAgainstEachChannelsCalibratedZero) {
+  CoreHarness h;
+  auto& m = h.fake.system.self_test;
+  // A unipolar load-cell amplifier idles near 0 V: its mean is code 150, -1898 LSB from the
+  // mid code. Uncalibrated, the mid code is all the board knows: it fails.
+  m[6] = {.available = true, .mantissa = -1898000, .exp10 = -3};
+  wire::SelfTestResponse v = Check(h, SelfTestCheck::kOffsetForce1);
+  EXPECT_EQ(v.verdict, SelfTestVerdict::kFail);
+  EXPECT_EQ(v.reference, wire::SelfTestReference::kMidCode);
+  EXPECT_EQ(v.mantissa, -1898000);
+  // Calibrated with its zero at code 200 (offset_counts): the idle mean is 50 LSB below it.
+  wire::CalibrationRecord record = testing::TestRecord(4);
+  record.channels[0].offset_counts = 200;
+  ASSERT_EQ(h.Upload(testing::Encoded(record)), Status::kOk);
+  ASSERT_EQ(h.Request(Command::kCalCommit).status(), Status::kOk);
+  v = Check(h, SelfTestCheck::kOffsetForce1);
+  EXPECT_EQ(v.verdict, SelfTestVerdict::kPass);
+  EXPECT_EQ(v.reference, wire::SelfTestReference::kCalibration);
+  EXPECT_EQ(v.mantissa, -50000);  // (150 - 2048) - (200 - 2048) LSB, in milli-LSB
+  EXPECT_EQ(v.exp10, -3);
+  // 100.001 LSB from its zero fails; exactly 100 passes.
+  m[6] = {.available = true, .mantissa = -1848000 + 100001, .exp10 = -3};
+  EXPECT_EQ(Check(h, SelfTestCheck::kOffsetForce1).verdict, SelfTestVerdict::kFail);
+  m[6] = {.available = true, .mantissa = -1848000 + 100000, .exp10 = -3};
+  EXPECT_EQ(Check(h, SelfTestCheck::kOffsetForce1).verdict, SelfTestVerdict::kPass);
+  // Another channel keeps its own zero (2048 in the test record): judged as before.
+  m[7] = {.available = true, .mantissa = 30000, .exp10 = -3};
+  v = Check(h, SelfTestCheck::kOffsetForce2);
+  EXPECT_EQ(v.mantissa, 30000);
+  EXPECT_EQ(v.reference, wire::SelfTestReference::kCalibration);
+}
+
+TEST(CoreSelfTest, AcquisitionsAreRefusedOnTheInternalOscillator) {
+  CoreHarness h;
+  h.fake.system.clock = {.state = wire::ClockState::kCrystalWrongFrequency,
+                         .hse_measured_hz = 12000000};
+  wire::AcqConfigureRequest config;
+  config.sample_period_us = 200;
+  config.channel_mask = wire::kAllChannelsMask;
+  config.decimation = 1;
+  ASSERT_EQ(h.Request(Command::kAcqConfigure, config).status(), Status::kOk);
+  const Response r = h.Request(Command::kAcqStart);
+  EXPECT_EQ(r.status(), Status::kFailedPrecondition);
+  wire::Refusal refusal;
+  ASSERT_EQ(wire::Decode(r.payload(), refusal), Status::kOk);
+  EXPECT_EQ(refusal.reason, wire::Reason::kInternalClock);
+  EXPECT_EQ(refusal.detail, static_cast<std::uint32_t>(wire::ClockState::kCrystalWrongFrequency));
+  h.fake.system.clock.state = wire::ClockState::kCrystal;
+  EXPECT_EQ(h.Request(Command::kAcqStart).status(), Status::kOk);
 }
 
 TEST(CoreSelfTest, BrownOutPassesOnlyAtLevel3) {
@@ -128,12 +201,12 @@ TEST(CoreSelfTest, CalibrationSlotsAreErasedValidOrDamaged) {
 
 TEST(CoreSelfTest, RefusesUnknownChecksAndWhileSampling) {
   CoreHarness h;
-  Response r = h.Request(Command::kSelfTest, wire::SelfTestRequest{.check = 17});
+  Response r = h.Request(Command::kSelfTest, wire::SelfTestRequest{.check = 18});
   EXPECT_EQ(r.status(), Status::kInvalidArgument);
   wire::Refusal why;
   ASSERT_EQ(wire::Decode(r.payload(), why), Status::kOk);
   EXPECT_EQ(why.reason, wire::Reason::kUnknownCheck);
-  EXPECT_EQ(why.detail, 17u);
+  EXPECT_EQ(why.detail, 18u);
   EXPECT_EQ(h.Request(Command::kSelfTest).status(), Status::kInvalidArgument);  // no check byte
 
   wire::AcqConfigureRequest c;

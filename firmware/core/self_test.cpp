@@ -7,18 +7,21 @@
 #include <cstdint>
 
 #include "vibid/fw/core.hpp"
+#include "vibid/shared/board_profile.hpp"
 
 namespace vibid::fw {
 
 namespace {
 
 using wire::SelfTestCheck;
+using wire::SelfTestReference;
 using wire::SelfTestUnit;
 using wire::SelfTestVerdict;
 
 SelfTestUnit UnitOf(SelfTestCheck check) {
   switch (check) {
-    case SelfTestCheck::kHsePpm: return SelfTestUnit::kPpm;
+    case SelfTestCheck::kHsePpm:
+    case SelfTestCheck::kHsePpmLse: return SelfTestUnit::kPpm;
     case SelfTestCheck::kVdda: return SelfTestUnit::kVolt;
     case SelfTestCheck::kNoiseForce1:
     case SelfTestCheck::kNoiseForce2:
@@ -56,6 +59,7 @@ bool SelfTestWithinLimit(SelfTestCheck check, std::int64_t mantissa, std::int8_t
   const std::int64_t magnitude = micro < 0 ? -micro : micro;
   switch (check) {
     case SelfTestCheck::kHsePpm: return magnitude <= kHseToleranceMicroPpm;
+    case SelfTestCheck::kHsePpmLse: return magnitude <= kHseLseToleranceMicroPpm;
     case SelfTestCheck::kVdda: return micro >= kVddaMinMicroV && micro <= kVddaMaxMicroV;
     case SelfTestCheck::kNoiseForce1:
     case SelfTestCheck::kNoiseForce2:
@@ -113,9 +117,28 @@ wire::SelfTestResponse Core::SelfTest(std::uint8_t check_index) {
   }
   r.mantissa = m.mantissa;
   r.exp10 = m.exp10;
+  r.reference = m.reference;
+  if (check >= SelfTestCheck::kOffsetForce1 && check <= SelfTestCheck::kOffsetAccel2) {
+    // The port measures the idle mean against the mid code; a channel with a calibrated zero
+    // (a load cell amplifier idling near 0 V, say) is judged against that zero instead.
+    const auto channel =
+        static_cast<unsigned>(check) - static_cast<unsigned>(SelfTestCheck::kOffsetForce1);
+    r.reference = SelfTestReference::kMidCode;
+    const wire::ChannelScaling& scaling = store_.record().channels[channel];
+    if (store_.calibrated() && scaling.unit != wire::Unit::kCounts && m.exp10 <= 0 &&
+        m.exp10 >= -6) {
+      // Scaling and overflow: offset_counts and the mid code are within +-2^31, times at most
+      // 10^6 stays below 2^52; the mantissa is a port's milli-LSB mean (|x| < 2^32).
+      constexpr std::int64_t kMidCode = std::int64_t{1} << (kBoardProfile.adc_bits - 1);
+      std::int64_t unit = 1;
+      for (int e = 0; e > m.exp10; --e) unit *= 10;
+      r.mantissa = m.mantissa - (std::int64_t{scaling.offset_counts} - kMidCode) * unit;
+      r.reference = SelfTestReference::kCalibration;
+    }
+  }
   const bool port_judges = check == SelfTestCheck::kEncoder1 || check == SelfTestCheck::kEncoder2 ||
                            check == SelfTestCheck::kImageCrc;
-  judge(port_judges ? m.ok : SelfTestWithinLimit(check, m.mantissa, m.exp10));
+  judge(port_judges ? m.ok : SelfTestWithinLimit(check, r.mantissa, r.exp10));
   return r;
 }
 

@@ -27,7 +27,8 @@ std::optional<std::string> BrownOutWarning(wire::BrownOut level) {
     case wire::BrownOut::kUnknown: return std::nullopt;
   }
   return std::string("the board's brown-out reset is ") + what +
-         ", below level 3 (2.7 V), the least supply its x32 flash programming takes: a sagging "
+         ", below level 3 (2.75-2.88 V), which holds it above the 2.7 V its x32 flash "
+         "programming takes: a sagging "
          "supply can lose a calibration commit; set BOR_LEV to level 3 in the option bytes "
          "(docs/board.md, \"Brown-out level\")";
 }
@@ -43,6 +44,52 @@ const char* ResetCauseName(wire::ResetCause cause) {
     case wire::ResetCause::kUnknown: break;
   }
   return "unknown";
+}
+
+const char* ClockStateName(std::uint32_t state) {
+  switch (static_cast<wire::ClockState>(state)) {
+    case wire::ClockState::kCrystal: return "crystal";
+    case wire::ClockState::kCrystalDidNotStart: return "crystal-did-not-start";
+    case wire::ClockState::kCrystalWrongFrequency: return "crystal-wrong-frequency";
+    case wire::ClockState::kPllDidNotLock: return "pll-did-not-lock";
+    case wire::ClockState::kUnknown: break;
+  }
+  return "unknown";
+}
+
+std::optional<std::string> ClockText(const wire::HealthInfoResponse& health) {
+  char measured[64] = "";
+  if (health.hse_measured_hz != 0)
+    std::snprintf(measured, sizeof measured, "%.3f MHz", health.hse_measured_hz / 1e6);
+  switch (health.clock) {
+    case wire::ClockState::kUnknown: return std::nullopt;
+    case wire::ClockState::kCrystal:
+      return std::string("crystal") + (measured[0] != 0 ? std::string(" (measured ") + measured +
+                                                              " against the internal oscillator)"
+                                                        : std::string());
+    case wire::ClockState::kCrystalWrongFrequency:
+      return std::string("internal oscillator, acquisitions refused: the crystal measured ") +
+             measured +
+             ", more than 2 % from the one the image was built for; build it for this board "
+             "(VIBID_BOARD or VIBID_HSE_HZ, docs/board.md)";
+    case wire::ClockState::kCrystalDidNotStart:
+      return "internal oscillator, acquisitions refused: the crystal did not start; check the "
+             "crystal and its load capacitors";
+    case wire::ClockState::kPllDidNotLock:
+      return "internal oscillator, acquisitions refused: the PLL did not lock on the crystal";
+  }
+  return std::nullopt;
+}
+
+const char* SelfTestReferenceName(wire::SelfTestReference reference) {
+  switch (reference) {
+    case wire::SelfTestReference::kUsbFrames: return "usb-frames";
+    case wire::SelfTestReference::kLse: return "lse";
+    case wire::SelfTestReference::kMidCode: return "mid-code";
+    case wire::SelfTestReference::kCalibration: return "calibration";
+    case wire::SelfTestReference::kNone: break;
+  }
+  return "";
 }
 
 double SelfTestValue(const wire::SelfTestResponse& r) {

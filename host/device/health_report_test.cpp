@@ -12,6 +12,8 @@ TEST(HealthReport, WarnsBelowLevel3AndNamesTheWayOut) {
        {wire::BrownOut::kOff, wire::BrownOut::kLevel1, wire::BrownOut::kLevel2}) {
     const auto w = BrownOutWarning(level);
     ASSERT_TRUE(w.has_value());
+    // Level 3: 2.75-2.88 V (DS8626), above the 2.7 V x32 programming takes (RM0090 §3.6.2).
+    EXPECT_NE(w->find("level 3 (2.75-2.88 V)"), std::string::npos) << *w;
     EXPECT_NE(w->find("2.7 V"), std::string::npos) << *w;
     EXPECT_NE(w->find("docs/board.md, \"Brown-out level\""), std::string::npos) << *w;
   }
@@ -47,4 +49,24 @@ TEST(HealthReport, SelfTestValuesReadAsTheBoardSentThem) {
 }
 
 }  // namespace
+TEST(HealthReport, TheClockLineSaysWhyTheBoardIsOnItsInternalOscillator) {
+  wire::HealthInfoResponse h;
+  EXPECT_FALSE(ClockText(h).has_value());  // the board does not say (emulator, QEMU image)
+  h.clock = wire::ClockState::kCrystal;
+  h.hse_measured_hz = 8000123;
+  EXPECT_EQ(*ClockText(h), "crystal (measured 8.000 MHz against the internal oscillator)");
+  h.clock = wire::ClockState::kCrystalWrongFrequency;
+  h.hse_measured_hz = 12000340;
+  EXPECT_EQ(*ClockText(h),
+            "internal oscillator, acquisitions refused: the crystal measured 12.000 MHz, more "
+            "than 2 % from the one the image was built for; build it for this board "
+            "(VIBID_BOARD or VIBID_HSE_HZ, docs/board.md)");
+  h.clock = wire::ClockState::kCrystalDidNotStart;
+  EXPECT_NE(ClockText(h)->find("did not start"), std::string::npos);
+  EXPECT_STREQ(ClockStateName(3), "crystal-wrong-frequency");
+  EXPECT_STREQ(ClockStateName(99), "unknown");
+  EXPECT_STREQ(SelfTestReferenceName(wire::SelfTestReference::kLse), "lse");
+  EXPECT_STREQ(SelfTestReferenceName(wire::SelfTestReference::kNone), "");
+}
+
 }  // namespace vibid::device

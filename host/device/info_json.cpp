@@ -108,6 +108,15 @@ nlohmann::json InfoJson(const device::Connection& c, const wire::InfoResponse& i
       {"reset_cause", NameOf(kResetNames, i.reset_cause, "unknown")},
       // "level3" .. "off", "unknown" when the board does not say (also a 2.0 board).
       {"brown_out_level", BrownOutName(health ? health->brown_out : wire::BrownOut::kUnknown)},
+      // "crystal", "crystal-wrong-frequency", ..., "unknown" when the board does not say.
+      {"clock", ClockStateName(health ? static_cast<std::uint32_t>(health->clock) : 0)},
+      {"clock_text", health && ClockText(*health) ? nlohmann::json(*ClockText(*health))
+                                                  : nlohmann::json(nullptr)},
+      {"hse_measured_hz", health && health->hse_measured_hz != 0
+                              ? nlohmann::json(health->hse_measured_hz)
+                              : nlohmann::json(nullptr)},
+      {"sampler_recoveries",
+       health ? nlohmann::json(health->sampler_recoveries) : nlohmann::json(nullptr)},
       {"calibrated", i.cal_state == wire::CalState::kCalibrated},
       {"cal_slot",
        i.cal_slot == wire::kNoSlot ? nlohmann::json(nullptr) : nlohmann::json(i.cal_slot)},

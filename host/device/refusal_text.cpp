@@ -1,5 +1,6 @@
 #include "vibid/device/refusal_text.hpp"
 
+#include "vibid/device/health_report.hpp"
 #include "vibid/shared/wire/commands.hpp"
 
 namespace vibid::device {
@@ -104,6 +105,11 @@ std::string ReasonText(Status status, const wire::Refusal& r) {
     case wire::Reason::kUnknownCheck:
       return "the board has no self-test check " + std::to_string(d) +
              "; use a host that matches the firmware";
+    case wire::Reason::kInternalClock:
+      return std::string("the board runs on its internal oscillator (") + ClockStateName(d) +
+             "), so its sample clock would be off by up to a few percent; vibid info shows the "
+             "measured crystal: build the image for the board's crystal (VIBID_BOARD or "
+             "VIBID_HSE_HZ, docs/board.md) or check the crystal";
   }
   return StatusText(status) + " (reason " + std::to_string(static_cast<unsigned>(r.reason)) +
          ", which this host does not know; use a host that matches the firmware)";

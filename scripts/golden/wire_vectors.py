@@ -119,20 +119,22 @@ def main():
     add("sampling_info_response", report(0x02, flags=FLAG_RESPONSE, token=0x0103,
                                          payload=struct.pack("<6I", 2667, 5905, 2667, 2667, 2667, 2667)))
 
-    # get-info page 2 (2.1): health, brown-out level 3 (4) and a watchdog reset (4).
+    # get-info page 2 (2.1): health, brown-out level 3 (4), a watchdog reset (4), the crystal
+    # refused for its frequency (clock 3), measured at 12 000 340 Hz, 2 converter recoveries.
     add("health_page_request", report(0x02, token=0x0104, payload=b"\x02"))
     add("health_info_response", report(0x02, flags=FLAG_RESPONSE, token=0x0104,
-                                       payload=struct.pack("<BBH", 4, 4, 0)))
+                                       payload=struct.pack("<BBBBII", 4, 4, 3, 0, 12000340, 2)))
 
-    # self-test (2.1): check 0 (hse-ppm) of 17 passes at -12.345 ppm (unit ppm, 10^-3);
-    # check 12 (image-crc) is unavailable; check 17 is refused invalid-argument, unknown-check.
+    # self-test (2.1): check 0 (hse-ppm) of 18 passes at -12.345 ppm (unit ppm, 10^-3) against
+    # the host's USB frames (reference 1); check 12 (image-crc) is unavailable; check 18 is
+    # refused invalid-argument, unknown-check.
     add("self_test_request", report(0x06, token=0x0106, payload=b"\x00"))
     add("self_test_response", report(0x06, flags=FLAG_RESPONSE, token=0x0106,
-                                     payload=struct.pack("<BBBBbBHq", 0, 17, 1, 1, -3, 0, 0, -12345)))
+                                     payload=struct.pack("<BBBBbBHq", 0, 18, 1, 1, -3, 1, 0, -12345)))
     add("self_test_crc_response", report(0x06, flags=FLAG_RESPONSE, token=0x0107,
-                                         payload=struct.pack("<BBBBbBHq", 12, 17, 2, 6, 0, 0, 0, 0)))
+                                         payload=struct.pack("<BBBBbBHq", 12, 18, 2, 6, 0, 0, 0, 0)))
     add("refusal_unknown_check", report(0x06, status=1, flags=FLAG_RESPONSE, token=0x0108,
-                                        payload=struct.pack("<HHI", 27, 0, 17)))
+                                        payload=struct.pack("<HHI", 27, 0, 18)))
 
     status = struct.pack("<BBBBQ", 2, 1, 1, 0, 123456789012)
     status += struct.pack("<IIIIIIIIII", 5000, 400, 100, 2, 7, 1, 3, 40, 9, 0)

@@ -87,19 +87,27 @@ Status Decode(std::span<const std::uint8_t> in, SamplingInfoResponse& v) {
 void Encode(const HealthInfoResponse& v, std::span<std::uint8_t> out) {
   StoreU8(out, 0, static_cast<std::uint8_t>(v.brown_out));
   StoreU8(out, 1, static_cast<std::uint8_t>(v.reset_cause));
-  StoreU16(out, 2, 0);
+  StoreU8(out, 2, static_cast<std::uint8_t>(v.clock));
+  StoreU8(out, 3, 0);
+  StoreU32(out, 4, v.hse_measured_hz);
+  StoreU32(out, 8, v.sampler_recoveries);
 }
 
 Status Decode(std::span<const std::uint8_t> in, HealthInfoResponse& v) {
   if (in.size() != HealthInfoResponse::kBytes) return Status::kInvalidArgument;
   const std::uint8_t brown_out = LoadU8(in, 0);
   const std::uint8_t reset_cause = LoadU8(in, 1);
+  const std::uint8_t clock = LoadU8(in, 2);
   if (brown_out > static_cast<std::uint8_t>(BrownOut::kLevel3) ||
-      reset_cause > static_cast<std::uint8_t>(ResetCause::kLowPower) || LoadU16(in, 2) != 0) {
+      reset_cause > static_cast<std::uint8_t>(ResetCause::kLowPower) ||
+      clock > static_cast<std::uint8_t>(ClockState::kPllDidNotLock) || LoadU8(in, 3) != 0) {
     return Status::kInvalidArgument;
   }
   v.brown_out = static_cast<BrownOut>(brown_out);
   v.reset_cause = static_cast<ResetCause>(reset_cause);
+  v.clock = static_cast<ClockState>(clock);
+  v.hse_measured_hz = LoadU32(in, 4);
+  v.sampler_recoveries = LoadU32(in, 8);
   return Status::kOk;
 }
 
@@ -117,7 +125,7 @@ void Encode(const SelfTestResponse& v, std::span<std::uint8_t> out) {
   StoreU8(out, 2, static_cast<std::uint8_t>(v.verdict));
   StoreU8(out, 3, static_cast<std::uint8_t>(v.unit));
   StoreU8(out, 4, static_cast<std::uint8_t>(v.exp10));
-  StoreU8(out, 5, 0);
+  StoreU8(out, 5, static_cast<std::uint8_t>(v.reference));
   StoreU16(out, 6, 0);
   StoreI64(out, 8, v.mantissa);
 }
@@ -127,7 +135,8 @@ Status Decode(std::span<const std::uint8_t> in, SelfTestResponse& v) {
   const std::uint8_t verdict = LoadU8(in, 2);
   const std::uint8_t unit = LoadU8(in, 3);
   if (verdict > static_cast<std::uint8_t>(SelfTestVerdict::kUnavailable) ||
-      unit > static_cast<std::uint8_t>(SelfTestUnit::kResetCause) || LoadU8(in, 5) != 0 ||
+      unit > static_cast<std::uint8_t>(SelfTestUnit::kResetCause) ||
+      LoadU8(in, 5) > static_cast<std::uint8_t>(SelfTestReference::kCalibration) ||
       LoadU16(in, 6) != 0) {
     return Status::kInvalidArgument;
   }
@@ -136,6 +145,7 @@ Status Decode(std::span<const std::uint8_t> in, SelfTestResponse& v) {
   v.verdict = static_cast<SelfTestVerdict>(verdict);
   v.unit = static_cast<SelfTestUnit>(unit);
   v.exp10 = static_cast<std::int8_t>(LoadU8(in, 4));
+  v.reference = static_cast<SelfTestReference>(LoadU8(in, 5));
   v.mantissa = LoadI64(in, 8);
   return Status::kOk;
 }
@@ -159,6 +169,7 @@ const char* SelfTestCheckName(std::uint8_t check) {
     case SelfTestCheck::kCalSlotB: return "cal-slot-b";
     case SelfTestCheck::kBrownOut: return "brown-out";
     case SelfTestCheck::kResetCause: return "reset-cause";
+    case SelfTestCheck::kHsePpmLse: return "hse-ppm-lse";
   }
   return "unknown";
 }

@@ -100,9 +100,13 @@ TEST(Commands, InfoPageSampling) {
 TEST(Commands, InfoPageHealth) {
   ASSERT_TRUE(EncodesAsGolden("health_page_request", Command::kGetInfo, 0x0104, 0,
                               InfoPageRequest{.page = kInfoPageHealth}));
-  // Brown-out level 3 (byte 4) and a watchdog reset (byte 4), as wire_vectors.py writes them.
+  // Brown-out level 3 (byte 4), a watchdog reset (byte 4), the crystal refused for its frequency
+  // (clock 3), measured at 12 000 340 Hz, 2 converter recoveries, as wire_vectors.py writes them.
   const HealthInfoResponse health{.brown_out = BrownOut::kLevel3,
-                                  .reset_cause = ResetCause::kWatchdog};
+                                  .reset_cause = ResetCause::kWatchdog,
+                                  .clock = ClockState::kCrystalWrongFrequency,
+                                  .hse_measured_hz = 12000340,
+                                  .sampler_recoveries = 2};
   ASSERT_TRUE(
       EncodesAsGolden("health_info_response", Command::kGetInfo, 0x0104, kFlagResponse, health));
   const Report golden = GoldenReport("health_info_response");
@@ -110,32 +114,40 @@ TEST(Commands, InfoPageHealth) {
   ASSERT_EQ(Decode(PayloadOf(golden), v), Status::kOk);
   EXPECT_EQ(v.brown_out, BrownOut::kLevel3);
   EXPECT_EQ(v.reset_cause, ResetCause::kWatchdog);
-  EXPECT_EQ(Decode(PayloadOf(golden).first(3), v), Status::kInvalidArgument);
-  std::array<std::uint8_t, 4> bad{5, 0, 0, 0};  // no brown-out level 5
+  EXPECT_EQ(v.clock, ClockState::kCrystalWrongFrequency);
+  EXPECT_EQ(v.hse_measured_hz, 12000340u);
+  EXPECT_EQ(v.sampler_recoveries, 2u);
+  EXPECT_EQ(Decode(PayloadOf(golden).first(11), v), Status::kInvalidArgument);
+  std::array<std::uint8_t, 12> bad{5, 0, 0, 0};  // no brown-out level 5
   EXPECT_EQ(Decode(bad, v), Status::kInvalidArgument);
-  bad = {4, 0, 1, 0};  // reserved byte set
+  bad = {4, 0, 5, 0};  // no clock state 5
+  EXPECT_EQ(Decode(bad, v), Status::kInvalidArgument);
+  bad = {4, 0, 1, 1};  // reserved byte set
   EXPECT_EQ(Decode(bad, v), Status::kInvalidArgument);
 }
 
 TEST(Commands, SelfTest) {
   ASSERT_TRUE(EncodesAsGolden("self_test_request", Command::kSelfTest, 0x0106, 0,
                               SelfTestRequest{.check = 0}));
-  // hse-ppm passes at -12.345 ppm: mantissa -12345, 10^-3 (wire_vectors.py).
+  // hse-ppm passes at -12.345 ppm: mantissa -12345, 10^-3, against the host's USB frames
+  // (wire_vectors.py).
   const SelfTestResponse hse{.check = 0,
-                             .check_count = 17,
+                             .check_count = 18,
                              .verdict = SelfTestVerdict::kPass,
                              .unit = SelfTestUnit::kPpm,
                              .exp10 = -3,
+                             .reference = SelfTestReference::kUsbFrames,
                              .mantissa = -12345};
   ASSERT_TRUE(
       EncodesAsGolden("self_test_response", Command::kSelfTest, 0x0106, kFlagResponse, hse));
   SelfTestResponse v;
   ASSERT_EQ(Decode(PayloadOf(GoldenReport("self_test_response")), v), Status::kOk);
   EXPECT_EQ(v.check, 0);
-  EXPECT_EQ(v.check_count, 17);
+  EXPECT_EQ(v.check_count, 18);
   EXPECT_EQ(v.verdict, SelfTestVerdict::kPass);
   EXPECT_EQ(v.unit, SelfTestUnit::kPpm);
   EXPECT_EQ(v.exp10, -3);
+  EXPECT_EQ(v.reference, SelfTestReference::kUsbFrames);
   EXPECT_EQ(v.mantissa, -12345);
   ASSERT_EQ(Decode(PayloadOf(GoldenReport("self_test_crc_response")), v), Status::kOk);
   EXPECT_EQ(v.check, 12);
@@ -147,6 +159,12 @@ TEST(Commands, SelfTest) {
   std::array<std::uint8_t, 16> bad{};
   bad[2] = 3;  // no verdict 3
   EXPECT_EQ(Decode(bad, v), Status::kInvalidArgument);
+  bad[2] = 1;
+  bad[5] = 5;  // no reference 5
+  EXPECT_EQ(Decode(bad, v), Status::kInvalidArgument);
+  bad[5] = 4;  // the calibrated zero
+  EXPECT_EQ(Decode(bad, v), Status::kOk);
+  EXPECT_STREQ(SelfTestCheckName(17), "hse-ppm-lse");
   EXPECT_EQ(Decode(std::span<const std::uint8_t>(bad).first(15), v), Status::kInvalidArgument);
 }
 

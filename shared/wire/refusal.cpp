@@ -49,6 +49,7 @@ const char* ReasonName(Reason reason) {
     case Reason::kPortRefused: return "port-refused";
     case Reason::kUnknownInfoPage: return "unknown-info-page";
     case Reason::kUnknownCheck: return "unknown-check";
+    case Reason::kInternalClock: return "internal-clock";
   }
   return "unknown";
 }

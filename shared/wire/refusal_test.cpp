@@ -34,12 +34,13 @@ TEST(Refusal, EncodesAsGolden) {
   EXPECT_EQ(out, GoldenReport("refusal_nothing_staged"));
 
   // self-test of check 17, which the board does not have (wire_vectors.py).
-  const Refusal check{.reason = Reason::kUnknownCheck, .detail = 17};
+  const Refusal check{.reason = Reason::kUnknownCheck, .detail = 18};
   ASSERT_EQ(BuildReport(Command::kSelfTest, 0x0108, 0, kFlagResponse, Status::kInvalidArgument,
                         check, out),
             Status::kOk);
   EXPECT_EQ(out, GoldenReport("refusal_unknown_check"));
   EXPECT_STREQ(ReasonName(Reason::kUnknownCheck), "unknown-check");
+  EXPECT_STREQ(ReasonName(Reason::kInternalClock), "internal-clock");
 }
 
 TEST(Refusal, DecodesGolden) {

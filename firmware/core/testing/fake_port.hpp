@@ -92,9 +92,13 @@ class FakeSystem final : public SystemControl {
     self_test_period_us = sample_period_us;
     return self_test[static_cast<std::size_t>(check)];
   }
+  ClockReport ClockHealth() const override { return clock; }
+  std::uint32_t SamplerRecoveries() const override { return sampler_recoveries; }
   void Reset() override { ++resets; }
   void EnterDfu() override { ++dfu_entries; }
 
+  ClockReport clock{};
+  std::uint32_t sampler_recoveries = 0;
   std::uint32_t capabilities = wire::kCapDfu;
   wire::ResetCause reset_cause = wire::ResetCause::kPowerOn;
   wire::BrownOut brown_out = wire::BrownOut::kUnknown;

@@ -14,7 +14,8 @@ fw::SystemControl::SelfTestMeasurement EmuSystemControl::MeasureSelfTest(
   switch (check) {
     case SelfTestCheck::kHsePpm: return {.available = true, .mantissa = 0, .exp10 = -3};
     case SelfTestCheck::kVdda: return {.available = true, .mantissa = kVddaMv, .exp10 = -3};
-    case SelfTestCheck::kImageCrc: return {};
+    case SelfTestCheck::kImageCrc:
+    case SelfTestCheck::kHsePpmLse: return {};  // no image; no LSE crystal in the rig
     default: break;
   }
   // Converter and encoder checks: sample the rig as the board would, kSelfTestSamples frames at

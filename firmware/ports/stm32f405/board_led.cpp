@@ -16,4 +16,9 @@ void LightLed(const LedPin& led) {
   gpio::SetMode(port, led.pin, gpio::Mode::kOutput);
 }
 
+void DarkenLed(const LedPin& led) {
+  const Address port = gpio::kPortA + 0x400 * led.port_index;
+  Reg(port + gpio::kBsrr) = led.active_high ? Bit(led.pin + 16) : Bit(led.pin);
+}
+
 }  // namespace vibid::fw::stm32

@@ -1,6 +1,7 @@
 #include "board_port.hpp"
 
 #include "clock_plan.hpp"
+#include "crystal_check.hpp"
 #include "image_crc_self_test.hpp"
 #include "otg_fs_dcd.hpp"
 #include "regs/peripherals.hpp"
@@ -22,6 +23,19 @@ void BoardSystemControl::DrainReplies() const {
   while (dcd_->InTransfersPending() && MicrosecondsSinceBoot() - start < kReplyDrainUs) {
     KickWatchdog();
   }
+}
+
+SystemControl::ClockReport BoardSystemControl::ClockHealth() const {
+  wire::ClockState state = wire::ClockState::kCrystal;
+  if (clocks_.source != ClockSource::kPllFromHse) {
+    switch (clocks_.hsi_reason) {
+      case HsiReason::kHseWrongFrequency: state = wire::ClockState::kCrystalWrongFrequency; break;
+      case HsiReason::kPllDidNotLock: state = wire::ClockState::kPllDidNotLock; break;
+      case HsiReason::kHseDidNotStart:
+      case HsiReason::kNone: state = wire::ClockState::kCrystalDidNotStart; break;
+    }
+  }
+  return {.state = state, .hse_measured_hz = clocks_.hse_measured_hz};
 }
 
 wire::BrownOut BoardSystemControl::BrownOutLevel() const {
@@ -57,13 +71,25 @@ SystemControl::SelfTestMeasurement BoardSystemControl::MeasureSelfTest(
   }
   switch (check) {
     case wire::SelfTestCheck::kHsePpm: {
-      // USB runs only with the PLL on the HSE at 168 MHz (the HSI fallback keeps it off the
-      // bus), so a host that asks is timing a 168 MHz core.
+      // Only a core on the crystal's PLL (168 MHz) times the crystal; on the HSI fallback the
+      // count would be the HSI's.
+      if (clocks_.source != ClockSource::kPllFromHse) return {};
       std::uint32_t cycles = 0;
       if (!CountCyclesOverFrames(kCrystalCheckFrames, kSysclkTargetHz, cycles)) return {};
       return {.available = true,
               .mantissa = CrystalErrorMilliPpm(cycles, kCrystalCheckFrames, kSysclkTargetHz),
-              .exp10 = -3};
+              .exp10 = -3,
+              .reference = wire::SelfTestReference::kUsbFrames};
+    }
+    case wire::SelfTestCheck::kHsePpmLse: {
+      std::int64_t milli_ppm = 0;
+      if (!has_lse_ || clocks_.source != ClockSource::kPllFromHse || !LseReady() ||
+          !MeasureHseAgainstLse(clocks_.apb1_timer_hz, milli_ppm))
+        return {};
+      return {.available = true,
+              .mantissa = milli_ppm,
+              .exp10 = -3,
+              .reference = wire::SelfTestReference::kLse};
     }
     case wire::SelfTestCheck::kVdda: {
       // Erased or absent calibration (0xFFFF, 0) leaves nothing to scale by.

@@ -12,9 +12,12 @@ namespace {
 // A single program takes at most 100 us; 100 000 status polls, a few cycles each at 168 MHz, are
 // well above that.
 constexpr std::uint32_t kWordPolls = 100000;
-// The erase's bound: above the datasheet's worst 16 KiB sector erase at either parallelism (x32
-// 500 ms, x8 800 ms) and below the watchdog's shortest period (1.0 s, fed right before the
-// erase starts), so a sector that never finishes is reported, not ended by a watchdog reset.
+// The erase's bound, best-effort: above the datasheet's worst 16 KiB sector erase at either
+// parallelism (x32 500 ms, x8 800 ms) and below the watchdog's shortest period (1.0 s, fed right
+// before the erase starts). It can only fire when the wait loop runs (from the ART cache, not
+// stalled on a flash fetch) and it is timed by the millisecond clock, which misses the SysTick
+// interrupts of a stalled bus; a sector that never finishes is ended by the watchdog, the real
+// bound.
 constexpr std::uint64_t kEraseTimeoutUs = 900000;
 static_assert(kEraseTimeoutUs > 1000ULL * InternalCalibrationFlash::kEraseMaxMsX8);
 static_assert(kEraseTimeoutUs < 1000ULL * kWatchdogTimeoutMs);

@@ -2,9 +2,14 @@
 // the build's crystal (8 MHz in this test build), the flash wait states go up before the switch,
 // and a PWR clock enable is followed by a DSB (ES0182 §2.1.13); the flash accelerator runs with
 // caches and without prefetch; the option bytes' brown-out level reads back.
+#include <cmath>
+#include <utility>
+
 #include "board_port.hpp"
 #include "clock.hpp"
+#include "crystal_check.hpp"
 #include "port_test_fixture.hpp"
+#include "regs/peripherals.hpp"
 #include "regs/rcc.hpp"
 #include "system.hpp"
 
@@ -13,22 +18,36 @@ namespace {
 
 class ClockTest : public PortTest {
  protected:
-  void ModelRcc(bool hse_starts) {
-    regs().OnWrite(rcc::kCr, [hse_starts](std::uint32_t, std::uint32_t w) {
-      if (hse_starts && (w & rcc::kCrHseOn) != 0) w |= rcc::kCrHseRdy;
+  /// RCC_CR's ready flags follow their enables; SWS follows SW. `hse_hz` is the crystal on the
+  /// board (0: none starts); TIM11 captures HSE_RTC = HSE / RTCPRE every 8 edges, counting the
+  /// 16 MHz HSI, and `captures` says whether edges reach it at all.
+  void ModelRcc(std::uint32_t hse_hz, bool captures = true) {
+    regs().OnWrite(rcc::kCr, [hse_hz](std::uint32_t, std::uint32_t w) {
+      w &= ~(rcc::kCrHseRdy | rcc::kCrPllRdy | rcc::kCrHsiRdy);
+      if (hse_hz != 0 && (w & rcc::kCrHseOn) != 0) w |= rcc::kCrHseRdy;
       if ((w & rcc::kCrPllOn) != 0) w |= rcc::kCrPllRdy;
       if ((w & rcc::kCrHsiOn) != 0) w |= rcc::kCrHsiRdy;
       return w;
     });
-    // SWS follows SW.
     regs().OnWrite(rcc::kCfgr, [](std::uint32_t, std::uint32_t w) {
       return (w & ~rcc::kCfgrSwsMask) | ((w & rcc::kCfgrSwMask) << 2);
     });
+    regs().OnRead(tim::kTim11 + tim::kSr, [captures](std::uint32_t held) {
+      return captures ? held | tim::kSrCc1if : held;
+    });
+    capture_ = 0;
+    regs().OnRead(tim::kTim11 + tim::kCcr1, [this, hse_hz](std::uint32_t) {
+      // The k-th capture: k x 8 x RTCPRE HSE cycles in HSI ticks, on the 16-bit counter.
+      const std::uint32_t rtcpre = (regs().Peek(rcc::kCfgr) >> 16) & 0x1F;
+      const double ticks = static_cast<double>(capture_++) * 8.0 * rtcpre * 16e6 / hse_hz;
+      return static_cast<std::uint32_t>(std::llround(ticks)) & 0xFFFF;
+    });
   }
+  std::uint64_t capture_ = 0;
 };
 
 TEST_F(ClockTest, ProgramsThePlannedPllFor8MHz) {
-  ModelRcc(true);
+  ModelRcc(8000000);
   const ClockConfig c = ConfigureClocks();
   EXPECT_EQ(c.source, ClockSource::kPllFromHse);
   EXPECT_EQ(c.sysclk_hz, 168000000U);
@@ -50,7 +69,7 @@ TEST_F(ClockTest, ProgramsThePlannedPllFor8MHz) {
 }
 
 TEST_F(ClockTest, FlashRunsWithCachesAndWithoutPrefetch) {
-  ModelRcc(true);
+  ModelRcc(8000000);
   ASSERT_EQ(ConfigureClocks().source, ClockSource::kPllFromHse);
   // FLASH_ACR (RM0090 §3.9.1): LATENCY 2:0, PRFTEN 8, ICEN 9, DCEN 10, ICRST 11, DCRST 12. Caches
   // reset while off, then on; prefetch never on (ES0182 ADC noise workaround).
@@ -78,12 +97,84 @@ TEST_F(ClockTest, BrownOutLevelIsTheOptionBytesField) {
 }
 
 TEST_F(ClockTest, FallsBackToHsiWhenTheCrystalDoesNotStart) {
-  ModelRcc(false);
+  ModelRcc(0);
   const ClockConfig c = ConfigureClocks();
   EXPECT_EQ(c.source, ClockSource::kHsiFallback);
+  EXPECT_EQ(c.hsi_reason, HsiReason::kHseDidNotStart);
   EXPECT_EQ(c.sysclk_hz, 16000000U);
   EXPECT_EQ(regs().Peek(rcc::kCfgr) & rcc::kCfgrSwMask, rcc::kCfgrSwHsi);
-  EXPECT_EQ(regs().FindWriteWithBits(rcc::kCr, rcc::kCrPllOn), kNone);
+  // The PLL never runs from the HSE (PLLSRC, bit 22, never set).
+  EXPECT_EQ(regs().FindWriteWithBits(rcc::kPllcfgr, rcc::kPllcfgrSrcHse), kNone);
+}
+
+TEST_F(ClockTest, MeasuresTheCrystalAgainstTheHsiBeforeThePllUsesIt) {
+  ModelRcc(8000000);
+  const ClockConfig c = ConfigureClocks();
+  ASSERT_EQ(c.source, ClockSource::kPllFromHse);
+  // 64 captures x 8 x 31 HSE cycles = 31 744 HSI ticks at 8 MHz: 8 000 000 Hz, exactly.
+  EXPECT_EQ(c.hse_measured_hz, 8000000U);
+  // RCC_CFGR RTCPRE (20:16) = 31, TIM11 (APB2ENR bit 18) with TIM11_OR TI1_RMP = 10 (HSE_RTC),
+  // CCMR1 CC1S = 01 and IC1PSC = 11 (0xD), CC1E: all before RCC_PLLCFGR is written.
+  const std::size_t rtcpre = regs().FindWriteWithBits(rcc::kCfgr, 31U << 16);
+  const std::size_t remap = regs().FindWrite(tim::kTim11 + tim::kOr, 0x2);
+  const std::size_t input = regs().FindWrite(tim::kTim11 + tim::kCcmr1, 0xD);
+  const std::size_t pll = regs().FindWriteWithBits(rcc::kPllcfgr, rcc::kPllcfgrSrcHse);
+  ASSERT_NE(rtcpre, kNone);
+  ASSERT_NE(remap, kNone);
+  ASSERT_NE(input, kNone);
+  ASSERT_NE(pll, kNone);
+  EXPECT_LT(rtcpre, pll);
+  EXPECT_LT(remap, pll);
+  EXPECT_NE(regs().FindWriteWithBits(rcc::kApb2enr, Bit(18)), kNone);
+  // Put back: TIM11 off and unclocked, RTCPRE 0, no remap.
+  EXPECT_EQ(regs().Peek(tim::kTim11 + tim::kCr1), 0U);
+  EXPECT_EQ(regs().Peek(tim::kTim11 + tim::kOr), 0U);
+  EXPECT_EQ(regs().Peek(rcc::kApb2enr) & Bit(18), 0U);
+  EXPECT_EQ(regs().Peek(rcc::kCfgr) & (0x1FU << 16), 0U);
+}
+
+TEST_F(ClockTest, ACrystalMoreThanTwoPercentOffStaysOnTheHsi) {
+  // An image for 8 MHz on a board with a 12 MHz crystal: the PLL would make 504 MHz VCO and a
+  // 252 MHz core. It stays on the HSI, says why, and runs the PLL from the HSI for USB only.
+  ModelRcc(12000000);
+  const ClockConfig c = ConfigureClocks();
+  EXPECT_EQ(c.source, ClockSource::kHsiFallback);
+  EXPECT_EQ(c.hsi_reason, HsiReason::kHseWrongFrequency);
+  EXPECT_NEAR(c.hse_measured_hz, 12000000.0, 12000000.0 * 1e-4);
+  EXPECT_EQ(c.sysclk_hz, 16000000U);
+  EXPECT_TRUE(c.usb_clocked);
+  EXPECT_EQ(regs().FindWriteWithBits(rcc::kPllcfgr, rcc::kPllcfgrSrcHse), kNone);
+  // HSI plan: PLLM 8, PLLN 168, PLLP /2, PLLSRC HSI (0), PLLQ 7: 8 | 168 << 6 | 7 << 24.
+  EXPECT_EQ(regs().Peek(rcc::kPllcfgr), 0x07002A08U);
+  EXPECT_EQ(regs().Peek(rcc::kCfgr) & rcc::kCfgrSwMask, rcc::kCfgrSwHsi);
+  EXPECT_EQ(regs().Peek(rcc::kCr) & rcc::kCrHseOn, 0U);
+  // Within 2 % is the board's crystal; beyond it is not (8 MHz image).
+  for (const auto& [hz, accepted] : {std::pair{8150000U, true}, std::pair{7850000U, true},
+                                     std::pair{8170000U, false}, std::pair{7830000U, false}}) {
+    regs().Clear();
+    ModelRcc(hz);
+    EXPECT_EQ(ConfigureClocks().source == ClockSource::kPllFromHse, accepted) << hz;
+  }
+}
+
+TEST_F(ClockTest, AReadyCrystalWhoseEdgesNeverArriveCountsAsNotStarted) {
+  ModelRcc(8000000, /*captures=*/false);
+  const ClockConfig c = ConfigureClocks();
+  EXPECT_EQ(c.source, ClockSource::kHsiFallback);
+  EXPECT_EQ(c.hsi_reason, HsiReason::kHseDidNotStart);
+  EXPECT_EQ(c.hse_measured_hz, 0U);
+}
+
+TEST(CrystalArithmetic, HseFromTicksAndTheTwoPercentLimit) {
+  // 64 x 248 = 15 872 HSE cycles; at 12 MHz that is 1.3227 ms = 21 162.67 HSI ticks.
+  EXPECT_EQ(HseHzFromTicks(31744, 64), 8000000U);
+  EXPECT_EQ(HseHzFromTicks(21163, 64), 11999811U);  // 15872 x 16e6 / 21163, rounded
+  EXPECT_EQ(HseHzFromTicks(0, 64), 0U);
+  EXPECT_TRUE(HseWithinTolerance(8160000, 8000000));  // exactly 2 %
+  EXPECT_FALSE(HseWithinTolerance(8160001, 8000000));
+  EXPECT_TRUE(HseWithinTolerance(7840000, 8000000));
+  EXPECT_FALSE(HseWithinTolerance(7839999, 8000000));
+  EXPECT_FALSE(HseWithinTolerance(25000000, 24000000));  // 24 vs 25 MHz told apart
 }
 
 }  // namespace

@@ -7,6 +7,7 @@
 #include "board_port.hpp"
 #include "calibration_flash.hpp"
 #include "clock.hpp"
+#include "crystal_check.hpp"
 #include "otg_fs_dcd.hpp"
 #include "regs/core_m4.hpp"
 #include "sampler.hpp"
@@ -61,6 +62,8 @@ int main() {
   static BoardSystemControl system;
   system.Init();
   const ClockConfig clocks = ConfigureClocks();
+  // The LSE starts now and is ready (up to 2 s) long before a self-test measures against it.
+  if (BoardHasLse()) StartLse();
   LightBoardLed();
   StartMillisecondTick(clocks.sysclk_hz);
   g_sampler.Init(clocks);
@@ -81,9 +84,15 @@ int main() {
   system.AttachUsb(g_dcd);
   system.AttachSampler(g_sampler);
   system.AttachImage(OwnImage());
-  // Without the PLL's 48 MHz the OTG core cannot run: the board stays off the bus (get-info over
-  // USB is then impossible, so the fallback is visible as a board that does not enumerate).
-  if (clocks.source == ClockSource::kPllFromHse) (void)device.Start();
+  system.AttachClock(clocks, BoardHasLse());
+  system.AttachSamplerCounters(g_sampler.counters());
+  // On the HSI fallback the PLL gives USB its 48 MHz from the HSI (+-1 % at 25 C, outside USB's
+  // +-0.25 %: a host may not take it), so the board can enumerate and get-info say why it
+  // refuses to acquire. A PLL that did not lock at all leaves it off the bus; the LED blinks
+  // either way.
+  g_dcd.Configure(OtgFsConfig{.ahb_hz = clocks.sysclk_hz, .vbus_sensing = BoardSensesVbus()});
+  if (clocks.usb_clocked) (void)device.Start();
+  const bool on_crystal = clocks.source == ClockSource::kPllFromHse;
 
   std::uint32_t bus_resets = 0;
   for (;;) {
@@ -93,6 +102,7 @@ int main() {
       core.OnLinkReset();
     }
     core.Poll();
+    if (!on_crystal) SetBoardLed(StatusLedLit(false, MicrosecondsSinceBoot()));
     KickWatchdog();
     WaitForInterrupt();
   }

@@ -16,10 +16,10 @@ constexpr std::uint32_t kEp0TxWords = 16;
 constexpr std::uint32_t kEpTxWords = 32;
 constexpr std::uint32_t kPollLimit = 200000;
 
-/// The core clock while the driver runs: main starts USB only on the PLL's 168 MHz.
-constexpr std::uint32_t kCoreClockHz = 168000000;
 /// A forced mode change takes effect after at most 25 ms (RM0090 §34.16.2, OTG_FS_GUSBCFG FDMOD).
-constexpr std::uint32_t kForcedModeCycles = kCoreClockHz / 1000 * 25;
+constexpr std::uint32_t kForcedModeMs = 25;
+static_assert(TurnaroundFor(168000000) == 6 && TurnaroundFor(16000000) == 0xD &&
+              TurnaroundFor(14200000) == 0xF && TurnaroundFor(31999999) == 7);
 
 std::uint16_t PacketCount(std::size_t length, std::uint16_t max_packet) {
   if (length == 0) return 1;
@@ -50,14 +50,21 @@ Status OtgFsDcd::Init(usb::DcdEvents& events) {
   // D+ pull-up never shows before Connect (no attach/detach glitch for the host).
   Reg(otg::kDctl) |= otg::kDctlSdis;
 
-  // Transceiver on; VBUS is not wired to PA9 on this board, so sensing is off.
-  Reg(otg::kGccfg) = otg::kGccfgPwrdwn | otg::kGccfgNovbussens;
-  // Forced device mode, turnaround time 6 for an AHB clock above 32 MHz; the mode change takes
-  // effect after 25 ms, timed by the DWT cycle counter (a loop's duration depends on the flash
-  // wait states and the caches).
+  // Transceiver on. With VBUS on PA9 (an input, no pull: MicroPython's pyboard set-up) the core
+  // senses it as a B-device and pulls D+ up only while the host powers the bus, as ST's HAL does
+  // for vbus_sensing_enable; without it sensing is off (NOVBUSSENS) and D+ follows SDIS alone.
+  if (config_.vbus_sensing) {
+    gpio::SetMode(gpio::kPortA, 9, gpio::Mode::kInput);
+    Reg(otg::kGccfg) = otg::kGccfgPwrdwn | otg::kGccfgVbusbsen;
+  } else {
+    Reg(otg::kGccfg) = otg::kGccfgPwrdwn | otg::kGccfgNovbussens;
+  }
+  // Forced device mode, turnaround time for the AHB clock (6 above 32 MHz, 13 at the HSI's
+  // 16 MHz); the mode change takes effect after 25 ms, timed by the DWT cycle counter (a loop's
+  // duration depends on the flash wait states and the caches).
   Modify(otg::kGusbcfg, otg::kGusbcfgFdmod | otg::kGusbcfgTrdtMask,
-         otg::kGusbcfgFdmod | Field(6, otg::kGusbcfgTrdtPos));
-  if (!WaitCycles(kForcedModeCycles)) return Status::kUnavailable;
+         otg::kGusbcfgFdmod | Field(TurnaroundFor(config_.ahb_hz), otg::kGusbcfgTrdtPos));
+  if (!WaitCycles(config_.ahb_hz / 1000 * kForcedModeMs)) return Status::kUnavailable;
   // The mode switch is confirmed, not assumed: CMOD reads 0 in device mode.
   if ((Reg(otg::kGintsts) & otg::kIntCmod) != 0) return Status::kUnavailable;
   Reg(otg::kPcgcctl) = 0;

@@ -13,9 +13,33 @@
 
 namespace vibid::fw::stm32 {
 
+/// What the board and its clocks ask of the driver.
+struct OtgFsConfig {
+  /// HCLK: 168 MHz from the crystal, or 16 MHz on the HSI fallback (the OTG core needs at least
+  /// 14.2 MHz). It sets the turnaround time and the forced-mode wait.
+  std::uint32_t ahb_hz = 168000000;
+  /// VBUS wired to PA9 (pyboard): the core's D+ pull-up then follows VBUS, so a board powered
+  /// from elsewhere with the cable out does not show a device to nobody. Otherwise sensing off.
+  bool vbus_sensing = false;
+};
+
+/// OTG_FS_GUSBCFG TRDT for an AHB clock, full speed (RM0090 §34.16.3 TRDT table; ST's HAL
+/// USB_SetTurnaroundTime gives the same ranges): 15 at 14.2 MHz down to 6 from 32 MHz.
+constexpr std::uint32_t TurnaroundFor(std::uint32_t ahb_hz) {
+  constexpr std::uint32_t kFrom[] = {14200000, 15000000, 16000000, 17200000, 18500000,
+                                     20000000, 21800000, 24000000, 27500000, 32000000};
+  std::uint32_t trdt = 0xF;
+  for (std::uint32_t i = 0; i < sizeof(kFrom) / sizeof(kFrom[0]) && ahb_hz >= kFrom[i]; ++i)
+    trdt = 0xF - i;
+  return trdt;
+}
+
 class OtgFsDcd final : public usb::Dcd {
  public:
   static constexpr unsigned kEndpoints = 4;
+
+  /// Before Init: the clock and VBUS wiring (defaults: 168 MHz, no VBUS sensing).
+  void Configure(const OtgFsConfig& config) { config_ = config; }
 
   Status Init(usb::DcdEvents& events) override;
   void Connect() override;
@@ -51,6 +75,7 @@ class OtgFsDcd final : public usb::Dcd {
   void DisableInEndpoint(unsigned n, bool stall);
   void DisableOutEndpoint(unsigned n);
 
+  OtgFsConfig config_{};
   usb::DcdEvents* events_ = nullptr;
   std::array<Endpoint, kEndpoints> in_{};
   std::array<Endpoint, kEndpoints> out_{};

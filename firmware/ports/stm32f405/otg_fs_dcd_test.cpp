@@ -7,6 +7,7 @@
 #include "port_test_fixture.hpp"
 #include "regs/core_m4.hpp"
 #include "regs/otg_fs.hpp"
+#include "regs/peripherals.hpp"
 #include "regs/rcc.hpp"
 
 namespace vibid::fw::stm32::test {
@@ -141,6 +142,47 @@ TEST_F(OtgTest, InitDisconnectsRightAfterTheCoreResetAndTimesTheModeChange) {
   }
   EXPECT_GE(cycle_reads, 26U);  // the start, then 25 ms
   EXPECT_LE(cycle_reads, 27U);
+}
+
+TEST_F(OtgTest, WithoutVbusWiredSensingIsOffAndTheTurnaroundIsFor168MHz) {
+  ASSERT_EQ(dcd_.Init(events_), Status::kOk);
+  // OTG_FS_GCCFG (RM0090 §34.16.1): PWRDWN 16, NOVBUSSENS 21, VBUSBSEN 19 clear.
+  EXPECT_EQ(regs().Peek(otg::kGccfg), Bit(16) | Bit(21));
+  // GUSBCFG TRDT (13:10) = 6 above 32 MHz.
+  EXPECT_EQ((regs().Peek(otg::kGusbcfg) >> 10) & 0xF, 6U);
+}
+
+TEST_F(OtgTest, VbusOnPa9GatesThePullUp) {
+  // pyboard v1.1: VBUS to PA9. PA9 an input (MODER 19:18 = 00), B-device sensing on (VBUSBSEN,
+  // bit 19), NOVBUSSENS (bit 21) clear: the core pulls D+ up only with VBUS present.
+  regs().Poke(gpio::kPortA + gpio::kModer, 0x3U << 18);
+  dcd_.Configure(OtgFsConfig{.ahb_hz = 168000000, .vbus_sensing = true});
+  ASSERT_EQ(dcd_.Init(events_), Status::kOk);
+  EXPECT_EQ(regs().Peek(otg::kGccfg), Bit(16) | Bit(19));
+  EXPECT_EQ(regs().Peek(gpio::kPortA + gpio::kModer) & (0x3U << 18), 0U);
+  EXPECT_LT(regs().FindWrite(gpio::kPortA + gpio::kModer, regs().Peek(gpio::kPortA + gpio::kModer)),
+            regs().FindWriteWithBits(otg::kGccfg, Bit(19)));
+}
+
+TEST_F(OtgTest, OnTheHsiTheTurnaroundAndTheModeWaitFollowTheClock) {
+  // 16 MHz HCLK: TRDT 0xD (16-17.2 MHz; RM0090's TRDT table, ST's HAL alike); the 25 ms wait
+  // is 400 000 cycles, i.e. three reads of the fake's 168 000-cycle steps.
+  dcd_.Configure(OtgFsConfig{.ahb_hz = 16000000, .vbus_sensing = false});
+  ASSERT_EQ(dcd_.Init(events_), Status::kOk);
+  EXPECT_EQ((regs().Peek(otg::kGusbcfg) >> 10) & 0xF, 0xDU);
+  const std::size_t device_mode = regs().FindWriteWithBits(otg::kGusbcfg, otg::kGusbcfgFdmod);
+  std::size_t cycle_reads = 0;
+  for (std::size_t i = device_mode; i < regs().log().size(); ++i) {
+    const Access& a = regs().log()[i];
+    if (a.kind == Access::Kind::kWrite && a.address == otg::kPcgcctl) break;
+    cycle_reads += a.kind == Access::Kind::kRead && a.address == dwt::kCyccnt;
+  }
+  EXPECT_GE(cycle_reads, 3U);
+  EXPECT_LE(cycle_reads, 4U);
+  EXPECT_EQ(TurnaroundFor(14200000), 0xFU);
+  EXPECT_EQ(TurnaroundFor(24000000), 0x8U);
+  EXPECT_EQ(TurnaroundFor(27499999), 0x8U);
+  EXPECT_EQ(TurnaroundFor(32000000), 0x6U);
 }
 
 TEST_F(OtgTest, InitRefusesACoreWithoutACycleCounter) {

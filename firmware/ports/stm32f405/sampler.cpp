@@ -125,6 +125,7 @@ bool AnyOverrun() {
 
 void Sampler::Init(const ClockConfig& clocks) {
   timer_clock_hz_ = clocks.apb1_timer_hz;
+  sysclk_hz_ = clocks.sysclk_hz;
   // The shortest time from the edge to the scan's last result: the conversions alone (the
   // trigger synchronisation only adds to it). 136 x 4 = 544 timer clocks at full speed.
   scan_timer_ticks_ = static_cast<std::uint32_t>(std::uint64_t{kScanAdcClocks} * kAdcPrescaler *
@@ -213,6 +214,7 @@ Status Sampler::Start(std::uint32_t sample_period_us, FrameSink& sink) {
   }
   sink_ = &sink;
   next_tick_ = 0;
+  drop_next_frame_ = false;
   delivered_ = 0;
   sink_cycles_ = 0;
   last_encoder_raw_ = {static_cast<std::uint16_t>(Reg(tim::kTim3 + tim::kCnt)),
@@ -237,13 +239,23 @@ void Sampler::Stop() {
 
 void Sampler::Recover() {
   ++counters_.recoveries;
-  // The converters off reset their sequencers to rank 1 and the common DMA request logic; the
-  // stream restarts at the buffer's first element; OVR cleared last, before the converters are
-  // back (RM0090 §13.8.1: re-initialise the DMA, clear OVR, trigger again). The next TRGO edge
-  // starts a whole scan on all three.
+  // RM0090 §13.8.1 gives the overrun recovery for one converter (re-initialise the DMA, clear
+  // OVR, trigger again); in multi-ADC mode the DMA requests come from ADC_CCR, whose DMA bits
+  // must be cleared and set again before new requests are taken (§13.9, "DMA requests in
+  // multi ADC mode"). The converters go off first, so their sequencers restart at rank 1 and
+  // the common data register's ADC1 -> ADC2 -> ADC3 order at ADC1; the stream restarts at the
+  // buffer's first element; OVR is cleared before DMA mode 1 and DDS are back; the slaves come
+  // on before the master. The next TRGO edge starts a whole scan on all three.
   ConvertersOff();
+  Modify(adc::kCommonCcr, adc::kCcrDmaMask | adc::kCcrDds, 0);
   ArmAdcStream();
+  for (Address a : kConverter) Reg(a + adc::kSr) = 0;
+  Modify(adc::kCommonCcr, adc::kCcrDmaMask | adc::kCcrDds, adc::kCcrDmaMode1 | adc::kCcrDds);
   ConvertersOn();
+  // t_STAB before the converters are trusted; an edge may still fall inside it (the wait runs
+  // in the interrupt, the timer keeps going), so the first frame after this is dropped too.
+  (void)WaitCycles(sysclk_hz_ / 1000000 * kStabilisationUs);
+  drop_next_frame_ = true;
 }
 
 void Sampler::CheckEncoderStreams() {
@@ -301,6 +313,13 @@ void Sampler::HandleDmaInterrupt() {
   // Already delivered (an interrupt that was pending across a recovery).
   if (static_cast<std::int32_t>(tick - next_tick_) < 0) return;
   next_tick_ = tick + 1;
+  if (drop_next_frame_) {
+    // The first scan after a recovery may have begun while the converters settled: the tick
+    // it leaves out is a gap the core counts as an overrun.
+    drop_next_frame_ = false;
+    ++counters_.dropped_after_recovery;
+    return;
+  }
 
   SampleFrame frame;
   frame.tick = tick;

@@ -17,8 +17,12 @@
 // The DMA2 stream 0 transfer-complete interrupt assembles the frame for the core.
 //
 // ADC overrun (OVR stops the ADC's DMA requests for good) and DMA transfer errors are caught by
-// interrupt and by a check every frame; recovery re-arms DMA and ADC from the first channel, so
-// the channels cannot rotate in the buffer.
+// interrupt and by a check every frame. Recovery follows RM0090's multi-ADC overrun steps (the
+// common DMA request logic restarted through ADC_CCR's DMA bits, the stream re-armed, OVR
+// cleared, DMA and DDS set again) with the converters switched off and on, so the next scan starts
+// at ADC1's first rank and the channels cannot rotate in the buffer; the converters get their
+// 3 us stabilisation time, and the first frame after a recovery is dropped (the edge may have
+// come while they settled), which the core counts as an overrun.
 #pragma once
 
 #include <array>
@@ -33,7 +37,8 @@ struct SamplerCounters {
   std::uint32_t adc_overruns = 0;  ///< ADC OVR: a conversion was lost (DMA too late).
   std::uint32_t dma_errors = 0;    ///< Transfer errors on the ADC or an encoder latch stream.
   std::uint32_t recoveries = 0;    ///< ADC + DMA re-arms after either.
-  std::uint32_t torn_frames = 0;   ///< Interrupts dropped because the next scan had begun.
+  std::uint32_t dropped_after_recovery = 0;  ///< First frames after a recovery, not delivered.
+  std::uint32_t torn_frames = 0;  ///< Interrupts dropped because the next scan had begun.
 };
 
 /// The DMA targets, in SRAM (the CCM is not reachable by DMA); named here for the host tests.
@@ -54,6 +59,9 @@ class Sampler final : public FrameSource {
   static constexpr std::uint32_t kScanAdcClocks = kRanks * (kSamplingCycles + 12);
   /// ADCCLK = PCLK2 / 4 (ADC common prescaler).
   static constexpr std::uint32_t kAdcPrescaler = 4;
+  /// A converter switched on (ADON) needs t_STAB before it converts (STM32F405 datasheet, ADC
+  /// characteristics; ST's HAL waits 3 us, ADC_STAB_DELAY_US).
+  static constexpr std::uint32_t kStabilisationUs = 3;
 
   /// Configures pins, encoders, frame counter, ADC scan and the DMA streams once at boot;
   /// sampling starts with Start().
@@ -82,6 +90,7 @@ class Sampler final : public FrameSource {
   void CheckEncoderStreams();
 
   std::uint32_t timer_clock_hz_ = 0;
+  std::uint32_t sysclk_hz_ = 16000000;
   std::uint32_t scan_timer_ticks_ = 0;   ///< Timer clocks the scan's conversions take at least.
   std::uint32_t latch_timer_ticks_ = 0;  ///< Edge to the encoder latch (the sampling phase).
   std::uint32_t min_period_us_ = 20;
@@ -89,6 +98,7 @@ class Sampler final : public FrameSource {
   volatile bool running_ = false;
   std::uint32_t next_tick_ = 0;
   std::uint32_t delivered_ = 0;
+  volatile bool drop_next_frame_ = false;  ///< Set by Recover: the next scan is not trusted.
   std::array<std::uint16_t, 2> last_encoder_raw_{};
   std::array<std::int32_t, 2> encoder_{};
   SamplerCounters counters_{};

@@ -1,13 +1,16 @@
 // The port's self-test measurements on the fake register file: the crystal error from DWT
 // cycles over start-of-frame flags of a modelled host, its timeout without one, the encoder
 // timers' state, and the converter noise and offsets through the sampler's own interrupt path.
+#include <cmath>
 #include <vector>
 
 #include "board_port.hpp"
+#include "crystal_check.hpp"
 #include "port_test_fixture.hpp"
 #include "regs/core_m4.hpp"
 #include "regs/otg_fs.hpp"
 #include "regs/peripherals.hpp"
+#include "regs/rcc.hpp"
 #include "sampler.hpp"
 #include "self_test.hpp"
 #include "system.hpp"
@@ -64,6 +67,89 @@ TEST_F(SelfTestPortTest, CrystalErrorIsTheCycleCountOverFrames) {
   ASSERT_TRUE(m.available);
   EXPECT_EQ(m.exp10, -3);
   EXPECT_NEAR(static_cast<double>(m.mantissa), 50'000.0, 1'200.0);
+  EXPECT_EQ(m.reference, wire::SelfTestReference::kUsbFrames);
+}
+
+TEST_F(SelfTestPortTest, OnTheHsiFallbackTheCrystalChecksAreUnavailable) {
+  regs().LogReads(false);
+  ModelFrames(168'008.4, 97);  // a host is there, but the core is not on the crystal
+  BoardSystemControl system;
+  system.AttachClock(ClockConfig{ClockSource::kHsiFallback, 16000000, 16000000, 16000000,
+                                 HsiReason::kHseWrongFrequency, 12000000, true},
+                     true);
+  regs().Poke(rcc::kBdcr, rcc::kBdcrLseRdy);
+  EXPECT_FALSE(system.MeasureSelfTest(wire::SelfTestCheck::kHsePpm, 200).available);
+  EXPECT_FALSE(system.MeasureSelfTest(wire::SelfTestCheck::kHsePpmLse, 200).available);
+  // get-info's health page: why, and the crystal as measured.
+  EXPECT_EQ(system.ClockHealth().state, wire::ClockState::kCrystalWrongFrequency);
+  EXPECT_EQ(system.ClockHealth().hse_measured_hz, 12000000u);
+}
+
+// TIM5 counting 84 MHz from the HSE, its channel 4 capturing every 8th LSE edge: the k-th capture
+// at k x 8 / 32768 s x 84 MHz x (1 + e) for an HSE fast by e.
+class LseCheckTest : public PortTest {
+ protected:
+  void ModelLse(double hse_error, bool lse_ready = true) {
+    regs().Poke(rcc::kBdcr, lse_ready ? rcc::kBdcrLseRdy : 0);
+    regs().OnRead(tim::kTim5 + tim::kSr, [](std::uint32_t held) { return held | tim::kSrCc4if; });
+    regs().OnRead(tim::kTim5 + tim::kCcr4, [this, hse_error](std::uint32_t) {
+      const double ticks = static_cast<double>(capture_++) * 8.0 / 32768.0 * 84e6 * (1 + hse_error);
+      return static_cast<std::uint32_t>(std::llround(ticks) & 0xFFFFFFFF);
+    });
+  }
+  std::uint64_t capture_ = 1000;  // the counter runs from anywhere
+};
+
+TEST_F(LseCheckTest, TheCrystalAgainstTheLse) {
+  // Closed form: over 4096 captures (32 768 LSE cycles, 1 s) the 84 MHz timer counts 84 000 000
+  // x (1 + e): +37 ppm reads +37.000 ppm, the rounding of each capture cancelling.
+  EXPECT_EQ(LseErrorMilliPpm(84'003'108, 4096, 84'000'000), 37'000);
+  EXPECT_EQ(LseErrorMilliPpm(83'991'600, 4096, 84'000'000), -100'000);
+  regs().LogReads(false);
+  ModelLse(37e-6);
+  // The sampler's frame counter set-up, to be put back.
+  regs().Poke(tim::kTim5 + tim::kSmcr, 0x7);
+  regs().Poke(tim::kTim5 + tim::kArr, 0xFFFFFFFF);
+  regs().Poke(tim::kTim5 + tim::kCnt, 1234);
+  BoardSystemControl system;
+  system.AttachClock(ClockConfig{ClockSource::kPllFromHse, 168000000, 84000000, 84000000}, true);
+  const auto m = system.MeasureSelfTest(wire::SelfTestCheck::kHsePpmLse, 200);
+  ASSERT_TRUE(m.available);
+  EXPECT_EQ(m.exp10, -3);
+  EXPECT_NEAR(static_cast<double>(m.mantissa), 37'000.0, 20.0);
+  EXPECT_EQ(m.reference, wire::SelfTestReference::kLse);
+  // TIM5_OR TI4_RMP = 10 (LSE, 0x80), CCMR2 CC4S = 01 and IC4PSC = 11 (0xD00), CC4E (bit 12),
+  // counting the internal clock (SMCR 0) while it measured; then the frame counter's set-up again.
+  EXPECT_NE(regs().FindWrite(tim::kTim5 + tim::kOr, 0x80), kNone);
+  EXPECT_NE(regs().FindWrite(tim::kTim5 + tim::kCcmr2, 0xD00), kNone);
+  EXPECT_NE(regs().FindWrite(tim::kTim5 + tim::kCcer, Bit(12)), kNone);
+  EXPECT_NE(regs().FindWrite(tim::kTim5 + tim::kSmcr, 0), kNone);
+  EXPECT_EQ(regs().Peek(tim::kTim5 + tim::kSmcr), 0x7U);
+  EXPECT_EQ(regs().Peek(tim::kTim5 + tim::kOr), 0U);
+  EXPECT_EQ(regs().Peek(tim::kTim5 + tim::kCnt), 1234U);
+  EXPECT_GE(regs().CountWrites(iwdg::kKr), 60u);  // fed through the second
+}
+
+TEST_F(LseCheckTest, NoLseOrNotReadyIsUnavailable) {
+  ModelLse(0.0, /*lse_ready=*/false);
+  BoardSystemControl system;
+  system.AttachClock(ClockConfig{ClockSource::kPllFromHse, 168000000, 84000000, 84000000}, true);
+  EXPECT_FALSE(system.MeasureSelfTest(wire::SelfTestCheck::kHsePpmLse, 200).available);
+  regs().Poke(rcc::kBdcr, rcc::kBdcrLseRdy);
+  system.AttachClock(ClockConfig{ClockSource::kPllFromHse, 168000000, 84000000, 84000000}, false);
+  EXPECT_FALSE(system.MeasureSelfTest(wire::SelfTestCheck::kHsePpmLse, 200).available);
+}
+
+TEST_F(LseCheckTest, StartLseOpensTheBackupDomainOnlyForLseOn) {
+  StartLse();
+  // PWR clock (APB1ENR bit 28), PWR_CR DBP (bit 8) set, RCC_BDCR LSEON (bit 0), DBP cleared.
+  const std::size_t dbp = regs().FindWriteWithBits(pwr::kCr, Bit(8));
+  const std::size_t lse = regs().FindWriteWithBits(rcc::kBdcr, Bit(0));
+  ASSERT_NE(dbp, kNone);
+  ASSERT_NE(lse, kNone);
+  EXPECT_LT(regs().FindWriteWithBits(rcc::kApb1enr, Bit(28)), dbp);
+  EXPECT_LT(dbp, lse);
+  EXPECT_EQ(regs().Peek(pwr::kCr) & Bit(8), 0U);
 }
 
 TEST_F(SelfTestPortTest, NoFramesIsUnavailableNotAPass) {

@@ -80,6 +80,29 @@ TEST_F(StartTest, EveryLeftoverForcesASystemReset) {
   }
 }
 
+TEST_F(StartTest, TheBootloaderRequestNeedsTheSoftwareResetFlag) {
+  constexpr Address kSyscfgMemrmp = 0x40013800;  // RM0090 §9.2.1
+  // The request is made and the reset asked for (AIRCR SYSRESETREQ).
+  EXPECT_TRUE(FakeRegisters::RunUntilHalt([] { RebootToBootloader(); }));
+  // A reset other than the software one (the reset pin here: RCC_CSR PINRSTF, bit 26) finds the
+  // word but does not honour it, and drops it.
+  regs().Clear();
+  regs().Poke(rcc::kCsr, Bit(26));
+  EnterBootloaderIfRequested();
+  EXPECT_EQ(regs().CountWrites(kSyscfgMemrmp), 0U);
+  regs().Poke(rcc::kCsr, Bit(28));
+  EnterBootloaderIfRequested();  // the dropped request stays dropped
+  EXPECT_EQ(regs().CountWrites(kSyscfgMemrmp), 0U);
+  // Asked again, with the software reset's flag (SFTRSTF, bit 28): system memory mapped at 0
+  // (MEMRMP MEM_MODE = 01) and VTOR back to 0, as before the ROM's jump.
+  EXPECT_TRUE(FakeRegisters::RunUntilHalt([] { RebootToBootloader(); }));
+  regs().Clear();
+  regs().Poke(rcc::kCsr, Bit(28) | Bit(26));
+  EnterBootloaderIfRequested();
+  EXPECT_EQ(regs().WritesTo(kSyscfgMemrmp), std::vector<std::uint32_t>{1});
+  EXPECT_EQ(regs().WritesTo(scb::kVtor), std::vector<std::uint32_t>{0});
+}
+
 TEST_F(StartTest, DebugBuildsFreezeTheWatchdogWhileHalted) {
   regs().Poke(dbgmcu::kApb1Fz, Bit(11));  // WWDG already frozen: kept.
   FreezeWatchdogWhenHalted();

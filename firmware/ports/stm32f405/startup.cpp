@@ -20,12 +20,13 @@ extern void (*__init_array_end[])();
 // main by name.
 int ApplicationMain() __asm__("main");
 [[noreturn]] void ResetHandler();
+[[noreturn]] void ResetHandlerBody();
 
 void DefaultHandler() {
-  // An unexpected exception or interrupt: stop here so the watchdog resets the board and the
-  // reset cause tells the host.
-  for (;;) {
-  }
+  // An unexpected exception or interrupt. It may come before main has started the watchdog (a
+  // static constructor, the memory set-up), where waiting for the watchdog would hang for good:
+  // request a system reset at once (the host then reads reset cause "software").
+  vibid::fw::stm32::SystemReset();
 }
 
 #define VIBID_WEAK_HANDLER(name) void name() __attribute__((weak, alias("DefaultHandler")))
@@ -88,7 +89,21 @@ extern const VectorTable g_vector_table;
 [[gnu::section(".isr_vector"), gnu::used]] const VectorTable g_vector_table = {&_estack,
                                                                                MakeVectors()};
 
-extern "C" [[noreturn]] void ResetHandler() {
+// The stack pointer is loaded first, from the linker's _estack, as MicroPython's and the CMSIS
+// start-up files do: a reset loads MSP from the vector table, but a jump into the image (the
+// ROM's DFU "leave", a debugger's "go") leaves whatever stack the previous owner had, and the
+// thread mode on MSP (CONTROL 0), so nothing below runs on a foreign stack.
+extern "C" [[gnu::naked, noreturn]] void ResetHandler() {
+  asm volatile(
+      "ldr r0, =_estack\n"
+      "msr msp, r0\n"
+      "movs r0, #0\n"
+      "msr control, r0\n"
+      "isb\n"
+      "b ResetHandlerBody\n");
+}
+
+extern "C" [[noreturn]] void ResetHandlerBody() {
   // Before anything else: interrupts masked, SysTick stopped and VTOR on this image's table,
   // and a start without a reset (ROM bootloader "leave", a debugger's "go") turned into a real
   // one, so no state a previous owner left (the PLL, the OTG core, pending interrupts) is live.

@@ -51,6 +51,11 @@ void RebootToBootloader() {
 void EnterBootloaderIfRequested() {
   if (g_bootloader_request != kBootloaderMagic) return;
   g_bootloader_request = 0;
+  // Only the software reset RebootToBootloader asked for honours the word (RCC_CSR SFTRSTF, as
+  // MicroPython pairs its bootloader request with it): .noinit RAM that happens to hold it after
+  // a pin or watchdog reset, or a request whose reset never came, does not send the board to
+  // the ROM.
+  if ((Reg(rcc::kCsr) & rcc::kCsrSftRstf) == 0) return;
   // Map system memory at 0 as a boot from BOOT0 = 1 would, then start the ROM with its own
   // stack pointer and reset vector.
   EnableClock(rcc::kApb2enr, rcc::kApb2Syscfg);

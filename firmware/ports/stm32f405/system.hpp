@@ -19,7 +19,8 @@ wire::ResetCause ReadAndClearResetCause();
 /// Arranges for the next boot to jump to the ROM bootloader (USB DFU on PA11/PA12) and resets:
 /// the ROM then starts from a clean chip state, not from ours.
 [[noreturn]] void RebootToBootloader();
-/// Called first thing from the reset handler: jumps to the ROM when RebootToBootloader asked.
+/// Called first thing from the reset handler: jumps to the ROM when RebootToBootloader asked and
+/// the reset was a software reset (RCC_CSR SFTRSTF; the flags are cleared later, by main).
 void EnterBootloaderIfRequested();
 
 /// True when anything the image would find at its reset value is not (the reset values of
@@ -63,7 +64,7 @@ void KickWatchdog();
 /// The brown-out reset threshold the option bytes set (FLASH_OPTCR BOR_LEV, RM0090 §3.9.10;
 /// thresholds: STM32F405 datasheet, "reset and power control block characteristics").
 enum class BrownOut : std::uint8_t {
-  kLevel3 = 0,  ///< About 2.7 V: the supply x32 flash programming needs (RM0090 §3.6.2).
+  kLevel3 = 0,  ///< 2.75-2.88 V (DS8626): above the 2.7 V x32 flash programming needs (§3.6.2).
   kLevel2 = 1,  ///< About 2.4 V.
   kLevel1 = 2,  ///< About 2.1 V.
   kOff = 3,     ///< Only POR/PDR (about 1.8 V): the factory setting.

@@ -107,10 +107,14 @@ std::string InfoText(const device::Connection& c, const nlohmann::json& j) {
     o << "none (raw counts, no observer)";
   }
   o << "\nreset cause   " << j["reset_cause"].get<std::string>() << "\n"
-    << "brown-out     " << j["brown_out_level"].get<std::string>() << "\n"
-    << "errors        " << i.overrun_count << " overruns, " << i.dropped_records
-    << " dropped records\n"
-    << "clipped       ";
+    << "brown-out     " << j["brown_out_level"].get<std::string>() << "\n";
+  if (!j["clock_text"].is_null())
+    o << "clock         " << j["clock_text"].get<std::string>() << "\n";
+  o << "errors        " << i.overrun_count << " overruns, " << i.dropped_records
+    << " dropped records";
+  if (!j["sampler_recoveries"].is_null())
+    o << ", " << j["sampler_recoveries"].get<std::uint32_t>() << " converter recoveries";
+  o << "\nclipped       ";
   const nlohmann::json& clips = j["clipped"];
   if (clips.is_null()) {
     o << "not counted per channel by this firmware (protocol " << j["protocol"].get<std::string>()

@@ -40,6 +40,9 @@ nlohmann::json CheckJson(const wire::SelfTestResponse& r) {
           {"name", wire::SelfTestCheckName(r.check)},
           {"value", value},
           {"unit", device::SelfTestUnitName(r.unit)},
+          {"reference", r.reference == wire::SelfTestReference::kNone
+                            ? nlohmann::json(nullptr)
+                            : nlohmann::json(device::SelfTestReferenceName(r.reference))},
           {"pass", available ? nlohmann::json(r.verdict == wire::SelfTestVerdict::kPass)
                              : nlohmann::json(nullptr)},
           {"verdict", r.verdict == wire::SelfTestVerdict::kFail
@@ -75,7 +78,10 @@ void Run(const SelfTestArgs& a) {
       std::cout << std::setw(2) << static_cast<int>(r.check) << "  " << std::left << std::setw(15)
                 << wire::SelfTestCheckName(r.check) << std::setw(14) << device::SelfTestValueText(r)
                 << std::setw(9) << device::SelfTestUnitName(r.unit)
-                << device::SelfTestVerdictName(r.verdict) << std::right << "\n";
+                << device::SelfTestVerdictName(r.verdict) << std::right;
+      if (r.reference != wire::SelfTestReference::kNone)
+        std::cout << "  (against " << device::SelfTestReferenceName(r.reference) << ")";
+      std::cout << "\n";
     }
     if (r.verdict == wire::SelfTestVerdict::kPass) ++passed;
     if (r.verdict == wire::SelfTestVerdict::kUnavailable) ++unavailable;
@@ -104,7 +110,7 @@ void RegisterSelfTestCommand(CLI::App& app, const GlobalOptions& globals) {
   TakesDeviceOption(cmd);
   cmd->add_flag("--json", args->json,
                 "Print JSON: {\"checks\": [{\"number\", \"name\", "
-                "\"value\", \"unit\", \"pass\", \"verdict\"}]}");
+                "\"value\", \"unit\", \"reference\", \"pass\", \"verdict\"}]}");
 }
 
 }  // namespace vibid::cli

@@ -34,6 +34,8 @@ inline constexpr std::uint32_t kGrstctlTxfnumAll = 0x10U << 6;
 inline constexpr std::uint32_t kGrstctlAhbidl = Bit(31);
 inline constexpr std::uint32_t kGccfgPwrdwn = Bit(16);
 inline constexpr std::uint32_t kGccfgNovbussens = Bit(21);
+/// VBUSBSEN (19): B-device VBUS sensing on PA9; the D+ pull-up follows VBUS (RM0090 §34.16.1).
+inline constexpr std::uint32_t kGccfgVbusbsen = Bit(19);
 
 // GINTSTS / GINTMSK
 inline constexpr std::uint32_t kIntCmod = Bit(0);  ///< GINTSTS: 0 = device mode, 1 = host mode.

@@ -42,6 +42,7 @@ inline constexpr Address kTim2 = 0x40000000;
 inline constexpr Address kTim3 = 0x40000400;
 inline constexpr Address kTim4 = 0x40000800;
 inline constexpr Address kTim5 = 0x40000C00;
+inline constexpr Address kTim11 = 0x40014800;  // APB2 (RM0090 table 1)
 inline constexpr Address kCr1 = 0x00;
 inline constexpr Address kCr2 = 0x04;
 inline constexpr Address kSmcr = 0x08;
@@ -49,12 +50,16 @@ inline constexpr Address kDier = 0x0C;
 inline constexpr Address kSr = 0x10;
 inline constexpr Address kEgr = 0x14;
 inline constexpr Address kCcmr1 = 0x18;
+inline constexpr Address kCcmr2 = 0x1C;
 inline constexpr Address kCcer = 0x20;
 inline constexpr Address kCnt = 0x24;
 inline constexpr Address kPsc = 0x28;
 inline constexpr Address kArr = 0x2C;
+inline constexpr Address kCcr1 = 0x34;
 inline constexpr Address kCcr3 = 0x3C;
 inline constexpr Address kCcr4 = 0x40;
+/// TIM5_OR and TIM11_OR, the input remap (RM0090: the TIM5 and TIM11 option registers).
+inline constexpr Address kOr = 0x50;
 
 inline constexpr std::uint32_t kCr1Cen = Bit(0);
 inline constexpr std::uint32_t kCr1Arpe = Bit(7);
@@ -76,6 +81,20 @@ inline constexpr std::uint32_t kDierCc3de = Bit(11);  ///< DMA request on a chan
 inline constexpr std::uint32_t kDierCc4de = Bit(12);  ///< DMA request on a channel 4 compare.
 inline constexpr std::uint32_t kDierTde = Bit(14);    ///< DMA request on trigger.
 inline constexpr std::uint32_t kSrUif = Bit(0);
+inline constexpr std::uint32_t kSrCc1if = Bit(1);
+inline constexpr std::uint32_t kSrCc4if = Bit(4);
+inline constexpr std::uint32_t kSrCc1of = Bit(9);
+inline constexpr std::uint32_t kSrCc4of = Bit(12);
+/// CCMR1 CC1S (1:0) = 01: IC1 on TI1; IC1PSC (3:2) = 11: one capture every 8 edges.
+inline constexpr std::uint32_t kCcmr1Ic1Every8 = 0x1U | (0x3U << 2);
+/// CCMR2 CC4S (9:8) = 01: IC4 on TI4; IC4PSC (11:10) = 11: one capture every 8 edges.
+inline constexpr std::uint32_t kCcmr2Ic4Every8 = (0x1U << 8) | (0x3U << 10);
+inline constexpr std::uint32_t kCcerCc1e = Bit(0);
+inline constexpr std::uint32_t kCcerCc4e = Bit(12);
+/// TIM11_OR TI1_RMP (1:0) = 10: channel 1 input is HSE_RTC.
+inline constexpr std::uint32_t kTim11OrHseRtc = 0x2;
+/// TIM5_OR TI4_RMP (7:6) = 10: channel 4 input is the LSE.
+inline constexpr std::uint32_t kTim5OrLse = 0x2U << 6;
 inline constexpr std::uint32_t kEgrUg = Bit(0);
 }  // namespace tim
 
@@ -120,6 +139,7 @@ inline constexpr std::uint32_t kCcrMultiTripleRegularSimultaneous = 0x16;
 inline constexpr std::uint32_t kCcrDmaMode1 = 0x1U << 14;
 /// CCR DDS (13) = 1: DMA requests go on after the last transfer (circular DMA) (§13.13.17).
 inline constexpr std::uint32_t kCcrDds = Bit(13);
+inline constexpr std::uint32_t kCcrDmaMask = 0x3U << 14;
 /// SQR3 SQ1..SQ6: 5-bit channel numbers at bits 0, 5, 10, ... (RM0090 §13.13.11).
 constexpr std::uint32_t Sqr3(unsigned position, std::uint32_t channel) {
   return channel << (5 * position);

@@ -16,6 +16,7 @@ inline constexpr Address kAhb2enr = kBase + 0x34;
 inline constexpr Address kAhb3enr = kBase + 0x38;
 inline constexpr Address kApb1enr = kBase + 0x40;
 inline constexpr Address kApb2enr = kBase + 0x44;
+inline constexpr Address kBdcr = kBase + 0x70;
 inline constexpr Address kCsr = kBase + 0x74;
 
 // RCC_CR
@@ -45,6 +46,11 @@ inline constexpr std::uint32_t kCfgrSwsHsi = 0x0U << 2;
 inline constexpr std::uint32_t kCfgrPpre1Div4 = 0x5U << 10;
 inline constexpr std::uint32_t kCfgrPpre2Div2 = 0x4U << 13;
 inline constexpr std::uint32_t kCfgrPrescalerMask = (0xFU << 4) | (0x7U << 10) | (0x7U << 13);
+/// RTCPRE (20:16): HSE_RTC = HSE / RTCPRE (2..31), which TIM11 channel 1 can capture (§7.3.3).
+inline constexpr unsigned kCfgrRtcprePos = 16;
+inline constexpr std::uint32_t kCfgrRtcpreMask = 0x1FU << 16;
+/// PLLCFGR PLLSRC (22) = 0: the PLL runs from the HSI.
+inline constexpr std::uint32_t kPllcfgrSrcHsi = 0;
 
 // Clock enables.
 inline constexpr std::uint32_t kAhb1GpioA = Bit(0);
@@ -66,6 +72,11 @@ inline constexpr std::uint32_t kApb2Adc1 = Bit(8);
 inline constexpr std::uint32_t kApb2Adc2 = Bit(9);  // RM0090 §7.3.14
 inline constexpr std::uint32_t kApb2Adc3 = Bit(10);
 inline constexpr std::uint32_t kApb2Syscfg = Bit(14);
+inline constexpr std::uint32_t kApb2Tim11 = Bit(18);  // RM0090 §7.3.14
+
+// RCC_BDCR (§7.3.20, backup domain: written only with PWR_CR DBP set): LSEON 0, LSERDY 1.
+inline constexpr std::uint32_t kBdcrLseOn = Bit(0);
+inline constexpr std::uint32_t kBdcrLseRdy = Bit(1);
 
 // RCC_CSR: reset flags (set by hardware, cleared by RMVF).
 inline constexpr std::uint32_t kCsrLsiOn = Bit(0);
@@ -84,6 +95,8 @@ namespace pwr {
 inline constexpr Address kCr = 0x40007000;
 /// VOS (bit 14): regulator scale 1, needed above 144 MHz.
 inline constexpr std::uint32_t kCrVos = Bit(14);
+/// DBP (bit 8): write access to the backup domain (RCC_BDCR, RTC), off after reset (§5.4.1).
+inline constexpr std::uint32_t kCrDbp = Bit(8);
 }  // namespace pwr
 
 namespace flash {

@@ -118,6 +118,9 @@ class SystemControl {
     std::int64_t mantissa = 0;
     std::int8_t exp10 = 0;
     bool ok = false;  ///< The port's verdict for checks without a limit (encoders, image CRC).
+    /// The time reference of a crystal check (the USB frames or the LSE); the core sets the
+    /// offset checks' own.
+    wire::SelfTestReference reference = wire::SelfTestReference::kNone;
   };
 
   /// Takes one self-test measurement, only while idle; the noise and offset checks sample
@@ -128,6 +131,17 @@ class SystemControl {
     (void)sample_period_us;
     return {};
   }
+
+  /// Where the system clock comes from and the crystal as measured at start (get-info health
+  /// page). A port on its internal oscillator reports why; the core then refuses acquisitions.
+  struct ClockReport {
+    wire::ClockState state = wire::ClockState::kUnknown;
+    std::uint32_t hse_measured_hz = 0;  ///< 0: not measured.
+  };
+  virtual ClockReport ClockHealth() const { return {}; }
+
+  /// Times the port restarted its converters and DMA after an overrun or a transfer error.
+  virtual std::uint32_t SamplerRecoveries() const { return 0; }
 
   /// Resets the board. Does not return on a board; the emulator restarts its core.
   virtual void Reset() = 0;

@@ -21,6 +21,19 @@ std::optional<std::string> BrownOutWarning(wire::BrownOut level);
 /// "power-on", "reset-pin", ..., "unknown".
 const char* ResetCauseName(wire::ResetCause cause);
 
+/// "crystal", "crystal-did-not-start", "crystal-wrong-frequency", "pll-did-not-lock" or
+/// "unknown" (a board that does not say, or a number this host does not know).
+const char* ClockStateName(std::uint32_t state);
+
+/// The clock line of vibid info: the state in words with the crystal as the board measured it
+/// ("crystal (measured 8.000 MHz)", "internal oscillator: the crystal measured 12.000 MHz, more
+/// than 2 % from the 8 MHz the image was built for"); nullopt when the board does not say.
+std::optional<std::string> ClockText(const wire::HealthInfoResponse& health);
+
+/// What a self-test value was measured against, as printed ("usb-frames", "lse", "mid-code",
+/// "calibration"); "" for none.
+const char* SelfTestReferenceName(wire::SelfTestReference reference);
+
 /// A check's value: mantissa x 10^exp10.
 double SelfTestValue(const wire::SelfTestResponse& r);
 

@@ -151,13 +151,20 @@ struct SamplingInfoResponse {
   std::array<std::uint32_t, kChannelCount> sample_instant_ns{};
 };
 
-// get-info page kInfoPageHealth (protocol 2.1): the supply and reset facts of the board.
+// get-info page kInfoPageHealth (protocol 2.1): the supply, clock and reset facts of the board.
 //   0 u8 brown_out (BrownOut: the level below which the board holds itself in reset)
-//   1 u8 reset_cause (ResetCause, as in InfoResponse)   2 u16 reserved (0)
+//   1 u8 reset_cause (ResetCause, as in InfoResponse)   2 u8 clock (ClockState)
+//   3 u8 reserved (0)
+//   4 u32 hse_measured_hz   the crystal as the board measured it at start against its internal
+//                           oscillator (+-1 % at 25 C), 0 if not measured
+//   8 u32 sampler_recoveries  converter/DMA restarts after an overrun or a transfer error
 struct HealthInfoResponse {
-  static constexpr std::size_t kBytes = 4;
+  static constexpr std::size_t kBytes = 12;
   BrownOut brown_out = BrownOut::kUnknown;
   ResetCause reset_cause = ResetCause::kUnknown;
+  ClockState clock = ClockState::kUnknown;
+  std::uint32_t hse_measured_hz = 0;
+  std::uint32_t sampler_recoveries = 0;
 };
 
 // ---------------------------------------------------------------------------------------------
@@ -181,8 +188,9 @@ enum class SelfTestCheck : std::uint8_t {
   kCalSlotB = 14,
   kBrownOut = 15,    ///< BrownOut level; passes at kLevel3.
   kResetCause = 16,  ///< ResetCause; informational, passes.
+  kHsePpmLse = 17,   ///< Crystal error against the board's 32.768 kHz LSE crystal, ppm.
 };
-inline constexpr std::uint8_t kSelfTestCheckCount = 17;
+inline constexpr std::uint8_t kSelfTestCheckCount = 18;
 /// Samples each noise and offset check takes.
 inline constexpr std::uint32_t kSelfTestSamples = 1000;
 /// The longest a board spends on one check before it answers: the crystal check counts 1000 USB
@@ -211,6 +219,16 @@ enum class SelfTestUnit : std::uint8_t {
   kResetCause = 9,  ///< ResetCause.
 };
 
+/// What a measured value was taken against (self-test response byte 5): the crystal checks name
+/// their time reference, the offset checks the idle code they subtract.
+enum class SelfTestReference : std::uint8_t {
+  kNone = 0,         ///< The check has no reference (or the board does not say).
+  kUsbFrames = 1,    ///< The host's 1 ms USB start-of-frame (USB 2.0: +-500 ppm).
+  kLse = 2,          ///< The board's 32.768 kHz LSE crystal.
+  kMidCode = 3,      ///< The converter's mid code (2048): no calibrated zero for the channel.
+  kCalibration = 4,  ///< The channel's calibrated zero (offset_counts of the active record).
+};
+
 /// A calibration slot's state (check kCalSlotA/B): a damaged slot fails.
 enum class SelfTestSlot : std::uint8_t { kErased = 0, kValid = 1, kDamaged = 2 };
 
@@ -223,7 +241,8 @@ struct SelfTestRequest {
 
 // self-test response
 //   0 u8 check   1 u8 check_count   2 u8 verdict (SelfTestVerdict)   3 u8 unit (SelfTestUnit)
-//   4 i8 exp10   5 u8[3] reserved   8 i64 mantissa      value = mantissa x 10^exp10
+//   4 i8 exp10   5 u8 reference (SelfTestReference)   6 u16 reserved   8 i64 mantissa
+//   value = mantissa x 10^exp10
 struct SelfTestResponse {
   static constexpr std::size_t kBytes = 16;
   std::uint8_t check = 0;
@@ -231,6 +250,7 @@ struct SelfTestResponse {
   SelfTestVerdict verdict = SelfTestVerdict::kUnavailable;
   SelfTestUnit unit = SelfTestUnit::kNone;
   std::int8_t exp10 = 0;
+  SelfTestReference reference = SelfTestReference::kNone;
   std::int64_t mantissa = 0;
 };
 

@@ -73,7 +73,18 @@ enum class BrownOut : std::uint8_t {
   kOff = 1,      ///< Power-on/power-down reset only (about 1.8 V): the STM32's factory setting.
   kLevel1 = 2,   ///< About 2.1 V.
   kLevel2 = 3,   ///< About 2.4 V.
-  kLevel3 = 4,   ///< About 2.7 V: the least supply x32 flash programming takes.
+  kLevel3 = 4,   ///< 2.75-2.88 V (DS8626): above the 2.7 V x32 flash programming takes.
+};
+
+/// Where the board's system clock comes from (get-info health page). A board on its internal
+/// oscillator refuses acquisitions (its sample clock would be off by up to the oscillator's
+/// tolerance, reason internal-clock) but still answers, so the host can read why.
+enum class ClockState : std::uint8_t {
+  kUnknown = 0,                ///< Not reported (the emulator, the QEMU image).
+  kCrystal = 1,                ///< The PLL runs from the crystal the image was built for.
+  kCrystalDidNotStart = 2,     ///< No HSE ready in time: on the internal oscillator.
+  kCrystalWrongFrequency = 3,  ///< The HSE measured more than 2 % off the build's: internal.
+  kPllDidNotLock = 4,          ///< The PLL or the switch to it did not complete: internal.
 };
 
 /// Which hardware answers. The emulator and the QEMU image name themselves so the host can tell.

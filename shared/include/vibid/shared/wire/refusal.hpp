@@ -50,10 +50,12 @@ enum class Reason : std::uint16_t {
   kPortRefused = 25,        ///< A port command was refused for a port-specific cause.
   kUnknownInfoPage = 26,    ///< get-info of a page the board does not have; detail: the page.
   kUnknownCheck = 27,       ///< self-test of a check the board does not have; detail: the check.
+  kInternalClock = 28,      ///< acq-start on a board running from its internal oscillator (the
+                            ///< crystal was refused or did not start); detail: the ClockState.
 };
 
 /// The highest Reason this build knows; a larger value decodes and names itself "unknown".
-inline constexpr Reason kLastReason = Reason::kUnknownCheck;
+inline constexpr Reason kLastReason = Reason::kInternalClock;
 
 struct Refusal {
   static constexpr std::size_t kBytes = 8;
