@@ -6,8 +6,11 @@ Status ValidateResidualCusum(const ResidualCusumParams& p) {
   if (p.window_samples == 0 || p.window_samples > kMaxWindowSamples) {
     return Status::kInvalidArgument;
   }
-  if (p.reference_shift > kMaxReferenceShift || p.residual_shift > kMaxResidualShift ||
-      p.sum_shift > kMaxSumShift || p.z_shift > kMaxZShift) {
+  constexpr std::int32_t kI32Min = -0x7FFFFFFF - 1;
+  if (p.residual_gain == 0 || p.residual_gain == kI32Min || p.reference_gain == kI32Min) {
+    return Status::kInvalidArgument;
+  }
+  if (p.sum_shift > kMaxSumShift || p.z_shift > kMaxZShift) {
     return Status::kInvalidArgument;
   }
   if (p.z_gain <= 0 || p.k < 0 || p.h <= 0 || p.h >= kMaxStatistic) {
@@ -18,12 +21,14 @@ Status ValidateResidualCusum(const ResidualCusumParams& p) {
 
 Status ResidualCusum::Init(const ResidualCusumParams& params) {
   params_ = ResidualCusumParams{};
+  residual_gain_ = 0;
+  reference_gain_ = 0;
+  left_ = 0;
   const Status s = ValidateResidualCusum(params);
   if (s != Status::kOk) return s;
   params_ = params;
-  reference_p_ = 31 - params.reference_shift;
-  reference_round_ = std::int64_t{1} << (reference_p_ - 1);
-  residual_round_ = params.residual_shift == 0 ? 0 : std::int64_t{1} << (params.residual_shift - 1);
+  residual_gain_ = params.residual_gain;
+  reference_gain_ = params.reference_gain;
   Reset();
   return Status::kOk;
 }
@@ -31,7 +36,6 @@ Status ResidualCusum::Init(const ResidualCusumParams& params) {
 void ResidualCusum::Reset() {
   sum_ = 0;
   left_ = params_.window_samples;
-  samples_ = 0;
   windows_ = 0;
   g_ = 0;
   z_ = 0;
@@ -44,7 +48,7 @@ void ResidualCusum::Reset() {
 void ResidualCusum::EndWindow() {
   constexpr std::int64_t kI32Max = 0x7FFFFFFF;
   constexpr std::int64_t kI32Min = -kI32Max - 1;
-  std::int64_t e = static_cast<std::int64_t>(sum_ >> params_.sum_shift) - params_.center;
+  std::int64_t e = (sum_ >> params_.sum_shift) - params_.center;
   if (e > kI32Max || e < -kI32Max) {
     e = e > 0 ? kI32Max : -kI32Max;
     ++clamp_count_;
@@ -66,7 +70,7 @@ void ResidualCusum::EndWindow() {
   left_ = params_.window_samples;
   if (!tripped_ && g_ > params_.h) {
     tripped_ = true;
-    trip_sample_ = samples_;
+    trip_sample_ = windows_ * params_.window_samples;
     trip_statistic_ = g_;
   }
 }

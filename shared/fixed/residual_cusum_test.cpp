@@ -44,10 +44,10 @@ class Noise {
 // The test's real parameters: what the host measures and chooses.
 struct RealParams {
   std::uint32_t window = 256;
-  double reference_gain = 0.0;  // reference full scale / d_hat full scale
-  int residual_shift = 4;       // r / 2^s is the scaled residual
-  double mu0 = 0.0;             // in-control mean of (r / 2^s)^2
-  double sigma0 = 0.0;          // in-control spread of its window mean
+  double reference_gain = 0.0;         // reference full scale / d_hat full scale
+  double residual_scale = 1.0 / 16.0;  // r = residual_scale (d_hat - reference_gain reference)
+  double mu0 = 0.0;                    // in-control mean of r^2
+  double sigma0 = 0.0;                 // in-control spread of its window mean
   double k = 0.5;
   double h = 10.0;  // an in-control run length far beyond these tests' 200 windows
 };
@@ -57,11 +57,9 @@ struct RealParams {
 ResidualCusumParams Quantize(const RealParams& real) {
   ResidualCusumParams p;
   p.window_samples = real.window;
-  if (real.reference_gain != 0.0) {
-    p.reference_shift = 1;  // the gain (< 2) in Q30
-    p.reference_gain = static_cast<std::int32_t>(std::lround(real.reference_gain * (1 << 30)));
-  }
-  p.residual_shift = static_cast<std::uint8_t>(real.residual_shift);
+  p.residual_gain = static_cast<std::int32_t>(std::lround(std::ldexp(real.residual_scale, 32)));
+  p.reference_gain = static_cast<std::int32_t>(
+      std::lround(-std::ldexp(real.reference_gain * real.residual_scale, 32)));
   const double w_mu0 = real.window * real.mu0;
   p.sum_shift = static_cast<std::uint8_t>(std::max(0, static_cast<int>(std::log2(w_mu0)) - 24));
   p.center = static_cast<std::int32_t>(std::lround(w_mu0 / std::ldexp(1.0, p.sum_shift)));
@@ -86,9 +84,8 @@ std::vector<Window> Reference(const RealParams& real, const std::vector<std::int
   std::vector<Window> out;
   double sum = 0.0;
   double g = 0.0;
-  const double scale = std::ldexp(1.0, -real.residual_shift);
   for (std::size_t n = 0; n < d_hat.size(); ++n) {
-    const double r = (d_hat[n] - real.reference_gain * reference[n]) * scale;
+    const double r = (d_hat[n] - real.reference_gain * reference[n]) * real.residual_scale;
     sum += r * r;
     if ((n + 1) % real.window == 0) {
       const double e = sum / real.window;
@@ -106,13 +103,13 @@ struct Input {
   std::vector<std::int32_t> reference;
 };
 
-// In-control residual of RMS rms_scaled * 2^s for `calm` windows, then `ratio` times the power;
-// with a reference, d_hat = gain * reference + residual.
+// In-control residual of RMS rms_scaled / residual_scale for `calm` windows, then `ratio` times the
+// power; with a reference, d_hat = gain * reference + residual.
 Input MakeInput(const RealParams& real, double rms_scaled, int calm, int stale, double ratio) {
   Input in;
   Noise residual(0x2545F491u);
   Noise force(0x9E3779B9u);
-  const double rms = rms_scaled * std::ldexp(1.0, real.residual_shift);
+  const double rms = rms_scaled / real.residual_scale;
   const std::size_t total = static_cast<std::size_t>(calm + stale) * real.window;
   for (std::size_t n = 0; n < total; ++n) {
     const bool after = n >= static_cast<std::size_t>(calm) * real.window;
@@ -166,7 +163,7 @@ Comparison Compare(const RealParams& real, const Input& in, ResidualCusum& kerne
 RealParams StaleRig(double reference_gain) {
   RealParams real;
   real.reference_gain = reference_gain;
-  // The in-control statistics of the generated residual (RMS 2^15 after the shift): the mean of
+  // The in-control statistics of the generated residual (RMS 2^15 after the scale): the mean of
   // r^2 and, for white near-Gaussian r, the spread sqrt(2 / W) mu0 of its window mean.
   real.mu0 = std::ldexp(1.0, 30);
   real.sigma0 = real.mu0 * std::sqrt(2.0 / real.window);
@@ -222,8 +219,8 @@ TEST(ResidualCusum, ClampsAHugeResidualAndCountsIt) {
   RealParams real = StaleRig(0.0);
   ResidualCusum kernel;
   ASSERT_EQ(kernel.Init(Quantize(real)), Status::kOk);
-  // Full-scale d_hat at s = 4 is 2^27 >> 2^23: every sample clamps, the window's z is huge and
-  // the statistic trips at the first window, bounded, never wrapped.
+  // Full-scale d_hat at a scale of 1/16 is 2^27 >> 2^23: every sample clamps, the window's z is
+  // huge and the statistic trips at the first window, bounded, never wrapped.
   for (std::uint32_t n = 0; n < 3 * real.window; ++n) {
     (void)kernel.Step(n % 2 == 0 ? 2147483647 : -2147483647 - 1, 0);
   }
@@ -254,10 +251,9 @@ TEST(ResidualCusum, RefusesParametersOutOfRange) {
   EXPECT_EQ(refused([](auto& p) { p.window_samples = 0; }), Status::kInvalidArgument);
   EXPECT_EQ(refused([](auto& p) { p.window_samples = kMaxWindowSamples + 1; }),
             Status::kInvalidArgument);
-  EXPECT_EQ(refused([](auto& p) { p.reference_shift = kMaxReferenceShift + 1; }),
-            Status::kInvalidArgument);
-  EXPECT_EQ(refused([](auto& p) { p.residual_shift = kMaxResidualShift + 1; }),
-            Status::kInvalidArgument);
+  EXPECT_EQ(refused([](auto& p) { p.residual_gain = 0; }), Status::kInvalidArgument);
+  EXPECT_EQ(refused([](auto& p) { p.residual_gain = -2147483647 - 1; }), Status::kInvalidArgument);
+  EXPECT_EQ(refused([](auto& p) { p.reference_gain = -2147483647 - 1; }), Status::kInvalidArgument);
   EXPECT_EQ(refused([](auto& p) { p.sum_shift = kMaxSumShift + 1; }), Status::kInvalidArgument);
   EXPECT_EQ(refused([](auto& p) { p.z_shift = kMaxZShift + 1; }), Status::kInvalidArgument);
   EXPECT_EQ(refused([](auto& p) { p.z_gain = 0; }), Status::kInvalidArgument);

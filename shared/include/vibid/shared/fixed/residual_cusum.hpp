@@ -15,27 +15,30 @@
 // length, Siegmund's approximation) and mu0, sigma0 from a calibration-day recording replayed
 // through the same integer arithmetic (host/lib/dob: residual_design).
 //
-// Arithmetic per sample (all integers; p = 31 - reference_shift, s = residual_shift):
-//   ref  = (reference * reference_gain + 2^(p-1)) >> p             int64 (0 without a reference)
-//   r    = clamp((d_hat - ref + 2^(s-1)) >> s, +-kMaxScaledResidual) (s = 0: no rounding term)
-//   S   += r * r                                                   uint64
+// Arithmetic per sample (all integers):
+//   r    = (d_hat * residual_gain + reference * reference_gain + 2^31) >> 32   int64, then
+//   r    = clamp(r, -2^23, 2^23 - 1)                              (SSAT #24 on the Cortex-M4)
+//   S   += r * r                                                   int64 (SMLAL)
 // and at the end of each window of window_samples samples (S restarts at 0):
 //   e    = clamp(S >> sum_shift - center, +-(2^31 - 1))             int64
 //   z    = clamp((e * z_gain + 2^(z_shift-1)) >> z_shift, int32)    Q16: z / 2^16 is the real z
 //   g    = clamp(max(0, g + z - k), kMaxStatistic)                  Q16
 //   the first window with g > h trips the flag (latched until Reset) and records its end sample.
+// The shift by 32 is the high word of the 64-bit sum: two multiply-accumulates and a saturate per
+// sample, no variable shift (benchmarks/residual/m4_instructions.py counts them).
 //
 // Scaling and overflow:
-//   d_hat and the reference are Q31 fractions of their full scales; reference_gain in
-//   Q(31 - reference_shift) maps the reference's full scale onto d_hat's (|gain| < 2^31 and
-//   reference_shift <= kMaxReferenceShift = 30, so |ref| <= 2^61 and d_hat - ref is exact in
-//   int64). residual_shift (<= kMaxResidualShift = 40) brings r to a scale the host picks so the
-//   calibration day's RMS sits near 2^15 (or r unshifted where it is smaller): the clamp at
-//   kMaxScaledResidual = 2^23 - 1 leaves 48 dB of headroom for a residual that grows (a clamped
-//   sample still counts as a large one, and is counted in clamp_count), and the rounding of r
-//   (uniform within 1/2 LSB) moves a window's z by 2 sqrt(W/12) RMS / (RMS^2 sqrt(2W)) = 0.41 / RMS
-//   in units of z: 1.3e-5 at RMS 2^15, under one LSB of z's Q16 (the double-reference test
-//   measures it).
+//   d_hat and the reference are Q31 fractions of their full scales. residual_gain (Q32, the
+//   residual's scale) and reference_gain (Q32: minus the reference's full scale over d_hat's,
+//   times residual_gain) are in [-(2^31 - 1), 2^31 - 1], so each product is at most 2^62 - 2^31 in
+//   magnitude and their sum with the rounding term 2^31 at most 2^63 - 2^31: exact in int64.
+//   The host picks residual_gain so the calibration day's RMS of r sits near 2^15 (a gain of at
+//   most 1/2: where d_hat itself is smaller than 2^16 LSB, r is d_hat / 2 and keeps its own
+//   resolution but one bit): the clamp at 2^23 leaves 48 dB of headroom for a residual that grows
+//   (a clamped sample still counts as a large one, and is counted in clamp_count), and the
+//   rounding of r (uniform within 1/2 LSB) moves a window's z by 2 sqrt(W/12) RMS / (RMS^2
+//   sqrt(2W)) = 0.41 / RMS in units of z: 1.3e-5 at RMS 2^15, under one LSB of z's Q16 (the
+//   double-reference test measures it).
 //   r^2 <= 2^46, so the window sum of up to kMaxWindowSamples = 2^16 samples stays below 2^62 and
 //   the uint64 accumulator never wraps. sum_shift (<= 62) and center are the host's: S >> sum_shift
 //   of an in-control window lies near 2^24 and the difference is clamped to int32 range, so
@@ -56,11 +59,10 @@
 namespace vibid::fixed {
 
 inline constexpr std::uint32_t kMaxWindowSamples = 1u << 16;
-inline constexpr std::uint8_t kMaxReferenceShift = 30;
-inline constexpr std::uint8_t kMaxResidualShift = 40;
 inline constexpr std::uint8_t kMaxSumShift = 62;
 inline constexpr std::uint8_t kMaxZShift = 62;
 inline constexpr std::int32_t kMaxScaledResidual = (std::int32_t{1} << 23) - 1;
+inline constexpr std::int32_t kMinScaledResidual = -(std::int32_t{1} << 23);
 inline constexpr std::int32_t kMaxStatistic = std::int32_t{1} << 30;
 /// Fraction bits of z, k, h and g.
 inline constexpr int kStatisticFractionBits = 16;
@@ -68,9 +70,8 @@ inline constexpr int kStatisticFractionBits = 16;
 /// The test's parameters as the host designs them (they travel in the calibration record).
 struct ResidualCusumParams {
   std::uint32_t window_samples = 0;  ///< W: samples per window, 1..kMaxWindowSamples.
-  std::int32_t reference_gain = 0;   ///< Q(31 - reference_shift); 0 when r = d_hat.
-  std::uint8_t reference_shift = 0;  ///< 0..kMaxReferenceShift.
-  std::uint8_t residual_shift = 0;   ///< 0..kMaxResidualShift.
+  std::int32_t residual_gain = 0;    ///< Q32 gain of d_hat into r, nonzero.
+  std::int32_t reference_gain = 0;   ///< Q32 gain of the reference into r; 0 when r = d_hat.
   std::uint8_t sum_shift = 0;        ///< 0..kMaxSumShift.
   std::uint8_t z_shift = 0;          ///< 0..kMaxZShift.
   std::int32_t center = 0;           ///< round(W mu0 / 2^sum_shift), in units of S >> sum_shift.
@@ -80,8 +81,8 @@ struct ResidualCusumParams {
 };
 
 /// @returns kOk if the kernel may run them; kInvalidArgument for a window of 0 or above
-///          kMaxWindowSamples, a shift beyond its maximum, a z_gain <= 0, k < 0, or h outside
-///          (0, kMaxStatistic).
+///          kMaxWindowSamples, a residual_gain of 0 or either gain at -2^31, a shift beyond its
+///          maximum, a z_gain <= 0, k < 0, or h outside (0, kMaxStatistic).
 Status ValidateResidualCusum(const ResidualCusumParams& params);
 
 class ResidualCusum {
@@ -99,19 +100,15 @@ class ResidualCusum {
   /// its channel's full scale; ignored when reference_gain is 0).
   /// @returns true when this sample completed a window (the statistic was updated).
   bool Step(std::int32_t d_hat, std::int32_t reference) {
-    if (params_.window_samples == 0) return false;
-    std::int64_t r = d_hat;
-    if (params_.reference_gain != 0) {
-      r -= (std::int64_t{reference} * params_.reference_gain + reference_round_) >> reference_p_;
-    }
-    r = (r + residual_round_) >> params_.residual_shift;
-    if (r > kMaxScaledResidual || r < -kMaxScaledResidual) {
-      r = r > 0 ? kMaxScaledResidual : -kMaxScaledResidual;
-      ++clamp_count_;
-    }
-    const auto r32 = static_cast<std::int32_t>(r);  // one 32 x 32 -> 64 multiply for the square
-    sum_ += static_cast<std::uint64_t>(std::int64_t{r32} * r32);
-    ++samples_;
+    if (left_ == 0) return false;  // uninitialised
+    const std::int64_t acc = std::int64_t{d_hat} * residual_gain_ +
+                             std::int64_t{reference} * reference_gain_ + (std::int64_t{1} << 31);
+    const auto r = static_cast<std::int32_t>(acc >> 32);
+    const std::int32_t c = r < kMinScaledResidual
+                               ? kMinScaledResidual
+                               : (r > kMaxScaledResidual ? kMaxScaledResidual : r);
+    if (c != r) ++clamp_count_;
+    sum_ += std::int64_t{c} * c;
     if (--left_ != 0) return false;
     EndWindow();
     return true;
@@ -130,7 +127,9 @@ class ResidualCusum {
   /// g at that window, Q16.
   std::int32_t trip_statistic() const { return trip_statistic_; }
   std::uint32_t windows() const { return windows_; }
-  std::uint32_t samples() const { return samples_; }
+  std::uint32_t samples() const {
+    return initialised() ? windows_ * params_.window_samples + (params_.window_samples - left_) : 0;
+  }
   /// Residual samples clamped at kMaxScaledResidual, window excesses clamped to int32 and
   /// statistics clamped at kMaxStatistic: 0 while the residual stays within 48 dB of the design.
   std::uint32_t clamp_count() const { return clamp_count_; }
@@ -138,20 +137,19 @@ class ResidualCusum {
  private:
   void EndWindow();
 
+  // The per-sample state first, together (the gains and the sum load as pairs).
+  std::int32_t residual_gain_ = 0;
+  std::int32_t reference_gain_ = 0;
+  std::int64_t sum_ = 0;
+  std::uint32_t left_ = 0;  // samples left in the window; 0 only when uninitialised
+  std::uint32_t clamp_count_ = 0;
   ResidualCusumParams params_{};
-  std::int64_t reference_round_ = 0;
-  std::int64_t residual_round_ = 0;
-  int reference_p_ = 31;
-  std::uint64_t sum_ = 0;
-  std::uint32_t left_ = 0;
-  std::uint32_t samples_ = 0;
   std::uint32_t windows_ = 0;
   std::int32_t g_ = 0;
   std::int32_t z_ = 0;
   bool tripped_ = false;
   std::uint32_t trip_sample_ = 0;
   std::int32_t trip_statistic_ = 0;
-  std::uint32_t clamp_count_ = 0;
 };
 
 }  // namespace vibid::fixed
