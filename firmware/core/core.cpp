@@ -232,6 +232,8 @@ Status Core::Dispatch(const Header& h, std::span<const std::uint8_t> payload) {
         RespondWith(h, SamplingInfo());
       } else if (page.page == wire::kInfoPageHealth) {
         RespondWith(h, HealthInfo());
+      } else if (page.page == wire::kInfoPageWatch) {
+        RespondWith(h, dob_.WatchInfo(sampler_.dob_running()));
       } else {
         return Refuse(Status::kInvalidArgument, wire::Reason::kUnknownInfoPage, page.page);
       }

@@ -80,7 +80,7 @@ TEST(CoreCommands, GetInfoPageGivesTheSamplingInstants) {
   // 68-clock conversion later (124 clocks, 5904.8 ns) (board_profile.hpp).
   EXPECT_EQ(s.sample_instant_ns,
             (std::array<std::uint32_t, wire::kChannelCount>{2667, 5905, 2667, 2667, 2667, 2667}));
-  const std::array<std::uint8_t, 1> unknown{3};  // pages 1 and 2 exist
+  const std::array<std::uint8_t, 1> unknown{4};  // pages 1, 2 and 3 exist
   EXPECT_EQ(h.Request(Command::kGetInfo, unknown).status(), Status::kInvalidArgument);
   const std::array<std::uint8_t, 2> longer{1, 0};
   EXPECT_EQ(h.Request(Command::kGetInfo, longer).status(), Status::kInvalidArgument);
@@ -355,7 +355,7 @@ TEST(CoreCommands, CalibrationRefusals) {
       h.Request(Command::kCalPutBegin, wire::CalPutBeginRequest{.record_bytes = 836, .crc32 = 0});
   EXPECT_EQ(begin.status(), Status::kVersionMismatch);
   EXPECT_EQ(ReasonOf(begin).reason, wire::Reason::kRecordLength);
-  EXPECT_EQ(ReasonOf(begin).detail, 840u);  // kCalRecordBytes
+  EXPECT_EQ(ReasonOf(begin).detail, 876u);  // kCalRecordBytes
 }
 
 TEST(CoreCommands, LogReadRefusals) {

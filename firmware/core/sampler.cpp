@@ -98,6 +98,7 @@ void Sampler::OnFrame(const SampleFrame& frame) {
   if (run_dob && !dob_was_running_) dob_.Reset();
   dob_was_running_ = run_dob;
   const std::int32_t d_hat = run_dob ? dob_.Step(calibrated) : 0;
+  if (run_dob) dob_.StepWatch(d_hat, calibrated, frame.tick);
   // A frame the port delivers after the acquisition ended (before the main loop stopped it)
   // belongs to no acquisition: read-latest keeps the acquisition's last frame and its tick.
   if (!sampling) return;

@@ -18,7 +18,7 @@ SEEDS = ROOT / "firmware/core/fuzz/seeds"
 
 PROTOCOL_MAJOR = 2
 PROTOCOL_MINOR = 1
-CAL_RECORD_VERSION = 1
+CAL_RECORD_VERSION = 2
 MAGIC = b"VB"
 FLAG_RESPONSE = 0x01
 FLAG_STREAM_END = 0x02
@@ -63,8 +63,17 @@ def dob_description():
     return desc + struct.pack("<I", zlib.crc32(desc))
 
 
-def calibration_record(with_dob=False):
-    body = b"VCAL" + struct.pack("<HHBBH", CAL_RECORD_VERSION, 840, 2, 1 if with_dob else 0, 0)
+# The residual test of the watch record (calibration_record.hpp "Watch"; residual_cusum.hpp):
+# reference force1 (channel 0), sum_shift 14, z_shift 40, W 1000, residual gain 1/16 (Q32),
+# reference gain -1/32 (Q32), center 2^24, z_gain 2^30, k 0.5 and h 8.25 (Q16), run length 5000.
+WATCH = struct.pack("<BBBBIiiiiiif", 0, 14, 40, 0, 1000, 1 << 28, -(1 << 27), 1 << 24, 1 << 30,
+                    1 << 15, 8 * 65536 + 16384, 5000.0)
+assert len(WATCH) == 36
+
+
+def calibration_record(with_dob=False, with_watch=False):
+    flags = (1 if with_dob else 0) | (2 if with_watch else 0)
+    body = b"VCAL" + struct.pack("<HHBBH", CAL_RECORD_VERSION, 876, 2, flags, 0)
     body += struct.pack("<q", 1700000000)                   # created_unix_s
     body += struct.pack("<BBH", 0, 1, 7)                    # host 0.1.7
     body += b"rig-A two mass".ljust(24, b"\0")
@@ -88,7 +97,8 @@ def calibration_record(with_dob=False):
     else:
         body += bytes([0xFF, 0xFF, 0xFF, 0])              # no DOB inputs, reserved
         body += bytes(640)
-    assert len(body) == 836
+    body += WATCH if with_watch else bytes(36)
+    assert len(body) == 872
     return body + struct.pack("<I", zlib.crc32(body))
 
 
@@ -124,6 +134,13 @@ def main():
     add("health_page_request", report(0x02, token=0x0104, payload=b"\x02"))
     add("health_info_response", report(0x02, flags=FLAG_RESPONSE, token=0x0104,
                                        payload=struct.pack("<BBBBII", 4, 4, 3, 0, 12000340, 2)))
+
+    # get-info page 3 (2.1): the residual test, watching and stale: W 1000, 812 windows, g 12.25,
+    # h 8.25, last z -1, tripped at tick 811 999 with g 8.5, no clamps (Q16 values).
+    add("watch_page_request", report(0x02, token=0x0105, payload=b"\x03"))
+    add("watch_info_response", report(0x02, flags=FLAG_RESPONSE, token=0x0105,
+                                      payload=struct.pack("<BBHIIiiiIiI", 2, 1, 0, 1000, 812, 12 * 65536 + 16384,
+                                                          8 * 65536 + 16384, -65536, 811999, 8 * 65536 + 32768, 0)))
 
     # self-test (2.1): check 0 (hse-ppm) of 18 passes at -12.345 ppm (unit ppm, 10^-3) against
     # the host's USB frames (reference 1); check 12 (image-crc) is unavailable; check 18 is
@@ -188,6 +205,7 @@ def main():
     record = calibration_record()
     add("calibration_record", record)
     add("calibration_record_dob", calibration_record(with_dob=True))
+    add("calibration_record_watch", calibration_record(with_dob=True, with_watch=True))
     add("cal_put_begin", report(0x10, token=0x0C0C,
                                 payload=struct.pack("<II", len(record), zlib.crc32(record))))
     chunks = (len(record) + 51) // 52
@@ -196,9 +214,9 @@ def main():
     add("cal_put_data_16", report(0x11, token=0x0C0C, sequence=16, payload=record[16 * 52:]))
     add("cal_commit_response",
         report(0x12, flags=FLAG_RESPONSE, token=0x0C0D, payload=struct.pack("<BBHI", 1, 0, 0, 8)))
-    # cal-get sends the 840-byte record in 15 stream data reports of up to 58 bytes.
+    # cal-get sends the 876-byte record in 16 stream data reports of up to 58 bytes.
     add("cal_get_trailer",
-        report(0x13, flags=FLAG_RESPONSE | FLAG_STREAM_END, token=0x0C0E, sequence=15,
+        report(0x13, flags=FLAG_RESPONSE | FLAG_STREAM_END, token=0x0C0E, sequence=16,
                payload=struct.pack("<IIBBHI", len(record), zlib.crc32(record), 1, 0, 0, 8)))
 
     add("dob_control_request", report(0x30, token=9, payload=b"\x01"))
@@ -225,6 +243,7 @@ def main():
         (SEEDS / target).mkdir(parents=True, exist_ok=True)
     (SEEDS / "wire_calibration_fuzz/calibration_record").write_bytes(v["calibration_record"])
     (SEEDS / "wire_calibration_fuzz/calibration_record_dob").write_bytes(v["calibration_record_dob"])
+    (SEEDS / "wire_calibration_fuzz/calibration_record_watch").write_bytes(v["calibration_record_watch"])
     # Request seeds are in the harness's raw format (top bit of the first byte set); bit 0 is its
     # calibration switch (1: the filter is installed).
     (SEEDS / "fw_request_fuzz/requests").write_bytes(b"\x81" + v["ping_request"] + v["acq_configure_request"] +

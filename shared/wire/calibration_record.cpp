@@ -110,6 +110,25 @@ Status CheckDob(const CalibrationRecord& r) {
   return Status::kOk;
 }
 
+// The residual test needs the observer, a force channel to subtract (or none) and parameters the
+// kernel accepts.
+Status CheckWatch(const CalibrationRecord& r) {
+  if ((r.flags & kCalFlagHasDob) == 0) return Status::kInvalidArgument;
+  const Status valid = fixed::ValidateResidualCusum(r.watch);
+  if (valid != Status::kOk) return Status::kInvalidArgument;
+  const std::uint8_t c = r.watch_reference_channel;
+  if (c == kNoChannel) {
+    if (r.watch.reference_gain != 0) return Status::kInvalidArgument;
+  } else if (c >= kChannelCount || r.channels[c].unit != Unit::kNewton ||
+             r.watch.reference_gain == 0) {
+    return Status::kInvalidArgument;
+  }
+  if (!IsFinite(r.watch_in_control_arl_windows) || !(r.watch_in_control_arl_windows > 0.0f)) {
+    return Status::kInvalidArgument;
+  }
+  return Status::kOk;
+}
+
 }  // namespace
 
 void EncodeCalibrationRecord(const CalibrationRecord& record,
@@ -146,6 +165,21 @@ void EncodeCalibrationRecord(const CalibrationRecord& record,
   }
   StoreU8(out, kCalOffDobReserved, 0);
   for (std::size_t i = 0; i < kDobDescriptionBytes; ++i) out[kCalOffDob + i] = record.dob[i];
+  // Without the test the block is all zero (the reference channel too), as the decoder demands.
+  const bool watch = (record.flags & kCalFlagHasWatch) != 0;
+  const fixed::ResidualCusumParams w = watch ? record.watch : fixed::ResidualCusumParams{};
+  StoreU8(out, kCalOffWatch + 0, watch ? record.watch_reference_channel : 0);
+  StoreU8(out, kCalOffWatch + 1, w.sum_shift);
+  StoreU8(out, kCalOffWatch + 2, w.z_shift);
+  StoreU8(out, kCalOffWatch + 3, 0);
+  StoreU32(out, kCalOffWatch + 4, w.window_samples);
+  StoreI32(out, kCalOffWatch + 8, w.residual_gain);
+  StoreI32(out, kCalOffWatch + 12, w.reference_gain);
+  StoreI32(out, kCalOffWatch + 16, w.center);
+  StoreI32(out, kCalOffWatch + 20, w.z_gain);
+  StoreI32(out, kCalOffWatch + 24, w.k);
+  StoreI32(out, kCalOffWatch + 28, w.h);
+  StoreF32(out, kCalOffWatch + 32, watch ? record.watch_in_control_arl_windows : 0.0f);
   StoreU32(out, kCalOffCrc, ComputeCrc32(std::span<const std::uint8_t>(out).first(kCalOffCrc)));
 }
 
@@ -202,8 +236,26 @@ Status DecodeCalibrationRecord(std::span<const std::uint8_t> bytes, CalibrationR
     dob_zero = dob_zero && r.dob[i] == 0;
   }
 
+  bool watch_zero = true;
+  for (std::size_t i = 0; i < kCalWatchBytes; ++i) {
+    watch_zero = watch_zero && bytes[kCalOffWatch + i] == 0;
+  }
+  r.watch_reference_channel = LoadU8(bytes, kCalOffWatch + 0);
+  r.watch.sum_shift = LoadU8(bytes, kCalOffWatch + 1);
+  r.watch.z_shift = LoadU8(bytes, kCalOffWatch + 2);
+  const bool watch_reserved_ok = LoadU8(bytes, kCalOffWatch + 3) == 0;
+  r.watch.window_samples = LoadU32(bytes, kCalOffWatch + 4);
+  r.watch.residual_gain = LoadI32(bytes, kCalOffWatch + 8);
+  r.watch.reference_gain = LoadI32(bytes, kCalOffWatch + 12);
+  r.watch.center = LoadI32(bytes, kCalOffWatch + 16);
+  r.watch.z_gain = LoadI32(bytes, kCalOffWatch + 20);
+  r.watch.k = LoadI32(bytes, kCalOffWatch + 24);
+  r.watch.h = LoadI32(bytes, kCalOffWatch + 28);
+  r.watch_in_control_arl_windows = LoadF32(bytes, kCalOffWatch + 32);
+
   if (r.dof_count < 1 || r.dof_count > kMaxDof) return Status::kInvalidArgument;
-  if ((r.flags & ~kCalFlagHasDob) != 0 || LoadU16(bytes, kCalOffReserved) != 0) {
+  if ((r.flags & ~(kCalFlagHasDob | kCalFlagHasWatch)) != 0 ||
+      LoadU16(bytes, kCalOffReserved) != 0) {
     return Status::kInvalidArgument;
   }
   if (r.created_unix_s < 0 || !LabelOk(r.label)) return Status::kInvalidArgument;
@@ -219,6 +271,12 @@ Status DecodeCalibrationRecord(std::span<const std::uint8_t> bytes, CalibrationR
     if (!dob_zero || !inputs_unused) return Status::kInvalidArgument;
   } else if (const Status dob = CheckDob(r); dob != Status::kOk) {
     return dob;
+  }
+  if ((r.flags & kCalFlagHasWatch) == 0) {
+    if (!watch_zero) return Status::kInvalidArgument;
+    r.watch_reference_channel = kNoChannel;
+  } else if (!watch_reserved_ok || CheckWatch(r) != Status::kOk) {
+    return Status::kInvalidArgument;
   }
   record = r;
   return Status::kOk;

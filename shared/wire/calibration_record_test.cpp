@@ -60,10 +60,11 @@ TEST(CalibrationRecord, EncodesLikeGolden) {
 
 TEST(CalibrationRecord, DecodesGoldenByHand) {
   const Bytes b = GoldenBytes();
-  // Hand-decoded header: "VCAL", version 1, length 840 = 0x0348, dof 2.
+  // Hand-decoded header: "VCAL", version 2, length 876 = 0x036C, dof 2.
   EXPECT_EQ(b[0], 'V');
   EXPECT_EQ(b[3], 'L');
-  EXPECT_EQ(b[6], 0x48);
+  EXPECT_EQ(b[4], 2);
+  EXPECT_EQ(b[6], 0x6C);
   EXPECT_EQ(b[7], 0x03);
   CalibrationRecord r;
   ASSERT_EQ(DecodeCalibrationRecord(b, r), Status::kOk);
@@ -98,7 +99,10 @@ TEST(CalibrationRecord, EveryFlippedBitIsDataLossOrVersion) {
 TEST(CalibrationRecord, RefusesWrongVersionAndLength) {
   CalibrationRecord r;
   Bytes b = GoldenBytes();
-  b[kCalOffVersion] = 2;
+  b[kCalOffVersion] = 1;  // the record before the residual test: refused, not misread
+  Reseal(b);
+  EXPECT_EQ(DecodeCalibrationRecord(b, r), Status::kVersionMismatch);
+  b[kCalOffVersion] = 3;
   Reseal(b);
   EXPECT_EQ(DecodeCalibrationRecord(b, r), Status::kVersionMismatch);
   b = GoldenBytes();
@@ -274,6 +278,112 @@ TEST(CalibrationRecordDob, FilterVerdictsPassThrough) {
   r = WithFilter();
   r.flags = 0;  // filter bytes present without the flag
   EXPECT_EQ(EncodeDecode(r), Status::kInvalidArgument);
+}
+
+}  // namespace
+}  // namespace vibid::wire
+
+namespace vibid::wire {
+namespace {
+
+// WithFilter() with the residual test packed as WATCH in scripts/golden/wire_vectors.py: force 1
+// (channel 0, newtons) as the reference.
+CalibrationRecord WithWatch() {
+  CalibrationRecord r = WithFilter();
+  r.flags = static_cast<std::uint8_t>(r.flags | kCalFlagHasWatch);
+  r.watch_reference_channel = 0;
+  r.watch = {.window_samples = 1000,
+             .residual_gain = 1 << 28,
+             .reference_gain = -(1 << 27),
+             .sum_shift = 14,
+             .z_shift = 40,
+             .center = 1 << 24,
+             .z_gain = 1 << 30,
+             .k = 1 << 15,
+             .h = 8 * 65536 + 16384};
+  r.watch_in_control_arl_windows = 5000.0f;
+  return r;
+}
+
+TEST(CalibrationRecordWatch, EncodesLikeGoldenAndDecodesBack) {
+  Bytes golden{};
+  ASSERT_EQ(testing::GoldenVector("calibration_record_watch", golden), kCalRecordBytes);
+  Bytes out{};
+  EncodeCalibrationRecord(WithWatch(), out);
+  EXPECT_TRUE(out == golden);
+  // Hand-decoded: the flags byte holds both bits, the block starts at 836 with the channel, W
+  // (1000 = 0x03E8) at 840.
+  EXPECT_EQ(golden[kCalOffFlags], 3);
+  EXPECT_EQ(golden[836], 0);
+  EXPECT_EQ(golden[837], 14);
+  EXPECT_EQ(golden[840], 0xE8);
+  EXPECT_EQ(golden[841], 0x03);
+  CalibrationRecord back;
+  ASSERT_EQ(DecodeCalibrationRecord(golden, back), Status::kOk);
+  EXPECT_EQ(back.watch_reference_channel, 0);
+  EXPECT_EQ(back.watch.window_samples, 1000u);
+  EXPECT_EQ(back.watch.reference_gain, -(1 << 27));
+  EXPECT_EQ(back.watch.h, 8 * 65536 + 16384);
+  EXPECT_EQ(back.watch_in_control_arl_windows, 5000.0f);
+}
+
+TEST(CalibrationRecordWatch, WithoutTheFlagTheBlockIsZero) {
+  Bytes b{};
+  EncodeCalibrationRecord(WithFilter(), b);
+  for (std::size_t i = 0; i < kCalWatchBytes; ++i) EXPECT_EQ(b[kCalOffWatch + i], 0) << i;
+  CalibrationRecord back;
+  ASSERT_EQ(DecodeCalibrationRecord(b, back), Status::kOk);
+  EXPECT_EQ(back.watch_reference_channel, kNoChannel);
+  b[kCalOffWatch + 4] = 1;  // a window without the flag
+  Reseal(b);
+  EXPECT_EQ(DecodeCalibrationRecord(b, back), Status::kInvalidArgument);
+}
+
+TEST(CalibrationRecordWatch, RefusesWhatTheBoardCouldNotRun) {
+  EXPECT_EQ(EncodeDecode(WithWatch()), Status::kOk);
+  auto refused = [](auto change) {
+    CalibrationRecord r = WithWatch();
+    change(r);
+    return EncodeDecode(r);
+  };
+  // No observer to watch.
+  EXPECT_EQ(refused([](CalibrationRecord& r) {
+              r = GoldenValues();
+              r.flags = kCalFlagHasWatch;
+              r.watch = WithWatch().watch;
+              r.watch_reference_channel = kNoChannel;
+              r.watch.reference_gain = 0;
+              r.watch_in_control_arl_windows = 1.0f;
+            }),
+            Status::kInvalidArgument);
+  // Parameters the kernel refuses.
+  EXPECT_EQ(refused([](CalibrationRecord& r) { r.watch.window_samples = 0; }),
+            Status::kInvalidArgument);
+  EXPECT_EQ(refused([](CalibrationRecord& r) { r.watch.h = 0; }), Status::kInvalidArgument);
+  // A reference that is not a force, or beyond the channels; a gain without a reference.
+  EXPECT_EQ(refused([](CalibrationRecord& r) { r.watch_reference_channel = 2; }),
+            Status::kInvalidArgument);
+  EXPECT_EQ(refused([](CalibrationRecord& r) { r.watch_reference_channel = 6; }),
+            Status::kInvalidArgument);
+  EXPECT_EQ(refused([](CalibrationRecord& r) { r.watch_reference_channel = kNoChannel; }),
+            Status::kInvalidArgument);
+  EXPECT_EQ(refused([](CalibrationRecord& r) { r.watch.reference_gain = 0; }),
+            Status::kInvalidArgument);
+  // r = d_hat alone is fine.
+  EXPECT_EQ(refused([](CalibrationRecord& r) {
+              r.watch_reference_channel = kNoChannel;
+              r.watch.reference_gain = 0;
+            }),
+            Status::kOk);
+  EXPECT_EQ(refused([](CalibrationRecord& r) { r.watch_in_control_arl_windows = 0.0f; }),
+            Status::kInvalidArgument);
+  // The reserved byte.
+  Bytes b{};
+  EncodeCalibrationRecord(WithWatch(), b);
+  b[kCalOffWatch + 3] = 1;
+  Reseal(b);
+  CalibrationRecord back;
+  EXPECT_EQ(DecodeCalibrationRecord(b, back), Status::kInvalidArgument);
 }
 
 }  // namespace

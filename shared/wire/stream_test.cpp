@@ -173,7 +173,7 @@ TEST(CalPut, BuildsGoldenReports) {
   EXPECT_TRUE(out == testing::GoldenReport("cal_put_data_0"));
   ASSERT_EQ(BuildCalPutData(record, 16, 0x0C0C, out), Status::kOk);
   EXPECT_TRUE(out == testing::GoldenReport("cal_put_data_16"));
-  EXPECT_EQ(PayloadOf(out).size(), 840u - 16u * 52u);
+  EXPECT_EQ(PayloadOf(out).size(), kCalRecordBytes - 16u * 52u);
   EXPECT_EQ(BuildCalPutData(record, 17, 0x0C0C, out), Status::kOutOfRange);
 }
 

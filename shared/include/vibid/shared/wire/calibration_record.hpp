@@ -2,13 +2,13 @@
 // physical model (for the host to read back and for range checks), the per-channel scaling the
 // board applies to every sample, and the quantized disturbance-observer filter the board runs.
 //
-// Byte layout (little-endian, offsets in bytes, total kCalRecordBytes = 840):
+// Byte layout (little-endian, offsets in bytes, total kCalRecordBytes = 876):
 //
 //   0    u32  magic              kCalMagic: bytes 'V','C','A','L'
 //   4    u16  version            kCalRecordVersion
 //   6    u16  length             kCalRecordBytes (a reader of another length refuses the record)
 //   8    u8   dof_count          1..kMaxDof
-//   9    u8   flags              kCalFlagHasDob
+//   9    u8   flags              kCalFlagHasDob, kCalFlagHasWatch (only with kCalFlagHasDob)
 //   10   u16  reserved           0
 //   12   i64  created_unix_s     when the host built the record (seconds since 1970, UTC)
 //   20   u8   host_major  21 u8 host_minor  22 u16 host_patch   version of the host that built it
@@ -23,7 +23,20 @@
 //   195  u8   reserved           0
 //   196  u8   dob[640]           the quantized DOB (vibid::fixed description encoding), all
 //                                zero when kCalFlagHasDob is clear
-//   836  u32  crc32              CRC-32 of bytes [0, 836)
+//   836  Watch (36 bytes)        the observer's residual test (vibid::fixed::ResidualCusum), all
+//                                zero when kCalFlagHasWatch is clear; layout below
+//   872  u32  crc32              CRC-32 of bytes [0, 872)
+//
+//   Watch (36 bytes; the kernel's parameters, see residual_cusum.hpp):
+//   0   u8   reference_channel   the wire::Channel of the load cell whose force r = d_hat - F
+//                                subtracts (a kNewton channel), kNoChannel for r = d_hat
+//   1   u8   sum_shift  2 u8 z_shift  3 u8 reserved (0)
+//   4   u32  window_samples      W
+//   8   i32  residual_gain       Q32
+//   12  i32  reference_gain      Q32; 0 exactly when reference_channel is kNoChannel
+//   16  i32  center  20 i32 z_gain  24 i32 k (Q16)  28 i32 h (Q16)
+//   32  f32  in_control_arl_windows  the windows between false alarms the host designed for
+//                                (metadata for the host to show; the board does not use it)
 //
 //   ChannelScaling (16 bytes):
 //   0   i32  offset_counts       raw value that reads as zero
@@ -46,17 +59,19 @@
 #include <cstdint>
 #include <span>
 
+#include "vibid/shared/fixed/residual_cusum.hpp"
 #include "vibid/shared/status.hpp"
 #include "vibid/shared/wire/device.hpp"
 
 namespace vibid::wire {
 
 inline constexpr std::uint32_t kCalMagic = 0x4C414356u;  // bytes 'V','C','A','L'
-inline constexpr std::uint16_t kCalRecordVersion = 1;
+inline constexpr std::uint16_t kCalRecordVersion = 2;
 inline constexpr std::size_t kMaxDof = 2;
 inline constexpr std::size_t kDobDescriptionBytes = 640;
 inline constexpr std::size_t kCalLabelBytes = 24;
 inline constexpr std::uint8_t kCalFlagHasDob = 1u << 0;
+inline constexpr std::uint8_t kCalFlagHasWatch = 1u << 1;
 inline constexpr std::uint8_t kNoDof = 0xFF;
 inline constexpr std::uint8_t kMaxGainShift = 31;
 
@@ -80,12 +95,14 @@ inline constexpr std::size_t kCalOffDobInputs =
     kCalOffChannels + kChannelCount * kChannelScalingBytes;
 inline constexpr std::size_t kCalOffDobReserved = kCalOffDobInputs + kMaxDobInputs;
 inline constexpr std::size_t kCalOffDob = kCalOffDobReserved + 1;
-inline constexpr std::size_t kCalOffCrc = kCalOffDob + kDobDescriptionBytes;
+inline constexpr std::size_t kCalOffWatch = kCalOffDob + kDobDescriptionBytes;
+inline constexpr std::size_t kCalWatchBytes = 36;
+inline constexpr std::size_t kCalOffCrc = kCalOffWatch + kCalWatchBytes;
 inline constexpr std::size_t kCalRecordBytes = kCalOffCrc + 4;
 
 static_assert(kCalOffMass == 48 && kCalOffDamping == 64 && kCalOffStiffness == 80);
 static_assert(kCalOffChannels == 96 && kCalOffDobInputs == 192 && kCalOffDob == 196);
-static_assert(kCalOffCrc == 836 && kCalRecordBytes == 840);
+static_assert(kCalOffWatch == 836 && kCalOffCrc == 872 && kCalRecordBytes == 876);
 static_assert(kCalRecordBytes <= 0xFFFF, "length travels in a u16");
 
 /// What a channel's full scale is measured in.
@@ -120,6 +137,10 @@ struct CalibrationRecord {
   std::array<ChannelScaling, kChannelCount> channels{};
   std::array<std::uint8_t, kMaxDobInputs> dob_input_channel{kNoChannel, kNoChannel, kNoChannel};
   std::array<std::uint8_t, kDobDescriptionBytes> dob{};
+  /// The residual test (kCalFlagHasWatch): its load cell channel and its parameters.
+  std::uint8_t watch_reference_channel = kNoChannel;
+  fixed::ResidualCusumParams watch{};
+  float watch_in_control_arl_windows = 0.0f;
 };
 
 /// Writes the record and its CRC-32 into exactly kCalRecordBytes.
@@ -141,6 +162,11 @@ void EncodeCalibrationRecord(const CalibrationRecord& record,
 ///            kDataLoss, kOutOfRange, kInvalidArgument, kUnstable), then kInvalidArgument for an
 ///            output mass beyond dof_count or an input whose channel differs from the filter's
 ///            expectation in unit, mass or full scale, or an unused input given a channel.
+///          with a residual test (kCalFlagHasWatch): kInvalidArgument without a filter, for
+///            parameters fixed::ValidateResidualCusum refuses, a nonzero reserved byte, a
+///            reference channel beyond the six or not in newtons, a reference gain without a
+///            reference channel (or none with one), or a non-finite or non-positive run length;
+///            without it, kInvalidArgument for any nonzero byte of the block.
 Status DecodeCalibrationRecord(std::span<const std::uint8_t> bytes, CalibrationRecord& record);
 
 /// The record's CRC-32 field as stored in encoded bytes (no check).
