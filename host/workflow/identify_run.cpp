@@ -36,14 +36,53 @@ nlohmann::json Triple(double nominal, double updated, double test) {
           {"updated_dev_percent", ident::PercentDeviation(updated, test)}};
 }
 
+nlohmann::json DeviationJson(const ident::ModalDeviation& d) {
+  return {{"nominal_percent", d.nominal_percent},
+          {"updated_percent", d.updated_percent},
+          {"worse_than_nominal", d.worse_than_nominal}};
+}
+
+nlohmann::json PositionsJson(const std::vector<ident::PositionComparison>& rows) {
+  nlohmann::json positions = nlohmann::json::array();
+  for (const auto& p : rows) {
+    nlohmann::json m = {{"nominal", p.m_nominal},
+                        {"updated", p.m_updated},
+                        {"change_percent", ident::PercentDeviation(p.m_updated, p.m_nominal)}};
+    nlohmann::json k = {{"nominal", p.k_nominal},
+                        {"updated", p.k_updated},
+                        {"change_percent", ident::PercentDeviation(p.k_updated, p.k_nominal)}};
+    nlohmann::json c = {{"updated", p.c_updated}};
+    PutInterval(m, "updated", p.m_ci95);
+    PutInterval(k, "updated", p.k_ci95);
+    PutInterval(c, "updated", p.c_ci95);
+    if (!p.m_source.empty()) {
+      m["source"] = p.m_source;
+      k["source"] = p.k_source;
+      c["source"] = p.c_source;
+    }
+    positions.push_back({{"m_kg", m}, {"k_n_per_m", k}, {"c_ns_per_m", c}});
+  }
+  return positions;
+}
+
+std::vector<double> Std(const Eigen::VectorXd& v) {
+  return std::vector<double>(v.data(), v.data() + v.size());
+}
+
 nlohmann::json ValidationJson(const ident::ValidationTable& t,
                               const std::vector<ident::ModeEstimate>& test_modes) {
   nlohmann::json modes = nlohmann::json::array();
   for (std::size_t i = 0; i < t.modes.size(); ++i) {
     const auto& m = t.modes[i];
-    nlohmann::json row = {{"omega_rad_s", Triple(m.omega_nominal, m.omega_updated, m.omega_test)},
+    nlohmann::json row = {{"mode", m.mode + 1},
+                          {"omega_rad_s", Triple(m.omega_nominal, m.omega_updated, m.omega_test)},
                           {"zeta", Triple(m.zeta_nominal, m.zeta_updated, m.zeta_test)},
                           {"ratio", Triple(m.ratio_nominal, m.ratio_updated, m.ratio_test)}};
+    if (m.shape_test.size() > 0) {
+      row["shape"] = {{"nominal", Std(m.shape_nominal)},
+                      {"updated", Std(m.shape_updated)},
+                      {"test", Std(m.shape_test)}};
+    }
     if (i < test_modes.size()) {
       const ident::ModeEstimate& e = test_modes[i];
       const std::pair<const char*, const std::array<double, 2>*> cis[] = {
@@ -55,21 +94,52 @@ nlohmann::json ValidationJson(const ident::ValidationTable& t,
     }
     modes.push_back(row);
   }
-  nlohmann::json positions = nlohmann::json::array();
-  for (const auto& p : t.positions) {
-    nlohmann::json m = {{"nominal", p.m_nominal},
-                        {"updated", p.m_updated},
-                        {"change_percent", ident::PercentDeviation(p.m_updated, p.m_nominal)}};
-    nlohmann::json k = {{"nominal", p.k_nominal},
-                        {"updated", p.k_updated},
-                        {"change_percent", ident::PercentDeviation(p.k_updated, p.k_nominal)}};
-    nlohmann::json c = {{"updated", p.c_updated}};
-    PutInterval(m, "updated", p.m_ci95);
-    PutInterval(k, "updated", p.k_ci95);
-    PutInterval(c, "updated", p.c_ci95);
-    positions.push_back({{"m_kg", m}, {"k_n_per_m", k}, {"c_ns_per_m", c}});
+  nlohmann::json out = {{"method", t.method},
+                        {"modes", modes},
+                        {"positions", PositionsJson(t.positions)},
+                        {"modal_deviation", DeviationJson(t.deviation)}};
+  if (!t.beside.empty()) {
+    out["beside"] = {{"method", t.beside_method},
+                     {"positions", PositionsJson(t.beside)},
+                     {"modal_deviation", DeviationJson(t.beside_deviation)}};
   }
-  return {{"modes", modes}, {"positions", positions}};
+  return out;
+}
+
+// The one-test chain fit: values, where each came from, the misfit, and (with the prior) the
+// posterior-to-prior variance ratios; null when there is none.
+nlohmann::json ChainFitJson(const ident::IdentifyResult& r) {
+  if (!r.has_chain_fit) return nullptr;
+  const ident::ChainFitResult& f = r.chain_fit;
+  const auto n = static_cast<std::size_t>(f.masses_kg.size());
+  nlohmann::json source = nlohmann::json::object();
+  const char* keys[3] = {"m_kg", "k_n_per_m", "c_ns_per_m"};
+  for (std::size_t q = 0; q < 3; ++q) {
+    std::vector<std::string> s;
+    for (std::size_t i = 0; i < n; ++i)
+      s.push_back(ident::ParameterSourceName(f.source[q * n + i]));
+    source[keys[q]] = s;
+  }
+  std::vector<std::size_t> seen;
+  for (const Eigen::Index m : f.modes_seen) seen.push_back(static_cast<std::size_t>(m) + 1);
+  nlohmann::json j = {{"masses", Std(f.masses_kg)},
+                      {"springs", Std(f.springs_n_per_m)},
+                      {"dampers", Std(f.dampers_ns_per_m)},
+                      {"modes_seen", seen},
+                      {"prior_used", f.prior_used},
+                      {"source", source},
+                      {"chi2", f.chi2},
+                      {"dof", f.dof},
+                      {"covariance_scale", f.covariance_scale},
+                      {"summary", SolverSummaryJson(f.summary)}};
+  if (f.prior_used) {
+    nlohmann::json ratio = nlohmann::json::object();
+    for (std::size_t q = 0; q < 3; ++q)
+      ratio[keys[q]] = Std(f.prior_variance_ratio.segment(static_cast<Eigen::Index>(q * n),
+                                                          static_cast<Eigen::Index>(n)));
+    j["prior_variance_ratio"] = ratio;
+  }
+  return j;
 }
 
 // The updated parameters with their 95 % intervals, one object per position:
@@ -86,6 +156,11 @@ nlohmann::json ParametersJson(const ident::ValidationTable& t) {
     PutInterval(j, "m_kg", p.m_ci95);
     PutInterval(j, "k_n_per_m", p.k_ci95);
     PutInterval(j, "c_ns_per_m", p.c_ci95);
+    if (!p.m_source.empty()) {
+      j["m_kg_source"] = p.m_source;
+      j["k_n_per_m_source"] = p.k_source;
+      j["c_ns_per_m_source"] = p.c_source;
+    }
     out.push_back(j);
   }
   return out;
@@ -187,6 +262,7 @@ IdentifyRun RunIdentify(const model::Model& nominal, const IdentifyRequest& requ
     ident::ParseOrders(request.modes.orders, options.modes.stabilization);
   run.driving_point = ResolveDrivingPoint(run.modal_frfs.front(), request.modes.driving_point);
   options.driving_point = run.driving_point;
+  options.chain.prior_relative_sd = request.prior_relative_sd;
   run.result = ident::Identify(nominal, mass_inputs, run.modal_frfs, options);
   return run;
 }
@@ -225,7 +301,10 @@ nlohmann::json IdentifyReportJson(const IdentifyRun& run, std::size_t n) {
     modal_json.push_back(j);
   }
   report["modal_tests"] = modal_json;
-  report["stiffness"] = StiffnessJson(r.stiffness);
+  report["method"] = r.method;
+  report["chain_fit"] = ChainFitJson(r);
+  report["stiffness"] =
+      r.stiffness.tests.empty() ? nlohmann::json(nullptr) : StiffnessJson(r.stiffness);
   report["warnings"] = r.warnings;
   report["notes"] = notes;
   return report;

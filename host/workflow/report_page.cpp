@@ -142,7 +142,10 @@ void ValidationTables(const nlohmann::json& report, const std::string& where,
           has_nominal ? Sig(Get(x, "nominal", where)) : "",
           Sig(updated),
           IntervalCell(x, updated, "position " + std::to_string(p + 1) + ", " + q.name + ": ",
-                       where, notes),
+                       where, notes) +
+              (x.contains("source") && x["source"].is_string()
+                   ? " [" + x["source"].get<std::string>() + "]"
+                   : std::string()),
           has_nominal ? Fixed(Get(x, "change_percent", where), 2) : ""};
       if (truth != nullptr) {
         row.push_back(have_truth ? Sig(q.truth) : "");
@@ -160,6 +163,29 @@ void ValidationTables(const nlohmann::json& report, const std::string& where,
     page.Paragraph(
         "How each interval was estimated (docs/identification.md, intervals on m, k and c):");
     page.List(notes);
+  }
+}
+
+// How far each model is from the test, and the flag of an update that fits its own test worse
+// than the nominal model.
+void ModalDeviationParagraph(const nlohmann::json& report, report::HtmlPage& page) {
+  if (!report.contains("validation") || !report["validation"].is_object() ||
+      !report["validation"].contains("modal_deviation"))
+    return;
+  const nlohmann::json& d = report["validation"]["modal_deviation"];
+  if (!d.is_object() || !d.contains("nominal_percent") || !d.contains("updated_percent") ||
+      !d["nominal_percent"].is_number() || !d["updated_percent"].is_number())
+    return;
+  char text[240];
+  std::snprintf(text, sizeof text,
+                "Modal deviation from the test (rms of omega and shape): nominal %.3g %%, updated "
+                "%.3g %%.",
+                d["nominal_percent"].get<double>(), d["updated_percent"].get<double>());
+  page.Paragraph(text);
+  if (d.value("worse_than_nominal", false)) {
+    page.Paragraph(
+        "FLAGGED: the updated model fits its own test worse than the nominal model; do not use "
+        "it (longer records, more hits, or the other method).");
   }
 }
 
@@ -328,11 +354,14 @@ std::string ReportPage(const ReportRequest& a) {
     // The keys `identify --report` writes.
     RequireKnownKeys(report,
                      {"updated_model", "validation", "parameters", "test_modes", "mass_tests",
-                      "modal_tests", "stiffness", "warnings", "notes"},
+                      "modal_tests", "stiffness", "warnings", "notes", "method", "chain_fit"},
                      "identification report " + json_path);
     std::unique_ptr<model::Model> truth;
     if (!a.truth.empty()) truth = std::make_unique<model::Model>(model::LoadModel(a.truth));
     page.Heading("Identification");
+    if (report.contains("method") && report["method"].is_string())
+      page.Paragraph("Updated values from: " + report["method"].get<std::string>() + ".");
+    ModalDeviationParagraph(report, page);
     ValidationTables(report, json_path, truth.get(), page);
     if (report.contains("warnings") && report["warnings"].is_array() &&
         !report["warnings"].empty()) {

@@ -18,13 +18,18 @@ namespace vibid::cli {
 namespace {
 
 constexpr const char* kIdentifyHelp =
-    "The whole identification: effective masses from 1-DOF hammer tests (--mass-test POS=REC), "
-    "modes from\n"
-    "hammer tests of the chain (--modal-test REC, hammer at the driving point), stiffness and "
-    "damping from the\n"
-    "modes with the updated masses averaged over the tests; writes the updated chain model and "
-    "prints the\n"
-    "validation table (nominal, updated, test).";
+    "The whole identification. Without --mass-test: masses, springs and dampers of the chain "
+    "fitted to the\n"
+    "modes of the hammer tests of the assembled chain (--modal-test REC, hammer at the driving "
+    "point; shapes\n"
+    "scaled to unit modal mass by the driving-point residues; fewer modes than masses: the "
+    "nominal model as a\n"
+    "prior). With --mass-test POS=REC: effective masses from 1-DOF hammer tests, stiffness and "
+    "damping from\n"
+    "the modes with them, the one-test fit beside. Writes the updated chain model and prints the "
+    "validation\n"
+    "table (nominal, updated, test; an update that fits its test worse than the nominal is "
+    "flagged).";
 
 struct IdentifyArgs {
   std::string nominal;
@@ -107,6 +112,11 @@ void RegisterIdentify(CLI::App& app) {
   cmd->add_option("--fs-hz", a->request.estimation.fs_hz,
                   "Sample rate (Hz) when recordings have no t_s column")
       ->check(PositiveNumber());
+  cmd->add_option("--prior-spread", a->request.prior_relative_sd,
+                  "Relative spread of the nominal model as the one-test fit's prior, used when the "
+                  "tests show fewer modes than masses")
+      ->check(PositiveNumber())
+      ->capture_default_str();
   AddModeOptions(cmd, a->request.modes);
   cmd->add_option("-o,--output", a->output, "Updated model file (JSON, chain form)")->required();
   cmd->add_option("--report", a->report,

@@ -33,8 +33,42 @@ double PercentDeviation(double value, double reference) {
   return 100.0 * (value - reference) / reference;
 }
 
+namespace {
+
+// Shape scaled to 1 at the driving point; empty when it cannot be.
+Eigen::VectorXd ScaledShape(const Eigen::VectorXd& shape, std::size_t driving_point) {
+  const auto p = static_cast<Eigen::Index>(driving_point);
+  if (p >= shape.size() || shape[p] == 0.0 || !shape.allFinite()) return {};
+  return shape / shape[p];
+}
+
+}  // namespace
+
+double ModalDeviationPercent(const model::Model& model, const std::vector<ModeEstimate>& test_modes,
+                             const std::vector<Eigen::Index>& chain_modes,
+                             std::size_t driving_point) {
+  const model::ModalResult mr = model::Modal(model);
+  double sum = 0.0;
+  std::size_t count = 0;
+  for (std::size_t i = 0; i < test_modes.size(); ++i) {
+    const Eigen::Index cm = chain_modes.empty() ? static_cast<Eigen::Index>(i) : chain_modes[i];
+    if (cm >= mr.size()) continue;
+    const double dw = PercentDeviation(mr.omega_rad_s[cm], test_modes[i].omega_rad_s);
+    double dphi = 0.0;
+    const Eigen::VectorXd t = ScaledShape(test_modes[i].shape, driving_point);
+    const Eigen::VectorXd m = ScaledShape(mr.shapes.col(cm), driving_point);
+    if (t.size() == m.size() && t.size() > 0) dphi = 100.0 * (m - t).norm() / t.norm();
+    sum += dw * dw + dphi * dphi;
+    ++count;
+  }
+  return count > 0 ? std::sqrt(sum / static_cast<double>(count))
+                   : std::numeric_limits<double>::quiet_NaN();
+}
+
 ValidationTable BuildValidationTable(const model::Model& nominal, const model::Model& updated,
-                                     const std::vector<ModeEstimate>& test_modes) {
+                                     const std::vector<ModeEstimate>& test_modes,
+                                     const std::vector<Eigen::Index>& chain_modes,
+                                     std::size_t driving_point) {
   const model::ModalResult mn = model::Modal(nominal);
   const model::ModalResult mu = model::Modal(updated);
   const model::ComplexModes cn = model::ComplexModalDamping(nominal);
@@ -42,8 +76,10 @@ ValidationTable BuildValidationTable(const model::Model& nominal, const model::M
   ValidationTable t;
   const auto count = std::min<std::size_t>(test_modes.size(), static_cast<std::size_t>(mn.size()));
   for (std::size_t i = 0; i < count; ++i) {
-    const auto ii = static_cast<Eigen::Index>(i);
+    const Eigen::Index ii = chain_modes.empty() ? static_cast<Eigen::Index>(i) : chain_modes[i];
+    if (ii >= mn.size()) continue;
     ModeComparison r;
+    r.mode = static_cast<std::size_t>(ii);
     r.omega_nominal = mn.omega_rad_s[ii];
     r.omega_updated = mu.omega_rad_s[ii];
     r.omega_test = test_modes[i].omega_rad_s;
@@ -57,16 +93,65 @@ ValidationTable BuildValidationTable(const model::Model& nominal, const model::M
     r.ratio_updated =
         mu.ratio.size() > ii ? mu.ratio[ii] : std::numeric_limits<double>::quiet_NaN();
     r.ratio_test = test_modes[i].ratio;
+    r.shape_test = ScaledShape(test_modes[i].shape, driving_point);
+    if (r.shape_test.size() == mn.shapes.rows()) {
+      r.shape_nominal = ScaledShape(mn.shapes.col(ii), driving_point);
+      r.shape_updated = ScaledShape(mu.shapes.col(ii), driving_point);
+    } else {
+      r.shape_test.resize(0);
+    }
     t.modes.push_back(r);
   }
   const ChainParameters a = ChainOf(nominal);
   const ChainParameters b = ChainOf(updated);
   for (Eigen::Index i = 0; i < a.masses_kg.size(); ++i) {
-    t.positions.push_back({a.masses_kg[i], b.masses_kg[i], a.springs_n_per_m[i],
-                           b.springs_n_per_m[i], b.dampers_ns_per_m[i]});
+    PositionComparison p;
+    p.m_nominal = a.masses_kg[i];
+    p.m_updated = b.masses_kg[i];
+    p.k_nominal = a.springs_n_per_m[i];
+    p.k_updated = b.springs_n_per_m[i];
+    p.c_updated = b.dampers_ns_per_m[i];
+    t.positions.push_back(p);
   }
+  t.deviation.nominal_percent =
+      ModalDeviationPercent(nominal, test_modes, chain_modes, driving_point);
+  t.deviation.updated_percent =
+      ModalDeviationPercent(updated, test_modes, chain_modes, driving_point);
+  t.deviation.worse_than_nominal = t.deviation.updated_percent > t.deviation.nominal_percent;
   return t;
 }
+
+namespace {
+
+void PositionRows(const std::vector<PositionComparison>& positions, const char* column,
+                  std::ostringstream& out) {
+  char line[512];
+  bool sources = false;
+  for (const PositionComparison& p : positions) sources = sources || !p.m_source.empty();
+  std::snprintf(line, sizeof line, "%-5s %-12s %12s %12s %9s  %s%s\n", "pos", "quantity", "nominal",
+                column, "change%", "95 % interval", sources ? "  [from]" : "");
+  out << line;
+  const auto from = [sources](const std::string& s) {
+    return sources ? "  [" + s + "]" : std::string();
+  };
+  for (std::size_t i = 0; i < positions.size(); ++i) {
+    const PositionComparison& p = positions[i];
+    std::snprintf(line, sizeof line, "%-5zu %-12s %12.6g %12.6g %9.2f  %s%s\n", i + 1, "m_kg",
+                  p.m_nominal, p.m_updated, PercentDeviation(p.m_updated, p.m_nominal),
+                  FormatInterval(p.m_ci95, p.m_updated).c_str(), from(p.m_source).c_str());
+    out << line;
+    std::snprintf(line, sizeof line, "%-5zu %-12s %12.6g %12.6g %9.2f  %s%s\n", i + 1, "k_n_per_m",
+                  p.k_nominal, p.k_updated, PercentDeviation(p.k_updated, p.k_nominal),
+                  FormatInterval(p.k_ci95, p.k_updated).c_str(), from(p.k_source).c_str());
+    out << line;
+    std::snprintf(line, sizeof line, "%-5zu %-12s %12s %12.6g %9s  %s%s\n", i + 1, "c_ns_per_m", "",
+                  p.c_updated, "", FormatInterval(p.c_ci95, p.c_updated).c_str(),
+                  from(p.c_source).c_str());
+    out << line;
+  }
+}
+
+}  // namespace
 
 std::string FormatValidationTable(const ValidationTable& t) {
   std::ostringstream out;
@@ -75,38 +160,54 @@ std::string FormatValidationTable(const ValidationTable& t) {
   std::snprintf(line, sizeof line, "%-5s %-9s %12s %12s %12s %9s %9s\n", "mode", "quantity",
                 "nominal", "updated", "test", "nom dev%", "upd dev%");
   out << line;
-  for (std::size_t i = 0; i < t.modes.size(); ++i) {
-    const ModeComparison& r = t.modes[i];
-    const struct {
-      const char* name;
+  for (const ModeComparison& r : t.modes) {
+    struct Row {
+      std::string name;
       double n, u, x;
-    } rows[] = {{"omega", r.omega_nominal, r.omega_updated, r.omega_test},
-                {"zeta", r.zeta_nominal, r.zeta_updated, r.zeta_test},
-                {"a1/a2", r.ratio_nominal, r.ratio_updated, r.ratio_test}};
-    for (const auto& row : rows) {
-      std::snprintf(line, sizeof line, "%-5zu %-9s %12.6g %12.6g %12.6g %9.2f %9.2f\n", i + 1,
-                    row.name, row.n, row.u, row.x, PercentDeviation(row.n, row.x),
+    };
+    std::vector<Row> rows = {{"omega", r.omega_nominal, r.omega_updated, r.omega_test},
+                             {"zeta", r.zeta_nominal, r.zeta_updated, r.zeta_test}};
+    if (r.shape_test.size() > 2) {
+      // Each shape entry against the driving point's.
+      Eigen::Index p = 0;
+      for (Eigen::Index j = 0; j < r.shape_test.size(); ++j)
+        if (r.shape_test[j] == 1.0) p = j;
+      for (Eigen::Index j = 0; j < r.shape_test.size(); ++j) {
+        if (j == p) continue;
+        rows.push_back({"a" + std::to_string(j + 1) + "/a" + std::to_string(p + 1),
+                        r.shape_nominal[j], r.shape_updated[j], r.shape_test[j]});
+      }
+    } else {
+      rows.push_back({"a1/a2", r.ratio_nominal, r.ratio_updated, r.ratio_test});
+    }
+    for (const Row& row : rows) {
+      std::snprintf(line, sizeof line, "%-5zu %-9s %12.6g %12.6g %12.6g %9.2f %9.2f\n", r.mode + 1,
+                    row.name.c_str(), row.n, row.u, row.x, PercentDeviation(row.n, row.x),
                     PercentDeviation(row.u, row.x));
       out << line;
     }
   }
-  out << "Positions (change from nominal, 95 % interval of the updated value)\n";
-  std::snprintf(line, sizeof line, "%-5s %-12s %12s %12s %9s  %s\n", "pos", "quantity", "nominal",
-                "updated", "change%", "95 % interval");
+  out << "Positions (change from nominal, 95 % interval of the updated value";
+  if (!t.method.empty()) out << "; " << t.method;
+  out << ")\n";
+  PositionRows(t.positions, "updated", out);
+  if (!t.beside.empty()) {
+    out << "Beside: " << t.beside_method << "\n";
+    PositionRows(t.beside, "beside", out);
+  }
+  std::snprintf(line, sizeof line,
+                "Modal deviation from the test (rms of omega and shape, %%): nominal %.3g, "
+                "updated %.3g",
+                t.deviation.nominal_percent, t.deviation.updated_percent);
   out << line;
-  for (std::size_t i = 0; i < t.positions.size(); ++i) {
-    const PositionComparison& p = t.positions[i];
-    std::snprintf(line, sizeof line, "%-5zu %-12s %12.6g %12.6g %9.2f  %s\n", i + 1, "m_kg",
-                  p.m_nominal, p.m_updated, PercentDeviation(p.m_updated, p.m_nominal),
-                  FormatInterval(p.m_ci95, p.m_updated).c_str());
+  if (!t.beside.empty()) {
+    std::snprintf(line, sizeof line, ", beside %.3g", t.beside_deviation.updated_percent);
     out << line;
-    std::snprintf(line, sizeof line, "%-5zu %-12s %12.6g %12.6g %9.2f  %s\n", i + 1, "k_n_per_m",
-                  p.k_nominal, p.k_updated, PercentDeviation(p.k_updated, p.k_nominal),
-                  FormatInterval(p.k_ci95, p.k_updated).c_str());
-    out << line;
-    std::snprintf(line, sizeof line, "%-5zu %-12s %12s %12.6g %9s  %s\n", i + 1, "c_ns_per_m", "",
-                  p.c_updated, "", FormatInterval(p.c_ci95, p.c_updated).c_str());
-    out << line;
+  }
+  out << "\n";
+  if (t.deviation.worse_than_nominal) {
+    out << "FLAGGED: the updated model fits its own test worse than the nominal model; do not use "
+           "it (longer records, more hits, or the other method)\n";
   }
   return out.str();
 }
@@ -180,11 +281,10 @@ void UpdateMasses(const ChainParameters& nominal_chain,
   }
 }
 
-// The modes of every modal test, kept in `res.modal_tests`, and the stiffness update of each.
-std::vector<StiffnessUpdateResult> UpdateStiffnessPerTest(const std::vector<Frf>& modal_tests,
-                                                          const IdentifyOptions& options,
-                                                          Eigen::Index n, IdentifyResult& res) {
-  std::vector<StiffnessUpdateResult> updates;
+// The modes of every modal test, kept in `res.modal_tests`. The mass-test method needs every
+// mode of the chain; the chain fit takes fewer (the nominal model as a prior fills in).
+void IdentifyTestModes(const std::vector<Frf>& modal_tests, const IdentifyOptions& options,
+                       Eigen::Index n, bool every_mode, IdentifyResult& res) {
   for (std::size_t t = 0; t < modal_tests.size(); ++t) {
     const std::string name = "modal test " + std::to_string(t + 1);
     // A chain of n masses has n modes: keep the n clearest resonances unless told otherwise.
@@ -192,11 +292,26 @@ std::vector<StiffnessUpdateResult> UpdateStiffnessPerTest(const std::vector<Frf>
     if (mo.peaks.max_peaks == 0) mo.peaks.max_peaks = static_cast<std::size_t>(n);
     ModeIdentification mi = IdentifyModes(modal_tests[t], options.driving_point, mo);
     for (const auto& w : mi.warnings) res.warnings.push_back(name + ": " + w);
-    Require(static_cast<Eigen::Index>(mi.modes.size()) == n,
+    const auto found = static_cast<Eigen::Index>(mi.modes.size());
+    Require(every_mode ? found == n : (found >= 1 && found <= n),
             "identify: " + name + " shows " + std::to_string(mi.modes.size()) +
                 " modes, the model has " + std::to_string(n) + " (set the band or --max-modes)");
     Require(static_cast<Eigen::Index>(modal_tests[t].responses()) == n,
             "identify: " + name + " needs one response per mass (" + std::to_string(n) + ")");
+    if (t > 0 && mi.modes.size() != res.modal_tests.front().modes.size()) {
+      throw InputError("identify: " + name + " shows " + std::to_string(mi.modes.size()) +
+                       " modes, modal test 1 shows " +
+                       std::to_string(res.modal_tests.front().modes.size()) +
+                       " (the same band for every test)");
+    }
+    res.modal_tests.push_back(std::move(mi));
+  }
+}
+
+// The stiffness update (methods §7) of each test with the chain's current masses.
+std::vector<StiffnessUpdateResult> UpdateStiffnessPerTest(Eigen::Index n, IdentifyResult& res) {
+  std::vector<StiffnessUpdateResult> updates;
+  for (const ModeIdentification& mi : res.modal_tests) {
     Eigen::VectorXd omega(n), zeta(n);
     Eigen::MatrixXd shapes(n, n);
     for (Eigen::Index i = 0; i < n; ++i) {
@@ -206,9 +321,106 @@ std::vector<StiffnessUpdateResult> UpdateStiffnessPerTest(const std::vector<Frf>
       shapes.col(i) = m.shape;
     }
     updates.push_back(UpdateStiffness(res.chain.masses_kg, omega, zeta, shapes));
-    res.modal_tests.push_back(std::move(mi));
   }
   return updates;
+}
+
+// One test's modes as the chain fit takes them: from the modal model (with the covariance) where
+// the test has one, else from the mode estimates without a covariance.
+ChainTestModes ChainModesOfTest(const ModeIdentification& mi, const Frf& frf,
+                                const model::Model& nominal, std::size_t driving_point) {
+  ChainTestModes out;
+  std::vector<double> omega;
+  for (const ModeEstimate& m : mi.modes) omega.push_back(m.omega_rad_s);
+  out.chain_mode = MatchChainModes(nominal, omega);
+  const auto p = static_cast<Eigen::Index>(driving_point);
+  for (const ModeEstimate& m : mi.modes) {
+    // The modal model's pole of this mode (modes whose damping was not resolved were dropped
+    // after the model was fitted, so match by frequency).
+    Eigen::Index pole = -1;
+    if (mi.has_model) {
+      for (Eigen::Index k = 0; k < mi.model.omega_rad_s.size(); ++k) {
+        if (std::abs(mi.model.omega_rad_s[k] - m.omega_rad_s) <= 1e-3 * m.omega_rad_s &&
+            (pole < 0 || std::abs(mi.model.omega_rad_s[k] - m.omega_rad_s) <
+                             std::abs(mi.model.omega_rad_s[pole] - m.omega_rad_s)))
+          pole = k;
+      }
+    }
+    // The force noise's level error at the mode's line (see ChainModeData).
+    double level_rel_var = 0.0;
+    if (frf.level_rel_var.size() == frf.freq_hz.size() && frf.freq_hz.size() > 0) {
+      Eigen::Index at = 0;
+      (frf.freq_hz.array() - m.freq_hz).abs().minCoeff(&at);
+      level_rel_var = frf.level_rel_var[at];
+    }
+    if (pole >= 0) {
+      ChainModeData d = ChainDataOfMode(mi.model, pole, p);
+      d.level_rel_var = level_rel_var;
+      char where[64];
+      std::snprintf(where, sizeof where, "mode at %.5g Hz: ", m.freq_hz);
+      // The modes' own verdicts stand: an interval the mode identification withheld (friction,
+      // a ringing record) is not made up here from the modal model's covariance.
+      if (!std::isfinite(m.omega_ci95_rad_s[0])) {
+        d.covariance.resize(0, 0);
+        d.no_covariance = where + std::string("no interval on omega (see the warnings)");
+      } else if (!std::isfinite(m.zeta_ci95[0])) {
+        d.zeta_withheld = where + std::string("no interval on zeta (see the warnings)");
+      } else if (std::abs(m.zeta - d.values[1]) > 1e-9 * d.values[1] && d.covariance.rows() > 1) {
+        // The mode's damping was revised after the modal model (a viscous part from the
+        // ring-downs, say): that value and its own interval, uncorrelated with the rest.
+        const double sd = 0.5 * (m.zeta_ci95[1] - m.zeta_ci95[0]) / kZ95;
+        d.values[1] = m.zeta;
+        d.covariance.row(1).setZero();
+        d.covariance.col(1).setZero();
+        d.covariance(1, 1) = sd * sd;
+      }
+      out.modes.push_back(std::move(d));
+      continue;
+    }
+    ChainModeData d;
+    d.values.resize(2 + m.shape.size());
+    d.values << m.omega_rad_s, m.zeta, m.shape;
+    Require(p < m.shape.size() && m.shape[p] > 0.0,
+            "identify: a mode without a positive driving-point shape entry");
+    d.no_covariance =
+        "the modes carry no covariance (--method fit or peaks, or the modal model did not "
+        "determine them)";
+    out.modes.push_back(std::move(d));
+  }
+  return out;
+}
+
+// The one-test chain fit of every test's modes; `res.chain_modes` from the first test.
+void FitChainToTests(const model::Model& nominal, const std::vector<Frf>& modal_tests,
+                     const IdentifyOptions& options, IdentifyResult& res) {
+  std::vector<ChainTestModes> tests;
+  for (std::size_t t = 0; t < res.modal_tests.size(); ++t) {
+    tests.push_back(
+        ChainModesOfTest(res.modal_tests[t], modal_tests[t], nominal, options.driving_point));
+    Require(tests.back().chain_mode == tests.front().chain_mode,
+            "identify: modal test " + std::to_string(t + 1) +
+                " shows other modes of the chain than modal test 1");
+  }
+  ChainFitOptions co = options.chain;
+  co.driving_point = static_cast<Eigen::Index>(options.driving_point);
+  res.chain_fit = FitChain(nominal, tests, co);
+  res.has_chain_fit = true;
+  res.chain_modes = tests.front().chain_mode;
+}
+
+// The chain fit's values, intervals and sources as validation rows (positions of `table`).
+void FillChainFitPositions(const ChainFitResult& fit, std::vector<PositionComparison>& positions) {
+  for (std::size_t i = 0; i < positions.size(); ++i) {
+    PositionComparison& p = positions[i];
+    const auto ii = static_cast<Eigen::Index>(i);
+    const std::size_t n = positions.size();
+    p.m_ci95 = IntervalOf(fit.masses_kg[ii], fit.m_u[i]);
+    p.k_ci95 = IntervalOf(fit.springs_n_per_m[ii], fit.k_u[i]);
+    p.c_ci95 = IntervalOf(fit.dampers_ns_per_m[ii], fit.c_u[i]);
+    p.m_source = ParameterSourceName(fit.source[i]);
+    p.k_source = ParameterSourceName(fit.source[n + i]);
+    p.c_source = ParameterSourceName(fit.source[2 * n + i]);
+  }
 }
 
 // Interval of the mean over the tests, the tests taken as repeats (intervals.hpp). `out` is left
@@ -264,25 +476,17 @@ std::vector<ModeEstimate> AverageTestModes(const std::vector<ModeIdentification>
 
 }  // namespace
 
-IdentifyResult Identify(const model::Model& nominal, const std::vector<MassTestInput>& mass_tests,
-                        const std::vector<Frf>& modal_tests, const IdentifyOptions& options) {
-  model::Validate(nominal);
-  const Eigen::Index n = nominal.m_kg.rows();
-  Require(n >= 2, "identify: the nominal model must have at least 2 masses");
-  Require(nominal.m_kg.isDiagonal(),
-          "identify: the nominal model needs a diagonal mass matrix (a chain)");
-  Require(!modal_tests.empty(), "identify: at least one modal test is needed");
-  const ChainParameters nominal_chain = ChainOf(nominal);
-  IdentifyResult res;
-  res.chain = nominal_chain;
-  res.uncertainty.resize(static_cast<std::size_t>(n));
+namespace {
+
+// Methods §6-7: masses from the mass tests, springs and dampers from the modes with them.
+void MassTestMethod(const ChainParameters& nominal_chain,
+                    const std::vector<MassTestInput>& mass_tests, const IdentifyOptions& options,
+                    Eigen::Index n, IdentifyResult& res) {
   UpdateMasses(nominal_chain, mass_tests, options, res);
-  const std::vector<StiffnessUpdateResult> updates =
-      UpdateStiffnessPerTest(modal_tests, options, n, res);
+  const std::vector<StiffnessUpdateResult> updates = UpdateStiffnessPerTest(n, res);
   res.stiffness = AverageStiffness(updates);
   res.chain.springs_n_per_m = res.stiffness.springs;
   res.chain.dampers_ns_per_m = res.stiffness.dampers;
-  res.test_modes = AverageTestModes(res.modal_tests);
   Require((res.chain.springs_n_per_m.array() > 0.0).all(),
           "identify: the test data give a non-positive chain spring; the chain topology does not "
           "explain the tests");
@@ -307,14 +511,106 @@ IdentifyResult Identify(const model::Model& nominal, const std::vector<MassTestI
     }
   }
   res.chain.dampers_ns_per_m = dampers;
+}
+
+// The chain fit as the result: its values and uncertainties; the stiffness update of §7 with the
+// fitted masses beside when every mode was seen (its off-diagonal mismatch says how well the
+// chain explains the test).
+void ChainFitMethod(Eigen::Index n, double prior_relative_sd, IdentifyResult& res) {
+  const ChainFitResult& f = res.chain_fit;
+  res.chain.masses_kg = f.masses_kg;
+  res.chain.springs_n_per_m = f.springs_n_per_m;
+  res.chain.dampers_ns_per_m = f.dampers_ns_per_m;
+  for (std::size_t i = 0; i < res.uncertainty.size(); ++i)
+    res.uncertainty[i] = {f.m_u[i], f.k_u[i], f.c_u[i]};
+  for (const std::string& w : f.warnings) res.warnings.push_back(w);
+  if (f.prior_used) {
+    std::string from_prior;
+    const char* names[3] = {"m", "k", "c"};
+    for (std::size_t i = 0; i < f.source.size(); ++i) {
+      if (f.source[i] == ParameterSource::kTest) continue;
+      if (!from_prior.empty()) from_prior += ", ";
+      from_prior += names[i / static_cast<std::size_t>(n)] +
+                    std::to_string(i % static_cast<std::size_t>(n) + 1) + " (" +
+                    ParameterSourceName(f.source[i]) + ")";
+    }
+    char text[200];
+    std::snprintf(text, sizeof text,
+                  "the tests show %zu of the chain's %td modes: the nominal model entered as a "
+                  "prior (%.3g %% spread on each value)",
+                  f.modes_seen.size(), n, 100.0 * prior_relative_sd);
+    res.warnings.push_back(text + (from_prior.empty()
+                                       ? std::string("; the test determined every parameter")
+                                       : "; not from the test alone: " + from_prior));
+  }
+  if (static_cast<Eigen::Index>(res.modal_tests.front().modes.size()) == n)
+    res.stiffness = AverageStiffness(UpdateStiffnessPerTest(n, res));
+}
+
+}  // namespace
+
+IdentifyResult Identify(const model::Model& nominal, const std::vector<MassTestInput>& mass_tests,
+                        const std::vector<Frf>& modal_tests, const IdentifyOptions& options) {
+  model::Validate(nominal);
+  const Eigen::Index n = nominal.m_kg.rows();
+  Require(n >= 2, "identify: the nominal model must have at least 2 masses");
+  Require(nominal.m_kg.isDiagonal(),
+          "identify: the nominal model needs a diagonal mass matrix (a chain)");
+  Require(!modal_tests.empty(), "identify: at least one modal test is needed");
+  const ChainParameters nominal_chain = ChainOf(nominal);
+  const bool mass_method = !mass_tests.empty();
+  IdentifyResult res;
+  res.method = mass_method ? "mass tests" : "one-test chain fit";
+  res.chain = nominal_chain;
+  res.uncertainty.resize(static_cast<std::size_t>(n));
+  IdentifyTestModes(modal_tests, options, n, mass_method, res);
+  if (mass_method) {
+    try {
+      FitChainToTests(nominal, modal_tests, options, res);
+    } catch (const InputError& e) {
+      res.warnings.push_back(std::string("no one-test chain fit beside: ") + e.what());
+      res.has_chain_fit = false;
+    }
+    MassTestMethod(nominal_chain, mass_tests, options, n, res);
+  } else {
+    FitChainToTests(nominal, modal_tests, options, res);
+    ChainFitMethod(n, options.chain.prior_relative_sd, res);
+  }
+  res.test_modes = AverageTestModes(res.modal_tests);
+  const std::vector<Eigen::Index> chain_modes =
+      mass_method ? std::vector<Eigen::Index>{} : res.chain_modes;
   res.updated =
       model::MakeChain(res.chain.masses_kg, res.chain.springs_n_per_m, res.chain.dampers_ns_per_m);
-  res.table = BuildValidationTable(nominal, res.updated, res.test_modes);
+  res.table = BuildValidationTable(nominal, res.updated, res.test_modes, chain_modes,
+                                   options.driving_point);
+  res.table.method = res.method;
   for (std::size_t i = 0; i < res.table.positions.size(); ++i) {
     PositionComparison& p = res.table.positions[i];
     p.m_ci95 = IntervalOf(p.m_updated, res.uncertainty[i].m_kg);
     p.k_ci95 = IntervalOf(p.k_updated, res.uncertainty[i].k_n_per_m);
     p.c_ci95 = IntervalOf(p.c_updated, res.uncertainty[i].c_ns_per_m);
+  }
+  if (!mass_method) FillChainFitPositions(res.chain_fit, res.table.positions);
+  if (mass_method && res.has_chain_fit) {
+    const model::Model beside = model::MakeChain(
+        res.chain_fit.masses_kg, res.chain_fit.springs_n_per_m, res.chain_fit.dampers_ns_per_m);
+    const ValidationTable b = BuildValidationTable(nominal, beside, res.test_modes, res.chain_modes,
+                                                   options.driving_point);
+    res.table.beside_method = "one-test chain fit (masses from the modal tests alone)";
+    res.table.beside = b.positions;
+    res.table.beside_deviation = b.deviation;
+    FillChainFitPositions(res.chain_fit, res.table.beside);
+  }
+  if (res.table.deviation.worse_than_nominal) {
+    char text[300];
+    std::snprintf(text, sizeof text,
+                  "the updated model fits its own test worse than the nominal model (modal "
+                  "deviation %.3g %% against %.3g %%): do not use it; longer records or more hits, "
+                  "or the other method (%s)",
+                  res.table.deviation.updated_percent, res.table.deviation.nominal_percent,
+                  mass_method ? "no --mass-test: the one-test chain fit"
+                              : "--mass-test: masses from 1-DOF tests");
+    res.warnings.emplace_back(text);
   }
   return res;
 }

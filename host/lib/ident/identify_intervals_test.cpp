@@ -369,15 +369,19 @@ TEST(IdentifyIntervals, WithoutModalIntervalsOneTestIsNotAnInterval) {
   ASSERT_TRUE(two.table.positions[0].k_ci95.Known()) << two.table.positions[0].k_ci95.missing;
   EXPECT_NE(two.table.positions[0].k_ci95.basis.find("scatter of 2 modal tests"), std::string::npos)
       << two.table.positions[0].k_ci95.basis;
-  // No mass test: m is the nominal value, and k and c, which depend on it, get no interval.
+  // No mass test: the one-test chain fit; with the curve fit's modes (no covariance) it gives
+  // values but no interval, and says why.
   const model::Model nominal =
       model::MakeChain(Eigen::Vector2d(kM[0], kM[1]), Eigen::Vector2d(kK[0], kK[1]));
   const model::Model truth = model::MakeChain(
       Eigen::Vector2d(kM[0], kM[1]), Eigen::Vector2d(kK[0], kK[1]), Eigen::Vector2d(kC[0], kC[1]));
   const IdentifyResult bare =
-      Identify(nominal, {}, {Receptance(SimulateHammerTest(truth, ShortSpec(1, 3, 7)))}, {});
-  EXPECT_NE(bare.table.positions[0].m_ci95.missing.find("nominal mass"), std::string::npos);
-  EXPECT_NE(bare.table.positions[1].k_ci95.missing.find("nominal mass"), std::string::npos);
+      Identify(nominal, {}, {Receptance(SimulateHammerTest(truth, ShortSpec(1, 3, 7)))}, fit);
+  EXPECT_EQ(bare.method, "one-test chain fit");
+  EXPECT_FALSE(bare.table.positions[0].m_ci95.Known());
+  EXPECT_NE(bare.table.positions[0].m_ci95.missing.find("no covariance"), std::string::npos)
+      << bare.table.positions[0].m_ci95.missing;
+  EXPECT_NE(bare.table.positions[1].k_ci95.missing.find("no covariance"), std::string::npos);
 }
 
 }  // namespace

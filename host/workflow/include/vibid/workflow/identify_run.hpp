@@ -39,6 +39,9 @@ struct IdentifyRequest {
   /// set per test. Its force defaults to the board's force1_n.
   EstimationOptions estimation;
   ModeRequest modes;
+  /// Relative spread of the nominal model as the one-test chain fit's prior (used when the tests
+  /// show fewer modes than masses).
+  double prior_relative_sd = 0.2;
 };
 
 /// IdentifyRequest with the board's force column and hammer-test defaults.
@@ -62,8 +65,10 @@ IdentifyRun RunIdentify(const model::Model& nominal, const IdentifyRequest& requ
 
 /// {"topology": "chain", "masses", "springs", "dampers"}: the updated model file.
 nlohmann::json ChainJson(const ident::ChainParameters& chain, std::size_t n);
-/// report.json: updated model, validation (nominal/updated/test with the test's intervals),
-/// parameters with intervals, test modes, mass tests, modal tests, stiffness, warnings, notes.
+/// report.json: method, updated model, validation (nominal/updated/test with the test's intervals,
+/// the modal deviation of both models, the chain fit beside), parameters with intervals, the chain
+/// fit, test modes, mass tests, modal tests, stiffness (null when not every mode was seen),
+/// warnings, notes.
 nlohmann::json IdentifyReportJson(const IdentifyRun& run, std::size_t n);
 /// Measured receptance of the first modal test beside the nominal and updated models'
 /// receptances (hammer at the driving point), magnitudes per response, as CSV.

@@ -9,6 +9,7 @@
 
 #include <Eigen/Core>
 
+#include "vibid/ident/chain_fit.hpp"
 #include "vibid/ident/intervals.hpp"
 #include "vibid/ident/modes.hpp"
 #include "vibid/ident/spectral.hpp"
@@ -28,9 +29,13 @@ ChainParameters ChainOf(const model::Model& model);
 
 /// One row per mode: the nominal model, the updated model and the test side by side.
 struct ModeComparison {
+  std::size_t mode = 0;  ///< The models' mode (0-based, ascending frequency) the test mode is.
   double omega_nominal = 0.0, omega_updated = 0.0, omega_test = 0.0;
   double zeta_nominal = 0.0, zeta_updated = 0.0, zeta_test = 0.0;
   double ratio_nominal = 0.0, ratio_updated = 0.0, ratio_test = 0.0;
+  /// Shapes scaled to 1 at the driving point, one entry per response (empty when the test's
+  /// responses are not the models' coordinates).
+  Eigen::VectorXd shape_nominal, shape_updated, shape_test;
 };
 
 struct PositionComparison {
@@ -39,20 +44,51 @@ struct PositionComparison {
   double c_updated = 0.0;
   /// 95 % intervals of the updated values, or why there are none (Identify fills them).
   Interval95 m_ci95, k_ci95, c_ci95;
+  /// The one-test chain fit: where each value came from ("test", "test and prior", "prior");
+  /// empty for the mass-test method.
+  std::string m_source, k_source, c_source;
+};
+
+/// How far a model's modes are from the test's: the root mean square over the test's modes of
+/// sqrt(dev_omega^2 + dev_shape^2) in %, dev_shape = |phi_model - phi_test| / |phi_test| with
+/// both shapes scaled to 1 at the driving point. Damping is left out: a nominal model's damping
+/// is seldom more than a guess, and counting it would let an update that moves the frequencies
+/// and shapes away from the test pass as better.
+struct ModalDeviation {
+  double nominal_percent = 0.0;
+  double updated_percent = 0.0;
+  /// The update fits its own test worse than the nominal model does.
+  bool worse_than_nominal = false;
 };
 
 struct ValidationTable {
+  /// "one-test chain fit" or "mass tests": how the updated values were found.
+  std::string method;
   std::vector<ModeComparison> modes;
   std::vector<PositionComparison> positions;
+  ModalDeviation deviation;
+  /// The other method's values beside (the one-test chain fit when mass tests are given), its
+  /// name and its modal deviation (updated_percent); empty when there is none.
+  std::string beside_method;
+  std::vector<PositionComparison> beside;
+  ModalDeviation beside_deviation;
 };
 
 /// 100 (value - reference) / reference.
 double PercentDeviation(double value, double reference);
 
 /// Modal analysis of both models (model core) against the test modes, mode by mode in frequency
-/// order; positions from the chain parameters.
+/// order (test mode i is the models' mode `chain_modes[i]`; empty: mode i); positions from the
+/// chain parameters; the modal deviation of both models with the hammer at `driving_point`.
 ValidationTable BuildValidationTable(const model::Model& nominal, const model::Model& updated,
-                                     const std::vector<ModeEstimate>& test_modes);
+                                     const std::vector<ModeEstimate>& test_modes,
+                                     const std::vector<Eigen::Index>& chain_modes = {},
+                                     std::size_t driving_point = 1);
+
+/// ModalDeviation of `model` from the test modes (see there).
+double ModalDeviationPercent(const model::Model& model, const std::vector<ModeEstimate>& test_modes,
+                             const std::vector<Eigen::Index>& chain_modes,
+                             std::size_t driving_point);
 
 /// Fixed-width text table (the % columns are deviations from the test / changes from nominal;
 /// positions with their 95 % intervals as +- half-width, or n/a and the reason).
@@ -69,6 +105,8 @@ struct IdentifyOptions {
   std::size_t driving_point = 1;  ///< Response column of the modal tests at the hammer.
   ModeIdentificationOptions modes;
   MassUpdateOptions mass;  ///< k and nominal are filled per test.
+  /// The one-test chain fit (its driving point is set from `driving_point`).
+  ChainFitOptions chain;
 };
 
 struct MassTestResult {
@@ -82,6 +120,8 @@ struct PositionUncertainty {
 };
 
 struct IdentifyResult {
+  /// "one-test chain fit" (no mass tests) or "mass tests".
+  std::string method;
   model::Model updated;
   ChainParameters chain;
   std::vector<MassTestResult> mass_tests;
@@ -96,10 +136,23 @@ struct IdentifyResult {
   /// (intervals.hpp). The table's intervals are made of these.
   std::vector<PositionUncertainty> uncertainty;
   ValidationTable table;
+  /// The one-test chain fit (methods §12): the result without mass tests, beside the mass-test
+  /// method's when both can be made; `has_chain_fit` false when it could not (a warning says why).
+  bool has_chain_fit = false;
+  ChainFitResult chain_fit;
+  /// Test mode i is chain mode `chain_modes[i]` (fewer modes than masses: the prior fills in).
+  std::vector<Eigen::Index> chain_modes;
   std::vector<std::string> warnings;
 };
 
-/// Runs the chain. Several mass tests of one position are repeats: their masses are averaged.
+/// Runs the chain. Without mass tests the masses, springs and dampers are fitted to the modal
+/// tests' modes (FitChain: the driving-point residues scale the shapes to unit modal mass, and
+/// the chain's parameters are fitted to omega, zeta and the shapes with the modal covariances as
+/// weights; a test with fewer modes than masses takes the nominal model as a prior). With mass
+/// tests the masses come from them and the springs and dampers from the modes (methods §6-7), and
+/// the chain fit is shown beside. An update that fits its own test worse than the nominal model
+/// is flagged (ModalDeviation, a warning). Several mass tests of one position are repeats: their
+/// masses are averaged.
 /// InputError on inconsistent inputs (mode counts, positions, non-receptances);
 /// a mass fit that fails to converge or an updated model that is not physical is reported by
 /// InputError naming the test, since no model can be produced from it.
