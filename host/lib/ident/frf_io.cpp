@@ -4,6 +4,7 @@
 #include <charconv>
 #include <cmath>
 #include <cstdio>
+#include <limits>
 #include <map>
 #include <set>
 #include <sstream>
@@ -19,6 +20,7 @@ namespace vibid::ident {
 namespace {
 
 constexpr std::string_view kMetaTag = "# vibid-frf";
+constexpr std::string_view kUffMetaTag = "vibid-frf";
 
 std::string Trim(std::string_view s) {
   std::size_t a = 0;
@@ -55,6 +57,45 @@ std::string Fmt(const char* f, double v) {
   char buf[64];
   std::snprintf(buf, sizeof buf, f, v);
   return buf;
+}
+
+// The metadata items "key=value ..." of an FRF file (the CSV's first line, the UFF58 file's ID
+// lines) into `frf`; unknown keys are skipped (a later version's). True when "measured" is given.
+bool ApplyFrfMetadata(const std::string& items, const std::string& where, Frf& frf) {
+  bool measured_given = false;
+  std::istringstream in(items);
+  std::string kv;
+  while (in >> kv) {
+    const auto eq = kv.find('=');
+    Require(eq != std::string::npos,
+            where + ": metadata item '" + Printable(kv) + "' is not key=value");
+    const std::string key = kv.substr(0, eq);
+    const std::string value = kv.substr(eq + 1);
+    if (key == "kind")
+      frf.quantity = ParseQuantity(value);
+    else if (key == "estimator")
+      frf.estimator = ParseEstimator(value);
+    else if (key == "averages") {
+      const long averages = ToLong(value, where + ": averages");
+      Require(averages >= 0, where + ": averages must not be negative");
+      frf.averages = static_cast<std::size_t>(averages);
+    } else if (key == "exp_window_tau_s") {
+      frf.exp_window_tau_s = ToDouble(value, where + ": exp_window_tau_s");
+      // 0 is "no window"; a negative time constant would silently mean the same.
+      Require(frf.exp_window_tau_s >= 0.0, where + ": exp_window_tau_s must not be negative");
+    } else if (key == "pretrigger_s") {
+      frf.pretrigger_s = ToDouble(value, where + ": pretrigger_s");
+      Require(frf.pretrigger_s >= 0.0, where + ": pretrigger_s must not be negative");
+    } else if (key == "record_s") {
+      frf.record_s = ToDouble(value, where + ": record_s");
+      Require(frf.record_s >= 0.0, where + ": record_s must not be negative");
+    } else if (key == "measured") {
+      frf.measured = ParseQuantity(value);
+      measured_given = true;
+    } else if (key == "force")
+      frf.force_name = value;
+  }
+  return measured_given;
 }
 
 }  // namespace
@@ -95,39 +136,7 @@ Frf ParseFrfCsv(std::string_view text, const std::string& source) {
   bool measured_given = false;
   if (text.substr(0, kMetaTag.size()) == kMetaTag) {
     const std::string line(text.substr(0, text.find('\n')));
-    std::istringstream in(line.substr(kMetaTag.size()));
-    std::string kv;
-    while (in >> kv) {
-      const auto eq = kv.find('=');
-      Require(eq != std::string::npos,
-              source + ": line 1: metadata item '" + Printable(kv) + "' is not key=value");
-      const std::string key = kv.substr(0, eq);
-      const std::string value = kv.substr(eq + 1);
-      if (key == "kind")
-        frf.quantity = ParseQuantity(value);
-      else if (key == "estimator")
-        frf.estimator = ParseEstimator(value);
-      else if (key == "averages") {
-        const long averages = ToLong(value, source + ": line 1: averages");
-        Require(averages >= 0, source + ": line 1: averages must not be negative");
-        frf.averages = static_cast<std::size_t>(averages);
-      } else if (key == "exp_window_tau_s") {
-        frf.exp_window_tau_s = ToDouble(value, source + ": line 1: exp_window_tau_s");
-        // 0 is "no window"; a negative time constant would silently mean the same.
-        Require(frf.exp_window_tau_s >= 0.0,
-                source + ": line 1: exp_window_tau_s must not be negative");
-      } else if (key == "pretrigger_s") {
-        frf.pretrigger_s = ToDouble(value, source + ": line 1: pretrigger_s");
-        Require(frf.pretrigger_s >= 0.0, source + ": line 1: pretrigger_s must not be negative");
-      } else if (key == "record_s") {
-        frf.record_s = ToDouble(value, source + ": line 1: record_s");
-        Require(frf.record_s >= 0.0, source + ": line 1: record_s must not be negative");
-      } else if (key == "measured") {
-        frf.measured = ParseQuantity(value);
-        measured_given = true;
-      } else if (key == "force")
-        frf.force_name = value;
-    }
+    measured_given = ApplyFrfMetadata(line.substr(kMetaTag.size()), source + ": line 1", frf);
   }
   // A file without it was written before it was recorded: its own kind is the best guess.
   if (!measured_given) frf.measured = frf.quantity;
@@ -177,15 +186,19 @@ int OrdinateType(Quantity q) {
   return 0;
 }
 
-void WriteHeader(std::ostringstream& out, const std::string& id1, int func_type, int rsp_node,
+void WriteHeader(std::ostringstream& out, const std::string& id1,
+                 const std::vector<std::string>& id_lines, int func_type, int rsp_node,
                  int ref_node, int ord_data_type, std::size_t points, double x0, double dx,
                  int ord_spec, int ord_len_exp) {
   char line[256];
   out << "    -1\n    58" << std::string(74, ' ') << "\n";
   std::snprintf(line, sizeof line, "%-80.80s\n", id1.c_str());
   out << line;
-  out << "vibid" << std::string(75, ' ') << "\n";
-  for (int k = 0; k < 3; ++k) out << "NONE" << std::string(76, ' ') << "\n";
+  for (std::size_t k = 0; k < 4; ++k) {
+    std::snprintf(line, sizeof line, "%-80.80s\n",
+                  k < id_lines.size() ? id_lines[k].c_str() : "NONE");
+    out << line;
+  }
   std::snprintf(line, sizeof line, "%5d%10d%5d%10d %-10s%10d%4d %-10s%10d%4d\n", func_type, 0, 0, 0,
                 "NONE", rsp_node, 1, "NONE", ref_node, 1);
   out << line;
@@ -203,6 +216,38 @@ void WriteHeader(std::ostringstream& out, const std::string& id1, int func_type,
   out << line;
   std::snprintf(line, sizeof line, "%10d%5d%5d%5d %-20s %-20s\n", 0, 0, 0, 0, "NONE", "NONE");
   out << line;
+}
+
+// ID lines 2 to 5 (80 characters each): "vibid-frf" and the FRF's metadata as the CSV's first line
+// has it, plus the exact abscissa (the header's E13.5 fields keep 6 digits), so that a file read
+// back analyses as the CSV of the same estimate does (the pretrigger's ringing terms, the
+// exponential window's damping). An item that does not fit (a long force name) is left out.
+std::vector<std::string> MetadataIdLines(const Frf& frf, double x0, double dx) {
+  std::vector<std::string> items;
+  const auto num = [](const char* key, double v) {
+    char text[64];
+    std::snprintf(text, sizeof text, "%s=%.17g", key, v);
+    return std::string(text);
+  };
+  items.push_back(std::string("estimator=") + EstimatorName(frf.estimator));
+  items.push_back("averages=" + std::to_string(frf.averages));
+  items.push_back(num("exp_window_tau_s", frf.exp_window_tau_s));
+  items.push_back(num("pretrigger_s", frf.pretrigger_s));
+  items.push_back(num("record_s", frf.record_s));
+  items.push_back(std::string("measured=") + FrfKindName(frf.measured));
+  items.push_back(num("x0_hz", x0));
+  items.push_back(num("dx_hz", dx));
+  if (!frf.force_name.empty() && frf.force_name.find_first_of(" \t\r\n") == std::string::npos)
+    items.push_back("force=" + frf.force_name);
+  std::vector<std::string> lines{std::string(kUffMetaTag)};
+  for (const std::string& item : items) {
+    if (lines.back().size() + 1 + item.size() <= 80) {
+      lines.back() += " " + item;
+    } else if (lines.size() < 4 && item.size() <= 80) {
+      lines.push_back(item);
+    }
+  }
+  return lines;
 }
 
 void WriteValues(std::ostringstream& out, const std::vector<double>& values) {
@@ -238,11 +283,12 @@ std::string FormatUff58(const Frf& frf, int reference_node) {
     for (Eigen::Index j = 0; j < frf.h.cols(); ++j) nodes.push_back(static_cast<int>(j) + 1);
   }
   std::ostringstream out;
+  const std::vector<std::string> meta = MetadataIdLines(frf, x0, dx);
   for (Eigen::Index j = 0; j < frf.h.cols(); ++j) {
     const auto ju = static_cast<std::size_t>(j);
     const std::string name =
         ju < frf.response_names.size() ? frf.response_names[ju] : "h" + std::to_string(j + 1);
-    WriteHeader(out, std::string(FrfKindName(frf.quantity)) + " " + name, 4, nodes[ju],
+    WriteHeader(out, std::string(FrfKindName(frf.quantity)) + " " + name, meta, 4, nodes[ju],
                 reference_node, 6, points, x0, dx, OrdinateType(frf.quantity), 1);
     std::vector<double> values;
     values.reserve(2 * points);
@@ -252,7 +298,8 @@ std::string FormatUff58(const Frf& frf, int reference_node) {
     }
     WriteValues(out, values);
     out << "    -1\n";
-    WriteHeader(out, "coherence " + name, 6, nodes[ju], reference_node, 4, points, x0, dx, 0, 0);
+    WriteHeader(out, "coherence " + name, meta, 6, nodes[ju], reference_node, 4, points, x0, dx, 0,
+                0);
     values.clear();
     for (std::size_t i = 0; i < points; ++i)
       values.push_back(frf.coherence(static_cast<Eigen::Index>(i), j));
@@ -283,6 +330,8 @@ struct Uff58Dataset {
   int rsp_node = 0;
   int ord_spec = 0;
   std::string id1;
+  std::vector<std::string> id_lines;  // ID lines 2 to 5
+  std::size_t header_line = 0;        // record 1's line, for messages
   double x0 = 0.0;
   double dx = 0.0;
   std::vector<double> values;
@@ -306,6 +355,7 @@ struct UffText {
 // Records 1 to 11 of a dataset 58 whose record 1 is line h.
 void ParseUff58Header(const UffText& t, std::size_t h, Uff58Dataset& d, long& ord_type) {
   d.id1 = Trim(t.lines[h]);
+  for (std::size_t k = 1; k <= 4; ++k) d.id_lines.push_back(Trim(t.lines[h + k]));
   d.func_type = static_cast<int>(ToLong(t.Field(h + 5, 0, 5), t.Where(h + 5) + ": function type"));
   const long rsp_node = ToLong(t.Field(h + 5, 41, 10), t.Where(h + 5) + ": response node");
   Require(rsp_node >= 1 && rsp_node <= 999999999,
@@ -397,6 +447,42 @@ void AddUff58Coherence(const std::vector<Uff58Dataset>& sets,
   }
 }
 
+// The metadata a vibid file's ID lines carry (MetadataIdLines); files of other software, or
+// written before, have none and keep the defaults. The exact abscissa replaces the header's
+// 6-digit one where it agrees with it to those digits.
+void ApplyUffMetadata(const Uff58Dataset& d, const std::string& source, Frf& frf) {
+  if (d.id_lines.empty() || !d.id_lines[0].starts_with(kUffMetaTag)) return;
+  std::string items = d.id_lines[0].substr(kUffMetaTag.size());
+  for (std::size_t k = 1; k < d.id_lines.size(); ++k) {
+    if (d.id_lines[k] != "NONE") items += " " + d.id_lines[k];
+  }
+  std::istringstream in(items);
+  std::string known;
+  double x0 = std::numeric_limits<double>::quiet_NaN();
+  double dx = x0;
+  const std::string where = source + ": dataset 58 ID lines";
+  for (std::string kv; in >> kv;) {
+    if (kv.starts_with("x0_hz=")) {
+      x0 = ToDouble(kv.substr(6), where + ": x0_hz");
+    } else if (kv.starts_with("dx_hz=")) {
+      dx = ToDouble(kv.substr(6), where + ": dx_hz");
+    } else {
+      known += " " + kv;
+    }
+  }
+  const Quantity kind = frf.quantity;  // the ordinate type says it
+  if (ApplyFrfMetadata(known, where, frf) == false) frf.measured = kind;
+  frf.quantity = kind;
+  const auto agrees = [](double exact, double header) {
+    return std::isfinite(exact) &&
+           std::abs(exact - header) <= 1e-5 * std::max(std::abs(header), 1e-300);
+  };
+  if (agrees(dx, d.dx) && (agrees(x0, d.x0) || (x0 == 0.0 && d.x0 == 0.0))) {
+    const auto n = static_cast<Eigen::Index>(d.points);
+    for (Eigen::Index k = 0; k < n; ++k) frf.freq_hz[k] = x0 + dx * static_cast<double>(k);
+  }
+}
+
 Frf FrfFromUff58(const std::vector<Uff58Dataset>& sets, const std::string& source) {
   Frf frf;
   std::map<int, Eigen::Index> column_of_node;
@@ -431,6 +517,8 @@ Frf FrfFromUff58(const std::vector<Uff58Dataset>& sets, const std::string& sourc
   }
   AddUff58Coherence(sets, column_of_node, first.points, source, frf);
   frf.averages = 0;
+  frf.measured = frf.quantity;
+  ApplyUffMetadata(first, source, frf);
   return frf;
 }
 

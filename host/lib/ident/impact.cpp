@@ -25,6 +25,8 @@ void ImpactOptions::Validate() const {
   Require(clip_run_samples >= 2, "impact: clipping run must be at least 2 samples");
   Require(force_dynamic_range_db > 0.0 && std::isfinite(force_dynamic_range_db),
           "impact: force dynamic range must be > 0 dB");
+  Require(force_band_db >= 0.0 && std::isfinite(force_band_db),
+          "impact: force band must be >= 0 dB (0: every line)");
   Require(weak_hit_fraction >= 0.0 && weak_hit_fraction < 1.0,
           "impact: weak-hit fraction must be in [0, 1) (0: no check)");
   Require(weak_hit_noise_factor >= 0.0 && std::isfinite(weak_hit_noise_factor),
@@ -104,8 +106,9 @@ std::vector<Pulse> FindPulses(const Eigen::VectorXd& f, double threshold) {
   return pulses;
 }
 
-// A channel's rails: its extreme values, each counted only when it lies far from the channel's
-// resting level (a signal that rests at its minimum, like a hammer force, is not clipped there).
+// A channel's rails: the converter's limits where they are known (ImpactOptions::converter_limits);
+// else its extreme values, each counted only when it lies far from the channel's resting level (a
+// signal that rests at its minimum, like a hammer force, is not clipped there).
 struct Rails {
   double lo = 0.0;
   double hi = 0.0;
@@ -122,6 +125,18 @@ Rails FindRails(const Eigen::VectorXd& x) {
   r.use_lo = rest - r.lo >= 0.5 * swing && swing > 0.0;
   r.use_hi = r.hi - rest >= 0.5 * swing && swing > 0.0;
   return r;
+}
+
+// A converter's limits: a run on either is a clip, wherever the channel rests (a 12-bit channel
+// resting near code 2048 that repeats its own top code 2077 inside 0..4095 is not clipped).
+Rails ConverterRails(const ImpactOptions::ConverterLimits& limits) {
+  return {limits.lo, limits.hi, true, true};
+}
+
+Rails RailsOf(const Eigen::VectorXd& x, const ImpactOptions& options, std::size_t channel) {
+  if (channel < options.converter_limits.size() && options.converter_limits[channel].Known())
+    return ConverterRails(options.converter_limits[channel]);
+  return FindRails(x);
 }
 
 // A run of consecutive samples within a hair of a rail.
@@ -245,12 +260,47 @@ struct ImpactChannels {
   const Eigen::VectorXd& centred_force;
   const Eigen::Ref<const Eigen::MatrixXd>& responses;
   std::vector<Rails> rails;  // force first, then one per response
+  double force_noise_sd = 0.0;
+  std::vector<double> response_noise_power;  // per response, from the lead before the first hit
 };
 
+// A second pulse counts only above this many standard deviations of the force channel's noise.
+constexpr double kDoubleHitNoiseFactor = 6.0;
+
+// How far a hit's responses still ring at its record's end: per response, the RMS over the
+// record's last eighth over the RMS over the first eighth after the trigger, both about the
+// record's median, each less the noise power of the quiet lead before the first hit; the largest
+// over the responses.
+double RingingRatio(const Eigen::Ref<const Eigen::MatrixXd>& responses, std::size_t s0,
+                    std::size_t record, std::size_t pre, const std::vector<double>& noise_power) {
+  const std::size_t eighth = (record - pre) / 8;
+  if (eighth < 4) return 0.0;
+  double worst = 0.0;
+  for (Eigen::Index j = 0; j < responses.cols(); ++j) {
+    const Eigen::VectorXd x =
+        responses.col(j).segment(static_cast<Eigen::Index>(s0), static_cast<Eigen::Index>(record));
+    const double rest = Median(x);
+    const auto power = [&](std::size_t from, std::size_t count) {
+      return (x.segment(static_cast<Eigen::Index>(from), static_cast<Eigen::Index>(count)).array() -
+              rest)
+          .square()
+          .mean();
+    };
+    // The noise power comes from the quiet lead before the first hit (a pretrigger may hold the
+    // previous hit's ringing, which is what this check looks for).
+    const double noise = static_cast<std::size_t>(j) < noise_power.size()
+                             ? noise_power[static_cast<std::size_t>(j)]
+                             : 0.0;
+    const double early = power(pre, eighth) - noise;
+    const double late = std::max(0.0, power(record - eighth, eighth) - noise);
+    if (early > 0.0) worst = std::max(worst, std::sqrt(late / early));
+  }
+  return worst;
+}
+
 // Flags a hit as truncated, double or clipped, with a note saying why.
-Hit ClassifyHit(const PulseGroup& group, const std::vector<Pulse>& all_pulses,
-                const ImpactChannels& ch, const RecordLayout& layout, double fs_hz,
-                const ImpactOptions& options, HitSpan& span) {
+Hit ClassifyHit(const PulseGroup& group, const ImpactChannels& ch, const RecordLayout& layout,
+                double fs_hz, const ImpactOptions& options, HitSpan& span) {
   const auto n = static_cast<std::size_t>(ch.force.size());
   const std::size_t pre = layout.pre;
   const std::size_t record = layout.record;
@@ -271,11 +321,40 @@ Hit ClassifyHit(const PulseGroup& group, const std::vector<Pulse>& all_pulses,
   }
   const std::size_t s0 = first.start >= pre ? first.start - pre : 0;
   const std::size_t s1 = std::min(n, s0 + record);
-  // Any other pulse inside this hit's record is a second impact on the structure.
-  for (const Pulse& p : all_pulses) {
-    if (p.start > first.end && p.start < s1 &&
-        p.peak_value >= options.double_hit_fraction * first.peak_value) {
+  // Any other pulse inside this hit's record is a second impact on the structure: a pulse above
+  // `double_hit_fraction` of this hit's own peak (and clear of the force noise), searched at that
+  // level and not at the trigger, which the record's largest hit sets: a later, larger hit must
+  // not turn this hit's double hit into a single one. A rebound within the double-hit window of
+  // the pulse before it is force on the structure too: the force window spans it.
+  std::size_t group_end = last.end;
+  {
+    const Eigen::VectorXd& cf = ch.centred_force;
+    const double level = std::max(options.double_hit_fraction * first.peak_value,
+                                  kDoubleHitNoiseFactor * ch.force_noise_sd);
+    const auto rebound =
+        static_cast<std::size_t>(std::llround(options.double_hit_window_s * fs_hz));
+    const auto above = [&](std::size_t k) {
+      return std::abs(cf[static_cast<Eigen::Index>(k)]) >= level;
+    };
+    // Past the first pulse's falling flank at that level (two-sample dips of noise allowed).
+    const auto pulse_end = [&](std::size_t k) {
+      std::size_t last_above = k;
+      while (k < s1 && k <= last_above + 2) {
+        if (above(k)) last_above = k;
+        ++k;
+      }
+      return last_above + 1;
+    };
+    std::size_t prev_end = pulse_end(first.peak);
+    for (std::size_t k = prev_end; k < s1; ++k) {
+      if (!above(k)) continue;
       hit.double_hit = true;
+      const std::size_t end = pulse_end(k);
+      if (k <= prev_end + rebound) {
+        group_end = std::max(group_end, end);
+        prev_end = end;
+      }
+      k = end;
     }
   }
   if (hit.double_hit) notes.push_back("double hit");
@@ -290,10 +369,22 @@ Hit ClassifyHit(const PulseGroup& group, const std::vector<Pulse>& all_pulses,
       notes.push_back("response " + std::to_string(j + 1) + " clipped");
     }
   }
+  if (!hit.truncated && options.ringing_fraction > 0.0) {
+    hit.ringing_ratio = RingingRatio(ch.responses, s0, record, pre, ch.response_noise_power);
+    if (hit.ringing_ratio >= options.ringing_fraction) {
+      hit.ringing = true;
+      std::ostringstream note;
+      note.precision(2);
+      note << "still ringing at the record's end (" << 100.0 * hit.ringing_ratio
+           << " % of its level after the hit): a longer record (more time between hits) or an "
+              "exponential window (--exp-window) lets it die out";
+      notes.push_back(note.str());
+    }
+  }
   for (std::size_t k = 0; k < notes.size(); ++k) hit.note += (k ? "; " : "") + notes[k];
   // Force window: keep through the hit's last pulse plus the first pulse's width as margin.
   const std::size_t width = std::max<std::size_t>(first.end - first.start, 1);
-  std::size_t keep = pre + (last.end - first.start) + width;
+  std::size_t keep = pre + (group_end - first.start) + width;
   if (options.force_window_s > 0.0)
     keep = pre + static_cast<std::size_t>(std::llround(options.force_window_s * fs_hz));
   span = {s0, std::min(keep, record), width};
@@ -374,6 +465,30 @@ void ChooseHits(const ImpactOptions& options, ImpactDetection& d) {
   }
 }
 
+// Used hits whose responses still ring at their record's end: said once for the record.
+void WarnOfRinging(ImpactDetection& d) {
+  std::size_t ringing = 0;
+  std::size_t used = 0;
+  double worst = 0.0;
+  for (const Hit& h : d.hits) {
+    if (!h.used) continue;
+    ++used;
+    if (!h.ringing) continue;
+    ++ringing;
+    worst = std::max(worst, h.ringing_ratio);
+  }
+  if (ringing == 0) return;
+  std::ostringstream w;
+  w.precision(2);
+  w << ringing << " of " << used << " used hit(s) still ring at their record's end (up to "
+    << 100.0 * worst
+    << " % of the level after the hit): the FRF holds the cut-off ringing as leakage, which the "
+       "pole-residue model (lscf, lsce) carries but peak picking and the curve fit do not; a "
+       "longer record (more time between hits) or an exponential window (--exp-window) lets it "
+       "die out";
+  d.warnings.push_back(w.str());
+}
+
 // The mean of `count` samples of a column from `start`, summed as Eigen sums a column held whole
 // in its own vector: the vectorized sum splits at aligned addresses, so the samples are copied at
 // the phase they would have there. The mean is then the same bits however the caller holds the
@@ -388,21 +503,26 @@ double MeanAsWholeColumn(const double* column, std::size_t start, std::size_t co
 }
 
 // With double hits averaged, the force spectrum has notches: lines where it falls below the
-// dynamic range carry no FRF.
-void LimitToForceBand(const CrossSpectra& spectra, const ImpactOptions& options,
+// dynamic range carry no FRF. A single pulse has them too, above its band (a half-sine of width w
+// first at 1.5 / w): there the hits' other content (the previous hits' ringing, noise) over a
+// vanishing force makes H1 a spike that dwarfs every resonance, and a noise-free record, whose
+// coherence does not mark those lines, had its band chosen around the spike. Every impact FRF is
+// therefore limited to the force's band (ImpactOptions::force_band_db), whatever the noise.
+void LimitToForceBand(const CrossSpectra& spectra, double range_db, bool doubles,
                       ImpactResult& result) {
   const Eigen::Index lines = spectra.freq_hz.size();
   const double top = spectra.gff.tail(lines - 1).maxCoeff();
-  const double floor = top * std::pow(10.0, -options.force_dynamic_range_db / 10.0);
+  const double floor = top * std::pow(10.0, -range_db / 10.0);
   Eigen::Index k = 1;
   while (k < lines && spectra.gff[k] >= floor) ++k;
+  if (k == lines) return;
   result.usable_max_hz = spectra.freq_hz[k - 1];
   result.frf.coherence.bottomRows(lines - k).setZero();
   std::ostringstream w;
   w.precision(4);
-  w << "double hits in the average: the force spectrum stays within "
-    << options.force_dynamic_range_db << " dB of its peak from " << result.usable_min_hz << " to "
-    << result.usable_max_hz << " Hz; lines above carry no FRF (coherence set to 0)";
+  w << (doubles ? "double hits in the average: the" : "the") << " force spectrum stays within "
+    << range_db << " dB of its peak from " << result.usable_min_hz << " to " << result.usable_max_hz
+    << " Hz; lines above carry no FRF (coherence set to 0)";
   result.warnings.push_back(w.str());
 }
 
@@ -468,15 +588,35 @@ ImpactDetection DetectImpactHits(const Eigen::Ref<const Eigen::VectorXd>& force,
   d.exp_window = ExponentialWindow(layout, fs_hz, options.exp_window_end, d.exp_window_tau_s);
   d.force_noise_var = ForceNoiseVariance(centred);
 
-  ImpactChannels channels{force, centred, responses, {FindRails(force)}};
+  Require(options.converter_limits.empty() ||
+              options.converter_limits.size() == static_cast<std::size_t>(responses.cols()) + 1,
+          "impact: converter limits must be given for the force and every response (" +
+              std::to_string(responses.cols() + 1) + " channels), or for none");
+  ImpactChannels channels{
+      force, centred, responses, {RailsOf(force, options, 0)}, std::sqrt(d.force_noise_var), {}};
+  // The lead before the first pulse, less a margin of the pulse's width: the responses' noise.
+  {
+    const std::size_t first = groups.front().front().start;
+    const std::size_t width = groups.front().front().end - first;
+    const std::size_t lead = first > 2 * width ? first - 2 * width : 0;
+    for (Eigen::Index j = 0; j < responses.cols(); ++j) {
+      double p = 0.0;
+      if (lead >= 16) {
+        const Eigen::VectorXd x = responses.col(j).head(static_cast<Eigen::Index>(lead));
+        p = (x.array() - x.mean()).square().mean();
+      }
+      channels.response_noise_power.push_back(p);
+    }
+  }
   for (Eigen::Index j = 0; j < responses.cols(); ++j)
-    channels.rails.push_back(FindRails(responses.col(j)));
+    channels.rails.push_back(RailsOf(responses.col(j), options, static_cast<std::size_t>(j) + 1));
   d.spans.resize(groups.size());
   for (std::size_t g = 0; g < groups.size(); ++g) {
-    d.hits.push_back(ClassifyHit(groups[g], pulses, channels, layout, fs_hz, options, d.spans[g]));
+    d.hits.push_back(ClassifyHit(groups[g], channels, layout, fs_hz, options, d.spans[g]));
   }
   FlagWeakHits(options, std::sqrt(d.force_noise_var), d.hits);
   ChooseHits(options, d);
+  WarnOfRinging(d);
   return d;
 }
 
@@ -564,6 +704,7 @@ ImpactResult AverageHitSpectra(const ImpactDetection& detection,
   Require(spectra.size() == detection.hits.size(), "impact: one spectra entry per hit is needed");
   ImpactResult result;
   result.hits = detection.hits;
+  result.spans = detection.spans;
   result.record_samples = detection.record_samples;
   result.pretrigger_samples = detection.pretrigger_samples;
   result.warnings = detection.warnings;
@@ -619,7 +760,10 @@ ImpactResult AverageHitSpectra(const ImpactDetection& detection,
   const Eigen::Index lines = sums.freq_hz.size();
   result.usable_min_hz = sums.freq_hz[std::min<Eigen::Index>(1, lines - 1)];
   result.usable_max_hz = sums.freq_hz[lines - 1];
-  if (doubles_used && lines > 2) LimitToForceBand(sums, options, result);
+  if (lines > 2 && (doubles_used || options.force_band_db > 0.0)) {
+    LimitToForceBand(sums, doubles_used ? options.force_dynamic_range_db : options.force_band_db,
+                     doubles_used, result);
+  }
   return result;
 }
 

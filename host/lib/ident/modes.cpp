@@ -20,6 +20,14 @@ double Ratio(const Eigen::VectorXd& shape) {
   return shape[0] / shape[1];
 }
 
+// phi_j / phi_p for every response, without intervals (the methods that give none).
+void SetShapeRatios(ModeEstimate& m, Eigen::Index p) {
+  const double nan = std::numeric_limits<double>::quiet_NaN();
+  m.shape_ratio = m.shape[p] != 0.0 ? Eigen::VectorXd(m.shape / m.shape[p])
+                                    : Eigen::VectorXd::Constant(m.shape.size(), nan);
+  m.shape_ratio_ci95.assign(static_cast<std::size_t>(m.shape.size()), {nan, nan});
+}
+
 }  // namespace
 
 std::vector<ModeEstimate> ShapesFromPeaks(const Frf& receptance, std::size_t driving_point,
@@ -49,6 +57,7 @@ std::vector<ModeEstimate> ShapesFromPeaks(const Frf& receptance, std::size_t dri
       m.shape[j] = phi_p > 0.0 ? sign * scale * std::abs(hjp) / phi_p : 0.0;
     }
     m.ratio = Ratio(m.shape);
+    SetShapeRatios(m, p);
     modes.push_back(m);
   }
   return modes;
@@ -315,6 +324,7 @@ std::vector<ModeEstimate> ShapesFromResidues(const CurveFitResult& fit, std::siz
       m.shape[j] = phi_p > 0.0 ? proj / phi_p : 0.0;
     }
     m.ratio = Ratio(m.shape);
+    SetShapeRatios(m, p);
     modes.push_back(m);
   }
   return modes;
@@ -509,27 +519,67 @@ void ModesFromModel(std::size_t driving_point, ModeIdentification& out) {
                     m.freq_hz);
       out.warnings.emplace_back(line);
     }
-    if (m.shape.size() != 2) {
-      for (Eigen::Index j = 0; j < m.shape.size(); ++j) {
-        if (j != p) m.shape[j] = m.shape[p] * out.model.ShapeRatio(ii, j, p);
+    // Shape ratios phi_j / phi_p from the model's residue projections, each with its interval
+    // where the model determines it (else the residue fit's shape stays, without one).
+    bool undetermined = false;
+    std::string disagree;
+    for (Eigen::Index j = 0; j < m.shape.size(); ++j) {
+      if (j == p) continue;
+      const double q = out.model.ShapeRatio(ii, j, p);
+      const double sd = out.model.ShapeRatioSd(ii, j, p);
+      if (!std::isfinite(sd)) {
+        undetermined = true;
+        continue;
       }
-      m.ratio = Ratio(m.shape);
-      continue;
+      // The residue fit with the same poles (no ringing terms, the modal form) is a second
+      // estimate of the same ratio. Where the two disagree by more than three of the model's
+      // standard deviations and 10 %, the model's ringing terms have absorbed part of the hit's
+      // own response (records that end, or start, in strong ringing: the pretrigger's phase
+      // hardly turns across the mode, and R_i and S_i trade places), and its interval is not to
+      // be trusted: the residue fit's ratio stays, without an interval, and the mode says so.
+      // (Short records with three hits gave a1/a2 0.03 and -0.11 for 0.568 and -1.481, with
+      // intervals covering 35-52 % of the seeds.)
+      // An interval wider than a quarter of the ratio says the same: the lines do not pin the
+      // shape down (three-mass chain, hits 5 s apart: modes 2 and 3 at a third of their ratios
+      // with intervals of that size).
+      const double r_fit = m.shape[p] != 0.0 ? m.shape[j] / m.shape[p] : q;
+      const bool apart =
+          std::abs(q - r_fit) > std::max(3.0 * sd, 0.1 * std::max(std::abs(q), std::abs(r_fit)));
+      const bool loose = kZ95 * sd > 0.25 * std::abs(q);
+      if (apart || loose) {
+        char part[200];
+        std::snprintf(part, sizeof part,
+                      "%sphi%d/phi%d %.4g +- %.2g (modal model) against %.4g (residue fit)",
+                      disagree.empty() ? "" : ", ", static_cast<int>(j) + 1,
+                      static_cast<int>(p) + 1, q, kZ95 * sd, r_fit);
+        disagree += part;
+        continue;
+      }
+      m.shape[j] = m.shape[p] * q;
+      m.shape_ratio[j] = q;
+      if (intervals) m.shape_ratio_ci95[static_cast<std::size_t>(j)] = NormalInterval95(q, sd);
+      // ratio = phi_0 / phi_1: the projection itself when the hammer is at 1, its inverse at 0.
+      if (m.shape.size() == 2 && intervals)
+        m.ratio_ci95 = NormalInterval95(p == 1 ? q : 1.0 / q, p == 1 ? sd : sd / (q * q));
     }
-    // ratio = phi_0 / phi_1: the projection itself when the hammer is at 1, its inverse at 0.
-    const double q = out.model.ShapeRatio(ii, 1 - p, p);
-    const double sd = out.model.ShapeRatioSd(ii, 1 - p, p);
-    if (!std::isfinite(sd)) {
+    m.ratio = Ratio(m.shape);
+    if (!disagree.empty()) {
+      m.caution += (m.caution.empty() ? "" : "; ") +
+                   ("shape not resolved: " + disagree +
+                    " (apart by more than 3 sd and 10 %, or an interval wider than a quarter of "
+                    "the ratio): ringing the records hold (hits closer than the ring-down) is "
+                    "not told from the hit's response; shape from the residue fit, no interval; "
+                    "hits further apart (longer records) give both");
+      std::snprintf(line, sizeof line, "mode at %.5g Hz: ", m.freq_hz);
+      out.warnings.push_back(line + m.caution);
+    }
+    if (undetermined) {
       std::snprintf(line, sizeof line,
                     "mode at %.5g Hz: the modal model does not determine its shape from these "
-                    "lines: shape from the residue fit, no interval on a1/a2",
-                    m.freq_hz);
+                    "lines: shape from the residue fit, no interval on %s",
+                    m.freq_hz, m.shape.size() == 2 ? "a1/a2" : "some shape ratios");
       out.warnings.emplace_back(line);
-      continue;
     }
-    m.shape[1 - p] = m.shape[p] * q;
-    m.ratio = Ratio(m.shape);
-    if (intervals) m.ratio_ci95 = NormalInterval95(m.ratio, p == 1 ? sd : sd / (q * q));
   }
 }
 
@@ -569,6 +619,19 @@ ModeIdentification IdentifyFromDiagram(const Frf& receptance, std::size_t drivin
   return out;
 }
 
+// Peak picks stand in for a curve fit that failed: half-power damping and Eq. 10 shapes are
+// biased by leakage, neighbouring modes and the resolution (17 % off in frequency on a double-hit
+// record), so every mode says so, with the way out.
+void MarkPeakPicksUnreliable(const std::string& why, ModeIdentification& out) {
+  for (ModeEstimate& m : out.modes) {
+    m.unreliable = true;
+    m.caution = why +
+                ": peak-picking estimate, unreliable (half-power damping and peak shapes); "
+                "narrow the band around the mode (--fmin-hz/--fmax-hz), give orders (--orders) "
+                "or a longer record with clean hits";
+  }
+}
+
 ModeIdentification IdentifyFromPeaks(const Frf& receptance, std::size_t driving_point,
                                      const ModeIdentificationOptions& options) {
   ModeIdentification out;
@@ -586,6 +649,8 @@ ModeIdentification IdentifyFromPeaks(const Frf& receptance, std::size_t driving_
                            " peaks are too many for one curve fit; modes are the peak-picking "
                            "estimates (narrow the band, "
                            "raise the threshold or limit the number of modes)");
+    MarkPeakPicksUnreliable(
+        std::to_string(picked.peaks.size()) + " peaks are too many for one curve fit", out);
   } else if (options.method == ModeMethod::kCurveFit) {
     out.fit = FitModes(receptance, picked.peaks, options.fit);
     out.fitted = true;
@@ -597,6 +662,8 @@ ModeIdentification IdentifyFromPeaks(const Frf& receptance, std::size_t driving_
     } else {
       out.warnings.push_back("curve fit did not converge (" + out.fit.summary.message +
                              "); modes are the peak-picking estimates");
+      MarkPeakPicksUnreliable("the curve fit did not converge (" + out.fit.summary.message + ")",
+                              out);
     }
   }
   return out;
@@ -633,6 +700,69 @@ void DropUnresolvedModes(ModeIdentification& out) {
     throw InputError("no mode with a resolved damping in the FRF: " + out.warnings.back());
 }
 
+// A resonance the data show but no mode explains must not vanish silently (a diagram whose
+// orders are too low for the band, a band cut through a mode): each clear peak of the band
+// farther from every mode than its half-power width (and two lines, and 2 %) is named.
+void NamePeaksWithoutMode(const Frf& receptance, const ModeIdentificationOptions& options,
+                          ModeIdentification& out) {
+  constexpr double kClearFraction = 0.05;
+  constexpr double kMinLines = 2.0;
+  PeakOptions look = options.peaks;
+  look.max_peaks = 0;
+  look.threshold_fraction = std::max(look.threshold_fraction, kClearFraction);
+  PeakResult seen;
+  try {
+    seen =
+        PickPeaks(receptance.freq_hz, PickingMagnitude(receptance, options.picking_column), look);
+  } catch (const InputError&) {
+    return;  // no band to look in: the modes came from elsewhere
+  }
+  const double spacing =
+      receptance.freq_hz.size() > 1
+          ? (receptance.freq_hz[receptance.freq_hz.size() - 1] - receptance.freq_hz[0]) /
+                static_cast<double>(receptance.freq_hz.size() - 1)
+          : 0.0;
+  const auto explained = [&](const Peak& pk, const std::vector<ModeEstimate>& modes) {
+    const double width = (pk.omega_b_rad_s - pk.omega_a_rad_s) / (2.0 * std::numbers::pi);
+    const double tol = std::max({width, 2.0 * spacing, 0.02 * pk.freq_hz});
+    return std::any_of(modes.begin(), modes.end(), [&](const ModeEstimate& m) {
+      return std::abs(m.freq_hz - pk.freq_hz) <= tol;
+    });
+  };
+  out.peaks_without_mode_hz.clear();
+  for (const Peak& pk : seen.peaks) {
+    if (pk.lines_in_band < kMinLines || explained(pk, out.modes) || explained(pk, out.dropped))
+      continue;
+    out.peaks_without_mode_hz.push_back(pk.freq_hz);
+    std::string way;
+    switch (options.method) {
+      case ModeMethod::kLscf:
+      case ModeMethod::kLsce:
+        way = "raise the orders (--orders" +
+              (out.has_diagram && !out.diagram.orders.empty()
+                   ? ", now " + std::to_string(out.diagram.orders.front()) + ":" +
+                         std::to_string(out.diagram.orders.back())
+                   : std::string()) +
+              "), give a band around it (--fmin-hz/--fmax-hz), or use --method fit";
+        break;
+      default:
+        way =
+            "give a band around it (--fmin-hz/--fmax-hz), lower --threshold, or use --method "
+            "lscf";
+        break;
+    }
+    if (options.peaks.max_peaks > 0)
+      way += "; --max-modes " + std::to_string(options.peaks.max_peaks) + " may have left it out";
+    char line[160];
+    std::snprintf(line, sizeof line,
+                  "a clear peak at %.5g Hz in the band has no mode: ", pk.freq_hz);
+    // The fallback chain identifies again through IdentifyModes: one warning per peak.
+    const std::string warning = line + way;
+    if (std::find(out.warnings.begin(), out.warnings.end(), warning) == out.warnings.end())
+      out.warnings.push_back(warning);
+  }
+}
+
 }  // namespace
 
 ModeIdentification IdentifyModes(const Frf& receptance, std::size_t driving_point,
@@ -645,6 +775,7 @@ ModeIdentification IdentifyModes(const Frf& receptance, std::size_t driving_poin
           ? IdentifyFromDiagram(receptance, driving_point, options)
           : IdentifyFromPeaks(receptance, driving_point, options);
   DropUnresolvedModes(out);
+  NamePeaksWithoutMode(receptance, options, out);
   return out;
 }
 

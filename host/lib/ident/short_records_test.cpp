@@ -217,7 +217,7 @@ TEST(ShortRecords, AnIntervalOfZeroWidthIsNoInterval) {
 }
 
 // The LADISK beam with every default: modes, none with an interval of 0, none whose damping
-// interval reaches 0 (the 18 Hz pole, zeta 0.025 +- 0.049, is dropped with a warning).
+// interval reaches 0.
 TEST(ShortRecords, LadiskDefaultsGiveNoPointInterval) {
   const Recording rec =
       LoadRecording(vibid::testing::TestData("ladisk_impact_hammer/impact_acceleration_force.csv"));
@@ -228,10 +228,9 @@ TEST(ShortRecords, LadiskDefaultsGiveNoPointInterval) {
   EXPECT_GE(m.modes.size(), 4u);
   ExpectNoPointIntervals(m.modes);
   for (const ModeEstimate& e : m.modes) EXPECT_FALSE(e.zeta_ci95[0] <= 0.0) << e.freq_hz;
-  bool dropped_18_hz = false;
-  for (const ModeEstimate& e : m.dropped)
-    dropped_18_hz = dropped_18_hz || std::abs(e.freq_hz - 18) < 1;
-  EXPECT_TRUE(dropped_18_hz);
+  // The 18 Hz pole (a peak of |X / F| too, scripts/golden/ladisk_peaks.py) was dropped while the
+  // FRF ran to 25 kHz; stopped at the hammer's band (8.4 kHz) the diagram's bands change and it
+  // is resolved: either way, never with a damping interval that reaches 0 (checked above).
 }
 
 }  // namespace

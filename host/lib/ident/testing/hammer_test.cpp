@@ -82,7 +82,8 @@ HammerTestRecord SimulateHammerTest(const model::Model& rig, const HammerTestSpe
     t += spec.spacing_min_s + (spec.spacing_max_s - spec.spacing_min_s) * unit(rng);
   }
   model::SimulationOptions opt;
-  opt.method = model::Method::kExact;
+  opt.method = spec.friction.empty() ? model::Method::kExact : model::Method::kRk4;
+  opt.friction = spec.friction;
   const auto r = static_cast<Eigen::Index>(spec.oversample);
   opt.dt_s = 1.0 / (spec.fs_hz * static_cast<double>(r));
   opt.t_end_s = spec.tail_s > 0.0 ? rec.hit_times_s.back() + spec.tail_s : t;

@@ -32,8 +32,20 @@ struct ImpactOptions {
   /// A later pulse in a hit's record counts as a double hit when its peak exceeds this fraction of
   /// the hit's peak.
   double double_hit_fraction = 0.05;
-  /// A channel is clipped when at least this many consecutive samples sit on its extreme value.
+  /// A channel is clipped when at least this many consecutive samples sit on its converter's
+  /// limit (or, with the limit unknown, on its extreme value far from its resting level).
   std::size_t clip_run_samples = 4;
+  /// The converter's limits per channel, in the channel's units: the force first, then one per
+  /// response. A channel with limits is clipped only where it runs on one of them (a 12-bit
+  /// converter's codes 0 and 4095), never on a top code it merely repeats inside its range. Empty,
+  /// or an entry with lo >= hi: the limits are unknown, and the channel's extreme values far from
+  /// its resting level stand for them.
+  struct ConverterLimits {
+    double lo = 0.0;
+    double hi = 0.0;
+    bool Known() const { return lo < hi; }
+  };
+  std::vector<ConverterLimits> converter_limits;
   /// Reject double hits and clipped hits (true) or only flag them (false). When every hit that
   /// is not truncated is a double hit (and none is clipped), they are used all the same, with a
   /// warning: a record of double hits still holds an FRF where the force has energy.
@@ -43,6 +55,11 @@ struct ImpactOptions {
   /// multiples of 1/delay, and H1 there is noise over a vanishing force. The usable band runs
   /// from the first line to the first line that falls short; above it the coherence is set to 0.
   double force_dynamic_range_db = 20.0;
+  /// Without double hits: lines above the first where the force auto-spectrum falls more than
+  /// this far below its largest value (dB) carry no FRF either (coherence 0): above the hammer's
+  /// band, at its pulse's first notch, H1 is the hits' other content over a vanishing force. 0:
+  /// every line.
+  double force_band_db = 30.0;
   /// A hit is too weak when its peak is below this fraction of the median peak of the complete,
   /// single, unclipped hits: a tap that light drives the structure less far into its nonlinearity
   /// than the others and lifts its response less far above the noise. 0: no such check.
@@ -50,6 +67,9 @@ struct ImpactOptions {
   /// ... or when its peak is below this many standard deviations of the force channel's noise
   /// (median absolute deviation of the whole force). 0: no such check.
   double weak_hit_noise_factor = 10.0;
+  /// A hit whose responses at the record's end still ring at this fraction of their level just
+  /// after the hit is flagged (Hit::ringing). 0: no such check.
+  double ringing_fraction = 0.1;
   /// The hits to average, 1-based in the order they are detected; empty: the verdicts decide.
   /// A listed hit is used whatever its verdict (the operator's choice), except a truncated one,
   /// which is refused: its record does not fit in the recording.
@@ -68,22 +88,16 @@ struct Hit {
   bool clipped = false;
   bool truncated = false;  ///< The record ends before the hit's window does.
   bool weak = false;       ///< Peak too low: see ImpactOptions::weak_hit_fraction.
+  /// The responses still ring at the end of the hit's record: the largest response's RMS over the
+  /// record's last eighth is at least `ringing_fraction` of its RMS over the first eighth after
+  /// the trigger (see ImpactOptions::ringing_fraction). The hit is used: the pole-residue model
+  /// carries the cut-off ringing, but peak picking and the curve fit see it as leakage.
+  bool ringing = false;
+  double ringing_ratio = 0.0;  ///< That RMS ratio for the response that rings most.
   std::size_t pulses =
       1;  ///< Pulses of this hit (a rebound within the double-hit window adds one).
   bool used = false;
   std::string note;  ///< Why a hit was rejected or flagged; empty when clean.
-};
-
-struct ImpactResult {
-  Frf frf;
-  std::vector<Hit> hits;
-  std::size_t record_samples = 0;
-  std::size_t pretrigger_samples = 0;
-  /// Band where the FRF is usable (Hz): all lines without double hits, else see
-  /// ImpactOptions::force_dynamic_range_db.
-  double usable_min_hz = 0.0;
-  double usable_max_hz = 0.0;
-  std::vector<std::string> warnings;
 };
 
 /// Where one hit's record lies and how its force window runs (samples).
@@ -91,6 +105,19 @@ struct HitSpan {
   std::size_t start = 0;  ///< First sample of the hit's record.
   std::size_t keep = 0;   ///< Force kept from the record start before the taper.
   std::size_t taper = 0;  ///< Length of the half-cosine taper: the hit's first pulse's width.
+};
+
+struct ImpactResult {
+  Frf frf;
+  std::vector<Hit> hits;
+  std::vector<HitSpan> spans;  ///< One per hit (see ImpactDetection).
+  std::size_t record_samples = 0;
+  std::size_t pretrigger_samples = 0;
+  /// Band where the FRF is usable (Hz): all lines without double hits, else see
+  /// ImpactOptions::force_dynamic_range_db.
+  double usable_min_hz = 0.0;
+  double usable_max_hz = 0.0;
+  std::vector<std::string> warnings;
 };
 
 /// The hits of a record as EstimateImpactFrf detects and judges them, and what their spectra are

@@ -20,6 +20,30 @@
 
 namespace vibid::ident {
 
+/// Whether a mode's damping depends on its amplitude, from the hits' ring-downs (ringdown.hpp).
+struct AmplitudeDamping {
+  bool checked = false;
+  std::size_t hits = 0;  ///< Ring-downs the values come from.
+  /// Apparent damping -d ln A / dt / omega over the first and the second half of the decay (in
+  /// log amplitude), means over the hits.
+  double zeta_early = 0.0;
+  double zeta_late = 0.0;
+  /// The envelope fit dA/dt = -zeta_v omega A - r: the viscous part, mean over the hits, with its
+  /// 95 % interval from their scatter (Student t; NaN with fewer than 2 hits).
+  double zeta_viscous = 0.0;
+  std::array<double, 2> zeta_viscous_ci95{std::numeric_limits<double>::quiet_NaN(),
+                                          std::numeric_limits<double>::quiet_NaN()};
+  /// Modal friction force F_q (N, unit modal mass) and, with the same friction on every measured
+  /// mass, that friction (N); NaN when not determined.
+  double modal_friction_n = 0.0;
+  std::array<double, 2> modal_friction_ci95{std::numeric_limits<double>::quiet_NaN(),
+                                            std::numeric_limits<double>::quiet_NaN()};
+  double friction_per_mass_n = 0.0;
+  /// The apparent damping grows as the amplitude falls beyond chance: friction.
+  bool amplitude_dependent = false;
+  std::string note;
+};
+
 /// One identified mode, in the same terms as a model's modal result.
 struct ModeEstimate {
   double omega_rad_s = 0.0;
@@ -35,9 +59,28 @@ struct ModeEstimate {
   std::array<double, 2> omega_ci95_rad_s{kNoInterval, kNoInterval};
   std::array<double, 2> zeta_ci95{kNoInterval, kNoInterval};
   std::array<double, 2> ratio_ci95{kNoInterval, kNoInterval};
+  /// phi_j / phi_p for every response j, p the driving point (1 there), and their 95 % intervals
+  /// (NaN where the method gives none; [1, 1] never: the driving point's entry has none). For two
+  /// responses `ratio` is one of them or its inverse.
+  Eigen::VectorXd shape_ratio;
+  std::vector<std::array<double, 2>> shape_ratio_ci95;
+  /// The estimate is known to be unreliable (`caution` says why and the way out): e.g. peak
+  /// picking reached only because every better method failed on this FRF.
+  bool unreliable = false;
+  /// Why the mode is marked unreliable, or why an interval is withheld (empty when neither).
+  std::string caution;
+  /// The ring-down check of its damping (checked false when no time records were given).
+  AmplitudeDamping amplitude;
   static constexpr double kNoInterval = std::numeric_limits<double>::quiet_NaN();
   bool HasIntervals() const {
     return std::isfinite(omega_ci95_rad_s[0]) && std::isfinite(zeta_ci95[0]);
+  }
+  /// Any interval at all (one may be withheld with a reason in `caution`).
+  bool HasAnyInterval() const {
+    bool any_shape = false;
+    for (const auto& ci : shape_ratio_ci95) any_shape = any_shape || std::isfinite(ci[0]);
+    return std::isfinite(omega_ci95_rad_s[0]) || std::isfinite(zeta_ci95[0]) ||
+           std::isfinite(ratio_ci95[0]) || any_shape;
   }
 };
 
@@ -128,6 +171,9 @@ struct ModeIdentification {
   /// Modes that were estimated but are not reported: damping not resolved (zeta <= 1e-6, or its
   /// interval reaches 0).
   std::vector<ModeEstimate> dropped;
+  /// Clear resonance peaks of the band (see IdentifyModes) that no reported or dropped mode
+  /// explains, in Hz; each also has a warning naming the way out.
+  std::vector<double> peaks_without_mode_hz;
   /// lscf/lsce: the modal model refined from the chosen poles, which gives the reported omega,
   /// zeta, shape directions and their intervals (valid when `has_model`).
   bool has_model = false;
@@ -138,9 +184,11 @@ struct ModeIdentification {
 /// stabilization diagram chooses (lscf/lsce) with residues fitted for them; shapes with the
 /// hammer at `driving_point`. A mode whose damping is not resolved (zeta <= 1e-6, or a 95 %
 /// interval on zeta that reaches 0) is never reported as a mode: it is moved to `dropped` with a
-/// warning. InputError when no resonance is
-/// found. A curve fit that does not
-/// converge is reported in `fit.summary`, and the peak-pick modes are returned with a warning.
+/// warning. A clear peak of the band (a resonance the peak picker finds, at least 5 % of the
+/// largest, whose half-power band spans 2 lines or more) that no mode explains is named in
+/// `peaks_without_mode_hz` and a warning with the way out (orders, band, method). InputError when
+/// no resonance is found. A curve fit that does not converge is reported in `fit.summary`, and the
+/// peak-pick modes are returned with a warning.
 ModeIdentification IdentifyModes(const Frf& receptance, std::size_t driving_point,
                                  const ModeIdentificationOptions& options);
 

@@ -14,6 +14,7 @@
 
 #include "vibid/ident/spectral.hpp"
 #include "vibid/model/model.hpp"
+#include "vibid/model/simulate.hpp"
 
 namespace vibid::ident {
 
@@ -44,6 +45,9 @@ struct HammerTestSpec {
   std::vector<HitChange> changes;
   /// Record end this long after the last hit's start (s); 0: one more spacing after it.
   double tail_s = 0.0;
+  /// Coulomb friction (model/simulate.hpp: empty none, one entry for every mass, or one per DOF):
+  /// simulated by RK4 at the oversampled step instead of the exact zero-order hold.
+  std::vector<model::CoulombFriction> friction;
   /// Noise standard deviations as fractions of each channel's peak value.
   double force_noise = 0.002;
   double response_noise = 0.002;

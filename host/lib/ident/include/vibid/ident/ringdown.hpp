@@ -1,0 +1,70 @@
+// Amplitude-dependent damping from the hits' ring-downs: the check that the damping an FRF shows
+// is viscous, and the viscous and Coulomb parts when it is not.
+//
+// Coulomb friction takes a fixed amount of amplitude per cycle: a mode's envelope falls as
+// dA/dt = -sigma A - r (sigma = zeta omega, viscous; r, friction), so the apparent damping
+// -d ln A / dt / omega = zeta + r / (omega A) grows as the amplitude falls, and an FRF fit gives a
+// zeta between the two, with an interval that excludes the viscous truth (the emulator's default
+// rig: +15 %). Each used hit's responses after its force window are projected on the modes
+// (the identified shapes' pseudo-inverse when the responses are at least as many as the modes,
+// else the response the mode moves most), demodulated at the mode's frequency and smoothed twice
+// by a boxcar of whole periods (a triangular filter: the other modes fall 26 dB and more below),
+// and the envelope A(t) = a exp(-sigma t) - b is fitted (variable projection in sigma) from its
+// start down to a tenth of it. Per mode: the apparent damping over the first and the second half
+// of the decay (in log amplitude), and over the hits the viscous part zeta_v = sigma / omega and
+// the friction rate r = sigma b with their scatter.
+//
+// The modal friction force follows from r: a mode of unit modal mass whose coordinate q loses
+// 2 F_q / k_q per half cycle (k_q = omega^2) decays at dq/dt = -2 F_q / (pi omega), and a friction
+// force F_j on each mass j acts on the mode with the first harmonic F_q = sum_j |phi_j| F_j. With
+// the same friction on every measured mass, F = F_q / sum_j |phi_j|.
+#pragma once
+
+#include <Eigen/Core>
+#include <cstddef>
+#include <string>
+#include <vector>
+
+#include "vibid/ident/impact.hpp"
+#include "vibid/ident/modes.hpp"
+#include "vibid/ident/spectral.hpp"
+
+namespace vibid::ident {
+
+/// The used hits' responses after their force windows (offsets from the pretrigger taken off),
+/// in the units of the recording's sensor.
+struct RingDowns {
+  double fs_hz = 0.0;
+  Quantity sensor = Quantity::kAcceleration;
+  std::vector<Eigen::MatrixXd> hits;  ///< Samples x responses, one per used hit.
+};
+
+/// The ring-downs of the used hits of an impact estimate made from these signals.
+RingDowns RingDownsOf(const ImpactResult& impact, const Eigen::Ref<const Eigen::VectorXd>& force,
+                      const Eigen::Ref<const Eigen::MatrixXd>& responses, double fs_hz,
+                      Quantity sensor);
+
+struct RingDownOptions {
+  /// The envelope is fitted from its start down to this fraction of it.
+  double end_fraction = 0.1;
+  /// Amplitude dependence is reported when the apparent damping of the decay's second half
+  /// exceeds that of its first half by this factor (on the hits' means) and the friction rate is
+  /// positive beyond its 95 % interval over the hits (with one hit: the factor alone).
+  double min_late_over_early = 1.15;
+};
+
+/// The check for every mode of `modes` (shapes mass-normalised, response order of the ring-downs),
+/// in the modes' order. A mode whose ring-down cannot be read (no used hit, a smoothing window
+/// longer than a third of the records) has `checked` false and a note why.
+std::vector<AmplitudeDamping> CheckAmplitudeDependence(const RingDowns& ringdowns,
+                                                       const std::vector<ModeEstimate>& modes,
+                                                       const RingDownOptions& options = {});
+
+/// The check applied to identified modes: every mode gets its AmplitudeDamping; where the damping
+/// depends on amplitude, the FRF's zeta (and its interval, which the ring-downs contradict) gives
+/// way to the viscous part with its interval over the hits (withheld, with the reason, with fewer
+/// than 2 hits), the mode's `caution` and a warning say so and give the modal friction force.
+void ApplyAmplitudeCheck(const RingDowns& ringdowns, ModeIdentification& identification,
+                         const RingDownOptions& options = {});
+
+}  // namespace vibid::ident

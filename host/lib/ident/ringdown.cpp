@@ -1,0 +1,324 @@
+#include "vibid/ident/ringdown.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <complex>
+#include <cstdio>
+#include <limits>
+#include <numbers>
+
+#include <Eigen/QR>
+#include <Eigen/SVD>
+
+#include "vibid/common/error.hpp"
+#include "vibid/ident/intervals.hpp"
+
+namespace vibid::ident {
+
+RingDowns RingDownsOf(const ImpactResult& impact, const Eigen::Ref<const Eigen::VectorXd>& force,
+                      const Eigen::Ref<const Eigen::MatrixXd>& responses, double fs_hz,
+                      Quantity sensor) {
+  Require(responses.rows() == force.size(), "ring-downs: force and responses differ in length");
+  RingDowns out;
+  out.fs_hz = fs_hz;
+  out.sensor = sensor;
+  const std::size_t record = impact.record_samples;
+  const std::size_t pre = impact.pretrigger_samples;
+  for (std::size_t h = 0; h < impact.hits.size() && h < impact.spans.size(); ++h) {
+    if (!impact.hits[h].used || impact.hits[h].truncated) continue;
+    const HitSpan& span = impact.spans[h];
+    const std::size_t from = span.keep + span.taper;  // after the force window
+    if (span.start + record > static_cast<std::size_t>(responses.rows()) || from + 16 >= record)
+      continue;
+    const auto start = static_cast<Eigen::Index>(span.start);
+    Eigen::MatrixXd seg =
+        responses.block(start + static_cast<Eigen::Index>(from), 0,
+                        static_cast<Eigen::Index>(record - from), responses.cols());
+    // Offsets as the spectra take them: the pretrigger's mean, where there is one.
+    const std::size_t quiet = pre > span.taper ? pre - span.taper : 0;
+    if (quiet >= 4) {
+      const Eigen::RowVectorXd offset =
+          responses.block(start, 0, static_cast<Eigen::Index>(quiet), responses.cols())
+              .colwise()
+              .mean();
+      seg.rowwise() -= offset;
+    }
+    out.hits.push_back(std::move(seg));
+  }
+  return out;
+}
+
+namespace {
+
+constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
+
+// Moving mean of `len` samples (output k averages k .. k + len - 1).
+Eigen::VectorXcd MovingMean(const Eigen::VectorXcd& x, Eigen::Index len) {
+  const Eigen::Index n = x.size() - len + 1;
+  Eigen::VectorXcd out(std::max<Eigen::Index>(n, 0));
+  if (n <= 0) return out;
+  std::complex<double> sum = x.head(len).sum();
+  for (Eigen::Index k = 0; k < n; ++k) {
+    out[k] = sum / static_cast<double>(len);
+    if (k + len < x.size()) sum += x[k + len] - x[k];
+  }
+  return out;
+}
+
+struct EnvelopeFit {
+  bool ok = false;
+  double sigma = 0.0;  // 1/s
+  double b = 0.0;      // A(t) = a exp(-sigma t) - b
+  double zeta_early = 0.0;
+  double zeta_late = 0.0;
+};
+
+// Least squares of A(t) = a exp(-sigma t) - b for a given sigma; the residual's norm.
+double Residual(const Eigen::VectorXd& t, const Eigen::VectorXd& env, double sigma, double& a,
+                double& b) {
+  Eigen::MatrixXd m(t.size(), 2);
+  m.col(0) = (-sigma * t.array()).exp();
+  m.col(1).setConstant(-1.0);
+  const Eigen::Vector2d c = m.colPivHouseholderQr().solve(env);
+  a = c[0];
+  b = c[1];
+  return (m * c - env).norm();
+}
+
+// Slope of ln(env) against t by least squares.
+double LogSlope(const Eigen::VectorXd& t, const Eigen::VectorXd& env) {
+  const Eigen::ArrayXd y = env.array().log();
+  const double tm = t.mean();
+  const double ym = y.mean();
+  const double stt = (t.array() - tm).square().sum();
+  return stt > 0.0 ? ((t.array() - tm) * (y - ym)).sum() / stt : 0.0;
+}
+
+// The envelope of one modal signal and its fit, from its start to `end_fraction` of it.
+EnvelopeFit FitEnvelope(const Eigen::VectorXd& q, double fs_hz, double omega_d, Eigen::Index len,
+                        double omega, double end_fraction) {
+  EnvelopeFit f;
+  Eigen::VectorXcd z(q.size());
+  for (Eigen::Index k = 0; k < q.size(); ++k)
+    z[k] = q[k] * std::polar(1.0, -omega_d * static_cast<double>(k) / fs_hz);
+  const Eigen::VectorXcd smooth = MovingMean(MovingMean(z, len), len);
+  if (smooth.size() < 16) return f;
+  // Envelope samples a quarter window apart, timed at the filter's centre.
+  const Eigen::Index step = std::max<Eigen::Index>(1, len / 4);
+  std::vector<double> tv;
+  std::vector<double> ev;
+  const double start = 2.0 * std::abs(smooth[0]);
+  if (!(start > 0.0)) return f;
+  for (Eigen::Index k = 0; k < smooth.size(); k += step) {
+    const double e = 2.0 * std::abs(smooth[k]);
+    if (e < end_fraction * start) break;
+    tv.push_back((static_cast<double>(k) + static_cast<double>(len - 1)) / fs_hz);
+    ev.push_back(e);
+  }
+  if (tv.size() < 8) return f;
+  const Eigen::VectorXd t =
+      Eigen::Map<const Eigen::VectorXd>(tv.data(), static_cast<Eigen::Index>(tv.size())).array() -
+      tv.front();
+  const Eigen::VectorXd env =
+      Eigen::Map<const Eigen::VectorXd>(ev.data(), static_cast<Eigen::Index>(ev.size()));
+  // Early and late halves in log amplitude.
+  const double mid = std::sqrt(env[0] * env[env.size() - 1]);
+  Eigen::Index split = 0;
+  while (split < env.size() && env[split] >= mid) ++split;
+  if (split < 3 || env.size() - split < 3) return f;
+  f.zeta_early = -LogSlope(t.head(split), env.head(split)) / omega;
+  f.zeta_late = -LogSlope(t.tail(env.size() - split), env.tail(env.size() - split)) / omega;
+  // sigma by golden-section search in log sigma around the whole decay's log slope.
+  const double s0 = std::max(-LogSlope(t, env), 1e-6 * omega);
+  double lo = std::log(s0 / 50.0);
+  double hi = std::log(s0 * 5.0);
+  const double g = 0.5 * (std::sqrt(5.0) - 1.0);
+  double a = 0.0;
+  double b = 0.0;
+  const auto cost = [&](double ls) { return Residual(t, env, std::exp(ls), a, b); };
+  double x1 = hi - g * (hi - lo);
+  double x2 = lo + g * (hi - lo);
+  double f1 = cost(x1);
+  double f2 = cost(x2);
+  for (int it = 0; it < 80; ++it) {
+    if (f1 < f2) {
+      hi = x2;
+      x2 = x1;
+      f2 = f1;
+      x1 = hi - g * (hi - lo);
+      f1 = cost(x1);
+    } else {
+      lo = x1;
+      x1 = x2;
+      f1 = f2;
+      x2 = lo + g * (hi - lo);
+      f2 = cost(x2);
+    }
+  }
+  f.sigma = std::exp(0.5 * (lo + hi));
+  Residual(t, env, f.sigma, a, b);
+  f.b = b;
+  f.ok = std::isfinite(f.sigma) && std::isfinite(b) && a > 0.0;
+  return f;
+}
+
+struct MeanSd {
+  double mean = 0.0;
+  double sd = 0.0;
+};
+
+MeanSd Stats(const std::vector<double>& v) {
+  MeanSd s;
+  if (v.empty()) return s;
+  for (double x : v) s.mean += x;
+  s.mean /= static_cast<double>(v.size());
+  if (v.size() < 2) return s;
+  for (double x : v) s.sd += (x - s.mean) * (x - s.mean);
+  s.sd = std::sqrt(s.sd / static_cast<double>(v.size() - 1));
+  return s;
+}
+
+std::array<double, 2> TInterval(const MeanSd& s, std::size_t n) {
+  if (n < 2 || !(s.sd > 0.0)) return {kNaN, kNaN};
+  const double hw =
+      StudentT95(static_cast<double>(n - 1)) * s.sd / std::sqrt(static_cast<double>(n));
+  return {s.mean - hw, s.mean + hw};
+}
+
+}  // namespace
+
+std::vector<AmplitudeDamping> CheckAmplitudeDependence(const RingDowns& ringdowns,
+                                                       const std::vector<ModeEstimate>& modes,
+                                                       const RingDownOptions& options) {
+  std::vector<AmplitudeDamping> out(modes.size());
+  if (modes.empty()) return out;
+  if (ringdowns.hits.empty()) {
+    for (AmplitudeDamping& a : out) a.note = "no used hit to read a ring-down from";
+    return out;
+  }
+  const Eigen::Index responses = ringdowns.hits.front().cols();
+  // The modal filter: the pseudo-inverse of the identified shapes, when they are as many as the
+  // modes at most and every shape has one entry per response.
+  bool filter = static_cast<Eigen::Index>(modes.size()) <= responses;
+  Eigen::MatrixXd phi(responses, static_cast<Eigen::Index>(modes.size()));
+  for (std::size_t i = 0; i < modes.size(); ++i) {
+    if (modes[i].shape.size() != responses || !modes[i].shape.allFinite()) {
+      filter = false;
+      continue;
+    }
+    phi.col(static_cast<Eigen::Index>(i)) = modes[i].shape;
+  }
+  Eigen::MatrixXd pinv;
+  if (filter) {
+    pinv = phi.completeOrthogonalDecomposition().pseudoInverse();
+    filter = pinv.allFinite();
+  }
+  const double fs = ringdowns.fs_hz;
+  for (std::size_t i = 0; i < modes.size(); ++i) {
+    const ModeEstimate& m = modes[i];
+    AmplitudeDamping& r = out[i];
+    if (m.shape.size() != responses || !(m.omega_rad_s > 0.0)) {
+      r.note = "no shape over the recording's responses";
+      continue;
+    }
+    const double omega = m.omega_rad_s;
+    const double zeta = std::clamp(m.zeta, 0.0, 0.5);
+    const double omega_d = omega * std::sqrt(1.0 - zeta * zeta);
+    const double f_d = omega_d / (2.0 * std::numbers::pi);
+    // Whole periods per boxcar: the nearest other mode (or DC) at least 1.5 first-null widths
+    // away after the two passes.
+    double gap = f_d;
+    for (std::size_t k = 0; k < modes.size(); ++k) {
+      if (k != i) gap = std::min(gap, std::abs(modes[k].freq_hz - m.freq_hz));
+    }
+    if (!(gap > 0.0)) {
+      r.note = "another mode at the same frequency";
+      continue;
+    }
+    const double periods = std::max(2.0, std::ceil(1.5 * f_d / gap));
+    const auto len = static_cast<Eigen::Index>(std::llround(periods * fs / f_d));
+    // The mode's signal and the scale from it to the modal coordinate.
+    Eigen::Index j_most = 0;
+    m.shape.cwiseAbs().maxCoeff(&j_most);
+    const double to_modal = filter ? 1.0 : 1.0 / std::abs(m.shape[j_most]);
+    std::vector<double> zv, rate, early, late;
+    for (const Eigen::MatrixXd& hit : ringdowns.hits) {
+      if (3 * len > hit.rows()) continue;
+      const Eigen::VectorXd q =
+          filter ? Eigen::VectorXd(hit * pinv.row(static_cast<Eigen::Index>(i)).transpose())
+                 : Eigen::VectorXd(hit.col(j_most) * to_modal);
+      const EnvelopeFit f = FitEnvelope(q, fs, omega_d, len, omega, options.end_fraction);
+      if (!f.ok) continue;
+      zv.push_back(f.sigma / omega);
+      rate.push_back(f.sigma * f.b);
+      early.push_back(f.zeta_early);
+      late.push_back(f.zeta_late);
+    }
+    if (zv.empty()) {
+      r.note = "no ring-down long enough to read (the smoothing spans " +
+               std::to_string(static_cast<int>(periods)) + " periods)";
+      continue;
+    }
+    r.checked = true;
+    r.hits = zv.size();
+    const MeanSd szv = Stats(zv);
+    const MeanSd srate = Stats(rate);
+    r.zeta_early = Stats(early).mean;
+    r.zeta_late = Stats(late).mean;
+    r.zeta_viscous = szv.mean;
+    r.zeta_viscous_ci95 = TInterval(szv, zv.size());
+    // The rate is that of the modal coordinate in the sensor's quantity: omega^2 (acceleration)
+    // or omega (velocity) times the displacement's, which is 2 F_q / (pi omega).
+    const double per_disp = ringdowns.sensor == Quantity::kAcceleration ? omega * omega
+                            : ringdowns.sensor == Quantity::kVelocity   ? omega
+                                                                        : 1.0;
+    const double to_force = std::numbers::pi * omega / (2.0 * per_disp);
+    r.modal_friction_n = srate.mean * to_force;
+    const std::array<double, 2> rci = TInterval(srate, rate.size());
+    r.modal_friction_ci95 = {rci[0] * to_force, rci[1] * to_force};
+    r.friction_per_mass_n =
+        m.shape.cwiseAbs().sum() > 0.0 ? r.modal_friction_n / m.shape.cwiseAbs().sum() : kNaN;
+    const bool grows = r.zeta_late >= options.min_late_over_early * r.zeta_early;
+    const bool significant = rate.size() < 2 || (std::isfinite(rci[0]) && rci[0] > 0.0);
+    r.amplitude_dependent = grows && significant;
+    char text[320];
+    std::snprintf(text, sizeof text,
+                  "apparent damping %.4g early and %.4g late in the ring-downs of %zu hit(s); "
+                  "viscous part %.4g, modal friction force %.3g N",
+                  r.zeta_early, r.zeta_late, r.hits, r.zeta_viscous, r.modal_friction_n);
+    r.note = text;
+  }
+  return out;
+}
+
+void ApplyAmplitudeCheck(const RingDowns& ringdowns, ModeIdentification& identification,
+                         const RingDownOptions& options) {
+  std::vector<ModeEstimate>& modes = identification.modes;
+  const std::vector<AmplitudeDamping> checks = CheckAmplitudeDependence(ringdowns, modes, options);
+  for (std::size_t i = 0; i < modes.size(); ++i) {
+    ModeEstimate& m = modes[i];
+    m.amplitude = checks[i];
+    const AmplitudeDamping& a = m.amplitude;
+    if (!a.checked || !a.amplitude_dependent) continue;
+    char text[640];
+    const bool interval = std::isfinite(a.zeta_viscous_ci95[0]);
+    std::snprintf(
+        text, sizeof text,
+        "damping depends on amplitude (apparent zeta %.4g early, %.4g late in the ring-downs of "
+        "%zu hit(s)): friction. zeta %.4g is the viscous part of a viscous + Coulomb fit of the "
+        "ring-downs (the FRF gave %.4g, with an interval the ring-downs contradict)%s; modal "
+        "friction force %.3g N (%.3g N on each measured mass if the same on all)",
+        a.zeta_early, a.zeta_late, a.hits, a.zeta_viscous, m.zeta,
+        interval ? ", its interval from the scatter over the hits"
+                 : ", no interval: it needs 2 hits or more to scatter",
+        a.modal_friction_n, a.friction_per_mass_n);
+    m.zeta = a.zeta_viscous;
+    m.zeta_ci95 = a.zeta_viscous_ci95;
+    m.caution = text;
+    char where[64];
+    std::snprintf(where, sizeof where, "mode at %.5g Hz: ", m.freq_hz);
+    identification.warnings.push_back(where + std::string(text));
+  }
+}
+
+}  // namespace vibid::ident
