@@ -1,0 +1,190 @@
+// The residual test's design: Siegmund's run length against published CUSUM run lengths and a
+// Monte Carlo of Gaussian increments, and the whole chain (a calibration day replayed, the design,
+// the board's fixed-point kernel) over 100 simulated hours in control: the false alarms it raises
+// against the rate the design was asked for.
+#include "vibid/dob/watch_design.hpp"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstdint>
+#include <cstdio>
+#include <random>
+#include <vector>
+
+#include "vibid/common/error.hpp"
+
+namespace vibid::dob {
+namespace {
+
+TEST(CusumRunLength, MatchesPublishedRunLengths) {
+  // Montgomery, Introduction to Statistical Quality Control (Wiley, 6th ed. 2009), section 9.1:
+  // the two-sided tabular CUSUM with k = 1/2 has ARL0 = 168 at h = 4 and 465 at h = 5, and at a
+  // one-sigma shift ARL1 = 8.38 and 10.4. The two-sided in-control run length is half the
+  // one-sided one (1/ARL = 1/ARL+ + 1/ARL-); a shift up is caught by the upper side alone.
+  EXPECT_NEAR(CusumRunLength(0.0, 0.5, 4.0) / 2.0, 168.0, 0.02 * 168.0);
+  EXPECT_NEAR(CusumRunLength(0.0, 0.5, 5.0) / 2.0, 465.0, 0.02 * 465.0);
+  EXPECT_NEAR(CusumRunLength(1.0, 0.5, 4.0), 8.38, 0.02 * 8.38);
+  EXPECT_NEAR(CusumRunLength(1.0, 0.5, 5.0), 10.4, 0.02 * 10.4);
+}
+
+TEST(CusumRunLength, MatchesAMonteCarloOfGaussianIncrements) {
+  std::mt19937_64 rng(7);
+  std::normal_distribution<double> z(0.0, 1.0);
+  for (const double h : {3.0, 5.0}) {
+    constexpr int kRuns = 4000;
+    double total = 0.0;
+    for (int run = 0; run < kRuns; ++run) {
+      double g = 0.0;
+      int n = 0;
+      do {
+        g = std::max(0.0, g + z(rng) - 0.5);
+        ++n;
+      } while (g <= h);
+      total += n;
+    }
+    const double mean = total / kRuns;
+    const double predicted = CusumRunLength(0.0, 0.5, h);
+    // Run lengths are near-geometric (spread about their mean): 3 standard errors of the mean
+    // plus the approximation's own 2 %.
+    EXPECT_NEAR(mean, predicted, predicted * (3.0 / std::sqrt(kRuns) + 0.02)) << "h = " << h;
+  }
+}
+
+TEST(RegularizedGammaLower, MatchesChiSquareTables) {
+  // Chi-square upper 5 % points (Abramowitz & Stegun, Table 26.8): P(nu / 2, x / 2) = 0.95 at
+  // x = 3.841 (nu 1), 18.307 (nu 10), 124.342 (nu 100); and P(1, x) = 1 - exp(-x) in closed form.
+  EXPECT_NEAR(RegularizedGammaLower(0.5, 3.841 / 2), 0.95, 2e-5);
+  EXPECT_NEAR(RegularizedGammaLower(5.0, 18.307 / 2), 0.95, 2e-5);
+  EXPECT_NEAR(RegularizedGammaLower(50.0, 124.342 / 2), 0.95, 2e-5);
+  EXPECT_NEAR(RegularizedGammaLower(1.0, 0.3), 1.0 - std::exp(-0.3), 1e-14);
+  EXPECT_NEAR(RegularizedGammaLower(1.0, 7.0), 1.0 - std::exp(-7.0), 1e-14);
+}
+
+TEST(CusumRunLengthGamma, TendsToTheGaussianOneAndMatchesAMonteCarloOfGammaIncrements) {
+  // A Gamma of large shape is nearly Gaussian: the chain then agrees with Siegmund.
+  EXPECT_NEAR(CusumRunLengthGamma(1e6, 1.0, 0.0, 0.5, 4.0), CusumRunLength(0.0, 0.5, 4.0),
+              0.02 * CusumRunLength(0.0, 0.5, 4.0));
+  // A skewed one (shape 15, skew 0.52): the Monte Carlo of its own increments.
+  std::mt19937_64 rng(3);
+  const double shape = 15.0;
+  std::gamma_distribution<double> e(shape, 1.0 / shape);
+  for (const double ratio : {1.0, 1.0 + 1.0 / std::sqrt(shape)}) {
+    constexpr int kRuns = 4000;
+    double total = 0.0;
+    for (int run = 0; run < kRuns; ++run) {
+      double g = 0.0;
+      int n = 0;
+      do {
+        g = std::max(0.0, g + (ratio * e(rng) - 1.0) * std::sqrt(shape) - 0.5);
+        ++n;
+      } while (g <= 4.0);
+      total += n;
+    }
+    const double mean = total / kRuns;
+    const double chain = CusumRunLengthGamma(shape, ratio, std::sqrt(shape), 0.5, 4.0);
+    EXPECT_NEAR(mean, chain, chain * (3.0 / std::sqrt(kRuns) + 0.02)) << "ratio " << ratio;
+  }
+  // Skewed increments alarm sooner in control than Gaussian ones at the same h.
+  EXPECT_LT(CusumRunLengthGamma(15.0, 1.0, 0.0, 0.5, 4.0), 0.8 * CusumRunLength(0.0, 0.5, 4.0));
+}
+
+TEST(CusumThreshold, InvertsTheRunLength) {
+  for (const double arl : {50.0, 3600.0, 1.0e7}) {
+    const double h = CusumThreshold(arl, 0.5);
+    EXPECT_NEAR(CusumRunLength(0.0, 0.5, h), arl, 1e-6 * arl);
+  }
+  EXPECT_THROW(CusumThreshold(1.0, 0.5), InputError);
+  EXPECT_THROW(CusumThreshold(100.0, -0.1), InputError);
+}
+
+// A residual like the observer's in control: near-Gaussian integer noise (four xorshift32
+// uniforms) through a one-pole low-pass (pole 0.9: correlation time (1 + 0.9) / (1 - 0.9) = 19
+// samples), at about 2^-13 of d_hat's full scale.
+class Residual {
+ public:
+  explicit Residual(std::uint32_t seed) : state_(seed) {}
+  std::int32_t Next(double gain = 1.0) {
+    double u = 0.0;
+    for (int i = 0; i < 4; ++i) {
+      state_ ^= state_ << 13;
+      state_ ^= state_ >> 17;
+      state_ ^= state_ << 5;
+      u += static_cast<double>(state_) / 4294967296.0 - 0.5;
+    }
+    y_ = 0.9 * y_ + u * std::sqrt(3.0) * 262144.0 * std::sqrt(1.0 - 0.81);
+    return static_cast<std::int32_t>(std::lround(gain * y_));
+  }
+
+ private:
+  std::uint32_t state_;
+  double y_ = 0.0;
+};
+
+TEST(DesignWatch, ChoosesTheWindowFromTheCorrelationTimeAndRefusesAShortRecording) {
+  constexpr double kFs = 500.0;
+  Residual day(11);
+  std::vector<std::int32_t> d_hat(static_cast<std::size_t>(3600 * kFs));
+  for (auto& v : d_hat) v = day.Next();
+  const WatchDesign d = DesignWatch(d_hat, {}, 0.0, kFs, WatchOptions{});
+  // 19 samples of correlation time, 40 of them to a window.
+  EXPECT_NEAR(d.correlation_samples, 19.0, 2.0);
+  EXPECT_NEAR(d.params.window_samples, 40.0 * 19.0, 80.0);
+  EXPECT_LT(d.window_lag1, 0.1);
+  EXPECT_EQ(d.params.reference_gain, 0);
+  // One false alarm in 1000 hours.
+  EXPECT_NEAR(d.arl0_windows, 1000.0 * 3600.0 / d.window_s, 1e-6 * d.arl0_windows);
+  EXPECT_NEAR(CusumRunLengthGamma(d.gamma_shape, 1.0, 0.0, 0.5, d.h), d.arl0_windows,
+              1e-3 * d.arl0_windows);
+  EXPECT_GT(d.h, d.h_gaussian);  // the skewed window mean needs a higher threshold
+
+  const std::vector<std::int32_t> short_day(d_hat.begin(), d_hat.begin() + 20000);
+  try {
+    (void)DesignWatch(short_day, {}, 0.0, kFs, WatchOptions{});
+    ADD_FAILURE() << "a recording of 26 windows was accepted";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("record at least"), std::string::npos) << e.what();
+  }
+  const std::vector<std::int32_t> zero(400000, 0);
+  EXPECT_THROW((void)DesignWatch(zero, {}, 0.0, kFs, WatchOptions{}), InputError);
+}
+
+// The acceptance run: one hour of calibration day, the test designed for one false alarm per
+// hour, then 100 hours in control through the board's kernel (restarted after each alarm, as the
+// user would after checking the rig): the alarms counted against the 100 stated.
+TEST(DesignWatch, FalseAlarmRateOverAHundredHoursMatchesTheStatedOne) {
+  constexpr double kFs = 500.0;
+  Residual day(0xCA11B0u);
+  std::vector<std::int32_t> calibration(static_cast<std::size_t>(3600 * kFs));
+  for (auto& v : calibration) v = day.Next();
+  WatchOptions options;
+  options.false_alarms_per_hour = 1.0;
+  const WatchDesign d = DesignWatch(calibration, {}, 0.0, kFs, options);
+
+  fixed::ResidualCusum kernel;
+  ASSERT_EQ(kernel.Init(d.params), Status::kOk);
+  Residual run(0x5EED5u);
+  constexpr double kHours = 100.0;
+  const auto samples = static_cast<std::uint64_t>(kHours * 3600 * kFs);
+  int alarms = 0;
+  for (std::uint64_t n = 0; n < samples; ++n) {
+    if (kernel.Step(run.Next(), 0) && kernel.tripped()) {
+      ++alarms;
+      kernel.Reset();
+    }
+  }
+  const double stated = options.false_alarms_per_hour * kHours;
+  std::printf(
+      "W %u (%.2f s), skew of the window mean %.3f (two-moment Gamma %.3f), k %.2f, "
+      "h %.3f (Siegmund %.3f): %d false alarms in %.0f h, %.0f stated; %.1f windows to "
+      "detect a one-spread shift\n",
+      d.params.window_samples, d.window_s, d.window_skew, 2.0 * d.sigma0 / d.mu0, d.k, d.h,
+      d.h_gaussian, alarms, kHours, stated, d.detection_windows);
+  // Alarm counts of a renewal process with near-geometric run lengths scatter like Poisson
+  // counts: 100 +- 2 sqrt(100) is the 95 % band.
+  EXPECT_GE(alarms, stated - 2.0 * std::sqrt(stated));
+  EXPECT_LE(alarms, stated + 2.0 * std::sqrt(stated));
+}
+
+}  // namespace
+}  // namespace vibid::dob
