@@ -1,0 +1,135 @@
+// The subspace residual test: S0 from the first half of the reference, the residuals' mean and
+// covariance from independent blocks of the second half, Hotelling's T² with its exact threshold.
+#include "vibid/oma/subspace_test.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <string>
+
+#include <Eigen/Cholesky>
+#include <Eigen/SVD>
+
+#include "vibid/common/error.hpp"
+#include "vibid/numerics/distributions.hpp"
+#include "vibid/oma/ssi_cov.hpp"
+
+namespace vibid::oma {
+namespace {
+
+// H(a, b) = R_{(a+b+1)τ}, a = 0 … rows−1, b = 0 … cols−1: the covariances of the system sampled
+// every τ samples (A^τ in place of A), so a small matrix spans long lags.
+Eigen::MatrixXd Hankel(Eigen::Ref<const Eigen::MatrixXd> y, int rows, int cols, int step) {
+  const int l = static_cast<int>(y.cols());
+  const Eigen::MatrixXd r = OutputCovariances(y, (rows + cols - 1) * step);
+  Eigen::MatrixXd h(rows * l, cols * l);
+  for (int a = 0; a < rows; ++a) {
+    for (int b = 0; b < cols; ++b) {
+      h.block(a * l, b * l, l, l) = r.middleCols((a + b + 1) * step * l, l);
+    }
+  }
+  return h;
+}
+
+}  // namespace
+
+void SubspaceTestOptions::Validate() const {
+  Require(std::isfinite(fs_hz) && fs_hz > 0.0, "subspace test: fs_hz must be positive");
+  Require(std::isfinite(fmax_hz) && fmax_hz > 0.0 && fmax_hz <= fs_hz / 2.0,
+          "subspace test: fmax_hz must lie in (0, fs/2]");
+  Require(order >= 2 && order % 2 == 0 && order <= 40,
+          "subspace test: order must be even, 2 to 40 (twice the modes in the band)");
+  Require(std::isfinite(block_s) && block_s > 0.0, "subspace test: block_s must be positive");
+  Require(false_alarm > 0.0 && false_alarm < 0.5,
+          "subspace test: false_alarm must lie in (0, 0.5)");
+}
+
+SubspaceDetector::SubspaceDetector(Eigen::Ref<const Eigen::MatrixXd> reference,
+                                   const SubspaceTestOptions& options)
+    : options_(options) {
+  options.Validate();
+  const int l = static_cast<int>(reference.cols());
+  Require(l >= 1, "subspace test: at least one response channel");
+  Require(reference.allFinite(), "subspace test: the reference holds a non-finite value");
+  decimation_ = std::max(1, static_cast<int>(std::floor(options.fs_hz / (2.5 * options.fmax_hz))));
+  // The smallest Hankel matrix that can hold the order (q l ≥ n, (p + 1) l > n): a small
+  // residual, so that its covariance is well estimated from a few dozen reference blocks.
+  block_cols_ = (options.order + l - 1) / l;
+  block_rows_ = options.order / l + 1;
+  // The lags span about one period of the lowest mode the band may hold (fmax / 10): a change of
+  // frequency turns the phase of the long lags, which is what the residual sees.
+  const double fs_d_hz = options.fs_hz / decimation_;
+  lag_step_ = std::max(1, static_cast<int>(std::lround(fs_d_hz / (0.1 * options.fmax_hz) /
+                                                       (block_rows_ + block_cols_))));
+  const int null_dim = block_rows_ * l - options.order;
+  const int dof = null_dim * block_cols_ * l;
+  block_samples_ = std::lround(options.block_s * options.fs_hz);
+  const long decimated_block = block_samples_ / decimation_ - 48;
+  const long needed = 10 * (block_rows_ + block_cols_) * lag_step_;
+  Require(decimated_block >= needed,
+          "subspace test: block_s is too short for the band (at least " +
+              std::to_string(static_cast<double>((needed + 48) * decimation_) / options.fs_hz) +
+              " s)");
+
+  // S0 from the first half of the reference.
+  const Eigen::Index half = reference.rows() / 2;
+  const int needed_blocks = 2 * (dof + 10);
+  const Eigen::Index have_blocks = (reference.rows() - half) / block_samples_;
+  if (have_blocks < needed_blocks) {
+    const double need_s = 2.0 * needed_blocks * options.block_s;
+    throw InputError("subspace test: the reference is too short: " + std::to_string(dof) +
+                     " residuals need at least " + std::to_string(needed_blocks) + " blocks of " +
+                     std::to_string(options.block_s) + " s in its second half, " +
+                     std::to_string(static_cast<long>(std::ceil(need_s))) +
+                     " s of reference in all (or shorten block_s)");
+  }
+  const Eigen::MatrixXd h0 =
+      Hankel(Decimate(reference.topRows(half), decimation_), block_rows_, block_cols_, lag_step_);
+  Eigen::JacobiSVD<Eigen::MatrixXd> svd(h0, Eigen::ComputeFullU);
+  s0_ = svd.matrixU().rightCols(null_dim);
+
+  // The residuals of independent blocks of the second half: mean and covariance.
+  reference_blocks_ = static_cast<int>(have_blocks);
+  Eigen::MatrixXd z(dof, reference_blocks_);
+  for (int j = 0; j < reference_blocks_; ++j) {
+    z.col(j) = Residual(reference.middleRows(half + j * block_samples_, block_samples_));
+  }
+  mean_ = z.rowwise().mean();
+  const Eigen::MatrixXd centred = z.colwise() - mean_;
+  const Eigen::MatrixXd cov = centred * centred.transpose() / (reference_blocks_ - 1.0);
+  Eigen::LDLT<Eigen::MatrixXd> ldlt(cov);
+  Require(ldlt.info() == Eigen::Success && ldlt.isPositive() && ldlt.vectorD().minCoeff() > 0.0,
+          "subspace test: the reference residuals' covariance is singular (constant channels?)");
+  precision_ = ldlt.solve(Eigen::MatrixXd::Identity(dof, dof));
+  // A new observation against m reference observations (sample mean and covariance):
+  // T² · m (m − p) / ((m + 1)(m − 1) p) ~ F(p, m − p).
+  const double m = reference_blocks_;
+  const double p = dof;
+  t2_scale_ = (m + 1.0) * (m - 1.0) * p / (m * (m - p));
+  threshold_ = t2_scale_ * numerics::FQuantile(1.0 - options.false_alarm, p, m - p);
+}
+
+Eigen::VectorXd SubspaceDetector::Residual(Eigen::Ref<const Eigen::MatrixXd> block) const {
+  const Eigen::MatrixXd yd = Decimate(block, decimation_);
+  const Eigen::MatrixXd h = Hankel(yd, block_rows_, block_cols_, lag_step_);
+  // Normalised by the block's own output power: a change of the excitation's level alone does
+  // not move the statistic.
+  const double power =
+      (yd.rowwise() - yd.colwise().mean()).squaredNorm() / static_cast<double>(yd.rows());
+  const Eigen::MatrixXd r = s0_.transpose() * h / power;
+  return std::sqrt(static_cast<double>(yd.rows())) *
+         Eigen::Map<const Eigen::VectorXd>(r.data(), r.size());
+}
+
+SubspaceTestResult SubspaceDetector::Test(Eigen::Ref<const Eigen::MatrixXd> block) const {
+  Require(block.rows() == block_samples_ && block.cols() == s0_.rows() / block_rows_,
+          "subspace test: a block must hold " + std::to_string(block_samples_) + " samples of " +
+              std::to_string(s0_.rows() / block_rows_) + " channels");
+  const Eigen::VectorXd d = Residual(block) - mean_;
+  SubspaceTestResult r;
+  r.statistic = d.dot(precision_ * d);
+  r.threshold = threshold_;
+  r.alarm = r.statistic > threshold_;
+  return r;
+}
+
+}  // namespace vibid::oma
