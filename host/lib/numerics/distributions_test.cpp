@@ -21,7 +21,8 @@ TEST(Distributions, StudentTQuantilesEqualScipy) {
   ExpectRel(StudentTQuantile(0.975, 5), 2.5705818366147395);
   ExpectRel(StudentTQuantile(0.975, 19), 2.093024054408263);
   ExpectRel(StudentTQuantile(0.975, 100), 1.9839715184496334);
-  ExpectRel(StudentTQuantile(0.995, 3), 5.84090929975643);
+  // mpmath at 40 digits (the same script): scipy's 5.84090929975643 is 1.7e-9 off here.
+  ExpectRel(StudentTQuantile(0.995, 3), 5.8409093097333572607);
   ExpectRel(StudentTQuantile(0.05, 7), -1.8945786050613054);
 }
 
