@@ -19,12 +19,17 @@ std::size_t ResolveDrivingPoint(const ident::Frf& frf, const std::string& spec) 
   return static_cast<std::size_t>(*index - 1);
 }
 
-ident::ModeIdentification IdentifyModes(const ident::Frf& receptance, const ModeRequest& request) {
+ident::ModeIdentification IdentifyModes(const ident::Frf& receptance, const ModeRequest& request,
+                                        const ident::RingDowns* ringdowns) {
   ident::ModeIdentificationOptions o = request.options;
   o.method = ident::ParseModeMethod(request.method);
   if (!request.orders.empty()) ident::ParseOrders(request.orders, o.stabilization);
-  return ident::IdentifyModes(receptance, ResolveDrivingPoint(receptance, request.driving_point),
-                              o);
+  ident::ModeIdentification r =
+      ident::IdentifyModes(receptance, ResolveDrivingPoint(receptance, request.driving_point), o);
+  if (ringdowns != nullptr && !ringdowns->hits.empty() &&
+      ringdowns->hits.front().cols() == static_cast<Eigen::Index>(receptance.responses()))
+    ident::ApplyAmplitudeCheck(*ringdowns, r);
+  return r;
 }
 
 }  // namespace vibid::workflow

@@ -34,7 +34,35 @@ nlohmann::json ModesToJson(const std::vector<ident::ModeEstimate>& modes) {
     j["zeta"] = m.zeta;
     j["ratio"] = std::isfinite(m.ratio) ? nlohmann::json(m.ratio) : nlohmann::json(nullptr);
     j["shape"] = std::vector<double>(m.shape.data(), m.shape.data() + m.shape.size());
-    if (m.HasIntervals()) {
+    if (m.shape_ratio.size() == m.shape.size() && m.shape.size() > 0) {
+      nlohmann::json r = nlohmann::json::array();
+      for (Eigen::Index k = 0; k < m.shape_ratio.size(); ++k)
+        r.push_back(std::isfinite(m.shape_ratio[k]) ? nlohmann::json(m.shape_ratio[k])
+                                                    : nlohmann::json(nullptr));
+      j["shape_ratio"] = r;
+    }
+    j["unreliable"] = m.unreliable;
+    if (!m.caution.empty()) j["caution"] = m.caution;
+    if (m.amplitude.checked) {
+      const ident::AmplitudeDamping& a = m.amplitude;
+      const auto ci = [](const std::array<double, 2>& c) {
+        return std::isfinite(c[0]) && std::isfinite(c[1]) && c[1] > c[0]
+                   ? nlohmann::json{c[0], c[1]}
+                   : nlohmann::json(nullptr);
+      };
+      j["zeta_amplitude"] = {{"hits", a.hits},
+                             {"zeta_early", a.zeta_early},
+                             {"zeta_late", a.zeta_late},
+                             {"zeta_viscous", a.zeta_viscous},
+                             {"zeta_viscous_ci95", ci(a.zeta_viscous_ci95)},
+                             {"modal_friction_n", a.modal_friction_n},
+                             {"modal_friction_ci95_n", ci(a.modal_friction_ci95)},
+                             {"friction_per_mass_n", std::isfinite(a.friction_per_mass_n)
+                                                         ? nlohmann::json(a.friction_per_mass_n)
+                                                         : nlohmann::json(nullptr)},
+                             {"amplitude_dependent", a.amplitude_dependent}};
+    }
+    if (m.HasAnyInterval()) {
       const auto pair = [](const std::array<double, 2>& ci) {
         return std::isfinite(ci[0]) && std::isfinite(ci[1]) && ci[1] > ci[0]
                    ? nlohmann::json{ci[0], ci[1]}
@@ -43,6 +71,11 @@ nlohmann::json ModesToJson(const std::vector<ident::ModeEstimate>& modes) {
       j["ci95"] = {{"omega_rad_s", pair(m.omega_ci95_rad_s)},
                    {"zeta", pair(m.zeta_ci95)},
                    {"ratio", pair(m.ratio_ci95)}};
+      if (!m.shape_ratio_ci95.empty()) {
+        nlohmann::json r = nlohmann::json::array();
+        for (const auto& ci : m.shape_ratio_ci95) r.push_back(pair(ci));
+        j["ci95"]["shape_ratio"] = r;
+      }
     }
     arr.push_back(j);
   }
@@ -56,7 +89,7 @@ std::vector<ident::ModeEstimate> ModesFromJson(const nlohmann::json& json,
   // What `modes --json` writes around the modes; the reader takes the modes alone.
   RequireKnownKeys(json,
                    {"modes", "method", "responses", "warnings", "notes", "stabilization", "summary",
-                    "fit_band_hz", "rms_relative_error"},
+                    "fit_band_hz", "rms_relative_error", "peaks_without_mode_hz"},
                    "modes file " + source);
   std::vector<ident::ModeEstimate> modes;
   std::size_t i = 0;
@@ -65,7 +98,9 @@ std::vector<ident::ModeEstimate> ModesFromJson(const nlohmann::json& json,
     const std::string where = source + ": mode " + std::to_string(i);
     Require(m.is_object() && m.contains("omega_rad_s") && m["omega_rad_s"].is_number(),
             where + ": omega_rad_s missing or not a number");
-    RequireKnownKeys(m, {"omega_rad_s", "freq_hz", "zeta", "ratio", "shape", "ci95"},
+    RequireKnownKeys(m,
+                     {"omega_rad_s", "freq_hz", "zeta", "ratio", "shape", "ci95", "shape_ratio",
+                      "unreliable", "caution", "zeta_amplitude"},
                      "modes file " + source + " mode " + std::to_string(i));
     ident::ModeEstimate e;
     e.omega_rad_s = m["omega_rad_s"].get<double>();
@@ -78,7 +113,7 @@ std::vector<ident::ModeEstimate> ModesFromJson(const nlohmann::json& json,
                   : std::numeric_limits<double>::quiet_NaN();
     if (m.contains("ci95")) {
       Require(m["ci95"].is_object(), where + ": ci95 must be an object");
-      RequireKnownKeys(m["ci95"], {"omega_rad_s", "zeta", "ratio"},
+      RequireKnownKeys(m["ci95"], {"omega_rad_s", "zeta", "ratio", "shape_ratio"},
                        "modes file " + source + " mode " + std::to_string(i) + " ci95");
       const auto read = [&](const char* key, std::array<double, 2>& ci) {
         if (!m["ci95"].contains(key) || m["ci95"][key].is_null()) return;
@@ -101,6 +136,10 @@ std::vector<ident::ModeEstimate> ModesFromJson(const nlohmann::json& json,
       }
       e.shape = Eigen::Map<const Eigen::VectorXd>(s.data(), static_cast<Eigen::Index>(s.size()));
     }
+    if (m.contains("unreliable") && m["unreliable"].is_boolean())
+      e.unreliable = m["unreliable"].get<bool>();
+    if (m.contains("caution") && m["caution"].is_string())
+      e.caution = m["caution"].get<std::string>();
     modes.push_back(e);
   }
   Require(!modes.empty(), source + ": the \"modes\" array is empty");
@@ -142,6 +181,7 @@ nlohmann::json ModeIdentificationJson(const ident::ModeIdentification& r, const 
   j["responses"] = responses;
   j["warnings"] = r.warnings;
   j["notes"] = notes;
+  j["peaks_without_mode_hz"] = r.peaks_without_mode_hz;
   if (r.has_diagram) j["stabilization"] = DiagramToJson(r.diagram);
   if (r.fitted) {
     j["summary"] = SolverSummaryJson(r.fit.summary);
@@ -154,12 +194,22 @@ nlohmann::json ModeIdentificationJson(const ident::ModeIdentification& r, const 
 std::string ModesTable(const std::vector<ident::ModeEstimate>& modes) {
   std::ostringstream out;
   bool intervals = false;
-  for (const auto& m : modes) intervals = intervals || m.HasIntervals();
-  if (intervals) {
-    out << "mode   freq_hz      omega_rad_s (95 %)     zeta (95 %)             ratio a1/a2 (95 %)  "
-           " shape\n";
+  bool two = true;  // every mode has two responses: the a1/a2 column
+  for (const auto& m : modes) {
+    intervals = intervals || m.HasAnyInterval();
+    two = two && m.shape.size() == 2;
+  }
+  bool single = true;  // one response: its shape entry alone
+  for (const auto& m : modes) single = single && m.shape.size() == 1;
+  if (single) {
+    out << "mode   freq_hz      omega_rad_s"
+        << (intervals ? " (95 %)     zeta (95 %)             " : "  zeta       ") << "shape\n";
+  } else if (intervals) {
+    out << "mode   freq_hz      omega_rad_s (95 %)     zeta (95 %)             "
+        << (two ? "ratio a1/a2 (95 %)   shape" : "shape / driving point (95 %)") << "\n";
   } else {
-    out << "mode   freq_hz      omega_rad_s  zeta       ratio a1/a2  shape\n";
+    out << "mode   freq_hz      omega_rad_s  zeta       "
+        << (two ? "ratio a1/a2  shape" : "shape / driving point") << "\n";
   }
   const auto pm = [](double value, const std::array<double, 2>& ci, const char* format) {
     char text[96];
@@ -173,25 +223,72 @@ std::string ModesTable(const std::vector<ident::ModeEstimate>& modes) {
     }
     return std::string(text) + (std::isfinite(value) ? " +- n/a" : "");
   };
+  // More than two responses: phi_j / phi_p for every response (1 at the driving point), each with
+  // its interval.
+  const auto ratios = [&](const ident::ModeEstimate& m) {
+    std::string text;
+    const bool have = m.shape_ratio.size() == m.shape.size();
+    for (Eigen::Index j = 0; j < m.shape.size(); ++j) {
+      const std::size_t jj = static_cast<std::size_t>(j);
+      std::string item;
+      if (!have) {
+        char v[32];
+        std::snprintf(v, sizeof v, "%.5g", m.shape[j]);
+        item = v;
+      } else if (m.shape_ratio[j] == 1.0 && jj < m.shape_ratio_ci95.size() &&
+                 !std::isfinite(m.shape_ratio_ci95[jj][0])) {
+        item = "1";
+      } else {
+        item =
+            intervals && jj < m.shape_ratio_ci95.size()
+                ? pm(m.shape_ratio[j], m.shape_ratio_ci95[jj], "%.5g")
+                : pm(m.shape_ratio[j],
+                     {ident::ModeEstimate::kNoInterval, ident::ModeEstimate::kNoInterval}, "%.5g");
+        if (!intervals) item = item.substr(0, item.find(" +-"));
+      }
+      text += (j ? ", " : "") + item;
+    }
+    return text;
+  };
+  std::vector<std::string> cautions;
   for (std::size_t i = 0; i < modes.size(); ++i) {
     const auto& m = modes[i];
     char line[256];
     if (intervals) {
-      std::snprintf(line, sizeof line, "%-6zu %-12.5g %-22s %-23s %-20s", i + 1, m.freq_hz,
+      std::snprintf(line, sizeof line, "%-6zu %-12.5g %-22s %-23s", i + 1, m.freq_hz,
                     pm(m.omega_rad_s, m.omega_ci95_rad_s, "%.6g").c_str(),
-                    pm(m.zeta, m.zeta_ci95, "%.4g").c_str(),
-                    pm(m.ratio, m.ratio_ci95, "%.5g").c_str());
+                    pm(m.zeta, m.zeta_ci95, "%.4g").c_str());
     } else {
-      std::snprintf(line, sizeof line, "%-6zu %-12.5g %-12.5g %-10.4g %-12.5g", i + 1, m.freq_hz,
-                    m.omega_rad_s, m.zeta, m.ratio);
+      std::snprintf(line, sizeof line, "%-6zu %-12.5g %-12.5g %-10.4g", i + 1, m.freq_hz,
+                    m.omega_rad_s, m.zeta);
     }
     out << line;
-    for (Eigen::Index j = 0; j < m.shape.size(); ++j) {
-      std::snprintf(line, sizeof line, " %.5g", m.shape[j]);
+    if (single) {
+      std::snprintf(line, sizeof line, " %.5g", m.shape[0]);
       out << line;
+    } else if (two) {
+      if (intervals) {
+        std::snprintf(line, sizeof line, " %-20s", pm(m.ratio, m.ratio_ci95, "%.5g").c_str());
+      } else {
+        std::snprintf(line, sizeof line, " %-12.5g", m.ratio);
+      }
+      out << line;
+      for (Eigen::Index j = 0; j < m.shape.size(); ++j) {
+        std::snprintf(line, sizeof line, " %.5g", m.shape[j]);
+        out << line;
+      }
+    } else {
+      out << " " << ratios(m);
     }
+    if (m.unreliable)
+      out << "  UNRELIABLE (" << cautions.size() + 1 << ")";
+    else if (!m.caution.empty())
+      out << "  (" << cautions.size() + 1 << ")";
+    if (!m.caution.empty()) cautions.push_back(m.caution);
     out << "\n";
   }
+  for (std::size_t k = 0; k < cautions.size(); ++k)
+    out << "(" << k + 1 << ") " << cautions[k] << "\n";
   return out.str();
 }
 

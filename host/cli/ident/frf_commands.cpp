@@ -69,9 +69,17 @@ void Run(const ModesArgs& a) {
           "modes are identified from receptances; leave --kind at its default");
   std::vector<ident::Frf> frfs;
   std::vector<std::string> notes;
-  for (const std::string& in : a.inputs) frfs.push_back(LoadOrEstimate(in, a.est, notes));
+  ident::RingDowns ringdowns;
+  for (const std::string& in : a.inputs) {
+    workflow::Estimated e = workflow::LoadOrEstimate(in, a.est);
+    KeepEstimationNotes(in, e, true, notes);
+    ringdowns = std::move(e.ringdowns);
+    frfs.push_back(std::move(e.frf));
+  }
   const ident::Frf frf = JoinColumns(frfs, a.inputs);
-  const ident::ModeIdentification r = workflow::IdentifyModes(frf, a.modes);
+  // The ring-down check reads one recording's hits: not for columns joined from several.
+  const ident::ModeIdentification r =
+      workflow::IdentifyModes(frf, a.modes, a.inputs.size() == 1 ? &ringdowns : nullptr);
   EmitOutput(
       a.json
           ? workflow::ModeIdentificationJson(r, a.modes.method, frf.response_names, notes).dump(2) +

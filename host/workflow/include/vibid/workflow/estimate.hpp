@@ -12,6 +12,7 @@
 #include <Eigen/Dense>
 
 #include "vibid/ident/impact.hpp"
+#include "vibid/ident/ringdown.hpp"
 #include "vibid/ident/spectral.hpp"
 
 namespace vibid::workflow {
@@ -50,6 +51,9 @@ std::size_t DefaultSegment(std::size_t samples);
 struct Estimated {
   ident::Frf frf;
   std::vector<ident::Hit> hits;  ///< Impact processing only.
+  /// Impact processing: the used hits' responses after their force windows, for the check of
+  /// amplitude-dependent damping (ident/ringdown.hpp).
+  ident::RingDowns ringdowns;
   std::size_t record_samples = 0;
   bool impact = false;  ///< Which processing ran.
   /// One line saying how the recording was processed when that was chosen automatically.

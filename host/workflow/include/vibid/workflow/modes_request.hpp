@@ -6,6 +6,7 @@
 #include <string>
 
 #include "vibid/ident/modes.hpp"
+#include "vibid/ident/ringdown.hpp"
 
 namespace vibid::workflow {
 
@@ -19,7 +20,10 @@ struct ModeRequest {
 /// Index of the driving-point response; refuses a name or index the FRF does not have.
 std::size_t ResolveDrivingPoint(const ident::Frf& frf, const std::string& spec);
 
-/// Modes of a receptance FRF as `vibid modes` computes them.
-ident::ModeIdentification IdentifyModes(const ident::Frf& receptance, const ModeRequest& request);
+/// Modes of a receptance FRF as `vibid modes` computes them. With the ring-downs of the hits the
+/// FRF was estimated from (an impact recording's, same responses in the same order), each mode's
+/// damping is checked for amplitude dependence (ident::ApplyAmplitudeCheck).
+ident::ModeIdentification IdentifyModes(const ident::Frf& receptance, const ModeRequest& request,
+                                        const ident::RingDowns* ringdowns = nullptr);
 
 }  // namespace vibid::workflow
