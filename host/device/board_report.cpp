@@ -30,9 +30,33 @@ std::string DescribeClips(const wire::ClipResponse& clips, const wire::Calibrati
   return o.str();
 }
 
+bool IsSampling(wire::AcqState state) {
+  return state == wire::AcqState::kArmed || state == wire::AcqState::kAcquiring;
+}
+
+std::string DescribeAcquisitionState(const wire::StatusResponse& status) {
+  std::string s;
+  switch (status.acq_state) {
+    case wire::AcqState::kArmed: s = "armed: waiting for the trigger"; break;
+    case wire::AcqState::kAcquiring: s = "sampling"; break;
+    case wire::AcqState::kDone:
+    case wire::AcqState::kIdle:
+      // ticks counts the frames of the last acquisition: none since power-up leaves it 0.
+      if (status.ticks == 0 && status.records_written == 0) {
+        s = "idle: no acquisition since power-up";
+      } else {
+        s = std::string("stopped: the last acquisition ") +
+            (status.acq_state == wire::AcqState::kDone ? "ended" : "was stopped") + " (" +
+            std::to_string(status.records_written) + " records)";
+      }
+      break;
+  }
+  if (status.dob_running != 0) s += ", observer on";
+  return s;
+}
+
 LatestKind ClassifyLatest(const wire::LatestResponse& latest, const wire::StatusResponse& status) {
-  const bool sampling =
-      latest.acq_state == wire::AcqState::kArmed || latest.acq_state == wire::AcqState::kAcquiring;
+  const bool sampling = IsSampling(latest.acq_state);
   // ticks counts the frames of the current or last acquisition; with none (since boot, or an
   // acquisition still waiting for its first frame) read-latest's values are not a measurement.
   if (status.ticks == 0) return LatestKind::kNoFrame;

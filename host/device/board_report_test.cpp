@@ -48,5 +48,30 @@ TEST(BoardReport, LatestIsLiveOnlyWhileSampling) {
   EXPECT_EQ(ClassifyLatest(latest, status), LatestKind::kNoFrame);
 }
 
+// A finished acquisition ("done": the record limit reached) is stopped, not sampling: the bench's
+// status and `vibid monitor` say the same.
+TEST(BoardReport, DoneIsStoppedNotSampling) {
+  EXPECT_FALSE(IsSampling(wire::AcqState::kIdle));
+  EXPECT_FALSE(IsSampling(wire::AcqState::kDone));
+  EXPECT_TRUE(IsSampling(wire::AcqState::kArmed));
+  EXPECT_TRUE(IsSampling(wire::AcqState::kAcquiring));
+  wire::StatusResponse st;
+  EXPECT_EQ(DescribeAcquisitionState(st), "idle: no acquisition since power-up");
+  st.acq_state = wire::AcqState::kDone;
+  st.ticks = 27500;
+  st.records_written = 27500;
+  EXPECT_EQ(DescribeAcquisitionState(st), "stopped: the last acquisition ended (27500 records)");
+  st.acq_state = wire::AcqState::kIdle;
+  st.records_written = 1200;
+  st.dob_running = 1;
+  EXPECT_EQ(DescribeAcquisitionState(st),
+            "stopped: the last acquisition was stopped (1200 records), observer on");
+  st.acq_state = wire::AcqState::kAcquiring;
+  EXPECT_EQ(DescribeAcquisitionState(st), "sampling, observer on");
+  st.acq_state = wire::AcqState::kArmed;
+  st.dob_running = 0;
+  EXPECT_EQ(DescribeAcquisitionState(st), "armed: waiting for the trigger");
+}
+
 }  // namespace
 }  // namespace vibid::device

@@ -4,6 +4,7 @@
 #include <deque>
 #include <limits>
 #include <sstream>
+#include <string>
 
 #include "vibid/shared/fixed/decimator.hpp"
 
@@ -71,7 +72,7 @@ LinkBudget ComputeLinkBudget(const wire::InfoResponse& info,
   return b;
 }
 
-std::string DescribeOverflow(const LinkBudget& b, double seconds) {
+std::string DescribeOverflow(const LinkBudget& b, double seconds, AdviceWords words) {
   std::ostringstream o;
   o.setf(std::ios::fixed);
   o.precision(0);
@@ -85,9 +86,81 @@ std::string DescribeOverflow(const LinkBudget& b, double seconds) {
   o << b.overflow_after_s << " s of the " << seconds << " s";
   const double fitting = b.FittingLogRateHz();
   o.precision(0);
+  if (words == AdviceWords::kBenchPage) {
+    o << "; choose a log rate of " << fitting
+      << " Hz or lower (auto takes the highest that fits), fewer channels, or ";
+    o.precision(1);
+    o << std::floor(b.overflow_after_s * 10.0) / 10.0 << " seconds or less";
+    return o.str();
+  }
   o << "; use --log-rate-hz " << fitting
     << " or lower, or fewer channels (or --allow-drops to accept the loss)";
   return o.str();
+}
+
+std::uint16_t DecimationThatFits(const wire::InfoResponse& info, wire::AcqConfigureRequest config,
+                                 double seconds) {
+  for (std::uint32_t d = 1; d <= fixed::kDecimatorMaxFactor; ++d) {
+    if (!fixed::IsSupportedDecimation(d)) continue;
+    config.decimation = static_cast<std::uint16_t>(d);
+    if (ComputeLinkBudget(info, config).overflow_after_s >= seconds)
+      return static_cast<std::uint16_t>(d);
+  }
+  return 0;
+}
+
+namespace {
+
+std::string Fixed(double v, int digits) {
+  std::ostringstream o;
+  o.setf(std::ios::fixed);
+  o.precision(digits);
+  o << v;
+  return o.str();
+}
+
+// "every sample", "every 2nd sample", "every 10th sample".
+std::string EverySample(double ratio) {
+  const long n = std::lround(ratio);
+  if (n <= 1) return "every sample";
+  const long tens = n % 100;
+  const char* suffix = (tens >= 11 && tens <= 13) ? "th"
+                       : n % 10 == 1              ? "st"
+                       : n % 10 == 2              ? "nd"
+                       : n % 10 == 3              ? "rd"
+                                                  : "th";
+  return "every " + std::to_string(n) + suffix + " sample";
+}
+
+}  // namespace
+
+std::vector<std::pair<std::string, std::string>> DescribeBudget(const LinkBudget& b,
+                                                                double seconds) {
+  std::vector<std::pair<std::string, std::string>> rows;
+  rows.emplace_back("record", std::to_string(b.record_bytes) + " bytes, " +
+                                  std::to_string(b.records_per_report) + " per 64-byte report");
+  rows.emplace_back("logged", Fixed(b.log_rate_hz, 0) + " records/s (" +
+                                  EverySample(b.sample_rate_hz / b.log_rate_hz) + " of " +
+                                  Fixed(b.sample_rate_hz, 0) + " Hz)");
+  rows.emplace_back("link carries", Fixed(b.link_records_per_s, 0) + " records/s (" +
+                                        Fixed(b.link_bytes_per_s / wire::kReportBytes, 0) +
+                                        " reports/s)");
+  rows.emplace_back("log holds", std::to_string(b.capacity_records) + " records (" +
+                                     std::to_string(b.log_bytes / 1024) +
+                                     " KiB): " + Fixed(b.capacity_records / b.log_rate_hz, 2) +
+                                     " s at the log rate");
+  if (b.KeepsUp()) {
+    rows.emplace_back("log fills", "never: the link keeps up");
+  } else {
+    rows.emplace_back("log fills", "after " + Fixed(b.overflow_after_s, 1) + " s (it gains " +
+                                       Fixed(b.log_rate_hz - b.link_records_per_s, 0) +
+                                       " records/s)");
+  }
+  const std::string length = Fixed(seconds, seconds < 10.0 ? 2 : 1) + " s";
+  rows.emplace_back("this acquisition", b.overflow_after_s >= seconds
+                                            ? length + ": fits, nothing dropped"
+                                            : length + ": does not fit (records would be dropped)");
+  return rows;
 }
 
 }  // namespace vibid::device

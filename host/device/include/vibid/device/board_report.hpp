@@ -28,4 +28,14 @@ enum class LatestKind : std::uint8_t {
 /// holds the last frame of the last acquisition (ticks > 0 in get-status) or nothing at all.
 LatestKind ClassifyLatest(const wire::LatestResponse& latest, const wire::StatusResponse& status);
 
+/// Whether the board samples in `state`: armed or acquiring. Done (the record limit reached) and
+/// idle (never started, or stopped) are not sampling: the log is kept, nothing new comes.
+bool IsSampling(wire::AcqState state);
+
+/// The board's acquisition state in words, as `vibid monitor` and the bench show it: "armed:
+/// waiting for the trigger", "sampling", "stopped: the last acquisition ended (N records)",
+/// "stopped: the last acquisition was stopped (N records)", "idle: no acquisition since power-up";
+/// ", observer on" while the observer is started (dob start).
+std::string DescribeAcquisitionState(const wire::StatusResponse& status);
+
 }  // namespace vibid::device

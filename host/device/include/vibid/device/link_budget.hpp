@@ -10,6 +10,8 @@
 
 #include <cstdint>
 #include <string>
+#include <utility>
+#include <vector>
 
 #include "vibid/shared/wire/commands.hpp"
 #include "vibid/shared/wire/log_record.hpp"
@@ -53,8 +55,25 @@ StreamPrediction PredictStream(std::uint64_t records, std::uint32_t ticks_per_fr
 LinkBudget ComputeLinkBudget(const wire::InfoResponse& info,
                              const wire::AcqConfigureRequest& config);
 
+/// Whose words the ways out of a refusal take: the command line's options, or the bench page's
+/// controls (its Log rate, channel boxes and Seconds; the bench never drops records).
+enum class AdviceWords : std::uint8_t { kCommandLine, kBenchPage };
+
 /// The refusal text for an acquisition of `seconds` that would drop records, naming the figures
 /// and the ways out.
-std::string DescribeOverflow(const LinkBudget& budget, double seconds);
+std::string DescribeOverflow(const LinkBudget& budget, double seconds,
+                             AdviceWords words = AdviceWords::kCommandLine);
+
+/// The smallest decimation of `config`'s sample rate the board supports whose log holds an
+/// acquisition of `seconds` (the whole of it carried, nothing dropped): 1 when every sample fits.
+/// 0 when none does (not even the largest decimation).
+std::uint16_t DecimationThatFits(const wire::InfoResponse& info, wire::AcqConfigureRequest config,
+                                 double seconds);
+
+/// The budget in words, one (label, text) line each: the record and the report it travels in,
+/// the sample and log rates, what the link carries, what the log holds and for how long, and
+/// whether an acquisition of `seconds` fits. What `vibid bench` shows beside its form.
+std::vector<std::pair<std::string, std::string>> DescribeBudget(const LinkBudget& budget,
+                                                                double seconds);
 
 }  // namespace vibid::device
