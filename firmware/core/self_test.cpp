@@ -127,12 +127,16 @@ wire::SelfTestResponse Core::SelfTest(std::uint8_t check_index) {
     const wire::ChannelScaling& scaling = store_.record().channels[channel];
     if (store_.calibrated() && scaling.unit != wire::Unit::kCounts && m.exp10 <= 0 &&
         m.exp10 >= -6) {
-      // Scaling and overflow: offset_counts and the mid code are within +-2^31, times at most
-      // 10^6 stays below 2^52; the mantissa is a port's milli-LSB mean (|x| < 2^32).
+      // Scaling and overflow: offset_counts and the mid code are within +-2^31, so their
+      // difference times at most 10^6 stays below 2^53. A port's mantissa is a milli-LSB mean
+      // (|x| < 2^32), but any int64 may come: a difference that does not fit saturates, a value
+      // beyond every limit either way.
       constexpr std::int64_t kMidCode = std::int64_t{1} << (kBoardProfile.adc_bits - 1);
       std::int64_t unit = 1;
       for (int e = 0; e > m.exp10; --e) unit *= 10;
-      r.mantissa = m.mantissa - (std::int64_t{scaling.offset_counts} - kMidCode) * unit;
+      const std::int64_t shift = (std::int64_t{scaling.offset_counts} - kMidCode) * unit;
+      if (__builtin_sub_overflow(m.mantissa, shift, &r.mantissa))
+        r.mantissa = shift > 0 ? INT64_MIN : INT64_MAX;
       r.reference = SelfTestReference::kCalibration;
     }
   }
