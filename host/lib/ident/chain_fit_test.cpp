@@ -195,5 +195,40 @@ TEST(ChainFit, IdentifiesAThreeMassChainFromOneTest) {
   ExpectOneTestIdentification(Rig3(), nominal, 2, 31);
 }
 
+// An update that fits its own test worse than the nominal model is flagged: test modes from the
+// rig itself (model::Modal, hammer at mass 2), a nominal 2 % off in k1 and an "update" 10 % off in
+// k2; the deviations are the closed-form ones of those models' modes.
+TEST(ChainFit, AnUpdateWorseThanTheNominalIsFlagged) {
+  const model::Model rig = model::MakeChain(
+      Eigen::Vector2d(1.8, 1.53), Eigen::Vector2d(3520.0, 2760.0), Eigen::Vector2d(5.0, 3.5));
+  const model::ModalResult mr = model::Modal(rig);
+  std::vector<ModeEstimate> modes(2);
+  for (Eigen::Index r = 0; r < 2; ++r) {
+    ModeEstimate& m = modes[static_cast<std::size_t>(r)];
+    m.omega_rad_s = mr.omega_rad_s[r];
+    m.zeta = mr.zeta[r];
+    m.shape = mr.shapes.col(r);
+    m.ratio = mr.ratio[r];
+  }
+  const model::Model nominal =
+      model::MakeChain(Eigen::Vector2d(1.8, 1.53), Eigen::Vector2d(1.02 * 3520.0, 2760.0));
+  const model::Model worse =
+      model::MakeChain(Eigen::Vector2d(1.8, 1.53), Eigen::Vector2d(3520.0, 0.9 * 2760.0));
+  const ValidationTable bad = BuildValidationTable(nominal, worse, modes, {}, 1);
+  EXPECT_NEAR(bad.deviation.nominal_percent, ModalDeviationPercent(nominal, modes, {}, 1), 1e-12);
+  EXPECT_GT(bad.deviation.updated_percent, bad.deviation.nominal_percent);
+  EXPECT_TRUE(bad.deviation.worse_than_nominal);
+  EXPECT_NE(FormatValidationTable(bad).find("FLAGGED"), std::string::npos);
+  // The rig itself as the update: deviation 0 (its own modes), not flagged.
+  const ValidationTable good = BuildValidationTable(nominal, rig, modes, {}, 1);
+  EXPECT_NEAR(good.deviation.updated_percent, 0.0, 1e-9);
+  EXPECT_FALSE(good.deviation.worse_than_nominal);
+  EXPECT_EQ(FormatValidationTable(good).find("FLAGGED"), std::string::npos);
+  // One frequency off by 1 % and nothing else: sqrt(1^2 / 2) % over the two modes.
+  std::vector<ModeEstimate> shifted = modes;
+  shifted[0].omega_rad_s /= 1.01;
+  EXPECT_NEAR(ModalDeviationPercent(rig, shifted, {}, 1), 1.0 / std::sqrt(2.0), 1e-9);
+}
+
 }  // namespace
 }  // namespace vibid::ident
