@@ -49,8 +49,8 @@ class AcquireBudgetTest : public ::testing::Test {
     args.insert(args.begin(), {"--device", emu->device_spec()});
     return RunVibid(args);
   }
-  /// Nominal model, an observer designed at `fs_hz` for the sensors' 500 N load cell, uploaded
-  /// and committed: acquisitions at that rate log d_hat.
+  /// Nominal model, an observer designed at `fs_hz` for the sensors' 500 N load cell, uploaded,
+  /// committed and started: acquisitions at that rate log d_hat.
   void CalibrateWithObserver(const std::string& fs_hz) {
     const std::string design = dir + "/design.json";
     ASSERT_EQ(RunVibid({"dob", "design", VIBID_SOURCE_DIR "/examples/rig_nominal.json", "--fs-hz",
@@ -62,6 +62,7 @@ class AcquireBudgetTest : public ::testing::Test {
                "--sensors", VIBID_SOURCE_DIR "/examples/sensors.json"});
     ASSERT_EQ(up.exit_code, 0) << up.err;
     ASSERT_EQ(Vibid({"cal", "commit"}).exit_code, 0);
+    ASSERT_EQ(Vibid({"dob", "start"}).exit_code, 0);
   }
 
   std::unique_ptr<EmulatorProcess> emu;
@@ -113,8 +114,7 @@ TEST_F(AcquireBudgetTest, TheDecimatedLogFitsAndDropsNothing) {
   EXPECT_EQ(DataRows(out), 6000u);
   std::ifstream in(out);
   std::string header;
-  while (std::getline(in, header) && header.starts_with('#')) {
-  }
+  std::getline(in, header);  // the header row comes first
   EXPECT_NE(header.find("d_hat_q31"), std::string::npos) << header;
   const auto bad = Vibid(
       {"acquire", "--rate-hz", "10000", "--log-rate-hz", "3000", "--seconds", "1", "-o", out});

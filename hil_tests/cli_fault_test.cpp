@@ -49,14 +49,13 @@ class CliFaultTest : public ::testing::Test {
     if (!dir.empty()) std::filesystem::remove_all(dir, ec);
   }
 
-  /// `vibid acquire` for 60 s into `output`, returned once it imported the device and had time to
-  /// configure, start and begin pulling.
+  /// `vibid acquire` for 60 s into `output`, returned once the board samples (the emulator says
+  /// so): the acquisition is configured, started and being pulled.
   std::unique_ptr<VibidProcess> StartAcquire(const std::string& output) {
     auto p = std::make_unique<VibidProcess>(
         std::vector<std::string>{"--device", emu->device_spec(), "acquire", "--seconds", "60",
                                  "--channels", "force1,acc1,acc2", "-o", output});
-    EXPECT_TRUE(emu->AwaitLog("USB/IP client imported", 1, 5s)) << emu->Log();
-    std::this_thread::sleep_for(300ms);
+    EXPECT_TRUE(emu->AwaitLog("vibid-emu: sampling started", 1, 10s)) << emu->Log();
     return p;
   }
 
@@ -101,7 +100,6 @@ std::string BoardState(const std::string& device_spec) {
 TEST_F(CliFaultTest, CtrlCStopsTheAcquisitionAndKeepsTheRecord) {
   const std::string output = dir + "/REC.csv";
   auto acquire = StartAcquire(output);
-  std::this_thread::sleep_for(1s);
   acquire->Signal(SIGINT);
   const auto r = acquire->Wait();
   EXPECT_EQ(r.exit_code, 130) << "128 + SIGINT, as the shell reports an interrupt: " << r.err;
@@ -111,7 +109,7 @@ TEST_F(CliFaultTest, CtrlCStopsTheAcquisitionAndKeepsTheRecord) {
   ASSERT_GT(rows.size(), 1u) << r.err;
   EXPECT_EQ(rows[0], "t_s,force1_counts,acc1_counts,acc2_counts");
   const std::size_t records = rows.size() - 1;
-  EXPECT_GT(records, 5000u) << "more than the 1.3 s before the Ctrl-C at 5 kHz";
+  EXPECT_GT(records, 0u) << "what the board sampled before the Ctrl-C";
   EXPECT_LT(records, 60u * 5000u) << "stopped well before the 60 s";
   for (std::size_t i = 1; i < rows.size(); ++i) {
     const double t_s = std::stod(rows[i].substr(0, rows[i].find(',')));
@@ -124,9 +122,26 @@ TEST_F(CliFaultTest, CtrlCStopsTheAcquisitionAndKeepsTheRecord) {
   EXPECT_NE(r.err.find(std::string(kept) + output + "\n"), std::string::npos) << r.err;
   EXPECT_EQ(r.err.rfind("vibid: Ctrl-C: stopping the acquisition, keeping what it recorded", 0), 0u)
       << r.err;
-  EXPECT_EQ(FilesIn(dir), std::vector<std::string>{"REC.csv"}) << "no temporary file left";
+  EXPECT_EQ(FilesIn(dir), (std::vector<std::string>{"REC.csv", "REC.csv.json"}))
+      << "the recording and its sidecar, no temporary file left";
   EXPECT_EQ(BoardState(emu->device_spec()),
             "stopped: the last frame of the acquisition that was stopped");
+}
+
+// A board another program holds: named as in use, by that program (this machine can tell), with
+// the way out; free again once it ends.
+TEST_F(CliFaultTest, ABusyBoardIsNamedInUseByWhatHoldsIt) {
+  auto acquire = StartAcquire(dir + "/HELD.csv");
+  const auto info = RunVibid({"--device", emu->device_spec(), "info"});
+  EXPECT_EQ(info.exit_code, 4) << info.err;
+  EXPECT_EQ(info.err, "vibid: error: the board at " + emu->device_spec() + " is in use by vibid " +
+                          "--device " + emu->device_spec() + " acquire --seconds 60 --channels " +
+                          "force1,acc1,acc2 -o " + dir + "/HELD.csv (pid " +
+                          std::to_string(acquire->pid()) +
+                          "): close it, or wait until it ends, and try again\n");
+  acquire->Signal(SIGINT);
+  EXPECT_EQ(acquire->Wait().exit_code, 130);
+  EXPECT_EQ(RunVibid({"--device", emu->device_spec(), "info"}).exit_code, 0) << "free again";
 }
 
 TEST_F(CliFaultTest, AnOutputThatCannotBeWrittenIsRefusedBeforeTheBoardStarts) {
@@ -191,13 +206,11 @@ TEST_F(CliTriggerTest, CtrlCStopsAWaitForTheTrigger) {
   const std::string output = dir + "/T.csv";
   VibidProcess acquire({"--device", emu->device_spec(), "acquire", "--seconds", "1", "--channels",
                         "force1,acc1", "--trigger", "force>40", "-o", output});
-  std::this_thread::sleep_for(2500ms);
+  // Armed: the board samples, waiting for the trigger (the calibration's acquisitions came before).
+  ASSERT_TRUE(emu->AwaitLog("vibid-emu: sampling started", 1, 10s)) << emu->Log();
   acquire.Signal(SIGINT);
   const auto r = acquire.Wait();
   EXPECT_EQ(r.exit_code, 130) << r.err;
-  EXPECT_NE(r.err.find("vibid: waiting for the trigger on load cell 1: force1 > 40 N, now "),
-            std::string::npos)
-      << r.err;
   EXPECT_NE(r.err.find("vibid: stopped by Ctrl-C: acquisition stopped before anything was "
                        "recorded (the trigger had not fired), nothing written\n"),
             std::string::npos)

@@ -27,6 +27,14 @@ bool Has(const std::string& text, const std::string& part) {
   return text.find(part) != std::string::npos;
 }
 
+/// A recording's header row (its first line).
+std::string ReadHeader(const std::string& path) {
+  std::ifstream in(path);
+  std::string line;
+  std::getline(in, line);
+  return line;
+}
+
 class RefusalTest : public ::testing::Test {
  protected:
   void SetUp() override {
@@ -94,9 +102,10 @@ TEST_F(RefusalTest, RateBeyondTheBoard) {
                 1, "1000000 / 3000 = 333.333 is not", "choose a rate that divides 1000000");
 }
 
-TEST_F(RefusalTest, AcquireAtAnotherRateThanTheCommittedObserver) {
+TEST_F(RefusalTest, AcquireAtAnotherRateThanTheRunningObserver) {
   ASSERT_EQ(Upload(Design("500", "5000")).exit_code, 0);
   ASSERT_EQ(Vibid({"cal", "commit"}).exit_code, 0);
+  ASSERT_EQ(Vibid({"dob", "start"}).exit_code, 0);
   const std::string out = dir + "/x.csv";
   const CliResult r = Vibid({"acquire", "--seconds", "0.5", "--rate-hz", "1000", "-o", out});
   ExpectRefusal(r, 4, "the board's observer was designed for 5000 Hz",
@@ -107,6 +116,17 @@ TEST_F(RefusalTest, AcquireAtAnotherRateThanTheCommittedObserver) {
       Vibid({"acquire", "--seconds", "0.5", "--rate-hz", "1000", "--no-dob", "-o", out}).exit_code,
       0);
   EXPECT_EQ(Vibid({"acquire", "--seconds", "0.5", "--rate-hz", "5000", "-o", out}).exit_code, 0);
+  EXPECT_NE(ReadHeader(out).find("d_hat_q31"), std::string::npos) << "the running observer's";
+  // Stopped, the observer estimates nothing: d_hat is not logged by default, so a plain
+  // acquisition at any rate runs (and one the link carries only without d_hat: 1.6 s of every
+  // channel at 5 kHz).
+  ASSERT_EQ(Vibid({"dob", "stop"}).exit_code, 0);
+  const CliResult plain = Vibid({"acquire", "--seconds", "0.5", "--rate-hz", "1000", "-o", out});
+  EXPECT_EQ(plain.exit_code, 0) << plain.err;
+  EXPECT_EQ(ReadHeader(out).find("d_hat"), std::string::npos) << ReadHeader(out);
+  const CliResult fast = Vibid({"acquire", "--seconds", "1.6", "-o", out});
+  EXPECT_EQ(fast.exit_code, 0) << fast.err;
+  EXPECT_EQ(ReadHeader(out), "t_s,force1_n,force2_n,acc1_m_s2,acc2_m_s2,x1_m,x2_m");
 }
 
 // One range per channel: the default observer (100 N) against the 500 N cell is refused; the

@@ -64,12 +64,14 @@ TEST_F(SamplingInstantsTest, ACommonToneShowsTheInstantsAndTheHostTakesThemOff) 
   const device::LogPull pull = c->PullLog();
   ASSERT_EQ(pull.records.size(), n);
 
-  // The recording as `vibid acquire` writes it, header line included, read back by the host.
+  // The recording's sidecar as `vibid acquire` writes it, read back by the host.
   const std::optional<wire::SamplingInfoResponse> instants = c->GetSamplingInfo();
-  const std::string csv = device::FormatLogCsv(pull, wire::CalibrationRecord{}, false, instants);
-  const std::optional<ident::SampleInstants> header = ident::ParseSampleInstants(csv, "tone.csv");
-  ASSERT_TRUE(header.has_value());
   const device::LogTable table = device::MakeLogTable(pull, wire::CalibrationRecord{}, false);
+  ASSERT_TRUE(instants.has_value());
+  const std::optional<ident::SampleInstants> header = ident::ParseRecordingSidecar(
+      ident::FormatRecordingSidecar(table.names, device::SampleInstantsUs(table, pull, *instants)),
+      table.names, "tone.csv.json");
+  ASSERT_TRUE(header.has_value());
   ASSERT_EQ(table.names[1], "force2_counts");
   ASSERT_EQ(table.names[2], "acc1_counts");
 
@@ -99,7 +101,7 @@ TEST_F(SamplingInstantsTest, ACommonToneShowsTheInstantsAndTheHostTakesThemOff) 
       target->Name().c_str(), f, measured, expected, compensated);
 }
 
-// What a user sees: `vibid info --json` and the first line of a recording from `vibid acquire`.
+// What a user sees: `vibid info --json` and the sidecar of a recording from `vibid acquire`.
 TEST(SamplingInstantsCli, InfoAndTheRecordingStateTheInstants) {
   if (MakeTarget()->Name() != "emu") GTEST_SKIP() << "needs the emu target (a vibid-emu process)";
   EmulatorProcess emu(EmulatorBinary());
@@ -121,13 +123,16 @@ TEST(SamplingInstantsCli, InfoAndTheRecordingStateTheInstants) {
                                            "0.1", "--channels", "force1,force2,x2", "-o", rec});
   ASSERT_EQ(a.exit_code, 0) << a.err;
   std::ifstream in(rec);
-  std::string first, second;
+  std::string first;
   std::getline(in, first);
-  std::getline(in, second);
-  EXPECT_EQ(first,
-            "# vibid-recording sample_instants_us=force1_counts:2.667,force2_counts:5.905,"
-            "x2_counts:2.667");
-  EXPECT_EQ(second, "t_s,force1_counts,force2_counts,x2_counts");
+  EXPECT_EQ(first, "t_s,force1_counts,force2_counts,x2_counts") << "the header row first";
+  const nlohmann::json sidecar =
+      nlohmann::json::parse(vibid::testing::ReadFileBytes(rec + ".json"));
+  EXPECT_EQ(sidecar.at("columns"),
+            nlohmann::json({"t_s", "force1_counts", "force2_counts", "x2_counts"}));
+  EXPECT_EQ(
+      sidecar.at("sample_instants_us"),
+      nlohmann::json({{"force1_counts", 2.667}, {"force2_counts", 5.905}, {"x2_counts", 2.667}}));
   std::error_code ec;
   std::filesystem::remove_all(dir, ec);
 }

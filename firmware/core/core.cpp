@@ -172,7 +172,9 @@ wire::HealthInfoResponse Core::HealthInfo() const {
 wire::StatusResponse Core::CurrentStatus() const {
   wire::StatusResponse s;
   s.acq_state = sampler_.state();
-  s.dob_running = sampler_.dob_running() ? 1 : 0;
+  // Running now, or on (started, not stopped) while the board is idle: what the next
+  // acquisition runs, so a host logs d_hat by default only when the observer is on.
+  s.dob_running = sampler_.dob_running() || sampler_.dob_requested() ? 1 : 0;
   s.cal_state = store_.calibrated() ? wire::CalState::kCalibrated : wire::CalState::kUncalibrated;
   s.cal_staged = upload_.staged() ? 1 : 0;
   s.uptime_us = port_.clock.NowUs();

@@ -9,6 +9,7 @@
 #include <stdexcept>
 #include <string>
 #include <string_view>
+#include <vector>
 
 #include <CLI/CLI.hpp>
 
@@ -45,6 +46,12 @@ class StoppedByInterrupt : public std::exception {
  public:
   const char* what() const noexcept override { return "stopped by Ctrl-C"; }
 };
+
+/// For a command line CLI11 refused: the first command or option it does not know, named with
+/// the nearest known one ("unknown option '--second' for 'vibid acquire' (did you mean
+/// '--seconds'?)"), or "" when every word is known (CLI11's own message says then what is wrong).
+/// `args` are the words after the program's name.
+std::string UnknownWordMessage(const CLI::App& app, const std::vector<std::string>& args);
 
 /// CLI11 validator: a finite number > 0.
 const CLI::Validator& PositiveNumber();

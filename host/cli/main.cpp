@@ -2,6 +2,8 @@
 // stderr and exits with a code from exit_codes.hpp.
 #include <exception>
 #include <iostream>
+#include <string>
+#include <vector>
 
 #include <CLI/CLI.hpp>
 
@@ -43,6 +45,15 @@ int main(int argc, char** argv) {
         dynamic_cast<const CLI::ConversionError*>(&e)) {
       std::cerr << "vibid: error: " << e.what() << "\n";
       return kExitInputError;
+    }
+    // A misspelt command or option is named, with the nearest known one.
+    if (e.get_exit_code() != 0) {
+      const std::string unknown =
+          UnknownWordMessage(app, std::vector<std::string>(argv + 1, argv + argc));
+      if (!unknown.empty()) {
+        std::cerr << "vibid: error: " << unknown << "\n";
+        return kExitUsage;
+      }
     }
     const int code = app.exit(e);
     return code == 0 ? kExitOk : kExitUsage;

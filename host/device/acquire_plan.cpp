@@ -72,6 +72,26 @@ int DecimationFor(double rate_hz, double log_rate_hz, int decimation) {
 }
 
 wire::AcqConfigureRequest PlanAcquisition(const AcquireSettings& a, Trigger& trig) {
+  // Every number checked as the CLI's own option checks do, whichever front end set it: a
+  // negative or infinite length would otherwise wrap to an endless acquisition.
+  const auto positive = [](double v, const char* option) {
+    Require(std::isfinite(v) && v > 0.0,
+            std::string(option) + " " + FormatNumber(v) + ": must be a number > 0");
+  };
+  const auto non_negative = [](double v, const char* option) {
+    Require(std::isfinite(v) && v >= 0.0,
+            std::string(option) + " " + FormatNumber(v) + ": must be a number >= 0");
+  };
+  positive(a.seconds, "--seconds");
+  positive(a.rate_hz, "--rate-hz");
+  if (a.log_rate_hz != 0.0) positive(a.log_rate_hz, "--log-rate-hz");
+  Require(a.decimation >= 0 && a.decimation <= static_cast<int>(fixed::kDecimatorMaxFactor),
+          "--decimation " + std::to_string(a.decimation) + ": must be in 1.." +
+              std::to_string(fixed::kDecimatorMaxFactor));
+  Require(a.decimation == 0 || a.log_rate_hz == 0.0,
+          "--decimation and --log-rate-hz: give one of them, not both");
+  non_negative(a.pretrigger_s, "--pretrigger-s");
+  non_negative(a.trigger_timeout_s, "--trigger-timeout-s");
   wire::AcqConfigureRequest cfg;
   const double period_us = 1e6 / a.rate_hz;
   const std::string rate = "--rate-hz " + FormatNumber(a.rate_hz);
@@ -105,8 +125,17 @@ wire::AcqConfigureRequest PlanAcquisition(const AcquireSettings& a, Trigger& tri
   Require(a.trigger_timeout_s == 0.0 || trig.mode != wire::TriggerMode::kImmediate,
           "--trigger-timeout-s needs a --trigger");
   const double log_rate_hz = a.rate_hz / cfg.decimation;
-  cfg.record_limit = static_cast<std::uint32_t>(std::lround(a.seconds * log_rate_hz));
-  cfg.pretrigger_records = static_cast<std::uint32_t>(std::lround(a.pretrigger_s * log_rate_hz));
+  // The board counts records in 32 bits, and the host holds every record it is asked for: a
+  // length beyond that count is refused, never wrapped.
+  const double records = std::round(a.seconds * log_rate_hz);
+  const double pretrigger = std::round(a.pretrigger_s * log_rate_hz);
+  constexpr double kMaxRecords = 4294967295.0;
+  Require(records + pretrigger <= kMaxRecords,
+          "--seconds " + FormatNumber(a.seconds) + ": more records than the board counts (" +
+              FormatNumber(kMaxRecords) + " at " + FormatNumber(log_rate_hz) + " Hz, " +
+              FormatNumber(kMaxRecords / log_rate_hz) + " s)");
+  cfg.record_limit = static_cast<std::uint32_t>(records);
+  cfg.pretrigger_records = static_cast<std::uint32_t>(pretrigger);
   Require(cfg.record_limit > 0, "--seconds is shorter than one logged sample");
   return cfg;
 }
@@ -125,9 +154,11 @@ wire::CalibrationRecord ActiveRecord(Connection& c, bool& has_record) {
   return r;
 }
 
-void ApplyCalibration(const wire::CalibrationRecord& rec, bool has_record, bool no_dob,
-                      Trigger& trig, wire::AcqConfigureRequest& cfg) {
-  if (!no_dob && has_record && (rec.flags & wire::kCalFlagHasDob) != 0)
+void ApplyCalibration(const wire::CalibrationRecord& rec, bool has_record, bool dob_running,
+                      bool no_dob, Trigger& trig, wire::AcqConfigureRequest& cfg) {
+  // d_hat is logged by default only while the observer runs: a stored observer that is stopped
+  // estimates nothing, and its column would take link budget for a constant.
+  if (!no_dob && dob_running && has_record && (rec.flags & wire::kCalFlagHasDob) != 0)
     cfg.flags = wire::kAcqFlagLogDob;
   if (trig.mode == wire::TriggerMode::kImmediate) return;
   const wire::ChannelScaling& s = rec.channels[static_cast<std::size_t>(trig.channel)];

@@ -3,6 +3,8 @@
 #include <chrono>
 #include <cstdio>
 #include <cstring>
+#include <optional>
+#include <sstream>
 
 #include "vibid/common/error.hpp"
 #include "vibid/common/json_file.hpp"
@@ -69,6 +71,46 @@ std::optional<double> CalibratedFullScale(const wire::CalibrationRecord* active,
   const wire::ChannelScaling& s = active->channels[static_cast<std::size_t>(channel)];
   if (s.unit == wire::Unit::kCounts) return std::nullopt;
   return FromChannelScaling(s).full_scale;
+}
+
+std::string TakeSensorFullScales(const SensorSet& sensors, int input_dof, int output_dof,
+                                 const std::string& sensor, double& force_fs_n, bool force_given,
+                                 double& sensor_fs, bool sensor_given) {
+  const auto text = [](double v) {
+    std::ostringstream o;
+    o << v;
+    return o.str();
+  };
+  const auto take = [&](wire::Unit unit, int dof, double& value, bool given, const char* option,
+                        const char* what) -> std::string {
+    for (std::size_t c = 0; c < wire::kChannelCount; ++c) {
+      const std::optional<SensorScaling>& s = sensors[c];
+      if (!s || s->unit != unit || s->dof != dof - 1) continue;
+      const std::string name = ChannelStem(static_cast<wire::Channel>(c));
+      const std::string fs = text(s->full_scale) + " " + UnitName(unit);
+      // Compared as the board stores them (binary32), as `cal upload` compares them.
+      if (given && static_cast<float>(value) != static_cast<float>(s->full_scale)) {
+        throw InputError(std::string(option) + " " + text(value) + ": the sensors give " + name +
+                         " (mass " + std::to_string(dof) + ") a full scale of " + fs +
+                         ", and a channel has one range; leave " + option +
+                         " out to take the sensors', or correct the sensors file");
+      }
+      value = s->full_scale;
+      return std::string(what) + " full scale " + fs + " from " + name;
+    }
+    return {};
+  };
+  Require(sensor == "disp" || sensor == "vel" || sensor == "acc",
+          "--sensor '" + sensor + "' is not one of disp, vel, acc");
+  const wire::Unit sensor_unit = sensor == "disp"  ? wire::Unit::kMeter
+                                 : sensor == "vel" ? wire::Unit::kMeterPerSecond
+                                                   : wire::Unit::kMeterPerSecond2;
+  std::string said =
+      take(wire::Unit::kNewton, input_dof, force_fs_n, force_given, "--force-fs-n", "force");
+  const std::string s =
+      take(sensor_unit, output_dof, sensor_fs, sensor_given, "--sensor-fs", "sensor");
+  if (!s.empty()) said += (said.empty() ? "" : ", ") + s;
+  return said;
 }
 
 nlohmann::json RecordJson(const wire::CalibrationRecord& r) {

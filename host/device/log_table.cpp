@@ -7,6 +7,7 @@
 
 #include "vibid/common/csv.hpp"
 #include "vibid/common/enum_names.hpp"
+#include "vibid/ident/sample_instants.hpp"
 #include "vibid/shared/fixed/decimator.hpp"
 #include "vibid/shared/fixed/filter_description.hpp"
 
@@ -72,13 +73,21 @@ LogTable MakeLogTable(const LogPull& pull, const wire::CalibrationRecord& calibr
                       bool has_record) {
   LogTable t;
   const auto n = static_cast<Eigen::Index>(pull.records.size());
-  const double period_s = pull.trailer.sample_period_us * 1e-6;
   // A decimated record stands for the signal its linear-phase filter delays by a fixed number
   // of ticks: its time is moved back by that delay, so events keep their time at any log rate.
-  const double delay_s = fixed::DecimatorDelayTicks(pull.trailer.decimation) * period_s;
+  const auto delay_ticks =
+      static_cast<std::int64_t>(fixed::DecimatorDelayTicks(pull.trailer.decimation));
+  const auto period_us = static_cast<std::int64_t>(pull.trailer.sample_period_us);
   Eigen::VectorXd time(n);
   for (Eigen::Index i = 0; i < n; ++i) {
-    time(i) = pull.records[static_cast<std::size_t>(i)].sample_index * period_s - delay_s;
+    // Whole microseconds (exact below 2^53) over 10^6, one correctly rounded division: the
+    // double nearest the exact decimal, which the CSV writes as that decimal (0.4002, never
+    // 0.40019999999999994 as index x period in double gives).
+    const std::int64_t us =
+        (static_cast<std::int64_t>(pull.records[static_cast<std::size_t>(i)].sample_index) -
+         delay_ticks) *
+        period_us;
+    time(i) = static_cast<double>(us) / 1e6;
   }
   t.names.push_back("t_s");
   t.columns.push_back(time);
@@ -117,36 +126,27 @@ LogTable MakeLogTable(const LogPull& pull, const wire::CalibrationRecord& calibr
   return t;
 }
 
-std::string SampleInstantsLine(const LogTable& table, const LogPull& pull,
-                               const wire::SamplingInfoResponse& instants) {
+std::vector<std::pair<std::string, double>> SampleInstantsUs(
+    const LogTable& table, const LogPull& pull, const wire::SamplingInfoResponse& instants) {
   // The table's channel columns follow t_s in channel order.
-  std::string line = "# vibid-recording sample_instants_us=";
+  std::vector<std::pair<std::string, double>> out;
   std::size_t column = 1;
   for (std::size_t c = 0; c < wire::kChannelCount; ++c) {
     if ((pull.layout.channel_mask & (1u << c)) == 0) continue;
-    // Whole nanoseconds as microseconds with three decimals, trailing zeros dropped: exact.
-    const std::uint32_t ns = instants.sample_instant_ns[c];
-    std::string us = std::to_string(ns / 1000);
-    if (ns % 1000 != 0) {
-      std::string frac = std::to_string(1000 + ns % 1000).substr(1);
-      while (frac.back() == '0') frac.pop_back();
-      us += "." + frac;
-    }
-    line += (column == 1 ? "" : ",") + table.names[column] + ":" + us;
+    // Whole nanoseconds over 1000: the double nearest the decimal (2.667), which the sidecar
+    // writes back as that decimal.
+    out.emplace_back(table.names[column], instants.sample_instant_ns[c] / 1000.0);
     ++column;
   }
-  return line + "\n";
+  return out;
 }
 
 std::string FormatLogCsvHeader(const LogPull& format, const wire::CalibrationRecord& calibration,
-                               bool has_record,
-                               const std::optional<wire::SamplingInfoResponse>& instants) {
+                               bool has_record) {
   LogPull empty;
   empty.layout = format.layout;
   empty.trailer = format.trailer;
-  const LogTable t = MakeLogTable(empty, calibration, has_record);
-  const std::string header = instants ? SampleInstantsLine(t, empty, *instants) : std::string();
-  return header + FormatCsvHeader(t.names);
+  return FormatCsvHeader(MakeLogTable(empty, calibration, has_record).names);
 }
 
 std::string FormatLogCsvRows(const LogPull& block, const wire::CalibrationRecord& calibration,
@@ -155,10 +155,21 @@ std::string FormatLogCsvRows(const LogPull& block, const wire::CalibrationRecord
 }
 
 std::string FormatLogCsv(const LogPull& pull, const wire::CalibrationRecord& calibration,
-                         bool has_record,
-                         const std::optional<wire::SamplingInfoResponse>& instants) {
-  return FormatLogCsvHeader(pull, calibration, has_record, instants) +
+                         bool has_record) {
+  return FormatLogCsvHeader(pull, calibration, has_record) +
          FormatLogCsvRows(pull, calibration, has_record);
+}
+
+void WriteLogSidecar(const std::string& csv_path, const LogPull& format,
+                     const wire::CalibrationRecord& calibration, bool has_record,
+                     const std::optional<wire::SamplingInfoResponse>& instants) {
+  LogPull empty;
+  empty.layout = format.layout;
+  empty.trailer = format.trailer;
+  const LogTable t = MakeLogTable(empty, calibration, has_record);
+  ident::WriteRecordingSidecar(csv_path, t.names,
+                               instants ? SampleInstantsUs(t, empty, *instants)
+                                        : std::vector<std::pair<std::string, double>>{});
 }
 
 }  // namespace vibid::device

@@ -1,12 +1,19 @@
 #include "vibid/device/usbip_transport.hpp"
 
+#include <unistd.h>
+
 #include <algorithm>
 #include <atomic>
+#include <cctype>
 #include <condition_variable>
+#include <cstdio>
 #include <cstring>
 #include <deque>
+#include <filesystem>
+#include <fstream>
 #include <map>
 #include <mutex>
+#include <sstream>
 #include <thread>
 
 #include "vibid/device/error.hpp"
@@ -41,7 +48,75 @@ UsbipExport ToExport(const usbip::UsbDevice& d) {
                      .interface_classes = d.interfaces};
 }
 
+/// The inodes of the sockets in /proc/net/`table` connected to 127.0.0.1 (or ::1) port `port`:
+/// the clients of a local USB/IP server.
+std::vector<std::string> LocalClientSockets(const char* table, int port) {
+  std::vector<std::string> inodes;
+  std::ifstream in(std::string("/proc/net/") + table);
+  std::string line;
+  std::getline(in, line);  // the column names
+  char want[8];
+  std::snprintf(want, sizeof want, ":%04X", static_cast<unsigned>(port));
+  while (std::getline(in, line)) {
+    std::istringstream fields(line);
+    std::string sl, local, remote, state, queues, timer, retransmits, uid, timeout, inode;
+    if (!(fields >> sl >> local >> remote >> state >> queues >> timer >> retransmits >> uid >>
+          timeout >> inode))
+      continue;
+    const bool loopback = remote.rfind("0100007F:", 0) == 0 ||
+                          remote.rfind("00000000000000000000000001000000:", 0) == 0;
+    // 01: established.
+    if (state == "01" && loopback && remote.size() >= 5 &&
+        remote.compare(remote.size() - 5, 5, want) == 0)
+      inodes.push_back(inode);
+  }
+  return inodes;
+}
+
+/// What holds the local USB/IP server at `port`: "vibid bench --out lab (pid 1234)", from the
+/// process that owns a socket connected to it (Linux's /proc; another user's processes are not
+/// readable, and a server on another machine cannot be asked): "" when it cannot tell.
+std::string LocalHolder(const std::string& host, int port) {
+  if (host != "127.0.0.1" && host != "localhost" && host != "::1") return {};
+  std::vector<std::string> inodes = LocalClientSockets("tcp", port);
+  for (const std::string& i : LocalClientSockets("tcp6", port)) inodes.push_back(i);
+  if (inodes.empty()) return {};
+  std::error_code ec;
+  const std::string self = std::to_string(::getpid());
+  for (const auto& proc : std::filesystem::directory_iterator("/proc", ec)) {
+    const std::string pid = proc.path().filename().string();
+    if (pid.empty() || !std::all_of(pid.begin(), pid.end(), ::isdigit) || pid == self) continue;
+    std::error_code fd_ec;
+    for (const auto& fd : std::filesystem::directory_iterator(proc.path() / "fd", fd_ec)) {
+      std::error_code link_ec;
+      const std::string target = std::filesystem::read_symlink(fd.path(), link_ec).string();
+      if (link_ec || target.rfind("socket:[", 0) != 0) continue;
+      const std::string inode = target.substr(8, target.size() - 9);
+      if (std::find(inodes.begin(), inodes.end(), inode) == inodes.end()) continue;
+      // The command line, its words joined by spaces, the program without its folder.
+      std::ifstream cmdline(proc.path() / "cmdline", std::ios::binary);
+      std::string words, word;
+      while (std::getline(cmdline, word, '\0')) {
+        if (words.empty()) word = std::filesystem::path(word).filename().string();
+        words += (words.empty() ? "" : " ") + word;
+      }
+      if (words.size() > 160) words = words.substr(0, 157) + "...";
+      return (words.empty() ? "a process" : words) + " (pid " + pid + ")";
+    }
+  }
+  return {};
+}
+
 }  // namespace
+
+std::string UsbipBusyMessage(const std::string& host, int port) {
+  const std::string holder = LocalHolder(host, port);
+  return "the board at usbip://" + Where(host, port) + " is in use by " +
+         (holder.empty() ? "another program (a vibid bench, a vibid command or a Python Board "
+                           "holding it; its USB/IP server serves one client at a time)"
+                         : holder) +
+         ": close it, or wait until it ends, and try again";
+}
 
 std::vector<UsbipExport> ListUsbipExports(const std::string& host, int port,
                                           std::chrono::milliseconds timeout) {
@@ -215,6 +290,14 @@ std::unique_ptr<UsbipDevice> UsbipDevice::Open(const std::string& host, int port
     const usbip::UsbDevice d = usbip::RequestImport(impl->socket, busid);
     impl->devid = d.devid();
   } catch (const std::runtime_error& e) {
+    // A server that still lists the device but will not export it has given it to another
+    // client: the board is in use, which the user can do something about.
+    bool listed = false;
+    try {
+      for (const UsbipExport& x : ListUsbipExports(host, port)) listed = listed || x.busid == busid;
+    } catch (const DeviceError&) {
+    }
+    if (listed) throw DeviceError(UsbipBusyMessage(host, port));
     throw DeviceError("USB/IP server " + impl->where + " refused to export " + busid + ": " +
                       e.what());
   }

@@ -169,6 +169,10 @@ void Emulator::RunFrame() {
       a.frames.Tick();
       next_tick_us_ += a.frames.period_us();
     }
+    // Said once per acquisition: a test waits for the state it acts on (a Ctrl-C while the board
+    // samples) instead of guessing it with a sleep.
+    if (options_.verbose && a.frames.Running() != was_sampling_)
+      std::fprintf(stderr, "vibid-emu: sampling %s\n", was_sampling_ ? "stopped" : "started");
     was_sampling_ = a.frames.Running();
   }
   sim_us_ = frame_end;

@@ -58,7 +58,9 @@ int main(int argc, char** argv) {
       ->capture_default_str();
   app.add_flag("--print-truth", print_truth,
                "print the rig's true model (model-file JSON) and exit");
-  app.add_flag("-v,--verbose", verbose, "report personality changes and USB/IP clients on stderr");
+  app.add_flag(
+      "-v,--verbose", verbose,
+      "report personality changes, USB/IP clients and when sampling starts and stops on stderr");
   CLI11_PARSE(app, argc, argv);
 
   try {

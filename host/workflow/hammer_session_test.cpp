@@ -189,10 +189,14 @@ TEST(HammerSession, VerdictsAndTheCliPathGiveTheSameNumbers) {
   pull.trailer.sample_period_us = test.options.sample_period_us;
   pull.trailer.decimation = test.options.decimation;
   pull.records = test.records;
-  const std::string acquire =
-      device::FormatLogCsv(pull, test.options.calibration, true, test.options.instants);
+  const std::string acquire = device::FormatLogCsv(pull, test.options.calibration, true);
   EXPECT_EQ(FileText(dir + "/recording.csv"), acquire);
   EXPECT_EQ(FileText(dir + "/live.csv"), acquire);
+  // Their sidecars: the sampling instants the acquire writer states.
+  device::WriteLogSidecar(dir + "/acquire.csv", pull, test.options.calibration, true,
+                          test.options.instants);
+  EXPECT_EQ(FileText(dir + "/recording.csv.json"), FileText(dir + "/acquire.csv.json"));
+  EXPECT_EQ(FileText(dir + "/live.csv.json"), FileText(dir + "/acquire.csv.json"));
 
   // The hit list.
   const nlohmann::json hits = ReadJsonFile(dir + "/hits.json");

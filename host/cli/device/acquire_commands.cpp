@@ -45,7 +45,10 @@ std::string FormatNumber(double v) {
 void WriteLog(device::Connection& c, const device::LogPull& pull, ClaimedOutput& output) {
   bool has_record = false;
   const wire::CalibrationRecord rec = device::ActiveRecord(c, has_record);
-  output.Write(device::FormatLogCsv(pull, rec, has_record, c.GetSamplingInfo()));
+  // The sidecar (sampling instants) first: a CSV is never left beside a sidecar of another.
+  if (!output.to_stdout())
+    device::WriteLogSidecar(output.Name(), pull, rec, has_record, c.GetSamplingInfo());
+  output.Write(device::FormatLogCsv(pull, rec, has_record));
   std::cerr << "vibid: " << pull.records.size() << " records";
   if (pull.trailer.dropped_records != 0 || pull.trailer.overrun_count != 0) {
     std::cerr << " (the board dropped " << pull.trailer.dropped_records << " records and missed "
@@ -200,7 +203,8 @@ void Run(const AcquireArgs& args) {
       [&](device::Connection& c) {
         bool has_record = false;
         const wire::CalibrationRecord rec = device::ActiveRecord(c, has_record);
-        device::ApplyCalibration(rec, has_record, a.no_dob, trig, cfg);
+        device::ApplyCalibration(rec, has_record, c.GetStatus().dob_running != 0, a.no_dob, trig,
+                                 cfg);
         const device::LinkBudget budget = device::Preflight(c.info(), cfg, a);
         cfg.flags = static_cast<std::uint8_t>(cfg.flags | wire::kAcqFlagStream);
         if (!args.scenario.empty()) c.SelectScenario(args.scenario, args.scenario_params);
@@ -264,7 +268,9 @@ void RegisterAcquire(CLI::App& app, const GlobalOptions& globals) {
   acq->add_option("--seconds", o->settings.seconds, "Seconds to record after the trigger")
       ->required()
       ->check(PositiveNumber());
-  acq->add_option("--rate-hz", o->settings.rate_hz, "Sample rate (Hz)")->check(PositiveNumber());
+  acq->add_option("--rate-hz", o->settings.rate_hz, "Sample rate (Hz)")
+      ->check(PositiveNumber())
+      ->capture_default_str();
   auto* log_rate =
       acq->add_option(
              "--log-rate-hz", o->settings.log_rate_hz,
@@ -294,7 +300,9 @@ void RegisterAcquire(CLI::App& app, const GlobalOptions& globals) {
   acq->add_option("--scenario-param", o->scenario_params,
                   "Emulator only: up to 4 scenario parameters (SI)")
       ->delimiter(',');
-  acq->add_flag("--no-dob", o->settings.no_dob, "Do not log the observer output");
+  acq->add_flag("--no-dob", o->settings.no_dob,
+                "Do not log the observer output (logged by default while the board's observer "
+                "runs: vibid dob start)");
   acq->add_option("-o,--output", o->output, "Output CSV")->required();
 }
 

@@ -15,6 +15,8 @@
 #include "vibid/common/csv.hpp"
 #include "vibid/common/error.hpp"
 #include "vibid/common/json_file.hpp"
+#include "vibid/device/calibration_builder.hpp"
+#include "vibid/device/calibration_upload.hpp"
 #include "vibid/dob/compare.hpp"
 #include "vibid/dob/design.hpp"
 #include "vibid/dob/design_json.hpp"
@@ -31,13 +33,29 @@ constexpr const char* kDesignHelp = "Design the observer for a model and quantiz
 struct DesignArgs {
   std::string model_path;
   std::string out;
+  std::string sensors;
   bool json = false;
+  bool force_given = false;
+  bool sensor_given = false;
   workflow::ObserverDesignRequest request;
 };
 
 void Run(const DesignArgs& a) {
+  workflow::ObserverDesignRequest request = a.request;
+  // The full scales are the sensors' when a sensors file is given: the ones `cal upload` takes.
+  if (!a.sensors.empty()) {
+    const std::string took = device::TakeSensorFullScales(
+        device::SensorsFromJson(ReadJsonFile(a.sensors), a.sensors), request.input_dof,
+        request.output_dof, request.sensor, request.force_fs_n, a.force_given, request.sensor_fs,
+        a.sensor_given);
+    if (!took.empty()) std::cerr << "vibid: " << took << " (" << a.sensors << ")\n";
+  } else if (!a.force_given) {
+    std::cerr << "vibid: note: force full scale " << request.force_fs_n
+              << " N, the default: give --sensors SENSORS.json to take the load cell's, which "
+                 "cal upload requires\n";
+  }
   const dob::DobDesign design =
-      workflow::DesignObserverFor(model::LoadModel(a.model_path), a.request);
+      workflow::DesignObserverFor(model::LoadModel(a.model_path), request);
   const std::string text = dob::DesignToJson(design).dump(2) + "\n";
   EmitOutput(text, a.out);
   if (!a.out.empty() && a.out != "-")
@@ -223,13 +241,18 @@ void RegisterDobDesignCommand(CLI::App& dob) {
                   "Corner of the leaky integrators for vel/acc sensors, Hz")
       ->check(PositiveNumber())
       ->capture_default_str();
-  cmd->add_option("--force-fs-n", a->request.force_fs_n, "Force full scale, N")
+  cmd->add_option("--sensors", a->sensors,
+                  "Sensors file (as for cal upload): the force and sensor full scales are its "
+                  "load cell's on --input-dof and its --sensor's on --output-dof");
+  cmd->add_option("--force-fs-n", a->request.force_fs_n,
+                  "Force full scale, N (default: the load cell's in --sensors, else 100)")
       ->check(PositiveNumber())
-      ->capture_default_str();
+      ->each([given = &a->force_given](const std::string&) { *given = true; });
   cmd->add_option("--sensor-fs", a->request.sensor_fs,
-                  "Sensor full scale, SI (0: 0.05 m, 1 m/s or 50 m/s^2)")
+                  "Sensor full scale, SI (default: the sensor's in --sensors, else 0: 0.05 m, "
+                  "1 m/s or 50 m/s^2)")
       ->check(NonNegativeNumber())
-      ->capture_default_str();
+      ->each([given = &a->sensor_given](const std::string&) { *given = true; });
   cmd->add_option("--output-fs-n", a->request.output_fs_n,
                   "Full scale of d_hat, N (0: twice the force full scale)")
       ->check(NonNegativeNumber())

@@ -110,7 +110,12 @@ void AddModeOptions(CLI::App* cmd, ModeArgs& m) {
                   "(multi-mode least\n"
                   "squares started from the peaks), peaks (Eq. 10 from peak amplitudes)")
       ->capture_default_str();
-  cmd->add_option("--orders", m.orders, "lscf/lsce model orders MIN:MAX[:STEP] (default 4:48:2)");
+  cmd->add_option(
+      "--orders", m.orders,
+      "lscf/lsce model orders MIN:MAX[:STEP] (default: 4 up to the highest order the\n"
+      "band's frequency lines carry, in steps of 2: a quarter of the lines, or up to "
+      "16 where\nthe fit allows, never above 48; the output's stabilization line names the "
+      "orders run)");
   cmd->add_option("--driving-point", m.driving_point,
                   "Response measured at the hammer point: its column name or 1-based index "
                   "(default: the last response)");

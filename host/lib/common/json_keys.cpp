@@ -33,7 +33,10 @@ std::size_t EditDistance(std::string_view a, std::string_view b) {
 
 }  // namespace
 
-std::string NearestName(std::string_view name, std::initializer_list<std::string_view> known) {
+namespace {
+
+template <typename Names>
+std::string Nearest(std::string_view name, const Names& known) {
   // Keys are short; past 64 characters the text is no slip of the keyboard (and the distance
   // table stays small for any input).
   if (name.size() > 64) return {};
@@ -51,6 +54,16 @@ std::string NearestName(std::string_view name, std::initializer_list<std::string
     }
   }
   return best;
+}
+
+}  // namespace
+
+std::string NearestName(std::string_view name, std::initializer_list<std::string_view> known) {
+  return Nearest(name, known);
+}
+
+std::string NearestName(std::string_view name, const std::vector<std::string>& known) {
+  return Nearest(name, known);
 }
 
 void RequireKnownKeys(const nlohmann::json& object, std::initializer_list<std::string_view> known,

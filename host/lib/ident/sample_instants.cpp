@@ -1,6 +1,8 @@
 #include "vibid/ident/sample_instants.hpp"
 
+#include <algorithm>
 #include <array>
+#include <filesystem>
 #include <charconv>
 #include <cmath>
 #include <complex>
@@ -9,13 +11,20 @@
 #include <numbers>
 #include <sstream>
 
+#include <nlohmann/json.hpp>
+
+#include "vibid/common/atomic_file.hpp"
+#include "vibid/common/csv.hpp"
 #include "vibid/common/error.hpp"
+#include "vibid/common/json_file.hpp"
+#include "vibid/common/json_keys.hpp"
 
 namespace vibid::ident {
 namespace {
 
 constexpr std::string_view kLineTag = "# vibid-recording";
 constexpr std::string_view kKey = "sample_instants_us=";
+constexpr std::string_view kSidecarFormat = "vibid-recording";
 
 SampleInstants ParseList(std::string_view list, const std::string& source) {
   SampleInstants out;
@@ -40,7 +49,7 @@ SampleInstants ParseList(std::string_view list, const std::string& source) {
         used == number.size() && !number.empty() && std::isfinite(us) && us >= 0.0,
         source + ": sample_instants_us of '" + name + "' is not a number >= 0: '" + number + "'");
     Require(!out.Of(name).has_value(), source + ": sample_instants_us names '" + name + "' twice");
-    out.instants_s.emplace_back(name, us * 1e-6);
+    out.instants_us.emplace_back(name, us);
     begin = end + 1;
   }
   return out;
@@ -49,8 +58,8 @@ SampleInstants ParseList(std::string_view list, const std::string& source) {
 }  // namespace
 
 std::optional<double> SampleInstants::Of(std::string_view column) const {
-  for (const auto& [name, t] : instants_s) {
-    if (name == column) return t;
+  for (const auto& [name, us] : instants_us) {
+    if (name == column) return us * 1e-6;
   }
   return std::nullopt;
 }
@@ -74,6 +83,81 @@ std::optional<SampleInstants> ParseSampleInstants(std::string_view text,
   return std::nullopt;
 }
 
+std::string RecordingSidecarPath(const std::string& csv_path) { return csv_path + ".json"; }
+
+std::string FormatRecordingSidecar(const std::vector<std::string>& csv_columns,
+                                   const std::vector<InstantUs>& instants_us) {
+  nlohmann::ordered_json instants = nlohmann::ordered_json::object();
+  for (const auto& [name, us] : instants_us) {
+    Require(std::find(csv_columns.begin(), csv_columns.end(), name) != csv_columns.end(),
+            "sample instants: '" + name + "' is not a column of the recording");
+    instants[name] = us;
+  }
+  // Numbers in shortest round-trip form (nlohmann's): 2.667 reads back as the same double.
+  const nlohmann::ordered_json j = {{"format", std::string(kSidecarFormat)},
+                                    {"version", 1},
+                                    {"columns", csv_columns},
+                                    {"sample_instants_us", instants}};
+  return j.dump(2) + "\n";
+}
+
+SampleInstants ParseRecordingSidecar(std::string_view json,
+                                     const std::vector<std::string>& csv_columns,
+                                     const std::string& source) {
+  const nlohmann::json j = ParseJsonText(json, source);
+  Require(j.is_object() && j.value("format", nlohmann::json()) == std::string(kSidecarFormat),
+          source + ": not a vibid-recording sidecar (\"format\": \"vibid-recording\")");
+  RequireKnownKeys(j, {"format", "version", "columns", "sample_instants_us"}, source);
+  Require(j.value("version", nlohmann::json()) == 1,
+          source + ": version " + j.value("version", nlohmann::json()).dump() +
+              " is not one this vibid reads (1)");
+  const nlohmann::json& columns = j.contains("columns") ? j.at("columns") : nlohmann::json();
+  std::vector<std::string> names;
+  if (columns.is_array()) {
+    for (const nlohmann::json& c : columns) {
+      if (!c.is_string()) {
+        names.clear();
+        break;
+      }
+      names.push_back(c.get<std::string>());
+    }
+  }
+  Require(!names.empty() || columns.is_array(), source + ": \"columns\" must be a list of names");
+  std::string header;
+  for (const std::string& n : csv_columns) header += (header.empty() ? "" : ",") + n;
+  Require(names == csv_columns,
+          source + ": describes columns " + columns.dump() + ", the recording's are " + header +
+              ": it belongs to another recording; remove it (the recording is then taken as "
+              "sampled at one instant) or put the recording's own beside it");
+  const nlohmann::json& list =
+      j.contains("sample_instants_us") ? j.at("sample_instants_us") : nlohmann::json();
+  Require(list.is_object(), source + ": \"sample_instants_us\" must be an object {column: us}");
+  SampleInstants out;
+  for (const auto& item : list.items()) {
+    const std::string& name = item.key();
+    Require(std::find(csv_columns.begin(), csv_columns.end(), name) != csv_columns.end(),
+            source + ": sample_instants_us names '" + name + "', not a column of the recording");
+    const nlohmann::json& v = item.value();
+    Require(v.is_number() && std::isfinite(v.get<double>()) && v.get<double>() >= 0.0,
+            source + ": sample_instants_us of '" + name + "' is not a number >= 0: " + v.dump());
+    out.instants_us.emplace_back(name, v.get<double>());
+  }
+  return out;
+}
+
+void WriteRecordingSidecar(const std::string& csv_path, const std::vector<std::string>& csv_columns,
+                           const std::vector<InstantUs>& instants_us) {
+  const std::string sidecar = RecordingSidecarPath(csv_path);
+  if (instants_us.empty()) {
+    std::error_code ec;
+    std::filesystem::remove(sidecar, ec);
+    Require(!ec, "cannot remove '" + sidecar + "' (left from an earlier recording at " + csv_path +
+                     "): " + ec.message());
+    return;
+  }
+  WriteFileAtomic(sidecar, FormatRecordingSidecar(csv_columns, instants_us));
+}
+
 std::optional<SampleInstants> ReadSampleInstants(const std::string& path) {
   std::ifstream in(path, std::ios::binary);
   Require(in.good(), "cannot open " + path);
@@ -81,19 +165,20 @@ std::optional<SampleInstants> ReadSampleInstants(const std::string& path) {
   std::string head;
   std::string line;
   while (in.peek() == '#' && std::getline(in, line)) head += line + "\n";
-  return ParseSampleInstants(head, path);
-}
-
-std::string FormatSampleInstantsLine(const std::vector<std::string>& columns,
-                                     const std::vector<double>& instants_us) {
-  std::string out = std::string(kLineTag) + " " + std::string(kKey);
-  for (std::size_t i = 0; i < columns.size(); ++i) {
-    // Shortest form that reads back to the same double.
-    std::array<char, 32> number{};
-    const auto r = std::to_chars(number.data(), number.data() + number.size(), instants_us[i]);
-    out += (i == 0 ? "" : ",") + columns[i] + ":" + std::string(number.data(), r.ptr);
+  const std::string sidecar = RecordingSidecarPath(path);
+  if (!std::filesystem::exists(sidecar)) return ParseSampleInstants(head, path);
+  std::string header_row;
+  std::getline(in, header_row);
+  if (!header_row.empty() && header_row.back() == '\r') header_row.pop_back();
+  std::vector<std::string> columns;
+  for (std::string c : SplitList(header_row)) {
+    // Header cells are trimmed, as the CSV reader trims them.
+    const std::size_t first = c.find_first_not_of(" \t");
+    const std::size_t last = c.find_last_not_of(" \t");
+    columns.push_back(first == std::string::npos ? std::string()
+                                                 : c.substr(first, last - first + 1));
   }
-  return out;
+  return ParseRecordingSidecar(ReadFileText(sidecar), columns, sidecar);
 }
 
 void CompensateSampleInstants(Frf& frf, double force_instant_s,

@@ -8,6 +8,8 @@
 #include <cmath>
 #include <numbers>
 #include <random>
+#include <string>
+#include <vector>
 
 #include "vibid/common/error.hpp"
 
@@ -16,10 +18,57 @@ namespace {
 
 constexpr double kPi = std::numbers::pi;
 
-TEST(SampleInstants, HeaderLineRoundTrip) {
+TEST(SampleInstants, SidecarRoundTrip) {
+  const std::vector<std::string> columns = {"t_s", "force1_n", "force2_n", "x1_m"};
+  const std::string text =
+      FormatRecordingSidecar(columns, {{"force1_n", 2.667}, {"force2_n", 5.905}, {"x1_m", 0.0}});
+  EXPECT_EQ(text,
+            "{\n  \"format\": \"vibid-recording\",\n  \"version\": 1,\n  \"columns\": [\n"
+            "    \"t_s\",\n    \"force1_n\",\n    \"force2_n\",\n    \"x1_m\"\n  ],\n"
+            "  \"sample_instants_us\": {\n    \"force1_n\": 2.667,\n    \"force2_n\": 5.905,\n"
+            "    \"x1_m\": 0.0\n  }\n}\n");
+  const SampleInstants back = ParseRecordingSidecar(text, columns, "r.csv.json");
+  EXPECT_DOUBLE_EQ(*back.Of("force1_n"), 2.667e-6);
+  EXPECT_DOUBLE_EQ(*back.Of("force2_n"), 5.905e-6);
+  EXPECT_EQ(*back.Of("x1_m"), 0.0);
+  EXPECT_FALSE(back.Of("t_s").has_value());
+  EXPECT_EQ(RecordingSidecarPath("dir/rec.csv"), "dir/rec.csv.json");
+}
+
+TEST(SampleInstants, ASidecarOfAnotherRecordingOrMalformedIsRefused) {
+  const std::vector<std::string> columns = {"t_s", "force1_n"};
+  const std::string good = FormatRecordingSidecar(columns, {{"force1_n", 2.667}});
+  const auto refused = [&](const std::string& text, const std::vector<std::string>& csv,
+                           const std::string& part) {
+    try {
+      (void)ParseRecordingSidecar(text, csv, "r.csv.json");
+      ADD_FAILURE() << text << " was accepted";
+    } catch (const InputError& e) {
+      EXPECT_NE(std::string(e.what()).find(part), std::string::npos) << e.what();
+    }
+  };
+  refused(good, {"t_s", "force2_n"},
+          "r.csv.json: describes columns [\"t_s\",\"force1_n\"], the "
+          "recording's are t_s,force2_n: it belongs to another recording");
+  refused(R"({"format": "vibid-frf"})", columns, "not a vibid-recording sidecar");
+  refused(R"({"format": "vibid-recording", "version": 1, "columns": ["t_s", "force1_n"],
+              "sample_instants_us": {}, "instants": 1})",
+          columns, "unknown key 'instants'");
+  refused(R"({"format": "vibid-recording", "version": 2, "columns": ["t_s", "force1_n"],
+              "sample_instants_us": {}})",
+          columns, "version 2 is not one this vibid reads");
+  refused(R"({"format": "vibid-recording", "version": 1, "columns": ["t_s", "force1_n"],
+              "sample_instants_us": {"force1_n": -1}})",
+          columns, "sample_instants_us of 'force1_n' is not a number >= 0: -1");
+  refused(R"({"format": "vibid-recording", "version": 1, "columns": ["t_s", "force1_n"],
+              "sample_instants_us": {"acc1_m_s2": 1}})",
+          columns, "names 'acc1_m_s2', not a column of the recording");
+}
+
+// The form recordings had before the sidecar: an opening comment line.
+TEST(SampleInstants, TheOpeningLineOfEarlierRecordingsIsStillRead) {
   const std::string line =
-      FormatSampleInstantsLine({"force1_n", "force2_n", "x1_m"}, {2.667, 5.905, 0.0});
-  EXPECT_EQ(line, "# vibid-recording sample_instants_us=force1_n:2.667,force2_n:5.905,x1_m:0");
+      "# vibid-recording sample_instants_us=force1_n:2.667,force2_n:5.905,x1_m:0";
   const auto parsed = ParseSampleInstants("# other line\n" + line + "\nt_s,force1_n\n0,1\n", "r");
   ASSERT_TRUE(parsed.has_value());
   EXPECT_DOUBLE_EQ(*parsed->Of("force1_n"), 2.667e-6);

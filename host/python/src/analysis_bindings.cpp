@@ -82,7 +82,8 @@ py::dict EstimateFile(const std::string& path, const workflow::EstimationOptions
 py::dict EstimateArrays(const Signals& force, const Signals& responses, double fs_hz,
                         const std::string& force_name,
                         const std::vector<std::string>& response_names,
-                        const workflow::EstimationOptions& options) {
+                        const workflow::EstimationOptions& options,
+                        const std::vector<double>& instants_s) {
   Require(force.ndim() == 1,
           "force must be 1-D (samples), not " + std::to_string(force.ndim()) + "-D");
   Require(responses.ndim() == 2, "responses must be 2-D (responses, samples), not " +
@@ -93,7 +94,7 @@ py::dict EstimateArrays(const Signals& force, const Signals& responses, double f
   workflow::Estimated e;
   {
     py::gil_scoped_release release;
-    e = workflow::EstimateFromSignals(f, x, fs_hz, force_name, response_names, options);
+    e = workflow::EstimateFromSignals(f, x, fs_hz, force_name, response_names, options, instants_s);
   }
   return EstimatedDict(e);
 }
@@ -279,7 +280,8 @@ void RegisterAnalysis(py::module_& m) {
       py::arg("request"), py::arg("output"));
   m.def("estimate_file", &EstimateFile, py::arg("path"), py::arg("options"));
   m.def("estimate_arrays", &EstimateArrays, py::arg("force").noconvert(false), py::arg("responses"),
-        py::arg("fs_hz"), py::arg("force_name"), py::arg("response_names"), py::arg("options"));
+        py::arg("fs_hz"), py::arg("force_name"), py::arg("response_names"), py::arg("options"),
+        py::arg("instants_s"));
   m.def("default_segment", &workflow::DefaultSegment, py::arg("samples"));
   m.def("modes", &Modes, py::arg("inputs"), py::arg("options"), py::arg("request"));
   py::class_<ident::Frf>(m, "_Frf");

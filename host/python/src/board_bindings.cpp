@@ -13,7 +13,9 @@
 #include <memory>
 #include <mutex>
 #include <optional>
+#include <span>
 #include <thread>
+#include <vector>
 
 #include <nlohmann/json.hpp>
 
@@ -202,13 +204,20 @@ class Board {
     return "unknown";
   }
 
-  /// (names, data (channels, samples), fs_hz, sample_index, instants_line, stopped).
+  /// (names, data (channels, samples), fs_hz, sample_index, sample instants {column: us},
+  /// end), `end` "" for an acquisition that ran its length, else why it ended early: "interrupted"
+  /// (Ctrl-C), "trigger-timeout: MESSAGE", "incomplete: MESSAGE" (the log wrapped, or the pull
+  /// gave up) or "lost: MESSAGE" (the board failed or went away: the records that had arrived);
+  /// the records kept are returned in every case.
   py::tuple Acquire(const device::AcquireSettings& settings, const std::string& scenario,
                     const std::vector<float>& scenario_params) {
     device::Trigger trig;
     wire::AcqConfigureRequest cfg = device::PlanAcquisition(settings, trig);
     Require(scenario_params.size() <= 4, "--scenario-param takes at most 4 values");
     bool interrupted = false;
+    bool timed_out = false;
+    std::string incomplete;
+    std::string lost;
     device::LogPull pull;
     wire::CalibrationRecord record;
     bool has_record = false;
@@ -217,22 +226,59 @@ class Board {
       py::gil_scoped_release release;
       device::Connection& con = c();
       record = device::ActiveRecord(con, has_record);
-      device::ApplyCalibration(record, has_record, settings.no_dob, trig, cfg);
+      device::ApplyCalibration(record, has_record, con.GetStatus().dob_running != 0,
+                               settings.no_dob, trig, cfg);
       device::Preflight(con.info(), cfg, settings);
       cfg.flags = static_cast<std::uint8_t>(cfg.flags | wire::kAcqFlagStream);
       if (!scenario.empty()) con.SelectScenario(scenario, scenario_params);
       con.Configure(cfg);
-      // Asked at least every 100 ms while the board samples: a pending Ctrl-C stops it.
-      const device::StopRequest stop = [&](const wire::LogTrailer*) {
-        py::gil_scoped_acquire acquire;
-        if (PyErr_CheckSignals() != 0) {
-          PyErr_Clear();
-          interrupted = true;
+      const auto started = std::chrono::steady_clock::now();
+      // Asked at least every 100 ms while the board samples: a pending Ctrl-C stops it, and so
+      // does a trigger that has not fired within the timeout.
+      const device::StopRequest stop = [&](const wire::LogTrailer* state) {
+        {
+          py::gil_scoped_acquire acquire;
+          if (PyErr_CheckSignals() != 0) {
+            PyErr_Clear();
+            interrupted = true;
+          }
         }
-        return interrupted;
+        if (!interrupted && settings.trigger_timeout_s > 0.0 && state != nullptr &&
+            state->acq_state == wire::AcqState::kArmed &&
+            std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count() >=
+                settings.trigger_timeout_s)
+          timed_out = true;
+        return interrupted || timed_out;
+      };
+      // The records as they arrive, each log index once: what is kept when the board fails
+      // before the pull's own record is complete.
+      std::vector<wire::LogRecord> arrived;
+      const device::LiveRecords live = [&](std::uint32_t first,
+                                           std::span<const wire::LogRecord> records) {
+        for (std::size_t i = 0; i < records.size(); ++i) {
+          if (first + i == arrived.size()) arrived.push_back(records[i]);
+        }
       };
       try {
-        pull = con.AcquireStreamed({}, stop);
+        pull = con.AcquireStreamed({}, stop, live);
+      } catch (const device::IncompleteLog& e) {
+        // The log wrapped over records before they could be pulled: the rest is returned.
+        pull = e.pull();
+        incomplete = e.what();
+      } catch (const device::Interrupted&) {
+        throw;
+      } catch (const device::DeviceError& e) {
+        // The board failed or went away: the records that arrived are returned with the error.
+        try {
+          con.StopAcquisition();
+        } catch (const device::DeviceError&) {
+        }
+        pull = device::LogPull{};
+        pull.layout = wire::LogLayout{cfg.channel_mask, cfg.flags};
+        pull.trailer.sample_period_us = cfg.sample_period_us;
+        pull.trailer.decimation = cfg.decimation;
+        pull.records = std::move(arrived);
+        lost = e.what();
       } catch (...) {
         // The board is left idle whenever it can still be reached.
         try {
@@ -241,15 +287,33 @@ class Board {
         }
         throw;
       }
-      instants = con.GetSamplingInfo();
+      if (lost.empty()) {
+        try {
+          instants = con.GetSamplingInfo();
+        } catch (const device::DeviceError&) {
+        }
+      }
     }
     const py::tuple t = RecordsTable(pull, record, has_record);
     const double fs_hz = 1e6 / cfg.sample_period_us / cfg.decimation;
-    const std::string instants_line =
-        instants ? device::SampleInstantsLine(device::MakeLogTable(pull, record, has_record), pull,
-                                              *instants)
-                 : std::string();
-    return py::make_tuple(t[0], t[1], fs_hz, t[2], instants_line, interrupted);
+    py::dict instants_us;
+    if (instants) {
+      const device::LogTable table = device::MakeLogTable(pull, record, has_record);
+      for (const auto& [name, us] : device::SampleInstantsUs(table, pull, *instants))
+        instants_us[py::str(name)] = us;
+    }
+    std::string end;
+    if (!lost.empty())
+      end = "lost: " + lost;
+    else if (!incomplete.empty())
+      end = "incomplete: " + incomplete;
+    else if (interrupted)
+      end = "interrupted";
+    else if (timed_out)
+      end = "trigger-timeout: the trigger did not fire within " +
+            py::str(py::float_(settings.trigger_timeout_s)).cast<std::string>() +
+            " s (trigger_timeout_s)";
+    return py::make_tuple(t[0], t[1], fs_hz, t[2], instants_us, end);
   }
 
   /// Builds the record from the model, the observer design (the JSON of dob_design) and the
@@ -301,7 +365,8 @@ class Board {
     device::Connection& con = c();
     bool has_record = false;
     const wire::CalibrationRecord record = device::ActiveRecord(con, has_record);
-    device::ApplyCalibration(record, has_record, settings.no_dob, trig, cfg);
+    device::ApplyCalibration(record, has_record, con.GetStatus().dob_running != 0, settings.no_dob,
+                             trig, cfg);
     device::Preflight(con.info(), cfg, settings);
     cfg.flags = static_cast<std::uint8_t>(cfg.flags | wire::kAcqFlagStream);
     if (!scenario.empty()) con.SelectScenario(scenario, scenario_params);
@@ -347,6 +412,7 @@ void RegisterBoard(py::module_& m) {
       .def_readwrite("channels", &device::AcquireSettings::channels)
       .def_readwrite("trigger", &device::AcquireSettings::trigger)
       .def_readwrite("pretrigger_s", &device::AcquireSettings::pretrigger_s)
+      .def_readwrite("trigger_timeout_s", &device::AcquireSettings::trigger_timeout_s)
       .def_readwrite("no_dob", &device::AcquireSettings::no_dob)
       .def_readwrite("allow_drops", &device::AcquireSettings::allow_drops);
   py::class_<Stream>(m, "_Stream")

@@ -9,6 +9,8 @@
 
 #include "bindings.hpp"
 #include "vibid/common/error.hpp"
+#include "vibid/device/calibration_builder.hpp"
+#include "vibid/device/calibration_upload.hpp"
 #include "vibid/dob/compare.hpp"
 #include "vibid/dob/design.hpp"
 #include "vibid/dob/design_json.hpp"
@@ -97,6 +99,18 @@ void RegisterObserver(py::module_& m) {
       .def_readwrite("sensor_fs", &O::sensor_fs)
       .def_readwrite("output_fs_n", &O::output_fs_n);
   m.def("dob_design", &Design, py::arg("model"), py::arg("request"));
+  // The full scales a sensors file gives the observer (`vibid dob design --sensors`).
+  m.def(
+      "take_sensor_full_scales",
+      [](O& request, const py::handle& sensors, const std::string& source, bool force_given,
+         bool sensor_given) {
+        return device::TakeSensorFullScales(device::SensorsFromJson(FromPython(sensors), source),
+                                            request.input_dof, request.output_dof, request.sensor,
+                                            request.force_fs_n, force_given, request.sensor_fs,
+                                            sensor_given);
+      },
+      py::arg("request"), py::arg("sensors"), py::arg("source"), py::arg("force_given"),
+      py::arg("sensor_given"));
   m.def("dob_run_fixed", &RunFixed, py::arg("design"), py::arg("inputs"));
   m.def("dob_run_float", &RunFloat, py::arg("design"), py::arg("inputs"));
   m.def(

@@ -4,11 +4,16 @@
 #include <pybind11/numpy.h>
 #include <pybind11/stl.h>
 
+#include <optional>
+#include <utility>
+
 #include <nlohmann/json.hpp>
 
 #include "bindings.hpp"
+#include "vibid/common/atomic_file.hpp"
 #include "vibid/common/csv.hpp"
 #include "vibid/common/error.hpp"
+#include "vibid/ident/sample_instants.hpp"
 #include "vibid/model/force.hpp"
 #include "vibid/model/frf.hpp"
 #include "vibid/model/modal.hpp"
@@ -60,7 +65,8 @@ py::dict SimulateDict(const model::Model& m, const std::vector<std::string>& for
   return d;
 }
 
-/// A recording as (names, data shaped (channels, samples), fs_hz, t0_s, header comment lines).
+/// A recording as (names, data shaped (channels, samples), fs_hz, t0_s, sample instants
+/// {column: us} from its sidecar, or from the opening line of a recording written before it).
 py::tuple ReadRecording(const std::string& path, std::optional<double> fs_hz,
                         const std::string& time_column, const std::vector<std::string>& channels) {
   RecordingOptions options;
@@ -68,9 +74,15 @@ py::tuple ReadRecording(const std::string& path, std::optional<double> fs_hz,
   options.time_column = time_column;
   options.channels = channels;
   Recording r;
+  std::optional<ident::SampleInstants> instants;
   {
     py::gil_scoped_release release;
     r = LoadRecording(path, options);
+    instants = ident::ReadSampleInstants(path);
+  }
+  py::dict instants_us;
+  if (instants) {
+    for (const auto& [name, us] : instants->instants_us) instants_us[py::str(name)] = us;
   }
   const auto n = static_cast<py::ssize_t>(r.samples());
   const auto k = static_cast<py::ssize_t>(r.table.columns.size());
@@ -80,12 +92,14 @@ py::tuple ReadRecording(const std::string& path, std::optional<double> fs_hz,
     const Eigen::VectorXd& col = r.table.columns[static_cast<std::size_t>(c)];
     std::copy(col.data(), col.data() + n, out + c * n);
   }
-  return py::make_tuple(r.table.names, data, r.fs_hz, r.t0_s);
+  return py::make_tuple(r.table.names, data, r.fs_hz, r.t0_s, instants_us);
 }
 
-/// Writes columns (rows of `data`) as a CSV vibid reads back bit-identical.
+/// Writes columns (rows of `data`) as a CSV vibid reads back bit-identical, and its sidecar with
+/// the sampling instants {column: us} (none: a sidecar left at that path is removed).
 void WriteCsv(const std::string& path, const std::vector<std::string>& names,
-              const py::array_t<double, py::array::c_style>& data, const std::string& header) {
+              const py::array_t<double, py::array::c_style>& data,
+              const std::vector<std::pair<std::string, double>>& instants_us) {
   Require(data.ndim() == 2, "data must be 2-D (channels, samples)");
   Require(data.shape(1) > 0, "the recording is empty (no samples)");
   Require(static_cast<std::size_t>(data.shape(0)) == names.size(),
@@ -94,8 +108,11 @@ void WriteCsv(const std::string& path, const std::vector<std::string>& names,
   std::vector<Eigen::VectorXd> columns;
   for (py::ssize_t c = 0; c < data.shape(0); ++c)
     columns.emplace_back(Eigen::Map<const Eigen::VectorXd>(data.data(c, 0), data.shape(1)));
-  const std::string text = header + FormatCsv(names, columns);
-  py::module_::import("pathlib").attr("Path")(path).attr("write_text")(text);
+  const std::string text = FormatCsv(names, columns);
+  py::gil_scoped_release release;
+  // The sidecar first: a CSV is never left beside a sidecar of another.
+  ident::WriteRecordingSidecar(path, names, instants_us);
+  WriteFileAtomic(path, text);
 }
 
 }  // namespace
@@ -140,7 +157,7 @@ void RegisterModel(py::module_& m) {
   m.def("read_recording", &ReadRecording, py::arg("path"), py::arg("fs_hz"), py::arg("time_column"),
         py::arg("channels"));
   m.def("write_csv", &WriteCsv, py::arg("path"), py::arg("names"), py::arg("data"),
-        py::arg("header"));
+        py::arg("sample_instants_us"));
 }
 
 }  // namespace vibid::python

@@ -4,6 +4,7 @@ import os
 import pathlib
 import re
 import subprocess
+import time
 
 import pytest
 
@@ -25,21 +26,35 @@ def cli_json(*args):
 
 
 class Emulator:
-    """vibid-emu on a free port, its flash in a temporary file; stopped by stop()."""
+    """vibid-emu on a free port, its flash in a temporary file, its log (-v: clients, sampling
+    starts and stops) in a file await_log reads; stopped by stop()."""
 
     def __init__(self, tmp: pathlib.Path, seed: int = 1, realtime: bool = False):
+        self.log_path = tmp / f"emu{seed}-{os.urandom(4).hex()}.log"
+        self._log = open(self.log_path, "w")
         self.proc = subprocess.Popen(
-            [str(EMU), "--port", "0", "--seed", str(seed), "--flash", str(tmp / f"flash{seed}.bin")]
-            + (["--realtime"] if realtime else []),
-            stdout=subprocess.PIPE, text=True)
+            [str(EMU), "--port", "0", "--seed", str(seed), "--flash", str(tmp / f"flash{seed}.bin"),
+             "-v"] + (["--realtime"] if realtime else []),
+            stdout=subprocess.PIPE, stderr=self._log, text=True)
         banner = self.proc.stdout.readline()
         m = re.search(r"127\.0\.0\.1:(\d+),", banner)
         assert m, banner
         self.url = f"usbip://127.0.0.1:{m.group(1)}"
 
+    def await_log(self, text: str, count: int = 1, timeout_s: float = 10.0) -> bool:
+        """Waits until the emulator's log holds `text` `count` times (the state a test acts on);
+        False on timeout."""
+        deadline = time.monotonic() + timeout_s
+        while time.monotonic() < deadline:
+            if self.log_path.read_text().count(text) >= count:
+                return True
+            time.sleep(0.01)
+        return False
+
     def stop(self):
         self.proc.terminate()
         self.proc.wait(timeout=10)
+        self._log.close()
 
 
 @pytest.fixture

@@ -1,5 +1,6 @@
 """The Python Board against vibid-emu: the same records as `vibid acquire`, the same preflight
-refusal, and Ctrl-C in the middle of an acquisition leaves the board idle and usable."""
+refusal, Ctrl-C in the middle of an acquisition leaves the board idle and usable, and a board the
+Python Board holds is named in use by this process."""
 import os
 import signal
 import threading
@@ -31,9 +32,11 @@ def test_acquisition_equals_cli_csv(make_emulator, tmp_path):
     assert py.samples == 2500
     assert py.fs_hz == 5000.0
     np.testing.assert_array_equal(py.data, cli.data)
-    # Written out, the file is vibid acquire's to the byte (sampling-instant line included).
+    # Written out, the files are vibid acquire's to the byte (the sidecar's sampling instants
+    # included).
     py.write_csv(tmp_path / "py.csv")
     assert (tmp_path / "py.csv").read_bytes() == out.read_bytes()
+    assert (tmp_path / "py.csv.json").read_bytes() == (tmp_path / "cli.csv.json").read_bytes()
     # The board's tick of every record: consecutive, none dropped.
     np.testing.assert_array_equal(np.diff(py.sample_index.astype(np.int64)), 1)
 
@@ -74,14 +77,18 @@ def test_ctrl_c_stops_the_board_and_it_stays_usable(make_emulator):
     # At wall-clock speed, so the acquisition is still running when the signal comes.
     emulator = make_emulator(realtime=True)
     with vibid.Board(emulator.url) as board:
-        # SIGINT to this very process 0.5 s into a 20 s acquisition.
-        timer = threading.Timer(0.5, os.kill, (os.getpid(), signal.SIGINT))
-        timer.start()
+        # SIGINT to this very process once the board samples (the emulator says so), in the
+        # middle of a 20 s acquisition.
+        def interrupt():
+            if emulator.await_log("vibid-emu: sampling started"):
+                os.kill(os.getpid(), signal.SIGINT)
+        watcher = threading.Thread(target=interrupt)
+        watcher.start()
         with pytest.raises(KeyboardInterrupt) as e:
             board.acquire(seconds=20, rate_hz=1000, channels=["force1"], no_dob=True)
-        timer.join()
+        watcher.join()
         kept = e.value.recording
-        # Stopped early: some records, far fewer than 20 s worth, none dropped.
+        # Stopped early: what the board sampled, far fewer than 20 s worth, none dropped.
         assert 0 < kept.samples < 20 * 1000
         np.testing.assert_array_equal(np.diff(kept.sample_index.astype(np.int64)), 1)
         assert board.state() in ("idle", "done")
@@ -117,3 +124,14 @@ def test_stream_left_early_stops_the_board(make_emulator):
         assert board.state() in ("idle", "done")
         assert board.acquire(seconds=0.1, rate_hz=1000, channels=["force1"],
                              no_dob=True).samples == 100
+
+
+def test_a_board_held_by_python_is_named_in_use(emulator):
+    # While this process holds the board, `vibid info` names it (the program and its pid) and the
+    # way out; once it is closed the board answers again.
+    with vibid.Board(emulator.url):
+        r = run_cli("info", device=emulator.url)
+        assert r.returncode == 4, r.stderr
+        assert r.stderr.startswith(f"vibid: error: the board at {emulator.url} is in use by ")
+        assert f"(pid {os.getpid()}): close it, or wait until it ends, and try again" in r.stderr
+    assert run_cli("info", device=emulator.url).returncode == 0

@@ -1,5 +1,6 @@
-"""Pull-and-release records: `vibid.decay` equals `vibid decay --json` on the same files, and on
-the ECP cart's records gives the published frequencies, spring and cart mass."""
+"""Pull-and-release records: `vibid.decay` gives back the closed form the records are built from
+(frequency, damping, spring and mass), equals `vibid decay --json` on the same files, and on the
+ECP cart's records gives the published frequencies, spring and cart mass."""
 import os
 import pathlib
 
@@ -44,6 +45,25 @@ def test_decay_equals_cli(records):
     py = vibid.decay(base, position="x1_m", loaded=loaded, added_kg=DM)
     assert py.json == cli
     assert py.k_n_per_m == cli["k_n_per_m"] and len(py.records) == 2
+
+
+@pytest.mark.xfail(strict=True, reason="open defect: on these records vibid decay gives omega_n "
+                   "20.09 rad/s (+0.47 %), zeta -0.041 (truth 0.02), k 762.5 N/m (-4.7 %) and "
+                   "m 1.888 kg (-5.6 %); strict, so the fix turns this into a pass")
+def test_decay_gives_the_closed_form_of_the_records(records):
+    # The records are the closed form x = 0.02 exp(-zeta wn t) cos(wd t) of a mass on the spring
+    # K (release_record), with 1 um of noise on 2 cm: the fit gives back its parameters, and the
+    # two masses give back the spring and the base mass: wn^2 = K / m, so K = DM / (1/wn_l^2 -
+    # 1/wn_b^2) and m = K / wn_b^2.
+    base, loaded = records
+    py = vibid.decay(base, position="x1_m", loaded=loaded, added_kg=DM)
+    wn = np.sqrt(K / M)  # 20 rad/s
+    assert py.omega_n_rad_s == pytest.approx(wn, rel=1e-4)
+    assert py.omega_d_rad_s == pytest.approx(wn * np.sqrt(1 - ZETA ** 2), rel=1e-4)
+    assert py.zeta == pytest.approx(ZETA, rel=1e-3)
+    assert py.json["loaded"]["omega_n_rad_s"] == pytest.approx(np.sqrt(K / (M + DM)), rel=1e-4)
+    assert py.k_n_per_m == pytest.approx(K, rel=1e-3)
+    assert py.base_mass_kg == pytest.approx(M, rel=1e-3)
 
 
 def shared_data(folder):

@@ -1,6 +1,7 @@
 """The demo's workflow against vibid-emu, each step from Python beside the CLI on the same files:
-identify's updated model and report data, the observer design file, and the board's d_hat equal
-to the Python replay bit for bit (scripts/workflow's steps and figures, shorter tests)."""
+identify's updated model and report data, the observer design file, the board's d_hat equal to
+the Python replay bit for bit and following the disturbance a second load cell measures
+(scripts/workflow's steps and figures, shorter tests)."""
 import dataclasses
 import json
 
@@ -91,8 +92,41 @@ def test_observer_design_equals_cli_and_the_board_equals_the_replay(tests):
     run = vibid.dob_run(design, push["x2_m"], push["force1_n"])
     # The board's kernel and the host's replay are the same code: equal to the last bit.
     np.testing.assert_array_equal(run.d_hat_q31, push["d_hat_q31"])
-    agreement = vibid.dob_compare(run.d_hat_n, run.d_hat_n, 1000.0)
-    assert agreement.fit_percent == 100.0
+
+
+def push_fit(emu, model):
+    """The fit (%) of the board's d_hat, designed from `model`, to the disturbance the shaker
+    scenario pushes m2 with, measured on its own by the second load cell (force2_n): after the
+    4 Hz low-pass that takes off the 16 Hz shaker's residue, 0.5 s left out at each end, as
+    scripts/workflow scores it."""
+    design = vibid.dob_design(model, sensors=SENSORS, fs_hz=1000)
+    with vibid.Board(emu.url) as board:
+        board.cal_upload(model, design, sensors=SENSORS)
+        board.cal_commit()
+        board.dob_start()
+        push = board.acquire(seconds=6, rate_hz=1000, scenario="shaker",
+                             scenario_params=[16, 10, 10])
+        board.dob_stop()
+    skip = 500
+    lp = vibid.lowpass(push["d_hat_n"], 4, 1000)
+    return vibid.dob_compare(lp[skip:-skip], push["force2_n"][skip:-skip], 1000.0)
+
+
+def test_the_board_s_d_hat_follows_the_measured_disturbance(tests):
+    # Scored against force2, not against itself: with the identified model d_hat follows the push
+    # (scripts/workflow's 30 s run: 98.6 %); with the nominal one (m1 +9 %, springs +10 %) its
+    # model-error term Q(G_A^-1 - G_R^-1)y remains (69.8 % there), so the update must show.
+    d, emu = tests
+    updated = vibid.identify(vibid.load_model(NOMINAL),
+                             mass_tests={1: d / "mass1.csv", 2: d / "mass2.csv"},
+                             mass_springs={1: "fit", 2: "fit"},
+                             modal_tests=[d / "modal1.csv", d / "modal2.csv"],
+                             exp_window=0.1).updated
+    identified = push_fit(emu, updated)
+    nominal = push_fit(emu, vibid.load_model(NOMINAL))
+    assert identified.fit_percent > 95.0, identified
+    assert identified.correlation > 0.99 and abs(identified.delay_s) <= 0.002, identified
+    assert nominal.fit_percent < identified.fit_percent - 10.0, (nominal, identified)
 
 
 def test_report_equals_cli(tests):
@@ -102,8 +136,10 @@ def test_report_equals_cli(tests):
        "--modal-test", d / "modal1.csv", "--exp-window", 0.1, "-o", d / "updated_r.json",
        "--report", d / "report_r")
     with vibid.Board(emu.url) as board:
+        board.dob_start()  # d_hat is logged while the observer runs
         push = board.acquire(seconds=3, rate_hz=1000, scenario="shaker",
                              scenario_params=[16, 10, 10])
+        board.dob_stop()
     push.write_csv(d / "push.csv")
     args = dict(identify=d / "report_r", dob=d / "push.csv", measured="force2_n",
                 estimates=["d_hat_n=board"], skip_s=0.5, notes=["seed 1"])

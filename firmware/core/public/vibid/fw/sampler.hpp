@@ -50,6 +50,8 @@ class Sampler final : public FrameSink {
 
   /// Runs the DOB in acquisitions that do not log it too (dob-control; live d_hat).
   void SetDobRunning(bool running) { dob_requested_.store(running, std::memory_order_release); }
+  /// The observer is on (dob-control run): it runs whenever the board samples at its rate.
+  bool dob_requested() const { return dob_requested_.load(std::memory_order_acquire); }
 
   void OnFrame(const SampleFrame& frame) override;
 

@@ -44,18 +44,20 @@ Trigger ParseTrigger(const std::string& text);
 /// supports; InputError naming the rates near it otherwise.
 int DecimationFor(double rate_hz, double log_rate_hz, int decimation);
 
-/// The configuration the settings ask for, checked as far as it can be without the board; `trig`
-/// gets the parsed trigger. InputError naming the first bad setting.
+/// The configuration the settings ask for, checked as far as it can be without the board (every
+/// number finite and in its option's range, the length within what the board counts); `trig`
+/// gets the parsed trigger. InputError naming the first bad setting by its CLI option.
 wire::AcqConfigureRequest PlanAcquisition(const AcquireSettings& settings, Trigger& trig);
 
 /// The board's active calibration record; `has_record` false when it is uncalibrated.
 wire::CalibrationRecord ActiveRecord(Connection& c, bool& has_record);
 
-/// What the board's calibration adds to `cfg`: the observer output (unless `no_dob`), the trigger
-/// threshold in ADC units (and the load cell's full scale in `trig`). DeviceError when a trigger
-/// needs a calibrated load cell the board does not have.
-void ApplyCalibration(const wire::CalibrationRecord& record, bool has_record, bool no_dob,
-                      Trigger& trig, wire::AcqConfigureRequest& cfg);
+/// What the board's state adds to `cfg`: the observer output when the observer runs (`dob_running`,
+/// from get-status) unless `no_dob`, the trigger threshold in ADC units (and the load cell's full
+/// scale in `trig`). DeviceError when a trigger needs a calibrated load cell the board does not
+/// have.
+void ApplyCalibration(const wire::CalibrationRecord& record, bool has_record, bool dob_running,
+                      bool no_dob, Trigger& trig, wire::AcqConfigureRequest& cfg);
 
 /// Preflight: the link budget of `cfg` on this board; InputError (DescribeOverflow) when the log
 /// would overflow within the acquisition and drops are not allowed.

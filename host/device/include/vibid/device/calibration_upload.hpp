@@ -36,6 +36,18 @@ void KeepBoardSensors(RecordInputs& inputs, const wire::CalibrationRecord* activ
 std::optional<double> CalibratedFullScale(const wire::CalibrationRecord* active,
                                           wire::Channel channel);
 
+/// An observer's full scales from where they are true, the sensors the board will scale with (a
+/// sensors file): the load cell on mass `input_dof` (from 1) gives `force_fs_n`, the `sensor`
+/// kind's (disp, vel, acc) on `output_dof` gives `sensor_fs`: each the first sensor of its kind
+/// on its mass, the channel `cal upload` routes the input to (a channel has one range, and `cal
+/// upload` refuses an observer designed for another). A value the caller gave (`force_given`,
+/// `sensor_given`) is kept when it is the sensors' and refused (InputError naming both and the
+/// way out) when it is not; a sensor the file does not have leaves the value as it is. Returns
+/// what was taken ("force full scale 500 N from force1"), "" when nothing was.
+std::string TakeSensorFullScales(const SensorSet& sensors, int input_dof, int output_dof,
+                                 const std::string& sensor, double& force_fs_n, bool force_given,
+                                 double& sensor_fs, bool sensor_given);
+
 /// The record as `cal show --json` prints it, without the slot, sequence and CRC the board adds:
 /// label, created_unix_s, host_version, M, C, K (dof x dof), channels (calibrated ones: unit,
 /// counts_per_unit, offset_counts, full_scale, gain, gain_shift, dof), observer (or null).

@@ -4,6 +4,7 @@
 
 #include <optional>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include <Eigen/Core>
@@ -25,7 +26,8 @@ struct LogTable {
   std::vector<Eigen::VectorXd> columns;
 };
 
-/// Columns: t_s (sample_index x sample period), one `<stem>_<unit>` column per logged channel
+/// Columns: t_s (sample_index x sample period, the exact decimal: the tick count in us over
+/// 10^6, correctly rounded), one `<stem>_<unit>` column per logged channel
 /// (calibrated exactly as the board does: ScaleChannel, then x full_scale / 2^31, which is exact
 /// in double so a reader recovers the board's Q31 value), and with the observer logged
 /// `d_hat_q31` (the board's integer output) and `d_hat_n`.
@@ -33,26 +35,30 @@ struct LogTable {
 LogTable MakeLogTable(const LogPull& pull, const wire::CalibrationRecord& calibration,
                       bool has_record);
 
-/// The header line stating when each logged channel was sampled after the timer edge:
-/// `# vibid-recording sample_instants_us=force1_n:2.667,force2_n:5.905,...` (channel columns
-/// only, in the table's order; ident::ReadSampleInstants reads it back).
-std::string SampleInstantsLine(const LogTable& table, const LogPull& pull,
-                               const wire::SamplingInfoResponse& instants);
+/// When each logged channel was sampled after the timer edge, in us (whole ns, so the decimal
+/// is exact): channel columns only, in the table's order, for the recording's sidecar.
+std::vector<std::pair<std::string, double>> SampleInstantsUs(
+    const LogTable& table, const LogPull& pull, const wire::SamplingInfoResponse& instants);
 
-/// The recording's opening lines (sampling-instants line when stated, column names): `format`
-/// gives the layout and trailer, its records are not read. With FormatLogCsvRows, a recording is
-/// written as its records arrive: header + rows of every block in order is FormatLogCsv's text.
+/// The recording's header row (column names): `format` gives the layout and trailer, its records
+/// are not read. With FormatLogCsvRows, a recording is written as its records arrive: header +
+/// rows of every block in order is FormatLogCsv's text.
 std::string FormatLogCsvHeader(const LogPull& format, const wire::CalibrationRecord& calibration,
-                               bool has_record,
-                               const std::optional<wire::SamplingInfoResponse>& instants);
+                               bool has_record);
 /// The rows of `block`'s records (its layout and trailer as the whole recording's).
 std::string FormatLogCsvRows(const LogPull& block, const wire::CalibrationRecord& calibration,
                              bool has_record);
 
-/// MakeLogTable formatted with vibid::FormatCsv, after the sampling-instants header line when the
-/// board stated its instants (`instants` empty for a board of protocol 2.0).
+/// MakeLogTable formatted with vibid::FormatCsv: one header row, then rows, as every CSV reader
+/// expects.
 std::string FormatLogCsv(const LogPull& pull, const wire::CalibrationRecord& calibration,
-                         bool has_record,
-                         const std::optional<wire::SamplingInfoResponse>& instants = std::nullopt);
+                         bool has_record);
+
+/// Writes the sidecar of the recording at `csv_path` (ident::WriteRecordingSidecar) with the
+/// instants the board stated (`instants` empty for a board of protocol 2.0: a sidecar left there
+/// by an earlier recording is removed).
+void WriteLogSidecar(const std::string& csv_path, const LogPull& format,
+                     const wire::CalibrationRecord& calibration, bool has_record,
+                     const std::optional<wire::SamplingInfoResponse>& instants);
 
 }  // namespace vibid::device

@@ -29,6 +29,11 @@ struct UsbipExport {
       interface_classes;  ///< class, subclass, protocol per interface, in order
 };
 
+/// What a user is told when the server at host:port lists the board but will not export it: it
+/// is in use, by the local process that holds it when this machine can tell (the server is
+/// local and the process readable), and the way out.
+std::string UsbipBusyMessage(const std::string& host, int port);
+
 /// Lists what the server at host:port exports. Throws DeviceError if it cannot be reached.
 std::vector<UsbipExport> ListUsbipExports(
     const std::string& host, int port,
