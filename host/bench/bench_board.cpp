@@ -245,8 +245,8 @@ void BenchBoard::Run(AcquisitionAsk ask, wire::AcqConfigureRequest cfg, std::str
   if (have_pull && !pull.records.empty()) {
     const std::string path = out_dir_ + "/" + name + ".csv";
     try {
-      WriteFileAtomic(
-          path, device::FormatLogCsv(pull, calibration_, has_calibration_, c_.GetSamplingInfo()));
+      device::WriteLogSidecar(path, pull, calibration_, has_calibration_, c_.GetSamplingInfo());
+      WriteFileAtomic(path, device::FormatLogCsv(pull, calibration_, has_calibration_));
       std::filesystem::remove(journal_path_);
       done["file"] = path;
       done["records"] = pull.records.size();
