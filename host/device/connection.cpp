@@ -6,6 +6,7 @@
 
 #include "vibid/device/error.hpp"
 #include "vibid/device/refusal_text.hpp"
+#include "vibid/shared/wire/refusal.hpp"
 #include "vibid/shared/wire/stream.hpp"
 
 namespace vibid::device {
@@ -236,6 +237,23 @@ std::optional<wire::HealthInfoResponse> Connection::GetHealthInfo() {
   return DecodeAnswer<wire::HealthInfoResponse>(
       Expect(Command::kGetInfo, wire::InfoPageRequest{.page = wire::kInfoPageHealth}),
       "get-info health page");
+}
+
+std::optional<wire::WatchInfoResponse> Connection::GetWatchInfo() {
+  if (info_.protocol_minor < 1) return std::nullopt;
+  const Reply r = Call(Command::kGetInfo,
+                       wire::EncodedBytes(wire::InfoPageRequest{.page = wire::kInfoPageWatch}));
+  if (r.header.status != Status::kOk) {
+    // Firmware from before the residual test does not know the page: it has no test to report.
+    wire::Refusal why;
+    if (wire::Decode(r.payload(), why) == Status::kOk &&
+        why.reason == wire::Reason::kUnknownInfoPage) {
+      return std::nullopt;
+    }
+    throw DeviceError(
+        RefusalMessage(static_cast<std::uint8_t>(Command::kGetInfo), r.header.status, r.payload()));
+  }
+  return DecodeAnswer<wire::WatchInfoResponse>(r, "get-info watch page");
 }
 
 wire::SelfTestResponse Connection::SelfTest(std::uint8_t check) {

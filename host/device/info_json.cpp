@@ -6,6 +6,7 @@
 #include <vector>
 
 #include "vibid/common/enum_names.hpp"
+#include "vibid/device/watch_report.hpp"
 #include "vibid/device/health_report.hpp"
 #include "vibid/device/log_table.hpp"
 #include "vibid/shared/wire/log_record.hpp"
@@ -64,7 +65,8 @@ nlohmann::json ClipsJson(const std::optional<wire::ClipResponse>& clips) {
 nlohmann::json InfoJson(const device::Connection& c, const wire::InfoResponse& i,
                         const std::optional<wire::ClipResponse>& clips,
                         const std::optional<wire::SamplingInfoResponse>& sampling,
-                        const std::optional<wire::HealthInfoResponse>& health) {
+                        const std::optional<wire::HealthInfoResponse>& health,
+                        const std::optional<wire::WatchInfoResponse>& watch) {
   // Channel -> us after the timer edge; null for a board of protocol 2.0, which does not say.
   nlohmann::json instants = nullptr;
   if (sampling) {
@@ -123,7 +125,8 @@ nlohmann::json InfoJson(const device::Connection& c, const wire::InfoResponse& i
       {"cal_crc", Hex32(i.cal_crc)},
       {"overrun_count", i.overrun_count},
       {"dropped_records", i.dropped_records},
-      {"clipped", ClipsJson(clips)}};
+      {"clipped", ClipsJson(clips)},
+      {"model_stale", WatchJson(watch, i.sample_period_us)}};
 }
 
 }  // namespace vibid::device

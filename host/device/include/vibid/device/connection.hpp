@@ -39,6 +39,7 @@
 #include "vibid/shared/wire/commands.hpp"
 #include "vibid/shared/wire/log_record.hpp"
 #include "vibid/shared/wire/report.hpp"
+#include "vibid/shared/wire/watch_info.hpp"
 
 namespace vibid::device {
 
@@ -151,6 +152,9 @@ class Connection {
   std::optional<wire::SamplingInfoResponse> GetSamplingInfo();
   /// get-info's health page: brown-out level and reset cause. Empty for a board of protocol 2.0.
   std::optional<wire::HealthInfoResponse> GetHealthInfo();
+  /// get-info's watch page: the board's residual test ("model stale" flag, statistic, trip
+  /// tick). Empty for a board of protocol 2.0 or firmware without the page.
+  std::optional<wire::WatchInfoResponse> GetWatchInfo();
   /// self-test of one check (protocol 2.1); throws the board's refusal (busy while sampling).
   wire::SelfTestResponse SelfTest(std::uint8_t check);
   wire::StatusResponse GetStatus();

@@ -11,10 +11,12 @@
 
 namespace vibid::device {
 
-/// `clips`, `sampling` and `health` are null in the JSON when absent (a board of protocol 2.0).
+/// `clips`, `sampling` and `health` are null in the JSON when absent (a board of protocol 2.0);
+/// "model_stale" (the board's residual test, watch_report.hpp) is null without `watch`.
 nlohmann::json InfoJson(const Connection& c, const wire::InfoResponse& i,
                         const std::optional<wire::ClipResponse>& clips,
                         const std::optional<wire::SamplingInfoResponse>& sampling,
-                        const std::optional<wire::HealthInfoResponse>& health);
+                        const std::optional<wire::HealthInfoResponse>& health,
+                        const std::optional<wire::WatchInfoResponse>& watch = std::nullopt);
 
 }  // namespace vibid::device
