@@ -370,7 +370,9 @@ Hit ClassifyHit(const PulseGroup& group, const ImpactChannels& ch, const RecordL
     }
   }
   if (!hit.truncated && options.ringing_fraction > 0.0) {
-    hit.ringing_ratio = RingingRatio(ch.responses, s0, record, pre, ch.response_noise_power);
+    // An exponential window takes the ringing down to its end value before the spectra see it.
+    hit.ringing_ratio = RingingRatio(ch.responses, s0, record, pre, ch.response_noise_power) *
+                        (options.exp_window_end > 0.0 ? options.exp_window_end : 1.0);
     if (hit.ringing_ratio >= options.ringing_fraction) {
       hit.ringing = true;
       std::ostringstream note;
@@ -518,10 +520,13 @@ void LimitToForceBand(const CrossSpectra& spectra, double range_db, bool doubles
   if (k == lines) return;
   result.usable_max_hz = spectra.freq_hz[k - 1];
   result.frf.coherence.bottomRows(lines - k).setZero();
+  // A single pulse's band is what a hammer gives: the coherence of 0 above it says so in the FRF
+  // itself (ImpactResult::usable_max_hz), without a warning on every hammer test.
+  if (!doubles) return;
   std::ostringstream w;
   w.precision(4);
-  w << (doubles ? "double hits in the average: the" : "the") << " force spectrum stays within "
-    << range_db << " dB of its peak from " << result.usable_min_hz << " to " << result.usable_max_hz
+  w << "double hits in the average: the force spectrum stays within " << range_db
+    << " dB of its peak from " << result.usable_min_hz << " to " << result.usable_max_hz
     << " Hz; lines above carry no FRF (coherence set to 0)";
   result.warnings.push_back(w.str());
 }

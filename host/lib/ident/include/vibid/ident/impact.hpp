@@ -90,7 +90,8 @@ struct Hit {
   bool weak = false;       ///< Peak too low: see ImpactOptions::weak_hit_fraction.
   /// The responses still ring at the end of the hit's record: the largest response's RMS over the
   /// record's last eighth is at least `ringing_fraction` of its RMS over the first eighth after
-  /// the trigger (see ImpactOptions::ringing_fraction). The hit is used: the pole-residue model
+  /// the trigger (see ImpactOptions::ringing_fraction), times the exponential window's end value
+  /// when there is one. The hit is used: the pole-residue model
   /// carries the cut-off ringing, but peak picking and the curve fit see it as leakage.
   bool ringing = false;
   double ringing_ratio = 0.0;  ///< That RMS ratio for the response that rings most.
@@ -113,8 +114,8 @@ struct ImpactResult {
   std::vector<HitSpan> spans;  ///< One per hit (see ImpactDetection).
   std::size_t record_samples = 0;
   std::size_t pretrigger_samples = 0;
-  /// Band where the FRF is usable (Hz): all lines without double hits, else see
-  /// ImpactOptions::force_dynamic_range_db.
+  /// Band where the FRF is usable (Hz): up to where the force spectrum leaves its dynamic range
+  /// (ImpactOptions::force_band_db; force_dynamic_range_db with double hits).
   double usable_min_hz = 0.0;
   double usable_max_hz = 0.0;
   std::vector<std::string> warnings;
