@@ -21,6 +21,7 @@
 #include "vibid/device/info_json.hpp"
 #include "vibid/device/log_table.hpp"
 #include "vibid/device/select.hpp"
+#include "vibid/device/watch_report.hpp"
 #include "vibid/shared/wire/log_record.hpp"
 
 namespace vibid::cli {
@@ -106,6 +107,7 @@ std::string InfoText(const device::Connection& c, const nlohmann::json& j) {
   } else {
     o << "none (raw counts, no observer)";
   }
+  o << "\nmodel         " << j["model_text"].get<std::string>();
   o << "\nreset cause   " << j["reset_cause"].get<std::string>() << "\n"
     << "brown-out     " << j["brown_out_level"].get<std::string>() << "\n";
   if (!j["clock_text"].is_null())
@@ -140,7 +142,9 @@ std::string InfoText(const device::Connection& c, const nlohmann::json& j) {
 void Run(const InfoArgs& a) {
   WithDevice(*a.globals, [&](device::Connection& c) {
     const std::optional<wire::HealthInfoResponse> health = c.GetHealthInfo();
-    const nlohmann::json j = InfoJson(c, c.info(), c.GetClips(), c.GetSamplingInfo(), health);
+    const std::optional<wire::WatchInfoResponse> watch = c.GetWatchInfo();
+    nlohmann::json j = InfoJson(c, c.info(), c.GetClips(), c.GetSamplingInfo(), health, watch);
+    if (!a.json) j["model_text"] = device::WatchText(watch, c.info().sample_period_us);
     std::cout << (a.json ? j.dump(2) + "\n" : InfoText(c, j));
     if (const auto w =
             device::BrownOutWarning(health ? health->brown_out : wire::BrownOut::kUnknown))
@@ -153,7 +157,8 @@ constexpr const char* kMonitorHelp =
     "acquisition runs)";
 
 /// Each line costs two exchanges (read-latest, get-status), each one report out and one back;
-/// the link moves one report each way per 1 ms frame, so a line takes 2 ms at the least.
+/// the link moves one report each way per 1 ms frame, so a line takes 2 ms at the least (3 ms
+/// with a residual test in the calibration: get-info's watch page too).
 constexpr double kMinMonitorIntervalS = 0.002;
 
 struct MonitorArgs {
@@ -169,11 +174,28 @@ void PrintMonitorHeader(const wire::CalibrationRecord& rec, bool has_record) {
     std::cout << "\t" << device::ChannelStem(static_cast<wire::Channel>(k)) << "_"
               << device::UnitSuffix(u);
   }
-  std::cout << "\td_hat_q31\tstate" << std::endl;
+  std::cout << "\td_hat_q31\tstate";
+  // The residual test's column only where the calibration carries one.
+  if (has_record && (rec.flags & wire::kCalFlagHasWatch) != 0) std::cout << "\tmodel";
+  std::cout << std::endl;
+}
+
+// "ok g/h" in control, "STALE@tick" once the flag is up, "-" while the observer does not run.
+std::string MonitorModel(const std::optional<wire::WatchInfoResponse>& w) {
+  if (!w || w->state != wire::WatchState::kWatching) return "-";
+  std::ostringstream o;
+  o.precision(3);
+  if (w->stale != 0) {
+    o << "STALE@" << w->trip_tick;
+  } else {
+    o << "ok " << w->statistic / 65536.0 << "/" << w->threshold / 65536.0;
+  }
+  return o.str();
 }
 
 void PrintMonitorLine(const wire::LatestResponse& l, const wire::StatusResponse& st,
-                      const wire::CalibrationRecord& rec, bool has_record) {
+                      const wire::CalibrationRecord& rec, bool has_record,
+                      const std::optional<std::string>& model) {
   const device::LatestKind kind = device::ClassifyLatest(l, st);
   if (kind == device::LatestKind::kNoFrame) {
     // Zeros here would read as a measurement; there is none.
@@ -192,11 +214,15 @@ void PrintMonitorLine(const wire::LatestResponse& l, const wire::StatusResponse&
   std::cout << "\t" << l.d_hat << "\t";
   if (kind == device::LatestKind::kStopped) {
     std::cout << "stopped: the last frame of the acquisition that "
-              << (l.acq_state == wire::AcqState::kDone ? "ended" : "was stopped") << std::endl;
+              << (l.acq_state == wire::AcqState::kDone ? "ended" : "was stopped");
+    if (model) std::cout << "\t" << *model;
+    std::cout << std::endl;
     return;
   }
   std::cout << (l.acq_state == wire::AcqState::kArmed ? "armed" : "sampling")
-            << (l.dob_running != 0 ? "+dob" : "") << std::endl;
+            << (l.dob_running != 0 ? "+dob" : "");
+  if (model) std::cout << "\t" << *model;
+  std::cout << std::endl;
 }
 
 void Run(const MonitorArgs& a) {
@@ -213,7 +239,11 @@ void Run(const MonitorArgs& a) {
     for (int n = 0; a.count == 0 || n < a.count; ++n) {
       if (InterruptFlag().load()) break;
       const wire::LatestResponse latest = c.ReadLatest();
-      PrintMonitorLine(latest, c.GetStatus(), rec, has_record);
+      const wire::StatusResponse status = c.GetStatus();
+      std::optional<std::string> model;
+      if (has_record && (rec.flags & wire::kCalFlagHasWatch) != 0)
+        model = MonitorModel(c.GetWatchInfo());
+      PrintMonitorLine(latest, status, rec, has_record, model);
       std::this_thread::sleep_for(std::chrono::duration<double>(a.interval_s));
     }
   });
