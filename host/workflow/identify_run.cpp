@@ -98,6 +98,7 @@ nlohmann::json ValidationJson(const ident::ValidationTable& t,
                         {"modes", modes},
                         {"positions", PositionsJson(t.positions)},
                         {"modal_deviation", DeviationJson(t.deviation)}};
+  if (!t.caution.empty()) out["caution"] = t.caution;
   if (!t.beside.empty()) {
     out["beside"] = {{"method", t.beside_method},
                      {"positions", PositionsJson(t.beside)},

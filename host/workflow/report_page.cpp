@@ -182,6 +182,9 @@ void ModalDeviationParagraph(const nlohmann::json& report, report::HtmlPage& pag
                 "%.3g %%.",
                 d["nominal_percent"].get<double>(), d["updated_percent"].get<double>());
   page.Paragraph(text);
+  const nlohmann::json& v = report["validation"];
+  if (v.contains("caution") && v["caution"].is_string())
+    page.Paragraph("CAUTION: " + v["caution"].get<std::string>() + ".");
   if (d.value("worse_than_nominal", false)) {
     page.Paragraph(
         "FLAGGED: the updated model fits its own test worse than the nominal model; do not use "

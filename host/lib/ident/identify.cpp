@@ -205,6 +205,7 @@ std::string FormatValidationTable(const ValidationTable& t) {
     out << line;
   }
   out << "\n";
+  if (!t.caution.empty()) out << "CAUTION: " << t.caution << "\n";
   if (t.deviation.worse_than_nominal) {
     out << "FLAGGED: the updated model fits its own test worse than the nominal model; do not use "
            "it (longer records, more hits, or the other method)\n";
@@ -590,7 +591,19 @@ IdentifyResult Identify(const model::Model& nominal, const std::vector<MassTestI
     p.k_ci95 = IntervalOf(p.k_updated, res.uncertainty[i].k_n_per_m);
     p.c_ci95 = IntervalOf(p.c_updated, res.uncertainty[i].c_ns_per_m);
   }
-  if (!mass_method) FillChainFitPositions(res.chain_fit, res.table.positions);
+  if (!mass_method) {
+    FillChainFitPositions(res.chain_fit, res.table.positions);
+    if (!res.chain_fit.m_u.empty() && !res.chain_fit.m_u.front().Known()) {
+      // The fit's values stand only with the test's noise behind them: without a covariance
+      // nothing says how far off they are (a short record's residues are as much too small as
+      // the record cut the ring-down short).
+      res.table.caution = "the one-test chain fit has no intervals (" +
+                          res.chain_fit.m_u.front().missing +
+                          "): its masses, springs and dampers are not checked and may be far "
+                          "off; records long enough for the ring-down, or mass tests (--mass-test)";
+      res.warnings.push_back(res.table.caution);
+    }
+  }
   if (mass_method && res.has_chain_fit) {
     const model::Model beside = model::MakeChain(
         res.chain_fit.masses_kg, res.chain_fit.springs_n_per_m, res.chain_fit.dampers_ns_per_m);

@@ -382,6 +382,10 @@ TEST(IdentifyIntervals, WithoutModalIntervalsOneTestIsNotAnInterval) {
   EXPECT_NE(bare.table.positions[0].m_ci95.missing.find("no covariance"), std::string::npos)
       << bare.table.positions[0].m_ci95.missing;
   EXPECT_NE(bare.table.positions[1].k_ci95.missing.find("no covariance"), std::string::npos);
+  // Values without intervals are not passed off as checked: the table says so.
+  EXPECT_NE(bare.table.caution.find("has no intervals"), std::string::npos) << bare.table.caution;
+  EXPECT_NE(FormatValidationTable(bare.table).find("CAUTION: the one-test chain fit"),
+            std::string::npos);
 }
 
 }  // namespace

@@ -72,6 +72,9 @@ struct ValidationTable {
   std::string beside_method;
   std::vector<PositionComparison> beside;
   ModalDeviation beside_deviation;
+  /// Why the updated values are not to be trusted although no check refused them (the one-test
+  /// fit without intervals, say); empty when there is nothing to say.
+  std::string caution;
 };
 
 /// 100 (value - reference) / reference.
