@@ -4,10 +4,13 @@
 #include <charconv>
 #include <cerrno>
 #include <cmath>
+#include <complex>
 #include <cstdio>
 #include <cstring>
 #include <deque>
 #include <fstream>
+#include <numbers>
+#include <optional>
 #include <span>
 #include <sstream>
 
@@ -19,13 +22,14 @@
 #include "vibid/common/text_input.hpp"
 #include "vibid/ident/frf_io.hpp"
 #include "vibid/ident/sample_instants.hpp"
-#include "vibid/shared/board_profile.hpp"
 
 namespace vibid::workflow {
 
 void EstimationOptions::Validate() const {
   (void)ident::ParseEstimator(estimator);
-  (void)ident::ParseQuantity(sensor);
+  if (!sensor.empty()) {
+    for (const std::string& q : SplitList(sensor)) (void)ident::ParseQuantity(q);
+  }
   (void)ident::ParseQuantity(kind);
   // Welch options are checked whichever path runs: a typo must not pass silently because the
   // record turned out to be a hammer test.
@@ -43,6 +47,90 @@ void EstimationOptions::Validate() const {
           "--welch)");
   if (!use_hits.empty()) (void)ParseHitList(use_hits);
   impact_options.Validate();
+}
+
+namespace {
+
+int Order(ident::Quantity q) {
+  return q == ident::Quantity::kAcceleration ? 2 : q == ident::Quantity::kVelocity ? 1 : 0;
+}
+
+const char* QuantityName(ident::Quantity q) {
+  return q == ident::Quantity::kAcceleration ? "an acceleration"
+         : q == ident::Quantity::kVelocity   ? "a velocity"
+                                             : "a displacement";
+}
+
+/// The quantity a unit of the column specs measures, if it is one of motion.
+std::optional<ident::Quantity> QuantityOfUnit(std::string_view unit) {
+  if (unit == "m" || unit == "cm" || unit == "mm" || unit == "um")
+    return ident::Quantity::kDisplacement;
+  if (unit == "m/s" || unit == "mm/s") return ident::Quantity::kVelocity;
+  if (unit == "g" || unit == "m/s2") return ident::Quantity::kAcceleration;
+  return std::nullopt;
+}
+
+/// The quantity a board column's unit suffix names (acc1_m_s2, x1_m; file-formats.md).
+std::optional<ident::Quantity> QuantityOfBoardName(std::string_view name) {
+  const auto ends = [&](std::string_view suffix) {
+    return name.size() > suffix.size() && name.substr(name.size() - suffix.size()) == suffix;
+  };
+  if (ends("_m_s2")) return ident::Quantity::kAcceleration;
+  if (ends("_m_s")) return ident::Quantity::kVelocity;
+  if (ends("_m")) return ident::Quantity::kDisplacement;
+  return std::nullopt;
+}
+
+}  // namespace
+
+std::vector<ident::Quantity> ResponseQuantities(const std::vector<ColumnSpec>& responses,
+                                                const std::string& sensor) {
+  const std::vector<std::string> given =
+      sensor.empty() ? std::vector<std::string>{} : SplitList(sensor);
+  Require(given.size() <= 1 || given.size() == responses.size(),
+          "--sensor names " + std::to_string(given.size()) + " quantities for " +
+              std::to_string(responses.size()) +
+              " responses (give one for all, or one per response in their order)");
+  std::vector<ident::Quantity> out;
+  for (std::size_t j = 0; j < responses.size(); ++j) {
+    const ColumnSpec& spec = responses[j];
+    // An explicit unit decides; without one, a board column's suffix does.
+    const std::optional<ident::Quantity> from_unit =
+        !spec.unit.empty() ? QuantityOfUnit(spec.unit) : QuantityOfBoardName(spec.name);
+    std::optional<ident::Quantity> option;
+    if (!given.empty()) option = ident::ParseQuantity(given.size() == 1 ? given[0] : given[j]);
+    if (from_unit && option && *from_unit != *option) {
+      throw InputError("--sensor says response '" + spec.name + "' measures " +
+                       QuantityName(*option) + ", but its unit makes it " +
+                       QuantityName(*from_unit) +
+                       ": drop --sensor (each response then measures what its unit says) or "
+                       "give it per response (--sensor acc,disp,...)");
+    }
+    out.push_back(from_unit ? *from_unit : option ? *option : ident::Quantity::kAcceleration);
+  }
+  return out;
+}
+
+ident::Quantity CommonQuantity(const std::vector<ident::Quantity>& measured) {
+  ident::Quantity top = ident::Quantity::kDisplacement;
+  for (ident::Quantity q : measured) {
+    if (Order(q) > Order(top)) top = q;
+  }
+  return top;
+}
+
+void AlignMeasuredQuantities(ident::Frf& frf, const std::vector<ident::Quantity>& measured) {
+  Require(measured.size() == frf.responses(), "one measured quantity per response is needed");
+  for (std::size_t j = 0; j < measured.size(); ++j) {
+    const int power = Order(frf.quantity) - Order(measured[j]);
+    Require(power >= 0, "a response measured a higher derivative than the FRF's quantity");
+    if (power == 0) continue;
+    const auto col = static_cast<Eigen::Index>(j);
+    for (Eigen::Index i = 0; i < frf.h.rows(); ++i) {
+      const std::complex<double> jw(0.0, 2.0 * std::numbers::pi * frf.freq_hz[i]);
+      frf.h(i, col) *= power == 1 ? jw : jw * jw;
+    }
+  }
 }
 
 std::size_t DefaultSegment(std::size_t samples) {
@@ -83,23 +171,6 @@ std::string CompensateInstants(const std::string& path, ident::Frf& frf) {
   return Compensate(frf, instant_of(frf.force_name), response_s);
 }
 
-/// The converter's limits of a recording's column, in the units its spec scales it to: a board's
-/// analog channel logged as raw codes (force1_counts, acc2_counts, ...) spans 0 .. 2^adc_bits - 1;
-/// the encoders' counts (x1_counts) and calibrated columns have no limits the recording states.
-ident::ImpactOptions::ConverterLimits ConverterLimitsOf(const ColumnSpec& spec) {
-  constexpr std::string_view kSuffix = "_counts";
-  const std::string& name = spec.name;
-  if (name.size() <= kSuffix.size() ||
-      name.compare(name.size() - kSuffix.size(), kSuffix.size(), kSuffix) != 0)
-    return {};
-  const std::string stem = name.substr(0, name.size() - kSuffix.size());
-  if (stem != "force1" && stem != "force2" && stem != "acc1" && stem != "acc2") return {};
-  const double top = std::ldexp(1.0, kBoardProfile.adc_bits) - 1.0;
-  const double a = 0.0 * spec.scale;
-  const double b = top * spec.scale;
-  return {std::min(a, b), std::max(a, b)};
-}
-
 /// The responses as they are held: a recording's own columns, or one matrix (a caller's array,
 /// read in place).
 struct Responses {
@@ -112,11 +183,14 @@ struct Responses {
 };
 
 /// The estimation proper, on channels in memory; `source` prefixes notes and warnings.
+/// `measured`: what each response measures (ResponseQuantities); the FRF comes out in their
+/// CommonQuantity, every column aligned to it.
 Estimated Estimate(const Eigen::Ref<const Eigen::VectorXd>& force, const Responses& responses,
-                   double fs_hz, const EstimationOptions& o, const std::string& source) {
+                   double fs_hz, const EstimationOptions& o, const std::string& source,
+                   const std::vector<ident::Quantity>& measured) {
   o.Validate();
   const ident::Estimator est = ident::ParseEstimator(o.estimator);
-  const ident::Quantity sensor = ident::ParseQuantity(o.sensor);
+  const ident::Quantity sensor = CommonQuantity(measured);
   const auto samples = static_cast<std::size_t>(force.size());
   Estimated out;
   bool impact = o.impact;
@@ -145,9 +219,6 @@ Estimated Estimate(const Eigen::Ref<const Eigen::VectorXd>& force, const Respons
         responses.matrix != nullptr
             ? ident::EstimateImpactFrf(force, *responses.matrix, fs_hz, io, est, sensor)
             : ident::EstimateImpactFrf(force, copy, fs_hz, io, est, sensor);
-    out.ringdowns = responses.matrix != nullptr
-                        ? ident::RingDownsOf(r, force, *responses.matrix, fs_hz, sensor)
-                        : ident::RingDownsOf(r, force, copy, fs_hz, sensor);
     out.frf = std::move(r.frf);
     out.hits = std::move(r.hits);
     for (const std::string& w : r.warnings) out.warnings.push_back(source + ": " + w);
@@ -175,6 +246,7 @@ Estimated Estimate(const Eigen::Ref<const Eigen::VectorXd>& force, const Respons
     out.frf = ident::FrfFromSpectra(s, est, sensor);
     out.record_samples = wo.segment_samples;
   }
+  AlignMeasuredQuantities(out.frf, measured);
   return out;
 }
 
@@ -207,14 +279,8 @@ Estimated EstimateFromRecording(const std::string& path, const EstimationOptions
     responses.columns.push_back(&channel(spec));
     names.push_back(spec.name);
   }
-  EstimationOptions with_limits = a;
-  std::vector<ident::ImpactOptions::ConverterLimits>& limits =
-      with_limits.impact_options.converter_limits;
-  if (limits.empty()) {
-    limits.push_back(ConverterLimitsOf(fspec));
-    for (const ColumnSpec& spec : rspecs) limits.push_back(ConverterLimitsOf(spec));
-  }
-  Estimated out = Estimate(force, responses, rec.fs_hz, with_limits, path);
+  Estimated out =
+      Estimate(force, responses, rec.fs_hz, a, path, ResponseQuantities(rspecs, a.sensor));
   out.frf.response_names = names;
   out.frf.force_name = fspec.name;
   out.compensation = CompensateInstants(path, out.frf);
@@ -243,7 +309,10 @@ Estimated EstimateFromSignals(const Eigen::Ref<const Eigen::VectorXd>& force,
           "instants_s must give one instant per channel, the force first");
   Responses in_place;
   in_place.matrix = &responses;
-  Estimated out = Estimate(force, in_place, fs_hz, options, "signals");
+  std::vector<ColumnSpec> specs;
+  for (const std::string& name : response_names) specs.push_back(ColumnSpec{name, 1.0, ""});
+  Estimated out = Estimate(force, in_place, fs_hz, options, "signals",
+                           ResponseQuantities(specs, options.sensor));
   out.frf.response_names = response_names;
   out.frf.force_name = force_name;
   if (!instants_s.empty()) {

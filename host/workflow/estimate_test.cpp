@@ -111,6 +111,60 @@ TEST(Estimate, RandomForceIsWelchAveragedToTheClosedFormFir) {
   EXPECT_LT(worst, 5e-4);  // measured 2e-4; a wrong delay sign gives 0.35
 }
 
+// Accelerometers and encoders in one test: each response is estimated as what it measures and
+// brought to the FRF kind asked for. Two responses hold the same samples, y = FIR(x) with the
+// closed-form response h(f) = 0.5 + 0.25 exp(-j 2 pi f / fs); named as a displacement (d_m) and
+// as an acceleration (a_m_s2), the accelerance is -omega^2 h for the first (a displacement's
+// FRF, differentiated twice) and h itself for the second.
+TEST(Estimate, AccelerationsAndDisplacementsShareOneTest) {
+  const double fs = 1000.0;
+  const Eigen::Index n = 40000;
+  std::mt19937_64 gen(5);
+  std::normal_distribution<double> g(0.0, 1.0);
+  Eigen::VectorXd x(n);
+  for (Eigen::Index i = 0; i < n; ++i) x[i] = g(gen);
+  Eigen::MatrixXd y(n, 2);
+  y(0, 0) = 0.5 * x[0];
+  for (Eigen::Index i = 1; i < n; ++i) y(i, 0) = 0.5 * x[i] + 0.25 * x[i - 1];
+  y.col(1) = y.col(0);
+  EstimationOptions o;
+  o.kind = "accelerance";
+  const Estimated e = EstimateFromSignals(x, y, fs, "x", {"d_m", "a_m_s2"}, o);
+  ASSERT_EQ(e.frf.quantity, ident::Quantity::kAcceleration);
+  double worst_d = 0.0, worst_a = 0.0;
+  for (Eigen::Index i = 1; i < e.frf.freq_hz.size(); ++i) {
+    const double w = 2.0 * std::numbers::pi * e.frf.freq_hz[i];
+    const std::complex<double> h = 0.5 + 0.25 * std::exp(std::complex<double>(0.0, -w / fs));
+    worst_d = std::max(worst_d, std::abs(e.frf.h(i, 0) / (-w * w) - h));
+    worst_a = std::max(worst_a, std::abs(e.frf.h(i, 1) - h));
+  }
+  EXPECT_LT(worst_d, 5e-4);  // the Welch error of the test above; unaligned, it would be ~1
+  EXPECT_LT(worst_a, 5e-4);
+  // Said per response, the same; the column names need no units then.
+  o.sensor = "disp,acc";
+  const Estimated listed = EstimateFromSignals(x, y, fs, "x", {"d", "a"}, o);
+  EXPECT_TRUE(listed.frf.h.isApprox(e.frf.h, 1e-15));
+
+  // A sensor that contradicts a unit, or a list of another length, is refused.
+  const auto refusal = [&](const std::string& sensor, const std::vector<std::string>& names) {
+    EstimationOptions bad;
+    bad.sensor = sensor;
+    try {
+      (void)EstimateFromSignals(x, y, fs, "x", names, bad);
+    } catch (const InputError& err) {
+      return std::string(err.what());
+    }
+    return std::string("accepted");
+  };
+  EXPECT_EQ(refusal("acc", {"d_m", "a_m_s2"}),
+            "--sensor says response 'd_m' measures an acceleration, but its unit makes it a "
+            "displacement: drop --sensor (each response then measures what its unit says) or give "
+            "it per response (--sensor acc,disp,...)");
+  EXPECT_NE(refusal("acc,acc,disp", {"d", "a"}).find("--sensor names 3 quantities for 2"),
+            std::string::npos);
+  EXPECT_NE(refusal("acc,dsp", {"d", "a"}).find("dsp"), std::string::npos);
+}
+
 TEST(Estimate, DefaultSegmentIsAPowerOfTwoUpToAQuarterOfTheRecord) {
   EXPECT_EQ(DefaultSegment(100000), 4096u);
   EXPECT_EQ(DefaultSegment(1000), 128u);  // 4096 halved while above 250

@@ -82,6 +82,7 @@ void HammerSessionOptions::Validate() const {
   Require(estimation.impact_options.pretrigger_s < 0.5 * estimation.impact_options.record_s,
           "hammer session: --pretrigger-s must be shorter than half of --record-s");
   estimation.Validate();
+  (void)ResponseQuantities(ParseColumnList(estimation.responses), estimation.sensor);
   (void)ident::ParseModeMethod(modes.method);
   if (!modes.orders.empty()) {
     ident::StabilizationOptions s;
@@ -137,21 +138,12 @@ HammerSession::HammerSession(HammerSessionOptions options) : options_(std::move(
     names_only.response_names = response_names_;
     (void)ResolveDrivingPoint(names_only, options_.modes.driving_point);
   }
-  header_ = device::FormatLogCsvHeader(format_, options_.calibration, options_.has_calibration);
-  // The recording's sidecar states the instants; the live file gets its own at once, so that it
-  // reads as the saved one does.
-  device::WriteLogSidecar(options_.live_csv_path, format_, options_.calibration,
-                          options_.has_calibration, options_.instants);
-  // The instants as a reader of the file gets them (whole nanoseconds, us x 1e-6).
-  if (options_.instants) {
-    device::LogPull empty;
-    empty.layout = format_.layout;
-    empty.trailer = format_.trailer;
-    const ident::SampleInstants instants{device::SampleInstantsUs(
-        device::MakeLogTable(empty, options_.calibration, options_.has_calibration), empty,
-        *options_.instants)};
-    instants_s_.push_back(*instants.Of(force_name_));
-    for (const std::string& name : response_names_) instants_s_.push_back(*instants.Of(name));
+  header_ = device::FormatLogCsvHeader(format_, options_.calibration, options_.has_calibration,
+                                       options_.instants);
+  // The instants as a reader of the file gets them (microseconds with three decimals).
+  if (const auto instants = ident::ParseSampleInstants(header_, options_.live_csv_path)) {
+    instants_s_.push_back(*instants->Of(force_name_));
+    for (const std::string& name : response_names_) instants_s_.push_back(*instants->Of(name));
   }
   data_ = std::make_unique<Channels>();
   data_->responses.resize(0, static_cast<Eigen::Index>(response_names_.size()));
@@ -320,7 +312,9 @@ void HammerSession::Analyze() {
     used[g] = &it->second.spectra;
   }
   const ident::Estimator est = ident::ParseEstimator(options_.estimation.estimator);
-  const ident::Quantity sensor = ident::ParseQuantity(options_.estimation.sensor);
+  // Accelerometers and encoders may share the test: each column as its unit says.
+  const std::vector<ident::Quantity> measured = ResponseQuantities(
+      ParseColumnList(options_.estimation.responses), options_.estimation.sensor);
   warnings_ = det.warnings;
   detection_ = std::move(det);
   bool any_used = false;
@@ -334,9 +328,11 @@ void HammerSession::Analyze() {
   }
   ident::ImpactDetection choice = detection_;
   choice.warnings.clear();  // the hit choice is explicit, as `--hits` makes it
-  ident::ImpactResult r = ident::AverageHitSpectra(choice, used, fs_hz, io, est, sensor);
+  ident::ImpactResult r =
+      ident::AverageHitSpectra(choice, used, fs_hz, io, est, CommonQuantity(measured));
   warnings_.insert(warnings_.end(), r.warnings.begin(), r.warnings.end());
   ident::Frf frf = std::move(r.frf);
+  AlignMeasuredQuantities(frf, measured);
   frf.response_names = response_names_;
   frf.force_name = force_name_;
   if (!instants_s_.empty()) {
@@ -453,8 +449,6 @@ HitTraces HammerSession::Traces(std::size_t index) const {
 
 void HammerSession::Save(const std::string& dir) const {
   const std::lock_guard<std::mutex> lock(work_);
-  device::WriteLogSidecar(dir + "/recording.csv", format_, options_.calibration,
-                          options_.has_calibration, options_.instants);
   WriteFileAtomic(dir + "/recording.csv", header_ + rows_);
   const HammerSnapshot s = Snapshot();
   WriteFileAtomic(dir + "/hits.json", HitListJson(s.hits).dump(2) + "\n");

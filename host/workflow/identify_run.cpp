@@ -17,6 +17,9 @@ namespace vibid::workflow {
 
 namespace {
 
+/// The board's accelerometers (acc1, acc2): the default responses reach no further.
+constexpr std::size_t kBoardAccelerometers = 2;
+
 std::pair<std::size_t, std::string> ParsePositionAssignment(const std::string& text,
                                                             const std::string& option) {
   const auto eq = text.find('=');
@@ -219,7 +222,13 @@ std::vector<ident::MassTestInput> MassTests(const IdentifyRequest& a, const Esti
                                    " is beyond the model's " + std::to_string(n) + " masses");
     EstimationOptions me = est;
     // By default the accelerometer on the tested mass, as `acquire --channels force1,accP` names
-    // it.
+    // it; the board has two, so a mass beyond them names its response.
+    Require(!mass_responses.empty() || test.position < kBoardAccelerometers,
+            "--mass-test " + std::to_string(test.position + 1) +
+                ": the board's accelerometers acc1 and acc2 are on masses 1 and 2 by default; "
+                "name the response of mass " +
+                std::to_string(test.position + 1) +
+                " with --mass-response (e.g. x1_m for an encoder)");
     me.responses = mass_responses.empty()       ? ident::AccelerationColumn(test.position + 1)
                    : mass_responses.size() == 1 ? mass_responses[0]
                                                 : mass_responses[t];
@@ -252,6 +261,11 @@ IdentifyRun RunIdentify(const model::Model& nominal, const IdentifyRequest& requ
   const std::vector<ident::MassTestInput> mass_inputs = MassTests(request, est, n, run);
   for (const std::string& path : request.modal_tests) {
     EstimationOptions me = est;
+    Require(!request.modal_responses.empty() || n <= kBoardAccelerometers,
+            "--modal-test: a chain of " + std::to_string(n) +
+                " masses, and the board's two accelerometers measure masses 1 and 2 by default; "
+                "name the response of each mass, in mass order, with --modal-responses (e.g. "
+                "acc1_m_s2,acc2_m_s2,x1_m: accelerometers and encoders may be mixed)");
     me.responses =
         request.modal_responses.empty() ? ident::AccelerationColumns(n) : request.modal_responses;
     run.modal_frfs.push_back(EstimateTest(path, me, run));

@@ -35,8 +35,10 @@ void AddEstimationOptions(CLI::App* cmd, EstimationArgs& a, bool require_columns
   cmd->add_option("--overlap", a.overlap, "Welch overlap in samples (default: half a segment)");
   cmd->add_option("--detrend", a.detrend, "Welch per-segment detrend: none, constant")
       ->capture_default_str();
-  cmd->add_option("--sensor", a.sensor, "What the response channels measure: acc, vel, disp")
-      ->capture_default_str();
+  cmd->add_option("--sensor", a.sensor,
+                  "What the response channels measure: acc, vel or disp, for all or one per "
+                  "response (acc,acc,disp); default: each as its unit says (acc1_m_s2, x1_m, "
+                  "COLUMN:mm), acceleration when it says none");
   cmd->add_option("--kind", a.kind, "FRF to produce: receptance, mobility, accelerance")
       ->capture_default_str();
   cmd->add_option("--fs-hz", a.fs_hz, "Sample rate (Hz) when the recording has no t_s column")

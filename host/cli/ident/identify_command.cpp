@@ -86,11 +86,13 @@ void RegisterIdentify(CLI::App& app) {
                   "(comma separated); default accP_m_s2 for the test of mass P, as acquire names "
                   "it");
   cmd->add_option("--modal-responses", a->request.modal_responses,
-                  "Response columns of the modal tests, one per mass in order; default acc1_m_s2,"
-                  "...,accN_m_s2 for N masses, as acquire names them");
+                  "Response columns of the modal tests, one per mass in order (accelerometers "
+                  "and encoders may be mixed: acc1_m_s2,acc2_m_s2,x1_m); default acc1_m_s2,"
+                  "acc2_m_s2 for 1 or 2 masses, as acquire names them");
   cmd->add_option("--sensor", a->request.estimation.sensor,
-                  "What the response channels measure: acc, vel, disp")
-      ->capture_default_str();
+                  "What the response channels measure: acc, vel or disp, for all or one per "
+                  "response (acc,acc,disp); default: each as its unit says (acc1_m_s2, x1_m, "
+                  "COLUMN:mm), acceleration when it says none");
   cmd->add_option("--estimator", a->request.estimation.estimator, "FRF estimator: h1, h2, hv")
       ->capture_default_str();
   cmd->add_flag(

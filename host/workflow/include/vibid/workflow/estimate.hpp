@@ -11,6 +11,7 @@
 
 #include <Eigen/Dense>
 
+#include "vibid/common/csv.hpp"
 #include "vibid/ident/impact.hpp"
 #include "vibid/ident/ringdown.hpp"
 #include "vibid/ident/spectral.hpp"
@@ -27,7 +28,9 @@ struct EstimationOptions {
   bool welch = false;            ///< Welch averaging even when the force looks like hits.
   std::string window = "hann";   ///< Welch window.
   std::string detrend = "none";  ///< Welch per-segment detrend: none, constant.
-  std::string sensor = "acc";    ///< What the responses measure: acc, vel, disp.
+  /// What the responses measure: acc, vel, disp, one for all or a comma list with one per
+  /// response; empty: each from its column's unit (ResponseQuantities).
+  std::string sensor;
   std::string kind = "receptance";  ///< FRF produced: receptance, mobility, accelerance.
   std::size_t segment = 0;          ///< Welch segment (samples); 0: DefaultSegment.
   long overlap = -1;                ///< Welch overlap (samples); < 0: half a segment.
@@ -43,6 +46,25 @@ struct EstimationOptions {
   /// Throws InputError naming the option and its allowed values.
   void Validate() const;
 };
+
+/// What each response measures, so that accelerometers and encoders can share one test: the
+/// unit given in its spec (`:mm`, `:g`, `:m/s`), else a board column's unit suffix (`_m_s2`
+/// acceleration, `_m_s` velocity, `_m` displacement: acc1_m_s2, x1_m), else `sensor` (one
+/// quantity for all, or a comma list with one per response), else acceleration. A `sensor` that
+/// contradicts a column's unit is refused, naming the column and the way out.
+std::vector<ident::Quantity> ResponseQuantities(const std::vector<ColumnSpec>& responses,
+                                                const std::string& sensor);
+
+/// The quantity an estimation of responses of these quantities runs in: the highest derivative
+/// among them (acceleration if any), so that aligning the others multiplies by j omega and
+/// never divides by it at the DC line.
+ident::Quantity CommonQuantity(const std::vector<ident::Quantity>& measured);
+
+/// An FRF estimated as if every response measured frf.quantity (CommonQuantity of `measured`):
+/// each column whose response measured a lower derivative is multiplied by (j omega)^(order
+/// difference), so every column is the FRF of one kind (H = X / F of a displacement becomes
+/// -omega^2 X / F). Columns already of frf.quantity are left as they are.
+void AlignMeasuredQuantities(ident::Frf& frf, const std::vector<ident::Quantity>& measured);
 
 /// The Welch segment used when none is given: a power of two, at most 4096 and a quarter of the
 /// record (at least 16).
