@@ -9,8 +9,8 @@
 #include <cstring>
 #include <deque>
 #include <fstream>
-#include <numbers>
 #include <optional>
+#include <numbers>
 #include <span>
 #include <sstream>
 
@@ -22,6 +22,7 @@
 #include "vibid/common/text_input.hpp"
 #include "vibid/ident/frf_io.hpp"
 #include "vibid/ident/sample_instants.hpp"
+#include "vibid/shared/board_profile.hpp"
 
 namespace vibid::workflow {
 
@@ -171,6 +172,23 @@ std::string CompensateInstants(const std::string& path, ident::Frf& frf) {
   return Compensate(frf, instant_of(frf.force_name), response_s);
 }
 
+/// The converter's limits of a recording's column, in the units its spec scales it to: a board's
+/// analog channel logged as raw codes (force1_counts, acc2_counts, ...) spans 0 .. 2^adc_bits - 1;
+/// the encoders' counts (x1_counts) and calibrated columns have no limits the recording states.
+ident::ImpactOptions::ConverterLimits ConverterLimitsOf(const ColumnSpec& spec) {
+  constexpr std::string_view kSuffix = "_counts";
+  const std::string& name = spec.name;
+  if (name.size() <= kSuffix.size() ||
+      name.compare(name.size() - kSuffix.size(), kSuffix.size(), kSuffix) != 0)
+    return {};
+  const std::string stem = name.substr(0, name.size() - kSuffix.size());
+  if (stem != "force1" && stem != "force2" && stem != "acc1" && stem != "acc2") return {};
+  const double top = std::ldexp(1.0, kBoardProfile.adc_bits) - 1.0;
+  const double a = 0.0 * spec.scale;
+  const double b = top * spec.scale;
+  return {std::min(a, b), std::max(a, b)};
+}
+
 /// The responses as they are held: a recording's own columns, or one matrix (a caller's array,
 /// read in place).
 struct Responses {
@@ -219,6 +237,9 @@ Estimated Estimate(const Eigen::Ref<const Eigen::VectorXd>& force, const Respons
         responses.matrix != nullptr
             ? ident::EstimateImpactFrf(force, *responses.matrix, fs_hz, io, est, sensor)
             : ident::EstimateImpactFrf(force, copy, fs_hz, io, est, sensor);
+    out.ringdowns = responses.matrix != nullptr
+                        ? ident::RingDownsOf(r, force, *responses.matrix, fs_hz, sensor)
+                        : ident::RingDownsOf(r, force, copy, fs_hz, sensor);
     out.frf = std::move(r.frf);
     out.hits = std::move(r.hits);
     for (const std::string& w : r.warnings) out.warnings.push_back(source + ": " + w);
@@ -279,8 +300,15 @@ Estimated EstimateFromRecording(const std::string& path, const EstimationOptions
     responses.columns.push_back(&channel(spec));
     names.push_back(spec.name);
   }
-  Estimated out =
-      Estimate(force, responses, rec.fs_hz, a, path, ResponseQuantities(rspecs, a.sensor));
+  EstimationOptions with_limits = a;
+  std::vector<ident::ImpactOptions::ConverterLimits>& limits =
+      with_limits.impact_options.converter_limits;
+  if (limits.empty()) {
+    limits.push_back(ConverterLimitsOf(fspec));
+    for (const ColumnSpec& spec : rspecs) limits.push_back(ConverterLimitsOf(spec));
+  }
+  Estimated out = Estimate(force, responses, rec.fs_hz, with_limits, path,
+                           ResponseQuantities(rspecs, a.sensor));
   out.frf.response_names = names;
   out.frf.force_name = fspec.name;
   out.compensation = CompensateInstants(path, out.frf);

@@ -138,12 +138,21 @@ HammerSession::HammerSession(HammerSessionOptions options) : options_(std::move(
     names_only.response_names = response_names_;
     (void)ResolveDrivingPoint(names_only, options_.modes.driving_point);
   }
-  header_ = device::FormatLogCsvHeader(format_, options_.calibration, options_.has_calibration,
-                                       options_.instants);
-  // The instants as a reader of the file gets them (microseconds with three decimals).
-  if (const auto instants = ident::ParseSampleInstants(header_, options_.live_csv_path)) {
-    instants_s_.push_back(*instants->Of(force_name_));
-    for (const std::string& name : response_names_) instants_s_.push_back(*instants->Of(name));
+  header_ = device::FormatLogCsvHeader(format_, options_.calibration, options_.has_calibration);
+  // The recording's sidecar states the instants; the live file gets its own at once, so that it
+  // reads as the saved one does.
+  device::WriteLogSidecar(options_.live_csv_path, format_, options_.calibration,
+                          options_.has_calibration, options_.instants);
+  // The instants as a reader of the file gets them (whole nanoseconds, us x 1e-6).
+  if (options_.instants) {
+    device::LogPull empty;
+    empty.layout = format_.layout;
+    empty.trailer = format_.trailer;
+    const ident::SampleInstants instants{device::SampleInstantsUs(
+        device::MakeLogTable(empty, options_.calibration, options_.has_calibration), empty,
+        *options_.instants)};
+    instants_s_.push_back(*instants.Of(force_name_));
+    for (const std::string& name : response_names_) instants_s_.push_back(*instants.Of(name));
   }
   data_ = std::make_unique<Channels>();
   data_->responses.resize(0, static_cast<Eigen::Index>(response_names_.size()));
@@ -449,6 +458,8 @@ HitTraces HammerSession::Traces(std::size_t index) const {
 
 void HammerSession::Save(const std::string& dir) const {
   const std::lock_guard<std::mutex> lock(work_);
+  device::WriteLogSidecar(dir + "/recording.csv", format_, options_.calibration,
+                          options_.has_calibration, options_.instants);
   WriteFileAtomic(dir + "/recording.csv", header_ + rows_);
   const HammerSnapshot s = Snapshot();
   WriteFileAtomic(dir + "/hits.json", HitListJson(s.hits).dump(2) + "\n");

@@ -4,12 +4,17 @@ The functions mirror the ``vibid`` command line (``vibid.modal`` does what ``vib
 with the same defaults) and call the same C++ library. Units are SI and named in every field
 (``freq_hz``, ``omega_rad_s``, ``m_kg``...). Arrays are float64; a recording's ``data`` is shaped
 (channels, samples); an FRF's ``h`` is shaped (n_out, n_in, n_freq) beside its ``freq_hz``, as
-python-control's FRD. Bad input raises ValueError with the CLI's message; board errors raise
+python-control's FRD. Bad input raises ValueError with the CLI's message, an argument of the
+wrong type TypeError, a file that is not there FileNotFoundError; board errors raise
 vibid.DeviceError.
 """
 from __future__ import annotations
 
 import dataclasses
+import errno
+import math
+import numbers
+import os
 from typing import Iterable, Iterator, Optional, Sequence
 
 import numpy as np
@@ -39,6 +44,99 @@ def _signal(name: str, x, ndim: int) -> np.ndarray:
     return np.ascontiguousarray(a, dtype=np.float64)
 
 
+def _kind(v) -> str:
+    return type(v).__name__
+
+
+def _real(name: str, v) -> float:
+    """A real number argument (int, float, numpy scalar; not bool, not text): TypeError
+    otherwise. Its range is the library's to check, with the CLI's message."""
+    if isinstance(v, (bool, np.bool_)) or not isinstance(v, numbers.Real):
+        raise TypeError(f"{name}: expected a number, got {_kind(v)} {v!r}")
+    return float(v)
+
+
+def _integer(name: str, v) -> int:
+    if isinstance(v, (bool, np.bool_)) or not isinstance(v, numbers.Integral):
+        raise TypeError(f"{name}: expected a whole number, got {_kind(v)} {v!r}")
+    return int(v)
+
+
+def _flag(name: str, v) -> bool:
+    if not isinstance(v, (bool, np.bool_)):
+        raise TypeError(f"{name}: expected True or False, got {_kind(v)} {v!r}")
+    return bool(v)
+
+
+def _text(name: str, v) -> str:
+    if not isinstance(v, str):
+        raise TypeError(f"{name}: expected a string, got {_kind(v)} {v!r}")
+    return v
+
+
+def _names(name: str, v) -> list:
+    """A list of names: a sequence of strings, or one string of comma-separated names as the
+    CLI takes them ("force1,acc1"); None is the empty list."""
+    if v is None:
+        return []
+    if isinstance(v, str):
+        return [n.strip() for n in v.split(",")] if v else []
+    if not isinstance(v, Iterable) or isinstance(v, (bytes, dict)):
+        raise TypeError(f"{name}: expected names (a list of strings or \"a,b\"), got {_kind(v)}")
+    out = list(v)
+    for n in out:
+        if not isinstance(n, str):
+            raise TypeError(f"{name}: expected names (strings), got {_kind(n)} {n!r}")
+    return out
+
+
+def _reals(name: str, v) -> list:
+    if isinstance(v, (str, bytes)) or not isinstance(v, Iterable):
+        raise TypeError(f"{name}: expected a sequence of numbers, got {_kind(v)} {v!r}")
+    return [_real(f"{name}[{i}]", x) for i, x in enumerate(v)]
+
+
+def _finite(name: str, values) -> list:
+    """Numbers for a model file: every one finite (a JSON model cannot hold NaN or inf)."""
+    out = _reals(name, values)
+    for i, x in enumerate(out):
+        if not math.isfinite(x):
+            raise ValueError(f"{name}[{i}] is {x}: every value must be a finite number")
+    return out
+
+
+def _input_path(name: str, p) -> str:
+    """A file argument: a path (str or os.PathLike) to a file that is there; TypeError for
+    anything else, FileNotFoundError (as open() raises) for a path with nothing at it."""
+    if not isinstance(p, (str, os.PathLike)):
+        raise TypeError(f"{name}: expected a file path, got {_kind(p)}")
+    path = os.fspath(p)
+    if not isinstance(path, str):
+        raise TypeError(f"{name}: expected a file path as text, got {_kind(path)}")
+    if not os.path.exists(path):
+        raise FileNotFoundError(errno.ENOENT, f"{name}: no such file", path)
+    return path
+
+
+def _output_path(name: str, p) -> str:
+    """A file to write: its folder must be there (FileNotFoundError otherwise)."""
+    if not isinstance(p, (str, os.PathLike)):
+        raise TypeError(f"{name}: expected a file path, got {_kind(p)}")
+    path = os.fspath(p)
+    folder = os.path.dirname(path) or "."
+    if not os.path.isdir(folder):
+        raise FileNotFoundError(errno.ENOENT, f"{name}: no such folder", folder)
+    return path
+
+
+def _model(name: str, m) -> "Model":
+    if isinstance(m, Model):
+        return m
+    hint = (" (a model file: vibid.load_model(path))" if isinstance(m, (str, os.PathLike))
+            else "")
+    raise TypeError(f"{name}: expected a vibid.Model, got {_kind(m)}{hint}")
+
+
 def _repr(name: str, **fields) -> str:
     def short(v):
         if isinstance(v, np.ndarray):
@@ -50,11 +148,29 @@ def _repr(name: str, **fields) -> str:
 # --- models -------------------------------------------------------------------------------------
 
 class Model:
-    """A lumped-parameter rig M x'' + C x' + K x = F: matrices in kg, N*s/m, N/m."""
+    """A lumped-parameter rig M x'' + C x' + K x = F: ``Model(m_kg, k_n_per_m, c_ns_per_m)``
+    takes the matrices in kg, N/m and N*s/m (square, one row per DOF; C None: undamped); a 1-D
+    ``m_kg`` is the diagonal of lumped masses. A chain from its masses and springs is
+    ``Model.chain``."""
 
     def __init__(self, m_kg, k_n_per_m, c_ns_per_m=None):
-        self._m = _vibid._Model(np.asarray(m_kg, dtype=float), np.asarray(k_n_per_m, dtype=float),
-                                None if c_ns_per_m is None else np.asarray(c_ns_per_m, dtype=float))
+        def matrix(name, x, diagonal_ok=False):
+            a = np.asarray(x)
+            if a.dtype.kind not in "biuf":
+                raise TypeError(f"{name}: expected real numbers, got dtype {a.dtype}")
+            a = a.astype(float)
+            if a.ndim == 1 and diagonal_ok:
+                a = np.diag(a)
+            if a.ndim != 2 or a.shape[0] != a.shape[1]:
+                chain = " (springs of a chain: Model.chain(masses_kg, springs_n_per_m))" \
+                    if a.ndim == 1 else ""
+                raise ValueError(f"{name} must be a square matrix (DOFs x DOFs), not shaped "
+                                 f"{a.shape}{chain}")
+            return a
+        m = matrix("m_kg", m_kg, diagonal_ok=True)
+        k = matrix("k_n_per_m", k_n_per_m)
+        c = None if c_ns_per_m is None else matrix("c_ns_per_m", c_ns_per_m)
+        self._m = _vibid._Model(m, k, c)
 
     @classmethod
     def _wrap(cls, m) -> "Model":
@@ -70,10 +186,10 @@ class Model:
     @classmethod
     def chain(cls, masses_kg, springs_n_per_m, dampers_ns_per_m=None) -> "Model":
         """Series chain ground -k1- m1 -k2- m2 ..., dashpots in parallel with the springs."""
-        d = {"topology": "chain", "masses": list(map(float, masses_kg)),
-             "springs": list(map(float, springs_n_per_m))}
+        d = {"topology": "chain", "masses": _finite("masses_kg", masses_kg),
+             "springs": _finite("springs_n_per_m", springs_n_per_m)}
         if dampers_ns_per_m is not None:
-            d["dampers"] = list(map(float, dampers_ns_per_m))
+            d["dampers"] = _finite("dampers_ns_per_m", dampers_ns_per_m)
         return cls.from_dict(d)
 
     m_kg = property(lambda self: self._m.m_kg, doc="Mass matrix, kg.")
@@ -92,7 +208,7 @@ class Model:
 
 def load_model(path: str) -> Model:
     """Reads a model file (JSON), as every ``vibid`` command taking MODEL.json does."""
-    return Model._wrap(_vibid.load_model(str(path)))
+    return Model._wrap(_vibid.load_model(_input_path("path", path)))
 
 
 @dataclasses.dataclass(repr=False)
@@ -112,7 +228,7 @@ class Modal:
 
 def modal(model: Model) -> Modal:
     """Natural frequencies, damping ratios and mass-normalised shapes (``vibid modal``)."""
-    return Modal(**_vibid.modal(model._m))
+    return Modal(**_vibid.modal(_model("model", model)._m))
 
 
 @dataclasses.dataclass(repr=False)
@@ -141,6 +257,7 @@ class Frd:
 def frf(model: Model, freq_hz, input: int = 1, outputs: Optional[Sequence[int]] = None,
         kind: str = "receptance") -> Frd:
     """The model's FRF (``vibid frf``): DOFs counted from 1; outputs default to every DOF."""
+    model = _model("model", model)
     f = np.ascontiguousarray(freq_hz, dtype=float)
     outs = list(range(1, model.dofs + 1)) if outputs is None else list(outputs)
     for o in outs:
@@ -173,6 +290,7 @@ def simulate(model: Model, dt_s: float, t_end_s: float, force: Iterable[str] = (
              method: str = "rk4", x0_m=None, v0_m_s=None) -> Simulation:
     """Time simulation (``vibid simulate``): force SPECs as the CLI's --force
     (``halfsine:dof=2,amp=100,width=0.001``), method euler, rk4 or exact."""
+    model = _model("model", model)
     forces = [force] if isinstance(force, str) else list(force)
     x0 = np.zeros(0) if x0_m is None else np.asarray(x0_m, dtype=float)
     v0 = np.zeros(0) if v0_m_s is None else np.asarray(v0_m_s, dtype=float)
@@ -186,6 +304,9 @@ def simulate(model: Model, dt_s: float, t_end_s: float, force: Iterable[str] = (
 _QUANTITY = {"n": ("force", "N"), "m_s2": ("acceleration", "m/s^2"), "m_s": ("velocity", "m/s"),
              "m": ("displacement", "m"), "s": ("time", "s"), "q31": ("force", "Q31"),
              "counts": ("counts", "-")}
+
+
+_SENSOR_OF_QUANTITY = {"acceleration": "acc", "velocity": "vel", "displacement": "disp"}
 
 
 def _quantity(name: str):
@@ -204,7 +325,9 @@ class Recording:
     fs_hz: float
     t0_s: float = 0.0
     sample_index: Optional[np.ndarray] = None  #: the board's tick of each record (acquisitions)
-    sample_instants: str = ""  #: the board's sampling-instant header line (acquisitions)
+    #: When the board sampled each channel after the clock's edge, {column: us} (acquisitions;
+    #: the recording's JSON sidecar holds it)
+    sample_instants_us: Optional[dict] = None
     t_s: Optional[np.ndarray] = None  #: the recording's own time column, when it has one
 
     def index(self, name: str) -> int:
@@ -224,9 +347,14 @@ class Recording:
         return self.data.shape[1]
 
     def time_s(self) -> np.ndarray:
-        """The time of each sample, s: the recording's own column, else t0_s + i / fs_hz."""
+        """The time of each sample, s: the recording's own column, else t0_s + i / fs_hz (as
+        (t0_s fs_hz + i) / fs_hz when t0_s is a whole number of samples: one rounding, so the CSV
+        holds the exact decimal)."""
         if self.t_s is not None:
             return self.t_s
+        start = self.t0_s * self.fs_hz
+        if start == round(start):
+            return (round(start) + np.arange(self.samples)) / self.fs_hz
         return self.t0_s + np.arange(self.samples) / self.fs_hz
 
     def to_sep005(self) -> list:
@@ -251,11 +379,12 @@ class Recording:
         return cls(names=[c["name"] for c in chans], data=data, fs_hz=fs.pop())
 
     def write_csv(self, path: str) -> None:
-        """Writes the recording as a vibid CSV (t_s first, after the board's sampling-instant line
-        when it has one) that reads back bit-identical: an acquisition's file is the one
-        ``vibid acquire`` writes."""
-        _vibid.write_csv(str(path), ["t_s"] + list(self.names),
-                         np.vstack([self.time_s()[None, :], self.data]), self.sample_instants)
+        """Writes the recording as a plain CSV (one header row, t_s first, then rows) that reads
+        back bit-identical, with its sampling instants in the JSON sidecar PATH.json when it has
+        them: an acquisition's files are the ones ``vibid acquire`` writes."""
+        _vibid.write_csv(_output_path("path", path), ["t_s"] + list(self.names),
+                         np.vstack([self.time_s()[None, :], self.data]),
+                         list((self.sample_instants_us or {}).items()))
 
     def __repr__(self) -> str:
         return _repr("Recording", names=self.names, samples=self.samples, fs_hz=self.fs_hz)
@@ -265,11 +394,13 @@ def read_recording(path: str, fs_hz: Optional[float] = None, time_column: str = 
                    channels: Optional[Sequence[str]] = None) -> Recording:
     """Reads a recording CSV as vibid writes it (``acquire``, ``simulate``): every column but
     the time column, which gives fs_hz (checked uniform) unless ``fs_hz`` is given."""
-    names, data, fs, t0 = _vibid.read_recording(str(path), fs_hz, time_column,
-                                               list(channels or []))
+    names, data, fs, t0, instants = _vibid.read_recording(
+        _input_path("path", path), None if fs_hz is None else _real("fs_hz", fs_hz),
+        _text("time_column", time_column), _names("channels", channels))
     keep = [i for i, n in enumerate(names) if n != time_column]
     t = data[names.index(time_column)] if time_column in names and fs_hz is None else None
-    return Recording(names=[names[i] for i in keep], data=data[keep], fs_hz=fs, t0_s=t0, t_s=t)
+    return Recording(names=[names[i] for i in keep], data=data[keep], fs_hz=fs, t0_s=t0, t_s=t,
+                     sample_instants_us=instants or None)
 
 
 # --- FRF estimation, modes, identification ------------------------------------------------------
@@ -349,33 +480,60 @@ def frf_estimate(recording, force: str = "", responses="", **options) -> FrfEsti
     accelerometers and encoders share a test),
     kind (receptance m/N, mobility, accelerance), segment, overlap (samples), fs_hz,
     keep_bad_hits, exp_window, record_s (s), pretrigger_s (s)."""
-    names = responses.split(",") if isinstance(responses, str) else list(responses)
-    o = _estimation_options(force=force, responses=",".join(names), **options)
+    names = _names("responses", responses)
+    o = _estimation_options(force=_text("force", force), responses=",".join(names), **options)
     if isinstance(recording, Recording):
         force_signal = recording[force]
         idx = [recording.index(n) for n in names]
         # Consecutive rows are a view; any other choice of rows is gathered once.
-        if idx == list(range(idx[0], idx[0] + len(idx))):
+        if idx and idx == list(range(idx[0], idx[0] + len(idx))):
             x = recording.data[idx[0]:idx[0] + len(idx)]
         else:
             x = recording.data[idx]
+        # The board's sampling instants, as the file's sidecar gives them to the CLI.
+        instants = recording.sample_instants_us or {}
+        instants_s = []
+        if instants:
+            for n in [force] + names:
+                if n not in instants:
+                    raise ValueError(f"the recording's sample_instants_us does not name column "
+                                     f"'{n}'")
+                instants_s.append(instants[n] * 1e-6)
         return _frf_estimate(_vibid.estimate_arrays(force_signal, x, recording.fs_hz, force,
-                                                    names, o))
-    return _frf_estimate(_vibid.estimate_file(str(recording), o))
+                                                    names, o, instants_s))
+    return _frf_estimate(_vibid.estimate_file(_input_path("recording", recording), o))
 
 
 def frf_estimate_arrays(force, responses, fs_hz: float, force_name: str = "force",
-                        response_names: Optional[Sequence[str]] = None, **options) -> FrfEstimate:
+                        response_names: Optional[Sequence[str]] = None,
+                        sensor: Optional[str] = None, **options) -> FrfEstimate:
     """frf_estimate on signals in memory, SI units: ``force`` shaped (samples,), ``responses``
-    (responses, samples). float64 C-ordered arrays are read in place, without a copy."""
+    (responses, samples). float64 C-ordered arrays are read in place, without a copy.
+
+    What the responses measure is ``sensor`` (acc, vel or disp), or, when it is not given, read
+    from the response names' unit suffixes (``acc1_m_s2`` acc, ``v1_m_s`` vel, ``x1_m`` disp);
+    responses of unnamed quantity without ``sensor`` are refused (ValueError), never taken for
+    accelerations. ``kind`` (default receptance) is the FRF produced from them."""
     if np.ndim(responses) == 1:
         responses = np.asarray(responses)[None, :]
     force = _signal("force", force, 1)
     responses = _signal("responses", responses, 2)
-    names = list(response_names) if response_names is not None else [
+    names = _names("response_names", response_names) if response_names is not None else [
         f"response{i + 1}" for i in range(responses.shape[0])]
-    o = _estimation_options(**options)
-    return _frf_estimate(_vibid.estimate_arrays(force, responses, fs_hz, force_name, names, o))
+    if sensor is None:
+        # Read from the names' unit suffixes, as the board names its columns.
+        kinds = {n: _SENSOR_OF_QUANTITY.get(_quantity(n)[0]) for n in names}
+        unnamed = [n for n, k in kinds.items() if k is None]
+        if unnamed:
+            raise ValueError(f"frf_estimate_arrays: what do the responses measure? "
+                             f"{', '.join(unnamed)} names no unit: give sensor='acc', 'vel' or "
+                             "'disp', or name the responses with their unit (acc1_m_s2, v1_m_s, "
+                             "x1_m)")
+        found = set(kinds.values())
+        sensor = found.pop() if len(found) == 1 else ",".join(kinds[n] for n in names)
+    o = _estimation_options(sensor=_text("sensor", sensor), **options)
+    return _frf_estimate(_vibid.estimate_arrays(force, responses, _real("fs_hz", fs_hz),
+                                                _text("force_name", force_name), names, o, []))
 
 
 def default_segment(samples: int) -> int:
@@ -440,8 +598,16 @@ def modes(inputs, method: str = "lscf", orders: str = "", driving_point: str = "
     response). ``inputs``: FRF files or recordings (estimated first with ``frf_estimate``'s
     options), or FRFs in memory (a FrfEstimate, an Frd, or a list of them: a receptance shaped
     (n_out, 1, n_freq)); several inputs are joined as responses."""
-    in_memory = [x for x in (inputs if isinstance(inputs, (list, tuple)) else [inputs])
-                 if isinstance(x, (Frd, FrfEstimate))]
+    listed = list(inputs) if isinstance(inputs, (list, tuple)) else [inputs]
+    recordings = [x for x in listed if isinstance(x, Recording)]
+    if recordings:
+        # Recordings in memory: estimated as frf_estimate estimates them (the board's sampling
+        # instants included), then their FRFs' modes, as `vibid modes` on the files.
+        if len(recordings) != len(listed):
+            raise TypeError("modes: give either recordings in memory or files/FRFs, not both")
+        return modes([frf_estimate(r, force=force, responses=responses, **options)
+                      for r in recordings], method, orders, driving_point, fmin_hz, fmax_hz)
+    in_memory = [x for x in listed if isinstance(x, (Frd, FrfEstimate))]
     if in_memory:
         if len(in_memory) != (len(inputs) if isinstance(inputs, (list, tuple)) else 1):
             raise TypeError("modes: give either files or FRFs in memory, not both")
@@ -452,9 +618,8 @@ def modes(inputs, method: str = "lscf", orders: str = "", driving_point: str = "
                                       [f"frf {i + 1}" for i in range(len(in_memory))],
                                       _mode_request(method, orders, driving_point, fmin_hz,
                                                     fmax_hz)))
-    paths = [str(inputs)] if isinstance(inputs, (str, bytes)) or hasattr(inputs, "__fspath__") \
-        else [str(p) for p in inputs]
-    names = responses if isinstance(responses, str) else ",".join(responses)
+    paths = [_input_path("inputs", p) for p in listed]
+    names = ",".join(_names("responses", responses))
     o = _estimation_options(force=force, responses=names, **options)
     return _modes(_vibid.modes(paths, o, _mode_request(method, orders, driving_point, fmin_hz,
                                                        fmax_hz)))
@@ -507,11 +672,13 @@ def identify(nominal: Model, mass_tests: dict, modal_tests: Sequence[str],
     """Mass tests and modal tests to an updated model (``vibid identify``): ``mass_tests`` maps
     a mass position (from 1) to its recording, ``mass_springs`` a position to its spring in N/m
     or "fit"."""
+    nominal = _model("nominal", nominal)
     r = _vibid._IdentifyRequest()
     for pos, path in mass_tests.items():
-        r.add_mass_test(f"{pos}={path}")
+        r.add_mass_test(f"{pos}={_input_path(f'mass_tests[{pos}]', path)}")
     r.mass_springs = [f"{p}={k}" for p, k in (mass_springs or {}).items()]
-    r.modal_tests = [str(p) for p in modal_tests]
+    r.modal_tests = [_input_path("modal_tests", p) for p in
+                     ([modal_tests] if isinstance(modal_tests, (str, os.PathLike)) else modal_tests)]
     r.mass_response, r.modal_responses = mass_response, modal_responses
     e = r.estimation
     e.force, e.welch, e.keep_bad_hits = force, welch, keep_bad_hits
@@ -551,9 +718,10 @@ def decay(recordings, position: str, scale: float = 1.0, fs_hz: Optional[float] 
     the column spec NAME[:UNIT|*FACTOR]. With ``loaded`` records (``added_kg`` more on the same
     spring) also the spring (N/m) and the base mass (kg)."""
     r = _vibid._DecayRequest()
-    r.recordings = [str(recordings)] if isinstance(recordings, (str, bytes)) or hasattr(
-        recordings, "__fspath__") else [str(p) for p in recordings]
-    r.loaded = [str(p) for p in loaded]
+    r.recordings = [_input_path("recordings", p) for p in (
+        [recordings] if isinstance(recordings, (str, os.PathLike)) else recordings)]
+    r.loaded = [_input_path("loaded", p) for p in (
+        [loaded] if isinstance(loaded, (str, os.PathLike)) else loaded)]
     r.position, r.scale, r.fs_hz, r.added_kg = position, scale, fs_hz or 0.0, added_kg
     r.cycles, r.end_fraction = cycles, end_fraction
     j = _vibid.decay(r)
@@ -705,17 +873,39 @@ def dob_design(model: Model, order: int = _DESIGN.order,
                output_dof: int = _DESIGN.output_dof, sensor: str = _DESIGN.sensor,
                form: str = _DESIGN.form, discretize: str = _DESIGN.discretize,
                prototype: str = _DESIGN.prototype, leak_hz: float = _DESIGN.leak_hz,
-               force_fs_n: float = _DESIGN.force_fs_n, sensor_fs: float = _DESIGN.sensor_fs,
-               output_fs_n: float = _DESIGN.output_fs_n) -> ObserverDesign:
+               force_fs_n: Optional[float] = None, sensor_fs: Optional[float] = None,
+               output_fs_n: float = _DESIGN.output_fs_n, sensors=None) -> ObserverDesign:
     """Designs the observer for a model and quantizes it for the board (``vibid dob design``,
     same defaults): Q of order N and relative degree r with cut-off 1/tau_s rad/s, at fs_hz; the
     force acts on mass input_dof, the sensor on output_dof (from 1); full scales in N (force,
-    output) and the sensor's unit (0: the sensor kind's default)."""
+    output) and the sensor's unit. ``sensors`` (a sensors file's path or its JSON object, as
+    ``cal_upload`` takes) gives the force and sensor full scales, as the board will scale those
+    channels (a value given that differs is refused); without it force_fs_n defaults to the
+    CLI's (100 N) and sensor_fs to the sensor kind's (0.05 m, 1 m/s or 50 m/s^2)."""
+    import json
+    model = _model("model", model)
     r = _vibid._ObserverDesignRequest()
-    r.order, r.relative_degree, r.tau_s, r.fs_hz = order, relative_degree, tau_s, fs_hz
-    r.input_dof, r.output_dof, r.sensor, r.form = input_dof, output_dof, sensor, form
-    r.discretize, r.prototype, r.leak_hz = discretize, prototype, leak_hz
-    r.force_fs_n, r.sensor_fs, r.output_fs_n = force_fs_n, sensor_fs, output_fs_n
+    r.order, r.relative_degree = _integer("order", order), _integer("relative_degree",
+                                                                    relative_degree)
+    r.tau_s, r.fs_hz = _real("tau_s", tau_s), _real("fs_hz", fs_hz)
+    r.input_dof, r.output_dof = _integer("input_dof", input_dof), _integer("output_dof",
+                                                                           output_dof)
+    r.sensor, r.form = _text("sensor", sensor), _text("form", form)
+    r.discretize, r.prototype = _text("discretize", discretize), _text("prototype", prototype)
+    r.leak_hz = _real("leak_hz", leak_hz)
+    if force_fs_n is not None:
+        r.force_fs_n = _real("force_fs_n", force_fs_n)
+    if sensor_fs is not None:
+        r.sensor_fs = _real("sensor_fs", sensor_fs)
+    r.output_fs_n = _real("output_fs_n", output_fs_n)
+    if sensors is not None:
+        source = "sensors"
+        if not isinstance(sensors, dict):
+            source = _input_path("sensors", sensors)
+            with open(source) as f:
+                sensors = json.load(f)
+        _vibid.take_sensor_full_scales(r, sensors, source, force_fs_n is not None,
+                                       sensor_fs is not None)
     j, radius, lo, hi, noise, snr = _vibid.dob_design(model._m, r)
     return ObserverDesign(json=j, max_pole_radius=radius, valid_band_hz=(lo, hi),
                           predicted_noise_rms_n=noise, predicted_snr_db=snr)
@@ -789,13 +979,32 @@ def list_devices() -> list:
     return _vibid.list_devices()
 
 
+def _settings(seconds, rate_hz, log_rate_hz, decimation, channels, trigger, trigger_timeout_s,
+              pretrigger_s, no_dob, allow_drops, scenario, scenario_params):
+    """acquire's and stream's arguments, each of its type (TypeError naming it otherwise), in the
+    library's settings; their values are checked there, as the CLI's are (ValueError with the
+    CLI's message: a length that is not > 0, a rate the board cannot sample...)."""
+    s = _vibid._AcquireSettings()
+    s.seconds = _real("seconds", seconds)
+    s.rate_hz = _real("rate_hz", rate_hz)
+    s.log_rate_hz = _real("log_rate_hz", log_rate_hz)
+    s.decimation = _integer("decimation", decimation)
+    s.channels = _names("channels", channels)
+    s.trigger = _text("trigger", trigger)
+    s.trigger_timeout_s = _real("trigger_timeout_s", trigger_timeout_s)
+    s.pretrigger_s = _real("pretrigger_s", pretrigger_s)
+    s.no_dob = _flag("no_dob", no_dob)
+    s.allow_drops = _flag("allow_drops", allow_drops)
+    return s, _text("scenario", scenario), _reals("scenario_params", scenario_params)
+
+
 class Board:
     """A board (or vibid-emu) opened by the ``--device`` URL: ``hid``, ``hid:SERIAL``,
     ``usbip://HOST:PORT``, ``serial:PATH``, ``qemu``; "" takes $VIBID_DEVICE, else the only
     board found. Use as a context manager or call close()."""
 
     def __init__(self, url: str = ""):
-        self._b = _vibid._Board(url)
+        self._b = _vibid._Board(_text("url", url))
 
     def __enter__(self):
         return self
@@ -815,45 +1024,65 @@ class Board:
         return self._b.state()
 
     def acquire(self, seconds: float, rate_hz: float = 5000.0, log_rate_hz: float = 0.0,
-                decimation: int = 0, channels: Optional[Sequence[str]] = None,
-                trigger: str = "", pretrigger_s: float = 0.0, no_dob: bool = False,
+                decimation: int = 0, channels=None, trigger: str = "",
+                trigger_timeout_s: float = 0.0, pretrigger_s: float = 0.0, no_dob: bool = False,
                 allow_drops: bool = False, scenario: str = "",
                 scenario_params: Sequence[float] = ()) -> Recording:
-        """Records from the board (``vibid acquire``, same options and defaults) and returns the
-        recording in SI units through the board's calibration, with each record's tick in
-        ``sample_index``. An acquisition the link cannot carry is refused before the board starts
-        (ValueError with the CLI's message). Ctrl-C stops the board and raises KeyboardInterrupt;
-        the records it kept are in the exception's ``recording`` attribute."""
-        s = _vibid._AcquireSettings()
-        s.seconds, s.rate_hz, s.log_rate_hz, s.decimation = seconds, rate_hz, log_rate_hz, decimation
-        s.channels = list(channels or [])
-        s.trigger, s.pretrigger_s, s.no_dob, s.allow_drops = trigger, pretrigger_s, no_dob, allow_drops
-        names, data, fs, index, instants, interrupted = self._b.acquire(
-            s, scenario, [float(p) for p in scenario_params])
+        """Records from the board (``vibid acquire``, same options, defaults and checks) and
+        returns the recording in SI units through the board's calibration, with each record's
+        tick in ``sample_index``. ``channels``: names (["force1", "acc1"] or "force1,acc1"); all
+        when None. d_hat is logged when the board's observer runs, unless ``no_dob``. Every
+        argument is checked before the board starts (TypeError for a wrong type, ValueError with
+        the CLI's message for a wrong value), and so is the link: an acquisition it cannot carry
+        is refused. The memory used is that of the records asked for. However the acquisition
+        ends, the records kept are returned: Ctrl-C stops the board and raises
+        KeyboardInterrupt; a trigger that does not fire within ``trigger_timeout_s``, a log the
+        board overwrote before it could be read, or a board that fails or goes away raises
+        DeviceError; each carries the records kept in the exception's ``recording``
+        attribute."""
+        s, scenario, params = _settings(seconds, rate_hz, log_rate_hz, decimation, channels,
+                                        trigger, trigger_timeout_s, pretrigger_s, no_dob,
+                                        allow_drops, scenario, scenario_params)
+        names, data, fs, index, instants, end = self._b.acquire(s, scenario, params)
         rec = Recording(names=names[1:], data=data[1:], fs_hz=fs,
                         t0_s=float(data[0, 0]) if data.shape[1] else 0.0,
-                        sample_index=index, sample_instants=instants, t_s=data[0])
-        if interrupted:
+                        sample_index=index, sample_instants_us=instants or None, t_s=data[0])
+        if end == "interrupted":
             e = KeyboardInterrupt(f"acquisition stopped by Ctrl-C: kept {rec.samples} records")
+            e.recording = rec
+            raise e
+        if end:
+            kind, why = end.split(": ", 1)
+            e = DeviceError(why if kind == "incomplete" else
+                            f"{why}: acquisition stopped, kept {rec.samples} records" if
+                            kind == "trigger-timeout" else
+                            f"{why}; kept the {rec.samples} records that had arrived")
             e.recording = rec
             raise e
         return rec
 
     def stream(self, seconds: float, rate_hz: float = 5000.0, log_rate_hz: float = 0.0,
-               decimation: int = 0, channels: Optional[Sequence[str]] = None,
-               trigger: str = "", pretrigger_s: float = 0.0, no_dob: bool = False,
+               decimation: int = 0, channels=None, trigger: str = "",
+               trigger_timeout_s: float = 0.0, pretrigger_s: float = 0.0, no_dob: bool = False,
                allow_drops: bool = False, scenario: str = "",
                scenario_params: Sequence[float] = ()) -> Iterator[Recording]:
-        """The acquisition of ``acquire`` (same options, preflight and calibration), yielding
-        its records in blocks (Recordings, ``sample_index`` the board's ticks) as the board's
-        reports arrive; every record exactly once, in order. Leaving the loop early (``break``,
-        an exception, Ctrl-C) stops the board; the records after the last block are then not
-        yielded."""
-        s = _vibid._AcquireSettings()
-        s.seconds, s.rate_hz, s.log_rate_hz, s.decimation = seconds, rate_hz, log_rate_hz, decimation
-        s.channels = list(channels or [])
-        s.trigger, s.pretrigger_s, s.no_dob, s.allow_drops = trigger, pretrigger_s, no_dob, allow_drops
-        st = self._b.stream_start(s, scenario, [float(p) for p in scenario_params])
+        """The acquisition of ``acquire`` (same options, checks, preflight and calibration),
+        yielding its records in blocks (Recordings, ``sample_index`` the board's ticks) as the
+        board's reports arrive; every record exactly once, in order. Leaving the loop early
+        (``break``, an exception, Ctrl-C) stops the board; the records after the last block are
+        then not yielded. The arguments are checked when it is called, before the first block is
+        asked for."""
+        s, scenario, params = _settings(seconds, rate_hz, log_rate_hz, decimation, channels,
+                                        trigger, trigger_timeout_s, pretrigger_s, no_dob,
+                                        allow_drops, scenario, scenario_params)
+        if s.trigger_timeout_s > 0.0 and s.trigger:
+            raise ValueError("trigger_timeout_s: a stream waits for its trigger until the loop "
+                             "is left; leave the loop to give up")
+        st = self._b.stream_start(s, scenario, params)
+        return self._blocks(st)
+
+    @staticmethod
+    def _blocks(st) -> Iterator[Recording]:
         fs = st.fs_hz
         next_index = 0
         finished = False
@@ -896,13 +1125,22 @@ class Board:
         import json
         if isinstance(model, Model):
             m, default_label = model, "model"
+        elif isinstance(model, (str, os.PathLike)):
+            m, default_label = load_model(model), _vibid.label_from_model_path(os.fspath(model))
         else:
-            m, default_label = load_model(model), _vibid.label_from_model_path(str(model))
+            raise TypeError(f"model: expected a vibid.Model or a model file's path, got "
+                            f"{_kind(model)}")
         if sensors is not None and not isinstance(sensors, dict):
-            with open(sensors) as f:
+            with open(_input_path("sensors", sensors)) as f:
                 sensors = json.load(f)
-        j = design.json if isinstance(design, ObserverDesign) else design
-        return self._b.cal_upload(m._m, j, sensors, label or default_label)
+        if isinstance(design, ObserverDesign):
+            j = design.json
+        elif isinstance(design, dict):
+            j = design
+        else:
+            raise TypeError(f"design: expected an ObserverDesign (dob_design) or its JSON "
+                            f"object, got {_kind(design)}")
+        return self._b.cal_upload(m._m, j, sensors, _text("label", label) or default_label)
 
     def cal_commit(self) -> dict:
         """Writes the staged calibration record to flash (``vibid cal commit``)."""
@@ -913,6 +1151,7 @@ class Board:
         self._b.dob(True)
 
     def dob_stop(self) -> None:
+        """Stops the observer (``vibid dob stop``); acquisitions then log no d_hat by default."""
         self._b.dob(False)
 
     def __repr__(self) -> str:
