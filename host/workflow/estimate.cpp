@@ -9,8 +9,8 @@
 #include <cstring>
 #include <deque>
 #include <fstream>
-#include <optional>
 #include <numbers>
+#include <optional>
 #include <span>
 #include <sstream>
 
