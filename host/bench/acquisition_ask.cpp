@@ -1,15 +1,25 @@
 #include "vibid/bench/acquisition_ask.hpp"
 
+#include <algorithm>
 #include <cmath>
+#include <cstdio>
 
 #include "vibid/common/error.hpp"
 #include "vibid/common/json_keys.hpp"
+#include "vibid/device/link_budget.hpp"
 #include "vibid/device/log_table.hpp"
+#include "vibid/shared/fixed/decimator.hpp"
 
 namespace vibid::bench {
 namespace {
 
 constexpr double kMaxSeconds = 24.0 * 3600.0;
+
+std::string Text(double v) {
+  char b[32];
+  std::snprintf(b, sizeof b, "%g", v);
+  return b;
+}
 
 double Number(const nlohmann::json& v, const std::string& key) {
   Require(v.is_number(), "'" + key + "' must be a number");
@@ -23,7 +33,7 @@ double Number(const nlohmann::json& v, const std::string& key) {
 AcquisitionAsk ParseAcquisitionAsk(const nlohmann::json& body) {
   Require(body.is_object(), "the request must be a JSON object");
   RequireKnownKeys(body,
-                   {"sample_period_us", "channels", "seconds", "log_dob", "scenario",
+                   {"sample_period_us", "channels", "seconds", "log_rate_hz", "log_dob", "scenario",
                     "scenario_params", "fit_measured", "fit_lowpass_hz"},
                    "the acquisition request");
   AcquisitionAsk a;
@@ -42,6 +52,26 @@ AcquisitionAsk ParseAcquisitionAsk(const nlohmann::json& body) {
   Require(a.seconds > 0.0 && a.seconds <= kMaxSeconds, "'seconds' must lie in (0, 86400]");
   Require(a.seconds * 1e6 / a.sample_period_us >= 1.0,
           "'seconds' is shorter than one sample period");
+  if (body.contains("log_rate_hz")) {
+    const nlohmann::json& r = body["log_rate_hz"];
+    if (r.is_string() && r.get<std::string>() == "auto") {
+      a.auto_log_rate = true;
+    } else {
+      Require(r.is_number(), "'log_rate_hz' must be a rate in Hz or \"auto\"");
+      a.log_rate_hz = Number(r, "log_rate_hz");
+      Require(a.log_rate_hz > 0.0, "'log_rate_hz' must be > 0 (or \"auto\")");
+      const double rate_hz = 1e6 / a.sample_period_us;
+      const double d = rate_hz / a.log_rate_hz;
+      const long n = std::lround(d);
+      Require(n >= 1 && n <= static_cast<long>(fixed::kDecimatorMaxFactor) &&
+                  std::abs(d - static_cast<double>(n)) < 1e-9 * d &&
+                  fixed::IsSupportedDecimation(static_cast<std::uint32_t>(n)),
+              "'log_rate_hz' " + Text(a.log_rate_hz) + ": the sample rate " + Text(rate_hz) +
+                  " Hz divided by 2^a 5^b up to " + std::to_string(fixed::kDecimatorMaxFactor) +
+                  " (the board's decimations), or \"auto\"");
+      Require(a.seconds * a.log_rate_hz >= 1.0, "'seconds' is shorter than one logged record");
+    }
+  }
   const nlohmann::json& ch = body["channels"];
   Require(ch.is_array() && !ch.empty(), "'channels' must be a non-empty list of channel names");
   for (const nlohmann::json& name : ch) {
@@ -89,7 +119,9 @@ AcquisitionAsk ParseAcquisitionAsk(const nlohmann::json& body) {
   }
   if (body.contains("fit_lowpass_hz")) {
     a.fit_lowpass_hz = Number(body["fit_lowpass_hz"], "fit_lowpass_hz");
-    const double nyquist_hz = 0.5e6 / a.sample_period_us;
+    // Below half the log rate where it is known; an automatic one is checked when it is chosen.
+    const double nyquist_hz =
+        0.5 * (a.log_rate_hz > 0.0 ? a.log_rate_hz : 1e6 / a.sample_period_us);
     Require(a.fit_lowpass_hz >= 0.0 && a.fit_lowpass_hz < nyquist_hz,
             "'fit_lowpass_hz' must lie in [0, " + std::to_string(nyquist_hz) +
                 ") Hz (0: the raw d̂; below half the sample rate)");
@@ -99,15 +131,21 @@ AcquisitionAsk ParseAcquisitionAsk(const nlohmann::json& body) {
   return a;
 }
 
-wire::AcqConfigureRequest ConfigFor(const AcquisitionAsk& ask) {
+wire::AcqConfigureRequest ConfigFor(const AcquisitionAsk& ask, const wire::InfoResponse& info) {
   wire::AcqConfigureRequest cfg;
   cfg.sample_period_us = ask.sample_period_us;
-  cfg.decimation = 1;
   cfg.channel_mask = ask.channel_mask;
-  cfg.record_limit = static_cast<std::uint32_t>(
-      std::llround(ask.seconds * 1e6 / static_cast<double>(ask.sample_period_us)));
   cfg.flags =
       static_cast<std::uint8_t>(wire::kAcqFlagStream | (ask.log_dob ? wire::kAcqFlagLogDob : 0));
+  const double rate_hz = 1e6 / static_cast<double>(ask.sample_period_us);
+  cfg.decimation = 1;
+  if (ask.auto_log_rate) {
+    cfg.decimation = std::max<std::uint16_t>(1, device::DecimationThatFits(info, cfg, ask.seconds));
+  } else if (ask.log_rate_hz > 0.0) {
+    cfg.decimation = static_cast<std::uint16_t>(std::lround(rate_hz / ask.log_rate_hz));
+  }
+  cfg.record_limit = static_cast<std::uint32_t>(std::max<long long>(
+      1, std::llround(ask.seconds * rate_hz / static_cast<double>(cfg.decimation))));
   return cfg;
 }
 

@@ -1,6 +1,7 @@
 #include "vibid/bench/bench_files.hpp"
 #include "vibid/bench/bench_board.hpp"
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -11,6 +12,7 @@
 #include "vibid/common/csv.hpp"
 #include "vibid/common/error.hpp"
 #include "vibid/common/json_keys.hpp"
+#include "vibid/device/board_report.hpp"
 #include "vibid/device/error.hpp"
 #include "vibid/device/link_budget.hpp"
 #include "vibid/dob/compare.hpp"
@@ -84,7 +86,10 @@ void BenchBoard::ReadCalibration() {
 }
 
 nlohmann::json BenchBoard::Describe() {
-  std::unique_lock lock(board_mutex_, std::try_to_lock);
+  // The board's own status when no acquisition runs: an acquisition that just ended still holds
+  // the lock for the few statements after its last state event, which the page answers at once.
+  std::unique_lock lock(board_mutex_, std::defer_lock);
+  while (!lock.try_lock() && !running_) std::this_thread::sleep_for(std::chrono::milliseconds(1));
   const wire::InfoResponse& info = info_;
   nlohmann::json j;
   char fw[32];
@@ -132,7 +137,10 @@ nlohmann::json BenchBoard::Describe() {
   j["channels"] = channels;
   if (lock.owns_lock()) {
     const wire::StatusResponse st = c_.GetStatus();
-    j["status"] = {{"sampling", st.acq_state != wire::AcqState::kIdle},
+    // Sampling only while armed or acquiring: a finished acquisition ("done") is stopped, as
+    // `vibid monitor` says.
+    j["status"] = {{"sampling", device::IsSampling(st.acq_state)},
+                   {"text", device::DescribeAcquisitionState(st)},
                    {"observer_running", st.dob_running != 0},
                    {"records_written", st.records_written},
                    {"dropped_records", st.dropped_records},
@@ -146,8 +154,15 @@ nlohmann::json BenchBoard::Describe() {
 
 nlohmann::json BenchBoard::Budget(const nlohmann::json& body) {
   const AcquisitionAsk ask = ParseAcquisitionAsk(body);
-  const device::LinkBudget b = device::ComputeLinkBudget(c_.info(), ConfigFor(ask));
-  nlohmann::json j = {{"record_bytes", b.record_bytes},
+  const wire::AcqConfigureRequest cfg = ConfigFor(ask, c_.info());
+  const device::LinkBudget b = device::ComputeLinkBudget(c_.info(), cfg);
+  nlohmann::json lines = nlohmann::json::array();
+  for (const auto& [label, text] : device::DescribeBudget(b, ask.seconds))
+    lines.push_back({label, text});
+  nlohmann::json j = {{"lines", lines},
+                      {"decimation", cfg.decimation},
+                      {"auto_log_rate", ask.auto_log_rate},
+                      {"record_bytes", b.record_bytes},
                       {"records_per_report", b.records_per_report},
                       {"sample_rate_hz", b.sample_rate_hz},
                       {"log_rate_hz", b.log_rate_hz},
@@ -157,16 +172,21 @@ nlohmann::json BenchBoard::Budget(const nlohmann::json& body) {
                       {"capacity_records", b.capacity_records},
                       {"keeps_up", b.KeepsUp()},
                       {"overflow_after_s", Finite(b.overflow_after_s)}};
-  if (b.overflow_after_s < ask.seconds) j["refusal"] = device::DescribeOverflow(b, ask.seconds);
+  if (b.overflow_after_s < ask.seconds)
+    j["refusal"] = device::DescribeOverflow(b, ask.seconds, device::AdviceWords::kBenchPage);
   return j;
 }
 
 nlohmann::json BenchBoard::Start(const nlohmann::json& body) {
   const AcquisitionAsk ask = ParseAcquisitionAsk(body);
-  const wire::AcqConfigureRequest cfg = ConfigFor(ask);
+  const wire::AcqConfigureRequest cfg = ConfigFor(ask, c_.info());
   // The preflight `vibid acquire` makes: refuse before the board starts if the log would overflow.
   const device::LinkBudget budget = device::ComputeLinkBudget(c_.info(), cfg);
-  Require(budget.overflow_after_s >= ask.seconds, device::DescribeOverflow(budget, ask.seconds));
+  Require(budget.overflow_after_s >= ask.seconds,
+          device::DescribeOverflow(budget, ask.seconds, device::AdviceWords::kBenchPage));
+  Require(ask.fit_lowpass_hz < 0.5 * budget.log_rate_hz,
+          "'fit_lowpass_hz' must lie below half the log rate (" +
+              std::to_string(0.5 * budget.log_rate_hz) + " Hz)");
   Require(ask.scenario.empty() || (c_.info().capabilities & wire::kCapScenarioSelect) != 0,
           "'scenario': this board is not the emulator (scenarios select its simulated rig)");
   std::unique_lock lock(board_mutex_, std::try_to_lock);
@@ -185,6 +205,7 @@ nlohmann::json BenchBoard::Start(const nlohmann::json& body) {
               {"records", 0},
               {"ask", body},
               {"sample_period_us", cfg.sample_period_us},
+              {"log_rate_hz", budget.log_rate_hz},
               {"journal", out_dir_ + "/" + name + ".partial.csv"}};
   }
   hub_.ResetHistory();
@@ -305,6 +326,10 @@ void BenchBoard::OnRecords(std::uint32_t first, std::span<const wire::LogRecord>
   }
 }
 
+double BenchBoard::LogPeriodS() const {
+  return cfg_.sample_period_us * 1e-6 * std::max<std::uint16_t>(cfg_.decimation, 1);
+}
+
 void BenchBoard::Flush() {
   if (pending_.empty()) return;
   device::LogPull block;
@@ -322,8 +347,9 @@ void BenchBoard::Flush() {
     std::fflush(journal_);
   }
   live_records_ += block.records.size();
-  std::string j = "{\"first\":" + std::to_string(next_index_ - block.records.size()) +
-                  ",\"dt\":" + std::to_string(cfg_.sample_period_us * 1e-6) + ",\"names\":[";
+  std::string j = "{\"first\":" + std::to_string(next_index_ - block.records.size()) + ",\"dt\":";
+  AppendNumber(j, LogPeriodS());
+  j += ",\"names\":[";
   for (std::size_t i = 0; i < table.names.size(); ++i)
     j += (i ? ",\"" : "\"") + table.names[i] + "\"";
   j += "],\"columns\":[";
@@ -353,7 +379,7 @@ void BenchBoard::Flush() {
 
 void BenchBoard::UpdateFit(const device::LogTable& table) {
   if (ask_.fit_measured.empty()) return;
-  const double fs_hz = 1e6 / cfg_.sample_period_us;
+  const double fs_hz = 1.0 / LogPeriodS();
   const Eigen::VectorXd* est = nullptr;
   const Eigen::VectorXd* meas = nullptr;
   for (std::size_t i = 0; i < table.names.size(); ++i) {

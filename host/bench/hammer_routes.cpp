@@ -14,6 +14,7 @@
 #include "vibid/common/error.hpp"
 #include "vibid/common/json_keys.hpp"
 #include "vibid/device/log_table.hpp"
+#include "vibid/ident/impact.hpp"
 #include "vibid/workflow/hammer_session.hpp"
 #include "vibid/workflow/result_json.hpp"
 
@@ -37,17 +38,14 @@ double NumberOr(const nlohmann::json& body, const char* key, double fallback) {
   return body[key].get<double>();
 }
 
-/// The hammer test as the page asks for it, read strictly.
+/// The hammer test as the page asks for it, read strictly. What is left out takes the library's
+/// default, as `vibid frf-estimate` takes it (record_s 0: the shortest hit spacing).
 struct Settings {
   nlohmann::json ask;  // the acquisition, as POST /api/acquire takes it
   std::string force;   // channel stems
   std::vector<std::string> responses;
   std::string hammer_point;
-  double record_s = 0.0;
-  double trigger = 0.1;
-  double pretrigger_s = -1.0;
-  double force_window_s = 0.0;
-  double exp_window = 0.0;
+  ident::ImpactOptions impact;
 };
 
 Settings ParseSettings(const nlohmann::json& body) {
@@ -74,17 +72,18 @@ Settings ParseSettings(const nlohmann::json& body) {
             "'channels': '" + r + "' is a load cell; the responses are accelerometers or encoders");
     s.responses.push_back(r);
   }
-  Require(body.contains("record_s"), "'record_s' (the record of one hit, s) is missing");
-  s.record_s = NumberOr(body, "record_s", 0.0);
+  s.impact.record_s = NumberOr(body, "record_s", s.impact.record_s);
+  Require(s.impact.record_s >= 0.0,
+          "'record_s' must be >= 0 (left out or 0: the shortest spacing between hits)");
   Require(body.contains("hammer_point") && body["hammer_point"].is_string(),
           "'hammer_point' (the response channel at the hammer's point) is missing");
   s.hammer_point = body["hammer_point"].get<std::string>();
   Require(std::find(s.responses.begin(), s.responses.end(), s.hammer_point) != s.responses.end(),
           "'hammer_point': '" + s.hammer_point + "' is not one of the response channels");
-  s.trigger = NumberOr(body, "trigger", s.trigger);
-  s.pretrigger_s = NumberOr(body, "pretrigger_s", s.pretrigger_s);
-  s.force_window_s = NumberOr(body, "force_window_s", s.force_window_s);
-  s.exp_window = NumberOr(body, "exp_window", s.exp_window);
+  s.impact.trigger_fraction = NumberOr(body, "trigger", s.impact.trigger_fraction);
+  s.impact.pretrigger_s = NumberOr(body, "pretrigger_s", s.impact.pretrigger_s);
+  s.impact.force_window_s = NumberOr(body, "force_window_s", s.impact.force_window_s);
+  s.impact.exp_window_end = NumberOr(body, "exp_window", s.impact.exp_window_end);
   return s;
 }
 
@@ -115,7 +114,7 @@ class HammerTests {
     for (wire::ChannelScaling& c : counts.channels) c = wire::DefaultScaling();
     const wire::CalibrationRecord* cal = active != nullptr ? active : &counts;
     const AcquisitionAsk ask = ParseAcquisitionAsk(s.ask);
-    const wire::AcqConfigureRequest cfg = ConfigFor(ask);
+    const wire::AcqConfigureRequest cfg = ConfigFor(ask, board_.BoardInfo());
     workflow::HammerSessionOptions o;
     o.layout = wire::LogLayout{cfg.channel_mask, cfg.flags};
     o.sample_period_us = cfg.sample_period_us;
@@ -132,11 +131,11 @@ class HammerTests {
     o.estimation.responses = responses;
     o.estimation.impact = true;
     o.estimation.sensor = sensor;
-    o.estimation.impact_options.record_s = s.record_s;
-    o.estimation.impact_options.trigger_fraction = s.trigger;
-    o.estimation.impact_options.pretrigger_s = s.pretrigger_s;
-    o.estimation.impact_options.force_window_s = s.force_window_s;
-    o.estimation.impact_options.exp_window_end = s.exp_window;
+    o.estimation.impact_options.record_s = s.impact.record_s;
+    o.estimation.impact_options.trigger_fraction = s.impact.trigger_fraction;
+    o.estimation.impact_options.pretrigger_s = s.impact.pretrigger_s;
+    o.estimation.impact_options.force_window_s = s.impact.force_window_s;
+    o.estimation.impact_options.exp_window_end = s.impact.exp_window_end;
     o.modes.driving_point = Column(s.hammer_point, *cal);
     auto test = std::make_shared<Test>();
     test->name = "hammer-" + TimeStamp();
@@ -147,6 +146,8 @@ class HammerTests {
     test->settings = body;
     test->ask = s.ask;
     o.live_csv_path = test->dir + "/live.csv";
+    // The test kept whole as it goes: every choice journaled, the files written at any end.
+    o.test_dir = test->dir;
     o.Validate();  // before anything is created: a refusal changes nothing
     Require(active != nullptr,
             "the board is uncalibrated: a hammer test needs the force in N (vibid cal upload "
@@ -274,7 +275,9 @@ class HammerTests {
     if (!feeding_) return;
     Test& t = *feeding_;
     try {
-      t.session->Finish();
+      t.session->Finish();  // and the test kept whole in its folder (test_dir)
+      std::lock_guard l(t.mutex);
+      t.saved = true;
     } catch (const std::exception& e) {
       t.SetError(e.what());
     }

@@ -72,8 +72,9 @@ TEST_F(HammerRoutesTest, RefusedSettingsGet400WithTheirMessageAndChangeNothing) 
        "--pretrigger-s must be shorter than half of --record-s"},
       {"{" + good + R"(,"exp_window":-1})", "exp"},
       // The view's settings.
-      {R"({"channels":["force1","acc1"],"sample_period_us":200,"seconds":10,"hammer_point":"acc1"})",
-       "'record_s'"},
+      {R"({"channels":["force1","acc1"],"sample_period_us":200,"seconds":10,"record_s":-1,)"
+       R"("hammer_point":"acc1"})",
+       "'record_s' must be >= 0"},
       {"{" + good + R"(,"hammer_point":"acc3"})", "'hammer_point'"},
       {R"({"channels":["acc1","force1"],"sample_period_us":200,"seconds":10,"record_s":1,)"
        R"("hammer_point":"force1"})",

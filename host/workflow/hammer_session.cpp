@@ -5,6 +5,7 @@
 #include <chrono>
 #include <cmath>
 #include <cstring>
+#include <filesystem>
 #include <limits>
 #include <utility>
 
@@ -76,10 +77,12 @@ void HammerSessionOptions::Validate() const {
           "--use-hits/--hits");
   Require(estimation.impact_options.use_hits.empty(),
           "hammer session: the session chooses the hits; leave impact_options.use_hits empty");
-  Require(estimation.impact_options.record_s > 0.0,
-          "hammer session: --record-s (the record of one hit, s) is required: a hit is judged "
-          "when that much of it is sampled");
-  Require(estimation.impact_options.pretrigger_s < 0.5 * estimation.impact_options.record_s,
+  Require(std::isfinite(estimation.impact_options.record_s) &&
+              estimation.impact_options.record_s >= 0.0,
+          "hammer session: --record-s (the record of one hit, s) must be >= 0 (0: the shortest "
+          "spacing between hits)");
+  Require(estimation.impact_options.record_s == 0.0 ||
+              estimation.impact_options.pretrigger_s < 0.5 * estimation.impact_options.record_s,
           "hammer session: --pretrigger-s must be shorter than half of --record-s");
   estimation.Validate();
   (void)ResponseQuantities(ParseColumnList(estimation.responses), estimation.sensor);
@@ -214,17 +217,23 @@ void HammerSession::Feed(std::span<const wire::LogRecord> records) {
   started_ = true;
   next_sample_index_ = records.back().sample_index + step;
 
-  // A new pulse: its record is complete a record length after it starts.
+  // A new pulse: its record is complete a record length after it starts. With the automatic
+  // record (the shortest spacing), the new pulse completes the record of the hit before it: it is
+  // looked at once its rebounds (the double-hit window) are in.
   const double fs_nominal = 1e6 / (static_cast<double>(options_.sample_period_us) * step);
   const auto record = static_cast<std::size_t>(
       std::llround(options_.estimation.impact_options.record_s * fs_nominal));
+  const auto settle =
+      static_cast<std::size_t>(
+          std::ceil(2.0 * options_.estimation.impact_options.double_hit_window_s * fs_nominal)) +
+      1;
   if (detected_once_) {
     const double level = 0.5 * detection_.trigger_level;
     for (std::size_t i = scanned_; i < d.n; ++i) {
       if (std::abs(d.force[static_cast<Eigen::Index>(i)] - detection_.baseline) >= level) {
         // Complete a record after the pretrigger's start (exactly: the analysis says when).
         const std::size_t pre = std::min(detection_.pretrigger_samples, i);
-        next_check_ = std::min(next_check_, i - pre + record);
+        next_check_ = std::min(next_check_, record > 0 ? i - pre + record : i + settle);
         candidate_ = true;
         break;
       }
@@ -238,6 +247,7 @@ void HammerSession::Feed(std::span<const wire::LogRecord> records) {
     Analyze();
     if (!detected_once_) next_check_ = d.n + static_cast<std::size_t>(fs_nominal / 4.0);
     Publish(MsSince(start));
+    Keep();
   } else {
     Publish(-1.0);
   }
@@ -250,6 +260,7 @@ void HammerSession::Finish() {
   const Clock::time_point start = Clock::now();
   Analyze();
   Publish(MsSince(start));
+  Keep();
 }
 
 // Judges the hits of the recording so far exactly as EstimateImpactFrf would on it, then averages
@@ -273,7 +284,9 @@ void HammerSession::Analyze() {
   detected_once_ = true;
   candidate_ = false;
   next_check_ = std::numeric_limits<std::size_t>::max();
-  // Hits whose record runs past the samples so far are not judged until it is complete.
+  // Hits whose record runs past the samples so far are not judged until it is complete. With
+  // the automatic record the last hit waits for the next one (or the end): the spacing to it may
+  // still shorten every record.
   judged_ = det.hits.size();
   if (!finished_) {
     for (std::size_t g = 0; g < det.hits.size(); ++g) {
@@ -283,6 +296,7 @@ void HammerSession::Analyze() {
         next_check_ = std::min(next_check_, end);
       }
     }
+    if (io.record_s == 0.0 && !det.hits.empty()) judged_ = std::min(judged_, det.hits.size() - 1);
   }
   // The choice: the operator's where given, else the verdict; unjudged hits are not used.
   for (std::size_t g = 0; g < det.hits.size(); ++g) {
@@ -391,6 +405,16 @@ void HammerSession::Publish(double update_ms) {
   if (candidate_ && s.pending_hits == 0) s.pending_hits = 1;  // a pulse since the last analysis
   s.frf = frf_;
   s.warnings = warnings_;
+  if (modes_) {
+    s.warnings.insert(s.warnings.end(), modes_->warnings.begin(), modes_->warnings.end());
+    if (modes_->has_diagram) {
+      s.band_min_hz = modes_->diagram.freq_min_hz;
+      s.band_max_hz = modes_->diagram.freq_max_hz;
+    } else if (modes_->fitted) {
+      s.band_min_hz = modes_->fit.freq_min_hz;
+      s.band_max_hz = modes_->fit.freq_max_hz;
+    }
+  }
   s.modes = modes_;
   s.modes_error = modes_error_;
   s.last_modes_ms = modes_ms_;
@@ -416,6 +440,7 @@ void HammerSession::Accept(std::size_t index) {
   const Clock::time_point start = Clock::now();
   Analyze();
   Publish(MsSince(start));
+  Keep();
 }
 
 void HammerSession::Reject(std::size_t index) {
@@ -424,6 +449,7 @@ void HammerSession::Reject(std::size_t index) {
   const Clock::time_point start = Clock::now();
   Analyze();
   Publish(MsSince(start));
+  Keep();
 }
 
 HammerSnapshot HammerSession::Snapshot() const {
@@ -458,11 +484,36 @@ HitTraces HammerSession::Traces(std::size_t index) const {
 
 void HammerSession::Save(const std::string& dir) const {
   const std::lock_guard<std::mutex> lock(work_);
+  WriteTest(dir, true);
+}
+
+void HammerSession::Keep() {
+  if (options_.test_dir.empty()) return;
+  if (finished_) {
+    WriteTest(options_.test_dir, false);
+    return;
+  }
+  // While it runs: the hits and the choices, each change as it is made (recording.csv and the FRF
+  // follow from live.csv and them; they are written whole when the acquisition ends).
+  std::string hits = HitListJson(Snapshot().hits).dump(2) + "\n";
+  if (hits == kept_hits_) return;
+  WriteFileAtomic(options_.test_dir + "/hits.json", hits);
+  kept_hits_ = std::move(hits);
+}
+
+void HammerSession::WriteTest(const std::string& dir, bool require_frf) const {
   device::WriteLogSidecar(dir + "/recording.csv", format_, options_.calibration,
                           options_.has_calibration, options_.instants);
   WriteFileAtomic(dir + "/recording.csv", header_ + rows_);
   const HammerSnapshot s = Snapshot();
   WriteFileAtomic(dir + "/hits.json", HitListJson(s.hits).dump(2) + "\n");
+  if (frf_.lines() == 0 && !require_frf) {
+    // No FRF over no hit: an earlier one would contradict hits.json.
+    std::error_code ignored;
+    std::filesystem::remove(dir + "/frf.csv", ignored);
+    std::filesystem::remove(dir + "/frf.uff", ignored);
+    return;
+  }
   Require(frf_.lines() > 0, "hammer session: recording.csv and hits.json written to " + dir +
                                 ", but no hit is accepted: no FRF to write; accept a hit");
   const int reference = static_cast<int>(frf_.responses());

@@ -65,6 +65,8 @@ nlohmann::json HammerSnapshotJson(const HammerSnapshot& s) {
   j["diagram"] =
       s.modes && s.modes->has_diagram ? DiagramToJson(s.modes->diagram) : nlohmann::json(nullptr);
   j["modes_error"] = s.modes_error;
+  j["band_hz"] = s.band_max_hz > 0.0 ? nlohmann::json::array({s.band_min_hz, s.band_max_hz})
+                                     : nlohmann::json(nullptr);
   j["timing_ms"] = {{"update", s.last_update_ms}, {"modes", s.last_modes_ms}};
   return j;
 }

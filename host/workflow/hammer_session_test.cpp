@@ -231,6 +231,15 @@ TEST(HammerSession, VerdictsAndTheCliPathGiveTheSameNumbers) {
     EXPECT_GT(e.omega_ci95_rad_s[1], e.omega_rad_s);
   }
 
+  // Every warning the library gives, the modes' after the estimation's, as `vibid modes` prints
+  // them; the band the modes were identified in.
+  ASSERT_GE(s.warnings.size(), modes.warnings.size());
+  EXPECT_TRUE(std::equal(modes.warnings.begin(), modes.warnings.end(),
+                         s.warnings.end() - static_cast<std::ptrdiff_t>(modes.warnings.size())));
+  EXPECT_EQ(s.band_min_hz, modes.diagram.freq_min_hz);
+  EXPECT_EQ(s.band_max_hz, modes.diagram.freq_max_hz);
+  EXPECT_GT(s.band_max_hz, 0.0);
+
   // The JSON the page draws.
   const nlohmann::json j = HammerSnapshotJson(s);
   EXPECT_EQ(j.at("hits").size(), 10u);
@@ -251,6 +260,96 @@ TEST(HammerSession, VerdictsAndTheCliPathGiveTheSameNumbers) {
   std::filesystem::remove_all(dir);
 }
 
+// The CLI's default record (record_s 0: the shortest spacing between hits): each hit is judged
+// when the next one's pulse is in (its record ends before that hit), the last one at the end; the
+// end state is `frf-estimate --impact`'s on the recording with its defaults.
+TEST(HammerSession, AutomaticRecordJudgesEachHitWhenTheNextComes) {
+  const std::string dir = TempDir("auto-record");
+  testing::BoardHammerTest test = testing::MakeBoardHammerTest(dir + "/live.csv", 6.0);
+  test.options.estimation.impact_options.record_s = 0.0;
+  HammerSession session(test.options);
+  std::mt19937_64 rng(7);
+  std::uniform_int_distribution<std::size_t> size(1, 700);
+  std::size_t judged = 0;
+  const double fs_hz = 5000.0;
+  for (std::size_t at = 0; at < test.records.size();) {
+    const std::size_t n = std::min(size(rng), test.records.size() - at);
+    session.Feed(std::span<const wire::LogRecord>(test.records.data() + at, n));
+    at += n;
+    const HammerSnapshot s = session.Snapshot();
+    if (s.hits.size() == judged) continue;
+    ASSERT_EQ(s.hits.size(), judged + 1);
+    // Judged only once the next hit has been sampled (its pulse, then its rebound window of
+    // 2 x 0.05 s), and in the first block after that.
+    const double next_s = test.hit_times_s[judged + 1];
+    EXPECT_GE(static_cast<double>(at) / fs_hz, next_s) << "hit " << judged + 1;
+    EXPECT_LT(static_cast<double>(at - n) / fs_hz, next_s + 0.102) << "hit " << judged + 1;
+    judged = s.hits.size();
+  }
+  EXPECT_EQ(judged, 9u);  // hit 10 waits for the end
+  session.Finish();
+  const HammerSnapshot s = session.Snapshot();
+  EstimationOptions cli = test.options.estimation;
+  cli.impact = true;
+  const Estimated e = EstimateFromRecording(dir + "/live.csv", cli);
+  ASSERT_EQ(s.hits.size(), e.hits.size());
+  for (std::size_t k = 0; k < s.hits.size(); ++k) {
+    EXPECT_EQ(e.hits[k].used, s.hits[k].accepted) << k;
+    EXPECT_EQ(e.hits[k].note, s.hits[k].reason) << k;
+  }
+  ExpectSameFrf(s.frf, e.frf);
+  // The record: the shortest spacing (record_s + 1 s at least), rounded down to a fast length.
+  EXPECT_GE(s.frf.record_s, 6.0);
+  EXPECT_LE(s.frf.record_s, 7.5);
+  std::filesystem::remove_all(dir);
+}
+
+// The test kept whole in its folder as it goes: the hit list with every choice as it is made,
+// and at any end (here the records stop mid-test, as Ctrl-C stops them) the whole test, which
+// `frf-estimate --hits` reproduces.
+TEST(HammerSession, KeepsTheTestWholeAsItGoes) {
+  const std::string dir = TempDir("keep");
+  testing::BoardHammerTest test = testing::MakeBoardHammerTest(dir + "/live.csv", 2.0);
+  test.options.test_dir = dir;
+  HammerSession session(test.options);
+  std::size_t at = 0;
+  while (session.Snapshot().hits.size() < 3) {
+    const std::size_t n = std::min<std::size_t>(500, test.records.size() - at);
+    ASSERT_GT(n, 0u);
+    session.Feed(std::span<const wire::LogRecord>(test.records.data() + at, n));
+    at += n;
+  }
+  nlohmann::json hits = ReadJsonFile(dir + "/hits.json");
+  EXPECT_EQ(hits.at("hits").size(), 3u);
+  session.Reject(1);
+  hits = ReadJsonFile(dir + "/hits.json");  // journaled at once, while the test runs
+  EXPECT_EQ(hits.at("hits")[0].at("accepted"), false);
+  EXPECT_EQ(hits.at("hits")[0].at("decided_by"), "operator");
+  EXPECT_FALSE(std::filesystem::exists(dir + "/recording.csv"));  // live.csv grows meanwhile
+  session.Finish();
+  for (const char* f : {"recording.csv", "hits.json", "frf.csv", "frf.uff"})
+    EXPECT_TRUE(std::filesystem::exists(dir + "/" + f)) << f;
+  EXPECT_EQ(FileText(dir + "/recording.csv"), FileText(dir + "/live.csv"));
+  EstimationOptions cli = test.options.estimation;
+  cli.impact = true;
+  cli.hits_file = dir + "/hits.json";
+  const Estimated chosen = EstimateFromRecording(dir + "/recording.csv", cli);
+  EXPECT_EQ(FileText(dir + "/frf.csv"), ident::FormatFrfForPath(chosen.frf, "x.csv", 2));
+  const std::size_t used = session.Snapshot().accepted;
+  // A choice after the end rewrites the test.
+  session.Accept(1);
+  EXPECT_EQ(ReadJsonFile(dir + "/hits.json").at("hits")[0].at("accepted"), true);
+  EXPECT_EQ(ReadAcceptedHits(dir + "/hits.json").size(), used + 1);
+  // No hit accepted: no FRF beside a hit list that uses none.
+  const HammerSnapshot s = session.Snapshot();
+  for (const SessionHit& h : s.hits)
+    if (h.accepted) session.Reject(h.index);
+  EXPECT_TRUE(std::filesystem::exists(dir + "/hits.json"));
+  EXPECT_FALSE(std::filesystem::exists(dir + "/frf.csv"));
+  EXPECT_FALSE(std::filesystem::exists(dir + "/frf.uff"));
+  std::filesystem::remove_all(dir);
+}
+
 TEST(HammerSession, RefusesOptionsItCannotHonour) {
   const std::string dir = TempDir("options");
   const testing::BoardHammerTest test = testing::MakeBoardHammerTest(dir + "/live.csv", 2.0);
@@ -263,7 +362,7 @@ TEST(HammerSession, RefusesOptionsItCannotHonour) {
     }
   };
   HammerSessionOptions o = test.options;
-  o.estimation.impact_options.record_s = 0.0;
+  o.estimation.impact_options.record_s = -1.0;  // 0 is the automatic record; below it nothing
   refused(o, "--record-s");
   o = test.options;
   o.estimation.responses = "acc1_m_s2,acc3_m_s2";

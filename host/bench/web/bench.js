@@ -71,9 +71,9 @@ async function loadBoard() {
     ['protocol', id.protocol], ['converter', id.adc_bits + ' bit'],
     ['log', (id.log_capacity_bytes / 1024).toFixed(0) + ' KiB'],
     ['link', id.link_reports_per_s + ' reports/s'],
-    ['status', !b.status ? 'acquiring'
-               : b.status.sampling ? 'sampling' + (b.status.observer_running ? ', observer stepping' : '')
-               : 'idle (' + b.status.records_written + ' records in the last acquisition)']]);
+    // The board's own state in the device library's words (a finished acquisition is stopped).
+    ['status', !b.status ? 'acquiring (this bench)' : b.status.text]]);
+  document.getElementById('identity').dataset.sampling = b.status ? String(b.status.sampling) : 'bench';
   const c = b.calibration;
   const cal = [['state', c.state + (c.slot !== 255 ? ' (slot ' + c.slot + ')' : '')]];
   if (c.label !== undefined) {
@@ -101,16 +101,41 @@ async function loadBoard() {
       if (hz === 5000) o.selected = true;
       rate.append(o);
     }
+    logRates();
     document.getElementById('log-dob').checked = c.has_observer;
     document.getElementById('log-dob').disabled = !c.has_observer;
   }
 }
 
+// The log rates of the sample rate chosen: "auto" (the server takes the highest whose log holds
+// the acquisition: device::DecimationThatFits), every sample, and decimations the board has.
+function logRates() {
+  const sel = document.getElementById('log-rate');
+  const keep = sel.value || 'auto';
+  const hz = 1e6 / Number(document.getElementById('rate').value);
+  const options = [['auto', 'auto (what the link carries)'], [String(hz), 'every sample']];
+  for (const d of [2, 4, 5, 10, 20, 25, 50, 100]) options.push([String(hz / d), (hz / d) + ' Hz']);
+  sel.replaceChildren(...options.map(([v, t]) => {
+    const o = document.createElement('option'); o.value = v; o.textContent = t; return o;
+  }));
+  sel.value = options.some(([v]) => v === keep) ? keep : 'auto';
+}
+
+// What an empty Parameters field does: the scenario's own defaults.
+function scenarioHint() {
+  const sc = document.getElementById('scenario');
+  const p = document.getElementById('scenario-params');
+  p.placeholder = sc.selectedOptions[0]?.dataset.empty || '';
+  p.disabled = !sc.value;
+}
+
 function ask() {
+  const lr = document.getElementById('log-rate').value;
   const a = {
     sample_period_us: Number(document.getElementById('rate').value),
     channels: [...document.querySelectorAll('#channels input:checked')].map(i => i.value),
     seconds: Number(document.getElementById('seconds').value),
+    log_rate_hz: lr === 'auto' ? 'auto' : Number(lr),
     log_dob: document.getElementById('log-dob').checked,
   };
   const sc = document.getElementById('scenario').value;
@@ -127,31 +152,50 @@ function ask() {
   return a;
 }
 
+// The budget box: the device library's lines (device::DescribeBudget) and its refusal, in the
+// page's words.
 async function updateBudget() {
   const refusal = document.getElementById('budget-refusal');
+  const table = document.getElementById('budget');
   try {
     const b = await api('/api/budget', ask());
-    rows(document.getElementById('budget'), [
-      ['record', b.record_bytes + ' bytes, ' + b.records_per_report + ' per report'],
-      ['log rate', b.log_rate_hz + ' records/s'],
-      ['link carries', fmt(b.link_records_per_s, 5) + ' records/s'],
-      ['data', fmt(b.data_bytes_per_s / 1000, 4) + ' of ' + fmt(b.link_bytes_per_s / 1000, 4) + ' kB/s'],
-      ['log full after', b.overflow_after_s === null ? 'never (the link keeps up)' : fmt(b.overflow_after_s) + ' s']]);
+    rows(table, b.lines);
     refusal.textContent = b.refusal || '';
-  } catch (e) { refusal.textContent = e.message; }
+    table.dataset.fits = b.refusal ? 'no' : 'yes';
+    table.dataset.logRateHz = b.log_rate_hz;
+  } catch (e) { refusal.textContent = e.message; table.dataset.fits = 'no'; }
 }
 
 // ---- live channel ------------------------------------------------------------------------------
 
+// The form shows the running acquisition's settings (after a reload: the one the server runs).
+function showAsk(a) {
+  const set = (id, v) => { document.getElementById(id).value = v; };
+  set('rate', a.sample_period_us);
+  logRates();
+  set('log-rate', a.log_rate_hz === undefined ? String(1e6 / a.sample_period_us) : String(a.log_rate_hz));
+  document.querySelectorAll('#channels input').forEach(i => { i.checked = a.channels.includes(i.value); });
+  document.getElementById('log-dob').checked = !!a.log_dob;
+  set('seconds', a.seconds);
+  set('scenario', a.scenario || '');
+  scenarioHint();
+  set('scenario-params', (a.scenario_params || []).join(', '));
+  set('fit-measured', a.fit_measured || '');
+  set('fit-lowpass', a.fit_lowpass_hz === undefined ? '' : a.fit_lowpass_hz);
+  document.getElementById('acq-form').dataset.shows = JSON.stringify(a);
+  updateBudget();
+}
+
 function onState(s) {
   const prev = bench.state;
   bench.state = s;
+  if (s.running && s.ask && (!prev || prev.name !== s.name)) showAsk(s.ask);
   const line = s.running ? 'acquiring ' + s.name + ': ' + s.records + ' records'
     : s.name ? 'last: ' + s.records + ' records' + (s.file ? ' in ' + s.file : '') + (s.error ? ' — ' + s.error : '')
     : 'idle';
   document.getElementById('acq-state').textContent = line;
   document.body.dataset.running = s.running ? 'yes' : 'no';
-  if (s.error && !(prev && prev.error === s.error)) say(s.error, true);
+  if (s.error && !(prev && prev.error === s.error)) say(s.name + ': ' + s.error, true);
   if (s.running && (!prev || prev.name !== s.name)) resetScope();
   if (prev && prev.running && !s.running) loadBoard().catch(() => {});
 }
@@ -197,6 +241,7 @@ function showFit() {
            ['window', fmt(f.window_s, 3) + ' s of ' + f.measured],
            ['d̂', f.lowpass_hz ? 'zero-phase low-pass at ' + fmt(f.lowpass_hz) + ' Hz (as dob run --lowpass-hz)' : 'raw']]);
   t.dataset.fitPercent = f.fit_percent;
+  t.dataset.windowS = f.window_s;
 }
 
 function connect() {
@@ -312,7 +357,7 @@ function massTests() {
 
 async function identifyRun() {
   const status = document.getElementById('id-status');
-  status.textContent = 'identifying...';
+  progress('id-run-status', 'identifying…');
   const r = await api('/api/cal/identify', {
     nominal: document.getElementById('id-nominal').value.trim(),
     mass_tests: massTests(), modal_tests: listOf('id-modal'),
@@ -328,6 +373,7 @@ async function identifyRun() {
   document.getElementById('design-model').value = r.output;
   document.getElementById('cal-model').value = r.output;
 }
+  progress('id-run-status', 'identified');
 
 async function designRun() {
   const body = {model: document.getElementById('design-model').value.trim(),
@@ -338,7 +384,9 @@ async function designRun() {
   document.getElementById('design-summary').textContent =
     'wrote ' + r.output + ' (force full scale ' + r.force_fs_n + ' N, ' + r.fs_hz + ' Hz)\n' + r.summary;
   document.getElementById('design-summary').dataset.checksum = String(r.checksum);
+  progress('design-status', 'designing…');
   document.getElementById('cal-design').value = r.output;
+  progress('design-status', 'designed');
 }
 
 function calFiles() {
@@ -416,9 +464,22 @@ async function loadViews() {
   document.querySelectorAll('#tabs button').forEach(b => b.addEventListener('click', () => showView(b.dataset.view)));
 }
 
-function wire(id, action) {
+function progress(id, text) {
+  const e = document.getElementById(id);
+  e.textContent = text; e.className = 'muted';
+}
+
+// A step's outcome beside its button: its progress, then its result or its error (which
+// replaces the progress). A step that succeeds clears the banner of an earlier failure.
+function wire(id, action, statusId) {
   document.getElementById(id).addEventListener('click', async () => {
-    try { await action(); } catch (e) { say(e.message, true); }
+    const st = document.getElementById(statusId);
+    try {
+      await action();
+      say('', false);
+    } catch (e) {
+      st.textContent = e.message; st.className = 'error';
+    }
   });
 }
 
@@ -426,17 +487,20 @@ async function main() {
   await loadViews();
   await loadBoard();
   await updateBudget();
-  ['rate', 'seconds', 'log-dob', 'fit-measured'].forEach(id =>
+  document.getElementById('rate').addEventListener('change', logRates);
+  ['rate', 'log-rate', 'seconds', 'log-dob', 'fit-measured'].forEach(id =>
     document.getElementById(id).addEventListener('change', updateBudget));
-  wire('start', async () => { await api('/api/acquire', ask()); say('acquisition started'); });
-  wire('stop', async () => { await api('/api/stop', {}); say('stopping: the records so far are kept'); });
-  wire('dob-on', async () => { await api('/api/observer', {run: true}); say('observer on'); await loadBoard(); });
-  wire('dob-off', async () => { await api('/api/observer', {run: false}); say('observer off'); await loadBoard(); });
-  wire('id-run', identifyRun);
-  wire('design-run', designRun);
-  wire('cal-preview', calPreview);
-  wire('cal-upload', calUpload);
-  wire('cal-commit', calCommit);
+  document.getElementById('scenario').addEventListener('change', scenarioHint);
+  scenarioHint();
+  wire('start', async () => { await api('/api/acquire', ask()); progress('acq-msg', 'acquisition started'); }, 'acq-msg');
+  wire('stop', async () => { await api('/api/stop', {}); progress('acq-msg', 'stopping: the records so far are kept'); }, 'acq-msg');
+  wire('dob-on', async () => { await api('/api/observer', {run: true}); progress('acq-msg', 'observer on'); await loadBoard(); }, 'acq-msg');
+  wire('dob-off', async () => { await api('/api/observer', {run: false}); progress('acq-msg', 'observer off'); await loadBoard(); }, 'acq-msg');
+  wire('id-run', identifyRun, 'id-run-status');
+  wire('design-run', designRun, 'design-status');
+  wire('cal-preview', calPreview, 'cal-status');
+  wire('cal-upload', calUpload, 'cal-status');
+  wire('cal-commit', calCommit, 'cal-status');
   document.getElementById('pause').addEventListener('click', e => {
     bench.paused = !bench.paused; e.target.textContent = bench.paused ? 'Resume' : 'Pause'; bench.dirty = true;
   });

@@ -9,6 +9,7 @@ const hm = {
   plots: {}, latencies: [], pendingArrival: null, events: 0,
 };
 window.hammer = hm;
+hm.settings = () => settings();  // what Start would send (the browser test compares it)
 const $ = id => document.getElementById(id);
 
 async function post(path, body) {
@@ -20,21 +21,24 @@ async function post(path, body) {
 }
 function status(text, error) { const s = $('hm-status'); s.textContent = text; s.className = error ? 'error' : 'muted'; }
 
+// An empty field is left out: the server takes the library's default (vibid frf-estimate's).
+const optional = [['hm-record', 'record_s'], ['hm-trigger', 'trigger'], ['hm-pretrigger', 'pretrigger_s'],
+                  ['hm-fwin', 'force_window_s'], ['hm-exp', 'exp_window']];
 function settings() {
   const responses = [...document.querySelectorAll('#hm-responses input:checked')].map(i => i.value);
   const s = {
     channels: [$('hm-force').value, ...responses],
     sample_period_us: Number($('hm-rate').value),
     seconds: Number($('hm-seconds').value),
-    record_s: Number($('hm-record').value),
     hammer_point: $('hm-point').value,
-    trigger: Number($('hm-trigger').value),
-    exp_window: Number($('hm-exp').value || 0),
   };
-  if ($('hm-pretrigger').value !== '') s.pretrigger_s = Number($('hm-pretrigger').value);
-  if ($('hm-fwin').value !== '') s.force_window_s = Number($('hm-fwin').value);
-  const params = $('hm-params').value.trim();
-  if (params) { s.scenario = 'hammer'; s.scenario_params = params.split(/[\s,]+/).map(Number); }
+  for (const [id, key] of optional) if ($(id).value !== '') s[key] = Number($(id).value);
+  // On the emulator the hammer scenario always runs: empty parameters are its defaults.
+  if (window.bench && bench.board && bench.board.identity.emulator) {
+    s.scenario = 'hammer';
+    const params = $('hm-params').value.trim();
+    if (params) s.scenario_params = params.split(/[\s,]+/).map(Number);
+  }
   return s;
 }
 
@@ -42,10 +46,8 @@ async function preflight() {
   const p = $('hm-preflight');
   try {
     const b = await post('preflight', settings());
-    p.textContent = 'link budget: ' + b.record_bytes + '-byte records at ' + b.log_rate_hz + ' records/s, the link carries ' +
-      Number(b.link_records_per_s).toPrecision(5) + ' records/s; ' +
-      (b.overflow_after_s === null ? 'the log never fills' : 'the log fills after ' + Number(b.overflow_after_s).toPrecision(4) + ' s') +
-      (b.refusal ? ' — ' + b.refusal : '');
+    // The device library's budget lines, as the board view's box shows them.
+    p.textContent = 'link budget: ' + b.lines.map(([k, v]) => k + ' ' + v).join('; ') + (b.refusal ? ' — ' + b.refusal : '');
     p.className = b.refusal ? 'error' : 'muted';
   } catch (e) { p.textContent = e.message; p.className = 'error'; }
 }
@@ -97,8 +99,17 @@ function drawFrf() {
   const f = hm.snap && hm.snap.frf;
   const keys = ['mag', 'phase', 'coh'];
   if (!f) { keys.forEach(k => { if (hm.plots[k]) { hm.plots[k].u.destroy(); delete hm.plots[k]; } $('hm-' + k).replaceChildren(); }); return; }
-  // Lines above 0 Hz on a logarithmic frequency axis.
-  const x = f.freq_hz.slice(1);
+  // Lines above 0 Hz on a logarithmic frequency axis: the band the modes were identified in
+  // (the snapshot's band_hz), or every line on request.
+  const band = $('hm-all-lines').checked ? null : hm.snap.band_hz;
+  let i0 = 1, i1 = f.freq_hz.length;
+  if (band) {
+    while (i0 < i1 && f.freq_hz[i0] < band[0]) i0++;
+    while (i1 > i0 + 1 && f.freq_hz[i1 - 1] > band[1]) i1--;
+  }
+  const x = f.freq_hz.slice(i0, i1);
+  $('hm-mag').dataset.xMax = x[x.length - 1];
+  $('hm-mag').dataset.band = band ? band.join(',') : 'all';
   const series = f.responses.map((r, i) => ({label: r.name, stroke: colors[i % 4], width: 1, points: {show: false}}));
   const exp = (u, vals) => vals.map(v => v === null ? '' : Number(v).toExponential(0));
   const base = (label, yScale, log) => ({height: 170, legend: {show: true, live: false}, tag: label,
@@ -111,9 +122,9 @@ function drawFrf() {
       hm.pendingArrival = null;
       $('hm-mag').dataset.latencies = hm.latencies.length;
     }
-  }]}}), [x, ...f.responses.map(r => r.magnitude.slice(1).map(positive))]);
-  plot('phase', $('hm-phase'), base('°', {range: [-180, 180]}), [x, ...f.responses.map(r => r.phase_rad.slice(1).map(v => v * 180 / Math.PI))]);
-  plot('coh', $('hm-coh'), base('γ²', {range: [0, 1.05]}), [x, ...f.responses.map(r => r.coherence.slice(1))]);
+  }]}}), [x, ...f.responses.map(r => r.magnitude.slice(i0, i1).map(positive))]);
+  plot('phase', $('hm-phase'), base('°', {range: [-180, 180]}), [x, ...f.responses.map(r => r.phase_rad.slice(i0, i1).map(v => v * 180 / Math.PI))]);
+  plot('coh', $('hm-coh'), base('γ²', {range: [0, 1.05]}), [x, ...f.responses.map(r => r.coherence.slice(i0, i1))]);
   return mag;
 }
 
@@ -194,8 +205,13 @@ function drawStatus() {
   const t = hm.test, s = hm.snap;
   if (!t) { status('no hammer test yet'); return; }
   const line = t.name + (t.running ? ': running, ' : ': ended, ') + (s ? (s.samples / s.fs_hz).toFixed(1) + ' s sampled' : '') +
-    (t.saved ? '; saved in ' + t.dir : '') + (s && s.warnings.length ? ' — ' + s.warnings.join('; ') : '');
+    (t.saved ? '; saved in ' + t.dir : '');
   status(t.error ? line + ' — ' + t.error : line, !!t.error);
+  // Every warning the library gives (the estimation's and the modes'), as vibid modes prints them.
+  const w = $('hm-warnings');
+  const list = s ? s.warnings : [];
+  w.replaceChildren(...list.map(x => { const li = document.createElement('li'); li.textContent = 'warning: ' + x; return li; }));
+  w.dataset.warnings = JSON.stringify(list);
   document.body.dataset.hammer = t.running ? 'running' : 'ended';
 }
 
@@ -229,10 +245,10 @@ async function choose(index, accept) {
 function showSettings(s) {
   $('hm-rate').value = s.sample_period_us; $('hm-force').value = s.channels[0];
   document.querySelectorAll('#hm-responses input').forEach(i => { i.checked = s.channels.slice(1).includes(i.value); });
-  $('hm-point').value = s.hammer_point; $('hm-seconds').value = s.seconds; $('hm-record').value = s.record_s;
-  for (const [id, key] of [['hm-trigger', 'trigger'], ['hm-pretrigger', 'pretrigger_s'], ['hm-fwin', 'force_window_s'], ['hm-exp', 'exp_window']])
-    $(id).value = s[key] === undefined ? (id === 'hm-trigger' ? 0.1 : '') : s[key];
+  $('hm-point').value = s.hammer_point; $('hm-seconds').value = s.seconds;
+  for (const [id, key] of optional) $(id).value = s[key] === undefined ? '' : s[key];
   $('hm-params').value = (s.scenario_params || []).join(', ');
+  $('hm-form').dataset.shows = JSON.stringify(s);
 }
 
 async function refresh() {
@@ -272,6 +288,7 @@ wire('hm-start', async () => { const r = await post('start', settings()); hm.sel
 wire('hm-stop', async () => { await post('stop', {}); });
 wire('hm-save', async () => { const r = await post('save', {}); $('hm-save').dataset.dir = r.dir; status('saved ' + r.files.join(', ') + ' in ' + r.dir); });
 document.querySelectorAll('#hm-form input, #hm-form select').forEach(e => e.addEventListener('change', preflight));
+$('hm-all-lines').addEventListener('change', () => drawFrf());
 document.addEventListener('keydown', keys);
 document.querySelector('#tabs').addEventListener('click', () => setTimeout(() => { if (hm.snap) { drawFrf(); drawDiagram(); drawTraces(); } }, 0));
 preflight();

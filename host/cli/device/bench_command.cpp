@@ -1,6 +1,7 @@
 // vibid bench: the live bench, a local web page over the board (host/bench). It holds the board
 // (one bench per board, as any command holds it) until Ctrl-C.
 #include <chrono>
+#include <filesystem>
 #include <iostream>
 #include <thread>
 
@@ -29,7 +30,7 @@ struct BenchArgs {
   const GlobalOptions* globals = nullptr;
   std::string bind = "127.0.0.1";
   int port = 0;
-  std::string out;
+  std::string out = "vibid-bench";  // under the current directory
 };
 
 void Run(const BenchArgs& a) {
@@ -49,7 +50,8 @@ void Run(const BenchArgs& a) {
         const auto hammer = bench::AddHammerRoutes(server, board, hub, a.out);
         server.Start();
         std::cout << server.Url() << std::endl;
-        std::cerr << "vibid: bench on " << c.Describe() << ", recordings in " << a.out
+        std::cerr << "vibid: bench on " << c.Describe() << ", recordings in "
+                  << std::filesystem::absolute(a.out).lexically_normal().string()
                   << "; Ctrl-C ends it\n";
         while (!InterruptFlag().load()) std::this_thread::sleep_for(std::chrono::milliseconds(100));
         std::cerr << "vibid: Ctrl-C: stopping, keeping what was recorded\n";
@@ -80,8 +82,8 @@ void RegisterBenchCommand(CLI::App& app, const GlobalOptions& globals) {
   cmd->add_option(
          "-o,--out", o->out,
          "Directory for the recordings (journals while they run), saved tests and the files the\n"
-         "calibration view reads and writes")
-      ->required();
+         "calibration view reads and writes (created; its full path is printed)")
+      ->capture_default_str();
 }
 
 }  // namespace vibid::cli

@@ -84,6 +84,8 @@ class BenchBoard {
   void AddBlockListener(BlockListener listener);
   /// The hammer-test session takes the raw records from here (workflow::HammerSession::Feed).
   void AddAcquisitionListener(AcquisitionListener listener);
+  /// The board's profile (get-info when the bench opened it): log size, link rate.
+  const wire::InfoResponse& BoardInfo() const { return c_.info(); }
   /// The board's sampling instants as get-info stated them (empty from a protocol 2.0 board).
   const std::optional<wire::SamplingInfoResponse>& SamplingInstants() const { return instants_; }
 
@@ -95,6 +97,7 @@ class BenchBoard {
   void Run(AcquisitionAsk ask, wire::AcqConfigureRequest cfg, std::string name);
   void OnRecords(std::uint32_t first, std::span<const wire::LogRecord> records);
   void Flush();
+  double LogPeriodS() const;  ///< Between two logged records of the running acquisition.
   void PublishState();
   void UpdateFit(const device::LogTable& table);
   void ReadCalibration();

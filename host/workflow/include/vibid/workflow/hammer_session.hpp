@@ -49,8 +49,10 @@ struct HammerSessionOptions {
   std::optional<wire::SamplingInfoResponse> instants;
   /// Force and response columns (NAME[:UNIT|*FACTOR], as the recording names them: force1_n,
   /// acc1_m_s2, ...), estimator, sensor, FRF kind and the hit options: trigger, pretrigger, force
-  /// and exponential windows, double-hit and weak-hit limits. `impact_options.record_s` (the
-  /// record of one hit) must be given: a hit is judged when that much of it is sampled.
+  /// and exponential windows, double-hit and weak-hit limits, with `vibid frf-estimate`'s
+  /// defaults. `impact_options.record_s`, the record of one hit: given, a hit is judged as soon
+  /// as that much of it is sampled; 0 (the default, as the CLI's: the shortest spacing between
+  /// hits), a hit is judged when the next one comes (its record ends before it) or the test ends.
   /// `impact` is implied; `welch`, `use_hits` and `hits_file` are refused (the session chooses).
   EstimationOptions estimation;
   /// Modes after each change of the accepted hits: method, orders, driving point (the hammer
@@ -58,6 +60,11 @@ struct HammerSessionOptions {
   ModeRequest modes;
   /// The growing recording, appended as records arrive (created or truncated at the start).
   std::string live_csv_path;
+  /// Where the test is kept whole as it goes (empty: only Save writes it): hits.json rewritten at
+  /// every change of the hits or of a choice (the operator's choices journaled as they are made),
+  /// and when the acquisition finishes (its end, a stop, Ctrl-C) and after every later choice the
+  /// whole test as Save writes it (frf.csv and frf.uff removed while no hit is accepted).
+  std::string test_dir;
 
   /// InputError naming the option and the way out.
   void Validate() const;
@@ -96,6 +103,11 @@ class HammerSession {
   struct Channels;
   void Analyze();
   void Publish(double update_ms);
+  /// The test kept in options_.test_dir (under work_): see HammerSessionOptions::test_dir.
+  void Keep();
+  /// Save's files into `dir` (under work_); without an accepted hit: an InputError when
+  /// `require_frf`, else the FRF files removed.
+  void WriteTest(const std::string& dir, bool require_frf) const;
   std::size_t HitOf(std::size_t index) const;
 
   HammerSessionOptions options_;
@@ -139,6 +151,7 @@ class HammerSession {
   double modes_ms_ = 0.0;
   ident::Frf frf_;  // in the options' kind
   std::vector<std::string> warnings_;
+  std::string kept_hits_;  // hits.json as last kept in test_dir
 
   mutable std::mutex published_mutex_;
   HammerSnapshot published_;

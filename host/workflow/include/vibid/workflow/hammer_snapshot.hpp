@@ -52,10 +52,16 @@ struct HammerSnapshot {
   /// Over the accepted hits (kind as the options ask; receptance by default): magnitude, phase,
   /// coherence per response. Empty (no lines) before a hit is accepted.
   ident::Frf frf;
-  std::vector<std::string> warnings;  ///< Of the estimation (double hits used, usable band).
+  /// Every warning the library gives on the test so far, as `vibid modes` prints them: the
+  /// estimation's (double hits used, usable band...), then the modes' (no intervals...).
+  std::vector<std::string> warnings;
   /// Modes, 95 % intervals and the stabilization diagram after the last change; none before.
   std::optional<ident::ModeIdentification> modes;
-  std::string modes_error;      ///< Why there are no modes (too few hits for a resonance...).
+  std::string modes_error;  ///< Why there are no modes (too few hits for a resonance...).
+  /// The band the modes were identified in (Hz: the stabilization diagram's, or the curve fit's);
+  /// both 0 without modes. What the FRF is shown over unless all lines are asked for.
+  double band_min_hz = 0.0;
+  double band_max_hz = 0.0;
   double last_update_ms = 0.0;  ///< Time the last judgement and FRF update took.
   double last_modes_ms = 0.0;   ///< Time the last mode identification took.
 };
