@@ -29,12 +29,12 @@ class Emulator:
     """vibid-emu on a free port, its flash in a temporary file, its log (-v: clients, sampling
     starts and stops) in a file await_log reads; stopped by stop()."""
 
-    def __init__(self, tmp: pathlib.Path, seed: int = 1, realtime: bool = False):
+    def __init__(self, tmp: pathlib.Path, seed: int = 1, realtime: bool = False, rig=None):
         self.log_path = tmp / f"emu{seed}-{os.urandom(4).hex()}.log"
         self._log = open(self.log_path, "w")
         self.proc = subprocess.Popen(
             [str(EMU), "--port", "0", "--seed", str(seed), "--flash", str(tmp / f"flash{seed}.bin"),
-             "-v"] + (["--realtime"] if realtime else []),
+             "-v"] + (["--realtime"] if realtime else []) + (["--rig", str(rig)] if rig else []),
             stdout=subprocess.PIPE, stderr=self._log, text=True)
         banner = self.proc.stdout.readline()
         m = re.search(r"127\.0\.0\.1:(\d+),", banner)
@@ -68,8 +68,8 @@ def emulator(tmp_path):
 def make_emulator(tmp_path):
     started = []
 
-    def make(seed=1, realtime=False):
-        started.append(Emulator(tmp_path, seed, realtime))
+    def make(seed=1, realtime=False, rig=None):
+        started.append(Emulator(tmp_path, seed, realtime, rig))
         return started[-1]
     yield make
     for e in started:
