@@ -215,6 +215,13 @@ std::vector<ident::MassTestInput> MassTests(const IdentifyRequest& a, const Esti
           "--mass-response names " + std::to_string(mass_responses.size()) + " columns for " +
               std::to_string(a.mass_tests.size()) +
               " mass tests (give one for all, or one per test)");
+  // --sensor names one quantity for all, or one per mass in mass order (the modal tests'
+  // responses): a mass test takes its mass's.
+  const std::vector<std::string> sensors =
+      est.sensor.empty() ? std::vector<std::string>{} : SplitOptionList(est.sensor);
+  Require(sensors.size() <= 1 || sensors.size() == n,
+          "--sensor names " + std::to_string(sensors.size()) + " quantities for a chain of " +
+              std::to_string(n) + " masses (give one for all, or one per mass in mass order)");
   std::vector<ident::MassTestInput> inputs;
   for (std::size_t t = 0; t < a.mass_tests.size(); ++t) {
     const MassTestFile& test = a.mass_tests[t];
@@ -229,6 +236,7 @@ std::vector<ident::MassTestInput> MassTests(const IdentifyRequest& a, const Esti
                 "name the response of mass " +
                 std::to_string(test.position + 1) +
                 " with --mass-response (e.g. x1_m for an encoder)");
+    if (sensors.size() > 1) me.sensor = sensors[test.position];
     me.responses = mass_responses.empty()       ? ident::AccelerationColumn(test.position + 1)
                    : mass_responses.size() == 1 ? mass_responses[0]
                                                 : mass_responses[t];
