@@ -369,24 +369,24 @@ async function identifyRun() {
     ['m' + p.position, fmt(p.m_kg, p.m_kg_ci95) + ' kg'],
     ['k' + p.position, fmt(p.k_n_per_m, p.k_n_per_m_ci95) + ' N/m']]));
   status.textContent = 'wrote ' + r.output + (r.warnings.length ? '; ' + r.warnings.join('; ') : '');
+  progress('id-run-status', 'identified');
   status.dataset.parameters = JSON.stringify(r.parameters);
   document.getElementById('design-model').value = r.output;
   document.getElementById('cal-model').value = r.output;
 }
-  progress('id-run-status', 'identified');
 
 async function designRun() {
   const body = {model: document.getElementById('design-model').value.trim(),
                 output: document.getElementById('design-output').value.trim()};
   const fs = document.getElementById('design-force-fs').value.trim();
   if (fs) body.force_fs_n = Number(fs);
+  progress('design-status', 'designing…');
   const r = await api('/api/cal/design', body);
+  progress('design-status', 'designed');
   document.getElementById('design-summary').textContent =
     'wrote ' + r.output + ' (force full scale ' + r.force_fs_n + ' N, ' + r.fs_hz + ' Hz)\n' + r.summary;
   document.getElementById('design-summary').dataset.checksum = String(r.checksum);
-  progress('design-status', 'designing…');
   document.getElementById('cal-design').value = r.output;
-  progress('design-status', 'designed');
 }
 
 function calFiles() {
