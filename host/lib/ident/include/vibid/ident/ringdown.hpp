@@ -49,7 +49,7 @@ struct RingDownOptions {
   double end_fraction = 0.1;
   /// Amplitude dependence is reported when the apparent damping of the decay's second half
   /// exceeds that of its first half by this factor (on the hits' means) and the friction rate is
-  /// positive beyond its 95 % interval over the hits (with one hit: the factor alone).
+  /// positive beyond its 95 % interval over the hits (so never with one hit).
   double min_late_over_early = 1.15;
 };
 
