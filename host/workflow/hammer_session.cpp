@@ -142,10 +142,6 @@ HammerSession::HammerSession(HammerSessionOptions options) : options_(std::move(
     (void)ResolveDrivingPoint(names_only, options_.modes.driving_point);
   }
   header_ = device::FormatLogCsvHeader(format_, options_.calibration, options_.has_calibration);
-  // The recording's sidecar states the instants; the live file gets its own at once, so that it
-  // reads as the saved one does.
-  device::WriteLogSidecar(options_.live_csv_path, format_, options_.calibration,
-                          options_.has_calibration, options_.instants);
   // The instants as a reader of the file gets them (whole nanoseconds, us x 1e-6).
   if (options_.instants) {
     device::LogPull empty;
@@ -169,6 +165,16 @@ HammerSession::HammerSession(HammerSessionOptions options) : options_(std::move(
     std::fclose(live_);
     live_ = nullptr;
     throw InputError("hammer session: cannot write '" + options_.live_csv_path + "'");
+  }
+  // The recording's sidecar states the instants; the live file gets its own at once (after the
+  // file itself, whose refusal says what to do), so that it reads as the saved one does.
+  try {
+    device::WriteLogSidecar(options_.live_csv_path, format_, options_.calibration,
+                            options_.has_calibration, options_.instants);
+  } catch (...) {
+    std::fclose(live_);
+    live_ = nullptr;
+    throw;
   }
   Publish(0.0);
 }
