@@ -8,6 +8,8 @@
 #include <ctime>
 #include <filesystem>
 
+#include <unistd.h>
+
 #include "vibid/common/atomic_file.hpp"
 #include "vibid/common/csv.hpp"
 #include "vibid/common/error.hpp"
@@ -65,8 +67,7 @@ nlohmann::json Finite(double v) { return std::isfinite(v) ? nlohmann::json(v) : 
 
 BenchBoard::BenchBoard(device::Connection& connection, std::string out_dir, LiveHub& hub,
                        const std::atomic<bool>* interrupt)
-    : c_(connection), out_dir_(std::move(out_dir)), hub_(hub), interrupt_(interrupt) {
-  std::filesystem::create_directories(out_dir_);
+    : c_(connection), out_dir_(PrepareDirectory(out_dir)), hub_(hub), interrupt_(interrupt) {
   state_ = {{"running", false}, {"records", 0}};
   ReadCalibration();
   PublishState();
@@ -195,9 +196,18 @@ nlohmann::json BenchBoard::Start(const nlohmann::json& body) {
   Require(!ask.log_dob || (has_calibration_ && (calibration_.flags & wire::kCalFlagHasDob) != 0),
           "'log_dob': the board holds no observer (upload and commit a calibration with one)");
   if (thread_.joinable()) thread_.join();
+  // A name no file has (nor its recording): two acquisitions in one second get two files, and a
+  // planted file or link is never written through.
+  const NewFile journal = CreateNewFile(out_dir_, "bench-" + TimeStamp(), ".partial.csv", ".csv");
+  std::FILE* journal_file = ::fdopen(journal.fd, "w");
+  if (journal_file == nullptr) {
+    ::close(journal.fd);
+    ::unlink(journal.path.c_str());
+    throw InputError("cannot write the journal " + journal.path);
+  }
   running_ = true;
   stop_ = false;
-  const std::string name = "bench-" + TimeStamp();
+  const std::string name = journal.stem;
   {
     std::lock_guard s(state_mutex_);
     state_ = {{"running", true},
@@ -211,11 +221,13 @@ nlohmann::json BenchBoard::Start(const nlohmann::json& body) {
   hub_.ResetHistory();
   PublishState();
   lock.unlock();
-  thread_ = std::thread([this, ask, cfg, name] { Run(ask, cfg, name); });
+  thread_ =
+      std::thread([this, ask, cfg, name, journal_file] { Run(ask, cfg, name, journal_file); });
   return State();
 }
 
-void BenchBoard::Run(AcquisitionAsk ask, wire::AcqConfigureRequest cfg, std::string name) {
+void BenchBoard::Run(AcquisitionAsk ask, wire::AcqConfigureRequest cfg, std::string name,
+                     std::FILE* journal) {
   std::lock_guard lock(board_mutex_);
   ask_ = ask;
   cfg_ = cfg;
@@ -227,7 +239,7 @@ void BenchBoard::Run(AcquisitionAsk ask, wire::AcqConfigureRequest cfg, std::str
   fit_samples_since_ = 0;
   journal_path_ = out_dir_ + "/" + name + ".partial.csv";
   journal_header_ = false;
-  journal_ = std::fopen(journal_path_.c_str(), "w");
+  journal_ = journal;
   std::string error;
   std::string warning;
   device::LogPull pull;
@@ -264,10 +276,11 @@ void BenchBoard::Run(AcquisitionAsk ask, wire::AcqConfigureRequest cfg, std::str
   journal_ = nullptr;
   nlohmann::json done = {{"running", false}, {"name", name}, {"records", live_records_}};
   if (have_pull && !pull.records.empty()) {
-    const std::string path = out_dir_ + "/" + name + ".csv";
     try {
+      // Never over an existing file: name.csv, or name-2.csv if one appeared meanwhile.
+      const std::string path = PublishNewFile(
+          out_dir_, name, ".csv", device::FormatLogCsv(pull, calibration_, has_calibration_));
       device::WriteLogSidecar(path, pull, calibration_, has_calibration_, c_.GetSamplingInfo());
-      WriteFileAtomic(path, device::FormatLogCsv(pull, calibration_, has_calibration_));
       std::filesystem::remove(journal_path_);
       done["file"] = path;
       done["records"] = pull.records.size();

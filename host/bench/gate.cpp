@@ -1,39 +1,50 @@
 #include "vibid/bench/gate.hpp"
 
-#include <array>
-#include <cstdint>
-#include <random>
+#include <sys/random.h>
+
+#include <cerrno>
+#include <cstring>
+#include <stdexcept>
 
 namespace vibid::bench {
 
-std::string NewToken() {
-  std::random_device rd;  // /dev/urandom (getrandom) with libstdc++ on Linux
+std::string HexOf(const unsigned char* bytes, std::size_t n) {
   static constexpr char kHex[] = "0123456789abcdef";
-  std::string token;
-  for (int word = 0; word < 4; ++word) {  // 4 x 32 bits
-    std::uint32_t v = rd();
-    for (int nibble = 0; nibble < 8; ++nibble) {
-      token += kHex[v & 0xFu];
-      v >>= 4;
-    }
+  std::string s;
+  s.reserve(2 * n);
+  for (std::size_t i = 0; i < n; ++i) {
+    s += kHex[bytes[i] >> 4];
+    s += kHex[bytes[i] & 0xFu];
   }
-  return token;
+  return s;
 }
 
-std::string CookieValue(const std::string& header, const std::string& name) {
-  std::size_t pos = 0;
-  while (pos < header.size()) {
-    std::size_t end = header.find(';', pos);
-    if (end == std::string::npos) end = header.size();
-    std::size_t start = header.find_first_not_of(' ', pos);
-    if (start < end) {
-      const std::string pair = header.substr(start, end - start);
-      const std::size_t eq = pair.find('=');
-      if (eq != std::string::npos && pair.substr(0, eq) == name) return pair.substr(eq + 1);
-    }
-    pos = end + 1;
+std::string NewToken() {
+  // The kernel's generator itself (getrandom, blocking only until it is seeded at boot), not
+  // std::random_device, which libstdc++ may serve from the CPU's RDSEED/RDRAND instead.
+  unsigned char bytes[16];
+  std::size_t got = 0;
+  while (got < sizeof bytes) {
+    const ssize_t n = ::getrandom(bytes + got, sizeof bytes - got, 0);
+    if (n < 0 && errno == EINTR) continue;
+    if (n <= 0)
+      throw std::runtime_error(std::string("no random bytes from the kernel (getrandom): ") +
+                               std::strerror(errno));
+    got += static_cast<std::size_t>(n);
   }
-  return {};
+  return HexOf(bytes, sizeof bytes);
+}
+
+bool IsStaticFile(const std::string& method, const std::string& path) {
+  if (method != "GET" && method != "HEAD") return false;
+  if (path == "/") return true;
+  if (path.rfind("/assets/", 0) == 0) return true;
+  return path.rfind("/views/", 0) == 0 && path.size() > 10 &&
+         path.compare(path.size() - 3, 3, ".js") == 0;
+}
+
+std::string UrlHost(const std::string& address) {
+  return address.find(':') != std::string::npos ? "[" + address + "]" : address;
 }
 
 Gate::Gate(std::string token, std::vector<std::string> hosts)
@@ -60,9 +71,10 @@ std::optional<Refusal> Gate::Check(const RequestFacts& r) const {
     return Refusal{403, "Origin '" + r.origin +
                             "' is another site: the bench answers its own page only (no CORS)"};
   }
-  const std::string cookie = CookieValue(r.cookie, kTokenCookie);
-  if (TokenMatches(r.query_token) || TokenMatches(r.header_token) || TokenMatches(cookie))
-    return std::nullopt;
+  // The printed URL's token, when one is given, must be this bench's, on the page too.
+  if (!r.query_token.empty() && !TokenMatches(r.query_token))
+    return Refusal{403, "this is not the token of this bench: open the URL vibid bench printed"};
+  if (IsStaticFile(r.method, r.path) || TokenMatches(r.header_token)) return std::nullopt;
   return Refusal{403, "no valid token: open the URL vibid bench printed (it carries ?token=)"};
 }
 

@@ -15,6 +15,8 @@ RequestFacts Good() {
   RequestFacts f;
   f.host = "127.0.0.1:8080";
   f.header_token = kToken;
+  f.method = "POST";
+  f.path = "/api/acquire";
   return f;
 }
 
@@ -29,21 +31,57 @@ TEST(Gate, TokenIs128BitsOfHexAndDiffersEachTime) {
   EXPECT_EQ(seen.size(), 16u);
 }
 
-TEST(Gate, AcceptsTheTokenFromQueryHeaderOrCookie) {
+TEST(Gate, TheTokenIsTheKernelBytesInHexInOrder) {
+  // Reference: the bytes 0x00, 0x01, ..., 0x0f, 0xa5, 0xff written two lower-case hex digits each.
+  const unsigned char bytes[] = {0x00, 0x01, 0x02, 0x03, 0x04, 0x05, 0x06, 0x07, 0x08,
+                                 0x09, 0x0a, 0x0b, 0x0c, 0x0d, 0x0e, 0x0f, 0xa5, 0xff};
+  EXPECT_EQ(HexOf(bytes, sizeof bytes), "000102030405060708090a0b0c0d0e0fa5ff");
+}
+
+TEST(Gate, AcceptsTheTokenInItsHeaderOnly) {
   const Gate g = MakeGate();
   EXPECT_FALSE(g.Check(Good()));
-  RequestFacts q = Good();
-  q.header_token.clear();
-  q.query_token = kToken;
-  EXPECT_FALSE(g.Check(q));
-  RequestFacts c = Good();
-  c.header_token.clear();
-  c.cookie = "other=1; vibid_bench_token=" + kToken + "; x=y";
-  EXPECT_FALSE(g.Check(c));
   RequestFacts l = Good();
   l.host = "localhost:8080";
   l.origin = "http://localhost:8080";
   EXPECT_FALSE(g.Check(l));
+  // The printed URL's query token opens the page, not the API: a URL is no credential for it.
+  RequestFacts q = Good();
+  q.header_token.clear();
+  q.query_token = kToken;
+  EXPECT_TRUE(g.Check(q));
+  q.path = "/";
+  q.method = "GET";
+  EXPECT_FALSE(g.Check(q));
+}
+
+TEST(Gate, ThePageFilesNeedNoTokenButTheirHostAndOrigin) {
+  const Gate g = MakeGate();
+  for (const char* path : {"/", "/assets/bench.js", "/views/hammer.js"}) {
+    RequestFacts f = Good();
+    f.header_token.clear();
+    f.method = "GET";
+    f.path = path;
+    EXPECT_FALSE(g.Check(f)) << path;
+    f.host = "evil.example:8080";  // DNS rebinding: refused on the page too
+    EXPECT_TRUE(g.Check(f)) << path;
+    f.host = "127.0.0.1:8080";
+    f.query_token = std::string(32, '0');  // a wrong printed token is refused on the page too
+    EXPECT_TRUE(g.Check(f)) << path;
+  }
+  for (const char* path :
+       {"/api/state", "/api/live", "/api/views", "/views/hammer.json", "/assets"}) {
+    RequestFacts f = Good();
+    f.header_token.clear();
+    f.method = "GET";
+    f.path = path;
+    EXPECT_TRUE(g.Check(f)) << path;
+  }
+  RequestFacts post = Good();
+  post.header_token.clear();
+  post.method = "POST";
+  post.path = "/";
+  EXPECT_TRUE(g.Check(post));
 }
 
 TEST(Gate, RefusesMissingWrongOrTruncatedTokens) {
@@ -58,10 +96,6 @@ TEST(Gate, RefusesMissingWrongOrTruncatedTokens) {
   RequestFacts prefix = Good();
   prefix.header_token = kToken.substr(0, 31);
   EXPECT_TRUE(g.Check(prefix));
-  RequestFacts cookie_name = Good();
-  cookie_name.header_token.clear();
-  cookie_name.cookie = "xvibid_bench_token=" + kToken;
-  EXPECT_TRUE(g.Check(cookie_name));
 }
 
 TEST(Gate, RefusesForeignHostsAndOrigins) {
@@ -81,11 +115,18 @@ TEST(Gate, RefusesForeignHostsAndOrigins) {
   }
 }
 
-TEST(Gate, CookieValueParsesPairs) {
-  EXPECT_EQ(CookieValue("a=1; b=2", "b"), "2");
-  EXPECT_EQ(CookieValue("a=1;b=2", "a"), "1");
-  EXPECT_EQ(CookieValue("ab=1", "a"), "");
-  EXPECT_EQ(CookieValue("", "a"), "");
+TEST(Gate, AnIpv6AddressIsBracketedInUrlsAndHosts) {
+  EXPECT_EQ(UrlHost("::1"), "[::1]");
+  EXPECT_EQ(UrlHost("127.0.0.1"), "127.0.0.1");
+  EXPECT_EQ(UrlHost("localhost"), "localhost");
+  const Gate g(kToken, {"[::1]:8080", "localhost:8080"});
+  RequestFacts f = Good();
+  f.host = "[::1]:8080";  // what a browser sends for http://[::1]:8080/
+  f.origin = "http://[::1]:8080";
+  EXPECT_FALSE(g.Check(f));
+  f.host = "::1:8080";
+  f.origin.clear();
+  EXPECT_TRUE(g.Check(f));
 }
 
 }  // namespace

@@ -153,7 +153,11 @@ class HammerTests {
             "the board is uncalibrated: a hammer test needs the force in N (vibid cal upload "
             "MODEL.json --design DESIGN.json --sensors SENSORS.json, then vibid cal commit)");
     board_.WithIdleBoard([&](device::Connection& c) { o.instants = c.GetSamplingInfo(); });
-    std::filesystem::create_directories(test->dir);
+    // Created, not checked then created: a folder (or link) that appeared since gives a new name.
+    test->dir = CreateNewDirectory(directory_, test->name);
+    test->name = test->dir.substr(directory_.size() + 1);
+    o.live_csv_path = test->dir + "/live.csv";
+    o.test_dir = test->dir;
     try {
       test->session = std::make_unique<workflow::HammerSession>(o);
       {
@@ -275,7 +279,8 @@ class HammerTests {
     if (!feeding_) return;
     Test& t = *feeding_;
     try {
-      t.session->Finish();  // and the test kept whole in its folder (test_dir)
+      t.session
+          ->Finish();  // and the test kept whole in its folder (HammerSessionOptions::test_dir)
       std::lock_guard l(t.mutex);
       t.saved = true;
     } catch (const std::exception& e) {

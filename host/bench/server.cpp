@@ -3,6 +3,7 @@
 #include <arpa/inet.h>
 
 #include <chrono>
+#include <cstring>
 #include <stdexcept>
 
 #include <httplib.h>
@@ -13,19 +14,34 @@
 #include "vibid/device/error.hpp"
 
 namespace vibid::bench {
-namespace {
 
-// What every answer carries: no caching of the token-bearing page, no framing by other sites,
-// scripts and styles from the bench itself only. No Access-Control-* header is ever sent.
-void Harden(httplib::Response& res) {
-  res.set_header("Cache-Control", "no-store");
-  res.set_header("X-Content-Type-Options", "nosniff");
-  res.set_header("X-Frame-Options", "DENY");
-  res.set_header("Referrer-Policy", "no-referrer");
-  res.set_header("Content-Security-Policy",
-                 "default-src 'self'; style-src 'self' 'unsafe-inline'; img-src 'self' data:; "
-                 "frame-ancestors 'none'");
-}
+// cpp-httplib's server with its connections handed to the HttpFront: the accept loop gives each
+// new socket to the front at once (no pool of its own), and the front hands whole requests back
+// to process_request.
+class BenchHttp : public httplib::Server {
+ public:
+  BenchHttp() {
+    new_task_queue = [] { return new Inline; };
+  }
+  HttpFront* front = nullptr;
+
+  bool ServeOne(httplib::Stream& s, bool close_connection, bool& connection_closed) {
+    return process_request(s, close_connection, connection_closed, nullptr);
+  }
+
+ private:
+  class Inline : public httplib::TaskQueue {
+   public:
+    void enqueue(std::function<void()> fn) override { fn(); }
+    void shutdown() override {}
+  };
+  bool process_and_close_socket(socket_t sock) override {
+    front->Adopt(sock);
+    return true;
+  }
+};
+
+namespace {
 
 void SendJson(httplib::Response& res, int status, const nlohmann::json& j) {
   res.status = status;
@@ -36,24 +52,66 @@ void SendError(httplib::Response& res, int status, const std::string& message) {
   SendJson(res, status, {{"error", message}});
 }
 
+/// A request that is already in memory, and its answer collected (Exchange).
+class MemoryStream : public httplib::Stream {
+ public:
+  explicit MemoryStream(std::string_view in) : in_(in) {}
+  std::string out;
+  bool is_readable() const override { return pos_ < in_.size(); }
+  bool is_writable() const override { return true; }
+  ssize_t read(char* ptr, size_t size) override {
+    const std::size_t n = std::min(size, in_.size() - pos_);
+    std::memcpy(ptr, in_.data() + pos_, n);
+    pos_ += n;
+    return static_cast<ssize_t>(n);
+  }
+  ssize_t write(const char* ptr, size_t size) override {
+    out.append(ptr, size);
+    return static_cast<ssize_t>(size);
+  }
+  void get_remote_ip_and_port(std::string& ip, int& port) const override {
+    ip = "127.0.0.1";
+    port = 1;
+  }
+  void get_local_ip_and_port(std::string& ip, int& port) const override {
+    ip = "127.0.0.1";
+    port = 2;
+  }
+  socket_t socket() const override { return 0; }
+
+ private:
+  std::string_view in_;
+  std::size_t pos_ = 0;
+};
+
+std::string WithoutBrackets(const std::string& a) {
+  return a.size() > 2 && a.front() == '[' && a.back() == ']' ? a.substr(1, a.size() - 2) : a;
+}
+
 }  // namespace
 
 bool IsLoopback(const std::string& address) {
-  if (address == "localhost" || address == "::1") return true;
-  in_addr a{};
-  if (inet_pton(AF_INET, address.c_str(), &a) != 1) return false;
-  return (ntohl(a.s_addr) >> 24) == 127;
+  const std::string a = WithoutBrackets(address);
+  if (a == "localhost") return true;
+  in_addr v4{};
+  if (inet_pton(AF_INET, a.c_str(), &v4) == 1) return (ntohl(v4.s_addr) >> 24) == 127;
+  in6_addr v6{};
+  if (inet_pton(AF_INET6, a.c_str(), &v6) != 1) return false;
+  if (IN6_IS_ADDR_LOOPBACK(&v6)) return true;
+  return IN6_IS_ADDR_V4MAPPED(&v6) && v6.s6_addr[12] == 127;
 }
 
 BenchServer::BenchServer(BenchBoard& board, LiveHub& hub, ServerOptions options)
-    : board_(board), hub_(hub), options_(std::move(options)), http_(new httplib::Server) {
+    : board_(board), hub_(hub), options_(std::move(options)), http_(new BenchHttp) {
+  options_.bind = WithoutBrackets(options_.bind);
   if (options_.token.empty()) options_.token = NewToken();
 }
 
 BenchServer::~BenchServer() { Stop(); }
 
 std::string BenchServer::Url() const {
-  return "http://" + options_.bind + ":" + std::to_string(port_) + "/?token=" + options_.token;
+  return "http://" + UrlHost(options_.bind) + ":" + std::to_string(port_) +
+         "/?token=" + options_.token;
 }
 
 void BenchServer::AddView(View view) { views_.push_back(std::move(view)); }
@@ -66,12 +124,20 @@ void BenchServer::AddJsonRoute(const std::string& name, JsonHandler handler) {
       SendError(res, 400, "the body must be JSON (Content-Type: application/json)");
       return;
     }
+    // Every request states its body, {} when it has nothing to say: an empty or lost body is
+    // never taken for one.
+    if (req.body.empty()) {
+      SendError(res, 400, "the request has no body: send a JSON object ({} when it has no keys)");
+      return;
+    }
     try {
-      const nlohmann::json body =
-          req.body.empty() ? nlohmann::json::object() : ParseJsonText(req.body, "the request");
-      SendJson(res, 200, handler(body));
+      SendJson(res, 200, handler(ParseJsonText(req.body, "the request")));
     } catch (const InputError& e) {
       SendError(res, 400, e.what());
+    } catch (const NumericalError& e) {
+      SendError(res, 400, e.what());
+    } catch (const nlohmann::json::exception& e) {
+      SendError(res, 400, std::string("the request: ") + e.what());
     } catch (const Busy& e) {
       SendError(res, 409, e.what());
     } catch (const device::DeviceError& e) {
@@ -83,14 +149,19 @@ void BenchServer::AddJsonRoute(const std::string& name, JsonHandler handler) {
 void BenchServer::Routes() {
   httplib::Server& s = *http_;
   s.set_payload_max_length(kMaxBodyBytes);
+  // Each security header once, on every answer the library writes (the front writes its own
+  // refusals with the same ones).
+  httplib::Headers headers;
+  for (const auto& [name, value] : SecurityHeaders()) headers.emplace(name, value);
+  s.set_default_headers(headers);
   s.set_pre_routing_handler([this](const httplib::Request& req, httplib::Response& res) {
-    Harden(res);
     RequestFacts f;
     f.host = req.get_header_value("Host");
     f.origin = req.get_header_value("Origin");
     f.query_token = req.get_param_value("token");
-    f.cookie = req.get_header_value("Cookie");
     f.header_token = req.get_header_value(kTokenHeader);
+    f.method = req.method;
+    f.path = req.path;
     if (const std::optional<Refusal> r = gate_->Check(f)) {
       res.status = r->status;
       res.set_content(r->message + "\n", "text/plain");
@@ -98,8 +169,19 @@ void BenchServer::Routes() {
     }
     return httplib::Server::HandlerResponse::Unhandled;
   });
+  s.set_exception_handler(
+      [](const httplib::Request&, httplib::Response& res, std::exception_ptr e) {
+        // A failure no route expected: its message in the JSON body, never in a header.
+        std::string what = "unknown";
+        try {
+          std::rethrow_exception(e);
+        } catch (const std::exception& x) {
+          what = x.what();
+        } catch (...) {
+        }
+        SendError(res, 500, "the bench failed on this request: " + what);
+      });
   s.set_error_handler([](const httplib::Request&, httplib::Response& res) {
-    Harden(res);
     if (!res.body.empty()) return;
     if (res.status == 413) {
       res.set_content("request body beyond " + std::to_string(kMaxBodyBytes) + " bytes\n",
@@ -110,12 +192,12 @@ void BenchServer::Routes() {
       res.set_content("refused (HTTP " + std::to_string(res.status) + ")\n", "text/plain");
     }
   });
-  s.Get("/", [this](const httplib::Request& req, httplib::Response& res) {
+  s.Get("/", [](const httplib::Request& req, httplib::Response& res) {
     const Asset* page = FindAsset("/index.html");
-    if (req.has_param("token")) {
-      // The gate has checked it: later requests (scripts, API, live channel) carry the cookie.
-      res.set_header("Set-Cookie", std::string(kTokenCookie) + "=" + options_.token +
-                                       "; Path=/; HttpOnly; SameSite=Strict");
+    // An older bench kept the token in a cookie every server on this host receives: dropped.
+    if (req.get_header_value("Cookie").find(kOldTokenCookie) != std::string::npos) {
+      res.set_header("Set-Cookie", std::string(kOldTokenCookie) +
+                                       "=; Path=/; Max-Age=0; HttpOnly; SameSite=Strict");
     }
     res.set_content(std::string(page->bytes), std::string(page->content_type));
   });
@@ -152,6 +234,14 @@ void BenchServer::Routes() {
     SendJson(res, 200, board_.State());
   });
   s.Get("/api/live", [this](const httplib::Request&, httplib::Response& res) {
+    // Only on a thread of its own (the front's live lane): past its bound, a refusal the page
+    // shows, and it tries again later.
+    if (!HttpFront::OnLiveLane()) {
+      SendError(res, 503,
+                "the bench serves at most " + std::to_string(options_.front.max_live) +
+                    " live channels at once and all are open: close other pages of this bench");
+      return;
+    }
     std::shared_ptr<LiveHub::Subscription> sub = hub_.Subscribe();
     res.set_chunked_content_provider(
         "text/event-stream",
@@ -177,25 +267,50 @@ void BenchServer::Routes() {
   AddJsonRoute("observer", [this](const nlohmann::json& b) { return board_.SetObserver(b); });
 }
 
+void BenchServer::Ready(int port) {
+  port_ = port;
+  const std::string p = ":" + std::to_string(port_);
+  std::vector<std::string> hosts{UrlHost(options_.bind) + p};
+  if (IsLoopback(options_.bind)) {
+    if (options_.bind.find(':') == std::string::npos) hosts.push_back("127.0.0.1" + p);
+    hosts.push_back("localhost" + p);
+  }
+  gate_ = std::make_unique<Gate>(options_.token, hosts);
+  Routes();
+}
+
+void BenchServer::StartWithoutSocket(int port) { Ready(port); }
+
+std::string BenchServer::Exchange(std::string_view request) {
+  const RequestHead head = ParseRequestHead(request);
+  if (head.status == 0 ||
+      (head.status == 200 && request.size() < head.head_bytes + head.body_bytes))
+    return RefusalAnswer(408, "the request did not arrive whole");
+  if (head.status != 200) return RefusalAnswer(head.status, head.message);
+  MemoryStream stream(request.substr(0, head.head_bytes + head.body_bytes));
+  bool closed = false;
+  http_->ServeOne(stream, true, closed);
+  return stream.out;
+}
+
 void BenchServer::Start() {
   if (options_.bind == "0.0.0.0" || options_.bind == "::") {
     throw InputError("--bind " + options_.bind +
                      ": name the one address to serve on (the Host check needs it)");
   }
-  port_ = options_.port == 0
-              ? http_->bind_to_any_port(options_.bind)
-              : (http_->bind_to_port(options_.bind, options_.port) ? options_.port : -1);
-  if (port_ <= 0) {
-    throw InputError("cannot listen on " + options_.bind + ":" + std::to_string(options_.port));
+  const int port = options_.port == 0
+                       ? http_->bind_to_any_port(options_.bind)
+                       : (http_->bind_to_port(options_.bind, options_.port) ? options_.port : -1);
+  if (port <= 0) {
+    throw InputError("cannot listen on " + UrlHost(options_.bind) + ":" +
+                     std::to_string(options_.port));
   }
-  const std::string p = ":" + std::to_string(port_);
-  std::vector<std::string> hosts{options_.bind + p};
-  if (IsLoopback(options_.bind)) {
-    hosts.push_back("127.0.0.1" + p);
-    hosts.push_back("localhost" + p);
-  }
-  gate_ = std::make_unique<Gate>(options_.token, hosts);
-  Routes();
+  Ready(port);
+  front_ = std::make_unique<HttpFront>(
+      options_.front, [this](httplib::Stream& s, bool close_connection, bool& closed) {
+        return http_->ServeOne(s, close_connection, closed);
+      });
+  http_->front = front_.get();
   thread_ = std::thread([this] { http_->listen_after_bind(); });
   // A stop before the loop runs would be lost (httplib sets its running flag as the loop starts).
   while (!http_->is_running()) std::this_thread::sleep_for(std::chrono::milliseconds(1));
@@ -205,6 +320,7 @@ void BenchServer::Stop() {
   hub_.Close();
   if (http_) http_->stop();
   if (thread_.joinable()) thread_.join();
+  if (front_) front_->Stop();
 }
 
 }  // namespace vibid::bench

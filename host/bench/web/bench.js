@@ -29,8 +29,8 @@ class Ring {
 }
 
 async function api(path, body) {
-  const init = body === undefined ? {} : {
-    method: 'POST', headers: {'Content-Type': 'application/json'}, body: JSON.stringify(body)};
+  const init = body === undefined ? {headers: access.headers()} : {
+    method: 'POST', headers: access.headers({'Content-Type': 'application/json'}), body: JSON.stringify(body)};
   const r = await fetch(path, init);
   const j = await r.json().catch(() => ({error: 'HTTP ' + r.status}));
   if (!r.ok) throw new Error(j.error || ('HTTP ' + r.status));
@@ -245,11 +245,15 @@ function showFit() {
 }
 
 function connect() {
-  const es = new EventSource('/api/live');
+  const es = new access.LiveChannel();
   const ls = document.getElementById('link-state');
   bench.live = es;  // views listen on the same channel
-  es.onopen = () => { ls.textContent = 'live'; };
-  es.onerror = () => { ls.textContent = 'reconnecting…'; };
+  es.addEventListener('open', () => { ls.textContent = 'live'; ls.className = 'muted'; });
+  es.addEventListener('error', () => { ls.textContent = 'reconnecting…'; });
+  // The server's reason, e.g. every live channel it serves is taken (it tries again).
+  es.addEventListener('refused', e => {
+    ls.textContent = 'no live data: ' + e.detail + ' (trying again)'; ls.className = 'error';
+  });
   es.addEventListener('state', e => onState(JSON.parse(e.data)));
   es.addEventListener('block', e => onBlock(JSON.parse(e.data)));
   es.addEventListener('fit', e => { bench.fit = JSON.parse(e.data); showFit(); });

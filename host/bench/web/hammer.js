@@ -13,7 +13,7 @@ hm.settings = () => settings();  // what Start would send (the browser test comp
 const $ = id => document.getElementById(id);
 
 async function post(path, body) {
-  const r = await fetch('/api/hammer/' + path, {method: 'POST', headers: {'Content-Type': 'application/json'},
+  const r = await fetch('/api/hammer/' + path, {method: 'POST', headers: access.headers({'Content-Type': 'application/json'}),
                                                  body: JSON.stringify(body || {})});
   const j = await r.json().catch(() => ({error: 'HTTP ' + r.status}));
   if (!r.ok) throw new Error(j.error || ('HTTP ' + r.status));

@@ -50,7 +50,8 @@ struct AcquisitionListener {
 
 class BenchBoard {
  public:
-  /// `out_dir` receives the journals and recordings; `interrupt` (may be null) stops a running
+  /// `out_dir` receives the journals and recordings (created private when missing, refused when
+  /// another user may write into it: PrepareDirectory); `interrupt` (may be null) stops a running
   /// acquisition when it becomes true (Ctrl-C), keeping what it recorded.
   BenchBoard(device::Connection& connection, std::string out_dir, LiveHub& hub,
              const std::atomic<bool>* interrupt = nullptr);
@@ -94,7 +95,7 @@ class BenchBoard {
   void WithIdleBoard(const std::function<void(device::Connection&)>& body);
 
  private:
-  void Run(AcquisitionAsk ask, wire::AcqConfigureRequest cfg, std::string name);
+  void Run(AcquisitionAsk ask, wire::AcqConfigureRequest cfg, std::string name, std::FILE* journal);
   void OnRecords(std::uint32_t first, std::span<const wire::LogRecord> records);
   void Flush();
   double LogPeriodS() const;  ///< Between two logged records of the running acquisition.

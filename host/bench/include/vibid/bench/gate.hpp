@@ -1,32 +1,47 @@
 // Who may talk to the bench. The page can reconfigure the board, so every request passes the gate
-// before any handler runs: the random token of the printed URL (query `token` on the first page
-// load, then the cookie the server sets, or the X-Vibid-Token header), a Host header naming the
-// server itself (a DNS-rebinding page has the attacker's host name there) and, when the browser
-// sends one, an Origin equal to the server's own (a cross-site form or fetch has its own origin).
+// before any handler runs: a Host header naming the server itself (a DNS-rebinding page has the
+// attacker's host name there), when the browser sends one an Origin equal to the server's own (a
+// cross-site form or fetch has its own origin), and on everything but the page's static files
+// the random token of the printed URL in the X-Vibid-Token header. The token is never a cookie:
+// cookies belong to the host, not the port, so every other server on 127.0.0.1 would receive it
+// and a second bench would replace it. The page keeps it in its own memory (and its tab's
+// sessionStorage, which is per origin, port included, for a reload).
 #pragma once
 
+#include <cstddef>
 #include <optional>
 #include <string>
 #include <vector>
 
 namespace vibid::bench {
 
-/// 128 random bits (std::random_device, the kernel's generator on Linux) as 32 hex digits.
+/// 128 random bits from the kernel (getrandom(2)) as 32 hex digits. Throws std::runtime_error
+/// when the kernel gives none.
 std::string NewToken();
+/// `bytes` as lower-case hex, two digits a byte in order.
+std::string HexOf(const unsigned char* bytes, std::size_t n);
 
-/// The cookie that carries the token after the first page load.
-inline constexpr const char* kTokenCookie = "vibid_bench_token";
-/// The header a script may carry it in instead.
+/// The header the page carries the token in.
 inline constexpr const char* kTokenHeader = "X-Vibid-Token";
+/// The cookie an older bench set; a request that still carries it is told to drop it.
+inline constexpr const char* kOldTokenCookie = "vibid_bench_token";
 
 /// What a request shows the gate.
 struct RequestFacts {
   std::string host;          ///< The Host header ("" when absent).
   std::string origin;        ///< The Origin header ("" when absent).
-  std::string query_token;   ///< ?token= ("" when absent).
-  std::string cookie;        ///< The Cookie header ("" when absent).
+  std::string query_token;   ///< ?token= ("" when absent): the printed URL's, on the page only.
   std::string header_token;  ///< X-Vibid-Token ("" when absent).
+  std::string method;
+  std::string path;
 };
+
+/// The page's own files (GET or HEAD of "/", "/assets/...", "/views/....js"): the same bytes in
+/// every bench, no data of the board; they need no token (a reload finds it in the tab).
+bool IsStaticFile(const std::string& method, const std::string& path);
+
+/// The host part of a URL for `address`: an IPv6 literal in brackets ("[::1]").
+std::string UrlHost(const std::string& address);
 
 struct Refusal {
   int status = 403;
@@ -36,7 +51,7 @@ struct Refusal {
 class Gate {
  public:
   /// `hosts`: the host:port values this server answers to (127.0.0.1:PORT and localhost:PORT, or
-  /// the --bind address with its port).
+  /// the --bind address with its port, an IPv6 one in brackets: [::1]:PORT).
   Gate(std::string token, std::vector<std::string> hosts);
 
   /// Why the request is refused (403, a message naming what is wrong), or nothing.
@@ -50,8 +65,5 @@ class Gate {
   std::string token_;
   std::vector<std::string> hosts_;
 };
-
-/// The value of cookie `name` in a Cookie header ("" when absent).
-std::string CookieValue(const std::string& header, const std::string& name);
 
 }  // namespace vibid::bench
