@@ -47,7 +47,7 @@ class Recorder(http.server.BaseHTTPRequestHandler):
 def api_status(driver, path):
     """GET `path` from the page with the token it keeps; the HTTP status."""
     return driver.execute_async_script(
-        "const done = arguments[0]; fetch(arguments[1], {headers: access.headers()})"
+        "const done = arguments[1]; fetch(arguments[0], {headers: access.headers()})"
         ".then(r => done(r.status)).catch(e => done(String(e)))", path)
 
 
