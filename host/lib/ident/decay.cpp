@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <cmath>
 #include <numbers>
+#include <sstream>
+#include <string>
 #include <vector>
 
 #include <Eigen/QR>
@@ -32,8 +34,13 @@ Eigen::MatrixXd DecayBasis(const Eigen::VectorXd& t, double sigma, double omega_
   return a;
 }
 
-// The release is the hold before the first crossing of the equilibrium: walk back from that
-// crossing to the largest excursion, then to the last sample of the hold plateau.
+// The release ends the hold before the first crossing of the equilibrium. Its sample is found by
+// walking back from that crossing while the record keeps rising away from the equilibrium (the
+// first half cycle of a free decay is monotone) and is still more than 1 % of the pull below the
+// largest excursion. Taking the largest sample of the hold instead puts the start anywhere on a
+// noisy plateau, and a fit that includes part of the hold is no damped sinusoid (it read a growing
+// one on a record held for a second). Stopping within 1 % of the pull may start the fit a sample
+// after the true release: harmless, the model's amplitude and phase are free.
 Eigen::Index FindRelease(const Eigen::VectorXd& dev, double max_dev) {
   const Eigen::Index n = dev.size();
   Eigen::Index big = 0;
@@ -42,9 +49,13 @@ Eigen::Index FindRelease(const Eigen::VectorXd& dev, double max_dev) {
   Eigen::Index cross = big;
   while (cross < n && side * dev[cross] > 0.0) ++cross;
   Require(cross < n, "decay: the record never crosses its final position; no release found");
-  Eigen::Index release = big;
-  for (Eigen::Index i = big; i < cross; ++i) {
-    if (side * dev[i] >= side * dev[release]) release = i;
+  double pull = 0.0;
+  for (Eigen::Index i = big; i < cross; ++i) pull = std::max(pull, side * dev[i]);
+  constexpr double kHoldFraction = 0.01;
+  Eigen::Index release = cross - 1;
+  while (release > big && side * dev[release - 1] > side * dev[release] &&
+         side * dev[release] < (1.0 - kHoldFraction) * pull) {
+    --release;
   }
   return release;
 }
@@ -185,6 +196,19 @@ DecayResult AnalyzeDecay(const Eigen::Ref<const Eigen::VectorXd>& position, doub
   const DecayStart start = StartFromCycles(half_cycles, end, fs_hz, res);
   res.fit_samples = static_cast<std::size_t>(end - release);
   FitDecay(position.segment(release, end - release), fs_hz, start, options, res);
+  // A passive spring-mass cannot gain energy: a fit with zeta <= 0 means the fitted part is not a
+  // free decay (a hold or a push inside it, or a drift larger than the decay), never a result.
+  if (!(res.zeta > 0.0)) {
+    std::ostringstream why;
+    why << "decay: the fit gives zeta " << res.zeta
+        << " <= 0 (a growing oscillation) over t = " << res.t_release_s << " s to "
+        << static_cast<double>(end) / fs_hz
+        << " s: that part of the record is not a free decay (rms residual " << res.rms_residual
+        << ", " << 100.0 * res.rms_residual / res.amplitude
+        << " % of the amplitude); check that the record holds still before one release and "
+           "fit fewer cycles (--cycles)";
+    throw InputError(why.str());
+  }
   return res;
 }
 

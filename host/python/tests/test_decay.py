@@ -47,9 +47,6 @@ def test_decay_equals_cli(records):
     assert py.k_n_per_m == cli["k_n_per_m"] and len(py.records) == 2
 
 
-@pytest.mark.xfail(strict=True, reason="open defect: on these records vibid decay gives omega_n "
-                   "20.09 rad/s (+0.47 %), zeta -0.041 (truth 0.02), k 762.5 N/m (-4.7 %) and "
-                   "m 1.888 kg (-5.6 %); strict, so the fix turns this into a pass")
 def test_decay_gives_the_closed_form_of_the_records(records):
     # The records are the closed form x = 0.02 exp(-zeta wn t) cos(wd t) of a mass on the spring
     # K (release_record), with 1 um of noise on 2 cm: the fit gives back its parameters, and the

@@ -24,8 +24,10 @@ struct DecayOptions {
 };
 
 struct DecayResult {
-  std::size_t release_index = 0;  ///< Last sample of the hold before the motion starts.
-  double t_release_s = 0.0;       ///< Time from the record start.
+  /// First fitted sample: where the motion leaves the hold (within 1 % of the pull, so at most a
+  /// sample or two after the true release on a noisy hold).
+  std::size_t release_index = 0;
+  double t_release_s = 0.0;  ///< Time from the record start.
   std::size_t fit_samples = 0;
   // x(t) = offset + amplitude exp(-sigma t) cos(omega_d t + phase), t from the release.
   double omega_d_rad_s = 0.0;
@@ -43,7 +45,8 @@ struct DecayResult {
 };
 
 /// Analyses one record `position` (any length unit) sampled at `fs_hz`. InputError when no release
-/// or fewer than two oscillation cycles are found.
+/// or fewer than two oscillation cycles are found, or when the fit gives zeta <= 0 (not a free
+/// decay).
 DecayResult AnalyzeDecay(const Eigen::Ref<const Eigen::VectorXd>& position, double fs_hz,
                          const DecayOptions& options);
 
