@@ -73,25 +73,46 @@ std::vector<double> Std(const Eigen::VectorXd& v) {
 }
 
 nlohmann::json ValidationJson(const ident::ValidationTable& t,
-                              const std::vector<ident::ModeEstimate>& test_modes) {
+                              const std::vector<ident::ModeEstimate>& test_modes,
+                              std::size_t driving_point) {
   nlohmann::json modes = nlohmann::json::array();
   for (std::size_t i = 0; i < t.modes.size(); ++i) {
     const auto& m = t.modes[i];
     nlohmann::json row = {{"mode", m.mode + 1},
                           {"omega_rad_s", Triple(m.omega_nominal, m.omega_updated, m.omega_test)},
-                          {"zeta", Triple(m.zeta_nominal, m.zeta_updated, m.zeta_test)},
-                          {"ratio", Triple(m.ratio_nominal, m.ratio_updated, m.ratio_test)}};
+                          {"zeta", Triple(m.zeta_nominal, m.zeta_updated, m.zeta_test)}};
+    // a1/a2 is the ratio of two responses; beyond two, each response against the driving
+    // point's is a row of "shape_ratios" (a1/a3, a2/a3), as the text table has them.
+    const bool two = m.shape_test.size() <= 2;
+    if (two) row["ratio"] = Triple(m.ratio_nominal, m.ratio_updated, m.ratio_test);
     if (m.shape_test.size() > 0) {
       row["shape"] = {{"nominal", Std(m.shape_nominal)},
                       {"updated", Std(m.shape_updated)},
                       {"test", Std(m.shape_test)}};
     }
-    if (i < test_modes.size()) {
-      const ident::ModeEstimate& e = test_modes[i];
+    const ident::ModeEstimate* e = i < test_modes.size() ? &test_modes[i] : nullptr;
+    if (!two) {
+      nlohmann::json ratios = nlohmann::json::array();
+      const auto p = static_cast<Eigen::Index>(driving_point);
+      for (Eigen::Index j = 0; j < m.shape_test.size(); ++j) {
+        if (j == p) continue;
+        nlohmann::json r = Triple(m.shape_nominal[j], m.shape_updated[j], m.shape_test[j]);
+        r["name"] = "a" + std::to_string(j + 1) + "/a" + std::to_string(p + 1);
+        const auto ju = static_cast<std::size_t>(j);
+        if (e != nullptr && ju < e->shape_ratio_ci95.size() &&
+            std::isfinite(e->shape_ratio_ci95[ju][0]) && std::isfinite(e->shape_ratio_ci95[ju][1]))
+          r["test_ci95"] = {e->shape_ratio_ci95[ju][0], e->shape_ratio_ci95[ju][1]};
+        ratios.push_back(r);
+      }
+      row["shape_ratios"] = ratios;
+    }
+    if (e != nullptr) {
       const std::pair<const char*, const std::array<double, 2>*> cis[] = {
-          {"omega_rad_s", &e.omega_ci95_rad_s}, {"zeta", &e.zeta_ci95}, {"ratio", &e.ratio_ci95}};
+          {"omega_rad_s", &e->omega_ci95_rad_s},
+          {"zeta", &e->zeta_ci95},
+          {"ratio", &e->ratio_ci95}};
       for (const auto& [key, ci] : cis) {
-        if (std::isfinite((*ci)[0]) && std::isfinite((*ci)[1]))
+        if (row.contains(key) && std::isfinite((*ci)[0]) && std::isfinite((*ci)[1]))
           row[key]["test_ci95"] = {(*ci)[0], (*ci)[1]};
       }
     }
@@ -306,7 +327,7 @@ nlohmann::json IdentifyReportJson(const IdentifyRun& run, std::size_t n) {
   const nlohmann::json model_json = ChainJson(r.chain, n);
   nlohmann::json report;
   report["updated_model"] = model_json;
-  report["validation"] = ValidationJson(r.table, r.test_modes);
+  report["validation"] = ValidationJson(r.table, r.test_modes, run.driving_point);
   report["parameters"] = ParametersJson(r.table);
   report["test_modes"] = ModesToJson(r.test_modes)["modes"];
   nlohmann::json masses = nlohmann::json::array();

@@ -81,24 +81,33 @@ void ValidationTables(const nlohmann::json& report, const std::string& where,
   std::vector<std::vector<std::string>> rows;
   const char* quantities[][2] = {
       {"omega_rad_s", "omega (rad/s)"}, {"zeta", "zeta"}, {"ratio", "a1/a2"}};
+  const auto add_row = [&rows, &where](std::size_t mode, const std::string& name,
+                                       const nlohmann::json& x) {
+    std::string test = Sig(Get(x, "test", where));
+    if (x.contains("test_ci95")) {
+      const nlohmann::json& ci = x["test_ci95"];
+      Require(ci.is_array() && ci.size() == 2 && ci[0].is_number() && ci[1].is_number(),
+              where + ": test_ci95 must be [lo, hi]");
+      char hw[32];
+      std::snprintf(hw, sizeof hw, "%.2g", 0.5 * (ci[1].get<double>() - ci[0].get<double>()));
+      test += std::string(" ± ") + hw;
+    }
+    rows.push_back({std::to_string(mode + 1), name, Sig(Get(x, "nominal", where)),
+                    Sig(Get(x, "updated", where)), test,
+                    Fixed(Get(x, "nominal_dev_percent", where), 2),
+                    Fixed(Get(x, "updated_dev_percent", where), 2)});
+  };
   for (std::size_t i = 0; i < v.at("modes").size(); ++i) {
     const nlohmann::json& mode = v["modes"][i];
-    for (const auto& q : quantities) {
-      if (!mode.contains(q[0])) continue;
-      const nlohmann::json& x = mode[q[0]];
-      std::string test = Sig(Get(x, "test", where));
-      if (x.contains("test_ci95")) {
-        const nlohmann::json& ci = x["test_ci95"];
-        Require(ci.is_array() && ci.size() == 2 && ci[0].is_number() && ci[1].is_number(),
-                where + ": test_ci95 must be [lo, hi]");
-        char hw[32];
-        std::snprintf(hw, sizeof hw, "%.2g", 0.5 * (ci[1].get<double>() - ci[0].get<double>()));
-        test += std::string(" ± ") + hw;
-      }
-      rows.push_back({std::to_string(i + 1), q[1], Sig(Get(x, "nominal", where)),
-                      Sig(Get(x, "updated", where)), test,
-                      Fixed(Get(x, "nominal_dev_percent", where), 2),
-                      Fixed(Get(x, "updated_dev_percent", where), 2)});
+    for (const auto& q : quantities)
+      if (mode.contains(q[0])) add_row(i, q[1], mode[q[0]]);
+    // More than two responses: each against the driving point's (a1/a3, a2/a3).
+    if (!mode.contains("shape_ratios")) continue;
+    Require(mode["shape_ratios"].is_array(), where + ": shape_ratios must be an array");
+    for (const nlohmann::json& x : mode["shape_ratios"]) {
+      Require(x.contains("name") && x["name"].is_string(),
+              where + ": each of shape_ratios needs a \"name\"");
+      add_row(i, x["name"].get<std::string>(), x);
     }
   }
   page.Table(

@@ -549,6 +549,55 @@ TEST(IdentifyCli, WholeChainOnSyntheticTruth) {
   EXPECT_EQ(r.err.find("its FRF's level says"), std::string::npos) << r.err;
 }
 
+// Three masses, the hammer on mass 3: the validation has a1/a3 and a2/a3 for each mode, and
+// `vibid report` reads them (a report of more than two responses used to be refused).
+TEST(IdentifyCli, ThreeMassReportHasEveryShapeRatio) {
+  const Rig& rig = SyntheticRig();
+  const model::Model truth =
+      model::MakeChain(Eigen::Vector3d(1.0, 0.8, 0.6), Eigen::Vector3d(4000, 3000, 2000),
+                       Eigen::Vector3d(3.0, 2.0, 1.5));
+  ident::HammerTestSpec spec = ident::ModalTestSpec(Rig::kFsHz, 31);
+  spec.hammer_dof = 2;
+  const std::string rec =
+      Write(rig.dir, "chain3.csv",
+            ident::FormatHammerTestCsv(ident::SimulateHammerTest(truth, spec),
+                                       {"acc1_m_s2", "acc2_m_s2", "acc3_m_s2"}, "force1_n"));
+  const std::string nominal = Write(
+      rig.dir, "nominal3.json",
+      R"({"topology": "chain", "masses": [1.07, 0.856, 0.642], "springs": [4000, 3000, 2000]})");
+  const std::string dir = rig.dir + "/report3";
+  const auto r = RunVibid({"identify", "--nominal", nominal, "--modal-test", rec,
+                           "--modal-responses", "acc1_m_s2,acc2_m_s2,acc3_m_s2", "-o",
+                           rig.dir + "/updated3.json", "--report", dir});
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const json rep = json::parse(ReadFileText(dir + "/report.json"));
+  const json& modes = rep["validation"]["modes"];
+  ASSERT_EQ(modes.size(), 3u) << modes.dump();
+  // Reference: the truth's mass-normalised shapes (model::Modal), each entry over mass 3's.
+  const model::ModalResult exact = model::Modal(truth);
+  for (std::size_t i = 0; i < 3; ++i) {
+    const json& m = modes[i];
+    EXPECT_FALSE(m.contains("ratio")) << m.dump();  // a1/a2 is a two-response quantity
+    ASSERT_TRUE(m.contains("shape_ratios")) << m.dump();
+    ASSERT_EQ(m["shape_ratios"].size(), 2u) << m.dump();
+    const auto col = static_cast<Eigen::Index>(m["mode"].get<int>() - 1);
+    for (std::size_t j = 0; j < 2; ++j) {
+      const json& x = m["shape_ratios"][j];
+      EXPECT_EQ(x["name"], "a" + std::to_string(j + 1) + "/a3");
+      const double want = exact.shapes(static_cast<Eigen::Index>(j), col) / exact.shapes(2, col);
+      EXPECT_NEAR(x["test"].get<double>(), want, 0.03 * std::abs(want)) << x.dump();
+      EXPECT_NEAR(x["test"].get<double>(), m["shape"]["test"][j].get<double>(), 1e-12);
+    }
+  }
+  const std::string page = rig.dir + "/report3.html";
+  const auto p = RunVibid({"report", "--identify", dir, "-o", page});
+  ASSERT_EQ(p.exit_code, 0) << p.err;
+  const std::string html = ReadFileText(page);
+  EXPECT_NE(html.find("a1/a3"), std::string::npos);
+  EXPECT_NE(html.find("a2/a3"), std::string::npos);
+  EXPECT_EQ(html.find("a1/a2"), std::string::npos);
+}
+
 // A wrong given spring moves the mass by as much; the test's own level says so.
 TEST(IdentifyCli, AWrongSpringIsNamed) {
   const Rig& rig = SyntheticRig();
