@@ -14,6 +14,7 @@
 #include "vibid/common/error.hpp"
 #include "vibid/device/log_table.hpp"
 #include "vibid/ident/frf_io.hpp"
+#include "vibid/ident/ringdown.hpp"
 #include "vibid/ident/sample_instants.hpp"
 #include "vibid/workflow/result_json.hpp"
 
@@ -360,6 +361,9 @@ void HammerSession::Analyze() {
   ident::ImpactResult r =
       ident::AverageHitSpectra(choice, used, fs_hz, io, est, CommonQuantity(measured));
   warnings_.insert(warnings_.end(), r.warnings.begin(), r.warnings.end());
+  // The used hits' ring-downs, for the amplitude check `vibid modes` makes on the recording.
+  const ident::RingDowns ringdowns =
+      ident::RingDownsOf(r, force, responses, fs_hz, CommonQuantity(measured));
   ident::Frf frf = std::move(r.frf);
   AlignMeasuredQuantities(frf, measured);
   frf.response_names = response_names_;
@@ -377,7 +381,7 @@ void HammerSession::Analyze() {
   if (same && (modes_ || !modes_error_.empty())) return;
   const Clock::time_point start = Clock::now();
   try {
-    modes_ = IdentifyModes(receptance_, options_.modes);
+    modes_ = IdentifyModes(receptance_, options_.modes, &ringdowns);
     modes_error_.clear();
   } catch (const InputError& e) {
     modes_.reset();

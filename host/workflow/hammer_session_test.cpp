@@ -214,7 +214,9 @@ TEST(HammerSession, VerdictsAndTheCliPathGiveTheSameNumbers) {
   const Estimated chosen = EstimateFromRecording(dir + "/recording.csv", cli);
   ExpectSameFrf(s.frf, chosen.frf);
   EXPECT_FALSE(chosen.compensation.empty());  // the board's instants were stated and applied
-  const ident::ModeIdentification modes = IdentifyModes(chosen.frf, test.options.modes);
+  // With the ring-downs of the hits, as `vibid modes` on one recording checks them.
+  const ident::ModeIdentification modes =
+      IdentifyModes(chosen.frf, test.options.modes, &chosen.ringdowns);
   EXPECT_EQ(ModesToJson(modes.modes).dump(), ModesToJson(s.modes->modes).dump());
   EXPECT_EQ(DiagramToJson(modes.diagram).dump(), DiagramToJson(s.modes->diagram).dump());
   // The saved FRF files are the ones `frf-estimate -o` writes.
