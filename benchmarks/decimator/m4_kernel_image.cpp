@@ -1,7 +1,7 @@
-// Cortex-M4 image for benchmarks/decimator/m4_instructions.py: pushes 7 channels through the decimator
-// for PERIODS whole output periods at each factor, so the script can count the instructions of
-// every Push in QEMU (average per input frame, and the worst tick, where every stage computes).
-// Built by the firmware preset (shared/fixed/CMakeLists.txt); not a test.
+// Cortex-M4 image for benchmarks/decimator/m4_instructions.py: pushes 7 channels through the
+// decimator for PERIODS whole output periods at each factor, so the script can count the
+// instructions of every Push in QEMU (average per input frame, and the worst tick, where every
+// stage computes). Built by the firmware preset (shared/fixed/CMakeLists.txt); not a test.
 #include <gtest/gtest.h>
 
 #include <cstddef>

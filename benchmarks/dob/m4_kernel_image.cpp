@@ -1,6 +1,6 @@
-// Cortex-M4 image for benchmarks/dob/m4_instructions.py: runs the observer kernel over the committed
-// vector's first frames once, so the instructions executed inside the kernel can be counted in
-// QEMU and divided by the frame count. Built by the firmware preset (firmware/testing).
+// Cortex-M4 image for benchmarks/dob/m4_instructions.py: runs the observer kernel over the
+// committed vector's first frames once, so the instructions executed inside the kernel can be
+// counted in QEMU and divided by the frame count. Built by the firmware preset (firmware/testing).
 #include <gtest/gtest.h>
 
 #include <array>
