@@ -20,7 +20,6 @@ namespace vibid::ident {
 namespace {
 
 using cd = std::complex<double>;
-constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 
 // y = [omega, zeta, phi...] of a pole and the residues q_j = phi_j phi_p (complex, as measured);
 // the projection on the driving point's phase makes a real shape of them.

@@ -180,41 +180,6 @@ void ExpectOneTestIdentification(const model::Model& truth, const model::Model& 
   EXPECT_EQ(table.find("nan"), std::string::npos) << table;
 }
 
-// Hits 5 s apart on the three-mass rig (its first mode rings down in 1 / (zeta omega) = 5.5 s):
-// the modal model and the residue fit disagree on the shapes, and the modes withhold their shape
-// intervals (see ModesFromModel). The chain fit then takes the shapes the modes report and gives
-// no interval, naming the mode; the modal model's covariance would make up the intervals the
-// modes refused (it gave m1 0.73 kg with an interval, truth 1.0).
-TEST(ChainFit, ShapesTheModesWithholdGiveNoInterval) {
-  const model::Model nominal = model::MakeChain(Eigen::Vector3d(1.07, 0.744, 0.642),
-                                                Eigen::Vector3d(4000.0, 3000.0, 2000.0));
-  HammerTestSpec s = Spec(2, 5, 0.01, 1);
-  s.spacing_min_s = 4.5;
-  s.spacing_max_s = 5.5;
-  const Frf frf = Receptance(SimulateHammerTest(Rig3(), s));
-  IdentifyOptions o;
-  o.driving_point = 2;
-  const IdentifyResult r = Identify(nominal, {}, {frf}, o);
-  ASSERT_TRUE(r.has_chain_fit);
-  ASSERT_EQ(r.modal_tests.size(), 1u);
-  const ModeEstimate& first = r.modal_tests[0].modes.front();
-  ASSERT_FALSE(std::isfinite(first.shape_ratio_ci95[0][0])) << "the shape is resolved here";
-  EXPECT_NE(first.caution.find("shape not resolved"), std::string::npos) << first.caution;
-  for (const PositionComparison& p : r.table.positions) {
-    for (const Interval95* ci : {&p.m_ci95, &p.k_ci95, &p.c_ci95}) {
-      EXPECT_FALSE(ci->Known());
-      EXPECT_NE(ci->missing.find("no interval on phi1/phi3"), std::string::npos) << ci->missing;
-    }
-  }
-  EXPECT_FALSE(r.table.caution.empty());
-  // The table's test column is the shape the modes report (scaled to 1 at the driving point).
-  for (std::size_t i = 0; i < r.table.modes.size(); ++i) {
-    const ModeEstimate& m = r.modal_tests[0].modes[i];
-    for (Eigen::Index j = 0; j < 2; ++j)
-      EXPECT_NEAR(r.table.modes[i].shape_test[j], m.shape[j] / m.shape[2], 1e-12);
-  }
-}
-
 TEST(ChainFit, IdentifiesATwoMassChainFromOneTest) {
   const model::Model truth = model::MakeChain(
       Eigen::Vector2d(1.8, 1.53), Eigen::Vector2d(3520.0, 2760.0), Eigen::Vector2d(5.0, 3.5));

@@ -375,26 +375,12 @@ ChainTestModes ChainModesOfTest(const ModeIdentification& mi, const Frf& frf,
         d.covariance.col(1).setZero();
         d.covariance(1, 1) = sd * sd;
       }
-      // A shape ratio the mode identification withheld (the modal model and the residue fit
-      // disagree, or the lines do not pin it down) is the residue fit's, without an interval:
-      // the chain fit takes the shape the modes report, and no covariance (the model's would
-      // make up the interval the modes refused, on a shape they did not report).
-      std::string withheld;
-      for (Eigen::Index j = 0; j < m.shape.size(); ++j) {
-        const auto ju = static_cast<std::size_t>(j);
-        if (j == p || ju >= m.shape_ratio_ci95.size() || std::isfinite(m.shape_ratio_ci95[ju][0]))
-          continue;
-        if (m.shape[p] != 0.0) d.values[2 + j] = d.values[2 + p] * m.shape[j] / m.shape[p];
-        if (!d.no_covariance.empty()) continue;  // no interval on any value already
-        withheld += (withheld.empty() ? "" : ", ") +
-                    ("phi" + std::to_string(j + 1) + "/phi" + std::to_string(p + 1));
-      }
-      if (!withheld.empty()) {
-        d.covariance.resize(0, 0);
-        d.zeta_withheld.clear();
-        d.no_covariance =
-            where + std::string("no interval on ") + withheld + " (shape from the residue fit)";
-      }
+      // A shape ratio the modes withhold (the residue fit's shown, without an interval) still
+      // comes from the modal model here, with its covariance: the check that withholds it
+      // compares a ratio alone, while the fit weighs the whole shape with its correlations, and
+      // the coverage study (chain_fit_coverage_test: hits 8-9 s apart, mode 3's ratios withheld
+      // in 10 of 40 seeds) holds the truth at the rate only this way; the residue fit's shape
+      // and no covariance there cost those seeds their intervals.
       out.modes.push_back(std::move(d));
       continue;
     }
