@@ -108,14 +108,18 @@ py::object Modes(const std::vector<std::string>& inputs, const workflow::Estimat
     py::gil_scoped_release release;
     std::vector<ident::Frf> frfs;
     std::vector<std::string> notes;
+    ident::RingDowns ringdowns;
     for (const std::string& in : inputs) {
       workflow::Estimated e = workflow::LoadOrEstimate(in, options);
       const std::vector<std::string> lines = workflow::EstimationNotes(in, e);
       notes.insert(notes.end(), lines.begin(), lines.end());
+      ringdowns = std::move(e.ringdowns);
       frfs.push_back(std::move(e.frf));
     }
     const ident::Frf frf = workflow::JoinColumns(frfs, inputs);
-    const ident::ModeIdentification r = workflow::IdentifyModes(frf, request);
+    // The ring-down check reads one recording's hits, as `vibid modes` makes it.
+    const ident::ModeIdentification r =
+        workflow::IdentifyModes(frf, request, inputs.size() == 1 ? &ringdowns : nullptr);
     j = workflow::ModeIdentificationJson(r, request.method, frf.response_names, notes);
   }
   return ToPython(j);
