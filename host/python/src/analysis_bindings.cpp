@@ -5,7 +5,6 @@
 #include <optional>
 
 #include <pybind11/complex.h>
-#include <optional>
 
 #include <pybind11/eigen.h>
 #include <pybind11/numpy.h>
@@ -67,6 +66,8 @@ py::dict EstimatedDict(const workflow::Estimated& e) {
   // The library's FRF itself, kept with the arrays: modes on it later see every field the
   // estimation set (windows, pretrigger, level variance), as `vibid modes` on a recording does.
   d["_frf"] = py::cast(e.frf);
+  // The used hits' ring-downs, so that modes of this estimate make the amplitude check too.
+  d["_ringdowns"] = py::cast(e.ringdowns);
   return d;
 }
 
@@ -128,7 +129,8 @@ py::object Modes(const std::vector<std::string>& inputs, const workflow::Estimat
 /// Modes of FRFs already in memory (each an estimate's own FRF, or one built from arrays), joined
 /// as responses, as `vibid modes` joins its inputs.
 py::object ModesOf(const std::vector<ident::Frf>& frfs, const std::vector<std::string>& sources,
-                   const workflow::ModeRequest& request) {
+                   const workflow::ModeRequest& request,
+                   const std::optional<ident::RingDowns>& ringdowns) {
   nlohmann::json j;
   {
     py::gil_scoped_release release;
@@ -137,7 +139,9 @@ py::object ModesOf(const std::vector<ident::Frf>& frfs, const std::vector<std::s
       Require(f.quantity == ident::Quantity::kDisplacement,
               "modes are identified from receptances; estimate with kind='receptance'");
     const ident::Frf frf = workflow::JoinColumns(frfs, sources);
-    const ident::ModeIdentification r = workflow::IdentifyModes(frf, request);
+    // One estimate's ring-downs, as `vibid modes` on its recording checks them.
+    const ident::ModeIdentification r = workflow::IdentifyModes(
+        frf, request, frfs.size() == 1 && ringdowns ? &*ringdowns : nullptr);
     j = workflow::ModeIdentificationJson(r, request.method, frf.response_names, {});
   }
   return ToPython(j);
@@ -289,7 +293,9 @@ void RegisterAnalysis(py::module_& m) {
   m.def("default_segment", &workflow::DefaultSegment, py::arg("samples"));
   m.def("modes", &Modes, py::arg("inputs"), py::arg("options"), py::arg("request"));
   py::class_<ident::Frf>(m, "_Frf");
-  m.def("modes_of", &ModesOf, py::arg("frfs"), py::arg("sources"), py::arg("request"));
+  py::class_<ident::RingDowns>(m, "_RingDowns");
+  m.def("modes_of", &ModesOf, py::arg("frfs"), py::arg("sources"), py::arg("request"),
+        py::arg("ringdowns") = std::nullopt);
   m.def("frf_from_arrays", &FrfFromArrays, py::arg("freq_hz"), py::arg("h"), py::arg("coherence"),
         py::arg("kind"), py::arg("responses"), py::arg("force"));
   m.def("identify", &Identify, py::arg("nominal"), py::arg("request"));

@@ -49,7 +49,9 @@ def test_modes_of_an_estimate_in_memory_equal_the_files():
     mine = dict(py.json)
     mine.pop("notes")
     assert mine == cli
-    assert vibid.modes(est.frd).json["modes"] == cli["modes"]
+    # An Frd holds the FRF only, not the hits' ring-downs: no amplitude check, the rest equal.
+    assert vibid.modes(est.frd).json["modes"] == [
+        {k: v for k, v in m.items() if k != "zeta_amplitude"} for m in cli["modes"]]
 
 
 def test_modes_of_an_frd_from_arrays_are_the_model_s():

@@ -450,6 +450,8 @@ class FrfEstimate:
     note: str
     warnings: list
     compensation: str
+    # The used hits' ring-downs (the library's), for the amplitude check of modes of it.
+    _ringdowns: object = dataclasses.field(default=None, compare=False, repr=False)
 
     def __repr__(self) -> str:
         used = sum(h.used for h in self.hits)
@@ -466,7 +468,8 @@ def _frf_estimate(d) -> FrfEstimate:
               coherence=np.asarray(d["coherence"]).T[:, None, :], _frf=d["_frf"])
     return FrfEstimate(frd=frd, estimator=d["estimator"], averages=d["averages"],
                        impact=d["impact"], hits=[Hit(**h) for h in d["hits"]], note=d["note"],
-                       warnings=list(d["warnings"]), compensation=d["compensation"])
+                       warnings=list(d["warnings"]), compensation=d["compensation"],
+                       _ringdowns=d["_ringdowns"])
 
 
 def frf_estimate(recording, force: str = "", responses="", **options) -> FrfEstimate:
@@ -614,10 +617,13 @@ def modes(inputs, method: str = "lscf", orders: str = "", driving_point: str = "
         if options or force or responses:
             raise TypeError("modes of FRFs in memory take no estimation options: "
                             "estimate with frf_estimate first")
+        # One estimate's ring-downs: the amplitude check `vibid modes` makes on its recording.
+        ringdowns = (in_memory[0]._ringdowns if len(in_memory) == 1 and
+                     isinstance(in_memory[0], FrfEstimate) else None)
         return _modes(_vibid.modes_of([_library_frf(x) for x in in_memory],
                                       [f"frf {i + 1}" for i in range(len(in_memory))],
                                       _mode_request(method, orders, driving_point, fmin_hz,
-                                                    fmax_hz)))
+                                                    fmax_hz), ringdowns))
     paths = [_input_path("inputs", p) for p in listed]
     names = ",".join(_names("responses", responses))
     o = _estimation_options(force=force, responses=names, **options)
