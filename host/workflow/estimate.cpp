@@ -174,7 +174,9 @@ std::string CompensateInstants(const std::string& path, ident::Frf& frf) {
 
 /// The converter's limits of a recording's column, in the units its spec scales it to: a board's
 /// analog channel logged as raw codes (force1_counts, acc2_counts, ...) spans 0 .. 2^adc_bits - 1;
-/// the encoders' counts (x1_counts) and calibrated columns have no limits the recording states.
+/// an encoder's counts (x1_counts, x2_counts) are a 32-bit counter's, which a rig's travel never
+/// reaches: they never clip, however long a position rests at its extreme; calibrated columns
+/// have no limits the recording states.
 ident::ImpactOptions::ConverterLimits ConverterLimitsOf(const ColumnSpec& spec) {
   constexpr std::string_view kSuffix = "_counts";
   const std::string& name = spec.name;
@@ -182,9 +184,13 @@ ident::ImpactOptions::ConverterLimits ConverterLimitsOf(const ColumnSpec& spec) 
       name.compare(name.size() - kSuffix.size(), kSuffix.size(), kSuffix) != 0)
     return {};
   const std::string stem = name.substr(0, name.size() - kSuffix.size());
-  if (stem != "force1" && stem != "force2" && stem != "acc1" && stem != "acc2") return {};
-  const double top = std::ldexp(1.0, kBoardProfile.adc_bits) - 1.0;
-  const double a = 0.0 * spec.scale;
+  const bool encoder = stem == "x1" || stem == "x2";
+  if (!encoder && stem != "force1" && stem != "force2" && stem != "acc1" && stem != "acc2")
+    return {};
+  const double bottom = encoder ? -std::ldexp(1.0, 31) : 0.0;
+  const double top =
+      encoder ? std::ldexp(1.0, 31) - 1.0 : std::ldexp(1.0, kBoardProfile.adc_bits) - 1.0;
+  const double a = bottom * spec.scale;
   const double b = top * spec.scale;
   return {std::min(a, b), std::max(a, b)};
 }
