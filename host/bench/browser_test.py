@@ -173,9 +173,9 @@ def page_message(driver):
 
 
 def board_api(driver):
-    """GET /api/board from the page (with the page's own credentials)."""
+    """GET /api/board from the page (with the token it keeps in memory)."""
     return driver.execute_async_script(
-        "const done = arguments[0]; fetch('/api/board', window.access ? {headers: access.headers()} : {})"
+        "const done = arguments[0]; fetch('/api/board', {headers: access.headers()})"
         ".then(r => r.json()).then(done)")
 
 

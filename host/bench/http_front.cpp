@@ -254,6 +254,13 @@ void HttpFront::Poll() {
               RefusalAnswer(408, "the request did not arrive whole within " +
                                      std::to_string(options_.head_deadline.count()) + " ms");
           (void)!::send(c->fd, a.data(), a.size(), MSG_NOSIGNAL | MSG_DONTWAIT);
+          // A lingering close, as for a refused head: bytes the client still sends are read and
+          // dropped, so its kernel never answers them with a reset that throws the 408 away.
+          ::shutdown(c->fd, SHUT_WR);
+          c->in.clear();
+          c->lingering = true;
+          c->deadline = now + kLinger;
+          continue;
         }
         Close(c);
       }

@@ -19,8 +19,6 @@
 namespace vibid::oma {
 namespace {
 
-constexpr double kTwoPi = 2.0 * std::numbers::pi;
-
 // Every mode of the model found, ω within `omega_tol` and ζ within `zeta_tol` (relative), and
 // the shape's MAC with the model's above 0.99.
 void ExpectModes(const SsiCovResult& r, const model::Model& truth, double omega_tol,
