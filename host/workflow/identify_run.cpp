@@ -217,8 +217,10 @@ MassSprings ParseMassSprings(const std::vector<std::string>& specs, std::size_t 
 
 /// Estimates one test; identify is made for hammer tests, so the processing note is said only
 /// when a recording did not look like one.
-ident::Frf EstimateTest(const std::string& path, const EstimationOptions& est, IdentifyRun& run) {
+ident::Frf EstimateTest(const std::string& path, const EstimationOptions& est, IdentifyRun& run,
+                        ident::RingDowns* ringdowns = nullptr) {
   Estimated e = EstimateFromRecording(path, est);
+  if (ringdowns != nullptr) *ringdowns = std::move(e.ringdowns);
   if (e.hits.empty() && !e.note.empty()) run.messages.push_back({false, e.note});
   for (const std::string& w : e.warnings) run.messages.push_back({true, w});
   const std::vector<std::string> lines = EstimationNotes(path, e);
@@ -288,6 +290,7 @@ IdentifyRun RunIdentify(const model::Model& nominal, const IdentifyRequest& requ
   est.kind = "receptance";
   IdentifyRun run;
   const std::vector<ident::MassTestInput> mass_inputs = MassTests(request, est, n, run);
+  std::vector<ident::RingDowns> ringdowns;
   for (const std::string& path : request.modal_tests) {
     EstimationOptions me = est;
     Require(!request.modal_responses.empty() || n <= kBoardAccelerometers,
@@ -297,9 +300,13 @@ IdentifyRun RunIdentify(const model::Model& nominal, const IdentifyRequest& requ
                 "acc1_m_s2,acc2_m_s2,x1_m: accelerometers and encoders may be mixed)");
     me.responses =
         request.modal_responses.empty() ? ident::AccelerationColumns(n) : request.modal_responses;
-    run.modal_frfs.push_back(EstimateTest(path, me, run));
+    ident::RingDowns rd;
+    run.modal_frfs.push_back(EstimateTest(path, me, run, &rd));
+    ringdowns.push_back(std::move(rd));
   }
   ident::IdentifyOptions options;
+  // The modes of each test take the amplitude check on its own hits, as `vibid modes` does.
+  options.modal_ringdowns = std::move(ringdowns);
   options.modes = request.modes.options;
   options.modes.method = ident::ParseModeMethod(request.modes.method);
   if (!request.modes.orders.empty())

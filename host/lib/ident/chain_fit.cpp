@@ -58,6 +58,8 @@ void ChainFitOptions::Validate() const {
   Require(prior_ratio_determined > 0.0 && prior_ratio_determined < prior_ratio_from_prior &&
               prior_ratio_from_prior < 1.0,
           "chain fit: need 0 < determined ratio < prior ratio < 1");
+  Require(max_ringing_left > 0.0 && max_ringing_left <= 1.0,
+          "chain fit: the ringing left at a record's end must be in (0, 1]");
   solver.Validate();
 }
 

@@ -12,6 +12,7 @@
 #include "vibid/ident/chain_fit.hpp"
 #include "vibid/ident/intervals.hpp"
 #include "vibid/ident/modes.hpp"
+#include "vibid/ident/ringdown.hpp"
 #include "vibid/ident/spectral.hpp"
 #include "vibid/ident/updates.hpp"
 #include "vibid/model/model.hpp"
@@ -110,6 +111,12 @@ struct IdentifyOptions {
   MassUpdateOptions mass;  ///< k and nominal are filled per test.
   /// The one-test chain fit (its driving point is set from `driving_point`).
   ChainFitOptions chain;
+  /// The used hits' ring-downs of each modal test (RingDownsOf), in the tests' order, or empty.
+  /// Given, each test's modes take the amplitude check as `vibid modes` does (ringdown.hpp): a
+  /// mode whose damping grows as the ring-down dies (friction) keeps the viscous part, and its
+  /// damping interval (with the dampers') is withheld when the ring-downs cannot give one.
+  /// A test whose ring-downs hold no hit, or other responses than its FRF, is left unchecked.
+  std::vector<RingDowns> modal_ringdowns;
 };
 
 struct MassTestResult {
