@@ -302,6 +302,7 @@ nlohmann::json TruthToJson(const RigSpec& r, double t_s) {
 }
 
 RigSimulator::RigSimulator(RigSpec spec, std::uint64_t seed) : spec_(std::move(spec)), seed_(seed) {
+  CheckChanges(spec_, "rig");
   (void)spec_.Truth();  // validates
   Require(spec_.dofs() >= 1 && spec_.dofs() <= kMaxMasses,
           "the rig has 1 to " + std::to_string(kMaxMasses) + " masses");
@@ -313,7 +314,6 @@ RigSimulator::RigSimulator(RigSpec spec, std::uint64_t seed) : spec_(std::move(s
   Require(spec_.hammer_mass == kUnmounted ||
               (spec_.hammer_mass >= 0 && spec_.hammer_mass < spec_.dofs()),
           "the hammer's mass is no mass of the rig");
-  CheckChanges(spec_, "rig");
   for (std::size_t c = 0; c < wire::kChannelCount; ++c)
     instant_s_[c] = kBoardProfile.sample_instant_ns(c) * 1e-9;
 }
