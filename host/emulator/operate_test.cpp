@@ -208,11 +208,10 @@ TEST(Operate, BandLimitedForceAndResponsePeaksAtTheModes) {
   EXPECT_LE(Db(truth_above / low), -35.0);
 
   // The response: acc1's PSD (mass 1, driven through spring 2: no antiresonance, falling above
-  // the last mode) peaks at the rig's two modes, within the mode's half-power
-  // half-width zeta f (0.085 and 0.30 Hz: 1.4 and 4.9 lines; the lines of a 35-segment Welch
-  // estimate scatter by 17 %, as much as the resonance falls that far from its top).
-  // Each line averaged with two on either side (0.24 Hz, within both modes' half-power
-  // bands): the scatter falls to 8 %.
+  // the last mode) peaks at the rig's two modes, within the mode's half-power half-width zeta f
+  // (0.085 and 0.47 Hz: 1.4 and 7.7 lines). The lines of a 35-segment Welch estimate scatter by
+  // 17 %, as much as a resonance falls a few lines from its top, so each line is averaged with
+  // two on either side first (8 % scatter; a symmetric average leaves a peak where it is).
   const std::vector<double> raw_response = WelchPsd(acc1, n, fs);
   std::vector<double> response(raw_response.size(), 0.0);
   for (std::size_t i = 2; i + 2 < response.size(); ++i) {
