@@ -90,7 +90,7 @@ TEST_F(RefusalTest, UnknownScenario) {
   const std::string out = dir + "/x.csv";
   const CliResult r = Vibid({"acquire", "--seconds", "0.1", "--scenario", "hamer", "-o", out});
   ExpectRefusal(r, 4, "refused select-scenario 'hamer': the emulator has no such scenario",
-                "choose hammer, shaker, push, step, tone or idle");
+                "choose hammer, shaker, push, step, tone, operate or idle");
   EXPECT_FALSE(std::filesystem::exists(out));
 }
 

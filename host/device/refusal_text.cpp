@@ -92,8 +92,8 @@ std::string ReasonText(Status status, const wire::Refusal& r) {
     case wire::Reason::kNoBootloader:
       return "this board has no DFU bootloader; flash it with a debugger (SWD)";
     case wire::Reason::kUnknownScenario:
-      return "the emulator has no such scenario; choose hammer, shaker, push, step, tone or idle "
-             "(--scenario)";
+      return "the emulator has no such scenario; choose hammer, shaker, push, step, tone, operate "
+             "or idle (--scenario)";
     case wire::Reason::kScenarioParameter:
       return "scenario parameter " + std::to_string(d + 1) +
              " is out of range for this scenario and rig; see the scenario table in "

@@ -31,6 +31,7 @@ int main(int argc, char** argv) {
   std::size_t log_kib = vibid::kBoardProfile.log_bytes / 1024;
   bool beyond_board = false;
   bool print_truth = false;
+  double truth_at_s = 0.0;
   bool verbose = false;
   app.add_option("--rig", rig_path, "rig file (JSON); default: the built-in 2-DOF chain");
   app.add_option("--bind", bind, "IPv4 address to listen on")->capture_default_str();
@@ -58,6 +59,10 @@ int main(int argc, char** argv) {
       ->capture_default_str();
   app.add_flag("--print-truth", print_truth,
                "print the rig's true model (model-file JSON) and exit");
+  app.add_option("--at-s", truth_at_s,
+                 "with --print-truth: the truth this many seconds after an acquisition's start, "
+                 "with the rig file's changes in force then (default 0)")
+      ->check(CLI::NonNegativeNumber);
   app.add_flag(
       "-v,--verbose", verbose,
       "report personality changes, USB/IP clients and when sampling starts and stops on stderr");
@@ -67,9 +72,10 @@ int main(int argc, char** argv) {
     vibid::emu::EmulatorOptions options;
     if (!rig_path.empty()) options.rig = vibid::emu::LoadRig(rig_path);
     if (print_truth) {
-      std::cout << vibid::emu::TruthToJson(options.rig).dump(2) << "\n";
+      std::cout << vibid::emu::TruthToJson(options.rig, truth_at_s).dump(2) << "\n";
       return 0;
     }
+    vibid::Require(truth_at_s == 0.0, "--at-s goes with --print-truth");
     vibid::Require(port >= 0 && port <= 65535, "--port must be 0..65535");
     options.flash_path = flash_path;
     options.seed = seed;

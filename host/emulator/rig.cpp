@@ -147,15 +147,11 @@ double AnalogSensor::Value(std::int32_t code) const {
   return (static_cast<double>(code) - half) * range / half;
 }
 
-model::Model RigSpec::Truth() const {
-  Eigen::VectorXd m(dofs()), k(dofs()), c(dofs());
-  for (int i = 0; i < dofs(); ++i) {
-    const auto u = static_cast<std::size_t>(i);
-    m(i) = masses_kg[u] * (1.0 - effective_mass_loss[u]);
-    k(i) = springs_n_per_m[u];
-    c(i) = dampers_ns_per_m[u];
-  }
-  return model::MakeChain(m, k, c);
+model::Model RigSpec::TruthAt(double t_s) const {
+  const ChainParameters p = ParametersAt(*this, t_s);
+  return model::MakeChain(Eigen::Map<const Eigen::VectorXd>(p.masses_kg.data(), dofs()),
+                          Eigen::Map<const Eigen::VectorXd>(p.springs_n_per_m.data(), dofs()),
+                          Eigen::Map<const Eigen::VectorXd>(p.dampers_ns_per_m.data(), dofs()));
 }
 
 RigSpec DefaultRig() {
@@ -178,7 +174,7 @@ RigSpec RigFromJson(const nlohmann::json& json, const std::string& source) {
       json,
       {"topology", "masses_kg", "effective_mass_loss", "springs_n_per_m", "dampers_ns_per_m",
        "coulomb_n", "load_cells", "accelerometers", "encoder_counts_per_m", "max_sample_rate_hz",
-       "brown_out_level", "hammer_test_hits", "response_inputs", "hammer_mass"},
+       "brown_out_level", "hammer_test_hits", "response_inputs", "hammer_mass", "changes"},
       "rig file " + source);
   // Compared as a JSON value: a topology of another type is a wrong value, not a type error.
   Require(json.value("topology", nlohmann::json()) == "chain",
@@ -256,6 +252,10 @@ RigSpec RigFromJson(const nlohmann::json& json, const std::string& source) {
     r.double_hits = hits("double_hit");
     r.overloads = hits("overload");
   }
+  if (json.contains("changes")) {
+    r.changes = ChangesFromJson(json.at("changes"), n, source);
+    CheckChanges(r, source);
+  }
   return r;
 }
 
@@ -289,20 +289,20 @@ nlohmann::json RigToJson(const RigSpec& r) {
   // Only a rig that asks for test hits names them: a rig file as before stays as it was.
   if (!r.double_hits.empty() || !r.overloads.empty())
     j["hammer_test_hits"] = {{"double_hit", r.double_hits}, {"overload", r.overloads}};
+  if (!r.changes.empty()) j["changes"] = ChangesToJson(r.changes);
   return j;
 }
 
-nlohmann::json TruthToJson(const RigSpec& r) {
-  std::vector<double> m;
-  for (std::size_t i = 0; i < r.masses_kg.size(); ++i)
-    m.push_back(r.masses_kg[i] * (1.0 - r.effective_mass_loss[i]));
+nlohmann::json TruthToJson(const RigSpec& r, double t_s) {
+  const ChainParameters p = ParametersAt(r, t_s);
   return {{"topology", "chain"},
-          {"masses", m},
-          {"springs", r.springs_n_per_m},
-          {"dampers", r.dampers_ns_per_m}};
+          {"masses", p.masses_kg},
+          {"springs", p.springs_n_per_m},
+          {"dampers", p.dampers_ns_per_m}};
 }
 
 RigSimulator::RigSimulator(RigSpec spec, std::uint64_t seed) : spec_(std::move(spec)), seed_(seed) {
+  CheckChanges(spec_, "rig");
   (void)spec_.Truth();  // validates
   Require(spec_.dofs() >= 1 && spec_.dofs() <= kMaxMasses,
           "the rig has 1 to " + std::to_string(kMaxMasses) + " masses");
@@ -330,10 +330,16 @@ double DefaultHammerSpacingS(const model::Model& active) {
   return std::min(kLongestS, std::ceil(ring_down_s / 0.7 * 2.0) / 2.0);
 }
 
+double DefaultOperateBandHz(const model::Model& active) {
+  return std::max(50.0, 2.0 * model::Modal(active).freq_hz.maxCoeff());
+}
+
 void RigSimulator::Select(const Scenario& scenario) {
   scenario_ = scenario;
   if (scenario_.kind == ScenarioKind::kHammer && scenario_.spacing_s == 0.0)
     scenario_.spacing_s = DefaultHammerSpacingS(ActiveModel());
+  if (scenario_.kind == ScenarioKind::kOperate && scenario_.frequency_hz == 0.0)
+    scenario_.frequency_hz = DefaultOperateBandHz(ActiveModel());
 }
 
 Status RigSimulator::SelectScenario(const wire::ScenarioRequest& request, wire::Refusal& why) {
@@ -346,17 +352,46 @@ Status RigSimulator::SelectScenario(const wire::ScenarioRequest& request, wire::
 }
 
 model::Model RigSimulator::ActiveModel() const {
-  const model::Model truth = spec_.Truth();
-  if (scenario_.configuration == Configuration::kChain) return truth;
+  return ConfigurationModel(ParametersAt(spec_, 0.0));
+}
+
+model::Model RigSimulator::ConfigurationModel(const ChainParameters& p) const {
+  const auto n = static_cast<Eigen::Index>(p.masses_kg.size());
+  if (scenario_.configuration == Configuration::kChain) {
+    return model::MakeChain(Eigen::Map<const Eigen::VectorXd>(p.masses_kg.data(), n),
+                            Eigen::Map<const Eigen::VectorXd>(p.springs_n_per_m.data(), n),
+                            Eigen::Map<const Eigen::VectorXd>(p.dampers_ns_per_m.data(), n));
+  }
   // One mass alone on its own spring and dashpot to ground.
   const int i = AloneMass(scenario_.configuration);
   Require(i >= 0 && i < spec_.dofs(), "the configuration leaves alone a mass the rig lacks");
   const auto u = static_cast<std::size_t>(i);
   Eigen::VectorXd m(1), k(1), c(1);
-  m(0) = truth.m_kg(i, i);
-  k(0) = spec_.springs_n_per_m[u];
-  c(0) = spec_.dampers_ns_per_m[u];
+  m(0) = p.masses_kg[u];
+  k(0) = p.springs_n_per_m[u];
+  c(0) = p.dampers_ns_per_m[u];
   return model::MakeChain(m, k, c);
+}
+
+void RigSimulator::Rebuild() {
+  // Each rebuild holds the parameters until the next one; the state (positions, velocities)
+  // carries over as it is. So a mass put on at a step keeps the cart's position and velocity:
+  // a hand places it on the moving cart and brings it to the cart's speed, so momentum is not
+  // conserved (the hand supplies the difference); the acceleration changes at once to the
+  // forces over the new mass.
+  next_rebuild_ = schedule_.NextRebuild(tick_);
+  held_ = ConfigurationModel(schedule_.Held(spec_, tick_, next_rebuild_));
+  const model::StateSpace continuous = model::ModelStateSpace(held_);
+  discrete_ = model::Discretize(continuous, dt_s_);
+  part_steps_.clear();
+  for (double instant : instant_s_) {
+    const bool known = std::any_of(part_steps_.begin(), part_steps_.end(),
+                                   [&](const auto& p) { return p.first == instant; });
+    // An instant is well inside any period the board allows (100 us and up).
+    Require(instant < dt_s_, "sampling instant beyond the sample period");
+    if (!known && instant > 0.0)
+      part_steps_.emplace_back(instant, model::Discretize(continuous, instant));
+  }
 }
 
 void RigSimulator::Start(double dt_s) {
@@ -376,17 +411,8 @@ void RigSimulator::Start(double dt_s) {
   } else {
     moving_.push_back(AloneMass(scenario_.configuration));
   }
-  const model::StateSpace continuous = model::ModelStateSpace(ActiveModel());
-  discrete_ = model::Discretize(continuous, dt_s);
-  part_steps_.clear();
-  for (double instant : instant_s_) {
-    const bool known = std::any_of(part_steps_.begin(), part_steps_.end(),
-                                   [&](const auto& p) { return p.first == instant; });
-    // An instant is well inside any period the board allows (100 us and up).
-    Require(instant < dt_s, "sampling instant beyond the sample period");
-    if (!known && instant > 0.0)
-      part_steps_.emplace_back(instant, model::Discretize(continuous, instant));
-  }
+  schedule_ = ChangeSchedule(spec_.changes, dt_s);
+  Rebuild();
   const auto n = static_cast<Eigen::Index>(moving_.size());
   state_ = Eigen::VectorXd::Zero(2 * n);
   input_ = Eigen::VectorXd::Zero(n);
@@ -422,6 +448,8 @@ void RigSimulator::Start(double dt_s) {
     push_freq_hz_[i] = freq(rng_);
     push_phase_[i] = phase(rng_);
   }
+  if (scenario_.kind == ScenarioKind::kOperate)
+    operate_force_.Start(scenario_.force_n, scenario_.frequency_hz, 1.0 / dt_s);
   last_ = {};
 }
 
@@ -477,6 +505,12 @@ void RigSimulator::Excitation(double t, double& force_n, double& push_n) {
       if (s.push_n > 0.0) push_n = hand_push(s.push_n);
       break;
     case ScenarioKind::kPush: push_n = hand_push(s.force_n); break;
+    case ScenarioKind::kOperate:
+      // Random forcing from the start (the filter from rest: no switch-on step), one draw a
+      // sample.
+      force_n = operate_force_.Next(normal_(rng_));
+      if (s.push_n > 0.0) push_n = hand_push(s.push_n);
+      break;
     case ScenarioKind::kTone: break;  // on the converters' inputs, not on the rig
     case ScenarioKind::kStep: {
       // Pull by hand through a load cell: ramp up over 0.3 s, hold, let go at once.
@@ -490,6 +524,7 @@ void RigSimulator::Excitation(double t, double& force_n, double& push_n) {
 }
 
 void RigSimulator::Step(std::array<std::int32_t, wire::kChannelCount>& raw) {
+  if (tick_ == next_rebuild_) Rebuild();
   const double t = static_cast<double>(tick_) * dt_s_;
   double force = 0.0, push = 0.0;
   Excitation(t, force, push);

@@ -13,6 +13,9 @@
 // inputs (scenario tone) is evaluated at each channel's instant. Then the values are quantized
 // like the board's converters. The excitation and the noise come from one generator seeded from the
 // rig seed and the acquisition count, so the same seed and the same commands give the same samples.
+// A rig file's "changes" (rig_changes.hpp) change the masses, springs and dampers during each
+// acquisition: the discrete system is rebuilt from the changed model at the ticks the change
+// schedule names, the state carrying over.
 #pragma once
 
 #include <array>
@@ -26,6 +29,8 @@
 #include <nlohmann/json.hpp>
 
 #include "emu_port.hpp"
+#include "operate_force.hpp"
+#include "rig_changes.hpp"
 #include "vibid/model/model.hpp"
 #include "vibid/model/state_space.hpp"
 #include "vibid/shared/wire/device.hpp"
@@ -82,10 +87,16 @@ struct RigSpec {
   /// the hammer load cell's range, which its converter clips at its top code as the board's does.
   std::vector<int> double_hits;
   std::vector<int> overloads;
+  /// Steps and drifts of the masses, springs and dampers during each acquisition, timed from
+  /// its start (rig file key "changes", optional; rig_changes.hpp).
+  std::vector<RigChange> changes;
 
   int dofs() const { return static_cast<int>(masses_kg.size()); }
-  /// The rig's truth: the chain with the effective masses.
-  model::Model Truth() const;
+  /// The rig's truth at an acquisition's start: the chain with the effective masses.
+  model::Model Truth() const { return TruthAt(0.0); }
+  /// The truth t_s after an acquisition's start, with the changes in force then (the exact
+  /// ramps; the simulator holds them as ChangeSchedule says).
+  model::Model TruthAt(double t_s) const;
 };
 
 /// The built-in rig: the shipped nominal model (examples/rig_nominal.json: m = 2.0, 1.5 kg,
@@ -97,8 +108,9 @@ RigSpec DefaultRig();
 RigSpec RigFromJson(const nlohmann::json& json, const std::string& source = "rig");
 RigSpec LoadRig(const std::string& path);
 nlohmann::json RigToJson(const RigSpec& rig);
-/// The truth as a model file (chain form with the effective masses), for comparisons.
-nlohmann::json TruthToJson(const RigSpec& rig);
+/// The truth as a model file (chain form with the effective masses), for comparisons: at an
+/// acquisition's start, or t_s after it with the rig's changes in force then.
+nlohmann::json TruthToJson(const RigSpec& rig, double t_s = 0.0);
 
 /// Which masses move: the chain, or one mass alone on its own spring to ground (the mass tests).
 enum class Configuration : std::uint8_t {
@@ -112,19 +124,21 @@ enum class Configuration : std::uint8_t {
 /// The 0-based mass a configuration leaves alone on its spring, or kUnmounted for the chain.
 inline int AloneMass(Configuration c) { return static_cast<int>(c) - 1; }
 
-enum class ScenarioKind : std::uint8_t { kIdle, kHammer, kShaker, kPush, kStep, kTone };
+enum class ScenarioKind : std::uint8_t { kIdle, kHammer, kShaker, kPush, kStep, kTone, kOperate };
 
 /// A selected excitation; see ParseScenario for the wire parameters.
 struct Scenario {
   ScenarioKind kind = ScenarioKind::kIdle;
   Configuration configuration = Configuration::kChain;
-  int mass = 1;               ///< 0-based mass the hammer hits / the pull acts on
-  double force_n = 0.0;       ///< hammer peak, shaker amplitude, push amplitude, pull force
-  double spacing_s = 0.0;     ///< hammer: mean time between hits (0: DefaultHammerSpacingS)
-  double frequency_hz = 0.0;  ///< shaker
-  double push_n = 0.0;        ///< shaker: amplitude of the simultaneous hand push (0: none)
-  double hold_s = 0.0;        ///< step: how long the pull holds before the release
-  double amplitude = 0.0;     ///< tone: fraction of each converter's range
+  int mass = 1;  ///< 0-based mass the hammer hits / the pull acts on / operation drives
+  /// hammer peak, shaker amplitude, push amplitude, pull force, operation's RMS force
+  double force_n = 0.0;
+  double spacing_s = 0.0;  ///< hammer: mean time between hits (0: DefaultHammerSpacingS)
+  /// shaker's frequency, tone's; operate: the force's upper band edge (0: DefaultOperateBandHz)
+  double frequency_hz = 0.0;
+  double push_n = 0.0;     ///< shaker, operate: amplitude of the simultaneous hand push (0: none)
+  double hold_s = 0.0;     ///< step: how long the pull holds before the release
+  double amplitude = 0.0;  ///< tone: fraction of each converter's range
 };
 
 /// The hammer's mean hit spacing when the scenario leaves it open: the shortest spacing (0.7 of
@@ -134,6 +148,11 @@ struct Scenario {
 /// hits closer than that give records a modal analysis cannot use (12.5 s for the built-in
 /// chain, 5 s and 6 s for its masses alone).
 double DefaultHammerSpacingS(const model::Model& active);
+
+/// The operate scenario's band edge when the scenario leaves it open: 50 Hz, or twice the
+/// highest undamped mode of `active` when that is higher, so every mode lies well inside the
+/// band (the force is flat there) and the observer sees the disturbance its band passes.
+double DefaultOperateBandHz(const model::Model& active);
 
 /// The rig behind the emulated board's converters (the port's SimulatedRig).
 class RigSimulator final : public SimulatedRig {
@@ -167,10 +186,20 @@ class RigSimulator final : public SimulatedRig {
   };
   const Truths& last() const { return last_; }
 
-  /// The model the current configuration simulates (1×1 for a mass alone).
+  /// The model the current configuration simulates at an acquisition's start (1×1 for a mass
+  /// alone).
   model::Model ActiveModel() const;
+  /// The model the discrete system was last built from (after Start: the one the next Step
+  /// uses): the changes held as ChangeSchedule says, for tests.
+  const model::Model& HeldModel() const { return held_; }
+  /// Positions (m) then velocities (m/s) of the moving masses at the next Step's tick edge, for
+  /// tests.
+  const Eigen::VectorXd& state() const { return state_; }
 
  private:
+  model::Model ConfigurationModel(const ChainParameters& p) const;
+  /// Builds the discrete system and the part steps from the parameters held from tick_ on.
+  void Rebuild();
   void Excitation(double t_s, double& force_n, double& push_n);
   double Noise(double rms);
 
@@ -183,8 +212,12 @@ class RigSimulator final : public SimulatedRig {
   std::mt19937_64 rng_;
   std::normal_distribution<double> normal_{0.0, 1.0};
 
-  // Active configuration: indices of the moving masses and its discrete system.
+  // Active configuration: indices of the moving masses and its discrete system, built from
+  // held_ and rebuilt at the tick next_rebuild_ (the change schedule's).
   std::vector<int> moving_;
+  ChangeSchedule schedule_;
+  std::uint64_t next_rebuild_ = ChangeSchedule::kNever;
+  model::Model held_;
   model::StateSpace discrete_;
   // Each channel's sampling instant after the edge (s), and the zero-order-hold step from the
   // edge to every distinct one of them.
@@ -215,6 +248,8 @@ class RigSimulator final : public SimulatedRig {
   // Hand push: a few slow sinusoids (0.2–2 Hz) making a one-sided push.
   std::array<double, 4> push_freq_hz_{};
   std::array<double, 4> push_phase_{};
+  // Operate: the band-limited random force.
+  BandLimitedNoise operate_force_;
 
   Truths last_{};
 };

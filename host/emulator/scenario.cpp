@@ -43,7 +43,7 @@ Status ParseScenario(const wire::ScenarioRequest& request, int dofs, Scenario& o
     return refuse(wire::Reason::kScenarioParameter, index);
   };
   if (name != "idle" && name != "hammer" && name != "shaker" && name != "push" && name != "step" &&
-      name != "tone")
+      name != "tone" && name != "operate")
     return refuse(wire::Reason::kUnknownScenario, 0);
   for (std::uint32_t i = 0; i < request.params.size(); ++i) {
     if (!Valid(request.params[i])) return bad_parameter(i);
@@ -83,6 +83,16 @@ Status ParseScenario(const wire::ScenarioRequest& request, int dofs, Scenario& o
     if (!MassAndConfiguration(p[0], p[3], dofs, dofs, s)) return mass_or_configuration();
     s.force_n = OrDefault(p[1], 20.0);
     s.hold_s = OrDefault(p[2], 1.0);
+  } else if (name == "operate") {
+    s.kind = ScenarioKind::kOperate;
+    s.force_n = OrDefault(p[0], 2.0);
+    // 0: from the rig when selected (DefaultOperateBandHz); a band below 1 Hz would leave the
+    // modes of any rig undriven.
+    s.frequency_hz = static_cast<double>(p[1]);
+    if (s.frequency_hz != 0.0 && s.frequency_hz < 1.0) return bad_parameter(1);
+    const int chain_default = hammer_mass >= 0 && hammer_mass < dofs ? hammer_mass + 1 : dofs;
+    if (!MassAndConfiguration(p[2], 0.0f, dofs, chain_default, s)) return bad_parameter(2);
+    s.push_n = static_cast<double>(p[3]);
   } else {
     s.kind = ScenarioKind::kTone;
     s.frequency_hz = OrDefault(p[0], 1000.0);

@@ -9,13 +9,21 @@
 //   tone      frequency Hz (1000)  amplitude, fraction of each converter's range (0.5, <= 1)
 //             a sine generator on the four converter inputs (the rig at rest): each channel
 //             converts it at its own sampling instant, so their phases show the instants
+//   operate   RMS force N (2)      band edge Hz (***)   mass driven (1..n, **)  hand push N (0)
+//             the chain in operation: band-limited Gaussian force on the mass driven, measured
+//             by load cell 1 (so the observer's residual d-hat - F can be formed), from the
+//             start; a 4th-order Butterworth band, flat below the edge (BandLimitedNoise); with
+//             a hand push (N > 0) as the shaker's, on the last mass, measured by load cell 2
 //
 // A zero parameter takes the default in brackets; (*) the hammer's spacing is left 0 here and
 // set from the rig when the scenario is selected (DefaultHammerSpacingS); (**) the hammer's mass
-// left 0 is the rig file's "hammer_mass", else the last mass (the step's: the last mass).
+// left 0 is the rig file's "hammer_mass", else the last mass (the step's: the last mass; the
+// operate scenario's as the hammer's); (***) operate's band edge left 0 is set from the rig when
+// the scenario is selected (DefaultOperateBandHz: 50 Hz, or twice the highest mode), at least
+// 1 Hz when given, and lowered to 0.4 of the sample rate at the start.
 // configuration: 0 the chain, k (1..n) mass k alone on spring k (the mass tests); with a mass
 // alone, the mass parameter defaults to it and must not name another. n is the rig's number of
-// masses (1 to 4). The shaker always drives the last mass.
+// masses (1 to 4). The shaker always drives the last mass; operate drives the chain.
 #pragma once
 
 #include "rig.hpp"

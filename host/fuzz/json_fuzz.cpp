@@ -109,14 +109,19 @@ void Rig(const nlohmann::json& j) {
           r->dampers_ns_per_m == back->dampers_ns_per_m && r->coulomb_n == back->coulomb_n &&
           r->effective_mass_loss == back->effective_mass_loss &&
           r->encoder_counts_per_m == back->encoder_counts_per_m &&
-          r->max_sample_rate_hz == back->max_sample_rate_hz);
+          r->max_sample_rate_hz == back->max_sample_rate_hz && r->changes == back->changes);
   for (std::size_t i = 0; i < 2; ++i) {
     Require(r->load_cells[i].range == back->load_cells[i].range &&
             r->load_cells[i].adc_bits == back->load_cells[i].adc_bits &&
             r->accelerometers[i].noise_rms == back->accelerometers[i].noise_rms);
   }
-  // The emulator builds its simulator from the rig: the truth must be a valid model.
+  // The emulator builds its simulator from the rig: the truth must be a valid model, at the
+  // start and at every change's start and end.
   Require(Accepts([&] { (void)r->Truth(); }));
+  for (const emu::RigChange& c : r->changes) {
+    Require(Accepts([&] { (void)r->TruthAt(c.at_s); }));
+    Require(Accepts([&] { (void)r->TruthAt(c.at_s + c.over_s); }));
+  }
 }
 
 }  // namespace

@@ -295,8 +295,10 @@ void RegisterAcquire(CLI::App& app, const GlobalOptions& globals) {
       ->check(PositiveNumber());
   acq->add_option("--pretrigger-s", o->settings.pretrigger_s, "Seconds kept before the trigger")
       ->check(NonNegativeNumber());
-  acq->add_option("--scenario", o->scenario,
-                  "Emulator only: the rig excitation to run (hammer, shaker, push, ...)");
+  acq->add_option(
+      "--scenario", o->scenario,
+      "Emulator only: the rig excitation to run (hammer, shaker, push, step, tone, operate, "
+      "idle)");
   acq->add_option("--scenario-param", o->scenario_params,
                   "Emulator only: up to 4 scenario parameters (SI)")
       ->delimiter(',');
