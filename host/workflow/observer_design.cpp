@@ -7,6 +7,7 @@
 #include "vibid/common/error.hpp"
 #include "vibid/dob/design_json.hpp"
 #include "vibid/dob/model_plant.hpp"
+#include "vibid/shared/board_profile.hpp"
 
 namespace vibid::workflow {
 
@@ -40,6 +41,15 @@ dob::DobOptions ObserverOptions(const model::Model& m, const ObserverDesignReque
   };
   positive(a.tau_s, "--tau-s");
   positive(a.fs_hz, "--fs-hz");
+  {
+    // The board's observer steps once per sample: a design beyond its fastest rate cannot run
+    // there (and its quantization check grows with the rate: 1e8 Hz took seconds to refuse).
+    const double max_hz = kBoardProfile.max_sample_rate_hz();
+    std::ostringstream why;
+    why << "--fs-hz " << a.fs_hz << ": the board's observer steps once per sample, at most "
+        << max_hz << " Hz; give a rate at or below it";
+    Require(a.fs_hz <= max_hz, why.str());
+  }
   positive(a.leak_hz, "--leak-hz");
   positive(a.force_fs_n, "--force-fs-n");
   Require(std::isfinite(a.sensor_fs) && a.sensor_fs >= 0.0, "--sensor-fs must be a number >= 0");

@@ -49,13 +49,14 @@ void Run(const DesignArgs& a) {
         request.output_dof, request.sensor, request.force_fs_n, a.force_given, request.sensor_fs,
         a.sensor_given);
     if (!took.empty()) std::cerr << "vibid: " << took << " (" << a.sensors << ")\n";
-  } else if (!a.force_given) {
-    std::cerr << "vibid: note: force full scale " << request.force_fs_n
-              << " N, the default: give --sensors SENSORS.json to take the load cell's, which "
-                 "cal upload requires\n";
   }
   const dob::DobDesign design =
       workflow::DesignObserverFor(model::LoadModel(a.model_path), request);
+  // Said of a design made, never above a refusal.
+  if (a.sensors.empty() && !a.force_given)
+    std::cerr << "vibid: note: force full scale " << request.force_fs_n
+              << " N, the default: give --sensors SENSORS.json to take the load cell's, which "
+                 "cal upload requires\n";
   const std::string text = dob::DesignToJson(design).dump(2) + "\n";
   EmitOutput(text, a.out);
   if (!a.out.empty() && a.out != "-")
