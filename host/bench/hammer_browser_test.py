@@ -252,8 +252,12 @@ def main():
         print("FRF drawn over the modes' band %.3g-%.3g Hz (up to %.4g Hz; every line up to 2500 Hz "
               "on request)" % (band[0], band[1], x_max))
         if args.screenshots:
+            # The whole view (the hit list's notes make it tall): the FRF, the diagram and the
+            # modes sit below the hits.
             resize(driver, 1750)
             hammer_tab(driver)
+            full = js(driver, "return document.documentElement.scrollHeight")
+            resize(driver, min(3200, full + 140))
             driver.save_screenshot(os.path.join(args.screenshots, "bench-hammer.png"))
         # The calibration view's first steps on the saved test: identify (the nominal chain, the
         # saved recording as the modal test), then the observer design.
