@@ -32,4 +32,25 @@ ident::ModeIdentification IdentifyModes(const ident::Frf& receptance, const Mode
   return r;
 }
 
+ModesOfInputs IdentifyModesOf(const std::vector<std::string>& inputs,
+                              const EstimationOptions& estimation, const ModeRequest& request) {
+  Require(estimation.kind == "receptance",
+          "modes are identified from receptances; leave --kind at its default");
+  ModesOfInputs out;
+  std::vector<ident::Frf> frfs;
+  ident::RingDowns ringdowns;
+  for (const std::string& in : inputs) {
+    Estimated e = LoadOrEstimate(in, estimation);
+    const std::vector<std::string> lines = EstimationNotes(in, e);
+    out.notes.insert(out.notes.end(), lines.begin(), lines.end());
+    out.estimation_notes.push_back(e.note);
+    out.estimation_warnings.push_back(e.warnings);
+    ringdowns = std::move(e.ringdowns);
+    frfs.push_back(std::move(e.frf));
+  }
+  out.frf = JoinColumns(frfs, inputs);
+  out.identification = IdentifyModes(out.frf, request, inputs.size() == 1 ? &ringdowns : nullptr);
+  return out;
+}
+
 }  // namespace vibid::workflow

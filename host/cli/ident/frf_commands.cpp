@@ -65,21 +65,16 @@ struct ModesArgs {
 };
 
 void Run(const ModesArgs& a) {
-  Require(a.est.kind == "receptance",
-          "modes are identified from receptances; leave --kind at its default");
-  std::vector<ident::Frf> frfs;
-  std::vector<std::string> notes;
-  ident::RingDowns ringdowns;
-  for (const std::string& in : a.inputs) {
-    workflow::Estimated e = workflow::LoadOrEstimate(in, a.est);
-    KeepEstimationNotes(in, e, true, notes);
-    ringdowns = std::move(e.ringdowns);
-    frfs.push_back(std::move(e.frf));
+  const workflow::ModesOfInputs m = workflow::IdentifyModesOf(a.inputs, a.est, a.modes);
+  for (std::size_t i = 0; i < m.estimation_notes.size(); ++i) {
+    if (!m.estimation_notes[i].empty())
+      std::cerr << "vibid: note: " << m.estimation_notes[i] << "\n";
+    for (const std::string& w : m.estimation_warnings[i])
+      std::cerr << "vibid: warning: " << w << "\n";
   }
-  const ident::Frf frf = JoinColumns(frfs, a.inputs);
-  // The ring-down check reads one recording's hits: not for columns joined from several.
-  const ident::ModeIdentification r =
-      workflow::IdentifyModes(frf, a.modes, a.inputs.size() == 1 ? &ringdowns : nullptr);
+  const ident::ModeIdentification& r = m.identification;
+  const ident::Frf& frf = m.frf;
+  const std::vector<std::string>& notes = m.notes;
   EmitOutput(
       a.json
           ? workflow::ModeIdentificationJson(r, a.modes.method, frf.response_names, notes).dump(2) +

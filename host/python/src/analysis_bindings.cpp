@@ -102,26 +102,12 @@ py::dict EstimateArrays(const Signals& force, const Signals& responses, double f
 
 py::object Modes(const std::vector<std::string>& inputs, const workflow::EstimationOptions& options,
                  const workflow::ModeRequest& request) {
-  Require(options.kind == "receptance",
-          "modes are identified from receptances; leave --kind at its default");
   nlohmann::json j;
   {
     py::gil_scoped_release release;
-    std::vector<ident::Frf> frfs;
-    std::vector<std::string> notes;
-    ident::RingDowns ringdowns;
-    for (const std::string& in : inputs) {
-      workflow::Estimated e = workflow::LoadOrEstimate(in, options);
-      const std::vector<std::string> lines = workflow::EstimationNotes(in, e);
-      notes.insert(notes.end(), lines.begin(), lines.end());
-      ringdowns = std::move(e.ringdowns);
-      frfs.push_back(std::move(e.frf));
-    }
-    const ident::Frf frf = workflow::JoinColumns(frfs, inputs);
-    // The ring-down check reads one recording's hits, as `vibid modes` makes it.
-    const ident::ModeIdentification r =
-        workflow::IdentifyModes(frf, request, inputs.size() == 1 ? &ringdowns : nullptr);
-    j = workflow::ModeIdentificationJson(r, request.method, frf.response_names, notes);
+    const workflow::ModesOfInputs m = workflow::IdentifyModesOf(inputs, options, request);
+    j = workflow::ModeIdentificationJson(m.identification, request.method, m.frf.response_names,
+                                         m.notes);
   }
   return ToPython(j);
 }

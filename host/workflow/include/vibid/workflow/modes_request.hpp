@@ -4,9 +4,11 @@
 
 #include <cstddef>
 #include <string>
+#include <vector>
 
 #include "vibid/ident/modes.hpp"
 #include "vibid/ident/ringdown.hpp"
+#include "vibid/workflow/estimate.hpp"
 
 namespace vibid::workflow {
 
@@ -25,5 +27,21 @@ std::size_t ResolveDrivingPoint(const ident::Frf& frf, const std::string& spec);
 /// damping is checked for amplitude dependence (ident::ApplyAmplitudeCheck).
 ident::ModeIdentification IdentifyModes(const ident::Frf& receptance, const ModeRequest& request,
                                         const ident::RingDowns* ringdowns = nullptr);
+
+/// `vibid modes` on its inputs: each an FRF file or a recording (estimated with `estimation`),
+/// joined as responses, then IdentifyModes; the ring-down check only with a single recording (it
+/// reads that recording's hits, not columns joined from several).
+struct ModesOfInputs {
+  ident::Frf frf;  ///< The joined receptance the modes come from.
+  ident::ModeIdentification identification;
+  /// Each input's estimation notes (EstimationNotes), for the JSON's "notes".
+  std::vector<std::string> notes;
+  /// Per input, in order: its estimation note (may be empty) and its warnings, for the front end
+  /// to show as it shows them.
+  std::vector<std::string> estimation_notes;
+  std::vector<std::vector<std::string>> estimation_warnings;
+};
+ModesOfInputs IdentifyModesOf(const std::vector<std::string>& inputs,
+                              const EstimationOptions& estimation, const ModeRequest& request);
 
 }  // namespace vibid::workflow
