@@ -1,32 +1,18 @@
 #include "vibid/ident/intervals.hpp"
 
 #include <algorithm>
+#include <cmath>
 #include <cstdio>
 
 #include "vibid/common/error.hpp"
+#include "vibid/numerics/distributions.hpp"
 
 namespace vibid::ident {
 
 namespace {
 
-// Two-sided 95 % point of Student's t, 1 to 30 degrees of freedom (standard tables, e.g. NIST/
-// SEMATECH e-Handbook 1.3.6.7.2; ν = 1: tan(0.475 π), ν = 2: 0.95 / sqrt(2 · 0.975 · 0.025)).
-constexpr double kT95[30] = {12.706204736, 4.302652730, 3.182446305, 2.776445105, 2.570581836,
-                             2.446911851,  2.364624252, 2.306004135, 2.262157163, 2.228138852,
-                             2.200985160,  2.178812830, 2.160368656, 2.144786688, 2.131449546,
-                             2.119905299,  2.109815578, 2.100922040, 2.093024054, 2.085963447,
-                             2.079613845,  2.073873068, 2.068657610, 2.063898562, 2.059538553,
-                             2.055529439,  2.051830516, 2.048407142, 2.045229642, 2.042272456};
-
-// 95 % points of chi-square, 1 to 30 degrees of freedom (NIST/SEMATECH e-Handbook 1.3.6.7.4).
-constexpr double kChi95[30] = {3.841459,  5.991465,  7.814728,  9.487729,  11.070498, 12.591587,
-                               14.067140, 15.507313, 16.918978, 18.307038, 19.675138, 21.026070,
-                               22.362032, 23.684791, 24.995790, 26.296228, 27.587112, 28.869299,
-                               30.143527, 31.410433, 32.670573, 33.924438, 35.172462, 36.415029,
-                               37.652484, 38.885139, 40.113272, 41.337138, 42.556968, 43.772972};
-
+// The normal distribution's 97.5 % point (the t quantile's limit).
 constexpr double kZ975 = 1.959963984540054;
-constexpr double kZ95One = 1.6448536269514722;
 
 std::string Number(double v) {
   char buf[32];
@@ -52,23 +38,13 @@ Uncertainty Uncertainty::ExactValue(std::string basis) {
 double StudentT95(double dof) {
   Require(dof >= 1.0, "t quantile: at least one degree of freedom");
   if (!std::isfinite(dof)) return kZ975;
-  const double v = std::floor(dof);
-  if (v <= 30.0) return kT95[static_cast<int>(v) - 1];
-  // Cornish-Fisher expansion in 1/v (Abramowitz & Stegun 26.7.5): below 3e-8 from 31 on.
-  const double z = kZ975, z2 = z * z;
-  return z + z * (z2 + 1.0) / (4.0 * v) + z * ((5.0 * z2 + 16.0) * z2 + 3.0) / (96.0 * v * v) +
-         z * (((3.0 * z2 + 19.0) * z2 + 17.0) * z2 - 15.0) / (384.0 * v * v * v) +
-         z * ((((79.0 * z2 + 776.0) * z2 + 1482.0) * z2 - 1920.0) * z2 - 945.0) /
-             (92160.0 * v * v * v * v);
+  // A fractional dof (Welch-Satterthwaite) takes the whole degrees below it: the wider interval.
+  return numerics::StudentTQuantile(0.975, std::floor(dof));
 }
 
 double ChiSquare95(int dof) {
   Require(dof >= 1, "chi-square quantile: at least one degree of freedom");
-  if (dof <= 30) return kChi95[dof - 1];
-  // Wilson-Hilferty (A&S 26.4.17): 0.01 % high at 31, less beyond.
-  const double v = dof, a = 2.0 / (9.0 * v);
-  const double c = 1.0 - a + kZ95One * std::sqrt(a);
-  return v * c * c * c;
+  return numerics::ChiSquareQuantile(0.95, dof);
 }
 
 Interval95 IntervalOf(double value, const Uncertainty& u) {

@@ -5,6 +5,7 @@
 #include <limits>
 
 #include "vibid/common/error.hpp"
+#include "vibid/numerics/distributions.hpp"
 
 namespace vibid::sysid {
 
@@ -19,22 +20,14 @@ double FitPercent(Eigen::Ref<const Eigen::VectorXd> y, Eigen::Ref<const Eigen::V
 
 double NormalQuantileTwoSided(double confidence) {
   Require(confidence > 0.0 && confidence < 1.0, "confidence must lie strictly between 0 and 1");
-  // Bisection on erf(z/√2) = confidence; erf is monotone and z lies in (0, 40).
-  double lo = 0.0;
-  double hi = 40.0;
-  for (int i = 0; i < 200; ++i) {
-    const double mid = 0.5 * (lo + hi);
-    (std::erf(mid / std::sqrt(2.0)) < confidence ? lo : hi) = mid;
-  }
-  return 0.5 * (lo + hi);
+  return numerics::NormalQuantile(0.5 + 0.5 * confidence);
 }
 
 double ChiSquareQuantile(double probability, int dof) {
   Require(dof >= 1, "chi-square: degrees of freedom must be >= 1");
-  const double z = NormalQuantileTwoSided(2.0 * probability - 1.0);  // one-sided quantile
-  const double k = dof;
-  const double h = 2.0 / (9.0 * k);
-  return k * std::pow(1.0 - h + z * std::sqrt(h), 3.0);
+  Require(probability > 0.0 && probability < 1.0,
+          "chi-square: the probability must lie strictly between 0 and 1");
+  return numerics::ChiSquareQuantile(probability, dof);
 }
 
 namespace {
