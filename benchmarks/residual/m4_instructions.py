@@ -6,7 +6,7 @@ WINDOWS windows of WINDOW samples with a reference force), runs it in qemu-syste
 with one instruction per translation block and the execution log (benchmarks/m4_trace.py), and
 counts for every call of Sample (one ResidualCusum::Step, as the sampling interrupt makes it, with
 the call and return) the instructions until control is back in the image's driver loop. The cycles
-are estimated from the Cortex-M4 TRM timings as benchmarks/decimator/m4_instructions.py does.
+are estimated from the Cortex-M4 TRM timings (benchmarks/m4_trace.py).
 
 Prints the average per sample, a plain sample, the window's last sample (where the statistic
 updates) and the share of the 168 MHz core at the board's fastest rate (10 kHz), and fails (exit 1)
@@ -18,13 +18,10 @@ Usage: /usr/bin/python3 benchmarks/residual/m4_instructions.py [--no-build] [--b
 """
 import os
 import re
-import subprocess
 import sys
 
 sys.path.insert(0, os.path.join(os.path.dirname(__file__), ".."))
-sys.path.insert(0, os.path.join(os.path.dirname(__file__), "..", "decimator"))
 import m4_trace  # noqa: E402
-from m4_instructions import cycles, per_call_counts  # noqa: E402,F401  (the decimator's pricing)
 
 WINDOW = 64  # kWindow in m4_kernel_image.cpp
 WINDOWS = 8  # kWindows
@@ -42,39 +39,13 @@ SAMPLE = "vibid::fixed::(anonymous namespace)::Sample("
 DRIVER = "vibid::fixed::(anonymous namespace)::Drive("
 
 
-def symbols():
-    out = subprocess.run(["arm-none-eabi-nm", "-C", "-S", IMAGE], check=True, capture_output=True, text=True).stdout
-    found = {}
-    for line in out.splitlines():
-        parts = line.split(maxsplit=3)
-        if len(parts) == 4 and parts[2] in "tTW":
-            for key in (SAMPLE, DRIVER):
-                if parts[3].startswith(key):
-                    start = int(parts[0], 16) & ~1
-                    found[key] = (start, start + int(parts[1], 16))
-    if len(found) != 2:
-        sys.exit("symbols not found in " + IMAGE + ": " + repr(found))
-    return found[SAMPLE], found[DRIVER]
-
-
-def disassembly():
-    """pc -> (size in bytes, mnemonic, operands) for every instruction of the image."""
-    out = subprocess.run(["arm-none-eabi-objdump", "-d", IMAGE], check=True, capture_output=True, text=True).stdout
-    table = {}
-    line_re = re.compile(r"^\s*([0-9a-f]+):\t([0-9a-f]{4}(?: [0-9a-f]{4})?)\s*\t(\S+)\s*(.*)$")
-    for line in out.splitlines():
-        m = line_re.match(line)
-        if m:
-            table[int(m.group(1), 16)] = (2 * len(m.group(2).split()), m.group(3), m.group(4))
-    return table
-
-
 def main():
     m4_trace.build("residual_cusum_m4_bench")
-    sample, driver = symbols()
-    insns = disassembly()
+    found = m4_trace.symbols(IMAGE, (SAMPLE, DRIVER))
+    sample, driver = found[SAMPLE], found[DRIVER]
+    insns = m4_trace.disassembly(IMAGE)
     with m4_trace.executed_pcs(IMAGE) as executed:
-        calls = per_call_counts(executed, sample, driver, insns)
+        calls = m4_trace.per_call_counts(executed, sample, driver, insns)
     if len(calls) != WINDOW * WINDOWS:
         sys.exit("counted %d samples, expected %d" % (len(calls), WINDOW * WINDOWS))
     ends = [calls[i] for i in range(WINDOW - 1, len(calls), WINDOW)]
