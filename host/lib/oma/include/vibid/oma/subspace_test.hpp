@@ -47,6 +47,22 @@ struct SubspaceTestResult {
   bool alarm = false;
 };
 
+/// The test's size for `channels` responses: what the reference and the blocks must hold.
+struct SubspaceTestSize {
+  int decimation = 1;
+  int block_rows = 0;  ///< Of the Hankel matrix (p + 1) and its columns (q).
+  int block_cols = 0;
+  int lag_step = 1;  ///< τ: the Hankel matrix holds R_τ, R_2τ, … (decimated samples).
+  int dof = 0;       ///< Residuals.
+  long block_samples = 0;
+  double min_block_s = 0.0;         ///< The shortest block the band allows.
+  int reference_blocks_needed = 0;  ///< 2 × (dof + 10) after the null space's part.
+  double min_reference_s = 0.0;     ///< The shortest reference.
+};
+
+/// Validates the options (InputError) and sizes the test.
+SubspaceTestSize SubspaceTestSizeOf(const SubspaceTestOptions& options, int channels);
+
 class SubspaceDetector {
  public:
   /// The reference: at least 2 × (dof + 10) blocks of the rig unchanged after the part that
