@@ -12,7 +12,7 @@
 // window's residuals is close to Gaussian; one block's residual is not quite (its T² exceeds the
 // F law's quantile about twice as often as it should on the demo rig), so a block over its own
 // threshold (at the same rate per hour) is shown, not counted as an alarm. A 3 % mass on the demo
-// rig (mode 1 about 1 % lower) is flagged within two windows after a 20-minute reference
+// rig (mode 1 about 1 % lower) is flagged within two windows after a 30-minute reference
 // (docs/watch.md).
 #pragma once
 
@@ -35,7 +35,7 @@ namespace vibid::workflow {
 struct WatchOptions {
   double fs_hz = 0.0;         ///< Sample rate of the responses fed (> 0).
   int channels = 0;           ///< Response columns fed (≥ 1).
-  double reference_s = 1200;  ///< The first seconds watched are the reference (unless one given).
+  double reference_s = 1800;  ///< The first seconds watched are the reference (unless one given).
   double block_s = 10.0;      ///< One tested block.
   int window_blocks = 60;     ///< Blocks whose residuals the accumulated test averages.
   double false_alarm_per_hour = 0.01;  ///< Expected false alarms per hour of watching (both tests).
