@@ -15,5 +15,6 @@ void RegisterDobDeviceCommands(CLI::App& dob, const GlobalOptions& globals);
 void RegisterFlashCommand(CLI::App& app, const GlobalOptions& globals);     // flash
 void RegisterSelfTestCommand(CLI::App& app, const GlobalOptions& globals);  // selftest
 void RegisterBenchCommand(CLI::App& app, const GlobalOptions& globals);     // bench
+void RegisterWatchCommand(CLI::App& app, const GlobalOptions& globals);     // watch
 
 }  // namespace vibid::cli

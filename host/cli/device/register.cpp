@@ -11,6 +11,7 @@ void RegisterDeviceCommands(CLI::App& app, const GlobalOptions& globals) {
   RegisterFlashCommand(app, globals);
   RegisterSelfTestCommand(app, globals);
   RegisterBenchCommand(app, globals);
+  RegisterWatchCommand(app, globals);
 }
 
 }  // namespace vibid::cli

@@ -1,0 +1,171 @@
+// `vibid watch` against a vibid-emu process running the `operate` scenario on rigs that change
+// while they run: on the board with a short reference and a large change early, on a recording
+// of the built-in 3 % mass step (rigs/chain2_mass_step.json, at 600 s), the options and the
+// journal refused before the board starts, and Ctrl-C keeping the journal.
+#include <gtest/gtest.h>
+
+#include <chrono>
+#include <csignal>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+#include <thread>
+
+#include <nlohmann/json.hpp>
+
+#include "emulator_process.hpp"
+#include "run_cli.hpp"
+#include "target.hpp"
+
+namespace vibid::hil {
+namespace {
+
+using namespace std::chrono_literals;
+using vibid::testing::ReadFileBytes;
+using vibid::testing::RunVibid;
+using vibid::testing::VibidProcess;
+
+std::vector<nlohmann::json> JsonLines(const std::string& text) {
+  std::vector<nlohmann::json> lines;
+  std::istringstream in(text);
+  for (std::string line; std::getline(in, line);) lines.push_back(nlohmann::json::parse(line));
+  return lines;
+}
+
+/// The built-in rig with the 3 % step of rigs/chain2_mass_step.json changed: `at_s`, `add_kg`.
+std::string WriteRig(const std::string& dir, double at_s, double add_kg) {
+  std::ifstream in(std::string(VIBID_SOURCE_DIR) + "/host/emulator/rigs/chain2_mass_step.json");
+  nlohmann::json rig = nlohmann::json::parse(in);
+  rig["changes"][0]["at_s"] = at_s;
+  rig["changes"][0]["add_kg"] = add_kg;
+  const std::string path = dir + "/rig.json";
+  std::ofstream(path) << rig.dump(2);
+  return path;
+}
+
+class WatchCliTest : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    if (MakeTarget()->Name() != "emu") GTEST_SKIP() << "needs the emu target (a vibid-emu process)";
+    dir = vibid::testing::MakeTempDir("watch-cli");
+  }
+  void TearDown() override {
+    std::error_code ec;
+    if (!dir.empty()) std::filesystem::remove_all(dir, ec);
+  }
+  void StartEmulator(const std::string& rig) {
+    emu =
+        std::make_unique<EmulatorProcess>(EmulatorBinary(), std::vector<std::string>{"--rig", rig});
+  }
+
+  std::unique_ptr<EmulatorProcess> emu;
+  std::string dir;
+};
+
+// 30 % on mass 2 at 240 s; the reference is the first 230 s, 5 s blocks, windows of 6: the
+// window that holds the change alarms (at 260 s), none before it. Every line is JSON with the
+// keys, the same lines in the journal.
+TEST_F(WatchCliTest, OnTheBoardALargeChangeIsFlaggedByItsWindow) {
+  StartEmulator(WriteRig(dir, 240.0, 0.459));
+  const std::string journal = dir + "/watch.jsonl";
+  const auto r = RunVibid({"--device", emu->device_spec(), "watch", "--seconds",
+                           "300",      "--rate-hz",        "200",   "--scenario",
+                           "operate",  "--reference-s",    "230",   "--block-s",
+                           "5",        "--window-blocks",  "6",     "--modes-s",
+                           "0",        "--json",           "-o",    journal});
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_NE(r.err.find("vibid: reference of 230 s: modes 4.4"), std::string::npos) << r.err;
+  const std::vector<nlohmann::json> lines = JsonLines(r.out);
+  ASSERT_EQ(lines.size(), 14u) << r.out;  // (300 − 230) / 5
+  EXPECT_EQ(ReadFileBytes(journal), r.out);
+  for (const nlohmann::json& j : lines) {
+    for (const char* key : {"t_s", "modes", "statistic", "threshold", "alarm", "accumulated",
+                            "first_alarm_t_s", "moved"})
+      EXPECT_TRUE(j.contains(key)) << key << " in " << j.dump();
+    if (j["t_s"].get<double>() < 240.0) {
+      EXPECT_FALSE(j["alarm"].get<bool>()) << j.dump();
+    }
+  }
+  EXPECT_DOUBLE_EQ(lines.front()["t_s"].get<double>(), 235.0);
+  const nlohmann::json& last = lines.back();
+  ASSERT_FALSE(last["first_alarm_t_s"].is_null()) << r.out;
+  const double first = last["first_alarm_t_s"].get<double>();
+  EXPECT_GT(first, 240.0);
+  EXPECT_LE(first, 240.0 + 2 * 6 * 5.0) << "within two windows of the change";
+}
+
+// The acceptance case on a recording: the built-in 3 % step at 600 s, 1200 s of the rig in
+// operation at 200 Hz. With a 590 s reference (the most the step leaves) the window after it
+// alarms, within 120 blocks (two windows) of the step; nothing before it.
+TEST_F(WatchCliTest, OnARecordingTheBuiltInThreePercentStepIsFlagged) {
+  StartEmulator(std::string(VIBID_SOURCE_DIR) + "/host/emulator/rigs/chain2_mass_step.json");
+  const std::string rec = dir + "/operate.csv";
+  const auto acquire =
+      RunVibid({"--device", emu->device_spec(), "acquire", "--seconds", "1200", "--rate-hz", "200",
+                "--channels", "acc1,acc2", "--scenario", "operate", "-o", rec});
+  ASSERT_EQ(acquire.exit_code, 0) << acquire.err;
+  const auto r = RunVibid({"watch", rec, "--reference-s", "590", "--modes-s", "0", "--json"});
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const std::vector<nlohmann::json> lines = JsonLines(r.out);
+  ASSERT_EQ(lines.size(), 61u) << r.out;  // (1200 − 590) / 10
+  std::optional<double> first;
+  for (const nlohmann::json& j : lines) {
+    if (j["alarm"].get<bool>() && !first) first = j["t_s"].get<double>();
+  }
+  ASSERT_TRUE(first.has_value()) << r.out;
+  EXPECT_GT(*first, 600.0);
+  EXPECT_LE(*first, 600.0 + 120 * 10.0);
+}
+
+TEST_F(WatchCliTest, BadOptionsAndAnUnwritableJournalAreRefusedBeforeTheBoardStarts) {
+  StartEmulator(WriteRig(dir, 240.0, 0.459));
+  const auto short_block = RunVibid({"--device", emu->device_spec(), "watch", "--rate-hz", "200",
+                                     "--block-s", "1", "--scenario", "operate"});
+  EXPECT_EQ(short_block.exit_code, 1) << short_block.err;
+  EXPECT_NE(short_block.err.find("--block-s 1 is too short for the band"), std::string::npos)
+      << short_block.err;
+  const auto short_ref = RunVibid({"--device", emu->device_spec(), "watch", "--rate-hz", "200",
+                                   "--reference-s", "60", "--scenario", "operate"});
+  EXPECT_EQ(short_ref.exit_code, 1) << short_ref.err;
+  EXPECT_NE(short_ref.err.find("--reference-s 60 is too short"), std::string::npos)
+      << short_ref.err;
+  const auto journal = RunVibid({"--device", emu->device_spec(), "watch", "--rate-hz", "200",
+                                 "--scenario", "operate", "-o", dir + "/no/such/dir/j.jsonl"});
+  EXPECT_EQ(journal.exit_code, 1) << journal.err;
+  EXPECT_NE(journal.err.find("cannot create the journal"), std::string::npos) << journal.err;
+  EXPECT_EQ(emu->Log().find("sampling started"), std::string::npos) << emu->Log();
+}
+
+// Until Ctrl-C: once the journal holds blocks, SIGINT stops the board; exit 130, every line of
+// the journal whole and the same as printed.
+TEST_F(WatchCliTest, CtrlCStopsTheBoardAndKeepsTheJournal) {
+  StartEmulator(WriteRig(dir, 240.0, 0.459));
+  const std::string journal = dir + "/watch.jsonl";
+  VibidProcess watch({"--device", emu->device_spec(), "watch", "--rate-hz", "200", "--scenario",
+                      "operate", "--reference-s", "230", "--block-s", "5", "--window-blocks", "6",
+                      "--modes-s", "0", "--json", "-o", journal});
+  // Wait for a state (two whole lines in the journal), not for a time.
+  const auto deadline = std::chrono::steady_clock::now() + 120s;
+  for (;;) {
+    const std::string text = std::filesystem::exists(journal) ? ReadFileBytes(journal) : "";
+    if (std::count(text.begin(), text.end(), '\n') >= 2) break;
+    ASSERT_LT(std::chrono::steady_clock::now(), deadline) << emu->Log();
+    std::this_thread::sleep_for(20ms);
+  }
+  watch.Signal(SIGINT);
+  const auto r = watch.Wait();
+  EXPECT_EQ(r.exit_code, 130) << r.err;
+  EXPECT_NE(r.err.find("vibid: Ctrl-C: stopping the acquisition; the journal is kept"),
+            std::string::npos)
+      << r.err;
+  const std::string kept = ReadFileBytes(journal);
+  ASSERT_FALSE(kept.empty());
+  EXPECT_EQ(kept.back(), '\n');
+  const std::vector<nlohmann::json> lines = JsonLines(kept);
+  EXPECT_GE(lines.size(), 2u);
+  EXPECT_EQ(kept, r.out) << "printed and journaled alike";
+  EXPECT_TRUE(emu->AwaitLog("sampling stopped", 1, 10s)) << emu->Log();
+}
+
+}  // namespace
+}  // namespace vibid::hil

@@ -1,0 +1,264 @@
+#include "vibid/workflow/watch_session.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <string>
+#include <utility>
+
+#include "vibid/common/error.hpp"
+
+namespace vibid::workflow {
+
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+double MsSince(Clock::time_point start) {
+  return std::chrono::duration<double, std::milli>(Clock::now() - start).count();
+}
+
+std::string Num(double v) {
+  char b[32];
+  std::snprintf(b, sizeof b, "%g", v);
+  return b;
+}
+
+std::vector<WatchMode> ModesOf(const oma::SsiCovResult& r) {
+  std::vector<WatchMode> modes;
+  for (const oma::OmaMode& m : r.modes) {
+    modes.push_back({m.omega_rad_s, m.zeta, m.omega_ci95_rad_s, m.zeta_ci95});
+  }
+  return modes;
+}
+
+oma::SubspaceTestOptions TestOptions(const WatchOptions& o, int order) {
+  oma::SubspaceTestOptions t;
+  t.fs_hz = o.fs_hz;
+  t.fmax_hz = o.fmax_hz;
+  t.order = order;
+  t.block_s = o.block_s;
+  t.false_alarm = o.BlockFalseAlarm();
+  t.null_space_share = o.null_space_share;
+  return t;
+}
+
+// The mode that moved most, in units of its interval: each mode now matched to the reference's
+// nearest in frequency (within 20 %).
+std::optional<WatchMove> MovedMost(const std::vector<WatchMode>& now,
+                                   const std::vector<WatchMode>& ref) {
+  std::optional<WatchMove> best;
+  double best_z = -1.0;
+  for (const WatchMode& m : now) {
+    int j = -1;
+    double gap = 0.2;
+    for (std::size_t k = 0; k < ref.size(); ++k) {
+      const double g = std::abs(m.omega_rad_s / ref[k].omega_rad_s - 1.0);
+      if (g < gap) {
+        gap = g;
+        j = static_cast<int>(k);
+      }
+    }
+    if (j < 0) continue;
+    const WatchMode& r = ref[static_cast<std::size_t>(j)];
+    WatchMove move;
+    move.mode = j + 1;
+    move.omega_ref_rad_s = r.omega_rad_s;
+    move.omega_rad_s = m.omega_rad_s;
+    move.change_rad_s = m.omega_rad_s - r.omega_rad_s;
+    move.ci95_rad_s = std::hypot(m.omega_ci95_rad_s, r.omega_ci95_rad_s);
+    move.relative = move.change_rad_s / r.omega_rad_s;
+    const double z = std::abs(move.change_rad_s) / std::max(move.ci95_rad_s, 1e-300);
+    if (z > best_z) {
+      best_z = z;
+      best = move;
+    }
+  }
+  return best;
+}
+
+}  // namespace
+
+void WatchOptions::Validate() const {
+  Require(std::isfinite(fs_hz) && fs_hz > 0.0, "watch: the sample rate must be positive");
+  Require(channels >= 1, "watch: at least one response channel (--channels or --response)");
+  Require(std::isfinite(fmax_hz) && fmax_hz > 0.0 && fmax_hz <= fs_hz / 2.5,
+          "watch: --fmax-hz must lie in (0, " + Num(fs_hz / 2.5) +
+              "] (the sample rate over 2.5); raise the sample rate or lower --fmax-hz");
+  Require(std::isfinite(block_s) && block_s > 0.0, "watch: --block-s must be positive");
+  Require(window_blocks >= 1 && window_blocks <= 100000,
+          "watch: --window-blocks must lie in 1 … 100000");
+  Require(std::isfinite(false_alarm_per_hour) && false_alarm_per_hour > 0.0,
+          "watch: --false-alarm-per-hour must be positive");
+  Require(WindowFalseAlarm() < 0.5,
+          "watch: --false-alarm-per-hour " + Num(false_alarm_per_hour) +
+              " is too high for a window of " + Num(window_blocks * block_s) +
+              " s (the rate times the window must stay below 0.5); lower it or "
+              "--window-blocks");
+  Require(order == 0 || (order >= 2 && order % 2 == 0 && order <= 40),
+          "watch: --order must be even, 2 to 40 (twice the modes in the band), or 0 (from the "
+          "reference's modes)");
+  Require(null_space_share >= 0.1 && null_space_share <= 0.9,
+          "watch: the null space's share of the reference must lie in [0.1, 0.9]");
+  Require(std::isfinite(modes_s) && (modes_s == 0.0 || modes_s >= block_s),
+          "watch: --modes-s must be 0 (no modes) or at least --block-s");
+  const oma::SubspaceTestSize size =
+      oma::SubspaceTestSizeOf(TestOptions(*this, order > 0 ? order : 2 * channels), channels);
+  Require(block_s >= size.min_block_s,
+          "watch: --block-s " + Num(block_s) + " is too short for the band: at least " +
+              Num(std::ceil(size.min_block_s * 10.0) / 10.0) + " s (or raise --fmax-hz)");
+  Require(std::isfinite(reference_s) && reference_s >= MinimumReferenceS(*this, order),
+          "watch: --reference-s " + Num(reference_s) + " is too short: the test needs at least " +
+              Num(std::ceil(MinimumReferenceS(*this, order))) +
+              " s of the rig unchanged at --block-s " + Num(block_s) +
+              " (shorten --block-s, or give a longer reference)");
+}
+
+double WatchOptions::BlockFalseAlarm() const { return false_alarm_per_hour * block_s / 3600.0; }
+
+double WatchOptions::WindowFalseAlarm() const {
+  return false_alarm_per_hour * window_blocks * block_s / 3600.0;
+}
+
+double MinimumReferenceS(const WatchOptions& options, int order) {
+  const int n = order > 0 ? order : 2 * std::max(1, options.channels);
+  return oma::SubspaceTestSizeOf(TestOptions(options, n), std::max(1, options.channels))
+      .min_reference_s;
+}
+
+WatchSession::WatchSession(WatchOptions options) : options_(std::move(options)) {
+  options_.Validate();
+  block_samples_ = std::lround(options_.block_s * options_.fs_hz);
+  reference_samples_ = std::lround(options_.reference_s * options_.fs_hz);
+  pending_.resize(reference_samples_, options_.channels);
+}
+
+WatchSession::~WatchSession() = default;
+
+double WatchSession::reference_left_s() const {
+  if (detector_) return 0.0;
+  return static_cast<double>(reference_samples_ - pending_rows_) / options_.fs_hz;
+}
+
+void WatchSession::SetReference(Eigen::Ref<const Eigen::MatrixXd> reference) {
+  Require(fed_ == 0 && !detector_, "watch: the reference is given before the watched responses");
+  Require(reference.cols() == options_.channels,
+          "watch: the reference has " + std::to_string(reference.cols()) + " channels, not " +
+              std::to_string(options_.channels));
+  BuildReference(reference);
+}
+
+void WatchSession::BuildReference(Eigen::Ref<const Eigen::MatrixXd> reference) {
+  const Clock::time_point start = Clock::now();
+  Require(reference.allFinite(), "watch: the reference holds a non-finite value");
+  oma::SsiCovOptions so;
+  so.fs_hz = options_.fs_hz;
+  so.fmax_hz = options_.fmax_hz;
+  const oma::SsiCovResult modes = oma::SsiCov(reference, so);
+  reference_.modes = ModesOf(modes);
+  int order = options_.order;
+  if (order == 0) {
+    Require(!modes.modes.empty(), "watch: the reference shows no mode below --fmax-hz " +
+                                      Num(options_.fmax_hz) + " Hz (" + modes.message +
+                                      "); give --order, or check the excitation");
+    order = std::min(40, 2 * static_cast<int>(modes.modes.size()));
+  }
+  detector_ = std::make_unique<oma::SubspaceDetector>(reference, TestOptions(options_, order));
+  window_ = std::make_unique<oma::AccumulatedTest>(
+      detector_->reference_residuals(), options_.window_blocks, options_.WindowFalseAlarm());
+  reference_.seconds = static_cast<double>(reference.rows()) / options_.fs_hz;
+  reference_.order = order;
+  reference_.dof = detector_->dof();
+  reference_.reference_blocks = detector_->reference_blocks();
+  reference_.block_threshold = detector_->threshold();
+  reference_.window_threshold = window_->threshold();
+  reference_.analysis_ms = MsSince(start);
+  pending_.resize(block_samples_, options_.channels);
+  pending_rows_ = 0;
+}
+
+void WatchSession::Gap(long missing) {
+  Require(missing >= 0, "watch: a gap of a negative number of samples");
+  if (missing == 0) return;
+  Require(detector_ != nullptr,
+          "watch: samples were lost during the reference (" + std::to_string(missing) +
+              " missing); lower the sample rate or the channels so the link carries them");
+  pending_rows_ = 0;
+  recent_.clear();
+  fed_ += missing;
+}
+
+std::vector<WatchBlock> WatchSession::Feed(Eigen::Ref<const Eigen::MatrixXd> samples,
+                                           std::optional<double> t_first_s) {
+  Require(samples.cols() == options_.channels, "watch: " + std::to_string(samples.cols()) +
+                                                   " channels fed, not " +
+                                                   std::to_string(options_.channels));
+  if (!t0_s_) t0_s_ = t_first_s.value_or(0.0);
+  std::vector<WatchBlock> out;
+  Eigen::Index at = 0;
+  while (at < samples.rows()) {
+    const auto want = static_cast<Eigen::Index>(pending_.rows() - pending_rows_);
+    const Eigen::Index take = std::min(want, samples.rows() - at);
+    pending_.middleRows(pending_rows_, take) = samples.middleRows(at, take);
+    pending_rows_ += take;
+    at += take;
+    fed_ += take;
+    if (pending_rows_ < pending_.rows()) break;
+    if (!detector_) {
+      BuildReference(pending_);
+      continue;
+    }
+    out.push_back(TestBlock(pending_));
+    pending_rows_ = 0;
+  }
+  return out;
+}
+
+WatchBlock WatchSession::TestBlock(Eigen::Ref<const Eigen::MatrixXd> block) {
+  const Clock::time_point start = Clock::now();
+  WatchBlock b;
+  b.index = ++blocks_;
+  b.t_s = *t0_s_ + static_cast<double>(fed_) / options_.fs_hz;
+  const Eigen::VectorXd residual = detector_->BlockResidual(block);
+  const oma::SubspaceTestResult single = detector_->Test(block);
+  b.statistic = single.statistic;
+  b.threshold = single.threshold;
+  b.block_over = single.alarm;
+  const oma::AccumulatedTestResult acc = window_->Add(residual);
+  b.accumulated_statistic = acc.statistic;
+  b.accumulated_threshold = acc.threshold;
+  b.window_count = acc.count;
+  b.window_blocks = options_.window_blocks;
+  b.window_alarm = acc.alarm;
+  b.alarm = b.window_alarm;
+  if (b.alarm && !first_alarm_t_s_) first_alarm_t_s_ = b.t_s;
+  b.first_alarm_t_s = first_alarm_t_s_;
+
+  if (options_.modes_s > 0.0) {
+    recent_.emplace_back(block);
+    const auto keep =
+        static_cast<std::size_t>(std::ceil(options_.modes_s / options_.block_s - 1e-9));
+    while (recent_.size() > keep) recent_.pop_front();
+    Eigen::MatrixXd y(static_cast<Eigen::Index>(recent_.size()) * block.rows(), block.cols());
+    Eigen::Index row = 0;
+    for (const Eigen::MatrixXd& r : recent_) {
+      y.middleRows(row, r.rows()) = r;
+      row += r.rows();
+    }
+    oma::SsiCovOptions so;
+    so.fs_hz = options_.fs_hz;
+    so.fmax_hz = options_.fmax_hz;
+    try {
+      const oma::SsiCovResult r = oma::SsiCov(y, so);
+      b.modes = ModesOf(r);
+      b.modes_message = r.message;
+      b.moved = MovedMost(b.modes, reference_.modes);
+    } catch (const InputError& e) {
+      // Too little data since the start or the last gap: the modes come once there is enough.
+      b.modes_message = e.what();
+    }
+  }
+  b.analysis_ms = MsSince(start);
+  return b;
+}
+
+}  // namespace vibid::workflow

@@ -1,0 +1,186 @@
+// The watch session on a simulated running rig (the demo rig's truth, white forces on both
+// masses, accelerations at 200 Hz): the modes against the model's, the false alarms of both
+// tests against the rate asked for, a large change flagged in its first block, the times and
+// the options refused up front.
+#include "vibid/workflow/watch_session.hpp"
+
+#include <gtest/gtest.h>
+
+#include <cstdio>
+
+#include "vibid/common/error.hpp"
+#include "vibid/model/modal.hpp"
+#include "vibid/model/model.hpp"
+#include "vibid/oma/testing/ambient.hpp"
+
+namespace vibid::workflow {
+namespace {
+
+model::Model DemoRig(double m2_kg = 1.53) {
+  // The emulator's default rig truth (host/emulator/rigs/default.json).
+  return model::MakeChain(Eigen::Vector2d(1.82, m2_kg), Eigen::Vector2d(3520.0, 2760.0),
+                          Eigen::Vector2d(5.0, 3.5));
+}
+
+WatchOptions Options() {
+  WatchOptions o;
+  o.fs_hz = 200.0;
+  o.channels = 2;
+  o.reference_s = 1200.0;  // shorter than the default: the tests here need no 3 % sensitivity
+  return o;
+}
+
+oma::testing::AmbientOptions Sim(std::uint64_t seed) {
+  oma::testing::AmbientOptions sim;
+  sim.fs_hz = 200.0;
+  sim.seed = seed;
+  return sim;
+}
+
+TEST(WatchSession, ReferenceAndBlockModesAreTheRigs) {
+  const model::Model rig = DemoRig();
+  oma::testing::AmbientRig sim(rig, Sim(31));
+  WatchOptions o = Options();
+  o.modes_s = 300.0;
+  WatchSession s(o);
+  EXPECT_TRUE(s.Feed(sim.Next(200 * 1200), 0.0).empty());
+  ASSERT_TRUE(s.has_reference());
+  const model::ComplexModes truth = model::ComplexModalDamping(rig);
+  const WatchReference& ref = s.reference();
+  EXPECT_EQ(ref.order, 4);
+  EXPECT_EQ(ref.dof, 8);
+  EXPECT_EQ(ref.reference_blocks, 96);  // 80 % of 1200 s in 10 s blocks
+  ASSERT_EQ(ref.modes.size(), 2u);
+  std::vector<WatchBlock> blocks = s.Feed(sim.Next(200 * 300));
+  ASSERT_EQ(blocks.size(), 30u);
+  const WatchBlock& last = blocks.back();
+  EXPECT_DOUBLE_EQ(last.t_s, 1500.0);
+  EXPECT_EQ(last.index, 30);
+  EXPECT_EQ(last.window_count, 30);
+  ASSERT_EQ(last.modes.size(), 2u) << last.modes_message;
+  // SSI-cov's targets (docs/watch.md): ω within 0.5 %, ζ within 15 % of the model's modes, on
+  // the reference and on the last 300 s alike; the moved mode's change within its interval.
+  for (int m = 0; m < 2; ++m) {
+    for (const WatchMode& found :
+         {ref.modes[static_cast<std::size_t>(m)], last.modes[static_cast<std::size_t>(m)]}) {
+      EXPECT_NEAR(found.omega_rad_s / truth.omega_rad_s(m) - 1.0, 0.0, 0.005) << m;
+      EXPECT_NEAR(found.zeta / truth.zeta(m) - 1.0, 0.0, 0.15) << m;
+      EXPECT_GT(found.omega_ci95_rad_s, 0.0);
+    }
+  }
+  ASSERT_TRUE(last.moved.has_value());
+  EXPECT_LE(std::abs(last.moved->change_rad_s), last.moved->ci95_rad_s * 1.5);
+}
+
+TEST(WatchSession, TwentyPercentMassIsOverTheBlockThresholdAndAlarmsWithItsWindow) {
+  oma::testing::AmbientRig sim(DemoRig(), Sim(32));
+  WatchOptions o = Options();
+  o.modes_s = 0.0;
+  WatchSession s(o);
+  EXPECT_TRUE(s.Feed(sim.Next(200 * 1200), 100.0).empty());
+  const std::vector<WatchBlock> before = s.Feed(sim.Next(200 * 100));
+  for (const WatchBlock& b : before) EXPECT_FALSE(b.alarm) << b.t_s;
+  sim.Change(DemoRig(1.53 * 1.2));
+  const std::vector<WatchBlock> after = s.Feed(sim.Next(200 * 500));
+  ASSERT_EQ(after.size(), 50u);
+  int over = 0;
+  for (const WatchBlock& b : after) over += b.block_over;
+  EXPECT_GE(over, 45);
+  // The window (blocks 1 … 60 after the reference) ends 600 s after it: the alarm, kept.
+  for (std::size_t k = 0; k + 1 < after.size(); ++k) EXPECT_FALSE(after[k].alarm);
+  EXPECT_TRUE(after.back().alarm);
+  EXPECT_TRUE(after.back().window_alarm);
+  ASSERT_TRUE(after.back().first_alarm_t_s.has_value());
+  EXPECT_DOUBLE_EQ(*after.back().first_alarm_t_s, 100.0 + 1200.0 + 600.0);
+  const std::vector<WatchBlock> later = s.Feed(sim.Next(200 * 10));
+  ASSERT_EQ(later.size(), 1u);
+  EXPECT_EQ(later[0].first_alarm_t_s, after.back().first_alarm_t_s);
+  EXPECT_FALSE(later[0].alarm);  // a new window has begun
+}
+
+TEST(WatchSession, FalseAlarmsAtHighRatesAreTheOnesAskedFor) {
+  // 10 references of the unchanged rig, each watched for 2 h: windows of 60 blocks at 2.5 false
+  // alarms per hour (50 expected over the 20 h) and windows of 6 blocks at 5 per hour (100
+  // expected). The windows share each reference, so the counts spread more than Poisson's; their
+  // means are exact. Poisson: 99.9 % of outcomes within 30 … 74 and 70 … 134.
+  int alarms_60 = 0;
+  int alarms_6 = 0;
+  int over = 0;
+  for (std::uint64_t seed = 40; seed < 50; ++seed) {
+    oma::testing::AmbientRig sim(DemoRig(), Sim(seed));
+    WatchOptions o = Options();
+    o.modes_s = 0.0;
+    o.false_alarm_per_hour = 2.5;
+    WatchSession long_windows(o);
+    o.window_blocks = 6;
+    o.false_alarm_per_hour = 5.0;
+    WatchSession short_windows(o);
+    const Eigen::MatrixXd reference = sim.Next(200 * 1200);
+    long_windows.SetReference(reference);
+    short_windows.SetReference(reference);
+    for (int part = 0; part < 12; ++part) {
+      const Eigen::MatrixXd y = sim.Next(200 * 600);
+      for (const WatchBlock& b : long_windows.Feed(y)) {
+        alarms_60 += b.alarm;
+        over += b.block_over;
+      }
+      for (const WatchBlock& b : short_windows.Feed(y)) alarms_6 += b.alarm;
+    }
+  }
+  EXPECT_GE(alarms_60, 30);
+  EXPECT_LE(alarms_60, 74);
+  EXPECT_GE(alarms_6, 70);
+  EXPECT_LE(alarms_6, 134);
+  // Shown, not asserted: blocks over their own threshold (50 expected under the F law).
+  std::printf("windows of 60: %d alarms (50 expected); of 6: %d (100); blocks over: %d (50)\n",
+              alarms_60, alarms_6, over);
+}
+
+TEST(WatchSession, AGapDropsTheBlockUnderWay) {
+  oma::testing::AmbientRig sim(DemoRig(), Sim(33));
+  WatchOptions o = Options();
+  o.modes_s = 0.0;
+  WatchSession s(o);
+  s.Feed(sim.Next(200 * 1200));
+  EXPECT_EQ(s.Feed(sim.Next(200 * 5)).size(), 0u);
+  s.Gap(200 * 3);
+  const std::vector<WatchBlock> b = s.Feed(sim.Next(200 * 10));
+  ASSERT_EQ(b.size(), 1u);
+  EXPECT_DOUBLE_EQ(b[0].t_s, 1200.0 + 5.0 + 3.0 + 10.0);
+  WatchSession fresh(o);
+  fresh.Feed(sim.Next(200 * 10));
+  EXPECT_THROW(fresh.Gap(10), InputError);
+}
+
+TEST(WatchSession, RefusesBadOptionsNamingThem) {
+  const auto message = [](WatchOptions o) {
+    try {
+      o.Validate();
+    } catch (const InputError& e) {
+      return std::string(e.what());
+    }
+    return std::string();
+  };
+  WatchOptions o = Options();
+  EXPECT_EQ(message(o), "");
+  o.reference_s = 300.0;
+  EXPECT_NE(message(o).find("--reference-s 300 is too short: the test needs at least 450 s"),
+            std::string::npos)
+      << message(o);
+  o = Options();
+  o.block_s = 2.0;
+  EXPECT_NE(message(o).find("--block-s 2 is too short for the band"), std::string::npos)
+      << message(o);
+  o = Options();
+  o.fmax_hz = 100.0;
+  EXPECT_NE(message(o).find("--fmax-hz"), std::string::npos);
+  o = Options();
+  o.false_alarm_per_hour = 20.0;
+  EXPECT_NE(message(o).find("--false-alarm-per-hour 20 is too high"), std::string::npos);
+  o = Options();
+  o.modes_s = 5.0;
+  EXPECT_NE(message(o).find("--modes-s"), std::string::npos);
+}
+
+}  // namespace
+}  // namespace vibid::workflow
