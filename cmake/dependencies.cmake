@@ -9,6 +9,11 @@ pkg_check_modules(HIDAPI REQUIRED IMPORTED_TARGET hidapi-hidraw)
 pkg_check_modules(LIBUSB REQUIRED IMPORTED_TARGET libusb-1.0)
 
 option(VIBID_BENCHMARKS "Build the Google Benchmark programs in bench/" ON)
+# The asan preset turns it off: the CLI is a thin front end over the libraries, whose tests, the
+# bench's and the fuzzers run under the sanitizers; the CLI's own tests and the hil suite that
+# drives it run in the optimised build (and the hil suite again on QEMU). It saves CI about a
+# quarter of the sanitizer build and of its test run (docs/testing.md).
+option(VIBID_CLI "Build the vibid CLI, its tests and the hil suite that drives it" ON)
 if(VIBID_BENCHMARKS)
   find_package(benchmark REQUIRED)
 endif()
