@@ -27,6 +27,11 @@ set(VIBID_DATA_DIR "${PROJECT_SOURCE_DIR}/../shared/data" CACHE PATH "Measured r
 
 function(vibid_add_host_test name)
   cmake_parse_arguments(ARG "" "" "SOURCES;LIBS;LABELS;DISCOVERY" ${ARGN})
+  # The studies labelled coverage run in the optimised build only (the asan test preset leaves
+  # them out), so a sanitizer build does not compile them either.
+  if(VIBID_SANITIZE AND "coverage" IN_LIST ARG_LABELS)
+    return()
+  endif()
   add_executable(${name} ${ARG_SOURCES})
   target_link_libraries(${name} PRIVATE ${ARG_LIBS} GTest::gtest GTest::gtest_main GTest::gmock vibid_warnings)
   target_compile_definitions(${name} PRIVATE
