@@ -15,6 +15,7 @@
 
 #include <Eigen/Dense>
 
+#include "quiet_rig.hpp"
 #include "rig.hpp"
 #include "scenario.hpp"
 #include "vibid/common/error.hpp"
@@ -25,14 +26,6 @@ namespace vibid::emu {
 namespace {
 
 constexpr double kFs = 5000.0;
-
-RigSpec Quiet() {
-  RigSpec r = DefaultRig();
-  r.coulomb_n = {0.0, 0.0};
-  for (auto& s : r.load_cells) s.noise_rms = 0.0;
-  for (auto& s : r.accelerometers) s.noise_rms = 0.0;
-  return r;
-}
 
 void Select(RigSimulator& rig, const char* name, std::array<float, 4> params) {
   wire::ScenarioRequest r;
@@ -95,7 +88,7 @@ std::vector<double> FreeResponseModesHz(const std::vector<std::array<double, kMa
 // 4.444053 -> 4.362148 Hz and 10.646467 -> 10.573459 Hz, Modal 4.444042 -> 4.362138 Hz and
 // 10.646492 -> 10.573484 Hz.
 TEST(RigChanges, MassStepMovesTheModesToTheTruthAfterIt) {
-  RigSpec spec = Quiet();
+  RigSpec spec = QuietRig();
   const double step_s = 30.0;
   spec.changes = {MassStep(step_s, 1, 0.08)};
   RigSimulator rig(spec, 3);
@@ -150,7 +143,7 @@ TEST(RigChanges, MassStepMovesTheModesToTheTruthAfterIt) {
 // from at_s + over_s on, linear between); the simulator holds it within 0.5 % of the drift's
 // size (rebuilt every 1 % of the 5 s: 50 ticks at 1 kHz, 101 systems in all).
 TEST(RigChanges, DriftIsLinearAndReachesItsEndValue) {
-  RigSpec spec = Quiet();
+  RigSpec spec = QuietRig();
   spec.changes = {RigChange{
       .at_s = 2.0, .target = ChangeTarget::kSpring, .index = 0, .add = -200.0, .over_s = 5.0}};
   const auto k1 = [](const model::Model& m) { return m.k_n_per_m(0, 0) - m.k_n_per_m(1, 1); };
@@ -201,7 +194,7 @@ TEST(RigChanges, DriftIsLinearAndReachesItsEndValue) {
 // sample's worth, while mass 2's acceleration jumps so that the force on it (m a) goes on
 // smoothly: the weight is put on the moving cart, its position and velocity kept.
 TEST(RigChanges, StateIsContinuousAcrossAMassStep) {
-  RigSpec spec = Quiet();
+  RigSpec spec = QuietRig();
   const double step_s = 2.5;
   spec.changes = {MassStep(step_s, 1, 0.08)};
   RigSimulator rig(spec, 1);
@@ -275,7 +268,7 @@ TEST(RigChanges, SameSeedSameSamplesWithChanges) {
 
 // Changes apply to a mass tested alone on its own spring as to the chain.
 TEST(RigChanges, AMassAloneChangesToo) {
-  RigSpec spec = Quiet();
+  RigSpec spec = QuietRig();
   spec.changes = {
       MassStep(0.2, 1, 0.08),
       RigChange{.at_s = 0.2, .target = ChangeTarget::kSpring, .index = 1, .add = 100.0}};

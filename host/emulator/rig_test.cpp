@@ -1,5 +1,6 @@
 // The simulated rig against closed forms: 1-DOF free decay, static deflection, force to
 // acceleration at the first sample of a hit, converter codes, excitation shapes, determinism.
+#include "quiet_rig.hpp"
 #include "rig.hpp"
 
 #include <gtest/gtest.h>
@@ -20,14 +21,6 @@ namespace vibid::emu {
 namespace {
 
 constexpr double kFs = 5000.0;
-
-RigSpec Quiet() {
-  RigSpec r = DefaultRig();
-  r.coulomb_n = {0.0, 0.0};
-  for (auto& s : r.load_cells) s.noise_rms = 0.0;
-  for (auto& s : r.accelerometers) s.noise_rms = 0.0;
-  return r;
-}
 
 Scenario Parse(const char* name, std::array<float, 4> params, int dofs = 2) {
   wire::ScenarioRequest r;
@@ -50,7 +43,7 @@ TEST(Rig, DefaultTruthDiffersFromTheNominalModel) {
 }
 
 TEST(Rig, SingleMassFreeDecayMatchesTheClosedForm) {
-  RigSimulator rig(Quiet(), 1);
+  RigSimulator rig(QuietRig(), 1);
   rig.Select(Parse("step", {1, 20, 5, 1}));  // mass 1 alone, pull 20 N for 5 s, release
   rig.Start(1.0 / kFs);
   const double m = 2.0 * 0.91, k = 3520.0, c = 5.0;
@@ -86,7 +79,7 @@ TEST(Rig, SingleMassFreeDecayMatchesTheClosedForm) {
 }
 
 TEST(Rig, FirstSampleOfAHitAcceleratesTheMassAtFOverM) {
-  RigSimulator rig(Quiet(), 3);
+  RigSimulator rig(QuietRig(), 3);
   rig.Select(Parse("hammer", {2, 100, 1, 2}));  // mass 2 alone
   rig.Start(1.0 / kFs);
   const double m = 1.53;
@@ -188,7 +181,7 @@ TEST(Rig, ConverterCodes) {
 }
 
 TEST(Rig, HammerPulsesAreHalfSinesWithDoubleHits) {
-  RigSimulator rig(Quiet(), 11);
+  RigSimulator rig(QuietRig(), 11);
   rig.Select(Parse("hammer", {2, 100, 0.5f, 0}));
   rig.Start(1.0 / kFs);
   std::array<std::int32_t, wire::kChannelCount> raw{};
@@ -232,11 +225,11 @@ TEST(Rig, HammerPulsesAreHalfSinesWithDoubleHits) {
 // top code while the blow exceeds the range, as the board's converter does; every later hit as
 // on the same rig without test hits (the random stream is the same).
 TEST(Rig, TestHitsStrikeTwiceAndOverloadTheConverter) {
-  RigSpec spec = Quiet();
+  RigSpec spec = QuietRig();
   spec.double_hits = {1};
   spec.overloads = {2};
   RigSimulator rig(spec, 11);
-  RigSimulator plain(Quiet(), 11);
+  RigSimulator plain(QuietRig(), 11);
   rig.Select(Parse("hammer", {2, 100, 0.5f, 0}));
   plain.Select(Parse("hammer", {2, 100, 0.5f, 0}));
   rig.Start(1.0 / kFs);
@@ -277,7 +270,7 @@ TEST(Rig, TestHitsStrikeTwiceAndOverloadTheConverter) {
 }
 
 TEST(Rig, ShakerSineAndHandPush) {
-  RigSimulator rig(Quiet(), 5);
+  RigSimulator rig(QuietRig(), 5);
   rig.Select(Parse("shaker", {16, 10, 8, 0}));
   rig.Start(1.0 / kFs);
   std::array<std::int32_t, wire::kChannelCount> raw{};
@@ -526,7 +519,7 @@ void Select(RigSimulator& rig, const char* name, std::array<float, 4> params) {
 }
 
 RigSpec UniformRig(const UniformChain& u, std::array<int, 4> input_mass, int hammer_mass) {
-  RigSpec r = Quiet();
+  RigSpec r = QuietRig();
   const auto n = static_cast<std::size_t>(u.n);
   r.masses_kg.assign(n, u.m_kg);
   r.effective_mass_loss.assign(n, 0.0);
