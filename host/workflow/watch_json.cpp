@@ -34,6 +34,14 @@ nlohmann::json WatchBlockJson(const WatchBlock& b) {
   }
   nlohmann::json first = nullptr;
   if (b.first_alarm_t_s) first = *b.first_alarm_t_s;
+  nlohmann::json board = nullptr;
+  if (b.board) {
+    board = {{"stale", b.board->stale},
+             {"statistic", b.board->statistic},
+             {"threshold", b.board->threshold},
+             {"stale_since_t_s", nullptr}};
+    if (b.board->stale_since_t_s) board["stale_since_t_s"] = *b.board->stale_since_t_s;
+  }
   return {{"t_s", b.t_s},
           {"block", b.index},
           {"modes", ModesJson(b.modes)},
@@ -49,6 +57,7 @@ nlohmann::json WatchBlockJson(const WatchBlock& b) {
             {"alarm", b.window_alarm}}},
           {"first_alarm_t_s", first},
           {"moved", moved},
+          {"board", board},
           {"modes_message", b.modes_message},
           {"analysis_ms", b.analysis_ms}};
 }
@@ -86,6 +95,18 @@ std::string WatchBlockText(const WatchBlock& b) {
     std::snprintf(line, sizeof line, " | mode %d %+.2f±%.2f %%", b.moved->mode,
                   100.0 * b.moved->relative,
                   100.0 * b.moved->ci95_rad_s / b.moved->omega_ref_rad_s);
+    out += line;
+  }
+  if (b.board) {
+    if (b.board->stale) {
+      std::snprintf(line, sizeof line, " | board STALE since %.1f s",
+                    b.board->stale_since_t_s.value_or(b.t_s));
+    } else if (b.board->threshold > 0.0) {
+      std::snprintf(line, sizeof line, " | board g %.2f/%.2f", b.board->statistic,
+                    b.board->threshold);
+    } else {
+      std::snprintf(line, sizeof line, " | board g %.2f", b.board->statistic);
+    }
     out += line;
   }
   if (b.alarm) {

@@ -188,6 +188,34 @@ void WatchSession::Gap(long missing) {
 }
 
 std::vector<WatchBlock> WatchSession::Feed(Eigen::Ref<const Eigen::MatrixXd> samples,
+                                           Eigen::Ref<const Eigen::MatrixXd> board,
+                                           std::optional<double> t_first_s) {
+  Require(board.cols() == 2 && board.rows() == samples.rows(),
+          "watch: the board's model columns must be two (statistic, flag) with a row per sample");
+  if (!t0_s_) t0_s_ = t_first_s.value_or(0.0);
+  // Fed a piece at a time so that each block sees the board's state at its own last sample.
+  std::vector<WatchBlock> out;
+  Eigen::Index at = 0;
+  while (at < samples.rows()) {
+    const long to_block = pending_.rows() - pending_rows_;
+    const Eigen::Index take = std::min<Eigen::Index>(to_block, samples.rows() - at);
+    WatchBoardModel state = board_.value_or(WatchBoardModel{});
+    for (Eigen::Index i = at; i < at + take; ++i) {
+      if (board(i, 1) != 0.0 && !state.stale_since_t_s) {
+        state.stale_since_t_s = *t0_s_ + static_cast<double>(fed_ + (i - at)) / options_.fs_hz;
+      }
+    }
+    state.statistic = board(at + take - 1, 0);
+    state.stale = board(at + take - 1, 1) != 0.0;
+    state.threshold = board_threshold_;
+    board_ = state;
+    for (WatchBlock& b : Feed(samples.middleRows(at, take))) out.push_back(std::move(b));
+    at += take;
+  }
+  return out;
+}
+
+std::vector<WatchBlock> WatchSession::Feed(Eigen::Ref<const Eigen::MatrixXd> samples,
                                            std::optional<double> t_first_s) {
   Require(samples.cols() == options_.channels, "watch: " + std::to_string(samples.cols()) +
                                                    " channels fed, not " +
@@ -232,6 +260,7 @@ WatchBlock WatchSession::TestBlock(Eigen::Ref<const Eigen::MatrixXd> block) {
   b.alarm = b.window_alarm;
   if (b.alarm && !first_alarm_t_s_) first_alarm_t_s_ = b.t_s;
   b.first_alarm_t_s = first_alarm_t_s_;
+  b.board = board_;
 
   if (options_.modes_s > 0.0) {
     recent_.emplace_back(block);

@@ -152,6 +152,51 @@ TEST(WatchSession, AGapDropsTheBlockUnderWay) {
   EXPECT_THROW(fresh.Gap(10), InputError);
 }
 
+TEST(WatchSession, EachBlockCarriesTheBoardsFlagAtItsEndAndWhenItFirstTripped) {
+  oma::testing::AmbientRig sim(DemoRig(), Sim(34));
+  WatchOptions o = Options();
+  o.modes_s = 0.0;
+  WatchSession s(o);
+  s.SetBoardThreshold(8.25);
+  const Eigen::MatrixXd reference = sim.Next(200 * 1200);
+  Eigen::MatrixXd quiet = Eigen::MatrixXd::Zero(reference.rows(), 2);
+  quiet.col(0).setConstant(0.5);
+  EXPECT_TRUE(s.Feed(reference, quiet, 10.0).empty());
+  // 25 s fed in one piece whose flag trips at its sample 2 345 (the board's g ramps to it): the
+  // blocks end at 10 s and 20 s into the piece, so the first is clean and the second stale since
+  // 10 + 1200 + 2345 / 200 s (the sample's own time: the fed count over the rate).
+  const Eigen::MatrixXd y = sim.Next(200 * 25);
+  Eigen::MatrixXd board(y.rows(), 2);
+  for (Eigen::Index i = 0; i < y.rows(); ++i) {
+    board(i, 0) = 0.001 * static_cast<double>(i);
+    board(i, 1) = i >= 2345 ? 1.0 : 0.0;
+  }
+  const std::vector<WatchBlock> b = s.Feed(y, board);
+  ASSERT_EQ(b.size(), 2u);
+  ASSERT_TRUE(b[0].board.has_value());
+  EXPECT_FALSE(b[0].board->stale);
+  EXPECT_DOUBLE_EQ(b[0].board->statistic, 0.001 * 1999);  // the block's last sample
+  EXPECT_DOUBLE_EQ(b[0].board->threshold, 8.25);
+  EXPECT_FALSE(b[0].board->stale_since_t_s.has_value());
+  ASSERT_TRUE(b[1].board.has_value());
+  EXPECT_TRUE(b[1].board->stale);
+  EXPECT_DOUBLE_EQ(b[1].board->statistic, 0.001 * 3999);
+  ASSERT_TRUE(b[1].board->stale_since_t_s.has_value());
+  EXPECT_DOUBLE_EQ(*b[1].board->stale_since_t_s, 10.0 + 1200.0 + 2345.0 / 200.0);
+  const nlohmann::json j = WatchBlockJson(b[1]);
+  EXPECT_EQ(j["board"]["stale"], true);
+  EXPECT_DOUBLE_EQ(j["board"]["stale_since_t_s"].get<double>(), 10.0 + 1200.0 + 2345.0 / 200.0);
+  EXPECT_NE(WatchBlockText(b[1]).find("board STALE since 1221.7 s"), std::string::npos)
+      << WatchBlockText(b[1]);
+  EXPECT_NE(WatchBlockText(b[0]).find("board g 2.00/8.25"), std::string::npos)
+      << WatchBlockText(b[0]);
+  // Fed without the board's columns, a session's blocks carry none.
+  WatchSession plain(o);
+  plain.SetReference(reference);
+  EXPECT_FALSE(plain.Feed(y).front().board.has_value());
+  EXPECT_THROW(plain.Feed(y, board.leftCols(1)), InputError);
+}
+
 TEST(WatchSession, RefusesBadOptionsNamingThem) {
   const auto message = [](WatchOptions o) {
     try {

@@ -74,6 +74,15 @@ struct WatchMove {
   double relative = 0.0;      ///< change / ω_ref.
 };
 
+/// The board's own test on its observer's residual (its "model stale" flag, docs/dob.md), as its
+/// log carries it with every record (the `model_g` and `model_stale` columns).
+struct WatchBoardModel {
+  bool stale = false;      ///< The flag at the block's last record (latched once tripped).
+  double statistic = 0.0;  ///< The board's CUSUM g there.
+  double threshold = 0.0;  ///< Its threshold h (0 where not known: SetBoardThreshold).
+  std::optional<double> stale_since_t_s;  ///< Time of the first record logged stale.
+};
+
 struct WatchBlock {
   int index = 0;     ///< 1-based, counted from the first block after the reference.
   double t_s = 0.0;  ///< End of the block, seconds from the first sample fed (or its time stamp).
@@ -90,6 +99,8 @@ struct WatchBlock {
   bool alarm = false;                     ///< This block completed a window that alarmed.
   std::optional<double> first_alarm_t_s;  ///< When the first alarm came (kept from then on).
   std::optional<WatchMove> moved;
+  /// The board's flag at the block's end; absent where the responses came without it.
+  std::optional<WatchBoardModel> board;
   double analysis_ms = 0.0;  ///< Wall time of this block's analysis.
 };
 
@@ -122,6 +133,14 @@ class WatchSession {
   /// blocks they complete.
   std::vector<WatchBlock> Feed(Eigen::Ref<const Eigen::MatrixXd> samples,
                                std::optional<double> t_first_s = std::nullopt);
+  /// As Feed, with the board's model test logged beside each sample: `board` has a row per
+  /// sample and two columns, the board's statistic g and its flag (0 or 1). Each block then
+  /// carries the board's state at its last sample and the time the flag was first seen.
+  std::vector<WatchBlock> Feed(Eigen::Ref<const Eigen::MatrixXd> samples,
+                               Eigen::Ref<const Eigen::MatrixXd> board,
+                               std::optional<double> t_first_s = std::nullopt);
+  /// The board's threshold h (from its calibration), shown beside its statistic.
+  void SetBoardThreshold(double h) { board_threshold_ = h; }
   /// Samples were lost (the board dropped records): the block under way is dropped and the next
   /// starts with the next sample fed, `missing` samples later. A gap in the reference is refused.
   void Gap(long missing);
@@ -149,13 +168,16 @@ class WatchSession {
   WatchReference reference_;
   int blocks_ = 0;
   std::optional<double> first_alarm_t_s_;
+  double board_threshold_ = 0.0;
+  std::optional<WatchBoardModel> board_;  // as of the last sample fed with the board's columns
 };
 
 /// One block as a JSON object (a line of `vibid watch --json` and of its journal): t_s, block,
 /// modes [{omega_rad_s, zeta, ci95: {omega_rad_s, zeta}}], statistic, threshold, alarm,
 /// block_over, accumulated {statistic, threshold, blocks, window_blocks, alarm},
 /// first_alarm_t_s (null before), moved (null or {mode, omega_ref_rad_s, omega_rad_s,
-/// change_rad_s, ci95_rad_s, relative}), modes_message, analysis_ms.
+/// change_rad_s, ci95_rad_s, relative}), board (null without the board's columns, or {stale,
+/// statistic, threshold, stale_since_t_s}), modes_message, analysis_ms.
 nlohmann::json WatchBlockJson(const WatchBlock& block);
 /// The reference's summary: seconds, modes, order, dof, reference_blocks, thresholds.
 nlohmann::json WatchReferenceJson(const WatchReference& reference);
