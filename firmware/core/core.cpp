@@ -389,6 +389,8 @@ Status Core::ValidateConfig(const wire::AcqConfigureRequest& c) {
     if (static_cast<std::uint64_t>(c.sample_period_us) * dob_.sample_rate_hz() != 1000000u) {
       return Refuse(Status::kInvalidArgument, wire::Reason::kObserverRate, dob_.sample_rate_hz());
     }
+    if (layout.HasWatch() && !dob_.watch_loaded())
+      return Refuse(Status::kFailedPrecondition, wire::Reason::kNoModelTest);
   }
   return Status::kOk;
 }

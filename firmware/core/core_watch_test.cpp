@@ -279,5 +279,77 @@ TEST(CoreWatch, AStartFromRestClearsTheFlagAndAnUncalibratedTestSaysNone) {
   EXPECT_EQ(fresh.windows, 0u);
 }
 
+// The log's model column (kAcqFlagLogWatch): each record carries the test's g and flag as they
+// stand at the record's own frame, equal to the host's replay of the test on every frame.
+TEST(CoreWatch, TheLogCarriesTheTestsStateAtEachRecord) {
+  const wire::CalibrationRecord record = RecordWithWatch(/*with_reference=*/true);
+  CoreHarness h;
+  Install(h, record);
+  wire::AcqConfigureRequest c;
+  c.sample_period_us = 200;  // 5 kHz, the filter's rate
+  c.channel_mask = 1;
+  c.decimation = kWindow;  // a record per window: they fit the test log
+  c.flags = wire::kAcqFlagLogDob | wire::kAcqFlagLogWatch;
+  ASSERT_EQ(h.StartAcquisition(c), Status::kOk);
+  Replay replay(record);
+  fixed::ResidualCusum test;
+  ASSERT_EQ(test.Init(record.watch), Status::kOk);
+  Noise noise(0x1234567u);
+  std::vector<std::uint32_t> word;  // the replayed test's state after each frame
+  for (std::uint32_t n = 0; n < 60 * kWindow; ++n) {
+    const auto raw = Frame(noise, n < 30 * kWindow ? 200.0 : 400.0);  // power x4 after 30
+    h.fake.frames.Emit(raw);
+    const std::int32_t d_hat = replay.DHat(raw);  // before the reference it scales
+    (void)test.Step(d_hat, replay.Calibrated(1));
+    word.push_back(static_cast<std::uint32_t>(test.statistic()) |
+                   (test.tripped() ? 0x80000000u : 0u));
+  }
+  ASSERT_TRUE(test.tripped());
+  const testing::PulledLog log = testing::PullLog(h, 0, 0);
+  ASSERT_EQ(log.status, Status::kOk);
+  // The decimator's settling drops the first records (twice its delay at 64: 31 windows), so
+  // the records cover the step's windows and the trip.
+  ASSERT_GE(log.count, 25u);
+  EXPECT_EQ(log.trailer.record_bytes, 2 + 4 + 4);  // force 1, d_hat, the test's word
+  std::size_t stale = 0;
+  std::size_t moving = 0;
+  for (std::size_t k = 0; k < log.count; ++k) {
+    const wire::LogRecord& rec = log.records[k];
+    ASSERT_LT(rec.sample_index, word.size());
+    EXPECT_EQ(rec.watch, word[rec.sample_index]) << "tick " << rec.sample_index;
+    stale += (rec.watch >> 31) != 0;
+    moving += (rec.watch & 0x7FFFFFFFu) != 0;
+  }
+  EXPECT_GT(stale, 0u);  // the step's windows are in the log, flagged
+  EXPECT_GT(moving, stale);
+  // The first record logged stale is the first at or after the tripping window's end.
+  const wire::WatchInfoResponse page = WatchPage(h);
+  for (std::size_t k = 0; k < log.count; ++k) {
+    if ((log.records[k].watch >> 31) == 0) continue;
+    EXPECT_GE(log.records[k].sample_index, page.trip_tick);
+    EXPECT_LT(log.records[k].sample_index, page.trip_tick + kWindow);
+    break;
+  }
+}
+
+TEST(CoreWatch, TheModelColumnNeedsDhatAndATest) {
+  CoreHarness h;
+  Install(h, RecordWithDob());  // an observer, no test
+  wire::AcqConfigureRequest c;
+  c.sample_period_us = 200;
+  c.channel_mask = 1;
+  c.flags = wire::kAcqFlagLogDob | wire::kAcqFlagLogWatch;
+  testing::Response r = h.Request(Command::kAcqConfigure, c);
+  EXPECT_EQ(r.status(), Status::kFailedPrecondition);
+  wire::Refusal why;
+  ASSERT_EQ(wire::Decode(r.payload(), why), Status::kOk);
+  EXPECT_EQ(why.reason, wire::Reason::kNoModelTest);
+  c.flags = wire::kAcqFlagLogWatch;  // the word without d_hat: not a layout
+  r = h.Request(Command::kAcqConfigure, c);
+  EXPECT_EQ(r.status(), Status::kInvalidArgument);
+  ASSERT_EQ(wire::Decode(r.payload(), why), Status::kOk);
+  EXPECT_EQ(why.reason, wire::Reason::kChannelSelection);
+}
+
 }  // namespace
 }  // namespace vibid::fw

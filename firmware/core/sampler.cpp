@@ -166,6 +166,8 @@ Sampler::Logged Sampler::LogFrame(const SampleFrame& frame, std::int32_t d_hat) 
     if ((layout_.channel_mask & (1u << c)) != 0) record.raw[c] = out[n++];
   }
   if (layout_.HasDob()) record.d_hat = out[n];
+  // The test's state at this frame: a flag and a CUSUM level, which a decimator would smear.
+  if (layout_.HasWatch()) record.watch = dob_in_acquisition_ ? dob_.WatchWord() : 0u;
   std::array<std::uint8_t, wire::kLogIndexBytes + wire::kMaxLogRecordBytes> bytes{};
   wire::StoreU32(bytes, 0, frame.tick);
   wire::EncodeLogRecord(layout_, record,

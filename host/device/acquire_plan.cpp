@@ -158,8 +158,13 @@ void ApplyCalibration(const wire::CalibrationRecord& rec, bool has_record, bool 
                       bool no_dob, Trigger& trig, wire::AcqConfigureRequest& cfg) {
   // d_hat is logged by default only while the observer runs: a stored observer that is stopped
   // estimates nothing, and its column would take link budget for a constant.
-  if (!no_dob && dob_running && has_record && (rec.flags & wire::kCalFlagHasDob) != 0)
+  // The residual test's state goes with it when the calibration carries one: the model-stale
+  // flag and its statistic logged with the data they judge.
+  if (!no_dob && dob_running && has_record && (rec.flags & wire::kCalFlagHasDob) != 0) {
     cfg.flags = wire::kAcqFlagLogDob;
+    if ((rec.flags & wire::kCalFlagHasWatch) != 0)
+      cfg.flags = static_cast<std::uint8_t>(cfg.flags | wire::kAcqFlagLogWatch);
+  }
   if (trig.mode == wire::TriggerMode::kImmediate) return;
   const wire::ChannelScaling& s = rec.channels[static_cast<std::size_t>(trig.channel)];
   if (!has_record || s.unit != wire::Unit::kNewton) {

@@ -110,6 +110,10 @@ std::string ReasonText(Status status, const wire::Refusal& r) {
              "), so its sample clock would be off by up to a few percent; vibid info shows the "
              "measured crystal: build the image for the board's crystal (VIBID_BOARD or "
              "VIBID_HSE_HZ, docs/board.md) or check the crystal";
+    case wire::Reason::kNoModelTest:
+      return "the board's calibration holds no residual test, so its log has no model column; "
+             "build the test into the calibration (vibid cal upload --watch-day REC.csv) or log "
+             "without it";
   }
   return StatusText(status) + " (reason " + std::to_string(static_cast<unsigned>(r.reason)) +
          ", which this host does not know; use a host that matches the firmware)";

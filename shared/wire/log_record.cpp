@@ -20,7 +20,11 @@ void EncodeLogRecord(const LogLayout& layout, const LogRecord& record,
       offset += 4;
     }
   }
-  if (layout.HasDob()) StoreI32(out, offset, record.d_hat);
+  if (layout.HasDob()) {
+    StoreI32(out, offset, record.d_hat);
+    offset += 4;
+  }
+  if (layout.HasWatch()) StoreU32(out, offset, record.watch);
 }
 
 Status DecodeLogRecord(const LogLayout& layout, std::span<const std::uint8_t> in,
@@ -28,6 +32,7 @@ Status DecodeLogRecord(const LogLayout& layout, std::span<const std::uint8_t> in
   if (!layout.Valid() || in.size() != layout.RecordBytes()) return Status::kInvalidArgument;
   record.raw.fill(0);
   record.d_hat = 0;
+  record.watch = 0;
   std::size_t offset = 0;
   for (std::size_t c = 0; c < kChannelCount; ++c) {
     if ((layout.channel_mask & (1u << c)) == 0) continue;
@@ -39,7 +44,11 @@ Status DecodeLogRecord(const LogLayout& layout, std::span<const std::uint8_t> in
       offset += 4;
     }
   }
-  if (layout.HasDob()) record.d_hat = LoadI32(in, offset);
+  if (layout.HasDob()) {
+    record.d_hat = LoadI32(in, offset);
+    offset += 4;
+  }
+  if (layout.HasWatch()) record.watch = LoadU32(in, offset);
   return Status::kOk;
 }
 

@@ -25,7 +25,37 @@ TEST(LogLayout, SizesByHand) {
   EXPECT_EQ((LogLayout{0b000001, 0}.RecordsPerReport()), 27u);
   EXPECT_FALSE((LogLayout{0, 0}.Valid()));
   EXPECT_FALSE((LogLayout{0x40, 0}.Valid()));
-  EXPECT_FALSE((LogLayout{1, 0x04}.Valid()));
+  EXPECT_FALSE((LogLayout{1, 0x08}.Valid()));  // an unknown flag
+  // The residual test's word: 4 bytes more, only beside d_hat.
+  EXPECT_EQ((LogLayout{kAllChannelsMask, kAcqFlagLogDob | kAcqFlagLogWatch}.RecordBytes()), 24u);
+  EXPECT_EQ((LogLayout{kAllChannelsMask, kAcqFlagLogDob | kAcqFlagLogWatch}.RecordsPerReport()),
+            2u);
+  EXPECT_EQ((LogLayout{0b001001, kAcqFlagLogDob | kAcqFlagLogWatch}.RecordsPerReport()), 4u);
+  EXPECT_FALSE((LogLayout{1, kAcqFlagLogWatch}.Valid()));
+  EXPECT_TRUE((LogLayout{1, kAcqFlagLogDob | kAcqFlagLogWatch}.Valid()));
+}
+
+// The word after d_hat, little-endian like every field (bytes written out by hand).
+TEST(LogRecord, CarriesTheResidualTestsWordAfterDhat) {
+  const LogLayout layout{0b000001, kAcqFlagLogDob | kAcqFlagLogWatch};
+  LogRecord rec;
+  rec.raw[0] = 0x1230;
+  rec.d_hat = -2;
+  rec.watch = kLogWatchStaleBit | 0x12345u;  // stale, g = 0x12345 / 2^16 = 1.1378
+  std::array<std::uint8_t, 10> bytes{};
+  EncodeLogRecord(layout, rec, bytes);
+  const std::array<std::uint8_t, 10> expected{0x30, 0x12, 0xFE, 0xFF, 0xFF,
+                                              0xFF, 0x45, 0x23, 0x01, 0x80};
+  EXPECT_EQ(bytes, expected);
+  LogRecord back;
+  ASSERT_EQ(DecodeLogRecord(layout, bytes, back), Status::kOk);
+  EXPECT_EQ(back.raw[0], 0x1230);
+  EXPECT_EQ(back.d_hat, -2);
+  EXPECT_EQ(back.watch, 0x80012345u);
+  ASSERT_EQ(DecodeLogRecord(LogLayout{0b000001, kAcqFlagLogDob},
+                            std::span<const std::uint8_t>(bytes).first(6), back),
+            Status::kOk);
+  EXPECT_EQ(back.watch, 0u);
 }
 
 // Golden stream report 0 (scripts/golden/wire_vectors.py): first tick 1000, records 10..12 at

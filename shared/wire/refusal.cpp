@@ -50,6 +50,7 @@ const char* ReasonName(Reason reason) {
     case Reason::kUnknownInfoPage: return "unknown-info-page";
     case Reason::kUnknownCheck: return "unknown-check";
     case Reason::kInternalClock: return "internal-clock";
+    case Reason::kNoModelTest: return "no-model-test";
   }
   return "unknown";
 }

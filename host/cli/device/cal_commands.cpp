@@ -3,6 +3,7 @@
 #include <cmath>
 #include <cstdio>
 #include <iostream>
+#include <optional>
 #include <sstream>
 
 #include <nlohmann/json.hpp>
@@ -18,6 +19,8 @@
 #include "vibid/device/calibration_builder.hpp"
 #include "vibid/device/calibration_upload.hpp"
 #include "vibid/device/log_table.hpp"
+#include "vibid/device/watch_day.hpp"
+#include "vibid/common/csv.hpp"
 #include "vibid/dob/design_json.hpp"
 #include "vibid/model/model_json.hpp"
 
@@ -74,6 +77,8 @@ struct UploadArgs {
   std::string design;
   std::string sensors;
   std::string label;
+  std::string watch_day;
+  device::WatchDayOptions watch;
 };
 
 device::UploadFiles Files(const UploadArgs& a) {
@@ -82,13 +87,20 @@ device::UploadFiles Files(const UploadArgs& a) {
 
 void Run(const UploadArgs& a) {
   device::RecordInputs in = device::ReadRecordInputs(Files(a), VIBID_VERSION);
+  // Read before the board is asked anything: a bad recording costs nothing.
+  std::optional<Recording> day;
+  if (!a.watch_day.empty()) day = LoadRecording(a.watch_day);
   WithDevice(*a.globals, [&](device::Connection& c) {
     if (a.sensors.empty()) {
       bool has_record = false;
       const wire::CalibrationRecord old = device::ActiveRecord(c, has_record);
       device::KeepBoardSensors(in, has_record ? &old : nullptr);
     }
-    const wire::CalibrationRecord rec = device::BuildCalibrationRecord(in);
+    wire::CalibrationRecord rec = device::BuildCalibrationRecord(in);
+    if (day) {
+      const dob::WatchDesign design = device::AttachWatchTest(rec, *day, a.watch, a.watch_day);
+      std::cout << device::WatchDesignText(design) << "\n";
+    }
     std::array<std::uint8_t, wire::kCalRecordBytes> bytes{};
     wire::EncodeCalibrationRecord(rec, bytes);
     {
@@ -161,6 +173,21 @@ void RegisterCalCommands(CLI::App& app, const GlobalOptions& globals) {
                      "Sensors file (default: the scaling the board already holds)");
   upload->add_option("--label", uo->label,
                      "Rig name stored in the record (default: the model file's name)");
+  CLI::Option* day =
+      upload->add_option("--watch-day", uo->watch_day,
+                         "Calibration-day recording (vibid acquire at the observer's rate, the "
+                         "observer running, its inputs logged): builds the board's model test "
+                         "into the record (docs/dob.md)");
+  upload
+      ->add_option("--watch-false-alarms-per-hour", uo->watch.false_alarms_per_hour,
+                   "The model test's false alarms per hour of in-control running (default "
+                   "0.001: one in 1000 hours)")
+      ->needs(day);
+  upload
+      ->add_option("--watch-reference", uo->watch.reference,
+                   "Load cell measuring the force where the observer estimates it (force1 or "
+                   "force2): the test watches d_hat minus it (default: d_hat alone)")
+      ->needs(day);
 
   const auto [show, show_args] = AddCommand<ShowArgs>(*cal, "show", kShowHelp, Run);
   show_args->globals = &globals;

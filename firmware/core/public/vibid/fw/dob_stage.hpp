@@ -16,6 +16,7 @@
 #include "vibid/shared/status.hpp"
 #include "vibid/shared/wire/calibration_record.hpp"
 #include "vibid/shared/wire/device.hpp"
+#include "vibid/shared/wire/log_record.hpp"
 #include "vibid/shared/wire/watch_info.hpp"
 
 namespace vibid::fw {
@@ -63,6 +64,13 @@ class DobStage {
   }
 
   bool watch_loaded() const { return watch_.initialised(); }
+
+  /// The test's state as a log record carries it (wire::kAcqFlagLogWatch): g, which the kernel
+  /// keeps within 0..2^30, below the flag bit. Sampling context, after StepWatch.
+  std::uint32_t WatchWord() const {
+    return static_cast<std::uint32_t>(watch_.statistic()) |
+           (watch_.tripped() ? wire::kLogWatchStaleBit : 0u);
+  }
 
   /// The test's state for get-info's watch page, consistent even while windows end (main loop).
   wire::WatchInfoResponse WatchInfo(bool observer_running) const;

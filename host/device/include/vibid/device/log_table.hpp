@@ -30,7 +30,8 @@ struct LogTable {
 /// 10^6, correctly rounded), one `<stem>_<unit>` column per logged channel
 /// (calibrated exactly as the board does: ScaleChannel, then x full_scale / 2^31, which is exact
 /// in double so a reader recovers the board's Q31 value), and with the observer logged
-/// `d_hat_q31` (the board's integer output) and `d_hat_n`.
+/// `d_hat_q31` (the board's integer output) and `d_hat_n`; with the residual test's word logged,
+/// `model_g` (its CUSUM statistic, in spreads) and `model_stale` (0 or 1).
 /// `calibration` is the active record (has_record false: uncalibrated, columns in counts).
 LogTable MakeLogTable(const LogPull& pull, const wire::CalibrationRecord& calibration,
                       bool has_record);

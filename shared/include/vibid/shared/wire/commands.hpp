@@ -90,7 +90,11 @@ inline constexpr std::uint8_t kAcqFlagLogDob = 1u << 0;  ///< Each log record ca
 /// frame at most) until it ends and every record went out, then the trailer. Nothing waits for
 /// a host request between reports, so what reaches the host depends only on the link.
 inline constexpr std::uint8_t kAcqFlagStream = 1u << 1;
-inline constexpr std::uint8_t kAcqKnownFlags = kAcqFlagLogDob | kAcqFlagStream;
+/// Each log record carries the observer's residual test after d_hat (needs kAcqFlagLogDob and a
+/// calibration with the test): u32, bits 0..30 its statistic g (Q16, at most 2^30), bit 31 the
+/// model-stale flag, both as they stand at the record's own frame (a state, so not decimated).
+inline constexpr std::uint8_t kAcqFlagLogWatch = 1u << 2;
+inline constexpr std::uint8_t kAcqKnownFlags = kAcqFlagLogDob | kAcqFlagStream | kAcqFlagLogWatch;
 
 // ---------------------------------------------------------------------------------------------
 // get-info response
@@ -292,7 +296,7 @@ static_assert(StatusResponse::kBytes <= kMaxPayload);
 // acq-configure request
 //   0  u32 sample_period_us        kMinSamplePeriodUs..kMaxSamplePeriodUs
 //   4  u8  channel_mask            bit i = Channel(i); nonzero, within kAllChannelsMask
-//   5  u8  flags                   kAcqFlagLogDob, kAcqFlagStream
+//   5  u8  flags                   kAcqFlagLogDob, kAcqFlagStream, kAcqFlagLogWatch
 //   6  u16 decimation              2^a 5^b up to kMaxDecimation: one log record every
 //                                  `decimation` ticks, through the anti-aliasing decimator
 //   8  u8  trigger_mode            TriggerMode

@@ -52,10 +52,11 @@ enum class Reason : std::uint16_t {
   kUnknownCheck = 27,       ///< self-test of a check the board does not have; detail: the check.
   kInternalClock = 28,      ///< acq-start on a board running from its internal oscillator (the
                             ///< crystal was refused or did not start); detail: the ClockState.
+  kNoModelTest = 29,        ///< The log's residual-test column without a test in the calibration.
 };
 
 /// The highest Reason this build knows; a larger value decodes and names itself "unknown".
-inline constexpr Reason kLastReason = Reason::kInternalClock;
+inline constexpr Reason kLastReason = Reason::kNoModelTest;
 
 struct Refusal {
   static constexpr std::size_t kBytes = 8;
