@@ -114,10 +114,11 @@ std::string WatchDesignText(const dob::WatchDesign& d) {
   char line[320];
   std::snprintf(line, sizeof line,
                 "model test: windows of %u samples (%.3g s) from %zu on the calibration day; "
-                "k %.2f, h %.2f for %.3g false alarms per hour (one in %.3g windows); a shift of "
-                "%.3g spreads is caught in about %.1f windows",
+                "k %.2f, h %.2f for %.3g false alarms per hour (one in %.3g windows); the window "
+                "mean shifted by %.3g spread%s is caught in about %.1f windows",
                 d.params.window_samples, d.window_s, d.calibration_windows, d.k, d.h,
-                d.false_alarms_per_hour, d.arl0_windows, 2.0 * d.k, d.detection_windows);
+                d.false_alarms_per_hour, d.arl0_windows, 2.0 * d.k, 2.0 * d.k == 1.0 ? "" : "s",
+                d.detection_windows);
   return line;
 }
 
