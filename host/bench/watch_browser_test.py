@@ -172,8 +172,9 @@ def large_change(args, work):
         driver.find_element(By.ID, "wt-download").click()
         wait(driver, lambda d: d.find_element(By.ID, "wt-download").get_attribute("data-lines") == str(len(b)),
              "the journal downloaded")
-        print("30 %% at 240 s: ALARM at %.0f s; mode 1 %+.2f %% at %.0f s; %d blocks journaled in %s"
-              % (first["t_s"], 100 * last["moved"]["relative"], last["t_s"], len(b), journal))
+        print("30 %% at 240 s: ALARM at %.0f s; mode 1 %+.2f %% at %.0f s; %d blocks journaled in %s%s"
+              % (first["t_s"], 100 * last["moved"]["relative"], last["t_s"], len(b), journal,
+                 "; " + js(driver, "return watch.watch.warning") if js(driver, "return watch.watch.warning") else ""))
     finally:
         if driver is not None:
             driver.quit()

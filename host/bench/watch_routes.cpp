@@ -2,6 +2,8 @@
 
 #include <chrono>
 #include <cstdio>
+#include <fstream>
+#include <iterator>
 #include <mutex>
 #include <utility>
 #include <unistd.h>
@@ -17,6 +19,9 @@ namespace {
 
 /// The reference's progress goes out at most this often (a block goes out at once).
 constexpr double kProgressIntervalMs = 500.0;
+/// The blocks a page gets again when it opens: 12 hours of 10 s blocks (the journal holds every
+/// block of a run of any length).
+constexpr std::size_t kKeptBlocks = 4320;
 
 double NowMs() {
   return std::chrono::duration<double, std::milli>(
@@ -137,7 +142,6 @@ class WatchRuns {
                             {"warning", ""}};
     nlohmann::json previous_state;
     nlohmann::json previous_blocks;
-    std::string previous_lines;
     {
       std::lock_guard l(mutex_);
       if (!state_.is_null() && state_.value("running", false)) {
@@ -146,7 +150,6 @@ class WatchRuns {
       }
       previous_state = std::exchange(state_, state);
       previous_blocks = std::exchange(blocks_, nlohmann::json::array());
-      previous_lines = std::exchange(lines_, "");
     }
     try {
       board_.StartTask(
@@ -159,7 +162,6 @@ class WatchRuns {
         std::lock_guard l(mutex_);
         state_ = std::move(previous_state);
         blocks_ = std::move(previous_blocks);
-        lines_ = std::move(previous_lines);
       }
       ::unlink(file.path.c_str());
       throw;
@@ -178,8 +180,14 @@ class WatchRuns {
     Require(body.is_object() && body.empty(), "journal takes an empty object");
     std::lock_guard l(mutex_);
     Require(!state_.is_null(), "nothing watched yet: start the watch");
-    // The lines as written to the journal file (each appended and flushed as it came).
-    return {{"name", state_["name"]}, {"path", state_["journal"]}, {"text", lines_}};
+    // The file itself (every block, each appended and flushed as it came), up to its last whole
+    // line: one being appended is left for the next download.
+    const std::string path = state_["journal"].get<std::string>();
+    std::ifstream in(path, std::ios::binary);
+    Require(in.good(), "the journal " + path + " cannot be read");
+    std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+    text.erase(text.find_last_of('\n') == std::string::npos ? 0 : text.find_last_of('\n') + 1);
+    return {{"name", state_["name"]}, {"path", path}, {"text", text}};
   }
 
  private:
@@ -221,9 +229,9 @@ class WatchRuns {
       {
         std::lock_guard l(mutex_);
         blocks_.push_back(nlohmann::json::parse(line));
-        lines_ += line + "\n";
+        if (blocks_.size() > kKeptBlocks) blocks_.erase(blocks_.begin());
         state_["t_s"] = blocks_.back()["t_s"];
-        state_["blocks"] = blocks_.size();
+        state_["blocks"] = state_.value("blocks", 0) + 1;
       }
       hub_.Publish("watch-block", line);
     };
@@ -266,10 +274,9 @@ class WatchRuns {
   BenchBoard& board_;
   LiveHub& hub_;
   std::string directory_;
-  std::mutex mutex_;  // state_, blocks_, lines_
+  std::mutex mutex_;  // state_, blocks_
   nlohmann::json state_;
-  nlohmann::json blocks_ = nlohmann::json::array();
-  std::string lines_;
+  nlohmann::json blocks_ = nlohmann::json::array();  // the last kKeptBlocks
 };
 
 std::shared_ptr<WatchRuns> AddWatchRoutes(BenchServer& server, BenchBoard& board, LiveHub& hub,

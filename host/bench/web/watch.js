@@ -10,6 +10,9 @@ window.watch = wt;
 wt.settings = () => settings();  // what Start would send (the browser test reads it)
 const $ = id => document.getElementById(id);
 const TWO_PI = 2 * Math.PI;
+// The page draws the last blocks, as many as the server keeps for it (12 h of 10 s blocks); the
+// journal holds every one.
+const kKeptBlocks = 4320;
 
 async function post(path, body) {
   const r = await fetch('/api/watch/' + path, {method: 'POST', headers: access.headers({'Content-Type': 'application/json'}),
@@ -122,7 +125,7 @@ function drawCards() {
 function drawStatus() {
   const w = wt.watch;
   if (!w) { status('nothing watched yet'); document.body.dataset.watch = 'none'; return; }
-  const n = wt.blocks.length;
+  const n = wt.blocks.length ? wt.blocks[wt.blocks.length - 1].block : 0;
   let line = w.name + (w.running ? ': watching' : ': ended') + (w.start ? ' ' + w.start.responses.join(', ') + ' at ' + fmt(w.start.log_rate_hz, 4) + ' Hz' : '') +
     (w.running && !w.reference ? ', reference ' + Math.ceil(w.reference_left_s) + ' s left' : '') + '; ' + n + ' blocks; journal ' + w.journal;
   if (w.warning) line += ' — warning: ' + w.warning;
@@ -253,6 +256,7 @@ function onBlock(b) {
   // One missed (the page subscribed after it went out): the whole run fetched again.
   if ((last ? last.block : 0) + 1 !== b.block) { refresh().catch(e => status(e.message, true)); return; }
   wt.blocks.push(b);
+  if (wt.blocks.length > kKeptBlocks) wt.blocks.shift();
   redraw();
 }
 
