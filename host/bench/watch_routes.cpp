@@ -57,7 +57,7 @@ workflow::WatchBoardSettings ParseSettings(const nlohmann::json& body, const std
   RequireKnownKeys(body,
                    {"rate_hz", "log_rate_hz", "channels", "seconds", "responses", "reference",
                     "reference_s", "block_s", "window_blocks", "false_alarm_per_hour", "fmax_hz",
-                    "modes_s", "order", "scenario", "scenario_params"},
+                    "modes_s", "order", "scenario", "scenario_params", "no_dob"},
                    "the watch's settings");
   workflow::WatchBoardSettings s;
   s.acquire.rate_hz = 1000.0;  // vibid watch's default
@@ -82,6 +82,10 @@ workflow::WatchBoardSettings ParseSettings(const nlohmann::json& body, const std
     Require(s.watch.window_blocks >= 1, "'window_blocks' must be >= 1");
   }
   if (body.contains("order")) s.watch.order = Integer(body, "order");
+  if (body.contains("no_dob")) {
+    Require(body["no_dob"].is_boolean(), "'no_dob' must be true or false");
+    s.acquire.no_dob = body["no_dob"].get<bool>();
+  }
   if (body.contains("channels")) s.acquire.channels = Strings(body, "channels");
   if (body.contains("responses")) s.responses = Strings(body, "responses");
   if (body.contains("reference")) {

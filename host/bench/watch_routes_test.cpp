@@ -87,6 +87,7 @@ TEST_F(WatchRoutesTest, RefusedSettingsGet400WithTheLibrarysMessageAndChangeNoth
       {R"({"modes_s":-1})", "'modes_s' must be >= 0"},
       {R"({"blocks":6})", "unknown key 'blocks'"},
       {R"({"channels":"acc1"})", "'channels' must be a list of names"},
+      {R"({"no_dob":1})", "'no_dob' must be true or false"},
       {R"({"reference":"ref.csv","reference_s":300})", "exclude each other"},
       {R"({"reference":"../ref.csv"})", "reference"},
       // The firmware core is no emulator: no scenario to select.

@@ -32,6 +32,7 @@ function settings() {
   for (const [id, key] of numeric) if ($(id).value !== '') s[key] = Number($(id).value);
   const ref = $('wt-reference').value.trim();
   if (ref) s.reference = ref;
+  if ($('wt-no-dob').checked) s.no_dob = true;
   if (window.bench && bench.board && bench.board.identity.emulator) {
     if ($('wt-scenario').value) s.scenario = $('wt-scenario').value;
     const params = $('wt-params').value.trim();
@@ -44,6 +45,7 @@ function showSettings(s) {
   for (const [id, key] of numeric) $(id).value = s[key] === undefined ? '' : s[key];
   document.querySelectorAll('#wt-channels input').forEach(i => { i.checked = (s.channels || ['acc1', 'acc2']).includes(i.value); });
   $('wt-reference').value = s.reference || '';
+  $('wt-no-dob').checked = s.no_dob === true;
   $('wt-scenario').value = s.scenario || '';
   $('wt-params').value = (s.scenario_params || []).join(', ');
   $('wt-form').dataset.shows = JSON.stringify(s);

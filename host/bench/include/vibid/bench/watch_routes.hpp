@@ -8,7 +8,8 @@
 // Settings (each optional, the library's default when left out, as `vibid watch` takes them):
 // rate_hz (1000), log_rate_hz, channels (acc1, acc2), seconds (until stopped), responses,
 // reference (a recording in the bench's directory) or reference_s, block_s, window_blocks,
-// false_alarm_per_hour, fmax_hz, modes_s, order, scenario, scenario_params (emulator).
+// false_alarm_per_hour, fmax_hz, modes_s, order, no_dob (the observer's output not logged while
+// it runs), scenario, scenario_params (emulator).
 // Live events: `watch` (the run's state: the reference's progress, its modes and thresholds, the
 // board's model test, the end) and `watch-block` (one block, as its journal line).
 #pragma once
