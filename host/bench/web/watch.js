@@ -290,7 +290,13 @@ async function download() {
 function wire(id, action) {
   $(id).addEventListener('click', async () => { try { await action(); } catch (e) { status(e.message, true); } });
 }
-wire('wt-start', async () => { const r = await post('start', settings()); status('started ' + r.name + ', journal ' + r.journal); });
+wire('wt-start', async () => {
+  const r = await post('start', settings());
+  // A step that succeeds clears the banner of an earlier failure (the board view's rule).
+  if (typeof say === 'function') say('', false);
+  // The run's own state may have come first (a run the board refused at once): it stays shown.
+  if (!wt.watch || wt.watch.name !== r.name) status('started ' + r.name + ', journal ' + r.journal);
+});
 wire('wt-stop', async () => { await post('stop', {}); status('stopping: the journal keeps every block so far'); });
 wire('wt-download', download);
 document.querySelector('#tabs').addEventListener('click', () => { wt.dirty = true; });
