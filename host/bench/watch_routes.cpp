@@ -1,6 +1,7 @@
 #include "vibid/bench/watch_routes.hpp"
 
 #include <chrono>
+#include <memory>
 #include <cstdio>
 #include <fstream>
 #include <iterator>
@@ -112,7 +113,7 @@ workflow::WatchBoardSettings ParseSettings(const nlohmann::json& body, const std
 
 }  // namespace
 
-class WatchRuns {
+class WatchRuns : public std::enable_shared_from_this<WatchRuns> {
  public:
   WatchRuns(BenchBoard& board, LiveHub& hub, std::string directory)
       : board_(board), hub_(hub), directory_(std::move(directory)) {}
@@ -156,11 +157,12 @@ class WatchRuns {
       previous_blocks = std::exchange(blocks_, nlohmann::json::array());
     }
     try {
-      board_.StartTask(
-          {{"name", file.stem}, {"view", "watch"}, {"journal", file.path}},
-          [this, run, journal](device::Connection& c, const std::function<bool()>& stop) {
-            return Execute(*run, *journal, c, stop);
-          });
+      board_.StartTask({{"name", file.stem}, {"view", "watch"}, {"journal", file.path}},
+                       // The run holds its view: it outlives the routes if the bench ends first.
+                       [self = shared_from_this(), run, journal](
+                           device::Connection& c, const std::function<bool()>& stop) {
+                         return self->Execute(*run, *journal, c, stop);
+                       });
     } catch (...) {
       {
         std::lock_guard l(mutex_);
