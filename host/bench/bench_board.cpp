@@ -458,6 +458,44 @@ void BenchBoard::WithIdleBoard(const std::function<void(device::Connection&)>& b
   body(c_);
 }
 
+void BenchBoard::StartTask(nlohmann::json state, TaskBody body) {
+  std::unique_lock lock(board_mutex_, std::try_to_lock);
+  if (!lock.owns_lock() || running_) throw Busy("an acquisition is running: stop it first");
+  if (thread_.joinable()) thread_.join();
+  running_ = true;
+  stop_ = false;
+  state["running"] = true;
+  {
+    std::lock_guard s(state_mutex_);
+    state_ = state;
+  }
+  PublishState();
+  lock.unlock();
+  thread_ = std::thread([this, state, body = std::move(body)] {
+    std::lock_guard board(board_mutex_);
+    nlohmann::json done;
+    try {
+      done = body(c_,
+                  [this] { return stop_.load() || (interrupt_ != nullptr && interrupt_->load()); });
+    } catch (const std::exception& e) {
+      done = {{"error", e.what()}};
+      try {
+        c_.StopAcquisition();
+      } catch (const std::exception&) {
+      }
+    }
+    for (const auto& [k, v] : state.items())
+      if (!done.contains(k)) done[k] = v;
+    done["running"] = false;
+    {
+      std::lock_guard s(state_mutex_);
+      state_ = done;
+    }
+    running_ = false;
+    PublishState();
+  });
+}
+
 void BenchBoard::ReadCalibrationAgain() {
   WithIdleBoard([this](device::Connection&) { ReadCalibration(); });
 }

@@ -190,7 +190,9 @@ function onState(s) {
   const prev = bench.state;
   bench.state = s;
   if (s.running && s.ask && (!prev || prev.name !== s.name)) showAsk(s.ask);
-  const line = s.running ? 'acquiring ' + s.name + ': ' + s.records + ' records'
+  const line = s.running && s.view === 'watch' ? 'watching ' + s.name + ' (the Watch view)'
+    : s.running ? 'acquiring ' + s.name + ': ' + s.records + ' records'
+    : s.view === 'watch' ? 'last: ' + s.name + ' (the Watch view): ' + s.blocks + ' blocks in ' + s.journal + (s.error ? ' — ' + s.error : '')
     : s.name ? 'last: ' + s.records + ' records' + (s.file ? ' in ' + s.file : '') + (s.error ? ' — ' + s.error : '')
     : 'idle';
   document.getElementById('acq-state').textContent = line;

@@ -13,6 +13,7 @@
 #include "vibid/bench/calibration_routes.hpp"
 #include "vibid/bench/identify_routes.hpp"
 #include "vibid/bench/hammer_routes.hpp"
+#include "vibid/bench/watch_routes.hpp"
 #include "vibid/bench/server.hpp"
 
 namespace vibid::cli {
@@ -48,6 +49,7 @@ void Run(const BenchArgs& a) {
         bench::AddCalibrationRoutes(server, board, a.out, VIBID_VERSION);
         bench::AddIdentifyRoutes(server, board, a.out);
         const auto hammer = bench::AddHammerRoutes(server, board, hub, a.out);
+        const auto watch = bench::AddWatchRoutes(server, board, hub, a.out);
         server.Start();
         std::cout << server.Url() << std::endl;
         std::cerr << "vibid: bench on " << c.Describe() << ", recordings in "

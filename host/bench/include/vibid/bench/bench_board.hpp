@@ -90,6 +90,15 @@ class BenchBoard {
   /// The board's sampling instants as get-info stated them (empty from a protocol 2.0 board).
   const std::optional<wire::SamplingInfoResponse>& SamplingInstants() const { return instants_; }
 
+  /// A view's own run on the board (the Watch view's acquisition, started by the library): `body`
+  /// runs in the acquisition's thread with the connection and a stop request (true after Stop or
+  /// Ctrl-C), the board busy meanwhile as during an acquisition (Busy for every other start).
+  /// `state` is the running state published (its "name" and the view's keys); the body's return,
+  /// or its error, is the final state. Busy when an acquisition runs.
+  using TaskBody =
+      std::function<nlohmann::json(device::Connection& c, const std::function<bool()>& stop)>;
+  void StartTask(nlohmann::json state, TaskBody body);
+
   /// Runs `body` with the connection while no acquisition runs (Busy otherwise), serialized with
   /// every other request: the way a view reaches the board.
   void WithIdleBoard(const std::function<void(device::Connection&)>& body);

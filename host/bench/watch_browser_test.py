@@ -1,0 +1,251 @@
+#!/usr/bin/python3
+"""The bench's Watch view in headless chromium against vibid-emu (operate scenario, 200 Hz).
+
+1. The built-in rig with its mass step made 30 % at 240 s (docs/watch.md's fast example: a
+   230 s reference, 5 s blocks, windows of 6): the form's empty fields say the library's
+   defaults (those `vibid watch --help` states); a block too short for the band is refused in the
+   page in the library's words, nothing started; with the demo's calibration and its 5 kHz observer
+   running, logging d̂ at 200 Hz is refused by the board (shown), and "without d̂" runs; the
+   watch started until Stop shows the
+   reference's seconds left, then the blocks: the alarm at 260 s (the first full window after
+   the change, as the CLI gives it in docs/watch.md), mode 1 moved down, the modes with their
+   intervals once 70 s have come since the reference, the board's model test as get-info gives it
+   (this calibration has none, and its log no model columns); Stop keeps the journal:
+   the file in the bench's directory and the page's download are the blocks the page drew, line
+   for line.
+2. The built-in 3 % step as the rig file has it (mass 2 + 0.0459 kg at 600 s), a 590 s reference
+   and the library's other defaults, 1200 s: flagged at 1190 s, the block
+   hil WatchCliTest.OnARecordingTheBuiltInThreePercentStepIsFlagged flags on the same emulator's
+   recording, with the statistic `vibid watch --device` prints there (window T² 48.1 over 37.3).
+   A reload mid-run shows the blocks again and the run's settings in the form.
+
+  /usr/bin/python3 host/bench/watch_browser_test.py --build build/host [--screenshots docs]
+"""
+import argparse
+import atexit
+import json
+import os
+import re
+import subprocess
+import sys
+import tempfile
+import time
+
+from selenium.webdriver.common.by import By
+
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+from browser_test import ROOT, Bench, browser, check, wait  # noqa: E402
+
+STEP_RIG = os.path.join(ROOT, "host", "emulator", "rigs", "chain2_mass_step.json")
+
+
+class WatchBench(Bench):
+    """An emulator (as fast as it runs: no --realtime) with `rig`, and a bench on it."""
+
+    def __init__(self, build, work, rig):
+        self.vibid = os.path.join(build, "host", "cli", "vibid")
+        emu = os.path.join(build, "host", "emulator", "vibid-emu")
+        self.work = work
+        self.emu = subprocess.Popen([emu, "--port", "0", "--rig", rig],
+                                    stdout=subprocess.PIPE, stderr=subprocess.DEVNULL, text=True)
+        self.server = None
+        port = re.search(r"127\.0\.0\.1:(\d+)", self.emu.stdout.readline())
+        check(port is not None, "no port in the emulator's banner")
+        self.device = "usbip://127.0.0.1:" + port.group(1)
+        self.server = None
+        atexit.register(self.close)  # a failed check exits at once: nothing outlives the test
+
+
+def js(driver, script):
+    return driver.execute_script(script)
+
+
+def fill(driver, values):
+    for field, value in values.items():
+        e = driver.find_element(By.ID, field)
+        e.clear()
+        if value:
+            e.send_keys(value)
+
+
+def open_watch(bench):
+    bench.serve()
+    driver = browser()
+    try:
+        driver.get(bench.url)
+        wait(driver, lambda d: js(d, "return document.body.dataset.ready") == "yes", "the page")
+        driver.find_element(By.CSS_SELECTOR, "#tabs button[data-view=watch]").click()
+        wait(driver, lambda d: d.find_element(By.ID, "view-watch").get_attribute("data-ready") == "yes",
+             "the watch view")
+    except BaseException:
+        driver.quit()
+        raise
+    return driver
+
+
+def blocks(driver):
+    return js(driver, "return watch.blocks") or []
+
+
+def library_defaults(vibid):
+    """The defaults `vibid watch --help` states (CLI11's `=VALUE`)."""
+    text = subprocess.run([vibid, "watch", "--help"], capture_output=True, text=True).stdout
+    out = {}
+    for option in ("reference-s", "block-s", "window-blocks", "false-alarm-per-hour", "fmax-hz",
+                   "modes-s", "rate-hz"):
+        m = re.search(r"--%s [^\n]*=([^\s=]+)" % option, text)
+        check(m is not None, "no default for --%s in vibid watch --help" % option)
+        out[option] = m.group(1)
+    return out
+
+
+def large_change(args, work):
+    with open(STEP_RIG) as f:
+        rig = json.load(f)
+    check(rig["changes"][0]["at_s"] == 600.0, "the built-in step moved: %s" % rig["changes"])
+    rig["changes"][0]["at_s"] = 240.0
+    rig["changes"][0]["add_kg"] = 10 * rig["changes"][0]["add_kg"]  # 3 % -> 30 %
+    path = os.path.join(work, "step240.json")
+    with open(path, "w") as f:
+        json.dump(rig, f)
+    bench = WatchBench(os.path.abspath(args.build), work, path)
+    driver = None
+    try:
+        bench.calibrate()  # the demo's calibration, its 5 kHz observer running (no residual test)
+        driver = open_watch(bench)
+        defaults = library_defaults(bench.vibid)
+        for field, option in (("wt-rate", "rate-hz"), ("wt-reference-s", "reference-s"),
+                              ("wt-block", "block-s"), ("wt-window", "window-blocks"),
+                              ("wt-far", "false-alarm-per-hour"), ("wt-fmax", "fmax-hz"),
+                              ("wt-modes", "modes-s")):
+            shown = driver.find_element(By.ID, field).get_attribute("placeholder")
+            check(shown == defaults[option], "%s says %r, vibid watch's default is %s"
+                  % (field, shown, defaults[option]))
+        fill(driver, {"wt-rate": "200", "wt-reference-s": "230", "wt-block": "1", "wt-window": "6"})
+        driver.find_element(By.ID, "wt-start").click()
+        wait(driver, lambda d: "--block-s 1 is too short for the band" in d.find_element(By.ID, "wt-status").text,
+             "the refusal of a 1 s block")
+        print("refused: " + driver.find_element(By.ID, "wt-status").text)
+        check(js(driver, "return document.body.dataset.watch") == "none", "a refused watch started")
+        fill(driver, {"wt-block": "5", "wt-modes": "70"})
+        # With d̂ at 200 Hz the board refuses (its observer runs at 5 kHz only): the run's error.
+        driver.find_element(By.ID, "wt-start").click()
+        wait(driver, lambda d: "runs at that rate only" in d.find_element(By.ID, "wt-status").text,
+             "the board's refusal of d̂ at another rate than the observer's (the banner: {message})")
+        check(js(driver, "return document.body.dataset.watch") == "ended", "the refused run not ended")
+        print("refused by the board: " + driver.find_element(By.ID, "wt-status").text)
+        driver.find_element(By.ID, "wt-no-dob").click()
+        driver.find_element(By.ID, "wt-start").click()
+        wait(driver, lambda d: 0 < float(d.find_element(By.ID, "wt-reference-state").get_attribute("data-left") or 0) < 230,
+             "the reference's seconds left", timeout=30)
+        print("reference phase: " + driver.find_element(By.ID, "wt-reference-state").text)
+        wait(driver, lambda d: len(blocks(d)) >= 22, "22 blocks (to 340 s)", timeout=60)
+        wait(driver, lambda d: d.find_element(By.ID, "wt-moved").text.startswith("mode 1:"),
+             "the mode that moved shown")
+        moved = driver.find_element(By.ID, "wt-moved").text
+        check("Hz against" in moved and "rad/s" in moved, "the mode that moved: " + moved)
+        print("shown: " + moved)
+        if args.screenshots:
+            driver.set_window_size(1400, 1400)
+            driver.find_element(By.CSS_SELECTOR, "#tabs button[data-view=watch]").click()
+            wait(driver, lambda d: js(d, "return watch.dirty") is False, "the plots drawn")
+            driver.save_screenshot(os.path.join(args.screenshots, "bench-watch.png"))
+        driver.find_element(By.ID, "wt-stop").click()
+        wait(driver, lambda d: js(d, "return document.body.dataset.watch") == "ended", "the end after Stop")
+        b = blocks(driver)
+        check(js(driver, "return watch.watch.end.stopped") is True, "not stopped by Stop")
+        # Up to the Stop, every block in turn; the emulator (not paced in real time) may have run
+        # ahead of the stream, and what its log still held after the Stop follows a gap.
+        times = [x["t_s"] for x in b]
+        check(times[:22] == [235.0 + 5 * i for i in range(22)] and times == sorted(set(times)),
+              "block times: %s" % times)
+        first = [x for x in b if x["alarm"]][0]
+        # docs/watch.md (vibid watch --device on the same rig and options): ALARM at 260 s.
+        check(first["t_s"] == 260.0 and b[-1]["first_alarm_t_s"] == 260.0, "first alarm: %s" % first)
+        verdict = driver.find_element(By.ID, "wt-verdict")
+        check(verdict.get_attribute("data-first-alarm") == "260" and "ALARM" in verdict.text,
+              "the verdict shown: " + verdict.text)
+        with_modes = [x for x in b if x["modes"]]
+        check(with_modes and with_modes[0]["t_s"] == 300.0, "modes from 300 s (230 + 70)")
+        last = with_modes[-1]
+        check(last["moved"]["mode"] == 1 and last["moved"]["relative"] < -0.05,
+              "mode 1 lower: %s" % last["moved"])
+        check(all(m["ci95"]["omega_rad_s"] > 0 and m["ci95"]["zeta"] > 0 for x in with_modes for m in x["modes"]),
+              "an interval of zero")
+        board = driver.find_element(By.ID, "wt-board").text
+        # device::WatchText's words for a calibration without the residual test (vibid info's).
+        check(board == "no model test in the log; the board at the end: none (the calibration "
+              "carries no residual test)",
+              "the board's flag: " + board)
+        check(int(driver.find_element(By.ID, "wt-freq").get_attribute("data-points")) >= 8,
+              "the frequency trend's points")
+        journal = js(driver, "return watch.watch.journal")
+        with open(journal) as f:
+            on_disk = [json.loads(line) for line in f.read().splitlines()]
+        check(on_disk == b, "the journal on disk (%d lines) is not the %d blocks drawn" % (len(on_disk), len(b)))
+        driver.find_element(By.ID, "wt-download").click()
+        wait(driver, lambda d: d.find_element(By.ID, "wt-download").get_attribute("data-lines") == str(len(b)),
+             "the journal downloaded")
+        print("30 %% at 240 s: ALARM at %.0f s; mode 1 %+.2f %% at %.0f s; %d blocks journaled in %s%s"
+              % (first["t_s"], 100 * last["moved"]["relative"], last["t_s"], len(b), journal,
+                 "; " + js(driver, "return watch.watch.warning") if js(driver, "return watch.watch.warning") else ""))
+    finally:
+        if driver is not None:
+            driver.quit()
+        bench.close()
+
+
+def three_percent(args, work):
+    bench = WatchBench(os.path.abspath(args.build), work, STEP_RIG)
+    driver = None
+    try:
+        driver = open_watch(bench)
+        fill(driver, {"wt-rate": "200", "wt-seconds": "1200", "wt-reference-s": "590", "wt-modes": "0"})
+        driver.find_element(By.ID, "wt-start").click()
+        wait(driver, lambda d: len(blocks(d)) >= 5, "five blocks", timeout=40)
+        before = len(blocks(driver))
+        driver.refresh()
+        wait(driver, lambda d: js(d, "return document.body.dataset.ready") == "yes", "the page after the reload")
+        driver.find_element(By.CSS_SELECTOR, "#tabs button[data-view=watch]").click()
+        wait(driver, lambda d: len(blocks(d)) >= before, "the blocks after the reload")
+        shows = json.loads(driver.find_element(By.ID, "wt-form").get_attribute("data-shows"))
+        check(shows == js(driver, "return watch.settings()") == js(driver, "return watch.watch.settings"),
+              "the form after the reload: %s" % shows)
+        wait(driver, lambda d: js(d, "return document.body.dataset.watch") == "ended", "the end", timeout=60)
+        b = blocks(driver)
+        with open(js(driver, "return watch.watch.journal")) as f:
+            on_disk = [json.loads(line) for line in f.read().splitlines()]
+        check(on_disk == b, "the journal on disk (%d lines: %s) is not the %d blocks drawn (%s)"
+              % (len(on_disk), [x["t_s"] for x in on_disk], len(b), [x["t_s"] for x in b]))
+        check(len(b) == 61, "%d blocks, not (1200 - 590) / 10" % len(b))
+        first = [x for x in b if x["alarm"]]
+        check(first and first[0]["t_s"] == 1190.0, "3 %% step: first alarm %s" % (first[0]["t_s"] if first else None))
+        a = first[0]["accumulated"]
+        # vibid watch --device on the same rig: "window 48.1/37.3 (60/60) | ALARM" at 1190 s.
+        check(round(a["statistic"], 1) == 48.1 and round(a["threshold"], 1) == 37.3,
+              "the alarm's window T²: %s" % a)
+        check(js(driver, "return watch.watch.end.stopped") is False, "ended by Stop, not by its length")
+        print("3 %% at 600 s: ALARM at %.0f s (window T² %.1f over %.1f), %d blocks after the change"
+              % (first[0]["t_s"], a["statistic"], a["threshold"], (first[0]["t_s"] - 600) / 10))
+    finally:
+        if driver is not None:
+            driver.quit()
+        bench.close()
+
+
+def main():
+    ap = argparse.ArgumentParser()
+    ap.add_argument("--build", default=os.path.join(ROOT, "build", "host"))
+    ap.add_argument("--screenshots", default=None, help="directory for the view's PNG")
+    args = ap.parse_args()
+    t0 = time.monotonic()
+    with tempfile.TemporaryDirectory(prefix="vibid-watch-browser-") as work:
+        os.makedirs(os.path.join(work, "a"))
+        os.makedirs(os.path.join(work, "b"))
+        large_change(args, os.path.join(work, "a"))
+        three_percent(args, os.path.join(work, "b"))
+    print("watch browser test passed in %.1f s" % (time.monotonic() - t0))
+
+
+if __name__ == "__main__":
+    main()

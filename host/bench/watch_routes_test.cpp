@@ -1,0 +1,166 @@
+// The Watch view's routes in-process against the firmware core: settings the library refuses are
+// answered 400 with its message naming the option, nothing is created and the board does not
+// move; a watch holds the board (another start, the hammer view's too, is 409) until Stop, which
+// ends it with its journal kept; before a watch the snapshot is empty and the journal refused.
+#include "vibid/bench/watch_routes.hpp"
+
+#include <chrono>
+#include <filesystem>
+#include <fstream>
+#include <thread>
+
+#include <gtest/gtest.h>
+#include <httplib.h>
+
+#include "core_loopback.hpp"
+#include "vibid/bench/hammer_routes.hpp"
+
+namespace vibid::bench {
+namespace {
+
+namespace fs = std::filesystem;
+using namespace std::chrono_literals;
+
+class WatchRoutesTest : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    dir_ = fs::temp_directory_path() /
+           ("vibid-watch-routes-test-" + std::to_string(::getpid()) + "-" +
+            ::testing::UnitTest::GetInstance()->current_test_info()->name());
+    connection_ = std::make_unique<device::Connection>(core_.Connect());
+    probe_ = std::make_unique<device::Connection>(core_.Connect());
+    board_ = std::make_unique<BenchBoard>(*connection_, dir_.string(), hub_);
+    server_ = std::make_unique<BenchServer>(*board_, hub_, ServerOptions{});
+    hammer_ = AddHammerRoutes(*server_, *board_, hub_, dir_.string());
+    runs_ = AddWatchRoutes(*server_, *board_, hub_, dir_.string());
+    server_->Start();
+  }
+  void TearDown() override {
+    board_->Shutdown();
+    server_.reset();
+    board_.reset();
+    fs::remove_all(dir_);
+  }
+
+  httplib::Result Post(const std::string& route, const std::string& body) {
+    httplib::Client c("127.0.0.1", server_->port());
+    c.set_read_timeout(10, 0);
+    return c.Post("/api/" + route, {{kTokenHeader, server_->token()}}, body, "application/json");
+  }
+
+  nlohmann::json Snapshot() {
+    const auto r = Post("watch/snapshot", "{}");
+    EXPECT_TRUE(r && r->status == 200);
+    return r ? nlohmann::json::parse(r->body) : nlohmann::json();
+  }
+
+  std::size_t Entries() const {
+    std::size_t n = 0;
+    for ([[maybe_unused]] const auto& e : fs::directory_iterator(dir_)) ++n;
+    return n;
+  }
+
+  hil::CoreLoopback core_;
+  LiveHub hub_;
+  fs::path dir_;
+  std::unique_ptr<device::Connection> connection_;
+  std::unique_ptr<device::Connection> probe_;
+  std::unique_ptr<BenchBoard> board_;
+  std::unique_ptr<BenchServer> server_;
+  std::shared_ptr<HammerTests> hammer_;
+  std::shared_ptr<WatchRuns> runs_;
+};
+
+TEST_F(WatchRoutesTest, RefusedSettingsGet400WithTheLibrarysMessageAndChangeNothing) {
+  const wire::StatusResponse before = probe_->GetStatus();
+  const std::size_t entries = Entries();
+  const std::vector<std::pair<std::string, std::string>> bad = {
+      // The library's checks (WatchOptions::Validate, the plan), in vibid watch's words.
+      {R"({"rate_hz":200,"block_s":1})", "--block-s 1 is too short for the band"},
+      {R"({"rate_hz":200,"reference_s":60})", "--reference-s 60 is too short"},
+      {R"({"rate_hz":200,"seconds":100})", "--seconds 100 ends before the first block"},
+      {R"({"rate_hz":200,"scenario_params":[1,2,3,4,5]})", "--scenario-param takes at most 4"},
+      // The view's reading of its settings.
+      {R"({"rate_hz":"fast"})", "'rate_hz' must be a number"},
+      {R"({"window_blocks":0})", "'window_blocks' must be >= 1"},
+      {R"({"window_blocks":2.5})", "'window_blocks' must be a whole number"},
+      {R"({"modes_s":-1})", "'modes_s' must be >= 0"},
+      {R"({"blocks":6})", "unknown key 'blocks'"},
+      {R"({"channels":"acc1"})", "'channels' must be a list of names"},
+      {R"({"no_dob":1})", "'no_dob' must be true or false"},
+      {R"({"reference":"ref.csv","reference_s":300})", "exclude each other"},
+      {R"({"reference":"../ref.csv"})", "reference"},
+      // The firmware core is no emulator: no scenario to select.
+      {R"({"rate_hz":200,"scenario":"operate"})", "this board is not the emulator"},
+  };
+  for (const auto& [body, expected] : bad) {
+    const auto r = Post("watch/start", body);
+    ASSERT_TRUE(r);
+    EXPECT_EQ(r->status, 400) << body;
+    EXPECT_NE(r->body.find(expected), std::string::npos) << body << " -> " << r->body;
+  }
+  EXPECT_EQ(Entries(), entries);
+  const wire::StatusResponse after = probe_->GetStatus();
+  EXPECT_EQ(after.acq_state, wire::AcqState::kIdle);
+  EXPECT_EQ(after.records_written, before.records_written);
+  EXPECT_EQ(Snapshot(), nlohmann::json({{"watch", nullptr}, {"blocks", nlohmann::json::array()}}));
+  const auto journal = Post("watch/journal", "{}");
+  ASSERT_TRUE(journal);
+  EXPECT_EQ(journal->status, 400);
+  EXPECT_NE(journal->body.find("nothing watched yet"), std::string::npos) << journal->body;
+}
+
+TEST_F(WatchRoutesTest, AWatchHoldsTheBoardUntilStopWhichKeepsItsJournal) {
+  const auto start = Post("watch/start", R"({"rate_hz":200})");
+  ASSERT_TRUE(start);
+  ASSERT_EQ(start->status, 200) << start->body;
+  const nlohmann::json started = nlohmann::json::parse(start->body);
+  const std::string journal = started["journal"].get<std::string>();
+  EXPECT_TRUE(fs::exists(journal));
+  EXPECT_EQ(fs::path(journal).parent_path(), dir_);
+  EXPECT_EQ(board_->State()["running"], true);
+  EXPECT_EQ(board_->State()["view"], "watch");
+  // One board user at a time: another watch, and the other views' acquisitions, wait for Stop.
+  const auto again = Post("watch/start", R"({"rate_hz":200})");
+  ASSERT_TRUE(again);
+  EXPECT_EQ(again->status, 409) << again->body;
+  const auto acquire =
+      Post("acquire", R"({"sample_period_us":5000,"channels":["acc1"],"seconds":1})");
+  ASSERT_TRUE(acquire);
+  EXPECT_EQ(acquire->status, 409) << acquire->body;
+  // The reference phase under way (the default 30 minutes): the board samples.
+  const auto deadline = std::chrono::steady_clock::now() + 10s;
+  while (Snapshot()["watch"]["start"].is_null()) {
+    ASSERT_LT(std::chrono::steady_clock::now(), deadline) << Snapshot().dump();
+    std::this_thread::sleep_for(10ms);
+  }
+  const nlohmann::json s = Snapshot()["watch"];
+  EXPECT_EQ(s["start"]["responses"], nlohmann::json({"acc1_counts", "acc2_counts"}));
+  EXPECT_EQ(s["start"]["log_rate_hz"], 200.0);
+  EXPECT_EQ(s["start"]["board_columns"], false);
+  EXPECT_EQ(s["options"]["reference_s"], 1800.0);  // WatchOptions' default
+  ASSERT_TRUE(Post("watch/stop", "{}"));
+  while (Snapshot()["watch"]["running"] != false) {
+    ASSERT_LT(std::chrono::steady_clock::now(), deadline) << Snapshot().dump();
+    std::this_thread::sleep_for(10ms);
+  }
+  const nlohmann::json end = Snapshot()["watch"];
+  EXPECT_EQ(end["end"]["stopped"], true) << end.dump();
+  EXPECT_EQ(end["end"]["reference_built"], false);
+  EXPECT_GT(end["end"]["reference_left_s"].get<double>(), 0.0);
+  EXPECT_EQ(end["error"], "");
+  EXPECT_TRUE(fs::exists(journal));  // kept (no block yet: empty)
+  EXPECT_EQ(fs::file_size(journal), 0u);
+  while (board_->State()["running"] != false) {
+    ASSERT_LT(std::chrono::steady_clock::now(), deadline);
+    std::this_thread::sleep_for(10ms);
+  }
+  EXPECT_NE(probe_->GetStatus().acq_state, wire::AcqState::kAcquiring);
+  const auto text = Post("watch/journal", "{}");
+  ASSERT_TRUE(text);
+  ASSERT_EQ(text->status, 200);
+  EXPECT_EQ(nlohmann::json::parse(text->body)["text"], "");
+}
+
+}  // namespace
+}  // namespace vibid::bench
