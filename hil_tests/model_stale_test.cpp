@@ -8,6 +8,7 @@
 
 #include <filesystem>
 #include <fstream>
+#include <sstream>
 
 #include <nlohmann/json.hpp>
 
@@ -101,6 +102,41 @@ TEST_F(ModelStaleTest, TheBuiltInThreePercentStepTripsTheBoardsFlag) {
   // The log's rows keep the trip's time to within a record (5 ms at 200 Hz).
   EXPECT_GE(t(first), m["tripped_at_s"].get<double>()) << m.dump();
   EXPECT_LT(t(first), m["tripped_at_s"].get<double>() + 0.005) << m.dump();
+}
+
+// `vibid watch` on the board with the test running: every block carries the board's flag as the
+// log has it at the block's end, with its threshold, and says since when it is stale.
+TEST_F(ModelStaleTest, WatchShowsTheBoardsFlagAtEveryBlock) {
+  Calibrate(std::string(VIBID_SOURCE_DIR) + "/host/emulator/rigs/chain2_mass_step.json", 500.0);
+  const auto r =
+      Vibid({"watch", "--seconds", "1200", "--rate-hz", "1000", "--log-rate-hz", "200",
+             "--scenario", "operate", "--reference-s", "590", "--modes-s", "0", "--json"});
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const auto info = Vibid({"info", "--json"});
+  ASSERT_EQ(info.exit_code, 0) << info.err;
+  const nlohmann::json m = nlohmann::json::parse(info.out)["model_stale"];
+  ASSERT_TRUE(m["stale"].get<bool>()) << m.dump();
+  const double tripped_s = m["tripped_at_s"].get<double>();
+  std::istringstream in(r.out);
+  int blocks = 0;
+  int stale = 0;
+  for (std::string line; std::getline(in, line);) {
+    const nlohmann::json j = nlohmann::json::parse(line);
+    ++blocks;
+    ASSERT_TRUE(j["board"].is_object()) << line;
+    EXPECT_DOUBLE_EQ(j["board"]["threshold"].get<double>(), m["threshold"].get<double>());
+    const double t = j["t_s"].get<double>();
+    const bool is_stale = j["board"]["stale"].get<bool>();
+    // A block ends at t; the flag is the one logged at its last record (5 ms before t).
+    EXPECT_EQ(is_stale, t - 0.005 >= tripped_s) << line;
+    if (is_stale) {
+      ++stale;
+      EXPECT_GE(j["board"]["stale_since_t_s"].get<double>(), tripped_s) << line;
+      EXPECT_LT(j["board"]["stale_since_t_s"].get<double>(), tripped_s + 0.005) << line;
+    }
+  }
+  EXPECT_EQ(blocks, 61);  // (1200 - 590) / 10
+  EXPECT_GT(stale, 0);
 }
 
 // The same rig without its step: the flag stays down over the run.

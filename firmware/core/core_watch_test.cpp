@@ -15,6 +15,8 @@
 #include "core_harness.hpp"
 #include "test_filter.hpp"
 #include "test_records.hpp"
+#include "vibid/fw/sampler.hpp"
+#include "vibid/shared/fixed/decimator.hpp"
 #include "vibid/shared/fixed/dob_filter.hpp"
 #include "vibid/shared/fixed/residual_cusum.hpp"
 #include "vibid/shared/wire/watch_info.hpp"
@@ -305,6 +307,9 @@ TEST(CoreWatch, TheLogCarriesTheTestsStateAtEachRecord) {
                    (test.tripped() ? 0x80000000u : 0u));
   }
   ASSERT_TRUE(test.tripped());
+  const std::uint32_t delay = fixed::DecimatorDelayTicks(kWindow);
+  const std::uint32_t lag = (delay + kWindow - 1) / kWindow;
+  EXPECT_EQ(lag, Sampler::kMaxWatchLag);  // 973 ticks at D = 64: the longest lag there is
   const testing::PulledLog log = testing::PullLog(h, 0, 0);
   ASSERT_EQ(log.status, Status::kOk);
   // The decimator's settling drops the first records (twice its delay at 64: 31 windows), so
@@ -315,21 +320,37 @@ TEST(CoreWatch, TheLogCarriesTheTestsStateAtEachRecord) {
   std::size_t moving = 0;
   for (std::size_t k = 0; k < log.count; ++k) {
     const wire::LogRecord& rec = log.records[k];
+    // The state at the record's time as the host writes it (its tick less the decimator's
+    // delay): the word of the output `lag` records back, zero before the acquisition.
     ASSERT_LT(rec.sample_index, word.size());
-    EXPECT_EQ(rec.watch, word[rec.sample_index]) << "tick " << rec.sample_index;
+    const std::uint32_t back = lag * kWindow;
+    const std::uint32_t expected = rec.sample_index >= back ? word[rec.sample_index - back] : 0u;
+    EXPECT_EQ(rec.watch, expected) << "tick " << rec.sample_index;
     stale += (rec.watch >> 31) != 0;
     moving += (rec.watch & 0x7FFFFFFFu) != 0;
   }
   EXPECT_GT(stale, 0u);  // the step's windows are in the log, flagged
   EXPECT_GT(moving, stale);
-  // The first record logged stale is the first at or after the tripping window's end.
+  // The first record logged stale is the first whose time (tick less the delay) is at or after
+  // the tripping window's end, to within a record.
   const wire::WatchInfoResponse page = WatchPage(h);
   for (std::size_t k = 0; k < log.count; ++k) {
     if ((log.records[k].watch >> 31) == 0) continue;
-    EXPECT_GE(log.records[k].sample_index, page.trip_tick);
-    EXPECT_LT(log.records[k].sample_index, page.trip_tick + kWindow);
+    EXPECT_GE(log.records[k].sample_index - delay, page.trip_tick);
+    EXPECT_LT(log.records[k].sample_index - delay, page.trip_tick + kWindow);
     break;
   }
+}
+
+// Every supported log rate keeps the residual test's word within the sampler's lag.
+TEST(CoreWatch, EveryDecimationsDelayFitsTheWordsLag) {
+  std::uint32_t longest = 0;
+  for (std::uint32_t d = 2; d <= fixed::kDecimatorMaxFactor; ++d) {
+    if (!fixed::IsSupportedDecimation(d)) continue;
+    const std::uint32_t delay = fixed::DecimatorDelayTicks(d);
+    longest = std::max(longest, (delay + d - 1) / d);
+  }
+  EXPECT_EQ(longest, Sampler::kMaxWatchLag);
 }
 
 TEST(CoreWatch, TheModelColumnNeedsDhatAndATest) {

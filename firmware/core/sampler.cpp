@@ -26,6 +26,10 @@ Status Sampler::Arm(const wire::AcqConfigureRequest& config) {
   // start from rest (zeros before the acquisition) rather than the signal.
   const std::uint32_t d = config.decimation;
   settle_ticks_ = d == 1 ? 0 : (2 * fixed::DecimatorDelayTicks(d) + d - 1) / d * d;
+  watch_lag_ = d == 1 ? 0 : (fixed::DecimatorDelayTicks(d) + d - 1) / d;
+  if (watch_lag_ > kMaxWatchLag) return Status::kInvalidArgument;
+  watch_words_.fill(0);  // the test starts from rest with the acquisition
+  watch_head_ = 0;
   s = ring_.Reset(layout_.StoredRecordBytes(), config.pretrigger_records);
   if (s != Status::kOk) return s;
   config_ = config;
@@ -157,8 +161,15 @@ Sampler::Logged Sampler::LogFrame(const SampleFrame& frame, std::int32_t d_hat) 
   }
   if (layout_.HasDob()) in[n++] = d_hat;
   std::array<std::int32_t, fixed::kDecimatorMaxChannels> out{};
-  if (!decimator_.Push(in.data(), out.data()) || frame.tick < settle_ticks_)
-    return Logged::kNoRecord;
+  if (!decimator_.Push(in.data(), out.data())) return Logged::kNoRecord;
+  std::uint32_t watch = 0;
+  if (layout_.HasWatch()) {
+    constexpr std::uint32_t kWords = kMaxWatchLag + 1;
+    watch_words_[watch_head_] = dob_in_acquisition_ ? dob_.WatchWord() : 0u;
+    watch = watch_words_[(watch_head_ + kWords - watch_lag_) % kWords];
+    watch_head_ = (watch_head_ + 1) % kWords;
+  }
+  if (frame.tick < settle_ticks_) return Logged::kNoRecord;
 
   wire::LogRecord record;
   n = 0;
@@ -166,8 +177,7 @@ Sampler::Logged Sampler::LogFrame(const SampleFrame& frame, std::int32_t d_hat) 
     if ((layout_.channel_mask & (1u << c)) != 0) record.raw[c] = out[n++];
   }
   if (layout_.HasDob()) record.d_hat = out[n];
-  // The test's state at this frame: a flag and a CUSUM level, which a decimator would smear.
-  if (layout_.HasWatch()) record.watch = dob_in_acquisition_ ? dob_.WatchWord() : 0u;
+  record.watch = watch;
   std::array<std::uint8_t, wire::kLogIndexBytes + wire::kMaxLogRecordBytes> bytes{};
   wire::StoreU32(bytes, 0, frame.tick);
   wire::EncodeLogRecord(layout_, record,

@@ -125,22 +125,12 @@ LogTable MakeLogTable(const LogPull& pull, const wire::CalibrationRecord& calibr
   }
   if (pull.layout.HasWatch()) {
     // The board's residual test: its CUSUM g (in spreads of the window mean, as `vibid info`
-    // shows it) and the latched model-stale flag. The board logs the state at the record's own
-    // frame, undecimated, while a row's time is moved back by the decimator's delay: each row
-    // takes the state of the last record at or before its time, so a trip keeps its time to
-    // within a record.
+    // shows it) and the latched model-stale flag, as they stood at the row's time (the board
+    // takes the decimator's delay into account: wire::kAcqFlagLogWatch).
     Eigen::VectorXd g(n);
     Eigen::VectorXd stale(n);
-    std::size_t from = 0;
     for (Eigen::Index i = 0; i < n; ++i) {
-      const std::int64_t at =
-          static_cast<std::int64_t>(pull.records[static_cast<std::size_t>(i)].sample_index) -
-          delay_ticks;
-      while (from + 1 < pull.records.size() &&
-             static_cast<std::int64_t>(pull.records[from + 1].sample_index) <= at) {
-        ++from;
-      }
-      const std::uint32_t w = pull.records[from].watch;
+      const std::uint32_t w = pull.records[static_cast<std::size_t>(i)].watch;
       g(i) = static_cast<double>(w & wire::kLogWatchStatisticMask) / 65536.0;
       stale(i) = (w & wire::kLogWatchStaleBit) != 0 ? 1.0 : 0.0;
     }

@@ -30,6 +30,10 @@ namespace vibid::fw {
 
 class Sampler final : public FrameSink {
  public:
+  /// The most decimator outputs a record's residual-test word lags its frame by: ceil(delay / D)
+  /// over every supported factor D (core_watch_test checks it).
+  static constexpr std::uint32_t kMaxWatchLag = 16;
+
   Sampler(LogRing& ring, DobStage& dob) : ring_(ring), dob_(dob) {}
 
   /// Calibration applied from the next frame on. Main loop, sampling stopped.
@@ -93,6 +97,14 @@ class Sampler final : public FrameSink {
   // A decimated log starts once the decimator has settled: its first record is the first output
   // whose filter span lies wholly inside the acquisition (tick >= twice the group delay).
   std::uint32_t settle_ticks_ = 0;
+  // The residual test's word as a record carries it (wire::kAcqFlagLogWatch): the state at the
+  // record's time as the host writes it, its tick less the decimator's delay. The state moves at
+  // the frame rate and skips the filter, so each output keeps its word here and a record takes
+  // the one `watch_lag_` outputs back (the delay in outputs, rounded up: the latest state at or
+  // before the record's time, to within one output); kMaxWatchLag bounds it.
+  std::array<std::uint32_t, kMaxWatchLag + 1> watch_words_{};
+  std::uint32_t watch_lag_ = 0;
+  std::uint32_t watch_head_ = 0;
   std::uint32_t expected_tick_ = 0;
   std::uint32_t post_trigger_records_ = 0;
   bool dob_in_acquisition_ = false;  // logged, or requested, at a matching rate

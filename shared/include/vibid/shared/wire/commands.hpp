@@ -92,7 +92,8 @@ inline constexpr std::uint8_t kAcqFlagLogDob = 1u << 0;  ///< Each log record ca
 inline constexpr std::uint8_t kAcqFlagStream = 1u << 1;
 /// Each log record carries the observer's residual test after d_hat (needs kAcqFlagLogDob and a
 /// calibration with the test): u32, bits 0..30 its statistic g (Q16, at most 2^30), bit 31 the
-/// model-stale flag, both as they stand at the record's own frame (a state, so not decimated).
+/// model-stale flag, both as they stood at the record's time (its tick less the decimator's
+/// delay, as the host writes it), to within one record: a state, so it skips the filter.
 inline constexpr std::uint8_t kAcqFlagLogWatch = 1u << 2;
 inline constexpr std::uint8_t kAcqKnownFlags = kAcqFlagLogDob | kAcqFlagStream | kAcqFlagLogWatch;
 
