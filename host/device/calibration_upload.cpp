@@ -28,6 +28,29 @@ nlohmann::json Matrix(const std::array<float, wire::kMaxDof * wire::kMaxDof>& m,
 
 }  // namespace
 
+std::vector<std::string> ResponseColumnsOnMasses(const wire::CalibrationRecord& record,
+                                                 std::size_t masses) {
+  std::vector<std::string> columns;
+  for (std::size_t m = 0; m < masses; ++m) {
+    std::string column;
+    // Accelerometers first: a mass with both is measured as the default columns measure it.
+    for (const wire::Unit unit : {wire::Unit::kMeterPerSecond2, wire::Unit::kMeter}) {
+      for (std::size_t c = 0; c < wire::kChannelCount && column.empty(); ++c) {
+        const wire::ChannelScaling& s = record.channels[c];
+        if (s.unit == unit && s.dof == m)
+          column = std::string(ChannelStem(static_cast<wire::Channel>(c))) + "_" + UnitSuffix(unit);
+      }
+    }
+    Require(!column.empty(),
+            "mass " + std::to_string(m + 1) + " of " + std::to_string(masses) +
+                " has no calibrated accelerometer or encoder on the board; calibrate the board "
+                "with a sensors file that puts one of acc1, acc2, x1, x2 on it (\"dof\": " +
+                std::to_string(m + 1) + ", vibid cal upload --sensors)");
+    columns.push_back(column);
+  }
+  return columns;
+}
+
 std::string RecordLabel(const UploadFiles& files) {
   std::string label = files.label;
   if (label.empty()) {

@@ -5,6 +5,7 @@
 
 #include <optional>
 #include <string>
+#include <vector>
 
 #include <nlohmann/json.hpp>
 
@@ -47,6 +48,13 @@ std::optional<double> CalibratedFullScale(const wire::CalibrationRecord* active,
 std::string TakeSensorFullScales(const SensorSet& sensors, int input_dof, int output_dof,
                                  const std::string& sensor, double& force_fs_n, bool force_given,
                                  double& sensor_fs, bool sensor_given);
+
+/// The recording column that measures each of the first `masses` masses, as the board's record
+/// places its sensors (each channel's mass) and acquire names its calibrated columns: the
+/// accelerometer on the mass (acc1_m_s2), else its encoder (x1_m). InputError naming the first
+/// mass no calibrated response channel sits on, and the way out.
+std::vector<std::string> ResponseColumnsOnMasses(const wire::CalibrationRecord& record,
+                                                 std::size_t masses);
 
 /// The record as `cal show --json` prints it, without the slot, sequence and CRC the board adds:
 /// label, created_unix_s, host_version, M, C, K (dof x dof), channels (calibrated ones: unit,
