@@ -15,12 +15,20 @@
 namespace vibid::bench {
 namespace {
 
-nlohmann::json Identify(const std::string& directory, const nlohmann::json& b) {
+nlohmann::json Identify(const BenchBoard& board, const std::string& directory,
+                        const nlohmann::json& b) {
   Require(b.is_object(), "the request must be a JSON object");
-  RequireKnownKeys(b, {"nominal", "mass_tests", "modal_tests", "output"}, "the identify request");
+  RequireKnownKeys(b, {"nominal", "mass_tests", "modal_tests", "output", "exp_window"},
+                   "the identify request");
   Require(b.contains("nominal") && b.contains("modal_tests") && b.contains("output"),
           "the identify request needs nominal, modal_tests and output");
   workflow::IdentifyRequest request = workflow::DefaultIdentifyRequest();
+  if (b.contains("exp_window")) {
+    // `identify --exp-window`: the window's value at each hit record's end (the library checks
+    // its range and names it).
+    Require(b["exp_window"].is_number(), "'exp_window' must be a number (0: none)");
+    request.estimation.impact_options.exp_window_end = b["exp_window"].get<double>();
+  }
   if (b.contains("mass_tests")) {
     Require(b["mass_tests"].is_array(), "'mass_tests' must be a list of {position, file}");
     for (const nlohmann::json& t : b["mass_tests"]) {
@@ -40,8 +48,23 @@ nlohmann::json Identify(const std::string& directory, const nlohmann::json& b) {
     request.modal_tests.push_back(FileIn(directory, f, "modal_tests"));
   const std::string output = FileIn(directory, b["output"], "output");
   const model::Model nominal = model::LoadModel(FileIn(directory, b["nominal"], "nominal"));
-  const workflow::IdentifyRun run = workflow::RunIdentify(nominal, request);
   const auto n = static_cast<std::size_t>(nominal.dofs());
+  // A chain longer than the accelerometers' default reach is measured as the board's record
+  // places its sensors (the recordings are the board's, in its calibrated columns).
+  if (n > 2 && board.ActiveCalibration() != nullptr) {
+    const std::vector<std::string> columns =
+        device::ResponseColumnsOnMasses(*board.ActiveCalibration(), n);
+    for (std::size_t i = 0; i < columns.size(); ++i)
+      request.modal_responses += (i > 0 ? "," : "") + columns[i];
+    for (std::size_t t = 0; t < request.mass_tests.size(); ++t) {
+      Require(request.mass_tests[t].position < n,
+              "mass test " + std::to_string(t + 1) + ": position " +
+                  std::to_string(request.mass_tests[t].position + 1) + " is beyond the model's " +
+                  std::to_string(n) + " masses");
+      request.mass_response += (t > 0 ? "," : "") + columns[request.mass_tests[t].position];
+    }
+  }
+  const workflow::IdentifyRun run = workflow::RunIdentify(nominal, request);
   WriteJsonFile(output, workflow::ChainJson(run.result.chain, n));
   nlohmann::json out = workflow::IdentifyReportJson(run, n);
   out["table"] = ident::FormatValidationTable(run.result.table);
@@ -80,8 +103,9 @@ nlohmann::json Design(BenchBoard& board, const std::string& directory, const nlo
 }  // namespace
 
 void AddIdentifyRoutes(BenchServer& server, BenchBoard& board, const std::string& directory) {
-  server.AddJsonRoute("cal/identify",
-                      [directory](const nlohmann::json& b) { return Identify(directory, b); });
+  server.AddJsonRoute("cal/identify", [&board, directory](const nlohmann::json& b) {
+    return Identify(board, directory, b);
+  });
   server.AddJsonRoute("cal/design", [&board, directory](const nlohmann::json& b) {
     return Design(board, directory, b);
   });
