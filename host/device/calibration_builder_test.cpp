@@ -8,6 +8,7 @@
 #include "test_filter.hpp"
 #include "vibid/common/error.hpp"
 #include "vibid/device/acquire_plan.hpp"
+#include "vibid/device/calibration_upload.hpp"
 #include "vibid/device/error.hpp"
 #include "vibid/model/model.hpp"
 #include "vibid/shared/wire/byte_order.hpp"
@@ -136,6 +137,31 @@ TEST(CalibrationBuilder, FiveMassesAreRefusedWithTheBoardsLimit) {
   in.sensors[5] = in.sensors[4];  // x2 on mass 4 of a 3-mass chain
   in.sensors[5]->dof = 3;
   EXPECT_EQ(MessageOf(in), "x2 sits on mass 4 but the model has 3");
+}
+
+// The bench's identify measures each mass as the record places its sensors: the accelerometer on
+// a mass first, else its encoder.
+TEST(BoardRecord, ResponseColumnsFollowTheSensorsMasses) {
+  const wire::CalibrationRecord r4 = BuildCalibrationRecord(Chain(4));
+  EXPECT_EQ(ResponseColumnsOnMasses(r4, 4),
+            (std::vector<std::string>{"acc1_m_s2", "x1_m", "acc2_m_s2", "x2_m"}));
+  // Both an accelerometer and an encoder on mass 2: the accelerometer.
+  RecordInputs in = Chain(3);
+  in.sensors[3]->dof = 1;  // acc2 on mass 2 beside x1
+  in.sensors[5] = in.sensors[4];
+  in.sensors[5]->dof = 2;  // x2 on mass 3
+  EXPECT_EQ(ResponseColumnsOnMasses(BuildCalibrationRecord(in), 3),
+            (std::vector<std::string>{"acc1_m_s2", "acc2_m_s2", "x2_m"}));
+  in = Chain(3);
+  in.sensors[3].reset();  // nothing on mass 3
+  try {
+    static_cast<void>(ResponseColumnsOnMasses(BuildCalibrationRecord(in), 3));
+    FAIL() << "a mass without a sensor accepted";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("mass 3 of 3 has no calibrated accelerometer or encoder"),
+              std::string::npos)
+        << e.what();
+  }
 }
 
 // A board of an older release sends a version-2 record (876 bytes, two masses at most): named,
