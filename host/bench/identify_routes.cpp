@@ -50,10 +50,12 @@ nlohmann::json Identify(const BenchBoard& board, const std::string& directory,
   const model::Model nominal = model::LoadModel(FileIn(directory, b["nominal"], "nominal"));
   const auto n = static_cast<std::size_t>(nominal.dofs());
   // A chain longer than the accelerometers' default reach is measured as the board's record
-  // places its sensors (the recordings are the board's, in its calibrated columns).
+  // places its sensors (the recordings are the board's, in its calibrated columns), and hit where
+  // it places the hammer's load cell.
   if (n > 2 && board.ActiveCalibration() != nullptr) {
     const std::vector<std::string> columns =
         device::ResponseColumnsOnMasses(*board.ActiveCalibration(), n);
+    request.modes.driving_point = device::DrivingPointColumn(*board.ActiveCalibration(), columns);
     for (std::size_t i = 0; i < columns.size(); ++i)
       request.modal_responses += (i > 0 ? "," : "") + columns[i];
     for (std::size_t t = 0; t < request.mass_tests.size(); ++t) {

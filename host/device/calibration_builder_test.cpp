@@ -145,6 +145,11 @@ TEST(BoardRecord, ResponseColumnsFollowTheSensorsMasses) {
   const wire::CalibrationRecord r4 = BuildCalibrationRecord(Chain(4));
   EXPECT_EQ(ResponseColumnsOnMasses(r4, 4),
             (std::vector<std::string>{"acc1_m_s2", "x1_m", "acc2_m_s2", "x2_m"}));
+  // The hammer's load cell on mass 4: the driving point is x2; on no mass: none.
+  EXPECT_EQ(DrivingPointColumn(r4, ResponseColumnsOnMasses(r4, 4)), "x2_m");
+  wire::CalibrationRecord off = r4;
+  off.channels[0].dof = wire::kNoDof;
+  EXPECT_EQ(DrivingPointColumn(off, ResponseColumnsOnMasses(r4, 4)), "");
   // Both an accelerometer and an encoder on mass 2: the accelerometer.
   RecordInputs in = Chain(3);
   in.sensors[3]->dof = 1;  // acc2 on mass 2 beside x1

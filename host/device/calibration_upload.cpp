@@ -51,6 +51,12 @@ std::vector<std::string> ResponseColumnsOnMasses(const wire::CalibrationRecord& 
   return columns;
 }
 
+std::string DrivingPointColumn(const wire::CalibrationRecord& record,
+                               const std::vector<std::string>& columns) {
+  const std::uint8_t mass = record.channels[static_cast<std::size_t>(wire::Channel::kForce1)].dof;
+  return mass < columns.size() ? columns[mass] : std::string();
+}
+
 std::string RecordLabel(const UploadFiles& files) {
   std::string label = files.label;
   if (label.empty()) {

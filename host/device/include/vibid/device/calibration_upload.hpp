@@ -56,6 +56,12 @@ std::string TakeSensorFullScales(const SensorSet& sensors, int input_dof, int ou
 std::vector<std::string> ResponseColumnsOnMasses(const wire::CalibrationRecord& record,
                                                  std::size_t masses);
 
+/// The driving point of a hammer test on this board: of `columns` (ResponseColumnsOnMasses, in
+/// mass order), the one on the mass load cell 1 (the hammer's) sits on; "" when the record puts
+/// the load cell on no mass of them.
+std::string DrivingPointColumn(const wire::CalibrationRecord& record,
+                               const std::vector<std::string>& columns);
+
 /// The record as `cal show --json` prints it, without the slot, sequence and CRC the board adds:
 /// label, created_unix_s, host_version, M, C, K (dof x dof), channels (calibrated ones: unit,
 /// counts_per_unit, offset_counts, full_scale, gain, gain_shift, dof), observer (or null).
