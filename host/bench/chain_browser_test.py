@@ -18,6 +18,7 @@ import json
 import os
 import re
 import shutil
+import struct
 import subprocess
 import tempfile
 import time
@@ -69,6 +70,11 @@ class ChainBench(Bench):
         self.nominal = os.path.join(work, "nominal.json")
         with open(self.nominal, "w") as f:
             json.dump(nominal, f)
+
+    def offline(self, *args):
+        r = subprocess.run([self.vibid, *args], capture_output=True, text=True, timeout=60)
+        check(r.returncode == 0, "vibid %s: %s" % (" ".join(args), r.stderr))
+        return r.stdout
 
     def calibrate(self):
         with open(os.path.join(ROOT, "examples", "sensors.json")) as f:
@@ -175,6 +181,12 @@ def main():
               "identify: " + driver.find_element(By.ID, "id-run-status").text)
         page = json.loads(driver.find_element(By.ID, "id-status").get_attribute("data-parameters"))
         page_table = driver.find_element(By.ID, "id-table").text
+        # The observer design from the updated model: on the hammer's mass, fed by its sensor.
+        driver.find_element(By.ID, "design-run").click()
+        wait(driver, lambda d: d.find_element(By.ID, "design-summary").get_attribute("data-checksum"),
+             "the observer design", timeout=60)
+        design_summary = driver.find_element(By.ID, "design-summary").text
+        print(design_summary.splitlines()[2])
         if args.screenshots:
             driver.set_window_size(1400, 1300)
             driver.save_screenshot(os.path.join(args.screenshots, "bench-identify-chain.png"))
@@ -213,6 +225,21 @@ def main():
     for line in page_table.splitlines():
         if line.startswith(("CAUTION", "FLAGGED")):
             print(line)
+    # The same design through the CLI: the hammer's mass, its sensor at the record's (float32)
+    # full scale, the load cell's 500 N, the bench's 5 kHz.
+    point = bench.inputs[bench.hammer - 1]
+    with open(bench.sensors) as f:
+        fs = struct.unpack("<f", struct.pack("<f", json.load(f)["channels"][point]["full_scale"]))[0]
+    cli_design = os.path.join(work, "design_cli.json")
+    bench.offline("dob", "design", os.path.join(bench.data, "identified.json"), "--force-fs-n", "500",
+                  "--input-dof", str(bench.hammer), "--output-dof", str(bench.hammer), "--sensor",
+                  "disp" if point.startswith("x") else "acc", "--sensor-fs", repr(fs), "-o",
+                  cli_design)
+    with open(cli_design) as a, open(os.path.join(bench.data, "design.json")) as b:
+        check(json.load(a) == json.load(b), "the observer designs differ")
+    check("@m%d" % bench.hammer in design_summary, "the design's inputs: " + design_summary)
+    print("observer design on the page equals vibid dob design --input-dof %d --sensor %s"
+          % (bench.hammer, "disp" if point.startswith("x") else "acc"))
     print("identify on the page equals vibid identify --modal-responses %s --driving-point %s"
           % (responses, column(bench.inputs[bench.hammer - 1])))
     print("chain browser test (%d masses): passed in %.1f s" % (bench.n, time.monotonic() - t0))

@@ -1,5 +1,7 @@
 #include "vibid/bench/identify_routes.hpp"
 
+#include <optional>
+
 #include "vibid/bench/bench_files.hpp"
 #include "vibid/common/atomic_file.hpp"
 #include "vibid/common/error.hpp"
@@ -92,8 +94,18 @@ nlohmann::json Design(BenchBoard& board, const std::string& directory, const nlo
             .value_or(request.force_fs_n);
   }
   const std::string output = FileIn(directory, b["output"], "output");
-  const dob::DobDesign design = workflow::DesignObserverFor(
-      model::LoadModel(FileIn(directory, b["model"], "model")), request);
+  const model::Model model = model::LoadModel(FileIn(directory, b["model"], "model"));
+  // A chain longer than two masses: the observer where the board's record puts the hammer's load
+  // cell, fed by the sensor there (the CLI's defaults, mass 2 and an encoder, fit two masses).
+  const std::optional<device::ObserverPlacement> placement =
+      board.ActiveCalibration() != nullptr ? device::ObserverPlacementOf(*board.ActiveCalibration())
+                                           : std::nullopt;
+  if (model.dofs() > 2 && placement) {
+    request.input_dof = request.output_dof = placement->dof;
+    request.sensor = placement->sensor;
+    request.sensor_fs = placement->sensor_fs;
+  }
+  const dob::DobDesign design = workflow::DesignObserverFor(model, request);
   WriteJsonFile(output, dob::DesignToJson(design));
   return {{"summary", workflow::DesignSummary(design)},
           {"force_fs_n", request.force_fs_n},

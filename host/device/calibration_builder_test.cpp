@@ -169,6 +169,25 @@ TEST(BoardRecord, ResponseColumnsFollowTheSensorsMasses) {
   }
 }
 
+// The observer where the record puts the hammer's load cell: mass 4 of Chain(4), fed by x2 at its
+// full scale (float32 of 0.05 m); with only an accelerometer there, that one; with the load cell
+// on no mass, none.
+TEST(BoardRecord, ObserverSitsOnTheLoadCellsMass) {
+  const std::optional<ObserverPlacement> p4 = ObserverPlacementOf(BuildCalibrationRecord(Chain(4)));
+  ASSERT_TRUE(p4.has_value());
+  EXPECT_EQ(p4->dof, 4);
+  EXPECT_EQ(p4->sensor, "disp");
+  EXPECT_EQ(p4->sensor_fs, static_cast<double>(0.05f));
+  const std::optional<ObserverPlacement> p3 = ObserverPlacementOf(BuildCalibrationRecord(Chain(3)));
+  ASSERT_TRUE(p3.has_value());  // Chain(3): acc2 on mass 3, no encoder there
+  EXPECT_EQ(p3->dof, 3);
+  EXPECT_EQ(p3->sensor, "acc");
+  EXPECT_EQ(p3->sensor_fs, 200.0);
+  wire::CalibrationRecord off = BuildCalibrationRecord(Chain(4));
+  off.channels[0].dof = wire::kNoDof;
+  EXPECT_FALSE(ObserverPlacementOf(off).has_value());
+}
+
 // A board of an older release sends a version-2 record (876 bytes, two masses at most): named,
 // with the way out, not "does not decode".
 TEST(BoardRecord, AnOlderVersionNamesTheWayOut) {

@@ -57,6 +57,21 @@ std::string DrivingPointColumn(const wire::CalibrationRecord& record,
   return mass < columns.size() ? columns[mass] : std::string();
 }
 
+std::optional<ObserverPlacement> ObserverPlacementOf(const wire::CalibrationRecord& record) {
+  const std::uint8_t mass = record.channels[static_cast<std::size_t>(wire::Channel::kForce1)].dof;
+  if (mass == wire::kNoDof) return std::nullopt;
+  for (const wire::Unit unit : {wire::Unit::kMeter, wire::Unit::kMeterPerSecond2}) {
+    for (const wire::ChannelScaling& s : record.channels) {
+      if (s.unit == unit && s.dof == mass) {
+        return ObserverPlacement{.dof = mass + 1,
+                                 .sensor = unit == wire::Unit::kMeter ? "disp" : "acc",
+                                 .sensor_fs = static_cast<double>(s.full_scale)};
+      }
+    }
+  }
+  return std::nullopt;
+}
+
 std::string RecordLabel(const UploadFiles& files) {
   std::string label = files.label;
   if (label.empty()) {

@@ -62,6 +62,17 @@ std::vector<std::string> ResponseColumnsOnMasses(const wire::CalibrationRecord& 
 std::string DrivingPointColumn(const wire::CalibrationRecord& record,
                                const std::vector<std::string>& columns);
 
+/// Where an observer for this board acts and what feeds it: the mass load cell 1 sits on (the
+/// hammer's, the shaker's and the push's), fed by that mass's encoder (displacement sensing holds
+/// down to DC), else its accelerometer, at that channel's full scale.
+struct ObserverPlacement {
+  int dof = 0;         ///< From 1.
+  std::string sensor;  ///< disp or acc, as `vibid dob design --sensor` takes it.
+  double sensor_fs = 0.0;
+};
+/// None when the record puts load cell 1 on no mass or no calibrated response channel on it.
+std::optional<ObserverPlacement> ObserverPlacementOf(const wire::CalibrationRecord& record);
+
 /// The record as `cal show --json` prints it, without the slot, sequence and CRC the board adds:
 /// label, created_unix_s, host_version, M, C, K (dof x dof), channels (calibrated ones: unit,
 /// counts_per_unit, offset_counts, full_scale, gain, gain_shift, dof), observer (or null).
