@@ -2,8 +2,9 @@
 // host/emulator/rigs/chain3.json (masses 1 and 2 on the accelerometers, mass 3 on encoder x1, the
 // hammer on mass 3 as the rig file says), one hammer test of accelerations and an encoder
 // displacement recorded by `vibid acquire`, `vibid modes` on it: the chain's three modes at the
-// rig truth's frequencies. The board's calibration record holds models of one or two masses, so
-// the board stays uncalibrated and the host scales the converter counts (file-formats.md).
+// rig truth's frequencies. The board is left uncalibrated here, so the host scales the converter
+// counts (file-formats.md); Workflow.ThreeMassChainRunsTheObserverSteps calibrates it for the
+// chain.
 #include <gtest/gtest.h>
 
 #include <cmath>

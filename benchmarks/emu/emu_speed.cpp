@@ -59,7 +59,8 @@ std::array<std::uint8_t, wire::kCalRecordBytes> RecordWithObserver(const emu::Ri
   }
   wire::CalibrationRecord r;
   r.dof_count = 2;
-  r.mass_kg = {static_cast<float>(p.m1_kg), 0.0f, 0.0f, static_cast<float>(p.m2_kg)};
+  r.mass_kg[0] = static_cast<float>(p.m1_kg);
+  r.mass_kg[wire::kMaxDof + 1] = static_cast<float>(p.m2_kg);
   r.channels[0] = Scaling(wire::Unit::kNewton, 1, static_cast<float>(rig.load_cells[0].range));
   r.channels[1] = Scaling(wire::Unit::kNewton, 1, static_cast<float>(rig.load_cells[1].range));
   r.channels[2] =

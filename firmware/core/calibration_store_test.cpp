@@ -15,7 +15,7 @@ using testing::FakeFlash;
 using testing::TestRecord;
 using Slot = CalibrationFlash::Slot;
 
-// Steps of one commit in FakeFlash units: one erase, 876 / 4 record words, 20 / 4 header words.
+// Steps of one commit in FakeFlash units: one erase, 1020 / 4 record words, 20 / 4 header words.
 constexpr std::uint32_t kCommitSteps = 1 + wire::kCalRecordBytes / 4 + 20 / 4;
 
 Status CommitTag(CalibrationStore& store, std::uint32_t tag) {

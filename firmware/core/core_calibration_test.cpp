@@ -71,7 +71,7 @@ TEST(CoreCalibration, UploadCommitReadBackAndReboot) {
     for (const std::uint8_t b : step.payload) back[n++] = b;
   }
   ASSERT_EQ(step.event, wire::StreamDecoder::Event::kEnd);
-  EXPECT_EQ(decoder.data_reports(), 16u);  // 876 bytes in stream data reports of 58
+  EXPECT_EQ(decoder.data_reports(), 18u);  // 1020 bytes in stream data reports of 58
   EXPECT_EQ(n, wire::kCalRecordBytes);
   EXPECT_TRUE(back == record);
   wire::CalGetTrailer trailer;

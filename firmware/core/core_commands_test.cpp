@@ -352,10 +352,11 @@ TEST(CoreCommands, CalibrationRefusals) {
   EXPECT_EQ(data.status(), Status::kFailedPrecondition);
   EXPECT_EQ(ReasonOf(data).reason, wire::Reason::kUploadSequence);
   const Response begin =
-      h.Request(Command::kCalPutBegin, wire::CalPutBeginRequest{.record_bytes = 836, .crc32 = 0});
+      h.Request(Command::kCalPutBegin,
+                wire::CalPutBeginRequest{.record_bytes = 876, .crc32 = 0});  // a version-2 record
   EXPECT_EQ(begin.status(), Status::kVersionMismatch);
   EXPECT_EQ(ReasonOf(begin).reason, wire::Reason::kRecordLength);
-  EXPECT_EQ(ReasonOf(begin).detail, 876u);  // kCalRecordBytes
+  EXPECT_EQ(ReasonOf(begin).detail, 1020u);  // kCalRecordBytes
 }
 
 TEST(CoreCommands, LogReadRefusals) {

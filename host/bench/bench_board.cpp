@@ -14,6 +14,7 @@
 #include "vibid/common/csv.hpp"
 #include "vibid/common/error.hpp"
 #include "vibid/common/json_keys.hpp"
+#include "vibid/device/acquire_plan.hpp"
 #include "vibid/device/board_report.hpp"
 #include "vibid/device/error.hpp"
 #include "vibid/device/link_budget.hpp"
@@ -80,9 +81,7 @@ void BenchBoard::ReadCalibration() {
   info_ = c_.GetInfo();
   instants_ = c_.GetSamplingInfo();
   if (info_.cal_state != wire::CalState::kCalibrated) return;
-  const std::vector<std::uint8_t> bytes = c_.CalGet();
-  if (wire::DecodeCalibrationRecord(bytes, calibration_) != Status::kOk)
-    throw device::DeviceError("the board's active calibration record does not decode");
+  calibration_ = device::DecodeBoardRecord(c_.CalGet());
   has_calibration_ = true;
 }
 

@@ -1,5 +1,7 @@
 #include "vibid/bench/identify_routes.hpp"
 
+#include <optional>
+
 #include "vibid/bench/bench_files.hpp"
 #include "vibid/common/atomic_file.hpp"
 #include "vibid/common/error.hpp"
@@ -15,12 +17,20 @@
 namespace vibid::bench {
 namespace {
 
-nlohmann::json Identify(const std::string& directory, const nlohmann::json& b) {
+nlohmann::json Identify(const BenchBoard& board, const std::string& directory,
+                        const nlohmann::json& b) {
   Require(b.is_object(), "the request must be a JSON object");
-  RequireKnownKeys(b, {"nominal", "mass_tests", "modal_tests", "output"}, "the identify request");
+  RequireKnownKeys(b, {"nominal", "mass_tests", "modal_tests", "output", "exp_window"},
+                   "the identify request");
   Require(b.contains("nominal") && b.contains("modal_tests") && b.contains("output"),
           "the identify request needs nominal, modal_tests and output");
   workflow::IdentifyRequest request = workflow::DefaultIdentifyRequest();
+  if (b.contains("exp_window")) {
+    // `identify --exp-window`: the window's value at each hit record's end (the library checks
+    // its range and names it).
+    Require(b["exp_window"].is_number(), "'exp_window' must be a number (0: none)");
+    request.estimation.impact_options.exp_window_end = b["exp_window"].get<double>();
+  }
   if (b.contains("mass_tests")) {
     Require(b["mass_tests"].is_array(), "'mass_tests' must be a list of {position, file}");
     for (const nlohmann::json& t : b["mass_tests"]) {
@@ -40,8 +50,25 @@ nlohmann::json Identify(const std::string& directory, const nlohmann::json& b) {
     request.modal_tests.push_back(FileIn(directory, f, "modal_tests"));
   const std::string output = FileIn(directory, b["output"], "output");
   const model::Model nominal = model::LoadModel(FileIn(directory, b["nominal"], "nominal"));
-  const workflow::IdentifyRun run = workflow::RunIdentify(nominal, request);
   const auto n = static_cast<std::size_t>(nominal.dofs());
+  // A chain longer than the accelerometers' default reach is measured as the board's record
+  // places its sensors (the recordings are the board's, in its calibrated columns), and hit where
+  // it places the hammer's load cell.
+  if (n > 2 && board.ActiveCalibration() != nullptr) {
+    const std::vector<std::string> columns =
+        device::ResponseColumnsOnMasses(*board.ActiveCalibration(), n);
+    request.modes.driving_point = device::DrivingPointColumn(*board.ActiveCalibration(), columns);
+    for (std::size_t i = 0; i < columns.size(); ++i)
+      request.modal_responses += (i > 0 ? "," : "") + columns[i];
+    for (std::size_t t = 0; t < request.mass_tests.size(); ++t) {
+      Require(request.mass_tests[t].position < n,
+              "mass test " + std::to_string(t + 1) + ": position " +
+                  std::to_string(request.mass_tests[t].position + 1) + " is beyond the model's " +
+                  std::to_string(n) + " masses");
+      request.mass_response += (t > 0 ? "," : "") + columns[request.mass_tests[t].position];
+    }
+  }
+  const workflow::IdentifyRun run = workflow::RunIdentify(nominal, request);
   WriteJsonFile(output, workflow::ChainJson(run.result.chain, n));
   nlohmann::json out = workflow::IdentifyReportJson(run, n);
   out["table"] = ident::FormatValidationTable(run.result.table);
@@ -67,8 +94,18 @@ nlohmann::json Design(BenchBoard& board, const std::string& directory, const nlo
             .value_or(request.force_fs_n);
   }
   const std::string output = FileIn(directory, b["output"], "output");
-  const dob::DobDesign design = workflow::DesignObserverFor(
-      model::LoadModel(FileIn(directory, b["model"], "model")), request);
+  const model::Model model = model::LoadModel(FileIn(directory, b["model"], "model"));
+  // A chain longer than two masses: the observer where the board's record puts the hammer's load
+  // cell, fed by the sensor there (the CLI's defaults, mass 2 and an encoder, fit two masses).
+  const std::optional<device::ObserverPlacement> placement =
+      board.ActiveCalibration() != nullptr ? device::ObserverPlacementOf(*board.ActiveCalibration())
+                                           : std::nullopt;
+  if (model.dofs() > 2 && placement) {
+    request.input_dof = request.output_dof = placement->dof;
+    request.sensor = placement->sensor;
+    request.sensor_fs = placement->sensor_fs;
+  }
+  const dob::DobDesign design = workflow::DesignObserverFor(model, request);
   WriteJsonFile(output, dob::DesignToJson(design));
   return {{"summary", workflow::DesignSummary(design)},
           {"force_fs_n", request.force_fs_n},
@@ -80,8 +117,9 @@ nlohmann::json Design(BenchBoard& board, const std::string& directory, const nlo
 }  // namespace
 
 void AddIdentifyRoutes(BenchServer& server, BenchBoard& board, const std::string& directory) {
-  server.AddJsonRoute("cal/identify",
-                      [directory](const nlohmann::json& b) { return Identify(directory, b); });
+  server.AddJsonRoute("cal/identify", [&board, directory](const nlohmann::json& b) {
+    return Identify(board, directory, b);
+  });
   server.AddJsonRoute("cal/design", [&board, directory](const nlohmann::json& b) {
     return Design(board, directory, b);
   });

@@ -8,6 +8,7 @@
 #include "vibid/common/error.hpp"
 #include "vibid/device/log_table.hpp"
 #include "vibid/shared/fixed/decimator.hpp"
+#include "vibid/shared/wire/byte_order.hpp"
 
 namespace vibid::device {
 namespace {
@@ -146,12 +147,30 @@ wire::CalibrationRecord ActiveRecord(Connection& c, bool& has_record) {
   // Asked now, not taken from the connection's opening get-info: a commit since then (through
   // this connection or another) changes it.
   if (c.GetInfo().cal_state != wire::CalState::kCalibrated) return r;
-  const std::vector<std::uint8_t> bytes = c.CalGet();
-  if (wire::DecodeCalibrationRecord(bytes, r) != Status::kOk) {
-    throw DeviceError("the board's active calibration record does not decode");
-  }
+  r = DecodeBoardRecord(c.CalGet());
   has_record = true;
   return r;
+}
+
+wire::CalibrationRecord DecodeBoardRecord(std::span<const std::uint8_t> bytes) {
+  wire::CalibrationRecord r;
+  const Status st = wire::DecodeCalibrationRecord(bytes, r);
+  if (st == Status::kOk) return r;
+  if (st == Status::kVersionMismatch && bytes.size() >= wire::kCalOffDofCount &&
+      wire::LoadU32(bytes, wire::kCalOffMagic) == wire::kCalMagic) {
+    throw DeviceError(
+        "the board's calibration record is version " +
+        std::to_string(wire::LoadU16(bytes, wire::kCalOffVersion)) + " (" +
+        std::to_string(bytes.size()) + " bytes); this host reads version " +
+        std::to_string(wire::kCalRecordVersion) + " (" + std::to_string(wire::kCalRecordBytes) +
+        " bytes, chains of up to " + std::to_string(wire::kMaxDof) +
+        " masses): flash the firmware of this host's release (vibid flash), then upload and "
+        "commit the calibration again (vibid cal upload, vibid cal commit)");
+  }
+  throw DeviceError(std::string("the board's active calibration record does not decode (") +
+                    StatusName(st) +
+                    "); upload and commit the calibration again (vibid cal upload, vibid cal "
+                    "commit)");
 }
 
 void ApplyCalibration(const wire::CalibrationRecord& rec, bool has_record, bool dob_running,

@@ -84,7 +84,7 @@ SensorSet SensorsFromJson(const nlohmann::json& j, const std::string& source) {
         const nlohmann::json& dof = c.at("dof");
         if (!dof.is_number_integer() || dof.get<std::int64_t>() < 1 ||
             dof.get<std::int64_t>() > static_cast<std::int64_t>(wire::kMaxDof)) {
-          fail("channels." + name + ".dof must be 1 or 2");
+          fail("channels." + name + ".dof must be 1 to " + std::to_string(wire::kMaxDof));
         }
         s.dof = dof.get<int>() - 1;
       }
@@ -96,7 +96,7 @@ SensorSet SensorsFromJson(const nlohmann::json& j, const std::string& source) {
     if (!std::isfinite(s.full_scale) || s.full_scale <= 0.0)
       fail("channels." + name + ".full_scale must be finite and > 0");
     if (s.dof < -1 || s.dof >= static_cast<int>(wire::kMaxDof))
-      fail("channels." + name + ".dof must be 1 or 2");
+      fail("channels." + name + ".dof must be 1 to " + std::to_string(wire::kMaxDof));
     set[static_cast<std::size_t>(ch)] = s;
   }
   return set;
@@ -138,7 +138,8 @@ wire::CalibrationRecord BuildCalibrationRecord(const RecordInputs& in) {
   model::Validate(in.model);
   const int n = in.model.dofs();
   Require(n >= 1 && n <= static_cast<int>(wire::kMaxDof),
-          "the board holds models of 1 or 2 masses; this model has " + std::to_string(n));
+          "the board holds models of 1 to " + std::to_string(wire::kMaxDof) +
+              " masses; this model has " + std::to_string(n));
   wire::CalibrationRecord r;
   r.dof_count = static_cast<std::uint8_t>(n);
   r.created_unix_s = in.created_unix_s;

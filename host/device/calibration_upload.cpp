@@ -28,6 +28,50 @@ nlohmann::json Matrix(const std::array<float, wire::kMaxDof * wire::kMaxDof>& m,
 
 }  // namespace
 
+std::vector<std::string> ResponseColumnsOnMasses(const wire::CalibrationRecord& record,
+                                                 std::size_t masses) {
+  std::vector<std::string> columns;
+  for (std::size_t m = 0; m < masses; ++m) {
+    std::string column;
+    // Accelerometers first: a mass with both is measured as the default columns measure it.
+    for (const wire::Unit unit : {wire::Unit::kMeterPerSecond2, wire::Unit::kMeter}) {
+      for (std::size_t c = 0; c < wire::kChannelCount && column.empty(); ++c) {
+        const wire::ChannelScaling& s = record.channels[c];
+        if (s.unit == unit && s.dof == m)
+          column = std::string(ChannelStem(static_cast<wire::Channel>(c))) + "_" + UnitSuffix(unit);
+      }
+    }
+    Require(!column.empty(),
+            "mass " + std::to_string(m + 1) + " of " + std::to_string(masses) +
+                " has no calibrated accelerometer or encoder on the board; calibrate the board "
+                "with a sensors file that puts one of acc1, acc2, x1, x2 on it (\"dof\": " +
+                std::to_string(m + 1) + ", vibid cal upload --sensors)");
+    columns.push_back(column);
+  }
+  return columns;
+}
+
+std::string DrivingPointColumn(const wire::CalibrationRecord& record,
+                               const std::vector<std::string>& columns) {
+  const std::uint8_t mass = record.channels[static_cast<std::size_t>(wire::Channel::kForce1)].dof;
+  return mass < columns.size() ? columns[mass] : std::string();
+}
+
+std::optional<ObserverPlacement> ObserverPlacementOf(const wire::CalibrationRecord& record) {
+  const std::uint8_t mass = record.channels[static_cast<std::size_t>(wire::Channel::kForce1)].dof;
+  if (mass == wire::kNoDof) return std::nullopt;
+  for (const wire::Unit unit : {wire::Unit::kMeter, wire::Unit::kMeterPerSecond2}) {
+    for (const wire::ChannelScaling& s : record.channels) {
+      if (s.unit == unit && s.dof == mass) {
+        return ObserverPlacement{.dof = mass + 1,
+                                 .sensor = unit == wire::Unit::kMeter ? "disp" : "acc",
+                                 .sensor_fs = static_cast<double>(s.full_scale)};
+      }
+    }
+  }
+  return std::nullopt;
+}
+
 std::string RecordLabel(const UploadFiles& files) {
   std::string label = files.label;
   if (label.empty()) {

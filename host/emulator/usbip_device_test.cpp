@@ -265,8 +265,12 @@ TEST_F(EmulatorOverUsbIp, CalibrationSurvivesARestartAndResetIsSoftware) {
   wire::CalibrationRecord r;
   r.dof_count = 2;
   r.created_unix_s = 1700000000;
-  r.mass_kg = {1.82f, 0.0f, 0.0f, 1.53f};
-  r.stiffness_n_per_m = {6280.0f, -2760.0f, -2760.0f, 2760.0f};
+  constexpr std::size_t n = wire::kMaxDof;  // row-major n x n blocks, zero beyond 2 x 2
+  r.mass_kg[0] = 1.82f;
+  r.mass_kg[n + 1] = 1.53f;
+  r.stiffness_n_per_m[0] = 6280.0f;
+  r.stiffness_n_per_m[1] = r.stiffness_n_per_m[n] = -2760.0f;
+  r.stiffness_n_per_m[n + 1] = 2760.0f;
   r.channels[0] = {2048, 1 << 20, 0, wire::Unit::kNewton, 1, 500.0f};
   std::array<std::uint8_t, wire::kCalRecordBytes> bytes{};
   wire::EncodeCalibrationRecord(r, bytes);

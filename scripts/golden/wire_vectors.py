@@ -18,7 +18,9 @@ SEEDS = ROOT / "firmware/core/fuzz/seeds"
 
 PROTOCOL_MAJOR = 2
 PROTOCOL_MINOR = 1
-CAL_RECORD_VERSION = 2
+CAL_RECORD_VERSION = 3
+CAL_RECORD_BYTES = 1020
+MAX_DOF = 4                      # M, C, K travel as 4x4 float32, row-major, zero-padded
 MAGIC = b"VB"
 FLAG_RESPONSE = 0x01
 FLAG_STREAM_END = 0x02
@@ -71,15 +73,24 @@ WATCH = struct.pack("<BBBBIiiiiiif", 0, 14, 40, 0, 1000, 1 << 28, -(1 << 27), 1 
 assert len(WATCH) == 36
 
 
+def matrix(rows):
+    """An n x n matrix (n <= MAX_DOF) as the record's MAX_DOF x MAX_DOF float32 block."""
+    out = b""
+    for r in range(MAX_DOF):
+        for c in range(MAX_DOF):
+            out += f32(rows[r][c] if r < len(rows) and c < len(rows) else 0.0)
+    return out
+
+
 def calibration_record(with_dob=False, with_watch=False):
     flags = (1 if with_dob else 0) | (2 if with_watch else 0)
-    body = b"VCAL" + struct.pack("<HHBBH", CAL_RECORD_VERSION, 876, 2, flags, 0)
+    body = b"VCAL" + struct.pack("<HHBBH", CAL_RECORD_VERSION, CAL_RECORD_BYTES, 2, flags, 0)
     body += struct.pack("<q", 1700000000)                   # created_unix_s
     body += struct.pack("<BBH", 0, 1, 7)                    # host 0.1.7
     body += b"rig-A two mass".ljust(24, b"\0")
-    body += b"".join(f32(v) for v in (0.57, 0.0, 0.0, 0.56))        # mass_kg
-    body += b"".join(f32(v) for v in (1.25, -0.5, -0.5, 0.75))      # damping_ns_per_m
-    body += b"".join(f32(v) for v in (30.0, -15.0, -15.0, 15.0))    # stiffness_n_per_m
+    body += matrix([[0.57, 0.0], [0.0, 0.56]])              # mass_kg
+    body += matrix([[1.25, -0.5], [-0.5, 0.75]])            # damping_ns_per_m
+    body += matrix([[30.0, -15.0], [-15.0, 15.0]])          # stiffness_n_per_m
     channels = [
         # offset, gain, shift, unit, dof, full_scale
         (2048, 1 << 20, 0, 1, 0, 100.0),      # force1: N
@@ -98,7 +109,38 @@ def calibration_record(with_dob=False, with_watch=False):
         body += bytes([0xFF, 0xFF, 0xFF, 0])              # no DOB inputs, reserved
         body += bytes(640)
     body += WATCH if with_watch else bytes(36)
-    assert len(body) == 872
+    assert len(body) == CAL_RECORD_BYTES - 4
+    return body + struct.pack("<I", zlib.crc32(body))
+
+
+def calibration_record_chain4():
+    """A chain of four masses (1.4, 1.2, 1.0, 0.8 kg; springs 4200..2400 N/m to ground first),
+    each measured by one response input: acc1 on mass 1, x1 on 2, acc2 on 3, x2 on 4."""
+    k = (4200.0, 3600.0, 3000.0, 2400.0)
+    c = (3.0, 2.5, 2.0, 1.5)
+
+    def chain(v):
+        n = len(v)
+        return [[(v[i] + (v[i + 1] if i + 1 < n else 0.0)) if i == j else
+                 (-v[max(i, j)] if abs(i - j) == 1 else 0.0) for j in range(n)] for i in range(n)]
+
+    body = b"VCAL" + struct.pack("<HHBBH", CAL_RECORD_VERSION, CAL_RECORD_BYTES, 4, 0, 0)
+    body += struct.pack("<q", 1700000000) + struct.pack("<BBH", 0, 1, 7)
+    body += b"chain4".ljust(24, b"\0")
+    body += matrix([[1.4, 0, 0, 0], [0, 1.2, 0, 0], [0, 0, 1.0, 0], [0, 0, 0, 0.8]])
+    body += matrix(chain(c)) + matrix(chain(k))
+    channels = [
+        (2048, 1 << 20, 0, 1, 3, 100.0),      # force1 on mass 4
+        (2048, 1 << 20, 0, 1, 0xFF, 50.0),    # force2 on no mass
+        (2048, 3 << 19, 1, 2, 0, 490.0),      # accel1 on mass 1
+        (2048, 3 << 19, 1, 2, 2, 490.0),      # accel2 on mass 3
+        (0, 1 << 17, 0, 3, 1, 0.5),           # encoder1 on mass 2
+        (0, 1 << 17, 0, 3, 3, 0.5),           # encoder2 on mass 4
+    ]
+    for offset, gain, shift, unit, dof, full_scale in channels:
+        body += struct.pack("<iiBBBB", offset, gain, shift, unit, dof, 0) + f32(full_scale)
+    body += bytes([0xFF, 0xFF, 0xFF, 0]) + bytes(640) + bytes(36)
+    assert len(body) == CAL_RECORD_BYTES - 4
     return body + struct.pack("<I", zlib.crc32(body))
 
 
@@ -206,17 +248,19 @@ def main():
     add("calibration_record", record)
     add("calibration_record_dob", calibration_record(with_dob=True))
     add("calibration_record_watch", calibration_record(with_dob=True, with_watch=True))
+    add("calibration_record_chain4", calibration_record_chain4())
     add("cal_put_begin", report(0x10, token=0x0C0C,
                                 payload=struct.pack("<II", len(record), zlib.crc32(record))))
     chunks = (len(record) + 51) // 52
-    assert chunks == 17
+    assert chunks == 20
     add("cal_put_data_0", report(0x11, token=0x0C0C, sequence=0, payload=record[0:52]))
-    add("cal_put_data_16", report(0x11, token=0x0C0C, sequence=16, payload=record[16 * 52:]))
+    add("cal_put_data_19", report(0x11, token=0x0C0C, sequence=19, payload=record[19 * 52:]))
     add("cal_commit_response",
         report(0x12, flags=FLAG_RESPONSE, token=0x0C0D, payload=struct.pack("<BBHI", 1, 0, 0, 8)))
-    # cal-get sends the 876-byte record in 16 stream data reports of up to 58 bytes.
+    # cal-get sends the 1020-byte record in 18 stream data reports of up to 58 bytes.
+    assert (len(record) + 57) // 58 == 18
     add("cal_get_trailer",
-        report(0x13, flags=FLAG_RESPONSE | FLAG_STREAM_END, token=0x0C0E, sequence=16,
+        report(0x13, flags=FLAG_RESPONSE | FLAG_STREAM_END, token=0x0C0E, sequence=18,
                payload=struct.pack("<IIBBHI", len(record), zlib.crc32(record), 1, 0, 0, 8)))
 
     add("dob_control_request", report(0x30, token=9, payload=b"\x01"))
@@ -244,6 +288,7 @@ def main():
     (SEEDS / "wire_calibration_fuzz/calibration_record").write_bytes(v["calibration_record"])
     (SEEDS / "wire_calibration_fuzz/calibration_record_dob").write_bytes(v["calibration_record_dob"])
     (SEEDS / "wire_calibration_fuzz/calibration_record_watch").write_bytes(v["calibration_record_watch"])
+    (SEEDS / "wire_calibration_fuzz/calibration_record_chain4").write_bytes(v["calibration_record_chain4"])
     # Request seeds are in the harness's raw format (top bit of the first byte set); bit 0 is its
     # calibration switch (1: the filter is installed).
     (SEEDS / "fw_request_fuzz/requests").write_bytes(b"\x81" + v["ping_request"] + v["acq_configure_request"] +

@@ -47,12 +47,22 @@ bool MatrixShapeOk(const std::array<float, kN * kN>& m, std::size_t dof_count) {
   return true;
 }
 
+// A symmetric matrix is positive definite exactly when every pivot of its Gaussian elimination
+// (without row exchanges) is positive: the pivots are the ratios of successive leading minors
+// (Sylvester's criterion), and elimination forms them without square roots (the board has a
+// single-precision FPU and no libm). An overflow to infinity or NaN compares false and refuses
+// the record, as it should.
 bool MassPositiveDefinite(const std::array<float, kN * kN>& m, std::size_t dof_count) {
-  if (!(m[0] > 0.0f)) return false;
-  if (dof_count == 1) return true;
-  // 2x2 Sylvester criterion in single precision (the board has a single-precision FPU only).
-  // An overflow to infinity on both sides compares false and refuses the record, as it should.
-  return m[0] * m[3] > m[1] * m[2];
+  std::array<float, kN* kN> a = m;
+  for (std::size_t p = 0; p < dof_count; ++p) {
+    const float pivot = a[p * kN + p];
+    if (!(pivot > 0.0f) || !IsFinite(pivot)) return false;
+    for (std::size_t r = p + 1; r < dof_count; ++r) {
+      const float f = a[r * kN + p] / pivot;
+      for (std::size_t c = p; c < dof_count; ++c) a[r * kN + c] -= f * a[p * kN + c];
+    }
+  }
+  return true;
 }
 
 bool LabelOk(const std::array<char, kCalLabelBytes>& label) {
@@ -188,12 +198,15 @@ std::uint32_t StoredRecordCrc(std::span<const std::uint8_t, kCalRecordBytes> byt
 }
 
 Status DecodeCalibrationRecord(std::span<const std::uint8_t> bytes, CalibrationRecord& record) {
-  if (bytes.size() != kCalRecordBytes) return Status::kInvalidArgument;
+  // The header first, so a record of another version (another length: version 2 held 876
+  // bytes) is named a version mismatch, not a malformed buffer.
+  if (bytes.size() < kCalOffDofCount) return Status::kInvalidArgument;
   if (LoadU32(bytes, kCalOffMagic) != kCalMagic ||
       LoadU16(bytes, kCalOffVersion) != kCalRecordVersion ||
       LoadU16(bytes, kCalOffLength) != kCalRecordBytes) {
     return Status::kVersionMismatch;
   }
+  if (bytes.size() != kCalRecordBytes) return Status::kInvalidArgument;
   if (ComputeCrc32(bytes.first(kCalOffCrc)) != LoadU32(bytes, kCalOffCrc)) {
     return Status::kDataLoss;
   }

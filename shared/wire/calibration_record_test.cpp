@@ -4,6 +4,7 @@
 
 #include <array>
 #include <cstring>
+#include <initializer_list>
 
 #include "golden_vectors.hpp"
 #include "test_filter.hpp"
@@ -13,6 +14,20 @@ namespace vibid::wire {
 namespace {
 
 using Bytes = std::array<std::uint8_t, kCalRecordBytes>;
+
+using Matrix = std::array<float, kMaxDof * kMaxDof>;
+
+// An n x n matrix in the record's kMaxDof x kMaxDof row-major block, zero beyond n.
+Matrix Padded(std::initializer_list<std::initializer_list<float>> rows) {
+  Matrix m{};
+  std::size_t r = 0;
+  for (const auto& row : rows) {
+    std::size_t c = 0;
+    for (const float v : row) m[r * kMaxDof + c++] = v;
+    ++r;
+  }
+  return m;
+}
 
 // The values scripts/golden/wire_vectors.py packs into the golden record.
 CalibrationRecord GoldenValues() {
@@ -24,9 +39,9 @@ CalibrationRecord GoldenValues() {
   r.host_patch = 7;
   const char label[] = "rig-A two mass";
   std::memcpy(r.label.data(), label, sizeof(label) - 1);
-  r.mass_kg = {0.57f, 0.0f, 0.0f, 0.56f};
-  r.damping_ns_per_m = {1.25f, -0.5f, -0.5f, 0.75f};
-  r.stiffness_n_per_m = {30.0f, -15.0f, -15.0f, 15.0f};
+  r.mass_kg = Padded({{0.57f, 0.0f}, {0.0f, 0.56f}});
+  r.damping_ns_per_m = Padded({{1.25f, -0.5f}, {-0.5f, 0.75f}});
+  r.stiffness_n_per_m = Padded({{30.0f, -15.0f}, {-15.0f, 15.0f}});
   r.channels[0] = {2048, 1 << 20, 0, Unit::kNewton, 0, 100.0f};
   r.channels[1] = {2047, 1 << 20, 0, Unit::kNewton, 1, 50.0f};
   r.channels[2] = {2050, 3 << 19, 1, Unit::kMeterPerSecond2, 0, 490.3325f};
@@ -60,12 +75,13 @@ TEST(CalibrationRecord, EncodesLikeGolden) {
 
 TEST(CalibrationRecord, DecodesGoldenByHand) {
   const Bytes b = GoldenBytes();
-  // Hand-decoded header: "VCAL", version 2, length 876 = 0x036C, dof 2.
+  // Hand-decoded header: "VCAL", version 3, length 1020 = 0x03FC, dof 2.
   EXPECT_EQ(b[0], 'V');
   EXPECT_EQ(b[3], 'L');
-  EXPECT_EQ(b[4], 2);
-  EXPECT_EQ(b[6], 0x6C);
+  EXPECT_EQ(b[4], 3);
+  EXPECT_EQ(b[6], 0xFC);
   EXPECT_EQ(b[7], 0x03);
+  EXPECT_EQ(b[8], 2);
   CalibrationRecord r;
   ASSERT_EQ(DecodeCalibrationRecord(b, r), Status::kOk);
   EXPECT_EQ(r.dof_count, 2);
@@ -74,7 +90,8 @@ TEST(CalibrationRecord, DecodesGoldenByHand) {
   EXPECT_EQ(r.label[0], 'r');
   EXPECT_EQ(r.label[14], '\0');
   EXPECT_EQ(r.mass_kg[0], 0.57f);
-  EXPECT_EQ(r.mass_kg[3], 0.56f);
+  EXPECT_EQ(r.mass_kg[1 * kMaxDof + 1], 0.56f);
+  EXPECT_EQ(r.mass_kg[2 * kMaxDof + 2], 0.0f);
   EXPECT_EQ(r.stiffness_n_per_m[1], -15.0f);
   EXPECT_EQ(r.channels[2].gain, 3 << 19);
   EXPECT_EQ(r.channels[2].gain_shift, 1);
@@ -102,11 +119,23 @@ TEST(CalibrationRecord, RefusesWrongVersionAndLength) {
   b[kCalOffVersion] = 1;  // the record before the residual test: refused, not misread
   Reseal(b);
   EXPECT_EQ(DecodeCalibrationRecord(b, r), Status::kVersionMismatch);
-  b[kCalOffVersion] = 3;
+  b[kCalOffVersion] = 2;  // two masses at most: refused, not misread
   Reseal(b);
   EXPECT_EQ(DecodeCalibrationRecord(b, r), Status::kVersionMismatch);
+  b[kCalOffVersion] = 4;
+  Reseal(b);
+  EXPECT_EQ(DecodeCalibrationRecord(b, r), Status::kVersionMismatch);
+  // A version-2 record as a version-2 host built it (876 bytes, length 0x036C): named a version
+  // mismatch, not a malformed buffer, so the host can say to rebuild it.
+  b = GoldenBytes();
+  b[kCalOffVersion] = 2;
+  b[kCalOffLength] = 0x6C;
+  EXPECT_EQ(DecodeCalibrationRecord(std::span<const std::uint8_t>(b).first(876), r),
+            Status::kVersionMismatch);
   b = GoldenBytes();
   EXPECT_EQ(DecodeCalibrationRecord(std::span<const std::uint8_t>(b).first(100), r),
+            Status::kInvalidArgument);
+  EXPECT_EQ(DecodeCalibrationRecord(std::span<const std::uint8_t>(b).first(7), r),
             Status::kInvalidArgument);
 }
 
@@ -118,13 +147,15 @@ TEST(CalibrationRecord, RefusesOutOfRangeFields) {
   // Each edit breaks one rule; the record is re-sealed so only the range checks can catch it.
   const Edit edits[] = {
       {kCalOffDofCount, 0},               // no masses
-      {kCalOffDofCount, 3},               // more than kMaxDof
+      {kCalOffDofCount, 5},               // more than kMaxDof
+      {kCalOffDofCount, 3},               // a third mass whose mass entry is 0
       {kCalOffFlags, 0x80},               // unknown flag
       {kCalOffReserved, 1},               // reserved byte
       {kCalOffLabel + 20, 'x'},           // text after the label's NUL
       {kCalOffLabel + 1, 0x07},           // control character
       {kCalOffMass + 3, 0x80},            // m11 = -0.57: not positive definite
       {kCalOffStiffness + 4 + 3, 0x41},   // k12 != k21: asymmetric
+      {kCalOffStiffness + 4 * 15, 1},     // k44 nonzero in a 2-mass record
       {kCalOffDamping + 3, 0x7F},         // c11 exponent all ones: not finite
       {kCalOffChannels + 8, 32},          // gain shift beyond 31
       {kCalOffChannels + 16 + 9, 9},      // unknown unit
@@ -149,14 +180,87 @@ TEST(CalibrationRecord, OneDofRecordRefusesSecondMassEntries) {
   CalibrationRecord v = GoldenValues();
   v.dof_count = 1;
   for (ChannelScaling& c : v.channels) c.dof = c.dof == 1 ? kNoDof : c.dof;
-  v.mass_kg = {0.57f, 0.0f, 0.0f, 0.0f};
-  v.damping_ns_per_m = {1.25f, 0.0f, 0.0f, 0.0f};
-  v.stiffness_n_per_m = {15.0f, 0.0f, 0.0f, 0.0f};
+  v.mass_kg = Padded({{0.57f}});
+  v.damping_ns_per_m = Padded({{1.25f}});
+  v.stiffness_n_per_m = Padded({{15.0f}});
   Bytes b{};
   EncodeCalibrationRecord(v, b);
   CalibrationRecord r;
   EXPECT_EQ(DecodeCalibrationRecord(b, r), Status::kOk);
-  v.stiffness_n_per_m[3] = 15.0f;
+  v.stiffness_n_per_m[1 * kMaxDof + 1] = 15.0f;
+  EncodeCalibrationRecord(v, b);
+  EXPECT_EQ(DecodeCalibrationRecord(b, r), Status::kInvalidArgument);
+}
+
+// The four-mass chain scripts/golden/wire_vectors.py packs (calibration_record_chain4): masses
+// 1.4, 1.2, 1.0, 0.8 kg, springs 4200, 3600, 3000, 2400 N/m from ground, dampers 3, 2.5, 2, 1.5
+// N s/m; acc1 on mass 1, x1 on 2, acc2 on 3, x2 on 4, the hammer's load cell on mass 4.
+CalibrationRecord Chain4Values() {
+  CalibrationRecord r;
+  r.dof_count = 4;
+  r.created_unix_s = 1700000000;
+  r.host_minor = 1;
+  r.host_patch = 7;
+  std::memcpy(r.label.data(), "chain4", 6);
+  r.mass_kg = Padded({{1.4f, 0, 0, 0}, {0, 1.2f, 0, 0}, {0, 0, 1.0f, 0}, {0, 0, 0, 0.8f}});
+  r.damping_ns_per_m = Padded(
+      {{5.5f, -2.5f, 0, 0}, {-2.5f, 4.5f, -2.0f, 0}, {0, -2.0f, 3.5f, -1.5f}, {0, 0, -1.5f, 1.5f}});
+  r.stiffness_n_per_m = Padded({{7800.0f, -3600.0f, 0, 0},
+                                {-3600.0f, 6600.0f, -3000.0f, 0},
+                                {0, -3000.0f, 5400.0f, -2400.0f},
+                                {0, 0, -2400.0f, 2400.0f}});
+  r.channels[0] = {2048, 1 << 20, 0, Unit::kNewton, 3, 100.0f};
+  r.channels[1] = {2048, 1 << 20, 0, Unit::kNewton, kNoDof, 50.0f};
+  r.channels[2] = {2048, 3 << 19, 1, Unit::kMeterPerSecond2, 0, 490.0f};
+  r.channels[3] = {2048, 3 << 19, 1, Unit::kMeterPerSecond2, 2, 490.0f};
+  r.channels[4] = {0, 1 << 17, 0, Unit::kMeter, 1, 0.5f};
+  r.channels[5] = {0, 1 << 17, 0, Unit::kMeter, 3, 0.5f};
+  return r;
+}
+
+TEST(CalibrationRecord, FourMassChainEncodesLikeGoldenAndDecodesBack) {
+  Bytes golden{};
+  ASSERT_EQ(testing::GoldenVector("calibration_record_chain4", golden), kCalRecordBytes);
+  Bytes out{};
+  EncodeCalibrationRecord(Chain4Values(), out);
+  EXPECT_TRUE(out == golden);
+  CalibrationRecord r;
+  ASSERT_EQ(DecodeCalibrationRecord(golden, r), Status::kOk);
+  EXPECT_EQ(r.dof_count, 4);
+  // Hand-decoded: k34 = -2400 N/m is entry 11 of the stiffness block (offset 176 + 44); its
+  // float32 is 0xC5160000, little-endian.
+  EXPECT_EQ(golden[kCalOffStiffness + 44 + 2], 0x16);
+  EXPECT_EQ(golden[kCalOffStiffness + 44 + 3], 0xC5);
+  EXPECT_EQ(r.stiffness_n_per_m[2 * kMaxDof + 3], -2400.0f);
+  EXPECT_EQ(r.mass_kg[3 * kMaxDof + 3], 0.8f);
+  EXPECT_EQ(r.channels[5].dof, 3);
+  // A channel on a fifth mass is refused.
+  CalibrationRecord v = Chain4Values();
+  v.channels[5].dof = 4;
+  EncodeCalibrationRecord(v, out);
+  EXPECT_EQ(DecodeCalibrationRecord(out, r), Status::kInvalidArgument);
+}
+
+// Positive definiteness beyond 2 x 2: every leading 2 x 2 minor and diagonal entry positive is
+// not enough. [[1, 2, 0], [2, 5, 3], [0, 3, 1]] has leading minors 1, 1 and -8 (its pivots 1, 1,
+// -8 by hand), so it is refused; [[2, 1, 0], [1, 2, 1], [0, 1, 2]] (minors 2, 3, 4) is accepted.
+TEST(CalibrationRecord, ThreeMassMassMatrixMustBePositiveDefinite) {
+  CalibrationRecord v = Chain4Values();
+  v.dof_count = 3;
+  v.channels[0].dof = 2;
+  v.channels[5].dof = 2;
+  v.damping_ns_per_m = Padded({{1, 0, 0}, {0, 1, 0}, {0, 0, 1}});
+  v.stiffness_n_per_m = Padded({{2, -1, 0}, {-1, 2, -1}, {0, -1, 1}});
+  Bytes b{};
+  CalibrationRecord r;
+  v.mass_kg = Padded({{2, 1, 0}, {1, 2, 1}, {0, 1, 2}});
+  EncodeCalibrationRecord(v, b);
+  EXPECT_EQ(DecodeCalibrationRecord(b, r), Status::kOk);
+  v.mass_kg = Padded({{1, 2, 0}, {2, 5, 3}, {0, 3, 1}});
+  EncodeCalibrationRecord(v, b);
+  EXPECT_EQ(DecodeCalibrationRecord(b, r), Status::kInvalidArgument);
+  // Singular (minor 3 exactly 0: [[1, 1, 0], [1, 2, 1], [0, 1, 1]]) is refused too.
+  v.mass_kg = Padded({{1, 1, 0}, {1, 2, 1}, {0, 1, 1}});
   EncodeCalibrationRecord(v, b);
   EXPECT_EQ(DecodeCalibrationRecord(b, r), Status::kInvalidArgument);
 }
@@ -224,7 +328,7 @@ TEST(CalibrationRecordDob, ValidFilterAndRouting) {
   EXPECT_EQ(back.flags, kCalFlagHasDob);
   EXPECT_EQ(back.dob_input_channel[1], 3);
   EXPECT_TRUE(back.dob == r.dob);
-  // The filter's magic sits at the documented record offset 196.
+  // The filter's magic sits at the documented record offset 340.
   EXPECT_EQ(b[kCalOffDob], 'V');
   EXPECT_EQ(b[kCalOffDob + 3], 'B');
 }
@@ -311,13 +415,13 @@ TEST(CalibrationRecordWatch, EncodesLikeGoldenAndDecodesBack) {
   Bytes out{};
   EncodeCalibrationRecord(WithWatch(), out);
   EXPECT_TRUE(out == golden);
-  // Hand-decoded: the flags byte holds both bits, the block starts at 836 with the channel, W
-  // (1000 = 0x03E8) at 840.
+  // Hand-decoded: the flags byte holds both bits, the block starts at 980 with the channel, W
+  // (1000 = 0x03E8) at 984.
   EXPECT_EQ(golden[kCalOffFlags], 3);
-  EXPECT_EQ(golden[836], 0);
-  EXPECT_EQ(golden[837], 14);
-  EXPECT_EQ(golden[840], 0xE8);
-  EXPECT_EQ(golden[841], 0x03);
+  EXPECT_EQ(golden[980], 0);
+  EXPECT_EQ(golden[981], 14);
+  EXPECT_EQ(golden[984], 0xE8);
+  EXPECT_EQ(golden[985], 0x03);
   CalibrationRecord back;
   ASSERT_EQ(DecodeCalibrationRecord(golden, back), Status::kOk);
   EXPECT_EQ(back.watch_reference_channel, 0);

@@ -46,7 +46,7 @@ class FakeFrameSource final : public FrameSource {
 /// bytes.
 class FakeFlash final : public CalibrationFlash {
  public:
-  static constexpr std::size_t kSlotBytes = 1024;
+  static constexpr std::size_t kSlotBytes = 2048;  // holds a slot header and a record (1052 B)
   static constexpr std::uint32_t kNoCut = 0xFFFFFFFFu;
 
   FakeFlash();

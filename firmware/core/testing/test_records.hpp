@@ -26,9 +26,16 @@ inline wire::CalibrationRecord TestRecord(std::uint32_t tag) {
     v /= 10;
   } while (v != 0);
   while (d > 0) r.label[n++] = digits[--d];
-  r.mass_kg = {0.57f, 0.0f, 0.0f, 0.56f};
-  r.damping_ns_per_m = {1.0f, -0.5f, -0.5f, 0.5f};
-  r.stiffness_n_per_m = {30.0f, -15.0f, -15.0f, 15.0f};
+  // 2 x 2 in the record's kMaxDof x kMaxDof row-major blocks (entries beyond are 0).
+  constexpr std::size_t w = wire::kMaxDof;
+  r.mass_kg[0] = 0.57f;
+  r.mass_kg[w + 1] = 0.56f;
+  r.damping_ns_per_m[0] = 1.0f;
+  r.damping_ns_per_m[1] = r.damping_ns_per_m[w] = -0.5f;
+  r.damping_ns_per_m[w + 1] = 0.5f;
+  r.stiffness_n_per_m[0] = 30.0f;
+  r.stiffness_n_per_m[1] = r.stiffness_n_per_m[w] = -15.0f;
+  r.stiffness_n_per_m[w + 1] = 15.0f;
   // Load cells: 12-bit ADC centred at 2048, 2048 counts = full scale.
   r.channels[0] = {2048, 1 << 20, 0, wire::Unit::kNewton, 1, 100.0f};
   r.channels[1] = {2048, 1 << 20, 0, wire::Unit::kNewton, 1, 50.0f};

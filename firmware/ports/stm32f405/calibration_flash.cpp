@@ -5,8 +5,12 @@
 #include "regs/core_m4.hpp"
 #include "regs/rcc.hpp"
 #include "system.hpp"
+#include "vibid/fw/calibration_store.hpp"
 
 namespace vibid::fw::stm32 {
+
+// A slot (one 16 KiB sector) holds the slot header and the calibration record.
+static_assert(CalibrationStore::kSlotBytesNeeded <= InternalCalibrationFlash::kSlotBytes);
 namespace {
 
 // A single program takes at most 100 us; 100 000 status polls, a few cycles each at 168 MHz, are

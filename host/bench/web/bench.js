@@ -364,10 +364,15 @@ function massTests() {
 async function identifyRun() {
   const status = document.getElementById('id-status');
   progress('id-run-status', 'identifying…');
-  const r = await api('/api/cal/identify', {
+  const request = {
     nominal: document.getElementById('id-nominal').value.trim(),
     mass_tests: massTests(), modal_tests: listOf('id-modal'),
-    output: document.getElementById('id-output').value.trim()});
+    output: document.getElementById('id-output').value.trim()};
+  // Left empty: no exponential window (identify's default); otherwise its value at each record's
+  // end, as `vibid identify --exp-window` takes it.
+  const exp = document.getElementById('id-exp').value.trim();
+  if (exp !== '') request.exp_window = Number(exp);
+  const r = await api('/api/cal/identify', request);
   document.getElementById('id-table').textContent = r.table;
   const fmt = (v, ci) => Number(v.toPrecision(6)) +
     (Array.isArray(ci) ? ' (95 %: ' + Number(ci[0].toPrecision(5)) + ' .. ' + Number(ci[1].toPrecision(5)) + ')' : ' (95 %: n/a)');

@@ -129,11 +129,7 @@ void Run(const ShowArgs& a) {
     }
     wire::CalGetTrailer t;
     const std::vector<std::uint8_t> bytes = c.CalGet(&t);
-    wire::CalibrationRecord r;
-    const Status st = wire::DecodeCalibrationRecord(bytes, r);
-    if (st != Status::kOk)
-      throw device::DeviceError(std::string("the board's calibration record does not decode: ") +
-                                StatusName(st));
+    const wire::CalibrationRecord r = device::DecodeBoardRecord(bytes);
     const nlohmann::json j =
         RecordJson(r, t,
                    wire::StoredRecordCrc(std::span<const std::uint8_t, wire::kCalRecordBytes>(

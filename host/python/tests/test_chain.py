@@ -25,13 +25,39 @@ def test_three_mass_chain_from_python(make_emulator):
         # and the encoder: 10-byte records, which the link carries at 5 kHz.
         rec = board.acquire(seconds=60, rate_hz=5000, channels=["force1", "acc1", "acc2", "x1"],
                             no_dob=True, scenario="hammer", scenario_params=[0, 150, 0, 0])
-    # The board's calibration record holds models of one or two masses: this board stays
-    # uncalibrated and records converter counts. The modes' frequencies do not depend on the
+    # This board stays uncalibrated and records converter counts (the next test calibrates it). The modes' frequencies do not depend on the
     # responses' scale; each response is what it measures (accelerations, a displacement).
     assert rec.names == ["force1_counts", "acc1_counts", "acc2_counts", "x1_counts"]
     assert np.ptp(rec["x1_counts"]) > 100  # the encoder on the hit mass moves by > 1 mm
     m = vibid.modes(rec, force="force1_counts",
                     responses=["acc1_counts", "acc2_counts", "x1_counts"], sensor="acc,acc,disp",
+                    exp_window=0.1)
+    assert m.freq_hz.size == 3
+    np.testing.assert_allclose(m.freq_hz, truth_hz, rtol=0.01)
+
+
+def test_three_mass_chain_calibrated_with_its_observer(make_emulator):
+    """The board calibrated for the chain: its record holds the three masses' model, each
+    sensor on its mass (x1 on mass 3) and an observer on mass 3 fed by that encoder; the hammer
+    test then records SI columns, and the modes come out at the truth's frequencies."""
+    truth = json.loads(subprocess.run([str(EMU), "--rig", str(RIG), "--print-truth"],
+                                      capture_output=True, text=True, check=True).stdout)
+    truth_hz = vibid.modal(vibid.Model.from_dict(truth)).freq_hz
+    sensors = json.loads((ROOT / "examples" / "sensors.json").read_text())
+    for name, dof in (("force1", 3), ("force2", 3), ("acc1", 1), ("acc2", 2), ("x1", 3)):
+        sensors["channels"][name]["dof"] = dof
+    del sensors["channels"]["x2"]["dof"]  # on no mass of this rig
+    nominal = vibid.load_model(ROOT / "examples" / "chain3_nominal.json")
+    design = vibid.dob_design(nominal, fs_hz=5000, input_dof=3, output_dof=3, sensors=sensors)
+    emulator = make_emulator(seed=4, rig=RIG)
+    with vibid.Board(emulator.url) as board:
+        staged = board.cal_upload(nominal, design, sensors, label="chain3")
+        assert staged["bytes"] == 1020  # calibration record version 3 (docs/protocol.md)
+        board.cal_commit()
+        rec = board.acquire(seconds=60, rate_hz=5000, channels=["force1", "acc1", "acc2", "x1"],
+                            no_dob=True, scenario="hammer", scenario_params=[0, 150, 0, 0])
+    assert rec.names == ["force1_n", "acc1_m_s2", "acc2_m_s2", "x1_m"]
+    m = vibid.modes(rec, force="force1_n", responses=["acc1_m_s2", "acc2_m_s2", "x1_m"],
                     exp_window=0.1)
     assert m.freq_hz.size == 3
     np.testing.assert_allclose(m.freq_hz, truth_hz, rtol=0.01)

@@ -3,7 +3,7 @@
 //   vibid_qemu_dob_reference record OUT.bin
 //       Designs a disturbance observer for the reference rig (1 DOF, m = 2 kg, k = 8 kN/m,
 //       c = 6 N s/m; force on load cell 1, acceleration on accelerometer 1; 5 kHz) with the host
-//       DOB library, quantizes it and writes the 876-byte calibration record to upload.
+//       DOB library, quantizes it and writes the calibration record (kCalRecordBytes) to upload.
 //   vibid_qemu_dob_reference replay RECORD.bin FRAMES.txt
 //       Prints d_hat (Q31) for each frame (six raw integers per line): the record's channel
 //       scaling (wire::ScaleChannel) and the shared fixed-point kernel (fixed::DobFilter),

@@ -5,6 +5,7 @@
 #pragma once
 
 #include <cstdint>
+#include <span>
 #include <string>
 #include <vector>
 
@@ -51,6 +52,12 @@ wire::AcqConfigureRequest PlanAcquisition(const AcquireSettings& settings, Trigg
 
 /// The board's active calibration record; `has_record` false when it is uncalibrated.
 wire::CalibrationRecord ActiveRecord(Connection& c, bool& has_record);
+
+/// The record the board sent (cal-get), decoded; DeviceError otherwise, naming the cause and the
+/// way out: a record of another version (firmware and host of different releases: flash the
+/// firmware that matches this host, then upload and commit the calibration again) or one the
+/// board's own checks should have refused.
+wire::CalibrationRecord DecodeBoardRecord(std::span<const std::uint8_t> bytes);
 
 /// What the board's state adds to `cfg`: the observer output when the observer runs (`dob_running`,
 /// from get-status) unless `no_dob`, the trigger threshold in ADC units (and the load cell's full

@@ -67,9 +67,9 @@ struct RecordInputs {
 /// The record. Each observer input is routed to the first channel of its kind on its mass; that
 /// channel's full scale (the sensors') must be the one the observer was designed for, so the
 /// board's Q31 values mean the same to both: a channel has one range, never overwritten.
-/// InputError when the model has more than two masses, an observer input has no matching sensor,
-/// an input's full scale differs from its channel's (naming both and the ways out), or the
-/// finished record does not pass the board's own decoder (its status named).
+/// InputError when the model has more than wire::kMaxDof (four) masses, an observer input has no
+/// matching sensor, an input's full scale differs from its channel's (naming both and the ways
+/// out), or the finished record does not pass the board's own decoder (its status named).
 wire::CalibrationRecord BuildCalibrationRecord(const RecordInputs& inputs);
 
 }  // namespace vibid::device

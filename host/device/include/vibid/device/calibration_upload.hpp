@@ -5,6 +5,7 @@
 
 #include <optional>
 #include <string>
+#include <vector>
 
 #include <nlohmann/json.hpp>
 
@@ -47,6 +48,30 @@ std::optional<double> CalibratedFullScale(const wire::CalibrationRecord* active,
 std::string TakeSensorFullScales(const SensorSet& sensors, int input_dof, int output_dof,
                                  const std::string& sensor, double& force_fs_n, bool force_given,
                                  double& sensor_fs, bool sensor_given);
+
+/// The recording column that measures each of the first `masses` masses, as the board's record
+/// places its sensors (each channel's mass) and acquire names its calibrated columns: the
+/// accelerometer on the mass (acc1_m_s2), else its encoder (x1_m). InputError naming the first
+/// mass no calibrated response channel sits on, and the way out.
+std::vector<std::string> ResponseColumnsOnMasses(const wire::CalibrationRecord& record,
+                                                 std::size_t masses);
+
+/// The driving point of a hammer test on this board: of `columns` (ResponseColumnsOnMasses, in
+/// mass order), the one on the mass load cell 1 (the hammer's) sits on; "" when the record puts
+/// the load cell on no mass of them.
+std::string DrivingPointColumn(const wire::CalibrationRecord& record,
+                               const std::vector<std::string>& columns);
+
+/// Where an observer for this board acts and what feeds it: the mass load cell 1 sits on (the
+/// hammer's, the shaker's and the push's), fed by that mass's encoder (displacement sensing holds
+/// down to DC), else its accelerometer, at that channel's full scale.
+struct ObserverPlacement {
+  int dof = 0;         ///< From 1.
+  std::string sensor;  ///< disp or acc, as `vibid dob design --sensor` takes it.
+  double sensor_fs = 0.0;
+};
+/// None when the record puts load cell 1 on no mass or no calibrated response channel on it.
+std::optional<ObserverPlacement> ObserverPlacementOf(const wire::CalibrationRecord& record);
 
 /// The record as `cal show --json` prints it, without the slot, sequence and CRC the board adds:
 /// label, created_unix_s, host_version, M, C, K (dof x dof), channels (calibrated ones: unit,

@@ -2,10 +2,11 @@
 // physical model (for the host to read back and for range checks), the per-channel scaling the
 // board applies to every sample, and the quantized disturbance-observer filter the board runs.
 //
-// Byte layout (little-endian, offsets in bytes, total kCalRecordBytes = 876):
+// Byte layout (little-endian, offsets in bytes, total kCalRecordBytes = 1020):
 //
 //   0    u32  magic              kCalMagic: bytes 'V','C','A','L'
-//   4    u16  version            kCalRecordVersion
+//   4    u16  version            kCalRecordVersion (3: models of up to four masses; version 2
+//                                held two, in 876 bytes, and is refused with kVersionMismatch)
 //   6    u16  length             kCalRecordBytes (a reader of another length refuses the record)
 //   8    u8   dof_count          1..kMaxDof
 //   9    u8   flags              kCalFlagHasDob, kCalFlagHasWatch (only with kCalFlagHasDob)
@@ -13,19 +14,19 @@
 //   12   i64  created_unix_s     when the host built the record (seconds since 1970, UTC)
 //   20   u8   host_major  21 u8 host_minor  22 u16 host_patch   version of the host that built it
 //   24   char label[24]          printable ASCII, NUL-padded (the rig's name)
-//   48   f32  mass_kg[2][2]      row-major; entries beyond dof_count are 0
-//   64   f32  damping_ns_per_m[2][2]
-//   80   f32  stiffness_n_per_m[2][2]
-//   96   ChannelScaling[6]       16 bytes each, in wire::Channel order, layout below
-//   192  u8   dob_input_channel[3]  the wire::Channel feeding each DOB input (its scaling's unit
+//   48   f32  mass_kg[4][4]      row-major; entries beyond dof_count are 0
+//   112  f32  damping_ns_per_m[4][4]
+//   176  f32  stiffness_n_per_m[4][4]
+//   240  ChannelScaling[6]       16 bytes each, in wire::Channel order, layout below
+//   336  u8   dob_input_channel[3]  the wire::Channel feeding each DOB input (its scaling's unit
 //                                must match the input's kind and its full scale the input's);
 //                                kNoChannel for unused inputs and when there is no filter
-//   195  u8   reserved           0
-//   196  u8   dob[640]           the quantized DOB (vibid::fixed description encoding), all
+//   339  u8   reserved           0
+//   340  u8   dob[640]           the quantized DOB (vibid::fixed description encoding), all
 //                                zero when kCalFlagHasDob is clear
-//   836  Watch (36 bytes)        the observer's residual test (vibid::fixed::ResidualCusum), all
+//   980  Watch (36 bytes)        the observer's residual test (vibid::fixed::ResidualCusum), all
 //                                zero when kCalFlagHasWatch is clear; layout below
-//   872  u32  crc32              CRC-32 of bytes [0, 872)
+//   1016 u32  crc32              CRC-32 of bytes [0, 1016)
 //
 //   Watch (36 bytes; the kernel's parameters, see residual_cusum.hpp):
 //   0   u8   reference_channel   the wire::Channel of the load cell whose force r = d_hat - F
@@ -66,8 +67,9 @@
 namespace vibid::wire {
 
 inline constexpr std::uint32_t kCalMagic = 0x4C414356u;  // bytes 'V','C','A','L'
-inline constexpr std::uint16_t kCalRecordVersion = 2;
-inline constexpr std::size_t kMaxDof = 2;
+inline constexpr std::uint16_t kCalRecordVersion = 3;
+/// The board's four response inputs (acc1, acc2, x1, x2) measure a chain of up to four masses.
+inline constexpr std::size_t kMaxDof = 4;
 inline constexpr std::size_t kDobDescriptionBytes = 640;
 inline constexpr std::size_t kCalLabelBytes = 24;
 inline constexpr std::uint8_t kCalFlagHasDob = 1u << 0;
@@ -100,9 +102,9 @@ inline constexpr std::size_t kCalWatchBytes = 36;
 inline constexpr std::size_t kCalOffCrc = kCalOffWatch + kCalWatchBytes;
 inline constexpr std::size_t kCalRecordBytes = kCalOffCrc + 4;
 
-static_assert(kCalOffMass == 48 && kCalOffDamping == 64 && kCalOffStiffness == 80);
-static_assert(kCalOffChannels == 96 && kCalOffDobInputs == 192 && kCalOffDob == 196);
-static_assert(kCalOffWatch == 836 && kCalOffCrc == 872 && kCalRecordBytes == 876);
+static_assert(kCalOffMass == 48 && kCalOffDamping == 112 && kCalOffStiffness == 176);
+static_assert(kCalOffChannels == 240 && kCalOffDobInputs == 336 && kCalOffDob == 340);
+static_assert(kCalOffWatch == 980 && kCalOffCrc == 1016 && kCalRecordBytes == 1020);
 static_assert(kCalRecordBytes <= 0xFFFF, "length travels in a u16");
 
 /// What a channel's full scale is measured in.
@@ -149,11 +151,14 @@ void EncodeCalibrationRecord(const CalibrationRecord& record,
 
 /// Reads and checks a record, the filter included.
 /// @returns kOk;
-///          kInvalidArgument if bytes.size() != kCalRecordBytes;
-///          kVersionMismatch for a wrong magic, version or length field (checked first);
+///          kInvalidArgument if bytes hold less than the header (8 bytes);
+///          kVersionMismatch for a wrong magic, version or length field (checked first: a record
+///            of version 1 or 2 is named so whatever its length);
+///          kInvalidArgument if bytes.size() != kCalRecordBytes (checked next);
 ///          kDataLoss if the CRC-32 does not match (checked next);
 ///          kInvalidArgument for any field out of range: dof_count, flags, reserved bytes, label,
-///            a non-finite or asymmetric matrix, a mass matrix that is not positive definite,
+///            a non-finite or asymmetric matrix, a mass matrix that is not positive definite (every
+///            pivot of its Gaussian elimination positive),
 ///            nonzero entries beyond dof_count, a gain shift > kMaxGainShift, an unknown unit,
 ///            a dof index beyond dof_count, a full scale that is not finite and positive, a
 ///            negative creation time, DOB bytes or input channels present without the flag, an
