@@ -191,6 +191,22 @@ TEST(HonestModes, APeakWithNoModeIsNamed) {
   EXPECT_TRUE(Contains(id.warnings, "--orders"));
 }
 
+// The same FRF with the second mode's lines mostly noise (coherence 0.3 there): its peak is no
+// resonance the data show, so it is not named; at coherence 0.6 it is.
+TEST(HonestModes, ANoisyPeakIsNotNamedAsAMissingMode) {
+  for (const double coherence : {0.3, 0.6}) {
+    Frf frf = TwoModeReceptance();
+    for (Eigen::Index i = 0; i < frf.freq_hz.size(); ++i) {
+      if (frf.freq_hz[i] > 12.0) frf.coherence.row(i).setConstant(coherence);
+    }
+    ModeIdentificationOptions one;
+    one.peaks.max_peaks = 1;
+    const ModeIdentification id = IdentifyModes(frf, 1, one);
+    ASSERT_EQ(id.modes.size(), 1u);
+    EXPECT_EQ(id.peaks_without_mode_hz.size(), coherence < 0.5 ? 0u : 1u) << coherence;
+  }
+}
+
 // A curve fit that does not converge leaves peak picks: every mode is marked unreliable, with the
 // way out; the peak picks asked for by name are not.
 TEST(HonestModes, AFallbackToPeakPickingIsMarkedUnreliable) {

@@ -702,11 +702,21 @@ void DropUnresolvedModes(ModeIdentification& out) {
 
 // A resonance the data show but no mode explains must not vanish silently (a diagram whose
 // orders are too low for the band, a band cut through a mode): each clear peak of the band
-// farther from every mode than its half-power width (and two lines, and 2 %) is named.
+// farther from every mode than its half-power width (and two lines, and 2 %) is named. A peak
+// where the responses are mostly noise (coherence below one half at its line, over the columns
+// picked) is no resonance the data show: a hammer test's band above its force's roll-off is full
+// of them.
 void NamePeaksWithoutMode(const Frf& receptance, const ModeIdentificationOptions& options,
                           ModeIdentification& out) {
   constexpr double kClearFraction = 0.05;
   constexpr double kMinLines = 2.0;
+  constexpr double kMinCoherence = 0.5;
+  const auto coherent = [&](const Peak& pk) {
+    const auto line = static_cast<Eigen::Index>(pk.line);
+    if (options.picking_column >= 0)
+      return receptance.coherence(line, options.picking_column) >= kMinCoherence;
+    return receptance.coherence.row(line).mean() >= kMinCoherence;
+  };
   PeakOptions look = options.peaks;
   look.max_peaks = 0;
   look.threshold_fraction = std::max(look.threshold_fraction, kClearFraction);
@@ -731,7 +741,8 @@ void NamePeaksWithoutMode(const Frf& receptance, const ModeIdentificationOptions
   };
   out.peaks_without_mode_hz.clear();
   for (const Peak& pk : seen.peaks) {
-    if (pk.lines_in_band < kMinLines || explained(pk, out.modes) || explained(pk, out.dropped))
+    if (pk.lines_in_band < kMinLines || !coherent(pk) || explained(pk, out.modes) ||
+        explained(pk, out.dropped))
       continue;
     out.peaks_without_mode_hz.push_back(pk.freq_hz);
     std::string way;
