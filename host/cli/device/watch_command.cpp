@@ -19,6 +19,7 @@
 #include "vibid/device/error.hpp"
 #include "vibid/device/log_table.hpp"
 #include "vibid/device/watch_report.hpp"
+#include "vibid/workflow/watch_columns.hpp"
 #include "vibid/workflow/watch_session.hpp"
 
 namespace vibid::cli {
@@ -49,34 +50,19 @@ std::string Num(double v) {
   return b;
 }
 
-bool IsResponse(const std::string& name) {
-  return name.rfind("acc", 0) == 0 ||
-         (name.size() > 1 && name[0] == 'x' && name[1] >= '1' && name[1] <= '9');
+/// --response's names ("" names none).
+std::vector<std::string> Requested(const std::string& responses) {
+  return responses.empty() ? std::vector<std::string>{} : SplitList(responses);
 }
 
-/// The watched columns: --response's, or every acceleration and position column.
+/// The watched columns: --response's, or every acceleration and position column (the library's
+/// choice, as Python's).
 std::vector<std::string> ResponseNames(const std::string& responses,
                                        const std::vector<std::string>& names,
                                        const std::string& source) {
-  std::vector<std::string> out;
-  if (!responses.empty()) {
-    for (const std::string& n : SplitList(responses)) {
-      bool found = false;
-      for (const std::string& have : names) found = found || have == n;
-      std::string known;
-      for (const std::string& have : names) known += (known.empty() ? "" : ", ") + have;
-      Require(found, "--response: " + source + " has no column '" + n + "' (its columns: " + known +
-                         "); name one of them");
-      out.push_back(n);
-    }
-    return out;
-  }
-  for (const std::string& n : names)
-    if (IsResponse(n)) out.push_back(n);
-  Require(!out.empty(), "watch: " + source +
-                            " has no acceleration or position column; name the responses with "
-                            "--response");
-  return out;
+  return workflow::ChooseWatchColumns(names, Requested(responses), source,
+                                      workflow::OptionSpelling::kCli)
+      .responses;
 }
 
 /// The journal: JSON lines appended and flushed as the blocks come, so a crash leaves every
@@ -175,8 +161,9 @@ void RunOnRecording(const WatchArgs& a) {
   Require(a.settings.seconds == 0.0 && a.scenario.empty(),
           "watch: --seconds and --scenario are for the board (--device), not a recording");
   const Recording rec = LoadRecording(a.recording);
-  const std::vector<std::string> responses =
-      ResponseNames(a.responses, rec.table.names, a.recording);
+  const workflow::WatchColumns columns = workflow::ChooseWatchColumns(
+      rec.table.names, Requested(a.responses), a.recording, workflow::OptionSpelling::kCli);
+  const std::vector<std::string>& responses = columns.responses;
   workflow::WatchOptions o = a.watch;
   o.fs_hz = rec.fs_hz;
   o.channels = static_cast<int>(responses.size());
@@ -185,11 +172,17 @@ void RunOnRecording(const WatchArgs& a) {
   SetReference(a, s, responses);
   Printer printer(a, journal);
   const Eigen::MatrixXd y = Columns(rec, responses);
+  // The board's model test, when the log carries it: each block with the board's flag.
+  Eigen::MatrixXd board;
+  if (columns.board_statistic)
+    board = Columns(rec, {*columns.board_statistic, *columns.board_flag});
   // Fed as a board would, a block at a time, so that each line is out as soon as it is made.
   const auto step = std::max<Eigen::Index>(1, std::lround(o.block_s * o.fs_hz));
   for (Eigen::Index at = 0; at < y.rows(); at += step) {
     const Eigen::Index n = std::min(step, y.rows() - at);
-    printer.Blocks(s, s.Feed(y.middleRows(at, n), rec.t0_s));
+    printer.Blocks(s, board.size() > 0
+                          ? s.Feed(y.middleRows(at, n), board.middleRows(at, n), rec.t0_s)
+                          : s.Feed(y.middleRows(at, n), rec.t0_s));
   }
   if (!s.has_reference()) {
     throw InputError("watch: " + a.recording + " holds " +
@@ -227,7 +220,8 @@ void RunOnDevice(const WatchArgs& a) {
   if (!a.responses.empty()) {
     responses_count = static_cast<int>(SplitList(a.responses).size());
   } else {
-    for (const std::string& c : settings.channels) responses_count += IsResponse(c) ? 1 : 0;
+    for (const std::string& c : settings.channels)
+      responses_count += workflow::IsWatchResponse(c) ? 1 : 0;
   }
   o.channels = std::max(1, responses_count);
   o.Validate();  // before the board starts: a bad option costs nothing
