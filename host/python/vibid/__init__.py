@@ -28,7 +28,8 @@ __all__ = [
     "FrfEstimate", "Hit", "modes", "Modes", "identify", "Identification", "default_segment",
     "frf_estimate_arrays", "dob_design", "ObserverDesign", "dob_run", "ObserverRun", "lowpass",
     "dob_compare", "Agreement", "decay", "Decay", "NumericalError", "SysidModel", "arx", "pem",
-    "tfest", "compare", "Comparison", "report",
+    "tfest", "compare", "Comparison", "report", "watch", "Watch", "WatchSession", "WatchBlock",
+    "WatchMode", "WatchReference",
 ]
 
 
@@ -1162,3 +1163,8 @@ class Board:
 
     def __repr__(self) -> str:
         return f"Board({self._b.describe()!r})"
+
+
+# --- the watch ----------------------------------------------------------------------------------
+
+from ._watch import Watch, WatchBlock, WatchMode, WatchReference, WatchSession, watch  # noqa: E402
