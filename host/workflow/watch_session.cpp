@@ -80,7 +80,9 @@ std::optional<WatchMove> MovedMost(const std::vector<WatchMode>& now,
 
 std::string WatchOptionName(const std::string& key, OptionSpelling spelling) {
   if (spelling == OptionSpelling::kPython) return key;
-  if (key == "responses") return "--response";  // the CLI names one list of columns
+  // The CLI names each of these lists in the singular.
+  if (key == "responses") return "--response";
+  if (key == "scenario_params") return "--scenario-param";
   std::string out = "--" + key;
   std::replace(out.begin(), out.end(), '_', '-');
   return out;

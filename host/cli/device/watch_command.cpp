@@ -1,5 +1,6 @@
 // vibid watch: the rig's modes and the subspace change test, block by block, on the board's live
-// responses or on a recording (workflow::WatchSession decides; this file reads, prints, journals).
+// responses or on a recording (workflow::WatchSession decides, workflow::WatchBoardRun runs the
+// board; this file reads the options and prints).
 #include <cerrno>
 #include <cmath>
 #include <cstdio>
@@ -15,10 +16,7 @@
 #include "session.hpp"
 #include "vibid/common/csv.hpp"
 #include "vibid/common/error.hpp"
-#include "vibid/device/acquire_plan.hpp"
-#include "vibid/device/error.hpp"
-#include "vibid/device/log_table.hpp"
-#include "vibid/device/watch_report.hpp"
+#include "vibid/workflow/watch_board_run.hpp"
 #include "vibid/workflow/watch_columns.hpp"
 #include "vibid/workflow/watch_session.hpp"
 
@@ -50,111 +48,31 @@ std::string Num(double v) {
   return b;
 }
 
-/// --response's names ("" names none).
-std::vector<std::string> Requested(const std::string& responses) {
-  return responses.empty() ? std::vector<std::string>{} : SplitList(responses);
+/// The reference's summary on stderr, once it is built.
+void SayReference(const WatchArgs& a, const workflow::WatchSession& s) {
+  const workflow::WatchReference& r = s.reference();
+  std::string modes;
+  for (const workflow::WatchMode& m : r.modes) {
+    char b[80];
+    std::snprintf(b, sizeof b, "%s%.3f Hz (ζ %.2f %%)", modes.empty() ? "" : ", ",
+                  m.omega_rad_s / (2.0 * std::numbers::pi), 100.0 * m.zeta);
+    modes += b;
+  }
+  std::cerr << "vibid: reference of " << Num(r.seconds) << " s: modes " << modes << "; test order "
+            << r.order << ", " << r.dof << " residuals over " << r.reference_blocks
+            << " blocks; window of " << a.watch.window_blocks << " blocks alarms over "
+            << Num(r.window_threshold) << " (" << Num(a.watch.false_alarm_per_hour)
+            << " false alarms per hour)\n";
 }
 
-/// The watched columns: --response's, or every acceleration and position column (the library's
-/// choice, as Python's).
-std::vector<std::string> ResponseNames(const std::string& responses,
-                                       const std::vector<std::string>& names,
-                                       const std::string& source) {
-  return workflow::ChooseWatchColumns(names, Requested(responses), source,
-                                      workflow::OptionSpelling::kCli)
-      .responses;
-}
-
-/// The journal: JSON lines appended and flushed as the blocks come, so a crash leaves every
-/// whole line. Opened (created or truncated) before the board starts.
-class Journal {
- public:
-  explicit Journal(const std::string& path) : path_(path) {
-    if (path.empty()) return;
-    file_ = std::fopen(path.c_str(), "wb");
-    if (file_ == nullptr) {
-      throw InputError("-o " + path + ": cannot create the journal: " + std::strerror(errno) +
-                       "; give a writable path");
-    }
+/// One block printed: its JSON line (as journaled) or its line of text.
+void PrintBlock(const WatchArgs& a, const workflow::WatchBlock& b, const std::string& line) {
+  if (a.json) {
+    std::cout << line << "\n";
+  } else {
+    std::cout << workflow::WatchBlockText(b) << "\n";
   }
-  ~Journal() {
-    if (file_ != nullptr) std::fclose(file_);
-  }
-  Journal(const Journal&) = delete;
-  Journal& operator=(const Journal&) = delete;
-
-  void Append(const std::string& line) {
-    if (file_ == nullptr) return;
-    if (std::fputs((line + "\n").c_str(), file_) < 0 || std::fflush(file_) != 0)
-      throw InputError("-o " + path_ + ": cannot append to the journal: " + std::strerror(errno));
-  }
-
- private:
-  std::string path_;
-  std::FILE* file_ = nullptr;
-};
-
-/// Prints and journals each block; the reference's summary on stderr once it is built.
-class Printer {
- public:
-  Printer(const WatchArgs& a, Journal& journal) : a_(a), journal_(journal) {}
-
-  void Blocks(const workflow::WatchSession& s, const std::vector<workflow::WatchBlock>& blocks,
-              const nlohmann::json& model_stale = nullptr) {
-    if (s.has_reference() && !reference_said_) {
-      reference_said_ = true;
-      const workflow::WatchReference& r = s.reference();
-      std::string modes;
-      for (const workflow::WatchMode& m : r.modes) {
-        char b[80];
-        std::snprintf(b, sizeof b, "%s%.3f Hz (ζ %.2f %%)", modes.empty() ? "" : ", ",
-                      m.omega_rad_s / (2.0 * std::numbers::pi), 100.0 * m.zeta);
-        modes += b;
-      }
-      std::cerr << "vibid: reference of " << Num(r.seconds) << " s: modes " << modes
-                << "; test order " << r.order << ", " << r.dof << " residuals over "
-                << r.reference_blocks << " blocks; window of " << a_.watch.window_blocks
-                << " blocks alarms over " << Num(r.window_threshold) << " ("
-                << Num(a_.watch.false_alarm_per_hour) << " false alarms per hour)\n";
-    }
-    for (const workflow::WatchBlock& b : blocks) {
-      nlohmann::json j = workflow::WatchBlockJson(b);
-      if (!model_stale.is_null()) j["model_stale"] = model_stale;
-      const std::string line = j.dump();
-      journal_.Append(line);
-      if (a_.json) {
-        std::cout << line << "\n";
-      } else {
-        std::cout << workflow::WatchBlockText(b) << "\n";
-      }
-      std::cout.flush();
-    }
-  }
-
- private:
-  const WatchArgs& a_;
-  Journal& journal_;
-  bool reference_said_ = false;
-};
-
-Eigen::MatrixXd Columns(const Recording& r, const std::vector<std::string>& names) {
-  Eigen::MatrixXd y(static_cast<Eigen::Index>(r.samples()),
-                    static_cast<Eigen::Index>(names.size()));
-  for (std::size_t j = 0; j < names.size(); ++j)
-    y.col(static_cast<Eigen::Index>(j)) = r.table.Column(names[j]);
-  return y;
-}
-
-void SetReference(const WatchArgs& a, workflow::WatchSession& s,
-                  const std::vector<std::string>& names) {
-  if (a.reference.empty()) return;
-  RecordingOptions ro;
-  ro.channels = names;
-  const Recording ref = LoadRecording(a.reference, ro);
-  Require(std::abs(ref.fs_hz / s.options().fs_hz - 1.0) < 1e-6,
-          "--reference " + a.reference + ": sampled at " + Num(ref.fs_hz) + " Hz, the watched " +
-              "responses at " + Num(s.options().fs_hz) + " Hz; record both at one rate");
-  s.SetReference(Columns(ref, names));
+  std::cout.flush();
 }
 
 void RunOnRecording(const WatchArgs& a) {
@@ -162,27 +80,44 @@ void RunOnRecording(const WatchArgs& a) {
           "watch: --seconds and --scenario are for the board (--device), not a recording");
   const Recording rec = LoadRecording(a.recording);
   const workflow::WatchColumns columns = workflow::ChooseWatchColumns(
-      rec.table.names, Requested(a.responses), a.recording, workflow::OptionSpelling::kCli);
+      rec.table.names, a.responses.empty() ? std::vector<std::string>{} : SplitList(a.responses),
+      a.recording, workflow::OptionSpelling::kCli);
   const std::vector<std::string>& responses = columns.responses;
   workflow::WatchOptions o = a.watch;
   o.fs_hz = rec.fs_hz;
   o.channels = static_cast<int>(responses.size());
-  Journal journal(a.journal);
+  workflow::WatchJournal journal(a.journal, "-o");
   workflow::WatchSession s(o);
-  SetReference(a, s, responses);
-  Printer printer(a, journal);
-  const Eigen::MatrixXd y = Columns(rec, responses);
+  if (!a.reference.empty())
+    s.SetReference(workflow::LoadWatchReference(a.reference, responses, o.fs_hz));
+  Eigen::MatrixXd y(static_cast<Eigen::Index>(rec.samples()),
+                    static_cast<Eigen::Index>(responses.size()));
+  for (std::size_t j = 0; j < responses.size(); ++j)
+    y.col(static_cast<Eigen::Index>(j)) = rec.table.Column(responses[j]);
   // The board's model test, when the log carries it: each block with the board's flag.
   Eigen::MatrixXd board;
-  if (columns.board_statistic)
-    board = Columns(rec, {*columns.board_statistic, *columns.board_flag});
+  if (columns.board_statistic) {
+    board.resize(y.rows(), 2);
+    board.col(0) = rec.table.Column(*columns.board_statistic);
+    board.col(1) = rec.table.Column(*columns.board_flag);
+  }
+  bool reference_said = false;
   // Fed as a board would, a block at a time, so that each line is out as soon as it is made.
   const auto step = std::max<Eigen::Index>(1, std::lround(o.block_s * o.fs_hz));
   for (Eigen::Index at = 0; at < y.rows(); at += step) {
     const Eigen::Index n = std::min(step, y.rows() - at);
-    printer.Blocks(s, board.size() > 0
-                          ? s.Feed(y.middleRows(at, n), board.middleRows(at, n), rec.t0_s)
-                          : s.Feed(y.middleRows(at, n), rec.t0_s));
+    const std::vector<workflow::WatchBlock> blocks =
+        board.size() > 0 ? s.Feed(y.middleRows(at, n), board.middleRows(at, n), rec.t0_s)
+                         : s.Feed(y.middleRows(at, n), rec.t0_s);
+    if (s.has_reference() && !reference_said) {
+      reference_said = true;
+      SayReference(a, s);
+    }
+    for (const workflow::WatchBlock& b : blocks) {
+      const std::string line = workflow::WatchBlockJson(b).dump();
+      journal.Append(line);
+      PrintBlock(a, b, line);
+    }
   }
   if (!s.has_reference()) {
     throw InputError("watch: " + a.recording + " holds " +
@@ -193,134 +128,45 @@ void RunOnRecording(const WatchArgs& a) {
 }
 
 void RunOnDevice(const WatchArgs& a) {
-  device::AcquireSettings settings = a.settings;
-  const bool until_stopped = settings.seconds == 0.0;
-  if (settings.channels.empty()) settings.channels = {"acc1", "acc2"};
-  const int decimation =
-      device::DecimationFor(settings.rate_hz, settings.log_rate_hz, settings.decimation);
-  const double log_rate_hz = settings.rate_hz / decimation;
-  // Without --seconds: as long as the board counts records (about 50 days at 1 kHz, capped at
-  // 30 days), stopped by Ctrl-C.
-  if (until_stopped) settings.seconds = std::min(30.0 * 86400.0, 4.0e9 / log_rate_hz);
-  device::Trigger trig;
-  wire::AcqConfigureRequest cfg = device::PlanAcquisition(settings, trig);
-  Require(a.scenario_params.size() <= 4, "--scenario-param takes at most 4 values");
-  // The columns the log will have (as acquire writes them), before the board is asked.
-  device::LogPull format;
-  format.layout = wire::LogLayout{cfg.channel_mask, cfg.flags};
-  format.trailer.sample_period_us = cfg.sample_period_us;
-  format.trailer.decimation = cfg.decimation;
-  format.trailer.channel_mask = cfg.channel_mask;
-  format.trailer.acq_flags = cfg.flags;
-  // Units: the calibration is read from the board below; the names do not depend on it being
-  // there except for their unit suffix, so the options are checked against the names read then.
-  workflow::WatchOptions o = a.watch;
-  o.fs_hz = log_rate_hz;
-  int responses_count = 0;
-  if (!a.responses.empty()) {
-    responses_count = static_cast<int>(SplitList(a.responses).size());
-  } else {
-    for (const std::string& c : settings.channels)
-      responses_count += workflow::IsWatchResponse(c) ? 1 : 0;
-  }
-  o.channels = std::max(1, responses_count);
-  o.Validate();  // before the board starts: a bad option costs nothing
-  Require(
-      until_stopped || settings.seconds > (a.reference.empty() ? o.reference_s : 0.0) + o.block_s,
-      "--seconds " + Num(settings.seconds) + " ends before the first block after the reference (" +
-          Num(o.reference_s + o.block_s) + " s); watch longer or shorten --reference-s");
-  Journal journal(a.journal);  // refused now, not after the board has started
+  workflow::WatchBoardSettings settings;
+  settings.acquire = a.settings;
+  settings.scenario = a.scenario;
+  settings.scenario_params = a.scenario_params;
+  if (!a.responses.empty()) settings.responses = SplitList(a.responses);
+  settings.reference = a.reference;
+  settings.watch = a.watch;
+  workflow::WatchBoardRun run(settings);            // every option checked: a bad one costs nothing
+  workflow::WatchJournal journal(a.journal, "-o");  // refused now, not after the board started
   WithDevice(
       *a.globals,
       [&](device::Connection& c) {
-        bool has_record = false;
-        const wire::CalibrationRecord rec = device::ActiveRecord(c, has_record);
-        const bool dob_running = c.GetStatus().dob_running != 0;
-        device::ApplyCalibration(rec, has_record, dob_running, settings.no_dob, trig, cfg);
-        (void)device::Preflight(c.info(), cfg, settings);
-        cfg.flags = static_cast<std::uint8_t>(cfg.flags | wire::kAcqFlagStream);
-        format.layout = wire::LogLayout{cfg.channel_mask, cfg.flags};
-        format.trailer.acq_flags = cfg.flags;
-        device::LogPull empty = format;
-        const std::vector<std::string> names = device::MakeLogTable(empty, rec, has_record).names;
-        const std::vector<std::string> responses = ResponseNames(a.responses, names, "the log");
-        std::vector<std::size_t> index;
-        for (const std::string& n : responses)
-          for (std::size_t k = 0; k < names.size(); ++k)
-            if (names[k] == n) index.push_back(k);
-        o.channels = static_cast<int>(responses.size());
-        workflow::WatchSession s(o);
-        SetReference(a, s, responses);
-        // The board's residual test, when its observer runs: read before and after (a request
-        // while the log streams would hold the link).
-        nlohmann::json stale = nullptr;
-        if (dob_running) {
-          stale = device::WatchJson(c.GetWatchInfo(), cfg.sample_period_us);
-          std::cerr << "vibid: the board's model test: "
-                    << device::WatchText(c.GetWatchInfo(), cfg.sample_period_us) << "\n";
-        }
-        if (!a.scenario.empty()) c.SelectScenario(a.scenario, a.scenario_params);
-        c.Configure(cfg);
-        Printer printer(a, journal);
-        if (s.has_reference()) {
-          printer.Blocks(s, {});
-        } else {
-          std::cerr << "vibid: reference: the first " << Num(o.reference_s)
-                    << " s (the rig as it is now)\n";
-        }
-        std::uint32_t next = 0;  // the next log index expected
-        std::exception_ptr failed;
-        const auto live = [&](std::uint32_t first, std::span<const wire::LogRecord> records) {
-          if (failed) return;
-          try {
-            // A resumed stream may hand over again what came before: from `next` on only.
-            const std::size_t skip = first < next ? next - first : 0;
-            if (skip >= records.size()) return;
-            if (first > next) s.Gap(static_cast<long>(first - next));
-            device::LogPull block = format;
-            block.records.assign(records.begin() + static_cast<std::ptrdiff_t>(skip),
-                                 records.end());
-            const device::LogTable table = device::MakeLogTable(block, rec, has_record);
-            Eigen::MatrixXd y(static_cast<Eigen::Index>(block.records.size()),
-                              static_cast<Eigen::Index>(index.size()));
-            for (std::size_t j = 0; j < index.size(); ++j)
-              y.col(static_cast<Eigen::Index>(j)) = table.columns[index[j]];
-            next = first + static_cast<std::uint32_t>(records.size());
-            printer.Blocks(s, s.Feed(y, table.columns[0][0]), stale);
-          } catch (...) {
-            failed = std::current_exception();
+        workflow::WatchBoardEvents events;
+        events.starting = [&](const workflow::WatchBoardStart& start) {
+          if (!start.model_text.empty())
+            std::cerr << "vibid: the board's model test: " << start.model_text << "\n";
+          if (a.reference.empty()) {
+            std::cerr << "vibid: reference: the first " << Num(run.options().reference_s)
+                      << " s (the rig as it is now)\n";
           }
         };
+        events.reference = [&](const workflow::WatchSession& s) { SayReference(a, s); };
+        events.block = [&](const workflow::WatchBlock& b, const std::string& line) {
+          PrintBlock(a, b, line);
+        };
         bool interrupted = false;
-        device::LogPull pull;
-        try {
-          pull = c.AcquireStreamed(
-              {},
-              [&](const wire::LogTrailer*) {
-                if (InterruptFlag().load() && !interrupted) {
-                  interrupted = true;
-                  std::cerr << "vibid: Ctrl-C: stopping the acquisition; the journal is kept "
-                               "(Ctrl-C again to abort)\n";
-                }
-                return interrupted || failed != nullptr;
-              },
-              live);
-        } catch (const device::IncompleteLog& e) {
-          std::cerr << "vibid: warning: " << e.what() << "\n";
-        } catch (...) {
-          try {
-            c.StopAcquisition();
-          } catch (const device::DeviceError&) {
+        const workflow::WatchBoardResult r = run.Run(c, journal, events, [&] {
+          if (InterruptFlag().load() && !interrupted) {
+            interrupted = true;
+            std::cerr << "vibid: Ctrl-C: stopping the acquisition; the journal is kept "
+                         "(Ctrl-C again to abort)\n";
           }
-          throw;
-        }
-        if (failed) std::rethrow_exception(failed);
-        if (dob_running) {
-          std::cerr << "vibid: the board's model test at the end: "
-                    << device::WatchText(c.GetWatchInfo(), cfg.sample_period_us) << "\n";
-        }
-        if (!s.has_reference()) {
-          std::cerr << "vibid: stopped during the reference (" << Num(s.reference_left_s())
+          return interrupted;
+        });
+        if (!r.warning.empty()) std::cerr << "vibid: warning: " << r.warning << "\n";
+        if (!r.model_text.empty())
+          std::cerr << "vibid: the board's model test at the end: " << r.model_text << "\n";
+        if (!r.reference_built) {
+          std::cerr << "vibid: stopped during the reference (" << Num(r.reference_left_s)
                     << " s of it to go): nothing watched\n";
         }
         if (interrupted) throw StoppedByInterrupt();
