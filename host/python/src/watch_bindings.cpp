@@ -13,6 +13,7 @@
 #include <nlohmann/json.hpp>
 
 #include "bindings.hpp"
+#include "board_watch.hpp"
 #include "vibid/common/error.hpp"
 #include "vibid/workflow/watch_columns.hpp"
 #include "vibid/workflow/watch_session.hpp"
@@ -106,6 +107,10 @@ void RegisterWatch(py::module_& m) {
       .def_property_readonly("reference_left_s", &WatchSession::reference_left_s)
       .def("reference", &Reference);
   m.def("watch_columns", &Columns);
+  py::class_<BoardWatch>(m, "_BoardWatch")
+      .def("next", &BoardWatch::Next, py::arg("timeout_s"))
+      .def("stop", &BoardWatch::Stop)
+      .def_property_readonly("fs_hz", &BoardWatch::FsHz);
 }
 
 }  // namespace vibid::python

@@ -29,7 +29,7 @@ __all__ = [
     "frf_estimate_arrays", "dob_design", "ObserverDesign", "dob_run", "ObserverRun", "lowpass",
     "dob_compare", "Agreement", "decay", "Decay", "NumericalError", "SysidModel", "arx", "pem",
     "tfest", "compare", "Comparison", "report", "watch", "Watch", "WatchSession", "WatchBlock",
-    "WatchMode", "WatchReference",
+    "WatchMode", "WatchReference", "LiveWatch",
 ]
 
 
@@ -1011,7 +1011,9 @@ class Board:
     board found. Use as a context manager or call close()."""
 
     def __init__(self, url: str = ""):
+        import weakref
         self._b = _vibid._Board(_text("url", url))
+        self._watches = weakref.WeakSet()  # live watches: stopped before the board is closed
 
     def __enter__(self):
         return self
@@ -1020,6 +1022,8 @@ class Board:
         self.close()
 
     def close(self) -> None:
+        for w in list(self._watches):
+            w.close()
         self._b.close()
 
     def info(self) -> dict:
@@ -1123,6 +1127,20 @@ class Board:
                 except DeviceError:
                     pass
 
+    def watch(self, seconds: Optional[float] = None, rate_hz: float = 1000.0, **options):
+        """The rig watched on the board (``vibid watch --device``, the same runner, options and
+        defaults): the acquisition started, preflighted and run as ``acquire`` runs it
+        (``rate_hz``, ``log_rate_hz``, ``decimation``, ``channels`` (default acc1, acc2),
+        ``no_dob``, ``scenario``, ``scenario_params``), for ``seconds`` (None: until the loop is
+        left), and its records fed to the watch as they arrive. Returns a ``LiveWatch`` that
+        yields each ``WatchBlock`` as the records complete it; ``responses``, ``reference`` (a
+        recording file), ``journal`` and the analysis options are ``vibid.watch``'s. When the
+        board logs its model test (``model_g``, ``model_stale``) every block carries its flag.
+        Every option is checked (and the journal created) here, before the board is touched;
+        leaving the loop (``break``, Ctrl-C) stops the board and keeps the journal."""
+        from ._watch import _board_watch
+        return _board_watch(self, seconds, rate_hz, **options)
+
     def cal_upload(self, model, design, sensors=None, label: str = "") -> dict:
         """Builds the calibration record and stages it on the board (``vibid cal upload``):
         ``model`` a Model or a model file, ``design`` an ObserverDesign (or its JSON),
@@ -1167,4 +1185,5 @@ class Board:
 
 # --- the watch ----------------------------------------------------------------------------------
 
-from ._watch import Watch, WatchBlock, WatchMode, WatchReference, WatchSession, watch  # noqa: E402
+from ._watch import (LiveWatch, Watch, WatchBlock, WatchMode, WatchReference,  # noqa: E402
+                     WatchSession, watch)

@@ -139,6 +139,20 @@ def _rows(name: str, x, rows: Optional[int] = None) -> np.ndarray:
     return np.ascontiguousarray(a, dtype=np.float64)
 
 
+def _options(reference_s, block_s, window_blocks, false_alarm_per_hour, fmax_hz, modes_s, order):
+    """The analysis options, each of its type (TypeError naming it); their values are the
+    library's to check."""
+    o = _vibid._WatchOptions()
+    o.reference_s = _real("reference_s", reference_s)
+    o.block_s = _real("block_s", block_s)
+    o.window_blocks = _integer("window_blocks", window_blocks)
+    o.false_alarm_per_hour = _real("false_alarm_per_hour", false_alarm_per_hour)
+    o.fmax_hz = _real("fmax_hz", fmax_hz)
+    o.modes_s = _real("modes_s", modes_s)
+    o.order = _integer("order", order)
+    return o
+
+
 class WatchSession:
     """A running rig watched block by block (the session ``vibid watch`` runs): ``feed`` the
     responses as they come, shaped (channels, samples) at ``fs_hz``; the first ``reference_s``
@@ -156,16 +170,10 @@ class WatchSession:
                  false_alarm_per_hour: float = _DEFAULTS.false_alarm_per_hour,
                  fmax_hz: float = _DEFAULTS.fmax_hz, modes_s: float = _DEFAULTS.modes_s,
                  order: int = _DEFAULTS.order, board_threshold: Optional[float] = None):
-        o = _vibid._WatchOptions()
+        o = _options(reference_s, block_s, window_blocks, false_alarm_per_hour, fmax_hz, modes_s,
+                     order)
         o.fs_hz = _real("fs_hz", fs_hz)
         o.channels = _integer("channels", channels)
-        o.reference_s = _real("reference_s", reference_s)
-        o.block_s = _real("block_s", block_s)
-        o.window_blocks = _integer("window_blocks", window_blocks)
-        o.false_alarm_per_hour = _real("false_alarm_per_hour", false_alarm_per_hour)
-        o.fmax_hz = _real("fmax_hz", fmax_hz)
-        o.modes_s = _real("modes_s", modes_s)
-        o.order = _integer("order", order)
         self._s = _vibid._WatchSession(o)
         self._o = o
         if board_threshold is not None:
@@ -344,7 +352,21 @@ def watch(source, fs_hz: Optional[float] = None, responses=None, reference=None,
     ``reference``: a recording (or array) of the rig as it should be, in place of the first
     ``reference_s`` seconds. ``journal``: a file each block's JSON line is appended to as it
     comes. Every argument is checked here; the blocks are computed as the returned ``Watch`` is
-    iterated (``list(vibid.watch(...))`` for all). On a board: ``Board.watch``."""
+    iterated (``list(vibid.watch(...))`` for all). On a board (``source`` a ``vibid.Board``):
+    ``Board.watch`` with these options."""
+    from . import Board
+    if isinstance(source, Board):
+        if fs_hz is not None or board is not None or t0_s is not None:
+            raise ValueError("fs_hz, board and t0_s are a recording's or an array's; the board "
+                             "gives them (Board.watch takes rate_hz)")
+        return source.watch(responses=responses, reference=reference, journal=journal,
+                            reference_s=reference_s, block_s=block_s,
+                            window_blocks=window_blocks,
+                            false_alarm_per_hour=false_alarm_per_hour, fmax_hz=fmax_hz,
+                            modes_s=modes_s, order=order)
+    if board_threshold is not None and board is None and not isinstance(
+            source, (Recording, str, os.PathLike)):
+        raise ValueError("board_threshold: the array's board columns are not given (board=...)")
     names = _names("responses", responses)
     if isinstance(source, np.ndarray) or (isinstance(source, (list, tuple)) and source):
         if fs_hz is None:
@@ -392,3 +414,107 @@ def watch(source, fs_hz: Optional[float] = None, responses=None, reference=None,
     if t0 is not None:
         t0 = _real("t0_s", t0)
     return Watch(session, y, b, t0, columns, _Journal(journal))
+
+
+class LiveWatch:
+    """The blocks of a watch on the board (``Board.watch``), as the board's records complete
+    them. ``start``: what the board is about to log ({responses, log_rate_hz, board_columns,
+    model_stale, model_text}), ``reference``: the reference's summary once built, ``result``:
+    how the run ended ({stopped, warning, model_stale, model_text, model_before,
+    reference_built, reference_left_s, blocks, log_rate_hz}), each None until known. Leaving the
+    loop early (``break``, an exception, Ctrl-C) or ``close()`` stops the board; the journal keeps
+    every block made. Held in a name (``w = board.watch(...)``), it runs until its end,
+    ``close()``, the end of a ``with`` block over it, or the board's ``close()``; in a ``for``
+    statement alone, until the loop is left."""
+
+    def __init__(self, st):
+        self._st = st
+        self.start: Optional[dict] = None
+        self.reference: Optional[WatchReference] = None
+        self.result: Optional[dict] = None
+        self._it = self._blocks()
+
+    def __iter__(self) -> Iterator[WatchBlock]:
+        return self
+
+    def __next__(self) -> WatchBlock:
+        return next(self._it)
+
+    def _take(self, r) -> Optional[WatchBlock]:
+        kind = r[0]
+        if kind == "start":
+            self.start = r[1]
+        elif kind == "reference":
+            self.reference = WatchReference._of(r[1])
+        elif kind == "block":
+            return WatchBlock._of(r[1], r[2])
+        elif kind == "end":
+            self.result = r[1]
+        return None
+
+    def _blocks(self) -> Iterator[WatchBlock]:
+        finished = False
+        try:
+            while True:
+                r = self._st.next(0.1)  # Ctrl-C is noticed between waits
+                if r[0] == "end":
+                    self._take(r)
+                    finished = True
+                    return
+                block = self._take(r)
+                if block is not None:
+                    yield block
+        finally:
+            if not finished:
+                # The runner stops the board at its next report; its end is waited for, so the
+                # board is idle when the loop is left.
+                self._st.stop()
+                while True:
+                    try:
+                        r = self._st.next(0.1)
+                    except Exception:  # the run's own error: the loop's is the one raised
+                        break
+                    if r[0] == "end":
+                        self._take(r)
+                        break
+
+    def close(self) -> None:
+        """Stops the board (the blocks made so far are kept in the journal)."""
+        self._it.close()
+
+    def __enter__(self):
+        return self
+
+    def __exit__(self, *exc):
+        self.close()
+
+    def __repr__(self) -> str:
+        return _repr("LiveWatch", start=self.start, reference=self.reference, result=self.result)
+
+
+def _board_watch(board, seconds: Optional[float] = None, rate_hz: float = 1000.0,
+                 log_rate_hz: float = 0.0, decimation: int = 0, channels=None,
+                 no_dob: bool = False, scenario: str = "", scenario_params=(), responses=None,
+                 reference=None, journal=None, reference_s: float = _DEFAULTS.reference_s,
+                 block_s: float = _DEFAULTS.block_s, window_blocks: int = _DEFAULTS.window_blocks,
+                 false_alarm_per_hour: float = _DEFAULTS.false_alarm_per_hour,
+                 fmax_hz: float = _DEFAULTS.fmax_hz, modes_s: float = _DEFAULTS.modes_s,
+                 order: int = _DEFAULTS.order) -> LiveWatch:
+    from . import _settings
+    if seconds is not None and _real("seconds", seconds) <= 0.0:
+        raise ValueError(f"seconds={seconds}: watch for a positive length, or seconds=None "
+                         "until the loop is left")
+    s, scenario, params = _settings(0.0 if seconds is None else seconds, rate_hz, log_rate_hz,
+                                    decimation, channels, "", 0.0, 0.0, no_dob, False, scenario,
+                                    scenario_params)
+    if reference is not None and not isinstance(reference, (str, os.PathLike)):
+        raise TypeError(f"reference: expected a recording file's path (Recording.write_csv "
+                        f"writes one), got {_kind(reference)}")
+    ref = "" if reference is None else _input_path("reference", reference)
+    path = "" if journal is None else _output_path("journal", journal)
+    o = _options(reference_s, block_s, window_blocks, false_alarm_per_hour, fmax_hz, modes_s,
+                 order)
+    w = LiveWatch(board._b.watch_start(s, scenario, params, _names("responses", responses),
+                                       ref, o, path))
+    board._watches.add(w)
+    return w
