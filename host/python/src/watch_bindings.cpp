@@ -1,7 +1,7 @@
-// The watch (workflow::WatchSession) for Python's vibid.watch: the session fed with responses as
-// numpy arrays, its blocks as the JSON lines `vibid watch --json` prints (and their text lines),
-// the columns a recording's watch takes. Options are validated by the library, its refusals
-// naming them as Python spells them.
+// Output-only modes (oma::SsiCov) for vibid.ssi_cov, and the watch (workflow::WatchSession) for
+// vibid.watch: the session fed with responses as numpy arrays, its blocks as the JSON lines
+// `vibid watch --json` prints (and their text lines), the columns a recording's watch takes.
+// Options are validated by the library, its refusals naming them as Python spells them.
 #include <optional>
 #include <string>
 #include <vector>
@@ -15,6 +15,8 @@
 #include "bindings.hpp"
 #include "board_watch.hpp"
 #include "vibid/common/error.hpp"
+#include "vibid/oma/ssi_cov.hpp"
+#include "vibid/workflow/oma_json.hpp"
 #include "vibid/workflow/watch_columns.hpp"
 #include "vibid/workflow/watch_session.hpp"
 
@@ -81,9 +83,27 @@ py::tuple Columns(const std::vector<std::string>& names, const std::vector<std::
   return py::make_tuple(c.responses, c.board_statistic, c.board_flag);
 }
 
+/// SSI-cov of responses (channels, samples): the library's modes and diagram as JSON.
+py::object SsiCov(const Signals& responses, const oma::SsiCovOptions& options) {
+  const Eigen::Map<const Eigen::MatrixXd> y = SamplesOf(responses, "responses");
+  nlohmann::json j;
+  {
+    py::gil_scoped_release release;
+    j = workflow::SsiCovJson(oma::SsiCov(y, options));
+  }
+  return ToPython(j);
+}
+
 }  // namespace
 
 void RegisterWatch(py::module_& m) {
+  py::class_<oma::SsiCovOptions>(m, "_SsiCovOptions")
+      .def(py::init<>())
+      .def_readwrite("fs_hz", &oma::SsiCovOptions::fs_hz)
+      .def_readwrite("fmax_hz", &oma::SsiCovOptions::fmax_hz)
+      .def_readwrite("fmin_hz", &oma::SsiCovOptions::fmin_hz)
+      .def_readwrite("order_max", &oma::SsiCovOptions::order_max);
+  m.def("ssi_cov", &SsiCov, py::arg("responses"), py::arg("options"));
   py::class_<WatchOptions>(m, "_WatchOptions")
       .def(py::init<>())
       .def_readwrite("fs_hz", &WatchOptions::fs_hz)

@@ -29,7 +29,7 @@ __all__ = [
     "frf_estimate_arrays", "dob_design", "ObserverDesign", "dob_run", "ObserverRun", "lowpass",
     "dob_compare", "Agreement", "decay", "Decay", "NumericalError", "SysidModel", "arx", "pem",
     "tfest", "compare", "Comparison", "report", "watch", "Watch", "WatchSession", "WatchBlock",
-    "WatchMode", "WatchReference", "LiveWatch",
+    "WatchMode", "WatchReference", "LiveWatch", "ssi_cov", "OmaModes",
 ]
 
 
@@ -1185,5 +1185,5 @@ class Board:
 
 # --- the watch ----------------------------------------------------------------------------------
 
-from ._watch import (LiveWatch, Watch, WatchBlock, WatchMode, WatchReference,  # noqa: E402
-                     WatchSession, watch)
+from ._watch import (LiveWatch, OmaModes, Watch, WatchBlock, WatchMode,  # noqa: E402
+                     WatchReference, WatchSession, ssi_cov, watch)

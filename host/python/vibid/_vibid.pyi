@@ -215,3 +215,11 @@ class _BoardWatch:
     fs_hz: float
     def next(self, timeout_s: float) -> tuple: ...
     def stop(self) -> None: ...
+
+class _SsiCovOptions:
+    fs_hz: float
+    fmax_hz: float
+    fmin_hz: float
+    order_max: int
+
+def ssi_cov(responses: F64, options: _SsiCovOptions) -> dict: ...

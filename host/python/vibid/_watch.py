@@ -1,4 +1,5 @@
-"""vibid.watch: the rig watched while it runs (``vibid watch``), on the library's WatchSession.
+"""vibid.watch: the rig watched while it runs (``vibid watch``), on the library's WatchSession;
+vibid.ssi_cov: the output-only modes it tracks.
 
 The session decides everything (the reference, the modes and their intervals, the block and
 window tests, the alarm); this module converts: arrays in, each block out as a ``WatchBlock``
@@ -518,3 +519,58 @@ def _board_watch(board, seconds: Optional[float] = None, rate_hz: float = 1000.0
                                        ref, o, path))
     board._watches.add(w)
     return w
+
+
+@dataclasses.dataclass(repr=False)
+class OmaModes:
+    """Output-only modes (SSI-cov) in ascending frequency: freq_hz, omega_rad_s, zeta, shapes
+    (one column per mode, real-normalised: largest entry +1), 95 % half-widths in ``ci95``
+    (omega_rad_s, freq_hz, zeta, shape), the stabilization diagram's poles as arrays
+    (``stabilization``: order, freq_hz, zeta, stable, cluster), the rate analysed ``fs_hz``
+    (after decimation), ``message`` (why a mode or interval is missing, or empty) and the
+    library's ``json``."""
+    freq_hz: np.ndarray
+    omega_rad_s: np.ndarray
+    zeta: np.ndarray
+    shapes: np.ndarray
+    ci95: dict
+    stabilization: dict
+    fs_hz: float
+    message: str
+    json: dict
+
+    def __repr__(self) -> str:
+        return _repr("OmaModes", freq_hz=self.freq_hz, zeta=self.zeta,
+                     freq_ci95_hz=self.ci95["freq_hz"], message=self.message)
+
+
+def ssi_cov(responses, fs_hz: float, fmax_hz: Optional[float] = None,
+            fmin_hz: Optional[float] = None) -> OmaModes:
+    """Output-only modes of responses alone (covariance-driven SSI, docs/watch.md: the
+    stabilization diagram, the automatic pole choice and the 95 % intervals from the Hankel
+    matrix's covariance over 20 blocks), the analysis each watch block runs: ``responses``
+    (channels, samples) at ``fs_hz``, modes between ``fmin_hz`` (default fmax_hz/10) and
+    ``fmax_hz`` (default fs_hz/2.5). The rig runs under broadband ambient or operating
+    excitation; no force is measured."""
+    o = _vibid._SsiCovOptions()
+    o.fs_hz = _real("fs_hz", fs_hz)
+    if fmax_hz is not None:
+        o.fmax_hz = _real("fmax_hz", fmax_hz)
+    if fmin_hz is not None:
+        o.fmin_hz = _real("fmin_hz", fmin_hz)
+    j = _vibid.ssi_cov(_rows("responses", responses), o)
+    ms = j["modes"]
+    channels = j["channels"]
+    poles = j["stabilization"]["poles"]
+    return OmaModes(
+        freq_hz=np.array([m["freq_hz"] for m in ms], dtype=float),
+        omega_rad_s=np.array([m["omega_rad_s"] for m in ms], dtype=float),
+        zeta=np.array([m["zeta"] for m in ms], dtype=float),
+        shapes=np.array([m["shape"] for m in ms], dtype=float).reshape(-1, channels).T,
+        ci95={q: np.array([m["ci95"][q] for m in ms], dtype=float)
+              for q in ("omega_rad_s", "freq_hz", "zeta")} | {
+            "shape": np.array([m["ci95"]["shape"] for m in ms],
+                              dtype=float).reshape(-1, channels).T},
+        stabilization={k: np.array([p[k] for p in poles]) for k in
+                       ("order", "freq_hz", "zeta", "stable", "cluster")},
+        fs_hz=j["fs_hz"], message=j["message"], json=j)
