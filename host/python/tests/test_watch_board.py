@@ -70,13 +70,23 @@ def test_leaving_the_loop_stops_the_board_and_keeps_the_journal(make_emulator, t
         assert board.acquire(seconds=0.1, rate_hz=1000, channels=["acc1"]).samples == 100
 
 
-def test_ctrl_c_stops_the_board(make_emulator, tmp_path):
+@pytest.fixture
+def ctrl_c_raises():
+    # Python raises KeyboardInterrupt on SIGINT only when it started with SIGINT not ignored (a
+    # background job of a shell starts with it ignored): the default handler, for the test.
+    previous = signal.signal(signal.SIGINT, signal.default_int_handler)
+    yield
+    signal.signal(signal.SIGINT, previous)
+
+
+def test_ctrl_c_stops_the_board(make_emulator, tmp_path, ctrl_c_raises):
     emulator = make_emulator(seed=3)
     with vibid.Board(emulator.url) as board:
         got = []
         with pytest.raises(KeyboardInterrupt):
-            with board.watch(rate_hz=200, scenario="operate", journal=tmp_path / "j.jsonl",
-                             **OPTIONS) as w:
+            # 10 000 s: a bound, should the interrupt be lost (a failure, not a test that hangs).
+            with board.watch(seconds=10000, rate_hz=200, scenario="operate",
+                             journal=tmp_path / "j.jsonl", **OPTIONS) as w:
                 for block in w:
                     got.append(block)
                     if len(got) == 1:
