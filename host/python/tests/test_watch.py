@@ -211,7 +211,11 @@ def test_refusals_name_the_argument(twenty_percent, tmp_path):
         (dict(order=3), ValueError, "watch: order must be even"),
         (dict(reference_s=1400), ValueError,
          "watch: the responses hold 1300 s, shorter than the reference (reference_s=1400)"),
-        (dict(board_threshold=-1), ValueError, "board_threshold=-1.0"),
+        (dict(board_threshold=8.25), ValueError,
+         "board_threshold: the array's board columns are not given (board=...)"),
+        (dict(board=np.zeros((2, y.shape[1])), board_threshold=-1), ValueError,
+         "board_threshold=-1.0: the board's threshold h is positive"),
+        (dict(board=np.zeros((2, 10))), ValueError, "board has 10 samples, the responses 260000"),
     ]
     for kwargs, error, message in cases:
         with pytest.raises(error) as e:
