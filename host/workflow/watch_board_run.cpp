@@ -12,6 +12,7 @@
 #include "vibid/device/error.hpp"
 #include "vibid/device/log_table.hpp"
 #include "vibid/device/watch_report.hpp"
+#include "vibid/workflow/watch_columns.hpp"
 
 namespace vibid::workflow {
 namespace {
@@ -30,41 +31,22 @@ long IndexOf(const std::vector<std::string>& names, const std::string& name) {
 
 }  // namespace
 
-bool IsWatchedByDefault(const std::string& column) {
-  return column.rfind("acc", 0) == 0 ||
-         (column.size() > 1 && column[0] == 'x' && column[1] >= '1' && column[1] <= '9');
-}
+bool IsWatchedByDefault(const std::string& column) { return IsWatchResponse(column); }
 
 std::vector<std::string> WatchResponseColumns(const std::vector<std::string>& responses,
                                               const std::vector<std::string>& names,
-                                              const std::string& source) {
-  std::vector<std::string> out;
-  if (!responses.empty()) {
-    std::string known;
-    for (const std::string& have : names) known += (known.empty() ? "" : ", ") + have;
-    for (const std::string& n : responses) {
-      Require(IndexOf(names, n) >= 0, "--response: " + source + " has no column '" + n +
-                                          "' (its columns: " + known + "); name one of them");
-      out.push_back(n);
-    }
-    return out;
-  }
-  for (const std::string& n : names)
-    if (IsWatchedByDefault(n)) out.push_back(n);
-  Require(!out.empty(), "watch: " + source +
-                            " has no acceleration or position column; name the responses with "
-                            "--response");
-  return out;
+                                              const std::string& source, OptionSpelling spelling) {
+  return ChooseWatchColumns(names, responses, source, spelling).responses;
 }
 
 Eigen::MatrixXd LoadWatchReference(const std::string& path, const std::vector<std::string>& columns,
-                                   double fs_hz) {
+                                   double fs_hz, OptionSpelling spelling) {
   RecordingOptions ro;
   ro.channels = columns;
   const Recording ref = LoadRecording(path, ro);
   Require(std::abs(ref.fs_hz / fs_hz - 1.0) < 1e-6,
-          "--reference " + path + ": sampled at " + Num(ref.fs_hz) + " Hz, the watched " +
-              "responses at " + Num(fs_hz) + " Hz; record both at one rate");
+          WatchOptionName("reference", spelling) + " " + path + ": sampled at " + Num(ref.fs_hz) +
+              " Hz, the watched " + "responses at " + Num(fs_hz) + " Hz; record both at one rate");
   Eigen::MatrixXd y(static_cast<Eigen::Index>(ref.samples()),
                     static_cast<Eigen::Index>(columns.size()));
   for (std::size_t j = 0; j < columns.size(); ++j)
@@ -122,7 +104,8 @@ WatchBoardRun::WatchBoardRun(WatchBoardSettings settings) : s_(std::move(setting
   if (until_stopped_) planned.seconds = std::min(30.0 * 86400.0, 4.0e9 / log_rate_hz_);
   device::Trigger trig;
   (void)device::PlanAcquisition(planned, trig);  // its refusals before the board is asked
-  Require(s_.scenario_params.size() <= 4, "--scenario-param takes at most 4 values");
+  const auto name = [this](const char* key) { return WatchOptionName(key, s_.watch.spelling); };
+  Require(s_.scenario_params.size() <= 4, name("scenario_params") + " takes at most 4 values");
   // The options checked against the channels asked for (the log's names, with their units,
   // come from the board's calibration; their count does not).
   options_ = s_.watch;
@@ -134,9 +117,10 @@ WatchBoardRun::WatchBoardRun(WatchBoardSettings settings) : s_(std::move(setting
   options_.Validate();
   Require(until_stopped_ ||
               a.seconds > (s_.reference.empty() ? options_.reference_s : 0.0) + options_.block_s,
-          "--seconds " + Num(a.seconds) + " ends before the first block after the reference (" +
-              Num(options_.reference_s + options_.block_s) +
-              " s); watch longer or shorten --reference-s");
+          name("seconds") + (s_.watch.spelling == OptionSpelling::kPython ? "=" : " ") +
+              Num(a.seconds) + " ends before the first block after the reference (" +
+              Num(options_.reference_s + options_.block_s) + " s); watch longer or shorten " +
+              name("reference_s"));
 }
 
 WatchBoardResult WatchBoardRun::Run(device::Connection& c, WatchJournal& journal,
@@ -160,7 +144,8 @@ WatchBoardResult WatchBoardRun::Run(device::Connection& c, WatchJournal& journal
   format.trailer.acq_flags = cfg.flags;
   device::LogPull empty = format;
   const std::vector<std::string> names = device::MakeLogTable(empty, rec, has_record).names;
-  const std::vector<std::string> responses = WatchResponseColumns(s_.responses, names, "the log");
+  const std::vector<std::string> responses =
+      WatchResponseColumns(s_.responses, names, "the log", s_.watch.spelling);
   std::vector<std::size_t> index;
   for (const std::string& n : responses)
     index.push_back(static_cast<std::size_t>(IndexOf(names, n)));
@@ -172,7 +157,7 @@ WatchBoardResult WatchBoardRun::Run(device::Connection& c, WatchJournal& journal
   o.channels = static_cast<int>(responses.size());
   WatchSession session(o);
   if (!s_.reference.empty())
-    session.SetReference(LoadWatchReference(s_.reference, responses, o.fs_hz));
+    session.SetReference(LoadWatchReference(s_.reference, responses, o.fs_hz, s_.watch.spelling));
   WatchBoardResult result;
   result.log_rate_hz = log_rate_hz_;
   result.model_before = nullptr;

@@ -78,39 +78,63 @@ std::optional<WatchMove> MovedMost(const std::vector<WatchMode>& now,
 
 }  // namespace
 
+std::string WatchOptionName(const std::string& key, OptionSpelling spelling) {
+  if (spelling == OptionSpelling::kPython) return key;
+  // The CLI names each of these lists in the singular.
+  if (key == "responses") return "--response";
+  if (key == "scenario_params") return "--scenario-param";
+  std::string out = "--" + key;
+  std::replace(out.begin(), out.end(), '_', '-');
+  return out;
+}
+
 void WatchOptions::Validate() const {
-  Require(std::isfinite(fs_hz) && fs_hz > 0.0, "watch: the sample rate must be positive");
-  Require(channels >= 1, "watch: at least one response channel (--channels or --response)");
+  const auto name = [this](const char* key) { return WatchOptionName(key, spelling); };
+  // An option with its value, as the user wrote it: "--block-s 2" or "block_s=2".
+  const auto given = [&](const char* key, double v) {
+    return name(key) + (spelling == OptionSpelling::kPython ? "=" : " ") + Num(v);
+  };
+  Require(std::isfinite(fs_hz) && fs_hz > 0.0,
+          "watch: the sample rate must be positive" +
+              std::string(spelling == OptionSpelling::kPython ? " (fs_hz)" : ""));
+  Require(channels >= 1,
+          "watch: at least one response channel (" +
+              std::string(spelling == OptionSpelling::kPython ? "" : "--channels or ") +
+              name("responses") + ")");
   Require(std::isfinite(fmax_hz) && fmax_hz > 0.0 && fmax_hz <= fs_hz / 2.5,
-          "watch: --fmax-hz must lie in (0, " + Num(fs_hz / 2.5) +
-              "] (the sample rate over 2.5); raise the sample rate or lower --fmax-hz");
-  Require(std::isfinite(block_s) && block_s > 0.0, "watch: --block-s must be positive");
+          "watch: " + name("fmax_hz") + " must lie in (0, " + Num(fs_hz / 2.5) +
+              "] (the sample rate over 2.5); raise the sample rate or lower " + name("fmax_hz"));
+  Require(std::isfinite(block_s) && block_s > 0.0,
+          "watch: " + name("block_s") + " must be positive");
   Require(window_blocks >= 1 && window_blocks <= 100000,
-          "watch: --window-blocks must lie in 1 … 100000");
+          "watch: " + name("window_blocks") + " must lie in 1 … 100000");
   Require(std::isfinite(false_alarm_per_hour) && false_alarm_per_hour > 0.0,
-          "watch: --false-alarm-per-hour must be positive");
+          "watch: " + name("false_alarm_per_hour") + " must be positive");
   Require(WindowFalseAlarm() < 0.5,
-          "watch: --false-alarm-per-hour " + Num(false_alarm_per_hour) +
+          "watch: " + given("false_alarm_per_hour", false_alarm_per_hour) +
               " is too high for a window of " + Num(window_blocks * block_s) +
-              " s (the rate times the window must stay below 0.5); lower it or "
-              "--window-blocks");
+              " s (the rate times the window must stay below 0.5); lower it or " +
+              name("window_blocks"));
   Require(order == 0 || (order >= 2 && order % 2 == 0 && order <= 40),
-          "watch: --order must be even, 2 to 40 (twice the modes in the band), or 0 (from the "
-          "reference's modes)");
+          "watch: " + name("order") +
+              " must be even, 2 to 40 (twice the modes in the band), or 0 (from the "
+              "reference's modes)");
   Require(null_space_share >= 0.1 && null_space_share <= 0.9,
           "watch: the null space's share of the reference must lie in [0.1, 0.9]");
   Require(std::isfinite(modes_s) && (modes_s == 0.0 || modes_s >= block_s),
-          "watch: --modes-s must be 0 (no modes) or at least --block-s");
+          "watch: " + name("modes_s") + " must be 0 (no modes) or at least " + name("block_s"));
   const oma::SubspaceTestSize size =
       oma::SubspaceTestSizeOf(TestOptions(*this, order > 0 ? order : 2 * channels), channels);
-  Require(block_s >= size.min_block_s,
-          "watch: --block-s " + Num(block_s) + " is too short for the band: at least " +
-              Num(std::ceil(size.min_block_s * 10.0) / 10.0) + " s (or raise --fmax-hz)");
+  Require(block_s >= size.min_block_s, "watch: " + given("block_s", block_s) +
+                                           " is too short for the band: at least " +
+                                           Num(std::ceil(size.min_block_s * 10.0) / 10.0) +
+                                           " s (or raise " + name("fmax_hz") + ")");
   Require(std::isfinite(reference_s) && reference_s >= MinimumReferenceS(*this, order),
-          "watch: --reference-s " + Num(reference_s) + " is too short: the test needs at least " +
-              Num(std::ceil(MinimumReferenceS(*this, order))) +
-              " s of the rig unchanged at --block-s " + Num(block_s) +
-              " (shorten --block-s, or give a longer reference)");
+          "watch: " + given("reference_s", reference_s) +
+              " is too short: the test needs at least " +
+              Num(std::ceil(MinimumReferenceS(*this, order))) + " s of the rig unchanged at " +
+              given("block_s", block_s) + " (shorten " + name("block_s") +
+              ", or give a longer reference)");
 }
 
 double WatchOptions::BlockFalseAlarm() const { return false_alarm_per_hour * block_s / 3600.0; }
@@ -157,9 +181,10 @@ void WatchSession::BuildReference(Eigen::Ref<const Eigen::MatrixXd> reference) {
   reference_.modes = ModesOf(modes);
   int order = options_.order;
   if (order == 0) {
-    Require(!modes.modes.empty(), "watch: the reference shows no mode below --fmax-hz " +
-                                      Num(options_.fmax_hz) + " Hz (" + modes.message +
-                                      "); give --order, or check the excitation");
+    const auto name = [this](const char* key) { return WatchOptionName(key, options_.spelling); };
+    Require(!modes.modes.empty(), "watch: the reference shows no mode below " + name("fmax_hz") +
+                                      " " + Num(options_.fmax_hz) + " Hz (" + modes.message +
+                                      "); give " + name("order") + ", or check the excitation");
     order = std::min(40, 2 * static_cast<int>(modes.modes.size()));
   }
   detector_ = std::make_unique<oma::SubspaceDetector>(reference, TestOptions(options_, order));

@@ -1,7 +1,7 @@
 // The watch session on a simulated running rig (the demo rig's truth, white forces on both
 // masses, accelerations at 200 Hz): the modes against the model's, the false alarms of both
 // tests against the rate asked for, a large change flagged in its first block, the times and
-// the options refused up front.
+// the options refused up front (named as the CLI and as Python spell them), the columns watched.
 #include "vibid/workflow/watch_session.hpp"
 
 #include <gtest/gtest.h>
@@ -12,6 +12,7 @@
 #include "vibid/model/modal.hpp"
 #include "vibid/model/model.hpp"
 #include "vibid/oma/testing/ambient.hpp"
+#include "vibid/workflow/watch_columns.hpp"
 
 namespace vibid::workflow {
 namespace {
@@ -225,6 +226,56 @@ TEST(WatchSession, RefusesBadOptionsNamingThem) {
   o = Options();
   o.modes_s = 5.0;
   EXPECT_NE(message(o).find("--modes-s"), std::string::npos);
+  // Python's vibid.watch: the same refusals, each option as Python spells it.
+  o = Options();
+  o.spelling = OptionSpelling::kPython;
+  o.reference_s = 300.0;
+  EXPECT_NE(message(o).find("reference_s=300 is too short: the test needs at least 450 s of the "
+                            "rig unchanged at block_s=10 (shorten block_s"),
+            std::string::npos)
+      << message(o);
+  EXPECT_EQ(message(o).find("--"), std::string::npos) << message(o);
+  o.reference_s = 1200.0;
+  o.false_alarm_per_hour = 20.0;
+  EXPECT_NE(message(o).find("false_alarm_per_hour=20 is too high"), std::string::npos);
+  EXPECT_NE(message(o).find("lower it or window_blocks"), std::string::npos);
+  o.false_alarm_per_hour = 0.01;
+  o.modes_s = 5.0;
+  EXPECT_NE(message(o).find("modes_s must be 0 (no modes) or at least block_s"), std::string::npos);
+}
+
+TEST(WatchColumns, ResponsesByDefaultOrAsNamedAndTheBoardsModelColumnsWhenThere) {
+  const std::vector<std::string> log{"force1_n",  "acc1_m_s2", "acc2_counts", "x1_m",
+                                     "d_hat_q31", "model_g",   "model_stale"};
+  const WatchColumns all = ChooseWatchColumns(log, {}, "rec.csv", OptionSpelling::kCli);
+  EXPECT_EQ(all.responses, (std::vector<std::string>{"acc1_m_s2", "acc2_counts", "x1_m"}));
+  EXPECT_EQ(all.board_statistic, "model_g");
+  EXPECT_EQ(all.board_flag, "model_stale");
+  const WatchColumns named =
+      ChooseWatchColumns(log, {"x1_m", "acc1_m_s2"}, "rec.csv", OptionSpelling::kCli);
+  EXPECT_EQ(named.responses, (std::vector<std::string>{"x1_m", "acc1_m_s2"}));
+  // Without both model columns: no board state (half a test is none).
+  EXPECT_FALSE(ChooseWatchColumns({"acc1_m_s2", "model_g"}, {}, "r", OptionSpelling::kCli)
+                   .board_statistic.has_value());
+  const auto refusal = [](const std::vector<std::string>& names,
+                          const std::vector<std::string>& requested, OptionSpelling spelling) {
+    try {
+      (void)ChooseWatchColumns(names, requested, "rec.csv", spelling);
+    } catch (const InputError& e) {
+      return std::string(e.what());
+    }
+    return std::string();
+  };
+  EXPECT_EQ(refusal(log, {"acc3_m_s2"}, OptionSpelling::kCli),
+            "--response: rec.csv has no column 'acc3_m_s2' (its columns: force1_n, acc1_m_s2, "
+            "acc2_counts, x1_m, d_hat_q31, model_g, model_stale); name one of them");
+  EXPECT_EQ(refusal(log, {"acc3_m_s2"}, OptionSpelling::kPython).rfind("responses: rec.csv", 0),
+            0u);
+  EXPECT_NE(refusal(log, {"x1_m", "x1_m"}, OptionSpelling::kPython).find("named twice"),
+            std::string::npos);
+  EXPECT_EQ(refusal({"force1_n", "d_hat_q31"}, {}, OptionSpelling::kPython),
+            "watch: rec.csv has no acceleration or position column; name the responses with "
+            "responses");
 }
 
 }  // namespace

@@ -17,6 +17,7 @@
 #include "vibid/common/csv.hpp"
 #include "vibid/common/error.hpp"
 #include "vibid/workflow/watch_board_run.hpp"
+#include "vibid/workflow/watch_columns.hpp"
 #include "vibid/workflow/watch_session.hpp"
 
 namespace vibid::cli {
@@ -78,9 +79,10 @@ void RunOnRecording(const WatchArgs& a) {
   Require(a.settings.seconds == 0.0 && a.scenario.empty(),
           "watch: --seconds and --scenario are for the board (--device), not a recording");
   const Recording rec = LoadRecording(a.recording);
-  const std::vector<std::string> responses = workflow::WatchResponseColumns(
-      a.responses.empty() ? std::vector<std::string>{} : SplitList(a.responses), rec.table.names,
-      a.recording);
+  const workflow::WatchColumns columns = workflow::ChooseWatchColumns(
+      rec.table.names, a.responses.empty() ? std::vector<std::string>{} : SplitList(a.responses),
+      a.recording, workflow::OptionSpelling::kCli);
+  const std::vector<std::string>& responses = columns.responses;
   workflow::WatchOptions o = a.watch;
   o.fs_hz = rec.fs_hz;
   o.channels = static_cast<int>(responses.size());
@@ -92,12 +94,21 @@ void RunOnRecording(const WatchArgs& a) {
                     static_cast<Eigen::Index>(responses.size()));
   for (std::size_t j = 0; j < responses.size(); ++j)
     y.col(static_cast<Eigen::Index>(j)) = rec.table.Column(responses[j]);
+  // The board's model test, when the log carries it: each block with the board's flag.
+  Eigen::MatrixXd board;
+  if (columns.board_statistic) {
+    board.resize(y.rows(), 2);
+    board.col(0) = rec.table.Column(*columns.board_statistic);
+    board.col(1) = rec.table.Column(*columns.board_flag);
+  }
   bool reference_said = false;
   // Fed as a board would, a block at a time, so that each line is out as soon as it is made.
   const auto step = std::max<Eigen::Index>(1, std::lround(o.block_s * o.fs_hz));
   for (Eigen::Index at = 0; at < y.rows(); at += step) {
     const Eigen::Index n = std::min(step, y.rows() - at);
-    const std::vector<workflow::WatchBlock> blocks = s.Feed(y.middleRows(at, n), rec.t0_s);
+    const std::vector<workflow::WatchBlock> blocks =
+        board.size() > 0 ? s.Feed(y.middleRows(at, n), board.middleRows(at, n), rec.t0_s)
+                         : s.Feed(y.middleRows(at, n), rec.t0_s);
     if (s.has_reference() && !reference_said) {
       reference_said = true;
       SayReference(a, s);

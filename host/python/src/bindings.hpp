@@ -18,6 +18,7 @@ void RegisterAnalysis(py::module_& m);
 void RegisterBoard(py::module_& m);
 void RegisterObserver(py::module_& m);
 void RegisterSysid(py::module_& m);
+void RegisterWatch(py::module_& m);
 
 /// A JSON document as Python objects (dict, list, float...), through Python's json module: the
 /// same objects `vibid ... --json` prints.

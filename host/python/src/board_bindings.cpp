@@ -20,6 +20,7 @@
 #include <nlohmann/json.hpp>
 
 #include "bindings.hpp"
+#include "board_watch.hpp"
 #include "vibid/common/error.hpp"
 #include "vibid/device/acquire_plan.hpp"
 #include "vibid/device/calibration_builder.hpp"
@@ -431,6 +432,25 @@ void RegisterBoard(py::module_& m) {
            py::arg("scenario_params"))
       .def("cal_upload", &Board::CalUpload, py::arg("model"), py::arg("design"), py::arg("sensors"),
            py::arg("label"))
+      .def(
+          "watch_start",
+          [](Board& b, const device::AcquireSettings& acquire, const std::string& scenario,
+             const std::vector<float>& scenario_params, const std::vector<std::string>& responses,
+             const std::string& reference, const workflow::WatchOptions& options,
+             const std::string& journal) {
+            workflow::WatchBoardSettings s;
+            s.acquire = acquire;
+            s.scenario = scenario;
+            s.scenario_params = scenario_params;
+            s.responses = responses;
+            s.reference = reference;
+            s.watch = options;
+            s.watch.spelling = workflow::OptionSpelling::kPython;
+            return std::make_unique<BoardWatch>(b.c(), std::move(s), journal);
+          },
+          py::arg("settings"), py::arg("scenario"), py::arg("scenario_params"),
+          py::arg("responses"), py::arg("reference"), py::arg("options"), py::arg("journal"),
+          py::keep_alive<0, 1>())
       .def("cal_commit", &Board::CalCommit)
       .def("dob", &Board::Dob, py::arg("run"))
       .def("close", &Board::Close);

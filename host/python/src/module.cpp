@@ -57,4 +57,5 @@ PYBIND11_MODULE(_vibid, m) {
   vibid::python::RegisterAnalysis(m);
   vibid::python::RegisterObserver(m);
   vibid::python::RegisterSysid(m);
+  vibid::python::RegisterWatch(m);
 }

@@ -28,7 +28,8 @@ __all__ = [
     "FrfEstimate", "Hit", "modes", "Modes", "identify", "Identification", "default_segment",
     "frf_estimate_arrays", "dob_design", "ObserverDesign", "dob_run", "ObserverRun", "lowpass",
     "dob_compare", "Agreement", "decay", "Decay", "NumericalError", "SysidModel", "arx", "pem",
-    "tfest", "compare", "Comparison", "report",
+    "tfest", "compare", "Comparison", "report", "watch", "Watch", "WatchSession", "WatchBlock",
+    "WatchMode", "WatchReference", "LiveWatch", "ssi_cov", "OmaModes",
 ]
 
 
@@ -1010,7 +1011,9 @@ class Board:
     board found. Use as a context manager or call close()."""
 
     def __init__(self, url: str = ""):
+        import weakref
         self._b = _vibid._Board(_text("url", url))
+        self._watches = weakref.WeakSet()  # live watches: stopped before the board is closed
 
     def __enter__(self):
         return self
@@ -1019,6 +1022,8 @@ class Board:
         self.close()
 
     def close(self) -> None:
+        for w in list(self._watches):
+            w.close()
         self._b.close()
 
     def info(self) -> dict:
@@ -1122,6 +1127,20 @@ class Board:
                 except DeviceError:
                     pass
 
+    def watch(self, seconds: Optional[float] = None, rate_hz: float = 1000.0, **options):
+        """The rig watched on the board (``vibid watch --device``, the same runner, options and
+        defaults): the acquisition started, preflighted and run as ``acquire`` runs it
+        (``rate_hz``, ``log_rate_hz``, ``decimation``, ``channels`` (default acc1, acc2),
+        ``no_dob``, ``scenario``, ``scenario_params``), for ``seconds`` (None: until the loop is
+        left), and its records fed to the watch as they arrive. Returns a ``LiveWatch`` that
+        yields each ``WatchBlock`` as the records complete it; ``responses``, ``reference`` (a
+        recording file), ``journal`` and the analysis options are ``vibid.watch``'s. When the
+        board logs its model test (``model_g``, ``model_stale``) every block carries its flag.
+        Every option is checked (and the journal created) here, before the board is touched;
+        leaving the loop (``break``, Ctrl-C) stops the board and keeps the journal."""
+        from ._watch import _board_watch
+        return _board_watch(self, seconds, rate_hz, **options)
+
     def cal_upload(self, model, design, sensors=None, label: str = "") -> dict:
         """Builds the calibration record and stages it on the board (``vibid cal upload``):
         ``model`` a Model or a model file, ``design`` an ObserverDesign (or its JSON),
@@ -1162,3 +1181,9 @@ class Board:
 
     def __repr__(self) -> str:
         return f"Board({self._b.describe()!r})"
+
+
+# --- the watch ----------------------------------------------------------------------------------
+
+from ._watch import (LiveWatch, OmaModes, Watch, WatchBlock, WatchMode,  # noqa: E402
+                     WatchReference, WatchSession, ssi_cov, watch)

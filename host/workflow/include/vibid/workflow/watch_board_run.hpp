@@ -26,19 +26,22 @@
 
 namespace vibid::workflow {
 
-/// A column `vibid watch` watches by default: an acceleration (acc…) or a position (x1…).
+/// A column `vibid watch` watches by default: an acceleration (acc…) or a position (x1…)
+/// (IsWatchResponse).
 bool IsWatchedByDefault(const std::string& column);
 
 /// The watched columns of `names`: `responses` (each must be one of them), or when empty every
-/// acceleration and position column. InputError naming `source` and the way out otherwise.
+/// acceleration and position column (ChooseWatchColumns). InputError naming `source` and the way
+/// out otherwise.
 std::vector<std::string> WatchResponseColumns(const std::vector<std::string>& responses,
                                               const std::vector<std::string>& names,
-                                              const std::string& source);
+                                              const std::string& source,
+                                              OptionSpelling spelling = OptionSpelling::kCli);
 
 /// The reference recording's `columns` (as acquire writes a recording), checked to be sampled at
-/// `fs_hz`. InputError naming `path` otherwise.
+/// `fs_hz`. InputError naming `path` (and the option, as `spelling` spells it) otherwise.
 Eigen::MatrixXd LoadWatchReference(const std::string& path, const std::vector<std::string>& columns,
-                                   double fs_hz);
+                                   double fs_hz, OptionSpelling spelling = OptionSpelling::kCli);
 
 /// The journal: JSON lines appended and flushed as the blocks come, so a crash leaves every
 /// whole line. `option` is how the front end names it in a refusal (`-o PATH`).

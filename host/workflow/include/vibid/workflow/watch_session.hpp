@@ -32,6 +32,13 @@
 
 namespace vibid::workflow {
 
+/// How messages name the options: as `vibid watch` spells them (`--reference-s`) or as Python's
+/// `vibid.watch` does (`reference_s`), so a refusal names what the user typed.
+enum class OptionSpelling { kCli, kPython };
+
+/// An option's name in a spelling: `key` is the Python name (reference_s, block_s, responses...).
+std::string WatchOptionName(const std::string& key, OptionSpelling spelling);
+
 struct WatchOptions {
   double fs_hz = 0.0;         ///< Sample rate of the responses fed (> 0).
   int channels = 0;           ///< Response columns fed (≥ 1).
@@ -44,8 +51,9 @@ struct WatchOptions {
   int order = 0;           ///< Model order of the test (2 × modes); 0: from the reference's modes.
   /// Share of the reference that gives the test's null space (the rest its statistics).
   double null_space_share = 0.2;
+  OptionSpelling spelling = OptionSpelling::kCli;  ///< How refusals name the options.
 
-  /// InputError naming the option (as `vibid watch` spells it) and the way out.
+  /// InputError naming the option (as `spelling` spells it) and the way out.
   void Validate() const;
   /// Probability that an unchanged block is over its threshold (shown), and that an unchanged
   /// window alarms.
