@@ -8,53 +8,25 @@
 #include <gtest/gtest.h>
 #include <httplib.h>
 
-#include "core_loopback.hpp"
+#include "bench_on_core.hpp"
 
 namespace vibid::bench {
 namespace {
 
 namespace fs = std::filesystem;
 
-class HammerRoutesTest : public ::testing::Test {
+class HammerRoutesTest : public testing::BenchOnCore {
  protected:
   void SetUp() override {
-    dir_ = fs::temp_directory_path() /
-           ("vibid-hammer-routes-test-" + std::to_string(::getpid()) + "-" +
-            ::testing::UnitTest::GetInstance()->current_test_info()->name());
-    connection_ = std::make_unique<device::Connection>(core_.Connect());
-    probe_ = std::make_unique<device::Connection>(core_.Connect());
-    board_ = std::make_unique<BenchBoard>(*connection_, dir_.string(), hub_);
-    server_ = std::make_unique<BenchServer>(*board_, hub_, ServerOptions{});
-    tests_ = AddHammerRoutes(*server_, *board_, hub_, dir_.string());
-    server_->Start();
-  }
-  void TearDown() override {
-    server_.reset();
-    board_.reset();
-    fs::remove_all(dir_);
+    StartBench("hammer-routes-test",
+               [this] { tests_ = AddHammerRoutes(*server_, *board_, hub_, dir_.string()); });
   }
 
-  httplib::Result Post(const std::string& route, const std::string& body) {
-    httplib::Client c("127.0.0.1", server_->port());
-    c.set_read_timeout(5, 0);
-    return c.Post("/api/hammer/" + route, {{kTokenHeader, server_->token()}}, body,
-                  "application/json");
+  /// POST /api/hammer/`route`.
+  httplib::Result Hammer(const std::string& route, const std::string& body) {
+    return Post("hammer/" + route, body);
   }
 
-  /// Files and folders the bench's directory holds.
-  std::size_t Entries() const {
-    std::size_t n = 0;
-    for ([[maybe_unused]] const auto& e : fs::directory_iterator(dir_)) ++n;
-    return n;
-  }
-
-  hil::CoreLoopback core_;
-  LiveHub hub_;
-  fs::path dir_;
-  std::unique_ptr<device::Connection> connection_;
-  std::unique_ptr<device::Connection> probe_;
-  std::unique_ptr<BenchBoard> board_;
-  std::unique_ptr<BenchServer> server_;
   std::shared_ptr<HammerTests> tests_;
 };
 
@@ -88,7 +60,7 @@ TEST_F(HammerRoutesTest, RefusedSettingsGet400WithTheirMessageAndChangeNothing) 
       {"{" + good + "}", "the board is uncalibrated"},
   };
   for (const auto& [body, expected] : bad) {
-    const auto r = Post("start", body);
+    const auto r = Hammer("start", body);
     ASSERT_TRUE(r);
     EXPECT_EQ(r->status, 400) << body;
     EXPECT_NE(r->body.find(expected), std::string::npos) << body << " -> " << r->body;
@@ -104,24 +76,24 @@ TEST_F(HammerRoutesTest, BeforeATestChoicesAndTracesAreRefusedAndTheSnapshotIsEm
        std::vector<std::pair<std::string, std::string>>{{"choose", R"({"index":1,"accept":true})"},
                                                         {"traces", R"({"index":1})"},
                                                         {"save", "{}"}}) {
-    const auto r = Post(route, body);
+    const auto r = Hammer(route, body);
     ASSERT_TRUE(r);
     EXPECT_EQ(r->status, 400) << route;
     EXPECT_NE(r->body.find("no hammer test yet"), std::string::npos) << r->body;
   }
-  const auto s = Post("snapshot", "{}");
+  const auto s = Hammer("snapshot", "{}");
   ASSERT_TRUE(s);
   ASSERT_EQ(s->status, 200);
   EXPECT_EQ(nlohmann::json::parse(s->body),
             nlohmann::json({{"test", nullptr}, {"snapshot", nullptr}}));
-  const auto choose = Post("choose", R"({"index":0,"accept":"yes"})");
+  const auto choose = Hammer("choose", R"({"index":0,"accept":"yes"})");
   ASSERT_TRUE(choose);
   EXPECT_EQ(choose->status, 400);
 }
 
 TEST_F(HammerRoutesTest, ThePreflightIsTheLinkBudgetAcquireChecks) {
   // 5 kHz, force1 + acc1 + acc2: 6-byte records (3 x 16 bit), well within the link.
-  const auto r = Post("preflight", std::string("{") + kGood + "}");
+  const auto r = Hammer("preflight", std::string("{") + kGood + "}");
   ASSERT_TRUE(r);
   ASSERT_EQ(r->status, 200) << r->body;
   const nlohmann::json b = nlohmann::json::parse(r->body);

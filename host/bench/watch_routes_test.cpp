@@ -12,7 +12,7 @@
 #include <gtest/gtest.h>
 #include <httplib.h>
 
-#include "core_loopback.hpp"
+#include "bench_on_core.hpp"
 #include "vibid/bench/hammer_routes.hpp"
 
 namespace vibid::bench {
@@ -21,31 +21,13 @@ namespace {
 namespace fs = std::filesystem;
 using namespace std::chrono_literals;
 
-class WatchRoutesTest : public ::testing::Test {
+class WatchRoutesTest : public testing::BenchOnCore {
  protected:
   void SetUp() override {
-    dir_ = fs::temp_directory_path() /
-           ("vibid-watch-routes-test-" + std::to_string(::getpid()) + "-" +
-            ::testing::UnitTest::GetInstance()->current_test_info()->name());
-    connection_ = std::make_unique<device::Connection>(core_.Connect());
-    probe_ = std::make_unique<device::Connection>(core_.Connect());
-    board_ = std::make_unique<BenchBoard>(*connection_, dir_.string(), hub_);
-    server_ = std::make_unique<BenchServer>(*board_, hub_, ServerOptions{});
-    hammer_ = AddHammerRoutes(*server_, *board_, hub_, dir_.string());
-    runs_ = AddWatchRoutes(*server_, *board_, hub_, dir_.string());
-    server_->Start();
-  }
-  void TearDown() override {
-    board_->Shutdown();
-    server_.reset();
-    board_.reset();
-    fs::remove_all(dir_);
-  }
-
-  httplib::Result Post(const std::string& route, const std::string& body) {
-    httplib::Client c("127.0.0.1", server_->port());
-    c.set_read_timeout(10, 0);
-    return c.Post("/api/" + route, {{kTokenHeader, server_->token()}}, body, "application/json");
+    StartBench("watch-routes-test", [this] {
+      hammer_ = AddHammerRoutes(*server_, *board_, hub_, dir_.string());
+      runs_ = AddWatchRoutes(*server_, *board_, hub_, dir_.string());
+    });
   }
 
   nlohmann::json Snapshot() {
@@ -54,19 +36,6 @@ class WatchRoutesTest : public ::testing::Test {
     return r ? nlohmann::json::parse(r->body) : nlohmann::json();
   }
 
-  std::size_t Entries() const {
-    std::size_t n = 0;
-    for ([[maybe_unused]] const auto& e : fs::directory_iterator(dir_)) ++n;
-    return n;
-  }
-
-  hil::CoreLoopback core_;
-  LiveHub hub_;
-  fs::path dir_;
-  std::unique_ptr<device::Connection> connection_;
-  std::unique_ptr<device::Connection> probe_;
-  std::unique_ptr<BenchBoard> board_;
-  std::unique_ptr<BenchServer> server_;
   std::shared_ptr<HammerTests> hammer_;
   std::shared_ptr<WatchRuns> runs_;
 };
