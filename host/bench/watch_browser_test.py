@@ -18,6 +18,11 @@
    hil WatchCliTest.OnARecordingTheBuiltInThreePercentStepIsFlagged flags on the same emulator's
    recording, with the statistic `vibid watch --device` prints there (window T² 48.1 over 37.3).
    A reload mid-run shows the blocks again and the run's settings in the form.
+3. The board's own flag: the same rig calibrated with an observer from its truth (1 kHz) and the
+   model test built from a 500 s calibration day (`vibid cal upload --watch-day`, as
+   hil ModelStaleTest does), watched at 1 kHz logged at 200 Hz with d̂: every block carries the
+   board's flag from the log; the page says MODEL STALE from the block after the trip, since the
+   time `vibid info` gives for it (897.14 s on this emulator's default seed), and draws g against h.
 
   /usr/bin/python3 host/bench/watch_browser_test.py --build build/host [--screenshots docs]
 """
@@ -233,6 +238,64 @@ def three_percent(args, work):
         bench.close()
 
 
+def board_flag(args, work):
+    bench = WatchBench(os.path.abspath(args.build), work, STEP_RIG)
+    driver = None
+    try:
+        emu = os.path.join(os.path.abspath(args.build), "host", "emulator", "vibid-emu")
+        truth = os.path.join(work, "truth.json")
+        with open(truth, "w") as f:
+            f.write(subprocess.run([emu, "--rig", STEP_RIG, "--print-truth"], capture_output=True,
+                                   text=True, check=True).stdout)
+        sensors = os.path.join(ROOT, "examples", "sensors.json")
+        design = os.path.join(work, "design.json")
+        day = os.path.join(work, "day.csv")
+        subprocess.run([bench.vibid, "dob", "design", truth, "--fs-hz", "1000", "--sensors",
+                        sensors, "-o", design], check=True, capture_output=True)
+        bench.cli("cal", "upload", truth, "--design", design, "--sensors", sensors)
+        bench.cli("cal", "commit")
+        bench.cli("dob", "start")
+        bench.cli("acquire", "--seconds", "500", "--rate-hz", "1000", "--channels", "force1,x2",
+                  "--scenario", "operate", "-o", day)
+        bench.cli("cal", "upload", truth, "--design", design, "--sensors", sensors,
+                  "--watch-day", day)
+        bench.cli("cal", "commit")
+        bench.cli("dob", "start")
+        driver = open_watch(bench)
+        fill(driver, {"wt-rate": "1000", "wt-log-rate": "200", "wt-seconds": "1200",
+                      "wt-reference-s": "590", "wt-modes": "0"})
+        driver.find_element(By.ID, "wt-start").click()
+        wait(driver, lambda d: js(d, "return document.body.dataset.watch") == "ended", "the end",
+             timeout=120)
+        # The board's model_stale as the run read it at the end (vibid info --json's object: the
+        # bench holds the board).
+        tripped = js(driver, "return watch.watch.end.model_stale")
+        check(tripped and tripped["stale"] is True, "the board's flag after the run: %s" % tripped)
+        b = blocks(driver)
+        check(len(b) == 61 and all(x["board"] for x in b), "every block with the board's flag")
+        stale = [x for x in b if x["board"]["stale"]]
+        check(stale and stale[0]["t_s"] - 0.005 >= tripped["tripped_at_s"] > stale[0]["t_s"] - 10,
+              "the first stale block %s against the trip at %s" % (stale[0]["t_s"] if stale else None,
+                                                                 tripped["tripped_at_s"]))
+        since = stale[0]["board"]["stale_since_t_s"]
+        check(tripped["tripped_at_s"] <= since < tripped["tripped_at_s"] + 0.005,
+              "stale since %s, the board tripped at %s" % (since, tripped["tripped_at_s"]))
+        shown = driver.find_element(By.ID, "wt-board")
+        check(shown.get_attribute("data-stale") == "true" and "MODEL STALE since" in shown.text,
+              "the board's flag shown: " + shown.text)
+        check(driver.find_element(By.ID, "wt-board-card").is_displayed(), "g against h not drawn")
+        if args.screenshots:
+            driver.set_window_size(1400, 1400)
+            driver.find_element(By.CSS_SELECTOR, "#tabs button[data-view=watch]").click()
+            wait(driver, lambda d: js(d, "return watch.dirty") is False, "the plots drawn")
+            driver.save_screenshot(os.path.join(args.screenshots, "bench-watch-board.png"))
+        print("the board's flag: %s (board: tripped at %.2f s)" % (shown.text, tripped["tripped_at_s"]))
+    finally:
+        if driver is not None:
+            driver.quit()
+        bench.close()
+
+
 def main():
     ap = argparse.ArgumentParser()
     ap.add_argument("--build", default=os.path.join(ROOT, "build", "host"))
@@ -242,8 +305,10 @@ def main():
     with tempfile.TemporaryDirectory(prefix="vibid-watch-browser-") as work:
         os.makedirs(os.path.join(work, "a"))
         os.makedirs(os.path.join(work, "b"))
+        os.makedirs(os.path.join(work, "c"))
         large_change(args, os.path.join(work, "a"))
         three_percent(args, os.path.join(work, "b"))
+        board_flag(args, os.path.join(work, "c"))
     print("watch browser test passed in %.1f s" % (time.monotonic() - t0))
 
 
