@@ -159,6 +159,16 @@ def main():
         check(len(freqs) == bench.n, "%d modes for %d masses" % (len(freqs), bench.n))
         for f, t in zip(freqs, truth_hz):
             check(abs(f - t) <= 0.01 * t, "mode at %.4f Hz, truth %.4f Hz" % (f, t))
+        # The shape column: each response over the driving point's, one entry per mass, as the
+        # library gives it (never a ratio of two of them, never "nan").
+        rows = driver.find_elements(By.CSS_SELECTOR, "#hm-modes tr")
+        check(rows[0].text.endswith("shape a_k/a_dp (95 %)"), "the modes table's head: " + rows[0].text)
+        for row, m in zip(rows[1:], modes):
+            shape = row.find_elements(By.TAG_NAME, "td")[-1].text
+            check(len(shape.split("; ")) == bench.n and "nan" not in shape,
+                  "mode shape shown as %r for %s" % (shape, m.get("shape_ratio")))
+        print("shapes on the page: " + " | ".join(
+            r.find_elements(By.TAG_NAME, "td")[-1].text for r in rows[1:]))
         driver.find_element(By.ID, "hm-save").click()
         wait(driver, lambda d: d.find_element(By.ID, "hm-save").get_attribute("data-dir"), "the save")
         saved = driver.find_element(By.ID, "hm-save").get_attribute("data-dir")

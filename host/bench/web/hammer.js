@@ -188,13 +188,22 @@ function drawModes() {
   const s = hm.snap;
   const t = $('hm-modes');
   const head = document.createElement('tr');
-  for (const h of ['mode', 'f Hz', 'ω rad/s (95 %)', 'ζ (95 %)', 'a1/a2 (95 %)']) { const th = document.createElement('th'); th.textContent = h; head.append(th); }
   const modes = (s && s.modes) || [];
+  // Two responses: a1/a2; more: each response's amplitude over the driving point's (the
+  // library's shape_ratio, 1 at the driving point, which has no interval).
+  const many = modes.some(m => (m.shape_ratio || []).length > 2);
+  for (const h of ['mode', 'f Hz', 'ω rad/s (95 %)', 'ζ (95 %)', many ? 'shape a_k/a_dp (95 %)' : 'a1/a2 (95 %)']) { const th = document.createElement('th'); th.textContent = h; head.append(th); }
   t.replaceChildren(head, ...modes.map((m, i) => {
     const tr = document.createElement('tr');
     const ci = m.ci95 || {};
     cell(tr, i + 1); cell(tr, num(m.freq_hz, 6)); cell(tr, pm(m.omega_rad_s, ci.omega_rad_s, 6));
-    cell(tr, pm(m.zeta, ci.zeta, 4)); cell(tr, pm(m.ratio, ci.ratio, 5));
+    cell(tr, pm(m.zeta, ci.zeta, 4));
+    if (many) {
+      const r = m.shape_ratio || [], rci = ci.shape_ratio || [];
+      cell(tr, r.map((v, k) => v === 1 && !rci[k] ? '1' : pm(v, rci[k], 4)).join('; '));
+    } else {
+      cell(tr, pm(m.ratio, ci.ratio, 5));
+    }
     return tr;
   }));
   t.dataset.modes = JSON.stringify(modes);
