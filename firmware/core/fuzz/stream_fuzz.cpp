@@ -259,6 +259,9 @@ void RunLog(FuzzedDataProvider& in) {
       static_cast<std::uint8_t>(in.ConsumeIntegralInRange<unsigned>(1, wire::kAllChannelsMask));
   layout.flags =
       static_cast<std::uint8_t>(in.ConsumeIntegralInRange<unsigned>(0, wire::kAcqKnownFlags));
+  // The residual test's word travels only beside d_hat (a layout the board configures).
+  if (layout.HasWatch())
+    layout.flags = static_cast<std::uint8_t>(layout.flags | wire::kAcqFlagLogDob);
   const std::uint16_t decimation = in.PickValueInArray<std::uint16_t>({1, 2, 5, 10, 1000});
   // Records with ticks that follow by the decimation, with gaps where the sampler dropped some.
   const std::size_t count = in.ConsumeIntegralInRange<std::size_t>(0, 200);
@@ -273,6 +276,7 @@ void RunLog(FuzzedDataProvider& in) {
         records[i].raw[c] = static_cast<std::int32_t>((tick * 37u + c * 1000u) % 4096u);
     }
     if (layout.HasDob()) records[i].d_hat = static_cast<std::int32_t>(tick * 2654435761u);
+    if (layout.HasWatch()) records[i].watch = tick * 40503u;
     tick += decimation * (in.ConsumeIntegralInRange<int>(0, 15) == 0
                               ? in.ConsumeIntegralInRange<std::uint32_t>(2, 9)
                               : 1u);
@@ -310,7 +314,7 @@ void RunLog(FuzzedDataProvider& in) {
         for (std::size_t k = 0; k < n; ++k) {
           const wire::LogRecord& want = records[from + decoded + k];
           Require(batch[k].sample_index == want.sample_index && batch[k].raw == want.raw &&
-                  batch[k].d_hat == want.d_hat);
+                  batch[k].d_hat == want.d_hat && batch[k].watch == want.watch);
         }
         decoded += static_cast<std::uint32_t>(n);
       }
