@@ -5,6 +5,7 @@
 #include <cstdio>
 #include <cstdlib>
 
+#include "vibid/common/option_text.hpp"
 #include "vibid/common/error.hpp"
 #include "vibid/device/log_table.hpp"
 #include "vibid/shared/fixed/decimator.hpp"
@@ -12,12 +13,6 @@
 
 namespace vibid::device {
 namespace {
-
-std::string FormatNumber(double v) {
-  char b[32];
-  std::snprintf(b, sizeof b, "%g", v);
-  return b;
-}
 
 /// The whole of `text` as a finite double (strtod's reading).
 bool ParseFinite(const std::string& text, double& value) {
@@ -53,18 +48,18 @@ int DecimationFor(double rate_hz, double log_rate_hz, int decimation) {
     const double d = rate_hz / log_rate_hz;
     decimation = static_cast<int>(std::lround(d));
     Require(std::abs(d - decimation) < 1e-9 * d && decimation >= 1,
-            "--log-rate-hz " + FormatNumber(log_rate_hz) + ": the sample rate " +
-                FormatNumber(rate_hz) + " Hz must be a whole multiple of it");
+            "--log-rate-hz " + OptionNumber(log_rate_hz) + ": the sample rate " +
+                OptionNumber(rate_hz) + " Hz must be a whole multiple of it");
   }
   if (!fixed::IsSupportedDecimation(static_cast<std::uint32_t>(decimation))) {
     std::string near;
     for (std::uint32_t d = 1; d <= fixed::kDecimatorMaxFactor; ++d) {
       if (fixed::IsSupportedDecimation(d) &&
           std::abs(static_cast<int>(d) - decimation) <= decimation / 2) {
-        near += (near.empty() ? "" : ", ") + FormatNumber(rate_hz / d);
+        near += (near.empty() ? "" : ", ") + OptionNumber(rate_hz / d);
       }
     }
-    throw InputError("log rate " + FormatNumber(rate_hz / decimation) +
+    throw InputError("log rate " + OptionNumber(rate_hz / decimation) +
                      " Hz: the board decimates by 2^a 5^b up to " +
                      std::to_string(fixed::kDecimatorMaxFactor) + " only (decimation " +
                      std::to_string(decimation) + "); log rates near it: " + near + " Hz");
@@ -77,11 +72,11 @@ wire::AcqConfigureRequest PlanAcquisition(const AcquireSettings& a, Trigger& tri
   // negative or infinite length would otherwise wrap to an endless acquisition.
   const auto positive = [](double v, const char* option) {
     Require(std::isfinite(v) && v > 0.0,
-            std::string(option) + " " + FormatNumber(v) + ": must be a number > 0");
+            std::string(option) + " " + OptionNumber(v) + ": must be a number > 0");
   };
   const auto non_negative = [](double v, const char* option) {
     Require(std::isfinite(v) && v >= 0.0,
-            std::string(option) + " " + FormatNumber(v) + ": must be a number >= 0");
+            std::string(option) + " " + OptionNumber(v) + ": must be a number >= 0");
   };
   positive(a.seconds, "--seconds");
   positive(a.rate_hz, "--rate-hz");
@@ -95,18 +90,18 @@ wire::AcqConfigureRequest PlanAcquisition(const AcquireSettings& a, Trigger& tri
   non_negative(a.trigger_timeout_s, "--trigger-timeout-s");
   wire::AcqConfigureRequest cfg;
   const double period_us = 1e6 / a.rate_hz;
-  const std::string rate = "--rate-hz " + FormatNumber(a.rate_hz);
+  const std::string rate = "--rate-hz " + OptionNumber(a.rate_hz);
   Require(period_us >= wire::kMinSamplePeriodUs,
-          rate + ": the board samples at " + FormatNumber(1e6 / wire::kMinSamplePeriodUs) +
+          rate + ": the board samples at " + OptionNumber(1e6 / wire::kMinSamplePeriodUs) +
               " Hz at most (a " + std::to_string(wire::kMinSamplePeriodUs) +
-              " us period); choose --rate-hz " + FormatNumber(1e6 / wire::kMinSamplePeriodUs) +
+              " us period); choose --rate-hz " + OptionNumber(1e6 / wire::kMinSamplePeriodUs) +
               " or less");
   Require(period_us <= wire::kMaxSamplePeriodUs, rate + ": the board samples at " +
-                                                     FormatNumber(1e6 / wire::kMaxSamplePeriodUs) +
+                                                     OptionNumber(1e6 / wire::kMaxSamplePeriodUs) +
                                                      " Hz at least; choose --rate-hz 1 or more");
   Require(std::abs(period_us - std::round(period_us)) < 1e-6,
           rate + ": the board's sample period is a whole number of microseconds, and 1000000 / " +
-              FormatNumber(a.rate_hz) + " = " + FormatNumber(period_us) +
+              OptionNumber(a.rate_hz) + " = " + OptionNumber(period_us) +
               " is not; choose a rate that divides 1000000 (10000, 5000, 2500, 2000, 1000, ...)");
   cfg.sample_period_us = static_cast<std::uint32_t>(std::lround(period_us));
   cfg.decimation =
@@ -132,9 +127,9 @@ wire::AcqConfigureRequest PlanAcquisition(const AcquireSettings& a, Trigger& tri
   const double pretrigger = std::round(a.pretrigger_s * log_rate_hz);
   constexpr double kMaxRecords = 4294967295.0;
   Require(records + pretrigger <= kMaxRecords,
-          "--seconds " + FormatNumber(a.seconds) + ": more records than the board counts (" +
-              FormatNumber(kMaxRecords) + " at " + FormatNumber(log_rate_hz) + " Hz, " +
-              FormatNumber(kMaxRecords / log_rate_hz) + " s)");
+          "--seconds " + OptionNumber(a.seconds) + ": more records than the board counts (" +
+              OptionNumber(kMaxRecords) + " at " + OptionNumber(log_rate_hz) + " Hz, " +
+              OptionNumber(kMaxRecords / log_rate_hz) + " s)");
   cfg.record_limit = static_cast<std::uint32_t>(records);
   cfg.pretrigger_records = static_cast<std::uint32_t>(pretrigger);
   Require(cfg.record_limit > 0, "--seconds is shorter than one logged sample");

@@ -6,6 +6,7 @@
 
 #include <Eigen/Core>
 
+#include "vibid/common/option_text.hpp"
 #include "vibid/common/error.hpp"
 #include "vibid/device/log_table.hpp"
 #include "vibid/dob/quantize.hpp"
@@ -14,12 +15,6 @@
 namespace vibid::device {
 
 namespace {
-
-std::string Num(double v) {
-  char b[32];
-  std::snprintf(b, sizeof b, "%g", v);
-  return b;
-}
 
 // The recording's column of a board channel, as the log names it under the record's scaling.
 const Eigen::VectorXd& ChannelColumn(const Recording& day, const wire::CalibrationRecord& record,
@@ -45,9 +40,10 @@ dob::WatchDesign AttachWatchTest(wire::CalibrationRecord& record, const Recordin
           "--watch-day: the observer's description does not decode");
   const double fs_hz = d.sample_rate_hz;
   Require(std::abs(day.fs_hz - fs_hz) <= 1e-6 * fs_hz,
-          source + " is sampled at " + Num(day.fs_hz) + " Hz, but the observer steps at " +
-              Num(fs_hz) + " Hz: record the calibration day at the observer's rate (vibid " +
-              "acquire --rate-hz " + Num(fs_hz) + ", no --log-rate-hz)");
+          source + " is sampled at " + OptionNumber(day.fs_hz) + " Hz, but the observer steps at " +
+              OptionNumber(fs_hz) +
+              " Hz: record the calibration day at the observer's rate (vibid " +
+              "acquire --rate-hz " + OptionNumber(fs_hz) + ", no --log-rate-hz)");
 
   // The observer's inputs in the description's order, from the channels the record routes them
   // to, replayed as the board runs them (the SI values the log wrote are its Q31 integers

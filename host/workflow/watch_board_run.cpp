@@ -7,6 +7,7 @@
 #include <exception>
 #include <utility>
 
+#include "vibid/common/option_text.hpp"
 #include "vibid/common/csv.hpp"
 #include "vibid/common/error.hpp"
 #include "vibid/device/error.hpp"
@@ -17,12 +18,6 @@
 namespace vibid::workflow {
 namespace {
 
-std::string Num(double v) {
-  char b[32];
-  std::snprintf(b, sizeof b, "%g", v);
-  return b;
-}
-
 /// The index of `name` in `names`, or -1.
 long IndexOf(const std::vector<std::string>& names, const std::string& name) {
   const auto it = std::find(names.begin(), names.end(), name);
@@ -31,22 +26,15 @@ long IndexOf(const std::vector<std::string>& names, const std::string& name) {
 
 }  // namespace
 
-bool IsWatchedByDefault(const std::string& column) { return IsWatchResponse(column); }
-
-std::vector<std::string> WatchResponseColumns(const std::vector<std::string>& responses,
-                                              const std::vector<std::string>& names,
-                                              const std::string& source, OptionSpelling spelling) {
-  return ChooseWatchColumns(names, responses, source, spelling).responses;
-}
-
 Eigen::MatrixXd LoadWatchReference(const std::string& path, const std::vector<std::string>& columns,
                                    double fs_hz, OptionSpelling spelling) {
   RecordingOptions ro;
   ro.channels = columns;
   const Recording ref = LoadRecording(path, ro);
   Require(std::abs(ref.fs_hz / fs_hz - 1.0) < 1e-6,
-          WatchOptionName("reference", spelling) + " " + path + ": sampled at " + Num(ref.fs_hz) +
-              " Hz, the watched " + "responses at " + Num(fs_hz) + " Hz; record both at one rate");
+          WatchOptionName("reference", spelling) + " " + path + ": sampled at " +
+              OptionNumber(ref.fs_hz) + " Hz, the watched " + "responses at " +
+              OptionNumber(fs_hz) + " Hz; record both at one rate");
   Eigen::MatrixXd y(static_cast<Eigen::Index>(ref.samples()),
                     static_cast<Eigen::Index>(columns.size()));
   for (std::size_t j = 0; j < columns.size(); ++j)
@@ -112,15 +100,15 @@ WatchBoardRun::WatchBoardRun(WatchBoardSettings settings) : s_(std::move(setting
   options_.fs_hz = log_rate_hz_;
   int responses = static_cast<int>(s_.responses.size());
   if (responses == 0)
-    for (const std::string& c : a.channels) responses += IsWatchedByDefault(c) ? 1 : 0;
+    for (const std::string& c : a.channels) responses += IsWatchResponse(c) ? 1 : 0;
   options_.channels = std::max(1, responses);
   options_.Validate();
   Require(until_stopped_ ||
               a.seconds > (s_.reference.empty() ? options_.reference_s : 0.0) + options_.block_s,
           name("seconds") + (s_.watch.spelling == OptionSpelling::kPython ? "=" : " ") +
-              Num(a.seconds) + " ends before the first block after the reference (" +
-              Num(options_.reference_s + options_.block_s) + " s); watch longer or shorten " +
-              name("reference_s"));
+              OptionNumber(a.seconds) + " ends before the first block after the reference (" +
+              OptionNumber(options_.reference_s + options_.block_s) +
+              " s); watch longer or shorten " + name("reference_s"));
 }
 
 WatchBoardResult WatchBoardRun::Run(device::Connection& c, WatchJournal& journal,
@@ -144,15 +132,16 @@ WatchBoardResult WatchBoardRun::Run(device::Connection& c, WatchJournal& journal
   format.trailer.acq_flags = cfg.flags;
   device::LogPull empty = format;
   const std::vector<std::string> names = device::MakeLogTable(empty, rec, has_record).names;
-  const std::vector<std::string> responses =
-      WatchResponseColumns(s_.responses, names, "the log", s_.watch.spelling);
+  const WatchColumns columns =
+      ChooseWatchColumns(names, s_.responses, "the log", s_.watch.spelling);
+  const std::vector<std::string>& responses = columns.responses;
   std::vector<std::size_t> index;
   for (const std::string& n : responses)
     index.push_back(static_cast<std::size_t>(IndexOf(names, n)));
   // The board's model test logged with the data: its statistic and flag at every record.
-  const long g_column = IndexOf(names, "model_g");
-  const long flag_column = IndexOf(names, "model_stale");
-  const bool board_columns = g_column >= 0 && flag_column >= 0;
+  const bool board_columns = columns.board_statistic.has_value();
+  const long g_column = board_columns ? IndexOf(names, *columns.board_statistic) : -1;
+  const long flag_column = board_columns ? IndexOf(names, *columns.board_flag) : -1;
   WatchOptions o = options_;
   o.channels = static_cast<int>(responses.size());
   WatchSession session(o);

@@ -5,6 +5,7 @@
 #include <string>
 #include <utility>
 
+#include "vibid/common/option_text.hpp"
 #include "vibid/common/error.hpp"
 
 namespace vibid::workflow {
@@ -15,12 +16,6 @@ using Clock = std::chrono::steady_clock;
 
 double MsSince(Clock::time_point start) {
   return std::chrono::duration<double, std::milli>(Clock::now() - start).count();
-}
-
-std::string Num(double v) {
-  char b[32];
-  std::snprintf(b, sizeof b, "%g", v);
-  return b;
 }
 
 std::vector<WatchMode> ModesOf(const oma::SsiCovResult& r) {
@@ -92,7 +87,7 @@ void WatchOptions::Validate() const {
   const auto name = [this](const char* key) { return WatchOptionName(key, spelling); };
   // An option with its value, as the user wrote it: "--block-s 2" or "block_s=2".
   const auto given = [&](const char* key, double v) {
-    return name(key) + (spelling == OptionSpelling::kPython ? "=" : " ") + Num(v);
+    return name(key) + (spelling == OptionSpelling::kPython ? "=" : " ") + OptionNumber(v);
   };
   Require(std::isfinite(fs_hz) && fs_hz > 0.0,
           "watch: the sample rate must be positive" +
@@ -102,7 +97,7 @@ void WatchOptions::Validate() const {
               std::string(spelling == OptionSpelling::kPython ? "" : "--channels or ") +
               name("responses") + ")");
   Require(std::isfinite(fmax_hz) && fmax_hz > 0.0 && fmax_hz <= fs_hz / 2.5,
-          "watch: " + name("fmax_hz") + " must lie in (0, " + Num(fs_hz / 2.5) +
+          "watch: " + name("fmax_hz") + " must lie in (0, " + OptionNumber(fs_hz / 2.5) +
               "] (the sample rate over 2.5); raise the sample rate or lower " + name("fmax_hz"));
   Require(std::isfinite(block_s) && block_s > 0.0,
           "watch: " + name("block_s") + " must be positive");
@@ -112,7 +107,7 @@ void WatchOptions::Validate() const {
           "watch: " + name("false_alarm_per_hour") + " must be positive");
   Require(WindowFalseAlarm() < 0.5,
           "watch: " + given("false_alarm_per_hour", false_alarm_per_hour) +
-              " is too high for a window of " + Num(window_blocks * block_s) +
+              " is too high for a window of " + OptionNumber(window_blocks * block_s) +
               " s (the rate times the window must stay below 0.5); lower it or " +
               name("window_blocks"));
   Require(order == 0 || (order >= 2 && order % 2 == 0 && order <= 40),
@@ -127,14 +122,14 @@ void WatchOptions::Validate() const {
       oma::SubspaceTestSizeOf(TestOptions(*this, order > 0 ? order : 2 * channels), channels);
   Require(block_s >= size.min_block_s, "watch: " + given("block_s", block_s) +
                                            " is too short for the band: at least " +
-                                           Num(std::ceil(size.min_block_s * 10.0) / 10.0) +
+                                           OptionNumber(std::ceil(size.min_block_s * 10.0) / 10.0) +
                                            " s (or raise " + name("fmax_hz") + ")");
   Require(std::isfinite(reference_s) && reference_s >= MinimumReferenceS(*this, order),
           "watch: " + given("reference_s", reference_s) +
               " is too short: the test needs at least " +
-              Num(std::ceil(MinimumReferenceS(*this, order))) + " s of the rig unchanged at " +
-              given("block_s", block_s) + " (shorten " + name("block_s") +
-              ", or give a longer reference)");
+              OptionNumber(std::ceil(MinimumReferenceS(*this, order))) +
+              " s of the rig unchanged at " + given("block_s", block_s) + " (shorten " +
+              name("block_s") + ", or give a longer reference)");
 }
 
 double WatchOptions::BlockFalseAlarm() const { return false_alarm_per_hour * block_s / 3600.0; }
@@ -183,8 +178,9 @@ void WatchSession::BuildReference(Eigen::Ref<const Eigen::MatrixXd> reference) {
   if (order == 0) {
     const auto name = [this](const char* key) { return WatchOptionName(key, options_.spelling); };
     Require(!modes.modes.empty(), "watch: the reference shows no mode below " + name("fmax_hz") +
-                                      " " + Num(options_.fmax_hz) + " Hz (" + modes.message +
-                                      "); give " + name("order") + ", or check the excitation");
+                                      " " + OptionNumber(options_.fmax_hz) + " Hz (" +
+                                      modes.message + "); give " + name("order") +
+                                      ", or check the excitation");
     order = std::min(40, 2 * static_cast<int>(modes.modes.size()));
   }
   detector_ = std::make_unique<oma::SubspaceDetector>(reference, TestOptions(options_, order));

@@ -14,6 +14,7 @@
 #include "common/command.hpp"
 #include "device_commands.hpp"
 #include "session.hpp"
+#include "vibid/common/option_text.hpp"
 #include "vibid/common/csv.hpp"
 #include "vibid/common/error.hpp"
 #include "vibid/workflow/watch_board_run.hpp"
@@ -42,12 +43,6 @@ struct WatchArgs {
   std::string journal;
 };
 
-std::string Num(double v) {
-  char b[32];
-  std::snprintf(b, sizeof b, "%g", v);
-  return b;
-}
-
 /// The reference's summary on stderr, once it is built.
 void SayReference(const WatchArgs& a, const workflow::WatchSession& s) {
   const workflow::WatchReference& r = s.reference();
@@ -58,11 +53,11 @@ void SayReference(const WatchArgs& a, const workflow::WatchSession& s) {
                   m.omega_rad_s / (2.0 * std::numbers::pi), 100.0 * m.zeta);
     modes += b;
   }
-  std::cerr << "vibid: reference of " << Num(r.seconds) << " s: modes " << modes << "; test order "
-            << r.order << ", " << r.dof << " residuals over " << r.reference_blocks
-            << " blocks; window of " << a.watch.window_blocks << " blocks alarms over "
-            << Num(r.window_threshold) << " (" << Num(a.watch.false_alarm_per_hour)
-            << " false alarms per hour)\n";
+  std::cerr << "vibid: reference of " << OptionNumber(r.seconds) << " s: modes " << modes
+            << "; test order " << r.order << ", " << r.dof << " residuals over "
+            << r.reference_blocks << " blocks; window of " << a.watch.window_blocks
+            << " blocks alarms over " << OptionNumber(r.window_threshold) << " ("
+            << OptionNumber(a.watch.false_alarm_per_hour) << " false alarms per hour)\n";
 }
 
 /// One block printed: its JSON line (as journaled) or its line of text.
@@ -121,8 +116,9 @@ void RunOnRecording(const WatchArgs& a) {
   }
   if (!s.has_reference()) {
     throw InputError("watch: " + a.recording + " holds " +
-                     Num(static_cast<double>(y.rows()) / o.fs_hz) +
-                     " s, shorter than the reference (--reference-s " + Num(o.reference_s) +
+                     OptionNumber(static_cast<double>(y.rows()) / o.fs_hz) +
+                     " s, shorter than the reference (--reference-s " +
+                     OptionNumber(o.reference_s) +
                      "); give a longer recording, a shorter --reference-s or --reference");
   }
 }
@@ -145,7 +141,7 @@ void RunOnDevice(const WatchArgs& a) {
           if (!start.model_text.empty())
             std::cerr << "vibid: the board's model test: " << start.model_text << "\n";
           if (a.reference.empty()) {
-            std::cerr << "vibid: reference: the first " << Num(run.options().reference_s)
+            std::cerr << "vibid: reference: the first " << OptionNumber(run.options().reference_s)
                       << " s (the rig as it is now)\n";
           }
         };
@@ -166,7 +162,7 @@ void RunOnDevice(const WatchArgs& a) {
         if (!r.model_text.empty())
           std::cerr << "vibid: the board's model test at the end: " << r.model_text << "\n";
         if (!r.reference_built) {
-          std::cerr << "vibid: stopped during the reference (" << Num(r.reference_left_s)
+          std::cerr << "vibid: stopped during the reference (" << OptionNumber(r.reference_left_s)
                     << " s of it to go): nothing watched\n";
         }
         if (interrupted) throw StoppedByInterrupt();

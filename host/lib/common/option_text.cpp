@@ -2,11 +2,18 @@
 
 #include <cerrno>
 #include <cmath>
+#include <cstdio>
 #include <cstdlib>
 
 #include "vibid/common/csv.hpp"
 
 namespace vibid {
+
+std::string OptionNumber(double value) {
+  char b[32];
+  std::snprintf(b, sizeof b, "%g", value);
+  return b;
+}
 
 NumberText ParseNumber(std::string_view text, double& value) {
   const std::string s(text);  // strtod needs the terminating NUL

@@ -26,18 +26,6 @@
 
 namespace vibid::workflow {
 
-/// A column `vibid watch` watches by default: an acceleration (acc…) or a position (x1…)
-/// (IsWatchResponse).
-bool IsWatchedByDefault(const std::string& column);
-
-/// The watched columns of `names`: `responses` (each must be one of them), or when empty every
-/// acceleration and position column (ChooseWatchColumns). InputError naming `source` and the way
-/// out otherwise.
-std::vector<std::string> WatchResponseColumns(const std::vector<std::string>& responses,
-                                              const std::vector<std::string>& names,
-                                              const std::string& source,
-                                              OptionSpelling spelling = OptionSpelling::kCli);
-
 /// The reference recording's `columns` (as acquire writes a recording), checked to be sampled at
 /// `fs_hz`. InputError naming `path` (and the option, as `spelling` spells it) otherwise.
 Eigen::MatrixXd LoadWatchReference(const std::string& path, const std::vector<std::string>& columns,

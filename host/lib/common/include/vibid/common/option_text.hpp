@@ -10,6 +10,9 @@
 
 namespace vibid {
 
+/// A number as a message echoes an option's value back ("%g": 0.001, 1800, 2.5e+07).
+std::string OptionNumber(double value);
+
 /// How a text failed to be a number.
 enum class NumberText {
   kOk,
