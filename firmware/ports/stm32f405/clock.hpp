@@ -16,7 +16,7 @@ enum class ClockSource : std::uint8_t {
 enum class HsiReason : std::uint8_t {
   kNone = 0,
   kHseDidNotStart = 1,     ///< HSERDY not set in time, or no edge of it reached TIM11.
-  kHseWrongFrequency = 2,  ///< Measured more than 2 % from the crystal the image was built for.
+  kHseWrongFrequency = 2,  ///< Measured outside 95..109 % of the crystal the image was built for.
   kPllDidNotLock = 3,      ///< PLLRDY, the flash wait states or the switch did not come.
 };
 
@@ -34,10 +34,11 @@ struct ClockConfig {
 
 /// Starts the HSE and measures it against the HSI (crystal_check.hpp) before the PLL may use
 /// it; then 168 MHz (AHB 168, APB1 42, APB2 84, PLL48CK 48 MHz) with 5 flash wait states. Every
-/// wait on the hardware is bounded. A crystal that does not start or is more than 2 % from
-/// VIBID_HSE_HZ (an image for 8 MHz on a 12 MHz board would run the core at 252 MHz), or a PLL
-/// that does not lock, leaves the core on the 16 MHz HSI, the PLL on the HSI for USB's 48 MHz
-/// only, and the reason in the result, so get-info can report it.
+/// wait on the hardware is bounded. A crystal that does not start or reads outside 95..109 %
+/// of VIBID_HSE_HZ (the HSI's spread, crystal_check.hpp) (an image for 8 MHz on a 12 MHz board
+/// would run the core at 252 MHz), or a PLL that does not lock, leaves the core on the 16 MHz HSI,
+/// the PLL on the HSI for USB's 48 MHz only, and the reason in the result, so get-info can report
+/// it.
 ClockConfig ConfigureClocks();
 
 /// The crystal frequency this image was built for.

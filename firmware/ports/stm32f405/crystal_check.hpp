@@ -18,11 +18,23 @@ inline constexpr std::uint32_t kHseRtcDivider = 31;
 /// The capture prescaler (ICxPSC = 11): one capture every 8 input edges.
 inline constexpr std::uint32_t kEdgesPerCapture = 8;
 /// Captures the start-up check counts over: 64 x 8 x 31 = 15 872 HSE cycles, 2 ms at 8 MHz,
-/// 31 744 HSI ticks: one tick is 32 ppm, far below the 2 % the check decides on.
+/// 31 744 HSI ticks: one tick is 32 ppm, far below the band the check decides on.
 inline constexpr std::uint32_t kHseCaptures = 64;
-/// A crystal more than 1/50 (2 %) from the image's is refused: the HSI's own +-1 % leaves room,
-/// and the nearest crystals with a plan (24 / 25 / 26 MHz, 4 %) are still told apart.
-inline constexpr std::uint32_t kHseToleranceDivisor = 50;
+
+/// The HSI's spread over the part's whole temperature range, in permille of 16 MHz: -8 % to
+/// +4.5 % from -40 to 105 C (STM32F405 datasheet DS8626, HSI oscillator characteristics,
+/// ACC_HSI; +-1 % holds only at 25 C, -4 % / +4 % from -10 to 85 C). The check measures the HSE
+/// in HSI ticks, so a crystal at f reads f x 16 MHz / f_HSI: from f / 1.045 to f / 0.92.
+inline constexpr std::uint32_t kHsiSlowestPermille = 920;
+inline constexpr std::uint32_t kHsiFastestPermille = 1045;
+/// The band a crystal is accepted in, in percent of the image's: 95..109 % holds every reading of
+/// the right crystal at any temperature the part allows (95.7..108.7 %), so a good crystal on a
+/// cold or warm board is never refused, and is still far from the next crystal an image is built
+/// for (kSupportedCrystalsHz: the nearest pair, 12 and 16 MHz, is 33 % apart).
+inline constexpr std::uint32_t kHseAcceptLowPercent = 95;
+inline constexpr std::uint32_t kHseAcceptHighPercent = 109;
+/// The crystals the board images are built and tested for (README, "First board").
+inline constexpr std::uint32_t kSupportedCrystalsHz[] = {8000000, 12000000, 16000000, 25000000};
 
 /// The HSE in Hz from `ticks` HSI cycles over `captures` captures of HSE_RTC / 8, rounded.
 /// Scaling and overflow: captures x 8 x 31 x 16e6 <= 2^32 x 248 x 1.6e7 < 1.8e19 needs
@@ -33,12 +45,47 @@ constexpr std::uint32_t HseHzFromTicks(std::uint64_t ticks, std::uint32_t captur
   return static_cast<std::uint32_t>((cycles * kHsiHz + ticks / 2) / ticks);
 }
 
-/// Whether `measured_hz` is within 2 % of `expected_hz`.
+/// Whether `measured_hz` (against the HSI) is within 95..109 % of `expected_hz`.
 constexpr bool HseWithinTolerance(std::uint32_t measured_hz, std::uint32_t expected_hz) {
-  const std::uint64_t diff =
-      measured_hz > expected_hz ? measured_hz - expected_hz : expected_hz - measured_hz;
-  return diff * kHseToleranceDivisor <= expected_hz;
+  const std::uint64_t m = std::uint64_t{measured_hz} * 100;
+  return m >= std::uint64_t{expected_hz} * kHseAcceptLowPercent &&
+         m <= std::uint64_t{expected_hz} * kHseAcceptHighPercent;
 }
+
+/// Whether a board with a `fitted_hz` crystal passes an image for `image_hz` anywhere in the
+/// HSI's spread: its lowest and highest readings, from the fastest and the slowest HSI.
+constexpr bool AcceptedAtSomeTemperature(std::uint32_t fitted_hz, std::uint32_t image_hz) {
+  const auto lowest =
+      static_cast<std::uint32_t>(std::uint64_t{fitted_hz} * 1000 / kHsiFastestPermille);
+  const auto highest = static_cast<std::uint32_t>(
+      (std::uint64_t{fitted_hz} * 1000 + kHsiSlowestPermille - 1) / kHsiSlowestPermille);
+  // The band is an interval and so is the reading's range: they meet when either end of one
+  // lies in the other.
+  return HseWithinTolerance(lowest, image_hz) || HseWithinTolerance(highest, image_hz) ||
+         (std::uint64_t{lowest} * 100 <= std::uint64_t{image_hz} * kHseAcceptLowPercent &&
+          std::uint64_t{highest} * 100 >= std::uint64_t{image_hz} * kHseAcceptHighPercent);
+}
+/// Whether the right crystal passes at every temperature (both ends of its reading's range).
+constexpr bool AcceptedAtEveryTemperature(std::uint32_t hz) {
+  return HseWithinTolerance(
+             static_cast<std::uint32_t>(std::uint64_t{hz} * 1000 / kHsiFastestPermille), hz) &&
+         HseWithinTolerance(
+             static_cast<std::uint32_t>((std::uint64_t{hz} * 1000 + kHsiSlowestPermille - 1) /
+                                        kHsiSlowestPermille),
+             hz);
+}
+constexpr bool BandSeparatesTheSupportedCrystals() {
+  for (const std::uint32_t image : kSupportedCrystalsHz) {
+    if (!AcceptedAtEveryTemperature(image)) return false;
+    for (const std::uint32_t fitted : kSupportedCrystalsHz) {
+      if (fitted != image && AcceptedAtSomeTemperature(fitted, image)) return false;
+    }
+  }
+  return true;
+}
+static_assert(
+    BandSeparatesTheSupportedCrystals(),
+    "the crystal band must pass the right crystal at any HSI error and refuse the others");
 
 /// One input-capture channel of a timer, polled.
 struct CaptureChannel {

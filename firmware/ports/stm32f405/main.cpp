@@ -44,7 +44,10 @@ std::array<std::uint8_t, kLogBytes> g_log;
 extern "C" void OTG_FS_IRQHandler() { vibid::fw::stm32::g_dcd.HandleInterrupt(); }
 extern "C" void DMA2_Stream0_IRQHandler() { vibid::fw::stm32::g_sampler.HandleDmaInterrupt(); }
 extern "C" void ADC_IRQHandler() { vibid::fw::stm32::g_sampler.HandleAdcInterrupt(); }
-extern "C" void SysTick_Handler() { vibid::fw::stm32::OnSysTick(); }
+extern "C" void SysTick_Handler() {
+  vibid::fw::stm32::OnSysTick();
+  vibid::fw::stm32::g_sampler.TrackEncoders();
+}
 
 int main() {
   using namespace vibid::fw;
@@ -61,6 +64,10 @@ int main() {
   StartWatchdog(kWatchdogTimeoutMs);
   static BoardSystemControl system;
   system.Init();
+  // Below 2.7 V the 5 wait states ConfigureClocks sets are too few for 168 MHz (RM0090 table 10):
+  // the brown-out reset at level 3 holds the chip in reset there instead. Still on the HSI at
+  // 0 wait states, where any supply from 1.8 V is fine.
+  (void)EnsureBrownOutLevel3();
   const ClockConfig clocks = ConfigureClocks();
   // The LSE starts now and is ready (up to 2 s) long before a self-test measures against it.
   if (BoardHasLse()) StartLse();

@@ -98,11 +98,17 @@ void ArmEncoderStream(unsigned stream_number, std::uint32_t channel, Address cou
 
 // In multi-ADC mode the DMA and DDS bits of ADC_CR2 are unused (ADC_CCR's DMA and DDS take
 // their place) and only the master, ADC1, takes the external trigger; ADC2 and ADC3 start with
-// it (RM0090 §13.9, §13.13.3).
+// it (RM0090 §13.9, §13.13.3). EOCS on all three: overrun detection is enabled only when DMA = 1
+// or EOCS = 1 (§13.8.1), and with CR2's DMA bit unused only EOCS can make OVR come at all (ST's
+// single-conversion default sets it too). Without it a lost item would never be flagged.
 constexpr std::uint32_t kAdcCr2Master =
-    adc::kCr2Adon | adc::kCr2ExtselTim2Trgo | adc::kCr2ExtenRising;
-constexpr std::uint32_t kAdcCr2Slave = adc::kCr2Adon;
+    adc::kCr2Adon | adc::kCr2Eocs | adc::kCr2ExtselTim2Trgo | adc::kCr2ExtenRising;
+constexpr std::uint32_t kAdcCr2Slave = adc::kCr2Adon | adc::kCr2Eocs;
 constexpr Address kConverter[Sampler::kConverters] = {adc::kAdc1, adc::kAdc2, adc::kAdc3};
+// Each converter's two ranks: force1 (IN0) and force2 (IN1) on ADC1; acc1 (IN2) twice on ADC2,
+// acc2 (IN3) twice on ADC3 (the sequences must be as long as each other, and no channel is
+// converted by two converters at once).
+constexpr std::uint32_t kChannel[Sampler::kConverters][Sampler::kRanks] = {{0, 1}, {2, 2}, {3, 3}};
 
 void ConvertersOff() {
   for (Address a : kConverter) Reg(a + adc::kCr2) = 0;
@@ -114,6 +120,39 @@ void ConvertersOn() {
   Reg(adc::kAdc2 + adc::kCr2) = kAdcCr2Slave;
   Reg(adc::kAdc1 + adc::kCr2) = kAdcCr2Master;
 }
+/// The whole interleave from scratch, as RM0090 asks for a change of configuration in multi
+/// mode (ADC_CCR MULTI, §13.13.17: "disable the multi ADC mode before any change of
+/// configuration"): every converter off, MULTI independent and the common DMA requests off,
+/// each converter's scan, sampling time and sequence written, the stream re-armed from the
+/// buffer's start, OVR cleared, then triple regular simultaneous mode with DMA mode 1 and DDS,
+/// and the slaves on before the master. Whatever a previous run or a self-test left (a rotated
+/// buffer, independent mode, another sequence on ADC1) is gone; the next TRGO edge starts a
+/// whole scan at ADC1's first rank.
+void ArmConverters() {
+  ConvertersOff();
+  Reg(adc::kCommonCcr) = adc::kCcrAdcpreDiv4;  // MULTI 00000: independent, no DMA requests
+  for (unsigned i = 0; i < Sampler::kConverters; ++i) {
+    const Address a = kConverter[i];
+    Reg(a + adc::kCr1) = adc::kCr1Scan | adc::kCr1Ovrie;
+    Reg(a + adc::kSmpr2) = adc::kSample56Cycles | (adc::kSample56Cycles << 3) |
+                           (adc::kSample56Cycles << 6) | (adc::kSample56Cycles << 9);
+    Reg(a + adc::kSqr1) = Field(Sampler::kRanks - 1, adc::kSqr1LPos);
+    Reg(a + adc::kSqr3) = adc::Sqr3(0, kChannel[i][0]) | adc::Sqr3(1, kChannel[i][1]);
+  }
+  ArmAdcStream();
+  for (Address a : kConverter) Reg(a + adc::kSr) = 0;  // OVR cleared before the requests
+  Reg(adc::kCommonCcr) = adc::kCcrAdcpreDiv4 | adc::kCcrDmaMode1 | adc::kCcrDds |
+                         adc::kCcrMultiTripleRegularSimultaneous;
+  ConvertersOn();
+}
+
+/// The 32-bit count `near` moved to the 16-bit counter value `raw`: the signed 16-bit difference
+/// is the true motion while the counter moved less than 2^15 counts since `near` was taken.
+std::uint32_t Extend(std::uint32_t near, std::uint16_t raw) {
+  const auto step = static_cast<std::int16_t>(static_cast<std::uint16_t>(raw - near));
+  return near + static_cast<std::uint32_t>(static_cast<std::int32_t>(step));
+}
+
 bool AnyOverrun() {
   for (Address a : kConverter) {
     if ((Reg(a + adc::kSr) & adc::kSrOvr) != 0) return true;
@@ -175,27 +214,11 @@ void Sampler::Init(const ClockConfig& clocks) {
   // requests kept on for circular transfers, ADCCLK = PCLK2 / 4 = 21 MHz. Each converter scans
   // two channels with 56-cycle sampling, one scan per rising TRGO (ADC1's trigger): rank 1 is
   // force1 (IN0), acc1 (IN2), acc2 (IN3), converted at one instant; rank 2 is force2 (IN1) on
-  // ADC1 and a second conversion of IN2 and IN3 on ADC2 and ADC3 (the sequences must be as long
-  // as each other, and no channel is converted by two converters at once). 2 x (56 + 12) /
-  // 21 MHz = 6.5 us per frame. Overrun interrupts on all three.
-  ConvertersOff();
-  Reg(adc::kCommonCcr) = adc::kCcrAdcpreDiv4 | adc::kCcrDmaMode1 | adc::kCcrDds |
-                         adc::kCcrMultiTripleRegularSimultaneous;
-  constexpr std::uint32_t kChannel[Sampler::kConverters][Sampler::kRanks] = {
-      {0, 1}, {2, 2}, {3, 3}};
-  for (unsigned i = 0; i < kConverters; ++i) {
-    const Address a = kConverter[i];
-    Reg(a + adc::kCr1) = adc::kCr1Scan | adc::kCr1Ovrie;
-    Reg(a + adc::kSmpr2) = adc::kSample56Cycles | (adc::kSample56Cycles << 3) |
-                           (adc::kSample56Cycles << 6) | (adc::kSample56Cycles << 9);
-    Reg(a + adc::kSqr1) = Field(kRanks - 1, adc::kSqr1LPos);
-    Reg(a + adc::kSqr3) = adc::Sqr3(0, kChannel[i][0]) | adc::Sqr3(1, kChannel[i][1]);
-  }
-
+  // ADC1 and a second conversion of IN2 and IN3 on ADC2 and ADC3. 2 x (56 + 12) / 21 MHz =
+  // 6.5 us per frame. Overrun interrupts on all three. Start runs the same sequence again.
   ArmEncoderStream(kEncoder0Stream, kEncoder0Channel, tim::kTim3 + tim::kCnt, &g_encoder_latch[0]);
   ArmEncoderStream(kEncoder1Stream, kEncoder1Channel, tim::kTim4 + tim::kCnt, &g_encoder_latch[1]);
-  ArmAdcStream();
-  ConvertersOn();
+  ArmConverters();
 
   for (unsigned irq_number : {irq::kDma2Stream0, irq::kAdc}) {
     nvic::Disable(irq_number);
@@ -215,11 +238,16 @@ Status Sampler::Start(std::uint32_t sample_period_us, FrameSink& sink) {
   sink_ = &sink;
   next_tick_ = 0;
   drop_next_frame_ = false;
+  torn_in_a_row_ = 0;
   delivered_ = 0;
   sink_cycles_ = 0;
-  last_encoder_raw_ = {static_cast<std::uint16_t>(Reg(tim::kTim3 + tim::kCnt)),
-                       static_cast<std::uint16_t>(Reg(tim::kTim4 + tim::kCnt))};
-  encoder_ = {0, 0};
+  // Every start re-establishes the interleave (a self-test's VREFINT conversion switches ADC1 to
+  // independent mode and back; a previous run may have stopped with a rotated buffer), and the
+  // converters get their t_STAB before the first edge.
+  ArmConverters();
+  (void)WaitCycles(sysclk_hz_ / 1000000 * kStabilisationUs);
+  TrackEncoders();
+  encoder_origin_ = {tracked_[0], tracked_[1]};
   Reg(tim::kTim5 + tim::kCnt) = 0;
   Reg(tim::kTim5 + tim::kCr1) = tim::kCr1Cen;
   running_ = true;
@@ -256,6 +284,11 @@ void Sampler::Recover() {
   // in the interrupt, the timer keeps going), so the first frame after this is dropped too.
   (void)WaitCycles(sysclk_hz_ / 1000000 * kStabilisationUs);
   drop_next_frame_ = true;
+}
+
+void Sampler::TrackEncoders() {
+  tracked_[0] = Extend(tracked_[0], static_cast<std::uint16_t>(Reg(tim::kTim3 + tim::kCnt)));
+  tracked_[1] = Extend(tracked_[1], static_cast<std::uint16_t>(Reg(tim::kTim4 + tim::kCnt)));
 }
 
 void Sampler::CheckEncoderStreams() {
@@ -307,8 +340,17 @@ void Sampler::HandleDmaInterrupt() {
   const bool whole_scan = since_edge >= scan_timer_ticks_ && remaining == kDmaItems;
   if (Reg(tim::kTim5 + tim::kCnt) != edges || !whole_scan || edges == 0) {
     ++counters_.torn_frames;
+    // A late interrupt tears one frame and the next one is whole. Torn frames in a row mean the
+    // stream and the scans no longer line up (an item lost without an overrun flag rotates the
+    // buffer: every later transfer-complete comes mid-scan); only a re-arm brings them back.
+    if (++torn_in_a_row_ >= kTornFramesBeforeRecovery) {
+      torn_in_a_row_ = 0;
+      ++counters_.torn_recoveries;
+      Recover();
+    }
     return;
   }
+  torn_in_a_row_ = 0;
   const std::uint32_t tick = edges - 1;
   // Already delivered (an interrupt that was pending across a recovery).
   if (static_cast<std::int32_t>(tick - next_tick_) < 0) return;
@@ -325,15 +367,11 @@ void Sampler::HandleDmaInterrupt() {
   frame.tick = tick;
   for (unsigned i = 0; i < kAnalogChannels; ++i) frame.raw[i] = g_adc_dma_buffer[kBufferIndex[i]];
   for (unsigned i = 0; i < 2; ++i) {
-    const std::uint16_t raw = g_encoder_latch[i];
-    // The 16-bit counter moves by far less than 2^15 counts per sample, so the signed
-    // difference is the true motion and the 32-bit sum never misses a wrap.
-    encoder_[i] +=
-        static_cast<std::int16_t>(static_cast<std::uint16_t>(raw - last_encoder_raw_[i]));
-    last_encoder_raw_[i] = raw;
+    // The latch (16 bits, at the edge) extended from the count the SysTick keeps (at most
+    // 1 ms old, one aligned word): a wrap is never missed however long the sample period.
+    const std::uint32_t position = Extend(tracked_[i], g_encoder_latch[i]);
+    frame.raw[4 + i] = static_cast<std::int32_t>(position - encoder_origin_[i]);
   }
-  frame.raw[4] = encoder_[0];
-  frame.raw[5] = encoder_[1];
   ++delivered_;
   const std::uint32_t before = CycleCount();
   sink_->OnFrame(frame);

@@ -17,12 +17,16 @@
 // The DMA2 stream 0 transfer-complete interrupt assembles the frame for the core.
 //
 // ADC overrun (OVR stops the ADC's DMA requests for good) and DMA transfer errors are caught by
-// interrupt and by a check every frame. Recovery follows RM0090's multi-ADC overrun steps (the
-// common DMA request logic restarted through ADC_CCR's DMA bits, the stream re-armed, OVR
-// cleared, DMA and DDS set again) with the converters switched off and on, so the next scan starts
-// at ADC1's first rank and the channels cannot rotate in the buffer; the converters get their
-// 3 us stabilisation time, and the first frame after a recovery is dropped (the edge may have
-// come while they settled), which the core counts as an overrun.
+// interrupt and by a check every frame; EOCS is set on all three converters, without which
+// RM0090 §13.8.1 never raises OVR in this mode (CR2 DMA unused). Should an item still be lost
+// unflagged, the buffer rotates and every frame tears: kTornFramesBeforeRecovery torn frames in
+// a row run the same recovery. Every Start re-arms the whole interleave first (ArmConverters).
+// Recovery follows RM0090's multi-ADC overrun steps (the common DMA request logic restarted through
+// ADC_CCR's DMA bits, the stream re-armed, OVR cleared, DMA and DDS set again) with the converters
+// switched off and on, so the next scan starts at ADC1's first rank and the channels cannot rotate
+// in the buffer; the converters get their 3 us stabilisation time, and the first frame after a
+// recovery is dropped (the edge may have come while they settled), which the core counts as an
+// overrun.
 #pragma once
 
 #include <array>
@@ -39,6 +43,8 @@ struct SamplerCounters {
   std::uint32_t recoveries = 0;    ///< ADC + DMA re-arms after either.
   std::uint32_t dropped_after_recovery = 0;  ///< First frames after a recovery, not delivered.
   std::uint32_t torn_frames = 0;  ///< Interrupts dropped because the next scan had begun.
+  /// Re-arms after kTornFramesBeforeRecovery torn frames in a row (buffer and scans out of step).
+  std::uint32_t torn_recoveries = 0;
 };
 
 /// The DMA targets, in SRAM (the CCM is not reachable by DMA); named here for the host tests.
@@ -62,6 +68,9 @@ class Sampler final : public FrameSource {
   /// A converter switched on (ADON) needs t_STAB before it converts (STM32F405 datasheet, ADC
   /// characteristics; ST's HAL waits 3 us, ADC_STAB_DELAY_US).
   static constexpr std::uint32_t kStabilisationUs = 3;
+  /// Torn frames in a row that make the sampler re-arm the converters and the stream: one late
+  /// interrupt tears a frame or two, a rotated buffer tears every one.
+  static constexpr std::uint32_t kTornFramesBeforeRecovery = 3;
 
   /// Configures pins, encoders, frame counter, ADC scan and the DMA streams once at boot;
   /// sampling starts with Start().
@@ -84,6 +93,11 @@ class Sampler final : public FrameSource {
   void HandleDmaInterrupt();
   /// The ADC interrupt handler body (overrun).
   void HandleAdcInterrupt();
+  /// Extends the two 16-bit encoder counters into 32-bit counts; called every millisecond (the
+  /// SysTick handler), so a counter moving less than 2^15 counts per millisecond is never
+  /// misread, whatever the sample period (up to 1 s, where a latch-to-latch difference alone
+  /// would wrap above 32 768 counts per period).
+  void TrackEncoders();
 
  private:
   void Recover();
@@ -99,8 +113,11 @@ class Sampler final : public FrameSource {
   std::uint32_t next_tick_ = 0;
   std::uint32_t delivered_ = 0;
   volatile bool drop_next_frame_ = false;  ///< Set by Recover: the next scan is not trusted.
-  std::array<std::uint16_t, 2> last_encoder_raw_{};
-  std::array<std::int32_t, 2> encoder_{};
+  std::uint32_t torn_in_a_row_ = 0;
+  /// The encoders' 32-bit counts as of the last TrackEncoders (written by SysTick only; the low
+  /// 16 bits are the counter's value then), and their values at Start (frames count from 0).
+  volatile std::uint32_t tracked_[2] = {0, 0};
+  std::array<std::uint32_t, 2> encoder_origin_{};
   SamplerCounters counters_{};
   std::uint64_t sink_cycles_ = 0;
 };

@@ -1,6 +1,7 @@
 // Sampler on the fake register file: encoders latched by DMA at the converters' instant, the frame
 // tick taken from the TIM5 edge counter (so lost frames leave a gap the core counts as overruns),
 // torn frames dropped, and ADC overrun / DMA error recovery from the first channel.
+#include <algorithm>
 #include <vector>
 
 #include "port_test_fixture.hpp"
@@ -103,11 +104,13 @@ TEST_F(SamplerTest, ConvertersSampleTheHammerChannelsAtOneInstant) {
     Address base;
     std::uint32_t sq1, sq2, cr2;
   };
-  // CR2 (§13.13.3): ADON bit 0; on ADC1 only EXTEN 29:28 = 01 (rising) and EXTSEL 27:24 = 0110
-  // (TIM2_TRGO); the DMA (bit 8) and DDS (bit 9) bits stay 0 in multi-ADC mode.
-  const Expected expected[] = {{0x40012000, 0, 1, 0x16000001},   // force1 IN0, force2 IN1
-                               {0x40012100, 2, 2, 0x00000001},   // acc1 IN2 twice
-                               {0x40012200, 3, 3, 0x00000001}};  // acc2 IN3 twice
+  // CR2 (§13.13.3): ADON bit 0 and EOCS bit 10 on all three (§13.8.1: overrun detection is on
+  // only with DMA = 1 or EOCS = 1, and CR2's DMA bit is unused here); on ADC1 only EXTEN 29:28 =
+  // 01 (rising) and EXTSEL 27:24 = 0110 (TIM2_TRGO); DMA (bit 8) and DDS (bit 9) stay 0 in
+  // multi-ADC mode.
+  const Expected expected[] = {{0x40012000, 0, 1, 0x16000401},   // force1 IN0, force2 IN1
+                               {0x40012100, 2, 2, 0x00000401},   // acc1 IN2 twice
+                               {0x40012200, 3, 3, 0x00000401}};  // acc2 IN3 twice
   for (const Expected& e : expected) {
     EXPECT_EQ(regs().Peek(e.base + 0x04), Bit(8) | Bit(26)) << std::hex << e.base;
     EXPECT_EQ(regs().Peek(e.base + 0x2C), 1U << 20) << std::hex << e.base;
@@ -116,9 +119,10 @@ TEST_F(SamplerTest, ConvertersSampleTheHammerChannelsAtOneInstant) {
     EXPECT_EQ(regs().Peek(e.base + 0x08), e.cr2) << std::hex << e.base;
   }
   // The slaves are on before the master can be triggered.
-  const std::size_t master_on = regs().FindWrite(0x40012008, 0x16000001);
-  EXPECT_LT(regs().FindWrite(0x40012108, 1), master_on);
-  EXPECT_LT(regs().FindWrite(0x40012208, 1), master_on);
+  const std::size_t master_on = regs().FindWrite(0x40012008, 0x16000401);
+  ASSERT_NE(master_on, kNone);
+  EXPECT_LT(regs().FindWrite(0x40012108, 0x401), master_on);
+  EXPECT_LT(regs().FindWrite(0x40012208, 0x401), master_on);
   // All three clocked: RCC_APB2ENR ADC1EN 8, ADC2EN 9, ADC3EN 10 (RM0090 §7.3.14).
   EXPECT_NE(regs().FindWriteWithBits(rcc::kApb2enr, Bit(8) | Bit(9) | Bit(10)), kNone);
 }
@@ -219,7 +223,8 @@ TEST_F(SamplerTest, AdcOverrunIsCountedAndRecoveredFromTheFirstChannel) {
   const std::size_t stream_on = regs().FindWriteWithBits(kAdcStream + dma::kSxCr, dma::kCrEn, ndtr);
   const std::size_t ovr = regs().FindWrite(adc::kAdc1 + adc::kSr, 0, stream_on);
   const std::size_t dma_on = regs().FindWrite(adc::kCommonCcr, 0x16016U, ovr);
-  const std::size_t slave_on = regs().FindWrite(adc::kAdc3 + adc::kCr2, adc::kCr2Adon, dma_on);
+  const std::size_t slave_on =
+      regs().FindWrite(adc::kAdc3 + adc::kCr2, adc::kCr2Adon | adc::kCr2Eocs, dma_on);
   const std::size_t adc_on = regs().FindWriteWithBits(
       adc::kAdc1 + adc::kCr2, adc::kCr2Adon | adc::kCr2ExtenRising, slave_on);
   for (std::size_t step :
@@ -266,6 +271,131 @@ TEST_F(SamplerTest, DmaTransferErrorsAreCountedAndRecovered) {
   EXPECT_NE(regs().FindWriteWithBits(kEnc1Stream + dma::kSxCr, dma::kCrEn | dma::kCrCirc, later),
             kNone);
   EXPECT_NE(regs().FindWrite(dma::kDma1 + dma::kHifcr, dma::kStream0Flags << 22, later), kNone);
+}
+
+TEST_F(SamplerTest, OverrunDetectionIsOnForEveryConverter) {
+  // RM0090 §13.8.1: "Overrun detection is enabled only when DMA = 1 or EOCS = 1". CR2's DMA bit
+  // (8) is unused in multi-ADC mode and stays 0, so EOCS (bit 10) must be set on ADC1, ADC2 and
+  // ADC3, and OVRIE (CR1 bit 26) with it, every time the converters are switched on: at Init, at
+  // Start and in a recovery.
+  for (const Address base : {0x40012000U, 0x40012100U, 0x40012200U}) {
+    std::size_t on_writes = 0;
+    for (const std::uint32_t v : regs().WritesTo(base + 0x08)) {
+      if ((v & Bit(0)) == 0) continue;  // an off write
+      ++on_writes;
+      EXPECT_EQ(v & (Bit(10) | Bit(8)), Bit(10)) << std::hex << base << " " << v;
+    }
+    EXPECT_EQ(on_writes, 2U) << std::hex << base;  // Init and Start
+    EXPECT_EQ(regs().Peek(base + 0x04) & Bit(26), Bit(26));
+  }
+}
+
+TEST_F(SamplerTest, StartReArmsTheInterleaveWhateverTheLastUseLeft) {
+  sampler_.Stop();
+  // What a self-test's VREFINT conversion or an unrecovered run may leave: ADC1 independent on
+  // channel 17 alone, the common DMA requests off, the stream three items into a frame.
+  regs().Poke(adc::kCommonCcr, 0x00810000U);  // TSVREFE, ADCPRE /4, MULTI 0
+  regs().Poke(adc::kAdc1 + adc::kSqr3, 17);
+  regs().Poke(adc::kAdc1 + adc::kSqr1, 0);
+  regs().Poke(adc::kAdc1 + adc::kCr1, 0);
+  regs().Poke(kAdcStream + dma::kSxNdtr, 3);
+  std::uint32_t cycles = 0;
+  regs().OnRead(dwt::kCyccnt, [&cycles](std::uint32_t) { return cycles += 10; });
+  regs().OnRead(dwt::kCtrl, [](std::uint32_t) { return dwt::kCtrlCyccntEna; });
+  const std::size_t before = regs().log().size();
+  ASSERT_EQ(sampler_.Start(1000, sink_), Status::kOk);
+  // RM0090 §13.13.17 (ADC_CCR, MULTI): "disable the multi ADC mode before any change of
+  // configuration". In order: all three converters off (CR2 = 0) -> CCR MULTI 0 and DMA 00
+  // (ADCPRE /4 only, 0x10000) -> ADC1's SQR3 back to IN0, IN1 (0x20) -> stream disabled -> its
+  // flags cleared -> NDTR 6 from the buffer's start -> stream on -> OVR cleared -> CCR triple
+  // regular simultaneous, DMA mode 1, DDS (0x16016) -> ADC3, ADC2 on -> ADC1 on with the
+  // trigger -> t_STAB (3 us = 504 cycles at 168 MHz) -> the first edge (TIM2 UG).
+  const std::size_t off1 = regs().FindWrite(0x40012008, 0, before);
+  const std::size_t off2 = regs().FindWrite(0x40012108, 0, before);
+  const std::size_t off3 = regs().FindWrite(0x40012208, 0, before);
+  const std::size_t independent = regs().FindWrite(0x40012304, 0x10000U, before);
+  const std::size_t sequence = regs().FindWrite(0x40012034, 0x20U, independent);
+  const std::size_t stream_off = regs().FindWrite(
+      kAdcStream + dma::kSxCr, regs().Peek(kAdcStream + dma::kSxCr) & ~dma::kCrEn, sequence);
+  const std::size_t flags =
+      regs().FindWrite(dma::kDma2 + dma::kLifcr, dma::kStream0Flags, stream_off);
+  const std::size_t ndtr = regs().FindWrite(kAdcStream + dma::kSxNdtr, 6, flags);
+  const std::size_t stream_on = regs().FindWriteWithBits(kAdcStream + dma::kSxCr, dma::kCrEn, ndtr);
+  const std::size_t ovr = regs().FindWrite(0x40012000, 0, stream_on);
+  const std::size_t triple = regs().FindWrite(0x40012304, 0x16016U, ovr);
+  const std::size_t slave3 = regs().FindWrite(0x40012208, 0x401, triple);
+  const std::size_t slave2 = regs().FindWrite(0x40012108, 0x401, slave3);
+  const std::size_t master = regs().FindWrite(0x40012008, 0x16000401, slave2);
+  const std::size_t first_edge = regs().FindWrite(tim::kTim2 + tim::kEgr, tim::kEgrUg, master);
+  for (std::size_t step : {off1, off2, off3, independent, sequence, stream_off, flags, ndtr,
+                           stream_on, ovr, triple, slave3, slave2, master, first_edge})
+    EXPECT_NE(step, kNone);
+  EXPECT_LT(std::max({off1, off2, off3}), independent);
+  EXPECT_GE(cycles, 504U);
+  EXPECT_EQ(regs().Peek(adc::kCommonCcr), 0x16016U);
+  EXPECT_EQ(regs().Peek(adc::kAdc1 + adc::kSqr1), 1U << 20);
+  EXPECT_EQ(regs().Peek(adc::kAdc1 + adc::kCr1), Bit(8) | Bit(26));
+}
+
+TEST_F(SamplerTest, TornFramesInARowReArmTheConverters) {
+  Interrupt(1);
+  // A rotated buffer: every transfer-complete comes with NDTR short of 6 (mid-scan). Two torn
+  // frames are a late interrupt's; the third in a row runs the recovery.
+  const std::size_t before = regs().log().size();
+  Interrupt(2, 2000, dma::kStream0Tcif, 5);
+  Interrupt(3, 2000, dma::kStream0Tcif, 5);
+  EXPECT_EQ(sampler_.counters().recoveries, 0U);
+  EXPECT_EQ(regs().FindWrite(adc::kAdc1 + adc::kCr2, 0, before), kNone);
+  Interrupt(4, 2000, dma::kStream0Tcif, 5);
+  EXPECT_EQ(sampler_.counters().torn_frames, 3U);
+  EXPECT_EQ(sampler_.counters().torn_recoveries, 1U);
+  EXPECT_EQ(sampler_.counters().recoveries, 1U);
+  // The recovery's steps (see AdcOverrunIsCountedAndRecoveredFromTheFirstChannel): converters
+  // off, the stream back to 6 items, the converters on again.
+  const std::size_t off = regs().FindWrite(adc::kAdc1 + adc::kCr2, 0, before);
+  const std::size_t ndtr = regs().FindWrite(kAdcStream + dma::kSxNdtr, 6, off);
+  const std::size_t on = regs().FindWrite(adc::kAdc1 + adc::kCr2, 0x16000401, ndtr);
+  EXPECT_NE(off, kNone);
+  EXPECT_NE(ndtr, kNone);
+  EXPECT_NE(on, kNone);
+  // A whole frame in between resets the run: two torn, one whole, two torn: no recovery.
+  Interrupt(5);  // dropped after the recovery
+  Interrupt(6);
+  Interrupt(7, 2000, dma::kStream0Tcif, 5);
+  Interrupt(8, 2000, dma::kStream0Tcif, 5);
+  Interrupt(9);
+  Interrupt(10, 2000, dma::kStream0Tcif, 5);
+  Interrupt(11, 2000, dma::kStream0Tcif, 5);
+  EXPECT_EQ(sampler_.counters().torn_recoveries, 1U);
+  EXPECT_EQ(Ticks(), (std::vector<std::uint32_t>{0, 5, 8}));
+}
+
+TEST_F(SamplerTest, EncoderMotionAbove32768CountsPerSampleIsNotWrapped) {
+  // 1 s per sample (the longest period a board takes) and an encoder moving 40 000 counts in it:
+  // the latch-to-latch difference of a 16-bit counter would read 40 000 - 65 536 = -25 536.
+  // The SysTick tracks the counter every millisecond (40 counts each), so the frame says 40 000.
+  sampler_.Stop();
+  ASSERT_EQ(sampler_.Start(1000000, sink_), Status::kOk);
+  Interrupt(1, 84000000 - 1);
+  std::uint32_t count = 0;
+  for (int ms = 0; ms < 1000; ++ms) {
+    count += 40;
+    regs().Poke(tim::kTim3 + tim::kCnt, count & 0xFFFF);
+    regs().Poke(tim::kTim4 + tim::kCnt, (0x10000 - count) & 0xFFFF);  // the other way
+    sampler_.TrackEncoders();
+  }
+  sampler_dma::encoders[0] = static_cast<std::uint16_t>(count);
+  sampler_dma::encoders[1] = static_cast<std::uint16_t>(0x10000 - count);
+  Interrupt(2, 84000000 - 1);
+  ASSERT_EQ(sink_.frames.size(), 2U);
+  EXPECT_EQ(sink_.frames[1].raw[4], 40000);
+  EXPECT_EQ(sink_.frames[1].raw[5], -40000);
+  // The latch is taken at the edge, the track up to 1 ms before or after it: both ways agree.
+  regs().Poke(tim::kTim3 + tim::kCnt, (count + 30) & 0xFFFF);
+  sampler_.TrackEncoders();
+  sampler_dma::encoders[0] = static_cast<std::uint16_t>(count + 10);
+  Interrupt(3, 84000000 - 1);
+  EXPECT_EQ(sink_.frames[2].raw[4], 40010);
 }
 
 }  // namespace

@@ -61,14 +61,21 @@ bool ConvertVrefint(std::uint32_t sysclk_hz, std::uint32_t& mean_code) {
   const Address adc1 = adc::kAdc1;
   const std::uint32_t saved_ccr = Reg(adc::kCommonCcr);
   const std::uint32_t saved_cr1 = Reg(adc1 + adc::kCr1);
-  const std::uint32_t saved_cr2 = Reg(adc1 + adc::kCr2);
+  const std::uint32_t saved_cr2[] = {Reg(adc::kAdc1 + adc::kCr2), Reg(adc::kAdc2 + adc::kCr2),
+                                     Reg(adc::kAdc3 + adc::kCr2)};
   const std::uint32_t saved_smpr1 = Reg(adc1 + adc::kSmpr1);
   const std::uint32_t saved_sqr1 = Reg(adc1 + adc::kSqr1);
   const std::uint32_t saved_sqr3 = Reg(adc1 + adc::kSqr3);
 
-  Reg(adc1 + adc::kCr2) = 0;  // off while the mode changes
-  Reg(adc::kCommonCcr) = (saved_ccr & ~adc::kCcrMultiMask) | adc::kCcrTsvrefe;  // independent
-  Reg(adc1 + adc::kCr1) = 0;                                                    // one channel
+  // The multi mode changes only with every converter off (ADC_CCR MULTI, RM0090 §13.13.17:
+  // "disable the multi ADC mode before any change of configuration"): the master first, so no
+  // trigger reaches a half-stopped set, and the common DMA requests off with MULTI.
+  Reg(adc::kAdc1 + adc::kCr2) = 0;
+  Reg(adc::kAdc2 + adc::kCr2) = 0;
+  Reg(adc::kAdc3 + adc::kCr2) = 0;
+  Reg(adc::kCommonCcr) =
+      (saved_ccr & ~(adc::kCcrMultiMask | adc::kCcrDmaMask | adc::kCcrDds)) | adc::kCcrTsvrefe;
+  Reg(adc1 + adc::kCr1) = 0;  // one channel
   Reg(adc1 + adc::kSmpr1) = adc::kSample480Cycles << adc::kSmpr1Smp17Pos;
   Reg(adc1 + adc::kSqr1) = 0;  // L = 0: one conversion
   Reg(adc1 + adc::kSqr3) = adc::Sqr3(0, adc::kChannelVrefint);
@@ -91,6 +98,8 @@ bool ConvertVrefint(std::uint32_t sysclk_hz, std::uint32_t& mean_code) {
     if (ok) sum += Reg(adc1 + adc::kDr) & 0xFFF;  // reading DR clears EOC
   }
 
+  // Back with every converter off again: ADC1's set-up, then the multi mode, then the slaves
+  // before the master. The sampler's Start re-arms the whole interleave anyway (sampler.hpp).
   Reg(adc1 + adc::kCr2) = 0;
   Reg(adc1 + adc::kCr1) = saved_cr1;
   Reg(adc1 + adc::kSmpr1) = saved_smpr1;
@@ -98,7 +107,9 @@ bool ConvertVrefint(std::uint32_t sysclk_hz, std::uint32_t& mean_code) {
   Reg(adc1 + adc::kSqr3) = saved_sqr3;
   Reg(adc::kCommonCcr) = saved_ccr;
   Reg(adc1 + adc::kSr) = 0;
-  Reg(adc1 + adc::kCr2) = saved_cr2;
+  Reg(adc::kAdc3 + adc::kCr2) = saved_cr2[2];
+  Reg(adc::kAdc2 + adc::kCr2) = saved_cr2[1];
+  Reg(adc::kAdc1 + adc::kCr2) = saved_cr2[0];
   if (!ok) return false;
   mean_code = (sum + kVrefintConversions / 2) / kVrefintConversions;
   return true;

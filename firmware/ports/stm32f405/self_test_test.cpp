@@ -175,10 +175,14 @@ TEST_F(SelfTestPortTest, VddaFromVrefintAndItsFactoryCalibration) {
   const std::uint32_t ccr = adc::kCcrAdcpreDiv4 | adc::kCcrDmaMode1 | adc::kCcrDds |
                             adc::kCcrMultiTripleRegularSimultaneous;
   const std::uint32_t cr1 = adc::kCr1Scan | adc::kCr1Ovrie;
-  const std::uint32_t cr2 = adc::kCr2Adon | adc::kCr2ExtselTim2Trgo | adc::kCr2ExtenRising;
+  const std::uint32_t cr2 =
+      adc::kCr2Adon | adc::kCr2Eocs | adc::kCr2ExtselTim2Trgo | adc::kCr2ExtenRising;
   regs().Poke(adc::kCommonCcr, ccr);
   regs().Poke(adc::kAdc1 + adc::kCr1, cr1);
   regs().Poke(adc::kAdc1 + adc::kCr2, cr2);
+  const std::uint32_t slave_cr2 = adc::kCr2Adon | adc::kCr2Eocs;
+  regs().Poke(adc::kAdc2 + adc::kCr2, slave_cr2);
+  regs().Poke(adc::kAdc3 + adc::kCr2, slave_cr2);
   regs().Poke(adc::kAdc1 + adc::kSqr1, 1u << adc::kSqr1LPos);
   regs().Poke(adc::kAdc1 + adc::kSqr3, adc::Sqr3(0, 0) | adc::Sqr3(1, 1));
   regs().Poke(kVrefintCalWord, 1500u << 16);  // 0x1FFF7A2A holds the upper half-word
@@ -202,8 +206,23 @@ TEST_F(SelfTestPortTest, VddaFromVrefintAndItsFactoryCalibration) {
   EXPECT_EQ(m.mantissa, 3000);
   EXPECT_EQ(m.exp10, -3);
   // Converted with VREFINT connected, in independent mode, 480-cycle sampling of channel 17.
-  const std::size_t vref = regs().FindWrite(adc::kCommonCcr, (ccr & ~0x1Fu) | adc::kCcrTsvrefe);
+  // RM0090 §13.13.17 (MULTI: "disable the multi ADC mode before any change of configuration"):
+  // ADC1, ADC2 and ADC3 all off (CR2 = 0) before MULTI goes to 00000 with the DMA bits and DDS
+  // (ADCPRE /4 and TSVREFE only: 0x810000), and all off again before it goes back to triple.
+  const std::size_t vref = regs().FindWrite(adc::kCommonCcr, 0x810000U);
   ASSERT_NE(vref, kNone);
+  for (const Address converter : {adc::kAdc1, adc::kAdc2, adc::kAdc3})
+    EXPECT_LT(regs().FindWrite(converter + adc::kCr2, 0), vref) << std::hex << converter;
+  const std::size_t back = regs().FindWrite(adc::kCommonCcr, ccr, vref);
+  ASSERT_NE(back, kNone);
+  const std::size_t adc1_off = regs().FindWrite(adc::kAdc1 + adc::kCr2, 0, vref);
+  EXPECT_LT(adc1_off, back);
+  // The slaves come back on before the master, after the mode.
+  const std::size_t adc3_on = regs().FindWrite(adc::kAdc3 + adc::kCr2, slave_cr2, back);
+  const std::size_t adc1_on = regs().FindWrite(adc::kAdc1 + adc::kCr2, cr2, back);
+  ASSERT_NE(adc3_on, kNone);
+  EXPECT_LT(adc3_on, adc1_on);
+  EXPECT_EQ(regs().Peek(adc::kAdc2 + adc::kCr2), slave_cr2);
   EXPECT_NE(regs().FindWrite(adc::kAdc1 + adc::kSmpr1, 7u << 21), kNone);
   EXPECT_NE(regs().FindWrite(adc::kAdc1 + adc::kSqr3, 17u), kNone);
   EXPECT_EQ(regs().WritesTo(adc::kAdc1 + adc::kCr2).size(), 2u + 16u + 2u);

@@ -137,6 +137,28 @@ BrownOut BrownOutLevel() {
                                flash::kOptcrBorLevPos);
 }
 
+BrownOutProgramming EnsureBrownOutLevel3() {
+  if (BrownOutLevel() == BrownOut::kLevel3) return BrownOutProgramming::kAlreadyLevel3;
+  // The option bytes' erase and write take up to a sector erase's time (hundreds of ms at most):
+  // the watchdog (1 s) is fed before and polled against a bound far above that at 16 MHz.
+  constexpr std::uint32_t kBusyPolls = 4000000;
+  KickWatchdog();
+  if (!WaitFor(flash::kSr, flash::kSrBsy, 0, kBusyPolls)) return BrownOutProgramming::kFailed;
+  Reg(flash::kOptkeyr) = flash::kOptKey1;
+  Reg(flash::kOptkeyr) = flash::kOptKey2;
+  // Only BOR_LEV changes (00: level 3); RDP (15:8) is written back as read, so read protection
+  // never moves (0xCC would lock the chip for good).
+  const std::uint32_t options =
+      Reg(flash::kOptcr) & ~(flash::kOptcrBorLevMask | flash::kOptcrOptlock | flash::kOptcrOptstrt);
+  Reg(flash::kOptcr) = options;
+  Reg(flash::kOptcr) = options | flash::kOptcrOptstrt;
+  const bool done = WaitFor(flash::kSr, flash::kSrBsy, 0, kBusyPolls);
+  KickWatchdog();
+  Reg(flash::kOptcr) |= flash::kOptcrOptlock;
+  return done && BrownOutLevel() == BrownOut::kLevel3 ? BrownOutProgramming::kProgrammed
+                                                      : BrownOutProgramming::kFailed;
+}
+
 bool ConfigureFlashAccess(std::uint32_t wait_states) {
   // The cache resets work only while the caches are off (RM0090 §3.5.2 / FLASH_ACR ICRST, DCRST);
   // the latency goes in first so it never lags the clock.

@@ -72,6 +72,20 @@ enum class BrownOut : std::uint8_t {
 /// Reads the option bytes' brown-out level as the flash interface loaded it at reset.
 BrownOut BrownOutLevel();
 
+enum class BrownOutProgramming : std::uint8_t {
+  kAlreadyLevel3,  ///< Nothing written.
+  kProgrammed,     ///< The option bytes now hold level 3.
+  kFailed,         ///< The flash stayed busy or the level did not read back: left as it was.
+};
+/// Brings the option bytes' brown-out reset to level 3 (2.75-2.88 V) once, at boot, before the
+/// clock goes up: 168 MHz with 5 flash wait states holds only from 2.7 V (RM0090 table 10, 6-8
+/// wait states below), and factory parts have the brown-out reset off. RM0090 §3.7.2
+/// ("Programming user option bytes"): OPTKEY1, OPTKEY2 to FLASH_OPTKEYR, BSY clear, FLASH_OPTCR
+/// with only BOR_LEV changed (read protection, write protection and the user bits written as
+/// read), OPTSTRT, BSY clear, OPTLOCK. A board already at level 3 is not written (the option
+/// bytes' sector has a limited number of erase cycles).
+BrownOutProgramming EnsureBrownOutLevel3();
+
 /// Flash access for `wait_states` (RM0090 table 10: 5 at 168 MHz and 2.7-3.6 V): instruction and
 /// data caches reset, then on; prefetch off, because ES0182's ADC erratum ("internal noise
 /// impacting the ADC accuracy") traces ADC noise to the prefetch's flash reads and gives this as

@@ -124,6 +124,9 @@ inline constexpr std::uint32_t kCr1Ovrie = Bit(26);
 inline constexpr std::uint32_t kCr2Adon = Bit(0);
 inline constexpr std::uint32_t kCr2Dma = Bit(8);
 inline constexpr std::uint32_t kCr2Dds = Bit(9);
+/// EOCS (10): EOC after each regular conversion. Overrun detection is on only with DMA = 1 or
+/// EOCS = 1 (RM0090 §13.8.1): in multi-ADC mode CR2's DMA bit is unused, so EOCS turns it on.
+inline constexpr std::uint32_t kCr2Eocs = Bit(10);
 inline constexpr std::uint32_t kCr2Swstart = Bit(30);
 /// EXTSEL (27:24) = 0110: timer 2 TRGO; EXTEN (29:28) = 01: rising edge.
 inline constexpr std::uint32_t kCr2ExtselTim2Trgo = 0x6U << 24;

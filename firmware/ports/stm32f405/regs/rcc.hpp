@@ -143,6 +143,15 @@ inline constexpr std::uint32_t kCrLock = Bit(31);
 // option bytes at reset: 00 level 3, 01 level 2, 10 level 1, 11 off (POR/PDR only).
 inline constexpr unsigned kOptcrBorLevPos = 2;
 inline constexpr std::uint32_t kOptcrBorLevMask = 0x3U << 2;
+/// OPTLOCK (0): the register is write-protected (set at reset); OPTSTRT (1): programs the option
+/// bytes from the register; RDP 15:8 (read protection) and nWRP 27:16 are written as read.
+inline constexpr std::uint32_t kOptcrOptlock = Bit(0);
+inline constexpr std::uint32_t kOptcrOptstrt = Bit(1);
+/// FLASH_OPTKEYR (0x08) and its unlock keys (RM0090 §3.7.2, "Unlocking the option control
+/// register"; §3.9.3).
+inline constexpr Address kOptkeyr = kBase + 0x08;
+inline constexpr std::uint32_t kOptKey1 = 0x08192A3B;
+inline constexpr std::uint32_t kOptKey2 = 0x4C5D6E7F;
 }  // namespace flash
 
 /// Device electronic signature (RM0090 §39.1): the 96-bit unique id.

@@ -83,7 +83,7 @@ enum class ClockState : std::uint8_t {
   kUnknown = 0,                ///< Not reported (the emulator, the QEMU image).
   kCrystal = 1,                ///< The PLL runs from the crystal the image was built for.
   kCrystalDidNotStart = 2,     ///< No HSE ready in time: on the internal oscillator.
-  kCrystalWrongFrequency = 3,  ///< The HSE measured more than 2 % off the build's: internal.
+  kCrystalWrongFrequency = 3,  ///< The HSE read outside 95..109 % of the build's: internal.
   kPllDidNotLock = 4,          ///< The PLL or the switch to it did not complete: internal.
 };
 
