@@ -236,6 +236,8 @@ Status Core::Dispatch(const Header& h, std::span<const std::uint8_t> payload) {
         RespondWith(h, HealthInfo());
       } else if (page.page == wire::kInfoPageWatch) {
         RespondWith(h, dob_.WatchInfo(sampler_.dob_running()));
+      } else if (page.page == wire::kInfoPageFault) {
+        RespondWith(h, port_.system.LastFault());
       } else {
         return Refuse(Status::kInvalidArgument, wire::Reason::kUnknownInfoPage, page.page);
       }

@@ -179,6 +179,38 @@ TEST(CoreSelfTest, BrownOutPassesOnlyAtLevel3) {
   v = Check(h, SelfTestCheck::kResetCause);
   EXPECT_EQ(v.verdict, SelfTestVerdict::kPass);
   EXPECT_EQ(v.mantissa, static_cast<std::int64_t>(wire::ResetCause::kWatchdog));
+  // A fault reset (7) fails the check: the board crashed.
+  h.fake.system.reset_cause = wire::ResetCause::kFault;
+  v = Check(h, SelfTestCheck::kResetCause);
+  EXPECT_EQ(v.verdict, SelfTestVerdict::kFail);
+  EXPECT_EQ(v.mantissa, 7);
+}
+
+TEST(CoreSelfTest, FaultPageCarriesThePortsRecord) {
+  CoreHarness h;
+  h.fake.system.reset_cause = wire::ResetCause::kFault;
+  h.fake.system.fault = {.recorded = 1,
+                         .exception = 3,
+                         .cfsr = 0x00020000,  // UsageFault INVSTATE
+                         .hfsr = 0x40000000,  // FORCED
+                         .mmfar = 0,
+                         .bfar = 0,
+                         .pc = 0x08012345,
+                         .lr = 0x08011111};
+  const Response r = h.Request(Command::kGetInfo, wire::InfoPageRequest{.page = 4});
+  ASSERT_EQ(r.status(), Status::kOk);
+  wire::FaultInfoResponse v;
+  ASSERT_EQ(wire::Decode(r.payload(), v), Status::kOk);
+  EXPECT_EQ(v.recorded, 1);
+  EXPECT_EQ(v.exception, 3);
+  EXPECT_EQ(v.cfsr, 0x00020000u);
+  EXPECT_EQ(v.hfsr, 0x40000000u);
+  EXPECT_EQ(v.pc, 0x08012345u);
+  EXPECT_EQ(v.lr, 0x08011111u);
+  wire::HealthInfoResponse health;
+  const Response page2 = h.Request(Command::kGetInfo, wire::InfoPageRequest{.page = 2});
+  ASSERT_EQ(wire::Decode(page2.payload(), health), Status::kOk);
+  EXPECT_EQ(health.reset_cause, wire::ResetCause::kFault);
 }
 
 TEST(CoreSelfTest, CalibrationSlotsAreErasedValidOrDamaged) {

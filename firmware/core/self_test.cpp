@@ -103,10 +103,14 @@ wire::SelfTestResponse Core::SelfTest(std::uint8_t check_index) {
       }
       return r;
     }
-    case SelfTestCheck::kResetCause:
-      r.mantissa = static_cast<std::int64_t>(port_.system.LastResetCause());
-      r.verdict = SelfTestVerdict::kPass;  // informational
+    case SelfTestCheck::kResetCause: {
+      const wire::ResetCause cause = port_.system.LastResetCause();
+      r.mantissa = static_cast<std::int64_t>(cause);
+      // Informational, except a crash: the board reset itself out of a fault (get-info page
+      // kInfoPageFault says where), which no check of a healthy board shows.
+      judge(cause != wire::ResetCause::kFault);
       return r;
+    }
     default: break;
   }
   const std::uint32_t period_us = configured_ ? config_.sample_period_us : kDefaultSamplePeriodUs;

@@ -256,6 +256,23 @@ std::optional<wire::WatchInfoResponse> Connection::GetWatchInfo() {
   return DecodeAnswer<wire::WatchInfoResponse>(r, "get-info watch page");
 }
 
+std::optional<wire::FaultInfoResponse> Connection::GetFaultInfo() {
+  if (info_.protocol_minor < 1) return std::nullopt;
+  const Reply r = Call(Command::kGetInfo,
+                       wire::EncodedBytes(wire::InfoPageRequest{.page = wire::kInfoPageFault}));
+  if (r.header.status != Status::kOk) {
+    // Firmware from before the fault record does not know the page: it keeps no record.
+    wire::Refusal why;
+    if (wire::Decode(r.payload(), why) == Status::kOk &&
+        why.reason == wire::Reason::kUnknownInfoPage) {
+      return std::nullopt;
+    }
+    throw DeviceError(
+        RefusalMessage(static_cast<std::uint8_t>(Command::kGetInfo), r.header.status, r.payload()));
+  }
+  return DecodeAnswer<wire::FaultInfoResponse>(r, "get-info fault page");
+}
+
 wire::SelfTestResponse Connection::SelfTest(std::uint8_t check) {
   return DecodeAnswer<wire::SelfTestResponse>(
       Expect(Command::kSelfTest, wire::EncodedBytes(wire::SelfTestRequest{.check = check}), 0,

@@ -2,6 +2,7 @@
 
 #include <cmath>
 #include <cstdio>
+#include <utility>
 
 namespace vibid::device {
 
@@ -41,9 +42,65 @@ const char* ResetCauseName(wire::ResetCause cause) {
     case wire::ResetCause::kWatchdog: return "watchdog";
     case wire::ResetCause::kBrownOut: return "brown-out";
     case wire::ResetCause::kLowPower: return "low-power";
+    case wire::ResetCause::kFault: return "fault";
     case wire::ResetCause::kUnknown: break;
   }
   return "unknown";
+}
+
+std::string FaultExceptionName(std::uint8_t exception) {
+  switch (exception) {
+    case 2: return "NMI";
+    case 3: return "HardFault";
+    case 4: return "MemManage";
+    case 5: return "BusFault";
+    case 6: return "UsageFault";
+    default: break;
+  }
+  if (exception >= 16) return "IRQ " + std::to_string(exception - 16) + " without a handler";
+  return "exception " + std::to_string(exception);
+}
+
+std::vector<std::string> FaultStatusNames(const wire::FaultInfoResponse& f) {
+  // CFSR: MMFSR 7:0, BFSR 15:8, UFSR 31:16; HFSR VECTTBL 1, FORCED 30, DEBUGEVT 31 (ARMv7-M
+  // ARM B3.2.15, B3.2.16; Cortex-M4 generic user guide table 4-27).
+  static constexpr std::pair<unsigned, const char*> kCfsr[] = {
+      {0, "IACCVIOL"},  {1, "DACCVIOL"}, {3, "MUNSTKERR"},  {4, "MSTKERR"},      {5, "MLSPERR"},
+      {7, "MMARVALID"}, {8, "IBUSERR"},  {9, "PRECISERR"},  {10, "IMPRECISERR"}, {11, "UNSTKERR"},
+      {12, "STKERR"},   {13, "LSPERR"},  {15, "BFARVALID"}, {16, "UNDEFINSTR"},  {17, "INVSTATE"},
+      {18, "INVPC"},    {19, "NOCP"},    {24, "UNALIGNED"}, {25, "DIVBYZERO"}};
+  static constexpr std::pair<unsigned, const char*> kHfsr[] = {
+      {1, "VECTTBL"}, {30, "FORCED"}, {31, "DEBUGEVT"}};
+  std::vector<std::string> names;
+  for (const auto& [bit, name] : kCfsr)
+    if ((f.cfsr >> bit) & 1u) names.emplace_back(name);
+  for (const auto& [bit, name] : kHfsr)
+    if ((f.hfsr >> bit) & 1u) names.emplace_back(name);
+  return names;
+}
+
+std::string FaultText(const wire::FaultInfoResponse& f) {
+  char hex[16];
+  const auto h = [&hex](std::uint32_t v) {
+    std::snprintf(hex, sizeof(hex), "0x%08x", v);
+    return std::string(hex);
+  };
+  std::string text = FaultExceptionName(f.exception);
+  if (f.pc == wire::kFaultNoStackedValue && f.lr == wire::kFaultNoStackedValue) {
+    text += " with the stack outside RAM (no pc, lr)";
+  } else {
+    text += " at pc " + h(f.pc) + ", lr " + h(f.lr);
+  }
+  text += "; CFSR " + h(f.cfsr) + ", HFSR " + h(f.hfsr);
+  if ((f.cfsr & (1u << 7)) != 0) text += ", MMFAR " + h(f.mmfar);
+  if ((f.cfsr & (1u << 15)) != 0) text += ", BFAR " + h(f.bfar);
+  const std::vector<std::string> names = FaultStatusNames(f);
+  if (!names.empty()) {
+    text += " (";
+    for (std::size_t k = 0; k < names.size(); ++k) text += (k == 0 ? "" : " ") + names[k];
+    text += ")";
+  }
+  return text;
 }
 
 const char* ClockStateName(std::uint32_t state) {

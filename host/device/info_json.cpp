@@ -21,7 +21,7 @@ constexpr EnumNames<wire::BoardId, 4> kBoardNames{{
     {wire::BoardId::kHostTest, "host-test"},
 }};
 
-constexpr EnumNames<wire::ResetCause, 7> kResetNames{{
+constexpr EnumNames<wire::ResetCause, 8> kResetNames{{
     {wire::ResetCause::kUnknown, "unknown"},
     {wire::ResetCause::kPowerOn, "power-on"},
     {wire::ResetCause::kPin, "reset-pin"},
@@ -29,6 +29,7 @@ constexpr EnumNames<wire::ResetCause, 7> kResetNames{{
     {wire::ResetCause::kWatchdog, "watchdog"},
     {wire::ResetCause::kBrownOut, "brown-out"},
     {wire::ResetCause::kLowPower, "low-power"},
+    {wire::ResetCause::kFault, "fault"},
 }};
 
 std::vector<std::string> CapabilityNames(std::uint32_t caps) {
@@ -62,11 +63,29 @@ nlohmann::json ClipsJson(const std::optional<wire::ClipResponse>& clips) {
 
 }  // namespace
 
+/// The fault record after a fault reset; null without one.
+nlohmann::json FaultJson(const std::optional<wire::FaultInfoResponse>& fault) {
+  if (!fault || fault->recorded == 0) return nullptr;
+  const bool stacked =
+      !(fault->pc == wire::kFaultNoStackedValue && fault->lr == wire::kFaultNoStackedValue);
+  return {{"exception", fault->exception},
+          {"exception_name", FaultExceptionName(fault->exception)},
+          {"cfsr", Hex32(fault->cfsr)},
+          {"hfsr", Hex32(fault->hfsr)},
+          {"mmfar", Hex32(fault->mmfar)},
+          {"bfar", Hex32(fault->bfar)},
+          {"pc", stacked ? nlohmann::json(Hex32(fault->pc)) : nlohmann::json(nullptr)},
+          {"lr", stacked ? nlohmann::json(Hex32(fault->lr)) : nlohmann::json(nullptr)},
+          {"status", FaultStatusNames(*fault)},
+          {"text", FaultText(*fault)}};
+}
+
 nlohmann::json InfoJson(const device::Connection& c, const wire::InfoResponse& i,
                         const std::optional<wire::ClipResponse>& clips,
                         const std::optional<wire::SamplingInfoResponse>& sampling,
                         const std::optional<wire::HealthInfoResponse>& health,
-                        const std::optional<wire::WatchInfoResponse>& watch) {
+                        const std::optional<wire::WatchInfoResponse>& watch,
+                        const std::optional<wire::FaultInfoResponse>& fault) {
   // Channel -> us after the timer edge; null for a board of protocol 2.0, which does not say.
   nlohmann::json instants = nullptr;
   if (sampling) {
@@ -108,6 +127,8 @@ nlohmann::json InfoJson(const device::Connection& c, const wire::InfoResponse& i
       {"channel_formats", formats},
       {"sample_instants_us", instants},
       {"reset_cause", NameOf(kResetNames, i.reset_cause, "unknown")},
+      // What the fault handler recorded when reset_cause is "fault"; null otherwise.
+      {"fault", FaultJson(fault)},
       // "level3" .. "off", "unknown" when the board does not say (also a 2.0 board).
       {"brown_out_level", BrownOutName(health ? health->brown_out : wire::BrownOut::kUnknown)},
       // "crystal", "crystal-wrong-frequency", ..., "unknown" when the board does not say.

@@ -177,6 +177,14 @@ def main():
     add("health_info_response", report(0x02, flags=FLAG_RESPONSE, token=0x0104,
                                        payload=struct.pack("<BBBBII", 4, 4, 3, 0, 12000340, 2)))
 
+    # get-info page 4: the fault record after a fault reset: a BusFault (exception 5), CFSR
+    # 0x00008200 (BFARVALID | PRECISERR), HFSR 0, MMFAR 0xE000ED34's reset value 0, BFAR
+    # 0x40026400 (the DMA2 base, an illustrative address), stacked PC 0x08010abc, LR 0x08010a5b.
+    add("fault_page_request", report(0x02, token=0x0107, payload=b"\x04"))
+    add("fault_info_response", report(0x02, flags=FLAG_RESPONSE, token=0x0107,
+                                      payload=struct.pack("<BBHIIIIII", 1, 5, 0, 0x00008200, 0, 0,
+                                                          0x40026400, 0x08010ABC, 0x08010A5B)))
+
     # get-info page 3 (2.1): the residual test, watching and stale: W 1000, 812 windows, g 12.25,
     # h 8.25, last z -1, tripped at tick 811 999 with g 8.5, no clamps (Q16 values).
     add("watch_page_request", report(0x02, token=0x0105, payload=b"\x03"))

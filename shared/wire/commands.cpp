@@ -99,7 +99,7 @@ Status Decode(std::span<const std::uint8_t> in, HealthInfoResponse& v) {
   const std::uint8_t reset_cause = LoadU8(in, 1);
   const std::uint8_t clock = LoadU8(in, 2);
   if (brown_out > static_cast<std::uint8_t>(BrownOut::kLevel3) ||
-      reset_cause > static_cast<std::uint8_t>(ResetCause::kLowPower) ||
+      reset_cause > static_cast<std::uint8_t>(ResetCause::kFault) ||
       clock > static_cast<std::uint8_t>(ClockState::kPllDidNotLock) || LoadU8(in, 3) != 0) {
     return Status::kInvalidArgument;
   }
@@ -108,6 +108,32 @@ Status Decode(std::span<const std::uint8_t> in, HealthInfoResponse& v) {
   v.clock = static_cast<ClockState>(clock);
   v.hse_measured_hz = LoadU32(in, 4);
   v.sampler_recoveries = LoadU32(in, 8);
+  return Status::kOk;
+}
+
+void Encode(const FaultInfoResponse& v, std::span<std::uint8_t> out) {
+  StoreU8(out, 0, v.recorded);
+  StoreU8(out, 1, v.exception);
+  StoreU16(out, 2, 0);
+  StoreU32(out, 4, v.cfsr);
+  StoreU32(out, 8, v.hfsr);
+  StoreU32(out, 12, v.mmfar);
+  StoreU32(out, 16, v.bfar);
+  StoreU32(out, 20, v.pc);
+  StoreU32(out, 24, v.lr);
+}
+
+Status Decode(std::span<const std::uint8_t> in, FaultInfoResponse& v) {
+  if (in.size() != FaultInfoResponse::kBytes) return Status::kInvalidArgument;
+  if (LoadU8(in, 0) > 1 || LoadU16(in, 2) != 0) return Status::kInvalidArgument;
+  v.recorded = LoadU8(in, 0);
+  v.exception = LoadU8(in, 1);
+  v.cfsr = LoadU32(in, 4);
+  v.hfsr = LoadU32(in, 8);
+  v.mmfar = LoadU32(in, 12);
+  v.bfar = LoadU32(in, 16);
+  v.pc = LoadU32(in, 20);
+  v.lr = LoadU32(in, 24);
   return Status::kOk;
 }
 

@@ -126,6 +126,44 @@ TEST(Commands, InfoPageHealth) {
   EXPECT_EQ(Decode(bad, v), Status::kInvalidArgument);
 }
 
+TEST(Commands, InfoPageFault) {
+  ASSERT_TRUE(EncodesAsGolden("fault_page_request", Command::kGetInfo, 0x0107, 0,
+                              InfoPageRequest{.page = kInfoPageFault}));
+  // A BusFault (5): CFSR 0x8200 (BFARVALID bit 15, PRECISERR bit 9), BFAR 0x40026400, stacked
+  // PC 0x08010ABC and LR 0x08010A5B, as wire_vectors.py packs them.
+  const FaultInfoResponse fault{.recorded = 1,
+                                .exception = 5,
+                                .cfsr = 0x8200,
+                                .hfsr = 0,
+                                .mmfar = 0,
+                                .bfar = 0x40026400,
+                                .pc = 0x08010ABC,
+                                .lr = 0x08010A5B};
+  ASSERT_TRUE(
+      EncodesAsGolden("fault_info_response", Command::kGetInfo, 0x0107, kFlagResponse, fault));
+  const Report golden = GoldenReport("fault_info_response");
+  FaultInfoResponse v;
+  ASSERT_EQ(Decode(PayloadOf(golden), v), Status::kOk);
+  EXPECT_EQ(v.recorded, 1);
+  EXPECT_EQ(v.exception, 5);
+  EXPECT_EQ(v.cfsr, 0x8200u);
+  EXPECT_EQ(v.bfar, 0x40026400u);
+  EXPECT_EQ(v.pc, 0x08010ABCu);
+  EXPECT_EQ(v.lr, 0x08010A5Bu);
+  EXPECT_EQ(Decode(PayloadOf(golden).first(27), v), Status::kInvalidArgument);
+  std::array<std::uint8_t, 28> bad{2};  // recorded is 0 or 1
+  EXPECT_EQ(Decode(bad, v), Status::kInvalidArgument);
+  bad = {1, 3, 1, 0};  // reserved half-word set
+  EXPECT_EQ(Decode(bad, v), Status::kInvalidArgument);
+  // The health page names the fault cause (7) too; 8 is no cause.
+  HealthInfoResponse health;
+  std::array<std::uint8_t, 12> page{4, 7, 1, 0};
+  ASSERT_EQ(Decode(page, health), Status::kOk);
+  EXPECT_EQ(health.reset_cause, ResetCause::kFault);
+  page = {4, 8, 1, 0};
+  EXPECT_EQ(Decode(page, health), Status::kInvalidArgument);
+}
+
 TEST(Commands, SelfTest) {
   ASSERT_TRUE(EncodesAsGolden("self_test_request", Command::kSelfTest, 0x0106, 0,
                               SelfTestRequest{.check = 0}));

@@ -86,6 +86,7 @@ class FakeSystem final : public SystemControl {
   std::uint32_t PortCapabilities() const override { return capabilities; }
   wire::ResetCause LastResetCause() const override { return reset_cause; }
   wire::BrownOut BrownOutLevel() const override { return brown_out; }
+  wire::FaultInfoResponse LastFault() const override { return fault; }
   /// Answers self_test[check] and records the period it was asked at.
   SelfTestMeasurement MeasureSelfTest(wire::SelfTestCheck check,
                                       std::uint32_t sample_period_us) override {
@@ -102,6 +103,7 @@ class FakeSystem final : public SystemControl {
   std::uint32_t capabilities = wire::kCapDfu;
   wire::ResetCause reset_cause = wire::ResetCause::kPowerOn;
   wire::BrownOut brown_out = wire::BrownOut::kUnknown;
+  wire::FaultInfoResponse fault{};
   std::array<SelfTestMeasurement, wire::kSelfTestCheckCount> self_test{};
   std::uint32_t self_test_period_us = 0;
   int resets = 0;

@@ -13,7 +13,7 @@ namespace vibid::fw::stm32 {
 
 std::uint64_t SysTickClock::NowUs() const { return MicrosecondsSinceBoot(); }
 
-void BoardSystemControl::Init() { reset_cause_ = ReadAndClearResetCause(); }
+void BoardSystemControl::Init() { reset_cause_ = ReadAndClearResetCause(&fault_); }
 
 void BoardSystemControl::DrainReplies() const {
   if (dcd_ == nullptr) return;

@@ -46,6 +46,8 @@ class BoardSystemControl final : public SystemControl {
   wire::BoardId Board() const override { return wire::BoardId::kStm32f405; }
   std::uint32_t PortCapabilities() const override { return wire::kCapDfu; }
   wire::ResetCause LastResetCause() const override { return reset_cause_; }
+  /// The fault handler's record when the last reset was a fault (system.hpp).
+  wire::FaultInfoResponse LastFault() const override { return fault_; }
   /// The option bytes' brown-out level (FLASH_OPTCR BOR_LEV).
   wire::BrownOut BrownOutLevel() const override;
   /// Measures the crystal against the host's USB frames (DWT cycles over OTG_FS SOF flags) and
@@ -64,6 +66,7 @@ class BoardSystemControl final : public SystemControl {
   void DrainReplies() const;
 
   wire::ResetCause reset_cause_ = wire::ResetCause::kUnknown;
+  wire::FaultInfoResponse fault_{};
   const OtgFsDcd* dcd_ = nullptr;
   FrameSource* sampler_ = nullptr;
   ImageView image_{};

@@ -22,11 +22,37 @@ int ApplicationMain() __asm__("main");
 [[noreturn]] void ResetHandler();
 [[noreturn]] void ResetHandlerBody();
 
-void DefaultHandler() {
-  // An unexpected exception or interrupt. It may come before main has started the watchdog (a
-  // static constructor, the memory set-up), where waiting for the watchdog would hang for good:
-  // request a system reset at once (the host then reads reset cause "software").
-  vibid::fw::stm32::SystemReset();
+[[noreturn]] void FaultCapture(const std::uint32_t* stack, std::uint32_t ipsr);
+
+// Every fault (HardFault, MemManage, BusFault, UsageFault) and every exception or interrupt
+// without a handler. It may come before main has started the watchdog (a static constructor, the
+// memory set-up), where waiting for the watchdog would hang for good, so it resets at once, after
+// keeping a record the next boot reports (reset cause "fault", get-info's fault page). Naked: the
+// frame the exception entry stacked is found from EXC_RETURN bit 2 (0: MSP, 1: PSP; ARMv7-M ARM
+// B1.5.8), and MSP moves to the top of the stack before any C++ runs, so a fault from a stack
+// overflow does not fault again on the way to its record.
+[[gnu::naked]] void DefaultHandler() {
+  asm volatile(
+      "tst lr, #4\n"
+      "ite eq\n"
+      "mrseq r0, msp\n"
+      "mrsne r0, psp\n"
+      "mrs r1, ipsr\n"
+      "ldr r2, =_estack\n"
+      "msr msp, r2\n"
+      "b FaultCapture\n");
+}
+
+void FaultCapture(const std::uint32_t* stack, std::uint32_t ipsr) {
+  // The eight stacked words are read only where RAM is: SRAM 0x20000000-0x2001FFFF or CCM
+  // 0x10000000-0x1000FFFF (RM0090 §2.3); a stack pointer elsewhere (an overflow below CCM) gives
+  // no PC or LR rather than a second fault.
+  const auto sp = static_cast<std::uint32_t>(reinterpret_cast<std::uintptr_t>(stack));
+  constexpr std::uint32_t kFrameBytes = 32;
+  const bool in_sram = sp >= 0x20000000u && sp <= 0x20020000u - kFrameBytes;
+  const bool in_ccm = sp >= 0x10000000u && sp <= 0x10010000u - kFrameBytes;
+  const bool readable = (sp & 3u) == 0 && (in_sram || in_ccm);
+  vibid::fw::stm32::RecordFaultAndReset(readable ? stack : nullptr, ipsr & 0x1FFu);
 }
 
 #define VIBID_WEAK_HANDLER(name) void name() __attribute__((weak, alias("DefaultHandler")))

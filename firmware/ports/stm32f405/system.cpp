@@ -16,15 +16,84 @@ std::uint32_t g_ticks_per_us = 16;
 constexpr Address kSyscfgMemrmp = 0x40013800;
 constexpr std::uint32_t kMemrmpSystemFlash = 0x1;
 
+// The fault handler's record: survives the system reset it makes (.noinit, neither copied nor
+// zeroed by the startup code). A magic word and a check word over the rest tell it from the
+// RAM's power-on contents and from a record the reset interrupted half-written.
+struct KeptFault {
+  std::uint32_t magic;
+  std::uint32_t exception, cfsr, hfsr, mmfar, bfar, pc, lr;
+  std::uint32_t check;
+};
+constexpr std::uint32_t kFaultMagic = 0xFA417EC0;
+[[gnu::section(".noinit")]] volatile KeptFault g_fault;
+
+std::uint32_t FaultCheck(std::uint32_t exception, std::uint32_t cfsr, std::uint32_t hfsr,
+                         std::uint32_t mmfar, std::uint32_t bfar, std::uint32_t pc,
+                         std::uint32_t lr) {
+  // Rotations keep two swapped fields from checking alike.
+  std::uint32_t c = 0x5EED0000;
+  for (const std::uint32_t w : {exception, cfsr, hfsr, mmfar, bfar, pc, lr})
+    c = ((c << 5) | (c >> 27)) ^ w;
+  return ~c;
+}
+
+/// Takes the kept record, if intact, and invalidates it.
+bool TakeFault(wire::FaultInfoResponse& out) {
+  const bool intact =
+      g_fault.magic == kFaultMagic && g_fault.exception <= 0xFF &&
+      g_fault.check == FaultCheck(g_fault.exception, g_fault.cfsr, g_fault.hfsr, g_fault.mmfar,
+                                  g_fault.bfar, g_fault.pc, g_fault.lr);
+  if (intact) {
+    out = wire::FaultInfoResponse{.recorded = 1,
+                                  .exception = static_cast<std::uint8_t>(g_fault.exception),
+                                  .cfsr = g_fault.cfsr,
+                                  .hfsr = g_fault.hfsr,
+                                  .mmfar = g_fault.mmfar,
+                                  .bfar = g_fault.bfar,
+                                  .pc = g_fault.pc,
+                                  .lr = g_fault.lr};
+  }
+  g_fault.magic = 0;
+  return intact;
+}
+
 }  // namespace
 
-wire::ResetCause ReadAndClearResetCause() {
+void RecordFaultAndReset(const std::uint32_t* stacked_frame, std::uint32_t exception) {
+  // The exception entry pushed r0, r1, r2, r3, r12, lr, pc, xPSR (ARMv7-M ARM B1.5.6).
+  const std::uint32_t pc = stacked_frame != nullptr ? stacked_frame[6] : wire::kFaultNoStackedValue;
+  const std::uint32_t lr = stacked_frame != nullptr ? stacked_frame[5] : wire::kFaultNoStackedValue;
+  const std::uint32_t cfsr = Reg(scb::kCfsr);
+  const std::uint32_t hfsr = Reg(scb::kHfsr);
+  const std::uint32_t mmfar = Reg(scb::kMmfar);
+  const std::uint32_t bfar = Reg(scb::kBfar);
+  exception &= 0xFF;
+  g_fault.exception = exception;
+  g_fault.cfsr = cfsr;
+  g_fault.hfsr = hfsr;
+  g_fault.mmfar = mmfar;
+  g_fault.bfar = bfar;
+  g_fault.pc = pc;
+  g_fault.lr = lr;
+  g_fault.check = FaultCheck(exception, cfsr, hfsr, mmfar, bfar, pc, lr);
+  g_fault.magic = kFaultMagic;
+  SystemReset();
+}
+
+wire::ResetCause ReadAndClearResetCause(wire::FaultInfoResponse* fault) {
   using wire::ResetCause;
   const std::uint32_t csr = Reg(rcc::kCsr);
   Reg(rcc::kCsr) |= rcc::kCsrRmvf;
+  wire::FaultInfoResponse kept;
+  // Consumed whatever the cause: a record a power cycle or the watchdog overtook is stale.
+  const bool faulted = TakeFault(kept);
   if ((csr & (rcc::kCsrIwdgRstf | rcc::kCsrWwdgRstf)) != 0) return ResetCause::kWatchdog;
   if ((csr & rcc::kCsrLpwrRstf) != 0) return ResetCause::kLowPower;
-  if ((csr & rcc::kCsrSftRstf) != 0) return ResetCause::kSoftware;
+  if ((csr & rcc::kCsrSftRstf) != 0) {
+    if (!faulted) return ResetCause::kSoftware;
+    if (fault != nullptr) *fault = kept;
+    return ResetCause::kFault;
+  }
   // A power-on also sets PINRSTF and BORRSTF, so POR is checked before them.
   if ((csr & rcc::kCsrPorRstf) != 0) return ResetCause::kPowerOn;
   if ((csr & rcc::kCsrBorRstf) != 0) return ResetCause::kBrownOut;

@@ -5,15 +5,26 @@
 #include <array>
 #include <cstdint>
 
+#include "vibid/shared/wire/commands.hpp"
 #include "vibid/shared/wire/device.hpp"
 
 namespace vibid::fw::stm32 {
 
 /// Reads and clears the reset flags (RCC_CSR, RM0090 §7.3.21). When several are set the most
 /// specific wins: watchdogs, low-power and software resets first; then power-on (which also sets
-/// the pin and brown-out flags); then brown-out; then the reset pin.
+/// the pin and brown-out flags); then brown-out; then the reset pin. A software reset that
+/// RecordFaultAndReset made (its record in .noinit is intact) is kFault, and `fault` gets the
+/// record; the record is consumed either way, so the next commanded reset is kSoftware again.
 /// Call once, early at boot; a second call returns kUnknown.
-wire::ResetCause ReadAndClearResetCause();
+wire::ResetCause ReadAndClearResetCause(wire::FaultInfoResponse* fault = nullptr);
+
+/// The fault handler's body (startup.cpp's DefaultHandler, for every fault and every exception
+/// without a handler): keeps CFSR, HFSR, MMFAR, BFAR, the exception number and the stacked PC and
+/// LR of `stacked_frame` (r0, r1, r2, r3, r12, lr, pc, xPSR as the exception entry pushed them;
+/// nullptr when the stack pointer was not in RAM, then both read kFaultNoStackedValue) in a
+/// .noinit record, and resets the chip. It runs before the watchdog may have started, so it
+/// resets at once rather than waiting for it.
+[[noreturn]] void RecordFaultAndReset(const std::uint32_t* stacked_frame, std::uint32_t exception);
 /// Requests a system reset (AIRCR.SYSRESETREQ); does not return.
 [[noreturn]] void SystemReset();
 /// Arranges for the next boot to jump to the ROM bootloader (USB DFU on PA11/PA12) and resets:

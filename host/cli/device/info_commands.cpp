@@ -108,8 +108,9 @@ std::string InfoText(const device::Connection& c, const nlohmann::json& j) {
     o << "none (raw counts, no observer)";
   }
   o << "\nmodel         " << j["model_text"].get<std::string>();
-  o << "\nreset cause   " << j["reset_cause"].get<std::string>() << "\n"
-    << "brown-out     " << j["brown_out_level"].get<std::string>() << "\n";
+  o << "\nreset cause   " << j["reset_cause"].get<std::string>() << "\n";
+  if (!j["fault"].is_null()) o << "fault         " << j["fault"]["text"].get<std::string>() << "\n";
+  o << "brown-out     " << j["brown_out_level"].get<std::string>() << "\n";
   if (!j["clock_text"].is_null())
     o << "clock         " << j["clock_text"].get<std::string>() << "\n";
   o << "errors        " << i.overrun_count << " overruns, " << i.dropped_records
@@ -143,7 +144,13 @@ void Run(const InfoArgs& a) {
   WithDevice(*a.globals, [&](device::Connection& c) {
     const std::optional<wire::HealthInfoResponse> health = c.GetHealthInfo();
     const std::optional<wire::WatchInfoResponse> watch = c.GetWatchInfo();
-    nlohmann::json j = InfoJson(c, c.info(), c.GetClips(), c.GetSamplingInfo(), health, watch);
+    // The fault page only after a fault reset: older firmware never reports one.
+    const bool faulted = c.info().reset_cause == wire::ResetCause::kFault ||
+                         (health && health->reset_cause == wire::ResetCause::kFault);
+    const std::optional<wire::FaultInfoResponse> fault =
+        faulted ? c.GetFaultInfo() : std::optional<wire::FaultInfoResponse>{};
+    nlohmann::json j =
+        InfoJson(c, c.info(), c.GetClips(), c.GetSamplingInfo(), health, watch, fault);
     if (!a.json) j["model_text"] = device::WatchText(watch, c.info().sample_period_us);
     std::cout << (a.json ? j.dump(2) + "\n" : InfoText(c, j));
     if (const auto w =

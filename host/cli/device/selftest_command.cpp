@@ -1,6 +1,7 @@
 // vibid selftest: the board checks itself, one numbered check per request.
 #include <iomanip>
 #include <iostream>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -11,6 +12,7 @@
 #include "session.hpp"
 #include "vibid/device/error.hpp"
 #include "vibid/device/health_report.hpp"
+#include "vibid/device/info_json.hpp"
 
 namespace vibid::cli {
 namespace {
@@ -52,6 +54,7 @@ nlohmann::json CheckJson(const wire::SelfTestResponse& r) {
 
 void Run(const SelfTestArgs& a) {
   std::vector<wire::SelfTestResponse> checks;
+  std::optional<wire::FaultInfoResponse> fault;
   WithDevice(*a.globals, [&](device::Connection& c) {
     if (c.info().protocol_minor < 1) {
       throw device::DeviceError(
@@ -61,13 +64,21 @@ void Run(const SelfTestArgs& a) {
     // The first answer says how many checks the board has.
     checks.push_back(c.SelfTest(0));
     for (std::uint8_t k = 1; k < checks.front().check_count; ++k) checks.push_back(c.SelfTest(k));
+    // A reset-cause check that says "fault": where the board crashed, from its record.
+    for (const auto& r : checks) {
+      if (r.unit == wire::SelfTestUnit::kResetCause &&
+          r.mantissa == static_cast<std::int64_t>(wire::ResetCause::kFault))
+        fault = c.GetFaultInfo();
+    }
   });
   std::string failed;
   std::size_t failures = 0;
   if (a.json) {
     nlohmann::json list = nlohmann::json::array();
     for (const auto& r : checks) list.push_back(CheckJson(r));
-    std::cout << nlohmann::json{{"checks", list}}.dump(2) << "\n";
+    nlohmann::json fault_json = nullptr;
+    if (fault && fault->recorded != 0) fault_json = device::FaultJson(*fault);
+    std::cout << nlohmann::json{{"checks", list}, {"fault", fault_json}}.dump(2) << "\n";
   } else {
     std::cout << " #  check          value         unit     verdict\n";
   }
@@ -91,6 +102,8 @@ void Run(const SelfTestArgs& a) {
                 wire::SelfTestCheckName(r.check);
     }
   }
+  if (!a.json && fault && fault->recorded != 0)
+    std::cout << "fault record: " << device::FaultText(*fault) << "\n";
   if (!a.json) {
     std::cout << checks.size() << " checks: " << passed << " pass, " << failures << " fail, "
               << unavailable << " not measured on this board\n";

@@ -13,6 +13,12 @@ inline constexpr Address kVtor = 0xE000ED08;
 inline constexpr Address kAircr = 0xE000ED0C;
 inline constexpr Address kCpacr = 0xE000ED88;
 inline constexpr Address kDemcr = 0xE000EDFC;
+/// Fault status and address registers (ARMv7-M ARM B3.2.15-B3.2.18; Cortex-M4 generic user guide
+/// §4.3.10-4.3.13): CFSR (MemManage, BusFault, UsageFault status), HFSR, MMFAR, BFAR.
+inline constexpr Address kCfsr = 0xE000ED28;
+inline constexpr Address kHfsr = 0xE000ED2C;
+inline constexpr Address kMmfar = 0xE000ED34;
+inline constexpr Address kBfar = 0xE000ED38;
 /// AIRCR writes need the key in bits 31:16; SYSRESETREQ (bit 2) requests a system reset.
 inline constexpr std::uint32_t kAircrVectKey = 0x05FAU << 16;
 inline constexpr std::uint32_t kAircrSysResetReq = Bit(2);

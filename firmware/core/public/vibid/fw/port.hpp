@@ -107,6 +107,11 @@ class SystemControl {
   /// Why this boot happened; read once by the port at startup.
   virtual wire::ResetCause LastResetCause() const = 0;
 
+  /// What the fault handler recorded before the reset this boot came from (get-info page
+  /// kInfoPageFault), when LastResetCause() is kFault; otherwise, and on ports that keep no
+  /// record, all zero (recorded = 0).
+  virtual wire::FaultInfoResponse LastFault() const { return {}; }
+
   /// The brown-out reset level the hardware is set to; ports without one keep kUnknown.
   virtual wire::BrownOut BrownOutLevel() const { return wire::BrownOut::kUnknown; }
 

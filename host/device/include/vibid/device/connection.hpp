@@ -155,6 +155,9 @@ class Connection {
   /// get-info's watch page: the board's residual test ("model stale" flag, statistic, trip
   /// tick). Empty for a board of protocol 2.0 or firmware without the page.
   std::optional<wire::WatchInfoResponse> GetWatchInfo();
+  /// get-info's fault page: what the fault handler recorded before the reset (reset cause
+  /// fault); nullopt from a board of protocol 2.0 or firmware without the page.
+  std::optional<wire::FaultInfoResponse> GetFaultInfo();
   /// self-test of one check (protocol 2.1); throws the board's refusal (busy while sampling).
   wire::SelfTestResponse SelfTest(std::uint8_t check);
   wire::StatusResponse GetStatus();

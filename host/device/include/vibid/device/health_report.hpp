@@ -5,6 +5,7 @@
 
 #include <optional>
 #include <string>
+#include <vector>
 
 #include "vibid/shared/wire/commands.hpp"
 
@@ -18,8 +19,19 @@ const char* BrownOutName(wire::BrownOut level);
 /// when the board does not say (kUnknown).
 std::optional<std::string> BrownOutWarning(wire::BrownOut level);
 
-/// "power-on", "reset-pin", ..., "unknown".
+/// "power-on", "reset-pin", ..., "fault", "unknown".
 const char* ResetCauseName(wire::ResetCause cause);
+
+/// The exception a fault record names: "HardFault", "MemManage", "BusFault", "UsageFault",
+/// "NMI", "IRQ n without a handler".
+std::string FaultExceptionName(std::uint8_t exception);
+/// The fault status bits set in the record's CFSR and HFSR, by their ARMv7-M names
+/// ("PRECISERR", "BFARVALID", "FORCED", ...), CFSR's from bit 0 up, then HFSR's.
+std::vector<std::string> FaultStatusNames(const wire::FaultInfoResponse& fault);
+/// One line for vibid info and selftest: "BusFault at pc 0x08012345, lr 0x08011111; CFSR
+/// 0x00008200, HFSR 0x40000000, BFAR 0x40026400 (PRECISERR BFARVALID FORCED)". MMFAR and BFAR
+/// appear only when CFSR says they hold the address (MMARVALID, BFARVALID).
+std::string FaultText(const wire::FaultInfoResponse& fault);
 
 /// "crystal", "crystal-did-not-start", "crystal-wrong-frequency", "pll-did-not-lock" or
 /// "unknown" (a board that does not say, or a number this host does not know).

@@ -172,6 +172,30 @@ struct HealthInfoResponse {
   std::uint32_t sampler_recoveries = 0;
 };
 
+// get-info page kInfoPageFault: the record the fault handler kept across the reset it made
+// (reset cause kFault). Firmware without the page refuses it (invalid-argument, reason
+// unknown-info-page); a host asks for it only of a board whose reset cause is kFault.
+//   0 u8 recorded (1: the last reset was a fault and this is its record; 0: all zero)
+//   1 u8 exception (the IPSR exception number: 2 NMI, 3 HardFault, 4 MemManage, 5 BusFault,
+//        6 UsageFault, 16 + n interrupt n without a handler)
+//   2 u16 reserved (0)
+//   4 u32 cfsr   8 u32 hfsr   12 u32 mmfar   16 u32 bfar   (Cortex-M4 SCB fault registers)
+//   20 u32 pc    24 u32 lr    (stacked by the exception entry; 0xFFFFFFFF: the stack was not
+//                             readable, so nothing was taken from it)
+inline constexpr std::uint8_t kInfoPageFault = 4;
+inline constexpr std::uint32_t kFaultNoStackedValue = 0xFFFFFFFFu;
+struct FaultInfoResponse {
+  static constexpr std::size_t kBytes = 28;
+  std::uint8_t recorded = 0;
+  std::uint8_t exception = 0;
+  std::uint32_t cfsr = 0;
+  std::uint32_t hfsr = 0;
+  std::uint32_t mmfar = 0;
+  std::uint32_t bfar = 0;
+  std::uint32_t pc = 0;
+  std::uint32_t lr = 0;
+};
+
 // ---------------------------------------------------------------------------------------------
 // self-test (protocol 2.1): the board checks one of a fixed set of numbered checks per request;
 // the host asks for check 0, 1, ... up to the check_count the first answer states.
@@ -192,7 +216,7 @@ enum class SelfTestCheck : std::uint8_t {
   kCalSlotA = 13,  ///< SelfTestSlot of calibration slot A.
   kCalSlotB = 14,
   kBrownOut = 15,    ///< BrownOut level; passes at kLevel3.
-  kResetCause = 16,  ///< ResetCause; informational, passes.
+  kResetCause = 16,  ///< ResetCause; passes unless kFault (get-info page kInfoPageFault).
   kHsePpmLse = 17,   ///< Crystal error against the board's 32.768 kHz LSE crystal, ppm.
 };
 inline constexpr std::uint8_t kSelfTestCheckCount = 18;
@@ -465,6 +489,8 @@ void Encode(const SamplingInfoResponse& v, std::span<std::uint8_t> out);
 Status Decode(std::span<const std::uint8_t> in, SamplingInfoResponse& v);
 void Encode(const HealthInfoResponse& v, std::span<std::uint8_t> out);
 Status Decode(std::span<const std::uint8_t> in, HealthInfoResponse& v);
+void Encode(const FaultInfoResponse& v, std::span<std::uint8_t> out);
+Status Decode(std::span<const std::uint8_t> in, FaultInfoResponse& v);
 void Encode(const SelfTestRequest& v, std::span<std::uint8_t> out);
 Status Decode(std::span<const std::uint8_t> in, SelfTestRequest& v);
 void Encode(const SelfTestResponse& v, std::span<std::uint8_t> out);

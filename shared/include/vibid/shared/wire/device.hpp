@@ -64,6 +64,9 @@ enum class ResetCause : std::uint8_t {
   kWatchdog = 4,  ///< Independent or window watchdog.
   kBrownOut = 5,
   kLowPower = 6,
+  /// A fault or an unexpected exception reset the board; get-info page kInfoPageFault holds
+  /// what the fault handler recorded (firmware before it reported kSoftware).
+  kFault = 7,
 };
 
 /// The supply level below which the board holds itself in reset (get-info). STM32F405: the
