@@ -5,6 +5,7 @@
 #include <optional>
 
 #include "core_harness.hpp"
+#include "test_records.hpp"
 #include "vibid/fw/version.hpp"
 #include "vibid/shared/wire/byte_order.hpp"
 #include "vibid/shared/wire/refusal.hpp"
@@ -80,7 +81,7 @@ TEST(CoreCommands, GetInfoPageGivesTheSamplingInstants) {
   // 68-clock conversion later (124 clocks, 5904.8 ns) (board_profile.hpp).
   EXPECT_EQ(s.sample_instant_ns,
             (std::array<std::uint32_t, wire::kChannelCount>{2667, 5905, 2667, 2667, 2667, 2667}));
-  const std::array<std::uint8_t, 1> unknown{4};  // pages 1, 2 and 3 exist
+  const std::array<std::uint8_t, 1> unknown{5};  // pages 1 to 4 exist
   EXPECT_EQ(h.Request(Command::kGetInfo, unknown).status(), Status::kInvalidArgument);
   const std::array<std::uint8_t, 2> longer{1, 0};
   EXPECT_EQ(h.Request(Command::kGetInfo, longer).status(), Status::kInvalidArgument);
@@ -435,6 +436,25 @@ TEST(CoreCommands, ClipsAreCountedPerChannel) {
   ASSERT_EQ(wire::Decode(h.Request(Command::kGetClips).payload(), clips), Status::kOk);
   EXPECT_EQ(clips.ticks, 0u);
   EXPECT_EQ(clips.clipped, (std::array<std::uint32_t, wire::kChannelCount>{}));
+}
+
+// A unipolar load cell calibrated with its zero at code 0 rests there: code 0 is no clip on it,
+// the top code still is; a channel with its zero mid-scale still clips at 0.
+TEST(CoreCommands, AUnipolarChannelRestingAtCodeZeroDoesNotClip) {
+  CoreHarness h;
+  (void)h.core.Boot();
+  wire::CalibrationRecord record = testing::TestRecord(3);
+  record.channels[1].offset_counts = 0;  // force2: 0 N at code 0, 4095 counts of push
+  ASSERT_EQ(h.Upload(testing::Encoded(record)), Status::kOk);
+  ASSERT_EQ(h.Request(Command::kCalCommit).status(), Status::kOk);
+  ASSERT_EQ(h.StartAcquisition(Immediate()), Status::kOk);
+  for (int k = 0; k < 10; ++k) h.fake.frames.Emit({2048, 0, 0, 2048, 0, 0});
+  h.fake.frames.Emit({2048, 4095, 2048, 2048, 0, 0});
+  wire::ClipResponse clips;
+  ASSERT_EQ(wire::Decode(h.Request(Command::kGetClips).payload(), clips), Status::kOk);
+  EXPECT_EQ(clips.ticks, 11u);
+  // force2 only at its top code; acc1 (zero at 2048) on each of its ten samples at code 0.
+  EXPECT_EQ(clips.clipped, (std::array<std::uint32_t, wire::kChannelCount>{0, 1, 10, 0, 0, 0}));
 }
 
 // read-latest after an acquisition holds its last frame: frames the port delivers after the

@@ -10,9 +10,15 @@ namespace {
 /// signal may be anywhere beyond it.
 constexpr std::int32_t kAdcTopCode = (std::int32_t{1} << kBoardProfile.adc_bits) - 1;
 
-/// A converter code at or beyond either end of the ADC's range.
-constexpr bool AtConverterEnd(wire::Channel c, std::int32_t raw) {
-  return wire::KindOf(c) != wire::ChannelKind::kEncoder && (raw <= 0 || raw >= kAdcTopCode);
+/// A converter code at or beyond either end of the ADC's range. The bottom end is not a clip on
+/// a channel calibrated with its zero at code 0 or below (a unipolar amplifier idling at 0 V):
+/// code 0 is its rest, where it sits sample after sample, not a signal cut off.
+constexpr bool AtConverterEnd(wire::Channel c, std::int32_t raw,
+                              const wire::ChannelScaling& scaling) {
+  if (wire::KindOf(c) == wire::ChannelKind::kEncoder) return false;
+  if (raw >= kAdcTopCode) return true;
+  const bool zero_at_bottom = scaling.unit != wire::Unit::kCounts && scaling.offset_counts <= 0;
+  return raw <= 0 && !zero_at_bottom;
 }
 
 }  // namespace
@@ -86,7 +92,8 @@ void Sampler::OnFrame(const SampleFrame& frame) {
   for (std::size_t c = 0; c < wire::kChannelCount; ++c) {
     std::uint32_t saturated = 0;
     calibrated[c] = wire::ScaleChannel(frame.raw[c], scaling_[c], saturated);
-    if (saturated != 0 || AtConverterEnd(static_cast<wire::Channel>(c), frame.raw[c])) {
+    if (saturated != 0 ||
+        AtConverterEnd(static_cast<wire::Channel>(c), frame.raw[c], scaling_[c])) {
       clipped_channels = static_cast<std::uint8_t>(clipped_channels | (1u << c));
       ++clips;
     }

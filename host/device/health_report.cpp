@@ -127,7 +127,8 @@ std::optional<std::string> ClockText(const wire::HealthInfoResponse& health) {
     case wire::ClockState::kCrystalWrongFrequency:
       return std::string("internal oscillator, acquisitions refused: the crystal measured ") +
              measured +
-             ", more than 2 % from the one the image was built for; build it for this board "
+             ", outside 95-109 % of the one the image was built for (the internal oscillator's "
+             "spread over temperature); build it for this board "
              "(VIBID_BOARD or VIBID_HSE_HZ, docs/board.md)";
     case wire::ClockState::kCrystalDidNotStart:
       return "internal oscillator, acquisitions refused: the crystal did not start; check the "

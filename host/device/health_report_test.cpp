@@ -58,8 +58,9 @@ TEST(HealthReport, TheClockLineSaysWhyTheBoardIsOnItsInternalOscillator) {
   h.clock = wire::ClockState::kCrystalWrongFrequency;
   h.hse_measured_hz = 12000340;
   EXPECT_EQ(*ClockText(h),
-            "internal oscillator, acquisitions refused: the crystal measured 12.000 MHz, more "
-            "than 2 % from the one the image was built for; build it for this board "
+            "internal oscillator, acquisitions refused: the crystal measured 12.000 MHz, "
+            "outside 95-109 % of the one the image was built for (the internal oscillator's "
+            "spread over temperature); build it for this board "
             "(VIBID_BOARD or VIBID_HSE_HZ, docs/board.md)");
   h.clock = wire::ClockState::kCrystalDidNotStart;
   EXPECT_NE(ClockText(h)->find("did not start"), std::string::npos);
@@ -67,6 +68,34 @@ TEST(HealthReport, TheClockLineSaysWhyTheBoardIsOnItsInternalOscillator) {
   EXPECT_STREQ(ClockStateName(99), "unknown");
   EXPECT_STREQ(SelfTestReferenceName(wire::SelfTestReference::kLse), "lse");
   EXPECT_STREQ(SelfTestReferenceName(wire::SelfTestReference::kNone), "");
+}
+
+TEST(HealthReport, FaultRecordInWords) {
+  // A BusFault with a precise bad address (CFSR BFARVALID bit 15, PRECISERR bit 9) escalated to
+  // HardFault (HFSR FORCED bit 30): ARMv7-M ARM B3.2.15, B3.2.16.
+  const wire::FaultInfoResponse f{.recorded = 1,
+                                  .exception = 3,
+                                  .cfsr = 0x00008200,
+                                  .hfsr = 0x40000000,
+                                  .mmfar = 0xE000EDF8,
+                                  .bfar = 0x40026400,
+                                  .pc = 0x08012345,
+                                  .lr = 0x08011111};
+  EXPECT_EQ(FaultText(f),
+            "HardFault at pc 0x08012345, lr 0x08011111; CFSR 0x00008200, HFSR 0x40000000, BFAR "
+            "0x40026400 (PRECISERR BFARVALID FORCED)");
+  EXPECT_EQ(FaultStatusNames(f), (std::vector<std::string>{"PRECISERR", "BFARVALID", "FORCED"}));
+  // UsageFault divide by zero (CFSR bit 25), no address register valid; stack not readable.
+  const wire::FaultInfoResponse g{.recorded = 1,
+                                  .exception = 6,
+                                  .cfsr = 1u << 25,
+                                  .pc = wire::kFaultNoStackedValue,
+                                  .lr = wire::kFaultNoStackedValue};
+  EXPECT_EQ(FaultText(g),
+            "UsageFault with the stack outside RAM (no pc, lr); CFSR 0x02000000, HFSR 0x00000000 "
+            "(DIVBYZERO)");
+  EXPECT_EQ(FaultExceptionName(16 + 18), "IRQ 18 without a handler");
+  EXPECT_STREQ(ResetCauseName(wire::ResetCause::kFault), "fault");
 }
 
 }  // namespace vibid::device

@@ -59,12 +59,19 @@ bool MeasureHseAgainstHsi(std::uint32_t& hse_hz) {
   return true;
 }
 
+namespace {
+// A few bus cycles in practice; 10 000 polls at 16 MHz are well over a millisecond.
+constexpr std::uint32_t kDbpPolls = 10000;
+}  // namespace
+
 void StartLse() {
   // The backup domain is write-protected after reset: DBP opens it for LSEON (RM0090 §5.1.2,
   // §7.3.20), then it is closed again.
   EnableClock(rcc::kApb1enr, rcc::kApb1Pwr);
   Reg(pwr::kCr) |= pwr::kCrDbp;
-  Reg(rcc::kBdcr) |= rcc::kBdcrLseOn;
+  // The backup domain takes the write only once DBP reads back set (ST's HAL polls it, bounded,
+  // before touching RCC_BDCR): LSEON written earlier would be ignored and the LSE never start.
+  if (WaitFor(pwr::kCr, pwr::kCrDbp, pwr::kCrDbp, kDbpPolls)) Reg(rcc::kBdcr) |= rcc::kBdcrLseOn;
   Reg(pwr::kCr) &= ~pwr::kCrDbp;
 }
 

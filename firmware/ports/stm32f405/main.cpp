@@ -97,11 +97,17 @@ int main() {
   // +-0.25 %: a host may not take it), so the board can enumerate and get-info say why it
   // refuses to acquire. A PLL that did not lock at all leaves it off the bus; the LED blinks
   // either way.
-  g_dcd.Configure(OtgFsConfig{.ahb_hz = clocks.sysclk_hz, .vbus_sensing = BoardSensesVbus()});
+  // On the HSI the turnaround is set for its slowest (-8 %, 14.72 MHz: TRDT 0xF).
+  const std::uint32_t ahb_min_hz = clocks.source == ClockSource::kPllFromHse
+                                       ? clocks.sysclk_hz
+                                       : kHsiHz / 1000 * kHsiSlowestPermille;
+  g_dcd.Configure(OtgFsConfig{
+      .ahb_hz = clocks.sysclk_hz, .ahb_min_hz = ahb_min_hz, .vbus_sensing = BoardSensesVbus()});
   if (clocks.usb_clocked) (void)device.Start();
   const bool on_crystal = clocks.source == ClockSource::kPllFromHse;
 
   std::uint32_t bus_resets = 0;
+  bool was_suspended = false;
   for (;;) {
     device.Task();
     if (device.counters().bus_resets != bus_resets) {
@@ -109,7 +115,14 @@ int main() {
       core.OnLinkReset();
     }
     core.Poll();
-    if (!on_crystal) SetBoardLed(StatusLedLit(false, MicrosecondsSinceBoot()));
+    // A suspended bus leaves the device 2.5 mA from VBUS (USB 2.0 §7.2.3): the status LED, a few
+    // mA of it, goes dark until the host resumes (the OTG driver stops the PHY clock).
+    if (device.suspended()) {
+      SetBoardLed(false);
+    } else if (!on_crystal || device.suspended() != was_suspended) {
+      SetBoardLed(StatusLedLit(on_crystal, MicrosecondsSinceBoot()));
+    }
+    was_suspended = device.suspended();
     KickWatchdog();
     WaitForInterrupt();
   }

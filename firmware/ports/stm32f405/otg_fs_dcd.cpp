@@ -63,7 +63,9 @@ Status OtgFsDcd::Init(usb::DcdEvents& events) {
   // 16 MHz); the mode change takes effect after 25 ms, timed by the DWT cycle counter (a loop's
   // duration depends on the flash wait states and the caches).
   Modify(otg::kGusbcfg, otg::kGusbcfgFdmod | otg::kGusbcfgTrdtMask,
-         otg::kGusbcfgFdmod | Field(TurnaroundFor(config_.ahb_hz), otg::kGusbcfgTrdtPos));
+         otg::kGusbcfgFdmod |
+             Field(TurnaroundFor(config_.ahb_min_hz != 0 ? config_.ahb_min_hz : config_.ahb_hz),
+                   otg::kGusbcfgTrdtPos));
   if (!WaitCycles(config_.ahb_hz / 1000 * kForcedModeMs)) return Status::kUnavailable;
   // The mode switch is confirmed, not assumed: CMOD reads 0 in device mode.
   if ((Reg(otg::kGintsts) & otg::kIntCmod) != 0) return Status::kUnavailable;
@@ -273,15 +275,24 @@ void OtgFsDcd::HandleInterrupt() {
   if ((status & otg::kIntIepint) != 0) HandleInEndpoints();
   if ((status & otg::kIntUsbsusp) != 0) {
     Reg(otg::kGintsts) = otg::kIntUsbsusp;
+    // 3 ms of idle bus: the host suspended it (USB 2.0 §7.1.7.6), and the device may draw only
+    // 2.5 mA from VBUS (§7.2.3). The PHY clock stops once DSTS confirms it (RM0090's device
+    // suspend steps: SUSPSTS, then PCGCCTL STPPCLK, as ST's HAL does with low-power enabled); the
+    // resume or a bus reset is still detected and raises WKUPINT.
+    if ((Reg(otg::kDsts) & otg::kDstsSuspsts) != 0) Reg(otg::kPcgcctl) |= otg::kPcgcctlStppclk;
     events_->OnSuspend();
   }
   if ((status & otg::kIntWkupint) != 0) {
+    // The PHY clock runs again before anything else touches the core.
+    Reg(otg::kPcgcctl) &= ~otg::kPcgcctlStppclk;
     Reg(otg::kGintsts) = otg::kIntWkupint;
     events_->OnResume();
   }
 }
 
 void OtgFsDcd::HandleBusReset() {
+  // A reset out of suspend: the PHY clock must run (RM0090: STPPCLK cleared on any exit).
+  Reg(otg::kPcgcctl) &= ~otg::kPcgcctlStppclk;
   Modify(otg::kDcfg, otg::kDcfgDadMask, 0);
   for (unsigned n = 0; n < kEndpoints; ++n) {
     Reg(otg::Doepctl(n)) |= otg::kEpctlSnak;

@@ -18,6 +18,10 @@ struct OtgFsConfig {
   /// HCLK: 168 MHz from the crystal, or 16 MHz on the HSI fallback (the OTG core needs at least
   /// 14.2 MHz). It sets the turnaround time and the forced-mode wait.
   std::uint32_t ahb_hz = 168000000;
+  /// The slowest the AHB clock may run (0: ahb_hz). On the HSI fallback the 16 MHz RC oscillator
+  /// may run 8 % slow (DS8626), and a TRDT chosen for 16 MHz (0xD) is too short below it
+  /// (0xE from 15 MHz, 0xF from 14.2 MHz): TRDT is taken for this clock, the waits for ahb_hz.
+  std::uint32_t ahb_min_hz = 0;
   /// VBUS wired to PA9 (pyboard): the core's D+ pull-up then follows VBUS, so a board powered
   /// from elsewhere with the cable out does not show a device to nobody. Otherwise sensing off.
   bool vbus_sensing = false;

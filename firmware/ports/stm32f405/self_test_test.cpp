@@ -141,15 +141,35 @@ TEST_F(LseCheckTest, NoLseOrNotReadyIsUnavailable) {
 }
 
 TEST_F(LseCheckTest, StartLseOpensTheBackupDomainOnlyForLseOn) {
+  // PWR_CR DBP reads back set only after a few reads (the write reaching the backup domain).
+  int dbp_reads = 0;
+  regs().OnRead(pwr::kCr, [&dbp_reads](std::uint32_t held) {
+    return (held & Bit(8)) != 0 && ++dbp_reads < 3 ? held & ~Bit(8) : held;
+  });
   StartLse();
-  // PWR clock (APB1ENR bit 28), PWR_CR DBP (bit 8) set, RCC_BDCR LSEON (bit 0), DBP cleared.
+  // PWR clock (APB1ENR bit 28), PWR_CR DBP (bit 8) set and read back set, RCC_BDCR LSEON
+  // (bit 0), DBP cleared (RM0090 §5.1.2, §7.3.20).
   const std::size_t dbp = regs().FindWriteWithBits(pwr::kCr, Bit(8));
   const std::size_t lse = regs().FindWriteWithBits(rcc::kBdcr, Bit(0));
   ASSERT_NE(dbp, kNone);
   ASSERT_NE(lse, kNone);
   EXPECT_LT(regs().FindWriteWithBits(rcc::kApb1enr, Bit(28)), dbp);
   EXPECT_LT(dbp, lse);
+  std::size_t set_read = kNone;
+  for (std::size_t i = dbp + 1; i < lse; ++i) {
+    const Access& a = regs().log()[i];
+    if (a.kind == Access::Kind::kRead && a.address == pwr::kCr && (a.value & Bit(8)) != 0)
+      set_read = i;
+  }
+  EXPECT_NE(set_read, kNone);  // LSEON only after DBP read back set
+  EXPECT_GE(dbp_reads, 3);
   EXPECT_EQ(regs().Peek(pwr::kCr) & Bit(8), 0U);
+  // A DBP that never reads back set: LSEON is not written (the self-test's LSE check then finds
+  // no LSE ready and answers unavailable), DBP is cleared.
+  regs().Clear();
+  regs().OnRead(pwr::kCr, [](std::uint32_t held) { return held & ~Bit(8); });
+  StartLse();
+  EXPECT_EQ(regs().CountWrites(rcc::kBdcr), 0U);
 }
 
 TEST_F(SelfTestPortTest, NoFramesIsUnavailableNotAPass) {

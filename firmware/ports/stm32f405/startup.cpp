@@ -55,7 +55,7 @@ void FaultCapture(const std::uint32_t* stack, std::uint32_t ipsr) {
   vibid::fw::stm32::RecordFaultAndReset(readable ? stack : nullptr, ipsr & 0x1FFu);
 }
 
-#define VIBID_WEAK_HANDLER(name) void name() __attribute__((weak, alias("DefaultHandler")))
+#define VIBID_WEAK_HANDLER(name) void name() noexcept __attribute__((weak, alias("DefaultHandler")))
 VIBID_WEAK_HANDLER(NMI_Handler);
 VIBID_WEAK_HANDLER(HardFault_Handler);
 VIBID_WEAK_HANDLER(MemManage_Handler);

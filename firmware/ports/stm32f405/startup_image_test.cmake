@@ -1,7 +1,7 @@
 # ctest driver for the start-up code as the compiler left it in an image (what the fake register
 # file cannot show): the reset handler's first instructions load MSP from the linker's _estack,
-# before any code that could use a stack, and the default exception handler requests a system
-# reset instead of spinning until a watchdog that may not run yet. Invoked with cmake -P and:
+# before any code that could use a stack, and the default exception handler keeps a fault record
+# and requests a system reset instead of spinning until a watchdog that may not run yet. Invoked with cmake -P and:
 #   ELF       the image
 #   OBJDUMP   arm-none-eabi-objdump
 #   NM        arm-none-eabi-nm
@@ -40,8 +40,29 @@ if(NOT reset MATCHES "\\.word\t0x0*${estack_digits}")
   message(FATAL_ERROR "ResetHandler's literal pool does not hold _estack (0x${estack}):\n${reset}")
 endif()
 
+# The default exception handler (every fault, every exception without a handler): reads the
+# exception number, moves MSP back to _estack before any C++ runs (a fault from a stack overflow
+# must not fault again), and goes to FaultCapture, which keeps the fault record
+# (RecordFaultAndReset) and requests a system reset.
 function_body(DefaultHandler fault)
-if(NOT fault MATCHES "SystemReset")
-  message(FATAL_ERROR "DefaultHandler does not request a system reset:\n${fault}")
+if(NOT fault MATCHES "mrs\tr1, IPSR" OR NOT fault MATCHES "msr\tMSP, r2" OR
+   NOT fault MATCHES "<FaultCapture>" OR NOT fault MATCHES "\\.word\t0x0*${estack_digits}")
+  message(FATAL_ERROR "DefaultHandler does not take IPSR, move MSP to _estack (0x${estack}) and "
+                      "branch to FaultCapture:\n${fault}")
 endif()
-message(STATUS "${ELF}: MSP = _estack (0x${estack}) first in ResetHandler; DefaultHandler resets")
+function_body(FaultCapture capture)
+if(NOT capture MATCHES "RecordFaultAndReset")
+  message(FATAL_ERROR "FaultCapture does not keep the fault record:\n${capture}")
+endif()
+string(FIND "${listing}" "RecordFaultAndResetEPKmm>:\n" record_at)
+if(record_at LESS 0)
+  message(FATAL_ERROR "${ELF}: no function RecordFaultAndReset")
+endif()
+string(SUBSTRING "${listing}" ${record_at} -1 record_rest)
+string(FIND "${record_rest}" "\n\n" record_end)
+string(SUBSTRING "${record_rest}" 0 ${record_end} record)
+if(NOT record MATCHES "SystemReset")
+  message(FATAL_ERROR "RecordFaultAndReset does not request a system reset:\n${record}")
+endif()
+message(STATUS "${ELF}: MSP = _estack (0x${estack}) first in ResetHandler; DefaultHandler records "
+               "the fault on a fresh stack and resets")

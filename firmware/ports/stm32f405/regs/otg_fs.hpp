@@ -66,6 +66,10 @@ inline constexpr Address kDaint = kBase + 0x818;
 inline constexpr Address kDaintmsk = kBase + 0x81C;
 inline constexpr Address kDiepempmsk = kBase + 0x834;
 inline constexpr Address kPcgcctl = kBase + 0xE00;
+/// PCGCCTL STPPCLK (0): stops the PHY clock while the bus is suspended (RM0090 §34.16.5, the
+/// device-mode suspend steps of §34.13); DSTS SUSPSTS (0): the core sees the bus suspended.
+inline constexpr std::uint32_t kPcgcctlStppclk = Bit(0);
+inline constexpr std::uint32_t kDstsSuspsts = Bit(0);
 
 inline constexpr std::uint32_t kDcfgDspdFull = 0x3;
 inline constexpr unsigned kDcfgDadPos = 4;
