@@ -28,9 +28,21 @@ void FaultWith(const std::uint32_t* frame, std::uint32_t exception) {
   r.Poke(0xE000ED2C, 0x40000000);
   r.Poke(0xE000ED34, 0);
   r.Poke(0xE000ED38, 0x40026400);
+  const std::size_t before = r.log().size();
   EXPECT_TRUE(FakeRegisters::RunUntilHalt([&] { RecordFaultAndReset(frame, exception); }));
-  // The record is kept before the reset is asked for (AIRCR SYSRESETREQ with its key).
+  // The record is kept before the reset is asked for (AIRCR SYSRESETREQ with its key): CFSR,
+  // HFSR, MMFAR and BFAR are read, each once, before the AIRCR write.
   EXPECT_EQ(r.WritesTo(0xE000ED0C), std::vector<std::uint32_t>{0x05FA0004U});
+  const std::size_t reset = r.FindWrite(0xE000ED0C, 0x05FA0004U, before);
+  ASSERT_NE(reset, FakeRegisters::kNone);
+  for (const Address fault_register : {0xE000ED28U, 0xE000ED2CU, 0xE000ED34U, 0xE000ED38U}) {
+    std::size_t reads = 0;
+    for (std::size_t i = before; i < reset; ++i) {
+      const Access& a = r.log()[i];
+      reads += a.kind == Access::Kind::kRead && a.address == fault_register;
+    }
+    EXPECT_EQ(reads, 1U) << std::hex << fault_register;
+  }
 }
 
 TEST_F(FaultRecordTest, AFaultResetIsReportedWithItsRecord) {

@@ -244,8 +244,16 @@ Status Sampler::Start(std::uint32_t sample_period_us, FrameSink& sink) {
   // Every start re-establishes the interleave (a self-test's VREFINT conversion switches ADC1 to
   // independent mode and back; a previous run may have stopped with a rotated buffer), and the
   // converters get their t_STAB before the first edge.
+  // The converters' and the stream's interrupts stay off meanwhile, so no recovery runs into
+  // the middle of it, and whatever they raised before is dropped.
+  nvic::Disable(irq::kDma2Stream0);
+  nvic::Disable(irq::kAdc);
   ArmConverters();
   (void)WaitCycles(sysclk_hz_ / 1000000 * kStabilisationUs);
+  for (unsigned irq_number : {irq::kDma2Stream0, irq::kAdc}) {
+    nvic::ClearPending(irq_number);
+    nvic::Enable(irq_number);
+  }
   TrackEncoders();
   encoder_origin_ = {tracked_[0], tracked_[1]};
   Reg(tim::kTim5 + tim::kCnt) = 0;

@@ -331,6 +331,16 @@ TEST_F(SamplerTest, StartReArmsTheInterleaveWhateverTheLastUseLeft) {
                            stream_on, ovr, triple, slave3, slave2, master, first_edge})
     EXPECT_NE(step, kNone);
   EXPECT_LT(std::max({off1, off2, off3}), independent);
+  // The ADC (IRQ 18) and DMA2 stream 0 (IRQ 56) interrupts are off through it (NVIC ICER0 bit
+  // 18, ICER1 bit 24) and on again after, their pending bits cleared first (ICPR0, ICPR1).
+  const std::size_t adc_irq_off = regs().FindWrite(0xE000E180, Bit(18), before);
+  const std::size_t dma_irq_off = regs().FindWrite(0xE000E184, Bit(24), before);
+  const std::size_t adc_irq_on = regs().FindWrite(0xE000E100, Bit(18), master);
+  const std::size_t dma_irq_on = regs().FindWrite(0xE000E104, Bit(24), master);
+  EXPECT_LT(std::max(adc_irq_off, dma_irq_off), off1);
+  EXPECT_LT(regs().FindWrite(0xE000E280, Bit(18), master), adc_irq_on);
+  EXPECT_LT(regs().FindWrite(0xE000E284, Bit(24), master), dma_irq_on);
+  EXPECT_LT(std::max(adc_irq_on, dma_irq_on), first_edge);
   EXPECT_GE(cycles, 504U);
   EXPECT_EQ(regs().Peek(adc::kCommonCcr), 0x16016U);
   EXPECT_EQ(regs().Peek(adc::kAdc1 + adc::kSqr1), 1U << 20);

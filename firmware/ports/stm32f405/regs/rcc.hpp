@@ -148,7 +148,7 @@ inline constexpr std::uint32_t kOptcrBorLevMask = 0x3U << 2;
 inline constexpr std::uint32_t kOptcrOptlock = Bit(0);
 inline constexpr std::uint32_t kOptcrOptstrt = Bit(1);
 /// FLASH_OPTKEYR (0x08) and its unlock keys (RM0090 §3.7.2, "Unlocking the option control
-/// register"; §3.9.3).
+/// register").
 inline constexpr Address kOptkeyr = kBase + 0x08;
 inline constexpr std::uint32_t kOptKey1 = 0x08192A3B;
 inline constexpr std::uint32_t kOptKey2 = 0x4C5D6E7F;
