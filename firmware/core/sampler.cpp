@@ -1,5 +1,7 @@
 #include "vibid/fw/sampler.hpp"
 
+#include <climits>
+
 #include "vibid/shared/board_profile.hpp"
 #include "vibid/shared/wire/byte_order.hpp"
 
@@ -10,18 +12,26 @@ namespace {
 /// signal may be anywhere beyond it.
 constexpr std::int32_t kAdcTopCode = (std::int32_t{1} << kBoardProfile.adc_bits) - 1;
 
-/// A converter code at or beyond either end of the ADC's range. The bottom end is not a clip on
-/// a channel calibrated with its zero at code 0 or below (a unipolar amplifier idling at 0 V):
-/// code 0 is its rest, where it sits sample after sample, not a signal cut off.
-constexpr bool AtConverterEnd(wire::Channel c, std::int32_t raw,
-                              const wire::ChannelScaling& scaling) {
-  if (wire::KindOf(c) == wire::ChannelKind::kEncoder) return false;
-  if (raw >= kAdcTopCode) return true;
-  const bool zero_at_bottom = scaling.unit != wire::Unit::kCounts && scaling.offset_counts <= 0;
-  return raw <= 0 && !zero_at_bottom;
-}
-
 }  // namespace
+
+void Sampler::SetScaling(const std::array<wire::ChannelScaling, wire::kChannelCount>& scaling) {
+  scaling_ = scaling;
+  for (std::size_t c = 0; c < wire::kChannelCount; ++c) {
+    if (wire::KindOf(static_cast<wire::Channel>(c)) == wire::ChannelKind::kEncoder) {
+      // An encoder count has no range of its own: only its calibration saturates.
+      lowest_unclipped_[c] = INT32_MIN;
+      highest_unclipped_[c] = INT32_MAX;
+      continue;
+    }
+    // A converter code at either end of the ADC's range is a clip, except the bottom end on a
+    // channel calibrated with its zero at code 0 or below (a unipolar amplifier idling at 0 V):
+    // code 0 is its rest, where it sits sample after sample, not a signal cut off.
+    const bool zero_at_bottom =
+        scaling[c].unit != wire::Unit::kCounts && scaling[c].offset_counts <= 0;
+    lowest_unclipped_[c] = zero_at_bottom ? 0 : 1;
+    highest_unclipped_[c] = kAdcTopCode - 1;
+  }
+}
 
 Status Sampler::Arm(const wire::AcqConfigureRequest& config) {
   layout_ = wire::LogLayout{config.channel_mask, config.flags};
@@ -92,8 +102,8 @@ void Sampler::OnFrame(const SampleFrame& frame) {
   for (std::size_t c = 0; c < wire::kChannelCount; ++c) {
     std::uint32_t saturated = 0;
     calibrated[c] = wire::ScaleChannel(frame.raw[c], scaling_[c], saturated);
-    if (saturated != 0 ||
-        AtConverterEnd(static_cast<wire::Channel>(c), frame.raw[c], scaling_[c])) {
+    if (saturated != 0 || frame.raw[c] < lowest_unclipped_[c] ||
+        frame.raw[c] > highest_unclipped_[c]) {
       clipped_channels = static_cast<std::uint8_t>(clipped_channels | (1u << c));
       ++clips;
     }

@@ -34,12 +34,11 @@ class Sampler final : public FrameSink {
   /// over every supported factor D (core_watch_test checks it).
   static constexpr std::uint32_t kMaxWatchLag = 16;
 
-  Sampler(LogRing& ring, DobStage& dob) : ring_(ring), dob_(dob) {}
+  Sampler(LogRing& ring, DobStage& dob) : ring_(ring), dob_(dob) { SetScaling(scaling_); }
 
-  /// Calibration applied from the next frame on. Main loop, sampling stopped.
-  void SetScaling(const std::array<wire::ChannelScaling, wire::kChannelCount>& scaling) {
-    scaling_ = scaling;
-  }
+  /// Calibration applied from the next frame on, with each channel's clip limits. Main loop,
+  /// sampling stopped.
+  void SetScaling(const std::array<wire::ChannelScaling, wire::kChannelCount>& scaling);
 
   /// Prepares an acquisition with an already validated configuration: resets the log, the
   /// counters and the DOB state; an immediate trigger fires at once. The DOB runs in this
@@ -91,6 +90,10 @@ class Sampler final : public FrameSink {
   LogRing& ring_;
   DobStage& dob_;
   std::array<wire::ChannelScaling, wire::kChannelCount> scaling_{};
+  // The codes a sample may take without counting as a clip, per channel, from SetScaling: a
+  // decision per calibration, one pair of compares per sample.
+  std::array<std::int32_t, wire::kChannelCount> lowest_unclipped_{};
+  std::array<std::int32_t, wire::kChannelCount> highest_unclipped_{};
   wire::AcqConfigureRequest config_{};
   wire::LogLayout layout_{};
   fixed::Decimator decimator_;
