@@ -697,7 +697,8 @@ TEST_F(HostileNeighbourTest, TheDirectoryIsResolvedOnceAndFoldersOthersMayWriteA
   }
   // The same folder with the sticky bit (as /tmp): others cannot move the bench's directory.
   fs::permissions(open, fs::perms::all | fs::perms::sticky_bit);
-  EXPECT_EQ(PrepareDirectory((open / "bench2").string()), fs::canonical(open / "bench2").string());
+  const std::string taken = PrepareDirectory((open / "bench2").string());
+  EXPECT_EQ(taken, fs::canonical(open / "bench2").string());
 }
 
 // An output (a design, an identified chain) never replaces a recording or a saved test's file.
