@@ -177,7 +177,7 @@ nlohmann::json BenchBoard::Budget(const nlohmann::json& body) {
   return j;
 }
 
-nlohmann::json BenchBoard::Start(const nlohmann::json& body) {
+nlohmann::json BenchBoard::Start(const nlohmann::json& body, const std::string& view) {
   const AcquisitionAsk ask = ParseAcquisitionAsk(body);
   const wire::AcqConfigureRequest cfg = ConfigFor(ask, c_.info());
   // The preflight `vibid acquire` makes: refuse before the board starts if the log would overflow.
@@ -216,6 +216,7 @@ nlohmann::json BenchBoard::Start(const nlohmann::json& body) {
               {"sample_period_us", cfg.sample_period_us},
               {"log_rate_hz", budget.log_rate_hz},
               {"journal", out_dir_ + "/" + name + ".partial.csv"}};
+    if (!view.empty()) state_["view"] = view;
   }
   hub_.ResetHistory();
   PublishState();
@@ -435,7 +436,18 @@ void BenchBoard::UpdateFit(const device::LogTable& table) {
   hub_.Publish("fit", j.dump());
 }
 
-nlohmann::json BenchBoard::Stop() {
+nlohmann::json BenchBoard::Stop(const std::string& view) {
+  if (!view.empty()) {
+    // A view's Stop ends that view's run only: the board's other work is not its to end.
+    std::lock_guard s(state_mutex_);
+    if (!running_ || !state_.value("running", false)) return state_;
+    const std::string runs = state_.value("view", std::string());
+    if (runs != view) {
+      throw Busy("no " + view + " runs: the board runs " +
+                 (runs.empty() ? std::string("an acquisition") : "a " + runs) +
+                 " (stop it from its own view, or with the page's Stop)");
+    }
+  }
   stop_ = true;
   return State();
 }

@@ -32,8 +32,14 @@ std::string PrepareDirectory(const std::string& directory) {
   Require(!directory.empty(), "the bench's directory (-o) is empty");
   if (::mkdir(directory.c_str(), 0700) != 0 && errno != EEXIST)
     throw InputError("cannot create the bench's directory '" + directory + "': " + Why());
+  // Resolved once, here: the board, the routes and every file after use this path, so a link
+  // on the way that someone re-points later leads nowhere new.
+  char* resolved = ::realpath(directory.c_str(), nullptr);
+  if (resolved == nullptr) throw InputError("the bench's directory '" + directory + "': " + Why());
+  const std::string path(resolved);
+  std::free(resolved);
   struct stat st {};
-  if (::stat(directory.c_str(), &st) != 0)
+  if (::stat(path.c_str(), &st) != 0)
     throw InputError("the bench's directory '" + directory + "': " + Why());
   Require(S_ISDIR(st.st_mode), "the bench's directory '" + directory + "' is not a directory");
   Require(st.st_uid == ::geteuid(),
@@ -44,10 +50,26 @@ std::string PrepareDirectory(const std::string& directory) {
           "the bench's directory '" + directory +
               "' is writable by every user, who could plant links in it: choose a private "
               "one (-o; the bench creates a missing one with mode 0700)");
-  char* resolved = ::realpath(directory.c_str(), nullptr);
-  if (resolved == nullptr) throw InputError("the bench's directory '" + directory + "': " + Why());
-  std::string path(resolved);
-  std::free(resolved);
+  Require((st.st_mode & S_IWGRP) == 0,
+          "the bench's directory '" + directory +
+              "' is writable by its group, whose members could plant links in it: choose a "
+              "private one (-o; the bench creates a missing one with mode 0700) or chmod g-w it");
+  // The folders above it: one that another user may write into (without the sticky bit that
+  // keeps others' entries, as /tmp has) or that another user owns could have the directory
+  // renamed away and another put in its place.
+  for (std::filesystem::path up = std::filesystem::path(path).parent_path();;
+       up = up.parent_path()) {
+    struct stat a {};
+    if (::stat(up.c_str(), &a) != 0) throw InputError("'" + up.string() + "': " + Why());
+    const bool others_write = (a.st_mode & (S_IWGRP | S_IWOTH)) != 0 && (a.st_mode & S_ISVTX) == 0;
+    const bool others_own = a.st_uid != 0 && a.st_uid != ::geteuid();
+    Require(!others_write && !others_own,
+            "the bench's directory '" + path + "' lies in '" + up.string() + "', which " +
+                (others_own ? "another user owns" : "other users may write into") +
+                ": they could put another directory in its place; choose one under folders "
+                "only you (or root) can change (-o)");
+    if (up == up.root_path() || up.empty()) break;
+  }
   return path;
 }
 
@@ -81,6 +103,18 @@ std::string FileIn(const std::string& directory, const nlohmann::json& name,
     start = end + 1;
   }
   return directory + "/" + s;
+}
+
+std::string OutputIn(const std::string& directory, const nlohmann::json& name,
+                     const std::string& what) {
+  const std::string path = FileIn(directory, name, what);
+  const std::string s = name.get<std::string>();
+  const bool json = s.size() > 5 && s.compare(s.size() - 5, 5, ".json") == 0;
+  Require(json && s.find('/') == std::string::npos,
+          "'" + what + "': '" + s +
+              "' is not a name the bench writes a result to: a NAME.json in the bench's "
+              "directory itself (recordings, journals and saved tests are never replaced)");
+  return path;
 }
 
 NewFile CreateNewFile(const std::string& directory, const std::string& stem,

@@ -10,7 +10,8 @@ keyboard and hit 3 with the buttons, the test is saved; the FRF is drawn over th
 were identified in, every line on request;
 then `vibid modes --json` and `vibid frf-estimate` with their defaults on the saved files with the
 saved hit list give exactly the modes the page holds, the warnings it shows and the FRF file the
-test saved. A second test, a hit rejected while it runs: the choice is on disk at once, and
+test saved. A second test shows at once as the new one (its settings, none of the first test's
+hits or modes, no error); a hit rejected while it runs: the choice is on disk at once, and
 Ctrl-C leaves the test whole (recording, hits, FRF: frf-estimate gives the same file). Prints the
 hit-to-screen latency (the completing block's arrival on the host to the FRF drawn in the
 browser).
@@ -345,7 +346,22 @@ def interrupted_test(driver, bench, work):
     hammer_tab(driver)
     fill(driver, dict(SETTINGS, **{"hm-seconds": "60"}))
     old = js(driver, "return hammer.test.name")
+    old_hits = len(hits(driver))
     driver.find_element(By.ID, "hm-start").click()
+    # The page shows the new test at once (Start's answer): its settings in the form, none of
+    # the first test's hits, modes or selected hit beside them, and no error (a hit is judged
+    # when the next arrives, 1.5 s apart: the new test has none yet).
+    wait(driver, lambda d: js(d, "return hammer.test.name") != old, "the second test on screen")
+    shown = js(driver, "return [hammer.snap.hits.length, document.getElementById('hm-modes')"
+                       ".dataset.modes, document.getElementById('hm-hit-title').textContent,"
+                       " document.getElementById('hm-status').className,"
+                       " document.getElementById('hm-status').textContent]")
+    check(shown[0] == 0 and shown[1] == "[]" and shown[2] == "" and shown[3] != "error",
+          "the second test's start shows the first test's state (it had %d hits): %s"
+          % (old_hits, shown))
+    check(driver.find_element(By.ID, "hm-seconds").get_attribute("value") == "60",
+          "the form after the second start: %s s"
+          % driver.find_element(By.ID, "hm-seconds").get_attribute("value"))
     # A hit after the first accepted on its verdict (the rig double-hits at hit 2, so that is
     # hit 3 once hit 4 has come: a hit is judged when the next arrives): the test then holds an
     # accepted hit whose FRF the Ctrl-C below must keep.

@@ -164,7 +164,8 @@ class HammerTests {
         std::lock_guard l(mutex_);
         pending_ = test;
       }
-      board_.Start(s.ask);
+      test->running = true;
+      board_.Start(s.ask, "hammer test");
     } catch (...) {
       {
         std::lock_guard l(mutex_);
@@ -174,7 +175,16 @@ class HammerTests {
       std::filesystem::remove_all(test->dir);
       throw;
     }
-    return {{"name", test->name}, {"dir", test->dir}};
+    // The new test is the one on every page from now (no hit yet, its own settings): the last
+    // test's hits and modes never stand beside the new settings until its first hit.
+    {
+      std::lock_guard l(mutex_);
+      current_ = test;
+    }
+    nlohmann::json shown = Publish(*test, nullptr);
+    shown["name"] = test->name;
+    shown["dir"] = test->dir;
+    return shown;
   }
 
   nlohmann::json Choose(const nlohmann::json& body) {
@@ -372,7 +382,7 @@ std::shared_ptr<HammerTests> AddHammerRoutes(BenchServer& server, BenchBoard& bo
   route("traces", &HammerTests::Traces);
   server.AddJsonRoute("hammer/stop", [&board](const nlohmann::json& b) {
     Require(b.is_object() && b.empty(), "stop takes an empty object");
-    return board.Stop();
+    return board.Stop("hammer test");
   });
   return tests;
 }

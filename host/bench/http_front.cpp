@@ -67,6 +67,12 @@ struct HttpFront::Connection {
   int fd = -1;
   std::string in;  // bytes read and not yet served
   Clock::time_point deadline;
+  // An answer a worker wrote into memory, sent by the poller as the client reads it: a client
+  // that never reads holds this buffer (one answer at most) until the write timeout, never a
+  // thread. Its next request is not read before the answer has gone.
+  std::string out;
+  std::size_t sent = 0;
+  bool close_after_send = false;
   // Refused and answered: what the client still sends is discarded (never kept) for a moment, so
   // that closing does not reset the connection before the client has read the answer.
   bool lingering = false;
@@ -78,14 +84,17 @@ namespace {
 /// One whole request (already in memory) for the library, and the socket for its answer.
 class FrontStream : public httplib::Stream {
  public:
+  /// `out` null: the answer is written to the socket as it comes (the live lane, whose thread is
+  /// its own); else it is collected there for the poller to send.
   FrontStream(int fd, std::string& in, std::size_t request_bytes,
-              std::chrono::milliseconds write_timeout)
-      : fd_(fd), in_(in), end_(request_bytes), write_timeout_(write_timeout) {}
+              std::chrono::milliseconds write_timeout, std::string* out)
+      : fd_(fd), in_(in), end_(request_bytes), write_timeout_(write_timeout), out_(out) {}
 
   std::size_t consumed() const { return pos_; }
 
   bool is_readable() const override { return pos_ < end_; }
   bool is_writable() const override {
+    if (out_ != nullptr) return true;
     pollfd p{fd_, POLLOUT, 0};
     return ::poll(&p, 1, static_cast<int>(write_timeout_.count())) > 0 &&
            (p.revents & (POLLERR | POLLHUP)) == 0;
@@ -99,6 +108,10 @@ class FrontStream : public httplib::Stream {
     return static_cast<ssize_t>(n);
   }
   ssize_t write(const char* ptr, size_t size) override {
+    if (out_ != nullptr) {
+      out_->append(ptr, size);
+      return static_cast<ssize_t>(size);
+    }
     return SendAll(fd_, ptr, size, Clock::now() + write_timeout_) ? static_cast<ssize_t>(size) : -1;
   }
   void get_remote_ip_and_port(std::string& ip, int& port) const override {
@@ -119,6 +132,7 @@ class FrontStream : public httplib::Stream {
   std::size_t end_;
   std::size_t pos_ = 0;
   std::chrono::milliseconds write_timeout_;
+  std::string* out_;
 };
 
 }  // namespace
@@ -211,13 +225,16 @@ void HttpFront::Poll() {
         pending_.erase(pending_.begin());
       }
       pending_.push_back(c);
-      if (!c->in.empty()) Progress(c);  // a returned connection may hold its next request
+      // A returned connection sends its answer first (most fit the socket's buffer at once),
+      // then may hold its next request.
+      if (!c->out.empty()) Flush(c);
+      if (c->fd >= 0 && !c->in.empty()) Progress(c);
     }
     std::erase_if(pending_, [](const auto& c) { return c->fd < 0; });
     fds.assign(1, pollfd{wake_fd_, POLLIN, 0});
     Clock::time_point next = Clock::now() + std::chrono::seconds(1);
     for (const auto& c : pending_) {
-      fds.push_back(pollfd{c->fd, POLLIN, 0});
+      fds.push_back(pollfd{c->fd, static_cast<short>(c->out.empty() ? POLLIN : POLLOUT), 0});
       next = std::min(next, c->deadline);
     }
     const auto wait = std::chrono::duration_cast<std::chrono::milliseconds>(next - Clock::now());
@@ -229,6 +246,12 @@ void HttpFront::Poll() {
     const Clock::time_point now = Clock::now();
     for (std::size_t i = 0; i < pending_.size(); ++i) {
       const std::shared_ptr<Connection>& c = pending_[i];
+      if (!c->out.empty()) {
+        if (fds[i + 1].revents & (POLLOUT | POLLHUP | POLLERR)) Flush(c);
+        if (c->fd >= 0 && !c->out.empty() && now >= c->deadline) Close(c);  // never read
+        if (c->fd >= 0 && c->out.empty() && !c->in.empty()) Progress(c);
+        continue;
+      }
       if (c->lingering && (fds[i + 1].revents & (POLLIN | POLLHUP | POLLERR))) {
         char sink[16384];
         const ssize_t n = ::recv(c->fd, sink, sizeof sink, 0);
@@ -271,9 +294,42 @@ void HttpFront::Poll() {
   pending_.clear();
 }
 
+// Sends what the client's socket takes now of the answer a worker wrote; once all of it has
+// gone, the connection waits for its next request (or closes, as its answer said).
+void HttpFront::Flush(const std::shared_ptr<Connection>& c) {
+  while (c->sent < c->out.size()) {
+    const ssize_t n = ::send(c->fd, c->out.data() + c->sent, c->out.size() - c->sent,
+                             MSG_NOSIGNAL | MSG_DONTWAIT);
+    if (n > 0) {
+      c->sent += static_cast<std::size_t>(n);
+      // The timeout counts from the last byte the client took, so a slow reader of a large
+      // answer is served while one that stopped reading is dropped.
+      c->deadline = Clock::now() + options_.write_timeout;
+      continue;
+    }
+    if (n < 0 && errno == EINTR) continue;
+    if (n < 0 && (errno == EAGAIN || errno == EWOULDBLOCK)) return;
+    Close(c);
+    return;
+  }
+  c->out.clear();
+  c->out.shrink_to_fit();
+  c->sent = 0;
+  if (c->close_after_send) {
+    // A lingering close: what the client still sends is dropped, so its kernel does not answer
+    // it with a reset that throws the answer away.
+    ::shutdown(c->fd, SHUT_WR);
+    c->in.clear();
+    c->lingering = true;
+    c->deadline = Clock::now() + kLinger;
+    return;
+  }
+  c->deadline = Clock::now() + options_.head_deadline;
+}
+
 // Reads what arrived: a refused head is answered and closed, a whole request is handed on.
 void HttpFront::Progress(const std::shared_ptr<Connection>& c) {
-  if (c->lingering) return;
+  if (c->lingering || !c->out.empty()) return;
   const RequestHead head = ParseRequestHead(c->in);
   if (head.status == 0) return;
   if (head.status != 200) {
@@ -321,7 +377,9 @@ void HttpFront::Dispatch(const std::shared_ptr<Connection>& c, const RequestHead
                              done});
     return;
   }
-  work_.emplace_back(owned, head);
+  // The API before the page's files: a browser loading assets, or a process flooding them,
+  // never queues the state or a Stop behind them.
+  (head.path.rfind("/api/", 0) == 0 ? api_work_ : work_).emplace_back(owned, head);
   work_ready_.notify_one();
 }
 
@@ -330,10 +388,11 @@ void HttpFront::Work() {
     std::pair<std::shared_ptr<Connection>, RequestHead> job;
     {
       std::unique_lock l(mutex_);
-      work_ready_.wait(l, [&] { return stopping_ || !work_.empty(); });
-      if (work_.empty()) return;
-      job = std::move(work_.front());
-      work_.pop_front();
+      work_ready_.wait(l, [&] { return stopping_ || !work_.empty() || !api_work_.empty(); });
+      auto& queue = api_work_.empty() ? work_ : api_work_;
+      if (queue.empty()) return;
+      job = std::move(queue.front());
+      queue.pop_front();
     }
     Serve(job.first, job.second);
   }
@@ -343,7 +402,10 @@ void HttpFront::Serve(const std::shared_ptr<Connection>& c, const RequestHead& h
   bool closed = head.close;
   bool ok = false;
   {
-    FrontStream stream(c->fd, c->in, head.head_bytes + head.body_bytes, options_.write_timeout);
+    // A worker writes the answer into memory and never waits on the client; a live thread
+    // streams to its own socket.
+    FrontStream stream(c->fd, c->in, head.head_bytes + head.body_bytes, options_.write_timeout,
+                       OnLiveLane() ? nullptr : &c->out);
     bool stopping;
     {
       std::lock_guard l(mutex_);
@@ -356,12 +418,14 @@ void HttpFront::Serve(const std::shared_ptr<Connection>& c, const RequestHead& h
   c->in.erase(0, head.head_bytes + head.body_bytes);
   std::lock_guard l(mutex_);
   active_.erase(std::remove(active_.begin(), active_.end(), c), active_.end());
-  if (!ok || closed || stopping_ || OnLiveLane()) {
+  if (stopping_ || OnLiveLane() || c->out.empty()) {
     Close(c);
     return;
   }
-  // Keep-alive: the poller waits for the next request, no thread does.
-  c->deadline = Clock::now() + options_.head_deadline;
+  // The poller sends the answer; then, on keep-alive, waits for the next request (no thread
+  // does either).
+  c->close_after_send = !ok || closed;
+  c->deadline = Clock::now() + options_.write_timeout;
   incoming_.push_back(c);
   Wake();
 }
@@ -388,8 +452,10 @@ void HttpFront::Stop() {
   std::lock_guard l(mutex_);
   for (const auto& c : incoming_) Close(c);
   incoming_.clear();
-  for (auto& [c, head] : work_) Close(c);
-  work_.clear();
+  for (auto* queue : {&work_, &api_work_}) {
+    for (auto& [c, head] : *queue) Close(c);
+    queue->clear();
+  }
 }
 
 }  // namespace vibid::bench

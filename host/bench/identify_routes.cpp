@@ -48,7 +48,7 @@ nlohmann::json Identify(const BenchBoard& board, const std::string& directory,
           "'modal_tests' must be a list of at least one file");
   for (const nlohmann::json& f : b["modal_tests"])
     request.modal_tests.push_back(FileIn(directory, f, "modal_tests"));
-  const std::string output = FileIn(directory, b["output"], "output");
+  const std::string output = OutputIn(directory, b["output"], "output");
   const model::Model nominal = model::LoadModel(FileIn(directory, b["nominal"], "nominal"));
   const auto n = static_cast<std::size_t>(nominal.dofs());
   // A chain longer than the accelerometers' default reach is measured as the board's record
@@ -93,7 +93,7 @@ nlohmann::json Design(BenchBoard& board, const std::string& directory, const nlo
         device::CalibratedFullScale(board.ActiveCalibration(), wire::Channel::kForce1)
             .value_or(request.force_fs_n);
   }
-  const std::string output = FileIn(directory, b["output"], "output");
+  const std::string output = OutputIn(directory, b["output"], "output");
   const model::Model model = model::LoadModel(FileIn(directory, b["model"], "model"));
   // A chain longer than two masses: the observer where the board's record puts the hammer's load
   // cell, fed by the sensor there (the CLI's defaults, mass 2 and an encoder, fit two masses).

@@ -130,6 +130,12 @@ RequestHead ParseRequestHead(std::string_view bytes) {
         return Refuse(413, "request body beyond " + std::to_string(kMaxBodyBytes) + " bytes");
       has_length = true;
     }
+    if (SameName(name, "Range") && value.find(',') != std::string_view::npos) {
+      // Many ranges make one answer many times the file's size (2 044 ranges of a 50 kB script
+      // are 100 MB): a single range is all the page or a player asks for.
+      return Refuse(416, "the bench answers one byte range at most (Range: " +
+                             std::string(value.substr(0, 40)) + (value.size() > 40 ? "...)" : ")"));
+    }
     if (SameName(name, "Connection")) {
       std::string v(value);
       std::transform(v.begin(), v.end(), v.begin(),
@@ -158,6 +164,7 @@ const char* ReasonPhrase(int status) {
     case 411: return "Length Required";
     case 413: return "Payload Too Large";
     case 414: return "URI Too Long";
+    case 416: return "Range Not Satisfiable";
     case 417: return "Expectation Failed";
     case 431: return "Request Header Fields Too Large";
     case 500: return "Internal Server Error";

@@ -2,6 +2,8 @@
 
 #include <arpa/inet.h>
 
+#include <algorithm>
+#include <cctype>
 #include <chrono>
 #include <cstring>
 #include <stdexcept>
@@ -84,6 +86,16 @@ class MemoryStream : public httplib::Stream {
   std::size_t pos_ = 0;
 };
 
+/// application/json exactly (any case), with or without parameters (`; charset=utf-8`): not a
+/// longer type that begins the same (application/jsonx).
+bool IsJsonType(const std::string& value) {
+  std::string type = value.substr(0, value.find(';'));
+  while (!type.empty() && (type.back() == ' ' || type.back() == '\t')) type.pop_back();
+  std::transform(type.begin(), type.end(), type.begin(),
+                 [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
+  return type == "application/json";
+}
+
 std::string WithoutBrackets(const std::string& a) {
   return a.size() > 2 && a.front() == '[' && a.back() == ']' ? a.substr(1, a.size() - 2) : a;
 }
@@ -119,8 +131,7 @@ void BenchServer::AddView(View view) { views_.push_back(std::move(view)); }
 void BenchServer::AddJsonRoute(const std::string& name, JsonHandler handler) {
   http_->Post("/api/" + name, [handler](const httplib::Request& req, httplib::Response& res) {
     // Only JSON is read: a form a foreign page could post without a preflight is not.
-    const std::string type = req.get_header_value("Content-Type");
-    if (type.rfind("application/json", 0) != 0) {
+    if (!IsJsonType(req.get_header_value("Content-Type"))) {
       SendError(res, 400, "the body must be JSON (Content-Type: application/json)");
       return;
     }

@@ -7,6 +7,7 @@
 // The project's headers (Eigen) before the socket headers: <resolv.h>, which httplib.h pulls in,
 // defines a macro `_res` that Eigen uses as a parameter name.
 #include "core_loopback.hpp"
+#include "vibid/bench/assets.hpp"
 #include "vibid/bench/bench_files.hpp"
 #include "vibid/bench/calibration_routes.hpp"
 #include "vibid/bench/identify_routes.hpp"
@@ -272,6 +273,139 @@ TEST_F(HostileNeighbourTest, PastTheLiveBoundA503SaysWhyAndAFreedSlotServesAgain
   for (const int fd : live) ::close(fd);
 }
 
+/// The process's resident memory (VmRSS), in bytes.
+std::size_t ResidentBytes() {
+  std::ifstream f("/proc/self/status");
+  std::string line;
+  while (std::getline(f, line)) {
+    if (line.rfind("VmRSS:", 0) == 0) return std::stoul(line.substr(6)) * 1024;
+  }
+  return 0;
+}
+
+/// Sends as much of `s` as the socket takes now, never waiting; how much went.
+std::size_t SendWhatFits(int fd, std::string_view s) {
+  std::size_t sent = 0;
+  while (sent < s.size()) {
+    const ssize_t n = ::send(fd, s.data() + sent, s.size() - sent, MSG_NOSIGNAL | MSG_DONTWAIT);
+    if (n <= 0) break;
+    sent += static_cast<std::size_t>(n);
+  }
+  return sent;
+}
+
+std::size_t AssetBytes(const std::string& path) {
+  const Asset* a = FindAsset(path);
+  return a == nullptr ? 0 : a->bytes.size();
+}
+
+// Eight connections each pipeline 850 requests for the page's largest file and never read an
+// answer: they hold no worker (answers wait in memory, one per connection, for the poller to send)
+// and the API does not queue behind them.
+TEST_F(HostileNeighbourTest, PipelinedAssetRequestsNeverReadDoNotStallTheStateOrTheMemory) {
+  const std::string one = "GET /assets/uPlot.iife.min.js HTTP/1.1\r\nHost: " + host_ + "\r\n\r\n";
+  std::string pipeline;
+  for (int i = 0; i < 850; ++i) pipeline += one;
+  const std::size_t rss_before = ResidentBytes();
+  std::vector<int> hostile;
+  for (int i = 0; i < 8; ++i) {
+    hostile.push_back(Connect(server_->port()));
+    ASSERT_GE(hostile.back(), 0);
+    SendWhatFits(hostile.back(), pipeline);
+  }
+  // Let the server fill every socket buffer it can.
+  std::this_thread::sleep_for(std::chrono::milliseconds(300));
+  for (int i = 0; i < 10; ++i)
+    EXPECT_LT(TimeState(), kAnswerBound) << "GET /api/state beside 8 pipelining non-readers";
+  httplib::Client c = Client();
+  const auto t0 = Clock::now();
+  const auto page = c.Get("/?token=" + server_->token());
+  const auto stop = c.Post("/api/stop", Authorized(), "{}", "application/json");
+  const auto took = Clock::now() - t0;
+  ASSERT_TRUE(page);
+  EXPECT_EQ(page->status, 200);
+  ASSERT_TRUE(stop);
+  EXPECT_EQ(stop->status, 200) << stop->body;
+  EXPECT_LT(took, 2 * kAnswerBound) << "the page and Stop beside 8 pipelining non-readers";
+  // One answer per connection is held (8 x 50 kB), never the 850 asked for (8 x 43 MB).
+  const std::size_t rss_after = ResidentBytes();
+  EXPECT_LT(rss_after, rss_before + 32 * 1024 * 1024)
+      << "resident " << rss_before / 1024 << " kB before, " << rss_after / 1024 << " kB after";
+  for (const int fd : hostile) ::close(fd);
+}
+
+// A client that takes none of its answer is closed at the write timeout; one that reads slowly
+// gets all of it.
+TEST_F(HostileNeighbourTest, ANonReaderIsClosedAtTheWriteTimeoutAndASlowReaderServedWhole) {
+  FrontOptions o;
+  o.write_timeout = std::chrono::milliseconds(400);
+  Serve(o);
+  const std::size_t size = AssetBytes("/assets/uPlot.iife.min.js");
+  ASSERT_GT(size, 40000u);
+  const std::string one = "GET /assets/uPlot.iife.min.js HTTP/1.1\r\nHost: " + host_ + "\r\n\r\n";
+  std::string pipeline;
+  for (int i = 0; i < 200; ++i) pipeline += one;
+  const int stuck = Connect(server_->port());
+  SendWhatFits(stuck, pipeline);
+  const int slow = Connect(server_->port());
+  ASSERT_TRUE(Send(slow, one + "GET /assets/uPlot.iife.min.js HTTP/1.1\r\nHost: " + host_ +
+                             "\r\nConnection: close\r\n\r\n"));
+  // 2 kB every 100 ms: under 20 kB/s, yet never 400 ms without taking a byte.
+  std::string got;
+  const auto give_up = Clock::now() + kHangBound;
+  while (Clock::now() < give_up) {
+    char b[2048];
+    const ssize_t n = ::recv(slow, b, sizeof b, 0);
+    if (n <= 0) break;
+    got.append(b, static_cast<std::size_t>(n));
+    std::this_thread::sleep_for(std::chrono::milliseconds(100));
+  }
+  EXPECT_EQ(StatusOf(got), 200);
+  const std::string length = "Content-Length: " + std::to_string(size) + "\r\n";
+  std::size_t answers = 0;
+  for (std::size_t at = got.find(length); at != std::string::npos; at = got.find(length, at + 1))
+    ++answers;
+  EXPECT_EQ(answers, 2u);
+  EXPECT_GE(got.size(), 2 * size);
+  EXPECT_LT(TimeState(), kAnswerBound);
+  // The non-reader: its socket buffers full, nothing taken for 400 ms, it is closed (reading
+  // now drains what was sent and then meets the end).
+  bool closed = false;
+  const std::string drained = ReadToClose(stuck, closed);
+  EXPECT_TRUE(closed);
+  EXPECT_LT(drained.size(), 200 * size) << "the server stopped sending to a client that stalled";
+  ::close(stuck);
+  ::close(slow);
+}
+
+// Many ranges in one Range header are refused before anything is built; one range is served.
+TEST_F(HostileNeighbourTest, AManyRangeHeaderIsRefusedAndOneRangeIsServed) {
+  std::string ranges = "bytes=0-";
+  for (int i = 1; i < 2044; ++i) ranges += ",0-";
+  const std::size_t rss_before = ResidentBytes();
+  std::vector<int> fds;
+  for (int i = 0; i < 4; ++i) {
+    fds.push_back(Connect(server_->port()));
+    ASSERT_TRUE(Send(fds.back(), "GET /assets/uPlot.iife.min.js HTTP/1.1\r\nHost: " + host_ +
+                                     "\r\nRange: " + ranges + "\r\n\r\n"));
+  }
+  EXPECT_LT(TimeState(), kAnswerBound);
+  for (const int fd : fds) {
+    bool closed = false;
+    const std::string in = ReadToClose(fd, closed);
+    EXPECT_EQ(StatusOf(in), 416) << in.substr(0, 200);
+    EXPECT_NE(in.find("one byte range at most"), std::string::npos) << in.substr(0, 400);
+    EXPECT_LT(in.size(), 2000u);
+    ::close(fd);
+  }
+  EXPECT_LT(ResidentBytes(), rss_before + 16 * 1024 * 1024);
+  httplib::Client c = Client();
+  const auto r = c.Get("/assets/uPlot.iife.min.js", {{"Range", "bytes=10-109"}});
+  ASSERT_TRUE(r);
+  EXPECT_EQ(r->status, 206);
+  EXPECT_EQ(r->body, std::string(FindAsset("/assets/uPlot.iife.min.js")->bytes.substr(10, 100)));
+}
+
 TEST_F(HostileNeighbourTest, SlowHeaderAndIdleClientsDoNotBlockOthersAndAreClosed) {
   FrontOptions o;
   o.head_deadline = std::chrono::milliseconds(500);
@@ -492,6 +626,138 @@ TEST_F(HostileNeighbourTest, SymbolicLinksInTheDirectoryAreRefused) {
     EXPECT_NE(std::string(e.what()).find("writable by every user"), std::string::npos) << e.what();
   }
   fs::remove_all(open_dir);
+}
+
+// The bench's directory resolved once: a link to it re-pointed later leads the views nowhere
+// new; a relative -o is reported absolute; folders others may write into are refused.
+TEST_F(HostileNeighbourTest, TheDirectoryIsResolvedOnceAndFoldersOthersMayWriteAreRefused) {
+  const fs::path mine = outside_ / "mine";
+  const fs::path planted = outside_ / "planted";
+  fs::create_directory(mine);
+  fs::create_directory(planted);
+  fs::permissions(mine, fs::perms::owner_all);
+  fs::permissions(planted, fs::perms::owner_all);
+  const fs::path link = outside_ / "vibid-bench";
+  fs::create_directory_symlink(mine, link);
+  {
+    LiveHub hub;
+    BenchBoard board(*connection_, link.string(), hub);
+    EXPECT_EQ(board.directory(), fs::canonical(mine).string());
+    // Someone re-points the link: the board and the views keep the directory they resolved.
+    fs::remove(link);
+    fs::create_directory_symlink(planted, link);
+    ServerOptions o;
+    BenchServer server(board, hub, o);
+    AddIdentifyRoutes(server, board, board.directory());
+    server.Start();
+    fs::copy_file(fs::path(VIBID_SOURCE_DIR) / "examples" / "rig_nominal.json",
+                  mine / "rig_nominal.json");
+    httplib::Client c("127.0.0.1", server.port());
+    c.set_read_timeout(20, 0);
+    const auto r =
+        c.Post("/api/cal/design", {{kTokenHeader, server.token()}},
+               R"({"model":"rig_nominal.json","output":"design.json"})", "application/json");
+    ASSERT_TRUE(r);
+    EXPECT_EQ(r->status, 200) << r->body;
+    EXPECT_TRUE(fs::exists(mine / "design.json"));
+    EXPECT_TRUE(fs::is_empty(planted));
+    server.Stop();
+  }
+  // A relative -o: the board's directory (and so every journal it names) is absolute.
+  {
+    const fs::path cwd = fs::current_path();
+    fs::current_path(outside_);
+    LiveHub hub;
+    BenchBoard board(*connection_, "relative-bench", hub);
+    fs::current_path(cwd);
+    EXPECT_EQ(board.directory(), fs::canonical(outside_ / "relative-bench").string());
+  }
+  // Group-writable: refused, as every-user-writable is.
+  const fs::path group = outside_ / "group";
+  fs::create_directory(group);
+  fs::permissions(group, fs::perms::owner_all | fs::perms::group_write | fs::perms::group_exec |
+                             fs::perms::group_read);
+  try {
+    PrepareDirectory(group.string());
+    ADD_FAILURE() << "a group-writable directory was taken";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("writable by its group"), std::string::npos) << e.what();
+  }
+  // Under a folder others may write into without the sticky bit (as a 0777 folder, not /tmp's
+  // 1777): refused, the directory could be swapped under the bench.
+  const fs::path open = outside_ / "open";
+  fs::create_directory(open);
+  fs::permissions(open, fs::perms::all);
+  try {
+    PrepareDirectory((open / "bench").string());
+    ADD_FAILURE() << "a directory under a folder every user may write into was taken";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("which other users may write into"), std::string::npos)
+        << e.what();
+  }
+  // The same folder with the sticky bit (as /tmp): others cannot move the bench's directory.
+  fs::permissions(open, fs::perms::all | fs::perms::sticky_bit);
+  const std::string taken = PrepareDirectory((open / "bench2").string());
+  EXPECT_EQ(taken, fs::canonical(open / "bench2").string());
+}
+
+// An output (a design, an identified chain) never replaces a recording or a saved test's file.
+TEST_F(HostileNeighbourTest, AnOutputNeverReplacesARecording) {
+  fs::copy_file(fs::path(VIBID_SOURCE_DIR) / "examples" / "rig_nominal.json",
+                dir_ / "rig_nominal.json");
+  const nlohmann::json st = Acquire(0.05);
+  ASSERT_TRUE(st.contains("file")) << st.dump();
+  const std::string recording = fs::path(st["file"].get<std::string>()).filename().string();
+  const std::uintmax_t size = fs::file_size(dir_ / recording);
+  fs::create_directory(dir_ / "hammer-20261207T023741Z");
+  std::ofstream(dir_ / "hammer-20261207T023741Z" / "hits.json") << "{}\n";
+  httplib::Client c = Client();
+  for (const std::string& output : {recording, std::string("bench-x.partial.csv"),
+                                    std::string("hammer-20261207T023741Z/hits.json"),
+                                    std::string("watch-x.jsonl"), std::string("design")}) {
+    for (const char* route : {"/api/cal/design", "/api/cal/identify"}) {
+      const nlohmann::json body =
+          std::string(route) == "/api/cal/design"
+              ? nlohmann::json{{"model", "rig_nominal.json"}, {"output", output}}
+              : nlohmann::json{{"nominal", "rig_nominal.json"},
+                               {"modal_tests", {recording}},
+                               {"output", output}};
+      const auto r = c.Post(route, Authorized(), body.dump(), "application/json");
+      ASSERT_TRUE(r);
+      EXPECT_EQ(r->status, 400) << route << " " << output << " " << r->body;
+      EXPECT_NE(r->body.find("never replaced"), std::string::npos) << r->body;
+    }
+  }
+  EXPECT_EQ(fs::file_size(dir_ / recording), size);
+  std::ifstream hits(dir_ / "hammer-20261207T023741Z" / "hits.json");
+  EXPECT_EQ(std::string((std::istreambuf_iterator<char>(hits)), std::istreambuf_iterator<char>()),
+            "{}\n");
+  // A NAME.json is written, and written again (a design redone).
+  for (int i = 0; i < 2; ++i) {
+    const auto ok =
+        c.Post("/api/cal/design", Authorized(),
+               R"({"model":"rig_nominal.json","output":"design.json"})", "application/json");
+    ASSERT_TRUE(ok);
+    EXPECT_EQ(ok->status, 200) << ok->body;
+  }
+}
+
+// The body's type is application/json exactly (parameters allowed), not a type that begins so.
+TEST_F(HostileNeighbourTest, OnlyApplicationJsonExactlyIsReadAsJson) {
+  httplib::Client c = Client();
+  for (const char* type : {"application/jsonx", "application/json-patch+json", "application/jso",
+                           "text/plain", "application/json, text/plain"}) {
+    const auto r = c.Post("/api/stop", Authorized(), "{}", type);
+    ASSERT_TRUE(r);
+    EXPECT_EQ(r->status, 400) << type;
+    EXPECT_NE(r->body.find("the body must be JSON"), std::string::npos) << r->body;
+  }
+  for (const char* type : {"application/json", "Application/JSON",
+                           "application/json; charset=utf-8", "application/json;charset=UTF-8"}) {
+    const auto r = c.Post("/api/stop", Authorized(), "{}", type);
+    ASSERT_TRUE(r);
+    EXPECT_EQ(r->status, 200) << type << " " << r->body;
+  }
 }
 
 // 9. IPv6: the URL and the accepted Host carry the address in brackets.

@@ -6,6 +6,7 @@
 #include "vibid/bench/calibration_routes.hpp"
 
 #include <chrono>
+#include <cstdio>
 #include <filesystem>
 #include <fstream>
 #include <thread>
@@ -14,6 +15,8 @@
 #include <httplib.h>
 
 #include "core_loopback.hpp"
+#include "vibid/device/calibration_upload.hpp"
+#include "vibid/shared/fixed/filter_description.hpp"
 
 namespace vibid::bench {
 namespace {
@@ -254,6 +257,36 @@ TEST(RecordChanges, ListsTheFieldsThatDifferAndNotTheTimeOfBuilding) {
   EXPECT_TRUE(changes[1]["from"].is_null());
   // An uncalibrated board: every field of the new record is a change.
   EXPECT_EQ(RecordChanges(nullptr, next).size(), 4u);
+}
+
+// Two observers alike in rate, mass and sensors, their coefficients apart: "Show the changes"
+// lists the observer, with each one's checksum (the CRC the description carries).
+TEST(RecordChanges, AnObserverWhoseCoefficientsAloneChangedIsAChange) {
+  const auto record = [](std::int32_t gain) {
+    fixed::FilterDescription d;
+    d.input_count = 1;
+    d.output_dof = 1;
+    d.sample_rate_hz = 1000;
+    d.paths[0].section_count = 1;
+    d.paths[0].output_gain = gain;
+    d.checksum = fixed::ComputeChecksum(d);
+    wire::CalibrationRecord r{};
+    r.dof_count = 2;
+    r.flags = wire::kCalFlagHasDob;
+    fixed::EncodeDescription(d, std::span<std::uint8_t, fixed::kDescriptionBytes>(
+                                    r.dob.data(), fixed::kDescriptionBytes));
+    return std::pair{device::RecordJson(r), d.checksum};
+  };
+  const auto [now, crc_now] = record(1000);
+  const auto [next, crc_next] = record(1001);
+  ASSERT_NE(crc_now, crc_next);
+  char hex[11];
+  std::snprintf(hex, sizeof hex, "0x%08x", crc_next);
+  EXPECT_EQ(next["observer"]["checksum"], hex);
+  const nlohmann::json changes = RecordChanges(now, next);
+  ASSERT_EQ(changes.size(), 1u) << changes.dump();
+  EXPECT_EQ(changes[0]["field"], "observer");
+  EXPECT_EQ(RecordChanges(now, now).size(), 0u);
 }
 
 TEST_F(BenchServerTest, AnAcquisitionReachesTheLiveChannelAndTheDisk) {

@@ -1,6 +1,8 @@
 #include "vibid/bench/watch_routes.hpp"
 
 #include <chrono>
+#include <cmath>
+#include <cstdint>
 #include <memory>
 #include <cstdio>
 #include <fstream>
@@ -23,6 +25,8 @@ constexpr double kProgressIntervalMs = 500.0;
 /// The blocks a page gets again when it opens: 12 hours of 10 s blocks (the journal holds every
 /// block of a run of any length).
 constexpr std::size_t kKeptBlocks = 4320;
+/// The view's name in the board's state: its Stop ends only a run so named.
+constexpr const char* kView = "watch";
 
 double NowMs() {
   return std::chrono::duration<double, std::milli>(
@@ -35,9 +39,20 @@ double Number(const nlohmann::json& body, const char* key) {
   return body[key].get<double>();
 }
 
-int Integer(const nlohmann::json& body, const char* key) {
-  Require(body[key].is_number_integer(), std::string("'") + key + "' must be a whole number");
-  return body[key].get<int>();
+/// A whole number within [lo, hi], read as JSON gives it: one beyond an int is refused, never
+/// taken modulo 2^32 (4294967302 is not 6).
+int Integer(const nlohmann::json& body, const char* key, int lo, int hi) {
+  const nlohmann::json& v = body[key];
+  const std::string range = std::to_string(lo) + " … " + std::to_string(hi);
+  Require(v.is_number_integer(),
+          std::string("'") + key + "' must be a whole number (" + range + ")");
+  // An unsigned beyond int64 (up to 2^64 - 1) is compared as unsigned: never converted first.
+  const bool inside = v.is_number_unsigned()
+                          ? v.get<std::uint64_t>() <= static_cast<std::uint64_t>(hi) &&
+                                static_cast<std::int64_t>(v.get<std::uint64_t>()) >= lo
+                          : v.get<std::int64_t>() >= lo && v.get<std::int64_t>() <= hi;
+  Require(inside, std::string("'") + key + "' must lie in " + range + ", not " + v.dump());
+  return static_cast<int>(v.get<std::int64_t>());
 }
 
 std::vector<std::string> Strings(const nlohmann::json& body, const char* key) {
@@ -79,10 +94,10 @@ workflow::WatchBoardSettings ParseSettings(const nlohmann::json& body, const std
     Require(s.watch.modes_s >= 0.0, "'modes_s' must be >= 0 (0: no modes)");
   }
   if (body.contains("window_blocks")) {
-    s.watch.window_blocks = Integer(body, "window_blocks");
-    Require(s.watch.window_blocks >= 1, "'window_blocks' must be >= 1");
+    // The library's own bounds (WatchOptions::Validate) are checked on the value as given.
+    s.watch.window_blocks = Integer(body, "window_blocks", 1, 100000);
   }
-  if (body.contains("order")) s.watch.order = Integer(body, "order");
+  if (body.contains("order")) s.watch.order = Integer(body, "order", 0, 40);
   if (body.contains("no_dob")) {
     Require(body["no_dob"].is_boolean(), "'no_dob' must be true or false");
     s.acquire.no_dob = body["no_dob"].get<bool>();
@@ -105,7 +120,11 @@ workflow::WatchBoardSettings ParseSettings(const nlohmann::json& body, const std
     Require(body["scenario_params"].is_array(), "'scenario_params' must be a list of numbers");
     for (const nlohmann::json& v : body["scenario_params"]) {
       Require(v.is_number(), "'scenario_params' must be a list of numbers");
-      s.scenario_params.push_back(v.get<float>());
+      const double x = v.get<double>();
+      // Beyond a float it would become infinity on the way to the board: refused as given.
+      Require(std::abs(x) <= 3.4e38,
+              "'scenario_params' holds " + v.dump() + ", beyond a float (3.4e38)");
+      s.scenario_params.push_back(static_cast<float>(x));
     }
   }
   return s;
@@ -157,7 +176,7 @@ class WatchRuns : public std::enable_shared_from_this<WatchRuns> {
       previous_blocks = std::exchange(blocks_, nlohmann::json::array());
     }
     try {
-      board_.StartTask({{"name", file.stem}, {"view", "watch"}, {"journal", file.path}},
+      board_.StartTask({{"name", file.stem}, {"view", kView}, {"journal", file.path}},
                        // The run holds its view: it outlives the routes if the bench ends first.
                        [self = shared_from_this(), run, journal](
                            device::Connection& c, const std::function<bool()>& stop) {
@@ -298,7 +317,7 @@ std::shared_ptr<WatchRuns> AddWatchRoutes(BenchServer& server, BenchBoard& board
                       [runs](const nlohmann::json& b) { return runs->Journal(b); });
   server.AddJsonRoute("watch/stop", [&board](const nlohmann::json& b) {
     Require(b.is_object() && b.empty(), "stop takes an empty object");
-    return board.Stop();
+    return board.Stop(kView);
   });
   return runs;
 }

@@ -51,7 +51,19 @@ TEST_F(WatchRoutesTest, RefusedSettingsGet400WithTheLibrarysMessageAndChangeNoth
       {R"({"rate_hz":200,"scenario_params":[1,2,3,4,5]})", "--scenario-param takes at most 4"},
       // The view's reading of its settings.
       {R"({"rate_hz":"fast"})", "'rate_hz' must be a number"},
-      {R"({"window_blocks":0})", "'window_blocks' must be >= 1"},
+      {R"({"window_blocks":0})", "'window_blocks' must lie in 1 … 100000, not 0"},
+      // Integers beyond an int are refused as given, never wrapped (2^32 + 6 is not 6).
+      {R"({"window_blocks":4294967302})", "'window_blocks' must lie in 1 … 100000, not 4294967302"},
+      {R"({"order":4294967300})", "'order' must lie in 0 … 40, not 4294967300"},
+      {R"({"order":-4294967292})", "'order' must lie in 0 … 40, not -4294967292"},
+      {R"({"window_blocks":18446744073709551615})", "not 18446744073709551615"},
+      // Every field checked before the board is taken or the journal made.
+      {R"({"rate_hz":200,"reference":"missing.csv"})", "missing.csv' cannot be read"},
+      {R"({"rate_hz":200,"responses":["<img src=x>"]})", "is not a column of the log"},
+      {R"({"rate_hz":200,"responses":["acc3_m_s2"]})", "'acc3_m_s2' is not a column of the log"},
+      {R"({"rate_hz":200,"scenario_params":[1e300]})", "beyond a float"},
+      {R"({"rate_hz":200,"false_alarm_per_hour":1e-320})", "must be at least 1e-06"},
+      {R"({"rate_hz":200,"modes_s":1e12})", "--modes-s 1e+12 is longer than 3600 s"},
       {R"({"window_blocks":2.5})", "'window_blocks' must be a whole number"},
       {R"({"modes_s":-1})", "'modes_s' must be >= 0"},
       {R"({"blocks":6})", "unknown key 'blocks'"},
@@ -129,6 +141,58 @@ TEST_F(WatchRoutesTest, AWatchHoldsTheBoardUntilStopWhichKeepsItsJournal) {
   ASSERT_TRUE(text);
   ASSERT_EQ(text->status, 200);
   EXPECT_EQ(nlohmann::json::parse(text->body)["text"], "");
+}
+
+// Each view's Stop ends its own run only; the page's Stop ends any. A watch's journal is named by
+// its absolute path.
+TEST_F(WatchRoutesTest, EachStopRouteStopsOnlyItsOwnRun) {
+  const auto deadline = std::chrono::steady_clock::now() + 10s;
+  const auto idle = [&] {
+    while (board_->State()["running"] != false) {
+      ASSERT_LT(std::chrono::steady_clock::now(), deadline);
+      std::this_thread::sleep_for(10ms);
+    }
+  };
+  // Nothing runs: every Stop is a no-op.
+  for (const char* route : {"stop", "watch/stop", "hammer/stop"}) {
+    const auto r = Post(route, "{}");
+    ASSERT_TRUE(r);
+    EXPECT_EQ(r->status, 200) << route << " " << r->body;
+  }
+  const auto start = Post("watch/start", R"({"rate_hz":200})");
+  ASSERT_TRUE(start);
+  ASSERT_EQ(start->status, 200) << start->body;
+  const std::string journal = nlohmann::json::parse(start->body)["journal"];
+  EXPECT_TRUE(fs::path(journal).is_absolute()) << journal;
+  const auto hammer_stop = Post("hammer/stop", "{}");
+  ASSERT_TRUE(hammer_stop);
+  EXPECT_EQ(hammer_stop->status, 409);
+  EXPECT_NE(hammer_stop->body.find("no hammer test runs: the board runs a watch"),
+            std::string::npos)
+      << hammer_stop->body;
+  std::this_thread::sleep_for(200ms);
+  EXPECT_EQ(board_->State()["running"], true) << "the hammer view's Stop ended a watch";
+  const auto watch_stop = Post("watch/stop", "{}");
+  ASSERT_TRUE(watch_stop);
+  EXPECT_EQ(watch_stop->status, 200);
+  idle();
+  // A plain acquisition: neither view's Stop ends it, the page's does.
+  const auto acquire =
+      Post("acquire", R"({"sample_period_us":5000,"channels":["acc1"],"seconds":60})");
+  ASSERT_TRUE(acquire);
+  ASSERT_EQ(acquire->status, 200) << acquire->body;
+  for (const char* route : {"watch/stop", "hammer/stop"}) {
+    const auto r = Post(route, "{}");
+    ASSERT_TRUE(r);
+    EXPECT_EQ(r->status, 409) << route;
+    EXPECT_NE(r->body.find("the board runs an acquisition"), std::string::npos) << r->body;
+  }
+  std::this_thread::sleep_for(200ms);
+  EXPECT_EQ(board_->State()["running"], true);
+  const auto stop = Post("stop", "{}");
+  ASSERT_TRUE(stop);
+  EXPECT_EQ(stop->status, 200);
+  idle();
 }
 
 }  // namespace

@@ -26,6 +26,12 @@ nlohmann::json Matrix(const std::array<float, wire::kMaxDof * wire::kMaxDof>& m,
   return rows;
 }
 
+std::string Hex32(std::uint32_t v) {
+  char b[11];
+  std::snprintf(b, sizeof b, "0x%08x", v);
+  return b;
+}
+
 }  // namespace
 
 std::vector<std::string> ResponseColumnsOnMasses(const wire::CalibrationRecord& record,
@@ -195,7 +201,10 @@ nlohmann::json RecordJson(const wire::CalibrationRecord& r) {
                      {"output_dof", d.output_dof + 1},
                      {"output_full_scale_n",
                       static_cast<double>(fixed::FullScaleValue(d.output_full_scale_bits))},
-                     {"inputs", inputs}};
+                     {"inputs", inputs},
+                     // The coefficients' CRC: a changed observer shows as a change even when its
+                     // rate, mass and sensors stay.
+                     {"checksum", Hex32(d.checksum)}};
   } else {
     j["observer"] = nullptr;
   }

@@ -40,13 +40,17 @@ nlohmann::json WatchJson(const std::optional<wire::WatchInfoResponse>& watch,
 }
 
 std::string WatchText(const std::optional<wire::WatchInfoResponse>& watch,
-                      std::uint32_t sample_period_us) {
+                      std::uint32_t sample_period_us, bool observer_on) {
   if (!watch) return "none (this firmware has no residual test)";
   if (watch->state == wire::WatchState::kNone) {
     return "none (the calibration carries no residual test)";
   }
   const wire::WatchInfoResponse& w = *watch;
-  const std::string run = w.state == wire::WatchState::kWatching ? "" : " (observer stopped)";
+  // The board's test runs with its observer, which runs while the board samples: right after
+  // `dob start` on an idle board the observer is on and the test waits for the sampling.
+  const std::string run = w.state == wire::WatchState::kWatching ? ""
+                          : observer_on ? " (observer on: the test runs while the board samples)"
+                                        : " (observer stopped)";
   if (w.stale != 0) {
     return "STALE since tick " + std::to_string(w.trip_tick) + " (" +
            Fixed2(w.trip_tick * (sample_period_us * 1e-6)) + " s, g " +

@@ -51,6 +51,10 @@ TEST(WatchReport, InControlAndIdle) {
   EXPECT_TRUE(j["tripped_at_s"].is_null());
   EXPECT_EQ(WatchText(w, 200),
             "in control: g 1.25 of h 8.25 after 812 windows of 1000 samples (observer stopped)");
+  // Right after `dob start` on an idle board (get-status's dob_running set): not "stopped".
+  EXPECT_EQ(WatchText(w, 200, /*observer_on=*/true),
+            "in control: g 1.25 of h 8.25 after 812 windows of 1000 samples (observer on: the "
+            "test runs while the board samples)");
 }
 
 TEST(WatchReport, NoTestIsNullAndSaysWhy) {

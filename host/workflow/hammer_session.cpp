@@ -435,9 +435,10 @@ void HammerSession::Publish(double update_ms) {
 }
 
 std::size_t HammerSession::HitOf(std::size_t index) const {
-  Require(index >= 1 && index <= judged_, "hammer session: no hit " + std::to_string(index) +
-                                              " (hits judged so far: 1.." +
-                                              std::to_string(judged_) + ")");
+  Require(index >= 1 && index <= judged_,
+          "hammer session: no hit " + std::to_string(index) +
+              (judged_ == 0 ? std::string(" (no hit judged yet)")
+                            : " (hits judged so far: 1.." + std::to_string(judged_) + ")"));
   return index - 1;
 }
 

@@ -94,6 +94,39 @@ WatchBoardRun::WatchBoardRun(WatchBoardSettings settings) : s_(std::move(setting
   (void)device::PlanAcquisition(planned, trig);  // its refusals before the board is asked
   const auto name = [this](const char* key) { return WatchOptionName(key, s_.watch.spelling); };
   Require(s_.scenario_params.size() <= 4, name("scenario_params") + " takes at most 4 values");
+  // The board takes a name of 1 to 16 characters and four binary32 values: refused here, not
+  // after the journal is made and the board is taken.
+  Require(s_.scenario.size() <= 16, name("scenario") + " '" + s_.scenario.substr(0, 16) +
+                                        "...' has " + std::to_string(s_.scenario.size()) +
+                                        " characters; the board takes at most 16");
+  for (const float p : s_.scenario_params)
+    Require(std::isfinite(p), name("scenario_params") +
+                                  " holds a value a float cannot hold (beyond 3.4e38, or not a "
+                                  "number)");
+  Require(s_.scenario_params.empty() || !s_.scenario.empty(),
+          name("scenario_params") + " needs a " + name("scenario"));
+  // A response is a log column: a channel acquired, its unit after an underscore (acc1_m_s2,
+  // x1_m), or the observer's d_hat. The board's calibration gives the unit; the stem and the
+  // characters are known now.
+  for (const std::string& r : s_.responses) {
+    const bool chars = !r.empty() && std::all_of(r.begin(), r.end(), [](char c) {
+      return (c >= 'a' && c <= 'z') || (c >= '0' && c <= '9') || c == '_';
+    });
+    const bool acquired = r.rfind("d_hat_", 0) == 0 ||
+                          std::any_of(a.channels.begin(), a.channels.end(),
+                                      [&](const auto& ch) { return r.rfind(ch + "_", 0) == 0; });
+    Require(chars && acquired, name("responses") + ": '" + r.substr(0, 40) +
+                                   "' is not a column of the log (a channel acquired with its "
+                                   "unit: acc1_m_s2, x1_m)");
+  }
+  if (!s_.reference.empty()) {
+    std::FILE* f = std::fopen(s_.reference.c_str(), "rb");
+    if (f == nullptr) {
+      throw InputError(name("reference") + " '" + s_.reference +
+                       "' cannot be read: " + std::strerror(errno));
+    }
+    std::fclose(f);
+  }
   // The options checked against the channels asked for (the log's names, with their units,
   // come from the board's calibration; their count does not).
   options_ = s_.watch;
@@ -155,7 +188,7 @@ WatchBoardResult WatchBoardRun::Run(device::Connection& c, WatchJournal& journal
   if (dob_running) {
     const std::optional<wire::WatchInfoResponse> watch = c.GetWatchInfo();
     start.model_stale = device::WatchJson(watch, cfg.sample_period_us);
-    start.model_text = device::WatchText(watch, cfg.sample_period_us);
+    start.model_text = device::WatchText(watch, cfg.sample_period_us, /*observer_on=*/true);
   }
   result.model_before = start.model_stale;
   if (board_columns && start.model_stale.is_object() &&

@@ -103,8 +103,10 @@ void WatchOptions::Validate() const {
           "watch: " + name("block_s") + " must be positive");
   Require(window_blocks >= 1 && window_blocks <= 100000,
           "watch: " + name("window_blocks") + " must lie in 1 … 100000");
-  Require(std::isfinite(false_alarm_per_hour) && false_alarm_per_hour > 0.0,
-          "watch: " + name("false_alarm_per_hour") + " must be positive");
+  // Below one false alarm in a million hours the thresholds' tail probabilities underflow.
+  Require(std::isfinite(false_alarm_per_hour) && false_alarm_per_hour >= kMinFalseAlarmPerHour,
+          "watch: " + name("false_alarm_per_hour") + " must be at least " +
+              OptionNumber(kMinFalseAlarmPerHour) + " (one false alarm in a million hours)");
   Require(WindowFalseAlarm() < 0.5,
           "watch: " + given("false_alarm_per_hour", false_alarm_per_hour) +
               " is too high for a window of " + OptionNumber(window_blocks * block_s) +
@@ -118,6 +120,11 @@ void WatchOptions::Validate() const {
           "watch: the null space's share of the reference must lie in [0.1, 0.9]");
   Require(std::isfinite(modes_s) && (modes_s == 0.0 || modes_s >= block_s),
           "watch: " + name("modes_s") + " must be 0 (no modes) or at least " + name("block_s"));
+  // The blocks kept for the modes are refitted at every block: their count is bounded.
+  Require(modes_s <= kMaxModesS, "watch: " + given("modes_s", modes_s) + " is longer than " +
+                                     OptionNumber(kMaxModesS) +
+                                     " s (an hour): the modes are fitted over the last " +
+                                     name("modes_s") + " at every block; shorten it");
   const oma::SubspaceTestSize size =
       oma::SubspaceTestSizeOf(TestOptions(*this, order > 0 ? order : 2 * channels), channels);
   Require(block_s >= size.min_block_s, "watch: " + given("block_s", block_s) +

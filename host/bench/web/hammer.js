@@ -212,7 +212,8 @@ function drawModes() {
 
 function drawStatus() {
   const t = hm.test, s = hm.snap;
-  if (!t) { status('no hammer test yet'); return; }
+  // Until the first snapshot has answered, the page does not know: it says so, not "none".
+  if (!t) { status(hm.read ? 'no hammer test yet' : 'reading the hammer test…'); return; }
   const line = t.name + (t.running ? ': running, ' : ': ended, ') + (s ? (s.samples / s.fs_hz).toFixed(1) + ' s sampled' : '') +
     (t.saved ? '; saved in ' + t.dir : '');
   status(t.error ? line + ' — ' + t.error : line, !!t.error);
@@ -228,8 +229,18 @@ function onFull(j) {
   hm.events++;
   // An answer and the live event of the same change may cross: an older state never replaces a newer one.
   if (j.test && hm.test && hm.snap && j.test.name === hm.test.name && j.snapshot.version < hm.snap.version) return;
+  // Another test on screen (a new start, here or in another tab): its own settings in the form,
+  // and nothing of the last one's hits, selection or record left beside them.
+  const changed = j.test && (!hm.test || j.test.name !== hm.test.name);
   hm.test = j.test; hm.snap = j.snapshot;
   if (!hm.test) { drawStatus(); return; }
+  if (changed) {
+    hm.sel = null; hm.traces = null;
+    for (const k of ['force', 'resp']) { if (hm.plots[k]) { hm.plots[k].u.destroy(); delete hm.plots[k]; } }
+    $('hm-force-plot').replaceChildren(); $('hm-resp-plot').replaceChildren(); $('hm-hit-title').textContent = '';
+    showSettings(hm.test.settings);
+    preflight();
+  }
   const hits = hm.snap.hits;
   // Follow the newest hit unless the operator moved away from it.
   if (hits.length && (hm.sel === null || hm.sel === hits.length - 1 || hm.sel > hits.length)) {
@@ -261,9 +272,9 @@ function showSettings(s) {
 }
 
 async function refresh() {
-  const first = hm.test === null;
   onFull(await post('snapshot', {}));
-  if (first && hm.test) { showSettings(hm.test.settings); preflight(); }
+  hm.read = true;
+  drawStatus();
 }
 
 function keys(ev) {
@@ -293,7 +304,7 @@ function wire(id, action) {
   $(id).addEventListener('click', async () => { try { await action(); } catch (e) { status(e.message, true); } });
 }
 
-wire('hm-start', async () => { const r = await post('start', settings()); hm.sel = null; hm.traces = null; status('started ' + r.name); });
+wire('hm-start', async () => { onFull(await post('start', settings())); });
 wire('hm-stop', async () => { await post('stop', {}); });
 wire('hm-save', async () => { const r = await post('save', {}); $('hm-save').dataset.dir = r.dir; status('saved ' + r.files.join(', ') + ' in ' + r.dir); });
 document.querySelectorAll('#hm-form input, #hm-form select').forEach(e => e.addEventListener('change', preflight));

@@ -46,14 +46,15 @@ void Run(const BenchArgs& a) {
         bench::LiveHub hub;
         bench::BenchBoard board(c, a.out, hub, &InterruptFlag());
         bench::BenchServer server(board, hub, {.bind = a.bind, .port = a.port, .token = {}});
-        bench::AddCalibrationRoutes(server, board, a.out, VIBID_VERSION);
-        bench::AddIdentifyRoutes(server, board, a.out);
-        const auto hammer = bench::AddHammerRoutes(server, board, hub, a.out);
-        const auto watch = bench::AddWatchRoutes(server, board, hub, a.out);
+        // Every view on the directory the board resolved once, never the raw -o again.
+        const std::string& dir = board.directory();
+        bench::AddCalibrationRoutes(server, board, dir, VIBID_VERSION);
+        bench::AddIdentifyRoutes(server, board, dir);
+        const auto hammer = bench::AddHammerRoutes(server, board, hub, dir);
+        const auto watch = bench::AddWatchRoutes(server, board, hub, dir);
         server.Start();
         std::cout << server.Url() << std::endl;
-        std::cerr << "vibid: bench on " << c.Describe() << ", recordings in "
-                  << std::filesystem::absolute(a.out).lexically_normal().string()
+        std::cerr << "vibid: bench on " << c.Describe() << ", recordings in " << dir
                   << "; Ctrl-C ends it\n";
         while (!InterruptFlag().load()) std::this_thread::sleep_for(std::chrono::milliseconds(100));
         std::cerr << "vibid: Ctrl-C: stopping, keeping what was recorded\n";

@@ -151,7 +151,10 @@ void Run(const InfoArgs& a) {
         faulted ? c.GetFaultInfo() : std::optional<wire::FaultInfoResponse>{};
     nlohmann::json j =
         InfoJson(c, c.info(), c.GetClips(), c.GetSamplingInfo(), health, watch, fault);
-    if (!a.json) j["model_text"] = device::WatchText(watch, c.info().sample_period_us);
+    if (!a.json) {
+      j["model_text"] =
+          device::WatchText(watch, c.info().sample_period_us, c.GetStatus().dob_running != 0);
+    }
     std::cout << (a.json ? j.dump(2) + "\n" : InfoText(c, j));
     if (const auto w =
             device::BrownOutWarning(health ? health->brown_out : wire::BrownOut::kUnknown))

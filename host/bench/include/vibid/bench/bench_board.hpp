@@ -59,16 +59,20 @@ class BenchBoard {
   BenchBoard(const BenchBoard&) = delete;
   BenchBoard& operator=(const BenchBoard&) = delete;
 
+  /// The bench's directory, resolved once when the board opened (PrepareDirectory): the one path
+  /// every view's files are read from and written to.
+  const std::string& directory() const { return out_dir_; }
   /// Identity, calibration state and channel units; the board's status when it is idle.
   nlohmann::json Describe();
   /// The link budget `vibid acquire` checks before it starts (device::ComputeLinkBudget).
   nlohmann::json Budget(const nlohmann::json& ask);
   /// Starts an acquisition (InputError: a bad request, or one the link would drop records of;
-  /// Busy while one runs). Returns the state.
-  nlohmann::json Start(const nlohmann::json& ask);
-  /// Asks the running acquisition to stop, keeping what it recorded (Busy-free: a no-op when
-  /// none runs).
-  nlohmann::json Stop();
+  /// Busy while one runs). `view` ("hammer") names the view whose run it is, in the state's
+  /// "view" (as StartTask's state names it). Returns the state.
+  nlohmann::json Start(const nlohmann::json& ask, const std::string& view = "");
+  /// Asks the running acquisition to stop, keeping what it recorded (a no-op when none runs).
+  /// With `view`: only a run of that view is stopped; another's is refused (Busy, naming it).
+  nlohmann::json Stop(const std::string& view = "");
   /// {"run": bool}: dob start / stop on the board.
   nlohmann::json SetObserver(const nlohmann::json& body);
   /// Running or not, records so far, the files.

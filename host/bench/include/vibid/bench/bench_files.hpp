@@ -12,8 +12,11 @@
 namespace vibid::bench {
 
 /// Creates `directory` (mode 0700) when it is missing. Refuses (InputError) one that is not a
-/// directory, belongs to another user, or another user may write into: links could be planted
-/// in it. Returns its resolved path (symbolic links in `directory` itself are the user's choice).
+/// directory, belongs to another user, or its group or other users may write into (links could
+/// be planted in it), and one under a folder another user owns or may write into without the
+/// sticky bit (the directory could be swapped). Returns its resolved path, which every user of
+/// the directory must take from here (BenchBoard::directory()): resolved once, a link on the way
+/// re-pointed later changes nothing.
 std::string PrepareDirectory(const std::string& directory);
 
 /// `name` as a file inside `directory` (a saved test's folder may be named: "hammer-.../
@@ -22,6 +25,12 @@ std::string PrepareDirectory(const std::string& directory);
 /// no part of it that exists as a symbolic link.
 std::string FileIn(const std::string& directory, const nlohmann::json& name,
                    const std::string& what);
+
+/// A result the bench writes under a name the request gives (a design, an identified chain):
+/// FileIn's checks, and a NAME.json in the directory itself, so that a recording (.csv), a
+/// journal (.partial.csv, .jsonl) or a saved test's file (in its folder) is never replaced.
+std::string OutputIn(const std::string& directory, const nlohmann::json& name,
+                     const std::string& what);
 
 /// A file the bench creates: `stem` + `suffix` in `directory`, or `stem-2` + `suffix`, `stem-3`
 /// ... when that name is taken, created with O_EXCL | O_NOFOLLOW (mode 0600), so that neither an

@@ -7,8 +7,11 @@
 //     Content-Length in memory), so a slow or silent client holds no thread; a head not complete
 //     within the deadline is answered 408 and closed; past kMaxPending connections waiting, the
 //     oldest is closed;
-//   - whole requests are served by a few worker threads, each request then handed back to the
-//     poller (keep-alive costs no thread);
+//   - whole requests are served by a few worker threads that write each answer into memory and
+//     hand the connection back to the poller, which sends it as the client reads (a client that
+//     stops reading holds its one answer until the write timeout, never a thread; its next
+//     request is not read before) and then waits for the next request (keep-alive costs no
+//     thread); requests to /api/ go before the page's files;
 //   - the live channel (GET /api/live) gets a thread of its own, at most `max_live` of them; past
 //     that bound its handler answers 503 on a worker (OnLiveLane() tells it where it runs).
 #pragma once
@@ -37,7 +40,7 @@ struct FrontOptions {
   /// A connection's next request must be complete (head and body) this long after the
   /// connection opened or its previous answer was sent.
   std::chrono::milliseconds head_deadline{10000};
-  /// Writing an answer may wait this long for the client to read.
+  /// A client that takes none of its answer for this long is closed.
   std::chrono::milliseconds write_timeout{5000};
   std::size_t workers = 4;
   std::size_t max_live = 64;
@@ -81,7 +84,7 @@ class HttpFront {
   void Dispatch(const std::shared_ptr<Connection>& c, const RequestHead& head);
   void Work();
   void Serve(const std::shared_ptr<Connection>& c, const RequestHead& head);
-  void Return(const std::shared_ptr<Connection>& c);
+  void Flush(const std::shared_ptr<Connection>& c);
   void Wake();
   void Close(const std::shared_ptr<Connection>& c);
 
@@ -94,6 +97,7 @@ class HttpFront {
   std::condition_variable work_ready_;
   std::deque<std::shared_ptr<Connection>> incoming_;  // to the poller (new or returned)
   std::deque<std::pair<std::shared_ptr<Connection>, RequestHead>> work_;
+  std::deque<std::pair<std::shared_ptr<Connection>, RequestHead>> api_work_;  // before work_
   std::vector<std::shared_ptr<Connection>> active_;  // handed to a worker or a live thread
   struct LiveThread {
     std::thread thread;

@@ -7,7 +7,7 @@
 // Accepted: GET, HEAD or POST, HTTP/1.0 or 1.1, every line ending in CRLF, header names of token
 // characters, values without control characters, one Host, at most one of each header the bench
 // reads, no Transfer-Encoding and no Expect (the page sends neither), a Content-Length of digits
-// within kMaxBodyBytes on a POST (required there), none on GET or HEAD.
+// within kMaxBodyBytes on a POST (required there), none on GET or HEAD, a Range of one range.
 #pragma once
 
 #include <cstddef>

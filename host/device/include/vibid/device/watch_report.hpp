@@ -21,8 +21,10 @@ nlohmann::json WatchJson(const std::optional<wire::WatchInfoResponse>& watch,
                          std::uint32_t sample_period_us);
 
 /// One line: "none (...)", "in control: g 1.25 of h 8.25 after 812 windows of 1000 samples" or
-/// "STALE since tick 811999 (162.4 s, g 8.50 > h 8.25); g now 12.25".
+/// "STALE since tick 811999 (162.4 s, g 8.50 > h 8.25); g now 12.25". An idle test is said to
+/// wait for the sampling when `observer_on` (get-status's dob_running: started, the board idle;
+/// the test runs while it samples), else "(observer stopped)".
 std::string WatchText(const std::optional<wire::WatchInfoResponse>& watch,
-                      std::uint32_t sample_period_us);
+                      std::uint32_t sample_period_us, bool observer_on = false);
 
 }  // namespace vibid::device

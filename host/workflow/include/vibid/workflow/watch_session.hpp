@@ -39,6 +39,10 @@ enum class OptionSpelling { kCli, kPython };
 /// An option's name in a spelling: `key` is the Python name (reference_s, block_s, responses...).
 std::string WatchOptionName(const std::string& key, OptionSpelling spelling);
 
+/// The smallest false-alarm rate a watch takes (per hour) and the longest modes span (s).
+inline constexpr double kMinFalseAlarmPerHour = 1e-6;
+inline constexpr double kMaxModesS = 3600.0;
+
 struct WatchOptions {
   double fs_hz = 0.0;         ///< Sample rate of the responses fed (> 0).
   int channels = 0;           ///< Response columns fed (≥ 1).

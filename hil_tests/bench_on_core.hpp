@@ -1,6 +1,8 @@
-// Test support: a bench served in-process on the firmware core (hil::CoreLoopback), the way the
-// route tests drive it: the board, the server with the routes a test adds, a second connection
-// that probes the board behind the bench's back, and a scratch folder for the bench's files.
+// Test support for the bench's route tests: a bench served in-process on the firmware core
+// (hil::CoreLoopback), the way the route tests drive it: the board, the server with the routes a
+// test adds, a second connection that probes the board behind the bench's back, and a scratch
+// folder for the bench's files. It lives beside the core loopback it wraps, above the bench it
+// serves.
 #pragma once
 
 #include <filesystem>
