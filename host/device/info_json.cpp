@@ -31,6 +31,12 @@ constexpr EnumNames<wire::ResetCause, 7> kResetNames{{
     {wire::ResetCause::kLowPower, "low-power"},
 }};
 
+}  // namespace
+
+const char* BoardName(wire::BoardId board) { return NameOf(kBoardNames, board, "unknown"); }
+
+namespace {
+
 std::vector<std::string> CapabilityNames(std::uint32_t caps) {
   std::vector<std::string> out;
   const std::pair<std::uint32_t, const char*> names[] = {

@@ -7,7 +7,8 @@
 
 #include "vibid/common/csv.hpp"
 #include "vibid/common/enum_names.hpp"
-#include "vibid/ident/sample_instants.hpp"
+#include "vibid/device/log_facts.hpp"
+#include "vibid/ident/recording_facts.hpp"
 #include "vibid/shared/fixed/decimator.hpp"
 #include "vibid/shared/fixed/filter_description.hpp"
 
@@ -91,6 +92,7 @@ LogTable MakeLogTable(const LogPull& pull, const wire::CalibrationRecord& calibr
   }
   t.names.push_back("t_s");
   t.columns.push_back(time);
+  t.full_scales.push_back(0.0);
   for (std::size_t c = 0; c < wire::kChannelCount; ++c) {
     if ((pull.layout.channel_mask & (1u << c)) == 0) continue;
     const wire::ChannelScaling s = has_record ? calibration.channels[c] : wire::DefaultScaling();
@@ -105,6 +107,8 @@ LogTable MakeLogTable(const LogPull& pull, const wire::CalibrationRecord& calibr
     t.names.push_back(std::string(ChannelStem(static_cast<wire::Channel>(c))) + "_" +
                       UnitSuffix(s.unit));
     t.columns.push_back(v);
+    t.full_scales.push_back(s.unit == wire::Unit::kCounts ? 0.0
+                                                          : static_cast<double>(s.full_scale));
   }
   if (pull.layout.HasDob()) {
     double out_fs = 0.0;
@@ -118,9 +122,11 @@ LogTable MakeLogTable(const LogPull& pull, const wire::CalibrationRecord& calibr
     for (Eigen::Index i = 0; i < n; ++i) q(i) = pull.records[static_cast<std::size_t>(i)].d_hat;
     t.names.push_back("d_hat_q31");
     t.columns.push_back(q);
+    t.full_scales.push_back(0.0);
     if (out_fs > 0.0) {
       t.names.push_back("d_hat_n");
       t.columns.push_back(q * (out_fs / kQ31));
+      t.full_scales.push_back(out_fs);
     }
   }
   if (pull.layout.HasWatch()) {
@@ -136,8 +142,10 @@ LogTable MakeLogTable(const LogPull& pull, const wire::CalibrationRecord& calibr
     }
     t.names.push_back("model_g");
     t.columns.push_back(g);
+    t.full_scales.push_back(0.0);
     t.names.push_back("model_stale");
     t.columns.push_back(stale);
+    t.full_scales.push_back(0.0);
   }
   return t;
 }
@@ -167,7 +175,8 @@ std::string FormatLogCsvHeader(const LogPull& format, const wire::CalibrationRec
 
 std::string FormatLogCsvRows(const LogPull& block, const wire::CalibrationRecord& calibration,
                              bool has_record) {
-  return FormatCsvRows(MakeLogTable(block, calibration, has_record).columns);
+  const LogTable t = MakeLogTable(block, calibration, has_record);
+  return FormatCsvRowsQ31(t.columns, t.full_scales);
 }
 
 std::string FormatLogCsv(const LogPull& pull, const wire::CalibrationRecord& calibration,
@@ -179,13 +188,10 @@ std::string FormatLogCsv(const LogPull& pull, const wire::CalibrationRecord& cal
 void WriteLogSidecar(const std::string& csv_path, const LogPull& format,
                      const wire::CalibrationRecord& calibration, bool has_record,
                      const std::optional<wire::SamplingInfoResponse>& instants) {
-  LogPull empty;
-  empty.layout = format.layout;
-  empty.trailer = format.trailer;
-  const LogTable t = MakeLogTable(empty, calibration, has_record);
-  ident::WriteRecordingSidecar(csv_path, t.names,
-                               instants ? SampleInstantsUs(t, empty, *instants)
-                                        : std::vector<std::pair<std::string, double>>{});
+  BoardContext board;
+  board.instants = instants;
+  ident::WriteRecordingFacts(csv_path, LogFacts(format, format.records.size(), calibration,
+                                                has_record, board, {}, ident::UtcTimestampNow()));
 }
 
 }  // namespace vibid::device

@@ -313,6 +313,11 @@ void PutInterval(nlohmann::json& j, const std::string& key, const ident::Interva
   if (ci.Known()) {
     j[key + "_ci95"] = {ci.lo, ci.hi};
     j[key + "_ci95_basis"] = ci.basis;
+    // Its two parts (half-widths) when the sensors' calibration is in it.
+    if (ci.HasCalibration()) {
+      j[key + "_ci95_statistical_half_width"] = ci.statistical_half_width;
+      j[key + "_ci95_calibration_half_width"] = ci.calibration_half_width;
+    }
   } else {
     j[key + "_ci95"] = nullptr;
     j[key + "_ci95_missing"] = ci.missing;

@@ -139,8 +139,12 @@ TEST(FrfEstimateCli, ImpactCsvAndUff) {
   ASSERT_EQ(r.exit_code, 0) << r.err;
   EXPECT_NE(r.out.find("10 average(s)"), std::string::npos) << r.out;
   const std::string csv = ReadFileText(rig.dir + "/frf.csv");
-  EXPECT_EQ(csv.rfind("# vibid-frf kind=receptance estimator=h1 averages=10", 0), 0u)
+  // A plain header row, the metadata in the sidecar beside it.
+  EXPECT_EQ(csv.rfind("freq_hz,acc1_m_s2_re,acc1_m_s2_im,acc1_m_s2_coh,", 0), 0u)
       << csv.substr(0, 80);
+  const std::string meta = ReadFileText(rig.dir + "/frf.csv.json");
+  EXPECT_NE(meta.find("\"kind\": \"receptance\""), std::string::npos) << meta;
+  EXPECT_NE(meta.find("\"averages\": 10"), std::string::npos) << meta;
   const auto u =
       RunVibid({"frf-estimate", rig.modal1(), "--force", "force1_n", "--response", "acc2_m_s2",
                 "--impact", "--kind", "accelerance", "-o", rig.dir + "/frf.uff"});

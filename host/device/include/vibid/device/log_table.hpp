@@ -24,6 +24,10 @@ bool ChannelFromStem(const std::string& stem, wire::Channel& channel);
 struct LogTable {
   std::vector<std::string> names;
   std::vector<Eigen::VectorXd> columns;
+  /// Per column: the full scale of a calibrated fixed-point column (its values are q x
+  /// full_scale / 2^31, written by FormatCsvRowsQ31 as the shortest decimal that keeps q), 0 for
+  /// the others (time, counts, integers).
+  std::vector<double> full_scales;
 };
 
 /// Columns: t_s (sample_index x sample period, the exact decimal: the tick count in us over
@@ -55,9 +59,10 @@ std::string FormatLogCsvRows(const LogPull& block, const wire::CalibrationRecord
 std::string FormatLogCsv(const LogPull& pull, const wire::CalibrationRecord& calibration,
                          bool has_record);
 
-/// Writes the sidecar of the recording at `csv_path` (ident::WriteRecordingSidecar) with the
-/// instants the board stated (`instants` empty for a board of protocol 2.0: a sidecar left there
-/// by an earlier recording is removed).
+/// Writes the sidecar of the recording at `csv_path` (log_facts.hpp, ident::WriteRecordingFacts):
+/// its columns' units, rails and sensitivities from `calibration`, the rate, the record count and
+/// the instants the board stated (`instants` empty for a board of protocol 2.0); the board and
+/// the acquisition's options are not stated (LogFacts states them where the caller knows them).
 void WriteLogSidecar(const std::string& csv_path, const LogPull& format,
                      const wire::CalibrationRecord& calibration, bool has_record,
                      const std::optional<wire::SamplingInfoResponse>& instants);
