@@ -17,22 +17,18 @@ constexpr double kQ31 = 2147483648.0;
 
 const char* UnitString(wire::Unit unit) {
   switch (unit) {
-    case wire::Unit::kNewton:
-      return "N";
-    case wire::Unit::kMeterPerSecond2:
-      return "m/s2";
-    case wire::Unit::kMeter:
-      return "m";
-    case wire::Unit::kMeterPerSecond:
-      return "m/s";
-    case wire::Unit::kCounts:
-      break;
+    case wire::Unit::kNewton: return "N";
+    case wire::Unit::kMeterPerSecond2: return "m/s2";
+    case wire::Unit::kMeter: return "m";
+    case wire::Unit::kMeterPerSecond: return "m/s";
+    case wire::Unit::kCounts: break;
   }
   return "counts";
 }
 
 std::pair<double, double> CodeRange(wire::Channel channel, unsigned adc_bits) {
-  if (wire::LogValueBytes(channel) == 2) return {0.0, std::ldexp(1.0, static_cast<int>(adc_bits)) - 1.0};
+  if (wire::LogValueBytes(channel) == 2)
+    return {0.0, std::ldexp(1.0, static_cast<int>(adc_bits)) - 1.0};
   return {static_cast<double>(std::numeric_limits<std::int32_t>::min()),
           static_cast<double>(std::numeric_limits<std::int32_t>::max())};
 }

@@ -29,7 +29,7 @@ wire::CalibrationRecord ExampleCalibration() {
     "acc2": {"unit": "m/s2", "counts_per_unit": 10.24, "offset_counts": 2048, "full_scale": 200, "dof": 2},
     "x1": {"unit": "m", "counts_per_unit": 100000, "offset_counts": 0, "full_scale": 0.05, "dof": 1},
     "x2": {"unit": "m", "counts_per_unit": 100000, "offset_counts": 0, "full_scale": 0.05, "dof": 2}}})"),
-                                            "sensors.json");
+                                        "sensors.json");
   wire::CalibrationRecord rec;
   rec.dof_count = 2;
   const char label[] = "rig A";

@@ -6,6 +6,7 @@
 #include <optional>
 
 #include "vibid/common/csv.hpp"
+#include "vibid/common/csv_q31.hpp"
 #include "vibid/common/enum_names.hpp"
 #include "vibid/device/log_facts.hpp"
 #include "vibid/ident/recording_facts.hpp"

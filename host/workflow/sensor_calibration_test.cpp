@@ -33,9 +33,8 @@ std::string Dir() {
 struct Chain {
   model::Model truth = model::MakeChain(Eigen::Vector2d(1.8, 1.5), Eigen::Vector2d(3500.0, 2750.0),
                                         Eigen::Vector2d(2.0, 1.5));
-  model::Model nominal = model::MakeChain(Eigen::Vector2d(2.0, 1.5),
-                                          Eigen::Vector2d(4000.0, 3000.0),
-                                          Eigen::Vector2d(2.0, 1.5));
+  model::Model nominal = model::MakeChain(
+      Eigen::Vector2d(2.0, 1.5), Eigen::Vector2d(4000.0, 3000.0), Eigen::Vector2d(2.0, 1.5));
   std::string recording;
 };
 
@@ -76,8 +75,7 @@ TEST(SensorCalibration, ALoadCellOffByEpsScalesEveryMassSpringAndDamper) {
   }
   // The modes do not move: no internal check can see the load cell's error.
   for (std::size_t m = 0; m < a.result.table.modes.size(); ++m) {
-    EXPECT_NEAR(b.result.table.modes[m].omega_test / a.result.table.modes[m].omega_test, 1.0,
-                1e-9);
+    EXPECT_NEAR(b.result.table.modes[m].omega_test / a.result.table.modes[m].omega_test, 1.0, 1e-9);
   }
 }
 
@@ -113,8 +111,7 @@ TEST(SensorCalibration, TheIntervalsCarryAStatisticalAndACalibrationPart) {
       EXPECT_DOUBLE_EQ(both.statistical_half_width, stat.HalfWidth());
       EXPECT_NEAR(both.calibration_half_width, 1.959963984540054 * u[i] * std::abs(values[q]),
                   1e-12 * std::abs(values[q]));
-      EXPECT_NEAR(both.HalfWidth(),
-                  std::hypot(stat.HalfWidth(), both.calibration_half_width),
+      EXPECT_NEAR(both.HalfWidth(), std::hypot(stat.HalfWidth(), both.calibration_half_width),
                   1e-12 * std::abs(values[q]));
       EXPECT_NEAR(0.5 * (both.lo + both.hi), 0.5 * (stat.lo + stat.hi),
                   1e-12 * std::abs(values[q]));
@@ -151,8 +148,9 @@ TEST(SensorCalibration, ASensorWithoutAStatedUncertaintyIsNamed) {
   const auto refused = [](const std::string& channel, const std::string& part) {
     try {
       (void)device::SensorsFromJson(
-          nlohmann::json::parse(R"({"format": "vibid-sensors", "version": 1, "channels": {"force1": )" +
-                                channel + "}}"),
+          nlohmann::json::parse(
+              R"({"format": "vibid-sensors", "version": 1, "channels": {"force1": )" + channel +
+              "}}"),
           "s.json");
       ADD_FAILURE() << channel;
     } catch (const InputError& e) {

@@ -1,4 +1,5 @@
 #include "vibid/common/csv.hpp"
+#include "vibid/common/csv_q31.hpp"
 
 #include <algorithm>
 #include <charconv>
@@ -155,8 +156,7 @@ char* FormatOnQ31Grid(char* first, char* last, double v, double full_scale) {
   // grid within a hair (a decimated value, with fraction bits of its own, is not).
   const double exact = v / full_scale * kTwo31;
   const double q = std::nearbyint(exact);
-  if (full_scale > 0.0 && std::isfinite(q) && std::abs(exact - q) < 1e-6 &&
-      std::abs(q) <= kTwo31) {
+  if (full_scale > 0.0 && std::isfinite(q) && std::abs(exact - q) < 1e-6 && std::abs(q) <= kTwo31) {
     for (int digits = 1; digits <= 17; ++digits) {
       const auto res = std::to_chars(first, last, v, std::chars_format::general, digits);
       double back = 0.0;

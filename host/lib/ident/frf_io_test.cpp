@@ -88,12 +88,12 @@ TEST(FrfCsv, MalformedFilesNameTheProblem) {
     ApplyFrfSidecar(FormatFrfSidecar(other), "x.csv.json", f);
     FAIL();
   } catch (const InputError& e) {
-    EXPECT_NE(std::string(e.what()).find("belongs to another file"), std::string::npos)
-        << e.what();
+    EXPECT_NE(std::string(e.what()).find("belongs to another file"), std::string::npos) << e.what();
   }
-  const std::string written = "# vibid-frf kind=accelerance estimator=h1 averages=1 "
-                              "exp_window_tau_s=0.125\n" +
-                              FormatFrfCsv(Sample());
+  const std::string written =
+      "# vibid-frf kind=accelerance estimator=h1 averages=1 "
+      "exp_window_tau_s=0.125\n" +
+      FormatFrfCsv(Sample());
   const std::string key = "exp_window_tau_s=";
   const std::size_t at = written.find(key);
   ASSERT_NE(at, std::string::npos);

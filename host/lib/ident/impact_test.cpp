@@ -93,12 +93,11 @@ TEST(Impact, DoubleHitIsRejectedAndClippingFlagged) {
   EXPECT_NE(r.hits[2].note.find("response 1 clipped"), std::string::npos);
   EXPECT_EQ(r.frf.averages, 1u);
   // Flag only: every hit is used.
-  const ImpactResult flagged =
-      EstimateImpactFrf(f, y, 1.0,
-                        {.double_hit_window_s = 50,
-                         .converter_limits = {{}, {-rail, rail}},
-                         .reject_bad_hits = false},
-                        Estimator::kH1, Quantity::kDisplacement);
+  const ImpactResult flagged = EstimateImpactFrf(f, y, 1.0,
+                                                 {.double_hit_window_s = 50,
+                                                  .converter_limits = {{}, {-rail, rail}},
+                                                  .reject_bad_hits = false},
+                                                 Estimator::kH1, Quantity::kDisplacement);
   EXPECT_EQ(flagged.frf.averages, 3u);
   // The only hit is clipped: an input error listing why and naming the override.
   Eigen::VectorXd g = Eigen::VectorXd::Zero(3000);

@@ -63,9 +63,9 @@ class Reader {
     char* end = nullptr;
     if (s.size() > 2 && s[0] == '0' && (s[1] == 'x' || s[1] == 'X'))
       v = std::strtoul(s.c_str() + 2, &end, 16);
-    Require(end != nullptr && *end == '\0' && s.size() <= 10 && s.size() > 2,
-            where_ + " \"" + key + "\" must be a 32-bit hex number \"0x1234ABCD\", not \"" + s +
-                "\"");
+    Require(
+        end != nullptr && *end == '\0' && s.size() <= 10 && s.size() > 2,
+        where_ + " \"" + key + "\" must be a 32-bit hex number \"0x1234ABCD\", not \"" + s + "\"");
     return static_cast<std::uint32_t>(v);
   }
 
@@ -104,9 +104,8 @@ ChannelFacts ParseChannel(const nlohmann::json& j, const RecordingFacts& f,
                           const std::string& where) {
   Require(j.is_object(), where + " must be an object {\"name\": COLUMN, ...}");
   RequireKnownKeys(j,
-                   {"name", "unit_str", "fs", "start_timestamp", "counts_per_unit",
-                    "offset_counts", "full_scale", "code_range", "rails", "sample_instant_us",
-                    "clipped_samples"},
+                   {"name", "unit_str", "fs", "start_timestamp", "counts_per_unit", "offset_counts",
+                    "full_scale", "code_range", "rails", "sample_instant_us", "clipped_samples"},
                    where);
   const Reader r(j, where);
   Require(r.Has("name"), where + " has no \"name\"");
@@ -153,9 +152,12 @@ std::string FormatRecordingFacts(const RecordingFacts& f) {
   if (!f.start_timestamp.empty()) j["start_timestamp"] = f.start_timestamp;
   if (f.board) {
     const BoardFacts& b = *f.board;
-    j["board"] = {{"board", b.board},       {"serial", b.serial},
-                  {"firmware", b.firmware}, {"protocol", b.protocol},
-                  {"build_id", Hex32(b.build_id)}, {"adc_bits", b.adc_bits}};
+    j["board"] = {{"board", b.board},
+                  {"serial", b.serial},
+                  {"firmware", b.firmware},
+                  {"protocol", b.protocol},
+                  {"build_id", Hex32(b.build_id)},
+                  {"adc_bits", b.adc_bits}};
   }
   if (f.calibration) {
     j["calibration"] = {{"label", f.calibration->label},
@@ -252,8 +254,7 @@ RecordingFacts ParseRecordingFacts(std::string_view json,
     const nlohmann::json& b = j.at("board");
     const std::string where = source + ": \"board\"";
     Require(b.is_object(), where + " must be an object");
-    RequireKnownKeys(b, {"board", "serial", "firmware", "protocol", "build_id", "adc_bits"},
-                     where);
+    RequireKnownKeys(b, {"board", "serial", "firmware", "protocol", "build_id", "adc_bits"}, where);
     const Reader r(b, where);
     BoardFacts out;
     if (r.Has("board")) out.board = r.Text("board");
@@ -273,18 +274,19 @@ RecordingFacts ParseRecordingFacts(std::string_view json,
     CalibrationFacts out;
     if (r.Has("label")) out.label = r.Text("label");
     if (r.Has("crc32")) out.crc32 = r.Hex("crc32");
-    if (r.Has("created_unix_s")) out.created_unix_s = static_cast<std::int64_t>(r.Count("created_unix_s"));
+    if (r.Has("created_unix_s"))
+      out.created_unix_s = static_cast<std::int64_t>(r.Count("created_unix_s"));
     f.calibration = out;
   }
   if (top.Has("acquisition")) {
     const nlohmann::json& a = j.at("acquisition");
     const std::string where = source + ": \"acquisition\"";
     Require(a.is_object(), where + " must be an object");
-    RequireKnownKeys(a,
-                     {"sample_rate_hz", "decimation", "seconds", "trigger", "pretrigger_s",
-                      "records", "dropped_records", "overrun_ticks", "scenario",
-                      "scenario_params", "emulator_seed"},
-                     where);
+    RequireKnownKeys(
+        a,
+        {"sample_rate_hz", "decimation", "seconds", "trigger", "pretrigger_s", "records",
+         "dropped_records", "overrun_ticks", "scenario", "scenario_params", "emulator_seed"},
+        where);
     const Reader r(a, where);
     AcquisitionFacts out;
     if (r.Has("sample_rate_hz")) out.sample_rate_hz = r.Number("sample_rate_hz", true);
@@ -352,8 +354,8 @@ void WriteRecordingFacts(const std::string& csv_path, const RecordingFacts& fact
 std::string UtcTimestampNow() {
   const auto now = std::chrono::system_clock::now();
   const std::time_t s = std::chrono::system_clock::to_time_t(now);
-  const auto ms = std::chrono::duration_cast<std::chrono::milliseconds>(now.time_since_epoch()) %
-                  1000;
+  const auto ms =
+      std::chrono::duration_cast<std::chrono::milliseconds>(now.time_since_epoch()) % 1000;
   std::tm utc{};
   gmtime_r(&s, &utc);
   char b[40];

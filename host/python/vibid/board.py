@@ -3,6 +3,8 @@ calibration and its observer (``vibid devices``, ``info``, ``acquire``, ``watch 
 ``cal upload|commit``, ``dob start|stop``)."""
 from __future__ import annotations
 
+import json
+
 import os
 from typing import Iterator, Optional, Sequence
 
@@ -86,10 +88,11 @@ class Board:
         s, scenario, params = _settings(seconds, rate_hz, log_rate_hz, decimation, channels,
                                         trigger, trigger_timeout_s, pretrigger_s, no_dob,
                                         allow_drops, scenario, scenario_params)
-        names, data, fs, index, instants, end = self._b.acquire(s, scenario, params)
+        names, data, fs, index, instants, end, facts = self._b.acquire(s, scenario, params)
         rec = Recording(names=names[1:], data=data[1:], fs_hz=fs,
                         t0_s=float(data[0, 0]) if data.shape[1] else 0.0,
-                        sample_index=index, sample_instants_us=instants or None, t_s=data[0])
+                        sample_index=index, sample_instants_us=instants or None, t_s=data[0],
+                        facts=json.loads(facts))
         if end == "interrupted":
             e = KeyboardInterrupt(f"acquisition stopped by Ctrl-C: kept {rec.samples} records")
             e.recording = rec

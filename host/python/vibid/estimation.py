@@ -109,8 +109,13 @@ def frf_estimate(recording, force: str = "", responses="", **options) -> FrfEsti
                     raise ValueError(f"the recording's sample_instants_us does not name column "
                                      f"'{n}'")
                 instants_s.append(instants[n] * 1e-6)
-        return _frf_estimate(_vibid.estimate_arrays(force_signal, x, recording.fs_hz, force,
-                                                    names, o, instants_s))
+        # The converters' rails the recording's facts state: a clip is a sample on one.
+        channels = {c["name"]: c for c in (recording.facts or {}).get("channels", [])}
+        rails = [tuple(channels[n]["rails"]) for n in [force] + names
+                 if "rails" in channels.get(n, {})]
+        return _frf_estimate(_vibid.estimate_arrays(
+            force_signal, x, recording.fs_hz, force, names, o, instants_s,
+            rails if len(rails) == len(names) + 1 else []))
     return _frf_estimate(_vibid.estimate_file(_input_path("recording", recording), o))
 
 

@@ -3,6 +3,7 @@ SEP005 channel dicts."""
 from __future__ import annotations
 
 import dataclasses
+import json
 from typing import Optional, Sequence
 
 import numpy as np
@@ -38,6 +39,10 @@ class Recording:
     #: the recording's JSON sidecar holds it)
     sample_instants_us: Optional[dict] = None
     t_s: Optional[np.ndarray] = None  #: the recording's own time column, when it has one
+    #: What the recording states of itself, its JSON sidecar as a dict (file-formats.md): rate,
+    #: start, board, calibration, the acquisition's options, per channel its unit, sensitivity,
+    #: full scale, converter rails and clip count. None for a recording without one.
+    facts: Optional[dict] = None
 
     def index(self, name: str) -> int:
         """The row of a column; ValueError naming the columns there are otherwise."""
@@ -89,11 +94,12 @@ class Recording:
 
     def write_csv(self, path: str) -> None:
         """Writes the recording as a plain CSV (one header row, t_s first, then rows) that reads
-        back bit-identical, with its sampling instants in the JSON sidecar PATH.json when it has
-        them: an acquisition's files are the ones ``vibid acquire`` writes."""
+        back bit-identical, with its facts (or, without them, its sampling instants) in the JSON
+        sidecar PATH.json: an acquisition's files are the ones ``vibid acquire`` writes."""
         _vibid.write_csv(_output_path("path", path), ["t_s"] + list(self.names),
                          np.vstack([self.time_s()[None, :], self.data]),
-                         list((self.sample_instants_us or {}).items()))
+                         list((self.sample_instants_us or {}).items()),
+                         None if self.facts is None else json.dumps(self.facts))
 
     def __repr__(self) -> str:
         return _repr("Recording", names=self.names, samples=self.samples, fs_hz=self.fs_hz)
@@ -103,10 +109,11 @@ def read_recording(path: str, fs_hz: Optional[float] = None, time_column: str = 
                    channels: Optional[Sequence[str]] = None) -> Recording:
     """Reads a recording CSV as vibid writes it (``acquire``, ``simulate``): every column but
     the time column, which gives fs_hz (checked uniform) unless ``fs_hz`` is given."""
-    names, data, fs, t0, instants = _vibid.read_recording(
+    names, data, fs, t0, instants, facts = _vibid.read_recording(
         _input_path("path", path), None if fs_hz is None else _real("fs_hz", fs_hz),
         _text("time_column", time_column), _names("channels", channels))
     keep = [i for i, n in enumerate(names) if n != time_column]
     t = data[names.index(time_column)] if time_column in names and fs_hz is None else None
     return Recording(names=[names[i] for i in keep], data=data[keep], fs_hz=fs, t0_s=t0, t_s=t,
-                     sample_instants_us=instants or None)
+                     sample_instants_us=instants or None,
+                     facts=None if facts is None else json.loads(facts))

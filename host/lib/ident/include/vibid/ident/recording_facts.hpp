@@ -37,7 +37,7 @@ struct ChannelFacts {
   /// The values (in unit_str) the column holds when the converter sits on its rails (or the
   /// calibration saturates first): a sample at or beyond either is clipped.
   std::optional<std::pair<double, double>> rails;
-  std::optional<double> sample_instant_us;  ///< After the sample clock's edge (us).
+  std::optional<double> sample_instant_us;       ///< After the sample clock's edge (us).
   std::optional<std::uint64_t> clipped_samples;  ///< The board's own count for the acquisition.
 
   bool operator==(const ChannelFacts&) const = default;
