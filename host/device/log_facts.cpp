@@ -6,6 +6,7 @@
 #include <cstdio>
 #include <limits>
 
+#include "vibid/common/q31_decimal.hpp"
 #include "vibid/device/info_json.hpp"
 #include "vibid/device/log_table.hpp"
 #include "vibid/shared/board_profile.hpp"
@@ -43,7 +44,9 @@ std::pair<double, double> ChannelRails(wire::Channel channel, const wire::Channe
   const auto value = [&](double code) {
     std::uint32_t clips = 0;
     const double q = wire::ScaleChannel(static_cast<std::int32_t>(code), s, clips);
-    return s.unit == wire::Unit::kCounts ? q : q * (static_cast<double>(s.full_scale) / kQ31);
+    if (s.unit == wire::Unit::kCounts) return q;
+    const double fs = static_cast<double>(s.full_scale);
+    return ShortestQ31Decimal(q * (fs / kQ31), fs);
   };
   const double a = value(lo_code);
   const double b = value(hi_code);

@@ -50,11 +50,12 @@ TEST(LogFacts, RailsAreTheConvertersEndsThroughTheBoardsScaling) {
   EXPECT_NEAR(a_lo, -2048.0 / 10.24, 1e-7 * 200.0);
   EXPECT_NEAR(a_hi, 2047.0 / 10.24, 1e-7 * 200.0);
   // An encoder's counter never reaches its ends; the scaling saturates first, at the full scale
-  // 0.05 m (the Q31 word's ends: -2^31 and 2^31 - 1 of 2^31).
+  // 0.05 m (the Q31 word's ends: -2^31 and 2^31 - 1 of 2^31, as their shortest decimals).
   const auto [x_lo, x_hi] = ChannelRails(wire::Channel::kEncoder1, rec.channels[4], 12);
   const double fs = static_cast<double>(rec.channels[4].full_scale);
-  EXPECT_EQ(x_lo, -fs);
-  EXPECT_EQ(x_hi, fs * (2147483647.0 / 2147483648.0));
+  EXPECT_EQ(std::nearbyint(x_lo / fs * 2147483648.0), -2147483648.0);
+  EXPECT_EQ(std::nearbyint(x_hi / fs * 2147483648.0), 2147483647.0);
+  EXPECT_NEAR(x_lo, -0.05, 1e-9);
   // Uncalibrated: the codes themselves.
   const auto [c_lo, c_hi] = ChannelRails(wire::Channel::kAccel2, wire::DefaultScaling(), 12);
   EXPECT_EQ(c_lo, 0.0);
@@ -119,6 +120,7 @@ TEST(LogFacts, ACalibratedValueIsWrittenAsTheShortestDecimalThatKeepsTheBoardsNu
     p.records.push_back(r);
   }
   const LogTable t = MakeLogTable(p, rec, true);
+  EXPECT_EQ(t.columns[2](0), 0.0064);  // in memory as in the file
   const std::string rows = FormatLogCsvRows(p, rec, true);
   std::istringstream in(rows);
   std::string line;
@@ -136,7 +138,7 @@ TEST(LogFacts, ACalibratedValueIsWrittenAsTheShortestDecimalThatKeepsTheBoardsNu
     std::uint32_t clips = 0;
     const double q = wire::ScaleChannel(counts[i], rec.channels[4], clips);
     EXPECT_EQ(std::nearbyint(v / fs * 2147483648.0), q) << cell;
-    EXPECT_NEAR(v, t.columns[2](i), 1e-9 * fs);
+    EXPECT_EQ(v, t.columns[2](i)) << cell;
   }
 }
 

@@ -3,10 +3,11 @@
 #include <algorithm>
 #include <cmath>
 #include <cstring>
+#include <limits>
 #include <optional>
 
 #include "vibid/common/csv.hpp"
-#include "vibid/common/csv_q31.hpp"
+#include "vibid/common/q31_decimal.hpp"
 #include "vibid/common/enum_names.hpp"
 #include "vibid/device/log_facts.hpp"
 #include "vibid/ident/recording_facts.hpp"
@@ -93,23 +94,32 @@ LogTable MakeLogTable(const LogPull& pull, const wire::CalibrationRecord& calibr
   }
   t.names.push_back("t_s");
   t.columns.push_back(time);
-  t.full_scales.push_back(0.0);
   for (std::size_t c = 0; c < wire::kChannelCount; ++c) {
     if ((pull.layout.channel_mask & (1u << c)) == 0) continue;
     const wire::ChannelScaling s = has_record ? calibration.channels[c] : wire::DefaultScaling();
     const double scale =
         s.unit == wire::Unit::kCounts ? 1.0 : static_cast<double>(s.full_scale) / kQ31;
     Eigen::VectorXd v(n);
+    const double full_scale =
+        s.unit == wire::Unit::kCounts ? 0.0 : static_cast<double>(s.full_scale);
+    // A raw sample's value is q x full_scale / 2^31: held as its shortest decimal that keeps q
+    // (0.0064, not 0.006400000003539024), the same in memory and in the file. The last value's
+    // decimal is kept: a resting channel repeats it.
+    double last_in = std::numeric_limits<double>::quiet_NaN();
+    double last_out = 0.0;
     for (Eigen::Index i = 0; i < n; ++i) {
-      v(i) = Calibrated(pull.records[static_cast<std::size_t>(i)].raw[c],
-                        static_cast<wire::Channel>(c), s) *
-             scale;
+      const double x = Calibrated(pull.records[static_cast<std::size_t>(i)].raw[c],
+                                  static_cast<wire::Channel>(c), s) *
+                       scale;
+      if (x != last_in) {
+        last_in = x;
+        last_out = ShortestQ31Decimal(x, full_scale);
+      }
+      v(i) = last_out;
     }
     t.names.push_back(std::string(ChannelStem(static_cast<wire::Channel>(c))) + "_" +
                       UnitSuffix(s.unit));
     t.columns.push_back(v);
-    t.full_scales.push_back(s.unit == wire::Unit::kCounts ? 0.0
-                                                          : static_cast<double>(s.full_scale));
   }
   if (pull.layout.HasDob()) {
     double out_fs = 0.0;
@@ -123,11 +133,9 @@ LogTable MakeLogTable(const LogPull& pull, const wire::CalibrationRecord& calibr
     for (Eigen::Index i = 0; i < n; ++i) q(i) = pull.records[static_cast<std::size_t>(i)].d_hat;
     t.names.push_back("d_hat_q31");
     t.columns.push_back(q);
-    t.full_scales.push_back(0.0);
     if (out_fs > 0.0) {
       t.names.push_back("d_hat_n");
       t.columns.push_back(q * (out_fs / kQ31));
-      t.full_scales.push_back(out_fs);
     }
   }
   if (pull.layout.HasWatch()) {
@@ -143,10 +151,8 @@ LogTable MakeLogTable(const LogPull& pull, const wire::CalibrationRecord& calibr
     }
     t.names.push_back("model_g");
     t.columns.push_back(g);
-    t.full_scales.push_back(0.0);
     t.names.push_back("model_stale");
     t.columns.push_back(stale);
-    t.full_scales.push_back(0.0);
   }
   return t;
 }
@@ -176,8 +182,7 @@ std::string FormatLogCsvHeader(const LogPull& format, const wire::CalibrationRec
 
 std::string FormatLogCsvRows(const LogPull& block, const wire::CalibrationRecord& calibration,
                              bool has_record) {
-  const LogTable t = MakeLogTable(block, calibration, has_record);
-  return FormatCsvRowsQ31(t.columns, t.full_scales);
+  return FormatCsvRows(MakeLogTable(block, calibration, has_record).columns);
 }
 
 std::string FormatLogCsv(const LogPull& pull, const wire::CalibrationRecord& calibration,

@@ -1,5 +1,4 @@
 #include "vibid/common/csv.hpp"
-#include "vibid/common/csv_q31.hpp"
 
 #include <algorithm>
 #include <charconv>
@@ -140,49 +139,6 @@ std::string FormatCsvRows(const std::vector<Eigen::VectorXd>& columns) {
       if (c) out += ',';
       const auto res = std::to_chars(buf, buf + sizeof buf, columns[c][r]);
       out.append(buf, res.ptr);
-    }
-    out += '\n';
-  }
-  return out;
-}
-
-namespace {
-
-// The shortest decimal of `v` = q x full_scale / 2^31 that gives q back (see FormatCsvRowsQ31);
-// the plain shortest when v is not on that grid.
-char* FormatOnQ31Grid(char* first, char* last, double v, double full_scale) {
-  constexpr double kTwo31 = 2147483648.0;
-  // q x full_scale / 2^31 needs up to 55 bits, so the double in hand is q's value rounded: on the
-  // grid within a hair (a decimated value, with fraction bits of its own, is not).
-  const double exact = v / full_scale * kTwo31;
-  const double q = std::nearbyint(exact);
-  if (full_scale > 0.0 && std::isfinite(q) && std::abs(exact - q) < 1e-6 && std::abs(q) <= kTwo31) {
-    for (int digits = 1; digits <= 17; ++digits) {
-      const auto res = std::to_chars(first, last, v, std::chars_format::general, digits);
-      double back = 0.0;
-      std::from_chars(first, res.ptr, back);
-      if (std::nearbyint(back / full_scale * kTwo31) == q) return res.ptr;
-    }
-  }
-  return std::to_chars(first, last, v).ptr;
-}
-
-}  // namespace
-
-std::string FormatCsvRowsQ31(const std::vector<Eigen::VectorXd>& columns,
-                             const std::vector<double>& full_scales) {
-  Require(full_scales.size() == columns.size(), "FormatCsvRowsQ31: one full scale per column");
-  std::string out;
-  const Eigen::Index rows = columns.empty() ? 0 : columns[0].size();
-  for (const auto& c : columns) Require(c.size() == rows, "FormatCsv: columns differ in length");
-  char buf[64];
-  for (Eigen::Index r = 0; r < rows; ++r) {
-    for (std::size_t c = 0; c < columns.size(); ++c) {
-      if (c) out += ',';
-      char* end = full_scales[c] > 0.0
-                      ? FormatOnQ31Grid(buf, buf + sizeof buf, columns[c][r], full_scales[c])
-                      : std::to_chars(buf, buf + sizeof buf, columns[c][r]).ptr;
-      out.append(buf, end);
     }
     out += '\n';
   }

@@ -24,16 +24,13 @@ bool ChannelFromStem(const std::string& stem, wire::Channel& channel);
 struct LogTable {
   std::vector<std::string> names;
   std::vector<Eigen::VectorXd> columns;
-  /// Per column: the full scale of a calibrated fixed-point column (its values are q x
-  /// full_scale / 2^31, written by FormatCsvRowsQ31 as the shortest decimal that keeps q), 0 for
-  /// the others (time, counts, integers).
-  std::vector<double> full_scales;
 };
 
 /// Columns: t_s (sample_index x sample period, the exact decimal: the tick count in us over
 /// 10^6, correctly rounded), one `<stem>_<unit>` column per logged channel
-/// (calibrated exactly as the board does: ScaleChannel, then x full_scale / 2^31, which is exact
-/// in double so a reader recovers the board's Q31 value), and with the observer logged
+/// (calibrated exactly as the board does: ScaleChannel, then x full_scale / 2^31, held as the
+/// shortest decimal that still rounds to the board's Q31 word, ShortestQ31Decimal, so a reader
+/// recovers that word as the observer's replay does), and with the observer logged
 /// `d_hat_q31` (the board's integer output) and `d_hat_n`; with the residual test's word logged,
 /// `model_g` (its CUSUM statistic, in spreads) and `model_stale` (0 or 1).
 /// `calibration` is the active record (has_record false: uncalibrated, columns in counts).
