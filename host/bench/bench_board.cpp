@@ -1,3 +1,4 @@
+#include "vibid/common/q31_decimal.hpp"
 #include "vibid/bench/bench_files.hpp"
 #include "vibid/bench/bench_board.hpp"
 
@@ -253,7 +254,7 @@ void BenchBoard::Run(AcquisitionAsk ask, wire::AcqConfigureRequest cfg, std::str
   ident::AcquisitionFacts asked;
   asked.seconds = ask.seconds;
   asked.scenario = ask.scenario;
-  for (float p : ask.scenario_params) asked.scenario_params.push_back(p);
+  for (float p : ask.scenario_params) asked.scenario_params.push_back(ShortestFloat32Decimal(p));
   const std::string start_timestamp = ident::UtcTimestampNow();
   try {
     if (journal_ == nullptr) throw InputError("cannot write the journal " + journal_path_);

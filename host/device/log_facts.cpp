@@ -76,8 +76,10 @@ BoardContext ContextOf(Connection& c) {
 
 ident::RecordingFacts LogFacts(const LogPull& format, std::uint64_t records,
                                const wire::CalibrationRecord& calibration, bool has_record,
-                               const BoardContext& board, ident::AcquisitionFacts acquisition,
+                               const BoardContext& board,
+                               std::optional<ident::AcquisitionFacts> asked,
                                const std::string& start_timestamp) {
+  ident::AcquisitionFacts acquisition = asked.value_or(ident::AcquisitionFacts{});
   LogPull empty;
   empty.layout = format.layout;
   empty.trailer = format.trailer;
@@ -122,7 +124,7 @@ ident::RecordingFacts LogFacts(const LogPull& format, std::uint64_t records,
     c.created_unix_s = calibration.created_unix_s;
     f.calibration = c;
   }
-  f.acquisition = acquisition;
+  if (asked) f.acquisition = acquisition;
   // The channel columns follow t_s in channel order (MakeLogTable).
   std::size_t column = 1;
   for (std::size_t c = 0; c < wire::kChannelCount; ++c) {
@@ -137,7 +139,7 @@ ident::RecordingFacts LogFacts(const LogPull& format, std::uint64_t records,
       ch.counts_per_unit = std::ldexp(1.0, 31 + s.gain_shift) /
                            (static_cast<double>(s.gain) * static_cast<double>(s.full_scale));
       ch.offset_counts = s.offset_counts;
-      ch.full_scale = s.full_scale;
+      ch.full_scale = ShortestFloat32Decimal(s.full_scale);
     }
     ch.code_range = CodeRange(channel, adc_bits);
     ch.rails = ChannelRails(channel, s, adc_bits);

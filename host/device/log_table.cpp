@@ -197,7 +197,7 @@ void WriteLogSidecar(const std::string& csv_path, const LogPull& format,
   BoardContext board;
   board.instants = instants;
   ident::WriteRecordingFacts(csv_path, LogFacts(format, format.records.size(), calibration,
-                                                has_record, board, {}, ident::UtcTimestampNow()));
+                                                has_record, board, std::nullopt, std::string()));
 }
 
 }  // namespace vibid::device

@@ -9,6 +9,7 @@
 
 #include "cli_support.hpp"
 #include "common/command.hpp"
+#include "vibid/common/q31_decimal.hpp"
 #include "vibid/common/option_text.hpp"
 #include "device_commands.hpp"
 #include "session.hpp"
@@ -58,7 +59,7 @@ Asked AskedOf(const device::AcquireSettings& a, const std::string& scenario,
   out.facts.trigger = a.trigger;
   out.facts.pretrigger_s = a.pretrigger_s;
   out.facts.scenario = scenario;
-  for (float p : params) out.facts.scenario_params.push_back(p);
+  for (float p : params) out.facts.scenario_params.push_back(ShortestFloat32Decimal(p));
   out.start_timestamp = ident::UtcTimestampNow();
   return out;
 }

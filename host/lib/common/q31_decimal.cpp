@@ -24,4 +24,13 @@ double ShortestQ31Decimal(double value, double full_scale) {
   return value;
 }
 
+double ShortestFloat32Decimal(float value) {
+  if (!std::isfinite(value)) return value;
+  char buf[64];
+  const auto res = std::to_chars(buf, buf + sizeof buf, value);
+  double back = 0.0;
+  std::from_chars(buf, res.ptr, back);
+  return back;
+}
+
 }  // namespace vibid

@@ -21,6 +21,7 @@
 
 #include "bindings.hpp"
 #include "board_watch.hpp"
+#include "vibid/common/q31_decimal.hpp"
 #include "vibid/common/error.hpp"
 #include "vibid/device/acquire_plan.hpp"
 #include "vibid/device/calibration_builder.hpp"
@@ -232,7 +233,7 @@ class Board {
     asked.trigger = settings.trigger;
     asked.pretrigger_s = settings.pretrigger_s;
     asked.scenario = scenario;
-    for (float p : scenario_params) asked.scenario_params.push_back(p);
+    for (float p : scenario_params) asked.scenario_params.push_back(ShortestFloat32Decimal(p));
     const std::string start_timestamp = ident::UtcTimestampNow();
     device::BoardContext board;
     {

@@ -37,10 +37,13 @@ BoardContext ContextOf(Connection& c);
 /// The facts of a recording with `format`'s layout and trailer (its records are not read; the
 /// record count is `records`) taken with `calibration` active (`has_record` false: columns in
 /// counts). `acquisition` holds what the caller asked for (seconds, trigger, scenario...);
-/// rate, decimation, record and drop counts are filled from the trailer.
+/// rate, decimation, record and drop counts are filled from the trailer. Without it (a writer that
+/// did not run the acquisition) the sidecar states no acquisition. An empty `start_timestamp`
+/// states no start.
 ident::RecordingFacts LogFacts(const LogPull& format, std::uint64_t records,
                                const wire::CalibrationRecord& calibration, bool has_record,
-                               const BoardContext& board, ident::AcquisitionFacts acquisition,
+                               const BoardContext& board,
+                               std::optional<ident::AcquisitionFacts> acquisition,
                                const std::string& start_timestamp);
 
 /// The emulator's seed from its serial number (EMU + 16 hex digits); empty for any other.

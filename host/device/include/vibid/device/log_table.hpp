@@ -57,9 +57,9 @@ std::string FormatLogCsv(const LogPull& pull, const wire::CalibrationRecord& cal
                          bool has_record);
 
 /// Writes the sidecar of the recording at `csv_path` (log_facts.hpp, ident::WriteRecordingFacts):
-/// its columns' units, rails and sensitivities from `calibration`, the rate, the record count and
-/// the instants the board stated (`instants` empty for a board of protocol 2.0); the board and
-/// the acquisition's options are not stated (LogFacts states them where the caller knows them).
+/// its columns' units, rails and sensitivities from `calibration`, the rate and the instants the
+/// board stated (`instants` empty for a board of protocol 2.0); the board, the start and the
+/// acquisition are not stated (LogFacts states them where the caller ran the acquisition).
 void WriteLogSidecar(const std::string& csv_path, const LogPull& format,
                      const wire::CalibrationRecord& calibration, bool has_record,
                      const std::optional<wire::SamplingInfoResponse>& instants);

@@ -13,4 +13,8 @@ namespace vibid {
 /// observer replay does (dob::ToQ31: nearbyint), and its shortest round-trip form is d.
 double ShortestQ31Decimal(double value, double full_scale);
 
+/// The double of a float32's shortest decimal (0.2f -> 0.2, not 0.20000000298023224): a value the
+/// board or the wire holds in binary32 (a full scale, a scenario parameter) as written.
+double ShortestFloat32Decimal(float value);
+
 }  // namespace vibid
