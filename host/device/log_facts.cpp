@@ -1,6 +1,7 @@
 #include "vibid/device/log_facts.hpp"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstdint>
 #include <cstdio>

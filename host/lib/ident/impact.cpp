@@ -616,8 +616,8 @@ ImpactDetection DetectImpactHits(const Eigen::Ref<const Eigen::VectorXd>& force,
         list += (i == 0 ? "" : i + 1 == unchecked.size() ? " and " : ", ") + unchecked[i];
       d.warnings.push_back(
           "clip check unavailable for " + list +
-          ": the converter's rails are not known (a recording states them in its sidecar "
-          "REC.csv.json, as `vibid acquire` writes it); hits are not checked for clipping there");
+          ": the converters' rails are not stated (a recording's sidecar REC.csv.json states "
+          "them, as `vibid acquire` writes it)");
     }
   }
   d.spans.resize(groups.size());
