@@ -13,6 +13,7 @@
 
 #include "vibid/common/atomic_file.hpp"
 #include "vibid/common/csv.hpp"
+#include "vibid/common/error.hpp"
 #include "vibid/ident/recording_facts.hpp"
 #include "vibid/workflow/estimate.hpp"
 
@@ -82,7 +83,7 @@ ident::RecordingFacts FactsOf(const Hammer& h) {
   return f;
 }
 
-Estimated Run(const std::string& path) {
+Estimated EstimateHits(const std::string& path) {
   EstimationOptions o;
   o.force = "force1_n";
   o.responses = "acc1_m_s2";
@@ -111,7 +112,7 @@ TEST(RecordingFacts, AClipIsASampleAtTheRailTheSidecarStates) {
   h.columns[2](8004) = kAccLo;
   const std::string path = Write("facts_clip.csv", h);
   ident::WriteRecordingFacts(path, FactsOf(h));
-  const Estimated e = Run(path);
+  const Estimated e = EstimateHits(path);
   ASSERT_EQ(e.hits.size(), 7u);
   const bool clipped[] = {false, false, true, true, false, true, false};
   for (std::size_t i = 0; i < 7; ++i) {
@@ -128,7 +129,7 @@ TEST(RecordingFacts, WithoutRailsTheClipCheckSaysItIsUnavailable) {
   h.columns[1](3502) = kForceHi;
   const std::string path = Write("facts_none.csv", h);
   // No sidecar: nothing guessed, every hit used, and the check named as unavailable.
-  const Estimated none = Run(path);
+  const Estimated none = EstimateHits(path);
   for (const ident::Hit& hit : none.hits) EXPECT_FALSE(hit.clipped) << hit.note;
   EXPECT_TRUE(Warns(none, "clip check unavailable for the force and response 1"));
   // A version 1 sidecar (instants only, as recordings before the facts have) reads, instants
@@ -138,7 +139,7 @@ TEST(RecordingFacts, WithoutRailsTheClipCheckSaysItIsUnavailable) {
         << R"({"format": "vibid-recording", "version": 1, "columns": ["t_s", "force1_n", "acc1_m_s2"],
                "sample_instants_us": {"force1_n": 2.667, "acc1_m_s2": 2.667}})";
   }
-  const Estimated v1 = Run(path);
+  const Estimated v1 = EstimateHits(path);
   for (const ident::Hit& hit : v1.hits) EXPECT_FALSE(hit.clipped) << hit.note;
   EXPECT_TRUE(Warns(v1, "clip check unavailable"));
   EXPECT_NE(v1.compensation.find("sampling instants compensated"), std::string::npos);

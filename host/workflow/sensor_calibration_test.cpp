@@ -36,6 +36,7 @@ struct Chain {
   model::Model nominal = model::MakeChain(
       Eigen::Vector2d(2.0, 1.5), Eigen::Vector2d(4000.0, 3000.0), Eigen::Vector2d(2.0, 1.5));
   std::string recording;
+  std::vector<std::string> mass_tests;  ///< Each mass alone on its spring, hit (1-DOF tests).
 };
 
 const Chain& TheChain() {
@@ -46,14 +47,31 @@ const Chain& TheChain() {
     c.recording = Dir() + "/modal.csv";
     WriteFileAtomic(c.recording,
                     ident::FormatHammerTestCsv(r, {"acc1_m_s2", "acc2_m_s2"}, "force1_n"));
+    const double m[] = {1.8, 1.5}, k[] = {3500.0, 2750.0}, d[] = {2.0, 1.5};
+    for (int i = 0; i < 2; ++i) {
+      const model::Model one =
+          model::MakeChain(Eigen::VectorXd::Constant(1, m[i]), Eigen::VectorXd::Constant(1, k[i]),
+                           Eigen::VectorXd::Constant(1, d[i]));
+      const ident::HammerTestRecord t =
+          ident::SimulateHammerTest(one, ident::MassTestSpec(500.0, 20 + static_cast<unsigned>(i)));
+      const std::string acc = "acc" + std::to_string(i + 1) + "_m_s2";
+      c.mass_tests.push_back(Dir() + "/mass" + std::to_string(i + 1) + ".csv");
+      WriteFileAtomic(c.mass_tests.back(), ident::FormatHammerTestCsv(t, {acc}, "force1_n"));
+    }
     return c;
   }();
   return chain;
 }
 
-IdentifyRun Identify(const std::string& force, const std::string& sensors) {
+IdentifyRun Identify(const std::string& force, const std::string& sensors,
+                     bool mass_tests = false) {
   IdentifyRequest request = DefaultIdentifyRequest();
   request.modal_tests = {TheChain().recording};
+  if (mass_tests) {
+    // The mass tests' path: each mass from its own test, the springs fitted with it.
+    for (std::size_t i = 0; i < 2; ++i) request.mass_tests.push_back({i, TheChain().mass_tests[i]});
+    request.mass_springs = {"1=fit", "2=fit"};
+  }
   request.modes.driving_point = "2";
   request.estimation.force = force;
   request.sensors = sensors;
@@ -90,9 +108,10 @@ TEST(SensorCalibration, TheIntervalsCarryAStatisticalAndACalibrationPart) {
              "dof": 1, "sensitivity_uncertainty": 0.01, "coverage_factor": 2},
     "acc2": {"unit": "m/s2", "counts_per_unit": 10.24, "offset_counts": 2048, "full_scale": 200,
              "dof": 2, "sensitivity_uncertainty": 0.03, "coverage_factor": 3}}})");
-  const IdentifyRun plain = Identify("force1_n", "");
-  const IdentifyRun cal = Identify("force1_n", sensors);
+  const IdentifyRun plain = Identify("force1_n", "", true);
+  const IdentifyRun cal = Identify("force1_n", sensors, true);
   const double u[] = {std::hypot(0.01, 0.005), std::hypot(0.01, 0.01)};
+  int checked = 0;
   for (std::size_t i = 0; i < 2; ++i) {
     const ident::PositionComparison& p = plain.result.table.positions[i];
     const ident::PositionComparison& c = cal.result.table.positions[i];
@@ -108,6 +127,7 @@ TEST(SensorCalibration, TheIntervalsCarryAStatisticalAndACalibrationPart) {
         continue;
       }
       ASSERT_TRUE(both.HasCalibration()) << i << " " << q;
+      ++checked;
       EXPECT_DOUBLE_EQ(both.statistical_half_width, stat.HalfWidth());
       EXPECT_NEAR(both.calibration_half_width, 1.959963984540054 * u[i] * std::abs(values[q]),
                   1e-12 * std::abs(values[q]));
@@ -120,6 +140,9 @@ TEST(SensorCalibration, TheIntervalsCarryAStatisticalAndACalibrationPart) {
           << both.basis;
     }
   }
+  // The mass tests give every mass an interval (and the modal test k and c theirs).
+  EXPECT_GE(checked, 2) << plain.result.table.positions[0].m_ci95.missing << " | "
+                        << plain.result.method;
   // The JSON states both parts beside the interval.
   nlohmann::json j;
   PutInterval(j, "m_kg", cal.result.table.positions[0].m_ci95);
