@@ -12,6 +12,7 @@
 #include "common/solver_json.hpp"
 #include "ident_cli.hpp"
 #include "ident_commands.hpp"
+#include "vibid/common/csv.hpp"
 #include "vibid/common/error.hpp"
 #include "vibid/common/json_file.hpp"
 #include "vibid/device/calibration_builder.hpp"
@@ -125,6 +126,12 @@ std::string MassText(const ident::MassUpdateResult& r,
 void Run(const MassArgs& a) {
   Require(a.est.kind == "receptance",
           "the mass update fits a receptance; leave --kind at its default");
+  // Refused before the recording is read: the estimation's own messages would come first.
+  if (!a.est.responses.empty()) {
+    const std::size_t given = ParseColumnList(a.est.responses).size();
+    Require(given == 1,
+            "update mass: give exactly one response (got " + std::to_string(given) + ")");
+  }
   std::vector<std::string> notes;
   const ident::Frf frf = LoadOrEstimate(a.input, a.est, notes);
   Require(frf.responses() == 1,
