@@ -167,12 +167,15 @@ def test_an_frf_csv_opens_in_pandas_and_numpy_its_metadata_beside(tmp_path):
     frame, table, rows = read_with_every_reader(path)
     assert list(frame.columns) == names and list(table.dtype.names) == names
     e = vibid.frf_estimate(OLD_FORM, force="force1_n", responses="acc1_m_s2")
-    # numpy's parser reads every value back exactly; pandas' default one to 1e-13.
+    # numpy's parser reads every value back exactly; pandas' default one to about 1e-12
+    # (float_precision="round_trip" is exact).
     np.testing.assert_array_equal(table["freq_hz"], e.frd.freq_hz)
     np.testing.assert_array_equal(table["acc1_m_s2_re"], e.frd.h[0, 0].real)
     np.testing.assert_array_equal(table["acc1_m_s2_im"], e.frd.h[0, 0].imag)
-    np.testing.assert_allclose(frame["acc1_m_s2_re"].to_numpy(), e.frd.h[0, 0].real, rtol=1e-13,
-                               atol=1e-18)
+    np.testing.assert_allclose(frame["acc1_m_s2_re"].to_numpy(), e.frd.h[0, 0].real, rtol=1e-12,
+                               atol=1e-15)
+    exact = pandas.read_csv(path, float_precision="round_trip")
+    np.testing.assert_array_equal(exact["acc1_m_s2_im"].to_numpy(), e.frd.h[0, 0].imag)
     meta = json.loads((tmp_path / "frf.csv.json").read_text())
     assert meta["format"] == "vibid-frf" and meta["columns"] == names
     assert meta["kind"] == "receptance" and meta["force"] == "force1_n"
