@@ -1,3 +1,4 @@
+#include "vibid/common/q31_decimal.hpp"
 #include "vibid/bench/bench_files.hpp"
 #include "vibid/bench/bench_board.hpp"
 
@@ -18,6 +19,7 @@
 #include "vibid/device/board_report.hpp"
 #include "vibid/device/error.hpp"
 #include "vibid/device/link_budget.hpp"
+#include "vibid/device/log_facts.hpp"
 #include "vibid/dob/compare.hpp"
 #include "vibid/dob/lowpass.hpp"
 
@@ -249,6 +251,12 @@ void BenchBoard::Run(AcquisitionAsk ask, wire::AcqConfigureRequest cfg, std::str
   NotifyListeners([&](AcquisitionListener& l) {
     if (l.started) l.started(ask, cfg);
   });
+  // What the recording's sidecar states of how it was asked for, and when it started (UTC).
+  ident::AcquisitionFacts asked;
+  asked.seconds = ask.seconds;
+  asked.scenario = ask.scenario;
+  for (float p : ask.scenario_params) asked.scenario_params.push_back(ShortestFloat32Decimal(p));
+  const std::string start_timestamp = ident::UtcTimestampNow();
   try {
     if (journal_ == nullptr) throw InputError("cannot write the journal " + journal_path_);
     if (!ask.scenario.empty()) c_.SelectScenario(ask.scenario, ask.scenario_params);
@@ -280,7 +288,9 @@ void BenchBoard::Run(AcquisitionAsk ask, wire::AcqConfigureRequest cfg, std::str
       // Never over an existing file: name.csv, or name-2.csv if one appeared meanwhile.
       const std::string path = PublishNewFile(
           out_dir_, name, ".csv", device::FormatLogCsv(pull, calibration_, has_calibration_));
-      device::WriteLogSidecar(path, pull, calibration_, has_calibration_, c_.GetSamplingInfo());
+      ident::WriteRecordingFacts(
+          path, device::LogFacts(pull, pull.records.size(), calibration_, has_calibration_,
+                                 device::ContextOf(c_), asked, start_timestamp));
       std::filesystem::remove(journal_path_);
       done["file"] = path;
       done["records"] = pull.records.size();

@@ -214,7 +214,9 @@ class HammerTests {
     }
     Publish(*t, nullptr);
     return {{"dir", t->dir},
-            {"files", {"recording.csv", "hits.json", "frf.csv", "frf.uff"}},
+            {"files",
+             {"recording.csv", "recording.csv.json", "hits.json", "frf.csv", "frf.csv.json",
+              "frf.uff"}},
             {"running", t->running.load()}};
   }
 

@@ -68,7 +68,9 @@ SensorSet SensorsFromJson(const nlohmann::json& j, const std::string& source) {
       fail("channels: unknown channel '" + Printable(name) +
            "' (force1, force2, acc1, acc2, x1, x2)");
     const std::string where = source + ": channels." + name;
-    RequireKnownKeys(c, {"unit", "counts_per_unit", "offset_counts", "full_scale", "dof"},
+    RequireKnownKeys(c,
+                     {"unit", "counts_per_unit", "offset_counts", "full_scale", "dof",
+                      "sensitivity_uncertainty", "coverage_factor"},
                      "sensors file " + source + " channels." + name);
     SensorScaling s;
     try {
@@ -87,6 +89,26 @@ SensorSet SensorsFromJson(const nlohmann::json& j, const std::string& source) {
           fail("channels." + name + ".dof must be 1 to " + std::to_string(wire::kMaxDof));
         }
         s.dof = dof.get<int>() - 1;
+      }
+      // A certificate's statement: U (relative, expanded) with its coverage factor k.
+      if (c.contains("sensitivity_uncertainty")) {
+        const nlohmann::json& u = c.at("sensitivity_uncertainty");
+        if (!u.is_number() || !std::isfinite(u.get<double>()) || u.get<double>() < 0.0 ||
+            u.get<double>() >= 1.0)
+          fail("channels." + name +
+               ".sensitivity_uncertainty must be a relative uncertainty in [0, 1) (0.02 for 2 %)");
+        s.sensitivity_uncertainty = u.get<double>();
+      }
+      if (c.contains("coverage_factor")) {
+        const nlohmann::json& k = c.at("coverage_factor");
+        if (!k.is_number() || !std::isfinite(k.get<double>()) || k.get<double>() < 1.0 ||
+            k.get<double>() > 10.0)
+          fail("channels." + name +
+               ".coverage_factor must be the certificate's k, 1 to 10 (2 for about 95 %)");
+        if (!c.contains("sensitivity_uncertainty"))
+          fail("channels." + name +
+               ".coverage_factor is given without sensitivity_uncertainty; give both");
+        s.coverage_factor = k.get<double>();
       }
     } catch (const nlohmann::json::exception& e) {
       fail("channels." + name + ": " + e.what());

@@ -49,6 +49,8 @@ class HidTransport final : public Transport {
     return static_cast<std::size_t>(n);
   }
 
+  std::string SerialNumber() const override { return listing_.serial; }
+
   std::string Describe() const override {
     return "hid:" + listing_.serial + " (" + listing_.path + ")";
   }

@@ -32,6 +32,12 @@ constexpr EnumNames<wire::ResetCause, 8> kResetNames{{
     {wire::ResetCause::kFault, "fault"},
 }};
 
+}  // namespace
+
+const char* BoardName(wire::BoardId board) { return NameOf(kBoardNames, board, "unknown"); }
+
+namespace {
+
 std::vector<std::string> CapabilityNames(std::uint32_t caps) {
   std::vector<std::string> out;
   const std::pair<std::uint32_t, const char*> names[] = {

@@ -3,11 +3,14 @@
 #include <algorithm>
 #include <cmath>
 #include <cstring>
+#include <limits>
 #include <optional>
 
 #include "vibid/common/csv.hpp"
+#include "vibid/common/q31_decimal.hpp"
 #include "vibid/common/enum_names.hpp"
-#include "vibid/ident/sample_instants.hpp"
+#include "vibid/device/log_facts.hpp"
+#include "vibid/ident/recording_facts.hpp"
 #include "vibid/shared/fixed/decimator.hpp"
 #include "vibid/shared/fixed/filter_description.hpp"
 
@@ -97,10 +100,22 @@ LogTable MakeLogTable(const LogPull& pull, const wire::CalibrationRecord& calibr
     const double scale =
         s.unit == wire::Unit::kCounts ? 1.0 : static_cast<double>(s.full_scale) / kQ31;
     Eigen::VectorXd v(n);
+    const double full_scale =
+        s.unit == wire::Unit::kCounts ? 0.0 : static_cast<double>(s.full_scale);
+    // A raw sample's value is q x full_scale / 2^31: held as its shortest decimal that keeps q
+    // (0.0064, not 0.006400000003539024), the same in memory and in the file. The last value's
+    // decimal is kept: a resting channel repeats it.
+    double last_in = std::numeric_limits<double>::quiet_NaN();
+    double last_out = 0.0;
     for (Eigen::Index i = 0; i < n; ++i) {
-      v(i) = Calibrated(pull.records[static_cast<std::size_t>(i)].raw[c],
-                        static_cast<wire::Channel>(c), s) *
-             scale;
+      const double x = Calibrated(pull.records[static_cast<std::size_t>(i)].raw[c],
+                                  static_cast<wire::Channel>(c), s) *
+                       scale;
+      if (x != last_in) {
+        last_in = x;
+        last_out = ShortestQ31Decimal(x, full_scale);
+      }
+      v(i) = last_out;
     }
     t.names.push_back(std::string(ChannelStem(static_cast<wire::Channel>(c))) + "_" +
                       UnitSuffix(s.unit));
@@ -179,13 +194,10 @@ std::string FormatLogCsv(const LogPull& pull, const wire::CalibrationRecord& cal
 void WriteLogSidecar(const std::string& csv_path, const LogPull& format,
                      const wire::CalibrationRecord& calibration, bool has_record,
                      const std::optional<wire::SamplingInfoResponse>& instants) {
-  LogPull empty;
-  empty.layout = format.layout;
-  empty.trailer = format.trailer;
-  const LogTable t = MakeLogTable(empty, calibration, has_record);
-  ident::WriteRecordingSidecar(csv_path, t.names,
-                               instants ? SampleInstantsUs(t, empty, *instants)
-                                        : std::vector<std::pair<std::string, double>>{});
+  BoardContext board;
+  board.instants = instants;
+  ident::WriteRecordingFacts(csv_path, LogFacts(format, format.records.size(), calibration,
+                                                has_record, board, std::nullopt, std::string()));
 }
 
 }  // namespace vibid::device

@@ -254,6 +254,7 @@ class UsbipDevice::Impl {
   std::uint8_t out_endpoint = 0x01;
   std::vector<std::uint8_t> device_descriptor;
   std::vector<std::uint8_t> configuration;
+  std::string serial;  ///< iSerialNumber, read at enumeration.
 
   std::mutex write_mutex;
   std::mutex mutex;
@@ -315,6 +316,14 @@ std::unique_ptr<UsbipDevice> UsbipDevice::Open(const std::string& host, int port
     throw DeviceError("malformed configuration descriptor from " + dev->Describe());
   const auto total = static_cast<std::uint16_t>(head[2] | (head[3] << 8));
   m.configuration = GetDescriptor(*dev, kDescriptorConfiguration, 0, total);
+  // The serial number names the board in its recordings; a device without one has index 0.
+  if (m.device_descriptor[16] != 0) {
+    try {
+      m.serial = GetStringDescriptor(*dev, m.device_descriptor[16]);
+    } catch (const DeviceError&) {
+      m.serial.clear();
+    }
+  }
   // The HID interface's interrupt endpoints (class 3).
   bool hid = false;
   bool has_hid_in = false;
@@ -362,6 +371,8 @@ std::size_t UsbipDevice::Receive(std::span<std::uint8_t, wire::kReportBytes> out
   if (!impl_->error.empty()) throw DeviceError(impl_->error);
   return 0;
 }
+
+std::string UsbipDevice::SerialNumber() const { return impl_->serial; }
 
 std::string UsbipDevice::Describe() const {
   return "usbip://" + impl_->where + " bus " + impl_->busid;

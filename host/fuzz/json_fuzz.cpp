@@ -79,6 +79,10 @@ void Sensors(const nlohmann::json& j) {
                               {"offset_counts", s->offset_counts},
                               {"full_scale", s->full_scale}};
     if (s->dof >= 0) channel["dof"] = s->dof + 1;
+    if (s->sensitivity_uncertainty > 0.0) {
+      channel["sensitivity_uncertainty"] = s->sensitivity_uncertainty;
+      channel["coverage_factor"] = s->coverage_factor;
+    }
     written["channels"][device::ChannelStem(static_cast<wire::Channel>(c))] = channel;
     // What the board is sent: an integer gain and shift, or a refusal naming the channel.
     (void)Accepts([&] { (void)device::ToChannelScaling(*s, "x"); });

@@ -21,6 +21,7 @@
 #include "vibid/common/json_keys.hpp"
 #include "vibid/common/text_input.hpp"
 #include "vibid/ident/frf_io.hpp"
+#include "vibid/ident/recording_facts.hpp"
 #include "vibid/ident/sample_instants.hpp"
 #include "vibid/shared/board_profile.hpp"
 
@@ -172,29 +173,6 @@ std::string CompensateInstants(const std::string& path, ident::Frf& frf) {
   return Compensate(frf, instant_of(frf.force_name), response_s);
 }
 
-/// The converter's limits of a recording's column, in the units its spec scales it to: a board's
-/// analog channel logged as raw codes (force1_counts, acc2_counts, ...) spans 0 .. 2^adc_bits - 1;
-/// an encoder's counts (x1_counts, x2_counts) are a 32-bit counter's, which a rig's travel never
-/// reaches: they never clip, however long a position rests at its extreme; calibrated columns
-/// have no limits the recording states.
-ident::ImpactOptions::ConverterLimits ConverterLimitsOf(const ColumnSpec& spec) {
-  constexpr std::string_view kSuffix = "_counts";
-  const std::string& name = spec.name;
-  if (name.size() <= kSuffix.size() ||
-      name.compare(name.size() - kSuffix.size(), kSuffix.size(), kSuffix) != 0)
-    return {};
-  const std::string stem = name.substr(0, name.size() - kSuffix.size());
-  const bool encoder = stem == "x1" || stem == "x2";
-  if (!encoder && stem != "force1" && stem != "force2" && stem != "acc1" && stem != "acc2")
-    return {};
-  const double bottom = encoder ? -std::ldexp(1.0, 31) : 0.0;
-  const double top =
-      encoder ? std::ldexp(1.0, 31) - 1.0 : std::ldexp(1.0, kBoardProfile.adc_bits) - 1.0;
-  const double a = bottom * spec.scale;
-  const double b = top * spec.scale;
-  return {std::min(a, b), std::max(a, b)};
-}
-
 /// The responses as they are held: a recording's own columns, or one matrix (a caller's array,
 /// read in place).
 struct Responses {
@@ -279,6 +257,33 @@ Estimated Estimate(const Eigen::Ref<const Eigen::VectorXd>& force, const Respons
 
 }  // namespace
 
+ident::ImpactOptions::ConverterLimits ConverterLimitsOf(const ColumnSpec& spec,
+                                                        const ident::RecordingFacts* facts) {
+  const auto scaled = [&](double lo, double hi) -> ident::ImpactOptions::ConverterLimits {
+    const double a = lo * spec.scale;
+    const double b = hi * spec.scale;
+    return {std::min(a, b), std::max(a, b)};
+  };
+  if (facts != nullptr) {
+    if (const ident::ChannelFacts* c = facts->Channel(spec.name); c != nullptr && c->rails)
+      return scaled(c->rails->first, c->rails->second);
+  }
+  // A board's column in raw counts names its converter by its name: an analog input
+  // (force1_counts, acc2_counts, ...) spans 0 .. 2^adc_bits - 1; an encoder's counts (x1_counts)
+  // are a 32-bit counter's, which a rig's travel never reaches.
+  constexpr std::string_view kSuffix = "_counts";
+  const std::string& name = spec.name;
+  if (name.size() <= kSuffix.size() ||
+      name.compare(name.size() - kSuffix.size(), kSuffix.size(), kSuffix) != 0)
+    return {};
+  const std::string stem = name.substr(0, name.size() - kSuffix.size());
+  const bool encoder = stem == "x1" || stem == "x2";
+  if (!encoder && stem != "force1" && stem != "force2" && stem != "acc1" && stem != "acc2")
+    return {};
+  if (encoder) return scaled(-std::ldexp(1.0, 31), std::ldexp(1.0, 31) - 1.0);
+  return scaled(0.0, std::ldexp(1.0, kBoardProfile.adc_bits) - 1.0);
+}
+
 Estimated EstimateFromRecording(const std::string& path, const EstimationOptions& a) {
   Require(!a.force.empty(), "--force is required to estimate an FRF from the recording " + path);
   Require(!a.responses.empty(),
@@ -310,8 +315,12 @@ Estimated EstimateFromRecording(const std::string& path, const EstimationOptions
   std::vector<ident::ImpactOptions::ConverterLimits>& limits =
       with_limits.impact_options.converter_limits;
   if (limits.empty()) {
-    limits.push_back(ConverterLimitsOf(fspec));
-    for (const ColumnSpec& spec : rspecs) limits.push_back(ConverterLimitsOf(spec));
+    // The rails from the recording's sidecar: a clip is a sample at the converter's rail. A
+    // recording without one leaves the check unavailable, and the estimation says so.
+    const std::optional<ident::RecordingFacts> facts = ident::ReadRecordingFacts(path);
+    const ident::RecordingFacts* f = facts ? &*facts : nullptr;
+    limits.push_back(ConverterLimitsOf(fspec, f));
+    for (const ColumnSpec& spec : rspecs) limits.push_back(ConverterLimitsOf(spec, f));
   }
   Estimated out = Estimate(force, responses, rec.fs_hz, with_limits, path,
                            ResponseQuantities(rspecs, a.sensor));
@@ -377,7 +386,7 @@ Estimated LoadOrEstimate(const std::string& path, const EstimationOptions& a) {
   Require(head.size() == 256 || head.find_first_not_of(" \t\r\n") != std::string::npos,
           path + ": empty file");
   if (ident::LooksLikeFrfCsv(head)) {
-    out.frf = ident::ConvertFrf(ident::ParseFrfCsv(ReadFileText(path), path), kind);
+    out.frf = ident::ConvertFrf(ident::LoadFrf(path), kind);
     return out;
   }
   return EstimateFromRecording(path, a);

@@ -12,6 +12,7 @@
 #include "vibid/common/atomic_file.hpp"
 #include "vibid/common/csv.hpp"
 #include "vibid/common/error.hpp"
+#include "vibid/device/log_facts.hpp"
 #include "vibid/device/log_table.hpp"
 #include "vibid/ident/frf_io.hpp"
 #include "vibid/ident/ringdown.hpp"
@@ -131,10 +132,20 @@ HammerSession::HammerSession(HammerSessionOptions options) : options_(std::move(
   force_column_ = ColumnIndex(columns_, fspec.name, "--force");
   force_scale_ = fspec.scale;
   force_name_ = fspec.name;
-  for (const ColumnSpec& spec : ParseColumnList(options_.estimation.responses)) {
+  const std::vector<ColumnSpec> rspecs = ParseColumnList(options_.estimation.responses);
+  for (const ColumnSpec& spec : rspecs) {
     response_columns_.push_back(ColumnIndex(columns_, spec.name, "--response"));
     response_scales_.push_back(spec.scale);
     response_names_.push_back(spec.name);
+  }
+  // The converters' rails from the board's calibration, as the recording's sidecar states them:
+  // a hit is clipped where a sample sits on one.
+  if (options_.estimation.impact_options.converter_limits.empty()) {
+    const ident::RecordingFacts facts = device::LogFacts(
+        format_, 0, options_.calibration, options_.has_calibration, {}, {}, std::string());
+    auto& limits = options_.estimation.impact_options.converter_limits;
+    limits.push_back(ConverterLimitsOf(fspec, &facts));
+    for (const ColumnSpec& spec : rspecs) limits.push_back(ConverterLimitsOf(spec, &facts));
   }
   {
     ident::Frf names_only;
@@ -522,14 +533,15 @@ void HammerSession::WriteTest(const std::string& dir, bool require_frf) const {
     // No FRF over no hit: an earlier one would contradict hits.json.
     std::error_code ignored;
     std::filesystem::remove(dir + "/frf.csv", ignored);
+    std::filesystem::remove(dir + "/frf.csv.json", ignored);
     std::filesystem::remove(dir + "/frf.uff", ignored);
     return;
   }
   Require(frf_.lines() > 0, "hammer session: recording.csv and hits.json written to " + dir +
                                 ", but no hit is accepted: no FRF to write; accept a hit");
   const int reference = static_cast<int>(frf_.responses());
-  WriteFileAtomic(dir + "/frf.csv", ident::FormatFrfForPath(frf_, dir + "/frf.csv", reference));
-  WriteFileAtomic(dir + "/frf.uff", ident::FormatFrfForPath(frf_, dir + "/frf.uff", reference));
+  ident::WriteFrf(frf_, dir + "/frf.csv", reference);
+  ident::WriteFrf(frf_, dir + "/frf.uff", reference);
 }
 
 }  // namespace vibid::workflow

@@ -11,7 +11,9 @@
 #include "vibid/common/option_text.hpp"
 #include "vibid/ident/recording_columns.hpp"
 #include "vibid/model/frf.hpp"
+#include "vibid/common/json_file.hpp"
 #include "vibid/workflow/result_json.hpp"
+#include "vibid/workflow/sensor_calibration.hpp"
 
 namespace vibid::workflow {
 
@@ -315,6 +317,23 @@ IdentifyRun RunIdentify(const model::Model& nominal, const IdentifyRequest& requ
   options.driving_point = run.driving_point;
   options.chain.prior_relative_sd = request.prior_relative_sd;
   run.result = ident::Identify(nominal, mass_inputs, run.modal_frfs, options);
+  if (!request.sensors.empty()) {
+    // The sensor on each mass: the mass test's response where there is one, else the modal
+    // tests' response of that mass.
+    std::vector<std::string> responses = request.modal_responses.empty()
+                                             ? SplitOptionList(ident::AccelerationColumns(n))
+                                             : SplitOptionList(request.modal_responses);
+    for (const ident::MassTestInput& m : mass_inputs) {
+      if (m.position < responses.size() && !m.receptance.response_names.empty())
+        responses[m.position] = m.receptance.response_names.front();
+    }
+    std::vector<std::string> warnings;
+    const std::vector<PositionCalibration> calibration = CalibrationOfPositions(
+        device::SensorsFromJson(ReadJsonFile(request.sensors), request.sensors), est.force,
+        responses, warnings);
+    for (const std::string& w : warnings) run.messages.push_back({true, w});
+    AddSensorCalibration(run.result.table, calibration);
+  }
   return run;
 }
 

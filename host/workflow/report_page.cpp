@@ -68,9 +68,20 @@ std::string IntervalCell(const nlohmann::json& x, double updated, const std::str
   const double hw = 0.5 * (ci[1].get<double>() - ci[0].get<double>());
   if (x.contains("updated_ci95_basis") && x["updated_ci95_basis"].is_string())
     note(x["updated_ci95_basis"].get<std::string>());
-  char text[64];
+  char text[160];
   std::snprintf(text, sizeof text, "± %.2g (%.2g %%)", hw, 100.0 * hw / std::abs(updated));
-  return text;
+  std::string cell = text;
+  // Its statistical and calibration parts, when the sensors' calibration is in it.
+  if (x.contains("updated_ci95_statistical_half_width") &&
+      x.contains("updated_ci95_calibration_half_width") &&
+      x["updated_ci95_statistical_half_width"].is_number() &&
+      x["updated_ci95_calibration_half_width"].is_number()) {
+    std::snprintf(text, sizeof text, ": statistical ± %.2g, calibration ± %.2g",
+                  x["updated_ci95_statistical_half_width"].get<double>(),
+                  x["updated_ci95_calibration_half_width"].get<double>());
+    cell += text;
+  }
+  return cell;
 }
 
 void ValidationTables(const nlohmann::json& report, const std::string& where,

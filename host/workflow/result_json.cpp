@@ -313,13 +313,31 @@ void PutInterval(nlohmann::json& j, const std::string& key, const ident::Interva
   if (ci.Known()) {
     j[key + "_ci95"] = {ci.lo, ci.hi};
     j[key + "_ci95_basis"] = ci.basis;
+    // Its two parts (half-widths) when the sensors' calibration is in it.
+    if (ci.HasCalibration()) {
+      j[key + "_ci95_statistical_half_width"] = ci.statistical_half_width;
+      j[key + "_ci95_calibration_half_width"] = ci.calibration_half_width;
+    }
   } else {
     j[key + "_ci95"] = nullptr;
     j[key + "_ci95_missing"] = ci.missing;
   }
 }
 
-nlohmann::json MassUpdateJson(const ident::MassUpdateResult& r) {
+std::array<ident::Interval95, 3> MassUpdateIntervals(const ident::MassUpdateResult& r,
+                                                     double calibration_u,
+                                                     const std::string& sensors) {
+  std::array<ident::Interval95, 3> out = {ident::IntervalOf(r.mass_kg, r.mass_u),
+                                          ident::IntervalOf(r.k_n_per_m, r.k_u),
+                                          ident::IntervalOf(r.c_ns_per_m, r.c_u)};
+  const double values[] = {r.mass_kg, r.k_n_per_m, r.c_ns_per_m};
+  for (std::size_t i = 0; i < 3; ++i)
+    ident::AddCalibration(out[i], values[i], calibration_u, sensors);
+  return out;
+}
+
+nlohmann::json MassUpdateJson(const ident::MassUpdateResult& r, double calibration_u,
+                              const std::string& sensors) {
   nlohmann::json j = {{"mass_kg", r.mass_kg},
                       {"nominal_kg", r.nominal_kg},
                       {"change_percent", r.change_percent},
@@ -333,9 +351,10 @@ nlohmann::json MassUpdateJson(const ident::MassUpdateResult& r) {
                       {"lines_fitted", r.lines_fitted},
                       {"warnings", r.warnings},
                       {"summary", SolverSummaryJson(r.summary)}};
-  PutInterval(j, "mass_kg", ident::IntervalOf(r.mass_kg, r.mass_u));
-  PutInterval(j, "k_n_per_m", ident::IntervalOf(r.k_n_per_m, r.k_u));
-  PutInterval(j, "c_ns_per_m", ident::IntervalOf(r.c_ns_per_m, r.c_u));
+  const std::array<ident::Interval95, 3> ci = MassUpdateIntervals(r, calibration_u, sensors);
+  PutInterval(j, "mass_kg", ci[0]);
+  PutInterval(j, "k_n_per_m", ci[1]);
+  PutInterval(j, "c_ns_per_m", ci[2]);
   return j;
 }
 

@@ -9,6 +9,7 @@
 
 #include "cli_support.hpp"
 #include "common/command.hpp"
+#include "vibid/common/q31_decimal.hpp"
 #include "vibid/common/option_text.hpp"
 #include "device_commands.hpp"
 #include "session.hpp"
@@ -17,7 +18,9 @@
 #include "vibid/device/board_report.hpp"
 #include "vibid/device/error.hpp"
 #include "vibid/device/link_budget.hpp"
+#include "vibid/device/log_facts.hpp"
 #include "vibid/device/log_table.hpp"
+#include "vibid/ident/recording_facts.hpp"
 
 namespace vibid::cli {
 namespace {
@@ -42,12 +45,36 @@ std::string FormatNumber(double v) {
   return b;
 }
 
-void WriteLog(device::Connection& c, const device::LogPull& pull, ClaimedOutput& output) {
+/// What the recording's sidecar states of how it was asked for (log_facts.hpp): the options as
+/// given and when the host started it (UTC: the board has no clock).
+struct Asked {
+  ident::AcquisitionFacts facts;
+  std::string start_timestamp;
+};
+
+Asked AskedOf(const device::AcquireSettings& a, const std::string& scenario,
+              const std::vector<float>& params) {
+  Asked out;
+  out.facts.seconds = a.seconds;
+  out.facts.trigger = a.trigger;
+  out.facts.pretrigger_s = a.pretrigger_s;
+  out.facts.scenario = scenario;
+  for (float p : params) out.facts.scenario_params.push_back(ShortestFloat32Decimal(p));
+  out.start_timestamp = ident::UtcTimestampNow();
+  return out;
+}
+
+void WriteLog(device::Connection& c, const device::LogPull& pull, ClaimedOutput& output,
+              const Asked& asked) {
   bool has_record = false;
   const wire::CalibrationRecord rec = device::ActiveRecord(c, has_record);
-  // The sidecar (sampling instants) first: a CSV is never left beside a sidecar of another.
-  if (!output.to_stdout())
-    device::WriteLogSidecar(output.Name(), pull, rec, has_record, c.GetSamplingInfo());
+  const device::BoardContext board = device::ContextOf(c);
+  // The sidecar (the recording's facts) first: a CSV is never left beside a sidecar of another.
+  if (!output.to_stdout()) {
+    ident::WriteRecordingFacts(output.Name(),
+                               device::LogFacts(pull, pull.records.size(), rec, has_record, board,
+                                                asked.facts, asked.start_timestamp));
+  }
   output.Write(device::FormatLogCsv(pull, rec, has_record));
   std::cerr << "vibid: " << pull.records.size() << " records";
   if (pull.trailer.dropped_records != 0 || pull.trailer.overrun_count != 0) {
@@ -56,8 +83,8 @@ void WriteLog(device::Connection& c, const device::LogPull& pull, ClaimedOutput&
   }
   std::cerr << (output.to_stdout() ? "" : " written to " + output.Name()) << "\n";
   // Clipped samples are in the file as the board saw them; say which, and how many.
-  if (const std::optional<wire::ClipResponse> clips = c.GetClips()) {
-    const std::string text = device::DescribeClips(*clips, has_record ? &rec : nullptr);
+  if (board.clips) {
+    const std::string text = device::DescribeClips(*board.clips, has_record ? &rec : nullptr);
     if (!text.empty()) std::cerr << "vibid: warning: " << text << "\n";
   }
 }
@@ -65,8 +92,8 @@ void WriteLog(device::Connection& c, const device::LogPull& pull, ClaimedOutput&
 /// A pull that lost records the board overwrote: what it holds is written all the same, and the
 /// error names what is missing.
 [[noreturn]] void WriteIncomplete(device::Connection& c, const device::IncompleteLog& e,
-                                  ClaimedOutput& output) {
-  WriteLog(c, e.pull(), output);
+                                  ClaimedOutput& output, const Asked& asked) {
+  WriteLog(c, e.pull(), output, asked);
   throw device::DeviceError(std::string(e.what()) + "; the records kept are written" +
                             (output.to_stdout() ? "" : " to " + output.Name()));
 }
@@ -164,7 +191,7 @@ device::LogPull Acquire(device::Connection& c, const wire::AcqConfigureRequest& 
 /// with the exit code of its cause.
 void KeepStopped(device::Connection& c, const device::LogPull& pull,
                  const device::AcquireSettings& a, const wire::AcqConfigureRequest& cfg,
-                 StopCause cause, ClaimedOutput& output) {
+                 StopCause cause, ClaimedOutput& output, const Asked& asked) {
   const double log_rate_hz = 1e6 / cfg.sample_period_us / cfg.decimation;
   const std::string why = cause == StopCause::kCtrlC
                               ? "stopped by Ctrl-C"
@@ -180,7 +207,7 @@ void KeepStopped(device::Connection& c, const device::LogPull& pull,
     if (cause == StopCause::kCtrlC) throw device::Interrupted(what);
     throw device::DeviceError(what);
   }
-  WriteLog(c, pull, output);
+  WriteLog(c, pull, output, asked);
   char line[300];
   std::snprintf(line, sizeof line, "vibid: %s: kept %zu records (%.3f s at %g Hz) in %s\n",
                 why.c_str(), pull.records.size(),
@@ -210,14 +237,15 @@ void Run(const AcquireArgs& args) {
         if (!args.scenario.empty()) c.SelectScenario(args.scenario, args.scenario_params);
         c.Configure(cfg);
         StopWatch stop(c, a, trig);
+        const Asked asked = AskedOf(a, args.scenario, args.scenario_params);
         device::LogPull pull;
         try {
           pull = Acquire(c, cfg, budget, stop);
         } catch (const device::IncompleteLog& e) {
-          WriteIncomplete(c, e, output);
+          WriteIncomplete(c, e, output, asked);
         }
-        if (pull.stopped) KeepStopped(c, pull, a, cfg, stop.cause(), output);
-        WriteLog(c, pull, output);
+        if (pull.stopped) KeepStopped(c, pull, a, cfg, stop.cause(), output, asked);
+        WriteLog(c, pull, output, asked);
       },
       CtrlC::kStopsAcquisition);
 }
@@ -253,11 +281,12 @@ void Run(const PullArgs& a) {
       }
       pull = c.PullLog(first, bar.Callback());
     } catch (const device::IncompleteLog& e) {
-      WriteIncomplete(c, e, output);
+      WriteIncomplete(c, e, output, {});
     } catch (const device::Interrupted&) {
       throw device::Interrupted("interrupted: nothing written");
     }
-    WriteLog(c, pull, output);
+    // A pull states no options: the acquisition was asked for elsewhere.
+    WriteLog(c, pull, output, {});
   });
 }
 

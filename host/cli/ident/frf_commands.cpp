@@ -37,7 +37,10 @@ void Run(const FrfEstimateArgs& a) {
   if (!e.note.empty()) std::cerr << "vibid: note: " << e.note << "\n";
   for (const std::string& w : e.warnings) std::cerr << "vibid: warning: " << w << "\n";
   const int ref = a.reference_node > 0 ? a.reference_node : static_cast<int>(e.frf.responses());
-  EmitOutput(ident::FormatFrfForPath(e.frf, a.output, ref), a.output);
+  if (a.output.empty() || a.output == "-")
+    EmitOutput(ident::FormatFrfForPath(e.frf, a.output, ref), a.output);
+  else
+    ident::WriteFrf(e.frf, a.output, ref);
   if (!a.output.empty() && a.output != "-") {
     std::ostringstream msg;
     msg << "wrote " << a.output << ": " << ident::FrfKindName(e.frf.quantity) << ", "

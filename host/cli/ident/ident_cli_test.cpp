@@ -139,8 +139,12 @@ TEST(FrfEstimateCli, ImpactCsvAndUff) {
   ASSERT_EQ(r.exit_code, 0) << r.err;
   EXPECT_NE(r.out.find("10 average(s)"), std::string::npos) << r.out;
   const std::string csv = ReadFileText(rig.dir + "/frf.csv");
-  EXPECT_EQ(csv.rfind("# vibid-frf kind=receptance estimator=h1 averages=10", 0), 0u)
+  // A plain header row, the metadata in the sidecar beside it.
+  EXPECT_EQ(csv.rfind("freq_hz,acc1_m_s2_re,acc1_m_s2_im,acc1_m_s2_coh,", 0), 0u)
       << csv.substr(0, 80);
+  const std::string meta = ReadFileText(rig.dir + "/frf.csv.json");
+  EXPECT_NE(meta.find("\"kind\": \"receptance\""), std::string::npos) << meta;
+  EXPECT_NE(meta.find("\"averages\": 10"), std::string::npos) << meta;
   const auto u =
       RunVibid({"frf-estimate", rig.modal1(), "--force", "force1_n", "--response", "acc2_m_s2",
                 "--impact", "--kind", "accelerance", "-o", rig.dir + "/frf.uff"});
@@ -151,7 +155,15 @@ TEST(FrfEstimateCli, ImpactCsvAndUff) {
       RunVibid({"frf-estimate", rig.modal1(), "--force", "force1_n", "--response", "acc2_m_s2",
                 "--segment", "2048", "--window", "hann", "--estimator", "h2"});
   ASSERT_EQ(w.exit_code, 0) << w.err;
-  EXPECT_NE(w.out.find("estimator=h2"), std::string::npos);
+  // To stdout: the plain CSV alone (no sidecar); to a file, its metadata beside it.
+  EXPECT_EQ(w.out.rfind("freq_hz,acc2_m_s2_re,acc2_m_s2_im,acc2_m_s2_coh\n", 0), 0u)
+      << w.out.substr(0, 80);
+  const auto wf = RunVibid({"frf-estimate", rig.modal1(), "--force", "force1_n", "--response",
+                            "acc2_m_s2", "--segment", "2048", "--window", "hann", "--estimator",
+                            "h2", "-o", rig.dir + "/welch.csv"});
+  ASSERT_EQ(wf.exit_code, 0) << wf.err;
+  EXPECT_NE(ReadFileText(rig.dir + "/welch.csv.json").find("\"estimator\": \"h2\""),
+            std::string::npos);
 }
 
 // A tone on two channels sampled 3.238 us apart (the board's force2 after acc1: one 68-clock

@@ -119,6 +119,9 @@ void RegisterIdentify(CLI::App& app) {
                   "tests show fewer modes than masses")
       ->check(PositiveNumber())
       ->capture_default_str();
+  cmd->add_option("--sensors", a->request.sensors,
+                  "Sensors file whose sensitivities state their certificate's uncertainty: the "
+                  "intervals of m, k and c carry its calibration part beside the statistical one");
   AddModeOptions(cmd, a->request.modes);
   cmd->add_option("-o,--output", a->output, "Updated model file (JSON, chain form)")->required();
   cmd->add_option("--report", a->report,

@@ -1,4 +1,5 @@
 // `vibid update mass` and `vibid update stiffness`.
+#include <array>
 #include <iostream>
 #include <cmath>
 #include <sstream>
@@ -11,9 +12,13 @@
 #include "common/solver_json.hpp"
 #include "ident_cli.hpp"
 #include "ident_commands.hpp"
+#include "vibid/common/csv.hpp"
 #include "vibid/common/error.hpp"
 #include "vibid/common/json_file.hpp"
+#include "vibid/device/calibration_builder.hpp"
 #include "vibid/ident/updates.hpp"
+#include "vibid/workflow/result_json.hpp"
+#include "vibid/workflow/sensor_calibration.hpp"
 
 namespace vibid::cli {
 
@@ -90,18 +95,20 @@ struct MassArgs {
   std::string input;
   bool json = false;
   std::string output;
+  std::string sensors;
   EstimationArgs est;
   ident::MassUpdateOptions options;
 };
 
-std::string MassText(const ident::MassUpdateResult& r) {
+std::string MassText(const ident::MassUpdateResult& r,
+                     const std::array<ident::Interval95, 3>& intervals) {
   std::ostringstream out;
   out << "effective mass " << r.mass_kg << " kg";
   if (r.nominal_kg > 0.0)
     out << " (nominal " << r.nominal_kg << " kg, " << r.change_percent << " %)";
-  const ident::Interval95 m = ident::IntervalOf(r.mass_kg, r.mass_u);
-  const ident::Interval95 k = ident::IntervalOf(r.k_n_per_m, r.k_u);
-  const ident::Interval95 c = ident::IntervalOf(r.c_ns_per_m, r.c_u);
+  const ident::Interval95& m = intervals[0];
+  const ident::Interval95& k = intervals[1];
+  const ident::Interval95& c = intervals[2];
   out << "\nk " << r.k_n_per_m << " N/m" << (r.stiffness_fitted ? " (fitted)" : " (given)")
       << ", zeta " << r.zeta
       << (r.damping_fitted ? " (fitted; half-power " + std::to_string(r.zeta_half_power) + ")"
@@ -119,6 +126,12 @@ std::string MassText(const ident::MassUpdateResult& r) {
 void Run(const MassArgs& a) {
   Require(a.est.kind == "receptance",
           "the mass update fits a receptance; leave --kind at its default");
+  // Refused before the recording is read: the estimation's own messages would come first.
+  if (!a.est.responses.empty()) {
+    const std::size_t given = ParseColumnList(a.est.responses).size();
+    Require(given == 1,
+            "update mass: give exactly one response (got " + std::to_string(given) + ")");
+  }
   std::vector<std::string> notes;
   const ident::Frf frf = LoadOrEstimate(a.input, a.est, notes);
   Require(frf.responses() == 1,
@@ -126,14 +139,26 @@ void Run(const MassArgs& a) {
   const ident::MassUpdateResult r = ident::UpdateMass(frf, 0, a.options);
   if (!r.summary.Converged())
     throw NumericalError("mass update did not converge: " + r.summary.message);
+  // The sensors' calibration in the intervals (--sensors): the load cell's and the response's.
+  workflow::PositionCalibration cal;
+  std::vector<std::string> warnings = r.warnings;
+  if (!a.sensors.empty()) {
+    // The columns the FRF names (a recording's, or an FRF file's sidecar's).
+    const std::string force = frf.force_name.empty() ? a.est.force : frf.force_name;
+    cal = workflow::CalibrationOfPositions(
+              device::SensorsFromJson(ReadJsonFile(a.sensors), a.sensors),
+              force.empty() ? "force" : force, {frf.response_names.front()}, warnings)
+              .front();
+  }
   if (a.json) {
-    nlohmann::json j = MassUpdateJson(r);
+    nlohmann::json j = MassUpdateJson(r, cal.relative_u, cal.sensors);
     j["notes"] = notes;
     EmitOutput(j.dump(2) + "\n", a.output);
   } else {
-    EmitOutput(MassText(r), a.output);
+    EmitOutput(MassText(r, workflow::MassUpdateIntervals(r, cal.relative_u, cal.sensors)),
+               a.output);
   }
-  for (const auto& w : r.warnings) std::cerr << "vibid: warning: " << w << "\n";
+  for (const auto& w : warnings) std::cerr << "vibid: warning: " << w << "\n";
 }
 
 constexpr const char* kStiffnessHelp =
@@ -218,6 +243,9 @@ void RegisterMassUpdate(CLI::App& update) {
   cmd->add_option("--stiffness-n-per-m", a->options.k_n_per_m,
                   "Known spring stiffness (N/m); omitted: fitted too")
       ->check(PositiveNumber());
+  cmd->add_option("--sensors", a->sensors,
+                  "Sensors file whose sensitivities state their certificate's uncertainty: the "
+                  "intervals carry the load cell's and the response's calibration part");
   cmd->add_option("--nominal-kg", a->options.nominal_kg, "Nominal mass (kg) for the % change")
       ->check(PositiveNumber());
   cmd->add_option("--band", a->options.band_fraction,

@@ -4,15 +4,20 @@
 #include <charconv>
 #include <cmath>
 #include <cstdio>
+#include <filesystem>
 #include <limits>
 #include <map>
 #include <set>
 #include <sstream>
 #include <vector>
 
+#include <nlohmann/json.hpp>
+
 #include "vibid/common/atomic_file.hpp"
 #include "vibid/common/csv.hpp"
 #include "vibid/common/error.hpp"
+#include "vibid/common/json_file.hpp"
+#include "vibid/common/json_keys.hpp"
 #include "vibid/common/text_input.hpp"
 
 namespace vibid::ident {
@@ -100,30 +105,86 @@ bool ApplyFrfMetadata(const std::string& items, const std::string& where, Frf& f
 
 }  // namespace
 
-std::string FormatFrfCsv(const Frf& frf) {
+namespace {
+
+std::vector<std::string> FrfColumnNames(const Frf& frf) {
   std::vector<std::string> names{"freq_hz"};
-  std::vector<Eigen::VectorXd> cols{frf.freq_hz};
   for (Eigen::Index j = 0; j < frf.h.cols(); ++j) {
     const auto ju = static_cast<std::size_t>(j);
     const std::string base =
         ju < frf.response_names.size() ? frf.response_names[ju] : "h" + std::to_string(j + 1);
     names.push_back(base + "_re");
-    cols.push_back(frf.h.col(j).real());
     names.push_back(base + "_im");
-    cols.push_back(frf.h.col(j).imag());
     names.push_back(base + "_coh");
+  }
+  return names;
+}
+
+}  // namespace
+
+std::string FormatFrfCsv(const Frf& frf) {
+  std::vector<Eigen::VectorXd> cols{frf.freq_hz};
+  for (Eigen::Index j = 0; j < frf.h.cols(); ++j) {
+    cols.push_back(frf.h.col(j).real());
+    cols.push_back(frf.h.col(j).imag());
     cols.push_back(frf.coherence.col(j));
   }
-  std::ostringstream meta;
-  meta.precision(17);
-  meta << kMetaTag << " kind=" << FrfKindName(frf.quantity)
-       << " estimator=" << EstimatorName(frf.estimator) << " averages=" << frf.averages
-       << " exp_window_tau_s=" << frf.exp_window_tau_s << " pretrigger_s=" << frf.pretrigger_s
-       << " record_s=" << frf.record_s << " measured=" << FrfKindName(frf.measured);
+  // One header row and rows: pandas.read_csv and numpy.genfromtxt open it with their defaults.
+  return FormatCsv(FrfColumnNames(frf), cols);
+}
+
+std::string FrfSidecarPath(const std::string& csv_path) { return csv_path + ".json"; }
+
+std::string FormatFrfSidecar(const Frf& frf) {
+  nlohmann::ordered_json j;
+  j["format"] = "vibid-frf";
+  j["version"] = 1;
+  j["columns"] = FrfColumnNames(frf);
+  j["kind"] = FrfKindName(frf.quantity);
+  j["estimator"] = EstimatorName(frf.estimator);
+  j["averages"] = frf.averages;
+  j["exp_window_tau_s"] = frf.exp_window_tau_s;
+  j["pretrigger_s"] = frf.pretrigger_s;
+  j["record_s"] = frf.record_s;
+  j["measured"] = FrfKindName(frf.measured);
   // An FRF read without a force name is written without one, so it reads back as it was.
-  if (!frf.force_name.empty()) meta << " force=" << frf.force_name;
-  meta << "\n";
-  return meta.str() + FormatCsv(names, cols);
+  if (!frf.force_name.empty()) j["force"] = frf.force_name;
+  return j.dump(2) + "\n";
+}
+
+void ApplyFrfSidecar(std::string_view json, const std::string& source, Frf& frf) {
+  const nlohmann::json j = ParseJsonText(json, source);
+  Require(j.is_object() && j.value("format", nlohmann::json()) == "vibid-frf",
+          source + ": not a vibid-frf sidecar (\"format\": \"vibid-frf\")");
+  Require(j.value("version", nlohmann::json()) == 1,
+          source + ": version " + j.value("version", nlohmann::json()).dump() +
+              " is not one this vibid reads (1)");
+  RequireKnownKeys(j,
+                   {"format", "version", "columns", "kind", "estimator", "averages",
+                    "exp_window_tau_s", "pretrigger_s", "record_s", "measured", "force"},
+                   source);
+  const std::vector<std::string> names = FrfColumnNames(frf);
+  Require(j.contains("columns") && j.at("columns") == nlohmann::json(names),
+          source + ": describes columns " + j.value("columns", nlohmann::json()).dump() +
+              ", the FRF's are " + nlohmann::json(names).dump() +
+              ": it belongs to another file; remove it or put the FRF's own beside it");
+  // The same items as the comment line of files written before the sidecar, with their checks.
+  std::ostringstream items;
+  items.precision(17);
+  for (const char* key : {"kind", "estimator", "measured", "force"}) {
+    if (!j.contains(key)) continue;
+    Require(j.at(key).is_string() &&
+                j.at(key).get<std::string>().find_first_of(" \t\n=") == std::string::npos,
+            source + ": \"" + key + "\" must be a word, not " + j.at(key).dump());
+    items << " " << key << "=" << j.at(key).get<std::string>();
+  }
+  for (const char* key : {"averages", "exp_window_tau_s", "pretrigger_s", "record_s"}) {
+    if (!j.contains(key)) continue;
+    Require(j.at(key).is_number(), source + ": \"" + key + "\" must be a number");
+    items << " " << key << "=" << j.at(key).dump();
+  }
+  const bool measured_given = ApplyFrfMetadata(items.str(), source, frf);
+  if (!measured_given) frf.measured = frf.quantity;
 }
 
 bool LooksLikeFrfCsv(std::string_view text) {
@@ -538,7 +599,20 @@ bool IsUffPath(const std::string& path) { return EndsWith(path, ".uff") || EndsW
 Frf LoadFrf(const std::string& path) {
   const std::string text = ReadFileText(path);
   if (IsUffPath(path)) return ParseUff58(text, path);
-  return ParseFrfCsv(text, path);
+  Frf frf = ParseFrfCsv(text, path);
+  const std::string sidecar = FrfSidecarPath(path);
+  if (std::filesystem::exists(sidecar)) ApplyFrfSidecar(ReadFileText(sidecar), sidecar, frf);
+  return frf;
+}
+
+void WriteFrf(const Frf& frf, const std::string& path, int reference_node) {
+  if (IsUffPath(path)) {
+    WriteFileAtomic(path, FormatUff58(frf, reference_node));
+    return;
+  }
+  // The sidecar first: a CSV is never left beside the metadata of another.
+  WriteFileAtomic(FrfSidecarPath(path), FormatFrfSidecar(frf));
+  WriteFileAtomic(path, FormatFrfCsv(frf));
 }
 
 std::string FormatFrfForPath(const Frf& frf, const std::string& path, int reference_node) {

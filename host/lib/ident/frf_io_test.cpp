@@ -30,7 +30,10 @@ TEST(FrfCsv, RoundTripIsExact) {
   const Frf a = Sample();
   const std::string text = FormatFrfCsv(a);
   EXPECT_TRUE(LooksLikeFrfCsv(text));
-  const Frf b = ParseFrfCsv(text, "mem");
+  // A plain header row first (the metadata is in the sidecar).
+  EXPECT_EQ(text.rfind("freq_hz,", 0), 0u) << text.substr(0, 80);
+  Frf b = ParseFrfCsv(text, "mem");
+  ApplyFrfSidecar(FormatFrfSidecar(a), "mem.json", b);
   EXPECT_EQ(b.quantity, Quantity::kAcceleration);
   EXPECT_EQ(b.estimator, Estimator::kH2);
   EXPECT_EQ(b.averages, 7u);
@@ -64,8 +67,33 @@ TEST(FrfCsv, MalformedFilesNameTheProblem) {
   } catch (const InputError& e) {
     EXPECT_NE(std::string(e.what()).find("increase"), std::string::npos);
   }
-  // A negative exponential-window time constant is refused, not read as "no window".
-  const std::string written = FormatFrfCsv(Sample());
+  // A negative exponential-window time constant is refused, not read as "no window": in the
+  // sidecar, and on the opening line of a file written before it.
+  std::string sidecar = FormatFrfSidecar(Sample());
+  sidecar.replace(sidecar.find("\"exp_window_tau_s\": ") + 20, 0, "-");
+  try {
+    Frf f = ParseFrfCsv(FormatFrfCsv(Sample()), "x.csv");
+    ApplyFrfSidecar(sidecar, "x.csv.json", f);
+    FAIL();
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("x.csv.json: exp_window_tau_s must not be negative"),
+              std::string::npos)
+        << e.what();
+  }
+  // A sidecar of other columns is refused, naming both.
+  Frf other = Sample();
+  other.response_names[0] = "acc9";
+  try {
+    Frf f = ParseFrfCsv(FormatFrfCsv(Sample()), "x.csv");
+    ApplyFrfSidecar(FormatFrfSidecar(other), "x.csv.json", f);
+    FAIL();
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("belongs to another file"), std::string::npos) << e.what();
+  }
+  const std::string written =
+      "# vibid-frf kind=accelerance estimator=h1 averages=1 "
+      "exp_window_tau_s=0.125\n" +
+      FormatFrfCsv(Sample());
   const std::string key = "exp_window_tau_s=";
   const std::size_t at = written.find(key);
   ASSERT_NE(at, std::string::npos);

@@ -57,10 +57,15 @@ TEST(HonestModes, ClipOnlyAtTheConvertersLimits) {
   const ImpactResult ok =
       EstimateImpactFrf(force, acc, 1000.0, limits, Estimator::kH1, Quantity::kAcceleration);
   for (const Hit& h : ok.hits) EXPECT_FALSE(h.clipped) << h.note;
-  // Without the limits the extreme value stands for the rail (the old rule): it is taken as one.
-  const ImpactResult guess = EstimateImpactFrf(force, acc, 1000.0, {.reject_bad_hits = false},
-                                               Estimator::kH1, Quantity::kAcceleration);
-  EXPECT_TRUE(guess.hits[0].clipped);
+  // Without the limits nothing is guessed (the old rule took the repeated top code for a rail):
+  // no hit is called clipped, and the check says it is unavailable.
+  const ImpactResult unknown =
+      EstimateImpactFrf(force, acc, 1000.0, {}, Estimator::kH1, Quantity::kAcceleration);
+  for (const Hit& h : unknown.hits) EXPECT_FALSE(h.clipped) << h.note;
+  bool said = false;
+  for (const std::string& w : unknown.warnings)
+    said = said || w.find("clip check unavailable for the force and response 1") == 0;
+  EXPECT_TRUE(said);
   // A run on the converter's top code is a clip.
   Eigen::MatrixXd railed = acc;
   for (Eigen::Index i = 2510; i < 2516; ++i) railed(i, 0) = 4095.0;
@@ -391,7 +396,9 @@ TEST(HonestModes, UffAndCsvOfOneEstimateGiveTheSameModes) {
   r.frf.force_name = "force_n";
   const Frf rec_frf = ConvertFrf(r.frf, Quantity::kDisplacement);
   ASSERT_GT(rec_frf.pretrigger_s, 0.0);
-  const Frf csv = ConvertFrf(ParseFrfCsv(FormatFrfCsv(rec_frf), "x.csv"), Quantity::kDisplacement);
+  Frf csv_read = ParseFrfCsv(FormatFrfCsv(rec_frf), "x.csv");
+  ApplyFrfSidecar(FormatFrfSidecar(rec_frf), "x.csv.json", csv_read);
+  const Frf csv = ConvertFrf(csv_read, Quantity::kDisplacement);
   const Frf uff = ConvertFrf(ParseUff58(FormatUff58(rec_frf, 3), "x.uff"), Quantity::kDisplacement);
   EXPECT_EQ(uff.pretrigger_s, csv.pretrigger_s);
   EXPECT_EQ(uff.record_s, csv.record_s);

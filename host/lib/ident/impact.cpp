@@ -22,7 +22,7 @@ void ImpactOptions::Validate() const {
           "impact: double-hit window must be >= 0");
   Require(double_hit_fraction > 0.0 && double_hit_fraction < 1.0,
           "impact: double-hit fraction must be in (0, 1)");
-  Require(clip_run_samples >= 2, "impact: clipping run must be at least 2 samples");
+  Require(clip_run_samples >= 1, "impact: clipping run must be at least 1 sample");
   Require(force_dynamic_range_db > 0.0 && std::isfinite(force_dynamic_range_db),
           "impact: force dynamic range must be > 0 dB");
   Require(force_band_db >= 0.0 && std::isfinite(force_band_db),
@@ -106,9 +106,12 @@ std::vector<Pulse> FindPulses(const Eigen::VectorXd& f, double threshold) {
   return pulses;
 }
 
-// A channel's rails: the converter's limits where they are known (ImpactOptions::converter_limits);
-// else its extreme values, each counted only when it lies far from the channel's resting level (a
-// signal that rests at its minimum, like a hammer force, is not clipped there).
+// A channel's rails: the converter's limits, where they are known
+// (ImpactOptions::converter_limits); a run on either is a clip, wherever the channel rests (a
+// 12-bit channel resting near code 2048 that repeats its own top code 2077 inside 0..4095 is not
+// clipped). Where they are unknown the channel is not checked: its own largest value says
+// nothing of where its converter ends (an encoder's slow peak repeats it, a good hit well inside
+// the range has one), and a guess rejects good hits and passes clipped ones.
 struct Rails {
   double lo = 0.0;
   double hi = 0.0;
@@ -116,27 +119,12 @@ struct Rails {
   bool use_hi = false;
 };
 
-Rails FindRails(const Eigen::VectorXd& x) {
-  Rails r;
-  r.lo = x.minCoeff();
-  r.hi = x.maxCoeff();
-  const double rest = Median(x);
-  const double swing = std::max(r.hi - rest, rest - r.lo);
-  r.use_lo = rest - r.lo >= 0.5 * swing && swing > 0.0;
-  r.use_hi = r.hi - rest >= 0.5 * swing && swing > 0.0;
-  return r;
-}
-
-// A converter's limits: a run on either is a clip, wherever the channel rests (a 12-bit channel
-// resting near code 2048 that repeats its own top code 2077 inside 0..4095 is not clipped).
-Rails ConverterRails(const ImpactOptions::ConverterLimits& limits) {
-  return {limits.lo, limits.hi, true, true};
-}
-
-Rails RailsOf(const Eigen::VectorXd& x, const ImpactOptions& options, std::size_t channel) {
-  if (channel < options.converter_limits.size() && options.converter_limits[channel].Known())
-    return ConverterRails(options.converter_limits[channel]);
-  return FindRails(x);
+Rails RailsOf(const ImpactOptions& options, std::size_t channel) {
+  if (channel < options.converter_limits.size() && options.converter_limits[channel].Known()) {
+    const ImpactOptions::ConverterLimits& l = options.converter_limits[channel];
+    return {l.lo, l.hi, true, true};
+  }
+  return {};
 }
 
 // A run of consecutive samples within a hair of a rail.
@@ -598,7 +586,7 @@ ImpactDetection DetectImpactHits(const Eigen::Ref<const Eigen::VectorXd>& force,
           "impact: converter limits must be given for the force and every response (" +
               std::to_string(responses.cols() + 1) + " channels), or for none");
   ImpactChannels channels{
-      force, centred, responses, {RailsOf(force, options, 0)}, std::sqrt(d.force_noise_var), {}};
+      force, centred, responses, {RailsOf(options, 0)}, std::sqrt(d.force_noise_var), {}};
   // The lead before the first pulse, less a margin of the pulse's width: the responses' noise.
   {
     const std::size_t first = groups.front().front().start;
@@ -614,7 +602,24 @@ ImpactDetection DetectImpactHits(const Eigen::Ref<const Eigen::VectorXd>& force,
     }
   }
   for (Eigen::Index j = 0; j < responses.cols(); ++j)
-    channels.rails.push_back(RailsOf(responses.col(j), options, static_cast<std::size_t>(j) + 1));
+    channels.rails.push_back(RailsOf(options, static_cast<std::size_t>(j) + 1));
+  {
+    // A check that cannot be made is said, never guessed.
+    std::vector<std::string> unchecked;
+    for (std::size_t c = 0; c < channels.rails.size(); ++c) {
+      if (!channels.rails[c].use_lo)
+        unchecked.push_back(c == 0 ? "the force" : "response " + std::to_string(c));
+    }
+    if (!unchecked.empty()) {
+      std::string list;
+      for (std::size_t i = 0; i < unchecked.size(); ++i)
+        list += (i == 0 ? "" : i + 1 == unchecked.size() ? " and " : ", ") + unchecked[i];
+      d.warnings.push_back(
+          "clip check unavailable for " + list +
+          ": the converters' rails are not stated (a recording's sidecar REC.csv.json states "
+          "them, as `vibid acquire` writes it)");
+    }
+  }
   d.spans.resize(groups.size());
   for (std::size_t g = 0; g < groups.size(); ++g) {
     d.hits.push_back(ClassifyHit(groups[g], channels, layout, fs_hz, options, d.spans[g]));

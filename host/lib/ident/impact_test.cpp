@@ -80,8 +80,9 @@ TEST(Impact, DoubleHitIsRejectedAndClippingFlagged) {
   // The third hit overloads the response channel: clip at the level the first two never reach.
   const double rail = 1.2 * y.col(0).head(4700).cwiseAbs().maxCoeff();
   y = y.cwiseMin(rail).cwiseMax(-rail);
-  // fs = 1 Hz here: rebounds within 50 samples belong to their hit.
-  const ImpactOptions opt{.double_hit_window_s = 50};
+  // fs = 1 Hz here: rebounds within 50 samples belong to their hit. The response's converter
+  // ends at +-rail (the force's rails unknown: not checked).
+  const ImpactOptions opt{.double_hit_window_s = 50, .converter_limits = {{}, {-rail, rail}}};
   const ImpactResult r = EstimateImpactFrf(f, y, 1.0, opt, Estimator::kH1, Quantity::kDisplacement);
   ASSERT_EQ(r.hits.size(), 3u);
   EXPECT_TRUE(r.hits[0].used);
@@ -92,9 +93,11 @@ TEST(Impact, DoubleHitIsRejectedAndClippingFlagged) {
   EXPECT_NE(r.hits[2].note.find("response 1 clipped"), std::string::npos);
   EXPECT_EQ(r.frf.averages, 1u);
   // Flag only: every hit is used.
-  const ImpactResult flagged =
-      EstimateImpactFrf(f, y, 1.0, {.double_hit_window_s = 50, .reject_bad_hits = false},
-                        Estimator::kH1, Quantity::kDisplacement);
+  const ImpactResult flagged = EstimateImpactFrf(f, y, 1.0,
+                                                 {.double_hit_window_s = 50,
+                                                  .converter_limits = {{}, {-rail, rail}},
+                                                  .reject_bad_hits = false},
+                                                 Estimator::kH1, Quantity::kDisplacement);
   EXPECT_EQ(flagged.frf.averages, 3u);
   // The only hit is clipped: an input error listing why and naming the override.
   Eigen::VectorXd g = Eigen::VectorXd::Zero(3000);
@@ -103,8 +106,10 @@ TEST(Impact, DoubleHitIsRejectedAndClippingFlagged) {
   const double rail_g = 0.5 * yg.cwiseAbs().maxCoeff();
   yg = yg.cwiseMin(rail_g).cwiseMax(-rail_g);
   try {
+    const ImpactOptions opt_g{.double_hit_window_s = 50,
+                              .converter_limits = {{}, {-rail_g, rail_g}}};
     const ImpactResult bad =
-        EstimateImpactFrf(g, yg, 1.0, opt, Estimator::kH1, Quantity::kDisplacement);
+        EstimateImpactFrf(g, yg, 1.0, opt_g, Estimator::kH1, Quantity::kDisplacement);
     FAIL() << bad.hits.size() << " " << bad.hits[0].note << " used " << bad.hits[0].used;
   } catch (const InputError& e) {
     EXPECT_NE(std::string(e.what()).find("clipped"), std::string::npos) << e.what();
@@ -123,8 +128,10 @@ TEST(Impact, AllDoubleHitsAreUsedWithTheWholeGroupInTheForceWindow) {
     AddHit(f, at + 20, 40, 5);
   }
   const Eigen::MatrixXd y = sys.Filter(f);
-  const ImpactResult r = EstimateImpactFrf(f, y, 1.0, {.double_hit_window_s = 50}, Estimator::kH1,
-                                           Quantity::kDisplacement);
+  // Converters far beyond the signals: the clip check is made (and finds nothing).
+  const ImpactResult r = EstimateImpactFrf(
+      f, y, 1.0, {.double_hit_window_s = 50, .converter_limits = {{-1e9, 1e9}, {-1e9, 1e9}}},
+      Estimator::kH1, Quantity::kDisplacement);
   ASSERT_EQ(r.hits.size(), 3u);
   for (const Hit& h : r.hits) {
     EXPECT_TRUE(h.used);

@@ -73,7 +73,32 @@ std::string FormatInterval(const Interval95& ci, double value) {
     return "n/a (" + (ci.missing.empty() ? std::string("not estimated") : ci.missing) + ")";
   std::snprintf(buf, sizeof buf, "+- %.3g (%.2g %%)", ci.HalfWidth(),
                 100.0 * ci.HalfWidth() / std::abs(value));
-  return buf;
+  std::string out = buf;
+  if (ci.HasCalibration()) {
+    std::snprintf(buf, sizeof buf, " = stat +- %.3g, cal +- %.3g", ci.statistical_half_width,
+                  ci.calibration_half_width);
+    out += buf;
+  }
+  return out;
+}
+
+void AddCalibration(Interval95& ci, double value, double relative_u, const std::string& what) {
+  Require(std::isfinite(relative_u) && relative_u >= 0.0,
+          "calibration: a relative uncertainty must be a number >= 0");
+  if (!ci.Known() || relative_u == 0.0) return;
+  // Normal coverage for the calibration part: a certificate's k refers to many degrees of freedom.
+  constexpr double kZ95 = 1.959963984540054;
+  const double stat = ci.HalfWidth();
+  const double cal = kZ95 * relative_u * std::abs(value);
+  const double centre = 0.5 * (ci.lo + ci.hi);
+  const double half = std::hypot(stat, cal);
+  ci.lo = centre - half;
+  ci.hi = centre + half;
+  ci.statistical_half_width = stat;
+  ci.calibration_half_width = cal;
+  char buf[48];
+  std::snprintf(buf, sizeof buf, "%.3g %%", 100.0 * relative_u);
+  ci.basis += "; with the calibration of " + what + " (" + buf + " standard)";
 }
 
 Uncertainty Propagate(const std::vector<double>& gradient, const std::vector<Uncertainty>& parts,

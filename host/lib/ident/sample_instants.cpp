@@ -18,13 +18,13 @@
 #include "vibid/common/error.hpp"
 #include "vibid/common/json_file.hpp"
 #include "vibid/common/json_keys.hpp"
+#include "vibid/ident/recording_facts.hpp"
 
 namespace vibid::ident {
 namespace {
 
 constexpr std::string_view kLineTag = "# vibid-recording";
 constexpr std::string_view kKey = "sample_instants_us=";
-constexpr std::string_view kSidecarFormat = "vibid-recording";
 
 SampleInstants ParseList(std::string_view list, const std::string& source) {
   SampleInstants out;
@@ -85,64 +85,37 @@ std::optional<SampleInstants> ParseSampleInstants(std::string_view text,
 
 std::string RecordingSidecarPath(const std::string& csv_path) { return csv_path + ".json"; }
 
+namespace {
+
+SampleInstants InstantsOf(const RecordingFacts& facts) {
+  SampleInstants out;
+  for (const ChannelFacts& c : facts.channels) {
+    if (c.sample_instant_us) out.instants_us.emplace_back(c.name, *c.sample_instant_us);
+  }
+  return out;
+}
+
+}  // namespace
+
 std::string FormatRecordingSidecar(const std::vector<std::string>& csv_columns,
                                    const std::vector<InstantUs>& instants_us) {
-  nlohmann::ordered_json instants = nlohmann::ordered_json::object();
+  RecordingFacts facts;
+  facts.columns = csv_columns;
   for (const auto& [name, us] : instants_us) {
     Require(std::find(csv_columns.begin(), csv_columns.end(), name) != csv_columns.end(),
             "sample instants: '" + name + "' is not a column of the recording");
-    instants[name] = us;
+    ChannelFacts c;
+    c.name = name;
+    c.sample_instant_us = us;
+    facts.channels.push_back(c);
   }
-  // Numbers in shortest round-trip form (nlohmann's): 2.667 reads back as the same double.
-  const nlohmann::ordered_json j = {{"format", std::string(kSidecarFormat)},
-                                    {"version", 1},
-                                    {"columns", csv_columns},
-                                    {"sample_instants_us", instants}};
-  return j.dump(2) + "\n";
+  return FormatRecordingFacts(facts);
 }
 
 SampleInstants ParseRecordingSidecar(std::string_view json,
                                      const std::vector<std::string>& csv_columns,
                                      const std::string& source) {
-  const nlohmann::json j = ParseJsonText(json, source);
-  Require(j.is_object() && j.value("format", nlohmann::json()) == std::string(kSidecarFormat),
-          source + ": not a vibid-recording sidecar (\"format\": \"vibid-recording\")");
-  RequireKnownKeys(j, {"format", "version", "columns", "sample_instants_us"}, source);
-  Require(j.value("version", nlohmann::json()) == 1,
-          source + ": version " + j.value("version", nlohmann::json()).dump() +
-              " is not one this vibid reads (1)");
-  const nlohmann::json& columns = j.contains("columns") ? j.at("columns") : nlohmann::json();
-  std::vector<std::string> names;
-  if (columns.is_array()) {
-    for (const nlohmann::json& c : columns) {
-      if (!c.is_string()) {
-        names.clear();
-        break;
-      }
-      names.push_back(c.get<std::string>());
-    }
-  }
-  Require(!names.empty() || columns.is_array(), source + ": \"columns\" must be a list of names");
-  std::string header;
-  for (const std::string& n : csv_columns) header += (header.empty() ? "" : ",") + n;
-  Require(names == csv_columns,
-          source + ": describes columns " + columns.dump() + ", the recording's are " + header +
-              ": it belongs to another recording; remove it (the recording is then taken as "
-              "sampled at one instant) or put the recording's own beside it");
-  const nlohmann::json& list =
-      j.contains("sample_instants_us") ? j.at("sample_instants_us") : nlohmann::json();
-  Require(list.is_object(), source + ": \"sample_instants_us\" must be an object {column: us}");
-  SampleInstants out;
-  for (const auto& item : list.items()) {
-    const std::string& name = item.key();
-    Require(std::find(csv_columns.begin(), csv_columns.end(), name) != csv_columns.end(),
-            source + ": sample_instants_us names '" + name + "', not a column of the recording");
-    const nlohmann::json& v = item.value();
-    Require(v.is_number() && std::isfinite(v.get<double>()) && v.get<double>() >= 0.0,
-            source + ": sample_instants_us of '" + name + "' is not a number >= 0: " + v.dump());
-    out.instants_us.emplace_back(name, v.get<double>());
-  }
-  return out;
+  return InstantsOf(ParseRecordingFacts(json, csv_columns, source));
 }
 
 void WriteRecordingSidecar(const std::string& csv_path, const std::vector<std::string>& csv_columns,
@@ -165,20 +138,13 @@ std::optional<SampleInstants> ReadSampleInstants(const std::string& path) {
   std::string head;
   std::string line;
   while (in.peek() == '#' && std::getline(in, line)) head += line + "\n";
-  const std::string sidecar = RecordingSidecarPath(path);
-  if (!std::filesystem::exists(sidecar)) return ParseSampleInstants(head, path);
-  std::string header_row;
-  std::getline(in, header_row);
-  if (!header_row.empty() && header_row.back() == '\r') header_row.pop_back();
-  std::vector<std::string> columns;
-  for (std::string c : SplitList(header_row)) {
-    // Header cells are trimmed, as the CSV reader trims them.
-    const std::size_t first = c.find_first_not_of(" \t");
-    const std::size_t last = c.find_last_not_of(" \t");
-    columns.push_back(first == std::string::npos ? std::string()
-                                                 : c.substr(first, last - first + 1));
-  }
-  return ParseRecordingSidecar(ReadFileText(sidecar), columns, sidecar);
+  const std::optional<RecordingFacts> facts = ReadRecordingFacts(path);
+  if (!facts) return ParseSampleInstants(head, path);
+  SampleInstants out = InstantsOf(*facts);
+  // A sidecar that states no instant (a recording from a board of protocol 2.0) leaves the
+  // channels at one instant, as no sidecar does.
+  if (out.instants_us.empty()) return std::nullopt;
+  return out;
 }
 
 void CompensateSampleInstants(Frf& frf, double force_instant_s,

@@ -84,7 +84,8 @@ py::dict EstimateArrays(const Signals& force, const Signals& responses, double f
                         const std::string& force_name,
                         const std::vector<std::string>& response_names,
                         const workflow::EstimationOptions& options,
-                        const std::vector<double>& instants_s) {
+                        const std::vector<double>& instants_s,
+                        const std::vector<std::pair<double, double>>& rails) {
   Require(force.ndim() == 1,
           "force must be 1-D (samples), not " + std::to_string(force.ndim()) + "-D");
   Require(responses.ndim() == 2, "responses must be 2-D (responses, samples), not " +
@@ -92,10 +93,19 @@ py::dict EstimateArrays(const Signals& force, const Signals& responses, double f
   const Eigen::Map<const Eigen::VectorXd> f(force.data(), force.shape(0));
   const Eigen::Map<const Eigen::MatrixXd> x(responses.data(), responses.shape(1),
                                             responses.shape(0));
+  // The converters' rails the recording's facts state (force first), for the clip check;
+  // without them it is unavailable, and the estimate's warnings say so.
+  workflow::EstimationOptions o = options;
+  if (!rails.empty()) {
+    Require(rails.size() == response_names.size() + 1,
+            "rails: one (low, high) per channel, the force first");
+    o.impact_options.converter_limits.clear();
+    for (const auto& [lo, hi] : rails) o.impact_options.converter_limits.push_back({lo, hi});
+  }
   workflow::Estimated e;
   {
     py::gil_scoped_release release;
-    e = workflow::EstimateFromSignals(f, x, fs_hz, force_name, response_names, options, instants_s);
+    e = workflow::EstimateFromSignals(f, x, fs_hz, force_name, response_names, o, instants_s);
   }
   return EstimatedDict(e);
 }
@@ -275,7 +285,7 @@ void RegisterAnalysis(py::module_& m) {
   m.def("estimate_file", &EstimateFile, py::arg("path"), py::arg("options"));
   m.def("estimate_arrays", &EstimateArrays, py::arg("force").noconvert(false), py::arg("responses"),
         py::arg("fs_hz"), py::arg("force_name"), py::arg("response_names"), py::arg("options"),
-        py::arg("instants_s"));
+        py::arg("instants_s"), py::arg("rails") = std::vector<std::pair<double, double>>{});
   m.def("default_segment", &workflow::DefaultSegment, py::arg("samples"));
   m.def("modes", &Modes, py::arg("inputs"), py::arg("options"), py::arg("request"));
   py::class_<ident::Frf>(m, "_Frf");

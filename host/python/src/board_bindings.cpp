@@ -21,6 +21,7 @@
 
 #include "bindings.hpp"
 #include "board_watch.hpp"
+#include "vibid/common/q31_decimal.hpp"
 #include "vibid/common/error.hpp"
 #include "vibid/device/acquire_plan.hpp"
 #include "vibid/device/calibration_builder.hpp"
@@ -29,7 +30,9 @@
 #include "vibid/model/model.hpp"
 #include "vibid/device/connection.hpp"
 #include "vibid/device/info_json.hpp"
+#include "vibid/device/log_facts.hpp"
 #include "vibid/device/log_table.hpp"
+#include "vibid/ident/recording_facts.hpp"
 #include "vibid/device/select.hpp"
 
 namespace vibid::python {
@@ -206,10 +209,11 @@ class Board {
   }
 
   /// (names, data (channels, samples), fs_hz, sample_index, sample instants {column: us},
-  /// end), `end` "" for an acquisition that ran its length, else why it ended early: "interrupted"
-  /// (Ctrl-C), "trigger-timeout: MESSAGE", "incomplete: MESSAGE" (the log wrapped, or the pull
-  /// gave up) or "lost: MESSAGE" (the board failed or went away: the records that had arrived);
-  /// the records kept are returned in every case.
+  /// end, the recording's facts as its sidecar's JSON text), `end` "" for an acquisition that ran
+  /// its length, else why it ended early: "interrupted" (Ctrl-C), "trigger-timeout: MESSAGE",
+  /// "incomplete: MESSAGE" (the log wrapped, or the pull gave up) or "lost: MESSAGE" (the board
+  /// failed or went away: the records that had arrived); the records kept are returned in every
+  /// case.
   py::tuple Acquire(const device::AcquireSettings& settings, const std::string& scenario,
                     const std::vector<float>& scenario_params) {
     device::Trigger trig;
@@ -223,6 +227,15 @@ class Board {
     wire::CalibrationRecord record;
     bool has_record = false;
     std::optional<wire::SamplingInfoResponse> instants;
+    // What the recording's sidecar states (log_facts.hpp), as `vibid acquire` writes it.
+    ident::AcquisitionFacts asked;
+    asked.seconds = settings.seconds;
+    asked.trigger = settings.trigger;
+    asked.pretrigger_s = settings.pretrigger_s;
+    asked.scenario = scenario;
+    for (float p : scenario_params) asked.scenario_params.push_back(ShortestFloat32Decimal(p));
+    const std::string start_timestamp = ident::UtcTimestampNow();
+    device::BoardContext board;
     {
       py::gil_scoped_release release;
       device::Connection& con = c();
@@ -290,11 +303,14 @@ class Board {
       }
       if (lost.empty()) {
         try {
-          instants = con.GetSamplingInfo();
+          board = device::ContextOf(con);
+          instants = board.instants;
         } catch (const device::DeviceError&) {
         }
       }
     }
+    const std::string facts = ident::FormatRecordingFacts(device::LogFacts(
+        pull, pull.records.size(), record, has_record, board, asked, start_timestamp));
     const py::tuple t = RecordsTable(pull, record, has_record);
     const double fs_hz = 1e6 / cfg.sample_period_us / cfg.decimation;
     py::dict instants_us;
@@ -314,7 +330,7 @@ class Board {
       end = "trigger-timeout: the trigger did not fire within " +
             py::str(py::float_(settings.trigger_timeout_s)).cast<std::string>() +
             " s (trigger_timeout_s)";
-    return py::make_tuple(t[0], t[1], fs_hz, t[2], instants_us, end);
+    return py::make_tuple(t[0], t[1], fs_hz, t[2], instants_us, end, facts);
   }
 
   /// Builds the record from the model, the observer design (the JSON of dob_design) and the

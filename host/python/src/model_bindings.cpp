@@ -13,6 +13,7 @@
 #include "vibid/common/atomic_file.hpp"
 #include "vibid/common/csv.hpp"
 #include "vibid/common/error.hpp"
+#include "vibid/ident/recording_facts.hpp"
 #include "vibid/ident/sample_instants.hpp"
 #include "vibid/model/force.hpp"
 #include "vibid/model/frf.hpp"
@@ -66,7 +67,8 @@ py::dict SimulateDict(const model::Model& m, const std::vector<std::string>& for
 }
 
 /// A recording as (names, data shaped (channels, samples), fs_hz, t0_s, sample instants
-/// {column: us} from its sidecar, or from the opening line of a recording written before it).
+/// {column: us} from its sidecar, or from the opening line of a recording written before it,
+/// the sidecar's facts as JSON text or None).
 py::tuple ReadRecording(const std::string& path, std::optional<double> fs_hz,
                         const std::string& time_column, const std::vector<std::string>& channels) {
   RecordingOptions options;
@@ -75,10 +77,12 @@ py::tuple ReadRecording(const std::string& path, std::optional<double> fs_hz,
   options.channels = channels;
   Recording r;
   std::optional<ident::SampleInstants> instants;
+  std::optional<ident::RecordingFacts> facts;
   {
     py::gil_scoped_release release;
     r = LoadRecording(path, options);
     instants = ident::ReadSampleInstants(path);
+    facts = ident::ReadRecordingFacts(path);
   }
   py::dict instants_us;
   if (instants) {
@@ -92,14 +96,17 @@ py::tuple ReadRecording(const std::string& path, std::optional<double> fs_hz,
     const Eigen::VectorXd& col = r.table.columns[static_cast<std::size_t>(c)];
     std::copy(col.data(), col.data() + n, out + c * n);
   }
-  return py::make_tuple(r.table.names, data, r.fs_hz, r.t0_s, instants_us);
+  py::object facts_json = py::none();
+  if (facts) facts_json = py::str(ident::FormatRecordingFacts(*facts));
+  return py::make_tuple(r.table.names, data, r.fs_hz, r.t0_s, instants_us, facts_json);
 }
 
 /// Writes columns (rows of `data`) as a CSV vibid reads back bit-identical, and its sidecar with
 /// the sampling instants {column: us} (none: a sidecar left at that path is removed).
 void WriteCsv(const std::string& path, const std::vector<std::string>& names,
               const py::array_t<double, py::array::c_style>& data,
-              const std::vector<std::pair<std::string, double>>& instants_us) {
+              const std::vector<std::pair<std::string, double>>& instants_us,
+              const std::optional<std::string>& facts_json) {
   Require(data.ndim() == 2, "data must be 2-D (channels, samples)");
   Require(data.shape(1) > 0, "the recording is empty (no samples)");
   Require(static_cast<std::size_t>(data.shape(0)) == names.size(),
@@ -110,8 +117,13 @@ void WriteCsv(const std::string& path, const std::vector<std::string>& names,
     columns.emplace_back(Eigen::Map<const Eigen::VectorXd>(data.data(c, 0), data.shape(1)));
   const std::string text = FormatCsv(names, columns);
   py::gil_scoped_release release;
-  // The sidecar first: a CSV is never left beside a sidecar of another.
-  ident::WriteRecordingSidecar(path, names, instants_us);
+  // The sidecar first: a CSV is never left beside a sidecar of another. The recording's facts
+  // when it has them (checked against its columns), else its instants alone.
+  if (facts_json)
+    ident::WriteRecordingFacts(path,
+                               ident::ParseRecordingFacts(*facts_json, names, path + ".json"));
+  else
+    ident::WriteRecordingSidecar(path, names, instants_us);
   WriteFileAtomic(path, text);
 }
 
@@ -157,7 +169,7 @@ void RegisterModel(py::module_& m) {
   m.def("read_recording", &ReadRecording, py::arg("path"), py::arg("fs_hz"), py::arg("time_column"),
         py::arg("channels"));
   m.def("write_csv", &WriteCsv, py::arg("path"), py::arg("names"), py::arg("data"),
-        py::arg("sample_instants_us"));
+        py::arg("sample_instants_us"), py::arg("facts_json") = py::none());
 }
 
 }  // namespace vibid::python

@@ -48,13 +48,26 @@ def test_an_acquisition_opens_in_pandas_and_numpy(emulator, tmp_path):
     # 124 converter clocks of 21 MHz after the edge: 2.667 and 5.905 us in whole ns).
     info = json.loads(run_cli("info", "--json", device=emulator.url).stdout)
     sidecar = json.loads((tmp_path / "rec.csv.json").read_text())
-    assert sidecar == {
-        "format": "vibid-recording", "version": 1, "columns": names,
-        "sample_instants_us": {"force1_counts": info["sample_instants_us"]["force1"],
-                               "force2_counts": info["sample_instants_us"]["force2"],
-                               "acc1_counts": info["sample_instants_us"]["acc1"]}}
-    assert sidecar["sample_instants_us"]["force2_counts"] == 5.905
-    assert rec.sample_instants_us == sidecar["sample_instants_us"]
+    assert sidecar["format"] == "vibid-recording" and sidecar["version"] == 2
+    assert sidecar["columns"] == names and sidecar["fs"] == 5000.0
+    instants = {c["name"]: c["sample_instant_us"] for c in sidecar["channels"]}
+    assert instants == {"force1_counts": info["sample_instants_us"]["force1"],
+                        "force2_counts": info["sample_instants_us"]["force2"],
+                        "acc1_counts": info["sample_instants_us"]["acc1"]}
+    assert instants["force2_counts"] == 5.905
+    assert rec.sample_instants_us == instants
+    # The facts a reader needs: the board, the options, and per channel its converter's rails
+    # (uncalibrated: the 12-bit codes), its unit and the board's clip count.
+    assert sidecar["board"]["board"] == "emulator" and sidecar["board"]["adc_bits"] == 12
+    # The emulator's serial number carries its seed (1, the fixture's), and the sidecar says so.
+    assert sidecar["board"]["serial"] == "EMU0000000000000001"
+    assert sidecar["acquisition"]["emulator_seed"] == 1
+    assert sidecar["acquisition"]["seconds"] == 0.4 and sidecar["acquisition"]["records"] == 2000
+    assert "calibration" not in sidecar  # uncalibrated
+    for c in sidecar["channels"]:
+        assert c["unit_str"] == "counts" and c["rails"] == [0.0, 4095.0]
+        assert c["code_range"] == [0.0, 4095.0] and c["clipped_samples"] == 0
+    assert rec.facts == sidecar
 
 
 def test_t_s_is_the_exact_decimal_of_index_over_rate(emulator, tmp_path):
@@ -82,7 +95,14 @@ def test_python_writes_the_files_the_cli_writes(make_emulator, tmp_path):
         rec = board.acquire(seconds=0.2, channels="force1,acc2", no_dob=True)
     rec.write_csv(tmp_path / "py.csv")
     assert (tmp_path / "py.csv").read_bytes() == cli.read_bytes()
-    assert (tmp_path / "py.csv.json").read_bytes() == (tmp_path / "cli.csv.json").read_bytes()
+    # The same facts, but for the moment each started.
+    py_facts = json.loads((tmp_path / "py.csv.json").read_text())
+    cli_facts = json.loads((tmp_path / "cli.csv.json").read_text())
+    for facts in (py_facts, cli_facts):
+        facts.pop("start_timestamp")
+        for c in facts["channels"]:
+            c.pop("start_timestamp")
+    assert py_facts == cli_facts
 
 
 def test_a_file_written_before_the_sidecar_still_reads(tmp_path):
@@ -97,7 +117,8 @@ def test_a_file_written_before_the_sidecar_still_reads(tmp_path):
     new = tmp_path / "new.csv"
     old.write_csv(new)
     assert not new.read_text().startswith("#")
-    assert json.loads((tmp_path / "new.csv.json").read_text())["sample_instants_us"] == \
+    assert {c["name"]: c["sample_instant_us"] for c in
+            json.loads((tmp_path / "new.csv.json").read_text())["channels"]} == \
         old.sample_instants_us
     a = vibid.frf_estimate(OLD_FORM, force="force1_n", responses="acc1_m_s2")
     b = vibid.frf_estimate(new, force="force1_n", responses="acc1_m_s2")
@@ -132,3 +153,62 @@ def test_a_sidecar_of_another_recording_is_refused_and_a_stale_one_removed(tmp_p
     with pytest.raises(ValueError, match=r"o\.csv\.json: describes columns .*the recording's are "
                                          r"t_s,force2_n,x1_m: it belongs to another recording"):
         vibid.read_recording(tmp_path / "o.csv")
+
+
+def test_an_frf_csv_opens_in_pandas_and_numpy_its_metadata_beside(tmp_path):
+    # frf.csv is one header row and rows (no opening comment line, on which pandas.read_csv and
+    # numpy.genfromtxt(names=True) fail with their defaults); the metadata is in frf.csv.json.
+    path = tmp_path / "frf.csv"
+    r = run_cli("frf-estimate", OLD_FORM, "--force", "force1_n", "--response", "acc1_m_s2",
+                "-o", path)
+    assert r.returncode == 0, r.stderr
+    names = ["freq_hz", "acc1_m_s2_re", "acc1_m_s2_im", "acc1_m_s2_coh"]
+    assert path.read_text().splitlines()[0] == ",".join(names)
+    frame, table, rows = read_with_every_reader(path)
+    assert list(frame.columns) == names and list(table.dtype.names) == names
+    e = vibid.frf_estimate(OLD_FORM, force="force1_n", responses="acc1_m_s2")
+    # numpy's parser reads every value back exactly; pandas' default one to about 1e-12
+    # (float_precision="round_trip" is exact).
+    np.testing.assert_array_equal(table["freq_hz"], e.frd.freq_hz)
+    np.testing.assert_array_equal(table["acc1_m_s2_re"], e.frd.h[0, 0].real)
+    np.testing.assert_array_equal(table["acc1_m_s2_im"], e.frd.h[0, 0].imag)
+    np.testing.assert_allclose(frame["acc1_m_s2_re"].to_numpy(), e.frd.h[0, 0].real, rtol=1e-12,
+                               atol=1e-15)
+    exact = pandas.read_csv(path, float_precision="round_trip")
+    np.testing.assert_array_equal(exact["acc1_m_s2_im"].to_numpy(), e.frd.h[0, 0].imag)
+    meta = json.loads((tmp_path / "frf.csv.json").read_text())
+    assert meta["format"] == "vibid-frf" and meta["columns"] == names
+    assert meta["kind"] == "receptance" and meta["force"] == "force1_n"
+    assert meta["averages"] == e.averages
+    # vibid reads its metadata back from the sidecar: the same modes as from the recording.
+    m = run_cli("modes", path, "--json")
+    assert m.returncode == 0, m.stderr
+
+
+def test_the_clip_check_uses_the_facts_and_says_when_it_has_none(tmp_path):
+    # A recording whose force sits on the load cell's top rail for 2 samples in its second hit:
+    # with the facts (the rails), that hit is clipped and rejected; without them the check is
+    # unavailable, and the warnings say so.
+    old = vibid.read_recording(OLD_FORM)
+    data = old.data.copy()
+    f = data[old.index("force1_n")]
+    peaks = [i for i in range(1, f.size - 1) if f[i] > 0.5 * f.max() and f[i] >= f[i - 1]
+             and f[i] >= f[i + 1]]
+    top = 1.01 * f.max()
+    second = [p for p in peaks if p > peaks[0] + int(0.5 * old.fs_hz)][0]
+    f[second:second + 2] = top
+    facts = {"format": "vibid-recording", "version": 2, "columns": ["t_s"] + old.names,
+             "channels": [{"name": "force1_n", "unit_str": "N", "rails": [-top, top]},
+                          {"name": "acc1_m_s2", "unit_str": "m/s2", "rails": [-1e6, 1e6]}]}
+    rec = vibid.Recording(names=old.names, data=data, fs_hz=old.fs_hz, facts=facts)
+    path = tmp_path / "clipped.csv"
+    rec.write_csv(path)
+    for source in (path, rec, vibid.read_recording(path)):
+        e = vibid.frf_estimate(source, force="force1_n", responses="acc1_m_s2")
+        clipped = [h for h in e.hits if h.clipped]
+        assert len(clipped) == 1 and not clipped[0].used, e.hits
+        assert not any("clip check unavailable" in w for w in e.warnings)
+    bare = vibid.Recording(names=old.names, data=data, fs_hz=old.fs_hz)
+    e = vibid.frf_estimate(bare, force="force1_n", responses="acc1_m_s2")
+    assert not any(h.clipped for h in e.hits)
+    assert any("clip check unavailable for the force and response 1" in w for w in e.warnings)

@@ -15,8 +15,8 @@ from typing import Iterator, Optional
 import numpy as np
 
 from . import _vibid
-from . import (Recording, _input_path, _integer, _kind, _names, _output_path, _real,
-               _repr, read_recording)
+from ._checks import _input_path, _integer, _kind, _names, _output_path, _real, _repr
+from .recording import Recording, read_recording
 
 _DEFAULTS = _vibid._WatchOptions()  # the library's defaults, those of `vibid watch`
 
@@ -355,7 +355,7 @@ def watch(source, fs_hz: Optional[float] = None, responses=None, reference=None,
     comes. Every argument is checked here; the blocks are computed as the returned ``Watch`` is
     iterated (``list(vibid.watch(...))`` for all). On a board (``source`` a ``vibid.Board``):
     ``Board.watch`` with these options."""
-    from . import Board
+    from .board import Board
     if isinstance(source, Board):
         if fs_hz is not None or board is not None or t0_s is not None:
             raise ValueError("fs_hz, board and t0_s are a recording's or an array's; the board "
@@ -501,7 +501,7 @@ def _board_watch(board, seconds: Optional[float] = None, rate_hz: float = 1000.0
                  false_alarm_per_hour: float = _DEFAULTS.false_alarm_per_hour,
                  fmax_hz: float = _DEFAULTS.fmax_hz, modes_s: float = _DEFAULTS.modes_s,
                  order: int = _DEFAULTS.order) -> LiveWatch:
-    from . import _settings
+    from .board import _settings
     if seconds is not None and _real("seconds", seconds) <= 0.0:
         raise ValueError(f"seconds={seconds}: watch for a positive length, or seconds=None "
                          "until the loop is left")

@@ -29,6 +29,14 @@ struct SensorScaling {
   std::int32_t offset_counts = 0;
   double full_scale = 1.0;
   int dof = -1;  ///< 0-based; -1 for none.
+  /// The sensitivity's expanded relative uncertainty as its calibration certificate states it
+  /// (0.02: 2 %), and the certificate's coverage factor k (2 for about 95 %): the relative
+  /// standard uncertainty is their quotient. 0: not stated (the board never uses either).
+  double sensitivity_uncertainty = 0.0;
+  double coverage_factor = 2.0;
+
+  /// The relative standard uncertainty of the sensitivity (0 when not stated).
+  double RelativeStandardUncertainty() const { return sensitivity_uncertainty / coverage_factor; }
 };
 
 using SensorSet = std::array<std::optional<SensorScaling>, wire::kChannelCount>;

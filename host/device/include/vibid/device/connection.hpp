@@ -128,6 +128,8 @@ class Connection {
 
   const wire::InfoResponse& info() const { return info_; }
   std::string Describe() const { return transport_->Describe(); }
+  /// The board's USB serial number; empty where the link has none.
+  std::string SerialNumber() const { return transport_->SerialNumber(); }
   LinkCounters counters() const;
 
   /// One request, one answer (retried with the same token on timeout). The answer may be a

@@ -11,6 +11,9 @@
 
 namespace vibid::device {
 
+/// The board kind as `vibid info` names it (stm32f405, qemu-netduinoplus2, emulator, host-test).
+const char* BoardName(wire::BoardId board);
+
 /// `clips`, `sampling` and `health` are null in the JSON when absent (a board of protocol 2.0);
 /// "model_stale" (the board's residual test, watch_report.hpp) is null without `watch`; "fault"
 /// (the fault handler's record: exception, CFSR, HFSR, MMFAR, BFAR, PC, LR) without `fault`.

@@ -28,8 +28,9 @@ struct LogTable {
 
 /// Columns: t_s (sample_index x sample period, the exact decimal: the tick count in us over
 /// 10^6, correctly rounded), one `<stem>_<unit>` column per logged channel
-/// (calibrated exactly as the board does: ScaleChannel, then x full_scale / 2^31, which is exact
-/// in double so a reader recovers the board's Q31 value), and with the observer logged
+/// (calibrated exactly as the board does: ScaleChannel, then x full_scale / 2^31, held as the
+/// shortest decimal that still rounds to the board's Q31 word, ShortestQ31Decimal, so a reader
+/// recovers that word as the observer's replay does), and with the observer logged
 /// `d_hat_q31` (the board's integer output) and `d_hat_n`; with the residual test's word logged,
 /// `model_g` (its CUSUM statistic, in spreads) and `model_stale` (0 or 1).
 /// `calibration` is the active record (has_record false: uncalibrated, columns in counts).
@@ -55,9 +56,10 @@ std::string FormatLogCsvRows(const LogPull& block, const wire::CalibrationRecord
 std::string FormatLogCsv(const LogPull& pull, const wire::CalibrationRecord& calibration,
                          bool has_record);
 
-/// Writes the sidecar of the recording at `csv_path` (ident::WriteRecordingSidecar) with the
-/// instants the board stated (`instants` empty for a board of protocol 2.0: a sidecar left there
-/// by an earlier recording is removed).
+/// Writes the sidecar of the recording at `csv_path` (log_facts.hpp, ident::WriteRecordingFacts):
+/// its columns' units, rails and sensitivities from `calibration`, the rate and the instants the
+/// board stated (`instants` empty for a board of protocol 2.0); the board, the start and the
+/// acquisition are not stated (LogFacts states them where the caller ran the acquisition).
 void WriteLogSidecar(const std::string& csv_path, const LogPull& format,
                      const wire::CalibrationRecord& calibration, bool has_record,
                      const std::optional<wire::SamplingInfoResponse>& instants);

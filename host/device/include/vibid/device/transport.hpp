@@ -29,6 +29,10 @@ class Transport {
 
   /// How the device was reached, for messages ("usbip://127.0.0.1:3240 bus 1-1").
   virtual std::string Describe() const = 0;
+
+  /// The device's USB serial number (iSerialNumber), for the records that name their board;
+  /// empty where the link does not carry one (a serial line).
+  virtual std::string SerialNumber() const { return {}; }
 };
 
 }  // namespace vibid::device

@@ -56,6 +56,7 @@ class UsbipDevice final : public Transport, public UsbControl {
   std::size_t Receive(std::span<std::uint8_t, wire::kReportBytes> out,
                       std::chrono::milliseconds timeout) override;
   std::string Describe() const override;
+  std::string SerialNumber() const override;
 
   std::vector<std::uint8_t> Control(const Setup& setup, std::span<const std::uint8_t> out,
                                     std::chrono::milliseconds timeout) override;

@@ -13,6 +13,7 @@
 
 #include "vibid/common/csv.hpp"
 #include "vibid/ident/impact.hpp"
+#include "vibid/ident/recording_facts.hpp"
 #include "vibid/ident/ringdown.hpp"
 #include "vibid/ident/spectral.hpp"
 
@@ -85,6 +86,13 @@ struct Estimated {
   /// states no instants.
   std::string compensation;
 };
+
+/// The converter's limits of a recording's column in the units its spec scales it to: the rails
+/// its sidecar states (`facts`, null when it has none), else for a board's raw-count column the
+/// converter its name implies (force1_counts: 0 .. 4095); unknown otherwise (the clip check is
+/// then unavailable for it, and said so).
+ident::ImpactOptions::ConverterLimits ConverterLimitsOf(const ColumnSpec& spec,
+                                                        const ident::RecordingFacts* facts);
 
 /// Reads a recording and estimates the FRF of every response to the force, converted to
 /// `options.kind`. Per-hit impact records when `impact` is set or, unless `welch` is, when the

@@ -42,6 +42,10 @@ struct IdentifyRequest {
   /// Relative spread of the nominal model as the one-test chain fit's prior (used when the tests
   /// show fewer modes than masses).
   double prior_relative_sd = 0.2;
+  /// A sensors file whose sensitivities state their uncertainty (sensitivity_uncertainty,
+  /// coverage_factor): the intervals of m, k and c then carry the calibration part beside the
+  /// statistical one (sensor_calibration.hpp). Empty: the statistical part only.
+  std::string sensors;
 };
 
 /// IdentifyRequest with the board's force column and hammer-test defaults.

@@ -2,6 +2,8 @@
 // Python package and the bench read the same objects, so every front end shows the same numbers.
 #pragma once
 
+#include <array>
+
 #include <string>
 #include <vector>
 
@@ -51,7 +53,14 @@ std::string ModeIdentificationText(const ident::ModeIdentification& result);
 /// Sets `KEY_ci95` to [lo, hi] and `KEY_ci95_basis` to how it was estimated, or `KEY_ci95` to
 /// null and `KEY_ci95_missing` to why there is none.
 void PutInterval(nlohmann::json& j, const std::string& key, const ident::Interval95& ci);
-nlohmann::json MassUpdateJson(const ident::MassUpdateResult& result);
+/// The mass update's m, k and c intervals; with `calibration_u` > 0 (the relative standard
+/// uncertainty of the load cell's and the response sensor's sensitivities, sensor_calibration.hpp)
+/// each carries that calibration part beside its statistical one, `sensors` naming them.
+std::array<ident::Interval95, 3> MassUpdateIntervals(const ident::MassUpdateResult& result,
+                                                     double calibration_u = 0.0,
+                                                     const std::string& sensors = "");
+nlohmann::json MassUpdateJson(const ident::MassUpdateResult& result, double calibration_u = 0.0,
+                              const std::string& sensors = "");
 nlohmann::json StiffnessJson(const ident::StiffnessAverage& average);
 
 /// The snapshot as the page draws it: {version, samples, fs_hz, finished, pending_hits, accepted,

@@ -32,14 +32,14 @@ struct ImpactOptions {
   /// A later pulse in a hit's record counts as a double hit when its peak exceeds this fraction of
   /// the hit's peak.
   double double_hit_fraction = 0.05;
-  /// A channel is clipped when at least this many consecutive samples sit on its converter's
-  /// limit (or, with the limit unknown, on its extreme value far from its resting level).
-  std::size_t clip_run_samples = 4;
+  /// A channel is clipped when at least this many consecutive samples sit on (or beyond) its
+  /// converter's limit: by default one, a single sample at the rail has lost its true value.
+  std::size_t clip_run_samples = 1;
   /// The converter's limits per channel, in the channel's units: the force first, then one per
-  /// response. A channel with limits is clipped only where it runs on one of them (a 12-bit
-  /// converter's codes 0 and 4095), never on a top code it merely repeats inside its range. Empty,
-  /// or an entry with lo >= hi: the limits are unknown, and the channel's extreme values far from
-  /// its resting level stand for them.
+  /// response (a recording's sidecar states them). A channel with limits is clipped only where it
+  /// sits on one of them (a 12-bit converter's codes 0 and 4095), never on a top code it merely
+  /// repeats inside its range. Empty, or an entry with lo >= hi: the limits are unknown, the
+  /// channel is not checked, and a warning says the clip check is unavailable for it.
   struct ConverterLimits {
     double lo = 0.0;
     double hi = 0.0;

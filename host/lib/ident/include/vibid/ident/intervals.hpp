@@ -47,6 +47,12 @@ struct Interval95 {
   double hi = std::numeric_limits<double>::quiet_NaN();
   std::string basis;
   std::string missing;
+  /// With the sensors' calibration in it (AddCalibration): the half-widths of its two parts, the
+  /// statistical one (the tests' scatter and fits) and the calibration one; NaN without.
+  double statistical_half_width = std::numeric_limits<double>::quiet_NaN();
+  double calibration_half_width = std::numeric_limits<double>::quiet_NaN();
+
+  bool HasCalibration() const { return std::isfinite(calibration_half_width); }
 
   bool Known() const {
     return missing.empty() && std::isfinite(lo) && std::isfinite(hi) && hi > lo;
@@ -57,8 +63,18 @@ struct Interval95 {
 /// value +- t(dof) sqrt(variance); the reason when the uncertainty is not known.
 Interval95 IntervalOf(double value, const Uncertainty& u);
 
-/// "+- HALF (P %)" of `value`, or "n/a (reason)": never an interval of zero.
+/// "+- HALF (P %)" of `value`, or "n/a (reason)": never an interval of zero. With a calibration
+/// part: "+- HALF (P %) = stat +- S, cal +- C".
 std::string FormatInterval(const Interval95& ci, double value);
+
+/// Adds the sensors' calibration to the interval of `value` (methods §16): a quantity that scales
+/// with a product of sensitivities (a mass with the load cell's and the accelerometer's) carries
+/// their relative variances added, `relative_u` the root of that sum (a relative standard
+/// uncertainty). Its 95 % half-width 1.96 x relative_u x |value| adds to the statistical one in
+/// quadrature, about the same centre; both parts are kept. `what` names the sensors in the basis.
+/// An interval that is not known stays so (a calibration alone says nothing of the scatter);
+/// relative_u of 0 leaves it as it is.
+void AddCalibration(Interval95& ci, double value, double relative_u, const std::string& what);
 
 /// Two-sided 95 % point of Student's t with `dof` degrees of freedom (the normal's 1.95996 for an
 /// infinite dof). A fractional dof (Welch-Satterthwaite) is rounded down: the wider interval.
