@@ -80,7 +80,7 @@ nlohmann::json Identify(const BenchBoard& board, const std::string& directory,
   }
   const workflow::IdentifyRun run = workflow::RunIdentify(nominal, request);
   nlohmann::json out = workflow::IdentifyReportJson(run, n);
-  out["table"] = ident::FormatValidationTable(run.result.table);
+  out["table"] = workflow::ValidationText(run);
   out["output"] = b["output"];
   // A flagged result is shown, verdict first, but its model is written only with the page's
   // explicit accept (as `identify --accept-flagged`); the answer says which.

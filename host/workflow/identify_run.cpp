@@ -336,6 +336,11 @@ nlohmann::json UpdatedModelJson(const IdentifyRun& run, std::size_t n) {
   return model_json;
 }
 
+std::string ValidationText(const IdentifyRun& run) {
+  return ident::FormatValidationTable(run.result.table) +
+         "Verdict: " + FormatVerdict(run.result.verdict) + "\n";
+}
+
 void WriteUpdatedModel(const IdentifyRun& run, std::size_t n, const std::string& path,
                        bool accept_flagged, const std::string& option) {
   const Verdict& v = run.result.verdict;

@@ -53,7 +53,7 @@ void Run(const IdentifyArgs& a) {
     std::cerr << (m.warning ? "vibid: warning: " : "vibid: note: ") << m.text << "\n";
 
   const auto n = static_cast<std::size_t>(nominal.dofs());
-  const std::string table = ident::FormatValidationTable(run.result.table);
+  const std::string table = workflow::ValidationText(run);
   if (!a.report.empty()) {
     std::error_code ec;
     std::filesystem::create_directories(a.report, ec);
@@ -66,10 +66,9 @@ void Run(const IdentifyArgs& a) {
   }
   std::cout << table;
   for (const auto& w : run.result.warnings) std::cerr << "vibid: warning: " << w << "\n";
-  // The verdict last, where it is read: a flagged result writes no model unless accepted
+  // The verdict is the table's last line: a flagged result writes no model unless accepted
   // (FlaggedError, its own exit code), a caution is said and carried in the file.
   const Verdict& v = run.result.verdict;
-  std::cout << "Verdict: " << FormatVerdict(v) << "\n";
   workflow::WriteUpdatedModel(run, n, a.output, a.accept_flagged, "--accept-flagged");
   if (v.Flagged())
     std::cerr << "vibid: warning: wrote " << a.output

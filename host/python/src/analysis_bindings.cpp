@@ -169,7 +169,7 @@ py::tuple Identify(const model::Model& nominal, const workflow::IdentifyRequest&
     const auto n = static_cast<std::size_t>(nominal.dofs());
     report = workflow::IdentifyReportJson(run, n);
     chain = workflow::UpdatedModelJson(run, n);
-    table = ident::FormatValidationTable(run.result.table);
+    table = workflow::ValidationText(run);
   }
   return py::make_tuple(ToPython(chain), ToPython(report), table);
 }

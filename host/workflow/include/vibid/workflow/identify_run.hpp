@@ -65,6 +65,10 @@ IdentifyRun RunIdentify(const model::Model& nominal, const IdentifyRequest& requ
 
 /// {"topology": "chain", "masses", "springs", "dampers"}: the updated model file.
 nlohmann::json ChainJson(const ident::ChainParameters& chain, std::size_t n);
+/// The validation table and, on its last line, "Verdict: OK" (or "Verdict: CAUTION: reason; ...",
+/// "Verdict: FLAGGED: ..."): what `identify` prints and writes to validation.txt, what the bench
+/// shows and Python's Identification.validation holds.
+std::string ValidationText(const IdentifyRun& run);
 /// The updated model file `identify` writes: ChainJson with the result's "verdict".
 nlohmann::json UpdatedModelJson(const IdentifyRun& run, std::size_t n);
 /// Writes the updated model to `path` unless the result is flagged and `accept_flagged` is false:
