@@ -43,6 +43,13 @@ struct DesignArgs {
 };
 
 void Run(const DesignArgs& a) {
+  // The model's verdict first: a flagged model is refused before anything else is read or said.
+  const model::ModelFile model = model::LoadModelFile(a.model_path);
+  RequireUsable(model.verdict, a.accept_flagged, "model file " + a.model_path, "dob design",
+                "--accept-flagged");
+  if (model.verdict.level != VerdictLevel::kOk)
+    std::cerr << "vibid: " << (model.verdict.Flagged() ? "warning: " : "note: ") << a.model_path
+              << ": " << FormatVerdict(model.verdict) << "\n";
   workflow::ObserverDesignRequest request = a.request;
   // The full scales are the sensors' when a sensors file is given: the ones `cal upload` takes.
   if (!a.sensors.empty()) {
@@ -52,12 +59,6 @@ void Run(const DesignArgs& a) {
         a.sensor_given);
     if (!took.empty()) std::cerr << "vibid: " << took << " (" << a.sensors << ")\n";
   }
-  const model::ModelFile model = model::LoadModelFile(a.model_path);
-  RequireUsable(model.verdict, a.accept_flagged, "model file " + a.model_path, "dob design",
-                "--accept-flagged");
-  if (model.verdict.level != VerdictLevel::kOk)
-    std::cerr << "vibid: " << (model.verdict.Flagged() ? "warning: " : "note: ") << a.model_path
-              << ": " << FormatVerdict(model.verdict) << "\n";
   const dob::DobDesign design = workflow::DesignObserverFor(model.model, request);
   // Said of a design made, never above a refusal.
   if (a.sensors.empty() && !a.force_given)

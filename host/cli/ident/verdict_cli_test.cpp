@@ -55,7 +55,8 @@ struct Files {
     return Write(
         dir, "mass" + std::to_string(i + 1) + ".csv",
         ident::FormatHammerTestCsv(
-            ident::SimulateHammerTest(one, ident::MassTestSpec(kFsHz, 100u + i)),
+            ident::SimulateHammerTest(one,
+                                      ident::MassTestSpec(kFsHz, 100u + static_cast<unsigned>(i))),
             {ident::AccelerationColumn(static_cast<std::size_t>(i) + 1)}, ident::ForceColumn()));
   }
   /// identify with mass 1's test taken on a spring of `k1` N/m (--mass-spring 1=K): a spring
