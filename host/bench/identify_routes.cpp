@@ -7,6 +7,7 @@
 #include "vibid/common/error.hpp"
 #include "vibid/common/json_file.hpp"
 #include "vibid/common/json_keys.hpp"
+#include "vibid/common/verdict.hpp"
 #include "vibid/device/calibration_upload.hpp"
 #include "vibid/dob/design_json.hpp"
 #include "vibid/ident/identify.hpp"
@@ -17,11 +18,20 @@
 namespace vibid::bench {
 namespace {
 
+/// The page's explicit accept of a flagged result or model (a box the user ticks).
+bool AcceptFlagged(const nlohmann::json& b) {
+  if (!b.contains("accept_flagged")) return false;
+  Require(b["accept_flagged"].is_boolean(), "'accept_flagged' must be true or false");
+  return b["accept_flagged"].get<bool>();
+}
+
 nlohmann::json Identify(const BenchBoard& board, const std::string& directory,
                         const nlohmann::json& b) {
   Require(b.is_object(), "the request must be a JSON object");
-  RequireKnownKeys(b, {"nominal", "mass_tests", "modal_tests", "output", "exp_window"},
-                   "the identify request");
+  RequireKnownKeys(
+      b, {"nominal", "mass_tests", "modal_tests", "output", "exp_window", "accept_flagged"},
+      "the identify request");
+  const bool accept_flagged = AcceptFlagged(b);
   Require(b.contains("nominal") && b.contains("modal_tests") && b.contains("output"),
           "the identify request needs nominal, modal_tests and output");
   workflow::IdentifyRequest request = workflow::DefaultIdentifyRequest();
@@ -69,16 +79,25 @@ nlohmann::json Identify(const BenchBoard& board, const std::string& directory,
     }
   }
   const workflow::IdentifyRun run = workflow::RunIdentify(nominal, request);
-  WriteJsonFile(output, workflow::ChainJson(run.result.chain, n));
   nlohmann::json out = workflow::IdentifyReportJson(run, n);
-  out["table"] = ident::FormatValidationTable(run.result.table);
+  out["table"] = workflow::ValidationText(run);
   out["output"] = b["output"];
+  // A flagged result is shown, verdict first, but its model is written only with the page's
+  // explicit accept (as `identify --accept-flagged`); the answer says which.
+  out["written"] = !run.result.verdict.Flagged() || accept_flagged;
+  if (out["written"].get<bool>())
+    workflow::WriteUpdatedModel(run, n, output, true, "");
+  else
+    out["not_written"] = "the identification is flagged: " + b["output"].get<std::string>() +
+                         " was not written; tick the accept box and identify again to write it "
+                         "anyway, the file then carrying the verdict";
   return out;
 }
 
 nlohmann::json Design(BenchBoard& board, const std::string& directory, const nlohmann::json& b) {
   Require(b.is_object(), "the request must be a JSON object");
-  RequireKnownKeys(b, {"model", "output", "fs_hz", "force_fs_n"}, "the design request");
+  RequireKnownKeys(b, {"model", "output", "fs_hz", "force_fs_n", "accept_flagged"},
+                   "the design request");
   Require(b.contains("model") && b.contains("output"), "the design request needs model and output");
   workflow::ObserverDesignRequest request;
   const auto number = [&](const char* key, double& value) {
@@ -94,7 +113,10 @@ nlohmann::json Design(BenchBoard& board, const std::string& directory, const nlo
             .value_or(request.force_fs_n);
   }
   const std::string output = OutputIn(directory, b["output"], "output");
-  const model::Model model = model::LoadModel(FileIn(directory, b["model"], "model"));
+  const model::ModelFile file = model::LoadModelFile(FileIn(directory, b["model"], "model"));
+  RequireUsable(file.verdict, AcceptFlagged(b), "model file " + b["model"].get<std::string>(),
+                "the design", "the page's accept box (\"accept_flagged\": true)");
+  const model::Model& model = file.model;
   // A chain longer than two masses: the observer where the board's record puts the hammer's load
   // cell, fed by the sensor there (the CLI's defaults, mass 2 and an encoder, fit two masses).
   const std::optional<device::ObserverPlacement> placement =
@@ -107,7 +129,10 @@ nlohmann::json Design(BenchBoard& board, const std::string& directory, const nlo
   }
   const dob::DobDesign design = workflow::DesignObserverFor(model, request);
   WriteJsonFile(output, dob::DesignToJson(design));
+  nlohmann::json verdict = VerdictToJson(file.verdict);
+  verdict["text"] = FormatVerdict(file.verdict);
   return {{"summary", workflow::DesignSummary(design)},
+          {"verdict", verdict},
           {"force_fs_n", request.force_fs_n},
           {"fs_hz", request.fs_hz},
           {"checksum", design.fixed.description.checksum},

@@ -11,6 +11,7 @@
 #include "commands.hpp"
 #include "vibid/common/error.hpp"
 #include "vibid/common/memory_policy.hpp"
+#include "vibid/common/verdict.hpp"
 #include "vibid/device/error.hpp"
 
 int main(int argc, char** argv) {
@@ -57,6 +58,9 @@ int main(int argc, char** argv) {
     }
     const int code = app.exit(e);
     return code == 0 ? kExitOk : kExitUsage;
+  } catch (const vibid::FlaggedError& e) {
+    std::cerr << "vibid: error: " << e.what() << "\n";
+    return kExitFlagged;
   } catch (const vibid::InputError& e) {
     std::cerr << "vibid: error: " << e.what() << "\n";
     return kExitInputError;

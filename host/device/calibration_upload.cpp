@@ -88,9 +88,14 @@ std::string RecordLabel(const UploadFiles& files) {
   return label;
 }
 
-RecordInputs ReadRecordInputs(const UploadFiles& files, const std::string& host_version) {
+RecordInputs ReadRecordInputs(const UploadFiles& files, const std::string& host_version,
+                              Verdict* verdict) {
   RecordInputs in;
-  in.model = model::LoadModel(files.model);
+  model::ModelFile model = model::LoadModelFile(files.model);
+  RequireUsable(model.verdict, files.accept_flagged, "model file " + files.model, "cal upload",
+                files.accept_option);
+  if (verdict != nullptr) *verdict = model.verdict;
+  in.model = std::move(model.model);
   in.observer = dob::ObserverFromJson(ReadJsonFile(files.design), files.design).description;
   in.label = RecordLabel(files);
   in.created_unix_s = std::chrono::duration_cast<std::chrono::seconds>(

@@ -8,10 +8,12 @@
 
 #include "vibid/common/csv.hpp"
 #include "vibid/common/error.hpp"
+#include "vibid/common/json_file.hpp"
 #include "vibid/common/option_text.hpp"
 #include "vibid/ident/recording_columns.hpp"
 #include "vibid/model/frf.hpp"
 #include "vibid/common/json_file.hpp"
+#include "vibid/model/model_json.hpp"
 #include "vibid/workflow/result_json.hpp"
 #include "vibid/workflow/sensor_calibration.hpp"
 
@@ -347,12 +349,37 @@ nlohmann::json ChainJson(const ident::ChainParameters& chain, std::size_t n) {
           {"dampers", list(chain.dampers_ns_per_m)}};
 }
 
+nlohmann::json UpdatedModelJson(const IdentifyRun& run, std::size_t n) {
+  nlohmann::json model_json = ChainJson(run.result.chain, n);
+  model::PutVerdict(model_json, run.result.verdict);
+  return model_json;
+}
+
+std::string ValidationText(const IdentifyRun& run) {
+  return ident::FormatValidationTable(run.result.table) +
+         "Verdict: " + FormatVerdict(run.result.verdict) + "\n";
+}
+
+void WriteUpdatedModel(const IdentifyRun& run, std::size_t n, const std::string& path,
+                       bool accept_flagged, const std::string& option) {
+  const Verdict& v = run.result.verdict;
+  if (v.Flagged() && !accept_flagged) {
+    std::string reasons;
+    for (const VerdictReason& r : v.reasons)
+      if (r.level == VerdictLevel::kFlagged) reasons += (reasons.empty() ? "" : "; ") + r.text;
+    throw FlaggedError("the identification is flagged (" + reasons + "): " + path +
+                       " was not written; " + option +
+                       " writes it anyway, the file then carrying the verdict");
+  }
+  WriteJsonFile(path, UpdatedModelJson(run, n));
+}
+
 nlohmann::json IdentifyReportJson(const IdentifyRun& run, std::size_t n) {
   const ident::IdentifyResult& r = run.result;
   const std::vector<std::string>& notes = run.notes;
-  const nlohmann::json model_json = ChainJson(r.chain, n);
   nlohmann::json report;
-  report["updated_model"] = model_json;
+  report["verdict"] = VerdictToJson(r.verdict);
+  report["updated_model"] = UpdatedModelJson(run, n);
   report["validation"] = ValidationJson(r.table, r.test_modes, run.driving_point);
   report["parameters"] = ParametersJson(r.table);
   report["test_modes"] = ModesToJson(r.test_modes)["modes"];

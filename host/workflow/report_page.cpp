@@ -14,6 +14,7 @@
 #include "vibid/common/error.hpp"
 #include "vibid/common/json_file.hpp"
 #include "vibid/common/json_keys.hpp"
+#include "vibid/common/verdict.hpp"
 #include "vibid/dob/compare.hpp"
 #include "vibid/ident/identify.hpp"
 #include "vibid/model/model.hpp"
@@ -184,6 +185,21 @@ void ValidationTables(const nlohmann::json& report, const std::string& where,
         "How each interval was estimated (docs/identification.md, intervals on m, k and c):");
     page.List(notes);
   }
+}
+
+// The identification's verdict at the top of the page, in its colour, a line per reason; a report
+// written before reports carried one reads as ok, and the box says none was stated.
+void VerdictNotice(const Verdict& v, report::HtmlPage& page) {
+  std::vector<std::string> lines;
+  for (const VerdictReason& r : v.reasons)
+    lines.push_back(std::string(VerdictLevelName(r.level)) + " (" + r.code + "): " + r.text);
+  if (!v.stated) lines.push_back("this report states no verdict (written before reports did)");
+  std::string title = "Verdict: " + std::string(VerdictLevelName(v.level));
+  if (v.Flagged())
+    title +=
+        ": do not take this model to the board (taken only with "
+        "--accept-flagged)";
+  page.Notice(VerdictLevelName(v.level), title, lines);
 }
 
 // How far each model is from the test, and the flag of an update that fits its own test worse
@@ -369,16 +385,23 @@ std::string ReportPage(const ReportRequest& a) {
   Require(a.dob_recording.empty() || (!a.measured.empty() && !a.estimates.empty()),
           "--dob needs --measured COLUMN and at least one --estimate COLUMN[=LABEL]");
   report::HtmlPage page(a.title);
-  if (!a.notes.empty()) page.List(a.notes);
   if (!a.identify_dir.empty()) {
     const std::filesystem::path dir(a.identify_dir);
     const std::string json_path = (dir / "report.json").string();
     const nlohmann::json report = ReadJsonFile(json_path);
     // The keys `identify --report` writes.
-    RequireKnownKeys(report,
-                     {"updated_model", "validation", "parameters", "test_modes", "mass_tests",
-                      "modal_tests", "stiffness", "warnings", "notes", "method", "chain_fit"},
-                     "identification report " + json_path);
+    RequireKnownKeys(
+        report,
+        {"verdict", "updated_model", "validation", "parameters", "test_modes", "mass_tests",
+         "modal_tests", "stiffness", "warnings", "notes", "method", "chain_fit"},
+        "identification report " + json_path);
+    Verdict verdict;
+    verdict.stated = report.contains("verdict");
+    if (verdict.stated) verdict = VerdictFromJson(report["verdict"], json_path + ": \"verdict\"");
+    RequireUsable(verdict, a.accept_flagged, "the identification in " + json_path, "report",
+                  "--accept-flagged");
+    VerdictNotice(verdict, page);
+    if (!a.notes.empty()) page.List(a.notes);
     std::unique_ptr<model::Model> truth;
     if (!a.truth.empty()) truth = std::make_unique<model::Model>(model::LoadModel(a.truth));
     page.Heading("Identification");
@@ -397,6 +420,7 @@ std::string ReportPage(const ReportRequest& a) {
     FrfFigures((dir / "frf_overlay.csv").string(), lo_hz, hi_hz, page);
     StabilizationFigure(report, (dir / "frf_overlay.csv").string(), page);
   }
+  if (a.identify_dir.empty() && !a.notes.empty()) page.List(a.notes);
   if (!a.dob_recording.empty()) {
     page.Heading("Disturbance observer");
     ObserverSection(a, page);

@@ -361,6 +361,28 @@ function massTests() {
   });
 }
 
+// A verdict box above what it judges: the level in its colour, each reason on its line (the
+// library decided them; the page only draws). `lead` says what the level means here.
+function showVerdict(id, v, lead) {
+  const box = document.getElementById(id);
+  box.className = 'verdict verdict-' + v.level;
+  box.dataset.level = v.level;
+  const head = document.createElement('strong');
+  head.textContent = 'Verdict: ' + v.level.toUpperCase() + (lead ? ' — ' + lead : '');
+  const list = document.createElement('ul');
+  for (const r of v.reasons) {
+    const li = document.createElement('li');
+    li.textContent = r.text; li.dataset.code = r.code; list.append(li);
+  }
+  if (v.stated === false) {
+    const li = document.createElement('li');
+    li.textContent = 'the model file states no verdict (written by hand, or before files carried one)';
+    list.append(li);
+  }
+  box.replaceChildren(head, list);
+  box.hidden = false;
+}
+
 async function identifyRun() {
   const status = document.getElementById('id-status');
   progress('id-run-status', 'identifying…');
@@ -368,6 +390,7 @@ async function identifyRun() {
     nominal: document.getElementById('id-nominal').value.trim(),
     mass_tests: massTests(), modal_tests: listOf('id-modal'),
     output: document.getElementById('id-output').value.trim()};
+  if (document.getElementById('id-accept').checked) request.accept_flagged = true;
   // Left empty: no exponential window (identify's default); otherwise its value at each record's
   // end, as `vibid identify --exp-window` takes it.
   const exp = document.getElementById('id-exp').value.trim();
@@ -379,9 +402,18 @@ async function identifyRun() {
   rows(document.getElementById('id-params'), r.parameters.flatMap(p => [
     ['m' + p.position, fmt(p.m_kg, p.m_kg_ci95) + ' kg'],
     ['k' + p.position, fmt(p.k_n_per_m, p.k_n_per_m_ci95) + ' N/m']]));
-  status.textContent = 'wrote ' + r.output + (r.warnings.length ? '; ' + r.warnings.join('; ') : '');
-  progress('id-run-status', 'identified');
+  const level = r.verdict.level;
+  showVerdict('id-verdict', r.verdict,
+    level === 'flagged' ? (r.written ? 'written on your accept; do not take it to the board unasked'
+                                     : 'not written: ' + r.not_written)
+    : level === 'caution' ? 'written; usable, but read the reasons' : 'written');
+  status.textContent = (r.written ? 'wrote ' + r.output : 'did not write ' + r.output) +
+    (r.warnings.length ? '; ' + r.warnings.join('; ') : '');
+  const st = document.getElementById('id-run-status');
+  st.textContent = level === 'ok' ? 'identified' : 'identified: ' + level.toUpperCase();
+  st.className = level === 'ok' ? 'muted' : 'verdict-text-' + level;
   status.dataset.parameters = JSON.stringify(r.parameters);
+  if (!r.written) return;
   document.getElementById('design-model').value = r.output;
   document.getElementById('cal-model').value = r.output;
 }
@@ -391,12 +423,15 @@ async function designRun() {
                 output: document.getElementById('design-output').value.trim()};
   const fs = document.getElementById('design-force-fs').value.trim();
   if (fs) body.force_fs_n = Number(fs);
+  if (document.getElementById('design-accept').checked) body.accept_flagged = true;
   progress('design-status', 'designing…');
   const r = await api('/api/cal/design', body);
   progress('design-status', 'designed');
   document.getElementById('design-summary').textContent =
     'wrote ' + r.output + ' (force full scale ' + r.force_fs_n + ' N, ' + r.fs_hz + ' Hz)\n' + r.summary;
   document.getElementById('design-summary').dataset.checksum = String(r.checksum);
+  if (r.verdict.level !== 'ok')
+    document.getElementById('design-summary').textContent += '\nmodel ' + r.verdict.text;
   document.getElementById('cal-design').value = r.output;
 }
 
@@ -430,21 +465,44 @@ async function calPreview() {
   });
   t.replaceChildren(head, ...body);
   t.dataset.changes = p.changes.length;
-  document.getElementById('cal-upload').disabled = false;
+  // A flagged model is offered for the board only on an explicit accept: the box, unticked.
+  const flagged = p.verdict.level === 'flagged';
+  showVerdict('cal-verdict', p.verdict, flagged
+    ? 'vibid distrusts this model: upload and commit need your explicit accept below'
+    : p.verdict.level === 'caution' ? 'usable, but read the reasons before you upload' : '');
+  const accept = document.getElementById('cal-accept');
+  accept.checked = false;
+  document.getElementById('cal-accept-row').hidden = !flagged;
+  bench.calFlagged = flagged;
+  document.getElementById('cal-upload').disabled = flagged;
   document.getElementById('cal-commit').disabled = true;
   status.textContent = p.changes.length ? p.changes.length + ' fields change' : 'nothing changes';
 }
 
+// The accept box of a flagged model opens the upload; unticked again, it closes both steps.
+function calAcceptChanged() {
+  const on = document.getElementById('cal-accept').checked;
+  document.getElementById('cal-upload').disabled = bench.calFlagged && !on;
+  if (bench.calFlagged && !on) document.getElementById('cal-commit').disabled = true;
+}
+
+function calAccepted(body) {
+  if (bench.calFlagged && document.getElementById('cal-accept').checked) body.accept_flagged = true;
+  return body;
+}
+
 async function calUpload() {
-  const r = await api('/api/cal/upload', calFiles());
-  document.getElementById('cal-status').textContent = 'staged ' + r.staged + ' (crc ' + r.crc32 + '): commit writes it to flash';
+  const r = await api('/api/cal/upload', calAccepted(calFiles()));
+  document.getElementById('cal-status').textContent = 'staged ' + r.staged + ' (crc ' + r.crc32 + ')' +
+    (r.verdict.level === 'ok' ? '' : ', model ' + r.verdict.level.toUpperCase()) + ': commit writes it to flash';
   document.getElementById('cal-commit').disabled = false;
 }
 
 async function calCommit() {
-  const r = await api('/api/cal/commit', {});
+  const r = await api('/api/cal/commit', calAccepted({}));
   const s = document.getElementById('cal-status');
-  s.textContent = 'committed to slot ' + r.slot + ', sequence ' + r.sequence;
+  s.textContent = 'committed to slot ' + r.slot + ', sequence ' + r.sequence +
+    (r.verdict && r.verdict.level !== 'ok' ? ' (model ' + r.verdict.level.toUpperCase() + ')' : '');
   s.dataset.committed = r.sequence;
   document.getElementById('cal-upload').disabled = true;
   document.getElementById('cal-commit').disabled = true;
@@ -512,6 +570,7 @@ async function main() {
   wire('cal-preview', calPreview, 'cal-status');
   wire('cal-upload', calUpload, 'cal-status');
   wire('cal-commit', calCommit, 'cal-status');
+  document.getElementById('cal-accept').addEventListener('change', calAcceptChanged);
   document.getElementById('pause').addEventListener('click', e => {
     bench.paused = !bench.paused; e.target.textContent = bench.paused ? 'Resume' : 'Pause'; bench.dirty = true;
   });

@@ -16,6 +16,7 @@
 #include "session.hpp"
 #include "vibid/common/error.hpp"
 #include "vibid/common/json_file.hpp"
+#include "vibid/common/verdict.hpp"
 #include "vibid/device/calibration_builder.hpp"
 #include "vibid/device/calibration_upload.hpp"
 #include "vibid/device/log_table.hpp"
@@ -77,16 +78,27 @@ struct UploadArgs {
   std::string design;
   std::string sensors;
   std::string label;
+  bool accept_flagged = false;
   std::string watch_day;
   device::WatchDayOptions watch;
 };
 
 device::UploadFiles Files(const UploadArgs& a) {
-  return {.model = a.model, .design = a.design, .sensors = a.sensors, .label = a.label};
+  return {.model = a.model,
+          .design = a.design,
+          .sensors = a.sensors,
+          .label = a.label,
+          .accept_flagged = a.accept_flagged};
 }
 
 void Run(const UploadArgs& a) {
-  device::RecordInputs in = device::ReadRecordInputs(Files(a), VIBID_VERSION);
+  Verdict verdict;
+  device::RecordInputs in = device::ReadRecordInputs(Files(a), VIBID_VERSION, &verdict);
+  if (verdict.Flagged())
+    std::cerr << "vibid: warning: " << a.model
+              << " is flagged and taken (--accept-flagged): " << FormatVerdict(verdict) << "\n";
+  else if (verdict.level == VerdictLevel::kCaution)
+    std::cerr << "vibid: note: " << a.model << ": " << FormatVerdict(verdict) << "\n";
   // Read before the board is asked anything: a bad recording costs nothing.
   std::optional<Recording> day;
   if (!a.watch_day.empty()) day = LoadRecording(a.watch_day);
@@ -169,6 +181,8 @@ void RegisterCalCommands(CLI::App& app, const GlobalOptions& globals) {
                      "Sensors file (default: the scaling the board already holds)");
   upload->add_option("--label", uo->label,
                      "Rig name stored in the record (default: the model file's name)");
+  upload->add_flag("--accept-flagged", uo->accept_flagged,
+                   "Upload a model whose verdict is flagged (refused otherwise, exit 6)");
   CLI::Option* day =
       upload->add_option("--watch-day", uo->watch_day,
                          "Calibration-day recording (vibid acquire at the observer's rate, the "

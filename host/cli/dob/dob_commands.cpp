@@ -15,6 +15,7 @@
 #include "vibid/common/csv.hpp"
 #include "vibid/common/error.hpp"
 #include "vibid/common/json_file.hpp"
+#include "vibid/common/verdict.hpp"
 #include "vibid/device/calibration_builder.hpp"
 #include "vibid/device/calibration_upload.hpp"
 #include "vibid/dob/compare.hpp"
@@ -37,10 +38,18 @@ struct DesignArgs {
   bool json = false;
   bool force_given = false;
   bool sensor_given = false;
+  bool accept_flagged = false;
   workflow::ObserverDesignRequest request;
 };
 
 void Run(const DesignArgs& a) {
+  // The model's verdict first: a flagged model is refused before anything else is read or said.
+  const model::ModelFile model = model::LoadModelFile(a.model_path);
+  RequireUsable(model.verdict, a.accept_flagged, "model file " + a.model_path, "dob design",
+                "--accept-flagged");
+  if (model.verdict.level != VerdictLevel::kOk)
+    std::cerr << "vibid: " << (model.verdict.Flagged() ? "warning: " : "note: ") << a.model_path
+              << ": " << FormatVerdict(model.verdict) << "\n";
   workflow::ObserverDesignRequest request = a.request;
   // The full scales are the sensors' when a sensors file is given: the ones `cal upload` takes.
   if (!a.sensors.empty()) {
@@ -50,8 +59,7 @@ void Run(const DesignArgs& a) {
         a.sensor_given);
     if (!took.empty()) std::cerr << "vibid: " << took << " (" << a.sensors << ")\n";
   }
-  const dob::DobDesign design =
-      workflow::DesignObserverFor(model::LoadModel(a.model_path), request);
+  const dob::DobDesign design = workflow::DesignObserverFor(model.model, request);
   // Said of a design made, never above a refusal.
   if (a.sensors.empty() && !a.force_given)
     std::cerr << "vibid: note: force full scale " << request.force_fs_n
@@ -209,6 +217,8 @@ void Run(const CompareArgs& a) {
 void RegisterDobDesignCommand(CLI::App& dob) {
   const auto [cmd, a] = AddCommand<DesignArgs>(dob, "design", kDesignHelp, Run);
   cmd->add_option("model", a->model_path, "Model file (JSON)")->required();
+  cmd->add_flag("--accept-flagged", a->accept_flagged,
+                "Design for a model whose verdict is flagged (refused otherwise, exit 6)");
   cmd->add_option("--N", a->request.order, "Order of Q (>= 1)")->capture_default_str();
   cmd->add_option("--r", a->request.relative_degree,
                   "Relative degree of Q (0 <= N - r, r >= that of G_A)")

@@ -10,6 +10,7 @@
 #include "vibid/common/atomic_file.hpp"
 #include "vibid/common/error.hpp"
 #include "vibid/common/json_file.hpp"
+#include "vibid/common/verdict.hpp"
 #include "vibid/model/model_json.hpp"
 #include "vibid/workflow/identify_run.hpp"
 
@@ -28,14 +29,17 @@ constexpr const char* kIdentifyHelp =
     "damping from\n"
     "the modes with them, the one-test fit beside. Writes the updated chain model and prints the "
     "validation\n"
-    "table (nominal, updated, test; an update that fits its test worse than the nominal is "
-    "flagged).";
+    "table (nominal, updated, test) and the verdict: ok, caution (exit 0, said and carried in "
+    "the file) or\n"
+    "flagged (an update that fits its test worse than the nominal: exit 6 and no -o unless "
+    "--accept-flagged).";
 
 struct IdentifyArgs {
   std::string nominal;
   std::vector<std::string> mass_tests;  ///< POS=REC.csv, parsed when the command runs.
   std::string output;
   std::string report;
+  bool accept_flagged = false;
   workflow::IdentifyRequest request = workflow::DefaultIdentifyRequest();
 };
 
@@ -49,7 +53,7 @@ void Run(const IdentifyArgs& a) {
     std::cerr << (m.warning ? "vibid: warning: " : "vibid: note: ") << m.text << "\n";
 
   const auto n = static_cast<std::size_t>(nominal.dofs());
-  const std::string table = ident::FormatValidationTable(run.result.table);
+  const std::string table = workflow::ValidationText(run);
   if (!a.report.empty()) {
     std::error_code ec;
     std::filesystem::create_directories(a.report, ec);
@@ -60,9 +64,16 @@ void Run(const IdentifyArgs& a) {
     WriteJsonFile((dir / "report.json").string(), workflow::IdentifyReportJson(run, n));
     WriteFileAtomic((dir / "frf_overlay.csv").string(), workflow::FrfOverlayCsv(run, nominal));
   }
-  WriteJsonFile(a.output, workflow::ChainJson(run.result.chain, n));
   std::cout << table;
   for (const auto& w : run.result.warnings) std::cerr << "vibid: warning: " << w << "\n";
+  // The verdict is the table's last line: a flagged result writes no model unless accepted
+  // (FlaggedError, its own exit code), a caution is said and carried in the file.
+  const Verdict& v = run.result.verdict;
+  workflow::WriteUpdatedModel(run, n, a.output, a.accept_flagged, "--accept-flagged");
+  if (v.Flagged())
+    std::cerr << "vibid: warning: wrote " << a.output
+              << " although flagged (--accept-flagged); the file carries the verdict, and dob "
+                 "design, report and cal upload refuse it unless given --accept-flagged too\n";
 }
 
 }  // namespace
@@ -124,6 +135,9 @@ void RegisterIdentify(CLI::App& app) {
                   "intervals of m, k and c carry its calibration part beside the statistical one");
   AddModeOptions(cmd, a->request.modes);
   cmd->add_option("-o,--output", a->output, "Updated model file (JSON, chain form)")->required();
+  cmd->add_flag("--accept-flagged", a->accept_flagged,
+                "Write -o even when the result is flagged (exit 6 without it, nothing written); "
+                "the file carries the verdict");
   cmd->add_option("--report", a->report,
                   "Directory for the report: validation.txt, report.json (all results), "
                   "frf_overlay.csv (test vs models)");

@@ -50,6 +50,9 @@ void RegisterReportCommands(CLI::App& app) {
   cmd->add_option("--note", a->request.notes,
                   "A line for the top of the report (rig, firmware, checks); repeat for several");
   cmd->add_option("--title", a->request.title, "Page title")->capture_default_str();
+  cmd->add_flag("--accept-flagged", a->request.accept_flagged,
+                "Report an identification whose verdict is flagged (refused otherwise; the page "
+                "shows the verdict in red at the top)");
   cmd->add_option("-o,--output", a->out, "HTML file to write")->required();
 }
 

@@ -494,7 +494,10 @@ IdentifyResult Identify(const model::Model& nominal, const std::vector<MassTestI
                   mass_method ? "no --mass-test: the one-test chain fit"
                               : "--mass-test: masses from 1-DOF tests");
     res.warnings.emplace_back(text);
+    res.verdict.Add(VerdictLevel::kFlagged, "worse_than_nominal", text);
   }
+  if (!res.table.caution.empty())
+    res.verdict.Add(VerdictLevel::kCaution, "chain_fit_unchecked", res.table.caution);
   return res;
 }
 

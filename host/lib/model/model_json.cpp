@@ -81,19 +81,22 @@ Model WithSource(const std::string& source, F&& build) {
 
 Model ModelFromJson(const json& value, const std::string& source) {
   Require(value.is_object(), source + ": a model must be a JSON object");
+  // Read (and so checked) whoever reads the model, kept by ModelFileFromJson.
+  static_cast<void>(ModelVerdict(value, source));
   if (value.contains("topology")) {
     Require(value.at("topology").is_string(),
             source + ": field \"topology\" must be \"chain\" or \"cart\"");
     const std::string topology = value.at("topology").get<std::string>();
     if (topology == "chain") {
-      RequireKnownKeys(value, {"topology", "masses", "springs", "dampers"}, "model file " + source);
+      RequireKnownKeys(value, {"topology", "masses", "springs", "dampers", "verdict"},
+                       "model file " + source);
       const Eigen::VectorXd masses = Vector(value, "masses", source, true);
       const Eigen::VectorXd springs = Vector(value, "springs", source, true);
       const Eigen::VectorXd dampers = Vector(value, "dampers", source, false);
       return WithSource(source, [&] { return MakeChain(masses, springs, dampers); });
     }
     if (topology == "cart") {
-      RequireKnownKeys(value, {"topology", "masses", "spring", "frictions"},
+      RequireKnownKeys(value, {"topology", "masses", "spring", "frictions", "verdict"},
                        "model file " + source);
       const Eigen::VectorXd masses = Vector(value, "masses", source, true);
       Require(value.contains("spring"), source + ": field \"spring\" is missing");
@@ -106,11 +109,12 @@ Model ModelFromJson(const json& value, const std::string& source) {
   }
   // A slip in "topology" or "M" is named before the form is guessed from what is there.
   RequireKnownKeys(
-      value, {"topology", "masses", "springs", "dampers", "spring", "frictions", "M", "C", "K"},
+      value,
+      {"topology", "masses", "springs", "dampers", "spring", "frictions", "M", "C", "K", "verdict"},
       "model file " + source);
   Require(value.contains("M") && value.contains("K"),
           source + ": a model needs \"topology\" (chain or cart) or the matrices \"M\" and \"K\"");
-  RequireKnownKeys(value, {"M", "C", "K"}, "model file " + source);
+  RequireKnownKeys(value, {"M", "C", "K", "verdict"}, "model file " + source);
   Model model;
   model.m_kg = Matrix(value, "M", source);
   model.k_n_per_m = Matrix(value, "K", source);
@@ -130,5 +134,26 @@ json ModelToJson(const Model& model) {
 }
 
 Model LoadModel(const std::string& path) { return ModelFromJson(ReadJsonFile(path), path); }
+
+Verdict ModelVerdict(const json& value, const std::string& source) {
+  if (!value.is_object() || !value.contains("verdict")) {
+    Verdict none;
+    none.stated = false;
+    return none;
+  }
+  return VerdictFromJson(value.at("verdict"), source + ": field \"verdict\"");
+}
+
+ModelFile ModelFileFromJson(const json& value, const std::string& source) {
+  return {ModelFromJson(value, source), ModelVerdict(value, source), source};
+}
+
+ModelFile LoadModelFile(const std::string& path) {
+  return ModelFileFromJson(ReadJsonFile(path), path);
+}
+
+void PutVerdict(json& model_file, const Verdict& verdict) {
+  model_file["verdict"] = VerdictToJson(verdict);
+}
 
 }  // namespace vibid::model

@@ -14,7 +14,13 @@ constexpr const char* kStyle =
     "8px}"
     "th{background:#f0f0f0}td.num{text-align:right;font-variant-numeric:tabular-nums}"
     "caption{caption-side:bottom;font-size:0.85rem;color:#555;text-align:left}"
-    "figure{margin:1rem 0}figcaption{font-size:0.85rem;color:#555}";
+    "figure{margin:1rem 0}figcaption{font-size:0.85rem;color:#555}"
+    // A notice's tone is its colour: green ok, amber caution, red flagged or refused.
+    ".notice{border:2px solid;border-radius:4px;padding:0.5rem 1rem;margin:1rem 0}"
+    ".notice strong{font-size:1.1rem}"
+    ".notice-ok{border-color:#2e7d32;background:#e8f5e9}"
+    ".notice-caution{border-color:#b26a00;background:#fff3e0}"
+    ".notice-flagged,.notice-refused{border-color:#c62828;background:#ffebee}";
 
 bool IsNumber(const std::string& text) {
   if (text.empty()) return false;
@@ -81,6 +87,20 @@ void HtmlPage::List(const std::vector<std::string>& items) {
   body_ += "<ul>\n";
   for (const auto& item : items) body_ += "<li>" + HtmlEscape(item) + "</li>\n";
   body_ += "</ul>\n";
+}
+
+void HtmlPage::Notice(std::string_view tone, std::string_view title,
+                      const std::vector<std::string>& lines) {
+  Require(tone == "ok" || tone == "caution" || tone == "flagged" || tone == "refused",
+          "notice tone must be ok, caution, flagged or refused");
+  body_ += "<div class=\"notice notice-" + std::string(tone) + "\" id=\"verdict\"><strong>" +
+           HtmlEscape(title) + "</strong>";
+  if (!lines.empty()) {
+    body_ += "<ul>";
+    for (const auto& line : lines) body_ += "<li>" + HtmlEscape(line) + "</li>";
+    body_ += "</ul>";
+  }
+  body_ += "</div>\n";
 }
 
 std::string HtmlPage::Render() const {

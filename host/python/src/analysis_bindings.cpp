@@ -178,8 +178,8 @@ py::tuple Identify(const model::Model& nominal, const workflow::IdentifyRequest&
     const workflow::IdentifyRun run = workflow::RunIdentify(nominal, request);
     const auto n = static_cast<std::size_t>(nominal.dofs());
     report = workflow::IdentifyReportJson(run, n);
-    chain = workflow::ChainJson(run.result.chain, n);
-    table = ident::FormatValidationTable(run.result.table);
+    chain = workflow::UpdatedModelJson(run, n);
+    table = workflow::ValidationText(run);
   }
   return py::make_tuple(ToPython(chain), ToPython(report), table);
 }
@@ -269,6 +269,7 @@ void RegisterAnalysis(py::module_& m) {
       .def(py::init<>())
       .def_readwrite("title", &Rep::title)
       .def_readwrite("identify_dir", &Rep::identify_dir)
+      .def_readwrite("accept_flagged", &Rep::accept_flagged)
       .def_readwrite("truth", &Rep::truth)
       .def_readwrite("dob_recording", &Rep::dob_recording)
       .def_readwrite("measured", &Rep::measured)

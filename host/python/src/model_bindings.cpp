@@ -19,6 +19,7 @@
 #include "vibid/model/frf.hpp"
 #include "vibid/model/modal.hpp"
 #include "vibid/model/model.hpp"
+#include "vibid/common/verdict.hpp"
 #include "vibid/model/model_json.hpp"
 #include "vibid/model/simulate.hpp"
 
@@ -147,6 +148,44 @@ void RegisterModel(py::module_& m) {
       .def_property_readonly("dofs", &model::Model::dofs)
       .def("to_dict", [](const model::Model& mo) { return ToPython(model::ModelToJson(mo)); });
   m.def("load_model", &model::LoadModel, py::arg("path"));
+  // A model file's verdict (none stated: {"level": "ok", "reasons": [], "stated": false}).
+  m.def(
+      "model_verdict",
+      [](const py::handle& d, const std::string& source) {
+        const Verdict v = model::ModelVerdict(FromPython(d), source);
+        nlohmann::json j = VerdictToJson(v);
+        j["stated"] = v.stated;
+        return ToPython(j);
+      },
+      py::arg("d"), py::arg("source") = "model");
+  // The check every step that takes a model to the board makes (common/verdict.hpp):
+  // FlaggedResultError naming the reasons and `option` for a flagged one not accepted.
+  m.def(
+      "require_usable",
+      [](const py::handle& verdict, bool accept, const std::string& what, const std::string& step,
+         const std::string& option) {
+        nlohmann::json j = FromPython(verdict);
+        const bool stated = !j.contains("stated") || j["stated"].get<bool>();
+        j.erase("stated");
+        j.erase("text");
+        Verdict v = VerdictFromJson(j, what + ": verdict");
+        v.stated = stated;
+        RequireUsable(v, accept, what, step, option);
+      },
+      py::arg("verdict"), py::arg("accept_flagged"), py::arg("what"), py::arg("step"),
+      py::arg("option"));
+  m.def(
+      "format_verdict",
+      [](const py::handle& verdict) {
+        nlohmann::json j = FromPython(verdict);
+        const bool stated = !j.contains("stated") || j["stated"].get<bool>();
+        j.erase("stated");
+        j.erase("text");
+        Verdict v = VerdictFromJson(j, "verdict");
+        v.stated = stated;
+        return FormatVerdict(v);
+      },
+      py::arg("verdict"));
   m.def(
       "model_from_dict",
       [](const py::handle& d, const std::string& source) {

@@ -6,6 +6,7 @@
 
 #include "bindings.hpp"
 #include "vibid/common/error.hpp"
+#include "vibid/common/verdict.hpp"
 #include "vibid/device/error.hpp"
 
 namespace vibid::python {
@@ -32,9 +33,16 @@ void RegisterErrors(py::module_& m) {
   numerical_error.attr("__doc__") =
       "A computation ran on valid input but produced no usable result (a solver's failure, an "
       "observer the design refuses); the message says why, as the CLI prints it.";
+  static py::exception<FlaggedError> flagged_error(m, "FlaggedResultError", PyExc_ValueError);
+  flagged_error.attr("__doc__") =
+      "A result or model whose verdict is flagged (the library's own checks say not to use it): "
+      "identify returns it, and dob_design, report and Board.cal_upload take it, only with "
+      "accept_flagged=True. The message names the reasons. A ValueError.";
   py::register_exception_translator([](std::exception_ptr p) {
     try {
       if (p) std::rethrow_exception(p);
+    } catch (const FlaggedError& e) {
+      flagged_error(e.what());
     } catch (const InputError& e) {
       PyErr_SetString(PyExc_ValueError, e.what());
     } catch (const NumericalError& e) {

@@ -6,7 +6,9 @@ with the same defaults) and call the same C++ library. Units are SI and named in
 (channels, samples); an FRF's ``h`` is shaped (n_out, n_in, n_freq) beside its ``freq_hz``, as
 python-control's FRD. Bad input raises ValueError with the CLI's message, an argument of the
 wrong type TypeError, a file that is not there FileNotFoundError; board errors raise
-vibid.DeviceError.
+vibid.DeviceError. A flagged result or model raises vibid.FlaggedResultError (a ValueError) unless
+accepted with ``accept_flagged=True`` (``identify``, ``dob_design``, ``report``,
+``Board.cal_upload``).
 
 The package's modules by topic (the names below are the public ones, each importable from
 ``vibid`` itself): ``model`` (models, modes, FRFs, simulation), ``recording``, ``estimation``
@@ -15,7 +17,7 @@ The package's modules by topic (the names below are the public ones, each import
 """
 from __future__ import annotations
 
-from ._vibid import DeviceError, NumericalError
+from ._vibid import DeviceError, FlaggedResultError, NumericalError
 from .board import Board, list_devices
 from .estimation import FrfEstimate, Hit, default_segment, frf_estimate, frf_estimate_arrays
 from .identification import Decay, Identification, decay, identify
@@ -30,7 +32,7 @@ from ._watch import (LiveWatch, OmaModes, Watch, WatchBlock, WatchMode, WatchRef
                      WatchSession, ssi_cov, watch)
 
 __all__ = [
-    "DeviceError", "Model", "load_model", "modal", "Modal", "frf", "Frd", "simulate",
+    "DeviceError", "FlaggedResultError", "Model", "load_model", "modal", "Modal", "frf", "Frd", "simulate",
     "Simulation", "Recording", "read_recording", "Board", "list_devices", "frf_estimate",
     "FrfEstimate", "Hit", "modes", "Modes", "identify", "Identification", "default_segment",
     "frf_estimate_arrays", "dob_design", "ObserverDesign", "dob_run", "ObserverRun", "lowpass",

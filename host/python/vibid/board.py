@@ -176,12 +176,14 @@ class Board:
         from ._watch import _board_watch
         return _board_watch(self, seconds, rate_hz, **options)
 
-    def cal_upload(self, model, design, sensors=None, label: str = "") -> dict:
+    def cal_upload(self, model, design, sensors=None, label: str = "",
+                   accept_flagged: bool = False) -> dict:
         """Builds the calibration record and stages it on the board (``vibid cal upload``):
         ``model`` a Model or a model file, ``design`` an ObserverDesign (or its JSON),
         ``sensors`` a sensors file's path or its JSON object (None: the scaling the board
         already holds); the label defaults to the model file's name. cal_commit() makes it
-        permanent."""
+        permanent. A model whose verdict is flagged raises vibid.FlaggedResultError, nothing
+        sent, unless ``accept_flagged=True``."""
         import json
         if isinstance(model, Model):
             m, default_label = model, "model"
@@ -190,6 +192,10 @@ class Board:
         else:
             raise TypeError(f"model: expected a vibid.Model or a model file's path, got "
                             f"{_kind(model)}")
+        _vibid.require_usable(m.verdict, bool(accept_flagged),
+                              "the model" if isinstance(model, Model) else
+                              "model file " + os.fspath(model), "cal_upload",
+                              "accept_flagged=True")
         if sensors is not None and not isinstance(sensors, dict):
             with open(_input_path("sensors", sensors)) as f:
                 sensors = json.load(f)

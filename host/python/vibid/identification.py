@@ -9,19 +9,24 @@ from typing import Optional, Sequence
 import numpy as np
 
 from . import _vibid
+from ._vibid import FlaggedResultError
 from ._checks import _input_path, _repr
 from .model import Model, _model
 
 @dataclasses.dataclass(repr=False)
 class Identification:
-    """``vibid identify``'s result: the updated model, the validation table (``validation``: the
-    CLI's text; ``report``: report.json's data with every interval)."""
+    """``vibid identify``'s result: the updated model (carrying the verdict, as the model file
+    does), the validation table (``validation``: the CLI's text; ``report``: report.json's data
+    with every interval) and the verdict: {"level": "ok", "caution" or "flagged", "reasons":
+    [{"level", "code", "text"}]}."""
     updated: Model
     report: dict
     validation: str
+    verdict: dict
 
     def __repr__(self) -> str:
-        return _repr("Identification", masses_kg=np.diag(self.updated.m_kg),
+        return _repr("Identification", verdict=self.verdict["level"],
+                     masses_kg=np.diag(self.updated.m_kg),
                      springs=self.report.get("updated_model", {}).get("springs"))
 
 
@@ -29,10 +34,14 @@ def identify(nominal: Model, mass_tests: dict, modal_tests: Sequence[str],
              mass_springs: Optional[dict] = None, force: str = "force1_n",
              mass_response: str = "", modal_responses: str = "", exp_window: float = 0.0,
              record_s: float = 0.0, welch: bool = False, keep_bad_hits: bool = False,
-             method: str = "lscf", orders: str = "") -> Identification:
+             method: str = "lscf", orders: str = "",
+             accept_flagged: bool = False) -> Identification:
     """Mass tests and modal tests to an updated model (``vibid identify``): ``mass_tests`` maps
     a mass position (from 1) to its recording, ``mass_springs`` a position to its spring in N/m
-    or "fit"."""
+    or "fit". The result carries its verdict; a flagged one (the updated model fits its own test
+    worse than the nominal) raises vibid.FlaggedResultError naming the reasons, as ``vibid
+    identify`` exits 6 and writes no model, unless ``accept_flagged=True``: then it is returned,
+    its model carrying the verdict. A caution is returned with its reasons."""
     nominal = _model("nominal", nominal)
     r = _vibid._IdentifyRequest()
     for pos, path in mass_tests.items():
@@ -49,7 +58,15 @@ def identify(nominal: Model, mass_tests: dict, modal_tests: Sequence[str],
     m.method, m.orders = method, orders
     r.modes = m
     chain, report, table = _vibid.identify(nominal._m, r)
-    return Identification(updated=Model.from_dict(chain), report=report, validation=table)
+    result = Identification(updated=Model.from_dict(chain), report=report, validation=table,
+                            verdict=report["verdict"])
+    try:
+        _vibid.require_usable(result.verdict, bool(accept_flagged), "the identification",
+                              "identify", "accept_flagged=True")
+    except FlaggedResultError as e:
+        e.identification = result  # what was found, for a look at why
+        raise
+    return result
 
 
 @dataclasses.dataclass(repr=False)

@@ -35,17 +35,27 @@ class Model:
         k = matrix("k_n_per_m", k_n_per_m)
         c = None if c_ns_per_m is None else matrix("c_ns_per_m", c_ns_per_m)
         self._m = _vibid._Model(m, k, c)
+        self._verdict = _NO_VERDICT
 
     @classmethod
-    def _wrap(cls, m) -> "Model":
+    def _wrap(cls, m, verdict: Optional[dict] = None) -> "Model":
         self = cls.__new__(cls)
         self._m = m
+        self._verdict = verdict or _NO_VERDICT
         return self
 
     @classmethod
     def from_dict(cls, d: dict, source: str = "model") -> "Model":
-        """From a model file's JSON object (chain, cart or M/K/C matrices)."""
-        return cls._wrap(_vibid.model_from_dict(d, source))
+        """From a model file's JSON object (chain, cart or M/K/C matrices), with its verdict."""
+        return cls._wrap(_vibid.model_from_dict(d, source), _vibid.model_verdict(d, source))
+
+    @property
+    def verdict(self) -> dict:
+        """The verdict the model's file carries (``vibid identify`` writes it): {"level": "ok",
+        "caution" or "flagged", "reasons": [{"level", "code", "text"}], "stated": bool}; a model
+        made in Python or read from a file without one is ok with "stated" False. Board.cal_upload
+        and dob_design refuse a flagged one unless given accept_flagged=True."""
+        return dict(self._verdict)
 
     @classmethod
     def chain(cls, masses_kg, springs_n_per_m, dampers_ns_per_m=None) -> "Model":
@@ -71,8 +81,17 @@ class Model:
 
 
 def load_model(path: str) -> Model:
-    """Reads a model file (JSON), as every ``vibid`` command taking MODEL.json does."""
-    return Model._wrap(_vibid.load_model(_input_path("path", path)))
+    """Reads a model file (JSON), as every ``vibid`` command taking MODEL.json does; the model
+    keeps the file's verdict (``Model.verdict``)."""
+    import json
+    p = _input_path("path", path)
+    m = _vibid.load_model(p)
+    with open(p) as f:
+        return Model._wrap(m, _vibid.model_verdict(json.load(f), p))
+
+
+# A model no identification judged (made here, or a file without "verdict"): read as ok.
+_NO_VERDICT = {"level": "ok", "reasons": [], "stated": False}
 
 
 def _model(name: str, m) -> "Model":

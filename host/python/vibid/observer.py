@@ -48,16 +48,20 @@ def dob_design(model: Model, order: int = _DESIGN.order,
                form: str = _DESIGN.form, discretize: str = _DESIGN.discretize,
                prototype: str = _DESIGN.prototype, leak_hz: float = _DESIGN.leak_hz,
                force_fs_n: Optional[float] = None, sensor_fs: Optional[float] = None,
-               output_fs_n: float = _DESIGN.output_fs_n, sensors=None) -> ObserverDesign:
+               output_fs_n: float = _DESIGN.output_fs_n, sensors=None,
+               accept_flagged: bool = False) -> ObserverDesign:
     """Designs the observer for a model and quantizes it for the board (``vibid dob design``,
     same defaults): Q of order N and relative degree r with cut-off 1/tau_s rad/s, at fs_hz; the
     force acts on mass input_dof, the sensor on output_dof (from 1); full scales in N (force,
     output) and the sensor's unit. ``sensors`` (a sensors file's path or its JSON object, as
     ``cal_upload`` takes) gives the force and sensor full scales, as the board will scale those
     channels (a value given that differs is refused); without it force_fs_n defaults to the
-    CLI's (100 N) and sensor_fs to the sensor kind's (0.05 m, 1 m/s or 50 m/s^2)."""
+    CLI's (100 N) and sensor_fs to the sensor kind's (0.05 m, 1 m/s or 50 m/s^2). A model whose
+    verdict is flagged raises vibid.FlaggedResultError unless ``accept_flagged=True``."""
     import json
     model = _model("model", model)
+    _vibid.require_usable(model.verdict, bool(accept_flagged), "the model", "dob_design",
+                          "accept_flagged=True")
     r = _vibid._ObserverDesignRequest()
     r.order, r.relative_degree = _integer("order", order), _integer("relative_degree",
                                                                     relative_degree)

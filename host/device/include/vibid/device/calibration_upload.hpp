@@ -9,6 +9,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "vibid/common/verdict.hpp"
 #include "vibid/device/calibration_builder.hpp"
 
 namespace vibid::device {
@@ -18,14 +19,21 @@ struct UploadFiles {
   std::string design;   ///< Observer design from `vibid dob design`.
   std::string sensors;  ///< Sensors file; empty: the scaling the board already holds.
   std::string label;    ///< Rig name; empty: the model file's name without folder and .json.
+  /// Take a model whose verdict is flagged (refused otherwise, naming `accept_option`).
+  bool accept_flagged = false;
+  /// How the front end spells the accept: "--accept-flagged", "accept_flagged=True".
+  std::string accept_option = "--accept-flagged";
 };
 
 /// The rig name the record gets (cut to the record's label field).
 std::string RecordLabel(const UploadFiles& files);
 
 /// Reads the files (InputError naming the file on any problem); created now, built by
-/// `host_version` ("MAJOR.MINOR.PATCH").
-RecordInputs ReadRecordInputs(const UploadFiles& files, const std::string& host_version);
+/// `host_version` ("MAJOR.MINOR.PATCH"). A model file whose verdict is flagged is refused
+/// (FlaggedError naming its reasons and `accept_option`) unless `accept_flagged`; `verdict`, when
+/// given, receives the model file's verdict (none stated for a file without one).
+RecordInputs ReadRecordInputs(const UploadFiles& files, const std::string& host_version,
+                              Verdict* verdict = nullptr);
 
 /// Without a sensors file the record keeps the board's scaling: every calibrated channel of the
 /// active record (`active` null: the board is uncalibrated, an InputError asking for --sensors).

@@ -69,10 +69,21 @@ IdentifyRun RunIdentify(const model::Model& nominal, const IdentifyRequest& requ
 
 /// {"topology": "chain", "masses", "springs", "dampers"}: the updated model file.
 nlohmann::json ChainJson(const ident::ChainParameters& chain, std::size_t n);
-/// report.json: method, updated model, validation (nominal/updated/test with the test's intervals,
-/// the modal deviation of both models, the chain fit beside), parameters with intervals, the chain
-/// fit, test modes, mass tests, modal tests, stiffness (null when not every mode was seen),
-/// warnings, notes.
+/// The validation table and, on its last line, "Verdict: OK" (or "Verdict: CAUTION: reason; ...",
+/// "Verdict: FLAGGED: ..."): what `identify` prints and writes to validation.txt, what the bench
+/// shows and Python's Identification.validation holds.
+std::string ValidationText(const IdentifyRun& run);
+/// The updated model file `identify` writes: ChainJson with the result's "verdict".
+nlohmann::json UpdatedModelJson(const IdentifyRun& run, std::size_t n);
+/// Writes the updated model to `path` unless the result is flagged and `accept_flagged` is false:
+/// then FlaggedError naming the reasons and `option` (nothing is written). The file carries the
+/// verdict either way.
+void WriteUpdatedModel(const IdentifyRun& run, std::size_t n, const std::string& path,
+                       bool accept_flagged, const std::string& option);
+/// report.json: verdict, method, updated model, validation (nominal/updated/test with the test's
+/// intervals, the modal deviation of both models, the chain fit beside), parameters with intervals,
+/// the chain fit, test modes, mass tests, modal tests, stiffness (null when not every mode was
+/// seen), warnings, notes.
 nlohmann::json IdentifyReportJson(const IdentifyRun& run, std::size_t n);
 /// Measured receptance of the first modal test beside the nominal and updated models'
 /// receptances (hammer at the driving point), magnitudes per response, as CSV.

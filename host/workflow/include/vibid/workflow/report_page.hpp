@@ -18,10 +18,13 @@ struct ReportRequest {
   std::vector<std::string> estimates;  ///< COLUMN[=LABEL] of each estimate.
   double skip_s = 0.0;                 ///< Left out at each end of the recording.
   std::vector<std::string> notes;      ///< Lines for the top of the page.
+  /// Report a flagged identification (its verdict in red at the top); otherwise refused
+  /// (FlaggedError naming --accept-flagged).
+  bool accept_flagged = false;
 };
 
-/// The page. InputError naming the option or file when the request is incomplete or a file does
-/// not read.
+/// The page, the identification's verdict first. InputError naming the option or file when the
+/// request is incomplete or a file does not read.
 std::string ReportPage(const ReportRequest& request);
 
 }  // namespace vibid::workflow

@@ -9,6 +9,7 @@
 
 #include <Eigen/Core>
 
+#include "vibid/common/verdict.hpp"
 #include "vibid/ident/chain_fit.hpp"
 #include "vibid/ident/intervals.hpp"
 #include "vibid/ident/modes.hpp"
@@ -153,6 +154,10 @@ struct IdentifyResult {
   /// Test mode i is chain mode `chain_modes[i]` (fewer modes than masses: the prior fills in).
   std::vector<Eigen::Index> chain_modes;
   std::vector<std::string> warnings;
+  /// How far the result is to be trusted, decided here for every front end: flagged
+  /// ("worse_than_nominal") when the update fits its own test worse than the nominal model,
+  /// caution ("chain_fit_unchecked") when the one-test fit has no intervals to check it by.
+  Verdict verdict;
 };
 
 /// Runs the chain. Without mass tests the masses, springs and dampers are fitted to the modal
@@ -161,11 +166,10 @@ struct IdentifyResult {
 /// weights; a test with fewer modes than masses takes the nominal model as a prior). With mass
 /// tests the masses come from them and the springs and dampers from the modes (methods §6-7), and
 /// the chain fit is shown beside. An update that fits its own test worse than the nominal model
-/// is flagged (ModalDeviation, a warning). Several mass tests of one position are repeats: their
-/// masses are averaged.
-/// InputError on inconsistent inputs (mode counts, positions, non-receptances);
-/// a mass fit that fails to converge or an updated model that is not physical is reported by
-/// InputError naming the test, since no model can be produced from it.
+/// is flagged (ModalDeviation, a warning, the verdict). Several mass tests of one position are
+/// repeats: their masses are averaged. InputError on inconsistent inputs (mode counts, positions,
+/// non-receptances); a mass fit that fails to converge or an updated model that is not physical is
+/// reported by InputError naming the test, since no model can be produced from it.
 IdentifyResult Identify(const model::Model& nominal, const std::vector<MassTestInput>& mass_tests,
                         const std::vector<Frf>& modal_tests, const IdentifyOptions& options);
 

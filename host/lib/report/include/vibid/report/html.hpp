@@ -24,6 +24,9 @@ class HtmlPage {
   /// `svg` is trusted markup from SvgPlot.
   void Figure(std::string svg, std::string_view caption);
   void List(const std::vector<std::string>& items);
+  /// A coloured box (the verdict's): `tone` ok (green), caution (amber), flagged or refused (red);
+  /// a bold title and a line per reason.
+  void Notice(std::string_view tone, std::string_view title, const std::vector<std::string>& lines);
 
   std::string Render() const;
 
