@@ -53,7 +53,10 @@ def case(name, masses, hammer, hits=5, spacing=(8.0, 9.0), noise=0.01, friction_
                 friction_n=friction_n, mass_tests=mass_tests, fs_hz=fs_hz, pulse_s=pulse_s)
 
 
-CASES = [case(f"{n}-mass, hammer on {h}", n, h) for n in (2, 3, 4) for h in range(1, n + 1)]
+# Hits 8-9 s apart on 2 and 3 masses; 20-21 s on 4, whose first mode (3.4 Hz, zeta 0.74 %) keeps
+# 29 % of its amplitude after 8 s (identify withholds every interval there) and 4 % after 20 s.
+CASES = [case(f"{n}-mass, hammer on {h}", n, h, spacing=(20.0, 21.0) if n == 4 else (8.0, 9.0))
+         for n in (2, 3, 4) for h in range(1, n + 1)]
 CASES += [
     case("3-mass, hammer on 1, hits 40 s apart", 3, 1, hits=3, spacing=(40.0, 40.0)),
     case("3-mass, hammer on 3, 3 hits 12-13 s apart", 3, 3, hits=3, spacing=(12.0, 13.0)),

@@ -130,10 +130,21 @@ std::vector<StiffnessUpdateResult> UpdateStiffnessPerTest(Eigen::Index n, Identi
   return updates;
 }
 
+// The fraction of a mode's amplitude left at the end of the hits' records (the exponential
+// window's decay added): what the next hit's record holds of this one, and what each record cuts.
+double RingingLeft(const Frf& frf, const ModeEstimate& m) {
+  const double span_s = frf.record_s - frf.pretrigger_s;
+  if (!(span_s > 0.0) || !(m.omega_rad_s > 0.0)) return 0.0;
+  const double decay =
+      m.zeta * m.omega_rad_s + (frf.exp_window_tau_s > 0.0 ? 1.0 / frf.exp_window_tau_s : 0.0);
+  return std::exp(-decay * span_s);
+}
+
 // One test's modes as the chain fit takes them: from the modal model (with the covariance) where
 // the test has one, else from the mode estimates without a covariance.
 ChainTestModes ChainModesOfTest(const ModeIdentification& mi, const Frf& frf,
-                                const model::Model& nominal, std::size_t driving_point) {
+                                const model::Model& nominal, std::size_t driving_point,
+                                const ChainFitOptions& chain) {
   ChainTestModes out;
   std::vector<double> omega;
   for (const ModeEstimate& m : mi.modes) omega.push_back(m.omega_rad_s);
@@ -161,6 +172,7 @@ ChainTestModes ChainModesOfTest(const ModeIdentification& mi, const Frf& frf,
     if (pole >= 0) {
       ChainModeData d = ChainDataOfMode(mi.model, pole, p);
       d.level_rel_var = level_rel_var;
+      d.ringing_rel_sd = chain.ringing_error_per_left * RingingLeft(frf, m);
       char where[64];
       std::snprintf(where, sizeof where, "mode at %.5g Hz: ", m.freq_hz);
       // The modes' own verdicts stand: an interval the mode identification withheld (friction,
@@ -265,8 +277,8 @@ void FitChainToTests(const model::Model& nominal, const std::vector<Frf>& modal_
                      const IdentifyOptions& options, IdentifyResult& res) {
   std::vector<ChainTestModes> tests;
   for (std::size_t t = 0; t < res.modal_tests.size(); ++t) {
-    tests.push_back(
-        ChainModesOfTest(res.modal_tests[t], modal_tests[t], nominal, options.driving_point));
+    tests.push_back(ChainModesOfTest(res.modal_tests[t], modal_tests[t], nominal,
+                                     options.driving_point, options.chain));
     Require(tests.back().chain_mode == tests.front().chain_mode,
             "identify: modal test " + std::to_string(t + 1) +
                 " shows other modes of the chain than modal test 1");
