@@ -338,13 +338,14 @@ def main() -> int:
                         print("     ", w[:200])
         if a.check:
             fails += check(c, rows, len(results) - len(errors))
+        # After every case, so that a run stopped part way keeps what it did.
+        if a.markdown:
+            with open(a.markdown, "w") as fh:
+                fh.write(markdown(cases[:len(all_rows)], all_rows, a.seeds))
+        if a.json:
+            with open(a.json, "w") as fh:
+                json.dump(dump, fh, indent=1)
     print(f"total {time.time() - start:.0f} s")
-    if a.markdown:
-        with open(a.markdown, "w") as fh:
-            fh.write(markdown(cases, all_rows, a.seeds))
-    if a.json:
-        with open(a.json, "w") as fh:
-            json.dump(dump, fh, indent=1)
     for f in fails:
         print("FAIL:", f)
     return 1 if fails else 0

@@ -226,14 +226,31 @@ ChainTestModes ChainModesOfTest(const ModeIdentification& mi, const Frf& frf,
 //   and the masses and springs low with them (5 mN per mass, 40-60 N hits: -2 %, 7 of 40 seeds
 //   above their intervals); their intervals are withheld. The dampers stand on the ring-downs'
 //   viscous part (each mode's interval over the hits), which holds them.
+// A mode whose driving-point entry is below this fraction of its largest entry has a node near
+// the hammer (methods §14): the benchmarks/coverage study's 4-mass chain hit on mass 3 (mode 2 at
+// 0.05 of its largest entry) kept m and k within their intervals but put c2 to c4 outside in 10
+// of 38 seeds.
+constexpr double kNodeAtTheHammer = 0.1;
+
 void WithholdWhereTheTestsCannotHold(const std::vector<Frf>& modal_tests,
                                      const ChainFitOptions& options, IdentifyResult& res) {
-  std::string cut, friction;
+  std::string cut, friction, node;
+  const auto p = static_cast<Eigen::Index>(options.driving_point);
   for (std::size_t t = 0; t < res.modal_tests.size() && t < modal_tests.size(); ++t) {
     const Frf& frf = modal_tests[t];
     const double span_s = frf.record_s - frf.pretrigger_s;
     for (const ModeEstimate& m : res.modal_tests[t].modes) {
-      char line[160];
+      char line[240];
+      Eigen::Index widest = 0;
+      if (node.empty() && p < m.shape.size() &&
+          std::abs(m.shape[p]) < kNodeAtTheHammer * m.shape.cwiseAbs().maxCoeff(&widest)) {
+        std::snprintf(line, sizeof line,
+                      "modal test %zu's mode at %.4g Hz has a node near the hammer's mass %td "
+                      "(%.2g of its largest entry), which scales it: hit mass %td",
+                      t + 1, m.freq_hz, p + 1, std::abs(m.shape[p]) / m.shape.cwiseAbs().maxCoeff(),
+                      widest + 1);
+        node = line;
+      }
       if (span_s > 0.0 && m.omega_rad_s > 0.0) {
         const double decay = m.zeta * m.omega_rad_s +
                              (frf.exp_window_tau_s > 0.0 ? 1.0 / frf.exp_window_tau_s : 0.0);
@@ -255,6 +272,13 @@ void WithholdWhereTheTestsCannotHold(const std::vector<Frf>& modal_tests,
     }
   }
   ChainFitResult& f = res.chain_fit;
+  if (!node.empty() && cut.empty()) {
+    for (Uncertainty& x : f.c_u) x = Uncertainty::Missing("node at the hammer: " + node);
+    res.warnings.push_back("chain fit: no intervals on c: " + node +
+                           ": the mode's shape is that of its small driving-point residue, and "
+                           "the dampers strayed beyond their intervals (4 masses, hammer on mass "
+                           "3: c2 to c4 outside in 10 of 38 seeds)");
+  }
   if (!cut.empty()) {
     for (auto* u : {&f.m_u, &f.k_u, &f.c_u})
       for (Uncertainty& x : *u) x = Uncertainty::Missing("records cut short: " + cut);
