@@ -270,8 +270,12 @@ def markdown(cases: list[dict], all_rows: list[dict], seeds: int) -> str:
                 cell = f"{t['inside']}/{known}"
                 if t["below"] or t["above"]:
                     cell += f" ({t['below']}/{t['above']})"
-                if not math.isnan(t["width_ratio"]):
+                if not math.isnan(t["width_ratio"]) and known >= 20:
                     cell += f" {t['width_ratio']:.2f}"
+                if t["withheld"]:
+                    if t["why"] not in notes:
+                        notes.append(t["why"])
+                    cell += f", withheld {t['withheld']} [{notes.index(t['why']) + 1}]"
                 cells.append(cell)
             name = c["name"]
             if c.get("refused"):
