@@ -243,8 +243,9 @@ TEST(ChainFitCoverage, ShortRecordsThreeHits) {
 // with the rest): up to 3 times 1.96 sd is allowed here.
 TEST(ChainFitCoverage, CoulombFriction) {
   const Scenario sc{"friction", 5, 8.0, 9.0, 0.01, 0.005};
-  ExpectCoverage(sc, Study(sc, kSeeds), kSeeds,
-                 {.mk_withheld = true, .withheld_why = "friction: ", .max_width = 3.0});
+  ExpectCoverage(
+      sc, Study(sc, kSeeds), kSeeds,
+      {.mk_withheld = true, .withheld_why = "friction: ", .max_width = 3.0, .c_max_width = 3.0});
 }
 
 }  // namespace
