@@ -60,6 +60,11 @@ void ChainFitOptions::Validate() const {
           "chain fit: need 0 < determined ratio < prior ratio < 1");
   Require(max_ringing_left > 0.0 && max_ringing_left <= 1.0,
           "chain fit: the ringing left at a record's end must be in (0, 1]");
+  Require(systematic_omega_rel >= 0.0 && systematic_zeta_rel >= 0.0 &&
+              systematic_shape_rel >= 0.0 && ringing_error_per_left >= 0.0 &&
+              std::isfinite(ringing_error_per_left) && std::isfinite(systematic_omega_rel) &&
+              std::isfinite(systematic_zeta_rel) && std::isfinite(systematic_shape_rel),
+          "chain fit: the systematic parts must be finite and >= 0");
   solver.Validate();
 }
 
@@ -285,6 +290,17 @@ ChainFitResult FitChain(const model::Model& nominal, const std::vector<ChainTest
         Eigen::VectorXd g = Eigen::VectorXd::Zero(2 + n);
         g.tail(n) = 0.5 * d.values.tail(n);
         cov += d.level_rel_var * g * g.transpose();
+      }
+      if (cov.rows() == 2 + n) {
+        // The method's own error (ChainFitOptions::systematic_*), independent of the noise.
+        const double shape_scale = d.values.tail(n).cwiseAbs().maxCoeff();
+        cov(0, 0) += std::pow(options.systematic_omega_rel * d.values[0], 2);
+        cov(1, 1) += std::pow(options.systematic_zeta_rel * d.values[1], 2);
+        for (Eigen::Index j = 0; j < n; ++j) {
+          cov(2 + j, 2 + j) += std::pow(options.systematic_shape_rel * shape_scale, 2) +
+                               std::pow(d.ringing_rel_sd * d.values[2 + j], 2);
+        }
+        cov(1, 1) += std::pow(d.ringing_rel_sd * d.values[1], 2);
       }
       if (!d.zeta_withheld.empty() && cov.rows() == 2 + n) {
         // zeta out of the weighted data: no correlation, a variance that outweighs any damper.

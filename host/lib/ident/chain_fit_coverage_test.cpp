@@ -187,6 +187,8 @@ struct Expect {
   bool c_withheld = false;
   const char* withheld_why = "";
   double max_width = 1.6;
+  /// The dampers' bound, where it differs (the ringing floor on zeta: see ThreeMassChain).
+  double c_max_width = 1.6;
 };
 
 void ExpectCoverage(const Scenario& sc, const std::vector<Tally>& t, int seeds, const Expect& e) {
@@ -212,15 +214,19 @@ void ExpectCoverage(const Scenario& sc, const std::vector<Tally>& t, int seeds, 
     EXPECT_LE(y.below, 4) << sc.name << " " << kNames[i];
     EXPECT_LE(y.above, 4) << sc.name << " " << kNames[i];
     EXPECT_GT(hw, 0.7 * 1.96 * sd) << sc.name << " " << kNames[i];
-    EXPECT_LT(hw, e.max_width * 1.96 * sd) << sc.name << " " << kNames[i];
+    EXPECT_LT(hw, (i < 6 ? e.max_width : e.c_max_width) * 1.96 * sd) << sc.name << " " << kNames[i];
   }
 }
 
 constexpr int kSeeds = 40;
 
+// Mode 1 keeps 7 % of its amplitude at the records' end, which the chain fit takes as an error of
+// 7 % in its zeta and shape (ChainFitOptions::ringing_error_per_left, measured on an independent
+// simulator at 0.01 % noise): c1 and c3, which mode 1's zeta sets, come out with intervals 9 to
+// 12 times the scatter here (conservative, and the docs say so); m, k and c2 within 1.6.
 TEST(ChainFitCoverage, ThreeMassChain) {
   const Scenario sc{"3-mass", 5, 8.0, 9.0, 0.01};
-  ExpectCoverage(sc, Study(sc, kSeeds), kSeeds, {});
+  ExpectCoverage(sc, Study(sc, kSeeds), kSeeds, {.c_max_width = 14.0});
 }
 
 // Three hits 5-5.5 s apart: mode 1 (tau = 3.0 s) keeps about 19 % of its amplitude at the record's
@@ -237,8 +243,9 @@ TEST(ChainFitCoverage, ShortRecordsThreeHits) {
 // with the rest): up to 3 times 1.96 sd is allowed here.
 TEST(ChainFitCoverage, CoulombFriction) {
   const Scenario sc{"friction", 5, 8.0, 9.0, 0.01, 0.005};
-  ExpectCoverage(sc, Study(sc, kSeeds), kSeeds,
-                 {.mk_withheld = true, .withheld_why = "friction: ", .max_width = 3.0});
+  ExpectCoverage(
+      sc, Study(sc, kSeeds), kSeeds,
+      {.mk_withheld = true, .withheld_why = "friction: ", .max_width = 3.0, .c_max_width = 3.0});
 }
 
 }  // namespace

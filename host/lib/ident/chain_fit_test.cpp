@@ -69,6 +69,9 @@ TEST(ChainFit, ExactModalDataGiveTheChainBack) {
       model::MakeChain(Eigen::Vector3d(1.1, 0.7, 0.66), Eigen::Vector3d(4600.0, 2600.0, 2300.0));
   ChainFitOptions o;
   o.driving_point = 2;
+  // The data's own spread alone: the method's error floor would not scale with it.
+  o.systematic_shape_rel = 0.0;
+  o.ringing_error_per_left = 0.0;
   const ChainFitResult f = FitChain(nominal, {Exact(rig, 2, {0, 1, 2}, 1e-4)}, o);
   ASSERT_TRUE(f.summary.Converged()) << f.summary.message;
   EXPECT_FALSE(f.prior_used);
@@ -158,8 +161,10 @@ void ExpectOneTestIdentification(const model::Model& truth, const model::Model& 
   for (std::size_t i = 0; i < n; ++i) {
     const auto ii = static_cast<Eigen::Index>(i);
     const PositionComparison& p = r.table.positions[i];
-    EXPECT_NEAR(p.m_updated, t.masses_kg[ii], 0.01 * t.masses_kg[ii]) << "m" << i + 1;
-    EXPECT_NEAR(p.k_updated, t.springs_n_per_m[ii], 0.01 * t.springs_n_per_m[ii]) << "k" << i + 1;
+    // Within 2 %: the modes' covariances carry the method's own error (ChainFitOptions), which
+    // weighs the first mode's ringing-prone shape less; its intervals of 1-2 % hold the truth.
+    EXPECT_NEAR(p.m_updated, t.masses_kg[ii], 0.02 * t.masses_kg[ii]) << "m" << i + 1;
+    EXPECT_NEAR(p.k_updated, t.springs_n_per_m[ii], 0.02 * t.springs_n_per_m[ii]) << "k" << i + 1;
     ASSERT_TRUE(p.m_ci95.Known() && p.k_ci95.Known() && p.c_ci95.Known()) << p.m_ci95.missing;
     EXPECT_TRUE(p.m_ci95.lo <= t.masses_kg[ii] && t.masses_kg[ii] <= p.m_ci95.hi) << "m" << i + 1;
     EXPECT_TRUE(p.k_ci95.lo <= t.springs_n_per_m[ii] && t.springs_n_per_m[ii] <= p.k_ci95.hi)

@@ -258,11 +258,12 @@ IdentifyResult IdentifySeed(std::uint64_t seed, int modal_tests, int mass_hits,
 bool Inside(const Interval95& ci, double v) { return ci.Known() && ci.lo <= v && v <= ci.hi; }
 
 // Over 60 seeds (three modal tests and two mass tests each, as the workflow runs), the intervals
-// on m, k and c of both positions must hold the truth at the nominal rate: 360 intervals, of which
-// a true 95 % rate puts 342 +- 4.1 inside (binomial); 330 to 354 (three standard deviations)
-// passes. Each quantity alone must hold it in at least 51 of 60 (3.5 standard deviations below
-// 57). k and c of a position share its mass, so the pooled count varies somewhat more than a
-// binomial one; seeds 61-120 gave 339 of 360, all 120 seeds 689 of 720 (95.7 %).
+// on m and k of both positions must hold the truth at the nominal rate: 240 intervals, of which a
+// true 95 % rate puts 228 +- 3.4 inside (binomial); 218 to 238 (three standard deviations) passes.
+// Each quantity alone must hold it in at least 51 of 60 (3.5 standard deviations below 57). k of
+// a position shares its mass, so the pooled count varies somewhat more than a binomial one. The
+// dampers come from the one-test chain fit (their coverage: chain_fit_coverage_test and
+// benchmarks/coverage), each at least 51 of 60 here; before, from modal damping: 58 and 59.
 TEST(IdentifyIntervals, CoverTheTruthAtTheirRate) {
   constexpr int kSeeds = 60;
   const char* names[6] = {"m1", "m2", "k1", "k2", "c1", "c2"};
@@ -287,11 +288,11 @@ TEST(IdentifyIntervals, CoverTheTruthAtTheirRate) {
     std::printf("%s: %d/%d inside, mean half-width %.3g %%\n", names[i], inside[i], kSeeds,
                 100 * rel_hw[i]);
     EXPECT_GE(inside[i], 51) << names[i];
-    total += inside[i];
+    if (i < 4) total += inside[i];
   }
-  std::printf("pooled: %d/%d\n", total, 6 * kSeeds);
-  EXPECT_GE(total, 330);
-  EXPECT_LE(total, 354);
+  std::printf("pooled m and k: %d/%d\n", total, 4 * kSeeds);
+  EXPECT_GE(total, 218);
+  EXPECT_LE(total, 238);
 }
 
 // The mass test alone, its spring given (identify's default: the nominal chain spring) and an
