@@ -83,6 +83,7 @@ ModalConstants ModalConstantsOf(const Frf& receptance, const ModeIdentification&
   out.names = receptance.response_names;
   out.names.resize(receptance.responses());
   std::vector<Eigen::VectorXd> cols;
+  std::vector<double> strength;  // the mode's largest receptance peak, |A| / (2 zeta omega^2)
   for (const ModeEstimate& m : modes.modes) {
     if (m.unreliable) continue;
     Eigen::VectorXd a(static_cast<Eigen::Index>(receptance.responses()));
@@ -106,7 +107,22 @@ ModalConstants ModalConstantsOf(const Frf& receptance, const ModeIdentification&
     }
     cols.push_back(a);
     out.freq_hz.push_back(m.freq_hz);
+    strength.push_back(a.cwiseAbs().maxCoeff() / (2.0 * m.zeta * m.omega_rad_s * m.omega_rad_s));
   }
+  // A pole whose resonance is a small fraction of the strongest (a pole far above the structure's
+  // modes, where the force barely excites it) says nothing of the hammer point: its constants'
+  // signs are noise.
+  const double strongest =
+      strength.empty() ? 0.0 : *std::max_element(strength.begin(), strength.end());
+  std::size_t kept = 0;
+  for (std::size_t r = 0; r < cols.size(); ++r) {
+    if (!(strength[r] >= kWeakModeFraction * strongest)) continue;
+    cols[kept] = cols[r];
+    out.freq_hz[kept] = out.freq_hz[r];
+    ++kept;
+  }
+  cols.resize(kept);
+  out.freq_hz.resize(kept);
   out.a.resize(static_cast<Eigen::Index>(receptance.responses()),
                static_cast<Eigen::Index>(cols.size()));
   for (std::size_t r = 0; r < cols.size(); ++r) out.a.col(static_cast<Eigen::Index>(r)) = cols[r];

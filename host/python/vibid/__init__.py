@@ -15,7 +15,7 @@ import errno
 import math
 import numbers
 import os
-from typing import Iterable, Iterator, Optional, Sequence
+from typing import Iterable, Iterator, Optional, Sequence, Union
 
 import numpy as np
 
@@ -675,10 +675,13 @@ def identify(nominal: Model, mass_tests: dict, modal_tests: Sequence[str],
              mass_springs: Optional[dict] = None, force: str = "force1_n",
              mass_response: str = "", modal_responses: str = "", exp_window: float = 0.0,
              record_s: float = 0.0, welch: bool = False, keep_bad_hits: bool = False,
-             method: str = "lscf", orders: str = "") -> Identification:
+             method: str = "lscf", orders: str = "",
+             driving_point: Union[str, int] = "") -> Identification:
     """Mass tests and modal tests to an updated model (``vibid identify``): ``mass_tests`` maps
     a mass position (from 1) to its recording, ``mass_springs`` a position to its spring in N/m
-    or "fit"."""
+    or "fit". ``driving_point``: the modal tests' response at the hammer (column name or index
+    from 1); left empty it is found from the data, and one the data contradict is refused
+    (ValueError naming the one that fits), as the CLI does."""
     nominal = _model("nominal", nominal)
     r = _vibid._IdentifyRequest()
     for pos, path in mass_tests.items():
@@ -693,6 +696,8 @@ def identify(nominal: Model, mass_tests: dict, modal_tests: Sequence[str],
     r.estimation = e
     m = r.modes
     m.method, m.orders = method, orders
+    m.driving_point = "" if driving_point in ("", None) else str(driving_point)
+    m.driving_point_source = f"driving_point={driving_point!r}" if m.driving_point else ""
     r.modes = m
     chain, report, table = _vibid.identify(nominal._m, r)
     return Identification(updated=Model.from_dict(chain), report=report, validation=table)

@@ -26,9 +26,14 @@ struct ModalConstants {
   std::vector<std::string> names;  ///< One per response.
 };
 
-/// The reported modes' constants (not the dropped ones, nor those marked unreliable): the residue
-/// fit's when the identification has one (matched to each mode by frequency), else the FRF's
-/// quadrature part at the mode's line (A ~ -2 zeta omega^2 Im H at resonance).
+/// A mode whose largest receptance peak |A| / (2 zeta omega^2) is under this fraction of the
+/// strongest mode's is left out of ModalConstantsOf.
+inline constexpr double kWeakModeFraction = 1e-3;
+
+/// The reported modes' constants (not the dropped ones, nor those marked unreliable, nor those
+/// under kWeakModeFraction): the residue fit's when the identification has one (matched to each
+/// mode by frequency), else the FRF's quadrature part at the mode's line (A ~ -2 zeta omega^2
+/// Im H at resonance).
 ModalConstants ModalConstantsOf(const Frf& receptance, const ModeIdentification& modes);
 
 /// What the constants say of one response as the driving point.
