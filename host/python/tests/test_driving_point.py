@@ -36,8 +36,9 @@ def recordings(tmp_path_factory):
     paths = {}
     for n, h in CASES:
         c = CHAINS[n]
+        # Hits 20 s apart: the slowest mode (3.4 Hz, zeta 0.8 %) rings down within a record.
         t, f, acc = chain_hammer.simulate(c["masses"], c["springs"], c["dampers"], h,
-                                          seed=10 * n + h)
+                                          seconds=81.0, spacing_s=20.0, seed=10 * n + h)
         paths[(n, h)] = d / f"chain{n}_hit{h}.csv"
         chain_hammer.write_recording(paths[(n, h)], t, f, acc)
     return paths
@@ -109,18 +110,21 @@ def test_python_identify_takes_the_driving_point(recordings):
 # chain3.json on mass 2, chain4.json on mass 3, the rig file's own hammer mass). The board is
 # uncalibrated: converter counts, scaled as docs/emulator.md does.
 ACC, X, F = "*0.09765625", "*1e-5", "force1_counts*0.244140625"
+# Tolerance on the masses: chain4.json hit on mass 3 hits a node of mode 2 (8.49 Hz; |phi| 0.09
+# of its largest there, which a warning names), whose scale is then poor: masses 3-5 % low
+# (before, from the last response: m4 1.63 kg against 0.8).
 EMULATED = [
-    ("default.json", 1, ["acc1", "acc2"], "acc,acc", "rig_nominal.json", [1.82, 1.53]),
+    ("default.json", 1, ["acc1", "acc2"], "acc,acc", "rig_nominal.json", [1.82, 1.53], 0.03),
     ("chain3.json", 2, ["acc1", "acc2", "x1"], "acc,acc,disp", "chain3_nominal.json",
-     CHAINS[3]["masses"]),
+     CHAINS[3]["masses"], 0.03),
     ("chain4.json", 3, ["acc1", "x1", "acc2", "x2"], "acc,disp,acc,disp", "chain4_nominal.json",
-     CHAINS[4]["masses"]),
+     CHAINS[4]["masses"], 0.06),
 ]
 
 
-@pytest.mark.parametrize("rig,hit,inputs,sensor,nominal,masses", EMULATED)
+@pytest.mark.parametrize("rig,hit,inputs,sensor,nominal,masses,tolerance", EMULATED)
 def test_emulated_rigs_hit_off_the_last_mass(make_emulator, tmp_path, rig, hit, inputs, sensor,
-                                             nominal, masses):
+                                             nominal, masses, tolerance):
     emulator = make_emulator(seed=5, rig=ROOT / "host" / "emulator" / "rigs" / rig)
     with vibid.Board(emulator.url) as board:
         rec = board.acquire(seconds=60, rate_hz=2000, channels=["force1"] + inputs, no_dob=True,
@@ -136,7 +140,7 @@ def test_emulated_rigs_hit_off_the_last_mass(make_emulator, tmp_path, rig, hit, 
     assert f"(response {hit}), found from the data" in r.stderr, r.stderr
     got = json.loads(out.read_text())["masses"]
     for g, t in zip(got, masses):
-        assert abs(g - t) < 0.03 * t, (got, masses)
+        assert abs(g - t) < tolerance * t, (got, masses)
     # The last response, which vibid took for the driving point before, named: refused.
     wrong = tmp_path / "wrong.json"
     r = run_cli(*common, "--driving-point", str(len(inputs)), "-o", wrong)
