@@ -101,7 +101,7 @@ def test_python_identify_takes_the_driving_point(recordings):
     for named in ("", 2, "acc2_m_s2"):
         r = vibid.identify(nominal, {}, [rec], driving_point=named, **kw)
         assert r.report["driving_point"]["response"] == 2
-        for got, truth in zip(r.updated.to_dict()["masses"], CHAINS[3]["masses"]):
+        for got, truth in zip(r.report["updated_model"]["masses"], CHAINS[3]["masses"]):
             assert abs(got - truth) < 0.02 * truth
 
 
