@@ -355,36 +355,6 @@ ModeMethod ParseModeMethod(std::string_view name) {
 
 namespace {
 
-// The band where the force excites the rig, when no band is given: from the first line up to the
-// last one before the estimation marks a line as carrying no FRF (coherence 0 in every response:
-// an impact FRF above its force's band) or, where the FRF states the force noise's share of |H|
-// (level_rel_var, impact H1), before that share's variance exceeds kExcitedRelVar times its
-// smallest (the force's spectrum fallen far from its peak, at its pulse's notch: there the
-// responses' noise over a vanishing force makes peaks that are no resonance). 0: every line (or
-// a band that would end at or below `freq_min_hz`).
-constexpr double kExcitedRelVar = 1e4;
-
-double ExcitedBandMaxHz(const Frf& frf, double freq_min_hz) {
-  const Eigen::Index lines = frf.freq_hz.size();
-  if (lines < 3) return 0.0;
-  const bool has_var = frf.level_rel_var.size() == lines;
-  double floor = 0.0;
-  if (has_var) {
-    for (Eigen::Index k = 1; k < lines; ++k) {
-      const double v = frf.level_rel_var[k];
-      if (v > 0.0 && (floor == 0.0 || v < floor)) floor = v;
-    }
-  }
-  Eigen::Index k = 1;
-  while (k < lines) {
-    const bool coherent = frf.coherence.rows() != lines || frf.coherence.row(k).maxCoeff() > 0.0;
-    const bool excited = !has_var || floor == 0.0 || frf.level_rel_var[k] <= kExcitedRelVar * floor;
-    if (!coherent || !excited) break;
-    ++k;
-  }
-  return k == lines || frf.freq_hz[k - 1] <= freq_min_hz ? 0.0 : frf.freq_hz[k - 1];
-}
-
 StabilizationOptions DiagramOptions(const ModeIdentificationOptions& options) {
   StabilizationOptions so = options.stabilization;
   so.method = options.method == ModeMethod::kLscf ? PoleMethod::kLscf : PoleMethod::kLsce;
@@ -401,17 +371,14 @@ StabilizationDiagram DiagramForReceptance(const Frf& receptance,
   // peak places a band: a limit on the modes keeps the poles seen at the most orders
   // (StrongestPoles), it does not choose where to look (the largest peaks of a single-hit FRF can
   // be noise at the force spectrum's notches, above a weak mode).
-  // Only where the force excites the rig (ExcitedBandMaxHz).
   PeakOptions look = options.peaks;
   look.max_peaks = 0;
-  const double excited = ExcitedBandMaxHz(receptance, look.freq_min_hz);
-  look.freq_max_hz = excited;
   const PeakResult seen =
       PickPeaks(receptance.freq_hz, PickingMagnitude(receptance, options.picking_column), look);
   std::vector<double> at;
   for (const Peak& p : seen.peaks) at.push_back(p.freq_hz);
-  std::vector<std::pair<double, double>> bands = AutomaticBands(
-      at, excited > 0.0 ? excited : receptance.freq_hz[receptance.freq_hz.size() - 1]);
+  std::vector<std::pair<double, double>> bands =
+      AutomaticBands(at, receptance.freq_hz[receptance.freq_hz.size() - 1]);
   for (auto& b : bands) b.first = std::max(b.first, so.freq_min_hz);
   return BuildStabilizationDiagram(receptance, so, bands);
 }
@@ -669,9 +636,8 @@ ModeIdentification IdentifyFromPeaks(const Frf& receptance, std::size_t driving_
                                      const ModeIdentificationOptions& options) {
   ModeIdentification out;
   const Eigen::VectorXd mag = PickingMagnitude(receptance, options.picking_column);
-  PeakOptions band = options.peaks;
-  if (band.freq_max_hz == 0.0) band.freq_max_hz = ExcitedBandMaxHz(receptance, band.freq_min_hz);
-  const PeakResult picked = PickPeaks(receptance.freq_hz, mag, band, receptance.exp_window_tau_s);
+  const PeakResult picked =
+      PickPeaks(receptance.freq_hz, mag, options.peaks, receptance.exp_window_tau_s);
   Require(!picked.peaks.empty(),
           "no resonance found in the FRF (check the band and the threshold)");
   out.peaks = picked.peaks;
@@ -754,7 +720,6 @@ void NamePeaksWithoutMode(const Frf& receptance, const ModeIdentificationOptions
   PeakOptions look = options.peaks;
   look.max_peaks = 0;
   look.threshold_fraction = std::max(look.threshold_fraction, kClearFraction);
-  if (look.freq_max_hz == 0.0) look.freq_max_hz = ExcitedBandMaxHz(receptance, look.freq_min_hz);
   PeakResult seen;
   try {
     seen =
