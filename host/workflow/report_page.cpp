@@ -364,10 +364,11 @@ std::string ReportPage(const ReportRequest& a) {
     const std::string json_path = (dir / "report.json").string();
     const nlohmann::json report = ReadJsonFile(json_path);
     // The keys `identify --report` writes.
-    RequireKnownKeys(report,
-                     {"updated_model", "validation", "parameters", "test_modes", "mass_tests",
-                      "modal_tests", "stiffness", "warnings", "notes", "method", "chain_fit"},
-                     "identification report " + json_path);
+    RequireKnownKeys(
+        report,
+        {"updated_model", "validation", "parameters", "test_modes", "mass_tests", "modal_tests",
+         "stiffness", "warnings", "notes", "method", "chain_fit", "driving_point"},
+        "identification report " + json_path);
     std::unique_ptr<model::Model> truth;
     if (!a.truth.empty()) truth = std::make_unique<model::Model>(model::LoadModel(a.truth));
     page.Heading("Identification");
