@@ -67,7 +67,6 @@ nlohmann::json Identify(const BenchBoard& board, const std::string& directory,
   if (n > 2 && board.ActiveCalibration() != nullptr) {
     const std::vector<std::string> columns =
         device::ResponseColumnsOnMasses(*board.ActiveCalibration(), n);
-    request.modes.driving_point = device::DrivingPointColumn(*board.ActiveCalibration(), columns);
     for (std::size_t i = 0; i < columns.size(); ++i)
       request.modal_responses += (i > 0 ? "," : "") + columns[i];
     for (std::size_t t = 0; t < request.mass_tests.size(); ++t) {
@@ -76,6 +75,15 @@ nlohmann::json Identify(const BenchBoard& board, const std::string& directory,
                   std::to_string(request.mass_tests[t].position + 1) + " is beyond the model's " +
                   std::to_string(n) + " masses");
       request.mass_response += (t > 0 ? "," : "") + columns[request.mass_tests[t].position];
+    }
+  }
+  // The record knows which mass the hammer's load cell is on: the modal responses are in mass
+  // order, so that mass is the driving point, checked against the data by RunIdentify.
+  if (board.ActiveCalibration() != nullptr) {
+    if (const std::optional<std::size_t> mass = device::HammerMass(*board.ActiveCalibration());
+        mass && *mass < n) {
+      request.modes.driving_point = std::to_string(*mass + 1);
+      request.modes.driving_point_source = device::HammerMassSource(*mass);
     }
   }
   const workflow::IdentifyRun run = workflow::RunIdentify(nominal, request);

@@ -57,6 +57,16 @@ std::vector<std::string> ResponseColumnsOnMasses(const wire::CalibrationRecord& 
   return columns;
 }
 
+std::optional<std::size_t> HammerMass(const wire::CalibrationRecord& record) {
+  const std::uint8_t mass = record.channels[static_cast<std::size_t>(wire::Channel::kForce1)].dof;
+  if (mass == wire::kNoDof) return std::nullopt;
+  return static_cast<std::size_t>(mass);
+}
+
+std::string HammerMassSource(std::size_t mass) {
+  return "the board's calibration record (load cell 1 on mass " + std::to_string(mass + 1) + ")";
+}
+
 std::string DrivingPointColumn(const wire::CalibrationRecord& record,
                                const std::vector<std::string>& columns) {
   const std::uint8_t mass = record.channels[static_cast<std::size_t>(wire::Channel::kForce1)].dof;

@@ -151,7 +151,8 @@ HammerSession::HammerSession(HammerSessionOptions options) : options_(std::move(
     ident::Frf names_only;
     names_only.h.resize(0, static_cast<Eigen::Index>(response_names_.size()));
     names_only.response_names = response_names_;
-    (void)ResolveDrivingPoint(names_only, options_.modes.driving_point);
+    if (!options_.modes.driving_point.empty())
+      (void)ResolveDrivingPoint(names_only, options_.modes.driving_point);
   }
   header_ = device::FormatLogCsvHeader(format_, options_.calibration, options_.has_calibration);
   // The instants as a reader of the file gets them (whole nanoseconds, us x 1e-6).

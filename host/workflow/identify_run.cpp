@@ -286,6 +286,35 @@ MassTestFile ParseMassTest(const std::string& text) {
   return {pos, path};
 }
 
+ident::DrivingPointChoice DrivingPointOfTests(const std::vector<ident::Frf>& modal_frfs,
+                                              const ModeRequest& modes,
+                                              const ident::ModeIdentificationOptions& options) {
+  ident::DrivingPointChoice first;
+  for (std::size_t t = 0; t < modal_frfs.size(); ++t) {
+    const ident::Frf& frf = modal_frfs[t];
+    const std::optional<ident::NamedDrivingPoint> named = NamedDrivingPointOf(frf, modes);
+    const ident::ModeIdentification m =
+        ident::IdentifyModes(frf, named ? named->index : 0, options);
+    ident::DrivingPointChoice c;
+    try {
+      c = ident::ChooseDrivingPoint(ident::ModalConstantsOf(frf, m), named);
+    } catch (const InputError& e) {
+      throw InputError((modal_frfs.size() > 1 ? "modal test " + std::to_string(t + 1) + ": " : "") +
+                       e.what());
+    }
+    if (t == 0) {
+      first = std::move(c);
+      continue;
+    }
+    Require(c.index == first.index,
+            "the modal tests were hit at different points (test 1 at response " +
+                std::to_string(first.index + 1) + ", test " + std::to_string(t + 1) +
+                " at response " + std::to_string(c.index + 1) +
+                "): identify takes tests of one driving point; give the tests of one point");
+  }
+  return first;
+}
+
 IdentifyRun RunIdentify(const model::Model& nominal, const IdentifyRequest& request) {
   const auto n = static_cast<std::size_t>(nominal.dofs());
   Require(!request.modal_tests.empty(), "--modal-test: at least one modal test is needed");
@@ -315,7 +344,10 @@ IdentifyRun RunIdentify(const model::Model& nominal, const IdentifyRequest& requ
   options.modes.method = ident::ParseModeMethod(request.modes.method);
   if (!request.modes.orders.empty())
     ident::ParseOrders(request.modes.orders, options.modes.stabilization);
-  run.driving_point = ResolveDrivingPoint(run.modal_frfs.front(), request.modes.driving_point);
+  run.driving_point_choice = DrivingPointOfTests(run.modal_frfs, request.modes, options.modes);
+  run.driving_point = run.driving_point_choice.index;
+  run.messages.push_back({false, run.driving_point_choice.note});
+  for (const std::string& w : run.driving_point_choice.warnings) run.messages.push_back({true, w});
   options.driving_point = run.driving_point;
   options.chain.prior_relative_sd = request.prior_relative_sd;
   run.result = ident::Identify(nominal, mass_inputs, run.modal_frfs, options);
@@ -399,6 +431,13 @@ nlohmann::json IdentifyReportJson(const IdentifyRun& run, std::size_t n) {
   }
   report["modal_tests"] = modal_json;
   report["method"] = r.method;
+  report["driving_point"] = {
+      {"response", run.driving_point + 1},
+      {"name", run.driving_point < run.modal_frfs.front().response_names.size()
+                   ? run.modal_frfs.front().response_names[run.driving_point]
+                   : std::string()},
+      {"how", run.driving_point_choice.how},
+      {"note", run.driving_point_choice.note}};
   report["chain_fit"] = ChainFitJson(r);
   report["stiffness"] =
       r.stiffness.tests.empty() ? nlohmann::json(nullptr) : StiffnessJson(r.stiffness);

@@ -8,7 +8,6 @@
 namespace vibid::workflow {
 
 std::size_t ResolveDrivingPoint(const ident::Frf& frf, const std::string& spec) {
-  if (spec.empty()) return frf.responses() - 1;
   for (std::size_t j = 0; j < frf.response_names.size(); ++j) {
     if (frf.response_names[j] == spec) return j;
   }
@@ -19,13 +18,31 @@ std::size_t ResolveDrivingPoint(const ident::Frf& frf, const std::string& spec) 
   return static_cast<std::size_t>(*index - 1);
 }
 
+std::optional<ident::NamedDrivingPoint> NamedDrivingPointOf(const ident::Frf& frf,
+                                                            const ModeRequest& request) {
+  if (request.driving_point.empty()) return std::nullopt;
+  return ident::NamedDrivingPoint{.index = ResolveDrivingPoint(frf, request.driving_point),
+                                  .source = request.driving_point_source.empty()
+                                                ? "--driving-point " + request.driving_point
+                                                : request.driving_point_source};
+}
+
 ident::ModeIdentification IdentifyModes(const ident::Frf& receptance, const ModeRequest& request,
-                                        const ident::RingDowns* ringdowns) {
+                                        const ident::RingDowns* ringdowns,
+                                        ident::DrivingPointChoice* choice) {
   ident::ModeIdentificationOptions o = request.options;
   o.method = ident::ParseModeMethod(request.method);
   if (!request.orders.empty()) ident::ParseOrders(request.orders, o.stabilization);
-  ident::ModeIdentification r =
-      ident::IdentifyModes(receptance, ResolveDrivingPoint(receptance, request.driving_point), o);
+  const std::optional<ident::NamedDrivingPoint> named = NamedDrivingPointOf(receptance, request);
+  // The modal constants do not depend on the driving point (only the shapes' scaling does): the
+  // modes are found once from a provisional point and scaled again when the choice differs.
+  const std::size_t provisional = named ? named->index : 0;
+  ident::ModeIdentification r = ident::IdentifyModes(receptance, provisional, o);
+  ident::DrivingPointChoice chosen =
+      ident::ChooseDrivingPoint(ident::ModalConstantsOf(receptance, r), named);
+  if (chosen.index != provisional) r = ident::IdentifyModes(receptance, chosen.index, o);
+  r.warnings.insert(r.warnings.end(), chosen.warnings.begin(), chosen.warnings.end());
+  if (choice != nullptr) *choice = std::move(chosen);
   if (ringdowns != nullptr && !ringdowns->hits.empty() &&
       ringdowns->hits.front().cols() == static_cast<Eigen::Index>(receptance.responses()))
     ident::ApplyAmplitudeCheck(*ringdowns, r);
@@ -49,7 +66,8 @@ ModesOfInputs IdentifyModesOf(const std::vector<std::string>& inputs,
     frfs.push_back(std::move(e.frf));
   }
   out.frf = JoinColumns(frfs, inputs);
-  out.identification = IdentifyModes(out.frf, request, inputs.size() == 1 ? &ringdowns : nullptr);
+  out.identification = IdentifyModes(out.frf, request, inputs.size() == 1 ? &ringdowns : nullptr,
+                                     &out.driving_point);
   return out;
 }
 

@@ -393,7 +393,7 @@ std::string ReportPage(const ReportRequest& a) {
     RequireKnownKeys(
         report,
         {"verdict", "updated_model", "validation", "parameters", "test_modes", "mass_tests",
-         "modal_tests", "stiffness", "warnings", "notes", "method", "chain_fit"},
+         "modal_tests", "stiffness", "warnings", "notes", "method", "chain_fit", "driving_point"},
         "identification report " + json_path);
     Verdict verdict;
     verdict.stated = report.contains("verdict");

@@ -75,6 +75,8 @@ void Run(const ModesArgs& a) {
     for (const std::string& w : m.estimation_warnings[i])
       std::cerr << "vibid: warning: " << w << "\n";
   }
+  if (m.driving_point.how == "found" && m.frf.responses() > 1)
+    std::cerr << "vibid: note: " << m.driving_point.note << "\n";
   const ident::ModeIdentification& r = m.identification;
   const ident::Frf& frf = m.frf;
   const std::vector<std::string>& notes = m.notes;
@@ -115,8 +117,10 @@ void AddModeOptions(CLI::App* cmd, ModeArgs& m) {
       "16 where\nthe fit allows, never above 48; the output's stabilization line names the "
       "orders run)");
   cmd->add_option("--driving-point", m.driving_point,
-                  "Response measured at the hammer point: its column name or 1-based index "
-                  "(default: the last response)");
+                  "Response measured at the hammer point: its column name or 1-based index\n"
+                  "(default: found from the data, the one response whose modal constants are "
+                  "positive in\nevery mode; one the data contradict is refused, naming the one "
+                  "that fits)");
   cmd->add_option("--fmin-hz", m.options.peaks.freq_min_hz,
                   "Lowest frequency searched for peaks (Hz)")
       ->check(NonNegativeNumber());

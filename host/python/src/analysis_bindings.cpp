@@ -219,6 +219,7 @@ void RegisterAnalysis(py::module_& m) {
       .def_readwrite("method", &R::method)
       .def_readwrite("orders", &R::orders)
       .def_readwrite("driving_point", &R::driving_point)
+      .def_readwrite("driving_point_source", &R::driving_point_source)
       .def_property(
           "fmin_hz", [](const R& r) { return r.options.peaks.freq_min_hz; },
           [](R& r, double v) { r.options.peaks.freq_min_hz = v; })

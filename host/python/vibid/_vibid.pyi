@@ -78,6 +78,7 @@ class _ModeRequest:
     method: str
     orders: str
     driving_point: str
+    driving_point_source: str
     fmin_hz: float
     fmax_hz: float
 

@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import dataclasses
 import os
-from typing import Optional, Sequence
+from typing import Optional, Sequence, Union
 
 import numpy as np
 
@@ -35,10 +35,13 @@ def identify(nominal: Model, mass_tests: dict, modal_tests: Sequence[str],
              mass_response: str = "", modal_responses: str = "", exp_window: float = 0.0,
              record_s: float = 0.0, welch: bool = False, keep_bad_hits: bool = False,
              method: str = "lscf", orders: str = "",
+             driving_point: Union[str, int] = "",
              accept_flagged: bool = False) -> Identification:
     """Mass tests and modal tests to an updated model (``vibid identify``): ``mass_tests`` maps
     a mass position (from 1) to its recording, ``mass_springs`` a position to its spring in N/m
-    or "fit". The result carries its verdict; a flagged one (the updated model fits its own test
+    or "fit". ``driving_point``: the modal tests' response at the hammer (column name or index
+    from 1); left empty it is found from the data, and one the data contradict is refused
+    (ValueError naming the one that fits), as the CLI does. The result carries its verdict; a flagged one (the updated model fits its own test
     worse than the nominal) raises vibid.FlaggedResultError naming the reasons, as ``vibid
     identify`` exits 6 and writes no model, unless ``accept_flagged=True``: then it is returned,
     its model carrying the verdict. A caution is returned with its reasons."""
@@ -56,6 +59,8 @@ def identify(nominal: Model, mass_tests: dict, modal_tests: Sequence[str],
     r.estimation = e
     m = r.modes
     m.method, m.orders = method, orders
+    m.driving_point = "" if driving_point in ("", None) else str(driving_point)
+    m.driving_point_source = f"driving_point={driving_point!r}" if m.driving_point else ""
     r.modes = m
     chain, report, table = _vibid.identify(nominal._m, r)
     result = Identification(updated=Model.from_dict(chain), report=report, validation=table,

@@ -64,6 +64,13 @@ std::string TakeSensorFullScales(const SensorSet& sensors, int input_dof, int ou
 std::vector<std::string> ResponseColumnsOnMasses(const wire::CalibrationRecord& record,
                                                  std::size_t masses);
 
+/// The mass (0-based) load cell 1, the hammer's, sits on as the record places it; none when on
+/// no mass.
+std::optional<std::size_t> HammerMass(const wire::CalibrationRecord& record);
+
+/// Where that is, for a message: "the board's calibration record (load cell 1 on mass 3)".
+std::string HammerMassSource(std::size_t mass);
+
 /// The driving point of a hammer test on this board: of `columns` (ResponseColumnsOnMasses, in
 /// mass order), the one on the mass load cell 1 (the hammer's) sits on; "" when the record puts
 /// the load cell on no mass of them.

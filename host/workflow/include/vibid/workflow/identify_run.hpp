@@ -54,7 +54,9 @@ IdentifyRequest DefaultIdentifyRequest();
 struct IdentifyRun {
   ident::IdentifyResult result;
   std::vector<ident::Frf> modal_frfs;  ///< Receptances of the modal tests, in order.
+  /// The modal tests' driving point: kept as named or found from the data (DrivingPointOfTests).
   std::size_t driving_point = 0;
+  ident::DrivingPointChoice driving_point_choice;
   std::vector<std::string> notes;  ///< EstimationNotes of every recording.
   /// What the estimations have to tell the user, in order: the processing note of a recording
   /// that did not look like a hammer test, and every warning (path first).
@@ -65,6 +67,15 @@ struct IdentifyRun {
   std::vector<Message> messages;
 };
 
+/// The driving point of the modal tests (receptances), each test's kept or found by
+/// ident::ChooseDrivingPoint on its modes; InputError when it refuses one, or when the tests were
+/// hit at different responses (identify takes tests of one driving point).
+ident::DrivingPointChoice DrivingPointOfTests(const std::vector<ident::Frf>& modal_frfs,
+                                              const ModeRequest& modes,
+                                              const ident::ModeIdentificationOptions& options);
+
+/// The whole identification; the driving point is DrivingPointOfTests' (its note and warnings
+/// join `messages`), so a hammer on another mass than the one named is refused, never fitted.
 IdentifyRun RunIdentify(const model::Model& nominal, const IdentifyRequest& request);
 
 /// {"topology": "chain", "masses", "springs", "dampers"}: the updated model file.

@@ -3,9 +3,11 @@
 #pragma once
 
 #include <cstddef>
+#include <optional>
 #include <string>
 #include <vector>
 
+#include "vibid/ident/driving_point.hpp"
 #include "vibid/ident/modes.hpp"
 #include "vibid/ident/ringdown.hpp"
 #include "vibid/workflow/estimate.hpp"
@@ -15,18 +17,30 @@ namespace vibid::workflow {
 struct ModeRequest {
   std::string method = "lscf";  ///< lscf, lsce, fit, peaks.
   std::string orders;           ///< "MIN:MAX[:STEP]" for lscf/lsce; empty: the defaults.
-  std::string driving_point;    ///< Column name or 1-based index; empty: the last response.
+  /// Column name or 1-based index; empty: found from the data (ident::ChooseDrivingPoint).
+  std::string driving_point;
+  /// Where `driving_point` came from, for messages; empty: "--driving-point NAME".
+  std::string driving_point_source;
   ident::ModeIdentificationOptions options;
 };
 
-/// Index of the driving-point response; refuses a name or index the FRF does not have.
+/// Index of the driving-point response named by `spec` (non-empty); refuses a name or index the
+/// FRF does not have.
 std::size_t ResolveDrivingPoint(const ident::Frf& frf, const std::string& spec);
 
-/// Modes of a receptance FRF as `vibid modes` computes them. With the ring-downs of the hits the
-/// FRF was estimated from (an impact recording's, same responses in the same order), each mode's
-/// damping is checked for amplitude dependence (ident::ApplyAmplitudeCheck).
+/// The request's driving point as ident::ChooseDrivingPoint takes it: none when not named.
+std::optional<ident::NamedDrivingPoint> NamedDrivingPointOf(const ident::Frf& frf,
+                                                            const ModeRequest& request);
+
+/// Modes of a receptance FRF as `vibid modes` computes them, with the hammer at the driving point
+/// ident::ChooseDrivingPoint keeps or finds from the modes' constants (InputError when it refuses:
+/// a named point the data contradict, or none named and none singled out); `choice` receives it,
+/// and its warnings (modes with a node there) join the identification's. With the ring-downs of
+/// the hits the FRF was estimated from (an impact recording's, same responses in the same order),
+/// each mode's damping is checked for amplitude dependence (ident::ApplyAmplitudeCheck).
 ident::ModeIdentification IdentifyModes(const ident::Frf& receptance, const ModeRequest& request,
-                                        const ident::RingDowns* ringdowns = nullptr);
+                                        const ident::RingDowns* ringdowns = nullptr,
+                                        ident::DrivingPointChoice* choice = nullptr);
 
 /// `vibid modes` on its inputs: each an FRF file or a recording (estimated with `estimation`),
 /// joined as responses, then IdentifyModes; the ring-down check only with a single recording (it
@@ -34,6 +48,7 @@ ident::ModeIdentification IdentifyModes(const ident::Frf& receptance, const Mode
 struct ModesOfInputs {
   ident::Frf frf;  ///< The joined receptance the modes come from.
   ident::ModeIdentification identification;
+  ident::DrivingPointChoice driving_point;
   /// Each input's estimation notes (EstimationNotes), for the JSON's "notes".
   std::vector<std::string> notes;
   /// Per input, in order: its estimation note (may be empty) and its warnings, for the front end
