@@ -41,8 +41,8 @@ def identify(nominal: Model, mass_tests: dict, modal_tests: Sequence[str],
     a mass position (from 1) to its recording, ``mass_springs`` a position to its spring in N/m
     or "fit". ``driving_point``: the modal tests' response at the hammer (column name or index
     from 1); left empty it is found from the data, and one the data contradict is refused
-    (ValueError naming the one that fits), as the CLI does. The result carries its verdict; a flagged one (the updated model fits its own test
-    worse than the nominal) raises vibid.FlaggedResultError naming the reasons, as ``vibid
+    (ValueError naming the one that fits), as the CLI does. The result carries its verdict; a
+    flagged one (the updated model fits its own test worse than the nominal) raises vibid.FlaggedResultError naming the reasons, as ``vibid
     identify`` exits 6 and writes no model, unless ``accept_flagged=True``: then it is returned,
     its model carrying the verdict. A caution is returned with its reasons."""
     nominal = _model("nominal", nominal)
