@@ -42,9 +42,10 @@ def identify(nominal: Model, mass_tests: dict, modal_tests: Sequence[str],
     or "fit". ``driving_point``: the modal tests' response at the hammer (column name or index
     from 1); left empty it is found from the data, and one the data contradict is refused
     (ValueError naming the one that fits), as the CLI does. The result carries its verdict; a
-    flagged one (the updated model fits its own test worse than the nominal) raises vibid.FlaggedResultError naming the reasons, as ``vibid
-    identify`` exits 6 and writes no model, unless ``accept_flagged=True``: then it is returned,
-    its model carrying the verdict. A caution is returned with its reasons."""
+    flagged one (the updated model fits its own test worse than the nominal) raises
+    vibid.FlaggedResultError naming the reasons, as ``vibid identify`` exits 6 and writes no
+    model, unless ``accept_flagged=True``: then it is returned, its model carrying the verdict.
+    A caution is returned with its reasons."""
     nominal = _model("nominal", nominal)
     r = _vibid._IdentifyRequest()
     for pos, path in mass_tests.items():
