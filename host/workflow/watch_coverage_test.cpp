@@ -65,11 +65,12 @@ TEST(WatchCoverage, FalseAlarmsOverAHundredHours) {
 }
 
 TEST(WatchCoverage, ThreePercentMassIsFlaggedWithinTwoWindows) {
-  // 40 seeds: the 30-minute reference, 250 s unchanged (the change falls inside a window), then
-  // m2 3 % heavier (mode 1 1.07 % lower). Flagged within 120 blocks of the change in at least
-  // 38 of 40 (95 %), never before it.
+  // 40 seeds: the 30-minute reference, 850 s unchanged (a whole window judged, then the change
+  // falls 25 blocks into the second), then m2 3 % heavier (mode 1 1.07 % lower). Flagged within
+  // 120 blocks of the change in at least 38 of 40 (95 %); the 40 windows judged before it pass.
   int flagged = 0;
   int before = 0;
+  int judged_before = 0;
   double worst_blocks = 0.0;
   double ms = 0.0;
   int blocks = 0;
@@ -77,8 +78,11 @@ TEST(WatchCoverage, ThreePercentMassIsFlaggedWithinTwoWindows) {
     oma::testing::AmbientRig sim(DemoRig(), Sim(seed));
     WatchSession s(Options(0.01));
     s.Feed(sim.Next(200 * 1800), 0.0);
-    for (const WatchBlock& b : s.Feed(sim.Next(200 * 250))) before += b.alarm;
-    const double change_s = 1800.0 + 250.0;
+    for (const WatchBlock& b : s.Feed(sim.Next(200 * 850))) {
+      before += b.alarm;
+      judged_before += b.window_count == b.window_blocks;
+    }
+    const double change_s = 1800.0 + 850.0;
     sim.Change(DemoRig(1.53 * 1.03));
     std::optional<double> first;
     for (const WatchBlock& b : s.Feed(sim.Next(200 * 1200))) {
@@ -96,6 +100,7 @@ TEST(WatchCoverage, ThreePercentMassIsFlaggedWithinTwoWindows) {
       "%d false alarms before; %.2f ms per block without modes\n",
       flagged, worst_blocks, before, ms / blocks);
   EXPECT_GE(flagged, 38);
+  EXPECT_EQ(judged_before, 40);
   EXPECT_EQ(before, 0);
 }
 

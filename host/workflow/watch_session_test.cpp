@@ -73,26 +73,62 @@ TEST(WatchSession, ReferenceAndBlockModesAreTheRigs) {
   EXPECT_LE(std::abs(last.moved->change_rad_s), last.moved->ci95_rad_s * 1.5);
 }
 
+TEST(WatchSession, AShortReferenceHoldsTheRigsTwoModesAndNoOther) {
+  // On the emulator's recording of this rig, a 690 s reference at 200 Hz gave a third "mode" at
+  // 16 Hz, ± 0.97 Hz, where the rig's spectrum has nothing, and doubled the test's order to 6. Its
+  // two modes are at 5.1 and 9.7 Hz (model); over seeds, the reference holds exactly those, each
+  // known within 3 % of its frequency, and the test's order stays 4.
+  const model::ComplexModes truth = model::ComplexModalDamping(DemoRig());
+  for (std::uint64_t seed = 61; seed < 67; ++seed) {
+    oma::testing::AmbientRig sim(DemoRig(), Sim(seed));
+    WatchOptions o = Options();
+    o.reference_s = 690.0;
+    o.modes_s = 0.0;
+    WatchSession s(o);
+    s.Feed(sim.Next(200 * 690), 0.0);
+    ASSERT_TRUE(s.has_reference()) << seed;
+    const WatchReference& ref = s.reference();
+    std::printf("seed %llu: %zu modes, order %d\n", static_cast<unsigned long long>(seed),
+                ref.modes.size(), ref.order);
+    ASSERT_EQ(ref.modes.size(), 2u) << seed;
+    EXPECT_EQ(ref.order, 4) << seed;
+    for (int m = 0; m < 2; ++m) {
+      const WatchMode& found = ref.modes[static_cast<std::size_t>(m)];
+      EXPECT_NEAR(found.omega_rad_s / truth.omega_rad_s(m) - 1.0, 0.0, 0.01) << seed << " " << m;
+      EXPECT_LE(found.omega_ci95_rad_s, 0.03 * found.omega_rad_s) << seed << " " << m;
+    }
+  }
+}
+
 TEST(WatchSession, TwentyPercentMassIsOverTheBlockThresholdAndAlarmsWithItsWindow) {
   oma::testing::AmbientRig sim(DemoRig(), Sim(32));
   WatchOptions o = Options();
   o.modes_s = 0.0;
   WatchSession s(o);
   EXPECT_TRUE(s.Feed(sim.Next(200 * 1200), 100.0).empty());
-  const std::vector<WatchBlock> before = s.Feed(sim.Next(200 * 100));
-  for (const WatchBlock& b : before) EXPECT_FALSE(b.alarm) << b.t_s;
+  // 700 s unchanged: the first window (blocks 1 … 60) is judged whole before the change, and
+  // passes; the change falls 10 blocks into the second.
+  const std::vector<WatchBlock> before = s.Feed(sim.Next(200 * 700));
+  ASSERT_EQ(before.size(), 70u);
+  int judged = 0;
+  for (const WatchBlock& b : before) {
+    judged += b.window_count == b.window_blocks;
+    EXPECT_FALSE(b.alarm) << b.t_s;
+  }
+  EXPECT_EQ(judged, 1);
   sim.Change(DemoRig(1.53 * 1.2));
   const std::vector<WatchBlock> after = s.Feed(sim.Next(200 * 500));
   ASSERT_EQ(after.size(), 50u);
   int over = 0;
   for (const WatchBlock& b : after) over += b.block_over;
-  EXPECT_GE(over, 45);
-  // The window (blocks 1 … 60 after the reference) ends 600 s after it: the alarm, kept.
+  EXPECT_GE(over, 40);  // a block's own test has power of about 90 % here (44 of 50 measured)
+  // The second window (blocks 61 … 120 after the reference) ends 1 200 s after it: the alarm,
+  // kept; no block inside the window alarms.
   for (std::size_t k = 0; k + 1 < after.size(); ++k) EXPECT_FALSE(after[k].alarm);
   EXPECT_TRUE(after.back().alarm);
   EXPECT_TRUE(after.back().window_alarm);
   ASSERT_TRUE(after.back().first_alarm_t_s.has_value());
-  EXPECT_DOUBLE_EQ(*after.back().first_alarm_t_s, 100.0 + 1200.0 + 600.0);
+  EXPECT_DOUBLE_EQ(*after.back().first_alarm_t_s, 100.0 + 1200.0 + 1200.0);
   const std::vector<WatchBlock> later = s.Feed(sim.Next(200 * 10));
   ASSERT_EQ(later.size(), 1u);
   EXPECT_EQ(later[0].first_alarm_t_s, after.back().first_alarm_t_s);

@@ -141,6 +141,8 @@ void SsiCovOptions::Validate() const {
   Require(max_damping > 0.0 && max_damping < 1.0, "ssi-cov: max_damping must lie in (0, 1)");
   Require(min_cluster_share > 0.0 && min_cluster_share <= 1.0,
           "ssi-cov: min_cluster_share must lie in (0, 1]");
+  Require(std::isfinite(max_omega_ci95_share) && max_omega_ci95_share > 0.0,
+          "ssi-cov: max_omega_ci95_share must be above 0");
   Require(blocks >= 6 && blocks <= 1000, "ssi-cov: blocks must be 6 to 1000");
   Require(draws >= 50 && draws <= 100000, "ssi-cov: draws must be 50 to 100000");
 }
@@ -348,16 +350,26 @@ SsiCovResult SsiCov(Eigen::Ref<const Eigen::MatrixXd> y, const SsiCovOptions& op
                << " % of the covariance samples: not reported as a mode";
       continue;
     }
-    new_index[m] = static_cast<int>(kept.size());
     auto stddev = [found](const std::vector<double>& v) {
       const double mean = std::accumulate(v.begin(), v.end(), 0.0) / found;
       double ss = 0.0;
       for (double x : v) ss += (x - mean) * (x - mean);
       return std::sqrt(ss / (found - 1.0));
     };
+    const double omega_ci95_rad_s = t95 * stddev(omega_draws[m]);
+    if (omega_ci95_rad_s > options.max_omega_ci95_share * mode.omega_rad_s) {
+      // The samples reproduce the cluster but scatter it over several percent: poles that
+      // wander with the noise, not a resonance the data pin down.
+      withheld << (withheld.tellp() > 0 ? "; " : "") << "poles near " << mode.omega_rad_s / kTwoPi
+               << " Hz scatter by ± " << 100.0 * omega_ci95_rad_s / mode.omega_rad_s
+               << " % of their frequency over the covariance samples (more than "
+               << 100.0 * options.max_omega_ci95_share << " %): not reported as a mode";
+      continue;
+    }
+    new_index[m] = static_cast<int>(kept.size());
     kept.push_back(mode);
     OmaMode& out = kept.back();
-    out.omega_ci95_rad_s = t95 * stddev(omega_draws[m]);
+    out.omega_ci95_rad_s = omega_ci95_rad_s;
     out.zeta_ci95 = t95 * stddev(zeta_draws[m]);
     out.shape_ci95.resize(l);
     for (int c = 0; c < l; ++c) {

@@ -144,6 +144,43 @@ TEST(SsiCov, WhiteNoiseAloneGivesNoMode) {
   EXPECT_NE(r.message.find("no mode"), std::string::npos);
 }
 
+TEST(SsiCov, AClusterScatteredOverMoreThanTheShareAskedIsNoMode) {
+  // The rig's two modes, then the same data with the frequency share set between their two
+  // relative half-widths: the wider one is withheld and named, the other kept with the same
+  // figures.
+  testing::AmbientOptions sim;
+  sim.fs_hz = 1000.0;
+  sim.seconds = 300.0;
+  sim.seed = 12;
+  const Eigen::MatrixXd y = testing::SimulateAmbient(DemoRig(), sim);
+  SsiCovOptions o;
+  o.fs_hz = 1000.0;
+  o.fmax_hz = 25.0;
+  const SsiCovResult all = SsiCov(y, o);
+  ASSERT_EQ(all.modes.size(), 2u) << all.message;
+  double share[2];
+  for (int m = 0; m < 2; ++m) {
+    share[m] = all.modes[static_cast<std::size_t>(m)].omega_ci95_rad_s /
+               all.modes[static_cast<std::size_t>(m)].omega_rad_s;
+    EXPECT_LT(share[m], o.max_omega_ci95_share) << m;  // a real mode: well inside 3 %
+  }
+  ASSERT_NE(share[0], share[1]);
+  const int wide = share[0] > share[1] ? 0 : 1;
+  o.max_omega_ci95_share = std::sqrt(share[0] * share[1]);
+  const SsiCovResult some = SsiCov(y, o);
+  ASSERT_EQ(some.modes.size(), 1u) << some.message;
+  const OmaMode& kept = all.modes[static_cast<std::size_t>(1 - wide)];
+  EXPECT_EQ(some.modes[0].omega_rad_s, kept.omega_rad_s);
+  EXPECT_EQ(some.modes[0].omega_ci95_rad_s, kept.omega_ci95_rad_s);
+  EXPECT_NE(some.message.find("scatter by ±"), std::string::npos) << some.message;
+  EXPECT_NE(some.message.find("not reported as a mode"), std::string::npos) << some.message;
+  int clustered = 0;  // the diagram's poles of the withheld cluster are no longer a mode's
+  for (const Pole& p : some.diagram) clustered += p.cluster > 0;
+  EXPECT_EQ(clustered, 0);
+  o.max_omega_ci95_share = 0.0;
+  EXPECT_THROW(SsiCov(y, o), InputError);
+}
+
 TEST(SsiCov, RefusesBadOptionsAndShortRecords) {
   const Eigen::MatrixXd y = Eigen::MatrixXd::Random(20000, 2);
   SsiCovOptions o;
