@@ -44,7 +44,7 @@ std::vector<Eigen::VectorXd> Inputs(const std::vector<Vector>& inputs) {
 }
 
 py::tuple RunFixed(const py::handle& design, const std::vector<Vector>& inputs) {
-  const dob::ObserverFile f = dob::ObserverFromJson(FromPython(design), "design");
+  const dob::ObserverFile f = dob::ObserverFromJson(FromPython(design, "design"), "design");
   std::vector<Eigen::VectorXd> in = Inputs(inputs);
   dob::FixedRun run;
   {
@@ -57,7 +57,7 @@ py::tuple RunFixed(const py::handle& design, const std::vector<Vector>& inputs) 
 }
 
 Eigen::VectorXd RunFloat(const py::handle& design, const std::vector<Vector>& inputs) {
-  const dob::ObserverFile f = dob::ObserverFromJson(FromPython(design), "design");
+  const dob::ObserverFile f = dob::ObserverFromJson(FromPython(design, "design"), "design");
   std::vector<Eigen::VectorXd> in = Inputs(inputs);
   py::gil_scoped_release release;
   return dob::RunFloat(f.paths, in);
@@ -104,10 +104,10 @@ void RegisterObserver(py::module_& m) {
       "take_sensor_full_scales",
       [](O& request, const py::handle& sensors, const std::string& source, bool force_given,
          bool sensor_given) {
-        return device::TakeSensorFullScales(device::SensorsFromJson(FromPython(sensors), source),
-                                            request.input_dof, request.output_dof, request.sensor,
-                                            request.force_fs_n, force_given, request.sensor_fs,
-                                            sensor_given);
+        return device::TakeSensorFullScales(
+            device::SensorsFromJson(FromPython(sensors, source), source), request.input_dof,
+            request.output_dof, request.sensor, request.force_fs_n, force_given, request.sensor_fs,
+            sensor_given);
       },
       py::arg("request"), py::arg("sensors"), py::arg("source"), py::arg("force_given"),
       py::arg("sensor_given"));
