@@ -72,6 +72,22 @@ std::optional<ObserverPlacement> ObserverPlacementOf(const wire::CalibrationReco
   return std::nullopt;
 }
 
+std::optional<ObserverPlacement> ObserverPlacementOf(const SensorSet& sensors) {
+  const std::optional<SensorScaling>& load_cell =
+      sensors[static_cast<std::size_t>(wire::Channel::kForce1)];
+  if (!load_cell || load_cell->dof < 0) return std::nullopt;
+  for (const wire::Unit unit : {wire::Unit::kMeter, wire::Unit::kMeterPerSecond2}) {
+    for (const std::optional<SensorScaling>& s : sensors) {
+      if (s && s->unit == unit && s->dof == load_cell->dof) {
+        return ObserverPlacement{.dof = load_cell->dof + 1,
+                                 .sensor = unit == wire::Unit::kMeter ? "disp" : "acc",
+                                 .sensor_fs = s->full_scale};
+      }
+    }
+  }
+  return std::nullopt;
+}
+
 std::string RecordLabel(const UploadFiles& files) {
   std::string label = files.label;
   if (label.empty()) {

@@ -37,6 +37,9 @@ struct DesignArgs {
   bool json = false;
   bool force_given = false;
   bool sensor_given = false;
+  bool input_dof_given = false;
+  bool output_dof_given = false;
+  bool sensor_kind_given = false;
   workflow::ObserverDesignRequest request;
 };
 
@@ -44,11 +47,22 @@ void Run(const DesignArgs& a) {
   workflow::ObserverDesignRequest request = a.request;
   // The full scales are the sensors' when a sensors file is given: the ones `cal upload` takes.
   if (!a.sensors.empty()) {
+    const device::SensorSet sensors = device::SensorsFromJson(ReadJsonFile(a.sensors), a.sensors);
+    // The observer's mass is the load cell's, as `cal upload` with these sensors requires, on a
+    // chain of any length; options given keep their word (cal upload then judges them).
+    std::string placed;
+    if (const auto p = device::ObserverPlacementOf(sensors)) {
+      if (!a.input_dof_given) request.input_dof = p->dof;
+      if (!a.output_dof_given) request.output_dof = p->dof;
+      if (!a.sensor_kind_given) request.sensor = p->sensor;
+      if (!a.input_dof_given || !a.output_dof_given)
+        placed = "observer on mass " + std::to_string(request.input_dof) + " (force1's), ";
+    }
     const std::string took = device::TakeSensorFullScales(
-        device::SensorsFromJson(ReadJsonFile(a.sensors), a.sensors), request.input_dof,
-        request.output_dof, request.sensor, request.force_fs_n, a.force_given, request.sensor_fs,
-        a.sensor_given);
-    if (!took.empty()) std::cerr << "vibid: " << took << " (" << a.sensors << ")\n";
+        sensors, request.input_dof, request.output_dof, request.sensor, request.force_fs_n,
+        a.force_given, request.sensor_fs, a.sensor_given);
+    if (!placed.empty() || !took.empty())
+      std::cerr << "vibid: " << placed << took << " (" << a.sensors << ")\n";
   }
   const dob::DobDesign design =
       workflow::DesignObserverFor(model::LoadModel(a.model_path), request);
@@ -220,14 +234,17 @@ void RegisterDobDesignCommand(CLI::App& dob) {
       ->check(PositiveNumber())
       ->capture_default_str();
   cmd->add_option("--input-dof", a->request.input_dof,
-                  "Mass the force (and the disturbance) acts on, from 1")
-      ->capture_default_str();
+                  "Mass the force (and the disturbance) acts on, from 1 (default: load cell "
+                  "force1's mass in --sensors, else 2)")
+      ->each([given = &a->input_dof_given](const std::string&) { *given = true; });
   cmd->add_option("--output-dof", a->request.output_dof,
-                  "Mass whose sensor feeds the SISO form, from 1")
-      ->capture_default_str();
-  cmd->add_option("--sensor", a->request.sensor, "Sensor: disp, vel or acc")
+                  "Mass whose sensor feeds the SISO form, from 1 (default: as --input-dof)")
+      ->each([given = &a->output_dof_given](const std::string&) { *given = true; });
+  cmd->add_option("--sensor", a->request.sensor,
+                  "Sensor: disp, vel or acc (default: the encoder on that mass in --sensors, "
+                  "else its accelerometer; without --sensors disp)")
       ->check(CLI::IsMember({"disp", "vel", "acc"}))
-      ->capture_default_str();
+      ->each([given = &a->sensor_kind_given](const std::string&) { *given = true; });
   cmd->add_option("--form", a->request.form,
                   "siso: Q G_A^-1 y - Q u; mimo: Q[M x'' + C x' + K x - F]")
       ->check(CLI::IsMember({"siso", "mimo"}))

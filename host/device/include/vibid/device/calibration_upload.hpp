@@ -72,6 +72,9 @@ struct ObserverPlacement {
 };
 /// None when the record puts load cell 1 on no mass or no calibrated response channel on it.
 std::optional<ObserverPlacement> ObserverPlacementOf(const wire::CalibrationRecord& record);
+/// The same from a sensors file, before it is uploaded: where `cal upload` with these sensors
+/// will accept the observer (on a chain of any length, not only mass 2).
+std::optional<ObserverPlacement> ObserverPlacementOf(const SensorSet& sensors);
 
 /// The record as `cal show --json` prints it, without the slot, sequence and CRC the board adds:
 /// label, created_unix_s, host_version, M, C, K (dof x dof), channels (calibrated ones: unit,
