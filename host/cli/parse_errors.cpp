@@ -80,8 +80,7 @@ std::string ParseErrorMessage(const CLI::ParseError& error, const CLI::App& root
   }
   if (dynamic_cast<const CLI::ExcludesError*>(&error) != nullptr &&
       match(R"((\S+) excludes (\S+))")) {
-    return m[1].str() + " and " + m[2].str() + " cannot be given together; give one of them" +
-           help;
+    return m[1].str() + " and " + m[2].str() + " cannot be given together; give one of them" + help;
   }
   if (dynamic_cast<const CLI::RequiresError*>(&error) != nullptr &&
       match(R"((\S+) requires (\S+))")) {

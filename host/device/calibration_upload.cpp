@@ -88,6 +88,18 @@ std::optional<ObserverPlacement> ObserverPlacementOf(const SensorSet& sensors) {
   return std::nullopt;
 }
 
+std::string PlaceObserver(const SensorSet& sensors, int& input_dof, bool input_given,
+                          int& output_dof, bool output_given, std::string& sensor,
+                          bool sensor_given) {
+  const std::optional<ObserverPlacement> p = ObserverPlacementOf(sensors);
+  if (!p) return {};
+  if (!input_given) input_dof = p->dof;
+  if (!output_given) output_dof = p->dof;
+  if (!sensor_given) sensor = p->sensor;
+  if (input_given && output_given) return {};
+  return "observer on mass " + std::to_string(input_given ? output_dof : input_dof) + " (force1's)";
+}
+
 std::string RecordLabel(const UploadFiles& files) {
   std::string label = files.label;
   if (label.empty()) {

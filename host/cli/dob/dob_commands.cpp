@@ -50,19 +50,14 @@ void Run(const DesignArgs& a) {
     const device::SensorSet sensors = device::SensorsFromJson(ReadJsonFile(a.sensors), a.sensors);
     // The observer's mass is the load cell's, as `cal upload` with these sensors requires, on a
     // chain of any length; options given keep their word (cal upload then judges them).
-    std::string placed;
-    if (const auto p = device::ObserverPlacementOf(sensors)) {
-      if (!a.input_dof_given) request.input_dof = p->dof;
-      if (!a.output_dof_given) request.output_dof = p->dof;
-      if (!a.sensor_kind_given) request.sensor = p->sensor;
-      if (!a.input_dof_given || !a.output_dof_given)
-        placed = "observer on mass " + std::to_string(request.input_dof) + " (force1's), ";
-    }
+    const std::string placed =
+        device::PlaceObserver(sensors, request.input_dof, a.input_dof_given, request.output_dof,
+                              a.output_dof_given, request.sensor, a.sensor_kind_given);
     const std::string took = device::TakeSensorFullScales(
         sensors, request.input_dof, request.output_dof, request.sensor, request.force_fs_n,
         a.force_given, request.sensor_fs, a.sensor_given);
-    if (!placed.empty() || !took.empty())
-      std::cerr << "vibid: " << placed << took << " (" << a.sensors << ")\n";
+    const std::string said = placed + (placed.empty() || took.empty() ? "" : ", ") + took;
+    if (!said.empty()) std::cerr << "vibid: " << said << " (" << a.sensors << ")\n";
   }
   const dob::DobDesign design =
       workflow::DesignObserverFor(model::LoadModel(a.model_path), request);

@@ -76,6 +76,14 @@ std::optional<ObserverPlacement> ObserverPlacementOf(const wire::CalibrationReco
 /// will accept the observer (on a chain of any length, not only mass 2).
 std::optional<ObserverPlacement> ObserverPlacementOf(const SensorSet& sensors);
 
+/// `dob design --sensors`' placement, for every front end: the observer's masses and sensor kind
+/// from the sensors (ObserverPlacementOf), each unless the caller gave it (`*_given`: kept, for
+/// `cal upload` to judge). Returns "observer on mass N (force1's)" when a mass was taken, ""
+/// otherwise (nothing to take, or both given).
+std::string PlaceObserver(const SensorSet& sensors, int& input_dof, bool input_given,
+                          int& output_dof, bool output_given, std::string& sensor,
+                          bool sensor_given);
+
 /// The record as `cal show --json` prints it, without the slot, sequence and CRC the board adds:
 /// label, created_unix_s, host_version, M, C, K (dof x dof), channels (calibrated ones: unit,
 /// counts_per_unit, offset_counts, full_scale, gain, gain_shift, dof), observer (or null).
