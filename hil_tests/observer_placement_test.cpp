@@ -52,7 +52,8 @@ TEST_P(ObserverPlacementTest, TheDesignGoesWhereTheUploadTakesIt) {
     "force1": {"unit": "N", "counts_per_unit": 4.096, "offset_counts": 2048, "full_scale": 500, "dof": )" +
                          n + R"(},
     "acc1": {"unit": "m/s2", "counts_per_unit": 10.24, "offset_counts": 2048, "full_scale": 200, "dof": 1},
-    ")" + std::string(c.sensor) + R"(": {)" + sensor_channel + R"(, "dof": )" + n + "}}}\n");
+    ")" + std::string(c.sensor) +
+                         R"(": {)" + sensor_channel + R"(, "dof": )" + n + "}}}\n");
 
   const std::string design = dir + "/design.json";
   const testing::CliResult designed = testing::RunVibid(
@@ -81,13 +82,13 @@ TEST_P(ObserverPlacementTest, TheDesignGoesWhereTheUploadTakesIt) {
   EXPECT_FALSE(record["observer"].is_null()) << shown.out;
 }
 
-INSTANTIATE_TEST_SUITE_P(
-    Chains, ObserverPlacementTest,
-    ::testing::Values(Chain{3, "x1", "m", "sensor full scale 0.05 m from x1"},
-                      Chain{4, "acc2", "m/s2", "sensor full scale 200 m/s2 from acc2"}),
-    [](const ::testing::TestParamInfo<Chain>& i) {
-      return "Masses" + std::to_string(i.param.masses);
-    });
+INSTANTIATE_TEST_SUITE_P(Chains, ObserverPlacementTest,
+                         ::testing::Values(Chain{3, "x1", "m", "sensor full scale 0.05 m from x1"},
+                                           Chain{4, "acc2", "m/s2",
+                                                 "sensor full scale 200 m/s2 from acc2"}),
+                         [](const ::testing::TestParamInfo<Chain>& i) {
+                           return "Masses" + std::to_string(i.param.masses);
+                         });
 
 }  // namespace
 }  // namespace vibid::hil

@@ -23,9 +23,10 @@ namespace {
 // json.dumps' own refusal names no field.
 std::string NonFinite(const py::handle& object, const std::string& path) {
   if (py::isinstance<py::float_>(object)) {
-    if (std::isfinite(object.cast<double>())) return "";
+    const double x = object.cast<double>();
+    if (std::isfinite(x)) return "";
     return (path.empty() ? std::string("value") : path) + " = " +
-           py::repr(object).cast<std::string>();
+           (std::isnan(x) ? "nan" : x > 0.0 ? "inf" : "-inf");
   }
   if (py::isinstance<py::dict>(object)) {
     for (const auto& item : object.cast<py::dict>()) {

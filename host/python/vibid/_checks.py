@@ -75,7 +75,8 @@ def _reals(name: str, v) -> list:
 
 def _counted(name: str, v, what: str) -> list:
     """Numbers of a chain's elements (masses, springs...), each named as the library names it,
-    counted from 1 ("masses_kg: mass 2 is str '1'"); their values are the library's to check."""
+    counted from 1 ("masses_kg: mass 2: expected a number, got str '1'"); their values are the
+    library's to check."""
     if isinstance(v, (str, bytes)) or not isinstance(v, Iterable):
         raise TypeError(f"{name}: expected a sequence of numbers, got {_kind(v)} {v!r}")
     return [_real(f"{name}: {what} {i}", x) for i, x in enumerate(v, start=1)]
