@@ -87,11 +87,14 @@ TEST(Cli, ARefusedCommandLineIsSaidInVibidsWords) {
        "'vibid modal' does not take other.json; 'vibid modal --help' shows its form"},
       {{"acquire", "--seconds", "1", "--decimation", "2", "--log-rate-hz", "1000"},
        2,
-       "--decimation and --log-rate-hz cannot be given together; give one of them; 'vibid "
+       "--log-rate-hz and --decimation cannot be given together; give one of them; 'vibid "
        "acquire --help' shows its form"},
       {{"acquire", "--seconds", "1", "--decimation", "two"},
        1,
-       "--decimation 'two': not a value it takes; 'vibid acquire --help' shows its form"},
+       "--decimation two: must be in 1..1000"},
+      {{"tfest", "a.csv", "--input", "f", "--output", "x", "--ic", "abc"},
+       1,
+       "--ic 'abc': expected one of zero,estimate"},
   };
   // CLI11's own phrasings, none of which may reach the user.
   const char* const cli11[] = {"required but received",

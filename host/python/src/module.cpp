@@ -26,7 +26,9 @@ std::string NonFinite(const py::handle& object, const std::string& path) {
     const double x = object.cast<double>();
     if (std::isfinite(x)) return "";
     return (path.empty() ? std::string("value") : path) + " = " +
-           (std::isnan(x) ? "nan" : x > 0.0 ? "inf" : "-inf");
+           (std::isnan(x) ? "nan"
+            : x > 0.0     ? "inf"
+                          : "-inf");
   }
   if (py::isinstance<py::dict>(object)) {
     for (const auto& item : object.cast<py::dict>()) {
