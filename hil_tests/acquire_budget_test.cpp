@@ -103,6 +103,26 @@ TEST_F(AcquireBudgetTest, BeyondTheBudgetIsRefusedOrDropsWhatIsPredicted) {
   EXPECT_EQ(DataRows(out), p.kept);
 }
 
+// A refusal's advice leads to an acquisition the board takes. With a 1 kHz observer running,
+// every channel and d_hat for 60 s at the default 5 kHz is beyond the link, but the way out is
+// not the log rate that fits the link (1250 Hz: the board would then refuse the sample rate, the
+// observer running at 1 kHz only): the observer's rate is said first, and at that rate the
+// acquisition runs.
+TEST_F(AcquireBudgetTest, TheAdviceGivenLeadsToAnAcquisitionTheBoardTakes) {
+  CalibrateWithObserver("1000");
+  const std::string out = dir + "/advised.csv";
+  const auto refused = Vibid({"acquire", "--seconds", "60", "-o", out});
+  EXPECT_EQ(refused.exit_code, 1) << refused.err;
+  EXPECT_EQ(refused.err,
+            "vibid: error: --rate-hz 5000: the board's observer was designed for 1000 Hz and runs "
+            "at that rate only; acquire at --rate-hz 1000, or without the observer (--no-dob), or "
+            "design and upload an observer for this rate (vibid dob design --fs-hz)\n");
+  EXPECT_FALSE(std::filesystem::exists(out)) << "nothing written";
+  const auto advised = Vibid({"acquire", "--seconds", "2", "--rate-hz", "1000", "-o", out});
+  ASSERT_EQ(advised.exit_code, 0) << advised.err;
+  EXPECT_EQ(DataRows(out), 2000u);
+}
+
 // The same rate and channels, logged at 2 kHz through the board's anti-aliasing decimator.
 TEST_F(AcquireBudgetTest, TheDecimatedLogFitsAndDropsNothing) {
   CalibrateWithObserver("10000");

@@ -16,6 +16,7 @@
 
 #include "run_cli.hpp"
 #include "serial_bridge.hpp"
+#include "state_wait.hpp"
 #include "target.hpp"
 
 namespace vibid::hil {
@@ -55,7 +56,9 @@ class CliFaultTest : public ::testing::Test {
     auto p = std::make_unique<VibidProcess>(
         std::vector<std::string>{"--device", emu->device_spec(), "acquire", "--seconds", "60",
                                  "--channels", "force1,acc1,acc2", "-o", output});
-    EXPECT_TRUE(emu->AwaitLog("vibid-emu: sampling started", 1, 10s)) << emu->Log();
+    EXPECT_TRUE(emu->AwaitLog("vibid-emu: sampling started", 1, hil::kStateWait))
+        << "waited " << hil::kStateWait.count() << " s for the board to sample:\n"
+        << emu->Log();
     return p;
   }
 
@@ -207,7 +210,9 @@ TEST_F(CliTriggerTest, CtrlCStopsAWaitForTheTrigger) {
   VibidProcess acquire({"--device", emu->device_spec(), "acquire", "--seconds", "1", "--channels",
                         "force1,acc1", "--trigger", "force>40", "-o", output});
   // Armed: the board samples, waiting for the trigger (the calibration's acquisitions came before).
-  ASSERT_TRUE(emu->AwaitLog("vibid-emu: sampling started", 1, 10s)) << emu->Log();
+  ASSERT_TRUE(emu->AwaitLog("vibid-emu: sampling started", 1, hil::kStateWait))
+      << "waited " << hil::kStateWait.count() << " s for the board to arm:\n"
+      << emu->Log();
   acquire.Signal(SIGINT);
   const auto r = acquire.Wait();
   EXPECT_EQ(r.exit_code, 130) << r.err;
@@ -273,7 +278,9 @@ TEST(CliPullTest, PullKilledMidwayIsRepeatedAndResumedWithNothingLostOrDuplicate
   const int imports = 2;  // the acquire above, then the pull about to be killed
   {
     VibidProcess pull({"--device", emu.device_spec(), "log", "pull", "-o", pulled});
-    ASSERT_TRUE(emu.AwaitLog("USB/IP client imported", imports, 5s)) << emu.Log();
+    ASSERT_TRUE(emu.AwaitLog("USB/IP client imported", imports, hil::kStateWait))
+        << "waited " << hil::kStateWait.count() << " s for the pull to import the board:\n"
+        << emu.Log();
     std::this_thread::sleep_for(100ms);
     pull.Signal(SIGKILL);
     EXPECT_EQ(pull.Wait().exit_code, 128 + SIGKILL);

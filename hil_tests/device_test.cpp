@@ -4,6 +4,7 @@
 #include <cmath>
 #include <thread>
 
+#include "state_wait.hpp"
 #include "target.hpp"
 #include "test_records.hpp"
 #include "vibid/device/error.hpp"
@@ -44,11 +45,13 @@ std::array<std::int32_t, wire::kChannelCount> LoggedAt(std::uint32_t tick) {
 
 /// Waits until the acquisition ended on its record limit.
 void AwaitDone(Connection& c) {
-  for (int i = 0; i < 2000; ++i) {
+  const auto deadline = std::chrono::steady_clock::now() + hil::kStateWait;
+  while (std::chrono::steady_clock::now() < deadline) {
     if (c.GetStatus().acq_state == wire::AcqState::kDone) return;
     std::this_thread::sleep_for(std::chrono::milliseconds(5));
   }
-  FAIL() << "acquisition did not reach its record limit";
+  FAIL() << "waited " << hil::kStateWait.count()
+         << " s for the acquisition to reach its record limit";
 }
 
 /// Records the board's log holds with every channel on.

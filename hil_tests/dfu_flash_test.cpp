@@ -9,10 +9,12 @@
 #include <fstream>
 #include <iterator>
 #include <random>
+#include <string>
 #include <thread>
 
 #include "emulator_test.hpp"
 #include "run_cli.hpp"
+#include "state_wait.hpp"
 #include "test_records.hpp"
 #include "vibid/device/error.hpp"
 #include "vibid/device/flash_board.hpp"
@@ -53,11 +55,15 @@ std::vector<std::uint8_t> BoardImage(std::uint32_t seed, std::size_t application
 
 /// Waits until the application answers again after the bootloader left.
 std::unique_ptr<device::Connection> AwaitApplication(Target& target) {
-  for (int i = 0;; ++i) {
+  const auto deadline = std::chrono::steady_clock::now() + hil::kStateWait;
+  for (;;) {
     try {
       return target.Connect();
-    } catch (const device::DeviceError&) {
-      if (i == 100) throw;
+    } catch (const device::DeviceError& e) {
+      if (std::chrono::steady_clock::now() > deadline) {
+        throw device::DeviceError("waited " + std::to_string(hil::kStateWait.count()) +
+                                  " s for the application after the bootloader: " + e.what());
+      }
       std::this_thread::sleep_for(std::chrono::milliseconds(20));
     }
   }

@@ -9,10 +9,12 @@
 #include <cstdlib>
 #include <filesystem>
 #include <stdexcept>
+#include <string>
 #include <thread>
 #include <vector>
 
 #include "run_cli.hpp"
+#include "state_wait.hpp"
 #include "vibid/device/serial_transport.hpp"
 
 namespace vibid::hil {
@@ -52,7 +54,7 @@ QemuBoard::QemuBoard(const std::string& image) {
     execvp(argv[0], argv.data());
     _exit(127);
   }
-  const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(20);
+  const auto deadline = std::chrono::steady_clock::now() + hil::kStateWait;
   while (testing::ReadFileBytes(diagnostics_).find("ready") == std::string::npos) {
     int status = 0;
     if (waitpid(pid_, &status, WNOHANG) == pid_) {
@@ -60,7 +62,8 @@ QemuBoard::QemuBoard(const std::string& image) {
       throw std::runtime_error("qemu-system-arm exited before the image was ready");
     }
     if (std::chrono::steady_clock::now() > deadline)
-      throw std::runtime_error("the QEMU image did not report ready");
+      throw std::runtime_error("waited " + std::to_string(hil::kStateWait.count()) +
+                               " s for the QEMU image to report ready");
     std::this_thread::sleep_for(std::chrono::milliseconds(20));
   }
 }

@@ -108,7 +108,9 @@ TEST_F(RefusalTest, AcquireAtAnotherRateThanTheRunningObserver) {
   ASSERT_EQ(Vibid({"dob", "start"}).exit_code, 0);
   const std::string out = dir + "/x.csv";
   const CliResult r = Vibid({"acquire", "--seconds", "0.5", "--rate-hz", "1000", "-o", out});
-  ExpectRefusal(r, 4, "the board's observer was designed for 5000 Hz",
+  // The host knows the board's rule (the calibration's observer and its rate) and refuses
+  // before the board is configured, in the board's words (exit 1: the request, not the board).
+  ExpectRefusal(r, 1, "--rate-hz 1000: the board's observer was designed for 5000 Hz",
                 "acquire at --rate-hz 5000, or without the observer (--no-dob)");
   EXPECT_FALSE(std::filesystem::exists(out));
   // The ways out work.

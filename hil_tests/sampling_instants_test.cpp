@@ -14,6 +14,7 @@
 #include <nlohmann/json.hpp>
 
 #include "run_cli.hpp"
+#include "state_wait.hpp"
 #include "target.hpp"
 #include "vibid/device/log_table.hpp"
 #include "vibid/ident/sample_instants.hpp"
@@ -59,8 +60,12 @@ TEST_F(SamplingInstantsTest, ACommonToneShowsTheInstantsAndTheHostTakesThemOff) 
   cfg.record_limit = n;
   c->Configure(cfg);
   c->StartAcquisition();
-  for (int i = 0; i < 2000 && c->GetStatus().acq_state != wire::AcqState::kDone; ++i)
+  const auto deadline = std::chrono::steady_clock::now() + hil::kStateWait;
+  while (c->GetStatus().acq_state != wire::AcqState::kDone) {
+    ASSERT_LT(std::chrono::steady_clock::now(), deadline)
+        << "waited " << hil::kStateWait.count() << " s for " << n << " records";
     std::this_thread::sleep_for(std::chrono::milliseconds(5));
+  }
   const device::LogPull pull = c->PullLog();
   ASSERT_EQ(pull.records.size(), n);
 

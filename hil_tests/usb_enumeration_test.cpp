@@ -14,6 +14,7 @@
 #include <thread>
 
 #include "emulator_test.hpp"
+#include "state_wait.hpp"
 #include "vibid/device/usbip_transport.hpp"
 #include "vibid/fw/usb/descriptors.hpp"
 #include "vibid/shared/wire/report.hpp"
@@ -312,14 +313,16 @@ TEST_F(UsbEnumerationTest, DeviceListNamesBusIdIdsAndInterfaceClasses) {
     EXPECT_EQ(listed[0].interface_classes[i].interface_protocol, raw[0].interfaces[i][2]);
   }
   // The release above is a closed socket, which the server notices on its own schedule: until
-  // then it refuses the import as busy, as usbipd does. It must export again within a second.
-  const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(1);
+  // then it refuses the import as busy, as usbipd does. It must export again (a state waited
+  // for; how soon is not this test's to judge).
+  const auto deadline = std::chrono::steady_clock::now() + hil::kStateWait;
   for (;;) {
     try {
       usb = UsbipDevice::Open("127.0.0.1", emu->port());
       break;
     } catch (const device::DeviceError& e) {
-      ASSERT_LT(std::chrono::steady_clock::now(), deadline) << e.what();
+      ASSERT_LT(std::chrono::steady_clock::now(), deadline)
+          << "waited " << hil::kStateWait.count() << " s for the export again: " << e.what();
       std::this_thread::sleep_for(std::chrono::milliseconds(10));
     }
   }

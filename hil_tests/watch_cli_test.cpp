@@ -15,6 +15,7 @@
 
 #include "emulator_process.hpp"
 #include "run_cli.hpp"
+#include "state_wait.hpp"
 #include "target.hpp"
 
 namespace vibid::hil {
@@ -145,11 +146,13 @@ TEST_F(WatchCliTest, CtrlCStopsTheBoardAndKeepsTheJournal) {
                       "operate", "--reference-s", "230", "--block-s", "5", "--window-blocks", "6",
                       "--modes-s", "0", "--json", "-o", journal});
   // Wait for a state (two whole lines in the journal), not for a time.
-  const auto deadline = std::chrono::steady_clock::now() + 120s;
+  const auto deadline = std::chrono::steady_clock::now() + hil::kStateWait;
   for (;;) {
     const std::string text = std::filesystem::exists(journal) ? ReadFileBytes(journal) : "";
     if (std::count(text.begin(), text.end(), '\n') >= 2) break;
-    ASSERT_LT(std::chrono::steady_clock::now(), deadline) << emu->Log();
+    ASSERT_LT(std::chrono::steady_clock::now(), deadline)
+        << "waited " << hil::kStateWait.count() << " s for two journal lines:\n"
+        << emu->Log();
     std::this_thread::sleep_for(20ms);
   }
   watch.Signal(SIGINT);
@@ -164,7 +167,9 @@ TEST_F(WatchCliTest, CtrlCStopsTheBoardAndKeepsTheJournal) {
   const std::vector<nlohmann::json> lines = JsonLines(kept);
   EXPECT_GE(lines.size(), 2u);
   EXPECT_EQ(kept, r.out) << "printed and journaled alike";
-  EXPECT_TRUE(emu->AwaitLog("sampling stopped", 1, 10s)) << emu->Log();
+  EXPECT_TRUE(emu->AwaitLog("sampling stopped", 1, hil::kStateWait))
+      << "waited " << hil::kStateWait.count() << " s for the board to stop:\n"
+      << emu->Log();
 }
 
 }  // namespace

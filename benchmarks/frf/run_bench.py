@@ -11,6 +11,8 @@ Prints a Markdown table of the wall times (process CPU time beside them: vibid's
 threads), the ratios of the wall times (peer / vibid) and the targets, and the load average.
 Usage (from the project root, after building the host preset):
   /usr/bin/python3 benchmarks/frf/run_bench.py [BUILD_DIR]
+With VIBID_BENCH_SMOKE=1 (benchmarks/smoke.py) the record is 2^14 samples and each time is taken
+once: the same path end to end in seconds, its figures not meaningful.
 """
 import os
 import resource
@@ -22,9 +24,11 @@ import time
 import numpy as np
 from scipy import signal
 
-N = 1 << 22
+SMOKE = os.environ.get("VIBID_BENCH_SMOKE") == "1"
+N = 1 << (14 if SMOKE else 22)
 FS = 2000.0
 SEG = 4096
+REPEATS = 1 if SMOKE else 3
 
 
 def make_record(path):
@@ -53,7 +57,7 @@ def scipy_h1(f, x):
 def main():
     build = sys.argv[1] if len(sys.argv) > 1 else os.path.join("build", "host")
     vibid = os.path.join(build, "host", "cli", "vibid")
-    bench = os.path.join(build, "bench", "frf", "bench_frf")
+    bench = os.path.join(build, "benchmarks", "frf", "bench_frf")
     with tempfile.TemporaryDirectory() as tmp:
         rec = os.path.join(tmp, "rec.csv")
         t0 = time.perf_counter()
@@ -68,7 +72,7 @@ def main():
         vibid_total = time.perf_counter() - t0
         c1 = resource.getrusage(resource.RUSAGE_CHILDREN)
         vibid_total_cpu = (c1.ru_utime + c1.ru_stime) - (c0.ru_utime + c0.ru_stime)
-        out = subprocess.run([bench, rec, str(SEG), "3"], check=True, capture_output=True, text=True).stdout.split()
+        out = subprocess.run([bench, rec, str(SEG), str(REPEATS)], check=True, capture_output=True, text=True).stdout.split()
         vibid_load = float(out[out.index("load_s") + 1])
         vibid_compute = float(out[out.index("compute_s") + 1])
         vibid_load_cpu = float(out[out.index("load_cpu_s") + 1])
@@ -79,7 +83,7 @@ def main():
         scipy_load, scipy_load_cpu = time.perf_counter() - t0, time.process_time() - p0
         f, x = data[:, 1].copy(), data[:, 2:4].T.copy()
         best = best_cpu = 1e300
-        for _ in range(3):
+        for _ in range(REPEATS):
             t0, p0 = time.perf_counter(), time.process_time()
             h1, coh = scipy_h1(f, x)
             best = min(best, time.perf_counter() - t0)
@@ -87,7 +91,7 @@ def main():
         scipy_compute, scipy_compute_cpu = best, best_cpu
 
     rows = [
-        ("CSV read (2^22 x 4 columns)", vibid_load, vibid_load_cpu, "numpy.loadtxt", scipy_load, scipy_load_cpu, 3.0),
+        (f"CSV read (2^{N.bit_length() - 1} x 4 columns)", vibid_load, vibid_load_cpu, "numpy.loadtxt", scipy_load, scipy_load_cpu, 3.0),
         ("H1 + coherence, 4096 Hann, 50 %", vibid_compute, vibid_compute_cpu, "scipy.signal csd/welch", scipy_compute,
          scipy_compute_cpu, 3.0),
         ("frf-estimate end to end", vibid_total, vibid_total_cpu, "numpy read + scipy", scipy_load + scipy_compute,

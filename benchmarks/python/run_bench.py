@@ -10,6 +10,8 @@ cache). Library and Python runs alternate, so the machine's load hits both alike
 Markdown table with the Python / library ratios.
 Usage (from the project root, after building the host preset):
   /usr/bin/python3 benchmarks/python/run_bench.py [BUILD_DIR] [REPEATS]
+With VIBID_BENCH_SMOKE=1 (benchmarks/smoke.py) the record is 2^14 samples, each call runs once
+and `import vibid` once: the same calls in seconds, their figures not meaningful.
 """
 import os
 import subprocess
@@ -20,13 +22,14 @@ import time
 import numpy as np
 from scipy import signal
 
-N = 1 << 22
+SMOKE = os.environ.get("VIBID_BENCH_SMOKE") == "1"
+N = 1 << (14 if SMOKE else 22)
 FS = 5000.0
 
 
 def main():
     build = sys.argv[1] if len(sys.argv) > 1 else os.path.join("build", "host")
-    repeats = int(sys.argv[2]) if len(sys.argv) > 2 else 5
+    repeats = 1 if SMOKE else int(sys.argv[2]) if len(sys.argv) > 2 else 5
     pkg = os.path.join(build, "host", "python")
     sys.path.insert(0, pkg)
     import vibid
@@ -57,7 +60,7 @@ def main():
         # load (2 cores shared with builds) hits both sides alike.
         lib_est, lib_modes, py_est, py_modes = [], [], [], []
         for _ in range(repeats):
-            out = subprocess.run([os.path.join(build, "bench", "python", "bench_workflow"), path, "1"],
+            out = subprocess.run([os.path.join(build, "benchmarks", "python", "bench_workflow"), path, "1"],
                                  check=True, capture_output=True, text=True).stdout.split()
             lib_est.append(float(out[out.index("estimate_s") + 1]))
             lib_modes.append(float(out[out.index("modes_s") + 1]))
@@ -70,7 +73,7 @@ def main():
 
     env = dict(os.environ, PYTHONPATH=pkg)
     imports = []
-    for _ in range(5):
+    for _ in range(1 if SMOKE else 5):
         t = subprocess.run([sys.executable, "-c", "import time; t = time.perf_counter(); import vibid; "
                             "print(time.perf_counter() - t)"], env=env, check=True,
                            capture_output=True, text=True).stdout

@@ -9,6 +9,7 @@
 
 #include "cli_support.hpp"
 #include "commands.hpp"
+#include "parse_errors.hpp"
 #include "vibid/common/error.hpp"
 #include "vibid/common/memory_policy.hpp"
 #include "vibid/common/verdict.hpp"
@@ -40,24 +41,21 @@ int main(int argc, char** argv) {
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
+    // --help and --version: CLI11 prints them.
+    const std::string message = ParseErrorMessage(e, app);
+    if (message.empty()) return app.exit(e) == 0 ? kExitOk : kExitUsage;
     // A value out of its range or not of its kind is bad input, like a bad file: one line, exit 1.
-    // Usage errors (unknown or missing options) keep CLI11's message and exit 2.
     if (dynamic_cast<const CLI::ValidationError*>(&e) ||
         dynamic_cast<const CLI::ConversionError*>(&e)) {
-      std::cerr << "vibid: error: " << e.what() << "\n";
+      std::cerr << "vibid: error: " << message << "\n";
       return kExitInputError;
     }
-    // A misspelt command or option is named, with the nearest known one.
-    if (e.get_exit_code() != 0) {
-      const std::string unknown =
-          UnknownWordMessage(app, std::vector<std::string>(argv + 1, argv + argc));
-      if (!unknown.empty()) {
-        std::cerr << "vibid: error: " << unknown << "\n";
-        return kExitUsage;
-      }
-    }
-    const int code = app.exit(e);
-    return code == 0 ? kExitOk : kExitUsage;
+    // A usage error (exit 2) in vibid's words: a misspelt command or option named with the
+    // nearest known one, anything else as ParseErrorMessage says it.
+    const std::string unknown =
+        UnknownWordMessage(app, std::vector<std::string>(argv + 1, argv + argc));
+    std::cerr << "vibid: error: " << (unknown.empty() ? message : unknown) << "\n";
+    return kExitUsage;
   } catch (const vibid::FlaggedError& e) {
     std::cerr << "vibid: error: " << e.what() << "\n";
     return kExitFlagged;

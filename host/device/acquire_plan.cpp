@@ -8,7 +8,9 @@
 #include "vibid/common/option_text.hpp"
 #include "vibid/common/error.hpp"
 #include "vibid/device/log_table.hpp"
+#include "vibid/device/refusal_text.hpp"
 #include "vibid/shared/fixed/decimator.hpp"
+#include "vibid/shared/fixed/filter_description.hpp"
 #include "vibid/shared/wire/byte_order.hpp"
 
 namespace vibid::device {
@@ -178,6 +180,21 @@ void ApplyCalibration(const wire::CalibrationRecord& rec, bool has_record, bool 
     cfg.flags = wire::kAcqFlagLogDob;
     if ((rec.flags & wire::kCalFlagHasWatch) != 0)
       cfg.flags = static_cast<std::uint8_t>(cfg.flags | wire::kAcqFlagLogWatch);
+    // The board's own rule, checked here first: the observer runs only at the rate it was
+    // discretized for. Refused before the link budget, whose advice (a log rate) would
+    // otherwise lead straight into the board's refusal of the sample rate.
+    fixed::FilterDescription observer;
+    static_cast<void>(
+        fixed::DecodeDescription(std::span<const std::uint8_t, fixed::kDescriptionBytes>(
+                                     rec.dob.data(), fixed::kDescriptionBytes),
+                                 observer));
+    if (observer.sample_rate_hz != 0 &&
+        static_cast<std::uint64_t>(cfg.sample_period_us) * observer.sample_rate_hz != 1000000u) {
+      throw InputError(
+          "--rate-hz " + OptionNumber(1e6 / cfg.sample_period_us) + ": " +
+          ReasonText(Status::kInvalidArgument,
+                     wire::Refusal{wire::Reason::kObserverRate, observer.sample_rate_hz}));
+    }
   }
   if (trig.mode == wire::TriggerMode::kImmediate) return;
   const wire::ChannelScaling& s = rec.channels[static_cast<std::size_t>(trig.channel)];

@@ -88,6 +88,34 @@ std::optional<ObserverPlacement> ObserverPlacementOf(const wire::CalibrationReco
   return std::nullopt;
 }
 
+std::optional<ObserverPlacement> ObserverPlacementOf(const SensorSet& sensors) {
+  const std::optional<SensorScaling>& load_cell =
+      sensors[static_cast<std::size_t>(wire::Channel::kForce1)];
+  if (!load_cell || load_cell->dof < 0) return std::nullopt;
+  for (const wire::Unit unit : {wire::Unit::kMeter, wire::Unit::kMeterPerSecond2}) {
+    for (const std::optional<SensorScaling>& s : sensors) {
+      if (s && s->unit == unit && s->dof == load_cell->dof) {
+        return ObserverPlacement{.dof = load_cell->dof + 1,
+                                 .sensor = unit == wire::Unit::kMeter ? "disp" : "acc",
+                                 .sensor_fs = s->full_scale};
+      }
+    }
+  }
+  return std::nullopt;
+}
+
+std::string PlaceObserver(const SensorSet& sensors, int& input_dof, bool input_given,
+                          int& output_dof, bool output_given, std::string& sensor,
+                          bool sensor_given) {
+  const std::optional<ObserverPlacement> p = ObserverPlacementOf(sensors);
+  if (!p) return {};
+  if (!input_given) input_dof = p->dof;
+  if (!output_given) output_dof = p->dof;
+  if (!sensor_given) sensor = p->sensor;
+  if (input_given && output_given) return {};
+  return "observer on mass " + std::to_string(input_given ? output_dof : input_dof) + " (force1's)";
+}
+
 std::string RecordLabel(const UploadFiles& files) {
   std::string label = files.label;
   if (label.empty()) {

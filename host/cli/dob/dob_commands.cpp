@@ -39,6 +39,9 @@ struct DesignArgs {
   bool force_given = false;
   bool sensor_given = false;
   bool accept_flagged = false;
+  bool input_dof_given = false;
+  bool output_dof_given = false;
+  bool sensor_kind_given = false;
   workflow::ObserverDesignRequest request;
 };
 
@@ -53,11 +56,17 @@ void Run(const DesignArgs& a) {
   workflow::ObserverDesignRequest request = a.request;
   // The full scales are the sensors' when a sensors file is given: the ones `cal upload` takes.
   if (!a.sensors.empty()) {
+    const device::SensorSet sensors = device::SensorsFromJson(ReadJsonFile(a.sensors), a.sensors);
+    // The observer's mass is the load cell's, as `cal upload` with these sensors requires, on a
+    // chain of any length; options given keep their word (cal upload then judges them).
+    const std::string placed =
+        device::PlaceObserver(sensors, request.input_dof, a.input_dof_given, request.output_dof,
+                              a.output_dof_given, request.sensor, a.sensor_kind_given);
     const std::string took = device::TakeSensorFullScales(
-        device::SensorsFromJson(ReadJsonFile(a.sensors), a.sensors), request.input_dof,
-        request.output_dof, request.sensor, request.force_fs_n, a.force_given, request.sensor_fs,
-        a.sensor_given);
-    if (!took.empty()) std::cerr << "vibid: " << took << " (" << a.sensors << ")\n";
+        sensors, request.input_dof, request.output_dof, request.sensor, request.force_fs_n,
+        a.force_given, request.sensor_fs, a.sensor_given);
+    const std::string said = placed + (placed.empty() || took.empty() ? "" : ", ") + took;
+    if (!said.empty()) std::cerr << "vibid: " << said << " (" << a.sensors << ")\n";
   }
   const dob::DobDesign design = workflow::DesignObserverFor(model.model, request);
   // Said of a design made, never above a refusal.
@@ -230,14 +239,17 @@ void RegisterDobDesignCommand(CLI::App& dob) {
       ->check(PositiveNumber())
       ->capture_default_str();
   cmd->add_option("--input-dof", a->request.input_dof,
-                  "Mass the force (and the disturbance) acts on, from 1")
-      ->capture_default_str();
+                  "Mass the force (and the disturbance) acts on, from 1 (default: load cell "
+                  "force1's mass in --sensors, else 2)")
+      ->each([given = &a->input_dof_given](const std::string&) { *given = true; });
   cmd->add_option("--output-dof", a->request.output_dof,
-                  "Mass whose sensor feeds the SISO form, from 1")
-      ->capture_default_str();
-  cmd->add_option("--sensor", a->request.sensor, "Sensor: disp, vel or acc")
+                  "Mass whose sensor feeds the SISO form, from 1 (default: as --input-dof)")
+      ->each([given = &a->output_dof_given](const std::string&) { *given = true; });
+  cmd->add_option("--sensor", a->request.sensor,
+                  "Sensor: disp, vel or acc (default: the encoder on that mass in --sensors, "
+                  "else its accelerometer; without --sensors disp)")
       ->check(CLI::IsMember({"disp", "vel", "acc"}))
-      ->capture_default_str();
+      ->each([given = &a->sensor_kind_given](const std::string&) { *given = true; });
   cmd->add_option("--form", a->request.form,
                   "siso: Q G_A^-1 y - Q u; mimo: Q[M x'' + C x' + K x - F]")
       ->check(CLI::IsMember({"siso", "mimo"}))

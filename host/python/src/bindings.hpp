@@ -23,7 +23,9 @@ void RegisterWatch(py::module_& m);
 /// A JSON document as Python objects (dict, list, float...), through Python's json module: the
 /// same objects `vibid ... --json` prints.
 py::object ToPython(const nlohmann::json& j);
-/// A Python dict (or list...) as JSON, through Python's json module (NaN refused).
-nlohmann::json FromPython(const py::handle& object);
+/// A Python dict (or list...) as JSON, through Python's json module. A NaN or infinity is refused
+/// (InputError, so ValueError) naming its field as the library names a file's fields, from
+/// `source` on (`model: field "masses"[2] = nan must be finite ...`, entries counted from 1).
+nlohmann::json FromPython(const py::handle& object, const std::string& source);
 
 }  // namespace vibid::python

@@ -340,7 +340,7 @@ class Board {
                      const std::string& label) {
     device::RecordInputs in;
     in.model = m;
-    in.observer = dob::ObserverFromJson(FromPython(design), "design").description;
+    in.observer = dob::ObserverFromJson(FromPython(design, "design"), "design").description;
     in.label = label;
     in.created_unix_s = std::chrono::duration_cast<std::chrono::seconds>(
                             std::chrono::system_clock::now().time_since_epoch())
@@ -350,7 +350,8 @@ class Board {
     in.host_major = static_cast<std::uint8_t>(major);
     in.host_minor = static_cast<std::uint8_t>(minor);
     in.host_patch = static_cast<std::uint16_t>(patch);
-    if (!sensors.is_none()) in.sensors = device::SensorsFromJson(FromPython(sensors), "sensors");
+    if (!sensors.is_none())
+      in.sensors = device::SensorsFromJson(FromPython(sensors, "sensors"), "sensors");
     std::array<std::uint8_t, wire::kCalRecordBytes> bytes{};
     {
       py::gil_scoped_release release;

@@ -44,7 +44,7 @@ std::vector<Eigen::VectorXd> Inputs(const std::vector<Vector>& inputs) {
 }
 
 py::tuple RunFixed(const py::handle& design, const std::vector<Vector>& inputs) {
-  const dob::ObserverFile f = dob::ObserverFromJson(FromPython(design), "design");
+  const dob::ObserverFile f = dob::ObserverFromJson(FromPython(design, "design"), "design");
   std::vector<Eigen::VectorXd> in = Inputs(inputs);
   dob::FixedRun run;
   {
@@ -57,7 +57,7 @@ py::tuple RunFixed(const py::handle& design, const std::vector<Vector>& inputs) 
 }
 
 Eigen::VectorXd RunFloat(const py::handle& design, const std::vector<Vector>& inputs) {
-  const dob::ObserverFile f = dob::ObserverFromJson(FromPython(design), "design");
+  const dob::ObserverFile f = dob::ObserverFromJson(FromPython(design, "design"), "design");
   std::vector<Eigen::VectorXd> in = Inputs(inputs);
   py::gil_scoped_release release;
   return dob::RunFloat(f.paths, in);
@@ -99,18 +99,23 @@ void RegisterObserver(py::module_& m) {
       .def_readwrite("sensor_fs", &O::sensor_fs)
       .def_readwrite("output_fs_n", &O::output_fs_n);
   m.def("dob_design", &Design, py::arg("model"), py::arg("request"));
-  // The full scales a sensors file gives the observer (`vibid dob design --sensors`).
+  // The observer's place and full scales a sensors file gives (`vibid dob design --sensors`).
   m.def(
       "take_sensor_full_scales",
       [](O& request, const py::handle& sensors, const std::string& source, bool force_given,
-         bool sensor_given) {
-        return device::TakeSensorFullScales(device::SensorsFromJson(FromPython(sensors), source),
-                                            request.input_dof, request.output_dof, request.sensor,
-                                            request.force_fs_n, force_given, request.sensor_fs,
-                                            sensor_given);
+         bool sensor_given, bool input_dof_given, bool output_dof_given, bool sensor_kind_given) {
+        const device::SensorSet set = device::SensorsFromJson(FromPython(sensors, source), source);
+        const std::string placed =
+            device::PlaceObserver(set, request.input_dof, input_dof_given, request.output_dof,
+                                  output_dof_given, request.sensor, sensor_kind_given);
+        const std::string took = device::TakeSensorFullScales(
+            set, request.input_dof, request.output_dof, request.sensor, request.force_fs_n,
+            force_given, request.sensor_fs, sensor_given);
+        return placed + (placed.empty() || took.empty() ? "" : ", ") + took;
       },
       py::arg("request"), py::arg("sensors"), py::arg("source"), py::arg("force_given"),
-      py::arg("sensor_given"));
+      py::arg("sensor_given"), py::arg("input_dof_given"), py::arg("output_dof_given"),
+      py::arg("sensor_kind_given"));
   m.def("dob_run_fixed", &RunFixed, py::arg("design"), py::arg("inputs"));
   m.def("dob_run_float", &RunFloat, py::arg("design"), py::arg("inputs"));
   m.def(

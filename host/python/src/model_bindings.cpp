@@ -189,7 +189,7 @@ void RegisterModel(py::module_& m) {
   m.def(
       "model_from_dict",
       [](const py::handle& d, const std::string& source) {
-        return model::ModelFromJson(FromPython(d), source);
+        return model::ModelFromJson(FromPython(d, source), source);
       },
       py::arg("d"), py::arg("source") = "model");
   m.def("modal", &ModalDict, py::arg("model"));

@@ -2,7 +2,9 @@
 // in small classes.
 #include <pybind11/pybind11.h>
 
+#include <cmath>
 #include <nlohmann/json.hpp>
+#include <string>
 
 #include "bindings.hpp"
 #include "vibid/common/error.hpp"
@@ -15,7 +17,46 @@ py::object ToPython(const nlohmann::json& j) {
   return py::module_::import("json").attr("loads")(j.dump());
 }
 
-nlohmann::json FromPython(const py::handle& object) {
+namespace {
+
+// The first number JSON cannot hold (NaN, +-inf) among dicts and lists, named from `path` on as
+// the library names a model file's fields (list entries from 1); "" when every number is finite.
+// json.dumps' own refusal names no field.
+std::string NonFinite(const py::handle& object, const std::string& path) {
+  if (py::isinstance<py::float_>(object)) {
+    const double x = object.cast<double>();
+    if (std::isfinite(x)) return "";
+    return (path.empty() ? std::string("value") : path) + " = " +
+           (std::isnan(x) ? "nan"
+            : x > 0.0     ? "inf"
+                          : "-inf");
+  }
+  if (py::isinstance<py::dict>(object)) {
+    for (const auto& item : object.cast<py::dict>()) {
+      const std::string key = py::str(item.first).cast<std::string>();
+      const std::string found = NonFinite(
+          item.second, path.empty() ? "field \"" + key + "\"" : path + "[\"" + key + "\"]");
+      if (!found.empty()) return found;
+    }
+    return "";
+  }
+  if (py::isinstance<py::list>(object) || py::isinstance<py::tuple>(object)) {
+    std::size_t i = 0;
+    for (const auto& entry : object) {
+      const std::string found = NonFinite(entry, path + "[" + std::to_string(++i) + "]");
+      if (!found.empty()) return found;
+    }
+  }
+  return "";
+}
+
+}  // namespace
+
+nlohmann::json FromPython(const py::handle& object, const std::string& source) {
+  const std::string non_finite = NonFinite(object, "");
+  if (!non_finite.empty()) {
+    throw InputError(source + ": " + non_finite + " must be a finite number");
+  }
   const std::string text = py::module_::import("json")
                                .attr("dumps")(object, py::arg("allow_nan") = false)
                                .cast<std::string>();
@@ -59,6 +100,7 @@ void RegisterErrors(py::module_& m) {
 
 PYBIND11_MODULE(_vibid, m) {
   m.doc() = "vibid: identification of mass-spring rigs and the board's disturbance observer";
+  m.attr("__version__") = VIBID_VERSION;  // the build's version, as `vibid --version` prints
   vibid::python::RegisterErrors(m);
   vibid::python::RegisterModel(m);
   vibid::python::RegisterBoard(m);

@@ -72,13 +72,61 @@ def test_a_missing_file_is_file_not_found(tmp_path):
 
 
 def test_a_model_with_a_nan_is_a_value_error_naming_it():
-    with pytest.raises(ValueError, match=r"masses_kg\[1\] is nan: every value must be a finite "
-                                         r"number"):
-        vibid.Model.chain([2.0, math.nan], [4000.0, 3000.0])
-    with pytest.raises(ValueError, match=r"springs_n_per_m\[0\] is inf"):
-        vibid.Model.chain([2.0], [math.inf])
-    with pytest.raises(TypeError, match=r"masses_kg\[0\]: expected a number, got str"):
-        vibid.Model.chain(["2"], [4000.0])
+    # Every message counts masses, springs and dampers from 1, as a model file's do: a NaN, a
+    # mass <= 0 and a value that is not a number name the same mass the same way.
+    def refusal(kind, call):
+        with pytest.raises(kind) as e:
+            call()
+        return str(e.value)
+    assert refusal(ValueError, lambda: vibid.Model.chain([2.0, math.nan], [4000.0, 3000.0])) == \
+        'Model.chain: field "masses"[2] = nan must be a finite number'
+    assert refusal(ValueError, lambda: vibid.Model.chain([2.0, -1.0], [4000.0, 3000.0])) == \
+        "Model.chain: masses[2] = -1 must be finite and > 0"
+    assert refusal(TypeError, lambda: vibid.Model.chain([2.0, "2"], [4000.0, 3000.0])) == \
+        "masses_kg: mass 2: expected a number, got str '2'"
+    assert refusal(ValueError, lambda: vibid.Model.chain([2.0], [math.inf])) == \
+        'Model.chain: field "springs"[1] = inf must be a finite number'
+    assert refusal(ValueError, lambda: vibid.Model.chain([2.0, 1.0], [1.0, 2.0], [0.0, -0.5])) \
+        == "Model.chain: dampers[2] = -0.5 must be finite and >= 0"
+
+
+def test_a_model_dict_with_a_nan_names_the_field():
+    # json.dumps' own "Out of range float values are not JSON compliant" names no field.
+    chain = {"topology": "chain", "masses": [2.0, 1.0], "springs": [4000.0, -math.inf]}
+    with pytest.raises(ValueError) as e:
+        vibid.Model.from_dict(chain, "rig.json")
+    assert str(e.value) == 'rig.json: field "springs"[2] = -inf must be a finite number'
+    matrices = {"M": [[2.0, 0.0], [0.0, 1.0]], "K": [[7000.0, -3000.0], [-3000.0, math.nan]]}
+    with pytest.raises(ValueError) as e:
+        vibid.Model.from_dict(matrices)
+    assert str(e.value) == 'model: field "K"[2][2] = nan must be a finite number'
+    # numpy's scalars are floats too
+    with pytest.raises(ValueError, match=r'field "masses"\[1\] = nan'):
+        vibid.Model.from_dict({"topology": "chain", "masses": [np.float64("nan")],
+                               "springs": [1.0]})
+
+
+def test_identify_names_an_argument_of_the_wrong_type():
+    nominal = vibid.load_model(NOMINAL)
+    with pytest.raises(TypeError) as e:
+        vibid.identify(nominal, [], [])
+    assert str(e.value) == ("mass_tests: expected a dict {position: recording} (positions from "
+                            "1, e.g. {1: 'mass1.csv'}), got list []")
+    with pytest.raises(TypeError, match=r"^mass_springs: expected a dict \{position: N/m or "
+                                        r"'fit'\}, got list"):
+        vibid.identify(nominal, {}, [], mass_springs=[4000.0])
+    with pytest.raises(TypeError, match=r"^modal_tests: expected a recording's path or a list "
+                                        r"of them, got int"):
+        vibid.identify(nominal, {}, 3)
+
+
+def test_the_version_is_the_build_s():
+    # The CLI's own --version, from the same CMake project version.
+    from conftest import run_cli
+    r = run_cli("--version")
+    assert r.returncode == 0, r.stderr
+    assert r.stdout.strip() == f"vibid {vibid.__version__}"
+    assert vibid.__version__.count(".") == 2
 
 
 def test_the_model_constructor_takes_the_matrices_as_documented():

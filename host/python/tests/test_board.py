@@ -4,7 +4,6 @@ Python Board holds is named in use by this process."""
 import json
 import os
 import signal
-import threading
 
 import numpy as np
 import pytest
@@ -87,18 +86,20 @@ def test_ctrl_c_stops_the_board_and_it_stays_usable(make_emulator):
     emulator = make_emulator(realtime=True)
     with vibid.Board(emulator.url) as board:
         # SIGINT to this very process once the board samples (the emulator says so), in the
-        # middle of a 20 s acquisition.
-        def interrupt():
-            if emulator.await_log("vibid-emu: sampling started"):
-                os.kill(os.getpid(), signal.SIGINT)
-        watcher = threading.Thread(target=interrupt)
-        watcher.start()
-        with pytest.raises(KeyboardInterrupt) as e:
-            board.acquire(seconds=20, rate_hz=1000, channels=["force1"], no_dob=True)
-        watcher.join()
-        kept = e.value.recording
-        # Stopped early: what the board sampled, far fewer than 20 s worth, none dropped.
-        assert 0 < kept.samples < 20 * 1000
+        # middle of a 60 s acquisition. A wait for "sampling started" that gives up fails the
+        # test saying so (check()), not as an acquisition that was never interrupted.
+        watcher = emulator.when_logged("vibid-emu: sampling started",
+                                       lambda: os.kill(os.getpid(), signal.SIGINT))
+        interrupted = None
+        try:
+            board.acquire(seconds=60, rate_hz=1000, channels=["force1"], no_dob=True)
+        except KeyboardInterrupt as e:
+            interrupted = e
+        watcher.check()
+        assert interrupted is not None, "the acquisition ran its 60 s: Ctrl-C did not stop it"
+        kept = interrupted.recording
+        # Stopped early: what the board sampled, far fewer than 60 s worth, none dropped.
+        assert 0 < kept.samples < 60 * 1000
         np.testing.assert_array_equal(np.diff(kept.sample_index.astype(np.int64)), 1)
         assert board.state() in ("idle", "done")
         again = board.acquire(seconds=0.2, rate_hz=1000, channels=["force1"], no_dob=True)

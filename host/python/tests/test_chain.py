@@ -49,6 +49,9 @@ def test_three_mass_chain_calibrated_with_its_observer(make_emulator):
     del sensors["channels"]["x2"]["dof"]  # on no mass of this rig
     nominal = vibid.load_model(ROOT / "examples" / "chain3_nominal.json")
     design = vibid.dob_design(nominal, fs_hz=5000, input_dof=3, output_dof=3, sensors=sensors)
+    # The sensors alone place it there, as `cal upload` with them accepts it (load cell force1's
+    # mass, fed by its encoder x1): the same design, bit for bit.
+    assert vibid.dob_design(nominal, fs_hz=5000, sensors=sensors).json == design.json
     emulator = make_emulator(seed=4, rig=RIG)
     with vibid.Board(emulator.url) as board:
         staged = board.cal_upload(nominal, design, sensors, label="chain3")

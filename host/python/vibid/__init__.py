@@ -17,7 +17,7 @@ The package's modules by topic (the names below are the public ones, each import
 """
 from __future__ import annotations
 
-from ._vibid import DeviceError, FlaggedResultError, NumericalError
+from ._vibid import DeviceError, FlaggedResultError, NumericalError, __version__
 from .board import Board, list_devices
 from .estimation import FrfEstimate, Hit, default_segment, frf_estimate, frf_estimate_arrays
 from .identification import Decay, Identification, decay, identify

@@ -3,7 +3,6 @@ module takes, TypeError naming the argument for a wrong type; ranges are the lib
 from __future__ import annotations
 
 import errno
-import math
 import numbers
 import os
 from typing import Iterable
@@ -74,13 +73,13 @@ def _reals(name: str, v) -> list:
     return [_real(f"{name}[{i}]", x) for i, x in enumerate(v)]
 
 
-def _finite(name: str, values) -> list:
-    """Numbers for a model file: every one finite (a JSON model cannot hold NaN or inf)."""
-    out = _reals(name, values)
-    for i, x in enumerate(out):
-        if not math.isfinite(x):
-            raise ValueError(f"{name}[{i}] is {x}: every value must be a finite number")
-    return out
+def _counted(name: str, v, what: str) -> list:
+    """Numbers of a chain's elements (masses, springs...), each named as the library names it,
+    counted from 1 ("masses_kg: mass 2: expected a number, got str '1'"); their values are the
+    library's to check."""
+    if isinstance(v, (str, bytes)) or not isinstance(v, Iterable):
+        raise TypeError(f"{name}: expected a sequence of numbers, got {_kind(v)} {v!r}")
+    return [_real(f"{name}: {what} {i}", x) for i, x in enumerate(v, start=1)]
 
 
 def _input_path(name: str, p) -> str:

@@ -31,6 +31,10 @@ def _settings(seconds, rate_hz, log_rate_hz, decimation, channels, trigger, trig
     s.log_rate_hz = _real("log_rate_hz", log_rate_hz)
     s.decimation = _integer("decimation", decimation)
     s.channels = _names("channels", channels)
+    if channels is not None and not s.channels:
+        # The library reads an empty list as "every channel": only None means that here.
+        raise ValueError("channels: an empty list names no channel; name them "
+                         "(channels=['force1', 'acc1']) or pass None for every channel")
     s.trigger = _text("trigger", trigger)
     s.trigger_timeout_s = _real("trigger_timeout_s", trigger_timeout_s)
     s.pretrigger_s = _real("pretrigger_s", pretrigger_s)

@@ -4,13 +4,13 @@ from __future__ import annotations
 
 import dataclasses
 import os
-from typing import Optional, Sequence, Union
+from typing import Mapping, Optional, Sequence, Union
 
 import numpy as np
 
 from . import _vibid
 from ._vibid import FlaggedResultError
-from ._checks import _input_path, _repr
+from ._checks import _input_path, _kind, _repr
 from .model import Model, _model
 
 @dataclasses.dataclass(repr=False)
@@ -47,6 +47,15 @@ def identify(nominal: Model, mass_tests: dict, modal_tests: Sequence[str],
     model, unless ``accept_flagged=True``: then it is returned, its model carrying the verdict.
     A caution is returned with its reasons."""
     nominal = _model("nominal", nominal)
+    if not isinstance(mass_tests, Mapping):
+        raise TypeError(f"mass_tests: expected a dict {{position: recording}} (positions from "
+                        f"1, e.g. {{1: 'mass1.csv'}}), got {_kind(mass_tests)} {mass_tests!r}")
+    if mass_springs is not None and not isinstance(mass_springs, Mapping):
+        raise TypeError(f"mass_springs: expected a dict {{position: N/m or 'fit'}}, got "
+                        f"{_kind(mass_springs)} {mass_springs!r}")
+    if not isinstance(modal_tests, (str, os.PathLike, Sequence)):
+        raise TypeError(f"modal_tests: expected a recording's path or a list of them, got "
+                        f"{_kind(modal_tests)}")
     r = _vibid._IdentifyRequest()
     for pos, path in mass_tests.items():
         r.add_mass_test(f"{pos}={_input_path(f'mass_tests[{pos}]', path)}")

@@ -9,7 +9,7 @@ from typing import Iterable, Optional, Sequence
 import numpy as np
 
 from . import _vibid
-from ._checks import _finite, _input_path, _kind, _repr
+from ._checks import _counted, _input_path, _kind, _repr
 
 class Model:
     """A lumped-parameter rig M x'' + C x' + K x = F: ``Model(m_kg, k_n_per_m, c_ns_per_m)``
@@ -46,7 +46,9 @@ class Model:
 
     @classmethod
     def from_dict(cls, d: dict, source: str = "model") -> "Model":
-        """From a model file's JSON object (chain, cart or M/K/C matrices), with its verdict."""
+        """From a model file's JSON object (chain, cart or M/K/C matrices), with its verdict; a
+        field that is not a finite number is named (ValueError), as in a model file, with
+        ``source`` before it."""
         return cls._wrap(_vibid.model_from_dict(d, source), _vibid.model_verdict(d, source))
 
     @property
@@ -59,12 +61,13 @@ class Model:
 
     @classmethod
     def chain(cls, masses_kg, springs_n_per_m, dampers_ns_per_m=None) -> "Model":
-        """Series chain ground -k1- m1 -k2- m2 ..., dashpots in parallel with the springs."""
-        d = {"topology": "chain", "masses": _finite("masses_kg", masses_kg),
-             "springs": _finite("springs_n_per_m", springs_n_per_m)}
+        """Series chain ground -k1- m1 -k2- m2 ..., dashpots in parallel with the springs. Every
+        message counts masses, springs and dampers from 1, as the model file's do."""
+        d = {"topology": "chain", "masses": _counted("masses_kg", masses_kg, "mass"),
+             "springs": _counted("springs_n_per_m", springs_n_per_m, "spring")}
         if dampers_ns_per_m is not None:
-            d["dampers"] = _finite("dampers_ns_per_m", dampers_ns_per_m)
-        return cls.from_dict(d)
+            d["dampers"] = _counted("dampers_ns_per_m", dampers_ns_per_m, "damper")
+        return cls.from_dict(d, "Model.chain")
 
     m_kg = property(lambda self: self._m.m_kg, doc="Mass matrix, kg.")
     c_ns_per_m = property(lambda self: self._m.c_ns_per_m, doc="Damping matrix, N*s/m.")

@@ -43,8 +43,8 @@ _DESIGN = _vibid._ObserverDesignRequest()  # the library's defaults, those of `v
 
 def dob_design(model: Model, order: int = _DESIGN.order,
                relative_degree: int = _DESIGN.relative_degree, tau_s: float = _DESIGN.tau_s,
-               fs_hz: float = _DESIGN.fs_hz, input_dof: int = _DESIGN.input_dof,
-               output_dof: int = _DESIGN.output_dof, sensor: str = _DESIGN.sensor,
+               fs_hz: float = _DESIGN.fs_hz, input_dof: Optional[int] = None,
+               output_dof: Optional[int] = None, sensor: Optional[str] = None,
                form: str = _DESIGN.form, discretize: str = _DESIGN.discretize,
                prototype: str = _DESIGN.prototype, leak_hz: float = _DESIGN.leak_hz,
                force_fs_n: Optional[float] = None, sensor_fs: Optional[float] = None,
@@ -54,9 +54,12 @@ def dob_design(model: Model, order: int = _DESIGN.order,
     same defaults): Q of order N and relative degree r with cut-off 1/tau_s rad/s, at fs_hz; the
     force acts on mass input_dof, the sensor on output_dof (from 1); full scales in N (force,
     output) and the sensor's unit. ``sensors`` (a sensors file's path or its JSON object, as
-    ``cal_upload`` takes) gives the force and sensor full scales, as the board will scale those
-    channels (a value given that differs is refused); without it force_fs_n defaults to the
-    CLI's (100 N) and sensor_fs to the sensor kind's (0.05 m, 1 m/s or 50 m/s^2). A model whose
+    ``cal_upload`` takes) places the observer where ``cal_upload`` with them accepts it, on a
+    chain of any length (input_dof and output_dof: load cell force1's mass; sensor: that mass's
+    encoder, else its accelerometer; each unless given) and gives the force and sensor full
+    scales, as the board will scale those channels (a value given that differs is refused);
+    without it input_dof and output_dof default to 2, sensor to disp, force_fs_n to the CLI's
+    (100 N) and sensor_fs to the sensor kind's (0.05 m, 1 m/s or 50 m/s^2). A model whose
     verdict is flagged raises vibid.FlaggedResultError unless ``accept_flagged=True``."""
     import json
     model = _model("model", model)
@@ -66,9 +69,13 @@ def dob_design(model: Model, order: int = _DESIGN.order,
     r.order, r.relative_degree = _integer("order", order), _integer("relative_degree",
                                                                     relative_degree)
     r.tau_s, r.fs_hz = _real("tau_s", tau_s), _real("fs_hz", fs_hz)
-    r.input_dof, r.output_dof = _integer("input_dof", input_dof), _integer("output_dof",
-                                                                           output_dof)
-    r.sensor, r.form = _text("sensor", sensor), _text("form", form)
+    if input_dof is not None:
+        r.input_dof = _integer("input_dof", input_dof)
+    if output_dof is not None:
+        r.output_dof = _integer("output_dof", output_dof)
+    if sensor is not None:
+        r.sensor = _text("sensor", sensor)
+    r.form = _text("form", form)
     r.discretize, r.prototype = _text("discretize", discretize), _text("prototype", prototype)
     r.leak_hz = _real("leak_hz", leak_hz)
     if force_fs_n is not None:
@@ -83,7 +90,8 @@ def dob_design(model: Model, order: int = _DESIGN.order,
             with open(source) as f:
                 sensors = json.load(f)
         _vibid.take_sensor_full_scales(r, sensors, source, force_fs_n is not None,
-                                       sensor_fs is not None)
+                                       sensor_fs is not None, input_dof is not None,
+                                       output_dof is not None, sensor is not None)
     j, radius, lo, hi, noise, snr = _vibid.dob_design(model._m, r)
     return ObserverDesign(json=j, max_pole_radius=radius, valid_band_hz=(lo, hi),
                           predicted_noise_rms_n=noise, predicted_snr_db=snr)

@@ -62,7 +62,8 @@ wire::CalibrationRecord DecodeBoardRecord(std::span<const std::uint8_t> bytes);
 /// What the board's state adds to `cfg`: the observer output when the observer runs (`dob_running`,
 /// from get-status) unless `no_dob`, the trigger threshold in ADC units (and the load cell's full
 /// scale in `trig`). DeviceError when a trigger needs a calibrated load cell the board does not
-/// have.
+/// have; InputError (the board's words for it) when the observer's output is logged at a sample
+/// rate other than the one the observer was designed for, before Preflight's link budget.
 void ApplyCalibration(const wire::CalibrationRecord& record, bool has_record, bool dob_running,
                       bool no_dob, Trigger& trig, wire::AcqConfigureRequest& cfg);
 

@@ -87,6 +87,17 @@ struct ObserverPlacement {
 };
 /// None when the record puts load cell 1 on no mass or no calibrated response channel on it.
 std::optional<ObserverPlacement> ObserverPlacementOf(const wire::CalibrationRecord& record);
+/// The same from a sensors file, before it is uploaded: where `cal upload` with these sensors
+/// will accept the observer (on a chain of any length, not only mass 2).
+std::optional<ObserverPlacement> ObserverPlacementOf(const SensorSet& sensors);
+
+/// `dob design --sensors`' placement, for every front end: the observer's masses and sensor kind
+/// from the sensors (ObserverPlacementOf), each unless the caller gave it (`*_given`: kept, for
+/// `cal upload` to judge). Returns "observer on mass N (force1's)" when a mass was taken, ""
+/// otherwise (nothing to take, or both given).
+std::string PlaceObserver(const SensorSet& sensors, int& input_dof, bool input_given,
+                          int& output_dof, bool output_given, std::string& sensor,
+                          bool sensor_given);
 
 /// The record as `cal show --json` prints it, without the slot, sequence and CRC the board adds:
 /// label, created_unix_s, host_version, M, C, K (dof x dof), channels (calibrated ones: unit,
