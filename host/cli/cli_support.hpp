@@ -47,6 +47,17 @@ class StoppedByInterrupt : public std::exception {
   const char* what() const noexcept override { return "stopped by Ctrl-C"; }
 };
 
+/// The command wrote its result with cautions it printed beside it (friction named, estimates
+/// that disagree, residual tests that fail): main exits with kExitCaution after printing the
+/// summary, so that a script never takes such a result for a clean one.
+class ResultCaution : public std::runtime_error {
+ public:
+  using std::runtime_error::runtime_error;
+};
+
+/// Throws ResultCaution naming `what` and the count when `cautions` is not empty.
+void ExitOnCautions(const std::vector<std::string>& cautions, const std::string& what);
+
 /// For a command line CLI11 refused: the first command or option it does not know, named with
 /// the nearest known one ("unknown option '--second' for 'vibid acquire' (did you mean
 /// '--seconds'?)"), or "" when every word is known (CLI11's own message says then what is wrong).

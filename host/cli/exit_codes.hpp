@@ -11,6 +11,8 @@ enum ExitCode : int {
       3,  ///< The input was fine but the computation failed (no convergence, unstable filter).
   kExitDevice = 4,    ///< No device, a transfer failed, or the device refused a request.
   kExitInternal = 5,  ///< A defect: an unexpected exception.
+  /// The result was written with cautions (printed with it): usable only knowing what they say.
+  kExitCaution = 6,
   /// Stopped by Ctrl-C (128 + SIGINT, as the shell reports a process SIGINT ended); an
   /// acquisition stopped so keeps what it recorded and says where.
   kExitInterrupted = 130,

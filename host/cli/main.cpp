@@ -63,6 +63,9 @@ int main(int argc, char** argv) {
   } catch (const NumericalError& e) {
     std::cerr << "vibid: error: " << e.what() << "\n";
     return kExitNumerical;
+  } catch (const ResultCaution& e) {
+    std::cerr << "vibid: caution: " << e.what() << "\n";
+    return kExitCaution;
   } catch (const StoppedByInterrupt&) {
     return kExitInterrupted;  // the command said what it kept
   } catch (const vibid::device::Interrupted& e) {
