@@ -711,6 +711,12 @@ class Decay:
     base_mass_kg: Optional[float]
     json: dict
 
+    @property
+    def cautions(self) -> list:
+        """Friction named, the fit's and the log decrement's damping disagreeing (the CLI's
+        CAUTION lines, which exit 6 there); empty for a decay that reads as viscous."""
+        return self.json["cautions"]
+
     def __repr__(self) -> str:
         return _repr("Decay", omega_n_rad_s=self.omega_n_rad_s, zeta=self.zeta,
                      records=len(self.records), k_n_per_m=self.k_n_per_m,
@@ -751,6 +757,12 @@ class SysidModel:
     @property
     def fit_percent(self) -> float:
         return self.json["fit_percent"]
+
+    @property
+    def cautions(self) -> list:
+        """The residual tests the model fails, in words (the CLI's CAUTION lines); empty when
+        its own tests pass."""
+        return self.json.get("cautions", [])
 
     def save(self, path: str) -> None:
         import json
