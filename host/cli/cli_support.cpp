@@ -18,6 +18,12 @@ void EmitOutput(const std::string& content, const std::string& path) {
   }
 }
 
+void SayCautions(const std::vector<std::string>& cautions, const std::string& what) {
+  if (cautions.empty()) return;
+  std::cerr << "vibid: caution: " << what << " written with " << cautions.size()
+            << " caution(s) (the CAUTION lines): read them before using it\n";
+}
+
 ClaimedOutput::ClaimedOutput(const std::string& path) {
   if (!path.empty() && path != "-") file_ = std::make_unique<AtomicOutputFile>(path);
 }

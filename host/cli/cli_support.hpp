@@ -47,6 +47,12 @@ class StoppedByInterrupt : public std::exception {
   const char* what() const noexcept override { return "stopped by Ctrl-C"; }
 };
 
+/// The command wrote its result with cautions it printed beside it (friction named, estimates
+/// that disagree, residual tests that fail): one `vibid: caution:` line on stderr names `what`
+/// and their count. A caution is no refusal, so the command still exits 0, as an
+/// identification whose verdict is a caution does (common/verdict.hpp).
+void SayCautions(const std::vector<std::string>& cautions, const std::string& what);
+
 /// For a command line CLI11 refused: the first command or option it does not know, named with
 /// the nearest known one ("unknown option '--second' for 'vibid acquire' (did you mean
 /// '--seconds'?)"), or "" when every word is known (CLI11's own message says then what is wrong).

@@ -48,6 +48,24 @@ DecaySet AnalyzeAll(const std::vector<std::string>& paths, const DecayRequest& r
   return s;
 }
 
+nlohmann::json FrictionJson(const ident::DecayFriction& f) {
+  if (!f.checked) return {{"checked", false}, {"note", f.note}};
+  const auto number = [](double v) {
+    return std::isfinite(v) ? nlohmann::json(v) : nlohmann::json();
+  };
+  return {{"checked", true},
+          {"detected", f.detected},
+          {"half_cycles", f.half_cycles},
+          {"zeta_first", f.zeta_first},
+          {"zeta_last", f.zeta_last},
+          {"zeta_viscous", number(f.zeta_viscous)},
+          {"drop_per_half_cycle", f.drop_per_half_cycle},
+          {"drop_ci95", f.drop_ci95},
+          {"friction_over_k", f.friction_over_k},
+          {"omega_first_rad_s", f.omega_first_rad_s},
+          {"omega_last_rad_s", f.omega_last_rad_s}};
+}
+
 nlohmann::json SetJson(const DecaySet& s, const std::vector<std::string>& paths) {
   nlohmann::json recs = nlohmann::json::array();
   for (std::size_t i = 0; i < s.results.size(); ++i) {
@@ -63,10 +81,17 @@ nlohmann::json SetJson(const DecaySet& s, const std::vector<std::string>& paths)
                     {"rms_residual", r.rms_residual},
                     {"zeta_log_decrement", r.zeta_log_decrement},
                     {"cycles", r.cycles},
-                    {"termination", numerics::TerminationName(r.summary.termination)}});
+                    {"termination", numerics::TerminationName(r.summary.termination)},
+                    {"friction", FrictionJson(r.friction)},
+                    {"cautions", r.cautions}});
+  }
+  nlohmann::json cautions = nlohmann::json::array();
+  for (std::size_t i = 0; i < s.results.size(); ++i) {
+    for (const std::string& c : s.results[i].cautions) cautions.push_back(paths[i] + ": " + c);
   }
   return {{"omega_d_rad_s", s.omega_d},   {"zeta", s.zeta},         {"omega_n_rad_s", s.omega_n},
-          {"omega_d_std", s.omega_d_std}, {"zeta_std", s.zeta_std}, {"records", recs}};
+          {"omega_d_std", s.omega_d_std}, {"zeta_std", s.zeta_std}, {"records", recs},
+          {"cautions", cautions}};
 }
 
 }  // namespace
@@ -78,6 +103,7 @@ nlohmann::json RunDecay(const DecayRequest& r) {
   Require(r.added_kg == 0.0 || !r.loaded.empty(), "--added-kg needs --loaded records");
   const DecaySet base = AnalyzeAll(r.recordings, r);
   nlohmann::json j = SetJson(base, r.recordings);
+  nlohmann::json cautions = j["cautions"];
   if (!r.loaded.empty()) {
     const DecaySet loaded = AnalyzeAll(r.loaded, r);
     const ident::AddedMassSolution s =
@@ -86,7 +112,10 @@ nlohmann::json RunDecay(const DecayRequest& r) {
     j["added_kg"] = r.added_kg;
     j["k_n_per_m"] = s.k_n_per_m;
     j["base_mass_kg"] = s.base_mass_kg;
+    for (const auto& c : j["loaded"]["cautions"]) cautions.push_back(c);
   }
+  // Every record's cautions, the loaded ones' too: a caller tests this one list.
+  j["cautions"] = cautions;
   return j;
 }
 
@@ -105,6 +134,7 @@ std::string DecayText(const nlohmann::json& j) {
          << " rad/s\nk " << j["k_n_per_m"].get<double>() << " N/m, base mass "
          << j["base_mass_kg"].get<double>() << " kg\n";
   }
+  for (const auto& c : j["cautions"]) text << "CAUTION: " << c.get<std::string>() << "\n";
   return text.str();
 }
 

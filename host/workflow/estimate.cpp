@@ -21,6 +21,7 @@
 #include "vibid/common/json_keys.hpp"
 #include "vibid/common/text_input.hpp"
 #include "vibid/ident/frf_io.hpp"
+#include "vibid/ident/held_levels.hpp"
 #include "vibid/ident/recording_facts.hpp"
 #include "vibid/ident/sample_instants.hpp"
 #include "vibid/shared/board_profile.hpp"
@@ -196,6 +197,21 @@ Estimated Estimate(const Eigen::Ref<const Eigen::VectorXd>& force, const Respons
   const auto samples = static_cast<std::size_t>(force.size());
   Estimated out;
   bool impact = o.impact;
+  if (!o.welch) {
+    // A step, a controller's pulse or a held command is no hammer test and seldom a force: per
+    // hit its level changes read as hits (a 0 V sample taken for one), and Welch's FRF of it is
+    // noise between the step's spectral lines, where modes then show up by the dozen.
+    const ident::HeldLevels held = ident::CheckHeldLevels(force);
+    if (held.held) {
+      throw InputError(
+          source + ": the force column is not a hammer test: " + held.description +
+          ", as a step, a pulse or a held command (a motor's voltage) does. An FRF from it is "
+          "noise wherever its spectrum has no energy, and its level changes are no hits; the "
+          "time-domain methods take such an input: vibid tfest, pem or greybox cart (--input "
+          "this column, --output the response), or vibid decay for a free decay after a release "
+          "(--welch estimates an FRF all the same, for a broadband held random input)");
+    }
+  }
   if (!o.impact && !o.welch) {
     const ident::ExcitationCheck check = ident::ClassifyExcitation(force, fs_hz);
     impact = check.impact;

@@ -14,6 +14,7 @@
 #include "vibid/model/transfer_function.hpp"
 #include "vibid/numerics/polynomial.hpp"
 #include "vibid/sysid/continuous.hpp"
+#include "vibid/sysid/greybox.hpp"
 #include "vibid/sysid/instrumental.hpp"
 #include "vibid/sysid/pem.hpp"
 #include "vibid/sysid/tfest.hpp"
@@ -69,6 +70,51 @@ nlohmann::json ResidualJson(const sysid::ResidualTests& t) {
             {"lags_outside", t.cross_correlation_outside},
             {"cross_correlation", ToStdVector(t.cross_correlation)}}}};
 }
+
+std::vector<std::string> ResidualCautions(const sysid::ResidualTests& t) {
+  std::vector<std::string> out;
+  char text[700];
+  if (!t.white) {
+    std::snprintf(
+        text, sizeof text,
+        "the residuals are not white (Ljung-Box Q %.4g above %.4g, its %.0f %% "
+        "threshold over %d lags; %d lags outside +-%.3g): the model leaves dynamics in "
+        "them that it does not explain (dry friction, a nonlinearity, orders too low), so "
+        "the fit overstates what it predicts and stds made for white residuals are too "
+        "small",
+        t.ljung_box, t.ljung_box_threshold, 100.0 * t.confidence, t.max_lag,
+        t.autocorrelation_outside, t.autocorrelation_bound);
+    out.emplace_back(text);
+  }
+  if (!t.independent) {
+    std::snprintf(text, sizeof text,
+                  "the residuals depend on the input (cross-correlation statistic %.4g above %.4g, "
+                  "%d lags outside +-%.3g): part of the input-to-output path is missing from the "
+                  "model; other orders, or a model with the friction, may hold it",
+                  t.cross_correlation_statistic, t.cross_correlation_threshold,
+                  t.cross_correlation_outside, t.cross_correlation_bound);
+    out.emplace_back(text);
+  }
+  return out;
+}
+
+namespace {
+
+// The cautions into the report's JSON (always there, empty when none), kept for the text's end.
+void AddCautions(const std::vector<std::string>& cautions, nlohmann::json& j,
+                 std::vector<std::string>& out) {
+  out.insert(out.end(), cautions.begin(), cautions.end());
+  j["cautions"] = out;
+}
+
+// The text's last lines: one CAUTION line each.
+std::string CautionLines(const std::vector<std::string>& cautions) {
+  std::string out;
+  for (const std::string& c : cautions) out += "CAUTION: " + c + "\n";
+  return out;
+}
+
+}  // namespace
 
 std::optional<sysid::ResidualTests> TryResidualTests(const Eigen::VectorXd& residual,
                                                      const Eigen::VectorXd& input) {
@@ -129,7 +175,8 @@ sysid::PolyModel PolyModelFromJson(const nlohmann::json& j, const std::string& s
                     "loss",
                     "order_selection",
                     "summary",
-                    "initialization"},
+                    "initialization",
+                    "cautions"},
                    "polynomial model file " + source);
   sysid::PolyModel m;
   m.a = JsonVector(j, "A", source);
@@ -207,8 +254,8 @@ nlohmann::json StdJson(const sysid::PolyModel& m) {
 
 /// Fits, residual tests, validation and the d2c form, shared by arx and pem.
 nlohmann::json ModelReport(const sysid::PolyModel& m, const sysid::IoData& est,
-                           const sysid::IoData& all, const PolyRequest& a,
-                           std::ostringstream& text) {
+                           const sysid::IoData& all, const PolyRequest& a, std::ostringstream& text,
+                           std::vector<std::string>& cautions) {
   nlohmann::json j = PolyModelJson(m);
   j["std"] = StdJson(m);
   j["fit_kind"] = "simulation, zero initial conditions, estimation samples";
@@ -218,7 +265,8 @@ nlohmann::json ModelReport(const sysid::PolyModel& m, const sysid::IoData& est,
   j["samples"] = est.samples();
   j["fs_hz"] = 1.0 / m.dt_s;
   const Eigen::VectorXd e = sysid::PredictionErrors(m, est);
-  if (const auto t = TryResidualTests(e, est.u)) j["residuals"] = ResidualJson(*t);
+  const std::optional<sysid::ResidualTests> tests = TryResidualTests(e, est.u);
+  if (tests) j["residuals"] = ResidualJson(*tests);
   text << "A = " << FormatVector(m.a) << "\nB = " << FormatVector(m.b) << "\n";
   if (m.c.size() > 1) text << "C = " << FormatVector(m.c) << "\n";
   if (m.d.size() > 1) text << "D = " << FormatVector(m.d) << "\n";
@@ -248,6 +296,7 @@ nlohmann::json ModelReport(const sysid::PolyModel& m, const sysid::IoData& est,
     text << "continuous (d2c, ZOH): num = " << FormatVector(tf.num)
          << ", den = " << FormatVector(tf.den) << "\n";
   }
+  AddCautions(tests ? ResidualCautions(*tests) : std::vector<std::string>{}, j, cautions);
   return j;
 }
 
@@ -266,12 +315,29 @@ sysid::TransferFunction ContinuousTf(const nlohmann::json& model, const CompareR
                                      nlohmann::json& j) {
   if (model.contains("num") || model.contains("den")) {
     // The keys `tfest` and `greybox cart` write: num and den are read, the rest reports the fit.
-    RequireKnownKeys(
-        model,
-        {"num", "den", "std", "fit_percent", "fit_kind", "ic", "ic_num", "noise_variance",
-         "samples", "fs_hz", "initialization", "summary", "residuals", "validation", "model",
-         "carts", "input_kind", "units", "parameters"},
-        "transfer-function file " + a.model);
+    RequireKnownKeys(model,
+                     {"num",
+                      "den",
+                      "std",
+                      "fit_percent",
+                      "fit_kind",
+                      "ic",
+                      "ic_num",
+                      "noise_variance",
+                      "samples",
+                      "fs_hz",
+                      "initialization",
+                      "summary",
+                      "residuals",
+                      "validation",
+                      "model",
+                      "carts",
+                      "input_kind",
+                      "units",
+                      "parameters",
+                      "std_basis",
+                      "cautions"},
+                     "transfer-function file " + a.model);
     j["model_kind"] = "continuous";
     return sysid::Normalized(sysid::TransferFunction{JsonVector(model, "num", a.model),
                                                      JsonVector(model, "den", a.model)});
@@ -393,10 +459,11 @@ SysidReport RunArx(const ArxRequest& a) {
     Require(a.na >= 0 && a.nb >= 1, "arx needs --na and --nb (or --select aic|fpe)");
   }
   const sysid::ArxResult r = sysid::EstimateArx(est, o);
-  nlohmann::json j = ModelReport(r.model, est, all, a.poly, text);
+  std::vector<std::string> cautions;
+  nlohmann::json j = ModelReport(r.model, est, all, a.poly, text, cautions);
   j["loss"] = r.loss;
   if (!selection.is_null()) j["order_selection"] = selection;
-  return {j, text.str()};
+  return {j, text.str() + CautionLines(cautions), cautions};
 }
 
 SysidReport RunPem(const PemRequest& a) {
@@ -413,14 +480,15 @@ SysidReport RunPem(const PemRequest& a) {
     throw NumericalError("pem did not produce a model: " + r.summary.message);
   }
   std::ostringstream text;
-  nlohmann::json j = ModelReport(r.model, est, all, a.poly, text);
+  std::vector<std::string> cautions;
+  nlohmann::json j = ModelReport(r.model, est, all, a.poly, text, cautions);
   j["summary"] = SolverSummaryJson(r.summary);
   j["initialization"] = r.initialization;
   text << "search: " << numerics::TerminationName(r.summary.termination) << " after "
        << r.summary.iterations << " iterations (" << r.initialization << " start), cost "
        << FormatNumber(r.summary.initial_cost) << " -> " << FormatNumber(r.summary.final_cost)
        << "\n";
-  return {j, text.str()};
+  return {j, text.str() + CautionLines(cautions), cautions};
 }
 
 SysidReport RunTfest(const TfestRequest& a) {
@@ -448,7 +516,10 @@ SysidReport RunTfest(const TfestRequest& a) {
       {"initialization", r.initialization},
       {"summary", SolverSummaryJson(r.summary)}};
   const Eigen::VectorXd residual = est.y - sysid::SimulateWithIc(r.tf, r.ic_num, est.u, est.dt_s);
-  if (const auto t = TryResidualTests(residual, est.u)) j["residuals"] = ResidualJson(*t);
+  const std::optional<sysid::ResidualTests> tests = TryResidualTests(residual, est.u);
+  if (tests) j["residuals"] = ResidualJson(*tests);
+  std::vector<std::string> cautions;
+  AddCautions(tests ? ResidualCautions(*tests) : std::vector<std::string>{}, j, cautions);
   std::ostringstream text;
   text << "num = " << FormatVector(r.tf.num) << "\nden = " << FormatVector(r.tf.den) << "\nfit "
        << FormatNumber(r.fit_percent) << " % (simulation, ic " << a.ic << ") on " << est.samples()
@@ -465,7 +536,70 @@ SysidReport RunTfest(const TfestRequest& a) {
     j["validation"] = {{"fit_percent", fit}, {"samples", val.samples()}};
     text << "validation fit " << FormatNumber(fit) << " %\n";
   }
-  return {j, text.str()};
+  return {j, text.str() + CautionLines(cautions), cautions};
+}
+
+namespace {
+
+/// --fix NAME=VALUE,...: the parameters held at a value.
+void ParseFixed(const std::string& text, sysid::GreyboxOptions& o) {
+  for (const std::string& item : SplitOptionList(text, TrailingEmpty::kDrop)) {
+    const auto eq = item.find('=');
+    Require(eq != std::string::npos && eq > 0, "--fix: '" + item + "' must be NAME=VALUE");
+    const std::string value = item.substr(eq + 1);
+    double v = 0.0;
+    Require(ParseNumber(value, v) == NumberText::kOk, "--fix: '" + value + "' is not a number");
+    o.fixed[item.substr(0, eq)] = v;
+  }
+}
+
+}  // namespace
+
+SysidReport RunGreybox(const GreyboxRequest& a) {
+  Require(a.input_kind == "force" || a.input_kind == "position",
+          "--input-kind '" + a.input_kind + "': force or position");
+  sysid::GreyboxOptions o;
+  o.config.carts = a.carts;
+  o.config.input = a.input_kind == "force" ? sysid::CartInput::kForce : sysid::CartInput::kPosition;
+  o.ic = sysid::ParseInitialCondition(a.ic);
+  ParseFixed(a.fix, o);
+  o.Validate();
+  const sysid::IoData est = ApplyRange(LoadIoData(a.record), a.estimate_range, "--estimate-range");
+  const sysid::GreyboxResult r = sysid::EstimateCart(est, o);
+  CheckSolver(r.summary, "greybox");
+  nlohmann::json params = nlohmann::json::object();
+  std::ostringstream text;
+  const bool widened = r.std_basis != "white residuals";
+  for (const auto& p : r.parameters) {
+    params[p.name] = {
+        {"value", p.value}, {"std", p.std}, {"std_white", p.std_white}, {"fixed", p.fixed}};
+    text << p.name << " = " << FormatNumber(p.value)
+         << (p.fixed ? " (fixed)" : " +- " + FormatNumber(p.std));
+    if (!p.fixed && widened)
+      text << " (white residuals would say +- " << FormatNumber(p.std_white) << ")";
+    text << "\n";
+  }
+  text << "fit " << FormatNumber(r.fit_percent) << " % (simulation) on " << est.samples()
+       << " samples; search " << numerics::TerminationName(r.summary.termination) << " after "
+       << r.summary.iterations << " iterations\n";
+  if (widened) text << "stds: " << r.std_basis << ", as the residual tests below fail\n";
+  nlohmann::json j{{"model", "cart"},
+                   {"carts", a.carts},
+                   {"input_kind", a.input_kind},
+                   {"units", "M kg, B and Bi N*s/m, k N/m (each of the springs to either side)"},
+                   {"parameters", params},
+                   {"std_basis", r.std_basis},
+                   {"num", ToStdVector(r.tf.num)},
+                   {"den", ToStdVector(r.tf.den)},
+                   {"fit_percent", r.fit_percent},
+                   {"ic", a.ic},
+                   {"initialization", r.initialization},
+                   {"summary", SolverSummaryJson(r.summary)}};
+  if (r.residual_tests) j["residuals"] = ResidualJson(*r.residual_tests);
+  std::vector<std::string> cautions;
+  AddCautions(r.residual_tests ? ResidualCautions(*r.residual_tests) : std::vector<std::string>{},
+              j, cautions);
+  return {j, text.str() + CautionLines(cautions), cautions};
 }
 
 CompareReport RunCompare(const CompareRequest& a) {

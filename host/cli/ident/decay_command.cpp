@@ -34,6 +34,7 @@ struct DecayArgs {
 void Run(const DecayArgs& a) {
   const nlohmann::json j = workflow::RunDecay(a.request);
   EmitOutput(a.json ? j.dump(2) + "\n" : workflow::DecayText(j), a.output);
+  SayCautions(j["cautions"].get<std::vector<std::string>>(), "the decay");
 }
 
 }  // namespace

@@ -500,8 +500,16 @@ TEST(DecayCli, EcpPair) {
        "--position", "X_cm:cm", "--loaded", d + "Khigh_load-0.986kg_Khigh_hand_2mass.csv",
        d + "Khigh_load-0.986kg_Khigh_hand_2mass2.csv",
        d + "Khigh_load-0.986kg_Khigh_hand_2mass3.csv", "--added-kg", "0.986", "--json"});
+  // The guide's friction is named on every record (the lab noted it): the result is written,
+  // with its cautions, and exits 0 (a caution is no refusal), the cautions named on stderr.
   ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_NE(r.err.find("caution"), std::string::npos) << r.err;
   const json j = json::parse(r.out);
+  for (const json* set : {&j, &j["loaded"]}) {
+    for (const json& rec : (*set)["records"])
+      EXPECT_TRUE(rec["friction"]["detected"].get<bool>()) << rec["file"];
+  }
+  EXPECT_GE(j["cautions"].size(), 6u) << j["cautions"].dump();
   for (const char* key : {"omega_d_rad_s", "zeta", "omega_n_rad_s", "k_n_per_m", "base_mass_kg"})
     EXPECT_TRUE(j.contains(key)) << key;
   // The lab's values (data README): omega_d 34.9066 rad/s (one 200 Hz sample = 2.8 %), k 712.60
@@ -509,6 +517,59 @@ TEST(DecayCli, EcpPair) {
   EXPECT_NEAR(j["omega_d_rad_s"].get<double>(), 34.9066, 0.028 * 34.9066);
   EXPECT_NEAR(j["k_n_per_m"].get<double>(), 712.60, 0.02 * 712.60);
   EXPECT_NEAR(j["base_mass_kg"].get<double>(), 0.5848, 0.03 * 0.5848);
+}
+
+// One record in centimetres, negated, halved and in metres: the same omega_n, zeta, cautions and
+// exit code (the verdict once depended on the sign and unit).
+TEST(DecayCli, SignAndUnitDoNotChangeTheVerdict) {
+  VIBID_SHARED_DATA_OR_SKIP(dir, "ecp_cart_free_decay");
+  const std::string rec = dir + "/Klow_load-none_Klow_Hand_Nomass.csv";
+  const auto ref = RunVibid({"decay", rec, "--position", "X_cm", "--json"});
+  ASSERT_EQ(ref.exit_code, 0) << ref.err;
+  ASSERT_NE(ref.err.find("caution"), std::string::npos) << ref.err;
+  const json a = json::parse(ref.out);
+  for (const char* position : {"X_cm*-1", "X_cm*0.5", "X_cm:cm", "X_cm*-0.01"}) {
+    const auto r = RunVibid({"decay", rec, "--position", position, "--json"});
+    EXPECT_EQ(r.exit_code, ref.exit_code) << position << ": " << r.err;
+    const json b = json::parse(r.out);
+    EXPECT_NEAR(b["omega_n_rad_s"].get<double>(), a["omega_n_rad_s"].get<double>(),
+                1e-9 * a["omega_n_rad_s"].get<double>())
+        << position;
+    EXPECT_NEAR(b["zeta"].get<double>(), a["zeta"].get<double>(), 1e-7 * a["zeta"].get<double>())
+        << position;
+    EXPECT_EQ(b["cautions"].size(), a["cautions"].size()) << position;
+  }
+  // The text names the friction on a CAUTION line.
+  const auto text = RunVibid({"decay", rec, "--position", "X_cm*-1"});
+  EXPECT_NE(text.out.find("CAUTION: " + rec + ": friction"), std::string::npos) << text.out;
+}
+
+// The ECP cart driven by its motor's voltage (a step record): every command of the FRF route
+// refuses it, --impact too, naming the time-domain methods; tfest takes it, and says that its
+// residual tests fail (a caution: exit 0, the cautions named).
+TEST(NotHammerCli, MotorStepRecordTakesTheTimeDomainRoute) {
+  VIBID_SHARED_DATA_OR_SKIP(dir, "ecp_cart_motor_driven");
+  const std::string rec = dir + "/steps_kmed_nomass_data0000.csv";
+  const std::vector<std::string> io = {
+      "--force", "V_volt", "--response", "X_encoder_counts*1.7857e-5", "--sensor", "disp"};
+  const auto with = [&](std::vector<std::string> args) {
+    args.insert(args.end(), io.begin(), io.end());
+    return args;
+  };
+  const std::string out = MakeTempDir("not_hammer") + "/frf.csv";
+  for (const auto& args :
+       {with({"frf-estimate", rec, "-o", out}), with({"frf-estimate", rec, "--impact", "-o", out}),
+        with({"modes", rec}), with({"update", "mass", rec})}) {
+    const auto r = RunVibid(args);
+    EXPECT_EQ(r.exit_code, 1) << args[0] << ": " << r.err;
+    EXPECT_NE(r.err.find("not a hammer test"), std::string::npos) << args[0] << ": " << r.err;
+    EXPECT_NE(r.err.find("vibid tfest"), std::string::npos) << r.err;
+  }
+  EXPECT_FALSE(std::filesystem::exists(out));
+  const auto tf = RunVibid({"tfest", rec, "--input", "I_amp*-178.57", "--output",
+                            "X_encoder_counts*1.7857e-5", "--np", "2"});
+  EXPECT_EQ(tf.exit_code, 0) << tf.err;
+  EXPECT_NE(tf.out.find("CAUTION: the residuals are not white"), std::string::npos) << tf.out;
 }
 
 TEST(DecayCli, BadInput) {

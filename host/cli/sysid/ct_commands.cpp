@@ -36,6 +36,7 @@ struct TfestArgs {
 void Run(const TfestArgs& a) {
   const workflow::SysidReport r = workflow::RunTfest(a.request);
   Emit(r.json, r.text, a.json, a.out);
+  SayCautions(r.cautions, "the model");
 }
 
 constexpr const char* kCompareHelp =
@@ -59,60 +60,15 @@ constexpr const char* kGreyboxHelp =
     "Cart track (methods §10): M, B, k (and Bi) of one cart or M1, M2, B1, B2, k (and Bi) of two";
 
 struct GreyboxArgs {
-  RecordArgs record;
-  int carts = 1;
-  std::string input_kind = "force";
-  std::string fix;
-  std::string ic = "zero";
-  std::string estimate_range;
+  workflow::GreyboxRequest request;
   bool json = false;
   std::string out;
 };
 
-/// --fix NAME=VALUE,...: the parameters held at a value.
-void ParseFixed(const std::string& text, sysid::GreyboxOptions& o) {
-  for (const std::string& item : SplitOptionList(text, TrailingEmpty::kDrop)) {
-    const auto eq = item.find('=');
-    Require(eq != std::string::npos && eq > 0, "--fix: '" + item + "' must be NAME=VALUE");
-    const std::string value = item.substr(eq + 1);
-    double v = 0.0;
-    Require(ParseNumber(value, v) == NumberText::kOk, "--fix: '" + value + "' is not a number");
-    o.fixed[item.substr(0, eq)] = v;
-  }
-}
-
 void Run(const GreyboxArgs& a) {
-  sysid::GreyboxOptions o;
-  o.config.carts = a.carts;
-  o.config.input = a.input_kind == "force" ? sysid::CartInput::kForce : sysid::CartInput::kPosition;
-  o.ic = sysid::ParseInitialCondition(a.ic);
-  ParseFixed(a.fix, o);
-  o.Validate();
-  const sysid::IoData est = ApplyRange(LoadIoData(a.record), a.estimate_range, "--estimate-range");
-  const sysid::GreyboxResult r = sysid::EstimateCart(est, o);
-  CheckSolver(r.summary, "greybox");
-  nlohmann::json params = nlohmann::json::object();
-  std::ostringstream text;
-  for (const auto& p : r.parameters) {
-    params[p.name] = {{"value", p.value}, {"std", p.std}, {"fixed", p.fixed}};
-    text << p.name << " = " << FormatNumber(p.value)
-         << (p.fixed ? " (fixed)" : " +- " + FormatNumber(p.std)) << "\n";
-  }
-  text << "fit " << FormatNumber(r.fit_percent) << " % (simulation) on " << est.samples()
-       << " samples; search " << numerics::TerminationName(r.summary.termination) << " after "
-       << r.summary.iterations << " iterations\n";
-  nlohmann::json j{{"model", "cart"},
-                   {"carts", a.carts},
-                   {"input_kind", a.input_kind},
-                   {"units", "M kg, B and Bi N*s/m, k N/m (each of the springs to either side)"},
-                   {"parameters", params},
-                   {"num", ToStdVector(r.tf.num)},
-                   {"den", ToStdVector(r.tf.den)},
-                   {"fit_percent", r.fit_percent},
-                   {"ic", a.ic},
-                   {"initialization", r.initialization},
-                   {"summary", SolverSummaryJson(r.summary)}};
-  Emit(j, text.str(), a.json, a.out);
+  const workflow::SysidReport r = workflow::RunGreybox(a.request);
+  Emit(r.json, r.text, a.json, a.out);
+  SayCautions(r.cautions, "the model");
 }
 
 }  // namespace
@@ -171,15 +127,16 @@ void RegisterGreyboxCommand(CLI::App& app) {
       "greybox", "Physical parameters by output error on a first-principle model");
   group->require_subcommand(1);
   const auto [cmd, a] = AddCommand<GreyboxArgs>(*group, "cart", kGreyboxHelp, Run);
-  AddRecordOptions(*cmd, a->record);
-  cmd->add_option("--carts", a->carts, "1 (cart 2 pinned) or 2")->check(CLI::IsMember({1, 2}));
-  cmd->add_option("--input-kind", a->input_kind,
+  AddRecordOptions(*cmd, a->request.record);
+  cmd->add_option("--carts", a->request.carts, "1 (cart 2 pinned) or 2")
+      ->check(CLI::IsMember({1, 2}));
+  cmd->add_option("--input-kind", a->request.input_kind,
                   "force (N on cart 1) | position (Xi through the first spring, m)")
       ->check(CLI::IsMember({"force", "position"}));
-  cmd->add_option("--fix", a->fix, "Parameters held fixed, e.g. M=0.57,k=15 (SI units)");
-  cmd->add_option("--ic", a->ic, "Initial conditions: zero | estimate")
+  cmd->add_option("--fix", a->request.fix, "Parameters held fixed, e.g. M=0.57,k=15 (SI units)");
+  cmd->add_option("--ic", a->request.ic, "Initial conditions: zero | estimate")
       ->check(CLI::IsMember({"zero", "estimate"}));
-  cmd->add_option("--estimate-range", a->estimate_range,
+  cmd->add_option("--estimate-range", a->request.estimate_range,
                   "Samples FIRST:LAST (LAST excluded) used for estimation");
   cmd->add_flag("--json", a->json, "Print the result as JSON");
   cmd->add_option("-o,--out", a->out,

@@ -45,6 +45,7 @@ struct ArxArgs {
 void Run(const ArxArgs& a) {
   const workflow::SysidReport r = workflow::RunArx(a.request);
   Emit(r.json, r.text, a.poly.json, a.poly.out);
+  SayCautions(r.cautions, "the model");
 }
 
 constexpr const char* kPemHelp =
@@ -58,6 +59,7 @@ struct PemArgs {
 void Run(const PemArgs& a) {
   const workflow::SysidReport r = workflow::RunPem(a.request);
   Emit(r.json, r.text, a.poly.json, a.poly.out);
+  SayCautions(r.cautions, "the model");
 }
 
 }  // namespace

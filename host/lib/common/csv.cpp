@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <charconv>
 #include <cmath>
+#include <cstdio>
 
 #include "csv_detail.hpp"
 #include "vibid/common/error.hpp"
@@ -228,6 +229,35 @@ Eigen::VectorXd Recording::Time() const {
          Eigen::VectorXd::Constant(n, t0_s);
 }
 
+namespace {
+
+// "112.94": a rate to type, six significant digits.
+std::string ShortestRate(double hz) {
+  char buf[32];
+  std::snprintf(buf, sizeof buf, "%.6g", hz);
+  return buf;
+}
+
+// ": the time stamps are rounded to 0.001 s" when every stamp is a whole multiple of a decimal
+// step coarse enough to explain the jitter (a logger writing milliseconds at 113 Hz); else "".
+std::string RoundedStampsNote(const Eigen::VectorXd& t) {
+  for (double step : {1e-1, 1e-2, 1e-3, 1e-4, 1e-5, 1e-6}) {
+    bool whole = true;
+    for (Eigen::Index i = 0; i < t.size() && whole; ++i) {
+      const double k = t[i] / step;
+      whole = std::abs(k - std::round(k)) < 1e-6 * std::max(1.0, std::abs(k));
+    }
+    if (whole) {
+      char buf[96];
+      std::snprintf(buf, sizeof buf, ": the time stamps are rounded to %g s", step);
+      return buf;
+    }
+  }
+  return "";
+}
+
+}  // namespace
+
 Recording MakeRecording(CsvTable table, const RecordingOptions& options) {
   for (const std::string& name : options.channels) static_cast<void>(table.Index(name));
   Recording rec;
@@ -263,7 +293,11 @@ Recording MakeRecording(CsvTable table, const RecordingOptions& options) {
       if (std::abs(dt - mean_dt) > options.uniform_tolerance * mean_dt) {
         throw InputError(table.source + ":" + std::to_string(i + 2) +
                          ": non-uniform sampling (step " + std::to_string(dt) + " s, mean step " +
-                         std::to_string(mean_dt) + " s)");
+                         std::to_string(mean_dt) + " s)" + RoundedStampsNote(t) +
+                         "; if the samples were taken at a steady rate, --fs-hz " +
+                         ShortestRate(1.0 / mean_dt) +
+                         " reads them at the mean step's rate (the time column then gives only "
+                         "the start)");
       }
     }
     rec.fs_hz = 1.0 / mean_dt;

@@ -282,6 +282,27 @@ TEST(Recording, DerivesRateAndChecksTime) {
   EXPECT_DOUBLE_EQ(k.fs_hz, 1.0);
 }
 
+// A logger stamping whole milliseconds at 113 Hz: steps of 8 and 9 ms. The refusal names the
+// rounding and the option that reads the rate, with the rate it would use (the mean step's:
+// 49 steps over t = round(49 / 113, 3) = 0.434 s, 112.903 Hz; 113 Hz the rate written).
+TEST(Recording, RoundedStampsNameTheRateOption) {
+  std::string csv = "t_s,x\n";
+  for (int i = 0; i < 50; ++i) {
+    char line[64];
+    std::snprintf(line, sizeof line, "%.3f,%d\n", std::round(i / 113.0 * 1000.0) / 1000.0, i);
+    csv += line;
+  }
+  const std::string why = ErrorOf([&] { MakeRecording(ParseCsv(csv, "f"), {.min_samples = 2}); });
+  EXPECT_NE(why.find("non-uniform sampling"), std::string::npos) << why;
+  EXPECT_NE(why.find("rounded to 0.001 s"), std::string::npos) << why;
+  const std::size_t at = why.find("--fs-hz ");
+  ASSERT_NE(at, std::string::npos) << why;
+  EXPECT_NEAR(std::stod(why.substr(at + 8)), 49.0 / 0.434, 1e-3) << why;
+  // The rate it names reads the same file.
+  const Recording r = MakeRecording(ParseCsv(csv, "f"), {.fs_hz = 49.0 / 0.434, .min_samples = 2});
+  EXPECT_EQ(r.samples(), 50u);
+}
+
 TEST(Recording, ReadsSharedMeasuredRecord) {
   // ../shared/data/ecp_cart_free_decay: 200 Hz records in cm (data README).
   VIBID_SHARED_DATA_OR_SKIP(dir, "ecp_cart_free_decay");

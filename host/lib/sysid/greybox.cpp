@@ -1,5 +1,6 @@
 #include "vibid/sysid/greybox.hpp"
 
+#include <algorithm>
 #include <cmath>
 
 #include "vibid/common/error.hpp"
@@ -161,12 +162,26 @@ GreyboxResult EstimateCart(const IoData& data, const GreyboxOptions& options) {
   const CtOeResult oe = FitContinuousOe(data, param, theta0, options.ic, options.solver);
   res.summary = oe.summary;
   const Eigen::VectorXd values = full(oe.theta);
+  // Residuals that fail their tests (friction the linear model cannot follow, runs of hundreds of
+  // samples) make sigma^2 (J^T J)^-1 too small: the stds then take the correlated form.
+  if (data.samples() > 100 && oe.residual.size() == data.samples() &&
+      oe.residual.squaredNorm() > 0.0)
+    res.residual_tests = TestResiduals(oe.residual, data.u);
+  const bool correlated = res.residual_tests &&
+                          (!res.residual_tests->white || !res.residual_tests->independent) &&
+                          oe.covariance_correlated.rows() == oe.covariance.rows();
+  if (correlated) {
+    res.std_basis =
+        "residuals correlated over " + std::to_string(oe.correlation_lags) + " lags (Newey-West)";
+  }
   for (std::size_t i = 0, j = 0; i < names.size(); ++i) {
-    GreyboxParameter p{names[i], values[static_cast<Eigen::Index>(i)], 0.0,
+    GreyboxParameter p{names[i], values[static_cast<Eigen::Index>(i)], 0.0, 0.0,
                        options.fixed.count(names[i]) > 0};
     if (!p.fixed) {
       const auto jj = static_cast<Eigen::Index>(j++);
-      if (oe.covariance.rows() > jj) p.std = std::sqrt(oe.covariance(jj, jj));
+      if (oe.covariance.rows() > jj) p.std_white = std::sqrt(oe.covariance(jj, jj));
+      p.std = p.std_white;
+      if (correlated) p.std = std::max(p.std, std::sqrt(oe.covariance_correlated(jj, jj)));
     }
     res.parameters.push_back(p);
   }

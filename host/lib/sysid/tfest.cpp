@@ -1,5 +1,7 @@
 #include "vibid/sysid/tfest.hpp"
 
+#include "vibid/sysid/correlated_covariance.hpp"
+
 #include <Eigen/QR>
 #include <algorithm>
 #include <cmath>
@@ -276,6 +278,12 @@ CtOeResult FitContinuousOe(const IoData& data, const CtParameterization& param,
   if (solution.residuals.size() == data.samples()) {
     res.residual = std::move(solution.residuals);
     res.covariance = numerics::CovarianceFromFactor(solution.r_factor, res.residual);
+    if (solution.jacobian.rows() == data.samples()) {
+      const CorrelatedCovariance c =
+          CovarianceForCorrelatedResiduals(solution.jacobian, res.residual);
+      res.covariance_correlated = c.covariance;
+      res.correlation_lags = c.lags;
+    }
   } else {
     fn(theta, res.residual, nullptr);
   }

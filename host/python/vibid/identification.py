@@ -97,6 +97,12 @@ class Decay:
     base_mass_kg: Optional[float]
     json: dict
 
+    @property
+    def cautions(self) -> list:
+        """Friction named, the fit's and the log decrement's damping disagreeing (the CLI's
+        CAUTION lines); empty for a decay that reads as viscous."""
+        return self.json["cautions"]
+
     def __repr__(self) -> str:
         return _repr("Decay", omega_n_rad_s=self.omega_n_rad_s, zeta=self.zeta,
                      records=len(self.records), k_n_per_m=self.k_n_per_m,

@@ -23,6 +23,12 @@ class SysidModel:
     def fit_percent(self) -> float:
         return self.json["fit_percent"]
 
+    @property
+    def cautions(self) -> list:
+        """The residual tests the model fails, in words (the CLI's CAUTION lines); empty when
+        its own tests pass."""
+        return self.json.get("cautions", [])
+
     def save(self, path: str) -> None:
         import json
         with open(path, "w") as f:

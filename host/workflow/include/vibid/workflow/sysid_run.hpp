@@ -67,7 +67,26 @@ void CheckSolver(const numerics::SolverSummary& s, const std::string& what);
 struct SysidReport {
   nlohmann::json json;
   std::string text;
+  /// What the text's CAUTION lines say (also json["cautions"]): residual tests that fail. Empty
+  /// for a model whose own tests pass.
+  std::vector<std::string> cautions;
 };
+
+/// The CAUTION lines for residual tests that fail: not white (Ljung-Box), not independent of the
+/// input; each names the statistic, its threshold and what it means for the fit and the stds.
+std::vector<std::string> ResidualCautions(const sysid::ResidualTests& tests);
+
+/// `vibid greybox cart`: the cart-track model's physical parameters (sysid/greybox.hpp).
+struct GreyboxRequest {
+  SysidRecord record;
+  int carts = 1;
+  std::string input_kind = "force";  ///< force, position.
+  std::string fix;                   ///< NAME=VALUE,... held fixed.
+  std::string ic = "zero";
+  std::string estimate_range;
+};
+
+SysidReport RunGreybox(const GreyboxRequest& request);
 
 struct PolyRequest {
   SysidRecord record;

@@ -5,6 +5,8 @@
 
 #include <Eigen/Core>
 #include <cstddef>
+#include <string>
+#include <vector>
 
 #include "vibid/numerics/least_squares.hpp"
 
@@ -22,6 +24,39 @@ struct DecayOptions {
 
   void Validate() const;
 };
+
+/// Friction read from the half cycles (the peaks between crossings, from the release down to the
+/// end fraction of the first): a viscous decay loses a fixed fraction of its amplitude every half
+/// cycle, Coulomb friction a fixed amount: each half cycle runs from rest to rest about a centre
+/// shifted by F / k against the motion, so the peaks follow A_{k+1} = rho A_k - d, with
+/// rho = exp(-pi zeta_v / sqrt(1 - zeta_v^2)) from the viscous part and d = (1 + rho) F / k. Under
+/// friction the damping a half cycle shows grows as the amplitude falls, and a purely viscous fit's
+/// zeta is an average over the amplitudes it spans.
+struct DecayFriction {
+  bool checked = false;
+  std::string note;     ///< Why not checked, when not.
+  int half_cycles = 0;  ///< Peak pairs in the regression.
+  /// Apparent damping per half cycle (from ln(A_k / A_{k+1})), the mean over the first and the
+  /// last third of the half cycles.
+  double zeta_first = 0.0;
+  double zeta_last = 0.0;
+  /// Viscous part from rho (NaN when rho >= 1: no viscous part resolved beside the friction).
+  double zeta_viscous = 0.0;
+  /// Coulomb loss per half cycle d (position units) and its 95 % half-width; F / k = d / (1 + rho).
+  double drop_per_half_cycle = 0.0;
+  double drop_ci95 = 0.0;
+  double friction_over_k = 0.0;  ///< F / k (position units).
+  /// Angular frequency from the crossings of the first and of the last two cycles.
+  double omega_first_rad_s = 0.0;
+  double omega_last_rad_s = 0.0;
+  /// Friction detected: d > 0 beyond its 95 % interval and the late half cycles' damping at
+  /// least `kFrictionGrowth` times the early ones'.
+  bool detected = false;
+};
+
+inline constexpr double kFrictionGrowth = 1.15;
+/// The fit's and the log decrement's zeta are stated as disagreeing beyond this relative gap.
+inline constexpr double kDampingEstimatesGap = 0.15;
 
 struct DecayResult {
   /// First fitted sample: where the motion leaves the hold (within 1 % of the pull, so at most a
@@ -42,11 +77,16 @@ struct DecayResult {
   double zeta_log_decrement = 0.0;
   int cycles = 0;
   numerics::SolverSummary summary;
+  DecayFriction friction;
+  /// Plain-language cautions: friction named, the two damping estimates disagreeing. Empty when
+  /// the decay reads as viscous.
+  std::vector<std::string> cautions;
 };
 
-/// Analyses one record `position` (any length unit) sampled at `fs_hz`. InputError when no release
-/// or fewer than two oscillation cycles are found, or when the fit gives zeta <= 0 (not a free
-/// decay).
+/// Analyses one record `position` (any length unit, either sign: the result's frequencies,
+/// damping and cautions do not depend on the position's sign or unit) sampled at `fs_hz`.
+/// InputError when no release or fewer than two oscillation cycles are found, or when the fit gives
+/// zeta <= 0 (not a free decay).
 DecayResult AnalyzeDecay(const Eigen::Ref<const Eigen::VectorXd>& position, double fs_hz,
                          const DecayOptions& options);
 

@@ -13,12 +13,14 @@
 
 #include <Eigen/Core>
 #include <map>
+#include <optional>
 #include <string>
 #include <vector>
 
 #include "vibid/model/transfer_function.hpp"
 #include "vibid/numerics/least_squares.hpp"
 #include "vibid/sysid/continuous.hpp"
+#include "vibid/sysid/fit.hpp"
 #include "vibid/sysid/io_data.hpp"
 #include "vibid/sysid/tfest.hpp"
 
@@ -52,7 +54,11 @@ struct GreyboxOptions {
 struct GreyboxParameter {
   std::string name;
   double value = 0.0;
-  double std = 0.0;  ///< 0 when fixed.
+  /// 0 when fixed. When the residuals fail their tests, the larger of the white-residual value
+  /// and the one for correlated residuals (correlated_covariance.hpp): see
+  /// GreyboxResult::std_basis.
+  double std = 0.0;
+  double std_white = 0.0;  ///< sigma^2 (J^T J)^-1's, which holds for white residuals only.
   bool fixed = false;
 };
 
@@ -62,6 +68,10 @@ struct GreyboxResult {
   double fit_percent = 0.0;
   std::string initialization;
   numerics::SolverSummary summary;
+  /// The output error's residual tests (fewer than 101 samples: none, and the stds are white's).
+  std::optional<ResidualTests> residual_tests;
+  /// How the stds were made: "white residuals" or the correlated form with its lags.
+  std::string std_basis = "white residuals";
 };
 
 GreyboxResult EstimateCart(const IoData& data, const GreyboxOptions& options);

@@ -75,7 +75,10 @@ struct CtParameterization {
 struct CtOeResult {
   Eigen::VectorXd theta;
   Eigen::VectorXd ic_num;
-  Eigen::MatrixXd covariance;  ///< Of [θ, P] (P only with kEstimate).
+  Eigen::MatrixXd covariance;  ///< Of [θ, P] (P only with kEstimate), for white residuals.
+  /// The same for residuals correlated in time (correlated_covariance.hpp), and its lags.
+  Eigen::MatrixXd covariance_correlated;
+  int correlation_lags = 0;
   Eigen::VectorXd residual;
   numerics::SolverSummary summary;
 };
