@@ -25,7 +25,7 @@ double ShortestQ31Decimal(double value, double full_scale) {
 }
 
 double ShortestFloat32Decimal(float value) {
-  if (!std::isfinite(value)) return value;
+  if (!std::isfinite(value)) return static_cast<double>(value);
   char buf[64];
   const auto res = std::to_chars(buf, buf + sizeof buf, value);
   double back = 0.0;

@@ -152,7 +152,7 @@ void RegisterModel(py::module_& m) {
   m.def(
       "model_verdict",
       [](const py::handle& d, const std::string& source) {
-        const Verdict v = model::ModelVerdict(FromPython(d), source);
+        const Verdict v = model::ModelVerdict(FromPython(d, source), source);
         nlohmann::json j = VerdictToJson(v);
         j["stated"] = v.stated;
         return ToPython(j);
@@ -164,7 +164,7 @@ void RegisterModel(py::module_& m) {
       "require_usable",
       [](const py::handle& verdict, bool accept, const std::string& what, const std::string& step,
          const std::string& option) {
-        nlohmann::json j = FromPython(verdict);
+        nlohmann::json j = FromPython(verdict, what + ": verdict");
         const bool stated = !j.contains("stated") || j["stated"].get<bool>();
         j.erase("stated");
         j.erase("text");
@@ -177,7 +177,7 @@ void RegisterModel(py::module_& m) {
   m.def(
       "format_verdict",
       [](const py::handle& verdict) {
-        nlohmann::json j = FromPython(verdict);
+        nlohmann::json j = FromPython(verdict, "verdict");
         const bool stated = !j.contains("stated") || j["stated"].get<bool>();
         j.erase("stated");
         j.erase("text");
