@@ -135,8 +135,12 @@ TEST(SamplingInstantsCli, InfoAndTheRecordingStateTheInstants) {
       nlohmann::json::parse(vibid::testing::ReadFileBytes(rec + ".json"));
   EXPECT_EQ(sidecar.at("columns"),
             nlohmann::json({"t_s", "force1_counts", "force2_counts", "x2_counts"}));
+  // Version 2 of the sidecar states each channel's instant beside its other facts.
+  nlohmann::json instants_by_column = nlohmann::json::object();
+  for (const nlohmann::json& channel : sidecar.at("channels"))
+    instants_by_column[channel.at("name").get<std::string>()] = channel.at("sample_instant_us");
   EXPECT_EQ(
-      sidecar.at("sample_instants_us"),
+      instants_by_column,
       nlohmann::json({{"force1_counts", 2.667}, {"force2_counts", 5.905}, {"x2_counts", 2.667}}));
   std::error_code ec;
   std::filesystem::remove_all(dir, ec);

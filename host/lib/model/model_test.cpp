@@ -167,7 +167,7 @@ TEST(ModelJson, RefusesUnknownKeysNamingTheNearestOne) {
   EXPECT_EQ(ErrorOf(json::parse(R"({"topology":"chain","masses":[1],"springs":[1],"spring":1})")),
             "unknown key 'spring' in model file rig.json (did you mean 'springs'?)");
   EXPECT_EQ(ErrorOf(json::parse(R"({"M":[[1]],"K":[[1]],"masses":[1]})")),
-            "unknown key 'masses' in model file rig.json (valid keys: M, C, K)");
+            "unknown key 'masses' in model file rig.json (valid keys: M, C, K, verdict)");
 }
 
 }  // namespace
