@@ -18,7 +18,9 @@ def test_frf_estimate_equals_cli(tmp_path):
     r = run_cli("frf-estimate", LADISK, "--force", "force_N", "--response", "acceleration_g:g",
                 "-o", out)
     assert r.returncode == 0, r.stderr
-    cli = vibid.read_recording(out, time_column="freq_hz", fs_hz=1.0)
+    # The FRF file is a plain CSV (its facts in frf.csv.json beside it): numpy's default reader
+    # takes it and gives back the values exactly.
+    cli = np.genfromtxt(out, delimiter=",", names=True)
     py = vibid.frf_estimate(LADISK, force="force_N", responses="acceleration_g:g")
     assert py.impact  # the force is a train of hits: per-hit records, as the CLI decided
     assert py.frd.h.shape[:2] == (1, 1)

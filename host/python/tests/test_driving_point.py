@@ -51,12 +51,22 @@ def identify(rec, n, out, *extra):
                    "-o", out, "--report", out.parent / (out.stem + "_report"), *extra)
 
 
+# Mass 3 of the 4-mass chain sits near a node of mode 2 (8.49 Hz): the hammer there cannot scale
+# that mode's shape, and the chain built on it is flagged (worse than the nominal) and not written.
+# The point is still found; no model comes from it.
+NODE_AT_THE_HAMMER = {(4, 3)}
+
+
 @pytest.mark.parametrize("n,h", CASES)
 def test_hammer_point_found_without_being_named(recordings, tmp_path, n, h):
     out = tmp_path / "model.json"
     r = identify(recordings[(n, h)], n, out)
-    assert r.returncode == 0, r.stderr
     assert f"driving point acc{h}_m_s2 (response {h}), found from the data" in r.stderr
+    if (n, h) in NODE_AT_THE_HAMMER:
+        assert r.returncode == 6, r.stderr
+        assert "is flagged" in r.stderr and not out.exists(), r.stderr
+        return
+    assert r.returncode == 0, r.stderr
     report = json.loads((tmp_path / "model_report" / "report.json").read_text())
     assert report["driving_point"]["response"] == h
     assert report["driving_point"]["how"] == "found"
