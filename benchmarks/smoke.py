@@ -51,6 +51,8 @@ def commands():
                 text = re.sub(r"\[[^\]]*\]", "", m.group(1))  # optional arguments: left out
                 words = tuple(shlex.split(text))
                 program = words[1] if words[0] == "/usr/bin/python3" else words[0]
+                if os.path.abspath(os.path.join(ROOT, program)) == os.path.abspath(__file__):
+                    continue  # the docs name this runner too; it never runs itself
                 where = os.path.relpath(path, ROOT)
                 if program not in programs:
                     found[words] = where
