@@ -32,6 +32,19 @@
 #include <gtest/gtest.h>
 #include <httplib.h>
 
+// Whether this build runs under AddressSanitizer (its quarantine keeps freed memory resident).
+#if defined(__SANITIZE_ADDRESS__)
+constexpr bool kAddressSanitizer = true;
+#elif defined(__has_feature)
+#if __has_feature(address_sanitizer)
+constexpr bool kAddressSanitizer = true;
+#else
+constexpr bool kAddressSanitizer = false;
+#endif
+#else
+constexpr bool kAddressSanitizer = false;
+#endif
+
 namespace vibid::bench {
 namespace {
 
@@ -327,10 +340,14 @@ TEST_F(HostileNeighbourTest, PipelinedAssetRequestsNeverReadDoNotStallTheStateOr
   ASSERT_TRUE(stop);
   EXPECT_EQ(stop->status, 200) << stop->body;
   EXPECT_LT(took, 2 * kAnswerBound) << "the page and Stop beside 8 pipelining non-readers";
-  // One answer per connection is held (8 x 50 kB), never the 850 asked for (8 x 43 MB).
+  // One answer per connection is held (8 x 50 kB), never the 850 asked for (8 x 43 MB). Under
+  // AddressSanitizer every freed answer stays resident in its quarantine (256 MB by default), so
+  // the bound is judged by the optimised build (host preset) only.
   const std::size_t rss_after = ResidentBytes();
-  EXPECT_LT(rss_after, rss_before + 32 * 1024 * 1024)
-      << "resident " << rss_before / 1024 << " kB before, " << rss_after / 1024 << " kB after";
+  if (!kAddressSanitizer) {
+    EXPECT_LT(rss_after, rss_before + 32 * 1024 * 1024)
+        << "resident " << rss_before / 1024 << " kB before, " << rss_after / 1024 << " kB after";
+  }
   for (const int fd : hostile) ::close(fd);
 }
 
