@@ -1,11 +1,11 @@
-// Fuzzes the FRF readers: the toolkit's CSV (metadata comment, freq_hz and NAME_re/_im/_coh
-// columns) and Universal File Format dataset 58 (ASCII) as other modal software writes it. The
-// first byte picks the reader (and whether LoadFrf's format sniffing sees the text first); the
-// rest is the file's text.
-// What a reader accepts must survive its writer: the written text reads back, and writing that
-// again gives the same text (UFF58 keeps 6 digits of the abscissa, so text, not numbers, is what
-// must be stable); the CSV writer keeps every number bit for bit. The FRF is well formed: one
-// line per frequency, finite values, coherence in [0, 1], one name per response.
+// Fuzzes the FRF readers: the toolkit's CSV (freq_hz and NAME_re/_im/_coh columns; its metadata
+// in a sidecar, or a leading comment line in older files) and Universal File Format dataset 58
+// (ASCII) as other modal software writes it. The first byte picks the reader (and whether LoadFrf's
+// format sniffing sees the text first); the rest is the file's text. What a reader accepts must
+// survive its writer: the written text reads back, and writing that again gives the same text
+// (UFF58 keeps 6 digits of the abscissa, so text, not numbers, is what must be stable); the CSV
+// writer and its sidecar keep every number bit for bit. The FRF is well formed: one line per
+// frequency, finite values, coherence in [0, 1], one name per response.
 #include <cstddef>
 #include <cstdint>
 #include <optional>
@@ -62,12 +62,16 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
 
   const int node = 1 + (mode >> 4);
   std::string written;
-  Require(
-      Accepts([&] { written = uff ? ident::FormatUff58(*frf, node) : ident::FormatFrfCsv(*frf); }));
+  std::string sidecar;  // the CSV's facts (force, quantity, estimator, ...) beside it
+  Require(Accepts([&] {
+    written = uff ? ident::FormatUff58(*frf, node) : ident::FormatFrfCsv(*frf);
+    if (!uff) sidecar = ident::FormatFrfSidecar(*frf);
+  }));
   std::optional<ident::Frf> again;
   Require(Accepts([&] {
     again =
         uff ? ident::ParseUff58(written, "again.uff") : ident::ParseFrfCsv(written, "again.csv");
+    if (!uff) ident::ApplyFrfSidecar(sidecar, "again.csv.json", *again);
   }));
   CheckShape(*again);
   if (uff) {
