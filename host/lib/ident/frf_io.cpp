@@ -173,8 +173,10 @@ void ApplyFrfSidecar(std::string_view json, const std::string& source, Frf& frf)
   items.precision(17);
   for (const char* key : {"kind", "estimator", "measured", "force"}) {
     if (!j.contains(key)) continue;
+    // A word as the comment line takes it: no white space (an '=' inside the value is the
+    // value's, as the comment line's reader has always kept it).
     Require(j.at(key).is_string() &&
-                j.at(key).get<std::string>().find_first_of(" \t\n=") == std::string::npos,
+                j.at(key).get<std::string>().find_first_of(" \t\n\r\v\f") == std::string::npos,
             source + ": \"" + key + "\" must be a word, not " + j.at(key).dump());
     items << " " << key << "=" << j.at(key).get<std::string>();
   }
