@@ -219,6 +219,20 @@ T DecodeAnswer(const Reply& r, const char* what) {
   }
   return v;
 }
+
+// A get-info page that firmware older than the page does not know (the watch and fault pages):
+// its refusal as an unknown page is "no such page" (nullopt); any other refusal is an error.
+std::optional<Reply> CallInfoPageIfKnown(Connection& c, std::uint8_t page) {
+  Reply r = c.Call(Command::kGetInfo, wire::EncodedBytes(wire::InfoPageRequest{.page = page}));
+  if (r.header.status == Status::kOk) return r;
+  wire::Refusal why;
+  if (wire::Decode(r.payload(), why) == Status::kOk &&
+      why.reason == wire::Reason::kUnknownInfoPage) {
+    return std::nullopt;
+  }
+  throw DeviceError(
+      RefusalMessage(static_cast<std::uint8_t>(Command::kGetInfo), r.header.status, r.payload()));
+}
 }  // namespace
 
 wire::InfoResponse Connection::GetInfo() {
@@ -241,36 +255,18 @@ std::optional<wire::HealthInfoResponse> Connection::GetHealthInfo() {
 
 std::optional<wire::WatchInfoResponse> Connection::GetWatchInfo() {
   if (info_.protocol_minor < 1) return std::nullopt;
-  const Reply r = Call(Command::kGetInfo,
-                       wire::EncodedBytes(wire::InfoPageRequest{.page = wire::kInfoPageWatch}));
-  if (r.header.status != Status::kOk) {
-    // Firmware from before the residual test does not know the page: it has no test to report.
-    wire::Refusal why;
-    if (wire::Decode(r.payload(), why) == Status::kOk &&
-        why.reason == wire::Reason::kUnknownInfoPage) {
-      return std::nullopt;
-    }
-    throw DeviceError(
-        RefusalMessage(static_cast<std::uint8_t>(Command::kGetInfo), r.header.status, r.payload()));
-  }
-  return DecodeAnswer<wire::WatchInfoResponse>(r, "get-info watch page");
+  // Firmware from before the residual test does not know the page: it has no test to report.
+  const std::optional<Reply> r = CallInfoPageIfKnown(*this, wire::kInfoPageWatch);
+  if (!r) return std::nullopt;
+  return DecodeAnswer<wire::WatchInfoResponse>(*r, "get-info watch page");
 }
 
 std::optional<wire::FaultInfoResponse> Connection::GetFaultInfo() {
   if (info_.protocol_minor < 1) return std::nullopt;
-  const Reply r = Call(Command::kGetInfo,
-                       wire::EncodedBytes(wire::InfoPageRequest{.page = wire::kInfoPageFault}));
-  if (r.header.status != Status::kOk) {
-    // Firmware from before the fault record does not know the page: it keeps no record.
-    wire::Refusal why;
-    if (wire::Decode(r.payload(), why) == Status::kOk &&
-        why.reason == wire::Reason::kUnknownInfoPage) {
-      return std::nullopt;
-    }
-    throw DeviceError(
-        RefusalMessage(static_cast<std::uint8_t>(Command::kGetInfo), r.header.status, r.payload()));
-  }
-  return DecodeAnswer<wire::FaultInfoResponse>(r, "get-info fault page");
+  // Firmware from before the fault record does not know the page: it keeps no record.
+  const std::optional<Reply> r = CallInfoPageIfKnown(*this, wire::kInfoPageFault);
+  if (!r) return std::nullopt;
+  return DecodeAnswer<wire::FaultInfoResponse>(*r, "get-info fault page");
 }
 
 wire::SelfTestResponse Connection::SelfTest(std::uint8_t check) {
