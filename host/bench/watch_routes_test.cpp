@@ -176,9 +176,11 @@ TEST_F(WatchRoutesTest, EachStopRouteStopsOnlyItsOwnRun) {
   ASSERT_TRUE(watch_stop);
   EXPECT_EQ(watch_stop->status, 200);
   idle();
-  // A plain acquisition: neither view's Stop ends it, the page's does.
+  // A plain acquisition: neither view's Stop ends it, the page's does. The core loopback runs
+  // faster than the clock (a 60 s record ends within half a second), so the acquisition is long
+  // enough to be still running whatever the machine's load, and the page's Stop is seen to end it.
   const auto acquire =
-      Post("acquire", R"({"sample_period_us":5000,"channels":["acc1"],"seconds":60})");
+      Post("acquire", R"({"sample_period_us":5000,"channels":["acc1"],"seconds":3600})");
   ASSERT_TRUE(acquire);
   ASSERT_EQ(acquire->status, 200) << acquire->body;
   for (const char* route : {"watch/stop", "hammer/stop"}) {
@@ -188,11 +190,14 @@ TEST_F(WatchRoutesTest, EachStopRouteStopsOnlyItsOwnRun) {
     EXPECT_NE(r->body.find("the board runs an acquisition"), std::string::npos) << r->body;
   }
   std::this_thread::sleep_for(200ms);
-  EXPECT_EQ(board_->State()["running"], true);
+  EXPECT_EQ(board_->State()["running"], true) << board_->State().dump();
   const auto stop = Post("stop", "{}");
   ASSERT_TRUE(stop);
   EXPECT_EQ(stop->status, 200);
   idle();
+  const nlohmann::json ended = board_->State();
+  EXPECT_EQ(ended.value("stopped", false), true) << ended.dump();
+  EXPECT_LT(ended.value("records", 0), 720000) << ended.dump();
 }
 
 }  // namespace
