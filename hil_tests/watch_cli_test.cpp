@@ -1,6 +1,6 @@
 // `vibid watch` against a vibid-emu process running the `operate` scenario on rigs that change
-// while they run: on the board with a short reference and a large change early, on a recording
-// of the built-in 3 % mass step (rigs/chain2_mass_step.json, at 600 s), the options and the
+// while they run: on the board with a short reference and a large change, on a recording of the
+// built-in 3 % mass step (rigs/chain2_mass_step.json, moved so a whole window precedes it), the options and the
 // journal refused before the board starts, and Ctrl-C keeping the journal.
 #include <gtest/gtest.h>
 
@@ -8,6 +8,7 @@
 #include <csignal>
 #include <filesystem>
 #include <fstream>
+#include <optional>
 #include <sstream>
 #include <thread>
 
@@ -63,59 +64,76 @@ class WatchCliTest : public ::testing::Test {
   std::string dir;
 };
 
-// 30 % on mass 2 at 240 s; the reference is the first 230 s, 5 s blocks, windows of 6: the
-// window that holds the change alarms (at 260 s), none before it. Every line is JSON with the
-// keys, the same lines in the journal.
+// 30 % on mass 2 at 300 s; the reference is the first 230 s, 5 s blocks, windows of 6: the
+// windows ending at 260 s and 290 s are whole and before the change, and do not alarm; the window
+// that holds the change (ending at 320 s) or the next one does. Every line is JSON with the keys,
+// the same lines in the journal.
 TEST_F(WatchCliTest, OnTheBoardALargeChangeIsFlaggedByItsWindow) {
-  StartEmulator(WriteRig(dir, 240.0, 0.459));
+  constexpr double kChangeS = 300.0;
+  constexpr double kWindowS = 6 * 5.0;
+  StartEmulator(WriteRig(dir, kChangeS, 0.459));
   const std::string journal = dir + "/watch.jsonl";
   const auto r = RunVibid({"--device", emu->device_spec(), "watch", "--seconds",
-                           "300",      "--rate-hz",        "200",   "--scenario",
+                           "380",      "--rate-hz",        "200",   "--scenario",
                            "operate",  "--reference-s",    "230",   "--block-s",
                            "5",        "--window-blocks",  "6",     "--modes-s",
                            "0",        "--json",           "-o",    journal});
   ASSERT_EQ(r.exit_code, 0) << r.err;
   EXPECT_NE(r.err.find("vibid: reference of 230 s: modes 4.4"), std::string::npos) << r.err;
   const std::vector<nlohmann::json> lines = JsonLines(r.out);
-  ASSERT_EQ(lines.size(), 14u) << r.out;  // (300 − 230) / 5
+  ASSERT_EQ(lines.size(), 30u) << r.out;  // (380 − 230) / 5
   EXPECT_EQ(ReadFileBytes(journal), r.out);
+  int whole_windows_before = 0;
   for (const nlohmann::json& j : lines) {
     for (const char* key : {"t_s", "modes", "statistic", "threshold", "alarm", "accumulated",
                             "first_alarm_t_s", "moved"})
       EXPECT_TRUE(j.contains(key)) << key << " in " << j.dump();
-    if (j["t_s"].get<double>() < 240.0) {
+    if (j["t_s"].get<double>() <= kChangeS - 5.0) {
       EXPECT_FALSE(j["alarm"].get<bool>()) << j.dump();
+      EXPECT_FALSE(j["accumulated"]["alarm"].get<bool>()) << j.dump();
+      if (j["accumulated"]["blocks"] == j["accumulated"]["window_blocks"]) ++whole_windows_before;
     }
   }
+  // The check above judged whole windows, not only partial ones.
+  EXPECT_EQ(whole_windows_before, 2) << r.out;
   EXPECT_DOUBLE_EQ(lines.front()["t_s"].get<double>(), 235.0);
   const nlohmann::json& last = lines.back();
   ASSERT_FALSE(last["first_alarm_t_s"].is_null()) << r.out;
   const double first = last["first_alarm_t_s"].get<double>();
-  EXPECT_GT(first, 240.0);
-  EXPECT_LE(first, 240.0 + 2 * 6 * 5.0) << "within two windows of the change";
+  EXPECT_GT(first, kChangeS);
+  EXPECT_LE(first, kChangeS + 2 * kWindowS) << "within two windows of the change";
 }
 
-// The acceptance case on a recording: the built-in 3 % step at 600 s, 1200 s of the rig in
-// operation at 200 Hz. With a 590 s reference (the most the step leaves) the window after it
-// alarms, within 120 blocks (two windows) of the step; nothing before it.
+// The acceptance case on a recording: the built-in 3 % step (0.0459 kg on mass 2), here at
+// 1 300 s so that a whole default window (60 blocks of 10 s after a 590 s reference, ending at
+// 1 190 s) lies before it and is seen not to alarm; 2 500 s of the rig in operation at 200 Hz.
+// A window after the step alarms, within 120 blocks (two windows) of it.
 TEST_F(WatchCliTest, OnARecordingTheBuiltInThreePercentStepIsFlagged) {
-  StartEmulator(std::string(VIBID_SOURCE_DIR) + "/host/emulator/rigs/chain2_mass_step.json");
+  constexpr double kStepS = 1300.0;
+  StartEmulator(WriteRig(dir, kStepS, 0.0459));
   const std::string rec = dir + "/operate.csv";
   const auto acquire =
-      RunVibid({"--device", emu->device_spec(), "acquire", "--seconds", "1200", "--rate-hz", "200",
+      RunVibid({"--device", emu->device_spec(), "acquire", "--seconds", "2500", "--rate-hz", "200",
                 "--channels", "acc1,acc2", "--scenario", "operate", "-o", rec});
   ASSERT_EQ(acquire.exit_code, 0) << acquire.err;
   const auto r = RunVibid({"watch", rec, "--reference-s", "590", "--modes-s", "0", "--json"});
   ASSERT_EQ(r.exit_code, 0) << r.err;
   const std::vector<nlohmann::json> lines = JsonLines(r.out);
-  ASSERT_EQ(lines.size(), 61u) << r.out;  // (1200 − 590) / 10
+  ASSERT_EQ(lines.size(), 191u) << r.out;  // (2500 − 590) / 10
   std::optional<double> first;
+  int whole_windows_before = 0;
   for (const nlohmann::json& j : lines) {
-    if (j["alarm"].get<bool>() && !first) first = j["t_s"].get<double>();
+    const double t_s = j["t_s"].get<double>();
+    if (t_s <= kStepS) {
+      EXPECT_FALSE(j["alarm"].get<bool>()) << j.dump();
+      if (j["accumulated"]["blocks"] == j["accumulated"]["window_blocks"]) ++whole_windows_before;
+    }
+    if (j["alarm"].get<bool>() && !first) first = t_s;
   }
+  EXPECT_EQ(whole_windows_before, 1) << "the window ending at 1 190 s is judged whole";
   ASSERT_TRUE(first.has_value()) << r.out;
-  EXPECT_GT(*first, 600.0);
-  EXPECT_LE(*first, 600.0 + 120 * 10.0);
+  EXPECT_GT(*first, kStepS);
+  EXPECT_LE(*first, kStepS + 120 * 10.0);
 }
 
 TEST_F(WatchCliTest, BadOptionsAndAnUnwritableJournalAreRefusedBeforeTheBoardStarts) {

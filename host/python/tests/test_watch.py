@@ -1,6 +1,7 @@
 """vibid.watch against independent references: the output-only modes of the emulator's 2- and
 3-mass rigs in operation against the modes of the rig's truth (vibid-emu --print-truth), the
-3 % step of the built-in rig flagged at the block the CLI's hil test flags it, a 20 % mass step on
+3 % step of the built-in rig flagged at the block the CLI's hil test flags it and a whole window
+before it not flagged, a 20 % mass step on
 a rig simulated here with scipy (not the library's simulator) alarmed with the window the C++
 test expects, the same JSON lines and text as `vibid watch REC.csv` on the same recording, the
 board's model columns carried into each block, and the refusals."""
@@ -39,11 +40,20 @@ def truth_modes(rig: pathlib.Path, at_s: float = 0.0) -> vibid.Modal:
     return vibid.modal(vibid.Model.from_dict(json.loads(out)))
 
 
+STEP_S = 1300.0
+
+
 @pytest.fixture(scope="module")
 def step_recording(tmp_path_factory) -> pathlib.Path:
-    # The built-in rig with 3 % on mass 2 at 600 s, 20 minutes in operation: acc1, acc2.
-    return record(tmp_path_factory.mktemp("step"), RIGS / "chain2_mass_step.json", 1200,
-                  "acc1,acc2")
+    # The built-in rig's 3 % on mass 2 (0.0459 kg), moved from 600 s to 1 300 s so that a whole
+    # default window lies before it; 2 500 s in operation: acc1, acc2.
+    tmp = tmp_path_factory.mktemp("step")
+    rig = json.loads((RIGS / "chain2_mass_step.json").read_text())
+    assert rig["changes"][0]["add_kg"] == 0.0459
+    rig["changes"][0]["at_s"] = STEP_S
+    path = tmp / "chain2_mass_step.json"
+    path.write_text(json.dumps(rig))
+    return record(tmp, path, 2500, "acc1,acc2")
 
 
 def test_two_mass_modes_are_the_rigs_and_the_three_percent_step_is_flagged(step_recording):
@@ -61,13 +71,17 @@ def test_two_mass_modes_are_the_rigs_and_the_three_percent_step_is_flagged(step_
         assert abs(m.freq_hz - f_hz) < 2.5 * m.freq_ci95_hz
     assert ref.order == 4 and ref.seconds == pytest.approx(590.0)  # fs_hz from the time column
     blocks = list(w)
-    assert [b.t_s for b in blocks] == pytest.approx([600.0 + 10.0 * k for k in range(61)])
-    # hil WatchCliTest.OnARecordingTheBuiltInThreePercentStepIsFlagged: the first full window
-    # after the step (at 600 s), 60 blocks, ends at 1190 s and alarms; nothing alarms before.
-    assert [b.block for b in blocks if b.alarm] == [60]
-    assert blocks[59].t_s == blocks[-1].first_alarm_t_s == pytest.approx(1190.0)
+    assert [b.t_s for b in blocks] == pytest.approx([600.0 + 10.0 * k for k in range(191)])
+    # hil WatchCliTest.OnARecordingTheBuiltInThreePercentStepIsFlagged: the whole window ending
+    # at 1 190 s (60 blocks, before the step) does not alarm; the window after the one that holds
+    # the step (at 1 300 s) ends at 2 390 s and alarms; nothing else does.
+    assert blocks[59].t_s == pytest.approx(1190.0)
     assert blocks[59].accumulated["blocks"] == 60
-    assert blocks[59].accumulated["statistic"] > blocks[59].accumulated["threshold"]
+    assert blocks[59].accumulated["statistic"] < blocks[59].accumulated["threshold"]
+    assert [b.block for b in blocks if b.alarm] == [180]
+    assert blocks[179].t_s == blocks[-1].first_alarm_t_s == pytest.approx(2390.0)
+    assert blocks[179].accumulated["blocks"] == 60
+    assert blocks[179].accumulated["statistic"] > blocks[179].accumulated["threshold"]
     assert all(b.board is None for b in blocks)  # no model columns in this log
 
 
