@@ -390,9 +390,10 @@ StabilizationDiagram DiagramForReceptance(const Frf& receptance,
       PickPeaks(receptance.freq_hz, PickingMagnitude(receptance, options.picking_column), look);
   std::vector<double> at;
   for (const Peak& p : seen.peaks) at.push_back(p.freq_hz);
-  double top_hz = receptance.freq_hz[receptance.freq_hz.size() - 1];
-  if (look.freq_max_hz > 0.0) top_hz = std::min(top_hz, look.freq_max_hz);
-  std::vector<std::pair<double, double>> bands = AutomaticBands(at, top_hz);
+  // The bands around those peaks reach beyond it as before (1.6 times the highest, within the
+  // lines): a mode near the force band's top keeps the lines above it in its fit.
+  std::vector<std::pair<double, double>> bands =
+      AutomaticBands(at, receptance.freq_hz[receptance.freq_hz.size() - 1]);
   for (auto& b : bands) b.first = std::max(b.first, so.freq_min_hz);
   return BuildStabilizationDiagram(receptance, so, bands);
 }
