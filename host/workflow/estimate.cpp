@@ -440,6 +440,11 @@ ident::Frf JoinColumns(const std::vector<ident::Frf>& frfs,
     out.response_names.insert(out.response_names.end(), f.response_names.begin(),
                               f.response_names.end());
     out.exp_window_tau_s = std::max(out.exp_window_tau_s, f.exp_window_tau_s);
+    // Where both forces excite the structure.
+    if (f.force_band_max_hz > 0.0 && out.force_band_max_hz > 0.0) {
+      out.force_band_min_hz = std::max(out.force_band_min_hz, f.force_band_min_hz);
+      out.force_band_max_hz = std::min(out.force_band_max_hz, f.force_band_max_hz);
+    }
     Require(f.pretrigger_s == out.pretrigger_s, sources[i] + ": pretrigger differs from " +
                                                     sources[0] + "'s; estimate both the same way");
   }

@@ -57,9 +57,10 @@ def hammer_force(fs_hz, seconds, spacing_s, width_s, peak_n, seed):
 
 
 def simulate(masses, springs, dampers, hammer_mass, fs_hz=1000.0, seconds=40.0, spacing_s=8.0,
-             width_s=0.003, peak_n=50.0, noise=0.002, seed=1):
+             width_s=0.003, peak_n=50.0, noise=0.002, seed=1, displacements=False):
     """(t_s, force_n, accelerations n x samples) at fs_hz; hammer_mass counted from 1. noise: the
-    standard deviation of each channel's Gaussian noise as a fraction of its largest value."""
+    standard deviation of each channel's Gaussian noise as a fraction of its largest value.
+    displacements: also the masses' displacements (n x samples, sampled alike, no noise) last."""
     n = len(masses)
     m, c, k = chain_matrices(masses, springs, dampers)
     minv = np.linalg.inv(m)
@@ -89,6 +90,10 @@ def simulate(masses, springs, dampers, hammer_mass, fs_hz=1000.0, seconds=40.0, 
     force = force + noise * np.abs(force).max() * rng.standard_normal(force.size)
     acc = acc + noise * np.abs(acc).max(axis=1, keepdims=True) * rng.standard_normal(acc.shape)
     t = np.arange(force.size) / fs_hz
+    if displacements:
+        disp = np.vstack([scipy.signal.decimate(row, OVERSAMPLE, ftype="fir", zero_phase=True)
+                          for row in x[:n]])
+        return t, force, acc, disp
     return t, force, acc
 
 

@@ -149,6 +149,9 @@ std::string FormatFrfSidecar(const Frf& frf) {
   j["measured"] = FrfKindName(frf.measured);
   // An FRF read without a force name is written without one, so it reads back as it was.
   if (!frf.force_name.empty()) j["force"] = frf.force_name;
+  // Impact FRFs: where the hammer's force excites the structure (modes are sought there).
+  if (frf.force_band_max_hz > 0.0)
+    j["force_band_hz"] = {frf.force_band_min_hz, frf.force_band_max_hz};
   return j.dump(2) + "\n";
 }
 
@@ -159,10 +162,11 @@ void ApplyFrfSidecar(std::string_view json, const std::string& source, Frf& frf)
   Require(j.value("version", nlohmann::json()) == 1,
           source + ": version " + j.value("version", nlohmann::json()).dump() +
               " is not one this vibid reads (1)");
-  RequireKnownKeys(j,
-                   {"format", "version", "columns", "kind", "estimator", "averages",
-                    "exp_window_tau_s", "pretrigger_s", "record_s", "measured", "force"},
-                   source);
+  RequireKnownKeys(
+      j,
+      {"format", "version", "columns", "kind", "estimator", "averages", "exp_window_tau_s",
+       "pretrigger_s", "record_s", "measured", "force", "force_band_hz"},
+      source);
   const std::vector<std::string> names = FrfColumnNames(frf);
   Require(j.contains("columns") && j.at("columns") == nlohmann::json(names),
           source + ": describes columns " + j.value("columns", nlohmann::json()).dump() +
@@ -187,6 +191,15 @@ void ApplyFrfSidecar(std::string_view json, const std::string& source, Frf& frf)
   }
   const bool measured_given = ApplyFrfMetadata(items.str(), source, frf);
   if (!measured_given) frf.measured = frf.quantity;
+  if (j.contains("force_band_hz")) {
+    const nlohmann::json& b = j.at("force_band_hz");
+    Require(
+        b.is_array() && b.size() == 2 && b[0].is_number() && b[1].is_number() &&
+            b[0].get<double>() >= 0.0 && b[1].get<double>() > b[0].get<double>(),
+        source + ": \"force_band_hz\" must be [lo, hi] in Hz with 0 <= lo < hi, not " + b.dump());
+    frf.force_band_min_hz = b[0].get<double>();
+    frf.force_band_max_hz = b[1].get<double>();
+  }
 }
 
 bool LooksLikeFrfCsv(std::string_view text) {

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <numbers>
 #include <sstream>
 
@@ -27,6 +28,10 @@ void ImpactOptions::Validate() const {
           "impact: force dynamic range must be > 0 dB");
   Require(force_band_db >= 0.0 && std::isfinite(force_band_db),
           "impact: force band must be >= 0 dB (0: every line)");
+  Require(force_excited_db >= 0.0 && std::isfinite(force_excited_db),
+          "impact: force excited band must be >= 0 dB (0: the usable band)");
+  Require(response_resolution_factor >= 0.0 && std::isfinite(response_resolution_factor),
+          "impact: response resolution factor must be >= 0 (0: no check)");
   Require(weak_hit_fraction >= 0.0 && weak_hit_fraction < 1.0,
           "impact: weak-hit fraction must be in [0, 1) (0: no check)");
   Require(weak_hit_noise_factor >= 0.0 && std::isfinite(weak_hit_noise_factor),
@@ -519,6 +524,55 @@ void LimitToForceBand(const CrossSpectra& spectra, double range_db, bool doubles
   result.warnings.push_back(w.str());
 }
 
+// The last line before the force auto-spectrum first falls `range_db` below its largest value
+// (the DC line aside), or the last line. The lines above carry a response to a force that no
+// longer drives the structure: with a single average every line's coherence is 1, so only the
+// force says where H1 turns into the record's noise over the pulse's notch (a four-mass chain
+// with encoders, 12-bit: 60-1300 "peaks" at 650-730 Hz, and the poles placed there took the
+// place of a real mode).
+double ExcitedMaxHz(const CrossSpectra& spectra, double range_db) {
+  const Eigen::Index lines = spectra.freq_hz.size();
+  const double top = spectra.gff.tail(lines - 1).maxCoeff();
+  const double floor = top * std::pow(10.0, -range_db / 10.0);
+  Eigen::Index k = 1;
+  while (k < lines && spectra.gff[k] >= floor) ++k;
+  return spectra.freq_hz[k - 1];
+}
+
+// Per column, q^2 / 12 for its smallest nonzero step between consecutive samples q.
+std::vector<double> RoundingVariances(const Eigen::Ref<const Eigen::MatrixXd>& responses) {
+  std::vector<double> out;
+  for (Eigen::Index j = 0; j < responses.cols(); ++j) {
+    double q = std::numeric_limits<double>::infinity();
+    for (Eigen::Index i = 1; i < responses.rows(); ++i) {
+      const double step = std::abs(responses(i, j) - responses(i - 1, j));
+      if (step > 0.0) q = std::min(q, step);
+    }
+    out.push_back(std::isfinite(q) ? q * q / 12.0 : 0.0);
+  }
+  return out;
+}
+
+// Lines above `from_hz` where a response's auto-spectrum is below `factor` times its rounding
+// noise carry no FRF for that response (ImpactOptions::response_resolution_factor). `gxx` are
+// the scaled sums over `used` hits; each hit's responses are multiplied by `exp_window`. Only
+// where the force has started to fade (10 dB down, the strict end of the hammer's rule): in the
+// modes' band a 12-bit channel's antiresonance lines fell below it too, and weighing them out
+// moved the fits (a two-mass test's driving point no longer found).
+void MaskBelowResolution(const Eigen::MatrixXd& gxx, const std::vector<double>& rounding_var,
+                         const Eigen::VectorXd& exp_window, double scale, std::size_t used,
+                         double factor, double from_hz, Frf& frf) {
+  if (!(factor > 0.0)) return;
+  const double window_power = exp_window.squaredNorm();
+  for (Eigen::Index j = 0; j < gxx.cols() && static_cast<std::size_t>(j) < rounding_var.size();
+       ++j) {
+    const double floor = factor * scale * static_cast<double>(used) *
+                         rounding_var[static_cast<std::size_t>(j)] * window_power;
+    for (Eigen::Index k = 0; k < gxx.rows(); ++k)
+      if (frf.freq_hz[k] > from_hz && gxx(k, j) < floor) frf.coherence(k, j) = 0.0;
+  }
+}
+
 // Variance of the force channel's noise: from the median absolute deviation of the median-
 // centred force (the hits are a few per cent of the samples at most, which the median ignores;
 // 1.4826 makes it the standard deviation of normal noise).
@@ -580,6 +634,7 @@ ImpactDetection DetectImpactHits(const Eigen::Ref<const Eigen::VectorXd>& force,
   d.pretrigger_samples = layout.pre;
   d.exp_window = ExponentialWindow(layout, fs_hz, options.exp_window_end, d.exp_window_tau_s);
   d.force_noise_var = ForceNoiseVariance(centred);
+  d.response_rounding_var = RoundingVariances(responses);
 
   Require(options.converter_limits.empty() ||
               options.converter_limits.size() == static_cast<std::size_t>(responses.cols()) + 1,
@@ -763,6 +818,11 @@ ImpactResult AverageHitSpectra(const ImpactDetection& detection,
   sums.gxx *= scale;
   sums.gfx *= scale;
   result.frf = FrfFromSpectra(sums, estimator, response_quantity);
+  constexpr double kForceFadingDb = 10.0;
+  if (sums.freq_hz.size() > 2)
+    MaskBelowResolution(sums.gxx, detection.response_rounding_var, detection.exp_window, scale,
+                        used, options.response_resolution_factor,
+                        ExcitedMaxHz(sums, kForceFadingDb), result.frf);
   result.frf.exp_window_tau_s = detection.exp_window_tau_s;
   result.frf.pretrigger_s = static_cast<double>(detection.pretrigger_samples) / fs_hz;
   result.frf.record_s = static_cast<double>(detection.record_samples) / fs_hz;
@@ -774,6 +834,12 @@ ImpactResult AverageHitSpectra(const ImpactDetection& detection,
     LimitToForceBand(sums, doubles_used ? options.force_dynamic_range_db : options.force_band_db,
                      doubles_used, result);
   }
+  result.excited_max_hz = result.usable_max_hz;
+  if (lines > 2 && options.force_excited_db > 0.0)
+    result.excited_max_hz =
+        std::min(result.usable_max_hz, ExcitedMaxHz(sums, options.force_excited_db));
+  result.frf.force_band_min_hz = result.usable_min_hz;
+  result.frf.force_band_max_hz = result.excited_max_hz;
   return result;
 }
 

@@ -339,10 +339,15 @@ void ModalPolesOfOrder(const PoleSet& set, int order, const Band& band,
 }
 
 // Each pole against the nearest pole of the previous order.
+// The damping rule is relative to the larger of the pole's damping and the damping of a
+// resonance one line wide (spacing / (2 f)): a mode narrower than a line (a wing at 167.8 Hz,
+// zeta 0.0003, in lines 0.31 Hz apart: 0.00093) has a damping the lines do not resolve to 5 % of
+// itself, and was stable in frequency and shape at 22 of 23 orders but never in damping.
 void MarkStability(const std::vector<DiagramPole>& prev,
                    const std::vector<Eigen::VectorXcd>& prev_shapes,
                    const std::vector<Eigen::VectorXcd>& now_shapes,
-                   const StabilizationOptions& options, std::vector<DiagramPole>& now) {
+                   const StabilizationOptions& options, double spacing_hz,
+                   std::vector<DiagramPole>& now) {
   for (std::size_t i = 0; i < now.size(); ++i) {
     DiagramPole& p = now[i];
     std::size_t best = prev.size();
@@ -356,7 +361,9 @@ void MarkStability(const std::vector<DiagramPole>& prev,
     }
     if (best == prev.size()) continue;
     p.stable_freq = best_df <= options.freq_tolerance * p.freq_hz;
-    p.stable_damping = std::abs(prev[best].zeta - p.zeta) <= options.damping_tolerance * p.zeta;
+    const double zeta_line = p.freq_hz > 0.0 ? spacing_hz / (2.0 * p.freq_hz) : 0.0;
+    p.stable_damping = std::abs(prev[best].zeta - p.zeta) <=
+                       options.damping_tolerance * std::max(p.zeta, zeta_line);
     p.stable_shape = Mac(now_shapes[i], prev_shapes[best]) >= options.mac_min;
   }
 }
@@ -451,6 +458,9 @@ StabilizationDiagram BuildStabilizationDiagram(const Frf& frf,
   d.freq_min_hz = band.lo;
   d.freq_max_hz = band.hi;
   const int max_order = OrdersForBand(frf, band, options);
+  const Eigen::Index lines = frf.freq_hz.size();
+  const double spacing_hz =
+      (frf.freq_hz[lines - 1] - frf.freq_hz[0]) / static_cast<double>(lines - 1);
   std::unique_ptr<LscfNormals> lscf;
   std::unique_ptr<LsceNormals> lsce;
   if (options.method == PoleMethod::kLscf) {
@@ -469,7 +479,7 @@ StabilizationDiagram BuildStabilizationDiagram(const Frf& frf,
     std::vector<Eigen::VectorXcd> now_shapes;
     ModalPolesOfOrder(set, order, band, options, frf.exp_window_tau_s, lscf != nullptr, now,
                       now_shapes);
-    MarkStability(prev, prev_shapes, now_shapes, options, now);
+    MarkStability(prev, prev_shapes, now_shapes, options, spacing_hz, now);
     for (const DiagramPole& p : now) d.poles.push_back(p);
     prev = std::move(now);
     prev_shapes = std::move(now_shapes);

@@ -60,6 +60,20 @@ struct ImpactOptions {
   /// band, at its pulse's first notch, H1 is the hits' other content over a vanishing force. 0:
   /// every line.
   double force_band_db = 30.0;
+  /// The band where the force excites the structure (Frf::force_band_min_hz/max_hz): up to the
+  /// last line before the force auto-spectrum first falls this far below its largest value (dB).
+  /// The usual rule for a hammer's useful range is a force spectrum within 10-20 dB of its level
+  /// (Ewins, Modal Testing, 2nd ed., ch. 3); 20 dB keeps the LADISK beam's mode at 5975 Hz, where
+  /// its hammer's force is 15.7 dB down and the mode is well determined. A 2 ms half-sine falls
+  /// 20 dB by 650 Hz and has its first notch at 750 Hz. 0: the usable band (force_band_db).
+  double force_excited_db = 20.0;
+  /// A response line above the force's 10 dB point carries no FRF (coherence 0) where its
+  /// auto-spectrum is below this multiple of its converter's rounding noise (the channel's
+  /// smallest step q, variance q^2 / 12, white):
+  /// with a single hit every coherence is 1, and an encoder's count of 1e-5 m turned into H,
+  /// where the displacement is below one count, gave hundreds of noise "peaks" at 650-730 Hz.
+  /// 0: no such check.
+  double response_resolution_factor = 10.0;
   /// A hit is too weak when its peak is below this fraction of the median peak of the complete,
   /// single, unclipped hits: a tap that light drives the structure less far into its nonlinearity
   /// than the others and lifts its response less far above the noise. 0: no such check.
@@ -118,6 +132,9 @@ struct ImpactResult {
   /// (ImpactOptions::force_band_db; force_dynamic_range_db with double hits).
   double usable_min_hz = 0.0;
   double usable_max_hz = 0.0;
+  /// Where the force excites the structure (ImpactOptions::force_excited_db), within the usable
+  /// band; the FRF carries it (Frf::force_band_min_hz/max_hz).
+  double excited_max_hz = 0.0;
   std::vector<std::string> warnings;
 };
 
@@ -131,6 +148,10 @@ struct ImpactDetection {
   double baseline = 0.0;         ///< Median of the force.
   double trigger_level = 0.0;    ///< |force - baseline| where a pulse starts.
   double force_noise_var = 0.0;  ///< Variance of the force channel's noise.
+  /// Per response, the variance of its rounding noise: q^2 / 12 for the smallest step q between
+  /// consecutive samples (a converter's code, an encoder's count; tiny for data in floating
+  /// point).
+  std::vector<double> response_rounding_var;
   double exp_window_tau_s = 0.0;
   Eigen::VectorXd exp_window;  ///< Over one hit record (ones without an exponential window).
   std::vector<std::string> warnings;

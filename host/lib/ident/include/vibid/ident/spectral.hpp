@@ -97,6 +97,13 @@ struct Frf {
   /// a flat spectrum), so it scales a resonance as a whole and no fit's residuals show it. Empty
   /// when not known (Welch FRFs, FRF files).
   Eigen::VectorXd level_rel_var;
+  /// Impact FRFs: the band where the hammer's force excites the structure (Hz), from the first
+  /// line to the last before the force spectrum first falls ImpactOptions::force_excited_db below
+  /// its largest value. Above it H1 is the record's noise over a vanishing force (the pulse's
+  /// notch): mode identification analyses, and names peaks without a mode, only inside it unless
+  /// a band is given. Both 0 when not known (Welch FRFs, FRF files without it): every line.
+  double force_band_min_hz = 0.0;
+  double force_band_max_hz = 0.0;
   std::vector<std::string> response_names;
   std::string force_name;
 
