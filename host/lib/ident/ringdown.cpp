@@ -362,13 +362,19 @@ std::vector<AmplitudeDamping> CheckAmplitudeDependence(const RingDowns& ringdown
     // the 2-mass rig: within its interval); the early stop alone leaves none.
     if (grows && significant) r.stops_early = false;
     r.amplitude_dependent = r.stops_early || (grows && significant);
-    // Below the rule but pointing the same way: the late damping higher by kHintGrowth and the
-    // friction rate positive, not beyond chance (1 mN per mass on the 2-mass rig of
-    // friction_levels: late/early 1.10 over 5 hits, the FRF's zeta 2.8 % high with an interval
-    // of 0.35 %, the viscous part's interval holding the truth).
-    r.friction_hint = !r.amplitude_dependent && rate.size() >= 2 &&
-                      r.zeta_late >= options.hint_late_over_early * r.zeta_early &&
-                      srate.mean > 0.0 && std::isfinite(r.zeta_viscous_ci95[0]);
+    // Below the rule but pointing the same way: the late damping higher by hint_late_over_early
+    // and the friction rate a standard error above 0 (1 mN per mass on the 2-mass rig of
+    // friction_levels: late/early 1.10 and t 1.3 over 5 hits, the FRF's zeta 2.8 % high with an
+    // interval of 0.35 %). The viscous part is no answer there (on rigs without friction whose
+    // records end while a mode rings it strays below the truth): the zeta interval is withheld.
+    const double rate_t =
+        rate.size() >= 2 && srate.sd > 0.0
+            ? srate.mean / (srate.sd / std::sqrt(static_cast<double>(rate.size())))
+            : 0.0;
+    // Only ring-downs that reach their noise floor show the deep tail where friction tells; the
+    // three-mass study's records, cut 5 s after each hit, hinted in 18 of 40 seeds without it.
+    r.friction_hint = !r.amplitude_dependent && floor_hits >= 2 &&
+                      r.zeta_late >= options.hint_late_over_early * r.zeta_early && rate_t >= 1.0;
     char text[320];
     std::snprintf(text, sizeof text,
                   "apparent damping %.4g early and %.4g late in the ring-downs of %zu hit(s); "
@@ -426,13 +432,11 @@ void ApplyAmplitudeCheck(const RingDowns& ringdowns, ModeIdentification& identif
           text, sizeof text,
           "dry friction suspected: the apparent damping is %.0f %% higher late in the ring-downs "
           "than early (%.4g, %.4g; %zu hit(s)), not beyond chance: friction biases an FRF's "
-          "damping high, so zeta %.4g is the viscous part of a viscous + Coulomb fit of the "
-          "ring-downs with its interval over the hits (the FRF gave %.4g, with an interval that "
-          "cannot hold under friction); %s",
-          100.0 * (a.zeta_late / a.zeta_early - 1.0), a.zeta_early, a.zeta_late, a.hits,
-          a.zeta_viscous, m.zeta, kFrictionWayOut);
-      m.zeta = a.zeta_viscous;
-      m.zeta_ci95 = a.zeta_viscous_ci95;
+          "damping high, so the interval of zeta %.4g is withheld (the viscous part of a viscous "
+          "+ Coulomb fit of the ring-downs gives %.4g); %s",
+          100.0 * (a.zeta_late / a.zeta_early - 1.0), a.zeta_early, a.zeta_late, a.hits, m.zeta,
+          a.zeta_viscous, kFrictionWayOut);
+      m.zeta_ci95 = {kNaN, kNaN};
       m.caution = text;
       identification.warnings.push_back(where + std::string(text));
       continue;

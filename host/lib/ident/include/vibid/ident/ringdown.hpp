@@ -52,9 +52,9 @@ struct RingDownOptions {
   /// exceeds that of its first half by this factor (on the hits' means) and the friction rate is
   /// positive beyond its 95 % interval over the hits (so never with one hit).
   double min_late_over_early = 1.15;
-  /// Below that rule, a late damping this much above the early one with a positive friction
-  /// rate is a hint of friction (`friction_hint`): the FRF's zeta interval gives way to the
-  /// viscous part's, with a caution.
+  /// Below that rule, a late damping this much above the early one with a friction rate a
+  /// standard error above 0 is a hint of friction (`friction_hint`): the FRF's zeta interval is
+  /// withheld, with a caution.
   double hint_late_over_early = 1.05;
 };
 
