@@ -53,9 +53,8 @@ struct RingDownOptions {
   /// positive beyond its 95 % interval over the hits (so never with one hit).
   double min_late_over_early = 1.15;
   /// Below that rule, a late damping this much above the early one with a friction rate a
-  /// standard error above 0 is a hint of friction (`friction_hint`): the FRF's zeta interval is
-  /// withheld, with a caution.
-  double hint_late_over_early = 1.05;
+  /// standard error above 0 is a hint of friction (`friction_hint`), named in a caution.
+  double hint_late_over_early = 1.08;
 };
 
 /// The check for every mode of `modes` (shapes mass-normalised, response order of the ring-downs),
