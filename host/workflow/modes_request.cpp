@@ -27,6 +27,32 @@ std::optional<ident::NamedDrivingPoint> NamedDrivingPointOf(const ident::Frf& fr
                                                 : request.driving_point_source};
 }
 
+namespace {
+
+// Dry friction named where it spoils the modes: peaks with no mode may be modes it hides, and
+// modes that are mostly peak picks of a broken fit are refused with friction as the cause.
+void NameFriction(ident::ModeIdentification& r) {
+  const std::string friction = ident::FrictionShownBy(r);
+  if (friction.empty()) return;
+  std::size_t unreliable = 0;
+  for (const ident::ModeEstimate& m : r.modes) unreliable += m.unreliable ? 1 : 0;
+  if (2 * unreliable > r.modes.size()) {
+    throw InputError("no reliable modes: " + std::to_string(unreliable) + " of " +
+                     std::to_string(r.modes.size()) + " are unreliable, and the recording's " +
+                     friction.substr(4) +
+                     ": dry friction stops the ring-downs, so the FRF is no viscous system's; "
+                     "harder hits (friction's share falls as the amplitude grows), or the "
+                     "time-domain routes that model friction (vibid decay, greybox)");
+  }
+  if (!r.peaks_without_mode_hz.empty()) {
+    r.warnings.push_back("the recording's " + friction.substr(4) +
+                         ": the peaks with no mode may be modes dry friction hides; harder hits "
+                         "show them");
+  }
+}
+
+}  // namespace
+
 ident::ModeIdentification IdentifyModes(const ident::Frf& receptance, const ModeRequest& request,
                                         const ident::RingDowns* ringdowns,
                                         ident::DrivingPointChoice* choice) {
@@ -46,6 +72,7 @@ ident::ModeIdentification IdentifyModes(const ident::Frf& receptance, const Mode
   if (ringdowns != nullptr && !ringdowns->hits.empty() &&
       ringdowns->hits.front().cols() == static_cast<Eigen::Index>(receptance.responses()))
     ident::ApplyAmplitudeCheck(*ringdowns, r);
+  NameFriction(r);
   return r;
 }
 

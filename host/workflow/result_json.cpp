@@ -60,7 +60,13 @@ nlohmann::json ModesToJson(const std::vector<ident::ModeEstimate>& modes) {
                              {"friction_per_mass_n", std::isfinite(a.friction_per_mass_n)
                                                          ? nlohmann::json(a.friction_per_mass_n)
                                                          : nlohmann::json(nullptr)},
-                             {"amplitude_dependent", a.amplitude_dependent}};
+                             {"amplitude_dependent", a.amplitude_dependent},
+                             {"stops_early", a.stops_early},
+                             {"friction_hint", a.friction_hint}};
+      if (a.stops_early) {
+        j["zeta_amplitude"]["stop_s"] = a.stop_s;
+        j["zeta_amplitude"]["expected_stop_s"] = a.expected_stop_s;
+      }
     }
     if (m.HasAnyInterval()) {
       const auto pair = [](const std::array<double, 2>& ci) {

@@ -39,8 +39,18 @@ struct AmplitudeDamping {
   std::array<double, 2> modal_friction_ci95{std::numeric_limits<double>::quiet_NaN(),
                                             std::numeric_limits<double>::quiet_NaN()};
   double friction_per_mass_n = 0.0;
-  /// The apparent damping grows as the amplitude falls beyond chance: friction.
+  /// The ring-downs reach their noise floor in less than half the time the mode's damping
+  /// gives (in two thirds of the hits that reach it, two at least): dry friction stops them.
+  /// stop_s and expected_stop_s are their means over those hits.
+  bool stops_early = false;
+  double stop_s = 0.0;
+  double expected_stop_s = 0.0;
+  /// The apparent damping grows as the amplitude falls beyond chance, or the ring-downs stop
+  /// early: friction.
   bool amplitude_dependent = false;
+  /// Not beyond chance, but the late damping is higher and the friction rate positive: the FRF's
+  /// zeta may carry some friction.
+  bool friction_hint = false;
   std::string note;
 };
 

@@ -45,12 +45,16 @@ RingDowns RingDownsOf(const ImpactResult& impact, const Eigen::Ref<const Eigen::
                       Quantity sensor);
 
 struct RingDownOptions {
-  /// The envelope is fitted from its start down to this fraction of it.
-  double end_fraction = 0.1;
+  /// The envelope is fitted from its start down to this fraction of it, or to 3 times the noise
+  /// floor (read in the records' flat tails, its power taken off) where that comes first.
+  double end_fraction = 0.02;
   /// Amplitude dependence is reported when the apparent damping of the decay's second half
   /// exceeds that of its first half by this factor (on the hits' means) and the friction rate is
   /// positive beyond its 95 % interval over the hits (so never with one hit).
   double min_late_over_early = 1.15;
+  /// Below that rule, a late damping this much above the early one with a friction rate a
+  /// standard error above 0 is a hint of friction (`friction_hint`), named in a caution.
+  double hint_late_over_early = 1.08;
 };
 
 /// The check for every mode of `modes` (shapes mass-normalised, response order of the ring-downs),
@@ -66,5 +70,9 @@ std::vector<AmplitudeDamping> CheckAmplitudeDependence(const RingDowns& ringdown
 /// than 2 hits), the mode's `caution` and a warning say so and give the modal friction force.
 void ApplyAmplitudeCheck(const RingDowns& ringdowns, ModeIdentification& identification,
                          const RingDownOptions& options = {});
+
+/// "its ring-downs show dry friction (at F Hz ...)" for the first mode of `identification` whose
+/// ring-down check found friction (ApplyAmplitudeCheck run first); empty when none did.
+std::string FrictionShownBy(const ModeIdentification& identification);
 
 }  // namespace vibid::ident

@@ -1,0 +1,178 @@
+#!/usr/bin/env python3
+"""Dry friction at every level: right within its interval, or named and withheld.
+
+Each level is one 60 s hammer test (five hits of 100 N +- 20 %, 11.5-12.5 s apart, on the last
+mass; 500 Hz, 0.5 % noise) simulated by chain_sim.py (numpy/scipy, Coulomb friction on every mass
+integrated by the classical Runge-Kutta method, anti-aliased and decimated as a DAQ samples),
+then identified by `vibid modes` and `vibid identify` as a user runs them:
+
+- the 2-mass rig of the coverage study (1.82, 1.53 kg; 3520, 2760 N/m; 5, 3.5 N s/m) with 0, 1, 2,
+  5, 10 and 20 mN per mass: every omega, zeta and shape-ratio interval `modes` gives holds the
+  viscous chain's own value (its state matrix's eigenvalues, its undamped shapes; within 1.7
+  half-widths, see SLACK) or the mode's caution names friction, and every one it withholds
+  names friction; with friction named, identify's verdict is at least caution;
+- the 3-mass chain (1, 0.8, 0.6 kg) with 0.3 N per mass, where friction ends the ring-downs in
+  half a second and hides a mode: `modes` names dry friction, `identify` refuses naming it.
+
+    benchmarks/coverage/friction_levels.py --vibid build/host/host/cli/vibid [--check]
+        [--level 0.001 ...]
+
+Prints one line per level and quantity; with --check exits 1 when a level is neither right nor
+named. About 6 minutes (the friction cases' integration dominates).
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import math
+import os
+import subprocess
+import sys
+import tempfile
+
+import numpy as np
+
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+import chain_sim  # noqa: E402
+
+RIG2 = chain_sim.Chain([1.82, 1.53], [3520.0, 2760.0], [5.0, 3.5])
+NOMINAL2 = chain_sim.Chain([2.0, 1.5], [4000.0, 3000.0], [0.0, 0.0])
+RIG3 = chain_sim.Chain([1.0, 0.8, 0.6], [4000.0, 3000.0, 2000.0], [3.0, 2.0, 1.5])
+NOMINAL3 = chain_sim.Chain([1.07, 0.744, 0.642], [4400.0, 2700.0, 2200.0], [0.0, 0.0, 0.0])
+LEVELS_2MASS_N = [0.0, 0.001, 0.002, 0.005, 0.01, 0.02]
+HEAVY_N = 0.3
+
+
+def truth_modes(chain: chain_sim.Chain):
+    """(omega_rad_s, zeta, shape ratios phi_j / phi_last) per mode: the viscous chain's state
+    matrix eigenvalues and its undamped shapes."""
+    m, k, c = chain.matrices()
+    n = chain.n
+    minv = np.linalg.inv(m)
+    a = np.block([[np.zeros((n, n)), np.eye(n)], [-minv @ k, -minv @ c]])
+    lam = np.linalg.eigvals(a)
+    lam = sorted((l for l in lam if l.imag > 0), key=abs)
+    w2, v = np.linalg.eig(minv @ k)
+    order = np.argsort(w2.real)
+    out = []
+    for i, l in enumerate(lam):
+        phi = v[:, order[i]].real
+        out.append((abs(l), -l.real / abs(l), phi / phi[-1]))
+    return out
+
+
+def simulate(chain: chain_sim.Chain, friction_n: float, path: str):
+    spec = chain_sim.HammerSpec(hammer_mass=chain.n, fs_hz=500.0, hits=5, spacing_min_s=11.5,
+                                spacing_max_s=12.5, peak_n=100.0, noise=0.005,
+                                friction_n=friction_n, seed=1)
+    t, f, a = chain_sim.hammer_test(chain, spec)
+    names = [f"acc{j + 1}_m_s2" for j in range(chain.n)]
+    chain_sim.write_recording(path, t, f, a, names)
+    return names
+
+
+# One seed checks every interval once: a true 95 % interval misses 5 % of the time, so the truth
+# counts as held within 1.7 of its half-widths (3.3 standard deviations, 99.9 %). The biases
+# friction brings are larger (1 mN: the FRF's zeta 8 half-widths high).
+SLACK = 1.7
+
+
+def inside(ci, value) -> bool:
+    if ci is None:
+        return False
+    mid, half = 0.5 * (ci[0] + ci[1]), 0.5 * (ci[1] - ci[0])
+    return abs(value - mid) <= SLACK * half
+
+
+def check_level(vibid: str, chain, nominal, friction_n: float, d: str) -> list[str]:
+    """Problems found at this level (empty: right or named), with one line printed per
+    quantity."""
+    rec = os.path.join(d, f"friction_{friction_n:g}.csv")
+    names = simulate(chain, friction_n, rec)
+    nom = os.path.join(d, "nominal.json")
+    chain_sim.write_model(nom, nominal)
+    problems = []
+    label = f"{chain.n}-mass, {1000 * friction_n:g} mN"
+    modes = subprocess.run([vibid, "modes", rec, "--force", "force1_n", "--response",
+                            ",".join(names), "--json"], capture_output=True, text=True)
+    identify = subprocess.run([vibid, "identify", "--nominal", nom, "--modal-test", rec,
+                               "--modal-responses", ",".join(names), "-o",
+                               os.path.join(d, "out.json"), "--report", d],
+                              capture_output=True, text=True)
+    if friction_n >= HEAVY_N:
+        text = modes.stderr + modes.stdout
+        named = "dry friction" in text
+        print(f"{label}: modes exit {modes.returncode}, friction named: {named}; identify exit "
+              f"{identify.returncode}: {identify.stderr.strip().splitlines()[-1][:160]}")
+        if not named:
+            problems.append(f"{label}: modes does not name dry friction")
+        if identify.returncode == 0 or "dry friction" not in identify.stderr:
+            problems.append(f"{label}: identify is not refused naming dry friction")
+        return problems
+    if modes.returncode != 0:
+        return [f"{label}: modes failed: {modes.stderr.strip()[-300:]}"]
+    j = json.loads(modes.stdout)
+    truth = truth_modes(chain)
+    friction_named = any("friction" in w for w in j["warnings"])
+    if friction_n == 0.0 and friction_named:
+        problems.append(f"{label}: friction named on a rig without it")
+    if len(j["modes"]) != len(truth):
+        problems.append(f"{label}: {len(j['modes'])} modes for {len(truth)}")
+        return problems
+    for i, (m, (om, ze, ratios)) in enumerate(zip(j["modes"], truth)):
+        ci = m.get("ci95") or {}
+        quantities = [("omega", m["omega_rad_s"], ci.get("omega_rad_s"), om),
+                      ("zeta", m["zeta"], ci.get("zeta"), ze)]
+        shape = m.get("shape_ratio") or []
+        shape_ci = ci.get("shape_ratio") or [None] * len(shape)
+        for r in range(len(shape) - 1):
+            quantities.append((f"phi{r + 1}/phi{len(shape)}", shape[r], shape_ci[r], ratios[r]))
+        for name, value, interval, t in quantities:
+            if interval is not None:
+                ok = inside(interval, t)
+                # A miss the mode's caution names (friction suspected, not beyond chance) is
+                # said, not silent.
+                named = "friction" in (m.get("caution") or "")
+                state = "holds" if ok else "misses, friction named" if named else "MISSES"
+                if not ok and not named:
+                    problems.append(f"{label}: mode {i + 1} {name} {value:.6g} {interval} "
+                                    f"misses {t:.6g}")
+            else:
+                ok = "friction" in (m.get("caution") or "")
+                state = "withheld, friction named" if ok else "WITHHELD WITHOUT FRICTION NAMED"
+                if not ok:
+                    problems.append(f"{label}: mode {i + 1} {name} withheld without friction")
+            print(f"{label}: mode {i + 1} {name} {value:.6g} {interval} truth {t:.6g}: {state}")
+    if identify.returncode != 0:
+        problems.append(f"{label}: identify failed: {identify.stderr.strip()[-300:]}")
+    else:
+        with open(os.path.join(d, "report.json")) as fh:
+            verdict = json.load(fh).get("verdict", {})
+        level = verdict.get("level")
+        print(f"{label}: identify verdict {level}")
+        if friction_named and level == "ok":
+            problems.append(f"{label}: friction named, verdict ok")
+    return problems
+
+
+def main() -> int:
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("--vibid", required=True)
+    ap.add_argument("--check", action="store_true")
+    ap.add_argument("--level", type=float, action="append",
+                    help="friction per mass in N (default: every level; 0.3 is the 3-mass case)")
+    args = ap.parse_args()
+    levels = args.level or LEVELS_2MASS_N + [HEAVY_N]
+    problems = []
+    with tempfile.TemporaryDirectory(prefix="vibid-friction-") as d:
+        for level in levels:
+            chain, nominal = (RIG3, NOMINAL3) if level >= HEAVY_N else (RIG2, NOMINAL2)
+            problems += check_level(args.vibid, chain, nominal, level, d)
+    for p in problems:
+        print("PROBLEM:", p)
+    return 1 if args.check and problems else 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
