@@ -1,7 +1,7 @@
 // `vibid watch` against a vibid-emu process running the `operate` scenario on rigs that change
 // while they run: on the board with a short reference and a large change, on a recording of the
-// built-in 3 % mass step (rigs/chain2_mass_step.json, moved so a whole window precedes it), the options and the
-// journal refused before the board starts, and Ctrl-C keeping the journal.
+// built-in 3 % mass step (rigs/chain2_mass_step.json, moved so a whole window precedes it), the
+// options and the journal refused before the board starts, and Ctrl-C keeping the journal.
 #include <gtest/gtest.h>
 
 #include <chrono>
