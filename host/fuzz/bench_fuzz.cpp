@@ -193,7 +193,9 @@ Built Build(FuzzedDataProvider& in) {
   return b;
 }
 
-void CheckAnswer(const std::string& answer, bool may_succeed) {
+// `head_request`: the request was HEAD, whose answer states the GET answer's header fields, its
+// Content-Length among them, and carries no body (RFC 9110, 9.3.2).
+void CheckAnswer(const std::string& answer, bool may_succeed, bool head_request) {
   Require(answer.rfind("HTTP/1.1 ", 0) == 0 && answer.size() >= 12);
   const int status = std::stoi(answer.substr(9, 3));
   static const std::set<int> kKnown = {200, 206, 400, 403, 404, 405, 408, 409, 411,
@@ -213,7 +215,9 @@ void CheckAnswer(const std::string& answer, bool may_succeed) {
   Require(head.find("EXCEPTION_WHAT") == std::string::npos);
   Require(head.find("Access-Control-") == std::string::npos);
   const std::size_t length = head.find("\r\nContent-Length: ");
-  if (length != std::string::npos) {
+  if (head_request) {
+    Require(answer.size() == end + 4);
+  } else if (length != std::string::npos) {
     const std::size_t value = length + 18;
     Require(std::stoul(head.substr(value, head.find("\r\n", value) - value)) ==
             answer.size() - end - 4);
@@ -238,7 +242,8 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   }
   const std::string before = b.Facts();
   const std::string answer = b.server->Exchange(request.bytes);
-  CheckAnswer(answer, (request.authorized && request.json) || request.static_file);
+  CheckAnswer(answer, (request.authorized && request.json) || request.static_file,
+              request.bytes.rfind("HEAD ", 0) == 0);
   if (!request.authorized) Require(b.Facts() == before);
   b.Settle();
   return 0;
