@@ -152,12 +152,14 @@ const std::vector<std::pair<std::string, std::string>>& SecurityHeaders() {
   return h;
 }
 
-std::string RefusalAnswer(int status, const std::string& message) {
+std::string RefusalAnswer(int status, const std::string& message, std::string_view request) {
   const std::string body = message + "\n";
   std::string a = "HTTP/1.1 " + std::to_string(status) + " " + ReasonPhrase(status) + "\r\n";
   for (const auto& [name, value] : SecurityHeaders()) a += name + ": " + value + "\r\n";
   a += "Content-Type: text/plain\r\nContent-Length: " + std::to_string(body.size()) +
-       "\r\nConnection: close\r\n\r\n" + body;
+       "\r\nConnection: close\r\n\r\n";
+  // The request line starts with its method: a HEAD's answer is the head alone.
+  if (request.substr(0, 5) != "HEAD ") a += body;
   return a;
 }
 
@@ -274,8 +276,10 @@ void HttpFront::Poll() {
       if (c->fd >= 0 && now >= c->deadline) {
         if (!c->in.empty() && !c->lingering) {
           const std::string a =
-              RefusalAnswer(408, "the request did not arrive whole within " +
-                                     std::to_string(options_.head_deadline.count()) + " ms");
+              RefusalAnswer(408,
+                            "the request did not arrive whole within " +
+                                std::to_string(options_.head_deadline.count()) + " ms",
+                            c->in);
           (void)!::send(c->fd, a.data(), a.size(), MSG_NOSIGNAL | MSG_DONTWAIT);
           // A lingering close, as for a refused head: bytes the client still sends are read and
           // dropped, so its kernel never answers them with a reset that throws the 408 away.
@@ -333,7 +337,7 @@ void HttpFront::Progress(const std::shared_ptr<Connection>& c) {
   const RequestHead head = ParseRequestHead(c->in);
   if (head.status == 0) return;
   if (head.status != 200) {
-    const std::string a = RefusalAnswer(head.status, head.message);
+    const std::string a = RefusalAnswer(head.status, head.message, c->in);
     // Small enough for any socket buffer: sent at once, the rest of the request never read.
     (void)!::send(c->fd, a.data(), a.size(), MSG_NOSIGNAL | MSG_DONTWAIT);
     ::shutdown(c->fd, SHUT_WR);

@@ -296,8 +296,8 @@ std::string BenchServer::Exchange(std::string_view request) {
   const RequestHead head = ParseRequestHead(request);
   if (head.status == 0 ||
       (head.status == 200 && request.size() < head.head_bytes + head.body_bytes))
-    return RefusalAnswer(408, "the request did not arrive whole");
-  if (head.status != 200) return RefusalAnswer(head.status, head.message);
+    return RefusalAnswer(408, "the request did not arrive whole", request);
+  if (head.status != 200) return RefusalAnswer(head.status, head.message, request);
   MemoryStream stream(request.substr(0, head.head_bytes + head.body_bytes));
   bool closed = false;
   http_->ServeOne(stream, true, closed);

@@ -493,6 +493,28 @@ TEST_F(HostileNeighbourTest, AChunkedBodyIsRefusedBeforeItIsRead) {
   EXPECT_EQ(board_->State()["running"], false);
 }
 
+// A refused HEAD is answered with the head alone (RFC 9110, 9.3.2: a HEAD answer carries no
+// content; its Content-Length states what a GET would have been sent), so a client reading it as
+// HEAD never takes the message for the start of another answer.
+TEST_F(HostileNeighbourTest, ARefusedHeadIsAnsweredWithoutABody) {
+  const int fd = Connect(server_->port());
+  const std::string body = R"({"model":"m.json"})";
+  ASSERT_TRUE(Send(fd, Head("HEAD /api/cal/design HTTP/1.1",
+                            "Content-Type: application/json\r\nContent-Length: " +
+                                std::to_string(body.size()) + "\r\n") +
+                           body));
+  bool closed = false;
+  const std::string in = ReadToClose(fd, closed);
+  ::close(fd);
+  EXPECT_TRUE(closed);
+  EXPECT_EQ(StatusOf(in), 400) << in;
+  const std::size_t end = in.find("\r\n\r\n");
+  ASSERT_NE(end, std::string::npos) << in;
+  EXPECT_EQ(in.size(), end + 4) << in;  // nothing after the head
+  // "a HEAD request carries no body\n": what a GET's refusal carries.
+  EXPECT_NE(in.find("\r\nContent-Length: 31\r\n"), std::string::npos) << in;
+}
+
 TEST_F(HostileNeighbourTest, ALongRequestLineIsRefusedAtItsCap) {
   const int fd = Connect(server_->port());
   ASSERT_TRUE(Send(fd, "GET /" + std::string(kMaxRequestLineBytes + 1, 'a')));

@@ -25,6 +25,7 @@
 #include <memory>
 #include <mutex>
 #include <string>
+#include <string_view>
 #include <thread>
 #include <vector>
 
@@ -53,8 +54,9 @@ using ServeRequest =
     std::function<bool(httplib::Stream& stream, bool close_connection, bool& connection_closed)>;
 
 /// The answer the front sends itself to a refused head (status, reason, a one-line message, the
-/// bench's security headers, Connection: close).
-std::string RefusalAnswer(int status, const std::string& message);
+/// bench's security headers, Connection: close). `request` is what arrived: the answer to a HEAD
+/// request states the message's Content-Length and carries no body (RFC 9110, 9.3.2).
+std::string RefusalAnswer(int status, const std::string& message, std::string_view request = {});
 
 /// The headers every answer of the bench carries, as (name, value) pairs.
 const std::vector<std::pair<std::string, std::string>>& SecurityHeaders();
