@@ -315,24 +315,25 @@ void WithholdWhereTheTestsCannotHold(const std::vector<Frf>& modal_tests,
                            "the dampers strayed beyond their intervals (4 masses, hammer on mass "
                            "3: c2 to c4 outside in 10 of 38 seeds)");
   }
-  if (!cut.empty()) {
+  // Every interval of m, k and c withheld for one reason, said once among the warnings.
+  const auto withhold_all = [&](const std::string& tag, const std::string& reason,
+                                const char* why) {
     for (auto* u : {&f.m_u, &f.k_u, &f.c_u})
-      for (Uncertainty& x : *u) x = Uncertainty::Missing("records cut short: " + cut);
-    res.warnings.push_back(
-        "chain fit: no intervals on m, k and c: " + cut +
-        ": the modal model does not tell the hit's own response from the ringing the records "
-        "hold, and the masses' scale strays beyond any interval; hits further apart (longer "
-        "records), or an exponential window (--exp-window), give intervals");
+      for (Uncertainty& x : *u) x = Uncertainty::Missing(tag + ": " + reason);
+    res.warnings.push_back("chain fit: no intervals on m, k and c: " + reason + why);
+  };
+  if (!cut.empty()) {
+    withhold_all("records cut short", cut,
+                 ": the modal model does not tell the hit's own response from the ringing the "
+                 "records hold, and the masses' scale strays beyond any interval; hits further "
+                 "apart (longer records), or an exponential window (--exp-window), give intervals");
     return;
   }
   if (!stops.empty()) {
     // No viscous part to stand on: the dampers go with the masses and springs.
-    for (auto* u : {&f.m_u, &f.k_u, &f.c_u})
-      for (Uncertainty& x : *u) x = Uncertainty::Missing("dry friction: " + stops);
-    res.warnings.push_back(
-        "chain fit: no intervals on m, k and c: " + stops +
-        ": dry friction stops the ring-downs, and the modes the test shows are not the viscous "
-        "chain's; harder hits, or mass tests (--mass-test) hit hard");
+    withhold_all("dry friction", stops,
+                 ": dry friction stops the ring-downs, and the modes the test shows are not the "
+                 "viscous chain's; harder hits, or mass tests (--mass-test) hit hard");
     return;
   }
   if (!friction.empty()) {
