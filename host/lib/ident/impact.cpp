@@ -503,13 +503,21 @@ double MeanAsWholeColumn(const double* column, std::size_t start, std::size_t co
 // vanishing force makes H1 a spike that dwarfs every resonance, and a noise-free record, whose
 // coherence does not mark those lines, had its band chosen around the spike. Every impact FRF is
 // therefore limited to the force's band (ImpactOptions::force_band_db), whatever the noise.
-void LimitToForceBand(const CrossSpectra& spectra, double range_db, bool doubles,
-                      ImpactResult& result) {
+// The first line above DC where the force auto-spectrum falls `range_db` below its largest value
+// (the DC line aside), or the number of lines when it never does.
+Eigen::Index FirstFadedLine(const CrossSpectra& spectra, double range_db) {
   const Eigen::Index lines = spectra.freq_hz.size();
   const double top = spectra.gff.tail(lines - 1).maxCoeff();
   const double floor = top * std::pow(10.0, -range_db / 10.0);
   Eigen::Index k = 1;
   while (k < lines && spectra.gff[k] >= floor) ++k;
+  return k;
+}
+
+void LimitToForceBand(const CrossSpectra& spectra, double range_db, bool doubles,
+                      ImpactResult& result) {
+  const Eigen::Index lines = spectra.freq_hz.size();
+  const Eigen::Index k = FirstFadedLine(spectra, range_db);
   if (k == lines) return;
   result.usable_max_hz = spectra.freq_hz[k - 1];
   result.frf.coherence.bottomRows(lines - k).setZero();
@@ -531,12 +539,7 @@ void LimitToForceBand(const CrossSpectra& spectra, double range_db, bool doubles
 // with encoders, 12-bit: 60-1300 "peaks" at 650-730 Hz, and the poles placed there took the
 // place of a real mode).
 double ExcitedMaxHz(const CrossSpectra& spectra, double range_db) {
-  const Eigen::Index lines = spectra.freq_hz.size();
-  const double top = spectra.gff.tail(lines - 1).maxCoeff();
-  const double floor = top * std::pow(10.0, -range_db / 10.0);
-  Eigen::Index k = 1;
-  while (k < lines && spectra.gff[k] >= floor) ++k;
-  return spectra.freq_hz[k - 1];
+  return spectra.freq_hz[FirstFadedLine(spectra, range_db) - 1];
 }
 
 // Per column, q^2 / 12 for its smallest nonzero step between consecutive samples q.
