@@ -712,16 +712,16 @@ CrossSpectra ZeroSpectra(std::size_t record, Eigen::Index responses, double fs_h
   return spectra;
 }
 
-// A first hit with less before it than the pretrigger its record keeps (by default 1/64 of the
-// record; an explicit pretrigger that does not fit refuses the hit as truncated): the record
-// was started by the hit, as an analyzer without a pretrigger does. The force before it is
-// unseen, so a touch or a rising flank there is lost, the start of the record cuts the pulse
-// where it starts on the first sample, and the responses have no quiet lead to give their noise.
-void WarnOfMissingPretrigger(const Pulse& first, const RecordLayout& layout, double fs_hz,
-                             const ImpactOptions& options, std::vector<std::string>& warnings) {
+// A first hit with too little before it to see the force quiet: fewer samples than two pulse
+// widths and 16 more, the lead the responses' noise is read from (an explicit pretrigger that
+// does not fit refuses the hit as truncated). The record was started by the hit, as an analyzer
+// without a pretrigger does: the force before it is unseen, so a touch or a rising flank there is
+// lost, and where the hit starts on the first sample the record's start cuts the pulse.
+void WarnOfMissingPretrigger(const Pulse& first, double fs_hz, const ImpactOptions& options,
+                             std::vector<std::string>& warnings) {
   if (options.pretrigger_s >= 0.0) return;
-  const std::size_t wanted = layout.record / 64;
-  if (first.start >= wanted) return;
+  const std::size_t lead = 2 * (first.end - first.start) + 16;
+  if (first.start >= lead) return;
   std::ostringstream w;
   w.precision(3);
   if (first.start == 0) {
@@ -730,9 +730,9 @@ void WarnOfMissingPretrigger(const Pulse& first, const RecordLayout& layout, dou
   } else {
     w << "the first hit starts " << first.start << " sample(s) ("
       << 1e3 * static_cast<double>(first.start) / fs_hz
-      << " ms) into the record, short of the pretrigger of " << wanted << " samples ("
-      << 1e3 * static_cast<double>(wanted) / fs_hz
-      << " ms) the hit records keep: any force before it is unseen";
+      << " ms) into the record, short of the quiet lead of " << lead
+      << " samples (two pulse widths and 16) that shows the force before it and the responses' "
+         "noise";
   }
   w << "; record with a pretrigger (the analyzer's pretrigger or trigger delay, or start the "
        "acquisition earlier) so that the force is quiet before each hit";
@@ -807,7 +807,7 @@ ImpactDetection DetectImpactHits(const Eigen::Ref<const Eigen::VectorXd>& force,
           "them, as `vibid acquire` writes it)");
     }
   }
-  WarnOfMissingPretrigger(groups.front().front(), layout, fs_hz, options, d.warnings);
+  WarnOfMissingPretrigger(groups.front().front(), fs_hz, options, d.warnings);
   d.spans.resize(groups.size());
   for (std::size_t g = 0; g < groups.size(); ++g) {
     d.hits.push_back(ClassifyHit(groups[g], channels, layout, fs_hz, options, d.spans[g]));
