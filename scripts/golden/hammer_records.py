@@ -27,6 +27,7 @@ host/cli/ident/testdata/ (hammer_records_cli_test.cpp), from the repository's ro
     $G --first-s 0 --hits 2 -o $D/wing_no_pretrigger.csv
     $G --kind unbalance --hits 2 -o $D/unbalance_no_hammer.csv
     $G --structure beam -o $D/beam_light.csv
+    $G --structure beam --spacing-s 11 --hits 2 -o $D/beam_light_11s.csv
     $G --seed 12 -o $D/wing_repeat_seed12.csv   (a repeat of sub_line_wing.csv, which is --seed 11)
 """
 import argparse

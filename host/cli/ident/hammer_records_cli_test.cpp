@@ -134,6 +134,35 @@ TEST(HammerRecordsCli, RingingAdviceNeverBuriesTheLightestMode) {
   EXPECT_NEAR(NumberAfter(wider[0], "Hz: the exponential window adds "), 8.6, 1.5) << wider[0];
 }
 
+// The advice run as given: the same beam struck every 11 s (at least the 10.8 s the 3.2 s
+// records' warning asks for) still rings a little (12 % on one hit of two); the window that takes
+// it to 5 % adds about the 34 Hz mode's own decay, so it is advised with its end value. Run with
+// it, the ringing warning is gone, no mode is named as swamped by the window, and the 34 Hz mode's
+// damping interval holds the simulator's 0.0004.
+TEST(HammerRecordsCli, TheAdvisedWindowKeepsTheLightestMode) {
+  const auto r = Estimate("beam_light_11s.csv");
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const auto w = Lines(r.err, "still ring at their record's end");
+  ASSERT_EQ(w.size(), 1u) << r.err;
+  const double end = NumberAfter(w[0], "an exponential window --exp-window ");
+  ASSERT_TRUE(end > 0.0 && end < 1.0) << w[0];
+  std::ostringstream value;
+  value << end;
+  const auto m = RunVibid({"modes", TestData("beam_light_11s.csv"), "--force", "force1_n",
+                           "--response", "acc1_m_s2", "--exp-window", value.str(), "--json"});
+  ASSERT_EQ(m.exit_code, 0) << m.err;
+  EXPECT_TRUE(Lines(m.err, "still ring").empty()) << m.err;
+  EXPECT_TRUE(Lines(m.err, "the exponential window adds").empty()) << m.err;
+  const json j = json::parse(m.out);
+  const json* beam = nullptr;
+  for (const json& mode : j["modes"])
+    if (std::abs(mode["freq_hz"].get<double>() - 34.0) < 0.05) beam = &mode;
+  ASSERT_NE(beam, nullptr) << m.out;
+  ASSERT_TRUE((*beam)["ci95"]["zeta"][0].is_number()) << beam->dump();
+  EXPECT_LE((*beam)["ci95"]["zeta"][0].get<double>(), 0.0004) << beam->dump();
+  EXPECT_GE((*beam)["ci95"]["zeta"][1].get<double>(), 0.0004) << beam->dump();
+}
+
 // Two repeats of one test (the same wing, noise seeds 11 and 12: sub_line_wing.csv and
 // wing_repeat_seed12.csv): each mode's damping interval holds the simulator's own zeta (13.44 Hz:
 // 0.002; 167.8 Hz: 0.0003, a half-power band of a third of a line) and the two intervals overlap.
