@@ -196,7 +196,7 @@ RingingAdvice AdviseOnRinging(double ratio, double late_decay_1_s, double record
     a.exp_window_end = end;
     t << "an exponential window --exp-window " << end << " takes it to " << 100.0 * target
       << " %: it adds a decay rate of " << added_1_s
-      << " 1/s, no more than the own of the mode that rings longest (" << late_decay_1_s
+      << " 1/s, no more than the own decay rate of the mode that rings longest (" << late_decay_1_s
       << " 1/s), and the modes' damping is corrected for it (a longer record does it too)";
     a.text = t.str();
     return a;
@@ -205,8 +205,7 @@ RingingAdvice AdviseOnRinging(double ratio, double late_decay_1_s, double record
     a.record_s = record_s + std::log(raw / target) / late_decay_1_s;
     t << "records of at least " << std::setprecision(3) << a.record_s
       << " s after the hit (hits that far apart, --record-s where they are) let the mode that "
-         "rings "
-         "longest (decay rate "
+         "rings longest (decay rate "
       << std::setprecision(2) << late_decay_1_s << " 1/s) ring down to " << 100.0 * target
       << " %; an exponential window that does it (--exp-window " << end << ") adds "
       << a.added_over_own
