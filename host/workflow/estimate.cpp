@@ -21,6 +21,7 @@
 #include "vibid/common/json_keys.hpp"
 #include "vibid/common/text_input.hpp"
 #include "vibid/ident/frf_io.hpp"
+#include "vibid/ident/harmonic_force.hpp"
 #include "vibid/ident/held_levels.hpp"
 #include "vibid/ident/recording_facts.hpp"
 #include "vibid/ident/sample_instants.hpp"
@@ -215,6 +216,22 @@ Estimated Estimate(const Eigen::Ref<const Eigen::VectorXd>& force, const Respons
   if (!o.impact && !o.welch) {
     const ident::ExcitationCheck check = ident::ClassifyExcitation(force, fs_hz);
     impact = check.impact;
+    if (!impact) {
+      // A sine is no broadband excitation: Welch's FRF holds the rig at the sine's frequency only,
+      // and the peak there, where the force itself peaks, is the force's and no mode.
+      const ident::HarmonicForce harmonic = ident::CheckHarmonicForce(force, fs_hz);
+      if (harmonic.harmonic) {
+        throw InputError(
+            source + ": the force column is not a hammer test nor a broadband excitation: " +
+            check.description + ", and " + harmonic.description +
+            ": a harmonic force (a rotating unbalance at the motor's speed, a shaker's tone). Its "
+            "FRF holds the rig at that frequency only and the peak there is the force's, not a "
+            "mode; a hammer test or a broadband (random, sweep) excitation gives the modes, and "
+            "the time-domain methods take such an input: vibid tfest, pem or greybox (--input "
+            "this column, --output the response), or vibid decay for the free decay after the "
+            "motor stops (--welch estimates an FRF all the same)");
+      }
+    }
     out.note =
         source + ": " + check.description + ": " +
         (impact ? "processed as an impact test, one record per hit (--welch forces Welch averaging)"

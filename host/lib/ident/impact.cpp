@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <iomanip>
 #include <limits>
 #include <numbers>
 #include <sstream>
@@ -177,6 +178,48 @@ ExcitationCheck ClassifyExcitation(const Eigen::Ref<const Eigen::VectorXd>& forc
   return out;
 }
 
+RingingAdvice AdviseOnRinging(double ratio, double late_decay_1_s, double record_s,
+                              double exp_window_end, double ringing_fraction) {
+  RingingAdvice a;
+  const double target = 0.5 * ringing_fraction;
+  const double current_end = exp_window_end > 0.0 ? exp_window_end : 1.0;
+  const double raw = ratio / current_end;  // the ringing without a window
+  if (!(raw > target) || !(record_s > 0.0)) return a;
+  // Two significant digits, rounded down so that the window does take the ringing that far.
+  const double end = std::floor(100.0 * target / raw) / 100.0;
+  const double added_1_s = std::log(1.0 / std::max(end, 1e-3)) / record_s;
+  const bool decays = late_decay_1_s > 0.0 && std::isfinite(late_decay_1_s);
+  a.added_over_own = decays ? added_1_s / late_decay_1_s : std::numeric_limits<double>::infinity();
+  std::ostringstream t;
+  t.precision(2);
+  if (decays && a.added_over_own <= 1.0 && end > 0.0) {
+    a.exp_window_end = end;
+    t << "an exponential window --exp-window " << end << " takes it to " << 100.0 * target
+      << " %: it adds a decay rate of " << added_1_s
+      << " 1/s, no more than the own decay rate of the mode that rings longest (" << late_decay_1_s
+      << " 1/s), and the modes' damping is corrected for it (a longer record does it too)";
+    a.text = t.str();
+    return a;
+  }
+  if (decays) {
+    a.record_s = record_s + std::log(raw / target) / late_decay_1_s;
+    t << "records of at least " << std::setprecision(3) << a.record_s
+      << " s after the hit (hits that far apart, --record-s where they are) let the mode that "
+         "rings longest (decay rate "
+      << std::setprecision(2) << late_decay_1_s << " 1/s) ring down to " << 100.0 * target
+      << " %; an exponential window that does it (--exp-window " << end << ") adds "
+      << a.added_over_own
+      << " times that mode's own decay, which widens its peak as many times over and leaves its "
+         "damping a small difference of large numbers: not advised";
+  } else {
+    t << "the responses hardly decay over the record: records several times longer (hits "
+         "further apart) let them die out; an exponential window would bury the slowest mode "
+         "under its own added damping";
+  }
+  a.text = t.str();
+  return a;
+}
+
 namespace {
 
 // A hit and its rebounds: pulses closer than the double-hit window to the previous one.
@@ -257,18 +300,45 @@ struct ImpactChannels {
   std::vector<double> response_noise_power;  // per response, from the lead before the first hit
 };
 
-// A second pulse counts only above this many standard deviations of the force channel's noise.
+// A second pulse counts only above this many standard deviations of the force channel's noise
+// (normal noise passes it once in 5e8 samples: once in 10^5 records of 4096 samples).
 constexpr double kDoubleHitNoiseFactor = 6.0;
+// Within the double-hit window after the first pulse, where a rebound lands, the level is set so
+// that noise alone calls one good hit in 10^4 double over that window's samples: a few dozen at
+// an analyzer's rates, where 6 standard deviations hid a rebound of 12 % of the peak under force
+// noise of 2 % of it (the level is at least double_hit_fraction of the peak all the same).
+constexpr double kReboundFalseAlarm = 1e-4;
+
+// The level, in standard deviations of normal noise, that one of `samples` samples exceeds with
+// probability `p` (two-sided): erfc(z / sqrt 2) = p / samples, by bisection.
+double NoiseFactorFor(double p, std::size_t samples) {
+  const double per_sample = p / static_cast<double>(std::max<std::size_t>(samples, 1));
+  double lo = 0.0;
+  double hi = 40.0;
+  for (int i = 0; i < 60; ++i) {
+    const double mid = 0.5 * (lo + hi);
+    (std::erfc(mid / std::numbers::sqrt2) > per_sample ? lo : hi) = mid;
+  }
+  return std::min(hi, kDoubleHitNoiseFactor);
+}
 
 // How far a hit's responses still ring at its record's end: per response, the RMS over the
 // record's last eighth over the RMS over the first eighth after the trigger, both about the
 // record's median, each less the noise power of the quiet lead before the first hit; the largest
-// over the responses.
-double RingingRatio(const Eigen::Ref<const Eigen::MatrixXd>& responses, std::size_t s0,
-                    std::size_t record, std::size_t pre, const std::vector<double>& noise_power) {
+// over the responses. With it, that response's late decay rate (1/s): from its RMS over the
+// last two eighths, where the mode that rings longest dominates (0 where it does not
+// decay measurably).
+struct Ringing {
+  double ratio = 0.0;
+  double late_decay_1_s = 0.0;
+};
+
+Ringing RingingOf(const Eigen::Ref<const Eigen::MatrixXd>& responses, std::size_t s0,
+                  std::size_t record, std::size_t pre, double fs_hz,
+                  const std::vector<double>& noise_power) {
   const std::size_t eighth = (record - pre) / 8;
-  if (eighth < 4) return 0.0;
-  double worst = 0.0;
+  Ringing worst;
+  if (eighth < 4) return worst;
   for (Eigen::Index j = 0; j < responses.cols(); ++j) {
     const Eigen::VectorXd x =
         responses.col(j).segment(static_cast<Eigen::Index>(s0), static_cast<Eigen::Index>(record));
@@ -286,7 +356,16 @@ double RingingRatio(const Eigen::Ref<const Eigen::MatrixXd>& responses, std::siz
                              : 0.0;
     const double early = power(pre, eighth) - noise;
     const double late = std::max(0.0, power(record - eighth, eighth) - noise);
-    if (early > 0.0) worst = std::max(worst, std::sqrt(late / early));
+    if (!(early > 0.0)) continue;
+    const double ratio = std::sqrt(late / early);
+    if (ratio <= worst.ratio) continue;
+    worst.ratio = ratio;
+    const double seventh = power(record - 2 * eighth, eighth) - noise;
+    // Amplitude decay over one eighth: half the log of the power ratio.
+    worst.late_decay_1_s =
+        (late > 0.0 && seventh > late)
+            ? 0.5 * std::log(seventh / late) / (static_cast<double>(eighth) / fs_hz)
+            : 0.0;
   }
   return worst;
 }
@@ -326,8 +405,14 @@ Hit ClassifyHit(const PulseGroup& group, const ImpactChannels& ch, const RecordL
                                   kDoubleHitNoiseFactor * ch.force_noise_sd);
     const auto rebound =
         static_cast<std::size_t>(std::llround(options.double_hit_window_s * fs_hz));
+    const double rebound_level =
+        std::max(options.double_hit_fraction * first.peak_value,
+                 NoiseFactorFor(kReboundFalseAlarm, rebound) * ch.force_noise_sd);
+    // The first pulse's falling flank is followed down to the rebound's level, then the window.
+    std::size_t rebound_until = std::numeric_limits<std::size_t>::max();
     const auto above = [&](std::size_t k) {
-      return std::abs(cf[static_cast<Eigen::Index>(k)]) >= level;
+      return std::abs(cf[static_cast<Eigen::Index>(k)]) >=
+             (k < rebound_until ? rebound_level : level);
     };
     // Past the first pulse's falling flank at that level (two-sample dips of noise allowed).
     const auto pulse_end = [&](std::size_t k) {
@@ -339,6 +424,7 @@ Hit ClassifyHit(const PulseGroup& group, const ImpactChannels& ch, const RecordL
       return last_above + 1;
     };
     std::size_t prev_end = pulse_end(first.peak);
+    rebound_until = prev_end + rebound;
     for (std::size_t k = prev_end; k < s1; ++k) {
       if (!above(k)) continue;
       hit.double_hit = true;
@@ -364,15 +450,17 @@ Hit ClassifyHit(const PulseGroup& group, const ImpactChannels& ch, const RecordL
   }
   if (!hit.truncated && options.ringing_fraction > 0.0) {
     // An exponential window takes the ringing down to its end value before the spectra see it.
-    hit.ringing_ratio = RingingRatio(ch.responses, s0, record, pre, ch.response_noise_power) *
-                        (options.exp_window_end > 0.0 ? options.exp_window_end : 1.0);
+    const Ringing ringing =
+        RingingOf(ch.responses, s0, record, pre, fs_hz, ch.response_noise_power);
+    hit.ringing_ratio =
+        ringing.ratio * (options.exp_window_end > 0.0 ? options.exp_window_end : 1.0);
+    hit.ringing_decay_1_s = ringing.late_decay_1_s;
     if (hit.ringing_ratio >= options.ringing_fraction) {
       hit.ringing = true;
       std::ostringstream note;
       note.precision(2);
       note << "still ringing at the record's end (" << 100.0 * hit.ringing_ratio
-           << " % of its level after the hit): a longer record (more time between hits) or an "
-              "exponential window (--exp-window) lets it die out";
+           << " % of its level after the hit): see the record's warning for a record long enough";
       notes.push_back(note.str());
     }
   }
@@ -460,27 +548,40 @@ void ChooseHits(const ImpactOptions& options, ImpactDetection& d) {
   }
 }
 
-// Used hits whose responses still ring at their record's end: said once for the record.
-void WarnOfRinging(ImpactDetection& d) {
+// Used hits whose responses still ring at their record's end: said once for the record, with
+// advice checked against the record before it is given. An exponential window of end value E
+// over the L seconds after the trigger adds a decay rate ln(1/E) / L to every mode; the modes'
+// damping is corrected for it, but where it is larger than the slowest mode's own decay rate
+// the window buries that mode (its peak widens many times over and sinks into the noise, its
+// damping a small difference of large numbers). So a window is advised only where the one that
+// takes the ringing to half the flag's level adds no more than the slowest ringing mode's own
+// decay (read from the record's late part); otherwise the record length that lets that mode
+// decay to that level is advised.
+void WarnOfRinging(const ImpactOptions& options, std::size_t record, std::size_t pre, double fs_hz,
+                   ImpactDetection& d) {
   std::size_t ringing = 0;
   std::size_t used = 0;
   double worst = 0.0;
+  double slowest_1_s = std::numeric_limits<double>::infinity();
   for (const Hit& h : d.hits) {
     if (!h.used) continue;
     ++used;
     if (!h.ringing) continue;
     ++ringing;
     worst = std::max(worst, h.ringing_ratio);
+    slowest_1_s = std::min(slowest_1_s, h.ringing_decay_1_s);
   }
   if (ringing == 0) return;
+  const RingingAdvice advice =
+      AdviseOnRinging(worst, slowest_1_s, static_cast<double>(record - pre) / fs_hz,
+                      options.exp_window_end, options.ringing_fraction);
   std::ostringstream w;
   w.precision(2);
   w << ringing << " of " << used << " used hit(s) still ring at their record's end (up to "
     << 100.0 * worst
     << " % of the level after the hit): the FRF holds the cut-off ringing as leakage, which the "
-       "pole-residue model (lscf, lsce) carries but peak picking and the curve fit do not; a "
-       "longer record (more time between hits) or an exponential window (--exp-window) lets it "
-       "die out";
+       "pole-residue model (lscf, lsce) carries but peak picking and the curve fit do not; "
+    << advice.text;
   d.warnings.push_back(w.str());
 }
 
@@ -610,6 +711,33 @@ CrossSpectra ZeroSpectra(std::size_t record, Eigen::Index responses, double fs_h
   return spectra;
 }
 
+// A first hit with too little before it to see the force quiet: fewer samples than two pulse
+// widths and 16 more, the lead the responses' noise is read from (an explicit pretrigger that
+// does not fit refuses the hit as truncated). The record was started by the hit, as an analyzer
+// without a pretrigger does: the force before it is unseen, so a touch or a rising flank there is
+// lost, and where the hit starts on the first sample the record's start cuts the pulse.
+void WarnOfMissingPretrigger(const Pulse& first, double fs_hz, const ImpactOptions& options,
+                             std::vector<std::string>& warnings) {
+  if (options.pretrigger_s >= 0.0) return;
+  const std::size_t lead = 2 * (first.end - first.start) + 16;
+  if (first.start >= lead) return;
+  std::ostringstream w;
+  w.precision(3);
+  if (first.start == 0) {
+    w << "the first hit starts on the record's first sample: its rise and any force before it "
+         "are unseen, and the record's start cuts the pulse";
+  } else {
+    w << "the first hit starts " << first.start << " sample(s) ("
+      << 1e3 * static_cast<double>(first.start) / fs_hz
+      << " ms) into the record, short of the quiet lead of " << lead
+      << " samples (two pulse widths and 16) that shows the force before it and the responses' "
+         "noise";
+  }
+  w << "; record with a pretrigger (the analyzer's pretrigger or trigger delay, or start the "
+       "acquisition earlier) so that the force is quiet before each hit";
+  warnings.push_back(w.str());
+}
+
 }  // namespace
 
 ImpactDetection DetectImpactHits(const Eigen::Ref<const Eigen::VectorXd>& force,
@@ -678,13 +806,14 @@ ImpactDetection DetectImpactHits(const Eigen::Ref<const Eigen::VectorXd>& force,
           "them, as `vibid acquire` writes it)");
     }
   }
+  WarnOfMissingPretrigger(groups.front().front(), fs_hz, options, d.warnings);
   d.spans.resize(groups.size());
   for (std::size_t g = 0; g < groups.size(); ++g) {
     d.hits.push_back(ClassifyHit(groups[g], channels, layout, fs_hz, options, d.spans[g]));
   }
   FlagWeakHits(options, std::sqrt(d.force_noise_var), d.hits);
   ChooseHits(options, d);
-  WarnOfRinging(d);
+  WarnOfRinging(options, layout.record, layout.pre, fs_hz, d);
   return d;
 }
 

@@ -407,3 +407,32 @@ TEST(ImpactLadisk, DefaultsFindTheBeamResonances) {
 
 }  // namespace
 }  // namespace vibid::ident
+
+namespace vibid::ident {
+namespace {
+
+// Ringing of 20 % at the end of 3 s records: the window that takes it to 5 % ends at 0.25 and
+// adds ln(4) / 3 = 0.462 1/s (closed forms). Against a mode that decays at 1 1/s it is advised;
+// against one at 0.1 1/s it would add 4.6 times that mode's own decay, and the record that lets
+// that mode decay from 20 % to 5 % is advised instead: 3 + ln(4) / 0.1 = 16.86 s.
+TEST(RingingAdvice, AWindowOnlyWhereItAddsNoMoreThanTheModesOwnDecay) {
+  const RingingAdvice fast = AdviseOnRinging(0.2, 1.0, 3.0, 0.0, 0.1);
+  EXPECT_DOUBLE_EQ(fast.exp_window_end, 0.25);
+  EXPECT_DOUBLE_EQ(fast.record_s, 0.0);
+  EXPECT_NEAR(fast.added_over_own, std::log(4.0) / 3.0, 1e-12);
+  EXPECT_NE(fast.text.find("--exp-window 0.25"), std::string::npos) << fast.text;
+
+  const RingingAdvice slow = AdviseOnRinging(0.2, 0.1, 3.0, 0.0, 0.1);
+  EXPECT_DOUBLE_EQ(slow.exp_window_end, 0.0);
+  EXPECT_NEAR(slow.record_s, 3.0 + std::log(4.0) / 0.1, 1e-9);
+  EXPECT_NEAR(slow.added_over_own, std::log(4.0) / 3.0 / 0.1, 1e-9);
+  EXPECT_NE(slow.text.find("not advised"), std::string::npos) << slow.text;
+
+  // A window already at 0.5 that leaves 20 %: the ringing without it is 40 %, the end value
+  // that takes it to 5 % is 0.125.
+  const RingingAdvice more = AdviseOnRinging(0.2, 1.0, 3.0, 0.5, 0.1);
+  EXPECT_DOUBLE_EQ(more.exp_window_end, 0.12);  // rounded down to two digits
+}
+
+}  // namespace
+}  // namespace vibid::ident

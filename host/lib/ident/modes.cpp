@@ -716,6 +716,38 @@ void DropUnresolvedModes(ModeIdentification& out) {
     throw InputError("no mode with a resolved damping in the FRF: " + out.warnings.back());
 }
 
+// An exponential window of time constant tau adds the decay rate 1/tau to every mode; the damping
+// is corrected for it, but a mode whose own decay rate zeta omega is smaller than that has a peak
+// widened more than twice over (a lightly damped slow mode sinks into the noise and may be lost)
+// and a damping that is the small difference of the window's and the measured one. Said per
+// mode, with the way out: a longer record and no window.
+void NameWindowDampingOverOwn(double exp_window_tau_s, ModeIdentification& out) {
+  if (!(exp_window_tau_s > 0.0)) return;
+  const double added_1_s = 1.0 / exp_window_tau_s;
+  for (const ModeEstimate& m : out.modes) {
+    const double own_1_s = m.zeta * m.omega_rad_s;
+    if (!(own_1_s > 0.0) || added_1_s <= own_1_s) continue;
+    char line[400];
+    std::snprintf(line, sizeof line,
+                  "mode at %.5g Hz: the exponential window adds %.2g times its own damping "
+                  "(decay rate %.3g 1/s against its %.3g 1/s): its peak is %.2g times as wide "
+                  "and its damping what is left after the window's is subtracted, and a slower "
+                  "or weaker mode may be lost; longer records without the window",
+                  m.freq_hz, added_1_s / own_1_s, added_1_s, own_1_s, 1.0 + added_1_s / own_1_s);
+    out.warnings.emplace_back(line);
+  }
+  for (const ModeEstimate& m : out.dropped) {
+    if (m.zeta > 0.0 || !std::isfinite(m.zeta)) continue;
+    char line[400];
+    std::snprintf(line, sizeof line,
+                  "pole at %.5g Hz: the exponential window's added damping (decay rate %.3g 1/s) "
+                  "is all the damping its peak shows: a lightly damped mode lost under the "
+                  "window; longer records without the window",
+                  m.freq_hz, added_1_s);
+    out.warnings.emplace_back(line);
+  }
+}
+
 // Above the force's band (AnalysedBand) peaks are not named one by one; one line says the band
 // ends there, when that part holds clear peaks by the band's measure (coherent, at least 5 % of
 // the band's largest peak): the largest of them and the option that searches it.
@@ -881,6 +913,7 @@ ModeIdentification IdentifyModes(const Frf& receptance, std::size_t driving_poin
           ? IdentifyFromDiagram(receptance, driving_point, options)
           : IdentifyFromPeaks(receptance, driving_point, options);
   DropUnresolvedModes(out);
+  NameWindowDampingOverOwn(receptance.exp_window_tau_s, out);
   NamePeaksWithoutMode(receptance, options, out);
   return out;
 }

@@ -109,6 +109,10 @@ struct Hit {
   /// carries the cut-off ringing, but peak picking and the curve fit see it as leakage.
   bool ringing = false;
   double ringing_ratio = 0.0;  ///< That RMS ratio for the response that rings most.
+  /// That response's amplitude decay rate over the record's late part (1/s; from its RMS over the
+  /// last two eighths, before any exponential window), the own decay of the mode that rings
+  /// longest; 0 where it does not decay measurably or is not checked.
+  double ringing_decay_1_s = 0.0;
   std::size_t pulses =
       1;  ///< Pulses of this hit (a rebound within the double-hit window adds one).
   bool used = false;
@@ -156,6 +160,24 @@ struct ImpactDetection {
   Eigen::VectorXd exp_window;  ///< Over one hit record (ones without an exponential window).
   std::vector<std::string> warnings;
 };
+
+/// What to do about responses that still ring at their records' end, checked before it is said.
+/// An exponential window of end value E over the L s after the trigger adds the decay rate
+/// ln(1/E) / L to every mode; it is advised only when the one that takes the ringing to half of
+/// `ringing_fraction` adds no more than the slowest mode's own decay rate `late_decay_1_s` (it at
+/// most doubles that mode's damping); otherwise the record length that lets that mode decay so
+/// far is advised.
+struct RingingAdvice {
+  double exp_window_end = 0.0;  ///< The end value advised (0: no window advised).
+  double record_s = 0.0;        ///< The record length after the trigger advised (0: none).
+  /// The window's added decay over the slowest mode's own (infinite when it does not decay).
+  double added_over_own = 0.0;
+  std::string text;
+};
+/// `ratio`: the worst ringing ratio (with the current window's end value `exp_window_end`, 0 for
+/// none, applied); `record_s`: the record after the trigger (s).
+RingingAdvice AdviseOnRinging(double ratio, double late_decay_1_s, double record_s,
+                              double exp_window_end, double ringing_fraction);
 
 /// The first half of EstimateImpactFrf: pulses, hits, their records and verdicts, the choice of
 /// ImpactOptions::use_hits. Throws only for bad options or signals (a record whose hits are all
