@@ -145,10 +145,13 @@ def large_change(args, work):
              "the reference's seconds left", timeout=30)
         print("reference phase: " + driver.find_element(By.ID, "wt-reference-state").text)
         wait(driver, lambda d: len(blocks(d)) >= 22, "22 blocks (to 340 s)", timeout=60)
-        wait(driver, lambda d: d.find_element(By.ID, "wt-moved").text.startswith("mode 1:"),
+        wait(driver, lambda d: d.find_element(By.ID, "wt-moved").text.startswith("mode "),
              "the mode that moved shown")
         moved = driver.find_element(By.ID, "wt-moved").text
-        check("Hz against" in moved and "rad/s" in moved, "the mode that moved: " + moved)
+        quantity = driver.find_element(By.ID, "wt-moved").get_attribute("data-quantity")
+        words = {"omega": "Hz against", "zeta": "ζ:", "shape": "MAC"}
+        check(quantity in words and words[quantity] in moved and "its interval" in moved,
+              "what moved (%s): %s" % (quantity, moved))
         print("shown: " + moved)
         if args.screenshots:
             driver.set_window_size(1400, 1400)
@@ -220,6 +223,10 @@ def three_percent(args, work):
         b = blocks(driver)
         with open(js(driver, "return watch.watch.journal")) as f:
             on_disk = [json.loads(line) for line in f.read().splitlines()]
+        # The first line says what was watched; the page has it as the watch's header.
+        header = on_disk.pop(0)
+        check(header.get("header") == "vibid watch" and header == js(driver, "return watch.watch.header"),
+              "the journal's header: %s" % header)
         check(on_disk == b, "the journal on disk (%d lines: %s) is not the %d blocks drawn (%s)"
               % (len(on_disk), [x["t_s"] for x in on_disk], len(b), [x["t_s"] for x in b]))
         check(len(b) == 61, "%d blocks, not (1200 - 590) / 10" % len(b))
