@@ -8,11 +8,15 @@ a calibration day of --day-s seconds is recorded under the `operate` scenario, a
 built from that day once per stated rate (`vibid cal upload --watch-day
 --watch-false-alarms-per-hour R`); `vibid cal show --json` gives each design's kernel parameters.
 Then --hours of the same rig in operation are logged at the observer's rate with the board's
-d_hat, in chunks of --chunk-s seconds. The board latches its flag at the first trip, so the count
-is taken off-line: the board's integer kernel (shared/fixed/residual_cusum.cpp, its arithmetic
-copied below) is replayed on the logged d_hat, restarting from g = 0 after each trip as a
-restarted observer run does. The replay is checked against the board itself: up to the board's own
-first trip its g equals the logged `model_g` at every window's end, bit for bit.
+d_hat, in acquisitions of --chunk-s seconds. The board latches its flag at the first trip, so the
+count is taken off-line: the board's integer kernel (shared/fixed/residual_cusum.cpp, its
+arithmetic copied below) is replayed on the logged d_hat, restarting from g = 0 after each trip
+as a restarted observer run does. The replay is checked against the board itself: over the first
+acquisition, up to the board's own first trip, its g equals the logged `model_g` at every
+window's end, bit for bit. The board restarts its test (g from 0) at each acquisition, and the
+observer's own start shows in the first windows after it (z up to about 3.6 spreads in the first
+0.15 s): the count restarts at each acquisition too and leaves its first --settle-s seconds out,
+so that it counts the test in steady operation.
 
 A trip count over T hours of a test whose in-control run length is ARL0 windows of W samples is,
 the windows being nearly independent, a renewal count close to Poisson with mean T 3600 fs / (W
@@ -73,6 +77,11 @@ class Kernel:
         self.windows = 0
         self.board_g = []  # g before the first restart, for the check against the board's log
 
+    def restart(self):
+        """A new acquisition: the board's test starts from rest (an empty window, g = 0)."""
+        self.tail = np.zeros(0, dtype=np.int64)
+        self.g = 0
+
     def feed(self, d_hat):
         p = self.p
         w = p["window_samples"]
@@ -104,7 +113,7 @@ def read_log(path):
     return a[:, 0].astype(np.int64), np.rint(a[:, 1] * 65536).astype(np.int64)
 
 
-def one_seed(build, seed, rig, rates, day_s, hours, chunk_s, work):
+def one_seed(build, seed, rig, rates, day_s, hours, chunk_s, settle_s, work):
     emu_bin = os.path.join(build, "host/emulator/vibid-emu")
     vibid = os.path.join(build, "host/cli/vibid")
     log = open(os.path.join(work, "emu.log"), "w+")
@@ -143,29 +152,31 @@ def one_seed(build, seed, rig, rates, day_s, hours, chunk_s, work):
             run([vibid, *dev, "cal", "commit"])
             kernels[rate] = Kernel(json.loads(run([vibid, *dev, "cal", "show", "--json"]))
                                    ["model_test"])
-        # The board runs the last design; its own g checks the replay of that one.
+        # The board runs the last design; its own g over the first acquisition checks a replay
+        # of that one from the acquisition's first sample.
         run([vibid, *dev, "dob", "start"])
-        board = kernels[rates[-1]]
-        logged_g = []
+        board = Kernel(kernels[rates[-1]].p)
         left = hours * 3600.0
         chunk = os.path.join(work, "chunk.csv")
+        settle = int(round(settle_s * 1000.0))
+        n = None
         while left > 1e-9:
             s = min(chunk_s, left)
-            run([vibid, *dev, "acquire", "--seconds", f"{s:g}", "--rate-hz", "1000", "--channels",
-                 "force1,x2", "--scenario", "operate", "-o", chunk])
+            run([vibid, *dev, "acquire", "--seconds", f"{s + settle_s:g}", "--rate-hz", "1000",
+                 "--channels", "force1,x2", "--scenario", "operate", "-o", chunk])
             d_hat, g = read_log(chunk)
-            if len(board.board_g) == board.windows:  # the board has not tripped yet
-                logged_g.append(g)
+            if n is None:
+                board.feed(d_hat)
+                w = board.p["window_samples"]
+                ends = g[w - 1::w][:len(board.board_g)]
+                n = len(ends)
+                if n == 0 or not np.array_equal(ends, np.array(board.board_g[:n])):
+                    sys.exit(f"seed {seed}: the replay's g differs from the board's logged model_g")
             for k in kernels.values():
-                k.feed(d_hat)
+                k.restart()
+                k.feed(d_hat[settle:])
             left -= s
         os.remove(chunk)
-        g = np.concatenate(logged_g)
-        w = board.p["window_samples"]
-        ends = g[w - 1::w][:len(board.board_g)]
-        n = len(ends)
-        if n == 0 or not np.array_equal(ends, np.array(board.board_g[:n])):
-            sys.exit(f"seed {seed}: the replay's g differs from the board's logged model_g")
         return kernels, n
     finally:
         emu.terminate()
@@ -181,7 +192,10 @@ def main():
     ap.add_argument("--rates", default="10,30,60", help="stated false alarms per hour")
     ap.add_argument("--day-s", type=float, default=500.0)
     ap.add_argument("--hours", type=float, default=1.5, help="in-control hours per seed")
-    ap.add_argument("--chunk-s", type=float, default=600.0)
+    ap.add_argument("--chunk-s", type=float, default=1800.0,
+                    help="seconds counted per acquisition")
+    ap.add_argument("--settle-s", type=float, default=2.0,
+                    help="seconds left out at each acquisition's start (the observer's start)")
     a = ap.parse_args()
     if os.environ.get("VIBID_BENCH_SMOKE") == "1":
         a.seeds, a.day_s, a.hours = 1, 60.0, 60.0 / 3600.0
@@ -196,7 +210,7 @@ def main():
             json.dump(rig_spec, f)
         for seed in range(a.first_seed, a.first_seed + a.seeds):
             kernels, checked = one_seed(a.build, seed, rig, rates, a.day_s, a.hours, a.chunk_s,
-                                        work)
+                                        a.settle_s, work)
             for rate, k in kernels.items():
                 p = k.p
                 hours = k.windows * p["window_samples"] / 1000.0 / 3600.0

@@ -112,7 +112,7 @@ function drawCards() {
   if (w && w.reference) {
     const ref = w.reference;
     r.textContent = fmt(ref.seconds, 4) + ' s (' + (ref.source === 'recording' ? 'a reference recording' : 'watched') + ', ' +
-      fmt(ref.span.from_t_s, 6) + ' to ' + fmt(ref.span.to_t_s, 6) + ' s): test order ' + ref.order + ', ' + ref.dof + ' residuals over ' + ref.reference_blocks +
+      Number(ref.span.from_t_s.toPrecision(6)) + ' to ' + Number(ref.span.to_t_s.toPrecision(6)) + ' s): test order ' + ref.order + ', ' + ref.dof + ' residuals over ' + ref.reference_blocks +
       ' blocks; thresholds: block ' + fmt(ref.block_threshold, 3) + ', window ' + fmt(ref.window_threshold, 3);
     row(rt, ['mode', 'f Hz (95 %)', 'ζ % (95 %)'], true);
     ref.modes.forEach((x, i) => row(rt, [i + 1, fmt(hz(x.omega_rad_s), 5) + ' ± ' + fmt(hz(x.ci95.omega_rad_s), 2),
