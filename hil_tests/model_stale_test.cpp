@@ -2,10 +2,14 @@
 // rig's truth and uploaded, a calibration day recorded with it running under the `operate`
 // scenario, the test built into the record from that day (`cal upload --watch-day`), then the
 // built-in 3 % mass step (rigs/chain2_mass_step.json, at 600 s) run under the same scenario: the
-// log's model columns stay clear before the step and turn stale after it, `vibid info --json`
-// says when it tripped, and an unchanged rig keeps the flag down.
+// log's model columns stay clear before the step and turn stale after it within a bound on the
+// delay, `vibid info --json` says when it tripped; on the unchanged rig the flag's trips, counted
+// with the board's kernel restarted after each, are the stated rate's count within its two-sided
+// Poisson band.
 #include <gtest/gtest.h>
 
+#include <cmath>
+#include <cstdio>
 #include <filesystem>
 #include <fstream>
 #include <sstream>
@@ -16,6 +20,7 @@
 #include "run_cli.hpp"
 #include "target.hpp"
 #include "vibid/common/csv.hpp"
+#include "vibid/shared/fixed/residual_cusum.hpp"
 
 namespace vibid::hil {
 namespace {
@@ -38,7 +43,7 @@ class ModelStaleTest : public ::testing::Test {
   }
   // The observer (force 1 and the last mass's position, 1 kHz) from the rig's truth, running,
   // and the test designed from `day_s` seconds of the rig in operation.
-  void Calibrate(const std::string& rig, double day_s) {
+  void Calibrate(const std::string& rig, double day_s, const std::string& per_hour = "") {
     emu =
         std::make_unique<EmulatorProcess>(EmulatorBinary(), std::vector<std::string>{"--rig", rig});
     const std::string model = dir + "/truth.json";
@@ -60,8 +65,11 @@ class ModelStaleTest : public ::testing::Test {
     const auto rec = Vibid({"acquire", "--seconds", std::to_string(day_s), "--rate-hz", "1000",
                             "--channels", "force1,x2", "--scenario", "operate", "-o", day});
     ASSERT_EQ(rec.exit_code, 0) << rec.err;
-    const auto with_test = Vibid({"cal", "upload", model, "--design", dir + "/design.json",
-                                  "--sensors", sensors, "--watch-day", day});
+    std::vector<std::string> upload = {
+        "cal",       "upload", model,         "--design", dir + "/design.json",
+        "--sensors", sensors,  "--watch-day", day};
+    if (!per_hour.empty()) upload.insert(upload.end(), {"--watch-false-alarms-per-hour", per_hour});
+    const auto with_test = Vibid(upload);
     ASSERT_EQ(with_test.exit_code, 0) << with_test.err;
     design_text = with_test.out;
     ASSERT_EQ(Vibid({"cal", "commit"}).exit_code, 0);
@@ -73,13 +81,14 @@ class ModelStaleTest : public ::testing::Test {
   std::string design_text;
 };
 
-// The 3 % step at 600 s: the first record logged stale comes after it, within the run, and the
-// board's own trip time says the same.
+// The 3 % step at 600 s: the first record logged stale comes after it and within the delay bound
+// the study over seeds gives, and the board's own trip time says the same.
 TEST_F(ModelStaleTest, TheBuiltInThreePercentStepTripsTheBoardsFlag) {
   Calibrate(std::string(VIBID_SOURCE_DIR) + "/host/emulator/rigs/chain2_mass_step.json", 500.0);
   EXPECT_NE(design_text.find("model test: windows of"), std::string::npos) << design_text;
   const std::string run = dir + "/run.csv";
-  const auto r = Vibid({"acquire", "--seconds", "1200", "--rate-hz", "1000", "--log-rate-hz", "200",
+  // 900 s after the step: longer than the delay bound, so that the bound is what is checked.
+  const auto r = Vibid({"acquire", "--seconds", "1500", "--rate-hz", "1000", "--log-rate-hz", "200",
                         "--channels", "acc1,acc2", "--scenario", "operate", "-o", run});
   ASSERT_EQ(r.exit_code, 0) << r.err;
   const Recording rec = LoadRecording(run);
@@ -91,9 +100,12 @@ TEST_F(ModelStaleTest, TheBuiltInThreePercentStepTripsTheBoardsFlag) {
     if (stale(i) != 0.0) first = i;
   ASSERT_GE(first, 0) << "never stale; " << design_text;
   std::printf("the 3 %% step at 600 s: logged stale from %.2f s\n", t(first));
-  // benchmarks/watch/board_flag_study.py: over seeds the flag trips 1 to 5 minutes after the step
-  // (docs/dob.md); this seed's run is one of them.
-  EXPECT_GT(t(first), 600.0);
+  // benchmarks/watch/board_flag_study.py: over 12 seeds the flag trips 21 to 967 s after the
+  // step, 11 of them within 600 s (docs/dob.md); this seed's delay is held to that bound.
+  constexpr double kStepS = 600.0;
+  constexpr double kDelayBoundS = 600.0;
+  EXPECT_GT(t(first), kStepS);
+  EXPECT_LE(t(first) - kStepS, kDelayBoundS);
   for (Eigen::Index i = first; i < stale.size(); ++i) ASSERT_EQ(stale(i), 1.0) << "latched";
   const auto info = Vibid({"info", "--json"});
   ASSERT_EQ(info.exit_code, 0) << info.err;
@@ -120,6 +132,12 @@ TEST_F(ModelStaleTest, WatchShowsTheBoardsFlagAtEveryBlock) {
   std::istringstream in(r.out);
   int blocks = 0;
   int stale = 0;
+  std::string first_line;
+  ASSERT_TRUE(std::getline(in, first_line));
+  // The header: the board's model test as it stood at the start, with the same threshold.
+  const nlohmann::json header = nlohmann::json::parse(first_line);
+  ASSERT_EQ(header["header"], "vibid watch") << first_line;
+  EXPECT_DOUBLE_EQ(header["model_stale"]["threshold"].get<double>(), m["threshold"].get<double>());
   for (std::string line; std::getline(in, line);) {
     const nlohmann::json j = nlohmann::json::parse(line);
     ++blocks;
@@ -139,22 +157,91 @@ TEST_F(ModelStaleTest, WatchShowsTheBoardsFlagAtEveryBlock) {
   EXPECT_GT(stale, 0);
 }
 
-// The same rig without its step: the flag stays down over the run.
-TEST_F(ModelStaleTest, AnUnchangedRigKeepsTheFlagDown) {
+// The central 95 % of a Poisson count of mean `mean`: [lo, hi] with P(N < lo) and P(N > hi)
+// each at most 2.5 % (the quantiles scipy.stats.poisson.ppf(0.025, mean) and ppf(0.975, mean)).
+std::pair<int, int> PoissonBand(double mean) {
+  double p = std::exp(-mean), cdf = 0.0;
+  int lo = -1;
+  for (int k = 0;; ++k) {
+    if (k > 0) p *= mean / k;
+    cdf += p;
+    if (lo < 0 && cdf > 0.025) lo = k;
+    if (cdf >= 0.975) return {lo, k};
+  }
+}
+
+// The board's flag counted in control: the same rig without its step, the test built from its
+// calibration day at 600 false alarms per hour (its ARL0 of about 41 windows of 0.147 s, so that
+// ten minutes hold about 100), then 600 s of the rig in operation logged at the observer's rate.
+// The board latches at its first trip; the count restarts the board's own kernel
+// (fixed::ResidualCusum, the firmware's code) from rest after each trip on the logged d_hat, with
+// the parameters the board holds (`cal show --json`), after checking that up to the board's trip
+// the kernel's g is the logged model_g bit for bit. The count must lie in the Poisson band of the
+// stated rate, both sides: fewer trips fail as surely as more.
+// (benchmarks/watch/board_flag_rate_study.py: the same at 10 to 60 per hour, docs/dob.md.)
+TEST_F(ModelStaleTest, InControlTheFlagTripsAtTheStatedRateBothSides) {
   std::ifstream in(std::string(VIBID_SOURCE_DIR) + "/host/emulator/rigs/chain2_mass_step.json");
   nlohmann::json rig = nlohmann::json::parse(in);
   rig.erase("changes");
   const std::string path = dir + "/rig.json";
   std::ofstream(path) << rig.dump(2);
-  Calibrate(path, 500.0);
+  Calibrate(path, 500.0, "600");
+  ASSERT_NE(design_text.find("for 600 false alarms per hour"), std::string::npos) << design_text;
+  const auto shown = Vibid({"cal", "show", "--json"});
+  ASSERT_EQ(shown.exit_code, 0) << shown.err;
+  const nlohmann::json t = nlohmann::json::parse(shown.out)["model_test"];
+  ASSERT_TRUE(t.is_object()) << shown.out;
+  fixed::ResidualCusumParams p;
+  p.window_samples = t["window_samples"].get<std::uint32_t>();
+  p.residual_gain = t["residual_gain"].get<std::int32_t>();
+  p.reference_gain = t["reference_gain"].get<std::int32_t>();
+  p.sum_shift = t["sum_shift"].get<std::uint8_t>();
+  p.z_shift = t["z_shift"].get<std::uint8_t>();
+  p.center = t["center"].get<std::int32_t>();
+  p.z_gain = t["z_gain"].get<std::int32_t>();
+  p.k = t["k_q16"].get<std::int32_t>();
+  p.h = t["h_q16"].get<std::int32_t>();
+  ASSERT_EQ(p.reference_gain, 0);  // r = d_hat: no reference load cell
+  fixed::ResidualCusum kernel;
+  ASSERT_EQ(kernel.Init(p), Status::kOk);
+
+  constexpr double kRunS = 600.0;
   const std::string run = dir + "/run.csv";
-  const auto r = Vibid({"acquire", "--seconds", "1200", "--rate-hz", "1000", "--log-rate-hz", "200",
-                        "--channels", "acc1,acc2", "--scenario", "operate", "-o", run});
+  const auto r = Vibid({"acquire", "--seconds", "600", "--rate-hz", "1000", "--channels",
+                        "force1,x2", "--scenario", "operate", "-o", run});
   ASSERT_EQ(r.exit_code, 0) << r.err;
   const Recording rec = LoadRecording(run);
-  ASSERT_TRUE(rec.table.Has("model_stale"));
-  EXPECT_EQ(rec.table.Column("model_stale").maxCoeff(), 0.0);
-  EXPECT_GT(rec.table.Column("model_g").maxCoeff(), 0.0);  // the test ran
+  const Eigen::VectorXd& d_hat = rec.table.Column("d_hat_q31");
+  const Eigen::VectorXd& board_g = rec.table.Column("model_g");
+  const Eigen::VectorXd& board_stale = rec.table.Column("model_stale");
+  int trips = 0;
+  Eigen::Index checked = 0;
+  bool board_tripped = false;
+  for (Eigen::Index n = 0; n < d_hat.size(); ++n) {
+    if (!kernel.Step(static_cast<std::int32_t>(d_hat(n)), 0)) continue;
+    if (!board_tripped) {
+      // The log's model_g is g in Q16 as the board held it after this sample.
+      ASSERT_EQ(std::lround(board_g(n) * 65536.0), kernel.statistic()) << "window end " << n;
+      ASSERT_EQ(board_stale(n) != 0.0, kernel.tripped()) << n;
+      ++checked;
+      board_tripped = kernel.tripped();
+    }
+    if (kernel.tripped()) {
+      ++trips;
+      kernel.Reset();
+    }
+  }
+  ASSERT_TRUE(board_tripped) << "at 600 per hour the board trips within the run";
+  const double windows = static_cast<double>(d_hat.size() / p.window_samples);
+  const double stated = windows / t["in_control_arl_windows"].get<double>();
+  const auto [lo, hi] = PoissonBand(stated);
+  std::printf(
+      "in control, %g s at 600 per hour: %d trips, %.1f stated (95 %% %d-%d); the kernel "
+      "checked against the board's log over %ld windows\n",
+      kRunS, trips, stated, lo, hi, static_cast<long>(checked));
+  EXPECT_NEAR(stated, 100.0, 3.0);  // 600 per hour over 600 s (ARL0 rounded to a float)
+  EXPECT_GE(trips, lo);
+  EXPECT_LE(trips, hi);
 }
 
 }  // namespace

@@ -15,6 +15,7 @@
 #include <nlohmann/json.hpp>
 
 #include "emulator_process.hpp"
+#include "vibid/common/option_text.hpp"
 #include "run_cli.hpp"
 #include "state_wait.hpp"
 #include "target.hpp"
@@ -80,9 +81,27 @@ TEST_F(WatchCliTest, OnTheBoardALargeChangeIsFlaggedByItsWindow) {
                            "0",        "--json",           "-o",    journal});
   ASSERT_EQ(r.exit_code, 0) << r.err;
   EXPECT_NE(r.err.find("vibid: reference of 230 s: modes 4.4"), std::string::npos) << r.err;
-  const std::vector<nlohmann::json> lines = JsonLines(r.out);
-  ASSERT_EQ(lines.size(), 30u) << r.out;  // (380 − 230) / 5
+  std::vector<nlohmann::json> lines = JsonLines(r.out);
+  ASSERT_EQ(lines.size(), 31u) << r.out;  // the header, then (380 − 230) / 5 blocks
   EXPECT_EQ(ReadFileBytes(journal), r.out);
+  // The first line says what was watched: the options, the reference's span and source, its
+  // modes with intervals, the thresholds, the board's model test as it stood at the start.
+  const nlohmann::json header = lines.front();
+  lines.erase(lines.begin());
+  EXPECT_EQ(header["header"], "vibid watch") << header.dump();
+  EXPECT_EQ(header["options"]["window_blocks"], 6);
+  EXPECT_DOUBLE_EQ(header["options"]["fs_hz"].get<double>(), 200.0);
+  EXPECT_EQ(header["reference"]["source"], "watched");
+  EXPECT_DOUBLE_EQ(header["reference"]["span"]["from_t_s"].get<double>(), 0.0);
+  EXPECT_DOUBLE_EQ(header["reference"]["span"]["to_t_s"].get<double>(), 230.0 - 0.005);
+  ASSERT_EQ(header["reference"]["modes"].size(), 2u) << header.dump();
+  EXPECT_GT(header["reference"]["modes"][0]["ci95"]["omega_rad_s"].get<double>(), 0.0);
+  EXPECT_GT(header["reference"]["window_threshold"].get<double>(), 0.0);
+  EXPECT_TRUE(header.contains("model_stale"));
+  EXPECT_NE(r.err.find("alarms over " +
+                       OptionNumber(header["reference"]["window_threshold"].get<double>())),
+            std::string::npos)
+      << "stderr says the journal's threshold: " << r.err;
   int whole_windows_before = 0;
   for (const nlohmann::json& j : lines) {
     for (const char* key : {"t_s", "modes", "statistic", "threshold", "alarm", "accumulated",
@@ -118,8 +137,10 @@ TEST_F(WatchCliTest, OnARecordingTheBuiltInThreePercentStepIsFlagged) {
   ASSERT_EQ(acquire.exit_code, 0) << acquire.err;
   const auto r = RunVibid({"watch", rec, "--reference-s", "590", "--modes-s", "0", "--json"});
   ASSERT_EQ(r.exit_code, 0) << r.err;
-  const std::vector<nlohmann::json> lines = JsonLines(r.out);
-  ASSERT_EQ(lines.size(), 191u) << r.out;  // (2500 − 590) / 10
+  std::vector<nlohmann::json> lines = JsonLines(r.out);
+  ASSERT_EQ(lines.size(), 192u) << r.out;  // the header, then (2500 − 590) / 10 blocks
+  EXPECT_EQ(lines.front()["reference"]["source"], "watched") << lines.front().dump();
+  lines.erase(lines.begin());
   std::optional<double> first;
   int whole_windows_before = 0;
   for (const nlohmann::json& j : lines) {

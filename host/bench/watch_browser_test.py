@@ -145,10 +145,13 @@ def large_change(args, work):
              "the reference's seconds left", timeout=30)
         print("reference phase: " + driver.find_element(By.ID, "wt-reference-state").text)
         wait(driver, lambda d: len(blocks(d)) >= 22, "22 blocks (to 340 s)", timeout=60)
-        wait(driver, lambda d: d.find_element(By.ID, "wt-moved").text.startswith("mode 1:"),
+        wait(driver, lambda d: d.find_element(By.ID, "wt-moved").text.startswith("mode "),
              "the mode that moved shown")
         moved = driver.find_element(By.ID, "wt-moved").text
-        check("Hz against" in moved and "rad/s" in moved, "the mode that moved: " + moved)
+        quantity = driver.find_element(By.ID, "wt-moved").get_attribute("data-quantity")
+        words = {"omega": "Hz against", "zeta": "ζ:", "shape": "MAC"}
+        check(quantity in words and words[quantity] in moved and "its interval" in moved,
+              "what moved (%s): %s" % (quantity, moved))
         print("shown: " + moved)
         if args.screenshots:
             driver.set_window_size(1400, 1400)
@@ -187,10 +190,17 @@ def large_change(args, work):
         journal = js(driver, "return watch.watch.journal")
         with open(journal) as f:
             on_disk = [json.loads(line) for line in f.read().splitlines()]
+        # The first line says what was watched (the page's watch has it as its header).
+        header = on_disk.pop(0)
+        check(header.get("header") == "vibid watch" and header == js(driver, "return watch.watch.header")
+              and header["reference"]["source"] == "watched" and header["options"]["window_blocks"] == 6,
+              "the journal's header: %s" % header)
+        ref_text = driver.find_element(By.ID, "wt-reference-state").text
+        check("watched, 0 to 229.995 s" in ref_text, "the reference's source and span shown: " + ref_text)
         check(on_disk == b, "the journal on disk (%d lines) is not the %d blocks drawn" % (len(on_disk), len(b)))
         driver.find_element(By.ID, "wt-download").click()
-        wait(driver, lambda d: d.find_element(By.ID, "wt-download").get_attribute("data-lines") == str(len(b)),
-             "the journal downloaded")
+        wait(driver, lambda d: d.find_element(By.ID, "wt-download").get_attribute("data-lines") == str(len(b) + 1),
+             "the journal downloaded (the header and every block)")
         print("30 %% at 240 s: ALARM at %.0f s; mode 1 %+.2f %% at %.0f s; %d blocks journaled in %s%s"
               % (first["t_s"], 100 * last["moved"]["relative"], last["t_s"], len(b), journal,
                  "; " + js(driver, "return watch.watch.warning") if js(driver, "return watch.watch.warning") else ""))
@@ -220,6 +230,10 @@ def three_percent(args, work):
         b = blocks(driver)
         with open(js(driver, "return watch.watch.journal")) as f:
             on_disk = [json.loads(line) for line in f.read().splitlines()]
+        # The first line says what was watched; the page has it as the watch's header.
+        header = on_disk.pop(0)
+        check(header.get("header") == "vibid watch" and header == js(driver, "return watch.watch.header"),
+              "the journal's header: %s" % header)
         check(on_disk == b, "the journal on disk (%d lines: %s) is not the %d blocks drawn (%s)"
               % (len(on_disk), [x["t_s"] for x in on_disk], len(b), [x["t_s"] for x in b]))
         check(len(b) == 61, "%d blocks, not (1200 - 590) / 10" % len(b))

@@ -250,6 +250,9 @@ class WatchRuns : public std::enable_shared_from_this<WatchRuns> {
       Update(
           {{"reference", workflow::WatchReferenceJson(s.reference())}, {"reference_left_s", 0.0}});
     };
+    events.header = [&](const std::string& line) {
+      Update({{"header", nlohmann::json::parse(line)}});
+    };
     events.block = [&](const workflow::WatchBlock&, const std::string& line) {
       {
         std::lock_guard l(mutex_);

@@ -251,6 +251,28 @@ nlohmann::json RecordJson(const wire::CalibrationRecord& r) {
   } else {
     j["observer"] = nullptr;
   }
+  if ((r.flags & wire::kCalFlagHasWatch) != 0) {
+    // The kernel's parameters as the board runs them (residual_cusum.hpp), so that a host-side
+    // replay of the board's test on a logged d_hat is the board's own arithmetic.
+    const fixed::ResidualCusumParams& w = r.watch;
+    j["model_test"] = {
+        {"window_samples", w.window_samples},
+        {"residual_gain", w.residual_gain},
+        {"reference_gain", w.reference_gain},
+        {"reference_channel",
+         r.watch_reference_channel == wire::kNoChannel
+             ? nlohmann::json(nullptr)
+             : nlohmann::json(ChannelStem(static_cast<wire::Channel>(r.watch_reference_channel)))},
+        {"sum_shift", w.sum_shift},
+        {"z_shift", w.z_shift},
+        {"center", w.center},
+        {"z_gain", w.z_gain},
+        {"k_q16", w.k},
+        {"h_q16", w.h},
+        {"in_control_arl_windows", static_cast<double>(r.watch_in_control_arl_windows)}};
+  } else {
+    j["model_test"] = nullptr;
+  }
   return j;
 }
 

@@ -203,6 +203,12 @@ WatchBoardResult WatchBoardRun::Run(device::Connection& c, WatchJournal& journal
     if (session.has_reference() && !reference_said) {
       reference_said = true;
       if (events.reference) events.reference(session);
+      nlohmann::json header = WatchHeaderJson(session);
+      header["model_stale"] = result.model_before;
+      if (!s_.reference.empty()) header["reference"]["file"] = s_.reference;
+      const std::string line = header.dump();
+      journal.Append(line);
+      if (events.header) events.header(line);
     }
     for (const WatchBlock& b : blocks) {
       nlohmann::json j = WatchBlockJson(b);

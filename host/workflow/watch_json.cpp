@@ -20,18 +20,58 @@ nlohmann::json ModesJson(const std::vector<WatchMode>& modes) {
   return out;
 }
 
+// "mode 1 ζ +35.2±21.0 % (1.7× its interval)": the quantity that moved most, its change over the
+// reference's value (relative for ω and ζ; for the shape the entry that moved most, in units of
+// the shape's largest entry, with the MAC), and the change over its combined 95 % interval.
+std::string WatchMoveText(const WatchMove& m) {
+  char line[160];
+  if (m.quantity == "zeta") {
+    std::snprintf(line, sizeof line, "mode %d ζ %+.1f±%.1f %% (%.1f× its interval)", m.mode,
+                  100.0 * m.zeta_change / m.zeta_ref, 100.0 * m.zeta_ci95 / m.zeta_ref,
+                  m.significance);
+  } else if (m.quantity == "shape") {
+    std::snprintf(line, sizeof line,
+                  "mode %d shape entry %d %+.3f±%.3f, MAC %.4f (%.1f× its interval)", m.mode,
+                  m.shape_entry + 1, m.shape_change, m.shape_ci95, m.mac, m.significance);
+  } else {
+    std::snprintf(line, sizeof line, "mode %d ω %+.2f±%.2f %% (%.1f× its interval)", m.mode,
+                  100.0 * m.relative, 100.0 * m.ci95_rad_s / m.omega_ref_rad_s, m.significance);
+  }
+  return line;
+}
+
+nlohmann::json MovedJson(const WatchMove& m) {
+  nlohmann::json shape = nullptr;
+  if (m.shape_entry >= 0) {
+    shape = {{"entry", m.shape_entry + 1},
+             {"change", m.shape_change},
+             {"ci95", m.shape_ci95},
+             {"significance", m.shape_significance},
+             {"mac", m.mac}};
+  }
+  return {{"mode", m.mode},
+          {"quantity", m.quantity},
+          {"significance", m.significance},
+          {"omega_ref_rad_s", m.omega_ref_rad_s},
+          {"omega_rad_s", m.omega_rad_s},
+          {"change_rad_s", m.change_rad_s},
+          {"ci95_rad_s", m.ci95_rad_s},
+          {"relative", m.relative},
+          {"omega_significance", m.omega_significance},
+          {"zeta",
+           {{"ref", m.zeta_ref},
+            {"now", m.zeta},
+            {"change", m.zeta_change},
+            {"ci95", m.zeta_ci95},
+            {"significance", m.zeta_significance}}},
+          {"shape", shape}};
+}
+
 }  // namespace
 
 nlohmann::json WatchBlockJson(const WatchBlock& b) {
   nlohmann::json moved = nullptr;
-  if (b.moved) {
-    moved = {{"mode", b.moved->mode},
-             {"omega_ref_rad_s", b.moved->omega_ref_rad_s},
-             {"omega_rad_s", b.moved->omega_rad_s},
-             {"change_rad_s", b.moved->change_rad_s},
-             {"ci95_rad_s", b.moved->ci95_rad_s},
-             {"relative", b.moved->relative}};
-  }
+  if (b.moved) moved = MovedJson(*b.moved);
   nlohmann::json first = nullptr;
   if (b.first_alarm_t_s) first = *b.first_alarm_t_s;
   nlohmann::json board = nullptr;
@@ -54,6 +94,7 @@ nlohmann::json WatchBlockJson(const WatchBlock& b) {
             {"threshold", b.accumulated_threshold},
             {"blocks", b.window_count},
             {"window_blocks", b.window_blocks},
+            {"tested", b.window_count == b.window_blocks},
             {"alarm", b.window_alarm}}},
           {"first_alarm_t_s", first},
           {"moved", moved},
@@ -63,7 +104,9 @@ nlohmann::json WatchBlockJson(const WatchBlock& b) {
 }
 
 nlohmann::json WatchReferenceJson(const WatchReference& r) {
-  return {{"seconds", r.seconds},
+  return {{"source", r.source},
+          {"span", {{"from_t_s", r.from_t_s}, {"to_t_s", r.to_t_s}}},
+          {"seconds", r.seconds},
           {"modes", ModesJson(r.modes)},
           {"order", r.order},
           {"dof", r.dof},
@@ -71,6 +114,28 @@ nlohmann::json WatchReferenceJson(const WatchReference& r) {
           {"block_threshold", r.block_threshold},
           {"window_threshold", r.window_threshold},
           {"analysis_ms", r.analysis_ms}};
+}
+
+nlohmann::json WatchOptionsJson(const WatchOptions& o) {
+  return {{"fs_hz", o.fs_hz},
+          {"channels", o.channels},
+          {"reference_s", o.reference_s},
+          {"block_s", o.block_s},
+          {"window_blocks", o.window_blocks},
+          {"false_alarm_per_hour", o.false_alarm_per_hour},
+          {"block_false_alarm", o.BlockFalseAlarm()},
+          {"window_false_alarm", o.WindowFalseAlarm()},
+          {"fmax_hz", o.fmax_hz},
+          {"modes_s", o.modes_s},
+          {"order", o.order},
+          {"null_space_share", o.null_space_share}};
+}
+
+nlohmann::json WatchHeaderJson(const WatchSession& s) {
+  return {{"header", "vibid watch"},
+          {"version", 1},
+          {"options", WatchOptionsJson(s.options())},
+          {"reference", WatchReferenceJson(s.reference())}};
 }
 
 std::string WatchBlockText(const WatchBlock& b) {
@@ -87,16 +152,19 @@ std::string WatchBlockText(const WatchBlock& b) {
       out += line;
     }
   }
-  std::snprintf(line, sizeof line, " | T² %.1f/%.1f | window %.1f/%.1f (%d/%d)", b.statistic,
-                b.threshold, b.accumulated_statistic, b.accumulated_threshold, b.window_count,
-                b.window_blocks);
+  std::snprintf(line, sizeof line, " | T² %.1f/%.1f", b.statistic, b.threshold);
   out += line;
-  if (b.moved) {
-    std::snprintf(line, sizeof line, " | mode %d %+.2f±%.2f %%", b.moved->mode,
-                  100.0 * b.moved->relative,
-                  100.0 * b.moved->ci95_rad_s / b.moved->omega_ref_rad_s);
-    out += line;
+  // A window is one test when full; before that its statistic has no threshold of its own, so
+  // only its count is shown.
+  if (b.window_count == b.window_blocks) {
+    std::snprintf(line, sizeof line, " | window %.1f/%.1f (%d blocks)", b.accumulated_statistic,
+                  b.accumulated_threshold, b.window_blocks);
+  } else {
+    std::snprintf(line, sizeof line, " | window %d/%d blocks, tested when full", b.window_count,
+                  b.window_blocks);
   }
+  out += line;
+  if (b.moved) out += " | " + WatchMoveText(*b.moved);
   if (b.board) {
     if (b.board->stale) {
       std::snprintf(line, sizeof line, " | board STALE since %.1f s",

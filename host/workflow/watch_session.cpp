@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <string>
 #include <utility>
 
@@ -21,7 +22,12 @@ double MsSince(Clock::time_point start) {
 std::vector<WatchMode> ModesOf(const oma::SsiCovResult& r) {
   std::vector<WatchMode> modes;
   for (const oma::OmaMode& m : r.modes) {
-    modes.push_back({m.omega_rad_s, m.zeta, m.omega_ci95_rad_s, m.zeta_ci95});
+    WatchMode w{m.omega_rad_s, m.zeta, m.omega_ci95_rad_s, m.zeta_ci95, {}, {}};
+    if (m.shape_ci95.size() == m.shape.size()) {
+      w.shape.assign(m.shape.data(), m.shape.data() + m.shape.size());
+      w.shape_ci95.assign(m.shape_ci95.data(), m.shape_ci95.data() + m.shape_ci95.size());
+    }
+    modes.push_back(std::move(w));
   }
   return modes;
 }
@@ -37,12 +43,64 @@ oma::SubspaceTestOptions TestOptions(const WatchOptions& o, int order) {
   return t;
 }
 
-// The mode that moved most, in units of its interval: each mode now matched to the reference's
-// nearest in frequency (within 20 %).
+// |change| over its combined 95 % half-width (0 where both intervals are 0 and nothing moved).
+double Significance(double change, double ci95) {
+  if (ci95 > 0.0) return std::abs(change) / ci95;
+  return change == 0.0 ? 0.0 : std::numeric_limits<double>::infinity();
+}
+
+// Each mode against the reference's (WatchMove): its frequency, damping ratio and shape.
+WatchMove Compare(int mode, const WatchMode& m, const WatchMode& r) {
+  WatchMove move;
+  move.mode = mode;
+  move.omega_ref_rad_s = r.omega_rad_s;
+  move.omega_rad_s = m.omega_rad_s;
+  move.change_rad_s = m.omega_rad_s - r.omega_rad_s;
+  move.ci95_rad_s = std::hypot(m.omega_ci95_rad_s, r.omega_ci95_rad_s);
+  move.relative = move.change_rad_s / r.omega_rad_s;
+  move.omega_significance = Significance(move.change_rad_s, move.ci95_rad_s);
+  move.zeta_ref = r.zeta;
+  move.zeta = m.zeta;
+  move.zeta_change = m.zeta - r.zeta;
+  move.zeta_ci95 = std::hypot(m.zeta_ci95, r.zeta_ci95);
+  move.zeta_significance = Significance(move.zeta_change, move.zeta_ci95);
+  if (!m.shape.empty() && m.shape.size() == r.shape.size()) {
+    // Both are real-normalised (largest entry +1), so their entries compare directly.
+    double dot = 0.0, mm = 0.0, rr = 0.0;
+    for (std::size_t i = 0; i < m.shape.size(); ++i) {
+      dot += m.shape[i] * r.shape[i];
+      mm += m.shape[i] * m.shape[i];
+      rr += r.shape[i] * r.shape[i];
+      const double change = m.shape[i] - r.shape[i];
+      const double ci95 = std::hypot(m.shape_ci95[i], r.shape_ci95[i]);
+      const double z = Significance(change, ci95);
+      if (move.shape_entry < 0 || z > move.shape_significance) {
+        move.shape_entry = static_cast<int>(i);
+        move.shape_change = change;
+        move.shape_ci95 = ci95;
+        move.shape_significance = z;
+      }
+    }
+    move.mac = mm > 0.0 && rr > 0.0 ? dot * dot / (mm * rr) : 0.0;
+  }
+  move.quantity = "omega";
+  move.significance = move.omega_significance;
+  if (move.zeta_significance > move.significance) {
+    move.quantity = "zeta";
+    move.significance = move.zeta_significance;
+  }
+  if (move.shape_significance > move.significance) {
+    move.quantity = "shape";
+    move.significance = move.shape_significance;
+  }
+  return move;
+}
+
+// The mode whose frequency, damping ratio or shape moved most, in units of its interval: each
+// mode now matched to the reference's nearest in frequency (within 20 %).
 std::optional<WatchMove> MovedMost(const std::vector<WatchMode>& now,
                                    const std::vector<WatchMode>& ref) {
   std::optional<WatchMove> best;
-  double best_z = -1.0;
   for (const WatchMode& m : now) {
     int j = -1;
     double gap = 0.2;
@@ -54,19 +112,8 @@ std::optional<WatchMove> MovedMost(const std::vector<WatchMode>& now,
       }
     }
     if (j < 0) continue;
-    const WatchMode& r = ref[static_cast<std::size_t>(j)];
-    WatchMove move;
-    move.mode = j + 1;
-    move.omega_ref_rad_s = r.omega_rad_s;
-    move.omega_rad_s = m.omega_rad_s;
-    move.change_rad_s = m.omega_rad_s - r.omega_rad_s;
-    move.ci95_rad_s = std::hypot(m.omega_ci95_rad_s, r.omega_ci95_rad_s);
-    move.relative = move.change_rad_s / r.omega_rad_s;
-    const double z = std::abs(move.change_rad_s) / std::max(move.ci95_rad_s, 1e-300);
-    if (z > best_z) {
-      best_z = z;
-      best = move;
-    }
+    const WatchMove move = Compare(j + 1, m, ref[static_cast<std::size_t>(j)]);
+    if (!best || move.significance > best->significance) best = move;
   }
   return best;
 }
@@ -171,6 +218,9 @@ void WatchSession::SetReference(Eigen::Ref<const Eigen::MatrixXd> reference) {
           "watch: the reference has " + std::to_string(reference.cols()) + " channels, not " +
               std::to_string(options_.channels));
   BuildReference(reference);
+  reference_.source = "recording";
+  reference_.from_t_s = 0.0;
+  reference_.to_t_s = static_cast<double>(reference.rows() - 1) / options_.fs_hz;
 }
 
 void WatchSession::BuildReference(Eigen::Ref<const Eigen::MatrixXd> reference) {
@@ -261,6 +311,9 @@ std::vector<WatchBlock> WatchSession::Feed(Eigen::Ref<const Eigen::MatrixXd> sam
     if (pending_rows_ < pending_.rows()) break;
     if (!detector_) {
       BuildReference(pending_);
+      reference_.source = "watched";
+      reference_.from_t_s = *t0_s_;
+      reference_.to_t_s = *t0_s_ + static_cast<double>(fed_ - 1) / options_.fs_hz;
       continue;
     }
     out.push_back(TestBlock(pending_));

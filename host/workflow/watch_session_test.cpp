@@ -135,6 +135,105 @@ TEST(WatchSession, TwentyPercentMassIsOverTheBlockThresholdAndAlarmsWithItsWindo
   EXPECT_FALSE(later[0].alarm);  // a new window has begun
 }
 
+// What moved is named by the quantity that moved most against its interval: both dampers doubled
+// (mode 1's ζ about doubles, its ω barely moves) is reported as ζ; spring 2 made 10 % softer moves
+// mode 1 2.6 % lower and turns its shape (the first entry 0.568 to 0.536 of the second: the
+// model's), and the shape, known within 0.003 over 300 s, is the more significant. Each change
+// reported is the model's (model::ComplexModalDamping and model::Modal before and after) within
+// the interval reported for it.
+TEST(WatchSession, WhatMovedIsTheQuantityThatMovedMostSignificantly) {
+  struct Case {
+    const char* quantity;
+    model::Model after;
+  };
+  const model::Model before = DemoRig();
+  const Case cases[] = {
+      {"zeta", model::MakeChain(Eigen::Vector2d(1.82, 1.53), Eigen::Vector2d(3520.0, 2760.0),
+                                Eigen::Vector2d(10.0, 7.0))},
+      {"shape", model::MakeChain(Eigen::Vector2d(1.82, 1.53), Eigen::Vector2d(3520.0, 2484.0),
+                                 Eigen::Vector2d(5.0, 3.5))}};
+  const model::ComplexModes was = model::ComplexModalDamping(before);
+  std::uint64_t seed = 41;
+  for (const Case& c : cases) {
+    oma::testing::AmbientRig sim(before, Sim(seed++));
+    WatchOptions o = Options();
+    o.block_s = 20.0;
+    o.modes_s = 300.0;
+    WatchSession s(o);
+    ASSERT_TRUE(s.Feed(sim.Next(200 * 1200), 0.0).empty());
+    sim.Change(c.after);
+    const std::vector<WatchBlock> blocks = s.Feed(sim.Next(200 * 300));
+    ASSERT_EQ(blocks.size(), 15u);
+    const WatchBlock& last = blocks.back();  // its modes: the changed rig's 300 s alone
+    ASSERT_TRUE(last.moved.has_value()) << last.modes_message;
+    const WatchMove& m = *last.moved;
+    const model::ComplexModes now = model::ComplexModalDamping(c.after);
+    const auto k = static_cast<Eigen::Index>(m.mode - 1);
+    std::printf("%s: mode %d, ω %+.2f %% (%.1f×), ζ %+.4f (%.1f×), shape %.1f×, MAC %.4f\n",
+                c.quantity, m.mode, 100.0 * m.relative, m.omega_significance, m.zeta_change,
+                m.zeta_significance, m.shape_significance, m.mac);
+    EXPECT_EQ(m.quantity, c.quantity) << WatchBlockText(last);
+    EXPECT_GT(m.significance, 1.0) << WatchBlockText(last);
+    EXPECT_NEAR(m.zeta_change, now.zeta(k) - was.zeta(k), m.zeta_ci95);
+    EXPECT_NEAR(m.change_rad_s, now.omega_rad_s(k) - was.omega_rad_s(k), m.ci95_rad_s);
+    // The model's shapes, real-normalised as SSI-cov's (largest entry +1).
+    const auto shape = [k](const model::Model& rig) {
+      const Eigen::VectorXd phi = model::Modal(rig).shapes.col(k);
+      Eigen::Index top = 0;
+      phi.cwiseAbs().maxCoeff(&top);
+      return Eigen::VectorXd(phi / phi(top));
+    };
+    ASSERT_GE(m.shape_entry, 0);
+    const auto e = static_cast<Eigen::Index>(m.shape_entry);
+    EXPECT_NEAR(m.shape_change, shape(c.after)(e) - shape(before)(e), m.shape_ci95);
+    const std::string said = std::string("mode ") + std::to_string(m.mode) +
+                             (m.quantity == "zeta" ? " ζ " : " shape entry ");
+    EXPECT_NE(WatchBlockText(last).find(said), std::string::npos) << WatchBlockText(last);
+    const nlohmann::json j = WatchBlockJson(last);
+    EXPECT_EQ(j["moved"]["quantity"], c.quantity);
+    EXPECT_DOUBLE_EQ(j["moved"]["zeta"]["change"].get<double>(), m.zeta_change);
+    ASSERT_TRUE(j["moved"]["shape"].is_object());
+    EXPECT_GT(j["moved"]["shape"]["mac"].get<double>(), 0.99);  // a small turn: MAC near 1
+  }
+}
+
+// A partial window is no test: its line gives its count of blocks, not a statistic against the
+// full window's threshold; the header (the journal's first line) gives the options, the
+// reference's span and source, its modes and the thresholds.
+TEST(WatchSession, APartialWindowIsNotPrintedAsATestAndTheHeaderSaysWhatWasWatched) {
+  oma::testing::AmbientRig sim(DemoRig(), Sim(33));
+  WatchOptions o = Options();
+  o.modes_s = 0.0;
+  o.window_blocks = 3;
+  WatchSession s(o);
+  ASSERT_TRUE(s.Feed(sim.Next(200 * 1200), 50.0).empty());
+  const nlohmann::json h = WatchHeaderJson(s);
+  EXPECT_EQ(h["header"], "vibid watch");
+  EXPECT_EQ(h["reference"]["source"], "watched");
+  EXPECT_DOUBLE_EQ(h["reference"]["span"]["from_t_s"].get<double>(), 50.0);
+  EXPECT_DOUBLE_EQ(h["reference"]["span"]["to_t_s"].get<double>(), 50.0 + 1200.0 - 1.0 / 200.0);
+  EXPECT_EQ(h["reference"]["modes"].size(), 2u);
+  EXPECT_DOUBLE_EQ(h["reference"]["window_threshold"].get<double>(),
+                   s.reference().window_threshold);
+  EXPECT_DOUBLE_EQ(h["options"]["window_false_alarm"].get<double>(), o.WindowFalseAlarm());
+  EXPECT_EQ(h["options"]["window_blocks"], 3);
+  const std::vector<WatchBlock> blocks = s.Feed(sim.Next(200 * 30));
+  ASSERT_EQ(blocks.size(), 3u);
+  for (int k = 0; k < 2; ++k) {
+    const std::string text = WatchBlockText(blocks[static_cast<std::size_t>(k)]);
+    EXPECT_NE(text.find("window " + std::to_string(k + 1) + "/3 blocks, tested when full"),
+              std::string::npos)
+        << text;
+    EXPECT_FALSE(WatchBlockJson(blocks[static_cast<std::size_t>(k)])["accumulated"]["tested"]);
+  }
+  char full[64];
+  std::snprintf(full, sizeof full, "window %.1f/%.1f (3 blocks)", blocks[2].accumulated_statistic,
+                blocks[2].accumulated_threshold);
+  EXPECT_NE(WatchBlockText(blocks[2]).find(full), std::string::npos) << WatchBlockText(blocks[2]);
+  EXPECT_TRUE(WatchBlockJson(blocks[2])["accumulated"]["tested"]);
+  for (const WatchBlock& b : blocks) EXPECT_FALSE(WatchBlockJson(b).contains("header"));
+}
+
 TEST(WatchSession, FalseAlarmsAtHighRatesAreTheOnesAskedFor) {
   // 10 references of the unchanged rig, each watched for 2 h: windows of 60 blocks at 2.5 false
   // alarms per hour (50 expected over the 20 h) and windows of 6 blocks at 5 per hour (100

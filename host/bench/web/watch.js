@@ -89,13 +89,14 @@ function drawCards() {
     const a = b.accumulated;
     row(t, ['block ' + b.block + ' at', fmt(b.t_s, 6) + ' s']);
     row(t, ['block T²', fmt(b.statistic, 3) + ' / ' + fmt(b.threshold, 3) + (b.block_over ? ' (over: shown, not an alarm)' : '')]);
-    row(t, ['window T²', fmt(a.statistic, 3) + ' / ' + fmt(a.threshold, 3) + ' (' + a.blocks + ' of ' + a.window_blocks + ' blocks)' + (a.alarm ? ' ALARM' : '')]);
+    // A window is one test when full: a partial one shows its count, not a threshold.
+    row(t, ['window T²', a.tested ? fmt(a.statistic, 3) + ' / ' + fmt(a.threshold, 3) + ' (' + a.window_blocks + ' blocks)' + (a.alarm ? ' ALARM' : '')
+                                  : a.blocks + ' of ' + a.window_blocks + ' blocks, tested when full']);
   }
   const m = $('wt-moved'), mv = b && b.moved;
-  m.textContent = mv ? 'mode ' + mv.mode + ': ' + fmt(hz(mv.omega_rad_s), 5) + ' Hz against ' + fmt(hz(mv.omega_ref_rad_s), 5) +
-    ' (' + (mv.relative >= 0 ? '+' : '') + (100 * mv.relative).toFixed(2) + ' %, ' + (mv.change_rad_s >= 0 ? '+' : '') +
-    fmt(mv.change_rad_s, 3) + ' ± ' + fmt(mv.ci95_rad_s, 2) + ' rad/s)' : b ? (b.modes_message || 'no modes at this block') : '—';
+  m.textContent = mv ? movedWords(mv) : b ? (b.modes_message || 'no modes at this block') : '—';
   m.dataset.mode = mv ? mv.mode : '';
+  m.dataset.quantity = mv ? mv.quantity : '';
   const mt = $('wt-modes'); mt.replaceChildren();
   if (b && b.modes.length) {
     row(mt, ['mode', 'f Hz (95 %)', 'ζ % (95 %)'], true);
@@ -110,7 +111,8 @@ function drawCards() {
   const r = $('wt-reference-state'), rt = $('wt-ref-modes'); rt.replaceChildren();
   if (w && w.reference) {
     const ref = w.reference;
-    r.textContent = fmt(ref.seconds, 4) + ' s: test order ' + ref.order + ', ' + ref.dof + ' residuals over ' + ref.reference_blocks +
+    r.textContent = fmt(ref.seconds, 4) + ' s (' + (ref.source === 'recording' ? 'a reference recording' : 'watched') + ', ' +
+      Number(ref.span.from_t_s.toPrecision(6)) + ' to ' + Number(ref.span.to_t_s.toPrecision(6)) + ' s): test order ' + ref.order + ', ' + ref.dof + ' residuals over ' + ref.reference_blocks +
       ' blocks; thresholds: block ' + fmt(ref.block_threshold, 3) + ', window ' + fmt(ref.window_threshold, 3);
     row(rt, ['mode', 'f Hz (95 %)', 'ζ % (95 %)'], true);
     ref.modes.forEach((x, i) => row(rt, [i + 1, fmt(hz(x.omega_rad_s), 5) + ' ± ' + fmt(hz(x.ci95.omega_rad_s), 2),
@@ -122,6 +124,26 @@ function drawCards() {
     r.textContent = '—';
   }
   r.dataset.left = w ? w.reference_left_s : '';
+}
+
+// What moved most against the reference (the server's choice): the quantity, its change and the
+// change over its combined 95 % interval.
+function movedWords(mv) {
+  const sign = v => (v >= 0 ? '+' : '');
+  const times = ' (' + mv.significance.toFixed(1) + '× its interval)';
+  if (mv.quantity === 'zeta') {
+    const z = mv.zeta;
+    return 'mode ' + mv.mode + ' ζ: ' + fmt(100 * z.now, 3) + ' % against ' + fmt(100 * z.ref, 3) + ' % (' + sign(z.change) +
+      fmt(100 * z.change, 2) + ' ± ' + fmt(100 * z.ci95, 2) + ' points)' + times;
+  }
+  if (mv.quantity === 'shape') {
+    const s = mv.shape;
+    return 'mode ' + mv.mode + ' shape: entry ' + s.entry + ' ' + sign(s.change) + fmt(s.change, 3) + ' ± ' + fmt(s.ci95, 2) +
+      ', MAC ' + fmt(s.mac, 4) + times;
+  }
+  return 'mode ' + mv.mode + ' ω: ' + fmt(hz(mv.omega_rad_s), 5) + ' Hz against ' + fmt(hz(mv.omega_ref_rad_s), 5) +
+    ' (' + sign(mv.relative) + (100 * mv.relative).toFixed(2) + ' %, ' + sign(mv.change_rad_s) +
+    fmt(mv.change_rad_s, 3) + ' ± ' + fmt(mv.ci95_rad_s, 2) + ' rad/s)' + times;
 }
 
 function drawStatus() {

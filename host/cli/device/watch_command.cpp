@@ -107,6 +107,12 @@ void RunOnRecording(const WatchArgs& a) {
     if (s.has_reference() && !reference_said) {
       reference_said = true;
       SayReference(a, s);
+      // The journal's first line: the options, the reference and its thresholds.
+      nlohmann::json h = workflow::WatchHeaderJson(s);
+      if (!a.reference.empty()) h["reference"]["file"] = a.reference;
+      const std::string header = h.dump();
+      journal.Append(header);
+      if (a.json) std::cout << header << "\n" << std::flush;
     }
     for (const workflow::WatchBlock& b : blocks) {
       const std::string line = workflow::WatchBlockJson(b).dump();
@@ -146,6 +152,9 @@ void RunOnDevice(const WatchArgs& a) {
           }
         };
         events.reference = [&](const workflow::WatchSession& s) { SayReference(a, s); };
+        events.header = [&](const std::string& line) {
+          if (a.json) std::cout << line << "\n" << std::flush;
+        };
         events.block = [&](const workflow::WatchBlock& b, const std::string& line) {
           PrintBlock(a, b, line);
         };

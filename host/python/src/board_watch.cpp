@@ -26,6 +26,7 @@ BoardWatch::BoardWatch(device::Connection& c, workflow::WatchBoardSettings setti
     events.reference = [this](const workflow::WatchSession& s) {
       Push({"reference", workflow::WatchReferenceJson(s.reference()).dump(), ""});
     };
+    events.header = [this](const std::string& line) { Push({"header", line, ""}); };
     events.block = [this](const workflow::WatchBlock& b, const std::string& line) {
       Push({"block", line, workflow::WatchBlockText(b)});
     };

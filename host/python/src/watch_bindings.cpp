@@ -76,6 +76,11 @@ py::object Reference(const WatchSession& s) {
   return ToPython(workflow::WatchReferenceJson(s.reference()));
 }
 
+py::object Header(const WatchSession& s) {
+  if (!s.has_reference()) return py::none();
+  return py::str(workflow::WatchHeaderJson(s).dump());
+}
+
 py::tuple Columns(const std::vector<std::string>& names, const std::vector<std::string>& requested,
                   const std::string& source) {
   const workflow::WatchColumns c =
@@ -125,7 +130,8 @@ void RegisterWatch(py::module_& m) {
       .def("set_board_threshold", &WatchSession::SetBoardThreshold)
       .def_property_readonly("has_reference", &WatchSession::has_reference)
       .def_property_readonly("reference_left_s", &WatchSession::reference_left_s)
-      .def("reference", &Reference);
+      .def("reference", &Reference)
+      .def("header", &Header);
   m.def("watch_columns", &Columns);
   py::class_<BoardWatch>(m, "_BoardWatch")
       .def("next", &BoardWatch::Next, py::arg("timeout_s"))

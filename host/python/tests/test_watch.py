@@ -173,6 +173,7 @@ def test_same_json_and_text_as_the_cli_with_the_boards_columns(twenty_percent, t
     r = run_cli("watch", path, "--json", *options, "-o", tmp_path / "cli.jsonl")
     assert r.returncode == 0, r.stderr
     cli = [json.loads(line) for line in r.stdout.splitlines()]
+    cli_header = cli.pop(0)
     text = run_cli("watch", path, *options)
     assert text.returncode == 0, text.stderr
     blocks = list(vibid.watch(path, reference_s=1200, block_s=10, window_blocks=6, modes_s=100,
@@ -184,7 +185,20 @@ def test_same_json_and_text_as_the_cli_with_the_boards_columns(twenty_percent, t
         assert d == c  # key for key, value for value
     assert [b.text for b in blocks] == text.stdout.splitlines()
     journal = [json.loads(line) for line in (tmp_path / "py.jsonl").read_text().splitlines()]
+    # The first line is the header, the CLI's: the options, the reference's source and span, its
+    # modes with intervals, the thresholds.
+    header = journal.pop(0)
+    for h in (header, cli_header):
+        h["reference"].pop("analysis_ms")
+    assert header == cli_header
+    assert header["reference"]["source"] == "watched"
+    assert header["reference"]["span"] == {"from_t_s": 0.0, "to_t_s": pytest.approx(1199.995)}
+    assert header["options"]["window_blocks"] == 6
+    assert header["reference"]["window_threshold"] == blocks[0].accumulated["threshold"]
     assert [j["t_s"] for j in journal] == [c["t_s"] for c in cli]
+    # A partial window is counted, not tested; the sixth block's full window is.
+    assert [b.accumulated["tested"] for b in blocks[:6]] == [False] * 5 + [True]
+    assert "window 1/6 blocks, tested when full" in blocks[0].text
     # The board's columns: each block's state at its last sample; the flag first seen at the
     # first sample at or after 1312.345 s, sample 262 469.
     assert blocks[0].board == {"stale": False, "statistic": pytest.approx(0.01 * (1210 * 200 - 1)),

@@ -33,6 +33,7 @@ def test_live_blocks_are_the_clis_and_the_step_alarms_with_its_window(make_emula
                 *CLI_OPTIONS, device=a.url)
     assert r.returncode == 0, r.stderr
     cli = [json.loads(line) for line in r.stdout.splitlines()]
+    cli_header = cli.pop(0)  # the first line: the options, the reference, the thresholds
     b = make_emulator(seed=1, rig=step_rig)
     with vibid.Board(b.url) as board:
         w = board.watch(seconds=300, rate_hz=200, scenario="operate",
@@ -42,6 +43,11 @@ def test_live_blocks_are_the_clis_and_the_step_alarms_with_its_window(make_emula
     assert w.start["responses"] == ["acc1_counts", "acc2_counts"]
     assert w.start["board_columns"] is False and w.start["model_stale"] is None
     assert w.reference.seconds == 230.0 and len(w.reference.modes) == 2
+    assert w.reference.source == "watched"
+    assert (w.reference.from_t_s, w.reference.to_t_s) == (0.0, pytest.approx(230.0 - 0.005))
+    for h in (w.header, cli_header):
+        h["reference"].pop("analysis_ms")
+    assert w.header == cli_header and w.header["header"] == "vibid watch"
     assert w.result["stopped"] is False and w.result["blocks"] == 14
     assert len(blocks) == len(cli) == 14
     for block, c in zip(blocks, cli):
@@ -52,7 +58,9 @@ def test_live_blocks_are_the_clis_and_the_step_alarms_with_its_window(make_emula
     assert [x.t_s for x in blocks if x.alarm][0] == 260.0
     assert all(x.first_alarm_t_s == 260.0 for x in blocks[5:])
     journal = (tmp_path / "live.jsonl").read_text().splitlines()
-    assert [json.loads(line)["t_s"] for line in journal] == [x.t_s for x in blocks]
+    assert json.loads(journal[0])["reference"]["window_threshold"] == \
+        w.reference.window_threshold
+    assert [json.loads(line)["t_s"] for line in journal[1:]] == [x.t_s for x in blocks]
 
 
 def test_leaving_the_loop_stops_the_board_and_keeps_the_journal(make_emulator, tmp_path):
@@ -66,7 +74,8 @@ def test_leaving_the_loop_stops_the_board_and_keeps_the_journal(make_emulator, t
         assert board.state() in ("idle", "done")
         emulator.await_log("vibid-emu: sampling stopped")
         lines = (tmp_path / "j.jsonl").read_text().splitlines()
-        assert json.loads(lines[0])["t_s"] == first.t_s == 235.0
+        assert json.loads(lines[0])["header"] == "vibid watch"
+        assert json.loads(lines[1])["t_s"] == first.t_s == 235.0
         assert board.acquire(seconds=0.1, rate_hz=1000, channels=["acc1"]).samples == 100
 
 
@@ -93,7 +102,7 @@ def test_ctrl_c_stops_the_board(make_emulator, tmp_path, ctrl_c_raises):
                         os.kill(os.getpid(), signal.SIGINT)
         assert w.result["stopped"] is True
         assert board.state() in ("idle", "done")
-        assert len((tmp_path / "j.jsonl").read_text().splitlines()) >= len(got) >= 1
+        assert len((tmp_path / "j.jsonl").read_text().splitlines()) >= len(got) + 1 >= 2
 
 
 def test_closing_the_board_stops_its_watch(make_emulator):

@@ -97,9 +97,14 @@ class WatchBlock:
 
 @dataclasses.dataclass(repr=False)
 class WatchReference:
-    """The reference as the session built it: its length, its modes (SSI-cov, 95 % intervals),
-    the test's model ``order``, its residuals ``dof`` over ``reference_blocks`` blocks, and the
-    block's and the window's thresholds."""
+    """The reference as the session built it: its ``source`` ("watched": the first
+    ``reference_s`` seconds fed; "recording": one given), its span ``from_t_s`` to ``to_t_s``
+    (its first and last sample), its length, its modes (SSI-cov, 95 % intervals), the test's
+    model ``order``, its residuals ``dof`` over ``reference_blocks`` blocks, and the block's and
+    the window's thresholds."""
+    source: str
+    from_t_s: float
+    to_t_s: float
     seconds: float
     modes: list
     order: int
@@ -112,7 +117,9 @@ class WatchReference:
 
     @classmethod
     def _of(cls, d: dict) -> "WatchReference":
-        return cls(seconds=d["seconds"], modes=_modes(d["modes"]), order=d["order"],
+        return cls(source=d["source"], from_t_s=d["span"]["from_t_s"],
+                   to_t_s=d["span"]["to_t_s"], seconds=d["seconds"], modes=_modes(d["modes"]),
+                   order=d["order"],
                    dof=d["dof"], reference_blocks=d["reference_blocks"],
                    block_threshold=d["block_threshold"], window_threshold=d["window_threshold"],
                    analysis_ms=d["analysis_ms"], _dict=d)
@@ -121,7 +128,8 @@ class WatchReference:
         return json.loads(json.dumps(self._dict))
 
     def __repr__(self) -> str:
-        return _repr("WatchReference", seconds=self.seconds, modes=self.modes, order=self.order,
+        return _repr("WatchReference", source=self.source, seconds=self.seconds,
+                     modes=self.modes, order=self.order,
                      window_threshold=self.window_threshold)
 
 
@@ -237,6 +245,15 @@ class WatchSession:
         d = self._s.reference()
         return None if d is None else WatchReference._of(d)
 
+    @property
+    def header(self) -> Optional[dict]:
+        """The journal's first line once the reference is built (else None), as ``vibid watch
+        --json`` prints it: {"header": "vibid watch", "version", "options" (with the block's and
+        the window's false-alarm probabilities), "reference" (its source, span, modes with
+        intervals and thresholds)}."""
+        line = self._s.header()
+        return None if line is None else json.loads(line)
+
     def __repr__(self) -> str:
         return _repr("WatchSession", fs_hz=self._o.fs_hz, channels=self._o.channels,
                      reference_left_s=self.reference_left_s)
@@ -255,6 +272,12 @@ class _Journal:
             except OSError as e:
                 raise ValueError(f"journal={p!r}: cannot create the journal: {e.strerror}; give "
                                  "a writable path") from None
+
+    def header(self, line: str) -> None:
+        """The first line: the options and the reference (WatchSession.header)."""
+        if self._f is not None:
+            self._f.write(line + "\n")
+            self._f.flush()
 
     def append(self, block: WatchBlock) -> None:
         if self._f is not None:
@@ -284,7 +307,8 @@ class Watch:
     reference's summary once built; ``session``: the WatchSession."""
 
     def __init__(self, session: WatchSession, y: np.ndarray, board: Optional[np.ndarray],
-                 t0_s: Optional[float], responses: list, journal: _Journal):
+                 t0_s: Optional[float], responses: list, journal: _Journal,
+                 file: Optional[str] = None):
         self.session, self.responses = session, responses
         self._y, self._board, self._t0 = y, board, t0_s
         self._journal = journal
@@ -298,6 +322,11 @@ class Watch:
             board = None if board is None else board[:, :n]
             assert not session.feed(y[:, :n], t0_s, board)
             self._at = n
+        self.header = session.header
+        if self.header is not None:
+            journal.header(json.dumps(self.header) if file is None else
+                           json.dumps({**self.header, "reference": {**self.header["reference"],
+                                                                    "file": file}}))
 
     @property
     def reference(self) -> Optional[WatchReference]:
@@ -414,7 +443,8 @@ def watch(source, fs_hz: Optional[float] = None, responses=None, reference=None,
                          "longer recording, a shorter reference_s or a reference")
     if t0 is not None:
         t0 = _real("t0_s", t0)
-    return Watch(session, y, b, t0, columns, _Journal(journal))
+    ref_file = os.fspath(reference) if isinstance(reference, (str, os.PathLike)) else None
+    return Watch(session, y, b, t0, columns, _Journal(journal), ref_file)
 
 
 class LiveWatch:
@@ -432,6 +462,7 @@ class LiveWatch:
         self._st = st
         self.start: Optional[dict] = None
         self.reference: Optional[WatchReference] = None
+        self.header: Optional[dict] = None  # the journal's first line, once the reference is built
         self.result: Optional[dict] = None
         self._it = self._blocks()
 
@@ -447,6 +478,8 @@ class LiveWatch:
             self.start = r[1]
         elif kind == "reference":
             self.reference = WatchReference._of(r[1])
+        elif kind == "header":
+            self.header = r[1]
         elif kind == "block":
             return WatchBlock._of(r[1], r[2])
         elif kind == "end":

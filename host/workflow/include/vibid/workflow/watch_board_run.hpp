@@ -82,6 +82,9 @@ struct WatchBoardEvents {
   std::function<void(const WatchSession& session, double t_s)> fed;
   /// Once, when the reference is built (at the start with a reference recording).
   std::function<void(const WatchSession& session)> reference;
+  /// Then the journal's first line (WatchHeaderJson, with the board's model test at the start
+  /// as "model_stale"), as journaled.
+  std::function<void(const std::string& line)> header;
   /// Each block with its JSON line as journaled.
   std::function<void(const WatchBlock& block, const std::string& line)> block;
 };

@@ -74,16 +74,40 @@ struct WatchMode {
   double zeta = 0.0;
   double omega_ci95_rad_s = 0.0;  ///< 95 % half-widths.
   double zeta_ci95 = 0.0;
+  /// Real-normalised shape (largest entry +1) and its entries' 95 % half-widths (SSI-cov's);
+  /// empty where not known.
+  std::vector<double> shape;
+  std::vector<double> shape_ci95;
 };
 
-/// The mode whose frequency moved most against the reference's, in units of its interval.
+/// What moved most against the reference, in units of its interval: each mode now matched to the
+/// reference's nearest in frequency, and for each its frequency, its damping ratio and its shape
+/// compared, each change over the 95 % half-width of the change (both intervals combined). The
+/// quantity with the largest such ratio names the move: a damper that drifts shows as ζ, a spring
+/// or a mass as ω, a change that redistributes the motion as the shape.
 struct WatchMove {
   int mode = 0;  ///< 1-based, of the reference's modes.
+  /// "omega", "zeta" or "shape": the quantity that moved most significantly.
+  std::string quantity;
+  double significance = 0.0;  ///< |change| / ci95 of that quantity (> 1: outside its interval).
   double omega_ref_rad_s = 0.0;
   double omega_rad_s = 0.0;
   double change_rad_s = 0.0;  ///< ω − ω_ref.
   double ci95_rad_s = 0.0;    ///< 95 % half-width of the change (both intervals combined).
   double relative = 0.0;      ///< change / ω_ref.
+  double omega_significance = 0.0;
+  double zeta_ref = 0.0;
+  double zeta = 0.0;
+  double zeta_change = 0.0;  ///< ζ − ζ_ref.
+  double zeta_ci95 = 0.0;    ///< Its combined 95 % half-width.
+  double zeta_significance = 0.0;
+  /// The shape: the entry that moved most against its combined interval (0-based channel), its
+  /// change, that half-width, and the modal assurance criterion of the two shapes (1: the same).
+  int shape_entry = -1;  ///< -1 where shapes are not known (then shape_significance is 0).
+  double shape_change = 0.0;
+  double shape_ci95 = 0.0;
+  double shape_significance = 0.0;
+  double mac = 0.0;
 };
 
 /// The board's own test on its observer's residual (its "model stale" flag, docs/dob.md), as its
@@ -118,6 +142,12 @@ struct WatchBlock {
 
 /// The reference as the session built it.
 struct WatchReference {
+  /// Where it came from: "watched" (the first reference_s seconds fed) or "recording" (given).
+  std::string source;
+  /// Its span: the first and last sample's times (the session's clock for a watched one, the
+  /// recording's own from 0 for a given one).
+  double from_t_s = 0.0;
+  double to_t_s = 0.0;
   double seconds = 0.0;
   std::vector<WatchMode> modes;
   int order = 0;
@@ -186,14 +216,28 @@ class WatchSession {
 
 /// One block as a JSON object (a line of `vibid watch --json` and of its journal): t_s, block,
 /// modes [{omega_rad_s, zeta, ci95: {omega_rad_s, zeta}}], statistic, threshold, alarm,
-/// block_over, accumulated {statistic, threshold, blocks, window_blocks, alarm},
-/// first_alarm_t_s (null before), moved (null or {mode, omega_ref_rad_s, omega_rad_s,
-/// change_rad_s, ci95_rad_s, relative}), board (null without the board's columns, or {stale,
+/// block_over, accumulated {statistic, threshold, blocks, window_blocks, tested (the window is
+/// full: this block tested it), alarm},
+/// first_alarm_t_s (null before), moved (null or {mode, quantity, significance, omega_ref_rad_s,
+/// omega_rad_s, change_rad_s, ci95_rad_s, relative, omega_significance, zeta {ref, now, change,
+/// ci95, significance}, shape {entry, change, ci95, significance, mac} (null without shapes)}),
+/// board (null without the board's columns, or {stale,
 /// statistic, threshold, stale_since_t_s}), modes_message, analysis_ms.
 nlohmann::json WatchBlockJson(const WatchBlock& block);
-/// The reference's summary: seconds, modes, order, dof, reference_blocks, thresholds.
+/// The reference's summary: source, span {from_t_s, to_t_s}, seconds, modes, order, dof,
+/// reference_blocks, thresholds.
 nlohmann::json WatchReferenceJson(const WatchReference& reference);
-/// One line of text: time, modes (Hz, ζ %), T² against its threshold, the window's, the verdict.
+/// The options as JSON (fs_hz, channels, reference_s, block_s, window_blocks,
+/// false_alarm_per_hour, block_false_alarm and window_false_alarm (per test), fmax_hz, modes_s,
+/// order, null_space_share).
+nlohmann::json WatchOptionsJson(const WatchOptions& options);
+/// The journal's first line (and `vibid watch --json`'s), once the reference is built: {"header":
+/// "vibid watch", "version": 1, "options": WatchOptionsJson, "reference": WatchReferenceJson}. A
+/// block's line never has a "header" key, so a reader tells them apart by it.
+nlohmann::json WatchHeaderJson(const WatchSession& session);
+/// One line of text: time, modes (Hz, ζ %), T² against its threshold, the window's (a full
+/// window's statistic against its threshold; a partial one's count of blocks only: it is tested
+/// when full), what moved, the verdict.
 std::string WatchBlockText(const WatchBlock& block);
 
 }  // namespace vibid::workflow
