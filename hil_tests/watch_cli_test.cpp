@@ -85,7 +85,7 @@ TEST_F(WatchCliTest, OnTheBoardALargeChangeIsFlaggedByItsWindow) {
   EXPECT_EQ(ReadFileBytes(journal), r.out);
   int whole_windows_before = 0;
   for (const nlohmann::json& j : lines) {
-    for (const char* key : {"t_s", "modes", "statistic", "threshold", "alarm", "accumulated",
+    for (const char* key : {"t_s", "modes", "statistic", "f_quantile", "alarm", "accumulated",
                             "first_alarm_t_s", "moved"})
       EXPECT_TRUE(j.contains(key)) << key << " in " << j.dump();
     if (j["t_s"].get<double>() <= kChangeS - 5.0) {

@@ -46,7 +46,7 @@ nlohmann::json WatchBlockJson(const WatchBlock& b) {
           {"block", b.index},
           {"modes", ModesJson(b.modes)},
           {"statistic", b.statistic},
-          {"threshold", b.threshold},
+          {"f_quantile", b.f_quantile},
           {"alarm", b.alarm},
           {"block_over", b.block_over},
           {"accumulated",
@@ -68,8 +68,11 @@ nlohmann::json WatchReferenceJson(const WatchReference& r) {
           {"order", r.order},
           {"dof", r.dof},
           {"reference_blocks", r.reference_blocks},
-          {"block_threshold", r.block_threshold},
+          {"block_f_quantile", r.block_f_quantile},
           {"window_threshold", r.window_threshold},
+          {"false_alarms_per_hour_95", {r.false_alarms_per_hour_low, r.false_alarms_per_hour_high}},
+          {"false_alarms_per_hour_mean", r.false_alarms_per_hour_mean},
+          {"advised_reference_s", r.advised_reference_s},
           {"analysis_ms", r.analysis_ms}};
 }
 
@@ -87,9 +90,8 @@ std::string WatchBlockText(const WatchBlock& b) {
       out += line;
     }
   }
-  std::snprintf(line, sizeof line, " | T² %.1f/%.1f | window %.1f/%.1f (%d/%d)", b.statistic,
-                b.threshold, b.accumulated_statistic, b.accumulated_threshold, b.window_count,
-                b.window_blocks);
+  std::snprintf(line, sizeof line, " | T² %.1f | window %.1f/%.1f (%d/%d)", b.statistic,
+                b.accumulated_statistic, b.accumulated_threshold, b.window_count, b.window_blocks);
   out += line;
   if (b.moved) {
     std::snprintf(line, sizeof line, " | mode %d %+.2f±%.2f %%", b.moved->mode,

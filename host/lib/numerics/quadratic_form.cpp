@@ -49,11 +49,19 @@ double QuadraticFormTail(const Eigen::VectorXd& weights, const Eigen::VectorXd& 
     lo = -s_max;
     while (At(weights, d2, lo).k1 > h) lo *= 2.0;
   }
-  for (int it = 0; it < 200 && hi - lo > 1e-15 * (std::abs(lo) + std::abs(hi)); ++it) {
-    const double mid = 0.5 * (lo + hi);
-    (At(weights, d2, mid).k1 > h ? hi : lo) = mid;
+  // Newton from the bracket's middle, kept inside the bracket (K' is increasing and convex).
+  double s = 0.5 * (lo + hi);
+  for (int it = 0; it < 200; ++it) {
+    const Cumulants c = At(weights, d2, s);
+    (c.k1 > h ? hi : lo) = s;
+    double next = s - (c.k1 - h) / c.k2;
+    if (!(next > lo && next < hi)) next = 0.5 * (lo + hi);
+    if (std::abs(next - s) <= 1e-14 * std::max(std::abs(s), 1e-300) || hi - lo <= 1e-15 * s_max) {
+      s = next;
+      break;
+    }
+    s = next;
   }
-  const double s = 0.5 * (lo + hi);
   const Cumulants c = At(weights, d2, s);
   const double w2 = 2.0 * (s * h - c.k0);
   // Near the mean (ŝ → 0) the formula's two terms cancel: the normal approximation there.

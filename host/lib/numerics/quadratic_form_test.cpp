@@ -17,8 +17,7 @@ TEST(QuadraticFormTail, EqualWeightsAreAChiSquare) {
   const int p = 12;
   for (double tail : {1e-2, 1e-4, 1e-6, 1e-9}) {
     const double h = ChiSquareQuantile(1.0 - tail, p);
-    const double got =
-        QuadraticFormTail(Eigen::VectorXd::Ones(p), Eigen::VectorXd::Zero(p), h);
+    const double got = QuadraticFormTail(Eigen::VectorXd::Ones(p), Eigen::VectorXd::Zero(p), h);
     EXPECT_NEAR(got / tail, 1.0, 0.03) << tail;
   }
 }

@@ -169,4 +169,18 @@ WindowCalibration CalibrateWindow(int p, int m, int window, double false_alarm) 
   return c;
 }
 
+ReferenceAdvice AdviseReference(int p, int m, int window, double false_alarm) {
+  ReferenceAdvice advice;
+  for (double factor : {1.0, 1.5, 2.0, 3.0, 4.0, 6.0, 8.0}) {
+    const int longer = static_cast<int>(std::ceil(factor * m));
+    const WindowCalibration c = CalibrateWindow(p, longer, window, false_alarm);
+    if (c.low >= false_alarm / 5.0) {
+      advice.observations = longer;
+      advice.calibration = c;
+      break;
+    }
+  }
+  return advice;
+}
+
 }  // namespace vibid::oma

@@ -20,10 +20,10 @@
 namespace vibid::oma {
 
 struct WindowCalibration {
-  double threshold = 0.0;    ///< Of T²: the probability ≤ the asked one for 97.5 % of references.
-  double low = 0.0;          ///< The per-window false-alarm probability a reference gives at it:
-  double high = 0.0;         ///< 2.5 % and 97.5 % points over references (high ≈ the asked one),
-  double mean = 0.0;         ///< and its mean over references.
+  double threshold = 0.0;  ///< Of T²: the probability ≤ the asked one for 97.5 % of references.
+  double low = 0.0;        ///< The per-window false-alarm probability a reference gives at it:
+  double high = 0.0;       ///< 2.5 % and 97.5 % points over references (high ≈ the asked one),
+  double mean = 0.0;       ///< and its mean over references.
   double f_threshold = 0.0;  ///< Hotelling's F quantile (the asked probability on average),
   double f_low = 0.0;        ///< and the band a reference gives at it.
   double f_high = 0.0;
@@ -32,5 +32,15 @@ struct WindowCalibration {
 /// p residuals, m reference observations (≥ p + 2), windows of `window` ≥ 1 observations,
 /// `false_alarm` per window in (0, 0.5). InputError otherwise.
 WindowCalibration CalibrateWindow(int p, int m, int window, double false_alarm);
+
+/// A reference long enough that the rate it gives is not far below the one asked: the fewest
+/// observations, m × 1, 1.5, 2, 3, 4, 6 or 8, whose band's low end reaches a fifth of
+/// `false_alarm` (a test no more than about five times as cautious as asked), with that band;
+/// `observations` 0 where even 8 m does not.
+struct ReferenceAdvice {
+  int observations = 0;
+  WindowCalibration calibration;
+};
+ReferenceAdvice AdviseReference(int p, int m, int window, double false_alarm);
 
 }  // namespace vibid::oma
