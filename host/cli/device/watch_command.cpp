@@ -69,8 +69,8 @@ void SayReference(const WatchArgs& a, const workflow::WatchSession& s) {
             << Rate(r.false_alarms_per_hour_low) << " and " << Rate(r.false_alarms_per_hour_high)
             << " false alarms per hour (95 %)";
   if (r.advised_reference_s == 0.0) {
-    std::cerr << "; even a reference 8 times as long would give under a fifth of the rate asked "
-                 "at the band's low end (shorter --window-blocks narrow it)";
+    std::cerr << "; even a reference 8 times as long would leave the band's low end under a "
+                 "fifth of the rate asked";
   } else if (r.advised_reference_s > r.seconds) {
     std::cerr << "; a reference of " << OptionNumber(r.advised_reference_s)
               << " s would give at least " << Rate(r.advised_false_alarms_per_hour_low);

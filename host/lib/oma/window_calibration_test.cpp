@@ -88,13 +88,13 @@ TEST(WindowCalibration, TheReferenceTheUserHasKeepsTheRateAsked) {
 }
 
 TEST(WindowCalibration, TheDefaultRateOverFortyThousandHoursTwoSided) {
-  // The watch's default sizes (2 modes: p = 12 residuals; a 30-minute reference: m = 144 blocks
-  // of 10 s; windows of 60 blocks at 0.01 false alarms per hour: 1/600 per window), each
+  // The watch's default sizes (2 channels, 2 modes: p = 8 residuals; a 30-minute reference: m = 144
+  // blocks of 10 s; windows of 60 blocks at 0.01 false alarms per hour: 1/600 per window), each
   // reference drawn afresh and watched 100 h with window means drawn from the residuals' law:
   // 400 references, 40 000 h. The count is expected at the references' mean rate, its spread
   // Poisson's and the references' (var = Σ λ + Σ (λᵣ − λ)², both from the calibration's draws
   // as mean and band); 3.3 standard deviations each side.
-  const int p = 12;
+  const int p = 8;
   const int m = 144;
   const int k = 60;
   const double per_window = 0.01 * 600.0 / 3600.0;
@@ -122,10 +122,10 @@ TEST(WindowCalibration, TheDefaultRateOverFortyThousandHoursTwoSided) {
   const double spread = (c.high - c.low) / 4.0 * windows;
   const double sd = std::sqrt(expected + refs * spread * spread);
   std::printf(
-      "40 000 h at 0.01/h asked (400 alarms): %d, %.1f expected (%.1f … %.1f); band %.2g … %.2g "
-      "per hour, mean %.2g; at the F quantile %.2g … %.2g\n",
-      alarms, expected, expected - 3.3 * sd, expected + 3.3 * sd, 6.0 * c.low, 6.0 * c.high,
-      6.0 * c.mean, 6.0 * c.f_low, 6.0 * c.f_high);
+      "40 000 h at 0.01/h asked (400 alarms): %d, %.1f expected (%.1f … %.1f); threshold %.2f (F "
+      "%.2f), band %.2g … %.2g per hour, mean %.2g; at the F quantile %.2g … %.2g\n",
+      alarms, expected, expected - 3.3 * sd, expected + 3.3 * sd, c.threshold, c.f_threshold,
+      6.0 * c.low, 6.0 * c.high, 6.0 * c.mean, 6.0 * c.f_low, 6.0 * c.f_high);
   EXPECT_GE(alarms, expected - 3.3 * sd);
   EXPECT_LE(alarms, expected + 3.3 * sd);
   EXPECT_GT(expected - 3.3 * sd, 0.0);    // the lower bound can fail
