@@ -14,9 +14,9 @@
    the file in the bench's directory and the page's download are the blocks the page drew, line
    for line.
 2. The built-in 3 % step as the rig file has it (mass 2 + 0.0459 kg at 600 s), a 590 s reference
-   and the library's other defaults, 1200 s: flagged at 1190 s, the block
-   hil WatchCliTest.OnARecordingTheBuiltInThreePercentStepIsFlagged flags on the same emulator's
-   recording, with the statistic `vibid watch --device` prints there (window T² 48.1 over 37.3).
+   and the library's other defaults, 1200 s: flagged at 1190 s, the block `vibid watch` flags
+   on the same emulator's recording, with the statistic `vibid watch --device` prints there
+   (window T² 48.1 over 45.9, the 590 s reference's own threshold).
    A reload mid-run shows the blocks again and the run's settings in the form.
 3. The board's own flag: the same rig calibrated with an observer from its truth (1 kHz) and the
    model test built from a 500 s calibration day (`vibid cal upload --watch-day`, as
