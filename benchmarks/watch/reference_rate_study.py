@@ -16,9 +16,11 @@ A reference "holds its band" when its count lies within the band's binomial 95 %
 references do, and fewer where the band is too narrow or misplaced. The summary also gives the
 count over every reference against the sum of the references' mean rates (stated) and the rates
 asked, and how many references' counts exceed the 97.5 % point at the rate asked. The figures in
-docs/watch.md come from
+docs/watch.md come from two runs, seeds 1000 … 1023 and 1024 … 1047 (about 25 minutes each on
+the shared build machine):
 
     /usr/bin/python3 benchmarks/watch/reference_rate_study.py --build build/host --seeds 24 --hours 1.5
+    /usr/bin/python3 benchmarks/watch/reference_rate_study.py --build build/host --seeds 24 --hours 1.5 --first-seed 1024
 
 With VIBID_BENCH_SMOKE=1 (benchmarks/smoke.py) two seeds of 20 minutes: the same path end to
 end, its figures not meaningful.
