@@ -121,6 +121,13 @@ TEST_F(WatchCliTest, OnARecordingTheBuiltInThreePercentStepIsFlagged) {
   // rate asked for its reference (45.9, where F gives 37.3) over what a 3 % step gives.
   const auto r = RunVibid({"watch", rec, "--modes-s", "0", "--json"});
   ASSERT_EQ(r.exit_code, 0) << r.err;
+  // The rate this reference gives, stated with it (the calibration's band at these sizes: 8
+  // residuals over 144 blocks, windows of 60 at 0.01 per hour), and the longer reference that
+  // would narrow it.
+  EXPECT_NE(r.err.find("this reference gives between 1.8e-05 and 0.01 false alarms per hour "
+                       "(95 %); a reference of 10800 s would give at least 0.0024"),
+            std::string::npos)
+      << r.err;
   const std::vector<nlohmann::json> lines = JsonLines(r.out);
   ASSERT_EQ(lines.size(), 205u) << r.out;  // (3850 − 1800) / 10
   std::optional<double> first;
