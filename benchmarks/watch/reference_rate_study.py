@@ -22,6 +22,8 @@ the shared build machine):
     /usr/bin/python3 benchmarks/watch/reference_rate_study.py --build build/host --seeds 24 --hours 1.5
     /usr/bin/python3 benchmarks/watch/reference_rate_study.py --build build/host --seeds 24 --hours 1.5 --first-seed 1024
 
+and a third of 16 references watched 3 h each (`--seeds 16 --hours 3 --first-seed 1048`).
+
 With VIBID_BENCH_SMOKE=1 (benchmarks/smoke.py) two seeds of 20 minutes: the same path end to
 end, its figures not meaningful.
 """
