@@ -2,7 +2,7 @@
 """The trend of a watched recording (docs/watch.md's figure): vibid.watch over a recording as
 `vibid acquire` writes it, then each mode's frequency and damping ratio with their 95 % intervals
 block by block against the reference's, the window test's T² against its threshold (and each
-block's, shown), and the alarm.
+block's T², shown), and the alarm.
 
 usage: examples/watch_trend.py REC.csv -o FIGURE.png [--mark-s T] [--mark-label TEXT]
                                [--reference-s S] [--modes-s S] [--block-s S] [--window-blocks N]
@@ -103,8 +103,6 @@ def main():
     t = np.array([b.t_s for b in blocks])
     ax.plot(t, [b.statistic for b in blocks], ".", color="0.55", ms=3,
             label="block T² (shown, not an alarm)")
-    ax.plot(t, [b.threshold for b in blocks], "--", color="0.55", lw=0.8,
-            label="block threshold")
     ax.plot(t, [b.accumulated["statistic"] for b in blocks], "-", color="tab:red", lw=1.2,
             label=f"window T² ({a.window_blocks} blocks)")
     ax.plot(t, [b.accumulated["threshold"] for b in blocks], "--", color="tab:red", lw=1,

@@ -104,7 +104,7 @@ TEST_F(WatchCliTest, OnTheBoardALargeChangeIsFlaggedByItsWindow) {
       << "stderr says the journal's threshold: " << r.err;
   int whole_windows_before = 0;
   for (const nlohmann::json& j : lines) {
-    for (const char* key : {"t_s", "modes", "statistic", "threshold", "alarm", "accumulated",
+    for (const char* key : {"t_s", "modes", "statistic", "f_quantile", "alarm", "accumulated",
                             "first_alarm_t_s", "moved"})
       EXPECT_TRUE(j.contains(key)) << key << " in " << j.dump();
     if (j["t_s"].get<double>() <= kChangeS - 5.0) {
@@ -124,21 +124,31 @@ TEST_F(WatchCliTest, OnTheBoardALargeChangeIsFlaggedByItsWindow) {
 }
 
 // The acceptance case on a recording: the built-in 3 % step (0.0459 kg on mass 2), here at
-// 1 300 s so that a whole default window (60 blocks of 10 s after a 590 s reference, ending at
-// 1 190 s) lies before it and is seen not to alarm; 2 500 s of the rig in operation at 200 Hz.
+// 2 650 s so that a whole default window (60 blocks of 10 s after the default 30-minute
+// reference, ending at 2 400 s) lies before it and is seen not to alarm; 3 850 s of the rig in
+// operation at 200 Hz.
 // A window after the step alarms, within 120 blocks (two windows) of it.
 TEST_F(WatchCliTest, OnARecordingTheBuiltInThreePercentStepIsFlagged) {
-  constexpr double kStepS = 1300.0;
+  constexpr double kStepS = 2650.0;
   StartEmulator(WriteRig(dir, kStepS, 0.0459));
   const std::string rec = dir + "/operate.csv";
   const auto acquire =
-      RunVibid({"--device", emu->device_spec(), "acquire", "--seconds", "2500", "--rate-hz", "200",
+      RunVibid({"--device", emu->device_spec(), "acquire", "--seconds", "3850", "--rate-hz", "200",
                 "--channels", "acc1,acc2", "--scenario", "operate", "-o", rec});
   ASSERT_EQ(acquire.exit_code, 0) << acquire.err;
-  const auto r = RunVibid({"watch", rec, "--reference-s", "590", "--modes-s", "0", "--json"});
+  // The default 30-minute reference: one of 590 s leaves a window's threshold that holds the
+  // rate asked for its reference (45.9, where F gives 37.3) over what a 3 % step gives.
+  const auto r = RunVibid({"watch", rec, "--modes-s", "0", "--json"});
   ASSERT_EQ(r.exit_code, 0) << r.err;
+  // The rate this reference gives, stated with it (the calibration's band at these sizes: 8
+  // residuals over 144 blocks, windows of 60 at 0.01 per hour), and the longer reference that
+  // would narrow it.
+  EXPECT_NE(r.err.find("this reference gives between 1.8e-05 and 0.01 false alarms per hour "
+                       "(95 %); a reference of 10800 s would give at least 0.0024"),
+            std::string::npos)
+      << r.err;
   std::vector<nlohmann::json> lines = JsonLines(r.out);
-  ASSERT_EQ(lines.size(), 192u) << r.out;  // the header, then (2500 − 590) / 10 blocks
+  ASSERT_EQ(lines.size(), 206u) << r.out;  // the header, then (3850 − 1800) / 10 blocks
   EXPECT_EQ(lines.front()["reference"]["source"], "watched") << lines.front().dump();
   lines.erase(lines.begin());
   std::optional<double> first;
@@ -151,7 +161,7 @@ TEST_F(WatchCliTest, OnARecordingTheBuiltInThreePercentStepIsFlagged) {
     }
     if (j["alarm"].get<bool>() && !first) first = t_s;
   }
-  EXPECT_EQ(whole_windows_before, 1) << "the window ending at 1 190 s is judged whole";
+  EXPECT_EQ(whole_windows_before, 1) << "the window ending at 2 400 s is judged whole";
   ASSERT_TRUE(first.has_value()) << r.out;
   EXPECT_GT(*first, kStepS);
   EXPECT_LE(*first, kStepS + 120 * 10.0);

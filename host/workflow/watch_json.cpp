@@ -86,7 +86,7 @@ nlohmann::json WatchBlockJson(const WatchBlock& b) {
           {"block", b.index},
           {"modes", ModesJson(b.modes)},
           {"statistic", b.statistic},
-          {"threshold", b.threshold},
+          {"f_quantile", b.f_quantile},
           {"alarm", b.alarm},
           {"block_over", b.block_over},
           {"accumulated",
@@ -111,8 +111,11 @@ nlohmann::json WatchReferenceJson(const WatchReference& r) {
           {"order", r.order},
           {"dof", r.dof},
           {"reference_blocks", r.reference_blocks},
-          {"block_threshold", r.block_threshold},
+          {"block_f_quantile", r.block_f_quantile},
           {"window_threshold", r.window_threshold},
+          {"false_alarms_per_hour_95", {r.false_alarms_per_hour_low, r.false_alarms_per_hour_high}},
+          {"false_alarms_per_hour_mean", r.false_alarms_per_hour_mean},
+          {"advised_reference_s", r.advised_reference_s},
           {"analysis_ms", r.analysis_ms}};
 }
 
@@ -152,7 +155,7 @@ std::string WatchBlockText(const WatchBlock& b) {
       out += line;
     }
   }
-  std::snprintf(line, sizeof line, " | T² %.1f/%.1f", b.statistic, b.threshold);
+  std::snprintf(line, sizeof line, " | T² %.1f", b.statistic);
   out += line;
   // A window is one test when full; before that its statistic has no threshold of its own, so
   // only its count is shown.

@@ -247,8 +247,23 @@ void WatchSession::BuildReference(Eigen::Ref<const Eigen::MatrixXd> reference) {
   reference_.order = order;
   reference_.dof = detector_->dof();
   reference_.reference_blocks = detector_->reference_blocks();
-  reference_.block_threshold = detector_->threshold();
+  reference_.block_f_quantile = detector_->threshold();
   reference_.window_threshold = window_->threshold();
+  const double windows_per_hour = 3600.0 / (options_.window_blocks * options_.block_s);
+  reference_.false_alarms_per_hour_low = window_->calibration().low * windows_per_hour;
+  reference_.false_alarms_per_hour_high = window_->calibration().high * windows_per_hour;
+  reference_.false_alarms_per_hour_mean = window_->calibration().mean * windows_per_hour;
+  const oma::ReferenceAdvice advice =
+      oma::AdviseReference(detector_->dof(), detector_->reference_blocks(), options_.window_blocks,
+                           options_.WindowFalseAlarm());
+  if (advice.observations == detector_->reference_blocks()) {
+    reference_.advised_reference_s = reference_.seconds;
+  } else if (advice.observations > 0) {
+    // The blocks after the null space's share of the reference give the statistics.
+    const double s = advice.observations * options_.block_s / (1.0 - options_.null_space_share);
+    reference_.advised_reference_s = 60.0 * std::ceil(s / 60.0);
+  }
+  reference_.advised_false_alarms_per_hour_low = advice.calibration.low * windows_per_hour;
   reference_.analysis_ms = MsSince(start);
   pending_.resize(block_samples_, options_.channels);
   pending_rows_ = 0;
@@ -330,7 +345,7 @@ WatchBlock WatchSession::TestBlock(Eigen::Ref<const Eigen::MatrixXd> block) {
   const Eigen::VectorXd residual = detector_->BlockResidual(block);
   const oma::SubspaceTestResult single = detector_->Test(block);
   b.statistic = single.statistic;
-  b.threshold = single.threshold;
+  b.f_quantile = single.threshold;
   b.block_over = single.alarm;
   const oma::AccumulatedTestResult acc = window_->Add(residual);
   b.accumulated_statistic = acc.statistic;

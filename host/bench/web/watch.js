@@ -1,6 +1,6 @@
 // The Watch view: the rig watched on the board by the library's runner (workflow::WatchBoardRun,
 // as `vibid watch --device` runs it). Per block: the trends of each mode's frequency and damping
-// with their 95 % intervals, the block's and the window's T² against their thresholds, the alarm,
+// with their 95 % intervals, the block's T² (beside its F quantile) and the window's against its threshold, the alarm,
 // the mode that moved, and the board's own model test. Everything drawn is what the server
 // computed; the page only lays it out.
 'use strict';
@@ -88,7 +88,7 @@ function drawCards() {
   if (b) {
     const a = b.accumulated;
     row(t, ['block ' + b.block + ' at', fmt(b.t_s, 6) + ' s']);
-    row(t, ['block T²', fmt(b.statistic, 3) + ' / ' + fmt(b.threshold, 3) + (b.block_over ? ' (over: shown, not an alarm)' : '')]);
+    row(t, ['block T²', fmt(b.statistic, 3) + ' (F quantile ' + fmt(b.f_quantile, 3) + ', not a threshold' + (b.block_over ? '; over it: shown, not an alarm)' : ')')]);
     // A window is one test when full: a partial one shows its count, not a threshold.
     row(t, ['window T²', a.tested ? fmt(a.statistic, 3) + ' / ' + fmt(a.threshold, 3) + ' (' + a.window_blocks + ' blocks)' + (a.alarm ? ' ALARM' : '')
                                   : a.blocks + ' of ' + a.window_blocks + ' blocks, tested when full']);
@@ -113,7 +113,8 @@ function drawCards() {
     const ref = w.reference;
     r.textContent = fmt(ref.seconds, 4) + ' s (' + (ref.source === 'recording' ? 'a reference recording' : 'watched') + ', ' +
       Number(ref.span.from_t_s.toPrecision(6)) + ' to ' + Number(ref.span.to_t_s.toPrecision(6)) + ' s): test order ' + ref.order + ', ' + ref.dof + ' residuals over ' + ref.reference_blocks +
-      ' blocks; thresholds: block ' + fmt(ref.block_threshold, 3) + ', window ' + fmt(ref.window_threshold, 3);
+      ' blocks; window threshold ' + fmt(ref.window_threshold, 3) + ': this reference gives between ' +
+      fmt(ref.false_alarms_per_hour_95[0], 2) + ' and ' + fmt(ref.false_alarms_per_hour_95[1], 2) + ' false alarms per hour (95 %)';
     row(rt, ['mode', 'f Hz (95 %)', 'ζ % (95 %)'], true);
     ref.modes.forEach((x, i) => row(rt, [i + 1, fmt(hz(x.omega_rad_s), 5) + ' ± ' + fmt(hz(x.ci95.omega_rad_s), 2),
                                           fmt(100 * x.zeta, 3) + ' ± ' + fmt(100 * x.ci95.zeta, 2)]));
@@ -234,11 +235,11 @@ function drawStatPlot() {
     height: 230, scales: {x: {time: false}, y: {distr: 3}},
     axes: [{label: 't (s)'}, {label: 'T²', size: 60}],
     series: [{}, {label: 'block T²', stroke: '#999', width: 1, points: {show: true, size: 3}},
-             {label: 'its threshold', stroke: '#999', dash: [4, 4], width: 1, points: {show: false}},
+             {label: 'its F quantile (not a threshold)', stroke: '#999', dash: [4, 4], width: 1, points: {show: false}},
              {label: 'window T²', stroke: '#1f77b4', width: 2, points: {show: true, size: 4}},
              {label: 'its threshold', stroke: '#d62728', dash: [6, 4], width: 1.5, points: {show: false}},
              {label: 'alarm', stroke: '#d62728', paths: () => null, points: {show: true, size: 12, width: 2, fill: '#d62728'}}],
-  }, [t, wt.blocks.map(b => pos(b.statistic)), wt.blocks.map(b => pos(b.threshold)),
+  }, [t, wt.blocks.map(b => pos(b.statistic)), wt.blocks.map(b => pos(b.f_quantile)),
       wt.blocks.map(b => pos(b.accumulated.statistic)), wt.blocks.map(b => pos(b.accumulated.threshold)),
       wt.blocks.map(b => b.alarm ? pos(b.accumulated.statistic) : null)]);
   const withBoard = wt.blocks.filter(b => b.board);

@@ -43,6 +43,13 @@ struct WatchArgs {
   std::string journal;
 };
 
+/// A rate to two significant digits.
+std::string Rate(double per_hour) {
+  char b[32];
+  std::snprintf(b, sizeof b, "%.2g", per_hour);
+  return b;
+}
+
 /// The reference's summary on stderr, once it is built.
 void SayReference(const WatchArgs& a, const workflow::WatchSession& s) {
   const workflow::WatchReference& r = s.reference();
@@ -57,7 +64,18 @@ void SayReference(const WatchArgs& a, const workflow::WatchSession& s) {
             << "; test order " << r.order << ", " << r.dof << " residuals over "
             << r.reference_blocks << " blocks; window of " << a.watch.window_blocks
             << " blocks alarms over " << OptionNumber(r.window_threshold) << " ("
-            << OptionNumber(a.watch.false_alarm_per_hour) << " false alarms per hour)\n";
+            << OptionNumber(a.watch.false_alarm_per_hour)
+            << " false alarms per hour asked); this reference gives between "
+            << Rate(r.false_alarms_per_hour_low) << " and " << Rate(r.false_alarms_per_hour_high)
+            << " false alarms per hour (95 %)";
+  if (r.advised_reference_s == 0.0) {
+    std::cerr << "; even a reference 8 times as long would leave the band's low end under a "
+                 "fifth of the rate asked";
+  } else if (r.advised_reference_s > r.seconds) {
+    std::cerr << "; a reference of " << OptionNumber(r.advised_reference_s)
+              << " s would give at least " << Rate(r.advised_false_alarms_per_hour_low);
+  }
+  std::cerr << "\n";
 }
 
 /// One block printed: its JSON line (as journaled) or its line of text.

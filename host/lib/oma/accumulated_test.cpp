@@ -7,7 +7,6 @@
 #include <Eigen/Cholesky>
 
 #include "vibid/common/error.hpp"
-#include "vibid/numerics/distributions.hpp"
 
 namespace vibid::oma {
 
@@ -29,8 +28,8 @@ AccumulatedTest::AccumulatedTest(Eigen::Ref<const Eigen::MatrixXd> reference, in
   Require(ldlt.info() == Eigen::Success && ldlt.isPositive() && ldlt.vectorD().minCoeff() > 0.0,
           "accumulated test: the reference observations' covariance is singular");
   precision_ = ldlt.solve(Eigen::MatrixXd::Identity(p, p));
-  const double m = m_;
-  threshold_ = (m - 1.0) * p / (m - p) * numerics::FQuantile(1.0 - false_alarm, p, m - p);
+  calibration_ = CalibrateWindow(p, m_, window, false_alarm);
+  threshold_ = calibration_.threshold;
   sum_ = Eigen::VectorXd::Zero(p);
 }
 

@@ -46,8 +46,27 @@ struct Tally {
   }
 };
 
+// The width over the scatter docs/watch.md states per mode, ω and ζ. An interval that covers
+// at its rate with a width near 1.96 standard deviations of the estimates is right; one much
+// wider covers by its width. Where the docs state 1.5 or less the test holds 0.75 … 1.5; where
+// they state an interval conservative, by the stated factor, it holds within 15 % of it (the
+// seeds are fixed: a wider interval than stated fails, as does one narrower than the scatter).
+struct StatedWidth {
+  double omega = 0.0;
+  double zeta = 0.0;
+};
+
+void CheckWidth(const char* name, std::size_t mode, const char* quantity, double measured,
+                double stated) {
+  const double low = stated <= 1.5 ? 0.75 : stated / 1.15;
+  const double high = stated <= 1.5 ? 1.5 : stated * 1.15;
+  EXPECT_GE(measured, low) << name << " mode " << mode + 1 << " " << quantity;
+  EXPECT_LE(measured, high) << name << " mode " << mode + 1 << " " << quantity << " (stated "
+                            << stated << ")";
+}
+
 void RunStudy(const char* name, const model::Model& rig, testing::AmbientOptions sim,
-              const SsiCovOptions& options, int seeds) {
+              const SsiCovOptions& options, int seeds, const std::vector<StatedWidth>& stated) {
   const model::ComplexModes truth = model::ComplexModalDamping(rig);
   const std::size_t modes = static_cast<std::size_t>(truth.omega_rad_s.size());
   std::vector<Tally> omega(modes), zeta(modes);
@@ -72,10 +91,10 @@ void RunStudy(const char* name, const model::Model& rig, testing::AmbientOptions
       // Misses split between both sides: neither side takes more than 4 of 40.
       EXPECT_LE(tally->below, seeds / 10) << name << " mode " << m + 1 << " " << quantity;
       EXPECT_LE(tally->above, seeds / 10) << name << " mode " << m + 1 << " " << quantity;
-      // Neither too narrow nor so wide that it covers by width alone (measured 1.1 to 2.1: the
-      // sampled Hankel covariance errs on the safe side for some modes).
-      EXPECT_GT(tally->WidthRatio(), 0.8) << name << " mode " << m + 1 << " " << quantity;
-      EXPECT_LT(tally->WidthRatio(), 2.3) << name << " mode " << m + 1 << " " << quantity;
+      // Neither too narrow nor so wide that it covers by width alone.
+      ASSERT_EQ(stated.size(), modes) << name;
+      CheckWidth(name, m, quantity, tally->WidthRatio(),
+                 tally == &omega[m] ? stated[m].omega : stated[m].zeta);
     }
   }
 }
@@ -90,7 +109,7 @@ TEST(SsiCovCoverage, TwoMassChainFortySeeds) {
   RunStudy("chain2",
            model::MakeChain(Eigen::Vector2d(1.82, 1.53), Eigen::Vector2d(3520.0, 2760.0),
                             Eigen::Vector2d(5.0, 3.5)),
-           sim, o, 40);
+           sim, o, 40, {{1.13, 1.18}, {1.59, 1.89}});
 }
 
 TEST(SsiCovCoverage, ThreeMassChainPositionsFortySeeds) {
@@ -104,7 +123,7 @@ TEST(SsiCovCoverage, ThreeMassChainPositionsFortySeeds) {
   RunStudy("chain3",
            model::MakeChain(Eigen::Vector3d(1.2, 0.9, 0.7), Eigen::Vector3d(3000.0, 2200.0, 1500.0),
                             Eigen::Vector3d(3.0, 2.0, 1.5)),
-           sim, o, 40);
+           sim, o, 40, {{1.12, 2.07}, {1.86, 1.88}, {1.40, 1.35}});
 }
 
 }  // namespace

@@ -40,24 +40,25 @@ def truth_modes(rig: pathlib.Path, at_s: float = 0.0) -> vibid.Modal:
     return vibid.modal(vibid.Model.from_dict(json.loads(out)))
 
 
-STEP_S = 1300.0
+STEP_S = 2650.0
 
 
 @pytest.fixture(scope="module")
 def step_recording(tmp_path_factory) -> pathlib.Path:
-    # The built-in rig's 3 % on mass 2 (0.0459 kg), moved from 600 s to 1 300 s so that a whole
-    # default window lies before it; 2 500 s in operation: acc1, acc2.
+    # The built-in rig's 3 % on mass 2 (0.0459 kg), moved from 600 s to 2 650 s so that the
+    # default 30-minute reference and a whole default window lie before it; 3 850 s in
+    # operation: acc1, acc2.
     tmp = tmp_path_factory.mktemp("step")
     rig = json.loads((RIGS / "chain2_mass_step.json").read_text())
     assert rig["changes"][0]["add_kg"] == 0.0459
     rig["changes"][0]["at_s"] = STEP_S
     path = tmp / "chain2_mass_step.json"
     path.write_text(json.dumps(rig))
-    return record(tmp, path, 2500, "acc1,acc2")
+    return record(tmp, path, 3850, "acc1,acc2")
 
 
 def test_two_mass_modes_are_the_rigs_and_the_three_percent_step_is_flagged(step_recording):
-    w = vibid.watch(step_recording, reference_s=590, modes_s=0)
+    w = vibid.watch(step_recording, modes_s=0)
     assert w.responses == ["acc1_counts", "acc2_counts"]  # every acceleration column, as the CLI
     ref = w.reference
     truth = truth_modes(RIGS / "chain2_mass_step.json")
@@ -69,17 +70,20 @@ def test_two_mass_modes_are_the_rigs_and_the_three_percent_step_is_flagged(step_
         assert m.freq_hz == pytest.approx(f_hz, rel=0.005)
         assert m.zeta == pytest.approx(zeta, rel=0.15)
         assert abs(m.freq_hz - f_hz) < 2.5 * m.freq_ci95_hz
-    assert ref.order == 4 and ref.seconds == pytest.approx(590.0)  # fs_hz from the time column
+    assert ref.order == 4 and ref.seconds == pytest.approx(1800.0)  # fs_hz from the time column
+    # The band of false alarms per hour this reference gives, up to the rate asked.
+    low, high = ref.false_alarms_per_hour_95
+    assert 0.0 < low < ref.false_alarms_per_hour_mean < high == pytest.approx(0.01, rel=0.05)
     blocks = list(w)
-    assert [b.t_s for b in blocks] == pytest.approx([600.0 + 10.0 * k for k in range(191)])
+    assert [b.t_s for b in blocks] == pytest.approx([1810.0 + 10.0 * k for k in range(205)])
     # hil WatchCliTest.OnARecordingTheBuiltInThreePercentStepIsFlagged: the whole window ending
-    # at 1 190 s (60 blocks, before the step) does not alarm; the window after the one that holds
-    # the step (at 1 300 s) ends at 2 390 s and alarms; nothing else does.
-    assert blocks[59].t_s == pytest.approx(1190.0)
+    # at 2 400 s (60 blocks, before the step) does not alarm; the window after the one that holds
+    # the step (at 2 650 s) ends at 3 600 s and alarms; nothing else does.
+    assert blocks[59].t_s == pytest.approx(2400.0)
     assert blocks[59].accumulated["blocks"] == 60
     assert blocks[59].accumulated["statistic"] < blocks[59].accumulated["threshold"]
     assert [b.block for b in blocks if b.alarm] == [180]
-    assert blocks[179].t_s == blocks[-1].first_alarm_t_s == pytest.approx(2390.0)
+    assert blocks[179].t_s == blocks[-1].first_alarm_t_s == pytest.approx(3600.0)
     assert blocks[179].accumulated["blocks"] == 60
     assert blocks[179].accumulated["statistic"] > blocks[179].accumulated["threshold"]
     assert all(b.board is None for b in blocks)  # no model columns in this log

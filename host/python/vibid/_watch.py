@@ -51,8 +51,10 @@ def _modes(ms) -> list:
 class WatchBlock:
     """One watched block, as a line of ``vibid watch --json``: its end ``t_s``, its number
     ``block`` (from 1 after the reference), the modes over the last ``modes_s`` seconds (none
-    before that much has come: ``modes_message`` says why), the block's T² ``statistic`` against
-    its ``threshold`` (``block_over``: shown, not an alarm), the window's test ``accumulated``
+    before that much has come: ``modes_message`` says why), the block's T² ``statistic`` and
+    the F quantile at the per-block rate ``f_quantile``, not a calibrated threshold (one block's
+    T² is heavier-tailed; ``block_over``: over it, shown, not an alarm), the window's test
+    ``accumulated``
     ({statistic, threshold, blocks, window_blocks, alarm}), ``alarm`` (this block completed a
     window that alarmed), ``first_alarm_t_s``, the mode that ``moved`` most against the
     reference ({mode, omega_ref_rad_s, omega_rad_s, change_rad_s, ci95_rad_s, relative}), the
@@ -62,7 +64,7 @@ class WatchBlock:
     block: int
     modes: list
     statistic: float
-    threshold: float
+    f_quantile: float
     alarm: bool
     block_over: bool
     accumulated: dict
@@ -78,7 +80,7 @@ class WatchBlock:
     def _of(cls, line: str, text: str) -> "WatchBlock":
         d = json.loads(line)
         return cls(t_s=d["t_s"], block=d["block"], modes=_modes(d["modes"]),
-                   statistic=d["statistic"], threshold=d["threshold"], alarm=d["alarm"],
+                   statistic=d["statistic"], f_quantile=d["f_quantile"], alarm=d["alarm"],
                    block_over=d["block_over"], accumulated=d["accumulated"],
                    first_alarm_t_s=d["first_alarm_t_s"], moved=d["moved"], board=d["board"],
                    modes_message=d["modes_message"], analysis_ms=d["analysis_ms"], text=text,
@@ -100,8 +102,10 @@ class WatchReference:
     """The reference as the session built it: its ``source`` ("watched": the first
     ``reference_s`` seconds fed; "recording": one given), its span ``from_t_s`` to ``to_t_s``
     (its first and last sample), its length, its modes (SSI-cov, 95 % intervals), the test's
-    model ``order``, its residuals ``dof`` over ``reference_blocks`` blocks, and the block's and
-    the window's thresholds."""
+    model ``order``, its residuals ``dof`` over ``reference_blocks`` blocks, and the block's F
+    quantile (not a calibrated threshold) and the window's threshold, the false alarms per hour
+    this reference gives (``false_alarms_per_hour_95``: low, high; and their mean over
+    references) and the reference that would narrow them (``advised_reference_s``)."""
     source: str
     from_t_s: float
     to_t_s: float
@@ -110,8 +114,11 @@ class WatchReference:
     order: int
     dof: int
     reference_blocks: int
-    block_threshold: float
+    block_f_quantile: float
     window_threshold: float
+    false_alarms_per_hour_95: tuple
+    false_alarms_per_hour_mean: float
+    advised_reference_s: float
     analysis_ms: float
     _dict: dict = dataclasses.field(default_factory=dict, compare=False)
 
@@ -121,7 +128,10 @@ class WatchReference:
                    to_t_s=d["span"]["to_t_s"], seconds=d["seconds"], modes=_modes(d["modes"]),
                    order=d["order"],
                    dof=d["dof"], reference_blocks=d["reference_blocks"],
-                   block_threshold=d["block_threshold"], window_threshold=d["window_threshold"],
+                   block_f_quantile=d["block_f_quantile"], window_threshold=d["window_threshold"],
+                   false_alarms_per_hour_95=tuple(d["false_alarms_per_hour_95"]),
+                   false_alarms_per_hour_mean=d["false_alarms_per_hour_mean"],
+                   advised_reference_s=d["advised_reference_s"],
                    analysis_ms=d["analysis_ms"], _dict=d)
 
     def to_dict(self) -> dict:
@@ -130,7 +140,8 @@ class WatchReference:
     def __repr__(self) -> str:
         return _repr("WatchReference", source=self.source, seconds=self.seconds,
                      modes=self.modes, order=self.order,
-                     window_threshold=self.window_threshold)
+                     window_threshold=self.window_threshold,
+                     false_alarms_per_hour_95=self.false_alarms_per_hour_95)
 
 
 def _rows(name: str, x, rows: Optional[int] = None) -> np.ndarray:

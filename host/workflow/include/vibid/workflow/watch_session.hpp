@@ -124,9 +124,11 @@ struct WatchBlock {
   double t_s = 0.0;  ///< End of the block, seconds from the first sample fed (or its time stamp).
   std::vector<WatchMode> modes;
   std::string modes_message;  ///< Why modes are missing, or empty.
-  double statistic = 0.0;     ///< The block's T² and its threshold.
-  double threshold = 0.0;
-  bool block_over = false;  ///< The block's T² is over its threshold (shown, not an alarm).
+  /// The block's T², and the F quantile at the per-block rate: not a calibrated threshold (one
+  /// block's T² is heavier-tailed than F: it exceeds the quantile 7 to 9 times as often).
+  double statistic = 0.0;
+  double f_quantile = 0.0;
+  bool block_over = false;  ///< The block's T² is over that quantile (shown, not an alarm).
   double accumulated_statistic = 0.0;  ///< T² of the window's blocks so far, and its threshold.
   double accumulated_threshold = 0.0;
   int window_count = 0;  ///< Blocks in the window so far (the window is tested when full).
@@ -151,10 +153,20 @@ struct WatchReference {
   double seconds = 0.0;
   std::vector<WatchMode> modes;
   int order = 0;
-  int dof = 0;               ///< Residuals of the test.
-  int reference_blocks = 0;  ///< Blocks that give their mean and covariance.
-  double block_threshold = 0.0;
-  double window_threshold = 0.0;
+  int dof = 0;                    ///< Residuals of the test.
+  int reference_blocks = 0;       ///< Blocks that give their mean and covariance.
+  double block_f_quantile = 0.0;  ///< A block's F quantile (not a calibrated threshold).
+  double window_threshold = 0.0;  ///< oma::WindowCalibration's threshold.
+  /// The false alarms per hour this reference gives (95 %: the 2.5 % and 97.5 % points, the
+  /// latter the rate asked for) and their mean over references.
+  double false_alarms_per_hour_low = 0.0;
+  double false_alarms_per_hour_high = 0.0;
+  double false_alarms_per_hour_mean = 0.0;
+  /// The reference that would give a band whose low end reaches a fifth of the rate asked
+  /// (oma::AdviseReference), in whole minutes, and that band's low end; the reference's own
+  /// length where it does, 0 where not even 8 times as long would.
+  double advised_reference_s = 0.0;
+  double advised_false_alarms_per_hour_low = 0.0;
   double analysis_ms = 0.0;
 };
 

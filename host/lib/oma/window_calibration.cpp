@@ -1,0 +1,186 @@
+// The law of a reference's own false-alarm probability, drawn over references (see the header).
+#include "vibid/oma/window_calibration.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
+#include <map>
+#include <mutex>
+#include <numbers>
+#include <random>
+#include <string>
+#include <tuple>
+#include <vector>
+
+#include <Eigen/Core>
+#include <Eigen/Eigenvalues>
+
+#include "vibid/common/error.hpp"
+#include "vibid/numerics/distributions.hpp"
+#include "vibid/numerics/quadratic_form.hpp"
+
+namespace vibid::oma {
+
+namespace {
+
+constexpr int kDraws = 2000;
+constexpr std::uint64_t kSeed = 20261207;
+
+// Normal and gamma variates written out (Box–Muller; Marsaglia & Tsang, ACM TOMS 26 2000) so
+// that the threshold is the same on every standard library.
+class Variates {
+ public:
+  explicit Variates(std::uint64_t seed) : rng_(seed) {}
+  double Uniform() { return (static_cast<double>(rng_() >> 11) + 0.5) * 0x1.0p-53; }
+  double Normal() {
+    if (spare_) {
+      spare_ = false;
+      return next_;
+    }
+    const double r = std::sqrt(-2.0 * std::log(Uniform()));
+    const double a = 2.0 * std::numbers::pi * Uniform();
+    next_ = r * std::sin(a);
+    spare_ = true;
+    return r * std::cos(a);
+  }
+  // Gamma(shape ≥ 1, 1).
+  double Gamma(double shape) {
+    const double d = shape - 1.0 / 3.0;
+    const double c = 1.0 / std::sqrt(9.0 * d);
+    for (;;) {
+      const double x = Normal();
+      const double v = std::pow(1.0 + c * x, 3);
+      if (v <= 0.0) continue;
+      if (std::log(Uniform()) < 0.5 * x * x + d - d * v + d * std::log(v)) return d * v;
+    }
+  }
+
+ private:
+  std::mt19937_64 rng_;
+  bool spare_ = false;
+  double next_ = 0.0;
+};
+
+// One reference's error, whitened: T² = Σ wᵢ (zᵢ + δᵢ)².
+struct Draw {
+  Eigen::VectorXd weights;
+  Eigen::VectorXd noncentrality;
+};
+
+std::vector<Draw> DrawReferences(int p, int m, int window) {
+  Variates v(kSeed);
+  const double k = window;
+  const double c = 1.0 / (1.0 / k + 1.0 / m);
+  std::vector<Draw> draws(kDraws);
+  for (Draw& d : draws) {
+    // Bartlett: W = A Aᵀ ~ Wishart(m − 1, I), A lower triangular.
+    Eigen::MatrixXd a = Eigen::MatrixXd::Zero(p, p);
+    for (int i = 0; i < p; ++i) {
+      a(i, i) = std::sqrt(2.0 * v.Gamma(0.5 * (m - 1 - i)));
+      for (int j = 0; j < i; ++j) a(i, j) = v.Normal();
+    }
+    const Eigen::MatrixXd s = a * a.transpose() / (m - 1.0);
+    Eigen::VectorXd e(p);
+    for (int i = 0; i < p; ++i) e(i) = v.Normal() / std::sqrt(static_cast<double>(m));
+    const Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> eig(s);
+    d.weights = c / (k * eig.eigenvalues().array());
+    d.noncentrality = -std::sqrt(k) * (eig.eigenvectors().transpose() * e);
+  }
+  return draws;
+}
+
+// h with P(Q > h) = alpha for one draw, by bisection on log h.
+double ThresholdOf(const Draw& d, double alpha, double lo, double hi) {
+  while (numerics::QuadraticFormTail(d.weights, d.noncentrality, lo) < alpha) lo *= 0.5;
+  while (numerics::QuadraticFormTail(d.weights, d.noncentrality, hi) > alpha) hi *= 2.0;
+  for (int it = 0; it < 60 && hi / lo > 1.0 + 1e-10; ++it) {
+    const double mid = std::sqrt(lo * hi);
+    (numerics::QuadraticFormTail(d.weights, d.noncentrality, mid) > alpha ? lo : hi) = mid;
+  }
+  return std::sqrt(lo * hi);
+}
+
+double Quantile(std::vector<double> x, double q) {
+  std::sort(x.begin(), x.end());
+  const auto i = static_cast<std::size_t>(std::lround(q * static_cast<double>(x.size() - 1)));
+  return x[i];
+}
+
+struct Band {
+  double low = 0.0;
+  double high = 0.0;
+  double mean = 0.0;
+};
+
+Band BandAt(const std::vector<Draw>& draws, double h) {
+  std::vector<double> prob;
+  prob.reserve(draws.size());
+  double sum = 0.0;
+  for (const Draw& d : draws) {
+    prob.push_back(numerics::QuadraticFormTail(d.weights, d.noncentrality, h));
+    sum += prob.back();
+  }
+  return {Quantile(prob, 0.025), Quantile(prob, 0.975), sum / static_cast<double>(draws.size())};
+}
+
+WindowCalibration Calibrate(int p, int m, int window, double false_alarm) {
+  WindowCalibration out;
+  const double mm = m;
+  out.f_threshold = (mm - 1.0) * p / (mm - p) * numerics::FQuantile(1.0 - false_alarm, p, mm - p);
+  const std::vector<Draw> draws = DrawReferences(p, m, window);
+  // Each draw's probability falls with h: it is at most the asked one for h at or above its own
+  // threshold, so the 97.5 % point of the draws' thresholds keeps 97.5 % of them at or below it.
+  std::vector<double> own;
+  own.reserve(draws.size());
+  for (const Draw& d : draws) {
+    own.push_back(ThresholdOf(d, false_alarm, 0.5 * out.f_threshold, 2.0 * out.f_threshold));
+  }
+  out.threshold = Quantile(own, 0.975);
+  const Band at = BandAt(draws, out.threshold);
+  out.low = at.low;
+  out.high = at.high;
+  out.mean = at.mean;
+  const Band f = BandAt(draws, out.f_threshold);
+  out.f_low = f.low;
+  out.f_high = f.high;
+  return out;
+}
+
+}  // namespace
+
+WindowCalibration CalibrateWindow(int p, int m, int window, double false_alarm) {
+  Require(p >= 1 && m >= p + 2, "window calibration: " + std::to_string(p) +
+                                    " residuals need at least " + std::to_string(p + 2) +
+                                    " reference observations, not " + std::to_string(m));
+  Require(window >= 1, "window calibration: the window must hold at least 1 observation");
+  Require(false_alarm > 0.0 && false_alarm < 0.5,
+          "window calibration: the false-alarm probability per window must lie in (0, 0.5)");
+  // The same sizes come again for every session of a process (tests, the bench's restarts).
+  static std::mutex mutex;
+  static std::map<std::tuple<int, int, int, double>, WindowCalibration> done;
+  const auto key = std::make_tuple(p, m, window, false_alarm);
+  {
+    const std::lock_guard<std::mutex> lock(mutex);
+    if (const auto it = done.find(key); it != done.end()) return it->second;
+  }
+  const WindowCalibration c = Calibrate(p, m, window, false_alarm);
+  const std::lock_guard<std::mutex> lock(mutex);
+  done.emplace(key, c);
+  return c;
+}
+
+ReferenceAdvice AdviseReference(int p, int m, int window, double false_alarm) {
+  ReferenceAdvice advice;
+  for (double factor : {1.0, 1.5, 2.0, 3.0, 4.0, 6.0, 8.0}) {
+    const int longer = static_cast<int>(std::ceil(factor * m));
+    const WindowCalibration c = CalibrateWindow(p, longer, window, false_alarm);
+    if (c.low >= false_alarm / 5.0) {
+      advice.observations = longer;
+      advice.calibration = c;
+      break;
+    }
+  }
+  return advice;
+}
+
+}  // namespace vibid::oma
