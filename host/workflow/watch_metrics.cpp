@@ -88,8 +88,7 @@ void Expose(const WatchFigures& w, Exposition& e) {
   e.Gauge("vibid_watch_block_length_seconds", "Seconds per block", rig, w.options.block_s);
   e.Gauge("vibid_watch_window_length_blocks", "Blocks per window of the accumulated test", rig,
           w.options.window_blocks);
-  e.Gauge("vibid_watch_reference_ready", "1 once the reference is built", rig,
-          w.reference ? 1 : 0);
+  e.Gauge("vibid_watch_reference_ready", "1 once the reference is built", rig, w.reference ? 1 : 0);
   e.Counter("vibid_watch_blocks_total", "Blocks watched since the reference", rig,
             static_cast<double>(w.blocks));
   if (w.reference) {

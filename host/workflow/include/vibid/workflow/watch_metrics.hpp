@@ -24,13 +24,13 @@ inline constexpr const char* kMetricsContentType = "text/plain; version=0.0.4; c
 
 /// One watch as a scrape shows it.
 struct WatchFigures {
-  std::string rig;                         ///< The `rig` label (non-empty).
-  WatchOptions options;                    ///< The options the watch runs with.
-  std::optional<WatchReference> reference; ///< Once built.
-  std::optional<WatchBlock> last;          ///< The last block watched.
-  long blocks = 0;                         ///< Blocks watched since the reference.
-  std::optional<double> last_block_unix_s; ///< Wall time the last block came (Unix seconds).
-  bool running = false;                    ///< The watch is feeding (not ended or stopped).
+  std::string rig;                          ///< The `rig` label (non-empty).
+  WatchOptions options;                     ///< The options the watch runs with.
+  std::optional<WatchReference> reference;  ///< Once built.
+  std::optional<WatchBlock> last;           ///< The last block watched.
+  long blocks = 0;                          ///< Blocks watched since the reference.
+  std::optional<double> last_block_unix_s;  ///< Wall time the last block came (Unix seconds).
+  bool running = false;                     ///< The watch is feeding (not ended or stopped).
 };
 
 /// The exposition of `watches` (each family once, its samples one per watch and mode): # HELP and
