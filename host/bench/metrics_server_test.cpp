@@ -36,8 +36,8 @@ TEST(MetricsServer, ServesTheExpositionToABearerOfItsTokenOnly) {
   ASSERT_TRUE(wrong);
   EXPECT_EQ(wrong->status, 403);
   // A page of another site reaching the port through its own name (DNS rebinding).
-  const auto rebound = c.Get(
-      "/metrics", {{"Authorization", "Bearer " + kToken}, {"Host", "evil.example"}});
+  const auto rebound =
+      c.Get("/metrics", {{"Authorization", "Bearer " + kToken}, {"Host", "evil.example"}});
   ASSERT_TRUE(rebound);
   EXPECT_EQ(rebound->status, 403);
   // Nothing else is served, and the bearer token opens nothing else.
