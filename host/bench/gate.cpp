@@ -1,10 +1,16 @@
 #include "vibid/bench/gate.hpp"
 
+#include <fcntl.h>
 #include <sys/random.h>
+#include <unistd.h>
 
+#include <cctype>
 #include <cerrno>
 #include <cstring>
+#include <fstream>
 #include <stdexcept>
+
+#include "vibid/common/error.hpp"
 
 namespace vibid::bench {
 
@@ -33,6 +39,42 @@ std::string NewToken() {
     got += static_cast<std::size_t>(n);
   }
   return HexOf(bytes, sizeof bytes);
+}
+
+std::string TokenFromFile(const std::string& path) {
+  std::ifstream in(path);
+  if (in.good()) {
+    std::string token;
+    std::getline(in, token);
+    while (!token.empty() && (token.back() == '\r' || token.back() == ' ')) token.pop_back();
+    bool ok = token.size() >= 16 && token.size() <= 256;
+    for (const char c : token)
+      ok = ok && (std::isalnum(static_cast<unsigned char>(c)) || std::strchr("-._~+/", c));
+    Require(ok, "the token file " + path +
+                    " must hold one line of 16 to 256 letters, digits or -._~+/ (a bearer "
+                    "token): remove it and a new token is written there");
+    return token;
+  }
+  // Created here, readable by its owner only: the token opens the board to whoever holds it.
+  const int fd = ::open(path.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_CLOEXEC, 0600);
+  Require(fd >= 0, "cannot create the token file " + path + " (" + std::strerror(errno) +
+                       "): name a file in a directory you can write");
+  const std::string token = NewToken();
+  const std::string line = token + "\n";
+  const bool written = ::write(fd, line.data(), line.size()) == static_cast<ssize_t>(line.size());
+  ::close(fd);
+  Require(written, "cannot write the token file " + path);
+  return token;
+}
+
+std::string BearerToken(const std::string& authorization) {
+  // The scheme is case-insensitive (RFC 9110, 11.1); one space before the token.
+  static constexpr char kScheme[] = "bearer ";
+  if (authorization.size() <= sizeof kScheme - 1) return "";
+  for (std::size_t i = 0; i + 1 < sizeof kScheme; ++i) {
+    if (std::tolower(static_cast<unsigned char>(authorization[i])) != kScheme[i]) return "";
+  }
+  return authorization.substr(sizeof kScheme - 1);
 }
 
 bool IsStaticFile(const std::string& method, const std::string& path) {
@@ -75,6 +117,13 @@ std::optional<Refusal> Gate::Check(const RequestFacts& r) const {
   if (!r.query_token.empty() && !TokenMatches(r.query_token))
     return Refusal{403, "this is not the token of this bench: open the URL vibid bench printed"};
   if (IsStaticFile(r.method, r.path) || TokenMatches(r.header_token)) return std::nullopt;
+  const bool scrape = (r.method == "GET" || r.method == "HEAD") && r.path == kMetricsPath;
+  if (scrape && TokenMatches(r.bearer_token)) return std::nullopt;
+  if (r.path == kMetricsPath) {
+    return Refusal{403,
+                   "no valid token: a scraper sends the token file's token as a bearer token "
+                   "(authorization: credentials_file in its scrape config)"};
+  }
   return Refusal{403, "no valid token: open the URL vibid bench printed (it carries ?token=)"};
 }
 

@@ -1,5 +1,10 @@
 #include "vibid/bench/gate.hpp"
 
+#include <unistd.h>
+
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
 #include <set>
 
 #include <gtest/gtest.h>
@@ -113,6 +118,76 @@ TEST(Gate, RefusesForeignHostsAndOrigins) {
     ASSERT_TRUE(g.Check(f)) << origin;
     EXPECT_NE(g.Check(f)->message.find("Origin"), std::string::npos);
   }
+}
+
+TEST(Gate, AScraperShowsTheTokenAsABearerTokenOnTheMetricsOnly) {
+  const Gate g = MakeGate();
+  RequestFacts scrape;
+  scrape.host = "127.0.0.1:8080";
+  scrape.method = "GET";
+  scrape.path = "/metrics";
+  scrape.bearer_token = BearerToken("Bearer " + kToken);
+  EXPECT_FALSE(g.Check(scrape));
+  RequestFacts head = scrape;
+  head.method = "HEAD";
+  EXPECT_FALSE(g.Check(head));
+  // The header token works there too (the page's own way).
+  RequestFacts header = scrape;
+  header.bearer_token.clear();
+  header.header_token = kToken;
+  EXPECT_FALSE(g.Check(header));
+  // Nowhere else: a bearer token does not open the API.
+  RequestFacts api = Good();
+  api.header_token.clear();
+  api.bearer_token = kToken;
+  EXPECT_TRUE(g.Check(api));
+  RequestFacts post = scrape;
+  post.method = "POST";
+  EXPECT_TRUE(g.Check(post));
+  // The Host rule holds for a scraper as for the page.
+  RequestFacts foreign = scrape;
+  foreign.host = "evil.example:8080";
+  EXPECT_TRUE(g.Check(foreign));
+  RequestFacts wrong = scrape;
+  wrong.bearer_token = BearerToken("Bearer " + std::string(32, '0'));
+  const std::optional<Refusal> r = g.Check(wrong);
+  ASSERT_TRUE(r);
+  EXPECT_EQ(r->status, 403);
+  EXPECT_NE(r->message.find("bearer token"), std::string::npos) << r->message;
+}
+
+TEST(Gate, TheBearerSchemeIsReadWithoutRegardToCase) {
+  // RFC 9110, 11.1: the scheme is case-insensitive; RFC 6750, 2.1: "Bearer" SP token.
+  EXPECT_EQ(BearerToken("Bearer abc"), "abc");
+  EXPECT_EQ(BearerToken("bearer abc"), "abc");
+  EXPECT_EQ(BearerToken("BEARER abc"), "abc");
+  EXPECT_EQ(BearerToken("Basic abc"), "");
+  EXPECT_EQ(BearerToken("Bearer"), "");
+  EXPECT_EQ(BearerToken("Bearer "), "");
+  EXPECT_EQ(BearerToken(""), "");
+}
+
+TEST(Gate, ATokenFileIsWrittenForItsOwnerAndReadBackTheSame) {
+  const std::filesystem::path dir =
+      std::filesystem::temp_directory_path() / ("vibid-token-" + std::to_string(::getpid()));
+  std::filesystem::create_directories(dir);
+  const std::string path = (dir / "token").string();
+  const std::string written = TokenFromFile(path);
+  EXPECT_EQ(written.size(), 32u);
+  EXPECT_EQ(std::filesystem::status(path).permissions() & std::filesystem::perms::all,
+            std::filesystem::perms::owner_read | std::filesystem::perms::owner_write);
+  EXPECT_EQ(TokenFromFile(path), written);
+  // One a user wrote (a trailing newline or CR is not part of it).
+  const std::string own = (dir / "own").string();
+  std::ofstream(own) << "Abc-def_123.456~+/xyz\r\n";
+  EXPECT_EQ(TokenFromFile(own), "Abc-def_123.456~+/xyz");
+  // Too short, or with a character a bearer token cannot hold: refused, naming the file.
+  const std::string bad = (dir / "bad").string();
+  std::ofstream(bad) << "short\n";
+  EXPECT_THROW(TokenFromFile(bad), std::exception);
+  std::ofstream(bad) << "spaces are not in tokens at all\n";
+  EXPECT_THROW(TokenFromFile(bad), std::exception);
+  std::filesystem::remove_all(dir);
 }
 
 TEST(Gate, AnIpv6AddressIsBracketedInUrlsAndHosts) {

@@ -10,38 +10,13 @@
 
 #include <httplib.h>
 
+#include "bench_http.hpp"
 #include "vibid/bench/assets.hpp"
 #include "vibid/common/error.hpp"
 #include "vibid/common/json_file.hpp"
 #include "vibid/device/error.hpp"
 
 namespace vibid::bench {
-
-// cpp-httplib's server with its connections handed to the HttpFront: the accept loop gives each
-// new socket to the front at once (no pool of its own), and the front hands whole requests back
-// to process_request.
-class BenchHttp : public httplib::Server {
- public:
-  BenchHttp() {
-    new_task_queue = [] { return new Inline; };
-  }
-  HttpFront* front = nullptr;
-
-  bool ServeOne(httplib::Stream& s, bool close_connection, bool& connection_closed) {
-    return process_request(s, close_connection, connection_closed, nullptr);
-  }
-
- private:
-  class Inline : public httplib::TaskQueue {
-   public:
-    void enqueue(std::function<void()> fn) override { fn(); }
-    void shutdown() override {}
-  };
-  bool process_and_close_socket(socket_t sock) override {
-    front->Adopt(sock);
-    return true;
-  }
-};
 
 namespace {
 
@@ -126,6 +101,8 @@ std::string BenchServer::Url() const {
          "/?token=" + options_.token;
 }
 
+void BenchServer::AddMetrics(std::function<std::string()> text) { metrics_ = std::move(text); }
+
 void BenchServer::AddView(View view) { views_.push_back(std::move(view)); }
 
 void BenchServer::AddJsonRoute(const std::string& name, JsonHandler handler) {
@@ -166,19 +143,7 @@ void BenchServer::Routes() {
   for (const auto& [name, value] : SecurityHeaders()) headers.emplace(name, value);
   s.set_default_headers(headers);
   s.set_pre_routing_handler([this](const httplib::Request& req, httplib::Response& res) {
-    RequestFacts f;
-    f.host = req.get_header_value("Host");
-    f.origin = req.get_header_value("Origin");
-    f.query_token = req.get_param_value("token");
-    f.header_token = req.get_header_value(kTokenHeader);
-    f.method = req.method;
-    f.path = req.path;
-    if (const std::optional<Refusal> r = gate_->Check(f)) {
-      res.status = r->status;
-      res.set_content(r->message + "\n", "text/plain");
-      return httplib::Server::HandlerResponse::Handled;
-    }
-    return httplib::Server::HandlerResponse::Unhandled;
+    return GateRequest(*gate_, req, res);
   });
   s.set_exception_handler(
       [](const httplib::Request&, httplib::Response& res, std::exception_ptr e) {
@@ -229,6 +194,11 @@ void BenchServer::Routes() {
     }
     res.status = 404;
   });
+  if (metrics_) {
+    s.Get(kMetricsPath, [this](const httplib::Request&, httplib::Response& res) {
+      res.set_content(metrics_(), kMetricsType);
+    });
+  }
   s.Get("/api/views", [this](const httplib::Request&, httplib::Response& res) {
     nlohmann::json j = nlohmann::json::array();
     for (const View& v : views_) j.push_back({{"id", v.id}, {"title", v.title}, {"html", v.html}});

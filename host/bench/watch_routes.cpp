@@ -134,8 +134,9 @@ workflow::WatchBoardSettings ParseSettings(const nlohmann::json& body, const std
 
 class WatchRuns : public std::enable_shared_from_this<WatchRuns> {
  public:
-  WatchRuns(BenchBoard& board, LiveHub& hub, std::string directory)
-      : board_(board), hub_(hub), directory_(std::move(directory)) {}
+  WatchRuns(BenchBoard& board, LiveHub& hub, std::string directory,
+            std::shared_ptr<workflow::WatchMetrics> metrics)
+      : board_(board), hub_(hub), directory_(std::move(directory)), metrics_(std::move(metrics)) {}
 
   nlohmann::json Start(const nlohmann::json& body) {
     const bool emulator = (board_.BoardInfo().capabilities & wire::kCapScenarioSelect) != 0;
@@ -191,6 +192,7 @@ class WatchRuns : public std::enable_shared_from_this<WatchRuns> {
       ::unlink(file.path.c_str());
       throw;
     }
+    if (metrics_) metrics_->Start(run->options());
     Publish();
     return {{"name", file.stem}, {"journal", file.path}};
   }
@@ -247,13 +249,15 @@ class WatchRuns : public std::enable_shared_from_this<WatchRuns> {
       Update({{"reference_left_s", s.reference_left_s()}, {"t_s", t_s}});
     };
     events.reference = [&](const workflow::WatchSession& s) {
+      if (metrics_) metrics_->Reference(s.reference());
       Update(
           {{"reference", workflow::WatchReferenceJson(s.reference())}, {"reference_left_s", 0.0}});
     };
     events.header = [&](const std::string& line) {
       Update({{"header", nlohmann::json::parse(line)}});
     };
-    events.block = [&](const workflow::WatchBlock&, const std::string& line) {
+    events.block = [&](const workflow::WatchBlock& b, const std::string& line) {
+      if (metrics_) metrics_->Block(b);
       {
         std::lock_guard l(mutex_);
         blocks_.push_back(nlohmann::json::parse(line));
@@ -273,8 +277,10 @@ class WatchRuns : public std::enable_shared_from_this<WatchRuns> {
              {"reference_built", r.reference_built},
              {"reference_left_s", r.reference_left_s},
              {"blocks", r.blocks}};
+      if (metrics_) metrics_->End();
       Update({{"running", false}, {"end", end}, {"warning", r.warning}});
     } catch (const std::exception& e) {
+      if (metrics_) metrics_->End();
       Update({{"running", false}, {"error", e.what()}});
       throw;
     }
@@ -302,14 +308,17 @@ class WatchRuns : public std::enable_shared_from_this<WatchRuns> {
   BenchBoard& board_;
   LiveHub& hub_;
   std::string directory_;
-  std::mutex mutex_;  // state_, blocks_
+  std::shared_ptr<workflow::WatchMetrics> metrics_;  // null: no metrics
+  std::mutex mutex_;                                 // state_, blocks_
   nlohmann::json state_;
   nlohmann::json blocks_ = nlohmann::json::array();  // the last kKeptBlocks
 };
 
 std::shared_ptr<WatchRuns> AddWatchRoutes(BenchServer& server, BenchBoard& board, LiveHub& hub,
-                                          const std::string& directory) {
-  auto runs = std::make_shared<WatchRuns>(board, hub, directory);
+                                          const std::string& directory,
+                                          std::shared_ptr<workflow::WatchMetrics> metrics) {
+  auto runs = std::make_shared<WatchRuns>(board, hub, directory, metrics);
+  if (metrics) server.AddMetrics([metrics] { return metrics->Text(); });
   const Asset* html = FindAsset("/assets/watch.html");
   const Asset* script = FindAsset("/assets/watch.js");
   server.AddView({"watch", "Watch", std::string(html->bytes), std::string(script->bytes)});

@@ -202,3 +202,61 @@ TEST_F(WatchRoutesTest, EachStopRouteStopsOnlyItsOwnRun) {
 
 }  // namespace
 }  // namespace vibid::bench
+
+namespace vibid::bench {
+namespace {
+
+class WatchMetricsRoutesTest : public testing::BenchOnCore {
+ protected:
+  void SetUp() override {
+    StartBench("watch-metrics-test", [this] {
+      runs_ = AddWatchRoutes(*server_, *board_, hub_, dir_.string(),
+                             std::make_shared<workflow::WatchMetrics>("bench-a"));
+    });
+  }
+
+  httplib::Result Scrape(const httplib::Headers& headers) {
+    httplib::Client c("127.0.0.1", server_->port());
+    return c.Get("/metrics", headers);
+  }
+
+  std::shared_ptr<WatchRuns> runs_;
+};
+
+TEST_F(WatchMetricsRoutesTest, TheRunningWatchIsScrapedWithTheBenchsTokenAsABearerToken) {
+  const auto none = Scrape({});
+  ASSERT_TRUE(none);
+  EXPECT_EQ(none->status, 403);
+  const auto start = Post("watch/start", R"({"rate_hz":200,"false_alarm_per_hour":0.5})");
+  ASSERT_TRUE(start);
+  ASSERT_EQ(start->status, 200) << start->body;
+  const auto r = Scrape({{"Authorization", "Bearer " + server_->token()}});
+  ASSERT_TRUE(r);
+  ASSERT_EQ(r->status, 200) << r->body;
+  EXPECT_EQ(r->get_header_value("Content-Type"), "text/plain; version=0.0.4; charset=utf-8");
+  // The run's options as the start asked, its reference still to come.
+  EXPECT_NE(r->body.find("\nvibid_watch_running{rig=\"bench-a\"} 1\n"), std::string::npos)
+      << r->body;
+  EXPECT_NE(r->body.find("\nvibid_watch_false_alarms_per_hour{rig=\"bench-a\"} 0.5\n"),
+            std::string::npos);
+  EXPECT_NE(r->body.find("\nvibid_watch_reference_ready{rig=\"bench-a\"} 0\n"), std::string::npos);
+  // The page's header works too; the bearer token opens no other route.
+  const auto header = Scrape({{kTokenHeader, server_->token()}});
+  ASSERT_TRUE(header);
+  EXPECT_EQ(header->status, 200);
+  httplib::Client c("127.0.0.1", server_->port());
+  const auto state = c.Get("/api/state", {{"Authorization", "Bearer " + server_->token()}});
+  ASSERT_TRUE(state);
+  EXPECT_EQ(state->status, 403);
+  ASSERT_TRUE(Post("watch/stop", "{}"));
+}
+
+TEST_F(WatchRoutesTest, WithoutMetricsTheBenchServesNone) {
+  httplib::Client c("127.0.0.1", server_->port());
+  const auto r = c.Get("/metrics", {{kTokenHeader, server_->token()}});
+  ASSERT_TRUE(r);
+  EXPECT_EQ(r->status, 404);
+}
+
+}  // namespace
+}  // namespace vibid::bench

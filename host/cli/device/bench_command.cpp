@@ -3,6 +3,7 @@
 #include <chrono>
 #include <filesystem>
 #include <iostream>
+#include <memory>
 #include <thread>
 
 #include "cli_support.hpp"
@@ -15,6 +16,7 @@
 #include "vibid/bench/hammer_routes.hpp"
 #include "vibid/bench/watch_routes.hpp"
 #include "vibid/bench/server.hpp"
+#include "vibid/workflow/watch_metrics.hpp"
 
 namespace vibid::cli {
 namespace {
@@ -32,6 +34,9 @@ struct BenchArgs {
   std::string bind = "127.0.0.1";
   int port = 0;
   std::string out = "vibid-bench";  // under the current directory
+  bool metrics = false;             // GET /metrics for Prometheus
+  std::string metrics_rig = "bench";
+  std::string token_file;  // the bench's token kept in a file (read, or written)
 };
 
 void Run(const BenchArgs& a) {
@@ -45,15 +50,23 @@ void Run(const BenchArgs& a) {
       [&](device::Connection& c) {
         bench::LiveHub hub;
         bench::BenchBoard board(c, a.out, hub, &InterruptFlag());
-        bench::BenchServer server(board, hub, {.bind = a.bind, .port = a.port, .token = {}});
+        const std::string token = a.token_file.empty() ? "" : bench::TokenFromFile(a.token_file);
+        bench::BenchServer server(board, hub, {.bind = a.bind, .port = a.port, .token = token});
         // Every view on the directory the board resolved once, never the raw -o again.
         const std::string& dir = board.directory();
         bench::AddCalibrationRoutes(server, board, dir, VIBID_VERSION);
         bench::AddIdentifyRoutes(server, board, dir);
         const auto hammer = bench::AddHammerRoutes(server, board, hub, dir);
-        const auto watch = bench::AddWatchRoutes(server, board, hub, dir);
+        const auto watch = bench::AddWatchRoutes(
+            server, board, hub, dir,
+            a.metrics ? std::make_shared<workflow::WatchMetrics>(a.metrics_rig) : nullptr);
         server.Start();
         std::cout << server.Url() << std::endl;
+        if (a.metrics) {
+          std::cerr << "vibid: the Watch view's metrics on " << bench::UrlHost(a.bind) << ":"
+                    << server.port() << bench::kMetricsPath << " (rig \"" << a.metrics_rig
+                    << "\"; the token as a bearer token)\n";
+        }
         std::cerr << "vibid: bench on " << c.Describe() << ", recordings in " << dir
                   << "; Ctrl-C ends it\n";
         while (!InterruptFlag().load()) std::this_thread::sleep_for(std::chrono::milliseconds(100));
@@ -87,6 +100,15 @@ void RegisterBenchCommand(CLI::App& app, const GlobalOptions& globals) {
          "Directory for the recordings (journals while they run), saved tests and the files the\n"
          "calibration view reads and writes (created; its full path is printed)")
       ->capture_default_str();
+  auto* metrics = cmd->add_flag("--metrics", o->metrics,
+                                "Serve the Watch view's figures to Prometheus at /metrics (the "
+                                "bench's token as a bearer token)");
+  cmd->add_option("--metrics-rig", o->metrics_rig, "The rig label of every metric")
+      ->capture_default_str()
+      ->needs(metrics);
+  cmd->add_option("--token-file", o->token_file,
+                  "Keep the bench's token in this file: read, or a new one written there "
+                  "readable by you only (a scraper's credentials_file)");
 }
 
 }  // namespace vibid::cli

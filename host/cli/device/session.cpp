@@ -40,6 +40,11 @@ class SigintGuard {
 
 const std::atomic<bool>& InterruptFlag() { return g_interrupted; }
 
+void UntilCtrlC() {
+  SigintGuard guard;
+  while (!g_interrupted.load()) ::usleep(100000);
+}
+
 void TakesDeviceOption(CLI::App* command) {
   // The command's own --help lists its options only: say where the board comes from.
   command->footer(

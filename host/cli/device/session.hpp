@@ -40,6 +40,9 @@ device::DeviceSpec ChosenDevice(const GlobalOptions& globals);
 void WithDevice(const GlobalOptions& globals, const std::function<void(device::Connection&)>& body,
                 CtrlC ctrl_c = CtrlC::kInterrupts);
 
+/// Waits for Ctrl-C (SIGINT caught meanwhile); returns at once when one already came.
+void UntilCtrlC();
+
 /// A progress bar on stderr, drawn only when stderr is a terminal.
 class ProgressBar {
  public:

@@ -5,8 +5,10 @@
 #include <cmath>
 #include <cstdio>
 #include <cstring>
+#include <filesystem>
 #include <iostream>
 #include <limits>
+#include <memory>
 #include <numbers>
 #include <optional>
 
@@ -17,8 +19,11 @@
 #include "vibid/common/option_text.hpp"
 #include "vibid/common/csv.hpp"
 #include "vibid/common/error.hpp"
+#include "vibid/bench/gate.hpp"
+#include "vibid/bench/metrics_server.hpp"
 #include "vibid/workflow/watch_board_run.hpp"
 #include "vibid/workflow/watch_columns.hpp"
+#include "vibid/workflow/watch_metrics.hpp"
 #include "vibid/workflow/watch_session.hpp"
 
 namespace vibid::cli {
@@ -41,6 +46,13 @@ struct WatchArgs {
   workflow::WatchOptions watch;
   bool json = false;
   std::string journal;
+  // Prometheus's scrapes (opt-in): port (-1: none), address, token file, rig label, and whether
+  // the last figures stay served after the watch ends (until Ctrl-C).
+  int metrics_port = -1;
+  std::string metrics_bind = "127.0.0.1";
+  std::string token_file;
+  std::string metrics_rig;
+  bool metrics_keep = false;
 };
 
 /// A rate to two significant digits.
@@ -48,6 +60,40 @@ std::string Rate(double per_hour) {
   char b[32];
   std::snprintf(b, sizeof b, "%.2g", per_hour);
   return b;
+}
+
+/// The metrics port, when asked for: serves the watch's figures from now until it goes.
+class MetricsPort {
+ public:
+  MetricsPort(const WatchArgs& a, const std::string& default_rig)
+      : figures_(a.metrics_rig.empty() ? default_rig : a.metrics_rig) {
+    if (a.metrics_port < 0) return;
+    bench::MetricsServerOptions o;
+    o.bind = a.metrics_bind;
+    o.port = a.metrics_port;
+    if (!a.token_file.empty()) o.token = bench::TokenFromFile(a.token_file);
+    server_ = std::make_unique<bench::MetricsServer>(o, [this] { return figures_.Text(); });
+    server_->Start();
+    std::cerr << "vibid: metrics on " << server_->Url() << " (rig \"" << figures_.Figures().rig
+              << "\"; the token "
+              << (a.token_file.empty() ? server_->token() : "in " + a.token_file)
+              << " as a bearer token)\n";
+  }
+  workflow::WatchMetrics& figures() { return figures_; }
+  bool serving() const { return server_ != nullptr; }
+
+ private:
+  workflow::WatchMetrics figures_;
+  std::unique_ptr<bench::MetricsServer> server_;
+};
+
+/// After the watch: with --metrics-keep, its last figures stay served until Ctrl-C.
+void KeepServing(const WatchArgs& a, MetricsPort& metrics) {
+  metrics.figures().End();
+  if (!a.metrics_keep || !metrics.serving()) return;
+  std::cerr << "vibid: the watch ended; its last figures are served until Ctrl-C\n";
+  UntilCtrlC();
+  throw StoppedByInterrupt();
 }
 
 /// The reference's summary on stderr, once it is built.
@@ -101,6 +147,8 @@ void RunOnRecording(const WatchArgs& a) {
   o.channels = static_cast<int>(responses.size());
   workflow::WatchJournal journal(a.journal, "-o");
   workflow::WatchSession s(o);
+  MetricsPort metrics(a, std::filesystem::path(a.recording).stem().string());
+  metrics.figures().Start(o);
   if (!a.reference.empty())
     s.SetReference(workflow::LoadWatchReference(a.reference, responses, o.fs_hz));
   Eigen::MatrixXd y(static_cast<Eigen::Index>(rec.samples()),
@@ -131,8 +179,10 @@ void RunOnRecording(const WatchArgs& a) {
       const std::string header = h.dump();
       journal.Append(header);
       if (a.json) std::cout << header << "\n" << std::flush;
+      metrics.figures().Reference(s.reference());
     }
     for (const workflow::WatchBlock& b : blocks) {
+      metrics.figures().Block(b);
       const std::string line = workflow::WatchBlockJson(b).dump();
       journal.Append(line);
       PrintBlock(a, b, line);
@@ -145,6 +195,7 @@ void RunOnRecording(const WatchArgs& a) {
                      OptionNumber(o.reference_s) +
                      "); give a longer recording, a shorter --reference-s or --reference");
   }
+  KeepServing(a, metrics);
 }
 
 void RunOnDevice(const WatchArgs& a) {
@@ -157,6 +208,8 @@ void RunOnDevice(const WatchArgs& a) {
   settings.watch = a.watch;
   workflow::WatchBoardRun run(settings);            // every option checked: a bad one costs nothing
   workflow::WatchJournal journal(a.journal, "-o");  // refused now, not after the board started
+  MetricsPort metrics(a, "board");
+  metrics.figures().Start(run.options());
   WithDevice(
       *a.globals,
       [&](device::Connection& c) {
@@ -169,11 +222,15 @@ void RunOnDevice(const WatchArgs& a) {
                       << " s (the rig as it is now)\n";
           }
         };
-        events.reference = [&](const workflow::WatchSession& s) { SayReference(a, s); };
+        events.reference = [&](const workflow::WatchSession& s) {
+          SayReference(a, s);
+          metrics.figures().Reference(s.reference());
+        };
         events.header = [&](const std::string& line) {
           if (a.json) std::cout << line << "\n" << std::flush;
         };
         events.block = [&](const workflow::WatchBlock& b, const std::string& line) {
+          metrics.figures().Block(b);
           PrintBlock(a, b, line);
         };
         bool interrupted = false;
@@ -195,6 +252,7 @@ void RunOnDevice(const WatchArgs& a) {
         if (interrupted) throw StoppedByInterrupt();
       },
       CtrlC::kStopsAcquisition);
+  KeepServing(a, metrics);
 }
 
 void Run(const WatchArgs& a) {
@@ -269,6 +327,24 @@ void RegisterWatchCommand(CLI::App& app, const GlobalOptions& globals) {
   cmd->add_flag("--json", o->json, "One JSON object per block (JSON lines)");
   cmd->add_option("-o,--journal", o->journal,
                   "Append each block's JSON line to this file as it comes (created or truncated)");
+  auto* port = cmd->add_option("--metrics-port", o->metrics_port,
+                               "Serve the watch's figures to Prometheus on this loopback port "
+                               "(GET /metrics; 0: a free one, printed)")
+                   ->check(CLI::Range(0, 65535));
+  cmd->add_option("--metrics-bind", o->metrics_bind,
+                  "Loopback address of the metrics port (127.0.0.1 or ::1)")
+      ->capture_default_str()
+      ->needs(port);
+  cmd->add_option("--token-file", o->token_file,
+                  "The metrics' token (a scraper's bearer token) in this file: read, or a new one "
+                  "written there readable by you only (default: a new token, printed)")
+      ->needs(port);
+  cmd->add_option("--metrics-rig", o->metrics_rig,
+                  "The rig label of every metric (default: the recording's name, or board)")
+      ->needs(port);
+  cmd->add_flag("--metrics-keep", o->metrics_keep,
+                "After the watch ends, keep serving its last figures until Ctrl-C (exit 130)")
+      ->needs(port);
 }
 
 }  // namespace vibid::cli

@@ -11,6 +11,7 @@
 #include <sstream>
 
 #include <Eigen/Eigenvalues>
+#include <Eigen/LU>
 #include <Eigen/QR>
 #include <Eigen/SVD>
 
@@ -21,6 +22,8 @@ namespace vibid::oma {
 namespace {
 
 constexpr double kTwoPi = 2.0 * std::numbers::pi;
+// A sample's pole is its mode's when its relative frequency distance plus 1 − MAC is below this.
+constexpr double kMatchReach = 0.1;
 
 struct RawPole {
   double omega_rad_s;
@@ -58,6 +61,46 @@ std::vector<RawPole> PolesAtOrder(const Eigen::MatrixXd& u, const Eigen::VectorX
     const double zeta = -mu.real() / omega;
     if (!(zeta > 0.0 && zeta < max_damping && omega <= omega_max)) continue;
     poles.push_back({omega, zeta, c * eig.eigenvectors().col(k)});
+  }
+  std::sort(poles.begin(), poles.end(),
+            [](const RawPole& x, const RawPole& y) { return x.omega_rad_s < y.omega_rad_s; });
+  return poles;
+}
+
+// PolesAtOrder for the interval samples, where only the poles near a mode of that order are
+// looked at: the eigenvalues of A alone, and the eigenvector of each pole within `reach`
+// (relative frequency) of a target by inverse iteration, the same vector as the full
+// eigensolver's up to its scale (a shape is compared by MAC and scaled to an entry, so the scale
+// does not matter), at a fraction of the cost of every eigenvector.
+std::vector<RawPole> PolesNear(const Eigen::MatrixXd& u, const Eigen::VectorXd& s, int order, int l,
+                               double fs_hz, double max_damping, double omega_max,
+                               const std::vector<double>& targets_rad_s, double reach) {
+  const Eigen::Index rows = u.rows();
+  const Eigen::MatrixXd o = u.leftCols(order) * s.head(order).cwiseSqrt().asDiagonal();
+  // O↑ has full column rank (order < its rows) and orthogonal columns: no pivoting is needed.
+  const Eigen::MatrixXd a = o.topRows(rows - l).householderQr().solve(o.bottomRows(rows - l));
+  const Eigen::MatrixXd c = o.topRows(l);
+  Eigen::EigenSolver<Eigen::MatrixXd> eig(a, false);
+  std::vector<RawPole> poles;
+  if (eig.info() != Eigen::Success) return poles;
+  for (Eigen::Index k = 0; k < order; ++k) {
+    const std::complex<double> lambda = eig.eigenvalues()(k);
+    if (!(lambda.imag() > 1e-12 * std::abs(lambda))) continue;
+    const std::complex<double> mu = std::log(lambda) * fs_hz;
+    const double omega = std::abs(mu);
+    const double zeta = -mu.real() / omega;
+    if (!(zeta > 0.0 && zeta < max_damping && omega <= omega_max)) continue;
+    bool near = false;
+    for (double t : targets_rad_s) near = near || std::fabs(omega - t) / t < reach;
+    if (!near) continue;
+    // Inverse iteration with a shift a hair off the eigenvalue (exactly on it, the factor is
+    // singular): two steps reach the eigenvector to within that offset over the gap to the next.
+    const std::complex<double> shift = lambda * (1.0 + 1e-10);
+    const Eigen::PartialPivLU<Eigen::MatrixXcd> lu(
+        a.cast<std::complex<double>>() - shift * Eigen::MatrixXcd::Identity(a.rows(), a.cols()));
+    Eigen::VectorXcd v = Eigen::VectorXcd::Ones(a.rows());
+    for (int step = 0; step < 2; ++step) v = lu.solve(v).normalized();
+    poles.push_back({omega, zeta, c * v});
   }
   std::sort(poles.begin(), poles.end(),
             [](const RawPole& x, const RawPole& y) { return x.omega_rad_s < y.omega_rad_s; });
@@ -306,18 +349,38 @@ SsiCovResult SsiCov(Eigen::Ref<const Eigen::MatrixXd> y, const SsiCovOptions& op
   for (const OmaMode& m : result.modes) mode_orders.push_back(m.order);
   std::sort(mode_orders.begin(), mode_orders.end());
   mode_orders.erase(std::unique(mode_orders.begin(), mode_orders.end()), mode_orders.end());
+  // Each block's deviation from the mean as a column: a sample is the mean plus their
+  // combination with normal weights (one matrix-vector product).
+  const Eigen::Index cells = h_mean.size();
+  Eigen::MatrixXd deviations(cells, options.blocks);
+  for (int j = 0; j < options.blocks; ++j) {
+    deviations.col(j) = (block_h[static_cast<std::size_t>(j)] - h_mean).reshaped();
+  }
+  Eigen::VectorXd weights(options.blocks);
+  Eigen::MatrixXd h(h_mean.rows(), h_mean.cols());
   for (int d = 0; d < options.draws; ++d) {
-    Eigen::MatrixXd h = h_mean;
-    for (const Eigen::MatrixXd& hj : block_h) h += (normal(rng) * scale) * (hj - h_mean);
-    Eigen::BDCSVD<Eigen::MatrixXd> sample(h, Eigen::ComputeThinU);
+    for (int j = 0; j < options.blocks; ++j) weights(j) = normal(rng) * scale;
+    h.reshaped() = h_mean.reshaped() + deviations * weights;
+    // The poles of an order depend on the span of its leading left singular vectors alone (a
+    // change of basis of the observability matrix is a similarity of A, which keeps the
+    // eigenvalues and C times the eigenvectors): that span is the leading eigenspace of h hᵀ,
+    // whose symmetric eigensolver costs a fraction of the SVD of h.
+    const Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> sample(h * h.transpose());
+    const Eigen::MatrixXd sample_u = sample.eigenvectors().rowwise().reverse();
+    const Eigen::VectorXd sample_s = sample.eigenvalues().reverse().cwiseMax(0.0).cwiseSqrt();
     for (int order : mode_orders) {
+      std::vector<double> targets;
+      for (const OmaMode& m : result.modes) {
+        if (m.order == order) targets.push_back(m.omega_rad_s);
+      }
+      // A pole farther than this from its mode in frequency is never taken (best_d below).
       const std::vector<RawPole> poles =
-          PolesAtOrder(sample.matrixU(), sample.singularValues(), order, l, plan.fs_hz,
-                       options.max_damping, omega_max * 1.2);
+          PolesNear(sample_u, sample_s, order, l, plan.fs_hz, options.max_damping, omega_max * 1.2,
+                    targets, kMatchReach);
       for (std::size_t m = 0; m < modes; ++m) {
         if (result.modes[m].order != order) continue;
         const RawPole* best = nullptr;
-        double best_d = 0.1;  // beyond this the pole is another mode or noise
+        double best_d = kMatchReach;  // beyond this the pole is another mode or noise
         for (const RawPole& p : poles) {
           const double dist =
               std::fabs(p.omega_rad_s - result.modes[m].omega_rad_s) / result.modes[m].omega_rad_s +

@@ -6,6 +6,11 @@
 // cookies belong to the host, not the port, so every other server on 127.0.0.1 would receive it
 // and a second bench would replace it. The page keeps it in its own memory (and its tab's
 // sessionStorage, which is per origin, port included, for a reload).
+//
+// A Prometheus scraper shows the token as a bearer token (`Authorization: Bearer TOKEN`, its
+// scrape config's `authorization: {credentials_file: ...}`), taken on GET /metrics only: the
+// Host rule holds for it as for the page, and a foreign page cannot set that header without a
+// preflight the bench never grants.
 #pragma once
 
 #include <cstddef>
@@ -23,6 +28,8 @@ std::string HexOf(const unsigned char* bytes, std::size_t n);
 
 /// The header the page carries the token in.
 inline constexpr const char* kTokenHeader = "X-Vibid-Token";
+/// The path of the metrics (Prometheus's text format), where a bearer token is taken.
+inline constexpr const char* kMetricsPath = "/metrics";
 /// The cookie an older bench set; a request that still carries it is told to drop it.
 inline constexpr const char* kOldTokenCookie = "vibid_bench_token";
 
@@ -32,6 +39,7 @@ struct RequestFacts {
   std::string origin;        ///< The Origin header ("" when absent).
   std::string query_token;   ///< ?token= ("" when absent): the printed URL's, on the page only.
   std::string header_token;  ///< X-Vibid-Token ("" when absent).
+  std::string bearer_token;  ///< Authorization: Bearer TOKEN ("" when absent), on /metrics only.
   std::string method;
   std::string path;
 };
@@ -39,6 +47,15 @@ struct RequestFacts {
 /// The page's own files (GET or HEAD of "/", "/assets/...", "/views/....js"): the same bytes in
 /// every bench, no data of the board; they need no token (a reload finds it in the tab).
 bool IsStaticFile(const std::string& method, const std::string& path);
+
+/// The token of `path`: read when the file exists (one line of 16 to 256 characters, letters,
+/// digits and -._~+/), else a NewToken() written to a new file only its owner may read, for a
+/// scraper's credentials_file and for runs that keep their token. InputError naming the file
+/// and the way out when it holds something else or cannot be written.
+std::string TokenFromFile(const std::string& path);
+
+/// The token of `Authorization: Bearer TOKEN` ("" for any other value).
+std::string BearerToken(const std::string& authorization);
 
 /// The host part of a URL for `address`: an IPv6 literal in brackets ("[::1]").
 std::string UrlHost(const std::string& address);

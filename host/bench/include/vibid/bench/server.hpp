@@ -66,6 +66,10 @@ class BenchServer {
   std::string Exchange(std::string_view request);
   const std::string& token() const { return options_.token; }
 
+  /// GET /metrics answers `text()` (Prometheus's text format), behind the gate: the token as
+  /// X-Vibid-Token or as a bearer token (gate.hpp). Before Start.
+  void AddMetrics(std::function<std::string()> text);
+
   void AddView(View view);
   void AddJsonRoute(const std::string& name, JsonHandler handler);
 
@@ -80,6 +84,7 @@ class BenchServer {
   std::unique_ptr<HttpFront> front_;
   std::unique_ptr<Gate> gate_;
   std::vector<View> views_;
+  std::function<std::string()> metrics_;
   std::thread thread_;
   int port_ = 0;
 };

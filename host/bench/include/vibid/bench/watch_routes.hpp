@@ -20,13 +20,16 @@
 #include "vibid/bench/bench_board.hpp"
 #include "vibid/bench/live_hub.hpp"
 #include "vibid/bench/server.hpp"
+#include "vibid/workflow/watch_metrics.hpp"
 
 namespace vibid::bench {
 
 class WatchRuns;
 
-/// Registers the view and its routes; the returned object lives as long as the server.
+/// Registers the view and its routes; the returned object lives as long as the server. With
+/// `metrics`, each run's figures go there too (the bench's GET /metrics, server.AddMetrics).
 std::shared_ptr<WatchRuns> AddWatchRoutes(BenchServer& server, BenchBoard& board, LiveHub& hub,
-                                          const std::string& directory);
+                                          const std::string& directory,
+                                          std::shared_ptr<workflow::WatchMetrics> metrics = {});
 
 }  // namespace vibid::bench
