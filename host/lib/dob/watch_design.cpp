@@ -365,15 +365,24 @@ WatchDesign DesignWatch(std::span<const std::int32_t> d_hat_q31,
     return std::hypot(by_centre, by_spread);
   };
   constexpr double kZ975 = 1.959964;  // the standard normal's 97.5 % point
+  // The fixed point h = threshold(rate asked / e^(1.96 spread(h))): the partial sums' ratio is
+  // taken at the h of the first steps, then held (its window count is a whole number, which
+  // could leave the iteration alternating), and the spread, which grows slowly with h, iterated
+  // until h settles.
   double spread = 0.0;
   d.h = CusumThresholdGamma(windows_per_hour / options.false_alarms_per_hour, d.gamma_shape, d.k);
-  for (int iteration = 0; iteration < 4; ++iteration) {
-    d.path_variance_ratio = path_ratio(d.h);
-    scale = std::sqrt(d.path_variance_ratio);
+  for (int iteration = 0; iteration < 30; ++iteration) {
+    if (iteration < 3) {
+      d.path_variance_ratio = path_ratio(d.h);
+      scale = std::sqrt(d.path_variance_ratio);
+    }
     spread = log_rate_spread(d.h);
-    d.h = CusumThresholdGammaAffine(
+    const double h = CusumThresholdGammaAffine(
         windows_per_hour / options.false_alarms_per_hour * std::exp(kZ975 * spread), d.gamma_shape,
         scale, 0.0, d.k);
+    const bool settled = iteration >= 3 && std::fabs(h - d.h) < 1e-4 * d.h;
+    d.h = h;
+    if (settled) break;
   }
   spread = log_rate_spread(d.h);
   const double centre = log_rate(d.h, 0.0, 0.0);

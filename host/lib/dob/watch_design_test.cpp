@@ -171,7 +171,7 @@ TEST(DesignWatch, ChoosesTheWindowFromTheCorrelationTimeAndRefusesAShortRecordin
   EXPECT_LT(d.false_alarms_low, 0.9 * d.false_alarms_high);
   EXPECT_GT(d.false_alarms_low, 0.0);
   EXPECT_NEAR(
-      CusumRunLengthGammaAffine(d.gamma_shape, std::sqrt(d.path_variance_ratio), 0.0, 0.5, d.h),
+      CusumRunLengthGammaAffine(d.gamma_shape, std::sqrt(d.path_variance_ratio), 0.0, d.k, d.h),
       d.arl0_windows, 1e-6 * d.arl0_windows);
   // The centre's standard error: at least that of independent windows, 1 / sqrt(n) spreads.
   EXPECT_GE(d.centre_se_spreads, 1.0 / std::sqrt(static_cast<double>(d.calibration_windows)));

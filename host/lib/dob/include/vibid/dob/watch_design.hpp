@@ -56,9 +56,11 @@ struct WatchOptions {
   /// 1000 hours).
   double false_alarms_per_hour = 1.0e-3;
   /// The shift of the window mean, in its in-control spreads, the test is tuned to catch fastest
-  /// (k = shift / 2). One spread: a model error that raises the residual's power by about
-  /// sqrt(2 / W_eff) of itself.
-  double shift_spreads = 1.0;
+  /// (k = shift / 2). Half a spread: with one spread (k 0.5) the threshold that keeps the rate
+  /// for a 500 s calibration day on the built-in rig (h 26 at the default rate, the centre known
+  /// to about 0.02 spreads a side) left its 3 % mass step unflagged 900 s after it; at half a
+  /// spread the same day flags it within about 5 minutes (hil ModelStaleTest).
+  double shift_spreads = 0.5;
   /// Samples per window; 0 chooses it from the residual's correlation time.
   std::uint32_t window_samples = 0;
 };
