@@ -217,10 +217,10 @@ TEST(DesignWatch, FalseAlarmRateOverAHundredHoursMatchesTheStatedOne) {
   std::printf(
       "W %u (%.2f s), skew of the window mean %.3f (two-moment Gamma %.3f), k %.2f, "
       "h %.3f (Siegmund %.3f): %d false alarms in %.0f h, this calibration's band %.1f to %.1f "
-      "(asked %.0f); %.1f windows to detect a one-spread shift\n",
+      "(asked %.0f); %.1f windows to detect a shift of %.2g spreads\n",
       d.params.window_samples, d.window_s, d.window_skew, 2.0 * d.sigma0 / d.mu0, d.k, d.h,
       d.h_gaussian, alarms, kHours, low, high, options.false_alarms_per_hour * kHours,
-      d.detection_windows);
+      d.detection_windows, 2.0 * d.k);
   // Alarm counts of a renewal process with near-geometric run lengths scatter like Poisson
   // counts: the band's ends widened by 2 sqrt of themselves (their 95 % scatter), both sides.
   EXPECT_GE(alarms, low - 2.0 * std::sqrt(low));
