@@ -107,14 +107,16 @@ dob::WatchDesign AttachWatchTest(wire::CalibrationRecord& record, const Recordin
 }
 
 std::string WatchDesignText(const dob::WatchDesign& d) {
-  char line[320];
+  char line[480];
   std::snprintf(line, sizeof line,
                 "model test: windows of %u samples (%.3g s) from %zu on the calibration day; "
-                "k %.2f, h %.2f for %.3g false alarms per hour (one in %.3g windows); the window "
-                "mean shifted by %.3g spread%s is caught in about %.1f windows",
+                "k %.2f, h %.2f for at most %.3g false alarms per hour: this calibration gives "
+                "between %.3g and %.3g false alarms per hour (95 %%; one in %.3g windows at its "
+                "own estimates); the window mean shifted by %.3g spread%s is caught in about "
+                "%.1f windows",
                 d.params.window_samples, d.window_s, d.calibration_windows, d.k, d.h,
-                d.false_alarms_per_hour, d.arl0_windows, 2.0 * d.k, 2.0 * d.k == 1.0 ? "" : "s",
-                d.detection_windows);
+                d.false_alarms_per_hour, d.false_alarms_low, d.false_alarms_high, d.arl0_windows,
+                2.0 * d.k, 2.0 * d.k == 1.0 ? "" : "s", d.detection_windows);
   return line;
 }
 

@@ -4,6 +4,7 @@
 #include <cmath>
 #include <limits>
 #include <string>
+#include <vector>
 
 #include <Eigen/Dense>
 
@@ -81,25 +82,34 @@ double RegularizedGammaLower(double a, double x) {
 
 double CusumRunLengthGamma(double shape, double ratio, double mean_over_spread, double k,
                            double h) {
-  // Brook & Evans (Biometrika 59, 1972): g on a grid of kStates points 0, w, 2w, .. below h; a
-  // step moves it by the increment z - k, rounded to the grid (to 0 at or below half a step);
-  // above h it stops. The run length from each state solves (I - R) L = 1.
-  constexpr int kStates = 240;
-  const double w = h / (kStates - 0.5);
   // In control z = (G - shape) / sqrt(shape), G ~ Gamma(shape, 1) (Pearson type III of skew
   // 2 / sqrt(shape)); e = mu0 + sigma0 z scaled by `ratio` gives z' = ratio z + (ratio - 1) mu0 /
-  // sigma0, so P(z' <= x) = P(shape, shape + sqrt(shape) (x - (ratio - 1) m) / ratio).
+  // sigma0.
+  return CusumRunLengthGammaAffine(shape, ratio, (ratio - 1.0) * mean_over_spread, k, h);
+}
+
+double CusumRunLengthGammaAffine(double shape, double scale, double offset, double k, double h) {
+  // Brook & Evans (Biometrika 59, 1972): g on a grid of kStates points 0, w, 2w, .. below h; a
+  // step moves it by the increment z' - k, rounded to the grid (to 0 at or below half a step);
+  // above h it stops. The run length from each state solves (I - R) L = 1.
+  // z' = scale z + offset, so P(z' <= x) = P(shape, shape + sqrt(shape) (x - offset) / scale).
+  constexpr int kStates = 240;
+  const double w = h / (kStates - 0.5);
   const double sqrt_shape = std::sqrt(shape);
-  const double offset = (ratio - 1.0) * mean_over_spread;
   auto cdf = [&](double x) {
-    return RegularizedGammaLower(shape, shape + sqrt_shape * (x - offset) / ratio);
+    return RegularizedGammaLower(shape, shape + sqrt_shape * (x - offset) / scale);
   };
+  // The CDF at the grid's cell edges: the edge k + (j + 0.5 - i) w depends on j - i only.
+  std::vector<double> edge(2 * kStates);
+  for (int m = 0; m < 2 * kStates; ++m) {
+    edge[static_cast<std::size_t>(m)] = cdf(k + (m - kStates + 0.5) * w);
+  }
   Eigen::MatrixXd a = Eigen::MatrixXd::Identity(kStates, kStates);
   for (int i = 0; i < kStates; ++i) {
-    double below = cdf(k + 0.5 * w - i * w);
+    double below = edge[static_cast<std::size_t>(kStates - i)];
     a(i, 0) -= below;
     for (int j = 1; j < kStates; ++j) {
-      const double upto = cdf(k + (j + 0.5) * w - i * w);
+      const double upto = edge[static_cast<std::size_t>(kStates + j - i)];
       a(i, j) -= upto - below;
       below = upto;
     }
@@ -109,19 +119,26 @@ double CusumRunLengthGamma(double shape, double ratio, double mean_over_spread, 
 }
 
 double CusumThresholdGamma(double arl0_windows, double shape, double k) {
-  if (!(arl0_windows > 1.0) || !(k >= 0.0) || !(shape > 0.0) || !std::isfinite(arl0_windows)) {
+  return CusumThresholdGammaAffine(arl0_windows, shape, 1.0, 0.0, k);
+}
+
+double CusumThresholdGammaAffine(double arl0_windows, double shape, double scale, double offset,
+                                 double k) {
+  if (!(arl0_windows > 1.0) || !(k >= 0.0) || !(shape > 0.0) || !(scale > 0.0) ||
+      !std::isfinite(arl0_windows)) {
     throw InputError(
         "CUSUM threshold: the in-control run length must exceed one window, k be >= 0");
   }
+  auto run = [&](double h) { return CusumRunLengthGammaAffine(shape, scale, offset, k, h); };
   double lo = 0.0;
   double hi = 1.0;
-  while (CusumRunLengthGamma(shape, 1.0, 0.0, k, hi) < arl0_windows) {
+  while (run(hi) < arl0_windows) {
     hi *= 2.0;
     if (hi > 1e4) throw InputError("CUSUM threshold: no threshold reaches this run length");
   }
   for (int i = 0; i < 60 && hi - lo > 1e-6 * hi; ++i) {
     const double mid = 0.5 * (lo + hi);
-    (CusumRunLengthGamma(shape, 1.0, 0.0, k, mid) < arl0_windows ? lo : hi) = mid;
+    (run(mid) < arl0_windows ? lo : hi) = mid;
   }
   return hi;
 }
@@ -284,9 +301,94 @@ WatchDesign DesignWatch(std::span<const std::int32_t> d_hat_q31,
   d.gamma_shape = 4.0 / (skew * skew);
   d.k = options.shift_spreads / 2.0;
   d.false_alarms_per_hour = options.false_alarms_per_hour;
-  d.arl0_windows = 3600.0 / d.window_s / options.false_alarms_per_hour;
-  d.h = CusumThresholdGamma(d.arl0_windows, d.gamma_shape, d.k);
-  d.h_gaussian = CusumThreshold(d.arl0_windows, d.k);
+  d.h_gaussian = CusumThreshold(3600.0 / d.window_s / options.false_alarms_per_hour, d.k);
+
+  // The rate on the hours after the calibration day, not on the day itself. The kernel's centre
+  // and spread are the day's estimates: a centre off by delta spreads adds delta to every
+  // increment, a spread off by a factor scales them, and either moves the rate several-fold at
+  // these thresholds. And the window means correlate weakly over many lags (the lag-1 check lets
+  // that through), which both widens those estimates' errors and makes the CUSUM's partial sums
+  // vary more than independent windows would. Batch means of the standardized window means give
+  // honest standard errors: the centre's from the long-run variance ratio (batches of about
+  // sqrt(n) windows), the spread's from the batches of z^2; a variance ratio below one is read
+  // as noise. The CUSUM is modelled on independent increments c e^eps z + delta, delta ~ N(0,
+  // se_centre), eps ~ N(0, se_log_spread), c^2 the variance ratio over the stretch a false trip
+  // takes: the likeliest path of g to h rises by about k a window for h / k windows, so the
+  // partial sums over that many windows are what must vary as much as the model's (the
+  // correlated CUSUM is governed by its partial sums' variance: Johnson & Bagshaw,
+  // Technometrics 16, 1974). The log of the rate is taken as linear over one standard error
+  // each side. h puts the rate's 97.5 % point at the rate asked, and the band [2.5 %, 97.5 %]
+  // is what this calibration is stated to give.
+  std::vector<double> z(sums.size());
+  for (std::size_t i = 0; i < sums.size(); ++i) {
+    z[i] = (static_cast<double>(sums[i]) - mean_sum) / sd_sum;
+  }
+  // Sample variance of the means of successive batches of `batch` values of x (or of x^2).
+  auto batch_variance = [](const std::vector<double>& x, std::size_t batch, bool squared) {
+    const std::size_t batches = x.size() / batch;
+    std::vector<double> m(batches, 0.0);
+    for (std::size_t i = 0; i < batches * batch; ++i) {
+      m[i / batch] += (squared ? x[i] * x[i] : x[i]) / static_cast<double>(batch);
+    }
+    double mean = 0.0;
+    for (const double v : m) mean += v;
+    mean /= static_cast<double>(batches);
+    double q = 0.0;
+    for (const double v : m) q += (v - mean) * (v - mean);
+    return q / static_cast<double>(batches - 1);
+  };
+  const std::size_t batch = std::max<std::size_t>(
+      1, static_cast<std::size_t>(std::floor(std::sqrt(static_cast<double>(z.size())))));
+  const auto batches = static_cast<double>(z.size() / batch);
+  d.batch_windows = batch;
+  d.window_long_run_ratio =
+      std::max(1.0, static_cast<double>(batch) * batch_variance(z, batch, false));
+  d.centre_se_spreads = std::sqrt(d.window_long_run_ratio / n);
+  d.log_spread_se = 0.5 * std::sqrt(batch_variance(z, batch, true) / batches);
+  auto path_ratio = [&](double h) {
+    const auto m = static_cast<std::size_t>(
+        std::clamp(std::round(h / std::max(d.k, 1e-3)), 1.0, static_cast<double>(batch)));
+    return m == 1 ? 1.0 : std::max(1.0, static_cast<double>(m) * batch_variance(z, m, false));
+  };
+
+  const double windows_per_hour = 3600.0 / d.window_s;
+  double scale = 1.0;
+  auto log_rate = [&](double h, double delta, double eps) {
+    return std::log(windows_per_hour /
+                    CusumRunLengthGammaAffine(d.gamma_shape, scale * std::exp(eps), delta, d.k, h));
+  };
+  auto log_rate_spread = [&](double h) {
+    const double by_centre =
+        0.5 * (log_rate(h, d.centre_se_spreads, 0.0) - log_rate(h, -d.centre_se_spreads, 0.0));
+    const double by_spread =
+        0.5 * (log_rate(h, 0.0, d.log_spread_se) - log_rate(h, 0.0, -d.log_spread_se));
+    return std::hypot(by_centre, by_spread);
+  };
+  constexpr double kZ975 = 1.959964;  // the standard normal's 97.5 % point
+  // The fixed point h = threshold(rate asked / e^(1.96 spread(h))): the partial sums' ratio is
+  // taken at the h of the first steps, then held (its window count is a whole number, which
+  // could leave the iteration alternating), and the spread, which grows slowly with h, iterated
+  // until h settles.
+  double spread = 0.0;
+  d.h = CusumThresholdGamma(windows_per_hour / options.false_alarms_per_hour, d.gamma_shape, d.k);
+  for (int iteration = 0; iteration < 30; ++iteration) {
+    if (iteration < 3) {
+      d.path_variance_ratio = path_ratio(d.h);
+      scale = std::sqrt(d.path_variance_ratio);
+    }
+    spread = log_rate_spread(d.h);
+    const double h = CusumThresholdGammaAffine(
+        windows_per_hour / options.false_alarms_per_hour * std::exp(kZ975 * spread), d.gamma_shape,
+        scale, 0.0, d.k);
+    const bool settled = iteration >= 3 && std::fabs(h - d.h) < 1e-4 * d.h;
+    d.h = h;
+    if (settled) break;
+  }
+  spread = log_rate_spread(d.h);
+  const double centre = log_rate(d.h, 0.0, 0.0);
+  d.arl0_windows = windows_per_hour / std::exp(centre);
+  d.false_alarms_low = std::exp(centre - kZ975 * spread);
+  d.false_alarms_high = std::exp(centre + kZ975 * spread);
   if (d.h >= fixed::kMaxStatistic / 65536.0) {
     throw InputError("watch design: the threshold for this false-alarm rate exceeds the board's");
   }

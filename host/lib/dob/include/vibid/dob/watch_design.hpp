@@ -41,17 +41,26 @@ double RegularizedGammaLower(double a, double x);
 /// sigma0 is then unused) (Brook-Evans Markov chain).
 double CusumRunLengthGamma(double shape, double ratio, double mean_over_spread, double k, double h);
 
+/// The same for increments scale z + offset, z the Pearson III variable above (Brook-Evans).
+double CusumRunLengthGammaAffine(double shape, double scale, double offset, double k, double h);
+
 /// The threshold whose in-control run length is arl0_windows for Gamma window means of `shape`.
 double CusumThresholdGamma(double arl0_windows, double shape, double k);
+
+/// The threshold whose run length is arl0_windows for increments scale z + offset.
+double CusumThresholdGammaAffine(double arl0_windows, double shape, double scale, double offset,
+                                 double k);
 
 struct WatchOptions {
   /// The false alarms per hour of in-control running the user accepts (the default: one in
   /// 1000 hours).
   double false_alarms_per_hour = 1.0e-3;
   /// The shift of the window mean, in its in-control spreads, the test is tuned to catch fastest
-  /// (k = shift / 2). One spread: a model error that raises the residual's power by about
-  /// sqrt(2 / W_eff) of itself.
-  double shift_spreads = 1.0;
+  /// (k = shift / 2). Half a spread: with one spread (k 0.5) the threshold that keeps the rate
+  /// for a 500 s calibration day on the built-in rig (h 26 at the default rate, the centre known
+  /// to about 0.02 spreads a side) left its 3 % mass step unflagged 900 s after it; at half a
+  /// spread the same day flags it within about 5 minutes (hil ModelStaleTest).
+  double shift_spreads = 0.5;
   /// Samples per window; 0 chooses it from the residual's correlation time.
   std::uint32_t window_samples = 0;
 };
@@ -70,10 +79,22 @@ struct WatchDesign {
   double window_skew = 0.0;  ///< Skewness of their standardized means (0 for Gaussian).
   double gamma_shape = 0.0;  ///< 4 / skew^2: the window mean's Pearson III model.
   double k = 0.0;
-  double h = 0.0;             ///< From the Gamma model's run length (what the board uses).
-  double h_gaussian = 0.0;    ///< Siegmund's for Gaussian increments, for comparison.
-  double arl0_windows = 0.0;  ///< In-control run length h was chosen for.
-  double false_alarms_per_hour = 0.0;
+  double h = 0.0;           ///< From the Gamma model's run length (what the board uses).
+  double h_gaussian = 0.0;  ///< Siegmund's for Gaussian increments, for comparison.
+  /// The calibration's in-control run length: at its own estimates of the window mean's centre
+  /// and spread, with the long-run variance of the window means.
+  double arl0_windows = 0.0;
+  double false_alarms_per_hour = 0.0;  ///< The rate asked: the band's upper end.
+  /// Long-run over single-window variance of the window means (batch means, at least 1).
+  double window_long_run_ratio = 1.0;
+  std::size_t batch_windows = 0;  ///< Windows per batch of the batch means.
+  /// Variance ratio of the window means' partial sums over h / k windows (the stretch a false
+  /// trip takes): the model's increments are scaled by its square root.
+  double path_variance_ratio = 1.0;
+  double centre_se_spreads = 0.0;  ///< Standard error of the centre, in window spreads.
+  double log_spread_se = 0.0;      ///< Standard error of the spread's logarithm.
+  double false_alarms_low = 0.0;   ///< This calibration's rate: 2.5 % point (per hour).
+  double false_alarms_high = 0.0;  ///< 97.5 % point (the rate asked, to the iteration).
   double detection_windows = 0.0;  ///< Run length at shift_spreads (Gamma model).
 };
 
