@@ -75,6 +75,11 @@ Labels With(Labels labels, const char* name, int value) {
   return labels;
 }
 
+Labels With(Labels labels, const char* name, const std::string& value) {
+  labels.emplace_back(name, value);
+  return labels;
+}
+
 double Hz(double omega_rad_s) { return omega_rad_s / (2.0 * std::numbers::pi); }
 
 /// Every figure of one watch: one line each.
@@ -95,6 +100,14 @@ void Expose(const WatchFigures& w, Exposition& e) {
     const WatchReference& r = *w.reference;
     e.Gauge("vibid_watch_reference_seconds", "Seconds of the reference", rig, r.seconds);
     e.Gauge("vibid_watch_test_order", "Model order of the subspace test", rig, r.order);
+    // The rate this reference gives, its 95 % band (docs/watch.md: the rate of the reference a
+    // user has).
+    e.Gauge("vibid_watch_reference_false_alarms_per_hour",
+            "False alarms per hour this reference gives, 95 % band", With(rig, "bound", "low"),
+            r.false_alarms_per_hour_low);
+    e.Gauge("vibid_watch_reference_false_alarms_per_hour",
+            "False alarms per hour this reference gives, 95 % band", With(rig, "bound", "high"),
+            r.false_alarms_per_hour_high);
     for (std::size_t i = 0; i < r.modes.size(); ++i) {
       const Labels m = With(rig, "mode", static_cast<int>(i) + 1);
       e.Gauge("vibid_watch_reference_mode_frequency_hertz", "The reference's mode frequency", m,
@@ -127,6 +140,14 @@ void Expose(const WatchFigures& w, Exposition& e) {
   }
   if (b.moved) {
     const Labels m = With(rig, "mode", b.moved->mode);
+    e.Gauge("vibid_watch_moved_significance",
+            "Change over its 95 % half-width of the quantity that moved most (ω, ζ or shape)",
+            With(m, "quantity", b.moved->quantity), b.moved->significance);
+    e.Gauge("vibid_watch_moved_damping_ratio_change",
+            "Damping ratio change of the mode that moved most against the reference", m,
+            b.moved->zeta_change);
+    e.Gauge("vibid_watch_moved_damping_ratio_change_ci95",
+            "95 % half-width of that damping ratio change", m, b.moved->zeta_ci95);
     e.Gauge("vibid_watch_moved_frequency_change_ratio",
             "Relative frequency change of the mode that moved most against the reference", m,
             b.moved->relative);
@@ -136,15 +157,21 @@ void Expose(const WatchFigures& w, Exposition& e) {
                                          : std::numeric_limits<double>::quiet_NaN());
   }
   e.Gauge("vibid_watch_block_statistic", "The last block's subspace T2", rig, b.statistic);
-  e.Gauge("vibid_watch_block_threshold", "The block T2's threshold (shown, not an alarm)", rig,
-          b.threshold);
-  e.Gauge("vibid_watch_block_over", "1 when the last block's T2 is over its threshold", rig,
+  // One block's T2 is heavier-tailed than F (docs/watch.md): its F quantile is exposed under that
+  // name, not as a threshold an alert could be written against.
+  e.Gauge("vibid_watch_block_f_quantile",
+          "The F quantile at the block's rate beside the block T2 (not a calibrated threshold)",
+          rig, b.f_quantile);
+  e.Gauge("vibid_watch_block_over", "1 when the last block's T2 is over its F quantile", rig,
           b.block_over ? 1 : 0);
   e.Gauge("vibid_watch_window_statistic", "T2 of the window's blocks so far", rig,
           b.accumulated_statistic);
   e.Gauge("vibid_watch_window_threshold", "The full window's threshold", rig,
           b.accumulated_threshold);
   e.Gauge("vibid_watch_window_blocks", "Blocks in the window so far", rig, b.window_count);
+  e.Gauge("vibid_watch_window_tested",
+          "1 when the window is full and its T2 was tested against the threshold", rig,
+          b.window_count == b.window_blocks ? 1 : 0);
   e.Gauge("vibid_watch_window_alarm", "1 when the last full window alarmed", rig,
           b.window_alarm ? 1 : 0);
   e.Gauge("vibid_watch_alarm", "1 from the watch's first alarm on (latched)", rig,

@@ -59,6 +59,8 @@ TEST(WatchMetrics, EveryFigureOfABlockInBaseUnits) {
   WatchReference r;
   r.seconds = 1800;
   r.order = 4;
+  r.false_alarms_per_hour_low = 0.00125;
+  r.false_alarms_per_hour_high = 0.01;
   // ω = 2π·4 rad/s is 4 Hz exactly in binary (a power-of-two scaling of the same π).
   r.modes = {{2 * kPi * 4, 0.0175, 2 * kPi * 0.25, 0.002}};
   w.reference = r;
@@ -66,7 +68,7 @@ TEST(WatchMetrics, EveryFigureOfABlockInBaseUnits) {
   b.t_s = 2400;
   b.modes = {{2 * kPi * 4, 0.02, 2 * kPi * 0.5, 0.004}, {2 * kPi * 8, 0.05, 2 * kPi * 1, 0.01}};
   b.statistic = 19.5;
-  b.threshold = 41.25;
+  b.f_quantile = 41.25;
   b.accumulated_statistic = 30.5;
   b.accumulated_threshold = 28;
   b.window_count = 60;
@@ -74,7 +76,18 @@ TEST(WatchMetrics, EveryFigureOfABlockInBaseUnits) {
   b.window_alarm = true;
   b.alarm = true;
   b.first_alarm_t_s = 2400;
-  b.moved = WatchMove{1, 2 * kPi * 4, 2 * kPi * 3.96, -2 * kPi * 0.04, 2 * kPi * 0.02, -0.01};
+  WatchMove moved;
+  moved.mode = 1;
+  moved.quantity = "zeta";
+  moved.significance = 2.5;
+  moved.omega_ref_rad_s = 2 * kPi * 4;
+  moved.omega_rad_s = 2 * kPi * 3.96;
+  moved.change_rad_s = -2 * kPi * 0.04;
+  moved.ci95_rad_s = 2 * kPi * 0.02;
+  moved.relative = -0.01;
+  moved.zeta_change = 0.0025;
+  moved.zeta_ci95 = 0.001;
+  b.moved = moved;
   b.board = WatchBoardModel{true, 12.5, 10, 2300};
   b.analysis_ms = 250;
   w.last = b;
@@ -103,7 +116,16 @@ TEST(WatchMetrics, EveryFigureOfABlockInBaseUnits) {
   EXPECT_TRUE(
       Has(t, "vibid_watch_moved_frequency_change_ci95_ratio{rig=\"rig-a\",mode=\"1\"} 0.005"));
   EXPECT_TRUE(Has(t, "vibid_watch_block_statistic{rig=\"rig-a\"} 19.5"));
-  EXPECT_TRUE(Has(t, "vibid_watch_block_threshold{rig=\"rig-a\"} 41.25"));
+  EXPECT_TRUE(Has(t, "vibid_watch_block_f_quantile{rig=\"rig-a\"} 41.25"));
+  EXPECT_FALSE(Has(t, "vibid_watch_block_threshold"));  // not calibrated: no threshold by name
+  EXPECT_TRUE(Has(t, "vibid_watch_window_tested{rig=\"rig-a\"} 1"));
+  EXPECT_TRUE(
+      Has(t, "vibid_watch_moved_significance{rig=\"rig-a\",mode=\"1\",quantity=\"zeta\"} 2.5"));
+  EXPECT_TRUE(Has(t, "vibid_watch_moved_damping_ratio_change{rig=\"rig-a\",mode=\"1\"} 0.0025"));
+  EXPECT_TRUE(
+      Has(t, "vibid_watch_reference_false_alarms_per_hour{rig=\"rig-a\",bound=\"low\"} 0.00125"));
+  EXPECT_TRUE(
+      Has(t, "vibid_watch_reference_false_alarms_per_hour{rig=\"rig-a\",bound=\"high\"} 0.01"));
   EXPECT_TRUE(Has(t, "vibid_watch_block_over{rig=\"rig-a\"} 0"));
   EXPECT_TRUE(Has(t, "vibid_watch_window_statistic{rig=\"rig-a\"} 30.5"));
   EXPECT_TRUE(Has(t, "vibid_watch_window_threshold{rig=\"rig-a\"} 28"));
