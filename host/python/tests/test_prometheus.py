@@ -117,7 +117,9 @@ def test_prometheus_scrapes_the_watch_and_fires_its_alarm(tmp_path):
              f"--web.listen-address=127.0.0.1:{port}"],
             stdout=subprocess.DEVNULL, stderr=(tmp_path / "prometheus.log").open("w"))
 
-        blocks = [json.loads(l) for l in journal.read_text().splitlines()]
+        lines = [json.loads(l) for l in journal.read_text().splitlines()]
+        assert lines[0]["header"] == "vibid watch"  # the journal's first line says what was watched
+        blocks = lines[1:]
         last = blocks[-1]
         first_alarm = next(b["t_s"] for b in blocks if b["alarm"])
 
@@ -144,6 +146,12 @@ def test_prometheus_scrapes_the_watch_and_fires_its_alarm(tmp_path):
         assert one("vibid_watch_window_threshold") == pytest.approx(
             last["accumulated"]["threshold"], rel=1e-12)
         assert one("vibid_watch_block_statistic") == pytest.approx(last["statistic"], rel=1e-12)
+        assert one("vibid_watch_block_f_quantile") == pytest.approx(last["f_quantile"], rel=1e-12)
+        band = lines[0]["reference"]["false_alarms_per_hour_95"]
+        assert one('vibid_watch_reference_false_alarms_per_hour{bound="low"}') == pytest.approx(
+            band[0], rel=1e-12)
+        assert one('vibid_watch_reference_false_alarms_per_hour{bound="high"}') == pytest.approx(
+            band[1], rel=1e-12)
         assert one("vibid_watch_running") == 0.0
 
         # The modes of the last 70 s (250-320 s: the rig after the step; SSI-cov wants 65 s at
