@@ -664,26 +664,23 @@ double Prominence(const Eigen::VectorXd& magnitude, const Peak& pk) {
 
 // Whether a peak stands above its neighbourhood (its magnitude `prominence` times their median)
 // by more than kNoiseErrors times the random error of |H| at it: sqrt(1 - g2) / (sqrt(g2) *
-// sqrt(2 n)) over n averages (Bendat & Piersol, Random Data, 4th ed., table 9.6), g2 the
-// coherence over the peak's five lines, its bias (1 - g2) / n for n averages taken off (noise
-// alone reads 1/n). With 2 or 3 hits the receptance's low edge (noise over omega^2) and the
-// record's noise make bumps hundreds of times their neighbourhood (0.15 and 0.37 Hz on an 11 s
-// record, 2.19 Hz on a 3.2 s one) whose coherence, unbiased, is 0.04-0.4: their error is larger
-// than their height. A resonance's is a fifth of it or less.
+// sqrt(2 n)) over n averages (Bendat & Piersol, Random Data, 4th ed., table 9.6), g2 the least
+// coherence over the peak's five lines (a resonance's is high across them; with 2 averages noise
+// alone reads anywhere in [0, 1] on one line), its bias (1 - g2) / n for n averages taken off
+// (noise alone reads 1/n on average). With 2 or 3 hits the receptance's low edge (noise over
+// omega^2) and the record's noise make bumps hundreds of times their neighbourhood (0.15 and
+// 0.37 Hz on an 11 s record, 2.19 Hz on a 3.2 s one) whose coherence, unbiased, is 0-0.4: their
+// error is larger than their height. A resonance's is a fifth of it or less.
 bool ClearOfNoise(const Frf& receptance, int picking_column, const Peak& pk, double prominence) {
   constexpr double kNoiseErrors = 3.0;
   const auto n = static_cast<double>(receptance.averages);
   if (n < 2.0 || receptance.coherence.rows() != receptance.h.rows()) return true;
   const auto at = static_cast<Eigen::Index>(pk.line);
-  double g2 = 0.0;
-  int count = 0;
+  double g2 = 1.0;
   for (Eigen::Index k = std::max<Eigen::Index>(0, at - 2);
-       k <= std::min<Eigen::Index>(receptance.coherence.rows() - 1, at + 2); ++k) {
-    g2 += picking_column >= 0 ? receptance.coherence(k, picking_column)
-                              : receptance.coherence.row(k).mean();
-    ++count;
-  }
-  g2 /= static_cast<double>(count);
+       k <= std::min<Eigen::Index>(receptance.coherence.rows() - 1, at + 2); ++k)
+    g2 = std::min(g2, picking_column >= 0 ? receptance.coherence(k, picking_column)
+                                          : receptance.coherence.row(k).mean());
   g2 = std::clamp((n * g2 - 1.0) / (n - 1.0), 0.0, 1.0);
   if (!(g2 > 0.0)) return false;
   const double error = std::sqrt(1.0 - g2) / (std::sqrt(g2) * std::sqrt(2.0 * n));
