@@ -248,6 +248,10 @@ TEST(HammerRecordsCli, TheCurveFitListsTheStructuresModes) {
   }
   EXPECT_EQ(below_13_hz, 0u) << r.out;
   EXPECT_EQ(found.size(), 3u) << r.out;
+  // The fit's zeta at 212.5 Hz (0.00061 for the simulator's 0.0008: the records are cut while it
+  // rings) put the ring-downs' floor "early"; their own envelope decays at the simulator's rate
+  // with no friction term, so no friction is named.
+  EXPECT_TRUE(Lines(r.err, "friction").empty()) << r.err;
   // hammer_records.py STRUCTURES["beam"].
   for (const double truth : {34.0, 212.5, 596.0})
     EXPECT_TRUE(std::any_of(found.begin(), found.end(),

@@ -334,7 +334,13 @@ std::vector<AmplitudeDamping> CheckAmplitudeDependence(const RingDowns& ringdown
       if (f.stopped && f.stop_level <= kClearStart && zeta > 0.0) {
         ++floor_hits;
         const double expected_s = std::log(1.0 / f.stop_level) / (zeta * omega);
-        if (f.stop_s < kStopsEarly * expected_s) {
+        // An envelope whose own fit holds no friction term (b <= 0) and whose own decay rate
+        // reaches the floor when it does was stopped by its damping: the FRF's zeta is what is
+        // off (a curve fit on records cut while the mode rings: 212.5 Hz, zeta 0.00061 for the
+        // simulator's 0.0008), not the ring-down.
+        const bool own_decay_explains =
+            f.ok && f.b <= 0.0 && f.stop_s >= kStopsEarly * std::log(1.0 / f.stop_level) / f.sigma;
+        if (f.stop_s < kStopsEarly * expected_s && !own_decay_explains) {
           ++early_stops;
           stop_s.push_back(f.stop_s);
           expected.push_back(expected_s);
