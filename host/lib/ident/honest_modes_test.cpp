@@ -11,6 +11,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <cstdlib>
 #include <numbers>
 #include <random>
 #include <string>
@@ -420,6 +421,56 @@ TEST(HonestModes, UffAndCsvOfOneEstimateGiveTheSameModes) {
                 1e-6 * (x.zeta_ci95[1] - x.zeta_ci95[0]));
     EXPECT_NEAR(y.ratio_ci95[0], x.ratio_ci95[0], 1e-7 * std::abs(x.ratio));
   }
+}
+
+// A mode 4 Hz below the Nyquist limit of a 1 280 Hz record (636 Hz, zeta 0.005, a viscous
+// ring-down in closed form: A e^(-zeta omega t) cos(omega_d t)): demodulated at 636 Hz its own
+// image folds to 1280 - 2 x 636 = 8 Hz, and the smoothing that rejects it spans 241 samples
+// (0.38 s, 120 periods) twice, over which the envelope falls by zeta omega 0.38 s = 7.5 e-folds.
+// No friction rule can read that envelope: the check says it is unavailable, and why.
+TEST(RingDownCheck, AnEnvelopeFoldedOntoItselfIsUnavailableNotFriction) {
+  constexpr double kFs = 1280.0;
+  constexpr double kFreq = 636.0;
+  constexpr double kZeta = 0.005;
+  const double omega = 2.0 * std::numbers::pi * kFreq;
+  const double omega_d = omega * std::sqrt(1.0 - kZeta * kZeta);
+  RingDowns rd;
+  rd.fs_hz = kFs;
+  std::mt19937 rng(5);
+  std::normal_distribution<double> noise(0.0, 1e-3);
+  for (int h = 0; h < 3; ++h) {
+    Eigen::MatrixXd hit(4096, 1);
+    for (Eigen::Index k = 0; k < hit.rows(); ++k) {
+      const double t = static_cast<double>(k) / kFs;
+      hit(k, 0) = std::exp(-kZeta * omega * t) * std::cos(omega_d * t) + noise(rng);
+    }
+    rd.hits.push_back(hit);
+  }
+  ModeEstimate m;
+  m.omega_rad_s = omega;
+  m.freq_hz = kFreq;
+  m.zeta = kZeta;
+  m.shape = Eigen::VectorXd::Ones(1);
+  const std::vector<AmplitudeDamping> a = CheckAmplitudeDependence(rd, {m});
+  ASSERT_EQ(a.size(), 1u);
+  EXPECT_TRUE(a[0].unavailable) << a[0].note;
+  EXPECT_FALSE(a[0].amplitude_dependent) << a[0].note;
+  EXPECT_FALSE(a[0].friction_hint) << a[0].note;
+  EXPECT_NE(a[0].note.find("Nyquist"), std::string::npos) << a[0].note;
+  // Folded 8 Hz from the envelope (closed form above).
+  const auto at = a[0].note.find("folds to ");
+  ASSERT_NE(at, std::string::npos) << a[0].note;
+  EXPECT_NEAR(std::strtod(a[0].note.c_str() + at + 9, nullptr), 8.0, 0.05) << a[0].note;
+
+  // The same mode, identified: its values and intervals stand, the warning names the check.
+  ModeIdentification mi;
+  m.zeta_ci95 = {0.0049, 0.0051};
+  mi.modes.push_back(m);
+  ApplyAmplitudeCheck(rd, mi);
+  EXPECT_DOUBLE_EQ(mi.modes[0].zeta, kZeta);
+  EXPECT_DOUBLE_EQ(mi.modes[0].zeta_ci95[0], 0.0049);
+  ASSERT_EQ(mi.warnings.size(), 1u);
+  EXPECT_NE(mi.warnings[0].find("friction check unavailable"), std::string::npos) << mi.warnings[0];
 }
 
 }  // namespace

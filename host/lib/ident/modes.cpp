@@ -647,13 +647,61 @@ void MarkPeakPicksUnreliable(const std::string& why, ModeIdentification& out) {
   }
 }
 
+// A peak's magnitude over the median of the lines around it (20 each side, its own 5 left out).
+double Prominence(const Eigen::VectorXd& magnitude, const Peak& pk) {
+  constexpr Eigen::Index kAround = 20;
+  const auto at = static_cast<Eigen::Index>(pk.line);
+  std::vector<double> near;
+  for (Eigen::Index k = std::max<Eigen::Index>(0, at - kAround);
+       k <= std::min<Eigen::Index>(magnitude.size() - 1, at + kAround); ++k)
+    if (std::abs(k - at) > 2) near.push_back(magnitude[k]);
+  if (near.empty()) return 0.0;
+  std::nth_element(near.begin(), near.begin() + static_cast<std::ptrdiff_t>(near.size() / 2),
+                   near.end());
+  const double median = near[near.size() / 2];
+  return median > 0.0 ? magnitude[at] / median : std::numeric_limits<double>::infinity();
+}
+
+// Whether a peak stands above its neighbourhood (its magnitude `prominence` times their median)
+// by more than kNoiseErrors times the random error of |H| at it: sqrt(1 - g2) / (sqrt(g2) *
+// sqrt(2 n)) over n averages (Bendat & Piersol, Random Data, 4th ed., table 9.6), g2 the least
+// coherence over the peak's five lines (a resonance's is high across them; with 2 averages noise
+// alone reads anywhere in [0, 1] on one line), its bias (1 - g2) / n for n averages taken off
+// (noise alone reads 1/n on average). With 2 or 3 hits the receptance's low edge (noise over
+// omega^2) and the record's noise make bumps hundreds of times their neighbourhood (0.15 and
+// 0.37 Hz on an 11 s record, 2.19 Hz on a 3.2 s one) whose coherence, unbiased, is 0-0.4: their
+// error is larger than their height. A resonance's is a fifth of it or less.
+bool ClearOfNoise(const Frf& receptance, int picking_column, const Peak& pk, double prominence) {
+  constexpr double kNoiseErrors = 3.0;
+  const auto n = static_cast<double>(receptance.averages);
+  if (n < 2.0 || receptance.coherence.rows() != receptance.h.rows()) return true;
+  const auto at = static_cast<Eigen::Index>(pk.line);
+  double g2 = 1.0;
+  for (Eigen::Index k = std::max<Eigen::Index>(0, at - 2);
+       k <= std::min<Eigen::Index>(receptance.coherence.rows() - 1, at + 2); ++k)
+    g2 = std::min(g2, picking_column >= 0 ? receptance.coherence(k, picking_column)
+                                          : receptance.coherence.row(k).mean());
+  g2 = std::clamp((n * g2 - 1.0) / (n - 1.0), 0.0, 1.0);
+  if (!(g2 > 0.0)) return false;
+  const double error = std::sqrt(1.0 - g2) / (std::sqrt(g2) * std::sqrt(2.0 * n));
+  const double rise = prominence > 0.0 ? 1.0 - 1.0 / prominence : 0.0;
+  return rise > kNoiseErrors * error;
+}
+
 ModeIdentification IdentifyFromPeaks(const Frf& receptance, std::size_t driving_point,
                                      const ModeIdentificationOptions& options) {
   ModeIdentification out;
   const Eigen::VectorXd mag = PickingMagnitude(receptance, options.picking_column);
-  const PeakResult picked =
-      PickPeaks(receptance.freq_hz, mag, AnalysedBand(receptance, options.peaks),
-                receptance.exp_window_tau_s);
+  const PeakResult all = PickPeaks(receptance.freq_hz, mag, AnalysedBand(receptance, options.peaks),
+                                   receptance.exp_window_tau_s);
+  // Peaks no higher than the FRF's random error are noise, not modes: on records of 9-11 s and
+  // 2 hits the receptance's low band (the response's noise over omega^2) gave dozens of them
+  // below 13 Hz, each a mode of the list and a pole of the curve fit.
+  PeakResult picked;
+  picked.warnings = all.warnings;
+  for (const Peak& pk : all.peaks)
+    if (ClearOfNoise(receptance, options.picking_column, pk, Prominence(mag, pk)))
+      picked.peaks.push_back(pk);
   Require(!picked.peaks.empty(),
           "no resonance found in the FRF (check the band and the threshold)");
   out.peaks = picked.peaks;
@@ -842,19 +890,7 @@ void NamePeaksWithoutMode(const Frf& receptance, const ModeIdentificationOptions
   // lines around it), and the band's largest peak always: the largest resonance is never left
   // out without a word. Named peaks come most prominent first.
   constexpr double kProminent = 10.0;
-  constexpr Eigen::Index kAround = 20;
-  const auto prominence = [&](const Peak& pk) {
-    const auto at = static_cast<Eigen::Index>(pk.line);
-    std::vector<double> near;
-    for (Eigen::Index k = std::max<Eigen::Index>(0, at - kAround);
-         k <= std::min<Eigen::Index>(magnitude.size() - 1, at + kAround); ++k)
-      if (std::abs(k - at) > 2) near.push_back(magnitude[k]);
-    if (near.empty()) return 0.0;
-    std::nth_element(near.begin(), near.begin() + static_cast<std::ptrdiff_t>(near.size() / 2),
-                     near.end());
-    const double median = near[near.size() / 2];
-    return median > 0.0 ? magnitude[at] / median : std::numeric_limits<double>::infinity();
-  };
+  const auto prominence = [&](const Peak& pk) { return Prominence(magnitude, pk); };
   double band_largest = 0.0;
   for (const Peak& pk : seen.peaks) band_largest = std::max(band_largest, pk.magnitude);
   std::vector<std::pair<double, const Peak*>> named;
@@ -864,6 +900,7 @@ void NamePeaksWithoutMode(const Frf& receptance, const ModeIdentificationOptions
       continue;
     const double prom = prominence(pk);
     if (pk.lines_in_band < kMinLines && prom < kProminent && pk.magnitude < band_largest) continue;
+    if (!ClearOfNoise(receptance, options.picking_column, pk, prom)) continue;
     named.emplace_back(prom, &pk);
   }
   std::stable_sort(named.begin(), named.end(),

@@ -51,6 +51,9 @@ struct AmplitudeDamping {
   /// Not beyond chance, but the late damping is higher and the friction rate positive: the FRF's
   /// zeta may carry some friction.
   bool friction_hint = false;
+  /// The envelope cannot be read (a component folded near it takes a smoothing longer than the
+  /// decay allows, near the Nyquist limit): no friction rule applies; `note` says why.
+  bool unavailable = false;
   std::string note;
 };
 
