@@ -102,7 +102,8 @@ def watch(vibid, rec, ref, window_blocks, per_hour):
     m = BAND.search(r.stderr)
     if not m:
         raise RuntimeError(f"vibid watch stated no band:\n{r.stderr}")
-    blocks = [json.loads(line) for line in r.stdout.splitlines() if line.startswith("{")]
+    lines = [json.loads(line) for line in r.stdout.splitlines() if line.startswith("{")]
+    blocks = [b for b in lines if "header" not in b]  # the first line says what was watched
     windows = sum(1 for b in blocks if b["accumulated"]["blocks"] == window_blocks)
     alarms = sum(1 for b in blocks if b["alarm"])
     return {"low": float(m.group(1)), "high": float(m.group(2)), "windows": windows,
