@@ -12,9 +12,12 @@
 #include "vibid/model/model.hpp"
 #include "vibid/oma/testing/ambient.hpp"
 #include "vibid/workflow/watch_session.hpp"
+#include "testing/count_band.hpp"
 
 namespace vibid::workflow {
 namespace {
+
+using testing::CountBand;
 
 model::Model DemoRig(double m2_kg = 1.53) {
   return model::MakeChain(Eigen::Vector2d(1.82, m2_kg), Eigen::Vector2d(3520.0, 2760.0),
@@ -36,21 +39,6 @@ oma::testing::AmbientOptions Sim(std::uint64_t seed) {
   sim.seed = seed;
   return sim;
 }
-
-// The count's band over references watched `hours` each: the sum of the references' mean rates,
-// its variance Poisson's plus the references' own spread (their 95 % band as ± 2 standard
-// deviations); 3.3 standard deviations each side (99.9 %).
-struct CountBand {
-  double expected = 0.0;
-  double variance = 0.0;
-  void Add(const WatchReference& r, double hours) {
-    expected += r.false_alarms_per_hour_mean * hours;
-    const double sd = (r.false_alarms_per_hour_high - r.false_alarms_per_hour_low) / 4.0 * hours;
-    variance += r.false_alarms_per_hour_mean * hours + sd * sd;
-  }
-  double Low() const { return expected - 3.3 * std::sqrt(variance); }
-  double High() const { return expected + 3.3 * std::sqrt(variance); }
-};
 
 TEST(WatchCoverage, FalseAlarmsOverAHundredHours) {
   // 20 references, each watched for 5 h: 100 h at 1 per hour and at the default 0.01 per hour

@@ -15,9 +15,12 @@
 #include "vibid/model/model.hpp"
 #include "vibid/oma/testing/ambient.hpp"
 #include "vibid/workflow/watch_columns.hpp"
+#include "testing/count_band.hpp"
 
 namespace vibid::workflow {
 namespace {
+
+using testing::CountBand;
 
 model::Model DemoRig(double m2_kg = 1.53) {
   // The emulator's default rig truth (host/emulator/rigs/default.json).
@@ -235,21 +238,6 @@ TEST(WatchSession, APartialWindowIsNotPrintedAsATestAndTheHeaderSaysWhatWasWatch
   EXPECT_TRUE(WatchBlockJson(blocks[2])["accumulated"]["tested"]);
   for (const WatchBlock& b : blocks) EXPECT_FALSE(WatchBlockJson(b).contains("header"));
 }
-
-// The count's band over references watched for `hours` each: its mean is the sum of the
-// references' mean rates; its variance Poisson's plus the references' own spread (their 95 % band
-// taken as ± 2 standard deviations). 3.3 standard deviations: 99.9 % of outcomes.
-struct CountBand {
-  double expected = 0.0;
-  double variance = 0.0;
-  void Add(const WatchReference& r, double hours) {
-    expected += r.false_alarms_per_hour_mean * hours;
-    const double sd = (r.false_alarms_per_hour_high - r.false_alarms_per_hour_low) / 4.0 * hours;
-    variance += r.false_alarms_per_hour_mean * hours + sd * sd;
-  }
-  double Low() const { return expected - 3.3 * std::sqrt(variance); }
-  double High() const { return expected + 3.3 * std::sqrt(variance); }
-};
 
 TEST(WatchSession, FalseAlarmsAtHighRatesAreTheCalibratedOnes) {
   // 10 references of the unchanged rig, each watched for 2 h: windows of 60 blocks at 2.5 false

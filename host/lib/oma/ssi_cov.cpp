@@ -7,6 +7,7 @@
 #include <cmath>
 #include <numbers>
 #include <numeric>
+#include <optional>
 #include <random>
 #include <sstream>
 
@@ -41,6 +42,28 @@ Eigen::MatrixXd Hankel(const Eigen::MatrixXd& r, int l, int i) {
   return h;
 }
 
+struct ModePole {
+  double omega_rad_s;
+  double zeta;
+};
+
+// A discrete eigenvalue of A as a vibration pole: one of each complex pair (Im λ > 0), within the
+// band and the damping limit; real poles are not vibration modes.
+std::optional<ModePole> VibrationPole(std::complex<double> lambda, double fs_hz, double max_damping,
+                                      double omega_max) {
+  if (!(lambda.imag() > 1e-12 * std::abs(lambda))) return std::nullopt;
+  const std::complex<double> mu = std::log(lambda) * fs_hz;
+  const double omega = std::abs(mu);
+  const double zeta = -mu.real() / omega;
+  if (!(zeta > 0.0 && zeta < max_damping && omega <= omega_max)) return std::nullopt;
+  return ModePole{omega, zeta};
+}
+
+void SortByFrequency(std::vector<RawPole>& poles) {
+  std::sort(poles.begin(), poles.end(),
+            [](const RawPole& x, const RawPole& y) { return x.omega_rad_s < y.omega_rad_s; });
+}
+
 // Poles of the order-n model from the Hankel matrix's left singular vectors and values: the
 // observability matrix O = U_n S_n^½, A from O's shift invariance (least squares), C its first
 // block row. One pole of each complex pair (Im λ > 0); real poles are not vibration modes.
@@ -55,15 +78,13 @@ std::vector<RawPole> PolesAtOrder(const Eigen::MatrixXd& u, const Eigen::VectorX
   if (eig.info() != Eigen::Success) return poles;
   for (Eigen::Index k = 0; k < order; ++k) {
     const std::complex<double> lambda = eig.eigenvalues()(k);
-    if (!(lambda.imag() > 1e-12 * std::abs(lambda))) continue;
-    const std::complex<double> mu = std::log(lambda) * fs_hz;
-    const double omega = std::abs(mu);
-    const double zeta = -mu.real() / omega;
-    if (!(zeta > 0.0 && zeta < max_damping && omega <= omega_max)) continue;
+    const std::optional<ModePole> p = VibrationPole(lambda, fs_hz, max_damping, omega_max);
+    if (!p) continue;
+    const double omega = p->omega_rad_s;
+    const double zeta = p->zeta;
     poles.push_back({omega, zeta, c * eig.eigenvectors().col(k)});
   }
-  std::sort(poles.begin(), poles.end(),
-            [](const RawPole& x, const RawPole& y) { return x.omega_rad_s < y.omega_rad_s; });
+  SortByFrequency(poles);
   return poles;
 }
 
@@ -85,11 +106,10 @@ std::vector<RawPole> PolesNear(const Eigen::MatrixXd& u, const Eigen::VectorXd& 
   if (eig.info() != Eigen::Success) return poles;
   for (Eigen::Index k = 0; k < order; ++k) {
     const std::complex<double> lambda = eig.eigenvalues()(k);
-    if (!(lambda.imag() > 1e-12 * std::abs(lambda))) continue;
-    const std::complex<double> mu = std::log(lambda) * fs_hz;
-    const double omega = std::abs(mu);
-    const double zeta = -mu.real() / omega;
-    if (!(zeta > 0.0 && zeta < max_damping && omega <= omega_max)) continue;
+    const std::optional<ModePole> p = VibrationPole(lambda, fs_hz, max_damping, omega_max);
+    if (!p) continue;
+    const double omega = p->omega_rad_s;
+    const double zeta = p->zeta;
     bool near = false;
     for (double t : targets_rad_s) near = near || std::fabs(omega - t) / t < reach;
     if (!near) continue;
@@ -102,8 +122,7 @@ std::vector<RawPole> PolesNear(const Eigen::MatrixXd& u, const Eigen::VectorXd& 
     for (int step = 0; step < 2; ++step) v = lu.solve(v).normalized();
     poles.push_back({omega, zeta, c * v});
   }
-  std::sort(poles.begin(), poles.end(),
-            [](const RawPole& x, const RawPole& y) { return x.omega_rad_s < y.omega_rad_s; });
+  SortByFrequency(poles);
   return poles;
 }
 
