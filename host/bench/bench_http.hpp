@@ -3,7 +3,11 @@
 // every request through the Gate before any handler.
 #pragma once
 
+#include <chrono>
 #include <functional>
+#include <memory>
+#include <string>
+#include <thread>
 
 #include <httplib.h>
 
@@ -27,6 +31,26 @@ class BenchHttp : public httplib::Server {
 
   bool ServeOne(httplib::Stream& s, bool close_connection, bool& connection_closed) {
     return process_request(s, close_connection, connection_closed, nullptr);
+  }
+
+  /// Binds `port` on `bind` (0: any free port); the port bound, or -1.
+  int Bind(const std::string& bind, int port) {
+    if (port == 0) return bind_to_any_port(bind);
+    return bind_to_port(bind, port) ? port : -1;
+  }
+
+  /// After Bind: puts a front with `options` before this server and runs the accept loop on
+  /// `thread`; returns the front once the loop runs (a stop before it would be lost: the library
+  /// sets its running flag as the loop starts).
+  std::unique_ptr<HttpFront> RunBehindFront(const FrontOptions& options, std::thread& thread) {
+    auto f = std::make_unique<HttpFront>(
+        options, [this](httplib::Stream& st, bool close_connection, bool& closed) {
+          return ServeOne(st, close_connection, closed);
+        });
+    front = f.get();
+    thread = std::thread([this] { listen_after_bind(); });
+    while (!is_running()) std::this_thread::sleep_for(std::chrono::milliseconds(1));
+    return f;
   }
 
  private:

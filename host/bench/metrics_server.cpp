@@ -37,9 +37,7 @@ void MetricsServer::Start() {
           "--metrics-bind " + options_.bind +
               ": the metrics are served on a loopback address only (127.0.0.1 or ::1); scrape "
               "them from a Prometheus on this host");
-  const int port = options_.port == 0
-                       ? http_->bind_to_any_port(options_.bind)
-                       : (http_->bind_to_port(options_.bind, options_.port) ? options_.port : -1);
+  const int port = http_->Bind(options_.bind, options_.port);
   Require(port > 0, "cannot listen on " + UrlHost(options_.bind) + ":" +
                         std::to_string(options_.port) + ": choose a free port (0: any)");
   port_ = port;
@@ -67,14 +65,7 @@ void MetricsServer::Start() {
     res.set_content(text_(), kMetricsType);
   });
 
-  front_ = std::make_unique<HttpFront>(
-      options_.front, [this](httplib::Stream& st, bool close_connection, bool& closed) {
-        return http_->ServeOne(st, close_connection, closed);
-      });
-  http_->front = front_.get();
-  thread_ = std::thread([this] { http_->listen_after_bind(); });
-  // A stop before the loop runs would be lost (httplib sets its running flag as the loop starts).
-  while (!http_->is_running()) std::this_thread::sleep_for(std::chrono::milliseconds(1));
+  front_ = http_->RunBehindFront(options_.front, thread_);
 }
 
 void MetricsServer::Stop() {

@@ -279,22 +279,13 @@ void BenchServer::Start() {
     throw InputError("--bind " + options_.bind +
                      ": name the one address to serve on (the Host check needs it)");
   }
-  const int port = options_.port == 0
-                       ? http_->bind_to_any_port(options_.bind)
-                       : (http_->bind_to_port(options_.bind, options_.port) ? options_.port : -1);
+  const int port = http_->Bind(options_.bind, options_.port);
   if (port <= 0) {
     throw InputError("cannot listen on " + UrlHost(options_.bind) + ":" +
                      std::to_string(options_.port));
   }
   Ready(port);
-  front_ = std::make_unique<HttpFront>(
-      options_.front, [this](httplib::Stream& s, bool close_connection, bool& closed) {
-        return http_->ServeOne(s, close_connection, closed);
-      });
-  http_->front = front_.get();
-  thread_ = std::thread([this] { http_->listen_after_bind(); });
-  // A stop before the loop runs would be lost (httplib sets its running flag as the loop starts).
-  while (!http_->is_running()) std::this_thread::sleep_for(std::chrono::milliseconds(1));
+  front_ = http_->RunBehindFront(options_.front, thread_);
 }
 
 void BenchServer::Stop() {
