@@ -19,11 +19,11 @@ import argparse
 import csv
 import json
 import os
-import re
 import subprocess
 import sys
 import tempfile
-import time
+
+from emulator_port import emulator_port
 
 ROOT = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
 
@@ -50,18 +50,7 @@ def one_seed(build, seed, rig, day_s, run_s, work):
     emu = subprocess.Popen([emu_bin, "--rig", rig, "--port", "0", "--seed", str(seed)],
                            stdout=log, stderr=subprocess.STDOUT)
     try:
-        port = None
-        deadline = time.monotonic() + 120  # the emulator's banner, on a loaded machine too
-        while port is None:
-            log.seek(0)
-            m = re.search(r"127\.0\.0\.1:(\d+),", log.read())
-            if m:
-                port = m.group(1)
-            elif time.monotonic() > deadline or emu.poll() is not None:
-                log.seek(0)
-                sys.exit(f"seed {seed}: no port in the emulator's banner after 120 s: {log.read()}")
-            else:
-                time.sleep(0.02)
+        port = emulator_port(emu, log, seed)
         dev = ["--device", f"usbip://127.0.0.1:{port}"]
         truth = os.path.join(work, "truth.json")
         with open(truth, "w") as f:
