@@ -16,30 +16,12 @@
 
 #include "run_cli.hpp"
 #include "vibid/common/atomic_file.hpp"
+#include "ident_cli_text.hpp"
 
 namespace vibid::testing {
 namespace {
 
 using nlohmann::json;
-
-std::string TestData(const std::string& name) {
-  return std::string(VIBID_SOURCE_DIR) + "/host/cli/ident/testdata/" + name;
-}
-
-std::vector<std::string> Lines(const std::string& text, const std::string& containing) {
-  std::vector<std::string> out;
-  std::istringstream in(text);
-  for (std::string line; std::getline(in, line);)
-    if (line.find(containing) != std::string::npos) out.push_back(line);
-  return out;
-}
-
-// The number after `after` in `line` (NaN when absent).
-double NumberAfter(const std::string& line, const std::string& after) {
-  const auto at = line.find(after);
-  if (at == std::string::npos) return std::nan("");
-  return std::strtod(line.c_str() + at + after.size(), nullptr);
-}
 
 // The emulator's chain4 rig (m 1.4, 1.2, 1.0, 0.8 kg; k 4200, 3600, 3000, 2400 N/m; c 3, 2.5,
 // 2, 1.5 N s/m), hit once on mass 3 by a 2 ms half-sine, 16 s at 2 kHz; acc1 on mass 1,

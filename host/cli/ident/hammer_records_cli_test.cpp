@@ -14,29 +14,12 @@
 #include <nlohmann/json.hpp>
 
 #include "run_cli.hpp"
+#include "ident_cli_text.hpp"
 
 namespace vibid::testing {
 namespace {
 
 using nlohmann::json;
-
-std::string TestData(const std::string& name) {
-  return std::string(VIBID_SOURCE_DIR) + "/host/cli/ident/testdata/" + name;
-}
-
-std::vector<std::string> Lines(const std::string& text, const std::string& containing) {
-  std::vector<std::string> out;
-  std::istringstream in(text);
-  for (std::string line; std::getline(in, line);)
-    if (line.find(containing) != std::string::npos) out.push_back(line);
-  return out;
-}
-
-double NumberAfter(const std::string& line, const std::string& after) {
-  const auto at = line.find(after);
-  if (at == std::string::npos) return std::nan("");
-  return std::strtod(line.c_str() + at + after.size(), nullptr);
-}
 
 std::string TempDir() { return ::testing::TempDir(); }
 
