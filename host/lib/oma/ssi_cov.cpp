@@ -12,12 +12,12 @@
 #include <sstream>
 
 #include <Eigen/Eigenvalues>
-#include <Eigen/LU>
 #include <Eigen/QR>
 #include <Eigen/SVD>
 
 #include "vibid/common/error.hpp"
 #include "vibid/numerics/distributions.hpp"
+#include "vibid/numerics/hessenberg_eigen.hpp"
 
 namespace vibid::oma {
 namespace {
@@ -89,10 +89,11 @@ std::vector<RawPole> PolesAtOrder(const Eigen::MatrixXd& u, const Eigen::VectorX
 }
 
 // PolesAtOrder for the interval samples, where only the poles near a mode of that order are
-// looked at: the eigenvalues of A alone, and the eigenvector of each pole within `reach`
-// (relative frequency) of a target by inverse iteration, the same vector as the full
-// eigensolver's up to its scale (a shape is compared by MAC and scaled to an entry, so the scale
-// does not matter), at a fraction of the cost of every eigenvector.
+// looked at: the eigenvalues of A alone (from its Hessenberg form, without the Schur form), and
+// the eigenvector of each pole within `reach` (relative frequency) of a target by inverse
+// iteration on that Hessenberg form, the same vector as the full eigensolver's up to its scale
+// (a shape is compared by MAC and scaled to an entry, so the scale does not matter), at a
+// fraction of the cost of every eigenvector.
 std::vector<RawPole> PolesNear(const Eigen::MatrixXd& u, const Eigen::VectorXd& s, int order, int l,
                                double fs_hz, double max_damping, double omega_max,
                                const std::vector<double>& targets_rad_s, double reach) {
@@ -101,9 +102,9 @@ std::vector<RawPole> PolesNear(const Eigen::MatrixXd& u, const Eigen::VectorXd& 
   // O↑ has full column rank (order < its rows) and orthogonal columns: no pivoting is needed.
   const Eigen::MatrixXd a = o.topRows(rows - l).householderQr().solve(o.bottomRows(rows - l));
   const Eigen::MatrixXd c = o.topRows(l);
-  Eigen::EigenSolver<Eigen::MatrixXd> eig(a, false);
+  const numerics::HessenbergEigen eig(a);
   std::vector<RawPole> poles;
-  if (eig.info() != Eigen::Success) return poles;
+  if (!eig.ok()) return poles;
   for (Eigen::Index k = 0; k < order; ++k) {
     const std::complex<double> lambda = eig.eigenvalues()(k);
     const std::optional<ModePole> p = VibrationPole(lambda, fs_hz, max_damping, omega_max);
@@ -113,14 +114,7 @@ std::vector<RawPole> PolesNear(const Eigen::MatrixXd& u, const Eigen::VectorXd& 
     bool near = false;
     for (double t : targets_rad_s) near = near || std::fabs(omega - t) / t < reach;
     if (!near) continue;
-    // Inverse iteration with a shift a hair off the eigenvalue (exactly on it, the factor is
-    // singular): two steps reach the eigenvector to within that offset over the gap to the next.
-    const std::complex<double> shift = lambda * (1.0 + 1e-10);
-    const Eigen::PartialPivLU<Eigen::MatrixXcd> lu(
-        a.cast<std::complex<double>>() - shift * Eigen::MatrixXcd::Identity(a.rows(), a.cols()));
-    Eigen::VectorXcd v = Eigen::VectorXcd::Ones(a.rows());
-    for (int step = 0; step < 2; ++step) v = lu.solve(v).normalized();
-    poles.push_back({omega, zeta, c * v});
+    poles.push_back({omega, zeta, c * eig.Eigenvector(lambda)});
   }
   SortByFrequency(poles);
   return poles;
