@@ -409,14 +409,18 @@ SsiCovResult SsiCov(Eigen::Ref<const Eigen::MatrixXd> y, const SsiCovOptions& op
   }
   Eigen::VectorXd weights(options.blocks);
   Eigen::MatrixXd h(h_mean.rows(), h_mean.cols());
+  Eigen::MatrixXd gram(h_mean.rows(), h_mean.rows());
   for (int d = 0; d < options.draws; ++d) {
     for (int j = 0; j < options.blocks; ++j) weights(j) = normal(rng) * scale;
     h.reshaped() = h_mean.reshaped() + deviations * weights;
     // The poles of an order depend on the span of its leading left singular vectors alone (a
     // change of basis of the observability matrix is a similarity of A, which keeps the
     // eigenvalues and C times the eigenvectors): that span is the leading eigenspace of h hᵀ,
-    // whose symmetric eigensolver costs a fraction of the SVD of h.
-    const Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> sample(h * h.transpose());
+    // whose symmetric eigensolver costs a fraction of the SVD of h. The solver reads the lower
+    // triangle alone, and that is all the rank update computes.
+    gram.setZero();
+    gram.selfadjointView<Eigen::Lower>().rankUpdate(h);
+    const Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> sample(gram);
     const Eigen::MatrixXd sample_u = sample.eigenvectors().rowwise().reverse();
     const SampleStateMatrices states(sample_u, mode_orders.back(), l);
     for (int order : mode_orders) {
