@@ -181,6 +181,7 @@ HessenbergEigen::HessenbergEigen(const Eigen::MatrixXd& a) {
 
 Eigen::VectorXcd HessenbergEigen::Eigenvector(Complex lambda) const {
   const Eigen::Index n = h_.rows();
+  if (n == 0) return Eigen::VectorXcd();
   // LU of H − σI with partial pivoting: a Hessenberg matrix has one entry below the diagonal per
   // column, so each step pivots between two rows and eliminates one.
   Eigen::MatrixXcd u = h_.cast<Complex>();

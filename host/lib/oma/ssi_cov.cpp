@@ -140,8 +140,9 @@ std::vector<RawPole> PolesNear(const SampleStateMatrices& states, int order, dou
                                const std::vector<double>& targets_rad_s, double reach) {
   const Eigen::MatrixXd a = states.A(order);
   const Eigen::MatrixXd c = states.C(order);
-  const numerics::HessenbergEigen eig(a);
   std::vector<RawPole> poles;
+  if (!a.allFinite()) return poles;  // a degenerate sample: no pole, as a failed eigensolver
+  const numerics::HessenbergEigen eig(a);
   if (!eig.ok()) return poles;
   for (Eigen::Index k = 0; k < order; ++k) {
     const std::complex<double> lambda = eig.eigenvalues()(k);
