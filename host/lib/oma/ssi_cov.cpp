@@ -11,13 +11,14 @@
 #include <random>
 #include <sstream>
 
+#include <Eigen/Cholesky>
 #include <Eigen/Eigenvalues>
-#include <Eigen/LU>
 #include <Eigen/QR>
 #include <Eigen/SVD>
 
 #include "vibid/common/error.hpp"
 #include "vibid/numerics/distributions.hpp"
+#include "vibid/numerics/hessenberg_eigen.hpp"
 
 namespace vibid::oma {
 namespace {
@@ -88,22 +89,61 @@ std::vector<RawPole> PolesAtOrder(const Eigen::MatrixXd& u, const Eigen::VectorX
   return poles;
 }
 
+// The state and output matrices of the interval samples, for every order up to the largest a
+// mode needs, from an orthonormal basis U of the leading left singular vectors (columns in
+// descending order of their singular values). Only the span of U's first n columns matters for
+// the order-n poles and shapes, so O = U_n stands for U_n S_n^½ (a similarity of A, C times the
+// eigenvectors unchanged). Its columns are orthonormal, so O↑ᵀO↑ = I − WᵀW, W the last block row
+// of U_n (l × n), and the least-squares A = (O↑ᵀO↑)⁻¹ O↑ᵀO↓ needs only the l × l inverse of
+// I − W Wᵀ (Woodbury) beside O↑ᵀO↓, whose order-n matrix is the leading block of the largest
+// order's: one product per sample in place of a QR factorisation per order.
+class SampleStateMatrices {
+ public:
+  SampleStateMatrices(const Eigen::MatrixXd& u, int max_order, int l) : u_(u), l_(l) {
+    const Eigen::Index rows = u.rows();
+    shifted_.noalias() =
+        u.topLeftCorner(rows - l, max_order).transpose() * u.block(l, 0, rows - l, max_order);
+  }
+
+  Eigen::MatrixXd A(int order) const {
+    const Eigen::Index rows = u_.rows();
+    const Eigen::MatrixXd w = u_.block(rows - l_, 0, l_, order);
+    const Eigen::MatrixXd m = shifted_.topLeftCorner(order, order);
+    const Eigen::MatrixXd g =
+        Eigen::MatrixXd::Identity(l_, l_) - w * w.transpose();  // I − W Wᵀ, l × l
+    const Eigen::LDLT<Eigen::MatrixXd> ldlt(g);
+    // Where the last block row nearly spans a direction of U_n, O↑ is nearly rank deficient and
+    // the normal equations would lose digits: the QR solve instead.
+    if (ldlt.info() != Eigen::Success || !(ldlt.rcond() > kMinRcond)) {
+      const Eigen::MatrixXd o = u_.leftCols(order);
+      return o.topRows(rows - l_).householderQr().solve(o.bottomRows(rows - l_));
+    }
+    return m + w.transpose() * ldlt.solve(w * m);
+  }
+  Eigen::MatrixXd C(int order) const { return u_.topLeftCorner(l_, order); }
+
+ private:
+  static constexpr double kMinRcond = 1e-3;
+  const Eigen::MatrixXd& u_;
+  int l_;
+  Eigen::MatrixXd shifted_;  // O↑ᵀO↓ of the largest order
+};
+
 // PolesAtOrder for the interval samples, where only the poles near a mode of that order are
-// looked at: the eigenvalues of A alone, and the eigenvector of each pole within `reach`
-// (relative frequency) of a target by inverse iteration, the same vector as the full
-// eigensolver's up to its scale (a shape is compared by MAC and scaled to an entry, so the scale
-// does not matter), at a fraction of the cost of every eigenvector.
-std::vector<RawPole> PolesNear(const Eigen::MatrixXd& u, const Eigen::VectorXd& s, int order, int l,
-                               double fs_hz, double max_damping, double omega_max,
+// looked at: the eigenvalues of A alone (from its Hessenberg form, without the Schur form), and
+// the eigenvector of each pole within `reach` (relative frequency) of a target by inverse
+// iteration on that Hessenberg form, the same vector as the full eigensolver's up to its scale
+// (a shape is compared by MAC and scaled to an entry, so the scale does not matter), at a
+// fraction of the cost of every eigenvector.
+std::vector<RawPole> PolesNear(const SampleStateMatrices& states, int order, double fs_hz,
+                               double max_damping, double omega_max,
                                const std::vector<double>& targets_rad_s, double reach) {
-  const Eigen::Index rows = u.rows();
-  const Eigen::MatrixXd o = u.leftCols(order) * s.head(order).cwiseSqrt().asDiagonal();
-  // O↑ has full column rank (order < its rows) and orthogonal columns: no pivoting is needed.
-  const Eigen::MatrixXd a = o.topRows(rows - l).householderQr().solve(o.bottomRows(rows - l));
-  const Eigen::MatrixXd c = o.topRows(l);
-  Eigen::EigenSolver<Eigen::MatrixXd> eig(a, false);
+  const Eigen::MatrixXd a = states.A(order);
+  const Eigen::MatrixXd c = states.C(order);
   std::vector<RawPole> poles;
-  if (eig.info() != Eigen::Success) return poles;
+  if (!a.allFinite()) return poles;  // a degenerate sample: no pole, as a failed eigensolver
+  const numerics::HessenbergEigen eig(a);
+  if (!eig.ok()) return poles;
   for (Eigen::Index k = 0; k < order; ++k) {
     const std::complex<double> lambda = eig.eigenvalues()(k);
     const std::optional<ModePole> p = VibrationPole(lambda, fs_hz, max_damping, omega_max);
@@ -113,14 +153,7 @@ std::vector<RawPole> PolesNear(const Eigen::MatrixXd& u, const Eigen::VectorXd& 
     bool near = false;
     for (double t : targets_rad_s) near = near || std::fabs(omega - t) / t < reach;
     if (!near) continue;
-    // Inverse iteration with a shift a hair off the eigenvalue (exactly on it, the factor is
-    // singular): two steps reach the eigenvector to within that offset over the gap to the next.
-    const std::complex<double> shift = lambda * (1.0 + 1e-10);
-    const Eigen::PartialPivLU<Eigen::MatrixXcd> lu(
-        a.cast<std::complex<double>>() - shift * Eigen::MatrixXcd::Identity(a.rows(), a.cols()));
-    Eigen::VectorXcd v = Eigen::VectorXcd::Ones(a.rows());
-    for (int step = 0; step < 2; ++step) v = lu.solve(v).normalized();
-    poles.push_back({omega, zeta, c * v});
+    poles.push_back({omega, zeta, c * eig.Eigenvector(lambda)});
   }
   SortByFrequency(poles);
   return poles;
@@ -377,25 +410,28 @@ SsiCovResult SsiCov(Eigen::Ref<const Eigen::MatrixXd> y, const SsiCovOptions& op
   }
   Eigen::VectorXd weights(options.blocks);
   Eigen::MatrixXd h(h_mean.rows(), h_mean.cols());
+  Eigen::MatrixXd gram(h_mean.rows(), h_mean.rows());
   for (int d = 0; d < options.draws; ++d) {
     for (int j = 0; j < options.blocks; ++j) weights(j) = normal(rng) * scale;
     h.reshaped() = h_mean.reshaped() + deviations * weights;
     // The poles of an order depend on the span of its leading left singular vectors alone (a
     // change of basis of the observability matrix is a similarity of A, which keeps the
     // eigenvalues and C times the eigenvectors): that span is the leading eigenspace of h hᵀ,
-    // whose symmetric eigensolver costs a fraction of the SVD of h.
-    const Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> sample(h * h.transpose());
+    // whose symmetric eigensolver costs a fraction of the SVD of h. The solver reads the lower
+    // triangle alone, and that is all the rank update computes.
+    gram.setZero();
+    gram.selfadjointView<Eigen::Lower>().rankUpdate(h);
+    const Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> sample(gram);
     const Eigen::MatrixXd sample_u = sample.eigenvectors().rowwise().reverse();
-    const Eigen::VectorXd sample_s = sample.eigenvalues().reverse().cwiseMax(0.0).cwiseSqrt();
+    const SampleStateMatrices states(sample_u, mode_orders.back(), l);
     for (int order : mode_orders) {
       std::vector<double> targets;
       for (const OmaMode& m : result.modes) {
         if (m.order == order) targets.push_back(m.omega_rad_s);
       }
       // A pole farther than this from its mode in frequency is never taken (best_d below).
-      const std::vector<RawPole> poles =
-          PolesNear(sample_u, sample_s, order, l, plan.fs_hz, options.max_damping, omega_max * 1.2,
-                    targets, kMatchReach);
+      const std::vector<RawPole> poles = PolesNear(states, order, plan.fs_hz, options.max_damping,
+                                                   omega_max * 1.2, targets, kMatchReach);
       for (std::size_t m = 0; m < modes; ++m) {
         if (result.modes[m].order != order) continue;
         const RawPole* best = nullptr;
