@@ -60,6 +60,10 @@ struct RingDownOptions {
   /// seeds with and without friction (2-mass rig, 1 mN per mass: 0.89-1.26; none: 0.80-1.09).
   double hint_rate_t = 1.0;
   double hint_bias_over_half_width = 1.0;
+  /// A friction term above this (as a fraction of zeta) is no hint: friction of that size is
+  /// the amplitude rule's to find, and without it the envelope is misread (the three-mass
+  /// chain's records cut 5 s after each hit: mode 1's term tens of percent, no friction).
+  double hint_max_bias = 0.1;
 };
 
 /// The check for every mode of `modes` (shapes mass-normalised, response order of the ring-downs),
