@@ -19,6 +19,17 @@ then identified by `vibid modes` and `vibid identify` as a user runs them:
 
 Prints one line per level and quantity; with --check exits 1 when a level is neither right nor
 named. About 6 minutes (the friction cases' integration dominates).
+
+    benchmarks/coverage/friction_levels.py --vibid build/host/host/cli/vibid --seeds 40
+        [--records DIR] [--markdown table.md] [--json seeds.json] [--check] [--level ...]
+
+is the coverage study: seeds 1..N per level (the seeds of a level integrated together), each
+interval of `modes` (omega, zeta, phi1/phi2 per mode) and of `identify` (m, k, c) tallied against
+the viscous chain's value as chain_coverage.py tallies them (inside, below, above, withheld with
+the reason, half-width over 1.96 times the scatter), the 0.3 N case's refusals counted; with
+--check, chain_coverage's bounds for the seeds run, the false alarms without friction (a quarter
+of the seeds at most) and friction named in every seed from 2 mN on. --records keeps the
+recordings, so that a rerun identifies only. Its table is in docs/identification.md.
 """
 
 from __future__ import annotations
@@ -276,6 +287,9 @@ def study(vibid: str, levels, seeds: int, cache: str, md_path: str, json_path: s
               f" modes names friction in {named} of {seeds}; identify refused in {len(refused)}"
               f" ({refused_friction} naming dry friction); verdicts {verdicts}")
         dump.append({"level_n": level, "results": results})
+        if json_path:
+            with open(json_path, "w") as fh:
+                json.dump(dump, fh, indent=1)
         if heavy:
             if check and refused_friction < seeds:
                 problems.append(f"{label}: identify refused naming friction in "
@@ -314,9 +328,6 @@ def study(vibid: str, levels, seeds: int, cache: str, md_path: str, json_path: s
         if md_path:
             with open(md_path, "w") as fh:
                 fh.write(chain_coverage.markdown(cases, all_rows, seeds))
-        if json_path:
-            with open(json_path, "w") as fh:
-                json.dump(dump, fh, indent=1)
     return problems
 
 
