@@ -427,6 +427,7 @@ std::vector<AmplitudeDamping> CheckAmplitudeDependence(const RingDowns& ringdown
     // after each hit, hinted in 18 of 40 seeds without it. (Asking for the floor alone missed
     // ring-downs clear enough to reach end_fraction first: 2 mN per mass, t 8, zeta 5.6 % high.)
     r.friction_hint = !r.amplitude_dependent && read_through >= 2 &&
+                      rate.size() >= options.hint_min_hits &&
                       r.friction_rate_t >= options.hint_rate_t &&
                       r.zeta_friction_bias >= options.hint_bias_over_half_width * frf_half_rel &&
                       r.zeta_friction_bias <= options.hint_max_bias;

@@ -64,6 +64,9 @@ struct RingDownOptions {
   /// the amplitude rule's to find, and without it the envelope is misread (the three-mass
   /// chain's records cut 5 s after each hit: mode 1's term tens of percent, no friction).
   double hint_max_bias = 0.1;
+  /// Fewer hits than this leave the friction rate's scatter no test (1-2 degrees of freedom): the
+  /// beam records' lightly damped modes, without friction, read t 3-3.8 over 2-3 hits.
+  std::size_t hint_min_hits = 4;
 };
 
 /// The check for every mode of `modes` (shapes mass-normalised, response order of the ring-downs),
