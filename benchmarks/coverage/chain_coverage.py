@@ -184,8 +184,10 @@ def run_seed(vibid: str, c: dict, seed: int) -> dict:
     return out
 
 
-def tally(c: dict, results: list[dict]) -> dict:
-    truth = truth_of(c)
+def tally(c: dict, results: list[dict], truth: dict | None = None) -> dict:
+    """Per parameter of `truth` (the case's chain's, by default): the seeds inside, below, above
+    and withheld, the estimates' bias and scatter, and the width ratio."""
+    truth = truth or truth_of(c)
     rows = {}
     for name, v in truth.items():
         t = dict(n=0, inside=0, below=0, above=0, withheld=0, est=[], hw=[], why="")
@@ -200,7 +202,7 @@ def tally(c: dict, results: list[dict]) -> dict:
                 t["why"] = e["missing"]
                 continue
             lo, hi = e["ci"]
-            t["hw"].append(0.5 * (hi - lo) / v)
+            t["hw"].append(0.5 * (hi - lo) / abs(v))
             if v < lo:
                 t["below"] += 1
             elif v > hi:

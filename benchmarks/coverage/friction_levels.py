@@ -19,6 +19,17 @@ then identified by `vibid modes` and `vibid identify` as a user runs them:
 
 Prints one line per level and quantity; with --check exits 1 when a level is neither right nor
 named. About 6 minutes (the friction cases' integration dominates).
+
+    benchmarks/coverage/friction_levels.py --vibid build/host/host/cli/vibid --seeds 40
+        [--records DIR] [--markdown table.md] [--json seeds.json] [--check] [--level ...]
+
+is the coverage study: seeds 1..N per level (the seeds of a level integrated together), each
+interval of `modes` (omega, zeta, phi1/phi2 per mode) and of `identify` (m, k, c) tallied against
+the viscous chain's value as chain_coverage.py tallies them (inside, below, above, withheld with
+the reason, half-width over 1.96 times the scatter), the 0.3 N case's refusals counted; with
+--check, chain_coverage's bounds for the seeds run, the false alarms without friction (a quarter
+of the seeds at most) and friction named in every seed from 2 mN on. --records keeps the
+recordings, so that a rerun identifies only. Its table is in docs/identification.md.
 """
 
 from __future__ import annotations
@@ -30,6 +41,7 @@ import os
 import subprocess
 import sys
 import tempfile
+import time
 
 import numpy as np
 
@@ -151,8 +163,171 @@ def check_level(vibid: str, chain, nominal, friction_n: float, d: str) -> list[s
             verdict = json.load(fh).get("verdict", {})
         level = verdict.get("level")
         print(f"{label}: identify verdict {level}")
-        if friction_named and level == "ok":
-            problems.append(f"{label}: friction named, verdict ok")
+        # Friction found (zeta the viscous part) makes the verdict a caution; friction only
+        # suspected widens zeta's interval and leaves the verdict alone.
+        found = any((m.get("zeta_amplitude") or {}).get("amplitude_dependent")
+                    for m in j["modes"])
+        if found and level == "ok":
+            problems.append(f"{label}: friction found, verdict ok")
+    return problems
+
+
+# The coverage study: --seeds N runs N seeds per level (seeds 1..N; seed 1 is the single-seed
+# check's record) and tallies each interval against the truth as chain_coverage.py does.
+MODE_QUANTITIES = ("omega", "zeta", "phi1/phi2")
+
+
+def seed_records(chain: chain_sim.Chain, friction_n: float, seeds, cache: str) -> list[str]:
+    """The seeds' recordings at this level, simulated together (chain_sim.hammer_tests) where
+    `cache` does not hold them yet."""
+    paths = [os.path.join(cache, f"{chain.n}mass_{1000 * friction_n:g}mN_seed{s}.csv")
+             for s in seeds]
+    todo = [(s, p) for s, p in zip(seeds, paths) if not os.path.exists(p)]
+    names = [f"acc{j + 1}_m_s2" for j in range(chain.n)]
+    # Batches of 20 seeds keep the fine-rate state within a few hundred MB.
+    for b in range(0, len(todo), 20):
+        part = todo[b:b + 20]
+        specs = [chain_sim.HammerSpec(hammer_mass=chain.n, fs_hz=500.0, hits=5,
+                                      spacing_min_s=11.5, spacing_max_s=12.5, peak_n=100.0,
+                                      noise=0.005, friction_n=friction_n, seed=s)
+                 for s, _ in part]
+        for (s, p), (t, f, a) in zip(part, chain_sim.hammer_tests(chain, specs)):
+            chain_sim.write_recording(p + ".part", t, f, a, names)
+            os.replace(p + ".part", p)
+    return paths
+
+
+def run_seed(vibid: str, chain, nominal, rec: str, seed: int) -> dict:
+    """`vibid modes` and `vibid identify` on one recording: each interval as chain_coverage's
+    tally takes it (modes' under "modes", identify's under "values"), and what vibid said."""
+    names = [f"acc{j + 1}_m_s2" for j in range(chain.n)]
+    out = {"seed": seed}
+    with tempfile.TemporaryDirectory(prefix="vibid-friction-") as d:
+        nom = os.path.join(d, "nominal.json")
+        chain_sim.write_model(nom, nominal)
+        modes = subprocess.run([vibid, "modes", rec, "--force", "force1_n", "--response",
+                                ",".join(names), "--json"], capture_output=True, text=True)
+        identify = subprocess.run([vibid, "identify", "--nominal", nom, "--modal-test", rec,
+                                   "--modal-responses", ",".join(names), "-o",
+                                   os.path.join(d, "out.json"), "--report", d],
+                                  capture_output=True, text=True)
+        rep = None
+        if identify.returncode == 0:
+            with open(os.path.join(d, "report.json")) as fh:
+                rep = json.load(fh)
+    out["modes_exit"] = modes.returncode
+    out["identify_exit"] = identify.returncode
+    out["identify_last"] = (identify.stderr.strip().splitlines() or [""])[-1]
+    out["modes_text"] = modes.stdout + modes.stderr
+    mv = {}
+    j = json.loads(modes.stdout) if modes.returncode == 0 and modes.stdout.strip() else None
+    out["friction_named"] = bool(j) and any("friction" in w for w in j["warnings"])
+    out["amplitude"] = []
+    for i, (om, ze, ratios) in enumerate(truth_modes(chain)):
+        found = [m for m in (j or {}).get("modes", [])
+                 if abs(m["omega_rad_s"] / om - 1) < 0.1]
+        if not found:
+            for q in MODE_QUANTITIES:
+                mv[f"{q} {i + 1}"] = {"value": math.nan, "ci": None, "missing": "mode not found"}
+            out["amplitude"].append(None)
+            continue
+        m = min(found, key=lambda m: abs(m["omega_rad_s"] - om))
+        ci = m.get("ci95") or {}
+        why = m.get("caution") or "no interval"
+        shape_ci = (ci.get("shape_ratio") or [None])[0]
+        for q, v, c in (("omega", m["omega_rad_s"], ci.get("omega_rad_s")),
+                        ("zeta", m["zeta"], ci.get("zeta")),
+                        ("phi1/phi2", (m.get("shape_ratio") or [math.nan])[0], shape_ci)):
+            mv[f"{q} {i + 1}"] = {"value": v, "ci": c, "missing": "" if c else why,
+                                  "caution": m.get("caution") or ""}
+        out["amplitude"].append(m.get("zeta_amplitude"))
+    out["modes"] = mv
+    if rep is None:
+        out["error"] = [out["identify_last"]]
+        out["exit"] = identify.returncode
+        return out
+    out["verdict"] = rep.get("verdict", {}).get("level")
+    out["values"] = {}
+    for p in rep["parameters"]:
+        i = p["position"]
+        for q, key in (("m", "m_kg"), ("k", "k_n_per_m"), ("c", "c_ns_per_m")):
+            out["values"][f"{q}{i}"] = {"value": p[key], "ci": p.get(key + "_ci95"),
+                                        "missing": p.get(key + "_ci95_missing", "")}
+    return out
+
+
+def mode_truth(chain) -> dict:
+    out = {}
+    for i, (om, ze, ratios) in enumerate(truth_modes(chain)):
+        out[f"omega {i + 1}"] = om
+        out[f"zeta {i + 1}"] = ze
+        out[f"phi1/phi2 {i + 1}"] = ratios[0]
+    return out
+
+
+def study(vibid: str, levels, seeds: int, cache: str, md_path: str, json_path: str,
+          check: bool) -> list[str]:
+    import chain_coverage  # noqa: PLC0415 (the tallies, bounds and table of the chain study)
+    problems, cases, all_rows, dump = [], [], [], []
+    for level in levels:
+        heavy = level >= HEAVY_N
+        chain, nominal = (RIG3, NOMINAL3) if heavy else (RIG2, NOMINAL2)
+        t0 = time.time()
+        recs = seed_records(chain, level, list(range(1, seeds + 1)), cache)
+        t1 = time.time()
+        results = [run_seed(vibid, chain, nominal, r, s + 1) for s, r in enumerate(recs)]
+        label = f"{chain.n}-mass, {1000 * level:g} mN per mass"
+        named = sum(r["friction_named"] for r in results)
+        refused = [r for r in results if r["identify_exit"] != 0]
+        refused_friction = sum("dry friction" in r["identify_last"] for r in refused)
+        verdicts = {}
+        for r in results:
+            verdicts[r.get("verdict", "refused")] = verdicts.get(r.get("verdict", "refused"), 0) + 1
+        print(f"== {label}: simulated in {t1 - t0:.0f} s, identified in {time.time() - t1:.0f} s;"
+              f" modes names friction in {named} of {seeds}; identify refused in {len(refused)}"
+              f" ({refused_friction} naming dry friction); verdicts {verdicts}")
+        dump.append({"level_n": level, "results": results})
+        if json_path:
+            with open(json_path, "w") as fh:
+                json.dump(dump, fh, indent=1)
+        if heavy:
+            if check and refused_friction < seeds:
+                problems.append(f"{label}: identify refused naming friction in "
+                                f"{refused_friction} of {seeds}")
+            if check and named < seeds:
+                problems.append(f"{label}: modes named friction in {named} of {seeds}")
+            continue
+        if check and level == 0.0:
+            # The ring-down check's false alarms on a rig without friction: 7 of 40 seeds
+            # (friction suspected, zeta's interval widened, none withheld).
+            bound = max(1, seeds // 4)
+            if named > bound:
+                problems.append(f"{label}: friction named in {named} of {seeds} (> {bound})")
+        elif check and level >= 0.002 and named < seeds:
+            # From 2 mN on, every seed; 1 mN is named in 38 of 40 (the other two's ring-downs
+            # show no friction rate above 0, and their zeta is 2.6-2.8 % high).
+            problems.append(f"{label}: friction named in {named} of {seeds}")
+        mcase = {"name": f"{label}: modes"}
+        mrows = chain_coverage.tally(mcase, [{"values": r["modes"]} for r in results],
+                                     mode_truth(chain))
+        icase = {"name": f"{label}: identify"}
+        if refused:
+            icase["refused"] = len(refused)
+            icase["refused_why"] = refused[0]["identify_last"][:160]
+        irows = chain_coverage.tally(icase, results, chain.truth())
+        for c, rows in ((mcase, mrows), (icase, irows)):
+            cases.append(c)
+            all_rows.append(rows)
+            for nm, t in rows.items():
+                print(f"  {nm}: {t['inside']} inside, {t['below']} below, {t['above']} above, "
+                      f"{t['withheld']} withheld; bias {100 * t['bias']:+.3f} %, sd "
+                      f"{100 * t['sd']:.3f} %, hw {100 * t['mean_hw']:.3f} %, ratio "
+                      f"{t['width_ratio']:.2f} {t['why'][:110]}")
+            if check:
+                problems += chain_coverage.check(c, rows)
+        if md_path:
+            with open(md_path, "w") as fh:
+                fh.write(chain_coverage.markdown(cases, all_rows, seeds))
     return problems
 
 
@@ -162,9 +337,23 @@ def main() -> int:
     ap.add_argument("--check", action="store_true")
     ap.add_argument("--level", type=float, action="append",
                     help="friction per mass in N (default: every level; 0.3 is the 3-mass case)")
+    ap.add_argument("--seeds", type=int,
+                    help="the coverage study: this many seeds per level, tallied per interval")
+    ap.add_argument("--records", help="the study's recordings kept here (simulated once)")
+    ap.add_argument("--markdown", help="the study's table")
+    ap.add_argument("--json", help="the study's results, seed by seed")
     args = ap.parse_args()
     levels = args.level or LEVELS_2MASS_N + [HEAVY_N]
     problems = []
+    if args.seeds:
+        with tempfile.TemporaryDirectory(prefix="vibid-friction-") as d:
+            if args.records:
+                os.makedirs(args.records, exist_ok=True)
+            problems = study(args.vibid, levels, args.seeds, args.records or d, args.markdown,
+                             args.json, args.check)
+        for p in problems:
+            print("PROBLEM:", p)
+        return 1 if args.check and problems else 0
     with tempfile.TemporaryDirectory(prefix="vibid-friction-") as d:
         for level in levels:
             chain, nominal = (RIG3, NOMINAL3) if level >= HEAVY_N else (RIG2, NOMINAL2)

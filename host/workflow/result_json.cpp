@@ -62,7 +62,9 @@ nlohmann::json ModesToJson(const std::vector<ident::ModeEstimate>& modes) {
                                                          : nlohmann::json(nullptr)},
                              {"amplitude_dependent", a.amplitude_dependent},
                              {"stops_early", a.stops_early},
-                             {"friction_hint", a.friction_hint}};
+                             {"friction_hint", a.friction_hint},
+                             {"friction_rate_t", a.friction_rate_t},
+                             {"zeta_friction_bias", a.zeta_friction_bias}};
       if (a.stops_early) {
         j["zeta_amplitude"]["stop_s"] = a.stop_s;
         j["zeta_amplitude"]["expected_stop_s"] = a.expected_stop_s;

@@ -199,11 +199,14 @@ ChainTestModes ChainModesOfTest(const ModeIdentification& mi, const Frf& frf,
         d.no_covariance = where + std::string("no interval on omega (see the warnings)");
       } else if (!std::isfinite(m.zeta_ci95[0])) {
         d.zeta_withheld = where + std::string("no interval on zeta (see the warnings)");
-      } else if (std::abs(m.zeta - d.values[1]) > 1e-9 * d.values[1] && d.covariance.rows() > 1) {
+      } else if ((m.zeta_ci95_widened || std::abs(m.zeta - d.values[1]) > 1e-9 * d.values[1]) &&
+                 d.covariance.rows() > 1) {
         // The mode's damping was revised after the modal model (a viscous part from the
-        // ring-downs, say): that value and its own interval, uncorrelated with the rest.
+        // ring-downs, say, or an interval widened for suspected friction): the interval's middle
+        // and its half-width, uncorrelated with the rest (the FRF's value alone, 2.7 % high with
+        // 1 mN per mass, took c1 outside its interval in 24 of 40 seeds).
         const double sd = 0.5 * (m.zeta_ci95[1] - m.zeta_ci95[0]) / kZ95;
-        d.values[1] = m.zeta;
+        d.values[1] = m.zeta_ci95_widened ? 0.5 * (m.zeta_ci95[0] + m.zeta_ci95[1]) : m.zeta;
         d.covariance.row(1).setZero();
         d.covariance.col(1).setZero();
         d.covariance(1, 1) = sd * sd;
@@ -677,11 +680,14 @@ IdentifyResult Identify(const model::Model& nominal, const std::vector<MassTestI
   }
   if (!res.table.caution.empty())
     res.verdict.Add(VerdictLevel::kCaution, "chain_fit_unchecked", res.table.caution);
-  // Dry friction, found or suspected in a test's ring-downs: the dampers are a viscous model's
-  // part of what the rig does, and the values stand on the ring-downs' viscous fit.
+  // Dry friction found in a test's ring-downs: the dampers are a viscous model's part of what
+  // the rig does, and the values stand on the ring-downs' viscous fit. Friction only suspected
+  // widens zeta's interval to hold either reading (ApplyAmplitudeCheck) and is said among the
+  // warnings; it leaves the verdict alone (suspected in 7 of 40 friction_levels seeds without
+  // friction, and on the emulated rig without it).
   for (const ModeIdentification& mi : res.modal_tests) {
     for (const ModeEstimate& m : mi.modes) {
-      if (!m.amplitude.amplitude_dependent && !m.amplitude.friction_hint) continue;
+      if (!m.amplitude.amplitude_dependent) continue;
       res.verdict.Add(VerdictLevel::kCaution, "dry_friction",
                       "dry friction in the modal tests' ring-downs (mode at " +
                           std::to_string(m.freq_hz).substr(0, 6) +

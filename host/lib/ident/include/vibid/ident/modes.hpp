@@ -39,6 +39,13 @@ struct AmplitudeDamping {
   std::array<double, 2> modal_friction_ci95{std::numeric_limits<double>::quiet_NaN(),
                                             std::numeric_limits<double>::quiet_NaN()};
   double friction_per_mass_n = 0.0;
+  /// The friction rate's t statistic over the hits (its mean over its standard error; 0 with
+  /// fewer than 2 hits), and the bias friction of that rate puts into an FRF's zeta, as a
+  /// fraction of zeta: 2 b / a, b the envelope fit's friction offset (A = a exp(-sigma t) - b)
+  /// and a its start, mean over the hits (an FRF weighs the decay by A^2, over which the
+  /// apparent damping zeta + r / (omega A) averages to zeta (1 + 2 b / a)).
+  double friction_rate_t = 0.0;
+  double zeta_friction_bias = 0.0;
   /// The ring-downs reach their noise floor in less than half the time the mode's damping
   /// gives (in two thirds of the hits that reach it, two at least): dry friction stops them.
   /// stop_s and expected_stop_s are their means over those hits.
@@ -48,8 +55,9 @@ struct AmplitudeDamping {
   /// The apparent damping grows as the amplitude falls beyond chance, or the ring-downs stop
   /// early: friction.
   bool amplitude_dependent = false;
-  /// Not beyond chance, but the late damping is higher and the friction rate positive: the FRF's
-  /// zeta may carry some friction.
+  /// Not beyond chance, but the friction rate is positive and the bias it would put into the
+  /// FRF's zeta reaches the FRF interval's half-width: the interval is widened down to the
+  /// viscous part's (ApplyAmplitudeCheck).
   bool friction_hint = false;
   /// The envelope cannot be read (a component folded near it takes a smoothing longer than the
   /// decay allows, near the Nyquist limit): no friction rule applies; `note` says why.
@@ -72,6 +80,9 @@ struct ModeEstimate {
   std::array<double, 2> omega_ci95_rad_s{kNoInterval, kNoInterval};
   std::array<double, 2> zeta_ci95{kNoInterval, kNoInterval};
   std::array<double, 2> ratio_ci95{kNoInterval, kNoInterval};
+  /// zeta_ci95 was widened past the method's own interval (friction suspected: down to the
+  /// ring-downs' viscous part), so that it is no longer centred on zeta.
+  bool zeta_ci95_widened = false;
   /// phi_j / phi_p for every response j, p the driving point (1 there), and their 95 % intervals
   /// (NaN where the method gives none; [1, 1] never: the driving point's entry has none). For two
   /// responses `ratio` is one of them or its inverse.
