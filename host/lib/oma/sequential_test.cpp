@@ -76,12 +76,17 @@ double EffectiveLevel(const Eigen::VectorXd& w, const Eigen::VectorXd& d, double
   return h * k1 / wc;
 }
 
+// The two-sample weight of onset k against m reference blocks: k (ȳₖ − μ̂) has covariance
+// Σ (1 + k/m) while nothing changed.
+double Shrink(int k, int m) { return 1.0 + static_cast<double>(k) / m; }
+
 // Σₖ qₖ(h) Pₖ(h) for a reference with covariance eigenvalues `lambda` and mean error `e`: the
 // local rate of a chi-square scan over onsets, (b²/2k)² ν(b/√k)² per onset at b² the level.
-double ScanSum(const Eigen::VectorXd& lambda, const Eigen::VectorXd& e, int max_blocks, double h) {
-  const Eigen::VectorXd w = lambda.cwiseInverse();
+double ScanSum(const Eigen::VectorXd& lambda, const Eigen::VectorXd& e, int m, int max_blocks,
+               double h) {
   double sum = 0.0;
   for (int k = 1; k <= max_blocks; ++k) {
+    const Eigen::VectorXd w = lambda.cwiseInverse() / Shrink(k, m);
     const Eigen::VectorXd d = std::sqrt(static_cast<double>(k)) * e;
     const double b2 = EffectiveLevel(w, d, h);
     const double nu = Nu(std::sqrt(b2 / k));
@@ -93,7 +98,7 @@ double ScanSum(const Eigen::VectorXd& lambda, const Eigen::VectorXd& e, int max_
 
 // The exact reference's GLR simulated from N(0, I) residuals at h: crossings per block, with the
 // test started afresh after each.
-double SimulatedRate(int p, int max_blocks, double h) {
+double SimulatedRate(int p, int m, int max_blocks, double h) {
   detail::Variates v(kFitSeed);
   // cum holds the running sums C_{n−j}, j = 0 … L (a ring), since the last restart.
   std::vector<Eigen::VectorXd> cum(static_cast<std::size_t>(max_blocks) + 1,
@@ -114,7 +119,8 @@ double SimulatedRate(int p, int max_blocks, double h) {
     double g = 0.0;
     for (long k = 1; k <= held; ++k) {
       const Eigen::VectorXd& back = cum[(head + ring - static_cast<std::size_t>(k)) % ring];
-      g = std::max(g, (now - back).squaredNorm() / static_cast<double>(k));
+      g = std::max(g, (now - back).squaredNorm() /
+                          (static_cast<double>(k) * Shrink(static_cast<int>(k), m)));
     }
     if (g > h) {
       ++crossings;
@@ -174,10 +180,10 @@ double Quantile(std::vector<double> x, double q) {
   return x[i];
 }
 
-double CrossingConstant(int p, int max_blocks, double* fit_rate, double* fit_h) {
+double CrossingConstant(int p, int m, int max_blocks, double* fit_rate, double* fit_h) {
   static std::mutex mutex;
-  static std::map<std::pair<int, int>, std::tuple<double, double, double>> done;
-  const auto key = std::make_pair(p, max_blocks);
+  static std::map<std::tuple<int, int, int>, std::tuple<double, double, double>> done;
+  const auto key = std::make_tuple(p, m, max_blocks);
   {
     const std::lock_guard<std::mutex> lock(mutex);
     if (const auto it = done.find(key); it != done.end()) {
@@ -189,10 +195,10 @@ double CrossingConstant(int p, int max_blocks, double* fit_rate, double* fit_h) 
   const Eigen::VectorXd ones = Eigen::VectorXd::Ones(p);
   const Eigen::VectorXd zero = Eigen::VectorXd::Zero(p);
   const double h = SolveDecreasing(
-      [&](double x) { return std::log(ScanSum(ones, zero, max_blocks, x) / kFitRate); },
+      [&](double x) { return std::log(ScanSum(ones, zero, m, max_blocks, x) / kFitRate); },
       numerics::ChiSquareQuantile(1.0 - kFitRate, p));
-  const double rate = SimulatedRate(p, max_blocks, h);
-  const double a = rate / ScanSum(ones, zero, max_blocks, h);
+  const double rate = SimulatedRate(p, m, max_blocks, h);
+  const double a = rate / ScanSum(ones, zero, m, max_blocks, h);
   const std::lock_guard<std::mutex> lock(mutex);
   done.emplace(key, std::make_tuple(a, rate, h));
   *fit_rate = rate;
@@ -202,12 +208,12 @@ double CrossingConstant(int p, int max_blocks, double* fit_rate, double* fit_h) 
 
 SequentialCalibration Calibrate(int p, int m, int max_blocks, double false_alarm) {
   SequentialCalibration out;
-  out.crossing_constant = CrossingConstant(p, max_blocks, &out.fit_rate, &out.fit_threshold);
+  out.crossing_constant = CrossingConstant(p, m, max_blocks, &out.fit_rate, &out.fit_threshold);
   const double a = out.crossing_constant;
   const Eigen::VectorXd ones = Eigen::VectorXd::Ones(p);
   const Eigen::VectorXd zero = Eigen::VectorXd::Zero(p);
   out.exact_threshold = SolveDecreasing(
-      [&](double x) { return std::log(a * ScanSum(ones, zero, max_blocks, x) / false_alarm); },
+      [&](double x) { return std::log(a * ScanSum(ones, zero, m, max_blocks, x) / false_alarm); },
       out.fit_threshold);
   detail::Variates v(kSeed);
   std::vector<detail::ReferenceError> draws;
@@ -216,7 +222,7 @@ SequentialCalibration Calibrate(int p, int m, int max_blocks, double false_alarm
   std::vector<double> rates(draws.size());
   const auto rates_at = [&](double h) {
     for (std::size_t i = 0; i < draws.size(); ++i) {
-      rates[i] = a * ScanSum(draws[i].eigenvalues, draws[i].mean_error, max_blocks, h);
+      rates[i] = a * ScanSum(draws[i].eigenvalues, draws[i].mean_error, m, max_blocks, h);
     }
   };
   rates_at(out.exact_threshold);
@@ -240,10 +246,9 @@ SequentialCalibration Calibrate(int p, int m, int max_blocks, double false_alarm
 
 }  // namespace
 
-double SequentialCrossingRate(const Eigen::VectorXd& eigenvalues,
-                              const Eigen::VectorXd& mean_error, int max_blocks, double h,
-                              double crossing_constant) {
-  return crossing_constant * ScanSum(eigenvalues, mean_error, max_blocks, h);
+double SequentialCrossingRate(const Eigen::VectorXd& eigenvalues, const Eigen::VectorXd& mean_error,
+                              int m, int max_blocks, double h, double crossing_constant) {
+  return crossing_constant * ScanSum(eigenvalues, mean_error, m, max_blocks, h);
 }
 
 SequentialCalibration CalibrateSequential(int p, int m, int max_blocks, double false_alarm) {
@@ -252,8 +257,8 @@ SequentialCalibration CalibrateSequential(int p, int m, int max_blocks, double f
                                     " reference observations, not " + std::to_string(m));
   Require(max_blocks >= 1 && max_blocks <= 720,
           "sequential calibration: the onsets looked back over must number 1 … 720 blocks");
-  Require(false_alarm > 0.0 && false_alarm <= 0.01,
-          "sequential calibration: the false-alarm probability per block must lie in (0, 0.01]");
+  Require(false_alarm > 0.0 && false_alarm <= 0.05,
+          "sequential calibration: the false-alarm probability per block must lie in (0, 0.05]");
   static std::mutex mutex;
   static std::map<std::tuple<int, int, int, double>, SequentialCalibration> done;
   const auto key = std::make_tuple(p, m, max_blocks, false_alarm);
@@ -283,6 +288,7 @@ SequentialTest::SequentialTest(Eigen::Ref<const Eigen::MatrixXd> reference, int 
           "sequential test: the reference observations' covariance is singular");
   whiten_ = llt.matrixL().solve(Eigen::MatrixXd::Identity(p, p));
   calibration_ = CalibrateSequential(p, m, max_blocks, false_alarm);
+  m_ = m;
   recent_ = Eigen::MatrixXd::Zero(p, max_blocks);
   sum_ = Eigen::VectorXd::Zero(p);
 }
@@ -300,7 +306,7 @@ SequentialTestResult SequentialTest::Add(Eigen::Ref<const Eigen::VectorXd> obser
   sum_.setZero();
   for (int k = 1; k <= held_; ++k) {
     sum_ += recent_.col((newest_ - k + 1 + max_blocks_) % max_blocks_);
-    const double g = sum_.squaredNorm() / k;
+    const double g = sum_.squaredNorm() / (k * Shrink(k, m_));
     if (g > r.statistic) {
       r.statistic = g;
       r.onset_blocks = k;

@@ -31,7 +31,8 @@ inline Eigen::MatrixXd Mix(int p) {
 }
 
 // Alarms of one test over `blocks` unchanged blocks.
-inline int Alarms(SequentialTest& test, const Eigen::MatrixXd& mix, long blocks, std::mt19937_64& rng) {
+inline int Alarms(SequentialTest& test, const Eigen::MatrixXd& mix, long blocks,
+                  std::mt19937_64& rng) {
   std::normal_distribution<double> normal;
   Eigen::VectorXd z(mix.rows());
   int alarms = 0;

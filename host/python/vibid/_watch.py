@@ -55,8 +55,10 @@ class WatchBlock:
     the F quantile at the per-block rate ``f_quantile``, not a calibrated threshold (one block's
     T² is heavier-tailed; ``block_over``: over it, shown, not an alarm), the window's test
     ``accumulated``
-    ({statistic, threshold, blocks, window_blocks, alarm}), ``alarm`` (this block completed a
-    window that alarmed), ``first_alarm_t_s``, the mode that ``moved`` most against the
+    ({statistic, threshold, blocks, window_blocks, alarm}), the sequential test ``sequential``
+    ({statistic g, threshold h, onset_blocks: the onset that maximised g, blocks held, alarm}),
+    ``alarm`` (this block completed a window that alarmed, or the sequential test alarmed),
+    ``first_alarm_t_s``, the mode that ``moved`` most against the
     reference ({mode, omega_ref_rad_s, omega_rad_s, change_rad_s, ci95_rad_s, relative}), the
     board's model test ``board`` ({stale, statistic, threshold, stale_since_t_s}; None without
     the log's model columns), ``analysis_ms``. ``text`` is the CLI's line for it."""
@@ -68,6 +70,7 @@ class WatchBlock:
     alarm: bool
     block_over: bool
     accumulated: dict
+    sequential: dict
     first_alarm_t_s: Optional[float]
     moved: Optional[dict]
     board: Optional[dict]
@@ -82,6 +85,7 @@ class WatchBlock:
         return cls(t_s=d["t_s"], block=d["block"], modes=_modes(d["modes"]),
                    statistic=d["statistic"], f_quantile=d["f_quantile"], alarm=d["alarm"],
                    block_over=d["block_over"], accumulated=d["accumulated"],
+                   sequential=d["sequential"],
                    first_alarm_t_s=d["first_alarm_t_s"], moved=d["moved"], board=d["board"],
                    modes_message=d["modes_message"], analysis_ms=d["analysis_ms"], text=text,
                    _line=line)
@@ -105,7 +109,10 @@ class WatchReference:
     model ``order``, its residuals ``dof`` over ``reference_blocks`` blocks, and the block's F
     quantile (not a calibrated threshold) and the window's threshold, the false alarms per hour
     this reference gives (``false_alarms_per_hour_95``: low, high; and their mean over
-    references) and the reference that would narrow them (``advised_reference_s``)."""
+    references) and the reference that would narrow them (``advised_reference_s``); the
+    sequential test's threshold (``sequential_threshold``; an exact reference's
+    ``sequential_exact_threshold``) and the false alarms per hour this reference gives it
+    (``sequential_false_alarms_per_hour_95``, ``sequential_false_alarms_per_hour_mean``)."""
     source: str
     from_t_s: float
     to_t_s: float
@@ -119,6 +126,10 @@ class WatchReference:
     false_alarms_per_hour_95: tuple
     false_alarms_per_hour_mean: float
     advised_reference_s: float
+    sequential_threshold: float
+    sequential_exact_threshold: float
+    sequential_false_alarms_per_hour_95: tuple
+    sequential_false_alarms_per_hour_mean: float
     analysis_ms: float
     _dict: dict = dataclasses.field(default_factory=dict, compare=False)
 
@@ -132,6 +143,11 @@ class WatchReference:
                    false_alarms_per_hour_95=tuple(d["false_alarms_per_hour_95"]),
                    false_alarms_per_hour_mean=d["false_alarms_per_hour_mean"],
                    advised_reference_s=d["advised_reference_s"],
+                   sequential_threshold=d["sequential_threshold"],
+                   sequential_exact_threshold=d["sequential_exact_threshold"],
+                   sequential_false_alarms_per_hour_95=tuple(
+                       d["sequential_false_alarms_per_hour_95"]),
+                   sequential_false_alarms_per_hour_mean=d["sequential_false_alarms_per_hour_mean"],
                    analysis_ms=d["analysis_ms"], _dict=d)
 
     def to_dict(self) -> dict:
