@@ -76,6 +76,8 @@ double EffectiveLevel(const Eigen::VectorXd& w, const Eigen::VectorXd& d, double
   return h * k1 / wc;
 }
 
+int MinOnset(int max_blocks) { return std::min(kSequentialMinOnsetBlocks, max_blocks); }
+
 // The two-sample weight of onset k against m reference blocks: k (ȳₖ − μ̂) has covariance
 // Σ (1 + k/m) while nothing changed.
 double Shrink(int k, int m) { return 1.0 + static_cast<double>(k) / m; }
@@ -85,7 +87,7 @@ double Shrink(int k, int m) { return 1.0 + static_cast<double>(k) / m; }
 double ScanSum(const Eigen::VectorXd& lambda, const Eigen::VectorXd& e, int m, int max_blocks,
                double h) {
   double sum = 0.0;
-  for (int k = 1; k <= max_blocks; ++k) {
+  for (int k = MinOnset(max_blocks); k <= max_blocks; ++k) {
     const Eigen::VectorXd w = lambda.cwiseInverse() / Shrink(k, m);
     const Eigen::VectorXd d = std::sqrt(static_cast<double>(k)) * e;
     const double b2 = EffectiveLevel(w, d, h);
@@ -117,7 +119,7 @@ double SimulatedRate(int p, int m, int max_blocks, double h) {
     cum[head] = now;
     held = std::min<long>(held + 1, max_blocks);
     double g = 0.0;
-    for (long k = 1; k <= held; ++k) {
+    for (long k = MinOnset(max_blocks); k <= held; ++k) {
       const Eigen::VectorXd& back = cum[(head + ring - static_cast<std::size_t>(k)) % ring];
       g = std::max(g, (now - back).squaredNorm() /
                           (static_cast<double>(k) * Shrink(static_cast<int>(k), m)));
@@ -306,6 +308,7 @@ SequentialTestResult SequentialTest::Add(Eigen::Ref<const Eigen::VectorXd> obser
   sum_.setZero();
   for (int k = 1; k <= held_; ++k) {
     sum_ += recent_.col((newest_ - k + 1 + max_blocks_) % max_blocks_);
+    if (k < MinOnset(max_blocks_)) continue;
     const double g = sum_.squaredNorm() / (k * Shrink(k, m_));
     if (g > r.statistic) {
       r.statistic = g;
