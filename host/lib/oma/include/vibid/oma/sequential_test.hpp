@@ -7,14 +7,14 @@
 // blocks: twice the log likelihood ratio of "the mean moved k blocks ago, to whatever value"
 // against "unchanged", maximised over the onset (Willsky & Jones, IEEE TAC 21 1976; Lai, JRSS B
 // 57 1995), each onset's term in its two-sample form (ȳ_k − μ̂ has covariance Σ (1/k + 1/m):
-// the reference's own mean error weighs on the long onsets as on the window test). The shortest
-// onset k₀ is 6 blocks (L where shorter): one block's residual is a ratio of covariances,
-// heavier-tailed than Gaussian far out (its T² exceeds the F law's quantile 7 to 9 times as often
-// as it should at the rates the watch asks), where a mean of six is close to Gaussian (the
-// window test's windows of 6 hold their band: docs/watch.md); with onsets from one block the
-// unchanged rig of the delay study alarmed 3 times in 10.7 h at 0.01 per hour asked. At the
-// watch's defaults this form needs h 53 where k · (…) needs 65 for the same rate, and alarms a
-// known step sooner. It alarms
+// the reference's own mean error weighs on the long onsets as on the window test; at the
+// watch's defaults, onsets from one block, it needs h 53 where k · (…) needs 65 for the same
+// rate, and alarms a known step sooner). The shortest onset k₀ is 6 blocks (L where shorter):
+// one block's residual is a ratio of covariances, heavier-tailed than Gaussian far out (its T²
+// exceeds the F law's quantile 7 to 9 times as often as it should at the rates the watch asks),
+// where a mean of six is close to Gaussian (the window test's windows of 6 hold their band:
+// docs/watch.md); with onsets from one block the unchanged rig of the delay study alarmed 3
+// times in 10.7 h at 0.01 per hour asked. It alarms
 // when g_n > h, and the k that maximised it is the change's estimated onset. Unlike the window
 // test it waits for no window to fill: a shift of noncentrality δ² per block is alarmed about
 // 2 ln(ARL)/δ² blocks after it (Lorden, Ann. Math. Stat. 42 1971), whenever it comes. L bounds
