@@ -179,9 +179,14 @@ std::string WatchBlockText(const WatchBlock& b) {
                   b.window_blocks);
   }
   out += line;
-  // The sequential test decides at every block: its g against h, and the onset that maximised g.
-  std::snprintf(line, sizeof line, " | seq %.1f/%.1f (k %d)", b.sequential_statistic,
-                b.sequential_threshold, b.sequential_onset_blocks);
+  // The sequential test decides at every block: its g against h, and the onset that maximised g
+  // (none while it holds fewer blocks than its shortest onset).
+  if (b.sequential_onset_blocks == 0) {
+    std::snprintf(line, sizeof line, " | seq -/%.1f", b.sequential_threshold);
+  } else {
+    std::snprintf(line, sizeof line, " | seq %.1f/%.1f (k %d)", b.sequential_statistic,
+                  b.sequential_threshold, b.sequential_onset_blocks);
+  }
   out += line;
   if (b.moved) out += " | " + WatchMoveText(*b.moved);
   if (b.board) {
