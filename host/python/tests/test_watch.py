@@ -240,6 +240,7 @@ def test_refusals_name_the_argument(twenty_percent, tmp_path):
     cases = [
         (dict(reference_s="1200"), TypeError, "reference_s: expected a number, got str"),
         (dict(window_blocks=6.5), TypeError, "window_blocks: expected a whole number"),
+        (dict(sequential_blocks=0), ValueError, "watch: sequential_blocks must lie in 1 … 720"),
         (dict(reference_s=300), ValueError,
          "watch: reference_s=300 is too short: the test needs at least 450 s of the rig "
          "unchanged at block_s=10 (shorten block_s, or give a longer reference)"),
