@@ -127,7 +127,8 @@ TEST_F(WatchCliTest, OnTheBoardALargeChangeIsFlaggedByItsWindow) {
 // 2 650 s so that a whole default window (60 blocks of 10 s after the default 30-minute
 // reference, ending at 2 400 s) lies before it and is seen not to alarm; 3 850 s of the rig in
 // operation at 200 Hz.
-// A window after the step alarms, within 120 blocks (two windows) of it.
+// A window after the step alarms, within 120 blocks (two windows) of it, and the sequential test
+// before it.
 TEST_F(WatchCliTest, OnARecordingTheBuiltInThreePercentStepIsFlagged) {
   constexpr double kStepS = 2650.0;
   StartEmulator(WriteRig(dir, kStepS, 0.0459));
@@ -152,6 +153,7 @@ TEST_F(WatchCliTest, OnARecordingTheBuiltInThreePercentStepIsFlagged) {
   EXPECT_EQ(lines.front()["reference"]["source"], "watched") << lines.front().dump();
   lines.erase(lines.begin());
   std::optional<double> first;
+  std::optional<double> first_window;
   int whole_windows_before = 0;
   for (const nlohmann::json& j : lines) {
     const double t_s = j["t_s"].get<double>();
@@ -160,11 +162,16 @@ TEST_F(WatchCliTest, OnARecordingTheBuiltInThreePercentStepIsFlagged) {
       if (j["accumulated"]["blocks"] == j["accumulated"]["window_blocks"]) ++whole_windows_before;
     }
     if (j["alarm"].get<bool>() && !first) first = t_s;
+    if (j["accumulated"]["alarm"].get<bool>() && !first_window) first_window = t_s;
   }
   EXPECT_EQ(whole_windows_before, 1) << "the window ending at 2 400 s is judged whole";
   ASSERT_TRUE(first.has_value()) << r.out;
   EXPECT_GT(*first, kStepS);
   EXPECT_LE(*first, kStepS + 120 * 10.0);
+  // The sequential test alarms before the window after the step is full (at 3 180 s, its onset
+  // 53 blocks back: the step's own block; the window at 3 600 s).
+  ASSERT_TRUE(first_window.has_value()) << r.out;
+  EXPECT_LT(*first, *first_window);
 }
 
 TEST_F(WatchCliTest, BadOptionsAndAnUnwritableJournalAreRefusedBeforeTheBoardStarts) {

@@ -46,11 +46,15 @@ SETTINGS = [(60, 0.6), (6, 1.0), (6, 6.0)]
 BAND = re.compile(r"between ([0-9.e+-]+) and ([0-9.e+-]+) false alarms per hour \(95 %\)")
 
 
-def rig():
-    """The continuous model: force on mass 2, accelerations of both masses."""
-    m = np.array([2.4, 1.1])
-    k = np.array([4100.0, 2300.0])
-    c = np.array([6.0, 2.5])
+MASSES_KG = (2.4, 1.1)
+SPRINGS_N_PER_M = (4100.0, 2300.0)
+DAMPERS_NS_PER_M = (6.0, 2.5)
+
+
+def rig(m=MASSES_KG, k=SPRINGS_N_PER_M, c=DAMPERS_NS_PER_M):
+    """The continuous model: force on mass 2, accelerations of both masses (masses, springs and
+    dampers from the ground out; the study of changes gives others)."""
+    m, k, c = np.asarray(m, float), np.asarray(k, float), np.asarray(c, float)
     mass = np.diag(m)
     stiff = np.array([[k[0] + k[1], -k[1]], [-k[1], k[1]]])
     damp = np.array([[c[0] + c[1], -c[1]], [-c[1], c[1]]])

@@ -62,8 +62,8 @@ TEST(WatchCoverage, FalseAlarmsOverAHundredHours) {
     default_band.Add(rare.reference(), 5.0);
     for (int part = 0; part < 30; ++part) {
       const Eigen::MatrixXd y = sim.Next(200 * 600);
-      for (const WatchBlock& b : one.Feed(y)) at_one += b.alarm;
-      for (const WatchBlock& b : rare.Feed(y)) at_default += b.alarm;
+      for (const WatchBlock& b : one.Feed(y)) at_one += b.window_alarm;
+      for (const WatchBlock& b : rare.Feed(y)) at_default += b.window_alarm;
       hours += 600.0 / 3600.0;
     }
   }
@@ -94,14 +94,14 @@ TEST(WatchCoverage, ThreePercentMassIsFlaggedWithinTwoWindows) {
     WatchSession s(Options(0.01));
     s.Feed(sim.Next(200 * 1800), 0.0);
     for (const WatchBlock& b : s.Feed(sim.Next(200 * 850))) {
-      before += b.alarm;
+      before += b.window_alarm;
       judged_before += b.window_count == b.window_blocks;
     }
     const double change_s = 1800.0 + 850.0;
     sim.Change(DemoRig(1.53 * 1.03));
     std::optional<double> first;
     for (const WatchBlock& b : s.Feed(sim.Next(200 * 1200))) {
-      if (b.alarm && !first) first = b.t_s;
+      if (b.window_alarm && !first) first = b.t_s;
       ms += b.analysis_ms;
       ++blocks;
     }

@@ -96,6 +96,12 @@ nlohmann::json WatchBlockJson(const WatchBlock& b) {
             {"window_blocks", b.window_blocks},
             {"tested", b.window_count == b.window_blocks},
             {"alarm", b.window_alarm}}},
+          {"sequential",
+           {{"statistic", b.sequential_statistic},
+            {"threshold", b.sequential_threshold},
+            {"onset_blocks", b.sequential_onset_blocks},
+            {"blocks", b.sequential_blocks},
+            {"alarm", b.sequential_alarm}}},
           {"first_alarm_t_s", first},
           {"moved", moved},
           {"board", board},
@@ -116,6 +122,11 @@ nlohmann::json WatchReferenceJson(const WatchReference& r) {
           {"false_alarms_per_hour_95", {r.false_alarms_per_hour_low, r.false_alarms_per_hour_high}},
           {"false_alarms_per_hour_mean", r.false_alarms_per_hour_mean},
           {"advised_reference_s", r.advised_reference_s},
+          {"sequential_threshold", r.sequential_threshold},
+          {"sequential_exact_threshold", r.sequential_exact_threshold},
+          {"sequential_false_alarms_per_hour_95",
+           {r.sequential_false_alarms_per_hour_low, r.sequential_false_alarms_per_hour_high}},
+          {"sequential_false_alarms_per_hour_mean", r.sequential_false_alarms_per_hour_mean},
           {"analysis_ms", r.analysis_ms}};
 }
 
@@ -128,6 +139,7 @@ nlohmann::json WatchOptionsJson(const WatchOptions& o) {
           {"false_alarm_per_hour", o.false_alarm_per_hour},
           {"block_false_alarm", o.BlockFalseAlarm()},
           {"window_false_alarm", o.WindowFalseAlarm()},
+          {"sequential_blocks", o.sequential_blocks},
           {"fmax_hz", o.fmax_hz},
           {"modes_s", o.modes_s},
           {"order", o.order},
@@ -165,6 +177,15 @@ std::string WatchBlockText(const WatchBlock& b) {
   } else {
     std::snprintf(line, sizeof line, " | window %d/%d blocks, tested when full", b.window_count,
                   b.window_blocks);
+  }
+  out += line;
+  // The sequential test decides at every block: its g against h, and the onset that maximised g
+  // (none while it holds fewer blocks than its shortest onset).
+  if (b.sequential_onset_blocks == 0) {
+    std::snprintf(line, sizeof line, " | seq -/%.1f", b.sequential_threshold);
+  } else {
+    std::snprintf(line, sizeof line, " | seq %.1f/%.1f (k %d)", b.sequential_statistic,
+                  b.sequential_threshold, b.sequential_onset_blocks);
   }
   out += line;
   if (b.moved) out += " | " + WatchMoveText(*b.moved);

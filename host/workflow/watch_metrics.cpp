@@ -93,6 +93,8 @@ void Expose(const WatchFigures& w, Exposition& e) {
   e.Gauge("vibid_watch_block_length_seconds", "Seconds per block", rig, w.options.block_s);
   e.Gauge("vibid_watch_window_length_blocks", "Blocks per window of the accumulated test", rig,
           w.options.window_blocks);
+  e.Gauge("vibid_watch_sequential_length_blocks", "Longest onset of the sequential test, blocks",
+          rig, w.options.sequential_blocks);
   e.Gauge("vibid_watch_reference_ready", "1 once the reference is built", rig, w.reference ? 1 : 0);
   e.Counter("vibid_watch_blocks_total", "Blocks watched since the reference", rig,
             static_cast<double>(w.blocks));
@@ -108,6 +110,12 @@ void Expose(const WatchFigures& w, Exposition& e) {
     e.Gauge("vibid_watch_reference_false_alarms_per_hour",
             "False alarms per hour this reference gives, 95 % band", With(rig, "bound", "high"),
             r.false_alarms_per_hour_high);
+    e.Gauge("vibid_watch_reference_sequential_false_alarms_per_hour",
+            "False alarms per hour this reference gives the sequential test, 95 % band",
+            With(rig, "bound", "low"), r.sequential_false_alarms_per_hour_low);
+    e.Gauge("vibid_watch_reference_sequential_false_alarms_per_hour",
+            "False alarms per hour this reference gives the sequential test, 95 % band",
+            With(rig, "bound", "high"), r.sequential_false_alarms_per_hour_high);
     for (std::size_t i = 0; i < r.modes.size(); ++i) {
       const Labels m = With(rig, "mode", static_cast<int>(i) + 1);
       e.Gauge("vibid_watch_reference_mode_frequency_hertz", "The reference's mode frequency", m,
@@ -174,6 +182,15 @@ void Expose(const WatchFigures& w, Exposition& e) {
           b.window_count == b.window_blocks ? 1 : 0);
   e.Gauge("vibid_watch_window_alarm", "1 when the last full window alarmed", rig,
           b.window_alarm ? 1 : 0);
+  e.Gauge("vibid_watch_sequential_statistic", "The sequential test's GLR statistic g", rig,
+          b.sequential_statistic);
+  e.Gauge("vibid_watch_sequential_threshold", "The sequential test's threshold h", rig,
+          b.sequential_threshold);
+  e.Gauge("vibid_watch_sequential_onset_blocks",
+          "Blocks back to the onset that maximised the sequential statistic", rig,
+          b.sequential_onset_blocks);
+  e.Gauge("vibid_watch_sequential_alarm", "1 when the last block's sequential test alarmed", rig,
+          b.sequential_alarm ? 1 : 0);
   e.Gauge("vibid_watch_alarm", "1 from the watch's first alarm on (latched)", rig,
           b.first_alarm_t_s ? 1 : 0);
   if (b.first_alarm_t_s) {

@@ -46,6 +46,10 @@ TEST(WatchMetrics, AWatchBeforeItsReferenceShowsItsOptionsOnly) {
             "# HELP vibid_watch_window_length_blocks Blocks per window of the accumulated test\n"
             "# TYPE vibid_watch_window_length_blocks gauge\n"
             "vibid_watch_window_length_blocks{rig=\"rig-a\"} 60\n"
+            "# HELP vibid_watch_sequential_length_blocks Longest onset of the sequential test, "
+            "blocks\n"
+            "# TYPE vibid_watch_sequential_length_blocks gauge\n"
+            "vibid_watch_sequential_length_blocks{rig=\"rig-a\"} 60\n"
             "# HELP vibid_watch_reference_ready 1 once the reference is built\n"
             "# TYPE vibid_watch_reference_ready gauge\n"
             "vibid_watch_reference_ready{rig=\"rig-a\"} 0\n"
@@ -166,7 +170,7 @@ TEST(WatchMetrics, TwoWatchesShareEachFamilysHeadAndTheirSamplesStayTogether) {
       EXPECT_EQ(line.rfind(family + "{", 0), 0u) << line << " outside " << family;
     }
   }
-  EXPECT_EQ(heads, 6);
+  EXPECT_EQ(heads, 7);
   EXPECT_TRUE(Has(t, "vibid_watch_running{rig=\"a\"} 1\nvibid_watch_running{rig=\"b\"} 1"));
 }
 

@@ -159,6 +159,14 @@ void WatchOptions::Validate() const {
               " is too high for a window of " + OptionNumber(window_blocks * block_s) +
               " s (the rate times the window must stay below 0.5); lower it or " +
               name("window_blocks"));
+  Require(
+      sequential_blocks >= 1 && sequential_blocks <= 720,
+      "watch: " + name("sequential_blocks") + " must lie in 1 … 720 (two hours of 10 s blocks)");
+  Require(BlockFalseAlarm() <= 0.05,
+          "watch: " + given("false_alarm_per_hour", false_alarm_per_hour) +
+              " is too high for blocks of " + OptionNumber(block_s) +
+              " s (the rate times the block must stay at or below 0.05); lower it or " +
+              name("block_s"));
   Require(order == 0 || (order >= 2 && order % 2 == 0 && order <= 40),
           "watch: " + name("order") +
               " must be even, 2 to 40 (twice the modes in the band), or 0 (from the "
@@ -264,6 +272,15 @@ void WatchSession::BuildReference(Eigen::Ref<const Eigen::MatrixXd> reference) {
     reference_.advised_reference_s = 60.0 * std::ceil(s / 60.0);
   }
   reference_.advised_false_alarms_per_hour_low = advice.calibration.low * windows_per_hour;
+  sequential_ = std::make_unique<oma::SequentialTest>(
+      detector_->reference_residuals(), options_.sequential_blocks, options_.BlockFalseAlarm());
+  const oma::SequentialCalibration& sc = sequential_->calibration();
+  const double blocks_per_hour = 3600.0 / options_.block_s;
+  reference_.sequential_threshold = sc.threshold;
+  reference_.sequential_exact_threshold = sc.exact_threshold;
+  reference_.sequential_false_alarms_per_hour_low = sc.low * blocks_per_hour;
+  reference_.sequential_false_alarms_per_hour_high = sc.high * blocks_per_hour;
+  reference_.sequential_false_alarms_per_hour_mean = sc.mean * blocks_per_hour;
   reference_.analysis_ms = MsSince(start);
   pending_.resize(block_samples_, options_.channels);
   pending_rows_ = 0;
@@ -353,7 +370,13 @@ WatchBlock WatchSession::TestBlock(Eigen::Ref<const Eigen::MatrixXd> block) {
   b.window_count = acc.count;
   b.window_blocks = options_.window_blocks;
   b.window_alarm = acc.alarm;
-  b.alarm = b.window_alarm;
+  const oma::SequentialTestResult seq = sequential_->Add(residual);
+  b.sequential_statistic = seq.statistic;
+  b.sequential_threshold = seq.threshold;
+  b.sequential_onset_blocks = seq.onset_blocks;
+  b.sequential_blocks = seq.blocks;
+  b.sequential_alarm = seq.alarm;
+  b.alarm = b.window_alarm || b.sequential_alarm;
   if (b.alarm && !first_alarm_t_s_) first_alarm_t_s_ = b.t_s;
   b.first_alarm_t_s = first_alarm_t_s_;
   b.board = board_;

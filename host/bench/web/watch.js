@@ -92,6 +92,9 @@ function drawCards() {
     // A window is one test when full: a partial one shows its count, not a threshold.
     row(t, ['window T²', a.tested ? fmt(a.statistic, 3) + ' / ' + fmt(a.threshold, 3) + ' (' + a.window_blocks + ' blocks)' + (a.alarm ? ' ALARM' : '')
                                   : a.blocks + ' of ' + a.window_blocks + ' blocks, tested when full']);
+    // The sequential test decides at every block; k is the onset that maximised its statistic.
+    const q = b.sequential;
+    row(t, ['sequential g', fmt(q.statistic, 3) + ' / ' + fmt(q.threshold, 3) + ' (onset ' + q.onset_blocks + ' blocks back)' + (q.alarm ? ' ALARM' : '')]);
   }
   const m = $('wt-moved'), mv = b && b.moved;
   m.textContent = mv ? movedWords(mv) : b ? (b.modes_message || 'no modes at this block') : '—';
@@ -114,7 +117,9 @@ function drawCards() {
     r.textContent = fmt(ref.seconds, 4) + ' s (' + (ref.source === 'recording' ? 'a reference recording' : 'watched') + ', ' +
       Number(ref.span.from_t_s.toPrecision(6)) + ' to ' + Number(ref.span.to_t_s.toPrecision(6)) + ' s): test order ' + ref.order + ', ' + ref.dof + ' residuals over ' + ref.reference_blocks +
       ' blocks; window threshold ' + fmt(ref.window_threshold, 3) + ': this reference gives between ' +
-      fmt(ref.false_alarms_per_hour_95[0], 2) + ' and ' + fmt(ref.false_alarms_per_hour_95[1], 2) + ' false alarms per hour (95 %)';
+      fmt(ref.false_alarms_per_hour_95[0], 2) + ' and ' + fmt(ref.false_alarms_per_hour_95[1], 2) + ' false alarms per hour (95 %); sequential threshold ' +
+      fmt(ref.sequential_threshold, 3) + ': between ' + fmt(ref.sequential_false_alarms_per_hour_95[0], 2) + ' and ' +
+      fmt(ref.sequential_false_alarms_per_hour_95[1], 2) + ' false alarms per hour (95 %)';
     row(rt, ['mode', 'f Hz (95 %)', 'ζ % (95 %)'], true);
     ref.modes.forEach((x, i) => row(rt, [i + 1, fmt(hz(x.omega_rad_s), 5) + ' ± ' + fmt(hz(x.ci95.omega_rad_s), 2),
                                           fmt(100 * x.zeta, 3) + ' ± ' + fmt(100 * x.ci95.zeta, 2)]));

@@ -121,6 +121,12 @@ void SayReference(const WatchArgs& a, const workflow::WatchSession& s) {
     std::cerr << "; a reference of " << OptionNumber(r.advised_reference_s)
               << " s would give at least " << Rate(r.advised_false_alarms_per_hour_low);
   }
+  std::cerr << "; the sequential test (onsets up to " << a.watch.sequential_blocks
+            << " blocks back) alarms over " << OptionNumber(r.sequential_threshold)
+            << " (an exact reference's: " << OptionNumber(r.sequential_exact_threshold)
+            << "); this reference gives it between " << Rate(r.sequential_false_alarms_per_hour_low)
+            << " and " << Rate(r.sequential_false_alarms_per_hour_high)
+            << " false alarms per hour (95 %)";
   std::cerr << "\n";
 }
 
@@ -310,8 +316,12 @@ void RegisterWatchCommand(CLI::App& app, const GlobalOptions& globals) {
                   "Blocks averaged by the accumulated test (its alarm)")
       ->check(CLI::Range(1, 100000))
       ->capture_default_str();
+  cmd->add_option("--sequential-blocks", o->watch.sequential_blocks,
+                  "Longest onset of the sequential test, in blocks (it alarms at any block)")
+      ->check(CLI::Range(1, 720))
+      ->capture_default_str();
   cmd->add_option("--false-alarm-per-hour", o->watch.false_alarm_per_hour,
-                  "Expected false alarms per hour of an unchanged rig")
+                  "Expected false alarms per hour of an unchanged rig, asked of each test")
       ->check(PositiveNumber())
       ->capture_default_str();
   cmd->add_option("--fmax-hz", o->watch.fmax_hz, "Top of the band (above the highest mode)")

@@ -6,18 +6,16 @@
 #include <cstdint>
 #include <map>
 #include <mutex>
-#include <numbers>
-#include <random>
 #include <string>
 #include <tuple>
 #include <vector>
 
 #include <Eigen/Core>
-#include <Eigen/Eigenvalues>
 
 #include "vibid/common/error.hpp"
 #include "vibid/numerics/distributions.hpp"
 #include "vibid/numerics/quadratic_form.hpp"
+#include "reference_draws.hpp"
 
 namespace vibid::oma {
 
@@ -26,41 +24,6 @@ namespace {
 constexpr int kDraws = 2000;
 constexpr std::uint64_t kSeed = 20261207;
 
-// Normal and gamma variates written out (Box–Muller; Marsaglia & Tsang, ACM TOMS 26 2000) so
-// that the threshold is the same on every standard library.
-class Variates {
- public:
-  explicit Variates(std::uint64_t seed) : rng_(seed) {}
-  double Uniform() { return (static_cast<double>(rng_() >> 11) + 0.5) * 0x1.0p-53; }
-  double Normal() {
-    if (spare_) {
-      spare_ = false;
-      return next_;
-    }
-    const double r = std::sqrt(-2.0 * std::log(Uniform()));
-    const double a = 2.0 * std::numbers::pi * Uniform();
-    next_ = r * std::sin(a);
-    spare_ = true;
-    return r * std::cos(a);
-  }
-  // Gamma(shape ≥ 1, 1).
-  double Gamma(double shape) {
-    const double d = shape - 1.0 / 3.0;
-    const double c = 1.0 / std::sqrt(9.0 * d);
-    for (;;) {
-      const double x = Normal();
-      const double v = std::pow(1.0 + c * x, 3);
-      if (v <= 0.0) continue;
-      if (std::log(Uniform()) < 0.5 * x * x + d - d * v + d * std::log(v)) return d * v;
-    }
-  }
-
- private:
-  std::mt19937_64 rng_;
-  bool spare_ = false;
-  double next_ = 0.0;
-};
-
 // One reference's error, whitened: T² = Σ wᵢ (zᵢ + δᵢ)².
 struct Draw {
   Eigen::VectorXd weights;
@@ -68,23 +31,14 @@ struct Draw {
 };
 
 std::vector<Draw> DrawReferences(int p, int m, int window) {
-  Variates v(kSeed);
+  detail::Variates v(kSeed);
   const double k = window;
   const double c = 1.0 / (1.0 / k + 1.0 / m);
   std::vector<Draw> draws(kDraws);
   for (Draw& d : draws) {
-    // Bartlett: W = A Aᵀ ~ Wishart(m − 1, I), A lower triangular.
-    Eigen::MatrixXd a = Eigen::MatrixXd::Zero(p, p);
-    for (int i = 0; i < p; ++i) {
-      a(i, i) = std::sqrt(2.0 * v.Gamma(0.5 * (m - 1 - i)));
-      for (int j = 0; j < i; ++j) a(i, j) = v.Normal();
-    }
-    const Eigen::MatrixXd s = a * a.transpose() / (m - 1.0);
-    Eigen::VectorXd e(p);
-    for (int i = 0; i < p; ++i) e(i) = v.Normal() / std::sqrt(static_cast<double>(m));
-    const Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> eig(s);
-    d.weights = c / (k * eig.eigenvalues().array());
-    d.noncentrality = -std::sqrt(k) * (eig.eigenvectors().transpose() * e);
+    const detail::ReferenceError r = detail::DrawReferenceError(v, p, m);
+    d.weights = c / (k * r.eigenvalues.array());
+    d.noncentrality = -std::sqrt(k) * r.mean_error;
   }
   return draws;
 }

@@ -116,6 +116,7 @@ void RegisterWatch(py::module_& m) {
       .def_readwrite("reference_s", &WatchOptions::reference_s)
       .def_readwrite("block_s", &WatchOptions::block_s)
       .def_readwrite("window_blocks", &WatchOptions::window_blocks)
+      .def_readwrite("sequential_blocks", &WatchOptions::sequential_blocks)
       .def_readwrite("false_alarm_per_hour", &WatchOptions::false_alarm_per_hour)
       .def_readwrite("fmax_hz", &WatchOptions::fmax_hz)
       .def_readwrite("modes_s", &WatchOptions::modes_s)

@@ -78,12 +78,17 @@ def test_two_mass_modes_are_the_rigs_and_the_three_percent_step_is_flagged(step_
     assert [b.t_s for b in blocks] == pytest.approx([1810.0 + 10.0 * k for k in range(205)])
     # hil WatchCliTest.OnARecordingTheBuiltInThreePercentStepIsFlagged: the whole window ending
     # at 2 400 s (60 blocks, before the step) does not alarm; the window after the one that holds
-    # the step (at 2 650 s) ends at 3 600 s and alarms; nothing else does.
+    # the step (at 2 650 s) ends at 3 600 s and alarms; no other window does. The sequential test
+    # alarms before that window is full, after the step, and its alarm is the watch's first.
     assert blocks[59].t_s == pytest.approx(2400.0)
     assert blocks[59].accumulated["blocks"] == 60
     assert blocks[59].accumulated["statistic"] < blocks[59].accumulated["threshold"]
-    assert [b.block for b in blocks if b.alarm] == [180]
-    assert blocks[179].t_s == blocks[-1].first_alarm_t_s == pytest.approx(3600.0)
+    assert [b.block for b in blocks if b.accumulated["alarm"]] == [180]
+    assert blocks[179].t_s == pytest.approx(3600.0)
+    sequential = [b for b in blocks if b.sequential["alarm"]]
+    assert sequential and 2650.0 < sequential[0].t_s < 3600.0
+    assert sequential[0].sequential["statistic"] > sequential[0].sequential["threshold"]
+    assert blocks[-1].first_alarm_t_s == sequential[0].t_s
     assert blocks[179].accumulated["blocks"] == 60
     assert blocks[179].accumulated["statistic"] > blocks[179].accumulated["threshold"]
     assert all(b.board is None for b in blocks)  # no model columns in this log
@@ -151,9 +156,12 @@ def test_twenty_percent_mass_alarms_with_the_window_the_cpp_test_expects(twenty_
     # threshold (38 of 50 on this record; 45 or more on the C++ test's), none before; the window
     # of blocks 1..60 ends 600 s after the reference and alarms then, not before.
     assert sum(b.block_over for b in after) >= 30
-    assert [b.block for b in blocks if b.alarm] == [60]
+    assert [b.block for b in blocks if b.accumulated["alarm"]] == [60]
     assert blocks[-1].t_s == 100.0 + 1200.0 + 600.0
-    assert blocks[-1].first_alarm_t_s == 1900.0
+    # The sequential test alarms within its shortest onset (6 blocks) of the change, and first.
+    sequential = [b.block for b in blocks if b.sequential["alarm"]]
+    assert sequential and 11 <= sequential[0] <= 16
+    assert blocks[-1].first_alarm_t_s == 1300.0 + 10.0 * sequential[0]
     assert blocks[-1].accumulated == {**blocks[-1].accumulated, "blocks": 60, "window_blocks": 60,
                                       "alarm": True}
 
@@ -232,6 +240,7 @@ def test_refusals_name_the_argument(twenty_percent, tmp_path):
     cases = [
         (dict(reference_s="1200"), TypeError, "reference_s: expected a number, got str"),
         (dict(window_blocks=6.5), TypeError, "window_blocks: expected a whole number"),
+        (dict(sequential_blocks=0), ValueError, "watch: sequential_blocks must lie in 1 … 720"),
         (dict(reference_s=300), ValueError,
          "watch: reference_s=300 is too short: the test needs at least 450 s of the rig "
          "unchanged at block_s=10 (shorten block_s, or give a longer reference)"),

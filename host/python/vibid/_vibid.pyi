@@ -199,6 +199,7 @@ class _WatchOptions:
     reference_s: float
     block_s: float
     window_blocks: int
+    sequential_blocks: int
     false_alarm_per_hour: float
     fmax_hz: float
     modes_s: float

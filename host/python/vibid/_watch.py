@@ -55,8 +55,10 @@ class WatchBlock:
     the F quantile at the per-block rate ``f_quantile``, not a calibrated threshold (one block's
     T² is heavier-tailed; ``block_over``: over it, shown, not an alarm), the window's test
     ``accumulated``
-    ({statistic, threshold, blocks, window_blocks, alarm}), ``alarm`` (this block completed a
-    window that alarmed), ``first_alarm_t_s``, the mode that ``moved`` most against the
+    ({statistic, threshold, blocks, window_blocks, alarm}), the sequential test ``sequential``
+    ({statistic g, threshold h, onset_blocks: the onset that maximised g, blocks held, alarm}),
+    ``alarm`` (this block completed a window that alarmed, or the sequential test alarmed),
+    ``first_alarm_t_s``, the mode that ``moved`` most against the
     reference ({mode, omega_ref_rad_s, omega_rad_s, change_rad_s, ci95_rad_s, relative}), the
     board's model test ``board`` ({stale, statistic, threshold, stale_since_t_s}; None without
     the log's model columns), ``analysis_ms``. ``text`` is the CLI's line for it."""
@@ -68,6 +70,7 @@ class WatchBlock:
     alarm: bool
     block_over: bool
     accumulated: dict
+    sequential: dict
     first_alarm_t_s: Optional[float]
     moved: Optional[dict]
     board: Optional[dict]
@@ -82,6 +85,7 @@ class WatchBlock:
         return cls(t_s=d["t_s"], block=d["block"], modes=_modes(d["modes"]),
                    statistic=d["statistic"], f_quantile=d["f_quantile"], alarm=d["alarm"],
                    block_over=d["block_over"], accumulated=d["accumulated"],
+                   sequential=d["sequential"],
                    first_alarm_t_s=d["first_alarm_t_s"], moved=d["moved"], board=d["board"],
                    modes_message=d["modes_message"], analysis_ms=d["analysis_ms"], text=text,
                    _line=line)
@@ -105,7 +109,10 @@ class WatchReference:
     model ``order``, its residuals ``dof`` over ``reference_blocks`` blocks, and the block's F
     quantile (not a calibrated threshold) and the window's threshold, the false alarms per hour
     this reference gives (``false_alarms_per_hour_95``: low, high; and their mean over
-    references) and the reference that would narrow them (``advised_reference_s``)."""
+    references) and the reference that would narrow them (``advised_reference_s``); the
+    sequential test's threshold (``sequential_threshold``; an exact reference's
+    ``sequential_exact_threshold``) and the false alarms per hour this reference gives it
+    (``sequential_false_alarms_per_hour_95``, ``sequential_false_alarms_per_hour_mean``)."""
     source: str
     from_t_s: float
     to_t_s: float
@@ -119,6 +126,10 @@ class WatchReference:
     false_alarms_per_hour_95: tuple
     false_alarms_per_hour_mean: float
     advised_reference_s: float
+    sequential_threshold: float
+    sequential_exact_threshold: float
+    sequential_false_alarms_per_hour_95: tuple
+    sequential_false_alarms_per_hour_mean: float
     analysis_ms: float
     _dict: dict = dataclasses.field(default_factory=dict, compare=False)
 
@@ -132,6 +143,11 @@ class WatchReference:
                    false_alarms_per_hour_95=tuple(d["false_alarms_per_hour_95"]),
                    false_alarms_per_hour_mean=d["false_alarms_per_hour_mean"],
                    advised_reference_s=d["advised_reference_s"],
+                   sequential_threshold=d["sequential_threshold"],
+                   sequential_exact_threshold=d["sequential_exact_threshold"],
+                   sequential_false_alarms_per_hour_95=tuple(
+                       d["sequential_false_alarms_per_hour_95"]),
+                   sequential_false_alarms_per_hour_mean=d["sequential_false_alarms_per_hour_mean"],
                    analysis_ms=d["analysis_ms"], _dict=d)
 
     def to_dict(self) -> dict:
@@ -159,13 +175,15 @@ def _rows(name: str, x, rows: Optional[int] = None) -> np.ndarray:
     return np.ascontiguousarray(a, dtype=np.float64)
 
 
-def _options(reference_s, block_s, window_blocks, false_alarm_per_hour, fmax_hz, modes_s, order):
+def _options(reference_s, block_s, window_blocks, false_alarm_per_hour, fmax_hz, modes_s, order,
+             sequential_blocks=_DEFAULTS.sequential_blocks):
     """The analysis options, each of its type (TypeError naming it); their values are the
     library's to check."""
     o = _vibid._WatchOptions()
     o.reference_s = _real("reference_s", reference_s)
     o.block_s = _real("block_s", block_s)
     o.window_blocks = _integer("window_blocks", window_blocks)
+    o.sequential_blocks = _integer("sequential_blocks", sequential_blocks)
     o.false_alarm_per_hour = _real("false_alarm_per_hour", false_alarm_per_hour)
     o.fmax_hz = _real("fmax_hz", fmax_hz)
     o.modes_s = _real("modes_s", modes_s)
@@ -180,7 +198,8 @@ class WatchSession:
     before the first feed), then every ``block_s`` seconds completes a ``WatchBlock``. The options
     and their defaults are ``vibid watch``'s (``reference_s`` 1800, ``block_s`` 10,
     ``window_blocks`` 60, ``false_alarm_per_hour`` 0.01, ``fmax_hz`` 25, ``modes_s`` 120, ``order``
-    0: from the reference's modes); the library checks them (ValueError naming the option).
+    0: from the reference's modes, ``sequential_blocks`` 60: the sequential test's longest onset);
+    the library checks them (ValueError naming the option).
     ``board_threshold`` is the board's model-test threshold h, shown beside its statistic when the
     board's columns are fed."""
 
@@ -189,9 +208,10 @@ class WatchSession:
                  window_blocks: int = _DEFAULTS.window_blocks,
                  false_alarm_per_hour: float = _DEFAULTS.false_alarm_per_hour,
                  fmax_hz: float = _DEFAULTS.fmax_hz, modes_s: float = _DEFAULTS.modes_s,
-                 order: int = _DEFAULTS.order, board_threshold: Optional[float] = None):
+                 order: int = _DEFAULTS.order, board_threshold: Optional[float] = None,
+                 sequential_blocks: int = _DEFAULTS.sequential_blocks):
         o = _options(reference_s, block_s, window_blocks, false_alarm_per_hour, fmax_hz, modes_s,
-                     order)
+                     order, sequential_blocks)
         o.fs_hz = _real("fs_hz", fs_hz)
         o.channels = _integer("channels", channels)
         self._s = _vibid._WatchSession(o)
@@ -209,6 +229,7 @@ class WatchSession:
         o = self._o
         return {"fs_hz": o.fs_hz, "channels": o.channels, "reference_s": o.reference_s,
                 "block_s": o.block_s, "window_blocks": o.window_blocks,
+                "sequential_blocks": o.sequential_blocks,
                 "false_alarm_per_hour": o.false_alarm_per_hour, "fmax_hz": o.fmax_hz,
                 "modes_s": o.modes_s, "order": o.order}
 
@@ -383,7 +404,8 @@ def watch(source, fs_hz: Optional[float] = None, responses=None, reference=None,
           window_blocks: int = _DEFAULTS.window_blocks,
           false_alarm_per_hour: float = _DEFAULTS.false_alarm_per_hour,
           fmax_hz: float = _DEFAULTS.fmax_hz, modes_s: float = _DEFAULTS.modes_s,
-          order: int = _DEFAULTS.order, board_threshold: Optional[float] = None) -> Watch:
+          order: int = _DEFAULTS.order, board_threshold: Optional[float] = None,
+          sequential_blocks: int = _DEFAULTS.sequential_blocks) -> Watch:
     """The rig watched block by block (``vibid watch REC.csv``, the same options, defaults and
     blocks): ``source`` a recording (a ``vibid.Recording`` or a file as ``acquire`` writes it),
     or an array (channels, samples) at ``fs_hz``. A recording's watched columns are
@@ -404,7 +426,7 @@ def watch(source, fs_hz: Optional[float] = None, responses=None, reference=None,
                             reference_s=reference_s, block_s=block_s,
                             window_blocks=window_blocks,
                             false_alarm_per_hour=false_alarm_per_hour, fmax_hz=fmax_hz,
-                            modes_s=modes_s, order=order)
+                            modes_s=modes_s, order=order, sequential_blocks=sequential_blocks)
     if board_threshold is not None and board is None and not isinstance(
             source, (Recording, str, os.PathLike)):
         raise ValueError("board_threshold: the array's board columns are not given (board=...)")
@@ -437,7 +459,7 @@ def watch(source, fs_hz: Optional[float] = None, responses=None, reference=None,
     session = WatchSession(fs, len(columns), reference_s=reference_s, block_s=block_s,
                            window_blocks=window_blocks, false_alarm_per_hour=false_alarm_per_hour,
                            fmax_hz=fmax_hz, modes_s=modes_s, order=order,
-                           board_threshold=board_threshold)
+                           board_threshold=board_threshold, sequential_blocks=sequential_blocks)
     if reference is not None:
         if isinstance(reference, np.ndarray):
             ref = reference
@@ -544,7 +566,8 @@ def _board_watch(board, seconds: Optional[float] = None, rate_hz: float = 1000.0
                  block_s: float = _DEFAULTS.block_s, window_blocks: int = _DEFAULTS.window_blocks,
                  false_alarm_per_hour: float = _DEFAULTS.false_alarm_per_hour,
                  fmax_hz: float = _DEFAULTS.fmax_hz, modes_s: float = _DEFAULTS.modes_s,
-                 order: int = _DEFAULTS.order) -> LiveWatch:
+                 order: int = _DEFAULTS.order,
+                 sequential_blocks: int = _DEFAULTS.sequential_blocks) -> LiveWatch:
     from .board import _settings
     if seconds is not None and _real("seconds", seconds) <= 0.0:
         raise ValueError(f"seconds={seconds}: watch for a positive length, or seconds=None "
@@ -558,7 +581,7 @@ def _board_watch(board, seconds: Optional[float] = None, rate_hz: float = 1000.0
     ref = "" if reference is None else _input_path("reference", reference)
     path = "" if journal is None else _output_path("journal", journal)
     o = _options(reference_s, block_s, window_blocks, false_alarm_per_hour, fmax_hz, modes_s,
-                 order)
+                 order, sequential_blocks)
     w = LiveWatch(board._b.watch_start(s, scenario, params, _names("responses", responses),
                                        ref, o, path))
     board._watches.add(w)

@@ -19,6 +19,14 @@ struct CountBand {
     const double sd = (r.false_alarms_per_hour_high - r.false_alarms_per_hour_low) / 4.0 * hours;
     variance += r.false_alarms_per_hour_mean * hours + sd * sd;
   }
+  /// The sequential test's rates instead of the window's.
+  void AddSequential(const WatchReference& r, double hours) {
+    expected += r.sequential_false_alarms_per_hour_mean * hours;
+    const double sd =
+        (r.sequential_false_alarms_per_hour_high - r.sequential_false_alarms_per_hour_low) / 4.0 *
+        hours;
+    variance += r.sequential_false_alarms_per_hour_mean * hours + sd * sd;
+  }
   double Low() const { return expected - 3.3 * std::sqrt(variance); }
   double High() const { return expected + 3.3 * std::sqrt(variance); }
 };

@@ -27,6 +27,7 @@
 #include <nlohmann/json.hpp>
 
 #include "vibid/oma/accumulated_test.hpp"
+#include "vibid/oma/sequential_test.hpp"
 #include "vibid/oma/ssi_cov.hpp"
 #include "vibid/oma/subspace_test.hpp"
 
@@ -49,7 +50,11 @@ struct WatchOptions {
   double reference_s = 1800;  ///< The first seconds watched are the reference (unless one given).
   double block_s = 10.0;      ///< One tested block.
   int window_blocks = 60;     ///< Blocks whose residuals the accumulated test averages.
-  double false_alarm_per_hour = 0.01;  ///< Expected false alarms per hour of watching (both tests).
+  /// The sequential test's longest onset, in blocks (oma::SequentialTest's L; 1 … 720).
+  int sequential_blocks = 60;
+  /// False alarms per hour asked of each test (the window's and the sequential one's; the watch's
+  /// alarm is either's, so its own rate is at most their sum, each stated with the reference).
+  double false_alarm_per_hour = 0.01;
   double fmax_hz = 25.0;   ///< Top of the band analysed (above the highest mode watched).
   double modes_s = 120.0;  ///< Modes over the last modes_s seconds at each block; 0: none.
   int order = 0;           ///< Model order of the test (2 × modes); 0: from the reference's modes.
@@ -134,7 +139,14 @@ struct WatchBlock {
   int window_count = 0;  ///< Blocks in the window so far (the window is tested when full).
   int window_blocks = 0;
   bool window_alarm = false;
-  bool alarm = false;                     ///< This block completed a window that alarmed.
+  /// The sequential test (oma::SequentialTest): its statistic g, its threshold h, the onset k
+  /// that maximised g (the change's estimated start, blocks back), the blocks it holds, its alarm.
+  double sequential_statistic = 0.0;
+  double sequential_threshold = 0.0;
+  int sequential_onset_blocks = 0;
+  int sequential_blocks = 0;
+  bool sequential_alarm = false;
+  bool alarm = false;  ///< This block completed a window that alarmed, or the sequential test did.
   std::optional<double> first_alarm_t_s;  ///< When the first alarm came (kept from then on).
   std::optional<WatchMove> moved;
   /// The board's flag at the block's end; absent where the responses came without it.
@@ -167,6 +179,14 @@ struct WatchReference {
   /// length where it does, 0 where not even 8 times as long would.
   double advised_reference_s = 0.0;
   double advised_false_alarms_per_hour_low = 0.0;
+  /// The sequential test's threshold for this reference (oma::SequentialCalibration), the one an
+  /// exact reference would have, and the false alarms per hour this reference gives at it (95 %,
+  /// the latter the rate asked) and their mean over references.
+  double sequential_threshold = 0.0;
+  double sequential_exact_threshold = 0.0;
+  double sequential_false_alarms_per_hour_low = 0.0;
+  double sequential_false_alarms_per_hour_high = 0.0;
+  double sequential_false_alarms_per_hour_mean = 0.0;
   double analysis_ms = 0.0;
 };
 
@@ -219,6 +239,7 @@ class WatchSession {
   std::deque<Eigen::MatrixXd> recent_;  // the last blocks, for the modes
   std::unique_ptr<oma::SubspaceDetector> detector_;
   std::unique_ptr<oma::AccumulatedTest> window_;
+  std::unique_ptr<oma::SequentialTest> sequential_;
   WatchReference reference_;
   int blocks_ = 0;
   std::optional<double> first_alarm_t_s_;
@@ -229,7 +250,8 @@ class WatchSession {
 /// One block as a JSON object (a line of `vibid watch --json` and of its journal): t_s, block,
 /// modes [{omega_rad_s, zeta, ci95: {omega_rad_s, zeta}}], statistic, threshold, alarm,
 /// block_over, accumulated {statistic, threshold, blocks, window_blocks, tested (the window is
-/// full: this block tested it), alarm},
+/// full: this block tested it), alarm}, sequential {statistic, threshold, onset_blocks, blocks,
+/// alarm},
 /// first_alarm_t_s (null before), moved (null or {mode, quantity, significance, omega_ref_rad_s,
 /// omega_rad_s, change_rad_s, ci95_rad_s, relative, omega_significance, zeta {ref, now, change,
 /// ci95, significance}, shape {entry, change, ci95, significance, mac} (null without shapes)}),
@@ -249,7 +271,7 @@ nlohmann::json WatchOptionsJson(const WatchOptions& options);
 nlohmann::json WatchHeaderJson(const WatchSession& session);
 /// One line of text: time, modes (Hz, ζ %), T² against its threshold, the window's (a full
 /// window's statistic against its threshold; a partial one's count of blocks only: it is tested
-/// when full), what moved, the verdict.
+/// when full), the sequential test's g/h and onset k, what moved, the verdict.
 std::string WatchBlockText(const WatchBlock& block);
 
 }  // namespace vibid::workflow
