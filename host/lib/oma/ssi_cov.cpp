@@ -129,34 +129,81 @@ class SampleStateMatrices {
   Eigen::MatrixXd shifted_;  // O↑ᵀO↓ of the largest order
 };
 
-// PolesAtOrder for the interval samples, where only the poles near a mode of that order are
-// looked at: the eigenvalues of A alone (from its Hessenberg form, without the Schur form), and
-// the eigenvector of each pole within `reach` (relative frequency) of a target by inverse
-// iteration on that Hessenberg form, the same vector as the full eigensolver's up to its scale
-// (a shape is compared by MAC and scaled to an entry, so the scale does not matter), at a
-// fraction of the cost of every eigenvector.
-std::vector<RawPole> PolesNear(const SampleStateMatrices& states, int order, double fs_hz,
-                               double max_damping, double omega_max,
-                               const std::vector<double>& targets_rad_s, double reach) {
+// A pole of an interval sample near a mode: its frequency, damping and eigenvalue; its shape is
+// computed only when the match needs it.
+struct SamplePole {
+  double omega_rad_s;
+  double zeta;
+  std::complex<double> lambda;
+  double offset;  // relative frequency distance to the mode
+};
+
+// The pole of an interval sample taken for a mode.
+struct SampleMatch {
+  double omega_rad_s;
+  double zeta;
+  Eigen::VectorXcd shape;
+};
+
+// One interval sample's match of the modes of one order: the eigenvalues of A alone (from its
+// Hessenberg form, without the Schur form), and the pole nearest each mode in frequency and shape
+// (relative frequency distance plus 1 − MAC, below `reach`). A pole's distance is at least its
+// frequency offset, so the poles are tried in ascending offset and the search stops once the
+// offset alone exceeds the best distance: the shape (an eigenvector by inverse iteration on the
+// Hessenberg form, the same vector as the full eigensolver's up to its scale, which MAC and the
+// scaling to an entry ignore) is computed only for the poles that could still win — usually the
+// mode's own pole alone. `matched[m]` gets the pole of each mode m in `modes` (none if no pole is
+// within reach).
+void MatchModesAtOrder(const SampleStateMatrices& states, int order, double fs_hz,
+                       double max_damping, double omega_max, const std::vector<std::size_t>& modes,
+                       const std::vector<double>& targets_rad_s,
+                       const std::vector<Eigen::VectorXcd>& reference_shapes, double reach,
+                       std::vector<std::optional<SampleMatch>>& matched) {
   const Eigen::MatrixXd a = states.A(order);
-  const Eigen::MatrixXd c = states.C(order);
-  std::vector<RawPole> poles;
-  if (!a.allFinite()) return poles;  // a degenerate sample: no pole, as a failed eigensolver
+  if (!a.allFinite()) return;  // a degenerate sample: no pole, as a failed eigensolver
   const numerics::HessenbergEigen eig(a);
-  if (!eig.ok()) return poles;
+  if (!eig.ok()) return;
+  const Eigen::MatrixXd c = states.C(order);
+  std::vector<std::pair<std::complex<double>, Eigen::VectorXcd>> shapes;  // computed so far
+  auto shape_of = [&](std::complex<double> lambda) -> const Eigen::VectorXcd& {
+    for (const auto& [l, v] : shapes) {
+      if (l == lambda) return v;
+    }
+    shapes.emplace_back(lambda, c * eig.Eigenvector(lambda));
+    return shapes.back().second;
+  };
+  std::vector<SamplePole> poles;
   for (Eigen::Index k = 0; k < order; ++k) {
     const std::complex<double> lambda = eig.eigenvalues()(k);
     const std::optional<ModePole> p = VibrationPole(lambda, fs_hz, max_damping, omega_max);
-    if (!p) continue;
-    const double omega = p->omega_rad_s;
-    const double zeta = p->zeta;
-    bool near = false;
-    for (double t : targets_rad_s) near = near || std::fabs(omega - t) / t < reach;
-    if (!near) continue;
-    poles.push_back({omega, zeta, c * eig.Eigenvector(lambda)});
+    if (p) poles.push_back({p->omega_rad_s, p->zeta, lambda, 0.0});
   }
-  SortByFrequency(poles);
-  return poles;
+  for (std::size_t i = 0; i < modes.size(); ++i) {
+    const double target = targets_rad_s[i];
+    std::vector<SamplePole> near;
+    for (SamplePole p : poles) {
+      p.offset = std::fabs(p.omega_rad_s - target) / target;
+      if (p.offset < reach) near.push_back(p);
+    }
+    std::sort(near.begin(), near.end(), [](const SamplePole& x, const SamplePole& y) {
+      return x.offset < y.offset || (x.offset == y.offset && x.omega_rad_s < y.omega_rad_s);
+    });
+    const SamplePole* best = nullptr;
+    double best_d = reach;  // beyond this the pole is another mode or noise
+    for (const SamplePole& p : near) {
+      if (p.offset > best_d) break;  // its distance is at least its offset
+      const double dist = p.offset + 1.0 - Mac(shape_of(p.lambda), reference_shapes[i]);
+      // Ties go to the lower frequency, as a scan in ascending frequency would take them.
+      if (dist < best_d ||
+          (best != nullptr && dist == best_d && p.omega_rad_s < best->omega_rad_s)) {
+        best_d = dist;
+        best = &p;
+      }
+    }
+    if (best != nullptr) {
+      matched[modes[i]] = SampleMatch{best->omega_rad_s, best->zeta, shape_of(best->lambda)};
+    }
+  }
 }
 
 double Mpc(const Eigen::VectorXcd& phi) {
@@ -424,32 +471,25 @@ SsiCovResult SsiCov(Eigen::Ref<const Eigen::MatrixXd> y, const SsiCovOptions& op
     const Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> sample(gram);
     const Eigen::MatrixXd sample_u = sample.eigenvectors().rowwise().reverse();
     const SampleStateMatrices states(sample_u, mode_orders.back(), l);
+    std::vector<std::optional<SampleMatch>> matched(modes);
     for (int order : mode_orders) {
+      std::vector<std::size_t> at_order;
       std::vector<double> targets;
-      for (const OmaMode& m : result.modes) {
-        if (m.order == order) targets.push_back(m.omega_rad_s);
-      }
-      // A pole farther than this from its mode in frequency is never taken (best_d below).
-      const std::vector<RawPole> poles = PolesNear(states, order, plan.fs_hz, options.max_damping,
-                                                   omega_max * 1.2, targets, kMatchReach);
+      std::vector<Eigen::VectorXcd> shapes;
       for (std::size_t m = 0; m < modes; ++m) {
         if (result.modes[m].order != order) continue;
-        const RawPole* best = nullptr;
-        double best_d = kMatchReach;  // beyond this the pole is another mode or noise
-        for (const RawPole& p : poles) {
-          const double dist =
-              std::fabs(p.omega_rad_s - result.modes[m].omega_rad_s) / result.modes[m].omega_rad_s +
-              1.0 - Mac(p.shape, reference_shapes[m]);
-          if (dist < best_d) {
-            best_d = dist;
-            best = &p;
-          }
-        }
-        if (best == nullptr) continue;
-        omega_draws[m].push_back(best->omega_rad_s);
-        zeta_draws[m].push_back(best->zeta);
-        shape_draws[m].push_back(RealShape(best->shape, reference_entry[m]));
+        at_order.push_back(m);
+        targets.push_back(result.modes[m].omega_rad_s);
+        shapes.push_back(reference_shapes[m]);
       }
+      MatchModesAtOrder(states, order, plan.fs_hz, options.max_damping, omega_max * 1.2, at_order,
+                        targets, shapes, kMatchReach, matched);
+    }
+    for (std::size_t m = 0; m < modes; ++m) {
+      if (!matched[m]) continue;
+      omega_draws[m].push_back(matched[m]->omega_rad_s);
+      zeta_draws[m].push_back(matched[m]->zeta);
+      shape_draws[m].push_back(RealShape(matched[m]->shape, reference_entry[m]));
     }
   }
   const double t95 = numerics::StudentTQuantile(0.975, options.blocks - 1);
