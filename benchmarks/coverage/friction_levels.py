@@ -97,6 +97,17 @@ def inside(ci, value) -> bool:
     return abs(value - mid) <= SLACK * half
 
 
+def modes_and_identify(vibid: str, rec: str, names: list[str], nom: str, d: str):
+    """`vibid modes --json` and `vibid identify` (its report in d) on one recording."""
+    modes = subprocess.run([vibid, "modes", rec, "--force", "force1_n", "--response",
+                            ",".join(names), "--json"], capture_output=True, text=True)
+    identify = subprocess.run([vibid, "identify", "--nominal", nom, "--modal-test", rec,
+                               "--modal-responses", ",".join(names), "-o",
+                               os.path.join(d, "out.json"), "--report", d],
+                              capture_output=True, text=True)
+    return modes, identify
+
+
 def check_level(vibid: str, chain, nominal, friction_n: float, d: str) -> list[str]:
     """Problems found at this level (empty: right or named), with one line printed per
     quantity."""
@@ -106,12 +117,7 @@ def check_level(vibid: str, chain, nominal, friction_n: float, d: str) -> list[s
     chain_sim.write_model(nom, nominal)
     problems = []
     label = f"{chain.n}-mass, {1000 * friction_n:g} mN"
-    modes = subprocess.run([vibid, "modes", rec, "--force", "force1_n", "--response",
-                            ",".join(names), "--json"], capture_output=True, text=True)
-    identify = subprocess.run([vibid, "identify", "--nominal", nom, "--modal-test", rec,
-                               "--modal-responses", ",".join(names), "-o",
-                               os.path.join(d, "out.json"), "--report", d],
-                              capture_output=True, text=True)
+    modes, identify = modes_and_identify(vibid, rec, names, nom, d)
     if friction_n >= HEAVY_N:
         text = modes.stderr + modes.stdout
         named = "dry friction" in text
@@ -182,11 +188,11 @@ def seed_records(chain: chain_sim.Chain, friction_n: float, seeds, cache: str) -
     `cache` does not hold them yet."""
     paths = [os.path.join(cache, f"{chain.n}mass_{1000 * friction_n:g}mN_seed{s}.csv")
              for s in seeds]
-    todo = [(s, p) for s, p in zip(seeds, paths) if not os.path.exists(p)]
+    pending = [(s, p) for s, p in zip(seeds, paths) if not os.path.exists(p)]
     names = [f"acc{j + 1}_m_s2" for j in range(chain.n)]
     # Batches of 20 seeds keep the fine-rate state within a few hundred MB.
-    for b in range(0, len(todo), 20):
-        part = todo[b:b + 20]
+    for b in range(0, len(pending), 20):
+        part = pending[b:b + 20]
         specs = [chain_sim.HammerSpec(hammer_mass=chain.n, fs_hz=500.0, hits=5,
                                       spacing_min_s=11.5, spacing_max_s=12.5, peak_n=100.0,
                                       noise=0.005, friction_n=friction_n, seed=s)
@@ -205,12 +211,7 @@ def run_seed(vibid: str, chain, nominal, rec: str, seed: int) -> dict:
     with tempfile.TemporaryDirectory(prefix="vibid-friction-") as d:
         nom = os.path.join(d, "nominal.json")
         chain_sim.write_model(nom, nominal)
-        modes = subprocess.run([vibid, "modes", rec, "--force", "force1_n", "--response",
-                                ",".join(names), "--json"], capture_output=True, text=True)
-        identify = subprocess.run([vibid, "identify", "--nominal", nom, "--modal-test", rec,
-                                   "--modal-responses", ",".join(names), "-o",
-                                   os.path.join(d, "out.json"), "--report", d],
-                                  capture_output=True, text=True)
+        modes, identify = modes_and_identify(vibid, rec, names, nom, d)
         rep = None
         if identify.returncode == 0:
             with open(os.path.join(d, "report.json")) as fh:

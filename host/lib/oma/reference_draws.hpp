@@ -5,10 +5,13 @@
 // on every standard library.
 #pragma once
 
+#include <algorithm>
 #include <cmath>
+#include <cstddef>
 #include <cstdint>
 #include <numbers>
 #include <random>
+#include <vector>
 
 #include <Eigen/Core>
 #include <Eigen/Eigenvalues>
@@ -66,6 +69,14 @@ inline ReferenceError DrawReferenceError(Variates& v, int p, int m) {
   for (int i = 0; i < p; ++i) e(i) = v.Normal() / std::sqrt(static_cast<double>(m));
   const Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> eig(s);
   return {eig.eigenvalues(), eig.eigenvectors().transpose() * e};
+}
+
+// The q point of the references' figures (nearest rank): where both calibrations read their
+// 97.5 % point and their band's ends.
+inline double Quantile(std::vector<double> x, double q) {
+  std::sort(x.begin(), x.end());
+  const auto i = static_cast<std::size_t>(std::lround(q * static_cast<double>(x.size() - 1)));
+  return x[i];
 }
 
 }  // namespace vibid::oma::detail

@@ -176,12 +176,6 @@ double SolveDecreasing(const std::function<double(double)>& f, double h0) {
   return 0.5 * (lo + hi);
 }
 
-double Quantile(std::vector<double> x, double q) {
-  std::sort(x.begin(), x.end());
-  const auto i = static_cast<std::size_t>(std::lround(q * static_cast<double>(x.size() - 1)));
-  return x[i];
-}
-
 double CrossingConstant(int p, int m, int max_blocks, double* fit_rate, double* fit_h) {
   static std::mutex mutex;
   static std::map<std::tuple<int, int, int>, std::tuple<double, double, double>> done;
@@ -228,18 +222,18 @@ SequentialCalibration Calibrate(int p, int m, int max_blocks, double false_alarm
     }
   };
   rates_at(out.exact_threshold);
-  out.exact_low = Quantile(rates, 0.025);
-  out.exact_high = Quantile(rates, 0.975);
+  out.exact_low = detail::Quantile(rates, 0.025);
+  out.exact_high = detail::Quantile(rates, 0.975);
   // The 97.5 % point of the references' rates falls with h: h where it is the rate asked.
   out.threshold = SolveDecreasing(
       [&](double h) {
         rates_at(h);
-        return std::log(Quantile(rates, 0.975) / false_alarm);
+        return std::log(detail::Quantile(rates, 0.975) / false_alarm);
       },
       out.exact_threshold);
   rates_at(out.threshold);
-  out.low = Quantile(rates, 0.025);
-  out.high = Quantile(rates, 0.975);
+  out.low = detail::Quantile(rates, 0.025);
+  out.high = detail::Quantile(rates, 0.975);
   double sum = 0.0;
   for (double r : rates) sum += r;
   out.mean = sum / static_cast<double>(rates.size());

@@ -54,12 +54,6 @@ double ThresholdOf(const Draw& d, double alpha, double lo, double hi) {
   return std::sqrt(lo * hi);
 }
 
-double Quantile(std::vector<double> x, double q) {
-  std::sort(x.begin(), x.end());
-  const auto i = static_cast<std::size_t>(std::lround(q * static_cast<double>(x.size() - 1)));
-  return x[i];
-}
-
 struct Band {
   double low = 0.0;
   double high = 0.0;
@@ -74,7 +68,8 @@ Band BandAt(const std::vector<Draw>& draws, double h) {
     prob.push_back(numerics::QuadraticFormTail(d.weights, d.noncentrality, h));
     sum += prob.back();
   }
-  return {Quantile(prob, 0.025), Quantile(prob, 0.975), sum / static_cast<double>(draws.size())};
+  return {detail::Quantile(prob, 0.025), detail::Quantile(prob, 0.975),
+          sum / static_cast<double>(draws.size())};
 }
 
 WindowCalibration Calibrate(int p, int m, int window, double false_alarm) {
@@ -89,7 +84,7 @@ WindowCalibration Calibrate(int p, int m, int window, double false_alarm) {
   for (const Draw& d : draws) {
     own.push_back(ThresholdOf(d, false_alarm, 0.5 * out.f_threshold, 2.0 * out.f_threshold));
   }
-  out.threshold = Quantile(own, 0.975);
+  out.threshold = detail::Quantile(own, 0.975);
   const Band at = BandAt(draws, out.threshold);
   out.low = at.low;
   out.high = at.high;
