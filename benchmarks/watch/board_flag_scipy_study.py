@@ -114,6 +114,13 @@ class Rig:
         self.aa_zi = np.zeros((2, self.aa_sos.shape[0], 2))
         self.t_s = 0.0
 
+    def rest(self):
+        """The rig stopped and started again from rest (the force's filter too), as the
+        emulator starts its rig at each acquisition."""
+        self.z[:] = 0.0
+        self.force_zi[:] = 0.0
+        self.aa_zi[:] = 0.0
+
     def change_mass(self, index, factor):
         """The mass changes at this instant; positions and velocities carry over."""
         x = (self.v @ self.z).real
@@ -331,7 +338,11 @@ def delay_study(a, vibid, work):
         day = calibration_day(vibid, files, rig, a.day_s, work)
         k = build_test(vibid, files, day, DEFAULT_RATE, os.path.join(work, "cal.json"))
         hs.append(k.p["h_q16"] / 65536.0)
-        # The observer starts with the run (from rest), as after `vibid dob start`.
+        # The observer starts with the run (from rest), as after `vibid dob start`, and the
+        # board's test with it; the rig starts from rest too (as the emulator's does at each
+        # acquisition) unless --moving-start: then the observer starts on a rig in motion.
+        if not a.moving_start:
+            rig.rest()
         d_hat = recorded_d_hat(vibid, files, rig, a.run_s, work, step_at_s=STEP_AT_S)
         k.feed(d_hat)
         if k.first_trip_window is None:
@@ -376,6 +387,9 @@ def main():
                     help="seconds left out at the run's start (the observer's start)")
     ap.add_argument("--delay", action="store_true", help="the 3 %% mass step's delay instead")
     ap.add_argument("--run-s", type=float, default=1800.0, help="the step's run (--delay)")
+    ap.add_argument("--moving-start", action="store_true",
+                    help="--delay: the run goes on from the day, the observer starting on a "
+                         "moving rig (default: the rig starts from rest)")
     a = ap.parse_args()
     if os.environ.get("VIBID_BENCH_SMOKE") == "1":
         a.seeds, a.day_s, a.hours, a.run_s, a.rates = 1, 120.0, 120.0 / 3600.0, 700.0, "60"
