@@ -176,6 +176,8 @@ void Run(const BuildArgs& a) {
   const std::string crc = CrcText(wire::StoredRecordCrc(bytes));
   if (EndsWith(a.out, ".json")) {
     nlohmann::json j = device::RecordJson(rec);
+    j["slot"] = nullptr;
+    j["sequence"] = nullptr;
     j["crc32"] = crc;
     WriteJsonFile(a.out, j);
   } else {
