@@ -5,7 +5,7 @@
 // log's model columns stay clear before the step and turn stale after it within a bound on the
 // delay, `vibid info --json` says when it tripped; on the unchanged rig the flag's trips, counted
 // with the board's kernel restarted after each, are the stated rate's count within its two-sided
-// Poisson band.
+// Poisson band; and the same test built from the same day without a board (`cal build`).
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -114,6 +114,44 @@ TEST_F(ModelStaleTest, TheBuiltInThreePercentStepTripsTheBoardsFlag) {
   // The log's rows keep the trip's time to within a record (5 ms at 200 Hz).
   EXPECT_GE(t(first), m["tripped_at_s"].get<double>()) << m.dump();
   EXPECT_LT(t(first), m["tripped_at_s"].get<double>() + 0.005) << m.dump();
+}
+
+// `vibid cal build` builds the same test from the same calibration day without a board: the
+// record file's kernel parameters (read back by `cal show --record`, and in the JSON file) are
+// the ones the board holds after `cal upload --watch-day`, its observer and channels too, and it
+// prints the same design line.
+TEST_F(ModelStaleTest, AnOfflineBuildFromTheSameDayGivesTheBoardsTest) {
+  Calibrate(std::string(VIBID_SOURCE_DIR) + "/host/emulator/rigs/chain2_mass_step.json", 120.0,
+            "60");
+  const std::string sensors = std::string(VIBID_SOURCE_DIR) + "/examples/sensors.json";
+  const std::vector<std::string> build = {
+      "cal",       "build", dir + "/truth.json", "--design",       dir + "/design.json",
+      "--sensors", sensors, "--watch-day",       dir + "/day.csv", "--watch-false-alarms-per-hour",
+      "60",        "-o"};
+  auto to_bin = build, to_json = build;
+  to_bin.push_back(dir + "/cal.bin");
+  to_json.push_back(dir + "/cal.json");
+  const auto bin = RunVibid(to_bin);
+  ASSERT_EQ(bin.exit_code, 0) << bin.err;
+  ASSERT_EQ(RunVibid(to_json).exit_code, 0);
+  const auto first_line = [](const std::string& s) { return s.substr(0, s.find('\n')); };
+  EXPECT_EQ(first_line(bin.out), first_line(design_text));
+  EXPECT_NE(first_line(bin.out).find("false alarms per hour (95 %"), std::string::npos) << bin.out;
+
+  const auto board = Vibid({"cal", "show", "--json"});
+  ASSERT_EQ(board.exit_code, 0) << board.err;
+  const auto file = RunVibid({"cal", "show", "--record", dir + "/cal.bin", "--json"});
+  ASSERT_EQ(file.exit_code, 0) << file.err;
+  const nlohmann::json on_board = nlohmann::json::parse(board.out);
+  const nlohmann::json from_bin = nlohmann::json::parse(file.out);
+  nlohmann::json from_json;
+  std::ifstream(dir + "/cal.json") >> from_json;
+  ASSERT_TRUE(on_board["model_test"].is_object()) << board.out;
+  for (const char* key : {"model_test", "observer", "channels", "M", "C", "K", "label"}) {
+    EXPECT_EQ(from_bin[key], on_board[key]) << key;
+    EXPECT_EQ(from_json[key], on_board[key]) << key;
+  }
+  EXPECT_TRUE(from_bin["slot"].is_null());
 }
 
 // `vibid watch` on the board with the test running: every block carries the board's flag as the

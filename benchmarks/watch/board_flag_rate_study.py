@@ -32,7 +32,6 @@ path end to end, its figures not meaningful.
 """
 import argparse
 import json
-import math
 import os
 import re
 import subprocess
@@ -41,70 +40,10 @@ import tempfile
 
 import numpy as np
 
+from board_kernel import Kernel, poisson_band, run
 from emulator_port import emulator_port
 
 ROOT = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
-I32_MAX = 0x7FFFFFFF
-
-
-def run(cmd):
-    r = subprocess.run(cmd, capture_output=True, text=True)
-    if r.returncode != 0:
-        raise RuntimeError(f"{' '.join(cmd)}: exit {r.returncode}\n{r.stderr}")
-    return r.stdout
-
-
-def poisson_band(mean, level=0.95):
-    """The central `level` interval [lo, hi] of a Poisson count of this mean (exact quantiles)."""
-    tail = (1.0 - level) / 2.0
-    cdf, k, p = 0.0, 0, math.exp(-mean)
-    lo = None
-    while True:
-        cdf += p
-        if lo is None and cdf > tail:
-            lo = k
-        if cdf >= 1.0 - tail:
-            return lo, k
-        k += 1
-        p *= mean / k
-
-
-class Kernel:
-    """fixed::ResidualCusum (shared/fixed/residual_cusum.cpp) on int64, restarted after a trip."""
-
-    def __init__(self, p):
-        self.p = p
-        self.tail = np.zeros(0, dtype=np.int64)  # a window's first samples left by the last chunk
-        self.g = 0
-        self.trips = 0
-        self.windows = 0
-        self.board_g = []  # g before the first restart, for the check against the board's log
-
-    def restart(self):
-        """A new acquisition: the board's test starts from rest (an empty window, g = 0)."""
-        self.tail = np.zeros(0, dtype=np.int64)
-        self.g = 0
-
-    def feed(self, d_hat):
-        p = self.p
-        w = p["window_samples"]
-        d = np.concatenate([self.tail, d_hat.astype(np.int64)])
-        n = len(d) // w
-        self.tail = d[n * w:]
-        acc = d[:n * w] * p["residual_gain"] + (1 << 31)
-        r = np.clip(acc >> 32, -(1 << 23), (1 << 23) - 1)
-        sums = (r * r).reshape(n, w).sum(axis=1)
-        e = np.clip((sums >> p["sum_shift"]) - p["center"], -I32_MAX, I32_MAX)
-        half = 1 << (p["z_shift"] - 1) if p["z_shift"] > 0 else 0
-        for x in e.tolist():
-            z = min(max((x * p["z_gain"] + half) >> p["z_shift"], -I32_MAX - 1), I32_MAX)
-            self.g = min(max(0, self.g + z - p["k_q16"]), 1 << 30)
-            self.windows += 1
-            if self.trips == 0:
-                self.board_g.append(self.g)
-            if self.g > p["h_q16"]:
-                self.trips += 1
-                self.g = 0
 
 
 def read_log(path):

@@ -1,8 +1,10 @@
-// vibid cal upload | show | commit
+// vibid cal upload | build | show | commit
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <fstream>
 #include <iostream>
+#include <iterator>
 #include <optional>
 #include <sstream>
 
@@ -42,10 +44,13 @@ nlohmann::json RecordJson(const wire::CalibrationRecord& r, const wire::CalGetTr
 
 std::string FormatRecord(const nlohmann::json& j) {
   std::ostringstream o;
-  o << "record    '" << j["label"].get<std::string>() << "', slot " << j["slot"].get<int>()
-    << ", sequence " << j["sequence"].get<std::uint32_t>() << ", crc "
-    << j["crc32"].get<std::string>() << ", built by host " << j["host_version"].get<std::string>()
-    << "\n";
+  o << "record    '" << j["label"].get<std::string>() << "', ";
+  if (j["slot"].is_null())
+    o << "not on a board";  // a record file of `cal build`
+  else
+    o << "slot " << j["slot"].get<int>() << ", sequence " << j["sequence"].get<std::uint32_t>();
+  o << ", crc " << j["crc32"].get<std::string>() << ", built by host "
+    << j["host_version"].get<std::string>() << "\n";
   for (const char* m : {"M", "C", "K"}) o << m << "         " << j[m].dump() << "\n";
   for (const auto& [name, c] : j["channels"].items()) {
     o << "sensor    " << name << ": " << c["counts_per_unit"].get<double>() << " counts/"
@@ -91,7 +96,9 @@ device::UploadFiles Files(const UploadArgs& a) {
           .accept_flagged = a.accept_flagged};
 }
 
-void Run(const UploadArgs& a) {
+// The record's inputs read, the model's verdict said, the calibration day read: all before a
+// board is asked anything, so that a bad file costs nothing.
+device::RecordInputs ReadInputs(const UploadArgs& a, std::optional<Recording>& day) {
   Verdict verdict;
   device::RecordInputs in = device::ReadRecordInputs(Files(a), VIBID_VERSION, &verdict);
   if (verdict.Flagged())
@@ -99,31 +106,89 @@ void Run(const UploadArgs& a) {
               << " is flagged and taken (--accept-flagged): " << FormatVerdict(verdict) << "\n";
   else if (verdict.level == VerdictLevel::kCaution)
     std::cerr << "vibid: note: " << a.model << ": " << FormatVerdict(verdict) << "\n";
-  // Read before the board is asked anything: a bad recording costs nothing.
-  std::optional<Recording> day;
   if (!a.watch_day.empty()) day = LoadRecording(a.watch_day);
+  return in;
+}
+
+// The record from its inputs, with the model test when a calibration day is given (its design
+// line printed): one path for the board's staging and the offline build, so both give the same
+// kernel parameters from the same day.
+std::array<std::uint8_t, wire::kCalRecordBytes> EncodedRecord(const UploadArgs& a,
+                                                              const device::RecordInputs& in,
+                                                              const std::optional<Recording>& day,
+                                                              wire::CalibrationRecord& rec) {
+  rec = device::BuildCalibrationRecord(in);
+  if (day) {
+    const dob::WatchDesign design = device::AttachWatchTest(rec, *day, a.watch, a.watch_day);
+    std::cout << device::WatchDesignText(design) << "\n";
+  }
+  std::array<std::uint8_t, wire::kCalRecordBytes> bytes{};
+  wire::EncodeCalibrationRecord(rec, bytes);
+  return bytes;
+}
+
+std::string CrcText(std::uint32_t crc) {
+  char text[11];
+  std::snprintf(text, sizeof(text), "0x%08x", crc);
+  return text;
+}
+
+void Run(const UploadArgs& a) {
+  std::optional<Recording> day;
+  device::RecordInputs in = ReadInputs(a, day);
   WithDevice(*a.globals, [&](device::Connection& c) {
     if (a.sensors.empty()) {
       bool has_record = false;
       const wire::CalibrationRecord old = device::ActiveRecord(c, has_record);
       device::KeepBoardSensors(in, has_record ? &old : nullptr);
     }
-    wire::CalibrationRecord rec = device::BuildCalibrationRecord(in);
-    if (day) {
-      const dob::WatchDesign design = device::AttachWatchTest(rec, *day, a.watch, a.watch_day);
-      std::cout << device::WatchDesignText(design) << "\n";
-    }
-    std::array<std::uint8_t, wire::kCalRecordBytes> bytes{};
-    wire::EncodeCalibrationRecord(rec, bytes);
+    wire::CalibrationRecord rec;
+    const auto bytes = EncodedRecord(a, in, day, rec);
     {
       ProgressBar bar("cal upload");
       c.CalPut(bytes, bar.Callback());
     }
-    char crc[11];
-    std::snprintf(crc, sizeof(crc), "0x%08x", wire::StoredRecordCrc(bytes));
     std::cout << "staged calibration '" << in.label << "' (" << bytes.size() << " bytes, crc "
-              << crc << "); `vibid cal commit` writes it to flash\n";
+              << CrcText(wire::StoredRecordCrc(bytes))
+              << "); `vibid cal commit` writes it to flash\n";
   });
+}
+
+constexpr const char* kBuildHelp =
+    "Build a calibration record into a file, without a board (what upload would stage)";
+
+struct BuildArgs {
+  UploadArgs upload;
+  std::string out;
+};
+
+bool EndsWith(const std::string& s, const std::string& tail) {
+  return s.size() >= tail.size() && s.compare(s.size() - tail.size(), tail.size(), tail) == 0;
+}
+
+// The record file: JSON as `cal show --json` prints it (the CRC the stored bytes carry, no slot or
+// sequence: no board has taken it) when the name ends in .json, the record's bytes otherwise.
+void Run(const BuildArgs& a) {
+  std::optional<Recording> day;
+  const device::RecordInputs in = ReadInputs(a.upload, day);
+  wire::CalibrationRecord rec;
+  const auto bytes = EncodedRecord(a.upload, in, day, rec);
+  const std::string crc = CrcText(wire::StoredRecordCrc(bytes));
+  if (EndsWith(a.out, ".json")) {
+    nlohmann::json j = device::RecordJson(rec);
+    j["slot"] = nullptr;
+    j["sequence"] = nullptr;
+    j["crc32"] = crc;
+    WriteJsonFile(a.out, j);
+  } else {
+    std::ofstream f(a.out, std::ios::binary | std::ios::trunc);
+    f.write(reinterpret_cast<const char*>(bytes.data()),
+            static_cast<std::streamsize>(bytes.size()));
+    f.close();
+    if (!f) throw InputError(a.out + ": cannot write the record");
+  }
+  std::cout << "built calibration '" << in.label << "' (" << bytes.size() << " bytes, crc " << crc
+            << ") into " << a.out << "\n";
 }
 
 constexpr const char* kShowHelp = "Print the board's active calibration record";
@@ -131,9 +196,35 @@ constexpr const char* kShowHelp = "Print the board's active calibration record";
 struct ShowArgs {
   const GlobalOptions* globals = nullptr;
   bool json = false;
+  std::string record;
 };
 
+// A record file of `cal build`: decoded as the board decodes its own, shown without slot or
+// sequence (no board has taken it).
+void ShowFile(const ShowArgs& a) {
+  std::ifstream f(a.record, std::ios::binary);
+  if (!f) throw InputError(a.record + ": cannot read the record file");
+  const std::vector<std::uint8_t> bytes((std::istreambuf_iterator<char>(f)),
+                                        std::istreambuf_iterator<char>());
+  wire::CalibrationRecord r;
+  const Status st = wire::DecodeCalibrationRecord(bytes, r);
+  if (st != Status::kOk || bytes.size() != wire::kCalRecordBytes)
+    throw InputError(a.record + ": not a calibration record of this host (" +
+                     std::to_string(bytes.size()) + " bytes; `vibid cal build -o FILE.bin` " +
+                     "writes one of " + std::to_string(wire::kCalRecordBytes) + ")");
+  nlohmann::json j = device::RecordJson(r);
+  j["slot"] = nullptr;
+  j["sequence"] = nullptr;
+  j["crc32"] = CrcText(wire::StoredRecordCrc(
+      std::span<const std::uint8_t, wire::kCalRecordBytes>(bytes.data(), bytes.size())));
+  std::cout << (a.json ? j.dump(2) + "\n" : FormatRecord(j));
+}
+
 void Run(const ShowArgs& a) {
+  if (!a.record.empty()) {
+    ShowFile(a);
+    return;
+  }
   WithDevice(*a.globals, [&](device::Connection& c) {
     if (c.info().cal_state != wire::CalState::kCalibrated) {
       std::cout << (a.json ? "null\n" : "uncalibrated: raw counts, no observer\n");
@@ -199,10 +290,40 @@ void RegisterCalCommands(CLI::App& app, const GlobalOptions& globals) {
                    "force2): the test watches d_hat minus it (default: d_hat alone)")
       ->needs(day);
 
+  const auto [build, bo] = AddCommand<BuildArgs>(*cal, "build", kBuildHelp, Run);
+  build->add_option("model", bo->upload.model, "Model file (M, C, K) of the rig")->required();
+  build->add_option("--design", bo->upload.design, "Observer design file from `vibid dob design`")
+      ->required();
+  build->add_option("--sensors", bo->upload.sensors, "Sensors file")->required();
+  build->add_option("--label", bo->upload.label,
+                    "Rig name stored in the record (default: the model file's name)");
+  build->add_flag("--accept-flagged", bo->upload.accept_flagged,
+                  "Build from a model whose verdict is flagged (refused otherwise, exit 6)");
+  CLI::Option* build_day = build->add_option(
+      "--watch-day", bo->upload.watch_day,
+      "Calibration-day recording (as for cal upload): builds the board's model test into the "
+      "record");
+  build
+      ->add_option("--watch-false-alarms-per-hour", bo->upload.watch.false_alarms_per_hour,
+                   "The model test's false alarms per hour of in-control running (default 0.001)")
+      ->needs(build_day);
+  build
+      ->add_option("--watch-reference", bo->upload.watch.reference,
+                   "Load cell measuring the force where the observer estimates it (force1 or "
+                   "force2)")
+      ->needs(build_day);
+  build
+      ->add_option("-o,--output", bo->out,
+                   "Record file: NAME.json as `cal show --json` prints it, else the record's bytes "
+                   "(read back by `cal show --record`)")
+      ->required();
+
   const auto [show, show_args] = AddCommand<ShowArgs>(*cal, "show", kShowHelp, Run);
   show_args->globals = &globals;
   TakesDeviceOption(show);
   show->add_flag("--json", show_args->json, "Print JSON");
+  show->add_option("--record", show_args->record,
+                   "A record file from `vibid cal build -o FILE.bin` instead of the board's");
 
   const auto [commit, commit_args] = AddCommand<CommitArgs>(*cal, "commit", kCommitHelp, Run);
   commit_args->globals = &globals;
