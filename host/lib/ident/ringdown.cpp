@@ -254,15 +254,14 @@ std::array<double, 2> TInterval(const MeanSd& s, std::size_t n) {
 
 namespace {
 
-// The check of every mode, and per mode the friction term 2 r / (sigma A0) a modal friction force
-// of 1 N would put into its ring-downs (1/N; r = 2 F_q / (pi omega) in the displacement, sigma =
-// zeta omega from the FRF, A0 the fitted envelope at the ring-down's start, mean over the hits; 0
-// when not read): friction found on another mode of the record gives this mode's term through it.
+// The check of every mode, and per mode the envelope's start in the modal displacement (the
+// fitted envelope at the ring-down's start, mean over the hits; 0 when not read), which sizes the
+// friction another mode's force puts into this one's ring-downs.
 std::vector<AmplitudeDamping> CheckModes(const RingDowns& ringdowns,
                                          const std::vector<ModeEstimate>& modes,
                                          const RingDownOptions& options,
-                                         std::vector<double>& bias_per_modal_n) {
-  bias_per_modal_n.assign(modes.size(), 0.0);
+                                         std::vector<double>& start_disp) {
+  start_disp.assign(modes.size(), 0.0);
   std::vector<AmplitudeDamping> out(modes.size());
   if (modes.empty()) return out;
   if (ringdowns.hits.empty()) {
@@ -414,11 +413,8 @@ std::vector<AmplitudeDamping> CheckModes(const RingDowns& ringdowns,
     r.modal_friction_ci95 = {rci[0] * to_force, rci[1] * to_force};
     r.friction_per_mass_n =
         m.shape.cwiseAbs().sum() > 0.0 ? r.modal_friction_n / m.shape.cwiseAbs().sum() : kNaN;
-    // The term 2 b / a = 2 r / (sigma A0) a modal friction force F_q gives this mode (b = r /
-    // sigma for dA/dt = -sigma A - r), per newton: r = F_q / to_force in the sensor's units.
     const double start_amplitude = Stats(starts).mean;
-    if (zeta > 0.0 && start_amplitude > 0.0)
-      bias_per_modal_n[i] = 2.0 / (to_force * zeta * omega * start_amplitude);
+    if (start_amplitude > 0.0) start_disp[i] = start_amplitude / per_disp;
     const bool grows = r.zeta_late >= options.min_late_over_early * r.zeta_early;
     // One ring-down has no scatter to test the friction rate against: it is reported, not
     // flagged (on the LADISK beam's one hit, two of six modes passed the factor alone).
@@ -495,19 +491,57 @@ void WithholdIntervals(ModeEstimate& m) {
 // Friction found on one mode (the amplitude rule, so that its force is read) acts on every mode
 // of the record: a mode whose own ring-downs are too short to show it (2-mass rig, 20 mN per
 // mass: mode 2 rings for about a second, its FRF zeta 2.2 % high with an interval of +- 1 %)
-// gets the term friction of that force puts into its ring-downs, tau = F sum_j |phi_j| times its
-// term per modal newton (CheckModes; the force per mass the upper end of the found mode's interval,
-// the same on every mass). A one-pole fit to the spectrum of a ring-down whose envelope falls as a
-// e^(-sigma t) - b puts 2 to 4.1 such terms into zeta (friction_fit_bias.py: fits over 5 to 1
-// half-power half-widths), so zeta's interval reaches down kFrictionTerms terms below its value,
-// and omega's as far as the undamped frequency moves with zeta at a fixed damped one. Where that
-// reaches half of zeta, the FRF's zeta says little of the viscous damping: withheld.
-void BoundFrictionOnOtherModes(const std::vector<double>& bias_per_modal_n,
+// gets a bound on the damping that force adds. Mass j's friction F sgn(v_j) acts on mode k as
+// Den Hartog's equivalent viscous damping of a relay, phi_jk^2 4 F / (pi V), V the velocity
+// amplitude: mode k's own at mass j when it moves the mass alone, and no more than with the
+// larger of its own and the found mode's amplitude when both do (the relay's two-sinusoid
+// describing function gives the smaller sinusoid 2 / (pi V) to 8 / (pi^2 V) of the larger V).
+// Over mode k's decay (to 2 %, weighed by A^2 as an FRF weighs it; the found mode's envelope
+// (A_f + b) e^(-sigma t) - b with its viscous sigma and friction offset b), relative to zeta_k,
+// that is tau. A one-pole fit to the spectrum of a ring-down whose friction term is tau puts 2 to
+// 4.1 such terms into zeta (friction_fit_bias.py: fits over 5 to 1 half-power half-widths; a
+// viscous-like added damping, 1), so zeta's interval reaches down kFrictionTerms terms below its
+// value, and omega's as far as the undamped frequency moves with zeta at a fixed damped one.
+// Where that reaches half of zeta, the FRF's zeta says little of the viscous damping: withheld.
+// F is the upper end of the found mode's interval per mass, the same on every mass.
+double FrictionTerm(const ModeEstimate& k, double start_k, const ModeEstimate& f, double start_f,
+                    double force_n) {
+  const double sigma_k = k.zeta * k.omega_rad_s;
+  const double sigma_f = f.amplitude.zeta_viscous * f.omega_rad_s;
+  if (!(sigma_k > 0.0) || !(start_k > 0.0) || k.shape.size() != f.shape.size()) return 0.0;
+  const double rate_f =
+      2.0 * force_n * f.shape.cwiseAbs().sum() / (std::numbers::pi * f.omega_rad_s);
+  const double offset_f = sigma_f > 0.0 ? rate_f / sigma_f : 0.0;
+  const double end_s = std::log(1.0 / 0.02) / sigma_k;
+  constexpr int kSteps = 400;
+  double num = 0.0;
+  double den = 0.0;
+  for (int s = 0; s <= kSteps; ++s) {
+    const double t = end_s * s / kSteps;
+    const double w = std::exp(-2.0 * sigma_k * t) * (s == 0 || s == kSteps ? 0.5 : 1.0);
+    const double amp_k = start_k * std::exp(-sigma_k * t);
+    const double amp_f =
+        start_f > 0.0 ? std::max(0.0, (start_f + offset_f) * std::exp(-sigma_f * t) - offset_f)
+                      : 0.0;
+    double c = 0.0;
+    for (Eigen::Index j = 0; j < k.shape.size(); ++j) {
+      const double v = std::max(std::abs(k.shape[j]) * k.omega_rad_s * amp_k,
+                                std::abs(f.shape[j]) * f.omega_rad_s * amp_f);
+      if (v > 0.0) c += k.shape[j] * k.shape[j] * 4.0 * force_n / (std::numbers::pi * v);
+    }
+    num += w * c / (2.0 * k.omega_rad_s);
+    den += w;
+  }
+  return den > 0.0 ? num / den / k.zeta : 0.0;
+}
+
+void BoundFrictionOnOtherModes(const std::vector<double>& start_disp,
                                ModeIdentification& identification) {
   std::vector<ModeEstimate>& modes = identification.modes;
   double force_n = 0.0;
-  double found_hz = 0.0;
-  for (const ModeEstimate& m : modes) {
+  std::size_t found = modes.size();
+  for (std::size_t i = 0; i < modes.size(); ++i) {
+    const ModeEstimate& m = modes[i];
     const AmplitudeDamping& a = m.amplitude;
     if (!a.amplitude_dependent || a.stops_early || !(a.friction_per_mass_n > 0.0)) continue;
     const double sum = m.shape.cwiseAbs().sum();
@@ -516,16 +550,19 @@ void BoundFrictionOnOtherModes(const std::vector<double>& bias_per_modal_n,
                              : a.friction_per_mass_n;
     if (upper > force_n) {
       force_n = upper;
-      found_hz = m.freq_hz;
+      found = i;
     }
   }
-  if (!(force_n > 0.0)) return;
-  for (std::size_t i = 0; i < modes.size() && i < bias_per_modal_n.size(); ++i) {
+  if (found == modes.size() || start_disp.size() != modes.size()) return;
+  const ModeEstimate& f = modes[found];
+  const double found_hz = f.freq_hz;
+  const double start_f = start_disp[found];
+  for (std::size_t i = 0; i < modes.size(); ++i) {
     ModeEstimate& m = modes[i];
     const AmplitudeDamping& a = m.amplitude;
-    if (!a.checked || a.amplitude_dependent || a.unavailable) continue;
+    if (i == found || !a.checked || a.amplitude_dependent || a.unavailable) continue;
     if (!std::isfinite(m.zeta_ci95[0]) || !(m.zeta > 0.0)) continue;
-    const double tau = force_n * m.shape.cwiseAbs().sum() * bias_per_modal_n[i];
+    const double tau = FrictionTerm(m, start_disp[i], f, start_f, force_n);
     if (!(tau > 0.0)) continue;
     const double floor_zeta = m.zeta * (1.0 - kFrictionTerms * tau);
     if (floor_zeta >= m.zeta_ci95[0]) continue;  // the interval holds that bias already
@@ -632,9 +669,8 @@ void WithholdZetaForLostFriction(double lost_hz, ModeIdentification& identificat
 void ApplyAmplitudeCheck(const RingDowns& ringdowns, ModeIdentification& identification,
                          const RingDownOptions& options) {
   std::vector<ModeEstimate>& modes = identification.modes;
-  std::vector<double> bias_per_modal_n;
-  const std::vector<AmplitudeDamping> checks =
-      CheckModes(ringdowns, modes, options, bias_per_modal_n);
+  std::vector<double> start_disp;
+  const std::vector<AmplitudeDamping> checks = CheckModes(ringdowns, modes, options, start_disp);
   for (std::size_t i = 0; i < modes.size(); ++i) {
     ModeEstimate& m = modes[i];
     m.amplitude = checks[i];
@@ -727,7 +763,7 @@ void ApplyAmplitudeCheck(const RingDowns& ringdowns, ModeIdentification& identif
     m.caution = text;
     identification.warnings.push_back(where + std::string(text));
   }
-  BoundFrictionOnOtherModes(bias_per_modal_n, identification);
+  BoundFrictionOnOtherModes(start_disp, identification);
   const double lost_hz = CheckPeaksWithoutMode(ringdowns, identification, options);
   if (lost_hz > 0.0) WithholdZetaForLostFriction(lost_hz, identification);
 }
