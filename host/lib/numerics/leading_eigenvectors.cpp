@@ -128,6 +128,9 @@ bool LeadingEigenvectors::InverseIteration(int count) {
     for (Eigen::Index i = 0; i < n; ++i) {
       if (std::fabs(lu_d_(i)) < tiny) lu_d_(i) = std::copysign(tiny, lu_d_(i));
     }
+    // The pivots' reciprocals: the back substitutions multiply (a division's latency would
+    // chain through every row of every step).
+    lu_d_ = lu_d_.cwiseInverse();
     // The first step solves U x = (1, …, 1) alone (its start vector is then P L (1, …, 1), with a
     // component along the wanted vector even where (1, …, 1) is another eigenvector: Wilkinson's
     // choice, as HessenbergEigen's).
@@ -145,10 +148,10 @@ bool LeadingEigenvectors::InverseIteration(int count) {
           }
         }
       }
-      x_(n - 1) /= lu_d_(n - 1);
-      x_(n - 2) = (x_(n - 2) - lu_du_(n - 2) * x_(n - 1)) / lu_d_(n - 2);
+      x_(n - 1) *= lu_d_(n - 1);
+      x_(n - 2) = (x_(n - 2) - lu_du_(n - 2) * x_(n - 1)) * lu_d_(n - 2);
       for (Eigen::Index i = n - 3; i >= 0; --i) {
-        x_(i) = (x_(i) - lu_du_(i) * x_(i + 1) - lu_du2_(i) * x_(i + 2)) / lu_d_(i);
+        x_(i) = (x_(i) - lu_du_(i) * x_(i + 1) - lu_du2_(i) * x_(i + 2)) * lu_d_(i);
       }
       // Modified Gram–Schmidt against the close vectors so far at every step, against the whole
       // cluster's before the residual is judged.

@@ -123,9 +123,9 @@ TEST(LeadingEigenvectors, AgreesWithTheFullSolverOnAGram) {
   ASSERT_EQ(leading.termination(), LeadingEigenTermination::kInverseIteration);
   for (int k = 0; k < 40; ++k) {
     const Eigen::VectorXd ref = full.eigenvectors().col(49 - k);
-    const double gap = std::min(k > 0 ? full.eigenvalues()(50 - k) - full.eigenvalues()(49 - k)
-                                      : 1e300,
-                                full.eigenvalues()(49 - k) - full.eigenvalues()(48 - k));
+    const double gap =
+        std::min(k > 0 ? full.eigenvalues()(50 - k) - full.eigenvalues()(49 - k) : 1e300,
+                 full.eigenvalues()(49 - k) - full.eigenvalues()(48 - k));
     EXPECT_NEAR(std::fabs(leading.vectors().col(k).dot(ref)), 1.0,
                 1e-13 * full.eigenvalues()(49) / gap)
         << "k " << k;

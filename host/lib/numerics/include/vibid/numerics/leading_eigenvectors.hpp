@@ -49,7 +49,8 @@ class LeadingEigenvectors {
   Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> tridiagonal_values_;
   Eigen::VectorXd diag_, sub_;
   Eigen::MatrixXd z_;  // the eigenvectors of the tridiagonal form
-  // LU of T − σI with partial pivoting (LAPACK dgttrf's layout).
+  // LU of T − σI with partial pivoting (LAPACK dgttrf's layout; lu_d_ ends as the pivots'
+  // reciprocals).
   Eigen::VectorXd lu_d_, lu_du_, lu_du2_, lu_dl_, x_;
   Eigen::VectorXi pivot_;
   Eigen::MatrixXd vectors_;
