@@ -44,7 +44,16 @@ void LeadingEigenvectors::Compute(const Eigen::MatrixXd& lower, int count) {
   tridiagonal_values_.computeFromTridiagonal(diag_, sub_, Eigen::EigenvaluesOnly);
   if (tridiagonal_values_.info() == Eigen::Success && InverseIteration(count)) {
     values_ = tridiagonal_values_.eigenvalues().tail(count).reverse() * scale;
-    vectors_.noalias() = tridiagonal_.matrixQ() * z_;
+    // Back by Q = H₀ H₁ … H_{n−2}, the reflectors applied one by one (reflector k acts on
+    // rows k+1 …, its essential part below the subdiagonal of the packed matrix): at these sizes
+    // Eigen's blocked application builds its triangular factor for more than it saves.
+    vectors_ = z_;
+    workspace_.resize(vectors_.cols());
+    for (Eigen::Index k = n - 2; k >= 0; --k) {
+      vectors_.bottomRows(n - 1 - k).applyHouseholderOnTheLeft(
+          tridiagonal_.packedMatrix().col(k).tail(n - 2 - k),
+          tridiagonal_.householderCoefficients()(k), workspace_.data());
+    }
     termination_ = LeadingEigenTermination::kInverseIteration;
     return;
   }

@@ -48,7 +48,8 @@ class LeadingEigenvectors {
   Eigen::Tridiagonalization<Eigen::MatrixXd> tridiagonal_;
   Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> tridiagonal_values_;
   Eigen::VectorXd diag_, sub_;
-  Eigen::MatrixXd z_;  // the eigenvectors of the tridiagonal form
+  Eigen::MatrixXd z_;          // the eigenvectors of the tridiagonal form
+  Eigen::VectorXd workspace_;  // a reflector's row of products
   // LU of T − σI with partial pivoting (LAPACK dgttrf's layout; lu_d_ ends as the pivots'
   // reciprocals).
   Eigen::VectorXd lu_d_, lu_du_, lu_du2_, lu_dl_, x_;
