@@ -19,6 +19,7 @@
 #include "vibid/common/error.hpp"
 #include "vibid/numerics/distributions.hpp"
 #include "vibid/numerics/hessenberg_eigen.hpp"
+#include "vibid/numerics/leading_eigenvectors.hpp"
 
 namespace vibid::oma {
 namespace {
@@ -458,6 +459,7 @@ SsiCovResult SsiCov(Eigen::Ref<const Eigen::MatrixXd> y, const SsiCovOptions& op
   Eigen::VectorXd weights(options.blocks);
   Eigen::MatrixXd h(h_mean.rows(), h_mean.cols());
   Eigen::MatrixXd gram(h_mean.rows(), h_mean.rows());
+  numerics::LeadingEigenvectors leading;
   for (int d = 0; d < options.draws; ++d) {
     for (int j = 0; j < options.blocks; ++j) weights(j) = normal(rng) * scale;
     h.reshaped() = h_mean.reshaped() + deviations * weights;
@@ -468,9 +470,11 @@ SsiCovResult SsiCov(Eigen::Ref<const Eigen::MatrixXd> y, const SsiCovOptions& op
     // triangle alone, and that is all the rank update computes.
     gram.setZero();
     gram.selfadjointView<Eigen::Lower>().rankUpdate(h);
-    const Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> sample(gram);
-    const Eigen::MatrixXd sample_u = sample.eigenvectors().rowwise().reverse();
-    const SampleStateMatrices states(sample_u, mode_orders.back(), l);
+    // Only the leading mode_orders.back() eigenvectors are used: inverse iteration on the
+    // tridiagonal form gives them without rotating the others through every QR step.
+    leading.Compute(gram, mode_orders.back());
+    if (!leading.ok()) continue;  // a degenerate sample: no pole, as a failed eigensolver
+    const SampleStateMatrices states(leading.vectors(), mode_orders.back(), l);
     std::vector<std::optional<SampleMatch>> matched(modes);
     for (int order : mode_orders) {
       std::vector<std::size_t> at_order;
