@@ -478,7 +478,8 @@ constexpr const char* kFrictionWayOut =
     "harder hits (friction's share falls as the amplitude grows), or the time-domain routes that "
     "model it (vibid decay on a released mass, greybox)";
 
-// The start of the warning a lost peak whose ring-down shows friction gets.
+// The start of the warning a lost peak whose ring-down shows friction gets (friction_at_lost_peaks
+// carries its figures).
 constexpr const char* kLostPeakFriction = "ring-downs with dry friction at a peak with no mode";
 
 void WithholdIntervals(ModeEstimate& m) {
@@ -633,7 +634,7 @@ double CheckPeaksWithoutMode(const RingDowns& ringdowns, ModeIdentification& ide
     with.push_back(probe);
     const AmplitudeDamping a = CheckAmplitudeDependence(ringdowns, with, options).back();
     if (!a.amplitude_dependent) continue;
-    // FrictionShownBy finds the friction in this warning (kLostPeakFriction and the parenthesis).
+    identification.friction_at_lost_peaks.push_back({f_hz, a.zeta_early, a.zeta_late, a.hits});
     char text[600];
     std::snprintf(text, sizeof text,
                   "%s (at %.5g Hz, a clear peak no mode explains, the damping grows from %.3g to "
@@ -790,13 +791,16 @@ std::string FrictionShownBy(const ModeIdentification& mi) {
                     m.freq_hz, a.zeta_early, a.zeta_late);
     return line;
   }
-  // A lost peak's ring-down (CheckPeaksWithoutMode): its warning's parenthesis.
-  const std::string prefix = kLostPeakFriction;
-  for (const std::string& w : mi.warnings) {
-    if (w.compare(0, prefix.size(), prefix) != 0) continue;
-    const std::size_t close = w.find(')', prefix.size());
-    if (close == std::string::npos) continue;
-    return "its ring-downs show dry friction" + w.substr(prefix.size(), close + 1 - prefix.size());
+  // A lost peak's ring-down (CheckPeaksWithoutMode).
+  if (!mi.friction_at_lost_peaks.empty()) {
+    const FrictionAtLostPeak& p = mi.friction_at_lost_peaks.front();
+    char line[240];
+    std::snprintf(
+        line, sizeof line,
+        "its ring-downs show dry friction (at %.5g Hz, a clear peak no mode explains, the "
+        "damping grows from %.3g to %.3g as the amplitude falls over %zu hit(s))",
+        p.freq_hz, p.zeta_early, p.zeta_late, p.hits);
+    return line;
   }
   return "";
 }

@@ -174,12 +174,16 @@ TEST(RingDownBound, ALostPeakThatRingsWithFrictionNamesIt) {
     if (offset > 0.0) {
       EXPECT_NE(shown.find("at 4.4 Hz, a clear peak no mode explains"), std::string::npos) << shown;
       EXPECT_TRUE(warned);
+      ASSERT_EQ(mi.friction_at_lost_peaks.size(), 1u);
+      EXPECT_DOUBLE_EQ(mi.friction_at_lost_peaks[0].freq_hz, kF1);
+      EXPECT_GT(mi.friction_at_lost_peaks[0].zeta_late, mi.friction_at_lost_peaks[0].zeta_early);
       // No shape scales the lost mode's force: mode 2's zeta keeps its value, not its interval.
       EXPECT_FALSE(std::isfinite(mi.modes[0].zeta_ci95[0]));
       EXPECT_NE(mi.modes[0].caution.find("no interval on zeta"), std::string::npos);
     } else {
       EXPECT_TRUE(shown.empty()) << shown;
       EXPECT_FALSE(warned);
+      EXPECT_TRUE(mi.friction_at_lost_peaks.empty());
       EXPECT_DOUBLE_EQ(mi.modes[0].zeta_ci95[0], 0.99 * kZeta2);
     }
   }

@@ -183,6 +183,16 @@ struct ModeIdentificationOptions {
   bool stabilization_fallback_off = false;
 };
 
+/// A clear peak no mode explains whose ring-down (read where the identified shapes leave room)
+/// shows a damping that grows as the amplitude falls: dry friction, the likely cause of the lost
+/// mode.
+struct FrictionAtLostPeak {
+  double freq_hz = 0.0;
+  double zeta_early = 0.0;  ///< Apparent damping over the ring-downs' early part.
+  double zeta_late = 0.0;   ///< And over their late part.
+  std::size_t hits = 0;     ///< Ring-downs read.
+};
+
 struct ModeIdentification {
   std::vector<ModeEstimate> modes;
   std::vector<Peak> peaks;
@@ -198,6 +208,8 @@ struct ModeIdentification {
   /// Clear resonance peaks of the band (see IdentifyModes) that no reported or dropped mode
   /// explains, in Hz; each also has a warning naming the way out.
   std::vector<double> peaks_without_mode_hz;
+  /// Those of them whose ring-downs show dry friction (the ring-down check, CheckRingDowns).
+  std::vector<FrictionAtLostPeak> friction_at_lost_peaks;
   /// lscf/lsce: the modal model refined from the chosen poles, which gives the reported omega,
   /// zeta, shape directions and their intervals (valid when `has_model`).
   bool has_model = false;
