@@ -39,10 +39,9 @@ def poisson_band(mean, level=0.95):
 class Kernel:
     """fixed::ResidualCusum (shared/fixed/residual_cusum.cpp) on int64, restarted after a trip.
 
-    The first p["holdoff_windows"] windows after construction or restart() (the board's Reset at
-    the observer's start) are computed but not judged, as the kernel's hold-off; a record without
-    the field (written before the hold-off) holds off none. A restart after a trip is the count's
-    own re-arming on the same running observer (no new start), so it does not hold off again.
+    The first p["holdoff_windows"] windows after construction, restart() or a trip (each the
+    kernel's Reset, which rearms it) are computed but not judged, as the kernel's hold-off; a
+    record without the field (written before the hold-off) holds off none.
     """
 
     def __init__(self, p):
@@ -89,3 +88,4 @@ class Kernel:
                     self.first_trip_window = self.windows
                 self.trips += 1
                 self.g = 0
+                self.holdoff_left = int(p.get("holdoff_windows", 0))
