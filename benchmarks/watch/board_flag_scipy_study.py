@@ -297,7 +297,7 @@ def rate_study(a, vibid, rates, work, level=0.95):
         for rate, k in kernels.items():
             k.feed(d_hat[settle:])
             p = k.p
-            hours = k.windows * p["window_samples"] / FS_HZ / 3600.0
+            hours = k.judged_windows * p["window_samples"] / FS_HZ / 3600.0
             low, high = k.band
             lo, hi = poisson_band(low * hours, level)[0], poisson_band(high * hours, level)[1]
             ok = lo <= k.trips <= hi

@@ -51,6 +51,7 @@ class Kernel:
         self.g = 0
         self.trips = 0
         self.windows = 0
+        self.judged_windows = 0  # windows past the hold-off: the time a trip could happen in
         self.board_g = []  # g before the first restart, for the check against the board's log
         self.first_trip_window = None  # windows fed before the first trip, counting it
 
@@ -78,6 +79,7 @@ class Kernel:
                 if self.trips == 0:
                     self.board_g.append(self.g)
                 continue
+            self.judged_windows += 1
             z = min(max((x * p["z_gain"] + half) >> p["z_shift"], -I32_MAX - 1), I32_MAX)
             self.g = min(max(0, self.g + z - p["k_q16"]), 1 << 30)
             self.windows += 1
