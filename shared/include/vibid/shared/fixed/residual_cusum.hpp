@@ -25,7 +25,7 @@
 //   g    = clamp(max(0, g + z - k), kMaxStatistic)                  Q16
 //   the first window with g > h trips the flag (latched until Reset) and records its end sample.
 // Hold-off: the first holdoff_windows windows after Reset complete (z is computed and shown) but
-// neither add to g nor trip, and the residual clamps counted in them are dropped at their end.
+// neither add to g nor trip, and the clamps counted in them are dropped at their end.
 // The observer starts from rest while a running rig's inputs do not, so its first windows carry a
 // start transient, not a model change; the host sizes the hold-off from the observer's slowest
 // pole (host/lib/dob: watch_design). 0: judge from the first window (records written before the
