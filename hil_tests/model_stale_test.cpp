@@ -250,6 +250,7 @@ TEST_F(ModelStaleTest, InControlTheFlagTripsAtTheStatedRateBothSides) {
   p.z_gain = t["z_gain"].get<std::int32_t>();
   p.k = t["k_q16"].get<std::int32_t>();
   p.h = t["h_q16"].get<std::int32_t>();
+  p.holdoff_windows = t["holdoff_windows"].get<std::uint8_t>();
   ASSERT_EQ(p.reference_gain, 0);  // r = d_hat: no reference load cell
   fixed::ResidualCusum kernel;
   ASSERT_EQ(kernel.Init(p), Status::kOk);

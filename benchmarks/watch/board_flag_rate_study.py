@@ -149,7 +149,7 @@ def main():
                                         a.settle_s, work)
             for rate, k in kernels.items():
                 p = k.p
-                hours = k.windows * p["window_samples"] / 1000.0 / 3600.0
+                hours = k.judged_windows * p["window_samples"] / 1000.0 / 3600.0
                 expected = hours * 3600.0 * 1000.0 / (p["window_samples"] *
                                                       p["in_control_arl_windows"])
                 low, high = k.band

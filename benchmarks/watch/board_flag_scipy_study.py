@@ -297,7 +297,7 @@ def rate_study(a, vibid, rates, work, level=0.95):
         for rate, k in kernels.items():
             k.feed(d_hat[settle:])
             p = k.p
-            hours = k.windows * p["window_samples"] / FS_HZ / 3600.0
+            hours = k.judged_windows * p["window_samples"] / FS_HZ / 3600.0
             low, high = k.band
             lo, hi = poisson_band(low * hours, level)[0], poisson_band(high * hours, level)[1]
             ok = lo <= k.trips <= hi
@@ -355,7 +355,8 @@ def delay_study(a, vibid, work):
         delays.append(delay)
         print(f"seed {seed:3d}: first trip at {'-' if t is None else f'{t:.2f}'} s"
               f" ({'no trip' if delay is None else f'{delay:.1f} s after the step'});"
-              f" W {k.p['window_samples']}, h {k.p['h_q16'] / 65536:.2f}", flush=True)
+              f" W {k.p['window_samples']}, h {k.p['h_q16'] / 65536:.2f},"
+              f" hold-off {k.p.get('holdoff_windows', 0)} windows", flush=True)
     after = sorted(d for d in delays if d is not None and d >= 0)
     missed = sum(1 for d in delays if d is None)
     print(f"\n{len(delays)} seeds, a day of {a.day_s:g} s each, then {a.run_s:g} s with mass 2 up"

@@ -37,20 +37,28 @@ def poisson_band(mean, level=0.95):
 
 
 class Kernel:
-    """fixed::ResidualCusum (shared/fixed/residual_cusum.cpp) on int64, restarted after a trip."""
+    """fixed::ResidualCusum (shared/fixed/residual_cusum.cpp) on int64, restarted after a trip.
+
+    The first p["holdoff_windows"] windows after construction, restart() or a trip (each the
+    kernel's Reset, which rearms it) are computed but not judged, as the kernel's hold-off; a
+    record without the field (written before the hold-off) holds off none.
+    """
 
     def __init__(self, p):
         self.p = p
         self.tail = np.zeros(0, dtype=np.int64)  # a window's first samples left by the last chunk
+        self.holdoff_left = int(p.get("holdoff_windows", 0))
         self.g = 0
         self.trips = 0
         self.windows = 0
+        self.judged_windows = 0  # windows past the hold-off: the time a trip could happen in
         self.board_g = []  # g before the first restart, for the check against the board's log
         self.first_trip_window = None  # windows fed before the first trip, counting it
 
     def restart(self):
         """A new acquisition: the board's test starts from rest (an empty window, g = 0)."""
         self.tail = np.zeros(0, dtype=np.int64)
+        self.holdoff_left = int(self.p.get("holdoff_windows", 0))
         self.g = 0
 
     def feed(self, d_hat):
@@ -65,6 +73,13 @@ class Kernel:
         e = np.clip((sums >> p["sum_shift"]) - p["center"], -I32_MAX, I32_MAX)
         half = 1 << (p["z_shift"] - 1) if p["z_shift"] > 0 else 0
         for x in e.tolist():
+            if self.holdoff_left > 0:  # the observer's start transient: not judged, g stays 0
+                self.holdoff_left -= 1
+                self.windows += 1
+                if self.trips == 0:
+                    self.board_g.append(self.g)
+                continue
+            self.judged_windows += 1
             z = min(max((x * p["z_gain"] + half) >> p["z_shift"], -I32_MAX - 1), I32_MAX)
             self.g = min(max(0, self.g + z - p["k_q16"]), 1 << 30)
             self.windows += 1
@@ -75,3 +90,4 @@ class Kernel:
                     self.first_trip_window = self.windows
                 self.trips += 1
                 self.g = 0
+                self.holdoff_left = int(p.get("holdoff_windows", 0))

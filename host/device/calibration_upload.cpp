@@ -269,6 +269,7 @@ nlohmann::json RecordJson(const wire::CalibrationRecord& r) {
         {"z_gain", w.z_gain},
         {"k_q16", w.k},
         {"h_q16", w.h},
+        {"holdoff_windows", w.holdoff_windows},
         {"in_control_arl_windows", static_cast<double>(r.watch_in_control_arl_windows)}};
   } else {
     j["model_test"] = nullptr;

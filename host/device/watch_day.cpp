@@ -97,6 +97,7 @@ dob::WatchDesign AttachWatchTest(wire::CalibrationRecord& record, const Recordin
   o.false_alarms_per_hour = options.false_alarms_per_hour;
   o.shift_spreads = options.shift_spreads;
   o.window_samples = options.window_samples;
+  o.observer_pole_radius = dob::SlowestPoleRadius(d);  // the hold-off after the observer's start
   const dob::WatchDesign design =
       dob::DesignWatch(run.d_hat_q31, reference_q31, reference_ratio, fs_hz, o);
   record.flags = static_cast<std::uint8_t>(record.flags | wire::kCalFlagHasWatch);
@@ -107,16 +108,20 @@ dob::WatchDesign AttachWatchTest(wire::CalibrationRecord& record, const Recordin
 }
 
 std::string WatchDesignText(const dob::WatchDesign& d) {
-  char line[480];
+  char line[640];
   std::snprintf(line, sizeof line,
                 "model test: windows of %u samples (%.3g s) from %zu on the calibration day; "
                 "k %.2f, h %.2f for at most %.3g false alarms per hour: this calibration gives "
                 "between %.3g and %.3g false alarms per hour (95 %%; one in %.3g windows at its "
                 "own estimates); the window mean shifted by %.3g spread%s is caught in about "
-                "%.1f windows",
+                "%.1f windows; the first %u window%s (%.3g s) after the observer's start held "
+                "off (its slowest pole, radius %.6g, settles in %.0f samples)",
                 d.params.window_samples, d.window_s, d.calibration_windows, d.k, d.h,
                 d.false_alarms_per_hour, d.false_alarms_low, d.false_alarms_high, d.arl0_windows,
-                2.0 * d.k, 2.0 * d.k == 1.0 ? "" : "s", d.detection_windows);
+                2.0 * d.k, 2.0 * d.k == 1.0 ? "" : "s", d.detection_windows,
+                static_cast<unsigned>(d.params.holdoff_windows),
+                d.params.holdoff_windows == 1 ? "" : "s", d.params.holdoff_windows * d.window_s,
+                d.observer_pole_radius, std::ceil(d.holdoff_samples));
   return line;
 }
 

@@ -67,7 +67,8 @@ def dob_description():
 
 # The residual test of the watch record (calibration_record.hpp "Watch"; residual_cusum.hpp):
 # reference force1 (channel 0), sum_shift 14, z_shift 40, W 1000, residual gain 1/16 (Q32),
-# reference gain -1/32 (Q32), center 2^24, z_gain 2^30, k 0.5 and h 8.25 (Q16), run length 5000.
+# reference gain -1/32 (Q32), center 2^24, z_gain 2^30, k 0.5 and h 8.25 (Q16), run length 5000;
+# hold-off 0 (byte 3): a record written before the hold-off existed, which must still load.
 WATCH = struct.pack("<BBBBIiiiiiif", 0, 14, 40, 0, 1000, 1 << 28, -(1 << 27), 1 << 24, 1 << 30,
                     1 << 15, 8 * 65536 + 16384, 5000.0)
 assert len(WATCH) == 36

@@ -57,17 +57,24 @@ void ResidualCusum::EndWindow() {
   std::int64_t z = (e * params_.z_gain + round) >> params_.z_shift;
   if (z > kI32Max) z = kI32Max;
   if (z < kI32Min) z = kI32Min;
+  z_ = static_cast<std::int32_t>(z);
+  sum_ = 0;
+  left_ = params_.window_samples;
+  if (windows_ < params_.holdoff_windows) {
+    // Within the hold-off: the observer's start transient, not judged (g stays 0); its clamps are
+    // dropped at the hold-off's last window so clamp_count speaks of the judged windows only.
+    ++windows_;
+    if (windows_ == params_.holdoff_windows) clamp_count_ = 0;
+    return;
+  }
   std::int64_t g = std::int64_t{g_} + z - params_.k;
   if (g < 0) g = 0;
   if (g > kMaxStatistic) {
     g = kMaxStatistic;
     ++clamp_count_;
   }
-  z_ = static_cast<std::int32_t>(z);
   g_ = static_cast<std::int32_t>(g);
   ++windows_;
-  sum_ = 0;
-  left_ = params_.window_samples;
   if (!tripped_ && g_ > params_.h) {
     tripped_ = true;
     trip_sample_ = windows_ * params_.window_samples;

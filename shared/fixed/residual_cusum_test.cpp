@@ -236,6 +236,58 @@ TEST(ResidualCusum, ClampsAHugeResidualAndCountsIt) {
   EXPECT_EQ(kernel.clamp_count(), 0u);
 }
 
+// A start transient: the first windows' residual decays from a large value (the observer starting
+// from rest beside a running rig) over in-control noise. Without a hold-off the first window trips;
+// with a hold-off past the transient, the judged windows are in control and nothing trips.
+Input StartTransient(const RealParams& real, int windows) {
+  Input in = MakeInput(real, std::ldexp(1.0, 15), windows, 0, 1.0);
+  // Amplitude 2^22 (scaled; 2^14 times the noise's power) halving every 64 samples: after 3
+  // windows of 256 it is 2^22 / 2^12 = 2^10, 2^-10 of the noise's power.
+  for (std::size_t n = 0; n < in.d_hat.size(); ++n) {
+    const double t =
+        std::ldexp(1.0, 22) / real.residual_scale * std::exp2(-static_cast<double>(n) / 64.0);
+    in.d_hat[n] = static_cast<std::int32_t>(std::lround(in.d_hat[n] + t));
+  }
+  return in;
+}
+
+TEST(ResidualCusum, HoldOffKeepsAStartTransientFromTripping) {
+  const RealParams real = StaleRig(0.0);
+  const Input in = StartTransient(real, 100);
+  ResidualCusumParams p = Quantize(real);
+  ResidualCusum without;
+  ASSERT_EQ(without.Init(p), Status::kOk);
+  p.holdoff_windows = 3;
+  ResidualCusum with;
+  ASSERT_EQ(with.Init(p), Status::kOk);
+  std::uint32_t completed = 0;
+  for (std::size_t n = 0; n < in.d_hat.size(); ++n) {
+    (void)without.Step(in.d_hat[n], 0);
+    if (!with.Step(in.d_hat[n], 0)) continue;
+    ++completed;
+    // Within the hold-off the window is computed (its z is huge in the first) but not judged.
+    if (completed <= 3) {
+      EXPECT_EQ(with.statistic(), 0) << completed;
+      EXPECT_TRUE(completed == 3 ? !with.holding_off() : with.holding_off());
+    }
+    if (completed == 1) {
+      EXPECT_GT(with.last_z(), 100 * 65536);
+    }
+  }
+  EXPECT_TRUE(without.tripped());
+  EXPECT_EQ(without.trip_sample(), real.window);  // the first window
+  // The first window's excess (2^14 times the in-control power) is clamped to int32 and counted.
+  EXPECT_GT(without.clamp_count(), 0u);
+  EXPECT_FALSE(with.tripped());
+  EXPECT_EQ(with.windows(), 100u);
+  EXPECT_EQ(with.clamp_count(), 0u);  // the transient's clamps are dropped with the hold-off
+  // Reset rearms the hold-off: the same start is again held off.
+  with.Reset();
+  EXPECT_TRUE(with.holding_off());
+  for (std::size_t n = 0; n < 4 * real.window; ++n) (void)with.Step(in.d_hat[n], 0);
+  EXPECT_FALSE(with.tripped());
+}
+
 TEST(ResidualCusum, RefusesParametersOutOfRange) {
   const ResidualCusumParams good = Quantize(StaleRig(0.0));
   EXPECT_EQ(ValidateResidualCusum(good), Status::kOk);

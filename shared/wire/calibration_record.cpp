@@ -181,7 +181,7 @@ void EncodeCalibrationRecord(const CalibrationRecord& record,
   StoreU8(out, kCalOffWatch + 0, watch ? record.watch_reference_channel : 0);
   StoreU8(out, kCalOffWatch + 1, w.sum_shift);
   StoreU8(out, kCalOffWatch + 2, w.z_shift);
-  StoreU8(out, kCalOffWatch + 3, 0);
+  StoreU8(out, kCalOffWatch + 3, w.holdoff_windows);
   StoreU32(out, kCalOffWatch + 4, w.window_samples);
   StoreI32(out, kCalOffWatch + 8, w.residual_gain);
   StoreI32(out, kCalOffWatch + 12, w.reference_gain);
@@ -256,7 +256,7 @@ Status DecodeCalibrationRecord(std::span<const std::uint8_t> bytes, CalibrationR
   r.watch_reference_channel = LoadU8(bytes, kCalOffWatch + 0);
   r.watch.sum_shift = LoadU8(bytes, kCalOffWatch + 1);
   r.watch.z_shift = LoadU8(bytes, kCalOffWatch + 2);
-  const bool watch_reserved_ok = LoadU8(bytes, kCalOffWatch + 3) == 0;
+  r.watch.holdoff_windows = LoadU8(bytes, kCalOffWatch + 3);
   r.watch.window_samples = LoadU32(bytes, kCalOffWatch + 4);
   r.watch.residual_gain = LoadI32(bytes, kCalOffWatch + 8);
   r.watch.reference_gain = LoadI32(bytes, kCalOffWatch + 12);
@@ -288,7 +288,7 @@ Status DecodeCalibrationRecord(std::span<const std::uint8_t> bytes, CalibrationR
   if ((r.flags & kCalFlagHasWatch) == 0) {
     if (!watch_zero) return Status::kInvalidArgument;
     r.watch_reference_channel = kNoChannel;
-  } else if (!watch_reserved_ok || CheckWatch(r) != Status::kOk) {
+  } else if (CheckWatch(r) != Status::kOk) {
     return Status::kInvalidArgument;
   }
   record = r;

@@ -481,12 +481,38 @@ TEST(CalibrationRecordWatch, RefusesWhatTheBoardCouldNotRun) {
             Status::kOk);
   EXPECT_EQ(refused([](CalibrationRecord& r) { r.watch_in_control_arl_windows = 0.0f; }),
             Status::kInvalidArgument);
-  // The reserved byte.
+}
+
+TEST(CalibrationRecordWatch, CarriesTheHoldOffInByteThree) {
+  // The golden record was packed with byte 3 = 0, as every record written before the hold-off:
+  // it loads, with no hold-off (the kernel judges from the first window, as before).
+  Bytes golden{};
+  ASSERT_EQ(testing::GoldenVector("calibration_record_watch", golden), kCalRecordBytes);
+  EXPECT_EQ(golden[kCalOffWatch + 3], 0);
+  CalibrationRecord back;
+  ASSERT_EQ(DecodeCalibrationRecord(golden, back), Status::kOk);
+  EXPECT_EQ(back.watch.holdoff_windows, 0);
+  // Any u8 travels: 9 and 255 at byte 983, the rest of the record unchanged.
+  for (const std::uint8_t holdoff : {std::uint8_t{9}, std::uint8_t{255}}) {
+    CalibrationRecord r = WithWatch();
+    r.watch.holdoff_windows = holdoff;
+    Bytes b{};
+    EncodeCalibrationRecord(r, b);
+    EXPECT_EQ(b[983], holdoff);
+    for (std::size_t i = 0; i < kCalOffCrc; ++i) {
+      if (i != 983) {
+        EXPECT_EQ(b[i], golden[i]) << i;
+      }
+    }
+    ASSERT_EQ(DecodeCalibrationRecord(b, back), Status::kOk);
+    EXPECT_EQ(back.watch.holdoff_windows, holdoff);
+    EXPECT_EQ(back.watch.window_samples, 1000u);
+  }
+  // Without the flag the whole block, byte 3 included, stays zero.
   Bytes b{};
-  EncodeCalibrationRecord(WithWatch(), b);
+  EncodeCalibrationRecord(WithFilter(), b);
   b[kCalOffWatch + 3] = 1;
   Reseal(b);
-  CalibrationRecord back;
   EXPECT_EQ(DecodeCalibrationRecord(b, back), Status::kInvalidArgument);
 }
 

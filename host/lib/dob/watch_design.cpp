@@ -45,6 +45,42 @@ double CorrelationSamples(std::span<const double> x, std::size_t max_lag) {
 
 }  // namespace
 
+double SlowestPoleRadius(const fixed::FilterDescription& description) {
+  double radius = 0.0;
+  for (std::size_t i = 0; i < description.input_count && i < fixed::kMaxInputs; ++i) {
+    const fixed::Path& path = description.paths[i];
+    for (std::size_t j = 0; j < path.section_count && j < fixed::kMaxSections; ++j) {
+      const fixed::Section& s = path.sections[j];
+      const double one = std::ldexp(1.0, 31 - s.shift);  // Q(31 - shift)
+      const double a1 = s.a1 / one;
+      const double a2 = s.a2 / one;
+      // z^2 + a1 z + a2: complex roots have |z|^2 = a2, real ones (-a1 +- sqrt(disc)) / 2.
+      const double disc = a1 * a1 - 4.0 * a2;
+      const double r =
+          disc < 0.0 ? std::sqrt(a2) : 0.5 * (std::fabs(a1) + std::sqrt(disc));  // the larger root
+      radius = std::max(radius, r);
+    }
+  }
+  return radius;
+}
+
+double HoldoffSamples(double pole_radius, double max_residual, double sum_spread) {
+  if (!(pole_radius >= 0.0) || !(max_residual > 0.0) || !(sum_spread > 0.0)) {
+    throw InputError("watch hold-off: the pole radius, residual bound and spread must be positive");
+  }
+  if (pole_radius >= 1.0) {
+    throw InputError(
+        "watch design: the observer has a pole on or outside the unit circle (radius " +
+        std::to_string(pole_radius) +
+        "): its start transient never decays, so the test cannot tell it from a stale model; "
+        "design a stable observer");
+  }
+  if (pole_radius == 0.0) return 0.0;
+  const double ratio = max_residual * max_residual /
+                       ((1.0 - pole_radius * pole_radius) * sum_spread * kHoldoffSpreads);
+  return ratio <= 1.0 ? 0.0 : std::log(ratio) / (-2.0 * std::log(pole_radius));
+}
+
 double RegularizedGammaLower(double a, double x) {
   // Numerical Recipes (3rd ed., section 6.2): the series below a + 1, the continued fraction
   // (modified Lentz) above.
@@ -397,6 +433,32 @@ WatchDesign DesignWatch(std::span<const std::int32_t> d_hat_q31,
   // The power raised by shift_spreads spreads: the Gamma scaled by 1 + shift sigma0 / mu0.
   d.detection_windows = CusumRunLengthGamma(
       d.gamma_shape, 1.0 + options.shift_spreads * d.sigma0 / d.mu0, d.mu0 / d.sigma0, d.k, d.h);
+  // The hold-off: the observer starts from rest while a running rig's inputs do not, so its
+  // residual opens with a transient that decays with the observer's slowest pole. Before its
+  // clamp, |r| is at most d_hat (and the reference) at full scale times the gains, so a transient
+  // of A rho^n with A that bound covers any start (the clamp only lowers it); the windows until
+  // that transient can add at most kHoldoffSpreads to g (HoldoffSamples) are computed but not
+  // judged. At least one: the first window always holds the observer's fill from rest. A repeated
+  // pole's n rho^n envelope is not covered; the margin of a full-scale transient (far beyond any
+  // measured start) covers its factor.
+  d.observer_pole_radius = options.observer_pole_radius;
+  const double max_residual =
+      std::ldexp(std::fabs(static_cast<double>(d.params.residual_gain)) +
+                     std::fabs(static_cast<double>(d.params.reference_gain)),
+                 -1);  // 2^31 |gain| / 2^32
+  d.holdoff_samples = HoldoffSamples(options.observer_pole_radius, max_residual, sd_sum);
+  const double holdoff_windows = std::max(1.0, std::ceil(d.holdoff_samples / w));
+  if (holdoff_windows > 255.0) {
+    throw InputError(
+        "watch design: the observer's slowest pole (radius " +
+        std::to_string(options.observer_pole_radius) + ", time constant " +
+        std::to_string(-1.0 / std::log(options.observer_pole_radius) / fs_hz) +
+        " s) settles after its start in " + std::to_string(static_cast<long>(holdoff_windows)) +
+        " windows of " + std::to_string(w) +
+        " samples, more than the 255 the record can hold off: design a faster observer (a "
+        "higher Q bandwidth)");
+  }
+  d.params.holdoff_windows = static_cast<std::uint8_t>(holdoff_windows);
   if (fixed::ValidateResidualCusum(d.params) != Status::kOk) {
     throw InputError("watch design: the parameters do not fit the board's kernel");
   }

@@ -188,6 +188,61 @@ TEST(DesignWatch, ChoosesTheWindowFromTheCorrelationTimeAndRefusesAShortRecordin
   EXPECT_THROW((void)DesignWatch(zero, {}, 0.0, kFs, WatchOptions{}), InputError);
 }
 
+// The hold-off against a first-order observer pole, x[n] = rho x[n-1] + u[n]: its start
+// transient is A rho^n, so the samples after which the transient's remaining r^2 is at most
+// kHoldoffSpreads window-sum spreads solve A^2 rho^(2n) / (1 - rho^2) = 0.1 S. At rho 0.99,
+// A 2^26, S 2^36: n = ln(2^52 / (0.0199 * 0.1 * 2^36)) / (-2 ln 0.99) = 861.164 (numpy, this
+// formula), and summing A^2 rho^(2m) for m >= n directly (numpy cumsum, no closed form) first
+// falls to 0.1 S at n = 862, the whole samples the kernel holds off.
+TEST(WatchHoldoff, MatchesTheClosedFormOfAFirstOrderPole) {
+  fixed::FilterDescription d;
+  d.input_count = 1;
+  d.paths[0].section_count = 1;
+  d.paths[0].sections[0].shift = 1;  // Q30
+  d.paths[0].sections[0].b0 = 1 << 20;
+  d.paths[0].sections[0].a1 = -static_cast<std::int32_t>(std::lround(0.99 * (1 << 30)));
+  EXPECT_NEAR(SlowestPoleRadius(d), 0.99, 1e-9);
+  // A resonant pair at radius 0.995 in a second section: |z|^2 = a2.
+  d.paths[0].section_count = 2;
+  d.paths[0].sections[1].shift = 1;
+  d.paths[0].sections[1].a1 =
+      static_cast<std::int32_t>(std::lround(-2.0 * 0.995 * std::cos(0.3) * (1 << 30)));
+  d.paths[0].sections[1].a2 = static_cast<std::int32_t>(std::lround(0.995 * 0.995 * (1 << 30)));
+  EXPECT_NEAR(SlowestPoleRadius(d), 0.995, 1e-8);
+
+  const double n = HoldoffSamples(0.99, std::ldexp(1.0, 26), std::ldexp(1.0, 36));
+  EXPECT_NEAR(n, 861.164, 0.001);
+  EXPECT_EQ(std::ceil(n), 862.0);
+  EXPECT_EQ(HoldoffSamples(0.0, 1.0, 1.0), 0.0);  // no feedback: no transient beyond the fill
+  EXPECT_THROW((void)HoldoffSamples(1.0, 1.0, 1.0), InputError);
+}
+
+TEST(DesignWatch, HoldsOffTheObserversStartInWholeWindowsAndRefusesBeyond255) {
+  constexpr double kFs = 500.0;
+  Residual day(11);
+  std::vector<std::int32_t> d_hat(static_cast<std::size_t>(600 * kFs));
+  for (auto& v : d_hat) v = day.Next();
+  WatchOptions options;
+  const WatchDesign none = DesignWatch(d_hat, {}, 0.0, kFs, options);
+  EXPECT_EQ(none.params.holdoff_windows, 1);  // at least the first window
+  options.observer_pole_radius = 0.99;
+  const WatchDesign d = DesignWatch(d_hat, {}, 0.0, kFs, options);
+  const double w = d.params.window_samples;
+  // The largest residual the kernel forms: d_hat at full scale times the Q32 gain.
+  const double a = std::ldexp(static_cast<double>(d.params.residual_gain), -1);
+  EXPECT_DOUBLE_EQ(d.holdoff_samples, HoldoffSamples(0.99, a, w * d.sigma0));
+  EXPECT_EQ(d.params.holdoff_windows, static_cast<int>(std::ceil(d.holdoff_samples / w)));
+  EXPECT_GT(d.params.holdoff_windows, 1);
+  // A pole this slow (time constant 200 000 samples) would need far more than 255 windows.
+  options.observer_pole_radius = 1.0 - 5e-6;
+  try {
+    (void)DesignWatch(d_hat, {}, 0.0, kFs, options);
+    ADD_FAILURE() << "a hold-off beyond 255 windows was accepted";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("more than the 255"), std::string::npos) << e.what();
+  }
+}
+
 // The acceptance run: one hour of calibration day, the test designed for one false alarm per
 // hour, then 100 hours in control through the board's kernel (restarted after each alarm, as the
 // user would after checking the rig): the alarms counted against the 100 stated.

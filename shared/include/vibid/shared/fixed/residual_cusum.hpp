@@ -24,6 +24,12 @@
 //   z    = clamp((e * z_gain + 2^(z_shift-1)) >> z_shift, int32)    Q16: z / 2^16 is the real z
 //   g    = clamp(max(0, g + z - k), kMaxStatistic)                  Q16
 //   the first window with g > h trips the flag (latched until Reset) and records its end sample.
+// Hold-off: the first holdoff_windows windows after Reset complete (z is computed and shown) but
+// neither add to g nor trip, and the clamps counted in them are dropped at their end.
+// The observer starts from rest while a running rig's inputs do not, so its first windows carry a
+// start transient, not a model change; the host sizes the hold-off from the observer's slowest
+// pole (host/lib/dob: watch_design). 0: judge from the first window (records written before the
+// hold-off existed carry 0 there).
 // The shift by 32 is the high word of the 64-bit sum: two multiply-accumulates and a saturate per
 // sample, no variable shift (benchmarks/residual/m4_instructions.py counts them).
 //
@@ -46,6 +52,7 @@
 //   2^63. z is clamped to int32 (|z| < 32768 in real units: far beyond any threshold). The
 //   statistic g is at most kMaxStatistic = 2^30 and z - k at most 2^32, so g + z - k is exact in
 //   int64 before its clamp; g stays finite during a long alarm (it saturates there, counted).
+//   The hold-off counts completed windows in the uint32 windows() against a u8: no new overflow.
 //   Rounding error: z carries at most 1/2 LSB (2^-17) of its own rounding plus the rounding of
 //   the window sum's shift and of the host's center and gain (relative 2^-20 of an in-control z);
 //   the CUSUM adds these window by window while g > 0, so after n windows above zero g is within
@@ -78,6 +85,9 @@ struct ResidualCusumParams {
   std::int32_t z_gain = 0;           ///< > 0: 2^(z_shift + 16 + sum_shift) / (W sigma0), rounded.
   std::int32_t k = 0;                ///< CUSUM reference value, Q16, >= 0.
   std::int32_t h = 0;                ///< CUSUM threshold, Q16, > 0 and < kMaxStatistic.
+  /// Windows after Reset that are computed but not judged (the observer's start transient);
+  /// 0: none. Any value is valid.
+  std::uint8_t holdoff_windows = 0;
 };
 
 /// @returns kOk if the kernel may run them; kInvalidArgument for a window of 0 or above
@@ -93,7 +103,8 @@ class ResidualCusum {
   /// Validates and copies the parameters, then Reset. On failure the test is left uninitialised.
   Status Init(const ResidualCusumParams& params);
 
-  /// Starts from rest: empty window, g = 0, the flag cleared, the sample index at 0.
+  /// Starts from rest: empty window, g = 0, the flag cleared, the sample index at 0, the hold-off
+  /// rearmed.
   void Reset();
 
   /// One sample: d_hat (Q31 of the observer's output full scale) and the reference force (Q31 of
@@ -127,11 +138,14 @@ class ResidualCusum {
   /// g at that window, Q16.
   std::int32_t trip_statistic() const { return trip_statistic_; }
   std::uint32_t windows() const { return windows_; }
+  /// True while the windows completed since Reset are within the hold-off (g stays 0).
+  bool holding_off() const { return windows_ < params_.holdoff_windows; }
   std::uint32_t samples() const {
     return initialised() ? windows_ * params_.window_samples + (params_.window_samples - left_) : 0;
   }
   /// Residual samples clamped at kMaxScaledResidual, window excesses clamped to int32 and
   /// statistics clamped at kMaxStatistic: 0 while the residual stays within 48 dB of the design.
+  /// Counted from the end of the hold-off (a start transient's clamps are dropped).
   std::uint32_t clamp_count() const { return clamp_count_; }
 
  private:

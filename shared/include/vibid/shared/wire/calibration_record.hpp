@@ -31,7 +31,10 @@
 //   Watch (36 bytes; the kernel's parameters, see residual_cusum.hpp):
 //   0   u8   reference_channel   the wire::Channel of the load cell whose force r = d_hat - F
 //                                subtracts (a kNewton channel), kNoChannel for r = d_hat
-//   1   u8   sum_shift  2 u8 z_shift  3 u8 reserved (0)
+//   1   u8   sum_shift  2 u8 z_shift
+//   3   u8   holdoff_windows     windows after the observer's start that are not judged (its start
+//                                transient); 0 = none. This byte was reserved (0) before, so
+//                                records written then still load and judge from the first window
 //   4   u32  window_samples      W
 //   8   i32  residual_gain       Q32
 //   12  i32  reference_gain      Q32; 0 exactly when reference_channel is kNoChannel

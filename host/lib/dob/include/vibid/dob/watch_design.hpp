@@ -20,6 +20,7 @@
 #include <span>
 #include <vector>
 
+#include "vibid/shared/fixed/filter_description.hpp"
 #include "vibid/shared/fixed/residual_cusum.hpp"
 
 namespace vibid::dob {
@@ -63,6 +64,10 @@ struct WatchOptions {
   double shift_spreads = 0.5;
   /// Samples per window; 0 chooses it from the residual's correlation time.
   std::uint32_t window_samples = 0;
+  /// The largest pole radius of the observer whose residual is watched (SlowestPoleRadius of the
+  /// quantized observer the record carries), for the hold-off after its start; 0 for an observer
+  /// without feedback.
+  double observer_pole_radius = 0.0;
 };
 
 struct WatchDesign {
@@ -91,12 +96,33 @@ struct WatchDesign {
   /// Variance ratio of the window means' partial sums over h / k windows (the stretch a false
   /// trip takes): the model's increments are scaled by its square root.
   double path_variance_ratio = 1.0;
-  double centre_se_spreads = 0.0;  ///< Standard error of the centre, in window spreads.
-  double log_spread_se = 0.0;      ///< Standard error of the spread's logarithm.
-  double false_alarms_low = 0.0;   ///< This calibration's rate: 2.5 % point (per hour).
-  double false_alarms_high = 0.0;  ///< 97.5 % point (the rate asked, to the iteration).
-  double detection_windows = 0.0;  ///< Run length at shift_spreads (Gamma model).
+  double centre_se_spreads = 0.0;     ///< Standard error of the centre, in window spreads.
+  double log_spread_se = 0.0;         ///< Standard error of the spread's logarithm.
+  double false_alarms_low = 0.0;      ///< This calibration's rate: 2.5 % point (per hour).
+  double false_alarms_high = 0.0;     ///< 97.5 % point (the rate asked, to the iteration).
+  double detection_windows = 0.0;     ///< Run length at shift_spreads (Gamma model).
+  double observer_pole_radius = 0.0;  ///< The options' (the observer's slowest pole).
+  /// The samples after the observer's start until its start transient can add at most
+  /// kHoldoffSpreads to g (HoldoffSamples); params.holdoff_windows is this in windows.
+  double holdoff_samples = 0.0;
 };
+
+/// What a start transient may still add to g, in the window mean's spreads, once the hold-off ends.
+inline constexpr double kHoldoffSpreads = 0.1;
+
+/// The largest |z| over the poles of every section of every path of the quantized observer (the
+/// roots of z^2 + a1 z + a2 with the sections' integer a1, a2 as the board runs them); 0 for an
+/// observer of pure gains or FIR sections.
+double SlowestPoleRadius(const fixed::FilterDescription& description);
+
+/// The samples n after the observer's start beyond which its start transient, decaying no slower
+/// than A rho^n from the largest residual the kernel can form, A = 2^31 (|residual_gain| +
+/// |reference_gain|) / 2^32, adds at most kHoldoffSpreads to g: the transient's r^2 summed over
+/// every window after n, A^2 rho^(2n) / (1 - rho^2), is that many window-sum spreads:
+///   n = ln(A^2 / ((1 - rho^2) sum_spread kHoldoffSpreads)) / (-2 ln rho),   0 when the log is <= 0
+/// sum_spread = W sigma0 (the in-control spread of a window's sum of r^2, kernel units).
+/// InputError for rho >= 1 (the transient never decays); 0 for rho = 0.
+double HoldoffSamples(double pole_radius, double max_residual, double sum_spread);
 
 /// Designs the test from the calibration day's replayed d_hat (Q31 of the observer's output full
 /// scale) and, with a reference load cell, its calibrated samples (Q31 of its channel's full
