@@ -259,7 +259,11 @@ TEST(ModeCoverage, ShortRecordsThreeHits) {
 // The emulator's default rig in proportional form (m 1.82 and 1.53 kg, k 3520 and 2760 N/m,
 // zeta about 1.9 % and 3.7 %) with its Coulomb friction of 5 mN on each mass: the FRF alone gives
 // zeta1 some 15 % high with an interval that excludes the truth; the ring-down check must flag it
-// and give the viscous part with an interval that holds.
+// and give the viscous part with an interval that holds. Mode 2's own ring-downs are too short to
+// show the friction: its zeta interval reaches down by the bound the friction found on mode 1 puts
+// on it (5 relay terms, ringdown.cpp), 12.8 times the scatter over these seeds (conservative by
+// that much, docs/identification.md), hence the limit of 14 here; the other quantities stay
+// below 8.
 TEST(ModeCoverage, CoulombFriction) {
   const Eigen::Vector2d m(1.82, 1.53);
   const Eigen::Vector2d k(3520.0, 2760.0);
@@ -281,7 +285,7 @@ TEST(ModeCoverage, CoulombFriction) {
                            .friction = friction,
                            .force_noise = 0.002,
                            .response_noise = 0.002},
-            40, 8.0});
+            40, 14.0});
 }
 
 }  // namespace
