@@ -16,6 +16,7 @@
 #include "vibid/device/error.hpp"
 #include "device_commands.hpp"
 #include "session.hpp"
+#include "vibid/common/atomic_file.hpp"
 #include "vibid/common/error.hpp"
 #include "vibid/common/json_file.hpp"
 #include "vibid/common/verdict.hpp"
@@ -166,29 +167,31 @@ bool EndsWith(const std::string& s, const std::string& tail) {
   return s.size() >= tail.size() && s.compare(s.size() - tail.size(), tail.size(), tail) == 0;
 }
 
-// The record file: JSON as `cal show --json` prints it (the CRC the stored bytes carry, no slot or
-// sequence: no board has taken it) when the name ends in .json, the record's bytes otherwise.
+// A record no board has taken (a file of `cal build`): as `cal show --json` prints a board's, the
+// CRC its stored bytes carry and no slot or sequence.
+nlohmann::json OffBoardRecordJson(const wire::CalibrationRecord& rec,
+                                  std::span<const std::uint8_t, wire::kCalRecordBytes> bytes) {
+  nlohmann::json j = device::RecordJson(rec);
+  j["slot"] = nullptr;
+  j["sequence"] = nullptr;
+  j["crc32"] = CrcText(wire::StoredRecordCrc(bytes));
+  return j;
+}
+
+// The record file: that JSON when the name ends in .json, the record's bytes otherwise. The file
+// is claimed before the design runs (a bad path costs nothing) and renamed into place whole.
 void Run(const BuildArgs& a) {
   std::optional<Recording> day;
   const device::RecordInputs in = ReadInputs(a.upload, day);
+  AtomicOutputFile out(a.out);
   wire::CalibrationRecord rec;
   const auto bytes = EncodedRecord(a.upload, in, day, rec);
-  const std::string crc = CrcText(wire::StoredRecordCrc(bytes));
-  if (EndsWith(a.out, ".json")) {
-    nlohmann::json j = device::RecordJson(rec);
-    j["slot"] = nullptr;
-    j["sequence"] = nullptr;
-    j["crc32"] = crc;
-    WriteJsonFile(a.out, j);
-  } else {
-    std::ofstream f(a.out, std::ios::binary | std::ios::trunc);
-    f.write(reinterpret_cast<const char*>(bytes.data()),
-            static_cast<std::streamsize>(bytes.size()));
-    f.close();
-    if (!f) throw InputError(a.out + ": cannot write the record");
-  }
-  std::cout << "built calibration '" << in.label << "' (" << bytes.size() << " bytes, crc " << crc
-            << ") into " << a.out << "\n";
+  if (EndsWith(a.out, ".json"))
+    out.Commit(OffBoardRecordJson(rec, bytes).dump(2) + "\n");
+  else
+    out.Commit(std::string_view(reinterpret_cast<const char*>(bytes.data()), bytes.size()));
+  std::cout << "built calibration '" << in.label << "' (" << bytes.size() << " bytes, crc "
+            << CrcText(wire::StoredRecordCrc(bytes)) << ") into " << a.out << "\n";
 }
 
 constexpr const char* kShowHelp = "Print the board's active calibration record";
@@ -212,11 +215,8 @@ void ShowFile(const ShowArgs& a) {
     throw InputError(a.record + ": not a calibration record of this host (" +
                      std::to_string(bytes.size()) + " bytes; `vibid cal build -o FILE.bin` " +
                      "writes one of " + std::to_string(wire::kCalRecordBytes) + ")");
-  nlohmann::json j = device::RecordJson(r);
-  j["slot"] = nullptr;
-  j["sequence"] = nullptr;
-  j["crc32"] = CrcText(wire::StoredRecordCrc(
-      std::span<const std::uint8_t, wire::kCalRecordBytes>(bytes.data(), bytes.size())));
+  const nlohmann::json j = OffBoardRecordJson(
+      r, std::span<const std::uint8_t, wire::kCalRecordBytes>(bytes.data(), bytes.size()));
   std::cout << (a.json ? j.dump(2) + "\n" : FormatRecord(j));
 }
 
