@@ -190,11 +190,16 @@ def tally(c: dict, results: list[dict], truth: dict | None = None) -> dict:
     truth = truth or truth_of(c)
     rows = {}
     for name, v in truth.items():
-        t = dict(n=0, inside=0, below=0, above=0, withheld=0, est=[], hw=[], why="")
+        t = dict(n=0, inside=0, below=0, above=0, withheld=0, absent=0, est=[], hw=[], why="")
         for r in results:
             if "values" not in r:
                 continue
-            e = r["values"][name]
+            # A result without the parameter (a mode the seed's test does not show) counts
+            # apart: no estimate to tally.
+            e = r["values"].get(name)
+            if e is None:
+                t["absent"] += 1
+                continue
             t["n"] += 1
             t["est"].append(e["value"] / v)
             if e["ci"] is None:
@@ -278,6 +283,8 @@ def markdown(cases: list[dict], all_rows: list[dict], seeds: int) -> str:
                     if t["why"] not in notes:
                         notes.append(t["why"])
                     cell += f", withheld {t['withheld']} [{notes.index(t['why']) + 1}]"
+                if t.get("absent"):
+                    cell += f", not found in {t['absent']}"
                 cells.append(cell)
             name = c["name"]
             if c.get("refused"):

@@ -288,7 +288,8 @@ MassTestFile ParseMassTest(const std::string& text) {
 
 ident::DrivingPointChoice DrivingPointOfTests(const std::vector<ident::Frf>& modal_frfs,
                                               const ModeRequest& modes,
-                                              const ident::ModeIdentificationOptions& options) {
+                                              const ident::ModeIdentificationOptions& options,
+                                              const std::vector<ident::RingDowns>& ringdowns) {
   ident::DrivingPointChoice first;
   for (std::size_t t = 0; t < modal_frfs.size(); ++t) {
     const ident::Frf& frf = modal_frfs[t];
@@ -297,7 +298,7 @@ ident::DrivingPointChoice DrivingPointOfTests(const std::vector<ident::Frf>& mod
         ident::IdentifyModes(frf, named ? named->index : 0, options);
     ident::DrivingPointChoice c;
     try {
-      c = ident::ChooseDrivingPoint(ident::ModalConstantsOf(frf, m), named);
+      c = ChooseDrivingPointOf(frf, m, named, t < ringdowns.size() ? &ringdowns[t] : nullptr);
     } catch (const InputError& e) {
       throw InputError((modal_frfs.size() > 1 ? "modal test " + std::to_string(t + 1) + ": " : "") +
                        e.what());
@@ -344,7 +345,8 @@ IdentifyRun RunIdentify(const model::Model& nominal, const IdentifyRequest& requ
   options.modes.method = ident::ParseModeMethod(request.modes.method);
   if (!request.modes.orders.empty())
     ident::ParseOrders(request.modes.orders, options.modes.stabilization);
-  run.driving_point_choice = DrivingPointOfTests(run.modal_frfs, request.modes, options.modes);
+  run.driving_point_choice =
+      DrivingPointOfTests(run.modal_frfs, request.modes, options.modes, options.modal_ringdowns);
   run.driving_point = run.driving_point_choice.index;
   run.messages.push_back({false, run.driving_point_choice.note});
   for (const std::string& w : run.driving_point_choice.warnings) run.messages.push_back({true, w});

@@ -906,9 +906,11 @@ void NamePeaksWithoutMode(const Frf& receptance, const ModeIdentificationOptions
   std::stable_sort(named.begin(), named.end(),
                    [](const auto& a, const auto& b) { return a.first > b.first; });
   out.peaks_without_mode_hz.clear();
+  out.peaks_without_mode_zeta.clear();
   for (const auto& [prom, peak] : named) {
     const Peak& pk = *peak;
     out.peaks_without_mode_hz.push_back(pk.freq_hz);
+    out.peaks_without_mode_zeta.push_back(pk.zeta);
     std::string way;
     switch (options.method) {
       case ModeMethod::kLscf:

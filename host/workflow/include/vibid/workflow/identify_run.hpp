@@ -69,10 +69,12 @@ struct IdentifyRun {
 
 /// The driving point of the modal tests (receptances), each test's kept or found by
 /// ident::ChooseDrivingPoint on its modes; InputError when it refuses one, or when the tests were
-/// hit at different responses (identify takes tests of one driving point).
+/// hit at different responses (identify takes tests of one driving point). `ringdowns`, one per
+/// test where given, let a refusal name dry friction (ChooseDrivingPointOf).
 ident::DrivingPointChoice DrivingPointOfTests(const std::vector<ident::Frf>& modal_frfs,
                                               const ModeRequest& modes,
-                                              const ident::ModeIdentificationOptions& options);
+                                              const ident::ModeIdentificationOptions& options,
+                                              const std::vector<ident::RingDowns>& ringdowns = {});
 
 /// The whole identification; the driving point is DrivingPointOfTests' (its note and warnings
 /// join `messages`), so a hammer on another mass than the one named is refused, never fitted.

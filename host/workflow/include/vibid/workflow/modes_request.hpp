@@ -32,6 +32,15 @@ std::size_t ResolveDrivingPoint(const ident::Frf& frf, const std::string& spec);
 std::optional<ident::NamedDrivingPoint> NamedDrivingPointOf(const ident::Frf& frf,
                                                             const ModeRequest& request);
 
+/// ident::ChooseDrivingPoint on `provisional` (modes found with any driving point: the modal
+/// constants do not depend on it). A refusal for data that single out no point says, where the
+/// ring-downs of the FRF's hits (same responses, same order) show dry friction, that friction is
+/// the likely cause: it hides modes, and with fewer modes than responses no point can be found.
+ident::DrivingPointChoice ChooseDrivingPointOf(const ident::Frf& frf,
+                                               const ident::ModeIdentification& provisional,
+                                               const std::optional<ident::NamedDrivingPoint>& named,
+                                               const ident::RingDowns* ringdowns);
+
 /// Modes of a receptance FRF as `vibid modes` computes them, with the hammer at the driving point
 /// ident::ChooseDrivingPoint keeps or finds from the modes' constants (InputError when it refuses:
 /// a named point the data contradict, or none named and none singled out); `choice` receives it,

@@ -191,6 +191,11 @@ struct FrictionAtLostPeak {
   double zeta_early = 0.0;  ///< Apparent damping over the ring-downs' early part.
   double zeta_late = 0.0;   ///< And over their late part.
   std::size_t hits = 0;     ///< Ring-downs read.
+  /// The ring-downs die before the peak's half-power damping would let them (zeta_early and
+  /// zeta_late then unread): stop_s against expected_stop_s, means over the hits.
+  bool stops_early = false;
+  double stop_s = 0.0;
+  double expected_stop_s = 0.0;
 };
 
 struct ModeIdentification {
@@ -208,6 +213,9 @@ struct ModeIdentification {
   /// Clear resonance peaks of the band (see IdentifyModes) that no reported or dropped mode
   /// explains, in Hz; each also has a warning naming the way out.
   std::vector<double> peaks_without_mode_hz;
+  /// Their half-power damping, in the same order (Peak::zeta; a peak narrower than its lines reads
+  /// wider than it is, so this errs high): what the ring-down check of a lost peak expects.
+  std::vector<double> peaks_without_mode_zeta;
   /// Those of them whose ring-downs show dry friction (the ring-down check, CheckRingDowns).
   std::vector<FrictionAtLostPeak> friction_at_lost_peaks;
   /// lscf/lsce: the modal model refined from the chosen poles, which gives the reported omega,
