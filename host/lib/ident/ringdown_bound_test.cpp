@@ -14,9 +14,13 @@
 
 #include "vibid/ident/modes.hpp"
 #include "vibid/ident/ringdown.hpp"
+#include "ringdown_test_support.hpp"
 
 namespace vibid::ident {
 namespace {
+
+using testing::Mode;
+using testing::Omega;
 
 constexpr double kFs = 200.0;
 constexpr double kF1 = 4.4, kZeta1 = 0.02;    // mode 1, undamped frequency and viscous damping
@@ -24,7 +28,6 @@ constexpr double kF2 = 11.0, kZeta2 = 0.044;  // mode 2
 constexpr double kA1 = 1e-3;                  // mode 1's start (m, modal)
 constexpr double kFrictionOffset = 0.03;      // b / A0 of mode 1: b = r / sigma
 
-double Omega(double f) { return 2.0 * std::numbers::pi * f; }
 const Eigen::Vector2d kPhi1(0.5, 0.7);
 const Eigen::Vector2d kPhi2(0.7, -0.5);
 
@@ -97,17 +100,6 @@ RingDowns MakeRingDowns(double offset) {
     rd.hits.push_back(hit);
   }
   return rd;
-}
-
-ModeEstimate Mode(double f_hz, double zeta, const Eigen::Vector2d& phi) {
-  ModeEstimate m;
-  m.omega_rad_s = Omega(f_hz);
-  m.freq_hz = f_hz;
-  m.zeta = zeta;
-  m.shape = phi;
-  m.zeta_ci95 = {0.99 * zeta, 1.01 * zeta};
-  m.omega_ci95_rad_s = {(1.0 - 1e-5) * m.omega_rad_s, (1.0 + 1e-5) * m.omega_rad_s};
-  return m;
 }
 
 // Mode 1 as an FRF gives it: zeta 30 % high, at the ring-down's damped frequency (an undamped

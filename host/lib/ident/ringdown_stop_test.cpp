@@ -14,9 +14,13 @@
 
 #include "vibid/ident/modes.hpp"
 #include "vibid/ident/ringdown.hpp"
+#include "ringdown_test_support.hpp"
 
 namespace vibid::ident {
 namespace {
+
+using testing::Mode;
+using testing::Omega;
 
 constexpr double kFs = 200.0;
 constexpr double kFA = 4.4, kZetaA = 0.02;  // mode A: viscous, rings for 10 s
@@ -24,7 +28,6 @@ constexpr double kFB = 11.0;                // mode B: Coulomb friction alone
 constexpr double kStopS = 0.5;              // mode B's ring-down ends here
 constexpr double kZetaFrfB = 0.06;          // mode B's damping as its FRF peak reads it
 
-double Omega(double f) { return 2.0 * std::numbers::pi * f; }
 const Eigen::Vector2d kPhiA(0.5, 0.7);
 const Eigen::Vector2d kPhiB(0.7, -0.5);
 
@@ -53,17 +56,6 @@ RingDowns MakeRingDowns() {
     rd.hits.push_back(hit);
   }
   return rd;
-}
-
-ModeEstimate Mode(double f_hz, double zeta, const Eigen::Vector2d& phi) {
-  ModeEstimate m;
-  m.omega_rad_s = Omega(f_hz);
-  m.freq_hz = f_hz;
-  m.zeta = zeta;
-  m.shape = phi;
-  m.zeta_ci95 = {0.99 * zeta, 1.01 * zeta};
-  m.omega_ci95_rad_s = {(1.0 - 1e-5) * m.omega_rad_s, (1.0 + 1e-5) * m.omega_rad_s};
-  return m;
 }
 
 // Mode B found: every hit's ring-down falls to 2 % of its start long before its FRF damping lets
