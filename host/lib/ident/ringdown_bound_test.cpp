@@ -169,9 +169,13 @@ TEST(RingDownBound, ALostPeakThatRingsWithFrictionNamesIt) {
       ASSERT_EQ(mi.friction_at_lost_peaks.size(), 1u);
       EXPECT_DOUBLE_EQ(mi.friction_at_lost_peaks[0].freq_hz, kF1);
       EXPECT_GT(mi.friction_at_lost_peaks[0].zeta_late, mi.friction_at_lost_peaks[0].zeta_early);
-      // No shape scales the lost mode's force: mode 2's zeta keeps its value, not its interval.
+      // Friction that hides a mode: mode 2 keeps its values, not its intervals.
       EXPECT_FALSE(std::isfinite(mi.modes[0].zeta_ci95[0]));
-      EXPECT_NE(mi.modes[0].caution.find("no interval on zeta"), std::string::npos);
+      EXPECT_FALSE(std::isfinite(mi.modes[0].omega_ci95_rad_s[0]));
+      EXPECT_DOUBLE_EQ(mi.modes[0].zeta, kZeta2);
+      EXPECT_NE(mi.modes[0].caution.find("strong enough to hide the mode at 4.4 Hz"),
+                std::string::npos)
+          << mi.modes[0].caution;
     } else {
       EXPECT_TRUE(shown.empty()) << shown;
       EXPECT_FALSE(warned);

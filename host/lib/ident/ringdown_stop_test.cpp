@@ -77,6 +77,13 @@ TEST(RingDownStop, RingDownsTooShortToFitStillCountForTheEarlyStop) {
   EXPECT_GT(b.stop_s, 0.25);  // not before the envelope's smoothing lets it fall
   EXPECT_FALSE(std::isfinite(mi.modes[1].zeta_ci95[0]));
   EXPECT_FALSE(mi.modes[0].amplitude.amplitude_dependent) << mi.modes[0].amplitude.note;
+  // Friction that stops one mode's ring-downs moves the others beyond their own ring-downs'
+  // reach: mode A keeps its values, not its intervals.
+  EXPECT_FALSE(std::isfinite(mi.modes[0].omega_ci95_rad_s[0]));
+  EXPECT_DOUBLE_EQ(mi.modes[0].zeta, kZetaA);
+  EXPECT_NE(mi.modes[0].caution.find("strong enough to stop the ring-downs at 11 Hz"),
+            std::string::npos)
+      << mi.modes[0].caution;
   EXPECT_NE(FrictionShownBy(mi).find("at 11 Hz they die in"), std::string::npos)
       << FrictionShownBy(mi);
 }
@@ -103,8 +110,12 @@ TEST(RingDownStop, ALostPeakWhoseRingDownsStopEarlyNamesFriction) {
       EXPECT_NE(shown.find("at 11 Hz, a clear peak no mode explains, they die in"),
                 std::string::npos)
           << shown;
-      // No shape scales the lost mode's force: mode A keeps its zeta, not its interval.
+      // Friction that stops a ring-down: mode A keeps its values, not its intervals.
       EXPECT_FALSE(std::isfinite(mi.modes[0].zeta_ci95[0]));
+      EXPECT_FALSE(std::isfinite(mi.modes[0].omega_ci95_rad_s[0]));
+      EXPECT_NE(mi.modes[0].caution.find("strong enough to hide the mode at 11 Hz"),
+                std::string::npos)
+          << mi.modes[0].caution;
     } else {
       EXPECT_TRUE(mi.friction_at_lost_peaks.empty());
       EXPECT_TRUE(shown.empty()) << shown;
