@@ -7,6 +7,7 @@
 
 #include <Eigen/Core>
 #include <cmath>
+#include <limits>
 #include <numbers>
 #include <random>
 #include <string>
@@ -122,6 +123,61 @@ TEST(RingDownStop, ALostPeakWhoseRingDownsStopEarlyNamesFriction) {
       EXPECT_DOUBLE_EQ(mi.modes[0].zeta_ci95[0], 0.99 * kZetaA);
     }
   }
+}
+
+}  // namespace
+}  // namespace vibid::ident
+
+namespace vibid::ident {
+namespace {
+
+// The viscous part's known bias under noise (docs/identification.md, "Dry friction at every
+// level"): one mode on one response, each hit's envelope exactly viscous + Coulomb (friction
+// offset b/a 0.08, zeta 0.0192 at 4.44 Hz, as the 2-mass rig's mode 1 at 10 mN per mass), 30
+// records of 5 hits at 500 Hz. Without noise the fit returns zeta within 0.01 %; with white noise
+// of a tenth of the ring-down's start per sample (the study's records: 0.5 % of the channel's
+// largest value) it reads zeta about 0.6 % high, as the 2-mass study's viscous part ran (+0.6 %
+// at 10 mN): the noise blurs the deep tail, where Coulomb's linear decay shows, and the fit gives
+// part of the friction to the viscous term. The bias is stated, not corrected: this test fails
+// when it goes away (the docs then stale) or grows.
+double MeanViscousBias(double noise_sd) {
+  constexpr double kF = 4.44, kZeta = 0.0192, kOffset = 0.08, kRateHz = 500.0;
+  const double sigma = kZeta * Omega(kF);
+  const double wd = Omega(kF) * std::sqrt(1.0 - kZeta * kZeta);
+  std::mt19937 rng(11);
+  std::normal_distribution<double> noise(0.0, 1.0);
+  double sum = 0.0;
+  int n = 0;
+  for (int rec = 0; rec < 30; ++rec) {
+    RingDowns rd;
+    rd.fs_hz = kRateHz;
+    rd.sensor = Quantity::kAcceleration;
+    for (int h = 0; h < 5; ++h) {
+      Eigen::MatrixXd hit(5700, 1);
+      for (Eigen::Index k = 0; k < hit.rows(); ++k) {
+        const double t = static_cast<double>(k) / kRateHz;
+        const double env = std::max(0.0, (1.0 + kOffset) * std::exp(-sigma * t) - kOffset);
+        hit(k, 0) = env * std::cos(wd * t) + noise_sd * noise(rng);
+      }
+      rd.hits.push_back(hit);
+    }
+    ModeIdentification mi;
+    mi.modes.push_back(Mode(kF, 1.2 * kZeta, Eigen::VectorXd::Ones(1)));
+    ApplyAmplitudeCheck(rd, mi);
+    const AmplitudeDamping& a = mi.modes[0].amplitude;
+    EXPECT_TRUE(a.amplitude_dependent) << a.note;
+    if (!(a.zeta_viscous > 0.0)) continue;
+    sum += a.zeta_viscous / kZeta - 1.0;
+    ++n;
+  }
+  return n > 0 ? sum / n : std::numeric_limits<double>::quiet_NaN();
+}
+
+TEST(RingDownStop, TheViscousPartReadsHighUnderNoise) {
+  EXPECT_LT(std::abs(MeanViscousBias(0.0)), 1e-4);
+  const double noisy = MeanViscousBias(0.1);
+  EXPECT_GT(noisy, 0.003);
+  EXPECT_LT(noisy, 0.012);
 }
 
 }  // namespace
